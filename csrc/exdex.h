@@ -1,0 +1,299 @@
+/*
+ * exdex.h -- the one public header of the exdex numerical core.
+ *
+ * In-hand manipulation by extrinsic dexterity: an object held between the two
+ * parallel plates of a gripper that moves along a prescribed trajectory, with
+ * gravity, inertial forces of the moving frame, plate friction (friction
+ * ellipsoid, maximum dissipation, paper Eq. 6) and external stops.
+ *
+ * Python-free C99. Every function returns a status code (enum exdex_status) or
+ * a plain value; nothing here aborts, prints or exits. Call exdex_init() once
+ * per process before anything else: it switches GSL's abort handler off.
+ *
+ * Units are SI throughout (m, kg, s, rad, N, N m). Matrices are row-major.
+ *
+ * Frames (paper Section 2.1):
+ *   A  world frame, fixed; gravity is given in A.
+ *   B  gripper frame: origin on the plates' mid-plane, x and y span the plate
+ *      plane, z is the plate normal (the closing direction of the fingers).
+ *   C  object frame: origin at the object's centre of mass, z parallel to B's z
+ *      (the plates keep the object in the plane); theta is the rotation of C
+ *      about z relative to B.
+ */
+#ifndef EXDEX_H
+#define EXDEX_H
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ------------------------------------------------------------------ status */
+
+enum exdex_status {
+    EXDEX_OK = 0,
+    EXDEX_EINVAL = 1,     /* an argument is out of its allowed range */
+    EXDEX_ENOMEM = 2,     /* allocation failed */
+    EXDEX_ENOCONV = 3,    /* an iterative solver did not converge */
+    EXDEX_ENONFINITE = 4  /* a non-finite number appeared in the state */
+};
+
+/* Static, human-readable text for a status code. */
+const char *exdex_strerror(int status);
+
+/* Switch GSL's abort-on-error handler off (idempotent, call once per process). */
+void exdex_init(void);
+
+/* ---------------------------------------------------------------- friction
+ * friction.c -- the friction ellipsoid and its maximum-dissipation solve.
+ *
+ * Limit surface over the plate friction wrench w = (f_x, f_y, m_z) at the
+ * patch's centre of pressure:  w^T E^-2 w <= (mu N)^2,  E = diag(e_t, e_t, e_r).
+ * e_t = 1 (force), e_r [m] = m_max / (mu N) from the pressure distribution
+ * (Howe & Cutkosky). With two fingers pressing with grip force F_g each,
+ * N = 2 F_g: the two identical ellipsoids add to one of capacity 2 mu F_g.
+ */
+
+/* e_r of a uniform pressure disc of radius R [m]: 2R/3. Returns NaN if R <= 0. */
+double exdex_er_disc(double radius);
+/* e_r of a uniform pressure rectangle with half-sides a, b [m]
+ * (mean distance from the centre). Returns NaN if a <= 0 or b <= 0. */
+double exdex_er_rectangle(double half_a, double half_b);
+
+enum exdex_friction_solver {
+    EXDEX_SOLVER_SCALAR = 0,    /* secular equation, safeguarded Newton in a bracket */
+    EXDEX_SOLVER_BRENT = 1,     /* the same monotone scalar equation with GSL Brent */
+    EXDEX_SOLVER_MULTIROOT = 2  /* paper: four quadratic equations, GSL hybridsj */
+};
+
+/*
+ * One implicit friction step at a patch, velocity level (Moreau-Jean):
+ *     u+ = b + W p
+ * u+ the patch slip twist after the step (u_x, u_y, u_r) [m/s, m/s, rad/s],
+ * b the slip twist without friction, W (3x3, SPD) the patch Delassus matrix
+ * (slip per unit patch impulse), p the friction impulse (p_x, p_y, p_r)
+ * [N s, N s, N m s]. p minimises p . u+ over the ellipsoid
+ *     p^T E^-2 p <= cap^2,   cap = h mu N.
+ * Stick iff p_stick = -W^-1 b lies inside; then u+ = 0 exactly.
+ *
+ * exdex_friction_prepare does the per-(W, e) work once (K = E W E, its
+ * eigen-decomposition); a scene whose W is constant prepares once.
+ */
+typedef struct exdex_friction_prep {
+    double W[9];     /* Delassus matrix, row-major */
+    double e[3];     /* (e_t, e_t, e_r): semi-axes per unit capacity */
+    double K[9];     /* E W E */
+    double Q[9];     /* eigenvectors of K, columns, row-major storage */
+    double lam[3];   /* eigenvalues of K, > 0 */
+} exdex_friction_prep;
+
+typedef struct exdex_friction_result {
+    double p[3];     /* friction impulse */
+    double u[3];     /* slip twist after the step, b + W p (exactly 0 at stick) */
+    double sigma;    /* |E u+|, the Fritz-John multiplier (0 at stick) */
+    int stick;       /* 1 if the stick solution was taken */
+    int iterations;  /* solver iterations used (0 at stick) */
+} exdex_friction_result;
+
+/* GSL workspaces for the BRENT and MULTIROOT solvers (SCALAR needs none). */
+typedef struct exdex_friction_ws exdex_friction_ws;
+exdex_friction_ws *exdex_friction_ws_alloc(void);
+void exdex_friction_ws_free(exdex_friction_ws *ws);  /* NULL is harmless */
+
+/* EXDEX_EINVAL if W is not symmetric positive definite, any e_i <= 0, or any
+ * entry non-finite. */
+int exdex_friction_prepare(exdex_friction_prep *prep, const double W[9],
+                           const double e[3]);
+
+/* Solve one step. ws may be NULL for EXDEX_SOLVER_SCALAR. warm (may be NULL)
+ * is a guess of p used by MULTIROOT (e.g. the previous step's impulse).
+ * Returns EXDEX_EINVAL for cap < 0 or non-finite input, EXDEX_ENOCONV if the
+ * solver fails (MULTIROOT: also when only roots with sigma <= 0 are found). */
+int exdex_friction_solve(const exdex_friction_prep *prep, const double b[3],
+                         double cap, int solver, exdex_friction_ws *ws,
+                         const double *warm, exdex_friction_result *res);
+
+/* ------------------------------------------------------------------ motion
+ * motion.c -- prescribed gripper trajectories.
+ *
+ * A motion moves the gripper frame B from its initial pose (R0, p0) in A.
+ *   translation: p(t) = p0 + s(t) axis,            R(t) = R0
+ *   rotation:    R(t) = Rot(axis, s(t)) R0,        p(t) = c + Rot(axis, s(t)) (p0 - c)
+ * with s(t) a scalar profile [m or rad] and c = center, a point on the axis.
+ * A sampled motion interpolates poses given at increasing times with cubic
+ * splines (natural end conditions) of the position and of the quaternion
+ * components (renormalised), which gives continuous accelerations. Outside the
+ * sampled interval the gripper holds the end pose at rest.
+ */
+enum exdex_motion_kind {
+    EXDEX_MOTION_REST = 0,        /* the gripper stays at (R0, p0) */
+    EXDEX_MOTION_ASYMMETRIC = 1,  /* paper Eq. 7: a_H, a_L from Eq. 9; round trip over 2T */
+    EXDEX_MOTION_TRAPEZOID = 2,   /* trapezoidal velocity: distance X1 in time T, peak v_max */
+    EXDEX_MOTION_SAMPLED = 3      /* poses at times, interpolated */
+};
+
+typedef struct exdex_motion_def {
+    int kind;               /* enum exdex_motion_kind */
+    int rotation;           /* 0: translate along axis; 1: rotate about axis through center */
+    double axis[3];         /* unit vector in A */
+    double center[3];       /* a point of the rotation axis in A [m] */
+    double amplitude;       /* X1 [m] or theta1 [rad]; any sign (sign gives direction) */
+    double duration;        /* T [s] > 0 */
+    double beta;            /* Eq. 7 ratio, 0 < beta < 1 */
+    double v_max;           /* trapezoid peak speed [m/s or rad/s] > 0 with
+                               |X1|/T <= v_max <= 2|X1|/T */
+    size_t n_samples;       /* sampled: number of poses (>= 4) */
+    const double *times;    /* sampled: (n_samples,) strictly increasing [s] */
+    const double *poses;    /* sampled: (n_samples, 7) rows x y z qw qx qy qz;
+                               quaternion of R_AB, need not be normalised */
+} exdex_motion_def;
+
+/* Kinematics of B in A at one time, all vectors expressed in A. */
+typedef struct exdex_kinematics {
+    double R[9];   /* R_AB: columns are B's axes in A */
+    double p[3];   /* position of B's origin [m] */
+    double v[3];   /* its velocity [m/s] */
+    double a[3];   /* its acceleration [m/s^2] */
+    double w[3];   /* angular velocity of B [rad/s] */
+    double dw[3];  /* angular acceleration of B [rad/s^2] */
+} exdex_kinematics;
+
+typedef struct exdex_motion exdex_motion;  /* opaque, immutable after alloc */
+
+/* Validates def (EXDEX_EINVAL, *bad_param names the field when not NULL),
+ * copies sampled arrays. R0 must be a rotation matrix (orthonormal, det +1,
+ * to 1e-9). Returns NULL on error with *status set. */
+exdex_motion *exdex_motion_alloc(const exdex_motion_def *def, const double R0[9],
+                                 const double p0[3], int *status,
+                                 const char **bad_param);
+void exdex_motion_free(exdex_motion *m);  /* NULL is harmless */
+
+/* Thread-safe (no hidden mutable state). */
+int exdex_motion_eval(const exdex_motion *m, double t, exdex_kinematics *k);
+/* End of the motion: after it the gripper is at rest [s]. */
+double exdex_motion_end(const exdex_motion *m);
+
+/* Scalar profiles: position s, velocity sd, acceleration sdd at time t.
+ * Before 0: s = sd = sdd = 0; after the end: at rest at the end value. */
+void exdex_profile_asymmetric(double amplitude, double T, double beta, double t,
+                              double *s, double *sd, double *sdd);
+void exdex_profile_trapezoid(double amplitude, double T, double v_max, double t,
+                             double *s, double *sd, double *sdd);
+
+/* --------------------------------------------------------------- simulate
+ * sim.c -- relative dynamics of the object in B (paper Eqs. 3-5) and the
+ * time-stepping loop.
+ *
+ * Free coordinates (the scene chooses; the step works in that reduced space):
+ *   EXDEX_DOF_TRANSLATION  q = s: the centre of mass moves along slide_axis
+ *                          (a unit vector of the plate plane, B frame),
+ *                          position (x0, y0) + (s - s0) slide_axis,
+ *                          s0 = slide_axis . (x0, y0); theta fixed.
+ *   EXDEX_DOF_ROTATION     q = theta: the object turns about a pivot fixed in
+ *                          B at the patch's centre of pressure (paper 2.3),
+ *                          an ideal pin; the plates' friction torque resists.
+ *   EXDEX_DOF_PLANAR       q = (x, y, theta).
+ */
+enum exdex_dof { EXDEX_DOF_TRANSLATION = 1, EXDEX_DOF_ROTATION = 2, EXDEX_DOF_PLANAR = 3 };
+
+enum exdex_method {
+    EXDEX_METHOD_IMPLICIT = 0,     /* Moreau midpoint, maximum-dissipation solve (default) */
+    EXDEX_METHOD_EVENT = 1,        /* event-driven stick/slip, GSL odeiv2 */
+    EXDEX_METHOD_REGULARISED = 2,  /* smooth friction |u| -> sqrt(|u|^2 + eps^2) */
+    EXDEX_METHOD_EXPLICIT = 3      /* explicit Coulomb with sign(), naive baseline */
+};
+
+#define EXDEX_MAX_STOPS 8
+#define EXDEX_MAX_VERTICES 32
+
+typedef struct exdex_scene_def {
+    /* object */
+    double mass;              /* [kg] > 0 */
+    double inertia[9];        /* about the centre of mass, in C [kg m^2], SPD */
+    int n_vertices;           /* outline used against stops (0..EXDEX_MAX_VERTICES) */
+    double vertices[EXDEX_MAX_VERTICES][2];  /* in C, relative to the centre of mass [m] */
+    /* grasp */
+    double mu;                /* plate friction coefficient >= 0 */
+    double grip_force;        /* normal force per finger [N] >= 0 */
+    int fingers;              /* 1 or 2 pressing patches (N = fingers * grip_force) */
+    double e_r;               /* torsional semi-axis of the ellipsoid [m] > 0 */
+    double patch_center[2];   /* centre of pressure in C, relative to the centre of mass [m] */
+    /* world */
+    double gravity[3];        /* in A [m/s^2] */
+    /* coordinates */
+    int dof;                  /* enum exdex_dof */
+    double slide_axis[2];     /* translation: unit vector in B's plate plane */
+    double q0[3];             /* initial (x, y, theta) of C in B [m, m, rad] */
+    double v0[3];             /* initial relative velocity [m/s, m/s, rad/s] */
+    /* gripper */
+    double R0[9];             /* initial R_AB */
+    double p0[3];             /* initial position of B in A [m] */
+    exdex_motion_def motion;
+    /* external stops: half-spaces of A, (x - point) . normal >= 0 allowed */
+    int n_stops;
+    double stop_point[EXDEX_MAX_STOPS][3];
+    double stop_normal[EXDEX_MAX_STOPS][3];  /* unit */
+    /* numerics */
+    int method;               /* enum exdex_method */
+    int friction_solver;      /* enum exdex_friction_solver */
+    double eps;               /* regularised method: smoothing speed [m/s] > 0 */
+    double rtol, atol;        /* event/regularised methods: GSL odeiv2 tolerances */
+} exdex_scene_def;
+
+/* Defaults: unit mass, unit inertia, mu 0.5, grip force 1 N, 2 fingers,
+ * e_r 0.01 m, gravity (0, 0, -9.81), R0 with B's y up (B x = A x, B y = A z,
+ * B z = -A y), translation along B's y, gripper at rest, implicit method,
+ * scalar friction solver, eps 1e-4, rtol 1e-8, atol 1e-10. */
+exdex_scene_def exdex_default_scene_def(void);
+
+/* EXDEX_OK or EXDEX_EINVAL with *bad_param (if not NULL) naming the field. */
+int exdex_scene_check(const exdex_scene_def *def, const char **bad_param);
+
+typedef struct exdex_model exdex_model;  /* immutable after alloc */
+exdex_model *exdex_model_alloc(const exdex_scene_def *def, int *status,
+                               const char **bad_param);
+void exdex_model_free(exdex_model *m);   /* NULL is harmless */
+int exdex_model_ndof(const exdex_model *m);
+int exdex_model_nstops(const exdex_model *m);
+
+/* Number of recorded samples for (t_end, dt): steps of dt, the last one
+ * shortened to end exactly at t_end; samples = steps + 1. 0 if invalid. */
+size_t exdex_n_samples(double t_end, double dt);
+
+/* Caller-allocated output arrays, n = exdex_n_samples(t_end, dt) rows. */
+typedef struct exdex_trajectory {
+    size_t n;
+    double *t;            /* (n,) [s] */
+    double *q;            /* (n, ndof) coordinates */
+    double *v;            /* (n, ndof) relative velocities */
+    double *wrench;       /* (n, 3) plate friction (f_x, f_y, m_z) on the object,
+                             in B at the centre of pressure, mean over the step
+                             that ends at this sample [N, N, N m]; row 0 is 0 */
+    unsigned char *stick; /* (n,) 1 where the step ending here stuck */
+    double *stop_force;   /* (n, n_stops) mean normal force of each stop [N];
+                             may be NULL when n_stops == 0 */
+} exdex_trajectory;
+
+typedef struct exdex_stats {
+    size_t steps;
+    size_t stick_steps;
+    size_t solver_iterations;   /* friction solver iterations, summed */
+    size_t stop_iterations;     /* stop/friction block iterations, summed */
+    size_t warnings;            /* soft problems (e.g. stop iteration limit) */
+    double min_gap;             /* smallest stop gap seen after a step [m] */
+} exdex_stats;
+
+/* Run the whole trajectory. Thread-safe for distinct out/stats. */
+int exdex_simulate(const exdex_model *m, double t_end, double dt,
+                   exdex_trajectory *out, exdex_stats *stats);
+
+/* ------------------------------------------------------------ tool design
+ * cone.c -- twist cones of a pushed planar object and their volumes
+ * (paper Section 3). Declarations are added below by that module.
+ */
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* EXDEX_H */

@@ -1,0 +1,113 @@
+/* run_tests.c -- runner of the exdex C suite.
+ *
+ *   run_tests [--data FILE] [--values] [NAME-FILTER]
+ *
+ * Runs every registered test whose name contains NAME-FILTER, prints one line
+ * per test and a closing "N passed, N failed" line, and exits 1 on failure. */
+#include "check.h"
+#include "../exdex.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#define MAX_TESTS 512
+#define MAX_REFS 1024
+
+static struct { const char *name, *file; check_fn fn; } tests[MAX_TESTS];
+static int n_tests;
+static int current_failed;
+static int print_values;
+static struct { char key[96]; double value; } refs[MAX_REFS];
+static int n_refs;
+static const char *data_path = "../tests/data/reference.dat";
+
+void check_register(const char *name, const char *file, check_fn fn)
+{
+    if (n_tests < MAX_TESTS) {
+        tests[n_tests].name = name;
+        tests[n_tests].file = file;
+        tests[n_tests].fn = fn;
+        n_tests++;
+    }
+}
+
+void check_fail(const char *file, int line, const char *msg)
+{
+    if (current_failed < 5) printf("    %s:%d: ENSURE(%s) failed\n", file, line, msg);
+    current_failed++;
+}
+
+void check_fail_close(const char *file, int line, const char *a, const char *b,
+                      double va, double vb, double tol)
+{
+    if (current_failed < 5)
+        printf("    %s:%d: |%s - %s| = |%.17g - %.17g| = %.3g > %.3g\n", file, line, a, b,
+               va, vb, fabs(va - vb), tol);
+    current_failed++;
+}
+
+static void load_refs(void)
+{
+    FILE *f = fopen(data_path, "r");
+    char line[512];
+    if (!f) {
+        printf("cannot open reference data %s\n", data_path);
+        return;
+    }
+    while (fgets(line, sizeof line, f)) {
+        char key[96];
+        double v;
+        char *hash = strchr(line, '#');
+        if (hash) *hash = '\0';
+        if (sscanf(line, "%95s %lf", key, &v) == 2 && n_refs < MAX_REFS) {
+            strcpy(refs[n_refs].key, key);
+            refs[n_refs].value = v;
+            n_refs++;
+        }
+    }
+    fclose(f);
+}
+
+double ref(const char *key)
+{
+    for (int i = 0; i < n_refs; i++)
+        if (strcmp(refs[i].key, key) == 0) return refs[i].value;
+    printf("    missing reference value '%s' in %s\n", key, data_path);
+    current_failed++;
+    return NAN;
+}
+
+void report(const char *key, double value)
+{
+    if (print_values) printf("VALUE %s %.17g\n", key, value);
+}
+
+int main(int argc, char **argv)
+{
+    const char *filter = NULL;
+    int passed = 0, failed = 0;
+    for (int i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--data") == 0 && i + 1 < argc)
+            data_path = argv[++i];
+        else if (strcmp(argv[i], "--values") == 0)
+            print_values = 1;
+        else
+            filter = argv[i];
+    }
+    exdex_init();
+    load_refs();
+    for (int i = 0; i < n_tests; i++) {
+        if (filter && !strstr(tests[i].name, filter)) continue;
+        current_failed = 0;
+        tests[i].fn();
+        if (current_failed) {
+            printf("FAIL %s (%s)\n", tests[i].name, tests[i].file);
+            failed++;
+        } else {
+            printf("ok   %s\n", tests[i].name);
+            passed++;
+        }
+    }
+    printf("%d passed, %d failed\n", passed, failed);
+    return failed ? 1 : 0;
+}
