@@ -293,6 +293,149 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt,
  * (paper Section 3). Declarations are added below by that module.
  */
 
+/* Twist x = (Vx, Vy, wz) of a planar object, in the object's own frame at its
+ * reference point (the origin of its vertex coordinates) [m/s, m/s, rad/s].
+ * A contact at r (object frame, about the reference point) whose normal n
+ * (unit) points from the tool into the object's free side gives the
+ * unilateral row  n . (v + w x r) >= 0,  i.e.  row = (n_x, n_y, r_x n_y - r_y n_x).
+ * A cone is {x : rows x >= 0}; an all-zero row is no constraint (padding).
+ * Wrenches (F_x, F_y, M_z) pair with twists by power F_x Vx + F_y Vy + M_z wz. */
+#define EXDEX_CONE_MAX_ROWS 136
+
+/* row = (n, r x n) */
+void exdex_contact_row(double row[3], const double r[2], const double n[2]);
+
+/* Frictional contact (paper Section 3.2, Fig. 10): the two friction-cone edge
+ * directions e+- = (n +- mu t) / sqrt(1 + mu^2), t = (-n_y, n_x), each as a
+ * row (e, r x e). The twists satisfying both are those no contact force
+ * inside the friction cone can oppose (the contact point's velocity lies in
+ * the dual of the friction cone). mu = 0 gives two copies of the frictionless
+ * row. rows: (2, 3). EXDEX_EINVAL if mu < 0 or input non-finite. */
+int exdex_contact_rows_friction(double rows[6], const double r[2], const double n[2],
+                                double mu);
+
+/* The paper's Eqs. 10-11, literally: rows (2, 3) for the unit square at
+ * attack angle phi against two surfaces at angle theta [rad]. */
+void exdex_cone_rows_paper(double rows[6], double phi, double theta);
+
+/* Volume of {x in [lo, hi] : rows x >= 0}, m rows (m, 3), m <= EXDEX_CONE_MAX_ROWS.
+ *   exact: divergence theorem, only box faces contribute (cone facets pass
+ *          through the origin): V = 1/3 sum_j [hi_j A(face hi_j) - lo_j A(face lo_j)],
+ *          each area a rectangle clipped by the rows (Sutherland-Hodgman, shoelace).
+ *   grid:  the paper's discretisation: n^3 cells, cell centres counted
+ *          (a centre on a cone facet counts as inside).
+ *   qmc:   GSL Sobol points (gsl_qrng_sobol), randomised by `shifts` random
+ *          Cranley-Patterson shifts (gsl_rng_mt19937, seed); `points` Sobol
+ *          points per shift; the estimate is the mean over shifts and *err its
+ *          standard error (sample sd / sqrt(shifts)); shifts = 1 uses the
+ *          unshifted sequence and sets *err = NaN. */
+enum exdex_volume_method {
+    EXDEX_VOLUME_EXACT = 0,
+    EXDEX_VOLUME_GRID = 1,
+    EXDEX_VOLUME_QMC = 2
+};
+
+typedef struct exdex_volume_opts {
+    long grid_n;          /* grid cells per axis, >= 1 */
+    long qmc_points;      /* Sobol points per shift, 1 .. 2^30 */
+    int qmc_shifts;       /* random shifts, >= 1 */
+    unsigned long seed;   /* seed of the shifts */
+} exdex_volume_opts;
+
+/* Defaults: grid_n 64, qmc_points 2^16, qmc_shifts 16, seed 1. */
+exdex_volume_opts exdex_default_volume_opts(void);
+
+int exdex_cone_volume_exact(const double *rows, int m, const double lo[3],
+                            const double hi[3], double *volume);
+
+/* Vectorised: n_cases cones of m rows each (rows (n_cases, m, 3)), one box.
+ * volume (n_cases,); err (n_cases,) may be NULL (QMC standard error, NaN
+ * for the other methods). Allocates the QMC workspaces once per call. */
+int exdex_cone_volumes(int method, size_t n_cases, int m, const double *rows,
+                       const double lo[3], const double hi[3],
+                       const exdex_volume_opts *opts, double *volume, double *err);
+
+/* Tool design (paper Section 3.1, Eq. 12, and beyond).
+ *
+ * World (tool) frame: the object is pushed into a V of two infinite flat
+ * surfaces through the apex (origin), with inward normals
+ *     n1 = (-sin alpha1, cos alpha1)   ("left" surface; alpha1 = 0 is a floor)
+ *     n2 = (-sin alpha2, cos alpha2)   ("right" surface)
+ * so the paper's tool angle is theta = alpha2 - alpha1 (90 deg: a square
+ * corner). An object at attack angle phi is its polygon rotated by phi; it
+ * touches each surface at its support vertices (every vertex within 1e-9 of
+ * the polygon's radius of the minimum of n . x; an edge contact gives one
+ * row per end vertex). Optionally a spring plunger presses along -y at
+ * x = s in the tool frame, the object being wedged into the V (position from
+ * touching both surfaces): it touches the topmost boundary point of the
+ * object on the line x = s (no contact if the line misses the object or the
+ * surfaces are parallel). Rows are in the object frame.
+ */
+enum exdex_tool_model {
+    EXDEX_TOOL_CONTACT = 0,  /* rows from the contacts above (derived) */
+    EXDEX_TOOL_PAPER = 1     /* Eqs. 10-11 literally (unit square only), with
+                                attack phi - alpha1 and theta = alpha2 - alpha1 */
+};
+
+typedef struct exdex_tool_def {
+    double alpha1, alpha2;  /* surface normal angles [rad] */
+    int plunger;            /* 1: use the plunger */
+    double s;               /* plunger position along x [m] */
+} exdex_tool_def;
+
+typedef struct exdex_tool_problem {
+    int model;                /* enum exdex_tool_model */
+    int n_shapes;             /* >= 1 (ignored by EXDEX_TOOL_PAPER) */
+    const int *n_vertices;    /* (n_shapes,), each 3..EXDEX_MAX_VERTICES */
+    const double *vertices;   /* (sum n_vertices, 2) object frame [m] */
+    int n_phi;                /* >= 1 */
+    const double *phi;        /* (n_phi,) attack angles [rad] */
+    double lo[3], hi[3];      /* the twist box */
+    double mu;                /* tool friction coefficient >= 0 */
+    int has_push;             /* 1: add the push row push . x >= 0 */
+    double push[3];           /* push wrench in the tool frame (F_x, F_y, M_z) */
+} exdex_tool_problem;
+
+/* EXDEX_OK or EXDEX_EINVAL with *bad_param naming the field. */
+int exdex_tool_problem_check(const exdex_tool_problem *p, const char **bad_param);
+
+/* Rows of one shape (index) at one attack angle; *nrows <= EXDEX_CONE_MAX_ROWS. */
+int exdex_tool_rows(const exdex_tool_problem *p, const exdex_tool_def *tool, int shape,
+                    double phi, double *rows, int *nrows);
+
+/* Exact volumes for n_tools tools: volume (n_tools, n_shapes, n_phi). */
+int exdex_tool_volumes(const exdex_tool_problem *p, size_t n_tools,
+                       const exdex_tool_def *tools, double *volume);
+
+/* Eq. 12 objective: sum over shapes and attack angles of the exact volume. */
+int exdex_tool_objective(const exdex_tool_problem *p, const exdex_tool_def *tool,
+                         double *sum);
+
+typedef struct exdex_tool_opt_result {
+    double x[3];       /* (alpha1, alpha2, s) at the optimum */
+    double f;          /* objective there */
+    int iterations;    /* Brent or simplex iterations */
+    int evaluations;   /* objective evaluations, scan included */
+    int bracketed;     /* theta: 1 if Brent refined an interior scan minimum,
+                          0 if the scan minimum was at a bound or on a plateau */
+} exdex_tool_opt_result;
+
+/* Eq. 12: theta* = argmin over theta in [theta_lo, theta_hi] of the
+ * objective with alpha2 = alpha1 + theta (tool->alpha1, plunger, s kept):
+ * n_scan >= 3 equally spaced values, then GSL Brent on the two scan cells
+ * around the best value, to |dtheta| <= max(xtol, 3e-8 max(1, |theta|)) (Brent's
+ * resolution is ~sqrt(DBL_EPSILON)). scan_f (n_scan,) may be NULL. */
+int exdex_tool_optimise_theta(const exdex_tool_problem *p, const exdex_tool_def *tool,
+                              double theta_lo, double theta_hi, int n_scan, double xtol,
+                              double *scan_f, exdex_tool_opt_result *res);
+
+/* Several tool parameters together: GSL nmsimplex2 over the parameters
+ * (alpha1, alpha2, s) whose free[i] is 1, from tool (start) with initial
+ * steps step[3], until the simplex size <= size_tol or max_iter. */
+int exdex_tool_optimise(const exdex_tool_problem *p, const exdex_tool_def *start,
+                        const int free_param[3], const double step[3], int max_iter,
+                        double size_tol, exdex_tool_opt_result *res);
+
 #ifdef __cplusplus
 }
 #endif
