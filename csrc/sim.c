@@ -1,0 +1,788 @@
+/* sim.c -- relative dynamics of the grasped object in the gripper frame B
+ * (paper Eqs. 3-5) and the implicit time-stepping loop with the friction
+ * ellipsoid (Eq. 6) and external stops.
+ *
+ * Equations of motion in B (all vectors in B coordinates). With g_B = R^T g,
+ * a0 = R^T a (B origin), w = R^T omega, dw = R^T alpha, the centre of mass at
+ * r with relative velocity rd feels, besides friction and stops, the force
+ *     F_lin = m (g_B - a0 - dw x r - w x (w x r) - 2 w x rd)           (Eq. 5)
+ * (gravity, linear, Euler, centrifugal and Coriolis terms of the moving
+ * frame). The object turns about z relative to B at rate thd, so its absolute
+ * angular velocity is W = w + thd e_z and Euler's equation, z-component (the
+ * plates carry the x and y torques), gives
+ *     I_zz thdd = tau_z - [I_B (dw + thd w x e_z)]_z - [W x I_B W]_z
+ * with I_B = Rz(theta) I Rz(theta)^T.
+ *
+ * The reduced coordinates (exdex_dof) turn these into M qdd = Q(t, q, qd)
+ * + friction + stops with a 1x1 or 3x3 M.
+ *
+ * Time stepping (Moreau's midpoint scheme, velocity level):
+ *     q_m = q + h/2 v,   forces at (t + h/2, q_m, v),   v* = v + h M^-1 Q,
+ *     v+ = v* + M^-1 (J_f^T p + G^T lambda),   q+ = q_m + h/2 v+,
+ * with the friction impulse p from the maximum-dissipation problem (Eq. 6)
+ * and stop impulses lambda >= 0 keeping every stop gap >= 0 at t + h.
+ * Stick is exact: when the friction impulse can hold the object, v+ = 0.
+ */
+#include "exdex.h"
+#include "util.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#define MAX_ROWS (EXDEX_MAX_STOPS * EXDEX_MAX_VERTICES)
+#define STOP_MAX_ITER 500
+#define STOP_TOL 1e-14
+
+struct exdex_model {
+    exdex_scene_def def;    /* copy of the definition (sampled arrays owned by motion) */
+    exdex_motion *motion;
+    int ndof;
+    double m;               /* mass */
+    double I[9];            /* inertia in C */
+    double izz;
+    double capF;            /* friction capacity mu * fingers * grip_force [N] */
+    double e[3];            /* (1, 1, e_r) */
+    double pc[2];           /* centre of pressure in C */
+    double g[3];            /* gravity in A */
+    /* translation */
+    double d[2];            /* unit slide axis in B */
+    double r0[2];           /* initial centre of mass in B */
+    double s0;              /* d . r0 */
+    double th0;
+    /* rotation about the pivot (centre of pressure, fixed in B) */
+    double pivot[2];
+    double c[2];            /* centre of mass relative to the pivot, in C */
+    double mrot;            /* generalized mass izz + m |c|^2 */
+    /* planar: friction problem in object-frame patch coordinates (constant) */
+    exdex_friction_prep prep;
+    double minv[3];         /* diagonal of M^-1 */
+    /* stops */
+    int n_stops;
+    double sp[EXDEX_MAX_STOPS][3], sn[EXDEX_MAX_STOPS][3];
+    int n_vert;
+    double vert[EXDEX_MAX_VERTICES][2];
+};
+
+/* Per-step quantities of the moving frame, in B coordinates. */
+typedef struct frame {
+    double gB[3], a0[3], w[3], dw[3];
+} frame;
+
+/* Mutable per-call workspace (nothing is allocated in the step loop). */
+typedef struct work {
+    exdex_friction_ws *fws;
+    double p_prev[3];
+    int have_prev;
+    int n_rows;
+    int row_stop[MAX_ROWS];
+    double G[MAX_ROWS][3];
+    double rhs[MAX_ROWS];
+    double lam[MAX_ROWS];
+    double gap[MAX_ROWS];
+} work;
+
+/* ------------------------------------------------------------ definition */
+
+exdex_scene_def exdex_default_scene_def(void)
+{
+    exdex_scene_def d;
+    memset(&d, 0, sizeof d);
+    d.mass = 1.0;
+    d.inertia[0] = d.inertia[4] = d.inertia[8] = 1.0;
+    d.mu = 0.5;
+    d.grip_force = 1.0;
+    d.fingers = 2;
+    d.e_r = 0.01;
+    d.gravity[2] = -9.81;
+    d.dof = EXDEX_DOF_TRANSLATION;
+    d.slide_axis[1] = 1.0;
+    /* B x = A x, B y = A z (up), B z = -A y: columns of R_AB are B's axes. */
+    d.R0[0] = 1.0;
+    d.R0[5] = -1.0;
+    d.R0[7] = 1.0;
+    d.motion.kind = EXDEX_MOTION_REST;
+    d.motion.axis[2] = 1.0;
+    d.motion.duration = 1.0;
+    d.motion.beta = 0.5;
+    d.motion.v_max = 1.0;
+    d.method = EXDEX_METHOD_IMPLICIT;
+    d.friction_solver = EXDEX_SOLVER_SCALAR;
+    d.eps = 1e-4;
+    d.rtol = 1e-8;
+    d.atol = 1e-10;
+    return d;
+}
+
+static int bad(const char **bad_param, const char *name)
+{
+    if (bad_param) *bad_param = name;
+    return EXDEX_EINVAL;
+}
+
+/* Cholesky test of a symmetric 3x3 matrix. */
+static int spd3(const double A[9])
+{
+    double l00, l10, l20, l11, l21, d2;
+    if (!(A[0] > 0)) return 0;
+    l00 = sqrt(A[0]);
+    l10 = A[3] / l00;
+    l20 = A[6] / l00;
+    d2 = A[4] - l10 * l10;
+    if (!(d2 > 0)) return 0;
+    l11 = sqrt(d2);
+    l21 = (A[7] - l20 * l10) / l11;
+    d2 = A[8] - l20 * l20 - l21 * l21;
+    return d2 > 0;
+}
+
+int exdex_scene_check(const exdex_scene_def *d, const char **bad_param)
+{
+    double scale;
+    if (!d) return bad(bad_param, "scene");
+    if (!(isfinite(d->mass) && d->mass > 0)) return bad(bad_param, "mass");
+    if (!ex_finite_n(d->inertia, 9)) return bad(bad_param, "inertia");
+    scale = fabs(d->inertia[0]) + fabs(d->inertia[4]) + fabs(d->inertia[8]);
+    if (fabs(d->inertia[1] - d->inertia[3]) > 1e-9 * scale ||
+        fabs(d->inertia[2] - d->inertia[6]) > 1e-9 * scale ||
+        fabs(d->inertia[5] - d->inertia[7]) > 1e-9 * scale || !spd3(d->inertia))
+        return bad(bad_param, "inertia");
+    if (d->n_vertices < 0 || d->n_vertices > EXDEX_MAX_VERTICES)
+        return bad(bad_param, "n_vertices");
+    if (!ex_finite_n(&d->vertices[0][0], 2 * d->n_vertices)) return bad(bad_param, "vertices");
+    if (!(isfinite(d->mu) && d->mu >= 0)) return bad(bad_param, "mu");
+    if (!(isfinite(d->grip_force) && d->grip_force >= 0)) return bad(bad_param, "grip_force");
+    if (d->fingers != 1 && d->fingers != 2) return bad(bad_param, "fingers");
+    if (!(isfinite(d->e_r) && d->e_r > 0)) return bad(bad_param, "e_r");
+    if (!ex_finite_n(d->patch_center, 2)) return bad(bad_param, "patch_center");
+    if (!ex_finite_n(d->gravity, 3)) return bad(bad_param, "gravity");
+    if (d->dof < EXDEX_DOF_TRANSLATION || d->dof > EXDEX_DOF_PLANAR) return bad(bad_param, "dof");
+    if (!ex_finite_n(d->slide_axis, 2) ||
+        fabs(hypot(d->slide_axis[0], d->slide_axis[1]) - 1.0) > 1e-9)
+        return bad(bad_param, "slide_axis");
+    if (!ex_finite_n(d->q0, 3)) return bad(bad_param, "q0");
+    if (!ex_finite_n(d->v0, 3)) return bad(bad_param, "v0");
+    if (!ex_finite_n(d->p0, 3)) return bad(bad_param, "p0");
+    if (d->n_stops < 0 || d->n_stops > EXDEX_MAX_STOPS) return bad(bad_param, "n_stops");
+    for (int k = 0; k < d->n_stops; k++) {
+        if (!ex_finite_n(d->stop_point[k], 3)) return bad(bad_param, "stop_point");
+        if (!ex_finite_n(d->stop_normal[k], 3) ||
+            fabs(sqrt(ex_dot3(d->stop_normal[k], d->stop_normal[k])) - 1.0) > 1e-9)
+            return bad(bad_param, "stop_normal");
+    }
+    if (d->method != EXDEX_METHOD_IMPLICIT) return bad(bad_param, "method");
+    if (d->friction_solver < EXDEX_SOLVER_SCALAR || d->friction_solver > EXDEX_SOLVER_MULTIROOT)
+        return bad(bad_param, "friction_solver");
+    if (!(isfinite(d->eps) && d->eps > 0)) return bad(bad_param, "eps");
+    if (!(isfinite(d->rtol) && d->rtol > 0)) return bad(bad_param, "rtol");
+    if (!(isfinite(d->atol) && d->atol > 0)) return bad(bad_param, "atol");
+    return EXDEX_OK;
+}
+
+/* ------------------------------------------------------------ kinematics */
+
+/* Rotation by angle th about z applied to a plane vector. */
+static inline void rot2(double out[2], double th, const double v[2])
+{
+    double c = cos(th), s = sin(th);
+    double x = c * v[0] - s * v[1], y = s * v[0] + c * v[1];
+    out[0] = x;
+    out[1] = y;
+}
+
+/* Centre of mass position in B (z = 0) and orientation for coordinates q. */
+static void com_pose(const exdex_model *m, const double *q, double r[3], double *th)
+{
+    r[2] = 0.0;
+    switch (m->ndof == 3 ? EXDEX_DOF_PLANAR : m->def.dof) {
+    case EXDEX_DOF_TRANSLATION:
+        r[0] = m->r0[0] + (q[0] - m->s0) * m->d[0];
+        r[1] = m->r0[1] + (q[0] - m->s0) * m->d[1];
+        *th = m->th0;
+        break;
+    case EXDEX_DOF_ROTATION: {
+        double rho[2];
+        rot2(rho, q[0], m->c);
+        r[0] = m->pivot[0] + rho[0];
+        r[1] = m->pivot[1] + rho[1];
+        *th = q[0];
+        break;
+    }
+    default:
+        r[0] = q[0];
+        r[1] = q[1];
+        *th = q[2];
+    }
+}
+
+static int frame_at(const exdex_model *m, double t, frame *f, exdex_kinematics *k)
+{
+    int st = exdex_motion_eval(m->motion, t, k);
+    if (st) return st;
+    ex_mulmtv3(f->gB, k->R, m->g);
+    ex_mulmtv3(f->a0, k->R, k->a);
+    ex_mulmtv3(f->w, k->R, k->w);
+    ex_mulmtv3(f->dw, k->R, k->dw);
+    return EXDEX_OK;
+}
+
+/* Inertial + gravity force on the centre of mass (Eq. 5), B coordinates. */
+static void force_lin(const exdex_model *m, const frame *f, const double r[3],
+                      const double rd[3], double F[3])
+{
+    double t1[3], t2[3], t3[3];
+    ex_cross3(t1, f->dw, r);          /* Euler */
+    ex_cross3(t2, f->w, r);
+    ex_cross3(t3, f->w, t2);          /* centrifugal */
+    ex_cross3(t2, f->w, rd);          /* Coriolis / 2 */
+    for (int i = 0; i < 3; i++)
+        F[i] = m->m * (f->gB[i] - f->a0[i] - t1[i] - t3[i] - 2.0 * t2[i]);
+}
+
+/* Inertial torque about z on the body turning at thd relative to B at angle th. */
+static double torque_z(const exdex_model *m, const frame *f, double th, double thd)
+{
+    double IB[9], Rz[9], T[9], v[3], Iv[3], W[3], IW[3], wxe[3];
+    const double ez[3] = {0.0, 0.0, 1.0};
+    double c = cos(th), s = sin(th);
+    /* Only the z-row of I_B is needed, plus I_B W for the gyroscopic term. */
+    Rz[0] = c; Rz[1] = -s; Rz[2] = 0; Rz[3] = s; Rz[4] = c; Rz[5] = 0; Rz[6] = 0; Rz[7] = 0; Rz[8] = 1;
+    ex_mulmm3(T, Rz, m->I);
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            IB[3 * i + j] = T[3 * i] * Rz[3 * j] + T[3 * i + 1] * Rz[3 * j + 1] + T[3 * i + 2] * Rz[3 * j + 2];
+    ex_cross3(wxe, f->w, ez);
+    for (int i = 0; i < 3; i++) v[i] = f->dw[i] + thd * wxe[i];
+    ex_mulmv3(Iv, IB, v);
+    W[0] = f->w[0];
+    W[1] = f->w[1];
+    W[2] = f->w[2] + thd;
+    ex_mulmv3(IW, IB, W);
+    return -Iv[2] - (W[0] * IW[1] - W[1] * IW[0]);
+}
+
+/* ------------------------------------------------------------ model */
+
+static void stop_rows_clear(work *w) { w->n_rows = 0; }
+
+/* Gap of vertex j against stop k for coordinates q, gripper pose k, and the
+ * row G (d gap / d qdot). */
+static double vertex_gap(const exdex_model *m, const exdex_kinematics *kin, int k,
+                         const double *q, int j, double G[3])
+{
+    double r[3], th, vx[3], xb[3], xa[3], nB[3], dxdq[3][3];
+    int n = m->ndof;
+    com_pose(m, q, r, &th);
+    if (m->n_vert) {
+        rot2(vx, th, m->vert[j]);
+    } else {
+        vx[0] = vx[1] = 0.0;
+    }
+    vx[2] = 0.0;
+    for (int i = 0; i < 3; i++) xb[i] = r[i] + vx[i];
+    ex_mulmv3(xa, kin->R, xb);
+    for (int i = 0; i < 3; i++) xa[i] += kin->p[i] - m->sp[k][i];
+    if (G) {
+        ex_mulmtv3(nB, kin->R, m->sn[k]);
+        if (n == 3) {
+            /* columns: d xb / dx, dy, dtheta */
+            dxdq[0][0] = 1; dxdq[1][0] = 0;
+            dxdq[0][1] = 0; dxdq[1][1] = 1;
+            dxdq[0][2] = -vx[1]; dxdq[1][2] = vx[0];
+            for (int c = 0; c < 3; c++) G[c] = nB[0] * dxdq[0][c] + nB[1] * dxdq[1][c];
+        } else if (m->def.dof == EXDEX_DOF_TRANSLATION) {
+            G[0] = nB[0] * m->d[0] + nB[1] * m->d[1];
+        } else {
+            /* rotation about the pivot: d xb / dtheta = e_z x (xb - pivot) */
+            double ax = xb[0] - m->pivot[0], ay = xb[1] - m->pivot[1];
+            G[0] = -nB[0] * ay + nB[1] * ax;
+        }
+    }
+    return ex_dot3(xa, m->sn[k]);
+}
+
+void exdex_model_free(exdex_model *m)
+{
+    if (!m) return;
+    exdex_motion_free(m->motion);
+    free(m);
+}
+
+exdex_model *exdex_model_alloc(const exdex_scene_def *def, int *status, const char **bad_param)
+{
+    exdex_model *m;
+    int st = exdex_scene_check(def, bad_param);
+    int dummy;
+    if (!status) status = &dummy;
+    if (st) {
+        *status = st;
+        return NULL;
+    }
+    m = calloc(1, sizeof *m);
+    if (!m) {
+        *status = EXDEX_ENOMEM;
+        return NULL;
+    }
+    m->def = *def;
+    m->def.motion.times = NULL;
+    m->def.motion.poses = NULL;
+    m->motion = exdex_motion_alloc(&def->motion, def->R0, def->p0, status, bad_param);
+    if (!m->motion) {
+        free(m);
+        return NULL;
+    }
+    m->ndof = def->dof == EXDEX_DOF_PLANAR ? 3 : 1;
+    m->m = def->mass;
+    memcpy(m->I, def->inertia, sizeof m->I);
+    m->izz = def->inertia[8];
+    m->capF = def->mu * def->fingers * def->grip_force;
+    m->e[0] = m->e[1] = 1.0;
+    m->e[2] = def->e_r;
+    m->pc[0] = def->patch_center[0];
+    m->pc[1] = def->patch_center[1];
+    memcpy(m->g, def->gravity, sizeof m->g);
+    m->d[0] = def->slide_axis[0];
+    m->d[1] = def->slide_axis[1];
+    m->r0[0] = def->q0[0];
+    m->r0[1] = def->q0[1];
+    m->th0 = def->q0[2];
+    m->s0 = m->d[0] * m->r0[0] + m->d[1] * m->r0[1];
+    /* rotation: pivot at the centre of pressure, fixed in B */
+    {
+        double pcB[2];
+        rot2(pcB, m->th0, m->pc);
+        m->pivot[0] = m->r0[0] + pcB[0];
+        m->pivot[1] = m->r0[1] + pcB[1];
+        m->c[0] = -m->pc[0];
+        m->c[1] = -m->pc[1];
+        m->mrot = m->izz + m->m * (m->c[0] * m->c[0] + m->c[1] * m->c[1]);
+    }
+    /* planar: W = J' M'^-1 J'^T in object-frame patch coordinates, with the
+     * patch slip u = (vx' - pc_y thd, vy' + pc_x thd, thd). */
+    m->minv[0] = m->minv[1] = 1.0 / m->m;
+    m->minv[2] = 1.0 / m->izz;
+    if (m->ndof == 3) {
+        double J[9] = {1, 0, -m->pc[1], 0, 1, m->pc[0], 0, 0, 1}, W[9];
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++) {
+                double s = 0;
+                for (int k = 0; k < 3; k++) s += J[3 * i + k] * m->minv[k] * J[3 * j + k];
+                W[3 * i + j] = s;
+            }
+        st = exdex_friction_prepare(&m->prep, W, m->e);
+        if (st) {
+            exdex_model_free(m);
+            *status = st;
+            if (bad_param) *bad_param = "inertia";
+            return NULL;
+        }
+    }
+    m->n_stops = def->n_stops;
+    for (int k = 0; k < def->n_stops; k++) {
+        memcpy(m->sp[k], def->stop_point[k], sizeof m->sp[k]);
+        memcpy(m->sn[k], def->stop_normal[k], sizeof m->sn[k]);
+    }
+    m->n_vert = def->n_vertices;
+    memcpy(m->vert, def->vertices, sizeof m->vert);
+    /* no vertex may start beyond a stop */
+    if (m->n_stops) {
+        exdex_kinematics kin;
+        double q[3];
+        int nv = m->n_vert ? m->n_vert : 1;
+        if (m->ndof == 3) {
+            memcpy(q, def->q0, sizeof q);
+        } else {
+            q[0] = def->dof == EXDEX_DOF_TRANSLATION ? m->s0 : m->th0;
+        }
+        st = exdex_motion_eval(m->motion, 0.0, &kin);
+        for (int k = 0; !st && k < m->n_stops; k++)
+            for (int j = 0; j < nv; j++)
+                if (vertex_gap(m, &kin, k, q, j, NULL) < -1e-9) st = EXDEX_EINVAL;
+        if (st) {
+            exdex_model_free(m);
+            *status = st;
+            if (bad_param) *bad_param = "q0 (the object starts beyond a stop)";
+            return NULL;
+        }
+    }
+    *status = EXDEX_OK;
+    return m;
+}
+
+int exdex_model_ndof(const exdex_model *m) { return m ? m->ndof : 0; }
+int exdex_model_nstops(const exdex_model *m) { return m ? m->n_stops : 0; }
+
+size_t exdex_n_samples(double t_end, double dt)
+{
+    double r;
+    double steps;
+    if (!(isfinite(t_end) && isfinite(dt) && dt > 0 && t_end > 0 && dt <= t_end)) return 0;
+    r = t_end / dt;
+    steps = floor(r + 0.5);
+    if (fabs(r - steps) > 1e-9 * r) steps = ceil(r);
+    if (steps < 1) steps = 1;
+    if (steps > 1e9) return 0;
+    return (size_t)steps + 1;
+}
+
+/* ------------------------------------------------------------ stops */
+
+/* Collect the stop rows for the step from t (coordinates q) to t+h: the
+ * linearised gap of q + h v+ at the gripper pose of t+h must be >= 0, i.e.
+ * G v+ >= -gap(q, t+h) / h. (A row on the midpoint position, gap(q_m) +
+ * h/2 G v+ >= 0, makes v+ = 2 V - v against a stop moving at V: a period-2
+ * velocity oscillation that never decays. Any penetration this row leaves
+ * through the midpoint position update, h/2 |v+ - v| at most, is removed by
+ * project_positions after the step.) */
+static void build_rows(const exdex_model *m, const exdex_kinematics *kin_end, const double *q,
+                       double h, work *w)
+{
+    int nv = m->n_vert ? m->n_vert : 1;
+    stop_rows_clear(w);
+    for (int k = 0; k < m->n_stops; k++)
+        for (int j = 0; j < nv; j++) {
+            int i = w->n_rows++;
+            w->row_stop[i] = k;
+            w->gap[i] = vertex_gap(m, kin_end, k, q, j, w->G[i]);
+            w->rhs[i] = -w->gap[i] / h;
+            w->lam[i] = 0.0;
+        }
+}
+
+/* 1-DoF step: min 1/2 M (v - vs)^2 + c |v| subject to G_i v >= rhs_i.
+ * Exact: soft-threshold, then clamp into the feasible interval; the friction
+ * takes what it can ("friction first"), the binding stop the rest. */
+static void step_1dof(const exdex_model *m, double M, double c, double vs, work *w,
+                      double *v_out, double *pf, exdex_stats *st)
+{
+    double vu, v, P, lo = -INFINITY, hi = INFINITY;
+    int ilo = -1, ihi = -1, ib;
+    if (fabs(M * vs) <= c)
+        vu = 0.0;
+    else
+        vu = vs - copysign(c / M, vs);
+    for (int i = 0; i < w->n_rows; i++) {
+        double g = w->G[i][0];
+        if (g > 0) {
+            double b = w->rhs[i] / g;
+            if (b > lo) { lo = b; ilo = i; }
+        } else if (g < 0) {
+            double b = w->rhs[i] / g;
+            if (b < hi) { hi = b; ihi = i; }
+        } else if (w->rhs[i] > 0) {
+            st->warnings++;  /* a stop parallel to the free direction cannot act */
+        }
+    }
+    if (lo > hi) {  /* stops pinch the object: keep the lower bound, count it */
+        st->warnings++;
+        hi = lo;
+    }
+    v = vu;
+    ib = -1;
+    if (v < lo) { v = lo; ib = ilo; }
+    if (v > hi) { v = hi; ib = ihi; }
+    P = M * (v - vs);
+    if (ib < 0) {
+        *pf = P;
+    } else {
+        double p = v != 0.0 ? -copysign(c, v) : fmin(fmax(P, -c), c);
+        double lam = (P - p) / w->G[ib][0];
+        *pf = p;
+        w->lam[ib] = lam > 0 ? lam : 0.0;
+    }
+    (void)m;
+    *v_out = v;
+}
+
+/* ------------------------------------------------------------ the step loop */
+
+static void rotate_gen(double out[3], const double in[3], double th)
+{
+    /* generalized planar vector (x, y, theta) rotated by th about z */
+    rot2(out, th, in);
+    out[2] = in[2];
+}
+
+/* Planar friction + stops, block Gauss-Seidel over the friction block (exact
+ * ellipsoid solve) and each active stop row (exact clamped update). */
+static int step_planar(const exdex_model *m, double h, double th, const double vs[3], work *w,
+                       double v[3], double pfB[3], exdex_friction_result *fr, exdex_stats *st)
+{
+    double cap = h * m->capF;
+    double Ps[3] = {0, 0, 0}, pf_prev[3] = {0, 0, 0};
+    int n_active = 0, active[MAX_ROWS];
+    for (int round = 0; round < 4; round++) {
+        int it, converged = 0;
+        for (it = 0; it < STOP_MAX_ITER; it++) {
+            double vb[3], vo[3], b[3], Pf_o[3];
+            double change = 0.0, scale = 1e-300;
+            int s;
+            for (int i = 0; i < 3; i++) vb[i] = vs[i] + m->minv[i] * Ps[i];
+            rotate_gen(vo, vb, -th);
+            b[0] = vo[0] - m->pc[1] * vo[2];
+            b[1] = vo[1] + m->pc[0] * vo[2];
+            b[2] = vo[2];
+            s = exdex_friction_solve(&m->prep, b, cap, m->def.friction_solver, w->fws,
+                                     w->have_prev ? w->p_prev : NULL, fr);
+            if (s) return s;
+            st->solver_iterations += (size_t)fr->iterations;
+            /* generalized impulse J'^T p in C, rotated to B */
+            Pf_o[0] = fr->p[0];
+            Pf_o[1] = fr->p[1];
+            Pf_o[2] = fr->p[2] - m->pc[1] * fr->p[0] + m->pc[0] * fr->p[1];
+            rotate_gen(pfB, Pf_o, th);
+            for (int i = 0; i < 3; i++) {
+                change = fmax(change, fabs(pfB[i] - pf_prev[i]));
+                scale = fmax(scale, fabs(pfB[i]));
+                pf_prev[i] = pfB[i];
+                v[i] = vs[i] + m->minv[i] * (pfB[i] + Ps[i]);
+            }
+            if (n_active == 0) {
+                converged = 1;
+                break;
+            }
+            if (fr->stick && Ps[0] == 0 && Ps[1] == 0 && Ps[2] == 0) v[0] = v[1] = v[2] = 0.0;
+            for (int a = 0; a < n_active; a++) {
+                int i = active[a];
+                const double *G = w->G[i];
+                double r = G[0] * v[0] + G[1] * v[1] + G[2] * v[2] - w->rhs[i];
+                double gmg = G[0] * G[0] * m->minv[0] + G[1] * G[1] * m->minv[1] +
+                             G[2] * G[2] * m->minv[2];
+                double nl = fmax(0.0, w->lam[i] - r / gmg), dl = nl - w->lam[i];
+                w->lam[i] = nl;
+                for (int c = 0; c < 3; c++) {
+                    Ps[c] += G[c] * dl;
+                    v[c] += m->minv[c] * G[c] * dl;
+                }
+                change = fmax(change, fabs(dl));
+                scale = fmax(scale, fabs(nl));
+            }
+            st->stop_iterations++;
+            if (it > 0 && change <= STOP_TOL * scale) {
+                converged = 1;
+                break;
+            }
+        }
+        if (!converged) st->warnings++;
+        /* add rows the current velocity violates */
+        {
+            int added = 0;
+            for (int i = 0; i < w->n_rows; i++) {
+                const double *G = w->G[i];
+                int is_active = 0;
+                for (int a = 0; a < n_active; a++) is_active |= active[a] == i;
+                if (!is_active && G[0] * v[0] + G[1] * v[1] + G[2] * v[2] <
+                                      w->rhs[i] - 1e-12 * (1.0 + fabs(w->rhs[i]))) {
+                    active[n_active++] = i;
+                    added = 1;
+                }
+            }
+            if (!added) break;
+        }
+    }
+    if (fr->stick && n_active == 0) v[0] = v[1] = v[2] = 0.0;
+    w->p_prev[0] = fr->p[0];
+    w->p_prev[1] = fr->p[1];
+    w->p_prev[2] = fr->p[2];
+    w->have_prev = 1;
+    return EXDEX_OK;
+}
+
+/* Remove residual penetration left by the midpoint position update and the
+ * linearised rotation: project q along M^-1 G^T of the deepest vertex. */
+static void project_positions(const exdex_model *m, const exdex_kinematics *kin, double *q,
+                              exdex_stats *st)
+{
+    int nv = m->n_vert ? m->n_vert : 1, n = m->ndof;
+    for (int pass = 0; pass < 4; pass++) {
+        double worst = 0.0, G[3] = {0, 0, 0}, Gw[3] = {0, 0, 0};
+        for (int k = 0; k < m->n_stops; k++)
+            for (int j = 0; j < nv; j++) {
+                double gap = vertex_gap(m, kin, k, q, j, G);
+                if (gap < worst) {
+                    worst = gap;
+                    memcpy(Gw, G, sizeof G);
+                }
+            }
+        if (worst >= 0.0) return;
+        {
+            double minv1[3] = {1.0 / m->m, 1.0 / m->m, 1.0 / m->izz}, gmg = 0.0;
+            if (n == 1)
+                minv1[0] = 1.0;
+            for (int c = 0; c < n; c++) gmg += Gw[c] * Gw[c] * minv1[c];
+            if (!(gmg > 0)) {
+                st->warnings++;
+                return;
+            }
+            for (int c = 0; c < n; c++) q[c] += minv1[c] * Gw[c] * (-worst) / gmg * (1.0 + 1e-12);
+        }
+    }
+}
+
+static void record_gap(const exdex_model *m, const exdex_kinematics *kin, const double *q,
+                       exdex_stats *st)
+{
+    int nv = m->n_vert ? m->n_vert : 1;
+    for (int k = 0; k < m->n_stops; k++)
+        for (int j = 0; j < nv; j++) {
+            double gap = vertex_gap(m, kin, k, q, j, NULL);
+            if (gap < st->min_gap) st->min_gap = gap;
+        }
+}
+
+int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajectory *out,
+                   exdex_stats *stats)
+{
+    size_t n = exdex_n_samples(t_end, dt);
+    int n_dof, ns, status = EXDEX_OK;
+    double q[3], v[3], vprev[3], hprev = 0.0, t;
+    work *w;
+    exdex_stats st;
+    if (!m || !out || n == 0 || out->n != n || !out->t || !out->q || !out->v || !out->wrench ||
+        !out->stick || (m->n_stops && !out->stop_force))
+        return EXDEX_EINVAL;
+    w = calloc(1, sizeof *w);
+    if (!w) return EXDEX_ENOMEM;
+    if (m->def.friction_solver != EXDEX_SOLVER_SCALAR && m->ndof == 3) {
+        w->fws = exdex_friction_ws_alloc();
+        if (!w->fws) {
+            free(w);
+            return EXDEX_ENOMEM;
+        }
+    }
+    memset(&st, 0, sizeof st);
+    st.min_gap = INFINITY;
+    n_dof = m->ndof;
+    ns = m->n_stops;
+    if (n_dof == 3) {
+        memcpy(q, m->def.q0, sizeof q);
+        memcpy(v, m->def.v0, sizeof v);
+    } else if (m->def.dof == EXDEX_DOF_TRANSLATION) {
+        q[0] = m->s0;
+        v[0] = m->d[0] * m->def.v0[0] + m->d[1] * m->def.v0[1];
+    } else {
+        q[0] = m->th0;
+        v[0] = m->def.v0[2];
+    }
+    /* sample 0 */
+    out->t[0] = 0.0;
+    for (int i = 0; i < n_dof; i++) {
+        out->q[i] = q[i];
+        out->v[i] = v[i];
+    }
+    out->wrench[0] = out->wrench[1] = out->wrench[2] = 0.0;
+    out->stick[0] = (v[0] == 0.0 && (n_dof == 1 || (v[1] == 0.0 && v[2] == 0.0)));
+    for (int k = 0; k < ns; k++) out->stop_force[k] = 0.0;
+
+    t = 0.0;
+    for (size_t step = 1; step < n; step++) {
+        double t1 = step == n - 1 ? t_end : (double)step * dt;
+        double h = t1 - t, tm = t + 0.5 * h, qm[3], vmid[3], r[3], rd[3], th, F[3], vs[3], vn[3];
+        double wrench[3] = {0, 0, 0};
+        frame f;
+        exdex_kinematics kin, kin_end;
+        int stick;
+        status = frame_at(m, tm, &f, &kin);
+        if (status) break;
+        for (int i = 0; i < n_dof; i++) {
+            qm[i] = q[i] + 0.5 * h * v[i];
+            /* velocity at the midpoint, extrapolated from the last step, for
+             * the velocity-dependent (Coriolis, gyroscopic) terms: second
+             * order in smooth phases, and exactly 0 while the object sticks */
+            vmid[i] = hprev > 0.0 ? v[i] + 0.5 * h * (v[i] - vprev[i]) / hprev : v[i];
+        }
+        com_pose(m, qm, r, &th);
+        if (ns) {
+            status = exdex_motion_eval(m->motion, t1, &kin_end);
+            if (status) break;
+            build_rows(m, &kin_end, q, h, w);
+        } else {
+            w->n_rows = 0;
+        }
+        if (n_dof == 1) {
+            double M, Q, c, pf;
+            if (m->def.dof == EXDEX_DOF_TRANSLATION) {
+                rd[0] = vmid[0] * m->d[0];
+                rd[1] = vmid[0] * m->d[1];
+                rd[2] = 0.0;
+                force_lin(m, &f, r, rd, F);
+                M = m->m;
+                Q = F[0] * m->d[0] + F[1] * m->d[1];
+                c = h * m->capF;  /* |E j| = e_t = 1 */
+            } else {
+                double rho[2];
+                rot2(rho, qm[0], m->c);
+                rd[0] = -vmid[0] * rho[1];
+                rd[1] = vmid[0] * rho[0];
+                rd[2] = 0.0;
+                force_lin(m, &f, r, rd, F);
+                M = m->mrot;
+                Q = -rho[1] * F[0] + rho[0] * F[1] + torque_z(m, &f, qm[0], vmid[0]);
+                c = h * m->capF * m->e[2];  /* pure spin at the centre of pressure */
+            }
+            vs[0] = v[0] + h * Q / M;
+            step_1dof(m, M, c, vs[0], w, &vn[0], &pf, &st);
+            if (m->def.dof == EXDEX_DOF_TRANSLATION) {
+                wrench[0] = pf * m->d[0] / h;
+                wrench[1] = pf * m->d[1] / h;
+            } else {
+                wrench[2] = pf / h;
+            }
+            stick = vn[0] == 0.0;
+        } else {
+            exdex_friction_result fr;
+            double pfB[3], fo[3];
+            rd[0] = vmid[0];
+            rd[1] = vmid[1];
+            rd[2] = 0.0;
+            force_lin(m, &f, r, rd, F);
+            F[2] = torque_z(m, &f, th, vmid[2]);
+            for (int i = 0; i < 3; i++) vs[i] = v[i] + h * m->minv[i] * F[i];
+            status = step_planar(m, h, th, vs, w, vn, pfB, &fr, &st);
+            if (status) break;
+            /* report the patch wrench (not the generalized impulse), in B */
+            rot2(fo, th, fr.p);
+            wrench[0] = fo[0] / h;
+            wrench[1] = fo[1] / h;
+            wrench[2] = fr.p[2] / h;
+            stick = vn[0] == 0.0 && vn[1] == 0.0 && vn[2] == 0.0;
+        }
+        {
+            /* A step in which a stop pushes ends where its row put it: q + h v+
+             * (gap exactly 0 for a translating contact); otherwise Moreau's
+             * midpoint update q_m + h/2 v+. */
+            int pushed = 0;
+            for (int i = 0; i < w->n_rows; i++) pushed |= w->lam[i] > 0.0;
+            for (int i = 0; i < n_dof; i++) {
+                q[i] = pushed ? q[i] + h * vn[i] : qm[i] + 0.5 * h * vn[i];
+                vprev[i] = v[i];
+                v[i] = vn[i];
+            }
+        }
+        if (ns) {
+            project_positions(m, &kin_end, q, &st);
+            record_gap(m, &kin_end, q, &st);
+        }
+        if (!ex_finite_n(q, n_dof) || !ex_finite_n(v, n_dof)) {
+            status = EXDEX_ENONFINITE;
+            break;
+        }
+        t = t1;
+        hprev = h;
+        st.steps++;
+        st.stick_steps += (size_t)stick;
+        out->t[step] = t1;
+        for (int i = 0; i < n_dof; i++) {
+            out->q[step * n_dof + i] = q[i];
+            out->v[step * n_dof + i] = v[i];
+        }
+        for (int i = 0; i < 3; i++) out->wrench[3 * step + i] = wrench[i];
+        out->stick[step] = (unsigned char)stick;
+        for (int k = 0; k < ns; k++) out->stop_force[step * ns + k] = 0.0;
+        for (int i = 0; i < w->n_rows; i++)
+            out->stop_force[step * ns + w->row_stop[i]] += w->lam[i] / h;
+    }
+    exdex_friction_ws_free(w->fws);
+    free(w);
+    if (stats) *stats = st;
+    return status;
+}

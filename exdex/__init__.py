@@ -1,0 +1,25 @@
+"""exdex: in-hand manipulation by extrinsic dexterity.
+
+Exact relative dynamics of an object held in a moving parallel-plate gripper
+(gravity, inertial forces, friction ellipsoid with maximum dissipation,
+external stops), after "In-hand manipulation using extrinsic dexterity and
+simple assistive tools" (paper Eqs. 3-6), with a C core and NumPy arrays out.
+
+    >>> import exdex
+    >>> scene = exdex.Scene(body=exdex.Body(mass=0.1),
+    ...                     grasp=exdex.Grasp(mu=0.5, grip_force=1.5),
+    ...                     motion=exdex.AsymmetricProfile(0.1, 0.5, 0.9, axis=(0, 0, -1)))
+    >>> res = exdex.simulate(scene, t_end=1.5, dt=1e-3)
+
+Units are SI; frames are described in :mod:`exdex.scene`.
+"""
+from exdex.scene import (AsymmetricProfile, Body, Grasp, Patch, Rest, SampledTrajectory, Scene, Stop,
+                         TrapezoidalProfile, replace)
+from exdex.simulate import Result, SolverError, simulate
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "AsymmetricProfile", "Body", "Grasp", "Patch", "Rest", "SampledTrajectory", "Scene", "Stop",
+    "TrapezoidalProfile", "replace", "Result", "SolverError", "simulate", "__version__",
+]

@@ -1,0 +1,545 @@
+"""Scenes: the object, the grasp, the gripper motion, stops and free coordinates.
+
+Everything is a frozen dataclass, so ``dataclasses.replace(scene, grasp=...)``
+makes a variant and scenes can be hashed, compared and shared between threads.
+
+Units are SI (m, kg, s, rad, N). Frames (paper Section 2.1):
+
+* **A** -- the world, fixed. Gravity is given in A (default ``(0, 0, -9.81)``,
+  z up).
+* **B** -- the gripper: origin on the plates' mid-plane, ``x`` and ``y`` span
+  the plate plane, ``z`` is the plate normal (the fingers' closing direction).
+  Its initial pose in A is ``Scene.gripper_rotation`` (R_AB) and
+  ``Scene.gripper_position``; the default orientation has B's ``y`` pointing
+  up (B x = A x, B y = A z, B z = -A y): plates vertical.
+* **C** -- the object: origin at its centre of mass, ``z`` parallel to B's
+  ``z``. Its pose in B is ``(x, y, theta)``.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import numbers
+from dataclasses import dataclass, field
+from typing import Optional, Tuple
+
+import numpy as np
+
+__all__ = [
+    "Body", "Patch", "Grasp", "Rest", "AsymmetricProfile", "TrapezoidalProfile",
+    "SampledTrajectory", "Stop", "Scene", "DEFAULT_GRIPPER_ROTATION",
+]
+
+#: B x = A x, B y = A z (up), B z = -A y: plates vertical, normal horizontal.
+DEFAULT_GRIPPER_ROTATION = ((1.0, 0.0, 0.0), (0.0, 0.0, -1.0), (0.0, 1.0, 0.0))
+
+DOFS = {"translation": 1, "rotation": 2, "planar": 3}
+METHODS = {"implicit": 0, "event": 1, "regularised": 2, "explicit": 3}
+SOLVERS = {"scalar": 0, "brent": 1, "multiroot": 2}
+
+
+# ---------------------------------------------------------------- validation
+
+def _real(value, name, *, low=None, high=None, low_open=False, high_open=False):
+    """A finite float within [low, high] (open ends where asked), else a clear error."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
+    x = float(value)
+    if not math.isfinite(x):
+        raise ValueError(f"{name} must be finite, got {x}")
+    bad_low = low is not None and (x <= low if low_open else x < low)
+    bad_high = high is not None and (x >= high if high_open else x > high)
+    if bad_low or bad_high:
+        lo = "-inf" if low is None else f"{low:g}"
+        hi = "inf" if high is None else f"{high:g}"
+        lb = "(" if low_open or low is None else "["
+        hb = ")" if high_open or high is None else "]"
+        raise ValueError(f"{name} must be in {lb}{lo}, {hi}{hb}, got {x:g}")
+    return x
+
+
+def _array(value, name, shape):
+    """A finite float64 array of the given shape (None in shape = any length)."""
+    if isinstance(value, (str, bytes)):
+        raise TypeError(f"{name} must be an array of numbers, got {type(value).__name__}")
+    try:
+        a = np.asarray(value)
+    except Exception as exc:  # pragma: no cover - numpy raises varied errors
+        raise TypeError(f"{name} must be an array of numbers") from exc
+    if a.dtype == object or not (np.issubdtype(a.dtype, np.number) or a.dtype == bool):
+        raise TypeError(f"{name} must be an array of numbers, got dtype {a.dtype}")
+    if np.iscomplexobj(a):
+        raise TypeError(f"{name} must be real, got a complex array")
+    a = np.array(a, dtype=np.float64)
+    if a.ndim != len(shape) or any(s is not None and s != d for s, d in zip(shape, a.shape)):
+        want = "(" + ", ".join("n" if s is None else str(s) for s in shape) + ("," if len(shape) == 1 else "") + ")"
+        raise ValueError(f"{name} must have shape {want}, got {a.shape}")
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must be finite (no NaN or infinity)")
+    return a
+
+
+def _tuple(a):
+    return tuple(_tuple(x) for x in a) if isinstance(a, np.ndarray) and a.ndim > 1 else tuple(float(x) for x in a)
+
+
+def _unit(value, name, n):
+    a = _array(value, name, (n,))
+    norm = float(np.linalg.norm(a))
+    if norm == 0.0:
+        raise ValueError(f"{name} must be a non-zero vector")
+    return tuple(float(x) for x in a / norm)
+
+
+def _rotation(value, name):
+    R = _array(value, name, (3, 3))
+    if not np.allclose(R @ R.T, np.eye(3), atol=1e-9) or np.linalg.det(R) < 0:
+        raise ValueError(f"{name} must be a rotation matrix (orthonormal, det +1)")
+    return _tuple(R)
+
+
+# ---------------------------------------------------------------- object and grasp
+
+@dataclass(frozen=True)
+class Body:
+    """The grasped object.
+
+    mass : kg, > 0.
+    inertia : 3x3 inertia about the centre of mass in the object frame C
+        (z = plate normal) [kg m^2], symmetric positive definite. A scalar is
+        taken as I_zz of a body whose other principal moments equal it; a
+        3-vector as the diagonal.
+    size : (lx, ly, lz) box dimensions [m] (x, y in the plate plane, z across
+        the plates), or None. Gives the outline used against stops (and the
+        shape the physics-engine cross-checks build).
+    outline : polygon vertices (k, 2) in C [m] touching stops; default: the
+        box corners from ``size``, or the centre of mass alone.
+    """
+
+    mass: float
+    inertia: Tuple[Tuple[float, float, float], ...] = ((1e-4, 0.0, 0.0), (0.0, 1e-4, 0.0), (0.0, 0.0, 1e-4))
+    size: Optional[Tuple[float, float, float]] = None
+    outline: Optional[Tuple[Tuple[float, float], ...]] = None
+
+    def __post_init__(self):
+        object.__setattr__(self, "mass", _real(self.mass, "Body.mass", low=0.0, low_open=True))
+        inertia = self.inertia
+        if isinstance(inertia, numbers.Real) and not isinstance(inertia, bool):
+            inertia = np.eye(3) * _real(inertia, "Body.inertia", low=0.0, low_open=True)
+        else:
+            a = np.asarray(inertia)
+            if a.ndim == 1:
+                inertia = np.diag(_array(a, "Body.inertia", (3,)))
+        I = _array(inertia, "Body.inertia", (3, 3))
+        if not np.allclose(I, I.T, rtol=1e-9, atol=0.0):
+            raise ValueError("Body.inertia must be symmetric")
+        if np.any(np.linalg.eigvalsh(I) <= 0):
+            raise ValueError("Body.inertia must be positive definite (all principal moments > 0)")
+        object.__setattr__(self, "inertia", _tuple(I))
+        if self.size is not None:
+            s = _array(self.size, "Body.size", (3,))
+            if np.any(s <= 0):
+                raise ValueError("Body.size must be positive (lx, ly, lz > 0) [m]")
+            object.__setattr__(self, "size", _tuple(s))
+        if self.outline is not None:
+            o = _array(self.outline, "Body.outline", (None, 2))
+            if not 1 <= len(o) <= 32:
+                raise ValueError(f"Body.outline must have 1 to 32 vertices, got {len(o)}")
+            object.__setattr__(self, "outline", _tuple(o))
+
+    @classmethod
+    def box(cls, mass, size, **kw):
+        """A uniform box of dimensions ``size = (lx, ly, lz)`` [m]: its inertia is
+        m/12 diag(ly^2 + lz^2, lx^2 + lz^2, lx^2 + ly^2)."""
+        lx, ly, lz = _array(size, "size", (3,))
+        I = mass / 12.0 * np.diag([ly**2 + lz**2, lx**2 + lz**2, lx**2 + ly**2])
+        return cls(mass=mass, inertia=I, size=(lx, ly, lz), **kw)
+
+    def vertices(self):
+        """Outline vertices (k, 2) in C used against stops."""
+        if self.outline is not None:
+            return np.array(self.outline)
+        if self.size is not None:
+            hx, hy = self.size[0] / 2, self.size[1] / 2
+            return np.array([(-hx, -hy), (hx, -hy), (hx, hy), (-hx, hy)])
+        return np.zeros((1, 2))
+
+
+@dataclass(frozen=True)
+class Patch:
+    """Pressure patch between one plate and the object.
+
+    e_r : torsional semi-axis of the friction ellipsoid [m], the ratio of the
+        largest friction torque to the largest friction force, mu N. Use
+        ``Patch.disc`` or ``Patch.rectangle`` to compute it from a uniform
+        pressure distribution (Howe & Cutkosky), or give it directly.
+    center : centre of pressure in the object frame C, relative to the centre
+        of mass [m]. In ``"rotation"`` scenes it is the pivot (paper 2.3).
+    shape : description only ("disc", "rectangle" or "given").
+    """
+
+    e_r: float
+    center: Tuple[float, float] = (0.0, 0.0)
+    shape: str = "given"
+    dims: Tuple[float, ...] = ()
+
+    def __post_init__(self):
+        object.__setattr__(self, "e_r", _real(self.e_r, "Patch.e_r", low=0.0, low_open=True))
+        object.__setattr__(self, "center", _tuple(_array(self.center, "Patch.center", (2,))))
+
+    @classmethod
+    def disc(cls, radius, center=(0.0, 0.0)):
+        """Uniform pressure over a disc of ``radius`` [m]: e_r = 2 R / 3."""
+        from exdex import _core
+
+        r = _real(radius, "radius", low=0.0, low_open=True)
+        return cls(e_r=_core.er_disc(r), center=center, shape="disc", dims=(r,))
+
+    @classmethod
+    def rectangle(cls, half_x, half_y, center=(0.0, 0.0)):
+        """Uniform pressure over a rectangle of half-sides ``half_x``, ``half_y``
+        [m]: e_r is the mean distance of the rectangle from its centre."""
+        from exdex import _core
+
+        a = _real(half_x, "half_x", low=0.0, low_open=True)
+        b = _real(half_y, "half_y", low=0.0, low_open=True)
+        return cls(e_r=_core.er_rectangle(a, b), center=center, shape="rectangle", dims=(a, b))
+
+
+@dataclass(frozen=True)
+class Grasp:
+    """How the plates hold the object.
+
+    mu : plate-object friction coefficient, >= 0.
+    grip_force : normal force of each finger [N], >= 0.
+    patch : the pressure patch (both fingers identical and aligned).
+    fingers : number of pressing patches, 1 or 2. The ellipsoids of the
+        fingers add: the friction capacity is ``mu * fingers * grip_force`` [N]
+        and the largest torque ``capacity * patch.e_r`` [N m].
+    """
+
+    mu: float
+    grip_force: float
+    patch: Patch = field(default_factory=lambda: Patch(e_r=0.01))
+    fingers: int = 2
+
+    def __post_init__(self):
+        object.__setattr__(self, "mu", _real(self.mu, "Grasp.mu", low=0.0))
+        object.__setattr__(self, "grip_force", _real(self.grip_force, "Grasp.grip_force", low=0.0))
+        if not isinstance(self.patch, Patch):
+            raise TypeError(f"Grasp.patch must be an exdex.Patch, got {type(self.patch).__name__}")
+        if isinstance(self.fingers, bool) or not isinstance(self.fingers, numbers.Integral) or self.fingers not in (1, 2):
+            raise ValueError(f"Grasp.fingers must be 1 or 2, got {self.fingers!r}")
+
+    @property
+    def capacity(self):
+        """Largest friction force the plates can exert, mu * fingers * grip_force [N]."""
+        return self.mu * self.fingers * self.grip_force
+
+
+# ---------------------------------------------------------------- motions
+
+class _Motion:
+    """Common part of the gripper motions: conversion to the C spec and evaluation."""
+
+    def _spec(self):  # pragma: no cover - overridden
+        raise NotImplementedError
+
+    @property
+    def end_time(self):
+        """Time after which the gripper is at rest [s]."""
+        raise NotImplementedError
+
+    def evaluate(self, t, gripper_rotation=DEFAULT_GRIPPER_ROTATION, gripper_position=(0.0, 0.0, 0.0)):
+        """Kinematics of the gripper frame B at times ``t`` [s], in the world frame A.
+
+        Returns a dict of arrays: ``R`` (n, 3, 3) = R_AB, ``p`` position of B's
+        origin [m], ``v`` [m/s], ``a`` [m/s^2], ``w`` angular velocity [rad/s],
+        ``dw`` angular acceleration [rad/s^2], each (n, 3).
+        """
+        from exdex import _core
+
+        scene = Scene(body=Body(mass=1.0), grasp=Grasp(mu=0.0, grip_force=0.0), motion=self,
+                      gripper_rotation=gripper_rotation, gripper_position=gripper_position)
+        t = _array(np.atleast_1d(t), "t", (None,))
+        return _core.motion_eval(scene.to_spec(), t)
+
+
+def _axis_fields(self, name):
+    object.__setattr__(self, "axis", _unit(self.axis, f"{name}.axis", 3))
+    object.__setattr__(self, "center", _tuple(_array(self.center, f"{name}.center", (3,))))
+    if not isinstance(self.rotation, bool):
+        raise TypeError(f"{name}.rotation must be True or False")
+
+
+@dataclass(frozen=True)
+class Rest(_Motion):
+    """The gripper holds its initial pose."""
+
+    def _spec(self):
+        return dict(motion_kind=0)
+
+    @property
+    def end_time(self):
+        return 0.0
+
+
+@dataclass(frozen=True)
+class AsymmetricProfile(_Motion):
+    """Paper Eq. 7: acceleration a_H for beta T, a_L until (2 - beta) T, a_H
+    until 2 T, with a_H = 2 X1 / (beta T^2), a_L = 2 X1 / ((beta - 1) T^2)
+    (Eq. 9). A round trip: out to ``amplitude`` at t = T, back at rest at 2 T.
+
+    amplitude : X1 [m] (translation) or theta1 [rad] (rotation); its sign
+        gives the direction along ``axis``.
+    duration : T [s] > 0.
+    beta : ratio in (0, 1).
+    axis : direction (translation) or rotation axis, in A (normalised).
+    rotation : False to translate along axis, True to rotate about it.
+    center : a point on the rotation axis, in A [m].
+    """
+
+    amplitude: float
+    duration: float
+    beta: float
+    axis: Tuple[float, float, float] = (0.0, 0.0, 1.0)
+    rotation: bool = False
+    center: Tuple[float, float, float] = (0.0, 0.0, 0.0)
+
+    def __post_init__(self):
+        object.__setattr__(self, "amplitude", _real(self.amplitude, "AsymmetricProfile.amplitude"))
+        object.__setattr__(self, "duration", _real(self.duration, "AsymmetricProfile.duration", low=0.0, low_open=True))
+        object.__setattr__(self, "beta", _real(self.beta, "AsymmetricProfile.beta", low=0.0, high=1.0,
+                                               low_open=True, high_open=True))
+        _axis_fields(self, "AsymmetricProfile")
+
+    @property
+    def a_high(self):
+        """a_H = 2 X1 / (beta T^2) (Eq. 9a)."""
+        return 2 * self.amplitude / (self.beta * self.duration**2)
+
+    @property
+    def a_low(self):
+        """a_L = 2 X1 / ((beta - 1) T^2) (Eq. 9b)."""
+        return 2 * self.amplitude / ((self.beta - 1) * self.duration**2)
+
+    def _spec(self):
+        return dict(motion_kind=1, motion_rotation=int(self.rotation), motion_axis=self.axis,
+                    motion_center=self.center, motion_amplitude=self.amplitude,
+                    motion_duration=self.duration, motion_beta=self.beta)
+
+    @property
+    def end_time(self):
+        return 2.0 * self.duration
+
+
+@dataclass(frozen=True)
+class TrapezoidalProfile(_Motion):
+    """Trapezoidal velocity: ``amplitude`` (distance [m] or angle [rad]) in
+    ``duration`` T [s] with peak speed ``v_max``; requires
+    |X1|/T <= v_max <= 2|X1|/T. Ramps of T - |X1|/v_max at each end."""
+
+    amplitude: float
+    duration: float
+    v_max: float
+    axis: Tuple[float, float, float] = (0.0, 0.0, 1.0)
+    rotation: bool = False
+    center: Tuple[float, float, float] = (0.0, 0.0, 0.0)
+
+    def __post_init__(self):
+        a = _real(self.amplitude, "TrapezoidalProfile.amplitude")
+        T = _real(self.duration, "TrapezoidalProfile.duration", low=0.0, low_open=True)
+        if a == 0.0:
+            raise ValueError("TrapezoidalProfile.amplitude must be non-zero")
+        v = _real(self.v_max, "TrapezoidalProfile.v_max", low=abs(a) / T * (1 - 1e-12),
+                  high=2 * abs(a) / T * (1 + 1e-12))
+        object.__setattr__(self, "amplitude", a)
+        object.__setattr__(self, "duration", T)
+        object.__setattr__(self, "v_max", v)
+        _axis_fields(self, "TrapezoidalProfile")
+
+    def _spec(self):
+        return dict(motion_kind=2, motion_rotation=int(self.rotation), motion_axis=self.axis,
+                    motion_center=self.center, motion_amplitude=self.amplitude,
+                    motion_duration=self.duration, motion_v_max=self.v_max)
+
+    @property
+    def end_time(self):
+        return self.duration
+
+
+@dataclass(frozen=True, eq=False)
+class SampledTrajectory(_Motion):
+    """Gripper poses sampled at increasing times (e.g. a robot log).
+
+    times : (n,) strictly increasing [s], n >= 4.
+    positions : (n, 3) positions of B's origin in A [m].
+    quaternions : (n, 4) orientation R_AB as (w, x, y, z), normalised
+        internally; sign flips between samples are handled.
+
+    Interpolated with cubic splines (natural ends), which gives continuous
+    accelerations. The poses are absolute: ``Scene.gripper_rotation`` and
+    ``gripper_position`` are ignored. Before the first and after the last
+    time the gripper holds the end pose at rest.
+    """
+
+    times: np.ndarray
+    positions: np.ndarray
+    quaternions: np.ndarray
+
+    def __post_init__(self):
+        t = _array(self.times, "SampledTrajectory.times", (None,))
+        if len(t) < 4:
+            raise ValueError(f"SampledTrajectory.times needs at least 4 samples, got {len(t)}")
+        if np.any(np.diff(t) <= 0):
+            raise ValueError("SampledTrajectory.times must be strictly increasing")
+        p = _array(self.positions, "SampledTrajectory.positions", (len(t), 3))
+        q = _array(self.quaternions, "SampledTrajectory.quaternions", (len(t), 4))
+        if np.any(np.linalg.norm(q, axis=1) == 0):
+            raise ValueError("SampledTrajectory.quaternions must be non-zero")
+        for name, a in (("times", t), ("positions", p), ("quaternions", q)):
+            a.setflags(write=False)
+            object.__setattr__(self, name, a)
+
+    @classmethod
+    def from_matrices(cls, times, transforms):
+        """From homogeneous transforms (n, 4, 4) of B in A."""
+        T = _array(transforms, "transforms", (None, 4, 4))
+        quats = np.array([_quat_from_matrix(M[:3, :3]) for M in T])
+        return cls(times, T[:, :3, 3], quats)
+
+    def _spec(self):
+        poses = np.hstack([self.positions, self.quaternions])
+        return dict(motion_kind=3, motion_times=self.times, motion_poses=poses)
+
+    @property
+    def end_time(self):
+        return float(self.times[-1])
+
+    def __eq__(self, other):
+        return (isinstance(other, SampledTrajectory) and np.array_equal(self.times, other.times)
+                and np.array_equal(self.positions, other.positions)
+                and np.array_equal(self.quaternions, other.quaternions))
+
+    def __hash__(self):
+        return hash((self.times.tobytes(), self.positions.tobytes(), self.quaternions.tobytes()))
+
+
+def _quat_from_matrix(R):
+    """(w, x, y, z) of a rotation matrix (Shepperd's method)."""
+    tr = np.trace(R)
+    if tr > 0:
+        s = 2.0 * np.sqrt(tr + 1.0)
+        return np.array([0.25 * s, (R[2, 1] - R[1, 2]) / s, (R[0, 2] - R[2, 0]) / s, (R[1, 0] - R[0, 1]) / s])
+    i = int(np.argmax(np.diag(R)))
+    j, k = (i + 1) % 3, (i + 2) % 3
+    s = 2.0 * np.sqrt(1.0 + R[i, i] - R[j, j] - R[k, k])
+    q = np.empty(4)
+    q[0] = (R[k, j] - R[j, k]) / s
+    q[1 + i] = 0.25 * s
+    q[1 + j] = (R[j, i] + R[i, j]) / s
+    q[1 + k] = (R[k, i] + R[i, k]) / s
+    return q
+
+
+# ---------------------------------------------------------------- stops and scene
+
+@dataclass(frozen=True)
+class Stop:
+    """A fixed plane of the world the object may not cross: the allowed side
+    is ``(x - point) . normal >= 0`` for every outline vertex x, in A [m]."""
+
+    point: Tuple[float, float, float]
+    normal: Tuple[float, float, float]
+
+    def __post_init__(self):
+        object.__setattr__(self, "point", _tuple(_array(self.point, "Stop.point", (3,))))
+        object.__setattr__(self, "normal", _unit(self.normal, "Stop.normal", 3))
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A complete forward problem: object, grasp, gripper motion, free coordinates.
+
+    dof : which coordinates of the object relative to the gripper are free:
+        ``"translation"`` (along ``slide_axis``, q = s [m]),
+        ``"rotation"`` (about the patch's centre of pressure, fixed in B, an
+        ideal pin: paper Section 2.3; q = theta [rad]) or
+        ``"planar"`` (q = x, y, theta). A 1-DoF scene is solved in 1-DoF.
+    slide_axis : unit vector of B's plate plane (translation scenes).
+    q0 : initial (x, y, theta) of the object frame C in B [m, m, rad].
+    v0 : initial relative velocity (vx, vy, omega) [m/s, m/s, rad/s]; a
+        translation scene keeps its component along slide_axis.
+    gripper_rotation, gripper_position : initial pose of B in A.
+    gravity : in A [m/s^2].
+    stops : fixed world planes (``Stop``) the object outline may not cross.
+    """
+
+    body: Body
+    grasp: Grasp
+    motion: _Motion = field(default_factory=Rest)
+    dof: str = "translation"
+    slide_axis: Tuple[float, float] = (0.0, 1.0)
+    q0: Tuple[float, float, float] = (0.0, 0.0, 0.0)
+    v0: Tuple[float, float, float] = (0.0, 0.0, 0.0)
+    gripper_rotation: Tuple[Tuple[float, float, float], ...] = DEFAULT_GRIPPER_ROTATION
+    gripper_position: Tuple[float, float, float] = (0.0, 0.0, 0.0)
+    gravity: Tuple[float, float, float] = (0.0, 0.0, -9.81)
+    stops: Tuple[Stop, ...] = ()
+
+    def __post_init__(self):
+        if not isinstance(self.body, Body):
+            raise TypeError(f"Scene.body must be an exdex.Body, got {type(self.body).__name__}")
+        if not isinstance(self.grasp, Grasp):
+            raise TypeError(f"Scene.grasp must be an exdex.Grasp, got {type(self.grasp).__name__}")
+        if not isinstance(self.motion, _Motion):
+            raise TypeError(f"Scene.motion must be an exdex motion (Rest, AsymmetricProfile, "
+                            f"TrapezoidalProfile, SampledTrajectory), got {type(self.motion).__name__}")
+        if self.dof not in DOFS:
+            raise ValueError(f"Scene.dof must be one of {sorted(DOFS)}, got {self.dof!r}")
+        object.__setattr__(self, "slide_axis", _unit(self.slide_axis, "Scene.slide_axis", 2))
+        object.__setattr__(self, "q0", _tuple(_array(self.q0, "Scene.q0", (3,))))
+        object.__setattr__(self, "v0", _tuple(_array(self.v0, "Scene.v0", (3,))))
+        object.__setattr__(self, "gripper_rotation", _rotation(self.gripper_rotation, "Scene.gripper_rotation"))
+        object.__setattr__(self, "gripper_position", _tuple(_array(self.gripper_position, "Scene.gripper_position", (3,))))
+        object.__setattr__(self, "gravity", _tuple(_array(self.gravity, "Scene.gravity", (3,))))
+        stops = tuple(self.stops)
+        for s in stops:
+            if not isinstance(s, Stop):
+                raise TypeError(f"Scene.stops must hold exdex.Stop objects, got {type(s).__name__}")
+        if len(stops) > 8:
+            raise ValueError(f"Scene.stops holds at most 8 stops, got {len(stops)}")
+        object.__setattr__(self, "stops", stops)
+
+    @property
+    def ndof(self):
+        """Number of free coordinates (1 or 3)."""
+        return 3 if self.dof == "planar" else 1
+
+    @property
+    def coordinate_names(self):
+        return {"translation": ("s",), "rotation": ("theta",), "planar": ("x", "y", "theta")}[self.dof]
+
+    def to_spec(self, method="implicit", friction_solver="scalar", eps=1e-4, rtol=1e-8, atol=1e-10):
+        """The flat dict the C core reads (keys mirror ``exdex_scene_def``)."""
+        spec = dict(
+            mass=self.body.mass, inertia=np.array(self.body.inertia).ravel(),
+            vertices=self.body.vertices() if self.stops else None,
+            mu=self.grasp.mu, grip_force=self.grasp.grip_force, fingers=int(self.grasp.fingers),
+            e_r=self.grasp.patch.e_r, patch_center=self.grasp.patch.center,
+            gravity=self.gravity, dof=DOFS[self.dof], slide_axis=self.slide_axis,
+            q0=self.q0, v0=self.v0, R0=np.array(self.gripper_rotation).ravel(), p0=self.gripper_position,
+            motion_kind=0, motion_rotation=0, motion_axis=(0.0, 0.0, 1.0), motion_center=(0.0, 0.0, 0.0),
+            motion_amplitude=0.0, motion_duration=1.0, motion_beta=0.5, motion_v_max=1.0,
+            stop_points=np.array([s.point for s in self.stops]).reshape(-1, 3),
+            stop_normals=np.array([s.normal for s in self.stops]).reshape(-1, 3),
+            method=METHODS[method], friction_solver=SOLVERS[friction_solver],
+            eps=eps, rtol=rtol, atol=atol,
+        )
+        spec.update(self.motion._spec())
+        return spec
+
+
+def replace(scene, **changes):
+    """``dataclasses.replace`` re-exported for convenience."""
+    return dataclasses.replace(scene, **changes)

@@ -1,0 +1,143 @@
+"""exdex.simulate: one whole trajectory computed in C, returned as NumPy arrays."""
+from __future__ import annotations
+
+import math
+import numbers
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from exdex import _core
+from exdex.scene import METHODS, SOLVERS, Scene, _real
+
+__all__ = ["Result", "simulate", "SolverError"]
+
+SolverError = _core.SolverError
+
+
+@dataclass(frozen=True, eq=False)
+class Result:
+    """A simulated trajectory of the object relative to the gripper.
+
+    Attributes (n samples; row 0 is the initial state):
+
+    t : (n,) times [s].
+    q : (n, ndof) free coordinates: ``s`` [m] (translation scenes, the
+        position of the centre of mass along the slide axis), ``theta`` [rad]
+        (rotation scenes) or ``x, y, theta`` (planar), of the object frame C in
+        the gripper frame B.
+    v : (n, ndof) their rates [m/s or rad/s].
+    wrench : (n, 3) plate friction on the object (f_x, f_y, m_z) in B at the
+        centre of pressure [N, N, N m], mean over the step ending at the
+        sample (row 0 is zero).
+    stick : (n,) True where the step ending there left the object exactly at
+        rest relative to the gripper (row 0: the initial velocity is zero).
+    stop_force : (n, n_stops) mean normal force of each stop on the object [N].
+    stats : dict of solver statistics (steps, stick_steps, solver_iterations,
+        stop_iterations, warnings, min_gap [m]).
+    scene, method, friction_solver, dt : what produced it.
+    """
+
+    t: np.ndarray
+    q: np.ndarray
+    v: np.ndarray
+    wrench: np.ndarray
+    stick: np.ndarray
+    stop_force: np.ndarray
+    stats: dict
+    scene: Scene = None
+    method: str = "implicit"
+    friction_solver: str = "scalar"
+    dt: float = float("nan")
+
+    @property
+    def displacement(self):
+        """(n, ndof) coordinates relative to the initial ones, q - q[0]."""
+        return self.q - self.q[0]
+
+    @property
+    def pose(self):
+        """(n, 3) full planar pose (x, y, theta) of C in B, whatever the scene's dof."""
+        sc = self.scene
+        n = len(self.t)
+        out = np.empty((n, 3))
+        if sc.dof == "planar":
+            out[:] = self.q
+        elif sc.dof == "translation":
+            d = np.array(sc.slide_axis)
+            s = self.q[:, 0] - self.q[0, 0]
+            out[:, 0] = sc.q0[0] + s * d[0]
+            out[:, 1] = sc.q0[1] + s * d[1]
+            out[:, 2] = sc.q0[2]
+        else:
+            th = self.q[:, 0]
+            c = -np.array(sc.grasp.patch.center)
+            th0 = sc.q0[2]
+            pivot = np.array(sc.q0[:2]) - _rot(th0, c)
+            out[:, 0] = pivot[0] + np.cos(th) * c[0] - np.sin(th) * c[1]
+            out[:, 1] = pivot[1] + np.sin(th) * c[0] + np.cos(th) * c[1]
+            out[:, 2] = th
+        return out
+
+    def drift_after(self, t0):
+        """Largest |v| over samples at t >= t0 (0.0 means exactly still)."""
+        sel = self.t >= t0
+        return float(np.max(np.abs(self.v[sel]))) if np.any(sel) else 0.0
+
+
+def _rot(th, v):
+    return np.array([math.cos(th) * v[0] - math.sin(th) * v[1], math.sin(th) * v[0] + math.cos(th) * v[1]])
+
+
+def simulate(scene, t_end, dt=1e-3, method="implicit", friction_solver="scalar", eps=1e-4,
+             rtol=1e-8, atol=1e-10):
+    """Simulate the object in the moving gripper from t = 0 to ``t_end``.
+
+    Parameters
+    ----------
+    scene : exdex.Scene
+    t_end : float
+        End time [s], >= dt.
+    dt : float
+        Time step [s], > 0. Steps of dt; the last one is shortened to end
+        exactly at t_end.
+    method : {"implicit"}
+        "implicit": Moreau's midpoint time stepping with the maximum-dissipation
+        friction solve (paper Eq. 6) at every step; exact stick.
+    friction_solver : {"scalar", "brent", "multiroot"}
+        How the ellipsoid step is solved in planar scenes: the monotone scalar
+        (secular) equation by safeguarded Newton (default) or GSL Brent, or the
+        paper's four quadratic equations with GSL's hybridsj. 1-DoF scenes have
+        a closed form and ignore it.
+
+    Returns
+    -------
+    exdex.Result
+
+    Raises
+    ------
+    TypeError, ValueError
+        For bad arguments, naming the parameter and its allowed range.
+    exdex.SolverError
+        If a solver fails to converge (``.status`` carries the C status).
+    """
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene must be an exdex.Scene, got {type(scene).__name__}")
+    dt = _real(dt, "dt", low=0.0, low_open=True)
+    t_end = _real(t_end, "t_end", low=dt)
+    if t_end / dt > 1e9:
+        raise ValueError(f"t_end / dt must be at most 1e9 steps, got {t_end / dt:.3g}")
+    if method not in METHODS:
+        raise ValueError(f"method must be one of {sorted(METHODS)}, got {method!r}")
+    if method != "implicit":
+        raise ValueError(f"method {method!r} is not available yet; use 'implicit'")
+    if friction_solver not in SOLVERS:
+        raise ValueError(f"friction_solver must be one of {sorted(SOLVERS)}, got {friction_solver!r}")
+    eps = _real(eps, "eps", low=0.0, low_open=True)
+    rtol = _real(rtol, "rtol", low=0.0, low_open=True)
+    atol = _real(atol, "atol", low=0.0, low_open=True)
+    spec = scene.to_spec(method=method, friction_solver=friction_solver, eps=eps, rtol=rtol, atol=atol)
+    out = _core.simulate(spec, t_end, dt)
+    return Result(t=out["t"], q=out["q"], v=out["v"], wrench=out["wrench"], stick=out["stick"],
+                  stop_force=out["stop_force"], stats=out["stats"], scene=scene, method=method,
+                  friction_solver=friction_solver, dt=dt)
