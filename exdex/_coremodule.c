@@ -136,7 +136,10 @@ static PyArrayObject *dict_rows(PyObject *d, const char *key, int cols, int max_
     }
     if (PyArray_NDIM(arr) != 2 || PyArray_DIM(arr, 1) != cols ||
         (max_rows > 0 && PyArray_DIM(arr, 0) > max_rows)) {
-        PyErr_Format(PyExc_ValueError, "'%s' must have shape (k, %d) with k <= %d", key, cols, max_rows);
+        if (max_rows > 0)
+            PyErr_Format(PyExc_ValueError, "'%s' must have shape (k, %d) with k <= %d", key, cols, max_rows);
+        else
+            PyErr_Format(PyExc_ValueError, "'%s' must have shape (k, %d)", key, cols);
         Py_DECREF(arr);
         return NULL;
     }
@@ -194,9 +197,17 @@ static int scene_from_dict(PyObject *spec, exdex_scene_def *def, PyArrayObject *
         memcpy(def->stop_normal, PyArray_DATA(sn), (size_t)nsn * 3 * sizeof(double));
     }
     if (def->motion.kind == EXDEX_MOTION_SAMPLED) {
-        *times = dict_rows(spec, "motion_times", 1, -1, &nt);
+        PyObject *tobj = PyDict_GetItemString(spec, "motion_times");
+        if (!tobj) {
+            PyErr_SetString(PyExc_KeyError, "scene spec is missing 'motion_times'");
+            goto fail;
+        }
+        *times = as_doubles(tobj, -1, "motion_times");
         if (!*times) goto fail;
-        /* motion_times is 1-D: dict_rows accepts (k,) too, re-read as flat */
+        if (PyArray_NDIM(*times) != 1) {
+            PyErr_SetString(PyExc_ValueError, "'motion_times' must be 1-D");
+            goto fail;
+        }
         nt = PyArray_SIZE(*times);
         *poses = dict_rows(spec, "motion_poses", 7, -1, &np_);
         if (!*poses) goto fail;
