@@ -1,0 +1,591 @@
+"""Cross-checks against two general physics engines: pybullet and MuJoCo.
+
+``run_pybullet(scene, t_end)`` and ``run_mujoco(scene, t_end)`` build the same
+scene as exdex solves -- two plates driven kinematically along the gripper
+trajectory, a box-shaped object squeezed between them with the grasp's normal
+force per finger, the same mass, inertia, mu and gravity, the same stops -- and
+return the object's motion relative to the gripper as an ``exdex.Result``
+(same units, frames and free coordinates as ``exdex.simulate``).
+
+How each scene is built (both engines)
+--------------------------------------
+* Gripper: a body with six free coordinates and a very large mass
+  (``gripper_mass``, 1e4 kg by default, isotropic inertia). Before every step
+  its pose and twist are reset to the prescribed trajectory and the applied
+  wrench that gives it the prescribed linear and angular acceleration is set, so
+  it is kinematic to within the mass ratio (1e-5 for a 0.1 kg object) and the
+  contact solver sees the plates' true velocity and acceleration.
+* Plates: plate 1 is rigid on the gripper; plate 2 sits on a prismatic joint
+  along the plate normal (B z) and is pushed against the object by a constant
+  joint force equal to ``grasp.grip_force``. In steady state each plate presses
+  with exactly that force, whatever the engine's contact stiffness.
+* Object: a box of ``body.size`` with the scene's mass and full inertia
+  tensor, jointed to the gripper so that it has the scene's free coordinates
+  plus the normal translation (so the squeeze passes through it):
+  ``translation``: three prismatic joints (normal, B x, B y);
+  ``rotation``: normal prismatic joint and a ball joint at the pivot (the
+  patch centre); ``planar``: three prismatic joints and a ball joint. The ball
+  joints' out-of-plane rotations are held by the plates' contacts (keeping
+  them keeps MuJoCo's noslip post-solve well posed: with a hinge only, its
+  per-contact friction blocks are singular and noslip silently does nothing).
+* Contact (``contact=``): ``"pads"`` (default): the fingertip pads are boxes
+  with the patch's footprint (``Patch.rectangle``: that rectangle; any other
+  patch: the square with the same e_r) at the patch centre, and the engines'
+  own box-box collision turns each face-to-face contact into points at the
+  pad's corners (the paper's "multiple contact points at the vertices"). In
+  translation scenes the pads are plates larger than the object (e_r plays no
+  role there). ``"point"``: one small sphere per finger at the patch centre,
+  with torsional friction mu * e_r per contact: in MuJoCo (elliptic cone,
+  condim 4) this is the same ellipsoid as exdex's, per contact; in pybullet the
+  spin limit is independent of the lateral one (a cylinder).
+* Friction: MuJoCo explicit contact pairs with friction (mu, mu, torsional);
+  pybullet lateral friction mu on the pads and 1 on the object (Bullet
+  multiplies them), spinning friction on the pads (Bullet combines it as
+  spin_pad * lateral_object). Stops are frictionless in exdex and here.
+* Engine settings default to the engine's own defaults (MuJoCo: 2 ms,
+  Newton, 100 iterations, impratio 1, no noslip; pybullet: 1/240 s, 50
+  iterations, cone friction on), except MuJoCo's cone: ``"elliptic"`` by
+  default, the faithful mapping of a friction cone (MuJoCo's own default is
+  ``"pyramidal"``: pass ``cone="pyramidal"``).
+
+Result fields: ``t, q, v`` as exdex; ``wrench`` is NaN (not measured);
+``stick`` is True where the relative velocity is exactly zero;
+``stop_force`` the summed normal contact force of each stop; ``stats`` holds
+the engine settings and wall time; ``method`` is ``"pybullet"`` or
+``"mujoco"``.
+
+Both engines are imported inside the functions, so ``import exdex`` never
+needs them. ``python -m exdex compare`` runs the paper cases (see ``run``).
+"""
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from exdex.scene import Scene, _real
+from exdex.simulate import Result
+
+__all__ = ["run_pybullet", "run_mujoco", "drift_rate", "pad_geometry", "torque_capacity",
+           "ablation", "ABLATION_MODELS", "add_arguments", "run"]
+
+PAD_THICKNESS = 0.005      # half-thickness of the plate/pad boxes [m]
+POINT_RADIUS = 0.005       # radius of the sphere pads of contact="point" [m]
+STOP_HALF = (0.5, 0.5, 0.05)  # half-extents of a stop's box [m]
+
+
+# ---------------------------------------------------------------- geometry shared by both engines
+
+def _er_rectangle(a, b):
+    """Howe & Cutkosky e_r of a uniform rectangle of half-sides a, b (DESIGN.md 3)."""
+    d = math.hypot(a, b)
+    return (a * b * d / 3 + a**3 / 6 * math.log((b + d) / a) + b**3 / 6 * math.log((a + d) / b)) / (a * b)
+
+
+def pad_geometry(patch):
+    """Half-sides (a, b) [m] of the box pad standing for ``patch`` in contact="pads".
+
+    A rectangle patch keeps its rectangle; any other patch (disc, given e_r)
+    becomes the square with the same e_r (e_r of a square of half-side a is
+    0.7652 a), so the pads differ from the patch only in where the engine
+    puts its contact points.
+    """
+    if patch.shape == "rectangle" and len(patch.dims) == 2:
+        return float(patch.dims[0]), float(patch.dims[1])
+    a = patch.e_r / _er_rectangle(1.0, 1.0)
+    return a, a
+
+
+def _rot_z(theta):
+    c, s = math.cos(theta), math.sin(theta)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def _quat_wxyz(R):
+    """(w, x, y, z) of a rotation matrix (Shepperd)."""
+    R = np.asarray(R, dtype=float)
+    tr = np.trace(R)
+    if tr > 0:
+        s = 2.0 * math.sqrt(tr + 1.0)
+        return np.array([0.25 * s, (R[2, 1] - R[1, 2]) / s, (R[0, 2] - R[2, 0]) / s, (R[1, 0] - R[0, 1]) / s])
+    i = int(np.argmax(np.diag(R)))
+    j, k = (i + 1) % 3, (i + 2) % 3
+    s = 2.0 * math.sqrt(1.0 + R[i, i] - R[j, j] - R[k, k])
+    q = np.empty(4)
+    q[0] = (R[k, j] - R[j, k]) / s
+    q[1 + i] = 0.25 * s
+    q[1 + j] = (R[j, i] + R[i, j]) / s
+    q[1 + k] = (R[k, i] + R[i, k]) / s
+    return q
+
+
+def _xyzw(R):
+    w, x, y, z = _quat_wxyz(R)
+    return [x, y, z, w]
+
+
+class _Layout:
+    """Where everything sits in the gripper frame B, from an exdex scene."""
+
+    def __init__(self, scene, contact):
+        if not isinstance(scene, Scene):
+            raise TypeError(f"scene must be an exdex.Scene, got {type(scene).__name__}")
+        if scene.body.size is None:
+            raise ValueError("the engines need the object's box dimensions: set Body.size = (lx, ly, lz) [m]")
+        if contact not in ("pads", "point"):
+            raise ValueError(f"contact must be 'pads' or 'point', got {contact!r}")
+        self.scene = scene
+        self.contact = contact
+        self.size = np.array(scene.body.size)
+        lx, ly, lz = self.size
+        x0, y0, th0 = scene.q0
+        self.th0 = th0
+        self.R_BC0 = _rot_z(th0)
+        self.com0 = np.array([x0, y0, 0.0])          # C origin in B
+        c = np.array(scene.grasp.patch.center + (0.0,))
+        self.patch_B = self.com0 + self.R_BC0 @ c     # patch centre (pivot) in B
+        self.patch_C = c                              # in C
+        # the joint frame of the object: at the pivot (rotation/planar) or at the COM
+        self.joint_B = self.patch_B if scene.dof in ("rotation", "planar") else self.com0
+        self.com_in_joint = (-c) if scene.dof in ("rotation", "planar") else np.zeros(3)  # in C axes
+        # a point contact on the pivot cannot hold out-of-plane tilts: use a hinge there
+        self.rot_joint = "hinge" if contact == "point" else "ball"
+        self.pad_z = lz / 2 + (PAD_THICKNESS if contact == "pads" else POINT_RADIUS)
+        if contact == "point":
+            self.pad_center = self.patch_B.copy()
+            self.pad_half = None
+        elif scene.dof == "translation":
+            # plates larger than the object and its travel: e_r plays no role
+            span = float(np.hypot(lx, ly)) + 0.2
+            self.pad_center = self.com0.copy()
+            self.pad_half = (span, span)
+        else:
+            a, b = pad_geometry(scene.grasp.patch)
+            self.pad_center = self.patch_B.copy()
+            self.pad_half = (a, b)
+            reach = math.hypot(a, b)
+            # the object's face must cover the pad in every orientation about the pivot
+            dist_edge = min(lx / 2 - abs(c[0]), ly / 2 - abs(c[1]))
+            self.pad_covered = dist_edge >= reach
+        mu = scene.grasp.mu
+        self.mu = (mu, mu if scene.grasp.fingers == 2 else 0.0)   # plate 1, plate 2
+        I = np.array(scene.body.inertia)
+        evals, evecs = np.linalg.eigh(I)
+        if np.linalg.det(evecs) < 0:
+            evecs[:, 0] = -evecs[:, 0]
+        self.I_principal = evals
+        self.R_C_principal = evecs   # columns: principal axes in C
+
+    def spin(self, given):
+        """Torsional friction [m] per pad contact: the user's, else mu e_r for point contact, 0 for pads."""
+        if given is not None:
+            return _real(given, "torsional friction", low=0.0)
+        if self.contact == "point":
+            return self.scene.grasp.mu * self.scene.grasp.patch.e_r
+        return 0.0
+
+
+def _kinematics(scene, t):
+    """Gripper kinematics at times t in A: dict R, p, v, a, w, dw."""
+    return scene.motion.evaluate(np.atleast_1d(np.asarray(t, dtype=float)), scene.gripper_rotation,
+                                 scene.gripper_position)
+
+
+def _stop_pose(stop):
+    """Centre and rotation of the box standing for a stop half-space."""
+    n = np.array(stop.normal)
+    ref = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    ex = np.cross(ref, n)
+    ex /= np.linalg.norm(ex)
+    ey = np.cross(n, ex)
+    R = np.column_stack([ex, ey, n])
+    return np.array(stop.point) - n * STOP_HALF[2], R
+
+
+def _to_result(scene, method, t, pos_B, R_BC, vel_B, omega_B, stop_force, stats, dt):
+    """Assemble an exdex.Result from the object's pose and twist relative to B."""
+    theta = scene.q0[2] + np.unwrap(np.arctan2(R_BC[:, 1, 0], R_BC[:, 0, 0]) - scene.q0[2])
+    if scene.dof == "translation":
+        d = np.array(scene.slide_axis)
+        q = (pos_B[:, :2] @ d)[:, None]
+        v = (vel_B[:, :2] @ d)[:, None]
+    elif scene.dof == "rotation":
+        q = theta[:, None]
+        v = omega_B[:, None]
+    else:
+        q = np.column_stack([pos_B[:, 0], pos_B[:, 1], theta])
+        v = np.column_stack([vel_B[:, 0], vel_B[:, 1], omega_B])
+    stick = np.all(v == 0.0, axis=1)
+    wrench = np.full((len(t), 3), np.nan)
+    return Result(t=t, q=q, v=v, wrench=wrench, stick=stick, stop_force=stop_force, stats=stats,
+                  scene=scene, method=method, friction_solver="engine", dt=dt)
+
+
+def drift_rate(result, t0=None):
+    """Mean rate of the free coordinates over [t0, t_end]: (q(t_end) - q(t0)) / (t_end - t0).
+
+    t0 defaults to the end of the gripper motion. Units: m/s or rad/s. exdex
+    gives exactly zero once the object sticks; soft-contact engines creep.
+    """
+    t = result.t
+    if t0 is None:
+        t0 = result.scene.motion.end_time
+    i = int(np.searchsorted(t, t0 - 1e-12))
+    if i >= len(t) - 1:
+        return np.zeros(result.q.shape[1])
+    return (result.q[-1] - result.q[i]) / (t[-1] - t[i])
+
+
+def _steps(t_end, dt):
+    t_end = _real(t_end, "t_end", low=0.0, low_open=True)
+    dt = _real(dt, "dt", low=0.0, low_open=True)
+    n = int(round(t_end / dt))
+    if n < 1:
+        raise ValueError(f"t_end must be at least one time step dt = {dt:g} s, got {t_end:g}")
+    return n, dt
+
+
+# ---------------------------------------------------------------- MuJoCo
+
+def _mujoco_xml(lay, *, dt, iterations, cone, impratio, noslip_iterations, solver, tolerance, torsional,
+                gripper_mass, plate_mass):
+    sc = lay.scene
+    f = lambda v: " ".join(f"{float(x):.12g}" for x in np.ravel(v))  # noqa: E731
+    lx, ly, lz = lay.size
+    Mg = gripper_mass
+    spin = lay.spin(torsional)
+    condim = 4 if spin > 0 else 3
+    # pads
+    if lay.contact == "point":
+        pad = f'type="sphere" size="{POINT_RADIUS}"'
+    else:
+        pad = f'type="box" size="{f(lay.pad_half)} {PAD_THICKNESS}"'
+    pc = lay.pad_center
+    # object joints (in the object's body frame = joint frame, axes of B rotated by theta0)
+    Rj = lay.R_BC0
+    ax = lambda v: f(Rj.T @ np.array(v, float))  # noqa: E731  B direction in body axes
+    slides = (f'<joint name="on" type="slide" axis="{ax((0, 0, 1))}"/>'
+              f'<joint name="ox" type="slide" axis="{ax((1, 0, 0))}"/>'
+              f'<joint name="oy" type="slide" axis="{ax((0, 1, 0))}"/>')
+    rot = ('<joint name="ob" type="ball"/>' if lay.rot_joint == "ball"
+           else '<joint name="ob" type="hinge" axis="0 0 1"/>')
+    if sc.dof == "translation":
+        joints = slides
+    elif sc.dof == "rotation":
+        joints = f'<joint name="on" type="slide" axis="{ax((0, 0, 1))}"/>' + rot
+    else:
+        joints = slides + rot
+    I = np.array(sc.body.inertia)
+    full = f(([I[0, 0], I[1, 1], I[2, 2], I[0, 1], I[0, 2], I[1, 2]]))
+    com = lay.com_in_joint
+    pairs = [f'<pair geom1="pad1" geom2="object" condim="{condim}" friction="{f((lay.mu[0], lay.mu[0], spin, 0, 0))}"/>',
+             f'<pair geom1="pad2" geom2="object" condim="{condim}" '
+             f'friction="{f((max(lay.mu[1], 0.0), max(lay.mu[1], 0.0), spin if lay.mu[1] > 0 else 0.0, 0, 0))}"/>']
+    stops = []
+    for k, s in enumerate(sc.stops):
+        c, R = _stop_pose(s)
+        stops.append(f'<geom name="stop{k}" type="box" pos="{f(c)}" quat="{f(_quat_wxyz(R))}" '
+                     f'size="{f(STOP_HALF)}" contype="0" conaffinity="0"/>')
+        pairs.append(f'<pair geom1="stop{k}" geom2="object" condim="1"/>')
+    return f"""<mujoco model="exdex-scene">
+  <option timestep="{dt!r}" gravity="{f(sc.gravity)}" cone="{cone}" impratio="{impratio!r}"
+          noslip_iterations="{int(noslip_iterations)}" iterations="{int(iterations)}" solver="{solver}"
+          tolerance="{tolerance!r}">
+    <flag filterparent="disable"/>
+  </option>
+  <worldbody>
+    {''.join(stops)}
+    <body name="gripper">
+      <freejoint name="gripper"/>
+      <inertial pos="0 0 0" mass="{Mg!r}" diaginertia="{Mg!r} {Mg!r} {Mg!r}"/>
+      <geom name="pad1" {pad} pos="{f(pc + [0, 0, -lay.pad_z])}" contype="0" conaffinity="0"/>
+      <body name="plate2" pos="{f(pc + [0, 0, lay.pad_z])}">
+        <joint name="squeeze" type="slide" axis="0 0 1"/>
+        <inertial pos="0 0 0" mass="{plate_mass!r}" diaginertia="1e-4 1e-4 1e-4"/>
+        <geom name="pad2" {pad} contype="0" conaffinity="0"/>
+      </body>
+      <body name="object" pos="{f(lay.joint_B)}" quat="{f(_quat_wxyz(Rj))}">
+        {joints}
+        <inertial pos="{f(com)}" mass="{sc.body.mass!r}" fullinertia="{full}"/>
+        <geom name="object" type="box" pos="{f(com)}" size="{f(lay.size / 2)}" contype="0" conaffinity="0"/>
+      </body>
+    </body>
+  </worldbody>
+  <contact>{''.join(pairs)}</contact>
+</mujoco>"""
+
+
+def _has_joint(m, name):
+    try:
+        m.joint(name)
+        return True
+    except KeyError:
+        return False
+
+
+def run_mujoco(scene, t_end, *, dt=0.002, iterations=100, cone="elliptic", impratio=1.0, noslip_iterations=0,
+               solver="Newton", tolerance=1e-8, contact="pads", torsional=None, gripper_mass=1e4,
+               plate_mass=0.1):
+    """Simulate ``scene`` in MuJoCo from 0 to ``t_end`` [s]; return an ``exdex.Result``.
+
+    Parameters (MuJoCo's own defaults unless said)
+    ----------------------------------------------
+    dt : time step [s] (MuJoCo default 0.002).
+    iterations, solver, tolerance : main constraint solver (100, "Newton", 1e-8).
+    cone : "elliptic" (default here: the faithful cone) or "pyramidal" (MuJoCo's default).
+    impratio : ratio of frictional to normal constraint impedance (1).
+    noslip_iterations : iterations of the noslip post-solve (0 = off).
+    contact : "pads" (box pads, corner contacts) or "point" (one contact per
+        finger with torsional friction mu * e_r: the ellipsoid, per contact).
+    torsional : torsional friction length [m] per contact (default: mu e_r
+        for "point", 0 for "pads").
+    gripper_mass : mass of the kinematically driven gripper body [kg].
+    plate_mass : mass of the pushed plate on its prismatic joint [kg].
+    """
+    import mujoco
+
+    lay = _Layout(scene, contact)
+    n, dt = _steps(t_end, dt)
+    if cone not in ("elliptic", "pyramidal"):
+        raise ValueError(f"cone must be 'elliptic' or 'pyramidal', got {cone!r}")
+    if solver not in ("Newton", "CG", "PGS"):
+        raise ValueError(f"solver must be 'Newton', 'CG' or 'PGS', got {solver!r}")
+    xml = _mujoco_xml(lay, dt=dt, iterations=iterations, cone=cone, impratio=float(impratio),
+                      noslip_iterations=noslip_iterations, solver=solver, tolerance=float(tolerance),
+                      torsional=torsional, gripper_mass=float(gripper_mass), plate_mass=float(plate_mass))
+    m = mujoco.MjModel.from_xml_string(xml)
+    d = mujoco.MjData(m)
+    gid = m.body("gripper").id
+    oid = m.body("object").id
+    sq = m.joint("squeeze").dofadr[0]
+    stop_gids = [m.geom(f"stop{k}").id for k in range(len(scene.stops))]
+    Mg = float(gripper_mass)
+    g = np.array(scene.gravity)
+    times = np.arange(n + 1) * dt
+    kin = _kinematics(scene, times)
+    pos = np.empty((n + 1, 3))
+    vel = np.empty((n + 1, 3))
+    RBC = np.empty((n + 1, 3, 3))
+    om = np.empty(n + 1)
+    fstop = np.zeros((n + 1, len(scene.stops)))
+    cf = np.zeros(6)
+
+    def set_gripper(k):
+        R = kin["R"][k]
+        d.qpos[0:3] = kin["p"][k]
+        d.qpos[3:7] = _quat_wxyz(R)
+        d.qvel[0:3] = kin["v"][k]
+        d.qvel[3:6] = R.T @ kin["w"][k]
+        d.xfrc_applied[gid, 0:3] = Mg * (kin["a"][k] - g)
+        d.xfrc_applied[gid, 3:6] = Mg * kin["dw"][k]     # isotropic inertia: w x I w = 0
+        d.qfrc_applied[sq] = -scene.grasp.grip_force
+
+    dof = {name: m.joint(name).dofadr[0] for name in ("on", "ox", "oy", "ob") if _has_joint(m, name)}
+
+    def record(k):
+        R_AB = d.xmat[gid].reshape(3, 3)
+        pos[k] = R_AB.T @ (d.xipos[oid] - d.xpos[gid])
+        RBC[k] = R_AB.T @ d.xmat[oid].reshape(3, 3)   # the object's body axes are C's
+        # relative velocities straight from the object's joints (children of the gripper)
+        vel[k] = [d.qvel[dof["ox"]] if "ox" in dof else 0.0, d.qvel[dof["oy"]] if "oy" in dof else 0.0,
+                  d.qvel[dof["on"]]]
+        om[k] = d.qvel[dof["ob"] + (2 if lay.rot_joint == "ball" else 0)] if "ob" in dof else 0.0
+        for j, sg in enumerate(stop_gids):
+            tot = 0.0
+            for i in range(d.ncon):
+                c = d.contact[i]
+                if sg in (c.geom1, c.geom2):
+                    mujoco.mj_contactForce(m, d, i, cf)
+                    tot += cf[0]
+            fstop[k, j] = tot
+
+    set_gripper(0)
+    mujoco.mj_forward(m, d)
+    record(0)
+    t0 = time.perf_counter()
+    for k in range(n):
+        set_gripper(k)
+        mujoco.mj_step(m, d)
+        mujoco.mj_kinematics(m, d)   # poses of the new state for the record
+        record(k + 1)
+    wall = time.perf_counter() - t0
+    stats = dict(engine="mujoco", version=mujoco.__version__, dt=dt, iterations=iterations, cone=cone,
+                 impratio=impratio, noslip_iterations=noslip_iterations, solver=solver, contact=contact,
+                 torsional=lay.spin(torsional), wall_time=wall, steps=n)
+    return _to_result(scene, "mujoco", times, pos, RBC, vel, om, fstop, stats, dt)
+
+
+# ---------------------------------------------------------------- pybullet
+
+def run_pybullet(scene, t_end, *, dt=1.0 / 240.0, iterations=50, cone=True, contact="pads", spinning=None,
+                 erp=None, gripper_mass=1e4, plate_mass=0.1):
+    """Simulate ``scene`` in pybullet (Bullet's Featherstone multibody) from 0
+    to ``t_end`` [s]; return an ``exdex.Result``.
+
+    Parameters (pybullet's own defaults unless said)
+    ------------------------------------------------
+    dt : fixed time step [s] (1/240).
+    iterations : solver iterations (50).
+    cone : enableConeFriction (True): the two lateral friction rows are
+        projected onto the circle; False gives the square (4-facet) pyramid
+        that circumscribes it.
+    contact : "pads" or "point" (see the module docstring).
+    spinning : spinning friction length [m] per contact (default: mu e_r for
+        "point", 0 for "pads"); Bullet limits it independently of the lateral
+        friction.
+    erp : contact error reduction parameter (None: pybullet's default).
+    gripper_mass, plate_mass : as for ``run_mujoco``.
+    """
+    import pybullet as pb
+
+    lay = _Layout(scene, contact)
+    n, dt = _steps(t_end, dt)
+    cid = pb.connect(pb.DIRECT)
+    kw = dict(physicsClientId=cid)
+    try:
+        pb.setGravity(*scene.gravity, **kw)
+        params = dict(fixedTimeStep=dt, numSolverIterations=int(iterations), enableConeFriction=int(bool(cone)),
+                      numSubSteps=0)
+        if erp is not None:
+            params["contactERP"] = float(erp)
+        pb.setPhysicsEngineParameter(**params, **kw)
+        spin = lay.spin(spinning)
+        lx, ly, lz = lay.size
+        pc = lay.pad_center
+        if contact == "point":
+            pad1 = pb.createCollisionShape(pb.GEOM_SPHERE, radius=POINT_RADIUS,
+                                           collisionFramePosition=list(pc + [0, 0, -lay.pad_z]), **kw)
+            pad2 = pb.createCollisionShape(pb.GEOM_SPHERE, radius=POINT_RADIUS, **kw)
+        else:
+            half = [lay.pad_half[0], lay.pad_half[1], PAD_THICKNESS]
+            pad1 = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=half,
+                                           collisionFramePosition=list(pc + [0, 0, -lay.pad_z]), **kw)
+            pad2 = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=half, **kw)
+        com = lay.R_C_principal  # principal axes in C
+        obj_shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=list(lay.size / 2),
+                                            collisionFramePosition=list(lay.com_in_joint), **kw)
+        I4 = [0, 0, 0, 1]
+        Rj = lay.R_BC0
+        # links (parent indices are 1-based, 0 = the gripper base)
+        links = [dict(mass=plate_mass, shape=pad2, pos=list(pc + [0, 0, lay.pad_z]), orn=I4, parent=0,
+                      type=pb.JOINT_PRISMATIC, axis=[0, 0, 1])]
+        eps_mass = 1e-6
+        if scene.dof == "translation":
+            chain = [("n", (0, 0, 1)), ("x", (1, 0, 0)), ("y", (0, 1, 0))]
+        elif scene.dof == "rotation":
+            chain = [("n", (0, 0, 1)), ("ball", None)]
+        else:
+            chain = [("n", (0, 0, 1)), ("x", (1, 0, 0)), ("y", (0, 1, 0)), ("ball", None)]
+        for i, (name, axis) in enumerate(chain):
+            last = i == len(chain) - 1
+            first = i == 0
+            links.append(dict(
+                mass=scene.body.mass if last else eps_mass,
+                shape=obj_shape if last else -1,
+                pos=list(lay.joint_B) if first else [0, 0, 0],
+                orn=_xyzw(Rj) if first else I4,
+                parent=0 if first else len(links),
+                type=(pb.JOINT_PRISMATIC if name != "ball" else
+                      pb.JOINT_SPHERICAL if lay.rot_joint == "ball" else pb.JOINT_REVOLUTE),
+                axis=list(Rj.T @ np.array(axis, float)) if axis is not None else [0, 0, 1]))
+        obj_link = len(links) - 1
+        jidx = {name: 1 + i for i, (name, _) in enumerate(chain)}
+        Mg = float(gripper_mass)
+        R0 = np.array(scene.gripper_rotation)
+        body = pb.createMultiBody(
+            baseMass=Mg, baseCollisionShapeIndex=pad1, basePosition=list(scene.gripper_position),
+            baseOrientation=_xyzw(R0),
+            linkMasses=[L["mass"] for L in links], linkCollisionShapeIndices=[L["shape"] for L in links],
+            linkVisualShapeIndices=[-1] * len(links), linkPositions=[L["pos"] for L in links],
+            linkOrientations=[L["orn"] for L in links],
+            linkInertialFramePositions=[[0, 0, 0]] * (len(links) - 1) + [list(lay.com_in_joint)],
+            linkInertialFrameOrientations=[I4] * (len(links) - 1) + [_xyzw(com)],
+            linkParentIndices=[L["parent"] for L in links], linkJointTypes=[L["type"] for L in links],
+            linkJointAxis=[L["axis"] for L in links], flags=pb.URDF_USE_SELF_COLLISION, **kw)
+        pb.changeDynamics(body, -1, localInertiaDiagonal=[Mg, Mg, Mg], lateralFriction=lay.mu[0],
+                          spinningFriction=spin, rollingFriction=0, linearDamping=0, angularDamping=0, **kw)
+        pb.changeDynamics(body, 0, lateralFriction=lay.mu[1], spinningFriction=spin if lay.mu[1] > 0 else 0.0,
+                          rollingFriction=0, linearDamping=0, angularDamping=0, jointDamping=0, **kw)
+        for j in range(1, len(links)):
+            pb.changeDynamics(body, j, lateralFriction=1.0, spinningFriction=0, rollingFriction=0,
+                              linearDamping=0, angularDamping=0, jointDamping=0, **kw)
+            if j < obj_link:
+                pb.changeDynamics(body, j, localInertiaDiagonal=[eps_mass * 1e-4] * 3, **kw)
+        pb.changeDynamics(body, obj_link, localInertiaDiagonal=list(lay.I_principal), **kw)
+        for j in range(len(links)):
+            if links[j]["type"] == pb.JOINT_SPHERICAL:
+                pb.setJointMotorControlMultiDof(body, j, pb.POSITION_CONTROL, targetPosition=[0, 0, 0, 1],
+                                                positionGain=0, velocityGain=0, force=[0, 0, 0], **kw)
+            else:
+                pb.setJointMotorControl2(body, j, pb.VELOCITY_CONTROL, force=0, **kw)
+        # only the pads (and stops) touch the object
+        for j in range(1, obj_link):
+            for other in [-1, 0] + list(range(1, obj_link)):
+                pb.setCollisionFilterPair(body, body, j, other, 0, **kw)
+        pb.setCollisionFilterPair(body, body, -1, 0, 0, **kw)
+        stop_ids = []
+        for s in scene.stops:
+            c, R = _stop_pose(s)
+            sh = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=list(STOP_HALF), **kw)
+            sid = pb.createMultiBody(baseMass=0, baseCollisionShapeIndex=sh, basePosition=list(c),
+                                     baseOrientation=_xyzw(R), **kw)
+            pb.changeDynamics(sid, -1, lateralFriction=0.0, spinningFriction=0.0, rollingFriction=0.0, **kw)
+            for j in range(-1, obj_link):
+                pb.setCollisionFilterPair(sid, body, -1, j, 0, **kw)
+            stop_ids.append(sid)
+
+        times = np.arange(n + 1) * dt
+        kin = _kinematics(scene, times)
+        g = np.array(scene.gravity)
+        pos = np.empty((n + 1, 3))
+        vel = np.empty((n + 1, 3))
+        RBC = np.empty((n + 1, 3, 3))
+        om = np.empty(n + 1)
+        fstop = np.zeros((n + 1, len(scene.stops)))
+        R_principal_T = lay.R_C_principal.T
+
+        def set_gripper(k):
+            pb.resetBasePositionAndOrientation(body, list(kin["p"][k]), _xyzw(kin["R"][k]), **kw)
+            pb.resetBaseVelocity(body, list(kin["v"][k]), list(kin["w"][k]), **kw)
+
+        def drive(k):
+            pb.applyExternalForce(body, -1, list(Mg * (kin["a"][k] - g)), list(kin["p"][k]), pb.WORLD_FRAME, **kw)
+            pb.applyExternalTorque(body, -1, list(Mg * kin["dw"][k]), pb.WORLD_FRAME, **kw)
+            pb.setJointMotorControl2(body, 0, pb.TORQUE_CONTROL, force=-scene.grasp.grip_force, **kw)
+
+        def record(k):
+            pB, qB = pb.getBasePositionAndOrientation(body, **kw)
+            R_AB = np.array(pb.getMatrixFromQuaternion(qB, **kw)).reshape(3, 3)
+            ls = pb.getLinkState(body, obj_link, computeForwardKinematics=1, **kw)
+            pC = np.array(ls[0])
+            R_A_inertial = np.array(pb.getMatrixFromQuaternion(ls[1], **kw)).reshape(3, 3)
+            R_AC = R_A_inertial @ R_principal_T
+            pos[k] = R_AB.T @ (pC - np.array(pB))
+            RBC[k] = R_AB.T @ R_AC
+            # relative velocities straight from the object's joints (children of the gripper)
+            js = {name: pb.getJointState(body, j, **kw)[1] for name, j in jidx.items() if name != "ball"}
+            vel[k] = [js.get("x", 0.0), js.get("y", 0.0), js["n"]]
+            if "ball" not in jidx:
+                om[k] = 0.0
+            elif lay.rot_joint == "ball":
+                om[k] = pb.getJointStateMultiDof(body, jidx["ball"], **kw)[1][2]
+            else:
+                om[k] = pb.getJointState(body, jidx["ball"], **kw)[1]
+            for j, sid in enumerate(stop_ids):
+                fstop[k, j] = sum(cp[9] for cp in pb.getContactPoints(sid, body, -1, obj_link, **kw))
+
+        set_gripper(0)
+        record(0)
+        t0 = time.perf_counter()
+        for k in range(n):
+            set_gripper(k)
+            drive(k)
+            pb.stepSimulation(**kw)
+            record(k + 1)
+        wall = time.perf_counter() - t0
+    finally:
+        pb.disconnect(cid)
+    stats = dict(engine="pybullet", dt=dt, iterations=iterations, cone=bool(cone), contact=contact,
+                 spinning=spin, erp=erp, wall_time=wall, steps=n)
+    return _to_result(scene, "pybullet", times, pos, RBC, vel, om, fstop, stats, dt)
