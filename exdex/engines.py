@@ -225,12 +225,13 @@ def _to_result(scene, method, t, pos_B, R_BC, vel_B, omega_B, stop_force, stats,
 def drift_rate(result, t0=None):
     """Mean rate of the free coordinates over [t0, t_end]: (q(t_end) - q(t0)) / (t_end - t0).
 
-    t0 defaults to the end of the gripper motion. Units: m/s or rad/s. exdex
-    gives exactly zero once the object sticks; soft-contact engines creep.
+    t0 defaults to 0.1 s after the end of the gripper motion (past the last
+    step's transient). Units: m/s or rad/s. exdex gives exactly zero once the
+    object sticks; soft-contact engines creep.
     """
     t = result.t
     if t0 is None:
-        t0 = result.scene.motion.end_time
+        t0 = result.scene.motion.end_time + 0.1
     i = int(np.searchsorted(t, t0 - 1e-12))
     if i >= len(t) - 1:
         return np.zeros(result.q.shape[1])
@@ -709,3 +710,174 @@ def ablation(scene, t_end, dt=1e-3, models=ABLATION_MODELS):
             value = mu
         out[model] = (simulate(sc, t_end, dt=dt), value)
     return out
+
+
+# ---------------------------------------------------------------- `exdex compare`
+
+CASES = ("fig3", "fig4", "fig6")
+
+
+def _case_scenes(names):
+    """The paper scenes from exdex.paper (issue 3): {name: scene}."""
+    try:
+        from exdex import paper
+    except ImportError as exc:  # pragma: no cover - depends on the paper module being present
+        raise RuntimeError("exdex compare needs exdex.paper (fig3_scene, fig4_scene, fig6_scene)") from exc
+    return {name: getattr(paper, f"{name}_scene")() for name in names}
+
+
+def _unit(scene):
+    """Display scale and unit of the free coordinate."""
+    return (180.0 / math.pi, "deg") if scene.dof == "rotation" else (1e3, "mm")
+
+
+def _variants(args):
+    """(label, function, settings) for every engine run of a case."""
+    mj = dict(dt=args.mujoco_dt, cone=args.mujoco_cone, impratio=args.impratio,
+              noslip_iterations=args.noslip, iterations=args.mujoco_iterations, contact=args.contact)
+    pyb = dict(dt=args.pybullet_dt, iterations=args.pybullet_iterations, cone=not args.no_cone,
+               contact=args.contact)
+    runs = [("pybullet", run_pybullet, pyb), ("mujoco", run_mujoco, mj)]
+    if args.variants:
+        runs += [
+            ("pybullet point+spin", run_pybullet, dict(pyb, contact="point")),
+            ("pybullet no cone", run_pybullet, dict(pyb, cone=False)),
+            ("mujoco pyramidal", run_mujoco, dict(mj, cone="pyramidal")),
+            ("mujoco impratio 10", run_mujoco, dict(mj, impratio=10.0)),
+            ("mujoco noslip 20", run_mujoco, dict(mj, noslip_iterations=20)),
+            ("mujoco point+torsion", run_mujoco, dict(mj, contact="point")),
+        ]
+    return runs
+
+
+def add_arguments(parser):
+    """Options of ``exdex compare``."""
+    parser.add_argument("--out", default="exdex-output/compare", help="output folder (default: %(default)s)")
+    parser.add_argument("--cases", nargs="+", choices=CASES, default=list(CASES), help="paper cases to run")
+    parser.add_argument("--settle", type=float, default=1.0,
+                        help="time simulated after the gripper stops, for the drift [s] (default: %(default)s)")
+    parser.add_argument("--dt", type=float, default=1e-3, help="exdex time step [s] (default: %(default)s)")
+    parser.add_argument("--contact", choices=("pads", "point"), default="pads",
+                        help="engine contact model (default: %(default)s)")
+    parser.add_argument("--pybullet-dt", type=float, default=1 / 240, help="pybullet step [s] (default 1/240)")
+    parser.add_argument("--pybullet-iterations", type=int, default=50, help="pybullet solver iterations (50)")
+    parser.add_argument("--no-cone", action="store_true", help="pybullet: disable cone friction (square pyramid)")
+    parser.add_argument("--mujoco-dt", type=float, default=0.002, help="MuJoCo step [s] (default 0.002)")
+    parser.add_argument("--mujoco-iterations", type=int, default=100, help="MuJoCo solver iterations (100)")
+    parser.add_argument("--mujoco-cone", choices=("elliptic", "pyramidal"), default="elliptic",
+                        help="MuJoCo friction cone (default: %(default)s; MuJoCo's own default is pyramidal)")
+    parser.add_argument("--impratio", type=float, default=1.0, help="MuJoCo impratio (default 1)")
+    parser.add_argument("--noslip", type=int, default=0, help="MuJoCo noslip iterations (default 0)")
+    parser.add_argument("--no-variants", dest="variants", action="store_false",
+                        help="skip the refined/altered engine settings (point contact, cone, noslip, ...)")
+    parser.add_argument("--no-plots", dest="plots", action="store_false", help="write no figures")
+
+
+def _figure(path, name, scene, ref, runs, scale, unit):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(7, 6.5), sharex=True)
+    ax1.plot(ref.t, scale * ref.displacement[:, 0], "k-", lw=2, label="exdex")
+    for label, res, on_ref in runs:
+        ax1.plot(res.t, scale * res.displacement[:, 0], lw=1.2, label=label)
+        ax2.semilogy(ref.t, np.maximum(scale * np.abs(on_ref - ref.displacement[:, 0]), 1e-9), lw=1.2,
+                     label=label)
+    end = scene.motion.end_time
+    for ax in (ax1, ax2):
+        ax.axvline(end, color="0.6", ls=":", lw=1)
+    ax1.set_ylabel(f"relative displacement [{unit}]")
+    ax1.set_title(f"{name}: (a) object relative to the gripper")
+    ax1.legend(fontsize=7, ncol=2)
+    ax2.set_ylabel(f"|engine - exdex| [{unit}]")
+    ax2.set_xlabel("t [s]")
+    ax2.set_title("(b) absolute difference from exdex")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def _ablation_figure(path, name, scene, ref, ab, engine_runs, scale, unit):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2), gridspec_kw=dict(width_ratios=[1.4, 1]))
+    for model, (res, _) in ab.items():
+        ax1.plot(res.t, scale * res.displacement[:, 0], lw=2 if model == "ellipsoid" else 1.2,
+                 ls="-" if model == "ellipsoid" else "--", label=f"exdex {model}")
+    for label, res, _ in engine_runs:
+        ax1.plot(res.t, scale * res.displacement[:, 0], lw=1, ls=":", label=label)
+    ax1.set_xlabel("t [s]")
+    ax1.set_ylabel(f"relative displacement [{unit}]")
+    ax1.set_title(f"{name}: friction-model ablation")
+    ax1.legend(fontsize=6, ncol=2)
+    labels = list(ab) + [r[0] for r in engine_runs]
+    finals = [scale * r.displacement[-1, 0] for r, _ in ab.values()] + \
+             [scale * r.displacement[-1, 0] for _, r, _ in engine_runs]
+    colors = ["C0"] * len(ab) + ["C3"] * len(engine_runs)
+    ax2.barh(range(len(labels)), finals, color=colors)
+    ax2.set_yticks(range(len(labels)))
+    ax2.set_yticklabels(labels, fontsize=7)
+    ax2.invert_yaxis()
+    ax2.set_xlabel(f"final displacement [{unit}]")
+    ax2.set_title("exdex models (blue) and engines (red)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def run(args):
+    """``exdex compare``: every case in exdex and both engines, figures, CSV and a table."""
+    import os
+
+    from exdex.simulate import simulate
+
+    os.makedirs(args.out, exist_ok=True)
+    scenes = _case_scenes(args.cases)
+    rows = []
+    for name, scene in scenes.items():
+        scale, unit = _unit(scene)
+        t_end = scene.motion.end_time + args.settle
+        t0 = time.perf_counter()
+        ref = simulate(scene, t_end, dt=args.dt)
+        rows.append((name, "exdex (ellipsoid)", scale * ref.displacement[-1, 0], scale * drift_rate(ref)[0], 0.0,
+                     time.perf_counter() - t0, unit))
+        print(f"[{name}] exdex: {rows[-1][2]:.3f} {unit} ({rows[-1][5]:.2f} s)", flush=True)
+        runs = []
+        for label, fn, settings in _variants(args):
+            res = fn(scene, t_end, **settings)
+            on_ref = np.interp(ref.t, res.t, res.displacement[:, 0])
+            err = float(np.max(np.abs(on_ref - ref.displacement[:, 0])))
+            runs.append((label, res, on_ref))
+            rows.append((name, label, scale * res.displacement[-1, 0], scale * drift_rate(res)[0], scale * err,
+                         res.stats["wall_time"], unit))
+            print(f"[{name}] {label}: {rows[-1][2]:.3f} {unit}, drift {rows[-1][3]:.4g} {unit}/s "
+                  f"({rows[-1][5]:.2f} s)", flush=True)
+        # CSV of the main curves on exdex's time grid
+        cols = [ref.t, scale * ref.displacement[:, 0]] + [r[2] * scale for r in runs]
+        header = "t_s,exdex_" + unit + "," + ",".join(f"{r[0].replace(' ', '_')}_{unit}" for r in runs)
+        np.savetxt(os.path.join(args.out, f"{name}_compare.csv"), np.column_stack(cols), delimiter=",",
+                   header=header, comments="")
+        if args.plots:
+            _figure(os.path.join(args.out, f"{name}_compare.png"), name, scene, ref, runs, scale, unit)
+        if scene.dof == "rotation":
+            ab = ablation(scene, t_end, dt=args.dt)
+            for model, (res, value) in ab.items():
+                rows.append((name, f"ablation {model} ({'e_r' if scene.dof == 'rotation' else 'mu'}="
+                                   f"{value:.4g})", scale * res.displacement[-1, 0], scale * drift_rate(res)[0],
+                             float("nan"), float("nan"), unit))
+            if args.plots:
+                _ablation_figure(os.path.join(args.out, f"{name}_ablation.png"), name, scene, ref, ab,
+                                 runs[:2] + [r for r in runs if any(w in r[0] for w in ("point", "cone", "noslip"))], scale, unit)
+    lines = [f"{'case':5s} {'model':40s} {'final':>10s} {'drift/s':>11s} {'max|diff|':>10s} {'wall s':>7s}"]
+    for name, label, final, drift, err, wall, unit in rows:
+        lines.append(f"{name:5s} {label:40s} {final:10.3f} {drift:11.4g} {err:10.3f} {wall:7.2f}  {unit}")
+    table = "\n".join(lines)
+    print(table)
+    with open(os.path.join(args.out, "compare_table.txt"), "w") as fh:
+        fh.write(table + "\n")
+    return 0
