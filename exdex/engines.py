@@ -28,6 +28,8 @@ How each scene is built (both engines)
   joints' out-of-plane rotations are held by the plates' contacts (keeping
   them keeps MuJoCo's noslip post-solve well posed: with a hinge only, its
   per-contact friction blocks are singular and noslip silently does nothing).
+  With ``contact="point"`` a single contact on the pivot cannot hold tilts,
+  so the ball becomes a hinge about the plate normal.
 * Contact (``contact=``): ``"pads"`` (default): the fingertip pads are boxes
   with the patch's footprint (``Patch.rectangle``: that rectangle; any other
   patch: the square with the same e_r) at the patch centre, and the engines'
