@@ -196,7 +196,10 @@ def paper_rows(phi, theta):
 class Tool:
     """A V tool: opening ``theta`` = alpha2 - alpha1 [rad] and rotation
     ``alpha1`` [rad]; ``s`` [m], if given, places a spring plunger pressing
-    along -y at x = s (tool frame, apex at the origin) on the wedged object."""
+    along -y at x = s (tool frame, apex at the origin) on the wedged object:
+    it touches the object's topmost point on the line x = s (no contact if the
+    line misses the object; collisions of the plunger with the tool's own
+    surfaces are not checked)."""
     theta: float = math.pi / 2
     alpha1: float = 0.0
     s: Optional[float] = None
@@ -399,6 +402,7 @@ class ToolResult:
     objective: float
     iterations: int
     evaluations: int
+    converged: bool  # False: max_iter reached before the simplex shrank to size_tol
 
 
 def optimise_tool(problem, start, free=("alpha1", "alpha2", "s"), step=(0.2, 0.2, 0.1),
@@ -406,8 +410,11 @@ def optimise_tool(problem, start, free=("alpha1", "alpha2", "s"), step=(0.2, 0.2
     """Several tool parameters together with GSL's nmsimplex2 (in C).
 
     ``free`` names the parameters to optimise among "alpha1", "alpha2" and "s"
-    (the plunger position; only with ``start.s`` given). Non-smooth objective
-    (contacts switch): restart from the result or from several starts.
+    (the plunger position; only with ``start.s`` given). The objective is only
+    piecewise smooth (contacts switch, the plunger may miss the object), so
+    the simplex can wander on a plateau: then ``converged`` is False and the
+    best point found is returned. Restart from the result or from several
+    starts.
     """
     if not isinstance(start, Tool):
         raise TypeError("start must be an exdex.tool.Tool")
@@ -418,12 +425,12 @@ def optimise_tool(problem, start, free=("alpha1", "alpha2", "s"), step=(0.2, 0.2
     if "s" in free and start.s is None:
         raise ValueError("free includes 's' but start has no plunger (start.s is None)")
     flags = [1.0 if n in free else 0.0 for n in names]
-    x, f, it, ev = _tool.optimise_tool(x0=np.array(start.params()), free=flags,
+    x, f, it, ev, conv = _tool.optimise_tool(x0=np.array(start.params()), free=flags,
                                        step=np.asarray(step, dtype=float),
                                        plunger=start.s is not None, max_iter=max_iter,
                                        size_tol=size_tol, **problem._kw())
     tool = Tool(theta=x[1] - x[0], alpha1=x[0], s=None if start.s is None else x[2])
-    return ToolResult(tool, f, it, ev)
+    return ToolResult(tool, f, it, ev, conv)
 
 
 # ---------------------------------------------------------------- rod (Fig. 11)
@@ -697,8 +704,11 @@ def run(args):
              dict(case="V tool + plunger, alpha1, alpha2, s (nmsimplex2)",
                   alpha1_deg=math.degrees(best.tool.alpha1), alpha2_deg=math.degrees(best.tool.alpha2),
                   s=best.tool.s, mean_volume=best.objective / n_terms)]
+    multi[0]["converged"] = base.bracketed
+    multi[1]["converged"] = two.converged
+    multi[2]["converged"] = best.converged
     _write_csv(os.path.join(out, "multi_shape.csv"), multi,
-               ["case", "alpha1_deg", "alpha2_deg", "s", "mean_volume"])
+               ["case", "alpha1_deg", "alpha2_deg", "s", "mean_volume", "converged"])
 
     # 5. the rod tool of Fig. 11
     b, xr = 0.5, 0.25
@@ -741,7 +751,7 @@ def run(args):
     for r in multi:
         s_txt = "" if r["s"] == "" else f", s {r['s']:.3f} m"
         print(f"  {r['case']}: alpha1 {r['alpha1_deg']:.2f}, alpha2 {r['alpha2_deg']:.2f} deg"
-              f"{s_txt}: {r['mean_volume']:.4f}")
+              f"{s_txt}: {r['mean_volume']:.4f}" + ("" if r["converged"] else " (not converged)"))
     print(f"rod (Fig. 11), rod {xr} m off the grasp, b {b} m: at most {math.degrees(pmax):.2f} deg "
           f"of rotation from a straight push (descent {closed[-1]:.4f} m); RK4 vs closed form "
           f"max |d error| {rod_err:.1e} m")
