@@ -745,8 +745,10 @@ def run(args):
     for a in aspects:
         p = [x for x in sweep if x["a"] == a]
         print(f"  a = {a:6.3f}: " + " / ".join(f"{x['theta_star_deg']:7.2f}" for x in p))
-    print("friction (contact rows, phi 0..90): " +
-          ", ".join(f"mu {r['mu']:g}: {r['theta_star_deg']:.2f} deg" for r in fric))
+    print("friction (contact rows, phi 0..90): mu -> theta* [deg], mean V*")
+    for r in fric:
+        note = "" if r["bracketed"] else "  (at a bound or on a plateau: theta* not unique)"
+        print(f"  mu {r['mu']:4g}: {r['theta_star_deg']:7.2f}  {r['mean_volume']:.4g}{note}")
     print(f"4 shapes, phi 0..60 deg (mean V over {n_terms} cones):")
     for r in multi:
         s_txt = "" if r["s"] == "" else f", s {r['s']:.3f} m"
