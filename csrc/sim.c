@@ -30,8 +30,7 @@
 #include <string.h>
 
 #define MAX_ROWS (EXDEX_MAX_STOPS * EXDEX_MAX_VERTICES)
-#define STOP_MAX_ITER 500
-#define STOP_TOL 1e-14
+#define TOUCH 1e-10   /* a stop gap below this counts as contact [m] */
 
 struct exdex_model {
     exdex_scene_def def;    /* copy of the definition (sampled arrays owned by motion) */
@@ -449,10 +448,13 @@ static void build_rows(const exdex_model *m, const exdex_kinematics *kin_end, co
 }
 
 /* 1-DoF step: min 1/2 M (v - vs)^2 + c |v| subject to G_i v >= rhs_i.
- * Exact: soft-threshold, then clamp into the feasible interval; the friction
- * takes what it can ("friction first"), the binding stop the rest. */
-static void step_1dof(const exdex_model *m, double M, double c, double vs, work *w,
-                      double *v_out, double *pf, exdex_stats *st)
+ * Exact: soft-threshold, then clamp into the feasible interval. The impulse
+ * split is unique while sliding (friction = capacity, the binding stop the
+ * rest). At rest (v+ = 0) against a touching stop it is statically
+ * indeterminate; exdex lets the stops carry what they can (the split with the
+ * least friction), as in the planar case. */
+static void step_1dof(double M, double c, double vs, work *w, double *v_out, double *pf,
+                      exdex_stats *st)
 {
     double vu, v, P, lo = -INFINITY, hi = INFINITY;
     int ilo = -1, ihi = -1, ib;
@@ -480,106 +482,376 @@ static void step_1dof(const exdex_model *m, double M, double c, double vs, work 
     ib = -1;
     if (v < lo) { v = lo; ib = ilo; }
     if (v > hi) { v = hi; ib = ihi; }
-    P = M * (v - vs);
-    if (ib < 0) {
-        *pf = P;
-    } else {
-        double p = v != 0.0 ? -copysign(c, v) : fmin(fmax(P, -c), c);
-        double lam = (P - p) / w->G[ib][0];
+    P = M * (v - vs);  /* total impulse: friction + stops */
+    if (v == 0.0) {
+        /* at rest: a touching stop pushing the way P points takes it all */
+        ib = -1;
+        for (int i = 0; i < w->n_rows; i++)
+            if (w->gap[i] <= TOUCH && w->G[i][0] * P > 0) ib = i;
+        if (ib >= 0) {
+            w->lam[ib] = P / w->G[ib][0];
+            *pf = 0.0;
+        } else {
+            *pf = P;
+        }
+    } else if (ib >= 0) {
+        double p = -copysign(c, v), lam = (P - p) / w->G[ib][0];
         *pf = p;
         w->lam[ib] = lam > 0 ? lam : 0.0;
+    } else {
+        *pf = P;
     }
-    (void)m;
     *v_out = v;
 }
 
 /* ------------------------------------------------------------ the step loop */
 
-static void rotate_gen(double out[3], const double in[3], double th)
+/* generalized planar vector (x, y, theta) rotated about z by the angle
+ * whose cosine and sine are cs[0], sign * cs[1] (sign = -1: the inverse) */
+static inline void rotate_gen(double out[3], const double in[3], const double cs[2], double sign)
 {
-    /* generalized planar vector (x, y, theta) rotated by th about z */
-    rot2(out, th, in);
+    double c = cs[0], sn = sign * cs[1];
+    double x = c * in[0] - sn * in[1], y = sn * in[0] + c * in[1];
+    out[0] = x;
+    out[1] = y;
     out[2] = in[2];
 }
 
-/* Planar friction + stops, block Gauss-Seidel over the friction block (exact
- * ellipsoid solve) and each active stop row (exact clamped update). */
+/* Patch impulse (object frame) of a B-frame generalized impulse P:
+ * p = J'^-T Rg(-th) P, with J'^-T = [[1,0,0],[0,1,0],[pc_y,-pc_x,1]]. */
+static void patch_impulse(const exdex_model *m, const double cs[2], const double P[3], double p[3])
+{
+    double Po[3];
+    rotate_gen(Po, P, cs, -1.0);
+    p[0] = Po[0];
+    p[1] = Po[1];
+    p[2] = Po[2] + m->pc[1] * Po[0] - m->pc[0] * Po[1];
+}
+
+/* Small dense solve A x = b for n <= 3 (Gaussian elimination, partial
+ * pivoting); returns 0 if A is numerically singular. A and b are clobbered. */
+static int solve_small(int n, double A[3][3], double b[3], double x[3])
+{
+    double scale = 0.0;
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < n; j++) scale = fmax(scale, fabs(A[i][j]));
+    for (int c = 0; c < n; c++) {
+        int piv = c;
+        for (int r = c + 1; r < n; r++)
+            if (fabs(A[r][c]) > fabs(A[piv][c])) piv = r;
+        if (!(fabs(A[piv][c]) > 1e-12 * scale)) return 0;
+        if (piv != c) {
+            for (int k = 0; k < n; k++) {
+                double t = A[c][k];
+                A[c][k] = A[piv][k];
+                A[piv][k] = t;
+            }
+            {
+                double t = b[c];
+                b[c] = b[piv];
+                b[piv] = t;
+            }
+        }
+        for (int r = c + 1; r < n; r++) {
+            double f = A[r][c] / A[c][c];
+            for (int k = c; k < n; k++) A[r][k] -= f * A[c][k];
+            b[r] -= f * b[c];
+        }
+    }
+    for (int r = n - 1; r >= 0; r--) {
+        double acc = b[r];
+        for (int k = r + 1; k < n; k++) acc -= A[r][k] * x[k];
+        x[r] = acc / A[r][r];
+    }
+    return 1;
+}
+
+/* Can the object stay exactly at rest (v+ = 0) with stop impulses lambda >= 0
+ * on the touching rows and a friction impulse inside the ellipsoid? The
+ * friction needed is p(lambda) = -J^-T (M v* + G^T lambda); minimise
+ * |E^-1 p(lambda)| over lambda >= 0 (a tiny non-negative least-squares
+ * problem, solved exactly by trying every support of size <= 3: in 3-D an
+ * optimal support never needs more). Rest holds iff that minimum <= cap; the
+ * minimiser is the split with the least friction (the stops carry what they
+ * can). */
+static int try_rest(const exdex_model *m, const double cs[2], double cap, const double vs[3], work *w,
+                    double pfB[3], exdex_friction_result *fr)
+{
+    int rows[8], k = 0, best_set[3] = {-1, -1, -1}, best_n = 0;
+    double a[3], B[8][3], P[3], best, best_lam[3] = {0, 0, 0};
+    for (int i = 0; i < w->n_rows; i++) {
+        if (w->rhs[i] > 0.0 && w->gap[i] < -TOUCH) return 0; /* rest would penetrate */
+        if (w->gap[i] <= TOUCH && k < 8) rows[k++] = i;
+    }
+    for (int i = 0; i < 3; i++) P[i] = vs[i] / m->minv[i];
+    patch_impulse(m, cs, P, a);
+    for (int i = 0; i < 3; i++) a[i] /= m->e[i];
+    for (int j = 0; j < k; j++) {
+        patch_impulse(m, cs, w->G[rows[j]], B[j]);
+        for (int i = 0; i < 3; i++) B[j][i] /= m->e[i];
+    }
+    best = sqrt(ex_dot3(a, a)); /* empty support */
+    for (int mask = 1; mask < (1 << k); mask++) {
+        int set[3], n = 0, ok = 1;
+        double A[3][3], rhs[3], lam[3], r[3], norm;
+        for (int j = 0; j < k && n <= 3; j++)
+            if (mask & (1 << j)) {
+                if (n < 3) set[n] = j;
+                n++;
+            }
+        if (n > 3) continue;
+        for (int i = 0; i < n; i++) {
+            for (int j = 0; j < n; j++) A[i][j] = ex_dot3(B[set[i]], B[set[j]]);
+            rhs[i] = -ex_dot3(B[set[i]], a);
+        }
+        if (!solve_small(n, A, rhs, lam)) continue;
+        for (int i = 0; i < n; i++) ok &= lam[i] >= 0.0;
+        if (!ok) continue;
+        for (int c = 0; c < 3; c++) {
+            r[c] = a[c];
+            for (int i = 0; i < n; i++) r[c] += lam[i] * B[set[i]][c];
+        }
+        norm = sqrt(ex_dot3(r, r));
+        if (norm < best) {
+            best = norm;
+            best_n = n;
+            for (int i = 0; i < n; i++) {
+                best_set[i] = rows[set[i]];
+                best_lam[i] = lam[i];
+            }
+        }
+    }
+    if (!(best <= cap * (1.0 + 1e-12))) return 0;
+    for (int i = 0; i < 3; i++) P[i] = vs[i] / m->minv[i];
+    for (int i = 0; i < w->n_rows; i++) w->lam[i] = 0.0;
+    for (int i = 0; i < best_n; i++) {
+        w->lam[best_set[i]] = best_lam[i];
+        for (int c = 0; c < 3; c++) P[c] += best_lam[i] * w->G[best_set[i]][c];
+    }
+    for (int c = 0; c < 3; c++) pfB[c] = -P[c];
+    patch_impulse(m, cs, pfB, fr->p);
+    fr->u[0] = fr->u[1] = fr->u[2] = 0.0;
+    fr->sigma = 0.0;
+    fr->stick = 1;
+    fr->iterations = 0;
+    return 1;
+}
+
+/* Friction slip map in B generalized coordinates, scaled: r = E J_f v with
+ * J_f v = J' Rg(-th) v, J' = [[1,0,-pc_y],[0,1,pc_x],[0,0,1]]. */
+static void ejf(const exdex_model *m, const double cs[2], const double v[3], double r[3])
+{
+    double vo[3];
+    rotate_gen(vo, v, cs, -1.0);
+    r[0] = m->e[0] * (vo[0] - m->pc[1] * vo[2]);
+    r[1] = m->e[1] * (vo[1] + m->pc[0] * vo[2]);
+    r[2] = m->e[2] * vo[2];
+}
+
+/* B-frame generalized impulse of a patch impulse p (object frame). */
+static void gen_impulse(const exdex_model *m, const double cs[2], const double p[3], double P[3])
+{
+    double Po[3] = {p[0], p[1], p[2] - m->pc[1] * p[0] + m->pc[0] * p[1]};
+    rotate_gen(P, Po, cs, 1.0);
+}
+
+/* Sliding with the stop rows of `act` held as equalities:
+ *     min_v 1/2 (v - vs)^T M (v - vs) + cap |E J_f v|   s.t.  G_A v = rhs_A.
+ * With v = vp + N z (N a basis of null(G_A)), the objective is smooth in z
+ * wherever E J_f v != 0, which holds at the optimum once rest is excluded
+ * (try_rest), so a damped Newton method converges quadratically.
+ * Returns 1 on convergence with v, the friction impulse p (object frame) and
+ * the stop impulses lam (least squares from stationarity). */
+static int solve_active(const exdex_model *m, const double cs[2], double cap, const double vs[3], const work *w,
+                        const int *act, int k, const double v_start[3], double v[3], double p[3],
+                        double lam[3], int *iters)
+{
+    double N[3][3], vp[3] = {0, 0, 0}, z[2] = {0, 0}, Mdiag[3];
+    int nz = 3 - k;
+    for (int i = 0; i < 3; i++) Mdiag[i] = 1.0 / m->minv[i];
+    /* particular solution (least norm) and null-space basis */
+    {
+        double A[3][3], b[3], y[3];
+        for (int i = 0; i < k; i++) {
+            for (int j = 0; j < k; j++) A[i][j] = ex_dot3(w->G[act[i]], w->G[act[j]]);
+            b[i] = w->rhs[act[i]];
+        }
+        if (k > 0) {
+            if (!solve_small(k, A, b, y)) return 0;
+            for (int i = 0; i < k; i++)
+                for (int c = 0; c < 3; c++) vp[c] += y[i] * w->G[act[i]][c];
+        }
+        if (k == 1) {
+            const double *g = w->G[act[0]];
+            double e0[3] = {0, 0, 0}, n1[3], n2[3], nn;
+            e0[fabs(g[0]) < fabs(g[1]) ? (fabs(g[0]) < fabs(g[2]) ? 0 : 2) : (fabs(g[1]) < fabs(g[2]) ? 1 : 2)] = 1.0;
+            ex_cross3(n1, g, e0);
+            nn = sqrt(ex_dot3(n1, n1));
+            for (int c = 0; c < 3; c++) n1[c] /= nn;
+            ex_cross3(n2, g, n1);
+            nn = sqrt(ex_dot3(n2, n2));
+            for (int c = 0; c < 3; c++) {
+                N[c][0] = n1[c];
+                N[c][1] = n2[c] / nn;
+            }
+        } else if (k == 2) {
+            double n1[3], nn;
+            ex_cross3(n1, w->G[act[0]], w->G[act[1]]);
+            nn = sqrt(ex_dot3(n1, n1));
+            if (!(nn > 0)) return 0;
+            for (int c = 0; c < 3; c++) N[c][0] = n1[c] / nn;
+        }
+    }
+    /* start from the projection of v_start onto the affine set */
+    for (int j = 0; j < nz; j++) {
+        z[j] = 0.0;
+        for (int c = 0; c < 3; c++) z[j] += N[c][j] * (v_start[c] - vp[c]);
+    }
+    *iters = 0;
+    for (int it = 0; it < 60 && nz > 0; it++) {
+        double vv[3], r[3], nr, g[2] = {0, 0}, H[3][3] = {{0}}, Br[2] = {0, 0}, B[3][2], step[3], f0;
+        double Hs[3][3], gs[3];
+        for (int c = 0; c < 3; c++) {
+            vv[c] = vp[c];
+            for (int j = 0; j < nz; j++) vv[c] += N[c][j] * z[j];
+        }
+        ejf(m, cs, vv, r);
+        nr = sqrt(ex_dot3(r, r));
+        if (!(nr > 0)) return 0;
+        for (int j = 0; j < nz; j++) {
+            double col[3] = {N[0][j], N[1][j], N[2][j]}, bc[3];
+            ejf(m, cs, col, bc);
+            for (int c = 0; c < 3; c++) B[c][j] = bc[c];
+            Br[j] = ex_dot3(bc, r);
+            for (int c = 0; c < 3; c++) g[j] += N[c][j] * Mdiag[c] * (vv[c] - vs[c]);
+            g[j] += cap * Br[j] / nr;
+        }
+        for (int i = 0; i < nz; i++)
+            for (int j = 0; j < nz; j++) {
+                double btb = B[0][i] * B[0][j] + B[1][i] * B[1][j] + B[2][i] * B[2][j], nmn = 0;
+                for (int c = 0; c < 3; c++) nmn += N[c][i] * Mdiag[c] * N[c][j];
+                H[i][j] = nmn + cap / nr * (btb - Br[i] * Br[j] / (nr * nr));
+            }
+        for (int i = 0; i < nz; i++) {
+            gs[i] = -g[i];
+            for (int j = 0; j < nz; j++) Hs[i][j] = H[i][j];
+        }
+        if (!solve_small(nz, Hs, gs, step)) return 0;
+        /* backtracking on the objective keeps the damped Newton step monotone */
+        {
+            double t = 1.0, znew[2];
+            f0 = 0.0;
+            for (int c = 0; c < 3; c++) f0 += 0.5 * Mdiag[c] * (vv[c] - vs[c]) * (vv[c] - vs[c]);
+            f0 += cap * nr;
+            for (int ls = 0; ls < 30; ls++) {
+                double vt[3], rt[3], ft = 0.0;
+                for (int j = 0; j < nz; j++) znew[j] = z[j] + t * step[j];
+                for (int c = 0; c < 3; c++) {
+                    vt[c] = vp[c];
+                    for (int j = 0; j < nz; j++) vt[c] += N[c][j] * znew[j];
+                    ft += 0.5 * Mdiag[c] * (vt[c] - vs[c]) * (vt[c] - vs[c]);
+                }
+                ejf(m, cs, vt, rt);
+                ft += cap * sqrt(ex_dot3(rt, rt));
+                if (ft <= f0 || t < 1e-6) break;
+                t *= 0.5;
+            }
+            for (int j = 0; j < nz; j++) z[j] = znew[j];
+        }
+        (*iters)++;
+        {
+            double sn = 0, zn = 0;
+            for (int j = 0; j < nz; j++) {
+                sn += step[j] * step[j];
+                zn += z[j] * z[j];
+            }
+            if (sqrt(sn) <= 1e-14 * (1e-3 + sqrt(zn))) break;
+        }
+    }
+    for (int c = 0; c < 3; c++) {
+        v[c] = vp[c];
+        for (int j = 0; j < nz; j++) v[c] += N[c][j] * z[j];
+    }
+    {
+        double r[3], nr, P[3], res[3], A[3][3], b[3];
+        ejf(m, cs, v, r);
+        nr = sqrt(ex_dot3(r, r));
+        if (!(nr > 0)) return 0;
+        for (int c = 0; c < 3; c++) p[c] = -cap * m->e[c] * r[c] / nr;
+        gen_impulse(m, cs, p, P);
+        /* G_A^T lam = M (v - vs) - P_f, least squares */
+        for (int c = 0; c < 3; c++) res[c] = Mdiag[c] * (v[c] - vs[c]) - P[c];
+        for (int i = 0; i < k; i++) {
+            for (int j = 0; j < k; j++) A[i][j] = ex_dot3(w->G[act[i]], w->G[act[j]]);
+            b[i] = ex_dot3(w->G[act[i]], res);
+        }
+        if (k > 0 && !solve_small(k, A, b, lam)) return 0;
+    }
+    return 1;
+}
+
+/* Planar friction + stops: friction alone first; if a stop row is violated,
+ * exact rest (try_rest), else a primal active set over the stop rows with the
+ * smooth sliding subproblem (solve_active). */
 static int step_planar(const exdex_model *m, double h, double th, const double vs[3], work *w,
                        double v[3], double pfB[3], exdex_friction_result *fr, exdex_stats *st)
 {
-    double cap = h * m->capF;
-    double Ps[3] = {0, 0, 0}, pf_prev[3] = {0, 0, 0};
-    int n_active = 0, active[MAX_ROWS];
-    for (int round = 0; round < 4; round++) {
-        int it, converged = 0;
-        for (it = 0; it < STOP_MAX_ITER; it++) {
-            double vb[3], vo[3], b[3], Pf_o[3];
-            double change = 0.0, scale = 1e-300;
-            int s;
-            for (int i = 0; i < 3; i++) vb[i] = vs[i] + m->minv[i] * Ps[i];
-            rotate_gen(vo, vb, -th);
-            b[0] = vo[0] - m->pc[1] * vo[2];
-            b[1] = vo[1] + m->pc[0] * vo[2];
-            b[2] = vo[2];
-            s = exdex_friction_solve(&m->prep, b, cap, m->def.friction_solver, w->fws,
-                                     w->have_prev ? w->p_prev : NULL, fr);
-            if (s) return s;
-            st->solver_iterations += (size_t)fr->iterations;
-            /* generalized impulse J'^T p in C, rotated to B */
-            Pf_o[0] = fr->p[0];
-            Pf_o[1] = fr->p[1];
-            Pf_o[2] = fr->p[2] - m->pc[1] * fr->p[0] + m->pc[0] * fr->p[1];
-            rotate_gen(pfB, Pf_o, th);
-            for (int i = 0; i < 3; i++) {
-                change = fmax(change, fabs(pfB[i] - pf_prev[i]));
-                scale = fmax(scale, fabs(pfB[i]));
-                pf_prev[i] = pfB[i];
-                v[i] = vs[i] + m->minv[i] * (pfB[i] + Ps[i]);
-            }
-            if (n_active == 0) {
-                converged = 1;
-                break;
-            }
-            if (fr->stick && Ps[0] == 0 && Ps[1] == 0 && Ps[2] == 0) v[0] = v[1] = v[2] = 0.0;
-            for (int a = 0; a < n_active; a++) {
-                int i = active[a];
-                const double *G = w->G[i];
-                double r = G[0] * v[0] + G[1] * v[1] + G[2] * v[2] - w->rhs[i];
-                double gmg = G[0] * G[0] * m->minv[0] + G[1] * G[1] * m->minv[1] +
-                             G[2] * G[2] * m->minv[2];
-                double nl = fmax(0.0, w->lam[i] - r / gmg), dl = nl - w->lam[i];
-                w->lam[i] = nl;
-                for (int c = 0; c < 3; c++) {
-                    Ps[c] += G[c] * dl;
-                    v[c] += m->minv[c] * G[c] * dl;
-                }
-                change = fmax(change, fabs(dl));
-                scale = fmax(scale, fabs(nl));
-            }
-            st->stop_iterations++;
-            if (it > 0 && change <= STOP_TOL * scale) {
-                converged = 1;
-                break;
+    double cap = h * m->capF, b[3], vo[3], cs[2] = {cos(th), sin(th)};
+    int s, act[3], k = 0;
+    rotate_gen(vo, vs, cs, -1.0);
+    b[0] = vo[0] - m->pc[1] * vo[2];
+    b[1] = vo[1] + m->pc[0] * vo[2];
+    b[2] = vo[2];
+    s = exdex_friction_solve(&m->prep, b, cap, m->def.friction_solver, w->fws, w->have_prev ? w->p_prev : NULL, fr);
+    if (s) return s;
+    st->solver_iterations += (size_t)fr->iterations;
+    gen_impulse(m, cs, fr->p, pfB);
+    for (int i = 0; i < 3; i++) v[i] = fr->stick ? 0.0 : vs[i] + m->minv[i] * pfB[i];
+    for (int round = 0; round < 12; round++) {
+        int worst = -1, neg = -1;
+        double wv = 0.0, lam[3] = {0, 0, 0}, p[3], vn[3];
+        for (int i = 0; i < w->n_rows; i++) {
+            double viol = w->rhs[i] - ex_dot3(w->G[i], v);
+            int in = 0;
+            for (int a = 0; a < k; a++) in |= act[a] == i;
+            if (!in && viol > 1e-13 * (1.0 + fabs(w->rhs[i])) && viol > wv) {
+                wv = viol;
+                worst = i;
             }
         }
-        if (!converged) st->warnings++;
-        /* add rows the current velocity violates */
-        {
-            int added = 0;
-            for (int i = 0; i < w->n_rows; i++) {
-                const double *G = w->G[i];
-                int is_active = 0;
-                for (int a = 0; a < n_active; a++) is_active |= active[a] == i;
-                if (!is_active && G[0] * v[0] + G[1] * v[1] + G[2] * v[2] <
-                                      w->rhs[i] - 1e-12 * (1.0 + fabs(w->rhs[i]))) {
-                    active[n_active++] = i;
-                    added = 1;
-                }
-            }
-            if (!added) break;
+        if (worst < 0) break; /* every row satisfied: done */
+        if (round == 0 && try_rest(m, cs, cap, vs, w, pfB, fr)) {
+            v[0] = v[1] = v[2] = 0.0;
+            goto done;
         }
+        if (k == 3) { /* cannot add more independent rows */
+            st->warnings++;
+            break;
+        }
+        act[k++] = worst;
+        for (;;) {
+            int it = 0;
+            if (!solve_active(m, cs, cap, vs, w, act, k, v, vn, p, lam, &it)) {
+                st->warnings++;
+                k--; /* keep the previous solution */
+                goto done;
+            }
+            st->stop_iterations += (size_t)it;
+            /* drop a row whose impulse came out negative (it should separate) */
+            neg = -1;
+            for (int a = 0; a < k; a++)
+                if (lam[a] < 0.0 && (neg < 0 || lam[a] < lam[neg])) neg = a;
+            if (neg < 0 || k == 1) break;
+            act[neg] = act[--k];
+        }
+        for (int c = 0; c < 3; c++) v[c] = vn[c];
+        for (int i = 0; i < w->n_rows; i++) w->lam[i] = 0.0;
+        for (int a = 0; a < k; a++) w->lam[act[a]] = lam[a] > 0.0 ? lam[a] : 0.0;
+        memcpy(fr->p, p, sizeof fr->p);
+        fr->stick = 0;
+        gen_impulse(m, cs, p, pfB);
     }
-    if (fr->stick && n_active == 0) v[0] = v[1] = v[2] = 0.0;
+done:
     w->p_prev[0] = fr->p[0];
     w->p_prev[1] = fr->p[1];
     w->p_prev[2] = fr->p[2];
@@ -593,7 +865,7 @@ static void project_positions(const exdex_model *m, const exdex_kinematics *kin,
                               exdex_stats *st)
 {
     int nv = m->n_vert ? m->n_vert : 1, n = m->ndof;
-    for (int pass = 0; pass < 4; pass++) {
+    for (int pass = 0; pass < 16; pass++) {
         double worst = 0.0, G[3] = {0, 0, 0}, Gw[3] = {0, 0, 0};
         for (int k = 0; k < m->n_stops; k++)
             for (int j = 0; j < nv; j++) {
@@ -720,7 +992,7 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajecto
                 c = h * m->capF * m->e[2];  /* pure spin at the centre of pressure */
             }
             vs[0] = v[0] + h * Q / M;
-            step_1dof(m, M, c, vs[0], w, &vn[0], &pf, &st);
+            step_1dof(M, c, vs[0], w, &vn[0], &pf, &st);
             if (m->def.dof == EXDEX_DOF_TRANSLATION) {
                 wrench[0] = pf * m->d[0] / h;
                 wrench[1] = pf * m->d[1] / h;

@@ -1,0 +1,80 @@
+"""Nanoseconds per simulation step of exdex.simulate (issue: core).
+
+Two scenes, each with the three friction solvers:
+  * 1-DoF: the paper's Fig. 3 scene (vertical translation, Eq. 7 motion);
+  * planar (x, y, theta) with a stop: a box whose patch is off-centre, on a
+    tilted stop, in a gripper that rotates (Eq. 7 as a rotation), so friction
+    slides, sticks and the stop pushes.
+The time is the whole exdex.simulate call (scene conversion, model set-up,
+output arrays and their first touch included) divided by the number of steps;
+median and spread over repeated runs. Usage:
+
+    python benchmarks/bench_step.py [--repeat 7] [--out exdex-output/bench]
+"""
+import argparse
+import csv
+import math
+import os
+import platform
+import statistics
+import time
+
+import exdex
+
+
+def scenes():
+    fig3 = exdex.Scene(body=exdex.Body(mass=0.1), grasp=exdex.Grasp(mu=0.5, grip_force=1.5),
+                       motion=exdex.AsymmetricProfile(0.1, 0.5, 0.9, axis=(0, 0, -1)))
+    a = math.radians(10)
+    planar = exdex.Scene(
+        body=exdex.Body.box(0.1, (0.02, 0.04, 0.02)),
+        grasp=exdex.Grasp(mu=0.5, grip_force=0.6, patch=exdex.Patch.rectangle(0.01, 0.02, center=(0.004, 0.0))),
+        motion=exdex.AsymmetricProfile(0.6, 0.5, 0.7, axis=(0, -1, 0), rotation=True),
+        dof="planar",
+        stops=(exdex.Stop(point=(0, 0, -0.03), normal=(math.sin(a), 0, math.cos(a))),),
+    )
+    return {"1-DoF (Fig. 3)": (fig3, 1_000_000), "planar + stop": (planar, 200_000)}
+
+
+def measure(scene, steps, solver, repeat):
+    t_end = 2.0
+    dt = t_end / steps
+    exdex.simulate(scene, t_end, dt=dt, friction_solver=solver)  # warm-up
+    ns = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        r = exdex.simulate(scene, t_end, dt=dt, friction_solver=solver)
+        ns.append((time.perf_counter() - t0) / r.stats["steps"] * 1e9)
+    return ns, r
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeat", type=int, default=7)
+    ap.add_argument("--out", default=os.path.join("exdex-output", "bench"))
+    args = ap.parse_args(argv)
+    os.makedirs(args.out, exist_ok=True)
+    print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
+          f"Python {platform.python_version()}; median of {args.repeat} runs")
+    print(f"{'scene':<16} {'solver':<10} {'ns/step':>9} {'min':>8} {'max':>8} {'stick %':>8} {'iter/step':>9}")
+    rows = []
+    for name, (scene, steps) in scenes().items():
+        for solver in ("scalar", "brent", "multiroot"):
+            ns, r = measure(scene, steps, solver, args.repeat)
+            st = r.stats
+            row = dict(scene=name, solver=solver, ns_per_step=statistics.median(ns), ns_min=min(ns), ns_max=max(ns),
+                       steps=st["steps"], stick_fraction=st["stick_steps"] / st["steps"],
+                       iterations_per_step=st["solver_iterations"] / st["steps"])
+            rows.append(row)
+            print(f"{name:<16} {solver:<10} {row['ns_per_step']:9.1f} {row['ns_min']:8.1f} {row['ns_max']:8.1f} "
+                  f"{100 * row['stick_fraction']:8.1f} {row['iterations_per_step']:9.2f}")
+    path = os.path.join(args.out, "step_cost.csv")
+    with open(path, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    print(f"wrote {path}")
+
+
+if __name__ == "__main__":
+    main()
