@@ -1,0 +1,188 @@
+/* fuzz_friction.c -- exdex_friction_prepare + exdex_friction_solve, all three
+ * solvers, on fuzzed Delassus matrices W, semi-axes e, slip b and capacity.
+ *
+ * W is made SPD (L L^T, or J M^-1 J^T of a planar patch as sim.c builds it)
+ * or taken raw (symmetric or not), so both the valid and the rejected paths
+ * are exercised. Checks beyond "no crash": non-finite or out-of-range input
+ * gives EXDEX_EINVAL; EXDEX_OK gives finite p, u, sigma with p inside the
+ * ellipsoid, p . u <= 0 (maximum dissipation never adds energy), the
+ * objective 1/2 p'Wp + p'b <= 0 = its value at p = 0, u == 0 at stick; a
+ * failed solve leaves NaN in the result (documented in friction.c). */
+#include "fuzz.h"
+
+#include <math.h>
+#include <string.h>
+
+#define T "friction"
+
+static void decode_W(fz *f, double W[9], int mode)
+{
+    double s = fz_log(f, 1e-6, 1e6);
+    if (mode == 0) {
+        /* L L^T + d I, L lower triangular */
+        double L[9] = {0}, d = fz_log(f, 1e-12, 1.0);
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j <= i; j++) L[3 * i + j] = fz_num(f, -1.0, 1.0);
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++) {
+                double a = 0.0;
+                for (int k = 0; k < 3; k++) a += L[3 * i + k] * L[3 * j + k];
+                W[3 * i + j] = s * (a + (i == j ? d : 0.0));
+            }
+    } else if (mode == 1) {
+        /* J M^-1 J^T of a planar patch at pc (as sim.c): mass m, izz */
+        double m = fz_log(f, 1e-4, 1e3), izz = fz_log(f, 1e-9, 1e2);
+        double px = fz_num(f, -0.2, 0.2), py = fz_num(f, -0.2, 0.2);
+        double J[9] = {1, 0, -py, 0, 1, px, 0, 0, 1}, mi[3] = {1 / m, 1 / m, 1 / izz};
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++) {
+                double a = 0.0;
+                for (int k = 0; k < 3; k++) a += J[3 * i + k] * mi[k] * J[3 * j + k];
+                W[3 * i + j] = a;
+            }
+    } else {
+        /* raw entries; mode 2 mirrored to symmetric */
+        for (int i = 0; i < 9; i++) W[i] = s * fz_num(f, -1.0, 1.0);
+        if (mode == 2)
+            for (int i = 0; i < 3; i++)
+                for (int j = 0; j < i; j++) W[3 * i + j] = W[3 * j + i];
+    }
+}
+
+static int run(const uint8_t *data, size_t size, exdex_friction_ws *ws)
+{
+    fz f;
+    double W[9], e[3], b[3], warm[3], cap, bs;
+    int mode, use_warm, st;
+    exdex_friction_prep prep;
+    exdex_friction_result res[3];
+    int status[3];
+    fz_init(&f, data, size);
+    mode = fz_pick(&f, 0, 3);
+    decode_W(&f, W, mode);
+    if (fz_pick(&f, 0, 1)) {
+        e[0] = e[1] = 1.0;
+    } else {
+        e[0] = fz_log(&f, 1e-3, 1e3);
+        e[1] = fz_pick(&f, 0, 1) ? e[0] : fz_log(&f, 1e-3, 1e3);
+    }
+    e[2] = fz_log(&f, 1e-5, 1.0);
+    bs = fz_log(&f, 1e-9, 1e6);
+    for (int i = 0; i < 3; i++) b[i] = bs * fz_num(&f, -1.0, 1.0);
+    cap = fz_pick(&f, 0, 15) == 0 ? 0.0 : fz_log(&f, 1e-9, 1e4);
+    use_warm = fz_pick(&f, 0, 1);
+    for (int i = 0; i < 3; i++) warm[i] = fz_num(&f, -1.0, 1.0) * cap;
+
+    st = exdex_friction_prepare(&prep, W, e);
+    FZ_CHECK(T, st == EXDEX_OK || st == EXDEX_EINVAL);
+    if (!fz_all_finite(W, 9) || !fz_all_finite(e, 3)) FZ_CHECK(T, st == EXDEX_EINVAL);
+    for (int i = 0; i < 3; i++)
+        if (!(e[i] > 0)) FZ_CHECK(T, st == EXDEX_EINVAL);
+    fuzz_count_status(T, st);
+    if (st) return 0;
+    FZ_CHECK(T, fz_all_finite(prep.K, 9) && fz_all_finite(prep.Q, 9) && fz_all_finite(prep.lam, 3));
+    FZ_CHECK(T, prep.lam[0] > 0 && prep.lam[1] > 0 && prep.lam[2] > 0);
+
+    /* invalid solver ids and a missing workspace are rejected */
+    FZ_CHECK(T, exdex_friction_solve(&prep, b, cap, 3, ws, NULL, &res[0]) == EXDEX_EINVAL);
+    FZ_CHECK(T, exdex_friction_solve(&prep, b, cap, -1, ws, NULL, &res[0]) == EXDEX_EINVAL);
+    FZ_CHECK(T, exdex_friction_solve(&prep, b, cap, EXDEX_SOLVER_BRENT, NULL, NULL, &res[0]) ==
+                    EXDEX_EINVAL);
+    FZ_CHECK(T, exdex_friction_solve(&prep, b, cap, EXDEX_SOLVER_SCALAR, NULL, NULL, NULL) ==
+                    EXDEX_EINVAL);
+
+    for (int s = 0; s < 3; s++) {
+        exdex_friction_result *r = &res[s];
+        int inval = !fz_all_finite(b, 3) || !(cap >= 0) || !isfinite(cap) ||
+                    (use_warm && !fz_all_finite(warm, 3));
+        st = status[s] = exdex_friction_solve(&prep, b, cap, s, ws, use_warm ? warm : NULL, r);
+        fuzz_count_status(T, st);
+        FZ_CHECK(T, st == EXDEX_OK || st == EXDEX_EINVAL || st == EXDEX_ENOCONV || st == EXDEX_ENONFINITE);
+        if (inval) {
+            FZ_CHECK(T, st == EXDEX_EINVAL);
+            continue;
+        }
+        FZ_CHECK(T, st != EXDEX_EINVAL);
+        if (st == EXDEX_ENONFINITE) fuzz_note_count(T, "ENONFINITE on valid input (result beyond the double range)");
+        if (st == EXDEX_ENOCONV)
+            fuzz_note_count(T, s == 0 ? "ENOCONV on valid input, SCALAR" : s == 1 ? "ENOCONV on valid input, BRENT" : "ENOCONV on valid input, MULTIROOT");
+        if (st != EXDEX_OK) {
+            FZ_CHECK(T, isnan(r->p[0]) && isnan(r->u[0]) && isnan(r->sigma));
+            continue;
+        }
+        FZ_EXTREME(T, &f, fz_all_finite(r->p, 3) && fz_all_finite(r->u, 3) && isfinite(r->sigma));
+        FZ_CHECK(T, r->stick == 0 || r->stick == 1);
+        FZ_CHECK(T, r->iterations >= 0 && !(r->sigma < 0));
+        if (!fz_all_finite(r->p, 3) || !fz_all_finite(r->u, 3)) continue;
+        {
+            /* inside the ellipsoid; p . u <= 0 (maximum dissipation);
+             * 1/2 p'Wp + p'b <= 0 = its value at the feasible p = 0. All
+             * with p, u, b scaled by their largest entries (no overflow). */
+            double n2 = 0.0, pu = 0.0, pn = 0.0, un = 0.0, obj = 0.0, objs = 0.0;
+            double ps = 0.0, us = 0.0, bsc = 0.0, P[3], U[3], B[3];
+            for (int i = 0; i < 3; i++) {
+                double y = cap > 0 ? r->p[i] / (e[i] * cap) : r->p[i];
+                n2 += y * y;
+                ps = fmax(ps, fabs(r->p[i]));
+                us = fmax(us, fabs(r->u[i]));
+                bsc = fmax(bsc, fabs(b[i]));
+            }
+            for (int i = 0; i < 3; i++) {
+                P[i] = ps > 0 ? r->p[i] / ps : 0.0;
+                U[i] = us > 0 ? r->u[i] / us : 0.0;
+                B[i] = bsc > 0 ? b[i] / bsc : 0.0;
+                pu += P[i] * U[i];
+                pn += P[i] * P[i];
+                un += U[i] * U[i];
+            }
+            if (cap > 0 && !(n2 <= 1.0 + 1e-9) && prep.lam[2] > 1e12 * prep.lam[0])
+                fuzz_note_count(T, "p outside the ellipsoid by > 1e-9 relative, cond(K) > 1e12");
+            else
+                FZ_EXTREME(T, &f, cap > 0 ? n2 <= 1.0 + 1e-9 : n2 == 0.0);
+            FZ_EXTREME(T, &f, pu <= 1e-9 * sqrt(pn) * sqrt(un));
+            if (ps > 0 && bsc > 0) {
+                /* obj / (ps bsc) = 1/2 (ps / bsc) P'WP + P'B */
+                double ratio = ps / bsc;
+                for (int i = 0; i < 3; i++) {
+                    double WP = prep.W[3 * i] * P[0] + prep.W[3 * i + 1] * P[1] + prep.W[3 * i + 2] * P[2];
+                    obj += 0.5 * ratio * P[i] * WP + P[i] * B[i];
+                    objs += fabs(0.5 * ratio * P[i] * WP) + fabs(P[i] * B[i]);
+                }
+                if (isfinite(obj)) FZ_EXTREME(T, &f, obj <= 1e-9 * objs);
+            }
+            if (r->stick) FZ_CHECK(T, r->u[0] == 0 && r->u[1] == 0 && r->u[2] == 0 && r->sigma == 0);
+        }
+    }
+    /* the solvers agree (counted, not failed: ill-conditioned W may differ) */
+    if (status[0] == EXDEX_OK)
+        for (int s = 1; s < 3; s++)
+            if (status[s] == EXDEX_OK) {
+                for (int i = 0; i < 3; i++)
+                    if (!(fabs(res[s].p[i] - res[0].p[i]) <= 1e-6 * cap * e[i] + 1e-300)) {
+                        fuzz_note_count(T, s == 1 ? "BRENT differs from SCALAR by > 1e-6 cap e" : "MULTIROOT differs from SCALAR by > 1e-6 cap e");
+                        break;
+                    }
+                FZ_CHECK(T, res[s].stick == res[0].stick);
+            }
+    return 0;
+}
+
+/* The workspace of the input in progress: a driver that abandons a hung
+ * input (siglongjmp) leaves it here, and the next input frees it. */
+static exdex_friction_ws *ws_in_progress;
+
+int fuzz_friction(const uint8_t *data, size_t size)
+{
+    /* a workspace per input, so nothing is left allocated at exit */
+    exdex_friction_ws_free(ws_in_progress);
+    ws_in_progress = exdex_friction_ws_alloc();
+    exdex_friction_ws_free(NULL);
+    if (!ws_in_progress) {
+        fuzz_fail(T, __FILE__, __LINE__, "exdex_friction_ws_alloc failed");
+        return 0;
+    }
+    run(data, size, ws_in_progress);
+    exdex_friction_ws_free(ws_in_progress);
+    ws_in_progress = NULL;
+    return 0;
+}

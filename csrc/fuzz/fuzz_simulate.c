@@ -1,0 +1,285 @@
+/* fuzz_simulate.c -- exdex_scene_check, exdex_model_alloc and a short
+ * exdex_simulate (<= 40 steps) on fuzzed scene definitions: every dof, every
+ * motion kind, 0-3 stops placed just outside the object's initial outline,
+ * all friction solvers.
+ *
+ * Checks: a non-finite value in a validated field gives EXDEX_EINVAL with
+ * bad_param set; a rejected scene is rejected by both check and alloc;
+ * exdex_simulate rejects a wrong trajectory size or missing arrays with
+ * EXDEX_EINVAL; EXDEX_OK gives finite t, q, v, wrench, stop_force >= 0, stick
+ * in {0, 1}, stats.steps = n - 1, t[n-1] = t_end; the same model run twice
+ * gives bit-identical trajectories. The smallest stop gap is recorded (the
+ * driver prints the most negative one seen). */
+#include "fuzz.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define T "simulate"
+#define MAX_STEPS 40
+
+
+typedef struct traj {
+    exdex_trajectory tr;
+    double *buf;
+} traj;
+
+static int traj_alloc(traj *t, size_t n, int ndof, int nstops)
+{
+    size_t per = 1 + 2 * (size_t)ndof + 3 + (size_t)nstops;
+    memset(t, 0, sizeof *t);
+    t->buf = calloc(n * per, sizeof(double));
+    t->tr.stick = calloc(n, 1);
+    if (!t->buf || !t->tr.stick) {
+        free(t->buf);
+        free(t->tr.stick);
+        return 0;
+    }
+    t->tr.n = n;
+    t->tr.t = t->buf;
+    t->tr.q = t->tr.t + n;
+    t->tr.v = t->tr.q + n * (size_t)ndof;
+    t->tr.wrench = t->tr.v + n * (size_t)ndof;
+    t->tr.stop_force = nstops ? t->tr.wrench + 3 * n : NULL;
+    return 1;
+}
+
+static void traj_free(traj *t)
+{
+    free(t->buf);
+    free(t->tr.stick);
+}
+
+static void rot2(double out[2], double th, const double v[2])
+{
+    out[0] = cos(th) * v[0] - sin(th) * v[1];
+    out[1] = sin(th) * v[0] + cos(th) * v[1];
+}
+
+int fuzz_simulate(const uint8_t *data, size_t size)
+{
+    fz f;
+    fz_motion mm;
+    exdex_scene_def d = exdex_default_scene_def();
+    int imode, st_check, st_alloc = -1, required_nonfinite = 0, nv_dec, ns_dec;
+    const char *bad = NULL, *bad2 = NULL;
+    exdex_model *m;
+    double dt, t_end;
+    size_t n;
+
+    fz_init(&f, data, size);
+    d.mass = fz_log(&f, 1e-3, 10.0);
+    imode = fz_pick(&f, 0, 7);
+    if (imode < 6) {
+        /* R diag(I1, I2, I3) R^T */
+        double q[4], R[9], Id[3];
+        for (int i = 0; i < 3; i++) Id[i] = d.mass * fz_log(&f, 1e-5, 1e-2);
+        for (int i = 0; i < 4; i++) q[i] = fz_num(&f, -1.0, 1.0);
+        if (imode < 3) { q[0] = 1; q[1] = q[2] = 0; }
+        if (q[0] == 0 && q[1] == 0 && q[2] == 0 && q[3] == 0) q[0] = 1;
+        fz_quat_to_R(R, q);
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++) {
+                double a = 0;
+                for (int k = 0; k < 3; k++) a += R[3 * i + k] * Id[k] * R[3 * j + k];
+                d.inertia[3 * i + j] = a;
+            }
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < i; j++) d.inertia[3 * i + j] = d.inertia[3 * j + i];
+    } else {
+        for (int i = 0; i < 9; i++) d.inertia[i] = fz_num(&f, -1e-3, 1e-3);
+    }
+    d.n_vertices = fz_int(&f, 0, 6);
+    nv_dec = d.n_vertices < 0 ? 0 : d.n_vertices > EXDEX_MAX_VERTICES ? EXDEX_MAX_VERTICES : d.n_vertices;
+    for (int j = 0; j < nv_dec; j++) {
+        d.vertices[j][0] = fz_num(&f, -0.05, 0.05);
+        d.vertices[j][1] = fz_num(&f, -0.05, 0.05);
+    }
+    d.mu = fz_num(&f, 0.0, 1.5);
+    d.grip_force = fz_pick(&f, 0, 15) == 0 ? 0.0 : fz_log(&f, 1e-3, 50.0);
+    d.fingers = fz_int(&f, 1, 2);
+    d.e_r = fz_log(&f, 1e-4, 0.05);
+    d.patch_center[0] = fz_num(&f, -0.03, 0.03);
+    d.patch_center[1] = fz_num(&f, -0.03, 0.03);
+    for (int i = 0; i < 3; i++) d.gravity[i] = fz_num(&f, -12.0, 12.0);
+    if (fz_pick(&f, 0, 1)) { d.gravity[0] = d.gravity[1] = 0; d.gravity[2] = -9.81; }
+    d.dof = fz_int(&f, 1, 3);
+    if (fz_pick(&f, 0, 15)) {
+        double a = fz_num(&f, 0.0, 6.283185307179586);
+        d.slide_axis[0] = cos(a);
+        d.slide_axis[1] = sin(a);
+    } else {
+        d.slide_axis[0] = fz_num(&f, -1.0, 1.0);
+        d.slide_axis[1] = fz_num(&f, -1.0, 1.0);
+    }
+    d.q0[0] = fz_num(&f, -0.05, 0.05);
+    d.q0[1] = fz_num(&f, -0.05, 0.05);
+    d.q0[2] = fz_num(&f, -3.2, 3.2);
+    for (int i = 0; i < 3; i++) d.v0[i] = fz_pick(&f, 0, 1) ? 0.0 : fz_num(&f, -0.5, 0.5);
+    fz_decode_motion(&f, &mm);
+    d.motion = mm.def;
+    if (mm.have_R0) memcpy(d.R0, mm.R0, sizeof d.R0);
+    if (mm.have_p0) memcpy(d.p0, mm.p0, sizeof d.p0);
+    d.n_stops = fz_int(&f, 0, 3);
+    ns_dec = d.n_stops < 0 ? 0 : d.n_stops > EXDEX_MAX_STOPS ? EXDEX_MAX_STOPS : d.n_stops;
+    for (int k = 0; k < ns_dec; k++) {
+        double nrm[3], lo = INFINITY, gap, len;
+        int nvv = nv_dec ? nv_dec : 1;
+        if (fz_pick(&f, 0, 1)) {
+            len = sqrt(d.gravity[0] * d.gravity[0] + d.gravity[1] * d.gravity[1] + d.gravity[2] * d.gravity[2]);
+            for (int i = 0; i < 3; i++) nrm[i] = len > 0 ? -d.gravity[i] / len : (i == 2);
+        } else {
+            double a = fz_num(&f, 0.0, 6.283185307179586), z = fz_num(&f, -1.0, 1.0);
+            double r = sqrt(fmax(0.0, 1 - z * z));
+            nrm[0] = r * cos(a); nrm[1] = r * sin(a); nrm[2] = z;
+        }
+        /* point: just outside the lowest initial vertex along the normal */
+        for (int j = 0; j < nvv; j++) {
+            double vb[2] = {0, 0}, xb[3], xa[3];
+            if (nv_dec) rot2(vb, d.q0[2], d.vertices[j]);
+            xb[0] = d.q0[0] + vb[0]; xb[1] = d.q0[1] + vb[1]; xb[2] = 0;
+            for (int i = 0; i < 3; i++)
+                xa[i] = d.R0[3 * i] * xb[0] + d.R0[3 * i + 1] * xb[1] + d.R0[3 * i + 2] * xb[2] + d.p0[i];
+            lo = fmin(lo, xa[0] * nrm[0] + xa[1] * nrm[1] + xa[2] * nrm[2]);
+        }
+        gap = fz_pick(&f, 0, 3) == 0 ? 0.0 : fz_num(&f, 0.0, 0.02);
+        for (int i = 0; i < 3; i++) {
+            d.stop_normal[k][i] = nrm[i];
+            d.stop_point[k][i] = (lo - gap) * nrm[i];
+        }
+        if (fz_pick(&f, 0, 31) == 0)  /* occasionally a raw (wild) normal */
+            for (int i = 0; i < 3; i++) d.stop_normal[k][i] = fz_num(&f, -1.0, 1.0);
+    }
+    d.method = fz_int(&f, 0, 0);
+    d.friction_solver = fz_int(&f, 0, 2);
+    d.eps = fz_log(&f, 1e-6, 1e-2);
+    d.rtol = fz_log(&f, 1e-10, 1e-4);
+    d.atol = fz_log(&f, 1e-12, 1e-6);
+    dt = fz_log(&f, 1e-4, 0.05);
+    t_end = dt * (double)fz_int(&f, 1, MAX_STEPS) * fz_num(&f, 0.95, 1.05);
+
+    /* fields exdex_scene_check must validate */
+    required_nonfinite = !isfinite(d.mass) || !fz_all_finite(d.inertia, 9) || !isfinite(d.mu) ||
+                         !isfinite(d.grip_force) || !isfinite(d.e_r) || !fz_all_finite(d.patch_center, 2) ||
+                         !fz_all_finite(d.gravity, 3) || !fz_all_finite(d.slide_axis, 2) ||
+                         !fz_all_finite(d.q0, 3) || !fz_all_finite(d.v0, 3) || !fz_all_finite(d.p0, 3) ||
+                         !isfinite(d.eps) || !isfinite(d.rtol) ||
+                         !isfinite(d.atol);
+    if (d.n_vertices >= 0 && d.n_vertices <= EXDEX_MAX_VERTICES &&
+        !fz_all_finite(&d.vertices[0][0], 2 * (size_t)d.n_vertices))
+        required_nonfinite = 1;
+    if (d.n_stops >= 0 && d.n_stops <= EXDEX_MAX_STOPS)
+        for (int k = 0; k < d.n_stops; k++)
+            if (!fz_all_finite(d.stop_point[k], 3) || !fz_all_finite(d.stop_normal[k], 3))
+                required_nonfinite = 1;
+
+    if (fz_trace) {
+        fprintf(stderr, "scene: mass %g I %g %g %g / %g %g %g / %g %g %g nv %d mu %g grip %g fingers %d e_r %g pc %g %g\n"
+                "  g %g %g %g dof %d axis %g %g q0 %g %g %g v0 %g %g %g\n"
+                "  R0 %g %g %g / %g %g %g / %g %g %g p0 %g %g %g motion kind %d rot %d amp %g T %g\n"
+                "  n_stops %d method %d solver %d eps %g rtol %g atol %g t_end %.17g dt %.17g\n",
+                d.mass, d.inertia[0], d.inertia[1], d.inertia[2], d.inertia[3], d.inertia[4], d.inertia[5],
+                d.inertia[6], d.inertia[7], d.inertia[8], d.n_vertices, d.mu, d.grip_force, d.fingers, d.e_r,
+                d.patch_center[0], d.patch_center[1], d.gravity[0], d.gravity[1], d.gravity[2], d.dof,
+                d.slide_axis[0], d.slide_axis[1], d.q0[0], d.q0[1], d.q0[2], d.v0[0], d.v0[1], d.v0[2],
+                d.R0[0], d.R0[1], d.R0[2], d.R0[3], d.R0[4], d.R0[5], d.R0[6], d.R0[7], d.R0[8], d.p0[0],
+                d.p0[1], d.p0[2], d.motion.kind, d.motion.rotation, d.motion.amplitude, d.motion.duration,
+                d.n_stops, d.method, d.friction_solver, d.eps, d.rtol, d.atol, t_end, dt);
+        for (int k = 0; k < ns_dec; k++)
+            fprintf(stderr, "  stop %d point %g %g %g normal %g %g %g\n", k, d.stop_point[k][0], d.stop_point[k][1],
+                    d.stop_point[k][2], d.stop_normal[k][0], d.stop_normal[k][1], d.stop_normal[k][2]);
+        for (int j = 0; j < nv_dec; j++) fprintf(stderr, "  vertex %d %g %g\n", j, d.vertices[j][0], d.vertices[j][1]);
+    }
+    st_check = exdex_scene_check(&d, &bad);
+    FZ_CHECK(T, st_check == EXDEX_OK || st_check == EXDEX_EINVAL);
+    if (st_check) FZ_CHECK(T, bad != NULL);
+    FZ_CHECK(T, exdex_scene_check(NULL, NULL) == EXDEX_EINVAL);
+    m = exdex_model_alloc(&d, &st_alloc, &bad2);
+    fuzz_count_status(T, st_alloc);
+    if (required_nonfinite) FZ_CHECK(T, st_check == EXDEX_EINVAL && m == NULL && st_alloc == EXDEX_EINVAL);
+    /* R0 and the motion are validated by exdex_model_alloc (exdex_motion_alloc), not by the check */
+    if (mm.used_nonfinite || !fz_all_finite(d.R0, 9)) FZ_CHECK(T, m == NULL && st_alloc == EXDEX_EINVAL);
+    if (st_check) FZ_CHECK(T, m == NULL && st_alloc == EXDEX_EINVAL);
+    if (!m) {
+        FZ_CHECK(T, st_alloc == EXDEX_EINVAL || st_alloc == EXDEX_ENOMEM || st_alloc == EXDEX_ENONFINITE);
+        if (st_alloc == EXDEX_ENONFINITE) fuzz_note_count(T, "model_alloc ENONFINITE (initial state overflows)");
+        if (st_alloc == EXDEX_EINVAL) FZ_CHECK(T, bad2 != NULL);
+    } else {
+        FZ_CHECK(T, st_alloc == EXDEX_OK);
+    }
+    FZ_CHECK(T, exdex_model_ndof(NULL) == 0 && exdex_model_nstops(NULL) == 0);
+    exdex_model_free(NULL);
+
+    n = exdex_n_samples(t_end, dt);
+    if (m) {
+        int ndof = exdex_model_ndof(m), nstops = exdex_model_nstops(m), st;
+        traj a, b;
+        exdex_stats sa, sb;
+        FZ_CHECK(T, ndof == (d.dof == EXDEX_DOF_PLANAR ? 3 : 1) && nstops == d.n_stops);
+        FZ_CHECK(T, exdex_simulate(m, t_end, dt, NULL, NULL) == EXDEX_EINVAL);
+        if (n == 0 || n > MAX_STEPS * 2 + 2) {
+            /* invalid (t_end, dt) or more steps than this harness runs */
+            if (n == 0 && traj_alloc(&a, 4, ndof, nstops)) {
+                FZ_CHECK(T, exdex_simulate(m, t_end, dt, &a.tr, &sa) == EXDEX_EINVAL);
+                traj_free(&a);
+            }
+        } else if (traj_alloc(&a, n, ndof, nstops)) {
+            /* wrong size and missing arrays are rejected */
+            a.tr.n = n + 1;
+            FZ_CHECK(T, exdex_simulate(m, t_end, dt, &a.tr, &sa) == EXDEX_EINVAL);
+            a.tr.n = n;
+            if (nstops) {
+                double *keep = a.tr.stop_force;
+                a.tr.stop_force = NULL;
+                FZ_CHECK(T, exdex_simulate(m, t_end, dt, &a.tr, &sa) == EXDEX_EINVAL);
+                a.tr.stop_force = keep;
+            }
+            st = exdex_simulate(m, t_end, dt, &a.tr, &sa);
+            fuzz_count_status(T, st);
+            FZ_CHECK(T, st >= EXDEX_OK && st <= EXDEX_ENONFINITE);
+            /* EINVAL is for arguments; the model and trajectory are valid */
+            FZ_EXTREME(T, &f, st != EXDEX_EINVAL && st != EXDEX_ENOMEM);
+            if (st == EXDEX_OK) {
+                fuzz_note_count(T, "runs OK");
+                FZ_EXTREME(T, &f, fz_all_finite(a.tr.t, n) && fz_all_finite(a.tr.q, n * (size_t)ndof) &&
+                                      fz_all_finite(a.tr.v, n * (size_t)ndof) &&
+                                      fz_all_finite(a.tr.wrench, 3 * n));
+                FZ_CHECK(T, sa.steps == n - 1 && sa.stick_steps <= sa.steps);
+                FZ_CHECK(T, a.tr.t[0] == 0.0 && a.tr.t[n - 1] == t_end);
+                for (size_t i = 1; i < n; i++) FZ_CHECK(T, a.tr.t[i] > a.tr.t[i - 1]);
+                for (size_t i = 0; i < n; i++) FZ_CHECK(T, a.tr.stick[i] <= 1);
+                for (size_t i = 0; i < n * (size_t)nstops; i++)
+                    FZ_EXTREME(T, &f, isfinite(a.tr.stop_force[i]) && a.tr.stop_force[i] >= 0.0);
+                if (nstops) {
+                    FZ_CHECK(T, !isnan(sa.min_gap));
+                    if (f.wild == 0) {
+                        fuzz_note_count(T, "tame runs OK with stops");
+                        fuzz_note_min(T, "min stop gap of tame runs [m]", sa.min_gap);
+                        if (sa.warnings) fuzz_note_count(T, "tame runs with stop warnings");
+                        if (sa.min_gap < -1e-9)
+                            fuzz_note_count(T, sa.warnings ? "tame runs with a stop gap < -1e-9 m, with warnings"
+                                                           : "tame runs with a stop gap < -1e-9 m, no warning");
+                        if (!sa.warnings) fuzz_note_min(T, "min stop gap of tame runs without warnings [m]", sa.min_gap);
+                    }
+                }
+            }
+            /* determinism: the same model again, bit for bit */
+            if (traj_alloc(&b, n, ndof, nstops)) {
+                int st2 = exdex_simulate(m, t_end, dt, &b.tr, &sb);
+                FZ_CHECK(T, st2 == st);
+                if (st == EXDEX_OK && st2 == EXDEX_OK) {
+                    size_t per = 1 + 2 * (size_t)ndof + 3 + (size_t)nstops;
+                    FZ_CHECK(T, memcmp(a.buf, b.buf, n * per * sizeof(double)) == 0);
+                    FZ_CHECK(T, memcmp(a.tr.stick, b.tr.stick, n) == 0);
+                    FZ_CHECK(T, memcmp(&sa, &sb, sizeof sa) == 0);
+                }
+                traj_free(&b);
+            }
+            traj_free(&a);
+        }
+    }
+    exdex_model_free(m);
+    return 0;
+}
