@@ -907,6 +907,7 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajecto
     size_t n = exdex_n_samples(t_end, dt);
     int n_dof, ns, status = EXDEX_OK;
     double q[3], v[3], vprev[3], hprev = 0.0, t;
+    exdex_kinematics kin0;
     work *w;
     exdex_stats st;
     if (!m || !out || n == 0 || out->n != n || !out->t || !out->q || !out->v || !out->wrench ||
@@ -946,7 +947,8 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajecto
     for (int k = 0; k < ns; k++) out->stop_force[k] = 0.0;
 
     t = 0.0;
-    for (size_t step = 1; step < n; step++) {
+    status = exdex_motion_eval(m->motion, 0.0, &kin0);
+    for (size_t step = 1; step < n && status == EXDEX_OK; step++) {
         double t1 = step == n - 1 ? t_end : (double)step * dt;
         double h = t1 - t, tm = t + 0.5 * h, qm[3], vmid[3], r[3], rd[3], th, F[3], vs[3], vn[3];
         double wrench[3] = {0, 0, 0};
@@ -955,6 +957,21 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajecto
         int stick;
         status = frame_at(m, tm, &f, &kin);
         if (status) break;
+        status = exdex_motion_eval(m->motion, t1, &kin_end);
+        if (status) break;
+        /* The frame's linear and angular accelerations enter as their means
+         * over the step, (v(t+h) - v(t)) / h: exact in the mean when a motion
+         * switches acceleration inside a step (Eq. 7 has jumps), where a
+         * midpoint sample would make the error O(h). */
+        {
+            double dv[3], dwv[3];
+            for (int i = 0; i < 3; i++) {
+                dv[i] = (kin_end.v[i] - kin0.v[i]) / h;
+                dwv[i] = (kin_end.w[i] - kin0.w[i]) / h;
+            }
+            ex_mulmtv3(f.a0, kin.R, dv);
+            ex_mulmtv3(f.dw, kin.R, dwv);
+        }
         for (int i = 0; i < n_dof; i++) {
             qm[i] = q[i] + 0.5 * h * v[i];
             /* velocity at the midpoint, extrapolated from the last step, for
@@ -964,8 +981,6 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajecto
         }
         com_pose(m, qm, r, &th);
         if (ns) {
-            status = exdex_motion_eval(m->motion, t1, &kin_end);
-            if (status) break;
             build_rows(m, &kin_end, q, h, w);
         } else {
             w->n_rows = 0;
@@ -1040,6 +1055,7 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajecto
         }
         t = t1;
         hprev = h;
+        kin0 = kin_end;
         st.steps++;
         st.stick_steps += (size_t)stick;
         out->t[step] = t1;

@@ -13,8 +13,6 @@ COMMANDS = {
     "paper": ("exdex.paper", "reproduce the paper's case studies (Figs. 3, 4, 6) into a folder"),
     "compare": ("exdex.engines", "cross-check the paper cases against pybullet and MuJoCo"),
     "tool": ("exdex.tool", "assistive-tool design: twist-cone volumes and tool-angle optimisation"),
-    "bench": ("exdex.bench", "speed against accuracy: work-precision charts and stability maps"),
-    "demo": ("exdex.demo", "a demonstration simulation that writes a plot and prints a summary"),
 }
 
 

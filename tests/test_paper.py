@@ -112,14 +112,11 @@ def test_fig3_reproduces_20mm_and_the_closed_form(dt):
     assert np.max(np.abs(x - cf(res.t)[0])) <= 1e-6
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "core limitation: the gripper acceleration is sampled at the step midpoint (sim.c), so a jump of the "
-    "Eq. 7 acceleration inside a step (switch times off the grid) makes the error O(dt), not O(dt^2): "
-    "4.1e-5 m at dt = 3e-4 against 1.9e-7 m at the on-grid dt = 5e-4. Averaging the frame acceleration "
-    "over the step, (v_B(t+h) - v_B(t)) / h, or splitting steps at the profile's switch times would fix it."))
 def test_fig3_off_grid_switch_times_second_order():
     # closed form vs simulation with dt = 3e-4 (0.45, 0.55, 1.0 s not multiples of dt): a second-order
-    # scheme would be within ~4e-7 m here (error 1.9e-7 m at dt = 5e-4, scaled by (3/5)^2, x2 margin)
+    # scheme is within ~4e-7 m here (error 1.9e-7 m at dt = 5e-4, scaled by (3/5)^2, x2 margin). The core
+    # averages the frame acceleration over each step, so a jump inside a step is exact in the mean; with
+    # a midpoint sample instead this error was 4.1e-5 m (first order).
     sc = paper.fig3_scene(grip_force=1.5)
     res = exdex.simulate(sc, t_end=1.5, dt=3e-4)
     assert abs(res.displacement[-1, 0] - paper.closed_form(sc).final) <= 4e-7

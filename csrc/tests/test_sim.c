@@ -244,8 +244,8 @@ static double coriolis_error(double h)
     d.motion.axis[0] = 0.0;
     d.motion.axis[1] = -1.0;
     d.motion.axis[2] = 0.0;
-    d.motion.amplitude = w * 2.0;
-    d.motion.duration = 2.0;
+    d.motion.amplitude = w * 3.0; /* spins at w until t = 3, beyond the run */
+    d.motion.duration = 3.0;
     d.motion.v_max = w;
     if (simulate_def(&d, 2.0, h, &r) != EXDEX_OK) return INFINITY;
     for (size_t i = 0; i < r.tr.n; i++) {
