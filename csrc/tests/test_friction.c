@@ -1,0 +1,816 @@
+/* test_friction.c -- the friction ellipsoid (friction.c).
+ *
+ * References, test by test:
+ *   e_r            closed form 2R/3 (disc), the square's closed form
+ *                  a (sqrt2 + ln(1 + sqrt2)) / 3, and numerical quadrature
+ *                  (mpmath one-off in tests/data/reference.dat, plus GSL
+ *                  nested QAG computed here).
+ *   isotropic      closed form derived below.
+ *   decoupled      1-D closed forms; 2-D brute force over the ellipse; 3-D
+ *                  bisection on the multiplier of the diagonal problem.
+ *   fixed solve    mpmath root of the paper's Fritz-John system (50 digits).
+ *   random cases   the three solvers against each other, and each against
+ *                  solver-independent checks: optimality (KKT) residuals,
+ *                  the stick test by LU, kinetic energy, random feasible
+ *                  points (brute force).
+ */
+#include "check.h"
+#include "../exdex.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_integration.h>
+#include <gsl/gsl_linalg.h>
+#include <gsl/gsl_randist.h>
+#include <gsl/gsl_rng.h>
+
+static const double PI = 3.14159265358979323846;
+static const int SOLVERS[3] = {EXDEX_SOLVER_SCALAR, EXDEX_SOLVER_BRENT, EXDEX_SOLVER_MULTIROOT};
+static const char *SOLVER_NAME[3] = {"scalar", "brent", "multiroot"};
+
+/* ---------------------------------------------------------------- helpers */
+
+static double rel_err(double a, double b) { return fabs(a - b) / fabs(b); }
+
+static double norm3(const double v[3]) { return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+
+/* |E^-1 p| */
+static double ell_norm(const double p[3], const double e[3])
+{
+    double n = 0.0;
+    for (int i = 0; i < 3; i++) n += (p[i] / e[i]) * (p[i] / e[i]);
+    return sqrt(n);
+}
+
+static void matvec(double r[3], const double W[9], const double v[3])
+{
+    for (int i = 0; i < 3; i++) r[i] = W[3 * i] * v[0] + W[3 * i + 1] * v[1] + W[3 * i + 2] * v[2];
+}
+
+/* x = W^-1 v by GSL LU with partial pivoting (independent of friction.c). */
+static void lu_solve(double x[3], const double W[9], const double v[3])
+{
+    double A[9];
+    size_t perm_d[3];
+    gsl_permutation perm = {3, perm_d};
+    int sign;
+    memcpy(A, W, sizeof A);
+    gsl_matrix_view Am = gsl_matrix_view_array(A, 3, 3);
+    gsl_vector_const_view vv = gsl_vector_const_view_array(v, 3);
+    gsl_vector_view xv = gsl_vector_view_array(x, 3);
+    gsl_linalg_LU_decomp(&Am.matrix, &perm, &sign);
+    gsl_linalg_LU_solve(&Am.matrix, &perm, &vv.vector, &xv.vector);
+}
+
+/* Objective minimised by the step: f(p) = 0.5 p^T W p + b^T p. */
+static double objective(const double W[9], const double b[3], const double p[3])
+{
+    double Wp[3];
+    matvec(Wp, W, p);
+    return 0.5 * (p[0] * Wp[0] + p[1] * Wp[1] + p[2] * Wp[2]) + b[0] * p[0] + b[1] * p[1]
+           + b[2] * p[2];
+}
+
+/* ----------------------------------------------------------------- e_r */
+
+/* Reference: closed form (1/(pi R^2)) int_0^R r 2 pi r dr = 2R/3, and a
+ * Cartesian mpmath quadrature over the disc (reference.dat). */
+EXDEX_TEST(friction_er_disc)
+{
+    ENSURE_CLOSE(exdex_er_disc(0.01), 2.0 * 0.01 / 3.0, 1e-18);
+    ENSURE_CLOSE(exdex_er_disc(3.0), 2.0, 1e-15);
+    ENSURE(rel_err(exdex_er_disc(0.01), ref("friction_er_disc_0p01")) <= 1e-15);
+    ENSURE(isnan(exdex_er_disc(0.0)));
+    ENSURE(isnan(exdex_er_disc(-1.0)));
+    ENSURE(isnan(exdex_er_disc(NAN)));
+    ENSURE(isnan(exdex_er_disc(INFINITY)));
+    report("friction_er_disc_0p01", exdex_er_disc(0.01));
+}
+
+/* Reference: mpmath quadrature of the mean distance (reference.dat). */
+EXDEX_TEST(friction_er_rectangle_reference)
+{
+    static const struct { double a, b; const char *key; } cases[] = {
+        {1.0, 1.0, "friction_er_rect_1_1"},
+        {0.01, 0.02, "friction_er_rect_0p01_0p02"},
+        {0.03, 0.005, "friction_er_rect_0p03_0p005"},
+        {0.02, 0.0001, "friction_er_rect_0p02_0p0001"},
+        {0.5, 0.05, "friction_er_rect_0p5_0p05"},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        double v = exdex_er_rectangle(cases[k].a, cases[k].b);
+        ENSURE(rel_err(v, ref(cases[k].key)) <= 4e-15);
+        report(cases[k].key, v);
+    }
+}
+
+/* Reference: the square's closed form a (sqrt2 + ln(1 + sqrt2)) / 3 (the
+ * general formula with a = b, worked by hand); symmetry in (a, b) and
+ * scaling e_r(k a, k b) = k e_r(a, b) from the definition; NaN on bad input. */
+EXDEX_TEST(friction_er_rectangle_square_and_bad_input)
+{
+    double sq = (sqrt(2.0) + log(1.0 + sqrt(2.0))) / 3.0;
+    ENSURE(rel_err(exdex_er_rectangle(1.0, 1.0), sq) <= 2e-16);
+    ENSURE(rel_err(exdex_er_rectangle(0.7, 0.7), 0.7 * sq) <= 4e-16);
+    ENSURE(rel_err(exdex_er_rectangle(1e-3, 1e-3), 1e-3 * sq) <= 4e-16);
+    ENSURE(rel_err(exdex_er_rectangle(0.03, 0.005), exdex_er_rectangle(0.005, 0.03)) <= 2e-16);
+    ENSURE(rel_err(exdex_er_rectangle(0.3, 0.05), 10.0 * exdex_er_rectangle(0.03, 0.005)) <= 4e-16);
+    /* a very thin strip of half-length a: mean distance -> a/2 */
+    ENSURE(rel_err(exdex_er_rectangle(1.0, 1e-9), 0.5) <= 1e-15);
+    ENSURE(isnan(exdex_er_rectangle(0.0, 1.0)));
+    ENSURE(isnan(exdex_er_rectangle(1.0, -1.0)));
+    ENSURE(isnan(exdex_er_rectangle(NAN, 1.0)));
+    ENSURE(isnan(exdex_er_rectangle(1.0, INFINITY)));
+}
+
+/* Reference: GSL nested adaptive quadrature (QAG, 61-point Gauss-Kronrod) of
+ * the mean distance over the first quadrant, independent of the closed form,
+ * for 20 random shapes (aspect ratios 1e-2..1e2). */
+typedef struct { double x, b; gsl_integration_workspace *w; int bad; } rect_quad;
+
+static double rect_inner(double y, void *params)
+{
+    const rect_quad *q = params;
+    return hypot(q->x, y);
+}
+
+/* Inner integral over [0, b], split at y = x where sqrt(x^2 + y^2) turns
+ * from ~x to ~y (QAG reports round-off otherwise when x << b). */
+static double rect_outer(double x, void *params)
+{
+    rect_quad *q = params;
+    gsl_function f = {rect_inner, q};
+    double v1 = 0.0, v2 = 0.0, err, m = fmin(x, q->b);
+    q->x = x;
+    if (gsl_integration_qag(&f, 0.0, m, 0.0, 1e-12, 1000, GSL_INTEG_GAUSS61, q->w, &v1, &err))
+        q->bad++;
+    if (m < q->b
+        && gsl_integration_qag(&f, m, q->b, 0.0, 1e-12, 1000, GSL_INTEG_GAUSS61, q->w, &v2, &err))
+        q->bad++;
+    return v1 + v2;
+}
+
+EXDEX_TEST(friction_er_rectangle_gsl_quadrature)
+{
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_integration_workspace *wo = gsl_integration_workspace_alloc(1000);
+    rect_quad q;
+    double worst = 0.0;
+    q.w = gsl_integration_workspace_alloc(1000);
+    q.bad = 0;
+    gsl_rng_set(rng, 4242);
+    for (int k = 0; k < 20; k++) {
+        double a = pow(10.0, gsl_ran_flat(rng, -3.0, 0.0));
+        double b = a * pow(10.0, gsl_ran_flat(rng, -2.0, 2.0));
+        gsl_function f = {rect_outer, &q};
+        double v = 0.0, err;
+        q.b = b;
+        ENSURE(gsl_integration_qag(&f, 0.0, a, 0.0, 1e-12, 1000, GSL_INTEG_GAUSS61, wo, &v, &err)
+               == GSL_SUCCESS);
+        worst = fmax(worst, rel_err(exdex_er_rectangle(a, b), v / (a * b)));
+    }
+    ENSURE(q.bad == 0);
+    ENSURE(worst <= 1e-12);
+    gsl_integration_workspace_free(q.w);
+    gsl_integration_workspace_free(wo);
+    gsl_rng_free(rng);
+}
+
+/* ----------------------------------------------------------- closed forms */
+
+/* Isotropic patch W = w I, e = (1, 1, 1): K = w I, the ellipsoid is the ball
+ * |p| <= cap. Stick iff |W^-1 b| = |b| / w <= cap, then p = -b / w, u = 0.
+ * Otherwise maximum dissipation makes p antiparallel to u = b + w p, hence
+ * to b: p = -cap b / |b|, u = (1 - w cap / |b|) b, sigma = |u| = |b| - w cap
+ * (derived by hand). */
+EXDEX_TEST(friction_isotropic_closed_form)
+{
+    exdex_friction_ws *ws = exdex_friction_ws_alloc();
+    const double w = 2.5, e[3] = {1.0, 1.0, 1.0};
+    const double W[9] = {w, 0, 0, 0, w, 0, 0, 0, w};
+    const double bs[3][3] = {{0.3, -0.4, 1.2}, {1.0, 0.0, 0.0}, {-0.01, 0.02, 0.003}};
+    const double caps[4] = {0.0, 0.01, 0.2, 10.0};
+    exdex_friction_prep prep;
+    ENSURE(ws != NULL);
+    ENSURE(exdex_friction_prepare(&prep, W, e) == EXDEX_OK);
+    for (int s = 0; s < 3; s++)
+        for (int ib = 0; ib < 3; ib++)
+            for (int ic = 0; ic < 4; ic++) {
+                const double *b = bs[ib];
+                double cap = caps[ic], nb = norm3(b);
+                exdex_friction_result r;
+                ENSURE(exdex_friction_solve(&prep, b, cap, SOLVERS[s], ws, NULL, &r) == EXDEX_OK);
+                if (cap == 0.0) {
+                    for (int i = 0; i < 3; i++) ENSURE(r.p[i] == 0.0 && r.u[i] == b[i]);
+                    ENSURE(!r.stick);
+                } else if (nb / w <= cap) {
+                    ENSURE(r.stick && r.sigma == 0.0 && r.iterations == 0);
+                    for (int i = 0; i < 3; i++) {
+                        ENSURE_CLOSE(r.p[i], -b[i] / w, 1e-15 * nb / w);
+                        ENSURE(r.u[i] == 0.0);
+                    }
+                } else {
+                    ENSURE(!r.stick);
+                    ENSURE_CLOSE(r.sigma, nb - w * cap, 1e-13 * nb);
+                    for (int i = 0; i < 3; i++) {
+                        ENSURE_CLOSE(r.p[i], -cap * b[i] / nb, 1e-13 * cap);
+                        ENSURE_CLOSE(r.u[i], (1.0 - w * cap / nb) * b[i], 1e-13 * nb);
+                    }
+                }
+            }
+    exdex_friction_ws_free(ws);
+}
+
+/* Diagonal W (no coupling), b along one axis i: a 1-D problem, derived by
+ * hand. The bound on p_i is cap e_i; stick iff |b_i| <= w_i e_i cap, then
+ * p_i = -b_i / w_i; else p_i = -cap e_i sgn(b_i), u_i = b_i + w_i p_i,
+ * sigma = e_i |u_i|. Axis 3 is pure twisting against the torsional limit
+ * m_max = e_r mu N. */
+EXDEX_TEST(friction_decoupled_1d_closed_form)
+{
+    exdex_friction_ws *ws = exdex_friction_ws_alloc();
+    const double e[3] = {1.0, 1.0, 0.004};
+    const double W[9] = {3.0, 0, 0, 0, 0.5, 0, 0, 0, 2000.0};
+    const double cap = 0.2;
+    exdex_friction_prep prep;
+    ENSURE(exdex_friction_prepare(&prep, W, e) == EXDEX_OK);
+    for (int s = 0; s < 3; s++)
+        for (int ax = 0; ax < 3; ax++)
+            for (int sg = -1; sg <= 1; sg += 2)
+                for (int k = 0; k < 2; k++) {
+                    /* k = 0: 0.9 of the stick limit; k = 1: 3.7 times it */
+                    double wi = W[4 * ax], lim = wi * e[ax] * cap;
+                    double b[3] = {0, 0, 0};
+                    exdex_friction_result r;
+                    b[ax] = sg * (k ? 3.7 : 0.9) * lim;
+                    ENSURE(exdex_friction_solve(&prep, b, cap, SOLVERS[s], ws, NULL, &r) == EXDEX_OK);
+                    for (int i = 0; i < 3; i++)
+                        if (i != ax) ENSURE_SMALL(r.p[i], 1e-15 * cap);
+                    if (!k) {
+                        ENSURE(r.stick && r.u[ax] == 0.0);
+                        ENSURE_CLOSE(r.p[ax], -b[ax] / wi, 1e-15 * cap * e[ax]);
+                    } else {
+                        double pi = -cap * e[ax] * sg, ui = b[ax] + wi * pi;
+                        ENSURE(!r.stick);
+                        ENSURE_CLOSE(r.p[ax], pi, 1e-14 * cap * e[ax]);
+                        ENSURE_CLOSE(r.u[ax], ui, 1e-13 * fabs(b[ax]));
+                        ENSURE_CLOSE(r.sigma, e[ax] * fabs(ui), 1e-13 * e[ax] * fabs(b[ax]));
+                    }
+                }
+    exdex_friction_ws_free(ws);
+}
+
+/* Diagonal W, b in the (x, r) plane: p stays in that plane, on the ellipse
+ * p = cap (cos t, 0, e_r sin t) when sliding. Brute force independent of the
+ * secular equation: scan f(p(t)) over 20000 angles for the global minimum,
+ * then bisect f'(t) = u(t) . dp/dt = 0 on the bracketing grid cell. */
+static double ellipse_dfdt(const double W[9], const double e[3], const double b[3], double cap,
+                           double t)
+{
+    double p[3] = {cap * e[0] * cos(t), 0.0, cap * e[2] * sin(t)};
+    double dp[3] = {-cap * e[0] * sin(t), 0.0, cap * e[2] * cos(t)}, u[3];
+    matvec(u, W, p);
+    for (int i = 0; i < 3; i++) u[i] += b[i];
+    return u[0] * dp[0] + u[2] * dp[2];
+}
+
+EXDEX_TEST(friction_decoupled_2d_brute_force)
+{
+    exdex_friction_ws *ws = exdex_friction_ws_alloc();
+    const double e[3] = {1.0, 1.0, 0.01};
+    const double W[9] = {4.0, 0, 0, 0, 7.0, 0, 0, 0, 900.0};
+    const double bs[4][3] = {{1.0, 0.0, 3.0}, {-0.2, 0.0, 5.0}, {2.0, 0.0, -0.1}, {-0.5, 0.0, -0.8}};
+    const double cap = 0.15;
+    const int n = 20000;
+    exdex_friction_prep prep;
+    ENSURE(exdex_friction_prepare(&prep, W, e) == EXDEX_OK);
+    for (int ib = 0; ib < 4; ib++) {
+        const double *b = bs[ib];
+        double best = HUGE_VAL, tb = 0.0, lo, hi, p_ref[3];
+        for (int k = 0; k < n; k++) {
+            double t = 2.0 * PI * k / n;
+            double p[3] = {cap * e[0] * cos(t), 0.0, cap * e[2] * sin(t)};
+            double f = objective(W, b, p);
+            if (f < best) {
+                best = f;
+                tb = t;
+            }
+        }
+        lo = tb - 2.0 * PI / n;
+        hi = tb + 2.0 * PI / n;
+        ENSURE(ellipse_dfdt(W, e, b, cap, lo) < 0.0 && ellipse_dfdt(W, e, b, cap, hi) > 0.0);
+        for (int it = 0; it < 200 && hi - lo > 1e-16; it++) {
+            double mid = 0.5 * (lo + hi);
+            if (ellipse_dfdt(W, e, b, cap, mid) < 0.0) lo = mid; else hi = mid;
+        }
+        p_ref[0] = cap * e[0] * cos(0.5 * (lo + hi));
+        p_ref[1] = 0.0;
+        p_ref[2] = cap * e[2] * sin(0.5 * (lo + hi));
+        for (int s = 0; s < 3; s++) {
+            exdex_friction_result r;
+            ENSURE(exdex_friction_solve(&prep, b, cap, SOLVERS[s], ws, NULL, &r) == EXDEX_OK);
+            ENSURE(!r.stick);
+            for (int i = 0; i < 3; i++) ENSURE_CLOSE(r.p[i], p_ref[i], 1e-13 * cap);
+        }
+    }
+    exdex_friction_ws_free(ws);
+}
+
+/* Diagonal W, general b: the Fritz-John equations decouple,
+ *   p_i = -cap e_i^2 b_i / (sigma + cap e_i^2 w_i),
+ *   sum_i e_i^2 b_i^2 / (sigma + cap e_i^2 w_i)^2 = 1,
+ * and the left side decreases in sigma: plain bisection on [0, |E b|] here,
+ * written out for the diagonal case (no eigenbasis, no Newton). */
+EXDEX_TEST(friction_decoupled_3d_bisection)
+{
+    exdex_friction_ws *ws = exdex_friction_ws_alloc();
+    const double e[3] = {1.0, 1.0, 0.02};
+    const double W[9] = {1.5, 0, 0, 0, 40.0, 0, 0, 0, 3000.0};
+    const double b[3] = {0.7, -0.9, 4.0};
+    const double caps[3] = {0.05, 0.01, 0.0015};
+    exdex_friction_prep prep;
+    ENSURE(exdex_friction_prepare(&prep, W, e) == EXDEX_OK);
+    for (int ic = 0; ic < 3; ic++) {
+        double cap = caps[ic], lo = 0.0, hi = 0.0, sig, p_ref[3];
+        for (int i = 0; i < 3; i++) hi += e[i] * e[i] * b[i] * b[i];
+        hi = sqrt(hi);
+        for (int it = 0; it < 300; it++) {
+            double mid = 0.5 * (lo + hi), phi = 0.0;
+            for (int i = 0; i < 3; i++) {
+                double t = e[i] * b[i] / (mid + cap * e[i] * e[i] * W[4 * i]);
+                phi += t * t;
+            }
+            if (phi > 1.0) lo = mid; else hi = mid;
+        }
+        sig = 0.5 * (lo + hi);
+        for (int i = 0; i < 3; i++)
+            p_ref[i] = -cap * e[i] * e[i] * b[i] / (sig + cap * e[i] * e[i] * W[4 * i]);
+        for (int s = 0; s < 3; s++) {
+            exdex_friction_result r;
+            ENSURE(exdex_friction_solve(&prep, b, cap, SOLVERS[s], ws, NULL, &r) == EXDEX_OK);
+            ENSURE(!r.stick);
+            ENSURE(rel_err(r.sigma, sig) <= 1e-12);
+            for (int i = 0; i < 3; i++) ENSURE_CLOSE(r.p[i], p_ref[i], 1e-13 * cap);
+        }
+    }
+    exdex_friction_ws_free(ws);
+}
+
+/* Reference: mpmath root of the paper's four Fritz-John equations at 50
+ * digits (reference.dat, friction_fixed_*). */
+EXDEX_TEST(friction_fixed_solve)
+{
+    exdex_friction_ws *ws = exdex_friction_ws_alloc();
+    const double W[9] = {20, 3, -1, 3, 15, 2, -1, 2, 8};
+    const double e[3] = {1.0, 1.0, 0.02}, b[3] = {0.3, -0.2, 5.0}, cap = 0.05;
+    const char *pk[3] = {"friction_fixed_p0", "friction_fixed_p1", "friction_fixed_p2"};
+    const char *uk[3] = {"friction_fixed_u0", "friction_fixed_u1", "friction_fixed_u2"};
+    exdex_friction_prep prep;
+    ENSURE(exdex_friction_prepare(&prep, W, e) == EXDEX_OK);
+    for (int s = 0; s < 3; s++) {
+        exdex_friction_result r;
+        ENSURE(exdex_friction_solve(&prep, b, cap, SOLVERS[s], ws, NULL, &r) == EXDEX_OK);
+        ENSURE(!r.stick && r.iterations > 0);
+        for (int i = 0; i < 3; i++) {
+            ENSURE_CLOSE(r.p[i], ref(pk[i]), 1e-14 * cap);
+            ENSURE(rel_err(r.u[i], ref(uk[i])) <= 1e-12);
+        }
+        ENSURE(rel_err(r.sigma, ref("friction_fixed_sigma")) <= 1e-13);
+        if (s == 0) {
+            for (int i = 0; i < 3; i++) report(pk[i], r.p[i]);
+            report("friction_fixed_sigma", r.sigma);
+        }
+    }
+    exdex_friction_ws_free(ws);
+}
+
+/* cap = 0: nothing resists; p = 0, u = b, sigma = |E b|; "stick" only if b = 0. */
+EXDEX_TEST(friction_zero_capacity)
+{
+    const double W[9] = {2, 0.5, 0, 0.5, 1, 0, 0, 0, 3}, e[3] = {1, 1, 0.1};
+    const double b[3] = {0.1, -0.2, 3.0}, z[3] = {0, 0, 0};
+    exdex_friction_ws *ws = exdex_friction_ws_alloc();
+    exdex_friction_prep prep;
+    ENSURE(exdex_friction_prepare(&prep, W, e) == EXDEX_OK);
+    for (int s = 0; s < 3; s++) {
+        exdex_friction_result r;
+        ENSURE(exdex_friction_solve(&prep, b, 0.0, SOLVERS[s], ws, NULL, &r) == EXDEX_OK);
+        ENSURE(!r.stick && r.iterations == 0);
+        for (int i = 0; i < 3; i++) ENSURE(r.p[i] == 0.0 && r.u[i] == b[i]);
+        ENSURE_CLOSE(r.sigma, sqrt(0.01 + 0.04 + 0.09), 1e-15);
+        ENSURE(exdex_friction_solve(&prep, z, 0.0, SOLVERS[s], ws, NULL, &r) == EXDEX_OK);
+        ENSURE(r.stick && r.sigma == 0.0);
+        /* b = 0 with capacity: stick, p = 0 */
+        ENSURE(exdex_friction_solve(&prep, z, 0.3, SOLVERS[s], ws, NULL, &r) == EXDEX_OK);
+        ENSURE(r.stick && r.p[0] == 0.0 && r.p[1] == 0.0 && r.p[2] == 0.0);
+    }
+    exdex_friction_ws_free(ws);
+}
+
+/* --------------------------------------------------------- random cases */
+
+/* Random SPD W = R diag(d) R^T, d log-spread with condition number up to
+ * 1e6 and overall scale 1e-2..1e2, R a random rotation (1 in 5 cases a
+ * permutation: axis-aligned, strongly anisotropic); e = (1, 1, e_r), e_r
+ * log-uniform in [1e-3, 1]. 60% generic: cap = |E^-1 W^-1 b| * 10^U(-2, 1)
+ * (stick or slip); 40% near the stick/slip boundary: b = -W p_st with
+ * |E^-1 p_st| = m, cap = m / (1 +- 10^-k), k = 3..9. */
+typedef struct rcase { double W[9], e[3], b[3], cap, cond; int near; } rcase;
+
+static void random_case(gsl_rng *rng, int k, rcase *c)
+{
+    double R[9] = {0}, d[3], q[4], n = 0.0, scale, kap;
+    scale = pow(10.0, gsl_ran_flat(rng, -2.0, 2.0));
+    kap = pow(10.0, gsl_ran_flat(rng, 0.0, 6.0));
+    d[0] = scale;
+    d[1] = scale * pow(kap, gsl_rng_uniform(rng));
+    d[2] = scale * kap;
+    c->cond = kap;
+    if (k % 5 == 0) {
+        int sh = (int)gsl_rng_uniform_int(rng, 3);
+        for (int i = 0; i < 3; i++) R[3 * i + (i + sh) % 3] = 1.0;
+    } else {
+        for (int i = 0; i < 4; i++) {
+            q[i] = gsl_ran_gaussian(rng, 1.0);
+            n += q[i] * q[i];
+        }
+        n = sqrt(n);
+        for (int i = 0; i < 4; i++) q[i] /= n;
+        R[0] = 1 - 2 * (q[2] * q[2] + q[3] * q[3]);
+        R[1] = 2 * (q[1] * q[2] - q[3] * q[0]);
+        R[2] = 2 * (q[1] * q[3] + q[2] * q[0]);
+        R[3] = 2 * (q[1] * q[2] + q[3] * q[0]);
+        R[4] = 1 - 2 * (q[1] * q[1] + q[3] * q[3]);
+        R[5] = 2 * (q[2] * q[3] - q[1] * q[0]);
+        R[6] = 2 * (q[1] * q[3] - q[2] * q[0]);
+        R[7] = 2 * (q[2] * q[3] + q[1] * q[0]);
+        R[8] = 1 - 2 * (q[1] * q[1] + q[2] * q[2]);
+    }
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j <= i; j++) {
+            double s = 0.0;
+            for (int l = 0; l < 3; l++) s += R[3 * i + l] * d[l] * R[3 * j + l];
+            c->W[3 * i + j] = c->W[3 * j + i] = s;
+        }
+    c->e[0] = c->e[1] = 1.0;
+    c->e[2] = pow(10.0, gsl_ran_flat(rng, -3.0, 0.0));
+    c->near = (k % 10) >= 6;
+    if (c->near) {
+        double y[3], m = pow(10.0, gsl_ran_flat(rng, -2.0, 2.0)), p_st[3];
+        int kk = 3 + (int)gsl_rng_uniform_int(rng, 7);
+        double sg = gsl_rng_uniform(rng) < 0.5 ? -1.0 : 1.0;
+        for (int i = 0; i < 3; i++) y[i] = gsl_ran_gaussian(rng, 1.0);
+        n = norm3(y);
+        for (int i = 0; i < 3; i++) p_st[i] = c->e[i] * y[i] / n * m;
+        matvec(c->b, c->W, p_st);
+        for (int i = 0; i < 3; i++) c->b[i] = -c->b[i];
+        c->cap = m / (1.0 + sg * pow(10.0, -kk));
+    } else {
+        double m = pow(10.0, gsl_ran_flat(rng, -2.0, 2.0)), p_st[3];
+        for (int i = 0; i < 3; i++) c->b[i] = m * gsl_ran_gaussian(rng, 1.0);
+        lu_solve(p_st, c->W, c->b);
+        c->cap = ell_norm(p_st, c->e) * pow(10.0, gsl_ran_flat(rng, -2.0, 1.0));
+    }
+}
+
+#define N_RANDOM 12000
+#define SEED 20240611UL
+
+/* The three solvers agree: |p_a - p_b| <= 1e-10 cap, same stick decision,
+ * MULTIROOT never fails. (No external reference: agreement of a secular
+ * Newton, GSL Brent and the paper's four-equation system.) */
+EXDEX_TEST(friction_solvers_agree_random)
+{
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    exdex_friction_ws *ws = exdex_friction_ws_alloc();
+    double maxd[3] = {0, 0, 0}; /* scalar-brent, scalar-multiroot, brent-multiroot */
+    long iters[3] = {0, 0, 0};
+    int itmax[3] = {0, 0, 0}, fails[3] = {0, 0, 0}, n_slip = 0, n_near = 0, n_stick = 0;
+    ENSURE(ws != NULL);
+    gsl_rng_set(rng, SEED);
+    for (int k = 0; k < N_RANDOM; k++) {
+        rcase c;
+        exdex_friction_prep prep;
+        exdex_friction_result r[3];
+        int ok = 1;
+        random_case(rng, k, &c);
+        ENSURE(exdex_friction_prepare(&prep, c.W, c.e) == EXDEX_OK);
+        n_near += c.near;
+        for (int s = 0; s < 3; s++) {
+            int st = exdex_friction_solve(&prep, c.b, c.cap, SOLVERS[s], ws, NULL, &r[s]);
+            if (st != EXDEX_OK) {
+                fails[s]++;
+                ok = 0;
+            }
+        }
+        if (!ok) continue;
+        ENSURE(r[0].stick == r[1].stick && r[0].stick == r[2].stick);
+        if (r[0].stick) {
+            n_stick++;
+            continue;
+        }
+        n_slip++;
+        for (int s = 0; s < 3; s++) {
+            iters[s] += r[s].iterations;
+            if (r[s].iterations > itmax[s]) itmax[s] = r[s].iterations;
+        }
+        for (int i = 0; i < 3; i++) {
+            maxd[0] = fmax(maxd[0], fabs(r[0].p[i] - r[1].p[i]) / c.cap);
+            maxd[1] = fmax(maxd[1], fabs(r[0].p[i] - r[2].p[i]) / c.cap);
+            maxd[2] = fmax(maxd[2], fabs(r[1].p[i] - r[2].p[i]) / c.cap);
+        }
+    }
+    for (int s = 0; s < 3; s++) ENSURE(fails[s] == 0);
+    for (int j = 0; j < 3; j++) ENSURE(maxd[j] <= 1e-10);
+    ENSURE(n_slip >= 5000 && n_stick >= 3000 && n_near >= 4000);
+    /* SCALAR: typically 3-6 iterations */
+    ENSURE((double)iters[0] / n_slip <= 6.0);
+    report("friction_random_cases", N_RANDOM);
+    report("friction_random_slip", n_slip);
+    report("friction_random_multiroot_failures", fails[2]);
+    report("friction_random_maxdiff_scalar_brent", maxd[0]);
+    report("friction_random_maxdiff_scalar_multiroot", maxd[1]);
+    report("friction_random_maxdiff_brent_multiroot", maxd[2]);
+    for (int s = 0; s < 3; s++) {
+        char key[96];
+        snprintf(key, sizeof key, "friction_random_iter_mean_%s", SOLVER_NAME[s]);
+        report(key, (double)iters[s] / n_slip);
+        snprintf(key, sizeof key, "friction_random_iter_max_%s", SOLVER_NAME[s]);
+        report(key, itmax[s]);
+    }
+    exdex_friction_ws_free(ws);
+    gsl_rng_free(rng);
+}
+
+/* Optimality, checked from the problem data only, for every solver:
+ *  - stick iff outside: the stick impulse by LU (GSL), ratio
+ *    rho = |E^-1 W^-1 b| / cap; rho < 1 - 1e-8 must stick, rho > 1 + 1e-8
+ *    must slide (in between both are right to rounding); at stick p = the
+ *    LU impulse (1e-9 cap: both carry cond(W) eps errors), u = 0 exactly;
+ *  - sliding: p on the ellipsoid, |E^-1 p| = cap to 1e-12 relative;
+ *  - maximum dissipation: with u = b + W p formed here and y = E^-1 p, in
+ *    the scaled coordinates where the ellipsoid is the ball |y| <= cap,
+ *    E u = -nu y for the least-squares nu, to 1e-12 of the magnitude of
+ *    the terms (a backward-error test: p is the exact answer for b and W
+ *    perturbed at that level), and nu >= 0 (p opposes the slip) to the same
+ *    level;
+ *  - the reported u and sigma match b + W p and |E u| to the same level;
+ *  - energy: 0.5 u^T W^-1 u <= 0.5 b^T W^-1 b (1 + 1e-12), W^-1 by LU. */
+EXDEX_TEST(friction_optimality_random)
+{
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    exdex_friction_ws *ws = exdex_friction_ws_alloc();
+    double worst_ell = 0.0, worst_kkt = 0.0, worst_u = 0.0, worst_stick = 0.0, worst_energy = -1.0;
+    int wrong_side = 0, negative_nu = 0, n_checked = 0;
+    gsl_rng_set(rng, SEED);
+    for (int k = 0; k < N_RANDOM; k++) {
+        rcase c;
+        exdex_friction_prep prep;
+        double p_st[3], rho, Winv_b[3], e0;
+        random_case(rng, k, &c);
+        ENSURE(exdex_friction_prepare(&prep, c.W, c.e) == EXDEX_OK);
+        lu_solve(p_st, c.W, c.b);
+        for (int i = 0; i < 3; i++) p_st[i] = -p_st[i];
+        rho = ell_norm(p_st, c.e) / c.cap;
+        lu_solve(Winv_b, c.W, c.b);
+        e0 = 0.5 * (c.b[0] * Winv_b[0] + c.b[1] * Winv_b[1] + c.b[2] * Winv_b[2]);
+        for (int s = 0; s < 3; s++) {
+            exdex_friction_result r;
+            double u[3], Winv_u[3], e1;
+            if (exdex_friction_solve(&prep, c.b, c.cap, SOLVERS[s], ws, NULL, &r) != EXDEX_OK)
+                continue;  /* counted in friction_solvers_agree_random */
+            n_checked++;
+            if ((rho < 1.0 - 1e-8 && !r.stick) || (rho > 1.0 + 1e-8 && r.stick)) wrong_side++;
+            matvec(u, c.W, r.p);
+            for (int i = 0; i < 3; i++) u[i] += c.b[i];
+            if (r.stick) {
+                ENSURE(r.u[0] == 0.0 && r.u[1] == 0.0 && r.u[2] == 0.0 && r.sigma == 0.0);
+                for (int i = 0; i < 3; i++)
+                    worst_stick = fmax(worst_stick, fabs(r.p[i] - p_st[i]) / c.cap);
+                continue;
+            } else {
+                /* scaled coordinates: y = E^-1 p on the ball, E u = -nu y */
+                double y[3], yy = 0.0, pu = 0.0, nu, scale = 0.0, rk = 0.0, ru = 0.0, eu = 0.0;
+                worst_ell = fmax(worst_ell, rel_err(ell_norm(r.p, c.e), c.cap));
+                for (int i = 0; i < 3; i++) {
+                    y[i] = r.p[i] / c.e[i];
+                    yy += y[i] * y[i];
+                    pu += r.p[i] * u[i];
+                }
+                nu = -pu / yy;
+                for (int i = 0; i < 3; i++) {
+                    double t = fabs(c.b[i]) + fabs(c.W[3 * i] * r.p[0]) + fabs(c.W[3 * i + 1] * r.p[1])
+                               + fabs(c.W[3 * i + 2] * r.p[2]);
+                    scale = fmax(scale, c.e[i] * t + fabs(nu * y[i]));
+                    rk = fmax(rk, fabs(c.e[i] * u[i] + nu * y[i]));
+                    ru = fmax(ru, c.e[i] * fabs(r.u[i] - u[i]));
+                    eu += c.e[i] * c.e[i] * u[i] * u[i];
+                }
+                if (nu * c.cap < -1e-12 * scale) negative_nu++;
+                worst_kkt = fmax(worst_kkt, rk / scale);
+                worst_u = fmax(worst_u, fmax(ru, fabs(r.sigma - sqrt(eu))) / scale);
+            }
+            lu_solve(Winv_u, c.W, r.u);
+            e1 = 0.5 * (r.u[0] * Winv_u[0] + r.u[1] * Winv_u[1] + r.u[2] * Winv_u[2]);
+            worst_energy = fmax(worst_energy, (e1 - e0) / e0);
+        }
+    }
+    ENSURE(n_checked == 3 * N_RANDOM);
+    ENSURE(wrong_side == 0);
+    ENSURE(negative_nu == 0);
+    ENSURE(worst_stick <= 1e-9);
+    ENSURE(worst_ell <= 1e-12);
+    ENSURE(worst_kkt <= 1e-12);
+    ENSURE(worst_u <= 1e-12);
+    ENSURE(worst_energy <= 1e-12);
+    report("friction_random_worst_ellipsoid_rel", worst_ell);
+    report("friction_random_worst_kkt_backward", worst_kkt);
+    report("friction_random_worst_energy_gain_rel", worst_energy);
+    report("friction_random_worst_stick_vs_lu", worst_stick);
+    report("friction_random_worst_u_sigma", worst_u);
+    exdex_friction_ws_free(ws);
+    gsl_rng_free(rng);
+}
+
+/* Brute force: on 300 random cases, no feasible point beats the solver's p
+ * on the objective f(p) = 0.5 p^T W p + b^T p: 300 random points of the
+ * ellipsoid (surface and inside) and 300 nearby points (p perturbed by
+ * 1e-3 cap and 1e-5 cap, pulled back into the ellipsoid). The slack is the
+ * rounding of f, 1e-13 (|b| |p| + |W| |p|^2). */
+EXDEX_TEST(friction_optimality_sampling)
+{
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng *pick = gsl_rng_alloc(gsl_rng_mt19937);
+    exdex_friction_ws *ws = exdex_friction_ws_alloc();
+    int beaten = 0;
+    gsl_rng_set(rng, SEED + 1);
+    gsl_rng_set(pick, 99);
+    for (int k = 0; k < 300; k++) {
+        rcase c;
+        exdex_friction_prep prep;
+        random_case(rng, k, &c);
+        ENSURE(exdex_friction_prepare(&prep, c.W, c.e) == EXDEX_OK);
+        for (int s = 0; s < 3; s++) {
+            exdex_friction_result r;
+            double f0, wn = 0.0, slack;
+            ENSURE(exdex_friction_solve(&prep, c.b, c.cap, SOLVERS[s], ws, NULL, &r) == EXDEX_OK);
+            f0 = objective(c.W, c.b, r.p);
+            for (int i = 0; i < 9; i++) wn = fmax(wn, fabs(c.W[i]));
+            slack = 1e-13 * (norm3(c.b) * norm3(r.p) + 3.0 * wn * norm3(r.p) * norm3(r.p));
+            for (int j = 0; j < 600; j++) {
+                double q[3], n;
+                if (j < 300) {
+                    double rad = j % 2 ? 1.0 : cbrt(gsl_rng_uniform(pick));
+                    for (int i = 0; i < 3; i++) q[i] = gsl_ran_gaussian(pick, 1.0);
+                    n = norm3(q);
+                    for (int i = 0; i < 3; i++) q[i] = c.cap * rad * c.e[i] * q[i] / n;
+                } else {
+                    double h = (j % 2 ? 1e-3 : 1e-5) * c.cap;
+                    for (int i = 0; i < 3; i++) q[i] = r.p[i] + h * c.e[i] * gsl_ran_gaussian(pick, 1.0);
+                    n = ell_norm(q, c.e) / c.cap;
+                    if (n > 1.0)
+                        for (int i = 0; i < 3; i++) q[i] /= n;
+                }
+                if (objective(c.W, c.b, q) < f0 - slack) beaten++;
+            }
+        }
+    }
+    ENSURE(beaten == 0);
+    exdex_friction_ws_free(ws);
+    gsl_rng_free(pick);
+    gsl_rng_free(rng);
+}
+
+/* Warm start: a slowly turning b (a sliding patch over 200 steps), MULTIROOT
+ * started from the previous impulse matches SCALAR and needs fewer
+ * iterations than cold starts. */
+EXDEX_TEST(friction_multiroot_warm_start)
+{
+    const double W[9] = {5, 1, 0.2, 1, 3, -0.1, 0.2, -0.1, 400}, e[3] = {1, 1, 0.01};
+    exdex_friction_ws *ws = exdex_friction_ws_alloc();
+    exdex_friction_prep prep;
+    double prev[3] = {0, 0, 0};
+    long warm_it = 0, cold_it = 0;
+    ENSURE(exdex_friction_prepare(&prep, W, e) == EXDEX_OK);
+    for (int k = 0; k < 200; k++) {
+        double t = 0.01 * k, b[3] = {cos(t), sin(t), 0.5 * sin(3.0 * t)}, cap = 0.08;
+        exdex_friction_result rs, rw, rc;
+        ENSURE(exdex_friction_solve(&prep, b, cap, EXDEX_SOLVER_SCALAR, NULL, NULL, &rs) == EXDEX_OK);
+        ENSURE(exdex_friction_solve(&prep, b, cap, EXDEX_SOLVER_MULTIROOT, ws, k ? prev : NULL, &rw)
+               == EXDEX_OK);
+        ENSURE(exdex_friction_solve(&prep, b, cap, EXDEX_SOLVER_MULTIROOT, ws, NULL, &rc) == EXDEX_OK);
+        ENSURE(!rs.stick);
+        for (int i = 0; i < 3; i++) {
+            ENSURE_CLOSE(rw.p[i], rs.p[i], 1e-12 * cap);
+            prev[i] = rw.p[i];
+        }
+        if (k) {
+            warm_it += rw.iterations;
+            cold_it += rc.iterations;
+        }
+    }
+    ENSURE(warm_it < cold_it);
+    report("friction_warm_iter_mean", warm_it / 199.0);
+    report("friction_cold_iter_mean", cold_it / 199.0);
+    exdex_friction_ws_free(ws);
+}
+
+/* Same inputs, same bits (workspace reuse must not leak state). */
+EXDEX_TEST(friction_deterministic)
+{
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    exdex_friction_ws *ws = exdex_friction_ws_alloc();
+    gsl_rng_set(rng, 7);
+    for (int k = 0; k < 50; k++) {
+        rcase c;
+        exdex_friction_prep p1, p2;
+        random_case(rng, k, &c);
+        ENSURE(exdex_friction_prepare(&p1, c.W, c.e) == EXDEX_OK);
+        ENSURE(exdex_friction_prepare(&p2, c.W, c.e) == EXDEX_OK);
+        ENSURE(memcmp(&p1, &p2, sizeof p1) == 0);
+        for (int s = 0; s < 3; s++) {
+            exdex_friction_result a, b;
+            ENSURE(exdex_friction_solve(&p1, c.b, c.cap, SOLVERS[s], ws, NULL, &a) == EXDEX_OK);
+            ENSURE(exdex_friction_solve(&p2, c.b, c.cap, SOLVERS[s], ws, NULL, &b) == EXDEX_OK);
+            ENSURE(memcmp(&a, &b, sizeof a) == 0);
+        }
+    }
+    exdex_friction_ws_free(ws);
+    gsl_rng_free(rng);
+}
+
+/* Bad input: EXDEX_EINVAL, never a crash; free(NULL) harmless. */
+EXDEX_TEST(friction_bad_input)
+{
+    const double W[9] = {2, 0.5, 0, 0.5, 1, 0, 0, 0, 3}, e[3] = {1, 1, 0.1};
+    const double b[3] = {0.1, -0.2, 3.0};
+    double Wb[9], eb[3], bb[3];
+    exdex_friction_prep prep;
+    exdex_friction_result r;
+    exdex_friction_ws *ws = exdex_friction_ws_alloc();
+
+    /* not symmetric (beyond 1e-12 relative), indefinite, singular, zero */
+    memcpy(Wb, W, sizeof Wb);
+    Wb[1] += 1e-9;
+    ENSURE(exdex_friction_prepare(&prep, Wb, e) == EXDEX_EINVAL);
+    Wb[1] = W[1] + 1e-14;  /* within the tolerance: accepted, symmetrised */
+    ENSURE(exdex_friction_prepare(&prep, Wb, e) == EXDEX_OK);
+    ENSURE(prep.W[1] == prep.W[3]);
+    {
+        const double ind[9] = {1, 0, 0, 0, -1, 0, 0, 0, 1};
+        const double sing[9] = {1, 1, 0, 1, 1, 0, 0, 0, 1};
+        const double zero[9] = {0};
+        ENSURE(exdex_friction_prepare(&prep, ind, e) == EXDEX_EINVAL);
+        ENSURE(exdex_friction_prepare(&prep, sing, e) == EXDEX_EINVAL);
+        ENSURE(exdex_friction_prepare(&prep, zero, e) == EXDEX_EINVAL);
+    }
+    for (int i = 0; i < 9; i++) {
+        memcpy(Wb, W, sizeof Wb);
+        Wb[i] = NAN;
+        ENSURE(exdex_friction_prepare(&prep, Wb, e) == EXDEX_EINVAL);
+        Wb[i] = INFINITY;
+        ENSURE(exdex_friction_prepare(&prep, Wb, e) == EXDEX_EINVAL);
+    }
+    for (int i = 0; i < 3; i++) {
+        const double bad[4] = {0.0, -1.0, NAN, INFINITY};
+        for (int j = 0; j < 4; j++) {
+            memcpy(eb, e, sizeof eb);
+            eb[i] = bad[j];
+            ENSURE(exdex_friction_prepare(&prep, W, eb) == EXDEX_EINVAL);
+        }
+    }
+    ENSURE(exdex_friction_prepare(NULL, W, e) == EXDEX_EINVAL);
+    ENSURE(exdex_friction_prepare(&prep, NULL, e) == EXDEX_EINVAL);
+    ENSURE(exdex_friction_prepare(&prep, W, NULL) == EXDEX_EINVAL);
+
+    ENSURE(exdex_friction_prepare(&prep, W, e) == EXDEX_OK);
+    for (int s = 0; s < 3; s++) {
+        const double warm_bad[3] = {0.0, NAN, 0.0};
+        ENSURE(exdex_friction_solve(&prep, b, -1e-3, SOLVERS[s], ws, NULL, &r) == EXDEX_EINVAL);
+        ENSURE(isnan(r.p[0]) && isnan(r.u[0]));
+        ENSURE(exdex_friction_solve(&prep, b, NAN, SOLVERS[s], ws, NULL, &r) == EXDEX_EINVAL);
+        ENSURE(exdex_friction_solve(&prep, b, INFINITY, SOLVERS[s], ws, NULL, &r) == EXDEX_EINVAL);
+        for (int i = 0; i < 3; i++) {
+            memcpy(bb, b, sizeof bb);
+            bb[i] = NAN;
+            ENSURE(exdex_friction_solve(&prep, bb, 0.1, SOLVERS[s], ws, NULL, &r) == EXDEX_EINVAL);
+            bb[i] = -INFINITY;
+            ENSURE(exdex_friction_solve(&prep, bb, 0.1, SOLVERS[s], ws, NULL, &r) == EXDEX_EINVAL);
+        }
+        ENSURE(exdex_friction_solve(&prep, b, 0.1, SOLVERS[s], ws, warm_bad, &r) == EXDEX_EINVAL);
+        ENSURE(exdex_friction_solve(NULL, b, 0.1, SOLVERS[s], ws, NULL, &r) == EXDEX_EINVAL);
+        ENSURE(exdex_friction_solve(&prep, NULL, 0.1, SOLVERS[s], ws, NULL, &r) == EXDEX_EINVAL);
+        ENSURE(exdex_friction_solve(&prep, b, 0.1, SOLVERS[s], ws, NULL, NULL) == EXDEX_EINVAL);
+    }
+    ENSURE(exdex_friction_solve(&prep, b, 0.1, 7, ws, NULL, &r) == EXDEX_EINVAL);
+    ENSURE(exdex_friction_solve(&prep, b, 0.1, -1, ws, NULL, &r) == EXDEX_EINVAL);
+    /* BRENT and MULTIROOT need the workspace, SCALAR does not */
+    ENSURE(exdex_friction_solve(&prep, b, 0.1, EXDEX_SOLVER_BRENT, NULL, NULL, &r) == EXDEX_EINVAL);
+    ENSURE(exdex_friction_solve(&prep, b, 0.1, EXDEX_SOLVER_MULTIROOT, NULL, NULL, &r) == EXDEX_EINVAL);
+    ENSURE(exdex_friction_solve(&prep, b, 0.1, EXDEX_SOLVER_SCALAR, NULL, NULL, &r) == EXDEX_OK);
+    exdex_friction_ws_free(ws);
+    exdex_friction_ws_free(NULL);
+}
