@@ -326,7 +326,8 @@ def fig3_scene(grip_force=None, direction=-1, dof="translation"):
     if grip_force is None:
         grip_force = fig3_grip_force()
     return Scene(
-        body=Body(mass=MASS),
+        # the box of Fig. 4; its size matters only to the physics-engine cross-checks (exdex compare)
+        body=Body(mass=MASS, size=FIG4_SIZE),
         grasp=Grasp(mu=MU, grip_force=grip_force, fingers=FINGERS),
         motion=AsymmetricProfile(FIG3["amplitude"], FIG3["duration"], FIG3["beta"],
                                  axis=(0.0, 0.0, float(direction))),
@@ -338,6 +339,8 @@ def fig3_scene(grip_force=None, direction=-1, dof="translation"):
 
 #: Fig. 4 object: a box, lx 30 mm, ly 160 mm (vertical), lz 30 mm (across the plates)
 FIG4_SIZE = (0.03, 0.16, 0.03)
+#: Fig. 6 object outline for the engine cross-checks: a 100 x 100 x 30 mm plate that holds the patch
+FIG6_SIZE = (0.1, 0.1, 0.03)
 
 
 def fig4_scene(grip_force=None):
@@ -470,7 +473,8 @@ def fig6_scene(grip_force=None, e_r=None):
     else:
         patch = Patch(e_r=e_r, center=(0.0, 0.0))
     return Scene(
-        body=Body(mass=MASS, inertia=FIG6["inertia"]),
+        # box dimensions only for the engine cross-checks (the paper's inertia is used as given)
+        body=Body(mass=MASS, inertia=FIG6["inertia"], size=FIG6_SIZE),
         grasp=Grasp(mu=MU, grip_force=grip_force, fingers=FINGERS, patch=patch),
         motion=AsymmetricProfile(FIG6["amplitude"], FIG6["duration"], FIG6["beta"],
                                  axis=(0.0, -1.0, 0.0), rotation=True, center=(0.0, 0.0, 0.0)),
