@@ -41,6 +41,7 @@
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include <gsl/gsl_eigen.h>
 #include <gsl/gsl_errno.h>
@@ -111,14 +112,35 @@ void exdex_friction_ws_free(exdex_friction_ws *ws)
 
 /* -------------------------------------------------------------- prepare */
 
+/* Limit on the scaled condition number of W, that of D^-1 W D^-1 with
+ * D = diag(W)^(1/2): beyond it W is singular to working precision (the stick
+ * impulse -W^-1 b would carry relative errors above 1e-4). */
+#define FRICTION_MAX_COND 1e12
+
+/* Eigen-decomposition of the Gram matrix G = S L L^T S = B^T B, B = L^T S,
+ * S = diag(s), L lower triangular (Lc row-major, upper part ignored), from
+ * the SVD B = U Sigma V^T by one-sided Jacobi (GSL): G = V Sigma^2 V^T.
+ * One-sided Jacobi gets even the smallest singular values of a
+ * column-scaled B to high relative accuracy (Demmel & Veselic 1992), where
+ * a QR-based symmetric eigensolver gives small eigenvalues only to eps |G|
+ * absolute. Ascending lam, eigenvectors in the columns of V. No workspace. */
+static int gram_eigen(const double Lc[9], const double s[3], double lam[3], double V[9])
+{
+    double B[9], sv[3];
+    gsl_matrix_view Bm = gsl_matrix_view_array(B, 3, 3), Vm = gsl_matrix_view_array(V, 3, 3);
+    gsl_vector_view Sv = gsl_vector_view_array(sv, 3), Lv = gsl_vector_view_array(lam, 3);
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) B[3 * i + j] = (j >= i ? Lc[3 * j + i] : 0.0) * s[j];
+    if (gsl_linalg_SV_decomp_jacobi(&Bm.matrix, &Vm.matrix, &Sv.vector) != GSL_SUCCESS) return 0;
+    for (int i = 0; i < 3; i++) lam[i] = sv[i] * sv[i];
+    return gsl_eigen_symmv_sort(&Lv.vector, &Vm.matrix, GSL_EIGEN_SORT_VAL_ASC) == GSL_SUCCESS;
+}
+
 int exdex_friction_prepare(exdex_friction_prep *prep, const double W[9],
                            const double e[3])
 {
-    double Ws[9], Kc[9], Lc[9], wmax = 0.0, eval_d[3], evec_d[9];
-    double ws_d[3], ws_sd[3], ws_gc[3], ws_gs[3];
-    gsl_matrix_view Km, Lm, Vm;
-    gsl_vector_view ev;
-    gsl_eigen_symmv_workspace eigws;
+    double Ws[9], Lc[9], V[9], lam[3], dinv[3], K[9], wmax = 0.0;
+    gsl_matrix_view Lm;
     int i, j;
 
     if (!prep || !W || !e) return EXDEX_EINVAL;
@@ -126,7 +148,7 @@ int exdex_friction_prepare(exdex_friction_prep *prep, const double W[9],
     for (i = 0; i < 3; i++)
         if (!(e[i] > 0.0)) return EXDEX_EINVAL;
 
-    /* Symmetric to 1e-12 relative to the largest entry; store the mean. */
+    /* Symmetric to 1e-12 relative to the largest entry; keep the mean. */
     for (i = 0; i < 9; i++) wmax = fmax(wmax, fabs(W[i]));
     if (!(wmax > 0.0)) return EXDEX_EINVAL;
     for (i = 0; i < 3; i++)
@@ -135,54 +157,32 @@ int exdex_friction_prepare(exdex_friction_prep *prep, const double W[9],
             Ws[3 * i + j] = 0.5 * (W[3 * i + j] + W[3 * j + i]);
         }
 
-    /* Positive definite: Cholesky succeeds (GSL_EDOM otherwise). */
-    for (i = 0; i < 9; i++) Lc[i] = Ws[i];
+    /* Positive definite: Cholesky W = L L^T succeeds (GSL_EDOM otherwise)... */
+    memcpy(Lc, Ws, sizeof Lc);
     Lm = gsl_matrix_view_array(Lc, 3, 3);
     if (gsl_linalg_cholesky_decomp1(&Lm.matrix) != GSL_SUCCESS) return EXDEX_EINVAL;
 
-    /* K = E W E and its eigen-decomposition, ascending eigenvalues. The symmv
-     * workspace for n = 3 lives on the stack (its struct is public in
-     * gsl_eigen.h: size and four length-n arrays), so prepare never allocates. */
-    for (i = 0; i < 3; i++)
-        for (j = 0; j < 3; j++) Kc[3 * i + j] = e[i] * Ws[3 * i + j] * e[j];
-    for (i = 0; i < 9; i++) {
-        prep->W[i] = Ws[i];
-        prep->K[i] = Kc[i];
-    }
-    for (i = 0; i < 3; i++) prep->e[i] = e[i];
+    /* ... and not singular to working precision: eigenvalues of the
+     * unit-diagonal D^-1 W D^-1 = Gram matrix of L^T D^-1. */
+    for (i = 0; i < 3; i++) dinv[i] = 1.0 / sqrt(Ws[4 * i]);
+    if (!gram_eigen(Lc, dinv, lam, V)) return EXDEX_EINVAL;
+    if (!(lam[0] > lam[2] / FRICTION_MAX_COND)) return EXDEX_EINVAL;
 
-    eigws.size = 3;
-    eigws.d = ws_d;
-    eigws.sd = ws_sd;
-    eigws.gc = ws_gc;
-    eigws.gs = ws_gs;
-    Km = gsl_matrix_view_array(Kc, 3, 3);  /* destroyed by symmv */
-    Vm = gsl_matrix_view_array(evec_d, 3, 3);
-    ev = gsl_vector_view_array(eval_d, 3);
-#ifdef EIG_SVJ
-    {
-        double A[9], sv[3];
-        gsl_matrix_view Am = gsl_matrix_view_array(A, 3, 3);
-        gsl_vector_view Sv = gsl_vector_view_array(sv, 3);
-        (void)eigws;
-        for (i = 0; i < 3; i++)
-            for (j = 0; j < 3; j++) A[3 * i + j] = (j >= i ? Lc[3 * j + i] : 0.0) * e[j];
-        if (gsl_linalg_SV_decomp_jacobi(&Am.matrix, &Vm.matrix, &Sv.vector) != GSL_SUCCESS)
-            return EXDEX_EINVAL;
-        for (i = 0; i < 3; i++) eval_d[i] = sv[i] * sv[i];
-    }
-#else
-    if (gsl_eigen_symmv(&Km.matrix, &ev.vector, &Vm.matrix, &eigws) != GSL_SUCCESS)
-        return EXDEX_EINVAL;
-#endif
-    if (gsl_eigen_symmv_sort(&ev.vector, &Vm.matrix, GSL_EIGEN_SORT_VAL_ASC) != GSL_SUCCESS)
-        return EXDEX_EINVAL;
-    for (i = 0; i < 3; i++) {
-        /* Numerically not positive definite (beyond double precision). */
-        if (!(eval_d[i] > 0.0) || !isfinite(eval_d[i])) return EXDEX_EINVAL;
-        prep->lam[i] = eval_d[i];
-    }
-    for (i = 0; i < 9; i++) prep->Q[i] = evec_d[i];
+    /* K = E W E = Gram matrix of L^T E. K is strongly graded when
+     * e_r << e_t: cond(K) ~ cond(W) (e_t / e_r)^2. */
+    if (!gram_eigen(Lc, e, lam, V)) return EXDEX_EINVAL;
+    /* eigenvalues normal numbers (no underflow) and K representable */
+    if (!(lam[0] >= DBL_MIN) || !isfinite(lam[2])) return EXDEX_EINVAL;
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++) {
+            K[3 * i + j] = e[i] * Ws[3 * i + j] * e[j];
+            if (!isfinite(K[3 * i + j])) return EXDEX_EINVAL;
+        }
+    memcpy(prep->W, Ws, sizeof Ws);
+    memcpy(prep->K, K, sizeof K);
+    memcpy(prep->Q, V, sizeof V);
+    memcpy(prep->lam, lam, sizeof lam);
+    memcpy(prep->e, e, 3 * sizeof(double));
     return EXDEX_OK;
 }
 
@@ -221,6 +221,16 @@ static int secular_newton(const secular *sec, double hi, double *root)
      * monotonically), or at 0. */
     double amax = fmax(sec->a[0], fmax(sec->a[1], sec->a[2]));
     double lo = 0.0, s = fmax(0.0, hi - amax);
+    if (secular_norm2(sec, hi, NULL) >= 1.0) {
+        /* |x(|c|)| < 1 only by cap lam_min / |c|, lost to rounding: s = |c| */
+        *root = hi;
+        return 1;
+    }
+    if (secular_norm2(sec, 0.0, NULL) <= 1.0) {
+        /* slip just beginning: |K^-1 c| = cap to rounding */
+        *root = 0.0;
+        return 1;
+    }
     for (int it = 1; it <= 200; it++) {
         double q, n2 = secular_norm2(sec, s, &q), nx = sqrt(n2), snew;
         if (fabs(nx - 1.0) <= 4.0 * DBL_EPSILON && s > 0.0) {
@@ -255,6 +265,14 @@ static int secular_brent(gsl_root_fsolver *solver, secular *sec, double hi,
     double lo = 0.0;
     fn.function = secular_phi;
     fn.params = sec;
+    if (secular_phi(hi, sec) >= 0.0) {
+        *root = hi;  /* as in secular_newton */
+        return 1;
+    }
+    if (secular_phi(lo, sec) <= 0.0) {
+        *root = lo;  /* slip just beginning, |K^-1 c| = cap to rounding */
+        return 1;
+    }
     if (gsl_root_fsolver_set(solver, &fn, lo, hi) != GSL_SUCCESS) return -1;
     for (int it = 1; it <= 200; it++) {
         double s;
@@ -622,23 +640,34 @@ static int solve_scaled(const exdex_friction_prep *prep, const double b[3], doub
         return EXDEX_OK;
     }
 
-    /* Stick test first (all solvers): |K^-1 c| <= cap, in the eigenbasis,
-     * as max_i |r_i| <= cap and sum (r_i / cap)^2 <= 1, r = Lam^-1 c~ (no
-     * overflow for tiny eigenvalues or huge capacities). */
+    /* Stick test first (all solvers): |K^-1 c| <= cap, in the eigenbasis:
+     * t = sum (r_i / cap)^2 <= 1, r = Lam^-1 c~, formed without overflow.
+     * Within 1e-6 of the boundary the decision is taken on the refined stick
+     * impulse instead (its accuracy is set by W alone, see stick_impulse). */
     for (int i = 0; i < 3; i++) {
         r[i] = ct[i] / lam[i];
         rm = fmax(rm, fabs(r[i]));
         cn += ct[i] * ct[i];
     }
-    if (rm <= cap)
-        for (int i = 0; i < 3; i++) st += (r[i] / cap) * (r[i] / cap);
-    if (rm <= cap && st <= 1.0) {
-        /* p = -W^-1 b; u = 0 exactly (set, not computed). */
+    if (rm > 0.0) {
+        for (int i = 0; i < 3; i++) st += (r[i] / rm) * (r[i] / rm);
+        st *= (rm / cap) * (rm / cap);
+    }
+    if (st <= 1.0 + 1e-6) {
+        double n = 0.0;
         stick_impulse(prep, b, ct, res->p);
-        for (int i = 0; i < 3; i++) res->u[i] = 0.0;
-        res->sigma = 0.0;
-        res->stick = 1;
-        return EXDEX_OK;
+        for (int i = 0; i < 3; i++) n += (res->p[i] / (e[i] * cap)) * (res->p[i] / (e[i] * cap));
+        if (st >= 1.0 - 1e-6) st = n;
+        if (st <= 1.0) {
+            /* p = -W^-1 b (pulled back onto the ellipsoid if rounding put it
+             * just outside); u = 0 exactly (set, not computed). */
+            if (n > 1.0)
+                for (int i = 0; i < 3; i++) res->p[i] /= sqrt(n);
+            for (int i = 0; i < 3; i++) res->u[i] = 0.0;
+            res->sigma = 0.0;
+            res->stick = 1;
+            return EXDEX_OK;
+        }
     }
     cn = sqrt(cn);  /* |c| = |E b|: the secular root lies in (0, |c|) */
 
@@ -653,7 +682,7 @@ static int solve_scaled(const exdex_friction_prep *prep, const double b[3], doub
         it = secular_newton(&sec, cn, &s);
     else
         it = secular_brent(ws->brent, &sec, cn, &s);
-    if (it < 0 || !(s > 0.0)) return EXDEX_ENOCONV;
+    if (it < 0 || !(s >= 0.0)) return EXDEX_ENOCONV;
     res->iterations = it;
 
     /* p from the root; the slip from the maximum-dissipation law itself,
@@ -673,7 +702,7 @@ int exdex_friction_solve(const exdex_friction_prep *prep, const double b[3],
                          double cap, int solver, exdex_friction_ws *ws,
                          const double *warm, exdex_friction_result *res)
 {
-    double bs[3], ws3[3], bmax = 0.0, scale = 1.0;
+    double bs[3], cs[3], ws3[3], bmax = 0.0, scale = 1.0, cn = 0.0;
     int status, k, it;
 
     if (!res) return EXDEX_EINVAL;
@@ -686,32 +715,62 @@ int exdex_friction_solve(const exdex_friction_prep *prep, const double b[3],
     if (solver != EXDEX_SOLVER_SCALAR && !ws) return EXDEX_EINVAL;
     if (warm && !ex_finite_n(warm, 3)) return EXDEX_EINVAL;
 
+    /* A subnormal capacity is no capacity: its impulse would not be
+     * representable to any accuracy. */
+    if (cap < DBL_MIN) cap = 0.0;
+
     /* The solution is homogeneous of degree 1 in (b, cap): solve for b and
      * cap divided by a power of two that brings max |b_i| into [0.5, 1), and
      * scale p, u, sigma back (exact scalings): no overflow or underflow for
      * b and cap anywhere in the double range, short of a result that does
      * not fit in it (then EXDEX_ENONFINITE). */
     for (int i = 0; i < 3; i++) bmax = fmax(bmax, fabs(b[i]));
-    if (bmax > 0.0) {
+    if (bmax >= DBL_MIN) {
         frexp(bmax, &k);
         scale = ldexp(1.0, k);
     }
     for (int i = 0; i < 3; i++) {
-        bs[i] = b[i] / scale;
+        /* an all-subnormal b is no slip, like a subnormal cap */
+        bs[i] = bmax >= DBL_MIN ? b[i] / scale : 0.0;
+        cs[i] = prep->e[i] * bs[i];
+        cn += cs[i] * cs[i];
         if (warm) ws3[i] = warm[i] / scale;
     }
-    status = solve_scaled(prep, bs, cap / scale, solver, ws, warm ? ws3 : NULL, res);
+    cn = sqrt(cn);
+    if (cap > 0.0 && cn > 0.0 && (cap / scale) * prep->lam[2] <= DBL_EPSILON * cn) {
+        /* Negligible capacity, cap |K| <= eps |E b| (all solvers): the
+         * secular root is s = |E b| to rounding and y = -cap E b / |E b|
+         * (fast slip) exactly to rounding; evaluated in the original units,
+         * where cap / scale could underflow. */
+        double un = 0.0;
+        for (int i = 0; i < 3; i++) res->p[i] = -cap * prep->e[i] * (cs[i] / cn);
+        ex_mulmv3(res->u, prep->W, res->p);
+        for (int i = 0; i < 3; i++) {
+            double eu;
+            res->u[i] += b[i];
+            eu = prep->e[i] * (res->u[i] / scale);
+            un += eu * eu;
+        }
+        res->sigma = scale * sqrt(un);
+        res->stick = 0;
+        res->iterations = 0;
+        status = EXDEX_OK;
+    } else {
+        status = solve_scaled(prep, bs, cap / scale, solver, ws, warm ? ws3 : NULL, res);
+        if (status == EXDEX_OK) {
+            for (int i = 0; i < 3; i++) {
+                res->p[i] *= scale;
+                res->u[i] *= scale;
+            }
+            res->sigma *= scale;
+        }
+    }
     if (status != EXDEX_OK) {
         it = res->iterations;
         result_nan(res);
         res->iterations = it;
         return status;
     }
-    for (int i = 0; i < 3; i++) {
-        res->p[i] *= scale;
-        res->u[i] *= scale;
-    }
-    res->sigma *= scale;
     if (!ex_finite_n(res->p, 3) || !ex_finite_n(res->u, 3) || !isfinite(res->sigma)) {
         it = res->iterations;
         result_nan(res);

@@ -742,6 +742,76 @@ EXDEX_TEST(friction_deterministic)
     gsl_rng_free(rng);
 }
 
+/* Scale: the solution is homogeneous of degree 1 in (b, cap) (f(p) and the
+ * ellipsoid scale together), so scaling b and cap by 2^k must scale p, u,
+ * sigma by exactly 2^k, bit for bit, across the double range; plus the
+ * limits at the ends of the range, each derived by hand. */
+EXDEX_TEST(friction_extreme_scales)
+{
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    exdex_friction_ws *ws = exdex_friction_ws_alloc();
+    const int ks[6] = {-900, -400, -60, 60, 400, 900};
+    gsl_rng_set(rng, 11);
+    for (int k = 0; k < 40; k++) {
+        rcase c;
+        exdex_friction_prep prep;
+        random_case(rng, k, &c);
+        ENSURE(exdex_friction_prepare(&prep, c.W, c.e) == EXDEX_OK);
+        for (int s = 0; s < 3; s++) {
+            exdex_friction_result r0, r1;
+            ENSURE(exdex_friction_solve(&prep, c.b, c.cap, SOLVERS[s], ws, NULL, &r0) == EXDEX_OK);
+            for (int j = 0; j < 6; j++) {
+                double b2[3];
+                for (int i = 0; i < 3; i++) b2[i] = ldexp(c.b[i], ks[j]);
+                ENSURE(exdex_friction_solve(&prep, b2, ldexp(c.cap, ks[j]), SOLVERS[s], ws, NULL, &r1)
+                       == EXDEX_OK);
+                ENSURE(r1.stick == r0.stick && r1.iterations == r0.iterations);
+                ENSURE(r1.sigma == ldexp(r0.sigma, ks[j]));
+                for (int i = 0; i < 3; i++)
+                    ENSURE(r1.p[i] == ldexp(r0.p[i], ks[j]) && r1.u[i] == ldexp(r0.u[i], ks[j]));
+            }
+        }
+    }
+    {
+        const double W[9] = {2, 0.5, 0, 0.5, 1, 0.1, 0, 0.1, 3}, e[3] = {1, 1, 0.05};
+        const double big[3] = {3e300, -4e300, 1e300}, sub[3] = {1e-320, 0, -3e-321};
+        const double over[3] = {1.5e308, -1.5e308, 0}, small[3] = {0.3, -0.2, 0.1};
+        exdex_friction_prep prep;
+        ENSURE(exdex_friction_prepare(&prep, W, e) == EXDEX_OK);
+        for (int s = 0; s < 3; s++) {
+            exdex_friction_result r;
+            double eb = 0.0, Winv_b[3];
+            /* cap << |b|: the fast-slip limit p = -cap E (E b) / |E b| */
+            for (int i = 0; i < 3; i++) eb += (e[i] * big[i] / 1e300) * (e[i] * big[i] / 1e300);
+            eb = sqrt(eb);
+            ENSURE(exdex_friction_solve(&prep, big, 2.0, SOLVERS[s], ws, NULL, &r) == EXDEX_OK);
+            ENSURE(!r.stick);
+            for (int i = 0; i < 3; i++) {
+                ENSURE(rel_err(r.p[i], -2.0 * e[i] * e[i] * (big[i] / 1e300) / eb) <= 1e-15);
+                ENSURE(rel_err(r.u[i], big[i]) <= 1e-15);
+            }
+            ENSURE(rel_err(r.sigma, 1e300 * eb) <= 1e-15);
+            /* cap >> |b|: stick, p = -W^-1 b (LU) */
+            lu_solve(Winv_b, W, small);
+            ENSURE(exdex_friction_solve(&prep, small, 1e300, SOLVERS[s], ws, NULL, &r) == EXDEX_OK);
+            ENSURE(r.stick);
+            for (int i = 0; i < 3; i++) ENSURE(rel_err(r.p[i], -Winv_b[i]) <= 1e-15);
+            /* subnormal capacity: no capacity (p = 0, u = b) */
+            ENSURE(exdex_friction_solve(&prep, big, 1e-310, SOLVERS[s], ws, NULL, &r) == EXDEX_OK);
+            ENSURE(!r.stick && r.p[0] == 0.0 && r.p[1] == 0.0 && r.p[2] == 0.0 && r.u[1] == big[1]);
+            /* all-subnormal b: no slip (p = 0, stick) */
+            ENSURE(exdex_friction_solve(&prep, sub, 0.1, SOLVERS[s], ws, NULL, &r) == EXDEX_OK);
+            ENSURE(r.stick && r.p[0] == 0.0 && r.p[1] == 0.0 && r.p[2] == 0.0);
+            /* sigma = |E u| ~ 2.1e308 does not fit: EXDEX_ENONFINITE, NaN out */
+            ENSURE(exdex_friction_solve(&prep, over, 1.0, SOLVERS[s], ws, NULL, &r)
+                   == EXDEX_ENONFINITE);
+            ENSURE(isnan(r.p[0]) && isnan(r.sigma));
+        }
+    }
+    exdex_friction_ws_free(ws);
+    gsl_rng_free(rng);
+}
+
 /* Bad input: EXDEX_EINVAL, never a crash; free(NULL) harmless. */
 EXDEX_TEST(friction_bad_input)
 {
@@ -765,7 +835,21 @@ EXDEX_TEST(friction_bad_input)
         const double zero[9] = {0};
         ENSURE(exdex_friction_prepare(&prep, ind, e) == EXDEX_EINVAL);
         ENSURE(exdex_friction_prepare(&prep, sing, e) == EXDEX_EINVAL);
+        /* singular to working precision: D^-1 W D^-1 has eigenvalues 2, 1, 1e-14 */
+        const double near_sing[9] = {1, 1 - 1e-14, 0, 1 - 1e-14, 1, 0, 0, 0, 1};
+        /* eigenvalues of K below the normal range */
+        const double tiny[9] = {1e-310, 0, 0, 0, 1e-310, 0, 0, 0, 1e-310};
+        /* a diagonal W is well conditioned at any grading; K's eigenvalues
+         * (here W's diagonal) come out to full relative accuracy even at
+         * cond(K) = 1e20 (closed form: K = W when e = 1) */
+        const double graded[9] = {1e-10, 0, 0, 0, 1, 0, 0, 0, 1e10};
+        const double e1[3] = {1, 1, 1};
         ENSURE(exdex_friction_prepare(&prep, zero, e) == EXDEX_EINVAL);
+        ENSURE(exdex_friction_prepare(&prep, near_sing, e) == EXDEX_EINVAL);
+        ENSURE(exdex_friction_prepare(&prep, tiny, e) == EXDEX_EINVAL);
+        ENSURE(exdex_friction_prepare(&prep, graded, e1) == EXDEX_OK);
+        ENSURE(rel_err(prep.lam[0], 1e-10) <= 1e-15 && rel_err(prep.lam[1], 1.0) <= 1e-15
+               && rel_err(prep.lam[2], 1e10) <= 1e-15);
     }
     for (int i = 0; i < 9; i++) {
         memcpy(Wb, W, sizeof Wb);
