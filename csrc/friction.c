@@ -51,6 +51,9 @@
 #include <gsl/gsl_roots.h>
 #include <gsl/gsl_vector.h>
 
+/* max of two non-NaN numbers (fmax is a library call at -O2) */
+static inline double dmax(double a, double b) { return a > b ? a : b; }
+
 /* ------------------------------------------------------------ patch e_r */
 
 /* Mean distance of a uniform disc of radius R from its centre:
@@ -199,10 +202,10 @@ static inline double secular_norm2(const secular *sec, double s, double *q)
 {
     double n2 = 0.0, qq = 0.0;
     for (int i = 0; i < 3; i++) {
-        double den = s + sec->a[i];
-        double x = sec->ct[i] / den;
+        double inv = 1.0 / (s + sec->a[i]);
+        double x = sec->ct[i] * inv;
         n2 += x * x;
-        qq += x * x / den;
+        qq += x * x * inv;
     }
     if (q) *q = qq;
     return n2;
@@ -219,21 +222,12 @@ static int secular_newton(const secular *sec, double hi, double *root)
     /* |x(s)| >= |c| / (s + a_max), so the root is >= |c| - a_max: start
      * there (left of the root, where Newton on the concave g climbs
      * monotonically), or at 0. */
-    double amax = fmax(sec->a[0], fmax(sec->a[1], sec->a[2]));
-    double lo = 0.0, s = fmax(0.0, hi - amax);
-    if (secular_norm2(sec, hi, NULL) >= 1.0) {
-        /* |x(|c|)| < 1 only by cap lam_min / |c|, lost to rounding: s = |c| */
-        *root = hi;
-        return 1;
-    }
-    if (secular_norm2(sec, 0.0, NULL) <= 1.0) {
-        /* slip just beginning: |K^-1 c| = cap to rounding */
-        *root = 0.0;
-        return 1;
-    }
+    double amax = dmax(sec->a[0], dmax(sec->a[1], sec->a[2]));
+    double lo = 0.0, s = dmax(0.0, hi - amax);
     for (int it = 1; it <= 200; it++) {
         double q, n2 = secular_norm2(sec, s, &q), nx = sqrt(n2), snew;
-        if (fabs(nx - 1.0) <= 4.0 * DBL_EPSILON && s > 0.0) {
+        if (fabs(nx - 1.0) <= 4.0 * DBL_EPSILON || (s == 0.0 && nx <= 1.0)) {
+            /* (s = 0: slip just beginning, |K^-1 c| = cap to rounding) */
             *root = s;
             return it;
         }
@@ -612,7 +606,7 @@ static int solve_multiroot(const exdex_friction_prep *prep, const double b[3],
     return EXDEX_OK;
 }
 
-/* The solve proper, for b scaled to max |b_i| in [0.5, 1) (or b = 0); cap
+/* The solve proper, for b scaled to max |b_i| in [1, 2) (or b = 0); cap
  * may be 0 or +inf after the scaling. */
 static int solve_scaled(const exdex_friction_prep *prep, const double b[3], double cap,
                         int solver, exdex_friction_ws *ws, const double *warm,
@@ -644,14 +638,26 @@ static int solve_scaled(const exdex_friction_prep *prep, const double b[3], doub
      * t = sum (r_i / cap)^2 <= 1, r = Lam^-1 c~, formed without overflow.
      * Within 1e-6 of the boundary the decision is taken on the refined stick
      * impulse instead (its accuracy is set by W alone, see stick_impulse). */
-    for (int i = 0; i < 3; i++) {
-        r[i] = ct[i] / lam[i];
-        rm = fmax(rm, fabs(r[i]));
-        cn += ct[i] * ct[i];
-    }
-    if (rm > 0.0) {
-        for (int i = 0; i < 3; i++) st += (r[i] / rm) * (r[i] / rm);
-        st *= (rm / cap) * (rm / cap);
+    if (isinf(cap)) {
+        st = 0.0;  /* b negligible next to the capacity */
+    } else {
+        double invcap = 1.0 / cap;
+        for (int i = 0; i < 3; i++) {
+            double t;
+            r[i] = ct[i] / lam[i];
+            t = r[i] * invcap;
+            st += t * t;
+            cn += ct[i] * ct[i];
+        }
+        if (!(st <= DBL_MAX)) {
+            /* overflow (or 0 * inf): the same sum, scaled by max |r_i| */
+            for (int i = 0; i < 3; i++) rm = dmax(rm, fabs(r[i]));
+            st = 0.0;
+            if (rm > 0.0) {
+                for (int i = 0; i < 3; i++) st += (r[i] / rm) * (r[i] / rm);
+                st *= (rm / cap) * (rm / cap);
+            }
+        }
     }
     if (st <= 1.0 + 1e-6) {
         double n = 0.0;
@@ -702,7 +708,7 @@ int exdex_friction_solve(const exdex_friction_prep *prep, const double b[3],
                          double cap, int solver, exdex_friction_ws *ws,
                          const double *warm, exdex_friction_result *res)
 {
-    double bs[3], cs[3], ws3[3], bmax = 0.0, scale = 1.0, cn = 0.0;
+    double bs[3], cs[3], ws3[3], bmax = 0.0, scale = 1.0, inv, cn = 0.0;
     int status, k, it;
 
     if (!res) return EXDEX_EINVAL;
@@ -720,24 +726,26 @@ int exdex_friction_solve(const exdex_friction_prep *prep, const double b[3],
     if (cap < DBL_MIN) cap = 0.0;
 
     /* The solution is homogeneous of degree 1 in (b, cap): solve for b and
-     * cap divided by a power of two that brings max |b_i| into [0.5, 1), and
+     * cap divided by a power of two that brings max |b_i| into [1, 2), and
      * scale p, u, sigma back (exact scalings): no overflow or underflow for
      * b and cap anywhere in the double range, short of a result that does
      * not fit in it (then EXDEX_ENONFINITE). */
-    for (int i = 0; i < 3; i++) bmax = fmax(bmax, fabs(b[i]));
+    for (int i = 0; i < 3; i++) bmax = dmax(bmax, fabs(b[i]));
     if (bmax >= DBL_MIN) {
-        frexp(bmax, &k);
-        scale = ldexp(1.0, k);
+        frexp(bmax, &k);  /* bmax in [2^(k-1), 2^k) */
+        scale = ldexp(1.0, k - 1);
+        inv = 1.0 / scale;  /* exact: both are normal powers of two */
+    } else {
+        inv = 0.0;  /* an all-subnormal b is no slip, like a subnormal cap */
     }
     for (int i = 0; i < 3; i++) {
-        /* an all-subnormal b is no slip, like a subnormal cap */
-        bs[i] = bmax >= DBL_MIN ? b[i] / scale : 0.0;
+        bs[i] = b[i] * inv;
         cs[i] = prep->e[i] * bs[i];
         cn += cs[i] * cs[i];
-        if (warm) ws3[i] = warm[i] / scale;
+        if (warm) ws3[i] = warm[i] * inv;
     }
     cn = sqrt(cn);
-    if (cap > 0.0 && cn > 0.0 && (cap / scale) * prep->lam[2] <= DBL_EPSILON * cn) {
+    if (cap > 0.0 && cn > 0.0 && (cap * inv) * prep->lam[2] <= DBL_EPSILON * cn) {
         /* Negligible capacity, cap |K| <= eps |E b| (all solvers): the
          * secular root is s = |E b| to rounding and y = -cap E b / |E b|
          * (fast slip) exactly to rounding; evaluated in the original units,
@@ -748,7 +756,7 @@ int exdex_friction_solve(const exdex_friction_prep *prep, const double b[3],
         for (int i = 0; i < 3; i++) {
             double eu;
             res->u[i] += b[i];
-            eu = prep->e[i] * (res->u[i] / scale);
+            eu = prep->e[i] * (res->u[i] * inv);
             un += eu * eu;
         }
         res->sigma = scale * sqrt(un);
@@ -756,7 +764,7 @@ int exdex_friction_solve(const exdex_friction_prep *prep, const double b[3],
         res->iterations = 0;
         status = EXDEX_OK;
     } else {
-        status = solve_scaled(prep, bs, cap / scale, solver, ws, warm ? ws3 : NULL, res);
+        status = solve_scaled(prep, bs, cap * inv, solver, ws, warm ? ws3 : NULL, res);
         if (status == EXDEX_OK) {
             for (int i = 0; i < 3; i++) {
                 res->p[i] *= scale;

@@ -802,6 +802,14 @@ EXDEX_TEST(friction_extreme_scales)
             /* all-subnormal b: no slip (p = 0, stick) */
             ENSURE(exdex_friction_solve(&prep, sub, 0.1, SOLVERS[s], ws, NULL, &r) == EXDEX_OK);
             ENSURE(r.stick && r.p[0] == 0.0 && r.p[1] == 0.0 && r.p[2] == 0.0);
+            /* b at the top of the range, still representable results: the
+             * fast-slip limit, u = b to rounding, sigma = |E b| */
+            {
+                const double top[3] = {1.7e308, 0.0, 0.0};
+                ENSURE(exdex_friction_solve(&prep, top, 1.0, SOLVERS[s], ws, NULL, &r) == EXDEX_OK);
+                ENSURE(!r.stick && rel_err(r.p[0], -1.0) <= 1e-15 && r.p[1] == 0.0 && r.p[2] == 0.0);
+                ENSURE(rel_err(r.u[0], top[0]) <= 1e-15 && rel_err(r.sigma, top[0]) <= 1e-15);
+            }
             /* sigma = |E u| ~ 2.1e308 does not fit: EXDEX_ENONFINITE, NaN out */
             ENSURE(exdex_friction_solve(&prep, over, 1.0, SOLVERS[s], ws, NULL, &r)
                    == EXDEX_ENONFINITE);
