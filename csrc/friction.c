@@ -26,14 +26,25 @@
  *
  * Three solvers for the sliding case, all after the same stick test:
  *   SCALAR     safeguarded Newton on g(s) = 1/|x(s)| - 1 (More-Sorensen; g is
- *              nearly linear and concave, so Newton from s = 0 climbs
+ *              nearly linear and concave, so Newton from the left climbs
  *              monotonically to the root), kept in a bracket with a bisection
  *              fallback. No allocation, no GSL call: the hot path.
  *   BRENT      the secular equation phi(s) = |x(s)| - 1 = 0 with GSL's Brent
  *              solver on [0, |c|].
  *   MULTIROOT  the paper's route: the Fritz-John conditions of Eq. 6 as four
- *              quadratic equations in (p, sigma), GSL hybridsj, in the
- *              original coordinates (W, not K).
+ *              quadratic equations in (p, sigma), GSL hybridsj (then GSL's
+ *              Newton to polish), in the original coordinates (W, not K),
+ *              from starts that do not use the secular solution.
+ *
+ * Accuracy. K = E W E is strongly graded when e_r << e_t (cond(K) ~
+ * cond(W) (e_t/e_r)^2, 1e12 and more), so its eigen-decomposition comes from
+ * a one-sided Jacobi SVD (relative accuracy even for the smallest
+ * eigenvalues), and the stick and slip impulses get one correction step with
+ * the residual formed with W itself: the results are then as accurate as the
+ * conditioning of W allows (about cond(W) eps relative), whatever e.
+ * Scale. The solve is homogeneous in (b, cap) and runs on b scaled by a power
+ * of two, so b and cap may lie anywhere in the double range.
+ */
  */
 #include "exdex.h"
 #include "util.h"
