@@ -45,7 +45,6 @@
  * Scale. The solve is homogeneous in (b, cap) and runs on b scaled by a power
  * of two, so b and cap may lie anywhere in the double range.
  */
- */
 #include "exdex.h"
 #include "util.h"
 
