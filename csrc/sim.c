@@ -24,6 +24,7 @@
  * Stick is exact: when the friction impulse can hold the object, v+ = 0.
  */
 #include "exdex.h"
+#include "sim_internal.h"
 #include "util.h"
 
 #include <stdlib.h>
@@ -31,41 +32,6 @@
 
 #define MAX_ROWS (EXDEX_MAX_STOPS * EXDEX_MAX_VERTICES)
 #define TOUCH 1e-10   /* a stop gap below this counts as contact [m] */
-
-struct exdex_model {
-    exdex_scene_def def;    /* copy of the definition (sampled arrays owned by motion) */
-    exdex_motion *motion;
-    int ndof;
-    double m;               /* mass */
-    double I[9];            /* inertia in C */
-    double izz;
-    double capF;            /* friction capacity mu * fingers * grip_force [N] */
-    double e[3];            /* (1, 1, e_r) */
-    double pc[2];           /* centre of pressure in C */
-    double g[3];            /* gravity in A */
-    /* translation */
-    double d[2];            /* unit slide axis in B */
-    double r0[2];           /* initial centre of mass in B */
-    double s0;              /* d . r0 */
-    double th0;
-    /* rotation about the pivot (centre of pressure, fixed in B) */
-    double pivot[2];
-    double c[2];            /* centre of mass relative to the pivot, in C */
-    double mrot;            /* generalized mass izz + m |c|^2 */
-    /* planar: friction problem in object-frame patch coordinates (constant) */
-    exdex_friction_prep prep;
-    double minv[3];         /* diagonal of M^-1 */
-    /* stops */
-    int n_stops;
-    double sp[EXDEX_MAX_STOPS][3], sn[EXDEX_MAX_STOPS][3];
-    int n_vert;
-    double vert[EXDEX_MAX_VERTICES][2];
-};
-
-/* Per-step quantities of the moving frame, in B coordinates. */
-typedef struct frame {
-    double gB[3], a0[3], w[3], dw[3];
-} frame;
 
 /* Mutable per-call workspace (nothing is allocated in the step loop). */
 typedef struct work {
@@ -179,17 +145,8 @@ int exdex_scene_check(const exdex_scene_def *d, const char **bad_param)
 
 /* ------------------------------------------------------------ kinematics */
 
-/* Rotation by angle th about z applied to a plane vector. */
-static inline void rot2(double out[2], double th, const double v[2])
-{
-    double c = cos(th), s = sin(th);
-    double x = c * v[0] - s * v[1], y = s * v[0] + c * v[1];
-    out[0] = x;
-    out[1] = y;
-}
-
 /* Centre of mass position in B (z = 0) and orientation for coordinates q. */
-static void com_pose(const exdex_model *m, const double *q, double r[3], double *th)
+void sim_com_pose(const exdex_model *m, const double *q, double r[3], double *th)
 {
     r[2] = 0.0;
     switch (m->ndof == 3 ? EXDEX_DOF_PLANAR : m->def.dof) {
@@ -213,7 +170,7 @@ static void com_pose(const exdex_model *m, const double *q, double r[3], double 
     }
 }
 
-static int frame_at(const exdex_model *m, double t, frame *f, exdex_kinematics *k)
+int sim_frame_at(const exdex_model *m, double t, frame *f, exdex_kinematics *k)
 {
     int st = exdex_motion_eval(m->motion, t, k);
     if (st) return st;
@@ -225,7 +182,7 @@ static int frame_at(const exdex_model *m, double t, frame *f, exdex_kinematics *
 }
 
 /* Inertial + gravity force on the centre of mass (Eq. 5), B coordinates. */
-static void force_lin(const exdex_model *m, const frame *f, const double r[3],
+void sim_force_lin(const exdex_model *m, const frame *f, const double r[3],
                       const double rd[3], double F[3])
 {
     double t1[3], t2[3], t3[3];
@@ -238,7 +195,7 @@ static void force_lin(const exdex_model *m, const frame *f, const double r[3],
 }
 
 /* Inertial torque about z on the body turning at thd relative to B at angle th. */
-static double torque_z(const exdex_model *m, const frame *f, double th, double thd)
+double sim_torque_z(const exdex_model *m, const frame *f, double th, double thd)
 {
     double IB[9], Rz[9], T[9], v[3], Iv[3], W[3], IW[3], wxe[3];
     const double ez[3] = {0.0, 0.0, 1.0};
@@ -265,12 +222,12 @@ static void stop_rows_clear(work *w) { w->n_rows = 0; }
 
 /* Gap of vertex j against stop k for coordinates q, gripper pose k, and the
  * row G (d gap / d qdot). */
-static double vertex_gap(const exdex_model *m, const exdex_kinematics *kin, int k,
+double sim_vertex_gap(const exdex_model *m, const exdex_kinematics *kin, int k,
                          const double *q, int j, double G[3])
 {
     double r[3], th, vx[3], xb[3], xa[3], nB[3], dxdq[3][3];
     int n = m->ndof;
-    com_pose(m, q, r, &th);
+    sim_com_pose(m, q, r, &th);
     if (m->n_vert) {
         rot2(vx, th, m->vert[j]);
     } else {
@@ -395,7 +352,7 @@ exdex_model *exdex_model_alloc(const exdex_scene_def *def, int *status, const ch
         st = exdex_motion_eval(m->motion, 0.0, &kin);
         for (int k = 0; !st && k < m->n_stops; k++)
             for (int j = 0; j < nv; j++)
-                if (vertex_gap(m, &kin, k, q, j, NULL) < -1e-9) st = EXDEX_EINVAL;
+                if (sim_vertex_gap(m, &kin, k, q, j, NULL) < -1e-9) st = EXDEX_EINVAL;
         if (st) {
             exdex_model_free(m);
             *status = st;
@@ -441,7 +398,7 @@ static void build_rows(const exdex_model *m, const exdex_kinematics *kin_end, co
         for (int j = 0; j < nv; j++) {
             int i = w->n_rows++;
             w->row_stop[i] = k;
-            w->gap[i] = vertex_gap(m, kin_end, k, q, j, w->G[i]);
+            w->gap[i] = sim_vertex_gap(m, kin_end, k, q, j, w->G[i]);
             w->rhs[i] = -w->gap[i] / h;
             w->lam[i] = 0.0;
         }
@@ -869,7 +826,7 @@ static void project_positions(const exdex_model *m, const exdex_kinematics *kin,
         double worst = 0.0, G[3] = {0, 0, 0}, Gw[3] = {0, 0, 0};
         for (int k = 0; k < m->n_stops; k++)
             for (int j = 0; j < nv; j++) {
-                double gap = vertex_gap(m, kin, k, q, j, G);
+                double gap = sim_vertex_gap(m, kin, k, q, j, G);
                 if (gap < worst) {
                     worst = gap;
                     memcpy(Gw, G, sizeof G);
@@ -896,7 +853,7 @@ static void record_gap(const exdex_model *m, const exdex_kinematics *kin, const 
     int nv = m->n_vert ? m->n_vert : 1;
     for (int k = 0; k < m->n_stops; k++)
         for (int j = 0; j < nv; j++) {
-            double gap = vertex_gap(m, kin, k, q, j, NULL);
+            double gap = sim_vertex_gap(m, kin, k, q, j, NULL);
             if (gap < st->min_gap) st->min_gap = gap;
         }
 }
@@ -955,7 +912,7 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajecto
         frame f;
         exdex_kinematics kin, kin_end;
         int stick;
-        status = frame_at(m, tm, &f, &kin);
+        status = sim_frame_at(m, tm, &f, &kin);
         if (status) break;
         status = exdex_motion_eval(m->motion, t1, &kin_end);
         if (status) break;
@@ -979,7 +936,7 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajecto
              * order in smooth phases, and exactly 0 while the object sticks */
             vmid[i] = hprev > 0.0 ? v[i] + 0.5 * h * (v[i] - vprev[i]) / hprev : v[i];
         }
-        com_pose(m, qm, r, &th);
+        sim_com_pose(m, qm, r, &th);
         if (ns) {
             build_rows(m, &kin_end, q, h, w);
         } else {
@@ -991,7 +948,7 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajecto
                 rd[0] = vmid[0] * m->d[0];
                 rd[1] = vmid[0] * m->d[1];
                 rd[2] = 0.0;
-                force_lin(m, &f, r, rd, F);
+                sim_force_lin(m, &f, r, rd, F);
                 M = m->m;
                 Q = F[0] * m->d[0] + F[1] * m->d[1];
                 c = h * m->capF;  /* |E j| = e_t = 1 */
@@ -1001,9 +958,9 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajecto
                 rd[0] = -vmid[0] * rho[1];
                 rd[1] = vmid[0] * rho[0];
                 rd[2] = 0.0;
-                force_lin(m, &f, r, rd, F);
+                sim_force_lin(m, &f, r, rd, F);
                 M = m->mrot;
-                Q = -rho[1] * F[0] + rho[0] * F[1] + torque_z(m, &f, qm[0], vmid[0]);
+                Q = -rho[1] * F[0] + rho[0] * F[1] + sim_torque_z(m, &f, qm[0], vmid[0]);
                 c = h * m->capF * m->e[2];  /* pure spin at the centre of pressure */
             }
             vs[0] = v[0] + h * Q / M;
@@ -1021,8 +978,8 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajecto
             rd[0] = vmid[0];
             rd[1] = vmid[1];
             rd[2] = 0.0;
-            force_lin(m, &f, r, rd, F);
-            F[2] = torque_z(m, &f, th, vmid[2]);
+            sim_force_lin(m, &f, r, rd, F);
+            F[2] = sim_torque_z(m, &f, th, vmid[2]);
             for (int i = 0; i < 3; i++) vs[i] = v[i] + h * m->minv[i] * F[i];
             status = step_planar(m, h, th, vs, w, vn, pfB, &fr, &st);
             if (status) break;
