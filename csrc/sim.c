@@ -222,29 +222,42 @@ static void stop_rows_clear(work *w) { w->n_rows = 0; }
 
 /* Gap of vertex j against stop k for coordinates q, gripper pose k, and the
  * row G (d gap / d qdot). */
-double sim_vertex_gap(const exdex_model *m, const exdex_kinematics *kin, int k,
-                         const double *q, int j, double G[3])
+/* Outline vertices in B at coordinates q: xb[j] (position) and vx[j] (offset
+ * from the centre of mass), one cos/sin for all of them. Returns the count. */
+static int body_vertices(const exdex_model *m, const double *q, double xb[][3], double vx[][3])
 {
-    double r[3], th, vx[3], xb[3], xa[3], nB[3], dxdq[3][3];
-    int n = m->ndof;
+    double r[3], th, c, s;
+    int nv = m->n_vert ? m->n_vert : 1;
     sim_com_pose(m, q, r, &th);
-    if (m->n_vert) {
-        rot2(vx, th, m->vert[j]);
-    } else {
-        vx[0] = vx[1] = 0.0;
+    c = cos(th);
+    s = sin(th);
+    for (int j = 0; j < nv; j++) {
+        double px = m->n_vert ? m->vert[j][0] : 0.0, py = m->n_vert ? m->vert[j][1] : 0.0;
+        vx[j][0] = c * px - s * py;
+        vx[j][1] = s * px + c * py;
+        vx[j][2] = 0.0;
+        xb[j][0] = r[0] + vx[j][0];
+        xb[j][1] = r[1] + vx[j][1];
+        xb[j][2] = 0.0;
     }
-    vx[2] = 0.0;
-    for (int i = 0; i < 3; i++) xb[i] = r[i] + vx[i];
+    return nv;
+}
+
+/* Gap of the vertex at xb (offset vx from the centre of mass) against stop k
+ * for the gripper pose kin; G (may be NULL) gets d gap / d qdot. */
+static double gap_at(const exdex_model *m, const exdex_kinematics *kin, int k, const double xb[3],
+                     const double vx[3], double G[3])
+{
+    double xa[3], nB[3];
     ex_mulmv3(xa, kin->R, xb);
     for (int i = 0; i < 3; i++) xa[i] += kin->p[i] - m->sp[k][i];
     if (G) {
         ex_mulmtv3(nB, kin->R, m->sn[k]);
-        if (n == 3) {
-            /* columns: d xb / dx, dy, dtheta */
-            dxdq[0][0] = 1; dxdq[1][0] = 0;
-            dxdq[0][1] = 0; dxdq[1][1] = 1;
-            dxdq[0][2] = -vx[1]; dxdq[1][2] = vx[0];
-            for (int c = 0; c < 3; c++) G[c] = nB[0] * dxdq[0][c] + nB[1] * dxdq[1][c];
+        if (m->ndof == 3) {
+            /* columns: d xb / dx, dy, dtheta = e_z x vx */
+            G[0] = nB[0];
+            G[1] = nB[1];
+            G[2] = -nB[0] * vx[1] + nB[1] * vx[0];
         } else if (m->def.dof == EXDEX_DOF_TRANSLATION) {
             G[0] = nB[0] * m->d[0] + nB[1] * m->d[1];
         } else {
@@ -254,6 +267,14 @@ double sim_vertex_gap(const exdex_model *m, const exdex_kinematics *kin, int k,
         }
     }
     return ex_dot3(xa, m->sn[k]);
+}
+
+double sim_vertex_gap(const exdex_model *m, const exdex_kinematics *kin, int k,
+                         const double *q, int j, double G[3])
+{
+    double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3];
+    body_vertices(m, q, xb, vx);
+    return gap_at(m, kin, k, xb[j], vx[j], G);
 }
 
 void exdex_model_free(exdex_model *m)
@@ -392,13 +413,14 @@ size_t exdex_n_samples(double t_end, double dt)
 static void build_rows(const exdex_model *m, const exdex_kinematics *kin_end, const double *q,
                        double h, work *w)
 {
-    int nv = m->n_vert ? m->n_vert : 1;
+    double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3];
+    int nv = body_vertices(m, q, xb, vx);
     stop_rows_clear(w);
     for (int k = 0; k < m->n_stops; k++)
         for (int j = 0; j < nv; j++) {
             int i = w->n_rows++;
             w->row_stop[i] = k;
-            w->gap[i] = sim_vertex_gap(m, kin_end, k, q, j, w->G[i]);
+            w->gap[i] = gap_at(m, kin_end, k, xb[j], vx[j], w->G[i]);
             w->rhs[i] = -w->gap[i] / h;
             w->lam[i] = 0.0;
         }
@@ -824,9 +846,11 @@ static void project_positions(const exdex_model *m, const exdex_kinematics *kin,
     int nv = m->n_vert ? m->n_vert : 1, n = m->ndof;
     for (int pass = 0; pass < 16; pass++) {
         double worst = 0.0, G[3] = {0, 0, 0}, Gw[3] = {0, 0, 0};
+        double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3];
+        body_vertices(m, q, xb, vx);
         for (int k = 0; k < m->n_stops; k++)
             for (int j = 0; j < nv; j++) {
-                double gap = sim_vertex_gap(m, kin, k, q, j, G);
+                double gap = gap_at(m, kin, k, xb[j], vx[j], G);
                 if (gap < worst) {
                     worst = gap;
                     memcpy(Gw, G, sizeof G);
@@ -850,10 +874,11 @@ static void project_positions(const exdex_model *m, const exdex_kinematics *kin,
 static void record_gap(const exdex_model *m, const exdex_kinematics *kin, const double *q,
                        exdex_stats *st)
 {
-    int nv = m->n_vert ? m->n_vert : 1;
+    double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3];
+    int nv = body_vertices(m, q, xb, vx);
     for (int k = 0; k < m->n_stops; k++)
         for (int j = 0; j < nv; j++) {
-            double gap = sim_vertex_gap(m, kin, k, q, j, NULL);
+            double gap = gap_at(m, kin, k, xb[j], vx[j], NULL);
             if (gap < st->min_gap) st->min_gap = gap;
         }
 }
