@@ -687,64 +687,74 @@ static int solve_active(const exdex_model *m, const double cs[2], double cap, co
         for (int c = 0; c < 3; c++) z[j] += N[c][j] * (v_start[c] - vp[c]);
     }
     *iters = 0;
-    for (int it = 0; it < 60 && nz > 0; it++) {
-        double vv[3], r[3], nr, g[2] = {0, 0}, H[3][3] = {{0}}, Br[2] = {0, 0}, B[3][2], step[3], f0;
-        double Hs[3][3], gs[3];
-        for (int c = 0; c < 3; c++) {
-            vv[c] = vp[c];
-            for (int j = 0; j < nz; j++) vv[c] += N[c][j] * z[j];
-        }
-        ejf(m, cs, vv, r);
-        nr = sqrt(ex_dot3(r, r));
-        if (!(nr > 0)) return 0;
+    if (nz > 0) {
+        /* On the affine set the scaled slip is linear, r(z) = r0 + B z, and the
+         * quadratic part is 1/2 z^T H0 z + h0 . z + const: all set up once. */
+        double r0[3], B[3][2], H0[2][2], h0[2];
+        ejf(m, cs, vp, r0);
         for (int j = 0; j < nz; j++) {
             double col[3] = {N[0][j], N[1][j], N[2][j]}, bc[3];
             ejf(m, cs, col, bc);
             for (int c = 0; c < 3; c++) B[c][j] = bc[c];
-            Br[j] = ex_dot3(bc, r);
-            for (int c = 0; c < 3; c++) g[j] += N[c][j] * Mdiag[c] * (vv[c] - vs[c]);
-            g[j] += cap * Br[j] / nr;
-        }
-        for (int i = 0; i < nz; i++)
-            for (int j = 0; j < nz; j++) {
-                double btb = B[0][i] * B[0][j] + B[1][i] * B[1][j] + B[2][i] * B[2][j], nmn = 0;
-                for (int c = 0; c < 3; c++) nmn += N[c][i] * Mdiag[c] * N[c][j];
-                H[i][j] = nmn + cap / nr * (btb - Br[i] * Br[j] / (nr * nr));
+            h0[j] = 0.0;
+            for (int c = 0; c < 3; c++) h0[j] += N[c][j] * Mdiag[c] * (vp[c] - vs[c]);
+            for (int i = 0; i < nz; i++) {
+                H0[i][j] = 0.0;
+                for (int c = 0; c < 3; c++) H0[i][j] += N[c][i] * Mdiag[c] * N[c][j];
             }
-        for (int i = 0; i < nz; i++) {
-            gs[i] = -g[i];
-            for (int j = 0; j < nz; j++) Hs[i][j] = H[i][j];
         }
-        if (!solve_small(nz, Hs, gs, step)) return 0;
-        /* backtracking on the objective keeps the damped Newton step monotone */
-        {
-            double t = 1.0, znew[2];
-            f0 = 0.0;
-            for (int c = 0; c < 3; c++) f0 += 0.5 * Mdiag[c] * (vv[c] - vs[c]) * (vv[c] - vs[c]);
-            f0 += cap * nr;
+        for (int it = 0; it < 60; it++) {
+            double r[3], nr, g[2], Br[2], step[3], Hs[3][3], gs[3], f0, t = 1.0, znew[2] = {0, 0};
+            for (int c = 0; c < 3; c++) {
+                r[c] = r0[c];
+                for (int j = 0; j < nz; j++) r[c] += B[c][j] * z[j];
+            }
+            nr = sqrt(ex_dot3(r, r));
+            if (!(nr > 0)) return 0;
+            for (int j = 0; j < nz; j++) {
+                Br[j] = B[0][j] * r[0] + B[1][j] * r[1] + B[2][j] * r[2];
+                g[j] = h0[j] + cap * Br[j] / nr;
+                for (int i = 0; i < nz; i++) g[j] += H0[j][i] * z[i];
+            }
+            for (int i = 0; i < nz; i++) {
+                for (int j = 0; j < nz; j++) {
+                    double btb = B[0][i] * B[0][j] + B[1][i] * B[1][j] + B[2][i] * B[2][j];
+                    Hs[i][j] = H0[i][j] + cap / nr * (btb - Br[i] * Br[j] / (nr * nr));
+                }
+                gs[i] = -g[i];
+            }
+            if (!solve_small(nz, Hs, gs, step)) return 0;
+            /* backtracking on the objective keeps the damped Newton step monotone */
+            f0 = cap * nr;
+            for (int i = 0; i < nz; i++) {
+                f0 += h0[i] * z[i];
+                for (int j = 0; j < nz; j++) f0 += 0.5 * z[i] * H0[i][j] * z[j];
+            }
             for (int ls = 0; ls < 30; ls++) {
-                double vt[3], rt[3], ft = 0.0;
+                double rt[3], ft;
                 for (int j = 0; j < nz; j++) znew[j] = z[j] + t * step[j];
                 for (int c = 0; c < 3; c++) {
-                    vt[c] = vp[c];
-                    for (int j = 0; j < nz; j++) vt[c] += N[c][j] * znew[j];
-                    ft += 0.5 * Mdiag[c] * (vt[c] - vs[c]) * (vt[c] - vs[c]);
+                    rt[c] = r0[c];
+                    for (int j = 0; j < nz; j++) rt[c] += B[c][j] * znew[j];
                 }
-                ejf(m, cs, vt, rt);
-                ft += cap * sqrt(ex_dot3(rt, rt));
+                ft = cap * sqrt(ex_dot3(rt, rt));
+                for (int i = 0; i < nz; i++) {
+                    ft += h0[i] * znew[i];
+                    for (int j = 0; j < nz; j++) ft += 0.5 * znew[i] * H0[i][j] * znew[j];
+                }
                 if (ft <= f0 || t < 1e-6) break;
                 t *= 0.5;
             }
             for (int j = 0; j < nz; j++) z[j] = znew[j];
-        }
-        (*iters)++;
-        {
-            double sn = 0, zn = 0;
-            for (int j = 0; j < nz; j++) {
-                sn += step[j] * step[j];
-                zn += z[j] * z[j];
+            (*iters)++;
+            {
+                double sn = 0, zn = 0;
+                for (int j = 0; j < nz; j++) {
+                    sn += t * t * step[j] * step[j];
+                    zn += z[j] * z[j];
+                }
+                if (sqrt(sn) <= 1e-14 * (1e-3 + sqrt(zn))) break;
             }
-            if (sqrt(sn) <= 1e-14 * (1e-3 + sqrt(zn))) break;
         }
     }
     for (int c = 0; c < 3; c++) {
