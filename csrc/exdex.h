@@ -101,15 +101,21 @@ typedef struct exdex_friction_ws exdex_friction_ws;
 exdex_friction_ws *exdex_friction_ws_alloc(void);
 void exdex_friction_ws_free(exdex_friction_ws *ws);  /* NULL is harmless */
 
-/* EXDEX_EINVAL if W is not symmetric positive definite, any e_i <= 0, or any
- * entry non-finite. */
+/* EXDEX_EINVAL if W is not symmetric positive definite (also when it is
+ * singular to working precision: scaled condition number above 1e12), any
+ * e_i <= 0, any entry non-finite, or K's eigenvalues fall below the normal
+ * floating-point range. Never allocates. */
 int exdex_friction_prepare(exdex_friction_prep *prep, const double W[9],
                            const double e[3]);
 
 /* Solve one step. ws may be NULL for EXDEX_SOLVER_SCALAR. warm (may be NULL)
  * is a guess of p used by MULTIROOT (e.g. the previous step's impulse).
  * Returns EXDEX_EINVAL for cap < 0 or non-finite input, EXDEX_ENOCONV if the
- * solver fails (MULTIROOT: also when only roots with sigma <= 0 are found). */
+ * solver fails (MULTIROOT: also when only roots with sigma <= 0 are found),
+ * EXDEX_ENONFINITE when a result overflows the double range. On any error the
+ * result fields are NaN. b and cap may span the whole double range (exact
+ * power-of-two rescaling). MULTIROOT's iteration count includes its restarts
+ * and Newton polish. */
 int exdex_friction_solve(const exdex_friction_prep *prep, const double b[3],
                          double cap, int solver, exdex_friction_ws *ws,
                          const double *warm, exdex_friction_result *res);
@@ -136,7 +142,7 @@ enum exdex_motion_kind {
 typedef struct exdex_motion_def {
     int kind;               /* enum exdex_motion_kind */
     int rotation;           /* 0: translate along axis; 1: rotate about axis through center */
-    double axis[3];         /* unit vector in A */
+    double axis[3];         /* direction in A, any finite non-zero vector (normalised) */
     double center[3];       /* a point of the rotation axis in A [m] */
     double amplitude;       /* X1 [m] or theta1 [rad]; any sign (sign gives direction) */
     double duration;        /* T [s] > 0 */
