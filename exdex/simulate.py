@@ -79,6 +79,30 @@ class Result:
             out[:, 2] = th
         return out
 
+    def plot(self, ax=None, label=None, stick_shading=True):
+        """Plot the displacement of each free coordinate against time.
+
+        Translations in mm, rotations in degrees; steps where the object stuck
+        to the plates are shaded. Returns the matplotlib Axes (a new figure
+        when ``ax`` is None).
+        """
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(6, 3.5))
+        names = self.scene.coordinate_names if self.scene is not None else tuple(f"q{i}" for i in range(self.q.shape[1]))
+        for i, name in enumerate(names):
+            scale, unit = (180 / math.pi, "deg") if name == "theta" else (1e3, "mm")
+            lab = f"{label} {name}" if label else name
+            ax.plot(self.t, scale * self.displacement[:, i], label=f"{lab} [{unit}]")
+        if stick_shading and self.stick.any():
+            ax.fill_between(self.t, 0, 1, where=self.stick, transform=ax.get_xaxis_transform(), color="0.9",
+                            step="post", label="stick", zorder=0)
+        ax.set_xlabel("time [s]")
+        ax.set_ylabel("displacement relative to the gripper")
+        ax.legend(loc="best", fontsize="small")
+        return ax
+
     def drift_after(self, t0):
         """Largest |v| over samples at t >= t0 (0.0 means exactly still)."""
         sel = self.t >= t0

@@ -321,3 +321,15 @@ def test_solver_error_carries_status():
         exdex.simulate(sc, 10.0, dt=0.5)  # |v| grows by 5e306 m/s per step: overflows
     assert info.value.status == 4
     assert issubclass(exdex.SolverError, RuntimeError)
+
+
+def test_result_plot_draws_each_coordinate_and_stick_shading():
+    sc = exdex.Scene(body=exdex.Body(mass=0.1, inertia=1e-4), grasp=exdex.Grasp(mu=0.5, grip_force=1.5),
+                     motion=exdex.AsymmetricProfile(0.1, 0.5, 0.9, axis=(0, 0, -1)), dof="planar")
+    r = exdex.simulate(sc, 1.2, dt=1e-3)
+    ax = r.plot()
+    labels = [l.get_label() for l in ax.get_lines()]
+    assert labels == ["x [mm]", "y [mm]", "theta [deg]"]
+    # the y line is the displacement in mm (closed-form final value -20.54 mm, see reference.dat)
+    assert ax.get_lines()[1].get_ydata()[-1] == pytest.approx(1e3 * r.displacement[-1, 1])
+    assert len(ax.collections) == 1  # the stick shading
