@@ -12,6 +12,7 @@ import sys
 COMMANDS = {
     "paper": ("exdex.paper", "reproduce the paper's case studies (Figs. 3, 4, 6) into a folder"),
     "compare": ("exdex.engines", "cross-check the paper cases against pybullet and MuJoCo"),
+    "bench": ("exdex.bench", "work-precision charts and stability maps of the integration methods"),
     "tool": ("exdex.tool", "assistive-tool design: twist-cone volumes and tool-angle optimisation"),
 }
 
