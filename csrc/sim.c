@@ -134,7 +134,9 @@ int exdex_scene_check(const exdex_scene_def *d, const char **bad_param)
             fabs(sqrt(ex_dot3(d->stop_normal[k], d->stop_normal[k])) - 1.0) > 1e-9)
             return bad(bad_param, "stop_normal");
     }
-    if (d->method != EXDEX_METHOD_IMPLICIT) return bad(bad_param, "method");
+    if (d->method < EXDEX_METHOD_IMPLICIT || d->method > EXDEX_METHOD_EXPLICIT) return bad(bad_param, "method");
+    if (d->method != EXDEX_METHOD_IMPLICIT && d->dof == EXDEX_DOF_PLANAR && d->n_stops > 0)
+        return bad(bad_param, "method (stops in planar scenes need 'implicit')");
     if (d->friction_solver < EXDEX_SOLVER_SCALAR || d->friction_solver > EXDEX_SOLVER_MULTIROOT)
         return bad(bad_param, "friction_solver");
     if (!(isfinite(d->eps) && d->eps > 0)) return bad(bad_param, "eps");
@@ -905,6 +907,7 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajecto
     if (!m || !out || n == 0 || out->n != n || !out->t || !out->q || !out->v || !out->wrench ||
         !out->stick || (m->n_stops && !out->stop_force))
         return EXDEX_EINVAL;
+    if (m->def.method != EXDEX_METHOD_IMPLICIT) return sim_simulate_method(m, t_end, dt, out, stats);
     w = calloc(1, sizeof *w);
     if (!w) return EXDEX_ENOMEM;
     if (m->def.friction_solver != EXDEX_SOLVER_SCALAR && m->ndof == 3) {

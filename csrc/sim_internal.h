@@ -70,4 +70,10 @@ double sim_torque_z(const exdex_model *m, const frame *f, double th, double thd)
 double sim_vertex_gap(const exdex_model *m, const exdex_kinematics *kin, int k, const double *q, int j,
                       double G[3]);
 
+/* methods.c: the event-driven, regularised and explicit methods (exdex.h
+ * enum exdex_method), same contract as exdex_simulate, which dispatches here
+ * for every method but EXDEX_METHOD_IMPLICIT. */
+int sim_simulate_method(const exdex_model *m, double t_end, double dt, exdex_trajectory *out,
+                        exdex_stats *stats);
+
 #endif

@@ -125,14 +125,42 @@ def simulate(scene, t_end, dt=1e-3, method="implicit", friction_solver="scalar",
     dt : float
         Time step [s], > 0. Steps of dt; the last one is shortened to end
         exactly at t_end.
-    method : {"implicit"}
-        "implicit": Moreau's midpoint time stepping with the maximum-dissipation
-        friction solve (paper Eq. 6) at every step; exact stick.
+    method : {"implicit", "event", "regularised", "explicit"}
+        "implicit" (default): Moreau's midpoint time stepping with the
+        maximum-dissipation friction solve (paper Eq. 6) at every step of dt;
+        exact stick; first order in dt where stick/slip switches fall inside
+        a step.
+        "event": event-driven exact Coulomb friction. Smooth slip phases are
+        integrated by GSL's adaptive rk8pd stepper to ``rtol``/``atol``;
+        slip -> stick (the slip speed reaches 0) and stick -> slip (the
+        wrench needed to stick leaves the friction ellipsoid) are located by
+        Brent's method on the stepper's one-step map; the motion's switching
+        times are stepped onto. Exact stick, accuracy set by the tolerances
+        (``dt`` only sets the output grid). Costs two events per crossing of
+        the friction limit (Zeno-like toggling makes it expensive and, past
+        1000 events in one output interval, raises SolverError).
+        "regularised": smooth friction w = -mu N E^2 u / sqrt(|E u|^2 + eps^2)
+        (``eps`` a slip speed [m/s]) with the same adaptive stepper; no true
+        stick: under a load w inside the ellipsoid the object creeps at
+        E u = eps E^-1 w / sqrt((mu N)^2 - |E^-1 w|^2), and the stiffness
+        mu N / (M eps) makes the explicit stepper's steps collapse for small
+        eps.
+        "explicit": explicit Coulomb friction -mu N E^2 u / |E u| (0 at u = 0)
+        with symplectic Euler steps of dt, the naive baseline. Never sticks:
+        under a load |Q| < mu N the velocity chatters in a band of width
+        2 dt mu N / M about 0 and the object creeps at dt Q / M on average.
+        Planar scenes with stops need "implicit" (the others raise ValueError).
     friction_solver : {"scalar", "brent", "multiroot"}
         How the ellipsoid step is solved in planar scenes: the monotone scalar
         (secular) equation by safeguarded Newton (default) or GSL Brent, or the
         paper's four quadratic equations with GSL's hybridsj. 1-DoF scenes have
         a closed form and ignore it.
+    eps : float
+        "regularised" only: the smoothing slip speed [m/s], > 0.
+    rtol, atol : float
+        "event" and "regularised" only: relative and absolute tolerances of
+        the adaptive stepper's error control (GSL odeiv2 standard control on
+        q, their rates and the wrench integrals), > 0.
 
     Returns
     -------
@@ -153,8 +181,6 @@ def simulate(scene, t_end, dt=1e-3, method="implicit", friction_solver="scalar",
         raise ValueError(f"t_end / dt must be at most 1e9 steps, got {t_end / dt:.3g}")
     if method not in METHODS:
         raise ValueError(f"method must be one of {sorted(METHODS)}, got {method!r}")
-    if method != "implicit":
-        raise ValueError(f"method {method!r} is not available yet; use 'implicit'")
     if friction_solver not in SOLVERS:
         raise ValueError(f"friction_solver must be one of {sorted(SOLVERS)}, got {friction_solver!r}")
     eps = _real(eps, "eps", low=0.0, low_open=True)

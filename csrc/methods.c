@@ -1,0 +1,1089 @@
+/* methods.c -- the integration methods besides the implicit one of sim.c
+ * (exdex.h, enum exdex_method), on the same model (sim_internal.h) and with
+ * the same output contract: samples on the fixed dt grid with t_end exact,
+ * q, v, the mean plate wrench and mean stop forces over the interval ending
+ * at each sample, the stick flag, and exdex_stats.
+ *
+ * Equations of motion (paper Eqs. 3-5, see sim.c): M qdd = Q(t, q, qd) +
+ * friction + stops, with Q the gravity and inertial forces of the moving
+ * frame. Friction at the patch (paper Eq. 6, maximum dissipation): slip twist
+ * u = J' Rz(-theta) qd (object frame, at the centre of pressure), wrench
+ *     sliding:  w = -mu N E^2 u / |E u|,   sticking: any w with |E^-1 w| <= mu N.
+ * For 1-DoF scenes this is f = -C sign(qd) with C = mu N (translation) or
+ * mu N e_r (rotation about the centre of pressure).
+ *
+ * EXDEX_METHOD_EVENT (event-driven, exact Coulomb):
+ *   Modes: slip (smooth ODE with the sliding law, integrated by GSL odeiv2
+ *   rk8pd under a standard error control with the scene's rtol, atol), stick
+ *   (q, qd held exactly; the friction is the wrench that holds) and, for
+ *   1-DoF scenes with stops, contact (the object follows a stop: the gap is
+ *   held at 0 and the stop force comes from the constraint acceleration).
+ *   Each mode has guard functions that are >= 0 while it holds:
+ *     slip -> stop:   1-DoF s qd (s the slip direction); planar (E u).(E u_0),
+ *                     u_0 the slip at the start of the step (the slip
+ *                     reverses or vanishes);
+ *     stick -> slip:  C (1 + 1e-12) - |required friction| (the wrench that
+ *                     would hold leaves the ellipsoid; the 1e-12 band keeps
+ *                     loads sitting on the limit from toggling);
+ *     free -> contact: the stop gap;  contact -> free: the stop force.
+ *   After every accepted step the guards are checked; the earliest sign change
+ *   is located by GSL Brent on the stepper's own one-step map tau -> y(t0 +
+ *   tau) (an interpolant of the stepper's order), and the mode is decided
+ *   again there (slip stops with qd = 0 exactly; it sticks iff the required
+ *   friction lies in the ellipsoid, else it slips on in the direction that
+ *   the maximum-dissipation solve gives for an infinitesimal step). The
+ *   motion's own switching times (Eq. 7, trapezoid kinks, end of a sampled
+ *   motion) are stepped onto, never over, and velocity jumps of the gripper
+ *   there are applied as inertial impulses. Fails by Zeno-like toggling: a
+ *   load that crosses the friction limit N times costs 2N events, and more
+ *   than EVENTS_MAX events within one output interval return EXDEX_ENOCONV.
+ *
+ * EXDEX_METHOD_REGULARISED (smooth friction):
+ *   w = -mu N E^2 u / sqrt(|E u|^2 + eps^2), eps a slip speed [m/s]; the same
+ *   adaptive rk8pd integration, no stick mode (no true stick: under a load w
+ *   inside the ellipsoid the object creeps at E u = eps E^-1 w /
+ *   sqrt((mu N)^2 - |E^-1 w|^2)). Stiff when eps is small: the explicit
+ *   stepper's step collapses to ~ M eps / C.
+ *
+ * EXDEX_METHOD_EXPLICIT (naive baseline): symplectic Euler with step dt,
+ *   v+ = v + dt M^-1 (Q(t, q, v) + friction(v)), q+ = q + dt v+, friction
+ *   -mu N E^2 u / |E u| and 0 at u = 0 exactly (sign()); the frame
+ *   accelerations enter as step means like sim.c. Stops: velocity-level rows
+ *   G v+ >= -gap(q, t + dt)/dt as in sim.c (1-DoF). At stick it chatters:
+ *   with a load |Q| < C the velocity never returns to 0 but circulates in
+ *   (-dt (C - Q)/M, dt (C + Q)/M] (Q > 0) and creeps on average at dt Q / M.
+ *
+ * Stops: 1-DoF scenes with every method; planar scenes with stops need the
+ * implicit method (exdex_scene_check).
+ */
+#include "exdex.h"
+#include "sim_internal.h"
+#include "util.h"
+
+#include <float.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_odeiv2.h>
+#include <gsl/gsl_roots.h>
+
+#define TOLF 1e-12        /* relative band at the friction limit (stick while |f| <= C (1 + TOLF)) */
+#define VZERO 1e-12       /* |qd| below this counts as 0 when the constraint gives qd [m/s, rad/s] */
+#define RATE_TOL 1e-12    /* gap rate counted as 0 [m/s] */
+#define FQ_MIN 1e-12      /* a stop row with |d gap / dq| below this cannot act */
+#define JUMP_TOL 1e-10    /* gripper velocity jumps above this are applied [m/s, rad/s] */
+#define EVENTS_MAX 1000   /* events within one output interval before EXDEX_ENOCONV */
+#define ROOT_TOL 1e-13    /* event time resolution [s] */
+#define NY_MAX (9 + EXDEX_MAX_STOPS)
+
+enum { LAW_COULOMB = 0, LAW_SMOOTH = 1 };
+enum { MODE_SLIP = 0, MODE_STICK = 1, MODE_CONTACT = 2, MODE_FREE = 3 };
+
+/* Mutable state of one hybrid (event / regularised) run. The ODE state y is
+ *   1-DoF:  (q, qd, I_f, I_lambda[n_stops])   (I: time integrals of the
+ *           generalized friction and of each stop's normal force)
+ *   planar: (x, y, theta, xd, yd, thetad, I_w[3])  (I_w: integral of the
+ *           plate wrench (f_x, f_y, m_z) in B) */
+typedef struct hyb {
+    const exdex_model *m;
+    int law, ndof, ns, ny;
+    int mode;
+    double s;          /* 1-DoF slip / friction direction (contact: 0 = at rest) */
+    int ck, cj;        /* contact: stop and vertex */
+    double uref[3];    /* planar slip: E u at the start of the step */
+    double lo, hi;     /* motion segment [lo, hi) */
+    double M, cap, eps;
+    int err;           /* first failure inside a right-hand side */
+    exdex_stats *st;
+} hyb;
+
+/* ---------------------------------------------------------- shared terms */
+
+/* Frame terms at t inside the current motion segment: right-continuous at
+ * its start, left limit (a few ulps before) at its end, so an RK stage on the
+ * segment end never sees the next phase's acceleration. */
+static int frame_seg(const hyb *H, double t, frame *f, exdex_kinematics *k)
+{
+    double lo = H->lo, hi = H->hi;
+    if (isfinite(hi)) hi -= 4.0 * DBL_EPSILON * fmax(1.0, fabs(hi));
+    if (t > hi) t = hi;
+    if (t < lo) t = lo;
+    return sim_frame_at(H->m, t, f, k);
+}
+
+/* 1-DoF generalized applied force Q(t, q, qd) (gravity + inertial, Eq. 5);
+ * the same terms as sim.c's step. */
+static double force_1dof(const exdex_model *m, const frame *f, double q, double v)
+{
+    double r[3], th, rd[3], F[3];
+    sim_com_pose(m, &q, r, &th);
+    if (m->def.dof == EXDEX_DOF_TRANSLATION) {
+        rd[0] = v * m->d[0];
+        rd[1] = v * m->d[1];
+        rd[2] = 0.0;
+        sim_force_lin(m, f, r, rd, F);
+        return F[0] * m->d[0] + F[1] * m->d[1];
+    } else {
+        double rho[2];
+        rot2(rho, q, m->c);
+        rd[0] = -v * rho[1];
+        rd[1] = v * rho[0];
+        rd[2] = 0.0;
+        sim_force_lin(m, f, r, rd, F);
+        return -rho[1] * F[0] + rho[0] * F[1] + sim_torque_z(m, f, q, v);
+    }
+}
+
+/* Planar generalized applied force (B frame, (x, y, theta)). */
+static void force_planar(const exdex_model *m, const frame *f, const double *q, const double *v,
+                         double F[3])
+{
+    double r[3] = {q[0], q[1], 0.0}, rd[3] = {v[0], v[1], 0.0};
+    sim_force_lin(m, f, r, rd, F);
+    F[2] = sim_torque_z(m, f, q[2], v[2]);
+}
+
+/* Patch slip u = J' Rz(-th) v, J' = [[1,0,-pc_y],[0,1,pc_x],[0,0,1]]. */
+static void patch_slip(const exdex_model *m, double th, const double v[3], double u[3])
+{
+    double c = cos(th), s = sin(th), vx = c * v[0] + s * v[1], vy = -s * v[0] + c * v[1];
+    u[0] = vx - m->pc[1] * v[2];
+    u[1] = vy + m->pc[0] * v[2];
+    u[2] = v[2];
+}
+
+/* Generalized force P = Rz(th) J'^T w of a patch wrench w. */
+static void gen_of_patch(const exdex_model *m, double th, const double w[3], double P[3])
+{
+    double c = cos(th), s = sin(th);
+    P[0] = c * w[0] - s * w[1];
+    P[1] = s * w[0] + c * w[1];
+    P[2] = w[2] - m->pc[1] * w[0] + m->pc[0] * w[1];
+}
+
+/* Patch wrench w = J'^-T Rz(-th) P equivalent to a generalized force P. */
+static void patch_of_gen(const exdex_model *m, double th, const double P[3], double w[3])
+{
+    double c = cos(th), s = sin(th), px = c * P[0] + s * P[1], py = -s * P[0] + c * P[1];
+    w[0] = px;
+    w[1] = py;
+    w[2] = P[2] + m->pc[1] * px - m->pc[0] * py;
+}
+
+/* |E^-1 w| */
+static double ell_norm(const exdex_model *m, const double w[3])
+{
+    double a = w[0] / m->e[0], b = w[1] / m->e[1], c = w[2] / m->e[2];
+    return sqrt(a * a + b * b + c * c);
+}
+
+/* ------------------------------------------------- 1-DoF stop kinematics */
+
+/* Gap of vertex j against stop k as a function of (q, t) with the
+ * derivatives the constraint needs: F = n.(R x_B(q) + p - p_stop),
+ * x_B the vertex in B (translation: linear in q; rotation: about the pivot). */
+typedef struct crow {
+    double F, Fq, Fqq, Ft, Ftq, Ftt;
+} crow;
+
+static void contact_row(const exdex_model *m, const exdex_kinematics *k, int ks, int j, double q,
+                        crow *c)
+{
+    double xB[3] = {0, 0, 0}, x1[3] = {0, 0, 0}, x2[3] = {0, 0, 0};
+    double Rx[3], R1[3], R2[3], wx[3], wwx[3], dwx[3], w1[3];
+    const double *n = m->sn[ks];
+    double vert[2] = {0.0, 0.0};
+    if (m->n_vert) {
+        vert[0] = m->vert[j][0];
+        vert[1] = m->vert[j][1];
+    }
+    if (m->def.dof == EXDEX_DOF_TRANSLATION) {
+        double vx[2];
+        rot2(vx, m->th0, vert);
+        xB[0] = m->r0[0] + (q - m->s0) * m->d[0] + vx[0];
+        xB[1] = m->r0[1] + (q - m->s0) * m->d[1] + vx[1];
+        x1[0] = m->d[0];
+        x1[1] = m->d[1];
+    } else {
+        double rho[2] = {m->c[0] + vert[0], m->c[1] + vert[1]}, xr[2];
+        rot2(xr, q, rho);
+        xB[0] = m->pivot[0] + xr[0];
+        xB[1] = m->pivot[1] + xr[1];
+        x1[0] = -xr[1];
+        x1[1] = xr[0];
+        x2[0] = -xr[0];
+        x2[1] = -xr[1];
+    }
+    ex_mulmv3(Rx, k->R, xB);
+    ex_mulmv3(R1, k->R, x1);
+    ex_mulmv3(R2, k->R, x2);
+    c->F = n[0] * (Rx[0] + k->p[0] - m->sp[ks][0]) + n[1] * (Rx[1] + k->p[1] - m->sp[ks][1]) +
+           n[2] * (Rx[2] + k->p[2] - m->sp[ks][2]);
+    c->Fq = ex_dot3(n, R1);
+    c->Fqq = ex_dot3(n, R2);
+    ex_cross3(wx, k->w, Rx);
+    ex_cross3(wwx, k->w, wx);
+    ex_cross3(dwx, k->dw, Rx);
+    ex_cross3(w1, k->w, R1);
+    c->Ft = ex_dot3(n, wx) + ex_dot3(n, k->v);
+    c->Ftq = ex_dot3(n, w1);
+    c->Ftt = ex_dot3(n, dwx) + ex_dot3(n, wwx) + ex_dot3(n, k->a);
+}
+
+/* Smallest gap of stop k over the outline, and its vertex. */
+static double stop_gap(const exdex_model *m, const exdex_kinematics *k, int ks, double q, int *jmin)
+{
+    int nv = m->n_vert ? m->n_vert : 1;
+    double best = INFINITY;
+    for (int j = 0; j < nv; j++) {
+        double g = sim_vertex_gap(m, k, ks, &q, j, NULL);
+        if (g < best) {
+            best = g;
+            if (jmin) *jmin = j;
+        }
+    }
+    return best;
+}
+
+/* Constraint acceleration of q along the row (F(q(t), t) = 0 held). */
+static double contact_qdd(const crow *c, double v)
+{
+    return -(c->Ftt + 2.0 * c->Ftq * v + c->Fqq * v * v) / c->Fq;
+}
+
+/* Friction f and stop force lam in contact (M qdd = Q + f + lam Fq). */
+static void contact_forces(const hyb *H, const crow *c, double R, double v, double *f, double *lam)
+{
+    if (H->law == LAW_SMOOTH) {
+        *f = -H->cap * v / sqrt(v * v + H->eps * H->eps);
+        *lam = (R - *f) / c->Fq;
+    } else if (H->s != 0.0) {
+        *f = -H->s * H->cap;
+        *lam = (R - *f) / c->Fq;
+    } else {
+        /* at rest against the stop: the stop carries what it can (sim.c) */
+        double l = R / c->Fq;
+        *lam = l > 0.0 ? l : 0.0;
+        *f = R - *lam * c->Fq;
+    }
+}
+
+/* ------------------------------------------------------- right-hand side */
+
+static int rhs(double t, const double y[], double dy[], void *params)
+{
+    hyb *H = params;
+    const exdex_model *m = H->m;
+    frame f;
+    exdex_kinematics kin;
+    int st = frame_seg(H, t, &f, &kin);
+    if (st) {
+        if (!H->err) H->err = st;
+        return GSL_EBADFUNC;
+    }
+    for (int i = 0; i < H->ny; i++) dy[i] = 0.0;
+    if (H->ndof == 1) {
+        double q = y[0], v = y[1];
+        if (H->mode == MODE_STICK) {
+            dy[2] = -force_1dof(m, &f, q, 0.0);
+        } else if (H->mode == MODE_CONTACT) {
+            crow c;
+            double qdd, R, fr, lam;
+            contact_row(m, &kin, H->ck, H->cj, q, &c);
+            qdd = contact_qdd(&c, v);
+            R = H->M * qdd - force_1dof(m, &f, q, v);
+            contact_forces(H, &c, R, v, &fr, &lam);
+            dy[0] = v;
+            dy[1] = qdd;
+            dy[2] = fr;
+            dy[3 + H->ck] = lam;
+        } else {
+            double Q = force_1dof(m, &f, q, v), fr;
+            if (H->law == LAW_SMOOTH)
+                fr = -H->cap * v / sqrt(v * v + H->eps * H->eps);
+            else
+                fr = -H->s * H->cap;
+            dy[0] = v;
+            dy[1] = (Q + fr) / H->M;
+            dy[2] = fr;
+        }
+    } else {
+        double F[3], w[3], P[3], th = y[2];
+        const double *v = y + 3;
+        force_planar(m, &f, y, v, F);
+        if (H->mode == MODE_STICK) {
+            double mF[3] = {-F[0], -F[1], -F[2]};
+            patch_of_gen(m, th, mF, w);
+        } else {
+            double u[3], eu[3], sig;
+            patch_slip(m, th, v, u);
+            for (int i = 0; i < 3; i++) eu[i] = m->e[i] * u[i];
+            sig = sqrt(ex_dot3(eu, eu));
+            if (H->law == LAW_SMOOTH) {
+                double den = sqrt(sig * sig + H->eps * H->eps);
+                for (int i = 0; i < 3; i++) w[i] = -H->cap * m->e[i] * eu[i] / den;
+            } else if (sig > 0.0) {
+                for (int i = 0; i < 3; i++) w[i] = -H->cap * m->e[i] * eu[i] / sig;
+            } else {
+                /* slip starting from rest: the maximum-dissipation wrench for
+                 * an infinitesimal step, u' = b + W w (paper Eq. 6) */
+                double wF[3], b[3];
+                exdex_friction_result res;
+                patch_of_gen(m, th, F, wF);
+                ex_mulmv3(b, m->prep.W, wF);
+                st = exdex_friction_solve(&m->prep, b, H->cap, EXDEX_SOLVER_SCALAR, NULL, NULL, &res);
+                if (st) {
+                    if (!H->err) H->err = st;
+                    return GSL_EBADFUNC;
+                }
+                memcpy(w, res.p, sizeof w);
+            }
+        }
+        if (H->mode != MODE_STICK) {
+            gen_of_patch(m, th, w, P);
+            for (int i = 0; i < 3; i++) {
+                dy[i] = v[i];
+                dy[3 + i] = m->minv[i] * (F[i] + P[i]);
+            }
+        }
+        {
+            double c = cos(th), s = sin(th);
+            dy[6] = c * w[0] - s * w[1];
+            dy[7] = s * w[0] + c * w[1];
+            dy[8] = w[2];
+        }
+    }
+    for (int i = 0; i < H->ny; i++)
+        if (!isfinite(dy[i])) {
+            if (!H->err) H->err = EXDEX_ENONFINITE;
+            return GSL_EBADFUNC;
+        }
+    return GSL_SUCCESS;
+}
+
+/* ---------------------------------------------------------------- guards */
+
+/* Guard values of the current mode at (t, y); each is >= 0 while the mode
+ * holds. Returns how many (<= 2 + n_stops). */
+static int guards(hyb *H, double t, const double *y, double *g)
+{
+    const exdex_model *m = H->m;
+    frame f;
+    exdex_kinematics kin;
+    int n = 0;
+    if (frame_seg(H, t, &f, &kin)) {
+        H->err = H->err ? H->err : EXDEX_EINVAL;
+        return 0;
+    }
+    if (H->ndof == 3) {
+        if (H->law == LAW_SMOOTH) return 0;
+        if (H->mode == MODE_SLIP) {
+            double u[3], eu[3];
+            patch_slip(m, y[2], y + 3, u);
+            for (int i = 0; i < 3; i++) eu[i] = m->e[i] * u[i];
+            g[n++] = ex_dot3(eu, H->uref);
+        } else {
+            double F[3], w[3], zero[3] = {0, 0, 0};
+            force_planar(m, &f, y, zero, F);
+            for (int i = 0; i < 3; i++) F[i] = -F[i];
+            patch_of_gen(m, y[2], F, w);
+            g[n++] = H->cap * (1.0 + TOLF) - ell_norm(m, w);
+        }
+        return n;
+    }
+    {
+        double q = y[0], v = y[1];
+        if (H->mode == MODE_SLIP) {
+            g[n++] = H->s * v;
+        } else if (H->mode == MODE_STICK) {
+            g[n++] = H->cap * (1.0 + TOLF) - fabs(force_1dof(m, &f, q, 0.0));
+        } else if (H->mode == MODE_CONTACT) {
+            crow c;
+            double R, fr, lam;
+            contact_row(m, &kin, H->ck, H->cj, q, &c);
+            R = H->M * contact_qdd(&c, v) - force_1dof(m, &f, q, v);
+            if (H->law == LAW_COULOMB && H->s == 0.0) {
+                g[n++] = fmax(R / c.Fq, H->cap * (1.0 + TOLF) - fabs(R));
+                g[n++] = VZERO - fabs(v);
+            } else {
+                contact_forces(H, &c, R, v, &fr, &lam);
+                g[n++] = lam;
+                if (H->law == LAW_COULOMB) g[n++] = H->s * v;
+            }
+        }
+        for (int k = 0; k < H->ns; k++) {
+            if (H->mode == MODE_CONTACT && k == H->ck) continue;
+            g[n++] = stop_gap(m, &kin, k, q, NULL);
+        }
+    }
+    return n;
+}
+
+/* ------------------------------------------------------------- decisions */
+
+/* Choose the mode at (t, y) (after an event, at a segment start, at t = 0).
+ * vzero: qd is known to be 0 (a slip just stopped). May change y (impacts,
+ * projection onto a stop). */
+static void decide(hyb *H, double t, double *y, int vzero)
+{
+    const exdex_model *m = H->m;
+    frame f;
+    exdex_kinematics kin;
+    if (frame_seg(H, t, &f, &kin)) {
+        H->err = H->err ? H->err : EXDEX_EINVAL;
+        return;
+    }
+    if (H->ndof == 3) {
+        double F[3], w[3], u[3], zero[3] = {0, 0, 0};
+        if (H->law == LAW_SMOOTH) {
+            H->mode = MODE_FREE;
+            return;
+        }
+        if (vzero) y[3] = y[4] = y[5] = 0.0;
+        if (y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0) {
+            H->mode = MODE_SLIP;
+            patch_slip(m, y[2], y + 3, u);
+            for (int i = 0; i < 3; i++) H->uref[i] = m->e[i] * u[i];
+            return;
+        }
+        force_planar(m, &f, y, zero, F);
+        {
+            double mF[3] = {-F[0], -F[1], -F[2]};
+            patch_of_gen(m, y[2], mF, w);
+        }
+        if (ell_norm(m, w) <= H->cap * (1.0 + TOLF)) {
+            H->mode = MODE_STICK;
+        } else {
+            /* starts to slip: the direction of the slip acceleration */
+            double wF[3], b[3];
+            exdex_friction_result res;
+            int st;
+            patch_of_gen(m, y[2], F, wF);
+            ex_mulmv3(b, m->prep.W, wF);
+            st = exdex_friction_solve(&m->prep, b, H->cap, EXDEX_SOLVER_SCALAR, NULL, NULL, &res);
+            if (st) {
+                H->err = H->err ? H->err : st;
+                return;
+            }
+            H->mode = MODE_SLIP;
+            for (int i = 0; i < 3; i++) H->uref[i] = m->e[i] * res.u[i];
+        }
+        return;
+    }
+    {
+        double q = y[0];
+        if (vzero && H->mode != MODE_CONTACT) y[1] = 0.0;
+        /* impacts: a touching stop approached by the object stops it
+         * (plastic, like the implicit step); the normal impulse is counted
+         * in the stop's force integral */
+        for (int pass = 0; pass < 3 && H->ns; pass++) {
+            int kb = -1;
+            double worst = -RATE_TOL;
+            crow cb;
+            for (int k = 0; k < H->ns; k++) {
+                int j = 0;
+                double gap = stop_gap(m, &kin, k, q, &j), rate;
+                crow c;
+                if (gap > TOUCH) continue;
+                contact_row(m, &kin, k, j, q, &c);
+                if (!(fabs(c.Fq) > FQ_MIN)) continue;
+                rate = c.Fq * y[1] + c.Ft;
+                if (rate < worst) {
+                    worst = rate;
+                    kb = k;
+                    cb = c;
+                }
+            }
+            if (kb < 0) break;
+            {
+                double vn = -cb.Ft / cb.Fq;
+                y[3 + kb] += H->M * (vn - y[1]) / cb.Fq;
+                y[1] = vn;
+                vzero = 0;
+                if (pass == 2) H->st->warnings++; /* stops pinch the object */
+            }
+        }
+        /* contact with a touching stop */
+        for (int k = 0; k < H->ns; k++) {
+            int j = 0;
+            double gap = stop_gap(m, &kin, k, q, &j), rate, v, Q, R, fr, lam, s_old = H->s;
+            crow c;
+            if (gap > TOUCH) continue;
+            contact_row(m, &kin, k, j, q, &c);
+            if (!(fabs(c.Fq) > FQ_MIN)) continue;
+            rate = c.Fq * y[1] + c.Ft;
+            if (fabs(rate) > RATE_TOL) continue;
+            v = -c.Ft / c.Fq;
+            if (H->law == LAW_COULOMB) {
+                if (fabs(v) > VZERO && !vzero) {
+                    H->s = v > 0 ? 1.0 : -1.0;
+                } else {
+                    double a = contact_qdd(&c, 0.0);
+                    H->s = a > 0 ? 1.0 : a < 0 ? -1.0 : 0.0;
+                    v = 0.0;
+                }
+            }
+            Q = force_1dof(m, &f, q, v);
+            R = H->M * contact_qdd(&c, v) - Q;
+            contact_forces(H, &c, R, v, &fr, &lam);
+            if (lam >= 0.0 && (H->law == LAW_SMOOTH || H->s != 0.0 || fabs(fr) <= H->cap * (1.0 + TOLF)) &&
+                (H->s != 0.0 || H->law == LAW_SMOOTH || R / c.Fq >= 0.0)) {
+                H->mode = MODE_CONTACT;
+                H->ck = k;
+                H->cj = j;
+                /* onto the constraint: Newton on F(q, t) = 0 */
+                for (int it = 0; it < 8 && fabs(c.F) > 0.0; it++) {
+                    double dq = c.F / c.Fq;
+                    q -= dq;
+                    contact_row(m, &kin, k, j, q, &c);
+                    H->st->stop_iterations++;
+                    if (fabs(dq) <= 1e-16 * (1.0 + fabs(q))) break;
+                }
+                y[0] = q;
+                y[1] = (H->law == LAW_COULOMB && H->s == 0.0) ? 0.0 : -c.Ft / c.Fq;
+                return;
+            }
+            H->s = s_old;
+        }
+        if (H->law == LAW_SMOOTH) {
+            H->mode = MODE_FREE;
+        } else if (y[1] != 0.0 && !vzero) {
+            H->mode = MODE_SLIP;
+            H->s = y[1] > 0 ? 1.0 : -1.0;
+        } else {
+            double Q0 = force_1dof(m, &f, q, 0.0);
+            y[1] = 0.0;
+            if (fabs(Q0) <= H->cap * (1.0 + TOLF)) {
+                H->mode = MODE_STICK;
+                H->s = 0.0;
+            } else {
+                H->mode = MODE_SLIP;
+                H->s = Q0 > 0 ? 1.0 : -1.0;
+            }
+        }
+    }
+}
+
+/* After an accepted step in contact: back onto the constraint (the
+ * integrated q drifts off it at the tolerance level). */
+static void project_contact(hyb *H, double t, double *y)
+{
+    frame f;
+    exdex_kinematics kin;
+    crow c;
+    if (H->ndof != 1 || H->mode != MODE_CONTACT) return;
+    if (frame_seg(H, t, &f, &kin)) return;
+    contact_row(H->m, &kin, H->ck, H->cj, y[0], &c);
+    for (int it = 0; it < 8 && fabs(c.F) > 0.0; it++) {
+        double dq = c.F / c.Fq;
+        y[0] -= dq;
+        contact_row(H->m, &kin, H->ck, H->cj, y[0], &c);
+        H->st->stop_iterations++;
+        if (fabs(dq) <= 1e-16 * (1.0 + fabs(y[0]))) break;
+    }
+    if (!(H->law == LAW_COULOMB && H->s == 0.0)) y[1] = -c.Ft / c.Fq;
+}
+
+/* A gripper velocity jump at time ts (trapezoid without ramps, end of a
+ * sampled motion) is an inertial impulse: the generalized impulse is Q with
+ * the accelerations replaced by the jumps (no gravity, no velocity terms),
+ * and friction cannot oppose an impulse (the grip force is finite). */
+static int apply_jump(hyb *H, double ts, double *y)
+{
+    const exdex_model *m = H->m;
+    exdex_kinematics kl, kr;
+    double dv[3], dw[3], nrm = 0.0;
+    frame fj;
+    double tl = ts - 4.0 * DBL_EPSILON * fmax(1.0, fabs(ts));
+    int st = exdex_motion_eval(m->motion, tl, &kl);
+    if (!st) st = exdex_motion_eval(m->motion, ts, &kr);
+    if (st) return st;
+    for (int i = 0; i < 3; i++) {
+        dv[i] = kr.v[i] - kl.v[i];
+        dw[i] = kr.w[i] - kl.w[i];
+        nrm += fabs(dv[i]) + fabs(dw[i]);
+    }
+    if (!(nrm > JUMP_TOL)) return EXDEX_OK;
+    memset(&fj, 0, sizeof fj);
+    ex_mulmtv3(fj.a0, kr.R, dv);
+    ex_mulmtv3(fj.dw, kr.R, dw);
+    if (H->ndof == 1) {
+        y[1] += force_1dof(m, &fj, y[0], 0.0) / H->M;
+    } else {
+        double P[3], zero[3] = {0, 0, 0};
+        force_planar(m, &fj, y, zero, P);
+        for (int i = 0; i < 3; i++) y[3 + i] += m->minv[i] * P[i];
+    }
+    return EXDEX_OK;
+}
+
+/* ------------------------------------------------------ the hybrid loop */
+
+typedef struct ode {
+    gsl_odeiv2_step *step;
+    gsl_odeiv2_control *con;
+    gsl_odeiv2_evolve *evo;
+    gsl_root_fsolver *root;
+    gsl_odeiv2_system sys;
+    double yerr[NY_MAX], dydt[NY_MAX], ytmp[NY_MAX];
+} ode;
+
+static void ode_free(ode *O)
+{
+    if (!O) return;
+    if (O->root) gsl_root_fsolver_free(O->root);
+    if (O->evo) gsl_odeiv2_evolve_free(O->evo);
+    if (O->con) gsl_odeiv2_control_free(O->con);
+    if (O->step) gsl_odeiv2_step_free(O->step);
+    free(O);
+}
+
+static ode *ode_alloc(hyb *H)
+{
+    ode *O = calloc(1, sizeof *O);
+    if (!O) return NULL;
+    O->step = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, (size_t)H->ny);
+    O->con = gsl_odeiv2_control_y_new(H->m->def.atol, H->m->def.rtol);
+    O->evo = gsl_odeiv2_evolve_alloc((size_t)H->ny);
+    O->root = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
+    if (!O->step || !O->con || !O->evo || !O->root) {
+        ode_free(O);
+        return NULL;
+    }
+    O->sys.function = rhs;
+    O->sys.jacobian = NULL;
+    O->sys.dimension = (size_t)H->ny;
+    O->sys.params = H;
+    return O;
+}
+
+/* The stepper's one-step map from (t0, y0) over tau, into out. */
+static int one_step(ode *O, double t0, const double *y0, double tau, double *out)
+{
+    size_t ny = O->sys.dimension;
+    memcpy(out, y0, ny * sizeof *out);
+    if (tau <= 0.0) return GSL_SUCCESS;
+    return gsl_odeiv2_step_apply(O->step, t0, tau, out, O->yerr, NULL, O->dydt, &O->sys);
+}
+
+typedef struct rootctx {
+    hyb *H;
+    ode *O;
+    double t0;
+    const double *y0;
+    int e;
+    int fail;
+} rootctx;
+
+static double root_fn(double tau, void *p)
+{
+    rootctx *c = p;
+    double g[2 + EXDEX_MAX_STOPS];
+    if (one_step(c->O, c->t0, c->y0, tau, c->O->ytmp) != GSL_SUCCESS) {
+        c->fail = 1;
+        return 0.0;
+    }
+    guards(c->H, c->t0 + tau, c->O->ytmp, g);
+    return g[c->e];
+}
+
+/* Locate the root of guard e in [0, tau1] (g(0) > 0 > g(tau1)) with Brent;
+ * returns the upper end of the final bracket (the guard is just violated). */
+static int locate(hyb *H, ode *O, double t0, const double *y0, double tau1, int e, double *tau)
+{
+    rootctx c = {H, O, t0, y0, e, 0};
+    gsl_function F = {root_fn, &c};
+    double lo = 0.0, hi = tau1;
+    int st = gsl_root_fsolver_set(O->root, &F, lo, hi);
+    if (st) return EXDEX_ENOCONV;
+    for (int it = 0; it < 200; it++) {
+        st = gsl_root_fsolver_iterate(O->root);
+        if (st || c.fail) return EXDEX_ENOCONV;
+        H->st->solver_iterations++;
+        lo = gsl_root_fsolver_x_lower(O->root);
+        hi = gsl_root_fsolver_x_upper(O->root);
+        if (hi - lo <= ROOT_TOL) break;
+    }
+    /* the upper end, unless the guard is not yet violated there */
+    if (root_fn(hi, &c) > 0.0 && hi < tau1) hi = fmin(tau1, hi + ROOT_TOL);
+    if (c.fail) return EXDEX_ENOCONV;
+    *tau = hi;
+    return EXDEX_OK;
+}
+
+static size_t switch_times(const exdex_model *m, double t_end, double *ts)
+{
+    const exdex_motion_def *d = &m->def.motion;
+    double c[4];
+    size_t n = 0, k = 0;
+    if (d->kind == EXDEX_MOTION_ASYMMETRIC) {
+        c[n++] = d->beta * d->duration;
+        c[n++] = (2.0 - d->beta) * d->duration;
+        c[n++] = 2.0 * d->duration;
+    } else if (d->kind == EXDEX_MOTION_TRAPEZOID && d->amplitude != 0.0) {
+        /* the ramp time as motion.c computes it */
+        double T = d->duration, t_a = T - fabs(d->amplitude) / d->v_max;
+        if (t_a < 0.0) t_a = 0.0;
+        if (t_a > 0.5 * T) t_a = 0.5 * T;
+        c[n++] = t_a;
+        c[n++] = T - t_a;
+        c[n++] = T;
+    } else if (d->kind == EXDEX_MOTION_SAMPLED) {
+        c[n++] = exdex_motion_end(m->motion);
+    }
+    for (size_t i = 0; i < n; i++)
+        if (c[i] > 0.0 && c[i] < t_end && (k == 0 || c[i] > ts[k - 1])) ts[k++] = c[i];
+    return k;
+}
+
+/* Initial coordinates as sim.c sets them. */
+static void initial_state(const exdex_model *m, double *q, double *v)
+{
+    if (m->ndof == 3) {
+        memcpy(q, m->def.q0, 3 * sizeof *q);
+        memcpy(v, m->def.v0, 3 * sizeof *v);
+    } else if (m->def.dof == EXDEX_DOF_TRANSLATION) {
+        q[0] = m->s0;
+        v[0] = m->d[0] * m->def.v0[0] + m->d[1] * m->def.v0[1];
+    } else {
+        q[0] = m->th0;
+        v[0] = m->def.v0[2];
+    }
+}
+
+static void record_min_gap(const exdex_model *m, double t, const double *q, exdex_stats *st)
+{
+    exdex_kinematics k;
+    if (!m->n_stops || exdex_motion_eval(m->motion, t, &k)) return;
+    for (int s = 0; s < m->n_stops; s++) {
+        double g = stop_gap(m, &k, s, q[0], NULL);
+        if (m->ndof == 3) {
+            int nv = m->n_vert ? m->n_vert : 1;
+            for (int j = 0; j < nv; j++) g = fmin(g, sim_vertex_gap(m, &k, s, q, j, NULL));
+        }
+        if (g < st->min_gap) st->min_gap = g;
+    }
+}
+
+static int is_still(const hyb *H, const double *y)
+{
+    if (H->ndof == 1) return y[1] == 0.0;
+    return y[3] == 0.0 && y[4] == 0.0 && y[5] == 0.0;
+}
+
+static int run_hybrid(const exdex_model *m, int law, double t_end, double dt,
+                      exdex_trajectory *out, exdex_stats *st)
+{
+    hyb H;
+    ode *O;
+    double y[NY_MAX], y0[NY_MAX], ts[4], t = 0.0, h;
+    size_t n = out->n, nsw;
+    int nd = m->ndof, ns = m->n_stops, status = EXDEX_OK;
+    memset(&H, 0, sizeof H);
+    H.m = m;
+    H.law = law;
+    H.ndof = nd;
+    H.ns = ns;
+    H.ny = nd == 3 ? 9 : 3 + ns;
+    H.st = st;
+    H.eps = m->def.eps;
+    if (nd == 3) {
+        H.M = 1.0;
+        H.cap = m->capF;
+    } else if (m->def.dof == EXDEX_DOF_TRANSLATION) {
+        H.M = m->m;
+        H.cap = m->capF;
+    } else {
+        H.M = m->mrot;
+        H.cap = m->capF * m->e[2];
+    }
+    O = ode_alloc(&H);
+    if (!O) return EXDEX_ENOMEM;
+    nsw = switch_times(m, t_end, ts);
+    memset(y, 0, sizeof y);
+    if (nd == 3) {
+        initial_state(m, y, y + 3);
+    } else {
+        initial_state(m, y, y + 1);
+    }
+    H.lo = 0.0;
+    H.hi = nsw ? ts[0] : INFINITY;
+    decide(&H, 0.0, y, 0);
+    h = fmin(dt, 1e-3);
+    for (size_t i = 1; i < n && status == EXDEX_OK && !H.err; i++) {
+        double ti = i == n - 1 ? t_end : (double)i * dt, hs = ti - out->t[i - 1];
+        int events = 0;
+        while (t < ti && status == EXDEX_OK && !H.err) {
+            double g0[2 + EXDEX_MAX_STOPS], g1[2 + EXDEX_MAX_STOPS], t0 = t, tstop, tau_best = INFINITY;
+            int ng, e_best = -1, gs;
+            size_t k = 0;
+            while (k < nsw && ts[k] <= t) k++;
+            H.lo = k ? ts[k - 1] : 0.0;
+            H.hi = k < nsw ? ts[k] : INFINITY;
+            tstop = fmin(ti, H.hi);
+            if (nd == 3 && H.mode == MODE_SLIP && law == LAW_COULOMB &&
+                (y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0)) {
+                double u[3];
+                patch_slip(m, y[2], y + 3, u);
+                for (int c = 0; c < 3; c++) H.uref[c] = m->e[c] * u[c];
+            }
+            memcpy(y0, y, sizeof y);
+            ng = guards(&H, t0, y0, g0);
+            gs = gsl_odeiv2_evolve_apply(O->evo, O->con, O->step, &O->sys, &t, tstop, &h, y);
+            if (H.err) break;
+            if (gs != GSL_SUCCESS) {
+                status = EXDEX_ENOCONV;
+                break;
+            }
+            st->steps++;
+            guards(&H, t, y, g1);
+            for (int e = 0; e < ng; e++) {
+                double tau;
+                if (!(g1[e] < 0.0)) continue;
+                if (g0[e] <= 0.0) {
+                    /* violated from the start: an event at t0 unless the
+                     * guard is recovering (a touching stop left behind) */
+                    if (!(g1[e] < g0[e] - 1e-13)) continue;
+                    tau = 0.0;
+                } else {
+                    status = locate(&H, O, t0, y0, t - t0, e, &tau);
+                    if (status) break;
+                }
+                if (tau < tau_best) {
+                    tau_best = tau;
+                    e_best = e;
+                }
+            }
+            if (status) break;
+            if (e_best >= 0) {
+                int vz;
+                if (one_step(O, t0, y0, tau_best, y) != GSL_SUCCESS || H.err) {
+                    status = H.err ? H.err : EXDEX_ENOCONV;
+                    break;
+                }
+                t = t0 + tau_best;
+                /* the first guard of slip (and of moving contact, the second)
+                 * is the slip speed: it stopped */
+                vz = (H.mode == MODE_SLIP && e_best == 0) ||
+                     (H.mode == MODE_CONTACT && H.law == LAW_COULOMB && H.s != 0.0 && e_best == 1);
+                decide(&H, t, y, vz);
+                gsl_odeiv2_evolve_reset(O->evo);
+                gsl_odeiv2_step_reset(O->step);
+                if (++events > EVENTS_MAX) {
+                    st->warnings++;
+                    status = EXDEX_ENOCONV;
+                    break;
+                }
+            } else {
+                project_contact(&H, t, y);
+            }
+            if (ns) record_min_gap(m, t, y, st);
+            if (t == H.hi && t < t_end) {
+                /* a switching time of the motion: next segment */
+                H.lo = H.hi;
+                k++;
+                H.hi = k < nsw ? ts[k] : INFINITY;
+                status = apply_jump(&H, t, y);
+                if (status) break;
+                decide(&H, t, y, 0);
+                gsl_odeiv2_evolve_reset(O->evo);
+            }
+            if (!ex_finite_n(y, H.ny)) status = EXDEX_ENONFINITE;
+        }
+        if (H.err && !status) status = H.err;
+        if (status) break;
+        out->t[i] = ti;
+        if (nd == 1) {
+            double fbar = y[2] / hs;
+            out->q[i] = y[0];
+            out->v[i] = y[1];
+            if (m->def.dof == EXDEX_DOF_TRANSLATION) {
+                out->wrench[3 * i] = fbar * m->d[0];
+                out->wrench[3 * i + 1] = fbar * m->d[1];
+                out->wrench[3 * i + 2] = 0.0;
+            } else {
+                out->wrench[3 * i] = out->wrench[3 * i + 1] = 0.0;
+                out->wrench[3 * i + 2] = fbar;
+            }
+            for (int k2 = 0; k2 < ns; k2++) {
+                out->stop_force[i * ns + k2] = y[3 + k2] / hs;
+                y[3 + k2] = 0.0;
+            }
+            y[2] = 0.0;
+        } else {
+            for (int c = 0; c < 3; c++) {
+                out->q[3 * i + c] = y[c];
+                out->v[3 * i + c] = y[3 + c];
+                out->wrench[3 * i + c] = y[6 + c] / hs;
+                y[6 + c] = 0.0;
+            }
+        }
+        out->stick[i] = (unsigned char)(law == LAW_COULOMB && H.mode == MODE_STICK ? 1 : is_still(&H, y));
+        st->stick_steps += out->stick[i];
+    }
+    ode_free(O);
+    return status;
+}
+
+/* ---------------------------------------------------- explicit Coulomb */
+
+static int run_explicit(const exdex_model *m, double t_end, double dt, exdex_trajectory *out,
+                        exdex_stats *st)
+{
+    size_t n = out->n;
+    int nd = m->ndof, ns = m->n_stops, nv = m->n_vert ? m->n_vert : 1;
+    double q[3], v[3], t = 0.0;
+    exdex_kinematics kin0;
+    int status = exdex_motion_eval(m->motion, 0.0, &kin0);
+    initial_state(m, q, v);
+    for (size_t i = 1; i < n && status == EXDEX_OK; i++) {
+        double t1 = i == n - 1 ? t_end : (double)i * dt, h = t1 - t, wrench[3] = {0, 0, 0};
+        double lamsum[EXDEX_MAX_STOPS];
+        exdex_kinematics kin, kin_end;
+        frame f;
+        int still;
+        status = sim_frame_at(m, t, &f, &kin);
+        if (!status) status = exdex_motion_eval(m->motion, t1, &kin_end);
+        if (status) break;
+        {
+            /* frame accelerations as step means, as in sim.c */
+            double dv[3], dwv[3];
+            for (int c = 0; c < 3; c++) {
+                dv[c] = (kin_end.v[c] - kin0.v[c]) / h;
+                dwv[c] = (kin_end.w[c] - kin0.w[c]) / h;
+            }
+            ex_mulmtv3(f.a0, kin.R, dv);
+            ex_mulmtv3(f.dw, kin.R, dwv);
+        }
+        for (int k = 0; k < ns; k++) lamsum[k] = 0.0;
+        if (nd == 1) {
+            int tr = m->def.dof == EXDEX_DOF_TRANSLATION;
+            double M = tr ? m->m : m->mrot, C = tr ? m->capF : m->capF * m->e[2];
+            double Q = force_1dof(m, &f, q[0], v[0]);
+            double fr = v[0] > 0.0 ? -C : v[0] < 0.0 ? C : 0.0;  /* -C sign(v) */
+            double vn = v[0] + h * (Q + fr) / M, lo = -INFINITY, hi = INFINITY;
+            int klo = -1, khi = -1, jlo = 0, jhi = 0;
+            /* stop rows at t + h: Fq v+ >= -gap(q, t + h) / h (sim.c) */
+            for (int k = 0; k < ns; k++)
+                for (int j = 0; j < nv; j++) {
+                    crow c;
+                    double b;
+                    contact_row(m, &kin_end, k, j, q[0], &c);
+                    if (!(fabs(c.Fq) > FQ_MIN)) continue;
+                    b = -c.F / h / c.Fq;
+                    if (c.Fq > 0 && b > lo) {
+                        lo = b;
+                        klo = k;
+                        jlo = j;
+                    } else if (c.Fq < 0 && b < hi) {
+                        hi = b;
+                        khi = k;
+                        jhi = j;
+                    }
+                }
+            if (lo > hi) {
+                st->warnings++;
+                hi = lo;
+            }
+            {
+                double vc = vn < lo ? lo : vn > hi ? hi : vn;
+                int kb = vc != vn ? (vn < lo ? klo : khi) : -1, jb = vn < lo ? jlo : jhi;
+                if (kb >= 0) {
+                    crow c;
+                    contact_row(m, &kin_end, kb, jb, q[0], &c);
+                    lamsum[kb] = M * (vc - vn) / c.Fq;
+                }
+                vn = vc;
+            }
+            q[0] += h * vn;
+            v[0] = vn;
+            if (tr) {
+                wrench[0] = fr * m->d[0];
+                wrench[1] = fr * m->d[1];
+            } else {
+                wrench[2] = fr;
+            }
+            still = v[0] == 0.0;
+        } else {
+            double F[3], u[3], eu[3], sig, w[3] = {0, 0, 0}, P[3];
+            force_planar(m, &f, q, v, F);
+            patch_slip(m, q[2], v, u);
+            for (int c = 0; c < 3; c++) eu[c] = m->e[c] * u[c];
+            sig = sqrt(ex_dot3(eu, eu));
+            if (sig > 0.0)
+                for (int c = 0; c < 3; c++) w[c] = -m->capF * m->e[c] * eu[c] / sig;
+            gen_of_patch(m, q[2], w, P);
+            {
+                double c = cos(q[2]), s = sin(q[2]);
+                wrench[0] = c * w[0] - s * w[1];
+                wrench[1] = s * w[0] + c * w[1];
+                wrench[2] = w[2];
+            }
+            for (int c = 0; c < 3; c++) {
+                v[c] += h * m->minv[c] * (F[c] + P[c]);
+                q[c] += h * v[c];
+            }
+            still = v[0] == 0.0 && v[1] == 0.0 && v[2] == 0.0;
+        }
+        if (!ex_finite_n(q, nd) || !ex_finite_n(v, nd)) {
+            status = EXDEX_ENONFINITE;
+            break;
+        }
+        if (ns) record_min_gap(m, t1, q, st);
+        t = t1;
+        kin0 = kin_end;
+        st->steps++;
+        st->stick_steps += (size_t)still;
+        out->t[i] = t1;
+        for (int c = 0; c < nd; c++) {
+            out->q[i * nd + c] = q[c];
+            out->v[i * nd + c] = v[c];
+        }
+        for (int c = 0; c < 3; c++) out->wrench[3 * i + c] = wrench[c];
+        out->stick[i] = (unsigned char)still;
+        for (int k = 0; k < ns; k++) out->stop_force[i * ns + k] = lamsum[k] / h;
+    }
+    return status;
+}
+
+/* ------------------------------------------------------------ entry point */
+
+int sim_simulate_method(const exdex_model *m, double t_end, double dt, exdex_trajectory *out,
+                        exdex_stats *stats)
+{
+    size_t n = exdex_n_samples(t_end, dt);
+    int nd, status;
+    double q[3], v[3];
+    exdex_stats st;
+    if (!m || !out || n == 0 || out->n != n || !out->t || !out->q || !out->v || !out->wrench ||
+        !out->stick || (m->n_stops && !out->stop_force))
+        return EXDEX_EINVAL;
+    memset(&st, 0, sizeof st);
+    st.min_gap = INFINITY;
+    nd = m->ndof;
+    initial_state(m, q, v);
+    out->t[0] = 0.0;
+    for (int i = 0; i < nd; i++) {
+        out->q[i] = q[i];
+        out->v[i] = v[i];
+    }
+    out->wrench[0] = out->wrench[1] = out->wrench[2] = 0.0;
+    out->stick[0] = (v[0] == 0.0 && (nd == 1 || (v[1] == 0.0 && v[2] == 0.0)));
+    for (int k = 0; k < m->n_stops; k++) out->stop_force[k] = 0.0;
+    switch (m->def.method) {
+    case EXDEX_METHOD_EVENT:
+        status = run_hybrid(m, LAW_COULOMB, t_end, dt, out, &st);
+        break;
+    case EXDEX_METHOD_REGULARISED:
+        status = run_hybrid(m, LAW_SMOOTH, t_end, dt, out, &st);
+        break;
+    case EXDEX_METHOD_EXPLICIT:
+        status = run_explicit(m, t_end, dt, out, &st);
+        break;
+    default:
+        status = EXDEX_EINVAL;
+    }
+    if (stats) *stats = st;
+    return status;
+}
