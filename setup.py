@@ -64,6 +64,7 @@ def extensions():
         libraries=libraries,
         define_macros=[("NPY_NO_DEPRECATED_API", "NPY_1_7_API_VERSION")],
         extra_compile_args=["-std=c99", "-O2", "-D_POSIX_C_SOURCE=200809L"],
+        extra_link_args=["-pthread"],  # exdex._core.simulate_batch runs POSIX threads
     )
     mods = []
     for name in ("_core", "_tool"):

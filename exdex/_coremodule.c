@@ -1,6 +1,7 @@
 /* _coremodule.c -- exdex._core: the CPython + NumPy C API wrapper of the
  * simulation core (csrc/). Converts and validates arguments, releases the GIL
- * around whole-trajectory C calls, maps C status codes to exceptions.
+ * around whole-trajectory C calls, maps C status codes to exceptions, and runs
+ * batches of trajectories on POSIX threads (simulate_batch).
  *
  * The Python layer (exdex/scene.py, exdex/simulate.py) validates user input
  * with friendly messages first; this module checks again, because it is
@@ -10,7 +11,9 @@
 #define PY_ARRAY_UNIQUE_SYMBOL exdex_core_ARRAY_API
 #include <numpy/arrayobject.h>
 
+#include <pthread.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "exdex.h"
 
@@ -460,8 +463,512 @@ static PyObject *core_n_samples(PyObject *module, PyObject *args)
     return PyLong_FromSize_t(exdex_n_samples(t_end, dt));
 }
 
+/* ------------------------------------------------------------------ batch
+ * simulate_batch: many trajectories in one call. Every model is built (and
+ * validated) with the GIL held; then the GIL is released and the trajectories
+ * run on POSIX threads that take indices from a shared, locked counter. Each
+ * trajectory is one exdex_simulate call on its own model and output rows, so
+ * results are bit-identical to serial exdex.simulate for any thread count.
+ * The threads live here: the C core stays thread-agnostic. */
+
+/* Scalar fields of exdex_scene_def a batch may vary from a base spec (`vary`). */
+static const char *const vary_keys[] = {"mass", "mu", "grip_force", "e_r", "motion_amplitude",
+                                        "motion_duration", "motion_beta", "motion_v_max", "eps",
+                                        "rtol", "atol", NULL};
+
+static double *vary_field(exdex_scene_def *d, int which)
+{
+    switch (which) {
+    case 0: return &d->mass;
+    case 1: return &d->mu;
+    case 2: return &d->grip_force;
+    case 3: return &d->e_r;
+    case 4: return &d->motion.amplitude;
+    case 5: return &d->motion.duration;
+    case 6: return &d->motion.beta;
+    case 7: return &d->motion.v_max;
+    case 8: return &d->eps;
+    case 9: return &d->rtol;
+    default: return &d->atol;
+    }
+}
+
+/* Replace the pending exception by one of the same type whose message starts
+ * with "batch index i: ". */
+static void prefix_error(Py_ssize_t i)
+{
+    PyObject *type, *value, *tb, *msg = NULL;
+    PyErr_Fetch(&type, &value, &tb);
+    PyErr_NormalizeException(&type, &value, &tb);
+    if (value) {
+        /* the message itself (str() of a KeyError would quote it) */
+        PyObject *a = PyObject_GetAttrString(value, "args");
+        if (a && PyTuple_Check(a) && PyTuple_GET_SIZE(a) == 1 && PyUnicode_Check(PyTuple_GET_ITEM(a, 0))) {
+            msg = PyTuple_GET_ITEM(a, 0);
+            Py_INCREF(msg);
+        } else {
+            PyErr_Clear();
+            msg = PyObject_Str(value);
+        }
+        Py_XDECREF(a);
+    }
+    if (msg && type) {
+        PyErr_Format(type, "batch index %zd: %U", i, msg);
+        Py_DECREF(msg);
+        Py_XDECREF(type);
+        Py_XDECREF(value);
+        Py_XDECREF(tb);
+        return;
+    }
+    Py_XDECREF(msg);
+    PyErr_Restore(type, value, tb);
+}
+
+/* The library exception of a failed trajectory: SolverError(message, status)
+ * with attributes `status` and `index` (or ValueError / MemoryError). */
+static void raise_trajectory_error(PyObject *module, int status, Py_ssize_t i)
+{
+    if (status == EXDEX_EINVAL) {
+        PyErr_Format(PyExc_ValueError, "batch index %zd: simulate: invalid argument", i);
+    } else if (status == EXDEX_ENOMEM) {
+        PyErr_NoMemory();
+    } else {
+        PyObject *exc = get_state(module)->SolverError, *inst, *args, *o;
+        args = Py_BuildValue("(Ni)", PyUnicode_FromFormat("batch index %zd: %s", i, exdex_strerror(status)),
+                             status);
+        if (!args) return;
+        inst = PyObject_Call(exc, args, NULL);
+        Py_DECREF(args);
+        if (!inst) return;
+        if ((o = PyLong_FromLong(status))) {
+            PyObject_SetAttrString(inst, "status", o);
+            Py_DECREF(o);
+        }
+        if ((o = PyLong_FromSsize_t(i))) {
+            PyObject_SetAttrString(inst, "index", o);
+            Py_DECREF(o);
+        }
+        PyErr_Clear();
+        PyErr_SetObject(exc, inst);
+        Py_DECREF(inst);
+    }
+}
+
+typedef struct batch_ctx {
+    exdex_model **models;
+    size_t nb, n;           /* trajectories, samples per trajectory */
+    double t_end, dt;
+    int ndof, ns, final;
+    /* outputs (rows of trajectory i at i * row size) */
+    double *t, *q, *v, *wrench, *stop_force, *disp;
+    unsigned char *stick;
+    npy_int64 *steps, *stick_steps, *solver_iterations, *stop_iterations, *warnings;
+    double *min_gap;
+    /* shared work index and the first failure */
+    pthread_mutex_t lock;
+    size_t next;
+    size_t fail_index;      /* smallest failing index, nb if none */
+    int fail_status;
+} batch_ctx;
+
+typedef struct batch_worker {
+    batch_ctx *ctx;
+    double *buf;            /* scratch: t (all); t, q, v, wrench, stop_force (final) */
+    unsigned char *stick;   /* scratch stick (final) */
+    pthread_t tid;
+    int started;
+} batch_worker;
+
+static void *batch_run(void *arg)
+{
+    batch_worker *w = arg;
+    batch_ctx *c = w->ctx;
+    const size_t n = c->n;
+    const int nd = c->ndof, ns = c->ns;
+    for (;;) {
+        size_t i;
+        int status;
+        exdex_trajectory tr;
+        exdex_stats st;
+        pthread_mutex_lock(&c->lock);
+        i = c->next;
+        /* after a failure at f, indices above f are not started (every index
+         * below f was handed out already), so the error reported is the
+         * smallest failing index whatever the thread count */
+        if (i >= c->nb || i > c->fail_index) {
+            pthread_mutex_unlock(&c->lock);
+            break;
+        }
+        c->next = i + 1;
+        pthread_mutex_unlock(&c->lock);
+        tr.n = n;
+        tr.t = i == 0 ? c->t : w->buf;
+        if (c->final) {
+            tr.q = w->buf + n;
+            tr.v = tr.q + n * (size_t)nd;
+            tr.wrench = tr.v + n * (size_t)nd;
+            tr.stop_force = ns ? tr.wrench + 3 * n : NULL;
+            tr.stick = w->stick;
+        } else {
+            tr.q = c->q + i * n * (size_t)nd;
+            tr.v = c->v + i * n * (size_t)nd;
+            tr.wrench = c->wrench + i * n * 3;
+            tr.stop_force = ns ? c->stop_force + i * n * (size_t)ns : NULL;
+            tr.stick = c->stick + i * n;
+        }
+        status = exdex_simulate(c->models[i], c->t_end, c->dt, &tr, &st);
+        if (status) {
+            pthread_mutex_lock(&c->lock);
+            if (i < c->fail_index) {
+                c->fail_index = i;
+                c->fail_status = status;
+            }
+            pthread_mutex_unlock(&c->lock);
+            continue;
+        }
+        if (c->final) {
+            const size_t last = n - 1;
+            for (int k = 0; k < nd; k++) {
+                c->q[i * nd + k] = tr.q[last * nd + k];
+                c->v[i * nd + k] = tr.v[last * nd + k];
+            }
+            for (int k = 0; k < 3; k++) c->wrench[i * 3 + k] = tr.wrench[last * 3 + k];
+            for (int k = 0; k < ns; k++) c->stop_force[i * ns + k] = tr.stop_force[last * ns + k];
+            c->stick[i] = tr.stick[last];
+        }
+        /* displacement of the last sample from the first, q[n-1] - q[0] */
+        for (int k = 0; k < nd; k++) c->disp[i * nd + k] = tr.q[(n - 1) * nd + k] - tr.q[k];
+        c->steps[i] = (npy_int64)st.steps;
+        c->stick_steps[i] = (npy_int64)st.stick_steps;
+        c->solver_iterations[i] = (npy_int64)st.solver_iterations;
+        c->stop_iterations[i] = (npy_int64)st.stop_iterations;
+        c->warnings[i] = (npy_int64)st.warnings;
+        c->min_gap[i] = st.min_gap;
+    }
+    return NULL;
+}
+
+/* Length of the 1-D arrays of `vary` (all equal), -1 with an exception if
+ * inconsistent; *keys / *arrays get new references (caller frees). */
+static Py_ssize_t parse_vary(PyObject *vary, int *which, PyArrayObject **arrays, int *nvary)
+{
+    PyObject *key, *val;
+    Py_ssize_t pos = 0, len = -1;
+    *nvary = 0;
+    if (!vary || vary == Py_None) return -2;
+    if (!PyDict_Check(vary)) {
+        PyErr_SetString(PyExc_TypeError, "vary must be a dict of spec key -> 1-D float64 array");
+        return -1;
+    }
+    while (PyDict_Next(vary, &pos, &key, &val)) {
+        const char *name;
+        int w = -1;
+        if (!PyUnicode_Check(key) || !(name = PyUnicode_AsUTF8(key))) {
+            if (!PyErr_Occurred()) PyErr_SetString(PyExc_TypeError, "vary keys must be str");
+            return -1;
+        }
+        for (int k = 0; vary_keys[k]; k++)
+            if (!strcmp(vary_keys[k], name)) w = k;
+        if (w < 0) {
+            PyErr_Format(PyExc_ValueError,
+                         "vary: unknown key '%s' (allowed: mass, mu, grip_force, e_r, motion_amplitude, "
+                         "motion_duration, motion_beta, motion_v_max, eps, rtol, atol)", name);
+            return -1;
+        }
+        arrays[*nvary] = (PyArrayObject *)PyArray_FROMANY(val, NPY_DOUBLE, 1, 1, NPY_ARRAY_IN_ARRAY);
+        if (!arrays[*nvary]) {
+            PyErr_Clear();
+            PyErr_Format(PyExc_ValueError, "vary['%s'] must be a 1-D float64 array", name);
+            return -1;
+        }
+        which[*nvary] = w;
+        (*nvary)++;
+        if (len >= 0 && PyArray_SIZE(arrays[*nvary - 1]) != len) {
+            PyErr_Format(PyExc_ValueError, "vary['%s'] has %zd entries, the other arrays %zd", name,
+                         (Py_ssize_t)PyArray_SIZE(arrays[*nvary - 1]), len);
+            return -1;
+        }
+        len = PyArray_SIZE(arrays[*nvary - 1]);
+    }
+    return len < 0 ? -2 : len;
+}
+
+static long cpu_count(void)
+{
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n > 0 ? n : 1;
+}
+
+PyDoc_STRVAR(simulate_batch_doc,
+"simulate_batch(specs, t_end, dt, threads=0, record='all', vary=None) -> dict\n\n"
+"Run many trajectories with the GIL released, spread over `threads` POSIX\n"
+"threads (0: the number of online CPUs). Use exdex.simulate_batch instead of\n"
+"calling this directly.\n\n"
+"specs : a list of spec dicts (exdex.Scene.to_spec()), one per trajectory, or\n"
+"    one spec dict used for every trajectory.\n"
+"vary : optional dict {spec key: 1-D float64 array of the batch length}; entry\n"
+"    i replaces that scalar of spec i (keys: mass, mu, grip_force, e_r,\n"
+"    motion_amplitude, motion_duration, motion_beta, motion_v_max, eps, rtol,\n"
+"    atol). With a single spec dict it sets the batch length.\n"
+"record : 'all' returns q, v (B, n, ndof), wrench (B, n, 3), stick (B, n),\n"
+"    stop_force (B, n, n_stops); 'final' only their last sample, q, v (B, ndof),\n"
+"    wrench (B, 3), stick (B,), stop_force (B, n_stops).\n"
+"Both return t (n,), displacement (B, ndof) = q[n-1] - q[0], and stats, a dict\n"
+"of (B,) arrays. Every scene must have the same ndof and number of stops.\n"
+"Errors name the batch index; a failing trajectory raises SolverError with\n"
+"attributes status and index (the smallest failing index).");
+
+static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject *kwds)
+{
+    static char *kwlist[] = {"specs", "t_end", "dt", "threads", "record", "vary", NULL};
+    enum { NVARY_MAX = 16 };
+    PyObject *specs, *vary = NULL, *seq = NULL, *result = NULL, *stats = NULL;
+    const char *record = "all";
+    double t_end, dt;
+    int threads = 0, final, nvary = 0, which[NVARY_MAX], ndof = 0, ns = 0, have_mutex = 0;
+    PyArrayObject *varr[NVARY_MAX] = {NULL};
+    PyArrayObject *base_times = NULL, *base_poses = NULL;
+    PyArrayObject *t = NULL, *q = NULL, *v = NULL, *wr = NULL, *stick = NULL, *sf = NULL, *disp = NULL;
+    PyArrayObject *sarr[6] = {NULL};
+    exdex_model **models = NULL;
+    batch_worker *workers = NULL;
+    exdex_scene_def base;
+    Py_ssize_t nb, nvary_len, i;
+    size_t n;
+    long nthreads, running = 1;
+    batch_ctx ctx;
+
+    memset(&ctx, 0, sizeof ctx);
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "Odd|isO", kwlist, &specs, &t_end, &dt, &threads, &record,
+                                     &vary))
+        return NULL;
+    if (!(isfinite(dt) && dt > 0)) {
+        PyErr_Format(PyExc_ValueError, "dt must be finite and > 0, got %g", dt);
+        return NULL;
+    }
+    if (!(isfinite(t_end) && t_end >= dt)) {
+        PyErr_Format(PyExc_ValueError, "t_end must be finite and >= dt (%g), got %g", dt, t_end);
+        return NULL;
+    }
+    n = exdex_n_samples(t_end, dt);
+    if (n == 0) {
+        PyErr_Format(PyExc_ValueError, "t_end / dt must be between 1 and 1e9 steps, got %g", t_end / dt);
+        return NULL;
+    }
+    if (threads < 0 || threads > 1024) {
+        PyErr_Format(PyExc_ValueError, "threads must be in [0, 1024] (0: one per CPU), got %d", threads);
+        return NULL;
+    }
+    if (!strcmp(record, "all")) {
+        final = 0;
+    } else if (!strcmp(record, "final")) {
+        final = 1;
+    } else {
+        PyErr_Format(PyExc_ValueError, "record must be 'all' or 'final', got '%s'", record);
+        return NULL;
+    }
+    if (vary && vary != Py_None && PyDict_Size(vary) > NVARY_MAX) {
+        PyErr_Format(PyExc_ValueError, "vary holds at most %d keys", (int)NVARY_MAX);
+        return NULL;
+    }
+    nvary_len = parse_vary(vary, which, varr, &nvary);
+    if (nvary_len == -1) goto done;
+
+    /* ---- the batch: one spec dict (+ vary) or a sequence of spec dicts */
+    if (PyDict_Check(specs)) {
+        nb = nvary_len >= 0 ? nvary_len : 1;
+        if (scene_from_dict(specs, &base, &base_times, &base_poses)) goto done;
+    } else {
+        seq = PySequence_Fast(specs, "specs must be a spec dict or a sequence of spec dicts");
+        if (!seq) goto done;
+        nb = PySequence_Fast_GET_SIZE(seq);
+        if (nvary_len >= 0 && nvary_len != nb) {
+            PyErr_Format(PyExc_ValueError, "vary arrays have %zd entries but specs has %zd", nvary_len, nb);
+            goto done;
+        }
+    }
+    if (nb < 1) {
+        PyErr_SetString(PyExc_ValueError, "the batch is empty (specs or vary arrays of length 0)");
+        goto done;
+    }
+
+    /* ---- build every model with the GIL held */
+    models = PyMem_Calloc((size_t)nb, sizeof *models);
+    if (!models) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    for (i = 0; i < nb; i++) {
+        exdex_scene_def def;
+        PyArrayObject *times = NULL, *poses = NULL;
+        const char *bad = NULL;
+        int status;
+        if (seq) {
+            if (scene_from_dict(PySequence_Fast_GET_ITEM(seq, i), &def, &times, &poses)) {
+                prefix_error(i);
+                goto done;
+            }
+        } else {
+            def = base;
+        }
+        for (int k = 0; k < nvary; k++) *vary_field(&def, which[k]) = ((const double *)PyArray_DATA(varr[k]))[i];
+        models[i] = exdex_model_alloc(&def, &status, &bad);
+        Py_XDECREF(times);
+        Py_XDECREF(poses);
+        if (!models[i]) {
+            raise_status(module, status, "scene", bad);
+            prefix_error(i);
+            goto done;
+        }
+        if (i == 0) {
+            ndof = exdex_model_ndof(models[0]);
+            ns = exdex_model_nstops(models[0]);
+        } else if (exdex_model_ndof(models[i]) != ndof || exdex_model_nstops(models[i]) != ns) {
+            PyErr_Format(PyExc_ValueError,
+                         "batch index %zd: every scene of a batch needs the same free coordinates and "
+                         "number of stops (index 0: ndof %d, %d stops; here: ndof %d, %d stops)", i, ndof, ns,
+                         exdex_model_ndof(models[i]), exdex_model_nstops(models[i]));
+            goto done;
+        }
+    }
+
+    /* ---- outputs */
+    {
+        npy_intp B = nb, N = (npy_intp)n;
+        npy_intp d_t[1] = {N}, d_b[1] = {B}, d_bd[2] = {B, ndof}, d_b3[2] = {B, 3}, d_bs[2] = {B, ns};
+        npy_intp d_bnd[3] = {B, N, ndof}, d_bn3[3] = {B, N, 3}, d_bn[2] = {B, N}, d_bns[3] = {B, N, ns};
+        t = (PyArrayObject *)PyArray_SimpleNew(1, d_t, NPY_DOUBLE);
+        disp = (PyArrayObject *)PyArray_SimpleNew(2, d_bd, NPY_DOUBLE);
+        if (final) {
+            q = (PyArrayObject *)PyArray_SimpleNew(2, d_bd, NPY_DOUBLE);
+            v = (PyArrayObject *)PyArray_SimpleNew(2, d_bd, NPY_DOUBLE);
+            wr = (PyArrayObject *)PyArray_SimpleNew(2, d_b3, NPY_DOUBLE);
+            stick = (PyArrayObject *)PyArray_SimpleNew(1, d_b, NPY_BOOL);
+            sf = (PyArrayObject *)PyArray_ZEROS(2, d_bs, NPY_DOUBLE, 0);
+        } else {
+            q = (PyArrayObject *)PyArray_SimpleNew(3, d_bnd, NPY_DOUBLE);
+            v = (PyArrayObject *)PyArray_SimpleNew(3, d_bnd, NPY_DOUBLE);
+            wr = (PyArrayObject *)PyArray_SimpleNew(3, d_bn3, NPY_DOUBLE);
+            stick = (PyArrayObject *)PyArray_SimpleNew(2, d_bn, NPY_BOOL);
+            sf = (PyArrayObject *)PyArray_ZEROS(3, d_bns, NPY_DOUBLE, 0);
+        }
+        for (int k = 0; k < 5; k++) sarr[k] = (PyArrayObject *)PyArray_SimpleNew(1, d_b, NPY_INT64);
+        sarr[5] = (PyArrayObject *)PyArray_SimpleNew(1, d_b, NPY_DOUBLE);
+        if (!t || !disp || !q || !v || !wr || !stick || !sf) goto done;
+        for (int k = 0; k < 6; k++)
+            if (!sarr[k]) goto done;
+    }
+
+    /* ---- workers: the calling thread plus nthreads - 1 POSIX threads */
+    nthreads = threads ? threads : cpu_count();
+    if (nthreads > nb) nthreads = (long)nb;
+    workers = PyMem_Calloc((size_t)nthreads, sizeof *workers);
+    if (!workers) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    {
+        /* scratch per worker: the time grid, and in 'final' mode one whole trajectory */
+        size_t per = final ? n * (1 + 2 * (size_t)ndof + 3 + (size_t)ns) : n;
+        if (per > (size_t)PY_SSIZE_T_MAX / sizeof(double)) {
+            PyErr_NoMemory();
+            goto done;
+        }
+        for (long k = 0; k < nthreads; k++) {
+            workers[k].ctx = &ctx;
+            workers[k].buf = PyMem_RawMalloc(per * sizeof(double));
+            workers[k].stick = final ? PyMem_RawMalloc(n) : NULL;
+            if (!workers[k].buf || (final && !workers[k].stick)) {
+                PyErr_NoMemory();
+                goto done;
+            }
+        }
+    }
+    ctx.models = models;
+    ctx.nb = (size_t)nb;
+    ctx.n = n;
+    ctx.t_end = t_end;
+    ctx.dt = dt;
+    ctx.ndof = ndof;
+    ctx.ns = ns;
+    ctx.final = final;
+    ctx.t = PyArray_DATA(t);
+    ctx.q = PyArray_DATA(q);
+    ctx.v = PyArray_DATA(v);
+    ctx.wrench = PyArray_DATA(wr);
+    ctx.stick = PyArray_DATA(stick);
+    ctx.stop_force = PyArray_DATA(sf);
+    ctx.disp = PyArray_DATA(disp);
+    ctx.steps = PyArray_DATA(sarr[0]);
+    ctx.stick_steps = PyArray_DATA(sarr[1]);
+    ctx.solver_iterations = PyArray_DATA(sarr[2]);
+    ctx.stop_iterations = PyArray_DATA(sarr[3]);
+    ctx.warnings = PyArray_DATA(sarr[4]);
+    ctx.min_gap = PyArray_DATA(sarr[5]);
+    ctx.next = 0;
+    ctx.fail_index = (size_t)nb;
+    ctx.fail_status = EXDEX_OK;
+    if (pthread_mutex_init(&ctx.lock, NULL)) {
+        PyErr_SetString(PyExc_OSError, "simulate_batch: pthread_mutex_init failed");
+        goto done;
+    }
+    have_mutex = 1;
+    Py_BEGIN_ALLOW_THREADS
+    /* a thread that cannot be created is no error: the others (and this one)
+     * take its share of the indices */
+    for (long k = 1; k < nthreads; k++)
+        if (pthread_create(&workers[k].tid, NULL, batch_run, &workers[k]) == 0) {
+            workers[k].started = 1;
+            running++;
+        }
+    batch_run(&workers[0]);
+    for (long k = 1; k < nthreads; k++)
+        if (workers[k].started) pthread_join(workers[k].tid, NULL);
+    Py_END_ALLOW_THREADS
+    if (ctx.fail_index < (size_t)nb) {
+        raise_trajectory_error(module, ctx.fail_status, (Py_ssize_t)ctx.fail_index);
+        goto done;
+    }
+    stats = Py_BuildValue("{s:O,s:O,s:O,s:O,s:O,s:O}", "steps", sarr[0], "stick_steps", sarr[1],
+                          "solver_iterations", sarr[2], "stop_iterations", sarr[3], "warnings", sarr[4],
+                          "min_gap", sarr[5]);
+    if (!stats) goto done;
+    result = Py_BuildValue("{s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:n}", "t", t, "q", q, "v", v, "wrench", wr,
+                           "stick", stick, "stop_force", sf, "displacement", disp, "stats", stats,
+                           "threads", (Py_ssize_t)running);
+done:
+    if (have_mutex) pthread_mutex_destroy(&ctx.lock);
+    if (workers) {
+        for (long k = 0; k < nthreads; k++) {
+            PyMem_RawFree(workers[k].buf);
+            PyMem_RawFree(workers[k].stick);
+        }
+        PyMem_Free(workers);
+    }
+    if (models) {
+        for (i = 0; i < nb; i++) exdex_model_free(models[i]);
+        PyMem_Free(models);
+    }
+    for (int k = 0; k < NVARY_MAX; k++) Py_XDECREF(varr[k]);
+    for (int k = 0; k < 6; k++) Py_XDECREF(sarr[k]);
+    Py_XDECREF(base_times);
+    Py_XDECREF(base_poses);
+    Py_XDECREF(seq);
+    Py_XDECREF(t);
+    Py_XDECREF(q);
+    Py_XDECREF(v);
+    Py_XDECREF(wr);
+    Py_XDECREF(stick);
+    Py_XDECREF(sf);
+    Py_XDECREF(disp);
+    Py_XDECREF(stats);
+    return result;
+}
+
 static PyMethodDef core_methods[] = {
     {"simulate", (PyCFunction)(void (*)(void))core_simulate, METH_VARARGS | METH_KEYWORDS, simulate_doc},
+    {"simulate_batch", (PyCFunction)(void (*)(void))core_simulate_batch, METH_VARARGS | METH_KEYWORDS,
+     simulate_batch_doc},
     {"motion_eval", (PyCFunction)(void (*)(void))core_motion_eval, METH_VARARGS | METH_KEYWORDS,
      motion_eval_doc},
     {"friction_solve", (PyCFunction)(void (*)(void))core_friction_solve, METH_VARARGS | METH_KEYWORDS,
