@@ -1,0 +1,576 @@
+"""Batches and sweeps: many trajectories in one call, on threads or a cluster.
+
+:func:`simulate_batch` runs one scene with parameters varied across a batch
+(arrays of grip force, friction coefficient, Eq. 7's beta, T, X1, mass, ...)
+in one C call: every model is built with the GIL held, then the trajectories
+run on POSIX threads with the GIL released. Each trajectory is exactly the
+computation of :func:`exdex.simulate` on the scene made by
+``dataclasses.replace``: the results are bit-identical to the serial ones for
+any thread count.
+
+:func:`sweep` cuts a parameter grid into chunks and maps them over any
+:class:`concurrent.futures.Executor`: a thread pool locally (the default) or a
+Dask cluster through ``distributed.Client(...).get_executor()``. Each chunk is
+one ``simulate_batch(..., threads=1)`` call, so a thread pool of k workers
+keeps k cores busy and a cluster spreads the chunks over its workers. Results
+come back in grid order whatever the completion order; a tqdm bar shows the
+progress.
+
+    >>> import numpy as np, exdex
+    >>> scene = exdex.paper.fig3_scene()
+    >>> b = exdex.simulate_batch(scene, t_end=1.5, dt=1e-3, record="final",
+    ...                          grip_force=np.linspace(1.2, 1.8, 61))
+    >>> b.final_displacement.shape        # (61, 1): slip [m] per grip force
+    (61, 1)
+    >>> s = exdex.sweep(scene, {"mu": [0.3, 0.5], "beta": np.linspace(0.6, 0.95, 8)},
+    ...                 t_end=1.5, dt=1e-3, progress=False)
+    >>> s.gridded("final_displacement").shape
+    (2, 8, 1)
+
+Units are SI, as everywhere in exdex.
+"""
+from __future__ import annotations
+
+import concurrent.futures as cf
+import dataclasses
+import functools
+import math
+import os
+from dataclasses import dataclass, field
+from typing import Any, Dict, Mapping, Optional, Sequence, Tuple
+
+import numpy as np
+
+from exdex import _core
+from exdex.scene import METHODS, SOLVERS, AsymmetricProfile, Body, Grasp, Scene, TrapezoidalProfile, _real
+from exdex.simulate import Result
+
+__all__ = ["BatchResult", "simulate_batch", "sweep", "grid_points", "PARAMETERS"]
+
+
+@dataclass(frozen=True)
+class _Param:
+    path: Tuple[str, ...]     # dataclass fields from the Scene down, for dataclasses.replace
+    key: str                  # the scalar of Scene.to_spec() (and exdex_scene_def) it sets
+    low: Optional[float]      # bounds, as in the dataclass's own validation
+    high: Optional[float]
+    low_open: bool
+    high_open: bool
+    motions: Tuple[type, ...] = ()   # motion classes that have the field (empty: any scene)
+
+    def describe(self):
+        lo = "-inf" if self.low is None else f"{self.low:g}"
+        hi = "inf" if self.high is None else f"{self.high:g}"
+        lb = "(" if self.low_open or self.low is None else "["
+        hb = ")" if self.high_open or self.high is None else "]"
+        return f"{lb}{lo}, {hi}{hb}"
+
+
+_MOTIONS = (AsymmetricProfile, TrapezoidalProfile)
+
+#: Parameters a batch can vary: name -> the Scene field it replaces
+#: (``dataclasses.replace`` along ``path``), the spec key and the allowed range.
+PARAMETERS: Dict[str, _Param] = {
+    "mass": _Param(("body", "mass"), "mass", 0.0, None, True, False),
+    "mu": _Param(("grasp", "mu"), "mu", 0.0, None, False, False),
+    "grip_force": _Param(("grasp", "grip_force"), "grip_force", 0.0, None, False, False),
+    "e_r": _Param(("grasp", "patch", "e_r"), "e_r", 0.0, None, True, False),
+    "amplitude": _Param(("motion", "amplitude"), "motion_amplitude", None, None, False, False, _MOTIONS),
+    "duration": _Param(("motion", "duration"), "motion_duration", 0.0, None, True, False, _MOTIONS),
+    "beta": _Param(("motion", "beta"), "motion_beta", 0.0, 1.0, True, True, (AsymmetricProfile,)),
+    "v_max": _Param(("motion", "v_max"), "motion_v_max", 0.0, None, True, False, (TrapezoidalProfile,)),
+}
+
+# names people reach for, pointing at ours
+_ALIASES = {"T": "duration", "X1": "amplitude", "theta1": "amplitude", "m": "mass", "grip": "grip_force",
+            "F": "grip_force", "friction": "mu", "vmax": "v_max"}
+
+
+# ------------------------------------------------------------------ result
+
+@dataclass(frozen=True, eq=False)
+class BatchResult:
+    """Stacked trajectories of a batch (B trajectories, n samples each).
+
+    The batch index runs over the parameter sets in C order of ``shape`` (the
+    broadcast shape of the varied arrays); ``params[name][i]`` is the value of
+    parameter ``name`` in trajectory i.
+
+    With ``record="all"`` (every sample):
+
+    t : (n,) times [s], shared by all trajectories.
+    q, v : (B, n, ndof) free coordinates and their rates (as in
+        :class:`exdex.Result`: s [m] / theta [rad], or x, y, theta).
+    wrench : (B, n, 3) plate friction (f_x, f_y, m_z) in B at the centre of
+        pressure, mean over the step ending at each sample [N, N, N m].
+    stick : (B, n) True where the step ending there stuck exactly.
+    stop_force : (B, n, n_stops) mean normal force of each stop [N].
+
+    With ``record="final"`` the sample axis is dropped: the same arrays hold
+    only the last sample (t = t_end): q, v (B, ndof), wrench (B, 3), stick
+    (B,), stop_force (B, n_stops). 10^5 trajectories then take a few MB.
+
+    Always:
+
+    final_displacement : (B, ndof) q at t_end minus q at t = 0 [m or rad].
+    stats : dict of (B,) arrays per trajectory: steps, stick_steps,
+        solver_iterations, stop_iterations, warnings (int64), min_gap [m].
+    params : dict name -> (B,) float64 values of the varied parameters.
+    shape : batch shape (B = prod(shape)); see :meth:`gridded`.
+    scene : the base scene (or the tuple of scenes of a list batch).
+    record, method, friction_solver, dt, t_end, threads : what produced it.
+    """
+
+    t: np.ndarray
+    q: np.ndarray
+    v: np.ndarray
+    wrench: np.ndarray
+    stick: np.ndarray
+    stop_force: np.ndarray
+    final_displacement: np.ndarray
+    stats: Dict[str, np.ndarray]
+    params: Dict[str, np.ndarray] = field(default_factory=dict)
+    shape: Tuple[int, ...] = ()
+    scene: Any = None
+    record: str = "all"
+    method: str = "implicit"
+    friction_solver: str = "scalar"
+    dt: float = float("nan")
+    t_end: float = float("nan")
+    threads: int = 1
+
+    def __len__(self):
+        return len(self.final_displacement)
+
+    def gridded(self, name):
+        """Attribute (or stats entry) ``name`` with the batch axis reshaped to
+        ``shape``: e.g. ``gridded("final_displacement")`` is (*shape, ndof)."""
+        a = self.stats[name] if name in self.stats else (
+            self.params[name] if name in self.params else getattr(self, name))
+        return np.asarray(a).reshape(tuple(self.shape) + np.shape(a)[1:])
+
+    def scene_at(self, i):
+        """The :class:`exdex.Scene` of trajectory ``i``, made with
+        ``dataclasses.replace`` from the base scene and ``params``."""
+        i = _index(i, len(self))
+        base = self.scene[i] if isinstance(self.scene, tuple) else self.scene
+        return _replace_params(base, {k: float(v[i]) for k, v in self.params.items()})
+
+    def result(self, i):
+        """Trajectory ``i`` as an :class:`exdex.Result` (record="all" only)."""
+        if self.record != "all":
+            raise ValueError("result(i) needs record='all'; this batch kept the final sample only")
+        i = _index(i, len(self))
+        stats = {k: (int(v[i]) if v.dtype.kind == "i" else float(v[i])) for k, v in self.stats.items()}
+        return Result(t=self.t, q=self.q[i], v=self.v[i], wrench=self.wrench[i], stick=self.stick[i],
+                      stop_force=self.stop_force[i], stats=stats, scene=self.scene_at(i), method=self.method,
+                      friction_solver=self.friction_solver, dt=self.dt)
+
+    @staticmethod
+    def concatenate(parts, shape=None):
+        """One BatchResult from several of the same setting, in the given order."""
+        parts = list(parts)
+        if not parts:
+            raise ValueError("nothing to concatenate")
+        p0 = parts[0]
+        for p in parts[1:]:
+            if (p.record, p.method, p.dt, p.t_end) != (p0.record, p0.method, p0.dt, p0.t_end) \
+                    or set(p.params) != set(p0.params) or p.q.shape[1:] != p0.q.shape[1:]:
+                raise ValueError("can only concatenate batches of the same record, method, dt, t_end, "
+                                 "parameters and shape")
+        cat = lambda name: np.concatenate([getattr(p, name) for p in parts])  # noqa: E731
+        n = sum(len(p) for p in parts)
+        return BatchResult(
+            t=p0.t, q=cat("q"), v=cat("v"), wrench=cat("wrench"), stick=cat("stick"),
+            stop_force=cat("stop_force"), final_displacement=cat("final_displacement"),
+            stats={k: np.concatenate([p.stats[k] for p in parts]) for k in p0.stats},
+            params={k: np.concatenate([p.params[k] for p in parts]) for k in p0.params},
+            shape=tuple(shape) if shape is not None else (n,), scene=p0.scene, record=p0.record,
+            method=p0.method, friction_solver=p0.friction_solver, dt=p0.dt, t_end=p0.t_end,
+            threads=max(p.threads for p in parts))
+
+
+def _index(i, n):
+    i = int(i)
+    if not -n <= i < n:
+        raise IndexError(f"batch index {i} out of range for a batch of {n}")
+    return i % n
+
+
+def _replace_params(scene, values):
+    """dataclasses.replace along each parameter's path (validated by the dataclasses)."""
+    for name, value in values.items():
+        scene = _replace_path(scene, PARAMETERS[name].path, value)
+    return scene
+
+
+def _replace_path(obj, path, value):
+    if len(path) == 1:
+        return dataclasses.replace(obj, **{path[0]: value})
+    return dataclasses.replace(obj, **{path[0]: _replace_path(getattr(obj, path[0]), path[1:], value)})
+
+
+# ------------------------------------------------------------------ checks
+
+def _cpu_count():
+    """CPUs this process may run on (affinity-aware where the OS tells)."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):  # pragma: no cover - not Linux
+        return os.cpu_count() or 1
+
+
+@functools.lru_cache(maxsize=None)
+def _method_available(method):
+    """A method runs in a batch exactly when exdex.simulate accepts it (one
+    tiny probe per method and process, so the two can never disagree)."""
+    from exdex.simulate import simulate
+
+    probe = Scene(body=Body(mass=1.0), grasp=Grasp(mu=0.5, grip_force=1.0))
+    try:
+        simulate(probe, t_end=1e-3, dt=1e-3, method=method)
+    except ValueError as exc:
+        return str(exc)
+    return None
+
+
+def _check_options(method, friction_solver, eps, rtol, atol):
+    if method not in METHODS:
+        raise ValueError(f"method must be one of {sorted(METHODS)}, got {method!r}")
+    why = _method_available(method)
+    if why is not None:
+        raise ValueError(why)
+    if friction_solver not in SOLVERS:
+        raise ValueError(f"friction_solver must be one of {sorted(SOLVERS)}, got {friction_solver!r}")
+    return (_real(eps, "eps", low=0.0, low_open=True), _real(rtol, "rtol", low=0.0, low_open=True),
+            _real(atol, "atol", low=0.0, low_open=True))
+
+
+def _check_param(name, scene):
+    if name not in PARAMETERS:
+        hint = f"; did you mean {_ALIASES[name]!r}?" if name in _ALIASES else ""
+        raise ValueError(f"unknown batch parameter {name!r}{hint} (allowed: {', '.join(PARAMETERS)})")
+    p = PARAMETERS[name]
+    scenes = scene if isinstance(scene, tuple) else (scene,)
+    for sc in scenes:
+        if p.motions and not isinstance(sc.motion, p.motions):
+            kinds = " or ".join(c.__name__ for c in p.motions)
+            raise ValueError(f"batch parameter {name!r} sets motion.{p.path[-1]}, which needs a {kinds} "
+                             f"motion; the scene's motion is {type(sc.motion).__name__}")
+    return p
+
+
+def _check_values(name, p, a):
+    """Vectorised form of the dataclass's range check, naming the first bad entry."""
+    bad = ~np.isfinite(a)
+    if p.low is not None:
+        bad |= (a <= p.low) if p.low_open else (a < p.low)
+    if p.high is not None:
+        bad |= (a >= p.high) if p.high_open else (a > p.high)
+    if np.any(bad):
+        i = int(np.flatnonzero(bad.ravel())[0])
+        idx = np.unravel_index(i, a.shape) if a.ndim else ()
+        where = f"{name}[{', '.join(map(str, idx))}]" if a.ndim else name
+        raise ValueError(f"{where} = {a.ravel()[i]:g} must be finite and in {p.describe()} "
+                         f"({'.'.join(p.path)})")
+
+
+def _check_trapezoids(scene, flat):
+    """TrapezoidalProfile's coupled check, vectorised: amplitude != 0 and
+    |X1|/T <= v_max <= 2|X1|/T (with the dataclass's 1e-12 slack)."""
+    if not any(PARAMETERS[k].path[0] == "motion" for k in flat):
+        return
+    scenes = scene if isinstance(scene, tuple) else (scene,)
+    if not any(isinstance(sc.motion, TrapezoidalProfile) for sc in scenes):
+        return
+    n = len(next(iter(flat.values())))
+    base = lambda f: np.array([getattr(sc.motion, f) for sc in scenes]) if len(scenes) > 1 \
+        else np.full(n, getattr(scenes[0].motion, f))  # noqa: E731
+    a = flat.get("amplitude", base("amplitude"))
+    T = flat.get("duration", base("duration"))
+    v = flat.get("v_max", base("v_max"))
+    bad = (a == 0.0) | (v < np.abs(a) / T * (1 - 1e-12)) | (v > 2 * np.abs(a) / T * (1 + 1e-12))
+    if np.any(bad):
+        i = int(np.flatnonzero(bad)[0])
+        raise ValueError(f"batch index {i}: a TrapezoidalProfile needs amplitude != 0 and |amplitude|/duration "
+                         f"<= v_max <= 2 |amplitude|/duration; got amplitude {a[i]:g}, duration {T[i]:g}, "
+                         f"v_max {v[i]:g}")
+
+
+def _as_float_array(value, name):
+    if isinstance(value, (str, bytes)):
+        raise TypeError(f"batch parameter {name!r} must be numbers, got {type(value).__name__}")
+    a = np.asarray(value)
+    if a.dtype == object or not (np.issubdtype(a.dtype, np.number) or a.dtype == bool) or np.iscomplexobj(a):
+        raise TypeError(f"batch parameter {name!r} must be an array of real numbers, got dtype {a.dtype}")
+    return np.asarray(a, dtype=np.float64)
+
+
+def _broadcast(arrays):
+    """Broadcast the named arrays together; a clear error for mismatches."""
+    try:
+        shape = np.broadcast_shapes(*(a.shape for a in arrays.values()))
+    except ValueError:
+        shapes = ", ".join(f"{k} {a.shape}" for k, a in arrays.items())
+        raise ValueError(f"batch parameter shapes do not broadcast together: {shapes} "
+                         f"(give arrays of one length, or shapes like (k, 1) and (1, m) for a grid)") from None
+    return shape, {k: np.ascontiguousarray(np.broadcast_to(a, shape)).ravel() for k, a in arrays.items()}
+
+
+# ------------------------------------------------------------------ batch
+
+def simulate_batch(scene, t_end, dt=1e-3, threads=None, record="all", method="implicit",
+                   friction_solver="scalar", eps=1e-4, rtol=1e-8, atol=1e-10, **arrays):
+    """Simulate many variants of a scene in one call, on several threads.
+
+    Parameters
+    ----------
+    scene : exdex.Scene or sequence of exdex.Scene
+        The base scene, or one scene per trajectory (all with the same free
+        coordinates and number of stops).
+    t_end, dt : float
+        End time and time step [s], shared by the batch (as in exdex.simulate).
+    threads : int or None
+        POSIX threads to use; None: one per CPU available to the process.
+        The GIL is released while they run.
+    record : {"all", "final"}
+        "all" keeps every sample; "final" only the last one (and the final
+        displacement), so 10^4 - 10^5 trajectories fit in memory.
+    method, friction_solver, eps, rtol, atol
+        As in :func:`exdex.simulate` (the batch accepts exactly its methods).
+    **arrays
+        Parameters varied across the batch, each an array (or scalar); they
+        broadcast together and the batch runs over their broadcast shape in
+        C order. Names (the Scene field each replaces, its allowed range):
+
+        ``mass`` (body.mass, kg > 0), ``mu`` (grasp.mu, >= 0), ``grip_force``
+        (grasp.grip_force per finger, N >= 0), ``e_r`` (grasp.patch.e_r, m > 0),
+        ``amplitude`` (motion.amplitude, X1 [m] or theta1 [rad]),
+        ``duration`` (motion.duration, T [s] > 0), ``beta`` (motion.beta of
+        an AsymmetricProfile, in (0, 1)), ``v_max`` (motion.v_max of a
+        TrapezoidalProfile).
+
+        Trajectory i is the scene ``dataclasses.replace`` would make with the
+        i-th values (:meth:`BatchResult.scene_at`), and its arrays are
+        bit-identical to ``exdex.simulate`` of that scene.
+
+    Returns
+    -------
+    BatchResult
+
+    Raises
+    ------
+    TypeError, ValueError
+        For unknown parameter names, shapes that do not broadcast, values out
+        of range (naming the parameter and entry) or a scene the core rejects
+        ("batch index i: ...").
+    exdex.SolverError
+        If a trajectory fails; ``.index`` is the smallest failing batch index
+        and the message names it.
+    """
+    if isinstance(scene, Scene):
+        scenes = None
+    elif isinstance(scene, (list, tuple)) and scene and all(isinstance(s, Scene) for s in scene):
+        scenes = tuple(scene)
+    else:
+        raise TypeError("scene must be an exdex.Scene or a non-empty sequence of exdex.Scene, "
+                        f"got {type(scene).__name__}")
+    dt = _real(dt, "dt", low=0.0, low_open=True)
+    t_end = _real(t_end, "t_end", low=dt)
+    if t_end / dt > 1e9:
+        raise ValueError(f"t_end / dt must be at most 1e9 steps, got {t_end / dt:.3g}")
+    if threads is None:
+        threads = _cpu_count()
+    elif isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or not 1 <= threads <= 1024:
+        raise ValueError(f"threads must be an int in [1, 1024] or None (one per CPU), got {threads!r}")
+    if record not in ("all", "final"):
+        raise ValueError(f"record must be 'all' or 'final', got {record!r}")
+    eps, rtol, atol = _check_options(method, friction_solver, eps, rtol, atol)
+
+    base = scenes if scenes is not None else scene
+    vals = {}
+    for name, value in arrays.items():
+        p = _check_param(name, base)
+        a = _as_float_array(value, name)
+        _check_values(name, p, a)
+        vals[name] = a
+    if scenes is not None:
+        if any(a.ndim > 1 for a in vals.values()):
+            raise ValueError("with a sequence of scenes the batch parameters must be scalars or 1-D arrays "
+                             f"of its length {len(scenes)}")
+        vals = {k: np.broadcast_to(a, (len(scenes),)) if a.ndim == 0 else a for k, a in vals.items()}
+        for k, a in vals.items():
+            if a.shape != (len(scenes),):
+                raise ValueError(f"batch parameter {k!r} has {a.shape[0]} entries but {len(scenes)} scenes "
+                                 "were given")
+        shape = (len(scenes),)
+        flat = {k: np.ascontiguousarray(a, dtype=np.float64) for k, a in vals.items()}
+    elif vals:
+        shape, flat = _broadcast(vals)
+    else:
+        shape, flat = (1,), {}
+    if math.prod(shape) == 0:
+        raise ValueError(f"the batch is empty (broadcast shape {shape})")
+    _check_trapezoids(scenes if scenes is not None else scene, flat)
+
+    opts = dict(method=method, friction_solver=friction_solver, eps=eps, rtol=rtol, atol=atol)
+    specs = [s.to_spec(**opts) for s in scenes] if scenes is not None else scene.to_spec(**opts)
+    vary = {PARAMETERS[k].key: a for k, a in flat.items()}
+    if not vary and scenes is None:
+        vary = None
+    try:
+        out = _core.simulate_batch(specs, t_end, dt, threads=int(threads), record=record, vary=vary)
+    except ValueError as exc:
+        # name the user's parameter rather than the core's field
+        msg = str(exc)
+        for k, p in PARAMETERS.items():
+            if p.path[0] == "motion":
+                msg = msg.replace(f"'motion.{p.path[-1]}'", f"'{k}' (motion.{p.path[-1]})")
+        raise ValueError(msg) from None
+    return BatchResult(t=out["t"], q=out["q"], v=out["v"], wrench=out["wrench"], stick=out["stick"],
+                       stop_force=out["stop_force"], final_displacement=out["displacement"], stats=out["stats"],
+                       params=flat, shape=tuple(int(s) for s in shape),
+                       scene=scenes if scenes is not None else scene, record=record, method=method,
+                       friction_solver=friction_solver, dt=dt, t_end=t_end, threads=int(out["threads"]))
+
+
+# ------------------------------------------------------------------ sweep
+
+def grid_points(grid, product=True):
+    """Flatten a parameter grid: returns (dict name -> (B,) arrays, shape).
+
+    product=True: the Cartesian product of the value lists (each flattened to
+    1-D), shape = their lengths, C order (the last name varies fastest).
+    product=False: the arrays broadcast together (as in simulate_batch).
+    """
+    if not isinstance(grid, Mapping) or not grid:
+        raise ValueError("grid must be a non-empty mapping name -> values")
+    arrays = {}
+    for k, v in grid.items():
+        if not isinstance(k, str):
+            raise TypeError(f"grid keys must be parameter names (str), got {k!r}")
+        arrays[k] = _as_float_array(v, k)
+    if product:
+        axes = [a.ravel() for a in arrays.values()]
+        shape = tuple(len(a) for a in axes)
+        mesh = np.meshgrid(*axes, indexing="ij") if axes else []
+        flat = {k: np.ascontiguousarray(m).ravel() for k, m in zip(arrays, mesh)}
+    else:
+        shape, flat = _broadcast(arrays)
+    if math.prod(shape) == 0:
+        raise ValueError(f"the grid is empty (shape {shape})")
+    return flat, tuple(int(s) for s in shape)
+
+
+def _run_scene_chunk(scene, t_end, options, params):
+    """One sweep task: a single-threaded batch (module level, so it pickles)."""
+    return simulate_batch(scene, t_end, threads=1, **options, **params)
+
+
+def _run_fn_chunk(fn, params):
+    return fn(**params)
+
+
+def _combine(parts, shape):
+    p0 = parts[0]
+    if isinstance(p0, BatchResult):
+        return BatchResult.concatenate(parts, shape=shape)
+    if isinstance(p0, Mapping):
+        return {k: np.concatenate([np.atleast_1d(p[k]) for p in parts]) for k in p0}
+    if isinstance(p0, (np.ndarray, list, tuple)):
+        return np.concatenate([np.atleast_1d(np.asarray(p)) for p in parts])
+    return list(parts)
+
+
+def sweep(fn_or_scene, grid, executor: Optional[cf.Executor] = None, chunk=256, progress=True, *,
+          product=True, t_end=None, dt=1e-3, record="final", **options):
+    """Run a parameter grid in chunks over any concurrent.futures.Executor.
+
+    Parameters
+    ----------
+    fn_or_scene : exdex.Scene or callable
+        A scene: every chunk runs ``simulate_batch(scene, t_end, dt=dt,
+        threads=1, record=record, **options, **chunk_params)``; the chunks'
+        BatchResults are joined into one whose ``shape`` is the grid's.
+        A callable: ``fn(**chunk_params)`` gets 1-D arrays of one chunk's
+        parameter sets and returns a BatchResult, a dict of arrays, or an
+        array, with one entry (leading axis) per parameter set; they are
+        concatenated in grid order. With a process-based or remote executor
+        the callable must be picklable (a module-level function).
+    grid : mapping name -> values
+        With ``product=True`` (default) the Cartesian product of the value
+        lists, in C order (the last name varies fastest); with
+        ``product=False`` arrays broadcast together (see :func:`grid_points`).
+    executor : concurrent.futures.Executor or None
+        Where the chunks run: e.g. ``ThreadPoolExecutor`` (the default, one
+        worker per CPU, shut down afterwards) or a Dask cluster's
+        ``client.get_executor()``. An executor you pass is not shut down.
+    chunk : int
+        Parameter sets per task (>= 1). Larger chunks cost less scheduling;
+        keep several chunks per worker for balance.
+    progress : bool
+        Show a tqdm progress bar (parameter sets done).
+    t_end, dt, record, **options
+        For a scene: as in :func:`simulate_batch` (options: method,
+        friction_solver, eps, rtol, atol). Sweeps record the final sample only
+        by default.
+
+    Returns
+    -------
+    BatchResult (for a scene) or the concatenated results of ``fn``, entry i
+    belonging to the i-th grid point (see :func:`grid_points`).
+
+    A failing chunk cancels the chunks not yet started and re-raises its
+    exception with a note naming the chunk's grid points.
+    """
+    flat, shape = grid_points(grid, product=product)
+    total = math.prod(shape)
+    if isinstance(chunk, bool) or not isinstance(chunk, (int, np.integer)) or chunk < 1:
+        raise ValueError(f"chunk must be an int >= 1, got {chunk!r}")
+    if executor is not None and not isinstance(executor, cf.Executor):
+        raise TypeError(f"executor must be a concurrent.futures.Executor, got {type(executor).__name__}")
+    if isinstance(fn_or_scene, Scene):
+        if t_end is None:
+            raise ValueError("sweep over a scene needs t_end")
+        # validate once, here, rather than in every task
+        for name in flat:
+            _check_values(name, _check_param(name, fn_or_scene), flat[name])
+        opts = dict(dt=dt, record=record, **options)
+        _check_options(opts.get("method", "implicit"), opts.get("friction_solver", "scalar"),
+                       opts.get("eps", 1e-4), opts.get("rtol", 1e-8), opts.get("atol", 1e-10))
+        task = functools.partial(_run_scene_chunk, fn_or_scene, t_end, opts)
+    elif callable(fn_or_scene):
+        if t_end is not None or options:
+            raise ValueError("t_end and simulation options apply to a scene; a callable gets only the grid")
+        task = functools.partial(_run_fn_chunk, fn_or_scene)
+    else:
+        raise TypeError(f"fn_or_scene must be an exdex.Scene or a callable, got {type(fn_or_scene).__name__}")
+
+    bounds = [(a, min(a + int(chunk), total)) for a in range(0, total, int(chunk))]
+    own = executor is None
+    ex = cf.ThreadPoolExecutor(max_workers=_cpu_count()) if own else executor
+    parts = [None] * len(bounds)
+    from tqdm.auto import tqdm
+
+    try:
+        with tqdm(total=total, desc="exdex sweep", unit="traj", disable=not progress, smoothing=0.1) as bar:
+            futures = {ex.submit(task, {k: v[a:b] for k, v in flat.items()}): j for j, (a, b) in enumerate(bounds)}
+            try:
+                for fut in cf.as_completed(futures):
+                    j = futures[fut]
+                    try:
+                        parts[j] = fut.result()
+                    except BaseException as exc:
+                        a, b = bounds[j]
+                        if hasattr(exc, "add_note"):
+                            exc.add_note(f"sweep: in chunk {j} (grid points {a}..{b - 1} of {total})")
+                        raise
+                    bar.update(bounds[j][1] - bounds[j][0])
+            except BaseException:
+                for f in futures:
+                    f.cancel()
+                raise
+    finally:
+        if own:
+            ex.shutdown(wait=True, cancel_futures=True)
+    return _combine(parts, shape)

@@ -1,0 +1,349 @@
+"""Batches (exdex.simulate_batch, exdex._core.simulate_batch) and sweeps
+(exdex.sweep) on thread pools and a Dask LocalCluster.
+
+References: a batch must equal, bit for bit, serial exdex.simulate of the
+scene dataclasses.replace makes for each parameter set (an independent code
+path: one scene at a time, built in Python); its physics is checked against
+the closed-form Coulomb solution of exdex.paper.closed_form; sweeps must equal
+the batch of the same grid whatever executor runs them. No timings here
+(benchmarks/bench_batch.py measures speed)."""
+import concurrent.futures as cf
+import dataclasses
+import re
+import sys
+import time
+
+import numpy as np
+import pytest
+
+import exdex
+from exdex import _core, paper
+from exdex.batch import BatchResult, grid_points, simulate_batch, sweep
+from exdex.scene import METHODS
+
+ARRAYS = ("q", "v", "wrench", "stick", "stop_force")
+STATS = ("steps", "stick_steps", "solver_iterations", "stop_iterations", "warnings", "min_gap")
+
+
+@pytest.fixture(scope="module")
+def fig3():
+    return paper.fig3_scene()
+
+
+def planar_scene():
+    """A planar box (x, y, theta) dropped on a stop while the gripper moves
+    down: slip, rotation, stop contact and stick in one short run."""
+    return exdex.Scene(
+        body=exdex.Body.box(0.1, (0.02, 0.04, 0.02)),
+        grasp=exdex.Grasp(mu=0.5, grip_force=0.3, patch=exdex.Patch.rectangle(0.01, 0.02)),
+        motion=exdex.TrapezoidalProfile(-0.05, 0.5, 0.12), dof="planar",
+        stops=(exdex.Stop(point=(0, 0, -0.03), normal=(0, 0, 1)),), q0=(0.005, 0.0, 0.1))
+
+
+def assert_same_as_serial(batch, t_end, dt):
+    """Every trajectory of the batch equals serial exdex.simulate bit for bit."""
+    for i in range(len(batch)):
+        sc = batch.scene_at(i)
+        r = exdex.simulate(sc, t_end, dt)
+        np.testing.assert_array_equal(batch.t, r.t)
+        if batch.record == "all":
+            for name in ARRAYS:
+                np.testing.assert_array_equal(getattr(batch, name)[i], getattr(r, name), err_msg=f"{name}[{i}]")
+        else:
+            for name in ARRAYS:
+                np.testing.assert_array_equal(getattr(batch, name)[i], getattr(r, name)[-1], err_msg=f"{name}[{i}]")
+        np.testing.assert_array_equal(batch.final_displacement[i], r.q[-1] - r.q[0])
+        for k in STATS:
+            assert batch.stats[k][i] == r.stats[k], (k, i)
+
+
+# ------------------------------------------------------------ batch == serial
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_batch_bit_identical_to_serial_fig3_grid(fig3, threads):
+    """Grip force x beta grid (broadcast (3, 1) x (1, 2)) of the Fig. 3 scene."""
+    b = simulate_batch(fig3, 1.5, 1e-3, threads=threads, grip_force=[[1.3], [1.5051], [1.7]], beta=[[0.8, 0.9]])
+    assert b.shape == (3, 2) and len(b) == 6 and b.q.shape == (6, 1501, 1)
+    assert b.threads == threads
+    np.testing.assert_array_equal(b.params["grip_force"], [1.3, 1.3, 1.5051, 1.5051, 1.7, 1.7])
+    np.testing.assert_array_equal(b.params["beta"], [0.8, 0.9] * 3)
+    assert b.scene_at(3) == dataclasses.replace(
+        fig3, grasp=dataclasses.replace(fig3.grasp, grip_force=1.5051),
+        motion=dataclasses.replace(fig3.motion, beta=0.9))
+    assert_same_as_serial(b, 1.5, 1e-3)
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_batch_bit_identical_to_serial_planar_with_stop(threads):
+    """3-DoF scene with a stop: stop forces, planar friction solve, stats."""
+    sc = planar_scene()
+    b = simulate_batch(sc, 1.0, 1e-3, threads=threads, mu=[0.2, 0.5, 0.8], mass=[0.1, 0.12, 0.08])
+    assert b.q.shape == (3, 1001, 3) and b.stop_force.shape == (3, 1001, 1)
+    assert np.all(b.stop_force.max(axis=1) > 0)       # the stop acted in every run
+    assert_same_as_serial(b, 1.0, 1e-3)
+
+
+def test_batch_bit_identical_rotation_and_motion_parameters():
+    """Rotation scene (Fig. 6) with amplitude and duration varied, record='final'."""
+    sc = paper.fig6_scene()
+    b = simulate_batch(sc, 7.0, 2e-3, threads=2, record="final", amplitude=np.radians([80.0, 100.0]),
+                       duration=[2.5, 3.0])
+    assert_same_as_serial(b, 7.0, 2e-3)
+
+
+def test_thread_counts_agree_on_a_larger_batch(fig3):
+    """1, 2 and 7 threads (more than cores) give identical arrays."""
+    g = np.linspace(1.2, 1.9, 150)
+    runs = [simulate_batch(fig3, 1.5, 2e-3, threads=k, record="final", grip_force=g, mu=0.5) for k in (1, 2, 7)]
+    for r in runs[1:]:
+        for name in ARRAYS + ("final_displacement",):
+            np.testing.assert_array_equal(getattr(r, name), getattr(runs[0], name))
+        for k in STATS:
+            np.testing.assert_array_equal(r.stats[k], runs[0].stats[k])
+
+
+def test_sequence_of_scenes(fig3):
+    scenes = [fig3, exdex.replace(fig3, gravity=(0.0, 0.0, -9.0)), paper.fig3_scene(direction=1)]
+    b = simulate_batch(scenes, 1.5, 1e-3, threads=2, grip_force=[1.4, 1.5, 1.6])
+    assert b.scene_at(1).gravity == (0.0, 0.0, -9.0) and b.scene_at(1).grasp.grip_force == 1.5
+    assert_same_as_serial(b, 1.5, 1e-3)
+
+
+# ------------------------------------------------------------ record="final"
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_record_final_is_last_row_of_all(threads):
+    sc = planar_scene()
+    kw = dict(mu=[0.2, 0.4, 0.6, 0.8], grip_force=0.3)
+    a = simulate_batch(sc, 1.0, 1e-3, threads=threads, record="all", **kw)
+    f = simulate_batch(sc, 1.0, 1e-3, threads=threads, record="final", **kw)
+    assert f.q.shape == (4, 3) and f.wrench.shape == (4, 3) and f.stick.shape == (4,) and f.stop_force.shape == (4, 1)
+    for name in ARRAYS:
+        np.testing.assert_array_equal(getattr(f, name), getattr(a, name)[:, -1], err_msg=name)
+    np.testing.assert_array_equal(f.final_displacement, a.q[:, -1] - a.q[:, 0])
+    np.testing.assert_array_equal(f.t, a.t)
+    for k in STATS:
+        np.testing.assert_array_equal(f.stats[k], a.stats[k])
+    with pytest.raises(ValueError, match="record='all'"):
+        f.result(0)
+    r = a.result(2)
+    assert isinstance(r, exdex.Result) and r.scene.grasp.mu == 0.6
+
+
+# ------------------------------------------------------------ physics
+
+def test_grip_force_batch_matches_closed_form(fig3):
+    """Final slip of the Fig. 3 scene over grip forces 1.05..2.0 N per finger
+    against the event-by-event closed form (exdex.paper.closed_form, no C
+    core). The implicit method errs by about 1e-8 m at dt = 1e-4 here; a
+    parameter mapped to the wrong trajectory or field would be off by
+    millimetres (the slip changes by ~4 mm per 0.05 N)."""
+    g = np.linspace(1.05, 2.0, 20)
+    b = simulate_batch(fig3, 1.5, 1e-4, threads=2, record="final", grip_force=g)
+    want = np.array([paper.closed_form(b.scene_at(i)).final for i in range(len(g))])
+    np.testing.assert_allclose(b.final_displacement[:, 0], want, rtol=0, atol=1e-6)
+    assert np.all(b.stick)                                    # at rest at t_end
+    assert np.all(b.final_displacement[g >= 1.8, 0] == 0.0)   # capacity 18 >= g + |a_L|: exact stick
+
+
+# ------------------------------------------------------------ bad input
+
+def test_bad_parameter_names_and_shapes(fig3):
+    with pytest.raises(ValueError, match="unknown batch parameter 'T'; did you mean 'duration'"):
+        simulate_batch(fig3, 1.5, 1e-3, T=[0.4, 0.5])
+    with pytest.raises(ValueError, match="unknown batch parameter 'gravity'.*allowed: mass, mu, grip_force"):
+        simulate_batch(fig3, 1.5, 1e-3, gravity=[1.0])
+    with pytest.raises(ValueError, match=r"do not broadcast together: mu \(3,\), beta \(2,\)"):
+        simulate_batch(fig3, 1.5, 1e-3, mu=[0.1, 0.2, 0.3], beta=[0.5, 0.6])
+    with pytest.raises(ValueError, match="needs a TrapezoidalProfile motion; the scene's motion is AsymmetricProfile"):
+        simulate_batch(fig3, 1.5, 1e-3, v_max=[0.1])
+    with pytest.raises(ValueError, match="needs a AsymmetricProfile motion; the scene's motion is Trapezoidal"):
+        simulate_batch(planar_scene(), 1.0, 1e-3, beta=[0.5])
+    with pytest.raises(ValueError, match="empty"):
+        simulate_batch(fig3, 1.5, 1e-3, mu=[])
+    with pytest.raises(TypeError, match="'mu' must be an array of real numbers"):
+        simulate_batch(fig3, 1.5, 1e-3, mu=["a", "b"])
+    with pytest.raises(ValueError, match=r"has 2 entries but 3 scenes"):
+        simulate_batch([fig3] * 3, 1.5, 1e-3, mu=[0.1, 0.2])
+
+
+def test_bad_parameter_values_name_the_entry(fig3):
+    with pytest.raises(ValueError, match=r"grip_force\[2\] = -1 must be finite and in \[0, inf\) \(grasp.grip_force\)"):
+        simulate_batch(fig3, 1.5, 1e-3, grip_force=[1.0, 1.5, -1.0])
+    with pytest.raises(ValueError, match=r"beta\[1, 0\] = 1 must be finite and in \(0, 1\)"):
+        simulate_batch(fig3, 1.5, 1e-3, beta=[[0.5], [1.0]])
+    with pytest.raises(ValueError, match=r"mass\[0\] = nan"):
+        simulate_batch(fig3, 1.5, 1e-3, mass=[np.nan])
+    with pytest.raises(ValueError, match=r"duration = 0 must be"):
+        simulate_batch(fig3, 1.5, 1e-3, duration=0.0, mu=[0.1, 0.2])
+
+
+def test_bad_options(fig3):
+    with pytest.raises(ValueError, match="record must be"):
+        simulate_batch(fig3, 1.5, 1e-3, record="last")
+    for bad in (0, -1, 2.5, True, 5000):
+        with pytest.raises(ValueError, match="threads must be"):
+            simulate_batch(fig3, 1.5, 1e-3, threads=bad)
+    with pytest.raises(ValueError, match="dt must be"):
+        simulate_batch(fig3, 1.5, 0.0)
+    with pytest.raises(ValueError, match="t_end must be"):
+        simulate_batch(fig3, 1e-4, 1e-3)
+    with pytest.raises(TypeError, match="scene must be"):
+        simulate_batch([], 1.5, 1e-3)
+    with pytest.raises(ValueError, match="method must be one of"):
+        simulate_batch(fig3, 1.5, 1e-3, method="rk4")
+
+
+@pytest.mark.parametrize("method", sorted(METHODS))
+def test_batch_accepts_exactly_the_methods_simulate_accepts(fig3, method):
+    try:
+        exdex.simulate(fig3, 0.01, 1e-3, method=method)
+    except ValueError as exc:
+        with pytest.raises(ValueError, match=re.escape(str(exc))):
+            simulate_batch(fig3, 0.01, 1e-3, method=method, mu=[0.5])
+    else:
+        b = simulate_batch(fig3, 0.01, 1e-3, method=method, mu=[0.5, 0.4])
+        assert b.method == method and len(b) == 2
+
+
+def test_core_errors_name_the_batch_index(fig3):
+    spec = fig3.to_spec()
+    broken = dict(spec)
+    del broken["mu"]
+    with pytest.raises(KeyError, match="batch index 2: .*missing 'mu'"):
+        _core.simulate_batch([spec, spec, broken], 1.5, 1e-3)
+    with pytest.raises(ValueError, match=r"batch index 3: scene: invalid value of 'mass'"):
+        _core.simulate_batch(spec, 1.5, 1e-3, vary={"mass": np.array([0.1, 0.1, 0.1, -1.0])})
+    with pytest.raises(ValueError, match="unknown key 'gravity'"):
+        _core.simulate_batch(spec, 1.5, 1e-3, vary={"gravity": np.ones(2)})
+    with pytest.raises(ValueError, match="vary\\['mu'\\] has 3 entries, the other arrays 2"):
+        _core.simulate_batch(spec, 1.5, 1e-3, vary={"grip_force": np.ones(2), "mu": np.ones(3)})
+    with pytest.raises(ValueError, match="batch index 1: every scene of a batch needs the same free coordinates"):
+        _core.simulate_batch([spec, planar_scene().to_spec()], 1.0, 1e-3)
+    with pytest.raises(ValueError, match="record must be 'all' or 'final'"):
+        _core.simulate_batch(spec, 1.5, 1e-3, record="some")
+    with pytest.raises(ValueError, match="threads must be in"):
+        _core.simulate_batch(spec, 1.5, 1e-3, threads=-1)
+    with pytest.raises(ValueError, match=r"batch index 1: scene: invalid value of 'motion.v_max'"):
+        _core.simulate_batch(planar_scene().to_spec(), 1.0, 1e-3, vary={"motion_v_max": np.array([0.12, -1.0])})
+    # Eq. 9's a_H = 2 X1 / (beta T^2) overflows: the core rejects it, the
+    # message uses the batch parameter's name
+    with pytest.raises(ValueError, match=r"batch index 1: scene: invalid value of 'amplitude' \(motion.amplitude\)"):
+        simulate_batch(fig3, 1.5, 1e-3, amplitude=[0.1, 1e308])
+
+
+def test_trapezoid_coupled_check_as_the_dataclass():
+    """TrapezoidalProfile needs X1 != 0 and |X1|/T <= v_max <= 2|X1|/T."""
+    sc = planar_scene()   # X1 -0.05 m, T 0.5 s, v_max 0.12 m/s (range 0.1 .. 0.2)
+    for kw in (dict(amplitude=[-0.05, 0.0]), dict(amplitude=[-0.05, -0.01]), dict(v_max=[0.12, 0.21]),
+               dict(duration=[0.5, 0.2])):
+        with pytest.raises(ValueError, match="batch index 1: a TrapezoidalProfile needs"):
+            simulate_batch(sc, 1.0, 1e-3, **kw)
+        with pytest.raises(ValueError):   # the dataclass agrees
+            (name, values), = kw.items()
+            dataclasses.replace(sc.motion, **{name: values[1]})
+    b = simulate_batch(sc, 1.0, 1e-3, record="final", amplitude=[-0.05, -0.04], v_max=[0.1, 0.16])
+    assert_same_as_serial(b, 1.0, 1e-3)
+
+
+@pytest.mark.parametrize("threads", [1, 2, 3])
+def test_failing_trajectory_raises_with_its_index(fig3, threads):
+    """Gravity 1e307 m/s^2 overflows the state (EXDEX_ENONFINITE) within 20 s;
+    with two such scenes the smallest index is reported for any thread count."""
+    bad = exdex.replace(fig3, gravity=(0.0, 0.0, -1e307))
+    with pytest.raises(exdex.SolverError) as serial:
+        exdex.simulate(bad, 20.0, 1e-2)
+    scenes = [fig3] * 3 + [bad, fig3, bad] + [fig3] * 4
+    with pytest.raises(exdex.SolverError, match="batch index 3: non-finite") as info:
+        simulate_batch(scenes, 20.0, 1e-2, threads=threads, record="final")
+    assert info.value.index == 3 and info.value.status == serial.value.status
+
+
+# ------------------------------------------------------------ sweeps
+
+def test_grid_points_order():
+    flat, shape = grid_points({"mu": [0.1, 0.2], "beta": [0.5, 0.6, 0.7]})
+    assert shape == (2, 3)
+    np.testing.assert_array_equal(flat["mu"], [0.1, 0.1, 0.1, 0.2, 0.2, 0.2])
+    np.testing.assert_array_equal(flat["beta"], [0.5, 0.6, 0.7] * 2)
+    flat, shape = grid_points({"mu": [0.1, 0.2], "beta": [0.5, 0.6]}, product=False)
+    assert shape == (2,)
+    with pytest.raises(ValueError, match="empty"):
+        grid_points({"mu": []})
+
+
+def test_sweep_equals_batch_thread_pool(fig3):
+    grid = {"grip_force": np.linspace(1.3, 1.7, 5), "beta": [0.85, 0.9, 0.95]}
+    want = simulate_batch(fig3, 1.5, 1e-3, threads=1, record="final",
+                          grip_force=np.linspace(1.3, 1.7, 5)[:, None], beta=[[0.85, 0.9, 0.95]])
+    with cf.ThreadPoolExecutor(max_workers=3) as ex:
+        got = sweep(fig3, grid, executor=ex, chunk=4, progress=False, t_end=1.5, dt=1e-3)
+    assert isinstance(got, BatchResult) and got.shape == (5, 3) and len(got) == 15
+    for name in ARRAYS + ("final_displacement",):
+        np.testing.assert_array_equal(getattr(got, name), getattr(want, name))
+    for k in want.params:
+        np.testing.assert_array_equal(got.params[k], want.params[k])
+    assert got.gridded("final_displacement").shape == (5, 3, 1)
+    # default executor and record="all"
+    full = sweep(fig3, grid, chunk=7, progress=False, t_end=1.5, dt=1e-3, record="all")
+    np.testing.assert_array_equal(full.q[:, -1], want.q)
+
+
+def _slow_early(x):
+    """Chunks that start first finish last (completion order reversed)."""
+    time.sleep(0.02 * max(0.0, 3.0 - float(x[0])))
+    return {"x2": np.asarray(x) ** 2, "first": np.full(len(x), x[0])}
+
+
+def test_sweep_order_is_stable_for_any_completion_order():
+    with cf.ThreadPoolExecutor(max_workers=4) as ex:
+        out = sweep(_slow_early, {"x": np.arange(8.0)}, executor=ex, chunk=2, progress=False)
+    np.testing.assert_array_equal(out["x2"], np.arange(8.0) ** 2)
+    np.testing.assert_array_equal(out["first"], [0, 0, 2, 2, 4, 4, 6, 6])
+
+
+def _fail_on_five(x):
+    if np.any(np.asarray(x) == 5):
+        raise RuntimeError("boom")
+    return np.asarray(x)
+
+
+def test_sweep_error_names_the_chunk(fig3):
+    with pytest.raises(RuntimeError, match="boom") as info:
+        sweep(_fail_on_five, {"x": np.arange(10.0)}, chunk=3, progress=False)
+    if sys.version_info >= (3, 11):
+        assert "sweep: in chunk 1 (grid points 3..5 of 10)" in info.value.__notes__
+    with pytest.raises(ValueError, match="needs t_end"):
+        sweep(fig3, {"mu": [0.1]})
+    with pytest.raises(ValueError, match="chunk must be"):
+        sweep(fig3, {"mu": [0.1]}, chunk=0, t_end=1.0)
+    with pytest.raises(TypeError, match="concurrent.futures.Executor"):
+        sweep(fig3, {"mu": [0.1]}, executor=object(), t_end=1.0)
+    with pytest.raises(ValueError, match="unknown batch parameter 'T'"):
+        sweep(fig3, {"T": [0.1]}, t_end=1.0)
+
+
+def test_sweep_progress_bar(fig3, capsys):
+    sweep(fig3, {"mu": [0.3, 0.4, 0.5]}, chunk=1, progress=True, t_end=0.1, dt=1e-3)
+    err = capsys.readouterr().err
+    assert "exdex sweep" in err and "3/3" in err
+
+
+# ------------------------------------------------------------ Dask
+
+@pytest.mark.parametrize("processes", [False, True])
+def test_sweep_on_dask_local_cluster(fig3, processes):
+    """The same sweep through a Dask LocalCluster on loopback
+    (client.get_executor()) equals the local thread-pool sweep."""
+    distributed = pytest.importorskip("distributed")
+    grid = {"grip_force": np.linspace(1.3, 1.7, 6), "mu": [0.45, 0.5]}
+    local = sweep(fig3, grid, chunk=5, progress=False, t_end=1.5, dt=1e-3)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=processes, host="127.0.0.1",
+                                  protocol="tcp", dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        remote = sweep(fig3, grid, executor=client.get_executor(), chunk=5, progress=False, t_end=1.5, dt=1e-3)
+    assert remote.shape == local.shape == (6, 2)
+    for name in ARRAYS + ("final_displacement",):
+        np.testing.assert_array_equal(getattr(remote, name), getattr(local, name))
+    for k in STATS:
+        np.testing.assert_array_equal(remote.stats[k], local.stats[k])
