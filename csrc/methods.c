@@ -527,8 +527,9 @@ static void decide(hyb *H, double t, double *y, int vzero)
             Q = force_1dof(m, &f, q, v);
             R = H->M * contact_qdd(&c, v) - Q;
             contact_forces(H, &c, R, v, &fr, &lam);
-            if (lam >= 0.0 && (H->law == LAW_SMOOTH || H->s != 0.0 || fabs(fr) <= H->cap * (1.0 + TOLF)) &&
-                (H->s != 0.0 || H->law == LAW_SMOOTH || R / c.Fq >= 0.0)) {
+            /* a stop force exactly 0 keeps no contact: it is about to
+             * separate (or needs none) */
+            if (lam > 0.0 && (H->law == LAW_SMOOTH || H->s != 0.0 || fabs(fr) <= H->cap * (1.0 + TOLF))) {
                 H->mode = MODE_CONTACT;
                 H->ck = k;
                 H->cj = j;
@@ -813,7 +814,8 @@ static int run_hybrid(const exdex_model *m, int law, double t_end, double dt,
     h = fmin(dt, 1e-3);
     for (size_t i = 1; i < n && status == EXDEX_OK && !H.err; i++) {
         double ti = i == n - 1 ? t_end : (double)i * dt, hs = ti - out->t[i - 1];
-        int events = 0;
+        int events = 0, same = 0;
+        double t_event = -1.0;
         while (t < ti && status == EXDEX_OK && !H.err) {
             double g0[2 + EXDEX_MAX_STOPS], g1[2 + EXDEX_MAX_STOPS], t0 = t, tstop, tau_best = INFINITY;
             int ng, e_best = -1, gs;
@@ -843,8 +845,14 @@ static int run_hybrid(const exdex_model *m, int law, double t_end, double dt,
                 if (!(g1[e] < 0.0)) continue;
                 if (g0[e] <= 0.0) {
                     /* violated from the start: an event at t0 unless the
-                     * guard is recovering (a touching stop left behind) */
+                     * guard is recovering (a touching stop left behind), or
+                     * the decision at t0 keeps being undone (a tie: let the
+                     * step decide, counted as a warning) */
                     if (!(g1[e] < g0[e] - 1e-13)) continue;
+                    if (same >= 4) {
+                        st->warnings++;
+                        continue;
+                    }
                     tau = 0.0;
                 } else {
                     status = locate(&H, O, t0, y0, t - t0, e, &tau);
@@ -863,6 +871,8 @@ static int run_hybrid(const exdex_model *m, int law, double t_end, double dt,
                     break;
                 }
                 t = t0 + tau_best;
+                same = t == t_event ? same + 1 : 0;
+                t_event = t;
                 /* the first guard of slip (and of moving contact, the second)
                  * is the slip speed: it stopped */
                 vz = (H.mode == MODE_SLIP && e_best == 0) ||
