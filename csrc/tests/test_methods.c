@@ -503,15 +503,14 @@ EXDEX_TEST(methods_regularised_step_collapse)
     /* (c) stiffness: at the creep speed the friction slope is
      * k = C (1 - (Q/C)^2)^(3/2) / (M eps) [1/s], and an explicit RK step is
      * stable only for h k below the real stability interval of its
-     * stability polynomial; for GSL's rk8pd (Prince-Dormand 8, weights and
-     * tableau of rk8pd.c) |R(-x)| <= 1 up to x = 5.1667 (computed once from
-     * the tableau with R(z) = 1 + z b^T (I - z A)^-1 1). The steps collapse
-     * to h ~ 5.17 / k: steps ~ t k / 5.17, i.e. proportional to 1/eps. */
-    double eps[2] = {1e-5, 1e-6}, t_end[2] = {0.05, 0.005};
+     * stability polynomial; for GSL's rk8pd |R(-x)| <= 1 up to x = 5.1666
+     * (reference.dat, from the tableau). The steps collapse to h ~ 5.17 / k:
+     * steps ~ t k / 5.17, i.e. proportional to 1/eps. */
+    double eps[2] = {1e-5, 1e-6}, t_end[2] = {0.05, 0.005}, x_stab = ref("methods_rk8pd_stability_interval");
     for (int i = 0; i < 2; i++) {
         exdex_scene_def d = mvertical(0.1, 2.0, EXDEX_METHOD_REGULARISED);
         mrun r;
-        double k = 2.0 * G * pow(0.75, 1.5) / eps[i], pred = t_end[i] * k / 5.1667;
+        double k = 2.0 * G * pow(0.75, 1.5) / eps[i], pred = t_end[i] * k / x_stab;
         d.eps = eps[i];
         ENSURE(msim(&d, t_end[i], 1e-3, &r) == EXDEX_OK);
         ENSURE((double)r.st.steps >= 0.9 * pred && (double)r.st.steps <= 1.3 * pred);
