@@ -203,11 +203,19 @@ void exdex_profile_trapezoid(double amplitude, double T, double v_max, double t,
  */
 enum exdex_dof { EXDEX_DOF_TRANSLATION = 1, EXDEX_DOF_ROTATION = 2, EXDEX_DOF_PLANAR = 3 };
 
+/* All four share the model and the output contract (methods.c for 1-3).
+ * Planar scenes with stops need IMPLICIT (EXDEX_EINVAL otherwise). */
 enum exdex_method {
-    EXDEX_METHOD_IMPLICIT = 0,     /* Moreau midpoint, maximum-dissipation solve (default) */
-    EXDEX_METHOD_EVENT = 1,        /* event-driven stick/slip, GSL odeiv2 */
-    EXDEX_METHOD_REGULARISED = 2,  /* smooth friction |u| -> sqrt(|u|^2 + eps^2) */
-    EXDEX_METHOD_EXPLICIT = 3      /* explicit Coulomb with sign(), naive baseline */
+    EXDEX_METHOD_IMPLICIT = 0,     /* Moreau midpoint, maximum-dissipation solve (default);
+                                      steps of dt, exact stick */
+    EXDEX_METHOD_EVENT = 1,        /* event-driven exact stick/slip: GSL odeiv2 rk8pd to
+                                      rtol/atol, switches located by Brent; dt is only the
+                                      output grid; EXDEX_ENOCONV past 1000 events per
+                                      output interval (Zeno-like toggling) */
+    EXDEX_METHOD_REGULARISED = 2,  /* smooth friction |u| -> sqrt(|u|^2 + eps^2), rk8pd to
+                                      rtol/atol; no true stick (creeps) */
+    EXDEX_METHOD_EXPLICIT = 3      /* explicit Coulomb with sign(), symplectic Euler steps
+                                      of dt, naive baseline; chatters at stick */
 };
 
 #define EXDEX_MAX_STOPS 8

@@ -627,7 +627,7 @@ typedef struct ode {
     gsl_odeiv2_evolve *evo;
     gsl_root_fsolver *root;
     gsl_odeiv2_system sys;
-    double yerr[NY_MAX], dydt[NY_MAX], ytmp[NY_MAX];
+    double yerr[NY_MAX], ytmp[NY_MAX];
 } ode;
 
 static void ode_free(ode *O)
@@ -665,7 +665,7 @@ static int one_step(ode *O, double t0, const double *y0, double tau, double *out
     size_t ny = O->sys.dimension;
     memcpy(out, y0, ny * sizeof *out);
     if (tau <= 0.0) return GSL_SUCCESS;
-    return gsl_odeiv2_step_apply(O->step, t0, tau, out, O->yerr, NULL, O->dydt, &O->sys);
+    return gsl_odeiv2_step_apply(O->step, t0, tau, out, O->yerr, NULL, NULL, &O->sys);
 }
 
 typedef struct rootctx {
