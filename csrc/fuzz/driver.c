@@ -164,6 +164,21 @@ void fuzz_note_count(const char *target_name, const char *key)
     if (i >= 0) notes[i].count++;
 }
 
+void fuzz_note_keep(const char *target_name, const char *key)
+{
+    int i;
+    (void)target_name;
+    if (cur_target < 0) return;
+    i = note_index(key, 0);
+    if (i < 0) return;
+    if (notes[i].count++ == 0 && !no_save) {
+        char path[1024];
+        snprintf(path, sizeof path, "%s/fuzz-note-%s-%d.bin", out_dir, targets[cur_target].name, i);
+        save_input(path, cur_data, cur_size);
+        if (!quiet) fprintf(stderr, "NOTE %s input %llu: %s: saved to %s\n", targets[cur_target].name, cur_index, key, path);
+    }
+}
+
 void fuzz_note_min(const char *target_name, const char *key, double value)
 {
     int i;

@@ -121,6 +121,9 @@ extern int fz_current_wild;
 void fuzz_count_status(const char *target, int status);
 void fuzz_note_count(const char *target, const char *key);
 void fuzz_note_min(const char *target, const char *key, double value);
+/* A count like fuzz_note_count that also keeps the first input seen
+ * (OUT/fuzz-note-<target>-<k>.bin), for cases worth a closer look. */
+void fuzz_note_keep(const char *target, const char *key);
 
 /* The targets: X(name) for each fuzz_<name>(data, size). */
 #define FUZZ_TARGETS(X) \

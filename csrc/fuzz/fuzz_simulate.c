@@ -153,6 +153,11 @@ int fuzz_simulate(const uint8_t *data, size_t size)
             for (int i = 0; i < 3; i++) d.stop_normal[k][i] = fz_num(&f, -1.0, 1.0);
     }
     d.method = fz_int(&f, 0, 0);
+    /* The other methods (issue 6: event, regularised, explicit) are still
+     * being written; they are slow on fuzzed stiff scenes (hangs > 2 s with
+     * tiny eps / rtol). Only invalid ids are fuzzed for now; to add them,
+     * drop this mapping and bound their runtime per input. */
+    if (d.method > EXDEX_METHOD_IMPLICIT && d.method <= EXDEX_METHOD_EXPLICIT) d.method = EXDEX_METHOD_IMPLICIT;
     d.friction_solver = fz_int(&f, 0, 2);
     d.eps = fz_log(&f, 1e-6, 1e-2);
     d.rtol = fz_log(&f, 1e-10, 1e-4);
@@ -246,7 +251,9 @@ int fuzz_simulate(const uint8_t *data, size_t size)
                 FZ_EXTREME(T, &f, fz_all_finite(a.tr.t, n) && fz_all_finite(a.tr.q, n * (size_t)ndof) &&
                                       fz_all_finite(a.tr.v, n * (size_t)ndof) &&
                                       fz_all_finite(a.tr.wrench, 3 * n));
-                FZ_CHECK(T, sa.steps == n - 1 && sa.stick_steps <= sa.steps);
+                /* the implicit method takes exactly one step per sample */
+                if (d.method == EXDEX_METHOD_IMPLICIT) FZ_CHECK(T, sa.steps == n - 1);
+                FZ_CHECK(T, sa.stick_steps <= sa.steps);
                 FZ_CHECK(T, a.tr.t[0] == 0.0 && a.tr.t[n - 1] == t_end);
                 for (size_t i = 1; i < n; i++) FZ_CHECK(T, a.tr.t[i] > a.tr.t[i - 1]);
                 for (size_t i = 0; i < n; i++) FZ_CHECK(T, a.tr.stick[i] <= 1);
@@ -259,7 +266,7 @@ int fuzz_simulate(const uint8_t *data, size_t size)
                         fuzz_note_min(T, "min stop gap of tame runs [m]", sa.min_gap);
                         if (sa.warnings) fuzz_note_count(T, "tame runs with stop warnings");
                         if (sa.min_gap < -1e-9)
-                            fuzz_note_count(T, sa.warnings ? "tame runs with a stop gap < -1e-9 m, with warnings"
+                            fuzz_note_keep(T, sa.warnings ? "tame runs with a stop gap < -1e-9 m, with warnings"
                                                            : "tame runs with a stop gap < -1e-9 m, no warning");
                         if (!sa.warnings) fuzz_note_min(T, "min stop gap of tame runs without warnings [m]", sa.min_gap);
                     }

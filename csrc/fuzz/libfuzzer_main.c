@@ -27,6 +27,7 @@ void fuzz_extreme(const char *target, const char *file, int line, const char *wh
 
 void fuzz_count_status(const char *target, int status) { (void)target; (void)status; }
 void fuzz_note_count(const char *target, const char *key) { (void)target; (void)key; }
+void fuzz_note_keep(const char *target, const char *key) { (void)target; (void)key; }
 void fuzz_note_min(const char *target, const char *key, double value)
 {
     (void)target;
