@@ -91,6 +91,19 @@ def test_batch_bit_identical_rotation_and_motion_parameters():
     assert_same_as_serial(b, 7.0, 2e-3)
 
 
+@pytest.mark.parametrize("method", sorted(METHODS))
+def test_every_method_bit_identical_to_serial(fig3, method):
+    """Each integration method in a 2-thread batch equals serial
+    exdex.simulate with that method (their workspaces are per call)."""
+    b = simulate_batch(fig3, 1.5, 1e-2, threads=2, method=method, grip_force=[1.3, 1.5, 1.7], mu=0.5)
+    for i in range(len(b)):
+        r = exdex.simulate(b.scene_at(i), 1.5, 1e-2, method=method)
+        for name in ARRAYS:
+            np.testing.assert_array_equal(getattr(b, name)[i], getattr(r, name), err_msg=f"{method} {name}[{i}]")
+        for k in STATS:
+            assert b.stats[k][i] == r.stats[k], (method, k, i)
+
+
 def test_thread_counts_agree_on_a_larger_batch(fig3):
     """1, 2 and 7 threads (more than cores) give identical arrays."""
     g = np.linspace(1.2, 1.9, 150)
