@@ -13,6 +13,7 @@
 
 #include <pthread.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "exdex.h"
@@ -569,6 +570,8 @@ typedef struct batch_ctx {
     size_t next;
     size_t fail_index;      /* smallest failing index, nb if none */
     int fail_status;
+    int stop;               /* set when a signal handler raised (Ctrl-C): no new indices */
+    PyThreadState *ts;      /* the calling thread's state while the GIL is released */
 } batch_ctx;
 
 typedef struct batch_worker {
@@ -577,7 +580,36 @@ typedef struct batch_worker {
     unsigned char *stick;   /* scratch stick (final) */
     pthread_t tid;
     int started;
+    int poll;               /* the calling (main) thread: run signal handlers now and then */
+    double next_poll;       /* monotonic time of the next check [s] */
 } batch_worker;
+
+static double monotonic_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* The calling thread, between trajectories and at most every 0.1 s: take the
+ * GIL back briefly and run Python's signal handlers, so that Ctrl-C stops a
+ * long batch (the exception stays set; no new indices are handed out). */
+static void batch_poll_signals(batch_worker *w)
+{
+    batch_ctx *c = w->ctx;
+    double now = monotonic_seconds();
+    int raised;
+    if (now < w->next_poll) return;
+    w->next_poll = now + 0.1;
+    PyEval_RestoreThread(c->ts);
+    raised = PyErr_CheckSignals() < 0;
+    c->ts = PyEval_SaveThread();
+    if (raised) {
+        pthread_mutex_lock(&c->lock);
+        c->stop = 1;
+        pthread_mutex_unlock(&c->lock);
+    }
+}
 
 static void *batch_run(void *arg)
 {
@@ -590,12 +622,13 @@ static void *batch_run(void *arg)
         int status;
         exdex_trajectory tr;
         exdex_stats st;
+        if (w->poll) batch_poll_signals(w);
         pthread_mutex_lock(&c->lock);
         i = c->next;
         /* after a failure at f, indices above f are not started (every index
          * below f was handed out already), so the error reported is the
          * smallest failing index whatever the thread count */
-        if (i >= c->nb || i > c->fail_index) {
+        if (i >= c->nb || i > c->fail_index || c->stop) {
             pthread_mutex_unlock(&c->lock);
             break;
         }
@@ -716,16 +749,18 @@ PyDoc_STRVAR(simulate_batch_doc,
 "Both return t (n,), displacement (B, ndof) = q[n-1] - q[0], and stats, a dict\n"
 "of (B,) arrays. Every scene must have the same ndof and number of stops.\n"
 "Errors name the batch index; a failing trajectory raises SolverError with\n"
-"attributes status and index (the smallest failing index).");
+"attributes status and index (the smallest failing index).\n"
+"check_signals : if true (pass it from the main thread), the calling thread runs\n"
+"    Python's signal handlers about every 0.1 s, so Ctrl-C stops the batch.");
 
 static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject *kwds)
 {
-    static char *kwlist[] = {"specs", "t_end", "dt", "threads", "record", "vary", NULL};
+    static char *kwlist[] = {"specs", "t_end", "dt", "threads", "record", "vary", "check_signals", NULL};
     enum { NVARY_MAX = 16 };
     PyObject *specs, *vary = NULL, *seq = NULL, *result = NULL, *stats = NULL;
     const char *record = "all";
     double t_end, dt;
-    int threads = 0, final, nvary = 0, which[NVARY_MAX], ndof = 0, ns = 0, have_mutex = 0;
+    int threads = 0, check_signals = 0, final, nvary = 0, which[NVARY_MAX], ndof = 0, ns = 0, have_mutex = 0;
     PyArrayObject *varr[NVARY_MAX] = {NULL};
     PyArrayObject *base_times = NULL, *base_poses = NULL;
     PyArrayObject *t = NULL, *q = NULL, *v = NULL, *wr = NULL, *stick = NULL, *sf = NULL, *disp = NULL;
@@ -739,8 +774,8 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
     batch_ctx ctx;
 
     memset(&ctx, 0, sizeof ctx);
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "Odd|isO", kwlist, &specs, &t_end, &dt, &threads, &record,
-                                     &vary))
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "Odd|isOp", kwlist, &specs, &t_end, &dt, &threads, &record,
+                                     &vary, &check_signals))
         return NULL;
     if (!(isfinite(dt) && dt > 0)) {
         PyErr_Format(PyExc_ValueError, "dt must be finite and > 0, got %g", dt);
@@ -913,7 +948,10 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
         goto done;
     }
     have_mutex = 1;
-    Py_BEGIN_ALLOW_THREADS
+    workers[0].poll = check_signals;
+    workers[0].next_poll = monotonic_seconds() + 0.1;
+    ctx.stop = 0;
+    ctx.ts = PyEval_SaveThread();
     /* a thread that cannot be created is no error: the others (and this one)
      * take its share of the indices */
     for (long k = 1; k < nthreads; k++)
@@ -924,7 +962,8 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
     batch_run(&workers[0]);
     for (long k = 1; k < nthreads; k++)
         if (workers[k].started) pthread_join(workers[k].tid, NULL);
-    Py_END_ALLOW_THREADS
+    PyEval_RestoreThread(ctx.ts);
+    if (ctx.stop) goto done;  /* a signal handler raised (KeyboardInterrupt): its exception is set */
     if (ctx.fail_index < (size_t)nb) {
         raise_trajectory_error(module, ctx.fail_status, (Py_ssize_t)ctx.fail_index);
         goto done;

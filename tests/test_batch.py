@@ -272,6 +272,23 @@ def test_failing_trajectory_raises_with_its_index(fig3, threads):
     assert info.value.index == 3 and info.value.status == serial.value.status
 
 
+def test_keyboard_interrupt_stops_a_long_batch(fig3):
+    """Ctrl-C (simulated with _thread.interrupt_main) reaches the main thread
+    while the GIL is released: the batch stops long before its ~20 s of work."""
+    import _thread
+    import threading
+
+    timer = threading.Timer(0.3, _thread.interrupt_main)
+    t0 = time.perf_counter()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            simulate_batch(fig3, 1.5, 1e-4, threads=2, record="final", grip_force=np.full(40000, 1.5))
+    finally:
+        timer.cancel()
+    assert time.perf_counter() - t0 < 3.0
+
+
 # ------------------------------------------------------------ sweeps
 
 def test_grid_points_order():
