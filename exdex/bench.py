@@ -8,31 +8,41 @@ held off-centre in a gripper that turns about the plate normal, sliding and
 turning onto a tilted stop). Each integration method of :func:`exdex.simulate`
 gives one line over a sweep of its accuracy knob:
 
-* ``implicit``, ``explicit``: the time step dt = 2^-m s. Dyadic steps never put
-  a grid point on the cases' switching times (0.45 s, 0.595 s, 2.1 s, 1/12 s,
-  ...), so the chart shows the generic error; a step that happens to divide the
-  switching times makes the implicit method exact on these piecewise-constant
-  drives.
-* ``event``: the tolerance rtol (atol = 1e-2 rtol), output every 2^-6 s.
-* ``regularised``: the tolerance, one line per smoothing width eps.
+* ``implicit``, ``explicit``: the time step dt = 2^-m s, m = 3 ... 16. Dyadic
+  steps never put a grid point on the cases' switching times (0.45 s,
+  0.595 s, 2.1 s, 1/12 s, ...), so these lines show the generic error.
+* ``implicit, dt on switch times``: dt = (1/320 s) 2^-j, j = 0 ... 9, which
+  divides Eq. 7's switching times in Figs. 3, 6 and the planar case (all
+  multiples of 0.05 s) and the common grid: what the implicit method gives
+  when its grid is laid on the motion's switches (a user can always do this).
+* ``event``: the tolerance rtol = 1e-2 ... 1e-12 (atol = 1e-2 rtol), output
+  every 2^-6 s.
+* ``regularised``: rtol = 1e-2 ... 1e-10, one line per smoothing slip speed
+  eps = 1e-2 ... 1e-5 (m/s; rad/s in Fig. 6).
 
-pybullet and MuJoCo (:mod:`exdex.engines`) give one line each over dt = 2^-m s.
-A method that :func:`exdex.simulate` does not offer yet (it raises ValueError)
-is left out and named on the chart.
+pybullet and MuJoCo (:mod:`exdex.engines`, default solver settings; contact
+"pads" in the translation cases, "point" with torsional friction mu e_r in the
+rotation and planar cases, the engines' faithful mapping of the friction
+ellipsoid) give one line each over dt = 2^-m s, m = 7 ... 11. A method that
+:func:`exdex.simulate` does not offer (it raises ValueError), in general or for
+a scene (planar scenes with stops need "implicit"), is left out and named on
+the chart. A run that takes more than a per-run budget ends its line.
 
 Reference: the closed form where one exists (Figs. 3 and 6:
 :func:`exdex.paper.closed_form`; Fig. 4: :func:`exdex.paper.stop_closed_form`),
-else (planar) the event method at rtol 1e-12 when available, otherwise the
-implicit method at dt = 2^-18 s; its own uncertainty (the difference to the
-same method one notch looser) is drawn as a band.
+else (planar) the event method at rtol 1e-12 when it supports the scene,
+otherwise the implicit method at dt = 2^-18 s; its own uncertainty (the
+difference to the same method one notch looser) is drawn as a band.
 
-Errors, on the common time grid t = k 2^-6 s (every swept step size divides
-2^-6 s, so each run has its own samples there; an adaptive run's output is
-interpolated linearly): **final-displacement error** |q(t_end) - q_ref(t_end)|
-(top row of the chart, the headline metric) and **max abs trajectory error**
-over the grid (bottom row). 1-DoF cases: the free coordinate (m or rad);
-planar case: the largest distance between the object's outline vertices and
-their reference positions [m].
+Errors, on the common time grid t = k 2^-6 s (every swept step size up to
+2^-6 s divides it, so those runs have their own samples there; coarser or
+adaptive runs are interpolated linearly): **final-displacement error**
+|q(t_end) - q_ref(t_end)| (top row of the chart, the headline metric) and
+**max abs trajectory error** over the grid (bottom row). 1-DoF cases: the free
+coordinate (m or rad); planar case: the largest distance between the object's
+outline vertices and their reference positions [m]. Observed orders are the
+least-squares slopes of log error against log dt (or log rtol, or log eps
+over the regularised lines), leaving out errors at the rounding floor.
 
 Run time: median wall time (``time.perf_counter``) of whole
 ``exdex.simulate`` calls (argument checks, C core, output arrays) after one
@@ -40,7 +50,9 @@ warm-up call. Engines: the median wall time of their stepping loop
 (``Result.stats["wall_time"]``: model building excluded, the per-step Python
 that drives the kinematic gripper and records the state included); for MuJoCo
 also a lower bound, the same number of bare ``mj_step`` calls on the same
-model with the gripper held still (no Python per step).
+model with the gripper held still (no Python per step). The run-time ratios
+at equal error compare each engine point with the cheapest exact-stick exdex
+run (implicit or event) at least as accurate.
 
 Stability maps
 --------------
@@ -51,16 +63,26 @@ I_zz a_H, the gentle-phase drive of Eq. 7), and for ``regularised`` over
 (dt, eps) at the paper's Fig. 3 grasp. Each run is classified against the
 closed form (first match):
 
-* ``collapse`` (step collapse): the simulation raised (solver failure) or
-  the event method exceeded its event budget;
+* ``collapse`` (step collapse): the simulation raised (solver failure, e.g.
+  the event method's Zeno-like toggling past its event budget), or an
+  adaptive method (event, regularised) took more than ``STEP_BUDGET`` steps
+  per simulated second;
 * ``blow-up``: non-finite state, or max trajectory error above
-  ``BLOWUP_FRACTION`` of the reference's largest displacement plus
-  ``BLOWUP_FLOOR``;
-* ``chatter``: the velocity changes sign (|v| above ``V_NOISE``) inside an
-  interval where the closed form sticks (shrunk by max(2 dt, 10 ms) at each end);
-* ``drift``: the closed form ends at rest and |v| > 0 after the motion
-  (same margin);
-* ``ok``.
+  ``BLOWUP_FRACTION`` (100 %) of the reference's largest displacement plus
+  ``BLOWUP_FLOOR`` (10 mm or 0.1 rad): an error larger than the motion;
+* ``chatter``: more than ``CHATTER_MIN`` sign changes of the velocity
+  (counting only |v| > ``V_NOISE``) inside the intervals where the closed
+  form sticks, each shrunk by max(2 dt, 10 ms) at both ends (a creep that
+  follows the load's reversals changes sign at most twice per Eq. 7 cycle);
+* ``drift`` (drift at stick): |v| > ``V_NOISE`` over the second half of a
+  stick interval of the closed form (after the motion, or in a loaded hold
+  during it); the creep rate is |dx| / dt over that half;
+* ``ok``: none of these (implicit and event: exact zeros).
+
+Cells not run are ``skipped`` (a run of the row exceeded the per-run wall
+budget, or the 1/eps cost law predicts one would) or ``missing`` (method not
+available). Fixed-step methods are mapped over dt = 2^-4 ... 2^-16 s, the
+adaptive ones over every second of these (dt is only their output grid).
 
 Output (``--out``, default ``exdex-output/bench``): ``work_precision.png``,
 ``work_precision.csv``, ``orders.csv``, ``headline.csv``, ``headline.txt``,
@@ -93,8 +115,10 @@ ATOL_PER_RTOL = 1e-2           # atol = ATOL_PER_RTOL * rtol for the adaptive me
 EPS_LINES = (1e-2, 1e-3, 1e-4, 1e-5)   # regularised: one work-precision line per eps
 BLOWUP_FRACTION = 1.0          # blow-up: error > fraction * max |reference| + floor
 BLOWUP_FLOOR = {"translation": 0.01, "rotation": 0.1}
-V_NOISE = 1e-12                # |v| below this is not counted as a sign [m/s or rad/s]
+V_NOISE = 1e-9                 # |v| at or below this counts as still [m/s or rad/s]
+CHATTER_MIN = 4                # chatter: more sign changes of v than this in the stick intervals
 EVENT_BUDGET = 1000            # event method: more switching events than this = step collapse
+STEP_BUDGET = 1e6              # adaptive methods: more steps per simulated second = step collapse
 CLASSES = ("ok", "drift", "chatter", "blow-up", "collapse", "skipped", "missing")
 FLOOR = 1e-16                  # errors below FLOOR * scale are drawn at that floor
 
@@ -153,6 +177,7 @@ class Case:
     ref_uncertainty_max: float = 0.0
     scale: float = 1.0             # largest |reference| (for floors)
     aligned_dt: float = None       # a step dividing the motion's switching times and the grid, if any
+    unsupported: list = field(default_factory=list)   # methods simulate() refuses for this scene
 
     def errors(self, qg):
         """(final, max) error of a displacement ``qg`` (n, ndof) on the grid."""
@@ -285,6 +310,8 @@ def _timed(fn, target, min_rep, max_rep):
     t0 = time.perf_counter()
     res = fn()
     first = time.perf_counter() - t0
+    if first > 2.0 * target:
+        min_rep = 1    # an expensive run (a stiff regularised one): one timed repeat after the warm-up
     reps = int(min(max_rep, max(min_rep, math.ceil(target / max(first, 1e-9)))))
     times = []
     for _ in range(reps):
@@ -323,11 +350,13 @@ def _sweeps(methods, quick, aligned=None):
         ms = (6, 9, 12)
         js = (0, 3)
         tols = (1e-4, 1e-7, 1e-10)
+        reg_tols = (1e-4, 1e-8)
         eps_lines = (1e-3,)
     else:
         ms = tuple(range(3, 17))
         js = tuple(range(0, 10))
         tols = tuple(10.0 ** -k for k in range(2, 13))
+        reg_tols = tuple(10.0 ** -k for k in range(2, 12, 2))
         eps_lines = EPS_LINES
     out = []
     for m in methods:
@@ -343,7 +372,7 @@ def _sweeps(methods, quick, aligned=None):
             for eps in eps_lines:
                 out.append((m, f"regularised eps={eps:g}", eps,
                             [("rtol", r, dict(dt=GRID_DT, rtol=r, atol=ATOL_PER_RTOL * r, eps=eps))
-                             for r in tols]))
+                             for r in reg_tols]))
     return out
 
 
@@ -356,7 +385,8 @@ def _row(case, method, line, knob, value, eps, secs, reps, final, maxe, status, 
 def sweep_exdex(case, methods, quick, bar=None, budget=None):
     """Run every exdex line of ``case``; returns CSV rows (dicts). Methods the
     case's scene does not support are left out (see :func:`scene_supports`)."""
-    methods = [m for m in methods if scene_supports(case.scene, m)]
+    case.unsupported = [m for m in methods if not scene_supports(case.scene, m)]
+    methods = [m for m in methods if m not in case.unsupported]
     budget = budget if budget is not None else (0.5 if quick else 3.0)
     target, min_rep, max_rep = (0.02, 3, 5) if quick else (0.15, 3, 15)
     rows = []
@@ -477,18 +507,32 @@ def sweep_engines(case, runners, quick, bar=None):
 
 def observed_order(knobs, errors, floor):
     """Least-squares slope of log(error) against log(knob) over the points with
-    floor < error < inf; NaN with fewer than two such points."""
+    floor < error < inf (``floor`` a number or one per point); NaN with fewer
+    than two such points."""
     k = np.asarray(knobs, dtype=float)
     e = np.asarray(errors, dtype=float)
-    sel = np.isfinite(e) & np.isfinite(k) & (e > floor) & (k > 0)
+    f = np.broadcast_to(np.asarray(floor, dtype=float), e.shape)
+    sel = np.isfinite(e) & np.isfinite(k) & (e > f) & (k > 0)
     if np.count_nonzero(sel) < 2:
         return math.nan
     return float(np.polyfit(np.log(k[sel]), np.log(e[sel]), 1)[0])
 
 
+def rounding_floor(case, row, uncertainty=0.0):
+    """Error level a run cannot be told from exact at: 10 max(1000, sqrt(steps))
+    machine epsilons of the largest |reference| (rounding accumulated over the
+    steps as a random walk), or twice the reference's own uncertainty."""
+    dt = row["dt"] if isinstance(row["dt"], float) else GRID_DT
+    steps = case.t_end / dt
+    return max(10.0 * max(1000.0, math.sqrt(steps)) * np.finfo(float).eps * case.scale, 2.0 * uncertainty)
+
+
 def orders_table(rows, cases):
     """Observed orders per case and line: slope of error vs knob (dt or rtol)
-    and vs run time (work-precision slope), for both error measures."""
+    and vs run time (work-precision slope), for both error measures; points
+    at the rounding floor (:func:`rounding_floor`) are left out. For the
+    regularised lines also the order in eps: the slope of each line's
+    smallest final error against eps."""
     out = []
     lines = []
     for r in rows:
@@ -500,8 +544,8 @@ def orders_table(rows, cases):
         if not pts:
             continue
         c = cases[cname]
-        floor = max(1e3 * np.finfo(float).eps * c.scale, 2.0 * c.ref_uncertainty)
-        floor_max = max(1e3 * np.finfo(float).eps * c.scale, 2.0 * c.ref_uncertainty_max)
+        floor = [rounding_floor(c, r, c.ref_uncertainty) for r in pts]
+        floor_max = [rounding_floor(c, r, c.ref_uncertainty_max) for r in pts]
         kn = [r["value"] for r in pts]
         tm = [r["run_time_s"] for r in pts]
         fe = [r["final_error"] for r in pts]
@@ -509,17 +553,31 @@ def orders_table(rows, cases):
         out.append(dict(case=cname, line=line, method=pts[0]["method"], knob=pts[0]["knob"],
                         order_final=observed_order(kn, fe, floor), order_max=observed_order(kn, me, floor_max),
                         wp_slope_final=observed_order(tm, fe, floor), wp_slope_max=observed_order(tm, me, floor_max),
-                        points=len(pts), points_above_floor=int(np.count_nonzero(np.array(fe) > floor)),
-                        floor=floor))
+                        points=len(pts), points_above_floor=int(np.count_nonzero(np.array(fe) > np.array(floor))),
+                        floor=min(floor)))
+    for cname in cases:
+        reg = [r for r in rows if r["case"] == cname and r["method"] == "regularised" and r["status"] == "ok"]
+        eps = sorted({r["eps"] for r in reg})
+        if len(eps) >= 2:
+            best = [min(r["final_error"] for r in reg if r["eps"] == e) for e in eps]
+            bmax = [min(r["max_error"] for r in reg if r["eps"] == e) for e in eps]
+            floor = rounding_floor(cases[cname], dict(dt=GRID_DT))
+            out.append(dict(case=cname, line="regularised, smallest error vs eps", method="regularised",
+                            knob="eps", order_final=observed_order(eps, best, floor),
+                            order_max=observed_order(eps, bmax, floor), wp_slope_final=math.nan,
+                            wp_slope_max=math.nan, points=len(eps),
+                            points_above_floor=int(np.count_nonzero(np.array(best) > floor)), floor=floor))
     return out
 
 
 EXDEX_LINES = METHODS
+#: the exdex side of the engine comparison: the exact-stick methods (not the two baselines)
+RATIO_METHODS = ("implicit", "event")
 
 
-def cheapest(rows, case, error, key="final_error"):
+def cheapest(rows, case, error, key="final_error", methods=EXDEX_LINES):
     """The exdex run (row) of ``case`` with the least run time whose error is <= ``error``, or None."""
-    ok = [r for r in rows if r["case"] == case and r["method"] in EXDEX_LINES and r["status"] == "ok"
+    ok = [r for r in rows if r["case"] == case and r["method"] in methods and r["status"] == "ok"
           and r[key] <= error]
     return min(ok, key=lambda r: r["run_time_s"]) if ok else None
 
@@ -531,7 +589,7 @@ def engine_ratios(rows, case, key="final_error"):
     for eng in ("pybullet", "mujoco", "mujoco bare"):
         pts = [r for r in rows if r["case"] == case and r["method"] == eng and r["status"] == "ok"]
         for r in pts:
-            x = cheapest(rows, case, r[key], key)
+            x = cheapest(rows, case, r[key], key, RATIO_METHODS)
             out.append(dict(case=case, engine=eng, dt=r["dt"], engine_time_s=r["run_time_s"], engine_error=r[key],
                             exdex_method=x["line"] if x else "", exdex_knob=f"{x['knob']}={x['value']:.3g}" if x else "",
                             exdex_time_s=x["run_time_s"] if x else math.nan,
@@ -568,8 +626,8 @@ def headline(rows, cases, machine, missing):
         lines.append(f"  best: {best['line']} ({best['knob']} = {best['value']:.4g}) in "
                      f"{1e3 * best['run_time_s']:.3f} ms -> goal {'met' if best['run_time_s'] < 1e-3 else 'NOT met'}")
     lines.append("")
-    lines.append("Run time at equal final-displacement error, engine / exdex (cheapest exdex run at least as "
-                 "accurate as the engine point):")
+    lines.append("Run time at equal final-displacement error, engine / exdex (cheapest implicit or event run at "
+                 "least as accurate as the engine point):")
     for cname in cases:
         rr = engine_ratios(rows, cname)
         for eng in ("pybullet", "mujoco", "mujoco bare"):
@@ -594,8 +652,12 @@ def headline(rows, cases, machine, missing):
         if o["method"] not in EXDEX_LINES and o["method"] not in ENGINES:
             continue
         if o["points_above_floor"] == 0:
-            lines.append(f"  {o['case']:6s} {o['line']:30s} exact to rounding: every final error <= floor "
-                         f"{o['floor']:.0e} ({o['points']} points)")
+            lines.append(f"  {o['case']:6s} {o['line']:30s} exact to rounding: every final error at the "
+                         f"rounding floor ({o['points']} points)")
+            continue
+        if o["knob"] == "eps":
+            lines.append(f"  {o['case']:6s} {o['line']:30s} order in eps, final: {o['order_final']:5.2f}   "
+                         f"max: {o['order_max']:5.2f}")
             continue
         lines.append(f"  {o['case']:6s} {o['line']:30s} final: {o['order_final']:5.2f} (wp {o['wp_slope_final']:5.2f})"
                      f"   max: {o['order_max']:5.2f} (wp {o['wp_slope_max']:5.2f})   "
@@ -658,16 +720,28 @@ def plot_work_precision(rows, cases, path, machine, missing):
             if cname == "fig3" and i == 0:
                 ax.axhline(1e-6, color="0.5", lw=0.8, ls=":")
                 ax.axvline(1e-3, color="0.5", lw=0.8, ls=":")
-                ax.text(1e-3, 1e-6, "goal: 1e-6 m in 1 ms ", fontsize=7, color="0.35", va="top", ha="right")
+                ax.text(1e-3, 1e-6, " goal: 1e-6 m in 1 ms", fontsize=7, color="0.35", va="bottom", ha="left")
             what = "final-displacement error" if i == 0 else "max abs trajectory error"
             ax.set_ylabel(f"{what} [{c.unit}]", fontsize=8)
             ax.set_xlabel("run time (median wall) [s]", fontsize=8)
             if i == 0:
                 ax.set_title(f"{c.title}\nreference: {c.ref_label}", fontsize=8)
+                if c.unsupported:
+                    ax.text(0.02, 0.02, "not supported for this scene (simulate raises ValueError):\n"
+                            + ", ".join(c.unsupported), transform=ax.transAxes, fontsize=6, color="0.3")
             ax.grid(True, which="major", lw=0.3)
             ax.tick_params(labelsize=7)
-            if j == 0 or i == 0:
-                ax.legend(fontsize=6, loc="best")
+            ev = [r for r in rows if r["case"] == cname and r["method"] == "event" and r["status"] == "ok"]
+            if ev and max(r[key] for r in ev) <= 1e-12 * c.scale:
+                ax.annotate("event: every rtol,\nexact to rounding",
+                            (min(r["run_time_s"] for r in ev), max(floor, max(r[key] for r in ev))),
+                            xytext=(4, 10), textcoords="offset points", fontsize=6, color="C2")
+    handles = {}
+    for ax in axes.ravel():
+        for h, lab in zip(*ax.get_legend_handles_labels()):
+            handles.setdefault(lab, h)
+    fig.legend(list(handles.values()), list(handles), loc="lower center", ncol=min(6, len(handles)), fontsize=7,
+               frameon=False, bbox_to_anchor=(0.5, 0.03))
     note = (f"machine: {machine}.  Errors below {FLOOR:g} x max|reference| drawn at that floor. "
             "Engine labels: dt in ms. Engine time: stepping loop incl. per-step Python driving; "
             "'mujoco mj_step only': bare steps, a lower bound.")
@@ -676,7 +750,7 @@ def plot_work_precision(rows, cases, path, machine, missing):
     fig.text(0.01, 0.005, note, fontsize=7, va="bottom")
     fig.suptitle("exdex work-precision: error against run time (top: final displacement, "
                  "bottom: max over the 2^-6 s grid)", fontsize=10)
-    fig.tight_layout(rect=(0, 0.04, 1, 0.97))
+    fig.tight_layout(rect=(0, 0.10, 1, 0.97))
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
@@ -697,24 +771,30 @@ def stick_intervals(cf, t_end):
     return [(a, b) for a, b in out if b > a]
 
 
-def classify(result, cf, t_end, dt, dof, motion_end, error=None):
+def classify(result, cf, t_end, dt, dof, motion_end=None):
     """Classify a run against the closed form ``cf``: (class, details dict).
 
     ``result`` is an ``exdex.Result``, or an exception raised by the run
-    (-> "collapse"). See the module docstring for the classes.
+    (-> "collapse"). See the module docstring for the classes. ``motion_end``
+    (when the gripper stops) only sets ``max_v_after``, a detail.
     """
+    det = dict(chatter_sign_changes=0, max_v_stick=math.nan, max_v_after=math.nan, creep_rate=math.nan,
+               max_error=math.nan, steps="", events="")
     if isinstance(result, BaseException):
-        return "collapse", dict(note=f"{type(result).__name__}: {result}")
+        return "collapse", dict(det, note=f"{type(result).__name__}: {result}")
     t = result.t
     x = result.q[:, 0] - result.q[0, 0]
     v = result.v[:, 0]
-    det = dict(chatter_sign_changes=0, max_v_after=math.nan, creep_rate=math.nan, max_error=math.nan, events="")
     stats = result.stats or {}
+    det["steps"] = stats.get("steps", "")
     for key in ("events", "switches", "event_count"):
         if key in stats:
             det["events"] = stats[key]
             if stats[key] > EVENT_BUDGET:
                 return "collapse", dict(det, note=f"{key} = {stats[key]} > budget {EVENT_BUDGET}")
+    if getattr(result, "method", None) in ADAPTIVE and isinstance(det["steps"], (int, float)) \
+            and det["steps"] > STEP_BUDGET * t_end:
+        return "collapse", dict(det, note=f"{det['steps']} adaptive steps > {STEP_BUDGET:g} per simulated second")
     if not (np.all(np.isfinite(result.q)) and np.all(np.isfinite(v))):
         return "blow-up", dict(det, note="non-finite state")
     xr, _ = cf(t)
@@ -725,26 +805,34 @@ def classify(result, cf, t_end, dt, dof, motion_end, error=None):
         return "blow-up", dict(det, note=f"max error {err:.3g} > {threshold:.3g}")
     margin = max(2.0 * dt, 0.01)
     changes = 0
+    vstick = 0.0
+    creep = 0.0
     for a, b in stick_intervals(cf, t_end):
-        sel = (t > a + margin) & (t < b - margin) if b < t_end - 1e-12 else (t > a + margin)
+        lo, hi = a + margin, (b - margin if b < t_end - 1e-12 else t_end + 1.0)
+        sel = (t > lo) & (t < hi)
         vs = v[sel]
         s = np.sign(vs[np.abs(vs) > V_NOISE])
         changes += int(np.count_nonzero(s[1:] != s[:-1]))
+        # drift: still moving over the second half of the interval (past any late arrival at rest)
+        ts = t[sel]
+        if len(ts) >= 2:
+            half = ts >= 0.5 * (ts[0] + ts[-1])
+            if np.count_nonzero(half) >= 1:
+                vstick = max(vstick, float(np.max(np.abs(vs[half]))))
+            xh, th = x[sel][half], ts[half]
+            if len(th) >= 2 and th[-1] > th[0]:
+                creep = max(creep, abs(xh[-1] - xh[0]) / (th[-1] - th[0]))
     det["chatter_sign_changes"] = changes
-    if changes > 0:
+    det["max_v_stick"] = vstick
+    det["creep_rate"] = creep
+    if motion_end is not None:
+        after = t > motion_end + margin
+        if np.any(after):
+            det["max_v_after"] = float(np.max(np.abs(v[after])))
+    if changes > CHATTER_MIN:
         return "chatter", dict(det, note=f"{changes} sign changes of v while the closed form sticks")
-    segs = cf.segments
-    if segs[-1][2] == 0.0 and segs[-1][3] == 0.0:
-        t0 = max(cf.rest_time, motion_end) + margin
-        sel = t > t0
-        if np.any(sel):
-            vmax = float(np.max(np.abs(v[sel])))
-            det["max_v_after"] = vmax
-            i = int(np.argmax(sel))
-            if t[-1] > t[i]:
-                det["creep_rate"] = abs(x[-1] - x[i]) / (t[-1] - t[i])
-            if vmax > 0.0:
-                return "drift", dict(det, note=f"max |v| after the motion {vmax:.3g}")
+    if vstick > V_NOISE:
+        return "drift", dict(det, note=f"|v| up to {vstick:.3g} late in a stick interval, creep {creep:.3g}")
     return "ok", dict(det, note="")
 
 
@@ -769,13 +857,23 @@ def _family(name):
     raise ValueError(name)
 
 
+ADAPTIVE = ("event", "regularised")
+
+
 def map_grids(quick):
+    """Axes of the maps. ``dts`` for the fixed-step methods; ``dts_adaptive``
+    (every second one) for event and regularised, where dt only sets the
+    output grid."""
     if quick:
-        return dict(dts=[2.0 ** -k for k in (5, 8, 11, 14)], ratios=[0.9, 1.1, 2.0, 10.0],
-                    eps=[1e-2, 1e-4, 1e-6], families=("fig3",))
-    return dict(dts=[2.0 ** -k for k in range(4, 17)],
+        return dict(dts=[2.0 ** -k for k in (5, 8, 11, 14)], dts_adaptive=[2.0 ** -k for k in (5, 11)],
+                    ratios=[0.9, 1.1, 2.0, 10.0], eps=[1e-2, 1e-4], families=("fig3",))
+    return dict(dts=[2.0 ** -k for k in range(4, 17)], dts_adaptive=[2.0 ** -k for k in range(4, 17, 2)],
                 ratios=[0.5, 0.9, 0.99, 1.01, 1.1, 1.5, 2.0, 3.0, 5.0, 10.0, 30.0, 100.0],
                 eps=[10.0 ** -k for k in range(1, 8)], families=("fig3", "fig6"))
+
+
+def _map_dts(g, method):
+    return g["dts_adaptive"] if method in ADAPTIVE else g["dts"]
 
 
 def _map_run(scene, t_end, dt, method, eps=None):
@@ -794,6 +892,7 @@ def stability_maps(methods, quick, bar=None):
     """Run the maps; returns CSV rows (one per cell)."""
     g = map_grids(quick)
     cap = 0.2 if quick else 1.5        # per-run wall budget: finer dt in the same row is skipped beyond it
+    predict_cap = 0.5 if quick else 5.0  # a row predicted (cost ~ 1/eps) to exceed this per run is skipped
     total_cap = 6.0 if quick else 90.0  # per family and method
     rows = []
     for fam in g["families"]:
@@ -803,16 +902,23 @@ def stability_maps(methods, quick, bar=None):
             if method == "regularised":
                 axes += [("eps", e, e) for e in g["eps"]]
             spent = 0.0
+            last_eps_cost = None   # (eps, median wall of that row): the regularised cost grows like 1/eps
             for axis, yval, eps in axes:
                 scene = make(yval if axis == "ratio" else paper_ratio)
                 cf = paper.closed_form(scene)
                 skip_reason = None if method in methods else "missing"
-                for dt in sorted(g["dts"], reverse=True):
+                if skip_reason is None and eps is not None and last_eps_cost is not None:
+                    predicted = last_eps_cost[1] * last_eps_cost[0] / eps
+                    if predicted > predict_cap:
+                        skip_reason = f"skipped: predicted {predicted:.3g} s per run (cost ~ 1/eps)"
+                walls = []
+                for dt in sorted(_map_dts(g, method), reverse=True):
                     if bar is not None:
                         bar.set_postfix_str(f"{fam} {method} {axis}={yval:.3g} dt={dt:.2g}")
                     row = dict(family=fam, method=method, axis=axis, y=yval, dt=dt,
                                eps=eps if eps is not None else "", ratio=yval if axis == "ratio" else paper_ratio,
-                               y_label=rlabel if axis == "ratio" else "eps", wall_s=math.nan)
+                               y_label=rlabel if axis == "ratio" else "eps", wall_s=math.nan,
+                               y_label_ratio=f"the paper's grasp, ratio {paper_ratio:.10g}")
                     if skip_reason is None and spent > total_cap:
                         skip_reason = "skipped"
                     if skip_reason is not None:
@@ -820,6 +926,7 @@ def stability_maps(methods, quick, bar=None):
                     else:
                         res, secs = _map_run(scene, t_end, dt, method, eps)
                         spent += secs
+                        walls.append(secs)
                         cls, det = classify(res, cf, t_end, dt, dof, scene.motion.end_time)
                         row.update(det)
                         row.update(cls=cls, wall_s=secs)
@@ -828,6 +935,8 @@ def stability_maps(methods, quick, bar=None):
                     rows.append(row)
                     if bar is not None:
                         bar.update()
+                if eps is not None and walls:
+                    last_eps_cost = (eps, statistics.median(walls))
     return rows
 
 
@@ -871,7 +980,7 @@ def plot_maps(rows, family, path, machine, missing):
         ax.set_yticklabels([f"{y:g}" for y in ys], fontsize=6)
         ax.set_xlabel("dt = 2^-m s (m)", fontsize=7)
         ax.set_ylabel(sub[0]["y_label"] if sub else axis, fontsize=7)
-        title = f"{method}" + (" (dt, eps)" if axis == "eps" else "")
+        title = f"{method}" + (f" (dt, eps) at {sub[0]['y_label_ratio']}" if axis == "eps" and sub else "")
         if method in missing:
             title += "\nnot available"
         ax.set_title(title, fontsize=8)
@@ -921,7 +1030,7 @@ def map_summary(rows):
             creep = [r["creep_rate"] for r in rr if r["cls"] == "drift" and isinstance(r.get("creep_rate"), float)]
             if creep:
                 extra += f"; creep rate {min(creep):.2g}..{max(creep):.2g}"
-            lines.append(f"    {axis} = {y:g}: [{desc}] (dt from 2^-16 up) {extra}")
+            lines.append(f"    {axis} = {y:g}: [{desc}] (finest dt first) {extra}")
     return "\n".join(lines)
 
 
@@ -968,7 +1077,8 @@ def run(args):
         cases[name] = make_case(name, methods, args.quick)
 
     # exdex sweeps
-    n_pts = sum(len(p[3]) for c in cases.values() for p in _sweeps(methods, args.quick, c.aligned_dt))
+    n_pts = sum(len(p[3]) for c in cases.values()
+                for p in _sweeps([m for m in methods if scene_supports(c.scene, m)], args.quick, c.aligned_dt))
     rows = []
     with tqdm(total=n_pts, desc="exdex sweeps", disable=args.no_progress) as bar:
         for c in cases.values():
@@ -1008,13 +1118,14 @@ def run(args):
     # stability maps
     if args.maps:
         g = map_grids(args.quick)
-        n = sum(len(g["dts"]) * (len(g["ratios"]) + (len(g["eps"]) if m == "regularised" else 0))
+        n = sum(len(_map_dts(g, m)) * (len(g["ratios"]) + (len(g["eps"]) if m == "regularised" else 0))
                 for m in METHODS) * len(g["families"])
         with tqdm(total=n, desc="stability maps", disable=args.no_progress) as bar:
             mrows = stability_maps(methods, args.quick, bar)
         path = os.path.join(args.out, "stability.csv")
         _write_csv(path, mrows, ["family", "method", "axis", "y", "y_label", "dt", "eps", "ratio", "cls",
-                                 "chatter_sign_changes", "max_v_after", "creep_rate", "max_error", "events",
+                                 "chatter_sign_changes", "max_v_stick", "max_v_after", "creep_rate", "max_error",
+                                 "steps", "events",
                                  "wall_s", "note"])
         written.append(path)
         for fam in g["families"]:
