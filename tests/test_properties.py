@@ -24,7 +24,7 @@ import os
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, assume, event, given, settings
+from hypothesis import HealthCheck, Phase, assume, event, given, settings
 from hypothesis import strategies as st
 
 import exdex
@@ -300,7 +300,7 @@ def test_invariant_under_world_rotation_and_translation(scene, Q, d, solver):
 @pytest.mark.xfail(reason="finding (issue 7): with a stop, a world-frame change moves the trajectory by up to "
                           "~3e-8 relative (planar box resting/sliding on a stop), above the 1e-9 that the stop "
                           "handling's 1e-12 slack explains; reported, not yet resolved", strict=False)
-@exdex_settings
+@settings(exdex_settings, phases=[Phase.explicit, Phase.generate])  # no shrinking while it is a known xfail
 @given(scene=stop_scenes(), Q=rotations, d=st.tuples(st.floats(-10, 10), st.floats(-10, 10), st.floats(-10, 10)),
        solver=st.sampled_from(["scalar", "multiroot"]))
 def test_invariant_under_world_rotation_and_translation_with_stop(scene, Q, d, solver):
