@@ -64,9 +64,12 @@ void exdex_cone_rows_paper(double rows[6], double phi, double theta)
 
 static int box_ok(const double lo[3], const double hi[3])
 {
-    for (int j = 0; j < 3; j++)
-        if (!isfinite(lo[j]) || !isfinite(hi[j]) || !(hi[j] > lo[j])) return 0;
-    return 1;
+    double vol = 1.0;
+    for (int j = 0; j < 3; j++) {
+        if (!isfinite(lo[j]) || !isfinite(hi[j]) || !(hi[j] > lo[j]) || !isfinite(hi[j] - lo[j])) return 0;
+        vol *= hi[j] - lo[j];
+    }
+    return isfinite(vol) && vol > 0.0; /* the box volume must be representable (fuzzing) */
 }
 
 static int rows_ok(const double *rows, int m)

@@ -265,6 +265,8 @@ exdex_scene_def exdex_default_scene_def(void);
 int exdex_scene_check(const exdex_scene_def *def, const char **bad_param);
 
 typedef struct exdex_model exdex_model;  /* immutable after alloc */
+/* NULL on error with *status EXDEX_EINVAL (bad_param names the field),
+ * EXDEX_ENOMEM, or EXDEX_ENONFINITE (the motion overflows at t = 0). */
 exdex_model *exdex_model_alloc(const exdex_scene_def *def, int *status,
                                const char **bad_param);
 void exdex_model_free(exdex_model *m);   /* NULL is harmless */
@@ -298,7 +300,10 @@ typedef struct exdex_stats {
     double min_gap;             /* smallest stop gap seen after a step [m] */
 } exdex_stats;
 
-/* Run the whole trajectory. Thread-safe for distinct out/stats. */
+/* Run the whole trajectory. Thread-safe for distinct out/stats. Returns
+ * EXDEX_EINVAL only for bad arguments (model, t_end, dt, out arrays); a state
+ * that leaves the finite range during the run gives EXDEX_ENONFINITE, and a
+ * solver failure EXDEX_ENOCONV. */
 int exdex_simulate(const exdex_model *m, double t_end, double dt,
                    exdex_trajectory *out, exdex_stats *stats);
 

@@ -71,7 +71,7 @@ static inline double dmax(double a, double b) { return a > b ? a : b; }
 double exdex_er_disc(double radius)
 {
     if (!(radius > 0.0) || !isfinite(radius)) return NAN;
-    return 2.0 * radius / 3.0;
+    return radius * (2.0 / 3.0); /* no overflow for radius near DBL_MAX */
 }
 
 /* Mean distance of the uniform rectangle [-a, a] x [-b, b] from its centre

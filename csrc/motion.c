@@ -481,6 +481,10 @@ int exdex_motion_eval(const exdex_motion *m, double t, exdex_kinematics *k)
             k->v[i] = wr[i];
             k->a[i] = t1[i] + t2[i];
         }
+        if (!ex_finite_n(k->v, 3) || !ex_finite_n(k->a, 3) || !ex_finite_n(k->p, 3))
+            return EXDEX_ENONFINITE;
     }
+    /* a finite profile can still overflow for absurd amplitudes (found by fuzzing) */
+    if (!isfinite(s) || !isfinite(sd) || !isfinite(sdd) || !ex_finite_n(k->p, 3)) return EXDEX_ENONFINITE;
     return EXDEX_OK;
 }

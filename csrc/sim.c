@@ -881,6 +881,9 @@ static void project_positions(const exdex_model *m, const exdex_kinematics *kin,
             for (int c = 0; c < n; c++) q[c] += minv1[c] * Gw[c] * (-worst) / gmg * (1.0 + 1e-12);
         }
     }
+    /* still penetrating after every pass (e.g. the prescribed motion drives a
+     * pinned pivot through a stop): report it rather than stay silent */
+    st->warnings++;
 }
 
 static void record_gap(const exdex_model *m, const exdex_kinematics *kin, const double *q,
@@ -1067,5 +1070,7 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajecto
     exdex_friction_ws_free(w->fws);
     free(w);
     if (stats) *stats = st;
-    return status;
+    /* the model and arguments were valid: an "invalid argument" from a solver
+     * inside the loop means the state left the finite range */
+    return status == EXDEX_EINVAL ? EXDEX_ENONFINITE : status;
 }
