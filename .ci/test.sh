@@ -9,6 +9,18 @@ bash .ci/setup.sh || exit 1
 echo "== C suite"
 make -s -C csrc test || { echo "C suite failed"; exit 1; }
 
+echo "== C suite under AddressSanitizer + UndefinedBehaviorSanitizer"
+make -s -C csrc asan > csrc/build-asan.log 2>&1 || { tail -40 csrc/build-asan.log; echo "sanitizer run failed"; exit 1; }
+tail -1 csrc/build-asan.log
+
+if command -v valgrind >/dev/null 2>&1; then
+  echo "== C suite and fuzz inputs under valgrind memcheck (zero errors, zero leaks)"
+  make -s -C csrc valgrind > csrc/build-valgrind.log 2>&1 || { tail -40 csrc/build-valgrind.log; echo "valgrind run failed"; exit 1; }
+  grep -E "passed, .* failed|^fuzz:" csrc/build-valgrind.log | tail -2
+else
+  echo "== valgrind not installed: memcheck run skipped (apt-get install valgrind)"
+fi
+
 echo "== pytest"
 .venv/bin/python -m pytest -q "$@"
 rc=$?
