@@ -5,6 +5,7 @@
  * tests/data/reference.dat), a bound derived here, or an independent
  * method; never an output of the code under test. */
 #include "check.h"
+#include "sim_run.h"
 #include "../exdex.h"
 
 #include <stdlib.h>
@@ -12,46 +13,7 @@
 
 #define G 9.81
 
-typedef struct mrun {
-    exdex_trajectory tr;
-    exdex_stats st;
-    int ndof, nstops, status;
-} mrun;
-
-static void mrun_free(mrun *r)
-{
-    free(r->tr.t);
-    free(r->tr.q);
-    free(r->tr.v);
-    free(r->tr.wrench);
-    free(r->tr.stick);
-    free(r->tr.stop_force);
-    memset(r, 0, sizeof *r);
-}
-
-static int msim(const exdex_scene_def *def, double t_end, double dt, mrun *r)
-{
-    const char *bad = NULL;
-    int status;
-    exdex_model *m = exdex_model_alloc(def, &status, &bad);
-    size_t n = exdex_n_samples(t_end, dt);
-    memset(r, 0, sizeof *r);
-    if (!m) return r->status = status;
-    r->ndof = exdex_model_ndof(m);
-    r->nstops = exdex_model_nstops(m);
-    r->tr.n = n;
-    r->tr.t = calloc(n, sizeof(double));
-    r->tr.q = calloc(n * 3, sizeof(double));
-    r->tr.v = calloc(n * 3, sizeof(double));
-    r->tr.wrench = calloc(n * 3, sizeof(double));
-    r->tr.stick = calloc(n, 1);
-    r->tr.stop_force = calloc(n * (r->nstops + 1), sizeof(double));
-    r->status = exdex_simulate(m, t_end, dt, &r->tr, &r->st);
-    exdex_model_free(m);
-    return r->status;
-}
-
-static double qlast(const mrun *r, int c) { return r->tr.q[(r->tr.n - 1) * r->ndof + c]; }
+static double qlast(const sim_run *r, int c) { return r->tr.q[(r->tr.n - 1) * r->ndof + c]; }
 
 /* 1-DoF vertical scene (B y up), gripper at rest, capacity ratio * m g. */
 static exdex_scene_def mvertical(double mass, double ratio, int method)
@@ -111,16 +73,16 @@ EXDEX_TEST(methods_free_fall_closed_form)
      * q_n = -g h^2 n (n + 1) / 2 = -g t (t + h) / 2. */
     for (int method = EXDEX_METHOD_EVENT; method <= EXDEX_METHOD_EXPLICIT; method++) {
         exdex_scene_def d = mvertical(0.3, 1.0, method);
-        mrun r;
+        sim_run r;
         d.mu = 0.0;
-        ENSURE(msim(&d, 0.7, 1e-3, &r) == EXDEX_OK);
+        ENSURE(sim_run_def(&d, 0.7, 1e-3, &r) == EXDEX_OK);
         if (method == EXDEX_METHOD_EXPLICIT) {
             ENSURE_CLOSE(qlast(&r, 0), -G * 0.7 * (0.7 + 1e-3) / 2, 1e-12);
         } else {
             ENSURE_CLOSE(qlast(&r, 0), ref("sim_free_fall_0p7"), 1e-12);
             ENSURE_CLOSE(r.tr.v[r.tr.n - 1], -G * 0.7, 1e-12);
         }
-        mrun_free(&r);
+        sim_run_free(&r);
     }
 }
 
@@ -129,24 +91,24 @@ EXDEX_TEST(methods_block_sliding_closed_forms)
     /* Capacity c = 0.6 m g, from rest: Coulomb slides at a = 0.4 g.
      * event: s(1) = -0.2 g exactly, friction +0.6 m g. */
     exdex_scene_def d = mvertical(0.2, 0.6, EXDEX_METHOD_EVENT);
-    mrun r;
+    sim_run r;
     double c = 0.6, h = 1e-3, a = 0.4 * G;
-    ENSURE(msim(&d, 1.0, h, &r) == EXDEX_OK);
+    ENSURE(sim_run_def(&d, 1.0, h, &r) == EXDEX_OK);
     ENSURE_CLOSE(qlast(&r, 0), ref("sim_slide_1s"), 1e-12);
     for (size_t i = 1; i < r.tr.n; i += 97) {
         ENSURE_CLOSE(r.tr.q[i], -0.2 * G * r.tr.t[i] * r.tr.t[i], 1e-12);
         ENSURE_CLOSE(r.tr.wrench[3 * i + 1], 0.6 * 0.2 * G, 1e-9);
         ENSURE(!r.tr.stick[i]);
     }
-    mrun_free(&r);
+    sim_run_free(&r);
 
     /* explicit: the first step has v = 0, friction 0 (sign(0) = 0), so
      * v_1 = -g h, then v_k = -g h - (k - 1) a h; q_n = h sum v_k
      * = -g h t - a t (t - h) / 2 at t = n h. */
     d.method = EXDEX_METHOD_EXPLICIT;
-    ENSURE(msim(&d, 1.0, h, &r) == EXDEX_OK);
+    ENSURE(sim_run_def(&d, 1.0, h, &r) == EXDEX_OK);
     ENSURE_CLOSE(qlast(&r, 0), -G * h * 1.0 - a * 1.0 * (1.0 - h) / 2, 1e-12);
-    mrun_free(&r);
+    sim_run_free(&r);
 
     /* regularised, friction -C w / sqrt(w^2 + eps^2) (w the downward speed):
      * the friction deficit C (1 - f(w)) gives a velocity offset
@@ -159,10 +121,10 @@ EXDEX_TEST(methods_block_sliding_closed_forms)
         double I = c / (1 + c) + 2 * c * c / (1 + c) * atan(sqrt((1 + c) / (1 - c))) / sqrt(1 - c * c);
         d.method = EXDEX_METHOD_REGULARISED;
         d.eps = eps;
-        ENSURE(msim(&d, 1.0, h, &r) == EXDEX_OK);
+        ENSURE(sim_run_def(&d, 1.0, h, &r) == EXDEX_OK);
         ENSURE_CLOSE(qlast(&r, 0), -0.2 * G - eps * I, 5e-8);  /* O(eps^2) = 2e-8 */
         report("methods_reg_slide_1s_eps1e-4", qlast(&r, 0));
-        mrun_free(&r);
+        sim_run_free(&r);
     }
 }
 
@@ -215,15 +177,15 @@ EXDEX_TEST(methods_event_fig3_closed_form_exact_stillness)
     ENSURE_CLOSE(xcf, ref("sim_fig3_grip1p5_final"), 1e-15);
     for (int k = 0; k < 3; k++) {
         exdex_scene_def d = mfig3(EXDEX_METHOD_EVENT);
-        mrun r;
+        sim_run r;
         int still = 1;
-        ENSURE(msim(&d, 1.5, dts[k], &r) == EXDEX_OK);
+        ENSURE(sim_run_def(&d, 1.5, dts[k], &r) == EXDEX_OK);
         ENSURE_CLOSE(qlast(&r, 0), xcf, 1e-12);
         for (size_t i = 0; i < r.tr.n; i++)
             if (r.tr.t[i] > ts + 1e-9) still &= r.tr.v[i] == 0.0 && r.tr.stick[i];
         ENSURE(still);
         if (k == 0) report("methods_event_fig3_final_dt1e-2", qlast(&r, 0));
-        mrun_free(&r);
+        sim_run_free(&r);
     }
 }
 
@@ -248,16 +210,16 @@ EXDEX_TEST(methods_regularised_fig3_error_first_order_in_eps)
     double k_pred = -(z1 * 0.45 + (z1 + I) * (ts - 0.45) + z1 * (1.0 - ts) + z4 * 0.5);
     double eps = 1e-4;
     exdex_scene_def d = mfig3(EXDEX_METHOD_REGULARISED);
-    mrun r;
+    sim_run r;
     d.eps = eps;
-    ENSURE(msim(&d, 1.5, 1e-2, &r) == EXDEX_OK);
+    ENSURE(sim_run_def(&d, 1.5, 1e-2, &r) == EXDEX_OK);
     ENSURE_CLOSE((qlast(&r, 0) - xcf) / eps / k_pred, 1.0, 2e-3);
     /* and it never sticks: after the motion it creeps at -eps z4 */
     ENSURE_CLOSE(r.tr.v[r.tr.n - 1] / (-eps * z4), 1.0, 1e-6);
     ENSURE(!r.tr.stick[r.tr.n - 1]);
     report("methods_reg_fig3_err_over_eps", (qlast(&r, 0) - xcf) / eps);
     report("methods_reg_fig3_err_over_eps_pred", k_pred);
-    mrun_free(&r);
+    sim_run_free(&r);
 }
 
 EXDEX_TEST(methods_fig4_stop_all_methods)
@@ -269,7 +231,7 @@ EXDEX_TEST(methods_fig4_stop_all_methods)
      * carries what it can) and the object is exactly still. */
     for (int method = EXDEX_METHOD_EVENT; method <= EXDEX_METHOD_EXPLICIT; method++) {
         exdex_scene_def d = mvertical(0.1, 1.5 / (0.1 * G), method);
-        mrun r;
+        sim_run r;
         box_outline(&d);
         d.n_stops = 1;
         d.stop_point[0][2] = -0.02;
@@ -281,7 +243,7 @@ EXDEX_TEST(methods_fig4_stop_all_methods)
         d.motion.amplitude = 0.05;
         d.motion.duration = 0.5;
         d.motion.v_max = 0.12;
-        ENSURE(msim(&d, 1.0, 1e-3, &r) == EXDEX_OK);
+        ENSURE(sim_run_def(&d, 1.0, 1e-3, &r) == EXDEX_OK);
         ENSURE(r.st.min_gap >= -1e-15);
         ENSURE_CLOSE(qlast(&r, 0), 0.05, 1e-12);
         if (method == EXDEX_METHOD_EVENT) {
@@ -291,7 +253,7 @@ EXDEX_TEST(methods_fig4_stop_all_methods)
                 ENSURE(r.tr.v[i] == 0.0 && r.tr.stick[i]);
             }
         }
-        mrun_free(&r);
+        sim_run_free(&r);
     }
 }
 
@@ -302,7 +264,7 @@ EXDEX_TEST(methods_event_rotation_stop_matches_implicit)
      * stop that one end hits and slides along. Independent method: the
      * implicit one at dt = 1e-5 (first order, error ~1e-9 here). */
     exdex_scene_def d = mvertical(0.1, 1.0, EXDEX_METHOD_EVENT);
-    mrun a, b;
+    sim_run a, b;
     d.dof = EXDEX_DOF_ROTATION;
     d.inertia[8] = 1e-4;
     d.grip_force = 0.05;
@@ -321,9 +283,9 @@ EXDEX_TEST(methods_event_rotation_stop_matches_implicit)
     d.n_stops = 1;
     d.stop_point[0][2] = -0.01;
     d.stop_normal[0][2] = 1.0;
-    ENSURE(msim(&d, 1.2, 1e-3, &a) == EXDEX_OK);
+    ENSURE(sim_run_def(&d, 1.2, 1e-3, &a) == EXDEX_OK);
     d.method = EXDEX_METHOD_IMPLICIT;
-    ENSURE(msim(&d, 1.2, 1e-5, &b) == EXDEX_OK);
+    ENSURE(sim_run_def(&d, 1.2, 1e-5, &b) == EXDEX_OK);
     ENSURE_CLOSE(qlast(&a, 0), qlast(&b, 0), 1e-8);
     ENSURE(a.st.min_gap >= -1e-15);
     {
@@ -333,8 +295,8 @@ EXDEX_TEST(methods_event_rotation_stop_matches_implicit)
     }
     ENSURE(a.tr.stick[a.tr.n - 1] && a.tr.v[a.tr.n - 1] == 0.0);
     report("methods_event_rot_stop_final", qlast(&a, 0));
-    mrun_free(&a);
-    mrun_free(&b);
+    sim_run_free(&a);
+    sim_run_free(&b);
 }
 
 /* ------------------------------------------------------ stability claims */
@@ -351,11 +313,11 @@ EXDEX_TEST(methods_stillness_map_event_implicit)
         for (int i = 0; i < 5; i++)
             for (int j = 0; j < 6; j++) {
                 exdex_scene_def d = mvertical(0.1, ratios[j], methods[k]);
-                mrun r;
+                sim_run r;
                 int moved = 0, slipped = 0;
                 double t_end = fmax(200 * dts[i], 0.5);
                 d.q0[1] = -0.02;
-                ENSURE(msim(&d, t_end, dts[i], &r) == EXDEX_OK);
+                ENSURE(sim_run_def(&d, t_end, dts[i], &r) == EXDEX_OK);
                 for (size_t s = 0; s < r.tr.n; s++) {
                     moved |= r.tr.q[s] != -0.02 || r.tr.v[s] != 0.0;
                     slipped |= !r.tr.stick[s];
@@ -363,7 +325,7 @@ EXDEX_TEST(methods_stillness_map_event_implicit)
                 ENSURE(!moved);
                 ENSURE(!slipped);
                 ENSURE_CLOSE(r.tr.wrench[3 * (r.tr.n - 1) + 1], 0.1 * G, 1e-12);
-                mrun_free(&r);
+                sim_run_free(&r);
             }
 }
 
@@ -377,13 +339,13 @@ EXDEX_TEST(methods_stillness_moving_gripper_and_planar)
     int methods[2] = {EXDEX_METHOD_IMPLICIT, EXDEX_METHOD_EVENT};
     for (int k = 0; k < 2; k++) {
         exdex_scene_def d = mfig3(methods[k]);
-        mrun r;
+        sim_run r;
         int moved = 0;
         d.grip_force = 2.0 / (2 * d.mu);
-        ENSURE(msim(&d, 1.5, 1e-3, &r) == EXDEX_OK);
+        ENSURE(sim_run_def(&d, 1.5, 1e-3, &r) == EXDEX_OK);
         for (size_t s = 0; s < r.tr.n; s++) moved |= r.tr.q[s] != 0.0 || r.tr.v[s] != 0.0 || !r.tr.stick[s];
         ENSURE(!moved);
-        mrun_free(&r);
+        sim_run_free(&r);
 
         d = mvertical(0.1, 2.0, methods[k]);
         d.dof = EXDEX_DOF_PLANAR;
@@ -392,7 +354,7 @@ EXDEX_TEST(methods_stillness_moving_gripper_and_planar)
         d.e_r = 0.02;
         d.q0[0] = 0.003;
         d.q0[1] = -0.02;
-        ENSURE(msim(&d, 2.0, 1e-3, &r) == EXDEX_OK);
+        ENSURE(sim_run_def(&d, 2.0, 1e-3, &r) == EXDEX_OK);
         moved = 0;
         for (size_t s = 0; s < r.tr.n; s++) {
             moved |= r.tr.q[3 * s] != 0.003 || r.tr.q[3 * s + 1] != -0.02 || r.tr.q[3 * s + 2] != 0.0;
@@ -400,7 +362,7 @@ EXDEX_TEST(methods_stillness_moving_gripper_and_planar)
             moved |= !r.tr.stick[s];
         }
         ENSURE(!moved);
-        mrun_free(&r);
+        sim_run_free(&r);
     }
 }
 
@@ -418,10 +380,10 @@ EXDEX_TEST(methods_explicit_chatters_band_and_creep)
     double r_cap = 2.0 + sqrt(5.0), dts[3] = {1e-4, 1e-3, 1e-2};
     for (int i = 0; i < 3; i++) {
         exdex_scene_def d = mvertical(0.1, r_cap, EXDEX_METHOD_EXPLICIT);
-        mrun r;
+        sim_run r;
         double h = dts[i], lo = h * (-G - r_cap * G), hi = h * (-G + r_cap * G), vmax = 0.0, vmin = 0.0;
         size_t zeros = 0, n;
-        ENSURE(msim(&d, 4000 * h, h, &r) == EXDEX_OK);
+        ENSURE(sim_run_def(&d, 4000 * h, h, &r) == EXDEX_OK);
         n = r.tr.n;
         for (size_t s = 2; s < n; s++) {
             vmax = fmax(vmax, r.tr.v[s]);
@@ -434,7 +396,7 @@ EXDEX_TEST(methods_explicit_chatters_band_and_creep)
         /* mean creep speed over the run: h Q / M = -h g (1%) */
         ENSURE_CLOSE((r.tr.q[n - 1] - r.tr.q[1]) / (r.tr.t[n - 1] - r.tr.t[1]) / (-h * G), 1.0, 1e-2);
         ENSURE(!r.tr.stick[n - 1]);
-        mrun_free(&r);
+        sim_run_free(&r);
     }
     /* the resolution boundary for v_res = 1e-3 m/s */
     {
@@ -442,15 +404,15 @@ EXDEX_TEST(methods_explicit_chatters_band_and_creep)
         double f[2] = {0.8, 1.25};
         for (int k = 0; k < 2; k++) {
             exdex_scene_def d = mvertical(0.1, r_cap, EXDEX_METHOD_EXPLICIT);
-            mrun r;
+            sim_run r;
             double vabs = 0.0;
-            ENSURE(msim(&d, 4000 * f[k] * h_star, f[k] * h_star, &r) == EXDEX_OK);
+            ENSURE(sim_run_def(&d, 4000 * f[k] * h_star, f[k] * h_star, &r) == EXDEX_OK);
             for (size_t s = 1; s < r.tr.n; s++) vabs = fmax(vabs, fabs(r.tr.v[s]));
             if (k == 0)
                 ENSURE(vabs < v_res);
             else
                 ENSURE(vabs > v_res);
-            mrun_free(&r);
+            sim_run_free(&r);
         }
         report("methods_explicit_h_star_vres1e-3", h_star);
     }
@@ -465,12 +427,12 @@ EXDEX_TEST(methods_regularised_creep_rate)
      * 1-DoF vertical, load m g, C = 2 m g: v = -eps / sqrt(3). */
     {
         exdex_scene_def d = mvertical(0.1, 2.0, EXDEX_METHOD_REGULARISED);
-        mrun r;
+        sim_run r;
         d.eps = 1e-4;
-        ENSURE(msim(&d, 0.05, 1e-3, &r) == EXDEX_OK);
+        ENSURE(sim_run_def(&d, 0.05, 1e-3, &r) == EXDEX_OK);
         ENSURE_CLOSE(r.tr.v[r.tr.n - 1] / (-1e-4 / sqrt(3.0)), 1.0, 1e-6);
         ENSURE(!r.tr.stick[r.tr.n - 1]);
-        mrun_free(&r);
+        sim_run_free(&r);
     }
     /* Planar, patch at pc = (px, 0) from the centre of mass, theta = 0:
      * w_L = (0, -m g, px m g) (force, and its moment about the patch), so
@@ -480,7 +442,7 @@ EXDEX_TEST(methods_regularised_creep_rate)
      * rotation by then, ~1e-5 rad, changes the load by < 1e-5). */
     {
         exdex_scene_def d = mvertical(0.1, 2.0, EXDEX_METHOD_REGULARISED);
-        mrun r;
+        sim_run r;
         double eps = 1e-4, px = 0.004, er = 0.02, mg = 0.1 * G, C = 2.0 * mg;
         double D = sqrt(C * C - mg * mg - (px * mg / er) * (px * mg / er));
         double uy = -eps * mg / D, ur = eps * px * mg / (er * er * D);
@@ -489,12 +451,12 @@ EXDEX_TEST(methods_regularised_creep_rate)
         d.patch_center[0] = px;
         d.e_r = er;
         d.eps = eps;
-        ENSURE(msim(&d, 0.01, 1e-3, &r) == EXDEX_OK);
+        ENSURE(sim_run_def(&d, 0.01, 1e-3, &r) == EXDEX_OK);
         ENSURE_CLOSE(r.tr.v[3 * (r.tr.n - 1) + 2] / ur, 1.0, 1e-4);
         ENSURE_CLOSE(r.tr.v[3 * (r.tr.n - 1) + 1] / (uy - px * ur), 1.0, 1e-4);
         ENSURE(fabs(r.tr.v[3 * (r.tr.n - 1)]) < 1e-4 * fabs(uy));
         report("methods_reg_planar_creep_thd", r.tr.v[3 * (r.tr.n - 1) + 2]);
-        mrun_free(&r);
+        sim_run_free(&r);
     }
 }
 
@@ -509,12 +471,12 @@ EXDEX_TEST(methods_regularised_step_collapse)
     double eps[2] = {1e-5, 1e-6}, t_end[2] = {0.05, 0.005}, x_stab = ref("methods_rk8pd_stability_interval");
     for (int i = 0; i < 2; i++) {
         exdex_scene_def d = mvertical(0.1, 2.0, EXDEX_METHOD_REGULARISED);
-        mrun r;
+        sim_run r;
         double k = 2.0 * G * pow(0.75, 1.5) / eps[i], pred = t_end[i] * k / x_stab;
         d.eps = eps[i];
-        ENSURE(msim(&d, t_end[i], 1e-3, &r) == EXDEX_OK);
+        ENSURE(sim_run_def(&d, t_end[i], 1e-3, &r) == EXDEX_OK);
         ENSURE((double)r.st.steps >= 0.9 * pred && (double)r.st.steps <= 1.3 * pred);
-        mrun_free(&r);
+        sim_run_free(&r);
     }
 }
 
@@ -526,7 +488,7 @@ EXDEX_TEST(methods_regularised_step_collapse)
 static double centrifugal_error(int method, double dt, double rtol)
 {
     exdex_scene_def d = exdex_default_scene_def();
-    mrun r;
+    sim_run r;
     double w = 2.0, s0 = 0.05, c = w * w * 0.02, ex;
     d.mass = 0.1;
     d.mu = 0.5;
@@ -539,10 +501,10 @@ static double centrifugal_error(int method, double dt, double rtol)
     d.method = method;
     d.rtol = rtol;
     d.atol = rtol;
-    if (msim(&d, 2.0, dt, &r) != EXDEX_OK) return NAN;
+    if (sim_run_def(&d, 2.0, dt, &r) != EXDEX_OK) return NAN;
     ex = c / (w * w) + (s0 - c / (w * w)) * cosh(w * 2.0);
     ex = fabs(qlast(&r, 0) - ex) / ex;
-    mrun_free(&r);
+    sim_run_free(&r);
     return ex;
 }
 
@@ -586,15 +548,15 @@ EXDEX_TEST(methods_observed_orders)
         for (int k = 0; k < n; k++) {
             double dt = 0.0123 * pow(0.5, k * 0.5), x, y;
             exdex_scene_def d = mfig3(EXDEX_METHOD_IMPLICIT);
-            mrun r;
-            ENSURE(msim(&d, 1.5, dt, &r) == EXDEX_OK);
+            sim_run r;
+            ENSURE(sim_run_def(&d, 1.5, dt, &r) == EXDEX_OK);
             x = log(dt);
             y = log(fabs(qlast(&r, 0) - xcf) + 1e-300);
             sx += x;
             sy += y;
             sxx += x * x;
             sxy += x * y;
-            mrun_free(&r);
+            sim_run_free(&r);
         }
         slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
         ENSURE(slope > 0.7 && slope < 1.6);
@@ -629,17 +591,17 @@ EXDEX_TEST(methods_planar_event_is_the_implicit_limit)
      * error ratio 10 per decade of dt; and the event method itself agrees
      * between tolerances 1e-8 and 1e-12. */
     exdex_scene_def d = planar_rot(EXDEX_METHOD_EVENT);
-    mrun ev, evl, a, b;
+    sim_run ev, evl, a, b;
     double ea = 0.0, eb = 0.0, el = 0.0;
     d.rtol = 1e-12;
     d.atol = 1e-14;
-    ENSURE(msim(&d, 1.0, 1e-3, &ev) == EXDEX_OK);
+    ENSURE(sim_run_def(&d, 1.0, 1e-3, &ev) == EXDEX_OK);
     d.rtol = 1e-8;
     d.atol = 1e-10;
-    ENSURE(msim(&d, 1.0, 1e-2, &evl) == EXDEX_OK);
+    ENSURE(sim_run_def(&d, 1.0, 1e-2, &evl) == EXDEX_OK);
     d.method = EXDEX_METHOD_IMPLICIT;
-    ENSURE(msim(&d, 1.0, 1e-3, &a) == EXDEX_OK);
-    ENSURE(msim(&d, 1.0, 1e-4, &b) == EXDEX_OK);
+    ENSURE(sim_run_def(&d, 1.0, 1e-3, &a) == EXDEX_OK);
+    ENSURE(sim_run_def(&d, 1.0, 1e-4, &b) == EXDEX_OK);
     for (int c = 0; c < 3; c++) {
         ea = fmax(ea, fabs(qlast(&a, c) - qlast(&ev, c)));
         eb = fmax(eb, fabs(qlast(&b, c) - qlast(&ev, c)));
@@ -649,10 +611,10 @@ EXDEX_TEST(methods_planar_event_is_the_implicit_limit)
     ENSURE(ea / eb > 8.0 && ea / eb < 12.5);
     ENSURE(eb < 1e-3);
     report("methods_order_implicit_planar_slip", log10(ea / eb));
-    mrun_free(&ev);
-    mrun_free(&evl);
-    mrun_free(&a);
-    mrun_free(&b);
+    sim_run_free(&ev);
+    sim_run_free(&evl);
+    sim_run_free(&a);
+    sim_run_free(&b);
 }
 
 EXDEX_TEST(methods_planar_spin_to_rest_event_exact_stick)
@@ -662,7 +624,7 @@ EXDEX_TEST(methods_planar_spin_to_rest_event_exact_stick)
      * stay exactly still (event); kinetic energy never increases; the
      * implicit solution converges to it. */
     exdex_scene_def d = mvertical(0.1, 1.0, EXDEX_METHOD_EVENT);
-    mrun r, im;
+    sim_run r, im;
     int ok = 1, still = 1, seen = 0;
     d.gravity[2] = 0.0;
     d.grip_force = 0.3;
@@ -673,7 +635,7 @@ EXDEX_TEST(methods_planar_spin_to_rest_event_exact_stick)
     d.v0[0] = 0.3;
     d.v0[1] = -0.2;
     d.v0[2] = 5.0;
-    ENSURE(msim(&d, 1.0, 1e-3, &r) == EXDEX_OK);
+    ENSURE(sim_run_def(&d, 1.0, 1e-3, &r) == EXDEX_OK);
     for (size_t i = 1; i < r.tr.n; i++) {
         const double *v0 = r.tr.v + 3 * (i - 1), *v1 = r.tr.v + 3 * i;
         double e0 = 0.1 * (v0[0] * v0[0] + v0[1] * v0[1]) + 2e-4 * v0[2] * v0[2];
@@ -685,10 +647,10 @@ EXDEX_TEST(methods_planar_spin_to_rest_event_exact_stick)
     ENSURE(ok);
     ENSURE(seen && still);
     d.method = EXDEX_METHOD_IMPLICIT;
-    ENSURE(msim(&d, 1.0, 1e-5, &im) == EXDEX_OK);
+    ENSURE(sim_run_def(&d, 1.0, 1e-5, &im) == EXDEX_OK);
     for (int c = 0; c < 3; c++) ENSURE_CLOSE(qlast(&im, c), qlast(&r, c), 1e-4);
-    mrun_free(&r);
-    mrun_free(&im);
+    sim_run_free(&r);
+    sim_run_free(&im);
 }
 
 /* ------------------------------------------------------ failure of (a) */
@@ -708,7 +670,7 @@ EXDEX_TEST(methods_event_zeno_like_toggling_fails_loudly)
         size_t ns = (size_t)(40 * f) + 1;
         double *times = malloc(ns * sizeof *times), *poses = malloc(ns * 7 * sizeof *poses);
         exdex_scene_def d = mvertical(0.1, 1.5, EXDEX_METHOD_EVENT);
-        mrun r;
+        sim_run r;
         int st;
         for (size_t i = 0; i < ns; i++) {
             double t = (double)i / (40 * f);
@@ -723,7 +685,7 @@ EXDEX_TEST(methods_event_zeno_like_toggling_fails_loudly)
         d.motion.n_samples = ns;
         d.motion.times = times;
         d.motion.poses = poses;
-        st = msim(&d, 1.0, k == 0 ? 1e-2 : 1.0, &r);
+        st = sim_run_def(&d, 1.0, k == 0 ? 1e-2 : 1.0, &r);
         if (k == 0) {
             ENSURE(st == EXDEX_OK);
             ENSURE(r.tr.q[r.tr.n - 1] < 0.0); /* it slipped down */
@@ -731,7 +693,7 @@ EXDEX_TEST(methods_event_zeno_like_toggling_fails_loudly)
         } else {
             ENSURE(st == EXDEX_ENOCONV);
         }
-        mrun_free(&r);
+        sim_run_free(&r);
         free(times);
         free(poses);
     }
@@ -744,7 +706,7 @@ EXDEX_TEST(methods_bad_input_and_determinism)
     const char *bad = NULL;
     int status;
     exdex_scene_def d = exdex_default_scene_def();
-    mrun a, b;
+    sim_run a, b;
     d.method = 4;
     ENSURE(exdex_model_alloc(&d, &status, &bad) == NULL && status == EXDEX_EINVAL);
     ENSURE(bad && strcmp(bad, "method") == 0);
@@ -768,11 +730,11 @@ EXDEX_TEST(methods_bad_input_and_determinism)
     /* same input, same bits */
     for (int method = EXDEX_METHOD_EVENT; method <= EXDEX_METHOD_EXPLICIT; method++) {
         exdex_scene_def p = planar_rot(method);
-        ENSURE(msim(&p, 0.5, 1e-3, &a) == EXDEX_OK);
-        ENSURE(msim(&p, 0.5, 1e-3, &b) == EXDEX_OK);
+        ENSURE(sim_run_def(&p, 0.5, 1e-3, &a) == EXDEX_OK);
+        ENSURE(sim_run_def(&p, 0.5, 1e-3, &b) == EXDEX_OK);
         ENSURE(memcmp(a.tr.q, b.tr.q, a.tr.n * 3 * sizeof(double)) == 0);
         ENSURE(memcmp(a.tr.wrench, b.tr.wrench, a.tr.n * 3 * sizeof(double)) == 0);
-        mrun_free(&a);
-        mrun_free(&b);
+        sim_run_free(&a);
+        sim_run_free(&b);
     }
 }

@@ -2,52 +2,13 @@
  * Every expected value is a closed form stated beside it (or in
  * tests/data/reference.dat), never an output of the code under test. */
 #include "check.h"
+#include "sim_run.h"
 #include "../exdex.h"
 
 #include <stdlib.h>
 #include <string.h>
 
 #define G 9.81
-
-typedef struct run {
-    exdex_trajectory tr;
-    exdex_stats st;
-    int ndof, nstops, status;
-} run;
-
-static void run_free(run *r)
-{
-    free(r->tr.t);
-    free(r->tr.q);
-    free(r->tr.v);
-    free(r->tr.wrench);
-    free(r->tr.stick);
-    free(r->tr.stop_force);
-    memset(r, 0, sizeof *r);
-}
-
-/* Simulate def; returns 0 and fills r, or the status. */
-static int simulate_def(const exdex_scene_def *def, double t_end, double dt, run *r)
-{
-    const char *bad = NULL;
-    int status;
-    exdex_model *m = exdex_model_alloc(def, &status, &bad);
-    size_t n = exdex_n_samples(t_end, dt);
-    memset(r, 0, sizeof *r);
-    if (!m) return r->status = status;
-    r->ndof = exdex_model_ndof(m);
-    r->nstops = exdex_model_nstops(m);
-    r->tr.n = n;
-    r->tr.t = calloc(n, sizeof(double));
-    r->tr.q = calloc(n * 3, sizeof(double));
-    r->tr.v = calloc(n * 3, sizeof(double));
-    r->tr.wrench = calloc(n * 3, sizeof(double));
-    r->tr.stick = calloc(n, 1);
-    r->tr.stop_force = calloc(n * (r->nstops + 1), sizeof(double));
-    r->status = exdex_simulate(m, t_end, dt, &r->tr, &r->st);
-    exdex_model_free(m);
-    return r->status;
-}
 
 /* 1-DoF vertical scene (B y up by default) with the gripper at rest. */
 static exdex_scene_def vertical(double mass, double capacity_over_g)
@@ -66,13 +27,13 @@ EXDEX_TEST(sim_free_fall_closed_form)
     /* mu = 0, gripper at rest: s = -g t^2 / 2 (midpoint rule exact for
      * constant acceleration). */
     exdex_scene_def d = vertical(0.3, 1.0);
-    run r;
+    sim_run r;
     d.mu = 0.0;
-    ENSURE(simulate_def(&d, 0.7, 1e-3, &r) == EXDEX_OK);
+    ENSURE(sim_run_def(&d, 0.7, 1e-3, &r) == EXDEX_OK);
     ENSURE_CLOSE(r.tr.q[r.tr.n - 1], ref("sim_free_fall_0p7"), 1e-12);
     ENSURE_CLOSE(r.tr.v[r.tr.n - 1], -G * 0.7, 1e-12);
     report("sim_free_fall_0p7", r.tr.q[r.tr.n - 1]);
-    run_free(&r);
+    sim_run_free(&r);
 }
 
 EXDEX_TEST(sim_block_sliding_constant_acceleration)
@@ -80,8 +41,8 @@ EXDEX_TEST(sim_block_sliding_constant_acceleration)
     /* Capacity 0.6 m g < m g: slides down at a = -(1 - 0.6) g from rest,
      * friction force +0.6 m g throughout; s(1) = -0.2 g. */
     exdex_scene_def d = vertical(0.2, 0.6);
-    run r;
-    ENSURE(simulate_def(&d, 1.0, 1e-3, &r) == EXDEX_OK);
+    sim_run r;
+    ENSURE(sim_run_def(&d, 1.0, 1e-3, &r) == EXDEX_OK);
     ENSURE_CLOSE(r.tr.q[r.tr.n - 1], ref("sim_slide_1s"), 1e-12);
     for (size_t i = 1; i < r.tr.n; i += 97) {
         ENSURE_CLOSE(r.tr.q[i], -0.2 * G * r.tr.t[i] * r.tr.t[i], 1e-12);
@@ -89,7 +50,7 @@ EXDEX_TEST(sim_block_sliding_constant_acceleration)
         ENSURE(!r.tr.stick[i]);
     }
     report("sim_slide_1s", r.tr.q[r.tr.n - 1]);
-    run_free(&r);
+    sim_run_free(&r);
 }
 
 EXDEX_TEST(sim_rest_inside_ellipsoid_exactly_still_10s)
@@ -97,11 +58,11 @@ EXDEX_TEST(sim_rest_inside_ellipsoid_exactly_still_10s)
     /* Load m g inside the capacity (1.01 m g): the object must not move at
      * all, bit for bit, for 10 s, and every step must report stick. */
     exdex_scene_def d = vertical(0.1, 1.01);
-    run r;
+    sim_run r;
     int moved = 0, slipped = 0;
     d.q0[0] = 0.003;
     d.q0[1] = -0.02;
-    ENSURE(simulate_def(&d, 10.0, 1e-3, &r) == EXDEX_OK);
+    ENSURE(sim_run_def(&d, 10.0, 1e-3, &r) == EXDEX_OK);
     for (size_t i = 0; i < r.tr.n; i++) {
         moved |= r.tr.q[i] != -0.02 || r.tr.v[i] != 0.0;
         slipped |= !r.tr.stick[i];
@@ -109,7 +70,7 @@ EXDEX_TEST(sim_rest_inside_ellipsoid_exactly_still_10s)
     ENSURE(!moved);
     ENSURE(!slipped);
     ENSURE_CLOSE(r.tr.wrench[3 * (r.tr.n - 1) + 1], 0.1 * G, 1e-12);
-    run_free(&r);
+    sim_run_free(&r);
 
     /* The same in a planar scene with an off-centre patch: the load (m g
      * at the centre of mass, i.e. a torque about the centre of pressure)
@@ -119,7 +80,7 @@ EXDEX_TEST(sim_rest_inside_ellipsoid_exactly_still_10s)
     d.patch_center[0] = 0.004;
     d.e_r = 0.02;
     d.grip_force = 2.0 * 0.1 * G / (2 * d.mu); /* capacity 2 m g */
-    ENSURE(simulate_def(&d, 10.0, 1e-3, &r) == EXDEX_OK);
+    ENSURE(sim_run_def(&d, 10.0, 1e-3, &r) == EXDEX_OK);
     moved = slipped = 0;
     for (size_t i = 0; i < r.tr.n; i++) {
         moved |= r.tr.q[3 * i] != 0.003 || r.tr.q[3 * i + 1] != -0.02 || r.tr.q[3 * i + 2] != 0.0;
@@ -128,7 +89,7 @@ EXDEX_TEST(sim_rest_inside_ellipsoid_exactly_still_10s)
     }
     ENSURE(!moved);
     ENSURE(!slipped);
-    run_free(&r);
+    sim_run_free(&r);
 }
 
 EXDEX_TEST(sim_linear_acceleration_term_alone)
@@ -138,7 +99,7 @@ EXDEX_TEST(sim_linear_acceleration_term_alone)
      * piecewise-constant acceleration; dt divides the switching times so
      * the midpoint rule is exact). */
     exdex_scene_def d = exdex_default_scene_def();
-    run r;
+    sim_run r;
     d.mass = 0.1;
     d.mu = 0.0;
     d.gravity[2] = 0.0;
@@ -149,14 +110,14 @@ EXDEX_TEST(sim_linear_acceleration_term_alone)
     d.motion.amplitude = 0.1;
     d.motion.duration = 0.5;
     d.motion.beta = 0.9;
-    ENSURE(simulate_def(&d, 1.2, 1e-3, &r) == EXDEX_OK);
+    ENSURE(sim_run_def(&d, 1.2, 1e-3, &r) == EXDEX_OK);
     for (size_t i = 0; i < r.tr.n; i += 7) {
         double s, sd, sdd;
         exdex_profile_asymmetric(0.1, 0.5, 0.9, r.tr.t[i], &s, &sd, &sdd);
         ENSURE_CLOSE(r.tr.q[i], s, 1e-12);   /* gripper moved -s along B y */
         ENSURE_CLOSE(r.tr.v[i], sd, 1e-12);
     }
-    run_free(&r);
+    sim_run_free(&r);
 }
 
 EXDEX_TEST(sim_euler_term_alone)
@@ -166,7 +127,7 @@ EXDEX_TEST(sim_euler_term_alone)
      * With w parallel to z the gyroscopic term vanishes and I_zz thdd =
      * -I_zz dw: the object keeps its world orientation, theta = -phi(t). */
     exdex_scene_def d = exdex_default_scene_def();
-    run r;
+    sim_run r;
     d.mass = 0.1;
     d.mu = 0.0;
     d.gravity[2] = 0.0;
@@ -179,14 +140,14 @@ EXDEX_TEST(sim_euler_term_alone)
     d.motion.amplitude = 1.0;
     d.motion.duration = 1.0;
     d.motion.beta = 0.7;
-    ENSURE(simulate_def(&d, 2.5, 1e-3, &r) == EXDEX_OK);
+    ENSURE(sim_run_def(&d, 2.5, 1e-3, &r) == EXDEX_OK);
     for (size_t i = 0; i < r.tr.n; i += 11) {
         double s, sd, sdd;
         exdex_profile_asymmetric(1.0, 1.0, 0.7, r.tr.t[i], &s, &sd, &sdd);
         ENSURE_CLOSE(r.tr.q[i], -s, 1e-9);
         ENSURE_CLOSE(r.tr.v[i], -sd, 1e-9);
     }
-    run_free(&r);
+    sim_run_free(&r);
 }
 
 EXDEX_TEST(sim_centrifugal_term_alone)
@@ -197,7 +158,7 @@ EXDEX_TEST(sim_centrifugal_term_alone)
      * line, so s'' = w^2 s: s(t) = s0 cosh(w t). Midpoint rule error is
      * O(h^2 w^4 s t): < 2e-7 relative here with h = 1e-4. */
     exdex_scene_def d = exdex_default_scene_def();
-    run r;
+    sim_run r;
     double w = 2.0, s0 = 0.05;
     d.mass = 0.1;
     d.mu = 0.0;
@@ -213,10 +174,10 @@ EXDEX_TEST(sim_centrifugal_term_alone)
     d.motion.amplitude = w * 1.0;
     d.motion.duration = 1.0;
     d.motion.v_max = w;
-    ENSURE(simulate_def(&d, 1.0, 1e-4, &r) == EXDEX_OK);
+    ENSURE(sim_run_def(&d, 1.0, 1e-4, &r) == EXDEX_OK);
     for (size_t i = 0; i < r.tr.n; i += 1001)
         ENSURE_CLOSE(r.tr.q[i] / (s0 * cosh(w * r.tr.t[i])), 1.0, 2e-7);
-    run_free(&r);
+    sim_run_free(&r);
 }
 
 /* Max error of the planar free object against its closed form (below). */
@@ -229,7 +190,7 @@ static double coriolis_error(double h)
      * r(t) = Rz(-w t) (u t), theta = -w t. The centrifugal and Coriolis terms
      * both act. */
     exdex_scene_def d = exdex_default_scene_def();
-    run r;
+    sim_run r;
     double w = 1.5, u[2] = {0.2, -0.1}, err = 0.0;
     d.mass = 0.1;
     d.mu = 0.0;
@@ -247,7 +208,7 @@ static double coriolis_error(double h)
     d.motion.amplitude = w * 3.0; /* spins at w until t = 3, beyond the run */
     d.motion.duration = 3.0;
     d.motion.v_max = w;
-    if (simulate_def(&d, 2.0, h, &r) != EXDEX_OK) return INFINITY;
+    if (sim_run_def(&d, 2.0, h, &r) != EXDEX_OK) return INFINITY;
     for (size_t i = 0; i < r.tr.n; i++) {
         double t = r.tr.t[i], c = cos(w * t), s = sin(w * t);
         double x = c * u[0] * t + s * u[1] * t, y = -s * u[0] * t + c * u[1] * t;
@@ -255,7 +216,7 @@ static double coriolis_error(double h)
         err = fmax(err, fabs(r.tr.q[3 * i + 1] - y));
         err = fmax(err, fabs(r.tr.q[3 * i + 2] + w * t));
     }
-    run_free(&r);
+    sim_run_free(&r);
     return err;
 }
 
@@ -316,7 +277,7 @@ EXDEX_TEST(sim_fig3_matches_closed_form)
      * the hand derivation in reference.dat, and the object is exactly still
      * after the motion. */
     exdex_scene_def d = vertical(0.1, 1.5 / (0.1 * G));
-    run r;
+    sim_run r;
     double t_sw[4] = {0.0, 0.45, 0.55, 1.0};
     double aH = 2 * 0.1 / (0.9 * 0.25), aL = 2 * 0.1 / (0.1 * 0.25);
     double acc[3] = {-aH, aL, -aH}, xcf;
@@ -330,13 +291,13 @@ EXDEX_TEST(sim_fig3_matches_closed_form)
     d.motion.beta = 0.9;
     xcf = vertical_closed_form(15.0, t_sw, acc, 3);
     ENSURE_CLOSE(xcf, ref("sim_fig3_grip1p5_final"), 1e-15);
-    ENSURE(simulate_def(&d, 1.5, 1e-4, &r) == EXDEX_OK);
+    ENSURE(sim_run_def(&d, 1.5, 1e-4, &r) == EXDEX_OK);
     ENSURE_CLOSE(r.tr.q[r.tr.n - 1], xcf, 1e-7);
     for (size_t i = 0; i < r.tr.n; i++)
         if (r.tr.t[i] >= 1.0) still &= r.tr.v[i] == 0.0 && r.tr.stick[i];
     ENSURE(still);
     report("sim_fig3_final_dt1e-4", r.tr.q[r.tr.n - 1]);
-    run_free(&r);
+    sim_run_free(&r);
 }
 
 EXDEX_TEST(sim_stop_never_penetrated_and_force)
@@ -346,7 +307,7 @@ EXDEX_TEST(sim_stop_never_penetrated_and_force)
      * 0.5 s). Gap never negative; relative displacement +5 cm; while the
      * plates slide past, the stop carries m g + capacity. */
     exdex_scene_def d = vertical(0.1, 1.5 / (0.1 * G));
-    run r;
+    sim_run r;
     d.n_vertices = 4;
     d.vertices[0][0] = -0.01; d.vertices[0][1] = -0.02;
     d.vertices[1][0] = 0.01;  d.vertices[1][1] = -0.02;
@@ -362,13 +323,13 @@ EXDEX_TEST(sim_stop_never_penetrated_and_force)
     d.motion.amplitude = 0.05;
     d.motion.duration = 0.5;
     d.motion.v_max = 0.12;
-    ENSURE(simulate_def(&d, 1.0, 1e-4, &r) == EXDEX_OK);
+    ENSURE(sim_run_def(&d, 1.0, 1e-4, &r) == EXDEX_OK);
     ENSURE(r.st.min_gap >= -1e-15);
     ENSURE_CLOSE(r.tr.q[r.tr.n - 1], 0.05, 1e-7);
     /* cruise phase, t in [0.1, 0.4]: stop force m g + 1.5 N */
     for (size_t i = 1000; i <= 4000; i += 500)
         ENSURE_CLOSE(r.tr.stop_force[i], 0.1 * G + 1.5, 1e-9);
-    run_free(&r);
+    sim_run_free(&r);
 }
 
 EXDEX_TEST(sim_planar_box_falls_onto_tilted_stop)
@@ -377,7 +338,7 @@ EXDEX_TEST(sim_planar_box_falls_onto_tilted_stop)
      * 20 deg: it lands on a corner, turns and slides; no vertex may ever be
      * beyond the plane (after-step gap >= 0 up to rounding). */
     exdex_scene_def d = vertical(0.1, 0.3);
-    run r;
+    sim_run r;
     double a = 20.0 * 3.14159265358979 / 180.0;
     d.dof = EXDEX_DOF_PLANAR;
     d.inertia[8] = 0.1 * (0.02 * 0.02 + 0.04 * 0.04) / 12.0;
@@ -391,17 +352,17 @@ EXDEX_TEST(sim_planar_box_falls_onto_tilted_stop)
     d.stop_point[0][2] = -0.06;
     d.stop_normal[0][0] = sin(a);
     d.stop_normal[0][2] = cos(a);
-    ENSURE(simulate_def(&d, 1.0, 1e-3, &r) == EXDEX_OK);
+    ENSURE(sim_run_def(&d, 1.0, 1e-3, &r) == EXDEX_OK);
     ENSURE(r.st.min_gap >= -1e-12);
     ENSURE(r.tr.q[3 * (r.tr.n - 1) + 1] < -0.02); /* it did fall onto the stop */
     report("sim_tilted_stop_min_gap", r.st.min_gap);
-    run_free(&r);
+    sim_run_free(&r);
 }
 
 EXDEX_TEST(sim_determinism_bit_identical)
 {
     exdex_scene_def d = vertical(0.1, 0.8);
-    run a, b;
+    sim_run a, b;
     d.dof = EXDEX_DOF_PLANAR;
     d.inertia[8] = 1e-4;
     d.patch_center[0] = 0.01;
@@ -413,12 +374,12 @@ EXDEX_TEST(sim_determinism_bit_identical)
     d.motion.amplitude = 1.0;
     d.motion.duration = 0.5;
     d.motion.beta = 0.7;
-    ENSURE(simulate_def(&d, 1.0, 1e-3, &a) == EXDEX_OK);
-    ENSURE(simulate_def(&d, 1.0, 1e-3, &b) == EXDEX_OK);
+    ENSURE(sim_run_def(&d, 1.0, 1e-3, &a) == EXDEX_OK);
+    ENSURE(sim_run_def(&d, 1.0, 1e-3, &b) == EXDEX_OK);
     ENSURE(memcmp(a.tr.q, b.tr.q, a.tr.n * 3 * sizeof(double)) == 0);
     ENSURE(memcmp(a.tr.wrench, b.tr.wrench, a.tr.n * 3 * sizeof(double)) == 0);
-    run_free(&a);
-    run_free(&b);
+    sim_run_free(&a);
+    sim_run_free(&b);
 }
 
 EXDEX_TEST(sim_kinetic_energy_never_increases_at_rest_gripper)
@@ -426,7 +387,7 @@ EXDEX_TEST(sim_kinetic_energy_never_increases_at_rest_gripper)
     /* Gripper at rest, no gravity: only friction acts, so the relative
      * kinetic energy may never increase from one step to the next. */
     exdex_scene_def d = vertical(0.1, 1.0);
-    run r;
+    sim_run r;
     int ok = 1;
     d.gravity[2] = 0.0;
     d.grip_force = 0.3;
@@ -437,7 +398,7 @@ EXDEX_TEST(sim_kinetic_energy_never_increases_at_rest_gripper)
     d.v0[0] = 0.3;
     d.v0[1] = -0.2;
     d.v0[2] = 5.0;
-    ENSURE(simulate_def(&d, 1.0, 1e-3, &r) == EXDEX_OK);
+    ENSURE(sim_run_def(&d, 1.0, 1e-3, &r) == EXDEX_OK);
     for (size_t i = 1; i < r.tr.n; i++) {
         const double *v0 = r.tr.v + 3 * (i - 1), *v1 = r.tr.v + 3 * i;
         double e0 = 0.1 * (v0[0] * v0[0] + v0[1] * v0[1]) + 2e-4 * v0[2] * v0[2];
@@ -446,7 +407,7 @@ EXDEX_TEST(sim_kinetic_energy_never_increases_at_rest_gripper)
     }
     ENSURE(ok);
     ENSURE(r.tr.stick[r.tr.n - 1]); /* and it comes to rest */
-    run_free(&r);
+    sim_run_free(&r);
 }
 
 EXDEX_TEST(sim_bad_input_status)
