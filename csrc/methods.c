@@ -953,19 +953,8 @@ static int run_explicit(const exdex_model *m, double t_end, double dt, exdex_tra
         exdex_kinematics kin, kin_end;
         frame f;
         int still;
-        status = sim_frame_at(m, t, &f, &kin);
-        if (!status) status = exdex_motion_eval(m->motion, t1, &kin_end);
+        status = sim_frame_step(m, &kin0, t, t1, h, &f, &kin, &kin_end);
         if (status) break;
-        {
-            /* frame accelerations as step means, as in sim.c */
-            double dv[3], dwv[3];
-            for (int c = 0; c < 3; c++) {
-                dv[c] = (kin_end.v[c] - kin0.v[c]) / h;
-                dwv[c] = (kin_end.w[c] - kin0.w[c]) / h;
-            }
-            ex_mulmtv3(f.a0, kin.R, dv);
-            ex_mulmtv3(f.dw, kin.R, dwv);
-        }
         for (int k = 0; k < ns; k++) lamsum[k] = 0.0;
         if (nd == 1) {
             int tr = m->def.dof == EXDEX_DOF_TRANSLATION;

@@ -183,6 +183,23 @@ int sim_frame_at(const exdex_model *m, double t, frame *f, exdex_kinematics *k)
     return EXDEX_OK;
 }
 
+int sim_frame_step(const exdex_model *m, const exdex_kinematics *kin0, double t_eval, double t1, double h,
+                   frame *f, exdex_kinematics *kin, exdex_kinematics *kin_end)
+{
+    double dv[3], dwv[3];
+    int status = sim_frame_at(m, t_eval, f, kin);
+    if (status) return status;
+    status = exdex_motion_eval(m->motion, t1, kin_end);
+    if (status) return status;
+    for (int i = 0; i < 3; i++) {
+        dv[i] = (kin_end->v[i] - kin0->v[i]) / h;
+        dwv[i] = (kin_end->w[i] - kin0->w[i]) / h;
+    }
+    ex_mulmtv3(f->a0, kin->R, dv);
+    ex_mulmtv3(f->dw, kin->R, dwv);
+    return EXDEX_OK;
+}
+
 /* Inertial + gravity force on the centre of mass (Eq. 5), B coordinates. */
 void sim_force_lin(const exdex_model *m, const frame *f, const double r[3],
                       const double rd[3], double F[3])
@@ -953,23 +970,10 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajecto
         frame f;
         exdex_kinematics kin, kin_end;
         int stick;
-        status = sim_frame_at(m, tm, &f, &kin);
+        /* step-mean frame accelerations (a midpoint sample would make an
+         * acceleration jump inside the step an O(h) error) */
+        status = sim_frame_step(m, &kin0, tm, t1, h, &f, &kin, &kin_end);
         if (status) break;
-        status = exdex_motion_eval(m->motion, t1, &kin_end);
-        if (status) break;
-        /* The frame's linear and angular accelerations enter as their means
-         * over the step, (v(t+h) - v(t)) / h: exact in the mean when a motion
-         * switches acceleration inside a step (Eq. 7 has jumps), where a
-         * midpoint sample would make the error O(h). */
-        {
-            double dv[3], dwv[3];
-            for (int i = 0; i < 3; i++) {
-                dv[i] = (kin_end.v[i] - kin0.v[i]) / h;
-                dwv[i] = (kin_end.w[i] - kin0.w[i]) / h;
-            }
-            ex_mulmtv3(f.a0, kin.R, dv);
-            ex_mulmtv3(f.dw, kin.R, dwv);
-        }
         for (int i = 0; i < n_dof; i++) {
             qm[i] = q[i] + 0.5 * h * v[i];
             /* velocity at the midpoint, extrapolated from the last step, for

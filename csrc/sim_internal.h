@@ -61,6 +61,13 @@ static inline void rot2(double out[2], double th, const double v[2])
 void sim_com_pose(const exdex_model *m, const double *q, double r[3], double *th);
 /* Motion kinematics k at time t and the frame terms f in B coordinates. */
 int sim_frame_at(const exdex_model *m, double t, frame *f, exdex_kinematics *k);
+/* Frame terms for the step from t (kinematics kin0) to t1 = t + h: the
+ * kinematics and frame f at t_eval (position-dependent terms), kin_end at
+ * t1, and the linear and angular accelerations replaced by their means over
+ * the step, (v(t1) - v(t)) / h: exact in the mean when a motion switches
+ * acceleration inside a step (Eq. 7 has jumps). */
+int sim_frame_step(const exdex_model *m, const exdex_kinematics *kin0, double t_eval, double t1, double h,
+                   frame *f, exdex_kinematics *kin, exdex_kinematics *kin_end);
 /* Gravity + inertial force on the centre of mass at r moving at rd (Eq. 5), B coordinates. */
 void sim_force_lin(const exdex_model *m, const frame *f, const double r[3], const double rd[3], double F[3]);
 /* Inertial torque about the plate normal on the body at angle th turning at thd relative to B. */

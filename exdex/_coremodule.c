@@ -245,6 +245,26 @@ static PyObject *stats_dict(const exdex_stats *st)
                          (Py_ssize_t)st->warnings, "min_gap", st->min_gap);
 }
 
+/* Validate (t_end, dt) and set *n to the number of samples; -1 with a
+ * ValueError naming the argument and its range. */
+static int check_times(double t_end, double dt, size_t *n)
+{
+    if (!(isfinite(dt) && dt > 0)) {
+        PyErr_Format(PyExc_ValueError, "dt must be finite and > 0, got %g", dt);
+        return -1;
+    }
+    if (!(isfinite(t_end) && t_end >= dt)) {
+        PyErr_Format(PyExc_ValueError, "t_end must be finite and >= dt (%g), got %g", dt, t_end);
+        return -1;
+    }
+    *n = exdex_n_samples(t_end, dt);
+    if (*n == 0) {
+        PyErr_Format(PyExc_ValueError, "t_end / dt must be between 1 and 1e9 steps, got %g", t_end / dt);
+        return -1;
+    }
+    return 0;
+}
+
 PyDoc_STRVAR(simulate_doc,
 "simulate(spec, t_end, dt) -> dict\n\n"
 "Run one trajectory in C with the GIL released. `spec` is the dict made by\n"
@@ -267,19 +287,7 @@ static PyObject *core_simulate(PyObject *module, PyObject *args, PyObject *kwds)
     size_t n;
 
     if (!PyArg_ParseTupleAndKeywords(args, kwds, "Odd", kwlist, &spec, &t_end, &dt)) return NULL;
-    if (!(isfinite(dt) && dt > 0)) {
-        PyErr_Format(PyExc_ValueError, "dt must be finite and > 0, got %g", dt);
-        return NULL;
-    }
-    if (!(isfinite(t_end) && t_end >= dt)) {
-        PyErr_Format(PyExc_ValueError, "t_end must be finite and >= dt (%g), got %g", dt, t_end);
-        return NULL;
-    }
-    n = exdex_n_samples(t_end, dt);
-    if (n == 0) {
-        PyErr_Format(PyExc_ValueError, "t_end / dt must be between 1 and 1e9 steps, got %g", t_end / dt);
-        return NULL;
-    }
+    if (check_times(t_end, dt, &n)) return NULL;
     if (scene_from_dict(spec, &def, &times, &poses)) return NULL;
     model = exdex_model_alloc(&def, &status, &bad);
     Py_XDECREF(times);
@@ -777,19 +785,7 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
     if (!PyArg_ParseTupleAndKeywords(args, kwds, "Odd|isOp", kwlist, &specs, &t_end, &dt, &threads, &record,
                                      &vary, &check_signals))
         return NULL;
-    if (!(isfinite(dt) && dt > 0)) {
-        PyErr_Format(PyExc_ValueError, "dt must be finite and > 0, got %g", dt);
-        return NULL;
-    }
-    if (!(isfinite(t_end) && t_end >= dt)) {
-        PyErr_Format(PyExc_ValueError, "t_end must be finite and >= dt (%g), got %g", dt, t_end);
-        return NULL;
-    }
-    n = exdex_n_samples(t_end, dt);
-    if (n == 0) {
-        PyErr_Format(PyExc_ValueError, "t_end / dt must be between 1 and 1e9 steps, got %g", t_end / dt);
-        return NULL;
-    }
+    if (check_times(t_end, dt, &n)) return NULL;
     if (threads < 0 || threads > 1024) {
         PyErr_Format(PyExc_ValueError, "threads must be in [0, 1024] (0: one per CPU), got %d", threads);
         return NULL;

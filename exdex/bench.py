@@ -101,7 +101,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from exdex import paper
-from exdex.scene import AsymmetricProfile, Body, Grasp, Patch, Scene, Stop
+from exdex.scene import AsymmetricProfile, Body, Grasp, Patch, Scene, Stop, _quat_from_matrix
 from exdex.simulate import simulate
 
 __all__ = ["planar_scene", "CASES", "Case", "make_case", "method_available", "available_methods",
@@ -453,7 +453,7 @@ def mujoco_bare_step_time(scene, t_end, dt, contact):
         sq = m.joint("squeeze").dofadr[0]
         kin = E._kinematics(scene, [0.0])
         d.qpos[0:3] = kin["p"][0]
-        d.qpos[3:7] = E._quat_wxyz(kin["R"][0])
+        d.qpos[3:7] = _quat_from_matrix(kin["R"][0])
         d.xfrc_applied[gid, 0:3] = -1e4 * np.array(scene.gravity)
         d.qfrc_applied[sq] = -scene.grasp.grip_force
         mujoco.mj_forward(m, d)

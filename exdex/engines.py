@@ -66,7 +66,7 @@ import time
 
 import numpy as np
 
-from exdex.scene import Scene, _real
+from exdex.scene import Scene, _quat_from_matrix, _real
 from exdex.simulate import Result
 
 __all__ = ["run_pybullet", "run_mujoco", "drift_rate", "pad_geometry", "torque_capacity",
@@ -104,26 +104,8 @@ def _rot_z(theta):
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
-def _quat_wxyz(R):
-    """(w, x, y, z) of a rotation matrix (Shepperd)."""
-    R = np.asarray(R, dtype=float)
-    tr = np.trace(R)
-    if tr > 0:
-        s = 2.0 * math.sqrt(tr + 1.0)
-        return np.array([0.25 * s, (R[2, 1] - R[1, 2]) / s, (R[0, 2] - R[2, 0]) / s, (R[1, 0] - R[0, 1]) / s])
-    i = int(np.argmax(np.diag(R)))
-    j, k = (i + 1) % 3, (i + 2) % 3
-    s = 2.0 * math.sqrt(1.0 + R[i, i] - R[j, j] - R[k, k])
-    q = np.empty(4)
-    q[0] = (R[k, j] - R[j, k]) / s
-    q[1 + i] = 0.25 * s
-    q[1 + j] = (R[j, i] + R[i, j]) / s
-    q[1 + k] = (R[k, i] + R[i, k]) / s
-    return q
-
-
 def _xyzw(R):
-    w, x, y, z = _quat_wxyz(R)
+    w, x, y, z = _quat_from_matrix(R)
     return [x, y, z, w]
 
 
@@ -288,7 +270,7 @@ def _mujoco_xml(lay, *, dt, iterations, cone, impratio, noslip_iterations, solve
     stops = []
     for k, s in enumerate(sc.stops):
         c, R = _stop_pose(s)
-        stops.append(f'<geom name="stop{k}" type="box" pos="{f(c)}" quat="{f(_quat_wxyz(R))}" '
+        stops.append(f'<geom name="stop{k}" type="box" pos="{f(c)}" quat="{f(_quat_from_matrix(R))}" '
                      f'size="{f(STOP_HALF)}" contype="0" conaffinity="0"/>')
         pairs.append(f'<pair geom1="stop{k}" geom2="object" condim="1"/>')
     return f"""<mujoco model="exdex-scene">
@@ -308,7 +290,7 @@ def _mujoco_xml(lay, *, dt, iterations, cone, impratio, noslip_iterations, solve
         <inertial pos="0 0 0" mass="{plate_mass!r}" diaginertia="1e-4 1e-4 1e-4"/>
         <geom name="pad2" {pad} contype="0" conaffinity="0"/>
       </body>
-      <body name="object" pos="{f(lay.joint_B)}" quat="{f(_quat_wxyz(Rj))}">
+      <body name="object" pos="{f(lay.joint_B)}" quat="{f(_quat_from_matrix(Rj))}">
         {joints}
         <inertial pos="{f(com)}" mass="{sc.body.mass!r}" fullinertia="{full}"/>
         <geom name="object" type="box" pos="{f(com)}" size="{f(lay.size / 2)}" contype="0" conaffinity="0"/>
@@ -377,7 +359,7 @@ def run_mujoco(scene, t_end, *, dt=0.002, iterations=100, cone="elliptic", impra
     def set_gripper(k):
         R = kin["R"][k]
         d.qpos[0:3] = kin["p"][k]
-        d.qpos[3:7] = _quat_wxyz(R)
+        d.qpos[3:7] = _quat_from_matrix(R)
         d.qvel[0:3] = kin["v"][k]
         d.qvel[3:6] = R.T @ kin["w"][k]
         d.xfrc_applied[gid, 0:3] = Mg * (kin["a"][k] - g)

@@ -427,6 +427,7 @@ class SampledTrajectory(_Motion):
 
 def _quat_from_matrix(R):
     """(w, x, y, z) of a rotation matrix (Shepperd's method)."""
+    R = np.asarray(R, dtype=float)
     tr = np.trace(R)
     if tr > 0:
         s = 2.0 * np.sqrt(tr + 1.0)
