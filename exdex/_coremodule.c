@@ -20,6 +20,7 @@
 
 typedef struct {
     PyObject *SolverError;
+    PyObject *ModelType;
 } core_state;
 
 static core_state *get_state(PyObject *module) { return (core_state *)PyModule_GetState(module); }
@@ -271,30 +272,18 @@ PyDoc_STRVAR(simulate_doc,
 "exdex.Scene.to_spec(); use exdex.simulate() instead of calling this directly.\n"
 "Returns a dict of arrays t, q, v, wrench, stick, stop_force and a stats dict.");
 
-static PyObject *core_simulate(PyObject *module, PyObject *args, PyObject *kwds)
+/* Run `model` over (t_end, dt) with the GIL released and return the result
+ * dict of simulate(); NULL with an exception set. */
+static PyObject *run_model(PyObject *module, const exdex_model *model, double t_end, double dt)
 {
-    static char *kwlist[] = {"spec", "t_end", "dt", NULL};
-    PyObject *spec, *result = NULL, *stats = NULL;
-    double t_end, dt;
-    exdex_scene_def def;
-    PyArrayObject *times = NULL, *poses = NULL;
+    PyObject *result = NULL, *stats = NULL;
     PyArrayObject *t = NULL, *q = NULL, *v = NULL, *wr = NULL, *stick = NULL, *sf = NULL;
-    exdex_model *model = NULL;
     exdex_trajectory tr;
     exdex_stats st;
-    const char *bad = NULL;
-    int status, ndof, nstops;
+    int status, ndof = exdex_model_ndof(model), nstops = exdex_model_nstops(model);
     size_t n;
 
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "Odd", kwlist, &spec, &t_end, &dt)) return NULL;
     if (check_times(t_end, dt, &n)) return NULL;
-    if (scene_from_dict(spec, &def, &times, &poses)) return NULL;
-    model = exdex_model_alloc(&def, &status, &bad);
-    Py_XDECREF(times);
-    Py_XDECREF(poses);
-    if (!model) return raise_status(module, status, "scene", bad);
-    ndof = exdex_model_ndof(model);
-    nstops = exdex_model_nstops(model);
     {
         npy_intp d1[1] = {(npy_intp)n}, d2[2] = {(npy_intp)n, ndof}, d3[2] = {(npy_intp)n, 3},
                  d4[2] = {(npy_intp)n, nstops};
@@ -325,7 +314,6 @@ static PyObject *core_simulate(PyObject *module, PyObject *args, PyObject *kwds)
     result = Py_BuildValue("{s:O,s:O,s:O,s:O,s:O,s:O,s:O}", "t", t, "q", q, "v", v, "wrench", wr, "stick",
                            stick, "stop_force", sf, "stats", stats);
 done:
-    exdex_model_free(model);
     Py_XDECREF(t);
     Py_XDECREF(q);
     Py_XDECREF(v);
@@ -334,6 +322,224 @@ done:
     Py_XDECREF(sf);
     Py_XDECREF(stats);
     return result;
+}
+
+/* Build the C model of a spec dict; NULL with an exception set. */
+static exdex_model *model_from_spec(PyObject *module, PyObject *spec)
+{
+    exdex_scene_def def;
+    PyArrayObject *times = NULL, *poses = NULL;
+    exdex_model *model;
+    const char *bad = NULL;
+    int status;
+    if (scene_from_dict(spec, &def, &times, &poses)) return NULL;
+    model = exdex_model_alloc(&def, &status, &bad);   /* copies the sampled arrays */
+    Py_XDECREF(times);
+    Py_XDECREF(poses);
+    if (!model) raise_status(module, status, "scene", bad);
+    return model;
+}
+
+static PyObject *core_simulate(PyObject *module, PyObject *args, PyObject *kwds)
+{
+    static char *kwlist[] = {"spec", "t_end", "dt", NULL};
+    PyObject *spec, *result;
+    double t_end, dt;
+    size_t n;
+    exdex_model *model;
+
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "Odd", kwlist, &spec, &t_end, &dt)) return NULL;
+    if (check_times(t_end, dt, &n)) return NULL;
+    model = model_from_spec(module, spec);
+    if (!model) return NULL;
+    result = run_model(module, model, t_end, dt);
+    exdex_model_free(model);
+    return result;
+}
+
+/* ------------------------------------------------------- compiled model
+ * _core.Model: a scene compiled once (exdex_model_alloc) and run many times,
+ * for loops that re-run one scene (optimisation, learning, benchmarks): each
+ * run skips the spec conversion and the model set-up. Immutable, so calls
+ * from several threads are safe (each run has its own output). */
+typedef struct {
+    PyObject_HEAD
+    exdex_model *model;
+    PyObject *module;   /* for the module's SolverError */
+} ModelObject;
+
+static int Model_traverse(PyObject *self, visitproc visit, void *arg)
+{
+    Py_VISIT(Py_TYPE(self));   /* instances of heap types own a reference to their type */
+    Py_VISIT(((ModelObject *)self)->module);
+    return 0;
+}
+
+static int Model_clear(PyObject *self)
+{
+    Py_CLEAR(((ModelObject *)self)->module);
+    return 0;
+}
+
+static void Model_dealloc(PyObject *self)
+{
+    PyTypeObject *tp = Py_TYPE(self);
+    PyObject_GC_UnTrack(self);
+    Model_clear(self);
+    exdex_model_free(((ModelObject *)self)->model);
+    tp->tp_free(self);
+    Py_DECREF(tp);
+}
+
+static PyObject *Model_new_disallowed(PyTypeObject *type, PyObject *args, PyObject *kwds)
+{
+    (void)args;
+    (void)kwds;
+    PyErr_Format(PyExc_TypeError, "cannot create '%s' instances directly; use exdex.Model(scene, ...)",
+                 type->tp_name);
+    return NULL;
+}
+
+PyDoc_STRVAR(Model_simulate_doc,
+"simulate(t_end, dt) -> dict\n\n"
+"Run the compiled scene from t = 0 to t_end (GIL released); the same dict as\n"
+"_core.simulate(spec, t_end, dt).");
+
+static PyObject *Model_simulate(PyObject *self, PyObject *args, PyObject *kwds)
+{
+    static char *kwlist[] = {"t_end", "dt", NULL};
+    double t_end, dt;
+    ModelObject *mo = (ModelObject *)self;
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "dd", kwlist, &t_end, &dt)) return NULL;
+    return run_model(mo->module, mo->model, t_end, dt);
+}
+
+PyDoc_STRVAR(Model_final_doc,
+"final(t_end, dt) -> (q, v, stick)\n\n"
+"Run the compiled scene like simulate() but keep only the last sample:\n"
+"q and v as tuples of floats (ndof entries) and stick as a bool. The\n"
+"trajectory goes to a scratch buffer that is freed before returning.");
+
+static PyObject *Model_final(PyObject *self, PyObject *args, PyObject *kwds)
+{
+    static char *kwlist[] = {"t_end", "dt", NULL};
+    double t_end, dt;
+    ModelObject *mo = (ModelObject *)self;
+    int ndof = exdex_model_ndof(mo->model), nstops = exdex_model_nstops(mo->model), status, i;
+    size_t n, per;
+    double *buf;
+    unsigned char *stick;
+    exdex_trajectory tr;
+    exdex_stats st;
+    PyObject *q = NULL, *v = NULL, *res = NULL;
+
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "dd", kwlist, &t_end, &dt)) return NULL;
+    if (check_times(t_end, dt, &n)) return NULL;
+    per = 1 + 2 * (size_t)ndof + 3 + (size_t)nstops;
+    if (n > ((size_t)-1) / (per * sizeof(double) + 1)) return PyErr_NoMemory();
+    buf = PyMem_RawMalloc(n * per * sizeof(double));
+    stick = PyMem_RawMalloc(n);
+    if (!buf || !stick) {
+        PyMem_RawFree(buf);
+        PyMem_RawFree(stick);
+        return PyErr_NoMemory();
+    }
+    tr.n = n;
+    tr.t = buf;
+    tr.q = tr.t + n;
+    tr.v = tr.q + n * (size_t)ndof;
+    tr.wrench = tr.v + n * (size_t)ndof;
+    tr.stop_force = nstops ? tr.wrench + 3 * n : NULL;
+    tr.stick = stick;
+    Py_BEGIN_ALLOW_THREADS
+    status = exdex_simulate(mo->model, t_end, dt, &tr, &st);
+    Py_END_ALLOW_THREADS
+    if (status) {
+        raise_status(mo->module, status, "simulate", NULL);
+        goto done;
+    }
+    q = PyTuple_New(ndof);
+    v = PyTuple_New(ndof);
+    if (!q || !v) goto done;
+    for (i = 0; i < ndof; i++) {
+        PyObject *a = PyFloat_FromDouble(tr.q[(n - 1) * (size_t)ndof + (size_t)i]);
+        PyObject *b = PyFloat_FromDouble(tr.v[(n - 1) * (size_t)ndof + (size_t)i]);
+        if (!a || !b) {
+            Py_XDECREF(a);
+            Py_XDECREF(b);
+            goto done;
+        }
+        PyTuple_SET_ITEM(q, i, a);
+        PyTuple_SET_ITEM(v, i, b);
+    }
+    res = Py_BuildValue("(OON)", q, v, PyBool_FromLong(stick[n - 1]));
+done:
+    Py_XDECREF(q);
+    Py_XDECREF(v);
+    PyMem_RawFree(buf);
+    PyMem_RawFree(stick);
+    return res;
+}
+
+static PyObject *Model_get_ndof(PyObject *self, void *closure)
+{
+    (void)closure;
+    return PyLong_FromLong(exdex_model_ndof(((ModelObject *)self)->model));
+}
+
+static PyObject *Model_get_nstops(PyObject *self, void *closure)
+{
+    (void)closure;
+    return PyLong_FromLong(exdex_model_nstops(((ModelObject *)self)->model));
+}
+
+static PyMethodDef Model_methods[] = {
+    {"simulate", (PyCFunction)(void (*)(void))Model_simulate, METH_VARARGS | METH_KEYWORDS, Model_simulate_doc},
+    {"final", (PyCFunction)(void (*)(void))Model_final, METH_VARARGS | METH_KEYWORDS, Model_final_doc},
+    {NULL, NULL, 0, NULL}};
+
+static PyGetSetDef Model_getset[] = {
+    {"ndof", Model_get_ndof, NULL, "number of free coordinates (1 or 3)", NULL},
+    {"n_stops", Model_get_nstops, NULL, "number of stops", NULL},
+    {NULL, NULL, NULL, NULL, NULL}};
+
+static PyType_Slot Model_slots[] = {
+    {Py_tp_doc, (void *)"A scene compiled by exdex._core.compile(spec): run it with simulate() or final()."},
+    {Py_tp_new, (void *)Model_new_disallowed},
+    {Py_tp_dealloc, (void *)Model_dealloc},
+    {Py_tp_traverse, (void *)Model_traverse},
+    {Py_tp_clear, (void *)Model_clear},
+    {Py_tp_methods, Model_methods},
+    {Py_tp_getset, Model_getset},
+    {0, NULL}};
+
+static PyType_Spec Model_spec = {
+    .name = "exdex._core.Model",
+    .basicsize = sizeof(ModelObject),
+    .flags = Py_TPFLAGS_DEFAULT | Py_TPFLAGS_HAVE_GC,
+    .slots = Model_slots,
+};
+
+PyDoc_STRVAR(compile_doc,
+"compile(spec) -> Model\n\n"
+"Build the C model of a spec dict (exdex.Scene.to_spec()) once, to run it\n"
+"many times. Use exdex.Model(scene, ...) instead of calling this directly.");
+
+static PyObject *core_compile(PyObject *module, PyObject *spec)
+{
+    PyTypeObject *tp = (PyTypeObject *)get_state(module)->ModelType;
+    ModelObject *mo;
+    exdex_model *model = model_from_spec(module, spec);
+    if (!model) return NULL;
+    mo = PyObject_GC_New(ModelObject, tp);
+    if (!mo) {
+        exdex_model_free(model);
+        return NULL;
+    }
+    mo->model = model;
+    mo->module = Py_NewRef(module);
+    PyObject_GC_Track((PyObject *)mo);
+    return (PyObject *)mo;
 }
 
 PyDoc_STRVAR(motion_eval_doc,
@@ -1002,6 +1208,7 @@ done:
 
 static PyMethodDef core_methods[] = {
     {"simulate", (PyCFunction)(void (*)(void))core_simulate, METH_VARARGS | METH_KEYWORDS, simulate_doc},
+    {"compile", core_compile, METH_O, compile_doc},
     {"simulate_batch", (PyCFunction)(void (*)(void))core_simulate_batch, METH_VARARGS | METH_KEYWORDS,
      simulate_batch_doc},
     {"motion_eval", (PyCFunction)(void (*)(void))core_motion_eval, METH_VARARGS | METH_KEYWORDS,
@@ -1026,6 +1233,9 @@ static int core_exec(PyObject *module)
         PyExc_RuntimeError, NULL);
     if (!s->SolverError) return -1;
     if (PyModule_AddObjectRef(module, "SolverError", s->SolverError) < 0) return -1;
+    s->ModelType = PyType_FromModuleAndSpec(module, &Model_spec, NULL);
+    if (!s->ModelType) return -1;
+    if (PyModule_AddObjectRef(module, "Model", s->ModelType) < 0) return -1;
     if (PyModule_AddIntConstant(module, "MAX_STOPS", EXDEX_MAX_STOPS) < 0) return -1;
     if (PyModule_AddIntConstant(module, "MAX_VERTICES", EXDEX_MAX_VERTICES) < 0) return -1;
     return 0;
@@ -1034,12 +1244,14 @@ static int core_exec(PyObject *module)
 static int core_traverse(PyObject *module, visitproc visit, void *arg)
 {
     Py_VISIT(get_state(module)->SolverError);
+    Py_VISIT(get_state(module)->ModelType);
     return 0;
 }
 
 static int core_clear(PyObject *module)
 {
     Py_CLEAR(get_state(module)->SolverError);
+    Py_CLEAR(get_state(module)->ModelType);
     return 0;
 }
 

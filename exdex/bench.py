@@ -50,9 +50,15 @@ warm-up call. Engines: the median wall time of their stepping loop
 (``Result.stats["wall_time"]``: model building excluded, the per-step Python
 that drives the kinematic gripper and records the state included); for MuJoCo
 also a lower bound, the same number of bare ``mj_step`` calls on the same
-model with the gripper held still (no Python per step). The run-time ratios
-at equal error compare each engine point with the cheapest exact-stick exdex
-run (implicit or event) at least as accurate.
+model with the gripper held still (no Python per step). Its exdex
+counterpart is the compiled model's C run, ``exdex.Model(...).final``: the
+scene converted and the C model built once outside the timing (as MuJoCo's
+model is), the whole trajectory integrated, only the last sample returned
+(column ``run_time_compiled_s``, implicit and event runs). The run-time
+ratios at equal error compare each engine point with the cheapest
+exact-stick exdex run (implicit or event) at least as accurate: pybullet and
+MuJoCo's driven loop against whole ``exdex.simulate`` calls, bare ``mj_step``
+against ``Model.final``.
 
 Stability maps
 --------------
@@ -102,7 +108,7 @@ import numpy as np
 
 from exdex import paper
 from exdex.scene import AsymmetricProfile, Body, Grasp, Patch, Scene, Stop, _quat_from_matrix
-from exdex.simulate import simulate
+from exdex.simulate import Model, simulate
 
 __all__ = ["planar_scene", "CASES", "Case", "make_case", "method_available", "available_methods",
            "final_and_max_error", "vertex_error", "classify", "stick_intervals", "observed_order",
@@ -376,9 +382,11 @@ def _sweeps(methods, quick, aligned=None):
     return out
 
 
-def _row(case, method, line, knob, value, eps, secs, reps, final, maxe, status, note="", dt=None):
+def _row(case, method, line, knob, value, eps, secs, reps, final, maxe, status, note="", dt=None,
+         compiled=math.nan):
     return dict(case=case.name, method=method, line=line, knob=knob, value=value,
-                eps="" if eps is None else eps, dt="" if dt is None else dt, run_time_s=secs, repeats=reps,
+                eps="" if eps is None else eps, dt="" if dt is None else dt, run_time_s=secs,
+                run_time_compiled_s=compiled, repeats=reps,
                 final_error=final, max_error=maxe, error_unit=case.unit, status=status, note=note)
 
 
@@ -407,16 +415,32 @@ def sweep_exdex(case, methods, quick, bar=None, budget=None):
                                          target, min_rep, max_rep)
                 final, maxe = case.errors(on_grid(res, case.grid))
                 status, note = "ok", ""
+                compiled = math.nan
+                if method in RATIO_METHODS:
+                    compiled = _compiled_time(case, method, kw, target, min_rep, max_rep)
                 if secs > budget:
                     skip = True
             except Exception as exc:   # noqa: BLE001 - a failed run is a data point
                 secs, reps, final, maxe, status, note = math.nan, 0, math.nan, math.nan, "failed", \
                     f"{type(exc).__name__}: {exc}"
+                compiled = math.nan
             rows.append(_row(case, method, line, knob, value, eps, secs, reps, final, maxe, status, note,
-                             dt=kw.get("dt")))
+                             dt=kw.get("dt"), compiled=compiled))
             if bar is not None:
                 bar.update()
     return rows
+
+
+def _compiled_time(case, method, kw, target, min_rep, max_rep):
+    """Median wall time [s] of ``Model.final`` for one run of a sweep: the scene
+    compiled once (outside the timing, like MuJoCo's model in its bare loop),
+    the whole trajectory integrated in C, only the last sample returned. The
+    exdex side of the comparison with bare ``mj_step`` calls."""
+    kw = dict(kw)
+    dt = kw.pop("dt")
+    model = Model(case.scene, method=method, **kw)
+    secs, _, _ = _timed(lambda: model.final(case.t_end, dt), target, min_rep, max_rep)
+    return secs
 
 
 def _engine_runners():
@@ -575,26 +599,34 @@ EXDEX_LINES = METHODS
 RATIO_METHODS = ("implicit", "event")
 
 
-def cheapest(rows, case, error, key="final_error", methods=EXDEX_LINES):
-    """The exdex run (row) of ``case`` with the least run time whose error is <= ``error``, or None."""
+def cheapest(rows, case, error, key="final_error", methods=EXDEX_LINES, time_key="run_time_s"):
+    """The exdex run (row) of ``case`` with the least run time (``time_key``)
+    whose error is <= ``error``, or None."""
     ok = [r for r in rows if r["case"] == case and r["method"] in methods and r["status"] == "ok"
-          and r[key] <= error]
-    return min(ok, key=lambda r: r["run_time_s"]) if ok else None
+          and r[key] <= error and np.isfinite(r.get(time_key, math.nan))]
+    return min(ok, key=lambda r: r[time_key]) if ok else None
+
+
+#: which exdex time each engine line is compared with: whole ``exdex.simulate``
+#: calls against the engines' driven stepping loops, and the compiled model's
+#: C run (``Model.final``) against MuJoCo's bare ``mj_step`` loop
+ENGINE_EXDEX_TIME = {"pybullet": "run_time_s", "mujoco": "run_time_s", "mujoco bare": "run_time_compiled_s"}
 
 
 def engine_ratios(rows, case, key="final_error"):
     """Run-time ratios at equal error, per engine line of ``case``: for each engine
-    point, engine time / time of the cheapest exdex run at least as accurate."""
+    point, engine time / time of the cheapest exdex run at least as accurate
+    (exdex time per :data:`ENGINE_EXDEX_TIME`)."""
     out = []
-    for eng in ("pybullet", "mujoco", "mujoco bare"):
+    for eng, tkey in ENGINE_EXDEX_TIME.items():
         pts = [r for r in rows if r["case"] == case and r["method"] == eng and r["status"] == "ok"]
         for r in pts:
-            x = cheapest(rows, case, r[key], key, RATIO_METHODS)
+            x = cheapest(rows, case, r[key], key, RATIO_METHODS, tkey)
             out.append(dict(case=case, engine=eng, dt=r["dt"], engine_time_s=r["run_time_s"], engine_error=r[key],
                             exdex_method=x["line"] if x else "", exdex_knob=f"{x['knob']}={x['value']:.3g}" if x else "",
-                            exdex_time_s=x["run_time_s"] if x else math.nan,
+                            exdex_time_s=x[tkey] if x else math.nan,
                             exdex_error=x[key] if x else math.nan,
-                            ratio=r["run_time_s"] / x["run_time_s"] if x else math.nan, metric=key))
+                            ratio=r["run_time_s"] / x[tkey] if x else math.nan, metric=key))
     return out
 
 
@@ -627,7 +659,8 @@ def headline(rows, cases, machine, missing):
                      f"{1e3 * best['run_time_s']:.3f} ms -> goal {'met' if best['run_time_s'] < 1e-3 else 'NOT met'}")
     lines.append("")
     lines.append("Run time at equal final-displacement error, engine / exdex (cheapest implicit or event run at "
-                 "least as accurate as the engine point):")
+                 "least as accurate as the engine point; pybullet and mujoco against whole exdex.simulate calls, "
+                 "mujoco bare (mj_step only) against the compiled exdex.Model's C run, Model.final):")
     for cname in cases:
         rr = engine_ratios(rows, cname)
         for eng in ("pybullet", "mujoco", "mujoco bare"):

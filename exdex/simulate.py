@@ -173,12 +173,23 @@ def simulate(scene, t_end, dt=1e-3, method="implicit", friction_solver="scalar",
     exdex.SolverError
         If a solver fails to converge (``.status`` carries the C status).
     """
-    if not isinstance(scene, Scene):
-        raise TypeError(f"scene must be an exdex.Scene, got {type(scene).__name__}")
+    dt, t_end = _check_times(t_end, dt)
+    spec = _spec(scene, method, friction_solver, eps, rtol, atol)
+    out = _core.simulate(spec, t_end, dt)
+    return _result(out, scene, method, friction_solver, dt)
+
+
+def _check_times(t_end, dt):
     dt = _real(dt, "dt", low=0.0, low_open=True)
     t_end = _real(t_end, "t_end", low=dt)
     if t_end / dt > 1e9:
         raise ValueError(f"t_end / dt must be at most 1e9 steps, got {t_end / dt:.3g}")
+    return dt, t_end
+
+
+def _spec(scene, method, friction_solver, eps, rtol, atol):
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene must be an exdex.Scene, got {type(scene).__name__}")
     if method not in METHODS:
         raise ValueError(f"method must be one of {sorted(METHODS)}, got {method!r}")
     if friction_solver not in SOLVERS:
@@ -186,8 +197,56 @@ def simulate(scene, t_end, dt=1e-3, method="implicit", friction_solver="scalar",
     eps = _real(eps, "eps", low=0.0, low_open=True)
     rtol = _real(rtol, "rtol", low=0.0, low_open=True)
     atol = _real(atol, "atol", low=0.0, low_open=True)
-    spec = scene.to_spec(method=method, friction_solver=friction_solver, eps=eps, rtol=rtol, atol=atol)
-    out = _core.simulate(spec, t_end, dt)
+    return scene.to_spec(method=method, friction_solver=friction_solver, eps=eps, rtol=rtol, atol=atol)
+
+
+def _result(out, scene, method, friction_solver, dt):
     return Result(t=out["t"], q=out["q"], v=out["v"], wrench=out["wrench"], stick=out["stick"],
                   stop_force=out["stop_force"], stats=out["stats"], scene=scene, method=method,
                   friction_solver=friction_solver, dt=dt)
+
+
+class Model:
+    """A scene compiled once in C and run many times.
+
+    ``exdex.simulate(scene, t_end, dt, ...)`` converts the scene and builds
+    the C model on every call; a ``Model`` does that once, so loops that
+    re-run one scene (optimisation, learning, parameter studies over t_end
+    or dt, benchmarks) pay only for the integration. The arguments are those
+    of :func:`exdex.simulate`; the model is immutable and may be run from
+    several threads at once.
+
+        >>> model = exdex.Model(scene, method="event")
+        >>> res = model.simulate(t_end=1.5, dt=1e-3)      # an exdex.Result
+        >>> q, v, stick = model.final(t_end=1.5, dt=1e-3)  # last sample only
+
+    ``simulate`` returns the same :class:`Result` as :func:`exdex.simulate`
+    (bit-identical). ``final`` keeps only the last sample (tuples of floats
+    and the stick flag), without building the trajectory arrays.
+    """
+
+    __slots__ = ("scene", "method", "friction_solver", "_model")
+
+    def __init__(self, scene, method="implicit", friction_solver="scalar", eps=1e-4, rtol=1e-8, atol=1e-10):
+        spec = _spec(scene, method, friction_solver, eps, rtol, atol)
+        self.scene, self.method, self.friction_solver = scene, method, friction_solver
+        self._model = _core.compile(spec)
+
+    @property
+    def ndof(self):
+        """Number of free coordinates: 1 (translation or rotation) or 3 (planar)."""
+        return self._model.ndof
+
+    def simulate(self, t_end, dt=1e-3):
+        """Run from t = 0 to ``t_end`` in steps of ``dt``: an :class:`exdex.Result`."""
+        dt, t_end = _check_times(t_end, dt)
+        return _result(self._model.simulate(t_end, dt), self.scene, self.method, self.friction_solver, dt)
+
+    def final(self, t_end, dt=1e-3):
+        """Run like :meth:`simulate` and return only the last sample:
+        ``(q, v, stick)`` with q, v tuples of ``ndof`` floats."""
+        dt, t_end = _check_times(t_end, dt)
+        return self._model.final(t_end, dt)
+
+    def __repr__(self):
+        return f"exdex.Model(ndof={self.ndof}, method={self.method!r}, friction_solver={self.friction_solver!r})"

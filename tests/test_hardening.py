@@ -201,7 +201,14 @@ def _entry_points():
     free = np.array([0, 1, 0])
     step = np.array([0.1, 0.1, 0.1])
     N, NE = N_CALLS, N_ERROR_CALLS
+    model = _core.compile(spec)
+    model_planar = _core.compile(spec_planar)
     return [
+        ("compile", lambda: _core.compile(spec), (spec,), N, None),
+        ("compile bad spec", lambda: _core.compile(bad_spec), (bad_spec,), NE, ValueError),
+        ("Model.simulate", lambda: model.simulate(2e-3, 1e-3), (model,), N, None),
+        ("Model.final planar stop", lambda: model_planar.final(2e-3, 1e-3), (model_planar,), N, None),
+        ("Model.final bad dt", lambda: model.final(2e-3, -1.0), (model,), NE, ValueError),
         ("simulate", lambda: _core.simulate(spec, 2e-3, 1e-3), (spec,), N, None),
         ("simulate planar stop multiroot", lambda: _core.simulate(spec_planar, 2e-3, 1e-3), (spec_planar,), N, None),
         ("simulate sampled", lambda: _core.simulate(spec_sampled, 2e-3, 1e-3), (spec_sampled,), N, None),
