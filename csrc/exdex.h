@@ -55,10 +55,13 @@ void exdex_init(void);
  * N = 2 F_g: the two identical ellipsoids add to one of capacity 2 mu F_g.
  */
 
-/* e_r of a uniform pressure disc of radius R [m]: 2R/3. Returns NaN if R <= 0. */
+/* e_r of a uniform pressure disc of radius R [m]: 2R/3. Returns NaN if
+ * R <= 0 or R is not finite; else a finite positive value. */
 double exdex_er_disc(double radius);
 /* e_r of a uniform pressure rectangle with half-sides a, b [m]
- * (mean distance from the centre). Returns NaN if a <= 0 or b <= 0. */
+ * (mean distance from the centre). Returns NaN if a <= 0, b <= 0 or either
+ * is not finite; else a finite positive value (no overflow or underflow for
+ * any sizes or aspect ratio; between max(a, b)/2 and hypot(a, b)). */
 double exdex_er_rectangle(double half_a, double half_b);
 
 enum exdex_friction_solver {
@@ -111,11 +114,16 @@ int exdex_friction_prepare(exdex_friction_prep *prep, const double W[9],
 /* Solve one step. ws may be NULL for EXDEX_SOLVER_SCALAR. warm (may be NULL)
  * is a guess of p used by MULTIROOT (e.g. the previous step's impulse).
  * Returns EXDEX_EINVAL for cap < 0 or non-finite input, EXDEX_ENOCONV if the
- * solver fails (MULTIROOT: also when only roots with sigma <= 0 are found),
+ * solver fails (every iteration is capped: no solve runs unbounded),
  * EXDEX_ENONFINITE when a result overflows the double range. On any error the
- * result fields are NaN. b and cap may span the whole double range (exact
- * power-of-two rescaling). MULTIROOT's iteration count includes its restarts
- * and Newton polish. */
+ * result fields are NaN. b, cap, W and e may span the whole double range (the
+ * solve runs at unit scale after exact power-of-two rescalings). A sliding p
+ * lies on the ellipsoid to rounding, |E^-1 p| = cap. MULTIROOT's iteration
+ * count includes its restarts and Newton polish; when GSL's solver fails from
+ * all of its independent starts, MULTIROOT restarts it from the secular
+ * (SCALAR) solution and, should that fail too, returns the secular solution
+ * (so no ENOCONV on valid input; the fallback counts the SCALAR
+ * iterations). */
 int exdex_friction_solve(const exdex_friction_prep *prep, const double b[3],
                          double cap, int solver, exdex_friction_ws *ws,
                          const double *warm, exdex_friction_result *res);

@@ -34,7 +34,12 @@
  *   MULTIROOT  the paper's route: the Fritz-John conditions of Eq. 6 as four
  *              quadratic equations in (p, sigma), GSL hybridsj (then GSL's
  *              Newton to polish), in the original coordinates (W, not K),
- *              from starts that do not use the secular solution.
+ *              from starts that do not use the secular solution; only when
+ *              all of them fail (about 0.2 % of fuzzed solves, strongly
+ *              anisotropic K near the start of slip) from the secular
+ *              solution, which is returned itself if even that fails.
+ * Every loop is capped (Newton and Brent 200 iterations, hybridsj 100 per
+ * start, Newton polish 10, GSL's Jacobi SVD its own sweep limit).
  *
  * Accuracy. K = E W E is strongly graded when e_r << e_t (cond(K) ~
  * cond(W) (e_t/e_r)^2, 1e12 and more), so its eigen-decomposition comes from
@@ -42,8 +47,10 @@
  * eigenvalues), and the stick and slip impulses get one correction step with
  * the residual formed with W itself: the results are then as accurate as the
  * conditioning of W allows (about cond(W) eps relative), whatever e.
- * Scale. The solve is homogeneous in (b, cap) and runs on b scaled by a power
- * of two, so b and cap may lie anywhere in the double range.
+ * Scale. The solve runs at unit scale after exact power-of-two rescalings
+ * (homogeneity in (b, cap), and the invariances (e, cap) -> (k e, cap / k),
+ * (W, cap) -> (W / k, k cap); see exdex_friction_solve), so b, cap, W and e
+ * may lie anywhere in the double range.
  */
 #include "exdex.h"
 #include "util.h"
@@ -77,16 +84,26 @@ double exdex_er_disc(double radius)
 /* Mean distance of the uniform rectangle [-a, a] x [-b, b] from its centre
  * (Howe & Cutkosky; DESIGN.md section 3), d = sqrt(a^2 + b^2):
  *   e_r = [a b d/3 + (a^3/6) ln((b + d)/a) + (b^3/6) ln((a + d)/b)] / (a b).
- * ln((b + d)/a) = asinh(b/a) and ln((a + d)/b) = asinh(a/b); asinh keeps full
- * relative accuracy for very elongated rectangles, where the log argument of
- * the short side tends to 1. */
+ * Evaluated without overflow or underflow in the ratio r = a / b <= 1 of the
+ * shorter to the longer half side (ln((b + d)/a) = asinh(1/r),
+ * ln((a + d)/b) = asinh(r)):
+ *   e_r = b [sqrt(1 + r^2)/3 + r^2 asinh(1/r)/6 + asinh(r)/(6 r)],
+ * the bracket between 1/2 (thin strip, r -> 0: the mean |y| along the long
+ * side) and (sqrt2 + asinh(1))/3 = 0.765 (square). So the result is finite
+ * and positive for every finite positive a, b (subnormal only when b is). */
 double exdex_er_rectangle(double half_a, double half_b)
 {
-    double a = half_a, b = half_b, d;
-    if (!(a > 0.0) || !(b > 0.0) || !isfinite(a) || !isfinite(b)) return NAN;
-    d = hypot(a, b);
-    return d / 3.0 + (a * a / (6.0 * b)) * asinh(b / a)
-           + (b * b / (6.0 * a)) * asinh(a / b);
+    double a, b, r, t;
+    if (!(half_a > 0.0) || !(half_b > 0.0) || !isfinite(half_a) || !isfinite(half_b)) return NAN;
+    a = half_a < half_b ? half_a : half_b;
+    b = half_a < half_b ? half_b : half_a;
+    r = a / b;  /* in [0, 1]: 0 or subnormal when a / b underflows */
+    t = sqrt(1.0 + r * r) / 3.0;
+    /* r^2 asinh(1/r) ~ r^2 ln(2/r): below 1e-297 for r <= 1e-150 */
+    if (r > 1e-150) t += r * r * asinh(1.0 / r) / 6.0;
+    /* asinh(r) / r = 1 - r^2/6 + ...: 1 to rounding for r < 2^-27 */
+    t += r > 0x1p-27 ? asinh(r) / (6.0 * r) : 1.0 / 6.0;
+    return b * t;
 }
 
 /* ------------------------------------------------------------ workspace */
@@ -547,8 +564,60 @@ static void result_nan(exdex_friction_result *res)
     res->iterations = 0;
 }
 
+/* Sliding result from an impulse p on (or within rounding of) the
+ * ellipsoid and the multiplier nu = sigma / cap >= 0: p is put on the
+ * ellipsoid exactly to rounding, |E^-1 p| = cap (the refinement and, for
+ * MULTIROOT, the acceptance test leave it there only to about
+ * cond(K) eps), then the slip comes from the maximum-dissipation law itself,
+ * u = -nu E^-2 p (Eq. 6; equal to b + W p at the solution, but free of the
+ * cancellation b + W p suffers when the slip is tiny next to b, so p . u <= 0
+ * holds exactly), and sigma = |E u| = nu |E^-1 p|. */
+static void slip_finish(const exdex_friction_prep *prep, double cap, double nu,
+                        exdex_friction_result *res)
+{
+    const double *e = prep->e;
+    double n = 0.0, un = 0.0;
+    if (!(nu >= 0.0)) nu = 0.0;
+    for (int i = 0; i < 3; i++) {
+        double y = (res->p[i] / e[i]) / cap;  /* no underflow of e cap */
+        n += y * y;
+    }
+    n = sqrt(n);
+    if (n > 0.0 && isfinite(n))
+        for (int i = 0; i < 3; i++) res->p[i] /= n;
+    for (int i = 0; i < 3; i++) {
+        res->u[i] = -nu * res->p[i] / (e[i] * e[i]);
+        un += e[i] * e[i] * res->u[i] * res->u[i];
+    }
+    res->sigma = sqrt(un);
+    res->stick = 0;
+}
+
+/* The secular root s (SCALAR: safeguarded Newton, otherwise GSL Brent) and
+ * the refined sliding impulse p from it. Returns the iteration count, or -1
+ * if the root was not found. *s receives the refined multiplier s = nu cap. */
+static int solve_secular(const exdex_friction_prep *prep, const double b[3],
+                         const double ct[3], double cap, double cn, int solver,
+                         exdex_friction_ws *ws, double *s, double p[3])
+{
+    secular sec;
+    int it;
+    double root = 0.0;
+    for (int i = 0; i < 3; i++) {
+        sec.ct[i] = ct[i];
+        sec.a[i] = cap * prep->lam[i];
+    }
+    if (solver == EXDEX_SOLVER_SCALAR)
+        it = secular_newton(&sec, cn, &root);
+    else
+        it = secular_brent(ws->brent, &sec, cn, &root);
+    if (it < 0 || !(root >= 0.0)) return -1;
+    *s = cap * slip_impulse(prep, b, ct, cap, root, p);
+    return it;
+}
+
 /* MULTIROOT, sliding case: the Fritz-John system from up to five starts, none
- * of them the secular solution:
+ * of them the secular solution (that one is the fallback, see below):
  *   0. the warm guess (e.g. the previous step's impulse), if given;
  *   1. the stick impulse -W^-1 b scaled onto the ellipsoid (exact in the
  *      limit of slip just beginning);
@@ -565,7 +634,7 @@ static int solve_multiroot(const exdex_friction_prep *prep, const double b[3],
     const double *e = prep->e;
     fritz_john fj;
     gsl_multiroot_function_fdf fdf;
-    double dir[3], X[4], un = 0.0;
+    double dir[3], X[4];
     int ok = 0, iters = 0;
 
     fj.W = prep->W;
@@ -602,17 +671,34 @@ static int solve_multiroot(const exdex_friction_prep *prep, const double b[3],
         }
         if (have) ok = fj_run(ws, &fdf, X, &iters);
     }
-    res->iterations = iters;
-    if (!ok) return EXDEX_ENOCONV;
-
-    /* The slip from the root: u = b + W p, sigma = |E u|. */
-    for (int i = 0; i < 3; i++) res->p[i] = fj.col[i] * X[i];
-    ex_mulmv3(res->u, prep->W, res->p);
-    for (int i = 0; i < 3; i++) {
-        res->u[i] += b[i];
-        un += e[i] * e[i] * res->u[i] * res->u[i];
+    if (!ok) {
+        /* Fallback (documented in exdex.h): none of the independent starts
+         * converged (hybridsj stalls in some strongly anisotropic cases,
+         * cond(K) ~ 1e12, when the slip is just beginning). Start 5 is the
+         * secular solution: polished on the Fritz-John system and accepted
+         * by the same residual test, or, if even that fails, returned as it
+         * is (it is the same minimiser). */
+        double s = 0.0, p[3];
+        int it = solve_secular(prep, b, ct, cap, cn, EXDEX_SOLVER_SCALAR, ws, &s, p);
+        if (it < 0) {
+            res->iterations = iters;
+            return EXDEX_ENOCONV;
+        }
+        iters += it;
+        for (int i = 0; i < 3; i++) gsl_vector_set(ws->x0, i, p[i] / fj.col[i]);
+        gsl_vector_set(ws->x0, 3, s / fj.col[3]);
+        ok = fj_run(ws, &fdf, X, &iters);
+        if (!ok) {
+            for (int i = 0; i < 3; i++) X[i] = p[i] / fj.col[i];
+            X[3] = s / fj.col[3];
+        }
     }
-    res->sigma = sqrt(un);
+    res->iterations = iters;
+
+    /* The impulse from the root, sigma = col[3] X[3] (>= 0 up to rounding,
+     * fj_sigma_ok), nu = sigma / cap. */
+    for (int i = 0; i < 3; i++) res->p[i] = fj.col[i] * X[i];
+    slip_finish(prep, cap, fj.col[3] * X[3] / cap, res);
     return EXDEX_OK;
 }
 
@@ -623,8 +709,7 @@ static int solve_scaled(const exdex_friction_prep *prep, const double b[3], doub
                         exdex_friction_result *res)
 {
     const double *e = prep->e, *lam = prep->lam;
-    double c[3], ct[3], r[3], rm = 0.0, st = 0.0, cn = 0.0, s = 0.0, nu, un = 0.0;
-    secular sec;
+    double c[3], ct[3], r[3], rm = 0.0, st = 0.0, cn = 0.0, s = 0.0;
     int it;
 
     /* c = E b, c~ = Q^T c. */
@@ -672,7 +757,7 @@ static int solve_scaled(const exdex_friction_prep *prep, const double b[3], doub
     if (st <= 1.0 + 1e-6) {
         double n = 0.0;
         stick_impulse(prep, b, ct, res->p);
-        for (int i = 0; i < 3; i++) n += (res->p[i] / (e[i] * cap)) * (res->p[i] / (e[i] * cap));
+        for (int i = 0; i < 3; i++) n += ((res->p[i] / e[i]) / cap) * ((res->p[i] / e[i]) / cap);
         if (st >= 1.0 - 1e-6) st = n;
         if (st <= 1.0) {
             /* p = -W^-1 b (pulled back onto the ellipsoid if rounding put it
@@ -690,27 +775,10 @@ static int solve_scaled(const exdex_friction_prep *prep, const double b[3], doub
     if (solver == EXDEX_SOLVER_MULTIROOT) return solve_multiroot(prep, b, ct, cap, cn, ws, warm, res);
 
     /* Secular equation (SCALAR, BRENT). */
-    for (int i = 0; i < 3; i++) {
-        sec.ct[i] = ct[i];
-        sec.a[i] = cap * lam[i];
-    }
-    if (solver == EXDEX_SOLVER_SCALAR)
-        it = secular_newton(&sec, cn, &s);
-    else
-        it = secular_brent(ws->brent, &sec, cn, &s);
-    if (it < 0 || !(s >= 0.0)) return EXDEX_ENOCONV;
+    it = solve_secular(prep, b, ct, cap, cn, solver, ws, &s, res->p);
+    if (it < 0) return EXDEX_ENOCONV;
     res->iterations = it;
-
-    /* p from the root; the slip from the maximum-dissipation law itself,
-     * u = -nu E^-2 p (Eq. 6; equal to b + W p at the solution, but free of
-     * the cancellation b + W p suffers when the slip is tiny next to b), and
-     * sigma = |E u| = nu |E^-1 p| (= s). */
-    nu = slip_impulse(prep, b, ct, cap, s, res->p);
-    for (int i = 0; i < 3; i++) {
-        res->u[i] = -nu * res->p[i] / (e[i] * e[i]);
-        un += e[i] * e[i] * res->u[i] * res->u[i];
-    }
-    res->sigma = sqrt(un);
+    slip_finish(prep, cap, s / cap, res);
     return EXDEX_OK;
 }
 
@@ -718,8 +786,10 @@ int exdex_friction_solve(const exdex_friction_prep *prep, const double b[3],
                          double cap, int solver, exdex_friction_ws *ws,
                          const double *warm, exdex_friction_result *res)
 {
-    double bs[3], cs[3], ws3[3], bmax = 0.0, scale = 1.0, inv, cn = 0.0;
-    int status, k, it;
+    double bs[3], cs[3], ws3[3], bmax = 0.0, inv, cn = 0.0, caps = 0.0;
+    int status, k, it, kb = 0, ka = 0, ke = 0;
+    exdex_friction_prep local;
+    const exdex_friction_prep *pp = prep;
 
     if (!res) return EXDEX_EINVAL;
     result_nan(res);
@@ -735,52 +805,86 @@ int exdex_friction_solve(const exdex_friction_prep *prep, const double b[3],
      * representable to any accuracy. */
     if (cap < DBL_MIN) cap = 0.0;
 
-    /* The solution is homogeneous of degree 1 in (b, cap): solve for b and
-     * cap divided by a power of two that brings max |b_i| into [1, 2), and
-     * scale p, u, sigma back (exact scalings): no overflow or underflow for
-     * b and cap anywhere in the double range, short of a result that does
-     * not fit in it (then EXDEX_ENONFINITE). */
+    /* Three exact invariances bring the solve to unit scale:
+     *   (b, cap) -> (b, cap) / 2^kb         p, u, sigma scale by 2^-kb;
+     *   (e, cap) -> (2^ke e, 2^-ke cap)     K, lam by 2^(2 ke), sigma by 2^ke;
+     *   (W, cap) -> (2^-ka W, 2^ka cap)     K, lam by 2^-ka, p by 2^ka.
+     * kb brings max |b_i| into [1, 2). Only when e or the capacity are then
+     * far from 1 (beyond 2^+-200: magnitudes where |E b| could overflow,
+     * the capacity turn subnormal or nu = s / cap overflow), ke brings
+     * max e_i into [1, 2) and ka the capacity into [1, 2), as far as lam
+     * stays normal and W finite (a scaled copy of prep). p, u, sigma are
+     * scaled back exactly: no overflow or underflow for b, cap, W, e anywhere
+     * in the double range, short of a result that does not fit in it (then
+     * EXDEX_ENONFINITE). */
     for (int i = 0; i < 3; i++) bmax = dmax(bmax, fabs(b[i]));
     if (bmax >= DBL_MIN) {
         frexp(bmax, &k);  /* bmax in [2^(k-1), 2^k) */
-        scale = ldexp(1.0, k - 1);
-        inv = 1.0 / scale;  /* exact: both are normal powers of two */
+        kb = k - 1;
+        inv = ldexp(1.0, -kb);  /* exact: a normal power of two */
     } else {
         inv = 0.0;  /* an all-subnormal b is no slip, like a subnormal cap */
     }
+    if (inv > 0.0 && cap > 0.0) {
+        int em = ilogb(dmax(prep->e[0], dmax(prep->e[1], prep->e[2]))), ec;
+        if (em < -200 || em > 200) ke = -em;
+        ec = ilogb(cap) - kb - ke;  /* capacity in [2^ec, 2^(ec + 1)) */
+        if (ec < -200 || ec > 200 || ke != 0) {
+            double wmax = 0.0;
+            int l0 = ilogb(prep->lam[0]) + 2 * ke, l2 = ilogb(prep->lam[2]) + 2 * ke;
+            for (int i = 0; i < 9; i++) wmax = dmax(wmax, fabs(prep->W[i]));
+            ka = -ec;
+            if (ka < ilogb(wmax) - 1000) ka = ilogb(wmax) - 1000;
+            if (ka > l0 + 1000) ka = l0 + 1000;
+            if (ka < l2 - 1000) ka = l2 - 1000;
+            local = *prep;
+            for (int i = 0; i < 9; i++) {
+                local.W[i] = ldexp(prep->W[i], -ka);
+                local.K[i] = ldexp(prep->K[i], 2 * ke - ka);
+            }
+            for (int i = 0; i < 3; i++) {
+                local.lam[i] = ldexp(prep->lam[i], 2 * ke - ka);
+                local.e[i] = ldexp(prep->e[i], ke);
+            }
+            pp = &local;
+        }
+        caps = ldexp(cap, ka - kb - ke);
+    }
     for (int i = 0; i < 3; i++) {
         bs[i] = b[i] * inv;
-        cs[i] = prep->e[i] * bs[i];
+        cs[i] = pp->e[i] * bs[i];
         cn += cs[i] * cs[i];
-        if (warm) ws3[i] = warm[i] * inv;
+        if (warm) ws3[i] = ldexp(warm[i], ka - kb);
     }
     cn = sqrt(cn);
-    if (cap > 0.0 && cn > 0.0 && (cap * inv) * prep->lam[2] <= DBL_EPSILON * cn) {
+    if (caps > 0.0 && cn > 0.0 && caps * pp->lam[2] <= DBL_EPSILON * cn) {
         /* Negligible capacity, cap |K| <= eps |E b| (all solvers): the
          * secular root is s = |E b| to rounding and y = -cap E b / |E b|
          * (fast slip) exactly to rounding; evaluated in the original units,
-         * where cap / scale could underflow. */
-        double un = 0.0;
-        for (int i = 0; i < 3; i++) res->p[i] = -cap * prep->e[i] * (cs[i] / cn);
+         * where the scaled capacity could underflow. sigma = |E u| scaled by
+         * its largest term. */
+        double eu[3], m = 0.0, un = 0.0;
+        for (int i = 0; i < 3; i++) res->p[i] = -(cap * (cs[i] / cn)) * prep->e[i];
         ex_mulmv3(res->u, prep->W, res->p);
         for (int i = 0; i < 3; i++) {
-            double eu;
             res->u[i] += b[i];
-            eu = prep->e[i] * (res->u[i] * inv);
-            un += eu * eu;
+            eu[i] = prep->e[i] * res->u[i];
+            m = dmax(m, fabs(eu[i]));
         }
-        res->sigma = scale * sqrt(un);
+        if (m > 0.0 && isfinite(m))
+            for (int i = 0; i < 3; i++) un += (eu[i] / m) * (eu[i] / m);
+        res->sigma = m * sqrt(un);
         res->stick = 0;
         res->iterations = 0;
         status = EXDEX_OK;
     } else {
-        status = solve_scaled(prep, bs, cap * inv, solver, ws, warm ? ws3 : NULL, res);
+        status = solve_scaled(pp, bs, caps, solver, ws, warm ? ws3 : NULL, res);
         if (status == EXDEX_OK) {
             for (int i = 0; i < 3; i++) {
-                res->p[i] *= scale;
-                res->u[i] *= scale;
+                res->p[i] = ldexp(res->p[i], kb - ka);
+                res->u[i] = ldexp(res->u[i], kb);
             }
-            res->sigma *= scale;
+            res->sigma = ldexp(res->sigma, kb - ke);
         }
     }
     if (status != EXDEX_OK) {

@@ -2,15 +2,21 @@
  * exdex_er_rectangle, exdex_n_samples, exdex_strerror, the default
  * definitions.
  *
- * Checks: e_r is NaN for invalid sizes; otherwise 2R/3 for the disc, and for
- * the rectangle finite and between max(a, b)/2 (the mean |x| along the long
- * side, a lower bound of the mean distance) and hypot(a, b) (the farthest
- * point); n_samples is 0 for invalid (t_end, dt) and else
+ * Checks: e_r is NaN for invalid sizes; otherwise finite and positive for
+ * every finite positive size, 2R/3 for the disc, and for the rectangle
+ * between max(a, b)/2 (the mean |x| along the long side, a lower bound of
+ * the mean distance) and hypot(a, b) (the farthest point), symmetric and
+ * equal to the value of the problem rescaled to unit size; n_samples is 0 for invalid (t_end, dt) and else
  * the step count of the documented rule; strerror never returns NULL; the
  * default scene passes exdex_scene_check. */
 #include "fuzz.h"
 
+#include <float.h>
 #include <math.h>
+
+#ifndef DBL_TRUE_MIN /* C11 */
+#define DBL_TRUE_MIN 4.9406564584124654e-324
+#endif
 
 #define T "misc"
 
@@ -26,8 +32,11 @@ int fuzz_misc(const uint8_t *data, size_t size)
     if (!(r > 0) || !isfinite(r)) {
         FZ_CHECK(T, isnan(e));
     } else {
-        FZ_EXTREME(T, &f, isfinite(e) && e > 0);
-        FZ_EXTREME(T, &f, fabs(e - 2.0 * (r / 3.0)) <= 1e-15 * e);
+        /* 2R/3 to rounding (reference in long double); a subnormal result
+         * is exact only to its absolute spacing DBL_TRUE_MIN */
+        double ref = (double)((long double)r * 2.0L / 3.0L);
+        FZ_CHECK(T, isfinite(e) && e > 0);
+        FZ_CHECK(T, fabs(e - ref) <= 1e-15 * ref + DBL_TRUE_MIN);
     }
 
     a = fz_log(&f, 1e-6, 1.0);
@@ -36,11 +45,23 @@ int fuzz_misc(const uint8_t *data, size_t size)
     if (!(a > 0) || !(b > 0) || !isfinite(a) || !isfinite(b)) {
         FZ_CHECK(T, isnan(e));
     } else {
-        /* the mean distance from the centre lies between half the shorter
-         * side's... bounds: >= max(a, b) / 2 (the mean |x| along the long
-         * side) and <= hypot(a, b) (the farthest point) */
-        FZ_EXTREME(T, &f, isfinite(e) && e > 0);
-        FZ_EXTREME(T, &f, e >= 0.5 * fmax(a, b) * (1 - 1e-12) && e <= hypot(a, b) * (1 + 1e-12));
+        /* finite and positive for every finite positive size; between
+         * max(a, b)/2 (the mean |x| along the long side, a lower bound of
+         * the mean distance) and hypot(a, b) (the farthest point), up to
+         * rounding and, for a subnormal result, its absolute spacing */
+        double m = fmax(a, b);
+        int k;
+        FZ_CHECK(T, isfinite(e) && e > 0);
+        FZ_CHECK(T, e >= 0.5 * m * (1 - 1e-12) - DBL_TRUE_MIN && e <= hypot(a, b) * (1 + 1e-12) + DBL_TRUE_MIN);
+        /* symmetric, and homogeneous of degree 1: the same value from the
+         * problem rescaled (exactly, by a power of two) to max(a, b) ~ 1,
+         * when both sizes stay normal numbers */
+        FZ_CHECK(T, exdex_er_rectangle(b, a) == e);
+        frexp(m, &k);
+        if (fmin(a, b) >= DBL_MIN && ldexp(fmin(a, b), -k) >= DBL_MIN && e >= DBL_MIN) {
+            double es = ldexp(exdex_er_rectangle(ldexp(a, -k), ldexp(b, -k)), k);
+            FZ_CHECK(T, fabs(e - es) <= 1e-15 * es);
+        }
     }
 
     dt = fz_log(&f, 1e-6, 1.0);

@@ -906,3 +906,329 @@ EXDEX_TEST(friction_bad_input)
     exdex_friction_ws_free(ws);
     exdex_friction_ws_free(NULL);
 }
+
+/* ------------------------------------------- hardening (issue 7 findings) */
+
+#ifndef DBL_TRUE_MIN /* C11 */
+#define DBL_TRUE_MIN 4.9406564584124654e-324
+#endif
+
+/* Textbook form of the rectangle's mean distance (Howe & Cutkosky), in long
+ * double: an independent evaluation for moderate sizes. */
+static long double er_rect_ld(long double a, long double b)
+{
+    long double d = sqrtl(a * a + b * b);
+    return d / 3 + (a * a / (6 * b)) * asinhl(b / a) + (b * b / (6 * a)) * asinhl(a / b);
+}
+
+/* e_r at the ends of the double range (the textbook form overflowed for half
+ * sizes above ~1e154 and underflowed below ~1e-154). References: the square's
+ * closed form a (sqrt2 + ln(1 + sqrt2)) / 3 at every scale; the thin-strip
+ * limit r = a/b -> 0 of b [sqrt(1 + r^2)/3 + r^2 asinh(1/r)/6 + asinh(r)/(6r)],
+ * which is b (1/3 + 0 + 1/6) = b/2 (the mean |y| along the long side); the
+ * textbook form in long double at unit scale times the exact power-of-two
+ * scale 2^k (homogeneity of the definition); 2R/3 in long double for the
+ * disc. Subnormal results are checked to their absolute spacing. */
+EXDEX_TEST(friction_er_extreme_sizes)
+{
+    const double sq = (sqrt(2.0) + log(1.0 + sqrt(2.0))) / 3.0;
+    const double sizes[8] = {1e-307, 1e-300, 1e-200, 1e-155, 1e155, 1e200, 1e300, DBL_MAX};
+    const int ks[4] = {-1000, -600, 600, 1000};
+    const double shapes[6][2] = {{1, 1}, {0.3, 1}, {1, 1e-3}, {1, 1e-8}, {0.02, 1e-6}, {1e-12, 1}};
+    for (int i = 0; i < 8; i++) {
+        ENSURE(rel_err(exdex_er_rectangle(sizes[i], sizes[i]), sizes[i] * sq) <= 4e-16);
+        /* thin strip b/a = 1e-200 and below: a/2 to rounding */
+        ENSURE(rel_err(exdex_er_rectangle(sizes[i], sizes[i] * 1e-200), 0.5 * sizes[i]) <= 2.3e-16
+               || sizes[i] * 1e-200 == 0.0);
+        ENSURE(rel_err(exdex_er_disc(sizes[i]), (double)((long double)sizes[i] * 2.0L / 3.0L)) <= 2.3e-16);
+    }
+    ENSURE(rel_err(exdex_er_rectangle(DBL_MAX, DBL_TRUE_MIN), 0.5 * DBL_MAX) <= 2.3e-16);
+    ENSURE(rel_err(exdex_er_rectangle(1e-300, 1e300), 0.5e300) <= 2.3e-16);
+    for (int s = 0; s < 6; s++)
+        for (int j = 0; j < 4; j++) {
+            double a = ldexp(shapes[s][0], ks[j]), b = ldexp(shapes[s][1], ks[j]);
+            double ref1 = ldexp((double)er_rect_ld(shapes[s][0], shapes[s][1]), ks[j]);
+            if (fmin(a, b) < DBL_MIN) continue;  /* not an exact scaling */
+            ENSURE(rel_err(exdex_er_rectangle(a, b), ref1) <= 4e-16);
+            ENSURE(exdex_er_rectangle(a, b) == exdex_er_rectangle(b, a));
+        }
+    /* subnormal sizes: positive, within one spacing of the value */
+    {
+        const double sub[3] = {DBL_TRUE_MIN, 7 * DBL_TRUE_MIN, 1e-310};
+        for (int i = 0; i < 3; i++) {
+            long double ref2 = (long double)sub[i] * (long double)sq;
+            double e = exdex_er_rectangle(sub[i], sub[i]);
+            ENSURE(e > 0 && fabsl(e - ref2) <= DBL_TRUE_MIN);
+            e = exdex_er_disc(sub[i]);
+            ENSURE(e > 0 && fabsl(e - (long double)sub[i] * 2.0L / 3.0L) <= DBL_TRUE_MIN);
+        }
+        ENSURE(exdex_er_rectangle(DBL_TRUE_MIN, 1.0) == 0.5);
+    }
+    /* moderate random shapes, aspect ratios 1e-12..1e12: the textbook form
+     * in long double */
+    {
+        gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+        double worst = 0.0;
+        gsl_rng_set(rng, 77);
+        for (int k = 0; k < 2000; k++) {
+            double a = pow(10.0, gsl_ran_flat(rng, -4.0, 1.0));
+            double b = a * pow(10.0, gsl_ran_flat(rng, -12.0, 12.0));
+            worst = fmax(worst, fabsl((exdex_er_rectangle(a, b) - er_rect_ld(a, b)) / er_rect_ld(a, b)));
+        }
+        ENSURE(worst <= 6e-16);
+        gsl_rng_free(rng);
+    }
+}
+
+/* Unit-scale solve for extreme W, e and capacity. Three exact invariances of
+ * the problem (derived from f(p) = p'Wp/2 + p'b over p'E^-2 p <= cap^2):
+ *   (b, cap) * 2^kb:               p, u, sigma * 2^kb;
+ *   (e * 2^ke, cap * 2^-ke):       p, u unchanged, sigma * 2^ke;
+ *   (W * 2^-ka, cap * 2^ka):       p * 2^ka, u, sigma unchanged.
+ * Reference: the same problem at moderate scale (SCALAR), scaled by these
+ * factors. The transformed problems put W near 1e298 and b near 1e301 with
+ * a moderate capacity (the fuzzer's ENONFINITE and precision-loss cases:
+ * the capacity relative to b below the normal range), or e near 1e150 /
+ * 1e-136 with W near 1e-301 / 1e271. Tolerance: the solvers' agreement
+ * level, 1e-10 cap e_i for p, 1e-10 of |b| + |W p| for u, 1e-10 |E b| for
+ * sigma (in the moderate problem's units). */
+EXDEX_TEST(friction_extreme_W_e_scales)
+{
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    exdex_friction_ws *ws = exdex_friction_ws_alloc();
+    const int tr[4][3] = {{-990, 0, 1000}, {1000, 500, 0}, {-900, -450, 0}, {-990, 0, 950}};
+    int bad = 0, fails = 0, n_slip = 0, skipped = 0;
+    gsl_rng_set(rng, 12);
+    for (int k = 0; k < 60; k++) {
+        rcase c;
+        exdex_friction_prep prep, prep2;
+        exdex_friction_result r0;
+        double eb = 0.0, wp[3];
+        random_case(rng, k, &c);
+        ENSURE(exdex_friction_prepare(&prep, c.W, c.e) == EXDEX_OK);
+        ENSURE(exdex_friction_solve(&prep, c.b, c.cap, EXDEX_SOLVER_SCALAR, NULL, NULL, &r0) == EXDEX_OK);
+        n_slip += !r0.stick;
+        matvec(wp, c.W, r0.p);
+        for (int i = 0; i < 3; i++) eb += c.e[i] * c.e[i] * c.b[i] * c.b[i];
+        eb = sqrt(eb);
+        for (int t = 0; t < 4; t++) {
+            int ka = tr[t][0], ke = tr[t][1], kb = tr[t][2];
+            double W2[9], e2[3], b2[3], cap2 = ldexp(c.cap, kb - ke + ka);
+            for (int i = 0; i < 9; i++) W2[i] = ldexp(c.W[i], -ka);
+            for (int i = 0; i < 3; i++) {
+                e2[i] = ldexp(c.e[i], ke);
+                b2[i] = ldexp(c.b[i], kb);
+            }
+            if (!isfinite(b2[0] + b2[1] + b2[2])) {
+                skipped++;  /* the large-b transforms on the largest b */
+                continue;
+            }
+            ENSURE(exdex_friction_prepare(&prep2, W2, e2) == EXDEX_OK);
+            for (int s = 0; s < 3; s++) {
+                exdex_friction_result r;
+                if (exdex_friction_solve(&prep2, b2, cap2, SOLVERS[s], ws, NULL, &r) != EXDEX_OK) {
+                    fails++;
+                    continue;
+                }
+                if (r.stick != r0.stick) bad++;
+                for (int i = 0; i < 3; i++) {
+                    double tu = fabs(c.b[i]) + fabs(wp[i]);
+                    if (!(fabs(ldexp(r.p[i], -(kb + ka)) - r0.p[i]) <= 1e-10 * c.cap * c.e[i])) bad++;
+                    if (!(fabs(ldexp(r.u[i], -kb) - r0.u[i]) <= 1e-10 * tu)) bad++;
+                }
+                if (!(fabs(ldexp(r.sigma, -(kb + ke)) - r0.sigma) <= 1e-10 * eb)) bad++;
+            }
+        }
+    }
+    ENSURE(fails == 0);
+    ENSURE(bad == 0);
+    ENSURE(n_slip >= 15 && skipped <= 20);
+    exdex_friction_ws_free(ws);
+    gsl_rng_free(rng);
+}
+
+/* Two inputs of the fuzzer, each against a reference by hand:
+ *  1. W ~ 1e299, b ~ 1e300, cap = 1.6e-9 (the capacity below the normal
+ *     range relative to b: ENONFINITE before). Reference: the problem
+ *     divided by 2^996 in W and b (same p, u / 2^996, sigma / 2^996; the
+ *     invariances of friction_extreme_W_e_scales), solved at moderate
+ *     scale by SCALAR.
+ *  2. e = (1e300, 1e300, 1e150), W ~ 1e-301, cap = 1e-300, b ~ 4e-3: cap |K|
+ *     ~ 1 <= eps |E b| ~ 1e297, the negligible-capacity (fast-slip) limit
+ *     p = -cap E (E b) / |E b|, u = b + W p = b to rounding, sigma = |E b|
+ *     ~ 5e297 (|E b| overflowed in the sum of squares before). */
+EXDEX_TEST(friction_fuzz_extreme_cases)
+{
+    exdex_friction_ws *ws = exdex_friction_ws_alloc();
+    {
+        const double W[9] = {3.4197155213350294e299, 3.9434942315121967e299, -1.1245739861323934e299,
+                             3.9434942315121967e299, 4.6594926503640803e299, -1.8442376018391633e299,
+                             -1.1245739861323934e299, -1.8442376018391633e299, 3.4564530991314162e299};
+        const double e[3] = {127.01669164705831, 0.010003878092745838, 0.019151135194109489};
+        const double b[3] = {9.683853465844949e298, -7.7417785703289306e299, -7.991677646399491e299};
+        const double cap = 1.555360154371731e-09;
+        double Ws[9], bs[3];
+        exdex_friction_prep prep, preps;
+        exdex_friction_result r0, r;
+        for (int i = 0; i < 9; i++) Ws[i] = ldexp(W[i], -996);
+        for (int i = 0; i < 3; i++) bs[i] = ldexp(b[i], -996);
+        ENSURE(exdex_friction_prepare(&prep, W, e) == EXDEX_OK);
+        ENSURE(exdex_friction_prepare(&preps, Ws, e) == EXDEX_OK);
+        ENSURE(exdex_friction_solve(&preps, bs, cap, EXDEX_SOLVER_SCALAR, NULL, NULL, &r0) == EXDEX_OK);
+        ENSURE(!r0.stick);
+        for (int s = 0; s < 3; s++) {
+            ENSURE(exdex_friction_solve(&prep, b, cap, SOLVERS[s], ws, NULL, &r) == EXDEX_OK);
+            ENSURE(!r.stick);
+            for (int i = 0; i < 3; i++) {
+                ENSURE(fabs(r.p[i] - r0.p[i]) <= 1e-10 * cap * e[i]);
+                ENSURE(rel_err(r.u[i], ldexp(r0.u[i], 996)) <= 1e-12);
+            }
+            ENSURE(rel_err(r.sigma, ldexp(r0.sigma, 996)) <= 1e-12);
+        }
+    }
+    {
+        const double W[9] = {3.3357883520334415e-301, 3.1109924673452873e-303, -3.1511838021025092e-301,
+                             3.1109924673452873e-303, 3.6891699513229833e-301, -2.9388282991689772e-303,
+                             -3.1511838021025092e-301, -2.9388282991689772e-303, 0.99999999999999989};
+        const double e[3] = {1e300, 1e300, 1e150};
+        const double b[3] = {0.004461955808439627, -0.001980784754917672, -0.0019500932614573191};
+        const double cap = 1e-300;
+        double c[3], cn, m = 0.0;
+        exdex_friction_prep prep;
+        exdex_friction_result r;
+        /* |E b| by hand, scaled by 1e300 (e_3 b_3 = 2e147 is negligible) */
+        for (int i = 0; i < 3; i++) c[i] = (e[i] / 1e300) * b[i];
+        cn = norm3(c);
+        ENSURE(exdex_friction_prepare(&prep, W, e) == EXDEX_OK);
+        for (int s = 0; s < 3; s++) {
+            ENSURE(exdex_friction_solve(&prep, b, cap, SOLVERS[s], ws, NULL, &r) == EXDEX_OK);
+            ENSURE(!r.stick);
+            for (int i = 0; i < 3; i++) {
+                ENSURE(fabs(r.p[i] - (-cap * e[i] * c[i] / cn)) <= 1e-15 * cap * e[i]);
+                ENSURE(rel_err(r.u[i], b[i]) <= 1e-15);
+                m = fmax(m, fabs(r.p[i]));
+            }
+            ENSURE(m > 0.1);
+            ENSURE(rel_err(r.sigma, cn * 1e300) <= 1e-15);
+        }
+    }
+    exdex_friction_ws_free(ws);
+}
+
+/* Sliding p exactly on the ellipsoid at cond(K) up to ~1e18 (e_r 1e-7..1e-6
+ * with cond(W) up to 1e6; issue 7 reported p outside by 7.7e-10 relative at
+ * cond(K) ~ 2e14), and no solver failure there (MULTIROOT returned ENOCONV
+ * on some of these cases before its fallback). Reference: the constraint
+ * itself, |E^-1 p| = cap, to rounding (8 eps). */
+EXDEX_TEST(friction_on_ellipsoid_ill_conditioned)
+{
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    exdex_friction_ws *ws = exdex_friction_ws_alloc();
+    double worst = 0.0;
+    int n_slip = 0, fails = 0;
+    gsl_rng_set(rng, 13);
+    for (int k = 0; k < 3000; k++) {
+        rcase c;
+        exdex_friction_prep prep;
+        random_case(rng, k, &c);
+        c.e[2] = pow(10.0, gsl_ran_flat(rng, -7.0, -6.0));
+        if (exdex_friction_prepare(&prep, c.W, c.e) != EXDEX_OK) continue;
+        for (int s = 0; s < 3; s++) {
+            exdex_friction_result r;
+            if (exdex_friction_solve(&prep, c.b, c.cap, SOLVERS[s], ws, NULL, &r) != EXDEX_OK) {
+                fails++;
+                continue;
+            }
+            if (r.stick) continue;
+            n_slip++;
+            worst = fmax(worst, rel_err(ell_norm(r.p, c.e), c.cap));
+        }
+    }
+    ENSURE(fails == 0);
+    ENSURE(n_slip >= 1000);
+    ENSURE(worst <= 8 * DBL_EPSILON);
+    report("friction_illcond_worst_ellipsoid_rel", worst);
+    exdex_friction_ws_free(ws);
+    gsl_rng_free(rng);
+}
+
+/* Two more fuzzer inputs, references solver-independent:
+ *  1. slip just beginning (sigma ~ 1e-27 against |b| ~ 1e-5, cond(W) ~ 1e17):
+ *     maximum dissipation, p . u <= 0, and u parallel to -E^-2 p (Eq. 6),
+ *     for every solver (MULTIROOT reported u = b + W p, pure rounding noise
+ *     of any direction, before);
+ *  2. e = (97.7, 2.7e-3, 5.0e-5), cond(K) ~ 3e12, where GSL's hybridsj
+ *     fails from all of MULTIROOT's independent starts (ENOCONV before):
+ *     MULTIROOT (secular fallback) returns OK and agrees with SCALAR and
+ *     BRENT to 1e-10 cap e_i, and the KKT backward error (E u = -nu E^-1 p,
+ *     nu >= 0, u = b + W p formed here) is at rounding level. */
+EXDEX_TEST(friction_fuzz_slip_onset_cases)
+{
+    exdex_friction_ws *ws = exdex_friction_ws_alloc();
+    {
+        const double W[9] = {11.334962315203507, -1.6141605807731817e-17, -2e-16,
+                             -1.6141605807731817e-17, 11.334962315203507, 8.0708029038659083e-18,
+                             -2e-16, 8.0708029038659083e-18, 9.9999999999999998e-17};
+        const double e[3] = {0.0031016247379785995, 0.0031016247379785995, 2.9389372378358935e-05};
+        const double b[3] = {3.3451115722419757e-06, 6.32250954880994e-06, 3.7173400880042199e-97};
+        const double cap = 0.0004768077574988019;
+        exdex_friction_prep prep;
+        ENSURE(exdex_friction_prepare(&prep, W, e) == EXDEX_OK);
+        for (int s = 0; s < 3; s++) {
+            exdex_friction_result r;
+            double pu = 0.0, q[3], qn, un, cross;
+            ENSURE(exdex_friction_solve(&prep, b, cap, SOLVERS[s], ws, NULL, &r) == EXDEX_OK);
+            if (r.stick) continue;
+            for (int i = 0; i < 3; i++) {
+                pu += r.p[i] * r.u[i];
+                q[i] = -r.p[i] / (e[i] * e[i]);
+            }
+            ENSURE(pu <= 0.0);
+            qn = norm3(q);
+            un = norm3(r.u);
+            if (un > 0.0) {
+                /* |u x q| / (|u| |q|) at rounding level, and u . q >= 0 */
+                double cx = r.u[1] * q[2] - r.u[2] * q[1], cy = r.u[2] * q[0] - r.u[0] * q[2],
+                       cz = r.u[0] * q[1] - r.u[1] * q[0];
+                cross = sqrt(cx * cx + cy * cy + cz * cz) / (un * qn);
+                ENSURE(cross <= 1e-14);
+            }
+        }
+    }
+    {
+        const double W[9] = {3.4197155213350294, 3.8491111198379206, 0.50042432627942057,
+                             3.8491111198379206, 4.7074361948073893, 0.30395936754052932,
+                             0.50042432627942057, 0.30395936754052932, 4.4023618973520122};
+        const double e[3] = {97.683100797377932, 0.002697535802061302, 5.0194349383158649e-05};
+        const double b[3] = {7.7373581416860284e-06, 9.2601540801638934e-06, 1.791922715063028e-06};
+        const double cap = 0.00064946816226744508;
+        exdex_friction_prep prep;
+        exdex_friction_result r[3];
+        ENSURE(exdex_friction_prepare(&prep, W, e) == EXDEX_OK);
+        for (int s = 0; s < 3; s++) {
+            double u[3], y[3], yy = 0.0, pu = 0.0, nu, scale = 0.0, rk = 0.0;
+            ENSURE(exdex_friction_solve(&prep, b, cap, SOLVERS[s], ws, NULL, &r[s]) == EXDEX_OK);
+            ENSURE(!r[s].stick);
+            matvec(u, W, r[s].p);
+            for (int i = 0; i < 3; i++) {
+                u[i] += b[i];
+                y[i] = r[s].p[i] / e[i];
+                yy += y[i] * y[i];
+                pu += r[s].p[i] * u[i];
+            }
+            nu = -pu / yy;
+            for (int i = 0; i < 3; i++) {
+                double t = fabs(b[i]) + fabs(W[3 * i] * r[s].p[0]) + fabs(W[3 * i + 1] * r[s].p[1])
+                           + fabs(W[3 * i + 2] * r[s].p[2]);
+                scale = fmax(scale, e[i] * t + fabs(nu * y[i]));
+                rk = fmax(rk, fabs(e[i] * u[i] + nu * y[i]));
+            }
+            ENSURE(nu * cap >= -1e-12 * scale);
+            ENSURE(rk <= 1e-12 * scale);
+            ENSURE(rel_err(ell_norm(r[s].p, e), cap) <= 8 * DBL_EPSILON);
+        }
+        for (int s = 1; s < 3; s++)
+            for (int i = 0; i < 3; i++) ENSURE(fabs(r[s].p[i] - r[0].p[i]) <= 1e-10 * cap * e[i]);
+    }
+    exdex_friction_ws_free(ws);
+}
