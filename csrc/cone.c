@@ -15,8 +15,12 @@
 #include <gsl/gsl_qrng.h>
 #include <gsl/gsl_rng.h>
 #include <gsl/gsl_vector.h>
+#include <float.h>
+#include <limits.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
+#include <string.h>
 
 /* ------------------------------------------------------------------ rows */
 
@@ -44,7 +48,8 @@ int exdex_contact_rows_friction(double rows[6], const double r[2], const double 
         double e[2] = {c * (n[0] + sg * mu * t[0]), c * (n[1] + sg * mu * t[1])};
         exdex_contact_row(rows + 3 * k, r, e);
     }
-    return EXDEX_OK;
+    // r x e overflows for |r| near DBL_MAX
+    return ex_finite_n(rows, 6) ? EXDEX_OK : EXDEX_ENONFINITE;
 }
 
 void exdex_cone_rows_paper(double rows[6], double phi, double theta)
@@ -79,30 +84,439 @@ static int rows_ok(const double *rows, int m)
     return ex_finite_n(rows, 3 * m);
 }
 
-/* Area of the rectangle [u0,u1] x [v0,v1] (coordinates iu, iv of x, with the
- * coordinate j fixed at c) clipped by every half-plane rows x >= 0. */
-static double face_area(const double *rows, int m, int j, double c, double u0, double u1,
-                        double v0, double v1)
+/* Every volume method works on the unit cube C = [-1/2, 1/2]^3 of
+ * coordinates s, x = lo + w (s + 1/2) with w = hi - lo (rounded once), where
+ * a row a . x >= 0 reads b . s + beta >= 0 with
+ *     b_j  = a_j w_j 2^-S,     beta = sum_j a_j (lo_j + w_j / 2) 2^-S,
+ * S chosen so that max |b_j| is in [1/4, 1). The cone's apex (x = 0) may be
+ * arbitrarily far from the box relative to its size (a thin box far from
+ * the origin); beta is then a sum of large, cancelling products. It is
+ * formed exactly (every product split exactly with fma and summed in a
+ * fixed-point accumulator wide enough for the whole double range) and
+ * rounded once, so the plane's position in C is off by a few eps, whatever
+ * the box; |beta| is capped at 2^60 (the plane then misses C, the cap only
+ * keeps the side). No product overflows or underflows: the factors are
+ * split with frexp first. */
+
+#define SA_LIMBS 76
+#define SA_BASE (-2400)  /* weight of bit 0 of limb 0: 2^SA_BASE */
+
+typedef struct sacc {
+    uint64_t w[SA_LIMBS];  /* two's complement fixed point */
+} sacc;
+
+/* acc += x 2^e, x a finite double whose bits all lie above 2^(SA_BASE - e) */
+static void sa_add(sacc *acc, double x, int e)
+{
+    if (x == 0.0) return;
+    int k;
+    double mant = frexp(fabs(x), &k);
+    uint64_t M = (uint64_t)ldexp(mant, 53);
+    int s = k - 53 + e - SA_BASE;
+    int i = s / 64, off = s % 64;
+    uint64_t part[2] = {M << off, off ? M >> (64 - off) : 0};
+    uint64_t c = 0;
+    for (int j = i; j < SA_LIMBS; j++) {
+        uint64_t d = j - i < 2 ? part[j - i] : 0, t = acc->w[j];
+        if (x > 0) {
+            uint64_t u = t + d, u2 = u + c;
+            c = (uint64_t)(u < d) | (uint64_t)(u2 < c);
+            acc->w[j] = u2;
+        } else {
+            uint64_t u = t - d, u2 = u - c;
+            c = (uint64_t)(t < d) | (uint64_t)(u < c);
+            acc->w[j] = u2;
+        }
+        if (j > i && c == 0) break;
+    }
+}
+
+/* acc += a b 2^e exactly (a b = (p + r) 2^(ka + kb), p and r exact by fma) */
+static void sa_add_product(sacc *acc, double a, double b, int e)
+{
+    if (a == 0.0 || b == 0.0) return;
+    int ka, kb;
+    double ma = frexp(a, &ka), mb = frexp(b, &kb);
+    double p = ma * mb, r = fma(ma, mb, -p);
+    sa_add(acc, p, ka + kb + e);
+    sa_add(acc, r, ka + kb + e);
+}
+
+/* The accumulated value times 2^scale, rounded (relative error <= 2^-51),
+ * its magnitude capped at sat (a power of two). */
+static double sa_value(const sacc *acc, int scale, double sat)
+{
+    uint64_t w[SA_LIMBS];
+    memcpy(w, acc->w, sizeof w);
+    int neg = (int)(w[SA_LIMBS - 1] >> 63);
+    if (neg) {
+        uint64_t c = 1;
+        for (int j = 0; j < SA_LIMBS; j++) {
+            w[j] = ~w[j] + c;
+            c = c && w[j] == 0;
+        }
+    }
+    int i = SA_LIMBS - 1;
+    while (i >= 0 && w[i] == 0) i--;
+    if (i < 0) return 0.0;
+    double v = ldexp((double)w[i], 128);
+    if (i >= 1) v += ldexp((double)w[i - 1], 64);
+    if (i >= 2) v += (double)w[i - 2];
+    int ex = 64 * (i - 2) + SA_BASE + scale;  /* result = v 2^ex, v < 2^192 */
+    v = ilogb(v) + ex > ilogb(sat) ? sat : ldexp(v, ex);
+    return neg ? -v : v;
+}
+
+/* b[0..3] = (b, beta) of row a (see above); 0 for an all-zero row (no
+ * constraint), else 1. */
+static int row_to_cube(const double a[3], const double lo[3], const double w[3], double b[4])
+{
+    int S = INT_MIN, ka[3], kw[3];
+    double ma[3], mw[3];
+    for (int j = 0; j < 3; j++) {
+        if (a[j] == 0.0) continue;
+        ma[j] = frexp(a[j], &ka[j]);
+        mw[j] = frexp(w[j], &kw[j]);
+        if (ka[j] + kw[j] > S) S = ka[j] + kw[j];
+    }
+    if (S == INT_MIN) return 0;
+    for (int j = 0; j < 3; j++) b[j] = a[j] == 0.0 ? 0.0 : ldexp(ma[j] * mw[j], ka[j] + kw[j] - S);
+    // Fast path (Ogita-Rump-Oishi Dot2): fma-split products, compensated
+    // sum; error <= eps |beta| + 8 eps^2 sum |terms|, accepted when the
+    // second part is below eps 2^(S-2) (eps relative to max |b_j|) and no
+    // product or error term can underflow or overflow.
+    {
+        double t[6] = {a[0] * lo[0], a[1] * lo[1], a[2] * lo[2],
+                       a[0] * (0.5 * w[0]), a[1] * (0.5 * w[1]), a[2] * (0.5 * w[2])};
+        double f1[6] = {a[0], a[1], a[2], a[0], a[1], a[2]};
+        double f2[6] = {lo[0], lo[1], lo[2], 0.5 * w[0], 0.5 * w[1], 0.5 * w[2]};
+        double hi_s = 0.0, lo_s = 0.0, abs_s = 0.0;
+        int ok = 1;
+        for (int i = 0; i < 6 && ok; i++) {
+            double x = t[i];
+            if (x == 0.0) {
+                if (f1[i] != 0.0 && f2[i] != 0.0) ok = 0;  /* underflowed */
+                continue;
+            }
+            double ax = fabs(x);
+            if (!(ax >= 0x1p-900 && ax <= 0x1p900)) { ok = 0; break; }
+            double e = fma(f1[i], f2[i], -x);
+            double sN = hi_s + x, bb = sN - hi_s;
+            lo_s += (hi_s - (sN - bb)) + (x - bb) + e;
+            hi_s = sN;
+            abs_s += ax;
+        }
+        if (ok && 8.0 * DBL_EPSILON * DBL_EPSILON * abs_s <= ldexp(DBL_EPSILON, S - 2)) {
+            double r = hi_s + lo_s;
+            b[3] = r != 0.0 && ilogb(r) - S > 60 ? copysign(0x1p60, r) : ldexp(r, -S);
+            return 1;
+        }
+    }
+    sacc acc;
+    memset(&acc, 0, sizeof acc);
+    for (int j = 0; j < 3; j++) {
+        sa_add_product(&acc, a[j], lo[j], 0);
+        sa_add_product(&acc, a[j], w[j], -1);
+    }
+    b[3] = sa_value(&acc, -S, 0x1p60);
+    return 1;
+}
+
+/* Rows of one cone in cube form; returns the number of non-zero rows. */
+static int rows_to_cube(const double *rows, int m, const double lo[3], const double w[3],
+                        double *B)
+{
+    int k = 0;
+    for (int r = 0; r < m; r++) k += row_to_cube(rows + 3 * r, lo, w, B + 4 * k);
+    return k;
+}
+
+/* A convex polytope inside C as a list of faces (vertex cycles in one
+ * pool), each with its outward unit normal and the distance h of its plane
+ * from the centre, measured along that normal. */
+typedef struct cpoly {
+    double (*v)[3];
+    int nv, capv;
+    int *first, *count;
+    double (*nrm)[3];
+    double *h;
+    int nf;
+} cpoly;
+
+typedef struct cap_pt {
+    double ang, p[3];
+} cap_pt;
+
+typedef struct exact_ws {
+    cpoly P[2];
+    int capf;          /* faces per polytope: 6 + rows */
+    double *d;         /* (capv of the current polytope) */
+    int capd;
+    cap_pt *cap;
+    int capc;
+    double B[4 * EXDEX_CONE_MAX_ROWS];
+} exact_ws;
+
+static void exact_ws_free(exact_ws *ws)
+{
+    for (int i = 0; i < 2; i++) {
+        free(ws->P[i].v); free(ws->P[i].first); free(ws->P[i].count);
+        free(ws->P[i].nrm); free(ws->P[i].h);
+    }
+    free(ws->d);
+    free(ws->cap);
+    memset(ws, 0, sizeof *ws);
+}
+
+static int grow(void **p, int *cap, int need, size_t elem)
+{
+    if (need <= *cap) return EXDEX_OK;
+    int n = *cap > 0 ? *cap : 64;
+    while (n < need) n *= 2;
+    void *q = realloc(*p, elem * (size_t)n);
+    if (!q) return EXDEX_ENOMEM;
+    *p = q;
+    *cap = n;
+    return EXDEX_OK;
+}
+
+static void exact_ws_init(exact_ws *ws)
+{
+    memset(ws, 0, sizeof *ws);
+}
+
+/* The polytope arrays, allocated on first use (apex far from the box). */
+static int exact_ws_poly(exact_ws *ws, int m)
+{
+    if (ws->capf >= 6 + m) return EXDEX_OK;
+    exact_ws keep = *ws;
+    for (int i = 0; i < 2; i++) {
+        free(keep.P[i].v); free(keep.P[i].first); free(keep.P[i].count);
+        free(keep.P[i].nrm); free(keep.P[i].h);
+        memset(&ws->P[i], 0, sizeof ws->P[i]);
+    }
+    ws->capf = 6 + m;
+    for (int i = 0; i < 2; i++) {
+        cpoly *P = &ws->P[i];
+        P->first = malloc(sizeof(int) * (size_t)ws->capf);
+        P->count = malloc(sizeof(int) * (size_t)ws->capf);
+        P->nrm = malloc(sizeof(double[3]) * (size_t)ws->capf);
+        P->h = malloc(sizeof(double) * (size_t)ws->capf);
+        if (!P->first || !P->count || !P->nrm || !P->h ||
+            grow((void **)&P->v, &P->capv, 24 + 8 * m, sizeof(double[3]))) {
+            exact_ws_free(ws);
+            return EXDEX_ENOMEM;
+        }
+    }
+    return EXDEX_OK;
+}
+
+static void poly_cube(cpoly *P)
+{
+    P->nf = 0;
+    P->nv = 0;
+    static const double uv[4][2] = {{-0.5, -0.5}, {0.5, -0.5}, {0.5, 0.5}, {-0.5, 0.5}};
+    for (int j = 0; j < 3; j++)
+        for (int sg = -1; sg <= 1; sg += 2) {
+            int iu = (j + 1) % 3, iv = (j + 2) % 3, f = P->nf++;
+            P->first[f] = P->nv;
+            P->count[f] = 4;
+            P->nrm[f][0] = P->nrm[f][1] = P->nrm[f][2] = 0.0;
+            P->nrm[f][j] = (double)sg;
+            P->h[f] = 0.5;
+            for (int c = 0; c < 4; c++) {
+                double *q = P->v[P->nv++];
+                q[j] = 0.5 * sg;
+                q[iu] = uv[c][0];
+                q[iv] = uv[c][1];
+            }
+        }
+}
+
+static void emit(cpoly *P, int start, const double q[3])
+{
+    if (P->nv > start) {
+        const double *l = P->v[P->nv - 1];
+        if (l[0] == q[0] && l[1] == q[1] && l[2] == q[2]) return;
+    }
+    double *o = P->v[P->nv++];
+    o[0] = q[0]; o[1] = q[1]; o[2] = q[2];
+}
+
+static int cap_cmp(const void *x, const void *y)
+{
+    const cap_pt *a = x, *b = y;
+    if (a->ang != b->ang) return a->ang < b->ang ? -1 : 1;
+    for (int j = 0; j < 3; j++)
+        if (a->p[j] != b->p[j]) return a->p[j] < b->p[j] ? -1 : 1;
+    return 0;
+}
+
+/* Clip the polytope ws->P[*cur] by b . s + beta >= 0. */
+static int poly_clip(exact_ws *ws, int *cur, const double b[4])
+{
+    cpoly *P = &ws->P[*cur], *Q = &ws->P[1 - *cur];
+    int st = grow((void **)&ws->d, &ws->capd, P->nv, sizeof(double));
+    if (st) return st;
+    // A vertex within rounding of the plane counts as on it: a plane (nearly)
+    // through a face, e.g. a repeated row, then leaves the polytope alone
+    // instead of cutting that face at random places.
+    double tau = 8.0 * DBL_EPSILON * (0.5 * (fabs(b[0]) + fabs(b[1]) + fabs(b[2])) + fabs(b[3]));
+    double dmin = INFINITY, dmax = -INFINITY;
+    for (int i = 0; i < P->nv; i++) {
+        const double *p = P->v[i];
+        double d = b[0] * p[0] + b[1] * p[1] + b[2] * p[2] + b[3];
+        if (fabs(d) <= tau) d = 0.0;
+        ws->d[i] = d;
+        dmin = fmin(dmin, d);
+        dmax = fmax(dmax, d);
+    }
+    if (dmin >= 0.0) return EXDEX_OK;  /* the whole polytope is inside */
+    if (dmax <= 0.0) {                  /* at most a face is left */
+        P->nf = 0;
+        return EXDEX_OK;
+    }
+    Q->nf = 0;
+    Q->nv = 0;
+    int ncap = 0;
+    for (int f = 0; f < P->nf; f++) {
+        int n = P->count[f], f0 = P->first[f];
+        st = grow((void **)&Q->v, &Q->capv, Q->nv + 2 * n, sizeof(double[3]));
+        if (!st) st = grow((void **)&ws->cap, &ws->capc, ncap + 2 * n, sizeof(cap_pt));
+        if (st) return st;
+        int start = Q->nv;
+        for (int i = 0; i < n; i++) {
+            int ip = f0 + i, iq = f0 + (i + 1) % n;
+            const double *p = P->v[ip], *q = P->v[iq];
+            double dp = ws->d[ip], dq = ws->d[iq];
+            if (dp >= 0.0) {
+                emit(Q, start, p);
+                if (dp == 0.0) memcpy(ws->cap[ncap++].p, p, sizeof(double[3]));
+            }
+            // the crossing point is computed from the inside vertex, so the
+            // two faces sharing the edge get the same point bit for bit
+            const double *in = NULL, *out = NULL;
+            double din = 0.0, dout = 0.0;
+            if (dp > 0.0 && dq < 0.0) { in = p; out = q; din = dp; dout = dq; }
+            else if (dp < 0.0 && dq > 0.0) { in = q; out = p; din = dq; dout = dp; }
+            if (in) {
+                double t = din / (din - dout), x[3];
+                for (int j = 0; j < 3; j++) x[j] = in[j] + t * (out[j] - in[j]);
+                emit(Q, start, x);
+                memcpy(ws->cap[ncap++].p, x, sizeof x);
+            }
+        }
+        int cnt = Q->nv - start;
+        if (cnt >= 2) {
+            const double *a = Q->v[start], *z = Q->v[Q->nv - 1];
+            if (a[0] == z[0] && a[1] == z[1] && a[2] == z[2]) { Q->nv--; cnt--; }
+        }
+        if (cnt >= 3) {
+            int g = Q->nf++;
+            Q->first[g] = start;
+            Q->count[g] = cnt;
+            memcpy(Q->nrm[g], P->nrm[f], sizeof(double[3]));
+            Q->h[g] = P->h[f];
+        } else {
+            Q->nv = start;
+        }
+    }
+    // The cap: the points of the polytope on the plane, in angular order
+    // about their centroid (they are the vertices of a convex polygon).
+    double bn = sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
+    if (ncap >= 3 && Q->nf < ws->capf) {
+        double nh[3] = {-b[0] / bn, -b[1] / bn, -b[2] / bn}, u[3], v[3], g[3] = {0, 0, 0};
+        int k = 0;
+        for (int j = 1; j < 3; j++)
+            if (fabs(nh[j]) < fabs(nh[k])) k = j;
+        double e[3] = {0, 0, 0};
+        e[k] = 1.0;
+        ex_cross3(u, nh, e);
+        double un = sqrt(ex_dot3(u, u));
+        for (int j = 0; j < 3; j++) u[j] /= un;
+        ex_cross3(v, nh, u);
+        for (int i = 0; i < ncap; i++)
+            for (int j = 0; j < 3; j++) g[j] += ws->cap[i].p[j];
+        for (int j = 0; j < 3; j++) g[j] /= ncap;
+        for (int i = 0; i < ncap; i++) {
+            double r[3];
+            for (int j = 0; j < 3; j++) r[j] = ws->cap[i].p[j] - g[j];
+            ws->cap[i].ang = atan2(ex_dot3(r, v), ex_dot3(r, u));
+        }
+        qsort(ws->cap, (size_t)ncap, sizeof(cap_pt), cap_cmp);
+        st = grow((void **)&Q->v, &Q->capv, Q->nv + ncap, sizeof(double[3]));
+        if (st) return st;
+        int start = Q->nv;
+        for (int i = 0; i < ncap; i++) emit(Q, start, ws->cap[i].p);
+        int cnt = Q->nv - start;
+        if (cnt >= 2) {
+            const double *a = Q->v[start], *z = Q->v[Q->nv - 1];
+            if (a[0] == z[0] && a[1] == z[1] && a[2] == z[2]) { Q->nv--; cnt--; }
+        }
+        if (cnt >= 3) {
+            int f = Q->nf++;
+            Q->first[f] = start;
+            Q->count[f] = cnt;
+            memcpy(Q->nrm[f], nh, sizeof nh);
+            Q->h[f] = b[3] / bn;  /* outward normal nh = -b/|b|: s . nh = beta / |b| on the plane */
+        } else {
+            Q->nv = start;
+        }
+    }
+    *cur = 1 - *cur;
+    return EXDEX_OK;
+}
+
+/* Volume of the polytope (C has volume 1): divergence theorem with
+ * F(s) = s / 3 about the cube centre, V = 1/3 sum_f h_f area_f; every term
+ * is O(1), so the rounding is a few eps per face. */
+static double poly_volume(const cpoly *P)
+{
+    double acc = 0.0;
+    for (int f = 0; f < P->nf; f++) {
+        const double (*v)[3] = (const double (*)[3])P->v + P->first[f];
+        int n = P->count[f];
+        double S[3] = {0, 0, 0};
+        for (int i = 1; i + 1 < n; i++) {
+            double a[3], b[3], c[3];
+            for (int j = 0; j < 3; j++) { a[j] = v[i][j] - v[0][j]; b[j] = v[i + 1][j] - v[0][j]; }
+            ex_cross3(c, a, b);
+            for (int j = 0; j < 3; j++) S[j] += c[j];
+        }
+        acc += P->h[f] * fabs(ex_dot3(S, P->nrm[f]));
+    }
+    return acc / 6.0;
+}
+
+/* Apex near the box: the divergence theorem with F(s) = (s - p) / 3 about
+ * the apex p, where every cone facet passes through p and adds nothing, so
+ * only the box faces count: V = 1/3 sum_faces (1/2 -+ p_j) A(face), each A a
+ * square clipped by the rows (Sutherland-Hodgman, shoelace). Every face is
+ * clipped on its own, so this is immune to degenerate cones (many facets
+ * through the apex at tiny angles); the terms are O(1 + |p|), hence it is
+ * used only for |p_j| <= APEX_NEAR. (DESIGN.md section 4.) */
+#define APEX_NEAR 4.0
+
+static double face_area(const double *B, int k, int j, double c)
 {
     enum { CAP = EXDEX_CONE_MAX_ROWS + 8 };
     double pa[CAP][2], pb[CAP][2];
     double (*in)[2] = pa, (*out)[2] = pb;
     int iu = (j + 1) % 3, iv = (j + 2) % 3;
     int n = 4;
-    in[0][0] = u0; in[0][1] = v0;
-    in[1][0] = u1; in[1][1] = v0;
-    in[2][0] = u1; in[2][1] = v1;
-    in[3][0] = u0; in[3][1] = v1;
-    for (int k = 0; k < m && n > 0; k++) {
-        const double *a = rows + 3 * k;
-        double au = a[iu], av = a[iv], a0 = a[j] * c;
+    in[0][0] = -0.5; in[0][1] = -0.5;
+    in[1][0] = 0.5; in[1][1] = -0.5;
+    in[2][0] = 0.5; in[2][1] = 0.5;
+    in[3][0] = -0.5; in[3][1] = 0.5;
+    for (int r = 0; r < k && n > 0; r++) {
+        const double *a = B + 4 * r;
+        double au = a[iu], av = a[iv], a0 = a[j] * c + a[3];
         if (au == 0.0 && av == 0.0) {
             if (a0 < 0.0) return 0.0;  // the whole face is cut away
             continue;                  // a0 >= 0: no constraint on this face
         }
-        // Sutherland-Hodgman against au u + av v + a0 >= 0
         int no = 0;
-        for (int i = 0; i < n; i++) {
+        for (int i = 0; i < n && no + 2 <= CAP; i++) {
             const double *p = in[i], *q = in[(i + 1) % n];
             double dp = au * p[0] + av * p[1] + a0;
             double dq = au * q[0] + av * q[1] + a0;
@@ -125,10 +539,6 @@ static double face_area(const double *rows, int m, int j, double c, double u0, d
         n = no;
     }
     if (n < 3) return 0.0;
-    // Shoelace about the first vertex (less cancellation than about 0);
-    // clipping keeps the rectangle's counter-clockwise order, so the sign
-    // is known, but only the magnitude is used: the face's orientation
-    // (outward normal) comes from the bound, not from the winding.
     double s = 0.0;
     for (int i = 1; i + 1 < n; i++)
         s += (in[i][0] - in[0][0]) * (in[i + 1][1] - in[0][1]) -
@@ -136,54 +546,87 @@ static double face_area(const double *rows, int m, int j, double c, double u0, d
     return 0.5 * fabs(s);
 }
 
+static double apex_fraction(const double *B, int k, const double p[3])
+{
+    double v = 0.0;
+    for (int j = 0; j < 3; j++)
+        v += (0.5 - p[j]) * face_area(B, k, j, 0.5) + (0.5 + p[j]) * face_area(B, k, j, -0.5);
+    return v / 3.0;
+}
+
+/* Fraction of the box inside the cone, in [0, 1], for k cube-form rows. */
+static int cube_fraction(exact_ws *ws, const double *B, int k, const double p[3], double *frac)
+{
+    if (k == 0) {  /* no constraint: the whole box, exactly */
+        *frac = 1.0;
+        return EXDEX_OK;
+    }
+    if (fabs(p[0]) <= APEX_NEAR && fabs(p[1]) <= APEX_NEAR && fabs(p[2]) <= APEX_NEAR) {
+        double v = apex_fraction(B, k, p);
+        *frac = v < 0.0 ? 0.0 : v > 1.0 ? 1.0 : v;
+        return EXDEX_OK;
+    }
+    int cur = 0, st = exact_ws_poly(ws, k);
+    if (st) return st;
+    poly_cube(&ws->P[0]);
+    for (int r = 0; r < k && ws->P[cur].nf > 0; r++) {
+        st = poly_clip(ws, &cur, B + 4 * r);
+        if (st) return st;
+    }
+    double v = ws->P[cur].nf > 0 ? poly_volume(&ws->P[cur]) : 0.0;
+    *frac = v < 0.0 ? 0.0 : v > 1.0 ? 1.0 : v;
+    return EXDEX_OK;
+}
+
+static int volume_exact_ws(exact_ws *ws, const double *rows, int m, const double lo[3],
+                           const double hi[3], double *volume)
+{
+    double w[3] = {hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]}, frac, p[3];
+    for (int j = 0; j < 3; j++) p[j] = -(lo[j] + 0.5 * w[j]) / w[j];  /* the apex x = 0 */
+    int k = rows_to_cube(rows, m, lo, w, ws->B);
+    int st = cube_fraction(ws, ws->B, k, p, &frac);
+    if (st) return st;
+    *volume = frac * (w[0] * w[1] * w[2]);
+    return EXDEX_OK;
+}
+
 int exdex_cone_volume_exact(const double *rows, int m, const double lo[3],
                             const double hi[3], double *volume)
 {
     if (!volume || !box_ok(lo, hi) || !rows_ok(rows, m)) return EXDEX_EINVAL;
-    // Divergence theorem with F(x) = x / 3 (div F = 1) over P = box cap cone:
-    // on a cone facet a . x = 0, so x . n = 0 and the facet adds nothing;
-    // on the face x_j = hi_j the outward normal is +e_j (x . n = hi_j), on
-    // x_j = lo_j it is -e_j (x . n = -lo_j). (DESIGN.md section 4.)
-    double v = 0.0;
-    for (int j = 0; j < 3; j++) {
-        int iu = (j + 1) % 3, iv = (j + 2) % 3;
-        if (hi[j] != 0.0)
-            v += hi[j] * face_area(rows, m, j, hi[j], lo[iu], hi[iu], lo[iv], hi[iv]);
-        if (lo[j] != 0.0)
-            v -= lo[j] * face_area(rows, m, j, lo[j], lo[iu], hi[iu], lo[iv], hi[iv]);
-    }
-    *volume = v / 3.0;
-    return EXDEX_OK;
+    exact_ws ws;
+    exact_ws_init(&ws);
+    int st = volume_exact_ws(&ws, rows, m, lo, hi, volume);
+    exact_ws_free(&ws);
+    return st;
 }
 
 /* ------------------------------------------------------------------ grid */
 
-static double volume_grid(const double *rows, int m, const double lo[3], const double hi[3],
-                          long n)
+static double volume_grid(const double *B, int k, const double w[3], long n)
 {
     // Paper Section 3.1: discretise the cuboid, count the cells whose centre
-    // satisfies every row. Partial sums per axis keep the inner loop at m
-    // multiply-adds per cell.
-    double h[3];
-    for (int j = 0; j < 3; j++) h[j] = (hi[j] - lo[j]) / (double)n;
+    // satisfies every row (cube-form rows B, k of them: the centre of cell i
+    // along an axis is s = (2 i + 1 - n) / (2 n) in C). Partial sums per
+    // axis keep the inner loop at k multiply-adds per cell.
     double part[EXDEX_CONE_MAX_ROWS];
     long count = 0;
     for (long i = 0; i < n; i++) {
-        double x = lo[0] + (i + 0.5) * h[0];
-        for (long k = 0; k < n; k++) {
-            double y = lo[1] + (k + 0.5) * h[1];
-            for (int r = 0; r < m; r++) part[r] = rows[3 * r] * x + rows[3 * r + 1] * y;
+        double x = (double)(2 * i + 1 - n) / (2.0 * (double)n);
+        for (long l2 = 0; l2 < n; l2++) {
+            double y = (double)(2 * l2 + 1 - n) / (2.0 * (double)n);
+            for (int r = 0; r < k; r++) part[r] = B[4 * r] * x + B[4 * r + 1] * y + B[4 * r + 3];
             for (long l = 0; l < n; l++) {
-                double z = lo[2] + (l + 0.5) * h[2];
+                double z = (double)(2 * l + 1 - n) / (2.0 * (double)n);
                 int in = 1;
-                for (int r = 0; r < m; r++)
-                    if (part[r] + rows[3 * r + 2] * z < 0.0) { in = 0; break; }
+                for (int r = 0; r < k; r++)
+                    if (part[r] + B[4 * r + 2] * z < 0.0) { in = 0; break; }
                 count += in;
             }
         }
     }
-    double box = (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
-    return box * (double)count / ((double)n * (double)n * (double)n);
+    double box = w[0] * w[1] * w[2];
+    return box * ((double)count / ((double)n * (double)n * (double)n));
 }
 
 /* ------------------------------------------------------------------- QMC */
@@ -217,13 +660,11 @@ static int qmc_alloc(qmc_ws *w, int shifts)
     return EXDEX_OK;
 }
 
-static int volume_qmc(qmc_ws *w, const double *rows, int m, const double lo[3],
-                      const double hi[3], const exdex_volume_opts *o, double *vol,
-                      double *err)
+static int volume_qmc(qmc_ws *w, const double *B, int m, const double h[3],
+                      const exdex_volume_opts *o, double *vol, double *err)
 {
+    // cube-form rows B (m of them): a point t of [0,1)^3 is s = t - 1/2 in C
     int K = o->qmc_shifts;
-    double h[3];
-    for (int j = 0; j < 3; j++) h[j] = hi[j] - lo[j];
     gsl_qrng_init(w->q);
     gsl_rng_set(w->rng, o->seed);
     // Cranley-Patterson rotations: the same Sobol points shifted mod 1 by K
@@ -241,12 +682,12 @@ static int volume_qmc(qmc_ws *w, const double *rows, int m, const double lo[3],
             for (int j = 0; j < 3; j++) {
                 double t = u[j] + w->shift[3 * k + j];
                 if (t >= 1.0) t -= 1.0;
-                x[j] = lo[j] + t * h[j];
+                x[j] = t - 0.5;
             }
             int in = 1;
             for (int r = 0; r < m; r++) {
-                const double *a = rows + 3 * r;
-                if (a[0] * x[0] + a[1] * x[1] + a[2] * x[2] < 0.0) { in = 0; break; }
+                const double *a = B + 4 * r;
+                if (a[0] * x[0] + a[1] * x[1] + a[2] * x[2] + a[3] < 0.0) { in = 0; break; }
             }
             w->count[k] += in;
         }
@@ -260,9 +701,10 @@ static int volume_qmc(qmc_ws *w, const double *rows, int m, const double lo[3],
         double d = (double)w->count[k] - mean;
         var += d * d;
     }
-    double scale = box / (double)o->qmc_points;
-    *vol = mean * scale;
-    *err = K > 1 ? sqrt(var / (double)(K - 1) / (double)K) * scale : NAN;
+    // fractions of the box first (a subnormal box volume keeps its digits)
+    double n = (double)o->qmc_points;
+    *vol = box * (mean / n);
+    *err = K > 1 ? box * (sqrt(var / (double)(K - 1) / (double)K) / n) : NAN;
     return EXDEX_OK;
 }
 
@@ -297,28 +739,30 @@ int exdex_cone_volumes(int method, size_t n_cases, int m, const double *rows,
         if (!rows_ok(rows + 3 * (size_t)m * c, m)) return EXDEX_EINVAL;
 
     qmc_ws w = {NULL, NULL, NULL, NULL};
-    if (method == EXDEX_VOLUME_QMC) {
-        int st = qmc_alloc(&w, o.qmc_shifts);
-        if (st) return st;
-    }
+    exact_ws ws;
+    exact_ws_init(&ws);
     int status = EXDEX_OK;
+    if (method == EXDEX_VOLUME_QMC) status = qmc_alloc(&w, o.qmc_shifts);
+    double wd[3] = {hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]};
     for (size_t c = 0; c < n_cases && status == EXDEX_OK; c++) {
         const double *a = rows + 3 * (size_t)m * c;
         double e = NAN;
         switch (method) {
         case EXDEX_VOLUME_EXACT:
-            status = exdex_cone_volume_exact(a, m, lo, hi, &volume[c]);
+            status = volume_exact_ws(&ws, a, m, lo, hi, &volume[c]);
             break;
         case EXDEX_VOLUME_GRID:
-            volume[c] = volume_grid(a, m, lo, hi, o.grid_n);
+            volume[c] = volume_grid(ws.B, rows_to_cube(a, m, lo, wd, ws.B), wd, o.grid_n);
             break;
         default:
-            status = volume_qmc(&w, a, m, lo, hi, &o, &volume[c], &e);
+            status = volume_qmc(&w, ws.B, rows_to_cube(a, m, lo, wd, ws.B), wd, &o,
+                                &volume[c], &e);
             break;
         }
         if (err) err[c] = e;
     }
     qmc_free(&w);
+    exact_ws_free(&ws);
     return status;
 }
 
@@ -467,7 +911,8 @@ int exdex_tool_rows(const exdex_tool_problem *p, const exdex_tool_def *tool, int
         a[2] = p->push[2];
         *nrows += 1;
     }
-    return EXDEX_OK;
+    // a row overflows only for data near DBL_MAX (vertices, push)
+    return ex_finite_n(rows, 3 * *nrows) ? EXDEX_OK : EXDEX_ENONFINITE;
 }
 
 int exdex_tool_volumes(const exdex_tool_problem *p, size_t n_tools,
@@ -478,15 +923,19 @@ int exdex_tool_volumes(const exdex_tool_problem *p, size_t n_tools,
     int ns = p->model == EXDEX_TOOL_PAPER ? 1 : p->n_shapes;
     double rows[3 * EXDEX_CONE_MAX_ROWS];
     size_t idx = 0;
-    for (size_t t = 0; t < n_tools; t++)
-        for (int s = 0; s < ns; s++)
-            for (int k = 0; k < p->n_phi; k++) {
-                int m, st = exdex_tool_rows(p, &tools[t], s, p->phi[k], rows, &m);
-                if (!st) st = exdex_cone_volume_exact(rows, m, p->lo, p->hi, &volume[idx]);
-                if (st) return st;
+    exact_ws ws;
+    exact_ws_init(&ws);
+    int st = EXDEX_OK;
+    for (size_t t = 0; t < n_tools && !st; t++)
+        for (int s = 0; s < ns && !st; s++)
+            for (int k = 0; k < p->n_phi && !st; k++) {
+                int m;
+                st = exdex_tool_rows(p, &tools[t], s, p->phi[k], rows, &m);
+                if (!st) st = volume_exact_ws(&ws, rows, m, p->lo, p->hi, &volume[idx]);
                 idx++;
             }
-    return EXDEX_OK;
+    exact_ws_free(&ws);
+    return st;
 }
 
 int exdex_tool_objective(const exdex_tool_problem *p, const exdex_tool_def *tool,
@@ -496,17 +945,21 @@ int exdex_tool_objective(const exdex_tool_problem *p, const exdex_tool_def *tool
     int ns = p->model == EXDEX_TOOL_PAPER ? 1 : p->n_shapes;
     double rows[3 * EXDEX_CONE_MAX_ROWS];
     double acc = 0.0;
-    for (int s = 0; s < ns; s++)
-        for (int k = 0; k < p->n_phi; k++) {
+    exact_ws ws;
+    exact_ws_init(&ws);
+    int st = EXDEX_OK;
+    for (int s = 0; s < ns && !st; s++)
+        for (int k = 0; k < p->n_phi && !st; k++) {
             int m;
-            double v;
-            int st = exdex_tool_rows(p, tool, s, p->phi[k], rows, &m);
-            if (!st) st = exdex_cone_volume_exact(rows, m, p->lo, p->hi, &v);
-            if (st) return st;
+            double v = 0.0;
+            st = exdex_tool_rows(p, tool, s, p->phi[k], rows, &m);
+            if (!st) st = volume_exact_ws(&ws, rows, m, p->lo, p->hi, &v);
             acc += v;
         }
-    *sum = acc;
-    return EXDEX_OK;
+    exact_ws_free(&ws);
+    if (!st && !isfinite(acc)) st = EXDEX_ENONFINITE;  /* volumes near DBL_MAX add up past it */
+    if (!st) *sum = acc;
+    return st;
 }
 
 /* ------------------------------------------------------- optimisation */
