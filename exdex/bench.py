@@ -25,8 +25,7 @@ pybullet and MuJoCo (:mod:`exdex.engines`, default solver settings; contact
 rotation and planar cases, the engines' faithful mapping of the friction
 ellipsoid) give one line each over dt = 2^-m s, m = 7 ... 11. A method that
 :func:`exdex.simulate` does not offer (it raises ValueError), in general or for
-a scene (planar scenes with stops need "implicit"), is left out and named on
-the chart. A run that takes more than a per-run budget ends its line.
+a scene, is left out and named on the chart. A run that takes more than a per-run budget ends its line.
 
 Reference: the closed form where one exists (Figs. 3 and 6:
 :func:`exdex.paper.closed_form`; Fig. 4: :func:`exdex.paper.stop_closed_form`),
@@ -237,8 +236,8 @@ def method_available(method):
 
 
 def scene_supports(scene, method):
-    """True if ``exdex.simulate`` accepts ``method`` for this scene (e.g. planar
-    scenes with stops need "implicit"); a two-step trial run decides."""
+    """True if ``exdex.simulate`` accepts ``method`` for this scene; a two-step
+    trial run decides."""
     try:
         simulate(scene, t_end=2 * 1e-3, dt=1e-3, method=method)
     except ValueError:
@@ -359,7 +358,7 @@ def _sweeps(methods, quick, aligned=None):
         reg_tols = (1e-4, 1e-8)
         eps_lines = (1e-3,)
     else:
-        ms = tuple(range(3, 17))
+        ms = tuple(range(1, 17))   # dt = 1/2 .. 2^-16 s: from a few steps per motion to the rounding floor
         js = tuple(range(0, 10))
         tols = tuple(10.0 ** -k for k in range(2, 13))
         reg_tols = tuple(10.0 ** -k for k in range(2, 12, 2))
