@@ -100,7 +100,9 @@ static int spd3(const double A[9])
     return d2 > 0;
 }
 
-int exdex_scene_check(const exdex_scene_def *d, const char **bad_param)
+/* Field-by-field validation of everything but R0, the motion, the planar
+ * friction problem and the initial stop gaps (those need the model built). */
+static int check_fields(const exdex_scene_def *d, const char **bad_param)
 {
     double scale;
     if (!d) return bad(bad_param, "scene");
@@ -303,10 +305,10 @@ void exdex_model_free(exdex_model *m)
     free(m);
 }
 
-exdex_model *exdex_model_alloc(const exdex_scene_def *def, int *status, const char **bad_param)
+static exdex_model *build_model(const exdex_scene_def *def, int *status, const char **bad_param)
 {
     exdex_model *m;
-    int st = exdex_scene_check(def, bad_param);
+    int st = check_fields(def, bad_param);
     int dummy;
     if (!status) status = &dummy;
     if (st) {
@@ -404,6 +406,32 @@ exdex_model *exdex_model_alloc(const exdex_scene_def *def, int *status, const ch
     return m;
 }
 
+exdex_model *exdex_model_alloc(const exdex_scene_def *def, int *status, const char **bad_param)
+{
+    return build_model(def, status, bad_param);
+}
+
+/* Everything model_alloc rejects as bad input is rejected here with the same
+ * bad_param, by construction: the fields first, then the model is built (R0
+ * and the motion by exdex_motion_alloc, the planar friction problem, the
+ * initial stop gaps) and freed again. */
+int exdex_scene_check(const exdex_scene_def *d, const char **bad_param)
+{
+    int st = check_fields(d, bad_param), st_build = EXDEX_OK;
+    const char *b = NULL;
+    exdex_model *m;
+    if (st) return st;
+    m = build_model(d, &st_build, &b);
+    if (m) {
+        exdex_model_free(m);
+        return EXDEX_OK;
+    }
+    /* EINVAL: bad input; ENOMEM passes through; ENONFINITE (the motion
+     * overflows at t = 0) is not a bad field: the check passes */
+    if (st_build == EXDEX_EINVAL && bad_param) *bad_param = b;
+    return st_build == EXDEX_ENONFINITE ? EXDEX_OK : st_build;
+}
+
 int exdex_model_ndof(const exdex_model *m) { return m ? m->ndof : 0; }
 int exdex_model_nstops(const exdex_model *m) { return m ? m->n_stops : 0; }
 
@@ -416,7 +444,7 @@ size_t exdex_n_samples(double t_end, double dt)
     steps = floor(r + 0.5);
     if (fabs(r - steps) > 1e-9 * r) steps = ceil(r);
     if (steps < 1) steps = 1;
-    if (steps > 1e9) return 0;
+    if (steps > EXDEX_MAX_STEPS) return 0;
     return (size_t)steps + 1;
 }
 
@@ -1051,9 +1079,19 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajecto
             project_positions(m, &kin_end, q, &st);
             record_gap(m, &kin_end, q, &st);
         }
-        if (!ex_finite_n(q, n_dof) || !ex_finite_n(v, n_dof)) {
+        if (!ex_finite_n(q, n_dof) || !ex_finite_n(v, n_dof) || !ex_finite_n(wrench, 3)) {
             status = EXDEX_ENONFINITE;
             break;
+        }
+        {
+            /* stop forces (impulse / h) must be finite too: an overflow in the
+             * impulses alone is reported, not recorded */
+            int finite_lam = 1;
+            for (int i = 0; i < w->n_rows; i++) finite_lam &= isfinite(w->lam[i] / h);
+            if (!finite_lam) {
+                status = EXDEX_ENONFINITE;
+                break;
+            }
         }
         t = t1;
         hprev = h;
