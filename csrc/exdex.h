@@ -269,7 +269,12 @@ typedef struct exdex_scene_def {
  * scalar friction solver, eps 1e-4, rtol 1e-8, atol 1e-10. */
 exdex_scene_def exdex_default_scene_def(void);
 
-/* EXDEX_OK or EXDEX_EINVAL with *bad_param (if not NULL) naming the field. */
+/* EXDEX_OK or EXDEX_EINVAL with *bad_param (if not NULL) naming the field.
+ * Rejects exactly what exdex_model_alloc rejects with EXDEX_EINVAL (R0, the
+ * motion, a singular planar friction problem, an object starting beyond a
+ * stop included), with the same bad_param; it builds the model and frees it
+ * again, so it may also return EXDEX_ENOMEM. A motion that overflows at
+ * t = 0 (model_alloc: EXDEX_ENONFINITE) passes the check. */
 int exdex_scene_check(const exdex_scene_def *def, const char **bad_param);
 
 typedef struct exdex_model exdex_model;  /* immutable after alloc */
@@ -282,7 +287,13 @@ int exdex_model_ndof(const exdex_model *m);
 int exdex_model_nstops(const exdex_model *m);
 
 /* Number of recorded samples for (t_end, dt): steps of dt, the last one
- * shortened to end exactly at t_end; samples = steps + 1. 0 if invalid. */
+ * shortened to end exactly at t_end; samples = steps + 1. 0 if invalid:
+ * non-finite, dt <= 0, dt > t_end, or more than EXDEX_MAX_STEPS steps.
+ * The limit bounds the run time of one call (the implicit method takes one
+ * step per sample, each with capped inner iterations) and the caller's
+ * arrays (>= 8 doubles a sample, 64 GB at the limit); exdex_simulate
+ * rejects (t_end, dt) beyond it with EXDEX_EINVAL. */
+#define EXDEX_MAX_STEPS 1000000000.0
 size_t exdex_n_samples(double t_end, double dt);
 
 /* Caller-allocated output arrays, n = exdex_n_samples(t_end, dt) rows. */
@@ -309,9 +320,10 @@ typedef struct exdex_stats {
 } exdex_stats;
 
 /* Run the whole trajectory. Thread-safe for distinct out/stats. Returns
- * EXDEX_EINVAL only for bad arguments (model, t_end, dt, out arrays); a state
- * that leaves the finite range during the run gives EXDEX_ENONFINITE, and a
- * solver failure EXDEX_ENOCONV. */
+ * EXDEX_EINVAL only for bad arguments (model, t_end, dt beyond
+ * EXDEX_MAX_STEPS, out arrays); a state, wrench or stop force that leaves the
+ * finite range during the run gives EXDEX_ENONFINITE (EXDEX_OK guarantees
+ * finite output), and a solver failure EXDEX_ENOCONV. */
 int exdex_simulate(const exdex_model *m, double t_end, double dt,
                    exdex_trajectory *out, exdex_stats *stats);
 

@@ -27,6 +27,7 @@
 #include "sim_internal.h"
 #include "util.h"
 
+#include <float.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -100,7 +101,9 @@ static int spd3(const double A[9])
     return d2 > 0;
 }
 
-int exdex_scene_check(const exdex_scene_def *d, const char **bad_param)
+/* Field-by-field validation of everything but R0, the motion, the planar
+ * friction problem and the initial stop gaps (those need the model built). */
+static int check_fields(const exdex_scene_def *d, const char **bad_param)
 {
     double scale;
     if (!d) return bad(bad_param, "scene");
@@ -303,10 +306,10 @@ void exdex_model_free(exdex_model *m)
     free(m);
 }
 
-exdex_model *exdex_model_alloc(const exdex_scene_def *def, int *status, const char **bad_param)
+static exdex_model *build_model(const exdex_scene_def *def, int *status, const char **bad_param)
 {
     exdex_model *m;
-    int st = exdex_scene_check(def, bad_param);
+    int st = check_fields(def, bad_param);
     int dummy;
     if (!status) status = &dummy;
     if (st) {
@@ -404,6 +407,32 @@ exdex_model *exdex_model_alloc(const exdex_scene_def *def, int *status, const ch
     return m;
 }
 
+exdex_model *exdex_model_alloc(const exdex_scene_def *def, int *status, const char **bad_param)
+{
+    return build_model(def, status, bad_param);
+}
+
+/* Everything model_alloc rejects as bad input is rejected here with the same
+ * bad_param, by construction: the fields first, then the model is built (R0
+ * and the motion by exdex_motion_alloc, the planar friction problem, the
+ * initial stop gaps) and freed again. */
+int exdex_scene_check(const exdex_scene_def *d, const char **bad_param)
+{
+    int st = check_fields(d, bad_param), st_build = EXDEX_OK;
+    const char *b = NULL;
+    exdex_model *m;
+    if (st) return st;
+    m = build_model(d, &st_build, &b);
+    if (m) {
+        exdex_model_free(m);
+        return EXDEX_OK;
+    }
+    /* EINVAL: bad input; ENOMEM passes through; ENONFINITE (the motion
+     * overflows at t = 0) is not a bad field: the check passes */
+    if (st_build == EXDEX_EINVAL && bad_param) *bad_param = b;
+    return st_build == EXDEX_ENONFINITE ? EXDEX_OK : st_build;
+}
+
 int exdex_model_ndof(const exdex_model *m) { return m ? m->ndof : 0; }
 int exdex_model_nstops(const exdex_model *m) { return m ? m->n_stops : 0; }
 
@@ -416,7 +445,7 @@ size_t exdex_n_samples(double t_end, double dt)
     steps = floor(r + 0.5);
     if (fabs(r - steps) > 1e-9 * r) steps = ceil(r);
     if (steps < 1) steps = 1;
-    if (steps > 1e9) return 0;
+    if (steps > EXDEX_MAX_STEPS) return 0;
     return (size_t)steps + 1;
 }
 
@@ -429,18 +458,35 @@ size_t exdex_n_samples(double t_end, double dt)
  * velocity oscillation that never decays. Any penetration this row leaves
  * through the midpoint position update, h/2 |v+ - v| at most, is removed by
  * project_positions after the step.) */
+/* A gap within its own rounding of zero counts as exactly 0 in the row
+ * (rhs = 0, not -gap/h). An object resting against a stop that does not move
+ * relative to B sits at a gap that is 0 in exact arithmetic, and the sign of
+ * the rounding (which depends on the world frame the data is given in: gap_at
+ * works in A) decides whether the stop bound on v+ is +-1e-14 m/s. Across
+ * that sign Coulomb friction switches from static (stick, no stop impulse) to
+ * kinetic (sliding at 1e-14 m/s, the stop carries the rest) and the position
+ * update from Moreau's midpoint to "pushed" (see exdex_simulate), a jump of
+ * h/2 |v - v+| in q: a rounding-level change of the frame moved a trajectory
+ * by 2e-7 m. Counting such gaps as 0 makes both frames take the static
+ * branch. The bound is 8 rounding units of the sum of the magnitudes gap_at
+ * adds (|x_B|, |p|, |stop point|; R is orthonormal). */
+#define GAP_ROUND (8.0 * DBL_EPSILON)
+
 static void build_rows(const exdex_model *m, const exdex_kinematics *kin_end, const double *q,
                        double h, work *w)
 {
     double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3];
     int nv = body_vertices(m, q, xb, vx);
+    double np = sqrt(ex_dot3(kin_end->p, kin_end->p));
     stop_rows_clear(w);
     for (int k = 0; k < m->n_stops; k++)
         for (int j = 0; j < nv; j++) {
             int i = w->n_rows++;
+            /* rounding bound of gap_at: sums of terms of these magnitudes */
+            double tau = GAP_ROUND * (sqrt(ex_dot3(xb[j], xb[j])) + np + sqrt(ex_dot3(m->sp[k], m->sp[k])));
             w->row_stop[i] = k;
             w->gap[i] = gap_at(m, kin_end, k, xb[j], vx[j], w->G[i]);
-            w->rhs[i] = -w->gap[i] / h;
+            w->rhs[i] = fabs(w->gap[i]) <= tau ? 0.0 : -w->gap[i] / h;
             w->lam[i] = 0.0;
         }
 }
@@ -659,13 +705,15 @@ static void gen_impulse(const exdex_model *m, const double cs[2], const double p
  * wherever E J_f v != 0, which holds at the optimum once rest is excluded
  * (try_rest), so a damped Newton method converges quadratically.
  * Returns 1 on convergence with v, the friction impulse p (object frame) and
- * the stop impulses lam (least squares from stationarity). */
+ * the stop impulses lam (least squares from stationarity), 2 with the same
+ * outputs when the 60 Newton iterations ran out first (the caller counts a
+ * warning), 0 on failure. */
 static int solve_active(const exdex_model *m, const double cs[2], double cap, const double vs[3], const work *w,
                         const int *act, int k, const double v_start[3], double v[3], double p[3],
                         double lam[3], int *iters)
 {
     double N[3][3], vp[3] = {0, 0, 0}, z[2] = {0, 0}, Mdiag[3];
-    int nz = 3 - k;
+    int nz = 3 - k, converged = 0;
     for (int i = 0; i < 3; i++) Mdiag[i] = 1.0 / m->minv[i];
     /* particular solution (least norm) and null-space basis */
     {
@@ -723,7 +771,7 @@ static int solve_active(const exdex_model *m, const double cs[2], double cap, co
             }
         }
         for (int it = 0; it < 60; it++) {
-            double r[3], nr, g[2], Br[2], step[3], Hs[3][3], gs[3], f0, t = 1.0, znew[2] = {0, 0};
+            double r[3], nr, g[2], Br[2], step[3], Hs[3][3], gs[3], f0, fscale, t = 1.0, znew[2] = {0, 0};
             for (int c = 0; c < 3; c++) {
                 r[c] = r0[c];
                 for (int j = 0; j < nz; j++) r[c] += B[c][j] * z[j];
@@ -743,11 +791,24 @@ static int solve_active(const exdex_model *m, const double cs[2], double cap, co
                 gs[i] = -g[i];
             }
             if (!solve_small(nz, Hs, gs, step)) return 0;
-            /* backtracking on the objective keeps the damped Newton step monotone */
+            /* backtracking on the objective keeps the damped Newton step
+             * monotone. Near the optimum the decrease of a Newton step
+             * (~ |g| |step|) falls below the rounding of f itself; a step whose
+             * objective differs from f0 by no more than that rounding (fscale
+             * below, the sum of the terms' magnitudes) is accepted, else the
+             * search would shrink t to nothing and the iteration stall short of
+             * the optimum (found by the frame-invariance test: a stall at a
+             * gradient 1e-10 left a 1e-10 relative velocity error that
+             * depended on the rounding of the world frame). */
             f0 = cap * nr;
+            fscale = fabs(f0);
             for (int i = 0; i < nz; i++) {
                 f0 += h0[i] * z[i];
-                for (int j = 0; j < nz; j++) f0 += 0.5 * z[i] * H0[i][j] * z[j];
+                fscale += fabs(h0[i] * z[i]);
+                for (int j = 0; j < nz; j++) {
+                    f0 += 0.5 * z[i] * H0[i][j] * z[j];
+                    fscale += fabs(0.5 * z[i] * H0[i][j] * z[j]);
+                }
             }
             for (int ls = 0; ls < 30; ls++) {
                 double rt[3], ft;
@@ -761,20 +822,27 @@ static int solve_active(const exdex_model *m, const double cs[2], double cap, co
                     ft += h0[i] * znew[i];
                     for (int j = 0; j < nz; j++) ft += 0.5 * znew[i] * H0[i][j] * znew[j];
                 }
-                if (ft <= f0 || t < 1e-6) break;
+                if (ft <= f0 + 16.0 * DBL_EPSILON * fscale || t < 1e-6) break;
                 t *= 0.5;
             }
             for (int j = 0; j < nz; j++) z[j] = znew[j];
             (*iters)++;
             {
+                /* converged when the full Newton step (the distance to the
+                 * optimum of the local model), not the damped one, is tiny */
                 double sn = 0, zn = 0;
                 for (int j = 0; j < nz; j++) {
-                    sn += t * t * step[j] * step[j];
+                    sn += step[j] * step[j];
                     zn += z[j] * z[j];
                 }
-                if (sqrt(sn) <= 1e-14 * (1e-3 + sqrt(zn))) break;
+                if (sqrt(sn) <= 1e-14 * (1e-3 + sqrt(zn))) {
+                    converged = 1;
+                    break;
+                }
             }
         }
+    } else {
+        converged = 1;  /* k = 3: v is the particular solution */
     }
     for (int c = 0; c < 3; c++) {
         v[c] = vp[c];
@@ -795,7 +863,7 @@ static int solve_active(const exdex_model *m, const double cs[2], double cap, co
         }
         if (k > 0 && !solve_small(k, A, b, lam)) return 0;
     }
-    return 1;
+    return converged ? 1 : 2;
 }
 
 /* Planar friction + stops: friction alone first; if a stop row is violated,
@@ -805,7 +873,7 @@ static int step_planar(const exdex_model *m, double h, double th, const double v
                        double v[3], double pfB[3], exdex_friction_result *fr, exdex_stats *st)
 {
     double cap = h * m->capF, b[3], vo[3], cs[2] = {cos(th), sin(th)};
-    int s, act[3], k = 0;
+    int s, act[3], k = 0, round;
     rotate_gen(vo, vs, cs, -1.0);
     b[0] = vo[0] - m->pc[1] * vo[2];
     b[1] = vo[1] + m->pc[0] * vo[2];
@@ -815,7 +883,7 @@ static int step_planar(const exdex_model *m, double h, double th, const double v
     st->solver_iterations += (size_t)fr->iterations;
     gen_impulse(m, cs, fr->p, pfB);
     for (int i = 0; i < 3; i++) v[i] = fr->stick ? 0.0 : vs[i] + m->minv[i] * pfB[i];
-    for (int round = 0; round < 12; round++) {
+    for (round = 0; round < 12; round++) {
         int worst = -1, neg = -1;
         double wv = 0.0, lam[3] = {0, 0, 0}, p[3], vn[3];
         for (int i = 0; i < w->n_rows; i++) {
@@ -838,12 +906,13 @@ static int step_planar(const exdex_model *m, double h, double th, const double v
         }
         act[k++] = worst;
         for (;;) {
-            int it = 0;
-            if (!solve_active(m, cs, cap, vs, w, act, k, v, vn, p, lam, &it)) {
+            int it = 0, sa = solve_active(m, cs, cap, vs, w, act, k, v, vn, p, lam, &it);
+            if (!sa) {
                 st->warnings++;
                 k--; /* keep the previous solution */
                 goto done;
             }
+            if (sa == 2) st->warnings++; /* Newton iteration cap: solution kept */
             st->stop_iterations += (size_t)it;
             /* drop a row whose impulse came out negative (it should separate) */
             neg = -1;
@@ -859,6 +928,7 @@ static int step_planar(const exdex_model *m, double h, double th, const double v
         fr->stick = 0;
         gen_impulse(m, cs, p, pfB);
     }
+    if (round == 12) st->warnings++; /* active-set rounds ran out: last iterate kept */
 done:
     w->p_prev[0] = fr->p[0];
     w->p_prev[1] = fr->p[1];
@@ -1051,9 +1121,19 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajecto
             project_positions(m, &kin_end, q, &st);
             record_gap(m, &kin_end, q, &st);
         }
-        if (!ex_finite_n(q, n_dof) || !ex_finite_n(v, n_dof)) {
+        if (!ex_finite_n(q, n_dof) || !ex_finite_n(v, n_dof) || !ex_finite_n(wrench, 3)) {
             status = EXDEX_ENONFINITE;
             break;
+        }
+        {
+            /* stop forces (impulse / h) must be finite too: an overflow in the
+             * impulses alone is reported, not recorded */
+            int finite_lam = 1;
+            for (int i = 0; i < w->n_rows; i++) finite_lam &= isfinite(w->lam[i] / h);
+            if (!finite_lam) {
+                status = EXDEX_ENONFINITE;
+                break;
+            }
         }
         t = t1;
         hprev = h;

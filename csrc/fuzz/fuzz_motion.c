@@ -10,6 +10,7 @@
 #include "fuzz.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #define T "motion"
@@ -93,6 +94,8 @@ static void check_profiles(fz *f)
     double vm = fabs(X1) / Tt * fz_num(f, 0.9, 2.1), t = fz_num(f, -1.0, 25.0);
     double s = 0, sd = 0, sdd = 0;
     int valid;
+    if (fz_trace)
+        fprintf(stderr, "profiles: X1 %.17g T %.17g beta %.17g v_max %.17g t %.17g\n", X1, Tt, beta, vm, t);
     exdex_profile_asymmetric(X1, Tt, beta, t, &s, &sd, &sdd);
     exdex_profile_asymmetric(X1, Tt, beta, t, NULL, NULL, NULL);  /* NULL outputs allowed */
     valid = isfinite(X1) && isfinite(Tt) && Tt > 0 && beta > 0 && beta < 1 && !isnan(t);
@@ -104,10 +107,12 @@ static void check_profiles(fz *f)
     } else {
         FZ_CHECK(T, isnan(s) && isnan(sd) && isnan(sdd));
     }
+    /* v_max > 0 is required whenever X1 != 0, also when |X1|/T underflows to 0
+     * (the range test alone then accepts v_max = 0) */
     exdex_profile_trapezoid(X1, Tt, vm, t, &s, &sd, &sdd);
     exdex_profile_trapezoid(X1, Tt, vm, t, NULL, NULL, NULL);
     valid = isfinite(X1) && isfinite(Tt) && Tt > 0 && isfinite(vm) && !isnan(t) &&
-            (X1 == 0 ? vm >= 0 : (vm >= fabs(X1) / Tt * (1 - 1e-12) && vm <= 2 * fabs(X1) / Tt * (1 + 1e-12)));
+            (X1 == 0 ? vm >= 0 : (vm > 0 && vm >= fabs(X1) / Tt * (1 - 1e-12) && vm <= 2 * fabs(X1) / Tt * (1 + 1e-12)));
     if (!valid && !isnan(t) && isfinite(X1) && isfinite(Tt) && Tt > 0 && isfinite(vm)) valid = -1;  /* near a bound */
     if (valid == 1) {
         if (isfinite(vm * vm) && isfinite(vm / Tt))

@@ -4,7 +4,8 @@
  * all friction solvers.
  *
  * Checks: a non-finite value in a validated field gives EXDEX_EINVAL with
- * bad_param set; a rejected scene is rejected by both check and alloc;
+ * bad_param set; a scene is rejected as bad input (EXDEX_EINVAL) by both
+ * exdex_scene_check and exdex_model_alloc or by neither, with the same bad_param;
  * exdex_simulate rejects a wrong trajectory size or missing arrays with
  * EXDEX_EINVAL; EXDEX_OK gives finite t, q, v, wrench, stop_force >= 0, stick
  * in {0, 1}, stats.steps = n - 1, t[n-1] = t_end; the same model run twice
@@ -198,15 +199,19 @@ int fuzz_simulate(const uint8_t *data, size_t size)
         for (int j = 0; j < nv_dec; j++) fprintf(stderr, "  vertex %d %g %g\n", j, d.vertices[j][0], d.vertices[j][1]);
     }
     st_check = exdex_scene_check(&d, &bad);
-    FZ_CHECK(T, st_check == EXDEX_OK || st_check == EXDEX_EINVAL);
+    FZ_CHECK(T, st_check == EXDEX_OK || st_check == EXDEX_EINVAL || st_check == EXDEX_ENOMEM);
     if (st_check) FZ_CHECK(T, bad != NULL);
     FZ_CHECK(T, exdex_scene_check(NULL, NULL) == EXDEX_EINVAL);
     m = exdex_model_alloc(&d, &st_alloc, &bad2);
     fuzz_count_status(T, st_alloc);
     if (required_nonfinite) FZ_CHECK(T, st_check == EXDEX_EINVAL && m == NULL && st_alloc == EXDEX_EINVAL);
-    /* R0 and the motion are validated by exdex_model_alloc (exdex_motion_alloc), not by the check */
-    if (mm.used_nonfinite || !fz_all_finite(d.R0, 9)) FZ_CHECK(T, m == NULL && st_alloc == EXDEX_EINVAL);
-    if (st_check) FZ_CHECK(T, m == NULL && st_alloc == EXDEX_EINVAL);
+    /* R0 and the motion: rejected by both */
+    if (mm.used_nonfinite || !fz_all_finite(d.R0, 9))
+        FZ_CHECK(T, st_check == EXDEX_EINVAL && m == NULL && st_alloc == EXDEX_EINVAL);
+    /* the check rejects exactly what model_alloc rejects as bad input, with the same name */
+    if (st_check == EXDEX_EINVAL || st_alloc == EXDEX_EINVAL)
+        FZ_CHECK(T, st_check == EXDEX_EINVAL && m == NULL && st_alloc == EXDEX_EINVAL && bad && bad2 &&
+                        strcmp(bad, bad2) == 0);
     if (!m) {
         FZ_CHECK(T, st_alloc == EXDEX_EINVAL || st_alloc == EXDEX_ENOMEM || st_alloc == EXDEX_ENONFINITE);
         if (st_alloc == EXDEX_ENONFINITE) fuzz_note_count(T, "model_alloc ENONFINITE (initial state overflows)");

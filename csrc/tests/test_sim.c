@@ -5,6 +5,7 @@
 #include "sim_run.h"
 #include "../exdex.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -412,7 +413,7 @@ EXDEX_TEST(sim_kinetic_energy_never_increases_at_rest_gripper)
 
 EXDEX_TEST(sim_bad_input_status)
 {
-    const char *bad = NULL;
+    const char *bad = NULL, *bad2 = NULL;
     exdex_scene_def d;
     int status;
 #define EXPECT_BAD(field_expr, name)                                         \
@@ -423,6 +424,10 @@ EXDEX_TEST(sim_bad_input_status)
         ENSURE(exdex_model_alloc(&d, &status, &bad) == NULL);                \
         ENSURE(status == EXDEX_EINVAL);                                      \
         ENSURE(bad != NULL && strncmp(bad, name, strlen(name)) == 0);        \
+        /* the check rejects the same input with the same name */            \
+        bad2 = NULL;                                                         \
+        ENSURE(exdex_scene_check(&d, &bad2) == EXDEX_EINVAL);                \
+        ENSURE(bad2 != NULL && strcmp(bad2, bad) == 0);                      \
     } while (0)
     EXPECT_BAD(d.mass = 0.0, "mass");
     EXPECT_BAD(d.mass = -1.0, "mass");
@@ -444,8 +449,75 @@ EXDEX_TEST(sim_bad_input_status)
     EXPECT_BAD(d.motion.kind = 9, "motion");
     EXPECT_BAD((d.motion.kind = EXDEX_MOTION_ASYMMETRIC, d.motion.beta = 1.0), "motion.beta");
     EXPECT_BAD(d.R0[0] = 2.0, "R0");
+    EXPECT_BAD(d.R0[4] = NAN, "R0");
+    EXPECT_BAD(d.R0[8] = INFINITY, "R0");
+    EXPECT_BAD((d.R0[5] = 1.0, d.R0[7] = -1.0, d.R0[0] = -1.0), "R0");  /* det -1 */
+    EXPECT_BAD(d.p0[1] = NAN, "p0");
+    EXPECT_BAD(d.motion.kind = -1, "motion.kind");
+    EXPECT_BAD((d.motion.kind = EXDEX_MOTION_ASYMMETRIC, d.motion.amplitude = NAN), "motion.amplitude");
+    EXPECT_BAD((d.motion.kind = EXDEX_MOTION_ASYMMETRIC, d.motion.duration = 0.0), "motion.duration");
+    EXPECT_BAD((d.motion.kind = EXDEX_MOTION_ASYMMETRIC, d.motion.beta = NAN), "motion.beta");
+    EXPECT_BAD((d.motion.kind = EXDEX_MOTION_ASYMMETRIC, d.motion.axis[2] = 0.0), "motion.axis");
+    EXPECT_BAD((d.motion.kind = EXDEX_MOTION_ASYMMETRIC, d.motion.rotation = 2), "motion.rotation");
+    EXPECT_BAD((d.motion.kind = EXDEX_MOTION_ASYMMETRIC, d.motion.rotation = 1, d.motion.center[0] = NAN),
+               "motion.center");
+    /* |a_H| = 2 X1 / (beta T^2) overflows */
+    EXPECT_BAD((d.motion.kind = EXDEX_MOTION_ASYMMETRIC, d.motion.amplitude = 1e300, d.motion.duration = 1e-10),
+               "motion.amplitude");
+    /* trapezoid: v_max outside [|X1|/T, 2 |X1|/T] */
+    EXPECT_BAD((d.motion.kind = EXDEX_MOTION_TRAPEZOID, d.motion.amplitude = 1.0, d.motion.v_max = 3.0),
+               "motion.v_max");
+    EXPECT_BAD((d.motion.kind = EXDEX_MOTION_TRAPEZOID, d.motion.amplitude = 1.0, d.motion.v_max = NAN),
+               "motion.v_max");
+    {
+        /* sampled motions: too few samples, missing or non-increasing times,
+         * a NaN in a pose, a zero quaternion */
+        double times[4] = {0.0, 0.1, 0.2, 0.3}, poses[28];
+        for (int i = 0; i < 4; i++) {
+            double row[7] = {0, 0, 0, 1, 0, 0, 0};
+            memcpy(poses + 7 * i, row, sizeof row);
+        }
+#define SAMPLED (d.motion.kind = EXDEX_MOTION_SAMPLED, d.motion.n_samples = 4, d.motion.times = times, \
+                 d.motion.poses = poses)
+        d = exdex_default_scene_def();
+        SAMPLED;
+        ENSURE(exdex_scene_check(&d, NULL) == EXDEX_OK); /* the valid base case */
+        EXPECT_BAD((SAMPLED, d.motion.n_samples = 3), "motion.n_samples");
+        EXPECT_BAD((SAMPLED, d.motion.times = NULL), "motion.times");
+        EXPECT_BAD((SAMPLED, d.motion.poses = NULL), "motion.poses");
+        times[2] = 0.1;
+        EXPECT_BAD(SAMPLED, "motion.times");
+        times[2] = NAN;
+        EXPECT_BAD(SAMPLED, "motion.times");
+        times[2] = 0.2;
+        poses[7 * 2 + 1] = NAN;
+        EXPECT_BAD(SAMPLED, "motion.poses");
+        poses[7 * 2 + 1] = 0.0;
+        poses[7 * 2 + 3] = 0.0;
+        EXPECT_BAD(SAMPLED, "motion.poses");
+        poses[7 * 2 + 3] = 1.0;
+        d = exdex_default_scene_def();
+        SAMPLED;
+        ENSURE(exdex_scene_check(&d, NULL) == EXDEX_OK); /* restored */
+#undef SAMPLED
+    }
     /* object starting beyond a stop */
     EXPECT_BAD((d.n_stops = 1, d.stop_normal[0][2] = 1.0, d.stop_point[0][2] = 0.5), "q0");
+    /* ... also when only the motion puts it there at t = 0: a sampled pose */
+    {
+        double times[4] = {-0.1, 0.0, 0.1, 0.2}, poses[28];
+        for (int i = 0; i < 4; i++) {
+            double row[7] = {0, 0, 1.0, 1, 0, 0, 0}; /* B 1 m above A's origin */
+            memcpy(poses + 7 * i, row, sizeof row);
+        }
+        EXPECT_BAD((d.motion.kind = EXDEX_MOTION_SAMPLED, d.motion.n_samples = 4, d.motion.times = times,
+                    d.motion.poses = poses, d.n_stops = 1, d.stop_normal[0][2] = 1.0, d.stop_point[0][2] = 1.5),
+                   "q0");
+    }
+    /* the NaN in R0 of issue 7 with an otherwise valid planar scene with a stop */
+    EXPECT_BAD((d.dof = EXDEX_DOF_PLANAR, d.n_stops = 1, d.stop_normal[0][2] = 1.0, d.stop_point[0][2] = -1.0,
+                d.R0[1] = NAN),
+               "R0");
 #undef EXPECT_BAD
     ENSURE(exdex_n_samples(1.0, 0.0) == 0);
     ENSURE(exdex_n_samples(1.0, 2.0) == 0);
@@ -453,4 +525,71 @@ EXDEX_TEST(sim_bad_input_status)
     ENSURE(exdex_n_samples(1.0, 0.1) == 11);
     ENSURE(exdex_n_samples(1.0, 0.3) == 5); /* 0.3 0.6 0.9 then 1.0 */
     exdex_model_free(NULL);
+}
+
+EXDEX_TEST(sim_step_limit_rejected_up_front)
+{
+    /* exdex.h: at most EXDEX_MAX_STEPS = 1e9 steps; beyond it n_samples is 0
+     * and exdex_simulate returns EXDEX_EINVAL without stepping (a run of
+     * 1e12 steps would otherwise take hours). */
+    exdex_scene_def d = exdex_default_scene_def();
+    int status;
+    exdex_model *m = exdex_model_alloc(&d, &status, NULL);
+    double t[2], q[2], v[2], wr[6];
+    unsigned char stick[2];
+    exdex_trajectory tr = {2, t, q, v, wr, stick, NULL};
+    exdex_stats st;
+    ENSURE(m != NULL);
+    ENSURE(exdex_n_samples(1e9, 1.0) == (size_t)1000000001);  /* exactly at the limit */
+    ENSURE(exdex_n_samples(1e9 + 2.0, 1.0) == 0);
+    ENSURE(exdex_n_samples(1.0, 1e-12) == 0);
+    ENSURE(exdex_simulate(m, 1.0, 1e-12, &tr, &st) == EXDEX_EINVAL);
+    exdex_model_free(m);
+}
+
+/* The status contract: EXDEX_OK only with finite t, q, v, wrench and
+ * stop forces >= 0 (fuzz finding: a patch centre of 1e300 m in a rotation
+ * scene, and a stop 1e299 m away, gave EXDEX_OK with an infinite wrench or
+ * stop force). */
+static int run_finite_or_enonfinite(const exdex_scene_def *d)
+{
+    sim_run r;
+    int ok, st = sim_run_def(d, 0.02, 1e-3, &r);
+    ok = st == EXDEX_OK || st == EXDEX_ENONFINITE;
+    if (st == EXDEX_OK) {
+        size_t n = r.tr.n;
+        for (size_t i = 0; i < n; i++) {
+            ok &= isfinite(r.tr.t[i]) && isfinite(r.tr.wrench[3 * i]) && isfinite(r.tr.wrench[3 * i + 1]) &&
+                  isfinite(r.tr.wrench[3 * i + 2]);
+            for (int c = 0; c < r.ndof; c++) ok &= isfinite(r.tr.q[i * r.ndof + c]) && isfinite(r.tr.v[i * r.ndof + c]);
+            for (int k = 0; k < r.nstops; k++)
+                ok &= isfinite(r.tr.stop_force[i * r.nstops + k]) && r.tr.stop_force[i * r.nstops + k] >= 0.0;
+        }
+    }
+    sim_run_free(&r);
+    return ok;
+}
+
+EXDEX_TEST(sim_ok_means_finite_output)
+{
+    exdex_scene_def d = exdex_default_scene_def();
+    d.dof = EXDEX_DOF_ROTATION;
+    d.patch_center[0] = -1e300;
+    d.v0[2] = -0.3;
+    ENSURE(run_finite_or_enonfinite(&d));
+    /* a block resting on a stop far from the origin: the impulse that holds
+     * it is finite, but huge positions make every gap meaningless; OK or
+     * ENONFINITE, never a non-finite OK */
+    d = exdex_default_scene_def();
+    d.mu = 0.0;
+    d.n_stops = 1;
+    d.stop_normal[0][2] = 1.0;
+    d.p0[2] = 1e300;
+    d.stop_point[0][2] = 1e300;
+    ENSURE(run_finite_or_enonfinite(&d));
+    d.p0[2] = 0.0;
+    d.stop_point[0][2] = 0.0;
+    d.gravity[2] = -1e308;  /* the stop force overflows */
+    d.mass = 10.0;
+    ENSURE(run_finite_or_enonfinite(&d));
 }
