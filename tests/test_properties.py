@@ -413,3 +413,35 @@ def test_stop_never_penetrated(scene, solver, dt):
     assert gaps.min() >= -1e-9, gaps.min()
     assert res.stats["min_gap"] >= -1e-9
     assert np.all(res.stop_force >= 0.0)
+
+
+# Hypothesis' shrunk counterexample against the previous sim.c (EXDEX_HYPOTHESIS_EXAMPLES=3000): the long
+# edge of a planar box touches the stop and slides along it. The position projection moved along the
+# deepest vertex's row alone; with both edge vertices equally deep each pass turned the box and pushed the
+# other vertex in (x0.7 per pass, 16 passes): -4.8e-8 m at dt 1e-3, and a warning in 121 steps (also for
+# rounding-level gaps of -1e-18 m, which no projection removes).
+_FLUSH_EDGE = exdex.Scene(
+    body=exdex.Body(mass=1.0, inertia=((0.0004069010416666664, 0.0, 1.2649025345664214e-19), (0.0, 0.0004069010416666663, 0.0),
+                                       (1.2649025345664214e-19, 0.0, 0.0001627604166666666)), size=(0.0625, 0.03125, 0.03125)),
+    grasp=exdex.Grasp(mu=1.0, grip_force=1.0, patch=exdex.Patch(e_r=0.015625, center=(0.0, 0.0)), fingers=1),
+    motion=exdex.AsymmetricProfile(amplitude=-0.125, duration=0.25, beta=0.75, axis=(1.0, 0.0, 0.0), rotation=False,
+                                   center=(0.0, 0.0, 0.0)),
+    dof="planar", slide_axis=(0.0, 1.0), q0=(0.0, 0.0, 0.0), v0=(0.0, 0.0, 0.0),
+    gripper_rotation=((-0.3846153846153848, 0.9230769230769231, -0.0), (0.9230769230769231, 0.3846153846153846, 0.0),
+                      (0.0, -0.0, -1.0)),
+    gripper_position=(0.0, 0.0, 0.0), gravity=(0.0, 9.81, 0.0),
+    stops=(exdex.Stop(point=(0.01442307692307693, 0.006009615384615387, -0.0),
+                      normal=(-0.9230769230769231, -0.3846153846153846, 0.0)),))
+
+
+def test_stop_never_penetrated_flush_edge():
+    """The counterexample above, every solver and step of the property test:
+    no vertex beyond the stop (1e-9 m, as above; the gaps are recomputed here
+    from the returned poses) and no warning (the scene is well posed: one
+    stop, free directions along and away from it)."""
+    for solver in ("scalar", "brent", "multiroot"):
+        for dt in (2e-4, 1e-3, 4e-3):
+            res = exdex.simulate(_FLUSH_EDGE, 0.45, dt=dt, friction_solver=solver)
+            assert vertex_gaps(_FLUSH_EDGE, res).min() >= -1e-9, (solver, dt)
+            assert res.stats["warnings"] == 0, (solver, dt, res.stats)
+            assert np.any(res.stop_force > 0)  # it does slide against the stop

@@ -360,6 +360,62 @@ EXDEX_TEST(sim_planar_box_falls_onto_tilted_stop)
     sim_run_free(&r);
 }
 
+EXDEX_TEST(sim_planar_box_slides_flat_along_stop)
+{
+    /* Regression (property test test_stop_never_penetrated, Hypothesis'
+     * shrunk example, in the default frame): a 6.25 x 3.125 cm planar box
+     * whose long edge touches a stop; gravity (9.06, 3.77) m/s^2 in B drives
+     * it along and into the stop, the gripper moves (asymmetric profile,
+     * 0.125 m, 0.25 s) along (-0.38, 0.92) in B. Both vertices of the edge
+     * are equally deep after a step (the midpoint update leaves up to
+     * h/2 |v+ - v| of penetration for the projection to remove). The
+     * projection used to move along the deepest vertex's row alone, each pass
+     * turning the box and pushing the other vertex in (penetration x0.7 per
+     * pass, 16 passes, then a warning: min gap -5e-8 m at dt 1e-3), and
+     * rounding-level gaps of -1e-18 m used up the passes and counted a
+     * warning every step. Expected from the geometry alone: every gap >= 0
+     * to rounding (the gap's rounding bound, 8 eps (|x_B| + |p| + |point|)
+     * <= 8 eps 0.3 m = 5e-16 m), no warning in this well-posed scene. */
+    exdex_scene_def d = exdex_default_scene_def();
+    sim_run r;
+    d.mass = 1.0;
+    d.inertia[0] = d.inertia[4] = 0.0004069010416666664;
+    d.inertia[8] = 0.0001627604166666666;
+    d.mu = 1.0;
+    d.grip_force = 1.0;
+    d.fingers = 1;
+    d.e_r = 0.015625;
+    d.dof = EXDEX_DOF_PLANAR;
+    d.gravity[0] = G * 12.0 / 13.0;  /* B x = A x, B y = A z (default R0) */
+    d.gravity[1] = 0.0;
+    d.gravity[2] = G * 5.0 / 13.0;
+    d.n_vertices = 4;
+    d.vertices[0][0] = -0.03125; d.vertices[0][1] = -0.015625;
+    d.vertices[1][0] = 0.03125;  d.vertices[1][1] = -0.015625;
+    d.vertices[2][0] = 0.03125;  d.vertices[2][1] = 0.015625;
+    d.vertices[3][0] = -0.03125; d.vertices[3][1] = 0.015625;
+    d.n_stops = 1;
+    d.stop_point[0][2] = 0.015625;
+    d.stop_normal[0][2] = -1.0;
+    d.motion.kind = EXDEX_MOTION_ASYMMETRIC;
+    d.motion.axis[0] = -5.0 / 13.0;
+    d.motion.axis[1] = 0.0;
+    d.motion.axis[2] = 12.0 / 13.0;
+    d.motion.amplitude = -0.125;
+    d.motion.duration = 0.25;
+    d.motion.beta = 0.75;
+    for (int k = 0; k < 3; k++) {
+        double dt = k == 0 ? 2e-4 : k == 1 ? 1e-3 : 4e-3;
+        ENSURE(sim_run_def(&d, 0.45, dt, &r) == EXDEX_OK);
+        ENSURE(r.st.min_gap >= -5e-16);
+        ENSURE(r.st.warnings == 0);
+        ENSURE(r.tr.q[3 * (r.tr.n - 1)] > 0.01); /* it did slide along the stop */
+        report(k == 0 ? "sim_flat_stop_min_gap_dt2e-4" : k == 1 ? "sim_flat_stop_min_gap_dt1e-3"
+                                                                  : "sim_flat_stop_min_gap_dt4e-3", r.st.min_gap);
+        sim_run_free(&r);
+    }
+}
+
 EXDEX_TEST(sim_determinism_bit_identical)
 {
     exdex_scene_def d = vertical(0.1, 0.8);
