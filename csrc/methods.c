@@ -55,6 +55,26 @@
  *
  * Stops: 1-DoF scenes with every method; planar scenes with stops need the
  * implicit method (exdex_scene_check).
+ *
+ * Budgets (every loop is bounded; a run that would grind returns
+ * EXDEX_ENOCONV, with stats.warnings incremented):
+ *   - event, regularised: at most STEPS_MAX (10^5) ODE steps, accepted plus
+ *     rejected, per output interval (dt is the output grid and also the unit
+ *     of the budget: a finer grid gives a long stiff run more steps), and the
+ *     step the controller suggests must stay >= H_FLOOR_ULPS (16) ulps of t
+ *     (h >= 16 DBL_EPSILON |t|) while t is short of the next stop time;
+ *     GSL's own controller fails below 1 ulp, and the rejections inside one
+ *     gsl_odeiv2_evolve_apply call are bounded by its step-size decrease
+ *     (each at least x0.89 per rejection, floor at 1 ulp);
+ *   - event: at most EVENTS_MAX (1000) events per output interval, each
+ *     located by at most BRENT_MAX (200) Brent iterations;
+ *   - decisions, projections, impacts: fixed small iteration counts;
+ *   - explicit: one step per output sample, nothing else iterates.
+ * Why the regularised step collapses: near u = 0 the friction slope is
+ * k = C / (M eps) [1/s] (1-DoF; C (1 - (Q/C)^2)^(3/2) / (M eps) at the creep
+ * speed under a load Q), and rk8pd is stable only for h k below its real
+ * stability interval, ~5.17. So the steps per output interval are about
+ * dt k / 5.17: the budget is reached once eps < dt C / (5.17 M 10^5).
  */
 #include "exdex.h"
 #include "sim_internal.h"
@@ -75,6 +95,9 @@
 #define JUMP_TOL 1e-10    /* gripper velocity jumps above this are applied [m/s, rad/s] */
 #define EVENTS_MAX 1000   /* events within one output interval before EXDEX_ENOCONV */
 #define ROOT_TOL 1e-13    /* event time resolution [s] */
+#define STEPS_MAX 100000  /* ODE steps (accepted + rejected) per output interval before EXDEX_ENOCONV */
+#define H_FLOOR_ULPS 16.0 /* a suggested step below this many ulps of t is a collapse: EXDEX_ENOCONV */
+#define BRENT_MAX 200     /* Brent iterations per located event */
 #define NY_MAX (9 + EXDEX_MAX_STOPS)
 
 enum { LAW_COULOMB = 0, LAW_SMOOTH = 1 };
@@ -698,7 +721,7 @@ static int locate(hyb *H, ode *O, double t0, const double *y0, double tau1, int 
     double lo = 0.0, hi = tau1;
     int st = gsl_root_fsolver_set(O->root, &F, lo, hi);
     if (st) return EXDEX_ENOCONV;
-    for (int it = 0; it < 200; it++) {
+    for (int it = 0; it < BRENT_MAX; it++) {
         st = gsl_root_fsolver_iterate(O->root);
         if (st || c.fail) return EXDEX_ENOCONV;
         H->st->solver_iterations++;
@@ -815,6 +838,7 @@ static int run_hybrid(const exdex_model *m, int law, double t_end, double dt,
     for (size_t i = 1; i < n && status == EXDEX_OK && !H.err; i++) {
         double ti = i == n - 1 ? t_end : (double)i * dt, hs = ti - out->t[i - 1];
         int events = 0, same = 0;
+        unsigned long ode_steps = 0;
         double t_event = -1.0;
         while (t < ti && status == EXDEX_OK && !H.err) {
             double g0[2 + EXDEX_MAX_STOPS], g1[2 + EXDEX_MAX_STOPS], t0 = t, tstop, tau_best = INFINITY;
@@ -832,13 +856,23 @@ static int run_hybrid(const exdex_model *m, int law, double t_end, double dt,
             }
             memcpy(y0, y, sizeof y);
             ng = guards(&H, t0, y0, g0);
-            gs = gsl_odeiv2_evolve_apply(O->evo, O->con, O->step, &O->sys, &t, tstop, &h, y);
+            {
+                unsigned long c0 = O->evo->count + O->evo->failed_steps;
+                gs = gsl_odeiv2_evolve_apply(O->evo, O->con, O->step, &O->sys, &t, tstop, &h, y);
+                ode_steps += O->evo->count + O->evo->failed_steps - c0;
+            }
             if (H.err) break;
             if (gs != GSL_SUCCESS) {
                 status = EXDEX_ENOCONV;
                 break;
             }
             st->steps++;
+            /* step budget and step floor (see the header comment) */
+            if (ode_steps > STEPS_MAX || (t < tstop && !(h >= H_FLOOR_ULPS * DBL_EPSILON * fabs(t)))) {
+                st->warnings++;
+                status = EXDEX_ENOCONV;
+                break;
+            }
             guards(&H, t, y, g1);
             for (int e = 0; e < ng; e++) {
                 double tau;

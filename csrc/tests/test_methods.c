@@ -480,6 +480,50 @@ EXDEX_TEST(methods_regularised_step_collapse)
     }
 }
 
+EXDEX_TEST(methods_budget_step_collapse_returns_enoconv)
+{
+    /* Budgets (methods.c header): at most 1e5 ODE steps per output interval,
+     * and a suggested step of at least 16 ulps of t.
+     * (1) From rest under a load Q = m g with C = 2 m g the object creeps
+     * (k = C (1 - (Q/C)^2)^(3/2) / (M eps), methods_regularised_step_collapse),
+     * rk8pd needs h k < 5.17, so one output interval of dt costs about
+     * dt k / 5.17 steps: with eps = 1e-9, dt = 1e-3 that is 2.5e6 > 1e5, so
+     * the run must stop with EXDEX_ENOCONV after at most 1e5 accepted steps,
+     * in the first interval. */
+    {
+        double x_stab = ref("methods_rk8pd_stability_interval"), eps = 1e-9, dt = 1e-3;
+        double k = 2.0 * G * pow(0.75, 1.5) / eps;
+        exdex_scene_def d = mvertical(0.1, 2.0, EXDEX_METHOD_REGULARISED);
+        sim_run r;
+        ENSURE(dt * k / x_stab > 10.0 * 1e5);
+        d.eps = eps;
+        ENSURE(sim_run_def(&d, 0.01, dt, &r) == EXDEX_ENOCONV);
+        ENSURE(r.st.steps <= 100000 && r.st.steps >= 1000);
+        ENSURE(r.st.warnings >= 1);
+        sim_run_free(&r);
+        /* the same scene with eps = 1e-6 needs ~2500 steps per interval: runs */
+        d.eps = 1e-6;
+        ENSURE(sim_run_def(&d, 0.01, dt, &r) == EXDEX_OK);
+        sim_run_free(&r);
+    }
+    /* (2) the step floor: sliding down at 1 m/s with C = 2 m g, the object
+     * decelerates at g and stops at t = 1/g ~ 0.1 s, then creeps with
+     * h <= 5.17 M eps / C ~ 5.17 * 1e-16 / (2 g) = 2.6e-17 s, below
+     * 16 ulps of t (16 * 2.2e-16 * 0.1 = 3.6e-16 s): EXDEX_ENOCONV without
+     * spending the step budget (one output interval of 0.5 s), and the
+     * trajectory up to the collapse is not recorded as a success. */
+    {
+        exdex_scene_def d = mvertical(0.1, 2.0, EXDEX_METHOD_REGULARISED);
+        sim_run r;
+        d.eps = 1e-16;
+        d.v0[1] = -1.0;
+        ENSURE(sim_run_def(&d, 0.5, 0.5, &r) == EXDEX_ENOCONV);
+        ENSURE(r.st.steps < 100000);
+        report("methods_budget_floor_steps", (double)r.st.steps);
+        sim_run_free(&r);
+    }
+}
+
 /* --------------------------------------------------------- observed orders */
 
 /* Centrifugal slide with friction (no events): gripper spinning at w, the
