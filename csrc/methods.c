@@ -394,9 +394,9 @@ static int guards(hyb *H, double t, const double *y, double *g)
     const exdex_model *m = H->m;
     frame f;
     exdex_kinematics kin;
-    int n = 0;
-    if (frame_seg(H, t, &f, &kin)) {
-        H->err = H->err ? H->err : EXDEX_EINVAL;
+    int n = 0, fs = frame_seg(H, t, &f, &kin);
+    if (fs) {
+        H->err = H->err ? H->err : fs;
         return 0;
     }
     if (H->ndof == 3) {
@@ -453,8 +453,9 @@ static void decide(hyb *H, double t, double *y, int vzero)
     const exdex_model *m = H->m;
     frame f;
     exdex_kinematics kin;
-    if (frame_seg(H, t, &f, &kin)) {
-        H->err = H->err ? H->err : EXDEX_EINVAL;
+    int fs = frame_seg(H, t, &f, &kin);
+    if (fs) {
+        H->err = H->err ? H->err : fs;
         return;
     }
     if (H->ndof == 3) {
@@ -967,6 +968,8 @@ static int run_hybrid(const exdex_model *m, int law, double t_end, double dt,
         st->stick_steps += out->stick[i];
     }
     ode_free(O);
+    /* a failure in the decision at t = 0 stops the loop before it starts */
+    if (!status && H.err) status = H.err;
     return status;
 }
 
@@ -1115,8 +1118,11 @@ int sim_simulate_method(const exdex_model *m, double t_end, double dt, exdex_tra
         status = run_explicit(m, t_end, dt, out, &st);
         break;
     default:
-        status = EXDEX_EINVAL;
+        return EXDEX_EINVAL;
     }
     if (stats) *stats = st;
-    return status;
+    /* the model and arguments were valid: an "invalid argument" from the
+     * motion or a solver inside the run means the state left the finite
+     * range (as in sim.c) */
+    return status == EXDEX_EINVAL ? EXDEX_ENONFINITE : status;
 }

@@ -1,5 +1,6 @@
 /* fuzz_simulate.c -- exdex_scene_check, exdex_model_alloc and a short
- * exdex_simulate (<= 40 steps) on fuzzed scene definitions: every dof, every
+ * exdex_simulate (<= 40 steps; <= 2 output intervals for the adaptive event
+ * and regularised methods) on fuzzed scene definitions: every method, every dof, every
  * motion kind, 0-3 stops placed just outside the object's initial outline,
  * all friction solvers.
  *
@@ -19,6 +20,7 @@
 
 #define T "simulate"
 #define MAX_STEPS 40
+#define HYBRID_INTERVALS 2
 
 
 typedef struct traj {
@@ -152,18 +154,21 @@ int fuzz_simulate(const uint8_t *data, size_t size)
         if (fz_pick(&f, 0, 31) == 0)  /* occasionally a raw (wild) normal */
             for (int i = 0; i < 3; i++) d.stop_normal[k][i] = fz_num(&f, -1.0, 1.0);
     }
-    d.method = fz_int(&f, 0, 0);
-    /* The other methods (issue 6: event, regularised, explicit) are still
-     * being written; they are slow on fuzzed stiff scenes (hangs > 2 s with
-     * tiny eps / rtol). Only invalid ids are fuzzed for now; to add them,
-     * drop this mapping and bound their runtime per input. */
-    if (d.method > EXDEX_METHOD_IMPLICIT && d.method <= EXDEX_METHOD_EXPLICIT) d.method = EXDEX_METHOD_IMPLICIT;
+    /* every method (methods.c bounds its loops: EXDEX_ENOCONV past its step,
+     * step-floor and event budgets), and invalid ids when wild */
+    d.method = fz_int(&f, 0, 3);
     d.friction_solver = fz_int(&f, 0, 2);
     d.eps = fz_log(&f, 1e-6, 1e-2);
     d.rtol = fz_log(&f, 1e-10, 1e-4);
     d.atol = fz_log(&f, 1e-12, 1e-6);
     dt = fz_log(&f, 1e-4, 0.05);
     t_end = dt * (double)fz_int(&f, 1, MAX_STEPS) * fz_num(&f, 0.95, 1.05);
+    /* the adaptive methods may spend their whole step budget (1e5 ODE steps,
+     * methods.c) in every output interval of a stiff scene: at most
+     * HYBRID_INTERVALS intervals for them, to bound the time per input */
+    if ((d.method == EXDEX_METHOD_EVENT || d.method == EXDEX_METHOD_REGULARISED) &&
+        isfinite(t_end) && t_end > HYBRID_INTERVALS * dt)
+        t_end = dt * HYBRID_INTERVALS * fz_num(&f, 0.95, 1.05);
 
     /* fields exdex_scene_check must validate */
     required_nonfinite = !isfinite(d.mass) || !fz_all_finite(d.inertia, 9) || !isfinite(d.mu) ||
@@ -251,8 +256,9 @@ int fuzz_simulate(const uint8_t *data, size_t size)
                 FZ_EXTREME(T, &f, fz_all_finite(a.tr.t, n) && fz_all_finite(a.tr.q, n * (size_t)ndof) &&
                                       fz_all_finite(a.tr.v, n * (size_t)ndof) &&
                                       fz_all_finite(a.tr.wrench, 3 * n));
-                /* the implicit method takes exactly one step per sample */
-                if (d.method == EXDEX_METHOD_IMPLICIT) FZ_CHECK(T, sa.steps == n - 1);
+                /* the fixed-step methods take exactly one step per sample */
+                if (d.method == EXDEX_METHOD_IMPLICIT || d.method == EXDEX_METHOD_EXPLICIT)
+                    FZ_CHECK(T, sa.steps == n - 1);
                 FZ_CHECK(T, sa.stick_steps <= sa.steps);
                 FZ_CHECK(T, a.tr.t[0] == 0.0 && a.tr.t[n - 1] == t_end);
                 for (size_t i = 1; i < n; i++) FZ_CHECK(T, a.tr.t[i] > a.tr.t[i - 1]);
