@@ -292,6 +292,199 @@ static void contact_forces(const hyb *H, const crow *c, double R, double v, doub
     }
 }
 
+/* ------------------------------------------- planar stops: velocity QP */
+
+/* Lawson-Hanson NNLS in 4 rows: min |E u - f| over u >= 0, E given by its m
+ * columns col[j] (4 entries each). The passive set holds at most 4 linearly
+ * independent columns; each least-squares solve is a modified Gram-Schmidt
+ * QR of those columns. Bounded: at most 3 m + 12 outer iterations and
+ * 8 inner ones per outer. Returns 1 if it converged (the multipliers of the
+ * columns not in the passive set are <= tol), 0 otherwise (u is the last
+ * feasible iterate). */
+#define NNLS_TOL 1e-13
+static int ls_passive(const double (*col)[4], const int *P, int k, const double f[4], double *z)
+{
+    double Q[4][4], R[4][4], qf[4];
+    for (int a = 0; a < k; a++) {
+        double v[4], nrm0, nrm;
+        for (int i = 0; i < 4; i++) v[i] = col[P[a]][i];
+        nrm0 = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] + v[3] * v[3]);
+        for (int pass = 0; pass < 2; pass++) /* MGS with one reorthogonalisation */
+            for (int b = 0; b < a; b++) {
+                double d = Q[b][0] * v[0] + Q[b][1] * v[1] + Q[b][2] * v[2] + Q[b][3] * v[3];
+                if (pass == 0) R[b][a] = d; else R[b][a] += d;
+                for (int i = 0; i < 4; i++) v[i] -= d * Q[b][i];
+            }
+        nrm = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] + v[3] * v[3]);
+        if (!(nrm > 1e-12 * nrm0)) return 0; /* dependent */
+        R[a][a] = nrm;
+        for (int i = 0; i < 4; i++) Q[a][i] = v[i] / nrm;
+    }
+    for (int a = 0; a < k; a++) qf[a] = Q[a][0] * f[0] + Q[a][1] * f[1] + Q[a][2] * f[2] + Q[a][3] * f[3];
+    for (int a = k - 1; a >= 0; a--) {
+        double acc = qf[a];
+        for (int b = a + 1; b < k; b++) acc -= R[a][b] * z[b];
+        z[a] = acc / R[a][a];
+    }
+    return 1;
+}
+
+static int nnls4(int m, const double (*col)[4], const double f[4], double *u, int *iters)
+{
+    int P[4], k = 0, outer;
+    unsigned char banned[MAX_ROWS];
+    for (int j = 0; j < m; j++) {
+        u[j] = 0.0;
+        banned[j] = 0;
+    }
+    for (outer = 0; outer < 3 * m + 12; outer++) {
+        double r[4], wbest = NNLS_TOL, z[4];
+        int jb = -1;
+        for (int i = 0; i < 4; i++) r[i] = f[i];
+        for (int a = 0; a < k; a++)
+            for (int i = 0; i < 4; i++) r[i] -= col[P[a]][i] * u[P[a]];
+        for (int j = 0; j < m; j++) {
+            int in = 0;
+            double w;
+            for (int a = 0; a < k; a++) in |= P[a] == j;
+            if (in || banned[j]) continue;
+            w = col[j][0] * r[0] + col[j][1] * r[1] + col[j][2] * r[2] + col[j][3] * r[3];
+            if (w > wbest) {
+                wbest = w;
+                jb = j;
+            }
+        }
+        if (jb < 0) {
+            *iters += outer;
+            return 1;
+        }
+        if (k == 4) break;
+        P[k++] = jb;
+        for (int inner = 0;; inner++) {
+            double alpha = INFINITY;
+            int ok = ls_passive(col, P, k, f, z);
+            if (!ok) {
+                /* the new column depends on the passive ones: never again */
+                banned[P[--k]] = 1;
+                u[jb] = 0.0;
+                break;
+            }
+            for (int a = 0; a < k; a++)
+                if (z[a] <= 0.0) {
+                    double d = u[P[a]] - z[a], al = d > 0.0 ? u[P[a]] / d : 0.0;
+                    if (al < alpha) alpha = al;
+                }
+            if (alpha == INFINITY) {
+                for (int a = 0; a < k; a++) u[P[a]] = z[a];
+                break;
+            }
+            if (inner >= 8) {
+                *iters += outer;
+                return 0;
+            }
+            for (int a = 0; a < k; a++) u[P[a]] += alpha * (z[a] - u[P[a]]);
+            /* drop the passive columns that reached 0 */
+            for (int a = 0; a < k;)
+                if (u[P[a]] <= 0.0) {
+                    u[P[a]] = 0.0;
+                    P[a] = P[--k];
+                } else {
+                    a++;
+                }
+            if (k == 0) break;
+        }
+    }
+    *iters += outer;
+    return 0;
+}
+
+/* Project vs onto the stop rows in the metric of M = diag(1 / minv):
+ *     min 1/2 (v - vs)' M (v - vs)  s.t.  G_i v >= b_i  (i < nr),
+ * v = vs + M^-1 G' lam, lam >= 0 the row impulses (complementary to the
+ * rows). Exact: with z = M^1/2 (v - vs) it is the least-distance problem
+ * min |z| s.t. C z >= c, C = G M^-1/2, c = b - G vs, solved as the NNLS
+ * min |E u - (0, 0, 0, 1)|, E = [C'; c'] (Lawson & Hanson, LDP, ch. 23):
+ * z = C' u / (1 - c' u), lam = u / (1 - c' u). Rows are scaled to unit |C_i|
+ * and c to max |c_i| = 1 first (neither changes the solution). Rows with
+ * |G_i| <= FQ_MIN cannot act and are skipped. If the rows cannot all hold
+ * (stops pinch the object: E u = f has a solution) or NNLS fails, the most
+ * violated row alone is enforced and a warning counted. Returns 1 if some
+ * row acted. */
+static int stop_qp(const double minv[3], int nr, const double (*G)[3], const double *b, const double vs[3],
+                   double v[3], double *lam, exdex_stats *st)
+{
+    double col[MAX_ROWS][4], nrm[MAX_ROWS], u[MAX_ROWS], sq[3], scale = 0.0, f[4] = {0, 0, 0, 1}, r[4];
+    int idx[MAX_ROWS], m = 0, worst = -1, it = 0, ok;
+    double wv = 0.0;
+    for (int c = 0; c < 3; c++) {
+        v[c] = vs[c];
+        sq[c] = sqrt(minv[c]);
+    }
+    for (int i = 0; i < nr; i++) {
+        double viol = b[i] - ex_dot3(G[i], vs);
+        lam[i] = 0.0;
+        if (!(fabs(G[i][0]) + fabs(G[i][1]) + fabs(G[i][2]) > FQ_MIN)) continue;
+        if (viol > wv) {
+            wv = viol;
+            worst = i;
+        }
+    }
+    if (worst < 0) return 0; /* every row holds at vs */
+    for (int i = 0; i < nr; i++) {
+        double C[3], n, c;
+        if (!(fabs(G[i][0]) + fabs(G[i][1]) + fabs(G[i][2]) > FQ_MIN)) continue;
+        for (int a = 0; a < 3; a++) C[a] = G[i][a] * sq[a];
+        n = sqrt(ex_dot3(C, C));
+        if (!(n > 0.0)) continue;
+        c = (b[i] - ex_dot3(G[i], vs)) / n;
+        for (int a = 0; a < 3; a++) col[m][a] = C[a] / n;
+        col[m][3] = c;
+        nrm[m] = n;
+        idx[m++] = i;
+        if (fabs(c) > scale) scale = fabs(c);
+    }
+    for (int j = 0; j < m; j++) col[j][3] /= scale;
+    ok = nnls4(m, (const double (*)[4])col, f, u, &it);
+    st->stop_iterations += (size_t)it;
+    for (int i = 0; i < 4; i++) {
+        r[i] = -f[i];
+        for (int j = 0; j < m; j++) r[i] += col[j][i] * u[j];
+    }
+    if (ok && r[3] < -1e-12) {
+        double z[3];
+        for (int a = 0; a < 3; a++) {
+            z[a] = -r[a] / r[3] * scale;
+            v[a] = vs[a] + sq[a] * z[a];
+        }
+        for (int j = 0; j < m; j++) lam[idx[j]] = u[j] / (-r[3]) * scale / nrm[j];
+        return 1;
+    }
+    /* pinched (no v satisfies every row) or no convergence */
+    st->warnings++;
+    {
+        double gmg = 0.0, l;
+        for (int a = 0; a < 3; a++) gmg += G[worst][a] * G[worst][a] * minv[a];
+        l = (b[worst] - ex_dot3(G[worst], vs)) / gmg;
+        for (int a = 0; a < 3; a++) v[a] = vs[a] + minv[a] * G[worst][a] * l;
+        lam[worst] = l;
+    }
+    return 1;
+}
+
+/* Planar stop rows at coordinates q and gripper pose kin: G_i = d gap_i /
+ * d qdot and the gap of every (stop, vertex) pair; stop index per row. */
+static int planar_rows(const exdex_model *m, const exdex_kinematics *kin, const double *q, double (*G)[3],
+                       double *gap, int *stop)
+{
+    int nv = m->n_vert ? m->n_vert : 1, nr = 0;
+    for (int k = 0; k < m->n_stops; k++)
+        for (int j = 0; j < nv; j++) {
+            gap[nr] = sim_vertex_gap(m, kin, k, q, j, G[nr]);
+            stop[nr++] = k;
+        }
+    return nr;
+}
+
 /* ------------------------------------------------------- right-hand side */
 
 static int rhs(double t, const double y[], double dy[], void *params)
@@ -782,10 +975,12 @@ static void record_min_gap(const exdex_model *m, double t, const double *q, exde
     exdex_kinematics k;
     if (!m->n_stops || exdex_motion_eval(m->motion, t, &k)) return;
     for (int s = 0; s < m->n_stops; s++) {
-        double g = stop_gap(m, &k, s, q[0], NULL);
+        double g = INFINITY;
         if (m->ndof == 3) {
             int nv = m->n_vert ? m->n_vert : 1;
             for (int j = 0; j < nv; j++) g = fmin(g, sim_vertex_gap(m, &k, s, q, j, NULL));
+        } else {
+            g = stop_gap(m, &k, s, q[0], NULL);
         }
         if (g < st->min_gap) st->min_gap = g;
     }
@@ -1056,10 +1251,18 @@ static int run_explicit(const exdex_model *m, double t_end, double dt, exdex_tra
                 wrench[1] = s * w[0] + c * w[1];
                 wrench[2] = w[2];
             }
-            for (int c = 0; c < 3; c++) {
-                v[c] += h * m->minv[c] * (F[c] + P[c]);
-                q[c] += h * v[c];
+            for (int c = 0; c < 3; c++) v[c] += h * m->minv[c] * (F[c] + P[c]);
+            if (ns) {
+                /* stop rows at t + h: G v+ >= -gap(q, t + h) / h, v+ the
+                 * M-metric projection of v* (stop_qp) */
+                double Gr[MAX_ROWS][3], gap[MAX_ROWS], b[MAX_ROWS], lam[MAX_ROWS], vs[3];
+                int stop[MAX_ROWS], nr = planar_rows(m, &kin_end, q, Gr, gap, stop);
+                for (int r = 0; r < nr; r++) b[r] = -gap[r] / h;
+                memcpy(vs, v, sizeof vs);
+                if (stop_qp(m->minv, nr, (const double (*)[3])Gr, b, vs, v, lam, st))
+                    for (int r = 0; r < nr; r++) lamsum[stop[r]] += lam[r];
             }
+            for (int c = 0; c < 3; c++) q[c] += h * v[c];
             still = v[0] == 0.0 && v[1] == 0.0 && v[2] == 0.0;
         }
         if (!ex_finite_n(q, nd) || !ex_finite_n(v, nd)) {
