@@ -99,6 +99,9 @@
 #define H_FLOOR_ULPS 16.0 /* a suggested step below this many ulps of t is a collapse: EXDEX_ENOCONV */
 #define BRENT_MAX 200     /* Brent iterations per located event */
 #define NY_MAX (9 + EXDEX_MAX_STOPS)
+#define NG_MAX (2 + MAX_ROWS)  /* guards */
+#define SLIP_STOP 1e-9    /* planar slip against stops: |E u| below this stops it [m/s] */
+#define REST_GAP 1e-9     /* planar rest against stops: a set row whose |gap| exceeds this ends it [m] */
 
 enum { LAW_COULOMB = 0, LAW_SMOOTH = 1 };
 enum { MODE_SLIP = 0, MODE_STICK = 1, MODE_CONTACT = 2, MODE_FREE = 3 };
@@ -114,6 +117,8 @@ typedef struct hyb {
     int mode;
     double s;          /* 1-DoF slip / friction direction (contact: 0 = at rest) */
     int ck, cj;        /* contact: stop and vertex */
+    int nv, ncs;       /* planar: outline vertices; rows in the contact set */
+    int cs[MAX_ROWS];  /* planar contact set: rows r = k nv + j (stop k, vertex j) */
     double uref[3];    /* planar slip: E u at the start of the step */
     double lo, hi;     /* motion segment [lo, hi) */
     double M, cap, eps;
@@ -485,6 +490,212 @@ static int planar_rows(const exdex_model *m, const exdex_kinematics *kin, const 
     return nr;
 }
 
+/* ------------------------------------------------ planar stop kinematics */
+
+/* Row of vertex j against stop ks at planar coordinates q, velocity v and
+ * gripper kinematics k (A coordinates): gap = n.(R x_B + p - p_stop), x_B =
+ * (q_x, q_y) + Rz(q_th) rho_j; G = d gap / d qdot = (R^T n).J, J = [I, e_z x
+ * Rz rho]; gd = d gap / dt = G v + n.(w x R x_B + pdot); and the
+ * acceleration bias gdd0 = d^2 gap / dt^2 - G qdd
+ *   = n.(R xdd0 + 2 w x R xd + dw x R x_B + w x (w x R x_B) + pddot),
+ * xd = J v the vertex velocity in B, xdd0 = -Rz rho thd^2 (centripetal).
+ * Returns the gap. */
+static double prow(const exdex_model *m, const exdex_kinematics *k, int ks, int j, const double *q,
+                   const double *v, double G[3], double *gd, double *gdd0)
+{
+    double rv[2] = {0.0, 0.0}, xB[3], xd[3], xdd[3], Rx[3], Rxd[3], Rxdd[3], nB[3], a[3], b[3], c[3];
+    const double *n = m->sn[ks];
+    double gap;
+    if (m->n_vert) rot2(rv, q[2], m->vert[j]);
+    xB[0] = q[0] + rv[0];
+    xB[1] = q[1] + rv[1];
+    xB[2] = 0.0;
+    ex_mulmv3(Rx, k->R, xB);
+    gap = n[0] * (Rx[0] + k->p[0] - m->sp[ks][0]) + n[1] * (Rx[1] + k->p[1] - m->sp[ks][1]) +
+          n[2] * (Rx[2] + k->p[2] - m->sp[ks][2]);
+    ex_mulmtv3(nB, k->R, n);
+    G[0] = nB[0];
+    G[1] = nB[1];
+    G[2] = -nB[0] * rv[1] + nB[1] * rv[0];
+    if (gd || gdd0) {
+        xd[0] = v[0] - rv[1] * v[2];
+        xd[1] = v[1] + rv[0] * v[2];
+        xd[2] = 0.0;
+        xdd[0] = -rv[0] * v[2] * v[2];
+        xdd[1] = -rv[1] * v[2] * v[2];
+        xdd[2] = 0.0;
+        ex_mulmv3(Rxd, k->R, xd);
+        ex_mulmv3(Rxdd, k->R, xdd);
+        ex_cross3(a, k->w, Rx);
+        if (gd) *gd = ex_dot3(G, v) + ex_dot3(n, a) + ex_dot3(n, k->v);
+        if (gdd0) {
+            double s = ex_dot3(n, Rxdd) + ex_dot3(n, k->a);
+            ex_cross3(b, k->w, Rxd);
+            s += 2.0 * ex_dot3(n, b);
+            ex_cross3(c, k->dw, Rx);
+            s += ex_dot3(n, c);
+            ex_cross3(b, k->w, a);
+            s += ex_dot3(n, b);
+            *gdd0 = s;
+        }
+    }
+    return gap;
+}
+
+/* Accelerations in planar contact: qdd = M^-1 (F + P + G_A^T lam), lam >= 0
+ * the stop forces of the contact-set rows, complementary to their gap
+ * accelerations G_i qdd + gdd0_i >= 0 (the small LCP G M^-1 G^T lam =
+ * -(G M^-1 (F + P) + gdd0) with complementarity): the M-metric projection
+ * of the free acceleration (stop_qp). The plate friction does not depend on
+ * the stop forces (the grip force is given). acc_i (may be NULL) gets the
+ * gap acceleration of every contact-set row. */
+static void contact_acc_planar(hyb *H, const exdex_kinematics *kin, const double *y, const double afree[3],
+                               double qdd[3], double *lam, double *acc)
+{
+    double Gr[MAX_ROWS][3], b[MAX_ROWS];
+    b[0] = 0.0;
+    for (int i = 0; i < H->ncs; i++) {
+        int r = H->cs[i];
+        double gdd0 = 0.0;
+        prow(H->m, kin, r / H->nv, r % H->nv, y, y + 3, Gr[i], NULL, &gdd0);
+        b[i] = -gdd0;
+    }
+    stop_qp(H->m->minv, H->ncs, (const double (*)[3])Gr, b, afree, qdd, lam, H->st);
+    if (acc)
+        for (int i = 0; i < H->ncs; i++) acc[i] = ex_dot3(Gr[i], qdd) - b[i];
+}
+
+/* Impacts of a planar object on the touching rows (gap <= TOUCH) at
+ * (t, y): the plastic impact projects v onto G v >= -(gd - G v) (no
+ * approach) in the M metric; the impulses go into the stops' force
+ * integrals. Then the contact set: the touching rows whose rate is ~0
+ * and which push (lam > 0) under the accelerations of the mode. */
+static void planar_impact_and_set(hyb *H, const exdex_kinematics *kin, double *y)
+{
+    const exdex_model *m = H->m;
+    double Gr[MAX_ROWS][3], b[MAX_ROWS], lam[MAX_ROWS], v[3];
+    int rows[MAX_ROWS], n = 0;
+    for (int k = 0; k < H->ns; k++)
+        for (int j = 0; j < H->nv; j++) {
+            double gd, gap = prow(m, kin, k, j, y, y + 3, Gr[n], &gd, NULL);
+            if (gap > TOUCH) continue;
+            b[n] = -(gd - ex_dot3(Gr[n], y + 3));
+            rows[n++] = k * H->nv + j;
+        }
+    H->ncs = 0;
+    if (!n) return;
+    if (stop_qp(m->minv, n, (const double (*)[3])Gr, b, y + 3, v, lam, H->st)) {
+        for (int i = 0; i < n; i++) y[9 + rows[i] / H->nv] += lam[i];
+        memcpy(y + 3, v, sizeof v);
+    }
+    for (int i = 0; i < n; i++) {
+        double rate = ex_dot3(Gr[i], y + 3) - b[i];
+        if (fabs(rate) <= RATE_TOL) H->cs[H->ncs++] = rows[i];
+    }
+}
+
+/* Rest against the contact-set rows (event method, stick): can the object
+ * stay at rest with stop forces lam >= 0 and a plate wrench inside the
+ * ellipsoid? The wrench needed is w(lam) = patch(-(F + G^T lam)); minimise
+ * |E^-1 w(lam)| over lam >= 0 (NNLS, nnls4 with the fourth row 0; the
+ * minimiser is the split with the least friction, as sim.c's try_rest).
+ * Returns the minimum (rest holds iff <= cap (1 + TOLF)); w, lam the split. */
+static double planar_rest(hyb *H, const exdex_kinematics *kin, const double *y, const double F[3], double w[3],
+                          double *lam)
+{
+    const exdex_model *m = H->m;
+    double col[MAX_ROWS][4], nb[MAX_ROWS], u[MAX_ROWS], a[3], mF[3], fv[4], na, P[3];
+    int it = 0;
+    for (int c = 0; c < 3; c++) mF[c] = -F[c];
+    patch_of_gen(m, y[2], mF, a);
+    for (int c = 0; c < 3; c++) a[c] /= m->e[c];
+    na = sqrt(ex_dot3(a, a));
+    for (int i = 0; i < H->ncs; i++) lam[i] = 0.0;
+    if (H->ncs && na > 0.0) {
+        for (int i = 0; i < H->ncs; i++) {
+            int r = H->cs[i];
+            double G[3], mG[3], B[3];
+            prow(m, kin, r / H->nv, r % H->nv, y, y + 3, G, NULL, NULL);
+            for (int c = 0; c < 3; c++) mG[c] = -G[c];
+            patch_of_gen(m, y[2], mG, B);
+            for (int c = 0; c < 3; c++) B[c] /= m->e[c];
+            nb[i] = sqrt(ex_dot3(B, B));
+            for (int c = 0; c < 3; c++) col[i][c] = nb[i] > 0.0 ? B[c] / nb[i] : 0.0;
+            col[i][3] = 0.0;
+        }
+        for (int c = 0; c < 3; c++) fv[c] = -a[c] / na;
+        fv[3] = 0.0;
+        nnls4(H->ncs, (const double (*)[4])col, fv, u, &it);
+        H->st->stop_iterations += (size_t)it;
+        for (int i = 0; i < H->ncs; i++) lam[i] = nb[i] > 0.0 ? u[i] * na / nb[i] : 0.0;
+    }
+    for (int c = 0; c < 3; c++) P[c] = -F[c];
+    for (int i = 0; i < H->ncs; i++) {
+        int r = H->cs[i];
+        double G[3];
+        prow(m, kin, r / H->nv, r % H->nv, y, y + 3, G, NULL, NULL);
+        for (int c = 0; c < 3; c++) P[c] -= lam[i] * G[c];
+    }
+    patch_of_gen(m, y[2], P, w);
+    return ell_norm(m, w);
+}
+
+/* Planar applied force F (B, generalized) and plate friction wrench w
+ * (patch) of the current mode at (t, y): stick holds everything (w = -F as
+ * a patch wrench; the stop forces of a rest against stops are not part of
+ * it), slip the sliding law (the maximum-dissipation direction from rest),
+ * regularised the smooth law. */
+static int planar_friction(hyb *H, const frame *f, const double *y, double F[3], double w[3])
+{
+    const exdex_model *m = H->m;
+    double th = y[2];
+    const double *v = y + 3;
+    force_planar(m, f, y, v, F);
+    if (H->mode == MODE_STICK) {
+        double mF[3] = {-F[0], -F[1], -F[2]};
+        patch_of_gen(m, th, mF, w);
+    } else {
+        double u[3], eu[3], sig;
+        patch_slip(m, th, v, u);
+        for (int i = 0; i < 3; i++) eu[i] = m->e[i] * u[i];
+        sig = sqrt(ex_dot3(eu, eu));
+        if (H->law == LAW_SMOOTH) {
+            double den = sqrt(sig * sig + H->eps * H->eps);
+            for (int i = 0; i < 3; i++) w[i] = -H->cap * m->e[i] * eu[i] / den;
+        } else if (sig > 0.0) {
+            for (int i = 0; i < 3; i++) w[i] = -H->cap * m->e[i] * eu[i] / sig;
+        } else {
+            /* slip starting from rest: the maximum-dissipation wrench for
+             * an infinitesimal step, u' = b + W w (paper Eq. 6) */
+            double wF[3], b[3];
+            exdex_friction_result res;
+            int st;
+            patch_of_gen(m, th, F, wF);
+            ex_mulmv3(b, m->prep.W, wF);
+            st = exdex_friction_solve(&m->prep, b, H->cap, EXDEX_SOLVER_SCALAR, NULL, NULL, &res);
+            if (st) return st;
+            memcpy(w, res.p, 3 * sizeof *w);
+        }
+    }
+    return EXDEX_OK;
+}
+
+/* Keep in the planar contact set only the rows that push (lam > 0) under
+ * the accelerations of the current (non-stick) mode at (t, y). */
+static void planar_prune_set(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y)
+{
+    double F[3], w[3], P[3], a[3], qdd[3], lam[MAX_ROWS];
+    int n = 0;
+    if (!H->ncs || H->mode == MODE_STICK) return;
+    if (planar_friction(H, f, y, F, w)) return;
+    gen_of_patch(H->m, y[2], w, P);
+    for (int i = 0; i < 3; i++) a[i] = H->m->minv[i] * (F[i] + P[i]);
+    contact_acc_planar(H, kin, y, a, qdd, lam, NULL);
+    for (int i = 0; i < H->ncs; i++)
+        if (lam[i] > 0.0) H->cs[n++] = H->cs[i];
+    H->ncs = n;
+}
+
 /* ------------------------------------------------------- right-hand side */
 
 static int rhs(double t, const double y[], double dy[], void *params)
@@ -527,40 +738,28 @@ static int rhs(double t, const double y[], double dy[], void *params)
     } else {
         double F[3], w[3], P[3], th = y[2];
         const double *v = y + 3;
-        force_planar(m, &f, y, v, F);
-        if (H->mode == MODE_STICK) {
-            double mF[3] = {-F[0], -F[1], -F[2]};
-            patch_of_gen(m, th, mF, w);
-        } else {
-            double u[3], eu[3], sig;
-            patch_slip(m, th, v, u);
-            for (int i = 0; i < 3; i++) eu[i] = m->e[i] * u[i];
-            sig = sqrt(ex_dot3(eu, eu));
-            if (H->law == LAW_SMOOTH) {
-                double den = sqrt(sig * sig + H->eps * H->eps);
-                for (int i = 0; i < 3; i++) w[i] = -H->cap * m->e[i] * eu[i] / den;
-            } else if (sig > 0.0) {
-                for (int i = 0; i < 3; i++) w[i] = -H->cap * m->e[i] * eu[i] / sig;
-            } else {
-                /* slip starting from rest: the maximum-dissipation wrench for
-                 * an infinitesimal step, u' = b + W w (paper Eq. 6) */
-                double wF[3], b[3];
-                exdex_friction_result res;
-                patch_of_gen(m, th, F, wF);
-                ex_mulmv3(b, m->prep.W, wF);
-                st = exdex_friction_solve(&m->prep, b, H->cap, EXDEX_SOLVER_SCALAR, NULL, NULL, &res);
-                if (st) {
-                    if (!H->err) H->err = st;
-                    return GSL_EBADFUNC;
-                }
-                memcpy(w, res.p, sizeof w);
-            }
+        st = planar_friction(H, &f, y, F, w);
+        if (st) {
+            if (!H->err) H->err = st;
+            return GSL_EBADFUNC;
+        }
+        if (H->mode == MODE_STICK && H->ncs) {
+            double lam[MAX_ROWS];
+            planar_rest(H, &kin, y, F, w, lam);
+            for (int i = 0; i < H->ncs; i++) dy[9 + H->cs[i] / H->nv] += lam[i];
         }
         if (H->mode != MODE_STICK) {
+            double a[3];
             gen_of_patch(m, th, w, P);
             for (int i = 0; i < 3; i++) {
                 dy[i] = v[i];
-                dy[3 + i] = m->minv[i] * (F[i] + P[i]);
+                a[i] = m->minv[i] * (F[i] + P[i]);
+                dy[3 + i] = a[i];
+            }
+            if (H->ncs) {
+                double lam[MAX_ROWS];
+                contact_acc_planar(H, &kin, y, a, dy + 3, lam, NULL);
+                for (int i = 0; i < H->ncs; i++) dy[9 + H->cs[i] / H->nv] += lam[i];
             }
         }
         {
@@ -593,18 +792,65 @@ static int guards(hyb *H, double t, const double *y, double *g)
         return 0;
     }
     if (H->ndof == 3) {
-        if (H->law == LAW_SMOOTH) return 0;
-        if (H->mode == MODE_SLIP) {
+        if (H->law == LAW_SMOOTH) {
+            /* no friction guard */
+        } else if (H->mode == MODE_SLIP) {
             double u[3], eu[3];
             patch_slip(m, y[2], y + 3, u);
             for (int i = 0; i < 3; i++) eu[i] = m->e[i] * u[i];
             g[n++] = ex_dot3(eu, H->uref);
+            /* against stops the constrained slip can die out without
+             * reversing: it also stops once |E u| < SLIP_STOP */
+            if (H->ncs) g[n++] = sqrt(ex_dot3(eu, eu)) - SLIP_STOP;
         } else {
-            double F[3], w[3], zero[3] = {0, 0, 0};
+            double F[3], w[3], zero[3] = {0, 0, 0}, lam[MAX_ROWS];
             force_planar(m, &f, y, zero, F);
-            for (int i = 0; i < 3; i++) F[i] = -F[i];
-            patch_of_gen(m, y[2], F, w);
-            g[n++] = H->cap * (1.0 + TOLF) - ell_norm(m, w);
+            if (H->ncs) {
+                g[n++] = H->cap * (1.0 + TOLF) - planar_rest(H, &kin, y, F, w, lam);
+            } else {
+                for (int i = 0; i < 3; i++) F[i] = -F[i];
+                patch_of_gen(m, y[2], F, w);
+                g[n++] = H->cap * (1.0 + TOLF) - ell_norm(m, w);
+            }
+        }
+        if (H->ns) {
+            /* stops: free rows, their gap (impact when it reaches 0); rows of
+             * the contact set, lam_i G_i M^-1 G_i^T - gap acceleration_i (> 0
+             * while the row pushes, < 0 once it separates) */
+            unsigned char in[MAX_ROWS];
+            memset(in, 0, (size_t)(H->ns * H->nv));
+            for (int i = 0; i < H->ncs; i++) in[H->cs[i]] = 1;
+            for (int k = 0; k < H->ns; k++)
+                for (int j = 0; j < H->nv; j++) {
+                    double G[3];
+                    if (!in[k * H->nv + j]) g[n++] = prow(m, &kin, k, j, y, y + 3, G, NULL, NULL);
+                }
+            if (H->ncs && H->mode == MODE_STICK) {
+                /* at rest against stops that move in B the contact ends
+                 * once a set row's gap leaves +-REST_GAP */
+                for (int i = 0; i < H->ncs; i++) {
+                    int r = H->cs[i];
+                    double G[3];
+                    g[n++] = REST_GAP - fabs(prow(m, &kin, r / H->nv, r % H->nv, y, y + 3, G, NULL, NULL));
+                }
+            } else if (H->ncs) {
+                double F[3], w[3], P[3], a[3], qdd[3], lam[MAX_ROWS], acc[MAX_ROWS];
+                int st = planar_friction(H, &f, y, F, w);
+                if (st) {
+                    H->err = H->err ? H->err : st;
+                    return 0;
+                }
+                gen_of_patch(m, y[2], w, P);
+                for (int i = 0; i < 3; i++) a[i] = m->minv[i] * (F[i] + P[i]);
+                contact_acc_planar(H, &kin, y, a, qdd, lam, acc);
+                for (int i = 0; i < H->ncs; i++) {
+                    int r = H->cs[i];
+                    double G[3], d = 0.0;
+                    prow(m, &kin, r / H->nv, r % H->nv, y, y + 3, G, NULL, NULL);
+                    for (int c = 0; c < 3; c++) d += G[c] * G[c] * m->minv[c];
+                    g[n++] = lam[i] * d - acc[i];
+                }
+            }
         }
         return n;
     }
@@ -653,23 +899,35 @@ static void decide(hyb *H, double t, double *y, int vzero)
     }
     if (H->ndof == 3) {
         double F[3], w[3], u[3], zero[3] = {0, 0, 0};
+        if (H->ns) planar_impact_and_set(H, &kin, y);
         if (H->law == LAW_SMOOTH) {
             H->mode = MODE_FREE;
+            planar_prune_set(H, &f, &kin, y);
             return;
         }
-        if (vzero) y[3] = y[4] = y[5] = 0.0;
+        if (vzero) {
+            y[3] = y[4] = y[5] = 0.0;
+            if (H->ns) planar_impact_and_set(H, &kin, y);
+        }
         if (y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0) {
             H->mode = MODE_SLIP;
             patch_slip(m, y[2], y + 3, u);
             for (int i = 0; i < 3; i++) H->uref[i] = m->e[i] * u[i];
+            planar_prune_set(H, &f, &kin, y);
             return;
         }
         force_planar(m, &f, y, zero, F);
-        {
+        if (H->ncs) {
+            double lam[MAX_ROWS];
+            if (planar_rest(H, &kin, y, F, w, lam) <= H->cap * (1.0 + TOLF)) {
+                H->mode = MODE_STICK;
+                return;
+            }
+        } else {
             double mF[3] = {-F[0], -F[1], -F[2]};
             patch_of_gen(m, y[2], mF, w);
         }
-        if (ell_norm(m, w) <= H->cap * (1.0 + TOLF)) {
+        if (!H->ncs && ell_norm(m, w) <= H->cap * (1.0 + TOLF)) {
             H->mode = MODE_STICK;
         } else {
             /* starts to slip: the direction of the slip acceleration */
@@ -685,6 +943,17 @@ static void decide(hyb *H, double t, double *y, int vzero)
             }
             H->mode = MODE_SLIP;
             for (int i = 0; i < 3; i++) H->uref[i] = m->e[i] * res.u[i];
+            if (H->ncs) {
+                /* against stops: the slip starts along the constrained
+                 * acceleration of the friction just found */
+                double P[3], a[3], qdd[3], lam[MAX_ROWS], ua[3];
+                gen_of_patch(m, y[2], res.p, P);
+                for (int i = 0; i < 3; i++) a[i] = m->minv[i] * (F[i] + P[i]);
+                contact_acc_planar(H, &kin, y, a, qdd, lam, NULL);
+                patch_slip(m, y[2], qdd, ua);
+                for (int i = 0; i < 3; i++) H->uref[i] = m->e[i] * ua[i];
+                planar_prune_set(H, &f, &kin, y);
+            }
         }
         return;
     }
@@ -790,6 +1059,28 @@ static void project_contact(hyb *H, double t, double *y)
     frame f;
     exdex_kinematics kin;
     crow c;
+    if (H->ndof == 3 && H->ncs) {
+        /* planar: remove the penetration and the approach speed of the
+         * contact-set rows (M-metric projections; a row drifting off its
+         * stop is left to the accelerations) */
+        double Gr[MAX_ROWS][3], b[MAX_ROWS], lam[MAX_ROWS], zero[3] = {0, 0, 0}, dq[3], v[3];
+        if (frame_seg(H, t, &f, &kin)) return;
+        for (int i = 0; i < H->ncs; i++) {
+            int r = H->cs[i];
+            b[i] = -prow(H->m, &kin, r / H->nv, r % H->nv, y, y + 3, Gr[i], NULL, NULL);
+        }
+        if (stop_qp(H->m->minv, H->ncs, (const double (*)[3])Gr, b, zero, dq, lam, H->st))
+            for (int c2 = 0; c2 < 3; c2++) y[c2] += dq[c2];
+        for (int i = 0; i < H->ncs; i++) {
+            int r = H->cs[i];
+            double gd;
+            prow(H->m, &kin, r / H->nv, r % H->nv, y, y + 3, Gr[i], &gd, NULL);
+            b[i] = -(gd - ex_dot3(Gr[i], y + 3));
+        }
+        if (stop_qp(H->m->minv, H->ncs, (const double (*)[3])Gr, b, y + 3, v, lam, H->st))
+            memcpy(y + 3, v, sizeof v);
+        return;
+    }
     if (H->ndof != 1 || H->mode != MODE_CONTACT) return;
     if (frame_seg(H, t, &f, &kin)) return;
     contact_row(H->m, &kin, H->ck, H->cj, y[0], &c);
@@ -897,7 +1188,7 @@ typedef struct rootctx {
 static double root_fn(double tau, void *p)
 {
     rootctx *c = p;
-    double g[2 + EXDEX_MAX_STOPS];
+    double g[NG_MAX];
     if (one_step(c->O, c->t0, c->y0, tau, c->O->ytmp) != GSL_SUCCESS) {
         c->fail = 1;
         return 0.0;
@@ -1005,7 +1296,8 @@ static int run_hybrid(const exdex_model *m, int law, double t_end, double dt,
     H.law = law;
     H.ndof = nd;
     H.ns = ns;
-    H.ny = nd == 3 ? 9 : 3 + ns;
+    H.ny = nd == 3 ? 9 + ns : 3 + ns;
+    H.nv = m->n_vert ? m->n_vert : 1;
     H.st = st;
     H.eps = m->def.eps;
     if (nd == 3) {
@@ -1037,7 +1329,7 @@ static int run_hybrid(const exdex_model *m, int law, double t_end, double dt,
         unsigned long ode_steps = 0;
         double t_event = -1.0;
         while (t < ti && status == EXDEX_OK && !H.err) {
-            double g0[2 + EXDEX_MAX_STOPS], g1[2 + EXDEX_MAX_STOPS], t0 = t, tstop, tau_best = INFINITY;
+            double g0[NG_MAX], g1[NG_MAX], t0 = t, tstop, tau_best = INFINITY;
             int ng, e_best = -1, gs;
             size_t k = 0;
             while (k < nsw && ts[k] <= t) k++;
@@ -1105,7 +1397,7 @@ static int run_hybrid(const exdex_model *m, int law, double t_end, double dt,
                 t_event = t;
                 /* the first guard of slip (and of moving contact, the second)
                  * is the slip speed: it stopped */
-                vz = (H.mode == MODE_SLIP && e_best == 0) ||
+                vz = (H.mode == MODE_SLIP && (e_best == 0 || (nd == 3 && H.ncs && e_best == 1))) ||
                      (H.mode == MODE_CONTACT && H.law == LAW_COULOMB && H.s != 0.0 && e_best == 1);
                 decide(&H, t, y, vz);
                 gsl_odeiv2_evolve_reset(O->evo);
@@ -1157,6 +1449,10 @@ static int run_hybrid(const exdex_model *m, int law, double t_end, double dt,
                 out->v[3 * i + c] = y[3 + c];
                 out->wrench[3 * i + c] = y[6 + c] / hs;
                 y[6 + c] = 0.0;
+            }
+            for (int k2 = 0; k2 < ns; k2++) {
+                out->stop_force[i * ns + k2] = y[9 + k2] / hs;
+                y[9 + k2] = 0.0;
             }
         }
         out->stick[i] = (unsigned char)(law == LAW_COULOMB && H.mode == MODE_STICK ? 1 : is_still(&H, y));
