@@ -49,12 +49,34 @@
  *   v+ = v + dt M^-1 (Q(t, q, v) + friction(v)), q+ = q + dt v+, friction
  *   -mu N E^2 u / |E u| and 0 at u = 0 exactly (sign()); the frame
  *   accelerations enter as step means like sim.c. Stops: velocity-level rows
- *   G v+ >= -gap(q, t + dt)/dt as in sim.c (1-DoF). At stick it chatters:
+ *   G v+ >= -gap(q, t + dt)/dt as in sim.c; 1-DoF: a clamp; planar: v+ is
+ *   the M-metric projection of v* onto every (stop, vertex) row, an exact
+ *   least-distance QP (stop_qp: Lawson-Hanson NNLS, bounded), stop force
+ *   lam / dt. Penetration at most 1/2 dt^2 thd^2 r_max (the vertex moves
+ *   on a circle, the row is linear). At stick it chatters:
  *   with a load |Q| < C the velocity never returns to 0 but circulates in
  *   (-dt (C - Q)/M, dt (C + Q)/M] (Q > 0) and creeps on average at dt Q / M.
  *
- * Stops: 1-DoF scenes with every method; planar scenes with stops need the
- * implicit method (exdex_scene_check).
+ * Stops: every scene with every method. Planar scenes in the hybrid
+ * (event, regularised) integrator carry a contact set of (stop, vertex) rows
+ * besides the friction mode:
+ *   free row -> impact: its gap reaches 0 (located by Brent); the impact is
+ *     plastic and frictionless (the grip force is finite): v is projected
+ *     onto G v >= -dgap/dt|_q (no approach) of the touching rows in the M
+ *     metric (stop_qp), the impulses counted in the stop force integrals;
+ *     the rows left touching at rate ~0 that push join the contact set;
+ *   in contact: qdd = M^-1 (F + friction + G^T lam), lam >= 0 the LCP
+ *     G M^-1 G^T lam = -(G M^-1 (F + friction) + Gdot v) with complementarity
+ *     (the M-metric projection of the free acceleration, stop_qp); after each
+ *     step the penetration and approach speed of the set rows are projected
+ *     out; a row leaves when lam reaches 0 (guard lam G M^-1 G^T - gap
+ *     acceleration, negative once it separates);
+ *   event, slip against stops: also stops once |E u| < SLIP_STOP (1e-9 m/s:
+ *     a constrained slip can die out without reversing); stick against
+ *     stops: rest iff the least-friction split (planar_rest: NNLS over the
+ *     stop forces lam >= 0, as sim.c's try_rest) has |E^-1 w| <= mu N
+ *     (1 + TOLF); the rest ends when that fails or a set row's gap leaves
+ *     +-REST_GAP (1e-9 m; stops moving in B).
  *
  * Budgets (every loop is bounded; a run that would grind returns
  * EXDEX_ENOCONV, with stats.warnings incremented):
