@@ -25,7 +25,10 @@
  *     stick -> slip:  C (1 + 1e-12) - |required friction| (the wrench that
  *                     would hold leaves the ellipsoid; the 1e-12 band keeps
  *                     loads sitting on the limit from toggling);
- *     free -> contact: the stop gap;  contact -> free: the stop force.
+ *     free -> contact: the gap of every (stop, vertex) pair; contact -> free:
+ *                     the stop force; in contact also the gaps of the
+ *                     contact stop's other vertices (a turning gripper or
+ *                     object hands the contact over to another corner).
  *   After every accepted step the guards are checked; the earliest sign change
  *   is located by GSL Brent on the stepper's own one-step map tau -> y(t0 +
  *   tau) (an interpolant of the stepper's order), and the mode is decided
@@ -78,6 +81,16 @@
  *     (1 + TOLF); the rest ends when that fails or a set row's gap leaves
  *     +-REST_GAP (1e-9 m; stops moving in B).
  *
+ * Penetration: event and regularised keep every stop to rounding and event
+ *   location (|gap rate| ROOT_TOL; planar decisions also project positions
+ *   back), explicit to 1/2 h^2 thd^2 r_max per step (r_max: the outline's
+ *   largest distance from the rotation centre). A gap below -PEN_TOL after a
+ *   step (explicit: below that bound too, or a stop out of the object's
+ *   reach, stop_unreachable) counts a warning in exdex_stats, as sim.c does:
+ *   only a scene that drives the object through a stop gets there (a
+ *   prescribed motion pushing a pinned pivot or the slide line through it,
+ *   stops that pinch the object, a stop the free coordinates cannot act on).
+ *
  * Budgets (every loop is bounded; a run that would grind returns
  * EXDEX_ENOCONV, with stats.warnings incremented):
  *   - event, regularised: at most STEPS_MAX (10^5) ODE steps, accepted plus
@@ -124,6 +137,12 @@
 #define NG_MAX (2 + MAX_ROWS)  /* guards */
 #define SLIP_STOP 1e-9    /* planar slip against stops: |E u| below this stops it [m/s] */
 #define REST_GAP 1e-9     /* planar rest against stops: a set row whose |gap| exceeds this ends it [m] */
+#define PEN_TOL 1e-9      /* a stop gap below -PEN_TOL after a step (explicit: below -(PEN_TOL + its
+                           * curvature bound)) counts a warning: the methods keep the stops to
+                           * rounding and event location (|gap rate| ROOT_TOL), so only a scene that
+                           * drives the object through a stop gets there (a prescribed motion
+                           * pushing a pinned pivot or the slide line through it, stops that pinch
+                           * the object, a stop that cannot act on the free coordinates) [m] */
 
 enum { LAW_COULOMB = 0, LAW_SMOOTH = 1 };
 enum { MODE_SLIP = 0, MODE_STICK = 1, MODE_CONTACT = 2, MODE_FREE = 3 };
@@ -616,6 +635,23 @@ static void planar_impact_and_set(hyb *H, const exdex_kinematics *kin, double *y
     }
 }
 
+/* Positions back onto the stops at (t, y): the M-metric projection of q
+ * onto G dq >= -gap of every penetrating row (a located impact lies up to
+ * |gap rate| ROOT_TOL beyond its stop, a rest against a stop moving in B up
+ * to REST_GAP). */
+static void planar_unpenetrate(hyb *H, const exdex_kinematics *kin, double *y)
+{
+    double Gr[MAX_ROWS][3], b[MAX_ROWS], lam[MAX_ROWS], zero[3] = {0, 0, 0}, dq[3];
+    int n = 0;
+    for (int k = 0; k < H->ns; k++)
+        for (int j = 0; j < H->nv; j++) {
+            double gap = prow(H->m, kin, k, j, y, y + 3, Gr[n], NULL, NULL);
+            if (gap < 0.0) b[n++] = -gap;
+        }
+    if (n && stop_qp(H->m->minv, n, (const double (*)[3])Gr, b, zero, dq, lam, H->st))
+        for (int c = 0; c < 3; c++) y[c] += dq[c];
+}
+
 /* Rest against the contact-set rows (event method, stick): can the object
  * stay at rest with stop forces lam >= 0 and a plate wrench inside the
  * ellipsoid? The wrench needed is w(lam) = patch(-(F + G^T lam)); minimise
@@ -897,7 +933,16 @@ static int guards(hyb *H, double t, const double *y, double *g)
             }
         }
         for (int k = 0; k < H->ns; k++) {
-            if (H->mode == MODE_CONTACT && k == H->ck) continue;
+            if (H->mode == MODE_CONTACT && k == H->ck) {
+                /* the other vertices of the contact stop: the gripper's
+                 * rotation (or the object's) can bring one of them onto
+                 * the stop while the contact vertex is held at 0 */
+                double gmin = INFINITY;
+                for (int j = 0; j < H->nv; j++)
+                    if (j != H->cj) gmin = fmin(gmin, sim_vertex_gap(m, &kin, k, &q, j, NULL));
+                if (H->nv > 1) g[n++] = gmin;
+                continue;
+            }
             g[n++] = stop_gap(m, &kin, k, q, NULL);
         }
     }
@@ -921,7 +966,10 @@ static void decide(hyb *H, double t, double *y, int vzero)
     }
     if (H->ndof == 3) {
         double F[3], w[3], u[3], zero[3] = {0, 0, 0};
-        if (H->ns) planar_impact_and_set(H, &kin, y);
+        if (H->ns) {
+            planar_unpenetrate(H, &kin, y);
+            planar_impact_and_set(H, &kin, y);
+        }
         if (H->law == LAW_SMOOTH) {
             H->mode = MODE_FREE;
             planar_prune_set(H, &f, &kin, y);
@@ -989,20 +1037,19 @@ static void decide(hyb *H, double t, double *y, int vzero)
             int kb = -1;
             double worst = -RATE_TOL;
             crow cb;
-            for (int k = 0; k < H->ns; k++) {
-                int j = 0;
-                double gap = stop_gap(m, &kin, k, q, &j), rate;
-                crow c;
-                if (gap > TOUCH) continue;
-                contact_row(m, &kin, k, j, q, &c);
-                if (!(fabs(c.Fq) > FQ_MIN)) continue;
-                rate = c.Fq * y[1] + c.Ft;
-                if (rate < worst) {
-                    worst = rate;
-                    kb = k;
-                    cb = c;
+            for (int k = 0; k < H->ns; k++)
+                for (int j = 0; j < H->nv; j++) {
+                    double rate;
+                    crow c;
+                    contact_row(m, &kin, k, j, q, &c);
+                    if (c.F > TOUCH || !(fabs(c.Fq) > FQ_MIN)) continue;
+                    rate = c.Fq * y[1] + c.Ft;
+                    if (rate < worst) {
+                        worst = rate;
+                        kb = k;
+                        cb = c;
+                    }
                 }
-            }
             if (kb < 0) break;
             {
                 double vn = -cb.Ft / cb.Fq;
@@ -1013,13 +1060,12 @@ static void decide(hyb *H, double t, double *y, int vzero)
             }
         }
         /* contact with a touching stop */
-        for (int k = 0; k < H->ns; k++) {
-            int j = 0;
-            double gap = stop_gap(m, &kin, k, q, &j), rate, v, Q, R, fr, lam, s_old = H->s;
+        for (int r = 0; r < H->ns * H->nv; r++) {
+            int k = r / H->nv, j = r % H->nv;
+            double rate, v, Q, R, fr, lam, s_old = H->s;
             crow c;
-            if (gap > TOUCH) continue;
             contact_row(m, &kin, k, j, q, &c);
-            if (!(fabs(c.Fq) > FQ_MIN)) continue;
+            if (c.F > TOUCH || !(fabs(c.Fq) > FQ_MIN)) continue;
             rate = c.Fq * y[1] + c.Ft;
             if (fabs(rate) > RATE_TOL) continue;
             v = -c.Ft / c.Fq;
@@ -1283,10 +1329,13 @@ static void initial_state(const exdex_model *m, double *q, double *v)
     }
 }
 
-static void record_min_gap(const exdex_model *m, double t, const double *q, exdex_stats *st)
+/* Smallest stop gap at (t, q) over every (stop, vertex) pair, recorded in
+ * st->min_gap; returned. */
+static double record_min_gap(const exdex_model *m, double t, const double *q, exdex_stats *st)
 {
     exdex_kinematics k;
-    if (!m->n_stops || exdex_motion_eval(m->motion, t, &k)) return;
+    double gmin = INFINITY;
+    if (!m->n_stops || exdex_motion_eval(m->motion, t, &k)) return INFINITY;
     for (int s = 0; s < m->n_stops; s++) {
         double g = INFINITY;
         if (m->ndof == 3) {
@@ -1295,8 +1344,60 @@ static void record_min_gap(const exdex_model *m, double t, const double *q, exde
         } else {
             g = stop_gap(m, &k, s, q[0], NULL);
         }
-        if (g < st->min_gap) st->min_gap = g;
+        gmin = fmin(gmin, g);
     }
+    if (gmin < st->min_gap) st->min_gap = gmin;
+    return gmin;
+}
+
+/* Is some stop out of the object's reach at (t, q), its gap below -PEN_TOL
+ * for every value of the free coordinates? Translation and planar: a row
+ * that the free coordinates cannot move (|d gap / dq| <= FQ_MIN: the stop is
+ * parallel to the slide line or faces the plate normal); rotation: the
+ * vertex moves on a circle about the pivot, gap(q') = F + Fqq + Fq sin(q' -
+ * q) - Fqq cos(q' - q) (contact_row's derivatives at q), whose maximum F +
+ * Fqq + hypot(Fq, Fqq) is below -PEN_TOL (the stop has passed the pivot's
+ * reach). Such a penetration is the scene's, not the method's. */
+static int stop_unreachable(const exdex_model *m, double t, const double *q)
+{
+    exdex_kinematics k;
+    int nv = m->n_vert ? m->n_vert : 1;
+    if (!m->n_stops || exdex_motion_eval(m->motion, t, &k)) return 0;
+    for (int s = 0; s < m->n_stops; s++)
+        for (int j = 0; j < nv; j++) {
+            if (m->ndof == 3) {
+                double G[3], g = sim_vertex_gap(m, &k, s, q, j, G);
+                if (g < -PEN_TOL && !(fabs(G[0]) + fabs(G[1]) + fabs(G[2]) > FQ_MIN)) return 1;
+            } else {
+                crow c;
+                contact_row(m, &k, s, j, q[0], &c);
+                if (m->def.dof == EXDEX_DOF_TRANSLATION) {
+                    if (c.F < -PEN_TOL && !(fabs(c.Fq) > FQ_MIN)) return 1;
+                } else if (c.F + c.Fqq + hypot(c.Fq, c.Fqq) < -PEN_TOL) {
+                    return 1;
+                }
+            }
+        }
+    return 0;
+}
+
+/* Largest distance of an outline vertex from the rotation centre (the
+ * centre of mass for planar scenes, the pivot for rotation; 0 for
+ * translation): bounds |d^2 gap / d theta^2|. */
+static double rot_radius(const exdex_model *m)
+{
+    int nv = m->n_vert ? m->n_vert : 1;
+    double r = 0.0;
+    if (m->def.dof == EXDEX_DOF_TRANSLATION) return 0.0;
+    for (int j = 0; j < nv; j++) {
+        double x = m->n_vert ? m->vert[j][0] : 0.0, y = m->n_vert ? m->vert[j][1] : 0.0;
+        if (m->def.dof == EXDEX_DOF_ROTATION) {
+            x += m->c[0];
+            y += m->c[1];
+        }
+        r = fmax(r, sqrt(x * x + y * y));
+    }
+    return r;
 }
 
 static int is_still(const hyb *H, const double *y)
@@ -1432,7 +1533,9 @@ static int run_hybrid(const exdex_model *m, int law, double t_end, double dt,
             } else {
                 project_contact(&H, t, y);
             }
-            if (ns) record_min_gap(m, t, y, st);
+            /* a penetration left after the step: the scene drives the
+             * object through a stop (see PEN_TOL) */
+            if (ns && record_min_gap(m, t, y, st) < -PEN_TOL) st->warnings++;
             if (t == H.hi && t < t_end) {
                 /* a switching time of the motion: next segment */
                 H.lo = H.hi;
@@ -1496,6 +1599,7 @@ static int run_explicit(const exdex_model *m, double t_end, double dt, exdex_tra
     double q[3], v[3], t = 0.0;
     exdex_kinematics kin0;
     int status = exdex_motion_eval(m->motion, 0.0, &kin0);
+    double rmax = rot_radius(m);
     initial_state(m, q, v);
     for (size_t i = 1; i < n && status == EXDEX_OK; i++) {
         double t1 = i == n - 1 ? t_end : (double)i * dt, h = t1 - t, wrench[3] = {0, 0, 0};
@@ -1587,7 +1691,15 @@ static int run_explicit(const exdex_model *m, double t_end, double dt, exdex_tra
             status = EXDEX_ENONFINITE;
             break;
         }
-        if (ns) record_min_gap(m, t1, q, st);
+        if (ns) {
+            /* beyond the scheme's own bound (a vertex moves on a circle
+             * over the step while its row is linear in v+): the scene drives
+             * the object through a stop (see PEN_TOL) */
+            double thd = nd == 3 ? v[2] : m->def.dof == EXDEX_DOF_ROTATION ? v[0] : 0.0;
+            if (record_min_gap(m, t1, q, st) < -(PEN_TOL + 0.5 * h * h * thd * thd * rmax) ||
+                stop_unreachable(m, t1, q))
+                st->warnings++;
+        }
         t = t1;
         kin0 = kin_end;
         st->steps++;
