@@ -94,7 +94,8 @@
  * Budgets (every loop is bounded; a run that would grind returns
  * EXDEX_ENOCONV, with stats.warnings incremented):
  *   - event, regularised: at most STEPS_MAX (10^5) ODE steps, accepted plus
- *     rejected, per output interval (dt is the output grid and also the unit
+ *     rejected, plus Brent iterations (each one stepper application),
+ *     per output interval (dt is the output grid and also the unit
  *     of the budget: a finer grid gives a long stiff run more steps), and the
  *     step the controller suggests must stay >= H_FLOOR_ULPS (16) ulps of t
  *     (h >= 16 DBL_EPSILON |t|) while t is short of the next stop time;
@@ -1450,6 +1451,7 @@ static int run_hybrid(const exdex_model *m, int law, double t_end, double dt,
         double ti = i == n - 1 ? t_end : (double)i * dt, hs = ti - out->t[i - 1];
         int events = 0, same = 0;
         unsigned long ode_steps = 0;
+        size_t brent0 = st->solver_iterations; /* Brent iterations count in the step budget */
         double t_event = -1.0;
         while (t < ti && status == EXDEX_OK && !H.err) {
             double g0[NG_MAX], g1[NG_MAX], t0 = t, tstop, tau_best = INFINITY;
@@ -1479,7 +1481,8 @@ static int run_hybrid(const exdex_model *m, int law, double t_end, double dt,
             }
             st->steps++;
             /* step budget and step floor (see the header comment) */
-            if (ode_steps > STEPS_MAX || (t < tstop && !(h >= H_FLOOR_ULPS * DBL_EPSILON * fabs(t)))) {
+            if (ode_steps + (st->solver_iterations - brent0) > STEPS_MAX ||
+                (t < tstop && !(h >= H_FLOOR_ULPS * DBL_EPSILON * fabs(t)))) {
                 st->warnings++;
                 status = EXDEX_ENOCONV;
                 break;
@@ -1507,6 +1510,10 @@ static int run_hybrid(const exdex_model *m, int law, double t_end, double dt,
                     tau_best = tau;
                     e_best = e;
                 }
+            }
+            if (!status && ode_steps + (st->solver_iterations - brent0) > STEPS_MAX) {
+                st->warnings++;
+                status = EXDEX_ENOCONV;
             }
             if (status) break;
             if (e_best >= 0) {
