@@ -1511,6 +1511,30 @@ static int run_hybrid(const exdex_model *m, int law, double t_end, double dt,
                     e_best = e;
                 }
             }
+            /* a guard can dip below 0 and recover within one step (its end
+             * value is >= 0): the located event's point shows it; take the
+             * earliest such crossing instead (at most ng passes) */
+            for (int pass = 0; e_best >= 0 && tau_best > 0.0 && !status && pass < ng; pass++) {
+                double gt[NG_MAX], tau_new = tau_best;
+                int e_new = -1;
+                if (one_step(O, t0, y0, tau_best, O->ytmp) != GSL_SUCCESS || H.err) {
+                    status = H.err ? H.err : EXDEX_ENOCONV;
+                    break;
+                }
+                guards(&H, t0 + tau_best, O->ytmp, gt);
+                for (int e = 0; e < ng && !status; e++) {
+                    double tau;
+                    if (e == e_best || !(g0[e] > 0.0) || !(gt[e] < 0.0)) continue;
+                    status = locate(&H, O, t0, y0, tau_best, e, &tau);
+                    if (!status && tau < tau_new) {
+                        tau_new = tau;
+                        e_new = e;
+                    }
+                }
+                if (e_new < 0) break;
+                tau_best = tau_new;
+                e_best = e_new;
+            }
             if (!status && ode_steps + (st->solver_iterations - brent0) > STEPS_MAX) {
                 st->warnings++;
                 status = EXDEX_ENOCONV;
