@@ -211,8 +211,9 @@ void exdex_profile_trapezoid(double amplitude, double T, double v_max, double t,
  */
 enum exdex_dof { EXDEX_DOF_TRANSLATION = 1, EXDEX_DOF_ROTATION = 2, EXDEX_DOF_PLANAR = 3 };
 
-/* All four share the model and the output contract (methods.c for 1-3).
- * Planar scenes with stops need IMPLICIT (EXDEX_EINVAL otherwise). */
+/* All four share the model and the output contract (methods.c for 1-3),
+ * stops included in every scene. EVENT and REGULARISED return EXDEX_ENOCONV
+ * past 1e5 ODE steps per output interval or a step below 16 ulps of t. */
 enum exdex_method {
     EXDEX_METHOD_IMPLICIT = 0,     /* Moreau midpoint, maximum-dissipation solve (default);
                                       steps of dt, exact stick */

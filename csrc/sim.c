@@ -138,8 +138,6 @@ static int check_fields(const exdex_scene_def *d, const char **bad_param)
             return bad(bad_param, "stop_normal");
     }
     if (d->method < EXDEX_METHOD_IMPLICIT || d->method > EXDEX_METHOD_EXPLICIT) return bad(bad_param, "method");
-    if (d->method != EXDEX_METHOD_IMPLICIT && d->dof == EXDEX_DOF_PLANAR && d->n_stops > 0)
-        return bad(bad_param, "method (stops in planar scenes need 'implicit')");
     if (d->friction_solver < EXDEX_SOLVER_SCALAR || d->friction_solver > EXDEX_SOLVER_MULTIROOT)
         return bad(bad_param, "friction_solver");
     if (!(isfinite(d->eps) && d->eps > 0)) return bad(bad_param, "eps");
