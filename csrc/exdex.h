@@ -213,7 +213,8 @@ enum exdex_dof { EXDEX_DOF_TRANSLATION = 1, EXDEX_DOF_ROTATION = 2, EXDEX_DOF_PL
 
 /* All four share the model and the output contract (methods.c for 1-3),
  * stops included in every scene. EVENT and REGULARISED return EXDEX_ENOCONV
- * past 1e5 ODE steps per output interval or a step below 16 ulps of t. */
+ * past 1e5 ODE steps plus event-location (Brent) iterations per output
+ * interval, or a step below 16 ulps of t. */
 enum exdex_method {
     EXDEX_METHOD_IMPLICIT = 0,     /* Moreau midpoint, maximum-dissipation solve (default);
                                       steps of dt, exact stick */

@@ -144,8 +144,9 @@ def simulate(scene, t_end, dt=1e-3, method="implicit", friction_solver="scalar",
         stick: under a load w inside the ellipsoid the object creeps at
         E u = eps E^-1 w / sqrt((mu N)^2 - |E^-1 w|^2), and the stiffness
         mu N / (M eps) makes the explicit stepper's steps collapse for small
-        eps: past 1e5 steps in one output interval (or a step below 16 ulps
-        of t) it raises SolverError instead of grinding.
+        eps: past 1e5 steps (accepted, rejected and event-location
+        iterations) in one output interval, or a step below 16 ulps of t,
+        "event" and "regularised" raise SolverError instead of grinding.
         "explicit": explicit Coulomb friction -mu N E^2 u / |E u| (0 at u = 0)
         with symplectic Euler steps of dt, the naive baseline. Never sticks:
         under a load |Q| < mu N the velocity chatters in a band of width
