@@ -75,7 +75,12 @@
  *     out; a row leaves when lam reaches 0 (guard lam G M^-1 G^T - gap
  *     acceleration, negative once it separates);
  *   event, slip against stops: also stops once |E u| < SLIP_STOP (1e-9 m/s:
- *     a constrained slip can die out without reversing); stick against
+ *     a constrained slip can die out without reversing); where it stops, a
+ *     stop moving in B would push it on (the plastic impact on v = 0), and
+ *     if that slip is below SLIP_STOP too it is a rest on the touching rows
+ *     instead (a restart there would stop again at once, Zeno-like, with the
+ *     step collapsing on |E u| -> 0: a gripper's rotation reversing with
+ *     the object against a stop); stick against
  *     stops: rest iff the least-friction split (planar_rest: NNLS over the
  *     stop forces lam >= 0, as sim.c's try_rest) has |E^-1 w| <= mu N
  *     (1 + TOLF); the rest ends when that fails or a set row's gap leaves
@@ -978,7 +983,30 @@ static void decide(hyb *H, double t, double *y, int vzero)
         }
         if (vzero) {
             y[3] = y[4] = y[5] = 0.0;
-            if (H->ns) planar_impact_and_set(H, &kin, y);
+            if (H->ns) {
+                /* a slip that stopped against stops moving in B: the stops
+                 * push it on at their own speed. If that slip is below
+                 * SLIP_STOP it would count as stopped at once (the guard is
+                 * violated from the start: Zeno-like restarts, each with a
+                 * step collapsing on |E u| -> 0); it is a rest instead, on
+                 * every touching row, which the REST_GAP guard ends once the
+                 * stops have moved (a drift below REST_GAP) */
+                double ysv[EXDEX_MAX_STOPS], u[3], eu[3];
+                memcpy(ysv, y + 9, (size_t)H->ns * sizeof *ysv);
+                planar_impact_and_set(H, &kin, y);
+                patch_slip(m, y[2], y + 3, u);
+                for (int i = 0; i < 3; i++) eu[i] = m->e[i] * u[i];
+                if ((y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0) && sqrt(ex_dot3(eu, eu)) < SLIP_STOP) {
+                    double G[3];
+                    memcpy(y + 9, ysv, (size_t)H->ns * sizeof *ysv);
+                    y[3] = y[4] = y[5] = 0.0;
+                    H->ncs = 0;
+                    for (int k = 0; k < H->ns; k++)
+                        for (int j = 0; j < H->nv; j++)
+                            if (prow(m, &kin, k, j, y, y + 3, G, NULL, NULL) <= TOUCH)
+                                H->cs[H->ncs++] = k * H->nv + j;
+                }
+            }
         }
         if (y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0) {
             H->mode = MODE_SLIP;

@@ -270,6 +270,49 @@ def test_planar_box_resting_on_stop_stays_still_and_the_stop_balances_the_load()
     assert im.stop_force[-1, 0] == pytest.approx(r.stop_force[-1, 0], abs=1e-3)
 
 
+def turning_box_on_tilted_stop():
+    """The benchmark's planar case (exdex.bench.planar_scene, spelled out
+    here): a 60 x 30 x 20 mm box, 0.1 kg, friction capacity 1.1 m g through
+    a 20 x 20 mm patch 10 mm beside the centre of mass, the gripper turning
+    0.6 rad about the plate normal and back (Eq. 7, T 0.5 s, beta 0.8), a
+    stop tilted 10 deg, 8 mm below the box. The box slides onto the stop and
+    along it; near t = T the gripper's rotation reverses, the constrained
+    slip dies out while the stop (moving in B) still pushes it."""
+    m, cap = 0.1, 1.1 * 0.1 * paper.G
+    tilt = math.radians(10.0)
+    return exdex.Scene(
+        body=exdex.Body.box(m, (0.06, 0.03, 0.02)),
+        grasp=exdex.Grasp(mu=paper.MU, grip_force=cap / (paper.MU * paper.FINGERS), fingers=paper.FINGERS,
+                          patch=exdex.Patch.rectangle(0.01, 0.01, center=(0.01, 0.0))),
+        motion=exdex.AsymmetricProfile(0.6, 0.5, 0.8, axis=(0.0, -1.0, 0.0), rotation=True),
+        dof="planar",
+        stops=(exdex.Stop(point=(0.0, 0.0, -0.015 - 0.008), normal=(math.sin(tilt), 0.0, math.cos(tilt))),))
+
+
+def test_event_slip_dying_against_a_moving_stop_converges_at_tight_rtol():
+    """Regression: where the slip along the stop died out (|E u| < 1e-9 m/s)
+    the stop, moving in B, pushed the object on at a slip below that
+    threshold, which stopped it again at once: a Zeno-like cascade of
+    restarts towards t = T, 61 warnings at rtol 1e-8 and EXDEX_ENOCONV (the
+    step floor, the step collapsing on |E u| -> 0) at rtol 1e-10 and 1e-12.
+    Now: no error, no warning, and the final pose agrees with an independent
+    method, the implicit one (first order here): Richardson extrapolation
+    of dt = 2^-18 and 2^-19, within that method's own error estimate at
+    2^-19, |q(2^-19) - q(2^-18)| per coordinate."""
+    scene, T = turning_box_on_tilted_stop(), 1.5
+    ev = {}
+    for rtol in (1e-8, 1e-10, 1e-12):
+        r = exdex.simulate(scene, T, 2.0**-6, method="event", rtol=rtol, atol=1e-2 * rtol)
+        assert r.stats["warnings"] == 0, rtol
+        ev[rtol] = r.q[-1]
+    q1 = exdex.simulate(scene, T, 2.0**-18, method="implicit").q[-1]
+    q2 = exdex.simulate(scene, T, 2.0**-19, method="implicit").q[-1]
+    ref, est = 2.0 * q2 - q1, np.abs(q2 - q1)
+    assert est[2] < 1e-6  # the implicit method does converge here (first order)
+    for rtol in ev:
+        assert np.all(np.abs(ev[rtol] - ref) <= est), (rtol, ev[rtol] - ref, est)
+
+
 def test_event_zeno_like_toggling_raises_solver_error():
     """A 1 kHz vertical vibration with acceleration amplitude 2 g and
     capacity 1.5 m g crosses the friction limit 2000 times in 1 s: with one
