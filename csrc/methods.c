@@ -1812,6 +1812,17 @@ int sim_simulate_method(const exdex_model *m, double t_end, double dt, exdex_tra
     default:
         return EXDEX_EINVAL;
     }
+    if (status == EXDEX_OK) {
+        /* never OK with a non-finite output (e.g. a capacity mu N that
+         * overflows makes the explicit friction infinite) */
+        size_t nq = n * (size_t)nd, ns = n * (size_t)m->n_stops;
+        for (size_t i = 0; i < nq && status == EXDEX_OK; i++)
+            if (!isfinite(out->q[i]) || !isfinite(out->v[i])) status = EXDEX_ENONFINITE;
+        for (size_t i = 0; i < 3 * n && status == EXDEX_OK; i++)
+            if (!isfinite(out->wrench[i])) status = EXDEX_ENONFINITE;
+        for (size_t i = 0; i < ns && status == EXDEX_OK; i++)
+            if (!isfinite(out->stop_force[i])) status = EXDEX_ENONFINITE;
+    }
     if (stats) *stats = st;
     /* the model and arguments were valid: an "invalid argument" from the
      * motion or a solver inside the run means the state left the finite

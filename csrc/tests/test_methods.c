@@ -8,6 +8,8 @@
 #include "sim_run.h"
 #include "../exdex.h"
 
+#include <float.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -988,5 +990,34 @@ EXDEX_TEST(methods_bad_input_and_determinism)
         ENSURE(memcmp(a.tr.wrench, b.tr.wrench, a.tr.n * 3 * sizeof(double)) == 0);
         sim_run_free(&a);
         sim_run_free(&b);
+    }
+}
+
+/* A friction capacity mu * fingers * grip_force that overflows (mu = DBL_MAX:
+ * the fuzzer's input) makes the explicit friction impulse infinite on the
+ * first sliding step; the run must end with EXDEX_ENONFINITE, never EXDEX_OK
+ * with non-finite samples. A rotation scene with an initial spin, so the
+ * first step slides. The implicit method has the same contract. */
+EXDEX_TEST(methods_overflowing_capacity_is_not_ok)
+{
+    for (int method = EXDEX_METHOD_IMPLICIT; method <= EXDEX_METHOD_EXPLICIT; method++) {
+        exdex_scene_def d = exdex_default_scene_def();
+        sim_run r;
+        int st;
+        d.mu = DBL_MAX;
+        d.dof = EXDEX_DOF_ROTATION;
+        d.v0[2] = 0.4;
+        d.method = method;
+        st = sim_run_def(&d, 0.01, 2e-3, &r);
+        if (st == EXDEX_OK) {
+            /* then every sample must be finite */
+            for (size_t i = 0; i < r.tr.n; i++)
+                ENSURE(isfinite(r.tr.q[i]) && isfinite(r.tr.v[i]) && isfinite(r.tr.wrench[3 * i]) &&
+                       isfinite(r.tr.wrench[3 * i + 1]) && isfinite(r.tr.wrench[3 * i + 2]));
+        } else {
+            ENSURE(st == EXDEX_ENONFINITE);
+        }
+        if (method == EXDEX_METHOD_EXPLICIT) ENSURE(st == EXDEX_ENONFINITE);
+        sim_run_free(&r);
     }
 }
