@@ -996,28 +996,85 @@ EXDEX_TEST(methods_bad_input_and_determinism)
 /* A friction capacity mu * fingers * grip_force that overflows (mu = DBL_MAX:
  * the fuzzer's input) makes the explicit friction impulse infinite on the
  * first sliding step; the run must end with EXDEX_ENONFINITE, never EXDEX_OK
- * with non-finite samples. A rotation scene with an initial spin, so the
- * first step slides. The implicit method has the same contract. */
+ * with non-finite samples (the fuzzer's case returned OK with infinite stop
+ * forces). A translation scene with an initial slip and a floor stop under
+ * the object. The implicit method has the same contract. */
 EXDEX_TEST(methods_overflowing_capacity_is_not_ok)
 {
+    /* the fuzzer's scene (decoded values to 6 digits) */
+    static const double R0[9] = {-0.284103, -0.0532491, 0.957314, 0.958791, -0.0132247, 0.283805,
+                                 -0.00245218, 0.998494, 0.0548119};
     for (int method = EXDEX_METHOD_IMPLICIT; method <= EXDEX_METHOD_EXPLICIT; method++) {
         exdex_scene_def d = exdex_default_scene_def();
         sim_run r;
         int st;
+        double n0[3] = {0.600459, 0.697336, -0.391371}, n1[3] = {0.609054, -0.5443, 0.576879};
+        double nn0 = sqrt(n0[0] * n0[0] + n0[1] * n0[1] + n0[2] * n0[2]);
+        double nn1 = sqrt(n1[0] * n1[0] + n1[1] * n1[1] + n1[2] * n1[2]);
+        double ax = hypot(-0.986489, -0.163826), back = 1e-4;
+        d.mass = 0.0349442;
+        memset(d.inertia, 0, sizeof d.inertia);
+        d.inertia[0] = 7.44052e-05;
+        d.inertia[4] = 0.000144045;
+        d.inertia[8] = 3.85991e-05;
         d.mu = DBL_MAX;
-        d.dof = EXDEX_DOF_ROTATION;
-        d.v0[2] = 0.4;
+        d.grip_force = 0.99058;
+        d.e_r = 0.000958726;
+        d.patch_center[0] = 0.00303998;
+        d.patch_center[1] = 0.0135353;
+        d.gravity[0] = -7.74766;
+        d.gravity[1] = 6.92394;
+        d.gravity[2] = -7.33837;
+        d.dof = EXDEX_DOF_TRANSLATION;
+        d.slide_axis[0] = -0.986489 / ax;
+        d.slide_axis[1] = -0.163826 / ax;
+        d.q0[0] = 0.0246603;
+        d.q0[1] = 0.0178307;
+        d.q0[2] = 1.79764;
+        d.v0[0] = 0.397299;
+        memcpy(d.R0, R0, sizeof R0);
+        {
+            /* re-orthonormalise the 6-digit rows (Gram-Schmidt) */
+            double *a0 = d.R0, *a1 = d.R0 + 3, *a2 = d.R0 + 6, k;
+            k = sqrt(a0[0] * a0[0] + a0[1] * a0[1] + a0[2] * a0[2]);
+            for (int i = 0; i < 3; i++) a0[i] /= k;
+            k = a1[0] * a0[0] + a1[1] * a0[1] + a1[2] * a0[2];
+            for (int i = 0; i < 3; i++) a1[i] -= k * a0[i];
+            k = sqrt(a1[0] * a1[0] + a1[1] * a1[1] + a1[2] * a1[2]);
+            for (int i = 0; i < 3; i++) a1[i] /= k;
+            a2[0] = a0[1] * a1[2] - a0[2] * a1[1];
+            a2[1] = a0[2] * a1[0] - a0[0] * a1[2];
+            a2[2] = a0[0] * a1[1] - a0[1] * a1[0];
+        }
+        d.p0[0] = -1.16034;
+        d.p0[1] = 0.914303;
+        d.p0[2] = -0.603891;
+        d.n_stops = 2;
+        d.stop_point[0][0] = 0.0987222;
+        d.stop_point[0][1] = 0.11465;
+        d.stop_point[0][2] = -0.0643458;
+        d.stop_point[1][0] = -0.950178;
+        d.stop_point[1][1] = 0.849156;
+        d.stop_point[1][2] = -0.899982;
+        for (int i = 0; i < 3; i++) {
+            d.stop_normal[0][i] = n0[i] / nn0;
+            d.stop_normal[1][i] = n1[i] / nn1;
+            /* 6-digit values put the start just beyond a stop: back off */
+            d.stop_point[0][i] -= back * d.stop_normal[0][i];
+            d.stop_point[1][i] -= back * d.stop_normal[1][i];
+        }
         d.method = method;
-        st = sim_run_def(&d, 0.01, 2e-3, &r);
+        st = sim_run_def(&d, 0.0053901154634270233, 0.0017544261973184241, &r);
         if (st == EXDEX_OK) {
             /* then every sample must be finite */
-            for (size_t i = 0; i < r.tr.n; i++)
+            for (size_t i = 0; i < r.tr.n; i++) {
                 ENSURE(isfinite(r.tr.q[i]) && isfinite(r.tr.v[i]) && isfinite(r.tr.wrench[3 * i]) &&
                        isfinite(r.tr.wrench[3 * i + 1]) && isfinite(r.tr.wrench[3 * i + 2]));
+                for (int k = 0; k < 2; k++) ENSURE(isfinite(r.tr.stop_force[2 * i + (size_t)k]));
+            }
         } else {
             ENSURE(st == EXDEX_ENONFINITE);
         }
-        if (method == EXDEX_METHOD_EXPLICIT) ENSURE(st == EXDEX_ENONFINITE);
         sim_run_free(&r);
     }
 }
