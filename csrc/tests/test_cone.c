@@ -603,3 +603,35 @@ EXDEX_TEST(cone_exact_far_small_box_rounded_rows_exact_rational)
      * than the method's accuracy */
     ENSURE(fabs(V1 - V3) > 2 * 16.0 * 6 * DBL_EPSILON * bv);
 }
+
+EXDEX_TEST(cone_optimise_theta_angle_bound)
+{
+    // alpha2 = alpha1 + theta resolves theta to eps (|alpha1| + |theta|)
+    // only: angles beyond EXDEX_TOOL_ANGLE_MAX are rejected (fuzzing found
+    // alpha1 ~ 1e128 returning theta = alpha2 - alpha1 = 0 outside the
+    // range). At the bound, the returned theta is the one evaluated to
+    // eps/2 * 2e6 = 2.3e-10 rad, so it lies in [lo, hi] to that.
+    int nv = 4;
+    double phis[2] = {5.0 * PI / 180, 25.0 * PI / 180};
+    exdex_tool_problem p = square_problem(phis, 2, &nv);
+    p.model = EXDEX_TOOL_PAPER;
+    double lo = 10 * PI / 180, hi = 170 * PI / 180;
+    exdex_tool_opt_result res;
+    static const double bad_a1[4] = {1e16, -8.3e128, 1.0000000001e6, -DBL_MAX};
+    for (int i = 0; i < 4; i++) {
+        exdex_tool_def t = {bad_a1[i], 0.0, 0, 0.0};
+        ENSURE(exdex_tool_optimise_theta(&p, &t, lo, hi, 9, 1e-8, NULL, &res) == EXDEX_EINVAL);
+    }
+    {
+        exdex_tool_def t = {0.0, 0.0, 0, 0.0};
+        ENSURE(exdex_tool_optimise_theta(&p, &t, lo, 2e6, 9, 1e-8, NULL, &res) == EXDEX_EINVAL);
+        ENSURE(exdex_tool_optimise_theta(&p, &t, -2e6, hi, 9, 1e-8, NULL, &res) == EXDEX_EINVAL);
+    }
+    for (int sg = -1; sg <= 1; sg += 2) {
+        exdex_tool_def t = {sg * EXDEX_TOOL_ANGLE_MAX, 0.0, 0, 0.0};
+        ENSURE(exdex_tool_optimise_theta(&p, &t, lo, hi, 9, 1e-8, NULL, &res) == EXDEX_OK);
+        double th = res.x[1] - res.x[0];
+        ENSURE(res.x[0] == t.alpha1);
+        ENSURE(th >= lo - 2.4e-10 && th <= hi + 2.4e-10);
+    }
+}
