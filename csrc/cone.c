@@ -990,6 +990,13 @@ int exdex_tool_optimise_theta(const exdex_tool_problem *p, const exdex_tool_def 
     if (!tool || !res || exdex_tool_problem_check(p, NULL) || !isfinite(theta_lo) ||
         !isfinite(theta_hi) || !(theta_hi > theta_lo) || n_scan < 3 || !(xtol > 0.0))
         return EXDEX_EINVAL;
+    // alpha2 = alpha1 + theta resolves theta to eps (|alpha1| + |theta|): for
+    // |alpha1| ~ 1e16 theta is lost entirely (found by fuzzing: alpha1 ~ 1e128
+    // gave alpha2 - alpha1 = 0 outside [theta_lo, theta_hi]). Bounded angles
+    // keep the returned theta within 2.3e-10 rad of the one evaluated.
+    if (!(fabs(tool->alpha1) <= EXDEX_TOOL_ANGLE_MAX) || !(fabs(theta_lo) <= EXDEX_TOOL_ANGLE_MAX) ||
+        !(fabs(theta_hi) <= EXDEX_TOOL_ANGLE_MAX))
+        return EXDEX_EINVAL;
     theta_ctx ctx = {p, *tool, EXDEX_OK, 0};
     // Coarse scan (Eq. 12 over a grid of theta); keep the first best value.
     int best = 0;

@@ -477,7 +477,13 @@ typedef struct exdex_tool_opt_result {
  * objective with alpha2 = alpha1 + theta (tool->alpha1, plunger, s kept):
  * n_scan >= 3 equally spaced values, then GSL Brent on the two scan cells
  * around the best value, to |dtheta| <= max(xtol, 3e-8 max(1, |theta|)) (Brent's
- * resolution is ~sqrt(DBL_EPSILON)). scan_f (n_scan,) may be NULL. */
+ * resolution is ~sqrt(DBL_EPSILON)). scan_f (n_scan,) may be NULL.
+ * EXDEX_EINVAL also for |tool->alpha1|, |theta_lo| or |theta_hi| beyond
+ * EXDEX_TOOL_ANGLE_MAX [rad]: alpha1 + theta resolves theta only to
+ * eps (|alpha1| + |theta|), so theta = alpha2 - alpha1 (res->x) would leave
+ * [theta_lo, theta_hi] (for |alpha1| ~ 1e16 theta is lost entirely); within
+ * the bound res->x[1] - res->x[0] is the theta evaluated to 2.3e-10 rad. */
+#define EXDEX_TOOL_ANGLE_MAX 1e6
 int exdex_tool_optimise_theta(const exdex_tool_problem *p, const exdex_tool_def *tool,
                               double theta_lo, double theta_hi, int n_scan, double xtol,
                               double *scan_f, exdex_tool_opt_result *res);

@@ -295,7 +295,14 @@ exdex_motion *exdex_motion_alloc(const exdex_motion_def *def, const double R0[9]
             ok = fail(status, bad_param, "motion.duration");
         if (ok) {
             m->rotation = def->rotation;
-            for (int i = 0; i < 3; i++) m->axis[i] = def->axis[i] / na;
+            /* scale by the largest component first: na itself overflows to
+             * inf for components near DBL_MAX (found by fuzzing: the axis
+             * became 0 and Rot(axis, s) lost orthonormality) */
+            double big = 0.0, sum = 0.0;
+            for (int i = 0; i < 3; i++)
+                if (fabs(def->axis[i]) > big) big = fabs(def->axis[i]);
+            for (int i = 0; i < 3; i++) sum += (def->axis[i] / big) * (def->axis[i] / big);
+            for (int i = 0; i < 3; i++) m->axis[i] = (def->axis[i] / big) / sqrt(sum);
             if (m->rotation)
                 for (int i = 0; i < 3; i++) {
                     m->center[i] = def->center[i];

@@ -670,6 +670,16 @@ static PyObject *optimise_theta_fn(PyObject *module, PyObject *args, PyObject *k
         PyErr_SetString(PyExc_ValueError, "alpha1 and s must be finite");
         return NULL;
     }
+    if (!(fabs(tool.alpha1) <= EXDEX_TOOL_ANGLE_MAX) || !(fabs(tlo) <= EXDEX_TOOL_ANGLE_MAX) ||
+        !(fabs(thi) <= EXDEX_TOOL_ANGLE_MAX)) {
+        char msg[96];
+        snprintf(msg, sizeof msg, "%s must lie in [-%g, %g] [rad]",
+                 !(fabs(tool.alpha1) <= EXDEX_TOOL_ANGLE_MAX) ? "alpha1"
+                 : !(fabs(tlo) <= EXDEX_TOOL_ANGLE_MAX)      ? "theta_lo" : "theta_hi",
+                 EXDEX_TOOL_ANGLE_MAX, EXDEX_TOOL_ANGLE_MAX);
+        PyErr_SetString(PyExc_ValueError, msg);
+        return NULL;
+    }
     if (parse_problem(&pa, shapes, phi_obj, lo_obj, hi_obj, mu_obj, push_obj, model_obj))
         return NULL;
     npy_intp dims[1] = {n_scan};

@@ -7,7 +7,9 @@
  * in [0, box volume]; with no rows the volume is the box volume; adding a row
  * never increases the volume; a half-space and its complement fill the box;
  * scaling the rows by a positive factor leaves the volume unchanged (all to
- * the stated accuracy 16 (1 + m) eps box, for every box); the
+ * the stated accuracy 16 (1 + m) eps box, for every box; a scaling that
+ * rounds the rows adds the bound round_tol on the change of the exact
+ * volume); the
  * vectorised exact method matches the single call bit for bit. */
 #include "fuzz.h"
 
@@ -29,6 +31,34 @@ static double boxvol(const double lo[3], const double hi[3])
 static double vol_tol(const double lo[3], const double hi[3], int m)
 {
     return 16.0 * (1 + m) * 2.220446049250313e-16 * boxvol(lo, hi) + 4 * 4.9406564584124654e-324;
+}
+
+/* Bound on the change of the exact volume when every row coefficient is
+ * perturbed by a relative u = eps/2 (rounding of c a_j; the cone of c a is
+ * that of a, so fl(c a_j) = c a_j (1 + d_j) acts as a_j (1 + d_j)). For
+ * x in the box the row's value changes by |sum_j d_j a_j x_j| <= E =
+ * u sum_j |a_j| X_j, X_j = max(|lo_j|, |hi_j|), so the sign can change only
+ * in the slab |a . x| <= E, whose part in the box is at most 2 E / |a_j| wide
+ * along any x_j with a_j != 0: volume <= box * min(1, 2 E / max_j |a_j| w_j).
+ * The cones differ only where some row changes sign: sum over the rows. (The
+ * bound is evaluated in floating point; its own rounding is a relative few
+ * eps of a bound that is itself not tight.) */
+static double round_tol(const double *rows, int m, const double lo[3], const double hi[3])
+{
+    double bv = boxvol(lo, hi), t = 0.0;
+    for (int r = 0; r < m; r++) {
+        const double *a = rows + 3 * r;
+        double E = 0.0, den = 0.0;
+        for (int j = 0; j < 3; j++) {
+            double X = fmax(fabs(lo[j]), fabs(hi[j])), aw = fabs(a[j]) * (hi[j] - lo[j]);
+            E += fabs(a[j]) * X;
+            if (aw > den) den = aw;
+        }
+        E *= 0.5 * 2.220446049250313e-16;
+        if (E == 0.0) continue;  /* all-zero row: no constraint */
+        t += bv * fmin(1.0, 2.0 * E / den);  /* den 0 (underflow): 1 */
+    }
+    return t;
 }
 
 int fuzz_cone(const uint8_t *data, size_t size)
@@ -106,11 +136,19 @@ int fuzz_cone(const uint8_t *data, size_t size)
                 st = exdex_cone_volume_exact(rows, m - 1, lo, hi, &v2);
                 CONE_INV(st == EXDEX_OK && v2 >= v - 2 * tol);
             }
-            /* positive scaling of the rows changes nothing */
+            /* positive scaling of the rows changes nothing: by 4 the rows
+             * stay exact (the cone is the same), so the two volumes differ by
+             * the tolerances of both; 4 a_j may overflow (EINVAL) */
+            for (int i = 0; i < 3 * m; i++) rows2[i] = 4.0 * rows[i];
+            st = exdex_cone_volume_exact(rows2, m, lo, hi, &v2);
+            if (fz_all_finite(rows2, 3 * (size_t)m)) CONE_INV(st == EXDEX_OK && fabs(v2 - v) <= 2 * tol);
+            /* by 3 the rows round, which changes the exact volume itself
+             * (round_tol: a relative eps/2 in a row far from its box moves the
+             * plane by much more than the box size times eps) */
             for (int i = 0; i < 3 * m; i++) rows2[i] = 3.0 * rows[i];
             st = exdex_cone_volume_exact(rows2, m, lo, hi, &v2);
-            /* 3 a_j may overflow (EINVAL); it rounds: the tolerances of both */
-            if (fz_all_finite(rows2, 3 * (size_t)m)) CONE_INV(st == EXDEX_OK && fabs(v2 - v) <= 2 * tol);
+            if (fz_all_finite(rows2, 3 * (size_t)m))
+                CONE_INV(st == EXDEX_OK && fabs(v2 - v) <= 2 * tol + round_tol(rows, m, lo, hi));
             /* a half-space and its complement fill the box */
             if (m > 0) {
                 double va, vb;

@@ -8,7 +8,9 @@
  * entry point; EXDEX_OK gives at most EXDEX_CONE_MAX_ROWS finite rows (rows
  * that overflow, from data near DBL_MAX, give EXDEX_ENONFINITE),
  * volumes in [0, box volume], an objective equal to the sum of the volumes,
- * and optimum values that are finite and no worse than the scan. */
+ * and optimum values that are finite and no worse than the scan; the
+ * optimised theta lies in [theta_lo, theta_hi] (angles beyond
+ * EXDEX_TOOL_ANGLE_MAX give EXDEX_EINVAL). */
 #include "fuzz.h"
 
 #include <math.h>
@@ -137,12 +139,17 @@ int fuzz_tool(const uint8_t *data, size_t size)
                         st == EXDEX_ENONFINITE);
             if (!isfinite(th_lo) || !isfinite(th_hi) || !(th_hi > th_lo) || n_scan < 3 || !(xtol > 0))
                 FZ_CHECK(T, st == EXDEX_EINVAL);
+            /* angles beyond the bound: alpha1 + theta cannot resolve theta */
+            if (!(fabs(tool.alpha1) <= EXDEX_TOOL_ANGLE_MAX) || !(fabs(th_lo) <= EXDEX_TOOL_ANGLE_MAX) ||
+                !(fabs(th_hi) <= EXDEX_TOOL_ANGLE_MAX))
+                FZ_CHECK(T, st == EXDEX_EINVAL);
             if (st == EXDEX_OK) {
                 double th = res.x[1] - res.x[0];
                 /* s is handed back as given (it is unused without a plunger) */
                 FZ_CHECK(T, isfinite(res.f) && fz_all_finite(res.x, 2) && (res.x[2] == tool.s || isnan(tool.s)));
-                /* alpha1 beyond ~1e16 swallows theta in alpha1 + theta */
-                FZ_EXTREME(T, &f, th >= th_lo - 1e-9 * (1 + fabs(th_lo)) && th <= th_hi + 1e-9 * (1 + fabs(th_hi)));
+                /* every accepted input: |alpha1|, |theta| <= EXDEX_TOOL_ANGLE_MAX
+                 * (1e6) make th off by <= eps/2 (2e6) = 2.3e-10 at most */
+                FZ_CHECK(T, th >= th_lo - 1e-9 * (1 + fabs(th_lo)) && th <= th_hi + 1e-9 * (1 + fabs(th_hi)));
                 if (use_scan)
                     for (int i = 0; i < n_scan; i++) FZ_CHECK(T, res.f <= scan[i]);
             }

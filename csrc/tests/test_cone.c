@@ -4,6 +4,7 @@
 #include "check.h"
 #include "../exdex.h"
 
+#include <float.h>
 #include <stdlib.h>
 
 static const double PI = 3.14159265358979323846;
@@ -570,4 +571,67 @@ EXDEX_TEST(cone_rows_overflow_status)
     p.phi = &phi;
     phi = -PI / 4;
     ENSURE(exdex_tool_objective(&p, &t, &f) == EXDEX_ENONFINITE);
+}
+
+EXDEX_TEST(cone_exact_far_small_box_rounded_rows_exact_rational)
+{
+    /* Fuzzing (fuzz_cone.c, scaling check) found v(3 a) != v(a) beyond the
+     * stated accuracy for this small box (w = 1e-3) about 5 from the apex
+     * with two nearly parallel rows. Not a defect of the method: 3 a_j
+     * rounds, and the exact volumes of the two sets of doubles differ by
+     * 1.8e-13 box volumes. References: exact rational arithmetic (Python
+     * fractions: vertex enumeration of the clipped box and the divergence
+     * theorem) on the very doubles below and on fl(3 a_j), each rounded once
+     * to double. Both volumes are checked to 16 (1 + m) eps box. */
+    const double rows[15] = {
+        -0x1.d4fc9ffe14386p+0, 0x1.2eb467116df6ep+0, 0x1.4cacc45ad36ep-1,
+        -0x1.39cd179f1b31ep+0, 0x1.ab5b6435bebep-4, 0x1.7a14cce53bf9p-3,
+        0x1.eab842f9d4d4p+0, -0x1.377c04bb0a8bap+0, -0x1.0ac0a9eaaa426p+0,
+        0x1.de33739e82d32p-5, -0x1.ff207e2b9cbb6p-1, -0x1.e21cc8c617d2dp-2,
+        0x1.de33739e82d32p-5, -0x1.ff207e2b9cbb6p-1, -0x1.0ef19b9cf416ap-1};
+    const double lo[3] = {-3.0, -3.0, -3.0};
+    const double hi[3] = {-0x1.7fdf3b645a1cbp+1, -0x1.7fdf3b645a1cbp+1, -0x1.7fdf3b645a1cbp+1};
+    const double V1 = 1.7846567860402642e-10, V3 = 1.7846567860385033e-10;
+    double r3[15], v = -1.0, bv = 1.0;
+    for (int j = 0; j < 3; j++) bv *= hi[j] - lo[j];
+    for (int i = 0; i < 15; i++) r3[i] = 3.0 * rows[i];
+    ENSURE(exdex_cone_volume_exact(rows, 5, lo, hi, &v) == EXDEX_OK);
+    ENSURE(fabs(v - V1) <= 16.0 * 6 * DBL_EPSILON * bv);
+    ENSURE(exdex_cone_volume_exact(r3, 5, lo, hi, &v) == EXDEX_OK);
+    ENSURE(fabs(v - V3) <= 16.0 * 6 * DBL_EPSILON * bv);
+    /* the premise: the rounding of 3 a alone moves the exact volume by more
+     * than the method's accuracy */
+    ENSURE(fabs(V1 - V3) > 2 * 16.0 * 6 * DBL_EPSILON * bv);
+}
+
+EXDEX_TEST(cone_optimise_theta_angle_bound)
+{
+    // alpha2 = alpha1 + theta resolves theta to eps (|alpha1| + |theta|)
+    // only: angles beyond EXDEX_TOOL_ANGLE_MAX are rejected (fuzzing found
+    // alpha1 ~ 1e128 returning theta = alpha2 - alpha1 = 0 outside the
+    // range). At the bound, the returned theta is the one evaluated to
+    // eps/2 * 2e6 = 2.3e-10 rad, so it lies in [lo, hi] to that.
+    int nv = 4;
+    double phis[2] = {5.0 * PI / 180, 25.0 * PI / 180};
+    exdex_tool_problem p = square_problem(phis, 2, &nv);
+    p.model = EXDEX_TOOL_PAPER;
+    double lo = 10 * PI / 180, hi = 170 * PI / 180;
+    exdex_tool_opt_result res;
+    static const double bad_a1[4] = {1e16, -8.3e128, 1.0000000001e6, -DBL_MAX};
+    for (int i = 0; i < 4; i++) {
+        exdex_tool_def t = {bad_a1[i], 0.0, 0, 0.0};
+        ENSURE(exdex_tool_optimise_theta(&p, &t, lo, hi, 9, 1e-8, NULL, &res) == EXDEX_EINVAL);
+    }
+    {
+        exdex_tool_def t = {0.0, 0.0, 0, 0.0};
+        ENSURE(exdex_tool_optimise_theta(&p, &t, lo, 2e6, 9, 1e-8, NULL, &res) == EXDEX_EINVAL);
+        ENSURE(exdex_tool_optimise_theta(&p, &t, -2e6, hi, 9, 1e-8, NULL, &res) == EXDEX_EINVAL);
+    }
+    for (int sg = -1; sg <= 1; sg += 2) {
+        exdex_tool_def t = {sg * EXDEX_TOOL_ANGLE_MAX, 0.0, 0, 0.0};
+        ENSURE(exdex_tool_optimise_theta(&p, &t, lo, hi, 9, 1e-8, NULL, &res) == EXDEX_OK);
+        double th = res.x[1] - res.x[0];
+        ENSURE(res.x[0] == t.alpha1);
+        ENSURE(th >= lo - 2.4e-10 && th <= hi + 2.4e-10);
+    }
 }

@@ -881,3 +881,38 @@ EXDEX_TEST(motion_bad_input)
         exdex_motion_free(m);
     }
 }
+
+EXDEX_TEST(motion_rotation_axis_near_dbl_max)
+{
+    /* The axis is normalised (exdex.h): components near DBL_MAX are a valid
+     * axis whose Euclidean norm overflows. Found by fuzzing: the axis became
+     * 0 and R = cos(s) I lost orthonormality. Closed form at t = T of an
+     * asymmetric profile (s = X1, Eq. 8): R = Rot(u, X1) with
+     * u = (-1, 0, 1)/sqrt(2), so R u = u and trace R = 1 + 2 cos X1. */
+    static const double big[2] = {DBL_MAX, 1e308};
+    for (int b = 0; b < 2; b++) {
+        exdex_motion_def d = zero_def();
+        const double u[3] = {-1.0 / sqrt(2.0), 0.0, 1.0 / sqrt(2.0)};
+        const double th1 = 1.0;
+        exdex_kinematics k;
+        int status = -1;
+        const char *bad = NULL;
+        exdex_motion *m;
+        d.kind = EXDEX_MOTION_ASYMMETRIC;
+        d.rotation = 1;
+        d.axis[0] = -big[b]; d.axis[1] = 0.0; d.axis[2] = big[b];
+        d.amplitude = th1; d.duration = 1.0; d.beta = 0.5;
+        m = exdex_motion_alloc(&d, NULL, NULL, &status, &bad);
+        ENSURE(m != NULL && status == EXDEX_OK);
+        if (!m) continue;
+        ENSURE(exdex_motion_eval(m, 1.0, &k) == EXDEX_OK);
+        ENSURE_SMALL(orth_err(k.R), 1e-14);
+        ENSURE_CLOSE(det3(k.R), 1.0, 1e-14);
+        ENSURE_CLOSE(k.R[0] + k.R[4] + k.R[8], 1.0 + 2.0 * cos(th1), 1e-14);
+        {
+            double Ru[3] = {dot3(k.R, u), dot3(k.R + 3, u), dot3(k.R + 6, u)};
+            ENSURE_SMALL(dist3(Ru, u), 1e-15);
+        }
+        exdex_motion_free(m);
+    }
+}
