@@ -261,6 +261,19 @@ def test_optimise_theta_matches_dense_numpy_scan():
     assert np.all(res.objective <= res.scan_objective + 1e-15)
 
 
+def test_optimise_theta_rejects_unresolvable_angles():
+    """Angles beyond 1e6 rad leave no resolution for theta in alpha2 =
+    alpha1 + theta (the fuzzer's alpha1 = -8.3e128 lost theta entirely): a
+    ValueError naming the parameter and the range, not a wrong optimum."""
+    prob = T.ToolProblem(phi=T.phi_set(0, 45, 15.0), model="paper")
+    with pytest.raises(ValueError, match=r"alpha1.*1e\+06"):
+        T.optimise_theta(prob, n_scan=5, alpha1=-8.3e128)
+    with pytest.raises(ValueError, match=r"theta_hi.*1e\+06"):
+        T.optimise_theta(prob, theta_range=(0.5, 2e6), n_scan=5)
+    res = T.optimise_theta(prob, n_scan=5, alpha1=2.0 * math.pi * 1000)   # within the bound
+    assert math.radians(1) <= res.theta <= math.radians(179)
+
+
 def test_multimin_one_parameter_matches_brent():
     prob = T.ToolProblem(phi=T.phi_set(0, 45, 5.0), model="paper")
     res = T.optimise_theta(prob)
