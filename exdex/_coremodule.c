@@ -272,18 +272,29 @@ PyDoc_STRVAR(simulate_doc,
 "exdex.Scene.to_spec(); use exdex.simulate() instead of calling this directly.\n"
 "Returns a dict of arrays t, q, v, wrench, stick, stop_force and a stats dict.");
 
-/* Run `model` over (t_end, dt) with the GIL released and return the result
- * dict of simulate(); NULL with an exception set. */
-static PyObject *run_model(PyObject *module, const exdex_model *model, double t_end, double dt)
+/* exdex_simulate with the GIL released; 0, or -1 with the library exception set. */
+static int simulate_released(PyObject *module, const exdex_model *model, double t_end, double dt,
+                             exdex_trajectory *tr, exdex_stats *st)
+{
+    int status;
+    Py_BEGIN_ALLOW_THREADS
+    status = exdex_simulate(model, t_end, dt, tr, st);
+    Py_END_ALLOW_THREADS
+    if (!status) return 0;
+    raise_status(module, status, "simulate", NULL);
+    return -1;
+}
+
+/* Run `model` over (t_end, dt), already checked (check_times gave n
+ * samples), and return the result dict of simulate(); NULL with an
+ * exception set. */
+static PyObject *run_model(PyObject *module, const exdex_model *model, double t_end, double dt, size_t n)
 {
     PyObject *result = NULL, *stats = NULL;
     PyArrayObject *t = NULL, *q = NULL, *v = NULL, *wr = NULL, *stick = NULL, *sf = NULL;
     exdex_trajectory tr;
     exdex_stats st;
-    int status, ndof = exdex_model_ndof(model), nstops = exdex_model_nstops(model);
-    size_t n;
-
-    if (check_times(t_end, dt, &n)) return NULL;
+    int ndof = exdex_model_ndof(model), nstops = exdex_model_nstops(model);
     {
         npy_intp d1[1] = {(npy_intp)n}, d2[2] = {(npy_intp)n, ndof}, d3[2] = {(npy_intp)n, 3},
                  d4[2] = {(npy_intp)n, nstops};
@@ -302,13 +313,7 @@ static PyObject *run_model(PyObject *module, const exdex_model *model, double t_
     tr.wrench = PyArray_DATA(wr);
     tr.stick = PyArray_DATA(stick);
     tr.stop_force = nstops ? PyArray_DATA(sf) : NULL;
-    Py_BEGIN_ALLOW_THREADS
-    status = exdex_simulate(model, t_end, dt, &tr, &st);
-    Py_END_ALLOW_THREADS
-    if (status) {
-        raise_status(module, status, "simulate", NULL);
-        goto done;
-    }
+    if (simulate_released(module, model, t_end, dt, &tr, &st)) goto done;
     stats = stats_dict(&st);
     if (!stats) goto done;
     result = Py_BuildValue("{s:O,s:O,s:O,s:O,s:O,s:O,s:O}", "t", t, "q", q, "v", v, "wrench", wr, "stick",
@@ -352,7 +357,7 @@ static PyObject *core_simulate(PyObject *module, PyObject *args, PyObject *kwds)
     if (check_times(t_end, dt, &n)) return NULL;
     model = model_from_spec(module, spec);
     if (!model) return NULL;
-    result = run_model(module, model, t_end, dt);
+    result = run_model(module, model, t_end, dt, n);
     exdex_model_free(model);
     return result;
 }
@@ -409,9 +414,11 @@ static PyObject *Model_simulate(PyObject *self, PyObject *args, PyObject *kwds)
 {
     static char *kwlist[] = {"t_end", "dt", NULL};
     double t_end, dt;
+    size_t n;
     ModelObject *mo = (ModelObject *)self;
     if (!PyArg_ParseTupleAndKeywords(args, kwds, "dd", kwlist, &t_end, &dt)) return NULL;
-    return run_model(mo->module, mo->model, t_end, dt);
+    if (check_times(t_end, dt, &n)) return NULL;
+    return run_model(mo->module, mo->model, t_end, dt, n);
 }
 
 PyDoc_STRVAR(Model_final_doc,
@@ -425,7 +432,7 @@ static PyObject *Model_final(PyObject *self, PyObject *args, PyObject *kwds)
     static char *kwlist[] = {"t_end", "dt", NULL};
     double t_end, dt;
     ModelObject *mo = (ModelObject *)self;
-    int ndof = exdex_model_ndof(mo->model), nstops = exdex_model_nstops(mo->model), status, i;
+    int ndof = exdex_model_ndof(mo->model), nstops = exdex_model_nstops(mo->model), i;
     size_t n, per;
     double *buf;
     unsigned char *stick;
@@ -451,13 +458,7 @@ static PyObject *Model_final(PyObject *self, PyObject *args, PyObject *kwds)
     tr.wrench = tr.v + n * (size_t)ndof;
     tr.stop_force = nstops ? tr.wrench + 3 * n : NULL;
     tr.stick = stick;
-    Py_BEGIN_ALLOW_THREADS
-    status = exdex_simulate(mo->model, t_end, dt, &tr, &st);
-    Py_END_ALLOW_THREADS
-    if (status) {
-        raise_status(mo->module, status, "simulate", NULL);
-        goto done;
-    }
+    if (simulate_released(mo->module, mo->model, t_end, dt, &tr, &st)) goto done;
     q = PyTuple_New(ndof);
     v = PyTuple_New(ndof);
     if (!q || !v) goto done;

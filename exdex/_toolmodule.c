@@ -672,11 +672,12 @@ static PyObject *optimise_theta_fn(PyObject *module, PyObject *args, PyObject *k
     }
     if (!(fabs(tool.alpha1) <= EXDEX_TOOL_ANGLE_MAX) || !(fabs(tlo) <= EXDEX_TOOL_ANGLE_MAX) ||
         !(fabs(thi) <= EXDEX_TOOL_ANGLE_MAX)) {
-        char msg[96];
-        snprintf(msg, sizeof msg, "%s must lie in [-%g, %g] [rad]",
-                 !(fabs(tool.alpha1) <= EXDEX_TOOL_ANGLE_MAX) ? "alpha1"
-                 : !(fabs(tlo) <= EXDEX_TOOL_ANGLE_MAX)      ? "theta_lo" : "theta_hi",
-                 EXDEX_TOOL_ANGLE_MAX, EXDEX_TOOL_ANGLE_MAX);
+        const char *name = !(fabs(tool.alpha1) <= EXDEX_TOOL_ANGLE_MAX) ? "alpha1"
+                           : !(fabs(tlo) <= EXDEX_TOOL_ANGLE_MAX)      ? "theta_lo"
+                                                                      : "theta_hi";
+        char msg[96];   /* PyErr_Format has no %g */
+        PyOS_snprintf(msg, sizeof msg, "%s must lie in [-%g, %g] [rad]", name, EXDEX_TOOL_ANGLE_MAX,
+                      EXDEX_TOOL_ANGLE_MAX);
         PyErr_SetString(PyExc_ValueError, msg);
         return NULL;
     }
