@@ -1311,8 +1311,18 @@ static int locate(hyb *H, ode *O, double t0, const double *y0, double tau1, int 
         hi = gsl_root_fsolver_x_upper(O->root);
         if (hi - lo <= ROOT_TOL) break;
     }
-    /* the upper end, unless the guard is not yet violated there */
-    if (root_fn(hi, &c) > 0.0 && hi < tau1) hi = fmin(tau1, hi + ROOT_TOL);
+    /* The event is the first point where the guard is violated (g < 0):
+     * Brent may stop on a point with g >= 0 (an exact zero included, where
+     * the mode would be decided again unchanged and the switch be missed
+     * until the next step). Step forward from it, doubling, to a point with
+     * g < 0 (g(tau1) < 0 bounds the search). */
+    {
+        double d = fmax(ROOT_TOL, 4.0 * DBL_EPSILON * fabs(t0 + hi));
+        for (int k = 0; k < 64 && hi < tau1 && !(root_fn(hi, &c) < 0.0) && !c.fail; k++) {
+            hi = fmin(tau1, hi + d);
+            d *= 2.0;
+        }
+    }
     if (c.fail) return EXDEX_ENOCONV;
     *tau = hi;
     return EXDEX_OK;
