@@ -144,6 +144,7 @@
 #define NY_MAX (9 + EXDEX_MAX_STOPS)
 #define NG_MAX (2 + MAX_ROWS)  /* guards */
 #define SLIP_SMALL 1e3   /* planar slip: below SLIP_SMALL atol of |E u| the slip is "small" [units of atol] */
+#define SLIP_PUSH 4.0    /* a stop pushing a stopped planar slip on below SLIP_PUSH zsw: a rest instead */
 #define REST_GAP 1e-9     /* planar rest against stops: a set row whose |gap| exceeds this ends it [m] */
 
 enum { LAW_COULOMB = 0, LAW_SMOOTH = 1 };
@@ -328,7 +329,8 @@ static double planar_rest(hyb *H, const exdex_kinematics *kin, const double *y, 
  * a patch wrench; the stop forces of a rest against stops are not part of
  * it), slip the sliding law (the maximum-dissipation direction from rest),
  * regularised the smooth law. */
-static int planar_friction(hyb *H, const frame *f, const double *y, double F[3], double w[3])
+static int planar_friction(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y, double F[3],
+                           double w[3])
 {
     const exdex_model *m = H->m;
     double th = y[2];
@@ -364,6 +366,30 @@ static int planar_friction(hyb *H, const frame *f, const double *y, double F[3],
             st = exdex_friction_solve(&m->prep, b, H->cap, EXDEX_SOLVER_SCALAR, NULL, NULL, &res);
             if (st) return st;
             memcpy(w, res.p, 3 * sizeof *w);
+            if (H->ncs && kin) {
+                /* against stops the slip starts along the constrained
+                 * acceleration: the friction and the stop forces are
+                 * found together, by the fixed point w = -C E^2 E u'/|E u'|
+                 * of u' the patch slip of the M-metric projection of the
+                 * free acceleration (bounded; the last iterate is kept) */
+                for (int it = 0; it < 16; it++) {
+                    double P[3], a[3], qdd[3], lam[MAX_ROWS], ua[3], ea[3], sa, wn[3], d = 0.0;
+                    model_gen_of_patch(m, MODEL_CS(th), w, P);
+                    for (int i = 0; i < 3; i++) a[i] = m->minv[i] * (F[i] + P[i]);
+                    contact_acc_planar(H, kin, y, a, qdd, lam, NULL);
+                    model_patch_slip(m, MODEL_CS(th), qdd, ua);
+                    for (int i = 0; i < 3; i++) ea[i] = m->e[i] * ua[i];
+                    sa = sqrt(ex_dot3(ea, ea));
+                    if (!(sa > 0.0)) break;
+                    for (int i = 0; i < 3; i++) {
+                        wn[i] = -H->cap * m->e[i] * ea[i] / sa;
+                        d = fmax(d, fabs(wn[i] - w[i]) / m->e[i]);
+                        w[i] = wn[i];
+                    }
+                    H->st->stop_iterations++;
+                    if (d <= 1e-12 * H->cap) break;
+                }
+            }
         }
     }
     return EXDEX_OK;
@@ -376,7 +402,7 @@ static void planar_prune_set(hyb *H, const frame *f, const exdex_kinematics *kin
     double F[3], w[3], P[3], a[3], qdd[3], lam[MAX_ROWS];
     int n = 0;
     if (!H->ncs || H->mode == MODE_STICK) return;
-    if (planar_friction(H, f, y, F, w)) return;
+    if (planar_friction(H, f, kin, y, F, w)) return;
     model_gen_of_patch(H->m, MODEL_CS(y[2]), w, P);
     for (int i = 0; i < 3; i++) a[i] = H->m->minv[i] * (F[i] + P[i]);
     contact_acc_planar(H, kin, y, a, qdd, lam, NULL);
@@ -427,7 +453,7 @@ static int rhs(double t, const double y[], double dy[], void *params)
     } else {
         double F[3], w[3], P[3], th = y[2];
         const double *v = y + 3;
-        st = planar_friction(H, &f, y, F, w);
+        st = planar_friction(H, &f, &kin, y, F, w);
         if (st) {
             if (!H->err) H->err = st;
             return GSL_EBADFUNC;
@@ -543,7 +569,7 @@ static int guards(hyb *H, double t, const double *y, double *g)
                 }
             } else if (H->ncs) {
                 double F[3], w[3], P[3], a[3], qdd[3], lam[MAX_ROWS], acc[MAX_ROWS];
-                int st = planar_friction(H, &f, y, F, w);
+                int st = planar_friction(H, &f, &kin, y, F, w);
                 if (st) {
                     H->err = H->err ? H->err : st;
                     return 0;
@@ -640,7 +666,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
                 planar_impact_and_set(H, &kin, y);
                 model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
                 for (int i = 0; i < 3; i++) eu[i] = m->e[i] * u[i];
-                if ((y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0) && sqrt(ex_dot3(eu, eu)) < H->zsw) {
+                if ((y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0) && sqrt(ex_dot3(eu, eu)) < SLIP_PUSH * H->zsw) {
                     double G[3];
                     memcpy(y + 9, ysv, (size_t)H->ns * sizeof *ysv);
                     y[3] = y[4] = y[5] = 0.0;

@@ -28,7 +28,7 @@ def implicit_extrapolated(scene, t_end, dt):
 
 def grip_scene(grip):
     return Scene(body=Body.box(0.1, (0.06, 0.03, 0.02)),
-                 grasp=Grasp(mu=0.5, grip_force=grip, patch=Patch.rectangle(0.01, 0.01, center=(0.015, 0))),
+                 grasp=Grasp(mu=0.5, grip_force=grip, patch=Patch.rectangle(0.02, 0.02, center=(0.015, 0))),
                  dof="planar")
 
 
