@@ -355,7 +355,7 @@ def test_hold_quick_exdex_is_exactly_zero_and_table_complete(tmp_path):
     assert all(s in text for s in settings)
 
 
-@pytest.mark.parametrize("command", ["compare", "hold"])
+@pytest.mark.parametrize("command", ["compare", "hold", "bench"])
 def test_engine_commands_name_the_missing_extra(command, tmp_path):
     code = ("import sys; sys.modules['pydrake'] = None; from exdex.cli import main; "
             f"sys.exit(main([{command!r}, '--out', {str(tmp_path)!r}]))")
