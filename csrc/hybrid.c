@@ -252,8 +252,41 @@ static void planar_impact_and_set(hyb *H, const exdex_kinematics *kin, double *y
     H->ncs = 0;
     if (!n) return;
     if (ldp_project(m->minv, n, (const double (*)[3])Gr, b, y + 3, FQ_MIN, v, lam, &H->st->stop_iterations, &H->st->warnings)) {
+        double G2[2 * MAX_ROWS][3], b2[2 * MAX_ROWS], lam2[2 * MAX_ROWS], v2[3];
+        int n2 = 0, lift = 0;
         for (int i = 0; i < n; i++) y[9 + rows[i] / H->nv] += lam[i];
         memcpy(y + 3, v, sizeof v);
+        /* A plastic impact at one corner of a face that lands flat lifts
+         * the other corner off, which falls back, impacts, lifts the first:
+         * rates shrinking geometrically, events accumulating at a finite
+         * time (Zeno). Once the lift-off rates are below zsw the touching
+         * rows that would separate that slowly are held at rate 0 instead
+         * (equality rows, an M-metric projection again): the face rests. */
+        for (int i = 0; i < n; i++) {
+            double rate = ex_dot3(Gr[i], y + 3) - b[i];
+            if (rate > RATE_TOL && rate <= H->zsw) lift = 1;
+        }
+        for (int i = 0; lift && i < n; i++) {
+            double rate = ex_dot3(Gr[i], y + 3) - b[i];
+            if (rate > H->zsw) continue;
+            for (int c = 0; c < 3; c++) {
+                G2[n2][c] = Gr[i][c];
+                G2[n2 + 1][c] = -Gr[i][c];
+            }
+            b2[n2] = b[i];
+            b2[n2 + 1] = -b[i];
+            n2 += 2;
+        }
+        if (lift && ldp_project(m->minv, n2, (const double (*)[3])G2, b2, y + 3, FQ_MIN, v2, lam2,
+                                &H->st->stop_iterations, &H->st->warnings)) {
+            for (int i = 0, r = 0; i < n; i++) {
+                double rate = ex_dot3(Gr[i], y + 3) - b[i];
+                if (rate > H->zsw) continue;
+                y[9 + rows[i] / H->nv] += lam2[r] - lam2[r + 1];
+                r += 2;
+            }
+            memcpy(y + 3, v2, sizeof v2);
+        }
     }
     for (int i = 0; i < n; i++) {
         double rate = ex_dot3(Gr[i], y + 3) - b[i];
@@ -965,13 +998,46 @@ static double root_fn(double tau, void *p)
     return g[c->e];
 }
 
-/* Locate the root of guard e in [0, tau1] (g(0) > 0 > g(tau1)) with Brent;
+/* Golden-section search for the extremum of guard e over [0, tau1] on the
+ * stepper's map (dir +1: the minimum, -1: the maximum), at most 60
+ * iterations, stopping early once the guard has the sign sought (dir +1:
+ * g < 0, -1: g > 0). *tau, *g: the best point found. EXDEX_ENOCONV if the
+ * stepper fails. */
+static int guard_extremum(hyb *H, ode *O, double t0, const double *y0, double tau1, int e, double dir,
+                          double *tau, double *g)
+{
+    rootctx c = {H, O, t0, y0, e, 0};
+    double a = 0.0, b = tau1, r = 0.5 * (3.0 - sqrt(5.0));
+    double x1 = a + r * (b - a), x2 = b - r * (b - a), f1 = dir * root_fn(x1, &c), f2 = dir * root_fn(x2, &c);
+    for (int it = 0; it < 60 && f1 >= 0.0 && f2 >= 0.0 && !c.fail && b - a > ROOT_TOL; it++) {
+        if (f1 < f2) {
+            b = x2;
+            x2 = x1;
+            f2 = f1;
+            x1 = a + r * (b - a);
+            f1 = dir * root_fn(x1, &c);
+        } else {
+            a = x1;
+            x1 = x2;
+            f1 = f2;
+            x2 = b - r * (b - a);
+            f2 = dir * root_fn(x2, &c);
+        }
+        H->st->solver_iterations++;
+    }
+    if (c.fail || H->err) return H->err ? H->err : EXDEX_ENOCONV;
+    *tau = f1 < f2 ? x1 : x2;
+    *g = dir * (f1 < f2 ? f1 : f2);
+    return EXDEX_OK;
+}
+
+/* Locate the root of guard e in [tau0, tau1] (g(tau0) > 0 > g(tau1)) with Brent;
  * returns the upper end of the final bracket (the guard is just violated). */
-static int locate(hyb *H, ode *O, double t0, const double *y0, double tau1, int e, double *tau)
+static int locate(hyb *H, ode *O, double t0, const double *y0, double tau0, double tau1, int e, double *tau)
 {
     rootctx c = {H, O, t0, y0, e, 0};
     gsl_function F = {root_fn, &c};
-    double lo = 0.0, hi = tau1;
+    double lo = tau0, hi = tau1;
     int st = gsl_root_fsolver_set(O->root, &F, lo, hi);
     if (st) return EXDEX_ENOCONV;
     for (int it = 0; it < BRENT_MAX; it++) {
@@ -1124,33 +1190,11 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
                 double d0[NY_MAX], d1[NY_MAX];
                 if (rhs(t0, y0, d0, &H) == GSL_SUCCESS && rhs(t, y, d1, &H) == GSL_SUCCESS &&
                     H.s * d0[1] < 0.0 && H.s * d1[1] > 0.0) {
-                    rootctx c = {&H, O, t0, y0, 0, 0};
-                    double a = 0.0, b = t - t0, r = 0.5 * (3.0 - sqrt(5.0));
-                    double x1 = a + r * (b - a), x2 = b - r * (b - a), f1 = root_fn(x1, &c), f2 = root_fn(x2, &c);
-                    for (int it = 0; it < 60 && f1 >= 0.0 && f2 >= 0.0 && !c.fail; it++) {
-                        if (f1 < f2) {
-                            b = x2;
-                            x2 = x1;
-                            f2 = f1;
-                            x1 = a + r * (b - a);
-                            f1 = root_fn(x1, &c);
-                        } else {
-                            a = x1;
-                            x1 = x2;
-                            f1 = f2;
-                            x2 = b - r * (b - a);
-                            f2 = root_fn(x2, &c);
-                        }
-                        st->solver_iterations++;
-                        if (b - a <= ROOT_TOL) break;
-                    }
-                    if (c.fail || H.err) {
-                        status = H.err ? H.err : EXDEX_ENOCONV;
-                        break;
-                    }
-                    if (f1 < 0.0 || f2 < 0.0) {
+                    double tm, gm;
+                    status = guard_extremum(&H, O, t0, y0, t - t0, 0, 1.0, &tm, &gm);
+                    if (status) break;
+                    if (gm < 0.0) {
                         /* the step ends at the dip; the guard is violated there */
-                        double tm = f1 < 0.0 ? x1 : x2;
                         if (one_step(O, t0, y0, tm, y) != GSL_SUCCESS) {
                             status = EXDEX_ENOCONV;
                             break;
@@ -1169,13 +1213,30 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
                      * the decision at t0 keeps being undone (a tie: let the
                      * step decide, counted as a warning) */
                     if (!(g1[e] < g0[e] - 1e-13)) continue;
+                    {
+                        /* it may recover first and cross later within the
+                         * step (a corner lifted off a stop by an impact at
+                         * t0 falls back): locate that crossing */
+                        double tm, gm;
+                        status = guard_extremum(&H, O, t0, y0, t - t0, e, -1.0, &tm, &gm);
+                        if (status) break;
+                        if (gm > 0.0) {
+                            status = locate(&H, O, t0, y0, tm, t - t0, e, &tau);
+                            if (status) break;
+                            if (tau < tau_best) {
+                                tau_best = tau;
+                                e_best = e;
+                            }
+                            continue;
+                        }
+                    }
                     if (same >= 4) {
                         st->warnings++;
                         continue;
                     }
                     tau = 0.0;
                 } else {
-                    status = locate(&H, O, t0, y0, t - t0, e, &tau);
+                    status = locate(&H, O, t0, y0, 0.0, t - t0, e, &tau);
                     if (status) break;
                 }
                 if (tau < tau_best) {
@@ -1197,7 +1258,7 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
                 for (int e = 0; e < ng && !status; e++) {
                     double tau;
                     if (e == e_best || !(g0[e] > 0.0) || !(gt[e] < 0.0)) continue;
-                    status = locate(&H, O, t0, y0, tau_best, e, &tau);
+                    status = locate(&H, O, t0, y0, 0.0, tau_best, e, &tau);
                     if (!status && tau < tau_new) {
                         tau_new = tau;
                         e_new = e;
