@@ -19,9 +19,7 @@
  *   1-DoF scenes with stops, contact (the object follows a stop: the gap is
  *   held at 0 and the stop force comes from the constraint acceleration).
  *   Each mode has guard functions that are >= 0 while it holds:
- *     slip -> stop:   1-DoF s qd (s the slip direction); planar (E u).(E u_0),
- *                     u_0 the slip at the start of the step (the slip
- *                     reverses or vanishes);
+ *     slip -> stop:   1-DoF s qd (s the slip direction); planar, see below;
  *     stick -> slip:  C (1 + 1e-12) - |required friction| (the wrench that
  *                     would hold leaves the ellipsoid; the 1e-12 band keeps
  *                     loads sitting on the limit from toggling);
@@ -29,12 +27,35 @@
  *                     the stop force; in contact also the gaps of the
  *                     contact stop's other vertices (a turning gripper or
  *                     object hands the contact over to another corner).
+ *   Planar slip (|E u| compared with zsw = SLIP_SMALL atol, the speed below
+ *   which the error control does not resolve a slip's direction):
+ *     small slip (it grows from rest): the friction is the maximum-
+ *       dissipation wrench of the current load for an infinitesimal step
+ *       (against stops: the fixed point of that law on the constrained
+ *       acceleration). The sliding law's direction E u / |E u| relaxes onto
+ *       it at the rate C |K| / |E u| (K = E W E), infinitely stiff at the
+ *       start of a slip; the slip follows it to |E u| |dn/dt| / (C |K|) (n
+ *       that direction). Guards: the load leaves the ellipsoid's outside
+ *       (|E^-1 w_stick| - C (1 + TOLF): it stops), zsw - |E u| (it becomes
+ *       a slip, no state change);
+ *     slip: the sliding law. Guards: (E u).(E u_0), u_0 the slip at the
+ *       start of the step (it reverses: a stop if |E u| <= zsw there, else
+ *       a turn of the slip direction, which only renews u_0), and
+ *       |E u| - zsw (it dies out, also against stops, without reversing):
+ *       a stop sets qd = 0, so a slip's last zsw of speed is dropped.
  *   After every accepted step the guards are checked; the earliest sign change
  *   is located by GSL Brent on the stepper's own one-step map tau -> y(t0 +
- *   tau) (an interpolant of the stepper's order), and the mode is decided
- *   again there (slip stops with qd = 0 exactly; it sticks iff the required
- *   friction lies in the ellipsoid, else it slips on in the direction that
- *   the maximum-dissipation solve gives for an infinitesimal step). The
+ *   tau) (an interpolant of the stepper's order) at the first point where the
+ *   guard is violated (g < 0, not an exact zero that would decide the same
+ *   mode again), and the mode is decided again there (slip stops with qd = 0
+ *   exactly; it sticks iff the required friction lies in the ellipsoid, else
+ *   it slips on in the direction that the maximum-dissipation solve gives
+ *   for an infinitesimal step). A guard can change sign and back within one
+ *   step: a 1-DoF slip that stops and restarts the same way (s qd falling
+ *   then rising over the step: its minimum is searched, golden section on
+ *   the one-step map), and a guard violated at the step start that first
+ *   recovers (a corner lifted off a stop falling back: its maximum is
+ *   searched, and the crossing after it located). The
  *   motion's own switching times (Eq. 7, trapezoid kinks, end of a sampled
  *   motion) are stepped onto, never over, and velocity jumps of the gripper
  *   there are applied as inertial impulses. Fails by Zeno-like toggling: a
@@ -74,13 +95,15 @@
  *     step the penetration and approach speed of the set rows are projected
  *     out; a row leaves when lam reaches 0 (guard lam G M^-1 G^T - gap
  *     acceleration, negative once it separates);
- *   event, slip against stops: also stops once |E u| < SLIP_STOP (1e-9 m/s:
- *     a constrained slip can die out without reversing); where it stops, a
- *     stop moving in B would push it on (the plastic impact on v = 0), and
- *     if that slip is below SLIP_STOP too it is a rest on the touching rows
- *     instead (a restart there would stop again at once, Zeno-like, with the
- *     step collapsing on |E u| -> 0: a gripper's rotation reversing with
- *     the object against a stop); stick against
+ *   an impact whose lift-off rates are all below zsw holds the touching
+ *     rows at rate 0 (a face landing flat: plastic impacts alternating
+ *     between its corners with rates shrinking by a constant factor would
+ *     accumulate at a finite time);
+ *   event, slip against stops: where it stops, a stop moving in B would
+ *     push it on (the plastic impact on v = 0), and if that slip is below
+ *     SLIP_PUSH zsw it is a rest on the touching rows instead (a restart
+ *     there would stop again at once, Zeno-like: a gripper's rotation
+ *     reversing with the object against a stop); stick against
  *     stops: rest iff the least-friction split (planar_rest: NNLS over the
  *     stop forces lam >= 0, as sim.c's try_rest) has |E^-1 w| <= mu N
  *     (1 + TOLF); the rest ends when that fails or a set row's gap leaves
@@ -108,7 +131,10 @@
  *     gsl_odeiv2_evolve_apply call are bounded by its step-size decrease
  *     (each at least x0.89 per rejection, floor at 1 ulp);
  *   - event: at most EVENTS_MAX (1000) events per output interval, each
- *     located by at most BRENT_MAX (200) Brent iterations;
+ *     located by at most BRENT_MAX (200) Brent iterations (and a guard's
+ *     extremum inside a step by at most 60 golden-section iterations);
+ *   - every failure records its time and cause in exdex_stats (fail_time,
+ *     fail_cause: events, step budget, step floor, stepper);
  *   - decisions, projections, impacts: fixed small iteration counts;
  *   - explicit: one step per output sample, nothing else iterates.
  * Why the regularised step collapses: near u = 0 the friction slope is
@@ -679,9 +705,8 @@ static void decide(hyb *H, double t, double *y, int vzero)
             if (H->ns) {
                 /* a slip that stopped against stops moving in B: the stops
                  * push it on at their own speed. If that slip is below
-                 * SLIP_STOP it would count as stopped at once (the guard is
-                 * violated from the start: Zeno-like restarts, each with a
-                 * step collapsing on |E u| -> 0); it is a rest instead, on
+                 * SLIP_PUSH zsw it would soon count as stopped again
+                 * (Zeno-like restarts); it is a rest instead, on
                  * every touching row, which the REST_GAP guard ends once the
                  * stops have moved (a drift below REST_GAP) */
                 double ysv[EXDEX_MAX_STOPS], u[3], eu[3];
