@@ -14,6 +14,7 @@ COMMANDS = {
     "compare": ("exdex.engines", "cross-check the paper cases against pybullet and MuJoCo"),
     "bench": ("exdex.bench", "work-precision charts and stability maps of the integration methods"),
     "tool": ("exdex.tool", "assistive-tool design: twist-cone volumes and tool-angle optimisation"),
+    "run": ("exdex.cli_run", "simulate a scene file (TOML or JSON): CSV, NPZ, a figure, an animation"),
 }
 
 
