@@ -156,6 +156,14 @@ class Animation:
         return animation.FuncAnimation(self.figure, self._update, frames=self.n_frames,
                                        interval=self.interval_ms, blit=False, repeat=True)
 
+    def _write(self, writer, path, dpi):
+        """Draw each frame once into ``writer`` (a matplotlib MovieWriter)."""
+        with writer.saving(self.figure, os.fspath(path), dpi):
+            for k in range(self.n_frames):
+                self._update(k)
+                writer.grab_frame()
+        self._update(0)
+
     def save(self, path, dpi=100):
         """Write the animation to ``path``: ``.gif`` (Pillow), ``.mp4`` (ffmpeg,
         from the PATH or the imageio-ffmpeg package) or ``.html`` (a
@@ -165,7 +173,7 @@ class Animation:
         ext = os.path.splitext(os.fspath(path))[1].lower()
         fps = max(1, int(round(self.fps)))
         if ext == ".gif":
-            writer = animation.PillowWriter(fps=fps)
+            self._write(animation.PillowWriter(fps=fps), path, dpi)
         elif ext == ".mp4":
             exe = _ffmpeg()
             if exe is None:
@@ -174,31 +182,39 @@ class Animation:
             import matplotlib
 
             with matplotlib.rc_context({"animation.ffmpeg_path": exe}):
-                self.make().save(path, writer=animation.FFMpegWriter(fps=fps), dpi=dpi)
-            return path
+                self._write(animation.FFMpegWriter(fps=fps), path, dpi)
         elif ext in (".html", ".htm"):
             with open(path, "w", encoding="utf-8") as f:
-                f.write(self.to_jshtml())
-            return path
+                f.write(self.to_jshtml(dpi=dpi))
         else:
             raise ValueError(f"Animation.save: the extension of path must be .gif, .mp4 or .html, got {ext!r}")
-        self.make().save(path, writer=writer, dpi=dpi)
         return path
 
-    def to_jshtml(self):
+    def to_jshtml(self, dpi=80):
         """HTML (with embedded frames) of a JavaScript player."""
-        return self.make().to_jshtml(fps=max(1, int(round(self.fps))), default_mode="loop")
+        import tempfile
 
-    def to_html5_video(self):
+        from matplotlib import animation
+
+        with tempfile.TemporaryDirectory() as tmp:
+            path = os.path.join(tmp, "animation.html")
+            writer = animation.HTMLWriter(fps=max(1, int(round(self.fps))), embed_frames=True, default_mode="loop")
+            self._write(writer, path, dpi)
+            with open(path, encoding="utf-8") as f:
+                return f.read()
+
+    def to_html5_video(self, dpi=80):
         """HTML5 ``<video>`` tag with the MP4 embedded (needs ffmpeg)."""
-        exe = _ffmpeg()
-        if exe is None:
-            raise RuntimeError("an HTML5 video needs ffmpeg (apt-get install ffmpeg or pip install "
-                               "imageio-ffmpeg); to_jshtml() needs nothing")
-        import matplotlib
+        import base64
+        import tempfile
 
-        with matplotlib.rc_context({"animation.ffmpeg_path": exe}):
-            return self.make().to_html5_video()
+        with tempfile.TemporaryDirectory() as tmp:
+            path = self.save(os.path.join(tmp, "animation.mp4"), dpi=dpi)
+            with open(path, "rb") as f:
+                data = base64.b64encode(f.read()).decode("ascii")
+        w, h = (int(round(x * dpi)) for x in self.figure.get_size_inches())
+        return (f'<video width="{w}" height="{h}" controls autoplay loop>'
+                f'<source type="video/mp4" src="data:video/mp4;base64,{data}"></video>')
 
     def _repr_html_(self):
         return self.to_html5_video() if _ffmpeg() is not None else self.to_jshtml()
