@@ -281,9 +281,10 @@ def animate(result, fps=25, speed=1.0, max_frames=200, plate_size=None, figsize=
         foot = mid + (off * mm - float(np.dot(n2, mid))) * n2
         tang = np.array([-n2[1], n2[0]])
         a, b = foot - far * tang, foot + far * tang
-        ax.add_patch(Polygon([a, b, b - 0.04 * far * n2, a - 0.04 * far * n2], closed=True, facecolor="none",
-                             edgecolor="0.3", hatch="///", lw=0))
-        ax.plot([a[0], b[0]], [a[1], b[1]], color="0.2", lw=1.5)
+        # drawn over the plate: the fingers' part beyond a stop is hidden by it
+        ax.add_patch(Polygon([a, b, b - far * n2, a - far * n2], closed=True, facecolor="white",
+                             edgecolor="0.3", hatch="///", lw=0, zorder=4))
+        ax.plot([a[0], b[0]], [a[1], b[1]], color="0.2", lw=1.5, zorder=4)
 
     plate = Polygon(g["plate"][0] * mm, closed=True, facecolor="0.85", edgecolor="0.5", lw=1, zorder=1,
                     label="plate")
