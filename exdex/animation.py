@@ -23,9 +23,11 @@ onto it. Matplotlib is imported when an animation is made.
 """
 from __future__ import annotations
 
+import importlib
 import math
 import os
 import shutil
+from typing import Any, Optional, Sequence
 
 import numpy as np
 
@@ -50,7 +52,8 @@ def _rot2(th):
     return np.stack([np.stack([c, -s], -1), np.stack([s, c], -1)], -2)  # (..., 2, 2)
 
 
-def frame_geometry(result, indices=None, plate_size=None):
+def frame_geometry(result: Any, indices: Optional[Sequence[int]] = None,
+                   plate_size: Optional[Sequence[float]] = None) -> dict:
     """Everything an animation frame draws, in view coordinates [m].
 
     The view plane is the plate plane at t = 0: a world point X is drawn at
@@ -119,7 +122,7 @@ def _ffmpeg():
     if exe:
         return exe
     try:
-        import imageio_ffmpeg
+        imageio_ffmpeg = importlib.import_module("imageio_ffmpeg")
     except ImportError:
         return None
     try:
@@ -145,11 +148,11 @@ class Animation:
         self.interval_ms = float(interval_ms)
 
     @property
-    def fps(self):
+    def fps(self) -> float:
         """Frames per second of playback in real time (times ``speed``)."""
         return 1000.0 / self.interval_ms
 
-    def make(self):
+    def make(self) -> Any:
         """A ``matplotlib.animation.FuncAnimation`` drawing the frames."""
         from matplotlib import animation
 
@@ -164,7 +167,7 @@ class Animation:
                 writer.grab_frame()
         self._update(0)
 
-    def save(self, path, dpi=100):
+    def save(self, path: Any, dpi: float = 100) -> Any:
         """Write the animation to ``path``: ``.gif`` (Pillow), ``.mp4`` (ffmpeg,
         from the PATH or the imageio-ffmpeg package) or ``.html`` (a
         self-contained JavaScript player). Returns the path."""
@@ -190,7 +193,7 @@ class Animation:
             raise ValueError(f"Animation.save: the extension of path must be .gif, .mp4 or .html, got {ext!r}")
         return path
 
-    def to_jshtml(self, dpi=80):
+    def to_jshtml(self, dpi: float = 80) -> str:
         """HTML (with embedded frames) of a JavaScript player."""
         import tempfile
 
@@ -203,7 +206,7 @@ class Animation:
             with open(path, encoding="utf-8") as f:
                 return f.read()
 
-    def to_html5_video(self, dpi=80):
+    def to_html5_video(self, dpi: float = 80) -> str:
         """HTML5 ``<video>`` tag with the MP4 embedded (needs ffmpeg)."""
         import base64
         import tempfile
@@ -223,7 +226,9 @@ class Animation:
         return f"<exdex.animation.Animation {self.n_frames} frames at {self.fps:.3g} fps>"
 
 
-def animate(result, fps=25, speed=1.0, max_frames=200, plate_size=None, figsize=(5.0, 5.0), title=None):
+def animate(result: Any, fps: float = 25, speed: float = 1.0, max_frames: int = 200,
+            plate_size: Optional[Sequence[float]] = None, figsize: Sequence[float] = (5.0, 5.0),
+            title: Optional[str] = None) -> "Animation":
     """An :class:`Animation` of ``result`` (an :class:`exdex.Result`).
 
     fps : frames per second of playback, > 0.
@@ -258,7 +263,7 @@ def animate(result, fps=25, speed=1.0, max_frames=200, plate_size=None, figsize=
     sc = result.scene
     mm = 1e3
 
-    fig = Figure(figsize=figsize)
+    fig = Figure(figsize=(float(figsize[0]), float(figsize[1])))
     FigureCanvasAgg(fig)
     ax = fig.add_subplot()
     ax.set_aspect("equal")

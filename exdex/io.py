@@ -57,14 +57,19 @@ a ``ValueError`` naming it; the scene objects then check their own values
 from __future__ import annotations
 
 import dataclasses
+import importlib
 import json
 import math
 import os
 import re
 
+from typing import Any, Dict, Mapping, Optional, Union
+
 import numpy as np
 
 from exdex import scene as _scene
+
+PathLike = Union[str, "os.PathLike[str]"]
 
 __all__ = ["SCHEMA_VERSION", "save_scene", "load_scene", "load_simulate_options", "scene_to_dict",
            "scene_from_dict", "dumps", "loads"]
@@ -115,7 +120,7 @@ def _object_to_dict(obj):
     return out
 
 
-def scene_to_dict(scene):
+def scene_to_dict(scene: _scene.Scene) -> Dict[str, Any]:
     """The scene as plain Python data (dicts, lists, floats, strings): what
     :func:`save_scene` writes, with ``schema`` first."""
     if not isinstance(scene, _scene.Scene):
@@ -213,7 +218,7 @@ def _check_schema(data, where="scene"):
                          f"{', '.join(map(str, SUPPORTED_SCHEMAS))}")
 
 
-def scene_from_dict(data, where="scene"):
+def scene_from_dict(data: Mapping[str, Any], where: str = "scene") -> _scene.Scene:
     """An :class:`exdex.Scene` from the plain data of :func:`scene_to_dict`
     (a ``simulate`` table, if present, is checked and ignored)."""
     _check_schema(data, where)
@@ -326,17 +331,17 @@ def _toml_dumps(d):
 
 def _toml_loads(text):
     try:
-        import tomllib
+        tomllib = importlib.import_module("tomllib")
     except ImportError:  # Python < 3.11
         try:
-            import tomli as tomllib
+            tomllib = importlib.import_module("tomli")
         except ImportError:
             raise ImportError("reading TOML scene files needs Python 3.11+ (tomllib) or the tomli "
                               "package (pip install tomli); JSON files need nothing") from None
     return tomllib.loads(text)
 
 
-def dumps(scene, format="toml", simulate=None):
+def dumps(scene: _scene.Scene, format: str = "toml", simulate: Optional[Mapping[str, Any]] = None) -> str:
     """The text of a scene file (``format`` "toml" or "json"); ``simulate``
     an optional dict of :func:`exdex.simulate` arguments stored with it."""
     d = scene_to_dict(scene)
@@ -365,7 +370,7 @@ def _parse(text, format, where):
     raise ValueError(f"format must be 'toml' or 'json', got {format!r}")
 
 
-def loads(text, format="toml"):
+def loads(text: str, format: str = "toml") -> _scene.Scene:
     """An :class:`exdex.Scene` from the text of a scene file."""
     return scene_from_dict(_parse(text, format, "scene text"))
 
@@ -382,7 +387,8 @@ def _format(path, format):
     return FORMATS[ext]
 
 
-def save_scene(scene, path, *, simulate=None, format=None):
+def save_scene(scene: _scene.Scene, path: PathLike, *, simulate: Optional[Mapping[str, Any]] = None,
+               format: Optional[str] = None) -> PathLike:
     """Write ``scene`` to ``path`` as TOML or JSON (by the extension, ``.toml``
     or ``.json``, unless ``format`` says). ``simulate``: an optional dict of
     :func:`exdex.simulate` arguments (t_end, dt, method, friction_solver,
@@ -402,7 +408,7 @@ def _read(path, format):
     return _parse(text, fmt, os.fspath(path))
 
 
-def load_scene(path, *, format=None):
+def load_scene(path: PathLike, *, format: Optional[str] = None) -> _scene.Scene:
     """The :class:`exdex.Scene` stored in a TOML or JSON file (by the extension
     unless ``format`` says). Raises ``ValueError`` naming an unsupported
     schema version, an unknown or a missing key, and the scene objects'
@@ -414,7 +420,7 @@ def load_scene(path, *, format=None):
         raise type(exc)(f"{os.fspath(path)}: {exc}") from None
 
 
-def load_simulate_options(path, *, format=None):
+def load_simulate_options(path: PathLike, *, format: Optional[str] = None) -> Dict[str, Any]:
     """The ``simulate`` table of a scene file as a dict of :func:`exdex.simulate`
     arguments (empty when the file has none)."""
     data = _read(path, format)

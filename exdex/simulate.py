@@ -3,8 +3,9 @@ from __future__ import annotations
 
 import math
 import numbers
+import os
 from dataclasses import dataclass, field
-from typing import Any, Dict, Literal, Optional, Tuple
+from typing import Any, Dict, Literal, Optional, Tuple, Union
 
 import numpy as np
 from numpy.typing import NDArray
@@ -144,13 +145,13 @@ class Result:
 
     # ------------------------------------------------------------ export
 
-    def _names(self):
+    def _names(self) -> Tuple[str, ...]:
         if self.scene is not None:
             return self.scene.coordinate_names
         return tuple(f"q{i}" for i in range(self.q.shape[1]))
 
     @property
-    def units(self):
+    def units(self) -> Dict[str, str]:
         """Units of the columns of :meth:`to_dict` (SI), by column name."""
         units = {"t": "s"}
         for n in self._names():
@@ -162,7 +163,7 @@ class Result:
             units[f"stop_force_{i}"] = "N"
         return units
 
-    def to_dict(self):
+    def to_dict(self) -> Dict[str, NDArray[Any]]:
         """The trajectory as named columns, each an (n,) NumPy array:
 
         ``t`` [s]; the free coordinates by name (``s`` [m] in translation
@@ -184,7 +185,7 @@ class Result:
             out[f"stop_force_{i}"] = self.stop_force[:, i]
         return out
 
-    def to_dataframe(self):
+    def to_dataframe(self) -> Any:
         """The columns of :meth:`to_dict` as a ``pandas.DataFrame`` (one row per
         sample); ``df.attrs`` holds the units, method and time step.
         Needs pandas (an optional dependency)."""
@@ -197,7 +198,7 @@ class Result:
         df.attrs.update(units=self.units, method=self.method, friction_solver=self.friction_solver, dt=self.dt)
         return df
 
-    def save(self, path):
+    def save(self, path: Union[str, "os.PathLike[str]"]) -> Union[str, "os.PathLike[str]"]:
         """Write the result to ``path``, in the format of its extension:
 
         ``.npz`` -- NumPy archive of the arrays (``t``, ``q``, ``v``,
@@ -210,15 +211,13 @@ class Result:
 
         Returns the path.
         """
-        import os
-
         ext = os.path.splitext(os.fspath(path))[1].lower()
         if ext == ".npz":
             import json
 
             meta = dict(method=self.method, friction_solver=self.friction_solver, dt=self.dt,
                         stats=self.stats, names=list(self._names()))
-            arrays = dict(t=self.t, q=self.q, v=self.v, wrench=self.wrench, stick=self.stick,
+            arrays: Dict[str, Any] = dict(t=self.t, q=self.q, v=self.v, wrench=self.wrench, stick=self.stick,
                           stop_force=self.stop_force, meta=np.array(json.dumps(meta)))
             if self.scene is not None:
                 from exdex import io
@@ -241,7 +240,7 @@ class Result:
         return path
 
     @classmethod
-    def load(cls, path):
+    def load(cls, path: Union[str, "os.PathLike[str]"]) -> "Result":
         """A :class:`Result` from an ``.npz`` file written by :meth:`save`."""
         import json
 
@@ -256,7 +255,7 @@ class Result:
                        stop_force=z["stop_force"], stats=meta["stats"], scene=scene, method=meta["method"],
                        friction_solver=meta["friction_solver"], dt=meta["dt"])
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         names = self._names()
         n = len(self.t)
         if n == 0:
@@ -268,7 +267,7 @@ class Result:
         return (f"<exdex.Result {dof}, method={self.method!r}, {n} samples, t = {self.t[0]:g}..{self.t[-1]:g} s, "
                 f"final {final}, stick in {stick} of steps>")
 
-    def animate(self, **options):
+    def animate(self, **options: Any) -> Any:
         """An animation of the object between the plates: plates, object
         outline, stops and the plate friction wrench (see
         :func:`exdex.animation.animate` for the options: fps, speed,
