@@ -34,7 +34,7 @@ __all__ = [
 DEFAULT_GRIPPER_ROTATION = ((1.0, 0.0, 0.0), (0.0, 0.0, -1.0), (0.0, 1.0, 0.0))
 
 DOFS = {"translation": 1, "rotation": 2, "planar": 3}
-METHODS = {"implicit": 0, "event": 1, "regularised": 2, "explicit": 3}
+METHODS = {"implicit": 0, "event": 1, "regularised": 2, "explicit": 3, "analytic": 4}
 SOLVERS = {"scalar": 0, "brent": 1, "multiroot": 2}
 
 
