@@ -4,8 +4,10 @@ from __future__ import annotations
 import math
 import numbers
 from dataclasses import dataclass, field
+from typing import Any, Dict, Literal, Optional, Tuple
 
 import numpy as np
+from numpy.typing import NDArray
 
 from exdex import _core
 from exdex.scene import METHODS, SOLVERS, Scene, _real
@@ -13,6 +15,10 @@ from exdex.scene import METHODS, SOLVERS, Scene, _real
 __all__ = ["Result", "simulate", "SolverError"]
 
 SolverError = _core.SolverError
+
+#: The integration methods and friction solvers (see :func:`simulate`).
+Method = Literal["implicit", "event", "regularised", "explicit", "analytic", "auto"]
+FrictionSolver = Literal["scalar", "brent", "multiroot"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -44,21 +50,23 @@ class Result:
     wrench: np.ndarray
     stick: np.ndarray
     stop_force: np.ndarray
-    stats: dict
-    scene: Scene = None
+    stats: Dict[str, Any]
+    scene: Optional[Scene] = None
     method: str = "implicit"
     friction_solver: str = "scalar"
     dt: float = float("nan")
 
     @property
-    def displacement(self):
+    def displacement(self) -> NDArray[np.float64]:
         """(n, ndof) coordinates relative to the initial ones, q - q[0]."""
         return self.q - self.q[0]
 
     @property
-    def pose(self):
+    def pose(self) -> NDArray[np.float64]:
         """(n, 3) full planar pose (x, y, theta) of C in B, whatever the scene's dof."""
         sc = self.scene
+        if sc is None:
+            raise ValueError("Result.pose needs the Result's scene (Result.scene is None)")
         n = len(self.t)
         out = np.empty((n, 3))
         if sc.dof == "planar":
@@ -79,7 +87,7 @@ class Result:
             out[:, 2] = th
         return out
 
-    def plot(self, ax=None, label=None, stick_shading=True):
+    def plot(self, ax: Any = None, label: Optional[str] = None, stick_shading: bool = True) -> Any:
         """Plot the displacement of each free coordinate against time.
 
         Translations in mm, rotations in degrees; steps where the object stuck
@@ -103,7 +111,7 @@ class Result:
         ax.legend(loc="best", fontsize="small")
         return ax
 
-    def drift_after(self, t0):
+    def drift_after(self, t0: float) -> float:
         """Largest |v| over samples at t >= t0 (0.0 means exactly still)."""
         sel = self.t >= t0
         return float(np.max(np.abs(self.v[sel]))) if np.any(sel) else 0.0
@@ -113,8 +121,9 @@ def _rot(th, v):
     return np.array([math.cos(th) * v[0] - math.sin(th) * v[1], math.sin(th) * v[0] + math.cos(th) * v[1]])
 
 
-def simulate(scene, t_end, dt=1e-3, method="implicit", friction_solver="scalar", eps=1e-4,
-             rtol=1e-8, atol=1e-10):
+def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "implicit",
+             friction_solver: FrictionSolver = "scalar", eps: float = 1e-4, rtol: float = 1e-8,
+             atol: float = 1e-10) -> Result:
     """Simulate the object in the moving gripper from t = 0 to ``t_end``.
 
     Parameters
@@ -257,27 +266,28 @@ class Model:
 
     __slots__ = ("scene", "method", "friction_solver", "_model")
 
-    def __init__(self, scene, method="implicit", friction_solver="scalar", eps=1e-4, rtol=1e-8, atol=1e-10):
+    def __init__(self, scene: Scene, method: Method = "implicit", friction_solver: FrictionSolver = "scalar",
+                 eps: float = 1e-4, rtol: float = 1e-8, atol: float = 1e-10) -> None:
         method = resolve_method(scene, method)
         spec = _spec(scene, method, friction_solver, eps, rtol, atol)
         self.scene, self.method, self.friction_solver = scene, method, friction_solver
         self._model = _core.compile(spec)
 
     @property
-    def ndof(self):
+    def ndof(self) -> int:
         """Number of free coordinates: 1 (translation or rotation) or 3 (planar)."""
         return self._model.ndof
 
-    def simulate(self, t_end, dt=1e-3):
+    def simulate(self, t_end: float, dt: float = 1e-3) -> Result:
         """Run from t = 0 to ``t_end`` in steps of ``dt``: an :class:`exdex.Result`."""
         dt, t_end = _check_times(t_end, dt)
         return _result(self._model.simulate(t_end, dt), self.scene, self.method, self.friction_solver, dt)
 
-    def final(self, t_end, dt=1e-3):
+    def final(self, t_end: float, dt: float = 1e-3) -> Tuple[Tuple[float, ...], Tuple[float, ...], bool]:
         """Run like :meth:`simulate` and return only the last sample:
         ``(q, v, stick)`` with q, v tuples of ``ndof`` floats."""
         dt, t_end = _check_times(t_end, dt)
         return self._model.final(t_end, dt)
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return f"exdex.Model(ndof={self.ndof}, method={self.method!r}, friction_solver={self.friction_solver!r})"
