@@ -313,6 +313,20 @@ typedef struct exdex_trajectory {
                              may be NULL when n_stops == 0 */
 } exdex_trajectory;
 
+/* Why a run returned EXDEX_ENOCONV or EXDEX_ENONFINITE (exdex_stats.fail_cause). */
+enum exdex_fail_cause {
+    EXDEX_FAIL_NONE = 0,         /* the run succeeded */
+    EXDEX_FAIL_EVENTS = 1,       /* event: more than 1000 mode switches within one output
+                                    interval (Zeno-like accumulation of events) */
+    EXDEX_FAIL_STEP_BUDGET = 2,  /* event, regularised: more than 1e5 ODE steps plus event
+                                    location iterations within one output interval (stiff) */
+    EXDEX_FAIL_STEP_FLOOR = 3,   /* event, regularised: the adaptive step fell below 16 ulps
+                                    of t (a step-size collapse) */
+    EXDEX_FAIL_STEPPER = 4,      /* the ODE stepper or the event location failed */
+    EXDEX_FAIL_SOLVER = 5,       /* an inner solver (friction, constraints) failed */
+    EXDEX_FAIL_NONFINITE = 6     /* the state left the finite range */
+};
+
 typedef struct exdex_stats {
     size_t steps;
     size_t stick_steps;
@@ -320,6 +334,10 @@ typedef struct exdex_stats {
     size_t stop_iterations;     /* stop/friction block iterations, summed */
     size_t warnings;            /* soft problems (e.g. stop iteration limit) */
     double min_gap;             /* smallest stop gap seen after a step [m] */
+    double fail_time;           /* where a failed run stopped: the time it had reached
+                                   (event, regularised: the start of the failing step
+                                   or event) [s]; NaN after success or when unknown */
+    int fail_cause;             /* enum exdex_fail_cause; EXDEX_FAIL_NONE after success */
 } exdex_stats;
 
 /* Run the whole trajectory. Thread-safe for distinct out/stats. Returns

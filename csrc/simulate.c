@@ -58,6 +58,7 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajecto
     impl = methods[m->def.method];
     memset(&st, 0, sizeof st);
     st.min_gap = INFINITY;
+    st.fail_time = NAN;
     nd = m->ndof;
     model_initial_state(m, q, v);
     out->t[0] = 0.0;
@@ -73,6 +74,8 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajecto
     status = impl->run(m, ws, t_end, dt, out, &st);
     impl->free(ws);
     if (status == EXDEX_OK && !output_finite(m, out)) status = EXDEX_ENONFINITE;
+    if (status != EXDEX_OK && st.fail_cause == EXDEX_FAIL_NONE)
+        st.fail_cause = status == EXDEX_ENOCONV ? EXDEX_FAIL_SOLVER : EXDEX_FAIL_NONFINITE;
     if (stats) *stats = st;
     /* the model and arguments were valid: an "invalid argument" from the
      * motion or a solver inside the run means the state left the finite

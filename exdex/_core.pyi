@@ -9,6 +9,8 @@ MAX_VERTICES: int
 class SolverError(RuntimeError):
     status: int
     index: int
+    time: float | None
+    cause: str
 
 class CompiledModel:
     @property
