@@ -42,7 +42,7 @@ Vector = Union[Sequence[float], NDArray[Any]]
 Matrix = Union[Sequence[Sequence[float]], NDArray[Any]]
 
 DOFS = {"translation": 1, "rotation": 2, "planar": 3}
-METHODS = {"implicit": 0, "event": 1, "regularised": 2, "explicit": 3}
+METHODS = {"implicit": 0, "event": 1, "regularised": 2, "explicit": 3, "analytic": 4}
 SOLVERS = {"scalar": 0, "brent": 1, "multiroot": 2}
 
 

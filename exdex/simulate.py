@@ -17,7 +17,7 @@ __all__ = ["Result", "simulate", "SolverError"]
 SolverError = _core.SolverError
 
 #: The integration methods and friction solvers (see :func:`simulate`).
-Method = Literal["implicit", "event", "regularised", "explicit"]
+Method = Literal["implicit", "event", "regularised", "explicit", "analytic", "auto"]
 FrictionSolver = Literal["scalar", "brent", "multiroot"]
 
 
@@ -134,7 +134,7 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
     dt : float
         Time step [s], > 0. Steps of dt; the last one is shortened to end
         exactly at t_end.
-    method : {"implicit", "event", "regularised", "explicit"}
+    method : {"implicit", "event", "regularised", "explicit", "analytic", "auto"}
         "implicit" (default): Moreau's midpoint time stepping with the
         maximum-dissipation friction solve (paper Eq. 6) at every step of dt;
         exact stick; first order in dt where stick/slip switches fall inside
@@ -156,6 +156,14 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
         eps: past 1e5 steps (accepted, rejected and event-location
         iterations) in one output interval, or a step below 16 ulps of t,
         "event" and "regularised" raise SolverError instead of grinding.
+        "analytic": the exact solution, phase by phase, of 1-DoF scenes
+        without stops whose drive is piecewise constant (a translating
+        gripper with Eq. 7, a trapezoid with ramps or rest; a rotation about
+        the centre of mass with the gripper turning about the plate normal):
+        positions are quadratics in time and events roots of linear
+        equations, nothing is integrated (``dt`` only sets the output grid).
+        Other scenes raise ValueError saying why.
+        "auto": "analytic" where it applies, else "event".
         "explicit": explicit Coulomb friction -mu N E^2 u / |E u| (0 at u = 0)
         with symplectic Euler steps of dt, the naive baseline. Never sticks:
         under a load |Q| < mu N the velocity chatters in a band of width
@@ -187,6 +195,7 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
         If a solver fails to converge (``.status`` carries the C status).
     """
     dt, t_end = _check_times(t_end, dt)
+    method = resolve_method(scene, method)
     spec = _spec(scene, method, friction_solver, eps, rtol, atol)
     out = _core.simulate(spec, t_end, dt)
     return _result(out, scene, method, friction_solver, dt)
@@ -200,11 +209,28 @@ def _check_times(t_end, dt):
     return dt, t_end
 
 
+def resolve_method(scene, method):
+    """The method a name stands for on ``scene``: ``"auto"`` is ``"analytic"``
+    where the analytic method solves the scene (1-DoF, no stops, a
+    piecewise-constant drive), else ``"event"``; other names stand for
+    themselves."""
+    if method != "auto":
+        return method
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene must be an exdex.Scene, got {type(scene).__name__}")
+    return "analytic" if _core.analytic_unsupported(scene.to_spec()) is None else "event"
+
+
 def _spec(scene, method, friction_solver, eps, rtol, atol):
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be an exdex.Scene, got {type(scene).__name__}")
     if method not in METHODS:
-        raise ValueError(f"method must be one of {sorted(METHODS)}, got {method!r}")
+        raise ValueError(f"method must be one of {sorted(METHODS) + ['auto']}, got {method!r}")
+    if method == "analytic":
+        why = _core.analytic_unsupported(scene.to_spec())
+        if why is not None:
+            raise ValueError(f"method='analytic' cannot solve this scene: {why}; use method='event' "
+                             "(or 'auto', which picks the analytic method where it applies)")
     if friction_solver not in SOLVERS:
         raise ValueError(f"friction_solver must be one of {sorted(SOLVERS)}, got {friction_solver!r}")
     eps = _real(eps, "eps", low=0.0, low_open=True)
@@ -242,6 +268,7 @@ class Model:
 
     def __init__(self, scene: Scene, method: Method = "implicit", friction_solver: FrictionSolver = "scalar",
                  eps: float = 1e-4, rtol: float = 1e-8, atol: float = 1e-10) -> None:
+        method = resolve_method(scene, method)
         spec = _spec(scene, method, friction_solver, eps, rtol, atol)
         self.scene, self.method, self.friction_solver = scene, method, friction_solver
         self._model = _core.compile(spec)
