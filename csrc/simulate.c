@@ -26,6 +26,7 @@ static const method_impl *const methods[] = {
     [EXDEX_METHOD_EVENT] = &method_event,
     [EXDEX_METHOD_REGULARISED] = &method_regularised,
     [EXDEX_METHOD_EXPLICIT] = &method_explicit,
+    [EXDEX_METHOD_ANALYTIC] = &method_analytic,
 };
 
 /* A run that returned OK must not have recorded a non-finite number (e.g. a
@@ -54,7 +55,7 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajecto
     if (!m || !out || n == 0 || out->n != n || !out->t || !out->q || !out->v || !out->wrench ||
         !out->stick || (m->n_stops && !out->stop_force))
         return EXDEX_EINVAL;
-    if (m->def.method < EXDEX_METHOD_IMPLICIT || m->def.method > EXDEX_METHOD_EXPLICIT) return EXDEX_EINVAL;
+    if (m->def.method < EXDEX_METHOD_IMPLICIT || m->def.method > EXDEX_METHOD_ANALYTIC) return EXDEX_EINVAL;
     impl = methods[m->def.method];
     memset(&st, 0, sizeof st);
     st.min_gap = INFINITY;

@@ -596,6 +596,25 @@ static PyObject *core_compile(PyObject *module, PyObject *spec)
     return (PyObject *)mo;
 }
 
+PyDoc_STRVAR(analytic_unsupported_doc,
+"analytic_unsupported(spec) -> str or None\n\n"
+"None if the analytic method solves the scene of a spec dict, else the\n"
+"reason it does not (a sentence).");
+
+static PyObject *core_analytic_unsupported(PyObject *module, PyObject *spec)
+{
+    exdex_scene_def def;
+    PyArrayObject *times = NULL, *poses = NULL;
+    const char *why;
+    (void)module;
+    if (scene_from_dict(spec, &def, &times, &poses)) return NULL;
+    why = exdex_analytic_unsupported(&def);
+    Py_XDECREF(times);
+    Py_XDECREF(poses);
+    if (!why) Py_RETURN_NONE;
+    return PyUnicode_FromString(why);
+}
+
 PyDoc_STRVAR(motion_eval_doc,
 "motion_eval(spec, t) -> dict\n\n"
 "Gripper kinematics of the scene's motion at the times t (1-D float64):\n"
@@ -1263,6 +1282,7 @@ done:
 static PyMethodDef core_methods[] = {
     {"simulate", (PyCFunction)(void (*)(void))core_simulate, METH_VARARGS | METH_KEYWORDS, simulate_doc},
     {"compile", core_compile, METH_O, compile_doc},
+    {"analytic_unsupported", core_analytic_unsupported, METH_O, analytic_unsupported_doc},
     {"simulate_batch", (PyCFunction)(void (*)(void))core_simulate_batch, METH_VARARGS | METH_KEYWORDS,
      simulate_batch_doc},
     {"motion_eval", (PyCFunction)(void (*)(void))core_motion_eval, METH_VARARGS | METH_KEYWORDS,

@@ -45,7 +45,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from exdex import _core
 from exdex.scene import METHODS, SOLVERS, AsymmetricProfile, Body, Grasp, Scene, TrapezoidalProfile, _real
-from exdex.simulate import FrictionSolver, Method, Result
+from exdex.simulate import FrictionSolver, Method, Result, resolve_method
 
 __all__ = ["BatchResult", "simulate_batch", "sweep", "grid_points", "PARAMETERS"]
 
@@ -390,6 +390,9 @@ def simulate_batch(scene: Union[Scene, Sequence[Scene]], t_end: float, dt: float
         raise ValueError(f"threads must be an int in [1, 1024] or None (one per CPU), got {threads!r}")
     if record not in ("all", "final"):
         raise ValueError(f"record must be 'all' or 'final', got {record!r}")
+    if method == "auto":
+        ok = all(resolve_method(s, "auto") == "analytic" for s in (scenes if scenes is not None else (scene,)))
+        method = "analytic" if ok else "event"
     eps, rtol, atol = _check_options(method, friction_solver, eps, rtol, atol)
 
     base = scenes if scenes is not None else scene
