@@ -1300,7 +1300,7 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
             }
             if (status) break;
             if (e_best >= 0) {
-                int vz, small_next = 0;
+                int vz;
                 if (one_step(O, t0, y0, tau_best, y) != GSL_SUCCESS || H.err) {
                     status = H.err ? H.err : EXDEX_ENOCONV;
                     break;
@@ -1326,24 +1326,8 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
                         vz = e_best == 0;
                     else
                         vz = e_best == 1 || !(sqrt(ex_dot3(eu, eu)) > H.zsw);
-                    if (vz && !H.small) {
-                        /* a slip below zsw stops only where the load can
-                         * be held (the small slip's stop guard, >= 0 while
-                         * the load is outside the ellipsoid); else it goes
-                         * on as a small slip with its velocity kept (it
-                         * passes through 0 and reverses, or no friction) */
-                        double gs[NG_MAX];
-                        H.small = 1;
-                        if (guards(&H, t, y, gs) > 0 && gs[0] > 0.0) {
-                            vz = 0;
-                            small_next = 1;
-                        }
-                        H.small = 0;
-                    }
                 }
                 decide(&H, t, y, vz);
-                if (small_next && H.mode == MODE_SLIP) H.small = 1;
-                small_next = 0;
                 gsl_odeiv2_evolve_reset(O->evo);
                 gsl_odeiv2_step_reset(O->step);
                 if (++events > EVENTS_MAX) {
