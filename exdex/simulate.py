@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -10,9 +11,57 @@ import numpy as np
 from exdex import _core
 from exdex.scene import METHODS, SOLVERS, Scene, _real
 
-__all__ = ["Result", "simulate", "SolverError"]
+__all__ = ["Result", "simulate", "SolverError", "GripperJumpWarning"]
 
 SolverError = _core.SolverError
+
+
+class GripperJumpWarning(UserWarning):
+    """The gripper's velocity jumps inside the simulated interval (a sampled
+    log that starts or ends at speed, a trapezoid without ramps).
+
+    The plates cannot transmit an impulse (the grip force and hence the
+    friction force are finite), so the object keeps its absolute velocity
+    and its velocity relative to the gripper jumps by minus the gripper's
+    jump at the object, projected onto the free coordinates in the mass
+    metric; every method applies that jump. Attributes: ``t`` [s], ``dv``
+    [m/s] and ``dw`` [rad/s], the jumps of the velocity of the gripper
+    frame's origin and of its angular velocity in the world frame.
+    """
+
+    def __init__(self, t, dv, dw, hint=""):
+        self.t, self.dv, self.dw = float(t), np.asarray(dv, dtype=float), np.asarray(dw, dtype=float)
+        super().__init__(
+            f"the gripper's velocity jumps at t = {self.t:.9g} s by |dv| = {np.linalg.norm(self.dv):.3g} m/s, "
+            f"|dw| = {np.linalg.norm(self.dw):.3g} rad/s (dv = {_fmt(self.dv)}, dw = {_fmt(self.dw)} in the "
+            f"world frame): the plates cannot transmit an impulse, so the object keeps its absolute velocity "
+            f"and its velocity relative to the gripper jumps{hint}")
+
+
+def _fmt(x):
+    return "(" + ", ".join(f"{v + 0.0:.3g}" for v in x) + ")"
+
+
+def _jumps(scene, spec):
+    """The gripper's velocity jumps of a scene (its spec), [(t, dv, dw)]."""
+    if not scene.motion._may_jump:
+        return []
+    return _core.motion_jumps(spec)
+
+
+def _warn_jumps(scene, jumps, t_end, stacklevel=3):
+    from exdex.scene import SampledTrajectory
+
+    for t, dv, dw in jumps:
+        if 0.0 < t <= t_end:
+            if isinstance(scene.motion, SampledTrajectory):
+                which = "starts" if t == scene.motion.times[0] else "ends"
+                hint = (f". The log {which} at speed; if the robot did not stop or start instantly, give "
+                        f"SampledTrajectory({'start' if which == 'starts' else 'end'}_velocity=..., "
+                        f"{'start' if which == 'starts' else 'end'}_omega=...) or log it to rest.")
+            else:
+                hint = " (a trapezoid without ramps, v_max = |amplitude| / duration)."
+            warnings.warn(GripperJumpWarning(t, dv, dw, hint), stacklevel=stacklevel)
 
 
 @dataclass(frozen=True, eq=False)
@@ -180,6 +229,7 @@ def simulate(scene, t_end, dt=1e-3, method="implicit", friction_solver="scalar",
     dt, t_end = _check_times(t_end, dt)
     spec = _spec(scene, method, friction_solver, eps, rtol, atol)
     out = _core.simulate(spec, t_end, dt)
+    _warn_jumps(scene, _jumps(scene, spec), t_end)
     return _result(out, scene, method, friction_solver, dt)
 
 
@@ -229,12 +279,13 @@ class Model:
     and the stick flag), without building the trajectory arrays.
     """
 
-    __slots__ = ("scene", "method", "friction_solver", "_model")
+    __slots__ = ("scene", "method", "friction_solver", "_model", "_jumps")
 
     def __init__(self, scene, method="implicit", friction_solver="scalar", eps=1e-4, rtol=1e-8, atol=1e-10):
         spec = _spec(scene, method, friction_solver, eps, rtol, atol)
         self.scene, self.method, self.friction_solver = scene, method, friction_solver
         self._model = _core.compile(spec)
+        self._jumps = _jumps(scene, spec)
 
     @property
     def ndof(self):
@@ -244,13 +295,17 @@ class Model:
     def simulate(self, t_end, dt=1e-3):
         """Run from t = 0 to ``t_end`` in steps of ``dt``: an :class:`exdex.Result`."""
         dt, t_end = _check_times(t_end, dt)
-        return _result(self._model.simulate(t_end, dt), self.scene, self.method, self.friction_solver, dt)
+        out = self._model.simulate(t_end, dt)
+        _warn_jumps(self.scene, self._jumps, t_end)
+        return _result(out, self.scene, self.method, self.friction_solver, dt)
 
     def final(self, t_end, dt=1e-3):
         """Run like :meth:`simulate` and return only the last sample:
         ``(q, v, stick)`` with q, v tuples of ``ndof`` floats."""
         dt, t_end = _check_times(t_end, dt)
-        return self._model.final(t_end, dt)
+        out = self._model.final(t_end, dt)
+        _warn_jumps(self.scene, self._jumps, t_end)
+        return out
 
     def __repr__(self):
         return f"exdex.Model(ndof={self.ndof}, method={self.method!r}, friction_solver={self.friction_solver!r})"
