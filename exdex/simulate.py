@@ -55,10 +55,10 @@ def _warn_jumps(scene, jumps, t_end, stacklevel=3):
     for t, dv, dw in jumps:
         if 0.0 < t <= t_end:
             if isinstance(scene.motion, SampledTrajectory):
-                which = "starts" if t == scene.motion.times[0] else "ends"
-                hint = (f". The log {which} at speed; if the robot did not stop or start instantly, give "
-                        f"SampledTrajectory({'start' if which == 'starts' else 'end'}_velocity=..., "
-                        f"{'start' if which == 'starts' else 'end'}_omega=...) or log it to rest.")
+                which = "start" if t == scene.motion.times[0] else "end"
+                hint = (f". The log {which}s at speed; if the robot was at rest there, pass "
+                        f"SampledTrajectory({which}_velocity=(0, 0, 0), {which}_omega=(0, 0, 0)), "
+                        f"otherwise log the motion until the robot is at rest.")
             else:
                 hint = " (a trapezoid without ramps, v_max = |amplitude| / duration)."
             warnings.warn(GripperJumpWarning(t, dv, dw, hint), stacklevel=stacklevel)
