@@ -441,3 +441,10 @@ def test_sampled_option_errors_name_the_parameter(kw, exc, name):
     t = np.linspace(0, 1, 5)
     with pytest.raises(exc, match=name.replace(".", r"\.").replace("[", r"\[")):
         exdex.SampledTrajectory(t, np.zeros((5, 3)), np.tile(Q0, (5, 1)), **kw)
+
+
+def test_batch_warns_for_a_log_ending_at_speed():
+    sc = exdex.Scene(body=exdex.Body(mass=0.1), grasp=exdex.Grasp(mu=0.5, grip_force=1.0), slide_axis=(1, 0),
+                     motion=cruise_log((0.29, 0, 0), 0.0, 0.2))
+    with pytest.warns(GripperJumpWarning, match=r"t = 0\.2 s"):
+        exdex.simulate_batch(sc, 0.4, 1e-3, mu=[0.3, 0.5])
