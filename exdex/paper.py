@@ -816,6 +816,8 @@ def add_arguments(parser: Any) -> None:
                         help="time step [s] (default 1e-4)")
     parser.add_argument("--cases", nargs="+", choices=CASES, default=list(CASES), help="cases to run (default: all)")
     parser.add_argument("--format", default="png", choices=("png", "pdf", "svg"), help="figure format")
+    parser.add_argument("--animate", nargs="?", const="gif", default=None, choices=("gif", "mp4", "html"),
+                        help="also write an animation per case (default format gif; mp4 needs ffmpeg)")
     parser.add_argument("--no-progress", action="store_true", help="hide the progress bar")
 
 
@@ -829,7 +831,9 @@ def run(args):
     os.makedirs(args.out, exist_ok=True)
     rows = []
     written = []
-    with tqdm(total=3 * len(args.cases), desc="exdex paper", unit="task", disable=args.no_progress) as bar:
+    animate = getattr(args, "animate", None)
+    tasks = 4 if animate else 3
+    with tqdm(total=tasks * len(args.cases), desc="exdex paper", unit="task", disable=args.no_progress) as bar:
         for name in args.cases:
             bar.set_postfix_str(f"{name}: simulate")
             case = run_case(name, dt=args.dt)
@@ -844,6 +848,15 @@ def run(args):
             bar.update()
             rows += case.rows
             written += [fig_path, csv_path]
+            if animate:
+                bar.set_postfix_str(f"{name}: animation")
+                anim_path = os.path.join(args.out, f"{name}.{animate}")
+                try:
+                    case.result.animate(title=case.title.split(":")[0]).save(anim_path)
+                except RuntimeError as exc:  # no ffmpeg for mp4
+                    raise SystemExit(f"exdex paper: {exc}")
+                written.append(anim_path)
+                bar.update()
     summary = os.path.join(args.out, "summary.csv")
     write_summary(rows, summary)
     written.append(summary)

@@ -96,6 +96,10 @@ def _unit(value, name, n):
     norm = float(np.linalg.norm(a))
     if norm == 0.0:
         raise ValueError(f"{name} must be a non-zero vector")
+    if abs(norm - 1.0) <= 8 * np.finfo(float).eps:
+        # already unit up to rounding: kept as given, so normalising is idempotent (a saved
+        # scene loads back bit for bit)
+        return tuple(float(x) for x in a)
     return tuple(float(x) for x in a / norm)
 
 

@@ -51,6 +51,7 @@ __all__ = [
     "cone_volume", "cone_volumes", "tool_volumes", "objective", "theta_curve", "optimise_theta",
     "optimise_tool", "permitted_rows", "rod_rotation", "rod_descent_closed_form",
     "rod_max_rotation", "phi_set",
+    "figure_theta_curves", "figure_box_aspect", "figure_rod",
     "add_arguments", "run",
 ]
 
@@ -594,6 +595,66 @@ def theta_study(ranges: Optional[Mapping[str, Tuple[float, float]]] = None,
     return out
 
 
+# ---------------------------------------------------------------- figures of ``exdex tool``
+
+VOLUME_UNIT = "(m/s)$^2$ rad/s"  # twist-cone volumes: Vx, Vy [m/s] x wz [rad/s]
+
+
+def figure_theta_curves(study: Sequence[Mapping[str, Any]]) -> Any:
+    """Mean cone volume against the tool angle per phi range (rows of
+    :func:`theta_study`, centred box), one panel per model: a Figure."""
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4), sharey=True)
+    for ax, model in zip(axes, ("paper", "contact")):
+        for r in study:
+            if r["model"] != model or r["box"] != "centred":
+                continue
+            res = r["result"]
+            ax.plot(np.degrees(res.scan_theta), res.scan_objective / r["n_phi"],
+                    label=f"phi {r['phi_range']} deg: theta* {r['theta_star_deg']:.1f} deg")
+            ax.plot(r["theta_star_deg"], r["mean_volume"], "k.")
+        ax.axvline(90, color="0.6", lw=0.8, ls="--")
+        ax.set_title("Eqs. 10-11 literally" if model == "paper" else "rows derived from contacts")
+        ax.set_xlabel("tool angle theta [deg]")
+        ax.legend(fontsize=7)
+    axes[0].set_ylabel(f"mean cone volume over phi [{VOLUME_UNIT}]\n(centred Eq. 13 box)")
+    fig.tight_layout()
+    return fig
+
+
+def figure_box_aspect(sweep: Sequence[Mapping[str, Any]]) -> Any:
+    """theta* against the box side a (dVx = dVy = a, dwz = 1/a^2): a Figure."""
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for model in ("paper", "contact"):
+        r = [x for x in sweep if x["model"] == model]
+        ax.semilogx([x["a"] for x in r], [x["theta_star_deg"] for x in r], "o-", label=model)
+    ax.axvline(1 / SQRT2, color="0.6", lw=0.8, ls="--", label="Eq. 13")
+    ax.axhline(90, color="0.8", lw=0.8)
+    ax.set_xlabel("box side a = dVx = dVy [m/s]  (dwz = 1/a$^2$ [rad/s], volume 1 " + VOLUME_UNIT + ")")
+    ax.set_ylabel("theta* [deg] (phi 0..90 deg)")
+    ax.legend()
+    fig.tight_layout()
+    return fig
+
+
+def figure_rod(descent: Any, psi: Any, closed: Any, height: float, rod_x: float) -> Any:
+    """Object rotation against gripper descent for the rod tool (Fig. 11): a Figure."""
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(5, 3.5))
+    ax.plot(descent, np.degrees(psi), label="RK4 on the contact row")
+    ax.plot(closed[::100], np.degrees(psi[::100]), "k.", label="closed form")
+    ax.set_xlabel("gripper descent [m]")
+    ax.set_ylabel("object rotation [deg]")
+    ax.set_title(f"rod tool (Fig. 11): rod {rod_x} m off the grasp, object height {height} m")
+    ax.legend()
+    fig.tight_layout()
+    return fig
+
+
 def add_arguments(parser: Any) -> None:
     """Options of ``exdex tool``."""
     parser.add_argument("--out", default=os.path.join("exdex-output", "tool"),
@@ -637,21 +698,7 @@ def run(args):
     keys = ["box", "phi_range", "model", "mu", "dVx", "dVy", "dwz", "n_phi", "theta_star_deg",
             "objective", "mean_volume", "mean_volume_90deg", "bracketed"]
     _write_csv(os.path.join(out, "theta_star.csv"), study, keys)
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4), sharey=True)
-    for ax, model in zip(axes, ("paper", "contact")):
-        for r in study:
-            if r["model"] != model or r["box"] != "centred":
-                continue
-            res = r["result"]
-            ax.plot(np.degrees(res.scan_theta), res.scan_objective / r["n_phi"],
-                    label=f"phi {r['phi_range']} deg: theta* {r['theta_star_deg']:.1f}")
-            ax.plot(r["theta_star_deg"], r["mean_volume"], "k.")
-        ax.axvline(90, color="0.6", lw=0.8, ls="--")
-        ax.set_title("Eqs. 10-11 literally" if model == "paper" else "rows derived from contacts")
-        ax.set_xlabel("tool angle theta [deg]")
-        ax.legend(fontsize=7)
-    axes[0].set_ylabel("mean cone volume over phi (centred Eq. 13 box)")
-    fig.tight_layout()
+    fig = figure_theta_curves(study)
     fig.savefig(os.path.join(out, "theta_curves.png"), dpi=120)
     plt.close(fig)
 
@@ -666,16 +713,7 @@ def run(args):
                           mean_volume=res.objective / len(prob.phi), bracketed=res.bracketed))
     _write_csv(os.path.join(out, "box_aspect.csv"), sweep,
                ["a", "dwz", "model", "theta_star_deg", "mean_volume", "bracketed"])
-    fig, ax = plt.subplots(figsize=(6, 4))
-    for model in ("paper", "contact"):
-        r = [x for x in sweep if x["model"] == model]
-        ax.semilogx([x["a"] for x in r], [x["theta_star_deg"] for x in r], "o-", label=model)
-    ax.axvline(1 / SQRT2, color="0.6", lw=0.8, ls="--", label="Eq. 13")
-    ax.axhline(90, color="0.8", lw=0.8)
-    ax.set_xlabel("dVx = dVy = a   (dwz = 1/a^2, V_max = 1)")
-    ax.set_ylabel("theta* [deg], phi 0..90 deg")
-    ax.legend()
-    fig.tight_layout()
+    fig = figure_box_aspect(sweep)
     fig.savefig(os.path.join(out, "box_aspect.png"), dpi=120)
     plt.close(fig)
 
@@ -735,14 +773,7 @@ def run(args):
         w.writerow(["psi_deg", "descent_m", "descent_closed_form_m", "contact_u_m"])
         for row in zip(np.degrees(psi[::40]), d[::40], closed[::40], u[::40]):
             w.writerow([f"{x:.12g}" for x in row])
-    fig, ax = plt.subplots(figsize=(5, 3.5))
-    ax.plot(d, np.degrees(psi), label="RK4 on the contact row")
-    ax.plot(closed[::100], np.degrees(psi[::100]), "k.", label="closed form")
-    ax.set_xlabel("gripper descent [m]")
-    ax.set_ylabel("object rotation [deg]")
-    ax.set_title(f"rod tool (Fig. 11): rod {xr} m off the grasp, object height {height} m")
-    ax.legend()
-    fig.tight_layout()
+    fig = figure_rod(d, psi, closed, height, xr)
     fig.savefig(os.path.join(out, "rod.png"), dpi=120)
     plt.close(fig)
 
