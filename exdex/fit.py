@@ -28,9 +28,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Dict, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from exdex.batch import PARAMETERS, _replace_params, simulate_batch
 from exdex.plan import _param_name
@@ -75,11 +76,11 @@ class Sensitivity:
     t_end: float
     method: str
 
-    def __getitem__(self, name):
+    def __getitem__(self, name: str) -> np.ndarray:
         """d q(t_end) / d name, (ndof,)."""
         return self.dq[self.params.index(name)]
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         rows = ", ".join(f"d q/d {p} = {np.array2string(self.dq[i], precision=6)}" for i, p in
                          enumerate(self.params))
         return f"Sensitivity(t_end={self.t_end:g} s, {rows})"
@@ -112,8 +113,11 @@ def sensitivity(scene: Scene, params: Sequence[str], t_end: float, *, dt: Option
     if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or not 2 <= levels <= 20:
         raise ValueError(f"levels must be an int in [2, 20], got {levels!r}")
     method = resolve_method(scene, method)
-    opts = dict(method=method, rtol=rtol, atol=atol, eps=eps, record="final")
-    dq, dv, err, vals = [], [], [], {}
+    opts: Dict[str, Any] = dict(method=method, rtol=rtol, atol=atol, eps=eps, record="final")
+    dq: List[np.ndarray] = []
+    dv: List[np.ndarray] = []
+    err: List[np.ndarray] = []
+    vals: Dict[str, float] = {}
     for name in names:
         p0 = _value_of(scene, name)
         vals[name] = p0
@@ -124,7 +128,8 @@ def sensitivity(scene: Scene, params: Sequence[str], t_end: float, *, dt: Option
             raise ValueError(f"cannot step {name!r} = {p0:g} inside its range {PARAMETERS[name].describe()}")
         hs = h / 2.0 ** np.arange(levels)
         x = np.concatenate([p0 + hs, p0 - hs])
-        b = simulate_batch(scene, t_end, dt, **opts, **{name: x})
+        vary: Dict[str, Any] = {name: x}
+        b = simulate_batch(scene, t_end, dt, **opts, **vary)
         qp, qm = b.q[:levels], b.q[levels:]
         vp, vm = b.v[:levels], b.v[levels:]
         Dq = (qp - qm) / (2 * hs[:, None])
@@ -177,11 +182,11 @@ class Identification:
     message: str
 
     @property
-    def identifiable(self):
+    def identifiable(self) -> bool:
         """True when the data fix every fitted parameter."""
         return not self.unidentifiable
 
-    def report(self):
+    def report(self) -> str:
         """A plain-text table of the fit, its intervals and what it cannot identify."""
         lines = [f"fit of {', '.join(self.params)} ({'converged' if self.success else 'NOT converged'}: "
                  f"{self.message}); residual RMS {self.residual_rms:.3g}, sigma {self.sigma:.3g}"]
@@ -198,7 +203,8 @@ class Identification:
 
 
 def _predict(scene, names, theta, times, dt, t_end, opts):
-    b = simulate_batch(scene, t_end, dt, **opts, **{n: np.atleast_1d(theta[:, i]) for i, n in enumerate(names)})
+    vary: Dict[str, Any] = {n: np.atleast_1d(theta[:, i]) for i, n in enumerate(names)}
+    b = simulate_batch(scene, t_end, dt, **opts, **vary)
     # b.q: (B, n, ndof) on the grid; interpolate to the observation times
     grid = b.t
     out = np.empty((b.q.shape[0], len(times), b.q.shape[2]))
@@ -208,7 +214,7 @@ def _predict(scene, names, theta, times, dt, t_end, opts):
     return out
 
 
-def identify(scene: Scene, times, observed, params: Mapping[str, Union[float, Tuple[float, float]]], *,
+def identify(scene: Scene, times: ArrayLike, observed: ArrayLike, params: Mapping[str, Union[float, Tuple[float, float]]], *,
              sigma: Optional[float] = None, method: str = "auto", rtol: float = 1e-10, atol: float = 1e-12,
              eps: float = 1e-4, dt: Optional[float] = None, rel_step: float = 1e-4,
              max_nfev: int = 100) -> Identification:
@@ -259,21 +265,22 @@ def identify(scene: Scene, times, observed, params: Mapping[str, Union[float, Tu
     if len(set(names)) != len(names):
         raise ValueError("params names a parameter twice")
     x0 = np.array([_value_of(scene, n) for n in names])
-    lo, hi = [], []
+    lows: List[float] = []
+    highs: List[float] = []
     for n, raw in zip(names, params):
-        b = params[raw]
+        b: Any = params[raw]
         P = PARAMETERS[n]
         if b is None:
-            lo.append(-np.inf if P.low is None else P.low)
-            hi.append(np.inf if P.high is None else P.high)
+            lows.append(-np.inf if P.low is None else P.low)
+            highs.append(np.inf if P.high is None else P.high)
         else:
             try:
                 a, c = b
             except (TypeError, ValueError):
                 raise TypeError(f"params[{raw!r}] must be (low, high) or None, got {b!r}") from None
-            lo.append(_real(a, f"params[{raw!r}][0]"))
-            hi.append(_real(c, f"params[{raw!r}][1]"))
-    lo, hi = np.array(lo), np.array(hi)
+            lows.append(_real(a, f"params[{raw!r}][0]"))
+            highs.append(_real(c, f"params[{raw!r}][1]"))
+    lo, hi = np.array(lows), np.array(highs)
     if np.any(~(lo < hi)) or np.any(x0 < lo) or np.any(x0 > hi):
         raise ValueError("each parameter's start (the scene's value) must lie in its bounds (low < high)")
     # open ends of the parameters' own ranges: keep the solver strictly inside
@@ -287,7 +294,7 @@ def identify(scene: Scene, times, observed, params: Mapping[str, Union[float, Tu
         dt = float(t[1] - t[0]) if on_grid else float(np.min(np.diff(t))) / 8
     dt = _real(dt, "dt", low=0.0, low_open=True, high=t_end)
     method = resolve_method(scene, method)
-    opts = dict(method=method, rtol=rtol, atol=atol, eps=eps, record="all")
+    opts: Dict[str, Any] = dict(method=method, rtol=rtol, atol=atol, eps=eps, record="all")
     scale = np.where(x0 != 0.0, np.abs(x0), 1.0)
 
     def residual(z):
