@@ -1,0 +1,675 @@
+/* implicit.c -- the implicit time-stepping method (EXDEX_METHOD_IMPLICIT)
+ * with the friction ellipsoid (paper Eq. 6) and external stops, on the
+ * model's equations of motion M qdd = Q(t, q, qd) + friction + stops
+ * (model.c, paper Eqs. 3-5).
+ *
+ * Time stepping (Moreau's midpoint scheme, velocity level):
+ *     q_m = q + h/2 v,   forces at (t + h/2, q_m, v),   v* = v + h M^-1 Q,
+ *     v+ = v* + M^-1 (J_f^T p + G^T lambda),   q+ = q_m + h/2 v+,
+ * with the friction impulse p from the maximum-dissipation problem (Eq. 6)
+ * and stop impulses lambda >= 0 keeping every stop gap >= 0 at t + h.
+ * Stick is exact: when the friction impulse can hold the object, v+ = 0.
+ */
+#include "exdex.h"
+#include "contact.h"
+#include "ldp.h"
+#include "method.h"
+#include "model.h"
+#include "util.h"
+
+#include <float.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Mutable per-call workspace (nothing is allocated in the step loop). */
+typedef struct work {
+    exdex_friction_ws *fws;
+    double p_prev[3];
+    int have_prev;
+    int n_rows;
+    int row_stop[MAX_ROWS];
+    double G[MAX_ROWS][3];
+    double rhs[MAX_ROWS];
+    double lam[MAX_ROWS];
+    double gap[MAX_ROWS];
+} work;
+
+/* ------------------------------------------------------------ stops */
+
+/* Collect the stop rows for the step from t (coordinates q) to t+h: the
+ * linearised gap of q + h v+ at the gripper pose of t+h must be >= 0, i.e.
+ * G v+ >= -gap(q, t+h) / h. (A row on the midpoint position, gap(q_m) +
+ * h/2 G v+ >= 0, makes v+ = 2 V - v against a stop moving at V: a period-2
+ * velocity oscillation that never decays. Any penetration this row leaves
+ * through the midpoint position update, h/2 |v+ - v| at most, is removed by
+ * project_positions after the step.) */
+/* A gap within its own rounding of zero counts as exactly 0 in the row
+ * (rhs = 0, not -gap/h). An object resting against a stop that does not move
+ * relative to B sits at a gap that is 0 in exact arithmetic, and the sign of
+ * the rounding (which depends on the world frame the data is given in: gap_at
+ * works in A) decides whether the stop bound on v+ is +-1e-14 m/s. Across
+ * that sign Coulomb friction switches from static (stick, no stop impulse) to
+ * kinetic (sliding at 1e-14 m/s, the stop carries the rest) and the position
+ * update from Moreau's midpoint to "pushed" (see exdex_simulate), a jump of
+ * h/2 |v - v+| in q: a rounding-level change of the frame moved a trajectory
+ * by 2e-7 m. Counting such gaps as 0 makes both frames take the static
+ * branch. The bound is 8 rounding units of the sum of the magnitudes gap_at
+ * adds (|x_B|, |p|, |stop point|; R is orthonormal). */
+
+static void build_rows(const exdex_model *m, const exdex_kinematics *kin_end, const double *q,
+                       double h, work *w)
+{
+    double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3];
+    int nv = contact_vertices(m, q, xb, vx);
+    w->n_rows = 0;
+    for (int k = 0; k < m->n_stops; k++)
+        for (int j = 0; j < nv; j++) {
+            int i = w->n_rows++;
+            double tau = contact_gap_round(m, kin_end, k, xb[j]);
+            w->row_stop[i] = k;
+            w->gap[i] = contact_gap(m, kin_end, k, xb[j], vx[j], w->G[i]);
+            w->rhs[i] = fabs(w->gap[i]) <= tau ? 0.0 : -w->gap[i] / h;
+            w->lam[i] = 0.0;
+        }
+}
+
+/* 1-DoF step: min 1/2 M (v - vs)^2 + c |v| subject to G_i v >= rhs_i.
+ * Exact: soft-threshold, then clamp into the feasible interval. The impulse
+ * split is unique while sliding (friction = capacity, the binding stop the
+ * rest). At rest (v+ = 0) against a touching stop it is statically
+ * indeterminate; exdex lets the stops carry what they can (the split with the
+ * least friction), as in the planar case. */
+static void step_1dof(double M, double c, double vs, work *w, double *v_out, double *pf,
+                      exdex_stats *st)
+{
+    double vu, v, P, lo = -INFINITY, hi = INFINITY;
+    int ilo = -1, ihi = -1, ib;
+    if (fabs(M * vs) <= c)
+        vu = 0.0;
+    else
+        vu = vs - copysign(c / M, vs);
+    for (int i = 0; i < w->n_rows; i++) {
+        double g = w->G[i][0];
+        if (g > 0) {
+            double b = w->rhs[i] / g;
+            if (b > lo) { lo = b; ilo = i; }
+        } else if (g < 0) {
+            double b = w->rhs[i] / g;
+            if (b < hi) { hi = b; ihi = i; }
+        } else if (w->rhs[i] > 0) {
+            st->warnings++;  /* a stop parallel to the free direction cannot act */
+        }
+    }
+    if (lo > hi) {  /* stops pinch the object: keep the lower bound, count it */
+        st->warnings++;
+        hi = lo;
+    }
+    v = vu;
+    ib = -1;
+    if (v < lo) { v = lo; ib = ilo; }
+    if (v > hi) { v = hi; ib = ihi; }
+    P = M * (v - vs);  /* total impulse: friction + stops */
+    if (v == 0.0) {
+        /* at rest: a touching stop pushing the way P points takes it all */
+        ib = -1;
+        for (int i = 0; i < w->n_rows; i++)
+            if (w->gap[i] <= TOUCH && w->G[i][0] * P > 0) ib = i;
+        if (ib >= 0) {
+            w->lam[ib] = P / w->G[ib][0];
+            *pf = 0.0;
+        } else {
+            *pf = P;
+        }
+    } else if (ib >= 0) {
+        double p = -copysign(c, v), lam = (P - p) / w->G[ib][0];
+        *pf = p;
+        w->lam[ib] = lam > 0 ? lam : 0.0;
+    } else {
+        *pf = P;
+    }
+    *v_out = v;
+}
+
+/* ------------------------------------------------------------ the step loop */
+
+/* Can the object stay exactly at rest (v+ = 0) with stop impulses lambda >= 0
+ * on the touching rows and a friction impulse inside the ellipsoid? The
+ * friction needed is p(lambda) = -J^-T (M v* + G^T lambda); minimise
+ * |E^-1 p(lambda)| over lambda >= 0 (a tiny non-negative least-squares
+ * problem, solved exactly by trying every support of size <= 3: in 3-D an
+ * optimal support never needs more). Rest holds iff that minimum <= cap; the
+ * minimiser is the split with the least friction (the stops carry what they
+ * can). */
+static int try_rest(const exdex_model *m, const double cs[2], double cap, const double vs[3], work *w,
+                    double pfB[3], exdex_friction_result *fr)
+{
+    int rows[8], k = 0, best_set[3] = {-1, -1, -1}, best_n = 0;
+    double a[3], B[8][3], P[3], best, best_lam[3] = {0, 0, 0};
+    for (int i = 0; i < w->n_rows; i++) {
+        if (w->rhs[i] > 0.0 && w->gap[i] < -TOUCH) return 0; /* rest would penetrate */
+        if (w->gap[i] <= TOUCH && k < 8) rows[k++] = i;
+    }
+    for (int i = 0; i < 3; i++) P[i] = vs[i] / m->minv[i];
+    model_patch_of_gen(m, cs, P, a);
+    for (int i = 0; i < 3; i++) a[i] /= m->e[i];
+    for (int j = 0; j < k; j++) {
+        model_patch_of_gen(m, cs, w->G[rows[j]], B[j]);
+        for (int i = 0; i < 3; i++) B[j][i] /= m->e[i];
+    }
+    best = sqrt(ex_dot3(a, a)); /* empty support */
+    for (int mask = 1; mask < (1 << k); mask++) {
+        int set[3], n = 0, ok = 1;
+        double A[3][3], rhs[3], lam[3], r[3], norm;
+        for (int j = 0; j < k && n <= 3; j++)
+            if (mask & (1 << j)) {
+                if (n < 3) set[n] = j;
+                n++;
+            }
+        if (n > 3) continue;
+        for (int i = 0; i < n; i++) {
+            for (int j = 0; j < n; j++) A[i][j] = ex_dot3(B[set[i]], B[set[j]]);
+            rhs[i] = -ex_dot3(B[set[i]], a);
+        }
+        if (!ldp_solve_small(n, A, rhs, lam)) continue;
+        for (int i = 0; i < n; i++) ok &= lam[i] >= 0.0;
+        if (!ok) continue;
+        for (int c = 0; c < 3; c++) {
+            r[c] = a[c];
+            for (int i = 0; i < n; i++) r[c] += lam[i] * B[set[i]][c];
+        }
+        norm = sqrt(ex_dot3(r, r));
+        if (norm < best) {
+            best = norm;
+            best_n = n;
+            for (int i = 0; i < n; i++) {
+                best_set[i] = rows[set[i]];
+                best_lam[i] = lam[i];
+            }
+        }
+    }
+    if (!(best <= cap * (1.0 + 1e-12))) return 0;
+    for (int i = 0; i < 3; i++) P[i] = vs[i] / m->minv[i];
+    for (int i = 0; i < w->n_rows; i++) w->lam[i] = 0.0;
+    for (int i = 0; i < best_n; i++) {
+        w->lam[best_set[i]] = best_lam[i];
+        for (int c = 0; c < 3; c++) P[c] += best_lam[i] * w->G[best_set[i]][c];
+    }
+    for (int c = 0; c < 3; c++) pfB[c] = -P[c];
+    model_patch_of_gen(m, cs, pfB, fr->p);
+    fr->u[0] = fr->u[1] = fr->u[2] = 0.0;
+    fr->sigma = 0.0;
+    fr->stick = 1;
+    fr->iterations = 0;
+    return 1;
+}
+
+/* Friction slip map in B generalized coordinates, scaled: r = E J_f v with
+ * J_f v = J' Rg(-th) v, J' = [[1,0,-pc_y],[0,1,pc_x],[0,0,1]]. */
+
+/* Friction slip map in B generalized coordinates, scaled: r = E J_f v. */
+static void ejf(const exdex_model *m, const double cs[2], const double v[3], double r[3])
+{
+    model_patch_slip(m, cs, v, r);
+    for (int i = 0; i < 3; i++) r[i] *= m->e[i];
+}
+
+/* Sliding with the stop rows of `act` held as equalities:
+ *     min_v 1/2 (v - vs)^T M (v - vs) + cap |E J_f v|   s.t.  G_A v = rhs_A.
+ * With v = vp + N z (N a basis of null(G_A)), the objective is smooth in z
+ * wherever E J_f v != 0, which holds at the optimum once rest is excluded
+ * (try_rest), so a damped Newton method converges quadratically.
+ * Returns 1 on convergence with v, the friction impulse p (object frame) and
+ * the stop impulses lam (least squares from stationarity), 2 with the same
+ * outputs when the 60 Newton iterations ran out first (the caller counts a
+ * warning), 0 on failure. */
+static int solve_active(const exdex_model *m, const double cs[2], double cap, const double vs[3], const work *w,
+                        const int *act, int k, const double v_start[3], double v[3], double p[3],
+                        double lam[3], int *iters)
+{
+    double N[3][3], vp[3] = {0, 0, 0}, z[2] = {0, 0}, Mdiag[3];
+    int nz = 3 - k, converged = 0;
+    for (int i = 0; i < 3; i++) Mdiag[i] = 1.0 / m->minv[i];
+    /* particular solution (least norm) and null-space basis */
+    {
+        double A[3][3], b[3], y[3];
+        for (int i = 0; i < k; i++) {
+            for (int j = 0; j < k; j++) A[i][j] = ex_dot3(w->G[act[i]], w->G[act[j]]);
+            b[i] = w->rhs[act[i]];
+        }
+        if (k > 0) {
+            if (!ldp_solve_small(k, A, b, y)) return 0;
+            for (int i = 0; i < k; i++)
+                for (int c = 0; c < 3; c++) vp[c] += y[i] * w->G[act[i]][c];
+        }
+        if (k == 1) {
+            const double *g = w->G[act[0]];
+            double e0[3] = {0, 0, 0}, n1[3], n2[3], nn;
+            e0[fabs(g[0]) < fabs(g[1]) ? (fabs(g[0]) < fabs(g[2]) ? 0 : 2) : (fabs(g[1]) < fabs(g[2]) ? 1 : 2)] = 1.0;
+            ex_cross3(n1, g, e0);
+            nn = sqrt(ex_dot3(n1, n1));
+            for (int c = 0; c < 3; c++) n1[c] /= nn;
+            ex_cross3(n2, g, n1);
+            nn = sqrt(ex_dot3(n2, n2));
+            for (int c = 0; c < 3; c++) {
+                N[c][0] = n1[c];
+                N[c][1] = n2[c] / nn;
+            }
+        } else if (k == 2) {
+            double n1[3], nn;
+            ex_cross3(n1, w->G[act[0]], w->G[act[1]]);
+            nn = sqrt(ex_dot3(n1, n1));
+            if (!(nn > 0)) return 0;
+            for (int c = 0; c < 3; c++) N[c][0] = n1[c] / nn;
+        }
+    }
+    /* start from the projection of v_start onto the affine set */
+    for (int j = 0; j < nz; j++) {
+        z[j] = 0.0;
+        for (int c = 0; c < 3; c++) z[j] += N[c][j] * (v_start[c] - vp[c]);
+    }
+    *iters = 0;
+    if (nz > 0) {
+        /* On the affine set the scaled slip is linear, r(z) = r0 + B z, and the
+         * quadratic part is 1/2 z^T H0 z + h0 . z + const: all set up once. */
+        double r0[3], B[3][2], H0[2][2], h0[2];
+        ejf(m, cs, vp, r0);
+        for (int j = 0; j < nz; j++) {
+            double col[3] = {N[0][j], N[1][j], N[2][j]}, bc[3];
+            ejf(m, cs, col, bc);
+            for (int c = 0; c < 3; c++) B[c][j] = bc[c];
+            h0[j] = 0.0;
+            for (int c = 0; c < 3; c++) h0[j] += N[c][j] * Mdiag[c] * (vp[c] - vs[c]);
+            for (int i = 0; i < nz; i++) {
+                H0[i][j] = 0.0;
+                for (int c = 0; c < 3; c++) H0[i][j] += N[c][i] * Mdiag[c] * N[c][j];
+            }
+        }
+        for (int it = 0; it < 60; it++) {
+            double r[3], nr, g[2], Br[2], step[3], Hs[3][3], gs[3], f0, fscale, t = 1.0, znew[2] = {0, 0};
+            for (int c = 0; c < 3; c++) {
+                r[c] = r0[c];
+                for (int j = 0; j < nz; j++) r[c] += B[c][j] * z[j];
+            }
+            nr = sqrt(ex_dot3(r, r));
+            if (!(nr > 0)) return 0;
+            for (int j = 0; j < nz; j++) {
+                Br[j] = B[0][j] * r[0] + B[1][j] * r[1] + B[2][j] * r[2];
+                g[j] = h0[j] + cap * Br[j] / nr;
+                for (int i = 0; i < nz; i++) g[j] += H0[j][i] * z[i];
+            }
+            for (int i = 0; i < nz; i++) {
+                for (int j = 0; j < nz; j++) {
+                    double btb = B[0][i] * B[0][j] + B[1][i] * B[1][j] + B[2][i] * B[2][j];
+                    Hs[i][j] = H0[i][j] + cap / nr * (btb - Br[i] * Br[j] / (nr * nr));
+                }
+                gs[i] = -g[i];
+            }
+            if (!ldp_solve_small(nz, Hs, gs, step)) return 0;
+            /* backtracking on the objective keeps the damped Newton step
+             * monotone. Near the optimum the decrease of a Newton step
+             * (~ |g| |step|) falls below the rounding of f itself; a step whose
+             * objective differs from f0 by no more than that rounding (fscale
+             * below, the sum of the terms' magnitudes) is accepted, else the
+             * search would shrink t to nothing and the iteration stall short of
+             * the optimum (found by the frame-invariance test: a stall at a
+             * gradient 1e-10 left a 1e-10 relative velocity error that
+             * depended on the rounding of the world frame). */
+            f0 = cap * nr;
+            fscale = fabs(f0);
+            for (int i = 0; i < nz; i++) {
+                f0 += h0[i] * z[i];
+                fscale += fabs(h0[i] * z[i]);
+                for (int j = 0; j < nz; j++) {
+                    f0 += 0.5 * z[i] * H0[i][j] * z[j];
+                    fscale += fabs(0.5 * z[i] * H0[i][j] * z[j]);
+                }
+            }
+            for (int ls = 0; ls < 30; ls++) {
+                double rt[3], ft;
+                for (int j = 0; j < nz; j++) znew[j] = z[j] + t * step[j];
+                for (int c = 0; c < 3; c++) {
+                    rt[c] = r0[c];
+                    for (int j = 0; j < nz; j++) rt[c] += B[c][j] * znew[j];
+                }
+                ft = cap * sqrt(ex_dot3(rt, rt));
+                for (int i = 0; i < nz; i++) {
+                    ft += h0[i] * znew[i];
+                    for (int j = 0; j < nz; j++) ft += 0.5 * znew[i] * H0[i][j] * znew[j];
+                }
+                if (ft <= f0 + 16.0 * DBL_EPSILON * fscale || t < 1e-6) break;
+                t *= 0.5;
+            }
+            for (int j = 0; j < nz; j++) z[j] = znew[j];
+            (*iters)++;
+            {
+                /* converged when the full Newton step (the distance to the
+                 * optimum of the local model), not the damped one, is tiny */
+                double sn = 0, zn = 0;
+                for (int j = 0; j < nz; j++) {
+                    sn += step[j] * step[j];
+                    zn += z[j] * z[j];
+                }
+                if (sqrt(sn) <= 1e-14 * (1e-3 + sqrt(zn))) {
+                    converged = 1;
+                    break;
+                }
+            }
+        }
+    } else {
+        converged = 1;  /* k = 3: v is the particular solution */
+    }
+    for (int c = 0; c < 3; c++) {
+        v[c] = vp[c];
+        for (int j = 0; j < nz; j++) v[c] += N[c][j] * z[j];
+    }
+    {
+        double r[3], nr, P[3], res[3], A[3][3], b[3];
+        ejf(m, cs, v, r);
+        nr = sqrt(ex_dot3(r, r));
+        if (!(nr > 0)) return 0;
+        for (int c = 0; c < 3; c++) p[c] = -cap * m->e[c] * r[c] / nr;
+        model_gen_of_patch(m, cs, p, P);
+        /* G_A^T lam = M (v - vs) - P_f, least squares */
+        for (int c = 0; c < 3; c++) res[c] = Mdiag[c] * (v[c] - vs[c]) - P[c];
+        for (int i = 0; i < k; i++) {
+            for (int j = 0; j < k; j++) A[i][j] = ex_dot3(w->G[act[i]], w->G[act[j]]);
+            b[i] = ex_dot3(w->G[act[i]], res);
+        }
+        if (k > 0 && !ldp_solve_small(k, A, b, lam)) return 0;
+    }
+    return converged ? 1 : 2;
+}
+
+/* Planar friction + stops: friction alone first; if a stop row is violated,
+ * exact rest (try_rest), else a primal active set over the stop rows with the
+ * smooth sliding subproblem (solve_active). */
+static int step_planar(const exdex_model *m, double h, double th, const double vs[3], work *w,
+                       double v[3], double pfB[3], exdex_friction_result *fr, exdex_stats *st)
+{
+    double cap = h * m->capF, b[3], cs[2] = {cos(th), sin(th)};
+    int s, act[3], k = 0, round;
+    model_patch_slip(m, cs, vs, b);
+    s = exdex_friction_solve(&m->prep, b, cap, m->def.friction_solver, w->fws, w->have_prev ? w->p_prev : NULL, fr);
+    if (s) return s;
+    st->solver_iterations += (size_t)fr->iterations;
+    model_gen_of_patch(m, cs, fr->p, pfB);
+    for (int i = 0; i < 3; i++) v[i] = fr->stick ? 0.0 : vs[i] + m->minv[i] * pfB[i];
+    for (round = 0; round < 12; round++) {
+        int worst = -1, neg = -1;
+        double wv = 0.0, lam[3] = {0, 0, 0}, p[3], vn[3];
+        for (int i = 0; i < w->n_rows; i++) {
+            double viol = w->rhs[i] - ex_dot3(w->G[i], v);
+            int in = 0;
+            for (int a = 0; a < k; a++) in |= act[a] == i;
+            if (!in && viol > 1e-13 * (1.0 + fabs(w->rhs[i])) && viol > wv) {
+                wv = viol;
+                worst = i;
+            }
+        }
+        if (worst < 0) break; /* every row satisfied: done */
+        if (round == 0 && try_rest(m, cs, cap, vs, w, pfB, fr)) {
+            v[0] = v[1] = v[2] = 0.0;
+            goto done;
+        }
+        if (k == 3) { /* cannot add more independent rows */
+            st->warnings++;
+            break;
+        }
+        act[k++] = worst;
+        for (;;) {
+            int it = 0, sa = solve_active(m, cs, cap, vs, w, act, k, v, vn, p, lam, &it);
+            if (!sa) {
+                st->warnings++;
+                k--; /* keep the previous solution */
+                goto done;
+            }
+            if (sa == 2) st->warnings++; /* Newton iteration cap: solution kept */
+            st->stop_iterations += (size_t)it;
+            /* drop a row whose impulse came out negative (it should separate) */
+            neg = -1;
+            for (int a = 0; a < k; a++)
+                if (lam[a] < 0.0 && (neg < 0 || lam[a] < lam[neg])) neg = a;
+            if (neg < 0 || k == 1) break;
+            act[neg] = act[--k];
+        }
+        for (int c = 0; c < 3; c++) v[c] = vn[c];
+        for (int i = 0; i < w->n_rows; i++) w->lam[i] = 0.0;
+        for (int a = 0; a < k; a++) w->lam[act[a]] = lam[a] > 0.0 ? lam[a] : 0.0;
+        memcpy(fr->p, p, sizeof fr->p);
+        fr->stick = 0;
+        model_gen_of_patch(m, cs, p, pfB);
+    }
+    if (round == 12) st->warnings++; /* active-set rounds ran out: last iterate kept */
+done:
+    w->p_prev[0] = fr->p[0];
+    w->p_prev[1] = fr->p[1];
+    w->p_prev[2] = fr->p[2];
+    w->have_prev = 1;
+    return EXDEX_OK;
+}
+
+
+/* Remove the residual penetration left by the midpoint position update and
+ * the linearised rotation (see build_rows): Newton passes on the vertex
+ * gaps, each the least M-norm correction dq with every linearised gap
+ * g_i + G_i dq >= 0 (a small QP over all vertex rows, solved by
+ * proj_min_norm on a growing set of candidate rows: start with the deepest,
+ * add the row most violated by the current dq until none is). A gap within
+ * its rounding bound (gap_round) of 0 counts as 0, as in build_rows: the
+ * sign of a rounding-level gap is not determined by the data.
+ * (Found by the property test test_stop_never_penetrated: the previous
+ * projection moved along M^-1 G^T of the deepest vertex alone. With an edge
+ * of the box flush against the stop, its two vertices equally deep, each
+ * such step rotates the box and pushes the other vertex in: the penetration
+ * alternated between them and shrank only by a factor 0.7 per pass, 16
+ * passes left 5e-8 m; and rounding-level gaps of -1e-18 m, which no
+ * projection removes, used up all passes and counted a warning each step.
+ * Both vertex rows together give the pure translation at once.) */
+static void project_positions(const exdex_model *m, const exdex_kinematics *kin, double *q,
+                              exdex_stats *st)
+{
+    int nv = m->n_vert ? m->n_vert : 1, n = m->ndof, nr = m->n_stops * nv;
+    double sq[3] = {0, 0, 0};  /* M^-1/2 (the metric of the correction) */
+    if (n == 1) {
+        sq[0] = 1.0;
+    } else {
+        sq[0] = sq[1] = 1.0 / sqrt(m->m);
+        sq[2] = 1.0 / sqrt(m->izz);
+    }
+    for (int pass = 0; pass < 16; pass++) {
+        double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], a[MAX_ROWS][3], g[MAX_ROWS], c[MAX_ROWS],
+            tol[MAX_ROWS], z[3] = {0, 0, 0}, depth = 0.0;
+        int cand[PROJ_CAND], nc = 0, deep = -1, solved = 0;
+        contact_vertices(m, q, xb, vx);
+        for (int k = 0; k < m->n_stops; k++)
+            for (int j = 0; j < nv; j++) {
+                int i = k * nv + j;
+                double G[3] = {0, 0, 0};
+                g[i] = contact_gap(m, kin, k, xb[j], vx[j], G);
+                tol[i] = contact_gap_round(m, kin, k, xb[j]);
+                for (int d = 0; d < 3; d++) a[i][d] = G[d] * sq[d];
+                if (g[i] < -tol[i] && (deep < 0 || g[i] < g[deep])) deep = i;
+            }
+        if (deep < 0) return;  /* every gap >= 0 to rounding */
+        depth = -g[deep];
+        /* target gap slightly positive (1e-12 of the depth): the next pass
+         * then sees no rounding-level penetration from this one */
+        for (int i = 0; i < nr; i++) c[i] = -g[i] + 1e-12 * depth;
+        cand[nc++] = deep;
+        for (;;) {
+            int worst = -1;
+            double wv = 0.0;
+            if (!ldp_min_norm_enum(n, (const double (*)[3])a, c, tol, cand, nc, z)) break;
+            for (int i = 0; i < nr; i++) {
+                double viol = c[i] - tol[i] - ex_dot3(a[i], z);
+                if (viol > wv) {
+                    wv = viol;
+                    worst = i;
+                }
+            }
+            if (worst < 0) {
+                solved = 1;
+                break;
+            }
+            if (nc == PROJ_CAND) break;
+            cand[nc++] = worst;
+        }
+        if (!solved) {
+            /* contradictory rows (pinched object) or too many candidates:
+             * the deepest row alone, as far as it can act */
+            double aa = ex_dot3(a[deep], a[deep]);
+            if (!(aa > 0.0)) break;
+            for (int d = 0; d < 3; d++) z[d] = a[deep][d] * c[deep] / aa;
+        }
+        for (int d = 0; d < n; d++) q[d] += sq[d] * z[d];
+    }
+    /* still penetrating after every pass (e.g. the prescribed motion drives a
+     * pinned pivot through a stop): report it rather than stay silent */
+    st->warnings++;
+}
+
+/* The run's workspace: malloc, not calloc: the row arrays (~13 kB) are
+ * written before they are read (build_rows), and zeroing them costs ~7 % of
+ * a short planar run. */
+static void *implicit_alloc(const exdex_model *m, int *status)
+{
+    work *w = malloc(sizeof *w);
+    if (!w) {
+        *status = EXDEX_ENOMEM;
+        return NULL;
+    }
+    w->fws = NULL;
+    w->p_prev[0] = w->p_prev[1] = w->p_prev[2] = 0.0;
+    w->have_prev = 0;
+    w->n_rows = 0;
+    if (m->def.friction_solver != EXDEX_SOLVER_SCALAR && m->ndof == 3) {
+        w->fws = exdex_friction_ws_alloc();
+        if (!w->fws) {
+            free(w);
+            *status = EXDEX_ENOMEM;
+            return NULL;
+        }
+    }
+    return w;
+}
+
+static void implicit_free(void *ws)
+{
+    work *w = ws;
+    if (!w) return;
+    exdex_friction_ws_free(w->fws);
+    free(w);
+}
+
+static int implicit_run(const exdex_model *m, void *ws, double t_end, double dt, exdex_trajectory *out,
+                        exdex_stats *st)
+{
+    size_t n = out->n;
+    int n_dof = m->ndof, ns = m->n_stops, status = EXDEX_OK;
+    double q[3], v[3], vprev[3], hprev = 0.0, t;
+    exdex_kinematics kin0;
+    work *w = ws;
+    model_initial_state(m, q, v);
+    t = 0.0;
+    status = exdex_motion_eval(m->motion, 0.0, &kin0);
+    for (size_t step = 1; step < n && status == EXDEX_OK; step++) {
+        double t1 = step == n - 1 ? t_end : (double)step * dt;
+        double h = t1 - t, tm = t + 0.5 * h, qm[3], vmid[3], F[3], vs[3], vn[3];
+        double wrench[3] = {0, 0, 0};
+        frame f;
+        exdex_kinematics kin, kin_end;
+        int stick;
+        /* step-mean frame accelerations (a midpoint sample would make an
+         * acceleration jump inside the step an O(h) error) */
+        status = model_frame_step(m, &kin0, tm, t1, h, &f, &kin, &kin_end);
+        if (status) break;
+        for (int i = 0; i < n_dof; i++) {
+            qm[i] = q[i] + 0.5 * h * v[i];
+            /* velocity at the midpoint, extrapolated from the last step, for
+             * the velocity-dependent (Coriolis, gyroscopic) terms: second
+             * order in smooth phases, and exactly 0 while the object sticks */
+            vmid[i] = hprev > 0.0 ? v[i] + 0.5 * h * (v[i] - vprev[i]) / hprev : v[i];
+        }
+        if (ns) {
+            build_rows(m, &kin_end, q, h, w);
+        } else {
+            w->n_rows = 0;
+        }
+        if (n_dof == 1) {
+            int tr = m->def.dof == EXDEX_DOF_TRANSLATION;
+            double M = tr ? m->m : m->mrot, Q = model_force_1dof(m, &f, qm[0], vmid[0]), pf;
+            /* friction capacity of the step: |E j| = e_t = 1 for a slide,
+             * e_r for a pure spin at the centre of pressure */
+            double c = tr ? h * m->capF : h * m->capF * m->e[2];
+            vs[0] = v[0] + h * Q / M;
+            step_1dof(M, c, vs[0], w, &vn[0], &pf, st);
+            if (m->def.dof == EXDEX_DOF_TRANSLATION) {
+                wrench[0] = pf * m->d[0] / h;
+                wrench[1] = pf * m->d[1] / h;
+            } else {
+                wrench[2] = pf / h;
+            }
+            stick = vn[0] == 0.0;
+        } else {
+            exdex_friction_result fr;
+            double pfB[3], fo[3];
+            model_force_planar(m, &f, qm, vmid, F);
+            for (int i = 0; i < 3; i++) vs[i] = v[i] + h * m->minv[i] * F[i];
+            status = step_planar(m, h, qm[2], vs, w, vn, pfB, &fr, st);
+            if (status) break;
+            /* report the patch wrench (not the generalized impulse), in B */
+            model_to_b(MODEL_CS(qm[2]), fr.p, fo);
+            for (int i = 0; i < 3; i++) wrench[i] = fo[i] / h;
+            stick = vn[0] == 0.0 && vn[1] == 0.0 && vn[2] == 0.0;
+        }
+        {
+            /* A step in which a stop pushes ends where its row put it: q + h v+
+             * (gap exactly 0 for a translating contact); otherwise Moreau's
+             * midpoint update q_m + h/2 v+. */
+            int pushed = 0;
+            for (int i = 0; i < w->n_rows; i++) pushed |= w->lam[i] > 0.0;
+            for (int i = 0; i < n_dof; i++) {
+                q[i] = pushed ? q[i] + h * vn[i] : qm[i] + 0.5 * h * vn[i];
+                vprev[i] = v[i];
+                v[i] = vn[i];
+            }
+        }
+        if (ns) {
+            project_positions(m, &kin_end, q, st);
+            double gmin = contact_min_gap(m, &kin_end, q);
+            if (gmin < st->min_gap) st->min_gap = gmin;
+        }
+        if (!ex_finite_n(q, n_dof) || !ex_finite_n(v, n_dof) || !ex_finite_n(wrench, 3)) {
+            status = EXDEX_ENONFINITE;
+            break;
+        }
+        {
+            /* stop forces (impulse / h) must be finite too: an overflow in the
+             * impulses alone is reported, not recorded */
+            int finite_lam = 1;
+            for (int i = 0; i < w->n_rows; i++) finite_lam &= isfinite(w->lam[i] / h);
+            if (!finite_lam) {
+                status = EXDEX_ENONFINITE;
+                break;
+            }
+        }
+        t = t1;
+        hprev = h;
+        kin0 = kin_end;
+        st->steps++;
+        st->stick_steps += (size_t)stick;
+        out->t[step] = t1;
+        for (int i = 0; i < n_dof; i++) {
+            out->q[step * n_dof + i] = q[i];
+            out->v[step * n_dof + i] = v[i];
+        }
+        for (int i = 0; i < 3; i++) out->wrench[3 * step + i] = wrench[i];
+        out->stick[step] = (unsigned char)stick;
+        for (int k = 0; k < ns; k++) out->stop_force[step * ns + k] = 0.0;
+        for (int i = 0; i < w->n_rows; i++)
+            out->stop_force[step * ns + w->row_stop[i]] += w->lam[i] / h;
+    }
+    return status;
+}
+
+const method_impl method_implicit = {"implicit", implicit_alloc, implicit_run, implicit_free};
