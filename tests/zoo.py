@@ -185,7 +185,7 @@ def _grasp(rng, body, L):
     if kind == "disc":
         patch = exdex.Patch.disc(small * rng.uniform(0.1, 0.6), center=center)
     elif kind == "rectangle":
-        patch = exdex.Patch.rectangle(hx * rng.uniform(0.1, 0.6), hy * rng.uniform(0.1, 0.6), center=center)
+        patch = exdex.Patch.rectangle(2 * hx * rng.uniform(0.1, 0.6), 2 * hy * rng.uniform(0.1, 0.6), center=center)
     else:
         patch = exdex.Patch(e_r=float(small * rng.uniform(0.05, 0.5)), center=center)
     mu = float(rng.uniform(0.2, 1.0))
@@ -508,10 +508,42 @@ def bound(method, o, ref):
     allow = ref["err"] + ref.get("jump", 0.0) + FLOOR
     if method == "event":
         return TOL_EVENT + ref.get("jump", 0.0) + FLOOR
-    est = S * max(o["d1"] / 2.0, o["d2"])
+    est = S * max(o["d1"], o["d2"])
     if method == "explicit":
         est += o["creep"]
+    if method == "regularised":
+        est += TOL_EVENT + o["creep"]  # its adaptive integration at REF_RTOL; its creep while stuck
     return est + allow
+
+
+def regularised_creep(zs, ref_run, eps_rel):
+    """The regularised method's creep over the reference's stuck time, as a
+    pose distance / L. Under a plate load w inside the ellipsoid it does not
+    stick but creeps at |E u| = eps |E^-1 w| / sqrt((mu N)^2 - |E^-1 w|^2)
+    (exdex.simulate); u is the slip (v, e_r omega), so the pose moves by at
+    most that speed times max(1, radius / e_r). Summed over the reference's
+    stuck output intervals with the reference's wrench (the mean over each
+    interval)."""
+    sc = zs.scene
+    C, er = sc.grasp.capacity, sc.grasp.patch.e_r
+    if C <= 0.0:
+        return 0.0
+    w, st = ref_run.wrench[1:], ref_run.stick[1:]
+    load = np.sqrt(w[:, 0] ** 2 + w[:, 1] ** 2 + (w[:, 2] / er) ** 2)
+    gap = np.sqrt(np.maximum(C * C - load * load, 0.0))
+    eps = eps_rel * zs.L / zs.tau
+    with np.errstate(divide="ignore", invalid="ignore"):
+        speed = np.where(st, eps * load / gap, 0.0)
+    if not np.all(np.isfinite(speed)):
+        return math.inf
+    dt = ref_run.t[1:] - ref_run.t[:-1]
+    return float(np.sum(speed * dt) * max(1.0, zs.radius / er) / zs.L)
+
+
+#: The regularised method is in its first-order regime only while its creep
+#: leaves the configuration nearly unchanged: creep at EPS above this
+#: fraction of L takes the scene out of it (see tests/test_zoo.py).
+CREEP_REGIME = 0.1
 
 
 def check_scene(zs, methods=METHODS, agree=METHODS):
@@ -580,13 +612,16 @@ def check_scene(zs, methods=METHODS, agree=METHODS):
                      d2=pose_distance(zs, poses[1], poses[2]))
             if method == "explicit":
                 o["creep"] = stuck * zs.t_end / (4 * N_DT) * creep_speed(zs)
+            if method == "regularised":
+                o["creep"] = regularised_creep(zs, tight, EPS / 4)
+                o["regime"] = regularised_creep(zs, tight, EPS) <= CREEP_REGIME
 
     def judge():
         for method in agree:
             o = out[method]
             if not o["error"]:
                 o["bound"] = bound(method, o, refd)
-                o["ok"] = o["err"] <= o["bound"]
+                o["ok"] = o["err"] <= o["bound"] or not o.get("regime", True)
 
     judge()
     if not all(out[m]["ok"] for m in agree if not out[m]["error"]):
