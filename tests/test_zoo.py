@@ -2,72 +2,83 @@
 finite, and it agrees with an independent reference within its own stated
 error.
 
-Scenes: ``zoo.zoo_scene(seed)`` for the seeds below (N_SCENES of them, every
-method on every one; the long run benchmarks/zoo_long.py takes 10,000 and
-more). What a zoo scene can be, and why each one is valid, is in the
-generator's docstring.
+Scenes: ``zoo.zoo_scene(seed)`` for seeds 0 .. N_SCENES - 1, every method on
+every one (benchmarks/zoo_long.py runs 10,000 and more). What a zoo scene
+can be, and why each one is valid, is in the generator's docstring.
 
 Returning. A ``SolverError`` is a failure, except where the exact solution
 itself is Zeno-like (infinitely many stick/slip switches accumulating at a
-time): then the message must say when (``t =``), why (``Zeno``) and what to
+time): then the message must say when (``t = ``), why (``Zeno``) and what to
 use instead (``method=``).
 
 Agreement. The error metric is the final pose (x, y, theta) of the object
 in the gripper, as a length relative to the object's size L:
 ``max(|dx|, |dy|, radius |dtheta|) / L`` (zoo.pose_distance; radius the
 farthest outline vertex, so an angle error counts as that vertex's
-displacement). The final pose is what a user of these scenes asks for; it is
-a continuous function of the trajectory, while velocities and stick flags
-jump at switches. Scale-free: every run uses tolerances in the scene's own
-units (zoo.run).
+displacement). The final pose is what a user of these scenes asks for and a
+continuous function of the trajectory, while velocities, wrenches and stick
+flags jump at switches, where every time-stepping error is first order in
+the switch time. Scale-free: every run uses tolerances in the scene's own
+units (zoo.run), so a 1 mm and a 1 m scene are held to the same standard.
 
 * Reference: the event method (exact Coulomb friction, exact stick, error
-  set by the tolerance) at rtol REF_RTOL_TIGHT = 1e-11 on a fine output grid
-  (t_end / 64). Its own check: the run at REF_RTOL = 1e-9 on a coarse grid
-  (t_end / 8) is within TOL_EVENT = 1e3 REF_RTOL = 1e-6 of it. The stepper
-  controls the error per step to rtol; the global error is at most the sum
-  over the steps, and these scenes take a few hundred steps, so the 1e-9 run
-  is within ~1e3 rtol of the exact pose. The grid is only an output grid,
-  so changing it must not change the answer (an event located at the next
-  output sample, instead of inside the step, shows here).
+  set by its tolerance) at rtol REF_RTOL_TIGHT = 1e-11, output every
+  t_end / 64. Its own check: the run at REF_RTOL = 1e-9 with output every
+  t_end / 8 is within TOL_EVENT = 1e3 REF_RTOL = 1e-6 of it. The stepper
+  keeps the error of each step below rtol (relative) and the global error is
+  at most their sum; these scenes take at most a few hundred steps, so the
+  1e-9 run lies within ~1e3 rtol of the exact pose, and the 1e-11 run a
+  hundred times closer. ``dt`` is only the event method's output grid, so
+  the coarse grid must give the same answer as the fine one: a switch
+  located at the next output sample instead of where it happens shows here.
 
-* Conditioning. Some valid scenes are near-degenerate: the load equals the
-  friction limit at some instant, a box balances on a corner, two bodies of
-  the motion's data cancel. There the final pose is a discontinuous (or
-  steep) function of the data, and any method's discretisation, which acts
-  as a small perturbation of the forces, may land on either side. The
-  allowance for this is measured, not guessed: ``jump``, the largest
-  distance between the reference and the reference for gravity scaled by
-  1 +- DELTA (1e-6, below the relative error of every method checked here).
-  For a well-conditioned scene it is ~1e-6 times the condition number and
-  negligible; for a threshold scene it is the size of the discontinuity,
-  the ambiguity of the answer itself. Every bound below adds ``jump`` and
-  the reference's own estimate (``ref_err``) and a floor of REF_RTOL
-  (rounding and the reference's tolerance).
+* Conditioning. Some valid scenes are near-degenerate: the load touches the
+  friction limit, a box balances on a corner. There the final pose is a
+  discontinuous (or very steep) function of the data, and every method's
+  discretisation, a small perturbation of the dynamics, may land on either
+  side. The allowance is measured, not guessed: ``jump``, the largest
+  distance between the reference and the reference with gravity scaled by
+  1 +- DELTA (1e-6, below the relative error of every method checked). For a
+  well-conditioned scene it is ~1e-6 x its condition number and negligible;
+  at a threshold it is the size of the discontinuity, the ambiguity of the
+  answer itself. Every bound below adds ``jump`` (computed only for scenes
+  that exceed their bound without it), the reference's own estimate, and a
+  floor of REF_RTOL.
 
 * Implicit (first order in dt) and explicit: runs at h = t_end / 500, h/2
-  and h/4 give differences D1 = |q(h) - q(h/2)| and D2 = |q(h/2) - q(h/4)|.
-  Model of the error: e(h) = c h + r(h), where the first-order term c h
-  comes from the smooth phases and from each stick/slip switch or impact
-  falling inside a step, and r(h) is the jitter of that term as the switch
-  moves within the step as h changes, |r(h)| <= rho |c| h. Then
-  D2 >= |c| h (1/4 - 3 rho / 4) and |e(h/4)| <= |c| h (1 + rho) / 4, so
-  |e(h/4)| <= D2 (1 + rho) / (1 - 3 rho); the same with D1 / 2. The
-  estimate is E = max(D1 / 2, D2) and the bound S E with S = 3, which holds
-  for rho <= 1/5 (the jitter at most a fifth of the first-order term). The
-  explicit method never sticks: where the exact solution sticks its
-  velocity chatters in a band of width 2 h C / M and the pose creeps by at
-  most h C / M per unit time (zoo.creep_speed); that creep over the
-  reference's stuck time at h/4 is added.
+  and h/4, differences D1 = |q(h) - q(h/2)| and D2 = |q(h/2) - q(h/4)|.
+  Model of the error: e(h) = h g(h), where g collects the smooth phases'
+  first-order term and one term per stick/slip switch or impact inside a
+  step, which varies with the switch's position inside its step: g keeps its
+  sign and varies within a factor kappa as h changes. Then
+  D1 >= h g_min (1 - kappa / 2) and |e(h/4)| <= h g_min kappa / 4, so
+  |e(h/4)| <= D1 kappa / (4 - 2 kappa); the same holds with D2 one level
+  finer. The bound is S max(D1, D2) with S = 3, which holds for
+  kappa <= 1.7 (the switch terms change the error by at most 70 % between
+  the three steps). The explicit method never sticks: where the exact
+  solution sticks its velocity chatters in a band of width 2 h C / M about 0
+  and its pose creeps by at most h C / M per unit time (zoo.creep_speed);
+  that creep at h/4 over the reference's stuck time is added.
 
-* Regularised (first order in the smoothing speed eps): runs at eps = EPS
-  L / tau and eps / 2; the same argument with D1 = |q(eps) - q(eps / 2)| and
-  |e(eps / 2)| <= S D1 (the creep under a load inside the ellipsoid is
-  exactly linear in eps; the smoothed switches contribute c eps + jitter).
+* Regularised (first order in the smoothing speed eps): runs at eps = EPS L
+  / tau (EPS = 1e-2), eps/2 and eps/4 with the same estimate S max(D1, D2)
+  at eps/4, plus TOL_EVENT (its own adaptive integration runs at REF_RTOL)
+  and its creep: under a load w inside the friction ellipsoid it does not
+  stick but creeps at eps |E^-1 w| / sqrt((mu N)^2 - |E^-1 w|^2), summed
+  here over the reference's stuck intervals with the reference's wrench
+  (zoo.regularised_creep). That law is first order in eps only while the
+  creep leaves the configuration nearly unchanged; where the creep at EPS
+  exceeds CREEP_REGIME = 0.1 L the method is outside its first-order regime
+  at these eps (its error changes the configuration, e.g. a box creeping
+  round a stop corner under a load 0.93 of the friction limit), so there it
+  must return finite values, and the bound is reported, not asserted
+  (test_zoo_regularised_regime bounds how often that happens). Three stiff
+  runs per scene are the expensive part of this file: the agreement runs on
+  every REG_EVERY-th seed, the single run at EPS on all.
 
 Known defects are marked per (method, seed) with ``xfail(strict=True)`` and
-the defect stated; a fix makes them pass and the strict mark then fails,
-so the list can only shrink.
+the defect stated; a fix makes them pass, the strict mark then fails, and
+the mark must go: the list can only shrink.
 """
 import re
 
@@ -82,7 +93,7 @@ N_SCENES = 200
 SEEDS = range(N_SCENES)
 #: The regularised method's agreement (three stiff runs) on every REG_EVERY-th
 #: seed; it returns on all of them.
-REG_EVERY = 4
+REG_EVERY = 2
 
 #: (method, seed) -> the defect; strict xfails.
 KNOWN = {}
@@ -152,3 +163,19 @@ def test_zoo_generator_is_valid_and_covers_the_space():
     assert seen["rotate"] == {True, False} and seen["v0"] == {True, False}
     assert min(Ls) < 2e-3 and max(Ls) > 0.5
     assert min(grips) < 0.6 and max(grips) > 4.5
+
+
+def test_zoo_regularised_regime():
+    """Scenes where the regularised method's creep at EPS exceeds
+    CREEP_REGIME (its agreement reported, not asserted) stay a minority
+    of the checked ones: the zoo must test that method, not excuse it."""
+    checked = outside = 0
+    for seed in SEEDS:
+        if seed % REG_EVERY:
+            continue
+        o = results(seed)[1]["regularised"]
+        if "regime" in o:
+            checked += 1
+            outside += not o["regime"]
+    assert checked >= N_SCENES // REG_EVERY // 2
+    assert outside <= 0.5 * checked, (outside, checked)
