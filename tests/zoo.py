@@ -436,7 +436,7 @@ METHODS = ("implicit", "event", "regularised", "explicit")
 #: t_end / N_OUT (adaptive methods; the event reference's tight run at a
 #: grid N_OUT_FINE, so an answer that depends on the output grid shows in
 #: the reference's own estimate); the time-stepping methods at dt = t_end /
-#: N_DT, / 2, / 4; the event reference at rtol REF_RTOL checked against
+#: N_DT, / 2, / 4, / 8; the event reference at rtol REF_RTOL checked against
 #: REF_RTOL_TIGHT; the regularised method at eps = EPS L / tau, / 2 and
 #: / 4; DELTA the relative change of gravity that measures how well
 #: conditioned the final pose is.
@@ -508,7 +508,7 @@ def bound(method, o, ref):
     allow = ref["err"] + ref.get("jump", 0.0) + FLOOR
     if method == "event":
         return TOL_EVENT + ref.get("jump", 0.0) + FLOOR
-    est = S * max(o["d1"], o["d2"])
+    est = S * max(o["d"])
     if method == "explicit":
         est += o["creep"]
     if method == "regularised":
@@ -555,10 +555,12 @@ def check_scene(zs, methods=METHODS, agree=METHODS):
 
     Returns a dict per method: ``error`` (None, or "ExceptionType: message"),
     ``pose`` (final pose of its finest run) and for the methods in
-    ``agree``: ``err`` (pose_distance to the reference), ``d1``, ``d2``
-    (differences between the runs at h, h/2, h/4, or eps, eps/2, eps/4),
-    explicit also ``creep`` (the reference's stuck time x h/4 x
-    creep_speed), ``bound`` (zoo.bound) and ``ok``. Key "reference": the
+    ``agree``: ``err`` (pose_distance from the finest run to the
+    reference), ``d`` (distances between successive runs at h, h/2, h/4,
+    h/8, or eps0, eps0/2, eps0/4), explicit and regularised also ``creep``
+    (explicit: the reference's stuck time x h/8 x creep_speed; regularised:
+    regularised_creep at eps0/4, ``eps0`` and ``regime``), ``bound``
+    (zoo.bound) and ``ok``. Key "reference": the
     event method at REF_RTOL and N_OUT (its ``err``: the distance to the run
     at REF_RTOL_TIGHT and N_OUT_FINE, the reference) and, computed only when
     some method exceeds its bound without it, ``jump``: the largest
@@ -584,7 +586,7 @@ def check_scene(zs, methods=METHODS, agree=METHODS):
     for method in methods:
         full = method in agree
         if method in ("implicit", "explicit"):
-            seq = [dict(dt=zs.t_end / (N_DT * k)) for k in ((1, 2, 4) if full else (1,))]
+            seq = [dict(dt=zs.t_end / (N_DT * k)) for k in ((1, 2, 4, 8) if full else (1,))]
         elif method == "event":
             seq = [dict(rtol=REF_RTOL)] + ([dict(rtol=REF_RTOL_TIGHT, n_out=N_OUT_FINE)] if full else [])
         else:
@@ -592,7 +594,7 @@ def check_scene(zs, methods=METHODS, agree=METHODS):
             if full and runs.get("event") and len(runs["event"]) == 2:
                 creep = regularised_creep(zs, runs["event"][1], EPS)
                 eps0 = EPS * max(min(1.0, CREEP_REGIME / creep), 1.0 / EPS_RANGE) if creep > 0 else EPS
-            seq = [dict(eps_rel=eps0 / k) for k in ((1, 2, 4) if full else (1,))]
+            seq = [dict(eps_rel=eps0 / k, n_out=N_OUT_FINE) for k in ((1, 2, 4) if full else (1,))]
         rs, err = [], None
         for kw in seq:
             r, err = attempt(method, **kw)
@@ -620,10 +622,10 @@ def check_scene(zs, methods=METHODS, agree=METHODS):
         if method == "event":
             o.update(err=refd["err"])
         else:
-            o.update(err=pose_distance(zs, poses[2], ref), d1=pose_distance(zs, poses[0], poses[1]),
-                     d2=pose_distance(zs, poses[1], poses[2]))
+            d = [pose_distance(zs, a, b) for a, b in zip(poses[:-1], poses[1:])]
+            o.update(err=pose_distance(zs, poses[-1], ref), d=d)
             if method == "explicit":
-                o["creep"] = stuck * zs.t_end / (4 * N_DT) * creep_speed(zs)
+                o["creep"] = stuck * zs.t_end / (8 * N_DT) * creep_speed(zs)
             if method == "regularised":
                 o["creep"] = regularised_creep(zs, tight, o["eps0"] / 4)
                 o["regime"] = regularised_creep(zs, tight, o["eps0"]) <= CREEP_REGIME * (1 + 1e-9)
