@@ -127,15 +127,8 @@ static int run_explicit(const exdex_model *m, double t_end, double dt, exdex_tra
         t = t1;
         kin0 = kin_end;
         st->steps++;
-        st->stick_steps += (size_t)still;
-        out->t[i] = t1;
-        for (int c = 0; c < nd; c++) {
-            out->q[i * nd + c] = q[c];
-            out->v[i * nd + c] = v[c];
-        }
-        for (int c = 0; c < 3; c++) out->wrench[3 * i + c] = wrench[c];
-        out->stick[i] = (unsigned char)still;
-        for (int k = 0; k < ns; k++) out->stop_force[i * ns + k] = lamsum[k] / h;
+        for (int k = 0; k < ns; k++) lamsum[k] /= h;
+        method_record(m, out, st, i, t1, q, v, wrench, still, lamsum);
     }
     return status;
 }

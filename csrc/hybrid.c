@@ -1142,38 +1142,24 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
         }
         if (H.err && !status) status = H.err;
         if (status) break;
-        out->t[i] = ti;
-        if (nd == 1) {
-            double fbar = y[2] / hs;
-            out->q[i] = y[0];
-            out->v[i] = y[1];
-            if (m->def.dof == EXDEX_DOF_TRANSLATION) {
-                out->wrench[3 * i] = fbar * m->d[0];
-                out->wrench[3 * i + 1] = fbar * m->d[1];
-                out->wrench[3 * i + 2] = 0.0;
+        {
+            /* the interval's integrals (friction, stop forces) as means
+             * over it; then they restart from 0 */
+            int off = nd == 1 ? 2 : 6, nw = nd == 1 ? 1 : 3;
+            double wrench[3] = {0, 0, 0}, sf[EXDEX_MAX_STOPS];
+            if (nd == 3) {
+                for (int c = 0; c < 3; c++) wrench[c] = y[6 + c] / hs;
+            } else if (m->def.dof == EXDEX_DOF_TRANSLATION) {
+                wrench[0] = y[2] / hs * m->d[0];
+                wrench[1] = y[2] / hs * m->d[1];
             } else {
-                out->wrench[3 * i] = out->wrench[3 * i + 1] = 0.0;
-                out->wrench[3 * i + 2] = fbar;
+                wrench[2] = y[2] / hs;
             }
-            for (int k2 = 0; k2 < ns; k2++) {
-                out->stop_force[i * ns + k2] = y[3 + k2] / hs;
-                y[3 + k2] = 0.0;
-            }
-            y[2] = 0.0;
-        } else {
-            for (int c = 0; c < 3; c++) {
-                out->q[3 * i + c] = y[c];
-                out->v[3 * i + c] = y[3 + c];
-                out->wrench[3 * i + c] = y[6 + c] / hs;
-                y[6 + c] = 0.0;
-            }
-            for (int k2 = 0; k2 < ns; k2++) {
-                out->stop_force[i * ns + k2] = y[9 + k2] / hs;
-                y[9 + k2] = 0.0;
-            }
+            for (int k2 = 0; k2 < ns; k2++) sf[k2] = y[off + nw + k2] / hs;
+            method_record(m, out, st, i, ti, y, y + nd, wrench,
+                          law == LAW_COULOMB && H.mode == MODE_STICK ? 1 : is_still(&H, y), sf);
+            for (int c = off; c < H.ny; c++) y[c] = 0.0;
         }
-        out->stick[i] = (unsigned char)(law == LAW_COULOMB && H.mode == MODE_STICK ? 1 : is_still(&H, y));
-        st->stick_steps += out->stick[i];
     }
     /* a failure in the decision at t = 0 stops the loop before it starts */
     if (!status && H.err) status = H.err;

@@ -518,7 +518,7 @@ static int implicit_run(const exdex_model *m, void *ws, double t_end, double dt,
     for (size_t step = 1; step < n && status == EXDEX_OK; step++) {
         double t1 = step == n - 1 ? t_end : (double)step * dt;
         double h = t1 - t, tm = t + 0.5 * h, qm[3], vmid[3], F[3], vs[3], vn[3];
-        double wrench[3] = {0, 0, 0};
+        double wrench[3] = {0, 0, 0}, sf[EXDEX_MAX_STOPS];
         frame f;
         exdex_kinematics kin, kin_end;
         int stick;
@@ -600,17 +600,9 @@ static int implicit_run(const exdex_model *m, void *ws, double t_end, double dt,
         hprev = h;
         kin0 = kin_end;
         st->steps++;
-        st->stick_steps += (size_t)stick;
-        out->t[step] = t1;
-        for (int i = 0; i < n_dof; i++) {
-            out->q[step * n_dof + i] = q[i];
-            out->v[step * n_dof + i] = v[i];
-        }
-        for (int i = 0; i < 3; i++) out->wrench[3 * step + i] = wrench[i];
-        out->stick[step] = (unsigned char)stick;
-        for (int k = 0; k < ns; k++) out->stop_force[step * ns + k] = 0.0;
-        for (int i = 0; i < w->n_rows; i++)
-            out->stop_force[step * ns + w->row_stop[i]] += w->lam[i] / h;
+        for (int k = 0; k < ns; k++) sf[k] = 0.0;
+        for (int i = 0; i < w->n_rows; i++) sf[w->row_stop[i]] += w->lam[i] / h;
+        method_record(m, out, st, step, t1, q, v, wrench, stick, sf);
     }
     return status;
 }
