@@ -262,8 +262,13 @@ typedef struct exdex_scene_def {
     /* numerics */
     int method;               /* enum exdex_method */
     int friction_solver;      /* enum exdex_friction_solver */
-    double eps;               /* regularised method: smoothing speed [m/s] > 0 */
-    double rtol, atol;        /* event/regularised methods: GSL odeiv2 tolerances */
+    double eps;               /* regularised method: smoothing slip speed |E u| [m/s] > 0
+                                 (a rotation scene: e_r |omega|) */
+    double rtol, atol;        /* event/regularised methods: GSL odeiv2 tolerances; atol [m]
+                                 bounds the positions, and every other state component
+                                 (angles, velocities, force integrals) gets atol in its
+                                 own unit through the scene's scales (L, T, m L / T^2):
+                                 angles atol / L, velocities atol / T, ... */
 } exdex_scene_def;
 
 /* Defaults: unit mass, unit inertia, mu 0.5, grip force 1 N, 2 fingers,

@@ -133,18 +133,13 @@
 #include <gsl/gsl_roots.h>
 
 #define TOLF 1e-12        /* relative band at the friction limit (stick while |f| <= C (1 + TOLF)) */
-#define VZERO 1e-12       /* |qd| below this counts as 0 when the constraint gives qd [m/s, rad/s] */
-#define RATE_TOL 1e-12    /* gap rate counted as 0 [m/s] */
-#define JUMP_TOL 1e-10    /* gripper velocity jumps above this are applied [m/s, rad/s] */
+#define JUMP_TOL 1e-10    /* gripper velocity jumps with sum |dv| / V + |dw| T above this are applied */
 #define EVENTS_MAX 1000   /* events within one output interval before EXDEX_ENOCONV */
-#define ROOT_TOL 1e-13    /* event time resolution [s] */
 #define STEPS_MAX 100000  /* ODE steps (accepted + rejected) per output interval before EXDEX_ENOCONV */
 #define H_FLOOR_ULPS 16.0 /* a suggested step below this many ulps of t is a collapse: EXDEX_ENOCONV */
 #define BRENT_MAX 200     /* Brent iterations per located event */
 #define NY_MAX (9 + EXDEX_MAX_STOPS)
 #define NG_MAX (2 + MAX_ROWS)  /* guards */
-#define SLIP_STOP 1e-9    /* planar slip against stops: |E u| below this stops it [m/s] */
-#define REST_GAP 1e-9     /* planar rest against stops: a set row whose |gap| exceeds this ends it [m] */
 
 enum { LAW_COULOMB = 0, LAW_SMOOTH = 1 };
 enum { MODE_SLIP = 0, MODE_STICK = 1, MODE_CONTACT = 2, MODE_FREE = 3 };
@@ -229,7 +224,7 @@ static void contact_acc_planar(hyb *H, const exdex_kinematics *kin, const double
         for (int i = 0; i < H->ncs; i++) acc[i] = ex_dot3(Gr[i], qdd) - b[i];
 }
 
-/* Impacts of a planar object on the touching rows (gap <= TOUCH) at
+/* Impacts of a planar object on the touching rows (gap <= tol.touch) at
  * (t, y): the plastic impact projects v onto G v >= -(gd - G v) (no
  * approach) in the M metric; the impulses go into the stops' force
  * integrals. Then the contact set: the touching rows whose rate is ~0
@@ -242,7 +237,7 @@ static void planar_impact_and_set(hyb *H, const exdex_kinematics *kin, double *y
     for (int k = 0; k < H->ns; k++)
         for (int j = 0; j < H->nv; j++) {
             double gd, gap = contact_row_planar(m, kin, k, j, y, y + 3, Gr[n], &gd, NULL);
-            if (gap > TOUCH) continue;
+            if (gap > m->tol.touch) continue;
             b[n] = -(gd - ex_dot3(Gr[n], y + 3));
             rows[n++] = k * H->nv + j;
         }
@@ -254,7 +249,7 @@ static void planar_impact_and_set(hyb *H, const exdex_kinematics *kin, double *y
     }
     for (int i = 0; i < n; i++) {
         double rate = ex_dot3(Gr[i], y + 3) - b[i];
-        if (fabs(rate) <= RATE_TOL) H->cs[H->ncs++] = rows[i];
+        if (fabs(rate) <= m->tol.rate) H->cs[H->ncs++] = rows[i];
     }
 }
 
@@ -471,8 +466,8 @@ static int guards(hyb *H, double t, const double *y, double *g)
             for (int i = 0; i < 3; i++) eu[i] = m->e[i] * u[i];
             g[n++] = ex_dot3(eu, H->uref);
             /* against stops the constrained slip can die out without
-             * reversing: it also stops once |E u| < SLIP_STOP */
-            if (H->ncs) g[n++] = sqrt(ex_dot3(eu, eu)) - SLIP_STOP;
+             * reversing: it also stops once |E u| < tol.slip_stop */
+            if (H->ncs) g[n++] = sqrt(ex_dot3(eu, eu)) - m->tol.slip_stop;
         } else {
             double F[3], w[3], zero[3] = {0, 0, 0}, lam[MAX_ROWS];
             model_force_planar(m, &f, y, zero, F);
@@ -498,11 +493,11 @@ static int guards(hyb *H, double t, const double *y, double *g)
                 }
             if (H->ncs && H->mode == MODE_STICK) {
                 /* at rest against stops that move in B the contact ends
-                 * once a set row's gap leaves +-REST_GAP */
+                 * once a set row's gap leaves +-tol.rest_gap */
                 for (int i = 0; i < H->ncs; i++) {
                     int r = H->cs[i];
                     double G[3];
-                    g[n++] = REST_GAP - fabs(contact_row_planar(m, &kin, r / H->nv, r % H->nv, y, y + 3, G, NULL, NULL));
+                    g[n++] = m->tol.rest_gap - fabs(contact_row_planar(m, &kin, r / H->nv, r % H->nv, y, y + 3, G, NULL, NULL));
                 }
             } else if (H->ncs) {
                 double F[3], w[3], P[3], a[3], qdd[3], lam[MAX_ROWS], acc[MAX_ROWS];
@@ -538,7 +533,7 @@ static int guards(hyb *H, double t, const double *y, double *g)
             R = H->M * contact_qdd(&c, v) - model_force_1dof(m, &f, q, v);
             if (H->law == LAW_COULOMB && H->s == 0.0) {
                 g[n++] = fmax(R / c.Fq, H->cap * (1.0 + TOLF) - fabs(R));
-                g[n++] = VZERO - fabs(v);
+                g[n++] = m->tol.vzero - fabs(v);
             } else {
                 contact_forces(H, &c, R, v, &fr, &lam);
                 g[n++] = lam;
@@ -593,24 +588,24 @@ static void decide(hyb *H, double t, double *y, int vzero)
             if (H->ns) {
                 /* a slip that stopped against stops moving in B: the stops
                  * push it on at their own speed. If that slip is below
-                 * SLIP_STOP it would count as stopped at once (the guard is
+                 * tol.slip_stop it would count as stopped at once (the guard is
                  * violated from the start: Zeno-like restarts, each with a
                  * step collapsing on |E u| -> 0); it is a rest instead, on
-                 * every touching row, which the REST_GAP guard ends once the
-                 * stops have moved (a drift below REST_GAP) */
+                 * every touching row, which the tol.rest_gap guard ends once the
+                 * stops have moved (a drift below tol.rest_gap) */
                 double ysv[EXDEX_MAX_STOPS], u[3], eu[3];
                 memcpy(ysv, y + 9, (size_t)H->ns * sizeof *ysv);
                 planar_impact_and_set(H, &kin, y);
                 model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
                 for (int i = 0; i < 3; i++) eu[i] = m->e[i] * u[i];
-                if ((y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0) && sqrt(ex_dot3(eu, eu)) < SLIP_STOP) {
+                if ((y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0) && sqrt(ex_dot3(eu, eu)) < m->tol.slip_stop) {
                     double G[3];
                     memcpy(y + 9, ysv, (size_t)H->ns * sizeof *ysv);
                     y[3] = y[4] = y[5] = 0.0;
                     H->ncs = 0;
                     for (int k = 0; k < H->ns; k++)
                         for (int j = 0; j < H->nv; j++)
-                            if (contact_row_planar(m, &kin, k, j, y, y + 3, G, NULL, NULL) <= TOUCH)
+                            if (contact_row_planar(m, &kin, k, j, y, y + 3, G, NULL, NULL) <= m->tol.touch)
                                 H->cs[H->ncs++] = k * H->nv + j;
                 }
             }
@@ -671,14 +666,14 @@ static void decide(hyb *H, double t, double *y, int vzero)
          * in the stop's force integral */
         for (int pass = 0; pass < 3 && H->ns; pass++) {
             int kb = -1;
-            double worst = -RATE_TOL;
+            double worst = -m->tol.rate;
             crow cb;
             for (int k = 0; k < H->ns; k++)
                 for (int j = 0; j < H->nv; j++) {
                     double rate;
                     crow c;
                     contact_row_1dof(m, &kin, k, j, q, &c);
-                    if (c.F > TOUCH || !(fabs(c.Fq) > FQ_MIN)) continue;
+                    if (c.F > m->tol.touch || !(fabs(c.Fq) > m->tol.fq_min)) continue;
                     rate = c.Fq * y[1] + c.Ft;
                     if (rate < worst) {
                         worst = rate;
@@ -701,12 +696,12 @@ static void decide(hyb *H, double t, double *y, int vzero)
             double rate, v, Q, R, fr, lam, s_old = H->s;
             crow c;
             contact_row_1dof(m, &kin, k, j, q, &c);
-            if (c.F > TOUCH || !(fabs(c.Fq) > FQ_MIN)) continue;
+            if (c.F > m->tol.touch || !(fabs(c.Fq) > m->tol.fq_min)) continue;
             rate = c.Fq * y[1] + c.Ft;
-            if (fabs(rate) > RATE_TOL) continue;
+            if (fabs(rate) > m->tol.rate) continue;
             v = -c.Ft / c.Fq;
             if (H->law == LAW_COULOMB) {
-                if (fabs(v) > VZERO && !vzero) {
+                if (fabs(v) > m->tol.vzero && !vzero) {
                     H->s = v > 0 ? 1.0 : -1.0;
                 } else {
                     double a = contact_qdd(&c, 0.0);
@@ -729,7 +724,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
                     q -= dq;
                     contact_row_1dof(m, &kin, k, j, q, &c);
                     H->st->stop_iterations++;
-                    if (fabs(dq) <= 1e-16 * (1.0 + fabs(q))) break;
+                    if (fabs(dq) <= 1e-16 * (m->scale.q + fabs(q))) break;
                 }
                 y[0] = q;
                 y[1] = (H->law == LAW_COULOMB && H->s == 0.0) ? 0.0 : -c.Ft / c.Fq;
@@ -793,7 +788,7 @@ static void project_contact(hyb *H, double t, double *y)
         y[0] -= dq;
         contact_row_1dof(H->m, &kin, H->ck, H->cj, y[0], &c);
         H->st->stop_iterations++;
-        if (fabs(dq) <= 1e-16 * (1.0 + fabs(y[0]))) break;
+        if (fabs(dq) <= 1e-16 * (H->m->scale.q + fabs(y[0]))) break;
     }
     if (!(H->law == LAW_COULOMB && H->s == 0.0)) y[1] = -c.Ft / c.Fq;
 }
@@ -815,7 +810,7 @@ static int apply_jump(hyb *H, double ts, double *y)
     for (int i = 0; i < 3; i++) {
         dv[i] = kr.v[i] - kl.v[i];
         dw[i] = kr.w[i] - kl.w[i];
-        nrm += fabs(dv[i]) + fabs(dw[i]);
+        nrm += fabs(dv[i]) / m->scale.V + fabs(dw[i]) * m->scale.T;
     }
     if (!(nrm > JUMP_TOL)) return EXDEX_OK;
     memset(&fj, 0, sizeof fj);
@@ -863,7 +858,25 @@ static void *hybrid_alloc(const exdex_model *m, int *status)
         return NULL;
     }
     O->step = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, ny);
-    O->con = gsl_odeiv2_control_y_new(m->def.atol, m->def.rtol);
+    {
+        /* atol is in metres: each state component gets it in its own unit,
+         * through its scale relative to the length scale, so the error
+         * control (and with it every step) is the same in any units */
+        const model_scales *s = &m->scale;
+        double sc[NY_MAX];
+        size_t k = 0;
+        if (m->ndof == 3) {
+            double row[9] = {1.0, 1.0, 1.0 / s->L, 1.0 / s->T, 1.0 / s->T, 1.0 / (s->T * s->L),
+                             s->F * s->T / s->L, s->F * s->T / s->L, s->F * s->T};
+            for (; k < 9; k++) sc[k] = row[k];
+        } else {
+            sc[k++] = s->q / s->L;
+            sc[k++] = s->q / (s->T * s->L);
+            sc[k++] = s->F * s->T / s->q;
+        }
+        for (; k < ny; k++) sc[k] = s->F * s->T / s->L;
+        O->con = gsl_odeiv2_control_scaled_new(m->def.atol, m->def.rtol, 1.0, 0.0, sc, ny);
+    }
     O->evo = gsl_odeiv2_evolve_alloc(ny);
     O->root = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
     if (!O->step || !O->con || !O->evo || !O->root) {
@@ -925,10 +938,10 @@ static int locate(hyb *H, ode *O, double t0, const double *y0, double tau1, int 
         H->st->solver_iterations++;
         lo = gsl_root_fsolver_x_lower(O->root);
         hi = gsl_root_fsolver_x_upper(O->root);
-        if (hi - lo <= ROOT_TOL) break;
+        if (hi - lo <= H->m->tol.root) break;
     }
     /* the upper end, unless the guard is not yet violated there */
-    if (root_fn(hi, &c) > 0.0 && hi < tau1) hi = fmin(tau1, hi + ROOT_TOL);
+    if (root_fn(hi, &c) > 0.0 && hi < tau1) hi = fmin(tau1, hi + H->m->tol.root);
     if (c.fail) return EXDEX_ENOCONV;
     *tau = hi;
     return EXDEX_OK;
@@ -980,7 +993,9 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
     H.ny = nd == 3 ? 9 + ns : 3 + ns;
     H.nv = m->n_vert ? m->n_vert : 1;
     H.st = st;
-    H.eps = m->def.eps;
+    /* eps is a slip speed |E u| [m/s]; a 1-DoF rotation slips at
+     * |E u| = e_r |thd|, so its smoothing rate is eps / e_r [rad/s] */
+    H.eps = m->ndof == 1 && m->def.dof == EXDEX_DOF_ROTATION ? m->def.eps / m->e[2] : m->def.eps;
     if (nd == 3) {
         H.M = 1.0;
         H.cap = m->capF;
@@ -1002,7 +1017,7 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
     H.lo = 0.0;
     H.hi = nsw ? ts[0] : INFINITY;
     decide(&H, 0.0, y, 0);
-    h = fmin(dt, 1e-3);
+    h = fmin(dt, m->tol.h0);
     for (size_t i = 1; i < n && status == EXDEX_OK && !H.err; i++) {
         double ti = i == n - 1 ? t_end : (double)i * dt, hs = ti - out->t[i - 1];
         int events = 0, same = 0;
@@ -1121,12 +1136,12 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
                 project_contact(&H, t, y);
             }
             /* a penetration left after the step: the scene drives the
-             * object through a stop (see PEN_TOL) */
+             * object through a stop (see tol.pen) */
             if (ns) {
                 exdex_kinematics kt;
                 double gmin = exdex_motion_eval(m->motion, t, &kt) ? INFINITY : contact_min_gap(m, &kt, y);
                 if (gmin < st->min_gap) st->min_gap = gmin;
-                if (gmin < -PEN_TOL) st->warnings++;
+                if (gmin < -m->tol.pen) st->warnings++;
             }
             if (t == H.hi && t < t_end) {
                 /* a switching time of the motion: next segment */
