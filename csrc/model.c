@@ -115,13 +115,57 @@ static int check_fields(const exdex_scene_def *d, const char **bad_param)
             fabs(sqrt(ex_dot3(d->stop_normal[k], d->stop_normal[k])) - 1.0) > 1e-9)
             return bad(bad_param, "stop_normal");
     }
-    if (d->method < EXDEX_METHOD_IMPLICIT || d->method > EXDEX_METHOD_EXPLICIT) return bad(bad_param, "method");
+    if (d->method < EXDEX_METHOD_IMPLICIT || d->method > EXDEX_METHOD_ANALYTIC) return bad(bad_param, "method");
+    if (d->method == EXDEX_METHOD_ANALYTIC && exdex_analytic_unsupported(d)) return bad(bad_param, "method");
     if (d->friction_solver < EXDEX_SOLVER_SCALAR || d->friction_solver > EXDEX_SOLVER_MULTIROOT)
         return bad(bad_param, "friction_solver");
     if (!(isfinite(d->eps) && d->eps > 0)) return bad(bad_param, "eps");
     if (!(isfinite(d->rtol) && d->rtol > 0)) return bad(bad_param, "rtol");
     if (!(isfinite(d->atol) && d->atol > 0)) return bad(bad_param, "atol");
     return EXDEX_OK;
+}
+
+/* ------------------------------------------------ method applicability */
+
+#define PARALLEL 1e-12   /* rotation axis parallel to the plate normal to this (|axis x n|) */
+
+const char *exdex_analytic_unsupported(const exdex_scene_def *d)
+{
+    const exdex_motion_def *mo;
+    if (!d) return "no scene";
+    mo = &d->motion;
+    if (d->dof != EXDEX_DOF_TRANSLATION && d->dof != EXDEX_DOF_ROTATION)
+        return "the analytic method solves 1-DoF scenes (translation or rotation), not planar ones";
+    if (d->n_stops != 0) return "the analytic method solves scenes without stops";
+    if (mo->kind == EXDEX_MOTION_SAMPLED)
+        return "the analytic method needs a piecewise-constant gripper acceleration (Eq. 7, trapezoid or "
+               "rest), not a sampled log";
+    if (mo->kind == EXDEX_MOTION_TRAPEZOID && mo->amplitude != 0.0 &&
+        !(mo->duration - fabs(mo->amplitude) / mo->v_max > 0.0))
+        return "the analytic method needs a trapezoid with ramps (v_max > |amplitude| / duration), not a "
+               "velocity jump";
+    if (d->dof == EXDEX_DOF_TRANSLATION) {
+        if (mo->kind != EXDEX_MOTION_REST && mo->rotation)
+            return "the analytic method solves translation scenes whose gripper translates";
+    } else {
+        double n[3] = {d->R0[2], d->R0[5], d->R0[8]}, a[3], x[3], na;
+        if (d->patch_center[0] != 0.0 || d->patch_center[1] != 0.0)
+            return "the analytic method solves rotation scenes about the centre of mass (patch centre 0); "
+                   "an offset centre of mass is a pendulum";
+        if (mo->kind != EXDEX_MOTION_REST) {
+            if (!mo->rotation) return "the analytic method solves rotation scenes whose gripper turns";
+            a[0] = mo->axis[0];
+            a[1] = mo->axis[1];
+            a[2] = mo->axis[2];
+            na = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+            x[0] = a[1] * n[2] - a[2] * n[1];
+            x[1] = a[2] * n[0] - a[0] * n[2];
+            x[2] = a[0] * n[1] - a[1] * n[0];
+            if (!(na > 0.0) || !(sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]) <= PARALLEL * na))
+                return "the analytic method solves rotation scenes whose gripper turns about the plate normal";
+        }
+    }
+    return NULL;
 }
 
 /* ------------------------------------------------------------ kinematics */

