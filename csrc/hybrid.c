@@ -133,7 +133,6 @@
 #include <gsl/gsl_roots.h>
 
 #define TOLF 1e-12        /* relative band at the friction limit (stick while |f| <= C (1 + TOLF)) */
-#define JUMP_TOL 1e-10    /* gripper velocity jumps with sum |dv| / V + |dw| T above this are applied */
 #define EVENTS_MAX 1000   /* events within one output interval before EXDEX_ENOCONV */
 #define STEPS_MAX 100000  /* ODE steps (accepted + rejected) per output interval before EXDEX_ENOCONV */
 #define H_FLOOR_ULPS 16.0 /* a suggested step below this many ulps of t is a collapse: EXDEX_ENOCONV */
@@ -642,7 +641,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
             if (H->ns) {
                 /* a slip that stopped against stops moving in B: the stops
                  * push it on at their own speed. If that slip is below
-                 * tol.slip_stop it would count as stopped at once (the guard is
+                 * SLIP_PUSH zsw it would count as stopped at once (the guard is
                  * violated from the start: Zeno-like restarts, each with a
                  * step collapsing on |E u| -> 0); it is a rest instead, on
                  * every touching row, which the tol.rest_gap guard ends once the
@@ -849,35 +848,21 @@ static void project_contact(hyb *H, double t, double *y)
     if (!(H->law == LAW_COULOMB && H->s == 0.0)) y[1] = -c.Ft / c.Fq;
 }
 
-/* A gripper velocity jump at time ts (trapezoid without ramps, end of a
- * sampled motion) is an inertial impulse: the generalized impulse is Q with
- * the accelerations replaced by the jumps (no gravity, no velocity terms),
- * and friction cannot oppose an impulse (the grip force is finite). */
+/* A gripper velocity jump at a switching time ts (exdex_motion_jumps: a
+ * trapezoid without ramps, a sampled motion starting or ending at speed):
+ * the object's relative velocity jumps as model_velocity_jump derives
+ * (friction cannot oppose an impulse: the grip force is finite). */
 static int apply_jump(hyb *H, double ts, double *y)
 {
     const exdex_model *m = H->m;
-    exdex_kinematics kl, kr;
-    double dv[3], dw[3], nrm = 0.0;
-    frame fj;
-    double tl = ts - 4.0 * DBL_EPSILON * fmax(1.0, fabs(ts));
-    int st = exdex_motion_eval(m->motion, tl, &kl);
-    if (!st) st = exdex_motion_eval(m->motion, ts, &kr);
-    if (st) return st;
-    for (int i = 0; i < 3; i++) {
-        dv[i] = kr.v[i] - kl.v[i];
-        dw[i] = kr.w[i] - kl.w[i];
-        nrm += fabs(dv[i]) / m->scale.V + fabs(dw[i]) * m->scale.T;
-    }
-    if (!(nrm > JUMP_TOL)) return EXDEX_OK;
-    memset(&fj, 0, sizeof fj);
-    ex_mulmtv3(fj.a0, kr.R, dv);
-    ex_mulmtv3(fj.dw, kr.R, dw);
-    if (H->ndof == 1) {
-        y[1] += model_force_1dof(m, &fj, y[0], 0.0) / H->M;
-    } else {
-        double P[3], zero[3] = {0, 0, 0};
-        model_force_planar(m, &fj, y, zero, P);
-        for (int i = 0; i < 3; i++) y[3 + i] += m->minv[i] * P[i];
+    exdex_kinematics k;
+    double tj[EXDEX_MOTION_MAX_JUMPS], dv[EXDEX_MOTION_MAX_JUMPS][3], dw[EXDEX_MOTION_MAX_JUMPS][3];
+    int nj = exdex_motion_jumps(m->motion, tj, dv, dw), st;
+    for (int j = 0; j < nj; j++) {
+        if (tj[j] != ts) continue;
+        st = exdex_motion_eval(m->motion, ts, &k);
+        if (st) return st;
+        model_velocity_jump(m, k.R, y, dv[j], dw[j], y + (H->ndof == 1 ? 1 : 3));
     }
     return EXDEX_OK;
 }
@@ -1014,28 +999,16 @@ static int locate(hyb *H, ode *O, double t0, const double *y0, double tau1, int 
     return EXDEX_OK;
 }
 
+/* The motion's switching times in (0, t_end] (exdex_motion_switches: its
+ * acceleration switches and velocity jumps). A jump at t_end is applied too,
+ * so the state recorded there is its right limit, as at every other time. */
 static size_t switch_times(const exdex_model *m, double t_end, double *ts)
 {
-    const exdex_motion_def *d = &m->def.motion;
-    double c[4];
-    size_t n = 0, k = 0;
-    if (d->kind == EXDEX_MOTION_ASYMMETRIC) {
-        c[n++] = d->beta * d->duration;
-        c[n++] = (2.0 - d->beta) * d->duration;
-        c[n++] = 2.0 * d->duration;
-    } else if (d->kind == EXDEX_MOTION_TRAPEZOID && d->amplitude != 0.0) {
-        /* the ramp time as motion.c computes it */
-        double T = d->duration, t_a = T - fabs(d->amplitude) / d->v_max;
-        if (t_a < 0.0) t_a = 0.0;
-        if (t_a > 0.5 * T) t_a = 0.5 * T;
-        c[n++] = t_a;
-        c[n++] = T - t_a;
-        c[n++] = T;
-    } else if (d->kind == EXDEX_MOTION_SAMPLED) {
-        c[n++] = exdex_motion_end(m->motion);
-    }
-    for (size_t i = 0; i < n; i++)
-        if (c[i] > 0.0 && c[i] < t_end && (k == 0 || c[i] > ts[k - 1])) ts[k++] = c[i];
+    double c[EXDEX_MOTION_MAX_SWITCHES];
+    int n = exdex_motion_switches(m->motion, c);
+    size_t k = 0;
+    for (int i = 0; i < n; i++)
+        if (c[i] > 0.0 && c[i] <= t_end && (k == 0 || c[i] > ts[k - 1])) ts[k++] = c[i];
     return k;
 }
 
@@ -1049,7 +1022,7 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
                       exdex_trajectory *out, exdex_stats *st)
 {
     hyb H;
-    double y[NY_MAX], y0[NY_MAX], ts[4], t = 0.0, h;
+    double y[NY_MAX], y0[NY_MAX], ts[EXDEX_MOTION_MAX_SWITCHES], t = 0.0, h;
     size_t n = out->n, nsw;
     int nd = m->ndof, ns = m->n_stops, status = EXDEX_OK;
     memset(&H, 0, sizeof H);
@@ -1278,7 +1251,7 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
                 if (gmin < st->min_gap) st->min_gap = gmin;
                 if (gmin < -m->tol.pen) st->warnings++;
             }
-            if (t == H.hi && t < t_end) {
+            if (t == H.hi) {
                 /* a switching time of the motion: next segment */
                 H.lo = H.hi;
                 k++;

@@ -275,6 +275,23 @@ void model_force_planar(const exdex_model *m, const frame *f, const double *q, c
     F[2] = model_torque_z(m, f, q[2], v[2]);
 }
 
+void model_velocity_jump(const exdex_model *m, const double R[9], const double *q, const double dv[3],
+                         const double dw[3], double *v)
+{
+    frame fj;
+    memset(&fj, 0, sizeof fj);
+    ex_mulmtv3(fj.a0, R, dv);
+    ex_mulmtv3(fj.dw, R, dw);
+    if (m->ndof == 1) {
+        double M = m->def.dof == EXDEX_DOF_TRANSLATION ? m->m : m->mrot;
+        v[0] += model_force_1dof(m, &fj, q[0], 0.0) / M;
+    } else {
+        double P[3], zero[3] = {0, 0, 0};
+        model_force_planar(m, &fj, q, zero, P);
+        for (int i = 0; i < 3; i++) v[i] += m->minv[i] * P[i];
+    }
+}
+
 /* ----------------------------------------------------- patch coordinates */
 
 void model_patch_slip(const exdex_model *m, const double cs[2], const double v[3], double u[3])
@@ -312,7 +329,6 @@ void model_patch_of_gen(const exdex_model *m, const double cs[2], const double P
 #define START_GAP_REL 1e-7   /* x L */
 #define REST_GAP_REL 1e-7    /* x L */
 #define RATE_REL 3e-12       /* x V */
-#define SLIP_STOP_REL 3e-9   /* x V */
 #define VZERO_REL 3e-12      /* x q / T */
 #define FQ_MIN_REL 1e-12     /* x L / q */
 #define ROOT_REL 3e-12       /* x T */
@@ -344,7 +360,6 @@ static void model_set_scales(exdex_model *m)
     m->tol.start_gap = START_GAP_REL * s->L;
     m->tol.rest_gap = REST_GAP_REL * s->L;
     m->tol.rate = RATE_REL * s->V;
-    m->tol.slip_stop = SLIP_STOP_REL * s->V;
     m->tol.vzero = VZERO_REL * s->q / s->T;
     m->tol.fq_min = FQ_MIN_REL * s->L / s->q;
     m->tol.root = ROOT_REL * s->T;
