@@ -135,7 +135,6 @@
 #define TOLF 1e-12        /* relative band at the friction limit (stick while |f| <= C (1 + TOLF)) */
 #define VZERO 1e-12       /* |qd| below this counts as 0 when the constraint gives qd [m/s, rad/s] */
 #define RATE_TOL 1e-12    /* gap rate counted as 0 [m/s] */
-#define JUMP_TOL 1e-10    /* gripper velocity jumps above this are applied [m/s, rad/s] */
 #define EVENTS_MAX 1000   /* events within one output interval before EXDEX_ENOCONV */
 #define ROOT_TOL 1e-13    /* event time resolution [s] */
 #define STEPS_MAX 100000  /* ODE steps (accepted + rejected) per output interval before EXDEX_ENOCONV */
@@ -853,35 +852,21 @@ static void project_contact(hyb *H, double t, double *y)
     if (!(H->law == LAW_COULOMB && H->s == 0.0)) y[1] = -c.Ft / c.Fq;
 }
 
-/* A gripper velocity jump at time ts (trapezoid without ramps, end of a
- * sampled motion) is an inertial impulse: the generalized impulse is Q with
- * the accelerations replaced by the jumps (no gravity, no velocity terms),
- * and friction cannot oppose an impulse (the grip force is finite). */
+/* A gripper velocity jump at a switching time ts (exdex_motion_jumps: a
+ * trapezoid without ramps, a sampled motion starting or ending at speed):
+ * the object's relative velocity jumps as model_velocity_jump derives
+ * (friction cannot oppose an impulse: the grip force is finite). */
 static int apply_jump(hyb *H, double ts, double *y)
 {
     const exdex_model *m = H->m;
-    exdex_kinematics kl, kr;
-    double dv[3], dw[3], nrm = 0.0;
-    frame fj;
-    double tl = ts - 4.0 * DBL_EPSILON * fmax(1.0, fabs(ts));
-    int st = exdex_motion_eval(m->motion, tl, &kl);
-    if (!st) st = exdex_motion_eval(m->motion, ts, &kr);
-    if (st) return st;
-    for (int i = 0; i < 3; i++) {
-        dv[i] = kr.v[i] - kl.v[i];
-        dw[i] = kr.w[i] - kl.w[i];
-        nrm += fabs(dv[i]) + fabs(dw[i]);
-    }
-    if (!(nrm > JUMP_TOL)) return EXDEX_OK;
-    memset(&fj, 0, sizeof fj);
-    ex_mulmtv3(fj.a0, kr.R, dv);
-    ex_mulmtv3(fj.dw, kr.R, dw);
-    if (H->ndof == 1) {
-        y[1] += model_force_1dof(m, &fj, y[0], 0.0) / H->M;
-    } else {
-        double P[3], zero[3] = {0, 0, 0};
-        model_force_planar(m, &fj, y, zero, P);
-        for (int i = 0; i < 3; i++) y[3 + i] += m->minv[i] * P[i];
+    exdex_kinematics k;
+    double tj[EXDEX_MOTION_MAX_JUMPS], dv[EXDEX_MOTION_MAX_JUMPS][3], dw[EXDEX_MOTION_MAX_JUMPS][3];
+    int nj = exdex_motion_jumps(m->motion, tj, dv, dw), st;
+    for (int j = 0; j < nj; j++) {
+        if (tj[j] != ts) continue;
+        st = exdex_motion_eval(m->motion, ts, &k);
+        if (st) return st;
+        model_velocity_jump(m, k.R, y, dv[j], dw[j], y + (H->ndof == 1 ? 1 : 3));
     }
     return EXDEX_OK;
 }
@@ -999,28 +984,16 @@ static int locate(hyb *H, ode *O, double t0, const double *y0, double tau1, int 
     return EXDEX_OK;
 }
 
+/* The motion's switching times in (0, t_end] (exdex_motion_switches: its
+ * acceleration switches and velocity jumps). A jump at t_end is applied too,
+ * so the state recorded there is its right limit, as at every other time. */
 static size_t switch_times(const exdex_model *m, double t_end, double *ts)
 {
-    const exdex_motion_def *d = &m->def.motion;
-    double c[4];
-    size_t n = 0, k = 0;
-    if (d->kind == EXDEX_MOTION_ASYMMETRIC) {
-        c[n++] = d->beta * d->duration;
-        c[n++] = (2.0 - d->beta) * d->duration;
-        c[n++] = 2.0 * d->duration;
-    } else if (d->kind == EXDEX_MOTION_TRAPEZOID && d->amplitude != 0.0) {
-        /* the ramp time as motion.c computes it */
-        double T = d->duration, t_a = T - fabs(d->amplitude) / d->v_max;
-        if (t_a < 0.0) t_a = 0.0;
-        if (t_a > 0.5 * T) t_a = 0.5 * T;
-        c[n++] = t_a;
-        c[n++] = T - t_a;
-        c[n++] = T;
-    } else if (d->kind == EXDEX_MOTION_SAMPLED) {
-        c[n++] = exdex_motion_end(m->motion);
-    }
-    for (size_t i = 0; i < n; i++)
-        if (c[i] > 0.0 && c[i] < t_end && (k == 0 || c[i] > ts[k - 1])) ts[k++] = c[i];
+    double c[EXDEX_MOTION_MAX_SWITCHES];
+    int n = exdex_motion_switches(m->motion, c);
+    size_t k = 0;
+    for (int i = 0; i < n; i++)
+        if (c[i] > 0.0 && c[i] <= t_end && (k == 0 || c[i] > ts[k - 1])) ts[k++] = c[i];
     return k;
 }
 
@@ -1034,7 +1007,7 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
                       exdex_trajectory *out, exdex_stats *st)
 {
     hyb H;
-    double y[NY_MAX], y0[NY_MAX], ts[4], t = 0.0, h;
+    double y[NY_MAX], y0[NY_MAX], ts[EXDEX_MOTION_MAX_SWITCHES], t = 0.0, h;
     size_t n = out->n, nsw;
     int nd = m->ndof, ns = m->n_stops, status = EXDEX_OK;
     memset(&H, 0, sizeof H);
@@ -1261,7 +1234,7 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
                 if (gmin < st->min_gap) st->min_gap = gmin;
                 if (gmin < -PEN_TOL) st->warnings++;
             }
-            if (t == H.hi && t < t_end) {
+            if (t == H.hi) {
                 /* a switching time of the motion: next segment */
                 H.lo = H.hi;
                 k++;

@@ -232,6 +232,23 @@ void model_force_planar(const exdex_model *m, const frame *f, const double *q, c
     F[2] = model_torque_z(m, f, q[2], v[2]);
 }
 
+void model_velocity_jump(const exdex_model *m, const double R[9], const double *q, const double dv[3],
+                         const double dw[3], double *v)
+{
+    frame fj;
+    memset(&fj, 0, sizeof fj);
+    ex_mulmtv3(fj.a0, R, dv);
+    ex_mulmtv3(fj.dw, R, dw);
+    if (m->ndof == 1) {
+        double M = m->def.dof == EXDEX_DOF_TRANSLATION ? m->m : m->mrot;
+        v[0] += model_force_1dof(m, &fj, q[0], 0.0) / M;
+    } else {
+        double P[3], zero[3] = {0, 0, 0};
+        model_force_planar(m, &fj, q, zero, P);
+        for (int i = 0; i < 3; i++) v[i] += m->minv[i] * P[i];
+    }
+}
+
 /* ----------------------------------------------------- patch coordinates */
 
 void model_patch_slip(const exdex_model *m, const double cs[2], const double v[3], double u[3])

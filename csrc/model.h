@@ -117,6 +117,35 @@ double model_force_1dof(const exdex_model *m, const frame *f, double q, double v
 /* Planar generalised applied force (B frame, (x, y, theta)). */
 void model_force_planar(const exdex_model *m, const frame *f, const double *q, const double *v, double F[3]);
 
+/* A velocity jump of the gripper frame (exdex_motion_jumps: dv of B's
+ * origin, dw, in A; R = R_AB, continuous there) applied to the relative
+ * velocities v (ndof entries) of the object at coordinates q.
+ *
+ * Derivation. The object's absolute twist is V = V_B + J qd, V_B the
+ * frame's twist at the object and J the twist per relative rate of the free
+ * coordinates. Over the vanishing duration of the jump only impulsive forces
+ * change momentum: friction is bounded by mu N (finite grip force) and
+ * gravity is finite, so their impulses vanish. The ideal constraints may be
+ * impulsive: the plates' normal force and tilt torques (the object stays in
+ * the plate plane) and, in a rotation scene, the pin at the pivot (it moves
+ * with B). Their reactions do no work on the motions the free coordinates
+ * allow, J^T Lambda = 0, so the momentum balance M6 dV = Lambda projected
+ * with J^T gives J^T M6 (dV_B + J dqd) = 0:
+ *     dqd = -(J^T M6 J)^-1 J^T M6 dV_B,
+ * minus the frame's jump at the object projected onto the free coordinates
+ * in the mass metric. J^T M6 dV_B is minus the generalised inertial force of
+ * Eq. 5 with the frame's accelerations replaced by its jumps (no gravity, no
+ * velocity terms), which model_force_1dof / model_force_planar evaluate:
+ * translation dsd = -d . (dv + dw x r) (r the centre of mass), rotation
+ * dthd = -(m (e_z x rho) . (dv + dw x r) + [I_B dw]_z) / (I_zz + m |rho|^2)
+ * (rho from the pivot to the centre of mass; the pin's impulse acts at the
+ * pivot, which the rotation does not move), planar (dxd, dyd) = -(dv + dw x
+ * r)_xy and dthd = -[I_B dw]_z / I_zz. With mu = 0 the object keeps its
+ * absolute velocity along the free coordinates; with friction it then slips
+ * until friction stops it. */
+void model_velocity_jump(const exdex_model *m, const double R[9], const double *q, const double dv[3],
+                         const double dw[3], double *v);
+
 /* ----------------------------------------------------- patch coordinates
  * The friction patch sits at the centre of pressure pc (object frame C). A
  * planar velocity v = (xd, yd, thd) in B has the patch slip twist
