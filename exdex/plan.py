@@ -40,7 +40,7 @@ import dataclasses
 import math
 import warnings
 from dataclasses import dataclass, field
-from typing import Callable, Dict, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -354,9 +354,13 @@ def _branches(y):
     return runs
 
 
-def solve(scene, target, vary, *, limits=None, tol=1e-6, t_end=None, dt=None, method="event", rtol=1e-10,
-          atol=1e-12, eps=1e-4, n_scan=65, refine=15, cost="acceleration", uncertain=None, n_uncertain=9,
-          threads=None, verify=True):
+def solve(scene: Scene, target: Mapping[str, float], vary: Mapping[str, Tuple[float, float]], *,
+          limits: Optional[Limits] = None, tol: float = 1e-6, t_end: Optional[float] = None,
+          dt: Optional[float] = None, method: str = "auto", rtol: float = 1e-10, atol: float = 1e-12,
+          eps: float = 1e-4, n_scan: int = 65, refine: int = 15,
+          cost: Union[str, Callable[[Scene], float]] = "acceleration",
+          uncertain: Optional[Mapping[str, Any]] = None, n_uncertain: int = 9, threads: Optional[int] = None,
+          verify: bool = True) -> Plan:
     """Find the value of one scene parameter that makes a final quantity meet a target.
 
     Parameters
@@ -377,7 +381,9 @@ def solve(scene, target, vary, *, limits=None, tol=1e-6, t_end=None, dt=None, me
         Simulated time [s] (default: the motion's end plus half of it) and
         output step (default t_end: the event method's answer does not
         depend on its output grid).
-    method, rtol, atol, eps : as in :func:`exdex.simulate`.
+    method, rtol, atol, eps : as in :func:`exdex.simulate` (default "auto":
+        the analytic path where it applies, else the event method, whose
+        answer does not depend on the output grid).
     n_scan : int
         Scan points over the bounds (>= 3).
     refine : int
@@ -435,7 +441,8 @@ def solve(scene, target, vary, *, limits=None, tol=1e-6, t_end=None, dt=None, me
     if not feasible.any():
         raise UnreachableTargetError(
             f"no value of {name!r} in [{lo:g}, {hi:g}] keeps the motion within the limits "
-            f"({', '.join(limits.violations(_replace_params(scene, {name: float(xs[0])}).motion))} at {lo:g})",
+            f"({', '.join(limits.violations(_replace_params(scene, {name: float(xs[0])}).motion)) if limits else ''}"
+            f" at {lo:g})",
             (math.nan, math.nan))
 
     if unc:
@@ -446,7 +453,7 @@ def solve(scene, target, vary, *, limits=None, tol=1e-6, t_end=None, dt=None, me
     ys[feasible] = run(**{name: xs[feasible]})
     f = lambda x: run(**{name: np.asarray(x)}) - goal  # noqa: E731
     xtol = 1e-13 * max(abs(lo), abs(hi))
-    sols = []
+    sols: list = []
     for i, j in _branches(ys):
         r = ys[i:j + 1] - goal
         for k in range(i, j):
@@ -472,7 +479,7 @@ def solve(scene, target, vary, *, limits=None, tol=1e-6, t_end=None, dt=None, me
     best = _replace_params(scene, {name: float(x)})
     achieved = goal + r
     if verify:
-        res = simulate(best, t_end, dt, method=method, rtol=rtol, atol=atol, eps=eps)
+        res = simulate(best, t_end, dt, method=method, rtol=rtol, atol=atol, eps=eps)  # type: ignore[arg-type]
         achieved = float(outcome(res.q[-1:] - res.q[:1], best, quantity)[0])
         if not res.stick[-1]:
             warnings.warn(f"the planned object is still moving at t_end = {t_end:g} s (relative speed "
@@ -570,8 +577,9 @@ def _make_band(quantity, samples, Y):
     return Band(quantity=quantity, low=lo, high=hi, exact=mono, bound=bound, samples=dict(samples), outcomes=Y)
 
 
-def band(scene, quantity, uncertain, *, n=17, t_end=None, dt=None, method="event", rtol=1e-10, atol=1e-12,
-         eps=1e-4, threads=None):
+def band(scene: Scene, quantity: str, uncertain: Mapping[str, Any], *, n: int = 17, t_end: Optional[float] = None,
+         dt: Optional[float] = None, method: str = "auto", rtol: float = 1e-10, atol: float = 1e-12,
+         eps: float = 1e-4, threads: Optional[int] = None) -> Band:
     """The band of a final quantity when parameters are known only within intervals.
 
     ``uncertain`` maps parameter names to intervals ``(low, high)`` (or to
