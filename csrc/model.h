@@ -142,7 +142,16 @@ void model_force_planar(const exdex_model *m, const frame *f, const double *q, c
  * pivot, which the rotation does not move), planar (dxd, dyd) = -(dv + dw x
  * r)_xy and dthd = -[I_B dw]_z / I_zz. With mu = 0 the object keeps its
  * absolute velocity along the free coordinates; with friction it then slips
- * until friction stops it. */
+ * until friction stops it.
+ *
+ * Every method applies this jump. The event and regularised methods step
+ * onto the jump time (a switching time, exdex_motion_switches) and apply it
+ * there with this function. The implicit and explicit methods take the
+ * frame's mean accelerations over each step, (v(t + h) - v(t)) / h (the
+ * motion is right-continuous), so the step holding a jump carries dv / h
+ * and dw / h: its velocity update adds the same generalised impulse (the
+ * inertial force above times h), evaluated within the step, an O(h |dqd|)
+ * error in position. */
 void model_velocity_jump(const exdex_model *m, const double R[9], const double *q, const double dv[3],
                          const double dw[3], double *v);
 

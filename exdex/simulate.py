@@ -408,6 +408,15 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
         For bad arguments, naming the parameter and its allowed range.
     exdex.SolverError
         If a solver fails to converge (``.status`` carries the C status).
+
+    Warns
+    -----
+    exdex.GripperJumpWarning
+        For each time in (0, t_end] where the gripper's velocity jumps (a
+        sampled log that starts or ends at speed, a trapezoid without ramps),
+        with the time and the size of the jump. Every method applies the
+        same jump to the object: it keeps its absolute velocity (the plates
+        cannot transmit an impulse).
     """
     dt, t_end = _check_times(t_end, dt)
     method = resolve_method(scene, method)
