@@ -321,8 +321,13 @@ typedef struct exdex_scene_def {
     /* numerics */
     int method;               /* enum exdex_method */
     int friction_solver;      /* enum exdex_friction_solver */
-    double eps;               /* regularised method: smoothing speed [m/s] > 0 */
-    double rtol, atol;        /* event/regularised methods: GSL odeiv2 tolerances */
+    double eps;               /* regularised method: smoothing slip speed |E u| [m/s] > 0
+                                 (a rotation scene: e_r |omega|) */
+    double rtol, atol;        /* event/regularised methods: GSL odeiv2 tolerances, rtol
+                                 relative to each state component, atol relative to its
+                                 scale (positions L, angles 1 rad, velocities L/T, 1/T,
+                                 force integrals m L/T, with the scene's length L and
+                                 time T scales): both dimensionless */
 } exdex_scene_def;
 
 /* NULL if EXDEX_METHOD_ANALYTIC solves the scene, else a static sentence

@@ -159,10 +159,7 @@
 #include <gsl/gsl_roots.h>
 
 #define TOLF 1e-12        /* relative band at the friction limit (stick while |f| <= C (1 + TOLF)) */
-#define VZERO 1e-12       /* |qd| below this counts as 0 when the constraint gives qd [m/s, rad/s] */
-#define RATE_TOL 1e-12    /* gap rate counted as 0 [m/s] */
 #define EVENTS_MAX 1000   /* events within one output interval before EXDEX_ENOCONV */
-#define ROOT_TOL 1e-13    /* event time resolution [s] */
 #define STEPS_MAX 100000  /* ODE steps (accepted + rejected) per output interval before EXDEX_ENOCONV */
 #define H_FLOOR_ULPS 16.0 /* a suggested step below this many ulps of t is a collapse: EXDEX_ENOCONV */
 #define BRENT_MAX 200     /* Brent iterations per located event */
@@ -170,7 +167,6 @@
 #define NG_MAX (2 + MAX_ROWS)  /* guards */
 #define SLIP_SMALL 1e3   /* planar slip: below SLIP_SMALL atol of |E u| the slip is "small" [units of atol] */
 #define SLIP_PUSH 4.0    /* a stop pushing a stopped planar slip on below SLIP_PUSH zsw: a rest instead */
-#define REST_GAP 1e-9     /* planar rest against stops: a set row whose |gap| exceeds this ends it [m] */
 
 enum { LAW_COULOMB = 0, LAW_SMOOTH = 1 };
 enum { MODE_SLIP = 0, MODE_STICK = 1, MODE_CONTACT = 2, MODE_FREE = 3 };
@@ -257,7 +253,7 @@ static void contact_acc_planar(hyb *H, const exdex_kinematics *kin, const double
         for (int i = 0; i < H->ncs; i++) acc[i] = ex_dot3(Gr[i], qdd) - b[i];
 }
 
-/* Impacts of a planar object on the touching rows (gap <= TOUCH) at
+/* Impacts of a planar object on the touching rows (gap <= tol.touch) at
  * (t, y): the plastic impact projects v onto G v >= -(gd - G v) (no
  * approach) in the M metric; the impulses go into the stops' force
  * integrals. Then the contact set: the touching rows whose rate is ~0
@@ -270,7 +266,7 @@ static void planar_impact_and_set(hyb *H, const exdex_kinematics *kin, double *y
     for (int k = 0; k < H->ns; k++)
         for (int j = 0; j < H->nv; j++) {
             double gd, gap = contact_row_planar(m, kin, k, j, y, y + 3, Gr[n], &gd, NULL);
-            if (gap > TOUCH) continue;
+            if (gap > m->tol.touch) continue;
             b[n] = -(gd - ex_dot3(Gr[n], y + 3));
             rows[n++] = k * H->nv + j;
         }
@@ -289,7 +285,7 @@ static void planar_impact_and_set(hyb *H, const exdex_kinematics *kin, double *y
          * (equality rows, an M-metric projection again): the face rests. */
         for (int i = 0; i < n; i++) {
             double rate = ex_dot3(Gr[i], y + 3) - b[i];
-            if (rate > RATE_TOL && rate <= H->zsw) lift = 1;
+            if (rate > m->tol.rate && rate <= H->zsw) lift = 1;
         }
         for (int i = 0; lift && i < n; i++) {
             double rate = ex_dot3(Gr[i], y + 3) - b[i];
@@ -315,7 +311,7 @@ static void planar_impact_and_set(hyb *H, const exdex_kinematics *kin, double *y
     }
     for (int i = 0; i < n; i++) {
         double rate = ex_dot3(Gr[i], y + 3) - b[i];
-        if (fabs(rate) <= RATE_TOL) H->cs[H->ncs++] = rows[i];
+        if (fabs(rate) <= m->tol.rate) H->cs[H->ncs++] = rows[i];
     }
 }
 
@@ -609,11 +605,11 @@ static int guards(hyb *H, double t, const double *y, double *g)
                 }
             if (H->ncs && H->mode == MODE_STICK) {
                 /* at rest against stops that move in B the contact ends
-                 * once a set row's gap leaves +-REST_GAP */
+                 * once a set row's gap leaves +-tol.rest_gap */
                 for (int i = 0; i < H->ncs; i++) {
                     int r = H->cs[i];
                     double G[3];
-                    g[n++] = REST_GAP - fabs(contact_row_planar(m, &kin, r / H->nv, r % H->nv, y, y + 3, G, NULL, NULL));
+                    g[n++] = m->tol.rest_gap - fabs(contact_row_planar(m, &kin, r / H->nv, r % H->nv, y, y + 3, G, NULL, NULL));
                 }
             } else if (H->ncs) {
                 double F[3], w[3], P[3], a[3], qdd[3], lam[MAX_ROWS], acc[MAX_ROWS];
@@ -649,7 +645,7 @@ static int guards(hyb *H, double t, const double *y, double *g)
             R = H->M * contact_qdd(&c, v) - model_force_1dof(m, &f, q, v);
             if (H->law == LAW_COULOMB && H->s == 0.0) {
                 g[n++] = fmax(R / c.Fq, H->cap * (1.0 + TOLF) - fabs(R));
-                g[n++] = VZERO - fabs(v);
+                g[n++] = m->tol.vzero - fabs(v);
             } else {
                 contact_forces(H, &c, R, v, &fr, &lam);
                 g[n++] = lam;
@@ -706,8 +702,8 @@ static void decide(hyb *H, double t, double *y, int vzero)
                  * push it on at their own speed. If that slip is below
                  * SLIP_PUSH zsw it would soon count as stopped again
                  * (Zeno-like restarts); it is a rest instead, on
-                 * every touching row, which the REST_GAP guard ends once the
-                 * stops have moved (a drift below REST_GAP) */
+                 * every touching row, which the tol.rest_gap guard ends once the
+                 * stops have moved (a drift below tol.rest_gap) */
                 double ysv[EXDEX_MAX_STOPS], u[3], eu[3];
                 memcpy(ysv, y + 9, (size_t)H->ns * sizeof *ysv);
                 planar_impact_and_set(H, &kin, y);
@@ -720,7 +716,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
                     H->ncs = 0;
                     for (int k = 0; k < H->ns; k++)
                         for (int j = 0; j < H->nv; j++)
-                            if (contact_row_planar(m, &kin, k, j, y, y + 3, G, NULL, NULL) <= TOUCH)
+                            if (contact_row_planar(m, &kin, k, j, y, y + 3, G, NULL, NULL) <= m->tol.touch)
                                 H->cs[H->ncs++] = k * H->nv + j;
                 }
             }
@@ -783,14 +779,14 @@ static void decide(hyb *H, double t, double *y, int vzero)
          * in the stop's force integral */
         for (int pass = 0; pass < 3 && H->ns; pass++) {
             int kb = -1;
-            double worst = -RATE_TOL;
+            double worst = -m->tol.rate;
             crow cb;
             for (int k = 0; k < H->ns; k++)
                 for (int j = 0; j < H->nv; j++) {
                     double rate;
                     crow c;
                     contact_row_1dof(m, &kin, k, j, q, &c);
-                    if (c.F > TOUCH || !(fabs(c.Fq) > FQ_MIN)) continue;
+                    if (c.F > m->tol.touch || !(fabs(c.Fq) > m->tol.fq_min)) continue;
                     rate = c.Fq * y[1] + c.Ft;
                     if (rate < worst) {
                         worst = rate;
@@ -813,12 +809,12 @@ static void decide(hyb *H, double t, double *y, int vzero)
             double rate, v, Q, R, fr, lam, s_old = H->s;
             crow c;
             contact_row_1dof(m, &kin, k, j, q, &c);
-            if (c.F > TOUCH || !(fabs(c.Fq) > FQ_MIN)) continue;
+            if (c.F > m->tol.touch || !(fabs(c.Fq) > m->tol.fq_min)) continue;
             rate = c.Fq * y[1] + c.Ft;
-            if (fabs(rate) > RATE_TOL) continue;
+            if (fabs(rate) > m->tol.rate) continue;
             v = -c.Ft / c.Fq;
             if (H->law == LAW_COULOMB) {
-                if (fabs(v) > VZERO && !vzero) {
+                if (fabs(v) > m->tol.vzero && !vzero) {
                     H->s = v > 0 ? 1.0 : -1.0;
                 } else {
                     double a = contact_qdd(&c, 0.0);
@@ -841,7 +837,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
                     q -= dq;
                     contact_row_1dof(m, &kin, k, j, q, &c);
                     H->st->stop_iterations++;
-                    if (fabs(dq) <= 1e-16 * (1.0 + fabs(q))) break;
+                    if (fabs(dq) <= 1e-16 * (m->scale.q + fabs(q))) break;
                 }
                 y[0] = q;
                 y[1] = (H->law == LAW_COULOMB && H->s == 0.0) ? 0.0 : -c.Ft / c.Fq;
@@ -905,7 +901,7 @@ static void project_contact(hyb *H, double t, double *y)
         y[0] -= dq;
         contact_row_1dof(H->m, &kin, H->ck, H->cj, y[0], &c);
         H->st->stop_iterations++;
-        if (fabs(dq) <= 1e-16 * (1.0 + fabs(y[0]))) break;
+        if (fabs(dq) <= 1e-16 * (H->m->scale.q + fabs(y[0]))) break;
     }
     if (!(H->law == LAW_COULOMB && H->s == 0.0)) y[1] = -c.Ft / c.Fq;
 }
@@ -961,7 +957,26 @@ static void *hybrid_alloc(const exdex_model *m, int *status)
         return NULL;
     }
     O->step = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, ny);
-    O->con = gsl_odeiv2_control_y_new(m->def.atol, m->def.rtol);
+    {
+        /* atol is relative to the scene's scales: each state component's
+         * absolute tolerance is atol times its own scale (positions L,
+         * angles 1 rad, velocities L / T and 1 / T, force integrals F T,
+         * torque integrals F L T), so the error control (and with it every
+         * step) is the same in any units */
+        const model_scales *s = &m->scale;
+        double sc[NY_MAX];
+        size_t k = 0;
+        if (m->ndof == 3) {
+            double row[9] = {s->L, s->L, 1.0, s->V, s->V, 1.0 / s->T, s->F * s->T, s->F * s->T, s->F * s->L * s->T};
+            for (; k < 9; k++) sc[k] = row[k];
+        } else {
+            sc[k++] = s->q;
+            sc[k++] = s->q / s->T;
+            sc[k++] = s->F * s->T * s->L / s->q;
+        }
+        for (; k < ny; k++) sc[k] = s->F * s->T;
+        O->con = gsl_odeiv2_control_scaled_new(m->def.atol, m->def.rtol, 1.0, 0.0, sc, ny);
+    }
     O->evo = gsl_odeiv2_evolve_alloc(ny);
     O->root = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
     if (!O->step || !O->con || !O->evo || !O->root) {
@@ -1019,7 +1034,7 @@ static int guard_extremum(hyb *H, ode *O, double t0, const double *y0, double ta
     rootctx c = {H, O, t0, y0, e, 0};
     double a = 0.0, b = tau1, r = 0.5 * (3.0 - sqrt(5.0));
     double x1 = a + r * (b - a), x2 = b - r * (b - a), f1 = dir * root_fn(x1, &c), f2 = dir * root_fn(x2, &c);
-    for (int it = 0; it < 60 && f1 >= 0.0 && f2 >= 0.0 && !c.fail && b - a > ROOT_TOL; it++) {
+    for (int it = 0; it < 60 && f1 >= 0.0 && f2 >= 0.0 && !c.fail && b - a > H->m->tol.root; it++) {
         if (f1 < f2) {
             b = x2;
             x2 = x1;
@@ -1056,7 +1071,7 @@ static int locate(hyb *H, ode *O, double t0, const double *y0, double tau0, doub
         H->st->solver_iterations++;
         lo = gsl_root_fsolver_x_lower(O->root);
         hi = gsl_root_fsolver_x_upper(O->root);
-        if (hi - lo <= ROOT_TOL) break;
+        if (hi - lo <= H->m->tol.root) break;
     }
     /* The event is the first point where the guard is violated (g < 0):
      * Brent may stop on a point with g >= 0 (an exact zero included, where
@@ -1064,7 +1079,7 @@ static int locate(hyb *H, ode *O, double t0, const double *y0, double tau0, doub
      * until the next step). Step forward from it, doubling, to a point with
      * g < 0 (g(tau1) < 0 bounds the search). */
     {
-        double d = fmax(ROOT_TOL, 4.0 * DBL_EPSILON * fabs(t0 + hi));
+        double d = fmax(H->m->tol.root, 4.0 * DBL_EPSILON * fabs(t0 + hi));
         for (int k = 0; k < 64 && hi < tau1 && !(root_fn(hi, &c) < 0.0) && !c.fail; k++) {
             hi = fmin(tau1, hi + d);
             d *= 2.0;
@@ -1109,11 +1124,13 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
     H.ny = nd == 3 ? 9 + ns : 3 + ns;
     H.nv = m->n_vert ? m->n_vert : 1;
     H.st = st;
-    H.eps = m->def.eps;
+    /* eps is a slip speed |E u| [m/s]; a 1-DoF rotation slips at
+     * |E u| = e_r |thd|, so its smoothing rate is eps / e_r [rad/s] */
+    H.eps = m->ndof == 1 && m->def.dof == EXDEX_DOF_ROTATION ? m->def.eps / m->e[2] : m->def.eps;
     if (nd == 3) {
         H.M = 1.0;
         H.cap = m->capF;
-        H.zsw = SLIP_SMALL * m->def.atol;
+        H.zsw = SLIP_SMALL * m->def.atol * m->scale.V;  /* atol of a slip speed |E u| */
     } else if (m->def.dof == EXDEX_DOF_TRANSLATION) {
         H.M = m->m;
         H.cap = m->capF;
@@ -1132,7 +1149,7 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
     H.lo = 0.0;
     H.hi = nsw ? ts[0] : INFINITY;
     decide(&H, 0.0, y, 0);
-    h = fmin(dt, 1e-3);
+    h = fmin(dt, m->tol.h0);
     for (size_t i = 1; i < n && status == EXDEX_OK && !H.err; i++) {
         double ti = i == n - 1 ? t_end : (double)i * dt, hs = ti - out->t[i - 1];
         int events = 0, same = 0;
@@ -1313,12 +1330,12 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
                 project_contact(&H, t, y);
             }
             /* a penetration left after the step: the scene drives the
-             * object through a stop (see PEN_TOL) */
+             * object through a stop (see tol.pen) */
             if (ns) {
                 exdex_kinematics kt;
                 double gmin = exdex_motion_eval(m->motion, t, &kt) ? INFINITY : contact_min_gap(m, &kt, y);
                 if (gmin < st->min_gap) st->min_gap = gmin;
-                if (gmin < -PEN_TOL) st->warnings++;
+                if (gmin < -m->tol.pen) st->warnings++;
             }
             if (t == H.hi) {
                 /* a switching time of the motion: next segment */
@@ -1334,38 +1351,24 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
         }
         if (H.err && !status) status = H.err;
         if (status) break;
-        out->t[i] = ti;
-        if (nd == 1) {
-            double fbar = y[2] / hs;
-            out->q[i] = y[0];
-            out->v[i] = y[1];
-            if (m->def.dof == EXDEX_DOF_TRANSLATION) {
-                out->wrench[3 * i] = fbar * m->d[0];
-                out->wrench[3 * i + 1] = fbar * m->d[1];
-                out->wrench[3 * i + 2] = 0.0;
+        {
+            /* the interval's integrals (friction, stop forces) as means
+             * over it; then they restart from 0 */
+            int off = nd == 1 ? 2 : 6, nw = nd == 1 ? 1 : 3;
+            double wrench[3] = {0, 0, 0}, sf[EXDEX_MAX_STOPS];
+            if (nd == 3) {
+                for (int c = 0; c < 3; c++) wrench[c] = y[6 + c] / hs;
+            } else if (m->def.dof == EXDEX_DOF_TRANSLATION) {
+                wrench[0] = y[2] / hs * m->d[0];
+                wrench[1] = y[2] / hs * m->d[1];
             } else {
-                out->wrench[3 * i] = out->wrench[3 * i + 1] = 0.0;
-                out->wrench[3 * i + 2] = fbar;
+                wrench[2] = y[2] / hs;
             }
-            for (int k2 = 0; k2 < ns; k2++) {
-                out->stop_force[i * ns + k2] = y[3 + k2] / hs;
-                y[3 + k2] = 0.0;
-            }
-            y[2] = 0.0;
-        } else {
-            for (int c = 0; c < 3; c++) {
-                out->q[3 * i + c] = y[c];
-                out->v[3 * i + c] = y[3 + c];
-                out->wrench[3 * i + c] = y[6 + c] / hs;
-                y[6 + c] = 0.0;
-            }
-            for (int k2 = 0; k2 < ns; k2++) {
-                out->stop_force[i * ns + k2] = y[9 + k2] / hs;
-                y[9 + k2] = 0.0;
-            }
+            for (int k2 = 0; k2 < ns; k2++) sf[k2] = y[off + nw + k2] / hs;
+            method_record(m, out, st, i, ti, y, y + nd, wrench,
+                          law == LAW_COULOMB && H.mode == MODE_STICK ? 1 : is_still(&H, y), sf);
+            for (int c = off; c < H.ny; c++) y[c] = 0.0;
         }
-        out->stick[i] = (unsigned char)(law == LAW_COULOMB && H.mode == MODE_STICK ? 1 : is_still(&H, y));
-        st->stick_steps += out->stick[i];
     }
     /* a failure in the decision at t = 0 stops the loop before it starts */
     if (!status && H.err) status = H.err;
