@@ -1,14 +1,15 @@
-"""Cross-checks against two general physics engines: pybullet and MuJoCo.
+"""Cross-checks against three general physics engines: pybullet, MuJoCo and Drake.
 
-``run_pybullet(scene, t_end)`` and ``run_mujoco(scene, t_end)`` build the same
+``run_pybullet(scene, t_end)``, ``run_mujoco(scene, t_end)`` and
+``run_drake(scene, t_end)`` build the same
 scene as exdex solves -- two plates driven kinematically along the gripper
 trajectory, a box-shaped object squeezed between them with the grasp's normal
 force per finger, the same mass, inertia, mu and gravity, the same stops -- and
 return the object's motion relative to the gripper as an ``exdex.Result``
 (same units, frames and free coordinates as ``exdex.simulate``).
 
-How each scene is built (both engines)
---------------------------------------
+How each scene is built (all engines)
+-------------------------------------
 * Gripper: a body with six free coordinates and a very large mass
   (``gripper_mass``, 1e4 kg by default, isotropic inertia). Before every step
   its pose and twist are reset to the prescribed trajectory and the applied
@@ -44,20 +45,36 @@ How each scene is built (both engines)
   pybullet lateral friction mu on the pads and 1 on the object (Bullet
   multiplies them), spinning friction on the pads (Bullet combines it as
   spin_pad * lateral_object). Stops are frictionless in exdex and here.
+* Drake (``run_drake``): a discrete ``MultibodyPlant`` built in code (no model
+  files), the object on prismatic joints and a revolute joint about the plate
+  normal (no out-of-plane tilt). ``contact_model="point"``: Drake's compliant
+  point contact, which has no torsional friction and gives one point per
+  box-box pair, so rotation and planar pads become spheres at the pad corners
+  (the ``"corners"`` ablation model); ``"hydroelastic"``: compliant
+  hydroelastic pads (``hydroelastic_modulus``) pressing a rigid (or
+  compliant, ``object_modulus``) object, a pressure patch per finger from
+  which torsional friction emerges. Friction: Drake combines two surfaces as
+  2 mu1 mu2 / (mu1 + mu2), so pads and object both get mu. Discrete
+  approximation ``"lagged"`` (Drake's default), ``"sap"``, ``"similar"`` or
+  ``"tamsi"``; ``stiction_tolerance`` (1e-4 m/s, Drake's default) bounds the
+  slip of an in-cone load in the regularised approximations.
 * Engine settings default to the engine's own defaults (MuJoCo: 2 ms,
   Newton, 100 iterations, impratio 1, no noslip; pybullet: 1/240 s, 50
-  iterations, cone friction on), except MuJoCo's cone: ``"elliptic"`` by
+  iterations, cone friction on; Drake: 1 ms, lagged, point contact,
+  stiction tolerance 1e-4 m/s), except MuJoCo's cone: ``"elliptic"`` by
   default, the faithful mapping of a friction cone (MuJoCo's own default is
   ``"pyramidal"``: pass ``cone="pyramidal"``).
 
 Result fields: ``t, q, v`` as exdex; ``wrench`` is NaN (not measured);
 ``stick`` is True where the relative velocity is exactly zero;
-``stop_force`` the summed normal contact force of each stop; ``stats`` holds
-the engine settings and wall time; ``method`` is ``"pybullet"`` or
-``"mujoco"``.
+``stop_force`` the summed normal contact force of each stop (Drake: of its
+point contacts); ``stats`` holds the engine settings and wall time;
+``method`` is ``"pybullet"``, ``"mujoco"`` or ``"drake"``.
 
-Both engines are imported inside the functions, so ``import exdex`` never
-needs them. ``python -m exdex compare`` runs the paper cases (see ``run``).
+The engines are imported inside the functions, so ``import exdex`` never
+needs them (they come with ``pip install 'exdex[engines]'``).
+``exdex compare`` runs the paper cases and the planar case (see ``run``);
+``exdex hold`` the hold benchmark (``exdex.hold``).
 """
 from __future__ import annotations
 
