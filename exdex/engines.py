@@ -646,8 +646,9 @@ def run_drake(scene, t_end, *, dt=1e-3, contact_model="point", approximation="la
         Drake has no torsional friction at a point contact.
     hydroelastic_modulus : modulus of the compliant pads [Pa] (1e6).
     object_modulus : None (rigid object) or the object's hydroelastic modulus [Pa].
-    resolution_hint : hydroelastic mesh resolution [m] (default: a quarter of
-        the smallest pad side).
+    resolution_hint : hydroelastic mesh resolution [m] (default: boxes get
+        the coarsest mesh, exact for their piecewise-linear pressure field;
+        spheres a quarter of their radius).
     point_stiffness, dissipation : point-contact stiffness [N/m] and
         Hunt-Crossley dissipation [s/m] (None: Drake's defaults).
     gripper_mass, plate_mass : as for ``run_mujoco``.
@@ -679,10 +680,16 @@ def run_drake(scene, t_end, *, dt=1e-3, contact_model="point", approximation="la
     mp = _real(plate_mass, "plate_mass", low=0.0, low_open=True)
     lx, ly, lz = lay.size
     shapes = _drake_pad_shapes(lay, contact_model)
-    if resolution_hint is None:
-        sides = [2 * h for h in (lay.pad_half or ())] + [2 * PAD_THICKNESS, 2 * POINT_RADIUS]
-        resolution_hint = min(sides) / 4
-    resolution_hint = _real(resolution_hint, "resolution_hint", low=0.0, low_open=True)
+    if resolution_hint is not None:
+        resolution_hint = _real(resolution_hint, "resolution_hint", low=0.0, low_open=True)
+
+    def hint(size):
+        """The user's resolution, else: boxes the coarsest mesh (their pressure field is
+        piecewise linear, so the coarsest mesh conforming to it is exact and fastest),
+        spheres a quarter of the radius."""
+        if resolution_hint is not None:
+            return resolution_hint
+        return max(size) if len(size) == 3 else size[0] / 4
 
     builder = DiagramBuilder()
     config = MultibodyPlantConfig(time_step=dt, stiction_tolerance=vs,
@@ -728,28 +735,28 @@ def run_drake(scene, t_end, *, dt=1e-3, contact_model="point", approximation="la
         joints[name] = plant.AddJoint(jt)
         parent = child.body_frame()
     # geometry
-    def props(mu, compliant=None, rigid=False):
+    def props(mu, compliant=None, rigid=False, size=(POINT_RADIUS,)):
         p = ProximityProperties()
         AddContactMaterial(dissipation, point_stiffness, CoulombFriction(mu, mu), p)
         if compliant is not None:
-            AddCompliantHydroelasticProperties(resolution_hint, compliant, p)
+            AddCompliantHydroelasticProperties(hint(size), compliant, p)
         elif rigid:
-            AddRigidHydroelasticProperties(resolution_hint, p)
+            AddRigidHydroelasticProperties(hint(size), p)
         return p
 
     hydro = contact_model == "hydroelastic"
     pad_ids = []
     for body, sign, mu, X0 in ((gripper, -1.0, lay.mu[0], pc + [0, 0, -lay.pad_z]), (plate2, 1.0, lay.mu[1], np.zeros(3))):
         for k, (kind, off) in enumerate(shapes):
-            shape = (Box(2 * lay.pad_half[0], 2 * lay.pad_half[1], 2 * PAD_THICKNESS) if kind == "box"
-                     else Sphere(POINT_RADIUS))
+            size = (2 * lay.pad_half[0], 2 * lay.pad_half[1], 2 * PAD_THICKNESS) if kind == "box" else (POINT_RADIUS,)
+            shape = Box(*size) if kind == "box" else Sphere(POINT_RADIUS)
             gid = plant.RegisterCollisionGeometry(body, X(np.eye(3), X0 + off), shape, f"{body.name()}_pad{k}",
-                                                  props(mu, compliant=E if hydro else None))
+                                                  props(mu, compliant=E if hydro else None, size=size))
             pad_ids.append(gid)
     # Drake combines two surfaces' mu as 2 mu1 mu2 / (mu1 + mu2): the object gets the grasp's
     # mu, so a pad of mu gives mu and a frictionless pad (or stop) gives 0
     obj_props = props(scene.grasp.mu, compliant=object_modulus if hydro else None,
-                      rigid=hydro and object_modulus is None)
+                      rigid=hydro and object_modulus is None, size=(lx, ly, lz))
     plant.RegisterCollisionGeometry(obj, X(np.eye(3), com), Box(lx, ly, lz), "object", obj_props)
     stop_ids = []
     for k, s in enumerate(scene.stops):
