@@ -646,9 +646,9 @@ def run_drake(scene, t_end, *, dt=1e-3, contact_model="point", approximation="la
         Drake has no torsional friction at a point contact.
     hydroelastic_modulus : modulus of the compliant pads [Pa] (1e6).
     object_modulus : None (rigid object) or the object's hydroelastic modulus [Pa].
-    resolution_hint : hydroelastic mesh resolution [m] (default: boxes get
-        the coarsest mesh, exact for their piecewise-linear pressure field;
-        spheres a quarter of their radius).
+    resolution_hint : hydroelastic mesh resolution of tessellated shapes [m]
+        (default: a quarter of a sphere pad's radius; Drake meshes boxes by
+        its own rule).
     point_stiffness, dissipation : point-contact stiffness [N/m] and
         Hunt-Crossley dissipation [s/m] (None: Drake's defaults).
     gripper_mass, plate_mass : as for ``run_mujoco``.
@@ -684,9 +684,7 @@ def run_drake(scene, t_end, *, dt=1e-3, contact_model="point", approximation="la
         resolution_hint = _real(resolution_hint, "resolution_hint", low=0.0, low_open=True)
 
     def hint(size):
-        """The user's resolution, else: boxes the coarsest mesh (their pressure field is
-        piecewise linear, so the coarsest mesh conforming to it is exact and fastest),
-        spheres a quarter of the radius."""
+        """The user's resolution, else a quarter of a sphere's radius (boxes: their size)."""
         if resolution_hint is not None:
             return resolution_hint
         return max(size) if len(size) == 3 else size[0] / 4
@@ -1075,11 +1073,12 @@ def _figure(path, name, scene, ref, runs, scale, unit):
     import matplotlib.pyplot as plt
 
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(7, 6.5), sharex=True)
+    colors = ablation_colors((), [r[0] for r in runs])
     ax1.plot(ref.t, scale * _disp(ref), "k-", lw=2, label="exdex")
     for label, res, on_ref in runs:
-        ax1.plot(res.t, scale * _disp(res), lw=1.2, label=label)
-        ax2.semilogy(ref.t, np.maximum(scale * np.abs(on_ref - _disp(ref)), 1e-9), lw=1.2,
-                     label=label)
+        ax1.plot(res.t, scale * _disp(res), lw=1.2, color=colors[label], ls=_engine_ls(label), label=label)
+        ax2.semilogy(ref.t, np.maximum(scale * np.abs(on_ref - _disp(ref)), 1e-9), lw=1.2, color=colors[label],
+                     ls=_engine_ls(label), label=label)
     end = scene.motion.end_time
     for ax in (ax1, ax2):
         ax.axvline(end, color="0.6", ls=":", lw=1)
@@ -1095,15 +1094,21 @@ def _figure(path, name, scene, ref, runs, scale, unit):
 
 
 def ablation_colors(models, engine_labels):
-    """{label: colour}: one colour per exdex model and per engine run, none shared
-    (models from matplotlib's tab20 dark shades, engines from tab20b)."""
+    """{label: colour}: one colour per exdex model ("exdex <model>") and per engine
+    run, none shared: models from matplotlib's tab10, engine runs from Dark2
+    then Set1 (17 colours, none of them in tab10)."""
     import matplotlib
 
-    a = matplotlib.colormaps["tab20"]
-    b = matplotlib.colormaps["tab20b"]
-    cols = {f"exdex {m}": a(2 * i % 20) for i, m in enumerate(models)}
-    cols.update({lab: b((i * 3) % 20) for i, lab in enumerate(engine_labels)})
+    a = matplotlib.colormaps["tab10"].colors
+    b = list(matplotlib.colormaps["Dark2"].colors) + list(matplotlib.colormaps["Set1"].colors)
+    cols = {f"exdex {m}": a[i % len(a)] for i, m in enumerate(models)}
+    cols.update({lab: b[i % len(b)] for i, lab in enumerate(engine_labels)})
     return cols
+
+
+def _engine_ls(label):
+    """Line style of an engine run: pybullet dashed, MuJoCo dash-dot, Drake dotted."""
+    return {"pybullet": "--", "mujoco": "-.", "drake": ":"}.get(label.split()[0], "-")
 
 
 def _ablation_figure(path, name, scene, ref, ab, engine_runs, scale, unit):
@@ -1118,7 +1123,7 @@ def _ablation_figure(path, name, scene, ref, ab, engine_runs, scale, unit):
         ax1.plot(res.t, scale * _disp(res), lw=2 if model == "ellipsoid" else 1.2,
                  ls="-" if model == "ellipsoid" else "--", color=colors[f"exdex {model}"], label=f"exdex {model}")
     for label, res, _ in engine_runs:
-        ax1.plot(res.t, scale * _disp(res), lw=1.2, ls=":", color=colors[label], label=label)
+        ax1.plot(res.t, scale * _disp(res), lw=1.2, ls=_engine_ls(label), color=colors[label], label=label)
     ax1.set_xlabel("t [s]")
     ax1.set_ylabel(f"relative displacement [{unit}]")
     kind = "" if scene.dof == "rotation" else " (equivalent e_r: approximate in planar scenes)"
