@@ -38,13 +38,14 @@ import math
 import os
 import threading
 from dataclasses import dataclass, field
-from typing import Any, Dict, Mapping, Optional, Sequence, Tuple
+from typing import Any, Callable, Dict, Iterable, Mapping, Optional, Sequence, Tuple, Union, cast
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from exdex import _core
 from exdex.scene import METHODS, SOLVERS, AsymmetricProfile, Body, Grasp, Scene, TrapezoidalProfile, _real
-from exdex.simulate import Result
+from exdex.simulate import FrictionSolver, Method, Result, resolve_method
 
 __all__ = ["BatchResult", "simulate_batch", "sweep", "grid_points", "PARAMETERS"]
 
@@ -140,24 +141,24 @@ class BatchResult:
     t_end: float = float("nan")
     threads: int = 1
 
-    def __len__(self):
+    def __len__(self) -> int:
         return len(self.final_displacement)
 
-    def gridded(self, name):
+    def gridded(self, name: str) -> NDArray[Any]:
         """Attribute (or stats entry) ``name`` with the batch axis reshaped to
         ``shape``: e.g. ``gridded("final_displacement")`` is (*shape, ndof)."""
         a = self.stats[name] if name in self.stats else (
             self.params[name] if name in self.params else getattr(self, name))
         return np.asarray(a).reshape(tuple(self.shape) + np.shape(a)[1:])
 
-    def scene_at(self, i):
+    def scene_at(self, i: int) -> Scene:
         """The :class:`exdex.Scene` of trajectory ``i``, made with
         ``dataclasses.replace`` from the base scene and ``params``."""
         i = _index(i, len(self))
         base = self.scene[i] if isinstance(self.scene, tuple) else self.scene
         return _replace_params(base, {k: float(v[i]) for k, v in self.params.items()})
 
-    def result(self, i):
+    def result(self, i: int) -> Result:
         """Trajectory ``i`` as an :class:`exdex.Result` (record="all" only)."""
         if self.record != "all":
             raise ValueError("result(i) needs record='all'; this batch kept the final sample only")
@@ -168,7 +169,7 @@ class BatchResult:
                       friction_solver=self.friction_solver, dt=self.dt)
 
     @staticmethod
-    def concatenate(parts, shape=None):
+    def concatenate(parts: Iterable["BatchResult"], shape: Optional[Tuple[int, ...]] = None) -> "BatchResult":
         """One BatchResult from several of the same setting, in the given order."""
         parts = list(parts)
         if not parts:
@@ -320,8 +321,10 @@ def _broadcast(arrays):
 
 # ------------------------------------------------------------------ batch
 
-def simulate_batch(scene, t_end, dt=1e-3, threads=None, record="all", method="implicit",
-                   friction_solver="scalar", eps=1e-4, rtol=1e-8, atol=1e-10, **arrays):
+def simulate_batch(scene: Union[Scene, Sequence[Scene]], t_end: float, dt: float = 1e-3,
+                   threads: Optional[int] = None, record: str = "all", method: Method = "implicit",
+                   friction_solver: FrictionSolver = "scalar", eps: float = 1e-4, rtol: float = 1e-8,
+                   atol: float = 1e-10, **arrays: ArrayLike) -> BatchResult:
     """Simulate many variants of a scene in one call, on several threads.
 
     Parameters
@@ -387,6 +390,9 @@ def simulate_batch(scene, t_end, dt=1e-3, threads=None, record="all", method="im
         raise ValueError(f"threads must be an int in [1, 1024] or None (one per CPU), got {threads!r}")
     if record not in ("all", "final"):
         raise ValueError(f"record must be 'all' or 'final', got {record!r}")
+    if method == "auto":
+        ok = all(resolve_method(s, "auto") == "analytic" for s in (scenes if scenes is not None else (scene,)))
+        method = "analytic" if ok else "event"
     eps, rtol, atol = _check_options(method, friction_solver, eps, rtol, atol)
 
     base = scenes if scenes is not None else scene
@@ -415,9 +421,9 @@ def simulate_batch(scene, t_end, dt=1e-3, threads=None, record="all", method="im
         raise ValueError(f"the batch is empty (broadcast shape {shape})")
     _check_trapezoids(scenes if scenes is not None else scene, flat)
 
-    opts = dict(method=method, friction_solver=friction_solver, eps=eps, rtol=rtol, atol=atol)
-    specs = [s.to_spec(**opts) for s in scenes] if scenes is not None else scene.to_spec(**opts)
-    vary = {PARAMETERS[k].key: a for k, a in flat.items()}
+    opts: Dict[str, Any] = dict(method=method, friction_solver=friction_solver, eps=eps, rtol=rtol, atol=atol)
+    specs: Any = [s.to_spec(**opts) for s in scenes] if scenes is not None else cast(Scene, scene).to_spec(**opts)
+    vary: Optional[Dict[str, Any]] = {PARAMETERS[k].key: a for k, a in flat.items()}
     if not vary and scenes is None:
         vary = None
     try:
@@ -439,7 +445,7 @@ def simulate_batch(scene, t_end, dt=1e-3, threads=None, record="all", method="im
 
 # ------------------------------------------------------------------ sweep
 
-def grid_points(grid, product=True):
+def grid_points(grid: Mapping[str, ArrayLike], product: bool = True) -> Tuple[Dict[str, NDArray[np.float64]], Tuple[int, ...]]:
     """Flatten a parameter grid: returns (dict name -> (B,) arrays, shape).
 
     product=True: the Cartesian product of the value lists (each flattened to
@@ -485,8 +491,10 @@ def _combine(parts, shape):
     return list(parts)
 
 
-def sweep(fn_or_scene, grid, executor: Optional[cf.Executor] = None, chunk=256, progress=True, *,
-          product=True, t_end=None, dt=1e-3, record="final", **options):
+def sweep(fn_or_scene: Union[Scene, Callable[..., Any]], grid: Mapping[str, ArrayLike],
+          executor: Optional[cf.Executor] = None, chunk: int = 256, progress: bool = True, *,
+          product: bool = True, t_end: Optional[float] = None, dt: float = 1e-3, record: str = "final",
+          **options: Any) -> Any:
     """Run a parameter grid in chunks over any concurrent.futures.Executor.
 
     Parameters
@@ -551,7 +559,7 @@ def sweep(fn_or_scene, grid, executor: Optional[cf.Executor] = None, chunk=256, 
 
     bounds = [(a, min(a + int(chunk), total)) for a in range(0, total, int(chunk))]
     own = executor is None
-    ex = cf.ThreadPoolExecutor(max_workers=_cpu_count()) if own else executor
+    ex: cf.Executor = cf.ThreadPoolExecutor(max_workers=_cpu_count()) if executor is None else executor
     parts = [None] * len(bounds)
     from tqdm.auto import tqdm
 

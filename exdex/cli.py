@@ -15,6 +15,7 @@ COMMANDS = {
     "hold": ("exdex.hold", "hold benchmark: drift of a held object in exdex and the engines' settings"),
     "bench": ("exdex.bench", "work-precision charts and stability maps of the integration methods"),
     "tool": ("exdex.tool", "assistive-tool design: twist-cone volumes and tool-angle optimisation"),
+    "run": ("exdex.cli_run", "simulate a scene file (TOML or JSON): CSV, NPZ, a figure, an animation"),
 }
 
 
