@@ -21,6 +21,26 @@ typedef struct method_impl {
     void (*free)(void *ws);  /* NULL is harmless */
 } method_impl;
 
+/* Record sample i: time t, coordinates q and velocities v (ndof each), the
+ * mean plate wrench over the interval ending there (B, at the centre of
+ * pressure), the stick flag and the mean force of each stop; the stick
+ * flag also counts in st->stick_steps. */
+static inline void method_record(const exdex_model *m, exdex_trajectory *out, exdex_stats *st, size_t i, double t,
+                                 const double *q, const double *v, const double wrench[3], int stick,
+                                 const double *stop_force)
+{
+    int nd = m->ndof, ns = m->n_stops;
+    out->t[i] = t;
+    for (int c = 0; c < nd; c++) {
+        out->q[i * (size_t)nd + c] = q[c];
+        out->v[i * (size_t)nd + c] = v[c];
+    }
+    for (int c = 0; c < 3; c++) out->wrench[3 * i + c] = wrench[c];
+    out->stick[i] = (unsigned char)stick;
+    st->stick_steps += (size_t)(stick != 0);
+    for (int k = 0; k < ns; k++) out->stop_force[i * (size_t)ns + k] = stop_force[k];
+}
+
 extern const method_impl method_implicit;     /* implicit.c */
 extern const method_impl method_event;        /* hybrid.c */
 extern const method_impl method_regularised;  /* hybrid.c */
