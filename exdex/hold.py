@@ -15,7 +15,7 @@ Scenarios (every combination):
   (the grip force is set from it: mu * 2 * F = margin * m g for translation,
   mu * 2 * F * e_r = margin * m g * ARM for rotation).
 * ``motion``: ``rest`` (gripper still) or ``shake`` (the gripper oscillates
-  at ``SHAKE_HZ`` along the plate axis, or about the plate normal through the
+  at ``SHAKE_HZ``, amp (1 - cos 2 pi f t), starting and ending at rest, along the plate axis, or about the plate normal through the
   pivot, with an acceleration amplitude adding a quarter of the static load:
   the peak load is 1.25 m g (or 1.25 m g ARM), below the slip threshold of
   every margin).
@@ -102,15 +102,17 @@ QUICK_SETTINGS = _quick_settings
 
 
 def _shake(dof, t_end, scene):
-    """The gripper's shake as sampled poses (200 per second): a sinusoid whose
-    acceleration amplitude adds SHAKE_LOAD times the static load."""
+    """The gripper's shake as sampled poses (200 per second): amp (1 - cos w t),
+    which starts and (after whole periods) ends at rest, so the gripper's
+    velocity never jumps, with an acceleration amplitude amp w^2 adding
+    SHAKE_LOAD times the static load."""
     w = 2 * math.pi * SHAKE_HZ
     t = np.linspace(0.0, t_end, int(round(t_end * 200)) + 1)
     R0 = np.array(DEFAULT_GRIPPER_ROTATION)
     if dof == "translation":
         amp = SHAKE_LOAD * G / w**2                      # a = amp w^2
         axis = R0 @ np.array([0.0, 1.0, 0.0])            # plate axis B y (vertical)
-        pos = np.outer(amp * np.sin(w * t), axis)
+        pos = np.outer(amp * (1.0 - np.cos(w * t)), axis)
         quats = np.tile(_quat_from_matrix(R0), (len(t), 1))
     else:
         c = scene.grasp.patch.center
@@ -119,7 +121,7 @@ def _shake(dof, t_end, scene):
         amp = SHAKE_LOAD * MASS * G * ARM / i_pivot / w**2  # angular acceleration amplitude / w^2
         pos = np.zeros((len(t), 3))
         quats = []
-        for th in amp * np.sin(w * t):
+        for th in amp * (1.0 - np.cos(w * t)):
             cs, sn = math.cos(th), math.sin(th)
             Rz = np.array([[cs, -sn, 0.0], [sn, cs, 0.0], [0.0, 0.0, 1.0]])
             quats.append(_quat_from_matrix(R0 @ Rz))     # about the plate normal through B's origin (the pivot)
