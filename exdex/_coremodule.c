@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include "exdex.h"
+#include "_common.h"
 
 typedef struct {
     PyObject *SolverError;
@@ -25,34 +26,10 @@ typedef struct {
 
 static core_state *get_state(PyObject *module) { return (core_state *)PyModule_GetState(module); }
 
-/* Raise the library exception for a C status (or ValueError for EINVAL). */
+/* Raise the library exception for a C status (the mapping of _common.h). */
 static PyObject *raise_status(PyObject *module, int status, const char *what, const char *bad)
 {
-    if (status == EXDEX_EINVAL) {
-        if (bad)
-            PyErr_Format(PyExc_ValueError, "%s: invalid value of '%s'", what, bad);
-        else
-            PyErr_Format(PyExc_ValueError, "%s: invalid argument", what);
-    } else if (status == EXDEX_ENOMEM) {
-        PyErr_NoMemory();
-    } else {
-        PyObject *exc = get_state(module)->SolverError;
-        PyObject *args = Py_BuildValue("(si)", exdex_strerror(status), status);
-        if (args) {
-            PyObject *inst = PyObject_Call(exc, args, NULL);
-            Py_DECREF(args);
-            if (inst) {
-                PyObject *st = PyLong_FromLong(status);
-                if (st) {
-                    PyObject_SetAttrString(inst, "status", st);
-                    Py_DECREF(st);
-                }
-                PyErr_SetObject(exc, inst);
-                Py_DECREF(inst);
-            }
-        }
-    }
-    return NULL;
+    return expy_raise_status(get_state(module)->SolverError, status, what, bad, NULL, -1);
 }
 
 /* Convert obj to a C-contiguous float64 array of exactly `n` elements. New
@@ -744,30 +721,9 @@ static void prefix_error(Py_ssize_t i)
  * with attributes `status` and `index` (or ValueError / MemoryError). */
 static void raise_trajectory_error(PyObject *module, int status, Py_ssize_t i)
 {
-    if (status == EXDEX_EINVAL) {
-        PyErr_Format(PyExc_ValueError, "batch index %zd: simulate: invalid argument", i);
-    } else if (status == EXDEX_ENOMEM) {
-        PyErr_NoMemory();
-    } else {
-        PyObject *exc = get_state(module)->SolverError, *inst, *args, *o;
-        args = Py_BuildValue("(Ni)", PyUnicode_FromFormat("batch index %zd: %s", i, exdex_strerror(status)),
-                             status);
-        if (!args) return;
-        inst = PyObject_Call(exc, args, NULL);
-        Py_DECREF(args);
-        if (!inst) return;
-        if ((o = PyLong_FromLong(status))) {
-            PyObject_SetAttrString(inst, "status", o);
-            Py_DECREF(o);
-        }
-        if ((o = PyLong_FromSsize_t(i))) {
-            PyObject_SetAttrString(inst, "index", o);
-            Py_DECREF(o);
-        }
-        PyErr_Clear();
-        PyErr_SetObject(exc, inst);
-        Py_DECREF(inst);
-    }
+    char what[64];
+    snprintf(what, sizeof what, "batch index %zd", i);
+    expy_raise_status(get_state(module)->SolverError, status, what, NULL, NULL, i);
 }
 
 typedef struct batch_ctx {
@@ -1222,6 +1178,32 @@ static PyMethodDef core_methods[] = {
     {"n_samples", core_n_samples, METH_VARARGS, "Number of samples simulate returns for (t_end, dt); 0 if invalid."},
     {NULL, NULL, 0, NULL}};
 
+/* The C enums and limits the Python layer uses (exdex/scene.py builds its
+ * name -> value maps from these, never from literal numbers). */
+static const expy_constant core_constants[] = {
+    {"MAX_STOPS", EXDEX_MAX_STOPS},
+    {"MAX_VERTICES", EXDEX_MAX_VERTICES},
+    {"STATUS_OK", EXDEX_OK},
+    {"STATUS_EINVAL", EXDEX_EINVAL},
+    {"STATUS_ENOMEM", EXDEX_ENOMEM},
+    {"STATUS_ENOCONV", EXDEX_ENOCONV},
+    {"STATUS_ENONFINITE", EXDEX_ENONFINITE},
+    {"DOF_TRANSLATION", EXDEX_DOF_TRANSLATION},
+    {"DOF_ROTATION", EXDEX_DOF_ROTATION},
+    {"DOF_PLANAR", EXDEX_DOF_PLANAR},
+    {"METHOD_IMPLICIT", EXDEX_METHOD_IMPLICIT},
+    {"METHOD_EVENT", EXDEX_METHOD_EVENT},
+    {"METHOD_REGULARISED", EXDEX_METHOD_REGULARISED},
+    {"METHOD_EXPLICIT", EXDEX_METHOD_EXPLICIT},
+    {"SOLVER_SCALAR", EXDEX_SOLVER_SCALAR},
+    {"SOLVER_BRENT", EXDEX_SOLVER_BRENT},
+    {"SOLVER_MULTIROOT", EXDEX_SOLVER_MULTIROOT},
+    {"MOTION_REST", EXDEX_MOTION_REST},
+    {"MOTION_ASYMMETRIC", EXDEX_MOTION_ASYMMETRIC},
+    {"MOTION_TRAPEZOID", EXDEX_MOTION_TRAPEZOID},
+    {"MOTION_SAMPLED", EXDEX_MOTION_SAMPLED},
+    {NULL, 0}};
+
 static int core_exec(PyObject *module)
 {
     core_state *s = get_state(module);
@@ -1237,8 +1219,7 @@ static int core_exec(PyObject *module)
     s->ModelType = PyType_FromModuleAndSpec(module, &Model_spec, NULL);
     if (!s->ModelType) return -1;
     if (PyModule_AddObjectRef(module, "Model", s->ModelType) < 0) return -1;
-    if (PyModule_AddIntConstant(module, "MAX_STOPS", EXDEX_MAX_STOPS) < 0) return -1;
-    if (PyModule_AddIntConstant(module, "MAX_VERTICES", EXDEX_MAX_VERTICES) < 0) return -1;
+    if (expy_add_constants(module, core_constants) < 0) return -1;
     return 0;
 }
 

@@ -25,6 +25,8 @@ from typing import Optional, Tuple
 
 import numpy as np
 
+from exdex import _core
+
 __all__ = [
     "Body", "Patch", "Grasp", "Rest", "AsymmetricProfile", "TrapezoidalProfile",
     "SampledTrajectory", "Stop", "Scene", "DEFAULT_GRIPPER_ROTATION",
@@ -33,9 +35,11 @@ __all__ = [
 #: B x = A x, B y = A z (up), B z = -A y: plates vertical, normal horizontal.
 DEFAULT_GRIPPER_ROTATION = ((1.0, 0.0, 0.0), (0.0, 0.0, -1.0), (0.0, 1.0, 0.0))
 
-DOFS = {"translation": 1, "rotation": 2, "planar": 3}
-METHODS = {"implicit": 0, "event": 1, "regularised": 2, "explicit": 3}
-SOLVERS = {"scalar": 0, "brent": 1, "multiroot": 2}
+# Names of the C core's enums; the values are the constants exdex._core exports.
+DOFS = {"translation": _core.DOF_TRANSLATION, "rotation": _core.DOF_ROTATION, "planar": _core.DOF_PLANAR}
+METHODS = {"implicit": _core.METHOD_IMPLICIT, "event": _core.METHOD_EVENT,
+           "regularised": _core.METHOD_REGULARISED, "explicit": _core.METHOD_EXPLICIT}
+SOLVERS = {"scalar": _core.SOLVER_SCALAR, "brent": _core.SOLVER_BRENT, "multiroot": _core.SOLVER_MULTIROOT}
 
 
 # ---------------------------------------------------------------- validation
@@ -190,8 +194,6 @@ class Patch:
     @classmethod
     def disc(cls, radius, center=(0.0, 0.0)):
         """Uniform pressure over a disc of ``radius`` [m]: e_r = 2 R / 3."""
-        from exdex import _core
-
         r = _real(radius, "radius", low=0.0, low_open=True)
         return cls(e_r=_core.er_disc(r), center=center, shape="disc", dims=(r,))
 
@@ -199,8 +201,6 @@ class Patch:
     def rectangle(cls, half_x, half_y, center=(0.0, 0.0)):
         """Uniform pressure over a rectangle of half-sides ``half_x``, ``half_y``
         [m]: e_r is the mean distance of the rectangle from its centre."""
-        from exdex import _core
-
         a = _real(half_x, "half_x", low=0.0, low_open=True)
         b = _real(half_y, "half_y", low=0.0, low_open=True)
         return cls(e_r=_core.er_rectangle(a, b), center=center, shape="rectangle", dims=(a, b))
@@ -257,8 +257,6 @@ class _Motion:
         origin [m], ``v`` [m/s], ``a`` [m/s^2], ``w`` angular velocity [rad/s],
         ``dw`` angular acceleration [rad/s^2], each (n, 3).
         """
-        from exdex import _core
-
         scene = Scene(body=Body(mass=1.0), grasp=Grasp(mu=0.0, grip_force=0.0), motion=self,
                       gripper_rotation=gripper_rotation, gripper_position=gripper_position)
         t = _array(np.atleast_1d(t), "t", (None,))
@@ -277,7 +275,7 @@ class Rest(_Motion):
     """The gripper holds its initial pose."""
 
     def _spec(self):
-        return dict(motion_kind=0)
+        return dict(motion_kind=_core.MOTION_REST)
 
     @property
     def end_time(self):
@@ -324,7 +322,7 @@ class AsymmetricProfile(_Motion):
         return 2 * self.amplitude / ((self.beta - 1) * self.duration**2)
 
     def _spec(self):
-        return dict(motion_kind=1, motion_rotation=int(self.rotation), motion_axis=self.axis,
+        return dict(motion_kind=_core.MOTION_ASYMMETRIC, motion_rotation=int(self.rotation), motion_axis=self.axis,
                     motion_center=self.center, motion_amplitude=self.amplitude,
                     motion_duration=self.duration, motion_beta=self.beta)
 
@@ -359,7 +357,7 @@ class TrapezoidalProfile(_Motion):
         _axis_fields(self, "TrapezoidalProfile")
 
     def _spec(self):
-        return dict(motion_kind=2, motion_rotation=int(self.rotation), motion_axis=self.axis,
+        return dict(motion_kind=_core.MOTION_TRAPEZOID, motion_rotation=int(self.rotation), motion_axis=self.axis,
                     motion_center=self.center, motion_amplitude=self.amplitude,
                     motion_duration=self.duration, motion_v_max=self.v_max)
 
@@ -410,7 +408,7 @@ class SampledTrajectory(_Motion):
 
     def _spec(self):
         poses = np.hstack([self.positions, self.quaternions])
-        return dict(motion_kind=3, motion_times=self.times, motion_poses=poses)
+        return dict(motion_kind=_core.MOTION_SAMPLED, motion_times=self.times, motion_poses=poses)
 
     @property
     def end_time(self):
@@ -530,7 +528,7 @@ class Scene:
             e_r=self.grasp.patch.e_r, patch_center=self.grasp.patch.center,
             gravity=self.gravity, dof=DOFS[self.dof], slide_axis=self.slide_axis,
             q0=self.q0, v0=self.v0, R0=np.array(self.gripper_rotation).ravel(), p0=self.gripper_position,
-            motion_kind=0, motion_rotation=0, motion_axis=(0.0, 0.0, 1.0), motion_center=(0.0, 0.0, 0.0),
+            motion_kind=_core.MOTION_REST, motion_rotation=0, motion_axis=(0.0, 0.0, 1.0), motion_center=(0.0, 0.0, 0.0),
             motion_amplitude=0.0, motion_duration=1.0, motion_beta=0.5, motion_v_max=1.0,
             stop_points=np.array([s.point for s in self.stops]).reshape(-1, 3),
             stop_normals=np.array([s.normal for s in self.stops]).reshape(-1, 3),

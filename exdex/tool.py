@@ -53,7 +53,8 @@ __all__ = [
     "add_arguments", "run",
 ]
 
-ConvergenceError = _tool.ConvergenceError
+#: A GSL minimiser did not converge: the same class as :class:`exdex.SolverError`.
+ConvergenceError = _tool.SolverError
 
 #: The paper's unit square, centred on its reference point (counter-clockwise).
 UNIT_SQUARE = np.array([[-0.5, -0.5], [0.5, -0.5], [0.5, 0.5], [-0.5, 0.5]])
