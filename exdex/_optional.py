@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import importlib
 
-__all__ = ["MissingExtraError", "require", "pyplot", "progress_bar", "EXTRAS"]
+__all__ = ["MissingExtraError", "require", "available", "pyplot", "progress_bar", "EXTRAS"]
 
 #: module -> the pip extra that installs it
 EXTRAS = {
@@ -42,6 +42,16 @@ def require(module, feature):
         if getattr(exc, "name", None) not in (None, top, module) and not str(exc.name).startswith(top + "."):
             raise
         raise MissingExtraError(top, feature, EXTRAS.get(top, top)) from exc
+
+
+def available(module):
+    """True when ``module`` can be imported (without importing it)."""
+    import importlib.util
+
+    try:
+        return importlib.util.find_spec(module) is not None
+    except (ImportError, ValueError):
+        return False
 
 
 def pyplot(feature, backend=None):

@@ -857,10 +857,16 @@ def run(args):
             if args.plots:
                 _ablation_figure(os.path.join(args.out, f"{name}_ablation.png"), name, scene, ref, ab,
                                  runs[:2] + [r for r in runs if any(w in r[0] for w in ("point", "cone", "noslip"))], scale, unit)
-    lines = [f"{'case':5s} {'model':40s} {'final':>10s} {'drift/s':>11s} {'max|diff|':>10s} {'wall s':>7s}"]
-    for name, label, final, drift, err, wall, unit in rows:
-        lines.append(f"{name:5s} {label:40s} {final:10.3f} {drift:11.4g} {err:10.3f} {wall:7.2f}  {unit}")
-    table = "\n".join(lines)
+    from exdex._table import format_table
+
+    # one table per unit, so that every header carries its unit
+    blocks = []
+    for unit in dict.fromkeys(r[6] for r in rows):
+        blocks.append(format_table(
+            [("case", None), ("model", None), (f"final [{unit}]", "{:.3f}"), (f"drift [{unit}/s]", "{:.4g}"),
+             (f"max |diff| [{unit}]", "{:.3f}"), ("wall [s]", "{:.2f}")],
+            [r[:6] for r in rows if r[6] == unit]))
+    table = "\n\n".join(blocks)
     print(table)
     with open(os.path.join(args.out, "compare_table.txt"), "w") as fh:
         fh.write(table + "\n")

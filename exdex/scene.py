@@ -147,8 +147,8 @@ class Body:
             object.__setattr__(self, "size", _tuple(s))
         if self.outline is not None:
             o = _array(self.outline, "Body.outline", (None, 2))
-            if not 1 <= len(o) <= 32:
-                raise ValueError(f"Body.outline must have 1 to 32 vertices, got {len(o)}")
+            if not 1 <= len(o) <= _core.MAX_VERTICES:
+                raise ValueError(f"Body.outline must have 1 to {_core.MAX_VERTICES} vertices, got {len(o)}")
             object.__setattr__(self, "outline", _tuple(o))
 
     @classmethod
@@ -502,13 +502,46 @@ class Scene:
         object.__setattr__(self, "gripper_rotation", _rotation(self.gripper_rotation, "Scene.gripper_rotation"))
         object.__setattr__(self, "gripper_position", _tuple(_array(self.gripper_position, "Scene.gripper_position", (3,))))
         object.__setattr__(self, "gravity", _tuple(_array(self.gravity, "Scene.gravity", (3,))))
-        stops = tuple(self.stops)
-        for s in stops:
+        stops = self.stops
+        if isinstance(stops, Stop):
+            stops = (stops,)  # a single stop
+        elif isinstance(stops, (str, bytes)) or not hasattr(stops, "__iter__"):
+            raise TypeError(f"Scene.stops must be an exdex.Stop or a sequence of them, got {type(stops).__name__}")
+        stops = tuple(stops)
+        for i, s in enumerate(stops):
             if not isinstance(s, Stop):
-                raise TypeError(f"Scene.stops must hold exdex.Stop objects, got {type(s).__name__}")
-        if len(stops) > 8:
-            raise ValueError(f"Scene.stops holds at most 8 stops, got {len(stops)}")
+                raise TypeError(f"Scene.stops[{i}] must be an exdex.Stop, got {type(s).__name__}")
+        if len(stops) > _core.MAX_STOPS:
+            raise ValueError(f"Scene.stops holds at most {_core.MAX_STOPS} stops, got {len(stops)}")
         object.__setattr__(self, "stops", stops)
+        if stops:
+            self._check_stop_gaps()
+
+    def _check_stop_gaps(self):
+        """Every outline vertex must start on the allowed side of every stop
+        (the test of the core, in the same metres): else a ValueError naming
+        the stop, the vertex and the penetration depth."""
+        if isinstance(self.motion, (Rest, AsymmetricProfile, TrapezoidalProfile)):
+            # these motions start at the initial pose
+            R, p = np.array(self.gripper_rotation), np.array(self.gripper_position)
+        else:
+            kin = self.motion.evaluate(0.0, self.gripper_rotation, self.gripper_position)
+            R, p = kin["R"][0], kin["p"][0]
+        th = self.q0[2]
+        c, s = math.cos(th), math.sin(th)
+        verts = self.body.vertices()
+        xb = np.array(self.q0[:2]) + verts @ np.array([[c, s], [-s, c]])   # rows: q0 + Rz(th) v
+        xa = np.hstack([xb, np.zeros((len(xb), 1))]) @ R.T + p
+        for k, st in enumerate(self.stops):
+            gaps = (xa - np.array(st.point)) @ np.array(st.normal)
+            j = int(np.argmin(gaps))
+            if gaps[j] < -1e-9:
+                where = "the centre of mass" if self.body.size is None and self.body.outline is None \
+                    else f"outline vertex {j} ({verts[j][0]:g}, {verts[j][1]:g}) m"
+                raise ValueError(
+                    f"Scene.stops[{k}] (point {st.point}, normal {st.normal}) starts inside the object: "
+                    f"{where} is {-gaps[j]:.6g} m beyond it at t = 0. Move the stop or the object "
+                    f"(Scene.q0 = {self.q0}) so that it starts on the stop's allowed side")
 
     @property
     def ndof(self):

@@ -7,10 +7,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from exdex import _core
+from exdex import _core, diagnostics
+from exdex.diagnostics import PhysicsWarning
 from exdex.scene import METHODS, SOLVERS, Scene, _real
 
-__all__ = ["Result", "simulate", "SolverError"]
+__all__ = ["Result", "simulate", "SolverError", "PhysicsWarning"]
 
 SolverError = _core.SolverError
 
@@ -58,26 +59,7 @@ class Result:
     @property
     def pose(self):
         """(n, 3) full planar pose (x, y, theta) of C in B, whatever the scene's dof."""
-        sc = self.scene
-        n = len(self.t)
-        out = np.empty((n, 3))
-        if sc.dof == "planar":
-            out[:] = self.q
-        elif sc.dof == "translation":
-            d = np.array(sc.slide_axis)
-            s = self.q[:, 0] - self.q[0, 0]
-            out[:, 0] = sc.q0[0] + s * d[0]
-            out[:, 1] = sc.q0[1] + s * d[1]
-            out[:, 2] = sc.q0[2]
-        else:
-            th = self.q[:, 0]
-            c = -np.array(sc.grasp.patch.center)
-            th0 = sc.q0[2]
-            pivot = np.array(sc.q0[:2]) - _rot(th0, c)
-            out[:, 0] = pivot[0] + np.cos(th) * c[0] - np.sin(th) * c[1]
-            out[:, 1] = pivot[1] + np.sin(th) * c[0] + np.cos(th) * c[1]
-            out[:, 2] = th
-        return out
+        return diagnostics.poses(self.scene, self.q)
 
     def plot(self, ax=None, label=None, stick_shading=True):
         """Plot the displacement of each free coordinate against time.
@@ -86,8 +68,9 @@ class Result:
         to the plates are shaded. Returns the matplotlib Axes (a new figure
         when ``ax`` is None).
         """
-        import matplotlib.pyplot as plt
+        from exdex._optional import pyplot
 
+        plt = pyplot("Result.plot()")
         if ax is None:
             _, ax = plt.subplots(figsize=(6, 3.5))
         names = self.scene.coordinate_names if self.scene is not None else tuple(f"q{i}" for i in range(self.q.shape[1]))
@@ -107,10 +90,6 @@ class Result:
         """Largest |v| over samples at t >= t0 (0.0 means exactly still)."""
         sel = self.t >= t0
         return float(np.max(np.abs(self.v[sel]))) if np.any(sel) else 0.0
-
-
-def _rot(th, v):
-    return np.array([math.cos(th) * v[0] - math.sin(th) * v[1], math.sin(th) * v[0] + math.cos(th) * v[1]])
 
 
 def simulate(scene, t_end, dt=1e-3, method="implicit", friction_solver="scalar", eps=1e-4,
@@ -176,16 +155,29 @@ def simulate(scene, t_end, dt=1e-3, method="implicit", friction_solver="scalar",
         For bad arguments, naming the parameter and its allowed range.
     exdex.SolverError
         If a solver fails to converge (``.status`` carries the C status).
+
+    Warns
+    -----
+    exdex.PhysicsWarning
+        When the result leaves the model's assumptions (the object slides
+        beyond the pad, the pads leave the body outline, impacts on stops,
+        solver warnings in ``stats``): see :mod:`exdex.diagnostics`.
     """
     dt, t_end = _check_times(t_end, dt)
     spec = _spec(scene, method, friction_solver, eps, rtol, atol)
     out = _core.simulate(spec, t_end, dt)
-    return _result(out, scene, method, friction_solver, dt)
+    res = _result(out, scene, method, friction_solver, dt)
+    diagnostics.issue(diagnostics.findings(res))
+    return res
 
 
 def _check_times(t_end, dt):
+    """(dt, t_end) as floats, or a ValueError / TypeError naming the bad one."""
     dt = _real(dt, "dt", low=0.0, low_open=True)
-    t_end = _real(t_end, "t_end", low=dt)
+    t_end = _real(t_end, "t_end", low=0.0, low_open=True)
+    if dt > t_end:
+        raise ValueError(f"dt must be <= t_end: got dt = {dt:g} s and t_end = {t_end:g} s "
+                         "(dt is the output step, t_end the end time)")
     if t_end / dt > 1e9:
         raise ValueError(f"t_end / dt must be at most 1e9 steps, got {t_end / dt:.3g}")
     return dt, t_end
@@ -244,7 +236,9 @@ class Model:
     def simulate(self, t_end, dt=1e-3):
         """Run from t = 0 to ``t_end`` in steps of ``dt``: an :class:`exdex.Result`."""
         dt, t_end = _check_times(t_end, dt)
-        return _result(self._model.simulate(t_end, dt), self.scene, self.method, self.friction_solver, dt)
+        res = _result(self._model.simulate(t_end, dt), self.scene, self.method, self.friction_solver, dt)
+        diagnostics.issue(diagnostics.findings(res))
+        return res
 
     def final(self, t_end, dt=1e-3):
         """Run like :meth:`simulate` and return only the last sample:

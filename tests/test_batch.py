@@ -199,7 +199,7 @@ def test_bad_options(fig3):
             simulate_batch(fig3, 1.5, 1e-3, threads=bad)
     with pytest.raises(ValueError, match="dt must be"):
         simulate_batch(fig3, 1.5, 0.0)
-    with pytest.raises(ValueError, match="t_end must be"):
+    with pytest.raises(ValueError, match="dt must be <= t_end"):
         simulate_batch(fig3, 1e-4, 1e-3)
     with pytest.raises(TypeError, match="scene must be"):
         simulate_batch([], 1.5, 1e-3)
