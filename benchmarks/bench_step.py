@@ -28,7 +28,7 @@ def scenes():
     a = math.radians(10)
     planar = exdex.Scene(
         body=exdex.Body.box(0.1, (0.02, 0.04, 0.02)),
-        grasp=exdex.Grasp(mu=0.5, grip_force=0.6, patch=exdex.Patch.rectangle(0.01, 0.02, center=(0.004, 0.0))),
+        grasp=exdex.Grasp(mu=0.5, grip_force=0.6, patch=exdex.Patch.rectangle(0.02, 0.04, center=(0.004, 0.0))),
         motion=exdex.AsymmetricProfile(0.6, 0.5, 0.7, axis=(0, -1, 0), rotation=True),
         dof="planar",
         stops=(exdex.Stop(point=(0, 0, -0.03), normal=(math.sin(a), 0, math.cos(a))),),

@@ -196,8 +196,9 @@ void exdex_profile_trapezoid(double amplitude, double T, double v_max, double t,
                              double *s, double *sd, double *sdd);
 
 /* --------------------------------------------------------------- simulate
- * sim.c -- relative dynamics of the object in B (paper Eqs. 3-5) and the
- * time-stepping loop.
+ * model.c -- the scene compiled to an immutable model, the relative
+ * dynamics of the object in B (paper Eqs. 3-5); simulate.c -- one run of a
+ * method (implicit.c, hybrid.c: event and regularised, explicit.c).
  *
  * Free coordinates (the scene chooses; the step works in that reduced space):
  *   EXDEX_DOF_TRANSLATION  q = s: the centre of mass moves along slide_axis
@@ -211,8 +212,8 @@ void exdex_profile_trapezoid(double amplitude, double T, double v_max, double t,
  */
 enum exdex_dof { EXDEX_DOF_TRANSLATION = 1, EXDEX_DOF_ROTATION = 2, EXDEX_DOF_PLANAR = 3 };
 
-/* All four share the model and the output contract (methods.c for 1-3),
- * stops included in every scene. EVENT and REGULARISED return EXDEX_ENOCONV
+/* All four share the model and the output contract, stops included in
+ * every scene. EVENT and REGULARISED return EXDEX_ENOCONV
  * past 1e5 ODE steps plus event-location (Brent) iterations per output
  * interval, or a step below 16 ulps of t. */
 enum exdex_method {

@@ -118,7 +118,10 @@
  * dt k / 5.17: the budget is reached once eps < dt C / (5.17 M 10^5).
  */
 #include "exdex.h"
-#include "sim_internal.h"
+#include "contact.h"
+#include "ldp.h"
+#include "method.h"
+#include "model.h"
 #include "util.h"
 
 #include <float.h>
@@ -132,7 +135,6 @@
 #define TOLF 1e-12        /* relative band at the friction limit (stick while |f| <= C (1 + TOLF)) */
 #define VZERO 1e-12       /* |qd| below this counts as 0 when the constraint gives qd [m/s, rad/s] */
 #define RATE_TOL 1e-12    /* gap rate counted as 0 [m/s] */
-#define FQ_MIN 1e-12      /* a stop row with |d gap / dq| below this cannot act */
 #define JUMP_TOL 1e-10    /* gripper velocity jumps above this are applied [m/s, rad/s] */
 #define EVENTS_MAX 1000   /* events within one output interval before EXDEX_ENOCONV */
 #define ROOT_TOL 1e-13    /* event time resolution [s] */
@@ -143,12 +145,6 @@
 #define NG_MAX (2 + MAX_ROWS)  /* guards */
 #define SLIP_STOP 1e-9    /* planar slip against stops: |E u| below this stops it [m/s] */
 #define REST_GAP 1e-9     /* planar rest against stops: a set row whose |gap| exceeds this ends it [m] */
-#define PEN_TOL 1e-9      /* a stop gap below -PEN_TOL after a step (explicit: below -(PEN_TOL + its
-                           * curvature bound)) counts a warning: the methods keep the stops to
-                           * rounding and event location (|gap rate| ROOT_TOL), so only a scene that
-                           * drives the object through a stop gets there (a prescribed motion
-                           * pushing a pinned pivot or the slide line through it, stops that pinch
-                           * the object, a stop that cannot act on the free coordinates) [m] */
 
 enum { LAW_COULOMB = 0, LAW_SMOOTH = 1 };
 enum { MODE_SLIP = 0, MODE_STICK = 1, MODE_CONTACT = 2, MODE_FREE = 3 };
@@ -184,141 +180,7 @@ static int frame_seg(const hyb *H, double t, frame *f, exdex_kinematics *k)
     if (isfinite(hi)) hi -= 4.0 * DBL_EPSILON * fmax(1.0, fabs(hi));
     if (t > hi) t = hi;
     if (t < lo) t = lo;
-    return sim_frame_at(H->m, t, f, k);
-}
-
-/* 1-DoF generalized applied force Q(t, q, qd) (gravity + inertial, Eq. 5);
- * the same terms as sim.c's step. */
-static double force_1dof(const exdex_model *m, const frame *f, double q, double v)
-{
-    double r[3], th, rd[3], F[3];
-    sim_com_pose(m, &q, r, &th);
-    if (m->def.dof == EXDEX_DOF_TRANSLATION) {
-        rd[0] = v * m->d[0];
-        rd[1] = v * m->d[1];
-        rd[2] = 0.0;
-        sim_force_lin(m, f, r, rd, F);
-        return F[0] * m->d[0] + F[1] * m->d[1];
-    } else {
-        double rho[2];
-        rot2(rho, q, m->c);
-        rd[0] = -v * rho[1];
-        rd[1] = v * rho[0];
-        rd[2] = 0.0;
-        sim_force_lin(m, f, r, rd, F);
-        return -rho[1] * F[0] + rho[0] * F[1] + sim_torque_z(m, f, q, v);
-    }
-}
-
-/* Planar generalized applied force (B frame, (x, y, theta)). */
-static void force_planar(const exdex_model *m, const frame *f, const double *q, const double *v,
-                         double F[3])
-{
-    double r[3] = {q[0], q[1], 0.0}, rd[3] = {v[0], v[1], 0.0};
-    sim_force_lin(m, f, r, rd, F);
-    F[2] = sim_torque_z(m, f, q[2], v[2]);
-}
-
-/* Patch slip u = J' Rz(-th) v, J' = [[1,0,-pc_y],[0,1,pc_x],[0,0,1]]. */
-static void patch_slip(const exdex_model *m, double th, const double v[3], double u[3])
-{
-    double c = cos(th), s = sin(th), vx = c * v[0] + s * v[1], vy = -s * v[0] + c * v[1];
-    u[0] = vx - m->pc[1] * v[2];
-    u[1] = vy + m->pc[0] * v[2];
-    u[2] = v[2];
-}
-
-/* Generalized force P = Rz(th) J'^T w of a patch wrench w. */
-static void gen_of_patch(const exdex_model *m, double th, const double w[3], double P[3])
-{
-    double c = cos(th), s = sin(th);
-    P[0] = c * w[0] - s * w[1];
-    P[1] = s * w[0] + c * w[1];
-    P[2] = w[2] - m->pc[1] * w[0] + m->pc[0] * w[1];
-}
-
-/* Patch wrench w = J'^-T Rz(-th) P equivalent to a generalized force P. */
-static void patch_of_gen(const exdex_model *m, double th, const double P[3], double w[3])
-{
-    double c = cos(th), s = sin(th), px = c * P[0] + s * P[1], py = -s * P[0] + c * P[1];
-    w[0] = px;
-    w[1] = py;
-    w[2] = P[2] + m->pc[1] * px - m->pc[0] * py;
-}
-
-/* |E^-1 w| */
-static double ell_norm(const exdex_model *m, const double w[3])
-{
-    double a = w[0] / m->e[0], b = w[1] / m->e[1], c = w[2] / m->e[2];
-    return sqrt(a * a + b * b + c * c);
-}
-
-/* ------------------------------------------------- 1-DoF stop kinematics */
-
-/* Gap of vertex j against stop k as a function of (q, t) with the
- * derivatives the constraint needs: F = n.(R x_B(q) + p - p_stop),
- * x_B the vertex in B (translation: linear in q; rotation: about the pivot). */
-typedef struct crow {
-    double F, Fq, Fqq, Ft, Ftq, Ftt;
-} crow;
-
-static void contact_row(const exdex_model *m, const exdex_kinematics *k, int ks, int j, double q,
-                        crow *c)
-{
-    double xB[3] = {0, 0, 0}, x1[3] = {0, 0, 0}, x2[3] = {0, 0, 0};
-    double Rx[3], R1[3], R2[3], wx[3], wwx[3], dwx[3], w1[3];
-    const double *n = m->sn[ks];
-    double vert[2] = {0.0, 0.0};
-    if (m->n_vert) {
-        vert[0] = m->vert[j][0];
-        vert[1] = m->vert[j][1];
-    }
-    if (m->def.dof == EXDEX_DOF_TRANSLATION) {
-        double vx[2];
-        rot2(vx, m->th0, vert);
-        xB[0] = m->r0[0] + (q - m->s0) * m->d[0] + vx[0];
-        xB[1] = m->r0[1] + (q - m->s0) * m->d[1] + vx[1];
-        x1[0] = m->d[0];
-        x1[1] = m->d[1];
-    } else {
-        double rho[2] = {m->c[0] + vert[0], m->c[1] + vert[1]}, xr[2];
-        rot2(xr, q, rho);
-        xB[0] = m->pivot[0] + xr[0];
-        xB[1] = m->pivot[1] + xr[1];
-        x1[0] = -xr[1];
-        x1[1] = xr[0];
-        x2[0] = -xr[0];
-        x2[1] = -xr[1];
-    }
-    ex_mulmv3(Rx, k->R, xB);
-    ex_mulmv3(R1, k->R, x1);
-    ex_mulmv3(R2, k->R, x2);
-    c->F = n[0] * (Rx[0] + k->p[0] - m->sp[ks][0]) + n[1] * (Rx[1] + k->p[1] - m->sp[ks][1]) +
-           n[2] * (Rx[2] + k->p[2] - m->sp[ks][2]);
-    c->Fq = ex_dot3(n, R1);
-    c->Fqq = ex_dot3(n, R2);
-    ex_cross3(wx, k->w, Rx);
-    ex_cross3(wwx, k->w, wx);
-    ex_cross3(dwx, k->dw, Rx);
-    ex_cross3(w1, k->w, R1);
-    c->Ft = ex_dot3(n, wx) + ex_dot3(n, k->v);
-    c->Ftq = ex_dot3(n, w1);
-    c->Ftt = ex_dot3(n, dwx) + ex_dot3(n, wwx) + ex_dot3(n, k->a);
-}
-
-/* Smallest gap of stop k over the outline, and its vertex. */
-static double stop_gap(const exdex_model *m, const exdex_kinematics *k, int ks, double q, int *jmin)
-{
-    int nv = m->n_vert ? m->n_vert : 1;
-    double best = INFINITY;
-    for (int j = 0; j < nv; j++) {
-        double g = sim_vertex_gap(m, k, ks, &q, j, NULL);
-        if (g < best) {
-            best = g;
-            if (jmin) *jmin = j;
-        }
-    }
-    return best;
+    return model_frame_at(H->m, t, f, k);
 }
 
 /* Constraint acceleration of q along the row (F(q(t), t) = 0 held). */
@@ -344,251 +206,6 @@ static void contact_forces(const hyb *H, const crow *c, double R, double v, doub
     }
 }
 
-/* ------------------------------------------- planar stops: velocity QP */
-
-/* Lawson-Hanson NNLS in 4 rows: min |E u - f| over u >= 0, E given by its m
- * columns col[j] (4 entries each). The passive set holds at most 4 linearly
- * independent columns; each least-squares solve is a modified Gram-Schmidt
- * QR of those columns. Bounded: at most 3 m + 12 outer iterations and
- * 8 inner ones per outer. Returns 1 if it converged (the multipliers of the
- * columns not in the passive set are <= tol), 0 otherwise (u is the last
- * feasible iterate). */
-#define NNLS_TOL 1e-13
-static int ls_passive(const double (*col)[4], const int *P, int k, const double f[4], double *z)
-{
-    double Q[4][4], R[4][4], qf[4];
-    for (int a = 0; a < k; a++) {
-        double v[4], nrm0, nrm;
-        for (int i = 0; i < 4; i++) v[i] = col[P[a]][i];
-        nrm0 = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] + v[3] * v[3]);
-        for (int pass = 0; pass < 2; pass++) /* MGS with one reorthogonalisation */
-            for (int b = 0; b < a; b++) {
-                double d = Q[b][0] * v[0] + Q[b][1] * v[1] + Q[b][2] * v[2] + Q[b][3] * v[3];
-                if (pass == 0) R[b][a] = d; else R[b][a] += d;
-                for (int i = 0; i < 4; i++) v[i] -= d * Q[b][i];
-            }
-        nrm = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] + v[3] * v[3]);
-        if (!(nrm > 1e-12 * nrm0)) return 0; /* dependent */
-        R[a][a] = nrm;
-        for (int i = 0; i < 4; i++) Q[a][i] = v[i] / nrm;
-    }
-    for (int a = 0; a < k; a++) qf[a] = Q[a][0] * f[0] + Q[a][1] * f[1] + Q[a][2] * f[2] + Q[a][3] * f[3];
-    for (int a = k - 1; a >= 0; a--) {
-        double acc = qf[a];
-        for (int b = a + 1; b < k; b++) acc -= R[a][b] * z[b];
-        z[a] = acc / R[a][a];
-    }
-    return 1;
-}
-
-static int nnls4(int m, const double (*col)[4], const double f[4], double *u, int *iters)
-{
-    int P[4], k = 0, outer;
-    unsigned char banned[MAX_ROWS];
-    for (int j = 0; j < m; j++) {
-        u[j] = 0.0;
-        banned[j] = 0;
-    }
-    for (outer = 0; outer < 3 * m + 12; outer++) {
-        double r[4], wbest = NNLS_TOL, z[4];
-        int jb = -1;
-        for (int i = 0; i < 4; i++) r[i] = f[i];
-        for (int a = 0; a < k; a++)
-            for (int i = 0; i < 4; i++) r[i] -= col[P[a]][i] * u[P[a]];
-        for (int j = 0; j < m; j++) {
-            int in = 0;
-            double w;
-            for (int a = 0; a < k; a++) in |= P[a] == j;
-            if (in || banned[j]) continue;
-            w = col[j][0] * r[0] + col[j][1] * r[1] + col[j][2] * r[2] + col[j][3] * r[3];
-            if (w > wbest) {
-                wbest = w;
-                jb = j;
-            }
-        }
-        if (jb < 0) {
-            *iters += outer;
-            return 1;
-        }
-        if (k == 4) break;
-        P[k++] = jb;
-        for (int inner = 0;; inner++) {
-            double alpha = INFINITY;
-            int ok = ls_passive(col, P, k, f, z);
-            if (!ok) {
-                /* the new column depends on the passive ones: never again */
-                banned[P[--k]] = 1;
-                u[jb] = 0.0;
-                break;
-            }
-            for (int a = 0; a < k; a++)
-                if (z[a] <= 0.0) {
-                    double d = u[P[a]] - z[a], al = d > 0.0 ? u[P[a]] / d : 0.0;
-                    if (al < alpha) alpha = al;
-                }
-            if (alpha == INFINITY) {
-                for (int a = 0; a < k; a++) u[P[a]] = z[a];
-                break;
-            }
-            if (inner >= 8) {
-                *iters += outer;
-                return 0;
-            }
-            for (int a = 0; a < k; a++) u[P[a]] += alpha * (z[a] - u[P[a]]);
-            /* drop the passive columns that reached 0 */
-            for (int a = 0; a < k;)
-                if (u[P[a]] <= 0.0) {
-                    u[P[a]] = 0.0;
-                    P[a] = P[--k];
-                } else {
-                    a++;
-                }
-            if (k == 0) break;
-        }
-    }
-    *iters += outer;
-    return 0;
-}
-
-/* Project vs onto the stop rows in the metric of M = diag(1 / minv):
- *     min 1/2 (v - vs)' M (v - vs)  s.t.  G_i v >= b_i  (i < nr),
- * v = vs + M^-1 G' lam, lam >= 0 the row impulses (complementary to the
- * rows). Exact: with z = M^1/2 (v - vs) it is the least-distance problem
- * min |z| s.t. C z >= c, C = G M^-1/2, c = b - G vs, solved as the NNLS
- * min |E u - (0, 0, 0, 1)|, E = [C'; c'] (Lawson & Hanson, LDP, ch. 23):
- * z = C' u / (1 - c' u), lam = u / (1 - c' u). Rows are scaled to unit |C_i|
- * and c to max |c_i| = 1 first (neither changes the solution). Rows with
- * |G_i| <= FQ_MIN cannot act and are skipped. If the rows cannot all hold
- * (stops pinch the object: E u = f has a solution) or NNLS fails, the most
- * violated row alone is enforced and a warning counted. Returns 1 if some
- * row acted. */
-static int stop_qp(const double minv[3], int nr, const double (*G)[3], const double *b, const double vs[3],
-                   double v[3], double *lam, exdex_stats *st)
-{
-    double col[MAX_ROWS][4], nrm[MAX_ROWS], u[MAX_ROWS], sq[3], scale = 0.0, f[4] = {0, 0, 0, 1}, r[4];
-    int idx[MAX_ROWS], m = 0, worst = -1, it = 0, ok;
-    double wv = 0.0;
-    for (int c = 0; c < 3; c++) {
-        v[c] = vs[c];
-        sq[c] = sqrt(minv[c]);
-    }
-    for (int i = 0; i < nr; i++) {
-        double viol = b[i] - ex_dot3(G[i], vs);
-        lam[i] = 0.0;
-        if (!(fabs(G[i][0]) + fabs(G[i][1]) + fabs(G[i][2]) > FQ_MIN)) continue;
-        if (viol > wv) {
-            wv = viol;
-            worst = i;
-        }
-    }
-    if (worst < 0) return 0; /* every row holds at vs */
-    for (int i = 0; i < nr; i++) {
-        double C[3], n, c;
-        if (!(fabs(G[i][0]) + fabs(G[i][1]) + fabs(G[i][2]) > FQ_MIN)) continue;
-        for (int a = 0; a < 3; a++) C[a] = G[i][a] * sq[a];
-        n = sqrt(ex_dot3(C, C));
-        if (!(n > 0.0)) continue;
-        c = (b[i] - ex_dot3(G[i], vs)) / n;
-        for (int a = 0; a < 3; a++) col[m][a] = C[a] / n;
-        col[m][3] = c;
-        nrm[m] = n;
-        idx[m++] = i;
-        if (fabs(c) > scale) scale = fabs(c);
-    }
-    for (int j = 0; j < m; j++) col[j][3] /= scale;
-    ok = nnls4(m, (const double (*)[4])col, f, u, &it);
-    st->stop_iterations += (size_t)it;
-    for (int i = 0; i < 4; i++) {
-        r[i] = -f[i];
-        for (int j = 0; j < m; j++) r[i] += col[j][i] * u[j];
-    }
-    if (ok && r[3] < -1e-12) {
-        double z[3];
-        for (int a = 0; a < 3; a++) {
-            z[a] = -r[a] / r[3] * scale;
-            v[a] = vs[a] + sq[a] * z[a];
-        }
-        for (int j = 0; j < m; j++) lam[idx[j]] = u[j] / (-r[3]) * scale / nrm[j];
-        return 1;
-    }
-    /* pinched (no v satisfies every row) or no convergence */
-    st->warnings++;
-    {
-        double gmg = 0.0, l;
-        for (int a = 0; a < 3; a++) gmg += G[worst][a] * G[worst][a] * minv[a];
-        l = (b[worst] - ex_dot3(G[worst], vs)) / gmg;
-        for (int a = 0; a < 3; a++) v[a] = vs[a] + minv[a] * G[worst][a] * l;
-        lam[worst] = l;
-    }
-    return 1;
-}
-
-/* Planar stop rows at coordinates q and gripper pose kin: G_i = d gap_i /
- * d qdot and the gap of every (stop, vertex) pair; stop index per row. */
-static int planar_rows(const exdex_model *m, const exdex_kinematics *kin, const double *q, double (*G)[3],
-                       double *gap, int *stop)
-{
-    int nv = m->n_vert ? m->n_vert : 1, nr = 0;
-    for (int k = 0; k < m->n_stops; k++)
-        for (int j = 0; j < nv; j++) {
-            gap[nr] = sim_vertex_gap(m, kin, k, q, j, G[nr]);
-            stop[nr++] = k;
-        }
-    return nr;
-}
-
-/* ------------------------------------------------ planar stop kinematics */
-
-/* Row of vertex j against stop ks at planar coordinates q, velocity v and
- * gripper kinematics k (A coordinates): gap = n.(R x_B + p - p_stop), x_B =
- * (q_x, q_y) + Rz(q_th) rho_j; G = d gap / d qdot = (R^T n).J, J = [I, e_z x
- * Rz rho]; gd = d gap / dt = G v + n.(w x R x_B + pdot); and the
- * acceleration bias gdd0 = d^2 gap / dt^2 - G qdd
- *   = n.(R xdd0 + 2 w x R xd + dw x R x_B + w x (w x R x_B) + pddot),
- * xd = J v the vertex velocity in B, xdd0 = -Rz rho thd^2 (centripetal).
- * Returns the gap. */
-static double prow(const exdex_model *m, const exdex_kinematics *k, int ks, int j, const double *q,
-                   const double *v, double G[3], double *gd, double *gdd0)
-{
-    double rv[2] = {0.0, 0.0}, xB[3], xd[3], xdd[3], Rx[3], Rxd[3], Rxdd[3], nB[3], a[3], b[3], c[3];
-    const double *n = m->sn[ks];
-    double gap;
-    if (m->n_vert) rot2(rv, q[2], m->vert[j]);
-    xB[0] = q[0] + rv[0];
-    xB[1] = q[1] + rv[1];
-    xB[2] = 0.0;
-    ex_mulmv3(Rx, k->R, xB);
-    gap = n[0] * (Rx[0] + k->p[0] - m->sp[ks][0]) + n[1] * (Rx[1] + k->p[1] - m->sp[ks][1]) +
-          n[2] * (Rx[2] + k->p[2] - m->sp[ks][2]);
-    ex_mulmtv3(nB, k->R, n);
-    G[0] = nB[0];
-    G[1] = nB[1];
-    G[2] = -nB[0] * rv[1] + nB[1] * rv[0];
-    if (gd || gdd0) {
-        xd[0] = v[0] - rv[1] * v[2];
-        xd[1] = v[1] + rv[0] * v[2];
-        xd[2] = 0.0;
-        xdd[0] = -rv[0] * v[2] * v[2];
-        xdd[1] = -rv[1] * v[2] * v[2];
-        xdd[2] = 0.0;
-        ex_mulmv3(Rxd, k->R, xd);
-        ex_mulmv3(Rxdd, k->R, xdd);
-        ex_cross3(a, k->w, Rx);
-        if (gd) *gd = ex_dot3(G, v) + ex_dot3(n, a) + ex_dot3(n, k->v);
-        if (gdd0) {
-            double s = ex_dot3(n, Rxdd) + ex_dot3(n, k->a);
-            ex_cross3(b, k->w, Rxd);
-            s += 2.0 * ex_dot3(n, b);
-            ex_cross3(c, k->dw, Rx);
-            s += ex_dot3(n, c);
-            ex_cross3(b, k->w, a);
-            s += ex_dot3(n, b);
-            *gdd0 = s;
-        }
-    }
-    return gap;
-}
-
 /* Accelerations in planar contact: qdd = M^-1 (F + P + G_A^T lam), lam >= 0
  * the stop forces of the contact-set rows, complementary to their gap
  * accelerations G_i qdd + gdd0_i >= 0 (the small LCP G M^-1 G^T lam =
@@ -604,10 +221,10 @@ static void contact_acc_planar(hyb *H, const exdex_kinematics *kin, const double
     for (int i = 0; i < H->ncs; i++) {
         int r = H->cs[i];
         double gdd0 = 0.0;
-        prow(H->m, kin, r / H->nv, r % H->nv, y, y + 3, Gr[i], NULL, &gdd0);
+        contact_row_planar(H->m, kin, r / H->nv, r % H->nv, y, y + 3, Gr[i], NULL, &gdd0);
         b[i] = -gdd0;
     }
-    stop_qp(H->m->minv, H->ncs, (const double (*)[3])Gr, b, afree, qdd, lam, H->st);
+    ldp_project(H->m->minv, H->ncs, (const double (*)[3])Gr, b, afree, FQ_MIN, qdd, lam, &H->st->stop_iterations, &H->st->warnings);
     if (acc)
         for (int i = 0; i < H->ncs; i++) acc[i] = ex_dot3(Gr[i], qdd) - b[i];
 }
@@ -624,14 +241,14 @@ static void planar_impact_and_set(hyb *H, const exdex_kinematics *kin, double *y
     int rows[MAX_ROWS], n = 0;
     for (int k = 0; k < H->ns; k++)
         for (int j = 0; j < H->nv; j++) {
-            double gd, gap = prow(m, kin, k, j, y, y + 3, Gr[n], &gd, NULL);
+            double gd, gap = contact_row_planar(m, kin, k, j, y, y + 3, Gr[n], &gd, NULL);
             if (gap > TOUCH) continue;
             b[n] = -(gd - ex_dot3(Gr[n], y + 3));
             rows[n++] = k * H->nv + j;
         }
     H->ncs = 0;
     if (!n) return;
-    if (stop_qp(m->minv, n, (const double (*)[3])Gr, b, y + 3, v, lam, H->st)) {
+    if (ldp_project(m->minv, n, (const double (*)[3])Gr, b, y + 3, FQ_MIN, v, lam, &H->st->stop_iterations, &H->st->warnings)) {
         for (int i = 0; i < n; i++) y[9 + rows[i] / H->nv] += lam[i];
         memcpy(y + 3, v, sizeof v);
     }
@@ -651,10 +268,10 @@ static void planar_unpenetrate(hyb *H, const exdex_kinematics *kin, double *y)
     int n = 0;
     for (int k = 0; k < H->ns; k++)
         for (int j = 0; j < H->nv; j++) {
-            double gap = prow(H->m, kin, k, j, y, y + 3, Gr[n], NULL, NULL);
+            double gap = contact_row_planar(H->m, kin, k, j, y, y + 3, Gr[n], NULL, NULL);
             if (gap < 0.0) b[n++] = -gap;
         }
-    if (n && stop_qp(H->m->minv, n, (const double (*)[3])Gr, b, zero, dq, lam, H->st))
+    if (n && ldp_project(H->m->minv, n, (const double (*)[3])Gr, b, zero, FQ_MIN, dq, lam, &H->st->stop_iterations, &H->st->warnings))
         for (int c = 0; c < 3; c++) y[c] += dq[c];
 }
 
@@ -671,7 +288,7 @@ static double planar_rest(hyb *H, const exdex_kinematics *kin, const double *y, 
     double col[MAX_ROWS][4], nb[MAX_ROWS], u[MAX_ROWS], a[3], mF[3], fv[4], na, P[3];
     int it = 0;
     for (int c = 0; c < 3; c++) mF[c] = -F[c];
-    patch_of_gen(m, y[2], mF, a);
+    model_patch_of_gen(m, MODEL_CS(y[2]), mF, a);
     for (int c = 0; c < 3; c++) a[c] /= m->e[c];
     na = sqrt(ex_dot3(a, a));
     for (int i = 0; i < H->ncs; i++) lam[i] = 0.0;
@@ -679,9 +296,9 @@ static double planar_rest(hyb *H, const exdex_kinematics *kin, const double *y, 
         for (int i = 0; i < H->ncs; i++) {
             int r = H->cs[i];
             double G[3], mG[3], B[3];
-            prow(m, kin, r / H->nv, r % H->nv, y, y + 3, G, NULL, NULL);
+            contact_row_planar(m, kin, r / H->nv, r % H->nv, y, y + 3, G, NULL, NULL);
             for (int c = 0; c < 3; c++) mG[c] = -G[c];
-            patch_of_gen(m, y[2], mG, B);
+            model_patch_of_gen(m, MODEL_CS(y[2]), mG, B);
             for (int c = 0; c < 3; c++) B[c] /= m->e[c];
             nb[i] = sqrt(ex_dot3(B, B));
             for (int c = 0; c < 3; c++) col[i][c] = nb[i] > 0.0 ? B[c] / nb[i] : 0.0;
@@ -689,7 +306,7 @@ static double planar_rest(hyb *H, const exdex_kinematics *kin, const double *y, 
         }
         for (int c = 0; c < 3; c++) fv[c] = -a[c] / na;
         fv[3] = 0.0;
-        nnls4(H->ncs, (const double (*)[4])col, fv, u, &it);
+        ldp_nnls(H->ncs, (const double (*)[4])col, fv, u, &it);
         H->st->stop_iterations += (size_t)it;
         for (int i = 0; i < H->ncs; i++) lam[i] = nb[i] > 0.0 ? u[i] * na / nb[i] : 0.0;
     }
@@ -697,11 +314,11 @@ static double planar_rest(hyb *H, const exdex_kinematics *kin, const double *y, 
     for (int i = 0; i < H->ncs; i++) {
         int r = H->cs[i];
         double G[3];
-        prow(m, kin, r / H->nv, r % H->nv, y, y + 3, G, NULL, NULL);
+        contact_row_planar(m, kin, r / H->nv, r % H->nv, y, y + 3, G, NULL, NULL);
         for (int c = 0; c < 3; c++) P[c] -= lam[i] * G[c];
     }
-    patch_of_gen(m, y[2], P, w);
-    return ell_norm(m, w);
+    model_patch_of_gen(m, MODEL_CS(y[2]), P, w);
+    return model_ell_norm(m, w);
 }
 
 /* Planar applied force F (B, generalized) and plate friction wrench w
@@ -714,13 +331,13 @@ static int planar_friction(hyb *H, const frame *f, const double *y, double F[3],
     const exdex_model *m = H->m;
     double th = y[2];
     const double *v = y + 3;
-    force_planar(m, f, y, v, F);
+    model_force_planar(m, f, y, v, F);
     if (H->mode == MODE_STICK) {
         double mF[3] = {-F[0], -F[1], -F[2]};
-        patch_of_gen(m, th, mF, w);
+        model_patch_of_gen(m, MODEL_CS(th), mF, w);
     } else {
         double u[3], eu[3], sig;
-        patch_slip(m, th, v, u);
+        model_patch_slip(m, MODEL_CS(th), v, u);
         for (int i = 0; i < 3; i++) eu[i] = m->e[i] * u[i];
         sig = sqrt(ex_dot3(eu, eu));
         if (H->law == LAW_SMOOTH) {
@@ -734,7 +351,7 @@ static int planar_friction(hyb *H, const frame *f, const double *y, double F[3],
             double wF[3], b[3];
             exdex_friction_result res;
             int st;
-            patch_of_gen(m, th, F, wF);
+            model_patch_of_gen(m, MODEL_CS(th), F, wF);
             ex_mulmv3(b, m->prep.W, wF);
             st = exdex_friction_solve(&m->prep, b, H->cap, EXDEX_SOLVER_SCALAR, NULL, NULL, &res);
             if (st) return st;
@@ -752,7 +369,7 @@ static void planar_prune_set(hyb *H, const frame *f, const exdex_kinematics *kin
     int n = 0;
     if (!H->ncs || H->mode == MODE_STICK) return;
     if (planar_friction(H, f, y, F, w)) return;
-    gen_of_patch(H->m, y[2], w, P);
+    model_gen_of_patch(H->m, MODEL_CS(y[2]), w, P);
     for (int i = 0; i < 3; i++) a[i] = H->m->minv[i] * (F[i] + P[i]);
     contact_acc_planar(H, kin, y, a, qdd, lam, NULL);
     for (int i = 0; i < H->ncs; i++)
@@ -777,20 +394,20 @@ static int rhs(double t, const double y[], double dy[], void *params)
     if (H->ndof == 1) {
         double q = y[0], v = y[1];
         if (H->mode == MODE_STICK) {
-            dy[2] = -force_1dof(m, &f, q, 0.0);
+            dy[2] = -model_force_1dof(m, &f, q, 0.0);
         } else if (H->mode == MODE_CONTACT) {
             crow c;
             double qdd, R, fr, lam;
-            contact_row(m, &kin, H->ck, H->cj, q, &c);
+            contact_row_1dof(m, &kin, H->ck, H->cj, q, &c);
             qdd = contact_qdd(&c, v);
-            R = H->M * qdd - force_1dof(m, &f, q, v);
+            R = H->M * qdd - model_force_1dof(m, &f, q, v);
             contact_forces(H, &c, R, v, &fr, &lam);
             dy[0] = v;
             dy[1] = qdd;
             dy[2] = fr;
             dy[3 + H->ck] = lam;
         } else {
-            double Q = force_1dof(m, &f, q, v), fr;
+            double Q = model_force_1dof(m, &f, q, v), fr;
             if (H->law == LAW_SMOOTH)
                 fr = -H->cap * v / sqrt(v * v + H->eps * H->eps);
             else
@@ -814,7 +431,7 @@ static int rhs(double t, const double y[], double dy[], void *params)
         }
         if (H->mode != MODE_STICK) {
             double a[3];
-            gen_of_patch(m, th, w, P);
+            model_gen_of_patch(m, MODEL_CS(th), w, P);
             for (int i = 0; i < 3; i++) {
                 dy[i] = v[i];
                 a[i] = m->minv[i] * (F[i] + P[i]);
@@ -860,7 +477,7 @@ static int guards(hyb *H, double t, const double *y, double *g)
             /* no friction guard */
         } else if (H->mode == MODE_SLIP) {
             double u[3], eu[3];
-            patch_slip(m, y[2], y + 3, u);
+            model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
             for (int i = 0; i < 3; i++) eu[i] = m->e[i] * u[i];
             g[n++] = ex_dot3(eu, H->uref);
             /* against stops the constrained slip can die out without
@@ -868,13 +485,13 @@ static int guards(hyb *H, double t, const double *y, double *g)
             if (H->ncs) g[n++] = sqrt(ex_dot3(eu, eu)) - SLIP_STOP;
         } else {
             double F[3], w[3], zero[3] = {0, 0, 0}, lam[MAX_ROWS];
-            force_planar(m, &f, y, zero, F);
+            model_force_planar(m, &f, y, zero, F);
             if (H->ncs) {
                 g[n++] = H->cap * (1.0 + TOLF) - planar_rest(H, &kin, y, F, w, lam);
             } else {
                 for (int i = 0; i < 3; i++) F[i] = -F[i];
-                patch_of_gen(m, y[2], F, w);
-                g[n++] = H->cap * (1.0 + TOLF) - ell_norm(m, w);
+                model_patch_of_gen(m, MODEL_CS(y[2]), F, w);
+                g[n++] = H->cap * (1.0 + TOLF) - model_ell_norm(m, w);
             }
         }
         if (H->ns) {
@@ -887,7 +504,7 @@ static int guards(hyb *H, double t, const double *y, double *g)
             for (int k = 0; k < H->ns; k++)
                 for (int j = 0; j < H->nv; j++) {
                     double G[3];
-                    if (!in[k * H->nv + j]) g[n++] = prow(m, &kin, k, j, y, y + 3, G, NULL, NULL);
+                    if (!in[k * H->nv + j]) g[n++] = contact_row_planar(m, &kin, k, j, y, y + 3, G, NULL, NULL);
                 }
             if (H->ncs && H->mode == MODE_STICK) {
                 /* at rest against stops that move in B the contact ends
@@ -895,7 +512,7 @@ static int guards(hyb *H, double t, const double *y, double *g)
                 for (int i = 0; i < H->ncs; i++) {
                     int r = H->cs[i];
                     double G[3];
-                    g[n++] = REST_GAP - fabs(prow(m, &kin, r / H->nv, r % H->nv, y, y + 3, G, NULL, NULL));
+                    g[n++] = REST_GAP - fabs(contact_row_planar(m, &kin, r / H->nv, r % H->nv, y, y + 3, G, NULL, NULL));
                 }
             } else if (H->ncs) {
                 double F[3], w[3], P[3], a[3], qdd[3], lam[MAX_ROWS], acc[MAX_ROWS];
@@ -904,13 +521,13 @@ static int guards(hyb *H, double t, const double *y, double *g)
                     H->err = H->err ? H->err : st;
                     return 0;
                 }
-                gen_of_patch(m, y[2], w, P);
+                model_gen_of_patch(m, MODEL_CS(y[2]), w, P);
                 for (int i = 0; i < 3; i++) a[i] = m->minv[i] * (F[i] + P[i]);
                 contact_acc_planar(H, &kin, y, a, qdd, lam, acc);
                 for (int i = 0; i < H->ncs; i++) {
                     int r = H->cs[i];
                     double G[3], d = 0.0;
-                    prow(m, &kin, r / H->nv, r % H->nv, y, y + 3, G, NULL, NULL);
+                    contact_row_planar(m, &kin, r / H->nv, r % H->nv, y, y + 3, G, NULL, NULL);
                     for (int c = 0; c < 3; c++) d += G[c] * G[c] * m->minv[c];
                     g[n++] = lam[i] * d - acc[i];
                 }
@@ -923,12 +540,12 @@ static int guards(hyb *H, double t, const double *y, double *g)
         if (H->mode == MODE_SLIP) {
             g[n++] = H->s * v;
         } else if (H->mode == MODE_STICK) {
-            g[n++] = H->cap * (1.0 + TOLF) - fabs(force_1dof(m, &f, q, 0.0));
+            g[n++] = H->cap * (1.0 + TOLF) - fabs(model_force_1dof(m, &f, q, 0.0));
         } else if (H->mode == MODE_CONTACT) {
             crow c;
             double R, fr, lam;
-            contact_row(m, &kin, H->ck, H->cj, q, &c);
-            R = H->M * contact_qdd(&c, v) - force_1dof(m, &f, q, v);
+            contact_row_1dof(m, &kin, H->ck, H->cj, q, &c);
+            R = H->M * contact_qdd(&c, v) - model_force_1dof(m, &f, q, v);
             if (H->law == LAW_COULOMB && H->s == 0.0) {
                 g[n++] = fmax(R / c.Fq, H->cap * (1.0 + TOLF) - fabs(R));
                 g[n++] = VZERO - fabs(v);
@@ -945,11 +562,11 @@ static int guards(hyb *H, double t, const double *y, double *g)
                  * the stop while the contact vertex is held at 0 */
                 double gmin = INFINITY;
                 for (int j = 0; j < H->nv; j++)
-                    if (j != H->cj) gmin = fmin(gmin, sim_vertex_gap(m, &kin, k, &q, j, NULL));
+                    if (j != H->cj) gmin = fmin(gmin, contact_vertex_gap(m, &kin, k, &q, j, NULL));
                 if (H->nv > 1) g[n++] = gmin;
                 continue;
             }
-            g[n++] = stop_gap(m, &kin, k, q, NULL);
+            g[n++] = contact_stop_gap(m, &kin, k, q, NULL);
         }
     }
     return n;
@@ -994,7 +611,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
                 double ysv[EXDEX_MAX_STOPS], u[3], eu[3];
                 memcpy(ysv, y + 9, (size_t)H->ns * sizeof *ysv);
                 planar_impact_and_set(H, &kin, y);
-                patch_slip(m, y[2], y + 3, u);
+                model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
                 for (int i = 0; i < 3; i++) eu[i] = m->e[i] * u[i];
                 if ((y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0) && sqrt(ex_dot3(eu, eu)) < SLIP_STOP) {
                     double G[3];
@@ -1003,19 +620,19 @@ static void decide(hyb *H, double t, double *y, int vzero)
                     H->ncs = 0;
                     for (int k = 0; k < H->ns; k++)
                         for (int j = 0; j < H->nv; j++)
-                            if (prow(m, &kin, k, j, y, y + 3, G, NULL, NULL) <= TOUCH)
+                            if (contact_row_planar(m, &kin, k, j, y, y + 3, G, NULL, NULL) <= TOUCH)
                                 H->cs[H->ncs++] = k * H->nv + j;
                 }
             }
         }
         if (y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0) {
             H->mode = MODE_SLIP;
-            patch_slip(m, y[2], y + 3, u);
+            model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
             for (int i = 0; i < 3; i++) H->uref[i] = m->e[i] * u[i];
             planar_prune_set(H, &f, &kin, y);
             return;
         }
-        force_planar(m, &f, y, zero, F);
+        model_force_planar(m, &f, y, zero, F);
         if (H->ncs) {
             double lam[MAX_ROWS];
             if (planar_rest(H, &kin, y, F, w, lam) <= H->cap * (1.0 + TOLF)) {
@@ -1024,16 +641,16 @@ static void decide(hyb *H, double t, double *y, int vzero)
             }
         } else {
             double mF[3] = {-F[0], -F[1], -F[2]};
-            patch_of_gen(m, y[2], mF, w);
+            model_patch_of_gen(m, MODEL_CS(y[2]), mF, w);
         }
-        if (!H->ncs && ell_norm(m, w) <= H->cap * (1.0 + TOLF)) {
+        if (!H->ncs && model_ell_norm(m, w) <= H->cap * (1.0 + TOLF)) {
             H->mode = MODE_STICK;
         } else {
             /* starts to slip: the direction of the slip acceleration */
             double wF[3], b[3];
             exdex_friction_result res;
             int st;
-            patch_of_gen(m, y[2], F, wF);
+            model_patch_of_gen(m, MODEL_CS(y[2]), F, wF);
             ex_mulmv3(b, m->prep.W, wF);
             st = exdex_friction_solve(&m->prep, b, H->cap, EXDEX_SOLVER_SCALAR, NULL, NULL, &res);
             if (st) {
@@ -1046,10 +663,10 @@ static void decide(hyb *H, double t, double *y, int vzero)
                 /* against stops: the slip starts along the constrained
                  * acceleration of the friction just found */
                 double P[3], a[3], qdd[3], lam[MAX_ROWS], ua[3];
-                gen_of_patch(m, y[2], res.p, P);
+                model_gen_of_patch(m, MODEL_CS(y[2]), res.p, P);
                 for (int i = 0; i < 3; i++) a[i] = m->minv[i] * (F[i] + P[i]);
                 contact_acc_planar(H, &kin, y, a, qdd, lam, NULL);
-                patch_slip(m, y[2], qdd, ua);
+                model_patch_slip(m, MODEL_CS(y[2]), qdd, ua);
                 for (int i = 0; i < 3; i++) H->uref[i] = m->e[i] * ua[i];
                 planar_prune_set(H, &f, &kin, y);
             }
@@ -1070,7 +687,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
                 for (int j = 0; j < H->nv; j++) {
                     double rate;
                     crow c;
-                    contact_row(m, &kin, k, j, q, &c);
+                    contact_row_1dof(m, &kin, k, j, q, &c);
                     if (c.F > TOUCH || !(fabs(c.Fq) > FQ_MIN)) continue;
                     rate = c.Fq * y[1] + c.Ft;
                     if (rate < worst) {
@@ -1093,7 +710,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
             int k = r / H->nv, j = r % H->nv;
             double rate, v, Q, R, fr, lam, s_old = H->s;
             crow c;
-            contact_row(m, &kin, k, j, q, &c);
+            contact_row_1dof(m, &kin, k, j, q, &c);
             if (c.F > TOUCH || !(fabs(c.Fq) > FQ_MIN)) continue;
             rate = c.Fq * y[1] + c.Ft;
             if (fabs(rate) > RATE_TOL) continue;
@@ -1107,7 +724,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
                     v = 0.0;
                 }
             }
-            Q = force_1dof(m, &f, q, v);
+            Q = model_force_1dof(m, &f, q, v);
             R = H->M * contact_qdd(&c, v) - Q;
             contact_forces(H, &c, R, v, &fr, &lam);
             /* a stop force exactly 0 keeps no contact: it is about to
@@ -1120,7 +737,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
                 for (int it = 0; it < 8 && fabs(c.F) > 0.0; it++) {
                     double dq = c.F / c.Fq;
                     q -= dq;
-                    contact_row(m, &kin, k, j, q, &c);
+                    contact_row_1dof(m, &kin, k, j, q, &c);
                     H->st->stop_iterations++;
                     if (fabs(dq) <= 1e-16 * (1.0 + fabs(q))) break;
                 }
@@ -1136,7 +753,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
             H->mode = MODE_SLIP;
             H->s = y[1] > 0 ? 1.0 : -1.0;
         } else {
-            double Q0 = force_1dof(m, &f, q, 0.0);
+            double Q0 = model_force_1dof(m, &f, q, 0.0);
             y[1] = 0.0;
             if (fabs(Q0) <= H->cap * (1.0 + TOLF)) {
                 H->mode = MODE_STICK;
@@ -1164,27 +781,27 @@ static void project_contact(hyb *H, double t, double *y)
         if (frame_seg(H, t, &f, &kin)) return;
         for (int i = 0; i < H->ncs; i++) {
             int r = H->cs[i];
-            b[i] = -prow(H->m, &kin, r / H->nv, r % H->nv, y, y + 3, Gr[i], NULL, NULL);
+            b[i] = -contact_row_planar(H->m, &kin, r / H->nv, r % H->nv, y, y + 3, Gr[i], NULL, NULL);
         }
-        if (stop_qp(H->m->minv, H->ncs, (const double (*)[3])Gr, b, zero, dq, lam, H->st))
+        if (ldp_project(H->m->minv, H->ncs, (const double (*)[3])Gr, b, zero, FQ_MIN, dq, lam, &H->st->stop_iterations, &H->st->warnings))
             for (int c2 = 0; c2 < 3; c2++) y[c2] += dq[c2];
         for (int i = 0; i < H->ncs; i++) {
             int r = H->cs[i];
             double gd;
-            prow(H->m, &kin, r / H->nv, r % H->nv, y, y + 3, Gr[i], &gd, NULL);
+            contact_row_planar(H->m, &kin, r / H->nv, r % H->nv, y, y + 3, Gr[i], &gd, NULL);
             b[i] = -(gd - ex_dot3(Gr[i], y + 3));
         }
-        if (stop_qp(H->m->minv, H->ncs, (const double (*)[3])Gr, b, y + 3, v, lam, H->st))
+        if (ldp_project(H->m->minv, H->ncs, (const double (*)[3])Gr, b, y + 3, FQ_MIN, v, lam, &H->st->stop_iterations, &H->st->warnings))
             memcpy(y + 3, v, sizeof v);
         return;
     }
     if (H->ndof != 1 || H->mode != MODE_CONTACT) return;
     if (frame_seg(H, t, &f, &kin)) return;
-    contact_row(H->m, &kin, H->ck, H->cj, y[0], &c);
+    contact_row_1dof(H->m, &kin, H->ck, H->cj, y[0], &c);
     for (int it = 0; it < 8 && fabs(c.F) > 0.0; it++) {
         double dq = c.F / c.Fq;
         y[0] -= dq;
-        contact_row(H->m, &kin, H->ck, H->cj, y[0], &c);
+        contact_row_1dof(H->m, &kin, H->ck, H->cj, y[0], &c);
         H->st->stop_iterations++;
         if (fabs(dq) <= 1e-16 * (1.0 + fabs(y[0]))) break;
     }
@@ -1215,10 +832,10 @@ static int apply_jump(hyb *H, double ts, double *y)
     ex_mulmtv3(fj.a0, kr.R, dv);
     ex_mulmtv3(fj.dw, kr.R, dw);
     if (H->ndof == 1) {
-        y[1] += force_1dof(m, &fj, y[0], 0.0) / H->M;
+        y[1] += model_force_1dof(m, &fj, y[0], 0.0) / H->M;
     } else {
         double P[3], zero[3] = {0, 0, 0};
-        force_planar(m, &fj, y, zero, P);
+        model_force_planar(m, &fj, y, zero, P);
         for (int i = 0; i < 3; i++) y[3 + i] += m->minv[i] * P[i];
     }
     return EXDEX_OK;
@@ -1245,24 +862,33 @@ static void ode_free(ode *O)
     free(O);
 }
 
-static ode *ode_alloc(hyb *H)
+/* The GSL workspaces of one run (the method table's alloc); the system's
+ * parameters are set by the run. */
+static void *hybrid_alloc(const exdex_model *m, int *status)
 {
+    size_t ny = (size_t)(m->ndof == 3 ? 9 + m->n_stops : 3 + m->n_stops);
     ode *O = calloc(1, sizeof *O);
-    if (!O) return NULL;
-    O->step = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, (size_t)H->ny);
-    O->con = gsl_odeiv2_control_y_new(H->m->def.atol, H->m->def.rtol);
-    O->evo = gsl_odeiv2_evolve_alloc((size_t)H->ny);
+    if (!O) {
+        *status = EXDEX_ENOMEM;
+        return NULL;
+    }
+    O->step = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, ny);
+    O->con = gsl_odeiv2_control_y_new(m->def.atol, m->def.rtol);
+    O->evo = gsl_odeiv2_evolve_alloc(ny);
     O->root = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
     if (!O->step || !O->con || !O->evo || !O->root) {
         ode_free(O);
+        *status = EXDEX_ENOMEM;
         return NULL;
     }
     O->sys.function = rhs;
     O->sys.jacobian = NULL;
-    O->sys.dimension = (size_t)H->ny;
-    O->sys.params = H;
+    O->sys.dimension = ny;
+    O->sys.params = NULL;
     return O;
 }
+
+static void hybrid_free(void *ws) { ode_free(ws); }
 
 /* The stepper's one-step map from (t0, y0) over tau, into out. */
 static int one_step(ode *O, double t0, const double *y0, double tau, double *out)
@@ -1343,103 +969,16 @@ static size_t switch_times(const exdex_model *m, double t_end, double *ts)
     return k;
 }
 
-/* Initial coordinates as sim.c sets them. */
-static void initial_state(const exdex_model *m, double *q, double *v)
-{
-    if (m->ndof == 3) {
-        memcpy(q, m->def.q0, 3 * sizeof *q);
-        memcpy(v, m->def.v0, 3 * sizeof *v);
-    } else if (m->def.dof == EXDEX_DOF_TRANSLATION) {
-        q[0] = m->s0;
-        v[0] = m->d[0] * m->def.v0[0] + m->d[1] * m->def.v0[1];
-    } else {
-        q[0] = m->th0;
-        v[0] = m->def.v0[2];
-    }
-}
-
-/* Smallest stop gap at (t, q) over every (stop, vertex) pair, recorded in
- * st->min_gap; returned. */
-static double record_min_gap(const exdex_model *m, double t, const double *q, exdex_stats *st)
-{
-    exdex_kinematics k;
-    double gmin = INFINITY;
-    if (!m->n_stops || exdex_motion_eval(m->motion, t, &k)) return INFINITY;
-    for (int s = 0; s < m->n_stops; s++) {
-        double g = INFINITY;
-        if (m->ndof == 3) {
-            int nv = m->n_vert ? m->n_vert : 1;
-            for (int j = 0; j < nv; j++) g = fmin(g, sim_vertex_gap(m, &k, s, q, j, NULL));
-        } else {
-            g = stop_gap(m, &k, s, q[0], NULL);
-        }
-        gmin = fmin(gmin, g);
-    }
-    if (gmin < st->min_gap) st->min_gap = gmin;
-    return gmin;
-}
-
-/* Is some stop out of the object's reach at (t, q), its gap below -PEN_TOL
- * for every value of the free coordinates? Translation and planar: a row
- * that the free coordinates cannot move (|d gap / dq| <= FQ_MIN: the stop is
- * parallel to the slide line or faces the plate normal); rotation: the
- * vertex moves on a circle about the pivot, gap(q') = F + Fqq + Fq sin(q' -
- * q) - Fqq cos(q' - q) (contact_row's derivatives at q), whose maximum F +
- * Fqq + hypot(Fq, Fqq) is below -PEN_TOL (the stop has passed the pivot's
- * reach). Such a penetration is the scene's, not the method's. */
-static int stop_unreachable(const exdex_model *m, double t, const double *q)
-{
-    exdex_kinematics k;
-    int nv = m->n_vert ? m->n_vert : 1;
-    if (!m->n_stops || exdex_motion_eval(m->motion, t, &k)) return 0;
-    for (int s = 0; s < m->n_stops; s++)
-        for (int j = 0; j < nv; j++) {
-            if (m->ndof == 3) {
-                double G[3], g = sim_vertex_gap(m, &k, s, q, j, G);
-                if (g < -PEN_TOL && !(fabs(G[0]) + fabs(G[1]) + fabs(G[2]) > FQ_MIN)) return 1;
-            } else {
-                crow c;
-                contact_row(m, &k, s, j, q[0], &c);
-                if (m->def.dof == EXDEX_DOF_TRANSLATION) {
-                    if (c.F < -PEN_TOL && !(fabs(c.Fq) > FQ_MIN)) return 1;
-                } else if (c.F + c.Fqq + hypot(c.Fq, c.Fqq) < -PEN_TOL) {
-                    return 1;
-                }
-            }
-        }
-    return 0;
-}
-
-/* Largest distance of an outline vertex from the rotation centre (the
- * centre of mass for planar scenes, the pivot for rotation; 0 for
- * translation): bounds |d^2 gap / d theta^2|. */
-static double rot_radius(const exdex_model *m)
-{
-    int nv = m->n_vert ? m->n_vert : 1;
-    double r = 0.0;
-    if (m->def.dof == EXDEX_DOF_TRANSLATION) return 0.0;
-    for (int j = 0; j < nv; j++) {
-        double x = m->n_vert ? m->vert[j][0] : 0.0, y = m->n_vert ? m->vert[j][1] : 0.0;
-        if (m->def.dof == EXDEX_DOF_ROTATION) {
-            x += m->c[0];
-            y += m->c[1];
-        }
-        r = fmax(r, sqrt(x * x + y * y));
-    }
-    return r;
-}
-
 static int is_still(const hyb *H, const double *y)
 {
     if (H->ndof == 1) return y[1] == 0.0;
     return y[3] == 0.0 && y[4] == 0.0 && y[5] == 0.0;
 }
 
-static int run_hybrid(const exdex_model *m, int law, double t_end, double dt,
+static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, double dt,
                       exdex_trajectory *out, exdex_stats *st)
 {
     hyb H;
-    ode *O;
     double y[NY_MAX], y0[NY_MAX], ts[4], t = 0.0, h;
     size_t n = out->n, nsw;
     int nd = m->ndof, ns = m->n_stops, status = EXDEX_OK;
@@ -1462,14 +1001,13 @@ static int run_hybrid(const exdex_model *m, int law, double t_end, double dt,
         H.M = m->mrot;
         H.cap = m->capF * m->e[2];
     }
-    O = ode_alloc(&H);
-    if (!O) return EXDEX_ENOMEM;
+    O->sys.params = &H;
     nsw = switch_times(m, t_end, ts);
     memset(y, 0, sizeof y);
     if (nd == 3) {
-        initial_state(m, y, y + 3);
+        model_initial_state(m, y, y + 3);
     } else {
-        initial_state(m, y, y + 1);
+        model_initial_state(m, y, y + 1);
     }
     H.lo = 0.0;
     H.hi = nsw ? ts[0] : INFINITY;
@@ -1492,7 +1030,7 @@ static int run_hybrid(const exdex_model *m, int law, double t_end, double dt,
             if (nd == 3 && H.mode == MODE_SLIP && law == LAW_COULOMB &&
                 (y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0)) {
                 double u[3];
-                patch_slip(m, y[2], y + 3, u);
+                model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
                 for (int c = 0; c < 3; c++) H.uref[c] = m->e[c] * u[c];
             }
             memcpy(y0, y, sizeof y);
@@ -1594,7 +1132,12 @@ static int run_hybrid(const exdex_model *m, int law, double t_end, double dt,
             }
             /* a penetration left after the step: the scene drives the
              * object through a stop (see PEN_TOL) */
-            if (ns && record_min_gap(m, t, y, st) < -PEN_TOL) st->warnings++;
+            if (ns) {
+                exdex_kinematics kt;
+                double gmin = exdex_motion_eval(m->motion, t, &kt) ? INFINITY : contact_min_gap(m, &kt, y);
+                if (gmin < st->min_gap) st->min_gap = gmin;
+                if (gmin < -PEN_TOL) st->warnings++;
+            }
             if (t == H.hi && t < t_end) {
                 /* a switching time of the motion: next segment */
                 H.lo = H.hi;
@@ -1642,190 +1185,24 @@ static int run_hybrid(const exdex_model *m, int law, double t_end, double dt,
         out->stick[i] = (unsigned char)(law == LAW_COULOMB && H.mode == MODE_STICK ? 1 : is_still(&H, y));
         st->stick_steps += out->stick[i];
     }
-    ode_free(O);
     /* a failure in the decision at t = 0 stops the loop before it starts */
     if (!status && H.err) status = H.err;
     return status;
 }
 
-/* ---------------------------------------------------- explicit Coulomb */
+/* ------------------------------------------------------------ entry points */
 
-static int run_explicit(const exdex_model *m, double t_end, double dt, exdex_trajectory *out,
-                        exdex_stats *st)
+static int event_run(const exdex_model *m, void *ws, double t_end, double dt, exdex_trajectory *out,
+                     exdex_stats *st)
 {
-    size_t n = out->n;
-    int nd = m->ndof, ns = m->n_stops, nv = m->n_vert ? m->n_vert : 1;
-    double q[3], v[3], t = 0.0;
-    exdex_kinematics kin0;
-    int status = exdex_motion_eval(m->motion, 0.0, &kin0);
-    double rmax = rot_radius(m);
-    initial_state(m, q, v);
-    for (size_t i = 1; i < n && status == EXDEX_OK; i++) {
-        double t1 = i == n - 1 ? t_end : (double)i * dt, h = t1 - t, wrench[3] = {0, 0, 0};
-        double lamsum[EXDEX_MAX_STOPS];
-        exdex_kinematics kin, kin_end;
-        frame f;
-        int still;
-        status = sim_frame_step(m, &kin0, t, t1, h, &f, &kin, &kin_end);
-        if (status) break;
-        for (int k = 0; k < ns; k++) lamsum[k] = 0.0;
-        if (nd == 1) {
-            int tr = m->def.dof == EXDEX_DOF_TRANSLATION;
-            double M = tr ? m->m : m->mrot, C = tr ? m->capF : m->capF * m->e[2];
-            double Q = force_1dof(m, &f, q[0], v[0]);
-            double fr = v[0] > 0.0 ? -C : v[0] < 0.0 ? C : 0.0;  /* -C sign(v) */
-            double vn = v[0] + h * (Q + fr) / M, lo = -INFINITY, hi = INFINITY;
-            int klo = -1, khi = -1, jlo = 0, jhi = 0;
-            /* stop rows at t + h: Fq v+ >= -gap(q, t + h) / h (sim.c) */
-            for (int k = 0; k < ns; k++)
-                for (int j = 0; j < nv; j++) {
-                    crow c;
-                    double b;
-                    contact_row(m, &kin_end, k, j, q[0], &c);
-                    if (!(fabs(c.Fq) > FQ_MIN)) continue;
-                    b = -c.F / h / c.Fq;
-                    if (c.Fq > 0 && b > lo) {
-                        lo = b;
-                        klo = k;
-                        jlo = j;
-                    } else if (c.Fq < 0 && b < hi) {
-                        hi = b;
-                        khi = k;
-                        jhi = j;
-                    }
-                }
-            if (lo > hi) {
-                st->warnings++;
-                hi = lo;
-            }
-            {
-                double vc = vn < lo ? lo : vn > hi ? hi : vn;
-                int kb = vc != vn ? (vn < lo ? klo : khi) : -1, jb = vn < lo ? jlo : jhi;
-                if (kb >= 0) {
-                    crow c;
-                    contact_row(m, &kin_end, kb, jb, q[0], &c);
-                    lamsum[kb] = M * (vc - vn) / c.Fq;
-                }
-                vn = vc;
-            }
-            q[0] += h * vn;
-            v[0] = vn;
-            if (tr) {
-                wrench[0] = fr * m->d[0];
-                wrench[1] = fr * m->d[1];
-            } else {
-                wrench[2] = fr;
-            }
-            still = v[0] == 0.0;
-        } else {
-            double F[3], u[3], eu[3], sig, w[3] = {0, 0, 0}, P[3];
-            force_planar(m, &f, q, v, F);
-            patch_slip(m, q[2], v, u);
-            for (int c = 0; c < 3; c++) eu[c] = m->e[c] * u[c];
-            sig = sqrt(ex_dot3(eu, eu));
-            if (sig > 0.0)
-                for (int c = 0; c < 3; c++) w[c] = -m->capF * m->e[c] * eu[c] / sig;
-            gen_of_patch(m, q[2], w, P);
-            {
-                double c = cos(q[2]), s = sin(q[2]);
-                wrench[0] = c * w[0] - s * w[1];
-                wrench[1] = s * w[0] + c * w[1];
-                wrench[2] = w[2];
-            }
-            for (int c = 0; c < 3; c++) v[c] += h * m->minv[c] * (F[c] + P[c]);
-            if (ns) {
-                /* stop rows at t + h: G v+ >= -gap(q, t + h) / h, v+ the
-                 * M-metric projection of v* (stop_qp) */
-                double Gr[MAX_ROWS][3], gap[MAX_ROWS], b[MAX_ROWS], lam[MAX_ROWS], vs[3];
-                int stop[MAX_ROWS], nr = planar_rows(m, &kin_end, q, Gr, gap, stop);
-                for (int r = 0; r < nr; r++) b[r] = -gap[r] / h;
-                memcpy(vs, v, sizeof vs);
-                if (stop_qp(m->minv, nr, (const double (*)[3])Gr, b, vs, v, lam, st))
-                    for (int r = 0; r < nr; r++) lamsum[stop[r]] += lam[r];
-            }
-            for (int c = 0; c < 3; c++) q[c] += h * v[c];
-            still = v[0] == 0.0 && v[1] == 0.0 && v[2] == 0.0;
-        }
-        if (!ex_finite_n(q, nd) || !ex_finite_n(v, nd)) {
-            status = EXDEX_ENONFINITE;
-            break;
-        }
-        if (ns) {
-            /* beyond the scheme's own bound (a vertex moves on a circle
-             * over the step while its row is linear in v+): the scene drives
-             * the object through a stop (see PEN_TOL) */
-            double thd = nd == 3 ? v[2] : m->def.dof == EXDEX_DOF_ROTATION ? v[0] : 0.0;
-            if (record_min_gap(m, t1, q, st) < -(PEN_TOL + 0.5 * h * h * thd * thd * rmax) ||
-                stop_unreachable(m, t1, q))
-                st->warnings++;
-        }
-        t = t1;
-        kin0 = kin_end;
-        st->steps++;
-        st->stick_steps += (size_t)still;
-        out->t[i] = t1;
-        for (int c = 0; c < nd; c++) {
-            out->q[i * nd + c] = q[c];
-            out->v[i * nd + c] = v[c];
-        }
-        for (int c = 0; c < 3; c++) out->wrench[3 * i + c] = wrench[c];
-        out->stick[i] = (unsigned char)still;
-        for (int k = 0; k < ns; k++) out->stop_force[i * ns + k] = lamsum[k] / h;
-    }
-    return status;
+    return run_hybrid(m, ws, LAW_COULOMB, t_end, dt, out, st);
 }
 
-/* ------------------------------------------------------------ entry point */
-
-int sim_simulate_method(const exdex_model *m, double t_end, double dt, exdex_trajectory *out,
-                        exdex_stats *stats)
+static int regularised_run(const exdex_model *m, void *ws, double t_end, double dt, exdex_trajectory *out,
+                           exdex_stats *st)
 {
-    size_t n = exdex_n_samples(t_end, dt);
-    int nd, status;
-    double q[3], v[3];
-    exdex_stats st;
-    if (!m || !out || n == 0 || out->n != n || !out->t || !out->q || !out->v || !out->wrench ||
-        !out->stick || (m->n_stops && !out->stop_force))
-        return EXDEX_EINVAL;
-    memset(&st, 0, sizeof st);
-    st.min_gap = INFINITY;
-    nd = m->ndof;
-    initial_state(m, q, v);
-    out->t[0] = 0.0;
-    for (int i = 0; i < nd; i++) {
-        out->q[i] = q[i];
-        out->v[i] = v[i];
-    }
-    out->wrench[0] = out->wrench[1] = out->wrench[2] = 0.0;
-    out->stick[0] = (v[0] == 0.0 && (nd == 1 || (v[1] == 0.0 && v[2] == 0.0)));
-    for (int k = 0; k < m->n_stops; k++) out->stop_force[k] = 0.0;
-    switch (m->def.method) {
-    case EXDEX_METHOD_EVENT:
-        status = run_hybrid(m, LAW_COULOMB, t_end, dt, out, &st);
-        break;
-    case EXDEX_METHOD_REGULARISED:
-        status = run_hybrid(m, LAW_SMOOTH, t_end, dt, out, &st);
-        break;
-    case EXDEX_METHOD_EXPLICIT:
-        status = run_explicit(m, t_end, dt, out, &st);
-        break;
-    default:
-        return EXDEX_EINVAL;
-    }
-    if (status == EXDEX_OK) {
-        /* never OK with a non-finite output (e.g. a capacity mu N that
-         * overflows makes the explicit friction infinite) */
-        size_t nq = n * (size_t)nd, ns = n * (size_t)m->n_stops;
-        for (size_t i = 0; i < nq && status == EXDEX_OK; i++)
-            if (!isfinite(out->q[i]) || !isfinite(out->v[i])) status = EXDEX_ENONFINITE;
-        for (size_t i = 0; i < 3 * n && status == EXDEX_OK; i++)
-            if (!isfinite(out->wrench[i])) status = EXDEX_ENONFINITE;
-        for (size_t i = 0; i < ns && status == EXDEX_OK; i++)
-            if (!isfinite(out->stop_force[i])) status = EXDEX_ENONFINITE;
-    }
-    if (stats) *stats = st;
-    /* the model and arguments were valid: an "invalid argument" from the
-     * motion or a solver inside the run means the state left the finite
-     * range (as in sim.c) */
-    return status == EXDEX_EINVAL ? EXDEX_ENONFINITE : status;
+    return run_hybrid(m, ws, LAW_SMOOTH, t_end, dt, out, st);
 }
+
+const method_impl method_event = {"event", hybrid_alloc, event_run, hybrid_free};
+const method_impl method_regularised = {"regularised", hybrid_alloc, regularised_run, hybrid_free};

@@ -127,7 +127,7 @@ STEP_BUDGET = 1e6              # adaptive methods: more steps per simulated seco
 CLASSES = ("ok", "drift", "chatter", "blow-up", "collapse", "skipped", "missing")
 FLOOR = 1e-16                  # errors below FLOOR * scale are drawn at that floor
 
-PLANAR = dict(size=(0.06, 0.03, 0.02), mass=0.1, capacity_per_weight=1.1, patch_half=(0.01, 0.01),
+PLANAR = dict(size=(0.06, 0.03, 0.02), mass=0.1, capacity_per_weight=1.1, patch_size=(0.02, 0.02),
               patch_center=(0.01, 0.0), amplitude=0.6, duration=0.5, beta=0.8, tilt_deg=10.0, gap=0.008)
 
 
@@ -155,7 +155,7 @@ def planar_scene():
     return Scene(
         body=Body.box(p["mass"], p["size"]),
         grasp=Grasp(mu=paper.MU, grip_force=grip, fingers=paper.FINGERS,
-                    patch=Patch.rectangle(*p["patch_half"], center=p["patch_center"])),
+                    patch=Patch.rectangle(*p["patch_size"], center=p["patch_center"])),
         motion=AsymmetricProfile(p["amplitude"], p["duration"], p["beta"], axis=(0.0, -1.0, 0.0), rotation=True),
         dof="planar",
         stops=(Stop(point=(0.0, 0.0, -p["size"][1] / 2 - p["gap"]),

@@ -59,15 +59,12 @@ def _length(x):
 
 def pad_half_size(patch):
     """Half-extents of the pad a patch was built from [m]: ``(r,)`` for a
-    disc of radius r, ``(a, b)`` for a rectangle (half-sides along the object's
-    x and y at t = 0), or None when the patch states no size."""
-    half = getattr(patch, "half_size", None)
-    if half is not None:
-        return tuple(half) if half else None
+    disc of radius r, ``(width / 2, height / 2)`` for a rectangle (along the
+    object's x and y at t = 0), or None when the patch states no size."""
     if patch.shape == "disc" and len(patch.dims) == 1:
         return (float(patch.dims[0]),)
     if patch.shape == "rectangle" and len(patch.dims) == 2:
-        return (float(patch.dims[0]), float(patch.dims[1]))
+        return (float(patch.dims[0]) / 2, float(patch.dims[1]) / 2)
     return None
 
 

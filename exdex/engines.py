@@ -94,7 +94,7 @@ def pad_geometry(patch):
     puts its contact points.
     """
     if patch.shape == "rectangle" and len(patch.dims) == 2:
-        return float(patch.dims[0]), float(patch.dims[1])
+        return float(patch.dims[0]) / 2, float(patch.dims[1]) / 2
     a = patch.e_r / _er_rectangle(1.0, 1.0)
     return a, a
 

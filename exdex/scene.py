@@ -180,6 +180,8 @@ class Patch:
     center : centre of pressure in the object frame C, relative to the centre
         of mass [m]. In ``"rotation"`` scenes it is the pivot (paper 2.3).
     shape : description only ("disc", "rectangle" or "given").
+    dims : the sizes the patch was made from [m]: ``(radius,)`` for a disc,
+        ``(width, height)`` for a rectangle.
     """
 
     e_r: float
@@ -198,12 +200,13 @@ class Patch:
         return cls(e_r=_core.er_disc(r), center=center, shape="disc", dims=(r,))
 
     @classmethod
-    def rectangle(cls, half_x, half_y, center=(0.0, 0.0)):
-        """Uniform pressure over a rectangle of half-sides ``half_x``, ``half_y``
-        [m]: e_r is the mean distance of the rectangle from its centre."""
-        a = _real(half_x, "half_x", low=0.0, low_open=True)
-        b = _real(half_y, "half_y", low=0.0, low_open=True)
-        return cls(e_r=_core.er_rectangle(a, b), center=center, shape="rectangle", dims=(a, b))
+    def rectangle(cls, width, height, center=(0.0, 0.0)):
+        """Uniform pressure over a ``width`` x ``height`` rectangle [m] (full
+        side lengths along the object's x and y, as in ``Body.box``): e_r is
+        the mean distance of the rectangle from its centre."""
+        w = _real(width, "width", low=0.0, low_open=True)
+        h = _real(height, "height", low=0.0, low_open=True)
+        return cls(e_r=_core.er_rectangle(w / 2, h / 2), center=center, shape="rectangle", dims=(w, h))
 
 
 @dataclass(frozen=True)

@@ -436,33 +436,37 @@ def optimise_tool(problem, start, free=("alpha1", "alpha2", "s"), step=(0.2, 0.2
 
 # ---------------------------------------------------------------- rod (Fig. 11)
 
-def rod_descent_closed_form(psi, half_height, rod_x):
+def rod_descent_closed_form(psi, height, rod_x):
     """Closed form of the rod worked case (Fig. 11): gripper descent d [m]
-    at which the object has turned by ``psi`` [rad] (see :func:`rod_rotation`).
+    at which the object of ``height`` [m] has turned by ``psi`` [rad] (see
+    :func:`rod_rotation`).
 
-    The rod, fixed at (rod_x, 0), stays on the bottom edge of the object whose
-    centre is at (0, b - d) and rotation psi: in the object's frame the rod is
-    at height -b, i.e. rod_x sin(psi) + (b - d) cos(psi) = b, so
+    With b = height / 2, the rod, fixed at (rod_x, 0), stays on the bottom
+    edge of the object whose centre is at (0, b - d) and rotation psi: in the
+    object's frame the rod is at height -b, i.e.
+    rod_x sin(psi) + (b - d) cos(psi) = b, so
         d = b - (b - rod_x sin psi) / cos psi.
     """
     p = np.asarray(psi, dtype=float)
-    b, xr = float(half_height), float(rod_x)
+    b, xr = float(height) / 2, float(rod_x)
     return b - (b - xr * np.sin(p)) / np.cos(p)
 
 
-def rod_max_rotation(half_height, rod_x):
+def rod_max_rotation(height, rod_x):
     """The largest rotation [rad] a straight downward push can give with the
-    rod: asin(rod_x / b) (then the rod is right below the grasp point and the
-    push no longer turns the object); pi/2 if rod_x >= b."""
-    b = _real(half_height, "half_height", low=0, low_open=True)
+    rod to an object of ``height`` [m]: asin(rod_x / b), b = height / 2 (then
+    the rod is right below the grasp point and the push no longer turns the
+    object); pi/2 if rod_x >= b."""
+    b = _real(height, "height", low=0, low_open=True) / 2
     xr = _real(rod_x, "rod_x", low=0, low_open=True)
     return math.asin(xr / b) if xr < b else math.pi / 2
 
 
-def rod_rotation(psi_end, half_width=0.5, half_height=0.5, rod_x=0.25, steps=1000):
+def rod_rotation(psi_end, width=1.0, height=1.0, rod_x=0.25, steps=1000):
     """The rod tool of the paper's Fig. 11, worked from the twist cone.
 
-    An object (rectangle, half-sides a, b) is held by the gripper at its centre
+    An object (a ``width`` x ``height`` rectangle [m], half-sides
+    a = width / 2, b = height / 2) is held by the gripper at its centre
     G, which the plates' torsional friction lets turn (paper 2.3). The gripper
     moves straight down (the twist of G is imposed: Vx = 0, Vy = -1 per unit
     descent) onto a fixed rod at (rod_x, 0), 0 < rod_x <= a; the object starts
@@ -480,15 +484,16 @@ def rod_rotation(psi_end, half_width=0.5, half_height=0.5, rod_x=0.25, steps=100
     (psi (steps+1,) [rad], descent [m], contact position u along the edge from
     the edge's middle [m]). Compare with :func:`rod_descent_closed_form`.
     """
-    a = _real(half_width, "half_width", low=0, low_open=True)
-    b = _real(half_height, "half_height", low=0, low_open=True)
+    a = _real(width, "width", low=0, low_open=True) / 2
+    h = _real(height, "height", low=0, low_open=True)
+    b = h / 2
     xr = _real(rod_x, "rod_x", low=0, low_open=True)
     if xr > a:
-        raise ValueError(f"rod_x must be in (0, half_width = {a:g}], got {xr:g}")
-    pmax = rod_max_rotation(b, xr)
+        raise ValueError(f"rod_x must be in (0, width / 2 = {a:g}], got {xr:g}")
+    pmax = rod_max_rotation(h, xr)
     p_end = _real(psi_end, "psi_end", low=0)
     if not p_end < pmax:
-        raise ValueError(f"psi_end must be in [0, {pmax:.6g}) rad (asin(rod_x / half_height)), "
+        raise ValueError(f"psi_end must be in [0, {pmax:.6g}) rad (asin(2 rod_x / height)), "
                          f"got {p_end:g}")
     if isinstance(steps, bool) or not isinstance(steps, numbers.Integral) or steps < 1:
         raise ValueError("steps must be an int >= 1")
@@ -717,10 +722,10 @@ def run(args):
                ["case", "alpha1_deg", "alpha2_deg", "s", "mean_volume", "converged"])
 
     # 5. the rod tool of Fig. 11
-    b, xr = 0.5, 0.25
-    pmax = rod_max_rotation(b, xr)
-    psi, d, u = rod_rotation(0.999 * pmax, 0.5, b, xr, steps=2000)
-    closed = rod_descent_closed_form(psi, b, xr)
+    height, xr = 1.0, 0.25  # the unit square, rod 0.25 m to the side
+    pmax = rod_max_rotation(height, xr)
+    psi, d, u = rod_rotation(0.999 * pmax, 1.0, height, xr, steps=2000)
+    closed = rod_descent_closed_form(psi, height, xr)
     rod_err = float(np.max(np.abs(d - closed)))
     with open(os.path.join(out, "rod.csv"), "w", newline="") as f:
         w = csv.writer(f)
@@ -732,7 +737,7 @@ def run(args):
     ax.plot(closed[::100], np.degrees(psi[::100]), "k.", label="closed form")
     ax.set_xlabel("gripper descent [m]")
     ax.set_ylabel("object rotation [deg]")
-    ax.set_title(f"rod tool (Fig. 11): rod {xr} m off the grasp, b = {b} m")
+    ax.set_title(f"rod tool (Fig. 11): rod {xr} m off the grasp, object height {height} m")
     ax.legend()
     fig.tight_layout()
     fig.savefig(os.path.join(out, "rod.png"), dpi=120)
@@ -763,7 +768,7 @@ def run(args):
          ("mean V", "{:.4f}"), ("converged", None)],
         [(r["case"], r["alpha1_deg"], r["alpha2_deg"], None if r["s"] == "" else r["s"], r["mean_volume"],
           "yes" if r["converged"] else "no") for r in multi], indent="  "))
-    print(f"rod (Fig. 11), rod {xr} m off the grasp, b {b} m: at most {math.degrees(pmax):.2f} deg "
+    print(f"rod (Fig. 11), rod {xr} m off the grasp, object height {height} m: at most {math.degrees(pmax):.2f} deg "
           f"of rotation from a straight push (descent {closed[-1]:.4f} m); RK4 vs closed form "
           f"max |d error| {rod_err:.1e} m")
     return 0

@@ -35,7 +35,7 @@ def planar_scene():
     down: slip, rotation, stop contact and stick in one short run."""
     return exdex.Scene(
         body=exdex.Body.box(0.1, (0.02, 0.04, 0.02)),
-        grasp=exdex.Grasp(mu=0.5, grip_force=0.3, patch=exdex.Patch.rectangle(0.01, 0.02)),
+        grasp=exdex.Grasp(mu=0.5, grip_force=0.3, patch=exdex.Patch.rectangle(0.02, 0.04)),
         motion=exdex.TrapezoidalProfile(-0.05, 0.5, 0.12), dof="planar",
         stops=(exdex.Stop(point=(0, 0, -0.03), normal=(0, 0, 1)),), q0=(0.005, 0.0, 0.1))
 

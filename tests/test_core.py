@@ -16,7 +16,7 @@ G = 9.81
 
 def box_scene(**kw):
     body = exdex.Body.box(0.1, (0.02, 0.04, 0.02))
-    base = dict(body=body, grasp=exdex.Grasp(mu=0.5, grip_force=1.5, patch=exdex.Patch.rectangle(0.01, 0.02)))
+    base = dict(body=body, grasp=exdex.Grasp(mu=0.5, grip_force=1.5, patch=exdex.Patch.rectangle(0.02, 0.04)))
     base.update(kw)
     return exdex.Scene(**base)
 
@@ -148,7 +148,7 @@ def test_friction_solvers_agree_and_satisfy_optimality():
 def test_planar_trajectory_same_for_all_solvers():
     mo = exdex.AsymmetricProfile(1.2, 0.4, 0.7, axis=(0, -1, 0), rotation=True, center=(0.05, 0, 0))
     sc = box_scene(dof="planar", motion=mo, grasp=exdex.Grasp(mu=0.5, grip_force=0.8,
-                                                              patch=exdex.Patch.rectangle(0.01, 0.02, (0.005, 0))))
+                                                              patch=exdex.Patch.rectangle(0.02, 0.04, (0.005, 0))))
     runs = [exdex.simulate(sc, 1.0, dt=1e-3, friction_solver=s) for s in ("scalar", "brent", "multiroot")]
     assert not runs[0].stick.all()  # the case exercises sliding
     for r in runs[1:]:
@@ -157,15 +157,15 @@ def test_planar_trajectory_same_for_all_solvers():
 
 def test_patch_er_closed_forms():
     assert exdex.Patch.disc(0.03).e_r == pytest.approx(0.02, rel=1e-15)
-    a = 0.01  # square: e_r = a (sqrt2 + ln(1 + sqrt2)) / 3, the mean distance of a square
-    assert exdex.Patch.rectangle(a, a).e_r == pytest.approx(a * (math.sqrt(2) + math.log(1 + math.sqrt(2))) / 3,
+    a = 0.01  # square of half-side a: e_r = a (sqrt2 + ln(1 + sqrt2)) / 3, the mean distance of a square
+    assert exdex.Patch.rectangle(2 * a, 2 * a).e_r == pytest.approx(a * (math.sqrt(2) + math.log(1 + math.sqrt(2))) / 3,
                                                             rel=1e-13)
     # mean distance of a 2a x 2b rectangle by Monte Carlo-free midpoint quadrature
     hx, hy, n = 0.01, 0.03, 800
     x = (np.arange(n) + 0.5) / n * 2 * hx - hx
     y = (np.arange(n) + 0.5) / n * 2 * hy - hy
     X, Y = np.meshgrid(x, y)
-    assert exdex.Patch.rectangle(hx, hy).e_r == pytest.approx(np.hypot(X, Y).mean(), rel=1e-5)
+    assert exdex.Patch.rectangle(2 * hx, 2 * hy).e_r == pytest.approx(np.hypot(X, Y).mean(), rel=1e-5)
 
 
 # ---------------------------------------------------------------- stops

@@ -53,7 +53,7 @@ def fig4_scene():
 
 def fig6_scene():
     return exdex.Scene(body=exdex.Body(mass=0.1, inertia=np.diag([0.5, 0.5, 0.04]), size=(0.2, 0.2, 0.03)),
-                       grasp=exdex.Grasp(mu=0.5, grip_force=3.0, patch=exdex.Patch.rectangle(0.01, 0.01)),
+                       grasp=exdex.Grasp(mu=0.5, grip_force=3.0, patch=exdex.Patch.rectangle(0.02, 0.02)),
                        dof="rotation",
                        motion=exdex.AsymmetricProfile(math.radians(100), 3.0, 0.7, axis=(0, -1, 0), rotation=True))
 
@@ -177,7 +177,7 @@ def test_pybullet_point_contact_with_spinning_friction_matches_ellipsoid():
 
 def test_torque_capacity_closed_forms():
     a, b = 0.01, 0.02
-    rect = exdex.Patch.rectangle(a, b)
+    rect = exdex.Patch.rectangle(2 * a, 2 * b)  # half-sides a, b
     disc = exdex.Patch.disc(0.01)
     # ellipsoid and cylinder: the patch's own e_r (pure spin meets both limits alike)
     assert engines.torque_capacity(rect, "ellipsoid") == rect.e_r

@@ -283,7 +283,7 @@ def turning_box_on_tilted_stop():
     return exdex.Scene(
         body=exdex.Body.box(m, (0.06, 0.03, 0.02)),
         grasp=exdex.Grasp(mu=paper.MU, grip_force=cap / (paper.MU * paper.FINGERS), fingers=paper.FINGERS,
-                          patch=exdex.Patch.rectangle(0.01, 0.01, center=(0.01, 0.0))),
+                          patch=exdex.Patch.rectangle(0.02, 0.02, center=(0.01, 0.0))),
         motion=exdex.AsymmetricProfile(0.6, 0.5, 0.8, axis=(0.0, -1.0, 0.0), rotation=True),
         dof="planar",
         stops=(exdex.Stop(point=(0.0, 0.0, -0.015 - 0.008), normal=(math.sin(tilt), 0.0, math.cos(tilt))),))

@@ -143,3 +143,15 @@ def test_solver_warning_count_warns():
     assert len(solver) == 1
     assert str(res.stats["warnings"]) in str(solver[0]) and "stats['warnings']" in str(solver[0])
     assert solver[0].value == res.stats["warnings"]
+
+
+def test_rectangular_pad_uses_its_half_sides():
+    """Patch.rectangle(width, height) takes full sides: a 10 mm wide, 40 mm
+    tall pad is left (along its height, the fall direction) after 20 mm, at
+    t* = sqrt(2 * 0.02 / g) = 63.9 ms."""
+    patch = exdex.Patch.rectangle(0.010, 0.040)
+    dt = 5e-4
+    _, found = _caught(lambda: exdex.simulate(_free_fall_scene(patch), 0.2, dt))
+    assert [w.kind for w in found] == ["pad"]
+    assert abs(found[0].time - math.sqrt(2 * 0.02 / G)) <= 2 * dt
+    assert "5 mm x 20 mm" in str(found[0])

@@ -327,11 +327,11 @@ def test_rotating_tool_and_phi_together_is_invariant():
 # ------------------------------------------------------------ rod (Fig. 11)
 
 def test_rod_rotation_closed_form():
-    b, xr = 0.5, 0.25
-    pmax = T.rod_max_rotation(b, xr)
-    assert pmax == pytest.approx(math.radians(30), abs=1e-15)  # asin(1/2)
-    psi, d, u = T.rod_rotation(0.99 * pmax, 0.5, b, xr, steps=4000)
-    np.testing.assert_allclose(d, T.rod_descent_closed_form(psi, b, xr), atol=1e-9)
+    height, xr = 1.0, 0.25  # unit square: half-height b = 0.5
+    pmax = T.rod_max_rotation(height, xr)
+    assert pmax == pytest.approx(math.radians(30), abs=1e-15)  # asin(rod_x / b) = asin(1/2)
+    psi, d, u = T.rod_rotation(0.99 * pmax, 1.0, height, xr, steps=4000)
+    np.testing.assert_allclose(d, T.rod_descent_closed_form(psi, height, xr), atol=1e-9)
     # initial rate: dpsi/dd = 1/rod_x (lever arm of the rod about the grasp);
     # the forward difference over one step h errs by ~ h b / (2 rod_x) ~ 1.3e-4
     assert (psi[1] - psi[0]) / (d[1] - d[0]) == pytest.approx(1 / xr, rel=1e-3)

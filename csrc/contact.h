@@ -1,0 +1,65 @@
+/* contact.h -- private to the exdex core: the contact geometry of the
+ * object's outline against the stops (half-spaces of the world frame A),
+ * shared by every method. A row is one (stop k, outline vertex j) pair: its
+ * gap n_k . (x_A - p_k) >= 0 allowed, and the derivatives of the gap with
+ * respect to the free coordinates and time. An object without an outline
+ * counts its centre of mass as its one vertex. */
+#ifndef EXDEX_CONTACT_H
+#define EXDEX_CONTACT_H
+
+#include "model.h"
+
+/* Thresholds of the contact decisions. */
+#define TOUCH 1e-10   /* a stop gap below this counts as contact [m] */
+#define FQ_MIN 1e-12  /* a stop row with |d gap / dq| below this cannot act */
+#define PEN_TOL 1e-9  /* a stop gap below -PEN_TOL after a step counts a warning [m] */
+
+/* Number of outline vertices the stops see (at least 1). */
+static inline int contact_nv(const exdex_model *m) { return m->n_vert ? m->n_vert : 1; }
+
+/* Outline vertices in B at coordinates q: xb[j] (position) and vx[j] (offset
+ * from the centre of mass), one cos/sin for all of them. Returns the count. */
+int contact_vertices(const exdex_model *m, const double *q, double xb[][3], double vx[][3]);
+/* Gap of the vertex at xb (offset vx from the centre of mass) against stop k
+ * for the gripper pose kin; G (may be NULL) gets d gap / d qdot (ndof entries). */
+double contact_gap(const exdex_model *m, const exdex_kinematics *kin, int k, const double xb[3],
+                   const double vx[3], double G[3]);
+/* Gap of outline vertex j against stop k at coordinates q and pose kin. */
+double contact_vertex_gap(const exdex_model *m, const exdex_kinematics *kin, int k, const double *q, int j,
+                          double G[3]);
+/* Rounding bound of contact_gap for the vertex at xb against stop k at pose
+ * kin: a gap within it of 0 has no determined sign. */
+double contact_gap_round(const exdex_model *m, const exdex_kinematics *kin, int k, const double xb[3]);
+/* Smallest gap over every (stop, vertex) pair at coordinates q and pose kin
+ * (INFINITY without stops). */
+double contact_min_gap(const exdex_model *m, const exdex_kinematics *kin, const double *q);
+/* Every (stop, vertex) row at q and pose kin: G_i = d gap_i / d qdot, gap_i,
+ * stop index; rows ordered r = k nv + j. Returns the count. */
+int contact_rows(const exdex_model *m, const exdex_kinematics *kin, const double *q, double (*G)[3],
+                 double *gap, int *stop);
+
+/* 1-DoF row of vertex j against stop k as a function of (q, t), with the
+ * derivatives a held constraint needs: F = n.(R x_B(q) + p - p_stop),
+ * x_B the vertex in B (translation: linear in q; rotation: about the pivot). */
+typedef struct crow {
+    double F, Fq, Fqq, Ft, Ftq, Ftt;
+} crow;
+void contact_row_1dof(const exdex_model *m, const exdex_kinematics *k, int ks, int j, double q, crow *c);
+/* Smallest gap of stop ks over the outline at the 1-DoF coordinate q, and
+ * its vertex (jmin may be NULL). */
+double contact_stop_gap(const exdex_model *m, const exdex_kinematics *k, int ks, double q, int *jmin);
+/* Planar row of vertex j against stop ks at coordinates q, velocity v and
+ * gripper kinematics k: returns the gap; G = d gap / d qdot; gd (may be NULL)
+ * the gap rate; gdd0 (may be NULL) the gap acceleration less G qdd. */
+double contact_row_planar(const exdex_model *m, const exdex_kinematics *k, int ks, int j, const double *q,
+                          const double *v, double G[3], double *gd, double *gdd0);
+
+/* Is some stop out of the object's reach at pose k and coordinates q, its
+ * gap below -PEN_TOL for every value of the free coordinates? */
+int contact_unreachable(const exdex_model *m, const exdex_kinematics *k, const double *q);
+/* Largest distance of an outline vertex from the rotation centre (the
+ * centre of mass for planar scenes, the pivot for rotation; 0 for
+ * translation): bounds |d^2 gap / d theta^2|. */
+double contact_rot_radius(const exdex_model *m);
+
+#endif

@@ -1,0 +1,159 @@
+/* explicit.c -- the naive baseline EXDEX_METHOD_EXPLICIT: explicit Coulomb
+ * friction with sign(), symplectic Euler steps of dt,
+ *     v+ = v + dt M^-1 (Q(t, q, v) + friction(v)),   q+ = q + dt v+,
+ * friction -mu N E^2 u / |E u| and 0 at u = 0 exactly; the frame
+ * accelerations enter as step means (model_frame_step). Stops:
+ * velocity-level rows G v+ >= -gap(q, t + dt)/dt; 1-DoF: a clamp; planar:
+ * v+ is the M-metric projection of v* onto every (stop, vertex) row
+ * (ldp_project), stop force lam / dt. Penetration at most 1/2 dt^2 thd^2
+ * r_max per step (the vertex moves on a circle, the row is linear). At stick
+ * it chatters: with a load |Q| < C the velocity never returns to 0 but
+ * circulates in (-dt (C - Q)/M, dt (C + Q)/M] (Q > 0) and creeps on average
+ * at dt Q / M. */
+#include "exdex.h"
+#include "contact.h"
+#include "ldp.h"
+#include "method.h"
+#include "model.h"
+#include "util.h"
+
+#include <string.h>
+
+static int run_explicit(const exdex_model *m, double t_end, double dt, exdex_trajectory *out,
+                        exdex_stats *st)
+{
+    size_t n = out->n;
+    int nd = m->ndof, ns = m->n_stops, nv = m->n_vert ? m->n_vert : 1;
+    double q[3], v[3], t = 0.0;
+    exdex_kinematics kin0;
+    int status = exdex_motion_eval(m->motion, 0.0, &kin0);
+    double rmax = contact_rot_radius(m);
+    model_initial_state(m, q, v);
+    for (size_t i = 1; i < n && status == EXDEX_OK; i++) {
+        double t1 = i == n - 1 ? t_end : (double)i * dt, h = t1 - t, wrench[3] = {0, 0, 0};
+        double lamsum[EXDEX_MAX_STOPS];
+        exdex_kinematics kin, kin_end;
+        frame f;
+        int still;
+        status = model_frame_step(m, &kin0, t, t1, h, &f, &kin, &kin_end);
+        if (status) break;
+        for (int k = 0; k < ns; k++) lamsum[k] = 0.0;
+        if (nd == 1) {
+            int tr = m->def.dof == EXDEX_DOF_TRANSLATION;
+            double M = tr ? m->m : m->mrot, C = tr ? m->capF : m->capF * m->e[2];
+            double Q = model_force_1dof(m, &f, q[0], v[0]);
+            double fr = v[0] > 0.0 ? -C : v[0] < 0.0 ? C : 0.0;  /* -C sign(v) */
+            double vn = v[0] + h * (Q + fr) / M, lo = -INFINITY, hi = INFINITY;
+            int klo = -1, khi = -1, jlo = 0, jhi = 0;
+            /* stop rows at t + h: Fq v+ >= -gap(q, t + h) / h (sim.c) */
+            for (int k = 0; k < ns; k++)
+                for (int j = 0; j < nv; j++) {
+                    crow c;
+                    double b;
+                    contact_row_1dof(m, &kin_end, k, j, q[0], &c);
+                    if (!(fabs(c.Fq) > FQ_MIN)) continue;
+                    b = -c.F / h / c.Fq;
+                    if (c.Fq > 0 && b > lo) {
+                        lo = b;
+                        klo = k;
+                        jlo = j;
+                    } else if (c.Fq < 0 && b < hi) {
+                        hi = b;
+                        khi = k;
+                        jhi = j;
+                    }
+                }
+            if (lo > hi) {
+                st->warnings++;
+                hi = lo;
+            }
+            {
+                double vc = vn < lo ? lo : vn > hi ? hi : vn;
+                int kb = vc != vn ? (vn < lo ? klo : khi) : -1, jb = vn < lo ? jlo : jhi;
+                if (kb >= 0) {
+                    crow c;
+                    contact_row_1dof(m, &kin_end, kb, jb, q[0], &c);
+                    lamsum[kb] = M * (vc - vn) / c.Fq;
+                }
+                vn = vc;
+            }
+            q[0] += h * vn;
+            v[0] = vn;
+            if (tr) {
+                wrench[0] = fr * m->d[0];
+                wrench[1] = fr * m->d[1];
+            } else {
+                wrench[2] = fr;
+            }
+            still = v[0] == 0.0;
+        } else {
+            double F[3], u[3], eu[3], sig, w[3] = {0, 0, 0}, P[3];
+            model_force_planar(m, &f, q, v, F);
+            model_patch_slip(m, MODEL_CS(q[2]), v, u);
+            for (int c = 0; c < 3; c++) eu[c] = m->e[c] * u[c];
+            sig = sqrt(ex_dot3(eu, eu));
+            if (sig > 0.0)
+                for (int c = 0; c < 3; c++) w[c] = -m->capF * m->e[c] * eu[c] / sig;
+            model_gen_of_patch(m, MODEL_CS(q[2]), w, P);
+            model_to_b(MODEL_CS(q[2]), w, wrench);
+            for (int c = 0; c < 3; c++) v[c] += h * m->minv[c] * (F[c] + P[c]);
+            if (ns) {
+                /* stop rows at t + h: G v+ >= -gap(q, t + h) / h, v+ the
+                 * M-metric projection of v* (stop_qp) */
+                double Gr[MAX_ROWS][3], gap[MAX_ROWS], b[MAX_ROWS], lam[MAX_ROWS], vs[3];
+                int stop[MAX_ROWS], nr = contact_rows(m, &kin_end, q, Gr, gap, stop);
+                for (int r = 0; r < nr; r++) b[r] = -gap[r] / h;
+                memcpy(vs, v, sizeof vs);
+                if (ldp_project(m->minv, nr, (const double (*)[3])Gr, b, vs, FQ_MIN, v, lam, &st->stop_iterations, &st->warnings))
+                    for (int r = 0; r < nr; r++) lamsum[stop[r]] += lam[r];
+            }
+            for (int c = 0; c < 3; c++) q[c] += h * v[c];
+            still = v[0] == 0.0 && v[1] == 0.0 && v[2] == 0.0;
+        }
+        if (!ex_finite_n(q, nd) || !ex_finite_n(v, nd)) {
+            status = EXDEX_ENONFINITE;
+            break;
+        }
+        if (ns) {
+            /* beyond the scheme's own bound (a vertex moves on a circle
+             * over the step while its row is linear in v+): the scene drives
+             * the object through a stop (see PEN_TOL) */
+            double thd = nd == 3 ? v[2] : m->def.dof == EXDEX_DOF_ROTATION ? v[0] : 0.0;
+            double gmin = contact_min_gap(m, &kin_end, q);
+            if (gmin < st->min_gap) st->min_gap = gmin;
+            if (gmin < -(PEN_TOL + 0.5 * h * h * thd * thd * rmax) || contact_unreachable(m, &kin_end, q))
+                st->warnings++;
+        }
+        t = t1;
+        kin0 = kin_end;
+        st->steps++;
+        st->stick_steps += (size_t)still;
+        out->t[i] = t1;
+        for (int c = 0; c < nd; c++) {
+            out->q[i * nd + c] = q[c];
+            out->v[i * nd + c] = v[c];
+        }
+        for (int c = 0; c < 3; c++) out->wrench[3 * i + c] = wrench[c];
+        out->stick[i] = (unsigned char)still;
+        for (int k = 0; k < ns; k++) out->stop_force[i * ns + k] = lamsum[k] / h;
+    }
+    return status;
+}
+
+static void *explicit_alloc(const exdex_model *m, int *status)
+{
+    (void)m;
+    (void)status;
+    return (void *)&method_explicit;  /* no workspace: any non-NULL token */
+}
+
+static void explicit_free(void *ws) { (void)ws; }
+
+static int explicit_run(const exdex_model *m, void *ws, double t_end, double dt, exdex_trajectory *out,
+                        exdex_stats *st)
+{
+    (void)ws;
+    return run_explicit(m, t_end, dt, out, st);
+}
+
+const method_impl method_explicit = {"explicit", explicit_alloc, explicit_run, explicit_free};

@@ -1,0 +1,397 @@
+/* model.c -- a scene definition (exdex_scene_def) checked and compiled into
+ * the immutable model (model.h), the kinematics of the gripper frame B, and
+ * the paper's Eqs. 3-5: the gravity and inertial force and torque that the
+ * moving frame puts on the object, in B coordinates.
+ *
+ * Equations of motion in B (all vectors in B coordinates). With g_B = R^T g,
+ * a0 = R^T a (B origin), w = R^T omega, dw = R^T alpha, the centre of mass at
+ * r with relative velocity rd feels, besides friction and stops, the force
+ *     F_lin = m (g_B - a0 - dw x r - w x (w x r) - 2 w x rd)           (Eq. 5)
+ * (gravity, linear, Euler, centrifugal and Coriolis terms of the moving
+ * frame). The object turns about z relative to B at rate thd, so its absolute
+ * angular velocity is W = w + thd e_z and Euler's equation, z-component (the
+ * plates carry the x and y torques), gives
+ *     I_zz thdd = tau_z - [I_B (dw + thd w x e_z)]_z - [W x I_B W]_z
+ * with I_B = Rz(theta) I Rz(theta)^T.
+ *
+ * The reduced coordinates (exdex_dof) turn these into M qdd = Q(t, q, qd)
+ * + friction + stops with a 1x1 or 3x3 M (model_force_1dof,
+ * model_force_planar). */
+#include "exdex.h"
+#include "model.h"
+#include "contact.h"
+#include "util.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+/* ------------------------------------------------------------ definition */
+
+exdex_scene_def exdex_default_scene_def(void)
+{
+    exdex_scene_def d;
+    memset(&d, 0, sizeof d);
+    d.mass = 1.0;
+    d.inertia[0] = d.inertia[4] = d.inertia[8] = 1.0;
+    d.mu = 0.5;
+    d.grip_force = 1.0;
+    d.fingers = 2;
+    d.e_r = 0.01;
+    d.gravity[2] = -9.81;
+    d.dof = EXDEX_DOF_TRANSLATION;
+    d.slide_axis[1] = 1.0;
+    /* B x = A x, B y = A z (up), B z = -A y: columns of R_AB are B's axes. */
+    d.R0[0] = 1.0;
+    d.R0[5] = -1.0;
+    d.R0[7] = 1.0;
+    d.motion.kind = EXDEX_MOTION_REST;
+    d.motion.axis[2] = 1.0;
+    d.motion.duration = 1.0;
+    d.motion.beta = 0.5;
+    d.motion.v_max = 1.0;
+    d.method = EXDEX_METHOD_IMPLICIT;
+    d.friction_solver = EXDEX_SOLVER_SCALAR;
+    d.eps = 1e-4;
+    d.rtol = 1e-8;
+    d.atol = 1e-10;
+    return d;
+}
+
+static int bad(const char **bad_param, const char *name)
+{
+    if (bad_param) *bad_param = name;
+    return EXDEX_EINVAL;
+}
+
+/* Cholesky test of a symmetric 3x3 matrix. */
+static int spd3(const double A[9])
+{
+    double l00, l10, l20, l11, l21, d2;
+    if (!(A[0] > 0)) return 0;
+    l00 = sqrt(A[0]);
+    l10 = A[3] / l00;
+    l20 = A[6] / l00;
+    d2 = A[4] - l10 * l10;
+    if (!(d2 > 0)) return 0;
+    l11 = sqrt(d2);
+    l21 = (A[7] - l20 * l10) / l11;
+    d2 = A[8] - l20 * l20 - l21 * l21;
+    return d2 > 0;
+}
+
+/* Field-by-field validation of everything but R0, the motion, the planar
+ * friction problem and the initial stop gaps (those need the model built). */
+static int check_fields(const exdex_scene_def *d, const char **bad_param)
+{
+    double scale;
+    if (!d) return bad(bad_param, "scene");
+    if (!(isfinite(d->mass) && d->mass > 0)) return bad(bad_param, "mass");
+    if (!ex_finite_n(d->inertia, 9)) return bad(bad_param, "inertia");
+    scale = fabs(d->inertia[0]) + fabs(d->inertia[4]) + fabs(d->inertia[8]);
+    if (fabs(d->inertia[1] - d->inertia[3]) > 1e-9 * scale ||
+        fabs(d->inertia[2] - d->inertia[6]) > 1e-9 * scale ||
+        fabs(d->inertia[5] - d->inertia[7]) > 1e-9 * scale || !spd3(d->inertia))
+        return bad(bad_param, "inertia");
+    if (d->n_vertices < 0 || d->n_vertices > EXDEX_MAX_VERTICES)
+        return bad(bad_param, "n_vertices");
+    if (!ex_finite_n(&d->vertices[0][0], 2 * d->n_vertices)) return bad(bad_param, "vertices");
+    if (!(isfinite(d->mu) && d->mu >= 0)) return bad(bad_param, "mu");
+    if (!(isfinite(d->grip_force) && d->grip_force >= 0)) return bad(bad_param, "grip_force");
+    if (d->fingers != 1 && d->fingers != 2) return bad(bad_param, "fingers");
+    if (!(isfinite(d->e_r) && d->e_r > 0)) return bad(bad_param, "e_r");
+    if (!ex_finite_n(d->patch_center, 2)) return bad(bad_param, "patch_center");
+    if (!ex_finite_n(d->gravity, 3)) return bad(bad_param, "gravity");
+    if (d->dof < EXDEX_DOF_TRANSLATION || d->dof > EXDEX_DOF_PLANAR) return bad(bad_param, "dof");
+    if (!ex_finite_n(d->slide_axis, 2) ||
+        fabs(hypot(d->slide_axis[0], d->slide_axis[1]) - 1.0) > 1e-9)
+        return bad(bad_param, "slide_axis");
+    if (!ex_finite_n(d->q0, 3)) return bad(bad_param, "q0");
+    if (!ex_finite_n(d->v0, 3)) return bad(bad_param, "v0");
+    if (!ex_finite_n(d->p0, 3)) return bad(bad_param, "p0");
+    if (d->n_stops < 0 || d->n_stops > EXDEX_MAX_STOPS) return bad(bad_param, "n_stops");
+    for (int k = 0; k < d->n_stops; k++) {
+        if (!ex_finite_n(d->stop_point[k], 3)) return bad(bad_param, "stop_point");
+        if (!ex_finite_n(d->stop_normal[k], 3) ||
+            fabs(sqrt(ex_dot3(d->stop_normal[k], d->stop_normal[k])) - 1.0) > 1e-9)
+            return bad(bad_param, "stop_normal");
+    }
+    if (d->method < EXDEX_METHOD_IMPLICIT || d->method > EXDEX_METHOD_EXPLICIT) return bad(bad_param, "method");
+    if (d->friction_solver < EXDEX_SOLVER_SCALAR || d->friction_solver > EXDEX_SOLVER_MULTIROOT)
+        return bad(bad_param, "friction_solver");
+    if (!(isfinite(d->eps) && d->eps > 0)) return bad(bad_param, "eps");
+    if (!(isfinite(d->rtol) && d->rtol > 0)) return bad(bad_param, "rtol");
+    if (!(isfinite(d->atol) && d->atol > 0)) return bad(bad_param, "atol");
+    return EXDEX_OK;
+}
+
+/* ------------------------------------------------------------ kinematics */
+
+void model_initial_state(const exdex_model *m, double *q, double *v)
+{
+    if (m->ndof == 3) {
+        memcpy(q, m->def.q0, 3 * sizeof *q);
+        memcpy(v, m->def.v0, 3 * sizeof *v);
+    } else if (m->def.dof == EXDEX_DOF_TRANSLATION) {
+        q[0] = m->s0;
+        v[0] = m->d[0] * m->def.v0[0] + m->d[1] * m->def.v0[1];
+    } else {
+        q[0] = m->th0;
+        v[0] = m->def.v0[2];
+    }
+}
+
+int model_frame_at(const exdex_model *m, double t, frame *f, exdex_kinematics *k)
+{
+    int st = exdex_motion_eval(m->motion, t, k);
+    if (st) return st;
+    ex_mulmtv3(f->gB, k->R, m->g);
+    ex_mulmtv3(f->a0, k->R, k->a);
+    ex_mulmtv3(f->w, k->R, k->w);
+    ex_mulmtv3(f->dw, k->R, k->dw);
+    return EXDEX_OK;
+}
+
+int model_frame_step(const exdex_model *m, const exdex_kinematics *kin0, double t_eval, double t1, double h,
+                   frame *f, exdex_kinematics *kin, exdex_kinematics *kin_end)
+{
+    double dv[3], dwv[3];
+    int status = model_frame_at(m, t_eval, f, kin);
+    if (status) return status;
+    status = exdex_motion_eval(m->motion, t1, kin_end);
+    if (status) return status;
+    for (int i = 0; i < 3; i++) {
+        dv[i] = (kin_end->v[i] - kin0->v[i]) / h;
+        dwv[i] = (kin_end->w[i] - kin0->w[i]) / h;
+    }
+    ex_mulmtv3(f->a0, kin->R, dv);
+    ex_mulmtv3(f->dw, kin->R, dwv);
+    return EXDEX_OK;
+}
+
+/* Inertial + gravity force on the centre of mass (Eq. 5), B coordinates. */
+void model_force_lin(const exdex_model *m, const frame *f, const double r[3],
+                      const double rd[3], double F[3])
+{
+    double t1[3], t2[3], t3[3];
+    ex_cross3(t1, f->dw, r);          /* Euler */
+    ex_cross3(t2, f->w, r);
+    ex_cross3(t3, f->w, t2);          /* centrifugal */
+    ex_cross3(t2, f->w, rd);          /* Coriolis / 2 */
+    for (int i = 0; i < 3; i++)
+        F[i] = m->m * (f->gB[i] - f->a0[i] - t1[i] - t3[i] - 2.0 * t2[i]);
+}
+
+/* Inertial torque about z on the body turning at thd relative to B at angle th. */
+double model_torque_z(const exdex_model *m, const frame *f, double th, double thd)
+{
+    double IB[9], Rz[9], T[9], v[3], Iv[3], W[3], IW[3], wxe[3];
+    const double ez[3] = {0.0, 0.0, 1.0};
+    double c = cos(th), s = sin(th);
+    /* Only the z-row of I_B is needed, plus I_B W for the gyroscopic term. */
+    Rz[0] = c; Rz[1] = -s; Rz[2] = 0; Rz[3] = s; Rz[4] = c; Rz[5] = 0; Rz[6] = 0; Rz[7] = 0; Rz[8] = 1;
+    ex_mulmm3(T, Rz, m->I);
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            IB[3 * i + j] = T[3 * i] * Rz[3 * j] + T[3 * i + 1] * Rz[3 * j + 1] + T[3 * i + 2] * Rz[3 * j + 2];
+    ex_cross3(wxe, f->w, ez);
+    for (int i = 0; i < 3; i++) v[i] = f->dw[i] + thd * wxe[i];
+    ex_mulmv3(Iv, IB, v);
+    W[0] = f->w[0];
+    W[1] = f->w[1];
+    W[2] = f->w[2] + thd;
+    ex_mulmv3(IW, IB, W);
+    return -Iv[2] - (W[0] * IW[1] - W[1] * IW[0]);
+}
+
+double model_force_1dof(const exdex_model *m, const frame *f, double q, double v)
+{
+    double r[3], th, rd[3], F[3], q3[3] = {q, 0.0, 0.0};
+    model_com_pose(m, q3, r, &th);
+    if (m->def.dof == EXDEX_DOF_TRANSLATION) {
+        rd[0] = v * m->d[0];
+        rd[1] = v * m->d[1];
+        rd[2] = 0.0;
+        model_force_lin(m, f, r, rd, F);
+        return F[0] * m->d[0] + F[1] * m->d[1];
+    } else {
+        double rho[2];
+        rot2(rho, q, m->c);
+        rd[0] = -v * rho[1];
+        rd[1] = v * rho[0];
+        rd[2] = 0.0;
+        model_force_lin(m, f, r, rd, F);
+        return -rho[1] * F[0] + rho[0] * F[1] + model_torque_z(m, f, q, v);
+    }
+}
+
+void model_force_planar(const exdex_model *m, const frame *f, const double *q, const double *v, double F[3])
+{
+    double r[3] = {q[0], q[1], 0.0}, rd[3] = {v[0], v[1], 0.0};
+    model_force_lin(m, f, r, rd, F);
+    F[2] = model_torque_z(m, f, q[2], v[2]);
+}
+
+/* ----------------------------------------------------- patch coordinates */
+
+void model_patch_slip(const exdex_model *m, const double cs[2], const double v[3], double u[3])
+{
+    double c = cs[0], s = cs[1], vx = c * v[0] + s * v[1], vy = -s * v[0] + c * v[1];
+    u[0] = vx - m->pc[1] * v[2];
+    u[1] = vy + m->pc[0] * v[2];
+    u[2] = v[2];
+}
+
+void model_gen_of_patch(const exdex_model *m, const double cs[2], const double w[3], double P[3])
+{
+    double c = cs[0], s = cs[1], w2 = w[2] - m->pc[1] * w[0] + m->pc[0] * w[1];
+    P[0] = c * w[0] - s * w[1];
+    P[1] = s * w[0] + c * w[1];
+    P[2] = w2;
+}
+
+void model_patch_of_gen(const exdex_model *m, const double cs[2], const double P[3], double w[3])
+{
+    double c = cs[0], s = cs[1], px = c * P[0] + s * P[1], py = -s * P[0] + c * P[1];
+    w[0] = px;
+    w[1] = py;
+    w[2] = P[2] + m->pc[1] * px - m->pc[0] * py;
+}
+
+/* ------------------------------------------------------------ model */
+
+void exdex_model_free(exdex_model *m)
+{
+    if (!m) return;
+    exdex_motion_free(m->motion);
+    free(m);
+}
+
+static exdex_model *build_model(const exdex_scene_def *def, int *status, const char **bad_param)
+{
+    exdex_model *m;
+    int st = check_fields(def, bad_param);
+    int dummy;
+    if (!status) status = &dummy;
+    if (st) {
+        *status = st;
+        return NULL;
+    }
+    m = calloc(1, sizeof *m);
+    if (!m) {
+        *status = EXDEX_ENOMEM;
+        return NULL;
+    }
+    m->def = *def;
+    m->def.motion.times = NULL;
+    m->def.motion.poses = NULL;
+    m->motion = exdex_motion_alloc(&def->motion, def->R0, def->p0, status, bad_param);
+    if (!m->motion) {
+        free(m);
+        return NULL;
+    }
+    m->ndof = def->dof == EXDEX_DOF_PLANAR ? 3 : 1;
+    m->m = def->mass;
+    memcpy(m->I, def->inertia, sizeof m->I);
+    m->izz = def->inertia[8];
+    m->capF = def->mu * def->fingers * def->grip_force;
+    m->e[0] = m->e[1] = 1.0;
+    m->e[2] = def->e_r;
+    m->pc[0] = def->patch_center[0];
+    m->pc[1] = def->patch_center[1];
+    memcpy(m->g, def->gravity, sizeof m->g);
+    m->d[0] = def->slide_axis[0];
+    m->d[1] = def->slide_axis[1];
+    m->r0[0] = def->q0[0];
+    m->r0[1] = def->q0[1];
+    m->th0 = def->q0[2];
+    m->s0 = m->d[0] * m->r0[0] + m->d[1] * m->r0[1];
+    /* rotation: pivot at the centre of pressure, fixed in B */
+    {
+        double pcB[2];
+        rot2(pcB, m->th0, m->pc);
+        m->pivot[0] = m->r0[0] + pcB[0];
+        m->pivot[1] = m->r0[1] + pcB[1];
+        m->c[0] = -m->pc[0];
+        m->c[1] = -m->pc[1];
+        m->mrot = m->izz + m->m * (m->c[0] * m->c[0] + m->c[1] * m->c[1]);
+    }
+    /* planar: W = J' M'^-1 J'^T in object-frame patch coordinates, with the
+     * patch slip u = (vx' - pc_y thd, vy' + pc_x thd, thd). */
+    m->minv[0] = m->minv[1] = 1.0 / m->m;
+    m->minv[2] = 1.0 / m->izz;
+    if (m->ndof == 3) {
+        double J[9] = {1, 0, -m->pc[1], 0, 1, m->pc[0], 0, 0, 1}, W[9];
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++) {
+                double s = 0;
+                for (int k = 0; k < 3; k++) s += J[3 * i + k] * m->minv[k] * J[3 * j + k];
+                W[3 * i + j] = s;
+            }
+        st = exdex_friction_prepare(&m->prep, W, m->e);
+        if (st) {
+            exdex_model_free(m);
+            *status = st;
+            if (bad_param) *bad_param = "inertia";
+            return NULL;
+        }
+    }
+    m->n_stops = def->n_stops;
+    for (int k = 0; k < def->n_stops; k++) {
+        memcpy(m->sp[k], def->stop_point[k], sizeof m->sp[k]);
+        memcpy(m->sn[k], def->stop_normal[k], sizeof m->sn[k]);
+    }
+    m->n_vert = def->n_vertices;
+    memcpy(m->vert, def->vertices, sizeof m->vert);
+    /* no vertex may start beyond a stop */
+    if (m->n_stops) {
+        exdex_kinematics kin;
+        double q[3];
+        int nv = m->n_vert ? m->n_vert : 1;
+        if (m->ndof == 3) {
+            memcpy(q, def->q0, sizeof q);
+        } else {
+            q[0] = def->dof == EXDEX_DOF_TRANSLATION ? m->s0 : m->th0;
+        }
+        st = exdex_motion_eval(m->motion, 0.0, &kin);
+        for (int k = 0; !st && k < m->n_stops; k++)
+            for (int j = 0; j < nv; j++)
+                if (contact_vertex_gap(m, &kin, k, q, j, NULL) < -1e-9) st = EXDEX_EINVAL;
+        if (st) {
+            exdex_model_free(m);
+            *status = st;
+            if (bad_param) *bad_param = "q0 (the object starts beyond a stop)";
+            return NULL;
+        }
+    }
+    *status = EXDEX_OK;
+    return m;
+}
+
+exdex_model *exdex_model_alloc(const exdex_scene_def *def, int *status, const char **bad_param)
+{
+    return build_model(def, status, bad_param);
+}
+
+/* Everything model_alloc rejects as bad input is rejected here with the same
+ * bad_param, by construction: the fields first, then the model is built (R0
+ * and the motion by exdex_motion_alloc, the planar friction problem, the
+ * initial stop gaps) and freed again. */
+int exdex_scene_check(const exdex_scene_def *d, const char **bad_param)
+{
+    int st = check_fields(d, bad_param), st_build = EXDEX_OK;
+    const char *b = NULL;
+    exdex_model *m;
+    if (st) return st;
+    m = build_model(d, &st_build, &b);
+    if (m) {
+        exdex_model_free(m);
+        return EXDEX_OK;
+    }
+    /* EINVAL: bad input; ENOMEM passes through; ENONFINITE (the motion
+     * overflows at t = 0) is not a bad field: the check passes */
+    if (st_build == EXDEX_EINVAL && bad_param) *bad_param = b;
+    return st_build == EXDEX_ENONFINITE ? EXDEX_OK : st_build;
+}
+
+int exdex_model_ndof(const exdex_model *m) { return m ? m->ndof : 0; }
+int exdex_model_nstops(const exdex_model *m) { return m ? m->n_stops : 0; }

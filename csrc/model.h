@@ -1,0 +1,147 @@
+/* model.h -- private to the exdex core: the immutable model a scene
+ * definition compiles to, the kinematics of the moving gripper frame, the
+ * paper's Eqs. 3-5 (gravity and inertial force and torque on the object in
+ * B) and the maps between the generalised coordinates and the friction
+ * patch. Everything here is read-only after exdex_model_alloc: every method
+ * keeps its mutable state in its own workspace. Not installed, no Python. */
+#ifndef EXDEX_MODEL_H
+#define EXDEX_MODEL_H
+
+#include <math.h>
+
+#include "exdex.h"
+
+#define MAX_ROWS (EXDEX_MAX_STOPS * EXDEX_MAX_VERTICES)
+
+struct exdex_model {
+    exdex_scene_def def;    /* copy of the definition (sampled arrays owned by motion) */
+    exdex_motion *motion;
+    int ndof;
+    double m;               /* mass */
+    double I[9];            /* inertia in C */
+    double izz;
+    double capF;            /* friction capacity mu * fingers * grip_force [N] */
+    double e[3];            /* (1, 1, e_r) */
+    double pc[2];           /* centre of pressure in C */
+    double g[3];            /* gravity in A */
+    /* translation */
+    double d[2];            /* unit slide axis in B */
+    double r0[2];           /* initial centre of mass in B */
+    double s0;              /* d . r0 */
+    double th0;
+    /* rotation about the pivot (centre of pressure, fixed in B) */
+    double pivot[2];
+    double c[2];            /* centre of mass relative to the pivot, in C */
+    double mrot;            /* generalized mass izz + m |c|^2 */
+    /* planar: friction problem in object-frame patch coordinates (constant) */
+    exdex_friction_prep prep;
+    double minv[3];         /* diagonal of M^-1 */
+    /* stops */
+    int n_stops;
+    double sp[EXDEX_MAX_STOPS][3], sn[EXDEX_MAX_STOPS][3];
+    int n_vert;
+    double vert[EXDEX_MAX_VERTICES][2];
+};
+
+/* Per-step quantities of the moving frame, in B coordinates: gravity g_B,
+ * acceleration of B's origin a0, angular velocity w, angular acceleration dw. */
+typedef struct frame {
+    double gB[3], a0[3], w[3], dw[3];
+} frame;
+
+/* Rotation by angle th about z applied to a plane vector. */
+static inline void rot2(double out[2], double th, const double v[2])
+{
+    double c = cos(th), s = sin(th);
+    double x = c * v[0] - s * v[1], y = s * v[0] + c * v[1];
+    out[0] = x;
+    out[1] = y;
+}
+
+/* Centre of mass position r in B (z = 0) and orientation th for coordinates q:
+ * translation r = r0 + (s - s0) d; rotation r = pivot + Rz(theta) c;
+ * planar r = (x, y). */
+static inline void model_com_pose(const exdex_model *m, const double *q, double r[3], double *th)
+{
+    r[2] = 0.0;
+    switch (m->ndof == 3 ? EXDEX_DOF_PLANAR : m->def.dof) {
+    case EXDEX_DOF_TRANSLATION:
+        r[0] = m->r0[0] + (q[0] - m->s0) * m->d[0];
+        r[1] = m->r0[1] + (q[0] - m->s0) * m->d[1];
+        *th = m->th0;
+        break;
+    case EXDEX_DOF_ROTATION: {
+        double rho[2];
+        rot2(rho, q[0], m->c);
+        r[0] = m->pivot[0] + rho[0];
+        r[1] = m->pivot[1] + rho[1];
+        *th = q[0];
+        break;
+    }
+    default:
+        r[0] = q[0];
+        r[1] = q[1];
+        *th = q[2];
+    }
+}
+
+/* Initial coordinates q and velocities v of the scene (ndof entries each):
+ * translation s0 = d . (x0, y0) and the velocity component along d; rotation
+ * theta0 and omega0; planar the definition's q0, v0. */
+void model_initial_state(const exdex_model *m, double *q, double *v);
+
+/* ------------------------------------------------- frame kinematics */
+
+/* Motion kinematics k at time t and the frame terms f in B coordinates. */
+int model_frame_at(const exdex_model *m, double t, frame *f, exdex_kinematics *k);
+/* Frame terms for the step from t (kinematics kin0) to t1 = t + h: the
+ * kinematics and frame f at t_eval (position-dependent terms), kin_end at
+ * t1, and the linear and angular accelerations replaced by their means over
+ * the step, (v(t1) - v(t)) / h: exact in the mean when a motion switches
+ * acceleration inside a step (Eq. 7 has jumps). */
+int model_frame_step(const exdex_model *m, const exdex_kinematics *kin0, double t_eval, double t1, double h,
+                     frame *f, exdex_kinematics *kin, exdex_kinematics *kin_end);
+
+/* --------------------------------------- paper Eqs. 3-5: applied forces */
+
+/* Gravity + inertial force on the centre of mass at r moving at rd (Eq. 5),
+ * B coordinates: m (g_B - a0 - dw x r - w x (w x r) - 2 w x rd). */
+void model_force_lin(const exdex_model *m, const frame *f, const double r[3], const double rd[3], double F[3]);
+/* Inertial torque about the plate normal on the body at angle th turning at
+ * thd relative to B (Euler's equation, z-component, Eq. 4). */
+double model_torque_z(const exdex_model *m, const frame *f, double th, double thd);
+/* 1-DoF generalised applied force Q(t, q, qd): Eq. 5 projected on the slide
+ * axis (translation) or its moment about the pivot plus the inertial torque
+ * (rotation). */
+double model_force_1dof(const exdex_model *m, const frame *f, double q, double v);
+/* Planar generalised applied force (B frame, (x, y, theta)). */
+void model_force_planar(const exdex_model *m, const frame *f, const double *q, const double *v, double F[3]);
+
+/* ----------------------------------------------------- patch coordinates
+ * The friction patch sits at the centre of pressure pc (object frame C). A
+ * planar velocity v = (xd, yd, thd) in B has the patch slip twist
+ *     u = J' Rz(-th) v,   J' = [[1, 0, -pc_y], [0, 1, pc_x], [0, 0, 1]]
+ * (object frame, at the centre of pressure); a patch wrench (or impulse) w
+ * has the generalised force P = Rz(th) J'^T w, and P the patch wrench
+ * w = J'^-T Rz(-th) P. cs = (cos th, sin th); MODEL_CS(th) forms it. */
+#define MODEL_CS(th) ((const double[2]){cos(th), sin(th)})
+
+void model_patch_slip(const exdex_model *m, const double cs[2], const double v[3], double u[3]);
+void model_gen_of_patch(const exdex_model *m, const double cs[2], const double w[3], double P[3]);
+void model_patch_of_gen(const exdex_model *m, const double cs[2], const double P[3], double w[3]);
+/* A plane force (f_x, f_y) of the object frame rotated into B, z kept. */
+static inline void model_to_b(const double cs[2], const double w[3], double out[3])
+{
+    double x = cs[0] * w[0] - cs[1] * w[1], y = cs[1] * w[0] + cs[0] * w[1];
+    out[0] = x;
+    out[1] = y;
+    out[2] = w[2];
+}
+/* |E^-1 w|, the ellipsoid norm of a patch wrench (paper Eq. 6). */
+static inline double model_ell_norm(const exdex_model *m, const double w[3])
+{
+    double a = w[0] / m->e[0], b = w[1] / m->e[1], c = w[2] / m->e[2];
+    return sqrt(a * a + b * b + c * c);
+}
+
+#endif

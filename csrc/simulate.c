@@ -1,0 +1,81 @@
+/* simulate.c -- exdex_simulate: checks the call, records the initial
+ * sample, runs the scene's method through the method table (method.h) with
+ * a workspace of its own, and checks and returns what it recorded. */
+#include "exdex.h"
+#include "method.h"
+#include "model.h"
+
+#include <math.h>
+#include <string.h>
+
+size_t exdex_n_samples(double t_end, double dt)
+{
+    double r;
+    double steps;
+    if (!(isfinite(t_end) && isfinite(dt) && dt > 0 && t_end > 0 && dt <= t_end)) return 0;
+    r = t_end / dt;
+    steps = floor(r + 0.5);
+    if (fabs(r - steps) > 1e-9 * r) steps = ceil(r);
+    if (steps < 1) steps = 1;
+    if (steps > EXDEX_MAX_STEPS) return 0;
+    return (size_t)steps + 1;
+}
+
+static const method_impl *const methods[] = {
+    [EXDEX_METHOD_IMPLICIT] = &method_implicit,
+    [EXDEX_METHOD_EVENT] = &method_event,
+    [EXDEX_METHOD_REGULARISED] = &method_regularised,
+    [EXDEX_METHOD_EXPLICIT] = &method_explicit,
+};
+
+/* A run that returned OK must not have recorded a non-finite number (e.g. a
+ * capacity mu N that overflows makes the explicit friction infinite). */
+static int output_finite(const exdex_model *m, const exdex_trajectory *out)
+{
+    size_t n = out->n, nq = n * (size_t)m->ndof, ns = n * (size_t)m->n_stops;
+    for (size_t i = 0; i < nq; i++)
+        if (!isfinite(out->q[i]) || !isfinite(out->v[i])) return 0;
+    for (size_t i = 0; i < 3 * n; i++)
+        if (!isfinite(out->wrench[i])) return 0;
+    for (size_t i = 0; i < ns; i++)
+        if (!isfinite(out->stop_force[i])) return 0;
+    return 1;
+}
+
+int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajectory *out,
+                   exdex_stats *stats)
+{
+    size_t n = exdex_n_samples(t_end, dt);
+    int nd, status = EXDEX_OK;
+    double q[3], v[3];
+    const method_impl *impl;
+    void *ws;
+    exdex_stats st;
+    if (!m || !out || n == 0 || out->n != n || !out->t || !out->q || !out->v || !out->wrench ||
+        !out->stick || (m->n_stops && !out->stop_force))
+        return EXDEX_EINVAL;
+    if (m->def.method < EXDEX_METHOD_IMPLICIT || m->def.method > EXDEX_METHOD_EXPLICIT) return EXDEX_EINVAL;
+    impl = methods[m->def.method];
+    memset(&st, 0, sizeof st);
+    st.min_gap = INFINITY;
+    nd = m->ndof;
+    model_initial_state(m, q, v);
+    out->t[0] = 0.0;
+    for (int i = 0; i < nd; i++) {
+        out->q[i] = q[i];
+        out->v[i] = v[i];
+    }
+    out->wrench[0] = out->wrench[1] = out->wrench[2] = 0.0;
+    out->stick[0] = (v[0] == 0.0 && (nd == 1 || (v[1] == 0.0 && v[2] == 0.0)));
+    for (int k = 0; k < m->n_stops; k++) out->stop_force[k] = 0.0;
+    ws = impl->alloc(m, &status);
+    if (!ws) return status ? status : EXDEX_ENOMEM;
+    status = impl->run(m, ws, t_end, dt, out, &st);
+    impl->free(ws);
+    if (status == EXDEX_OK && !output_finite(m, out)) status = EXDEX_ENONFINITE;
+    if (stats) *stats = st;
+    /* the model and arguments were valid: an "invalid argument" from the
+     * motion or a solver inside the run means the state left the finite
+     * range */
+    return status == EXDEX_EINVAL ? EXDEX_ENONFINITE : status;
+}
