@@ -138,8 +138,8 @@ def test_record_final_is_last_row_of_all(threads):
     for k in STATS:
         np.testing.assert_array_equal(f.stats[k], a.stats[k])
     with pytest.raises(ValueError, match="record='all'"):
-        f.result(0)
-    r = a.result(2)
+        f.at(0)
+    r = a.at(2)
     assert isinstance(r, exdex.Result) and r.scene.grasp.mu == 0.6
 
 
