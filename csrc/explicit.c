@@ -128,6 +128,7 @@ static int run_explicit(const exdex_model *m, double t_end, double dt, exdex_tra
         kin0 = kin_end;
         st->steps++;
         st->stick_steps += (size_t)still;
+        method_note_warning_time(st, t1);
         out->t[i] = t1;
         for (int c = 0; c < nd; c++) {
             out->q[i * nd + c] = q[c];
@@ -156,4 +157,4 @@ static int explicit_run(const exdex_model *m, void *ws, double t_end, double dt,
     return run_explicit(m, t_end, dt, out, st);
 }
 
-const method_impl method_explicit = {"explicit", explicit_alloc, explicit_run, explicit_free};
+const method_impl method_explicit = {"explicit", explicit_alloc, explicit_run, explicit_free, 1};

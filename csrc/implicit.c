@@ -658,6 +658,7 @@ static int implicit_run(const exdex_model *m, void *ws, double t_end, double dt,
         kin0 = kin_end;
         st->steps++;
         st->stick_steps += (size_t)stick;
+        method_note_warning_time(st, t1);
         out->t[step] = t1;
         for (int i = 0; i < n_dof; i++) {
             out->q[step * n_dof + i] = q[i];
@@ -672,4 +673,4 @@ static int implicit_run(const exdex_model *m, void *ws, double t_end, double dt,
     return status;
 }
 
-const method_impl method_implicit = {"implicit", implicit_alloc, implicit_run, implicit_free};
+const method_impl method_implicit = {"implicit", implicit_alloc, implicit_run, implicit_free, 1};

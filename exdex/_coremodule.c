@@ -215,12 +215,25 @@ fail:
     return -1;
 }
 
+/* The impact and warning-time fields of exdex_stats into dict d; -1 on error. */
+static int add_impact_stats(PyObject *d, const exdex_stats *st)
+{
+    PyObject *o = Py_BuildValue("{s:n,s:d,s:d,s:i,s:d}", "impacts", (Py_ssize_t)st->impacts, "max_impulse",
+                                st->max_impulse, "max_impulse_t", st->max_impulse_t, "max_impulse_stop",
+                                st->max_impulse_stop, "first_warning_t", st->first_warning_t);
+    int rc = o ? PyDict_Update(d, o) : -1;
+    Py_XDECREF(o);
+    return rc;
+}
+
 static PyObject *stats_dict(const exdex_stats *st)
 {
-    return Py_BuildValue("{s:n,s:n,s:n,s:n,s:n,s:d}", "steps", (Py_ssize_t)st->steps, "stick_steps",
-                         (Py_ssize_t)st->stick_steps, "solver_iterations", (Py_ssize_t)st->solver_iterations,
-                         "stop_iterations", (Py_ssize_t)st->stop_iterations, "warnings",
-                         (Py_ssize_t)st->warnings, "min_gap", st->min_gap);
+    PyObject *d = Py_BuildValue("{s:n,s:n,s:n,s:n,s:n,s:d}", "steps", (Py_ssize_t)st->steps, "stick_steps",
+                                (Py_ssize_t)st->stick_steps, "solver_iterations", (Py_ssize_t)st->solver_iterations,
+                                "stop_iterations", (Py_ssize_t)st->stop_iterations, "warnings",
+                                (Py_ssize_t)st->warnings, "min_gap", st->min_gap);
+    if (d && add_impact_stats(d, st)) Py_CLEAR(d);
+    return d;
 }
 
 /* Validate (t_end, dt) and set *n to the number of samples; -1 with a
@@ -736,6 +749,8 @@ typedef struct batch_ctx {
     unsigned char *stick;
     npy_int64 *steps, *stick_steps, *solver_iterations, *stop_iterations, *warnings;
     double *min_gap;
+    npy_int64 *impacts, *max_impulse_stop;
+    double *max_impulse, *max_impulse_t, *first_warning_t;
     /* shared work index and the first failure */
     pthread_mutex_t lock;
     size_t next;
@@ -848,6 +863,11 @@ static void *batch_run(void *arg)
         c->stop_iterations[i] = (npy_int64)st.stop_iterations;
         c->warnings[i] = (npy_int64)st.warnings;
         c->min_gap[i] = st.min_gap;
+        c->impacts[i] = (npy_int64)st.impacts;
+        c->max_impulse[i] = st.max_impulse;
+        c->max_impulse_t[i] = st.max_impulse_t;
+        c->max_impulse_stop[i] = (npy_int64)st.max_impulse_stop;
+        c->first_warning_t[i] = st.first_warning_t;
     }
     return NULL;
 }
@@ -935,7 +955,7 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
     PyArrayObject *varr[NVARY_MAX] = {NULL};
     PyArrayObject *base_times = NULL, *base_poses = NULL;
     PyArrayObject *t = NULL, *q = NULL, *v = NULL, *wr = NULL, *stick = NULL, *sf = NULL, *disp = NULL;
-    PyArrayObject *sarr[6] = {NULL};
+    PyArrayObject *sarr[11] = {NULL};
     exdex_model **models = NULL;
     batch_worker *workers = NULL;
     exdex_scene_def base;
@@ -1046,10 +1066,12 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
             stick = (PyArrayObject *)PyArray_SimpleNew(2, d_bn, NPY_BOOL);
             sf = (PyArrayObject *)PyArray_ZEROS(3, d_bns, NPY_DOUBLE, 0);
         }
-        for (int k = 0; k < 5; k++) sarr[k] = (PyArrayObject *)PyArray_SimpleNew(1, d_b, NPY_INT64);
-        sarr[5] = (PyArrayObject *)PyArray_SimpleNew(1, d_b, NPY_DOUBLE);
+        /* int64: steps .. warnings (0-4), impacts (6), max_impulse_stop (9);
+         * float64: min_gap (5), max_impulse (7), max_impulse_t (8), first_warning_t (10) */
+        for (int k = 0; k < 11; k++)
+            sarr[k] = (PyArrayObject *)PyArray_ZEROS(1, d_b, (k < 5 || k == 6 || k == 9) ? NPY_INT64 : NPY_DOUBLE, 0);
         if (!t || !disp || !q || !v || !wr || !stick || !sf) goto done;
-        for (int k = 0; k < 6; k++)
+        for (int k = 0; k < 11; k++)
             if (!sarr[k]) goto done;
     }
 
@@ -1099,6 +1121,11 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
     ctx.stop_iterations = PyArray_DATA(sarr[3]);
     ctx.warnings = PyArray_DATA(sarr[4]);
     ctx.min_gap = PyArray_DATA(sarr[5]);
+    ctx.impacts = PyArray_DATA(sarr[6]);
+    ctx.max_impulse = PyArray_DATA(sarr[7]);
+    ctx.max_impulse_t = PyArray_DATA(sarr[8]);
+    ctx.max_impulse_stop = PyArray_DATA(sarr[9]);
+    ctx.first_warning_t = PyArray_DATA(sarr[10]);
     ctx.next = 0;
     ctx.fail_index = (size_t)nb;
     ctx.fail_status = EXDEX_OK;
@@ -1127,9 +1154,10 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
         raise_trajectory_error(module, ctx.fail_status, (Py_ssize_t)ctx.fail_index);
         goto done;
     }
-    stats = Py_BuildValue("{s:O,s:O,s:O,s:O,s:O,s:O}", "steps", sarr[0], "stick_steps", sarr[1],
-                          "solver_iterations", sarr[2], "stop_iterations", sarr[3], "warnings", sarr[4],
-                          "min_gap", sarr[5]);
+    stats = Py_BuildValue("{s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O}", "steps", sarr[0], "stick_steps",
+                          sarr[1], "solver_iterations", sarr[2], "stop_iterations", sarr[3], "warnings", sarr[4],
+                          "min_gap", sarr[5], "impacts", sarr[6], "max_impulse", sarr[7], "max_impulse_t",
+                          sarr[8], "max_impulse_stop", sarr[9], "first_warning_t", sarr[10]);
     if (!stats) goto done;
     result = Py_BuildValue("{s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:n}", "t", t, "q", q, "v", v, "wrench", wr,
                            "stick", stick, "stop_force", sf, "displacement", disp, "stats", stats,
@@ -1148,7 +1176,7 @@ done:
         PyMem_Free(models);
     }
     for (int k = 0; k < NVARY_MAX; k++) Py_XDECREF(varr[k]);
-    for (int k = 0; k < 6; k++) Py_XDECREF(sarr[k]);
+    for (int k = 0; k < 11; k++) Py_XDECREF(sarr[k]);
     Py_XDECREF(base_times);
     Py_XDECREF(base_poses);
     Py_XDECREF(seq);

@@ -117,7 +117,9 @@ class BatchResult:
 
     final_displacement : (B, ndof) q at t_end minus q at t = 0 [m or rad].
     stats : dict of (B,) arrays per trajectory: steps, stick_steps,
-        solver_iterations, stop_iterations, warnings (int64), min_gap [m].
+        solver_iterations, stop_iterations, warnings, impacts,
+        max_impulse_stop (int64), min_gap [m], max_impulse [N s],
+        max_impulse_t, first_warning_t [s] (as in :class:`exdex.Result`).
     params : dict name -> (B,) float64 values of the varied parameters.
     shape : batch shape (B = prod(shape)); see :meth:`gridded`.
     scene : the base scene (or the tuple of scenes of a list batch).

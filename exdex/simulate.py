@@ -34,8 +34,17 @@ class Result:
     stick : (n,) True where the step ending there left the object exactly at
         rest relative to the gripper (row 0: the initial velocity is zero).
     stop_force : (n, n_stops) mean normal force of each stop on the object [N].
-    stats : dict of solver statistics (steps, stick_steps, solver_iterations,
-        stop_iterations, warnings, min_gap [m]).
+    stats : dict of solver statistics: steps, stick_steps,
+        solver_iterations, stop_iterations, warnings (soft problems: an
+        iteration limit reached with the last iterate kept, a stop that
+        cannot act or pinches the object, a penetration left after a step),
+        first_warning_t [s] (end of the first step or output interval that
+        counted one; NaN: none), min_gap [m], impacts (stops that started
+        pushing an approaching object: velocity jumps), max_impulse [N s]
+        (largest impact impulse, generalized N m s on a rotation pin),
+        max_impulse_t [s] and max_impulse_stop (its time and stop; NaN / -1:
+        none). ``stop_force`` shows an impact as its impulse divided by the
+        step.
     scene, method, friction_solver, dt : what produced it.
     """
 
