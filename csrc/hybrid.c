@@ -292,31 +292,21 @@ static double planar_rest(hyb *H, const exdex_kinematics *kin, const double *y, 
                           double *lam)
 {
     const exdex_model *m = H->m;
-    double col[MAX_ROWS][4], nb[MAX_ROWS], u[MAX_ROWS], a[3], mF[3], fv[4], na, P[3];
+    double B[MAX_ROWS][3], a[3], mF[3], P[3];
     int it = 0;
     for (int c = 0; c < 3; c++) mF[c] = -F[c];
     model_patch_of_gen(m, MODEL_CS(y[2]), mF, a);
     for (int c = 0; c < 3; c++) a[c] /= m->e[c];
-    na = sqrt(ex_dot3(a, a));
-    for (int i = 0; i < H->ncs; i++) lam[i] = 0.0;
-    if (H->ncs && na > 0.0) {
-        for (int i = 0; i < H->ncs; i++) {
-            int r = H->cs[i];
-            double G[3], mG[3], B[3];
-            contact_row_planar(m, kin, r / H->nv, r % H->nv, y, y + 3, G, NULL, NULL);
-            for (int c = 0; c < 3; c++) mG[c] = -G[c];
-            model_patch_of_gen(m, MODEL_CS(y[2]), mG, B);
-            for (int c = 0; c < 3; c++) B[c] /= m->e[c];
-            nb[i] = sqrt(ex_dot3(B, B));
-            for (int c = 0; c < 3; c++) col[i][c] = nb[i] > 0.0 ? B[c] / nb[i] : 0.0;
-            col[i][3] = 0.0;
-        }
-        for (int c = 0; c < 3; c++) fv[c] = -a[c] / na;
-        fv[3] = 0.0;
-        ldp_nnls(H->ncs, (const double (*)[4])col, fv, u, &it);
-        H->st->stop_iterations += (size_t)it;
-        for (int i = 0; i < H->ncs; i++) lam[i] = nb[i] > 0.0 ? u[i] * na / nb[i] : 0.0;
+    for (int i = 0; i < H->ncs; i++) {
+        int r = H->cs[i];
+        double G[3], mG[3];
+        contact_row_planar(m, kin, r / H->nv, r % H->nv, y, y + 3, G, NULL, NULL);
+        for (int c = 0; c < 3; c++) mG[c] = -G[c];
+        model_patch_of_gen(m, MODEL_CS(y[2]), mG, B[i]);
+        for (int c = 0; c < 3; c++) B[i][c] /= m->e[c];
     }
+    ldp_min_combination(H->ncs, a, (const double (*)[3])B, lam, &it);
+    H->st->stop_iterations += (size_t)it;
     for (int c = 0; c < 3; c++) P[c] = -F[c];
     for (int i = 0; i < H->ncs; i++) {
         int r = H->cs[i];

@@ -135,19 +135,17 @@ static void step_1dof(double M, double c, double vs, work *w, double *v_out, dou
 /* Can the object stay exactly at rest (v+ = 0) with stop impulses lambda >= 0
  * on the touching rows and a friction impulse inside the ellipsoid? The
  * friction needed is p(lambda) = -J^-T (M v* + G^T lambda); minimise
- * |E^-1 p(lambda)| over lambda >= 0 (a tiny non-negative least-squares
- * problem, solved exactly by trying every support of size <= 3: in 3-D an
- * optimal support never needs more). Rest holds iff that minimum <= cap; the
- * minimiser is the split with the least friction (the stops carry what they
- * can). */
+ * |E^-1 p(lambda)| over lambda >= 0 (ldp_min_combination). Rest holds iff
+ * that minimum <= cap; the minimiser is the split with the least friction
+ * (the stops carry what they can). */
 static int try_rest(const exdex_model *m, const double cs[2], double cap, const double vs[3], work *w,
-                    double pfB[3], exdex_friction_result *fr)
+                    double pfB[3], exdex_friction_result *fr, exdex_stats *st)
 {
-    int rows[8], k = 0, best_set[3] = {-1, -1, -1}, best_n = 0;
-    double a[3], B[8][3], P[3], best, best_lam[3] = {0, 0, 0};
+    int rows[MAX_ROWS], k = 0, it = 0;
+    double a[3], B[MAX_ROWS][3], lam[MAX_ROWS], P[3], best;
     for (int i = 0; i < w->n_rows; i++) {
         if (w->rhs[i] > 0.0 && w->gap[i] < -TOUCH) return 0; /* rest would penetrate */
-        if (w->gap[i] <= TOUCH && k < 8) rows[k++] = i;
+        if (w->gap[i] <= TOUCH) rows[k++] = i;
     }
     for (int i = 0; i < 3; i++) P[i] = vs[i] / m->minv[i];
     model_patch_of_gen(m, cs, P, a);
@@ -156,43 +154,13 @@ static int try_rest(const exdex_model *m, const double cs[2], double cap, const 
         model_patch_of_gen(m, cs, w->G[rows[j]], B[j]);
         for (int i = 0; i < 3; i++) B[j][i] /= m->e[i];
     }
-    best = sqrt(ex_dot3(a, a)); /* empty support */
-    for (int mask = 1; mask < (1 << k); mask++) {
-        int set[3], n = 0, ok = 1;
-        double A[3][3], rhs[3], lam[3], r[3], norm;
-        for (int j = 0; j < k && n <= 3; j++)
-            if (mask & (1 << j)) {
-                if (n < 3) set[n] = j;
-                n++;
-            }
-        if (n > 3) continue;
-        for (int i = 0; i < n; i++) {
-            for (int j = 0; j < n; j++) A[i][j] = ex_dot3(B[set[i]], B[set[j]]);
-            rhs[i] = -ex_dot3(B[set[i]], a);
-        }
-        if (!ldp_solve_small(n, A, rhs, lam)) continue;
-        for (int i = 0; i < n; i++) ok &= lam[i] >= 0.0;
-        if (!ok) continue;
-        for (int c = 0; c < 3; c++) {
-            r[c] = a[c];
-            for (int i = 0; i < n; i++) r[c] += lam[i] * B[set[i]][c];
-        }
-        norm = sqrt(ex_dot3(r, r));
-        if (norm < best) {
-            best = norm;
-            best_n = n;
-            for (int i = 0; i < n; i++) {
-                best_set[i] = rows[set[i]];
-                best_lam[i] = lam[i];
-            }
-        }
-    }
+    best = ldp_min_combination(k, a, (const double (*)[3])B, lam, &it);
+    st->stop_iterations += (size_t)it;
     if (!(best <= cap * (1.0 + 1e-12))) return 0;
-    for (int i = 0; i < 3; i++) P[i] = vs[i] / m->minv[i];
     for (int i = 0; i < w->n_rows; i++) w->lam[i] = 0.0;
-    for (int i = 0; i < best_n; i++) {
-        w->lam[best_set[i]] = best_lam[i];
-        for (int c = 0; c < 3; c++) P[c] += best_lam[i] * w->G[best_set[i]][c];
+    for (int j = 0; j < k; j++) {
+        w->lam[rows[j]] = lam[j];
+        for (int c = 0; c < 3; c++) P[c] += lam[j] * w->G[rows[j]][c];
     }
     for (int c = 0; c < 3; c++) pfB[c] = -P[c];
     model_patch_of_gen(m, cs, pfB, fr->p);
@@ -202,9 +170,6 @@ static int try_rest(const exdex_model *m, const double cs[2], double cap, const 
     fr->iterations = 0;
     return 1;
 }
-
-/* Friction slip map in B generalized coordinates, scaled: r = E J_f v with
- * J_f v = J' Rg(-th) v, J' = [[1,0,-pc_y],[0,1,pc_x],[0,0,1]]. */
 
 /* Friction slip map in B generalized coordinates, scaled: r = E J_f v. */
 static void ejf(const exdex_model *m, const double cs[2], const double v[3], double r[3])
@@ -407,7 +372,7 @@ static int step_planar(const exdex_model *m, double h, double th, const double v
             }
         }
         if (worst < 0) break; /* every row satisfied: done */
-        if (round == 0 && try_rest(m, cs, cap, vs, w, pfB, fr)) {
+        if (round == 0 && try_rest(m, cs, cap, vs, w, pfB, fr, st)) {
             v[0] = v[1] = v[2] = 0.0;
             goto done;
         }
@@ -452,23 +417,19 @@ done:
 /* Remove the residual penetration left by the midpoint position update and
  * the linearised rotation (see build_rows): Newton passes on the vertex
  * gaps, each the least M-norm correction dq with every linearised gap
- * g_i + G_i dq >= 0 (a small QP over all vertex rows, solved by
- * proj_min_norm on a growing set of candidate rows: start with the deepest,
- * add the row most violated by the current dq until none is). A gap within
- * its rounding bound (gap_round) of 0 counts as 0, as in build_rows: the
- * sign of a rounding-level gap is not determined by the data.
- * (Found by the property test test_stop_never_penetrated: the previous
- * projection moved along M^-1 G^T of the deepest vertex alone. With an edge
- * of the box flush against the stop, its two vertices equally deep, each
- * such step rotates the box and pushes the other vertex in: the penetration
- * alternated between them and shrank only by a factor 0.7 per pass, 16
- * passes left 5e-8 m; and rounding-level gaps of -1e-18 m, which no
- * projection removes, used up all passes and counted a warning each step.
- * Both vertex rows together give the pure translation at once.) */
+ * g_i + G_i dq >= 0 over all (stop, vertex) rows at once (ldp_min_norm in
+ * z = M^1/2 dq): with an edge flush against a stop its two vertices are
+ * equally deep, and only both rows together give the pure translation that
+ * removes the penetration of both (one row at a time rotates the box and
+ * pushes the other vertex in). A penetrating row targets a gap slightly
+ * positive (1e-12 of the deepest penetration), so the next pass sees no
+ * rounding-level penetration from this one; a gap within its rounding bound
+ * (contact_gap_round) of 0 counts as 0, as in build_rows, and may stay
+ * there: the sign of a rounding-level gap is not determined by the data. */
 static void project_positions(const exdex_model *m, const exdex_kinematics *kin, double *q,
                               exdex_stats *st)
 {
-    int nv = m->n_vert ? m->n_vert : 1, n = m->ndof, nr = m->n_stops * nv;
+    int nv = contact_nv(m), n = m->ndof, nr = m->n_stops * nv;
     double sq[3] = {0, 0, 0};  /* M^-1/2 (the metric of the correction) */
     if (n == 1) {
         sq[0] = 1.0;
@@ -478,8 +439,8 @@ static void project_positions(const exdex_model *m, const exdex_kinematics *kin,
     }
     for (int pass = 0; pass < 16; pass++) {
         double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], a[MAX_ROWS][3], g[MAX_ROWS], c[MAX_ROWS],
-            tol[MAX_ROWS], z[3] = {0, 0, 0}, depth = 0.0;
-        int cand[PROJ_CAND], nc = 0, deep = -1, solved = 0;
+            tol[MAX_ROWS], y[MAX_ROWS], z[3] = {0, 0, 0}, depth = 0.0;
+        int deep = -1;
         contact_vertices(m, q, xb, vx);
         for (int k = 0; k < m->n_stops; k++)
             for (int j = 0; j < nv; j++) {
@@ -492,31 +453,13 @@ static void project_positions(const exdex_model *m, const exdex_kinematics *kin,
             }
         if (deep < 0) return;  /* every gap >= 0 to rounding */
         depth = -g[deep];
-        /* target gap slightly positive (1e-12 of the depth): the next pass
-         * then sees no rounding-level penetration from this one */
-        for (int i = 0; i < nr; i++) c[i] = -g[i] + 1e-12 * depth;
-        cand[nc++] = deep;
-        for (;;) {
-            int worst = -1;
-            double wv = 0.0;
-            if (!ldp_min_norm_enum(n, (const double (*)[3])a, c, tol, cand, nc, z)) break;
-            for (int i = 0; i < nr; i++) {
-                double viol = c[i] - tol[i] - ex_dot3(a[i], z);
-                if (viol > wv) {
-                    wv = viol;
-                    worst = i;
-                }
-            }
-            if (worst < 0) {
-                solved = 1;
-                break;
-            }
-            if (nc == PROJ_CAND) break;
-            cand[nc++] = worst;
+        for (int i = 0; i < nr; i++) {
+            c[i] = -g[i] + 1e-12 * depth;
+            if (g[i] < -tol[i]) tol[i] = 0.0;
         }
-        if (!solved) {
-            /* contradictory rows (pinched object) or too many candidates:
-             * the deepest row alone, as far as it can act */
+        if (!ldp_min_norm(nr, (const double (*)[3])a, c, tol, z, y, NULL)) {
+            /* contradictory rows (pinched object): the deepest row alone,
+             * as far as it can act */
             double aa = ex_dot3(a[deep], a[deep]);
             if (!(aa > 0.0)) break;
             for (int d = 0; d < 3; d++) z[d] = a[deep][d] * c[deep] / aa;

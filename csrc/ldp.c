@@ -151,116 +151,123 @@ int ldp_nnls(int m, const double (*col)[4], const double f[4], double *u, int *i
     return 0;
 }
 
-/* Project vs onto the stop rows in the metric of M = diag(1 / minv):
- *     min 1/2 (v - vs)' M (v - vs)  s.t.  G_i v >= b_i  (i < nr),
- * v = vs + M^-1 G' lam, lam >= 0 the row impulses (complementary to the
- * rows). Exact: with z = M^1/2 (v - vs) it is the least-distance problem
- * min |z| s.t. C z >= c, C = G M^-1/2, c = b - G vs, solved as the NNLS
- * min |E u - (0, 0, 0, 1)|, E = [C'; c'] (Lawson & Hanson, LDP, ch. 23):
- * z = C' u / (1 - c' u), lam = u / (1 - c' u). Rows are scaled to unit |C_i|
- * and c to max |c_i| = 1 first (neither changes the solution). Rows with
- * |G_i| <= FQ_MIN cannot act and are skipped. If the rows cannot all hold
- * (stops pinch the object: E u = f has a solution) or NNLS fails, the most
- * violated row alone is enforced and a warning counted. Returns 1 if some
- * row acted. */
+/* Least distance (Lawson & Hanson, Solving Least Squares Problems, ch. 23):
+ * min |z| s.t. A z >= c is the NNLS problem min |E u - f| over u >= 0 with
+ * E = [A'; c'] (4 x m) and f = (0, 0, 0, 1). With r = E u - f at its
+ * solution, the rows are consistent iff r_4 < 0, and then
+ *     z = -r_{1..3} / r_4,   y = u / (-r_4)   (z = A' y, y >= 0 the
+ * multipliers, complementary to the rows). Rows are first scaled to unit
+ * |a_i| and c to max |c_i| = 1, which changes neither z nor the active set;
+ * the solve is accurate relative to that scale. */
+int ldp_min_norm(int m, const double (*a)[3], const double *c, const double *tol, double z[3], double *y,
+                 int *iters)
+{
+    double col[LDP_MAX_ROWS][4], nrm[LDP_MAX_ROWS], u[LDP_MAX_ROWS], scale = 0.0, f[4] = {0, 0, 0, 1}, r[4];
+    int idx[LDP_MAX_ROWS], k = 0, ok, it = 0;
+    z[0] = z[1] = z[2] = 0.0;
+    for (int i = 0; i < m; i++) {
+        double n = sqrt(ex_dot3(a[i], a[i])), ci;
+        y[i] = 0.0;
+        if (!(n > 0.0)) continue;
+        ci = (tol ? c[i] - tol[i] : c[i]) / n;
+        for (int d = 0; d < 3; d++) col[k][d] = a[i][d] / n;
+        col[k][3] = ci;
+        nrm[k] = n;
+        idx[k++] = i;
+        if (fabs(ci) > scale) scale = fabs(ci);
+    }
+    /* a zero row must hold at z = 0 itself */
+    for (int i = 0; i < m; i++)
+        if (!(sqrt(ex_dot3(a[i], a[i])) > 0.0) && (tol ? c[i] - tol[i] : c[i]) > 0.0) return 0;
+    if (!(scale > 0.0)) return 1;  /* every c_i = 0: z = 0 */
+    for (int j = 0; j < k; j++) col[j][3] /= scale;
+    ok = ldp_nnls(k, (const double (*)[4])col, f, u, &it);
+    if (iters) *iters += it;
+    for (int i = 0; i < 4; i++) {
+        r[i] = -f[i];
+        for (int j = 0; j < k; j++) r[i] += col[j][i] * u[j];
+    }
+    {
+        /* consistent iff r_4 < 0 beyond the rounding of E u (|E u| <=
+         * sqrt(2) sum u): nearly opposed rows need a large u to close the
+         * cone, and then r_4 = 0 is only known to that rounding */
+        double usum = 0.0;
+        for (int j = 0; j < k; j++) usum += u[j];
+        if (!(ok && r[3] < -1e-12 * (1.0 + usum))) return 0;
+    }
+    for (int d = 0; d < 3; d++) z[d] = -r[d] / r[3] * scale;
+    for (int j = 0; j < k; j++) y[idx[j]] = u[j] / (-r[3]) * scale / nrm[j];
+    return 1;
+}
+
+/* With b = -a / |a| and the columns b_j / |b_j|, min |a + B lam| over
+ * lam >= 0 is |a| min |B' u - b| over u >= 0 (NNLS with a zero fourth row),
+ * lam_j = u_j |a| / |b_j|. */
+double ldp_min_combination(int m, const double a[3], const double (*b)[3], double *lam, int *iters)
+{
+    double col[LDP_MAX_ROWS][4], nb[LDP_MAX_ROWS], u[LDP_MAX_ROWS], fv[4], na = sqrt(ex_dot3(a, a)), r[3];
+    int it = 0;
+    for (int j = 0; j < m; j++) lam[j] = 0.0;
+    if (m && na > 0.0) {
+        for (int j = 0; j < m; j++) {
+            nb[j] = sqrt(ex_dot3(b[j], b[j]));
+            for (int d = 0; d < 3; d++) col[j][d] = nb[j] > 0.0 ? b[j][d] / nb[j] : 0.0;
+            col[j][3] = 0.0;
+        }
+        for (int d = 0; d < 3; d++) fv[d] = -a[d] / na;
+        fv[3] = 0.0;
+        ldp_nnls(m, (const double (*)[4])col, fv, u, &it);
+        if (iters) *iters += it;
+        for (int j = 0; j < m; j++) lam[j] = nb[j] > 0.0 ? u[j] * na / nb[j] : 0.0;
+    }
+    for (int d = 0; d < 3; d++) {
+        r[d] = a[d];
+        for (int j = 0; j < m; j++) r[d] += lam[j] * b[j][d];
+    }
+    return sqrt(ex_dot3(r, r));
+}
+
+/* In z = M^1/2 (v - vs) the projection is the least-distance problem
+ * min |z| s.t. C z >= c, C_i = G_i M^-1/2, c_i = b_i - G_i vs (ldp_min_norm),
+ * v = vs + M^-1/2 z, lam the multipliers of the rows. */
 int ldp_project(const double minv[3], int nr, const double (*G)[3], const double *b, const double vs[3],
                 double fq_min, double v[3], double *lam, size_t *iters, size_t *warnings)
 {
-    double col[LDP_MAX_ROWS][4], nrm[LDP_MAX_ROWS], u[LDP_MAX_ROWS], sq[3], scale = 0.0, f[4] = {0, 0, 0, 1}, r[4];
+    double C[LDP_MAX_ROWS][3], c[LDP_MAX_ROWS], y[LDP_MAX_ROWS], sq[3], z[3], wv = 0.0;
     int idx[LDP_MAX_ROWS], m = 0, worst = -1, it = 0, ok;
-    double wv = 0.0;
-    for (int c = 0; c < 3; c++) {
-        v[c] = vs[c];
-        sq[c] = sqrt(minv[c]);
+    for (int d = 0; d < 3; d++) {
+        v[d] = vs[d];
+        sq[d] = sqrt(minv[d]);
     }
     for (int i = 0; i < nr; i++) {
         double viol = b[i] - ex_dot3(G[i], vs);
         lam[i] = 0.0;
-        if (!(fabs(G[i][0]) + fabs(G[i][1]) + fabs(G[i][2]) > fq_min)) continue;
+        if (!(fabs(G[i][0]) + fabs(G[i][1]) + fabs(G[i][2]) > fq_min)) continue;  /* cannot act */
         if (viol > wv) {
             wv = viol;
             worst = i;
         }
+        for (int d = 0; d < 3; d++) C[m][d] = G[i][d] * sq[d];
+        c[m] = viol;
+        idx[m++] = i;
     }
     if (worst < 0) return 0; /* every row holds at vs */
-    for (int i = 0; i < nr; i++) {
-        double C[3], n, c;
-        if (!(fabs(G[i][0]) + fabs(G[i][1]) + fabs(G[i][2]) > fq_min)) continue;
-        for (int a = 0; a < 3; a++) C[a] = G[i][a] * sq[a];
-        n = sqrt(ex_dot3(C, C));
-        if (!(n > 0.0)) continue;
-        c = (b[i] - ex_dot3(G[i], vs)) / n;
-        for (int a = 0; a < 3; a++) col[m][a] = C[a] / n;
-        col[m][3] = c;
-        nrm[m] = n;
-        idx[m++] = i;
-        if (fabs(c) > scale) scale = fabs(c);
-    }
-    for (int j = 0; j < m; j++) col[j][3] /= scale;
-    ok = ldp_nnls(m, (const double (*)[4])col, f, u, &it);
+    ok = ldp_min_norm(m, (const double (*)[3])C, c, NULL, z, y, &it);
     *iters += (size_t)it;
-    for (int i = 0; i < 4; i++) {
-        r[i] = -f[i];
-        for (int j = 0; j < m; j++) r[i] += col[j][i] * u[j];
-    }
-    if (ok && r[3] < -1e-12) {
-        double z[3];
-        for (int a = 0; a < 3; a++) {
-            z[a] = -r[a] / r[3] * scale;
-            v[a] = vs[a] + sq[a] * z[a];
-        }
-        for (int j = 0; j < m; j++) lam[idx[j]] = u[j] / (-r[3]) * scale / nrm[j];
+    if (ok) {
+        for (int d = 0; d < 3; d++) v[d] = vs[d] + sq[d] * z[d];
+        for (int j = 0; j < m; j++) lam[idx[j]] = y[j];
         return 1;
     }
-    /* pinched (no v satisfies every row) or no convergence */
+    /* pinched (no v satisfies every row) or no convergence: the most
+     * violated row alone */
     (*warnings)++;
     {
         double gmg = 0.0, l;
-        for (int a = 0; a < 3; a++) gmg += G[worst][a] * G[worst][a] * minv[a];
+        for (int d = 0; d < 3; d++) gmg += G[worst][d] * G[worst][d] * minv[d];
         l = (b[worst] - ex_dot3(G[worst], vs)) / gmg;
-        for (int a = 0; a < 3; a++) v[a] = vs[a] + minv[a] * G[worst][a] * l;
+        for (int d = 0; d < 3; d++) v[d] = vs[d] + minv[d] * G[worst][d] * l;
         lam[worst] = l;
     }
     return 1;
-}
-
-/* Minimum-norm point of { z : a_i . z >= c_i - tol_i, i in cand } (z in
- * R^n, n <= 3), exactly: the minimiser is z = sum_S y_i a_i with y >= 0 on
- * a support S of at most n linearly independent rows (Caratheodory), active
- * there (A_S A_S^T y = c_S); every such support with y >= 0 whose z satisfies
- * all the candidate rows is tried (nc <= PROJ_CAND: at most 92 solves of
- * size <= 3) and the shortest z kept. Returns 0 if none is feasible (the
- * rows contradict each other, e.g. two stops pinching the object). */
-
-int ldp_min_norm_enum(int n, const double (*a)[3], const double *c, const double *tol, const int *cand, int nc,
-                         double z[3])
-{
-    double best = INFINITY;
-    for (int mask = 1; mask < (1 << nc); mask++) {
-        int set[3], ns = 0, ok = 1;
-        double H[3][3], rhs[3], y[3], zt[3] = {0, 0, 0}, zn;
-        for (int j = 0; j < nc; j++)
-            if (mask & (1 << j)) {
-                if (ns < 3) set[ns] = cand[j];
-                ns++;
-            }
-        if (ns > n) continue;
-        for (int i = 0; i < ns; i++) {
-            for (int j = 0; j < ns; j++) H[i][j] = ex_dot3(a[set[i]], a[set[j]]);
-            rhs[i] = c[set[i]];
-        }
-        if (!ldp_solve_small(ns, H, rhs, y)) continue;
-        for (int i = 0; i < ns; i++) ok &= y[i] >= 0.0;
-        if (!ok) continue;
-        for (int i = 0; i < ns; i++)
-            for (int d = 0; d < 3; d++) zt[d] += y[i] * a[set[i]][d];
-        for (int j = 0; j < nc; j++) ok &= ex_dot3(a[cand[j]], zt) >= c[cand[j]] - tol[cand[j]];
-        if (!ok) continue;
-        zn = ex_dot3(zt, zt);
-        if (zn < best) {
-            best = zn;
-            memcpy(z, zt, sizeof zt);
-        }
-    }
-    return best < INFINITY;
 }

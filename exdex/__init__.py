@@ -21,6 +21,7 @@ from exdex.simulate import Model, PhysicsWarning, Result, SolverError, simulate
 from exdex.batch import BatchResult, simulate_batch, sweep  # noqa: E402
 from exdex import paper  # noqa: E402  (the paper's case studies, Figs. 3, 4, 6)
 from exdex import tool  # noqa: E402  (assistive-tool design, paper Section 3)
+from exdex import plan  # noqa: E402  (inverse design: motion and grip for a target outcome)
 from exdex import diagnostics  # noqa: E402  (physics warnings)
 from exdex._optional import MissingExtraError  # noqa: E402
 
@@ -29,5 +30,5 @@ __version__ = "0.1.0"
 __all__ = [
     "AsymmetricProfile", "Body", "Grasp", "Patch", "Rest", "SampledTrajectory", "Scene", "Stop",
     "TrapezoidalProfile", "replace", "Model", "Result", "SolverError", "PhysicsWarning", "MissingExtraError",
-    "simulate", "BatchResult", "simulate_batch", "sweep", "paper", "tool", "__version__",
+    "simulate", "BatchResult", "simulate_batch", "sweep", "paper", "tool", "plan", "__version__",
 ]

@@ -18,6 +18,7 @@ EXTRAS = {
     "tqdm": "plot",
     "pybullet": "engines",
     "mujoco": "engines",
+    "pydrake": "engines",
 }
 
 

@@ -20,10 +20,12 @@ gives one line over a sweep of its accuracy knob:
 * ``regularised``: rtol = 1e-2 ... 1e-10, one line per smoothing slip speed
   eps = 1e-2 ... 1e-5 (m/s; rad/s in Fig. 6).
 
-pybullet and MuJoCo (:mod:`exdex.engines`, default solver settings; contact
-"pads" in the translation cases, "point" with torsional friction mu e_r in the
-rotation and planar cases, the engines' faithful mapping of the friction
-ellipsoid) give one line each over dt = 2^-m s, m = 7 ... 11. A method that
+pybullet, MuJoCo and Drake (:mod:`exdex.engines`, default solver settings;
+contact "pads" in the translation cases, "point" with torsional friction mu e_r
+in the rotation and planar cases, the engines' faithful mapping of the
+friction ellipsoid; Drake, whose point contact has no torsional friction:
+point contact on plate pads in translation, hydroelastic pads in rotation and
+planar cases) give one line each over dt = 2^-m s, m = 7 ... 11. A method that
 :func:`exdex.simulate` does not offer (it raises ValueError), in general or for
 a scene, is left out and named on the chart. A run that takes more than a per-run budget ends its line.
 
@@ -114,7 +116,7 @@ __all__ = ["planar_scene", "CASES", "Case", "make_case", "method_available", "av
            "machine_name", "add_arguments", "run", "METHODS", "BLOWUP_FRACTION", "BLOWUP_FLOOR", "V_NOISE"]
 
 METHODS = ("implicit", "explicit", "event", "regularised")
-ENGINES = ("pybullet", "mujoco")
+ENGINES = ("pybullet", "mujoco", "drake")
 GRID_DT = 2.0 ** -6            # common time grid of the errors [s]
 ATOL_PER_RTOL = 1e-2           # atol = ATOL_PER_RTOL * rtol for the adaptive methods
 EPS_LINES = (1e-2, 1e-3, 1e-4, 1e-5)   # regularised: one work-precision line per eps
@@ -453,7 +455,8 @@ def _engine_runners():
     from exdex import engines
 
     ok, missing = {}, {}
-    for name, mod, fn in (("pybullet", "pybullet", engines.run_pybullet), ("mujoco", "mujoco", engines.run_mujoco)):
+    for name, mod, fn in (("pybullet", "pybullet", engines.run_pybullet), ("mujoco", "mujoco", engines.run_mujoco),
+                          ("drake", "pydrake", engines.run_drake)):
         try:
             __import__(mod)
             ok[name] = fn
@@ -496,8 +499,20 @@ def mujoco_bare_step_time(scene, t_end, dt, contact):
         return math.nan
 
 
+def _engine_settings(name, case):
+    """Keyword arguments of an engine's runs in ``case``: the case's contact, and for
+    Drake, whose point contact has no torsional friction, hydroelastic pads in the
+    rotation and planar cases (the pressure patch gives the torsion) and its
+    default point contact with plate pads in translation."""
+    if name != "drake":
+        return dict(contact=case.engine_contact)
+    if case.scene.dof == "translation":
+        return dict(contact="pads", contact_model="point")
+    return dict(contact="pads", contact_model="hydroelastic")
+
+
 def sweep_engines(case, runners, quick, bar=None):
-    """pybullet / MuJoCo at several step sizes; CSV rows."""
+    """pybullet / MuJoCo / Drake at several step sizes; CSV rows."""
     ms = (8,) if quick else (7, 8, 9, 10, 11)
     rows = []
     for name, fn in runners.items():
@@ -510,13 +525,15 @@ def sweep_engines(case, runners, quick, bar=None):
                 res = None
                 reps = 1 if quick else 3
                 for i in range(reps):
-                    res = fn(case.scene, case.t_end, dt=dt, contact=case.engine_contact)
+                    kw = _engine_settings(name, case)
+                    res = fn(case.scene, case.t_end, dt=dt, **kw)
                     walls.append(res.stats["wall_time"])
                     if walls[-1] > 0.3:
                         break
                 final, maxe = case.errors(on_grid(res, case.grid))
+                what = ", ".join(f"{k}={v}" for k, v in kw.items())
                 rows.append(_row(case, name, name, "dt", dt, None, statistics.median(walls), len(walls), final,
-                                 maxe, "ok", f"stepping loop, contact={case.engine_contact}", dt=dt))
+                                 maxe, "ok", f"stepping loop, {what}", dt=dt))
                 if name == "mujoco":
                     bare = [mujoco_bare_step_time(case.scene, case.t_end, dt, case.engine_contact)
                             for _ in range(1 if quick else 3)]
@@ -615,7 +632,8 @@ def cheapest(rows, case, error, key="final_error", methods=EXDEX_LINES, time_key
 #: which exdex time each engine line is compared with: whole ``exdex.simulate``
 #: calls against the engines' driven stepping loops, and the compiled model's
 #: C run (``Model.final``) against MuJoCo's bare ``mj_step`` loop
-ENGINE_EXDEX_TIME = {"pybullet": "run_time_s", "mujoco": "run_time_s", "mujoco bare": "run_time_compiled_s"}
+ENGINE_EXDEX_TIME = {"pybullet": "run_time_s", "mujoco": "run_time_s", "drake": "run_time_s",
+                     "mujoco bare": "run_time_compiled_s"}
 
 
 def engine_ratios(rows, case, key="final_error"):
@@ -664,11 +682,11 @@ def headline(rows, cases, machine, missing):
                      f"{1e3 * best['run_time_s']:.3f} ms -> goal {'met' if best['run_time_s'] < 1e-3 else 'NOT met'}")
     lines.append("")
     lines.append("Run time at equal final-displacement error, engine / exdex (cheapest implicit or event run at "
-                 "least as accurate as the engine point; pybullet and mujoco against whole exdex.simulate calls, "
+                 "least as accurate as the engine point; pybullet, mujoco and drake against whole exdex.simulate calls, "
                  "mujoco bare (mj_step only) against the compiled exdex.Model's C run, Model.final):")
     for cname in cases:
         rr = engine_ratios(rows, cname)
-        for eng in ("pybullet", "mujoco", "mujoco bare"):
+        for eng in ("pybullet", "mujoco", "drake", "mujoco bare"):
             pts = [r for r in rr if r["engine"] == eng and np.isfinite(r["ratio"])]
             if not pts:
                 continue
@@ -711,8 +729,44 @@ def headline(rows, cases, machine, missing):
 _STYLE = {"implicit": dict(color="C0", marker="o"), ALIGNED_LINE: dict(color="C0", marker="o", mfc="none", ls="-."),
           "explicit": dict(color="C3", marker="v"),
           "event": dict(color="C2", marker="D"), "pybullet": dict(color="k", marker="s", ls="--"),
-          "mujoco": dict(color="C4", marker="^", ls="--"),
+          "mujoco": dict(color="C4", marker="^", ls="--"), "drake": dict(color="C9", marker="P", ls="--"),
           "mujoco bare": dict(color="C4", marker="^", ls=":", mfc="none")}
+
+
+#: errors at or below ROUNDING x max|reference| are rounding: "exact to rounding"
+ROUNDING = 1e-12
+
+
+def _log_axes(ax, floor, decades=4):
+    """Log axes that cannot zoom into rounding noise: at least ``decades`` decades
+    in y, labels on the decades only (no crowded minor labels)."""
+    from matplotlib.ticker import LogLocator, NullFormatter
+
+    lo, hi = ax.get_ylim()
+    lo = max(lo, 0.5 * floor)
+    if hi / lo < 10.0**decades:
+        hi = lo * 10.0**decades
+    ax.set_ylim(lo, hi)
+    for axis in (ax.xaxis, ax.yaxis):
+        axis.set_major_locator(LogLocator(base=10.0, numticks=8))
+        axis.set_minor_locator(LogLocator(base=10.0, subs=np.arange(2, 10) * 0.1, numticks=12))
+        axis.set_minor_formatter(NullFormatter())
+    ax.grid(True, which="major", lw=0.3)
+    ax.tick_params(labelsize=7)
+
+
+def _rounding_panel(ax, rows, key, case, what):
+    """A panel whose every error is rounding, said in words instead of plotted."""
+    worst = max(r[key] for r in rows)
+    lines = list(dict.fromkeys(r["line"] for r in rows))
+    ax.set_xticks([])
+    ax.set_yticks([])
+    for side in ax.spines.values():
+        side.set_color("0.8")
+    ax.text(0.5, 0.5, f"{what}:\nexact to rounding\n\nevery run of every line\n"
+            f"at or below {worst:.0e} {case.unit}\n({ROUNDING:g} x max|reference| = {ROUNDING * case.scale:.0e})"
+            f"\n\n" + "\n".join(lines), transform=ax.transAxes, ha="center", va="center", fontsize=7,
+            color="0.25")
 
 
 def plot_work_precision(rows, cases, path, machine, missing):
@@ -730,6 +784,14 @@ def plot_work_precision(rows, cases, path, machine, missing):
         for i, key in enumerate(("final_error", "max_error")):
             ax = axes[i, j]
             floor = FLOOR * c.scale
+            what = "final-displacement error" if i == 0 else "max abs trajectory error"
+            if i == 0:
+                ax.set_title(f"{c.title}\nreference: {c.ref_label}", fontsize=8)
+            ok = [r for r in rows if r["case"] == cname and r["status"] == "ok" and np.isfinite(r[key])]
+            if ok and max(r[key] for r in ok) <= ROUNDING * c.scale:
+                # every run is exact to rounding: a plot would show only rounding noise
+                _rounding_panel(ax, ok, key, c, what)
+                continue
             lines = []
             for r in rows:
                 if r["case"] == cname and r["line"] not in lines:
@@ -759,21 +821,19 @@ def plot_work_precision(rows, cases, path, machine, missing):
                 ax.axhline(1e-6, color="0.5", lw=0.8, ls=":")
                 ax.axvline(1e-3, color="0.5", lw=0.8, ls=":")
                 ax.text(1e-3, 1e-6, " goal: 1e-6 m in 1 ms", fontsize=7, color="0.35", va="bottom", ha="left")
-            what = "final-displacement error" if i == 0 else "max abs trajectory error"
             ax.set_ylabel(f"{what} [{c.unit}]", fontsize=8)
             ax.set_xlabel("run time (median wall) [s]", fontsize=8)
-            if i == 0:
-                ax.set_title(f"{c.title}\nreference: {c.ref_label}", fontsize=8)
-                if c.unsupported:
-                    ax.text(0.02, 0.02, "not supported for this scene (simulate raises ValueError):\n"
-                            + ", ".join(c.unsupported), transform=ax.transAxes, fontsize=6, color="0.3")
-            ax.grid(True, which="major", lw=0.3)
-            ax.tick_params(labelsize=7)
+            if i == 0 and c.unsupported:
+                ax.text(0.02, 0.02, "not supported for this scene (simulate raises ValueError):\n"
+                        + ", ".join(c.unsupported), transform=ax.transAxes, fontsize=6, color="0.3")
+            _log_axes(ax, floor)
             ev = [r for r in rows if r["case"] == cname and r["method"] == "event" and r["status"] == "ok"]
-            if ev and max(r[key] for r in ev) <= 1e-12 * c.scale:
-                ax.annotate("event: every rtol,\nexact to rounding",
+            if ev and max(r[key] for r in ev) <= ROUNDING * c.scale:
+                # just above the event points (the y range spans >= 4 decades, so this stays
+                # inside the axes, clear of the title)
+                ax.annotate("event: every rtol, exact to rounding",
                             (min(r["run_time_s"] for r in ev), max(floor, max(r[key] for r in ev))),
-                            xytext=(4, 10), textcoords="offset points", fontsize=6, color="C2")
+                            xytext=(0, 7), textcoords="offset points", fontsize=6, color="C2", va="bottom")
     handles = {}
     for ax in axes.ravel():
         for h, lab in zip(*ax.get_legend_handles_labels()):
@@ -956,7 +1016,7 @@ def stability_maps(methods, quick, bar=None):
                     row = dict(family=fam, method=method, axis=axis, y=yval, dt=dt,
                                eps=eps if eps is not None else "", ratio=yval if axis == "ratio" else paper_ratio,
                                y_label=rlabel if axis == "ratio" else "eps", wall_s=math.nan,
-                               y_label_ratio=f"the paper's grasp, ratio {paper_ratio:.10g}")
+                               y_label_ratio=f"the paper's grasp, ratio {paper_ratio:.3g}")
                     if skip_reason is None and spent > total_cap:
                         skip_reason = "skipped"
                     if skip_reason is not None:
@@ -1018,7 +1078,7 @@ def plot_maps(rows, family, path, machine, missing):
         ax.set_yticklabels([f"{y:g}" for y in ys], fontsize=6)
         ax.set_xlabel("dt = 2^-m s (m)", fontsize=7)
         ax.set_ylabel(sub[0]["y_label"] if sub else axis, fontsize=7)
-        title = f"{method}" + (f" (dt, eps) at {sub[0]['y_label_ratio']}" if axis == "eps" and sub else "")
+        title = f"{method}" + (f" over (dt, eps)\nat {sub[0]['y_label_ratio']}" if axis == "eps" and sub else "")
         if method in missing:
             title += "\nnot available"
         ax.set_title(title, fontsize=8)
@@ -1092,7 +1152,8 @@ def add_arguments(parser):
     parser.add_argument("--quick", action="store_true",
                         help="a few points per line, Fig. 3 map only, one engine step size (a smoke run, ~20 s)")
     parser.add_argument("--cases", nargs="+", choices=CASES, default=list(CASES), help="work-precision cases")
-    parser.add_argument("--no-engines", dest="engines", action="store_false", help="skip pybullet and MuJoCo")
+    parser.add_argument("--no-engines", dest="engines", action="store_false",
+                        help="skip pybullet, MuJoCo and Drake (needed without the engines extra)")
     parser.add_argument("--no-maps", dest="maps", action="store_false", help="skip the stability maps")
     parser.add_argument("--no-progress", action="store_true", help="hide the progress bars")
 
@@ -1101,6 +1162,16 @@ def run(args):
     """``exdex bench``: work-precision chart, headline table, stability maps."""
     from tqdm import tqdm
 
+    if args.engines:
+        from exdex.engines import missing_engines
+
+        gone = missing_engines()
+        if gone:
+            import sys
+
+            print(f"exdex bench runs the engines: pip install 'exdex[engines]' ({', '.join(gone)} not installed), "
+                  f"or pass --no-engines", file=sys.stderr)
+            return 2
     t_start = time.perf_counter()
     os.makedirs(args.out, exist_ok=True)
     machine = machine_name()

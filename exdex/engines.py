@@ -69,7 +69,7 @@ import numpy as np
 from exdex.scene import Scene, _quat_from_matrix, _real
 from exdex.simulate import Result
 
-__all__ = ["run_pybullet", "run_mujoco", "drift_rate", "pad_geometry", "torque_capacity",
+__all__ = ["run_pybullet", "run_mujoco", "run_drake", "missing_engines", "drift_rate", "pad_geometry", "torque_capacity",
            "ablation", "ABLATION_MODELS", "add_arguments", "run"]
 
 PAD_THICKNESS = 0.005      # half-thickness of the plate/pad boxes [m]
@@ -576,6 +576,244 @@ def run_pybullet(scene, t_end, *, dt=1.0 / 240.0, iterations=50, cone=True, cont
     return _to_result(scene, "pybullet", times, pos, RBC, vel, om, fstop, stats, dt)
 
 
+# ---------------------------------------------------------------- Drake
+
+DRAKE_CONTACT_MODELS = ("point", "hydroelastic")
+DRAKE_APPROXIMATIONS = ("lagged", "sap", "similar", "tamsi")
+
+
+def _drake_pad_shapes(lay, contact_model):
+    """[(kind, offset in the pad frame)] of the collision shapes of one finger.
+
+    kind is "box" (half-extents lay.pad_half, PAD_THICKNESS) or "sphere"
+    (POINT_RADIUS). Drake's point contact between two boxes gives a single
+    contact point, so with point contact the pads of a rotation or planar
+    scene become the pad's corner points (spheres), as the other engines'
+    box-box manifolds do; translation plates stay boxes (one point suffices
+    when the object cannot turn)."""
+    if lay.contact == "point":
+        return [("sphere", np.zeros(3))]
+    if contact_model == "hydroelastic" or lay.scene.dof == "translation":
+        return [("box", np.zeros(3))]
+    a, b = lay.pad_half
+    return [("sphere", np.array([sx * a, sy * b, 0.0])) for sx, sy in ((1, 1), (-1, 1), (-1, -1), (1, -1))]
+
+
+def run_drake(scene, t_end, *, dt=1e-3, contact_model="point", approximation="lagged", stiction_tolerance=1e-4,
+              contact="pads", hydroelastic_modulus=1e6, object_modulus=None, resolution_hint=None,
+              point_stiffness=None, dissipation=None, gripper_mass=1e4, plate_mass=0.1):
+    """Simulate ``scene`` in Drake (pydrake's discrete MultibodyPlant) from 0 to
+    ``t_end`` [s]; return an ``exdex.Result``.
+
+    The scene is built as for the other engines (a kinematically driven
+    gripper body, plate 2 on a prismatic joint pushed by ``grip_force``, the
+    object on joints relative to the gripper); the object turns on a revolute
+    joint about the plate normal (no out-of-plane tilt).
+
+    Parameters (Drake's own defaults unless said)
+    ---------------------------------------------
+    dt : time step of the discrete plant [s] (1e-3).
+    contact_model : "point" (Drake's compliant point contact) or
+        "hydroelastic" (compliant hydroelastic pads pressing a rigid object:
+        a pressure patch per finger, from which torsional friction emerges;
+        stops keep point contact, Drake's "hydroelastic_with_fallback").
+    approximation : discrete contact approximation: "lagged" (Drake's
+        default), "sap", "similar" or "tamsi".
+    stiction_tolerance : regularisation of friction [m/s] (Drake's default
+        1e-4): an in-cone load slips at a speed up to this value. Used by
+        "lagged", "similar" and "tamsi"; "sap" regularises by its own
+        near-rigid parameter instead.
+    contact : "pads" or "point" (see the module docstring). With point contact
+        and "pads", rotation and planar scenes get one small sphere at each
+        pad corner (Drake's box-box point contact is a single point).
+        Drake has no torsional friction at a point contact.
+    hydroelastic_modulus : modulus of the compliant pads [Pa] (1e6).
+    object_modulus : None (rigid object) or the object's hydroelastic modulus [Pa].
+    resolution_hint : hydroelastic mesh resolution [m] (default: a quarter of
+        the smallest pad side).
+    point_stiffness, dissipation : point-contact stiffness [N/m] and
+        Hunt-Crossley dissipation [s/m] (None: Drake's defaults).
+    gripper_mass, plate_mass : as for ``run_mujoco``.
+    """
+    import pydrake
+    from pydrake.geometry import (AddCompliantHydroelasticProperties, AddContactMaterial,
+                                  AddRigidHydroelasticProperties, Box, CollisionFilterDeclaration, GeometrySet,
+                                  ProximityProperties, Sphere)
+    from pydrake.math import RigidTransform, RotationMatrix
+    from pydrake.multibody.math import SpatialForce, SpatialVelocity
+    from pydrake.multibody.plant import (AddMultibodyPlant, CoulombFriction, ExternallyAppliedSpatialForce,
+                                        MultibodyPlantConfig)
+    from pydrake.multibody.tree import (PrismaticJoint, RevoluteJoint, RotationalInertia, SpatialInertia,
+                                        UnitInertia)
+    from pydrake.systems.analysis import Simulator
+    from pydrake.systems.framework import DiagramBuilder
+
+    lay = _Layout(scene, contact)
+    n, dt = _steps(t_end, dt)
+    if contact_model not in DRAKE_CONTACT_MODELS:
+        raise ValueError(f"contact_model must be one of {DRAKE_CONTACT_MODELS}, got {contact_model!r}")
+    if approximation not in DRAKE_APPROXIMATIONS:
+        raise ValueError(f"approximation must be one of {DRAKE_APPROXIMATIONS}, got {approximation!r}")
+    vs = _real(stiction_tolerance, "stiction_tolerance", low=0.0, low_open=True)
+    E = _real(hydroelastic_modulus, "hydroelastic_modulus", low=0.0, low_open=True)
+    if object_modulus is not None:
+        object_modulus = _real(object_modulus, "object_modulus", low=0.0, low_open=True)
+    Mg = _real(gripper_mass, "gripper_mass", low=0.0, low_open=True)
+    mp = _real(plate_mass, "plate_mass", low=0.0, low_open=True)
+    lx, ly, lz = lay.size
+    shapes = _drake_pad_shapes(lay, contact_model)
+    if resolution_hint is None:
+        sides = [2 * h for h in (lay.pad_half or ())] + [2 * PAD_THICKNESS, 2 * POINT_RADIUS]
+        resolution_hint = min(sides) / 4
+    resolution_hint = _real(resolution_hint, "resolution_hint", low=0.0, low_open=True)
+
+    builder = DiagramBuilder()
+    config = MultibodyPlantConfig(time_step=dt, stiction_tolerance=vs,
+                                  contact_model="point" if contact_model == "point" else "hydroelastic_with_fallback",
+                                  discrete_contact_approximation=approximation,
+                                  adjacent_bodies_collision_filters=False)
+    plant, sg = AddMultibodyPlant(config, builder)
+
+    def inertia_zero():   # the massless links between the object's joints
+        return SpatialInertia(0.0, np.zeros(3), UnitInertia(0.0, 0.0, 0.0))
+
+    gripper = plant.AddRigidBody("gripper", SpatialInertia(Mg, np.zeros(3), UnitInertia(1.0, 1.0, 1.0)))
+    plate2 = plant.AddRigidBody("plate2", SpatialInertia(mp, np.zeros(3), UnitInertia(1e-3, 1e-3, 1e-3)))
+    I = np.array(scene.body.inertia)
+    com = np.array(lay.com_in_joint)
+    obj_inertia = SpatialInertia.MakeFromCentralInertia(
+        scene.body.mass, com, RotationalInertia(I[0, 0], I[1, 1], I[2, 2], I[0, 1], I[0, 2], I[1, 2]))
+    obj = plant.AddRigidBody("object", obj_inertia)
+    pc = lay.pad_center
+    X = lambda R, p: RigidTransform(RotationMatrix(np.asarray(R, float)), np.asarray(p, float))  # noqa: E731
+    # plate 2: prismatic along B z, pushed towards the object by the grip force
+    F2 = plant.AddFrame(_fixed_frame(plant, "plate2_seat", gripper.body_frame(), X(np.eye(3), pc + [0, 0, lay.pad_z])))
+    squeeze = plant.AddJoint(PrismaticJoint("squeeze", F2, plate2.body_frame(), [0.0, 0.0, 1.0]))
+    plant.AddJointActuator("squeeze", squeeze)
+    # object joints, in the joint frame J (at joint_B, axes of B turned by theta0)
+    Rj = lay.R_BC0
+    J = plant.AddFrame(_fixed_frame(plant, "object_seat", gripper.body_frame(), X(Rj, lay.joint_B)))
+    chain = [("on", "slide", (0, 0, 1))]
+    if scene.dof in ("translation", "planar"):
+        chain += [("ox", "slide", (1, 0, 0)), ("oy", "slide", (0, 1, 0))]
+    if scene.dof in ("rotation", "planar"):
+        chain.append(("ob", "hinge", (0, 0, 1)))
+    joints = {}
+    parent = J
+    for i, (name, kind, axis) in enumerate(chain):
+        last = i == len(chain) - 1
+        child = obj if last else plant.AddRigidBody(f"link_{name}", inertia_zero())
+        a = Rj.T @ np.array(axis, float) if kind == "slide" else np.array([0.0, 0.0, 1.0])
+        if kind == "slide":
+            jt = PrismaticJoint(name, parent, child.body_frame(), a)
+        else:
+            jt = RevoluteJoint(name, parent, child.body_frame(), a)
+        joints[name] = plant.AddJoint(jt)
+        parent = child.body_frame()
+    # geometry
+    def props(mu, compliant=None, rigid=False):
+        p = ProximityProperties()
+        AddContactMaterial(dissipation, point_stiffness, CoulombFriction(mu, mu), p)
+        if compliant is not None:
+            AddCompliantHydroelasticProperties(resolution_hint, compliant, p)
+        elif rigid:
+            AddRigidHydroelasticProperties(resolution_hint, p)
+        return p
+
+    hydro = contact_model == "hydroelastic"
+    pad_ids = []
+    for body, sign, mu, X0 in ((gripper, -1.0, lay.mu[0], pc + [0, 0, -lay.pad_z]), (plate2, 1.0, lay.mu[1], np.zeros(3))):
+        for k, (kind, off) in enumerate(shapes):
+            shape = (Box(2 * lay.pad_half[0], 2 * lay.pad_half[1], 2 * PAD_THICKNESS) if kind == "box"
+                     else Sphere(POINT_RADIUS))
+            gid = plant.RegisterCollisionGeometry(body, X(np.eye(3), X0 + off), shape, f"{body.name()}_pad{k}",
+                                                  props(mu, compliant=E if hydro else None))
+            pad_ids.append(gid)
+    # Drake combines two surfaces' mu as 2 mu1 mu2 / (mu1 + mu2): the object gets the grasp's
+    # mu, so a pad of mu gives mu and a frictionless pad (or stop) gives 0
+    obj_props = props(scene.grasp.mu, compliant=object_modulus if hydro else None,
+                      rigid=hydro and object_modulus is None)
+    plant.RegisterCollisionGeometry(obj, X(np.eye(3), com), Box(lx, ly, lz), "object", obj_props)
+    stop_ids = []
+    for k, s in enumerate(scene.stops):
+        c, R = _stop_pose(s)
+        stop_ids.append(plant.RegisterCollisionGeometry(plant.world_body(), X(R, c), Box(*(2 * np.array(STOP_HALF))),
+                                                        f"stop{k}", props(0.0)))
+    plant.Finalize()
+    # only the pads and the stops touch the object
+    cfm = sg.collision_filter_manager()
+    cfm.Apply(CollisionFilterDeclaration().ExcludeWithin(GeometrySet(pad_ids + stop_ids)))
+    diagram = builder.Build()
+    ctx = diagram.CreateDefaultContext()
+    pctx = plant.GetMyMutableContextFromRoot(ctx)
+    plant.get_actuation_input_port().FixValue(pctx, [-scene.grasp.grip_force])
+    force_port = plant.get_applied_spatial_force_input_port()
+    g = np.array(scene.gravity)
+    times = np.arange(n + 1) * dt
+    kin = _kinematics(scene, times)
+    pos = np.empty((n + 1, 3))
+    vel = np.empty((n + 1, 3))
+    RBC = np.empty((n + 1, 3, 3))
+    om = np.empty(n + 1)
+    fstop = np.zeros((n + 1, len(scene.stops)))
+    # initial joint state: plate 2 touching, object at q0 (joints at zero)
+    wrench = ExternallyAppliedSpatialForce()
+    wrench.body_index = gripper.index()
+    wrench.p_BoBq_B = np.zeros(3)
+    nv_idx = {name: j.velocity_start() for name, j in joints.items()}
+    gb = gripper
+
+    def set_gripper(k):
+        plant.SetFreeBodyPose(pctx, gb, X(kin["R"][k], kin["p"][k]))
+        plant.SetFreeBodySpatialVelocity(pctx, gb, SpatialVelocity(kin["w"][k], kin["v"][k]))
+        wrench.F_Bq_W = SpatialForce(Mg * kin["dw"][k], Mg * (kin["a"][k] - g))
+        force_port.FixValue(pctx, [wrench])
+
+    query_port = plant.get_contact_results_output_port()
+
+    def record(k):
+        X_AB = plant.EvalBodyPoseInWorld(pctx, gb)
+        X_AC = plant.EvalBodyPoseInWorld(pctx, obj)
+        R_AB = X_AB.rotation().matrix()
+        R_AC = X_AC.rotation().matrix()
+        p_com = X_AC.translation() + R_AC @ com
+        pos[k] = R_AB.T @ (p_com - X_AB.translation())
+        RBC[k] = R_AB.T @ R_AC
+        v = plant.GetVelocities(pctx)
+        vel[k] = [v[nv_idx["ox"]] if "ox" in nv_idx else 0.0, v[nv_idx["oy"]] if "oy" in nv_idx else 0.0,
+                  v[nv_idx["on"]]]
+        om[k] = v[nv_idx["ob"]] if "ob" in nv_idx else 0.0
+        if stop_ids:
+            cr = query_port.Eval(pctx)
+            for i in range(cr.num_point_pair_contacts()):
+                info = cr.point_pair_contact_info(i)
+                pair = info.point_pair()
+                for j, sid in enumerate(stop_ids):
+                    if sid in (pair.id_A, pair.id_B):
+                        fstop[k, j] += abs(float(np.dot(info.contact_force(), pair.nhat_BA_W)))
+
+    set_gripper(0)
+    record(0)
+    sim = Simulator(diagram, ctx)
+    sim.Initialize()
+    t0 = time.perf_counter()
+    for k in range(n):
+        set_gripper(k)
+        sim.AdvanceTo((k + 1) * dt)
+        record(k + 1)
+    wall = time.perf_counter() - t0
+    stats = dict(engine="drake", version=getattr(pydrake, "__version__", ""), dt=dt,
+                 contact_model=contact_model, approximation=approximation, stiction_tolerance=vs, contact=contact,
+                 hydroelastic_modulus=E if hydro else None, wall_time=wall, steps=n)
+    return _to_result(scene, "drake", times, pos, RBC, vel, om, fstop, stats, dt)
+
+
+def _fixed_frame(plant, name, parent, X):
+    from pydrake.multibody.tree import FixedOffsetFrame
+
+    return FixedOffsetFrame(name, parent, X)
+
+
 # ---------------------------------------------------------------- friction-model ablation (issue item 3)
 #
 # In a 1-DoF scene every maximum-dissipation friction model with a centrally
@@ -666,23 +904,24 @@ def torque_capacity(patch, model="ellipsoid", grid=400):
 def ablation(scene, t_end, dt=1e-3, models=ABLATION_MODELS):
     """Run exdex with each friction ``model`` in place of the ellipsoid.
 
-    1-DoF scenes only (the reduction is exact there, see the comment above):
+    1-DoF scenes (the reduction is exact there, see the comment above):
     rotation scenes get the model's equivalent e_r (``torque_capacity``),
     translation scenes the model's equivalent mu (support of the linearised
     cone along the slide axis; corners and the cylinder change nothing).
+    Planar scenes get the model's equivalent e_r, as rotation scenes: exact
+    for a pure spin about the patch centre, an approximation when the object
+    slides and spins at once (the coupling stays the ellipsoid's), and the
+    model's mu is kept (the slide direction is not known in advance).
     Returns {model: (exdex.Result, equivalent e_r [m] or mu)}.
     """
     import dataclasses
 
     from exdex.simulate import simulate
 
-    if scene.dof == "planar":
-        raise NotImplementedError("the ablation is exact for 1-DoF scenes only; planar scenes would need "
-                                  "a multi-contact friction solve in the C core")
     out = {}
     for model in models:
         corners, facets, inscribed = _parse_model(model)
-        if scene.dof == "rotation":
+        if scene.dof in ("rotation", "planar"):
             er = torque_capacity(scene.grasp.patch, model)
             patch = dataclasses.replace(scene.grasp.patch, e_r=er)
             sc = dataclasses.replace(scene, grasp=dataclasses.replace(scene.grasp, patch=patch))
@@ -698,21 +937,32 @@ def ablation(scene, t_end, dt=1e-3, models=ABLATION_MODELS):
 
 # ---------------------------------------------------------------- `exdex compare`
 
-CASES = ("fig3", "fig4", "fig6")
+CASES = ("fig3", "fig4", "fig6", "planar")
 
 
 def _case_scenes(names):
-    """The paper scenes from exdex.paper (issue 3): {name: scene}."""
-    try:
-        from exdex import paper
-    except ImportError as exc:  # pragma: no cover - depends on the paper module being present
-        raise RuntimeError("exdex compare needs exdex.paper (fig3_scene, fig4_scene, fig6_scene)") from exc
-    return {name: getattr(paper, f"{name}_scene")() for name in names}
+    """The paper scenes (exdex.paper) and the planar case of ``exdex bench``: {name: scene}."""
+    from exdex import paper
+
+    out = {}
+    for name in names:
+        if name == "planar":
+            from exdex.bench import planar_scene
+
+            out[name] = planar_scene()
+        else:
+            out[name] = getattr(paper, f"{name}_scene")()
+    return out
 
 
 def _unit(scene):
-    """Display scale and unit of the free coordinate."""
-    return (180.0 / math.pi, "deg") if scene.dof == "rotation" else (1e3, "mm")
+    """Display scale and unit of the shown coordinate (see ``_disp``)."""
+    return (180.0 / math.pi, "deg") if scene.dof in ("rotation", "planar") else (1e3, "mm")
+
+
+def _disp(res):
+    """The coordinate shown for a result: the free one of a 1-DoF scene, theta of a planar one."""
+    return res.displacement[:, 2 if res.scene.dof == "planar" else 0]
 
 
 def _variants(args):
@@ -721,8 +971,11 @@ def _variants(args):
               noslip_iterations=args.noslip, iterations=args.mujoco_iterations, contact=args.contact)
     pyb = dict(dt=args.pybullet_dt, iterations=args.pybullet_iterations, cone=not args.no_cone,
                contact=args.contact)
-    runs = [("pybullet", run_pybullet, pyb), ("mujoco", run_mujoco, mj)]
+    dr = dict(dt=args.drake_dt, contact_model=args.drake_contact, approximation=args.drake_approximation,
+              stiction_tolerance=args.stiction_tolerance, contact=args.contact)
+    runs = [("pybullet", run_pybullet, pyb), ("mujoco", run_mujoco, mj), ("drake", run_drake, dr)]
     if args.variants:
+        other = "hydroelastic" if args.drake_contact == "point" else "point"
         runs += [
             ("pybullet point+spin", run_pybullet, dict(pyb, contact="point")),
             ("pybullet no cone", run_pybullet, dict(pyb, cone=False)),
@@ -730,8 +983,34 @@ def _variants(args):
             ("mujoco impratio 10", run_mujoco, dict(mj, impratio=10.0)),
             ("mujoco noslip 20", run_mujoco, dict(mj, noslip_iterations=20)),
             ("mujoco point+torsion", run_mujoco, dict(mj, contact="point")),
+            (f"drake {other}", run_drake, dict(dr, contact_model=other)),
+            ("drake sap", run_drake, dict(dr, approximation="sap")),
+            ("drake stiction 1e-6", run_drake, dict(dr, stiction_tolerance=1e-6)),
         ]
     return runs
+
+
+#: the Python packages of the ``engines`` extra: (import name, distribution)
+ENGINE_PACKAGES = (("pybullet", "pybullet"), ("mujoco", "mujoco"), ("pydrake", "drake"))
+
+
+def missing_engines():
+    """The distributions of the ``engines`` extra that do not import here (a list, empty when all do)."""
+    import importlib.util
+
+    return [dist for mod, dist in ENGINE_PACKAGES if importlib.util.find_spec(mod) is None]
+
+
+def require_engines(command):
+    """One line on stderr naming the extra and return 2 if an engine is missing, else None."""
+    import sys
+
+    missing = missing_engines()
+    if missing:
+        print(f"exdex {command} needs the engines extra ({', '.join(missing)} not installed): "
+              f"pip install 'exdex[engines]'", file=sys.stderr)
+        return 2
+    return None
 
 
 def add_arguments(parser):
@@ -752,9 +1031,17 @@ def add_arguments(parser):
                         help="MuJoCo friction cone (default: %(default)s; MuJoCo's own default is pyramidal)")
     parser.add_argument("--impratio", type=float, default=1.0, help="MuJoCo impratio (default 1)")
     parser.add_argument("--noslip", type=int, default=0, help="MuJoCo noslip iterations (default 0)")
+    parser.add_argument("--drake-dt", type=float, default=1e-3, help="Drake step [s] (default 0.001)")
+    parser.add_argument("--drake-contact", choices=DRAKE_CONTACT_MODELS, default="point",
+                        help="Drake contact model (default: %(default)s)")
+    parser.add_argument("--drake-approximation", choices=DRAKE_APPROXIMATIONS, default="lagged",
+                        help="Drake discrete contact approximation (default: %(default)s, Drake's own)")
+    parser.add_argument("--stiction-tolerance", type=float, default=1e-4,
+                        help="Drake stiction tolerance [m/s] (default 1e-4, Drake's own)")
     parser.add_argument("--no-variants", dest="variants", action="store_false",
                         help="skip the refined/altered engine settings (point contact, cone, noslip, ...)")
     parser.add_argument("--no-plots", dest="plots", action="store_false", help="write no figures")
+    parser.add_argument("--no-progress", action="store_true", help="print no line per run (the table only)")
 
 
 def _figure(path, name, scene, ref, runs, scale, unit):
@@ -764,10 +1051,10 @@ def _figure(path, name, scene, ref, runs, scale, unit):
     import matplotlib.pyplot as plt
 
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(7, 6.5), sharex=True)
-    ax1.plot(ref.t, scale * ref.displacement[:, 0], "k-", lw=2, label="exdex")
+    ax1.plot(ref.t, scale * _disp(ref), "k-", lw=2, label="exdex")
     for label, res, on_ref in runs:
-        ax1.plot(res.t, scale * res.displacement[:, 0], lw=1.2, label=label)
-        ax2.semilogy(ref.t, np.maximum(scale * np.abs(on_ref - ref.displacement[:, 0]), 1e-9), lw=1.2,
+        ax1.plot(res.t, scale * _disp(res), lw=1.2, label=label)
+        ax2.semilogy(ref.t, np.maximum(scale * np.abs(on_ref - _disp(ref)), 1e-9), lw=1.2,
                      label=label)
     end = scene.motion.end_time
     for ax in (ax1, ax2):
@@ -783,90 +1070,109 @@ def _figure(path, name, scene, ref, runs, scale, unit):
     plt.close(fig)
 
 
+def ablation_colors(models, engine_labels):
+    """{label: colour}: one colour per exdex model and per engine run, none shared
+    (models from matplotlib's tab20 dark shades, engines from tab20b)."""
+    import matplotlib
+
+    a = matplotlib.colormaps["tab20"]
+    b = matplotlib.colormaps["tab20b"]
+    cols = {f"exdex {m}": a(2 * i % 20) for i, m in enumerate(models)}
+    cols.update({lab: b((i * 3) % 20) for i, lab in enumerate(engine_labels)})
+    return cols
+
+
 def _ablation_figure(path, name, scene, ref, ab, engine_runs, scale, unit):
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2), gridspec_kw=dict(width_ratios=[1.4, 1]))
+    colors = ablation_colors(list(ab), [r[0] for r in engine_runs])
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11.5, 4.6), gridspec_kw=dict(width_ratios=[1.4, 1]))
     for model, (res, _) in ab.items():
-        ax1.plot(res.t, scale * res.displacement[:, 0], lw=2 if model == "ellipsoid" else 1.2,
-                 ls="-" if model == "ellipsoid" else "--", label=f"exdex {model}")
+        ax1.plot(res.t, scale * _disp(res), lw=2 if model == "ellipsoid" else 1.2,
+                 ls="-" if model == "ellipsoid" else "--", color=colors[f"exdex {model}"], label=f"exdex {model}")
     for label, res, _ in engine_runs:
-        ax1.plot(res.t, scale * res.displacement[:, 0], lw=1, ls=":", label=label)
+        ax1.plot(res.t, scale * _disp(res), lw=1.2, ls=":", color=colors[label], label=label)
     ax1.set_xlabel("t [s]")
     ax1.set_ylabel(f"relative displacement [{unit}]")
-    ax1.set_title(f"{name}: friction-model ablation")
+    kind = "" if scene.dof == "rotation" else " (equivalent e_r: approximate in planar scenes)"
+    ax1.set_title(f"{name}: friction-model ablation{kind}", fontsize=9)
     ax1.legend(fontsize=6, ncol=2)
-    labels = list(ab) + [r[0] for r in engine_runs]
-    finals = [scale * r.displacement[-1, 0] for r, _ in ab.values()] + \
-             [scale * r.displacement[-1, 0] for _, r, _ in engine_runs]
-    colors = ["C0"] * len(ab) + ["C3"] * len(engine_runs)
-    ax2.barh(range(len(labels)), finals, color=colors)
+    labels = [f"exdex {m}" for m in ab] + [r[0] for r in engine_runs]
+    finals = [scale * _disp(r)[-1] for r, _ in ab.values()] + \
+             [scale * _disp(r)[-1] for _, r, _ in engine_runs]
+    ax2.barh(range(len(labels)), finals, color=[colors[lab] for lab in labels],
+             hatch=None, edgecolor=["none"] * len(ab) + ["k"] * len(engine_runs))
     ax2.set_yticks(range(len(labels)))
     ax2.set_yticklabels(labels, fontsize=7)
     ax2.invert_yaxis()
     ax2.set_xlabel(f"final displacement [{unit}]")
-    ax2.set_title("exdex models (blue) and engines (red)")
+    ax2.set_title("exdex models (no edge) and engines (black edge)", fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
 
 
 def run(args):
-    """``exdex compare``: every case in exdex and both engines, figures, CSV and a table."""
+    """``exdex compare``: every case in exdex and the three engines, figures, CSV and a table."""
     import os
 
     from exdex.simulate import simulate
+
+    status = require_engines("compare")
+    if status:
+        return status
+    say = (lambda *a, **k: None) if getattr(args, "no_progress", False) else print  # noqa: E731
 
     os.makedirs(args.out, exist_ok=True)
     scenes = _case_scenes(args.cases)
     rows = []
     for name, scene in scenes.items():
         scale, unit = _unit(scene)
+        col = 2 if scene.dof == "planar" else 0
         t_end = scene.motion.end_time + args.settle
         t0 = time.perf_counter()
         ref = simulate(scene, t_end, dt=args.dt)
-        rows.append((name, "exdex (ellipsoid)", scale * ref.displacement[-1, 0], scale * drift_rate(ref)[0], 0.0,
+        rows.append((name, "exdex (ellipsoid)", scale * _disp(ref)[-1], scale * drift_rate(ref)[col], 0.0,
                      time.perf_counter() - t0, unit))
-        print(f"[{name}] exdex: {rows[-1][2]:.3f} {unit} ({rows[-1][5]:.2f} s)", flush=True)
+        say(f"[{name}] exdex: {rows[-1][2]:.3f} {unit} ({rows[-1][5]:.2f} s)", flush=True)
         runs = []
         for label, fn, settings in _variants(args):
             res = fn(scene, t_end, **settings)
-            on_ref = np.interp(ref.t, res.t, res.displacement[:, 0])
-            err = float(np.max(np.abs(on_ref - ref.displacement[:, 0])))
+            on_ref = np.interp(ref.t, res.t, _disp(res))
+            err = float(np.max(np.abs(on_ref - _disp(ref))))
             runs.append((label, res, on_ref))
-            rows.append((name, label, scale * res.displacement[-1, 0], scale * drift_rate(res)[0], scale * err,
+            rows.append((name, label, scale * _disp(res)[-1], scale * drift_rate(res)[col], scale * err,
                          res.stats["wall_time"], unit))
-            print(f"[{name}] {label}: {rows[-1][2]:.3f} {unit}, drift {rows[-1][3]:.4g} {unit}/s "
+            say(f"[{name}] {label}: {rows[-1][2]:.3f} {unit}, drift {rows[-1][3]:.4g} {unit}/s "
                   f"({rows[-1][5]:.2f} s)", flush=True)
         # CSV of the main curves on exdex's time grid
-        cols = [ref.t, scale * ref.displacement[:, 0]] + [r[2] * scale for r in runs]
+        cols = [ref.t, scale * _disp(ref)] + [r[2] * scale for r in runs]
         header = "t_s,exdex_" + unit + "," + ",".join(f"{r[0].replace(' ', '_')}_{unit}" for r in runs)
         np.savetxt(os.path.join(args.out, f"{name}_compare.csv"), np.column_stack(cols), delimiter=",",
                    header=header, comments="")
         if args.plots:
             _figure(os.path.join(args.out, f"{name}_compare.png"), name, scene, ref, runs, scale, unit)
-        if scene.dof == "rotation":
+        if scene.dof in ("rotation", "planar"):
             ab = ablation(scene, t_end, dt=args.dt)
             for model, (res, value) in ab.items():
-                rows.append((name, f"ablation {model} ({'e_r' if scene.dof == 'rotation' else 'mu'}="
-                                   f"{value:.4g})", scale * res.displacement[-1, 0], scale * drift_rate(res)[0],
+                rows.append((name, f"ablation {model} ({'mu' if scene.dof == 'translation' else 'e_r'}="
+                                   f"{value:.4g})", scale * _disp(res)[-1], scale * drift_rate(res)[col],
                              float("nan"), float("nan"), unit))
             if args.plots:
                 _ablation_figure(os.path.join(args.out, f"{name}_ablation.png"), name, scene, ref, ab,
-                                 runs[:2] + [r for r in runs if any(w in r[0] for w in ("point", "cone", "noslip"))], scale, unit)
-    from exdex._table import format_table
-
-    # one table per unit, so that every header carries its unit
-    blocks = []
-    for unit in dict.fromkeys(r[6] for r in rows):
-        blocks.append(format_table(
-            [("case", None), ("model", None), (f"final [{unit}]", "{:.3f}"), (f"drift [{unit}/s]", "{:.4g}"),
-             (f"max |diff| [{unit}]", "{:.3f}"), ("wall [s]", "{:.2f}")],
-            [r[:6] for r in rows if r[6] == unit]))
-    table = "\n\n".join(blocks)
+                                 runs[:3] + [r for r in runs if any(w in r[0] for w in ("point", "cone", "noslip", "hydro"))],
+                                 scale, unit)
+    lines = [f"{'case':6s} {'model':40s} {'final':>10s} {'drift/s':>11s} {'max|diff|':>10s} {'wall [s]':>8s}  unit"]
+    cell = lambda v, fmt, w: f"{v:{w}{fmt}}" if np.isfinite(v) else f"{'-':>{w}s}"  # noqa: E731
+    for name, label, final, drift, err, wall, unit in rows:
+        lines.append(f"{name:6s} {label:40s} {cell(final, '.3f', 10)} {cell(drift, '.4g', 11)} "
+                     f"{cell(err, '.3f', 10)} {cell(wall, '.2f', 8)}  {unit}")
+    lines.append("final: displacement at the end [unit]; drift/s: mean rate after the motion [unit/s]; "
+                 "max|diff|: largest gap to exdex [unit]; planar cases show the rotation")
+    table = "\n".join(lines)
     print(table)
     with open(os.path.join(args.out, "compare_table.txt"), "w") as fh:
         fh.write(table + "\n")

@@ -204,3 +204,74 @@ def test_mujoco_bare_step_time_runs():
     pytest.importorskip("mujoco")
     secs = bench.mujoco_bare_step_time(paper.fig3_scene(), 0.05, 2.0 ** -8, "pads")
     assert math.isfinite(secs) and secs > 0.0
+
+
+# ------------------------------------------------------------------ figures
+
+def _capture_figures(monkeypatch):
+    """Figures passed to savefig (kept open), to inspect what a plot function drew."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.figure
+    import matplotlib.pyplot as plt
+
+    figs = []
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", lambda self, *a, **k: figs.append(self))
+    monkeypatch.setattr(plt, "close", lambda *a, **k: None)
+    return figs
+
+
+def _inside(fig, artist):
+    fig.canvas.draw()
+    bb = artist.get_window_extent(fig.canvas.get_renderer())
+    W, H = fig.canvas.get_width_height()
+    return bb.x0 >= -0.5 and bb.y0 >= -0.5 and bb.x1 <= W + 0.5 and bb.y1 <= H + 0.5
+
+
+def test_work_precision_panel_of_rounding_noise_is_said_in_words(monkeypatch):
+    # a case whose every error is below ROUNDING x max|reference| (as Fig. 4's
+    # 5e-18..7e-18 m against a 50 mm slip) gets no plot of the noise, a text instead;
+    # a case with real errors keeps its lines, on axes spanning >= 4 decades with
+    # labels on the decades only
+    figs = _capture_figures(monkeypatch)
+    cases = {"a": types.SimpleNamespace(scale=0.05, unit="m", title="noise", ref_label="closed form",
+                                        ref_uncertainty=0.0, ref_uncertainty_max=0.0, unsupported=()),
+             "b": types.SimpleNamespace(scale=0.05, unit="m", title="real", ref_label="closed form",
+                                        ref_uncertainty=0.0, ref_uncertainty_max=0.0, unsupported=())}
+    rows = []
+    for case, errs in (("a", (5e-18, 6e-18, 7e-18)), ("b", (1e-3, 1e-4, 3e-5))):
+        for k, e in enumerate(errs):
+            rows.append(dict(case=case, method="implicit", line="implicit", status="ok", run_time_s=1e-4 * (k + 1),
+                             final_error=e, max_error=e, dt=None))
+    bench.plot_work_precision(rows, cases, "unused.png", "test machine", {})
+    fig = figs[-1]
+    axes = fig.axes
+    noise = [ax for ax in axes if any("exact to rounding" in t.get_text() for t in ax.texts)]
+    assert len(noise) == 2 and all(not ax.lines for ax in noise)
+    real = [ax for ax in axes if ax.lines]
+    assert len(real) == 2
+    for ax in real:
+        lo, hi = ax.get_ylim()
+        assert hi / lo >= 1e4 * (1 - 1e-9)
+        fig.canvas.draw()
+        labels = [t for t in ax.get_yticklabels(minor=True) if t.get_text()]
+        assert not labels                        # no minor labels to overlap
+    for ax in axes:
+        assert _inside(fig, ax.title)
+
+
+def test_stability_map_titles_fit_the_figure(monkeypatch):
+    figs = _capture_figures(monkeypatch)
+    rows = []
+    for method in bench.METHODS:
+        for axis in ("ratio",) + (("eps",) if method == "regularised" else ()):
+            for dt in (2.0 ** -5, 2.0 ** -11):
+                for y in (1.1, 10.0):
+                    rows.append(dict(family="fig3", method=method, axis=axis, y=y, dt=dt, cls="ok",
+                                     y_label="capacity / weight", creep_rate="",
+                                     y_label_ratio="the paper's grasp, ratio 1.53428943123"))
+    bench.plot_maps(rows, "fig3", "unused.png", "test machine, 2 cores", {})
+    fig = figs[-1]
+    for ax in fig.axes:
+        assert _inside(fig, ax.title), ax.get_title()

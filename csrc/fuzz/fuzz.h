@@ -132,7 +132,8 @@ void fuzz_note_keep(const char *target, const char *key);
     X(simulate)         \
     X(cone)             \
     X(tool)             \
-    X(misc)
+    X(misc)             \
+    X(ldp)
 
 #define FUZZ_DECLARE(name) int fuzz_##name(const uint8_t *data, size_t size);
 FUZZ_TARGETS(FUZZ_DECLARE)

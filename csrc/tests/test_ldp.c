@@ -1,0 +1,287 @@
+/* test_ldp.c -- the small dense solvers (ldp.c): least distance, least
+ * combination and the metric projection against closed forms, and against
+ * an independent brute force on seeded random problems: the least-distance
+ * point z = A_S' y_S is supported on some set S of at most 3 linearly
+ * independent rows, active there (A_S A_S' y_S = c_S, y_S >= 0)
+ * (Caratheodory), so trying every such S, keeping the feasible z of least
+ * norm, gives the solution (or none: the rows are inconsistent). The brute
+ * force solves its small systems by Cramer's rule, not by ldp.c. */
+#include "check.h"
+#include "../ldp.h"
+
+#include <math.h>
+#include <string.h>
+
+static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+/* Cramer's rule for n <= 3; 0 if |det| is below 1e-10 of the scale^n. */
+static int cramer(int n, double A[3][3], const double b[3], double x[3])
+{
+    double s = 0.0, det;
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < n; j++) s = fmax(s, fabs(A[i][j]));
+    if (n == 1) {
+        if (!(fabs(A[0][0]) > 1e-10 * s)) return 0;
+        x[0] = b[0] / A[0][0];
+        return 1;
+    }
+    if (n == 2) {
+        det = A[0][0] * A[1][1] - A[0][1] * A[1][0];
+        if (!(fabs(det) > 1e-10 * s * s)) return 0;
+        x[0] = (b[0] * A[1][1] - A[0][1] * b[1]) / det;
+        x[1] = (A[0][0] * b[1] - b[0] * A[1][0]) / det;
+        return 1;
+    }
+    det = A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) - A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
+          A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
+    if (!(fabs(det) > 1e-10 * s * s * s)) return 0;
+    for (int c = 0; c < 3; c++) {
+        double M[3][3];
+        memcpy(M, A, sizeof M);
+        for (int r = 0; r < 3; r++) M[r][c] = b[r];
+        x[c] = (M[0][0] * (M[1][1] * M[2][2] - M[1][2] * M[2][1]) - M[0][1] * (M[1][0] * M[2][2] - M[1][2] * M[2][0]) +
+                M[0][2] * (M[1][0] * M[2][1] - M[1][1] * M[2][0])) / det;
+    }
+    return 1;
+}
+
+/* Brute-force least distance over every support of <= 3 rows: 1 and z if
+ * feasible (every row within ftol of holding), 0 if no support is. */
+static int brute_ldp(int m, const double (*a)[3], const double *c, double ftol, double z[3])
+{
+    double best = INFINITY;
+    for (int mask = 0; mask < (1 << m); mask++) {
+        int set[3], n = 0, ok = 1;
+        double A[3][3], rhs[3], y[3] = {0, 0, 0}, zt[3] = {0, 0, 0};
+        for (int j = 0; j < m; j++)
+            if (mask & (1 << j)) {
+                if (n < 3) set[n] = j;
+                n++;
+            }
+        if (n > 3) continue;
+        for (int i = 0; i < n; i++) {
+            for (int j = 0; j < n; j++) A[i][j] = dot3(a[set[i]], a[set[j]]);
+            rhs[i] = c[set[i]];
+        }
+        if (n && !cramer(n, A, rhs, y)) continue;
+        for (int i = 0; i < n; i++) ok &= y[i] >= 0.0;
+        if (!ok) continue;
+        for (int i = 0; i < n; i++)
+            for (int d = 0; d < 3; d++) zt[d] += y[i] * a[set[i]][d];
+        for (int j = 0; j < m; j++) ok &= dot3(a[j], zt) >= c[j] - ftol;
+        if (ok && dot3(zt, zt) < best) {
+            best = dot3(zt, zt);
+            memcpy(z, zt, sizeof zt);
+        }
+    }
+    return best < INFINITY;
+}
+
+/* Brute-force least combination: min |a + sum lam_j b_j|, lam >= 0, over
+ * every support of <= 3 vectors (normal equations on the support). */
+static double brute_comb(int m, const double a[3], const double (*b)[3])
+{
+    double best = sqrt(dot3(a, a));
+    for (int mask = 1; mask < (1 << m); mask++) {
+        int set[3], n = 0, ok = 1;
+        double A[3][3], rhs[3], lam[3], r[3];
+        for (int j = 0; j < m; j++)
+            if (mask & (1 << j)) {
+                if (n < 3) set[n] = j;
+                n++;
+            }
+        if (n > 3) continue;
+        for (int i = 0; i < n; i++) {
+            for (int j = 0; j < n; j++) A[i][j] = dot3(b[set[i]], b[set[j]]);
+            rhs[i] = -dot3(b[set[i]], a);
+        }
+        if (!cramer(n, A, rhs, lam)) continue;
+        for (int i = 0; i < n; i++) ok &= lam[i] >= 0.0;
+        if (!ok) continue;
+        for (int d = 0; d < 3; d++) {
+            r[d] = a[d];
+            for (int i = 0; i < n; i++) r[d] += lam[i] * b[set[i]][d];
+        }
+        best = fmin(best, sqrt(dot3(r, r)));
+    }
+    return best;
+}
+
+static unsigned long long lcg_state = 12345;
+static double urand(void)
+{
+    lcg_state = lcg_state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return (double)(lcg_state >> 11) / 9007199254740992.0;
+}
+static double nrand(void)
+{
+    double u = urand(), v = urand();
+    return sqrt(-2.0 * log(u + 1e-300)) * cos(6.283185307179586 * v);
+}
+
+EXDEX_TEST(ldp_solve_small_closed_form)
+{
+    /* [[2,1,0],[1,3,1],[0,1,4]] x = (3, 5, 5): x = (1, 1, 1) */
+    double A[3][3] = {{2, 1, 0}, {1, 3, 1}, {0, 1, 4}}, b[3] = {3, 5, 5}, x[3];
+    double S[3][3] = {{1, 2, 3}, {2, 4, 6}, {0, 1, 1}}, bs[3] = {1, 2, 3};
+    ENSURE(ldp_solve_small(3, A, b, x));
+    for (int i = 0; i < 3; i++) ENSURE_CLOSE(x[i], 1.0, 1e-15);
+    ENSURE(!ldp_solve_small(3, S, bs, x)); /* rank 2 */
+}
+
+EXDEX_TEST(ldp_min_norm_closed_forms)
+{
+    double z[3], y[4];
+    /* one row: z = c a / |a|^2, y = c / |a|^2 */
+    {
+        const double a[1][3] = {{3, 4, 0}}, c[1] = {10};
+        ENSURE(ldp_min_norm(1, a, c, NULL, z, y, NULL));
+        ENSURE_CLOSE(z[0], 1.2, 1e-15);
+        ENSURE_CLOSE(z[1], 1.6, 1e-15);
+        ENSURE_SMALL(z[2], 1e-15);
+        ENSURE_CLOSE(y[0], 0.4, 1e-15);
+    }
+    /* a row holding at 0 (c <= 0): z = 0, y = 0 */
+    {
+        const double a[1][3] = {{1, 2, 3}}, c[1] = {-1};
+        ENSURE(ldp_min_norm(1, a, c, NULL, z, y, NULL));
+        ENSURE(z[0] == 0.0 && z[1] == 0.0 && z[2] == 0.0 && y[0] == 0.0);
+    }
+    /* two orthogonal rows and a slack one: z = (1, 2, 0) */
+    {
+        const double a[3][3] = {{1, 0, 0}, {0, 2, 0}, {1, 1, 0}}, c[3] = {1, 4, 0.5};
+        ENSURE(ldp_min_norm(3, a, c, NULL, z, y, NULL));
+        ENSURE_CLOSE(z[0], 1.0, 1e-15);
+        ENSURE_CLOSE(z[1], 2.0, 1e-15);
+        ENSURE_SMALL(z[2], 1e-15);
+        ENSURE_CLOSE(y[0], 1.0, 1e-15);
+        ENSURE_CLOSE(y[1], 1.0, 1e-15);  /* z_y = 2 y_1 */
+        ENSURE(y[2] == 0.0);
+    }
+    /* the tolerance relaxes each row: c - tol */
+    {
+        const double a[1][3] = {{0, 0, 2}}, c[1] = {1}, tol[1] = {0.25};
+        ENSURE(ldp_min_norm(1, a, c, tol, z, y, NULL));
+        ENSURE_CLOSE(z[2], 0.375, 1e-15);
+    }
+    /* inconsistent rows (an object pinched between two stops): 0 */
+    {
+        const double a[2][3] = {{1, 0, 0}, {-1, 0, 0}}, c[2] = {1, 1};
+        ENSURE(!ldp_min_norm(2, a, c, NULL, z, y, NULL));
+    }
+    /* a zero row that must hold with c > 0 is inconsistent */
+    {
+        const double a[2][3] = {{0, 0, 0}, {1, 0, 0}}, c[2] = {1, 1};
+        ENSURE(!ldp_min_norm(2, a, c, NULL, z, y, NULL));
+    }
+}
+
+EXDEX_TEST(ldp_min_norm_matches_brute_force)
+{
+    /* 3000 seeded problems: 1..8 rows in 1, 2 or 3 dimensions (the unused
+     * components of every row 0), right-hand sides of mixed sign, scales
+     * from 1e-6 to 1e6. Same feasibility; the same z to 1e-9 relative; z
+     * satisfies every row; y >= 0, z = A' y, complementary. */
+    int feasible = 0, infeasible = 0;
+    for (int trial = 0; trial < 3000; trial++) {
+        int m = 1 + (int)(urand() * 8), dim = 1 + trial % 3;
+        double a[8][3], c[8], z[3], zb[3], y[8], s = pow(10.0, 12.0 * urand() - 6.0), nz;
+        int ok, okb;
+        for (int i = 0; i < m; i++) {
+            for (int d = 0; d < 3; d++) a[i][d] = d < dim ? nrand() : 0.0;
+            c[i] = s * nrand();
+        }
+        ok = ldp_min_norm(m, (const double (*)[3])a, c, NULL, z, y, NULL);
+        okb = brute_ldp(m, (const double (*)[3])a, c, 1e-9 * s, zb);
+        ENSURE(ok == okb);
+        if (!ok || !okb) {
+            infeasible++;
+            continue;
+        }
+        feasible++;
+        nz = sqrt(dot3(zb, zb));
+        for (int d = 0; d < 3; d++) ENSURE_CLOSE(z[d], zb[d], 1e-9 * (nz + s));
+        for (int i = 0; i < m; i++) {
+            double slack = dot3(a[i], z) - c[i];
+            ENSURE(slack >= -1e-10 * (nz + s));
+            ENSURE(y[i] >= 0.0);
+            ENSURE(y[i] * fabs(slack) <= 1e-9 * (nz + s) * (nz + s) + 1e-300);
+        }
+        for (int d = 0; d < 3; d++) {
+            double zy = 0.0;
+            for (int i = 0; i < m; i++) zy += y[i] * a[i][d];
+            ENSURE_CLOSE(zy, z[d], 1e-9 * (nz + s));
+        }
+    }
+    ENSURE(feasible > 500 && infeasible > 100); /* both branches exercised */
+}
+
+EXDEX_TEST(ldp_min_combination_closed_forms_and_brute_force)
+{
+    double lam[8];
+    {
+        const double a[3] = {1, 0, 0}, b[1][3] = {{-2, 0, 0}};
+        ENSURE_SMALL(ldp_min_combination(1, a, b, lam, NULL), 1e-15);
+        ENSURE_CLOSE(lam[0], 0.5, 1e-15);
+    }
+    {
+        const double a[3] = {1, 0, 0}, b[1][3] = {{1, 0, 0}};
+        ENSURE_CLOSE(ldp_min_combination(1, a, b, lam, NULL), 1.0, 1e-15);
+        ENSURE(lam[0] == 0.0);
+    }
+    {
+        const double a[3] = {1, 1, 0}, b[2][3] = {{-1, 0, 0}, {0, 1, 0}};
+        ENSURE_CLOSE(ldp_min_combination(2, a, b, lam, NULL), 1.0, 1e-15);
+        ENSURE_CLOSE(lam[0], 1.0, 1e-15);
+        ENSURE(lam[1] == 0.0);
+    }
+    for (int trial = 0; trial < 2000; trial++) {
+        int m = 1 + (int)(urand() * 8);
+        double a[3], b[8][3], s = pow(10.0, 8.0 * urand() - 4.0), got, want;
+        for (int d = 0; d < 3; d++) a[d] = s * nrand();
+        for (int j = 0; j < m; j++)
+            for (int d = 0; d < 3; d++) b[j][d] = nrand();
+        got = ldp_min_combination(m, a, (const double (*)[3])b, lam, NULL);
+        want = brute_comb(m, a, (const double (*)[3])b);
+        ENSURE_CLOSE(got, want, 1e-9 * s);
+        for (int j = 0; j < m; j++) ENSURE(lam[j] >= 0.0);
+    }
+}
+
+EXDEX_TEST(ldp_project_metric_closed_form)
+{
+    /* planar mass m = 2, I = 0.5; one row v_y >= 1 from rest: the impulse
+     * lam = m (the velocity change 1 = lam / m), v = (0, 1, 0) */
+    const double minv[3] = {0.5, 0.5, 2.0}, G[2][3] = {{0, 1, 0}, {0, 0, 0}}, b[2] = {1, 5}, vs[3] = {0, 0, 0};
+    double v[3], lam[2];
+    size_t it = 0, warn = 0;
+    ENSURE(ldp_project(minv, 2, G, b, vs, 1e-12, v, lam, &it, &warn));
+    ENSURE_SMALL(v[0], 1e-15);
+    ENSURE_CLOSE(v[1], 1.0, 1e-15);
+    ENSURE_SMALL(v[2], 1e-15);
+    ENSURE_CLOSE(lam[0], 2.0, 1e-15);
+    ENSURE(lam[1] == 0.0); /* a row that cannot act is skipped */
+    ENSURE(warn == 0);
+    /* a row through the rotation: G = (0, 1, 1), b = 1: v = M^-1 G' lam,
+     * G M^-1 G' lam = 1, lam = 1 / (0.5 + 2) = 0.4, v = (0, 0.2, 0.8) */
+    {
+        const double G2[1][3] = {{0, 1, 1}}, b2[1] = {1};
+        ENSURE(ldp_project(minv, 1, G2, b2, vs, 1e-12, v, lam, &it, &warn));
+        ENSURE_CLOSE(v[1], 0.2, 1e-15);
+        ENSURE_CLOSE(v[2], 0.8, 1e-15);
+        ENSURE_CLOSE(lam[0], 0.4, 1e-15);
+    }
+    /* pinched: the most violated row alone, and a warning */
+    {
+        const double G3[2][3] = {{1, 0, 0}, {-1, 0, 0}}, b3[2] = {1, 2};
+        ENSURE(ldp_project(minv, 2, G3, b3, vs, 1e-12, v, lam, &it, &warn));
+        ENSURE(warn == 1);
+        ENSURE_CLOSE(v[0], -2.0, 1e-15);
+    }
+    /* every row holding at vs: nothing acts */
+    {
+        const double G4[1][3] = {{1, 0, 0}}, b4[1] = {-1};
+        ENSURE(!ldp_project(minv, 1, G4, b4, vs, 1e-12, v, lam, &it, &warn));
+        ENSURE(v[0] == 0.0 && lam[0] == 0.0);
+    }
+}

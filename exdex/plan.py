@@ -1,0 +1,639 @@
+"""Inverse design: which motion or grip gives the in-hand displacement you want.
+
+:func:`solve` varies one scene parameter (any parameter :func:`exdex.simulate_batch`
+can vary: ``grip_force``, ``mu``, ``beta``, ``duration``, ``amplitude``,
+``v_max``, ``mass``, ``e_r``) within bounds and the robot's limits until a
+final quantity of the object's motion in the gripper meets a target:
+
+    >>> import exdex
+    >>> scene = exdex.paper.fig3_scene()
+    >>> plan = exdex.plan.solve(scene, {"slip": -0.015}, vary={"grip_force": (1.0, 3.0)})
+    >>> abs(plan.residual) <= 1e-6
+    True
+
+How: a batch scan of the parameter over its bounds (one C call, all cores),
+the monotone branches of the outcome between the scan's local extrema, a
+bracket on every branch whose outcome crosses the target, and a bracketing
+refinement in batches (each round evaluates ``refine`` interior points and
+keeps the sub-interval where the outcome crosses the target, shrinking the
+bracket ``refine + 1`` times) until the outcome is within ``tol`` of the
+target. A target outside every branch raises :class:`UnreachableTargetError`
+with the reachable interval. Among several solutions (several branches) the
+one of least cost is returned (by default the gentlest gripper motion: least
+peak acceleration), the others are listed.
+
+:func:`band` gives the outcome band of a scene under uncertain parameters
+(intervals, e.g. ``{"mu": (0.4, 0.6)}``), with exact endpoints where the
+outcome is monotone in the parameter; ``solve(..., uncertain=...)`` plans for
+the worst case over such intervals.
+
+Quantities (final value minus initial value of the free coordinates):
+``"slip"`` [m] the displacement along the slide axis (translation scenes) or
+the distance moved in the plate plane (planar scenes); ``"rotation"`` [rad]
+the turn of the object relative to the gripper (rotation and planar scenes);
+``"x"``, ``"y"`` [m] the planar displacement's components in the gripper frame.
+Units are SI.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import warnings
+from dataclasses import dataclass, field
+from typing import Callable, Dict, Mapping, Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+from exdex.batch import PARAMETERS, _ALIASES, _replace_params, simulate_batch
+from exdex.scene import AsymmetricProfile, Rest, SampledTrajectory, Scene, TrapezoidalProfile, _real
+from exdex.simulate import simulate
+
+__all__ = ["Limits", "Plan", "Band", "UnreachableTargetError", "solve", "band", "outcome", "motion_peaks",
+           "QUANTITIES"]
+
+#: the quantities a target can name, with their units
+QUANTITIES = {"slip": "m", "rotation": "rad", "x": "m", "y": "m"}
+
+
+class UnreachableTargetError(ValueError):
+    """The target lies outside what the varied parameter can reach.
+
+    ``reachable`` is the (low, high) interval of the outcome over the
+    parameter's bounds and limits (from the scan and its refinement)."""
+
+    def __init__(self, message, reachable):
+        super().__init__(message)
+        self.reachable = reachable
+
+
+@dataclass(frozen=True)
+class Limits:
+    """What the robot can do: peak gripper acceleration [m/s^2 or rad/s^2],
+    peak speed [m/s or rad/s], stroke (largest distance from the start, m, for
+    translating motions), angle (largest turn, rad, for rotating motions) and
+    the range of the motion's duration T [s]. None: no limit."""
+
+    max_acceleration: Optional[float] = None
+    max_speed: Optional[float] = None
+    max_stroke: Optional[float] = None
+    max_angle: Optional[float] = None
+    duration: Optional[Tuple[float, float]] = None
+
+    def __post_init__(self):
+        for name in ("max_acceleration", "max_speed", "max_stroke", "max_angle"):
+            v = getattr(self, name)
+            if v is not None:
+                object.__setattr__(self, name, _real(v, f"Limits.{name}", low=0.0, low_open=True))
+        if self.duration is not None:
+            lo, hi = _pair(self.duration, "Limits.duration")
+            if not 0.0 <= lo <= hi:
+                raise ValueError(f"Limits.duration must be (low, high) with 0 <= low <= high, got {self.duration}")
+            object.__setattr__(self, "duration", (lo, hi))
+
+    def violations(self, motion):
+        """Names of the limits ``motion`` breaks (empty: within limits)."""
+        pk = motion_peaks(motion)
+        out = []
+        if self.max_acceleration is not None and pk["acceleration"] > self.max_acceleration * (1 + 1e-12):
+            out.append("max_acceleration")
+        if self.max_speed is not None and pk["speed"] > self.max_speed * (1 + 1e-12):
+            out.append("max_speed")
+        rot = bool(getattr(motion, "rotation", False))
+        if self.max_stroke is not None and not rot and pk["stroke"] > self.max_stroke * (1 + 1e-12):
+            out.append("max_stroke")
+        if self.max_angle is not None and rot and pk["stroke"] > self.max_angle * (1 + 1e-12):
+            out.append("max_angle")
+        if self.duration is not None and not isinstance(motion, Rest):
+            T = pk["duration"]
+            if not self.duration[0] <= T <= self.duration[1]:
+                out.append("duration")
+        return out
+
+
+def _pair(value, name):
+    try:
+        lo, hi = value
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be a (low, high) pair of numbers, got {value!r}") from None
+    return _real(lo, f"{name}[0]"), _real(hi, f"{name}[1]")
+
+
+def motion_peaks(motion):
+    """Peak |acceleration|, peak |speed|, stroke (largest |s|) and duration T of
+    a gripper motion's profile s(t) (m or rad; Eq. 7 from its closed form,
+    Eq. 9; the trapezoid from its ramps; a sampled log from finite
+    differences of its sample positions, angles ignored)."""
+    if isinstance(motion, Rest):
+        return dict(acceleration=0.0, speed=0.0, stroke=0.0, duration=0.0)
+    if isinstance(motion, AsymmetricProfile):
+        a_h, a_l = abs(motion.a_high), abs(motion.a_low)
+        # speed peaks at the end of the first a_H phase (beta T): a_H beta T
+        return dict(acceleration=max(a_h, a_l), speed=a_h * motion.beta * motion.duration,
+                    stroke=abs(motion.amplitude), duration=motion.duration)
+    if isinstance(motion, TrapezoidalProfile):
+        ta = motion.duration - abs(motion.amplitude) / motion.v_max
+        acc = motion.v_max / ta if ta > 0 else math.inf
+        return dict(acceleration=acc, speed=motion.v_max, stroke=abs(motion.amplitude), duration=motion.duration)
+    if isinstance(motion, SampledTrajectory):
+        t = np.asarray(motion.times, dtype=float)
+        p = np.asarray(motion.poses, dtype=float)[:, :3]
+        v = np.diff(p, axis=0) / np.diff(t)[:, None]
+        a = np.diff(v, axis=0) / (0.5 * (t[2:] - t[:-2]))[:, None]
+        d = np.linalg.norm(p - p[0], axis=1)
+        return dict(acceleration=float(np.max(np.linalg.norm(a, axis=1), initial=0.0)),
+                    speed=float(np.max(np.linalg.norm(v, axis=1), initial=0.0)),
+                    stroke=float(d.max()), duration=float(t[-1] - t[0]))
+    raise TypeError(f"unknown motion type {type(motion).__name__}")
+
+
+# ---------------------------------------------------------------- outcomes
+
+def _check_quantity(quantity, scene):
+    if quantity not in QUANTITIES:
+        raise ValueError(f"target quantity must be one of {sorted(QUANTITIES)}, got {quantity!r}")
+    dof = scene.dof
+    ok = {"translation": ("slip",), "rotation": ("rotation",), "planar": ("slip", "rotation", "x", "y")}[dof]
+    if quantity not in ok:
+        raise ValueError(f"a {dof} scene has no {quantity!r} outcome; use one of {list(ok)}")
+
+
+def outcome(final_displacement, scene, quantity):
+    """The named quantity from final displacements (B, ndof) of ``scene``'s coordinates."""
+    d = np.atleast_2d(np.asarray(final_displacement, dtype=float))
+    if scene.dof in ("translation", "rotation"):
+        return d[:, 0]
+    if quantity == "slip":
+        return np.hypot(d[:, 0], d[:, 1])
+    return d[:, {"x": 0, "y": 1, "rotation": 2}[quantity]]
+
+
+def _target(target, scene):
+    if isinstance(target, Mapping):
+        items = list(target.items())
+    elif isinstance(target, (tuple, list)) and len(target) == 2 and isinstance(target[0], str):
+        items = [tuple(target)]
+    else:
+        raise TypeError("target must be a dict {quantity: value}, e.g. {'slip': 0.015}, "
+                        f"got {type(target).__name__}")
+    if len(items) != 1:
+        raise ValueError(f"target must name exactly one quantity when one parameter varies, got {len(items)}")
+    q, v = items[0]
+    _check_quantity(q, scene)
+    return q, _real(v, f"target[{q!r}]")
+
+
+def _param_name(name, scene):
+    name = _ALIASES.get(name, name)
+    if name not in PARAMETERS:
+        raise ValueError(f"cannot vary {name!r}: the parameters are {sorted(PARAMETERS)}")
+    p = PARAMETERS[name]
+    if p.motions and not isinstance(scene.motion, p.motions):
+        raise ValueError(f"cannot vary {name!r}: the scene's motion {type(scene.motion).__name__} has no such field")
+    return name
+
+
+def _bounds(name, value):
+    lo, hi = _pair(value, f"bounds of {name!r}")
+    if not lo < hi:
+        raise ValueError(f"bounds of {name!r} must be (low, high) with low < high, got ({lo:g}, {hi:g})")
+    p = PARAMETERS[name]
+    for x, end in ((lo, "low"), (hi, "high")):
+        bad = ((p.low is not None and (x <= p.low if p.low_open else x < p.low))
+               or (p.high is not None and (x >= p.high if p.high_open else x > p.high)))
+        if bad:
+            raise ValueError(f"{end} bound of {name!r} must lie in {p.describe()}, got {x:g}")
+    return lo, hi
+
+
+def _default_t_end(scene):
+    """The motion's end plus half of it (at least 1 s of the object left alone
+    after a motion-free scene) [s]."""
+    end = scene.motion.end_time
+    return 1.5 * end if end > 0 else 1.0
+
+
+@dataclass(frozen=True)
+class _Runner:
+    scene: Scene
+    quantity: str
+    t_end: float
+    dt: float
+    options: Dict
+
+    def __call__(self, **arrays):
+        # candidates of a search, not results: no PhysicsWarning for each scan
+        b = simulate_batch(self.scene, self.t_end, self.dt, record="final", warn=False, **self.options, **arrays)
+        return outcome(b.final_displacement, self.scene, self.quantity).reshape(b.shape)
+
+
+# -------------------------------------------------------------------- plan
+
+@dataclass(frozen=True, eq=False)
+class Plan:
+    """A solution of :func:`solve`.
+
+    scene : the scene that achieves the target (the base scene with the
+        varied parameter replaced).
+    parameter, value : the varied parameter and its value.
+    quantity, target, achieved, residual : the target, the outcome of
+        ``scene`` re-simulated by ``verify_method`` and achieved - target.
+    cost : the plan's cost (see :func:`solve`'s ``cost``).
+    reachable : (low, high) of the outcome over the bounds and limits.
+    solutions : every parameter value found (one per monotone branch that
+        reaches the target), least cost first.
+    scan : (values, outcomes) of the batch scan (NaN where a limit is broken);
+        robust plans: (values, worst-case |outcome - target|).
+    worst_error : robust plans: the largest |outcome - target| over the
+        uncertain parameters' samples (else NaN); band the outcome band there.
+    """
+
+    scene: Scene
+    parameter: str
+    value: float
+    quantity: str
+    target: float
+    achieved: float
+    residual: float
+    cost: float
+    reachable: Tuple[float, float]
+    solutions: Tuple[float, ...]
+    scan: Tuple[np.ndarray, np.ndarray]
+    tol: float
+    worst_error: float = math.nan
+    band: Optional["Band"] = None
+
+    @property
+    def meets_target(self):
+        """True if the plan meets the target within tol (robust plans: over the
+        whole uncertainty, by its sampled worst case)."""
+        if self.band is not None:
+            return bool(self.worst_error <= self.tol)
+        return bool(abs(self.residual) <= self.tol)
+
+    def __repr__(self):
+        u = QUANTITIES[self.quantity]
+        s = (f"Plan({self.parameter}={self.value:.9g}: {self.quantity} {self.achieved:.6g} {u} "
+             f"(target {self.target:.6g}, residual {self.residual:.2e}), reachable "
+             f"[{self.reachable[0]:.6g}, {self.reachable[1]:.6g}] {u}")
+        if self.band is not None:
+            s += f", worst error {self.worst_error:.3g} {u} over {self.band.describe()}"
+        return s + ")"
+
+    def plot(self, ax=None):
+        """The scan (outcome against the parameter), the target and the plan."""
+        try:
+            import matplotlib.pyplot as plt
+        except ImportError:
+            raise ImportError("Plan.plot needs matplotlib: pip install 'exdex[plot]'") from None
+        if ax is None:
+            _, ax = plt.subplots(figsize=(6, 4), constrained_layout=True)
+        x, y = self.scan
+        u = QUANTITIES[self.quantity]
+        ax.plot(x, y, ".-", label="scan")
+        ax.axhline(self.target, color="k", lw=0.8, ls="--", label="target")
+        ax.plot([self.value], [self.achieved], "o", color="C3", label="plan")
+        ax.set_xlabel(self.parameter)
+        ax.set_ylabel(f"{self.quantity} [{u}]")
+        ax.legend()
+        return ax
+
+
+def _cost_of(cost, scene, name, value):
+    if callable(cost):
+        return float(cost(scene))
+    if cost == "value":
+        return float(value)
+    pk = motion_peaks(scene.motion)
+    if cost in ("acceleration", "speed", "duration"):
+        return float(pk[cost])
+    raise ValueError(f"cost must be 'acceleration', 'speed', 'duration', 'value' or a callable, got {cost!r}")
+
+
+def _refine(f, a, b, ra, rb, tol, xtol, k, max_rounds):
+    """Bracketing refinement of a root of r = f(x) - target between a and b
+    (ra, rb of opposite signs): k interior points per batch; returns (x, r)
+    of the first point with |r| <= tol, or the bracket end of least |r| when
+    the bracket shrinks below xtol (a jump of the outcome: r never meets tol)."""
+    for _ in range(max_rounds):
+        if abs(ra) <= tol:
+            return a, ra
+        if abs(rb) <= tol:
+            return b, rb
+        if abs(b - a) <= xtol:
+            break
+        xs = np.linspace(a, b, k + 2)[1:-1]
+        rs = f(xs)
+        good = np.flatnonzero(np.abs(rs) <= tol)
+        if good.size:
+            i = good[np.argmin(np.abs(rs[good]))]
+            return float(xs[i]), float(rs[i])
+        X = np.concatenate(([a], xs, [b]))
+        R = np.concatenate(([ra], rs, [rb]))
+        s = np.flatnonzero(np.sign(R[:-1]) * np.sign(R[1:]) <= 0)
+        j = int(s[0]) if s.size else int(np.argmin(np.abs(R[:-1])))
+        a, b, ra, rb = float(X[j]), float(X[j + 1]), float(R[j]), float(R[j + 1])
+    return (a, ra) if abs(ra) <= abs(rb) else (b, rb)
+
+
+def _branches(y):
+    """Index ranges [i, j] of the monotone runs of y (NaN splits runs)."""
+    runs, i, n = [], 0, len(y)
+    while i < n - 1:
+        if not (np.isfinite(y[i]) and np.isfinite(y[i + 1])):
+            i += 1
+            continue
+        j, s = i + 1, np.sign(y[i + 1] - y[i])
+        while j < n - 1 and np.isfinite(y[j + 1]):
+            s1 = np.sign(y[j + 1] - y[j])
+            if s != 0 and s1 != 0 and s1 != s:
+                break
+            if s == 0:
+                s = s1
+            j += 1
+        runs.append((i, j))
+        i = j
+    return runs
+
+
+def solve(scene, target, vary, *, limits=None, tol=1e-6, t_end=None, dt=None, method="event", rtol=1e-10,
+          atol=1e-12, eps=1e-4, n_scan=65, refine=15, cost="acceleration", uncertain=None, n_uncertain=9,
+          threads=None, verify=True):
+    """Find the value of one scene parameter that makes a final quantity meet a target.
+
+    Parameters
+    ----------
+    scene : exdex.Scene
+        The base scene.
+    target : dict
+        One quantity and its wanted value, e.g. ``{"slip": 0.015}`` [m] or
+        ``{"rotation": math.radians(30)}`` [rad] (see :data:`QUANTITIES`).
+    vary : dict
+        ``{name: (low, high)}``: the parameter to vary and its bounds (any
+        :func:`exdex.simulate_batch` parameter).
+    limits : Limits, optional
+        The robot's limits; parameter values whose motion breaks one are left out.
+    tol : float
+        Tolerance on the outcome (units of the quantity).
+    t_end, dt : float, optional
+        Simulated time [s] (default: the motion's end plus half of it) and
+        output step (default t_end: the event method's answer does not
+        depend on its output grid).
+    method, rtol, atol, eps : as in :func:`exdex.simulate`.
+    n_scan : int
+        Scan points over the bounds (>= 3).
+    refine : int
+        Interior points per refinement round (>= 1).
+    cost : {"acceleration", "speed", "duration", "value"} or callable
+        Picks among several solutions: the gripper motion's peak acceleration,
+        peak speed, duration, the parameter value, or ``cost(scene) -> float``.
+    uncertain : dict, optional
+        ``{name: (low, high)}`` of parameters known only within intervals.
+        Then the plan minimises the worst-case |outcome - target| over
+        ``n_uncertain`` samples per interval (a product grid, ends included),
+        and ``Plan.band`` and ``Plan.worst_error`` describe it.
+    verify : bool
+        Re-simulate the plan with :func:`exdex.simulate` (``method``,
+        ``rtol``) and report that outcome (default True).
+
+    Returns
+    -------
+    Plan
+
+    Raises
+    ------
+    UnreachableTargetError
+        When no parameter value within the bounds and limits reaches the
+        target; ``.reachable`` gives the interval that can be reached.
+    ValueError, TypeError
+        For bad targets, bounds, limits or options, naming them.
+    """
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene must be an exdex.Scene, got {type(scene).__name__}")
+    quantity, goal = _target(target, scene)
+    if not isinstance(vary, Mapping) or len(vary) != 1:
+        raise ValueError("vary must be a dict with one parameter and its bounds, e.g. {'grip_force': (0.5, 3.0)}")
+    (raw, bnds), = vary.items()
+    name = _param_name(raw, scene)
+    lo, hi = _bounds(name, bnds)
+    if limits is not None and not isinstance(limits, Limits):
+        raise TypeError(f"limits must be an exdex.plan.Limits, got {type(limits).__name__}")
+    tol = _real(tol, "tol", low=0.0, low_open=True)
+    if isinstance(n_scan, bool) or not isinstance(n_scan, (int, np.integer)) or n_scan < 3:
+        raise ValueError(f"n_scan must be an int >= 3, got {n_scan!r}")
+    if isinstance(refine, bool) or not isinstance(refine, (int, np.integer)) or refine < 1:
+        raise ValueError(f"refine must be an int >= 1, got {refine!r}")
+    t_end = _default_t_end(scene) if t_end is None else _real(t_end, "t_end", low=0.0, low_open=True)
+    dt = t_end if dt is None else _real(dt, "dt", low=0.0, low_open=True, high=t_end)
+    opts = dict(method=method, rtol=rtol, atol=atol, eps=eps)
+    if threads is not None:
+        opts["threads"] = threads
+    run = _Runner(scene, quantity, t_end, dt, opts)
+
+    unc = _uncertain(uncertain, scene, exclude=name, n=n_uncertain)
+
+    xs = np.linspace(lo, hi, int(n_scan))
+    feasible = np.array([_feasible(scene, name, x, limits) for x in xs])
+    if not feasible.any():
+        raise UnreachableTargetError(
+            f"no value of {name!r} in [{lo:g}, {hi:g}] keeps the motion within the limits "
+            f"({', '.join(limits.violations(_replace_params(scene, {name: float(xs[0])}).motion))} at {lo:g})",
+            (math.nan, math.nan))
+
+    if unc:
+        return _solve_robust(run, scene, name, xs, feasible, quantity, goal, tol, unc, refine, cost, verify,
+                             limits)
+
+    ys = np.full(xs.shape, np.nan)
+    ys[feasible] = run(**{name: xs[feasible]})
+    f = lambda x: run(**{name: np.asarray(x)}) - goal  # noqa: E731
+    xtol = 1e-13 * max(abs(lo), abs(hi))
+    sols = []
+    for i, j in _branches(ys):
+        r = ys[i:j + 1] - goal
+        for k in range(i, j):
+            ra, rb = ys[k] - goal, ys[k + 1] - goal
+            if ra == 0.0 or ra * rb < 0 or (k == j - 1 and rb == 0.0):
+                x, rr = _refine(f, xs[k], xs[k + 1], ra, rb, tol, xtol, refine, 60)
+                if abs(rr) <= tol and _feasible(scene, name, x, limits) and \
+                        not any(abs(x - s) <= xtol for s, _ in sols):
+                    sols.append((x, rr))
+        del r
+    fin = ys[np.isfinite(ys)]
+    reach = (float(fin.min()), float(fin.max()))
+    u = QUANTITIES[quantity]
+    if not sols:
+        where = "" if goal < reach[0] or goal > reach[1] else \
+            " (it lies between the scan's values only across a jump of the outcome or a limit)"
+        raise UnreachableTargetError(
+            f"target {quantity} {goal:.6g} {u} is not reachable by varying {name!r} in [{lo:g}, {hi:g}]"
+            f"{' within the limits' if limits is not None else ''}: reachable [{reach[0]:.6g}, {reach[1]:.6g}] {u}"
+            f"{where}", reach)
+    ranked = sorted(sols, key=lambda s: (_cost_of(cost, _replace_params(scene, {name: s[0]}), name, s[0]), s[0]))
+    x, r = ranked[0]
+    best = _replace_params(scene, {name: float(x)})
+    achieved = goal + r
+    if verify:
+        res = simulate(best, t_end, dt, method=method, rtol=rtol, atol=atol, eps=eps)
+        achieved = float(outcome(res.q[-1:] - res.q[:1], best, quantity)[0])
+        if not res.stick[-1]:
+            warnings.warn(f"the planned object is still moving at t_end = {t_end:g} s (relative speed "
+                          f"{float(np.max(np.abs(res.v[-1]))):.3g}): the 'final' {quantity} is not final; "
+                          "pass a longer t_end", UserWarning, stacklevel=2)
+    return Plan(scene=best, parameter=name, value=float(x), quantity=quantity, target=goal, achieved=achieved,
+                residual=achieved - goal, cost=_cost_of(cost, best, name, x),
+                reachable=(min(reach[0], achieved), max(reach[1], achieved)),
+                solutions=tuple(float(s) for s, _ in ranked), scan=(xs, ys), tol=tol)
+
+
+def _feasible(scene, name, x, limits):
+    if limits is None:
+        return True
+    try:
+        s = _replace_params(scene, {name: float(x)})
+    except (ValueError, TypeError):
+        return False
+    return not limits.violations(s.motion)
+
+
+def _uncertain(uncertain, scene, exclude=None, n=9):
+    if uncertain is None:
+        return {}
+    if not isinstance(uncertain, Mapping) or not uncertain:
+        raise TypeError("uncertain must be a dict {name: (low, high)}, e.g. {'mu': (0.4, 0.6)}")
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 2:
+        raise ValueError(f"n_uncertain must be an int >= 2, got {n!r}")
+    out = {}
+    for raw, iv in uncertain.items():
+        name = _param_name(raw, scene)
+        if name == exclude:
+            raise ValueError(f"{name!r} cannot be both varied and uncertain")
+        if isinstance(iv, (tuple, list)) and len(iv) == 2:
+            lo, hi = _pair(iv, f"uncertain[{name!r}]")
+            if not lo <= hi:
+                raise ValueError(f"uncertain[{name!r}] must be (low, high) with low <= high, got {iv}")
+            _bounds(name, (lo, hi if hi > lo else lo + abs(lo) * 1e-12 + 1e-300))
+            out[name] = np.linspace(lo, hi, int(n))
+        else:
+            a = np.asarray(iv, dtype=float).ravel()
+            if a.size < 1 or not np.all(np.isfinite(a)):
+                raise ValueError(f"uncertain[{name!r}] must be an interval (low, high) or finite samples")
+            out[name] = np.sort(a)
+    return out
+
+
+# -------------------------------------------------------------------- band
+
+@dataclass(frozen=True, eq=False)
+class Band:
+    """Outcome band of a scene under uncertain parameters.
+
+    low, high : the band [units of the quantity].
+    exact : True when the outcome is monotone in every uncertain parameter on
+        its samples, so the band's ends are the outcome at interval ends
+        (exact to the simulation's accuracy); False: the extremes of the
+        samples, which may miss a narrow excursion by up to ``bound``.
+    bound : the largest change of the outcome between neighbouring samples
+        (0 when exact).
+    samples : {name: sample values}; outcomes : the outcome on their product grid.
+    """
+
+    quantity: str
+    low: float
+    high: float
+    exact: bool
+    bound: float
+    samples: Dict[str, np.ndarray]
+    outcomes: np.ndarray
+
+    def describe(self):
+        return ", ".join(f"{k} in [{v[0]:.4g}, {v[-1]:.4g}]" for k, v in self.samples.items())
+
+    def __repr__(self):
+        u = QUANTITIES[self.quantity]
+        kind = "exact ends (monotone)" if self.exact else f"sampled, may miss up to {self.bound:.2g} {u}"
+        return f"Band({self.quantity} in [{self.low:.6g}, {self.high:.6g}] {u} for {self.describe()}; {kind})"
+
+
+def _monotone(y, axis):
+    d = np.diff(y, axis=axis)
+    return bool(np.all(d >= 0) or np.all(d <= 0))
+
+
+def _make_band(quantity, samples, Y):
+    names = list(samples)
+    mono = all(_monotone(Y, ax) for ax in range(len(names)))
+    if mono:
+        corners = Y[tuple(slice(None, None, max(1, s - 1)) for s in Y.shape)]
+        lo, hi, bound = float(corners.min()), float(corners.max()), 0.0
+    else:
+        lo, hi = float(Y.min()), float(Y.max())
+        bound = max(float(np.max(np.abs(np.diff(Y, axis=ax)), initial=0.0)) for ax in range(Y.ndim))
+    return Band(quantity=quantity, low=lo, high=hi, exact=mono, bound=bound, samples=dict(samples), outcomes=Y)
+
+
+def band(scene, quantity, uncertain, *, n=17, t_end=None, dt=None, method="event", rtol=1e-10, atol=1e-12,
+         eps=1e-4, threads=None):
+    """The band of a final quantity when parameters are known only within intervals.
+
+    ``uncertain`` maps parameter names to intervals ``(low, high)`` (or to
+    arrays of samples). The outcome is computed on the product grid of ``n``
+    samples per interval in one batch. Where it is monotone in every
+    parameter on the samples (checked), the band's ends are the outcomes at
+    the intervals' corners, exact; otherwise the band is the samples' range
+    and ``Band.bound`` states what the sampling may miss. Returns a :class:`Band`.
+    """
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene must be an exdex.Scene, got {type(scene).__name__}")
+    _check_quantity(quantity, scene)
+    unc = _uncertain(uncertain, scene, n=n)
+    t_end = _default_t_end(scene) if t_end is None else _real(t_end, "t_end", low=0.0, low_open=True)
+    dt = t_end if dt is None else _real(dt, "dt", low=0.0, low_open=True, high=t_end)
+    opts = dict(method=method, rtol=rtol, atol=atol, eps=eps)
+    if threads is not None:
+        opts["threads"] = threads
+    run = _Runner(scene, quantity, t_end, dt, opts)
+    k = len(unc)
+    grids = {name: v.reshape((1,) * i + (-1,) + (1,) * (k - i - 1)) for i, (name, v) in enumerate(unc.items())}
+    Y = run(**grids)
+    return _make_band(quantity, unc, Y)
+
+
+def _solve_robust(run, scene, name, xs, feasible, quantity, goal, tol, unc, refine, cost, verify, limits):
+    """Minimise the worst-case |outcome - target| over the uncertain samples."""
+    k = len(unc)
+    grids = {u: v.reshape((1,) + (1,) * i + (-1,) + (1,) * (k - i - 1)) for i, (u, v) in enumerate(unc.items())}
+
+    def worst(x):
+        x = np.asarray(x, dtype=float)
+        Y = run(**{name: x.reshape((-1,) + (1,) * k)}, **grids)
+        return np.max(np.abs(Y - goal).reshape(len(x), -1), axis=1), Y
+
+    W = np.full(xs.shape, np.inf)
+    W[feasible], _ = worst(xs[feasible])
+    i = int(np.argmin(W))
+    a, b = xs[max(i - 1, 0)], xs[min(i + 1, len(xs) - 1)]
+    best_x, best_w = float(xs[i]), float(W[i])
+    for _ in range(30):
+        if b - a <= 1e-12 * max(abs(a), abs(b), 1e-300):
+            break
+        cand = np.linspace(a, b, refine + 2)
+        cand = cand[[_feasible(scene, name, c, limits) for c in cand]]
+        if cand.size == 0:
+            break
+        w, _ = worst(cand)
+        j = int(np.argmin(w))
+        if w[j] < best_w:
+            best_x, best_w = float(cand[j]), float(w[j])
+        a, b = cand[max(j - 1, 0)], cand[min(j + 1, len(cand) - 1)]
+        if best_w <= 0.25 * tol:
+            break
+    best = _replace_params(scene, {name: best_x})
+    w, Y = worst(np.array([best_x]))
+    bd = _make_band(quantity, unc, Y[0])
+    ys = run(**{name: xs[feasible]})
+    reach = (float(np.nanmin(ys)), float(np.nanmax(ys)))
+    nominal = float(run(**{name: np.array([best_x])})[0])
+    return Plan(scene=best, parameter=name, value=best_x, quantity=quantity, target=goal, achieved=nominal,
+                residual=nominal - goal, cost=_cost_of(cost, best, name, best_x), reachable=reach,
+                solutions=(best_x,), scan=(xs, np.where(feasible, W, np.nan)), tol=tol, worst_error=float(w[0]),
+                band=bd)

@@ -1,0 +1,166 @@
+"""exdex.plan: inverse design of a motion or grip for a target in-hand outcome.
+
+Every plan is checked by an independent method: the closed-form solution of
+the 1-DoF Coulomb problem (exdex.paper.closed_form: piecewise-quadratic
+motion, event times as roots, no integration), evaluated on the plan's scene.
+Robust plans and bands are checked by dense sampling of the uncertain
+parameter with that closed form.
+"""
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+import exdex
+from exdex import paper, plan
+
+
+def closed_slip(scene):
+    """Final slip of a Fig. 3 type scene in closed form [m]."""
+    return paper.closed_form(scene).final
+
+
+def fig3(**grasp):
+    s = paper.fig3_scene()
+    return dataclasses.replace(s, grasp=dataclasses.replace(s.grasp, **grasp)) if grasp else s
+
+
+T_END = 1.5  # the Fig. 3 object is at rest again after the motion ends at 1 s
+
+
+@pytest.mark.parametrize("goal", [-0.005, -0.015, -0.03])
+def test_grip_force_plan_meets_target_by_closed_form(goal):
+    p = plan.solve(fig3(), {"slip": goal}, vary={"grip_force": (1.0, 3.0)}, tol=1e-7, t_end=T_END)
+    assert p.parameter == "grip_force"
+    assert 1.0 <= p.value <= 3.0
+    # independent check: the closed form on the plan's scene meets the target
+    assert abs(closed_slip(p.scene) - goal) <= 1e-7 + 1e-9
+    # the re-simulated (event method) outcome is what the plan reports
+    assert abs(p.residual) <= 1e-7
+    # the slip is monotone in the grip force: one solution, and the paper's
+    # closed-form inverse (fig3_grip_force) gives the same grip force; the slip
+    # changes by |ds/dF| ~ 0.1 m/N, so tol 1e-7 m fixes F to ~1e-6 N
+    assert len(p.solutions) == 1
+    assert p.value == pytest.approx(paper.fig3_grip_force(slip=-goal), abs=1e-5)
+
+
+def test_unreachable_target_reports_the_reachable_interval():
+    with pytest.raises(plan.UnreachableTargetError) as ei:
+        plan.solve(fig3(), {"slip": -0.5}, vary={"grip_force": (1.1, 3.0)}, t_end=T_END)
+    lo, hi = ei.value.reachable
+    # closed form at the bounds (the object is at rest by 0.88 s <= t_end for
+    # every grip force >= 1.1 N): the slip is monotone in the grip force, so
+    # the reachable interval is spanned by the two ends
+    ends = sorted(closed_slip(fig3(grip_force=f)) for f in (1.1, 3.0))
+    assert lo == pytest.approx(ends[0], abs=1e-9) and hi == pytest.approx(ends[1], abs=1e-9)
+    assert "reachable" in str(ei.value) and "grip_force" in str(ei.value)
+
+
+def test_plan_warns_when_the_object_is_still_moving_at_t_end():
+    """A slip of 0.35 m by t_end = 1.5 s needs about 1.01 N, with which the
+    object comes to rest only after t_end (1.0 N: 2.56 s, 1.02 N: 1.48 s,
+    closed form), so the 'final' slip is not final: the plan says so. The
+    slip is still the one at t_end, checked against the closed form there."""
+    with pytest.warns(UserWarning, match="still moving"):
+        p = plan.solve(fig3(), {"slip": -0.35}, vary={"grip_force": (1.0, 1.2)}, t_end=T_END, tol=1e-7)
+    x, _ = paper.closed_form(p.scene)(T_END)
+    assert abs(float(x) - (-0.35)) <= 1e-6
+
+
+def test_duration_plan_respects_acceleration_limit():
+    """Vary Eq. 7's T: a shorter T slips more; the limit on the gripper's
+    peak acceleration (max(|a_H|, |a_L|) = 2 X1 / ((1 - beta) T^2), Eq. 9)
+    cuts the short durations away."""
+    base = fig3()
+    lim = plan.Limits(max_acceleration=12.0)
+    p = plan.solve(base, {"slip": -0.01}, vary={"duration": (0.3, 1.0)}, limits=lim, tol=1e-7, t_end=3.0)
+    m = p.scene.motion
+    assert max(abs(m.a_high), abs(m.a_low)) <= 12.0 * (1 + 1e-12)
+    assert abs(closed_slip(p.scene) - (-0.01)) <= 1e-7 + 1e-9
+    # a target that needs more acceleration than allowed is unreachable
+    with pytest.raises(plan.UnreachableTargetError):
+        plan.solve(base, {"slip": -0.08}, vary={"duration": (0.3, 1.0)}, limits=lim, t_end=3.0)
+
+
+def test_every_branch_solution_meets_target():
+    """Vary beta: the slip is not monotone in beta over (0.55, 0.97); every
+    solution found must meet the target (closed form), and the plan is the
+    least-cost one (least peak acceleration)."""
+    base = fig3()
+    goal = -0.01
+    p = plan.solve(base, {"slip": goal}, vary={"beta": (0.55, 0.97)}, tol=1e-7, t_end=T_END, n_scan=41)
+    for b in p.solutions:
+        s = dataclasses.replace(base, motion=dataclasses.replace(base.motion, beta=b))
+        assert abs(closed_slip(s) - goal) <= 1e-6
+    costs = [plan.motion_peaks(dataclasses.replace(base.motion, beta=b))["acceleration"] for b in p.solutions]
+    assert costs == sorted(costs)
+
+
+def test_band_in_mu_has_exact_monotone_ends():
+    """The final slip is monotone in the capacity, so in mu: the band's ends
+    are the closed form at mu = 0.4 and 0.6, and dense closed-form samples
+    stay inside."""
+    b = plan.band(fig3(), "slip", {"mu": (0.4, 0.6)}, n=9, t_end=T_END)
+    assert b.exact and b.bound == 0.0
+    ref = [closed_slip(fig3(mu=m)) for m in np.linspace(0.4, 0.6, 101)]
+    assert b.low == pytest.approx(min(ref), abs=1e-9)
+    assert b.high == pytest.approx(max(ref), abs=1e-9)
+
+
+def test_robust_plan_worst_case_verified_by_dense_sampling():
+    """Plan the grip force for a 15 mm slip with mu known only in [0.45, 0.55]:
+    the plan's worst-case error (on 9 samples of mu) is checked against 201
+    closed-form samples; since the slip is monotone in mu the worst case is at
+    an end, so the two agree to the closed form's rounding."""
+    goal = -0.015
+    p = plan.solve(fig3(), {"slip": goal}, vary={"grip_force": (1.0, 3.0)}, uncertain={"mu": (0.45, 0.55)},
+                   t_end=T_END, tol=2e-3)
+    mus = np.linspace(0.45, 0.55, 201)
+    dense = max(abs(closed_slip(fig3(grip_force=p.value, mu=m)) - goal) for m in mus)
+    assert dense == pytest.approx(p.worst_error, abs=1e-8)
+    # the minimax is better than planning for the nominal mu and hoping
+    nominal = plan.solve(fig3(), {"slip": goal}, vary={"grip_force": (1.0, 3.0)}, t_end=T_END, tol=1e-7)
+    naive = max(abs(closed_slip(fig3(grip_force=nominal.value, mu=m)) - goal) for m in mus)
+    assert p.worst_error <= naive + 1e-12
+    assert p.band is not None and p.band.exact
+    assert p.meets_target == (p.worst_error <= 2e-3)
+
+
+@pytest.mark.parametrize("kw, match", [
+    (dict(target={"spin": 1.0}), "target quantity"),
+    (dict(target={"rotation": 1.0}), "no 'rotation' outcome"),
+    (dict(target={"slip": 1.0, "rotation": 1.0}), "exactly one"),
+    (dict(vary={"colour": (0, 1)}), "cannot vary 'colour'"),
+    (dict(vary={"grip_force": (2.0, 1.0)}), "low < high"),
+    (dict(vary={"grip_force": (-1.0, 1.0)}), "low bound of 'grip_force'"),
+    (dict(vary={"beta": (0.5, 1.5)}), "high bound of 'beta'"),
+    (dict(tol=0.0), "tol"),
+    (dict(n_scan=2), "n_scan"),
+])
+def test_bad_input_names_the_parameter(kw, match):
+    args = dict(target={"slip": -0.01}, vary={"grip_force": (1.0, 3.0)})
+    args.update(kw)
+    with pytest.raises(ValueError, match=match):
+        plan.solve(fig3(), args.pop("target"), **args)
+
+
+def test_limits_validation():
+    with pytest.raises(ValueError, match="max_speed"):
+        plan.Limits(max_speed=-1.0)
+    with pytest.raises(ValueError, match="duration"):
+        plan.Limits(duration=(2.0, 1.0))
+
+
+def test_motion_peaks_closed_forms():
+    """Eq. 9: a_H = 2 X1/(beta T^2), |a_L| = 2 X1/((1 - beta) T^2); the speed
+    peaks at beta T with a_H beta T = 2 X1 / T; trapezoid: ramps of
+    T - X1/v_max at v_max / t_a."""
+    m = exdex.AsymmetricProfile(0.1, 0.5, 0.9)
+    pk = plan.motion_peaks(m)
+    assert pk["acceleration"] == pytest.approx(2 * 0.1 / (0.1 * 0.25))
+    assert pk["speed"] == pytest.approx(2 * 0.1 / 0.5)
+    tp = exdex.TrapezoidalProfile(0.05, 0.5, 0.12)
+    pk = plan.motion_peaks(tp)
+    ta = 0.5 - 0.05 / 0.12
+    assert pk["acceleration"] == pytest.approx(0.12 / ta) and pk["speed"] == 0.12
