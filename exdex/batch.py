@@ -508,7 +508,7 @@ def _batch_findings(b):
                 j = int(np.flatnonzero(mask[r])[0])
                 v = float(value[r, j])
                 return diagnostics.PhysicsWarning(
-                    f"at t = {times[r, j]:.6g} s " + chk["text"](v, float(value[r].max())), kind=chk["kind"],
+                    f"at t = {times[r, j]:.6g} s " + chk["text"](v, None), kind=chk["kind"],
                     time=float(times[r, j]), quantity=chk["quantity"], value=v, limit=chk["limit"])
             note(chk["kind"], full, make)
     out = []

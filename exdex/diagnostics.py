@@ -159,13 +159,10 @@ def contact_checks(scene, q):
     out = []
     if scene.dof == "rotation" or len(q) == 0:
         return out  # the centre of pressure is the pin: fixed on the plates
-    pose = poses(scene, q)
+    q = np.asarray(q, dtype=float).reshape(len(q), -1)
     c = np.array(scene.grasp.patch.center)
     th0 = scene.q0[2]
     pad = np.array(scene.q0[:2]) + _rot(th0, c)                     # pad centre in B, fixed
-    cs, sn = np.cos(pose[:, 2]), np.sin(pose[:, 2])
-    cop = pose[:, :2] + np.stack([cs * c[0] - sn * c[1], sn * c[0] + cs * c[1]], axis=1)
-    slide = cop - pad                                                # CoP relative to the pad, in B
     body = scene.body
     outline = _outline(body)
     half = pad_half_size(scene.grasp.patch)
@@ -173,7 +170,33 @@ def contact_checks(scene, q):
     # the object is an assumption the slide breaks; in translation scenes it
     # does not enter the dynamics, so there the pad is the only size to
     # check only when the body states no outline.
-    if half is not None and (scene.dof == "planar" or outline is None):
+    check_pad = half is not None and (scene.dof == "planar" or outline is None)
+    # Cheap bounds first (long runs that stay well inside skip the per-row
+    # work): the centre of mass moves by at most dr and turns by at most dth,
+    # so the centre of pressure moves by at most dr + |c| dth relative to the
+    # pad, and the pad centre by at most dr + |pad - r0| dth in the object.
+    if scene.dof == "planar":
+        r0 = np.array(scene.q0)
+        dx, dy, dth = (float(np.max(np.abs(q[:, j] - r0[j]))) for j in range(3))
+        dr = math.hypot(dx, dy)
+    else:
+        d = scene.slide_axis
+        dr = float(np.max(np.abs(q[:, 0] - (d[0] * scene.q0[0] + d[1] * scene.q0[1]))))
+        dth = 0.0
+    if check_pad and dr + float(np.hypot(*c)) * dth < min(half) * (1 - 1e-9):
+        check_pad = False
+    if outline is not None:
+        rel0 = _rot(-th0, pad - np.array(scene.q0[:2]))
+        inside = -float(_outside_distance(outline, rel0[None, :])[0])
+        if dr + float(np.hypot(*(pad - np.array(scene.q0[:2])))) * dth < inside * (1 - 1e-9):
+            outline = None
+    if not check_pad and outline is None:
+        return out
+    pose = poses(scene, q)
+    cs, sn = np.cos(pose[:, 2]), np.sin(pose[:, 2])
+    cop = pose[:, :2] + np.stack([cs * c[0] - sn * c[1], sn * c[0] + cs * c[1]], axis=1)
+    slide = cop - pad                                                # CoP relative to the pad, in B
+    if check_pad:
         ca, sa = math.cos(th0), math.sin(th0)
         local = np.stack([ca * slide[:, 0] + sa * slide[:, 1], -sa * slide[:, 0] + ca * slide[:, 1]], axis=1)
         dist = np.hypot(local[:, 0], local[:, 1])
@@ -186,10 +209,11 @@ def contact_checks(scene, q):
             limit = float(math.hypot(*half))
         out.append(dict(
             kind="pad", mask=mask, value=dist, limit=limit, quantity="slide relative to the pad [m]",
-            text=lambda v, far, size_txt=size_txt: (
-                f"the object has slid {_length(v)} relative to the plate pads, beyond {size_txt} "
-                f"(largest slide {_length(far)}): the model keeps the centre of pressure fixed on the "
-                "object, so past this time the result does not describe the grasp")))
+            text=lambda v, end, size_txt=size_txt: (
+                f"the object has slid {_length(v)} relative to the plate pads, beyond {size_txt}"
+                + (f" ({_length(end)} at the end of the run)" if end is not None else "")
+                + ": the model keeps the centre of pressure fixed on the object, so past this time the "
+                "result does not describe the grasp")))
     if outline is not None:
         hull = outline
         rel = pad[None, :] - pose[:, :2]                          # pad centre rel. to the COM, in B
@@ -199,25 +223,58 @@ def contact_checks(scene, q):
         out.append(dict(
             kind="outline", mask=dout > 1e-9 * scale, value=dout, limit=0.0,
             quantity="distance outside the body outline [m]",
-            text=lambda v, far: (
+            text=lambda v, end: (
                 f"the centre of pressure (the plate pads' centre) is {_length(v)} outside the body "
-                f"outline (largest {_length(far)}): the plates no longer press on the object, so past "
-                "this time the result does not describe the grasp")))
+                f"outline" + (f" ({_length(end)} at the end of the run)" if end is not None and end > 0 else "")
+                + ": the plates no longer press on the object, so past this time the result does not "
+                "describe the grasp")))
     return out
 
 
-def contact_findings(scene, t, q):
-    """Pad and outline findings for the samples (t, q) of one trajectory of ``scene``."""
+def contact_findings(scene, t, q, chunk=2048):
+    """Pad and outline findings for the samples (t, q) of one trajectory of
+    ``scene``. Rows are checked in chunks, and a check stops at its first
+    failing sample, so long runs cost little beyond their own output."""
+    q = np.asarray(q, dtype=float).reshape(len(q), -1)
+    first = {}
+    possible = None
+    for a in range(0, len(q), chunk):
+        checks = contact_checks(scene, q[a:a + chunk])
+        for chk in checks:
+            if chk["kind"] in first:
+                continue
+            i = _first(chk["mask"])
+            if i is not None:
+                first[chk["kind"]] = (a + i, chk, float(chk["value"][i]))
+        if possible is None:
+            possible = _possible_kinds(scene)
+        if possible <= set(first):
+            break
     out = []
-    for chk in contact_checks(scene, q):
-        i = _first(chk["mask"])
-        if i is None:
+    if not first:
+        return out
+    end = {chk["kind"]: float(chk["value"][-1]) for chk in contact_checks(scene, q[-1:])}
+    for kind in ("pad", "outline"):
+        if kind not in first:
             continue
-        v = chk["value"]
+        i, chk, v = first[kind]
         out.append(PhysicsWarning(
-            f"at t = {t[i]:.6g} s " + chk["text"](float(v[i]), float(v.max())), kind=chk["kind"],
-            time=float(t[i]), quantity=chk["quantity"], value=float(v[i]), limit=chk["limit"]))
+            f"at t = {t[i]:.6g} s " + chk["text"](v, end.get(kind)), kind=kind, time=float(t[i]),
+            quantity=chk["quantity"], value=v, limit=chk["limit"]))
     return out
+
+
+def _possible_kinds(scene):
+    """The kinds of contact finding a scene can give at all."""
+    if scene.dof == "rotation":
+        return set()
+    outline = _outline(scene.body)
+    kinds = set()
+    if pad_half_size(scene.grasp.patch) is not None and (scene.dof == "planar" or outline is None):
+        kinds.add("pad")
+    if outline is not None:
+        kinds.add("outline")
+    return kinds
 
 
 def stats_findings(stats):

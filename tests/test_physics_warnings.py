@@ -166,7 +166,7 @@ def test_impact_on_a_stop_reports_the_impulse(method, dof):
     """mu = 0: a 20 mm cube falls H = 50 mm onto a floor stop. The plastic,
     frictionless impact takes the impulse m sqrt(2 g H) = 0.0990 N s at
     t = sqrt(2 H / g) = 0.101 s (closed form). The event-driven methods locate
-    it exactly; the time-stepping ones within a couple of steps, their impulse
+    it exactly; the time-stepping ones within three steps, their impulse
     (the burst of stop impulses) off by about the weight's impulse over a step,
     m g dt. stop_force alone shows a spike of about impulse / dt instead."""
     m, H = 0.1, 0.05
@@ -183,7 +183,7 @@ def test_impact_on_a_stop_reports_the_impulse(method, dof):
             assert st["max_impulse_t"] == pytest.approx(t_hit, rel=1e-8)
         else:
             assert abs(st["max_impulse"] - J) <= 2 * m * G * dt
-            assert abs(st["max_impulse_t"] - t_hit) <= 2 * dt
+            assert abs(st["max_impulse_t"] - t_hit) <= 3 * dt
         imp = [w for w in found if w.kind == "impact"]
         assert len(imp) == 1 and imp[0].value == st["max_impulse"]
         assert f"{st['max_impulse']:.4g} N s" in str(imp[0]) and "stop 0" in str(imp[0])
