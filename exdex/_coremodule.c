@@ -215,12 +215,24 @@ fail:
     return -1;
 }
 
-/* The impact and warning-time fields of exdex_stats into dict d; -1 on error. */
+/* A float, or None for NaN ("no such event": dicts with None compare equal). */
+static PyObject *float_or_none(double x)
+{
+    if (isnan(x)) Py_RETURN_NONE;
+    return PyFloat_FromDouble(x);
+}
+
+/* The impact and warning-time fields of exdex_stats into dict d (times
+ * None when there was no impact / warning, the stop index then None too);
+ * -1 on error. */
 static int add_impact_stats(PyObject *d, const exdex_stats *st)
 {
-    PyObject *o = Py_BuildValue("{s:n,s:d,s:d,s:i,s:d}", "impacts", (Py_ssize_t)st->impacts, "max_impulse",
-                                st->max_impulse, "max_impulse_t", st->max_impulse_t, "max_impulse_stop",
-                                st->max_impulse_stop, "first_warning_t", st->first_warning_t);
+    PyObject *o = Py_BuildValue("{s:n,s:d,s:N,s:N,s:N}", "impacts", (Py_ssize_t)st->impacts, "max_impulse",
+                                st->max_impulse, "max_impulse_t", float_or_none(st->max_impulse_t),
+                                "max_impulse_stop",
+                                st->max_impulse_stop >= 0 ? PyLong_FromLong(st->max_impulse_stop)
+                                                          : Py_NewRef(Py_None),
+                                "first_warning_t", float_or_none(st->first_warning_t));
     int rc = o ? PyDict_Update(d, o) : -1;
     Py_XDECREF(o);
     return rc;

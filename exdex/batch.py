@@ -119,7 +119,8 @@ class BatchResult:
     stats : dict of (B,) arrays per trajectory: steps, stick_steps,
         solver_iterations, stop_iterations, warnings, impacts,
         max_impulse_stop (int64), min_gap [m], max_impulse [N s],
-        max_impulse_t, first_warning_t [s] (as in :class:`exdex.Result`).
+        max_impulse_t, first_warning_t [s] (as in :class:`exdex.Result`;
+        NaN and -1 where a single run's stats hold None).
     params : dict name -> (B,) float64 values of the varied parameters.
     shape : batch shape (B = prod(shape)); see :meth:`gridded`.
     scene : the base scene (or the tuple of scenes of a list batch).
@@ -482,6 +483,7 @@ def _batch_findings(b):
 
             def make(i):
                 st = {k: np.asarray(v)[i].item() for k, v in b.stats.items()}
+                st = {k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in st.items()}
                 return [w for w in diagnostics.stats_findings(st) if w.kind == kind][0]
             note(kind, flagged, make)
     # pad and outline: the varied parameters never change the geometry, so

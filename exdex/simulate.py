@@ -39,11 +39,11 @@ class Result:
         iteration limit reached with the last iterate kept, a stop that
         cannot act or pinches the object, a penetration left after a step),
         first_warning_t [s] (end of the first step or output interval that
-        counted one; NaN: none), min_gap [m], impacts (stops that started
+        counted one; None: none), min_gap [m], impacts (stops that started
         pushing an approaching object: velocity jumps), max_impulse [N s]
-        (largest impact impulse, generalized N m s on a rotation pin),
-        max_impulse_t [s] and max_impulse_stop (its time and stop; NaN / -1:
-        none). ``stop_force`` shows an impact as its impulse divided by the
+        (largest impact impulse, generalized N m s on a rotation pin; 0:
+        none), max_impulse_t [s] and max_impulse_stop (its time and stop;
+        None: none). ``stop_force`` shows an impact as its impulse divided by the
         step.
     scene, method, friction_solver, dt : what produced it.
     """
