@@ -225,8 +225,11 @@ enum exdex_method {
                                       output interval (Zeno-like toggling) */
     EXDEX_METHOD_REGULARISED = 2,  /* smooth friction |u| -> sqrt(|u|^2 + eps^2), rk8pd to
                                       rtol/atol; no true stick (creeps) */
-    EXDEX_METHOD_EXPLICIT = 3      /* explicit Coulomb with sign(), symplectic Euler steps
+    EXDEX_METHOD_EXPLICIT = 3,     /* explicit Coulomb with sign(), symplectic Euler steps
                                       of dt, naive baseline; chatters at stick */
+    EXDEX_METHOD_ANALYTIC = 4      /* exact phase-by-phase solution of 1-DoF scenes with a
+                                      piecewise-constant drive (exdex_analytic_unsupported
+                                      says which scenes); dt is only the output grid */
 };
 
 #define EXDEX_MAX_STOPS 8
@@ -265,6 +268,14 @@ typedef struct exdex_scene_def {
     double eps;               /* regularised method: smoothing speed [m/s] > 0 */
     double rtol, atol;        /* event/regularised methods: GSL odeiv2 tolerances */
 } exdex_scene_def;
+
+/* NULL if EXDEX_METHOD_ANALYTIC solves the scene, else a static sentence
+ * saying why not: it needs a 1-DoF scene without stops whose drive is
+ * piecewise constant: a translation scene whose gripper translates (Eq. 7,
+ * a trapezoid with ramps, or rest), or a rotation scene about the centre of
+ * mass (patch centre 0) whose gripper turns about the plate normal (to
+ * 1e-12) or rests. */
+const char *exdex_analytic_unsupported(const exdex_scene_def *def);
 
 /* Defaults: unit mass, unit inertia, mu 0.5, grip force 1 N, 2 fingers,
  * e_r 0.01 m, gravity (0, 0, -9.81), R0 with B's y up (B x = A x, B y = A z,
@@ -313,6 +324,20 @@ typedef struct exdex_trajectory {
                              may be NULL when n_stops == 0 */
 } exdex_trajectory;
 
+/* Why a run returned EXDEX_ENOCONV or EXDEX_ENONFINITE (exdex_stats.fail_cause). */
+enum exdex_fail_cause {
+    EXDEX_FAIL_NONE = 0,         /* the run succeeded */
+    EXDEX_FAIL_EVENTS = 1,       /* event: more than 1000 mode switches within one output
+                                    interval (Zeno-like accumulation of events) */
+    EXDEX_FAIL_STEP_BUDGET = 2,  /* event, regularised: more than 1e5 ODE steps plus event
+                                    location iterations within one output interval (stiff) */
+    EXDEX_FAIL_STEP_FLOOR = 3,   /* event, regularised: the adaptive step fell below 16 ulps
+                                    of t (a step-size collapse) */
+    EXDEX_FAIL_STEPPER = 4,      /* the ODE stepper or the event location failed */
+    EXDEX_FAIL_SOLVER = 5,       /* an inner solver (friction, constraints) failed */
+    EXDEX_FAIL_NONFINITE = 6     /* the state left the finite range */
+};
+
 typedef struct exdex_stats {
     size_t steps;
     size_t stick_steps;
@@ -329,6 +354,10 @@ typedef struct exdex_stats {
     double max_impulse_t;       /* its time [s] (the step's end for
                                  * time-stepping methods); NaN: none */
     int max_impulse_stop;       /* its stop index; -1: none */
+    double fail_time;           /* where a failed run stopped: the time it had reached
+                                   (event, regularised: the start of the failing step
+                                   or event) [s]; NaN after success or when unknown */
+    int fail_cause;             /* enum exdex_fail_cause; EXDEX_FAIL_NONE after success */
 } exdex_stats;
 
 /* Run the whole trajectory. Thread-safe for distinct out/stats. Returns

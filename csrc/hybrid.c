@@ -143,7 +143,8 @@
 #define BRENT_MAX 200     /* Brent iterations per located event */
 #define NY_MAX (9 + EXDEX_MAX_STOPS)
 #define NG_MAX (2 + MAX_ROWS)  /* guards */
-#define SLIP_STOP 1e-9    /* planar slip against stops: |E u| below this stops it [m/s] */
+#define SLIP_SMALL 1e3   /* planar slip: below SLIP_SMALL atol of |E u| the slip is "small" [units of atol] */
+#define SLIP_PUSH 4.0    /* a stop pushing a stopped planar slip on below SLIP_PUSH zsw: a rest instead */
 #define REST_GAP 1e-9     /* planar rest against stops: a set row whose |gap| exceeds this ends it [m] */
 
 enum { LAW_COULOMB = 0, LAW_SMOOTH = 1 };
@@ -163,6 +164,8 @@ typedef struct hyb {
     int nv, ncs;       /* planar: outline vertices; rows in the contact set */
     int cs[MAX_ROWS];  /* planar contact set: rows r = k nv + j (stop k, vertex j) */
     double uref[3];    /* planar slip: E u at the start of the step */
+    int small;         /* planar Coulomb slip: 1 while |E u| < zsw (the slip grows from rest) */
+    double zsw;        /* planar: slip speed |E u| below which a slip is small, SLIP_SMALL atol */
     double lo, hi;     /* motion segment [lo, hi) */
     double M, cap, eps;
     int err;           /* first failure inside a right-hand side */
@@ -323,7 +326,8 @@ static double planar_rest(hyb *H, const exdex_kinematics *kin, const double *y, 
  * a patch wrench; the stop forces of a rest against stops are not part of
  * it), slip the sliding law (the maximum-dissipation direction from rest),
  * regularised the smooth law. */
-static int planar_friction(hyb *H, const frame *f, const double *y, double F[3], double w[3])
+static int planar_friction(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y, double F[3],
+                           double w[3])
 {
     const exdex_model *m = H->m;
     double th = y[2];
@@ -340,11 +344,17 @@ static int planar_friction(hyb *H, const frame *f, const double *y, double F[3],
         if (H->law == LAW_SMOOTH) {
             double den = sqrt(sig * sig + H->eps * H->eps);
             for (int i = 0; i < 3; i++) w[i] = -H->cap * m->e[i] * eu[i] / den;
-        } else if (sig > 0.0) {
+        } else if (sig > 0.0 && !H->small) {
             for (int i = 0; i < 3; i++) w[i] = -H->cap * m->e[i] * eu[i] / sig;
         } else {
-            /* slip starting from rest: the maximum-dissipation wrench for
-             * an infinitesimal step, u' = b + W w (paper Eq. 6) */
+            /* slip starting from rest, and a small slip growing from rest:
+             * the maximum-dissipation wrench for an infinitesimal step,
+             * u' = b + W w (paper Eq. 6). While |E u| is small the sliding
+             * law's direction E u / |E u| relaxes onto this one at the rate
+             * C |K| / |E u| (K = E W E): infinitely stiff as the slip starts,
+             * and below the error control's resolution (atol) E u carries no
+             * direction at all. The slip follows this direction to within
+             * |E u| |d(direction)/dt| / (C |K|) (quasi-static relaxation) */
             double wF[3], b[3];
             exdex_friction_result res;
             int st;
@@ -353,6 +363,30 @@ static int planar_friction(hyb *H, const frame *f, const double *y, double F[3],
             st = exdex_friction_solve(&m->prep, b, H->cap, EXDEX_SOLVER_SCALAR, NULL, NULL, &res);
             if (st) return st;
             memcpy(w, res.p, 3 * sizeof *w);
+            if (H->ncs && kin) {
+                /* against stops the slip starts along the constrained
+                 * acceleration: the friction and the stop forces are
+                 * found together, by the fixed point w = -C E^2 E u'/|E u'|
+                 * of u' the patch slip of the M-metric projection of the
+                 * free acceleration (bounded; the last iterate is kept) */
+                for (int it = 0; it < 16; it++) {
+                    double P[3], a[3], qdd[3], lam[MAX_ROWS], ua[3], ea[3], sa, wn[3], d = 0.0;
+                    model_gen_of_patch(m, MODEL_CS(th), w, P);
+                    for (int i = 0; i < 3; i++) a[i] = m->minv[i] * (F[i] + P[i]);
+                    contact_acc_planar(H, kin, y, a, qdd, lam, NULL);
+                    model_patch_slip(m, MODEL_CS(th), qdd, ua);
+                    for (int i = 0; i < 3; i++) ea[i] = m->e[i] * ua[i];
+                    sa = sqrt(ex_dot3(ea, ea));
+                    if (!(sa > 0.0)) break;
+                    for (int i = 0; i < 3; i++) {
+                        wn[i] = -H->cap * m->e[i] * ea[i] / sa;
+                        d = fmax(d, fabs(wn[i] - w[i]) / m->e[i]);
+                        w[i] = wn[i];
+                    }
+                    H->st->stop_iterations++;
+                    if (d <= 1e-12 * H->cap) break;
+                }
+            }
         }
     }
     return EXDEX_OK;
@@ -365,7 +399,7 @@ static void planar_prune_set(hyb *H, const frame *f, const exdex_kinematics *kin
     double F[3], w[3], P[3], a[3], qdd[3], lam[MAX_ROWS];
     int n = 0;
     if (!H->ncs || H->mode == MODE_STICK) return;
-    if (planar_friction(H, f, y, F, w)) return;
+    if (planar_friction(H, f, kin, y, F, w)) return;
     model_gen_of_patch(H->m, MODEL_CS(y[2]), w, P);
     for (int i = 0; i < 3; i++) a[i] = H->m->minv[i] * (F[i] + P[i]);
     contact_acc_planar(H, kin, y, a, qdd, lam, NULL);
@@ -416,7 +450,7 @@ static int rhs(double t, const double y[], double dy[], void *params)
     } else {
         double F[3], w[3], P[3], th = y[2];
         const double *v = y + 3;
-        st = planar_friction(H, &f, y, F, w);
+        st = planar_friction(H, &f, &kin, y, F, w);
         if (st) {
             if (!H->err) H->err = st;
             return GSL_EBADFUNC;
@@ -473,13 +507,32 @@ static int guards(hyb *H, double t, const double *y, double *g)
         if (H->law == LAW_SMOOTH) {
             /* no friction guard */
         } else if (H->mode == MODE_SLIP) {
-            double u[3], eu[3];
+            double u[3], eu[3], sig;
             model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
             for (int i = 0; i < 3; i++) eu[i] = m->e[i] * u[i];
-            g[n++] = ex_dot3(eu, H->uref);
-            /* against stops the constrained slip can die out without
-             * reversing: it also stops once |E u| < SLIP_STOP */
-            if (H->ncs) g[n++] = sqrt(ex_dot3(eu, eu)) - SLIP_STOP;
+            sig = sqrt(ex_dot3(eu, eu));
+            if (H->small) {
+                /* small slip growing from rest: it stops when the load
+                 * falls back inside the ellipsoid (the stick guard with the
+                 * sign reversed) and becomes a (large) slip at |E u| = zsw */
+                double F[3], w[3], zero[3] = {0, 0, 0}, lam[MAX_ROWS];
+                model_force_planar(m, &f, y, zero, F);
+                if (H->ncs) {
+                    g[n++] = planar_rest(H, &kin, y, F, w, lam) - H->cap * (1.0 + TOLF);
+                } else {
+                    for (int i = 0; i < 3; i++) F[i] = -F[i];
+                    model_patch_of_gen(m, MODEL_CS(y[2]), F, w);
+                    g[n++] = model_ell_norm(m, w) - H->cap * (1.0 + TOLF);
+                }
+                g[n++] = H->zsw - sig;
+            } else {
+                /* the slip reverses (E u turns against its direction at
+                 * the start of the step: a stop, or a turn when |E u| is
+                 * large there) or decays below zsw (a slip dying out,
+                 * against stops too, without reversing) */
+                g[n++] = ex_dot3(eu, H->uref);
+                g[n++] = sig - H->zsw;
+            }
         } else {
             double F[3], w[3], zero[3] = {0, 0, 0}, lam[MAX_ROWS];
             model_force_planar(m, &f, y, zero, F);
@@ -513,7 +566,7 @@ static int guards(hyb *H, double t, const double *y, double *g)
                 }
             } else if (H->ncs) {
                 double F[3], w[3], P[3], a[3], qdd[3], lam[MAX_ROWS], acc[MAX_ROWS];
-                int st = planar_friction(H, &f, y, F, w);
+                int st = planar_friction(H, &f, &kin, y, F, w);
                 if (st) {
                     H->err = H->err ? H->err : st;
                     return 0;
@@ -610,7 +663,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
                 planar_impact_and_set(H, t, &kin, y);
                 model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
                 for (int i = 0; i < 3; i++) eu[i] = m->e[i] * u[i];
-                if ((y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0) && sqrt(ex_dot3(eu, eu)) < SLIP_STOP) {
+                if ((y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0) && sqrt(ex_dot3(eu, eu)) < SLIP_PUSH * H->zsw) {
                     double G[3];
                     memcpy(y + 9, ysv, (size_t)H->ns * sizeof *ysv);
                     y[3] = y[4] = y[5] = 0.0;
@@ -622,6 +675,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
                 }
             }
         }
+        H->small = 0;
         if (y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0) {
             H->mode = MODE_SLIP;
             model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
@@ -655,6 +709,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
                 return;
             }
             H->mode = MODE_SLIP;
+            H->small = 1;
             for (int i = 0; i < 3; i++) H->uref[i] = m->e[i] * res.u[i];
             if (H->ncs) {
                 /* against stops: the slip starts along the constrained
@@ -935,8 +990,18 @@ static int locate(hyb *H, ode *O, double t0, const double *y0, double tau1, int 
         hi = gsl_root_fsolver_x_upper(O->root);
         if (hi - lo <= ROOT_TOL) break;
     }
-    /* the upper end, unless the guard is not yet violated there */
-    if (root_fn(hi, &c) > 0.0 && hi < tau1) hi = fmin(tau1, hi + ROOT_TOL);
+    /* The event is the first point where the guard is violated (g < 0):
+     * Brent may stop on a point with g >= 0 (an exact zero included, where
+     * the mode would be decided again unchanged and the switch be missed
+     * until the next step). Step forward from it, doubling, to a point with
+     * g < 0 (g(tau1) < 0 bounds the search). */
+    {
+        double d = fmax(ROOT_TOL, 4.0 * DBL_EPSILON * fabs(t0 + hi));
+        for (int k = 0; k < 64 && hi < tau1 && !(root_fn(hi, &c) < 0.0) && !c.fail; k++) {
+            hi = fmin(tau1, hi + d);
+            d *= 2.0;
+        }
+    }
     if (c.fail) return EXDEX_ENOCONV;
     *tau = hi;
     return EXDEX_OK;
@@ -992,6 +1057,7 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
     if (nd == 3) {
         H.M = 1.0;
         H.cap = m->capF;
+        H.zsw = SLIP_SMALL * m->def.atol;
     } else if (m->def.dof == EXDEX_DOF_TRANSLATION) {
         H.M = m->m;
         H.cap = m->capF;
@@ -1040,6 +1106,7 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
             }
             if (H.err) break;
             if (gs != GSL_SUCCESS) {
+                st->fail_cause = EXDEX_FAIL_STEPPER;
                 status = EXDEX_ENOCONV;
                 break;
             }
@@ -1048,10 +1115,59 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
             if (ode_steps + (st->solver_iterations - brent0) > STEPS_MAX ||
                 (t < tstop && !(h >= H_FLOOR_ULPS * DBL_EPSILON * fabs(t)))) {
                 st->warnings++;
+                st->fail_cause = ode_steps + (st->solver_iterations - brent0) > STEPS_MAX ? EXDEX_FAIL_STEP_BUDGET
+                                                                                        : EXDEX_FAIL_STEP_FLOOR;
                 status = EXDEX_ENOCONV;
                 break;
             }
             guards(&H, t, y, g1);
+            if (nd == 1 && law == LAW_COULOMB && H.mode == MODE_SLIP && g0[0] > 0.0 && g1[0] >= 0.0) {
+                /* the slip can stop and restart the same way within one
+                 * step (the load falls inside the friction limit and
+                 * leaves it again): s qd dips below 0 and recovers, which
+                 * the end values do not show. s qd has an interior minimum
+                 * when its rate turns from falling to rising over the step;
+                 * then a golden-section search for it on the stepper's map
+                 * (bounded), and a negative minimum bounds the root */
+                double d0[NY_MAX], d1[NY_MAX];
+                if (rhs(t0, y0, d0, &H) == GSL_SUCCESS && rhs(t, y, d1, &H) == GSL_SUCCESS &&
+                    H.s * d0[1] < 0.0 && H.s * d1[1] > 0.0) {
+                    rootctx c = {&H, O, t0, y0, 0, 0};
+                    double a = 0.0, b = t - t0, r = 0.5 * (3.0 - sqrt(5.0));
+                    double x1 = a + r * (b - a), x2 = b - r * (b - a), f1 = root_fn(x1, &c), f2 = root_fn(x2, &c);
+                    for (int it = 0; it < 60 && f1 >= 0.0 && f2 >= 0.0 && !c.fail; it++) {
+                        if (f1 < f2) {
+                            b = x2;
+                            x2 = x1;
+                            f2 = f1;
+                            x1 = a + r * (b - a);
+                            f1 = root_fn(x1, &c);
+                        } else {
+                            a = x1;
+                            x1 = x2;
+                            f1 = f2;
+                            x2 = b - r * (b - a);
+                            f2 = root_fn(x2, &c);
+                        }
+                        st->solver_iterations++;
+                        if (b - a <= ROOT_TOL) break;
+                    }
+                    if (c.fail || H.err) {
+                        status = H.err ? H.err : EXDEX_ENOCONV;
+                        break;
+                    }
+                    if (f1 < 0.0 || f2 < 0.0) {
+                        /* the step ends at the dip; the guard is violated there */
+                        double tm = f1 < 0.0 ? x1 : x2;
+                        if (one_step(O, t0, y0, tm, y) != GSL_SUCCESS) {
+                            status = EXDEX_ENOCONV;
+                            break;
+                        }
+                        t = t0 + tm;
+                        guards(&H, t, y, g1);
+                    }
+                }
+            }
             for (int e = 0; e < ng; e++) {
                 double tau;
                 if (!(g1[e] < 0.0)) continue;
@@ -1101,6 +1217,7 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
             }
             if (!status && ode_steps + (st->solver_iterations - brent0) > STEPS_MAX) {
                 st->warnings++;
+                st->fail_cause = EXDEX_FAIL_STEP_BUDGET;
                 status = EXDEX_ENOCONV;
             }
             if (status) break;
@@ -1113,15 +1230,31 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
                 t = t0 + tau_best;
                 same = t == t_event ? same + 1 : 0;
                 t_event = t;
-                /* the first guard of slip (and of moving contact, the second)
-                 * is the slip speed: it stopped */
-                vz = (H.mode == MODE_SLIP && (e_best == 0 || (nd == 3 && H.ncs && e_best == 1))) ||
+                /* the first guard of 1-DoF slip (and of moving contact, the
+                 * second) is the slip speed: it stopped */
+                vz = (nd == 1 && H.mode == MODE_SLIP && e_best == 0) ||
                      (H.mode == MODE_CONTACT && H.law == LAW_COULOMB && H.s != 0.0 && e_best == 1);
+                if (nd == 3 && H.mode == MODE_SLIP && law == LAW_COULOMB && e_best < 2) {
+                    /* planar: a small slip stops (guard 0) or has grown
+                     * (guard 1: on as a slip, no stop); a slip decays below
+                     * zsw (guard 1) or reverses (guard 0): a stop, unless
+                     * |E u| is still above zsw where E u turned against its
+                     * direction at the step start (a turn: on as a slip
+                     * with the new reference direction) */
+                    double u[3], eu[3];
+                    model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
+                    for (int c = 0; c < 3; c++) eu[c] = m->e[c] * u[c];
+                    if (H.small)
+                        vz = e_best == 0;
+                    else
+                        vz = e_best == 1 || !(sqrt(ex_dot3(eu, eu)) > H.zsw);
+                }
                 decide(&H, t, y, vz);
                 gsl_odeiv2_evolve_reset(O->evo);
                 gsl_odeiv2_step_reset(O->step);
                 if (++events > EVENTS_MAX) {
                     st->warnings++;
+                    st->fail_cause = EXDEX_FAIL_EVENTS;
                     status = EXDEX_ENOCONV;
                     break;
                 }
@@ -1186,6 +1319,13 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
     }
     /* a failure in the decision at t = 0 stops the loop before it starts */
     if (!status && H.err) status = H.err;
+    if (status) {
+        /* the stepper and event location fail with ENOCONV, the inner
+         * solvers with their own status (simulate.c names those) */
+        if (status == EXDEX_ENOCONV && st->fail_cause == EXDEX_FAIL_NONE && !H.err)
+            st->fail_cause = EXDEX_FAIL_STEPPER;
+        st->fail_time = t;
+    }
     return status;
 }
 

@@ -559,7 +559,10 @@ static int implicit_run(const exdex_model *m, void *ws, double t_end, double dt,
             model_force_planar(m, &f, qm, vmid, F);
             for (int i = 0; i < 3; i++) vs[i] = v[i] + h * m->minv[i] * F[i];
             status = step_planar(m, h, qm[2], vs, w, vn, pfB, &fr, st);
-            if (status) break;
+            if (status) {
+                st->fail_time = t;
+                break;
+            }
             /* report the patch wrench (not the generalized impulse), in B */
             model_to_b(MODEL_CS(qm[2]), fr.p, fo);
             for (int i = 0; i < 3; i++) wrench[i] = fo[i] / h;

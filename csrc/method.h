@@ -51,5 +51,6 @@ extern const method_impl method_implicit;     /* implicit.c */
 extern const method_impl method_event;        /* hybrid.c */
 extern const method_impl method_regularised;  /* hybrid.c */
 extern const method_impl method_explicit;     /* explicit.c */
+extern const method_impl method_analytic;     /* analytic.c */
 
 #endif

@@ -115,7 +115,8 @@ static int check_fields(const exdex_scene_def *d, const char **bad_param)
             fabs(sqrt(ex_dot3(d->stop_normal[k], d->stop_normal[k])) - 1.0) > 1e-9)
             return bad(bad_param, "stop_normal");
     }
-    if (d->method < EXDEX_METHOD_IMPLICIT || d->method > EXDEX_METHOD_EXPLICIT) return bad(bad_param, "method");
+    if (d->method < EXDEX_METHOD_IMPLICIT || d->method > EXDEX_METHOD_ANALYTIC) return bad(bad_param, "method");
+    if (d->method == EXDEX_METHOD_ANALYTIC && exdex_analytic_unsupported(d)) return bad(bad_param, "method");
     if (d->friction_solver < EXDEX_SOLVER_SCALAR || d->friction_solver > EXDEX_SOLVER_MULTIROOT)
         return bad(bad_param, "friction_solver");
     if (!(isfinite(d->eps) && d->eps > 0)) return bad(bad_param, "eps");

@@ -26,6 +26,7 @@ static const method_impl *const methods[] = {
     [EXDEX_METHOD_EVENT] = &method_event,
     [EXDEX_METHOD_REGULARISED] = &method_regularised,
     [EXDEX_METHOD_EXPLICIT] = &method_explicit,
+    [EXDEX_METHOD_ANALYTIC] = &method_analytic,
 };
 
 /* A run that returned OK must not have recorded a non-finite number (e.g. a
@@ -111,13 +112,14 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajecto
     if (!m || !out || n == 0 || out->n != n || !out->t || !out->q || !out->v || !out->wrench ||
         !out->stick || (m->n_stops && !out->stop_force))
         return EXDEX_EINVAL;
-    if (m->def.method < EXDEX_METHOD_IMPLICIT || m->def.method > EXDEX_METHOD_EXPLICIT) return EXDEX_EINVAL;
+    if (m->def.method < EXDEX_METHOD_IMPLICIT || m->def.method > EXDEX_METHOD_ANALYTIC) return EXDEX_EINVAL;
     impl = methods[m->def.method];
     memset(&st, 0, sizeof st);
     st.min_gap = INFINITY;
     st.first_warning_t = NAN;
     st.max_impulse_t = NAN;
     st.max_impulse_stop = -1;
+    st.fail_time = NAN;
     nd = m->ndof;
     model_initial_state(m, q, v);
     out->t[0] = 0.0;
@@ -134,6 +136,8 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajecto
     impl->free(ws);
     if (status == EXDEX_OK && !output_finite(m, out)) status = EXDEX_ENONFINITE;
     if (status == EXDEX_OK && impl->impacts_from_steps && m->n_stops) impacts_from_steps(m, out, &st);
+    if (status != EXDEX_OK && st.fail_cause == EXDEX_FAIL_NONE)
+        st.fail_cause = status == EXDEX_ENOCONV ? EXDEX_FAIL_SOLVER : EXDEX_FAIL_NONFINITE;
     if (stats) *stats = st;
     /* the model and arguments were valid: an "invalid argument" from the
      * motion or a solver inside the run means the state left the finite

@@ -19,6 +19,7 @@ from exdex.scene import (AsymmetricProfile, Body, Grasp, Patch, Rest, SampledTra
                          TrapezoidalProfile, replace)
 from exdex.simulate import Model, PhysicsWarning, Result, SolverError, simulate
 from exdex.batch import BatchResult, simulate_batch, sweep  # noqa: E402
+from exdex.io import load_scene, save_scene  # noqa: E402  (scenes as TOML or JSON files)
 from exdex import paper  # noqa: E402  (the paper's case studies, Figs. 3, 4, 6)
 from exdex import tool  # noqa: E402  (assistive-tool design, paper Section 3)
 from exdex import plan  # noqa: E402  (inverse design: motion and grip for a target outcome)
@@ -30,5 +31,6 @@ __version__ = "0.1.0"
 __all__ = [
     "AsymmetricProfile", "Body", "Grasp", "Patch", "Rest", "SampledTrajectory", "Scene", "Stop",
     "TrapezoidalProfile", "replace", "Model", "Result", "SolverError", "PhysicsWarning", "MissingExtraError",
-    "simulate", "BatchResult", "simulate_batch", "sweep", "paper", "tool", "plan", "__version__",
+    "simulate", "BatchResult", "simulate_batch", "sweep", "load_scene", "save_scene", "paper", "tool", "plan",
+    "__version__",
 ]

@@ -274,6 +274,56 @@ PyDoc_STRVAR(simulate_doc,
 "exdex.Scene.to_spec(); use exdex.simulate() instead of calling this directly.\n"
 "Returns a dict of arrays t, q, v, wrench, stick, stop_force and a stats dict.");
 
+/* SolverError(message, status) of a failed run with attributes status, time
+ * (exdex_stats.fail_time, None when unknown) and cause (a name): the message
+ * says when, why, and what to use instead. */
+static void raise_run_error(PyObject *module, int status, const exdex_stats *st)
+{
+    static const char *const names[] = {"none", "events", "step_budget", "step_floor",
+                                        "stepper", "solver", "nonfinite"};
+    static const char *const why[] = {
+        "",
+        "more than 1000 stick/slip/contact switches within one output interval (Zeno-like "
+        "accumulation of events); use method='implicit' (fixed steps, exact stick), or a finer "
+        "dt (the event budget is per output interval)",
+        "more than 1e5 adaptive steps within one output interval (a stiff phase; for "
+        "'regularised' a small eps); use method='implicit', a larger rtol/atol (or eps), or a "
+        "finer dt (the step budget is per output interval)",
+        "the adaptive step collapsed below 16 ulps of t; use method='implicit' or a larger rtol/atol",
+        "the ODE stepper or the event location failed; use method='implicit' or a larger rtol/atol",
+        "an inner solver did not converge; try another friction_solver or method",
+        "the state left the finite range (check the scene's scales and motion)"};
+    int c = st->fail_cause >= 0 && st->fail_cause <= EXDEX_FAIL_NONFINITE ? st->fail_cause : 0;
+    PyObject *exc = get_state(module)->SolverError, *msg, *args, *inst, *o;
+    char when[64] = "";
+    if (!c) {
+        raise_status(module, status, "simulate", NULL);
+        return;
+    }
+    if (isfinite(st->fail_time)) PyOS_snprintf(when, sizeof when, " at t = %.9g s", st->fail_time);
+    msg = PyUnicode_FromFormat("%s%s: %s", exdex_strerror(status), when, why[c]);
+    args = msg ? Py_BuildValue("(Ni)", msg, status) : NULL;
+    inst = args ? PyObject_Call(exc, args, NULL) : NULL;
+    Py_XDECREF(args);
+    if (!inst) return;
+    if ((o = PyLong_FromLong(status))) {
+        PyObject_SetAttrString(inst, "status", o);
+        Py_DECREF(o);
+    }
+    o = isfinite(st->fail_time) ? PyFloat_FromDouble(st->fail_time) : Py_NewRef(Py_None);
+    if (o) {
+        PyObject_SetAttrString(inst, "time", o);
+        Py_DECREF(o);
+    }
+    if ((o = PyUnicode_FromString(names[c]))) {
+        PyObject_SetAttrString(inst, "cause", o);
+        Py_DECREF(o);
+    }
+    PyErr_Clear();
+    PyErr_SetObject(exc, inst);
+    Py_DECREF(inst);
+}
+
 /* exdex_simulate with the GIL released; 0, or -1 with the library exception set. */
 static int simulate_released(PyObject *module, const exdex_model *model, double t_end, double dt,
                              exdex_trajectory *tr, exdex_stats *st)
@@ -283,7 +333,10 @@ static int simulate_released(PyObject *module, const exdex_model *model, double 
     status = exdex_simulate(model, t_end, dt, tr, st);
     Py_END_ALLOW_THREADS
     if (!status) return 0;
-    raise_status(module, status, "simulate", NULL);
+    if (status == EXDEX_ENOCONV || status == EXDEX_ENONFINITE)
+        raise_run_error(module, status, st);
+    else
+        raise_status(module, status, "simulate", NULL);
     return -1;
 }
 
@@ -543,6 +596,25 @@ static PyObject *core_compile(PyObject *module, PyObject *spec)
     mo->module = Py_NewRef(module);
     PyObject_GC_Track((PyObject *)mo);
     return (PyObject *)mo;
+}
+
+PyDoc_STRVAR(analytic_unsupported_doc,
+"analytic_unsupported(spec) -> str or None\n\n"
+"None if the analytic method solves the scene of a spec dict, else the\n"
+"reason it does not (a sentence).");
+
+static PyObject *core_analytic_unsupported(PyObject *module, PyObject *spec)
+{
+    exdex_scene_def def;
+    PyArrayObject *times = NULL, *poses = NULL;
+    const char *why;
+    (void)module;
+    if (scene_from_dict(spec, &def, &times, &poses)) return NULL;
+    why = exdex_analytic_unsupported(&def);
+    Py_XDECREF(times);
+    Py_XDECREF(poses);
+    if (!why) Py_RETURN_NONE;
+    return PyUnicode_FromString(why);
 }
 
 PyDoc_STRVAR(motion_eval_doc,
@@ -1206,6 +1278,7 @@ done:
 static PyMethodDef core_methods[] = {
     {"simulate", (PyCFunction)(void (*)(void))core_simulate, METH_VARARGS | METH_KEYWORDS, simulate_doc},
     {"compile", core_compile, METH_O, compile_doc},
+    {"analytic_unsupported", core_analytic_unsupported, METH_O, analytic_unsupported_doc},
     {"simulate_batch", (PyCFunction)(void (*)(void))core_simulate_batch, METH_VARARGS | METH_KEYWORDS,
      simulate_batch_doc},
     {"motion_eval", (PyCFunction)(void (*)(void))core_motion_eval, METH_VARARGS | METH_KEYWORDS,
@@ -1235,6 +1308,7 @@ static const expy_constant core_constants[] = {
     {"METHOD_EVENT", EXDEX_METHOD_EVENT},
     {"METHOD_REGULARISED", EXDEX_METHOD_REGULARISED},
     {"METHOD_EXPLICIT", EXDEX_METHOD_EXPLICIT},
+    {"METHOD_ANALYTIC", EXDEX_METHOD_ANALYTIC},
     {"SOLVER_SCALAR", EXDEX_SOLVER_SCALAR},
     {"SOLVER_BRENT", EXDEX_SOLVER_BRENT},
     {"SOLVER_MULTIROOT", EXDEX_SOLVER_MULTIROOT},

@@ -39,14 +39,15 @@ import os
 import threading
 import warnings
 from dataclasses import dataclass, field
-from typing import Any, Dict, Mapping, Optional, Sequence, Tuple
+from typing import Any, Callable, Dict, Iterable, Iterator, Mapping, Optional, Sequence, Tuple, Union, cast
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from exdex import _core, _optional
 from exdex.scene import METHODS, SOLVERS, AsymmetricProfile, Body, Grasp, Scene, TrapezoidalProfile, _real
 from exdex import diagnostics
-from exdex.simulate import Result, _check_times
+from exdex.simulate import FrictionSolver, Method, Result, _check_times, resolve_method
 
 __all__ = ["BatchResult", "simulate_batch", "sweep", "grid_points", "PARAMETERS"]
 
@@ -145,24 +146,24 @@ class BatchResult:
     t_end: float = float("nan")
     threads: int = 1
 
-    def __len__(self):
+    def __len__(self) -> int:
         return len(self.final_displacement)
 
-    def gridded(self, name):
+    def gridded(self, name: str) -> NDArray[Any]:
         """Attribute (or stats entry) ``name`` with the batch axis reshaped to
         ``shape``: e.g. ``gridded("final_displacement")`` is (*shape, ndof)."""
         a = self.stats[name] if name in self.stats else (
             self.params[name] if name in self.params else getattr(self, name))
         return np.asarray(a).reshape(tuple(self.shape) + np.shape(a)[1:])
 
-    def scene_at(self, i):
+    def scene_at(self, i: int) -> Scene:
         """The :class:`exdex.Scene` of trajectory ``i``, made with
         ``dataclasses.replace`` from the base scene and ``params``."""
         i = _index(i, len(self))
         base = self.scene[i] if isinstance(self.scene, tuple) else self.scene
         return _replace_params(base, {k: float(v[i]) for k, v in self.params.items()})
 
-    def at(self, i):
+    def at(self, i: int) -> Result:
         """Trajectory ``i`` as an :class:`exdex.Result` (record="all" only);
         ``batch[i]`` is the same."""
         if self.record != "all":
@@ -173,23 +174,23 @@ class BatchResult:
                       stop_force=self.stop_force[i], stats=stats, scene=self.scene_at(i), method=self.method,
                       friction_solver=self.friction_solver, dt=self.dt)
 
-    def __getitem__(self, i):
+    def __getitem__(self, i: int) -> Result:
         """``batch[i]``: trajectory ``i`` as an :class:`exdex.Result` (see :meth:`at`)."""
         if isinstance(i, (bool, np.bool_)) or not isinstance(i, (int, np.integer)):
             raise TypeError(f"batch indices must be integers, got {type(i).__name__}")
         return self.at(i)
 
-    def __iter__(self):
+    def __iter__(self) -> Iterator[Result]:
         return (self.at(i) for i in range(len(self)))
 
-    def result(self, i):
+    def result(self, i: int) -> Result:
         """Deprecated name of :meth:`at` (``batch[i]`` reads better)."""
         warnings.warn("BatchResult.result(i) is deprecated: use BatchResult.at(i) or batch[i]",
                       DeprecationWarning, stacklevel=2)
         return self.at(i)
 
     @staticmethod
-    def concatenate(parts, shape=None):
+    def concatenate(parts: Iterable["BatchResult"], shape: Optional[Tuple[int, ...]] = None) -> "BatchResult":
         """One BatchResult from several of the same setting, in the given order."""
         parts = list(parts)
         if not parts:
@@ -341,8 +342,10 @@ def _broadcast(arrays):
 
 # ------------------------------------------------------------------ batch
 
-def simulate_batch(scene, t_end, dt=1e-3, threads=None, record="all", method="implicit",
-                   friction_solver="scalar", eps=1e-4, rtol=1e-8, atol=1e-10, *, warn=True, **arrays):
+def simulate_batch(scene: Union[Scene, Sequence[Scene]], t_end: float, dt: float = 1e-3,
+                   threads: Optional[int] = None, record: str = "all", method: Method = "implicit",
+                   friction_solver: FrictionSolver = "scalar", eps: float = 1e-4, rtol: float = 1e-8,
+                   atol: float = 1e-10, *, warn: bool = True, **arrays: ArrayLike) -> BatchResult:
     """Simulate many variants of a scene in one call, on several threads.
 
     Parameters
@@ -410,6 +413,9 @@ def simulate_batch(scene, t_end, dt=1e-3, threads=None, record="all", method="im
         raise ValueError(f"threads must be an int in [1, 1024] or None (one per CPU), got {threads!r}")
     if record not in ("all", "final"):
         raise ValueError(f"record must be 'all' or 'final', got {record!r}")
+    if method == "auto":
+        ok = all(resolve_method(s, "auto") == "analytic" for s in (scenes if scenes is not None else (scene,)))
+        method = "analytic" if ok else "event"
     eps, rtol, atol = _check_options(method, friction_solver, eps, rtol, atol)
 
     base = scenes if scenes is not None else scene
@@ -438,9 +444,9 @@ def simulate_batch(scene, t_end, dt=1e-3, threads=None, record="all", method="im
         raise ValueError(f"the batch is empty (broadcast shape {shape})")
     _check_trapezoids(scenes if scenes is not None else scene, flat)
 
-    opts = dict(method=method, friction_solver=friction_solver, eps=eps, rtol=rtol, atol=atol)
-    specs = [s.to_spec(**opts) for s in scenes] if scenes is not None else scene.to_spec(**opts)
-    vary = {PARAMETERS[k].key: a for k, a in flat.items()}
+    opts: Dict[str, Any] = dict(method=method, friction_solver=friction_solver, eps=eps, rtol=rtol, atol=atol)
+    specs: Any = [s.to_spec(**opts) for s in scenes] if scenes is not None else cast(Scene, scene).to_spec(**opts)
+    vary: Optional[Dict[str, Any]] = {PARAMETERS[k].key: a for k, a in flat.items()}
     if not vary and scenes is None:
         vary = None
     try:
@@ -526,7 +532,7 @@ def _batch_findings(b):
 
 # ------------------------------------------------------------------ sweep
 
-def grid_points(grid, product=True):
+def grid_points(grid: Mapping[str, ArrayLike], product: bool = True) -> Tuple[Dict[str, NDArray[np.float64]], Tuple[int, ...]]:
     """Flatten a parameter grid: returns (dict name -> (B,) arrays, shape).
 
     product=True: the Cartesian product of the value lists (each flattened to
@@ -572,8 +578,10 @@ def _combine(parts, shape):
     return list(parts)
 
 
-def sweep(fn_or_scene, grid, executor: Optional[cf.Executor] = None, chunk=256, progress=None, *,
-          product=True, t_end=None, dt=1e-3, record="final", **options):
+def sweep(fn_or_scene: Union[Scene, Callable[..., Any]], grid: Mapping[str, ArrayLike],
+          executor: Optional[cf.Executor] = None, chunk: int = 256, progress: Optional[bool] = None, *,
+          product: bool = True, t_end: Optional[float] = None, dt: float = 1e-3, record: str = "final",
+          **options: Any) -> Any:
     """Run a parameter grid in chunks over any concurrent.futures.Executor.
 
     Parameters
@@ -641,7 +649,7 @@ def sweep(fn_or_scene, grid, executor: Optional[cf.Executor] = None, chunk=256, 
 
     bounds = [(a, min(a + int(chunk), total)) for a in range(0, total, int(chunk))]
     own = executor is None
-    ex = cf.ThreadPoolExecutor(max_workers=_cpu_count()) if own else executor
+    ex: cf.Executor = cf.ThreadPoolExecutor(max_workers=_cpu_count()) if executor is None else executor
     parts = [None] * len(bounds)
     if progress is None:
         progress = _optional.available("tqdm")

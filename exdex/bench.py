@@ -104,6 +104,7 @@ import platform
 import statistics
 import time
 from dataclasses import dataclass, field
+from typing import Optional
 
 import numpy as np
 
@@ -177,13 +178,13 @@ class Case:
     t_end: float
     unit: str                      # unit of the error ("m" or "rad")
     engine_contact: str            # contact model of the engine runs
-    grid: np.ndarray = None        # common time grid [s]
-    ref: np.ndarray = None         # (n, ndof) reference displacement on the grid
+    grid: Optional[np.ndarray] = None        # common time grid [s]
+    ref: Optional[np.ndarray] = None         # (n, ndof) reference displacement on the grid
     ref_label: str = ""
     ref_uncertainty: float = 0.0   # final-displacement error of the reference (estimate), 0 for closed forms
     ref_uncertainty_max: float = 0.0
     scale: float = 1.0             # largest |reference| (for floors)
-    aligned_dt: float = None       # a step dividing the motion's switching times and the grid, if any
+    aligned_dt: Optional[float] = None       # a step dividing the motion's switching times and the grid, if any
     unsupported: list = field(default_factory=list)   # methods simulate() refuses for this scene
 
     def errors(self, qg):

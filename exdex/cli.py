@@ -40,6 +40,10 @@ def _needs_bench(args):
     return ["matplotlib"] + ([] if args.no_progress else ["tqdm"]) + (ENGINES if getattr(args, "engines", True) else [])
 
 
+def _needs_run(args):
+    return []   # the figure and animation need the plot extra; cli_run says so when they are asked for
+
+
 def _needs_tool(args):
     return ["matplotlib"] + ([] if args.no_progress else ["tqdm"])
 
@@ -51,6 +55,7 @@ COMMANDS = {
     "hold": ("exdex.hold", "hold benchmark: drift of a held object in exdex and the engines' settings", _needs_hold),
     "bench": ("exdex.bench", "work-precision charts and stability maps of the integration methods", _needs_bench),
     "tool": ("exdex.tool", "assistive-tool design: twist-cone volumes and tool-angle optimisation", _needs_tool),
+    "run": ("exdex.cli_run", "simulate a scene file (TOML or JSON): CSV, NPZ, a figure, an animation", _needs_run),
 }
 
 

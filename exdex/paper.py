@@ -39,12 +39,13 @@ import os
 import re
 import time
 from dataclasses import dataclass, field
-from typing import List, Tuple
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from exdex.scene import AsymmetricProfile, Body, Grasp, Patch, Scene, Stop, TrapezoidalProfile
-from exdex.simulate import simulate
+from exdex.simulate import Result, simulate
 
 __all__ = [
     "G", "MASS", "MU", "FINGERS",
@@ -67,9 +68,9 @@ MU = 0.5
 FINGERS = 2
 
 #: the paper's values for the three cases
-FIG3 = dict(beta=0.9, amplitude=0.1, duration=0.5, slip=0.020)          # X1 [m], T [s], slip [m]
-FIG4 = dict(v_max=0.12, amplitude=0.05, duration=0.5, slip=0.050)       # [m/s], [m], [s], [m]
-FIG6 = dict(beta=0.7, amplitude=math.radians(100.0), duration=3.0,      # theta1 [rad], T [s]
+FIG3: Dict[str, Any] = dict(beta=0.9, amplitude=0.1, duration=0.5, slip=0.020)          # X1 [m], T [s], slip [m]
+FIG4: Dict[str, Any] = dict(v_max=0.12, amplitude=0.05, duration=0.5, slip=0.050)       # [m/s], [m], [s], [m]
+FIG6: Dict[str, Any] = dict(beta=0.7, amplitude=math.radians(100.0), duration=3.0,      # theta1 [rad], T [s]
             inertia=(0.5, 0.5, 0.04), rotation=math.radians(140.0))     # [kg m^2], ~[rad]
 
 #: relative margin put on Fig. 6's torque capacity above I_zz a_H, so that
@@ -79,13 +80,13 @@ FIG6_MARGIN = 1e-9
 
 # ------------------------------------------------------------- motion profiles
 
-def eq7_accelerations(amplitude, duration, beta):
+def eq7_accelerations(amplitude: float, duration: float, beta: float) -> Tuple[float, float]:
     """(a_H, a_L) of paper Eq. 9: a_H = 2 X1 / (beta T^2), a_L = 2 X1 / ((beta - 1) T^2)."""
     return (2.0 * amplitude / (beta * duration**2),
             2.0 * amplitude / ((beta - 1.0) * duration**2))
 
 
-def eq7_phases(amplitude, duration, beta):
+def eq7_phases(amplitude: float, duration: float, beta: float) -> List[Tuple[float, float, float]]:
     """Paper Eq. 7 as piecewise-constant acceleration phases ``[(t0, t1, a)]``.
 
     a_H on [0, beta T), a_L on [beta T, (2 - beta) T), a_H on [(2 - beta) T,
@@ -98,7 +99,8 @@ def eq7_phases(amplitude, duration, beta):
     return [(0.0, t1, a_h), (t1, t2, a_l), (t2, t3, a_h), (t3, math.inf, 0.0)]
 
 
-def trapezoid(t, amplitude, duration, v_max):
+def trapezoid(t: ArrayLike, amplitude: float, duration: float,
+              v_max: float) -> Tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """Trapezoidal velocity profile: (s, sd, sdd) at times ``t`` (arrays).
 
     Distance ``amplitude`` in ``duration`` T with peak speed v_max: ramps of
@@ -141,7 +143,7 @@ class PiecewiseMotion:
     segments: Tuple[Tuple[float, float, float, float], ...]
     events: Tuple[Tuple[float, str], ...] = field(default=())
 
-    def __call__(self, t):
+    def __call__(self, t: ArrayLike) -> Tuple[NDArray[np.float64], NDArray[np.float64]]:
         """(x, v) at times ``t`` (arrays) [m, m/s or rad, rad/s]."""
         seg = np.array(self.segments)
         t = np.asarray(t, dtype=float)
@@ -152,7 +154,7 @@ class PiecewiseMotion:
         return x, v
 
     @property
-    def final(self):
+    def final(self) -> float:
         """Position after the last event, when the motion has settled at rest."""
         t0, x0, v0, a = self.segments[-1]
         if v0 != 0.0 or a != 0.0:
@@ -160,12 +162,13 @@ class PiecewiseMotion:
         return x0
 
     @property
-    def rest_time(self):
+    def rest_time(self) -> float:
         """Start of the final rest segment [s]."""
         return self.segments[-1][0]
 
 
-def coulomb_1dof(phases, capacity, x0=0.0, v0=0.0):
+def coulomb_1dof(phases: Sequence[Tuple[float, float, float]], capacity: float, x0: float = 0.0,
+                 v0: float = 0.0) -> PiecewiseMotion:
     """Closed-form solution of  x'' = d(t) + f/m,  |f/m| <= capacity,  exact stick.
 
     phases : ``[(t0, t1, d)]``, contiguous, the driving acceleration d
@@ -253,8 +256,9 @@ def _bisect(f, lo, hi, tol=1e-15, maxiter=200):
 
 # ------------------------------------------------------------------ Fig. 3
 
-def fig3_grip_force(slip=FIG3["slip"], amplitude=FIG3["amplitude"], duration=FIG3["duration"],
-                    beta=FIG3["beta"], mass=MASS, mu=MU, fingers=FINGERS, g=G):
+def fig3_grip_force(slip: float = FIG3["slip"], amplitude: float = FIG3["amplitude"],
+                    duration: float = FIG3["duration"], beta: float = FIG3["beta"], mass: float = MASS,
+                    mu: float = MU, fingers: int = FINGERS, g: float = G) -> float:
     """Grip force per finger [N] that gives a final downward slip ``slip`` [m]
     in the Fig. 3 scene (vertical Eq. 7 motion starting downward), in closed form.
 
@@ -290,7 +294,7 @@ def fig3_grip_force(slip=FIG3["slip"], amplitude=FIG3["amplitude"], duration=FIG
     return c * mass / (mu * fingers)
 
 
-def fig3_scene(grip_force=None, direction=-1, dof="translation"):
+def fig3_scene(grip_force: Optional[float] = None, direction: int = -1, dof: str = "translation") -> Scene:
     """Paper Fig. 3: inertial slip with the Eq. 7 profile (Section 2.2.1).
 
     Given by the paper: Eq. 7 with beta 0.9, X1 0.1 m, T 0.5 s, m 0.1 kg,
@@ -344,7 +348,7 @@ FIG4_SIZE = (0.03, 0.16, 0.03)
 FIG6_SIZE = (0.1, 0.1, 0.03)
 
 
-def fig4_scene(grip_force=None):
+def fig4_scene(grip_force: Optional[float] = None) -> Scene:
     """Paper Fig. 4: slip against a fixed stop with a trapezoidal velocity
     profile (Section 2.2.2).
 
@@ -391,7 +395,7 @@ def fig4_scene(grip_force=None):
 
 # ------------------------------------------------------------------ Fig. 6
 
-def fig6_rotation_bound(amplitude=FIG6["amplitude"], beta=FIG6["beta"]):
+def fig6_rotation_bound(amplitude: float = FIG6["amplitude"], beta: float = FIG6["beta"]) -> float:
     """Largest final relative rotation [rad] Eq. 7 gives about a pivot at the
     centre of mass when the grasp holds the object in the gentle phases:
     2 theta1 (2 beta - 1) / beta.
@@ -414,7 +418,7 @@ def fig6_rotation_bound(amplitude=FIG6["amplitude"], beta=FIG6["beta"]):
     return 2.0 * amplitude * (2.0 * beta - 1.0) / beta
 
 
-def fig6_scene(grip_force=None, e_r=None):
+def fig6_scene(grip_force: Optional[float] = None, e_r: Optional[float] = None) -> Scene:
     """Paper Fig. 6: rotation about the centre of pressure with Eq. 7 as an
     angular profile (Section 2.3, Fig. 5).
 
@@ -497,7 +501,7 @@ def _profile_phases(motion):
     raise ValueError(f"closed form needs an AsymmetricProfile motion, got {type(motion).__name__}")
 
 
-def closed_form(scene):
+def closed_form(scene: Scene) -> PiecewiseMotion:
     """Closed-form solution (:class:`PiecewiseMotion`) of a 1-DoF Eq. 7 scene.
 
     Supported (else ValueError): ``"translation"`` scenes without stops whose
@@ -514,7 +518,7 @@ def closed_form(scene):
     """
     if any(x != 0.0 for x in scene.v0):
         raise ValueError("closed form assumes the object starts at rest (v0 = 0)")
-    motion = scene.motion
+    motion: Any = scene.motion
     phases = _profile_phases(motion)
     cap = scene.grasp.capacity
     if scene.dof == "translation":
@@ -536,13 +540,13 @@ def closed_form(scene):
         k = float(np.dot(motion.axis, n))
         if abs(abs(k) - 1.0) > 1e-12:
             raise ValueError("closed form of a rotation scene needs the gripper to turn about the plate normal")
-        izz = scene.body.inertia[2][2]
+        izz = float(np.asarray(scene.body.inertia)[2, 2])
         drive = [(t0, t1, -a * k) for t0, t1, a in phases]
         return coulomb_1dof(drive, cap * scene.grasp.patch.e_r / izz)
     raise ValueError("closed form covers 1-DoF scenes only")
 
 
-def stop_closed_form(scene, t):
+def stop_closed_form(scene: Scene, t: ArrayLike) -> Tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """Fig. 4 type reference: (x2, v2, stop_force) at times ``t``.
 
     The gripper translates with a trapezoid while the object stands on a fixed
@@ -567,12 +571,13 @@ def stop_closed_form(scene, t):
     return x2, v2, force
 
 
-def gripper_coordinate(scene, t):
+def gripper_coordinate(scene: Scene, t: ArrayLike) -> NDArray[np.float64]:
     """Gripper displacement along its motion axis [m] or rotation angle about
     it [rad] at times ``t``, from the core's motion evaluation."""
-    k = scene.motion.evaluate(t, scene.gripper_rotation, scene.gripper_position)
-    axis = np.array(scene.motion.axis)
-    if not scene.motion.rotation:
+    motion: Any = scene.motion
+    k = motion.evaluate(t, scene.gripper_rotation, scene.gripper_position)
+    axis = np.array(motion.axis)
+    if not motion.rotation:
         return (k["p"] - np.array(scene.gripper_position)) @ axis
     Rrel = k["R"] @ np.array(scene.gripper_rotation).T
     vee = 0.5 * np.stack([Rrel[:, 2, 1] - Rrel[:, 1, 2], Rrel[:, 0, 2] - Rrel[:, 2, 0],
@@ -581,7 +586,7 @@ def gripper_coordinate(scene, t):
     return np.arctan2(vee @ axis, cos)
 
 
-def stop_gaps(result):
+def stop_gaps(result: Any) -> NDArray[np.float64]:
     """Geometric check, independent of the core's stop code: (n, n_stops)
     smallest distance of the object's outline to each stop plane over the
     recorded samples [m] (negative = penetration), from the recorded pose of
@@ -610,7 +615,7 @@ class CaseRun:
 
     name: str
     title: str
-    result: object
+    result: Result
     scene: Scene
     motion_end: float
     unit: str                     # "mm" or "deg"
@@ -624,7 +629,7 @@ class CaseRun:
     columns: dict = field(default_factory=dict)        # extra CSV columns
 
     @property
-    def still(self):
+    def still(self) -> Tuple[float, bool]:
         """Largest |v| and whether every step sticks, over samples strictly
         after the gripper stops (the sample at the end time reports the mean
         velocity of the last moving step)."""
@@ -639,7 +644,7 @@ def _row(case, quantity, paper, exdex, reference, still, note, difference=None):
                 reference=reference, max_v_after=still, note=note)
 
 
-def run_case(name, dt=1e-4, fine_factor=10):
+def run_case(name: str, dt: float = 1e-4, fine_factor: int = 10) -> "CaseRun":
     """Simulate case ``"fig3"``, ``"fig4"`` or ``"fig6"`` with step ``dt`` [s]
     and compute its reference; returns a :class:`CaseRun`.
 
@@ -717,7 +722,7 @@ CASES = ("fig3", "fig4", "fig6")
 
 # ---------------------------------------------------------------- output
 
-def plot_case(run, path=None):
+def plot_case(run: "CaseRun", path: Optional[str] = None) -> Any:
     """Figure mirroring the paper's panels: (a) relative displacement against
     time, (b) absolute error against the reference; the interval after the
     gripper stops is shaded. Returns the matplotlib Figure (saved if ``path``)."""
@@ -754,7 +759,7 @@ def plot_case(run, path=None):
     return fig
 
 
-def write_csv(run, path):
+def write_csv(run: "CaseRun", path: str) -> None:
     """The case's time series as CSV (header row with units)."""
     res = run.result
     cols = {"t [s]": res.t, f"exdex [{run.unit}]": run.x, f"reference [{run.unit}]": run.reference,
@@ -776,7 +781,7 @@ def _split_unit(quantity):
     return (m.group(1), m.group(2)) if m else (quantity, "")
 
 
-def format_table(rows):
+def format_table(rows: Sequence[Dict[str, Any]]) -> str:
     """Plain-text table: case, quantity, unit, paper, exdex, difference,
     reference, largest |v| after the motion (m/s or rad/s); aligned columns,
     an en dash where there is no value."""
@@ -795,7 +800,7 @@ def format_table(rows):
     return "\n".join([table(cols, body)] + (["notes:"] + notes if notes else []))
 
 
-def write_summary(rows, path):
+def write_summary(rows: Sequence[Dict[str, Any]], path: str) -> None:
     with open(path, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=["case", "quantity", "paper", "exdex", "difference", "reference",
                                           "max_v_after", "note"])
@@ -806,7 +811,7 @@ def write_summary(rows, path):
 
 # ---------------------------------------------------------------- command
 
-def add_arguments(parser):
+def add_arguments(parser: Any) -> None:
     """Options of ``exdex paper``."""
     parser.add_argument("--out", default=os.path.join("exdex-output", "paper"),
                         help="output folder (default: exdex-output/paper)")
@@ -814,6 +819,8 @@ def add_arguments(parser):
                         help="time step [s] (default 1e-4)")
     parser.add_argument("--cases", nargs="+", choices=CASES, default=list(CASES), help="cases to run (default: all)")
     parser.add_argument("--format", default="png", choices=("png", "pdf", "svg"), help="figure format")
+    parser.add_argument("--animate", nargs="?", const="gif", default=None, choices=("gif", "mp4", "html"),
+                        help="also write an animation per case (default format gif; mp4 needs ffmpeg)")
     parser.add_argument("--no-progress", action="store_true", help="hide the progress bar")
 
 
@@ -827,7 +834,9 @@ def run(args):
     os.makedirs(args.out, exist_ok=True)
     rows = []
     written = []
-    with progress_bar(total=3 * len(args.cases), desc="exdex paper", unit="task", disable=args.no_progress,
+    animate = getattr(args, "animate", None)
+    tasks = 4 if animate else 3
+    with progress_bar(total=tasks * len(args.cases), desc="exdex paper", unit="task", disable=args.no_progress,
                       feature="exdex paper's progress bar") as bar:
         for name in args.cases:
             bar.set_postfix_str(f"{name}: simulate")
@@ -843,6 +852,15 @@ def run(args):
             bar.update()
             rows += case.rows
             written += [fig_path, csv_path]
+            if animate:
+                bar.set_postfix_str(f"{name}: animation")
+                anim_path = os.path.join(args.out, f"{name}.{animate}")
+                try:
+                    case.result.animate(title=case.title.split(":")[0]).save(anim_path)
+                except RuntimeError as exc:  # no ffmpeg for mp4
+                    raise SystemExit(f"exdex paper: {exc}")
+                written.append(anim_path)
+                bar.update()
     summary = os.path.join(args.out, "summary.csv")
     write_summary(rows, summary)
     written.append(summary)

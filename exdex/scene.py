@@ -21,9 +21,10 @@ import dataclasses
 import math
 import numbers
 from dataclasses import dataclass, field
-from typing import Optional, Tuple
+from typing import Any, Dict, Optional, Sequence, Tuple, TypeVar, Union
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from exdex import _core
 
@@ -35,10 +36,18 @@ __all__ = [
 #: B x = A x, B y = A z (up), B z = -A y: plates vertical, normal horizontal.
 DEFAULT_GRIPPER_ROTATION = ((1.0, 0.0, 0.0), (0.0, 0.0, -1.0), (0.0, 1.0, 0.0))
 
+_T = TypeVar("_T")
+
+#: What a vector or matrix field accepts: a sequence (tuple, list) or a NumPy
+#: array. Fields are stored as tuples of floats (arrays for SampledTrajectory).
+Vector = Union[Sequence[float], NDArray[Any]]
+Matrix = Union[Sequence[Sequence[float]], NDArray[Any]]
+
 # Names of the C core's enums; the values are the constants exdex._core exports.
 DOFS = {"translation": _core.DOF_TRANSLATION, "rotation": _core.DOF_ROTATION, "planar": _core.DOF_PLANAR}
 METHODS = {"implicit": _core.METHOD_IMPLICIT, "event": _core.METHOD_EVENT,
-           "regularised": _core.METHOD_REGULARISED, "explicit": _core.METHOD_EXPLICIT}
+           "regularised": _core.METHOD_REGULARISED, "explicit": _core.METHOD_EXPLICIT,
+           "analytic": _core.METHOD_ANALYTIC}
 SOLVERS = {"scalar": _core.SOLVER_SCALAR, "brent": _core.SOLVER_BRENT, "multiroot": _core.SOLVER_MULTIROOT}
 
 
@@ -92,6 +101,10 @@ def _unit(value, name, n):
     norm = float(np.linalg.norm(a))
     if norm == 0.0:
         raise ValueError(f"{name} must be a non-zero vector")
+    if abs(norm - 1.0) <= 8 * np.finfo(float).eps:
+        # already unit up to rounding: kept as given, so normalising is idempotent (a saved
+        # scene loads back bit for bit)
+        return tuple(float(x) for x in a)
     return tuple(float(x) for x in a / norm)
 
 
@@ -121,9 +134,9 @@ class Body:
     """
 
     mass: float
-    inertia: Tuple[Tuple[float, float, float], ...] = ((1e-4, 0.0, 0.0), (0.0, 1e-4, 0.0), (0.0, 0.0, 1e-4))
-    size: Optional[Tuple[float, float, float]] = None
-    outline: Optional[Tuple[Tuple[float, float], ...]] = None
+    inertia: Union[float, Vector, Matrix] = ((1e-4, 0.0, 0.0), (0.0, 1e-4, 0.0), (0.0, 0.0, 1e-4))
+    size: Optional[Vector] = None
+    outline: Optional[Matrix] = None
 
     def __post_init__(self):
         object.__setattr__(self, "mass", _real(self.mass, "Body.mass", low=0.0, low_open=True))
@@ -152,19 +165,20 @@ class Body:
             object.__setattr__(self, "outline", _tuple(o))
 
     @classmethod
-    def box(cls, mass, size, **kw):
+    def box(cls, mass: float, size: Vector, **kw: Any) -> "Body":
         """A uniform box of dimensions ``size = (lx, ly, lz)`` [m]: its inertia is
         m/12 diag(ly^2 + lz^2, lx^2 + lz^2, lx^2 + ly^2)."""
         lx, ly, lz = _array(size, "size", (3,))
         I = mass / 12.0 * np.diag([ly**2 + lz**2, lx**2 + lz**2, lx**2 + ly**2])
         return cls(mass=mass, inertia=I, size=(lx, ly, lz), **kw)
 
-    def vertices(self):
+    def vertices(self) -> NDArray[np.float64]:
         """Outline vertices (k, 2) in C used against stops."""
         if self.outline is not None:
             return np.array(self.outline)
         if self.size is not None:
-            hx, hy = self.size[0] / 2, self.size[1] / 2
+            sx, sy = np.asarray(self.size, dtype=float)[:2]
+            hx, hy = sx / 2, sy / 2
             return np.array([(-hx, -hy), (hx, -hy), (hx, hy), (-hx, hy)])
         return np.zeros((1, 2))
 
@@ -185,7 +199,7 @@ class Patch:
     """
 
     e_r: float
-    center: Tuple[float, float] = (0.0, 0.0)
+    center: Vector = (0.0, 0.0)
     shape: str = "given"
     dims: Tuple[float, ...] = ()
 
@@ -194,13 +208,13 @@ class Patch:
         object.__setattr__(self, "center", _tuple(_array(self.center, "Patch.center", (2,))))
 
     @classmethod
-    def disc(cls, radius, center=(0.0, 0.0)):
+    def disc(cls, radius: float, center: Vector = (0.0, 0.0)) -> "Patch":
         """Uniform pressure over a disc of ``radius`` [m]: e_r = 2 R / 3."""
         r = _real(radius, "radius", low=0.0, low_open=True)
         return cls(e_r=_core.er_disc(r), center=center, shape="disc", dims=(r,))
 
     @classmethod
-    def rectangle(cls, width, height, center=(0.0, 0.0)):
+    def rectangle(cls, width: float, height: float, center: Vector = (0.0, 0.0)) -> "Patch":
         """Uniform pressure over a ``width`` x ``height`` rectangle [m] (full
         side lengths along the object's x and y, as in ``Body.box``): e_r is
         the mean distance of the rectangle from its centre."""
@@ -235,7 +249,7 @@ class Grasp:
             raise ValueError(f"Grasp.fingers must be 1 or 2, got {self.fingers!r}")
 
     @property
-    def capacity(self):
+    def capacity(self) -> float:
         """Largest friction force the plates can exert, mu * fingers * grip_force [N]."""
         return self.mu * self.fingers * self.grip_force
 
@@ -249,11 +263,12 @@ class _Motion:
         raise NotImplementedError
 
     @property
-    def end_time(self):
+    def end_time(self) -> float:
         """Time after which the gripper is at rest [s]."""
         raise NotImplementedError
 
-    def evaluate(self, t, gripper_rotation=DEFAULT_GRIPPER_ROTATION, gripper_position=(0.0, 0.0, 0.0)):
+    def evaluate(self, t: ArrayLike, gripper_rotation: Matrix = DEFAULT_GRIPPER_ROTATION,
+                 gripper_position: Vector = (0.0, 0.0, 0.0)) -> Dict[str, NDArray[np.float64]]:
         """Kinematics of the gripper frame B at times ``t`` [s], in the world frame A.
 
         Returns a dict of arrays: ``R`` (n, 3, 3) = R_AB, ``p`` position of B's
@@ -281,7 +296,7 @@ class Rest(_Motion):
         return dict(motion_kind=_core.MOTION_REST)
 
     @property
-    def end_time(self):
+    def end_time(self) -> float:
         return 0.0
 
 
@@ -303,9 +318,9 @@ class AsymmetricProfile(_Motion):
     amplitude: float
     duration: float
     beta: float
-    axis: Tuple[float, float, float] = (0.0, 0.0, 1.0)
+    axis: Vector = (0.0, 0.0, 1.0)
     rotation: bool = False
-    center: Tuple[float, float, float] = (0.0, 0.0, 0.0)
+    center: Vector = (0.0, 0.0, 0.0)
 
     def __post_init__(self):
         object.__setattr__(self, "amplitude", _real(self.amplitude, "AsymmetricProfile.amplitude"))
@@ -315,12 +330,12 @@ class AsymmetricProfile(_Motion):
         _axis_fields(self, "AsymmetricProfile")
 
     @property
-    def a_high(self):
+    def a_high(self) -> float:
         """a_H = 2 X1 / (beta T^2) (Eq. 9a)."""
         return 2 * self.amplitude / (self.beta * self.duration**2)
 
     @property
-    def a_low(self):
+    def a_low(self) -> float:
         """a_L = 2 X1 / ((beta - 1) T^2) (Eq. 9b)."""
         return 2 * self.amplitude / ((self.beta - 1) * self.duration**2)
 
@@ -330,7 +345,7 @@ class AsymmetricProfile(_Motion):
                     motion_duration=self.duration, motion_beta=self.beta)
 
     @property
-    def end_time(self):
+    def end_time(self) -> float:
         return 2.0 * self.duration
 
 
@@ -343,9 +358,9 @@ class TrapezoidalProfile(_Motion):
     amplitude: float
     duration: float
     v_max: float
-    axis: Tuple[float, float, float] = (0.0, 0.0, 1.0)
+    axis: Vector = (0.0, 0.0, 1.0)
     rotation: bool = False
-    center: Tuple[float, float, float] = (0.0, 0.0, 0.0)
+    center: Vector = (0.0, 0.0, 0.0)
 
     def __post_init__(self):
         a = _real(self.amplitude, "TrapezoidalProfile.amplitude")
@@ -365,7 +380,7 @@ class TrapezoidalProfile(_Motion):
                     motion_duration=self.duration, motion_v_max=self.v_max)
 
     @property
-    def end_time(self):
+    def end_time(self) -> float:
         return self.duration
 
 
@@ -384,9 +399,9 @@ class SampledTrajectory(_Motion):
     time the gripper holds the end pose at rest.
     """
 
-    times: np.ndarray
-    positions: np.ndarray
-    quaternions: np.ndarray
+    times: Vector
+    positions: Matrix
+    quaternions: Matrix
 
     def __post_init__(self):
         t = _array(self.times, "SampledTrajectory.times", (None,))
@@ -403,7 +418,7 @@ class SampledTrajectory(_Motion):
             object.__setattr__(self, name, a)
 
     @classmethod
-    def from_matrices(cls, times, transforms):
+    def from_matrices(cls, times: Vector, transforms: ArrayLike) -> "SampledTrajectory":
         """From homogeneous transforms (n, 4, 4) of B in A."""
         T = _array(transforms, "transforms", (None, 4, 4))
         quats = np.array([_quat_from_matrix(M[:3, :3]) for M in T])
@@ -414,8 +429,8 @@ class SampledTrajectory(_Motion):
         return dict(motion_kind=_core.MOTION_SAMPLED, motion_times=self.times, motion_poses=poses)
 
     @property
-    def end_time(self):
-        return float(self.times[-1])
+    def end_time(self) -> float:
+        return float(np.asarray(self.times)[-1])
 
     def __eq__(self, other):
         return (isinstance(other, SampledTrajectory) and np.array_equal(self.times, other.times)
@@ -451,8 +466,8 @@ class Stop:
     """A fixed plane of the world the object may not cross: the allowed side
     is ``(x - point) . normal >= 0`` for every outline vertex x, in A [m]."""
 
-    point: Tuple[float, float, float]
-    normal: Tuple[float, float, float]
+    point: Vector
+    normal: Vector
 
     def __post_init__(self):
         object.__setattr__(self, "point", _tuple(_array(self.point, "Stop.point", (3,))))
@@ -481,12 +496,12 @@ class Scene:
     grasp: Grasp
     motion: _Motion = field(default_factory=Rest)
     dof: str = "translation"
-    slide_axis: Tuple[float, float] = (0.0, 1.0)
-    q0: Tuple[float, float, float] = (0.0, 0.0, 0.0)
-    v0: Tuple[float, float, float] = (0.0, 0.0, 0.0)
-    gripper_rotation: Tuple[Tuple[float, float, float], ...] = DEFAULT_GRIPPER_ROTATION
-    gripper_position: Tuple[float, float, float] = (0.0, 0.0, 0.0)
-    gravity: Tuple[float, float, float] = (0.0, 0.0, -9.81)
+    slide_axis: Vector = (0.0, 1.0)
+    q0: Vector = (0.0, 0.0, 0.0)
+    v0: Vector = (0.0, 0.0, 0.0)
+    gripper_rotation: Matrix = DEFAULT_GRIPPER_ROTATION
+    gripper_position: Vector = (0.0, 0.0, 0.0)
+    gravity: Vector = (0.0, 0.0, -9.81)
     stops: Tuple[Stop, ...] = ()
 
     def __post_init__(self):
@@ -547,15 +562,16 @@ class Scene:
                     f"(Scene.q0 = {self.q0}) so that it starts on the stop's allowed side")
 
     @property
-    def ndof(self):
+    def ndof(self) -> int:
         """Number of free coordinates (1 or 3)."""
         return 3 if self.dof == "planar" else 1
 
     @property
-    def coordinate_names(self):
+    def coordinate_names(self) -> Tuple[str, ...]:
         return {"translation": ("s",), "rotation": ("theta",), "planar": ("x", "y", "theta")}[self.dof]
 
-    def to_spec(self, method="implicit", friction_solver="scalar", eps=1e-4, rtol=1e-8, atol=1e-10):
+    def to_spec(self, method: str = "implicit", friction_solver: str = "scalar", eps: float = 1e-4,
+                rtol: float = 1e-8, atol: float = 1e-10) -> Dict[str, Any]:
         """The flat dict the C core reads (keys mirror ``exdex_scene_def``)."""
         spec = dict(
             mass=self.body.mass, inertia=np.array(self.body.inertia).ravel(),
@@ -575,6 +591,6 @@ class Scene:
         return spec
 
 
-def replace(scene, **changes):
+def replace(scene: _T, **changes: Any) -> _T:
     """``dataclasses.replace`` re-exported for convenience."""
-    return dataclasses.replace(scene, **changes)
+    return dataclasses.replace(scene, **changes)  # type: ignore[type-var]

@@ -3,9 +3,12 @@ from __future__ import annotations
 
 import math
 import numbers
+import os
 from dataclasses import dataclass, field
+from typing import Any, Dict, Literal, Optional, Tuple, Union
 
 import numpy as np
+from numpy.typing import NDArray
 
 from exdex import _core, diagnostics
 from exdex.diagnostics import PhysicsWarning
@@ -14,6 +17,10 @@ from exdex.scene import METHODS, SOLVERS, Scene, _real
 __all__ = ["Result", "simulate", "SolverError", "PhysicsWarning"]
 
 SolverError = _core.SolverError
+
+#: The integration methods and friction solvers (see :func:`simulate`).
+Method = Literal["implicit", "event", "regularised", "explicit", "analytic", "auto"]
+FrictionSolver = Literal["scalar", "brent", "multiroot"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -54,55 +61,223 @@ class Result:
     wrench: np.ndarray
     stick: np.ndarray
     stop_force: np.ndarray
-    stats: dict
-    scene: Scene = None
+    stats: Dict[str, Any]
+    scene: Optional[Scene] = None
     method: str = "implicit"
     friction_solver: str = "scalar"
     dt: float = float("nan")
 
     @property
-    def displacement(self):
+    def displacement(self) -> NDArray[np.float64]:
         """(n, ndof) coordinates relative to the initial ones, q - q[0]."""
         return self.q - self.q[0]
 
     @property
-    def pose(self):
+    def pose(self) -> NDArray[np.float64]:
         """(n, 3) full planar pose (x, y, theta) of C in B, whatever the scene's dof."""
+        if self.scene is None:
+            raise ValueError("Result.pose needs the Result's scene (Result.scene is None)")
         return diagnostics.poses(self.scene, self.q)
 
-    def plot(self, ax=None, label=None, stick_shading=True):
+    def plot(self, ax: Any = None, label: Optional[str] = None, stick_shading: bool = True) -> Any:
         """Plot the displacement of each free coordinate against time.
 
-        Translations in mm, rotations in degrees; steps where the object stuck
-        to the plates are shaded. Returns the matplotlib Axes (a new figure
-        when ``ax`` is None).
+        Translations in mm and rotations in degrees, each on its own labelled
+        axis: a translation or rotation scene draws one Axes; a planar scene
+        draws x and y [mm] on one and theta [deg] on a second, stacked below
+        it in a new figure, or a twin y axis (right-hand side) of a given
+        ``ax``. Steps where the object stuck to the plates are shaded.
+
+        Returns the Axes (1-DoF scenes) or a tuple ``(ax_mm, ax_deg)``
+        (planar scenes).
         """
         from exdex._optional import pyplot
 
         plt = pyplot("Result.plot()")
-        if ax is None:
-            _, ax = plt.subplots(figsize=(6, 3.5))
         names = self.scene.coordinate_names if self.scene is not None else tuple(f"q{i}" for i in range(self.q.shape[1]))
-        for i, name in enumerate(names):
-            scale, unit = (180 / math.pi, "deg") if name == "theta" else (1e3, "mm")
-            lab = f"{label} {name}" if label else name
-            ax.plot(self.t, scale * self.displacement[:, i], label=f"{lab} [{unit}]")
-        if stick_shading and self.stick.any():
-            ax.fill_between(self.t, 0, 1, where=self.stick, transform=ax.get_xaxis_transform(), color="0.9",
-                            step="post", label="stick", zorder=0)
-        ax.set_xlabel("time [s]")
-        ax.set_ylabel("displacement relative to the gripper")
-        ax.legend(loc="best", fontsize="small")
-        return ax
+        lin = [i for i, n in enumerate(names) if n != "theta"]
+        ang = [i for i, n in enumerate(names) if n == "theta"]
+        groups = [g for g in (lin, ang) if g]
+        if ax is None:
+            if len(groups) == 2:
+                _, axes = plt.subplots(2, 1, figsize=(6, 5), sharex=True)
+                axes = list(axes)
+            else:
+                _, a = plt.subplots(figsize=(6, 3.5))
+                axes = [a]
+        elif len(groups) == 2:
+            axes = [ax, ax.twinx()]
+        else:
+            axes = [ax]
+        colours = plt.rcParams["axes.prop_cycle"].by_key().get("color", ["C0", "C1", "C2"])
+        for a, idx in zip(axes, groups):
+            angular = names[idx[0]] == "theta"
+            scale, unit = (180 / math.pi, "deg") if angular else (1e3, "mm")
+            for i in idx:
+                lab = f"{label} {names[i]}" if label else names[i]
+                a.plot(self.t, scale * self.displacement[:, i], label=f"{lab} [{unit}]",
+                       color=colours[i % len(colours)])
+            what = "rotation" if angular else ("displacement" if names != ("s",) else "slide along the axis")
+            a.set_ylabel(f"{what} {', '.join(names[i] for i in idx)} [{unit}]")
+            twin = ax is not None and a is not axes[0]
+            if stick_shading and self.stick.any() and not twin:
+                a.fill_between(self.t, 0, 1, where=self.stick, transform=a.get_xaxis_transform(), color="0.9",
+                               step="post", label="stick", zorder=0)
+        axes[-1].set_xlabel("time [s]")
+        if ax is None or len(axes) == 1:
+            for a in axes:
+                a.legend(loc="best", fontsize="small")
+        else:  # twin axes: one legend for both
+            h0, l0 = axes[0].get_legend_handles_labels()
+            h1, l1 = axes[1].get_legend_handles_labels()
+            axes[0].legend(h0 + h1, l0 + l1, loc="best", fontsize="small")
+        if len(axes) == 1:
+            return axes[0]
+        return tuple(axes)
 
-    def drift_after(self, t0):
+    # ------------------------------------------------------------ export
+
+    def _names(self) -> Tuple[str, ...]:
+        if self.scene is not None:
+            return self.scene.coordinate_names
+        return tuple(f"q{i}" for i in range(self.q.shape[1]))
+
+    @property
+    def units(self) -> Dict[str, str]:
+        """Units of the columns of :meth:`to_dict` (SI), by column name."""
+        units = {"t": "s"}
+        for n in self._names():
+            units[n] = "rad" if n == "theta" else "m"
+        for n in self._names():
+            units[f"v_{n}"] = "rad/s" if n == "theta" else "m/s"
+        units.update(f_x="N", f_y="N", m_z="N m", stick="")
+        for i in range(self.stop_force.shape[1] if self.stop_force.ndim == 2 else 0):
+            units[f"stop_force_{i}"] = "N"
+        return units
+
+    def to_dict(self) -> Dict[str, NDArray[Any]]:
+        """The trajectory as named columns, each an (n,) NumPy array:
+
+        ``t`` [s]; the free coordinates by name (``s`` [m] in translation
+        scenes, ``theta`` [rad] in rotation scenes, ``x``, ``y`` [m] and
+        ``theta`` [rad] in planar ones); their rates ``v_<name>`` [m/s or
+        rad/s]; the plate friction wrench ``f_x``, ``f_y`` [N] and ``m_z``
+        [N m] (in B, at the centre of pressure); ``stick`` (bool); and
+        ``stop_force_<i>`` [N] for each stop. :attr:`units` names the units.
+        """
+        names = self._names()
+        out = {"t": self.t}
+        for i, n in enumerate(names):
+            out[n] = self.q[:, i]
+        for i, n in enumerate(names):
+            out[f"v_{n}"] = self.v[:, i]
+        out["f_x"], out["f_y"], out["m_z"] = self.wrench[:, 0], self.wrench[:, 1], self.wrench[:, 2]
+        out["stick"] = self.stick
+        for i in range(self.stop_force.shape[1] if self.stop_force.ndim == 2 else 0):
+            out[f"stop_force_{i}"] = self.stop_force[:, i]
+        return out
+
+    def to_dataframe(self) -> Any:
+        """The columns of :meth:`to_dict` as a ``pandas.DataFrame`` (one row per
+        sample); ``df.attrs`` holds the units, method and time step.
+        Needs pandas (an optional dependency)."""
+        try:
+            import pandas as pd
+        except ImportError:
+            raise ImportError("Result.to_dataframe needs pandas (pip install pandas); "
+                              "Result.to_dict() gives the same columns as NumPy arrays") from None
+        df = pd.DataFrame(self.to_dict())
+        df.attrs.update(units=self.units, method=self.method, friction_solver=self.friction_solver, dt=self.dt)
+        return df
+
+    def save(self, path: Union[str, "os.PathLike[str]"]) -> Union[str, "os.PathLike[str]"]:
+        """Write the result to ``path``, in the format of its extension:
+
+        ``.npz`` -- NumPy archive of the arrays (``t``, ``q``, ``v``,
+        ``wrench``, ``stick``, ``stop_force``), the scene (as the JSON of
+        :func:`exdex.save_scene`) and the run's settings and statistics;
+        :meth:`Result.load` reads it back exactly.
+        ``.csv`` -- one row per sample, the columns of :meth:`to_dict` with a
+        header row of their names; numbers in their shortest exact decimal
+        form, ``stick`` as 0 or 1.
+
+        Returns the path.
+        """
+        ext = os.path.splitext(os.fspath(path))[1].lower()
+        if ext == ".npz":
+            import json
+
+            meta = dict(method=self.method, friction_solver=self.friction_solver, dt=self.dt,
+                        stats=self.stats, names=list(self._names()))
+            arrays: Dict[str, Any] = dict(t=self.t, q=self.q, v=self.v, wrench=self.wrench, stick=self.stick,
+                          stop_force=self.stop_force, meta=np.array(json.dumps(meta)))
+            if self.scene is not None:
+                from exdex import io
+
+                arrays["scene"] = np.array(io.dumps(self.scene, "json"))
+            with open(path, "wb") as f:
+                np.savez(f, **arrays)
+        elif ext == ".csv":
+            cols = self.to_dict()
+            keys = list(cols)
+            rows = np.column_stack([np.asarray(c, dtype=np.float64) for c in cols.values()])
+            stick_col = keys.index("stick")
+            with open(path, "w", encoding="utf-8", newline="") as f:
+                f.write(",".join(keys) + "\n")
+                for row in rows.tolist():
+                    row[stick_col] = int(row[stick_col])
+                    f.write(",".join(map(repr, row)) + "\n")
+        else:
+            raise ValueError(f"Result.save: the extension of path must be .npz or .csv, got {ext!r}")
+        return path
+
+    @classmethod
+    def load(cls, path: Union[str, "os.PathLike[str]"]) -> "Result":
+        """A :class:`Result` from an ``.npz`` file written by :meth:`save`."""
+        import json
+
+        with np.load(path, allow_pickle=False) as z:
+            meta = json.loads(str(z["meta"]))
+            scene = None
+            if "scene" in z.files:
+                from exdex import io
+
+                scene = io.loads(str(z["scene"]), "json")
+            return cls(t=z["t"], q=z["q"], v=z["v"], wrench=z["wrench"], stick=z["stick"],
+                       stop_force=z["stop_force"], stats=meta["stats"], scene=scene, method=meta["method"],
+                       friction_solver=meta["friction_solver"], dt=meta["dt"])
+
+    def __repr__(self) -> str:
+        names = self._names()
+        n = len(self.t)
+        if n == 0:
+            return f"<exdex.Result method={self.method!r}, 0 samples>"
+        final = ", ".join(f"{nm} = {x:.6g} {'rad' if nm == 'theta' else 'm'}" for nm, x in zip(names, self.q[-1]))
+        steps = self.stick[1:]
+        stick = f"{np.mean(steps):.0%}" if len(steps) else "n/a"
+        dof = self.scene.dof if self.scene is not None else f"{len(names)}-DoF"
+        return (f"<exdex.Result {dof}, method={self.method!r}, {n} samples, t = {self.t[0]:g}..{self.t[-1]:g} s, "
+                f"final {final}, stick in {stick} of steps>")
+
+    def animate(self, **options: Any) -> Any:
+        """An animation of the object between the plates: plates, object
+        outline, stops and the plate friction wrench (see
+        :func:`exdex.animation.animate` for the options: fps, speed,
+        max_frames, plate_size, figsize, title). Plays inline in Jupyter;
+        ``.save("run.gif")`` (or ``.mp4`` with ffmpeg, ``.html``) writes it."""
+        from exdex.animation import animate
+
+        return animate(self, **options)
+
+    def drift_after(self, t0: float) -> float:
         """Largest |v| over samples at t >= t0 (0.0 means exactly still)."""
         sel = self.t >= t0
         return float(np.max(np.abs(self.v[sel]))) if np.any(sel) else 0.0
 
 
-def simulate(scene, t_end, dt=1e-3, method="implicit", friction_solver="scalar", eps=1e-4,
-             rtol=1e-8, atol=1e-10):
+def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "implicit",
+             friction_solver: FrictionSolver = "scalar", eps: float = 1e-4, rtol: float = 1e-8,
+             atol: float = 1e-10) -> Result:
     """Simulate the object in the moving gripper from t = 0 to ``t_end``.
 
     Parameters
@@ -113,7 +288,7 @@ def simulate(scene, t_end, dt=1e-3, method="implicit", friction_solver="scalar",
     dt : float
         Time step [s], > 0. Steps of dt; the last one is shortened to end
         exactly at t_end.
-    method : {"implicit", "event", "regularised", "explicit"}
+    method : {"implicit", "event", "regularised", "explicit", "analytic", "auto"}
         "implicit" (default): Moreau's midpoint time stepping with the
         maximum-dissipation friction solve (paper Eq. 6) at every step of dt;
         exact stick; first order in dt where stick/slip switches fall inside
@@ -135,6 +310,14 @@ def simulate(scene, t_end, dt=1e-3, method="implicit", friction_solver="scalar",
         eps: past 1e5 steps (accepted, rejected and event-location
         iterations) in one output interval, or a step below 16 ulps of t,
         "event" and "regularised" raise SolverError instead of grinding.
+        "analytic": the exact solution, phase by phase, of 1-DoF scenes
+        without stops whose drive is piecewise constant (a translating
+        gripper with Eq. 7, a trapezoid with ramps or rest; a rotation about
+        the centre of mass with the gripper turning about the plate normal):
+        positions are quadratics in time and events roots of linear
+        equations, nothing is integrated (``dt`` only sets the output grid).
+        Other scenes raise ValueError saying why.
+        "auto": "analytic" where it applies, else "event".
         "explicit": explicit Coulomb friction -mu N E^2 u / |E u| (0 at u = 0)
         with symplectic Euler steps of dt, the naive baseline. Never sticks:
         under a load |Q| < mu N the velocity chatters in a band of width
@@ -173,6 +356,7 @@ def simulate(scene, t_end, dt=1e-3, method="implicit", friction_solver="scalar",
         solver warnings in ``stats``): see :mod:`exdex.diagnostics`.
     """
     dt, t_end = _check_times(t_end, dt)
+    method = resolve_method(scene, method)
     spec = _spec(scene, method, friction_solver, eps, rtol, atol)
     out = _core.simulate(spec, t_end, dt)
     res = _result(out, scene, method, friction_solver, dt)
@@ -192,11 +376,28 @@ def _check_times(t_end, dt):
     return dt, t_end
 
 
+def resolve_method(scene, method):
+    """The method a name stands for on ``scene``: ``"auto"`` is ``"analytic"``
+    where the analytic method solves the scene (1-DoF, no stops, a
+    piecewise-constant drive), else ``"event"``; other names stand for
+    themselves."""
+    if method != "auto":
+        return method
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene must be an exdex.Scene, got {type(scene).__name__}")
+    return "analytic" if _core.analytic_unsupported(scene.to_spec()) is None else "event"
+
+
 def _spec(scene, method, friction_solver, eps, rtol, atol):
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be an exdex.Scene, got {type(scene).__name__}")
     if method not in METHODS:
-        raise ValueError(f"method must be one of {sorted(METHODS)}, got {method!r}")
+        raise ValueError(f"method must be one of {sorted(METHODS) + ['auto']}, got {method!r}")
+    if method == "analytic":
+        why = _core.analytic_unsupported(scene.to_spec())
+        if why is not None:
+            raise ValueError(f"method='analytic' cannot solve this scene: {why}; use method='event' "
+                             "(or 'auto', which picks the analytic method where it applies)")
     if friction_solver not in SOLVERS:
         raise ValueError(f"friction_solver must be one of {sorted(SOLVERS)}, got {friction_solver!r}")
     eps = _real(eps, "eps", low=0.0, low_open=True)
@@ -232,28 +433,30 @@ class Model:
 
     __slots__ = ("scene", "method", "friction_solver", "_model")
 
-    def __init__(self, scene, method="implicit", friction_solver="scalar", eps=1e-4, rtol=1e-8, atol=1e-10):
+    def __init__(self, scene: Scene, method: Method = "implicit", friction_solver: FrictionSolver = "scalar",
+                 eps: float = 1e-4, rtol: float = 1e-8, atol: float = 1e-10) -> None:
+        method = resolve_method(scene, method)
         spec = _spec(scene, method, friction_solver, eps, rtol, atol)
         self.scene, self.method, self.friction_solver = scene, method, friction_solver
         self._model = _core.compile(spec)
 
     @property
-    def ndof(self):
+    def ndof(self) -> int:
         """Number of free coordinates: 1 (translation or rotation) or 3 (planar)."""
         return self._model.ndof
 
-    def simulate(self, t_end, dt=1e-3):
+    def simulate(self, t_end: float, dt: float = 1e-3) -> Result:
         """Run from t = 0 to ``t_end`` in steps of ``dt``: an :class:`exdex.Result`."""
         dt, t_end = _check_times(t_end, dt)
         res = _result(self._model.simulate(t_end, dt), self.scene, self.method, self.friction_solver, dt)
         diagnostics.issue(diagnostics.findings(res))
         return res
 
-    def final(self, t_end, dt=1e-3):
+    def final(self, t_end: float, dt: float = 1e-3) -> Tuple[Tuple[float, ...], Tuple[float, ...], bool]:
         """Run like :meth:`simulate` and return only the last sample:
         ``(q, v, stick)`` with q, v tuples of ``ndof`` floats."""
         dt, t_end = _check_times(t_end, dt)
         return self._model.final(t_end, dt)
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return f"exdex.Model(ndof={self.ndof}, method={self.method!r}, friction_solver={self.friction_solver!r})"

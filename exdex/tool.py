@@ -38,9 +38,10 @@ import numbers
 import os
 import time
 from dataclasses import dataclass, field
-from typing import Optional, Tuple
+from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from exdex import _tool
 
@@ -50,6 +51,7 @@ __all__ = [
     "cone_volume", "cone_volumes", "tool_volumes", "objective", "theta_curve", "optimise_theta",
     "optimise_tool", "permitted_rows", "rod_rotation", "rod_descent_closed_form",
     "rod_max_rotation", "phi_set",
+    "figure_theta_curves", "figure_box_aspect", "figure_rod",
     "add_arguments", "run",
 ]
 
@@ -103,14 +105,14 @@ def _polygon(v, name="shape"):
     return a
 
 
-def rectangle(width, height):
+def rectangle(width: float, height: float) -> NDArray[np.float64]:
     """A centred width x height rectangle [m], counter-clockwise."""
     w = _real(width, "width", low=0, low_open=True) / 2
     h = _real(height, "height", low=0, low_open=True) / 2
     return np.array([[-w, -h], [w, -h], [w, h], [-w, h]])
 
 
-def regular_polygon(n, radius=0.5, rotation=0.0):
+def regular_polygon(n: int, radius: float = 0.5, rotation: float = 0.0) -> NDArray[np.float64]:
     """A regular n-gon (3 <= n <= 32) of circumradius ``radius`` [m] about its centre."""
     if isinstance(n, bool) or not isinstance(n, numbers.Integral):
         raise TypeError(f"n must be an int, got {type(n).__name__}")
@@ -132,7 +134,7 @@ class Box:
     dVx: float = 1 / SQRT2
     dVy: float = 1 / SQRT2
     dwz: float = 2.0
-    centre: Tuple[float, float, float] = (0.0, 0.0, 0.0)
+    centre: Union[Sequence[float], NDArray[Any]] = (0.0, 0.0, 0.0)
 
     def __post_init__(self):
         for name in ("dVx", "dVy", "dwz"):
@@ -143,27 +145,27 @@ class Box:
         object.__setattr__(self, "centre", c)
 
     @classmethod
-    def eq13(cls):
+    def eq13(cls) -> "Box":
         """The paper's choice (Eq. 13): dVx = dVy = 1/sqrt2, dwz = 2, V_max = 1."""
         return cls(1 / SQRT2, 1 / SQRT2, 2.0)
 
     @classmethod
-    def with_aspect(cls, a):
+    def with_aspect(cls, a: float) -> "Box":
         """Unit volume, dVx = dVy = a, dwz = 1/a^2 (the continuous variation of
         the cuboid's dimensions the paper mentions; a = 2^-1/2 is Eq. 13)."""
         a = _real(a, "a", low=0, low_open=True)
         return cls(a, a, 1.0 / (a * a))
 
     @property
-    def lo(self):
+    def lo(self) -> NDArray[np.float64]:
         return np.array(self.centre) - 0.5 * np.array([self.dVx, self.dVy, self.dwz])
 
     @property
-    def hi(self):
+    def hi(self) -> NDArray[np.float64]:
         return np.array(self.centre) + 0.5 * np.array([self.dVx, self.dVy, self.dwz])
 
     @property
-    def volume(self):
+    def volume(self) -> float:
         return self.dVx * self.dVy * self.dwz
 
 
@@ -177,7 +179,7 @@ def _box(box):
 
 # ---------------------------------------------------------------- rows
 
-def contact_rows(points, normals, mu=0.0):
+def contact_rows(points: ArrayLike, normals: ArrayLike, mu: float = 0.0) -> NDArray[np.float64]:
     """Rows of contacts at ``points`` (k, 2) with unit ``normals`` (k, 2).
 
     mu = 0: one row (n, r x n) per contact, shape (k, 3). mu > 0: each contact's
@@ -187,7 +189,7 @@ def contact_rows(points, normals, mu=0.0):
     return _tool.contact_rows(points, normals, _real(mu, "mu", low=0))
 
 
-def paper_rows(phi, theta):
+def paper_rows(phi: ArrayLike, theta: ArrayLike) -> NDArray[np.float64]:
     """The paper's Eqs. 10-11 literally, rows (n, 2, 3) (phi, theta broadcast) [rad]."""
     p, t = np.broadcast_arrays(np.asarray(phi, dtype=float), np.asarray(theta, dtype=float))
     return _tool.paper_rows(p.ravel(), t.ravel())
@@ -212,10 +214,10 @@ class Tool:
             object.__setattr__(self, "s", _real(self.s, "s"))
 
     @property
-    def alpha2(self):
+    def alpha2(self) -> float:
         return self.alpha1 + self.theta
 
-    def params(self):
+    def params(self) -> Tuple[float, float, float]:
         return (self.alpha1, self.alpha2, 0.0 if self.s is None else self.s)
 
 
@@ -226,11 +228,11 @@ class ToolProblem:
     ``mu`` and an optional ``push`` wrench (F_x, F_y, M_z) in the tool frame
     (then only twists with push . x >= 0 count, see :func:`permitted_rows`).
     ``model``: "contact" (derived rows) or "paper" (Eqs. 10-11, unit square)."""
-    phi: Tuple[float, ...]
-    shapes: Tuple[np.ndarray, ...] = (UNIT_SQUARE,)
+    phi: Union[Sequence[float], NDArray[Any]]
+    shapes: Sequence[ArrayLike] = (UNIT_SQUARE,)
     box: Box = field(default_factory=Box.eq13)
     mu: float = 0.0
-    push: Optional[Tuple[float, float, float]] = None
+    push: Optional[Union[Sequence[float], NDArray[Any]]] = None
     model: str = "contact"
 
     def __post_init__(self):
@@ -258,7 +260,7 @@ class ToolProblem:
                     hi=self.box.hi, mu=self.mu, push=self.push, model=self.model)
 
 
-def tool_rows(problem, tool, phi, shape=0):
+def tool_rows(problem: "ToolProblem", tool: Tool, phi: float, shape: int = 0) -> NDArray[np.float64]:
     """Rows (m, 3) of ``problem.shapes[shape]`` at attack angle ``phi`` in ``tool``."""
     if not isinstance(tool, Tool):
         raise TypeError("tool must be an exdex.tool.Tool")
@@ -268,7 +270,7 @@ def tool_rows(problem, tool, phi, shape=0):
                            s=tool.s, shape=shape, **kw)
 
 
-def compare_rows(phi, theta):
+def compare_rows(phi: float, theta: float) -> Tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Eqs. 10-11 against the rows derived from the contacts, unit square.
 
     Returns (paper (2, 3), derived (k, 3)). For 0 < phi < 90 deg and
@@ -285,7 +287,8 @@ def compare_rows(phi, theta):
     return paper_rows(phi, theta)[0], tool_rows(prob, Tool(theta=theta), phi)
 
 
-def permitted_rows(points, normals, mu=0.0, push=None):
+def permitted_rows(points: ArrayLike, normals: ArrayLike, mu: float = 0.0,
+                   push: Optional[ArrayLike] = None) -> NDArray[np.float64]:
     """Rows of the twists a frictional tool still permits (paper Section 3.2).
 
     Model (documented force analysis): a contact with friction coefficient mu
@@ -313,8 +316,8 @@ def permitted_rows(points, normals, mu=0.0, push=None):
 
 # ---------------------------------------------------------------- volumes
 
-def cone_volumes(rows, box=None, method="exact", grid_n=64, qmc_points=1 << 16,
-                 qmc_shifts=16, seed=1):
+def cone_volumes(rows: ArrayLike, box: Optional[Box] = None, method: str = "exact", grid_n: int = 64,
+                 qmc_points: int = 1 << 16, qmc_shifts: int = 16, seed: int = 1) -> Tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Volumes of {x in box : rows x >= 0} for rows (n, m, 3) (or (m, 3)).
 
     Returns (volume (n,), err (n,)); err is the QMC standard error over the
@@ -331,7 +334,7 @@ def cone_volumes(rows, box=None, method="exact", grid_n=64, qmc_points=1 << 16,
                          qmc_shifts=qmc_shifts, seed=seed)
 
 
-def cone_volume(rows, box=None, method="exact", **opts):
+def cone_volume(rows: ArrayLike, box: Optional[Box] = None, method: str = "exact", **opts: Any) -> float:
     """Volume of one cone {x in box : rows x >= 0}, rows (m, 3); a float."""
     r = np.asarray(rows, dtype=float)
     if r.ndim != 2:
@@ -339,7 +342,8 @@ def cone_volume(rows, box=None, method="exact", **opts):
     return float(cone_volumes(r, box, method, **opts)[0][0])
 
 
-def tool_volumes(problem, tools, progress=False, chunk=64):
+def tool_volumes(problem: "ToolProblem", tools: Iterable[Tool], progress: bool = False,
+                 chunk: int = 64) -> NDArray[np.float64]:
     """Exact volumes (T, S, P) for T tools, S shapes, P attack angles (one C
     call per chunk of tools, GIL released; tqdm progress if ``progress``)."""
     tools = list(tools)
@@ -360,12 +364,13 @@ def tool_volumes(problem, tools, progress=False, chunk=64):
     return np.concatenate(parts, axis=0)
 
 
-def objective(problem, tool):
+def objective(problem: "ToolProblem", tool: Tool) -> float:
     """Eq. 12's objective: the sum over shapes and attack angles of the exact volume."""
     return float(tool_volumes(problem, [tool]).sum())
 
 
-def theta_curve(problem, thetas, alpha1=0.0, s=None, progress=False):
+def theta_curve(problem: "ToolProblem", thetas: ArrayLike, alpha1: float = 0.0, s: Optional[float] = None,
+                progress: bool = False) -> NDArray[np.float64]:
     """Objective of Eq. 12 on a grid of tool angles ``thetas`` [rad]: (T,)."""
     th = _angles(thetas, "thetas")
     v = tool_volumes(problem, [Tool(theta=t, alpha1=alpha1, s=s) for t in th], progress=progress)
@@ -383,8 +388,9 @@ class ThetaResult:
     scan_objective: np.ndarray
 
 
-def optimise_theta(problem, theta_range=(math.radians(1), math.radians(179)), n_scan=73,
-                   xtol=1e-9, alpha1=0.0, s=None):
+def optimise_theta(problem: "ToolProblem", theta_range: Tuple[float, float] = (math.radians(1), math.radians(179)),
+                   n_scan: int = 73, xtol: float = 1e-9, alpha1: float = 0.0,
+                   s: Optional[float] = None) -> "ThetaResult":
     """Eq. 12: theta* = argmin_theta sum_phi V(phi, theta), a coarse scan of
     ``n_scan`` values in ``theta_range`` [rad] then GSL Brent (in C)."""
     lo = _real(theta_range[0], "theta_range[0]")
@@ -406,8 +412,9 @@ class ToolResult:
     converged: bool  # False: max_iter reached before the simplex shrank to size_tol
 
 
-def optimise_tool(problem, start, free=("alpha1", "alpha2", "s"), step=(0.2, 0.2, 0.1),
-                  max_iter=2000, size_tol=1e-7):
+def optimise_tool(problem: "ToolProblem", start: Tool, free: Sequence[str] = ("alpha1", "alpha2", "s"),
+                  step: Sequence[float] = (0.2, 0.2, 0.1), max_iter: int = 2000,
+                  size_tol: float = 1e-7) -> "ToolResult":
     """Several tool parameters together with GSL's nmsimplex2 (in C).
 
     ``free`` names the parameters to optimise among "alpha1", "alpha2" and "s"
@@ -436,7 +443,7 @@ def optimise_tool(problem, start, free=("alpha1", "alpha2", "s"), step=(0.2, 0.2
 
 # ---------------------------------------------------------------- rod (Fig. 11)
 
-def rod_descent_closed_form(psi, height, rod_x):
+def rod_descent_closed_form(psi: ArrayLike, height: float, rod_x: float) -> NDArray[np.float64]:
     """Closed form of the rod worked case (Fig. 11): gripper descent d [m]
     at which the object of ``height`` [m] has turned by ``psi`` [rad] (see
     :func:`rod_rotation`).
@@ -452,7 +459,7 @@ def rod_descent_closed_form(psi, height, rod_x):
     return b - (b - xr * np.sin(p)) / np.cos(p)
 
 
-def rod_max_rotation(height, rod_x):
+def rod_max_rotation(height: float, rod_x: float) -> float:
     """The largest rotation [rad] a straight downward push can give with the
     rod to an object of ``height`` [m]: asin(rod_x / b), b = height / 2 (then
     the rod is right below the grasp point and the push no longer turns the
@@ -462,7 +469,8 @@ def rod_max_rotation(height, rod_x):
     return math.asin(xr / b) if xr < b else math.pi / 2
 
 
-def rod_rotation(psi_end, width=1.0, height=1.0, rod_x=0.25, steps=1000):
+def rod_rotation(psi_end: float, width: float = 1.0, height: float = 1.0, rod_x: float = 0.25,
+                 steps: int = 1000) -> Tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """The rod tool of the paper's Fig. 11, worked from the twist cone.
 
     An object (a ``width`` x ``height`` rectangle [m], half-sides
@@ -542,7 +550,7 @@ BOX_CONVENTIONS = {
 }
 
 
-def phi_set(lo_deg, hi_deg, step_deg=0.25, midpoints=True):
+def phi_set(lo_deg: float, hi_deg: float, step_deg: float = 0.25, midpoints: bool = True) -> NDArray[np.float64]:
     """Attack angles [rad] covering [lo, hi] deg.
 
     ``midpoints`` (default): the centres of cells of ``step_deg``, i.e. the
@@ -561,8 +569,10 @@ def phi_set(lo_deg, hi_deg, step_deg=0.25, midpoints=True):
     return np.radians(np.linspace(lo, hi, n + 1))
 
 
-def theta_study(ranges=None, models=("paper", "contact"), boxes=None, mu=0.0, n_scan=179,
-                step_deg=0.25, progress=True):
+def theta_study(ranges: Optional[Mapping[str, Tuple[float, float]]] = None,
+                models: Sequence[str] = ("paper", "contact"), boxes: Optional[Mapping[str, Box]] = None,
+                mu: float = 0.0, n_scan: int = 179, step_deg: float = 0.25,
+                progress: bool = True) -> List[Dict[str, Any]]:
     """theta* (Eq. 12) for each phi range, model and box: a list of dict rows."""
     ranges = PHI_RANGES if ranges is None else ranges
     boxes = {"centred": Box.eq13()} if boxes is None else boxes
@@ -588,7 +598,67 @@ def theta_study(ranges=None, models=("paper", "contact"), boxes=None, mu=0.0, n_
     return out
 
 
-def add_arguments(parser):
+# ---------------------------------------------------------------- figures of ``exdex tool``
+
+VOLUME_UNIT = "(m/s)$^2$ rad/s"  # twist-cone volumes: Vx, Vy [m/s] x wz [rad/s]
+
+
+def figure_theta_curves(study: Sequence[Mapping[str, Any]]) -> Any:
+    """Mean cone volume against the tool angle per phi range (rows of
+    :func:`theta_study`, centred box), one panel per model: a Figure."""
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4), sharey=True)
+    for ax, model in zip(axes, ("paper", "contact")):
+        for r in study:
+            if r["model"] != model or r["box"] != "centred":
+                continue
+            res = r["result"]
+            ax.plot(np.degrees(res.scan_theta), res.scan_objective / r["n_phi"],
+                    label=f"phi {r['phi_range']} deg: theta* {r['theta_star_deg']:.1f} deg")
+            ax.plot(r["theta_star_deg"], r["mean_volume"], "k.")
+        ax.axvline(90, color="0.6", lw=0.8, ls="--")
+        ax.set_title("Eqs. 10-11 literally" if model == "paper" else "rows derived from contacts")
+        ax.set_xlabel("tool angle theta [deg]")
+        ax.legend(fontsize=7)
+    axes[0].set_ylabel(f"mean cone volume over phi [{VOLUME_UNIT}]\n(centred Eq. 13 box)")
+    fig.tight_layout()
+    return fig
+
+
+def figure_box_aspect(sweep: Sequence[Mapping[str, Any]]) -> Any:
+    """theta* against the box side a (dVx = dVy = a, dwz = 1/a^2): a Figure."""
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for model in ("paper", "contact"):
+        r = [x for x in sweep if x["model"] == model]
+        ax.semilogx([x["a"] for x in r], [x["theta_star_deg"] for x in r], "o-", label=model)
+    ax.axvline(1 / SQRT2, color="0.6", lw=0.8, ls="--", label="Eq. 13")
+    ax.axhline(90, color="0.8", lw=0.8)
+    ax.set_xlabel("box side a = dVx = dVy [m/s]  (dwz = 1/a$^2$ [rad/s], volume 1 " + VOLUME_UNIT + ")")
+    ax.set_ylabel("theta* [deg] (phi 0..90 deg)")
+    ax.legend()
+    fig.tight_layout()
+    return fig
+
+
+def figure_rod(descent: Any, psi: Any, closed: Any, height: float, rod_x: float) -> Any:
+    """Object rotation against gripper descent for the rod tool (Fig. 11): a Figure."""
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(5, 3.5))
+    ax.plot(descent, np.degrees(psi), label="RK4 on the contact row")
+    ax.plot(closed[::100], np.degrees(psi[::100]), "k.", label="closed form")
+    ax.set_xlabel("gripper descent [m]")
+    ax.set_ylabel("object rotation [deg]")
+    ax.set_title(f"rod tool (Fig. 11): rod {rod_x} m off the grasp, object height {height} m")
+    ax.legend()
+    fig.tight_layout()
+    return fig
+
+
+def add_arguments(parser: Any) -> None:
     """Options of ``exdex tool``."""
     parser.add_argument("--out", default=os.path.join("exdex-output", "tool"),
                         help="output folder for PNG and CSV files (default: %(default)s)")
@@ -634,21 +704,7 @@ def run(args):
     keys = ["box", "phi_range", "model", "mu", "dVx", "dVy", "dwz", "n_phi", "theta_star_deg",
             "objective", "mean_volume", "mean_volume_90deg", "bracketed"]
     _write_csv(os.path.join(out, "theta_star.csv"), study, keys)
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4), sharey=True)
-    for ax, model in zip(axes, ("paper", "contact")):
-        for r in study:
-            if r["model"] != model or r["box"] != "centred":
-                continue
-            res = r["result"]
-            ax.plot(np.degrees(res.scan_theta), res.scan_objective / r["n_phi"],
-                    label=f"phi {r['phi_range']} deg: theta* {r['theta_star_deg']:.1f}")
-            ax.plot(r["theta_star_deg"], r["mean_volume"], "k.")
-        ax.axvline(90, color="0.6", lw=0.8, ls="--")
-        ax.set_title("Eqs. 10-11 literally" if model == "paper" else "rows derived from contacts")
-        ax.set_xlabel("tool angle theta [deg]")
-        ax.legend(fontsize=7)
-    axes[0].set_ylabel("mean cone volume over phi (centred Eq. 13 box)")
-    fig.tight_layout()
+    fig = figure_theta_curves(study)
     fig.savefig(os.path.join(out, "theta_curves.png"), dpi=120)
     plt.close(fig)
 
@@ -663,16 +719,7 @@ def run(args):
                           mean_volume=res.objective / len(prob.phi), bracketed=res.bracketed))
     _write_csv(os.path.join(out, "box_aspect.csv"), sweep,
                ["a", "dwz", "model", "theta_star_deg", "mean_volume", "bracketed"])
-    fig, ax = plt.subplots(figsize=(6, 4))
-    for model in ("paper", "contact"):
-        r = [x for x in sweep if x["model"] == model]
-        ax.semilogx([x["a"] for x in r], [x["theta_star_deg"] for x in r], "o-", label=model)
-    ax.axvline(1 / SQRT2, color="0.6", lw=0.8, ls="--", label="Eq. 13")
-    ax.axhline(90, color="0.8", lw=0.8)
-    ax.set_xlabel("dVx = dVy = a   (dwz = 1/a^2, V_max = 1)")
-    ax.set_ylabel("theta* [deg], phi 0..90 deg")
-    ax.legend()
-    fig.tight_layout()
+    fig = figure_box_aspect(sweep)
     fig.savefig(os.path.join(out, "box_aspect.png"), dpi=120)
     plt.close(fig)
 
@@ -732,14 +779,7 @@ def run(args):
         w.writerow(["psi_deg", "descent_m", "descent_closed_form_m", "contact_u_m"])
         for row in zip(np.degrees(psi[::40]), d[::40], closed[::40], u[::40]):
             w.writerow([f"{x:.12g}" for x in row])
-    fig, ax = plt.subplots(figsize=(5, 3.5))
-    ax.plot(d, np.degrees(psi), label="RK4 on the contact row")
-    ax.plot(closed[::100], np.degrees(psi[::100]), "k.", label="closed form")
-    ax.set_xlabel("gripper descent [m]")
-    ax.set_ylabel("object rotation [deg]")
-    ax.set_title(f"rod tool (Fig. 11): rod {xr} m off the grasp, object height {height} m")
-    ax.legend()
-    fig.tight_layout()
+    fig = figure_rod(d, psi, closed, height, xr)
     fig.savefig(os.path.join(out, "rod.png"), dpi=120)
     plt.close(fig)
 

@@ -324,12 +324,29 @@ def test_solver_error_carries_status():
 
 
 def test_result_plot_draws_each_coordinate_and_stick_shading():
+    """Translations in mm and rotations in degrees never share an axis: a planar
+    scene gets an mm axis (x, y) and a deg axis (theta), each labelled with its
+    unit; a 1-DoF scene one labelled axis."""
     sc = exdex.Scene(body=exdex.Body(mass=0.1, inertia=1e-4), grasp=exdex.Grasp(mu=0.5, grip_force=1.5),
                      motion=exdex.AsymmetricProfile(0.1, 0.5, 0.9, axis=(0, 0, -1)), dof="planar")
     r = exdex.simulate(sc, 1.2, dt=1e-3)
-    ax = r.plot()
-    labels = [l.get_label() for l in ax.get_lines()]
-    assert labels == ["x [mm]", "y [mm]", "theta [deg]"]
+    ax_mm, ax_deg = r.plot()
+    assert [l.get_label() for l in ax_mm.get_lines()] == ["x [mm]", "y [mm]"]
+    assert [l.get_label() for l in ax_deg.get_lines()] == ["theta [deg]"]
+    assert ax_mm.get_ylabel().endswith("[mm]") and ax_deg.get_ylabel().endswith("[deg]")
+    assert ax_deg.get_xlabel() == "time [s]"
     # the y line is the displacement in mm (closed-form final value -20.54 mm, see reference.dat)
-    assert ax.get_lines()[1].get_ydata()[-1] == pytest.approx(1e3 * r.displacement[-1, 1])
-    assert len(ax.collections) == 1  # the stick shading
+    assert ax_mm.get_lines()[1].get_ydata()[-1] == pytest.approx(1e3 * r.displacement[-1, 1])
+    assert len(ax_mm.collections) == 1  # the stick shading
+    # on a given Axes: theta on a twin axis at the right, one legend for all
+    import matplotlib.pyplot as plt
+
+    _, ax = plt.subplots()
+    a, b = r.plot(ax=ax)
+    assert a is ax and b is not ax and b.get_ylabel().endswith("[deg]") and a.get_ylabel().endswith("[mm]")
+    assert [t.get_text() for t in a.get_legend().get_texts()] == ["x [mm]", "y [mm]", "stick", "theta [deg]"]
+    # 1-DoF scenes: one axis in its own unit
+    for dof, unit in (("translation", "[mm]"), ("rotation", "[deg]")):
+        ax1 = exdex.simulate(exdex.replace(sc, dof=dof), 0.3, dt=1e-3).plot()
+        assert ax1.get_ylabel().endswith(unit) and all(l.get_label().endswith(unit) for l in ax1.get_lines())
+    plt.close("all")

@@ -8,6 +8,7 @@ scans in NumPy. Uses exdex._tool only.
 import argparse
 import math
 import os
+import re
 
 import numpy as np
 import pytest
@@ -399,3 +400,24 @@ def test_cli_quick(tmp_path, capsys):
         assert (tmp_path / name).stat().st_size > 0
     out = capsys.readouterr().out
     assert "theta*" in out and "rod" in out
+
+
+def test_tool_figures_label_every_axis_with_units():
+    """Every axis of the ``exdex tool`` figures names its unit in brackets
+    (cone volumes in (m/s)^2 rad/s, angles in deg, box sides in m/s)."""
+    import matplotlib.pyplot as plt
+
+    study = T.theta_study(ranges={"0-90": (0, 90)}, n_scan=7, step_deg=15.0, progress=False)
+    sweep = [dict(a=a, model=m, theta_star_deg=100.0) for a in (0.5, 1.0) for m in ("paper", "contact")]
+    psi = np.linspace(0, 0.5, 200)
+    figs = [T.figure_theta_curves(study), T.figure_box_aspect(sweep),
+            T.figure_rod(psi * 0.1, psi, psi * 0.1, 1.0, 0.25)]
+    unit = re.compile(r"\[[^\]]+\]")
+    for fig in figs:
+        for ax in fig.axes:
+            assert unit.search(ax.get_xlabel()), ax.get_xlabel()
+            if ax.get_ylabel() or ax is fig.axes[0]:
+                assert unit.search(ax.get_ylabel()), ax.get_ylabel()
+    assert "(m/s)$^2$ rad/s" in figs[0].axes[0].get_ylabel()
+    assert "[m/s]" in figs[1].axes[0].get_xlabel()
+    plt.close("all")

@@ -197,7 +197,7 @@ int fuzz_simulate(const uint8_t *data, size_t size)
     }
     /* every method (methods.c bounds its loops: EXDEX_ENOCONV past its step,
      * step-floor and event budgets), and invalid ids when wild */
-    d.method = fz_int(&f, 0, 3);
+    d.method = fz_int(&f, 0, 4);
     d.friction_solver = fz_int(&f, 0, 2);
     d.eps = fz_log(&f, 1e-6, 1e-2);
     d.rtol = fz_log(&f, 1e-10, 1e-4);
@@ -302,8 +302,10 @@ int fuzz_simulate(const uint8_t *data, size_t size)
                 FZ_EXTREME(T, &f, fz_all_finite(a.tr.t, n) && fz_all_finite(a.tr.q, n * (size_t)ndof) &&
                                       fz_all_finite(a.tr.v, n * (size_t)ndof) &&
                                       fz_all_finite(a.tr.wrench, 3 * n));
-                /* the fixed-step methods take exactly one step per sample */
-                if (d.method == EXDEX_METHOD_IMPLICIT || d.method == EXDEX_METHOD_EXPLICIT)
+                /* the fixed-step methods take exactly one step per sample,
+                 * and the analytic method counts one per sample */
+                if (d.method == EXDEX_METHOD_IMPLICIT || d.method == EXDEX_METHOD_EXPLICIT ||
+                    d.method == EXDEX_METHOD_ANALYTIC)
                     FZ_CHECK(T, sa.steps == n - 1);
                 FZ_CHECK(T, sa.stick_steps <= sa.steps);
                 FZ_CHECK(T, a.tr.t[0] == 0.0 && a.tr.t[n - 1] == t_end);

@@ -965,7 +965,7 @@ EXDEX_TEST(methods_bad_input_and_determinism)
     int status;
     exdex_scene_def d = exdex_default_scene_def();
     sim_run a, b;
-    d.method = 4;
+    d.method = EXDEX_METHOD_ANALYTIC + 1;   /* no such method */
     ENSURE(exdex_model_alloc(&d, &status, &bad) == NULL && status == EXDEX_EINVAL);
     ENSURE(bad && strcmp(bad, "method") == 0);
     /* planar scenes with stops: every method */

@@ -1,0 +1,174 @@
+"""Result.animate (exdex.animation): the geometry of each frame against closed
+forms and invariances, frame timing, and the files it writes.
+
+The geometry (``frame_geometry``) is what the frames draw, so it is checked
+rather than pixels: the plate follows the gripper's closed-form profile, a
+stuck object turns with the gripper, friction balances gravity at rest,
+the outline never crosses a stop and touches it when the C core reports
+contact, and the picture does not change when the whole world is rotated
+and shifted (the view is the gripper's initial frame).
+"""
+import math
+
+import numpy as np
+import pytest
+
+import exdex
+from exdex import animation
+
+BOX = exdex.Body.box(0.1, (0.04, 0.06, 0.02))
+GRASP = exdex.Grasp(mu=0.5, grip_force=1.5)
+DROP = exdex.AsymmetricProfile(0.1, 0.5, 0.9, axis=(0, 0, -1))
+
+
+def test_plate_follows_the_gripper_profile():
+    """Eq. 7: the gripper is at X1 = 0.1 m along -z (down, the view's -y with
+    the default pose) at t = T = 0.5 s and back at 2 T."""
+    r = exdex.simulate(exdex.Scene(body=BOX, grasp=GRASP, motion=DROP), 1.2, 1e-3)
+    idx = [0, 500, 1000]
+    g = animation.frame_geometry(r, idx)
+    assert r.t[500] == 0.5 and r.t[1000] == 1.0
+    c = g["plate"].mean(axis=1)
+    assert np.allclose(c[1] - c[0], [0.0, -0.1], atol=1e-12, rtol=0)
+    assert np.allclose(c[2], c[0], atol=1e-12, rtol=0)
+    # the object's centre of mass: the gripper's displacement plus the slide in the fingers
+    assert np.allclose(g["com"][1] - g["com"][0], [0.0, -0.1 + r.q[500, 0] - r.q[0, 0]], atol=1e-12, rtol=0)
+
+
+def test_stuck_object_turns_with_the_gripper():
+    """A rotation of 0.5 rad about the plate normal (B z = -A y by default) with a
+    grip that holds: the outline turns by +0.5 rad in the view (x, y of B)."""
+    motion = exdex.TrapezoidalProfile(0.5, 0.4, 1.5, axis=(0, -1, 0), rotation=True)
+    sc = exdex.Scene(body=BOX, grasp=exdex.Grasp(mu=1.0, grip_force=50.0), motion=motion, dof="planar")
+    r = exdex.simulate(sc, 0.6, 1e-3)
+    assert r.stick[1:].all()
+    g = animation.frame_geometry(r, [0, len(r.t) - 1])
+    e0 = g["outline"][0, 1] - g["outline"][0, 0]
+    e1 = g["outline"][1, 1] - g["outline"][1, 0]
+    turn = math.atan2(e0[0] * e1[1] - e0[1] * e1[0], e0 @ e1)
+    assert turn == pytest.approx(0.5, abs=1e-9)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_friction_arrow_balances_gravity_at_rest(seed):
+    """Statics: an object stuck in a gripper at rest feels plate friction
+    -m g projected onto the plate plane (the view plane)."""
+    rng = np.random.default_rng(seed)
+    q = rng.normal(size=4)
+    R0 = exdex.SampledTrajectory([0, 1, 2, 3], np.zeros((4, 3)), np.tile(q, (4, 1)))
+    sc = exdex.Scene(body=BOX, grasp=exdex.Grasp(mu=1.0, grip_force=30.0), motion=R0, dof="planar")
+    r = exdex.simulate(sc, 0.5, 1e-2)
+    assert r.stick[1:].all()
+    g = animation.frame_geometry(r, [len(r.t) - 1])
+    assert np.allclose(g["force"][0], -BOX.mass * g["gravity"], atol=1e-9, rtol=0)
+    # the view plane is the plate plane at t = 0: B's origin is the view's origin
+    assert np.allclose(g["plate"][0].mean(axis=0), g["cop"][0], atol=1e-12)
+
+
+@pytest.mark.parametrize("normal", [(0, 0, 1), (0.15, 0.0, 1.0)])
+def test_outline_rests_on_the_stop_without_crossing(normal):
+    """The gripper goes down 0.1 m onto a table 0.09 m below the grasp: the box
+    (bottom 0.03 m below it) is stopped and slides up in the fingers. In the
+    view its outline never crosses the table line and touches it."""
+    sc = exdex.Scene(body=BOX, grasp=GRASP, motion=DROP, dof="planar",
+                     stops=(exdex.Stop((0, 0, -0.09), normal),))
+    r = exdex.simulate(sc, 1.2, 1e-3)
+    assert r.stop_force.max() > 0
+    g = animation.frame_geometry(r)
+    (n2, off), = g["stops"]
+    gap = g["outline"] @ n2 - off  # (frames, vertices)
+    assert gap.min() > -1e-9
+    assert gap.min(axis=1).min() < 1e-6
+    if normal == (0, 0, 1):  # box bottom 0.03 m below the grasp, table 0.09 m below
+        assert gap.min(axis=1)[0] == pytest.approx(0.06, abs=1e-12)
+
+
+def test_view_is_invariant_under_a_rigid_motion_of_the_world():
+    """Rotating and shifting everything (gripper pose, motion axis and centre,
+    gravity, stops) by one rigid motion leaves the picture unchanged."""
+    rng = np.random.default_rng(3)
+    q = rng.normal(size=4)
+    G = exdex.SampledTrajectory([0, 1, 2, 3], np.zeros((4, 3)), np.tile(q, (4, 1))).evaluate(0.0)["R"][0]
+    shift = rng.normal(size=3)
+    motion = exdex.AsymmetricProfile(0.4, 0.5, 0.8, axis=(0.3, 0.2, 1.0), rotation=True, center=(0.02, 0.0, 0.05))
+    stop = exdex.Stop((0, 0, -0.08), (0.1, 0, 1))
+    a = exdex.Scene(body=BOX, grasp=GRASP, motion=motion, dof="planar", stops=(stop,))
+    b = exdex.Scene(body=BOX, grasp=GRASP, dof="planar",
+                    motion=exdex.AsymmetricProfile(0.4, 0.5, 0.8, axis=tuple(G @ motion.axis), rotation=True,
+                                                   center=tuple(G @ motion.center + shift)),
+                    gripper_rotation=G @ np.array(a.gripper_rotation), gripper_position=tuple(shift),
+                    gravity=tuple(G @ a.gravity),
+                    stops=(exdex.Stop(tuple(G @ stop.point + shift), tuple(G @ stop.normal)),))
+    ra, rb = exdex.simulate(a, 1.2, 1e-3), exdex.simulate(b, 1.2, 1e-3)
+    assert np.allclose(ra.q, rb.q, atol=1e-7)
+    ga, gb = animation.frame_geometry(ra), animation.frame_geometry(rb)
+    for key in ("outline", "plate", "cop", "com"):
+        assert np.allclose(ga[key], gb[key], atol=1e-6), key
+    assert np.allclose(ga["gravity"], gb["gravity"], atol=1e-12)
+    assert np.allclose(ga["stops"][0][0], gb["stops"][0][0], atol=1e-12)
+    assert ga["stops"][0][1] == pytest.approx(gb["stops"][0][1], abs=1e-12)
+
+
+@pytest.fixture(scope="module")
+def drop():
+    return exdex.simulate(exdex.Scene(body=BOX, grasp=GRASP, motion=DROP, dof="planar",
+                                      stops=(exdex.Stop((0, 0, -0.09), (0, 0, 1)),)), 1.2, 1e-3)
+
+
+def test_frame_timing(drop):
+    a = drop.animate()
+    assert a.n_frames == 31 and a.interval_ms == pytest.approx(40.0)  # 1.2 s at 25 fps, real time
+    a = drop.animate(speed=0.5, fps=10)
+    assert a.n_frames == 25 and a.interval_ms == pytest.approx(100.0)
+    a = drop.animate(max_frames=7)
+    assert a.n_frames == 7 and a.interval_ms == pytest.approx(200.0)  # same duration, fewer frames
+    assert "7 frames" in repr(a)
+
+
+def test_writes_gif_html_and_reports_missing_ffmpeg(drop, tmp_path, monkeypatch):
+    PIL = pytest.importorskip("PIL.Image")
+    a = drop.animate(max_frames=6, fps=5, figsize=(3, 3))
+    a.save(tmp_path / "a.gif", dpi=50)
+    with PIL.open(tmp_path / "a.gif") as im:
+        assert im.n_frames == 6
+    a.save(tmp_path / "a.html", dpi=50)
+    html = (tmp_path / "a.html").read_text()
+    assert "<script" in html and html.count("data:image/png;base64") == 6
+    monkeypatch.setattr(animation, "_ffmpeg", lambda: None)
+    with pytest.raises(RuntimeError, match="ffmpeg"):
+        a.save(tmp_path / "a.mp4")
+    assert "<script" in a._repr_html_()  # the JavaScript player without ffmpeg
+    with pytest.raises(ValueError, match=r"\.gif, \.mp4 or \.html.*'\.avi'"):
+        a.save(tmp_path / "a.avi")
+
+
+def test_mp4_with_ffmpeg(drop, tmp_path):
+    if animation._ffmpeg() is None:
+        pytest.skip("no ffmpeg (PATH or imageio-ffmpeg)")
+    path = drop.animate(max_frames=4, fps=5, figsize=(3, 3)).save(tmp_path / "a.mp4", dpi=50)
+    assert (tmp_path / "a.mp4").stat().st_size > 1000 and path == tmp_path / "a.mp4"
+
+
+@pytest.mark.parametrize("kw, message", [
+    (dict(fps=0), "fps must be in"), (dict(speed=-1), "speed must be in"),
+    (dict(max_frames=1), "max_frames must be an integer >= 2"), (dict(plate_size=(0.1,)), "plate_size"),
+])
+def test_bad_options(drop, kw, message):
+    with pytest.raises(ValueError, match=message):
+        drop.animate(**kw)
+
+
+def test_paper_command_writes_one_animation_per_case(tmp_path, capsys):
+    import argparse
+
+    from exdex import paper
+
+    parser = argparse.ArgumentParser()
+    paper.add_arguments(parser)
+    args = parser.parse_args(["--out", str(tmp_path), "--cases", "fig4", "--dt", "2e-3", "--animate",
+                              "--no-progress"])
+    assert paper.run(args) == 0
+    PIL = pytest.importorskip("PIL.Image")
+    with PIL.open(tmp_path / "fig4.gif") as im:
+        assert im.n_frames == 26  # 1.0 s at 25 fps, real time
+    assert "fig4.gif" in capsys.readouterr().out

@@ -1,0 +1,239 @@
+"""The event method on plain planar and 1-DoF scenes: it returns, locates
+stick-to-slip at the exact crossing of the friction limit, and agrees with
+closed forms and with the implicit method extrapolated in dt.
+
+Reference values: closed forms (derived in each docstring) or the implicit
+method at dt and dt/2, Richardson-extrapolated (first order in dt at the
+stick/slip switches), whose difference is its error estimate.
+"""
+import math
+
+import numpy as np
+import pytest
+
+import exdex
+from exdex import (AsymmetricProfile, Body, Grasp, Patch, Rest, SampledTrajectory, Scene, Stop,
+                   TrapezoidalProfile)
+
+G = 9.81
+
+
+def implicit_extrapolated(scene, t_end, dt):
+    """Final q of the implicit method extrapolated to dt -> 0 from dt and dt/2
+    (first order), and its error estimate |q(dt/2) - q(dt)|."""
+    a = exdex.simulate(scene, t_end=t_end, dt=dt, method="implicit").q[-1]
+    b = exdex.simulate(scene, t_end=t_end, dt=dt / 2, method="implicit").q[-1]
+    return 2 * b - a, np.abs(b - a)
+
+
+def grip_scene(grip):
+    return Scene(body=Body.box(0.1, (0.06, 0.03, 0.02)),
+                 grasp=Grasp(mu=0.5, grip_force=grip, patch=Patch.rectangle(0.02, 0.02, center=(0.015, 0))),
+                 dof="planar")
+
+
+def test_planar_grip_sweep_returns_and_agrees_with_implicit():
+    """Gripper at rest, a 100 g box held by an off-centre patch: near the
+    holding grip the load sits just outside the ellipsoid and the object
+    starts to slip from rest (slowly, the slip direction set by the
+    maximum-dissipation solve). Every grip of the sweep returns, and the final
+    pose agrees with the implicit method extrapolated in dt within 3x its
+    estimated error (+1e-12 for the grips that stick)."""
+    for grip in np.linspace(1.0, 2.6, 17):
+        sc = grip_scene(float(grip))
+        exdex.simulate(sc, t_end=0.001, dt=1e-4, method="event")
+        ev = exdex.simulate(sc, t_end=0.03, dt=1e-3, method="event").q[-1]
+        ref, est = implicit_extrapolated(sc, 0.03, 2e-5)
+        assert np.all(np.abs(ev - ref) <= 3 * est + 1e-12), (grip, ev, ref, est)
+
+
+def turning_scene():
+    """Translation along B x, gripper turning about the horizontal A y axis
+    through the object's centre of mass (B z = -A y): ramp to w = 1.5 rad/s by
+    t_a = 0.2 s, then constant w (trapezoid: 1.2 rad in 1 s)."""
+    m, mu, F = 0.2, 0.5, 0.5
+    sc = Scene(body=Body(m), grasp=Grasp(mu=mu, grip_force=F), dof="translation", slide_axis=(1.0, 0.0),
+               motion=TrapezoidalProfile(amplitude=1.2, duration=1.0, v_max=1.5, axis=(0, 1, 0), rotation=True))
+    return sc, m, 2 * mu * F, 1.5, 0.2
+
+
+def turning_closed_form(t):
+    """q(t), qd(t) of the turning scene.
+
+    While it sticks the object stays on the axis (r = 0): no centrifugal,
+    Euler or Coriolis force along the slide, only gravity, whose component
+    along B x is g sin s(t) (B x tilts down by the turned angle s). In the
+    cruise s(t) = w t_a / 2 + w (t - t_a). Slip starts where m g sin s = C:
+    s* = arcsin(C / (m g)), t* = t_a + (s* - w t_a / 2) / w. Then, with
+    tau = t - t*, q'' = g sin(s* + w tau) - C / m + w^2 q (centrifugal;
+    Coriolis is normal to the slide), q(0) = q'(0) = 0:
+        q = A sin(s* + w tau) + B + c1 cosh(w tau) + c2 sinh(w tau),
+        A = -g / (2 w^2), B = C / (m w^2), c1 = -C / (2 m w^2),
+        c2 = g cos(s*) / (2 w^2).
+    """
+    _, m, C, w, ta = turning_scene()
+    s_star = math.asin(C / (m * G))
+    t_star = ta + (s_star - 0.5 * w * ta) / w
+    tau = t - t_star
+    A, B, c1, c2 = -G / (2 * w * w), C / (m * w * w), -C / (2 * m * w * w), G * math.cos(s_star) / (2 * w * w)
+    q = A * math.sin(s_star + w * tau) + B + c1 * math.cosh(w * tau) + c2 * math.sinh(w * tau)
+    qd = w * (A * math.cos(s_star + w * tau) + c1 * math.sinh(w * tau) + c2 * math.cosh(w * tau))
+    return q, qd, t_star
+
+
+@pytest.mark.parametrize("t_end", [0.3, 0.5, 0.75])
+def test_slip_onset_at_the_exact_crossing(t_end):
+    """The slip starts at arcsin(C/(m g))/w into the cruise, inside an output
+    interval: the final q matches the closed form for output dt = t_end,
+    t_end/8 and 1 ms; the onset error inferred from it, (q - q_exact)/qd, is
+    below 1e-9 s (an onset at the next output sample would be up to dt
+    late)."""
+    sc, *_ = turning_scene()
+    q_ex, qd_ex, t_star = turning_closed_form(t_end)
+    assert 0.27 < t_star < 0.3
+    for dt in (t_end, t_end / 8, 1e-3):
+        r = exdex.simulate(sc, t_end=t_end, dt=dt, method="event")
+        assert abs(r.q[-1, 0] - q_ex) / qd_ex < 1e-9, (dt, r.q[-1, 0], q_ex)
+
+
+def test_rotation_final_angle_independent_of_output_grid():
+    """Rotation DoF about the patch centre 20 mm above the centre of mass (no
+    gravity torque at rest); the gripper turns about its plate normal at
+    constant rate after a ramp, so the gravity torque about the pivot,
+    m g 0.02 sin(turned angle), crosses the friction torque C e_r inside an
+    output interval (near t = 0.61 s) and the object swings. The final angle with output dt = t_end/8
+    equals the fine-grid one (dt = 1 ms) to the event tolerance (rtol 1e-8)."""
+    sc = Scene(body=Body.box(0.1, (0.06, 0.03, 0.02)),
+               grasp=Grasp(mu=0.5, grip_force=1.5, patch=Patch.disc(0.01, center=(0.0, 0.02))),
+               dof="rotation",
+               motion=TrapezoidalProfile(amplitude=2.0, duration=2.0, v_max=1.2, axis=(0, -1, 0), rotation=True))
+    t_end = 1.6
+    fine = exdex.simulate(sc, t_end=t_end, dt=1e-3, method="event")
+    assert np.all(fine.stick[:500]) and not np.all(fine.stick) and abs(fine.q[-1, 0]) > 0.05
+    coarse = exdex.simulate(sc, t_end=t_end, dt=t_end / 8, method="event")
+    assert abs(coarse.q[-1, 0] - fine.q[-1, 0]) <= 1e-8 * abs(fine.q[-1, 0]) + 1e-10
+
+
+@pytest.mark.parametrize("v0, kind", [((0.3, 0.0, 0.0), "slide"), ((0.2, -0.15, 0.0), "slide"),
+                                      ((0.0, 0.0, 4.0), "spin")])
+def test_launched_object_stops_on_resting_gripper(v0, kind):
+    """Gripper at rest, gravity along the plate normal (no in-plane load),
+    patch at the centre of mass. A slide v0 = (vx, vy, 0): the slip stays
+    parallel to v0 (E^2 u / |E u| = u / |u| for u_r = 0), friction C = 2 mu F
+    against it: decelerates at C/m, stops at |v0|^2 m / (2 C) along v0 at
+    t = |v0| m / C and sticks. A spin w0: friction torque C e_r, stops at
+    w0^2 I / (2 C e_r)."""
+    m, mu, F = 0.1, 0.4, 0.5
+    C = 2 * mu * F
+    body = Body.box(m, (0.04, 0.02, 0.01))
+    patch = Patch.disc(0.008)
+    sc = Scene(body=body, grasp=Grasp(mu=mu, grip_force=F, patch=patch), dof="planar", v0=v0,
+               gravity=(0.0, -G, 0.0))
+    r = exdex.simulate(sc, t_end=0.2, dt=0.01, method="event")
+    assert r.stick[-1] and np.all(r.v[-1] == 0.0)
+    if kind == "slide":
+        sp = math.hypot(v0[0], v0[1])
+        d = sp * sp * m / (2 * C)
+        want = np.array([v0[0] / sp * d, v0[1] / sp * d, 0.0])
+        assert sp * m / C < 0.2
+    else:
+        izz = body.inertia[2][2]
+        want = np.array([0.0, 0.0, v0[2] ** 2 * izz / (2 * C * patch.e_r)])
+    np.testing.assert_allclose(r.q[-1], want, rtol=1e-7, atol=1e-12)
+
+
+def test_object_comes_to_rest_on_a_stop():
+    """Grip below the weight: the box slides down (B y is up) at g - C/m,
+    lands flat on a floor stop 5 mm below its lower face at
+    t = sqrt(2 d / (g - C/m)) (plastic, frictionless impact) and rests there:
+    final y = -d exactly (to the stop tolerance), x = theta = 0, v = 0, stick."""
+    m, mu, F, d = 0.1, 0.5, 0.5, 0.005
+    C = 2 * mu * F
+    sc = Scene(body=Body.box(m, (0.04, 0.02, 0.01)), grasp=Grasp(mu=mu, grip_force=F, patch=Patch.disc(0.005)),
+               dof="planar", stops=(Stop(point=(0.0, 0.0, -0.01 - d), normal=(0.0, 0.0, 1.0)),))
+    t_hit = math.sqrt(2 * d / (G - C / m))
+    r = exdex.simulate(sc, t_end=0.1, dt=0.01, method="event")
+    assert t_hit < 0.1
+    assert r.stick[-1] and np.all(r.v[-1] == 0.0)
+    np.testing.assert_allclose(r.q[-1], [0.0, -d, 0.0], atol=1e-9)
+    # before the landing it slides freely: y = -(g - C/m) t^2 / 2
+    i = int(np.searchsorted(r.t, t_hit)) - 1
+    np.testing.assert_allclose(r.q[i, 1], -0.5 * (G - C / m) * r.t[i] ** 2, rtol=1e-7)
+
+
+def random_planar_scene(rng):
+    """A planar scene a user would write: a box of 10-200 mm and 10 g-1 kg,
+    an off-centre rectangular patch, grip 0.5-5x the weight, gripper at rest,
+    Eq. 7 shifts along an arbitrary axis, turns about a tilted axis through an
+    arbitrary centre, or a smooth sampled arc (run up to its last sample), an
+    object launched on a resting gripper; a third with a floor stop, a third
+    with tilted gravity."""
+    m = float(10 ** rng.uniform(-2, 0))
+    L = float(10 ** rng.uniform(-2, -0.7))
+    lx, ly = L, L * rng.uniform(0.3, 1.0)
+    ph = rng.uniform(0.05, 0.3) * L
+    pc = (float(rng.uniform(-0.3, 0.3) * lx), float(rng.uniform(-0.3, 0.3) * ly))
+    grasp = Grasp(mu=float(rng.uniform(0.2, 1.0)), grip_force=float(m * G * rng.uniform(0.5, 5.0)),
+                  patch=Patch.rectangle(ph, ph * rng.uniform(0.5, 1), center=pc))
+    axis = rng.normal(size=3)
+    axis = tuple(axis / np.linalg.norm(axis))
+    kind = int(rng.integers(0, 5))
+    T = float(rng.uniform(0.05, 0.3))
+    v0, t_end, motion = (0.0, 0.0, 0.0), T, Rest()
+    if kind == 1:
+        motion = AsymmetricProfile(amplitude=float(rng.uniform(-1, 1) * 0.05), duration=T,
+                                   beta=float(rng.uniform(0.1, 0.5)), axis=axis)
+        t_end = 2.2 * T
+    elif kind == 2:
+        motion = AsymmetricProfile(amplitude=float(rng.uniform(-0.8, 0.8)), duration=T,
+                                   beta=float(rng.uniform(0.1, 0.5)), axis=axis, rotation=True,
+                                   center=tuple(float(x) for x in rng.normal(size=3) * L))
+        t_end = 2.2 * T
+    elif kind == 3:
+        ts = np.linspace(0, T, 12)
+        th = rng.uniform(-0.6, 0.6) * (1 - np.cos(np.pi * ts / T)) / 2
+        qs = np.stack([np.cos(th / 2)] + [np.sin(th / 2) * a for a in axis], 1)
+        pos = np.outer(np.sin(np.pi * ts / T), rng.normal(size=3) * 0.02)
+        motion = SampledTrajectory(times=ts, positions=pos, quaternions=qs)
+        t_end = 0.95 * T
+    elif kind == 4:
+        v0 = tuple(float(x) for x in rng.normal(size=3) * np.array([0.2, 0.2, 3.0]))
+    stops = ()
+    if rng.uniform() < 1 / 3:
+        stops = (Stop(point=(0, 0, -0.5 * max(lx, ly) - float(rng.uniform(0, 0.5)) * L), normal=(0, 0, 1)),)
+    gravity = (0.0, 0.0, -G)
+    if rng.uniform() < 1 / 3:
+        gravity = tuple(float(x) * G for x in axis[::-1])
+    sc = Scene(body=Body.box(m, (lx, ly, 0.3 * L)), grasp=grasp, motion=motion, dof="planar", v0=v0,
+               gravity=gravity, stops=stops)
+    return sc, t_end, L
+
+
+@pytest.mark.parametrize("seed", range(24))
+def test_random_planar_scene_agrees_with_implicit(seed):
+    """Every random planar scene returns with the event method at its default
+    tolerances and a coarse output grid (t_end/4), and its final pose agrees
+    with the implicit method extrapolated in dt (t_end/4000, t_end/8000) within
+    4x the implicit estimate plus 1e-7 (lengths in units of the box size L,
+    theta in rad)."""
+    sc, t_end, L = random_planar_scene(np.random.default_rng(1000 + seed))
+    ev = exdex.simulate(sc, t_end=t_end, dt=t_end / 4, method="event").q[-1]
+    ref, est = implicit_extrapolated(sc, t_end, t_end / 4000)
+    scale = np.array([L, L, 1.0])
+    err, est = np.abs(ev - ref) / scale, est / scale
+    assert np.all(err <= 4 * est + 1e-7), (err, est)
+
+
+def test_solver_error_says_when_why_and_what_instead():
+    """A regularised run whose eps makes the explicit stepper's step collapse
+    (stiffness C/(M eps) ~ 1e9/s) fails with a SolverError that carries the
+    time reached (inside the run), the cause, and names the remedy."""
+    sc = grip_scene(2.6)  # holds: the regularised object creeps at ~eps
+    with pytest.raises(exdex.SolverError) as info:
+        exdex.simulate(sc, t_end=0.01, dt=0.01, method="regularised", eps=1e-12)
+    e = info.value
+    assert e.status == 3
+    assert e.cause == "step_budget"
+    assert 0.0 <= e.time < 0.01
+    msg = str(e)
+    assert "t = " in msg and "method='implicit'" in msg and "eps" in msg

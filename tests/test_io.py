@@ -1,0 +1,382 @@
+"""Scenes as files (exdex.io), results out (Result.to_dict / to_dataframe /
+save / load / repr) and the ``exdex run`` command.
+
+Round trips are checked on seeded random scenes covering every scene object
+and option: bodies (scalar, diagonal and full inertia; size; outline),
+patches (given, disc, rectangle), one or two fingers, every motion (Rest,
+AsymmetricProfile and TrapezoidalProfile translating and rotating,
+SampledTrajectory with random arrays), 0 to 8 stops, every dof, random
+gripper poses, gravity, q0, v0 and slide axes. Floats include values whose
+decimal forms are long or unusual (0.1 + 0.2, subnormals, -0.0, 1e300): a
+loaded scene must be equal *and* write the same text again (which sees the
+sign of zero), and simulate to bit-identical arrays.
+"""
+import csv
+import json
+import math
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import exdex
+from exdex import io
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+AWKWARD = [0.1 + 0.2, 1 / 3, -0.0, 5e-324, 2.2250738585072014e-308, 1e300, -1e-300, 123456789.123456789,
+           2.0 ** -1074 * 3, 0.1, 1e16, 1e-5]
+
+
+def _awkward(rng, n=None, positive=False):
+    """Random floats mixing uniform draws and awkward decimal forms."""
+    def one():
+        x = float(rng.choice(AWKWARD)) if rng.random() < 0.3 else float(rng.normal() * 10.0 ** int(rng.integers(-6, 4)))
+        return abs(x) if positive else x
+    return one() if n is None else [one() for _ in range(n)]
+
+
+def _rotation(rng):
+    q = rng.normal(size=4)
+    w, x, y, z = q / np.linalg.norm(q)
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+
+
+def _body(rng):
+    mass = abs(_awkward(rng)) or 0.3
+    kind = rng.integers(0, 4)
+    if kind == 0:
+        return exdex.Body(mass=mass, inertia=float(rng.uniform(1e-6, 1e-2)))
+    if kind == 1:
+        return exdex.Body(mass=mass, inertia=rng.uniform(1e-6, 1e-2, size=3))
+    if kind == 2:
+        A = rng.normal(size=(3, 3)) * 1e-2
+        return exdex.Body(mass=mass, inertia=A @ A.T + 1e-5 * np.eye(3), size=tuple(rng.uniform(0.01, 0.2, 3)))
+    k = int(rng.integers(1, 33))
+    return exdex.Body.box(float(rng.uniform(0.01, 1.0)), tuple(rng.uniform(0.01, 0.2, 3)), outline=rng.normal(size=(k, 2)) * 0.05)
+
+
+def _patch(rng):
+    kind = rng.integers(0, 3)
+    center = tuple(rng.normal(size=2) * 0.01)
+    if kind == 0:
+        return exdex.Patch(e_r=float(rng.uniform(1e-4, 0.05)), center=center)
+    if kind == 1:
+        return exdex.Patch.disc(float(rng.uniform(1e-3, 0.05)), center=center)
+    return exdex.Patch.rectangle(float(rng.uniform(1e-3, 0.05)), float(rng.uniform(1e-3, 0.05)), center=center)
+
+
+def _motion(rng):
+    kind = rng.integers(0, 4)
+    axis = tuple(rng.normal(size=3))
+    center = tuple(_awkward(rng, 3))
+    rotation = bool(rng.integers(0, 2))
+    if kind == 0:
+        return exdex.Rest()
+    if kind == 1:
+        return exdex.AsymmetricProfile(_awkward(rng), float(rng.uniform(0.05, 2)), float(rng.uniform(0.01, 0.99)),
+                                       axis=axis, rotation=rotation, center=center)
+    if kind == 2:
+        a, T = float(rng.uniform(0.01, 1) * rng.choice([-1, 1])), float(rng.uniform(0.1, 2))
+        return exdex.TrapezoidalProfile(a, T, abs(a) / T * float(rng.uniform(1, 2)), axis=axis,
+                                        rotation=rotation, center=center)
+    n = int(rng.integers(4, 40))
+    times = np.cumsum(rng.uniform(1e-3, 0.1, n)) + float(rng.choice([0.0, 0.1 + 0.2]))
+    return exdex.SampledTrajectory(times, rng.normal(size=(n, 3)) * 0.1, rng.normal(size=(n, 4)))
+
+
+def random_scene(rng):
+    dof = str(rng.choice(["translation", "rotation", "planar"]))
+    stops = tuple(exdex.Stop(tuple(_awkward(rng, 3)), tuple(rng.normal(size=3))) for _ in range(rng.integers(0, 9)))
+    return exdex.Scene(
+        body=_body(rng),
+        grasp=exdex.Grasp(mu=abs(_awkward(rng)), grip_force=abs(_awkward(rng)), patch=_patch(rng),
+                          fingers=int(rng.integers(1, 3))),
+        motion=_motion(rng), dof=dof, slide_axis=tuple(rng.normal(size=2)), q0=tuple(_awkward(rng, 3)),
+        v0=tuple(_awkward(rng, 3)), gripper_rotation=_rotation(rng), gripper_position=tuple(_awkward(rng, 3)),
+        gravity=tuple(_awkward(rng, 3)), stops=stops)
+
+
+def _same(a, b):
+    """Equal scenes, and equal to the bit (the written text sees -0.0 and every digit)."""
+    return a == b and io.dumps(a, "json") == io.dumps(b, "json") and repr(io.scene_to_dict(a)) == repr(
+        io.scene_to_dict(b))
+
+
+@pytest.mark.parametrize("fmt", ["toml", "json"])
+def test_round_trip_random_scenes_is_exact(fmt, tmp_path):
+    rng = np.random.default_rng(20261124)
+    seen = set()
+    for i in range(300):
+        sc = random_scene(rng)
+        seen.add((type(sc.motion).__name__, sc.dof, len(sc.stops) > 0, sc.grasp.patch.shape))
+        path = tmp_path / f"s{i}.{fmt}"
+        exdex.save_scene(sc, path)
+        back = exdex.load_scene(path)
+        assert _same(back, sc), path.read_text()
+        # writing the loaded scene gives the same file, byte for byte
+        assert io.dumps(back, fmt) == path.read_text()
+    motions = {m for m, *_ in seen}
+    assert motions == {"Rest", "AsymmetricProfile", "TrapezoidalProfile", "SampledTrajectory"}
+    assert {d for _, d, *_ in seen} == {"translation", "rotation", "planar"}
+    assert {p for *_, p in seen} == {"given", "disc", "rectangle"}
+
+
+def test_sampled_trajectory_arrays_round_trip_to_the_bit(tmp_path):
+    rng = np.random.default_rng(7)
+    n = 500
+    t = np.cumsum(rng.uniform(1e-4, 1e-2, n))
+    p = rng.normal(size=(n, 3)) * 10.0 ** rng.integers(-12, 3, size=(n, 3)).astype(float)
+    q = rng.normal(size=(n, 4))
+    p[0, 0], p[1, 1], q[2, 2] = -0.0, 5e-324, 0.1 + 0.2
+    sc = exdex.Scene(body=exdex.Body(0.2), grasp=exdex.Grasp(0.5, 2.0), motion=exdex.SampledTrajectory(t, p, q))
+    for fmt in ("toml", "json"):
+        path = tmp_path / f"log.{fmt}"
+        exdex.save_scene(sc, path)
+        m = exdex.load_scene(path).motion
+        for name, a in (("times", t), ("positions", p), ("quaternions", q)):
+            b = getattr(m, name)
+            assert b.dtype == np.float64 and b.shape == a.shape
+            assert b.tobytes() == a.tobytes(), name  # bitwise, sign of zero included
+
+
+def test_loaded_scene_simulates_bit_identically(tmp_path):
+    """A scene and its reload give bit-identical trajectories with every method."""
+    sc = exdex.Scene(body=exdex.Body.box(0.1, (0.04, 0.06, 0.02)),
+                     grasp=exdex.Grasp(mu=0.4, grip_force=1.2, patch=exdex.Patch.disc(0.01, center=(0.003, 0.0))),
+                     motion=exdex.AsymmetricProfile(0.1, 0.4, 0.8, axis=(1, 0, -1)), dof="planar",
+                     stops=(exdex.Stop((0, 0, -0.09), (0.1, 0, 1)),), q0=(0.0, 0.0, 0.1))
+    exdex.save_scene(sc, tmp_path / "s.toml")
+    back = exdex.load_scene(tmp_path / "s.toml")
+    for method in ("implicit", "explicit"):
+        a = exdex.simulate(sc, 1.0, 2e-3, method=method)
+        b = exdex.simulate(back, 1.0, 2e-3, method=method)
+        assert a.q.tobytes() == b.q.tobytes() and a.wrench.tobytes() == b.wrench.tobytes()
+
+
+def test_hand_written_toml_takes_the_defaults(tmp_path):
+    text = """
+schema = 1
+dof = "planar"
+
+[body]
+mass = 0.1
+
+[grasp]
+mu = 0.5
+grip_force = 1.5
+
+[motion]
+type = "AsymmetricProfile"
+amplitude = 0.1
+duration = 0.5
+beta = 0.9
+axis = [0, 0, -1]
+
+[[stops]]
+point = [0, 0, -0.2]
+normal = [0, 0, 1]
+"""
+    (tmp_path / "a.toml").write_text(text)
+    want = exdex.Scene(body=exdex.Body(mass=0.1), grasp=exdex.Grasp(mu=0.5, grip_force=1.5),
+                       motion=exdex.AsymmetricProfile(0.1, 0.5, 0.9, axis=(0, 0, -1)), dof="planar",
+                       stops=(exdex.Stop((0, 0, -0.2), (0, 0, 1)),))
+    assert exdex.load_scene(tmp_path / "a.toml") == want
+
+
+def test_simulate_options_round_trip_and_checks(tmp_path):
+    sc = exdex.Scene(body=exdex.Body(0.1), grasp=exdex.Grasp(0.5, 1.5))
+    opts = dict(t_end=1.25, dt=1e-3, method="event", rtol=1e-9)
+    for fmt in ("toml", "json"):
+        exdex.save_scene(sc, tmp_path / f"s.{fmt}", simulate=opts)
+        assert io.load_simulate_options(tmp_path / f"s.{fmt}") == opts
+        assert exdex.load_scene(tmp_path / f"s.{fmt}") == sc
+    with pytest.raises(ValueError, match="'tend'.*allowed"):
+        io.dumps(sc, simulate=dict(tend=1.0))
+    with pytest.raises(ValueError, match="method must be a string"):
+        io.dumps(sc, simulate=dict(method=3))
+
+
+@pytest.mark.parametrize("edit, message", [
+    (lambda d: d.update(schema=2), r"unsupported scene-file schema 2.*reads schema 1"),
+    (lambda d: d.update(schema="1"), r"unsupported scene-file schema '1'"),
+    (lambda d: d.pop("schema"), r"missing key in scene: 'schema'"),
+    (lambda d: d["grasp"].update(frction=0.3), r"unknown key in scene\.grasp: 'frction'; allowed: .*mu"),
+    (lambda d: d.update(gravty=[0, 0, -9.8], stopz=[]), r"unknown keys in scene: 'gravty', 'stopz'"),
+    (lambda d: d["grasp"]["patch"].update(radius=0.01), r"unknown key in scene\.grasp\.patch: 'radius'"),
+    (lambda d: d["body"].pop("mass"), r"missing key in scene\.body: 'mass'"),
+    (lambda d: d["motion"].update(type="Spline"), r"unknown scene\.motion\.type 'Spline'; allowed: Rest"),
+    (lambda d: d["motion"].pop("type"), r"missing key in scene\.motion: 'type'"),
+    (lambda d: d["motion"].update(beta2=0.3), r"unknown key in scene\.motion \(AsymmetricProfile\): 'beta2'"),
+    (lambda d: d["stops"][0].update(depth=1), r"unknown key in scene\.stops\[0\]: 'depth'"),
+    (lambda d: d.update(stops={"point": [0, 0, 0]}), r"scene\.stops must be a list"),
+    (lambda d: d["body"].update(mass=-1.0), r"Body\.mass must be in \(0, inf\)"),
+])
+@pytest.mark.parametrize("fmt", ["toml", "json"])
+def test_bad_files_name_the_problem(edit, message, fmt, tmp_path):
+    sc = exdex.Scene(body=exdex.Body(0.1), grasp=exdex.Grasp(0.5, 1.5),
+                     motion=exdex.AsymmetricProfile(0.1, 0.5, 0.9), stops=(exdex.Stop((0, 0, -1), (0, 0, 1)),))
+    d = io.scene_to_dict(sc)
+    edit(d)
+    path = tmp_path / f"bad.{fmt}"
+    path.write_text(io._toml_dumps(d) if fmt == "toml" else json.dumps(d))
+    with pytest.raises(ValueError, match=message) as info:
+        exdex.load_scene(path)
+    assert str(path) in str(info.value)  # the file is named too
+
+
+def test_format_errors(tmp_path):
+    sc = exdex.Scene(body=exdex.Body(0.1), grasp=exdex.Grasp(0.5, 1.5))
+    with pytest.raises(ValueError, match=r"extension '\.yaml'.*\.toml or \.json"):
+        exdex.save_scene(sc, tmp_path / "s.yaml")
+    exdex.save_scene(sc, tmp_path / "s.txt", format="json")
+    assert exdex.load_scene(tmp_path / "s.txt", format="json") == sc
+    (tmp_path / "broken.toml").write_text("schema = 1\n[body\n")
+    with pytest.raises(ValueError, match="not valid TOML"):
+        exdex.load_scene(tmp_path / "broken.toml")
+    (tmp_path / "broken.json").write_text("{\"schema\": 1,")
+    with pytest.raises(ValueError, match="not valid JSON"):
+        exdex.load_scene(tmp_path / "broken.json")
+    with pytest.raises(TypeError, match="scene must be an exdex.Scene"):
+        exdex.save_scene({"body": 1}, tmp_path / "x.toml")
+
+
+def test_toml_writer_strings_and_keys_round_trip():
+    """The TOML writer against Python's TOML reader on strings needing escapes."""
+    tomllib = pytest.importorskip("tomllib")
+    d = {"a": 'quote " backslash \\ tab \t nl \n é ∑', "odd key": [1, -0.0, True, "x"], "t": {"u": [[1.5], []]}}
+    assert repr(tomllib.loads(io._toml_dumps(d))) == repr(d)
+
+
+# ---------------------------------------------------------------- results out
+
+def _scenes():
+    body = exdex.Body.box(0.1, (0.04, 0.06, 0.02))
+    grasp = exdex.Grasp(mu=0.5, grip_force=1.5)
+    motion = exdex.AsymmetricProfile(0.1, 0.5, 0.9, axis=(0, 0, -1))
+    return {
+        "translation": exdex.Scene(body=body, grasp=grasp, motion=motion),
+        "rotation": exdex.Scene(body=body, grasp=exdex.Grasp(0.5, 1.5, exdex.Patch(0.01, center=(0.0, 0.01))),
+                                motion=motion, dof="rotation"),
+        "planar": exdex.Scene(body=body, grasp=grasp, motion=motion, dof="planar",
+                              stops=(exdex.Stop((0, 0, -0.09), (0, 0, 1)),)),
+    }
+
+
+COLUMNS = {
+    "translation": ["t", "s", "v_s", "f_x", "f_y", "m_z", "stick"],
+    "rotation": ["t", "theta", "v_theta", "f_x", "f_y", "m_z", "stick"],
+    "planar": ["t", "x", "y", "theta", "v_x", "v_y", "v_theta", "f_x", "f_y", "m_z", "stick", "stop_force_0"],
+}
+
+
+@pytest.fixture(scope="module")
+def results():
+    return {k: exdex.simulate(sc, 1.2, 1e-3) for k, sc in _scenes().items()}
+
+
+@pytest.mark.parametrize("dof", list(COLUMNS))
+def test_to_dict_columns(results, dof):
+    r = results[dof]
+    d = r.to_dict()
+    assert list(d) == COLUMNS[dof]
+    assert list(r.units) == COLUMNS[dof]
+    assert all(len(v) == len(r.t) for v in d.values())
+    names = r.scene.coordinate_names
+    for i, n in enumerate(names):
+        assert np.array_equal(d[n], r.q[:, i]) and np.array_equal(d[f"v_{n}"], r.v[:, i])
+    assert np.array_equal(np.column_stack([d["f_x"], d["f_y"], d["m_z"]]), r.wrench)
+    assert r.units["m_z"] == "N m" and r.units["t"] == "s"
+
+
+@pytest.mark.parametrize("dof", list(COLUMNS))
+def test_save_csv_is_exact(results, dof, tmp_path):
+    r = results[dof]
+    path = r.save(tmp_path / "r.csv")
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    assert rows[0] == COLUMNS[dof]
+    assert len(rows) == len(r.t) + 1
+    table = np.array([[float(x) for x in row] for row in rows[1:]])
+    for j, (name, col) in enumerate(r.to_dict().items()):
+        assert np.array_equal(table[:, j], np.asarray(col, dtype=float)), name
+    assert set(row[rows[0].index("stick")] for row in rows[1:]) <= {"0", "1"}
+
+
+@pytest.mark.parametrize("dof", list(COLUMNS))
+def test_save_npz_round_trip(results, dof, tmp_path):
+    r = results[dof]
+    back = exdex.Result.load(r.save(tmp_path / "r.npz"))
+    for name in ("t", "q", "v", "wrench", "stick", "stop_force"):
+        a, b = getattr(r, name), getattr(back, name)
+        assert a.dtype == b.dtype and a.tobytes() == b.tobytes(), name
+    assert back.scene == r.scene and back.method == r.method and back.dt == r.dt
+    assert back.stats == r.stats
+    with pytest.raises(ValueError, match=r"\.npz or \.csv.*'\.xlsx'"):
+        r.save(tmp_path / "r.xlsx")
+
+
+def test_to_dataframe(results, monkeypatch):
+    r = results["planar"]
+    monkeypatch.setitem(sys.modules, "pandas", None)  # as if pandas were not installed
+    with pytest.raises(ImportError, match="needs pandas"):
+        r.to_dataframe()
+    monkeypatch.undo()
+    pd = pytest.importorskip("pandas")
+    df = r.to_dataframe()
+    assert isinstance(df, pd.DataFrame) and list(df.columns) == COLUMNS["planar"] and len(df) == len(r.t)
+    assert np.array_equal(df["y"].to_numpy(), r.q[:, 1]) and df.attrs["units"]["y"] == "m"
+
+
+def test_repr_is_short_and_says_what_matters(results):
+    r = exdex.simulate(_scenes()["planar"], 20.0, 1e-4)  # 200,001 samples
+    text = repr(r)
+    assert "\n" not in text and len(text) < 250, text
+    assert "method='implicit'" in text and "200001 samples" in text and "t = 0..20 s" in text
+    assert f"y = {r.q[-1, 1]:.6g} m" in text
+    # stick share of the steps, from the stick flags
+    assert f"stick in {np.mean(r.stick[1:]):.0%} of steps" in text
+    assert "[" not in text  # no arrays
+
+
+# ---------------------------------------------------------------- exdex run
+
+def _cli(*args, cwd):
+    env = dict(os.environ, PYTHONPATH=ROOT, MPLBACKEND="Agg")
+    return subprocess.run([sys.executable, "-m", "exdex", *args], capture_output=True, text=True, cwd=cwd,
+                          env=env, timeout=300)
+
+
+def test_cli_run_writes_result_figure_and_animation(tmp_path):
+    sc = _scenes()["planar"]
+    exdex.save_scene(sc, tmp_path / "drop.json", simulate=dict(t_end=0.9, dt=2e-3))
+    p = _cli("run", "drop.json", "--out", "o", "--animate", "--fps", "5", "--no-progress", cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    out = tmp_path / "o"
+    assert sorted(os.listdir(out)) == ["drop.csv", "drop.gif", "drop.npz", "drop.png"]
+    back = exdex.Result.load(out / "drop.npz")
+    want = exdex.simulate(sc, 0.9, 2e-3)
+    assert back.q.tobytes() == want.q.tobytes() and back.dt == 2e-3
+    assert "drop.gif" in p.stdout and "exdex.Result planar" in p.stdout
+    # command-line options override the file's
+    p = _cli("run", "drop.json", "--out", "o2", "--t-end", "0.5", "--dt", "0.01", "--method", "explicit",
+             "--no-progress", cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    back = exdex.Result.load(tmp_path / "o2" / "drop.npz")
+    assert back.method == "explicit" and back.t[-1] == 0.5 and len(back.t) == 51
+
+
+def test_cli_run_errors_are_messages(tmp_path):
+    p = _cli("run", "missing.toml", cwd=tmp_path)
+    assert p.returncode != 0 and "no such scene file: missing.toml" in p.stderr
+    (tmp_path / "bad.toml").write_text("schema = 3\n")
+    p = _cli("run", "bad.toml", cwd=tmp_path)
+    assert p.returncode != 0 and "unsupported scene-file schema 3" in p.stderr and "Traceback" not in p.stderr
+    sc = _scenes()["translation"]
+    exdex.save_scene(sc, tmp_path / "s.toml")
+    p = _cli("run", "s.toml", "--dt", "-1", "--no-progress", cwd=tmp_path)
+    assert p.returncode != 0 and "dt must be" in p.stderr and "Traceback" not in p.stderr
