@@ -487,11 +487,11 @@ def _batch_findings(b):
             flagged = np.asarray(b.stats[key]) > 0
             kind = "impact" if key == "impacts" else "solver"
 
-            def make(i):
+            def make_stat(i, kind=kind):
                 st = {k: np.asarray(v)[i].item() for k, v in b.stats.items()}
                 st = {k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in st.items()}
                 return [w for w in diagnostics.stats_findings(st) if w.kind == kind][0]
-            note(kind, flagged, make)
+            note(kind, flagged, make_stat)
     # pad and outline: the varied parameters never change the geometry, so
     # one base scene checks every trajectory at once
     groups = [(b.scene[i], [i]) for i in range(n)] if isinstance(b.scene, tuple) else [(b.scene, list(range(n)))]
@@ -511,14 +511,14 @@ def _batch_findings(b):
             full = np.zeros(n, bool)
             full[idx] = per
 
-            def make(i, chk=chk, mask=mask, value=value, times=times, idx=idx):
+            def make_contact(i, chk=chk, mask=mask, value=value, times=times, idx=idx):
                 r = int(np.flatnonzero(idx == i)[0])
                 j = int(np.flatnonzero(mask[r])[0])
                 v = float(value[r, j])
                 return diagnostics.PhysicsWarning(
                     f"at t = {times[r, j]:.6g} s " + chk["text"](v, None), kind=chk["kind"],
                     time=float(times[r, j]), quantity=chk["quantity"], value=v, limit=chk["limit"])
-            note(chk["kind"], full, make)
+            note(chk["kind"], full, make_contact)
     out = []
     for kind, (count, i, w) in hits.items():
         msg = f"batch index {i}" + (f" (and {count - 1} more of {n} trajectories)" if count > 1 else "")

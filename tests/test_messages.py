@@ -154,7 +154,10 @@ def test_version(capsys):
 
 @pytest.mark.parametrize("name", list(cli.COMMANDS))
 def test_every_command_takes_no_progress(name):
-    args = _command_parser(name).parse_args(["--no-progress"])
+    parser = _command_parser(name)
+    # a placeholder for each required positional argument (e.g. run's scene file)
+    positional = ["x" for a in parser._actions if not a.option_strings and a.required]
+    args = parser.parse_args(positional + ["--no-progress"])
     assert args.no_progress is True
 
 
