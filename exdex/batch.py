@@ -419,6 +419,11 @@ def simulate_batch(scene: Union[Scene, Sequence[Scene]], t_end: float, dt: float
     eps, rtol, atol = _check_options(method, friction_solver, eps, rtol, atol)
 
     base = scenes if scenes is not None else scene
+    for i, sc in enumerate(scenes if scenes is not None else (scene,)):
+        try:
+            sc.check_stops()   # the varied parameters never move the object or the stops
+        except ValueError as exc:
+            raise ValueError(f"batch index {i}: {exc}" if scenes is not None else str(exc)) from None
     vals = {}
     for name, value in arrays.items():
         p = _check_param(name, base)

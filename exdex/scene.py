@@ -532,13 +532,14 @@ class Scene:
         if len(stops) > _core.MAX_STOPS:
             raise ValueError(f"Scene.stops holds at most {_core.MAX_STOPS} stops, got {len(stops)}")
         object.__setattr__(self, "stops", stops)
-        if stops:
-            self._check_stop_gaps()
 
-    def _check_stop_gaps(self):
-        """Every outline vertex must start on the allowed side of every stop
-        (the test of the core, in the same metres): else a ValueError naming
-        the stop, the vertex and the penetration depth."""
+    def check_stops(self) -> None:
+        """Raise a ValueError naming the stop, the outline vertex and the
+        penetration depth if the object starts beyond a stop (the core's test,
+        in the same metres). A scene may be built and saved that way; it is
+        checked when simulated."""
+        if not self.stops:
+            return
         if isinstance(self.motion, (Rest, AsymmetricProfile, TrapezoidalProfile)):
             # these motions start at the initial pose
             R, p = np.array(self.gripper_rotation), np.array(self.gripper_position)

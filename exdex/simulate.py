@@ -403,6 +403,7 @@ def _spec(scene, method, friction_solver, eps, rtol, atol):
     eps = _real(eps, "eps", low=0.0, low_open=True)
     rtol = _real(rtol, "rtol", low=0.0, low_open=True)
     atol = _real(atol, "atol", low=0.0, low_open=True)
+    scene.check_stops()
     return scene.to_spec(method=method, friction_solver=friction_solver, eps=eps, rtol=rtol, atol=atol)
 
 

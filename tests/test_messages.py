@@ -28,12 +28,17 @@ def test_stop_inside_object_names_stop_and_depth():
     sit at z = -13 mm; a floor at z = -10 mm is 3 mm inside them."""
     ok = exdex.Stop(point=(0, 0, -0.5), normal=(0, 0, 1))
     floor = exdex.Stop(point=(0, 0, -0.010), normal=(0, 0, 1))
-    with pytest.raises(ValueError) as info:
-        exdex.Scene(body=BODY, grasp=GRASP, q0=(0.0, 0.002, 0.0), stops=(ok, floor))
-    msg = str(info.value)
-    assert "Scene.stops[1]" in msg and "q0" in msg
-    depth = float(re.search(r"is ([0-9.eE+-]+) m beyond", msg).group(1))
-    assert depth == pytest.approx(0.003, rel=1e-6)
+    scene = exdex.Scene(body=BODY, grasp=GRASP, q0=(0.0, 0.002, 0.0), stops=(ok, floor))  # may be built
+    for run in (lambda: exdex.simulate(scene, 0.01, 1e-3), lambda: exdex.Model(scene),
+                lambda: exdex.simulate_batch(scene, 0.01, 1e-3, mu=[0.1, 0.2])):
+        with pytest.raises(ValueError) as info:
+            run()
+        msg = str(info.value)
+        assert "Scene.stops[1]" in msg and "q0" in msg
+        depth = float(re.search(r"is ([0-9.eE+-]+) m beyond", msg).group(1))
+        assert depth == pytest.approx(0.003, rel=1e-6)
+    with pytest.raises(ValueError, match=r"batch index 1: Scene\.stops\[1\]"):
+        exdex.simulate_batch([exdex.replace(scene, stops=(ok,)), scene], 0.01, 1e-3)
 
 
 def test_stop_inside_object_random_depths():
@@ -50,12 +55,12 @@ def test_stop_inside_object_random_depths():
         depth = rng.uniform(1e-4, 5e-3)
         stop = exdex.Stop(point=(0, 0, low + depth), normal=(0, 0, 1))
         with pytest.raises(ValueError, match=r"Scene\.stops\[0\]") as info:
-            exdex.Scene(body=BODY, grasp=GRASP, dof="planar", q0=q0, stops=stop)
+            exdex.Scene(body=BODY, grasp=GRASP, dof="planar", q0=q0, stops=stop).check_stops()
         got = float(re.search(r"is ([0-9.eE+-]+) m beyond", str(info.value)).group(1))
         assert got == pytest.approx(depth, rel=1e-5, abs=1e-12)
         # just clear of it: accepted
         exdex.Scene(body=BODY, grasp=GRASP, dof="planar", q0=q0,
-                    stops=exdex.Stop(point=(0, 0, low - 1e-6), normal=(0, 0, 1)))
+                    stops=exdex.Stop(point=(0, 0, low - 1e-6), normal=(0, 0, 1))).check_stops()
 
 
 def test_single_stop_is_accepted():
