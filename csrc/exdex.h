@@ -135,10 +135,36 @@ int exdex_friction_solve(const exdex_friction_prep *prep, const double b[3],
  *   translation: p(t) = p0 + s(t) axis,            R(t) = R0
  *   rotation:    R(t) = Rot(axis, s(t)) R0,        p(t) = c + Rot(axis, s(t)) (p0 - c)
  * with s(t) a scalar profile [m or rad] and c = center, a point on the axis.
- * A sampled motion interpolates poses given at increasing times with cubic
- * splines (natural end conditions) of the position and of the quaternion
- * components (renormalised), which gives continuous accelerations. Outside the
- * sampled interval the gripper holds the end pose at rest.
+ *
+ * A sampled motion (a robot log) interpolates poses given at increasing
+ * times with C2 cubic splines of the position and of the quaternion
+ * components (renormalised), which gives continuous accelerations. Outside
+ * the sampled interval the gripper holds the end pose at rest. The spline's
+ * end slopes are clamped:
+ *   - end_given[e] = 1 (e = 0 the first sample, 1 the last): the logged
+ *     frame's velocity end_velocity[e] [m/s] and angular velocity
+ *     end_omega[e] [rad/s] there, in the coordinates of the poses;
+ *   - end_given[e] = 0: from the data, separately for the position and the
+ *     orientation: zero where the log starts or ends at rest, else the
+ *     velocity of the quadratic through the three end samples. An end is at
+ *     rest when that estimated velocity, along the first displacement D1
+ *     away from the end, is at most half the mean velocity over the first
+ *     interval h1:  v0 . D1 <= |D1|^2 / (2 h1)  (scale-free: it compares two
+ *     velocities of the same data). A held pose (D1 = 0) or a uniformly
+ *     accelerated start (v0 = 0) is at rest; a constant speed is not.
+ * A log that starts or ends at speed makes the gripper's velocity jump there
+ * (from or to rest): exdex_motion_jumps reports it, and every method applies
+ * it as the same velocity jump of the object (exdex_simulate).
+ * The poses are those of a logged frame L (e.g. a robot flange); the gripper
+ * frame is B(t) = P L(t) X, with X = tool_pose (the pose of B in L; identity
+ * unless tool = 1) and P = identity (absolute poses, relative = 0) or
+ * P = (R0, p0) (L(t_0) X)^-1 (relative = 1: the log's motion of B replayed
+ * from the initial gripper pose (R0, p0); with L(t_0) X = I the poses are
+ * displacements of it). Velocities and accelerations compose exactly.
+ *
+ * Every motion is right-continuous in time: at a switching time the value of
+ * the next phase is returned (a sampled motion is at rest from its last
+ * sample time on).
  */
 enum exdex_motion_kind {
     EXDEX_MOTION_REST = 0,        /* the gripper stays at (R0, p0) */
@@ -159,8 +185,16 @@ typedef struct exdex_motion_def {
                                |X1|/T <= v_max <= 2|X1|/T */
     size_t n_samples;       /* sampled: number of poses (>= 4) */
     const double *times;    /* sampled: (n_samples,) strictly increasing [s] */
-    const double *poses;    /* sampled: (n_samples, 7) rows x y z qw qx qy qz;
-                               quaternion of R_AB, need not be normalised */
+    const double *poses;    /* sampled: (n_samples, 7) rows x y z qw qx qy qz of the
+                               logged frame (R_AB without tool and relative);
+                               quaternions need not be normalised */
+    int end_given[2];       /* sampled: 0 end slopes from the data, 1 given (above) */
+    double end_velocity[2][3];  /* sampled: given velocity at the first, last sample [m/s] */
+    double end_omega[2][3];     /* sampled: given angular velocity there [rad/s] */
+    int relative;           /* sampled: 1 replays the log from (R0, p0) (above) */
+    int tool;               /* sampled: 1 applies tool_pose */
+    double tool_pose[7];    /* sampled: pose of B in the logged frame, x y z qw qx qy qz
+                               (quaternion non-zero, normalised) */
 } exdex_motion_def;
 
 /* Kinematics of B in A at one time, all vectors expressed in A. */
@@ -175,8 +209,10 @@ typedef struct exdex_kinematics {
 
 typedef struct exdex_motion exdex_motion;  /* opaque, immutable after alloc */
 
-/* Validates def (EXDEX_EINVAL, *bad_param names the field when not NULL),
- * copies sampled arrays. R0 must be a rotation matrix (orthonormal, det +1,
+/* Validates def (EXDEX_EINVAL, *bad_param names the field when not NULL:
+ * "motion.times", "motion.poses", "motion.end_given", "motion.end_velocity",
+ * "motion.end_omega", "motion.relative", "motion.tool", "motion.tool_pose",
+ * ...), copies sampled arrays. R0 must be a rotation matrix (orthonormal, det +1,
  * to 1e-9). Returns NULL on error with *status set. */
 exdex_motion *exdex_motion_alloc(const exdex_motion_def *def, const double R0[9],
                                  const double p0[3], int *status,
@@ -187,6 +223,26 @@ void exdex_motion_free(exdex_motion *m);  /* NULL is harmless */
 int exdex_motion_eval(const exdex_motion *m, double t, exdex_kinematics *k);
 /* End of the motion: after it the gripper is at rest [s]. */
 double exdex_motion_end(const exdex_motion *m);
+
+/* Velocity jumps of the gripper frame B: times t[j] [s] (increasing) where
+ * its velocity is discontinuous, with the jumps (right limit minus left
+ * limit) of the velocity of B's origin dv[j] [m/s] and of its angular
+ * velocity dw[j] [rad/s], in A; the pose is continuous there. A sampled
+ * motion jumps at its first sample when it starts at speed and at its last
+ * when it ends at speed; a trapezoid without ramps (v_max = |X1|/T) at 0 and
+ * T. Returns their number (0 .. EXDEX_MOTION_MAX_JUMPS); any output may be
+ * NULL. */
+#define EXDEX_MOTION_MAX_JUMPS 2
+int exdex_motion_jumps(const exdex_motion *m, double t[EXDEX_MOTION_MAX_JUMPS],
+                       double dv[EXDEX_MOTION_MAX_JUMPS][3], double dw[EXDEX_MOTION_MAX_JUMPS][3]);
+
+/* Switching times [s] of the motion, increasing: where its acceleration or
+ * velocity may be discontinuous (Eq. 7: beta T, (2 - beta) T, 2T; trapezoid:
+ * the ramp ends and T; sampled: the first and last sample times; rest:
+ * none). Between two of them the kinematics are smooth. Returns their
+ * number (0 .. EXDEX_MOTION_MAX_SWITCHES). */
+#define EXDEX_MOTION_MAX_SWITCHES 4
+int exdex_motion_switches(const exdex_motion *m, double ts[EXDEX_MOTION_MAX_SWITCHES]);
 
 /* Scalar profiles: position s, velocity sd, acceleration sdd at time t.
  * Before 0: s = sd = sdd = 0; after the end: at rest at the end value. */
@@ -265,8 +321,13 @@ typedef struct exdex_scene_def {
     /* numerics */
     int method;               /* enum exdex_method */
     int friction_solver;      /* enum exdex_friction_solver */
-    double eps;               /* regularised method: smoothing speed [m/s] > 0 */
-    double rtol, atol;        /* event/regularised methods: GSL odeiv2 tolerances */
+    double eps;               /* regularised method: smoothing slip speed |E u| [m/s] > 0
+                                 (a rotation scene: e_r |omega|) */
+    double rtol, atol;        /* event/regularised methods: GSL odeiv2 tolerances, rtol
+                                 relative to each state component, atol relative to its
+                                 scale (positions L, angles 1 rad, velocities L/T, 1/T,
+                                 force integrals m L/T, with the scene's length L and
+                                 time T scales): both dimensionless */
 } exdex_scene_def;
 
 /* NULL if EXDEX_METHOD_ANALYTIC solves the scene, else a static sentence

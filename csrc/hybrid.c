@@ -133,11 +133,7 @@
 #include <gsl/gsl_roots.h>
 
 #define TOLF 1e-12        /* relative band at the friction limit (stick while |f| <= C (1 + TOLF)) */
-#define VZERO 1e-12       /* |qd| below this counts as 0 when the constraint gives qd [m/s, rad/s] */
-#define RATE_TOL 1e-12    /* gap rate counted as 0 [m/s] */
-#define JUMP_TOL 1e-10    /* gripper velocity jumps above this are applied [m/s, rad/s] */
 #define EVENTS_MAX 1000   /* events within one output interval before EXDEX_ENOCONV */
-#define ROOT_TOL 1e-13    /* event time resolution [s] */
 #define STEPS_MAX 100000  /* ODE steps (accepted + rejected) per output interval before EXDEX_ENOCONV */
 #define H_FLOOR_ULPS 16.0 /* a suggested step below this many ulps of t is a collapse: EXDEX_ENOCONV */
 #define BRENT_MAX 200     /* Brent iterations per located event */
@@ -145,7 +141,6 @@
 #define NG_MAX (2 + MAX_ROWS)  /* guards */
 #define SLIP_SMALL 1e3   /* planar slip: below SLIP_SMALL atol of |E u| the slip is "small" [units of atol] */
 #define SLIP_PUSH 4.0    /* a stop pushing a stopped planar slip on below SLIP_PUSH zsw: a rest instead */
-#define REST_GAP 1e-9     /* planar rest against stops: a set row whose |gap| exceeds this ends it [m] */
 
 enum { LAW_COULOMB = 0, LAW_SMOOTH = 1 };
 enum { MODE_SLIP = 0, MODE_STICK = 1, MODE_CONTACT = 2, MODE_FREE = 3 };
@@ -232,7 +227,7 @@ static void contact_acc_planar(hyb *H, const exdex_kinematics *kin, const double
         for (int i = 0; i < H->ncs; i++) acc[i] = ex_dot3(Gr[i], qdd) - b[i];
 }
 
-/* Impacts of a planar object on the touching rows (gap <= TOUCH) at
+/* Impacts of a planar object on the touching rows (gap <= tol.touch) at
  * (t, y): the plastic impact projects v onto G v >= -(gd - G v) (no
  * approach) in the M metric; the impulses go into the stops' force
  * integrals. Then the contact set: the touching rows whose rate is ~0
@@ -245,7 +240,7 @@ static void planar_impact_and_set(hyb *H, double t, const exdex_kinematics *kin,
     for (int k = 0; k < H->ns; k++)
         for (int j = 0; j < H->nv; j++) {
             double gd, gap = contact_row_planar(m, kin, k, j, y, y + 3, Gr[n], &gd, NULL);
-            if (gap > TOUCH) continue;
+            if (gap > m->tol.touch) continue;
             b[n] = -(gd - ex_dot3(Gr[n], y + 3));
             rows[n++] = k * H->nv + j;
         }
@@ -264,7 +259,7 @@ static void planar_impact_and_set(hyb *H, double t, const exdex_kinematics *kin,
     }
     for (int i = 0; i < n; i++) {
         double rate = ex_dot3(Gr[i], y + 3) - b[i];
-        if (fabs(rate) <= RATE_TOL) H->cs[H->ncs++] = rows[i];
+        if (fabs(rate) <= m->tol.rate) H->cs[H->ncs++] = rows[i];
     }
 }
 
@@ -558,11 +553,11 @@ static int guards(hyb *H, double t, const double *y, double *g)
                 }
             if (H->ncs && H->mode == MODE_STICK) {
                 /* at rest against stops that move in B the contact ends
-                 * once a set row's gap leaves +-REST_GAP */
+                 * once a set row's gap leaves +-tol.rest_gap */
                 for (int i = 0; i < H->ncs; i++) {
                     int r = H->cs[i];
                     double G[3];
-                    g[n++] = REST_GAP - fabs(contact_row_planar(m, &kin, r / H->nv, r % H->nv, y, y + 3, G, NULL, NULL));
+                    g[n++] = m->tol.rest_gap - fabs(contact_row_planar(m, &kin, r / H->nv, r % H->nv, y, y + 3, G, NULL, NULL));
                 }
             } else if (H->ncs) {
                 double F[3], w[3], P[3], a[3], qdd[3], lam[MAX_ROWS], acc[MAX_ROWS];
@@ -598,7 +593,7 @@ static int guards(hyb *H, double t, const double *y, double *g)
             R = H->M * contact_qdd(&c, v) - model_force_1dof(m, &f, q, v);
             if (H->law == LAW_COULOMB && H->s == 0.0) {
                 g[n++] = fmax(R / c.Fq, H->cap * (1.0 + TOLF) - fabs(R));
-                g[n++] = VZERO - fabs(v);
+                g[n++] = m->tol.vzero - fabs(v);
             } else {
                 contact_forces(H, &c, R, v, &fr, &lam);
                 g[n++] = lam;
@@ -653,11 +648,11 @@ static void decide(hyb *H, double t, double *y, int vzero)
             if (H->ns) {
                 /* a slip that stopped against stops moving in B: the stops
                  * push it on at their own speed. If that slip is below
-                 * SLIP_STOP it would count as stopped at once (the guard is
+                 * SLIP_PUSH zsw it would count as stopped at once (the guard is
                  * violated from the start: Zeno-like restarts, each with a
                  * step collapsing on |E u| -> 0); it is a rest instead, on
-                 * every touching row, which the REST_GAP guard ends once the
-                 * stops have moved (a drift below REST_GAP) */
+                 * every touching row, which the tol.rest_gap guard ends once the
+                 * stops have moved (a drift below tol.rest_gap) */
                 double ysv[EXDEX_MAX_STOPS], u[3], eu[3];
                 memcpy(ysv, y + 9, (size_t)H->ns * sizeof *ysv);
                 planar_impact_and_set(H, t, &kin, y);
@@ -670,7 +665,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
                     H->ncs = 0;
                     for (int k = 0; k < H->ns; k++)
                         for (int j = 0; j < H->nv; j++)
-                            if (contact_row_planar(m, &kin, k, j, y, y + 3, G, NULL, NULL) <= TOUCH)
+                            if (contact_row_planar(m, &kin, k, j, y, y + 3, G, NULL, NULL) <= m->tol.touch)
                                 H->cs[H->ncs++] = k * H->nv + j;
                 }
             }
@@ -733,14 +728,14 @@ static void decide(hyb *H, double t, double *y, int vzero)
          * in the stop's force integral */
         for (int pass = 0; pass < 3 && H->ns; pass++) {
             int kb = -1;
-            double worst = -RATE_TOL;
+            double worst = -m->tol.rate;
             crow cb;
             for (int k = 0; k < H->ns; k++)
                 for (int j = 0; j < H->nv; j++) {
                     double rate;
                     crow c;
                     contact_row_1dof(m, &kin, k, j, q, &c);
-                    if (c.F > TOUCH || !(fabs(c.Fq) > FQ_MIN)) continue;
+                    if (c.F > m->tol.touch || !(fabs(c.Fq) > m->tol.fq_min)) continue;
                     rate = c.Fq * y[1] + c.Ft;
                     if (rate < worst) {
                         worst = rate;
@@ -764,12 +759,12 @@ static void decide(hyb *H, double t, double *y, int vzero)
             double rate, v, Q, R, fr, lam, s_old = H->s;
             crow c;
             contact_row_1dof(m, &kin, k, j, q, &c);
-            if (c.F > TOUCH || !(fabs(c.Fq) > FQ_MIN)) continue;
+            if (c.F > m->tol.touch || !(fabs(c.Fq) > m->tol.fq_min)) continue;
             rate = c.Fq * y[1] + c.Ft;
-            if (fabs(rate) > RATE_TOL) continue;
+            if (fabs(rate) > m->tol.rate) continue;
             v = -c.Ft / c.Fq;
             if (H->law == LAW_COULOMB) {
-                if (fabs(v) > VZERO && !vzero) {
+                if (fabs(v) > m->tol.vzero && !vzero) {
                     H->s = v > 0 ? 1.0 : -1.0;
                 } else {
                     double a = contact_qdd(&c, 0.0);
@@ -792,7 +787,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
                     q -= dq;
                     contact_row_1dof(m, &kin, k, j, q, &c);
                     H->st->stop_iterations++;
-                    if (fabs(dq) <= 1e-16 * (1.0 + fabs(q))) break;
+                    if (fabs(dq) <= 1e-16 * (m->scale.q + fabs(q))) break;
                 }
                 y[0] = q;
                 y[1] = (H->law == LAW_COULOMB && H->s == 0.0) ? 0.0 : -c.Ft / c.Fq;
@@ -856,40 +851,26 @@ static void project_contact(hyb *H, double t, double *y)
         y[0] -= dq;
         contact_row_1dof(H->m, &kin, H->ck, H->cj, y[0], &c);
         H->st->stop_iterations++;
-        if (fabs(dq) <= 1e-16 * (1.0 + fabs(y[0]))) break;
+        if (fabs(dq) <= 1e-16 * (H->m->scale.q + fabs(y[0]))) break;
     }
     if (!(H->law == LAW_COULOMB && H->s == 0.0)) y[1] = -c.Ft / c.Fq;
 }
 
-/* A gripper velocity jump at time ts (trapezoid without ramps, end of a
- * sampled motion) is an inertial impulse: the generalized impulse is Q with
- * the accelerations replaced by the jumps (no gravity, no velocity terms),
- * and friction cannot oppose an impulse (the grip force is finite). */
+/* A gripper velocity jump at a switching time ts (exdex_motion_jumps: a
+ * trapezoid without ramps, a sampled motion starting or ending at speed):
+ * the object's relative velocity jumps as model_velocity_jump derives
+ * (friction cannot oppose an impulse: the grip force is finite). */
 static int apply_jump(hyb *H, double ts, double *y)
 {
     const exdex_model *m = H->m;
-    exdex_kinematics kl, kr;
-    double dv[3], dw[3], nrm = 0.0;
-    frame fj;
-    double tl = ts - 4.0 * DBL_EPSILON * fmax(1.0, fabs(ts));
-    int st = exdex_motion_eval(m->motion, tl, &kl);
-    if (!st) st = exdex_motion_eval(m->motion, ts, &kr);
-    if (st) return st;
-    for (int i = 0; i < 3; i++) {
-        dv[i] = kr.v[i] - kl.v[i];
-        dw[i] = kr.w[i] - kl.w[i];
-        nrm += fabs(dv[i]) + fabs(dw[i]);
-    }
-    if (!(nrm > JUMP_TOL)) return EXDEX_OK;
-    memset(&fj, 0, sizeof fj);
-    ex_mulmtv3(fj.a0, kr.R, dv);
-    ex_mulmtv3(fj.dw, kr.R, dw);
-    if (H->ndof == 1) {
-        y[1] += model_force_1dof(m, &fj, y[0], 0.0) / H->M;
-    } else {
-        double P[3], zero[3] = {0, 0, 0};
-        model_force_planar(m, &fj, y, zero, P);
-        for (int i = 0; i < 3; i++) y[3 + i] += m->minv[i] * P[i];
+    exdex_kinematics k;
+    double tj[EXDEX_MOTION_MAX_JUMPS], dv[EXDEX_MOTION_MAX_JUMPS][3], dw[EXDEX_MOTION_MAX_JUMPS][3];
+    int nj = exdex_motion_jumps(m->motion, tj, dv, dw), st;
+    for (int j = 0; j < nj; j++) {
+        if (tj[j] != ts) continue;
+        st = exdex_motion_eval(m->motion, ts, &k);
+        if (st) return st;
+        model_velocity_jump(m, k.R, y, dv[j], dw[j], y + (H->ndof == 1 ? 1 : 3));
     }
     return EXDEX_OK;
 }
@@ -926,7 +907,26 @@ static void *hybrid_alloc(const exdex_model *m, int *status)
         return NULL;
     }
     O->step = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, ny);
-    O->con = gsl_odeiv2_control_y_new(m->def.atol, m->def.rtol);
+    {
+        /* atol is relative to the scene's scales: each state component's
+         * absolute tolerance is atol times its own scale (positions L,
+         * angles 1 rad, velocities L / T and 1 / T, force integrals F T,
+         * torque integrals F L T), so the error control (and with it every
+         * step) is the same in any units */
+        const model_scales *s = &m->scale;
+        double sc[NY_MAX];
+        size_t k = 0;
+        if (m->ndof == 3) {
+            double row[9] = {s->L, s->L, 1.0, s->V, s->V, 1.0 / s->T, s->F * s->T, s->F * s->T, s->F * s->L * s->T};
+            for (; k < 9; k++) sc[k] = row[k];
+        } else {
+            sc[k++] = s->q;
+            sc[k++] = s->q / s->T;
+            sc[k++] = s->F * s->T * s->L / s->q;
+        }
+        for (; k < ny; k++) sc[k] = s->F * s->T;
+        O->con = gsl_odeiv2_control_scaled_new(m->def.atol, m->def.rtol, 1.0, 0.0, sc, ny);
+    }
     O->evo = gsl_odeiv2_evolve_alloc(ny);
     O->root = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
     if (!O->step || !O->con || !O->evo || !O->root) {
@@ -988,7 +988,7 @@ static int locate(hyb *H, ode *O, double t0, const double *y0, double tau1, int 
         H->st->solver_iterations++;
         lo = gsl_root_fsolver_x_lower(O->root);
         hi = gsl_root_fsolver_x_upper(O->root);
-        if (hi - lo <= ROOT_TOL) break;
+        if (hi - lo <= H->m->tol.root) break;
     }
     /* The event is the first point where the guard is violated (g < 0):
      * Brent may stop on a point with g >= 0 (an exact zero included, where
@@ -996,7 +996,7 @@ static int locate(hyb *H, ode *O, double t0, const double *y0, double tau1, int 
      * until the next step). Step forward from it, doubling, to a point with
      * g < 0 (g(tau1) < 0 bounds the search). */
     {
-        double d = fmax(ROOT_TOL, 4.0 * DBL_EPSILON * fabs(t0 + hi));
+        double d = fmax(H->m->tol.root, 4.0 * DBL_EPSILON * fabs(t0 + hi));
         for (int k = 0; k < 64 && hi < tau1 && !(root_fn(hi, &c) < 0.0) && !c.fail; k++) {
             hi = fmin(tau1, hi + d);
             d *= 2.0;
@@ -1007,28 +1007,16 @@ static int locate(hyb *H, ode *O, double t0, const double *y0, double tau1, int 
     return EXDEX_OK;
 }
 
+/* The motion's switching times in (0, t_end] (exdex_motion_switches: its
+ * acceleration switches and velocity jumps). A jump at t_end is applied too,
+ * so the state recorded there is its right limit, as at every other time. */
 static size_t switch_times(const exdex_model *m, double t_end, double *ts)
 {
-    const exdex_motion_def *d = &m->def.motion;
-    double c[4];
-    size_t n = 0, k = 0;
-    if (d->kind == EXDEX_MOTION_ASYMMETRIC) {
-        c[n++] = d->beta * d->duration;
-        c[n++] = (2.0 - d->beta) * d->duration;
-        c[n++] = 2.0 * d->duration;
-    } else if (d->kind == EXDEX_MOTION_TRAPEZOID && d->amplitude != 0.0) {
-        /* the ramp time as motion.c computes it */
-        double T = d->duration, t_a = T - fabs(d->amplitude) / d->v_max;
-        if (t_a < 0.0) t_a = 0.0;
-        if (t_a > 0.5 * T) t_a = 0.5 * T;
-        c[n++] = t_a;
-        c[n++] = T - t_a;
-        c[n++] = T;
-    } else if (d->kind == EXDEX_MOTION_SAMPLED) {
-        c[n++] = exdex_motion_end(m->motion);
-    }
-    for (size_t i = 0; i < n; i++)
-        if (c[i] > 0.0 && c[i] < t_end && (k == 0 || c[i] > ts[k - 1])) ts[k++] = c[i];
+    double c[EXDEX_MOTION_MAX_SWITCHES];
+    int n = exdex_motion_switches(m->motion, c);
+    size_t k = 0;
+    for (int i = 0; i < n; i++)
+        if (c[i] > 0.0 && c[i] <= t_end && (k == 0 || c[i] > ts[k - 1])) ts[k++] = c[i];
     return k;
 }
 
@@ -1042,7 +1030,7 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
                       exdex_trajectory *out, exdex_stats *st)
 {
     hyb H;
-    double y[NY_MAX], y0[NY_MAX], ts[4], t = 0.0, h;
+    double y[NY_MAX], y0[NY_MAX], ts[EXDEX_MOTION_MAX_SWITCHES], t = 0.0, h;
     size_t n = out->n, nsw;
     int nd = m->ndof, ns = m->n_stops, status = EXDEX_OK;
     memset(&H, 0, sizeof H);
@@ -1053,11 +1041,13 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
     H.ny = nd == 3 ? 9 + ns : 3 + ns;
     H.nv = m->n_vert ? m->n_vert : 1;
     H.st = st;
-    H.eps = m->def.eps;
+    /* eps is a slip speed |E u| [m/s]; a 1-DoF rotation slips at
+     * |E u| = e_r |thd|, so its smoothing rate is eps / e_r [rad/s] */
+    H.eps = m->ndof == 1 && m->def.dof == EXDEX_DOF_ROTATION ? m->def.eps / m->e[2] : m->def.eps;
     if (nd == 3) {
         H.M = 1.0;
         H.cap = m->capF;
-        H.zsw = SLIP_SMALL * m->def.atol;
+        H.zsw = SLIP_SMALL * m->def.atol * m->scale.V;  /* atol of a slip speed |E u| */
     } else if (m->def.dof == EXDEX_DOF_TRANSLATION) {
         H.M = m->m;
         H.cap = m->capF;
@@ -1076,7 +1066,7 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
     H.lo = 0.0;
     H.hi = nsw ? ts[0] : INFINITY;
     decide(&H, 0.0, y, 0);
-    h = fmin(dt, 1e-3);
+    h = fmin(dt, m->tol.h0);
     for (size_t i = 1; i < n && status == EXDEX_OK && !H.err; i++) {
         double ti = i == n - 1 ? t_end : (double)i * dt, hs = ti - out->t[i - 1];
         int events = 0, same = 0;
@@ -1150,7 +1140,7 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
                             f2 = root_fn(x2, &c);
                         }
                         st->solver_iterations++;
-                        if (b - a <= ROOT_TOL) break;
+                        if (b - a <= m->tol.root) break;
                     }
                     if (c.fail || H.err) {
                         status = H.err ? H.err : EXDEX_ENOCONV;
@@ -1262,14 +1252,14 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
                 project_contact(&H, t, y);
             }
             /* a penetration left after the step: the scene drives the
-             * object through a stop (see PEN_TOL) */
+             * object through a stop (see tol.pen) */
             if (ns) {
                 exdex_kinematics kt;
                 double gmin = exdex_motion_eval(m->motion, t, &kt) ? INFINITY : contact_min_gap(m, &kt, y);
                 if (gmin < st->min_gap) st->min_gap = gmin;
-                if (gmin < -PEN_TOL) st->warnings++;
+                if (gmin < -m->tol.pen) st->warnings++;
             }
-            if (t == H.hi && t < t_end) {
+            if (t == H.hi) {
                 /* a switching time of the motion: next segment */
                 H.lo = H.hi;
                 k++;
@@ -1283,39 +1273,24 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
         }
         if (H.err && !status) status = H.err;
         if (status) break;
-        method_note_warning_time(st, ti);
-        out->t[i] = ti;
-        if (nd == 1) {
-            double fbar = y[2] / hs;
-            out->q[i] = y[0];
-            out->v[i] = y[1];
-            if (m->def.dof == EXDEX_DOF_TRANSLATION) {
-                out->wrench[3 * i] = fbar * m->d[0];
-                out->wrench[3 * i + 1] = fbar * m->d[1];
-                out->wrench[3 * i + 2] = 0.0;
+        {
+            /* the interval's integrals (friction, stop forces) as means
+             * over it; then they restart from 0 */
+            int off = nd == 1 ? 2 : 6, nw = nd == 1 ? 1 : 3;
+            double wrench[3] = {0, 0, 0}, sf[EXDEX_MAX_STOPS];
+            if (nd == 3) {
+                for (int c = 0; c < 3; c++) wrench[c] = y[6 + c] / hs;
+            } else if (m->def.dof == EXDEX_DOF_TRANSLATION) {
+                wrench[0] = y[2] / hs * m->d[0];
+                wrench[1] = y[2] / hs * m->d[1];
             } else {
-                out->wrench[3 * i] = out->wrench[3 * i + 1] = 0.0;
-                out->wrench[3 * i + 2] = fbar;
+                wrench[2] = y[2] / hs;
             }
-            for (int k2 = 0; k2 < ns; k2++) {
-                out->stop_force[i * ns + k2] = y[3 + k2] / hs;
-                y[3 + k2] = 0.0;
-            }
-            y[2] = 0.0;
-        } else {
-            for (int c = 0; c < 3; c++) {
-                out->q[3 * i + c] = y[c];
-                out->v[3 * i + c] = y[3 + c];
-                out->wrench[3 * i + c] = y[6 + c] / hs;
-                y[6 + c] = 0.0;
-            }
-            for (int k2 = 0; k2 < ns; k2++) {
-                out->stop_force[i * ns + k2] = y[9 + k2] / hs;
-                y[9 + k2] = 0.0;
-            }
+            for (int k2 = 0; k2 < ns; k2++) sf[k2] = y[off + nw + k2] / hs;
+            method_record(m, out, st, i, ti, y, y + nd, wrench,
+                          law == LAW_COULOMB && H.mode == MODE_STICK ? 1 : is_still(&H, y), sf);
+            for (int c = off; c < H.ny; c++) y[c] = 0.0;
         }
-        out->stick[i] = (unsigned char)(law == LAW_COULOMB && H.mode == MODE_STICK ? 1 : is_still(&H, y));
-        st->stick_steps += out->stick[i];
     }
     /* a failure in the decision at t = 0 stops the loop before it starts */
     if (!status && H.err) status = H.err;

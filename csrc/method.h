@@ -5,9 +5,10 @@
  * Contract of run: the model and the output arrays are valid (simulate.c
  * checked them), sample 0 holds the initial state, *st is zeroed with
  * min_gap = INFINITY, first_warning_t = max_impulse_t = NaN and
- * max_impulse_stop = -1. run calls method_note_warning_time after each step
- * or output interval; an event method counts impacts with method_note_impact
- * where it applies one (time-stepping methods leave that to simulate.c). run fills samples 1 .. n-1 on the grid t_i = i dt
+ * max_impulse_stop = -1. run records each sample with method_record (which
+ * also notes the time of the first warning); an event method counts impacts
+ * with method_note_impact where it applies one (time-stepping methods leave
+ * that to simulate.c). run fills samples 1 .. n-1 on the grid t_i = i dt
  * (the last one t_end), adds to *st, and returns EXDEX_OK, EXDEX_ENOCONV,
  * EXDEX_ENONFINITE, EXDEX_ENOMEM, or EXDEX_EINVAL from a solver whose input
  * left the finite range (simulate.c reports that as EXDEX_ENONFINITE). */
@@ -45,6 +46,27 @@ static inline void method_note_impact(exdex_stats *st, double t, int k, double i
 static inline void method_note_warning_time(exdex_stats *st, double t)
 {
     if (st->warnings && st->first_warning_t != st->first_warning_t) st->first_warning_t = t;
+}
+
+/* Record sample i: time t, coordinates q and velocities v (ndof each), the
+ * mean plate wrench over the interval ending there (B, at the centre of
+ * pressure), the stick flag and the mean force of each stop; the stick
+ * flag also counts in st->stick_steps. */
+static inline void method_record(const exdex_model *m, exdex_trajectory *out, exdex_stats *st, size_t i, double t,
+                                 const double *q, const double *v, const double wrench[3], int stick,
+                                 const double *stop_force)
+{
+    int nd = m->ndof, ns = m->n_stops;
+    out->t[i] = t;
+    for (int c = 0; c < nd; c++) {
+        out->q[i * (size_t)nd + c] = q[c];
+        out->v[i * (size_t)nd + c] = v[c];
+    }
+    for (int c = 0; c < 3; c++) out->wrench[3 * i + c] = wrench[c];
+    out->stick[i] = (unsigned char)stick;
+    st->stick_steps += (size_t)(stick != 0);
+    for (int k = 0; k < ns; k++) out->stop_force[i * (size_t)ns + k] = stop_force[k];
+    method_note_warning_time(st, t);
 }
 
 extern const method_impl method_implicit;     /* implicit.c */

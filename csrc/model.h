@@ -13,6 +13,34 @@
 
 #define MAX_ROWS (EXDEX_MAX_STOPS * EXDEX_MAX_VERTICES)
 
+/* The scene's own scales. Every threshold of a contact or rounding decision
+ * is a fixed fraction of one of them (model_tols), so a scene whose
+ * lengths, times or masses are all scaled by the same factors gives results
+ * scaled by those factors (the physics has no length, time or mass of its
+ * own). */
+typedef struct model_scales {
+    double L;   /* length [m]: the largest of e_r, |patch centre| and |outline vertex| (> 0) */
+    double T;   /* time [s]: sqrt(L / A) with the acceleration scale A = max(|g|, mu N / m);
+                   without one, the motion's duration, else L / |v0|, else 1 */
+    double V;   /* velocity L / T [m/s] */
+    double F;   /* force m L / T^2 [N] */
+    double q;   /* unit of the 1-DoF coordinate: L (translation) or 1 (rotation, rad) */
+} model_scales;
+
+/* Thresholds of the decisions, in the scene's units (model_alloc sets them
+ * from the scales with the relative factors in model.c). */
+typedef struct model_tols {
+    double touch;      /* a stop gap below this counts as contact [m] */
+    double pen;        /* a stop gap below -pen after a step counts a warning [m] */
+    double start_gap;  /* an outline vertex starting below -start_gap is beyond its stop [m] */
+    double rest_gap;   /* planar rest against stops ends when a set row's |gap| exceeds this [m] */
+    double rate;       /* a gap rate below this counts as 0 [m/s] */
+    double vzero;      /* a 1-DoF |qd| below this counts as 0 [m/s or rad/s] */
+    double fq_min;     /* a 1-DoF stop row with |d gap / dq| below this cannot act [1 or m] */
+    double root;       /* event time resolution [s] */
+    double h0;         /* first step of the adaptive integrators [s] */
+} model_tols;
+
 struct exdex_model {
     exdex_scene_def def;    /* copy of the definition (sampled arrays owned by motion) */
     exdex_motion *motion;
@@ -41,6 +69,8 @@ struct exdex_model {
     double sp[EXDEX_MAX_STOPS][3], sn[EXDEX_MAX_STOPS][3];
     int n_vert;
     double vert[EXDEX_MAX_VERTICES][2];
+    model_scales scale;
+    model_tols tol;
 };
 
 /* Per-step quantities of the moving frame, in B coordinates: gravity g_B,
@@ -116,6 +146,44 @@ double model_torque_z(const exdex_model *m, const frame *f, double th, double th
 double model_force_1dof(const exdex_model *m, const frame *f, double q, double v);
 /* Planar generalised applied force (B frame, (x, y, theta)). */
 void model_force_planar(const exdex_model *m, const frame *f, const double *q, const double *v, double F[3]);
+
+/* A velocity jump of the gripper frame (exdex_motion_jumps: dv of B's
+ * origin, dw, in A; R = R_AB, continuous there) applied to the relative
+ * velocities v (ndof entries) of the object at coordinates q.
+ *
+ * Derivation. The object's absolute twist is V = V_B + J qd, V_B the
+ * frame's twist at the object and J the twist per relative rate of the free
+ * coordinates. Over the vanishing duration of the jump only impulsive forces
+ * change momentum: friction is bounded by mu N (finite grip force) and
+ * gravity is finite, so their impulses vanish. The ideal constraints may be
+ * impulsive: the plates' normal force and tilt torques (the object stays in
+ * the plate plane) and, in a rotation scene, the pin at the pivot (it moves
+ * with B). Their reactions do no work on the motions the free coordinates
+ * allow, J^T Lambda = 0, so the momentum balance M6 dV = Lambda projected
+ * with J^T gives J^T M6 (dV_B + J dqd) = 0:
+ *     dqd = -(J^T M6 J)^-1 J^T M6 dV_B,
+ * minus the frame's jump at the object projected onto the free coordinates
+ * in the mass metric. J^T M6 dV_B is minus the generalised inertial force of
+ * Eq. 5 with the frame's accelerations replaced by its jumps (no gravity, no
+ * velocity terms), which model_force_1dof / model_force_planar evaluate:
+ * translation dsd = -d . (dv + dw x r) (r the centre of mass), rotation
+ * dthd = -(m (e_z x rho) . (dv + dw x r) + [I_B dw]_z) / (I_zz + m |rho|^2)
+ * (rho from the pivot to the centre of mass; the pin's impulse acts at the
+ * pivot, which the rotation does not move), planar (dxd, dyd) = -(dv + dw x
+ * r)_xy and dthd = -[I_B dw]_z / I_zz. With mu = 0 the object keeps its
+ * absolute velocity along the free coordinates; with friction it then slips
+ * until friction stops it.
+ *
+ * Every method applies this jump. The event and regularised methods step
+ * onto the jump time (a switching time, exdex_motion_switches) and apply it
+ * there with this function. The implicit and explicit methods take the
+ * frame's mean accelerations over each step, (v(t + h) - v(t)) / h (the
+ * motion is right-continuous), so the step holding a jump carries dv / h
+ * and dw / h: its velocity update adds the same generalised impulse (the
+ * inertial force above times h), evaluated within the step, an O(h |dqd|)
+ * error in position. */
+void model_velocity_jump(const exdex_model *m, const double R[9], const double *q, const double dv[3],
+                         const double dw[3], double *v);
 
 /* ----------------------------------------------------- patch coordinates
  * The friction patch sits at the centre of pressure pc (object frame C). A

@@ -2,17 +2,51 @@
  *
  * Scalar profiles s(t) (paper Eq. 7 and a trapezoidal velocity) drive either a
  * translation along a unit axis or a rotation about an axis through a point;
- * sampled motions interpolate absolute poses with GSL cubic splines.
+ * sampled motions (robot logs) interpolate poses with cubic splines.
  *
  * Conventions fixed here (see also exdex.h):
  * - motion.axis need not be unit: any finite non-zero vector is accepted and
  *   normalised (it is only used by ASYMMETRIC and TRAPEZOID motions).
- * - R0 and p0 may be NULL (identity, zero). They are validated for every kind
- *   but ignored by SAMPLED motions, whose poses are absolute.
- * - At a switching time of a profile the right-continuous value is returned
- *   (t >= switch belongs to the next phase).
- * - A trapezoid of zero amplitude is the rest profile; its v_max is then only
- *   required to be finite and >= 0.
+ * - R0 and p0 may be NULL (identity, zero). They are validated for every kind;
+ *   SAMPLED motions use them only with motion.relative.
+ * - Every motion is right-continuous in time: at a switching time of a profile
+ *   the next phase's value is returned (t >= switch belongs to the next
+ *   phase), and a sampled motion is at rest from its last sample time on.
+ *   Where the velocity jumps (exdex_motion_jumps) that is its right limit.
+ *
+ * Sampled motions. Each of the 7 pose components (x y z of the logged
+ * frame's origin, and the sign-consistent unit quaternion qw qx qy qz) is a
+ * C2 cubic spline in Hermite form: values y_i and slopes m_i at the sample
+ * times, the interior slopes solving the tridiagonal continuity conditions of
+ * the second derivative,
+ *     h_i m_{i-1} + 2 (h_{i-1} + h_i) m_i + h_{i-1} m_{i+1}
+ *         = 3 (h_i d_{i-1} + h_{i-1} d_i),   d_i = (y_{i+1} - y_i) / h_i,
+ * and the two end slopes prescribed (a clamped spline). The end slopes are
+ * the user's (end_given) or come from the data, separately for the position
+ * and the orientation and at each end (end_slopes): the end velocity
+ * estimated by the quadratic through the three end samples,
+ *     v0 = d1 (2 h1 + h2) / (h1 + h2) - d2 h1 / (h1 + h2)
+ * (d1, d2 the first two difference quotients counted from the end, h1, h2
+ * their intervals; exact for a uniformly accelerated end), is taken, unless
+ * the data leave the end pose as a start from rest does:
+ *     v0 . D1 <= |D1|^2 / (2 h1),   D1 = y1 - y0 the first displacement,
+ * i.e. the estimated end velocity along the first displacement is at most
+ * half the mean velocity over the first interval. Then the end is at rest
+ * and its slope is 0 (clamped). The test compares two velocities of the
+ * same data, so it does not depend on the units of length or time. A log
+ * that holds its pose (D1 = 0) or leaves it with a uniform acceleration
+ * (v0 = 0) is at rest; one cruising at a constant speed (v0 . D1 = |D1|^2
+ * / h1) or decelerating is not; a start accelerating from a speed below
+ * a h1 / 2 (the speed the acceleration adds in half an interval, which the
+ * samples cannot resolve) counts as at rest.
+ *
+ * The gripper frame B is the logged frame L composed with two fixed
+ * transforms: B(t) = P L(t) X, X = tool_pose (B in the logged flange frame,
+ * identity without motion.tool) and P = (R0, p0) (L(t_0) X)^-1 with
+ * motion.relative (the log's motion of B replayed from the initial gripper
+ * pose; P = identity for absolute poses). Velocities compose exactly: with
+ * r = R_L p_X, w_B = R_P w_L, v_B = R_P (v_L + w_L x r), and the
+ * accelerations likewise.
  */
 #include "exdex.h"
 #include "util.h"
@@ -20,9 +54,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <gsl/gsl_errno.h>
-#include <gsl/gsl_interp.h>
-#include <gsl/gsl_spline.h>
 
 /* relative slack of the trapezoid's v_max range check (|X1|/T <= v_max <=
  * 2|X1|/T), so that a bound computed by the caller in floating point passes */
@@ -44,10 +75,17 @@ struct exdex_motion {
     double t_1, t_2;     /* switches beta T, (2 - beta) T */
     /* TRAPEZOID */
     double sign, v_max, t_a, accel;
-    /* SAMPLED: x y z qw qx qy qz, each a natural cubic spline of time */
-    gsl_spline *spline[7];
+    /* SAMPLED: the logged frame L, x y z qw qx qy qz, each a clamped cubic
+     * spline in Hermite form (values and slopes at the sample times) */
+    size_t n;
+    double *tk;          /* (n,) sample times */
+    double *yk, *mk;     /* (7, n) values and slopes, component-major */
     double t_first, t_last;
-    double pose_first[7], pose_last[7];  /* unit, sign-consistent quaternions */
+    double PR[9], Pp[3]; /* B = P L X: P (identity for absolute poses) */
+    double XR[9], Xp[3]; /* X = tool pose (identity without a tool) */
+    /* velocity jumps of B (exdex_motion_jumps) */
+    int n_jumps;
+    double jt[EXDEX_MOTION_MAX_JUMPS], jv[EXDEX_MOTION_MAX_JUMPS][3], jw[EXDEX_MOTION_MAX_JUMPS][3];
     double end;          /* exdex_motion_end */
 };
 
@@ -77,7 +115,7 @@ static inline void asym_core(double X1, double T, double a_H, double a_L, double
 
 /* Trapezoidal velocity: ramp [0, t_a) with acceleration accel, cruise at v_max,
  * symmetric ramp down on [T - t_a, T), at rest at X1 afterwards. t_a == 0 is a
- * constant speed X1/T with velocity jumps at 0 and T (no impulse reported). */
+ * constant speed X1/T with velocity jumps at 0 and T (exdex_motion_jumps). */
 static inline void trap_core(double X1, double T, double sign, double v_max, double t_a,
                              double accel, double t, double *s, double *sd, double *sdd)
 {
@@ -182,20 +220,199 @@ static double norm_n(const double *x, int n)
     return big * sqrt(sum);
 }
 
+/* ------------------------------------------------------ pose helpers */
+
+/* R = R(n) for a unit quaternion n = (w, x, y, z): x_A = n x_B n* */
+static void quat_to_R(double R[9], const double n[4])
+{
+    double w = n[0], x = n[1], y = n[2], z = n[3];
+    R[0] = 1.0 - 2.0 * (y * y + z * z); R[1] = 2.0 * (x * y - w * z); R[2] = 2.0 * (x * z + w * y);
+    R[3] = 2.0 * (x * y + w * z); R[4] = 1.0 - 2.0 * (x * x + z * z); R[5] = 2.0 * (y * z - w * x);
+    R[6] = 2.0 * (x * z - w * y); R[7] = 2.0 * (y * z + w * x); R[8] = 1.0 - 2.0 * (x * x + y * y);
+}
+
+/* r = 2 vec(a b*): with a = (a0, A), b = (b0, B), b* = (b0, -B),
+ * vec(a b*) = b0 A - a0 B - A x B. */
+static void two_vec_conj_product(double r[3], const double a[4], const double b[4])
+{
+    double c[3];
+    ex_cross3(c, a + 1, b + 1);
+    for (int i = 0; i < 3; i++) r[i] = 2.0 * (b[0] * a[1 + i] - a[0] * b[1 + i] - c[i]);
+}
+
+/* R = A B^T */
+static void mulmmt3(double R[9], const double A[9], const double B[9])
+{
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            R[3 * i + j] = A[3 * i] * B[3 * j] + A[3 * i + 1] * B[3 * j + 1] + A[3 * i + 2] * B[3 * j + 2];
+}
+
+static void rest_at(exdex_kinematics *k, const double R[9], const double p[3])
+{
+    memcpy(k->R, R, sizeof k->R);
+    memcpy(k->p, p, sizeof k->p);
+    for (int i = 0; i < 3; i++) k->v[i] = k->a[i] = k->w[i] = k->dw[i] = 0.0;
+}
+
+static void profile_kin(const exdex_motion *m, double s, double sd, double sdd, exdex_kinematics *k);
+
 /* ------------------------------------------------------ alloc / free */
 
 void exdex_motion_free(exdex_motion *m)
 {
     if (!m) return;
-    for (int i = 0; i < 7; i++) gsl_spline_free(m->spline[i]);  /* NULL-safe */
+    free(m->tk);
+    free(m->yk);
+    free(m->mk);
     free(m);
 }
 
-static int setup_sampled(exdex_motion *m, const exdex_motion_def *def, int *status,
-                         const char **bad_param)
+/* Slope at one end of the sample series y (stride 1, n values at times t)
+ * for the components [c0, c1) of a part (position or quaternion), from the
+ * data (see the header): end 0 is the first sample, end 1 the last. */
+static void end_slopes(const exdex_motion *m, int end, int c0, int c1, double *slope)
+{
+    size_t n = m->n, i0 = end ? n - 1 : 0, i1 = end ? n - 2 : 1, i2 = end ? n - 3 : 2;
+    /* times counted away from the end: h1, h2 > 0 */
+    double h1 = fabs(m->tk[i1] - m->tk[i0]), h2 = fabs(m->tk[i2] - m->tk[i1]);
+    double v0[4], vd = 0.0, dd = 0.0;
+    for (int c = c0; c < c1; c++) {
+        const double *y = m->yk + (size_t)c * n;
+        double D1 = y[i1] - y[i0], D2 = y[i2] - y[i1];
+        /* quadratic through the three samples, slope at the end, in the
+         * time running away from the end */
+        v0[c - c0] = (D1 / h1) * ((2.0 * h1 + h2) / (h1 + h2)) - (D2 / h2) * (h1 / (h1 + h2));
+        vd += v0[c - c0] * D1;
+        dd += D1 * D1;
+    }
+    for (int c = c0; c < c1; c++) {
+        double s = vd <= dd / (2.0 * h1) ? 0.0 : v0[c - c0];
+        /* back to forward time at the last sample */
+        slope[c] = end ? -s : s;
+    }
+}
+
+/* Slopes m_i of a clamped C2 cubic spline with end slopes m_0, m_{n-1}
+ * given (in mk[0], mk[n-1]): the tridiagonal system of the header, solved by
+ * the Thomas algorithm (strictly diagonally dominant: no pivoting). w is
+ * scratch of n doubles. */
+static void clamped_slopes(size_t n, const double *t, const double *y, double *mk, double *w)
+{
+    if (n == 2) return;
+    /* unknowns m_1 .. m_{n-2}; row i: a m_{i-1} + b m_i + c m_{i+1} = r */
+    for (size_t i = 1; i + 1 < n; i++) {
+        double hl = t[i] - t[i - 1], hr = t[i + 1] - t[i];
+        double dl = (y[i] - y[i - 1]) / hl, dr = (y[i + 1] - y[i]) / hr;
+        double a = hr, b = 2.0 * (hl + hr), c = hl, r = 3.0 * (hr * dl + hl * dr);
+        if (i == 1) r -= a * mk[0];
+        if (i + 2 == n) r -= c * mk[n - 1];
+        if (i > 1) {
+            /* eliminate m_{i-1}: row i-1 reads m_{i-1} + w[i-1] m_i = mk[i-1] */
+            b -= a * w[i - 1];
+            r -= a * mk[i - 1];
+        }
+        w[i] = c / b;
+        mk[i] = r / b;
+    }
+    for (size_t i = n - 2; i >= 1; i--) {
+        if (i + 2 < n) mk[i] -= w[i] * mk[i + 1];
+        if (i == 1) break;
+    }
+}
+
+/* Hermite evaluation of component c on the interval [t_i, t_{i+1}]. */
+static void hermite(const exdex_motion *m, int c, size_t i, double t, double *y, double *yd, double *ydd)
+{
+    const double *Y = m->yk + (size_t)c * m->n, *M = m->mk + (size_t)c * m->n;
+    double h = m->tk[i + 1] - m->tk[i], s = (t - m->tk[i]) / h, s2 = s * s, s3 = s2 * s;
+    double dy = Y[i] - Y[i + 1];
+    *y = (2.0 * s3 - 3.0 * s2 + 1.0) * Y[i] + (-2.0 * s3 + 3.0 * s2) * Y[i + 1]
+         + h * ((s3 - 2.0 * s2 + s) * M[i] + (s3 - s2) * M[i + 1]);
+    *yd = (6.0 * s2 - 6.0 * s) * dy / h + (3.0 * s2 - 4.0 * s + 1.0) * M[i] + (3.0 * s2 - 2.0 * s) * M[i + 1];
+    *ydd = ((12.0 * s - 6.0) * dy / h + (6.0 * s - 4.0) * M[i] + (6.0 * s - 2.0) * M[i + 1]) / h;
+}
+
+/* Kinematics of the logged frame L on the interval i at time t (s = 1 at
+ * t = t_{i+1} gives the left limit there), in the log's coordinates. */
+static int eval_log(const exdex_motion *m, size_t i, double t, exdex_kinematics *k)
+{
+    double y[7], yd[7], ydd[7], n[4], nd[4], ndd[4], qn2 = 0.0, qn, md, mdd;
+    for (int c = 0; c < 7; c++) hermite(m, c, i, t, &y[c], &yd[c], &ydd[c]);
+    for (int j = 0; j < 3; j++) {
+        k->p[j] = y[j];
+        k->v[j] = yd[j];
+        k->a[j] = ydd[j];
+    }
+    /* n = q/|q| with m = |q|, m' = n.q', m'' = n'.q' + n.q'':
+     *   n'  = (q' - n m') / m,   n'' = (q'' - 2 n' m' - n m'') / m */
+    for (int c = 0; c < 4; c++) qn2 += y[3 + c] * y[3 + c];
+    qn = sqrt(qn2);
+    if (!(qn > 0.0) || !isfinite(qn)) return EXDEX_ENONFINITE;
+    md = 0.0;
+    for (int c = 0; c < 4; c++) {
+        n[c] = y[3 + c] / qn;
+        md += n[c] * yd[3 + c];
+    }
+    mdd = 0.0;
+    for (int c = 0; c < 4; c++) {
+        nd[c] = (yd[3 + c] - n[c] * md) / qn;
+        mdd += nd[c] * yd[3 + c] + n[c] * ydd[3 + c];
+    }
+    for (int c = 0; c < 4; c++) ndd[c] = (ydd[3 + c] - 2.0 * nd[c] * md - n[c] * mdd) / qn;
+    quat_to_R(k->R, n);
+    /* World-frame angular velocity: d/dt (n x n*) = w x (n x n*) holds for
+     * n' = (1/2) w n, so w = 2 vec(n' n*) (the scalar part n'.n is 0).
+     * dw = 2 vec(n'' n*) + 2 vec(n' n'*), and n' n'* = |n'|^2 is real. */
+    two_vec_conj_product(k->w, nd, n);
+    two_vec_conj_product(k->dw, ndd, n);
+    return EXDEX_OK;
+}
+
+/* B = P L X (see the header): kinematics of B from those of L, in place. */
+static int compose(const exdex_motion *m, exdex_kinematics *k)
+{
+    double r[3], wr[3], t1[3], t2[3], v[3], a[3], RX[9];
+    ex_mulmv3(r, k->R, m->Xp);                  /* r = R_L p_X */
+    ex_cross3(wr, k->w, r);
+    ex_cross3(t1, k->dw, r);
+    ex_cross3(t2, k->w, wr);
+    for (int j = 0; j < 3; j++) {
+        v[j] = k->v[j] + wr[j];
+        a[j] = k->a[j] + t1[j] + t2[j];
+        r[j] += k->p[j];                        /* origin of B in the log's coordinates */
+    }
+    ex_mulmm3(RX, k->R, m->XR);
+    ex_mulmm3(k->R, m->PR, RX);
+    ex_mulmv3(k->p, m->PR, r);
+    for (int j = 0; j < 3; j++) k->p[j] += m->Pp[j];
+    ex_mulmv3(k->v, m->PR, v);
+    ex_mulmv3(k->a, m->PR, a);
+    ex_mulmv3(t1, m->PR, k->w);
+    memcpy(k->w, t1, sizeof t1);
+    ex_mulmv3(t1, m->PR, k->dw);
+    memcpy(k->dw, t1, sizeof t1);
+    if (!ex_finite_n(k->R, 9) || !ex_finite_n(k->w, 3) || !ex_finite_n(k->dw, 3)
+        || !ex_finite_n(k->p, 3) || !ex_finite_n(k->v, 3) || !ex_finite_n(k->a, 3))
+        return EXDEX_ENONFINITE;
+    return EXDEX_OK;
+}
+
+/* Unit quaternion of a pose row's quaternion; 0 if it is zero or not finite. */
+static int unit_quat(double n[4], const double q[4])
+{
+    double qn = norm_n(q, 4);
+    if (!(qn > 0.0)) return 0;
+    for (int c = 0; c < 4; c++) n[c] = q[c] / qn;
+    return ex_finite_n(n, 4);
+}
+
+static int setup_sampled(exdex_motion *m, const exdex_motion_def *def, const double R0[9],
+                         const double p0[3], int *status, const char **bad_param)
 {
     size_t n = def->n_samples;
-    double *y;
+    double *w;
+    static const double eye[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
     if (n < 4 || n > ((size_t)-1) / (8 * sizeof(double))) return fail(status, bad_param, "motion.n_samples");
     if (!def->times) return fail(status, bad_param, "motion.times");
     if (!def->poses) return fail(status, bad_param, "motion.poses");
@@ -205,44 +422,126 @@ static int setup_sampled(exdex_motion *m, const exdex_motion_def *def, int *stat
         if (!ex_finite_n(def->poses + 7 * i, 7) || !(norm_n(def->poses + 7 * i + 3, 4) > 0.0))
             return fail(status, bad_param, "motion.poses");
     }
-    /* y: the 7 component series, each contiguous (n,) */
-    y = malloc(7 * n * sizeof *y);
-    if (!y) {
+    /* every interval must be representable: h > 0 and finite */
+    for (size_t i = 1; i < n; i++)
+        if (!(isfinite(def->times[i] - def->times[i - 1]))) return fail(status, bad_param, "motion.times");
+    for (int e = 0; e < 2; e++) {
+        if (def->end_given[e] != 0 && def->end_given[e] != 1) return fail(status, bad_param, "motion.end_given");
+        if (def->end_given[e] && !ex_finite_n(def->end_velocity[e], 3))
+            return fail(status, bad_param, "motion.end_velocity");
+        if (def->end_given[e] && !ex_finite_n(def->end_omega[e], 3))
+            return fail(status, bad_param, "motion.end_omega");
+    }
+    if (def->relative != 0 && def->relative != 1) return fail(status, bad_param, "motion.relative");
+    if (def->tool != 0 && def->tool != 1) return fail(status, bad_param, "motion.tool");
+    memcpy(m->XR, eye, sizeof m->XR);
+    memcpy(m->PR, eye, sizeof m->PR);
+    if (def->tool) {
+        double nx[4];
+        if (!ex_finite_n(def->tool_pose, 3) || !unit_quat(nx, def->tool_pose + 3))
+            return fail(status, bad_param, "motion.tool_pose");
+        quat_to_R(m->XR, nx);
+        memcpy(m->Xp, def->tool_pose, sizeof m->Xp);
+    }
+    m->n = n;
+    m->tk = malloc(n * sizeof *m->tk);
+    m->yk = malloc(7 * n * sizeof *m->yk);
+    m->mk = malloc(7 * n * sizeof *m->mk);
+    w = malloc(n * sizeof *w);
+    if (!m->tk || !m->yk || !m->mk || !w) {
+        free(w);
         if (status) *status = EXDEX_ENOMEM;
         return 0;
     }
+    memcpy(m->tk, def->times, n * sizeof *m->tk);
     for (size_t i = 0; i < n; i++) {
         const double *row = def->poses + 7 * i;
         double qn = norm_n(row + 3, 4), flip = 1.0;
-        for (int c = 0; c < 3; c++) y[c * n + i] = row[c];
+        for (int c = 0; c < 3; c++) m->yk[c * n + i] = row[c];
         /* unit quaternions, sign chosen so consecutive samples have a
          * non-negative dot product (q and -q are the same rotation; the
          * spline must not pass through 0 between them) */
         if (i > 0) {
             double d = 0.0;
-            for (int c = 3; c < 7; c++) d += y[c * n + i - 1] * row[c];
+            for (int c = 3; c < 7; c++) d += m->yk[c * n + i - 1] * row[c];
             if (d < 0.0) flip = -1.0;
         }
-        for (int c = 3; c < 7; c++) y[c * n + i] = flip * row[c] / qn;
+        for (int c = 3; c < 7; c++) m->yk[c * n + i] = flip * row[c] / qn;
+    }
+    /* end slopes: the user's, or from the data */
+    for (int e = 0; e < 2; e++) {
+        double sl[7];
+        size_t ie = e ? n - 1 : 0;
+        if (def->end_given[e]) {
+            /* p' = v; n' = (1/2) (0, w) n for the world-frame (log-frame) w */
+            double q[4], wq[4];
+            for (int c = 0; c < 4; c++) q[c] = m->yk[(3 + c) * n + ie];
+            const double *om = def->end_omega[e];
+            wq[0] = -(om[0] * q[1] + om[1] * q[2] + om[2] * q[3]);
+            wq[1] = om[0] * q[0] + om[1] * q[3] - om[2] * q[2];
+            wq[2] = om[1] * q[0] + om[2] * q[1] - om[0] * q[3];
+            wq[3] = om[2] * q[0] + om[0] * q[2] - om[1] * q[1];
+            for (int c = 0; c < 3; c++) sl[c] = def->end_velocity[e][c];
+            for (int c = 0; c < 4; c++) sl[3 + c] = 0.5 * wq[c];
+        } else {
+            end_slopes(m, e, 0, 3, sl);
+            end_slopes(m, e, 3, 7, sl);
+        }
+        for (int c = 0; c < 7; c++) {
+            if (!isfinite(sl[c])) {
+                free(w);
+                return fail(status, bad_param, def->end_given[e] ? "motion.end_velocity" : "motion.times");
+            }
+            m->mk[c * n + ie] = sl[c];
+        }
     }
     for (int c = 0; c < 7; c++) {
-        m->spline[c] = gsl_spline_alloc(gsl_interp_cspline, n);
-        if (!m->spline[c] || gsl_spline_init(m->spline[c], def->times, y + c * n, n) != GSL_SUCCESS) {
-            free(y);
-            if (status) *status = m->spline[c] ? EXDEX_EINVAL : EXDEX_ENOMEM;
-            if (m->spline[c] && bad_param) *bad_param = "motion.times";
-            return 0;
-        }
-        m->pose_first[c] = y[c * n];
-        m->pose_last[c] = y[c * n + n - 1];
+        clamped_slopes(n, m->tk, m->yk + c * n, m->mk + c * n, w);
+        for (size_t i = 0; i < n; i++)
+            if (!isfinite(m->mk[c * n + i])) {
+                free(w);
+                return fail(status, bad_param, "motion.times");
+            }
     }
-    free(y);
+    free(w);
     m->t_first = def->times[0];
     m->t_last = def->times[n - 1];
     m->end = m->t_last;
+    if (def->relative) {
+        /* P = (R0, p0) (L(t_0) X)^-1 */
+        double RL[9], nq[4], RLX[9], pLX[3];
+        for (int c = 0; c < 4; c++) nq[c] = m->yk[(3 + c) * n];
+        quat_to_R(RL, nq);
+        ex_mulmm3(RLX, RL, m->XR);
+        ex_mulmv3(pLX, RL, m->Xp);
+        for (int c = 0; c < 3; c++) pLX[c] += m->yk[c * n];
+        mulmmt3(m->PR, R0, RLX);
+        ex_mulmv3(m->Pp, m->PR, pLX);
+        for (int c = 0; c < 3; c++) m->Pp[c] = p0[c] - m->Pp[c];
+        if (!ex_finite_n(m->Pp, 3)) return fail(status, bad_param, "motion.poses");
+    }
+    /* velocity jumps of B: at the first sample from rest to the spline's
+     * start velocity, at the last one back to rest */
+    for (int e = 0; e < 2; e++) {
+        exdex_kinematics k;
+        int st = eval_log(m, e ? n - 2 : 0, e ? m->t_last : m->t_first, &k);
+        if (!st) st = compose(m, &k);
+        if (st) {
+            if (status) *status = EXDEX_EINVAL;
+            if (bad_param) *bad_param = "motion.poses";
+            return 0;
+        }
+        if (k.v[0] != 0.0 || k.v[1] != 0.0 || k.v[2] != 0.0 || k.w[0] != 0.0 || k.w[1] != 0.0 || k.w[2] != 0.0) {
+            int j = m->n_jumps++;
+            m->jt[j] = e ? m->t_last : m->t_first;
+            for (int c = 0; c < 3; c++) {
+                m->jv[j][c] = e ? -k.v[c] : k.v[c];
+                m->jw[j][c] = e ? -k.w[c] : k.w[c];
+            }
+        }
+    }
     return 1;
 }
-
 exdex_motion *exdex_motion_alloc(const exdex_motion_def *def, const double R0[9],
                                  const double p0[3], int *status,
                                  const char **bad_param)
@@ -335,10 +634,27 @@ exdex_motion *exdex_motion_alloc(const exdex_motion_def *def, const double R0[9]
                 m->accel = t_a > 0.0 ? def->v_max / t_a : 0.0;
                 m->end = T;
                 if (!isfinite(m->accel)) ok = fail(status, bad_param, "motion.v_max");
+                if (ok && t_a == 0.0 && X1 != 0.0) {
+                    /* constant speed: a jump from rest at 0 and back to rest at T */
+                    exdex_kinematics k0, k1;
+                    profile_kin(m, 0.0, m->sign * m->v_max, 0.0, &k0);
+                    profile_kin(m, X1, m->sign * m->v_max, 0.0, &k1);
+                    m->n_jumps = 2;
+                    m->jt[0] = 0.0;
+                    m->jt[1] = T;
+                    for (int i = 0; i < 3; i++) {
+                        m->jv[0][i] = k0.v[i];
+                        m->jw[0][i] = k0.w[i];
+                        m->jv[1][i] = -k1.v[i];
+                        m->jw[1][i] = -k1.w[i];
+                    }
+                    if (!ex_finite_n(m->jv[0], 3) || !ex_finite_n(m->jv[1], 3))
+                        ok = fail(status, bad_param, "motion.v_max");
+                }
             }
         }
     } else if (def->kind == EXDEX_MOTION_SAMPLED) {
-        ok = setup_sampled(m, def, status, bad_param);
+        ok = setup_sampled(m, def, R0, p0, status, bad_param);
     } else {
         m->end = 0.0;  /* REST */
     }
@@ -354,111 +670,77 @@ double exdex_motion_end(const exdex_motion *m)
     return m ? m->end : NAN;
 }
 
+int exdex_motion_jumps(const exdex_motion *m, double t[EXDEX_MOTION_MAX_JUMPS],
+                       double dv[EXDEX_MOTION_MAX_JUMPS][3], double dw[EXDEX_MOTION_MAX_JUMPS][3])
+{
+    if (!m) return 0;
+    for (int j = 0; j < m->n_jumps; j++) {
+        if (t) t[j] = m->jt[j];
+        if (dv) memcpy(dv[j], m->jv[j], sizeof m->jv[j]);
+        if (dw) memcpy(dw[j], m->jw[j], sizeof m->jw[j]);
+    }
+    return m->n_jumps;
+}
+
+int exdex_motion_switches(const exdex_motion *m, double ts[EXDEX_MOTION_MAX_SWITCHES])
+{
+    double c[EXDEX_MOTION_MAX_SWITCHES];
+    int n = 0, k = 0;
+    if (!m) return 0;
+    switch (m->kind) {
+    case EXDEX_MOTION_ASYMMETRIC:
+        c[n++] = m->t_1;
+        c[n++] = m->t_2;
+        c[n++] = m->end;
+        break;
+    case EXDEX_MOTION_TRAPEZOID:
+        if (m->amplitude == 0.0) break;
+        c[n++] = m->t_a;
+        c[n++] = m->T - m->t_a;
+        c[n++] = m->T;
+        break;
+    case EXDEX_MOTION_SAMPLED:
+        c[n++] = m->t_first;
+        c[n++] = m->t_last;
+        break;
+    default:
+        break;
+    }
+    /* increasing, without repeats (a trapezoid without ramps, or with two
+     * ramps meeting at T/2) */
+    for (int i = 0; i < n; i++)
+        if (k == 0 || c[i] > ts[k - 1]) ts[k++] = c[i];
+    return k;
+}
+
 /* ------------------------------------------------------------ evaluation */
-
-static void rest_at(exdex_kinematics *k, const double R[9], const double p[3])
-{
-    memcpy(k->R, R, sizeof k->R);
-    memcpy(k->p, p, sizeof k->p);
-    for (int i = 0; i < 3; i++) k->v[i] = k->a[i] = k->w[i] = k->dw[i] = 0.0;
-}
-
-/* R = R(n) for a unit quaternion n = (w, x, y, z): x_A = n x_B n* */
-static void quat_to_R(double R[9], const double n[4])
-{
-    double w = n[0], x = n[1], y = n[2], z = n[3];
-    R[0] = 1.0 - 2.0 * (y * y + z * z); R[1] = 2.0 * (x * y - w * z); R[2] = 2.0 * (x * z + w * y);
-    R[3] = 2.0 * (x * y + w * z); R[4] = 1.0 - 2.0 * (x * x + z * z); R[5] = 2.0 * (y * z - w * x);
-    R[6] = 2.0 * (x * z - w * y); R[7] = 2.0 * (y * z + w * x); R[8] = 1.0 - 2.0 * (x * x + y * y);
-}
-
-/* r = 2 vec(a b*): with a = (a0, A), b = (b0, B), b* = (b0, -B),
- * vec(a b*) = b0 A - a0 B - A x B. */
-static void two_vec_conj_product(double r[3], const double a[4], const double b[4])
-{
-    double c[3];
-    ex_cross3(c, a + 1, b + 1);
-    for (int i = 0; i < 3; i++) r[i] = 2.0 * (b[0] * a[1 + i] - a[0] * b[1 + i] - c[i]);
-}
-
-static void pose_at_rest(exdex_kinematics *k, const double pose[7])
-{
-    double R[9];
-    quat_to_R(R, pose + 3);
-    rest_at(k, R, pose);
-}
 
 static int eval_sampled(const exdex_motion *m, double t, exdex_kinematics *k)
 {
-    double y[7], yd[7], ydd[7], n[4], nd[4], ndd[4], qn2 = 0.0, qn, md, mdd;
-    /* A stack accelerator: the search cost is paid once for the 21 spline
-     * evaluations below, and nothing in the model is written (thread-safe). */
-    gsl_interp_accel acc = {0, 0, 0};
-
-    if (t < m->t_first) {
-        pose_at_rest(k, m->pose_first);
-        return EXDEX_OK;
+    size_t lo = 0, hi = m->n - 1;
+    if (t < m->t_first || t >= m->t_last) {
+        /* at rest at the end pose (right-continuous at t_last) */
+        size_t i = t < m->t_first ? 0 : m->n - 1;
+        double nq[4];
+        for (int c = 0; c < 4; c++) nq[c] = m->yk[(3 + c) * m->n + i];
+        for (int c = 0; c < 3; c++) k->p[c] = m->yk[c * m->n + i];
+        quat_to_R(k->R, nq);
+        for (int c = 0; c < 3; c++) k->v[c] = k->a[c] = k->w[c] = k->dw[c] = 0.0;
+        return compose(m, k);
     }
-    if (t > m->t_last) {
-        pose_at_rest(k, m->pose_last);
-        return EXDEX_OK;
+    /* the interval [t_lo, t_lo+1) holding t (binary search, no shared state) */
+    while (hi - lo > 1) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (m->tk[mid] <= t) lo = mid;
+        else hi = mid;
     }
-    for (int c = 0; c < 7; c++) {
-        if (gsl_spline_eval_e(m->spline[c], t, &acc, &y[c]) != GSL_SUCCESS
-            || gsl_spline_eval_deriv_e(m->spline[c], t, &acc, &yd[c]) != GSL_SUCCESS
-            || gsl_spline_eval_deriv2_e(m->spline[c], t, &acc, &ydd[c]) != GSL_SUCCESS)
-            return EXDEX_EINVAL;
-    }
-    for (int i = 0; i < 3; i++) {
-        k->p[i] = y[i];
-        k->v[i] = yd[i];
-        k->a[i] = ydd[i];
-    }
-    /* n = q/|q| with m = |q|, m' = n.q', m'' = n'.q' + n.q'':
-     *   n'  = (q' - n m') / m,   n'' = (q'' - 2 n' m' - n m'') / m */
-    for (int c = 0; c < 4; c++) qn2 += y[3 + c] * y[3 + c];
-    qn = sqrt(qn2);
-    if (!(qn > 0.0) || !isfinite(qn)) return EXDEX_ENONFINITE;
-    md = 0.0;
-    for (int c = 0; c < 4; c++) {
-        n[c] = y[3 + c] / qn;
-        md += n[c] * yd[3 + c];
-    }
-    mdd = 0.0;
-    for (int c = 0; c < 4; c++) {
-        nd[c] = (yd[3 + c] - n[c] * md) / qn;
-        mdd += nd[c] * yd[3 + c] + n[c] * ydd[3 + c];
-    }
-    for (int c = 0; c < 4; c++) ndd[c] = (ydd[3 + c] - 2.0 * nd[c] * md - n[c] * mdd) / qn;
-    quat_to_R(k->R, n);
-    /* World-frame angular velocity: d/dt (n x n*) = w x (n x n*) holds for
-     * n' = (1/2) w n, so w = 2 vec(n' n*) (the scalar part n'.n is 0).
-     * dw = 2 vec(n'' n*) + 2 vec(n' n'*), and n' n'* = |n'|^2 is real. */
-    two_vec_conj_product(k->w, nd, n);
-    two_vec_conj_product(k->dw, ndd, n);
-    if (!ex_finite_n(k->R, 9) || !ex_finite_n(k->w, 3) || !ex_finite_n(k->dw, 3)
-        || !ex_finite_n(k->p, 3) || !ex_finite_n(k->v, 3) || !ex_finite_n(k->a, 3))
-        return EXDEX_ENONFINITE;
-    return EXDEX_OK;
+    if (eval_log(m, lo, t, k)) return EXDEX_ENONFINITE;
+    return compose(m, k);
 }
 
-int exdex_motion_eval(const exdex_motion *m, double t, exdex_kinematics *k)
+/* Kinematics of a profile motion at the profile value (s, sd, sdd). */
+static void profile_kin(const exdex_motion *m, double s, double sd, double sdd, exdex_kinematics *k)
 {
-    double s, sd, sdd;
-    if (!m || !k || isnan(t)) return EXDEX_EINVAL;
-    switch (m->kind) {
-    case EXDEX_MOTION_ASYMMETRIC:
-        asym_core(m->amplitude, m->T, m->a_H, m->a_L, m->t_1, m->t_2, t, &s, &sd, &sdd);
-        break;
-    case EXDEX_MOTION_TRAPEZOID:
-        trap_core(m->amplitude, m->T, m->sign, m->v_max, m->t_a, m->accel, t, &s, &sd, &sdd);
-        break;
-    case EXDEX_MOTION_SAMPLED:
-        return eval_sampled(m, t, k);
-    default:
-        rest_at(k, m->R0, m->p0);
-        return EXDEX_OK;
-    }
     if (!m->rotation) {
         /* p = p0 + s axis, R = R0 */
         memcpy(k->R, m->R0, sizeof k->R);
@@ -488,10 +770,30 @@ int exdex_motion_eval(const exdex_motion *m, double t, exdex_kinematics *k)
             k->v[i] = wr[i];
             k->a[i] = t1[i] + t2[i];
         }
-        if (!ex_finite_n(k->v, 3) || !ex_finite_n(k->a, 3) || !ex_finite_n(k->p, 3))
-            return EXDEX_ENONFINITE;
     }
+}
+
+int exdex_motion_eval(const exdex_motion *m, double t, exdex_kinematics *k)
+{
+    double s, sd, sdd;
+    if (!m || !k || isnan(t)) return EXDEX_EINVAL;
+    switch (m->kind) {
+    case EXDEX_MOTION_ASYMMETRIC:
+        asym_core(m->amplitude, m->T, m->a_H, m->a_L, m->t_1, m->t_2, t, &s, &sd, &sdd);
+        break;
+    case EXDEX_MOTION_TRAPEZOID:
+        trap_core(m->amplitude, m->T, m->sign, m->v_max, m->t_a, m->accel, t, &s, &sd, &sdd);
+        break;
+    case EXDEX_MOTION_SAMPLED:
+        return eval_sampled(m, t, k);
+    default:
+        rest_at(k, m->R0, m->p0);
+        return EXDEX_OK;
+    }
+    profile_kin(m, s, sd, sdd, k);
     /* a finite profile can still overflow for absurd amplitudes (found by fuzzing) */
-    if (!isfinite(s) || !isfinite(sd) || !isfinite(sdd) || !ex_finite_n(k->p, 3)) return EXDEX_ENONFINITE;
+    if (!isfinite(s) || !isfinite(sd) || !isfinite(sdd) || !ex_finite_n(k->p, 3) || !ex_finite_n(k->v, 3)
+        || !ex_finite_n(k->a, 3))
+        return EXDEX_ENONFINITE;
     return EXDEX_OK;
 }

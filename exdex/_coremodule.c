@@ -129,6 +129,32 @@ static PyArrayObject *dict_rows(PyObject *d, const char *key, int cols, int max_
     return arr;
 }
 
+/* Optional sampled-motion keys (absent: end slopes from the data, absolute
+ * poses, no tool): motion_end_given (2 flags, 0 or 1), motion_end_velocity
+ * and motion_end_omega (2 x 3: first, last sample), motion_relative and
+ * motion_tool (0 or 1), motion_tool_pose (7: x y z qw qx qy qz). A flag
+ * other than 0 or 1 is passed on as 2, which the core rejects by name. */
+static int sampled_options(PyObject *spec, exdex_motion_def *mo)
+{
+    double g[2];
+    if (PyDict_GetItemString(spec, "motion_end_given")) {
+        if (dict_doubles(spec, "motion_end_given", g, 2)) return -1;
+        for (int e = 0; e < 2; e++) mo->end_given[e] = (g[e] == 0.0 || g[e] == 1.0) ? (int)g[e] : 2;
+    }
+    if (PyDict_GetItemString(spec, "motion_end_velocity") &&
+        dict_doubles(spec, "motion_end_velocity", &mo->end_velocity[0][0], 6))
+        return -1;
+    if (PyDict_GetItemString(spec, "motion_end_omega") &&
+        dict_doubles(spec, "motion_end_omega", &mo->end_omega[0][0], 6))
+        return -1;
+    if (PyDict_GetItemString(spec, "motion_relative") && dict_int(spec, "motion_relative", &mo->relative))
+        return -1;
+    if (PyDict_GetItemString(spec, "motion_tool") && dict_int(spec, "motion_tool", &mo->tool)) return -1;
+    if (PyDict_GetItemString(spec, "motion_tool_pose") && dict_doubles(spec, "motion_tool_pose", mo->tool_pose, 7))
+        return -1;
+    return 0;
+}
+
 /* Fill an exdex_scene_def from a spec dict. Sampled-motion arrays are
  * returned as new references in *times / *poses (kept alive by the caller
  * until the model is built). */
@@ -200,6 +226,7 @@ static int scene_from_dict(PyObject *spec, exdex_scene_def *def, PyArrayObject *
         def->motion.n_samples = (size_t)nt;
         def->motion.times = (const double *)PyArray_DATA(*times);
         def->motion.poses = (const double *)PyArray_DATA(*poses);
+        if (sampled_options(spec, &def->motion)) goto fail;
     }
     Py_DECREF(verts);
     Py_DECREF(sp);
@@ -678,6 +705,44 @@ done:
     Py_XDECREF(poses);
     Py_XDECREF(ta);
     for (int i = 0; i < 6; i++) Py_XDECREF(out[i]);
+    return result;
+}
+
+PyDoc_STRVAR(motion_jumps_doc,
+"motion_jumps(spec) -> list of (t, dv, dw)\n\n"
+"Velocity jumps of the gripper frame B of the scene's motion (exdex_motion_jumps):\n"
+"time t [s] and the jumps of the velocity of B's origin dv [m/s] and of its angular\n"
+"velocity dw [rad/s] (right limit minus left limit), tuples in the world frame A.");
+
+static PyObject *core_motion_jumps(PyObject *module, PyObject *args, PyObject *kwds)
+{
+    static char *kwlist[] = {"spec", NULL};
+    PyObject *spec, *result = NULL;
+    PyArrayObject *times = NULL, *poses = NULL;
+    exdex_scene_def def;
+    exdex_motion *mo = NULL;
+    const char *bad = NULL;
+    int status = EXDEX_OK, nj;
+    double tj[EXDEX_MOTION_MAX_JUMPS], dv[EXDEX_MOTION_MAX_JUMPS][3], dw[EXDEX_MOTION_MAX_JUMPS][3];
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "O", kwlist, &spec)) return NULL;
+    if (scene_from_dict(spec, &def, &times, &poses)) goto done;
+    mo = exdex_motion_alloc(&def.motion, def.R0, def.p0, &status, &bad);
+    if (!mo) {
+        raise_status(module, status, "motion", bad);
+        goto done;
+    }
+    nj = exdex_motion_jumps(mo, tj, dv, dw);
+    result = PyList_New(0);
+    for (int j = 0; result && j < nj; j++) {
+        PyObject *item = Py_BuildValue("(d(ddd)(ddd))", tj[j], dv[j][0], dv[j][1], dv[j][2], dw[j][0],
+                                       dw[j][1], dw[j][2]);
+        if (!item || PyList_Append(result, item)) Py_CLEAR(result);
+        Py_XDECREF(item);
+    }
+done:
+    exdex_motion_free(mo);
+    Py_XDECREF(times);
+    Py_XDECREF(poses);
     return result;
 }
 
@@ -1283,6 +1348,8 @@ static PyMethodDef core_methods[] = {
      simulate_batch_doc},
     {"motion_eval", (PyCFunction)(void (*)(void))core_motion_eval, METH_VARARGS | METH_KEYWORDS,
      motion_eval_doc},
+    {"motion_jumps", (PyCFunction)(void (*)(void))core_motion_jumps, METH_VARARGS | METH_KEYWORDS,
+     motion_jumps_doc},
     {"friction_solve", (PyCFunction)(void (*)(void))core_friction_solve, METH_VARARGS | METH_KEYWORDS,
      friction_solve_doc},
     {"er_disc", core_er_disc, METH_O, "e_r [m] of a uniform pressure disc of radius R: 2R/3 (NaN if R <= 0)."},

@@ -464,6 +464,7 @@ def simulate_batch(scene: Union[Scene, Sequence[Scene]], t_end: float, dt: float
             if p.path[0] == "motion":
                 msg = msg.replace(f"'motion.{p.path[-1]}'", f"'{k}' (motion.{p.path[-1]})")
         raise ValueError(msg) from None
+    _warn_log_jumps(scenes if scenes is not None else [scene], specs if scenes is not None else [specs], t_end)
     res = BatchResult(t=out["t"], q=out["q"], v=out["v"], wrench=out["wrench"], stick=out["stick"],
                       stop_force=out["stop_force"], final_displacement=out["displacement"], stats=out["stats"],
                       params=flat, shape=tuple(int(s) for s in shape),
@@ -533,6 +534,19 @@ def _batch_findings(b):
 
 
 
+
+
+def _warn_log_jumps(scenes, specs, t_end):
+    """A GripperJumpWarning for each robot log of the batch that starts or
+    ends at speed inside the run (as exdex.simulate warns)."""
+    from exdex.scene import SampledTrajectory
+    from exdex.simulate import _jumps, _warn_jumps
+
+    seen = set()
+    for sc, spec in zip(scenes, specs):
+        if isinstance(sc.motion, SampledTrajectory) and id(sc.motion) not in seen:
+            seen.add(id(sc.motion))
+            _warn_jumps(sc, _jumps(sc, spec), t_end, stacklevel=4)
 
 
 # ------------------------------------------------------------------ sweep

@@ -30,7 +30,7 @@ def add_arguments(parser):
     from exdex.scene import METHODS, SOLVERS
 
     parser.add_argument("scene", help="scene file, .toml or .json (exdex.save_scene writes one)")
-    parser.add_argument("--method", choices=sorted(METHODS), default=None,
+    parser.add_argument("--method", choices=sorted(METHODS) + ["auto"], default=None,
                         help="integration method (default: the file's simulate.method, else implicit)")
     parser.add_argument("--friction-solver", choices=sorted(SOLVERS), default=None,
                         help="planar friction solve (default: the file's, else scalar)")

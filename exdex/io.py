@@ -78,9 +78,20 @@ __all__ = ["SCHEMA_VERSION", "save_scene", "load_scene", "load_simulate_options"
 SCHEMA_VERSION = 1
 SUPPORTED_SCHEMAS = (1,)
 
+def _motion_classes() -> Dict[str, type]:
+    """Every gripper motion class (the subclasses of the scenes' motion base), by name."""
+    out: Dict[str, type] = {}
+    todo = list(_scene._Motion.__subclasses__())
+    while todo:
+        cls = todo.pop(0)
+        if not cls.__name__.startswith("_"):
+            out[cls.__name__] = cls
+        todo.extend(cls.__subclasses__())
+    return out
+
+
 #: Gripper motions by the name used in the ``motion.type`` key.
-MOTIONS = {cls.__name__: cls for cls in (_scene.Rest, _scene.AsymmetricProfile,
-                                         _scene.TrapezoidalProfile, _scene.SampledTrajectory)}
+MOTIONS = _motion_classes()
 
 #: Keys of the optional ``simulate`` table: arguments of :func:`exdex.simulate`.
 SIMULATE_KEYS = {"t_end": float, "dt": float, "method": str, "friction_solver": str, "eps": float,

@@ -259,6 +259,8 @@ class Grasp:
 class _Motion:
     """Common part of the gripper motions: conversion to the C spec and evaluation."""
 
+    _may_jump = True  # False where the velocity is continuous by construction
+
     def _spec(self):  # pragma: no cover - overridden
         raise NotImplementedError
 
@@ -280,6 +282,18 @@ class _Motion:
         t = _array(np.atleast_1d(t), "t", (None,))
         return _core.motion_eval(scene.to_spec(), t)
 
+    def velocity_jumps(self, gripper_rotation=DEFAULT_GRIPPER_ROTATION, gripper_position=(0.0, 0.0, 0.0)):
+        """Times where the gripper's velocity jumps (a log starting or ending at
+        speed, a trapezoid without ramps): a list of ``(t, dv, dw)``, ``t``
+        [s], the jumps (after minus before) of the velocity of B's origin
+        ``dv`` [m/s] and of its angular velocity ``dw`` [rad/s], (3,) arrays
+        in the world frame A."""
+        from exdex import _core
+
+        scene = Scene(body=Body(mass=1.0), grasp=Grasp(mu=0.0, grip_force=0.0), motion=self,
+                      gripper_rotation=gripper_rotation, gripper_position=gripper_position)
+        return [(t, np.array(dv), np.array(dw)) for t, dv, dw in _core.motion_jumps(scene.to_spec())]
+
 
 def _axis_fields(self, name):
     object.__setattr__(self, "axis", _unit(self.axis, f"{name}.axis", 3))
@@ -291,6 +305,8 @@ def _axis_fields(self, name):
 @dataclass(frozen=True)
 class Rest(_Motion):
     """The gripper holds its initial pose."""
+
+    _may_jump = False
 
     def _spec(self):
         return dict(motion_kind=_core.MOTION_REST)
@@ -314,6 +330,8 @@ class AsymmetricProfile(_Motion):
     rotation : False to translate along axis, True to rotate about it.
     center : a point on the rotation axis, in A [m].
     """
+
+    _may_jump = False
 
     amplitude: float
     duration: float
@@ -389,19 +407,50 @@ class SampledTrajectory(_Motion):
     """Gripper poses sampled at increasing times (e.g. a robot log).
 
     times : (n,) strictly increasing [s], n >= 4.
-    positions : (n, 3) positions of B's origin in A [m].
-    quaternions : (n, 4) orientation R_AB as (w, x, y, z), normalised
+    positions : (n, 3) positions of the logged frame's origin [m].
+    quaternions : (n, 4) its orientation as (w, x, y, z), normalised
         internally; sign flips between samples are handled.
+    start_velocity, start_omega : velocity [m/s] and angular velocity
+        [rad/s] of the logged frame at the first sample, (3,) in the
+        coordinates of the poses; giving either one sets the start's end
+        condition (the other is then zero). Default: from the data (below).
+    end_velocity, end_omega : the same at the last sample.
+    relative : False (default): the poses are absolute, in the world frame A,
+        and ``Scene.gripper_rotation``/``gripper_position`` are ignored. True:
+        the log's motion is replayed from the scene's initial gripper pose:
+        B(t) = G0 (L(t_0) X)^-1 L(t) X with G0 the initial gripper pose, L the
+        logged pose and X the tool (so a log whose first pose is the identity
+        gives displacements of the initial gripper pose).
+    tool : (4, 4) homogeneous transform of the gripper frame B in the logged
+        frame (flange -> B), or None (the log is B itself). B(t) = L(t) X.
 
-    Interpolated with cubic splines (natural ends), which gives continuous
-    accelerations. The poses are absolute: ``Scene.gripper_rotation`` and
-    ``gripper_position`` are ignored. Before the first and after the last
-    time the gripper holds the end pose at rest.
+    Interpolated with C2 cubic splines of the position and quaternion
+    components, clamped at the ends: where the log starts or ends at rest
+    the end velocity is zero, otherwise it is the velocity of the quadratic
+    through the three end samples. An end counts as at rest (separately for
+    position and orientation) when that estimated velocity, along the first
+    displacement D1 away from the end over the interval h1, is at most half
+    the mean velocity over that interval, v0 . D1 <= |D1|^2 / (2 h1): a held
+    pose or a uniformly accelerated start is at rest, a constant speed is
+    not (the test compares two velocities of the same data, so it holds in
+    any units). Before the first and after the last time the gripper holds
+    the end pose at rest: a log that starts or ends at speed makes the
+    gripper's velocity jump there. Every method then applies the same jump
+    to the object (the plates cannot transmit an impulse, so the object
+    keeps its absolute velocity and its velocity relative to the gripper
+    jumps), and :func:`exdex.simulate` warns (``velocity_jumps`` lists
+    them).
     """
 
     times: Vector
     positions: Matrix
     quaternions: Matrix
+    start_velocity: Optional[Tuple[float, float, float]] = None
+    start_omega: Optional[Tuple[float, float, float]] = None
+    end_velocity: Optional[Tuple[float, float, float]] = None
+    end_omega: Optional[Tuple[float, float, float]] = None
+    relative: bool = False
+    tool: Optional[Tuple[Tuple[float, ...], ...]] = None
 
     def __post_init__(self):
         t = _array(self.times, "SampledTrajectory.times", (None,))
@@ -416,29 +465,56 @@ class SampledTrajectory(_Motion):
         for name, a in (("times", t), ("positions", p), ("quaternions", q)):
             a.setflags(write=False)
             object.__setattr__(self, name, a)
+        for name in ("start_velocity", "start_omega", "end_velocity", "end_omega"):
+            value = getattr(self, name)
+            if value is not None:
+                object.__setattr__(self, name, _tuple(_array(value, f"SampledTrajectory.{name}", (3,))))
+        if not isinstance(self.relative, (bool, np.bool_)):
+            raise TypeError(f"SampledTrajectory.relative must be True or False, got {type(self.relative).__name__}")
+        object.__setattr__(self, "relative", bool(self.relative))
+        if self.tool is not None:
+            X = _array(self.tool, "SampledTrajectory.tool", (4, 4))
+            if not np.array_equal(X[3], [0.0, 0.0, 0.0, 1.0]):
+                raise ValueError("SampledTrajectory.tool must be a homogeneous transform: last row (0, 0, 0, 1)")
+            _rotation(X[:3, :3], "SampledTrajectory.tool[:3, :3]")
+            object.__setattr__(self, "tool", _tuple(X))
 
     @classmethod
-    def from_matrices(cls, times: Vector, transforms: ArrayLike) -> "SampledTrajectory":
-        """From homogeneous transforms (n, 4, 4) of B in A."""
+    def from_matrices(cls, times: Vector, transforms: ArrayLike, **options: Any) -> "SampledTrajectory":
+        """From homogeneous transforms (n, 4, 4) of the logged frame; ``options``
+        are the other arguments (end velocities, ``relative``, ``tool``)."""
         T = _array(transforms, "transforms", (None, 4, 4))
         quats = np.array([_quat_from_matrix(M[:3, :3]) for M in T])
-        return cls(times, T[:, :3, 3], quats)
+        return cls(times, T[:, :3, 3], quats, **options)
 
     def _spec(self):
         poses = np.hstack([self.positions, self.quaternions])
-        return dict(motion_kind=_core.MOTION_SAMPLED, motion_times=self.times, motion_poses=poses)
+        zero = (0.0, 0.0, 0.0)
+        given = (self.start_velocity is not None or self.start_omega is not None,
+                 self.end_velocity is not None or self.end_omega is not None)
+        spec = dict(motion_kind=_core.MOTION_SAMPLED, motion_times=self.times, motion_poses=poses,
+                    motion_end_given=tuple(float(g) for g in given),
+                    motion_end_velocity=(self.start_velocity or zero) + (self.end_velocity or zero),
+                    motion_end_omega=(self.start_omega or zero) + (self.end_omega or zero),
+                    motion_relative=int(self.relative), motion_tool=int(self.tool is not None))
+        if self.tool is not None:
+            X = np.array(self.tool)
+            spec["motion_tool_pose"] = np.concatenate([X[:3, 3], _quat_from_matrix(X[:3, :3])])
+        return spec
 
     @property
     def end_time(self) -> float:
         return float(np.asarray(self.times)[-1])
 
+    def _key(self):
+        return (self.times.tobytes(), self.positions.tobytes(), self.quaternions.tobytes(), self.start_velocity,
+                self.start_omega, self.end_velocity, self.end_omega, self.relative, self.tool)
+
     def __eq__(self, other):
-        return (isinstance(other, SampledTrajectory) and np.array_equal(self.times, other.times)
-                and np.array_equal(self.positions, other.positions)
-                and np.array_equal(self.quaternions, other.quaternions))
+        return isinstance(other, SampledTrajectory) and self._key() == other._key()
 
     def __hash__(self):
-        return hash((self.times.tobytes(), self.positions.tobytes(), self.quaternions.tobytes()))
+        return hash(self._key())
 
 
 def _quat_from_matrix(R):

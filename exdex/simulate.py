@@ -4,6 +4,7 @@ from __future__ import annotations
 import math
 import numbers
 import os
+import warnings
 from dataclasses import dataclass, field
 from typing import Any, Dict, Literal, Optional, Tuple, Union
 
@@ -14,13 +15,64 @@ from exdex import _core, diagnostics
 from exdex.diagnostics import PhysicsWarning
 from exdex.scene import METHODS, SOLVERS, Scene, _real
 
-__all__ = ["Result", "simulate", "SolverError", "PhysicsWarning"]
+__all__ = ["Result", "simulate", "SolverError", "PhysicsWarning", "GripperJumpWarning"]
 
 SolverError = _core.SolverError
 
 #: The integration methods and friction solvers (see :func:`simulate`).
 Method = Literal["implicit", "event", "regularised", "explicit", "analytic", "auto"]
 FrictionSolver = Literal["scalar", "brent", "multiroot"]
+
+
+class GripperJumpWarning(PhysicsWarning):
+    """The gripper's velocity jumps inside the simulated interval (a sampled
+    log that starts or ends at speed, a trapezoid without ramps).
+
+    The plates cannot transmit an impulse (the grip force and hence the
+    friction force are finite), so the object keeps its absolute velocity
+    and its velocity relative to the gripper jumps by minus the gripper's
+    jump at the object, projected onto the free coordinates in the mass
+    metric; every method applies that jump. Attributes: ``t`` [s], ``dv``
+    [m/s] and ``dw`` [rad/s], the jumps of the velocity of the gripper
+    frame's origin and of its angular velocity in the world frame. A kind of
+    :class:`exdex.PhysicsWarning` (``kind`` "gripper_jump").
+    """
+
+    def __init__(self, t, dv, dw, hint=""):
+        self.t, self.dv, self.dw = float(t), np.asarray(dv, dtype=float), np.asarray(dw, dtype=float)
+        super().__init__(
+            f"the gripper's velocity jumps at t = {self.t:.9g} s by |dv| = {np.linalg.norm(self.dv):.3g} m/s, "
+            f"|dw| = {np.linalg.norm(self.dw):.3g} rad/s (dv = {_fmt(self.dv)}, dw = {_fmt(self.dw)} in the "
+            f"world frame): the plates cannot transmit an impulse, so the object keeps its absolute velocity "
+            f"and its velocity relative to the gripper jumps{hint}",
+            kind="gripper_jump", time=self.t, quantity="gripper velocity jump |dv| [m/s]",
+            value=float(np.linalg.norm(self.dv)), limit=None)
+
+
+def _fmt(x):
+    return "(" + ", ".join(f"{v + 0.0:.3g}" for v in x) + ")"
+
+
+def _jumps(scene, spec):
+    """The gripper's velocity jumps of a scene (its spec), [(t, dv, dw)]."""
+    if not scene.motion._may_jump:
+        return []
+    return _core.motion_jumps(spec)
+
+
+def _warn_jumps(scene, jumps, t_end, stacklevel=3):
+    from exdex.scene import SampledTrajectory
+
+    for t, dv, dw in jumps:
+        if 0.0 < t <= t_end:
+            if isinstance(scene.motion, SampledTrajectory):
+                which = "start" if t == scene.motion.times[0] else "end"
+                hint = (f". The log {which}s at speed; if the robot was at rest there, pass "
+                        f"SampledTrajectory({which}_velocity=(0, 0, 0), {which}_omega=(0, 0, 0)), "
+                        f"otherwise log the motion until the robot is at rest.")
+            else:
+                hint = " (a trapezoid without ramps, v_max = |amplitude| / duration)."
+            warnings.warn(GripperJumpWarning(t, dv, dw, hint), stacklevel=stacklevel)
 
 
 @dataclass(frozen=True, eq=False)
@@ -354,11 +406,18 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
         When the result leaves the model's assumptions (the object slides
         beyond the pad, the pads leave the body outline, impacts on stops,
         solver warnings in ``stats``): see :mod:`exdex.diagnostics`.
+    exdex.GripperJumpWarning
+        For each time in (0, t_end] where the gripper's velocity jumps (a
+        sampled log that starts or ends at speed, a trapezoid without ramps),
+        with the time and the size of the jump. Every method applies the
+        same jump to the object: it keeps its absolute velocity (the plates
+        cannot transmit an impulse).
     """
     dt, t_end = _check_times(t_end, dt)
     method = resolve_method(scene, method)
     spec = _spec(scene, method, friction_solver, eps, rtol, atol)
     out = _core.simulate(spec, t_end, dt)
+    _warn_jumps(scene, _jumps(scene, spec), t_end)
     res = _result(out, scene, method, friction_solver, dt)
     diagnostics.issue(diagnostics.findings(res))
     return res
@@ -432,7 +491,7 @@ class Model:
     and the stick flag), without building the trajectory arrays.
     """
 
-    __slots__ = ("scene", "method", "friction_solver", "_model")
+    __slots__ = ("scene", "method", "friction_solver", "_model", "_jumps")
 
     def __init__(self, scene: Scene, method: Method = "implicit", friction_solver: FrictionSolver = "scalar",
                  eps: float = 1e-4, rtol: float = 1e-8, atol: float = 1e-10) -> None:
@@ -440,6 +499,7 @@ class Model:
         spec = _spec(scene, method, friction_solver, eps, rtol, atol)
         self.scene, self.method, self.friction_solver = scene, method, friction_solver
         self._model = _core.compile(spec)
+        self._jumps = _jumps(scene, spec)
 
     @property
     def ndof(self) -> int:
@@ -449,7 +509,9 @@ class Model:
     def simulate(self, t_end: float, dt: float = 1e-3) -> Result:
         """Run from t = 0 to ``t_end`` in steps of ``dt``: an :class:`exdex.Result`."""
         dt, t_end = _check_times(t_end, dt)
-        res = _result(self._model.simulate(t_end, dt), self.scene, self.method, self.friction_solver, dt)
+        out = self._model.simulate(t_end, dt)
+        _warn_jumps(self.scene, self._jumps, t_end)
+        res = _result(out, self.scene, self.method, self.friction_solver, dt)
         diagnostics.issue(diagnostics.findings(res))
         return res
 
@@ -457,7 +519,9 @@ class Model:
         """Run like :meth:`simulate` and return only the last sample:
         ``(q, v, stick)`` with q, v tuples of ``ndof`` floats."""
         dt, t_end = _check_times(t_end, dt)
-        return self._model.final(t_end, dt)
+        out = self._model.final(t_end, dt)
+        _warn_jumps(self.scene, self._jumps, t_end)
+        return out
 
     def __repr__(self) -> str:
         return f"exdex.Model(ndof={self.ndof}, method={self.method!r}, friction_solver={self.friction_solver!r})"

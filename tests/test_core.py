@@ -97,7 +97,7 @@ def test_sampled_trajectory_matches_analytic_motion():
     sc = exdex.Scene(body=exdex.Body(mass=0.1), grasp=exdex.Grasp(mu=0.0, grip_force=0.0), motion=mo,
                      gravity=(0, 0, 0), v0=(0, -0.02 * 2 * np.pi, 0))
     r = exdex.simulate(sc, 0.9, dt=1e-4)
-    # natural end conditions make the spline inexact near the ends: compare inside
+    # the end slopes come from the quadratic through three end samples (second order): compare inside
     inside = (r.t > 0.1) & (r.t < 0.8)
     np.testing.assert_allclose(r.q[inside, 0], -0.02 * np.sin(2 * np.pi * r.t[inside]), atol=2e-4)
 

@@ -380,3 +380,22 @@ def test_cli_run_errors_are_messages(tmp_path):
     exdex.save_scene(sc, tmp_path / "s.toml")
     p = _cli("run", "s.toml", "--dt", "-1", "--no-progress", cwd=tmp_path)
     assert p.returncode != 0 and "dt must be" in p.stderr and "Traceback" not in p.stderr
+
+
+def test_the_schema_covers_every_scene_field_and_motion():
+    """The round-trip tests above generate these fields and motions: a field or
+    motion added to the scene objects must be added to them (and to the file
+    format, if it holds more than numbers, strings and lists)."""
+    import dataclasses
+
+    fields = {cls.__name__: [f.name for f in dataclasses.fields(cls)]
+              for cls in (exdex.Scene, exdex.Body, exdex.Grasp, exdex.Patch, exdex.Stop)}
+    assert fields == {
+        "Scene": ["body", "grasp", "motion", "dof", "slide_axis", "q0", "v0", "gripper_rotation",
+                  "gripper_position", "gravity", "stops"],
+        "Body": ["mass", "inertia", "size", "outline"],
+        "Grasp": ["mu", "grip_force", "patch", "fingers"],
+        "Patch": ["e_r", "center", "shape", "dims"],
+        "Stop": ["point", "normal"],
+    }
+    assert sorted(io.MOTIONS) == ["AsymmetricProfile", "Rest", "SampledTrajectory", "TrapezoidalProfile"]

@@ -1,6 +1,7 @@
 /* fuzz_motion.c -- exdex_motion_alloc / _eval / _end and the scalar profiles
  * on fuzzed motion definitions (all four kinds, translation and rotation,
- * sampled poses), initial poses and evaluation times.
+ * sampled poses with their end conditions, relative replay and tool offset),
+ * initial poses and evaluation times.
  *
  * Checks: a non-finite value in a field the kind uses gives EXDEX_EINVAL; a
  * failed alloc returns NULL with a status and names the field; EXDEX_OK from
@@ -56,6 +57,15 @@ void fz_decode_motion(fz *f, fz_motion *m)
             for (int c = 0; c < 7; c++) m->poses[7 * i + c] = fz_num(f, -1.0, 1.0);
         d->times = fz_pick(f, 0, 31) ? m->times : NULL;
         d->poses = fz_pick(f, 0, 31) ? m->poses : NULL;
+        /* end conditions, relative replay, tool offset */
+        for (int e = 0; e < 2; e++) {
+            d->end_given[e] = fz_int(f, 0, 1);
+            for (int c = 0; c < 3; c++) d->end_velocity[e][c] = fz_num(f, -1.0, 1.0);
+            for (int c = 0; c < 3; c++) d->end_omega[e][c] = fz_num(f, -3.0, 3.0);
+        }
+        d->relative = fz_int(f, 0, 1);
+        d->tool = fz_int(f, 0, 1);
+        for (int c = 0; c < 7; c++) d->tool_pose[c] = fz_num(f, -1.0, 1.0);
     }
     rmode = fz_pick(f, 0, 7);
     if (rmode == 0) {
@@ -85,6 +95,11 @@ void fz_decode_motion(fz *f, fz_motion *m)
     if (d->kind == EXDEX_MOTION_SAMPLED && d->times && d->poses && d->n_samples <= MAX_SAMPLES &&
         (nf(m->times, (int)d->n_samples) || nf(m->poses, 7 * (int)d->n_samples)))
         m->used_nonfinite = 1;
+    if (d->kind == EXDEX_MOTION_SAMPLED) {
+        for (int e = 0; e < 2; e++)
+            if (d->end_given[e] == 1 && (nf(d->end_velocity[e], 3) || nf(d->end_omega[e], 3))) m->used_nonfinite = 1;
+        if (d->tool == 1 && nf(d->tool_pose, 7)) m->used_nonfinite = 1;
+    }
 }
 
 static void check_profiles(fz *f)

@@ -916,3 +916,446 @@ EXDEX_TEST(motion_rotation_axis_near_dbl_max)
         exdex_motion_free(m);
     }
 }
+
+/* ------------------------------------------------ sampled logs: end conditions
+ *
+ * References: polynomials the clamped spline reproduces exactly (a cubic
+ * spline with exact end slopes reproduces every cubic, so a quadratic log
+ * with the right end slopes comes back exactly), hand-composed poses, and
+ * the end rule's threshold worked out by hand: for x = v0 t + a t^2 / 2
+ * sampled at steps h, the quadratic through the first three samples is x
+ * itself, its start velocity v0, D1 = v0 h + a h^2 / 2, so
+ * v0 . D1 <= |D1|^2 / (2 h)  <=>  v0 <= a h / 2. */
+
+static exdex_motion *sampled_def(exdex_motion_def *d, const double *times, const double *poses, size_t n,
+                                 const double *R0, const double *p0)
+{
+    int status = -1;
+    const char *bad = NULL;
+    exdex_motion *m;
+    d->kind = EXDEX_MOTION_SAMPLED;
+    d->n_samples = n;
+    d->times = times;
+    d->poses = poses;
+    m = exdex_motion_alloc(d, R0, p0, &status, &bad);
+    ENSURE(m != NULL && status == EXDEX_OK);
+    return m;
+}
+
+/* x(t) = x0 + v0 t + a t^2 / 2 along e, identity orientation, at times t */
+static void fill_quadratic(double *poses, const double *t, size_t n, const double x0[3], const double e[3],
+                           double v0, double a)
+{
+    for (size_t i = 0; i < n; i++) {
+        double s = v0 * t[i] + 0.5 * a * t[i] * t[i];
+        for (int j = 0; j < 3; j++) poses[7 * i + j] = x0[j] + s * e[j];
+        poses[7 * i + 3] = 1.0;
+        poses[7 * i + 4] = poses[7 * i + 5] = poses[7 * i + 6] = 0.0;
+    }
+}
+
+EXDEX_TEST(motion_sampled_uniform_acceleration_from_rest_is_exact)
+{
+    /* a log of x = a t^2 / 2 (non-uniform sample times from t = 0): the start
+     * is at rest (v0 = 0 exactly), the end slope is the quadratic's, so the
+     * spline is the quadratic: v = a t e, acc = a e everywhere inside */
+    double t[9], poses[7 * 9], x0[3] = {0.1, -0.2, 0.3}, e[3] = {2.0 / 3.0, -1.0 / 3.0, 2.0 / 3.0};
+    double a = 0.7, tj[2], dv[2][3], dw[2][3];
+    exdex_motion_def d = zero_def();
+    exdex_motion *m;
+    for (int i = 0; i < 9; i++) t[i] = 0.05 * (i + 0.3 * sin((double)i));
+    fill_quadratic(poses, t, 9, x0, e, 0.0, a);
+    m = sampled_def(&d, t, poses, 9, NULL, NULL);
+    if (!m) return;
+    for (int i = 0; i <= 50; i++) {
+        double tt = t[0] + (t[8] - t[0]) * i / 50.0 * (1.0 - 1e-12);
+        exdex_kinematics k;
+        ENSURE(exdex_motion_eval(m, tt, &k) == EXDEX_OK);
+        for (int j = 0; j < 3; j++) {
+            ENSURE_CLOSE(k.p[j], x0[j] + 0.5 * a * tt * tt * e[j], 1e-15);
+            ENSURE_CLOSE(k.v[j], a * tt * e[j], 1e-13);
+            ENSURE_CLOSE(k.a[j], a * e[j], 1e-11);
+            ENSURE(k.w[j] == 0.0 && k.dw[j] == 0.0);
+        }
+    }
+    {
+        exdex_kinematics k;
+        ENSURE(exdex_motion_eval(m, t[0], &k) == EXDEX_OK);
+        ENSURE(k.v[0] == 0.0 && k.v[1] == 0.0 && k.v[2] == 0.0);  /* clamped: exactly at rest */
+    }
+    /* one jump: back to rest at the last sample, -a t_last e */
+    ENSURE(exdex_motion_jumps(m, tj, dv, dw) == 1);
+    ENSURE(tj[0] == t[8]);
+    for (int j = 0; j < 3; j++) {
+        ENSURE_CLOSE(dv[0][j], -a * t[8] * e[j], 1e-13);
+        ENSURE(dw[0][j] == 0.0);
+    }
+    exdex_motion_free(m);
+}
+
+EXDEX_TEST(motion_sampled_constant_speed_jumps_at_both_ends)
+{
+    /* x = x0 + v t sampled from 0.5 s to 1.2 s: both ends at speed; the
+     * spline is the line; the gripper rests before and after (right-
+     * continuous: at rest from t_last on) and jumps by +v and -v */
+    double t[8], poses[7 * 8], x0[3] = {0, 0, 0}, e[3] = {0.6, 0.0, 0.8}, v = 0.25, tj[2], dv[2][3], dw[2][3];
+    exdex_motion_def d = zero_def();
+    exdex_kinematics k;
+    exdex_motion *m;
+    for (int i = 0; i < 8; i++) t[i] = 0.5 + 0.1 * i;
+    fill_quadratic(poses, t, 8, x0, e, v, 0.0);
+    m = sampled_def(&d, t, poses, 8, NULL, NULL);
+    if (!m) return;
+    ENSURE(exdex_motion_jumps(m, tj, dv, dw) == 2);
+    ENSURE(tj[0] == t[0] && tj[1] == t[7]);
+    for (int j = 0; j < 3; j++) {
+        ENSURE_CLOSE(dv[0][j], v * e[j], 1e-14);
+        ENSURE_CLOSE(dv[1][j], -v * e[j], 1e-14);
+        ENSURE(dw[0][j] == 0.0 && dw[1][j] == 0.0);
+    }
+    ENSURE(exdex_motion_eval(m, 0.8, &k) == EXDEX_OK);
+    for (int j = 0; j < 3; j++) ENSURE_CLOSE(k.v[j], v * e[j], 1e-14);
+    ENSURE(exdex_motion_eval(m, t[7], &k) == EXDEX_OK);
+    for (int j = 0; j < 3; j++) {
+        ENSURE(k.v[j] == 0.0 && k.a[j] == 0.0);
+        ENSURE_CLOSE(k.p[j], poses[7 * 7 + j], 1e-16);
+    }
+    ENSURE(exdex_motion_eval(m, 0.4, &k) == EXDEX_OK);
+    for (int j = 0; j < 3; j++) ENSURE(k.v[j] == 0.0 && k.p[j] == poses[j]);
+    exdex_motion_free(m);
+}
+
+EXDEX_TEST(motion_sampled_rest_threshold_is_scale_free)
+{
+    /* x = v0 t + a t^2 / 2, steps h: at rest iff v0 <= a h / 2 (header).
+     * The same decision after scaling lengths by 1e-3 and times by 7. */
+    const double e[3] = {0.0, 1.0, 0.0}, x0[3] = {0, 0, 0};
+    for (int sc = 0; sc < 2; sc++) {
+        double L = sc ? 1e-3 : 1.0, T = sc ? 7.0 : 1.0, h = 0.1 * T, a = 2.0 * L / (T * T);
+        for (int c = 0; c < 2; c++) {
+            double v0 = (c ? 0.55 : 0.45) * a * h, t[6], poses[7 * 6];
+            exdex_motion_def d = zero_def();
+            exdex_kinematics k;
+            exdex_motion *m;
+            for (int i = 0; i < 6; i++) t[i] = i * h;
+            fill_quadratic(poses, t, 6, x0, e, v0, a);
+            m = sampled_def(&d, t, poses, 6, NULL, NULL);
+            if (!m) continue;
+            ENSURE(exdex_motion_eval(m, 0.0, &k) == EXDEX_OK);
+            if (c == 0)
+                ENSURE(k.v[1] == 0.0);                  /* clamped at rest */
+            else
+                ENSURE_CLOSE(k.v[1], v0, 1e-12 * v0);  /* the quadratic's start velocity */
+            exdex_motion_free(m);
+        }
+    }
+}
+
+/* unit quaternion of a rotation by th about the unit axis u */
+static void quat_axis(double q[4], const double u[3], double th)
+{
+    q[0] = cos(0.5 * th);
+    for (int j = 0; j < 3; j++) q[1 + j] = sin(0.5 * th) * u[j];
+}
+
+EXDEX_TEST(motion_sampled_orientation_rule_separate_from_position)
+{
+    /* the orientation turns from rest with a uniform angular acceleration
+     * (angle al t^2 / 2 about a fixed axis) while the origin cruises at a
+     * constant velocity: the start is clamped for the orientation (w = 0
+     * exactly) but not for the position (v = the cruise velocity) */
+    const double u[3] = {0.0, 0.6, 0.8}, vel[3] = {0.1, 0.0, -0.05}, al = 3.0;
+    double t[10], poses[7 * 10];
+    exdex_motion_def d = zero_def();
+    exdex_kinematics k;
+    exdex_motion *m;
+    for (int i = 0; i < 10; i++) {
+        t[i] = 0.02 * i;
+        for (int j = 0; j < 3; j++) poses[7 * i + j] = vel[j] * t[i];
+        quat_axis(poses + 7 * i + 3, u, 0.5 * al * t[i] * t[i]);
+    }
+    m = sampled_def(&d, t, poses, 10, NULL, NULL);
+    if (!m) return;
+    ENSURE(exdex_motion_eval(m, 0.0, &k) == EXDEX_OK);
+    for (int j = 0; j < 3; j++) {
+        ENSURE(k.w[j] == 0.0);
+        ENSURE_CLOSE(k.v[j], vel[j], 1e-15);
+    }
+    exdex_motion_free(m);
+}
+
+EXDEX_TEST(motion_sampled_given_end_velocities)
+{
+    /* the user's end velocities are the spline's end slopes: at the first
+     * sample (right value) and in the jump at the last (minus the left
+     * value) they come back to rounding (w through n' = w n / 2 and
+     * w = 2 vec(n' n*)) */
+    const double u[3] = {0.48, 0.6, 0.64};
+    double t[7], poses[7 * 7], tj[2], dv[2][3], dw[2][3];
+    exdex_motion_def d = zero_def();
+    exdex_kinematics k;
+    exdex_motion *m;
+    for (int i = 0; i < 7; i++) {
+        t[i] = 0.1 * i;
+        poses[7 * i] = 0.1 * sin(3.0 * t[i]);
+        poses[7 * i + 1] = 0.05 * t[i];
+        poses[7 * i + 2] = -0.2 * t[i] * t[i];
+        quat_axis(poses + 7 * i + 3, u, 0.4 * t[i] + 0.3);
+    }
+    d.end_given[0] = d.end_given[1] = 1;
+    d.end_velocity[0][0] = 0.3; d.end_velocity[0][1] = -0.1; d.end_velocity[0][2] = 0.02;
+    d.end_omega[0][0] = 0.5; d.end_omega[0][1] = -1.5; d.end_omega[0][2] = 0.25;
+    d.end_velocity[1][2] = -0.4;
+    d.end_omega[1][1] = 2.0;
+    m = sampled_def(&d, t, poses, 7, NULL, NULL);
+    if (!m) return;
+    ENSURE(exdex_motion_eval(m, 0.0, &k) == EXDEX_OK);
+    for (int j = 0; j < 3; j++) {
+        ENSURE(k.v[j] == d.end_velocity[0][j]);
+        ENSURE_CLOSE(k.w[j], d.end_omega[0][j], 1e-15);
+    }
+    ENSURE(exdex_motion_jumps(m, tj, dv, dw) == 2);
+    for (int j = 0; j < 3; j++) {
+        ENSURE(dv[0][j] == d.end_velocity[0][j]);
+        ENSURE_CLOSE(dw[0][j], d.end_omega[0][j], 1e-15);
+        ENSURE(dv[1][j] == -d.end_velocity[1][j]);
+        ENSURE_CLOSE(dw[1][j], -d.end_omega[1][j], 1e-15);
+    }
+    exdex_motion_free(m);
+    /* given zero velocities: no jump at all */
+    d = zero_def();
+    d.end_given[0] = d.end_given[1] = 1;
+    m = sampled_def(&d, t, poses, 7, NULL, NULL);
+    if (!m) return;
+    ENSURE(exdex_motion_jumps(m, NULL, NULL, NULL) == 0);
+    exdex_motion_free(m);
+}
+
+/* R of a unit quaternion, by hand (x_A = q x_B q*) */
+static void quat_R(double R[9], const double q[4])
+{
+    double w = q[0], x = q[1], y = q[2], z = q[3];
+    R[0] = w * w + x * x - y * y - z * z; R[1] = 2 * (x * y - w * z);       R[2] = 2 * (x * z + w * y);
+    R[3] = 2 * (x * y + w * z);       R[4] = w * w - x * x + y * y - z * z; R[5] = 2 * (y * z - w * x);
+    R[6] = 2 * (x * z - w * y);       R[7] = 2 * (y * z + w * x);       R[8] = w * w - x * x - y * y + z * z;
+}
+
+static void mattmul3(double C[9], const double A[9], const double B[9])  /* A B^T */
+{
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            C[3 * i + j] = A[3 * i] * B[3 * j] + A[3 * i + 1] * B[3 * j + 1] + A[3 * i + 2] * B[3 * j + 2];
+}
+
+static void matvec3(double r[3], const double A[9], const double v[3])
+{
+    for (int i = 0; i < 3; i++) r[i] = A[3 * i] * v[0] + A[3 * i + 1] * v[1] + A[3 * i + 2] * v[2];
+}
+
+EXDEX_TEST(motion_sampled_relative_and_tool_composition)
+{
+    /* B(t) = P L(t) X with X the tool pose and P = G0 (L0 X)^-1 (relative);
+     * composed here by hand from the plain log's kinematics (same spline:
+     * the tool and the relative frame do not change the interpolated L):
+     * R_B = R_P R_L R_X, p_B = p_P + R_P (p_L + R_L p_X), w_B = R_P w_L,
+     * v_B = R_P (v_L + w_L x R_L p_X). At the sample times B(t_0) = G0. */
+    const double u[3] = {0.0, 0.8, -0.6}, uX[3] = {1.0, 0.0, 0.0};
+    double t[6], poses[7 * 6], R0[9], p0[3] = {0.4, -0.1, 0.9}, q0[4], RX[9], RL0[9], RLX[9], RP[9], pP[3], pX[3] = {0.01, 0.02, 0.15};
+    exdex_motion_def d = zero_def(), dp = zero_def();
+    exdex_motion *m, *mp;
+    quat_axis(q0, u, 0.7);
+    quat_R(R0, q0);
+    for (int i = 0; i < 6; i++) {
+        t[i] = 0.2 * i;
+        poses[7 * i] = 1.0 + 0.3 * t[i];
+        poses[7 * i + 1] = -0.5 * t[i] * t[i];
+        poses[7 * i + 2] = 0.2 + 0.1 * sin(4.0 * t[i]);
+        quat_axis(poses + 7 * i + 3, u, 1.2 * t[i] * t[i] - 0.4);
+    }
+    d.relative = 1;
+    d.tool = 1;
+    memcpy(d.tool_pose, pX, sizeof pX);
+    quat_axis(d.tool_pose + 3, uX, 0.5 * PI);
+    m = sampled_def(&d, t, poses, 6, R0, p0);
+    mp = sampled_def(&dp, t, poses, 6, NULL, NULL);
+    if (!m || !mp) {
+        exdex_motion_free(m);
+        exdex_motion_free(mp);
+        return;
+    }
+    quat_R(RX, d.tool_pose + 3);
+    quat_R(RL0, poses + 3);
+    matmul3(RLX, RL0, RX);
+    mattmul3(RP, R0, RLX);
+    {
+        double a[3];
+        matvec3(a, RL0, pX);
+        for (int j = 0; j < 3; j++) a[j] += poses[j];
+        matvec3(pP, RP, a);
+        for (int j = 0; j < 3; j++) pP[j] = p0[j] - pP[j];
+    }
+    for (int i = 0; i <= 20; i++) {
+        double tt = i == 0 ? 0.0 : 0.0497 * i, RB[9], T1[9], pB[3], a[3], b[3], wB[3], vB[3];
+        exdex_kinematics k, kl;
+        ENSURE(exdex_motion_eval(m, tt, &k) == EXDEX_OK);
+        ENSURE(exdex_motion_eval(mp, tt, &kl) == EXDEX_OK);
+        matmul3(T1, kl.R, RX);
+        matmul3(RB, RP, T1);
+        matvec3(a, kl.R, pX);
+        for (int j = 0; j < 3; j++) b[j] = kl.p[j] + a[j];
+        matvec3(pB, RP, b);
+        matvec3(wB, RP, kl.w);
+        cross3(b, kl.w, a);
+        for (int j = 0; j < 3; j++) b[j] += kl.v[j];
+        matvec3(vB, RP, b);
+        for (int j = 0; j < 9; j++) ENSURE_CLOSE(k.R[j], RB[j], 1e-14);
+        for (int j = 0; j < 3; j++) {
+            ENSURE_CLOSE(k.p[j], pP[j] + pB[j], 1e-14);
+            ENSURE_CLOSE(k.w[j], wB[j], 1e-13);
+            ENSURE_CLOSE(k.v[j], vB[j], 1e-13);
+        }
+        if (i == 0) {
+            /* the replay starts at the initial gripper pose */
+            for (int j = 0; j < 9; j++) ENSURE_CLOSE(k.R[j], R0[j], 1e-15);
+            for (int j = 0; j < 3; j++) ENSURE_CLOSE(k.p[j], p0[j], 1e-15);
+        }
+    }
+    /* velocity of B's origin against central differences of its position */
+    {
+        double hh = 1e-6, tt = 0.53;
+        exdex_kinematics k, kp, km;
+        ENSURE(exdex_motion_eval(m, tt, &k) == EXDEX_OK);
+        ENSURE(exdex_motion_eval(m, tt + hh, &kp) == EXDEX_OK);
+        ENSURE(exdex_motion_eval(m, tt - hh, &km) == EXDEX_OK);
+        for (int j = 0; j < 3; j++) {
+            ENSURE_CLOSE(k.v[j], (kp.p[j] - km.p[j]) / (2 * hh), 1e-7);
+            ENSURE_CLOSE(k.a[j], (kp.v[j] - km.v[j]) / (2 * hh), 1e-6);
+        }
+    }
+    exdex_motion_free(m);
+    exdex_motion_free(mp);
+}
+
+EXDEX_TEST(motion_switches_and_trapezoid_jumps)
+{
+    double ts[EXDEX_MOTION_MAX_SWITCHES], tj[2], dv[2][3], dw[2][3];
+    exdex_motion_def d = zero_def();
+    exdex_motion *m;
+    int status;
+    /* Eq. 7: beta T, (2 - beta) T, 2 T; no velocity jump */
+    d.kind = EXDEX_MOTION_ASYMMETRIC;
+    d.axis[2] = 1.0; d.amplitude = 0.1; d.duration = 0.5; d.beta = 0.8;
+    m = exdex_motion_alloc(&d, NULL, NULL, &status, NULL);
+    ENSURE(m && exdex_motion_switches(m, ts) == 3);
+    if (m) {
+        ENSURE_CLOSE(ts[0], 0.4, 1e-16);
+        ENSURE_CLOSE(ts[1], 0.6, 1e-16);
+        ENSURE(ts[2] == 1.0);
+        ENSURE(exdex_motion_jumps(m, tj, dv, dw) == 0);
+    }
+    exdex_motion_free(m);
+    /* a trapezoid without ramps (v_max = X1/T) rotating about an axis
+     * through c: jumps at 0 (+w axis, v = w x (p0 - c)) and T (minus the
+     * same at the end pose Rot(axis, X1)) */
+    d = zero_def();
+    d.kind = EXDEX_MOTION_TRAPEZOID;
+    d.rotation = 1;
+    d.axis[2] = 1.0; d.center[0] = 0.1; d.amplitude = 0.5 * PI; d.duration = 2.0; d.v_max = 0.25 * PI;
+    {
+        const double p0[3] = {0.3, 0.0, 0.0};
+        m = exdex_motion_alloc(&d, NULL, p0, &status, NULL);
+    }
+    ENSURE(m != NULL);
+    if (!m) return;
+    ENSURE(exdex_motion_switches(m, ts) == 2 && ts[0] == 0.0 && ts[1] == 2.0);
+    ENSURE(exdex_motion_jumps(m, tj, dv, dw) == 2);
+    ENSURE(tj[0] == 0.0 && tj[1] == 2.0);
+    /* r0 = (0.2, 0, 0): v = w x r0 = (0, 0.2 w, 0); at T r = (0, 0.2, 0):
+     * v = (-0.2 w, 0, 0) */
+    ENSURE_CLOSE(dw[0][2], 0.25 * PI, 1e-15);
+    ENSURE_CLOSE(dv[0][1], 0.2 * 0.25 * PI, 1e-15);
+    ENSURE_CLOSE(dw[1][2], -0.25 * PI, 1e-15);
+    ENSURE_CLOSE(dv[1][0], 0.2 * 0.25 * PI, 1e-15);
+    ENSURE_SMALL(dv[1][1], 1e-15);
+    exdex_motion_free(m);
+}
+
+EXDEX_TEST(motion_sampled_option_bad_input)
+{
+    double t[5] = {0, 1, 2, 3, 4}, poses[7 * 5];
+    exdex_motion_def d = zero_def();
+    const double eye[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, p0[3] = {0, 0, 0};
+    memset(poses, 0, sizeof poses);
+    for (int i = 0; i < 5; i++) poses[7 * i + 3] = 1.0;
+    d.kind = EXDEX_MOTION_SAMPLED; d.n_samples = 5; d.times = t; d.poses = poses;
+    d.end_given[1] = 2; expect_bad(&d, eye, p0, "motion.end_given");
+    d.end_given[1] = 1; d.end_velocity[1][2] = NAN; expect_bad(&d, eye, p0, "motion.end_velocity");
+    d.end_velocity[1][2] = 0.0; d.end_omega[1][0] = INFINITY; expect_bad(&d, eye, p0, "motion.end_omega");
+    /* not given: the values are ignored */
+    d.end_given[1] = 0;
+    {
+        int status = -1;
+        exdex_motion *m = exdex_motion_alloc(&d, eye, p0, &status, NULL);
+        ENSURE(m != NULL && status == EXDEX_OK);
+        exdex_motion_free(m);
+    }
+    d.end_omega[1][0] = 0.0;
+    d.relative = -1; expect_bad(&d, eye, p0, "motion.relative");
+    d.relative = 1; d.tool = 3; expect_bad(&d, eye, p0, "motion.tool");
+    d.tool = 1; expect_bad(&d, eye, p0, "motion.tool_pose");  /* zero quaternion */
+    d.tool_pose[3] = 1.0; d.tool_pose[0] = NAN; expect_bad(&d, eye, p0, "motion.tool_pose");
+    d.tool_pose[0] = 0.0;
+    {
+        int status = -1;
+        exdex_motion *m = exdex_motion_alloc(&d, eye, p0, &status, NULL);
+        ENSURE(m != NULL && status == EXDEX_OK);
+        exdex_motion_free(m);
+    }
+}
+
+EXDEX_TEST(motion_log_ending_at_speed_every_method_jumps)
+{
+    /* Translation along B x (= A x), no gravity component along it, mu = 0:
+     * the gripper cruises at v and the log ends at speed at t_last = 0.2 s.
+     * Before t_last the object moves with the gripper (relative rest, no
+     * load along the axis). Through the jump it keeps its absolute velocity
+     * v (the plates cannot transmit an impulse), so from t_last on its
+     * relative velocity is +v exactly, for every method (the state recorded
+     * at t_last is the right limit), and it moves v (t_end - t_last)
+     * relative to the gripper by t_end. */
+    const double v = 0.29;
+    double t[21], poses[7 * 21];
+    for (int i = 0; i < 21; i++) {
+        t[i] = 0.01 * i;
+        memset(poses + 7 * i, 0, 7 * sizeof(double));
+        poses[7 * i] = v * t[i];
+        /* R_AB of the default scene: B y = A z, a quarter turn about A x */
+        poses[7 * i + 3] = sqrt(0.5);
+        poses[7 * i + 4] = sqrt(0.5);
+    }
+    for (int method = EXDEX_METHOD_IMPLICIT; method <= EXDEX_METHOD_EXPLICIT; method++) {
+        exdex_scene_def d = exdex_default_scene_def();
+        exdex_model *mo;
+        exdex_trajectory tr;
+        exdex_stats st;
+        double tt[401], q[401], vv[401], w[3 * 401];
+        unsigned char stick[401];
+        int status;
+        d.mu = 0.0;
+        d.mass = 0.1;
+        d.slide_axis[0] = 1.0; d.slide_axis[1] = 0.0;
+        d.method = method;
+        d.motion.kind = EXDEX_MOTION_SAMPLED;
+        d.motion.n_samples = 21; d.motion.times = t; d.motion.poses = poses;
+        mo = exdex_model_alloc(&d, &status, NULL);
+        ENSURE(mo != NULL);
+        if (!mo) continue;
+        tr.n = 401; tr.t = tt; tr.q = q; tr.v = vv; tr.wrench = w; tr.stick = stick; tr.stop_force = NULL;
+        ENSURE(exdex_simulate(mo, 0.4, 1e-3, &tr, &st) == EXDEX_OK);
+        ENSURE_CLOSE(vv[199], 0.0, 1e-12);    /* t = 0.199: still with the gripper */
+        ENSURE_CLOSE(vv[200], v, 1e-12);      /* t = 0.2: the right limit */
+        ENSURE_CLOSE(vv[400], v, 1e-12);
+        ENSURE_CLOSE(q[400] - q[200], v * 0.2, 1e-12);
+        exdex_model_free(mo);
+    }
+}
