@@ -250,8 +250,8 @@ static void planar_impact_and_set(hyb *H, double t, const exdex_kinematics *kin,
         double per_stop[EXDEX_MAX_STOPS] = {0};
         for (int i = 0; i < n; i++) {
             y[9 + rows[i] / H->nv] += lam[i];
-            /* an approached row (gap rate below -RATE_TOL) takes an impact */
-            if (lam[i] > 0 && ex_dot3(Gr[i], y + 3) - b[i] < -RATE_TOL)
+            /* an approached row (gap rate below -tol.rate) takes an impact */
+            if (lam[i] > 0 && ex_dot3(Gr[i], y + 3) - b[i] < -m->tol.rate)
                 per_stop[rows[i] / H->nv] += lam[i];
         }
         for (int k = 0; k < H->ns; k++) method_note_impact(H->st, t, k, per_stop[k]);
