@@ -167,8 +167,8 @@ def test_impact_on_a_stop_reports_the_impulse(method, dof):
     frictionless impact takes the impulse m sqrt(2 g H) = 0.0990 N s at
     t = sqrt(2 H / g) = 0.101 s (closed form). The event-driven methods locate
     it exactly; the time-stepping ones within three steps, their impulse
-    (the burst of stop impulses) off by about the weight's impulse over a step,
-    m g dt. stop_force alone shows a spike of about impulse / dt instead."""
+    (the burst of stop impulses, at most four steps) off by at most the
+    weight's impulse over those steps plus one, 5 m g dt. stop_force alone shows a spike of about impulse / dt instead."""
     m, H = 0.1, 0.05
     body = exdex.Body.box(m, (0.02, 0.02, 0.02))
     floor = exdex.Stop(point=(0, 0, -0.01 - H), normal=(0, 0, 1))
@@ -182,7 +182,9 @@ def test_impact_on_a_stop_reports_the_impulse(method, dof):
             assert st["max_impulse"] == pytest.approx(J, rel=1e-8)
             assert st["max_impulse_t"] == pytest.approx(t_hit, rel=1e-8)
         else:
-            assert abs(st["max_impulse"] - J) <= 2 * m * G * dt
+            # the burst spans at most IMPACT_STEPS = 4 steps, each also carrying at
+            # most the weight's impulse m g dt, plus one step of approach error
+            assert abs(st["max_impulse"] - J) <= 5 * m * G * dt
             assert abs(st["max_impulse_t"] - t_hit) <= 3 * dt
         imp = [w for w in found if w.kind == "impact"]
         assert len(imp) == 1 and imp[0].value == st["max_impulse"]
