@@ -408,6 +408,11 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
         For bad arguments, naming the parameter and its allowed range.
     exdex.SolverError
         If a solver fails to converge (``.status`` carries the C status).
+        The message says when (``.time``, the time the run had reached
+        [s], or None), why (``.cause``: ``"events"`` for a Zeno-like
+        accumulation of switches, ``"step_budget"``, ``"step_floor"``,
+        ``"stepper"``, ``"solver"`` or ``"nonfinite"``) and what to use
+        instead (e.g. ``method="implicit"``, a larger rtol/atol or eps).
 
     Warns
     -----
