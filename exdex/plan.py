@@ -590,8 +590,12 @@ class Band:
 
 
 def _monotone(y, axis):
+    """Monotone along axis, up to rounding: steps within 64 ulps of the
+    outcomes' magnitude count as flat (an outcome that does not depend on the
+    parameter, e.g. a slide onto a stop, is then exactly monotone)."""
     d = np.diff(y, axis=axis)
-    return bool(np.all(d >= 0) or np.all(d <= 0))
+    tol = 64 * np.finfo(float).eps * float(np.max(np.abs(y), initial=0.0))
+    return bool(np.all(d >= -tol) or np.all(d <= tol))
 
 
 def _make_band(quantity, samples, Y):
