@@ -603,7 +603,7 @@ def check_scene(zs, methods=METHODS, agree=METHODS):
                                             dict(rtol=math.sqrt(REF_RTOL * REF_RTOL_TIGHT))] if full else [])
         else:
             eps0 = EPS
-            if full and runs.get("event") and len(runs["event"]) == 2:
+            if full and runs.get("event") and len(runs["event"]) == 3:
                 creep = regularised_creep(zs, runs["event"][1], EPS)
                 eps0 = EPS * max(min(1.0, CREEP_REGIME / creep), 1.0 / EPS_RANGE) if creep > 0 else EPS
             seq = [dict(eps_rel=eps0 / k, n_out=N_OUT_FINE) for k in ((1, 2, 4) if full else (1,))]

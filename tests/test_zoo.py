@@ -1,0 +1,234 @@
+"""Every method on the scene zoo (tests/zoo.py): it returns, its outputs are
+finite, and it agrees with an independent reference within its own stated
+error.
+
+Scenes: ``zoo.zoo_scene(seed)`` for seeds 0 .. N_SCENES - 1, every method on
+every one (benchmarks/zoo_long.py runs 10,000 and more). What a zoo scene
+can be, and why each one is valid, is in the generator's docstring.
+
+Returning. A ``SolverError`` is a failure, except where the exact solution
+itself is Zeno-like (infinitely many stick/slip switches accumulating at a
+time): then the message must say when (``t = ``), why (``Zeno``) and what to
+use instead (``method=``), and the accumulation must be real: the event
+and regularised methods count events per output interval (at most 1000),
+so a finite burst of switches passes once the output grid is 64 times finer
+(t_end / ZENO_OUT), while a true accumulation exceeds any budget in the
+interval that contains its limit time. The failing method and the exact
+(event) method must both still report it on that grid.
+
+Agreement. The error metric is the final pose (x, y, theta) of the object
+in the gripper, as a length relative to the object's size L:
+``max(|dx|, |dy|, radius |dtheta|) / L`` (zoo.pose_distance; radius the
+farthest outline vertex, so an angle error counts as that vertex's
+displacement). The final pose is what a user of these scenes asks for and a
+continuous function of the trajectory, while velocities, wrenches and stick
+flags jump at switches, where every time-stepping error is first order in
+the switch time. Scale-free: every run uses tolerances in the scene's own
+units (zoo.run), so a 1 mm and a 1 m scene are held to the same standard.
+
+* Reference: the event method (exact Coulomb friction, exact stick, error
+  set by its tolerance) at rtol REF_RTOL_TIGHT = 1e-11, output every
+  t_end / 64. Its own check is its stated error: set by the tolerance, i.e.
+  proportional to rtol. The stepper keeps each step's error below rtol
+  relative to the state, so the final error is e(rtol) = c rtol (c the sum
+  of the steps' error constants propagated to t_end; seen in the zoo: a
+  2324-step planar run is off by 1.19e-5 L at rtol 1e-9, 1.19e-6 at 1e-10,
+  1.18e-7 at 1e-11). With D9 and D10 the distances of the runs at 1e-9
+  (output t_end / 8) and 1e-10 (output t_end / 8) from the reference, the
+  model gives D10 / D9 = (1e-10 - 1e-11) / (1e-9 - 1e-11) = 0.09; the check
+  is D10 <= PROPORTIONAL D9 (+ the allowances below) with PROPORTIONAL =
+  0.3, which lets c change by up to 3x between tolerances (the step
+  sequence changes with rtol). An answer that does not converge at the
+  tolerance's rate fails it: a switch located at the next output sample
+  instead of where it happens (the coarse runs use t_end / 8, the reference
+  t_end / 64: ``dt`` is only the output grid), a stop penetrated by a
+  tolerance-independent amount, a wrong branch taken. The reference's own
+  error, ~D9 / 100, is bounded by D9 in the bounds below.
+
+* Conditioning. Some valid scenes are near-degenerate: the load touches the
+  friction limit, a box balances on a corner. There the final pose is a
+  discontinuous (or very steep) function of the data, and every method's
+  discretisation, a small perturbation of the dynamics, may land on either
+  side. The allowance is measured, not guessed: ``jump``, the largest
+  distance between the reference and the reference with gravity scaled by
+  1 +- DELTA (1e-6, below the relative error of every method checked). For a
+  well-conditioned scene it is ~1e-6 x its condition number and negligible;
+  at a threshold it is the size of the discontinuity, the ambiguity of the
+  answer itself. Every bound below adds ``jump`` (computed only for scenes
+  that exceed their bound without it), the reference's own estimate, and a
+  floor of REF_RTOL.
+
+* Implicit (first order in dt) and explicit: runs at h = t_end / 500, h/2,
+  h/4 and h/8, successive differences D1, D2, D3 (D1 = |q(h) - q(h/2)|,
+  ...). Model of the error: e(h) = h g(h), where g collects the smooth
+  phases' first-order term and one term per stick/slip switch or impact
+  inside a step, which varies with the switch's position inside its step: g
+  keeps its sign and varies within a factor kappa from one step to the next
+  finer one. For the last pair, D3 >= (h/4) g_min (1 - kappa / 2) and
+  |e(h/8)| <= (h/8) g_min kappa, so |e(h/8)| <= D3 kappa / (2 - kappa).
+  The bound is S max(D1, D2, D3) with S = 3, which holds for kappa <= 1.5
+  through D3 alone; the maximum over the three differences covers the
+  coincidences where one difference vanishes because a switch sits at the
+  same place in two nested grids (seen in the zoo: identical results at h/2
+  and h/4, then a jump). The explicit method never sticks: where the exact
+  solution sticks its velocity chatters in a band of width 2 h C / M about 0
+  and its pose creeps by at most h C / M per unit time (zoo.creep_speed);
+  that creep at h/8 over the reference's stuck time is added.
+
+* Regularised (first order in the smoothing speed eps): runs at eps0,
+  eps0/2 and eps0/4 (eps0 below; output every t_end / 64, as its step
+  budget is per output interval) with the same estimate S max(D1, D2) at
+  eps0/4, plus its own integration tolerance (zoo.integration_tol: its
+  adaptive runs are at REF_RTOL too, so steps x REF_RTOL x (1 + the pose's
+  size), the sum of the steps' errors)
+  and its creep: under a load w inside the friction ellipsoid it does not
+  stick but creeps at eps |E^-1 w| / sqrt((mu N)^2 - |E^-1 w|^2), summed
+  here over the reference's stuck intervals with the reference's wrench
+  (zoo.regularised_creep). That law is first order in eps only while the
+  creep leaves the configuration nearly unchanged (else its error changes
+  the configuration, e.g. a box creeping round a stop corner under a load
+  0.93 of the friction limit), so the ladder starts at eps0 = EPS L / tau
+  (EPS = 1e-2) reduced until the creep at eps0 is at most CREEP_REGIME =
+  0.1 L, but not below EPS / 16 (each halving doubles the cost of a stiff
+  run). Where even EPS / 16 creeps more, the method is outside its
+  first-order regime at any affordable eps: it must return finite values,
+  and the bound is reported, not asserted (test_zoo_regularised_regime
+  bounds how often that happens). Three stiff
+  runs per scene are the expensive part of this file: the agreement runs on
+  every REG_EVERY-th seed, the single run at EPS on all.
+
+Known defects are marked per (method, seed) with ``xfail(strict=True)`` and
+the defect stated; a fix makes them pass, the strict mark then fails, and
+the mark must go: the list can only shrink.
+"""
+import re
+
+import numpy as np
+import pytest
+
+import exdex
+
+import zoo
+
+N_SCENES = 200
+SEEDS = range(N_SCENES)
+#: The regularised method's agreement (three stiff runs) on every REG_EVERY-th
+#: seed; it returns on all of them.
+REG_EVERY = 2
+#: Output grid on which a reported Zeno-like accumulation must persist.
+ZENO_OUT = 512
+
+#: (method, seed) -> the defect; strict xfails.
+KNOWN = {  # noqa: E501 - the defects, stated in full
+    ('event', 3): 'event: SolverError: ("solver did not converge at t = 0.0437262634 s: the adaptive step collapsed below 16 ulps of t; use method=\'implicit\' or a larger rtol/atol", 3) on a planar scene (log, 0 stops) that the implicit method runs',
+    ('event', 9): 'event: SolverError: ("solver did not converge at t = 0.174295299 s: the adaptive step collapsed below 16 ulps of t; use method=\'implicit\' or a larger rtol/atol", 3) on a planar scene (log, 2 stops) that the implicit method runs',
+    ('event', 15): 'event: SolverError: ("solver did not converge at t = 0.0122480431 s: more than 1e5 adaptive steps within one output interval (a stiff phase; for \'regularised\' a small eps); use method=\'implicit\', a larger rtol/atol (or eps), or a finer dt (the step budget is per output interval)", 3) on a planar scene (log, 2 stops) that the implicit method runs',
+    ('event', 37): 'event: SolverError: ("solver did not converge at t = 0.24005517 s: more than 1e5 adaptive steps within one output interval (a stiff phase; for \'regularised\' a small eps); use method=\'implicit\', a larger rtol/atol (or eps), or a finer dt (the step budget is per output interval)", 3) on a planar scene (log, 1 stops) that the implicit method runs',
+    ('event', 45): 'event: SolverError: ("solver did not converge at t = 0.154837598 s: more than 1e5 adaptive steps within one output interval (a stiff phase; for \'regularised\' a small eps); use method=\'implicit\', a larger rtol/atol (or eps), or a finer dt (the step budget is per output interval)", 3) on a planar scene (trap, 2 stops) that the implicit method runs',
+    ('event', 64): 'event: SolverError: ("solver did not converge at t = 0.0885245995 s: the adaptive step collapsed below 16 ulps of t; use method=\'implicit\' or a larger rtol/atol", 3) on a planar scene (asym, 1 stops) that the implicit method runs',
+    ('event', 90): 'event: SolverError: ("solver did not converge at t = 0.146682945 s: the adaptive step collapsed below 16 ulps of t; use method=\'implicit\' or a larger rtol/atol", 3) on a planar scene (trap, 1 stops) that the implicit method runs',
+    ('event', 101): 'event: SolverError: ("solver did not converge at t = 0.066922246 s: more than 1e5 adaptive steps within one output interval (a stiff phase; for \'regularised\' a small eps); use method=\'implicit\', a larger rtol/atol (or eps), or a finer dt (the step budget is per output interval)", 3) on a planar scene (log, 0 stops) that the implicit method runs',
+    ('event', 126): 'event: SolverError: ("solver did not converge at t = 0.18726287 s: more than 1e5 adaptive steps within one output interval (a stiff phase; for \'regularised\' a small eps); use method=\'implicit\', a larger rtol/atol (or eps), or a finer dt (the step budget is per output interval)", 3) on a planar scene (log, 0 stops) that the implicit method runs',
+    ('event', 134): 'event: error not proportional to rtol: the runs at rtol 1e-9 and 1e-10 (output t_end/8) are 1.5e-04 and 6.9e-02 L from the rtol 1e-11 run (output t_end/64); the outline sinks 9.6e-04 L into a stop; 8 warnings',
+    ('event', 139): 'event: SolverError: ("solver did not converge at t = 0.0419788465 s: the adaptive step collapsed below 16 ulps of t; use method=\'implicit\' or a larger rtol/atol", 3) on a planar scene (log, 0 stops) that the implicit method runs',
+    ('event', 142): 'event: SolverError: ("solver did not converge at t = 0.971267349 s: more than 1000 stick/slip/contact switches within one output interval (Zeno-like accumulation of events); use method=\'implicit\' (fixed steps, exact stick), or a finer dt (the event budget is per output interval)", 3) on a planar scene (asym, 1 stops) that the implicit method runs; the accumulation vanishes on a finer output grid: not a true Zeno point',
+    ('event', 144): 'event: SolverError: ("solver did not converge at t = 0.512673222 s: more than 1e5 adaptive steps within one output interval (a stiff phase; for \'regularised\' a small eps); use method=\'implicit\', a larger rtol/atol (or eps), or a finer dt (the step budget is per output interval)", 3) on a planar scene (asym, 2 stops) that the implicit method runs',
+    ('implicit', 50): 'implicit: the noisy log ends at 1.8 mm/s (a velocity jump); implicit is dt-independent here (identical at h..h/8) but 5.1e-8 L from the event method: the two methods treat the end jump differently',
+    ('implicit', 125): 'implicit: on a stop its final slide stays 2.2e-7 L from the exact one for dt = t_end/500 to t_end/4000 and then jumps to it at t_end/8000: a discrete contact decision, not a first-order error',
+    ('implicit', 128): 'implicit: the noisy log ends with a velocity jump; implicit is dt-independent here (identical at h..h/8) but 8.2e-8 L from the event method: the two methods treat the end jump differently',
+    ('regularised', 8): 'regularised: SolverError: ("solver did not converge at t = 0.183244158 s: more than 1000 stick/slip/contact switches within one output interval (Zeno-like accumulation of events); use method=\'implicit\' (fixed steps, exact stick), or a finer dt (the event budget is per output interval)", 3) (translation, 2 stops); the event method finds no accumulation there: not a true Zeno point',
+    ('regularised', 9): 'regularised: SolverError: ("solver did not converge at t = 0.262824572 s: more than 1000 stick/slip/contact switches within one output interval (Zeno-like accumulation of events); use method=\'implicit\' (fixed steps, exact stick), or a finer dt (the event budget is per output interval)", 3) (planar, 2 stops); the event method finds no accumulation there: not a true Zeno point',
+    ('regularised', 105): 'regularised: SolverError: ("solver did not converge at t = 0.0564326832 s: more than 1000 stick/slip/contact switches within one output interval (Zeno-like accumulation of events); use method=\'implicit\' (fixed steps, exact stick), or a finer dt (the event budget is per output interval)", 3) (translation, 1 stops); the event method finds no accumulation there: not a true Zeno point',
+    ('regularised', 120): 'regularised: SolverError: ("solver did not converge at t = 0.434881038 s: more than 1000 stick/slip/contact switches within one output interval (Zeno-like accumulation of events); use method=\'implicit\' (fixed steps, exact stick), or a finer dt (the event budget is per output interval)", 3) (translation, 1 stops); the event method finds no accumulation there: not a true Zeno point',
+    ('regularised', 160): 'regularised: SolverError: ("solver did not converge at t = 0.729004638 s: more than 1000 stick/slip/contact switches within one output interval (Zeno-like accumulation of events); use method=\'implicit\' (fixed steps, exact stick), or a finer dt (the event budget is per output interval)", 3) (translation, 2 stops); the event method finds no accumulation there: not a true Zeno point',
+}
+
+
+def _zeno_message_ok(msg):
+    return bool(re.search(r"Zeno", msg) and re.search(r"t = ", msg) and re.search(r"method=", msg))
+
+
+_CACHE = {}
+
+
+def results(seed):
+    """zoo.check_scene of a seed, computed once per test session."""
+    if seed not in _CACHE:
+        zs = zoo.zoo_scene(seed)
+        agree = zoo.METHODS if seed % REG_EVERY == 0 else ("implicit", "event", "explicit")
+        _CACHE[seed] = (zs, zoo.check_scene(zs, agree=agree))
+    return _CACHE[seed]
+
+
+def _cases():
+    for method in zoo.METHODS:
+        for seed in SEEDS:
+            marks = []
+            if (method, seed) in KNOWN:
+                marks.append(pytest.mark.xfail(strict=True, reason=KNOWN[method, seed]))
+            yield pytest.param(method, seed, marks=marks, id=f"{method}-{seed}")
+
+
+@pytest.mark.parametrize("method,seed", list(_cases()))
+def test_zoo_scene(method, seed):
+    zs, out = results(seed)
+    o = out[method]
+    if o["error"]:
+        # only a true Zeno-like accumulation excuses a SolverError (module docstring)
+        assert o["error"].startswith("SolverError") and _zeno_message_ok(o["error"]), (zs, o["error"])
+        for m in {method, "event"}:
+            try:
+                zoo.run(zs, m, n_out=ZENO_OUT)
+            except exdex.SolverError as e:
+                assert _zeno_message_ok(str(e)), (zs, m, str(e))
+            else:
+                raise AssertionError((zs, o["error"], f"but {m} with output every t_end/{ZENO_OUT} finds no accumulation"))
+        return
+    assert np.all(np.isfinite(o["pose"]))
+    ref = out.get("reference")
+    if ref is None or "ok" not in o:  # no reference (its own case reports that), or not compared
+        return
+    assert "jump_error" not in ref, (zs, ref["jump_error"])
+    assert o["ok"], (zs, {k: v for k, v in o.items() if k != "pose"}, {k: v for k, v in ref.items() if k != "pose"})
+
+
+def test_zoo_generator_is_valid_and_covers_the_space():
+    """Every scene the tests draw is accepted by the API (it was built),
+    starts with no outline vertex inside a stop, is a pure function of its
+    seed, and the draws cover each free-coordinate type, motion kind, stop
+    count, 1 mm and 1 m scales, the grip range 0.5x-5x and initial
+    velocities."""
+    seen = {"dof": set(), "motion": set(), "stops": set(), "rotate": set(), "v0": set()}
+    Ls, grips = [], []
+    for seed in range(600):
+        zs = zoo.zoo_scene(seed)
+        if zs.scene.stops:
+            assert zoo.stop_gaps(zs).min() >= 0.0, seed
+        assert zs.t_end > 0.0
+        for k in seen:
+            seen[k].add(zs.tags[k] if k != "motion" else zs.tags[k].split("-")[0])
+        Ls.append(zs.L)
+        grips.append(zs.tags["grip_ratio"])
+    assert zoo.zoo_scene(7).scene == zoo.zoo_scene(7).scene
+    assert seen["dof"] == {"translation", "rotation", "planar"}
+    assert seen["motion"] == {"rest", "asym", "trap", "log"}
+    assert seen["stops"] == {0, 1, 2}
+    assert seen["rotate"] == {True, False} and seen["v0"] == {True, False}
+    assert min(Ls) < 2e-3 and max(Ls) > 0.5
+    assert min(grips) < 0.6 and max(grips) > 4.5
+
+
+def test_zoo_regularised_regime():
+    """Scenes where the regularised method's creep at EPS exceeds
+    CREEP_REGIME (its agreement reported, not asserted) stay a minority
+    of the checked ones: the zoo must test that method, not excuse it."""
+    checked = outside = 0
+    for seed in SEEDS:
+        if seed % REG_EVERY:
+            continue
+        o = results(seed)[1]["regularised"]
+        if "regime" in o:
+            checked += 1
+            outside += not o["regime"]
+    assert checked >= N_SCENES // REG_EVERY // 2
+    assert outside <= 0.1 * checked, (outside, checked)
