@@ -34,47 +34,7 @@
 #include <stdlib.h>
 
 #define TOLF 1e-12       /* relative band at the friction limit, as the event method */
-#define PARALLEL 1e-12   /* rotation axis parallel to the plate normal to this (|axis x n|) */
 #define MAX_PHASES 5
-
-const char *exdex_analytic_unsupported(const exdex_scene_def *d)
-{
-    const exdex_motion_def *mo;
-    if (!d) return "no scene";
-    mo = &d->motion;
-    if (d->dof != EXDEX_DOF_TRANSLATION && d->dof != EXDEX_DOF_ROTATION)
-        return "the analytic method solves 1-DoF scenes (translation or rotation), not planar ones";
-    if (d->n_stops != 0) return "the analytic method solves scenes without stops";
-    if (mo->kind == EXDEX_MOTION_SAMPLED)
-        return "the analytic method needs a piecewise-constant gripper acceleration (Eq. 7, trapezoid or "
-               "rest), not a sampled log";
-    if (mo->kind == EXDEX_MOTION_TRAPEZOID && mo->amplitude != 0.0 &&
-        !(mo->duration - fabs(mo->amplitude) / mo->v_max > 0.0))
-        return "the analytic method needs a trapezoid with ramps (v_max > |amplitude| / duration), not a "
-               "velocity jump";
-    if (d->dof == EXDEX_DOF_TRANSLATION) {
-        if (mo->kind != EXDEX_MOTION_REST && mo->rotation)
-            return "the analytic method solves translation scenes whose gripper translates";
-    } else {
-        double n[3] = {d->R0[2], d->R0[5], d->R0[8]}, a[3], x[3], na;
-        if (d->patch_center[0] != 0.0 || d->patch_center[1] != 0.0)
-            return "the analytic method solves rotation scenes about the centre of mass (patch centre 0); "
-                   "an offset centre of mass is a pendulum";
-        if (mo->kind != EXDEX_MOTION_REST) {
-            if (!mo->rotation) return "the analytic method solves rotation scenes whose gripper turns";
-            a[0] = mo->axis[0];
-            a[1] = mo->axis[1];
-            a[2] = mo->axis[2];
-            na = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-            x[0] = a[1] * n[2] - a[2] * n[1];
-            x[1] = a[2] * n[0] - a[0] * n[2];
-            x[2] = a[0] * n[1] - a[1] * n[0];
-            if (!(na > 0.0) || !(sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]) <= PARALLEL * na))
-                return "the analytic method solves rotation scenes whose gripper turns about the plate normal";
-        }
-    }
-    return NULL;
-}
 
 typedef struct phase {
     double t0;   /* start [s]; the phase lasts until the next one's start */
@@ -207,4 +167,4 @@ static int analytic_run(const exdex_model *m, void *ws, double t_end, double dt,
     return EXDEX_OK;
 }
 
-const method_impl method_analytic = {"analytic", analytic_alloc, analytic_run, analytic_free};
+const method_impl method_analytic = {"analytic", analytic_alloc, analytic_run, analytic_free, 0};

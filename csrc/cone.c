@@ -333,6 +333,27 @@ static void poly_cube(cpoly *P)
         }
 }
 
+/* Close the face whose vertices were emitted from index start on (a last
+ * vertex equal to the first is dropped): a face of >= 3 vertices with the
+ * outward normal nrm at distance h, else no face. */
+static void close_face(cpoly *Q, int start, const double nrm[3], double h)
+{
+    int cnt = Q->nv - start;
+    if (cnt >= 2) {
+        const double *a = Q->v[start], *z = Q->v[Q->nv - 1];
+        if (a[0] == z[0] && a[1] == z[1] && a[2] == z[2]) { Q->nv--; cnt--; }
+    }
+    if (cnt >= 3) {
+        int g = Q->nf++;
+        Q->first[g] = start;
+        Q->count[g] = cnt;
+        memcpy(Q->nrm[g], nrm, sizeof(double[3]));
+        Q->h[g] = h;
+    } else {
+        Q->nv = start;
+    }
+}
+
 static void emit(cpoly *P, int start, const double q[3])
 {
     if (P->nv > start) {
@@ -406,20 +427,7 @@ static int poly_clip(exact_ws *ws, int *cur, const double b[4])
                 memcpy(ws->cap[ncap++].p, x, sizeof x);
             }
         }
-        int cnt = Q->nv - start;
-        if (cnt >= 2) {
-            const double *a = Q->v[start], *z = Q->v[Q->nv - 1];
-            if (a[0] == z[0] && a[1] == z[1] && a[2] == z[2]) { Q->nv--; cnt--; }
-        }
-        if (cnt >= 3) {
-            int g = Q->nf++;
-            Q->first[g] = start;
-            Q->count[g] = cnt;
-            memcpy(Q->nrm[g], P->nrm[f], sizeof(double[3]));
-            Q->h[g] = P->h[f];
-        } else {
-            Q->nv = start;
-        }
+        close_face(Q, start, P->nrm[f], P->h[f]);
     }
     // The cap: the points of the polytope on the plane, in angular order
     // about their centroid (they are the vertices of a convex polygon).
@@ -448,20 +456,8 @@ static int poly_clip(exact_ws *ws, int *cur, const double b[4])
         if (st) return st;
         int start = Q->nv;
         for (int i = 0; i < ncap; i++) emit(Q, start, ws->cap[i].p);
-        int cnt = Q->nv - start;
-        if (cnt >= 2) {
-            const double *a = Q->v[start], *z = Q->v[Q->nv - 1];
-            if (a[0] == z[0] && a[1] == z[1] && a[2] == z[2]) { Q->nv--; cnt--; }
-        }
-        if (cnt >= 3) {
-            int f = Q->nf++;
-            Q->first[f] = start;
-            Q->count[f] = cnt;
-            memcpy(Q->nrm[f], nh, sizeof nh);
-            Q->h[f] = b[3] / bn;  /* outward normal nh = -b/|b|: s . nh = beta / |b| on the plane */
-        } else {
-            Q->nv = start;
-        }
+        /* outward normal nh = -b/|b|: s . nh = beta / |b| on the plane */
+        close_face(Q, start, nh, b[3] / bn);
     }
     *cur = 1 - *cur;
     return EXDEX_OK;

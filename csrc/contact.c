@@ -209,13 +209,13 @@ double contact_row_planar(const exdex_model *m, const exdex_kinematics *k, int k
 }
 
 
-/* Is some stop out of the object's reach at (t, q), its gap below -PEN_TOL
+/* Is some stop out of the object's reach at (t, q), its gap below -tol.pen
  * for every value of the free coordinates? Translation and planar: a row
- * that the free coordinates cannot move (|d gap / dq| <= FQ_MIN: the stop is
+ * that the free coordinates cannot move (|d gap / dq| <= tol.fq_min: the stop is
  * parallel to the slide line or faces the plate normal); rotation: the
  * vertex moves on a circle about the pivot, gap(q') = F + Fqq + Fq sin(q' -
  * q) - Fqq cos(q' - q) (contact_row's derivatives at q), whose maximum F +
- * Fqq + hypot(Fq, Fqq) is below -PEN_TOL (the stop has passed the pivot's
+ * Fqq + hypot(Fq, Fqq) is below -tol.pen (the stop has passed the pivot's
  * reach). Such a penetration is the scene's, not the method's. */
 int contact_unreachable(const exdex_model *m, const exdex_kinematics *k, const double *q)
 {
@@ -225,13 +225,13 @@ int contact_unreachable(const exdex_model *m, const exdex_kinematics *k, const d
         for (int j = 0; j < nv; j++) {
             if (m->ndof == 3) {
                 double G[3], g = contact_vertex_gap(m, k, s, q, j, G);
-                if (g < -PEN_TOL && !(fabs(G[0]) + fabs(G[1]) + fabs(G[2]) > FQ_MIN)) return 1;
+                if (g < -m->tol.pen && !(fabs(G[0]) + fabs(G[1]) + fabs(G[2]) > FQ_MIN)) return 1;
             } else {
                 crow c;
                 contact_row_1dof(m, k, s, j, q[0], &c);
                 if (m->def.dof == EXDEX_DOF_TRANSLATION) {
-                    if (c.F < -PEN_TOL && !(fabs(c.Fq) > FQ_MIN)) return 1;
-                } else if (c.F + c.Fqq + hypot(c.Fq, c.Fqq) < -PEN_TOL) {
+                    if (c.F < -m->tol.pen && !(fabs(c.Fq) > m->tol.fq_min)) return 1;
+                } else if (c.F + c.Fqq + hypot(c.Fq, c.Fqq) < -m->tol.pen) {
                     return 1;
                 }
             }

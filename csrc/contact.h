@@ -9,10 +9,11 @@
 
 #include "model.h"
 
-/* Thresholds of the contact decisions. */
-#define TOUCH 1e-10   /* a stop gap below this counts as contact [m] */
-#define FQ_MIN 1e-12  /* a stop row with |d gap / dq| below this cannot act */
-#define PEN_TOL 1e-9  /* a stop gap below -PEN_TOL after a step counts a warning [m] */
+/* A planar stop row G = (n_x, n_y, r x n) (n the stop normal in B, r the
+ * vertex offset) with |G_x| + |G_y| + |G_theta| below this cannot act: the
+ * stop faces the plate normal (G_theta is then 0 too). The 1-DoF rows and
+ * every gap compare with the model's thresholds (model_tols). */
+#define FQ_MIN 1e-12
 
 /* Number of outline vertices the stops see (at least 1). */
 static inline int contact_nv(const exdex_model *m) { return m->n_vert ? m->n_vert : 1; }
@@ -55,7 +56,7 @@ double contact_row_planar(const exdex_model *m, const exdex_kinematics *k, int k
                           const double *v, double G[3], double *gd, double *gdd0);
 
 /* Is some stop out of the object's reach at pose k and coordinates q, its
- * gap below -PEN_TOL for every value of the free coordinates? */
+ * gap below -tol.pen for every value of the free coordinates? */
 int contact_unreachable(const exdex_model *m, const exdex_kinematics *k, const double *q);
 /* Largest distance of an outline vertex from the rotation centre (the
  * centre of mass for planar scenes, the pivot for rotation; 0 for

@@ -51,7 +51,7 @@ static int run_explicit(const exdex_model *m, double t_end, double dt, exdex_tra
                     crow c;
                     double b;
                     contact_row_1dof(m, &kin_end, k, j, q[0], &c);
-                    if (!(fabs(c.Fq) > FQ_MIN)) continue;
+                    if (!(fabs(c.Fq) > m->tol.fq_min)) continue;
                     b = -c.F / h / c.Fq;
                     if (c.Fq > 0 && b > lo) {
                         lo = b;
@@ -117,25 +117,18 @@ static int run_explicit(const exdex_model *m, double t_end, double dt, exdex_tra
         if (ns) {
             /* beyond the scheme's own bound (a vertex moves on a circle
              * over the step while its row is linear in v+): the scene drives
-             * the object through a stop (see PEN_TOL) */
+             * the object through a stop (see tol.pen) */
             double thd = nd == 3 ? v[2] : m->def.dof == EXDEX_DOF_ROTATION ? v[0] : 0.0;
             double gmin = contact_min_gap(m, &kin_end, q);
             if (gmin < st->min_gap) st->min_gap = gmin;
-            if (gmin < -(PEN_TOL + 0.5 * h * h * thd * thd * rmax) || contact_unreachable(m, &kin_end, q))
+            if (gmin < -(m->tol.pen + 0.5 * h * h * thd * thd * rmax) || contact_unreachable(m, &kin_end, q))
                 st->warnings++;
         }
         t = t1;
         kin0 = kin_end;
         st->steps++;
-        st->stick_steps += (size_t)still;
-        out->t[i] = t1;
-        for (int c = 0; c < nd; c++) {
-            out->q[i * nd + c] = q[c];
-            out->v[i * nd + c] = v[c];
-        }
-        for (int c = 0; c < 3; c++) out->wrench[3 * i + c] = wrench[c];
-        out->stick[i] = (unsigned char)still;
-        for (int k = 0; k < ns; k++) out->stop_force[i * ns + k] = lamsum[k] / h;
+        for (int k = 0; k < ns; k++) lamsum[k] /= h;
+        method_record(m, out, st, i, t1, q, v, wrench, still, lamsum);
     }
     return status;
 }
@@ -156,4 +149,4 @@ static int explicit_run(const exdex_model *m, void *ws, double t_end, double dt,
     return run_explicit(m, t_end, dt, out, st);
 }
 
-const method_impl method_explicit = {"explicit", explicit_alloc, explicit_run, explicit_free};
+const method_impl method_explicit = {"explicit", explicit_alloc, explicit_run, explicit_free, 1};

@@ -19,9 +19,7 @@
  *   1-DoF scenes with stops, contact (the object follows a stop: the gap is
  *   held at 0 and the stop force comes from the constraint acceleration).
  *   Each mode has guard functions that are >= 0 while it holds:
- *     slip -> stop:   1-DoF s qd (s the slip direction); planar (E u).(E u_0),
- *                     u_0 the slip at the start of the step (the slip
- *                     reverses or vanishes);
+ *     slip -> stop:   1-DoF s qd (s the slip direction); planar, see below;
  *     stick -> slip:  C (1 + 1e-12) - |required friction| (the wrench that
  *                     would hold leaves the ellipsoid; the 1e-12 band keeps
  *                     loads sitting on the limit from toggling);
@@ -29,12 +27,35 @@
  *                     the stop force; in contact also the gaps of the
  *                     contact stop's other vertices (a turning gripper or
  *                     object hands the contact over to another corner).
+ *   Planar slip (|E u| compared with zsw = SLIP_SMALL atol, the speed below
+ *   which the error control does not resolve a slip's direction):
+ *     small slip (it grows from rest): the friction is the maximum-
+ *       dissipation wrench of the current load for an infinitesimal step
+ *       (against stops: the fixed point of that law on the constrained
+ *       acceleration). The sliding law's direction E u / |E u| relaxes onto
+ *       it at the rate C |K| / |E u| (K = E W E), infinitely stiff at the
+ *       start of a slip; the slip follows it to |E u| |dn/dt| / (C |K|) (n
+ *       that direction). Guards: the load leaves the ellipsoid's outside
+ *       (|E^-1 w_stick| - C (1 + TOLF): it stops), zsw - |E u| (it becomes
+ *       a slip, no state change);
+ *     slip: the sliding law. Guards: (E u).(E u_0), u_0 the slip at the
+ *       start of the step (it reverses: a stop if |E u| <= zsw there, else
+ *       a turn of the slip direction, which only renews u_0), and
+ *       |E u| - zsw (it dies out, also against stops, without reversing):
+ *       a stop sets qd = 0, so a slip's last zsw of speed is dropped.
  *   After every accepted step the guards are checked; the earliest sign change
  *   is located by GSL Brent on the stepper's own one-step map tau -> y(t0 +
- *   tau) (an interpolant of the stepper's order), and the mode is decided
- *   again there (slip stops with qd = 0 exactly; it sticks iff the required
- *   friction lies in the ellipsoid, else it slips on in the direction that
- *   the maximum-dissipation solve gives for an infinitesimal step). The
+ *   tau) (an interpolant of the stepper's order) at the first point where the
+ *   guard is violated (g < 0, not an exact zero that would decide the same
+ *   mode again), and the mode is decided again there (slip stops with qd = 0
+ *   exactly; it sticks iff the required friction lies in the ellipsoid, else
+ *   it slips on in the direction that the maximum-dissipation solve gives
+ *   for an infinitesimal step). A guard can change sign and back within one
+ *   step: a 1-DoF slip that stops and restarts the same way (s qd falling
+ *   then rising over the step: its minimum is searched, golden section on
+ *   the one-step map), and a guard violated at the step start that first
+ *   recovers (a corner lifted off a stop falling back: its maximum is
+ *   searched, and the crossing after it located). The
  *   motion's own switching times (Eq. 7, trapezoid kinks, end of a sampled
  *   motion) are stepped onto, never over, and velocity jumps of the gripper
  *   there are applied as inertial impulses. Fails by Zeno-like toggling: a
@@ -74,13 +95,15 @@
  *     step the penetration and approach speed of the set rows are projected
  *     out; a row leaves when lam reaches 0 (guard lam G M^-1 G^T - gap
  *     acceleration, negative once it separates);
- *   event, slip against stops: also stops once |E u| < SLIP_STOP (1e-9 m/s:
- *     a constrained slip can die out without reversing); where it stops, a
- *     stop moving in B would push it on (the plastic impact on v = 0), and
- *     if that slip is below SLIP_STOP too it is a rest on the touching rows
- *     instead (a restart there would stop again at once, Zeno-like, with the
- *     step collapsing on |E u| -> 0: a gripper's rotation reversing with
- *     the object against a stop); stick against
+ *   an impact whose lift-off rates are all below zsw holds the touching
+ *     rows at rate 0 (a face landing flat: plastic impacts alternating
+ *     between its corners with rates shrinking by a constant factor would
+ *     accumulate at a finite time);
+ *   event, slip against stops: where it stops, a stop moving in B would
+ *     push it on (the plastic impact on v = 0), and if that slip is below
+ *     SLIP_PUSH zsw it is a rest on the touching rows instead (a restart
+ *     there would stop again at once, Zeno-like: a gripper's rotation
+ *     reversing with the object against a stop); stick against
  *     stops: rest iff the least-friction split (planar_rest: NNLS over the
  *     stop forces lam >= 0, as sim.c's try_rest) has |E^-1 w| <= mu N
  *     (1 + TOLF); the rest ends when that fails or a set row's gap leaves
@@ -108,7 +131,10 @@
  *     gsl_odeiv2_evolve_apply call are bounded by its step-size decrease
  *     (each at least x0.89 per rejection, floor at 1 ulp);
  *   - event: at most EVENTS_MAX (1000) events per output interval, each
- *     located by at most BRENT_MAX (200) Brent iterations;
+ *     located by at most BRENT_MAX (200) Brent iterations (and a guard's
+ *     extremum inside a step by at most 60 golden-section iterations);
+ *   - every failure records its time and cause in exdex_stats (fail_time,
+ *     fail_cause: events, step budget, step floor, stepper);
  *   - decisions, projections, impacts: fixed small iteration counts;
  *   - explicit: one step per output sample, nothing else iterates.
  * Why the regularised step collapses: near u = 0 the friction slope is
@@ -133,10 +159,7 @@
 #include <gsl/gsl_roots.h>
 
 #define TOLF 1e-12        /* relative band at the friction limit (stick while |f| <= C (1 + TOLF)) */
-#define VZERO 1e-12       /* |qd| below this counts as 0 when the constraint gives qd [m/s, rad/s] */
-#define RATE_TOL 1e-12    /* gap rate counted as 0 [m/s] */
 #define EVENTS_MAX 1000   /* events within one output interval before EXDEX_ENOCONV */
-#define ROOT_TOL 1e-13    /* event time resolution [s] */
 #define STEPS_MAX 100000  /* ODE steps (accepted + rejected) per output interval before EXDEX_ENOCONV */
 #define H_FLOOR_ULPS 16.0 /* a suggested step below this many ulps of t is a collapse: EXDEX_ENOCONV */
 #define BRENT_MAX 200     /* Brent iterations per located event */
@@ -144,7 +167,6 @@
 #define NG_MAX (2 + MAX_ROWS)  /* guards */
 #define SLIP_SMALL 1e3   /* planar slip: below SLIP_SMALL atol of |E u| the slip is "small" [units of atol] */
 #define SLIP_PUSH 4.0    /* a stop pushing a stopped planar slip on below SLIP_PUSH zsw: a rest instead */
-#define REST_GAP 1e-9     /* planar rest against stops: a set row whose |gap| exceeds this ends it [m] */
 
 enum { LAW_COULOMB = 0, LAW_SMOOTH = 1 };
 enum { MODE_SLIP = 0, MODE_STICK = 1, MODE_CONTACT = 2, MODE_FREE = 3 };
@@ -231,12 +253,12 @@ static void contact_acc_planar(hyb *H, const exdex_kinematics *kin, const double
         for (int i = 0; i < H->ncs; i++) acc[i] = ex_dot3(Gr[i], qdd) - b[i];
 }
 
-/* Impacts of a planar object on the touching rows (gap <= TOUCH) at
+/* Impacts of a planar object on the touching rows (gap <= tol.touch) at
  * (t, y): the plastic impact projects v onto G v >= -(gd - G v) (no
  * approach) in the M metric; the impulses go into the stops' force
  * integrals. Then the contact set: the touching rows whose rate is ~0
  * and which push (lam > 0) under the accelerations of the mode. */
-static void planar_impact_and_set(hyb *H, const exdex_kinematics *kin, double *y)
+static void planar_impact_and_set(hyb *H, double t, const exdex_kinematics *kin, double *y)
 {
     const exdex_model *m = H->m;
     double Gr[MAX_ROWS][3], b[MAX_ROWS], lam[MAX_ROWS], v[3];
@@ -244,19 +266,59 @@ static void planar_impact_and_set(hyb *H, const exdex_kinematics *kin, double *y
     for (int k = 0; k < H->ns; k++)
         for (int j = 0; j < H->nv; j++) {
             double gd, gap = contact_row_planar(m, kin, k, j, y, y + 3, Gr[n], &gd, NULL);
-            if (gap > TOUCH) continue;
+            if (gap > m->tol.touch) continue;
             b[n] = -(gd - ex_dot3(Gr[n], y + 3));
             rows[n++] = k * H->nv + j;
         }
     H->ncs = 0;
     if (!n) return;
     if (ldp_project(m->minv, n, (const double (*)[3])Gr, b, y + 3, FQ_MIN, v, lam, &H->st->stop_iterations, &H->st->warnings)) {
-        for (int i = 0; i < n; i++) y[9 + rows[i] / H->nv] += lam[i];
+        double G2[2 * MAX_ROWS][3], b2[2 * MAX_ROWS], lam2[2 * MAX_ROWS], v2[3];
+        double per_stop[EXDEX_MAX_STOPS] = {0};
+        int n2 = 0, lift = 0;
+        for (int i = 0; i < n; i++) {
+            y[9 + rows[i] / H->nv] += lam[i];
+            /* an approached row (gap rate below -tol.rate) takes an impact */
+            if (lam[i] > 0 && ex_dot3(Gr[i], y + 3) - b[i] < -m->tol.rate)
+                per_stop[rows[i] / H->nv] += lam[i];
+        }
+        for (int k = 0; k < H->ns; k++) method_note_impact(H->st, t, k, per_stop[k]);
         memcpy(y + 3, v, sizeof v);
+        /* A plastic impact at one corner of a face that lands flat lifts
+         * the other corner off, which falls back, impacts, lifts the first:
+         * rates shrinking geometrically, events accumulating at a finite
+         * time (Zeno). Once the lift-off rates are below zsw the touching
+         * rows that would separate that slowly are held at rate 0 instead
+         * (equality rows, an M-metric projection again): the face rests. */
+        for (int i = 0; i < n; i++) {
+            double rate = ex_dot3(Gr[i], y + 3) - b[i];
+            if (rate > m->tol.rate && rate <= H->zsw) lift = 1;
+        }
+        for (int i = 0; lift && i < n; i++) {
+            double rate = ex_dot3(Gr[i], y + 3) - b[i];
+            if (rate > H->zsw) continue;
+            for (int c = 0; c < 3; c++) {
+                G2[n2][c] = Gr[i][c];
+                G2[n2 + 1][c] = -Gr[i][c];
+            }
+            b2[n2] = b[i];
+            b2[n2 + 1] = -b[i];
+            n2 += 2;
+        }
+        if (lift && ldp_project(m->minv, n2, (const double (*)[3])G2, b2, y + 3, FQ_MIN, v2, lam2,
+                                &H->st->stop_iterations, &H->st->warnings)) {
+            for (int i = 0, r = 0; i < n; i++) {
+                double rate = ex_dot3(Gr[i], y + 3) - b[i];
+                if (rate > H->zsw) continue;
+                y[9 + rows[i] / H->nv] += lam2[r] - lam2[r + 1];
+                r += 2;
+            }
+            memcpy(y + 3, v2, sizeof v2);
+        }
     }
     for (int i = 0; i < n; i++) {
         double rate = ex_dot3(Gr[i], y + 3) - b[i];
-        if (fabs(rate) <= RATE_TOL) H->cs[H->ncs++] = rows[i];
+        if (fabs(rate) <= m->tol.rate) H->cs[H->ncs++] = rows[i];
     }
 }
 
@@ -550,11 +612,11 @@ static int guards(hyb *H, double t, const double *y, double *g)
                 }
             if (H->ncs && H->mode == MODE_STICK) {
                 /* at rest against stops that move in B the contact ends
-                 * once a set row's gap leaves +-REST_GAP */
+                 * once a set row's gap leaves +-tol.rest_gap */
                 for (int i = 0; i < H->ncs; i++) {
                     int r = H->cs[i];
                     double G[3];
-                    g[n++] = REST_GAP - fabs(contact_row_planar(m, &kin, r / H->nv, r % H->nv, y, y + 3, G, NULL, NULL));
+                    g[n++] = m->tol.rest_gap - fabs(contact_row_planar(m, &kin, r / H->nv, r % H->nv, y, y + 3, G, NULL, NULL));
                 }
             } else if (H->ncs) {
                 double F[3], w[3], P[3], a[3], qdd[3], lam[MAX_ROWS], acc[MAX_ROWS];
@@ -590,7 +652,7 @@ static int guards(hyb *H, double t, const double *y, double *g)
             R = H->M * contact_qdd(&c, v) - model_force_1dof(m, &f, q, v);
             if (H->law == LAW_COULOMB && H->s == 0.0) {
                 g[n++] = fmax(R / c.Fq, H->cap * (1.0 + TOLF) - fabs(R));
-                g[n++] = VZERO - fabs(v);
+                g[n++] = m->tol.vzero - fabs(v);
             } else {
                 contact_forces(H, &c, R, v, &fr, &lam);
                 g[n++] = lam;
@@ -633,7 +695,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
         double F[3], w[3], u[3], zero[3] = {0, 0, 0};
         if (H->ns) {
             planar_unpenetrate(H, &kin, y);
-            planar_impact_and_set(H, &kin, y);
+            planar_impact_and_set(H, t, &kin, y);
         }
         if (H->law == LAW_SMOOTH) {
             H->mode = MODE_FREE;
@@ -645,14 +707,13 @@ static void decide(hyb *H, double t, double *y, int vzero)
             if (H->ns) {
                 /* a slip that stopped against stops moving in B: the stops
                  * push it on at their own speed. If that slip is below
-                 * SLIP_STOP it would count as stopped at once (the guard is
-                 * violated from the start: Zeno-like restarts, each with a
-                 * step collapsing on |E u| -> 0); it is a rest instead, on
-                 * every touching row, which the REST_GAP guard ends once the
-                 * stops have moved (a drift below REST_GAP) */
+                 * SLIP_PUSH zsw it would soon count as stopped again
+                 * (Zeno-like restarts); it is a rest instead, on
+                 * every touching row, which the tol.rest_gap guard ends once the
+                 * stops have moved (a drift below tol.rest_gap) */
                 double ysv[EXDEX_MAX_STOPS], u[3], eu[3];
                 memcpy(ysv, y + 9, (size_t)H->ns * sizeof *ysv);
-                planar_impact_and_set(H, &kin, y);
+                planar_impact_and_set(H, t, &kin, y);
                 model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
                 for (int i = 0; i < 3; i++) eu[i] = m->e[i] * u[i];
                 if ((y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0) && sqrt(ex_dot3(eu, eu)) < SLIP_PUSH * H->zsw) {
@@ -662,7 +723,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
                     H->ncs = 0;
                     for (int k = 0; k < H->ns; k++)
                         for (int j = 0; j < H->nv; j++)
-                            if (contact_row_planar(m, &kin, k, j, y, y + 3, G, NULL, NULL) <= TOUCH)
+                            if (contact_row_planar(m, &kin, k, j, y, y + 3, G, NULL, NULL) <= m->tol.touch)
                                 H->cs[H->ncs++] = k * H->nv + j;
                 }
             }
@@ -725,14 +786,14 @@ static void decide(hyb *H, double t, double *y, int vzero)
          * in the stop's force integral */
         for (int pass = 0; pass < 3 && H->ns; pass++) {
             int kb = -1;
-            double worst = -RATE_TOL;
+            double worst = -m->tol.rate;
             crow cb;
             for (int k = 0; k < H->ns; k++)
                 for (int j = 0; j < H->nv; j++) {
                     double rate;
                     crow c;
                     contact_row_1dof(m, &kin, k, j, q, &c);
-                    if (c.F > TOUCH || !(fabs(c.Fq) > FQ_MIN)) continue;
+                    if (c.F > m->tol.touch || !(fabs(c.Fq) > m->tol.fq_min)) continue;
                     rate = c.Fq * y[1] + c.Ft;
                     if (rate < worst) {
                         worst = rate;
@@ -744,6 +805,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
             {
                 double vn = -cb.Ft / cb.Fq;
                 y[3 + kb] += H->M * (vn - y[1]) / cb.Fq;
+                method_note_impact(H->st, t, kb, H->M * (vn - y[1]) / cb.Fq);
                 y[1] = vn;
                 vzero = 0;
                 if (pass == 2) H->st->warnings++; /* stops pinch the object */
@@ -755,12 +817,12 @@ static void decide(hyb *H, double t, double *y, int vzero)
             double rate, v, Q, R, fr, lam, s_old = H->s;
             crow c;
             contact_row_1dof(m, &kin, k, j, q, &c);
-            if (c.F > TOUCH || !(fabs(c.Fq) > FQ_MIN)) continue;
+            if (c.F > m->tol.touch || !(fabs(c.Fq) > m->tol.fq_min)) continue;
             rate = c.Fq * y[1] + c.Ft;
-            if (fabs(rate) > RATE_TOL) continue;
+            if (fabs(rate) > m->tol.rate) continue;
             v = -c.Ft / c.Fq;
             if (H->law == LAW_COULOMB) {
-                if (fabs(v) > VZERO && !vzero) {
+                if (fabs(v) > m->tol.vzero && !vzero) {
                     H->s = v > 0 ? 1.0 : -1.0;
                 } else {
                     double a = contact_qdd(&c, 0.0);
@@ -783,7 +845,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
                     q -= dq;
                     contact_row_1dof(m, &kin, k, j, q, &c);
                     H->st->stop_iterations++;
-                    if (fabs(dq) <= 1e-16 * (1.0 + fabs(q))) break;
+                    if (fabs(dq) <= 1e-16 * (m->scale.q + fabs(q))) break;
                 }
                 y[0] = q;
                 y[1] = (H->law == LAW_COULOMB && H->s == 0.0) ? 0.0 : -c.Ft / c.Fq;
@@ -847,7 +909,7 @@ static void project_contact(hyb *H, double t, double *y)
         y[0] -= dq;
         contact_row_1dof(H->m, &kin, H->ck, H->cj, y[0], &c);
         H->st->stop_iterations++;
-        if (fabs(dq) <= 1e-16 * (1.0 + fabs(y[0]))) break;
+        if (fabs(dq) <= 1e-16 * (H->m->scale.q + fabs(y[0]))) break;
     }
     if (!(H->law == LAW_COULOMB && H->s == 0.0)) y[1] = -c.Ft / c.Fq;
 }
@@ -903,7 +965,26 @@ static void *hybrid_alloc(const exdex_model *m, int *status)
         return NULL;
     }
     O->step = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, ny);
-    O->con = gsl_odeiv2_control_y_new(m->def.atol, m->def.rtol);
+    {
+        /* atol is relative to the scene's scales: each state component's
+         * absolute tolerance is atol times its own scale (positions L,
+         * angles 1 rad, velocities L / T and 1 / T, force integrals F T,
+         * torque integrals F L T), so the error control (and with it every
+         * step) is the same in any units */
+        const model_scales *s = &m->scale;
+        double sc[NY_MAX];
+        size_t k = 0;
+        if (m->ndof == 3) {
+            double row[9] = {s->L, s->L, 1.0, s->V, s->V, 1.0 / s->T, s->F * s->T, s->F * s->T, s->F * s->L * s->T};
+            for (; k < 9; k++) sc[k] = row[k];
+        } else {
+            sc[k++] = s->q;
+            sc[k++] = s->q / s->T;
+            sc[k++] = s->F * s->T * s->L / s->q;
+        }
+        for (; k < ny; k++) sc[k] = s->F * s->T;
+        O->con = gsl_odeiv2_control_scaled_new(m->def.atol, m->def.rtol, 1.0, 0.0, sc, ny);
+    }
     O->evo = gsl_odeiv2_evolve_alloc(ny);
     O->root = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
     if (!O->step || !O->con || !O->evo || !O->root) {
@@ -950,13 +1031,46 @@ static double root_fn(double tau, void *p)
     return g[c->e];
 }
 
-/* Locate the root of guard e in [0, tau1] (g(0) > 0 > g(tau1)) with Brent;
+/* Golden-section search for the extremum of guard e over [0, tau1] on the
+ * stepper's map (dir +1: the minimum, -1: the maximum), at most 60
+ * iterations, stopping early once the guard has the sign sought (dir +1:
+ * g < 0, -1: g > 0). *tau, *g: the best point found. EXDEX_ENOCONV if the
+ * stepper fails. */
+static int guard_extremum(hyb *H, ode *O, double t0, const double *y0, double tau1, int e, double dir,
+                          double *tau, double *g)
+{
+    rootctx c = {H, O, t0, y0, e, 0};
+    double a = 0.0, b = tau1, r = 0.5 * (3.0 - sqrt(5.0));
+    double x1 = a + r * (b - a), x2 = b - r * (b - a), f1 = dir * root_fn(x1, &c), f2 = dir * root_fn(x2, &c);
+    for (int it = 0; it < 60 && f1 >= 0.0 && f2 >= 0.0 && !c.fail && b - a > H->m->tol.root; it++) {
+        if (f1 < f2) {
+            b = x2;
+            x2 = x1;
+            f2 = f1;
+            x1 = a + r * (b - a);
+            f1 = dir * root_fn(x1, &c);
+        } else {
+            a = x1;
+            x1 = x2;
+            f1 = f2;
+            x2 = b - r * (b - a);
+            f2 = dir * root_fn(x2, &c);
+        }
+        H->st->solver_iterations++;
+    }
+    if (c.fail || H->err) return H->err ? H->err : EXDEX_ENOCONV;
+    *tau = f1 < f2 ? x1 : x2;
+    *g = dir * (f1 < f2 ? f1 : f2);
+    return EXDEX_OK;
+}
+
+/* Locate the root of guard e in [tau0, tau1] (g(tau0) > 0 > g(tau1)) with Brent;
  * returns the upper end of the final bracket (the guard is just violated). */
-static int locate(hyb *H, ode *O, double t0, const double *y0, double tau1, int e, double *tau)
+static int locate(hyb *H, ode *O, double t0, const double *y0, double tau0, double tau1, int e, double *tau)
 {
     rootctx c = {H, O, t0, y0, e, 0};
     gsl_function F = {root_fn, &c};
-    double lo = 0.0, hi = tau1;
+    double lo = tau0, hi = tau1;
     int st = gsl_root_fsolver_set(O->root, &F, lo, hi);
     if (st) return EXDEX_ENOCONV;
     for (int it = 0; it < BRENT_MAX; it++) {
@@ -965,7 +1079,7 @@ static int locate(hyb *H, ode *O, double t0, const double *y0, double tau1, int 
         H->st->solver_iterations++;
         lo = gsl_root_fsolver_x_lower(O->root);
         hi = gsl_root_fsolver_x_upper(O->root);
-        if (hi - lo <= ROOT_TOL) break;
+        if (hi - lo <= H->m->tol.root) break;
     }
     /* The event is the first point where the guard is violated (g < 0):
      * Brent may stop on a point with g >= 0 (an exact zero included, where
@@ -973,7 +1087,7 @@ static int locate(hyb *H, ode *O, double t0, const double *y0, double tau1, int 
      * until the next step). Step forward from it, doubling, to a point with
      * g < 0 (g(tau1) < 0 bounds the search). */
     {
-        double d = fmax(ROOT_TOL, 4.0 * DBL_EPSILON * fabs(t0 + hi));
+        double d = fmax(H->m->tol.root, 4.0 * DBL_EPSILON * fabs(t0 + hi));
         for (int k = 0; k < 64 && hi < tau1 && !(root_fn(hi, &c) < 0.0) && !c.fail; k++) {
             hi = fmin(tau1, hi + d);
             d *= 2.0;
@@ -1018,11 +1132,13 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
     H.ny = nd == 3 ? 9 + ns : 3 + ns;
     H.nv = m->n_vert ? m->n_vert : 1;
     H.st = st;
-    H.eps = m->def.eps;
+    /* eps is a slip speed |E u| [m/s]; a 1-DoF rotation slips at
+     * |E u| = e_r |thd|, so its smoothing rate is eps / e_r [rad/s] */
+    H.eps = m->ndof == 1 && m->def.dof == EXDEX_DOF_ROTATION ? m->def.eps / m->e[2] : m->def.eps;
     if (nd == 3) {
         H.M = 1.0;
         H.cap = m->capF;
-        H.zsw = SLIP_SMALL * m->def.atol;
+        H.zsw = SLIP_SMALL * m->def.atol * m->scale.V;  /* atol of a slip speed |E u| */
     } else if (m->def.dof == EXDEX_DOF_TRANSLATION) {
         H.M = m->m;
         H.cap = m->capF;
@@ -1041,7 +1157,7 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
     H.lo = 0.0;
     H.hi = nsw ? ts[0] : INFINITY;
     decide(&H, 0.0, y, 0);
-    h = fmin(dt, 1e-3);
+    h = fmin(dt, m->tol.h0);
     for (size_t i = 1; i < n && status == EXDEX_OK && !H.err; i++) {
         double ti = i == n - 1 ? t_end : (double)i * dt, hs = ti - out->t[i - 1];
         int events = 0, same = 0;
@@ -1097,33 +1213,11 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
                 double d0[NY_MAX], d1[NY_MAX];
                 if (rhs(t0, y0, d0, &H) == GSL_SUCCESS && rhs(t, y, d1, &H) == GSL_SUCCESS &&
                     H.s * d0[1] < 0.0 && H.s * d1[1] > 0.0) {
-                    rootctx c = {&H, O, t0, y0, 0, 0};
-                    double a = 0.0, b = t - t0, r = 0.5 * (3.0 - sqrt(5.0));
-                    double x1 = a + r * (b - a), x2 = b - r * (b - a), f1 = root_fn(x1, &c), f2 = root_fn(x2, &c);
-                    for (int it = 0; it < 60 && f1 >= 0.0 && f2 >= 0.0 && !c.fail; it++) {
-                        if (f1 < f2) {
-                            b = x2;
-                            x2 = x1;
-                            f2 = f1;
-                            x1 = a + r * (b - a);
-                            f1 = root_fn(x1, &c);
-                        } else {
-                            a = x1;
-                            x1 = x2;
-                            f1 = f2;
-                            x2 = b - r * (b - a);
-                            f2 = root_fn(x2, &c);
-                        }
-                        st->solver_iterations++;
-                        if (b - a <= ROOT_TOL) break;
-                    }
-                    if (c.fail || H.err) {
-                        status = H.err ? H.err : EXDEX_ENOCONV;
-                        break;
-                    }
-                    if (f1 < 0.0 || f2 < 0.0) {
+                    double tm, gm;
+                    status = guard_extremum(&H, O, t0, y0, t - t0, 0, 1.0, &tm, &gm);
+                    if (status) break;
+                    if (gm < 0.0) {
                         /* the step ends at the dip; the guard is violated there */
-                        double tm = f1 < 0.0 ? x1 : x2;
                         if (one_step(O, t0, y0, tm, y) != GSL_SUCCESS) {
                             status = EXDEX_ENOCONV;
                             break;
@@ -1142,13 +1236,30 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
                      * the decision at t0 keeps being undone (a tie: let the
                      * step decide, counted as a warning) */
                     if (!(g1[e] < g0[e] - 1e-13)) continue;
+                    {
+                        /* it may recover first and cross later within the
+                         * step (a corner lifted off a stop by an impact at
+                         * t0 falls back): locate that crossing */
+                        double tm, gm;
+                        status = guard_extremum(&H, O, t0, y0, t - t0, e, -1.0, &tm, &gm);
+                        if (status) break;
+                        if (gm > 0.0) {
+                            status = locate(&H, O, t0, y0, tm, t - t0, e, &tau);
+                            if (status) break;
+                            if (tau < tau_best) {
+                                tau_best = tau;
+                                e_best = e;
+                            }
+                            continue;
+                        }
+                    }
                     if (same >= 4) {
                         st->warnings++;
                         continue;
                     }
                     tau = 0.0;
                 } else {
-                    status = locate(&H, O, t0, y0, t - t0, e, &tau);
+                    status = locate(&H, O, t0, y0, 0.0, t - t0, e, &tau);
                     if (status) break;
                 }
                 if (tau < tau_best) {
@@ -1170,7 +1281,7 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
                 for (int e = 0; e < ng && !status; e++) {
                     double tau;
                     if (e == e_best || !(g0[e] > 0.0) || !(gt[e] < 0.0)) continue;
-                    status = locate(&H, O, t0, y0, tau_best, e, &tau);
+                    status = locate(&H, O, t0, y0, 0.0, tau_best, e, &tau);
                     if (!status && tau < tau_new) {
                         tau_new = tau;
                         e_new = e;
@@ -1227,12 +1338,12 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
                 project_contact(&H, t, y);
             }
             /* a penetration left after the step: the scene drives the
-             * object through a stop (see PEN_TOL) */
+             * object through a stop (see tol.pen) */
             if (ns) {
                 exdex_kinematics kt;
                 double gmin = exdex_motion_eval(m->motion, t, &kt) ? INFINITY : contact_min_gap(m, &kt, y);
                 if (gmin < st->min_gap) st->min_gap = gmin;
-                if (gmin < -PEN_TOL) st->warnings++;
+                if (gmin < -m->tol.pen) st->warnings++;
             }
             if (t == H.hi) {
                 /* a switching time of the motion: next segment */
@@ -1248,38 +1359,24 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
         }
         if (H.err && !status) status = H.err;
         if (status) break;
-        out->t[i] = ti;
-        if (nd == 1) {
-            double fbar = y[2] / hs;
-            out->q[i] = y[0];
-            out->v[i] = y[1];
-            if (m->def.dof == EXDEX_DOF_TRANSLATION) {
-                out->wrench[3 * i] = fbar * m->d[0];
-                out->wrench[3 * i + 1] = fbar * m->d[1];
-                out->wrench[3 * i + 2] = 0.0;
+        {
+            /* the interval's integrals (friction, stop forces) as means
+             * over it; then they restart from 0 */
+            int off = nd == 1 ? 2 : 6, nw = nd == 1 ? 1 : 3;
+            double wrench[3] = {0, 0, 0}, sf[EXDEX_MAX_STOPS];
+            if (nd == 3) {
+                for (int c = 0; c < 3; c++) wrench[c] = y[6 + c] / hs;
+            } else if (m->def.dof == EXDEX_DOF_TRANSLATION) {
+                wrench[0] = y[2] / hs * m->d[0];
+                wrench[1] = y[2] / hs * m->d[1];
             } else {
-                out->wrench[3 * i] = out->wrench[3 * i + 1] = 0.0;
-                out->wrench[3 * i + 2] = fbar;
+                wrench[2] = y[2] / hs;
             }
-            for (int k2 = 0; k2 < ns; k2++) {
-                out->stop_force[i * ns + k2] = y[3 + k2] / hs;
-                y[3 + k2] = 0.0;
-            }
-            y[2] = 0.0;
-        } else {
-            for (int c = 0; c < 3; c++) {
-                out->q[3 * i + c] = y[c];
-                out->v[3 * i + c] = y[3 + c];
-                out->wrench[3 * i + c] = y[6 + c] / hs;
-                y[6 + c] = 0.0;
-            }
-            for (int k2 = 0; k2 < ns; k2++) {
-                out->stop_force[i * ns + k2] = y[9 + k2] / hs;
-                y[9 + k2] = 0.0;
-            }
+            for (int k2 = 0; k2 < ns; k2++) sf[k2] = y[off + nw + k2] / hs;
+            method_record(m, out, st, i, ti, y, y + nd, wrench,
+                          law == LAW_COULOMB && H.mode == MODE_STICK ? 1 : is_still(&H, y), sf);
+            for (int c = off; c < H.ny; c++) y[c] = 0.0;
         }
-        out->stick[i] = (unsigned char)(law == LAW_COULOMB && H.mode == MODE_STICK ? 1 : is_still(&H, y));
-        st->stick_steps += out->stick[i];
     }
     /* a failure in the decision at t = 0 stops the loop before it starts */
     if (!status && H.err) status = H.err;
@@ -1307,5 +1404,5 @@ static int regularised_run(const exdex_model *m, void *ws, double t_end, double 
     return run_hybrid(m, ws, LAW_SMOOTH, t_end, dt, out, st);
 }
 
-const method_impl method_event = {"event", hybrid_alloc, event_run, hybrid_free};
-const method_impl method_regularised = {"regularised", hybrid_alloc, regularised_run, hybrid_free};
+const method_impl method_event = {"event", hybrid_alloc, event_run, hybrid_free, 0};
+const method_impl method_regularised = {"regularised", hybrid_alloc, regularised_run, hybrid_free, 0};

@@ -79,7 +79,7 @@ static void build_rows(const exdex_model *m, const exdex_kinematics *kin_end, co
  * rest). At rest (v+ = 0) against a touching stop it is statically
  * indeterminate; exdex lets the stops carry what they can (the split with the
  * least friction), as in the planar case. */
-static void step_1dof(double M, double c, double vs, work *w, double *v_out, double *pf,
+static void step_1dof(double M, double c, double vs, double touch, work *w, double *v_out, double *pf,
                       exdex_stats *st)
 {
     double vu, v, P, lo = -INFINITY, hi = INFINITY;
@@ -113,7 +113,7 @@ static void step_1dof(double M, double c, double vs, work *w, double *v_out, dou
         /* at rest: a touching stop pushing the way P points takes it all */
         ib = -1;
         for (int i = 0; i < w->n_rows; i++)
-            if (w->gap[i] <= TOUCH && w->G[i][0] * P > 0) ib = i;
+            if (w->gap[i] <= touch && w->G[i][0] * P > 0) ib = i;
         if (ib >= 0) {
             w->lam[ib] = P / w->G[ib][0];
             *pf = 0.0;
@@ -144,8 +144,8 @@ static int try_rest(const exdex_model *m, const double cs[2], double cap, const 
     int rows[MAX_ROWS], k = 0, it = 0;
     double a[3], B[MAX_ROWS][3], lam[MAX_ROWS], P[3], best;
     for (int i = 0; i < w->n_rows; i++) {
-        if (w->rhs[i] > 0.0 && w->gap[i] < -TOUCH) return 0; /* rest would penetrate */
-        if (w->gap[i] <= TOUCH) rows[k++] = i;
+        if (w->rhs[i] > 0.0 && w->gap[i] < -m->tol.touch) return 0; /* rest would penetrate */
+        if (w->gap[i] <= m->tol.touch) rows[k++] = i;
     }
     for (int i = 0; i < 3; i++) P[i] = vs[i] / m->minv[i];
     model_patch_of_gen(m, cs, P, a);
@@ -171,6 +171,12 @@ static int try_rest(const exdex_model *m, const double cs[2], double cap, const 
     return 1;
 }
 
+/* a M^-1 b for generalized vectors a, b (M^-1 = diag(minv)). */
+static double gmg(const exdex_model *m, const double a[3], const double b[3])
+{
+    return a[0] * m->minv[0] * b[0] + a[1] * m->minv[1] * b[1] + a[2] * m->minv[2] * b[2];
+}
+
 /* Friction slip map in B generalized coordinates, scaled: r = E J_f v. */
 static void ejf(const exdex_model *m, const double cs[2], const double v[3], double r[3])
 {
@@ -194,17 +200,20 @@ static int solve_active(const exdex_model *m, const double cs[2], double cap, co
     double N[3][3], vp[3] = {0, 0, 0}, z[2] = {0, 0}, Mdiag[3];
     int nz = 3 - k, converged = 0;
     for (int i = 0; i < 3; i++) Mdiag[i] = 1.0 / m->minv[i];
-    /* particular solution (least norm) and null-space basis */
+    /* particular solution (least norm in the mass metric, vp = M^-1 G_A' y,
+     * G_A M^-1 G_A' y = rhs: the rows' own units, so that two vertices of
+     * one edge on a stop, whose rows differ only in the rotation column,
+     * stay distinguishable at any size of the object) and null-space basis */
     {
         double A[3][3], b[3], y[3];
         for (int i = 0; i < k; i++) {
-            for (int j = 0; j < k; j++) A[i][j] = ex_dot3(w->G[act[i]], w->G[act[j]]);
+            for (int j = 0; j < k; j++) A[i][j] = gmg(m, w->G[act[i]], w->G[act[j]]);
             b[i] = w->rhs[act[i]];
         }
         if (k > 0) {
             if (!ldp_solve_small(k, A, b, y)) return 0;
             for (int i = 0; i < k; i++)
-                for (int c = 0; c < 3; c++) vp[c] += y[i] * w->G[act[i]][c];
+                for (int c = 0; c < 3; c++) vp[c] += y[i] * m->minv[c] * w->G[act[i]][c];
         }
         if (k == 1) {
             const double *g = w->G[act[0]];
@@ -308,13 +317,20 @@ static int solve_active(const exdex_model *m, const double cs[2], double cap, co
             (*iters)++;
             {
                 /* converged when the full Newton step (the distance to the
-                 * optimum of the local model), not the damped one, is tiny */
+                 * optimum of the local model), not the damped one, is tiny
+                 * in the mass metric (the one norm of the velocities that
+                 * has a unit: sqrt(kg) m/s) */
                 double sn = 0, zn = 0;
-                for (int j = 0; j < nz; j++) {
-                    sn += step[j] * step[j];
-                    zn += z[j] * z[j];
+                for (int c = 0; c < 3; c++) {
+                    double dc = 0.0, vc = vp[c];
+                    for (int j = 0; j < nz; j++) {
+                        dc += N[c][j] * step[j];
+                        vc += N[c][j] * z[j];
+                    }
+                    sn += Mdiag[c] * dc * dc;
+                    zn += Mdiag[c] * vc * vc;
                 }
-                if (sqrt(sn) <= 1e-14 * (1e-3 + sqrt(zn))) {
+                if (sqrt(sn) <= 1e-14 * (1e-3 * m->scale.V * sqrt(Mdiag[0]) + sqrt(zn))) {
                     converged = 1;
                     break;
                 }
@@ -334,11 +350,11 @@ static int solve_active(const exdex_model *m, const double cs[2], double cap, co
         if (!(nr > 0)) return 0;
         for (int c = 0; c < 3; c++) p[c] = -cap * m->e[c] * r[c] / nr;
         model_gen_of_patch(m, cs, p, P);
-        /* G_A^T lam = M (v - vs) - P_f, least squares */
+        /* G_A^T lam = M (v - vs) - P_f, least squares in the metric M^-1 */
         for (int c = 0; c < 3; c++) res[c] = Mdiag[c] * (v[c] - vs[c]) - P[c];
         for (int i = 0; i < k; i++) {
-            for (int j = 0; j < k; j++) A[i][j] = ex_dot3(w->G[act[i]], w->G[act[j]]);
-            b[i] = ex_dot3(w->G[act[i]], res);
+            for (int j = 0; j < k; j++) A[i][j] = gmg(m, w->G[act[i]], w->G[act[j]]);
+            b[i] = gmg(m, w->G[act[i]], res);
         }
         if (k > 0 && !ldp_solve_small(k, A, b, lam)) return 0;
     }
@@ -366,7 +382,7 @@ static int step_planar(const exdex_model *m, double h, double th, const double v
             double viol = w->rhs[i] - ex_dot3(w->G[i], v);
             int in = 0;
             for (int a = 0; a < k; a++) in |= act[a] == i;
-            if (!in && viol > 1e-13 * (1.0 + fabs(w->rhs[i])) && viol > wv) {
+            if (!in && viol > 1e-13 * (m->scale.V + fabs(w->rhs[i])) && viol > wv) {
                 wv = viol;
                 worst = i;
             }
@@ -518,7 +534,7 @@ static int implicit_run(const exdex_model *m, void *ws, double t_end, double dt,
     for (size_t step = 1; step < n && status == EXDEX_OK; step++) {
         double t1 = step == n - 1 ? t_end : (double)step * dt;
         double h = t1 - t, tm = t + 0.5 * h, qm[3], vmid[3], F[3], vs[3], vn[3];
-        double wrench[3] = {0, 0, 0};
+        double wrench[3] = {0, 0, 0}, sf[EXDEX_MAX_STOPS];
         frame f;
         exdex_kinematics kin, kin_end;
         int stick;
@@ -545,7 +561,7 @@ static int implicit_run(const exdex_model *m, void *ws, double t_end, double dt,
              * e_r for a pure spin at the centre of pressure */
             double c = tr ? h * m->capF : h * m->capF * m->e[2];
             vs[0] = v[0] + h * Q / M;
-            step_1dof(M, c, vs[0], w, &vn[0], &pf, st);
+            step_1dof(M, c, vs[0], m->tol.touch, w, &vn[0], &pf, st);
             if (m->def.dof == EXDEX_DOF_TRANSLATION) {
                 wrench[0] = pf * m->d[0] / h;
                 wrench[1] = pf * m->d[1] / h;
@@ -603,19 +619,11 @@ static int implicit_run(const exdex_model *m, void *ws, double t_end, double dt,
         hprev = h;
         kin0 = kin_end;
         st->steps++;
-        st->stick_steps += (size_t)stick;
-        out->t[step] = t1;
-        for (int i = 0; i < n_dof; i++) {
-            out->q[step * n_dof + i] = q[i];
-            out->v[step * n_dof + i] = v[i];
-        }
-        for (int i = 0; i < 3; i++) out->wrench[3 * step + i] = wrench[i];
-        out->stick[step] = (unsigned char)stick;
-        for (int k = 0; k < ns; k++) out->stop_force[step * ns + k] = 0.0;
-        for (int i = 0; i < w->n_rows; i++)
-            out->stop_force[step * ns + w->row_stop[i]] += w->lam[i] / h;
+        for (int k = 0; k < ns; k++) sf[k] = 0.0;
+        for (int i = 0; i < w->n_rows; i++) sf[w->row_stop[i]] += w->lam[i] / h;
+        method_record(m, out, st, step, t1, q, v, wrench, stick, sf);
     }
     return status;
 }
 
-const method_impl method_implicit = {"implicit", implicit_alloc, implicit_run, implicit_free};
+const method_impl method_implicit = {"implicit", implicit_alloc, implicit_run, implicit_free, 1};

@@ -125,6 +125,49 @@ static int check_fields(const exdex_scene_def *d, const char **bad_param)
     return EXDEX_OK;
 }
 
+/* ------------------------------------------------ method applicability */
+
+#define PARALLEL 1e-12   /* rotation axis parallel to the plate normal to this (|axis x n|) */
+
+const char *exdex_analytic_unsupported(const exdex_scene_def *d)
+{
+    const exdex_motion_def *mo;
+    if (!d) return "no scene";
+    mo = &d->motion;
+    if (d->dof != EXDEX_DOF_TRANSLATION && d->dof != EXDEX_DOF_ROTATION)
+        return "the analytic method solves 1-DoF scenes (translation or rotation), not planar ones";
+    if (d->n_stops != 0) return "the analytic method solves scenes without stops";
+    if (mo->kind == EXDEX_MOTION_SAMPLED)
+        return "the analytic method needs a piecewise-constant gripper acceleration (Eq. 7, trapezoid or "
+               "rest), not a sampled log";
+    if (mo->kind == EXDEX_MOTION_TRAPEZOID && mo->amplitude != 0.0 &&
+        !(mo->duration - fabs(mo->amplitude) / mo->v_max > 0.0))
+        return "the analytic method needs a trapezoid with ramps (v_max > |amplitude| / duration), not a "
+               "velocity jump";
+    if (d->dof == EXDEX_DOF_TRANSLATION) {
+        if (mo->kind != EXDEX_MOTION_REST && mo->rotation)
+            return "the analytic method solves translation scenes whose gripper translates";
+    } else {
+        double n[3] = {d->R0[2], d->R0[5], d->R0[8]}, a[3], x[3], na;
+        if (d->patch_center[0] != 0.0 || d->patch_center[1] != 0.0)
+            return "the analytic method solves rotation scenes about the centre of mass (patch centre 0); "
+                   "an offset centre of mass is a pendulum";
+        if (mo->kind != EXDEX_MOTION_REST) {
+            if (!mo->rotation) return "the analytic method solves rotation scenes whose gripper turns";
+            a[0] = mo->axis[0];
+            a[1] = mo->axis[1];
+            a[2] = mo->axis[2];
+            na = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+            x[0] = a[1] * n[2] - a[2] * n[1];
+            x[1] = a[2] * n[0] - a[0] * n[2];
+            x[2] = a[0] * n[1] - a[1] * n[0];
+            if (!(na > 0.0) || !(sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]) <= PARALLEL * na))
+                return "the analytic method solves rotation scenes whose gripper turns about the plate normal";
+        }
+    }
+    return NULL;
+}
+
 /* ------------------------------------------------------------ kinematics */
 
 void model_initial_state(const exdex_model *m, double *q, double *v)
@@ -275,6 +318,54 @@ void model_patch_of_gen(const exdex_model *m, const double cs[2], const double P
     w[2] = P[2] + m->pc[1] * px - m->pc[0] * py;
 }
 
+/* ------------------------------------------------------------ scales */
+
+/* Relative factors of the thresholds (model_tols): for a typical paper
+ * scene (L ~ 1 cm, T ~ 30 ms, V ~ 0.3 m/s) they give thresholds near 1e-10 m,
+ * 1e-12 m/s and 1e-13 s, far below the accuracy of any method and far above
+ * the rounding of the quantities they compare. */
+#define TOUCH_REL 1e-8       /* x L */
+#define PEN_REL 1e-7         /* x L */
+#define START_GAP_REL 1e-7   /* x L */
+#define REST_GAP_REL 1e-7    /* x L */
+#define RATE_REL 3e-12       /* x V */
+#define VZERO_REL 3e-12      /* x q / T */
+#define FQ_MIN_REL 1e-12     /* x L / q */
+#define ROOT_REL 3e-12       /* x T */
+#define H0_REL 0.03          /* x T */
+
+static void model_set_scales(exdex_model *m)
+{
+    model_scales *s = &m->scale;
+    double A = fmax(sqrt(ex_dot3(m->g, m->g)), m->capF / m->m), v0 = hypot(m->def.v0[0], m->def.v0[1]);
+    s->L = m->e[2];
+    s->L = fmax(s->L, hypot(m->pc[0], m->pc[1]));
+    for (int j = 0; j < m->n_vert; j++) s->L = fmax(s->L, hypot(m->vert[j][0], m->vert[j][1]));
+    if (A > 0.0 && isfinite(A))
+        s->T = sqrt(s->L / A);
+    else if (m->def.motion.kind != EXDEX_MOTION_REST)
+        s->T = m->def.motion.duration;
+    else if (v0 > 0.0)
+        s->T = s->L / v0;
+    else if (m->def.v0[2] != 0.0)
+        s->T = 1.0 / fabs(m->def.v0[2]);
+    else
+        s->T = 1.0;
+    if (!(s->T > 0.0 && isfinite(s->T))) s->T = 1.0;
+    s->V = s->L / s->T;
+    s->F = m->m * s->L / (s->T * s->T);
+    s->q = m->ndof == 1 && m->def.dof == EXDEX_DOF_ROTATION ? 1.0 : s->L;
+    m->tol.touch = TOUCH_REL * s->L;
+    m->tol.pen = PEN_REL * s->L;
+    m->tol.start_gap = START_GAP_REL * s->L;
+    m->tol.rest_gap = REST_GAP_REL * s->L;
+    m->tol.rate = RATE_REL * s->V;
+    m->tol.vzero = VZERO_REL * s->q / s->T;
+    m->tol.fq_min = FQ_MIN_REL * s->L / s->q;
+    m->tol.root = ROOT_REL * s->T;
+    m->tol.h0 = H0_REL * s->T;
+}
+
 /* ------------------------------------------------------------ model */
 
 void exdex_model_free(exdex_model *m)
@@ -360,6 +451,7 @@ static exdex_model *build_model(const exdex_scene_def *def, int *status, const c
     }
     m->n_vert = def->n_vertices;
     memcpy(m->vert, def->vertices, sizeof m->vert);
+    model_set_scales(m);
     /* no vertex may start beyond a stop */
     if (m->n_stops) {
         exdex_kinematics kin;
@@ -373,7 +465,7 @@ static exdex_model *build_model(const exdex_scene_def *def, int *status, const c
         st = exdex_motion_eval(m->motion, 0.0, &kin);
         for (int k = 0; !st && k < m->n_stops; k++)
             for (int j = 0; j < nv; j++)
-                if (contact_vertex_gap(m, &kin, k, q, j, NULL) < -1e-9) st = EXDEX_EINVAL;
+                if (contact_vertex_gap(m, &kin, k, q, j, NULL) < -m->tol.start_gap) st = EXDEX_EINVAL;
         if (st) {
             exdex_model_free(m);
             *status = st;

@@ -13,6 +13,34 @@
 
 #define MAX_ROWS (EXDEX_MAX_STOPS * EXDEX_MAX_VERTICES)
 
+/* The scene's own scales. Every threshold of a contact or rounding decision
+ * is a fixed fraction of one of them (model_tols), so a scene whose
+ * lengths, times or masses are all scaled by the same factors gives results
+ * scaled by those factors (the physics has no length, time or mass of its
+ * own). */
+typedef struct model_scales {
+    double L;   /* length [m]: the largest of e_r, |patch centre| and |outline vertex| (> 0) */
+    double T;   /* time [s]: sqrt(L / A) with the acceleration scale A = max(|g|, mu N / m);
+                   without one, the motion's duration, else L / |v0|, else 1 */
+    double V;   /* velocity L / T [m/s] */
+    double F;   /* force m L / T^2 [N] */
+    double q;   /* unit of the 1-DoF coordinate: L (translation) or 1 (rotation, rad) */
+} model_scales;
+
+/* Thresholds of the decisions, in the scene's units (model_alloc sets them
+ * from the scales with the relative factors in model.c). */
+typedef struct model_tols {
+    double touch;      /* a stop gap below this counts as contact [m] */
+    double pen;        /* a stop gap below -pen after a step counts a warning [m] */
+    double start_gap;  /* an outline vertex starting below -start_gap is beyond its stop [m] */
+    double rest_gap;   /* planar rest against stops ends when a set row's |gap| exceeds this [m] */
+    double rate;       /* a gap rate below this counts as 0 [m/s] */
+    double vzero;      /* a 1-DoF |qd| below this counts as 0 [m/s or rad/s] */
+    double fq_min;     /* a 1-DoF stop row with |d gap / dq| below this cannot act [1 or m] */
+    double root;       /* event time resolution [s] */
+    double h0;         /* first step of the adaptive integrators [s] */
+} model_tols;
+
 struct exdex_model {
     exdex_scene_def def;    /* copy of the definition (sampled arrays owned by motion) */
     exdex_motion *motion;
@@ -41,6 +69,8 @@ struct exdex_model {
     double sp[EXDEX_MAX_STOPS][3], sn[EXDEX_MAX_STOPS][3];
     int n_vert;
     double vert[EXDEX_MAX_VERTICES][2];
+    model_scales scale;
+    model_tols tol;
 };
 
 /* Per-step quantities of the moving frame, in B coordinates: gravity g_B,

@@ -45,19 +45,27 @@ static int cramer(int n, double A[3][3], const double b[3], double x[3])
     return 1;
 }
 
+/* The rows of the support `mask` in set[] (at most 3); returns their
+ * number, 4 when there are more than 3. */
+static int support(int mask, int m, int set[3])
+{
+    int n = 0;
+    for (int j = 0; j < m; j++)
+        if (mask & (1 << j)) {
+            if (n == 3) return 4;
+            set[n++] = j;
+        }
+    return n;
+}
+
 /* Brute-force least distance over every support of <= 3 rows: 1 and z if
  * feasible (every row within ftol of holding), 0 if no support is. */
 static int brute_ldp(int m, const double (*a)[3], const double *c, double ftol, double z[3])
 {
     double best = INFINITY;
     for (int mask = 0; mask < (1 << m); mask++) {
-        int set[3], n = 0, ok = 1;
+        int set[3], n = support(mask, m, set), ok = 1;
         double A[3][3], rhs[3], y[3] = {0, 0, 0}, zt[3] = {0, 0, 0};
-        for (int j = 0; j < m; j++)
-            if (mask & (1 << j)) {
-                if (n < 3) set[n] = j;
-                n++;
-            }
         if (n > 3) continue;
         for (int i = 0; i < n; i++) {
             for (int j = 0; j < n; j++) A[i][j] = dot3(a[set[i]], a[set[j]]);
@@ -83,13 +91,8 @@ static double brute_comb(int m, const double a[3], const double (*b)[3])
 {
     double best = sqrt(dot3(a, a));
     for (int mask = 1; mask < (1 << m); mask++) {
-        int set[3], n = 0, ok = 1;
+        int set[3], n = support(mask, m, set), ok = 1;
         double A[3][3], rhs[3], lam[3], r[3];
-        for (int j = 0; j < m; j++)
-            if (mask & (1 << j)) {
-                if (n < 3) set[n] = j;
-                n++;
-            }
         if (n > 3) continue;
         for (int i = 0; i < n; i++) {
             for (int j = 0; j < n; j++) A[i][j] = dot3(b[set[i]], b[set[j]]);
