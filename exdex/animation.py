@@ -254,6 +254,9 @@ def animate(result: Any, fps: float = 25, speed: float = 1.0, max_frames: int = 
     if len(result.t) == 0:
         raise ValueError("Result.animate needs at least one sample")
 
+    from exdex._optional import require
+
+    require("matplotlib", "Result.animate()")
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
     from matplotlib.patches import Circle, Polygon
