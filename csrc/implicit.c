@@ -285,9 +285,9 @@ static int solve_active(const exdex_model *m, const double cs[2], double cap, co
              * objective differs from f0 by no more than that rounding (fscale
              * below, the sum of the terms' magnitudes) is accepted, else the
              * search would shrink t to nothing and the iteration stall short of
-             * the optimum (found by the frame-invariance test: a stall at a
-             * gradient 1e-10 left a 1e-10 relative velocity error that
-             * depended on the rounding of the world frame). */
+             * the optimum, at an error set by the rounding of the world frame
+             * (a stall at a gradient 1e-10 leaves a 1e-10 relative velocity
+             * error). */
             f0 = cap * nr;
             fscale = fabs(f0);
             for (int i = 0; i < nz; i++) {
