@@ -16,6 +16,7 @@ COMMANDS = {
     "bench": ("exdex.bench", "work-precision charts and stability maps of the integration methods"),
     "tool": ("exdex.tool", "assistive-tool design: twist-cone volumes and tool-angle optimisation"),
     "run": ("exdex.cli_run", "simulate a scene file (TOML or JSON): CSV, NPZ, a figure, an animation"),
+    "plan": ("exdex.plan", "plan the motion or grip for a target slip or turn; band under uncertainty; poses CSV"),
 }
 
 

@@ -55,6 +55,11 @@ __all__ = ["Limits", "Plan", "Band", "UnreachableTargetError", "solve", "band", 
 QUANTITIES = {"slip": "m", "rotation": "rad", "x": "m", "y": "m"}
 
 
+#: units of the parameters, for labels
+_PARAM_UNITS = {"grip_force": "N", "mu": "-", "mass": "kg", "e_r": "m", "amplitude": "m or rad", "duration": "s",
+                "beta": "-", "v_max": "m/s or rad/s"}
+
+
 class UnreachableTargetError(ValueError):
     """The target lies outside what the varied parameter can reach.
 
@@ -278,6 +283,29 @@ class Plan:
             s += f", worst error {self.worst_error:.3g} {u} over {self.band.describe()}"
         return s + ")"
 
+    def gripper_poses(self, rate: float = 100.0, t_end: Optional[float] = None):
+        """The planned gripper motion as poses at ``rate`` [Hz], what a robot
+        controller consumes: ``(times, poses)``, poses (n, 7) rows
+        x y z qw qx qy qz of frame B in the world (m, unit quaternion), from
+        t = 0 to ``t_end`` (default: the motion's end)."""
+        rate = _real(rate, "rate", low=0.0, low_open=True)
+        motion = self.scene.motion
+        end = motion.end_time if t_end is None else _real(t_end, "t_end", low=0.0)
+        n = max(int(math.floor(end * rate + 1e-9)) + 1, 2)
+        t = np.arange(n) / rate
+        if t[-1] < end:
+            t = np.append(t, end)
+        k = motion.evaluate(t, self.scene.gripper_rotation, self.scene.gripper_position)
+        from exdex.scene import _quat_from_matrix
+        q = np.array([_quat_from_matrix(R) for R in k["R"]])
+        return t, np.hstack([k["p"], q])
+
+    def sampled_trajectory(self, rate: float = 100.0) -> SampledTrajectory:
+        """The planned gripper motion as a :class:`exdex.SampledTrajectory`
+        sampled at ``rate`` [Hz] (e.g. to replay it, or to add a tool offset)."""
+        t, poses = self.gripper_poses(rate)
+        return SampledTrajectory(t, poses[:, :3], poses[:, 3:])
+
     def plot(self, ax=None):
         """The scan (outcome against the parameter), the target and the plan."""
         try:
@@ -291,7 +319,7 @@ class Plan:
         ax.plot(x, y, ".-", label="scan")
         ax.axhline(self.target, color="k", lw=0.8, ls="--", label="target")
         ax.plot([self.value], [self.achieved], "o", color="C3", label="plan")
-        ax.set_xlabel(self.parameter)
+        ax.set_xlabel(f"{self.parameter} [{_PARAM_UNITS.get(self.parameter, '-')}]")
         ax.set_ylabel(f"{self.quantity} [{u}]")
         ax.legend()
         return ax
@@ -644,3 +672,108 @@ def _solve_robust(run, scene, name, xs, feasible, quantity, goal, tol, unc, refi
                 residual=nominal - goal, cost=_cost_of(cost, best, name, best_x), reachable=reach,
                 solutions=(best_x,), scan=(xs, np.where(feasible, W, np.nan)), tol=tol, worst_error=float(w[0]),
                 band=bd)
+
+
+# ------------------------------------------------------------- command line
+
+def _kv(text, what):
+    try:
+        k, v = text.split("=", 1)
+        return k.strip(), v.strip()
+    except ValueError:
+        raise SystemExit(f"exdex plan: {what} must look like name=value, got {text!r}") from None
+
+
+def _interval(text, what):
+    k, v = _kv(text, what)
+    try:
+        lo, hi = (float(x) for x in v.split(":"))
+    except ValueError:
+        raise SystemExit(f"exdex plan: {what} must look like name=low:high, got {text!r}") from None
+    return k, (lo, hi)
+
+
+def add_arguments(parser):
+    parser.description = ("Plan the gripper motion or grip for a target in-hand outcome: scan a parameter in a "
+                          "batch, solve to tol, print the plan and its outcome band, write a figure and the "
+                          "gripper poses (CSV) a robot controller consumes.")
+    src = parser.add_mutually_exclusive_group()
+    src.add_argument("--case", choices=("fig3", "fig4", "fig6"), default="fig3",
+                     help="a paper case as the base scene (default fig3)")
+    src.add_argument("--scene", help="a scene file (TOML or JSON, exdex.save_scene) as the base scene")
+    parser.add_argument("--target", default="slip=-0.015",
+                        help="quantity=value, quantity one of slip [m], rotation [rad], x, y [m] "
+                             "(default slip=-0.015: slide 15 mm down)")
+    parser.add_argument("--vary", default="grip_force=1.0:3.0",
+                        help="parameter=low:high (default grip_force=1.0:3.0)")
+    parser.add_argument("--uncertain", action="append", default=[],
+                        help="parameter=low:high known only within the interval (repeatable): plan for the "
+                             "worst case and report the band")
+    parser.add_argument("--tol", type=float, default=1e-6, help="tolerance on the outcome (default 1e-6)")
+    parser.add_argument("--t-end", type=float, default=None, help="simulated time [s] (default: motion end x 1.5)")
+    parser.add_argument("--max-acceleration", type=float, default=None, help="robot limit [m/s^2 or rad/s^2]")
+    parser.add_argument("--max-speed", type=float, default=None, help="robot limit [m/s or rad/s]")
+    parser.add_argument("--rate", type=float, default=100.0, help="rate of the exported poses [Hz] (default 100)")
+    parser.add_argument("--out", default="exdex-output/plan", help="output folder (default exdex-output/plan)")
+    parser.add_argument("--no-progress", action="store_true", help="accepted for symmetry (a plan takes ms)")
+
+
+def run(args):
+    import os
+    from exdex import paper
+    if args.scene:
+        from exdex.io import load_scene
+        scene = load_scene(args.scene)
+    else:
+        scene = {"fig3": paper.fig3_scene, "fig4": paper.fig4_scene, "fig6": paper.fig6_scene}[args.case]()
+    q, v = _kv(args.target, "--target")
+    try:
+        target = {q: float(v)}
+    except ValueError:
+        raise SystemExit(f"exdex plan: --target value must be a number, got {v!r}") from None
+    name, bounds = _interval(args.vary, "--vary")
+    unc = dict(_interval(u, "--uncertain") for u in args.uncertain) or None
+    limits = None
+    if args.max_acceleration is not None or args.max_speed is not None:
+        limits = Limits(max_acceleration=args.max_acceleration, max_speed=args.max_speed)
+    try:
+        p = solve(scene, target, {name: bounds}, limits=limits, tol=args.tol, t_end=args.t_end, uncertain=unc)
+    except UnreachableTargetError as exc:
+        print(f"exdex plan: {exc}")
+        return 1
+    os.makedirs(args.out, exist_ok=True)
+    u = QUANTITIES[p.quantity]
+    print(f"plan: {p.parameter} = {p.value:.9g}")
+    print(f"  {p.quantity}: {p.achieved:.9g} {u} (target {p.target:g} {u}, residual {p.residual:.2e} {u}, "
+          f"tol {p.tol:g})")
+    print(f"  reachable by {p.parameter} in [{bounds[0]:g}, {bounds[1]:g}]: "
+          f"[{p.reachable[0]:.6g}, {p.reachable[1]:.6g}] {u}")
+    pk = motion_peaks(p.scene.motion)
+    print(f"  gripper: peak acceleration {pk['acceleration']:.4g}, peak speed {pk['speed']:.4g}, "
+          f"stroke {pk['stroke']:.4g}, duration {pk['duration']:.4g} s")
+    if p.band is not None:
+        print(f"  outcome band: [{p.band.low:.6g}, {p.band.high:.6g}] {u} for {p.band.describe()} "
+              f"({'exact ends' if p.band.exact else f'sampled, bound {p.band.bound:.2g}'}); worst error "
+              f"{p.worst_error:.3g} {u}: {'meets' if p.meets_target else 'does NOT meet'} tol {p.tol:g}")
+    t, poses = p.gripper_poses(args.rate)
+    csv_path = os.path.join(args.out, "gripper_poses.csv")
+    np.savetxt(csv_path, np.column_stack([t, poses]), delimiter=",", header="t,x,y,z,qw,qx,qy,qz", comments="",
+               fmt="%.17g")
+    print(f"wrote {csv_path} ({len(t)} poses at {args.rate:g} Hz)")
+    try:
+        from exdex.io import save_scene
+        scene_path = os.path.join(args.out, "planned_scene.toml")
+        save_scene(p.scene, scene_path)
+        print(f"wrote {scene_path}")
+    except ImportError:  # pragma: no cover - exdex.io is part of the package
+        pass
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        ax = p.plot()
+        fig_path = os.path.join(args.out, "plan.png")
+        ax.figure.savefig(fig_path, dpi=120)
+        print(f"wrote {fig_path}")
+    except ImportError:
+        print("(no figure: matplotlib is missing; pip install 'exdex[plot]')")
+    return 0

@@ -164,3 +164,31 @@ def test_motion_peaks_closed_forms():
     pk = plan.motion_peaks(tp)
     ta = 0.5 - 0.05 / 0.12
     assert pk["acceleration"] == pytest.approx(0.12 / ta) and pk["speed"] == 0.12
+
+
+def test_gripper_poses_follow_eq7_in_closed_form():
+    """The exported poses: Eq. 7 downward, s(t) = a_H t^2 / 2 on [0, beta T)
+    with a_H = 2 X1 / (beta T^2) (Eq. 9), orientation constant."""
+    p = plan.solve(fig3(), {"slip": -0.015}, vary={"grip_force": (1.0, 3.0)}, t_end=T_END)
+    t, poses = p.gripper_poses(rate=200.0)
+    assert t[0] == 0.0 and t[-1] == pytest.approx(1.0) and np.allclose(np.diff(t), 1 / 200)
+    a_h = 2 * 0.1 / (0.9 * 0.25)
+    early = t < 0.45
+    assert np.allclose(poses[early, 2], -0.5 * a_h * t[early] ** 2, rtol=0, atol=1e-15)
+    assert np.allclose(poses[:, 3:], poses[0, 3:], rtol=0, atol=1e-15)
+    traj = p.sampled_trajectory(rate=200.0)
+    assert np.array_equal(traj.times, t)
+
+
+def test_cli_plan_writes_poses_and_reports_unreachable(tmp_path, capsys):
+    from exdex import cli
+    out = tmp_path / "plan"
+    assert cli.main(["plan", "--out", str(out), "--target", "slip=-0.01"]) == 0
+    text = capsys.readouterr().out
+    assert "grip_force" in text and "residual" in text
+    data = np.loadtxt(out / "gripper_poses.csv", delimiter=",", skiprows=1)
+    assert data.shape[1] == 8
+    loaded = exdex.load_scene(out / "planned_scene.toml")
+    assert abs(closed_slip(loaded) - (-0.01)) <= 1e-6 + 1e-9
+    assert cli.main(["plan", "--out", str(out), "--target", "slip=-0.9"]) == 1
+    assert "reachable" in capsys.readouterr().out
