@@ -1297,5 +1297,5 @@ static int regularised_run(const exdex_model *m, void *ws, double t_end, double 
     return run_hybrid(m, ws, LAW_SMOOTH, t_end, dt, out, st);
 }
 
-const method_impl method_event = {"event", hybrid_alloc, event_run, hybrid_free};
-const method_impl method_regularised = {"regularised", hybrid_alloc, regularised_run, hybrid_free};
+const method_impl method_event = {"event", hybrid_alloc, event_run, hybrid_free, 0};
+const method_impl method_regularised = {"regularised", hybrid_alloc, regularised_run, hybrid_free, 0};

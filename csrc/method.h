@@ -19,6 +19,8 @@ typedef struct method_impl {
     void *(*alloc)(const exdex_model *m, int *status);
     int (*run)(const exdex_model *m, void *ws, double t_end, double dt, exdex_trajectory *out, exdex_stats *st);
     void (*free)(void *ws);  /* NULL is harmless */
+    int checks_finite;       /* 1: run returns EXDEX_OK only with finite output (it checks
+                                every step), so simulate.c need not scan it again */
 } method_impl;
 
 /* Record sample i: time t, coordinates q and velocities v (ndof each), the
