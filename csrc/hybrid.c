@@ -19,9 +19,7 @@
  *   1-DoF scenes with stops, contact (the object follows a stop: the gap is
  *   held at 0 and the stop force comes from the constraint acceleration).
  *   Each mode has guard functions that are >= 0 while it holds:
- *     slip -> stop:   1-DoF s qd (s the slip direction); planar (E u).(E u_0),
- *                     u_0 the slip at the start of the step (the slip
- *                     reverses or vanishes);
+ *     slip -> stop:   1-DoF s qd (s the slip direction); planar, see below;
  *     stick -> slip:  C (1 + 1e-12) - |required friction| (the wrench that
  *                     would hold leaves the ellipsoid; the 1e-12 band keeps
  *                     loads sitting on the limit from toggling);
@@ -29,12 +27,35 @@
  *                     the stop force; in contact also the gaps of the
  *                     contact stop's other vertices (a turning gripper or
  *                     object hands the contact over to another corner).
+ *   Planar slip (|E u| compared with zsw = SLIP_SMALL atol, the speed below
+ *   which the error control does not resolve a slip's direction):
+ *     small slip (it grows from rest): the friction is the maximum-
+ *       dissipation wrench of the current load for an infinitesimal step
+ *       (against stops: the fixed point of that law on the constrained
+ *       acceleration). The sliding law's direction E u / |E u| relaxes onto
+ *       it at the rate C |K| / |E u| (K = E W E), infinitely stiff at the
+ *       start of a slip; the slip follows it to |E u| |dn/dt| / (C |K|) (n
+ *       that direction). Guards: the load leaves the ellipsoid's outside
+ *       (|E^-1 w_stick| - C (1 + TOLF): it stops), zsw - |E u| (it becomes
+ *       a slip, no state change);
+ *     slip: the sliding law. Guards: (E u).(E u_0), u_0 the slip at the
+ *       start of the step (it reverses: a stop if |E u| <= zsw there, else
+ *       a turn of the slip direction, which only renews u_0), and
+ *       |E u| - zsw (it dies out, also against stops, without reversing):
+ *       a stop sets qd = 0, so a slip's last zsw of speed is dropped.
  *   After every accepted step the guards are checked; the earliest sign change
  *   is located by GSL Brent on the stepper's own one-step map tau -> y(t0 +
- *   tau) (an interpolant of the stepper's order), and the mode is decided
- *   again there (slip stops with qd = 0 exactly; it sticks iff the required
- *   friction lies in the ellipsoid, else it slips on in the direction that
- *   the maximum-dissipation solve gives for an infinitesimal step). The
+ *   tau) (an interpolant of the stepper's order) at the first point where the
+ *   guard is violated (g < 0, not an exact zero that would decide the same
+ *   mode again), and the mode is decided again there (slip stops with qd = 0
+ *   exactly; it sticks iff the required friction lies in the ellipsoid, else
+ *   it slips on in the direction that the maximum-dissipation solve gives
+ *   for an infinitesimal step). A guard can change sign and back within one
+ *   step: a 1-DoF slip that stops and restarts the same way (s qd falling
+ *   then rising over the step: its minimum is searched, golden section on
+ *   the one-step map), and a guard violated at the step start that first
+ *   recovers (a corner lifted off a stop falling back: its maximum is
+ *   searched, and the crossing after it located). The
  *   motion's own switching times (Eq. 7, trapezoid kinks, end of a sampled
  *   motion) are stepped onto, never over, and velocity jumps of the gripper
  *   there are applied as inertial impulses. Fails by Zeno-like toggling: a
@@ -74,13 +95,15 @@
  *     step the penetration and approach speed of the set rows are projected
  *     out; a row leaves when lam reaches 0 (guard lam G M^-1 G^T - gap
  *     acceleration, negative once it separates);
- *   event, slip against stops: also stops once |E u| < SLIP_STOP (1e-9 m/s:
- *     a constrained slip can die out without reversing); where it stops, a
- *     stop moving in B would push it on (the plastic impact on v = 0), and
- *     if that slip is below SLIP_STOP too it is a rest on the touching rows
- *     instead (a restart there would stop again at once, Zeno-like, with the
- *     step collapsing on |E u| -> 0: a gripper's rotation reversing with
- *     the object against a stop); stick against
+ *   an impact whose lift-off rates are all below zsw holds the touching
+ *     rows at rate 0 (a face landing flat: plastic impacts alternating
+ *     between its corners with rates shrinking by a constant factor would
+ *     accumulate at a finite time);
+ *   event, slip against stops: where it stops, a stop moving in B would
+ *     push it on (the plastic impact on v = 0), and if that slip is below
+ *     SLIP_PUSH zsw it is a rest on the touching rows instead (a restart
+ *     there would stop again at once, Zeno-like: a gripper's rotation
+ *     reversing with the object against a stop); stick against
  *     stops: rest iff the least-friction split (planar_rest: NNLS over the
  *     stop forces lam >= 0, as sim.c's try_rest) has |E^-1 w| <= mu N
  *     (1 + TOLF); the rest ends when that fails or a set row's gap leaves
@@ -108,7 +131,10 @@
  *     gsl_odeiv2_evolve_apply call are bounded by its step-size decrease
  *     (each at least x0.89 per rejection, floor at 1 ulp);
  *   - event: at most EVENTS_MAX (1000) events per output interval, each
- *     located by at most BRENT_MAX (200) Brent iterations;
+ *     located by at most BRENT_MAX (200) Brent iterations (and a guard's
+ *     extremum inside a step by at most 60 golden-section iterations);
+ *   - every failure records its time and cause in exdex_stats (fail_time,
+ *     fail_cause: events, step budget, step floor, stepper);
  *   - decisions, projections, impacts: fixed small iteration counts;
  *   - explicit: one step per output sample, nothing else iterates.
  * Why the regularised step collapses: near u = 0 the friction slope is
@@ -232,7 +258,7 @@ static void contact_acc_planar(hyb *H, const exdex_kinematics *kin, const double
  * approach) in the M metric; the impulses go into the stops' force
  * integrals. Then the contact set: the touching rows whose rate is ~0
  * and which push (lam > 0) under the accelerations of the mode. */
-static void planar_impact_and_set(hyb *H, const exdex_kinematics *kin, double *y)
+static void planar_impact_and_set(hyb *H, double t, const exdex_kinematics *kin, double *y)
 {
     const exdex_model *m = H->m;
     double Gr[MAX_ROWS][3], b[MAX_ROWS], lam[MAX_ROWS], v[3];
@@ -247,8 +273,48 @@ static void planar_impact_and_set(hyb *H, const exdex_kinematics *kin, double *y
     H->ncs = 0;
     if (!n) return;
     if (ldp_project(m->minv, n, (const double (*)[3])Gr, b, y + 3, FQ_MIN, v, lam, &H->st->stop_iterations, &H->st->warnings)) {
-        for (int i = 0; i < n; i++) y[9 + rows[i] / H->nv] += lam[i];
+        double G2[2 * MAX_ROWS][3], b2[2 * MAX_ROWS], lam2[2 * MAX_ROWS], v2[3];
+        double per_stop[EXDEX_MAX_STOPS] = {0};
+        int n2 = 0, lift = 0;
+        for (int i = 0; i < n; i++) {
+            y[9 + rows[i] / H->nv] += lam[i];
+            /* an approached row (gap rate below -tol.rate) takes an impact */
+            if (lam[i] > 0 && ex_dot3(Gr[i], y + 3) - b[i] < -m->tol.rate)
+                per_stop[rows[i] / H->nv] += lam[i];
+        }
+        for (int k = 0; k < H->ns; k++) method_note_impact(H->st, t, k, per_stop[k]);
         memcpy(y + 3, v, sizeof v);
+        /* A plastic impact at one corner of a face that lands flat lifts
+         * the other corner off, which falls back, impacts, lifts the first:
+         * rates shrinking geometrically, events accumulating at a finite
+         * time (Zeno). Once the lift-off rates are below zsw the touching
+         * rows that would separate that slowly are held at rate 0 instead
+         * (equality rows, an M-metric projection again): the face rests. */
+        for (int i = 0; i < n; i++) {
+            double rate = ex_dot3(Gr[i], y + 3) - b[i];
+            if (rate > m->tol.rate && rate <= H->zsw) lift = 1;
+        }
+        for (int i = 0; lift && i < n; i++) {
+            double rate = ex_dot3(Gr[i], y + 3) - b[i];
+            if (rate > H->zsw) continue;
+            for (int c = 0; c < 3; c++) {
+                G2[n2][c] = Gr[i][c];
+                G2[n2 + 1][c] = -Gr[i][c];
+            }
+            b2[n2] = b[i];
+            b2[n2 + 1] = -b[i];
+            n2 += 2;
+        }
+        if (lift && ldp_project(m->minv, n2, (const double (*)[3])G2, b2, y + 3, FQ_MIN, v2, lam2,
+                                &H->st->stop_iterations, &H->st->warnings)) {
+            for (int i = 0, r = 0; i < n; i++) {
+                double rate = ex_dot3(Gr[i], y + 3) - b[i];
+                if (rate > H->zsw) continue;
+                y[9 + rows[i] / H->nv] += lam2[r] - lam2[r + 1];
+                r += 2;
+            }
+            memcpy(y + 3, v2, sizeof v2);
+        }
     }
     for (int i = 0; i < n; i++) {
         double rate = ex_dot3(Gr[i], y + 3) - b[i];
@@ -629,7 +695,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
         double F[3], w[3], u[3], zero[3] = {0, 0, 0};
         if (H->ns) {
             planar_unpenetrate(H, &kin, y);
-            planar_impact_and_set(H, &kin, y);
+            planar_impact_and_set(H, t, &kin, y);
         }
         if (H->law == LAW_SMOOTH) {
             H->mode = MODE_FREE;
@@ -641,14 +707,13 @@ static void decide(hyb *H, double t, double *y, int vzero)
             if (H->ns) {
                 /* a slip that stopped against stops moving in B: the stops
                  * push it on at their own speed. If that slip is below
-                 * SLIP_PUSH zsw it would count as stopped at once (the guard is
-                 * violated from the start: Zeno-like restarts, each with a
-                 * step collapsing on |E u| -> 0); it is a rest instead, on
+                 * SLIP_PUSH zsw it would soon count as stopped again
+                 * (Zeno-like restarts); it is a rest instead, on
                  * every touching row, which the tol.rest_gap guard ends once the
                  * stops have moved (a drift below tol.rest_gap) */
                 double ysv[EXDEX_MAX_STOPS], u[3], eu[3];
                 memcpy(ysv, y + 9, (size_t)H->ns * sizeof *ysv);
-                planar_impact_and_set(H, &kin, y);
+                planar_impact_and_set(H, t, &kin, y);
                 model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
                 for (int i = 0; i < 3; i++) eu[i] = m->e[i] * u[i];
                 if ((y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0) && sqrt(ex_dot3(eu, eu)) < SLIP_PUSH * H->zsw) {
@@ -740,6 +805,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
             {
                 double vn = -cb.Ft / cb.Fq;
                 y[3 + kb] += H->M * (vn - y[1]) / cb.Fq;
+                method_note_impact(H->st, t, kb, H->M * (vn - y[1]) / cb.Fq);
                 y[1] = vn;
                 vzero = 0;
                 if (pass == 2) H->st->warnings++; /* stops pinch the object */
@@ -965,13 +1031,46 @@ static double root_fn(double tau, void *p)
     return g[c->e];
 }
 
-/* Locate the root of guard e in [0, tau1] (g(0) > 0 > g(tau1)) with Brent;
+/* Golden-section search for the extremum of guard e over [0, tau1] on the
+ * stepper's map (dir +1: the minimum, -1: the maximum), at most 60
+ * iterations, stopping early once the guard has the sign sought (dir +1:
+ * g < 0, -1: g > 0). *tau, *g: the best point found. EXDEX_ENOCONV if the
+ * stepper fails. */
+static int guard_extremum(hyb *H, ode *O, double t0, const double *y0, double tau1, int e, double dir,
+                          double *tau, double *g)
+{
+    rootctx c = {H, O, t0, y0, e, 0};
+    double a = 0.0, b = tau1, r = 0.5 * (3.0 - sqrt(5.0));
+    double x1 = a + r * (b - a), x2 = b - r * (b - a), f1 = dir * root_fn(x1, &c), f2 = dir * root_fn(x2, &c);
+    for (int it = 0; it < 60 && f1 >= 0.0 && f2 >= 0.0 && !c.fail && b - a > H->m->tol.root; it++) {
+        if (f1 < f2) {
+            b = x2;
+            x2 = x1;
+            f2 = f1;
+            x1 = a + r * (b - a);
+            f1 = dir * root_fn(x1, &c);
+        } else {
+            a = x1;
+            x1 = x2;
+            f1 = f2;
+            x2 = b - r * (b - a);
+            f2 = dir * root_fn(x2, &c);
+        }
+        H->st->solver_iterations++;
+    }
+    if (c.fail || H->err) return H->err ? H->err : EXDEX_ENOCONV;
+    *tau = f1 < f2 ? x1 : x2;
+    *g = dir * (f1 < f2 ? f1 : f2);
+    return EXDEX_OK;
+}
+
+/* Locate the root of guard e in [tau0, tau1] (g(tau0) > 0 > g(tau1)) with Brent;
  * returns the upper end of the final bracket (the guard is just violated). */
-static int locate(hyb *H, ode *O, double t0, const double *y0, double tau1, int e, double *tau)
+static int locate(hyb *H, ode *O, double t0, const double *y0, double tau0, double tau1, int e, double *tau)
 {
     rootctx c = {H, O, t0, y0, e, 0};
     gsl_function F = {root_fn, &c};
-    double lo = 0.0, hi = tau1;
+    double lo = tau0, hi = tau1;
     int st = gsl_root_fsolver_set(O->root, &F, lo, hi);
     if (st) return EXDEX_ENOCONV;
     for (int it = 0; it < BRENT_MAX; it++) {
@@ -1114,33 +1213,11 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
                 double d0[NY_MAX], d1[NY_MAX];
                 if (rhs(t0, y0, d0, &H) == GSL_SUCCESS && rhs(t, y, d1, &H) == GSL_SUCCESS &&
                     H.s * d0[1] < 0.0 && H.s * d1[1] > 0.0) {
-                    rootctx c = {&H, O, t0, y0, 0, 0};
-                    double a = 0.0, b = t - t0, r = 0.5 * (3.0 - sqrt(5.0));
-                    double x1 = a + r * (b - a), x2 = b - r * (b - a), f1 = root_fn(x1, &c), f2 = root_fn(x2, &c);
-                    for (int it = 0; it < 60 && f1 >= 0.0 && f2 >= 0.0 && !c.fail; it++) {
-                        if (f1 < f2) {
-                            b = x2;
-                            x2 = x1;
-                            f2 = f1;
-                            x1 = a + r * (b - a);
-                            f1 = root_fn(x1, &c);
-                        } else {
-                            a = x1;
-                            x1 = x2;
-                            f1 = f2;
-                            x2 = b - r * (b - a);
-                            f2 = root_fn(x2, &c);
-                        }
-                        st->solver_iterations++;
-                        if (b - a <= m->tol.root) break;
-                    }
-                    if (c.fail || H.err) {
-                        status = H.err ? H.err : EXDEX_ENOCONV;
-                        break;
-                    }
-                    if (f1 < 0.0 || f2 < 0.0) {
+                    double tm, gm;
+                    status = guard_extremum(&H, O, t0, y0, t - t0, 0, 1.0, &tm, &gm);
+                    if (status) break;
+                    if (gm < 0.0) {
                         /* the step ends at the dip; the guard is violated there */
-                        double tm = f1 < 0.0 ? x1 : x2;
                         if (one_step(O, t0, y0, tm, y) != GSL_SUCCESS) {
                             status = EXDEX_ENOCONV;
                             break;
@@ -1159,13 +1236,30 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
                      * the decision at t0 keeps being undone (a tie: let the
                      * step decide, counted as a warning) */
                     if (!(g1[e] < g0[e] - 1e-13)) continue;
+                    {
+                        /* it may recover first and cross later within the
+                         * step (a corner lifted off a stop by an impact at
+                         * t0 falls back): locate that crossing */
+                        double tm, gm;
+                        status = guard_extremum(&H, O, t0, y0, t - t0, e, -1.0, &tm, &gm);
+                        if (status) break;
+                        if (gm > 0.0) {
+                            status = locate(&H, O, t0, y0, tm, t - t0, e, &tau);
+                            if (status) break;
+                            if (tau < tau_best) {
+                                tau_best = tau;
+                                e_best = e;
+                            }
+                            continue;
+                        }
+                    }
                     if (same >= 4) {
                         st->warnings++;
                         continue;
                     }
                     tau = 0.0;
                 } else {
-                    status = locate(&H, O, t0, y0, t - t0, e, &tau);
+                    status = locate(&H, O, t0, y0, 0.0, t - t0, e, &tau);
                     if (status) break;
                 }
                 if (tau < tau_best) {
@@ -1187,7 +1281,7 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
                 for (int e = 0; e < ng && !status; e++) {
                     double tau;
                     if (e == e_best || !(g0[e] > 0.0) || !(gt[e] < 0.0)) continue;
-                    status = locate(&H, O, t0, y0, tau_best, e, &tau);
+                    status = locate(&H, O, t0, y0, 0.0, tau_best, e, &tau);
                     if (!status && tau < tau_new) {
                         tau_new = tau;
                         e_new = e;
@@ -1310,5 +1404,5 @@ static int regularised_run(const exdex_model *m, void *ws, double t_end, double 
     return run_hybrid(m, ws, LAW_SMOOTH, t_end, dt, out, st);
 }
 
-const method_impl method_event = {"event", hybrid_alloc, event_run, hybrid_free};
-const method_impl method_regularised = {"regularised", hybrid_alloc, regularised_run, hybrid_free};
+const method_impl method_event = {"event", hybrid_alloc, event_run, hybrid_free, 0};
+const method_impl method_regularised = {"regularised", hybrid_alloc, regularised_run, hybrid_free, 0};

@@ -192,3 +192,12 @@ def test_cli_plan_writes_poses_and_reports_unreachable(tmp_path, capsys):
     assert abs(closed_slip(loaded) - (-0.01)) <= 1e-6 + 1e-9
     assert cli.main(["plan", "--out", str(out), "--target", "slip=-0.9"]) == 1
     assert "reachable" in capsys.readouterr().out
+
+
+def test_band_of_a_slide_onto_a_stop_is_exact_and_flat():
+    """Fig. 4: the object rests on a fixed stop while the gripper moves
+    X1 = 50 mm down, so the relative slip is X1 whatever mu (the paper's
+    value; exdex.paper.stop_closed_form): a flat outcome, monotone to rounding."""
+    b = plan.band(paper.fig4_scene(), "slip", {"mu": (0.45, 0.55)}, t_end=1.2, method="event")
+    assert b.exact
+    assert b.low == pytest.approx(0.05, abs=1e-12) and b.high == pytest.approx(0.05, abs=1e-12)

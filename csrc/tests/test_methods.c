@@ -502,10 +502,16 @@ EXDEX_TEST(methods_budget_step_collapse_returns_enoconv)
         ENSURE(sim_run_def(&d, 0.01, dt, &r) == EXDEX_ENOCONV);
         ENSURE(r.st.steps <= 100000 && r.st.steps >= 1000);
         ENSURE(r.st.warnings >= 1);
+        /* the failure says why (the step budget) and when: inside the
+         * first output interval, 1e5 steps of at most 5.17 / k */
+        ENSURE(r.st.fail_cause == EXDEX_FAIL_STEP_BUDGET);
+        ENSURE(r.st.fail_time > 0.0 && r.st.fail_time <= dt);
+        ENSURE(r.st.fail_time <= 1e5 * x_stab / k * 1.01);
         sim_run_free(&r);
         /* the same scene with eps = 1e-6 needs ~2500 steps per interval: runs */
         d.eps = 1e-6;
         ENSURE(sim_run_def(&d, 0.01, dt, &r) == EXDEX_OK);
+        ENSURE(r.st.fail_cause == EXDEX_FAIL_NONE && isnan(r.st.fail_time));
         sim_run_free(&r);
     }
     /* (2) the step floor: sliding down at 1 m/s with C = 2 m g, the object
@@ -521,7 +527,67 @@ EXDEX_TEST(methods_budget_step_collapse_returns_enoconv)
         d.v0[1] = -1.0;
         ENSURE(sim_run_def(&d, 0.5, 0.5, &r) == EXDEX_ENOCONV);
         ENSURE(r.st.steps < 100000);
+        /* a collapse of the step near the stop at t = 1/g: reported as the
+         * floor, or as the budget when the rejected steps of the collapse
+         * (counted in it) reach 1e5 first */
+        report("methods_budget_floor_cause", (double)r.st.fail_cause);
+        ENSURE(r.st.fail_cause == EXDEX_FAIL_STEP_FLOOR || r.st.fail_cause == EXDEX_FAIL_STEP_BUDGET);
+        ENSURE(fabs(r.st.fail_time - 1.0 / G) < 1e-3);
         report("methods_budget_floor_steps", (double)r.st.steps);
+        sim_run_free(&r);
+    }
+}
+
+EXDEX_TEST(methods_event_slip_onset_inside_a_phase)
+{
+    /* Translation along B x, gripper turning about the horizontal A y axis
+     * through the centre of mass (B z = -A y) at w = 1.5 rad/s after a ramp
+     * of t_a = 0.2 s (trapezoid: 1.2 rad in 1 s). While it sticks the object
+     * is on the axis: only gravity acts along the slide, g sin s(t), s the
+     * turned angle, s = w t_a/2 + w (t - t_a) in the cruise. Slip starts at
+     * m g sin(s*) = C, s* = arcsin(C / (m g)): t* = t_a + (s* - w t_a / 2) / w.
+     * Then (tau = t - t*) q'' = g sin(s* + w tau) - C/m + w^2 q (centrifugal;
+     * Coriolis is normal to the slide), q(0) = q'(0) = 0:
+     *   q = A sin(s* + w tau) + B + c1 cosh(w tau) + c2 sinh(w tau),
+     *   A = -g/(2w^2), B = C/(m w^2), c1 = -C/(2 m w^2), c2 = g cos(s*) / (2 w^2).
+     * The onset error inferred from q at t_end, (q - q_exact)/q'_exact, must
+     * be below 1e-9 s for output dt = t_end, t_end/8 and 1 ms (a slip that
+     * starts at the next output sample would be up to dt late). */
+    double m = 0.1, w = 1.5, ta = 0.2, t_end = 0.5, C, s_star, t_star, tau, A, B, c1, c2, q, qd;
+    double dts[3] = {0.5, 0.5 / 8, 1e-3};
+    exdex_scene_def d = exdex_default_scene_def();
+    d.mass = m;
+    d.mu = 0.5;
+    d.grip_force = 0.25;
+    d.fingers = 2;
+    C = 2 * d.mu * d.grip_force;
+    d.gravity[2] = -G;
+    d.slide_axis[0] = 1.0;
+    d.slide_axis[1] = 0.0;
+    d.motion.kind = EXDEX_MOTION_TRAPEZOID;
+    d.motion.rotation = 1;
+    d.motion.axis[0] = 0.0;
+    d.motion.axis[1] = 1.0;
+    d.motion.axis[2] = 0.0;
+    d.motion.amplitude = 1.2;
+    d.motion.duration = 1.0;
+    d.motion.v_max = w;
+    d.method = EXDEX_METHOD_EVENT;
+    s_star = asin(C / (m * G));
+    t_star = ta + (s_star - 0.5 * w * ta) / w;
+    ENSURE(t_star > ta && t_star < t_end);
+    tau = t_end - t_star;
+    A = -G / (2 * w * w);
+    B = C / (m * w * w);
+    c1 = -C / (2 * m * w * w);
+    c2 = G * cos(s_star) / (2 * w * w);
+    q = A * sin(s_star + w * tau) + B + c1 * cosh(w * tau) + c2 * sinh(w * tau);
+    qd = w * (A * cos(s_star + w * tau) + c1 * sinh(w * tau) + c2 * cosh(w * tau));
+    for (int i = 0; i < 3; i++) {
+        sim_run r;
+        ENSURE(sim_run_def(&d, t_end, dts[i], &r) == EXDEX_OK);
+        ENSURE(fabs(qlast(&r, 0) - q) / qd < 1e-9);
+        if (i == 0) report("methods_event_slip_onset_error_s", (qlast(&r, 0) - q) / qd);
         sim_run_free(&r);
     }
 }
