@@ -256,8 +256,7 @@ def animate(result: Any, fps: float = 25, speed: float = 1.0, max_frames: int = 
 
     from exdex._optional import require
 
-    require("matplotlib", "Result.animate()")
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    FigureCanvasAgg = require("matplotlib.backends.backend_agg", "Result.animate()").FigureCanvasAgg
     from matplotlib.figure import Figure
     from matplotlib.patches import Circle, Polygon
 
