@@ -2,7 +2,7 @@
 # Installs what exdex needs, only what is missing; safe to run again.
 #  1. GSL (Debian/Ubuntu: libgsl-dev via apt-get, as root or with sudo),
 #  2. a virtual environment .venv with exdex built and installed in it
-#     (editable) plus the test, engine and dask extras.
+#     (editable) plus the test, plot, engine and dask extras.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -31,7 +31,7 @@ stamp=.venv/.exdex-installed
 if [ ! -f "$stamp" ] || [ -n "$(find csrc exdex setup.py pyproject.toml -newer "$stamp" \( -name '*.c' -o -name '*.h' -o -name '*.py' -o -name '*.toml' \) -print -quit)" ]; then
   echo "== installing exdex into .venv"
   .venv/bin/python -m pip install -q --upgrade pip setuptools wheel
-  .venv/bin/python -m pip install -q -e ".[test,engines,dask]"
+  .venv/bin/python -m pip install -q -e ".[test,plot,engines,dask]"
   touch "$stamp"
 fi
 echo "== setup done: $(.venv/bin/python -c 'import exdex; print("exdex", exdex.__version__)')"

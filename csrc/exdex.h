@@ -406,6 +406,15 @@ typedef struct exdex_stats {
     size_t stop_iterations;     /* stop/friction block iterations, summed */
     size_t warnings;            /* soft problems (e.g. stop iteration limit) */
     double min_gap;             /* smallest stop gap seen after a step [m] */
+    double first_warning_t;     /* end of the first step or output interval
+                                 * that counted a warning [s]; NaN: none */
+    size_t impacts;             /* impacts on stops: a stop starts pushing an
+                                 * object that approaches it (a velocity jump) */
+    double max_impulse;         /* largest impact impulse of one stop [N s]
+                                 * (generalized: N m s on a rotation pin); 0: none */
+    double max_impulse_t;       /* its time [s] (the step's end for
+                                 * time-stepping methods); NaN: none */
+    int max_impulse_stop;       /* its stop index; -1: none */
     double fail_time;           /* where a failed run stopped: the time it had reached
                                    (event, regularised: the start of the failing step
                                    or event) [s]; NaN after success or when unknown */

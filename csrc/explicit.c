@@ -149,4 +149,4 @@ static int explicit_run(const exdex_model *m, void *ws, double t_end, double dt,
     return run_explicit(m, t_end, dt, out, st);
 }
 
-const method_impl method_explicit = {"explicit", explicit_alloc, explicit_run, explicit_free};
+const method_impl method_explicit = {"explicit", explicit_alloc, explicit_run, explicit_free, 1};

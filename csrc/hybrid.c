@@ -258,7 +258,7 @@ static void contact_acc_planar(hyb *H, const exdex_kinematics *kin, const double
  * approach) in the M metric; the impulses go into the stops' force
  * integrals. Then the contact set: the touching rows whose rate is ~0
  * and which push (lam > 0) under the accelerations of the mode. */
-static void planar_impact_and_set(hyb *H, const exdex_kinematics *kin, double *y)
+static void planar_impact_and_set(hyb *H, double t, const exdex_kinematics *kin, double *y)
 {
     const exdex_model *m = H->m;
     double Gr[MAX_ROWS][3], b[MAX_ROWS], lam[MAX_ROWS], v[3];
@@ -274,8 +274,15 @@ static void planar_impact_and_set(hyb *H, const exdex_kinematics *kin, double *y
     if (!n) return;
     if (ldp_project(m->minv, n, (const double (*)[3])Gr, b, y + 3, FQ_MIN, v, lam, &H->st->stop_iterations, &H->st->warnings)) {
         double G2[2 * MAX_ROWS][3], b2[2 * MAX_ROWS], lam2[2 * MAX_ROWS], v2[3];
+        double per_stop[EXDEX_MAX_STOPS] = {0};
         int n2 = 0, lift = 0;
-        for (int i = 0; i < n; i++) y[9 + rows[i] / H->nv] += lam[i];
+        for (int i = 0; i < n; i++) {
+            y[9 + rows[i] / H->nv] += lam[i];
+            /* an approached row (gap rate below -tol.rate) takes an impact */
+            if (lam[i] > 0 && ex_dot3(Gr[i], y + 3) - b[i] < -m->tol.rate)
+                per_stop[rows[i] / H->nv] += lam[i];
+        }
+        for (int k = 0; k < H->ns; k++) method_note_impact(H->st, t, k, per_stop[k]);
         memcpy(y + 3, v, sizeof v);
         /* A plastic impact at one corner of a face that lands flat lifts
          * the other corner off, which falls back, impacts, lifts the first:
@@ -688,7 +695,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
         double F[3], w[3], u[3], zero[3] = {0, 0, 0};
         if (H->ns) {
             planar_unpenetrate(H, &kin, y);
-            planar_impact_and_set(H, &kin, y);
+            planar_impact_and_set(H, t, &kin, y);
         }
         if (H->law == LAW_SMOOTH) {
             H->mode = MODE_FREE;
@@ -706,7 +713,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
                  * stops have moved (a drift below tol.rest_gap) */
                 double ysv[EXDEX_MAX_STOPS], u[3], eu[3];
                 memcpy(ysv, y + 9, (size_t)H->ns * sizeof *ysv);
-                planar_impact_and_set(H, &kin, y);
+                planar_impact_and_set(H, t, &kin, y);
                 model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
                 for (int i = 0; i < 3; i++) eu[i] = m->e[i] * u[i];
                 if ((y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0) && sqrt(ex_dot3(eu, eu)) < SLIP_PUSH * H->zsw) {
@@ -798,6 +805,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
             {
                 double vn = -cb.Ft / cb.Fq;
                 y[3 + kb] += H->M * (vn - y[1]) / cb.Fq;
+                method_note_impact(H->st, t, kb, H->M * (vn - y[1]) / cb.Fq);
                 y[1] = vn;
                 vzero = 0;
                 if (pass == 2) H->st->warnings++; /* stops pinch the object */
@@ -1396,5 +1404,5 @@ static int regularised_run(const exdex_model *m, void *ws, double t_end, double 
     return run_hybrid(m, ws, LAW_SMOOTH, t_end, dt, out, st);
 }
 
-const method_impl method_event = {"event", hybrid_alloc, event_run, hybrid_free};
-const method_impl method_regularised = {"regularised", hybrid_alloc, regularised_run, hybrid_free};
+const method_impl method_event = {"event", hybrid_alloc, event_run, hybrid_free, 0};
+const method_impl method_regularised = {"regularised", hybrid_alloc, regularised_run, hybrid_free, 0};

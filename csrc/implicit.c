@@ -626,4 +626,4 @@ static int implicit_run(const exdex_model *m, void *ws, double t_end, double dt,
     return status;
 }
 
-const method_impl method_implicit = {"implicit", implicit_alloc, implicit_run, implicit_free};
+const method_impl method_implicit = {"implicit", implicit_alloc, implicit_run, implicit_free, 1};

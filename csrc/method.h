@@ -4,7 +4,11 @@
  *
  * Contract of run: the model and the output arrays are valid (simulate.c
  * checked them), sample 0 holds the initial state, *st is zeroed with
- * min_gap = INFINITY. run fills samples 1 .. n-1 on the grid t_i = i dt
+ * min_gap = INFINITY, first_warning_t = max_impulse_t = NaN and
+ * max_impulse_stop = -1. run records each sample with method_record (which
+ * also notes the time of the first warning); an event method counts impacts
+ * with method_note_impact where it applies one (time-stepping methods leave
+ * that to simulate.c). run fills samples 1 .. n-1 on the grid t_i = i dt
  * (the last one t_end), adds to *st, and returns EXDEX_OK, EXDEX_ENOCONV,
  * EXDEX_ENONFINITE, EXDEX_ENOMEM, or EXDEX_EINVAL from a solver whose input
  * left the finite range (simulate.c reports that as EXDEX_ENONFINITE). */
@@ -19,7 +23,30 @@ typedef struct method_impl {
     void *(*alloc)(const exdex_model *m, int *status);
     int (*run)(const exdex_model *m, void *ws, double t_end, double dt, exdex_trajectory *out, exdex_stats *st);
     void (*free)(void *ws);  /* NULL is harmless */
+    /* 1: a time-stepping method whose per-step stop impulses (stop_force
+     * times the step) simulate.c reads to count impacts; 0: run counts them
+     * itself with method_note_impact */
+    int impacts_from_steps;
 } method_impl;
+
+/* Count an impact of `impulse` (> 0) [N s] on stop `k` at time t. */
+static inline void method_note_impact(exdex_stats *st, double t, int k, double impulse)
+{
+    if (!(impulse > 0.0)) return;
+    st->impacts++;
+    if (impulse > st->max_impulse) {
+        st->max_impulse = impulse;
+        st->max_impulse_t = t;
+        st->max_impulse_stop = k;
+    }
+}
+
+/* Note the time of the first warning: call after each step or output
+ * interval ending at t. */
+static inline void method_note_warning_time(exdex_stats *st, double t)
+{
+    if (st->warnings && st->first_warning_t != st->first_warning_t) st->first_warning_t = t;
+}
 
 /* Record sample i: time t, coordinates q and velocities v (ndof each), the
  * mean plate wrench over the interval ending there (B, at the centre of
@@ -39,6 +66,7 @@ static inline void method_record(const exdex_model *m, exdex_trajectory *out, ex
     out->stick[i] = (unsigned char)stick;
     st->stick_steps += (size_t)(stick != 0);
     for (int k = 0; k < ns; k++) out->stop_force[i * (size_t)ns + k] = stop_force[k];
+    method_note_warning_time(st, t);
 }
 
 extern const method_impl method_implicit;     /* implicit.c */

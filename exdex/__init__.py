@@ -11,23 +11,27 @@ simple assistive tools" (paper Eqs. 3-6), with a C core and NumPy arrays out.
     ...                     motion=exdex.AsymmetricProfile(0.1, 0.5, 0.9, axis=(0, 0, -1)))
     >>> res = exdex.simulate(scene, t_end=1.5, dt=1e-3)
 
-Units are SI; frames are described in :mod:`exdex.scene`.
+Units are SI; frames are described in :mod:`exdex.scene`. ``import exdex``
+needs only NumPy; plotting and progress bars need the ``plot`` extra
+(matplotlib, tqdm), the engine cross-checks the ``engines`` extra.
 """
 from exdex.scene import (AsymmetricProfile, Body, Grasp, Patch, Rest, SampledTrajectory, Scene, Stop,
                          TrapezoidalProfile, replace)
-from exdex.simulate import GripperJumpWarning, Model, Result, SolverError, simulate
+from exdex.simulate import GripperJumpWarning, Model, PhysicsWarning, Result, SolverError, simulate
 from exdex.batch import BatchResult, simulate_batch, sweep  # noqa: E402
 from exdex.io import load_scene, save_scene  # noqa: E402  (scenes as TOML or JSON files)
 from exdex import paper  # noqa: E402  (the paper's case studies, Figs. 3, 4, 6)
 from exdex import tool  # noqa: E402  (assistive-tool design, paper Section 3)
 from exdex import plan  # noqa: E402  (inverse design: motion and grip for a target outcome)
 from exdex.fit import Identification, Sensitivity, identify, sensitivity  # noqa: E402
+from exdex import diagnostics  # noqa: E402  (physics warnings)
+from exdex._optional import MissingExtraError  # noqa: E402
 
 __version__ = "0.1.0"
 
 __all__ = [
     "AsymmetricProfile", "Body", "Grasp", "Patch", "Rest", "SampledTrajectory", "Scene", "Stop",
-    "TrapezoidalProfile", "replace", "Model", "Result", "SolverError", "GripperJumpWarning", "simulate",
-    "BatchResult", "simulate_batch", "sweep", "load_scene", "save_scene", "paper", "tool", "plan", "sensitivity",
-    "Sensitivity", "identify", "Identification", "__version__",
+    "TrapezoidalProfile", "replace", "Model", "Result", "SolverError", "PhysicsWarning", "GripperJumpWarning",
+    "MissingExtraError", "simulate", "BatchResult", "simulate_batch", "sweep", "load_scene", "save_scene", "paper",
+    "tool", "plan", "sensitivity", "Sensitivity", "identify", "Identification", "__version__",
 ]

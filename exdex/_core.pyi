@@ -5,6 +5,27 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 MAX_VERTICES: int
+MAX_STOPS: int
+STATUS_OK: int
+STATUS_EINVAL: int
+STATUS_ENOMEM: int
+STATUS_ENOCONV: int
+STATUS_ENONFINITE: int
+DOF_TRANSLATION: int
+DOF_ROTATION: int
+DOF_PLANAR: int
+METHOD_IMPLICIT: int
+METHOD_EVENT: int
+METHOD_REGULARISED: int
+METHOD_EXPLICIT: int
+METHOD_ANALYTIC: int
+SOLVER_SCALAR: int
+SOLVER_BRENT: int
+SOLVER_MULTIROOT: int
+MOTION_REST: int
+MOTION_ASYMMETRIC: int
+MOTION_TRAPEZOID: int
+MOTION_SAMPLED: int
 
 class SolverError(RuntimeError):
     status: int

@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include "exdex.h"
+#include "_common.h"
 
 typedef struct {
     PyObject *SolverError;
@@ -25,34 +26,10 @@ typedef struct {
 
 static core_state *get_state(PyObject *module) { return (core_state *)PyModule_GetState(module); }
 
-/* Raise the library exception for a C status (or ValueError for EINVAL). */
+/* Raise the library exception for a C status (the mapping of _common.h). */
 static PyObject *raise_status(PyObject *module, int status, const char *what, const char *bad)
 {
-    if (status == EXDEX_EINVAL) {
-        if (bad)
-            PyErr_Format(PyExc_ValueError, "%s: invalid value of '%s'", what, bad);
-        else
-            PyErr_Format(PyExc_ValueError, "%s: invalid argument", what);
-    } else if (status == EXDEX_ENOMEM) {
-        PyErr_NoMemory();
-    } else {
-        PyObject *exc = get_state(module)->SolverError;
-        PyObject *args = Py_BuildValue("(si)", exdex_strerror(status), status);
-        if (args) {
-            PyObject *inst = PyObject_Call(exc, args, NULL);
-            Py_DECREF(args);
-            if (inst) {
-                PyObject *st = PyLong_FromLong(status);
-                if (st) {
-                    PyObject_SetAttrString(inst, "status", st);
-                    Py_DECREF(st);
-                }
-                PyErr_SetObject(exc, inst);
-                Py_DECREF(inst);
-            }
-        }
-    }
-    return NULL;
+    return expy_raise_status(get_state(module)->SolverError, status, what, bad, NULL, -1);
 }
 
 /* Convert obj to a C-contiguous float64 array of exactly `n` elements. New
@@ -265,12 +242,37 @@ fail:
     return -1;
 }
 
+/* A float, or None for NaN ("no such event": dicts with None compare equal). */
+static PyObject *float_or_none(double x)
+{
+    if (isnan(x)) Py_RETURN_NONE;
+    return PyFloat_FromDouble(x);
+}
+
+/* The impact and warning-time fields of exdex_stats into dict d (times
+ * None when there was no impact / warning, the stop index then None too);
+ * -1 on error. */
+static int add_impact_stats(PyObject *d, const exdex_stats *st)
+{
+    PyObject *o = Py_BuildValue("{s:n,s:d,s:N,s:N,s:N}", "impacts", (Py_ssize_t)st->impacts, "max_impulse",
+                                st->max_impulse, "max_impulse_t", float_or_none(st->max_impulse_t),
+                                "max_impulse_stop",
+                                st->max_impulse_stop >= 0 ? PyLong_FromLong(st->max_impulse_stop)
+                                                          : Py_NewRef(Py_None),
+                                "first_warning_t", float_or_none(st->first_warning_t));
+    int rc = o ? PyDict_Update(d, o) : -1;
+    Py_XDECREF(o);
+    return rc;
+}
+
 static PyObject *stats_dict(const exdex_stats *st)
 {
-    return Py_BuildValue("{s:n,s:n,s:n,s:n,s:n,s:d}", "steps", (Py_ssize_t)st->steps, "stick_steps",
-                         (Py_ssize_t)st->stick_steps, "solver_iterations", (Py_ssize_t)st->solver_iterations,
-                         "stop_iterations", (Py_ssize_t)st->stop_iterations, "warnings",
-                         (Py_ssize_t)st->warnings, "min_gap", st->min_gap);
+    PyObject *d = Py_BuildValue("{s:n,s:n,s:n,s:n,s:n,s:d}", "steps", (Py_ssize_t)st->steps, "stick_steps",
+                                (Py_ssize_t)st->stick_steps, "solver_iterations", (Py_ssize_t)st->solver_iterations,
+                                "stop_iterations", (Py_ssize_t)st->stop_iterations, "warnings",
+                                (Py_ssize_t)st->warnings, "min_gap", st->min_gap);
+    if (d && add_impact_stats(d, st)) Py_CLEAR(d);
+    return d;
 }
 
 /* Validate (t_end, dt) and set *n to the number of samples; -1 with a
@@ -881,30 +883,9 @@ static void prefix_error(Py_ssize_t i)
  * with attributes `status` and `index` (or ValueError / MemoryError). */
 static void raise_trajectory_error(PyObject *module, int status, Py_ssize_t i)
 {
-    if (status == EXDEX_EINVAL) {
-        PyErr_Format(PyExc_ValueError, "batch index %zd: simulate: invalid argument", i);
-    } else if (status == EXDEX_ENOMEM) {
-        PyErr_NoMemory();
-    } else {
-        PyObject *exc = get_state(module)->SolverError, *inst, *args, *o;
-        args = Py_BuildValue("(Ni)", PyUnicode_FromFormat("batch index %zd: %s", i, exdex_strerror(status)),
-                             status);
-        if (!args) return;
-        inst = PyObject_Call(exc, args, NULL);
-        Py_DECREF(args);
-        if (!inst) return;
-        if ((o = PyLong_FromLong(status))) {
-            PyObject_SetAttrString(inst, "status", o);
-            Py_DECREF(o);
-        }
-        if ((o = PyLong_FromSsize_t(i))) {
-            PyObject_SetAttrString(inst, "index", o);
-            Py_DECREF(o);
-        }
-        PyErr_Clear();
-        PyErr_SetObject(exc, inst);
-        Py_DECREF(inst);
-    }
+    char what[64];
+    snprintf(what, sizeof what, "batch index %zd", i);
+    expy_raise_status(get_state(module)->SolverError, status, what, NULL, NULL, i);
 }
 
 typedef struct batch_ctx {
@@ -917,6 +898,8 @@ typedef struct batch_ctx {
     unsigned char *stick;
     npy_int64 *steps, *stick_steps, *solver_iterations, *stop_iterations, *warnings;
     double *min_gap;
+    npy_int64 *impacts, *max_impulse_stop;
+    double *max_impulse, *max_impulse_t, *first_warning_t;
     /* shared work index and the first failure */
     pthread_mutex_t lock;
     size_t next;
@@ -1029,6 +1012,11 @@ static void *batch_run(void *arg)
         c->stop_iterations[i] = (npy_int64)st.stop_iterations;
         c->warnings[i] = (npy_int64)st.warnings;
         c->min_gap[i] = st.min_gap;
+        c->impacts[i] = (npy_int64)st.impacts;
+        c->max_impulse[i] = st.max_impulse;
+        c->max_impulse_t[i] = st.max_impulse_t;
+        c->max_impulse_stop[i] = (npy_int64)st.max_impulse_stop;
+        c->first_warning_t[i] = st.first_warning_t;
     }
     return NULL;
 }
@@ -1116,7 +1104,7 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
     PyArrayObject *varr[NVARY_MAX] = {NULL};
     PyArrayObject *base_times = NULL, *base_poses = NULL;
     PyArrayObject *t = NULL, *q = NULL, *v = NULL, *wr = NULL, *stick = NULL, *sf = NULL, *disp = NULL;
-    PyArrayObject *sarr[6] = {NULL};
+    PyArrayObject *sarr[11] = {NULL};
     exdex_model **models = NULL;
     batch_worker *workers = NULL;
     exdex_scene_def base;
@@ -1227,10 +1215,12 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
             stick = (PyArrayObject *)PyArray_SimpleNew(2, d_bn, NPY_BOOL);
             sf = (PyArrayObject *)PyArray_ZEROS(3, d_bns, NPY_DOUBLE, 0);
         }
-        for (int k = 0; k < 5; k++) sarr[k] = (PyArrayObject *)PyArray_SimpleNew(1, d_b, NPY_INT64);
-        sarr[5] = (PyArrayObject *)PyArray_SimpleNew(1, d_b, NPY_DOUBLE);
+        /* int64: steps .. warnings (0-4), impacts (6), max_impulse_stop (9);
+         * float64: min_gap (5), max_impulse (7), max_impulse_t (8), first_warning_t (10) */
+        for (int k = 0; k < 11; k++)
+            sarr[k] = (PyArrayObject *)PyArray_ZEROS(1, d_b, (k < 5 || k == 6 || k == 9) ? NPY_INT64 : NPY_DOUBLE, 0);
         if (!t || !disp || !q || !v || !wr || !stick || !sf) goto done;
-        for (int k = 0; k < 6; k++)
+        for (int k = 0; k < 11; k++)
             if (!sarr[k]) goto done;
     }
 
@@ -1280,6 +1270,11 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
     ctx.stop_iterations = PyArray_DATA(sarr[3]);
     ctx.warnings = PyArray_DATA(sarr[4]);
     ctx.min_gap = PyArray_DATA(sarr[5]);
+    ctx.impacts = PyArray_DATA(sarr[6]);
+    ctx.max_impulse = PyArray_DATA(sarr[7]);
+    ctx.max_impulse_t = PyArray_DATA(sarr[8]);
+    ctx.max_impulse_stop = PyArray_DATA(sarr[9]);
+    ctx.first_warning_t = PyArray_DATA(sarr[10]);
     ctx.next = 0;
     ctx.fail_index = (size_t)nb;
     ctx.fail_status = EXDEX_OK;
@@ -1308,9 +1303,10 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
         raise_trajectory_error(module, ctx.fail_status, (Py_ssize_t)ctx.fail_index);
         goto done;
     }
-    stats = Py_BuildValue("{s:O,s:O,s:O,s:O,s:O,s:O}", "steps", sarr[0], "stick_steps", sarr[1],
-                          "solver_iterations", sarr[2], "stop_iterations", sarr[3], "warnings", sarr[4],
-                          "min_gap", sarr[5]);
+    stats = Py_BuildValue("{s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O}", "steps", sarr[0], "stick_steps",
+                          sarr[1], "solver_iterations", sarr[2], "stop_iterations", sarr[3], "warnings", sarr[4],
+                          "min_gap", sarr[5], "impacts", sarr[6], "max_impulse", sarr[7], "max_impulse_t",
+                          sarr[8], "max_impulse_stop", sarr[9], "first_warning_t", sarr[10]);
     if (!stats) goto done;
     result = Py_BuildValue("{s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:n}", "t", t, "q", q, "v", v, "wrench", wr,
                            "stick", stick, "stop_force", sf, "displacement", disp, "stats", stats,
@@ -1329,7 +1325,7 @@ done:
         PyMem_Free(models);
     }
     for (int k = 0; k < NVARY_MAX; k++) Py_XDECREF(varr[k]);
-    for (int k = 0; k < 6; k++) Py_XDECREF(sarr[k]);
+    for (int k = 0; k < 11; k++) Py_XDECREF(sarr[k]);
     Py_XDECREF(base_times);
     Py_XDECREF(base_poses);
     Py_XDECREF(seq);
@@ -1362,6 +1358,33 @@ static PyMethodDef core_methods[] = {
     {"n_samples", core_n_samples, METH_VARARGS, "Number of samples simulate returns for (t_end, dt); 0 if invalid."},
     {NULL, NULL, 0, NULL}};
 
+/* The C enums and limits the Python layer uses (exdex/scene.py builds its
+ * name -> value maps from these, never from literal numbers). */
+static const expy_constant core_constants[] = {
+    {"MAX_STOPS", EXDEX_MAX_STOPS},
+    {"MAX_VERTICES", EXDEX_MAX_VERTICES},
+    {"STATUS_OK", EXDEX_OK},
+    {"STATUS_EINVAL", EXDEX_EINVAL},
+    {"STATUS_ENOMEM", EXDEX_ENOMEM},
+    {"STATUS_ENOCONV", EXDEX_ENOCONV},
+    {"STATUS_ENONFINITE", EXDEX_ENONFINITE},
+    {"DOF_TRANSLATION", EXDEX_DOF_TRANSLATION},
+    {"DOF_ROTATION", EXDEX_DOF_ROTATION},
+    {"DOF_PLANAR", EXDEX_DOF_PLANAR},
+    {"METHOD_IMPLICIT", EXDEX_METHOD_IMPLICIT},
+    {"METHOD_EVENT", EXDEX_METHOD_EVENT},
+    {"METHOD_REGULARISED", EXDEX_METHOD_REGULARISED},
+    {"METHOD_EXPLICIT", EXDEX_METHOD_EXPLICIT},
+    {"METHOD_ANALYTIC", EXDEX_METHOD_ANALYTIC},
+    {"SOLVER_SCALAR", EXDEX_SOLVER_SCALAR},
+    {"SOLVER_BRENT", EXDEX_SOLVER_BRENT},
+    {"SOLVER_MULTIROOT", EXDEX_SOLVER_MULTIROOT},
+    {"MOTION_REST", EXDEX_MOTION_REST},
+    {"MOTION_ASYMMETRIC", EXDEX_MOTION_ASYMMETRIC},
+    {"MOTION_TRAPEZOID", EXDEX_MOTION_TRAPEZOID},
+    {"MOTION_SAMPLED", EXDEX_MOTION_SAMPLED},
+    {NULL, 0}};
+
 static int core_exec(PyObject *module)
 {
     core_state *s = get_state(module);
@@ -1377,8 +1400,7 @@ static int core_exec(PyObject *module)
     s->ModelType = PyType_FromModuleAndSpec(module, &Model_spec, NULL);
     if (!s->ModelType) return -1;
     if (PyModule_AddObjectRef(module, "Model", s->ModelType) < 0) return -1;
-    if (PyModule_AddIntConstant(module, "MAX_STOPS", EXDEX_MAX_STOPS) < 0) return -1;
-    if (PyModule_AddIntConstant(module, "MAX_VERTICES", EXDEX_MAX_VERTICES) < 0) return -1;
+    if (expy_add_constants(module, core_constants) < 0) return -1;
     return 0;
 }
 

@@ -4,9 +4,18 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-MAX_VERTICES: int
+from exdex._core import SolverError as SolverError
 
-class ConvergenceError(RuntimeError): ...
+MAX_VERTICES: int
+MAX_ROWS: int
+VOLUME_EXACT: int
+VOLUME_GRID: int
+VOLUME_QMC: int
+TOOL_MODEL_CONTACT: int
+TOOL_MODEL_PAPER: int
+
+#: the same class as exdex._core.SolverError
+ConvergenceError = SolverError
 
 def volumes(rows: ArrayLike, lo: ArrayLike, hi: ArrayLike, method: str = ..., grid_n: int = ...,
             qmc_points: int = ..., qmc_shifts: int = ..., seed: int = ...) -> Any: ...

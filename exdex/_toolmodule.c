@@ -13,9 +13,10 @@
 #include <string.h>
 
 #include "exdex.h"
+#include "_common.h"
 
 typedef struct {
-    PyObject *ConvergenceError;
+    PyObject *SolverError;   /* exdex._core.SolverError, shared */
 } tool_state;
 
 static tool_state *get_state(PyObject *module)
@@ -23,91 +24,21 @@ static tool_state *get_state(PyObject *module)
     return (tool_state *)PyModule_GetState(module);
 }
 
-/* ---------------------------------------------------------------- helpers */
+/* ---------------------------------------------------------------- helpers
+ * Argument conversion and the status -> exception mapping are shared with
+ * exdex._core (_common.h). */
 
 static int set_status_error(PyObject *module, int status, const char *what)
 {
-    switch (status) {
-    case EXDEX_ENOMEM:
-        PyErr_NoMemory();
-        break;
-    case EXDEX_ENOCONV:
-        PyErr_Format(get_state(module)->ConvergenceError, "%s: %s", what,
-                     exdex_strerror(status));
-        break;
-    default:
-        PyErr_Format(PyExc_ValueError, "%s: %s", what, exdex_strerror(status));
-    }
+    expy_raise_status(get_state(module)->SolverError, status, what, NULL, NULL, -1);
     return -1;
 }
 
-/* A float64 C-contiguous array of any shape, or NULL with a TypeError naming
- * the parameter. */
-static PyArrayObject *as_double_array(PyObject *obj, const char *name, const char *shape)
-{
-    PyArrayObject *a = (PyArrayObject *)PyArray_FROMANY(obj, NPY_DOUBLE, 0, 0,
-                                                        NPY_ARRAY_IN_ARRAY);
-    if (!a) {
-        PyErr_Clear();
-        PyErr_Format(PyExc_TypeError, "%s must be a real array of shape %s", name, shape);
-    }
-    return a;
-}
-
-/* PyErr_Format has no %g: format with snprintf first. */
-static void value_error(const char *fmt, ...)
-{
-    char buf[256];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(buf, sizeof buf, fmt, ap);
-    va_end(ap);
-    PyErr_SetString(PyExc_ValueError, buf);
-}
-
-static int all_finite(PyArrayObject *a)
-{
-    const double *d = (const double *)PyArray_DATA(a);
-    npy_intp n = PyArray_SIZE(a);
-    for (npy_intp i = 0; i < n; i++)
-        if (!isfinite(d[i])) return 0;
-    return 1;
-}
-
-static int get_double(PyObject *obj, const char *name, double *out)
-{
-    if (!PyNumber_Check(obj) || PyComplex_Check(obj)) {
-        PyErr_Format(PyExc_TypeError, "%s must be a real number, not %.100s", name,
-                     Py_TYPE(obj)->tp_name);
-        return -1;
-    }
-    double v = PyFloat_AsDouble(obj);
-    if (v == -1.0 && PyErr_Occurred()) {
-        PyErr_Clear();
-        PyErr_Format(PyExc_TypeError, "%s must be a real number", name);
-        return -1;
-    }
-    *out = v;
-    return 0;
-}
-
-static int get_long(PyObject *obj, const char *name, long lo, long hi, long *out)
-{
-    if (!PyLong_Check(obj) || PyBool_Check(obj)) {
-        PyErr_Format(PyExc_TypeError, "%s must be an int, not %.100s", name,
-                     Py_TYPE(obj)->tp_name);
-        return -1;
-    }
-    int overflow = 0;
-    long v = PyLong_AsLongAndOverflow(obj, &overflow);
-    if (v == -1 && PyErr_Occurred()) return -1;
-    if (overflow || v < lo || v > hi) {
-        PyErr_Format(PyExc_ValueError, "%s must be in [%ld, %ld]", name, lo, hi);
-        return -1;
-    }
-    *out = v;
-    return 0;
-}
+#define as_double_array(obj, name, shape) expy_doubles((obj), (name), (shape))
+#define value_error expy_value_error
+#define all_finite expy_all_finite
+#define get_double expy_double
+#define get_long expy_long
 
 /* box: lo (3,), hi (3,) with hi > lo, finite */
 static int get_box(PyObject *lo_obj, PyObject *hi_obj, double lo[3], double hi[3])
@@ -136,22 +67,12 @@ static int get_box(PyObject *lo_obj, PyObject *hi_obj, double lo[3], double hi[3
     return 0;
 }
 
+static const char *const volume_method_names[] = {"exact", "grid", "qmc", NULL};
+static const int volume_method_values[] = {EXDEX_VOLUME_EXACT, EXDEX_VOLUME_GRID, EXDEX_VOLUME_QMC};
+
 static int get_method(PyObject *obj, int *method)
 {
-    if (!PyUnicode_Check(obj)) {
-        PyErr_SetString(PyExc_TypeError, "method must be a str: 'exact', 'grid' or 'qmc'");
-        return -1;
-    }
-    const char *s = PyUnicode_AsUTF8(obj);
-    if (!s) return -1;
-    if (strcmp(s, "exact") == 0) *method = EXDEX_VOLUME_EXACT;
-    else if (strcmp(s, "grid") == 0) *method = EXDEX_VOLUME_GRID;
-    else if (strcmp(s, "qmc") == 0) *method = EXDEX_VOLUME_QMC;
-    else {
-        PyErr_Format(PyExc_ValueError, "method must be 'exact', 'grid' or 'qmc', not '%s'", s);
-        return -1;
-    }
-    return 0;
+    return expy_choice(obj, "method", volume_method_names, volume_method_values, method);
 }
 
 /* ---------------------------------------------------------------- volumes */
@@ -367,22 +288,13 @@ static void problem_args_free(problem_args *a)
     a->nv = NULL;
 }
 
+static const char *const tool_model_names[] = {"contact", "paper", NULL};
+static const int tool_model_values[] = {EXDEX_TOOL_CONTACT, EXDEX_TOOL_PAPER};
+
 static int parse_model(PyObject *obj, int *model)
 {
     if (!obj) { *model = EXDEX_TOOL_CONTACT; return 0; }
-    if (!PyUnicode_Check(obj)) {
-        PyErr_SetString(PyExc_TypeError, "model must be a str: 'contact' or 'paper'");
-        return -1;
-    }
-    const char *s = PyUnicode_AsUTF8(obj);
-    if (!s) return -1;
-    if (strcmp(s, "contact") == 0) *model = EXDEX_TOOL_CONTACT;
-    else if (strcmp(s, "paper") == 0) *model = EXDEX_TOOL_PAPER;
-    else {
-        PyErr_Format(PyExc_ValueError, "model must be 'contact' or 'paper', not '%s'", s);
-        return -1;
-    }
-    return 0;
+    return expy_choice(obj, "model", tool_model_names, tool_model_values, model);
 }
 
 /* shapes: a sequence of (nv, 2) arrays; phi: (P,); lo, hi; mu; push (3,) or None */
@@ -819,36 +731,47 @@ static PyMethodDef tool_methods[] = {
      METH_VARARGS | METH_KEYWORDS, optimise_tool_doc},
     {NULL, NULL, 0, NULL}};
 
+/* The C enums and limits the Python layer uses. */
+static const expy_constant tool_constants[] = {
+    {"MAX_ROWS", EXDEX_CONE_MAX_ROWS},
+    {"MAX_VERTICES", EXDEX_MAX_VERTICES},
+    {"VOLUME_EXACT", EXDEX_VOLUME_EXACT},
+    {"VOLUME_GRID", EXDEX_VOLUME_GRID},
+    {"VOLUME_QMC", EXDEX_VOLUME_QMC},
+    {"TOOL_MODEL_CONTACT", EXDEX_TOOL_CONTACT},
+    {"TOOL_MODEL_PAPER", EXDEX_TOOL_PAPER},
+    {NULL, 0}};
+
 static int tool_exec(PyObject *module)
 {
+    PyObject *core;
+    tool_state *st = get_state(module);
     if (_import_array() < 0) return -1;
     exdex_init();
-    tool_state *st = get_state(module);
-    st->ConvergenceError = PyErr_NewExceptionWithDoc(
-        "exdex._tool.ConvergenceError",
-        "A GSL minimiser of the tool optimisation did not converge.", PyExc_RuntimeError, NULL);
-    if (!st->ConvergenceError) return -1;
-    Py_INCREF(st->ConvergenceError);
-    if (PyModule_AddObject(module, "ConvergenceError", st->ConvergenceError) < 0) {
-        Py_DECREF(st->ConvergenceError);
-        return -1;
-    }
-    if (PyModule_AddIntConstant(module, "MAX_ROWS", EXDEX_CONE_MAX_ROWS) < 0) return -1;
-    if (PyModule_AddIntConstant(module, "MAX_VERTICES", EXDEX_MAX_VERTICES) < 0) return -1;
+    /* one exception class for solver failures in every exdex module */
+    core = PyImport_ImportModule("exdex._core");
+    if (!core) return -1;
+    st->SolverError = PyObject_GetAttrString(core, "SolverError");
+    Py_DECREF(core);
+    if (!st->SolverError) return -1;
+    if (PyModule_AddObjectRef(module, "SolverError", st->SolverError) < 0) return -1;
+    /* the former name of the same class */
+    if (PyModule_AddObjectRef(module, "ConvergenceError", st->SolverError) < 0) return -1;
+    if (expy_add_constants(module, tool_constants) < 0) return -1;
     return 0;
 }
 
 static int tool_traverse(PyObject *module, visitproc visit, void *arg)
 {
     tool_state *st = get_state(module);
-    if (st) Py_VISIT(st->ConvergenceError);
+    if (st) Py_VISIT(st->SolverError);
     return 0;
 }
 
 static int tool_clear(PyObject *module)
 {
     tool_state *st = get_state(module);
-    if (st) Py_CLEAR(st->ConvergenceError);
+    if (st) Py_CLEAR(st->SolverError);
     return 0;
 }
 

@@ -37,15 +37,17 @@ import functools
 import math
 import os
 import threading
+import warnings
 from dataclasses import dataclass, field
-from typing import Any, Callable, Dict, Iterable, Mapping, Optional, Sequence, Tuple, Union, cast
+from typing import Any, Callable, Dict, Iterable, Iterator, Mapping, Optional, Sequence, Tuple, Union, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from exdex import _core
+from exdex import _core, _optional
 from exdex.scene import METHODS, SOLVERS, AsymmetricProfile, Body, Grasp, Scene, TrapezoidalProfile, _real
-from exdex.simulate import FrictionSolver, Method, Result, resolve_method
+from exdex import diagnostics
+from exdex.simulate import FrictionSolver, Method, Result, _check_times, resolve_method
 
 __all__ = ["BatchResult", "simulate_batch", "sweep", "grid_points", "PARAMETERS"]
 
@@ -116,7 +118,10 @@ class BatchResult:
 
     final_displacement : (B, ndof) q at t_end minus q at t = 0 [m or rad].
     stats : dict of (B,) arrays per trajectory: steps, stick_steps,
-        solver_iterations, stop_iterations, warnings (int64), min_gap [m].
+        solver_iterations, stop_iterations, warnings, impacts,
+        max_impulse_stop (int64), min_gap [m], max_impulse [N s],
+        max_impulse_t, first_warning_t [s] (as in :class:`exdex.Result`;
+        NaN and -1 where a single run's stats hold None).
     params : dict name -> (B,) float64 values of the varied parameters.
     shape : batch shape (B = prod(shape)); see :meth:`gridded`.
     scene : the base scene (or the tuple of scenes of a list batch).
@@ -158,15 +163,31 @@ class BatchResult:
         base = self.scene[i] if isinstance(self.scene, tuple) else self.scene
         return _replace_params(base, {k: float(v[i]) for k, v in self.params.items()})
 
-    def result(self, i: int) -> Result:
-        """Trajectory ``i`` as an :class:`exdex.Result` (record="all" only)."""
+    def at(self, i: int) -> Result:
+        """Trajectory ``i`` as an :class:`exdex.Result` (record="all" only);
+        ``batch[i]`` is the same."""
         if self.record != "all":
-            raise ValueError("result(i) needs record='all'; this batch kept the final sample only")
+            raise ValueError("at(i) needs record='all'; this batch kept the final sample only")
         i = _index(i, len(self))
         stats = {k: (int(v[i]) if v.dtype.kind == "i" else float(v[i])) for k, v in self.stats.items()}
         return Result(t=self.t, q=self.q[i], v=self.v[i], wrench=self.wrench[i], stick=self.stick[i],
                       stop_force=self.stop_force[i], stats=stats, scene=self.scene_at(i), method=self.method,
                       friction_solver=self.friction_solver, dt=self.dt)
+
+    def __getitem__(self, i: int) -> Result:
+        """``batch[i]``: trajectory ``i`` as an :class:`exdex.Result` (see :meth:`at`)."""
+        if isinstance(i, (bool, np.bool_)) or not isinstance(i, (int, np.integer)):
+            raise TypeError(f"batch indices must be integers, got {type(i).__name__}")
+        return self.at(i)
+
+    def __iter__(self) -> Iterator[Result]:
+        return (self.at(i) for i in range(len(self)))
+
+    def result(self, i: int) -> Result:
+        """Deprecated name of :meth:`at` (``batch[i]`` reads better)."""
+        warnings.warn("BatchResult.result(i) is deprecated: use BatchResult.at(i) or batch[i]",
+                      DeprecationWarning, stacklevel=2)
+        return self.at(i)
 
     @staticmethod
     def concatenate(parts: Iterable["BatchResult"], shape: Optional[Tuple[int, ...]] = None) -> "BatchResult":
@@ -324,7 +345,7 @@ def _broadcast(arrays):
 def simulate_batch(scene: Union[Scene, Sequence[Scene]], t_end: float, dt: float = 1e-3,
                    threads: Optional[int] = None, record: str = "all", method: Method = "implicit",
                    friction_solver: FrictionSolver = "scalar", eps: float = 1e-4, rtol: float = 1e-8,
-                   atol: float = 1e-10, **arrays: ArrayLike) -> BatchResult:
+                   atol: float = 1e-10, *, warn: bool = True, **arrays: ArrayLike) -> BatchResult:
     """Simulate many variants of a scene in one call, on several threads.
 
     Parameters
@@ -343,6 +364,11 @@ def simulate_batch(scene: Union[Scene, Sequence[Scene]], t_end: float, dt: float
         displacement), so 10^4 - 10^5 trajectories fit in memory.
     method, friction_solver, eps, rtol, atol
         As in :func:`exdex.simulate` (the batch accepts exactly its methods).
+    warn : bool
+        Issue :class:`exdex.PhysicsWarning` for results outside the model
+        (one per kind of finding, naming the first trajectory and how many
+        others); with ``record="final"`` the pad and outline checks see the
+        final pose only.
     **arrays
         Parameters varied across the batch, each an array (or scalar); they
         broadcast together and the batch runs over their broadcast shape in
@@ -380,10 +406,7 @@ def simulate_batch(scene: Union[Scene, Sequence[Scene]], t_end: float, dt: float
     else:
         raise TypeError("scene must be an exdex.Scene or a non-empty sequence of exdex.Scene, "
                         f"got {type(scene).__name__}")
-    dt = _real(dt, "dt", low=0.0, low_open=True)
-    t_end = _real(t_end, "t_end", low=dt)
-    if t_end / dt > 1e9:
-        raise ValueError(f"t_end / dt must be at most 1e9 steps, got {t_end / dt:.3g}")
+    dt, t_end = _check_times(t_end, dt)
     if threads is None:
         threads = _cpu_count()
     elif isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or not 1 <= threads <= 1024:
@@ -396,6 +419,11 @@ def simulate_batch(scene: Union[Scene, Sequence[Scene]], t_end: float, dt: float
     eps, rtol, atol = _check_options(method, friction_solver, eps, rtol, atol)
 
     base = scenes if scenes is not None else scene
+    for i, sc in enumerate(scenes if scenes is not None else (scene,)):
+        try:
+            sc.check_stops()   # the varied parameters never move the object or the stops
+        except ValueError as exc:
+            raise ValueError(f"batch index {i}: {exc}" if scenes is not None else str(exc)) from None
     vals = {}
     for name, value in arrays.items():
         p = _check_param(name, base)
@@ -437,11 +465,75 @@ def simulate_batch(scene: Union[Scene, Sequence[Scene]], t_end: float, dt: float
                 msg = msg.replace(f"'motion.{p.path[-1]}'", f"'{k}' (motion.{p.path[-1]})")
         raise ValueError(msg) from None
     _warn_log_jumps(scenes if scenes is not None else [scene], specs if scenes is not None else [specs], t_end)
-    return BatchResult(t=out["t"], q=out["q"], v=out["v"], wrench=out["wrench"], stick=out["stick"],
-                       stop_force=out["stop_force"], final_displacement=out["displacement"], stats=out["stats"],
-                       params=flat, shape=tuple(int(s) for s in shape),
-                       scene=scenes if scenes is not None else scene, record=record, method=method,
-                       friction_solver=friction_solver, dt=dt, t_end=t_end, threads=int(out["threads"]))
+    res = BatchResult(t=out["t"], q=out["q"], v=out["v"], wrench=out["wrench"], stick=out["stick"],
+                      stop_force=out["stop_force"], final_displacement=out["displacement"], stats=out["stats"],
+                      params=flat, shape=tuple(int(s) for s in shape),
+                      scene=scenes if scenes is not None else scene, record=record, method=method,
+                      friction_solver=friction_solver, dt=dt, t_end=t_end, threads=int(out["threads"]))
+    if warn:
+        diagnostics.issue(_batch_findings(res))
+    return res
+
+
+def _batch_findings(b):
+    """One PhysicsWarning per kind of finding over the batch, naming the
+    first trajectory and how many others (record="final" checks the final
+    pose against the pad and outline only)."""
+    n = len(b)
+    hits = {}   # kind -> (count, first index, PhysicsWarning of that index)
+
+    def note(kind, mask, make):
+        idx = np.flatnonzero(mask)
+        if len(idx) and kind not in hits:
+            hits[kind] = (len(idx), int(idx[0]), make(int(idx[0])))
+
+    # stats: only the flagged trajectories are looked at
+    for key in ("impacts", "warnings"):
+        if key in b.stats:
+            flagged = np.asarray(b.stats[key]) > 0
+            kind = "impact" if key == "impacts" else "solver"
+
+            def make_stat(i, kind=kind):
+                st = {k: np.asarray(v)[i].item() for k, v in b.stats.items()}
+                st = {k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in st.items()}
+                return [w for w in diagnostics.stats_findings(st) if w.kind == kind][0]
+            note(kind, flagged, make_stat)
+    # pad and outline: the varied parameters never change the geometry, so
+    # one base scene checks every trajectory at once
+    groups = [(b.scene[i], [i]) for i in range(n)] if isinstance(b.scene, tuple) else [(b.scene, list(range(n)))]
+    for sc, idx in groups:
+        idx = np.asarray(idx)
+        if b.record == "all":
+            q = b.q[idx]
+            times = np.broadcast_to(b.t, q.shape[:2])
+        else:
+            q = b.q[idx][:, None, :]
+            times = np.full(q.shape[:2], b.t_end)
+        rows = q.reshape(-1, q.shape[-1])
+        for chk in diagnostics.contact_checks(sc, rows):
+            mask = chk["mask"].reshape(q.shape[:2])
+            value = chk["value"].reshape(q.shape[:2])
+            per = mask.any(axis=1)
+            full = np.zeros(n, bool)
+            full[idx] = per
+
+            def make_contact(i, chk=chk, mask=mask, value=value, times=times, idx=idx):
+                r = int(np.flatnonzero(idx == i)[0])
+                j = int(np.flatnonzero(mask[r])[0])
+                v = float(value[r, j])
+                return diagnostics.PhysicsWarning(
+                    f"at t = {times[r, j]:.6g} s " + chk["text"](v, None), kind=chk["kind"],
+                    time=float(times[r, j]), quantity=chk["quantity"], value=v, limit=chk["limit"])
+            note(chk["kind"], full, make_contact)
+    out = []
+    for kind, (count, i, w) in hits.items():
+        msg = f"batch index {i}" + (f" (and {count - 1} more of {n} trajectories)" if count > 1 else "")
+        out.append(diagnostics.PhysicsWarning(f"{msg}: {w}", kind=w.kind, time=w.time, quantity=w.quantity,
+                                              value=w.value, limit=w.limit))
+    return out
+
+
+
 
 
 def _warn_log_jumps(scenes, specs, t_end):
@@ -487,7 +579,7 @@ def grid_points(grid: Mapping[str, ArrayLike], product: bool = True) -> Tuple[Di
 
 def _run_scene_chunk(scene, t_end, options, params):
     """One sweep task: a single-threaded batch (module level, so it pickles)."""
-    return simulate_batch(scene, t_end, threads=1, **options, **params)
+    return simulate_batch(scene, t_end, threads=1, warn=False, **options, **params)
 
 
 def _run_fn_chunk(fn, params):
@@ -506,7 +598,7 @@ def _combine(parts, shape):
 
 
 def sweep(fn_or_scene: Union[Scene, Callable[..., Any]], grid: Mapping[str, ArrayLike],
-          executor: Optional[cf.Executor] = None, chunk: int = 256, progress: bool = True, *,
+          executor: Optional[cf.Executor] = None, chunk: int = 256, progress: Optional[bool] = None, *,
           product: bool = True, t_end: Optional[float] = None, dt: float = 1e-3, record: str = "final",
           **options: Any) -> Any:
     """Run a parameter grid in chunks over any concurrent.futures.Executor.
@@ -533,8 +625,9 @@ def sweep(fn_or_scene: Union[Scene, Callable[..., Any]], grid: Mapping[str, Arra
     chunk : int
         Parameter sets per task (>= 1). Larger chunks cost less scheduling;
         keep several chunks per worker for balance.
-    progress : bool
-        Show a tqdm progress bar (parameter sets done).
+    progress : bool or None
+        Show a tqdm progress bar (parameter sets done); None (default): when
+        tqdm is installed (the ``plot`` extra).
     t_end, dt, record, **options
         For a scene: as in :func:`simulate_batch` (options: method,
         friction_solver, eps, rtol, atol). Sweeps record the final sample only
@@ -550,6 +643,7 @@ def sweep(fn_or_scene: Union[Scene, Callable[..., Any]], grid: Mapping[str, Arra
     """
     flat, shape = grid_points(grid, product=product)
     total = math.prod(shape)
+    warn = False
     if isinstance(chunk, bool) or not isinstance(chunk, (int, np.integer)) or chunk < 1:
         raise ValueError(f"chunk must be an int >= 1, got {chunk!r}")
     if executor is not None and not isinstance(executor, cf.Executor):
@@ -560,6 +654,7 @@ def sweep(fn_or_scene: Union[Scene, Callable[..., Any]], grid: Mapping[str, Arra
         # validate once, here, rather than in every task
         for name in flat:
             _check_values(name, _check_param(name, fn_or_scene), flat[name])
+        warn = options.pop("warn", True)
         opts = dict(dt=dt, record=record, **options)
         _check_options(opts.get("method", "implicit"), opts.get("friction_solver", "scalar"),
                        opts.get("eps", 1e-4), opts.get("rtol", 1e-8), opts.get("atol", 1e-10))
@@ -575,10 +670,11 @@ def sweep(fn_or_scene: Union[Scene, Callable[..., Any]], grid: Mapping[str, Arra
     own = executor is None
     ex: cf.Executor = cf.ThreadPoolExecutor(max_workers=_cpu_count()) if executor is None else executor
     parts = [None] * len(bounds)
-    from tqdm.auto import tqdm
-
+    if progress is None:
+        progress = _optional.available("tqdm")
     try:
-        with tqdm(total=total, desc="exdex sweep", unit="traj", disable=not progress, smoothing=0.1) as bar:
+        with _optional.progress_bar(total=total, desc="exdex sweep", unit="traj", disable=not progress,
+                                    smoothing=0.1, auto=True, feature="sweep(progress=True)") as bar:
             futures = {ex.submit(task, {k: v[a:b] for k, v in flat.items()}): j for j, (a, b) in enumerate(bounds)}
             try:
                 for fut in cf.as_completed(futures):
@@ -598,4 +694,7 @@ def sweep(fn_or_scene: Union[Scene, Callable[..., Any]], grid: Mapping[str, Arra
     finally:
         if own:
             ex.shutdown(wait=True, cancel_futures=True)
-    return _combine(parts, shape)
+    out = _combine(parts, shape)
+    if isinstance(out, BatchResult) and warn:
+        diagnostics.issue(_batch_findings(out))
+    return out

@@ -1,14 +1,15 @@
-"""Cross-checks against two general physics engines: pybullet and MuJoCo.
+"""Cross-checks against three general physics engines: pybullet, MuJoCo and Drake.
 
-``run_pybullet(scene, t_end)`` and ``run_mujoco(scene, t_end)`` build the same
+``run_pybullet(scene, t_end)``, ``run_mujoco(scene, t_end)`` and
+``run_drake(scene, t_end)`` build the same
 scene as exdex solves -- two plates driven kinematically along the gripper
 trajectory, a box-shaped object squeezed between them with the grasp's normal
 force per finger, the same mass, inertia, mu and gravity, the same stops -- and
 return the object's motion relative to the gripper as an ``exdex.Result``
 (same units, frames and free coordinates as ``exdex.simulate``).
 
-How each scene is built (both engines)
---------------------------------------
+How each scene is built (all engines)
+-------------------------------------
 * Gripper: a body with six free coordinates and a very large mass
   (``gripper_mass``, 1e4 kg by default, isotropic inertia). Before every step
   its pose and twist are reset to the prescribed trajectory and the applied
@@ -44,20 +45,36 @@ How each scene is built (both engines)
   pybullet lateral friction mu on the pads and 1 on the object (Bullet
   multiplies them), spinning friction on the pads (Bullet combines it as
   spin_pad * lateral_object). Stops are frictionless in exdex and here.
+* Drake (``run_drake``): a discrete ``MultibodyPlant`` built in code (no model
+  files), the object on prismatic joints and a revolute joint about the plate
+  normal (no out-of-plane tilt). ``contact_model="point"``: Drake's compliant
+  point contact, which has no torsional friction and gives one point per
+  box-box pair, so rotation and planar pads become spheres at the pad corners
+  (the ``"corners"`` ablation model); ``"hydroelastic"``: compliant
+  hydroelastic pads (``hydroelastic_modulus``) pressing a rigid (or
+  compliant, ``object_modulus``) object, a pressure patch per finger from
+  which torsional friction emerges. Friction: Drake combines two surfaces as
+  2 mu1 mu2 / (mu1 + mu2), so pads and object both get mu. Discrete
+  approximation ``"lagged"`` (Drake's default), ``"sap"``, ``"similar"`` or
+  ``"tamsi"``; ``stiction_tolerance`` (1e-4 m/s, Drake's default) bounds the
+  slip of an in-cone load in the regularised approximations.
 * Engine settings default to the engine's own defaults (MuJoCo: 2 ms,
   Newton, 100 iterations, impratio 1, no noslip; pybullet: 1/240 s, 50
-  iterations, cone friction on), except MuJoCo's cone: ``"elliptic"`` by
+  iterations, cone friction on; Drake: 1 ms, lagged, point contact,
+  stiction tolerance 1e-4 m/s), except MuJoCo's cone: ``"elliptic"`` by
   default, the faithful mapping of a friction cone (MuJoCo's own default is
   ``"pyramidal"``: pass ``cone="pyramidal"``).
 
 Result fields: ``t, q, v`` as exdex; ``wrench`` is NaN (not measured);
 ``stick`` is True where the relative velocity is exactly zero;
-``stop_force`` the summed normal contact force of each stop; ``stats`` holds
-the engine settings and wall time; ``method`` is ``"pybullet"`` or
-``"mujoco"``.
+``stop_force`` the summed normal contact force of each stop (Drake: of its
+point contacts); ``stats`` holds the engine settings and wall time;
+``method`` is ``"pybullet"``, ``"mujoco"`` or ``"drake"``.
 
-Both engines are imported inside the functions, so ``import exdex`` never
-needs them. ``python -m exdex compare`` runs the paper cases (see ``run``).
+The engines are imported inside the functions, so ``import exdex`` never
+needs them (they come with ``pip install 'exdex[engines]'``).
+``exdex compare`` runs the paper cases and the planar case (see ``run``);
+``exdex hold`` the hold benchmark (``exdex.hold``).
 """
 from __future__ import annotations
 
@@ -629,8 +646,9 @@ def run_drake(scene, t_end, *, dt=1e-3, contact_model="point", approximation="la
         Drake has no torsional friction at a point contact.
     hydroelastic_modulus : modulus of the compliant pads [Pa] (1e6).
     object_modulus : None (rigid object) or the object's hydroelastic modulus [Pa].
-    resolution_hint : hydroelastic mesh resolution [m] (default: a quarter of
-        the smallest pad side).
+    resolution_hint : hydroelastic mesh resolution of tessellated shapes [m]
+        (default: a quarter of a sphere pad's radius; Drake meshes boxes by
+        its own rule).
     point_stiffness, dissipation : point-contact stiffness [N/m] and
         Hunt-Crossley dissipation [s/m] (None: Drake's defaults).
     gripper_mass, plate_mass : as for ``run_mujoco``.
@@ -662,10 +680,14 @@ def run_drake(scene, t_end, *, dt=1e-3, contact_model="point", approximation="la
     mp = _real(plate_mass, "plate_mass", low=0.0, low_open=True)
     lx, ly, lz = lay.size
     shapes = _drake_pad_shapes(lay, contact_model)
-    if resolution_hint is None:
-        sides = [2 * h for h in (lay.pad_half or ())] + [2 * PAD_THICKNESS, 2 * POINT_RADIUS]
-        resolution_hint = min(sides) / 4
-    resolution_hint = _real(resolution_hint, "resolution_hint", low=0.0, low_open=True)
+    if resolution_hint is not None:
+        resolution_hint = _real(resolution_hint, "resolution_hint", low=0.0, low_open=True)
+
+    def hint(size):
+        """The user's resolution, else a quarter of a sphere's radius (boxes: their size)."""
+        if resolution_hint is not None:
+            return resolution_hint
+        return max(size) if len(size) == 3 else size[0] / 4
 
     builder = DiagramBuilder()
     config = MultibodyPlantConfig(time_step=dt, stiction_tolerance=vs,
@@ -711,28 +733,28 @@ def run_drake(scene, t_end, *, dt=1e-3, contact_model="point", approximation="la
         joints[name] = plant.AddJoint(jt)
         parent = child.body_frame()
     # geometry
-    def props(mu, compliant=None, rigid=False):
+    def props(mu, compliant=None, rigid=False, size=(POINT_RADIUS,)):
         p = ProximityProperties()
         AddContactMaterial(dissipation, point_stiffness, CoulombFriction(mu, mu), p)
         if compliant is not None:
-            AddCompliantHydroelasticProperties(resolution_hint, compliant, p)
+            AddCompliantHydroelasticProperties(hint(size), compliant, p)
         elif rigid:
-            AddRigidHydroelasticProperties(resolution_hint, p)
+            AddRigidHydroelasticProperties(hint(size), p)
         return p
 
     hydro = contact_model == "hydroelastic"
     pad_ids = []
     for body, sign, mu, X0 in ((gripper, -1.0, lay.mu[0], pc + [0, 0, -lay.pad_z]), (plate2, 1.0, lay.mu[1], np.zeros(3))):
         for k, (kind, off) in enumerate(shapes):
-            shape = (Box(2 * lay.pad_half[0], 2 * lay.pad_half[1], 2 * PAD_THICKNESS) if kind == "box"
-                     else Sphere(POINT_RADIUS))
+            size = (2 * lay.pad_half[0], 2 * lay.pad_half[1], 2 * PAD_THICKNESS) if kind == "box" else (POINT_RADIUS,)
+            shape = Box(*size) if kind == "box" else Sphere(POINT_RADIUS)
             gid = plant.RegisterCollisionGeometry(body, X(np.eye(3), X0 + off), shape, f"{body.name()}_pad{k}",
-                                                  props(mu, compliant=E if hydro else None))
+                                                  props(mu, compliant=E if hydro else None, size=size))
             pad_ids.append(gid)
     # Drake combines two surfaces' mu as 2 mu1 mu2 / (mu1 + mu2): the object gets the grasp's
     # mu, so a pad of mu gives mu and a frictionless pad (or stop) gives 0
     obj_props = props(scene.grasp.mu, compliant=object_modulus if hydro else None,
-                      rigid=hydro and object_modulus is None)
+                      rigid=hydro and object_modulus is None, size=(lx, ly, lz))
     plant.RegisterCollisionGeometry(obj, X(np.eye(3), com), Box(lx, ly, lz), "object", obj_props)
     stop_ids = []
     for k, s in enumerate(scene.stops):
@@ -1051,11 +1073,12 @@ def _figure(path, name, scene, ref, runs, scale, unit):
     import matplotlib.pyplot as plt
 
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(7, 6.5), sharex=True)
+    colors = ablation_colors((), [r[0] for r in runs])
     ax1.plot(ref.t, scale * _disp(ref), "k-", lw=2, label="exdex")
     for label, res, on_ref in runs:
-        ax1.plot(res.t, scale * _disp(res), lw=1.2, label=label)
-        ax2.semilogy(ref.t, np.maximum(scale * np.abs(on_ref - _disp(ref)), 1e-9), lw=1.2,
-                     label=label)
+        ax1.plot(res.t, scale * _disp(res), lw=1.2, color=colors[label], ls=_engine_ls(label), label=label)
+        ax2.semilogy(ref.t, np.maximum(scale * np.abs(on_ref - _disp(ref)), 1e-9), lw=1.2, color=colors[label],
+                     ls=_engine_ls(label), label=label)
     end = scene.motion.end_time
     for ax in (ax1, ax2):
         ax.axvline(end, color="0.6", ls=":", lw=1)
@@ -1071,15 +1094,21 @@ def _figure(path, name, scene, ref, runs, scale, unit):
 
 
 def ablation_colors(models, engine_labels):
-    """{label: colour}: one colour per exdex model and per engine run, none shared
-    (models from matplotlib's tab20 dark shades, engines from tab20b)."""
+    """{label: colour}: one colour per exdex model ("exdex <model>") and per engine
+    run, none shared: models from matplotlib's tab10, engine runs from Dark2
+    then Set1 (17 colours, none of them in tab10)."""
     import matplotlib
 
-    a = matplotlib.colormaps["tab20"]
-    b = matplotlib.colormaps["tab20b"]
-    cols = {f"exdex {m}": a(2 * i % 20) for i, m in enumerate(models)}
-    cols.update({lab: b((i * 3) % 20) for i, lab in enumerate(engine_labels)})
+    a = matplotlib.colormaps["tab10"].colors
+    b = list(matplotlib.colormaps["Dark2"].colors) + list(matplotlib.colormaps["Set1"].colors)
+    cols = {f"exdex {m}": a[i % len(a)] for i, m in enumerate(models)}
+    cols.update({lab: b[i % len(b)] for i, lab in enumerate(engine_labels)})
     return cols
+
+
+def _engine_ls(label):
+    """Line style of an engine run: pybullet dashed, MuJoCo dash-dot, Drake dotted."""
+    return {"pybullet": "--", "mujoco": "-.", "drake": ":"}.get(label.split()[0], "-")
 
 
 def _ablation_figure(path, name, scene, ref, ab, engine_runs, scale, unit):
@@ -1094,7 +1123,7 @@ def _ablation_figure(path, name, scene, ref, ab, engine_runs, scale, unit):
         ax1.plot(res.t, scale * _disp(res), lw=2 if model == "ellipsoid" else 1.2,
                  ls="-" if model == "ellipsoid" else "--", color=colors[f"exdex {model}"], label=f"exdex {model}")
     for label, res, _ in engine_runs:
-        ax1.plot(res.t, scale * _disp(res), lw=1.2, ls=":", color=colors[label], label=label)
+        ax1.plot(res.t, scale * _disp(res), lw=1.2, ls=_engine_ls(label), color=colors[label], label=label)
     ax1.set_xlabel("t [s]")
     ax1.set_ylabel(f"relative displacement [{unit}]")
     kind = "" if scene.dof == "rotation" else " (equivalent e_r: approximate in planar scenes)"

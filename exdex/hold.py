@@ -15,7 +15,7 @@ Scenarios (every combination):
   (the grip force is set from it: mu * 2 * F = margin * m g for translation,
   mu * 2 * F * e_r = margin * m g * ARM for rotation).
 * ``motion``: ``rest`` (gripper still) or ``shake`` (the gripper oscillates
-  at ``SHAKE_HZ`` along the plate axis, or about the plate normal through the
+  at ``SHAKE_HZ``, amp (1 - cos 2 pi f t), starting and ending at rest, along the plate axis, or about the plate normal through the
   pivot, with an acceleration amplitude adding a quarter of the static load:
   the peak load is 1.25 m g (or 1.25 m g ARM), below the slip threshold of
   every margin).
@@ -102,15 +102,17 @@ QUICK_SETTINGS = _quick_settings
 
 
 def _shake(dof, t_end, scene):
-    """The gripper's shake as sampled poses (200 per second): a sinusoid whose
-    acceleration amplitude adds SHAKE_LOAD times the static load."""
+    """The gripper's shake as sampled poses (200 per second): amp (1 - cos w t),
+    which starts and (after whole periods) ends at rest, so the gripper's
+    velocity never jumps, with an acceleration amplitude amp w^2 adding
+    SHAKE_LOAD times the static load."""
     w = 2 * math.pi * SHAKE_HZ
     t = np.linspace(0.0, t_end, int(round(t_end * 200)) + 1)
     R0 = np.array(DEFAULT_GRIPPER_ROTATION)
     if dof == "translation":
         amp = SHAKE_LOAD * G / w**2                      # a = amp w^2
         axis = R0 @ np.array([0.0, 1.0, 0.0])            # plate axis B y (vertical)
-        pos = np.outer(amp * np.sin(w * t), axis)
+        pos = np.outer(amp * (1.0 - np.cos(w * t)), axis)
         quats = np.tile(_quat_from_matrix(R0), (len(t), 1))
     else:
         c = scene.grasp.patch.center
@@ -119,7 +121,7 @@ def _shake(dof, t_end, scene):
         amp = SHAKE_LOAD * MASS * G * ARM / i_pivot / w**2  # angular acceleration amplitude / w^2
         pos = np.zeros((len(t), 3))
         quats = []
-        for th in amp * np.sin(w * t):
+        for th in amp * (1.0 - np.cos(w * t)):
             cs, sn = math.cos(th), math.sin(th)
             Rz = np.array([[cs, -sn, 0.0], [sn, cs, 0.0], [0.0, 0.0, 1.0]])
             quats.append(_quat_from_matrix(R0 @ Rz))     # about the plate normal through B's origin (the pivot)
@@ -195,7 +197,9 @@ def format_table(rows):
     """The table: one line per setting, drift after T per scenario."""
     keys = [(dof, m, mo) for dof in DOFS for m in MARGINS for mo in MOTIONS
             if any(r["dof"] == dof and r["margin"] == m and r["motion"] == mo for r in rows)]
-    settings = list(dict.fromkeys(r["setting"] for r in rows))
+    canonical = [s[0] for s in _settings()]
+    settings = sorted(dict.fromkeys(r["setting"] for r in rows),
+                      key=lambda s: canonical.index(s) if s in canonical else len(canonical))
     by = {(r["setting"], r["dof"], r["margin"], r["motion"]): r for r in rows}
     head1 = f"{'':38s}" + "".join(f"{('trans' if d == 'translation' else 'rot') + f' {m:g}x':>11s}" for d, m, _ in keys)
     head2 = f"{'setting':38s}" + "".join(f"{mo:>11s}" for _, _, mo in keys)
@@ -275,6 +279,10 @@ def add_arguments(parser):
                         help="a smoke run: 1 s, margins 1.5x and 20x, one default setting per engine")
     parser.add_argument("--engines", nargs="+", choices=("exdex", "mujoco", "pybullet", "drake"),
                         default=None, help="run only these (default: all)")
+    parser.add_argument("--settings", nargs="+", default=None, metavar="TEXT",
+                        help="run only the settings whose name contains one of these (e.g. 'drake point')")
+    parser.add_argument("--combine", nargs="+", default=None, metavar="DIR",
+                        help="run nothing: merge the results of earlier runs (their --out folders) into --out")
     parser.add_argument("--no-plots", dest="plots", action="store_false", help="write no figure")
     parser.add_argument("--no-progress", action="store_true", help="print no line per run (the table only)")
 
@@ -286,35 +294,74 @@ def run(args):
 
     from exdex.engines import require_engines
 
-    status = require_engines("hold")
-    if status:
-        return status
-    if not (args.duration > 0 and math.isfinite(args.duration)):
-        print(f"exdex hold: --duration must be a positive number of seconds, got {args.duration}", file=sys.stderr)
-        return 2
-    t_end = 1.0 if args.quick else args.duration
-    margins = (1.5, 20.0) if args.quick else MARGINS
-    settings = _quick_settings() if args.quick else _settings()
-    if args.engines:
-        settings = [s for s in settings if s[1] in args.engines]
+    if args.combine:
+        rows, curves, t_end = _load(args.combine)
+    else:
+        status = require_engines("hold")
+        if status:
+            return status
+        if not (args.duration > 0 and math.isfinite(args.duration)):
+            print(f"exdex hold: --duration must be a positive number of seconds, got {args.duration}",
+                  file=sys.stderr)
+            return 2
+        t_end = 1.0 if args.quick else args.duration
+        margins = (1.5, 20.0) if args.quick else MARGINS
+        settings = _quick_settings() if args.quick else _settings()
+        if args.engines:
+            settings = [s for s in settings if s[1] in args.engines]
+        if args.settings:
+            settings = [s for s in settings if any(part in s[0] for part in args.settings)]
+        if not settings:
+            print("exdex hold: no setting matches --engines/--settings", file=sys.stderr)
+            return 2
+
+        def progress(r):
+            if not args.no_progress:
+                print(f"{r['setting']:38s} {r['dof']:11s} {r['margin']:4g}x {r['motion']:5s} drift "
+                      f"{r['drift']:.3e} {r['unit']} ({r['wall_time_s']:.2f} s) "
+                      f"{'' if r['status'] == 'ok' else r['status']}", flush=True)
+
+        rows, curves = benchmark(t_end, margins=margins, settings=settings, progress=progress)
     os.makedirs(args.out, exist_ok=True)
-
-    def progress(r):
-        if not args.no_progress:
-            print(f"{r['setting']:38s} {r['dof']:11s} {r['margin']:4g}x {r['motion']:5s} drift {r['drift']:.3e} "
-                  f"{r['unit']} ({r['wall_time_s']:.2f} s) {'' if r['status'] == 'ok' else r['status']}", flush=True)
-
-    rows, curves = benchmark(t_end, margins=margins, settings=settings, progress=progress)
-    fields = ["setting", "engine", "dof", "margin", "motion", "unit", "drift", "creep_speed", "wall_time_s", "status"]
     with open(os.path.join(args.out, "hold_table.csv"), "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=fields)
+        w = csv.DictWriter(fh, fieldnames=FIELDS)
         w.writeheader()
         for r in rows:
-            w.writerow({k: (f"{r[k]:.6g}" if isinstance(r[k], float) else r[k]) for k in fields})
+            w.writerow({k: (f"{r[k]:.6g}" if isinstance(r[k], float) else r[k]) for k in FIELDS})
+    np.savez_compressed(os.path.join(args.out, "hold_curves.npz"), t_end=t_end,
+                        **{"|".join(map(str, k)) + "|t": v[0] for k, v in curves.items()},
+                        **{"|".join(map(str, k)) + "|d": v[1] for k, v in curves.items()})
     table = f"hold for {t_end:g} s\n" + format_table(rows)
     print(table)
     with open(os.path.join(args.out, "hold_table.txt"), "w") as fh:
         fh.write(table + "\n")
     if args.plots:
-        plot(curves, os.path.join(args.out, "hold_drift.png"), t_end, margin=3.0 if not args.quick else 1.5)
+        margin = 3.0 if any(r["margin"] == 3.0 for r in rows) else min(r["margin"] for r in rows)
+        plot(curves, os.path.join(args.out, "hold_drift.png"), t_end, margin=margin)
     return 0
+
+
+FIELDS = ["setting", "engine", "dof", "margin", "motion", "unit", "drift", "creep_speed", "wall_time_s", "status"]
+
+
+def _load(folders):
+    """Rows, curves and T of earlier runs (hold_table.csv and hold_curves.npz in each folder)."""
+    import csv
+
+    rows, curves, t_end = [], {}, None
+    for d in folders:
+        with open(os.path.join(d, "hold_table.csv")) as fh:
+            for r in csv.DictReader(fh):
+                for k in ("margin", "drift", "creep_speed", "wall_time_s"):
+                    r[k] = float(r[k]) if r[k] not in ("", "nan") else math.nan
+                rows.append(r)
+        z = np.load(os.path.join(d, "hold_curves.npz"))
+        t = float(z["t_end"])
+        if t_end is not None and t != t_end:
+            raise ValueError(f"--combine: the runs differ in duration ({t_end:g} s and {t:g} s)")
+        t_end = t
+        for key in z.files:
+            if key.endswith("|t"):
+                name, dof, margin, motion, _ = key.split("|")
+                curves[(name, dof, float(margin), motion)] = (z[key], z[key[:-2] + "|d"])
+    return rows, curves, t_end

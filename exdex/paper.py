@@ -36,6 +36,7 @@ from __future__ import annotations
 import csv
 import math
 import os
+import re
 import time
 from dataclasses import dataclass, field
 from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
@@ -725,10 +726,9 @@ def plot_case(run: "CaseRun", path: Optional[str] = None) -> Any:
     """Figure mirroring the paper's panels: (a) relative displacement against
     time, (b) absolute error against the reference; the interval after the
     gripper stops is shaded. Returns the matplotlib Figure (saved if ``path``)."""
-    import matplotlib
-    if path is not None:
-        matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
+    from exdex._optional import pyplot
+
+    plt = pyplot("exdex.paper.plot_case", backend="Agg" if path is not None else None)
 
     res = run.result
     t = res.t
@@ -775,26 +775,29 @@ def write_csv(run: "CaseRun", path: str) -> None:
             w.writerow(["%.17g" % v for v in row])
 
 
-def _fmt(v, spec="{:.4f}"):
-    if v is None:
-        return "-"
-    if isinstance(v, float) and math.isnan(v):
-        return "nan"
-    return spec.format(v)
+def _split_unit(quantity):
+    """("final relative displacement", "mm") from "final relative displacement [mm]"."""
+    m = re.match(r"^(.*?)\s*\[([^\]]+)\]\s*$", quantity)
+    return (m.group(1), m.group(2)) if m else (quantity, "")
 
 
 def format_table(rows: Sequence[Dict[str, Any]]) -> str:
-    """Plain-text table: case, quantity, paper, exdex, difference, reference, max |v| after the motion."""
-    head = ["case", "quantity", "paper", "exdex", "difference", "reference", "max|v| after"]
-    body = [[r["case"], r["quantity"], _fmt(r["paper"], "{:g}"), _fmt(r["exdex"], "{:.6g}"),
-             _fmt(r["difference"], "{:+.4g}"), _fmt(r["reference"], "{:.6g}"), _fmt(r["max_v_after"], "{:g}")]
-            for r in rows]
-    widths = [max(len(x) for x in col) for col in zip(head, *body)]
-    line = "  ".join(h.ljust(w) for h, w in zip(head, widths))
-    out = [line, "-" * len(line)]
-    out += ["  ".join(c.ljust(w) for c, w in zip(r, widths)) for r in body]
+    """Plain-text table: case, quantity, unit, paper, exdex, difference,
+    reference, largest |v| after the motion (m/s or rad/s); aligned columns,
+    an en dash where there is no value."""
+    from exdex._table import format_table as table
+
+    body = []
+    for r in rows:
+        name, unit = _split_unit(r["quantity"])
+        v_unit = {"mm": "m/s", "deg": "rad/s"}.get(unit, "")
+        still = r["max_v_after"]
+        body.append([r["case"], name, unit, r["paper"], r["exdex"], r["difference"], r["reference"],
+                     None if still is None else f"{still:.3g} {v_unit}".rstrip()])
+    cols = [("case", None), ("quantity", None), ("unit", None), ("paper", "{:g}"), ("exdex", "{:.6g}"),
+            ("exdex - paper", "{:+.4g}"), ("reference", "{:.6g}"), ("max |v| after motion", None)]
     notes = [f"  {r['case']}, {r['quantity']}: {r['note']}" for r in rows if r["note"]]
-    return "\n".join(out + ["notes:"] + notes)
+    return "\n".join([table(cols, body)] + (["notes:"] + notes if notes else []))
 
 
 def write_summary(rows: Sequence[Dict[str, Any]], path: str) -> None:
@@ -823,7 +826,7 @@ def add_arguments(parser: Any) -> None:
 
 def run(args):
     """``exdex paper``: simulate the cases, write figures and CSV, print the table."""
-    from tqdm import tqdm
+    from exdex._optional import progress_bar
 
     t_start = time.perf_counter()
     if not args.dt > 0:
@@ -833,7 +836,8 @@ def run(args):
     written = []
     animate = getattr(args, "animate", None)
     tasks = 4 if animate else 3
-    with tqdm(total=tasks * len(args.cases), desc="exdex paper", unit="task", disable=args.no_progress) as bar:
+    with progress_bar(total=tasks * len(args.cases), desc="exdex paper", unit="task", disable=args.no_progress,
+                      feature="exdex paper's progress bar") as bar:
         for name in args.cases:
             bar.set_postfix_str(f"{name}: simulate")
             case = run_case(name, dt=args.dt)

@@ -226,7 +226,8 @@ class _Runner:
     options: Dict
 
     def __call__(self, **arrays):
-        b = simulate_batch(self.scene, self.t_end, self.dt, record="final", **self.options, **arrays)
+        # candidates of a search, not results: no PhysicsWarning for each scan
+        b = simulate_batch(self.scene, self.t_end, self.dt, record="final", warn=False, **self.options, **arrays)
         return outcome(b.final_displacement, self.scene, self.quantity).reshape(b.shape)
 
 

@@ -26,6 +26,8 @@ from typing import Any, Dict, Optional, Sequence, Tuple, TypeVar, Union
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from exdex import _core
+
 __all__ = [
     "Body", "Patch", "Grasp", "Rest", "AsymmetricProfile", "TrapezoidalProfile",
     "SampledTrajectory", "Stop", "Scene", "DEFAULT_GRIPPER_ROTATION",
@@ -41,9 +43,12 @@ _T = TypeVar("_T")
 Vector = Union[Sequence[float], NDArray[Any]]
 Matrix = Union[Sequence[Sequence[float]], NDArray[Any]]
 
-DOFS = {"translation": 1, "rotation": 2, "planar": 3}
-METHODS = {"implicit": 0, "event": 1, "regularised": 2, "explicit": 3, "analytic": 4}
-SOLVERS = {"scalar": 0, "brent": 1, "multiroot": 2}
+# Names of the C core's enums; the values are the constants exdex._core exports.
+DOFS = {"translation": _core.DOF_TRANSLATION, "rotation": _core.DOF_ROTATION, "planar": _core.DOF_PLANAR}
+METHODS = {"implicit": _core.METHOD_IMPLICIT, "event": _core.METHOD_EVENT,
+           "regularised": _core.METHOD_REGULARISED, "explicit": _core.METHOD_EXPLICIT,
+           "analytic": _core.METHOD_ANALYTIC}
+SOLVERS = {"scalar": _core.SOLVER_SCALAR, "brent": _core.SOLVER_BRENT, "multiroot": _core.SOLVER_MULTIROOT}
 
 
 # ---------------------------------------------------------------- validation
@@ -155,8 +160,8 @@ class Body:
             object.__setattr__(self, "size", _tuple(s))
         if self.outline is not None:
             o = _array(self.outline, "Body.outline", (None, 2))
-            if not 1 <= len(o) <= 32:
-                raise ValueError(f"Body.outline must have 1 to 32 vertices, got {len(o)}")
+            if not 1 <= len(o) <= _core.MAX_VERTICES:
+                raise ValueError(f"Body.outline must have 1 to {_core.MAX_VERTICES} vertices, got {len(o)}")
             object.__setattr__(self, "outline", _tuple(o))
 
     @classmethod
@@ -205,8 +210,6 @@ class Patch:
     @classmethod
     def disc(cls, radius: float, center: Vector = (0.0, 0.0)) -> "Patch":
         """Uniform pressure over a disc of ``radius`` [m]: e_r = 2 R / 3."""
-        from exdex import _core
-
         r = _real(radius, "radius", low=0.0, low_open=True)
         return cls(e_r=_core.er_disc(r), center=center, shape="disc", dims=(r,))
 
@@ -215,8 +218,6 @@ class Patch:
         """Uniform pressure over a ``width`` x ``height`` rectangle [m] (full
         side lengths along the object's x and y, as in ``Body.box``): e_r is
         the mean distance of the rectangle from its centre."""
-        from exdex import _core
-
         w = _real(width, "width", low=0.0, low_open=True)
         h = _real(height, "height", low=0.0, low_open=True)
         return cls(e_r=_core.er_rectangle(w / 2, h / 2), center=center, shape="rectangle", dims=(w, h))
@@ -276,8 +277,6 @@ class _Motion:
         origin [m], ``v`` [m/s], ``a`` [m/s^2], ``w`` angular velocity [rad/s],
         ``dw`` angular acceleration [rad/s^2], each (n, 3).
         """
-        from exdex import _core
-
         scene = Scene(body=Body(mass=1.0), grasp=Grasp(mu=0.0, grip_force=0.0), motion=self,
                       gripper_rotation=gripper_rotation, gripper_position=gripper_position)
         t = _array(np.atleast_1d(t), "t", (None,))
@@ -310,7 +309,7 @@ class Rest(_Motion):
     _may_jump = False
 
     def _spec(self):
-        return dict(motion_kind=0)
+        return dict(motion_kind=_core.MOTION_REST)
 
     @property
     def end_time(self) -> float:
@@ -359,7 +358,7 @@ class AsymmetricProfile(_Motion):
         return 2 * self.amplitude / ((self.beta - 1) * self.duration**2)
 
     def _spec(self):
-        return dict(motion_kind=1, motion_rotation=int(self.rotation), motion_axis=self.axis,
+        return dict(motion_kind=_core.MOTION_ASYMMETRIC, motion_rotation=int(self.rotation), motion_axis=self.axis,
                     motion_center=self.center, motion_amplitude=self.amplitude,
                     motion_duration=self.duration, motion_beta=self.beta)
 
@@ -394,7 +393,7 @@ class TrapezoidalProfile(_Motion):
         _axis_fields(self, "TrapezoidalProfile")
 
     def _spec(self):
-        return dict(motion_kind=2, motion_rotation=int(self.rotation), motion_axis=self.axis,
+        return dict(motion_kind=_core.MOTION_TRAPEZOID, motion_rotation=int(self.rotation), motion_axis=self.axis,
                     motion_center=self.center, motion_amplitude=self.amplitude,
                     motion_duration=self.duration, motion_v_max=self.v_max)
 
@@ -493,7 +492,7 @@ class SampledTrajectory(_Motion):
         zero = (0.0, 0.0, 0.0)
         given = (self.start_velocity is not None or self.start_omega is not None,
                  self.end_velocity is not None or self.end_omega is not None)
-        spec = dict(motion_kind=3, motion_times=self.times, motion_poses=poses,
+        spec = dict(motion_kind=_core.MOTION_SAMPLED, motion_times=self.times, motion_poses=poses,
                     motion_end_given=tuple(float(g) for g in given),
                     motion_end_velocity=(self.start_velocity or zero) + (self.end_velocity or zero),
                     motion_end_omega=(self.start_omega or zero) + (self.end_omega or zero),
@@ -597,13 +596,47 @@ class Scene:
         object.__setattr__(self, "gripper_rotation", _rotation(self.gripper_rotation, "Scene.gripper_rotation"))
         object.__setattr__(self, "gripper_position", _tuple(_array(self.gripper_position, "Scene.gripper_position", (3,))))
         object.__setattr__(self, "gravity", _tuple(_array(self.gravity, "Scene.gravity", (3,))))
-        stops = tuple(self.stops)
-        for s in stops:
+        stops = self.stops
+        if isinstance(stops, Stop):
+            stops = (stops,)  # a single stop
+        elif isinstance(stops, (str, bytes)) or not hasattr(stops, "__iter__"):
+            raise TypeError(f"Scene.stops must be an exdex.Stop or a sequence of them, got {type(stops).__name__}")
+        stops = tuple(stops)
+        for i, s in enumerate(stops):
             if not isinstance(s, Stop):
-                raise TypeError(f"Scene.stops must hold exdex.Stop objects, got {type(s).__name__}")
-        if len(stops) > 8:
-            raise ValueError(f"Scene.stops holds at most 8 stops, got {len(stops)}")
+                raise TypeError(f"Scene.stops[{i}] must be an exdex.Stop, got {type(s).__name__}")
+        if len(stops) > _core.MAX_STOPS:
+            raise ValueError(f"Scene.stops holds at most {_core.MAX_STOPS} stops, got {len(stops)}")
         object.__setattr__(self, "stops", stops)
+
+    def check_stops(self) -> None:
+        """Raise a ValueError naming the stop, the outline vertex and the
+        penetration depth if the object starts beyond a stop (the core's test,
+        in the same metres). A scene may be built and saved that way; it is
+        checked when simulated."""
+        if not self.stops:
+            return
+        if isinstance(self.motion, (Rest, AsymmetricProfile, TrapezoidalProfile)):
+            # these motions start at the initial pose
+            R, p = np.array(self.gripper_rotation), np.array(self.gripper_position)
+        else:
+            kin = self.motion.evaluate(0.0, self.gripper_rotation, self.gripper_position)
+            R, p = kin["R"][0], kin["p"][0]
+        th = self.q0[2]
+        c, s = math.cos(th), math.sin(th)
+        verts = self.body.vertices()
+        xb = np.array(self.q0[:2]) + verts @ np.array([[c, s], [-s, c]])   # rows: q0 + Rz(th) v
+        xa = np.hstack([xb, np.zeros((len(xb), 1))]) @ R.T + p
+        for k, st in enumerate(self.stops):
+            gaps = (xa - np.array(st.point)) @ np.array(st.normal)
+            j = int(np.argmin(gaps))
+            if gaps[j] < -1e-9:
+                where = "the centre of mass" if self.body.size is None and self.body.outline is None \
+                    else f"outline vertex {j} ({verts[j][0]:g}, {verts[j][1]:g}) m"
+                raise ValueError(
+                    f"Scene.stops[{k}] (point {st.point}, normal {st.normal}) starts inside the object: "
+                    f"{where} is {-gaps[j]:.6g} m beyond it at t = 0. Move the stop or the object "
+                    f"(Scene.q0 = {self.q0}) so that it starts on the stop's allowed side")
 
     @property
     def ndof(self) -> int:
@@ -624,7 +657,7 @@ class Scene:
             e_r=self.grasp.patch.e_r, patch_center=self.grasp.patch.center,
             gravity=self.gravity, dof=DOFS[self.dof], slide_axis=self.slide_axis,
             q0=self.q0, v0=self.v0, R0=np.array(self.gripper_rotation).ravel(), p0=self.gripper_position,
-            motion_kind=0, motion_rotation=0, motion_axis=(0.0, 0.0, 1.0), motion_center=(0.0, 0.0, 0.0),
+            motion_kind=_core.MOTION_REST, motion_rotation=0, motion_axis=(0.0, 0.0, 1.0), motion_center=(0.0, 0.0, 0.0),
             motion_amplitude=0.0, motion_duration=1.0, motion_beta=0.5, motion_v_max=1.0,
             stop_points=np.array([s.point for s in self.stops]).reshape(-1, 3),
             stop_normals=np.array([s.normal for s in self.stops]).reshape(-1, 3),

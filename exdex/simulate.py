@@ -11,10 +11,11 @@ from typing import Any, Dict, Literal, Optional, Tuple, Union
 import numpy as np
 from numpy.typing import NDArray
 
-from exdex import _core
+from exdex import _core, diagnostics
+from exdex.diagnostics import PhysicsWarning
 from exdex.scene import METHODS, SOLVERS, Scene, _real
 
-__all__ = ["Result", "simulate", "SolverError", "GripperJumpWarning"]
+__all__ = ["Result", "simulate", "SolverError", "PhysicsWarning", "GripperJumpWarning"]
 
 SolverError = _core.SolverError
 
@@ -23,7 +24,7 @@ Method = Literal["implicit", "event", "regularised", "explicit", "analytic", "au
 FrictionSolver = Literal["scalar", "brent", "multiroot"]
 
 
-class GripperJumpWarning(UserWarning):
+class GripperJumpWarning(PhysicsWarning):
     """The gripper's velocity jumps inside the simulated interval (a sampled
     log that starts or ends at speed, a trapezoid without ramps).
 
@@ -33,7 +34,8 @@ class GripperJumpWarning(UserWarning):
     jump at the object, projected onto the free coordinates in the mass
     metric; every method applies that jump. Attributes: ``t`` [s], ``dv``
     [m/s] and ``dw`` [rad/s], the jumps of the velocity of the gripper
-    frame's origin and of its angular velocity in the world frame.
+    frame's origin and of its angular velocity in the world frame. A kind of
+    :class:`exdex.PhysicsWarning` (``kind`` "gripper_jump").
     """
 
     def __init__(self, t, dv, dw, hint=""):
@@ -42,7 +44,9 @@ class GripperJumpWarning(UserWarning):
             f"the gripper's velocity jumps at t = {self.t:.9g} s by |dv| = {np.linalg.norm(self.dv):.3g} m/s, "
             f"|dw| = {np.linalg.norm(self.dw):.3g} rad/s (dv = {_fmt(self.dv)}, dw = {_fmt(self.dw)} in the "
             f"world frame): the plates cannot transmit an impulse, so the object keeps its absolute velocity "
-            f"and its velocity relative to the gripper jumps{hint}")
+            f"and its velocity relative to the gripper jumps{hint}",
+            kind="gripper_jump", time=self.t, quantity="gripper velocity jump |dv| [m/s]",
+            value=float(np.linalg.norm(self.dv)), limit=None)
 
 
 def _fmt(x):
@@ -89,8 +93,17 @@ class Result:
     stick : (n,) True where the step ending there left the object exactly at
         rest relative to the gripper (row 0: the initial velocity is zero).
     stop_force : (n, n_stops) mean normal force of each stop on the object [N].
-    stats : dict of solver statistics (steps, stick_steps, solver_iterations,
-        stop_iterations, warnings, min_gap [m]).
+    stats : dict of solver statistics: steps, stick_steps,
+        solver_iterations, stop_iterations, warnings (soft problems: an
+        iteration limit reached with the last iterate kept, a stop that
+        cannot act or pinches the object, a penetration left after a step),
+        first_warning_t [s] (end of the first step or output interval that
+        counted one; None: none), min_gap [m], impacts (stops that started
+        pushing an approaching object: velocity jumps), max_impulse [N s]
+        (largest impact impulse, generalized N m s on a rotation pin; 0:
+        none), max_impulse_t [s] and max_impulse_stop (its time and stop;
+        None: none). ``stop_force`` shows an impact as its impulse divided by the
+        step.
     scene, method, friction_solver, dt : what produced it.
     """
 
@@ -114,28 +127,9 @@ class Result:
     @property
     def pose(self) -> NDArray[np.float64]:
         """(n, 3) full planar pose (x, y, theta) of C in B, whatever the scene's dof."""
-        sc = self.scene
-        if sc is None:
+        if self.scene is None:
             raise ValueError("Result.pose needs the Result's scene (Result.scene is None)")
-        n = len(self.t)
-        out = np.empty((n, 3))
-        if sc.dof == "planar":
-            out[:] = self.q
-        elif sc.dof == "translation":
-            d = np.array(sc.slide_axis)
-            s = self.q[:, 0] - self.q[0, 0]
-            out[:, 0] = sc.q0[0] + s * d[0]
-            out[:, 1] = sc.q0[1] + s * d[1]
-            out[:, 2] = sc.q0[2]
-        else:
-            th = self.q[:, 0]
-            c = -np.array(sc.grasp.patch.center)
-            th0 = sc.q0[2]
-            pivot = np.array(sc.q0[:2]) - _rot(th0, c)
-            out[:, 0] = pivot[0] + np.cos(th) * c[0] - np.sin(th) * c[1]
-            out[:, 1] = pivot[1] + np.sin(th) * c[0] + np.cos(th) * c[1]
-            out[:, 2] = th
-        return out
+        return diagnostics.poses(self.scene, self.q)
 
     def plot(self, ax: Any = None, label: Optional[str] = None, stick_shading: bool = True) -> Any:
         """Plot the displacement of each free coordinate against time.
@@ -149,8 +143,9 @@ class Result:
         Returns the Axes (1-DoF scenes) or a tuple ``(ax_mm, ax_deg)``
         (planar scenes).
         """
-        import matplotlib.pyplot as plt
+        from exdex._optional import pyplot
 
+        plt = pyplot("Result.plot()")
         names = self.scene.coordinate_names if self.scene is not None else tuple(f"q{i}" for i in range(self.q.shape[1]))
         lin = [i for i, n in enumerate(names) if n != "theta"]
         ang = [i for i, n in enumerate(names) if n == "theta"]
@@ -332,10 +327,6 @@ class Result:
         return float(np.max(np.abs(self.v[sel]))) if np.any(sel) else 0.0
 
 
-def _rot(th, v):
-    return np.array([math.cos(th) * v[0] - math.sin(th) * v[1], math.sin(th) * v[0] + math.cos(th) * v[1]])
-
-
 def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "implicit",
              friction_solver: FrictionSolver = "scalar", eps: float = 1e-4, rtol: float = 1e-8,
              atol: float = 1e-10) -> Result:
@@ -416,6 +407,10 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
 
     Warns
     -----
+    exdex.PhysicsWarning
+        When the result leaves the model's assumptions (the object slides
+        beyond the pad, the pads leave the body outline, impacts on stops,
+        solver warnings in ``stats``): see :mod:`exdex.diagnostics`.
     exdex.GripperJumpWarning
         For each time in (0, t_end] where the gripper's velocity jumps (a
         sampled log that starts or ends at speed, a trapezoid without ramps),
@@ -428,12 +423,18 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
     spec = _spec(scene, method, friction_solver, eps, rtol, atol)
     out = _core.simulate(spec, t_end, dt)
     _warn_jumps(scene, _jumps(scene, spec), t_end)
-    return _result(out, scene, method, friction_solver, dt)
+    res = _result(out, scene, method, friction_solver, dt)
+    diagnostics.issue(diagnostics.findings(res))
+    return res
 
 
 def _check_times(t_end, dt):
+    """(dt, t_end) as floats, or a ValueError / TypeError naming the bad one."""
     dt = _real(dt, "dt", low=0.0, low_open=True)
-    t_end = _real(t_end, "t_end", low=dt)
+    t_end = _real(t_end, "t_end", low=0.0, low_open=True)
+    if dt > t_end:
+        raise ValueError(f"dt must be <= t_end: got dt = {dt:g} s and t_end = {t_end:g} s "
+                         "(dt is the output step, t_end the end time)")
     if t_end / dt > 1e9:
         raise ValueError(f"t_end / dt must be at most 1e9 steps, got {t_end / dt:.3g}")
     return dt, t_end
@@ -466,6 +467,7 @@ def _spec(scene, method, friction_solver, eps, rtol, atol):
     eps = _real(eps, "eps", low=0.0, low_open=True)
     rtol = _real(rtol, "rtol", low=0.0, low_open=True)
     atol = _real(atol, "atol", low=0.0, low_open=True)
+    scene.check_stops()
     return scene.to_spec(method=method, friction_solver=friction_solver, eps=eps, rtol=rtol, atol=atol)
 
 
@@ -514,7 +516,9 @@ class Model:
         dt, t_end = _check_times(t_end, dt)
         out = self._model.simulate(t_end, dt)
         _warn_jumps(self.scene, self._jumps, t_end)
-        return _result(out, self.scene, self.method, self.friction_solver, dt)
+        res = _result(out, self.scene, self.method, self.friction_solver, dt)
+        diagnostics.issue(diagnostics.findings(res))
+        return res
 
     def final(self, t_end: float, dt: float = 1e-3) -> Tuple[Tuple[float, ...], Tuple[float, ...], bool]:
         """Run like :meth:`simulate` and return only the last sample:

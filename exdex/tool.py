@@ -55,7 +55,8 @@ __all__ = [
     "add_arguments", "run",
 ]
 
-ConvergenceError = _tool.ConvergenceError
+#: A GSL minimiser did not converge: the same class as :class:`exdex.SolverError`.
+ConvergenceError = _tool.SolverError
 
 #: The paper's unit square, centred on its reference point (counter-clockwise).
 UNIT_SQUARE = np.array([[-0.5, -0.5], [0.5, -0.5], [0.5, 0.5], [-0.5, 0.5]])
@@ -578,8 +579,10 @@ def theta_study(ranges: Optional[Mapping[str, Tuple[float, float]]] = None,
     out = []
     items = [(r, m, b) for b in boxes for r in ranges for m in models]
     if progress:
-        from tqdm.auto import tqdm
-        items = tqdm(items, desc="theta*", unit="case", leave=False)
+        from exdex._optional import progress_bar
+
+        items = progress_bar(items, desc="theta*", unit="case", leave=False, auto=True,
+                             feature="theta_study(progress=True)")
     for name, model, bname in items:
         box = boxes[bname]
         prob = ToolProblem(phi=phi_set(*ranges[name], step_deg=step_deg), box=box, mu=mu,
@@ -678,10 +681,13 @@ def run(args):
     """``exdex tool``: theta* per phi range, model and box convention; the
     box-aspect sweep; friction; several shapes with a multi-parameter tool; the
     rod of Fig. 11. Writes CSV and PNG files to ``args.out``, prints a summary."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from tqdm.auto import tqdm
+    from exdex._optional import progress_bar, pyplot
+    from exdex._table import format_table
+
+    plt = pyplot("exdex tool", backend="Agg")
+
+    def tqdm(items, **kw):
+        return progress_bar(items, auto=True, feature="exdex tool's progress bars", **kw)
 
     if args.mu < 0 or not math.isfinite(args.mu):
         raise SystemExit(f"--mu must be finite and >= 0, got {args.mu}")
@@ -781,24 +787,27 @@ def run(args):
     print(f"exdex tool: results in {out}  ({time.perf_counter() - t0:.1f} s)")
     print(f"theta* (Eq. 12): unit square, phi midpoints of {step:g}-deg cells, theta scanned "
           f"1..179 deg ({n_scan} values) + Brent, mu = {args.mu:g}")
-    print(f"{'box':>8} {'phi [deg]':>10} {'model':>8} {'theta* [deg]':>13} {'mean V*':>9} "
-          f"{'mean V(90)':>11} {'interior':>9}")
-    for r in study:
-        print(f"{r['box']:>8} {r['phi_range']:>10} {r['model']:>8} {r['theta_star_deg']:13.2f} "
-              f"{r['mean_volume']:9.4f} {r['mean_volume_90deg']:11.4f} {str(r['bracketed']):>9}")
-    print("box aspect, dVx = dVy = a, dwz = 1/a^2, phi 0..90: theta* [deg] paper / contact")
-    for a in aspects:
-        p = [x for x in sweep if x["a"] == a]
-        print(f"  a = {a:6.3f}: " + " / ".join(f"{x['theta_star_deg']:7.2f}" for x in p))
-    print("friction (contact rows, phi 0..90): mu -> theta* [deg], mean V*")
-    for r in fric:
-        note = "" if r["bracketed"] else "  (at a bound or on a plateau: theta* not unique)"
-        print(f"  mu {r['mu']:4g}: {r['theta_star_deg']:7.2f}  {r['mean_volume']:.4g}{note}")
+    print(format_table(
+        [("box", None), ("phi [deg]", None), ("model", None), ("theta* [deg]", "{:.2f}"),
+         ("mean V*", "{:.4f}"), ("mean V(90 deg)", "{:.4f}"), ("interior", None)],
+        [(r["box"], r["phi_range"], r["model"], r["theta_star_deg"], r["mean_volume"], r["mean_volume_90deg"],
+          "yes" if r["bracketed"] else "no") for r in study], indent="  "))
+    print("box aspect, dVx = dVy = a, dwz = 1/a^2, phi 0..90 deg:")
+    print(format_table(
+        [("a", "{:.3f}"), ("theta* paper [deg]", "{:.2f}"), ("theta* contact [deg]", "{:.2f}")],
+        [(a, *[next((x["theta_star_deg"] for x in sweep if x["a"] == a and x["model"] == m), None)
+               for m in ("paper", "contact")]) for a in aspects], indent="  "))
+    print("friction (contact rows, phi 0..90 deg):")
+    print(format_table(
+        [("mu", "{:g}"), ("theta* [deg]", "{:.2f}"), ("mean V*", "{:.4g}"), ("theta* unique", None)],
+        [(r["mu"], r["theta_star_deg"], r["mean_volume"], "yes" if r["bracketed"] else "no (bound or plateau)")
+         for r in fric], indent="  "))
     print(f"4 shapes, phi 0..60 deg (mean V over {n_terms} cones):")
-    for r in multi:
-        s_txt = "" if r["s"] == "" else f", s {r['s']:.3f} m"
-        print(f"  {r['case']}: alpha1 {r['alpha1_deg']:.2f}, alpha2 {r['alpha2_deg']:.2f} deg"
-              f"{s_txt}: {r['mean_volume']:.4f}" + ("" if r["converged"] else " (not converged)"))
+    print(format_table(
+        [("tool", None), ("alpha1 [deg]", "{:.2f}"), ("alpha2 [deg]", "{:.2f}"), ("s [m]", "{:.3f}"),
+         ("mean V", "{:.4f}"), ("converged", None)],
+        [(r["case"], r["alpha1_deg"], r["alpha2_deg"], None if r["s"] == "" else r["s"], r["mean_volume"],
+          "yes" if r["converged"] else "no") for r in multi], indent="  "))
     print(f"rod (Fig. 11), rod {xr} m off the grasp, object height {height} m: at most {math.degrees(pmax):.2f} deg "
           f"of rotation from a straight push (descent {closed[-1]:.4f} m); RK4 vs closed form "
           f"max |d error| {rod_err:.1e} m")

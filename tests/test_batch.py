@@ -138,8 +138,8 @@ def test_record_final_is_last_row_of_all(threads):
     for k in STATS:
         np.testing.assert_array_equal(f.stats[k], a.stats[k])
     with pytest.raises(ValueError, match="record='all'"):
-        f.result(0)
-    r = a.result(2)
+        f.at(0)
+    r = a.at(2)
     assert isinstance(r, exdex.Result) and r.scene.grasp.mu == 0.6
 
 
@@ -199,7 +199,7 @@ def test_bad_options(fig3):
             simulate_batch(fig3, 1.5, 1e-3, threads=bad)
     with pytest.raises(ValueError, match="dt must be"):
         simulate_batch(fig3, 1.5, 0.0)
-    with pytest.raises(ValueError, match="t_end must be"):
+    with pytest.raises(ValueError, match="dt must be <= t_end"):
         simulate_batch(fig3, 1e-4, 1e-3)
     with pytest.raises(TypeError, match="scene must be"):
         simulate_batch([], 1.5, 1e-3)

@@ -86,7 +86,17 @@ def _motion(rng):
                                         rotation=rotation, center=center)
     n = int(rng.integers(4, 40))
     times = np.cumsum(rng.uniform(1e-3, 0.1, n)) + float(rng.choice([0.0, 0.1 + 0.2]))
-    return exdex.SampledTrajectory(times, rng.normal(size=(n, 3)) * 0.1, rng.normal(size=(n, 4)))
+    options = {}
+    for name in ("start_velocity", "start_omega", "end_velocity", "end_omega"):
+        if rng.random() < 0.3:
+            options[name] = tuple(_awkward(rng, 3))
+    if rng.random() < 0.5:
+        options["relative"] = bool(rng.integers(0, 2))
+    if rng.random() < 0.3:
+        X = np.eye(4)
+        X[:3, :3], X[:3, 3] = _rotation(rng), rng.normal(size=3) * 0.05
+        options["tool"] = X
+    return exdex.SampledTrajectory(times, rng.normal(size=(n, 3)) * 0.1, rng.normal(size=(n, 4)), **options)
 
 
 def random_scene(rng):
@@ -111,8 +121,10 @@ def _same(a, b):
 def test_round_trip_random_scenes_is_exact(fmt, tmp_path):
     rng = np.random.default_rng(20261124)
     seen = set()
+    scenes = []
     for i in range(300):
         sc = random_scene(rng)
+        scenes.append(sc)
         seen.add((type(sc.motion).__name__, sc.dof, len(sc.stops) > 0, sc.grasp.patch.shape))
         path = tmp_path / f"s{i}.{fmt}"
         exdex.save_scene(sc, path)
@@ -120,6 +132,9 @@ def test_round_trip_random_scenes_is_exact(fmt, tmp_path):
         assert _same(back, sc), path.read_text()
         # writing the loaded scene gives the same file, byte for byte
         assert io.dumps(back, fmt) == path.read_text()
+    logs = [sc.motion for sc in scenes if isinstance(sc.motion, exdex.SampledTrajectory)]
+    assert any(m.tool is not None for m in logs) and any(m.relative for m in logs)
+    assert any(m.end_velocity is not None for m in logs) and any(m.start_omega is not None for m in logs)
     motions = {m for m, *_ in seen}
     assert motions == {"Rest", "AsymmetricProfile", "TrapezoidalProfile", "SampledTrajectory"}
     assert {d for _, d, *_ in seen} == {"translation", "rotation", "planar"}
@@ -397,5 +412,13 @@ def test_the_schema_covers_every_scene_field_and_motion():
         "Grasp": ["mu", "grip_force", "patch", "fingers"],
         "Patch": ["e_r", "center", "shape", "dims"],
         "Stop": ["point", "normal"],
+    }
+    motion_fields = {name: [f.name for f in dataclasses.fields(cls)] for name, cls in io.MOTIONS.items()}
+    assert motion_fields == {
+        "Rest": [],
+        "AsymmetricProfile": ["amplitude", "duration", "beta", "axis", "rotation", "center"],
+        "TrapezoidalProfile": ["amplitude", "duration", "v_max", "axis", "rotation", "center"],
+        "SampledTrajectory": ["times", "positions", "quaternions", "start_velocity", "start_omega",
+                              "end_velocity", "end_omega", "relative", "tool"],
     }
     assert sorted(io.MOTIONS) == ["AsymmetricProfile", "Rest", "SampledTrajectory", "TrapezoidalProfile"]

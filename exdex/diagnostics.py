@@ -1,0 +1,318 @@
+"""Physics warnings: results that leave the model's assumptions.
+
+exdex models the plates' friction as a patch whose centre of pressure is
+fixed on the object (``Patch.center``) and whose pressure covers the pad the
+patch describes. A result is outside that model when
+
+* the object slides farther relative to the plates than the pad's own size
+  (``Patch.disc`` / ``Patch.rectangle`` state it): the contact has moved
+  across the pad, so the pressure distribution and e_r no longer hold, and
+  past the pad's edge the object has left the fingers;
+* the plates' pad centre leaves the body's outline (``Body.size`` or
+  ``Body.outline``): the plates no longer press on the object;
+* the object hits a stop: an impact is an impulse, which the sampled
+  ``stop_force`` (a mean force over one step) can show only as a spike whose
+  height depends on the step;
+* the solver counted soft problems in ``stats["warnings"]`` (an iteration
+  limit reached with the last iterate kept, a stop that cannot act along the
+  free direction or pinches the object, a penetration left after a step).
+
+:func:`exdex.simulate`, :meth:`exdex.Model.simulate` and
+:func:`exdex.simulate_batch` issue one :class:`PhysicsWarning` per finding
+through :mod:`warnings`; each names the time, the quantity and its size.
+Silence them with ``warnings.simplefilter("ignore", exdex.PhysicsWarning)``
+or turn them into errors with ``"error"``.
+"""
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+
+__all__ = ["PhysicsWarning", "findings", "pad_half_size"]
+
+
+class PhysicsWarning(UserWarning):
+    """A simulated result left the assumptions of the model.
+
+    Attributes: ``kind`` ("pad", "outline", "impact" or "solver"), ``time``
+    (the first time it happened [s], or None when the core does not know it),
+    ``quantity`` (what was measured), ``value`` and ``limit`` (its size and
+    the bound it passed, SI units; ``limit`` may be None).
+    """
+
+    def __init__(self, message, kind=None, time=None, quantity=None, value=None, limit=None):
+        super().__init__(message)
+        self.kind, self.time, self.quantity, self.value, self.limit = kind, time, quantity, value, limit
+
+
+def _length(x):
+    """A length [m] in the unit that reads best."""
+    a = abs(x)
+    if a >= 1.0 or a == 0.0:
+        return f"{x:.4g} m"
+    if a >= 1e-3:
+        return f"{x * 1e3:.4g} mm"
+    return f"{x * 1e6:.4g} um"
+
+
+def pad_half_size(patch):
+    """Half-extents of the pad a patch was built from [m]: ``(r,)`` for a
+    disc of radius r, ``(width / 2, height / 2)`` for a rectangle (along the
+    object's x and y at t = 0), or None when the patch states no size."""
+    if patch.shape == "disc" and len(patch.dims) == 1:
+        return (float(patch.dims[0]),)
+    if patch.shape == "rectangle" and len(patch.dims) == 2:
+        return (float(patch.dims[0]) / 2, float(patch.dims[1]) / 2)
+    return None
+
+
+def poses(scene, q):
+    """(n, 3) planar poses (x, y, theta) of the object frame C in B for the
+    free coordinates q (n, ndof) of ``scene``."""
+    q = np.asarray(q, dtype=float).reshape(len(q), -1)
+    n = len(q)
+    out = np.empty((n, 3))
+    if scene.dof == "planar":
+        out[:] = q
+    elif scene.dof == "translation":
+        d = np.array(scene.slide_axis)
+        s = q[:, 0] - (d[0] * scene.q0[0] + d[1] * scene.q0[1])   # q = s, the COM's coordinate along d
+        out[:, 0] = scene.q0[0] + s * d[0]
+        out[:, 1] = scene.q0[1] + s * d[1]
+        out[:, 2] = scene.q0[2]
+    else:
+        th = q[:, 0]
+        c = -np.array(scene.grasp.patch.center)
+        th0 = scene.q0[2]
+        pivot = np.array(scene.q0[:2]) - _rot(th0, c)
+        out[:, 0] = pivot[0] + np.cos(th) * c[0] - np.sin(th) * c[1]
+        out[:, 1] = pivot[1] + np.sin(th) * c[0] + np.cos(th) * c[1]
+        out[:, 2] = th
+    return out
+
+
+def _rot(th, v):
+    c, s = np.cos(th), np.sin(th)
+    return np.array([c * v[0] - s * v[1], s * v[0] + c * v[1]])
+
+
+def _hull(points):
+    """Convex hull (counter-clockwise, Andrew's monotone chain) of (k, 2) points."""
+    pts = sorted(set(map(tuple, np.asarray(points, dtype=float))))
+    if len(pts) < 3:
+        return np.array(pts)
+
+    def cross(o, a, b):
+        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+
+    lower, upper = [], []
+    for p in pts:
+        while len(lower) >= 2 and cross(lower[-2], lower[-1], p) <= 0:
+            lower.pop()
+        lower.append(p)
+    for p in reversed(pts):
+        while len(upper) >= 2 and cross(upper[-2], upper[-1], p) <= 0:
+            upper.pop()
+        upper.append(p)
+    return np.array(lower[:-1] + upper[:-1])
+
+
+def _outside_distance(hull, p):
+    """For points p (n, 2): the largest outward distance from the hull's edge
+    lines (> 0 outside the convex polygon, its Euclidean distance to the
+    polygon along an edge normal)."""
+    a = hull
+    b = np.roll(hull, -1, axis=0)
+    e = b - a
+    nrm = np.stack([e[:, 1], -e[:, 0]], axis=1)  # outward normal of a CCW polygon
+    nrm /= np.linalg.norm(nrm, axis=1)[:, None]
+    return np.einsum("nkj,kj->nk", p[:, None, :] - a[None, :, :], nrm).max(axis=1)
+
+
+def _outline(body):
+    """The body's outline in C as a convex polygon (counter-clockwise): the
+    box of ``Body.size`` when given (``Body.outline`` may list only the
+    vertices that touch stops), else the hull of ``Body.outline``; None when
+    neither states an area."""
+    if body.size is not None:
+        hx, hy = body.size[0] / 2, body.size[1] / 2
+        return np.array([(-hx, -hy), (hx, -hy), (hx, hy), (-hx, hy)])
+    if body.outline is not None and len(body.outline) >= 3:
+        hull = _hull(body.outline)
+        if len(hull) >= 3:
+            return hull
+    return None
+
+
+def _first(mask):
+    idx = np.flatnonzero(mask)
+    return int(idx[0]) if len(idx) else None
+
+
+def contact_checks(scene, q):
+    """The pad and outline checks of poses q (n, ndof) of ``scene``, row by
+    row: a list of dicts with ``kind``, ``mask`` (n,) (True where the check
+    fails), ``value`` (n,) the measured size [m], ``limit`` [m], ``text`` a
+    function (value, largest) -> the message after "at t = ... s"."""
+    out = []
+    if scene.dof == "rotation" or len(q) == 0:
+        return out  # the centre of pressure is the pin: fixed on the plates
+    q = np.asarray(q, dtype=float).reshape(len(q), -1)
+    c = np.array(scene.grasp.patch.center)
+    th0 = scene.q0[2]
+    pad = np.array(scene.q0[:2]) + _rot(th0, c)                     # pad centre in B, fixed
+    body = scene.body
+    outline = _outline(body)
+    half = pad_half_size(scene.grasp.patch)
+    # The pad-size check: in planar scenes the centre of pressure fixed on
+    # the object is an assumption the slide breaks; in translation scenes it
+    # does not enter the dynamics, so there the pad is the only size to
+    # check only when the body states no outline.
+    check_pad = half is not None and (scene.dof == "planar" or outline is None)
+    # Cheap bounds first (long runs that stay well inside skip the per-row
+    # work): the centre of mass moves by at most dr and turns by at most dth,
+    # so the centre of pressure moves by at most dr + |c| dth relative to the
+    # pad, and the pad centre by at most dr + |pad - r0| dth in the object.
+    if scene.dof == "planar":
+        r0 = np.array(scene.q0)
+        dx, dy, dth = (float(np.max(np.abs(q[:, j] - r0[j]))) for j in range(3))
+        dr = math.hypot(dx, dy)
+    else:
+        d = scene.slide_axis
+        dr = float(np.max(np.abs(q[:, 0] - (d[0] * scene.q0[0] + d[1] * scene.q0[1]))))
+        dth = 0.0
+    if check_pad and dr + float(np.hypot(*c)) * dth < min(half) * (1 - 1e-9):
+        check_pad = False
+    if outline is not None:
+        rel0 = _rot(-th0, pad - np.array(scene.q0[:2]))
+        inside = -float(_outside_distance(outline, rel0[None, :])[0])
+        if dr + float(np.hypot(*(pad - np.array(scene.q0[:2])))) * dth < inside * (1 - 1e-9):
+            outline = None
+    if not check_pad and outline is None:
+        return out
+    pose = poses(scene, q)
+    cs, sn = np.cos(pose[:, 2]), np.sin(pose[:, 2])
+    cop = pose[:, :2] + np.stack([cs * c[0] - sn * c[1], sn * c[0] + cs * c[1]], axis=1)
+    slide = cop - pad                                                # CoP relative to the pad, in B
+    if check_pad:
+        ca, sa = math.cos(th0), math.sin(th0)
+        local = np.stack([ca * slide[:, 0] + sa * slide[:, 1], -sa * slide[:, 0] + ca * slide[:, 1]], axis=1)
+        dist = np.hypot(local[:, 0], local[:, 1])
+        if len(half) == 1:
+            mask = dist > half[0] * (1 + 1e-9)
+            size_txt, limit = f"the pad radius {_length(half[0])}", half[0]
+        else:
+            mask = (np.abs(local[:, 0]) > half[0] * (1 + 1e-9)) | (np.abs(local[:, 1]) > half[1] * (1 + 1e-9))
+            size_txt = f"the pad's half-sides {_length(half[0])} x {_length(half[1])}"
+            limit = float(math.hypot(*half))
+        out.append(dict(
+            kind="pad", mask=mask, value=dist, limit=limit, quantity="slide relative to the pad [m]",
+            text=lambda v, end, size_txt=size_txt: (
+                f"the object has slid {_length(v)} relative to the plate pads, beyond {size_txt}"
+                + (f" ({_length(end)} at the end of the run)" if end is not None else "")
+                + ": the model keeps the centre of pressure fixed on the object, so past this time the "
+                "result does not describe the grasp")))
+    if outline is not None:
+        hull = outline
+        rel = pad[None, :] - pose[:, :2]                          # pad centre rel. to the COM, in B
+        in_c = np.stack([cs * rel[:, 0] + sn * rel[:, 1], -sn * rel[:, 0] + cs * rel[:, 1]], axis=1)
+        scale = float(np.max(np.abs(hull)))
+        dout = _outside_distance(hull, in_c)
+        out.append(dict(
+            kind="outline", mask=dout > 1e-9 * scale, value=dout, limit=0.0,
+            quantity="distance outside the body outline [m]",
+            text=lambda v, end: (
+                f"the centre of pressure (the plate pads' centre) is {_length(v)} outside the body "
+                f"outline" + (f" ({_length(end)} at the end of the run)" if end is not None and end > 0 else "")
+                + ": the plates no longer press on the object, so past this time the result does not "
+                "describe the grasp")))
+    return out
+
+
+def contact_findings(scene, t, q, chunk=2048):
+    """Pad and outline findings for the samples (t, q) of one trajectory of
+    ``scene``. Rows are checked in chunks, and a check stops at its first
+    failing sample, so long runs cost little beyond their own output."""
+    q = np.asarray(q, dtype=float).reshape(len(q), -1)
+    first = {}
+    possible = None
+    for a in range(0, len(q), chunk):
+        checks = contact_checks(scene, q[a:a + chunk])
+        for chk in checks:
+            if chk["kind"] in first:
+                continue
+            i = _first(chk["mask"])
+            if i is not None:
+                first[chk["kind"]] = (a + i, chk, float(chk["value"][i]))
+        if possible is None:
+            possible = _possible_kinds(scene)
+        if possible <= set(first):
+            break
+    out = []
+    if not first:
+        return out
+    end = {chk["kind"]: float(chk["value"][-1]) for chk in contact_checks(scene, q[-1:])}
+    for kind in ("pad", "outline"):
+        if kind not in first:
+            continue
+        i, chk, v = first[kind]
+        out.append(PhysicsWarning(
+            f"at t = {t[i]:.6g} s " + chk["text"](v, end.get(kind)), kind=kind, time=float(t[i]),
+            quantity=chk["quantity"], value=v, limit=chk["limit"]))
+    return out
+
+
+def _possible_kinds(scene):
+    """The kinds of contact finding a scene can give at all."""
+    if scene.dof == "rotation":
+        return set()
+    outline = _outline(scene.body)
+    kinds = set()
+    if pad_half_size(scene.grasp.patch) is not None and (scene.dof == "planar" or outline is None):
+        kinds.add("pad")
+    if outline is not None:
+        kinds.add("outline")
+    return kinds
+
+
+def stats_findings(stats):
+    """Impact and solver-warning findings from a stats dict of one trajectory."""
+    out = []
+    n_imp = int(stats.get("impacts", 0) or 0)
+    if n_imp > 0:
+        J = float(stats.get("max_impulse", float("nan")))
+        tj = stats.get("max_impulse_t", None)
+        k = stats.get("max_impulse_stop", None)
+        where = f" on stop {int(k)}" if k is not None and k >= 0 else ""
+        when = f" at t = {tj:.6g} s" if tj is not None and math.isfinite(tj) else ""
+        out.append(PhysicsWarning(
+            f"{n_imp} impact{'s' if n_imp != 1 else ''} on stops; the largest impulse is {J:.4g} N s{where}{when}. "
+            "stop_force holds an impact as its impulse divided by the step (a spike that grows as dt "
+            "shrinks): read the impulse, not the force, there",
+            kind="impact", time=float(tj) if tj is not None and math.isfinite(tj) else None,
+            quantity="impulse [N s]", value=J, limit=None))
+    n_warn = int(stats.get("warnings", 0) or 0)
+    if n_warn > 0:
+        tw = stats.get("first_warning_t", None)
+        when = f", the first by t = {tw:.6g} s" if tw is not None and math.isfinite(tw) else ""
+        out.append(PhysicsWarning(
+            f"the solver counted {n_warn} soft problem{'s' if n_warn != 1 else ''}{when} (stats['warnings']): "
+            "an iteration limit reached with the last iterate kept, a stop that cannot act along the free "
+            "direction or pinches the object, or a penetration left after a step. The result may be "
+            "inaccurate there: try a smaller dt, or another method",
+            kind="solver", time=float(tw) if tw is not None and math.isfinite(tw) else None,
+            quantity="stats['warnings']", value=float(n_warn), limit=0.0))
+    return out
+
+
+def findings(result):
+    """Every :class:`PhysicsWarning` a :class:`exdex.Result` deserves (not issued)."""
+    return contact_findings(result.scene, result.t, result.q) + stats_findings(result.stats)
+
+
+def issue(found, stacklevel=3):
+    """Issue each finding through :func:`warnings.warn`."""
+    for w in found:
+        warnings.warn(w, stacklevel=stacklevel + 1)

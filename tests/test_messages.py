@@ -1,0 +1,206 @@
+"""Messages a user meets: bad input names the parameter, the command line
+reads cleanly (--version, --no-progress everywhere, no reST in --help,
+aligned tables without ``nan``), and one exception class for solver failures."""
+import argparse
+import contextlib
+import io
+import math
+import re
+import warnings
+
+import numpy as np
+import pytest
+
+import exdex
+from exdex import _core, _tool, cli
+from exdex._table import MISSING, format_table
+
+BODY = exdex.Body.box(0.1, (0.06, 0.03, 0.02))
+GRASP = exdex.Grasp(mu=0.5, grip_force=2.0)
+
+
+# ---------------------------------------------------------------- scene messages
+
+def test_stop_inside_object_names_stop_and_depth():
+    """A stop that starts inside the object is blamed by index, with the
+    penetration depth. Closed form: the default gripper pose maps B's y to
+    A's z, so the box's lowest corners (y = -15 mm, theta = 0, q0 y = 2 mm)
+    sit at z = -13 mm; a floor at z = -10 mm is 3 mm inside them."""
+    ok = exdex.Stop(point=(0, 0, -0.5), normal=(0, 0, 1))
+    floor = exdex.Stop(point=(0, 0, -0.010), normal=(0, 0, 1))
+    scene = exdex.Scene(body=BODY, grasp=GRASP, q0=(0.0, 0.002, 0.0), stops=(ok, floor))  # may be built
+    for run in (lambda: exdex.simulate(scene, 0.01, 1e-3), lambda: exdex.Model(scene),
+                lambda: exdex.simulate_batch(scene, 0.01, 1e-3, mu=[0.1, 0.2])):
+        with pytest.raises(ValueError) as info:
+            run()
+        msg = str(info.value)
+        assert "Scene.stops[1]" in msg and "q0" in msg
+        depth = float(re.search(r"is ([0-9.eE+-]+) m beyond", msg).group(1))
+        assert depth == pytest.approx(0.003, rel=1e-6)
+    with pytest.raises(ValueError, match=r"batch index 1: Scene\.stops\[1\]"):
+        exdex.simulate_batch([exdex.replace(scene, stops=(ok,)), scene], 0.01, 1e-3)
+
+
+def test_stop_inside_object_random_depths():
+    """Seeded random rotations, positions and floor heights: the reported
+    depth is the lowest outline corner's distance below the plane, computed
+    here from the corners' world coordinates."""
+    rng = np.random.default_rng(11)
+    for _ in range(40):
+        th = rng.uniform(-math.pi, math.pi)
+        q0 = (rng.uniform(-0.01, 0.01), rng.uniform(-0.01, 0.01), th)
+        c, s = math.cos(th), math.sin(th)
+        corners = [(q0[0] + c * x - s * y, q0[1] + s * x + c * y) for x, y in BODY.vertices()]
+        low = min(y for _, y in corners)                  # B y = A z in the default pose
+        depth = rng.uniform(1e-4, 5e-3)
+        stop = exdex.Stop(point=(0, 0, low + depth), normal=(0, 0, 1))
+        with pytest.raises(ValueError, match=r"Scene\.stops\[0\]") as info:
+            exdex.Scene(body=BODY, grasp=GRASP, dof="planar", q0=q0, stops=stop).check_stops()
+        got = float(re.search(r"is ([0-9.eE+-]+) m beyond", str(info.value)).group(1))
+        assert got == pytest.approx(depth, rel=1e-5, abs=1e-12)
+        # just clear of it: accepted
+        exdex.Scene(body=BODY, grasp=GRASP, dof="planar", q0=q0,
+                    stops=exdex.Stop(point=(0, 0, low - 1e-6), normal=(0, 0, 1))).check_stops()
+
+
+def test_single_stop_is_accepted():
+    stop = exdex.Stop(point=(0, 0, -0.1), normal=(0, 0, 1))
+    one = exdex.Scene(body=BODY, grasp=GRASP, stops=stop)
+    assert one.stops == (stop,)
+    assert one == exdex.Scene(body=BODY, grasp=GRASP, stops=(stop,))
+
+
+@pytest.mark.parametrize("bad", [1.0, "floor", object()])
+def test_stops_of_wrong_type_name_the_parameter(bad):
+    with pytest.raises(TypeError, match="Scene.stops"):
+        exdex.Scene(body=BODY, grasp=GRASP, stops=bad)
+
+
+def test_stops_entry_of_wrong_type_names_the_index():
+    stop = exdex.Stop(point=(0, 0, -0.1), normal=(0, 0, 1))
+    with pytest.raises(TypeError, match=r"Scene\.stops\[1\] must be an exdex\.Stop"):
+        exdex.Scene(body=BODY, grasp=GRASP, stops=[stop, (0, 0, 1)])
+
+
+@pytest.mark.parametrize("call", [
+    lambda sc: exdex.simulate(sc, t_end=0.01, dt=0.1),
+    lambda sc: exdex.Model(sc).simulate(t_end=0.01, dt=0.1),
+    lambda sc: exdex.Model(sc).final(t_end=0.01, dt=0.1),
+    lambda sc: exdex.simulate_batch(sc, t_end=0.01, dt=0.1),
+])
+def test_dt_above_t_end_says_so(call):
+    sc = exdex.Scene(body=BODY, grasp=GRASP)
+    with pytest.raises(ValueError) as info:
+        call(sc)
+    assert "dt must be <= t_end" in str(info.value) and "[0.1, inf)" not in str(info.value)
+
+
+def test_batch_result_at_and_indexing():
+    sc = exdex.Scene(body=BODY, grasp=GRASP)
+    b = exdex.simulate_batch(sc, 0.02, 1e-3, grip_force=[1.0, 2.0, 3.0])
+    serial = exdex.simulate(exdex.replace(sc, grasp=exdex.Grasp(mu=0.5, grip_force=2.0)), 0.02, 1e-3)
+    for r in (b.at(1), b[1], b[-2], list(b)[1]):
+        np.testing.assert_array_equal(r.q, serial.q)
+    with pytest.warns(DeprecationWarning, match="at"):
+        np.testing.assert_array_equal(b.result(1).q, serial.q)
+    with pytest.raises(IndexError):
+        b[3]
+    with pytest.raises(TypeError):
+        b["mu"]
+
+
+# ---------------------------------------------------------------- exceptions and enums
+
+def test_one_solver_error_class():
+    assert _tool.SolverError is _core.SolverError is exdex.SolverError
+    assert exdex.tool.ConvergenceError is exdex.SolverError
+    assert issubclass(exdex.SolverError, RuntimeError)
+
+
+def test_c_einval_names_the_parameter():
+    spec = exdex.Scene(body=exdex.Body(mass=0.1), grasp=GRASP).to_spec()
+    spec["mass"] = -1.0
+    with pytest.raises(ValueError, match="'mass'"):
+        _core.compile(spec)
+    with pytest.raises(ValueError, match="method must be one of 'exact', 'grid', 'qmc'"):
+        _tool.volumes(np.zeros((1, 1, 3)), [0, 0, 0], [1, 1, 1], method="monte-carlo")
+
+
+def test_enums_come_from_the_core():
+    """The spec carries the core's enum values; scene.py holds no literal
+    enum numbers of its own."""
+    from exdex import scene as scene_mod
+
+    sc = exdex.Scene(body=BODY, grasp=GRASP, dof="planar",
+                     motion=exdex.TrapezoidalProfile(0.05, 0.5, 0.12))
+    spec = sc.to_spec(method="event", friction_solver="brent")
+    assert spec["dof"] == _core.DOF_PLANAR and spec["method"] == _core.METHOD_EVENT
+    assert spec["friction_solver"] == _core.SOLVER_BRENT and spec["motion_kind"] == _core.MOTION_TRAPEZOID
+    src = open(scene_mod.__file__).read()
+    assert not re.search(r"motion_kind=\d|\"(implicit|event|regularised|explicit|translation|rotation|planar|"
+                         r"scalar|brent|multiroot)\": \d", src)
+
+
+# ---------------------------------------------------------------- command line
+
+def _command_parser(name):
+    import importlib
+
+    mod = importlib.import_module(cli.COMMANDS[name][0])
+    return cli.command_parser(name, mod)
+
+
+def test_version(capsys):
+    with pytest.raises(SystemExit) as info:
+        cli.main(["--version"])
+    assert info.value.code == 0
+    assert capsys.readouterr().out.strip() == f"exdex {exdex.__version__}"
+
+
+@pytest.mark.parametrize("name", list(cli.COMMANDS))
+def test_every_command_takes_no_progress(name):
+    parser = _command_parser(name)
+    # a placeholder for each required positional argument (e.g. run's scene file)
+    positional = ["x" for a in parser._actions if not a.option_strings and a.required]
+    args = parser.parse_args(positional + ["--no-progress"])
+    assert args.no_progress is True
+
+
+RST = re.compile(r"``|:(func|class|meth|mod|attr|ref):`|\*\*\w|^\s*\.\. \w", re.M)
+
+
+@pytest.mark.parametrize("name", [None] + list(cli.COMMANDS))
+def test_help_has_no_rst_markup(name, capsys):
+    with pytest.raises(SystemExit):
+        cli.main(["--help"] if name is None else [name, "--help"])
+    text = capsys.readouterr().out
+    assert "usage: exdex" in text
+    assert not RST.search(text), RST.search(text).group(0)
+
+
+def test_table_is_aligned_with_units_and_no_nan():
+    cols = [("case", None), ("model", None), ("final [mm]", "{:.3f}"), ("wall [s]", "{:.2f}")]
+    rows = [("fig3", "exdex", 20.0, 0.5), ("fig3", "ablation point", float("nan"), None),
+            ("fig6", "mujoco", -123.4567, 12.0)]
+    text = format_table(cols, rows)
+    lines = text.splitlines()
+    assert "nan" not in text and MISSING in lines[3]
+    # right-aligned numbers: every numeric cell of a column ends where its header ends
+    for head in ("final [mm]", "wall [s]"):
+        end = lines[0].index(head) + len(head)
+        for ln in lines[2:]:
+            assert len(ln) >= end and ln[end - 1] != " " and (len(ln) == end or ln[end] == " ")
+
+
+def test_paper_table_has_units_and_no_nan():
+    from exdex import paper
+
+    rows = [dict(case="Fig. 3", quantity="final relative displacement [mm]", paper=20.0, exdex=19.93,
+                 difference=-0.07, reference=19.931, max_v_after=0.0, note=""),
+            dict(case="Fig. 4", quantity="min stop gap [m]", paper=None, exdex=1e-12, difference=None,
+                 reference=float("nan"), max_v_after=None, note="")]
+    text = paper.format_table(rows)
+    assert "nan" not in text and "None" not in text
+    head = text.splitlines()[0]
+    assert "unit" in head and "m/s" in text.splitlines()[2]
+    assert text.splitlines()[3].count(MISSING) >= 3
