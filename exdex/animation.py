@@ -254,7 +254,9 @@ def animate(result: Any, fps: float = 25, speed: float = 1.0, max_frames: int = 
     if len(result.t) == 0:
         raise ValueError("Result.animate needs at least one sample")
 
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from exdex._optional import require
+
+    FigureCanvasAgg = require("matplotlib.backends.backend_agg", "Result.animate()").FigureCanvasAgg
     from matplotlib.figure import Figure
     from matplotlib.patches import Circle, Polygon
 

@@ -47,14 +47,13 @@ def add_arguments(parser):
 
 
 def run(args):
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from tqdm.auto import tqdm
-
     import exdex
     from exdex import io
+    from exdex._optional import available, progress_bar, pyplot, require
+
+    plots = available("matplotlib")
+    if args.animate:
+        require("matplotlib", "exdex run --animate")  # the one-line missing-extra message, before simulating
 
     path = args.scene
     if not os.path.isfile(path):
@@ -74,9 +73,10 @@ def run(args):
     out = args.out or os.path.join("exdex-output", name)
     os.makedirs(out, exist_ok=True)
     files = []
-    tasks = 4 if args.animate else 3
+    tasks = 2 + int(plots) + int(bool(args.animate))  # simulate, write, figure, animation
     t0 = time.perf_counter()
-    with tqdm(total=tasks, desc="exdex run", unit="task", disable=args.no_progress) as bar:
+    with progress_bar(total=tasks, desc="exdex run", unit="task",
+                      disable=args.no_progress or not available("tqdm")) as bar:
         bar.set_postfix_str("simulate")
         try:
             res = exdex.simulate(scene, **options)
@@ -89,16 +89,18 @@ def run(args):
         for ext in (".csv", ".npz"):
             files.append(res.save(os.path.join(out, name + ext)))
         bar.update()
-        bar.set_postfix_str("figure")
-        axes = res.plot()
-        fig = (axes[0] if isinstance(axes, tuple) else axes).figure
-        fig.suptitle(f"{name}: {scene.dof}, method {res.method}, dt {res.dt:g} s", fontsize="medium")
-        fig.tight_layout()
-        fig_path = os.path.join(out, f"{name}.{args.format}")
-        fig.savefig(fig_path, dpi=120)
-        plt.close(fig)
-        files.append(fig_path)
-        bar.update()
+        if plots:
+            bar.set_postfix_str("figure")
+            plt = pyplot("exdex run (the figure)", backend="Agg")
+            axes = res.plot()
+            fig = (axes[0] if isinstance(axes, tuple) else axes).figure
+            fig.suptitle(f"{name}: {scene.dof}, method {res.method}, dt {res.dt:g} s", fontsize="medium")
+            fig.tight_layout()
+            fig_path = os.path.join(out, f"{name}.{args.format}")
+            fig.savefig(fig_path, dpi=120)
+            plt.close(fig)
+            files.append(fig_path)
+            bar.update()
         if args.animate:
             bar.set_postfix_str("animation")
             anim_path = os.path.join(out, f"{name}.{args.animate}")
@@ -109,6 +111,8 @@ def run(args):
             files.append(anim_path)
             bar.update()
     print(repr(res))
+    if not plots:
+        print("exdex run: no figure: it needs matplotlib, not installed: pip install 'exdex[plot]'")
     print(f"exdex run: {len(files)} files in {out} ({time.perf_counter() - t0:.1f} s): "
           + ", ".join(os.path.basename(f) for f in files))
     return 0

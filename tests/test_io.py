@@ -422,3 +422,29 @@ def test_the_schema_covers_every_scene_field_and_motion():
                               "end_velocity", "end_omega", "relative", "tool"],
     }
     assert sorted(io.MOTIONS) == ["AsymmetricProfile", "Rest", "SampledTrajectory", "TrapezoidalProfile"]
+
+
+def test_cli_run_without_matplotlib(tmp_path):
+    """Without the plot extra, ``exdex run`` still writes the result (CSV, NPZ)
+    and says the figure needs matplotlib; ``--animate`` stops before simulating
+    with the one-line message naming the extra."""
+    blocker = (
+        "import importlib.abc, sys\n"
+        "class _B(importlib.abc.MetaPathFinder):\n"
+        "    def find_spec(self, name, path=None, target=None):\n"
+        "        if name.split('.')[0] in ('matplotlib', 'tqdm'):\n"
+        "            raise ModuleNotFoundError(f'No module named {name!r}', name=name)\n"
+        "sys.meta_path.insert(0, _B())\n"
+        "from exdex.cli import main\n"
+        "sys.exit(main(sys.argv[1:]))\n")
+    exdex.save_scene(_scenes()["translation"], tmp_path / "s.toml", simulate=dict(t_end=0.5, dt=1e-2))
+    env = dict(os.environ, PYTHONPATH=ROOT)
+    p = subprocess.run([sys.executable, "-c", blocker, "run", "s.toml", "--out", "o"], capture_output=True,
+                       text=True, cwd=tmp_path, env=env, timeout=300)
+    assert p.returncode == 0, p.stderr
+    assert sorted(os.listdir(tmp_path / "o")) == ["s.csv", "s.npz"]
+    assert "needs matplotlib" in p.stdout and "exdex[plot]" in p.stdout
+    p = subprocess.run([sys.executable, "-c", blocker, "run", "s.toml", "--out", "o2", "--animate"],
+                       capture_output=True, text=True, cwd=tmp_path, env=env, timeout=300)
+    assert p.returncode == 3 and "exdex[plot]" in p.stderr and len(p.stderr.strip().splitlines()) == 1, p.stderr
+    assert not (tmp_path / "o2").exists()
