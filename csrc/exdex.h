@@ -154,7 +154,8 @@ int exdex_friction_solve(const exdex_friction_prep *prep, const double b[3],
  *     accelerated start (v0 = 0) is at rest; a constant speed is not.
  * A log that starts or ends at speed makes the gripper's velocity jump there
  * (from or to rest): exdex_motion_jumps reports it, and every method applies
- * it as the same velocity jump of the object (exdex_simulate).
+ * it as the same velocity jump of the object (exdex_simulate) when it falls
+ * in (0, t_end] (at t = 0 the scene's v0 is the velocity after it).
  * The poses are those of a logged frame L (e.g. a robot flange); the gripper
  * frame is B(t) = P L(t) X, with X = tool_pose (the pose of B in L; identity
  * unless tool = 1) and P = identity (absolute poses, relative = 0) or

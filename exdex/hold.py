@@ -107,7 +107,9 @@ def _shake(dof, t_end, scene):
     velocity never jumps, with an acceleration amplitude amp w^2 adding
     SHAKE_LOAD times the static load."""
     w = 2 * math.pi * SHAKE_HZ
-    t = np.linspace(0.0, t_end, int(round(t_end * 200)) + 1)
+    # sampled two intervals past t_end: the log ends at speed, and its end (a
+    # velocity jump of the gripper) must fall outside the run
+    t = np.arange(int(round(t_end * 200)) + 3) / 200.0
     R0 = np.array(DEFAULT_GRIPPER_ROTATION)
     if dof == "translation":
         amp = SHAKE_LOAD * G / w**2                      # a = amp w^2

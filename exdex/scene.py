@@ -439,7 +439,9 @@ class SampledTrajectory(_Motion):
     to the object (the plates cannot transmit an impulse, so the object
     keeps its absolute velocity and its velocity relative to the gripper
     jumps), and :func:`exdex.simulate` warns (``velocity_jumps`` lists
-    them).
+    them). A log starting at speed at t = 0 has no jump in the run: the
+    simulation starts there, and ``Scene.v0`` is the object's velocity
+    relative to the already moving gripper.
     """
 
     times: Vector
