@@ -167,4 +167,4 @@ static int analytic_run(const exdex_model *m, void *ws, double t_end, double dt,
     return EXDEX_OK;
 }
 
-const method_impl method_analytic = {"analytic", analytic_alloc, analytic_run, analytic_free, 0};
+const method_impl method_analytic = {"analytic", analytic_alloc, analytic_run, analytic_free, 0, 0};

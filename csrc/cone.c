@@ -987,8 +987,8 @@ int exdex_tool_optimise_theta(const exdex_tool_problem *p, const exdex_tool_def 
         !isfinite(theta_hi) || !(theta_hi > theta_lo) || n_scan < 3 || !(xtol > 0.0))
         return EXDEX_EINVAL;
     // alpha2 = alpha1 + theta resolves theta to eps (|alpha1| + |theta|): for
-    // |alpha1| ~ 1e16 theta is lost entirely (found by fuzzing: alpha1 ~ 1e128
-    // gave alpha2 - alpha1 = 0 outside [theta_lo, theta_hi]). Bounded angles
+    // |alpha1| ~ 1e16 theta is lost entirely (alpha1 ~ 1e128 gives
+    // alpha2 - alpha1 = 0, outside [theta_lo, theta_hi]). Bounded angles
     // keep the returned theta within 2.3e-10 rad of the one evaluated.
     if (!(fabs(tool->alpha1) <= EXDEX_TOOL_ANGLE_MAX) || !(fabs(theta_lo) <= EXDEX_TOOL_ANGLE_MAX) ||
         !(fabs(theta_hi) <= EXDEX_TOOL_ANGLE_MAX))

@@ -45,7 +45,7 @@ static int run_explicit(const exdex_model *m, double t_end, double dt, exdex_tra
             double fr = v[0] > 0.0 ? -C : v[0] < 0.0 ? C : 0.0;  /* -C sign(v) */
             double vn = v[0] + h * (Q + fr) / M, lo = -INFINITY, hi = INFINITY;
             int klo = -1, khi = -1, jlo = 0, jhi = 0;
-            /* stop rows at t + h: Fq v+ >= -gap(q, t + h) / h (sim.c) */
+            /* stop rows at t + h: Fq v+ >= -gap(q, t + h) / h */
             for (int k = 0; k < ns; k++)
                 for (int j = 0; j < nv; j++) {
                     crow c;
@@ -99,7 +99,7 @@ static int run_explicit(const exdex_model *m, double t_end, double dt, exdex_tra
             for (int c = 0; c < 3; c++) v[c] += h * m->minv[c] * (F[c] + P[c]);
             if (ns) {
                 /* stop rows at t + h: G v+ >= -gap(q, t + h) / h, v+ the
-                 * M-metric projection of v* (stop_qp) */
+                 * M-metric projection of v* (ldp_project) */
                 double Gr[MAX_ROWS][3], gap[MAX_ROWS], b[MAX_ROWS], lam[MAX_ROWS], vs[3];
                 int stop[MAX_ROWS], nr = contact_rows(m, &kin_end, q, Gr, gap, stop);
                 for (int r = 0; r < nr; r++) b[r] = -gap[r] / h;
@@ -149,4 +149,4 @@ static int explicit_run(const exdex_model *m, void *ws, double t_end, double dt,
     return run_explicit(m, t_end, dt, out, st);
 }
 
-const method_impl method_explicit = {"explicit", explicit_alloc, explicit_run, explicit_free, 1};
+const method_impl method_explicit = {"explicit", explicit_alloc, explicit_run, explicit_free, 1, 0};

@@ -1,10 +1,10 @@
-/* methods.c -- the integration methods besides the implicit one of sim.c
- * (exdex.h, enum exdex_method), on the same model (sim_internal.h) and with
- * the same output contract: samples on the fixed dt grid with t_end exact,
- * q, v, the mean plate wrench and mean stop forces over the interval ending
- * at each sample, the stick flag, and exdex_stats.
+/* hybrid.c -- the event-driven and regularised methods (exdex.h, enum
+ * exdex_method), one hybrid ODE / event machine on the model of model.h,
+ * with the output contract of method.h: samples on the fixed dt grid with
+ * t_end exact, q, v, the mean plate wrench and mean stop forces over the
+ * interval ending at each sample, the stick flag, and exdex_stats.
  *
- * Equations of motion (paper Eqs. 3-5, see sim.c): M qdd = Q(t, q, qd) +
+ * Equations of motion (paper Eqs. 3-5, model.c): M qdd = Q(t, q, qd) +
  * friction + stops, with Q the gravity and inertial forces of the moving
  * frame. Friction at the patch (paper Eq. 6, maximum dissipation): slip twist
  * u = J' Rz(-theta) qd (object frame, at the centre of pressure), wrench
@@ -69,29 +69,17 @@
  *   sqrt((mu N)^2 - |E^-1 w|^2)). Stiff when eps is small: the explicit
  *   stepper's step collapses to ~ M eps / C.
  *
- * EXDEX_METHOD_EXPLICIT (naive baseline): symplectic Euler with step dt,
- *   v+ = v + dt M^-1 (Q(t, q, v) + friction(v)), q+ = q + dt v+, friction
- *   -mu N E^2 u / |E u| and 0 at u = 0 exactly (sign()); the frame
- *   accelerations enter as step means like sim.c. Stops: velocity-level rows
- *   G v+ >= -gap(q, t + dt)/dt as in sim.c; 1-DoF: a clamp; planar: v+ is
- *   the M-metric projection of v* onto every (stop, vertex) row, an exact
- *   least-distance QP (stop_qp: Lawson-Hanson NNLS, bounded), stop force
- *   lam / dt. Penetration at most 1/2 dt^2 thd^2 r_max (the vertex moves
- *   on a circle, the row is linear). At stick it chatters:
- *   with a load |Q| < C the velocity never returns to 0 but circulates in
- *   (-dt (C - Q)/M, dt (C + Q)/M] (Q > 0) and creeps on average at dt Q / M.
- *
  * Stops: every scene with every method. Planar scenes in the hybrid
  * (event, regularised) integrator carry a contact set of (stop, vertex) rows
  * besides the friction mode:
  *   free row -> impact: its gap reaches 0 (located by Brent); the impact is
  *     plastic and frictionless (the grip force is finite): v is projected
  *     onto G v >= -dgap/dt|_q (no approach) of the touching rows in the M
- *     metric (stop_qp), the impulses counted in the stop force integrals;
+ *     metric (ldp_project), the impulses counted in the stop force integrals;
  *     the rows left touching at rate ~0 that push join the contact set;
  *   in contact: qdd = M^-1 (F + friction + G^T lam), lam >= 0 the LCP
  *     G M^-1 G^T lam = -(G M^-1 (F + friction) + Gdot v) with complementarity
- *     (the M-metric projection of the free acceleration, stop_qp); after each
+ *     (the M-metric projection of the free acceleration, ldp_project); after each
  *     step the penetration and approach speed of the set rows are projected
  *     out; a row leaves when lam reaches 0 (guard lam G M^-1 G^T - gap
  *     acceleration, negative once it separates);
@@ -104,17 +92,16 @@
  *     SLIP_PUSH zsw it is a rest on the touching rows instead (a restart
  *     there would stop again at once, Zeno-like: a gripper's rotation
  *     reversing with the object against a stop); stick against
- *     stops: rest iff the least-friction split (planar_rest: NNLS over the
- *     stop forces lam >= 0, as sim.c's try_rest) has |E^-1 w| <= mu N
+ *     stops: rest iff the least-friction split (planar_rest: least
+ *     combination over the stop forces lam >= 0, ldp_min_combination, as the
+ *     implicit method) has |E^-1 w| <= mu N
  *     (1 + TOLF); the rest ends when that fails or a set row's gap leaves
- *     +-REST_GAP (1e-9 m; stops moving in B).
+ *     +-tol.rest_gap (stops moving in B).
  *
  * Penetration: event and regularised keep every stop to rounding and event
- *   location (|gap rate| ROOT_TOL; planar decisions also project positions
- *   back), explicit to 1/2 h^2 thd^2 r_max per step (r_max: the outline's
- *   largest distance from the rotation centre). A gap below -PEN_TOL after a
- *   step (explicit: below that bound too, or a stop out of the object's
- *   reach, stop_unreachable) counts a warning in exdex_stats, as sim.c does:
+ *   location (|gap rate| tol.root; planar decisions also project positions
+ *   back). A gap below -tol.pen after a step counts a warning in
+ *   exdex_stats, as in every method:
  *   only a scene that drives the object through a stop gets there (a
  *   prescribed motion pushing a pinned pivot or the slide line through it,
  *   stops that pinch the object, a stop the free coordinates cannot act on).
@@ -223,7 +210,7 @@ static void contact_forces(const hyb *H, const crow *c, double R, double v, doub
         *f = -H->s * H->cap;
         *lam = (R - *f) / c->Fq;
     } else {
-        /* at rest against the stop: the stop carries what it can (sim.c) */
+        /* at rest against the stop: the stop carries what it can (as the implicit method) */
         double l = R / c->Fq;
         *lam = l > 0.0 ? l : 0.0;
         *f = R - *lam * c->Fq;
@@ -234,7 +221,7 @@ static void contact_forces(const hyb *H, const crow *c, double R, double v, doub
  * the stop forces of the contact-set rows, complementary to their gap
  * accelerations G_i qdd + gdd0_i >= 0 (the small LCP G M^-1 G^T lam =
  * -(G M^-1 (F + P) + gdd0) with complementarity): the M-metric projection
- * of the free acceleration (stop_qp). The plate friction does not depend on
+ * of the free acceleration (ldp_project). The plate friction does not depend on
  * the stop forces (the grip force is given). acc_i (may be NULL) gets the
  * gap acceleration of every contact-set row. */
 static void contact_acc_planar(hyb *H, const exdex_kinematics *kin, const double *y, const double afree[3],
@@ -342,8 +329,8 @@ static void planar_unpenetrate(hyb *H, const exdex_kinematics *kin, double *y)
 /* Rest against the contact-set rows (event method, stick): can the object
  * stay at rest with stop forces lam >= 0 and a plate wrench inside the
  * ellipsoid? The wrench needed is w(lam) = patch(-(F + G^T lam)); minimise
- * |E^-1 w(lam)| over lam >= 0 (NNLS, nnls4 with the fourth row 0; the
- * minimiser is the split with the least friction, as sim.c's try_rest).
+ * |E^-1 w(lam)| over lam >= 0 (ldp_min_combination; the
+ * minimiser is the split with the least friction, as in the implicit method).
  * Returns the minimum (rest holds iff <= cap (1 + TOLF)); w, lam the split. */
 static double planar_rest(hyb *H, const exdex_kinematics *kin, const double *y, const double F[3], double w[3],
                           double *lam)
@@ -1404,5 +1391,5 @@ static int regularised_run(const exdex_model *m, void *ws, double t_end, double 
     return run_hybrid(m, ws, LAW_SMOOTH, t_end, dt, out, st);
 }
 
-const method_impl method_event = {"event", hybrid_alloc, event_run, hybrid_free, 0};
-const method_impl method_regularised = {"regularised", hybrid_alloc, regularised_run, hybrid_free, 0};
+const method_impl method_event = {"event", hybrid_alloc, event_run, hybrid_free, 0, 0};
+const method_impl method_regularised = {"regularised", hybrid_alloc, regularised_run, hybrid_free, 0, 0};

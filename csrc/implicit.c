@@ -285,9 +285,9 @@ static int solve_active(const exdex_model *m, const double cs[2], double cap, co
              * objective differs from f0 by no more than that rounding (fscale
              * below, the sum of the terms' magnitudes) is accepted, else the
              * search would shrink t to nothing and the iteration stall short of
-             * the optimum (found by the frame-invariance test: a stall at a
-             * gradient 1e-10 left a 1e-10 relative velocity error that
-             * depended on the rounding of the world frame). */
+             * the optimum, at an error set by the rounding of the world frame
+             * (a stall at a gradient 1e-10 leaves a 1e-10 relative velocity
+             * error). */
             f0 = cap * nr;
             fscale = fabs(f0);
             for (int i = 0; i < nz; i++) {
@@ -626,4 +626,4 @@ static int implicit_run(const exdex_model *m, void *ws, double t_end, double dt,
     return status;
 }
 
-const method_impl method_implicit = {"implicit", implicit_alloc, implicit_run, implicit_free, 1};
+const method_impl method_implicit = {"implicit", implicit_alloc, implicit_run, implicit_free, 1, 1};

@@ -200,10 +200,43 @@ int ldp_min_norm(int m, const double (*a)[3], const double *c, const double *tol
     return 1;
 }
 
+/* Up to three vectors: every support S tried (the minimiser's support is
+ * one with lam_S >= 0 solving the normal equations B_S B_S' lam_S =
+ * -B_S a), at most 7 solves of size <= 3: cheaper than NNLS there. */
+static double min_combination_small(int m, const double a[3], const double (*b)[3], double *lam)
+{
+    double best = sqrt(ex_dot3(a, a));
+    for (int j = 0; j < m; j++) lam[j] = 0.0;
+    for (int mask = 1; mask < (1 << m); mask++) {
+        int set[3], n = 0, ok = 1;
+        double A[3][3], rhs[3], l[3], r[3], norm;
+        for (int j = 0; j < m; j++)
+            if (mask & (1 << j)) set[n++] = j;
+        for (int i = 0; i < n; i++) {
+            for (int j = 0; j < n; j++) A[i][j] = ex_dot3(b[set[i]], b[set[j]]);
+            rhs[i] = -ex_dot3(b[set[i]], a);
+        }
+        if (!ldp_solve_small(n, A, rhs, l)) continue;
+        for (int i = 0; i < n; i++) ok &= l[i] >= 0.0;
+        if (!ok) continue;
+        for (int d = 0; d < 3; d++) {
+            r[d] = a[d];
+            for (int i = 0; i < n; i++) r[d] += l[i] * b[set[i]][d];
+        }
+        norm = sqrt(ex_dot3(r, r));
+        if (norm < best) {
+            best = norm;
+            for (int j = 0; j < m; j++) lam[j] = 0.0;
+            for (int i = 0; i < n; i++) lam[set[i]] = l[i];
+        }
+    }
+    return best;
+}
+
 /* With b = -a / |a| and the columns b_j / |b_j|, min |a + B lam| over
  * lam >= 0 is |a| min |B' u - b| over u >= 0 (NNLS with a zero fourth row),
  * lam_j = u_j |a| / |b_j|. */
-double ldp_min_combination(int m, const double a[3], const double (*b)[3], double *lam, int *iters)
+static double min_combination_nnls(int m, const double a[3], const double (*b)[3], double *lam, int *iters)
 {
     double col[LDP_MAX_ROWS][4], nb[LDP_MAX_ROWS], u[LDP_MAX_ROWS], fv[4], na = sqrt(ex_dot3(a, a)), r[3];
     int it = 0;
@@ -225,6 +258,11 @@ double ldp_min_combination(int m, const double a[3], const double (*b)[3], doubl
         for (int j = 0; j < m; j++) r[d] += lam[j] * b[j][d];
     }
     return sqrt(ex_dot3(r, r));
+}
+
+double ldp_min_combination(int m, const double a[3], const double (*b)[3], double *lam, int *iters)
+{
+    return m <= 3 ? min_combination_small(m, a, b, lam) : min_combination_nnls(m, a, b, lam, iters);
 }
 
 /* In z = M^1/2 (v - vs) the projection is the least-distance problem

@@ -39,7 +39,9 @@ int ldp_min_norm(int m, const double (*a)[3], const double *c, const double *tol
                  int *iters);
 
 /* The least combination: lam = argmin |a + sum_j lam_j b_j| over lam >= 0
- * (m <= LDP_MAX_ROWS vectors b_j); returns that minimum. iters may be NULL. */
+ * (m <= LDP_MAX_ROWS vectors b_j); returns that minimum. Up to 3 vectors by
+ * trying every support, more by NNLS. iters (may be NULL) gets the NNLS
+ * iterations added. */
 double ldp_min_combination(int m, const double a[3], const double (*b)[3], double *lam, int *iters);
 
 /* The projection of vs onto rows G_i v >= b_i (i < nr) in the metric

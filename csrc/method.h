@@ -27,6 +27,8 @@ typedef struct method_impl {
      * times the step) simulate.c reads to count impacts; 0: run counts them
      * itself with method_note_impact */
     int impacts_from_steps;
+    int checks_finite;       /* 1: run returns EXDEX_OK only with finite output (it checks
+                                every step), so simulate.c need not scan it again */
 } method_impl;
 
 /* Count an impact of `impulse` (> 0) [N s] on stop `k` at time t. */

@@ -134,7 +134,7 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajecto
     if (!ws) return status ? status : EXDEX_ENOMEM;
     status = impl->run(m, ws, t_end, dt, out, &st);
     impl->free(ws);
-    if (status == EXDEX_OK && !output_finite(m, out)) status = EXDEX_ENONFINITE;
+    if (status == EXDEX_OK && !impl->checks_finite && !output_finite(m, out)) status = EXDEX_ENONFINITE;
     if (status == EXDEX_OK && impl->impacts_from_steps && m->n_stops) impacts_from_steps(m, out, &st);
     if (status != EXDEX_OK && st.fail_cause == EXDEX_FAIL_NONE)
         st.fail_cause = status == EXDEX_ENOCONV ? EXDEX_FAIL_SOLVER : EXDEX_FAIL_NONFINITE;

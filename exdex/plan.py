@@ -46,9 +46,9 @@ import numpy as np
 
 from exdex.batch import PARAMETERS, _ALIASES, _replace_params, simulate_batch
 from exdex.scene import AsymmetricProfile, Rest, SampledTrajectory, Scene, TrapezoidalProfile, _real
-from exdex.simulate import simulate
+from exdex.simulate import SolverError, simulate
 
-__all__ = ["Limits", "Plan", "Band", "UnreachableTargetError", "solve", "band", "outcome", "motion_peaks",
+__all__ = ["Limits", "Plan", "MultiPlan", "Band", "UnreachableTargetError", "solve", "band", "outcome", "motion_peaks",
            "QUANTITIES"]
 
 #: the quantities a target can name, with their units
@@ -389,7 +389,7 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Mapping[str, Tuple[fl
           eps: float = 1e-4, n_scan: int = 65, refine: int = 15,
           cost: Union[str, Callable[[Scene], float]] = "acceleration",
           uncertain: Optional[Mapping[str, Any]] = None, n_uncertain: int = 9, threads: Optional[int] = None,
-          verify: bool = True) -> Plan:
+          verify: bool = True) -> Union[Plan, "MultiPlan"]:
     """Find the value of one scene parameter that makes a final quantity meet a target.
 
     Parameters
@@ -398,10 +398,20 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Mapping[str, Tuple[fl
         The base scene.
     target : dict
         One quantity and its wanted value, e.g. ``{"slip": 0.015}`` [m] or
-        ``{"rotation": math.radians(30)}`` [rad] (see :data:`QUANTITIES`).
+        ``{"rotation": math.radians(30)}`` [rad] (see :data:`QUANTITIES`);
+        several for a pose, e.g. ``{"x": 0.01, "y": -0.02, "rotation": 0.3}``
+        (then several parameters vary, see below).
     vary : dict
-        ``{name: (low, high)}``: the parameter to vary and its bounds (any
-        :func:`exdex.simulate_batch` parameter).
+        ``{name: (low, high)}``: the parameter(s) to vary and their bounds
+        (any :func:`exdex.simulate_batch` parameter). With one parameter and
+        one target: the scan and bracket described above. With several:
+        bounded nonlinear least squares on the targets' residuals (SciPy's
+        trust-region reflective ``least_squares``, the Jacobian by central
+        differences evaluated in one batch), started from the best points of
+        a batch scan on a product grid; when the Jacobian at the solution
+        has fewer independent rows than parameters the solutions form a
+        family (a curve for one missing rank), returned as
+        :attr:`MultiPlan.family` beside the least-cost representative.
     limits : Limits, optional
         The robot's limits; parameter values whose motion breaks one are left out.
     tol : float
@@ -443,9 +453,15 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Mapping[str, Tuple[fl
     """
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be an exdex.Scene, got {type(scene).__name__}")
+    if not isinstance(vary, Mapping) or len(vary) < 1:
+        raise ValueError("vary must be a dict of parameters and their bounds, e.g. {'grip_force': (0.5, 3.0)}")
+    if len(vary) > 1 or (isinstance(target, Mapping) and len(target) > 1):
+        if uncertain is not None:
+            raise ValueError("robust planning (uncertain=...) varies one parameter; pass one entry in vary")
+        return _solve_multi(scene, target, vary, limits=limits, tol=tol, t_end=t_end, dt=dt, method=method,
+                            rtol=rtol, atol=atol, eps=eps, cost=cost, threads=threads, verify=verify,
+                            n_scan=n_scan)
     quantity, goal = _target(target, scene)
-    if not isinstance(vary, Mapping) or len(vary) != 1:
-        raise ValueError("vary must be a dict with one parameter and its bounds, e.g. {'grip_force': (0.5, 3.0)}")
     (raw, bnds), = vary.items()
     name = _param_name(raw, scene)
     lo, hi = _bounds(name, bnds)
@@ -782,3 +798,186 @@ def run(args):
     except ImportError:
         print("(no figure: matplotlib is missing; pip install 'exdex[plot]')")
     return 0
+
+
+# ------------------------------------------------------- several parameters
+
+@dataclass(frozen=True, eq=False)
+class MultiPlan:
+    """A solution of :func:`solve` with several varied parameters.
+
+    scene : the representative scene (least cost among the family found).
+    values : {parameter: value}; targets, achieved, residuals : {quantity: ...}.
+    cost : its cost; tol : the tolerance (max |residual| <= tol is met).
+    rank : the rank of the targets' Jacobian in the scaled parameters
+        (p / parameter range) at the solution; ``len(values) - rank`` is the
+        dimension of the solution set there (1: a curve).
+    family : for a solution curve, parameter dicts of other solutions along
+        it (each meets the targets within tol), ordered by the first
+        parameter; empty when the solution is isolated.
+    """
+
+    scene: Scene
+    values: Dict[str, float]
+    targets: Dict[str, float]
+    achieved: Dict[str, float]
+    residuals: Dict[str, float]
+    cost: float
+    tol: float
+    rank: int
+    family: Tuple[Dict[str, float], ...]
+
+    @property
+    def meets_target(self) -> bool:
+        return bool(max(abs(r) for r in self.residuals.values()) <= self.tol)
+
+    @property
+    def is_family(self) -> bool:
+        """True when the solution set is not a point (a curve or more)."""
+        return self.rank < len(self.values)
+
+    def __repr__(self) -> str:
+        v = ", ".join(f"{k}={x:.6g}" for k, x in self.values.items())
+        r = ", ".join(f"{k} {self.achieved[k]:.6g} (target {self.targets[k]:.6g})" for k in self.targets)
+        fam = (f"; a {len(self.values) - self.rank}-dimensional family of solutions, {len(self.family)} listed"
+               if self.is_family else "")
+        return f"MultiPlan({v}: {r}, max residual {max(abs(x) for x in self.residuals.values()):.2e}{fam})"
+
+
+def _targets(target, scene):
+    if not isinstance(target, Mapping) or not target:
+        raise TypeError("target must be a dict {quantity: value}, e.g. {'x': 0.01, 'rotation': 0.3}")
+    out = {}
+    for q, v in target.items():
+        _check_quantity(q, scene)
+        out[q] = _real(v, f"target[{q!r}]")
+    return out
+
+
+def _solve_multi(scene, target, vary, *, limits, tol, t_end, dt, method, rtol, atol, eps, cost, threads, verify,
+                 n_scan):
+    try:
+        from scipy.optimize import least_squares
+    except ImportError:  # pragma: no cover - scipy is in the test extra
+        raise ImportError("planning with several parameters needs SciPy's least_squares: pip install scipy") from None
+    goals = _targets(target, scene)
+    names = []
+    for raw in vary:
+        n = _param_name(raw, scene)
+        if n in names:
+            raise ValueError(f"vary names {n!r} twice")
+        names.append(n)
+    bounds = np.array([_bounds(n, vary[raw]) for n, raw in zip(names, vary)])
+    if limits is not None and not isinstance(limits, Limits):
+        raise TypeError(f"limits must be an exdex.plan.Limits, got {type(limits).__name__}")
+    tol = _real(tol, "tol", low=0.0, low_open=True)
+    t_end = _default_t_end(scene) if t_end is None else _real(t_end, "t_end", low=0.0, low_open=True)
+    dt = t_end if dt is None else _real(dt, "dt", low=0.0, low_open=True, high=t_end)
+    opts: Dict[str, Any] = dict(method=method, rtol=rtol, atol=atol, eps=eps, record="final")
+    if threads is not None:
+        opts["threads"] = threads
+    quantities = list(goals)
+    goal = np.array([goals[q] for q in quantities])
+    k = len(names)
+    lo, hi = bounds[:, 0], bounds[:, 1]
+    span = hi - lo
+    # stay strictly inside open parameter ranges
+    lo_in, hi_in = lo + 1e-9 * span, hi - 1e-9 * span
+
+    def outcomes(P):
+        P = np.atleast_2d(P)
+        vary_arrays: Dict[str, Any] = {n: P[:, i] for i, n in enumerate(names)}
+        b = simulate_batch(scene, t_end, dt, **opts, **vary_arrays)
+        return np.stack([outcome(b.final_displacement, scene, q) for q in quantities], axis=1)
+
+    def feasible(x):
+        return _feasible(scene, names[0], x[0], None) and (
+            limits is None or not limits.violations(_replace_params(scene, dict(zip(names, map(float, x)))).motion))
+
+    # batch scan on a product grid (n_scan^2 points: n_scan per axis for two
+    # parameters), the best points start the least squares
+    per = max(3, int(round(n_scan ** (2.0 / k))))
+    axes = [np.linspace(lo_in[i], hi_in[i], per) for i in range(k)]
+    grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, k)
+    if limits is not None:
+        grid = grid[[feasible(x) for x in grid]]
+        if not len(grid):
+            raise UnreachableTargetError("no parameter values within the bounds keep the motion within the limits",
+                                         (math.nan, math.nan))
+    try:
+        Y = outcomes(grid)
+    except SolverError:
+        # the scan only picks starting points: where the requested method
+        # fails somewhere on the grid, scan with the implicit method (it
+        # returns on every valid scene) and refine with the requested one
+        scan_opts = dict(opts, method="implicit")
+        vary_arrays: Dict[str, Any] = {n: grid[:, i] for i, n in enumerate(names)}
+        b = simulate_batch(scene, t_end, min(dt, t_end / 1000), **scan_opts, **vary_arrays)
+        Y = np.stack([outcome(b.final_displacement, scene, q) for q in quantities], axis=1)
+    err = np.max(np.abs(Y - goal), axis=1)
+    starts = grid[np.argsort(err)[:4]]
+
+    def resid(z):
+        return outcomes(lo + z * span)[0] - goal
+
+    def jac(z):
+        h = 1e-6
+        zp, zm = np.minimum(z + h, 1.0 - 1e-9), np.maximum(z - h, 1e-9)
+        P = np.repeat(z[None, :], 2 * k, axis=0)
+        for i in range(k):
+            P[2 * i, i], P[2 * i + 1, i] = zp[i], zm[i]
+        Yp = outcomes(lo + P * span)
+        return np.stack([(Yp[2 * i] - Yp[2 * i + 1]) / (zp[i] - zm[i]) for i in range(k)], axis=1)
+
+    sols = []
+    for x0 in starts:
+        r = least_squares(resid, (x0 - lo) / span, jac=jac, bounds=(np.full(k, 1e-9), np.full(k, 1 - 1e-9)),
+                          method="trf", xtol=1e-14, ftol=1e-14, gtol=1e-14, max_nfev=200)
+        x = lo + r.x * span
+        if np.max(np.abs(r.fun)) <= tol and (limits is None or feasible(x)):
+            sols.append((x, r))
+    if not sols:
+        best = grid[int(np.argmin(err))]
+        raise UnreachableTargetError(
+            f"targets {goals} not met within tol {tol:g} by varying {names} in their bounds"
+            f"{' within the limits' if limits is not None else ''}: the closest scanned point "
+            f"{dict(zip(names, map(float, best)))} misses by {float(err.min()):.3g}",
+            (float(err.min()), math.nan))
+    costs = [_cost_of(cost, _replace_params(scene, dict(zip(names, map(float, x)))), names[0], x[0])
+             for x, _ in sols]
+    x, r = sols[int(np.argmin(costs))]
+    J = jac(r.x)
+    S = np.linalg.svd(J, compute_uv=False)
+    rank = int(np.sum(S > 1e-8 * S.max())) if S.size and S.max() > 0 else 0
+    family = []
+    if rank < k:
+        # a curve (or more) of solutions: fix the first parameter at values
+        # across its bounds and solve for the others
+        for v in np.linspace(lo_in[0], hi_in[0], 9):
+            if k == 1:
+                break
+            zv = (v - lo[0]) / span[0]
+
+            def resid_fixed(z, zv=zv):
+                return resid(np.concatenate([[zv], z]))
+
+            def jac_fixed(z, zv=zv):
+                return jac(np.concatenate([[zv], z]))[:, 1:]
+            z0 = (x[1:] - lo[1:]) / span[1:]
+            rf = least_squares(resid_fixed, np.clip(z0, 1e-9, 1 - 1e-9), jac=jac_fixed,
+                               bounds=(np.full(k - 1, 1e-9), np.full(k - 1, 1 - 1e-9)), method="trf",
+                               xtol=1e-14, ftol=1e-14, gtol=1e-14, max_nfev=100)
+            xf = np.concatenate([[v], lo[1:] + rf.x * span[1:]])
+            if np.max(np.abs(rf.fun)) <= tol and (limits is None or feasible(xf)):
+                family.append({n: float(a) for n, a in zip(names, xf)})
+    values = {n: float(a) for n, a in zip(names, x)}
+    best_scene = _replace_params(scene, values)
+    achieved_arr = goal + r.fun
+    if verify:
+        res = simulate(best_scene, t_end, dt, method=method, rtol=rtol, atol=atol, eps=eps)  # type: ignore[arg-type]
+        d = res.q[-1:] - res.q[:1]
+        achieved_arr = np.array([outcome(d, best_scene, q)[0] for q in quantities])
+    achieved = {q: float(a) for q, a in zip(quantities, achieved_arr)}
+    return MultiPlan(scene=best_scene, values=values, targets=dict(goals), achieved=achieved,
+                     residuals={q: achieved[q] - goals[q] for q in quantities}, cost=float(min(costs)), tol=tol,
+                     rank=rank, family=tuple(family))

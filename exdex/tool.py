@@ -357,8 +357,10 @@ def tool_volumes(problem: "ToolProblem", tools: Iterable[Tool], progress: bool =
     params = np.array([t.params() for t in tools])
     starts = range(0, len(tools), chunk)
     if progress:
-        from tqdm.auto import tqdm
-        starts = tqdm(starts, desc="volumes", unit="chunk", leave=False)
+        from exdex._optional import progress_bar
+
+        starts = progress_bar(starts, desc="volumes", unit="chunk", leave=False, auto=True,
+                              feature="tool_volumes(progress=True)")
     parts = [_tool.tool_volumes(tools=params[i:i + chunk], plunger=plunger, **problem._kw())
              for i in starts]
     return np.concatenate(parts, axis=0)
@@ -606,7 +608,9 @@ VOLUME_UNIT = "(m/s)$^2$ rad/s"  # twist-cone volumes: Vx, Vy [m/s] x wz [rad/s]
 def figure_theta_curves(study: Sequence[Mapping[str, Any]]) -> Any:
     """Mean cone volume against the tool angle per phi range (rows of
     :func:`theta_study`, centred box), one panel per model: a Figure."""
-    import matplotlib.pyplot as plt
+    from exdex._optional import pyplot
+
+    plt = pyplot("exdex.tool figures")
 
     fig, axes = plt.subplots(1, 2, figsize=(11, 4), sharey=True)
     for ax, model in zip(axes, ("paper", "contact")):
@@ -628,7 +632,9 @@ def figure_theta_curves(study: Sequence[Mapping[str, Any]]) -> Any:
 
 def figure_box_aspect(sweep: Sequence[Mapping[str, Any]]) -> Any:
     """theta* against the box side a (dVx = dVy = a, dwz = 1/a^2): a Figure."""
-    import matplotlib.pyplot as plt
+    from exdex._optional import pyplot
+
+    plt = pyplot("exdex.tool figures")
 
     fig, ax = plt.subplots(figsize=(6, 4))
     for model in ("paper", "contact"):
@@ -645,7 +651,9 @@ def figure_box_aspect(sweep: Sequence[Mapping[str, Any]]) -> Any:
 
 def figure_rod(descent: Any, psi: Any, closed: Any, height: float, rod_x: float) -> Any:
     """Object rotation against gripper descent for the rod tool (Fig. 11): a Figure."""
-    import matplotlib.pyplot as plt
+    from exdex._optional import pyplot
+
+    plt = pyplot("exdex.tool figures")
 
     fig, ax = plt.subplots(figsize=(5, 3.5))
     ax.plot(descent, np.degrees(psi), label="RK4 on the contact row")

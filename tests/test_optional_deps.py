@@ -67,6 +67,23 @@ def test_plot_without_matplotlib_names_the_extra():
     assert "MSG" in p.stdout and "exdex[plot]" in p.stdout and "matplotlib" in p.stdout
 
 
+def test_animate_and_tool_figures_without_matplotlib():
+    p = _run("""
+        import exdex
+        sc = exdex.Scene(body=exdex.Body.box(0.1, (0.02, 0.04, 0.02)), grasp=exdex.Grasp(mu=0.5, grip_force=2.0))
+        r = exdex.simulate(sc, 0.01, 1e-3)
+        for name, call in (("animate", lambda: r.animate()),
+                           ("tool", lambda: exdex.tool.figure_theta_curves([]))):
+            try:
+                call()
+            except ImportError as exc:
+                print(name, "MSG", exc)
+    """, ["matplotlib", "tqdm"])
+    assert p.returncode == 0, p.stderr
+    lines = [ln for ln in p.stdout.splitlines() if "MSG" in ln]
+    assert len(lines) == 2 and all("exdex[plot]" in ln and "matplotlib" in ln for ln in lines), p.stdout
+
+
 def test_sweep_progress_without_tqdm():
     """sweep's default bar appears only when tqdm is installed; asking for it
     without tqdm names the extra."""

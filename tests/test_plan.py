@@ -130,7 +130,8 @@ def test_robust_plan_worst_case_verified_by_dense_sampling():
 @pytest.mark.parametrize("kw, match", [
     (dict(target={"spin": 1.0}), "target quantity"),
     (dict(target={"rotation": 1.0}), "no 'rotation' outcome"),
-    (dict(target={"slip": 1.0, "rotation": 1.0}), "exactly one"),
+    (dict(target={"slip": 1.0, "rotation": 1.0}), "no 'rotation' outcome"),
+    (dict(vary={"grip_force": (1.0, 3.0), "grip": (1.0, 2.0)}), "twice"),
     (dict(vary={"colour": (0, 1)}), "cannot vary 'colour'"),
     (dict(vary={"grip_force": (2.0, 1.0)}), "low < high"),
     (dict(vary={"grip_force": (-1.0, 1.0)}), "low bound of 'grip_force'"),
@@ -201,3 +202,37 @@ def test_band_of_a_slide_onto_a_stop_is_exact_and_flat():
     b = plan.band(paper.fig4_scene(), "slip", {"mu": (0.45, 0.55)}, t_end=1.2, method="event")
     assert b.exact
     assert b.low == pytest.approx(0.05, abs=1e-12) and b.high == pytest.approx(0.05, abs=1e-12)
+
+
+def test_two_parameters_one_target_is_a_curve_of_solutions():
+    """Fig. 3 with grip force and mu varied for one slip: they act only
+    through the capacity mu * 2 F, so the solutions form the curve
+    mu F = const; the plan says so, and every listed member meets the target
+    by the closed form."""
+    p = plan.solve(fig3(), {"slip": -0.015}, vary={"grip_force": (1.0, 3.0), "mu": (0.3, 0.8)}, t_end=T_END,
+                   tol=1e-7, n_scan=17)
+    assert p.is_family and p.rank == 1 and p.meets_target
+    assert abs(closed_slip(p.scene) - (-0.015)) <= 1e-7 + 1e-9
+    assert len(p.family) >= 3
+    prod = [f["grip_force"] * f["mu"] for f in p.family]
+    for f in p.family:
+        s = fig3(grip_force=f["grip_force"], mu=f["mu"])
+        assert abs(closed_slip(s) - (-0.015)) <= 1e-7 + 1e-9
+    assert max(prod) - min(prod) <= 1e-5 * max(prod)
+
+
+def test_planar_pose_target_by_two_parameters():
+    """A planar box held by an off-centre pad slides and turns under Eq. 7:
+    grip force and pad size (e_r) for a pose (y, theta); the plan re-simulated
+    by the event method at rtol 1e-12 meets both targets."""
+    s3 = fig3()
+    scene = exdex.Scene(body=exdex.Body.box(0.1, (0.06, 0.03, 0.02)),
+                        grasp=exdex.Grasp(mu=0.5, grip_force=1.5,
+                                          patch=exdex.Patch.rectangle(0.02, 0.02, center=(0.01, 0.0))),
+                        motion=s3.motion, dof="planar")
+    p = plan.solve(scene, {"y": -0.01, "rotation": 0.2}, vary={"grip_force": (1.0, 3.0), "e_r": (0.002, 0.02)},
+                   t_end=T_END, tol=1e-4, n_scan=9)
+    assert not p.is_family
+    r = exdex.simulate(p.scene, T_END, T_END, method="event", rtol=1e-12, atol=1e-14)
+    d = r.q[-1] - r.q[0]
+    assert abs(d[1] - (-0.01)) <= 1e-4 and abs(d[2] - 0.2) <= 1e-4

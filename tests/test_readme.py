@@ -127,8 +127,14 @@ def test_other_readme_code_runs():
     scope = {}
     with contextlib.redirect_stdout(io.StringIO()):
         exec(compile(_blocks(README, "python")[0], "README quick start", "exec"), scope)
-        for i, code in enumerate(blocks):
+    for i, code in enumerate(blocks):
+        out = io.StringIO()
+        with contextlib.redirect_stdout(out):
             exec(compile(code, f"README block {i + 1}", "exec"), scope)
+        # a comment quoting what the block prints ("# e.g. "..., ..."") must be in its output
+        for quoted in re.findall(r'# e\.g\. "(.*?)(?:, \.\.\.)?"', code):
+            assert quoted in out.getvalue(), f"README block {i + 1} says it prints {quoted!r}; it printed " \
+                                             f"{out.getvalue()[:300]!r}"
     shape = re.search(r'b\.gridded\("final_displacement"\)\s*# \((\d+), (\d+), (\d+)\)', README)
     assert scope["b"].gridded("final_displacement").shape == tuple(int(x) for x in shape.groups())
     assert np.all(np.isfinite(scope["b"].final_displacement))

@@ -1,4 +1,4 @@
-/* fuzz.h -- fuzz harnesses of the exdex C core (issue 7).
+/* fuzz.h -- fuzz harnesses of the exdex C core.
  *
  * Every public entry point of csrc/exdex.h is driven with decoded, structured
  * inputs: extreme magnitudes, zeros, denormals, NaN and infinity mixed into

@@ -124,7 +124,7 @@ int fuzz_cone(const uint8_t *data, size_t size)
         FZ_CHECK(T, st == EXDEX_EINVAL);
     if (st == EXDEX_OK) {
         /* the stated accuracy holds for every valid box and finite rows
-         * (issue 7: thin boxes far from the origin, wild magnitudes) */
+         * (thin boxes far from the origin, wild magnitudes) */
         double tol = vol_tol(lo, hi, md), tol1 = vol_tol(lo, hi, 1);
         FZ_CHECK(T, isfinite(v));
         FZ_CHECK(T, v >= 0 && v <= bv);

@@ -1,7 +1,7 @@
 /* fuzz_friction.c -- exdex_friction_prepare + exdex_friction_solve, all three
  * solvers, on fuzzed Delassus matrices W, semi-axes e, slip b and capacity.
  *
- * W is made SPD (L L^T, or J M^-1 J^T of a planar patch as sim.c builds it)
+ * W is made SPD (L L^T, or J M^-1 J^T of a planar patch as model.c builds it)
  * or taken raw (symmetric or not), so both the valid and the rejected paths
  * are exercised. Checks beyond "no crash": non-finite or out-of-range input
  * gives EXDEX_EINVAL; EXDEX_OK gives finite p, u, sigma with p inside the
@@ -36,7 +36,7 @@ static void decode_W(fz *f, double W[9], int mode)
                 W[3 * i + j] = s * (a + (i == j ? d : 0.0));
             }
     } else if (mode == 1) {
-        /* J M^-1 J^T of a planar patch at pc (as sim.c): mass m, izz */
+        /* J M^-1 J^T of a planar patch at pc (as model.c): mass m, izz */
         double m = fz_log(f, 1e-4, 1e3), izz = fz_log(f, 1e-9, 1e2);
         double px = fz_num(f, -0.2, 0.2), py = fz_num(f, -0.2, 0.2);
         double J[9] = {1, 0, -py, 0, 1, px, 0, 0, 1}, mi[3] = {1 / m, 1 / m, 1 / izz};

@@ -1,6 +1,7 @@
 /* sim_run.c -- see sim_run.h. */
 #include "sim_run.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -35,4 +36,43 @@ int sim_run_def(const exdex_scene_def *def, double t_end, double dt, sim_run *r)
     r->status = exdex_simulate(m, t_end, dt, &r->tr, &r->st);
     exdex_model_free(m);
     return r->status;
+}
+
+/* Closed form of the 1-DoF vertical problem under piecewise-constant gripper
+ * acceleration (up positive), written independently of the core: exact
+ * propagation with analytic stick/slip switching. */
+double vertical_closed_form(double g, double cap_acc, const double *t_sw, const double *acc, int n_phase,
+                            double *t_stick)
+{
+    double x = 0.0, v = 0.0;
+    if (t_stick) *t_stick = NAN;
+    for (int k = 0; k < n_phase; k++) {
+        double t = t_sw[k], t_end = t_sw[k + 1];
+        double need = g + acc[k]; /* acceleration friction must supply to stick */
+        while (t < t_end) {
+            if (v == 0.0) {
+                if (fabs(need) <= cap_acc) break; /* sticks for the rest of the phase */
+                {
+                    double a = -need + copysign(cap_acc, need), dt = t_end - t;
+                    x += 0.5 * a * dt * dt;
+                    v += a * dt;
+                    t = t_end;
+                }
+            } else {
+                double a = -need - copysign(cap_acc, v), dt = t_end - t;
+                double t_stop = (a * v < 0) ? -v / a : INFINITY;
+                if (t_stop < dt) {
+                    x += v * t_stop + 0.5 * a * t_stop * t_stop;
+                    v = 0.0;
+                    t += t_stop;
+                    if (t_stick) *t_stick = t;
+                } else {
+                    x += v * dt + 0.5 * a * dt * dt;
+                    v += a * dt;
+                    t = t_end;
+                }
+            }
+        }
+    }
+    return x;
 }

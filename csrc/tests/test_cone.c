@@ -444,7 +444,7 @@ EXDEX_TEST(cone_tool_problem_check)
 }
 
 /* ---------------------------------------------- thin boxes far from the apex
- * (issue 7: the volume must keep its relative accuracy, stated in exdex.h as
+ * (the volume must keep its relative accuracy, stated in exdex.h as
  * 16 (1 + m) eps times the box volume, whatever the box's size, aspect ratio
  * or distance from the origin). */
 

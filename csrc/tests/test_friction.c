@@ -907,7 +907,7 @@ EXDEX_TEST(friction_bad_input)
     exdex_friction_ws_free(NULL);
 }
 
-/* ------------------------------------------- hardening (issue 7 findings) */
+/* ------------------------------------------------------------ hardening */
 
 #ifndef DBL_TRUE_MIN /* C11 */
 #define DBL_TRUE_MIN 4.9406564584124654e-324
@@ -1123,9 +1123,9 @@ EXDEX_TEST(friction_fuzz_extreme_cases)
 }
 
 /* Sliding p exactly on the ellipsoid at cond(K) up to ~1e18 (e_r 1e-7..1e-6
- * with cond(W) up to 1e6; issue 7 reported p outside by 7.7e-10 relative at
- * cond(K) ~ 2e14), and no solver failure there (MULTIROOT returned ENOCONV
- * on some of these cases before its fallback). Reference: the constraint
+ * with cond(W) up to 1e6; an unscaled solve leaves p outside by ~1e-9
+ * relative at cond(K) ~ 2e14), and no solver failure there (MULTIROOT's
+ * fallback to the secular solution). Reference: the constraint
  * itself, |E^-1 p| = cap, to rounding (8 eps). */
 EXDEX_TEST(friction_on_ellipsoid_ill_conditioned)
 {

@@ -1,5 +1,5 @@
 /* test_methods.c -- the event-driven, regularised and explicit methods
- * (methods.c) against closed forms, the stability claims with the
+ * (hybrid.c, explicit.c) against closed forms, the stability claims with the
  * boundaries derived below, and observed orders of convergence.
  * Every expected value is a closed form written here (or in
  * tests/data/reference.dat), a bound derived here, or an independent
@@ -130,43 +130,15 @@ EXDEX_TEST(methods_block_sliding_closed_forms)
     }
 }
 
-/* Fig. 3 closed form, written independently of the library (as in
- * test_sim.c): exact stick/slip switching under piecewise-constant
- * gripper accelerations; also returns the stick time. */
+/* Fig. 3 closed form (sim_run.c, independent of the library): exact
+ * stick/slip switching under the piecewise-constant gripper accelerations
+ * of Eq. 7; also returns the stick time. */
 static double fig3_closed_form(double cap_acc, double *t_stick)
 {
     double t_sw[4] = {0.0, 0.45, 0.55, 1.0};
     double aH = 2 * 0.1 / (0.9 * 0.25), aL = 2 * 0.1 / (0.1 * 0.25);
-    double acc[3] = {-aH, aL, -aH}, x = 0.0, v = 0.0;
-    *t_stick = NAN;
-    for (int k = 0; k < 3; k++) {
-        double t = t_sw[k], t_end = t_sw[k + 1], need = G + acc[k];
-        while (t < t_end) {
-            if (v == 0.0) {
-                if (fabs(need) <= cap_acc) break;
-                {
-                    double a = -need + copysign(cap_acc, need), dt = t_end - t;
-                    x += 0.5 * a * dt * dt;
-                    v += a * dt;
-                    t = t_end;
-                }
-            } else {
-                double a = -need - copysign(cap_acc, v), dt = t_end - t;
-                double ts = (a * v < 0) ? -v / a : INFINITY;
-                if (ts < dt) {
-                    x += v * ts + 0.5 * a * ts * ts;
-                    v = 0.0;
-                    t += ts;
-                    *t_stick = t;
-                } else {
-                    x += v * dt + 0.5 * a * dt * dt;
-                    v += a * dt;
-                    t = t_end;
-                }
-            }
-        }
-    }
-    return x;
+    double acc[3] = {-aH, aL, -aH};
+    return vertical_closed_form(G, cap_acc, t_sw, acc, 3, t_stick);
 }
 
 EXDEX_TEST(methods_event_fig3_closed_form_exact_stillness)
@@ -484,7 +456,7 @@ EXDEX_TEST(methods_regularised_step_collapse)
 
 EXDEX_TEST(methods_budget_step_collapse_returns_enoconv)
 {
-    /* Budgets (methods.c header): at most 1e5 ODE steps per output interval,
+    /* Budgets (hybrid.c header): at most 1e5 ODE steps per output interval,
      * and a suggested step of at least 16 ulps of t.
      * (1) From rest under a load Q = m g with C = 2 m g the object creeps
      * (k = C (1 - (Q/C)^2)^(3/2) / (M eps), methods_regularised_step_collapse),
@@ -879,7 +851,7 @@ EXDEX_TEST(methods_planar_rest_on_stop_holds)
      * plate wrench inside the ellipsoid (|E^-1 w| <= mu N), and the static
      * balance of the forces in B: w_xy + lam n_B + m g_B = 0 (gripper at
      * rest, B y up: g_B = (0, -g); n_B = (sin 0.2, cos 0.2)). The implicit
-     * method (its own rest solve, sim.c) gives the same floor force to 1e-3 N. */
+     * method (its own rest solve, implicit.c) gives the same floor force to 1e-3 N. */
     exdex_scene_def d = planar_floor(EXDEX_METHOD_EVENT);
     sim_run r, im;
     double nB[2] = {sin(0.2), cos(0.2)}, cap = 0.8 * 0.1 * G;
@@ -936,7 +908,7 @@ EXDEX_TEST(methods_1dof_contact_vertex_handover)
         ENSURE(r.st.warnings == 0);
         if (method == EXDEX_METHOD_EVENT) {
             /* the corner on the floor fixes s: the implicit method (its own
-             * stop rows and position projection, sim.c) agrees */
+             * stop rows and position projection, implicit.c) agrees */
             sim_run im;
             d.method = EXDEX_METHOD_IMPLICIT;
             ENSURE(sim_run_def(&d, 0.1, 1e-3, &im) == EXDEX_OK);

@@ -1,4 +1,4 @@
-/* test_sim.c -- the relative dynamics and the time-stepping loop (sim.c).
+/* test_sim.c -- the relative dynamics (model.c) and the implicit method (implicit.c).
  * Every expected value is a closed form stated beside it (or in
  * tests/data/reference.dat), never an output of the code under test. */
 #include "check.h"
@@ -235,42 +235,6 @@ EXDEX_TEST(sim_coriolis_planar_free_object)
     report("sim_coriolis_order_ratio", e1 / e2);
 }
 
-/* Closed form of the 1-DoF vertical problem under piecewise-constant gripper
- * acceleration (up positive), written independently of sim.c: exact
- * propagation with analytic stick/slip switching. */
-static double vertical_closed_form(double cap_acc, const double *t_sw, const double *acc, int n_phase)
-{
-    double x = 0.0, v = 0.0;
-    for (int k = 0; k < n_phase; k++) {
-        double t = t_sw[k], t_end = t_sw[k + 1];
-        double need = G + acc[k]; /* acceleration friction must supply to stick */
-        while (t < t_end) {
-            if (v == 0.0) {
-                if (fabs(need) <= cap_acc) break; /* sticks for the rest of the phase */
-                {
-                    double a = -need + copysign(cap_acc, need), dt = t_end - t;
-                    x += 0.5 * a * dt * dt;
-                    v += a * dt;
-                    t = t_end;
-                }
-            } else {
-                double a = -need - copysign(cap_acc, v), dt = t_end - t;
-                double t_stop = (a * v < 0) ? -v / a : INFINITY;
-                if (t_stop < dt) {
-                    x += v * t_stop + 0.5 * a * t_stop * t_stop;
-                    v = 0.0;
-                    t += t_stop;
-                } else {
-                    x += v * dt + 0.5 * a * dt * dt;
-                    v += a * dt;
-                    t = t_end;
-                }
-            }
-        }
-    }
-    return x;
-}
-
 EXDEX_TEST(sim_fig3_matches_closed_form)
 {
     /* Fig. 3 scene (m 0.1, mu 0.5, 2 x 1.5 N, Eq. 7 down first): the final
@@ -290,7 +254,7 @@ EXDEX_TEST(sim_fig3_matches_closed_form)
     d.motion.amplitude = 0.1;
     d.motion.duration = 0.5;
     d.motion.beta = 0.9;
-    xcf = vertical_closed_form(15.0, t_sw, acc, 3);
+    xcf = vertical_closed_form(G, 15.0, t_sw, acc, 3, NULL);
     ENSURE_CLOSE(xcf, ref("sim_fig3_grip1p5_final"), 1e-15);
     ENSURE(sim_run_def(&d, 1.5, 1e-4, &r) == EXDEX_OK);
     ENSURE_CLOSE(r.tr.q[r.tr.n - 1], xcf, 1e-7);
@@ -570,7 +534,7 @@ EXDEX_TEST(sim_bad_input_status)
                     d.motion.poses = poses, d.n_stops = 1, d.stop_normal[0][2] = 1.0, d.stop_point[0][2] = 1.5),
                    "q0");
     }
-    /* the NaN in R0 of issue 7 with an otherwise valid planar scene with a stop */
+    /* a NaN in R0 of an otherwise valid planar scene with a stop */
     EXPECT_BAD((d.dof = EXDEX_DOF_PLANAR, d.n_stops = 1, d.stop_normal[0][2] = 1.0, d.stop_point[0][2] = -1.0,
                 d.R0[1] = NAN),
                "R0");
