@@ -415,10 +415,10 @@ def test_stop_never_penetrated(scene, solver, dt):
 
 
 # Hypothesis' shrunk counterexample, kept as a regression case (EXDEX_HYPOTHESIS_EXAMPLES=3000): the long
-# edge of a planar box touches the stop and slides along it. The position projection moved along the
-# deepest vertex's row alone; with both edge vertices equally deep each pass turned the box and pushed the
-# other vertex in (x0.7 per pass, 16 passes): -4.8e-8 m at dt 1e-3, and a warning in 121 steps (also for
-# rounding-level gaps of -1e-18 m, which no projection removes).
+# edge of a planar box touches the stop and slides along it. A position projection along the deepest
+# vertex's row alone, with both edge vertices equally deep, turns the box and pushes the other vertex in at
+# each pass (x0.7 per pass, 16 passes): -4.8e-8 m at dt 1e-3, and a warning in 121 steps (also for
+# rounding-level gaps of -1e-18 m, which no projection removes); the projection over all rows does not.
 _FLUSH_EDGE = exdex.Scene(
     body=exdex.Body(mass=1.0, inertia=((0.0004069010416666664, 0.0, 1.2649025345664214e-19), (0.0, 0.0004069010416666663, 0.0),
                                        (1.2649025345664214e-19, 0.0, 0.0001627604166666666)), size=(0.0625, 0.03125, 0.03125)),
