@@ -1,4 +1,4 @@
-"""Batch throughput: Fig. 3 trajectories per second on 1 and 2 threads (issue 6, item 4).
+"""Batch throughput: Fig. 3 trajectories per second on 1 and 2 threads.
 
 The scene is the paper's Fig. 3 (exdex.paper.fig3_scene(): Eq. 7 down first,
 beta 0.9, X1 0.1 m, T 0.5 s, m 0.1 kg, mu 0.5, grip 1.50514 N per finger),

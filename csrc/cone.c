@@ -490,7 +490,7 @@ static double poly_volume(const cpoly *P)
  * square clipped by the rows (Sutherland-Hodgman, shoelace). Every face is
  * clipped on its own, so this is immune to degenerate cones (many facets
  * through the apex at tiny angles); the terms are O(1 + |p|), hence it is
- * used only for |p_j| <= APEX_NEAR. (DESIGN.md section 4.) */
+ * used only for |p_j| <= APEX_NEAR. */
 #define APEX_NEAR 4.0
 
 static double face_area(const double *B, int k, int j, double c)

@@ -1,6 +1,6 @@
 /* friction.c -- the friction ellipsoid and its maximum-dissipation solve.
  *
- * Plate friction at a patch (DESIGN.md section 3, paper Eq. 6). The friction
+ * Plate friction at a patch (paper Eq. 6). The friction
  * impulse p = (p_x, p_y, p_r) of one implicit velocity-level step minimises
  *
  *     f(p) = 0.5 p^T W p + p^T b    over    p^T E^-2 p <= cap^2,
@@ -82,7 +82,7 @@ double exdex_er_disc(double radius)
 }
 
 /* Mean distance of the uniform rectangle [-a, a] x [-b, b] from its centre
- * (Howe & Cutkosky; DESIGN.md section 3), d = sqrt(a^2 + b^2):
+ * (Howe & Cutkosky), d = sqrt(a^2 + b^2):
  *   e_r = [a b d/3 + (a^3/6) ln((b + d)/a) + (b^3/6) ln((a + d)/b)] / (a b).
  * Evaluated without overflow or underflow in the ratio r = a / b <= 1 of the
  * shorter to the longer half side (ln((b + d)/a) = asinh(1/r),
@@ -312,7 +312,7 @@ static int secular_brent(gsl_root_fsolver *solver, secular *sec, double hi,
     return -1;
 }
 
-/* MULTIROOT: the Fritz-John conditions of Eq. 6 (DESIGN.md section 3) in the
+/* MULTIROOT: the Fritz-John conditions of Eq. 6 in the
  * unknowns (p_1, p_2, p_3, sigma):
  *   F_i = sigma p_i + cap e_i^2 (b + W p)_i = 0,   i = 1..3,
  *   F_4 = sum p_i^2 / e_i^2 - cap^2 = 0.

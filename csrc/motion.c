@@ -595,8 +595,8 @@ exdex_motion *exdex_motion_alloc(const exdex_motion_def *def, const double R0[9]
         if (ok) {
             m->rotation = def->rotation;
             /* scale by the largest component first: na itself overflows to
-             * inf for components near DBL_MAX (found by fuzzing: the axis
-             * became 0 and Rot(axis, s) lost orthonormality) */
+             * inf for components near DBL_MAX (the axis would become 0 and
+             * Rot(axis, s) lose orthonormality) */
             double big = 0.0, sum = 0.0;
             for (int i = 0; i < 3; i++)
                 if (fabs(def->axis[i]) > big) big = fabs(def->axis[i]);
@@ -791,7 +791,7 @@ int exdex_motion_eval(const exdex_motion *m, double t, exdex_kinematics *k)
         return EXDEX_OK;
     }
     profile_kin(m, s, sd, sdd, k);
-    /* a finite profile can still overflow for absurd amplitudes (found by fuzzing) */
+    /* a finite profile can still overflow for absurd amplitudes */
     if (!isfinite(s) || !isfinite(sd) || !isfinite(sdd) || !ex_finite_n(k->p, 3) || !ex_finite_n(k->v, 3)
         || !ex_finite_n(k->a, 3))
         return EXDEX_ENONFINITE;

@@ -1,4 +1,4 @@
-"""Hardening of the Python boundary and of the C core (issue 7).
+"""Hardening of the Python boundary and of the C core.
 
 * The plain-C fuzz driver (csrc/fuzz/, `make -C csrc fuzz-quick`) runs >= 10^5
   decoded inputs over every C entry point: no crash, no hang, status codes for
@@ -52,7 +52,7 @@ HI = -LO
 # ----------------------------------------------------------------- scenes
 
 def fig3_scene(**kw):
-    """The Fig. 3 scene (DESIGN.md section 4): vertical slip under Eq. 7."""
+    """The Fig. 3 scene (exdex.paper.fig3_scene): vertical slip under Eq. 7."""
     return exdex.Scene(body=exdex.Body(mass=0.1), grasp=exdex.Grasp(mu=0.5, grip_force=1.5),
                        motion=exdex.AsymmetricProfile(0.1, 0.5, 0.9, axis=(0, 0, -1)), **kw)
 

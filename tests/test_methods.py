@@ -1,4 +1,4 @@
-"""The integration methods besides the implicit one (csrc/methods.c) through
+"""The integration methods besides the implicit one (csrc/hybrid.c, explicit.c) through
 the Python API: the paper cases against their closed forms (exdex.paper),
 the regularised ODE against an independent stiff integrator (scipy Radau),
 an event-driven closed form with a stick event, the explicit scheme's own
@@ -210,8 +210,8 @@ def test_planar_stop_never_penetrated_beyond_the_methods_bound(method, case):
     Explicit: its rows G v+ >= -gap/h are linear in v+ while a vertex moves
     on a circle of radius <= r_max about the centre of mass, so a step
     penetrates at most 1/2 h^2 thd^2 r_max (thd the step's v+, the returned
-    velocity). Implicit (sim.c): its positions are projected back, 1e-9 m
-    as tests/test_properties.py. No warnings from methods.c: nothing here is
+    velocity). Implicit (implicit.c): its positions are projected back, 1e-9 m
+    as tests/test_properties.py. No warnings from the other methods: nothing here is
     unavoidable.
     "falling": frictionless, tilted 0.3 rad, dropped from 20 mm: free fall,
     a corner impact at ~0.6 m/s, rocking and sliding along the floor."""
@@ -231,7 +231,7 @@ def test_planar_stop_never_penetrated_beyond_the_methods_bound(method, case):
     assert gaps.min() >= -bound, (gaps.min(), bound)
     assert gaps.min() < 1e-6  # it did land
     assert r.stats["min_gap"] == pytest.approx(gaps.min(), abs=1e-12)
-    if method != "implicit":  # (sim.c counts warnings in its own stop solve here)
+    if method != "implicit":  # (implicit.c counts warnings in its own stop solve here)
         assert r.stats["warnings"] == 0
     assert np.all(r.stop_force >= 0.0)
 

@@ -1,5 +1,4 @@
-"""Physical invariants as property-based tests (Hypothesis) over random scenes
-(issue 7):
+"""Physical invariants as property-based tests (Hypothesis) over random scenes:
 
 * friction never adds energy: for one friction step (exdex._core.friction_solve,
   all three solvers) the kinetic energy change p . (b + W p / 2) is <= 0, and
@@ -116,7 +115,7 @@ def scaled_norm(x):
     return m * np.linalg.norm(x / m) if m > 0.0 else 0.0
 
 
-# Hypothesis' shrunk counterexample against the previous form of the ellipsoid check,
+# Hypothesis' shrunk counterexample against a naive form of the ellipsoid check,
 # norm(p / e) <= cap (1 + 1e-9): cap = 1.1e-158 makes |p|^2 = 1.2e-316 subnormal, so numpy's
 # norm returned cap (1 + 2.6e-9) for a p that lies on the ellipsoid exactly (p_z = -cap).
 _TINY_CAP = (np.eye(3), np.ones(3), np.array([0.0, 0.0, 1.0]), 1.1067208418324788e-158)
@@ -303,7 +302,7 @@ def _compare_frames(scene, Q, d, solver, rtol):
     gap error delta into a velocity error delta / h); so also the same scene
     with the stop moved away along its normal by 1000 eps (1 + |d| + |point| +
     |p0|), again ~1000 times that rounding. The response to these rounding-
-    level changes is linear (no discrete decision may flip: sim.c takes its
+    level changes is linear (no discrete decision may flip: implicit.c takes its
     decisions on rounding-free quantities, see build_rows), so the frame change
     must move the trajectory by no more than 10x the larger yardstick (plus
     rtol relative)."""
@@ -343,7 +342,7 @@ def test_invariant_under_world_rotation_and_translation(scene, Q, d, solver):
     assert np.count_nonzero(a.stick != b.stick) <= 2 + np.count_nonzero(a.stick != c.stick)
 
 
-# Hypothesis' shrunk counterexample against the previous sim.c: a block at rest on a stop, the world
+# Hypothesis' shrunk counterexample, kept as a regression case: a block at rest on a stop, the world
 # shifted by 8 m; the stop row's gap rounding gave v = 1e-12 m/s in one frame and 0 in the other.
 _RESTING_ON_STOP = exdex.Scene(
     body=exdex.Body(mass=1.0, inertia=((0.00040690104166666663, 0.0, 0.0), (0.0, 0.00040690104166666663, 0.0),
@@ -367,16 +366,16 @@ def test_invariant_under_world_rotation_and_translation_with_stop(scene, Q, d, s
     load between the stop force and friction is not unique, and the solver's
     choice may differ between the two frames.
 
-    Issue 7 finding, now resolved in sim.c: this test was an xfail at 1e-9
-    with differences up to 2e-7 m. Two causes: (1) the sliding-contact Newton
-    iteration stalled at a gradient ~1e-10 when its backtracking hit the
-    objective's rounding, leaving a 1e-10 relative error that differed
+    Two effects could break it: (1) a sliding-contact Newton iteration that
+    stalls at a gradient ~1e-10 when its backtracking hits the objective's
+    rounding leaves a 1e-10 relative error that differs
     between the frames; (2) an object at rest against a stop that is at rest
     in B sits at a gap that is 0 in exact arithmetic, and the sign of its
-    rounding (frame dependent: gaps are computed in A) switched between
+    rounding (frame dependent: gaps are computed in A) would switch between
     static friction with no stop impulse and kinetic friction with the stop
     pushing, and with it the position update (midpoint vs "pushed"), a jump
-    of h/2 |v - v+|. Gaps within their rounding bound of 0 now count as 0."""
+    of h/2 |v - v+|. The Newton iteration therefore stops on the objective's
+    rounding, and gaps within their rounding bound of 0 count as 0."""
     _compare_frames(scene, Q, d, solver, 1e-12)
 
 
@@ -415,11 +414,11 @@ def test_stop_never_penetrated(scene, solver, dt):
     assert np.all(res.stop_force >= 0.0)
 
 
-# Hypothesis' shrunk counterexample against the previous sim.c (EXDEX_HYPOTHESIS_EXAMPLES=3000): the long
-# edge of a planar box touches the stop and slides along it. The position projection moved along the
-# deepest vertex's row alone; with both edge vertices equally deep each pass turned the box and pushed the
-# other vertex in (x0.7 per pass, 16 passes): -4.8e-8 m at dt 1e-3, and a warning in 121 steps (also for
-# rounding-level gaps of -1e-18 m, which no projection removes).
+# Hypothesis' shrunk counterexample, kept as a regression case (EXDEX_HYPOTHESIS_EXAMPLES=3000): the long
+# edge of a planar box touches the stop and slides along it. A position projection along the deepest
+# vertex's row alone, with both edge vertices equally deep, turns the box and pushes the other vertex in at
+# each pass (x0.7 per pass, 16 passes): -4.8e-8 m at dt 1e-3, and a warning in 121 steps (also for
+# rounding-level gaps of -1e-18 m, which no projection removes); the projection over all rows does not.
 _FLUSH_EDGE = exdex.Scene(
     body=exdex.Body(mass=1.0, inertia=((0.0004069010416666664, 0.0, 1.2649025345664214e-19), (0.0, 0.0004069010416666663, 0.0),
                                        (1.2649025345664214e-19, 0.0, 0.0001627604166666666)), size=(0.0625, 0.03125, 0.03125)),

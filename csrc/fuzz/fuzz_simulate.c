@@ -195,7 +195,7 @@ int fuzz_simulate(const uint8_t *data, size_t size)
         if (fz_pick(&f, 0, 31) == 0)  /* occasionally a raw (wild) normal */
             for (int i = 0; i < 3; i++) d.stop_normal[k][i] = fz_num(&f, -1.0, 1.0);
     }
-    /* every method (methods.c bounds its loops: EXDEX_ENOCONV past its step,
+    /* every method (each bounds its loops: EXDEX_ENOCONV past its step,
      * step-floor and event budgets), and invalid ids when wild */
     d.method = fz_int(&f, 0, 4);
     d.friction_solver = fz_int(&f, 0, 2);
@@ -205,7 +205,7 @@ int fuzz_simulate(const uint8_t *data, size_t size)
     dt = fz_log(&f, 1e-4, 0.05);
     t_end = dt * (double)fz_int(&f, 1, MAX_STEPS) * fz_num(&f, 0.95, 1.05);
     /* the adaptive methods may spend their whole step budget (1e5 ODE steps,
-     * methods.c) and event budget (1000 events of <= 200 Brent iterations)
+     * hybrid.c) and event budget (1000 events of <= 200 Brent iterations)
      * in every output interval of a stiff scene: one output interval for
      * them (t_end = dt), to keep the time per input well below the driver's
      * timeout (FUZZ_TIMEOUT, also under ASan) */

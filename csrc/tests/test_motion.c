@@ -885,8 +885,8 @@ EXDEX_TEST(motion_bad_input)
 EXDEX_TEST(motion_rotation_axis_near_dbl_max)
 {
     /* The axis is normalised (exdex.h): components near DBL_MAX are a valid
-     * axis whose Euclidean norm overflows. Found by fuzzing: the axis became
-     * 0 and R = cos(s) I lost orthonormality. Closed form at t = T of an
+     * axis whose Euclidean norm overflows; a plain normalisation makes the
+     * axis 0 and R = cos(s) I, which is not orthonormal. Closed form at t = T of an
      * asymmetric profile (s = X1, Eq. 8): R = Rot(u, X1) with
      * u = (-1, 0, 1)/sqrt(2), so R u = u and trace R = 1 + 2 cos X1. */
     static const double big[2] = {DBL_MAX, 1e308};
