@@ -97,7 +97,7 @@ STOP_HALF = (0.5, 0.5, 0.05)  # half-extents of a stop's box [m]
 # ---------------------------------------------------------------- geometry shared by both engines
 
 def _er_rectangle(a, b):
-    """Howe & Cutkosky e_r of a uniform rectangle of half-sides a, b (DESIGN.md 3)."""
+    """Howe & Cutkosky e_r of a uniform rectangle of half-sides a, b."""
     d = math.hypot(a, b)
     return (a * b * d / 3 + a**3 / 6 * math.log((b + d) / a) + b**3 / 6 * math.log((a + d) / b)) / (a * b)
 

@@ -26,7 +26,7 @@ Conventions (stated once, used everywhere):
   the polygon, one row per end vertex of an edge contact); model ``"paper"``
   uses Eqs. 10-11 literally (unit square only). See :func:`compare_rows`.
 
-Volumes: ``"exact"`` (divergence theorem, DESIGN.md section 4), ``"grid"`` (the
+Volumes: ``"exact"`` (divergence theorem: only the box faces contribute), ``"grid"`` (the
 paper's discretisation) and ``"qmc"`` (randomised Sobol, with a standard error).
 All the loops run in C (``exdex._tool``) with the GIL released.
 """

@@ -184,7 +184,7 @@ def test_classify_synthetic_runs():
 
 @pytest.mark.parametrize("ratio", [0.5, 1.1, 2.0, 10.0])
 def test_classify_implicit_runs_hold_exact_stick(ratio):
-    # the implicit method (exact stick) classified "ok" across capacities (DESIGN.md 3: no chatter,
+    # the implicit method (exact stick) classified "ok" across capacities (the maximum-dissipation step: no chatter,
     # no drift), at a step that does not divide the switching times
     make, t_end, _, dof, _ = bench._family("fig3")
     sc = make(ratio)
