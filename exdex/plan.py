@@ -217,6 +217,18 @@ def _default_t_end(scene):
     return 1.5 * end if end > 0 else 1.0
 
 
+def _times_and_options(scene, t_end, dt, method, rtol, atol, eps, threads):
+    """(t_end, dt, batch options) of a planning call: t_end defaults to the
+    motion's end plus half of it, dt to t_end (the event and analytic
+    methods' answers do not depend on the output grid)."""
+    t_end = _default_t_end(scene) if t_end is None else _real(t_end, "t_end", low=0.0, low_open=True)
+    dt = t_end if dt is None else _real(dt, "dt", low=0.0, low_open=True, high=t_end)
+    opts: Dict[str, Any] = dict(method=method, rtol=rtol, atol=atol, eps=eps)
+    if threads is not None:
+        opts["threads"] = threads
+    return t_end, dt, opts
+
+
 @dataclass(frozen=True)
 class _Runner:
     scene: Scene
@@ -472,11 +484,7 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Mapping[str, Tuple[fl
         raise ValueError(f"n_scan must be an int >= 3, got {n_scan!r}")
     if isinstance(refine, bool) or not isinstance(refine, (int, np.integer)) or refine < 1:
         raise ValueError(f"refine must be an int >= 1, got {refine!r}")
-    t_end = _default_t_end(scene) if t_end is None else _real(t_end, "t_end", low=0.0, low_open=True)
-    dt = t_end if dt is None else _real(dt, "dt", low=0.0, low_open=True, high=t_end)
-    opts = dict(method=method, rtol=rtol, atol=atol, eps=eps)
-    if threads is not None:
-        opts["threads"] = threads
+    t_end, dt, opts = _times_and_options(scene, t_end, dt, method, rtol, atol, eps, threads)
     run = _Runner(scene, quantity, t_end, dt, opts)
 
     unc = _uncertain(uncertain, scene, exclude=name, n=n_uncertain)
@@ -642,11 +650,7 @@ def band(scene: Scene, quantity: str, uncertain: Mapping[str, Any], *, n: int = 
         raise TypeError(f"scene must be an exdex.Scene, got {type(scene).__name__}")
     _check_quantity(quantity, scene)
     unc = _uncertain(uncertain, scene, n=n)
-    t_end = _default_t_end(scene) if t_end is None else _real(t_end, "t_end", low=0.0, low_open=True)
-    dt = t_end if dt is None else _real(dt, "dt", low=0.0, low_open=True, high=t_end)
-    opts = dict(method=method, rtol=rtol, atol=atol, eps=eps)
-    if threads is not None:
-        opts["threads"] = threads
+    t_end, dt, opts = _times_and_options(scene, t_end, dt, method, rtol, atol, eps, threads)
     run = _Runner(scene, quantity, t_end, dt, opts)
     k = len(unc)
     grids = {name: v.reshape((1,) * i + (-1,) + (1,) * (k - i - 1)) for i, (name, v) in enumerate(unc.items())}
@@ -871,11 +875,8 @@ def _solve_multi(scene, target, vary, *, limits, tol, t_end, dt, method, rtol, a
     if limits is not None and not isinstance(limits, Limits):
         raise TypeError(f"limits must be an exdex.plan.Limits, got {type(limits).__name__}")
     tol = _real(tol, "tol", low=0.0, low_open=True)
-    t_end = _default_t_end(scene) if t_end is None else _real(t_end, "t_end", low=0.0, low_open=True)
-    dt = t_end if dt is None else _real(dt, "dt", low=0.0, low_open=True, high=t_end)
-    opts: Dict[str, Any] = dict(method=method, rtol=rtol, atol=atol, eps=eps, record="final")
-    if threads is not None:
-        opts["threads"] = threads
+    t_end, dt, opts = _times_and_options(scene, t_end, dt, method, rtol, atol, eps, threads)
+    opts["record"] = "final"
     quantities = list(goals)
     goal = np.array([goals[q] for q in quantities])
     k = len(names)
