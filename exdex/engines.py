@@ -193,6 +193,15 @@ def _kinematics(scene, t):
                                  scene.gripper_position)
 
 
+def _run_arrays(scene, n, dt):
+    """Gravity, the sample times, the gripper kinematics there and the empty
+    records (object position, velocity, orientation R_BC, spin, stop forces)
+    of an engine run of n steps of dt."""
+    times = np.arange(n + 1) * dt
+    return (np.array(scene.gravity), times, _kinematics(scene, times), np.empty((n + 1, 3)),
+            np.empty((n + 1, 3)), np.empty((n + 1, 3, 3)), np.empty(n + 1), np.zeros((n + 1, len(scene.stops))))
+
+
 def _stop_pose(stop):
     """Centre and rotation of the box standing for a stop half-space."""
     n = np.array(stop.normal)
@@ -363,14 +372,7 @@ def run_mujoco(scene, t_end, *, dt=0.002, iterations=100, cone="elliptic", impra
     sq = m.joint("squeeze").dofadr[0]
     stop_gids = [m.geom(f"stop{k}").id for k in range(len(scene.stops))]
     Mg = float(gripper_mass)
-    g = np.array(scene.gravity)
-    times = np.arange(n + 1) * dt
-    kin = _kinematics(scene, times)
-    pos = np.empty((n + 1, 3))
-    vel = np.empty((n + 1, 3))
-    RBC = np.empty((n + 1, 3, 3))
-    om = np.empty(n + 1)
-    fstop = np.zeros((n + 1, len(scene.stops)))
+    g, times, kin, pos, vel, RBC, om, fstop = _run_arrays(scene, n, dt)
     cf = np.zeros(6)
 
     def set_gripper(k):
@@ -770,14 +772,7 @@ def run_drake(scene, t_end, *, dt=1e-3, contact_model="point", approximation="la
     pctx = plant.GetMyMutableContextFromRoot(ctx)
     plant.get_actuation_input_port().FixValue(pctx, [-scene.grasp.grip_force])
     force_port = plant.get_applied_spatial_force_input_port()
-    g = np.array(scene.gravity)
-    times = np.arange(n + 1) * dt
-    kin = _kinematics(scene, times)
-    pos = np.empty((n + 1, 3))
-    vel = np.empty((n + 1, 3))
-    RBC = np.empty((n + 1, 3, 3))
-    om = np.empty(n + 1)
-    fstop = np.zeros((n + 1, len(scene.stops)))
+    g, times, kin, pos, vel, RBC, om, fstop = _run_arrays(scene, n, dt)
     # initial joint state: plate 2 touching, object at q0 (joints at zero)
     wrench = ExternallyAppliedSpatialForce()
     wrench.body_index = gripper.index()

@@ -205,26 +205,20 @@ def format_table(rows):
     by = {(r["setting"], r["dof"], r["margin"], r["motion"]): r for r in rows}
     head1 = f"{'':38s}" + "".join(f"{('trans' if d == 'translation' else 'rot') + f' {m:g}x':>11s}" for d, m, _ in keys)
     head2 = f"{'setting':38s}" + "".join(f"{mo:>11s}" for _, _, mo in keys)
-    lines = ["drift |q(T) - q(0)| (translation in m, rotation in rad; '0' = exactly zero; '-' = failed)",
-             head1, head2]
-    for s in settings:
-        cells = []
-        for k in keys:
-            r = by.get((s,) + k)
-            v = math.nan if r is None else r["drift"]
-            cells.append(f"{'-':>11s}" if not np.isfinite(v) else f"{'0':>11s}" if v == 0 else f"{v:11.2e}")
-        lines.append(f"{s:38s}" + "".join(cells))
-    lines.append("")
-    lines.append("mean creep speed after T/10 (m/s, rad/s):")
-    lines.append(head1)
-    lines.append(head2)
-    for s in settings:
-        cells = []
-        for k in keys:
-            r = by.get((s,) + k)
-            v = math.nan if r is None else r["creep_speed"]
-            cells.append(f"{'-':>11s}" if not np.isfinite(v) else f"{'0':>11s}" if v == 0 else f"{v:11.2e}")
-        lines.append(f"{s:38s}" + "".join(cells))
+    lines = []
+    for title, field in (("drift |q(T) - q(0)| (translation in m, rotation in rad; '0' = exactly zero; "
+                          "'-' = failed)", "drift"),
+                         ("mean creep speed after T/10 (m/s, rad/s):", "creep_speed")):
+        if lines:
+            lines.append("")
+        lines += [title, head1, head2]
+        for s in settings:
+            cells = []
+            for k in keys:
+                r = by.get((s,) + k)
+                v = math.nan if r is None else r[field]
+                cells.append(f"{'-':>11s}" if not np.isfinite(v) else f"{'0':>11s}" if v == 0 else f"{v:11.2e}")
+            lines.append(f"{s:38s}" + "".join(cells))
     return "\n".join(lines)
 
 
