@@ -26,6 +26,9 @@ MOTION_REST: int
 MOTION_ASYMMETRIC: int
 MOTION_TRAPEZOID: int
 MOTION_SAMPLED: int
+MOTION_SHAKE: int
+MOTION_CHAIN: int
+MOTION_MAX_PIECES: int
 
 class SolverError(RuntimeError):
     status: int
