@@ -303,8 +303,9 @@ PyDoc_STRVAR(simulate_doc,
 
 /* SolverError(message, status) of a failed run with attributes status, time
  * (exdex_stats.fail_time, None when unknown) and cause (a name): the message
- * says when, why, and what to use instead. */
-static void raise_run_error(PyObject *module, int status, const exdex_stats *st)
+ * says when, why, and what to use instead. index >= 0: trajectory `index` of
+ * a batch (the message starts "batch index i: ", attribute `index`). */
+static void raise_run_error_at(PyObject *module, int status, const exdex_stats *st, Py_ssize_t index)
 {
     static const char *const names[] = {"none", "events", "step_budget", "step_floor",
                                         "stepper", "solver", "nonfinite"};
@@ -322,13 +323,16 @@ static void raise_run_error(PyObject *module, int status, const exdex_stats *st)
         "the state left the finite range (check the scene's scales and motion)"};
     int c = st->fail_cause >= 0 && st->fail_cause <= EXDEX_FAIL_NONFINITE ? st->fail_cause : 0;
     PyObject *exc = get_state(module)->SolverError, *msg, *args, *inst, *o;
-    char when[64] = "";
+    char when[64] = "", where[64] = "";
+    if (index >= 0) PyOS_snprintf(where, sizeof where, "batch index %zd: ", index);
     if (!c) {
-        raise_status(module, status, "simulate", NULL);
+        char what[64] = "simulate";
+        if (index >= 0) PyOS_snprintf(what, sizeof what, "batch index %zd", index);
+        expy_raise_status(exc, status, what, NULL, NULL, index);
         return;
     }
     if (isfinite(st->fail_time)) PyOS_snprintf(when, sizeof when, " at t = %.9g s", st->fail_time);
-    msg = PyUnicode_FromFormat("%s%s: %s", exdex_strerror(status), when, why[c]);
+    msg = PyUnicode_FromFormat("%s%s%s: %s", where, exdex_strerror(status), when, why[c]);
     args = msg ? Py_BuildValue("(Ni)", msg, status) : NULL;
     inst = args ? PyObject_Call(exc, args, NULL) : NULL;
     Py_XDECREF(args);
@@ -346,6 +350,10 @@ static void raise_run_error(PyObject *module, int status, const exdex_stats *st)
         PyObject_SetAttrString(inst, "cause", o);
         Py_DECREF(o);
     }
+    if (index >= 0 && (o = PyLong_FromSsize_t(index))) {
+        PyObject_SetAttrString(inst, "index", o);
+        Py_DECREF(o);
+    }
     PyErr_Clear();
     PyErr_SetObject(exc, inst);
     Py_DECREF(inst);
@@ -361,7 +369,7 @@ static int simulate_released(PyObject *module, const exdex_model *model, double 
     Py_END_ALLOW_THREADS
     if (!status) return 0;
     if (status == EXDEX_ENOCONV || status == EXDEX_ENONFINITE)
-        raise_run_error(module, status, st);
+        raise_run_error_at(module, status, st, -1);
     else
         raise_status(module, status, "simulate", NULL);
     return -1;
@@ -883,13 +891,19 @@ static void prefix_error(Py_ssize_t i)
     PyErr_Restore(type, value, tb);
 }
 
-/* The library exception of a failed trajectory: SolverError(message, status)
- * with attributes `status` and `index` (or ValueError / MemoryError). */
-static void raise_trajectory_error(PyObject *module, int status, Py_ssize_t i)
+/* The library exception of failed trajectory i: simulate's (raise_run_error_at:
+ * when, why, what to use instead; attributes status, time, cause) with
+ * "batch index i: " in front and the attribute `index` (or ValueError /
+ * MemoryError). */
+static void raise_trajectory_error(PyObject *module, int status, const exdex_stats *st, Py_ssize_t i)
 {
-    char what[64];
-    snprintf(what, sizeof what, "batch index %zd", i);
-    expy_raise_status(get_state(module)->SolverError, status, what, NULL, NULL, i);
+    if (status == EXDEX_ENOCONV || status == EXDEX_ENONFINITE) {
+        raise_run_error_at(module, status, st, i);
+    } else {
+        char what[64];
+        PyOS_snprintf(what, sizeof what, "batch index %zd", i);
+        expy_raise_status(get_state(module)->SolverError, status, what, NULL, NULL, i);
+    }
 }
 
 typedef struct batch_ctx {
@@ -915,6 +929,7 @@ typedef struct batch_ctx {
     int fail_status;
     int fail_build;         /* the failure at fail_index is the model build (bad scene) */
     const char *fail_bad;   /* then: the parameter the core names */
+    exdex_stats fail_stats; /* else: the statistics of that failure (fail_time, fail_cause) */
     int stop;               /* set when a signal handler raised (Ctrl-C): no new indices */
     PyThreadState *ts;      /* the calling thread's state while the GIL is released */
 } batch_ctx;
@@ -1028,6 +1043,7 @@ static void *batch_run(void *arg)
                 __atomic_store_n(&c->fail_index, i, __ATOMIC_RELEASE);
                 c->fail_status = status;
                 c->fail_build = 0;
+                c->fail_stats = st;
             }
             pthread_mutex_unlock(&c->lock);
             continue;
@@ -1358,7 +1374,7 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
             raise_status(module, ctx.fail_status, "scene", ctx.fail_bad);
             prefix_error((Py_ssize_t)ctx.fail_index);
         } else {
-            raise_trajectory_error(module, ctx.fail_status, (Py_ssize_t)ctx.fail_index);
+            raise_trajectory_error(module, ctx.fail_status, &ctx.fail_stats, (Py_ssize_t)ctx.fail_index);
         }
         goto done;
     }

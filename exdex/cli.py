@@ -50,7 +50,7 @@ def _needs_tool(args):
 
 # command -> (module, one-line help, optional modules it needs for given args)
 COMMANDS = {
-    "paper": ("exdex.paper", "reproduce the paper's case studies (Figs. 3, 4, 6) into a folder", _needs_paper),
+    "paper": ("exdex.cli_paper", "reproduce the paper's case studies (Figs. 3, 4, 6) into a folder", _needs_paper),
     "compare": ("exdex.engines", "cross-check the paper cases against pybullet, MuJoCo and Drake", _needs_compare),
     "hold": ("exdex.hold", "hold benchmark: drift of a held object in exdex and the engines' settings", _needs_hold),
     "bench": ("exdex.bench", "work-precision charts and stability maps of the integration methods", _needs_bench),

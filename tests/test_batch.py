@@ -298,6 +298,26 @@ def test_failing_trajectory_raises_with_its_index(fig3, threads):
     assert info.value.index == 3 and info.value.status == serial.value.status
 
 
+def test_failing_trajectory_says_when_why_and_what_instead():
+    """A batch's SolverError is simulate's (the time reached, the cause and
+    the remedy, attributes time and cause) with the batch index in front: a
+    regularised planar run whose eps makes the stepper's step collapse
+    (stiffness C/(M eps) ~ 1e9/s) fails the step budget in both."""
+    sc = exdex.Scene(body=exdex.Body.box(0.1, (0.06, 0.03, 0.02)),
+                     grasp=exdex.Grasp(mu=0.5, grip_force=2.6,
+                                       patch=exdex.Patch.rectangle(0.02, 0.02, center=(0.015, 0))),
+                     dof="planar")
+    kw = dict(method="regularised", eps=1e-12)
+    with pytest.raises(exdex.SolverError) as serial:
+        exdex.simulate(sc, 0.01, 0.01, **kw)
+    with pytest.raises(exdex.SolverError) as info:
+        simulate_batch([sc, sc], 0.01, 0.01, threads=1, record="final", **kw)
+    e, s = info.value, serial.value
+    assert s.cause == "step_budget" and "t = " in str(s) and "method='implicit'" in str(s)
+    assert e.args == (f"batch index 0: {s.args[0]}", s.status)
+    assert (e.index, e.status, e.time, e.cause) == (0, s.status, s.time, s.cause)
+
+
 def test_keyboard_interrupt_stops_a_long_batch(fig3):
     """Ctrl-C (simulated with _thread.interrupt_main) reaches the main thread
     while the GIL is released: the batch stops long before its ~20 s of work."""
