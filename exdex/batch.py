@@ -397,7 +397,9 @@ def simulate_batch(scene: Union[Scene, Sequence[Scene]], t_end: float, dt: float
         ("batch index i: ...").
     exdex.SolverError
         If a trajectory fails; ``.index`` is the smallest failing batch index
-        and the message names it.
+        and the message is simulate's for that trajectory ("batch index i: "
+        in front: the time reached, the cause and the remedy; attributes
+        ``time`` and ``cause`` as in :func:`exdex.simulate`).
     """
     if isinstance(scene, Scene):
         scenes = None
