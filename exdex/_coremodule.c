@@ -827,12 +827,16 @@ static PyObject *core_n_samples(PyObject *module, PyObject *args)
 }
 
 /* ------------------------------------------------------------------ batch
- * simulate_batch: many trajectories in one call. Every model is built (and
- * validated) with the GIL held; then the GIL is released and the trajectories
- * run on POSIX threads that take indices from a shared, locked counter. Each
- * trajectory is one exdex_simulate call on its own model and output rows, so
- * results are bit-identical to serial exdex.simulate for any thread count.
- * The threads live here: the C core stays thread-agnostic. */
+ * simulate_batch: many trajectories in one call. With a sequence of spec
+ * dicts every model is built (and validated) with the GIL held; with one spec
+ * dict and `vary`, the dict is read once and model 0 is built with the GIL
+ * held (it fixes ndof and the stops, which scalars do not change), and every
+ * other model is built from a copy of that definition by the worker thread
+ * that runs it, with the GIL released, and freed right after its run. The
+ * trajectories run on POSIX threads that take indices from a shared, locked
+ * counter. Each trajectory is one exdex_simulate call on its own model and
+ * output rows, so results are bit-identical to serial exdex.simulate for any
+ * thread count. The threads live here: the C core stays thread-agnostic. */
 
 /* Scalar fields of exdex_scene_def a batch may vary from a base spec (`vary`). */
 static const char *const vary_keys[] = {"mass", "mu", "grip_force", "e_r", "motion_amplitude",
@@ -903,7 +907,11 @@ static void raise_trajectory_error(PyObject *module, int status, const exdex_sta
 }
 
 typedef struct batch_ctx {
-    exdex_model **models;
+    exdex_model **models;   /* every model (specs), or only models[0] (base + vary) */
+    const exdex_scene_def *base;   /* base + vary: the definition the workers copy */
+    int nvary;
+    const int *which;
+    const double **vals;   /* vals[k][i]: entry i of vary field which[k] */
     size_t nb, n;           /* trajectories, samples per trajectory */
     double t_end, dt;
     int ndof, ns, final;
@@ -916,10 +924,12 @@ typedef struct batch_ctx {
     double *max_impulse, *max_impulse_t, *first_warning_t;
     /* shared work index and the first failure */
     pthread_mutex_t lock;
-    size_t next;
-    size_t fail_index;      /* smallest failing index, nb if none */
+    size_t next, chunk;     /* next index to hand out; indices per hand-out */
+    size_t fail_index;      /* smallest failing index, nb if none (atomic stores under lock) */
     int fail_status;
-    exdex_stats fail_stats; /* the statistics of that failure (fail_time, fail_cause) */
+    int fail_build;         /* the failure at fail_index is the model build (bad scene) */
+    const char *fail_bad;   /* then: the parameter the core names */
+    exdex_stats fail_stats; /* else: the statistics of that failure (fail_time, fail_cause) */
     int stop;               /* set when a signal handler raised (Ctrl-C): no new indices */
     PyThreadState *ts;      /* the calling thread's state while the GIL is released */
 } batch_ctx;
@@ -929,6 +939,7 @@ typedef struct batch_worker {
     double *buf;            /* scratch: t (all); t, q, v, wrench, stop_force (final) */
     unsigned char *stick;   /* scratch stick (final) */
     pthread_t tid;
+    size_t cur, end;        /* the indices of the chunk in hand: [cur, end) */
     int started;
     int poll;               /* the calling (main) thread: run signal handlers now and then */
     double next_poll;       /* monotonic time of the next check [s] */
@@ -956,7 +967,7 @@ static void batch_poll_signals(batch_worker *w)
     c->ts = PyEval_SaveThread();
     if (raised) {
         pthread_mutex_lock(&c->lock);
-        c->stop = 1;
+        __atomic_store_n(&c->stop, 1, __ATOMIC_RELEASE);
         pthread_mutex_unlock(&c->lock);
     }
 }
@@ -970,20 +981,26 @@ static void *batch_run(void *arg)
     for (;;) {
         size_t i;
         int status;
+        exdex_model *model;
         exdex_trajectory tr;
         exdex_stats st;
         if (w->poll) batch_poll_signals(w);
-        pthread_mutex_lock(&c->lock);
-        i = c->next;
-        /* after a failure at f, indices above f are not started (every index
-         * below f was handed out already), so the error reported is the
-         * smallest failing index whatever the thread count */
-        if (i >= c->nb || i > c->fail_index || c->stop) {
+        /* indices come in chunks of c->chunk consecutive ones, handed out in
+         * order; after a failure at f, indices above f are not started (every
+         * index below f was handed out already, and the ones in f's own chunk
+         * run before f), so the error reported is the smallest failing index
+         * whatever the thread count and chunk */
+        if (w->cur >= w->end) {
+            pthread_mutex_lock(&c->lock);
+            w->cur = c->next;
+            w->end = w->cur + c->chunk < c->nb ? w->cur + c->chunk : c->nb;
+            c->next = w->end;
             pthread_mutex_unlock(&c->lock);
-            break;
         }
-        c->next = i + 1;
-        pthread_mutex_unlock(&c->lock);
+        i = w->cur++;
+        if (i >= c->nb || i > __atomic_load_n(&c->fail_index, __ATOMIC_ACQUIRE) ||
+            __atomic_load_n(&c->stop, __ATOMIC_ACQUIRE))
+            break;
         tr.n = n;
         tr.t = i == 0 ? c->t : w->buf;
         if (c->final) {
@@ -999,12 +1016,33 @@ static void *batch_run(void *arg)
             tr.stop_force = ns ? c->stop_force + i * n * (size_t)ns : NULL;
             tr.stick = c->stick + i * n;
         }
-        status = exdex_simulate(c->models[i], c->t_end, c->dt, &tr, &st);
+        if (c->base && i > 0) {
+            exdex_scene_def def = *c->base;
+            const char *bad = NULL;
+            for (int k = 0; k < c->nvary; k++) *vary_field(&def, c->which[k]) = c->vals[k][i];
+            model = exdex_model_alloc(&def, &status, &bad);
+            if (!model) {
+                pthread_mutex_lock(&c->lock);
+                if (i < c->fail_index) {
+                    __atomic_store_n(&c->fail_index, i, __ATOMIC_RELEASE);
+                    c->fail_status = status;
+                    c->fail_build = 1;
+                    c->fail_bad = bad;
+                }
+                pthread_mutex_unlock(&c->lock);
+                continue;
+            }
+            status = exdex_simulate(model, c->t_end, c->dt, &tr, &st);
+            exdex_model_free(model);
+        } else {
+            status = exdex_simulate(c->models[i], c->t_end, c->dt, &tr, &st);
+        }
         if (status) {
             pthread_mutex_lock(&c->lock);
             if (i < c->fail_index) {
-                c->fail_index = i;
+                __atomic_store_n(&c->fail_index, i, __ATOMIC_RELEASE);
                 c->fail_status = status;
+                c->fail_build = 0;
                 c->fail_stats = st;
             }
             pthread_mutex_unlock(&c->lock);
@@ -1105,7 +1143,8 @@ PyDoc_STRVAR(simulate_batch_doc,
 "Both return t (n,), displacement (B, ndof) = q[n-1] - q[0], and stats, a dict\n"
 "of (B,) arrays. Every scene must have the same ndof and number of stops.\n"
 "Errors name the batch index; a failing trajectory raises SolverError with\n"
-"attributes status and index (the smallest failing index).\n"
+"attributes status and index (the smallest failing index; with vary, a scene\n"
+"the core rejects counts as failing at its index and raises ValueError).\n"
 "check_signals : if true (pass it from the main thread), the calling thread runs\n"
 "    Python's signal handlers about every 0.1 s, so Ctrl-C stops the batch.");
 
@@ -1124,7 +1163,8 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
     exdex_model **models = NULL;
     batch_worker *workers = NULL;
     exdex_scene_def base;
-    Py_ssize_t nb, nvary_len, i;
+    const double *vals[NVARY_MAX];
+    Py_ssize_t nb, nvary_len, i, nmodels = 0;
     size_t n;
     long nthreads, running = 1;
     batch_ctx ctx;
@@ -1171,13 +1211,15 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
         goto done;
     }
 
-    /* ---- build every model with the GIL held */
-    models = PyMem_Calloc((size_t)nb, sizeof *models);
+    /* ---- build the models with the GIL held: every one (specs), or model 0
+     * (base + vary; the workers build the others) */
+    nmodels = seq ? nb : 1;
+    models = PyMem_Calloc((size_t)nmodels, sizeof *models);
     if (!models) {
         PyErr_NoMemory();
         goto done;
     }
-    for (i = 0; i < nb; i++) {
+    for (i = 0; i < nmodels; i++) {
         exdex_scene_def def;
         PyArrayObject *times = NULL, *poses = NULL;
         const char *bad = NULL;
@@ -1266,6 +1308,13 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
         }
     }
     ctx.models = models;
+    if (!seq) {
+        for (int k = 0; k < nvary; k++) vals[k] = (const double *)PyArray_DATA(varr[k]);
+        ctx.base = &base;
+        ctx.nvary = nvary;
+        ctx.which = which;
+        ctx.vals = vals;
+    }
     ctx.nb = (size_t)nb;
     ctx.n = n;
     ctx.t_end = t_end;
@@ -1292,6 +1341,11 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
     ctx.max_impulse_stop = PyArray_DATA(sarr[9]);
     ctx.first_warning_t = PyArray_DATA(sarr[10]);
     ctx.next = 0;
+    /* short trajectories (the analytic path: about a microsecond) in chunks,
+     * so that the lock is not the bottleneck; otherwise one at a time */
+    ctx.chunk = (size_t)nb / ((size_t)nthreads * 64);
+    if (ctx.chunk < 1) ctx.chunk = 1;
+    if (ctx.chunk > 64) ctx.chunk = 64;
     ctx.fail_index = (size_t)nb;
     ctx.fail_status = EXDEX_OK;
     if (pthread_mutex_init(&ctx.lock, NULL)) {
@@ -1316,7 +1370,12 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
     PyEval_RestoreThread(ctx.ts);
     if (ctx.stop) goto done;  /* a signal handler raised (KeyboardInterrupt): its exception is set */
     if (ctx.fail_index < (size_t)nb) {
-        raise_trajectory_error(module, ctx.fail_status, &ctx.fail_stats, (Py_ssize_t)ctx.fail_index);
+        if (ctx.fail_build) {
+            raise_status(module, ctx.fail_status, "scene", ctx.fail_bad);
+            prefix_error((Py_ssize_t)ctx.fail_index);
+        } else {
+            raise_trajectory_error(module, ctx.fail_status, &ctx.fail_stats, (Py_ssize_t)ctx.fail_index);
+        }
         goto done;
     }
     stats = Py_BuildValue("{s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O}", "steps", sarr[0], "stick_steps",
@@ -1337,7 +1396,7 @@ done:
         PyMem_Free(workers);
     }
     if (models) {
-        for (i = 0; i < nb; i++) exdex_model_free(models[i]);
+        for (i = 0; i < nmodels; i++) exdex_model_free(models[i]);
         PyMem_Free(models);
     }
     for (int k = 0; k < NVARY_MAX; k++) Py_XDECREF(varr[k]);
