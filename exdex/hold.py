@@ -288,7 +288,7 @@ def run(args):
     import csv
     import sys
 
-    from exdex.engines import require_engines
+    from exdex.cli import require_engines
 
     if args.combine:
         rows, curves, t_end = _load(args.combine)

@@ -228,7 +228,9 @@ def test_planar_ablation_uses_the_equivalent_e_r():
 def test_ablation_figure_colours_are_not_shared():
     labels = ["pybullet", "mujoco", "drake", "pybullet point+spin", "pybullet no cone", "mujoco noslip 20",
               "mujoco point+torsion", "drake hydroelastic"]
-    cols = engines.ablation_colors(engines.ABLATION_MODELS, labels)
+    from exdex.cli_compare import ablation_colors
+
+    cols = ablation_colors(engines.ABLATION_MODELS, labels)
     assert len(cols) == len(engines.ABLATION_MODELS) + len(labels)
     assert len({tuple(np.round(c, 6)) for c in cols.values()}) == len(cols)
 
@@ -370,6 +372,8 @@ def test_engine_commands_name_the_missing_extra(command, tmp_path):
 def test_compare_takes_no_progress():
     import argparse
 
+    from exdex import cli_compare
+
     p = argparse.ArgumentParser()
-    engines.add_arguments(p)
+    cli_compare.add_arguments(p)
     assert p.parse_args(["--no-progress"]).no_progress is True
