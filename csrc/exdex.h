@@ -384,6 +384,11 @@ exdex_model *exdex_model_alloc(const exdex_scene_def *def, int *status,
 void exdex_model_free(exdex_model *m);   /* NULL is harmless */
 int exdex_model_ndof(const exdex_model *m);
 int exdex_model_nstops(const exdex_model *m);
+/* Normal force of each finger at time t, *force [N], and its rate dF/dt,
+ * *rate [N/s] (the right derivative at a breakpoint; either may be NULL):
+ * the constant grip_force or the scene's grip schedule scaled by it.
+ * EXDEX_EINVAL for a NULL model or a NaN t. */
+int exdex_model_grip(const exdex_model *m, double t, double *force, double *rate);
 
 /* Number of recorded samples for (t_end, dt): steps of dt, the last one
  * shortened to end exactly at t_end; samples = steps + 1. 0 if invalid:

@@ -636,3 +636,11 @@ int exdex_scene_check(const exdex_scene_def *d, const char **bad_param)
 
 int exdex_model_ndof(const exdex_model *m) { return m ? m->ndof : 0; }
 int exdex_model_nstops(const exdex_model *m) { return m ? m->n_stops : 0; }
+
+int exdex_model_grip(const exdex_model *m, double t, double *force, double *rate)
+{
+    if (!m || isnan(t)) return EXDEX_EINVAL;
+    if (force) *force = model_grip_force(m, t);
+    if (rate) *rate = m->grip_n ? model_grip_sched_rate(m, t) : 0.0;
+    return EXDEX_OK;
+}

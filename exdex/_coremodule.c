@@ -744,6 +744,46 @@ done:
     return result;
 }
 
+PyDoc_STRVAR(grip_eval_doc,
+"grip_eval(spec, t) -> (force, rate)\n\n"
+"Normal force of each finger F(t) [N] and its rate dF/dt [N/s] (right derivative at a\n"
+"breakpoint) at the times t (float64, any shape up to 1-D), of the scene's constant grip\n"
+"force or grip schedule (exdex_model_grip).");
+
+static PyObject *core_grip_eval(PyObject *module, PyObject *args, PyObject *kwds)
+{
+    static char *kwlist[] = {"spec", "t", NULL};
+    PyObject *spec, *tobj, *result = NULL;
+    PyArrayObject *ta = NULL, *fo = NULL, *ra = NULL;
+    exdex_model *model = NULL;
+    npy_intp n;
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "OO", kwlist, &spec, &tobj)) return NULL;
+    ta = (PyArrayObject *)PyArray_FROMANY(tobj, NPY_DOUBLE, 0, 1, NPY_ARRAY_IN_ARRAY);
+    if (!ta) return NULL;
+    n = PyArray_SIZE(ta);
+    model = model_from_spec(module, spec);
+    if (!model) goto done;
+    fo = (PyArrayObject *)PyArray_SimpleNew(1, &n, NPY_DOUBLE);
+    ra = (PyArrayObject *)PyArray_SimpleNew(1, &n, NPY_DOUBLE);
+    if (!fo || !ra) goto done;
+    {
+        const double *tp = PyArray_DATA(ta);
+        double *f = PyArray_DATA(fo), *r = PyArray_DATA(ra);
+        for (npy_intp i = 0; i < n; i++)
+            if (exdex_model_grip(model, tp[i], f + i, r + i)) {
+                PyErr_SetString(PyExc_ValueError, "t must not hold NaN");
+                goto done;
+            }
+    }
+    result = Py_BuildValue("(OO)", fo, ra);
+done:
+    exdex_model_free(model);
+    Py_XDECREF(ta);
+    Py_XDECREF(fo);
+    Py_XDECREF(ra);
+    return result;
+}
+
 PyDoc_STRVAR(motion_jumps_doc,
 "motion_jumps(spec) -> list of (t, dv, dw)\n\n"
 "Velocity jumps of the gripper frame B of the scene's motion (exdex_motion_jumps):\n"
@@ -1456,6 +1496,7 @@ static PyMethodDef core_methods[] = {
      motion_eval_doc},
     {"motion_jumps", (PyCFunction)(void (*)(void))core_motion_jumps, METH_VARARGS | METH_KEYWORDS,
      motion_jumps_doc},
+    {"grip_eval", (PyCFunction)(void (*)(void))core_grip_eval, METH_VARARGS | METH_KEYWORDS, grip_eval_doc},
     {"friction_solve", (PyCFunction)(void (*)(void))core_friction_solve, METH_VARARGS | METH_KEYWORDS,
      friction_solve_doc},
     {"er_disc", core_er_disc, METH_O, "e_r [m] of a uniform pressure disc of radius R: 2R/3 (NaN if R <= 0)."},
@@ -1489,6 +1530,10 @@ static const expy_constant core_constants[] = {
     {"MOTION_ASYMMETRIC", EXDEX_MOTION_ASYMMETRIC},
     {"MOTION_TRAPEZOID", EXDEX_MOTION_TRAPEZOID},
     {"MOTION_SAMPLED", EXDEX_MOTION_SAMPLED},
+    {"GRIP_LINEAR", EXDEX_GRIP_LINEAR},
+    {"GRIP_CUBIC", EXDEX_GRIP_CUBIC},
+    {"GRIP_STEP", EXDEX_GRIP_STEP},
+    {"MAX_GRIP_POINTS", EXDEX_MAX_GRIP_POINTS},
     {NULL, 0}};
 
 static int core_exec(PyObject *module)
