@@ -37,6 +37,7 @@ Units are SI.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import warnings
 from dataclasses import dataclass, field
@@ -44,9 +45,10 @@ from typing import Any, Callable, Dict, Mapping, Optional, Sequence, Tuple, Unio
 
 import numpy as np
 
+from exdex import _core
 from exdex.batch import PARAMETERS, _ALIASES, _replace_params, simulate_batch
 from exdex.scene import AsymmetricProfile, Rest, SampledTrajectory, Scene, TrapezoidalProfile, _real
-from exdex.simulate import SolverError, simulate
+from exdex.simulate import SolverError, resolve_method, simulate
 
 __all__ = ["Limits", "Plan", "MultiPlan", "Band", "UnreachableTargetError", "solve", "band", "outcome", "motion_peaks",
            "QUANTITIES"]
@@ -237,7 +239,33 @@ class _Runner:
     dt: float
     options: Dict
 
+    @functools.cached_property
+    def _direct(self):
+        """The scene's spec when the analytic method solves it (1-DoF, no
+        stops, no sampled log: nothing for the batch wrapper's stop, log or
+        contact checks to find), else None. Planning calls then go straight
+        to the core's batch with values the planner has range-checked."""
+        try:
+            if self.options.get("method") not in ("auto", "analytic") or \
+                    resolve_method(self.scene, "auto") != "analytic":
+                return None
+            return self.scene.to_spec(method="analytic")
+        except (TypeError, ValueError):
+            return None
+
     def __call__(self, **arrays):
+        spec = self._direct
+        trapezoid = isinstance(self.scene.motion, TrapezoidalProfile) and any(
+            PARAMETERS[k].path[0] == "motion" for k in arrays)
+        if spec is not None and not trapezoid:
+            vals = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in arrays.values()))
+            shape = vals[0].shape if vals else ()
+            vary = {PARAMETERS[k].key: np.ascontiguousarray(v, dtype=float).ravel() for k, v in zip(arrays, vals)}
+            n = int(np.prod(shape)) if shape else 1
+            threads = self.options.get("threads") or (1 if n < 2048 else 0)
+            out = _core.simulate_batch(spec, self.t_end, self.dt, threads=threads, record="final",
+                                       vary=vary or None)
+            return outcome(out["displacement"], self.scene, self.quantity).reshape(shape)
         # candidates of a search, not results: no PhysicsWarning for each scan
         b = simulate_batch(self.scene, self.t_end, self.dt, record="final", warn=False, **self.options, **arrays)
         return outcome(b.final_displacement, self.scene, self.quantity).reshape(b.shape)
@@ -351,7 +379,8 @@ def _cost_of(cost, scene, name, value):
 
 def _refine(f, a, b, ra, rb, tol, xtol, k, max_rounds):
     """Bracketing refinement of a root of r = f(x) - target between a and b
-    (ra, rb of opposite signs): k interior points per batch; returns (x, r)
+    (ra, rb of opposite signs): k equally spaced interior points and the
+    secant root per batch; returns (x, r)
     of the first point with |r| <= tol, or the bracket end of least |r| when
     the bracket shrinks below xtol (a jump of the outcome: r never meets tol)."""
     for _ in range(max_rounds):
@@ -362,6 +391,11 @@ def _refine(f, a, b, ra, rb, tol, xtol, k, max_rounds):
         if abs(b - a) <= xtol:
             break
         xs = np.linspace(a, b, k + 2)[1:-1]
+        # plus the secant root of the bracket: where the outcome is smooth
+        # it lands within tol after a round or two
+        xsec = a - ra * (b - a) / (rb - ra) if rb != ra else 0.5 * (a + b)
+        if a < xsec < b:
+            xs = np.sort(np.append(xs, xsec))
         rs = f(xs)
         good = np.flatnonzero(np.abs(rs) <= tol)
         if good.size:
@@ -527,21 +561,37 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Mapping[str, Tuple[fl
             f"target {quantity} {goal:.6g} {u} is not reachable by varying {name!r} in [{lo:g}, {hi:g}]"
             f"{' within the limits' if limits is not None else ''}: reachable [{reach[0]:.6g}, {reach[1]:.6g}] {u}"
             f"{where}", reach)
-    ranked = sorted(sols, key=lambda s: (_cost_of(cost, _replace_params(scene, {name: s[0]}), name, s[0]), s[0]))
+    if len(sols) > 1:
+        ranked = sorted(sols, key=lambda s: (_cost_of(cost, _replace_params(scene, {name: s[0]}), name, s[0]),
+                                             s[0]))
+    else:
+        ranked = sols
     x, r = ranked[0]
     best = _replace_params(scene, {name: float(x)})
     achieved = goal + r
     if verify:
-        res = simulate(best, t_end, dt, method=method, rtol=rtol, atol=atol, eps=eps)  # type: ignore[arg-type]
-        achieved = float(outcome(res.q[-1:] - res.q[:1], best, quantity)[0])
-        if not res.stick[-1]:
+        d, v_end, still = _final_state(best, t_end, dt, method, rtol, atol, eps, run._direct is not None)
+        achieved = float(outcome(d, best, quantity)[0])
+        if not still:
             warnings.warn(f"the planned object is still moving at t_end = {t_end:g} s (relative speed "
-                          f"{float(np.max(np.abs(res.v[-1]))):.3g}): the 'final' {quantity} is not final; "
+                          f"{float(np.max(np.abs(v_end))):.3g}): the 'final' {quantity} is not final; "
                           "pass a longer t_end", UserWarning, stacklevel=2)
     return Plan(scene=best, parameter=name, value=float(x), quantity=quantity, target=goal, achieved=achieved,
                 residual=achieved - goal, cost=_cost_of(cost, best, name, x),
                 reachable=(min(reach[0], achieved), max(reach[1], achieved)),
                 solutions=tuple(float(s) for s, _ in ranked), scan=(xs, ys), tol=tol)
+
+
+def _final_state(scene, t_end, dt, method, rtol, atol, eps, analytic):
+    """(final displacement (1, ndof), final rates, at rest with exact stick)
+    of ``scene`` simulated alone: by :func:`exdex.simulate`, or for a scene
+    the analytic method solves, by the core's batch on that one trajectory
+    (the same C solution without the Python result object)."""
+    if analytic:
+        out = _core.simulate_batch(scene.to_spec(method="analytic"), t_end, dt, threads=1, record="final")
+        return out["displacement"], out["v"][0], bool(out["stick"][0])
+    res = simulate(scene, t_end, dt, method=method, rtol=rtol, atol=atol, eps=eps)  # type: ignore[arg-type]
+    return res.q[-1:] - res.q[:1], res.v[-1], bool(res.stick[-1])
 
 
 def _feasible(scene, name, x, limits):
