@@ -253,6 +253,31 @@ class _Runner:
         except (TypeError, ValueError):
             return None
 
+    def at_rest_by(self, t_rest, **arrays):
+        """True where the object is at rest relative to the gripper from
+        ``t_rest`` on: zero relative speed at t_rest and the same
+        coordinates at t_rest and t_end (within 1e-12 m or rad)."""
+        late = self.final(self.t_end, **arrays)
+        early = self.final(t_rest, **arrays)
+        still = np.all(np.abs(early[1]) <= 1e-12, axis=-1) & np.all(np.abs(late[0] - early[0]) <= 1e-12, axis=-1)
+        return still.reshape(early[2])
+
+    def final(self, t_end, **arrays):
+        """(final displacements (B, ndof), final rates (B, ndof), batch shape) at ``t_end``."""
+        spec = self._direct
+        trapezoid = isinstance(self.scene.motion, TrapezoidalProfile) and any(
+            PARAMETERS[k].path[0] == "motion" for k in arrays)
+        if spec is not None and not trapezoid:
+            vals = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in arrays.values()))
+            shape = vals[0].shape if vals else ()
+            vary = {PARAMETERS[k].key: np.ascontiguousarray(v, dtype=float).ravel() for k, v in zip(arrays, vals)}
+            n = int(np.prod(shape)) if shape else 1
+            threads = self.options.get("threads") or (1 if n < 2048 else 0)
+            out = _core.simulate_batch(spec, t_end, t_end, threads=threads, record="final", vary=vary or None)
+            return out["displacement"], out["v"], shape
+        b = simulate_batch(self.scene, t_end, t_end, record="final", warn=False, **self.options, **arrays)
+        return b.final_displacement, b.v, b.shape
+
     def __call__(self, **arrays):
         spec = self._direct
         trapezoid = isinstance(self.scene.motion, TrapezoidalProfile) and any(
@@ -290,6 +315,8 @@ class Plan:
         robust plans: (values, worst-case |outcome - target|).
     worst_error : robust plans: the largest |outcome - target| over the
         uncertain parameters' samples (else NaN); band the outcome band there.
+    rest_by : the time [s] by which the plan has the object at rest relative
+        to the gripper (``target["rest_by"]``), or None.
     """
 
     scene: Scene
@@ -306,6 +333,7 @@ class Plan:
     tol: float
     worst_error: float = math.nan
     band: Optional["Band"] = None
+    rest_by: Optional[float] = None
 
     @property
     def meets_target(self):
@@ -446,7 +474,12 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Mapping[str, Tuple[fl
         One quantity and its wanted value, e.g. ``{"slip": 0.015}`` [m] or
         ``{"rotation": math.radians(30)}`` [rad] (see :data:`QUANTITIES`);
         several for a pose, e.g. ``{"x": 0.01, "y": -0.02, "rotation": 0.3}``
-        (then several parameters vary, see below).
+        (then several parameters vary, see below). With one varied parameter
+        and one quantity the key ``"rest_by"`` [s] adds the time by which the
+        object must be at rest relative to the gripper, e.g. ``{"slip":
+        -0.015, "rest_by": 0.9}``: parameter values whose object still moves
+        after it (relative speed above 1e-12 at rest_by, or coordinates that
+        change between rest_by and t_end) are left out like a broken limit.
     vary : dict
         ``{name: (low, high)}``: the parameter(s) to vary and their bounds
         (any :func:`exdex.simulate_batch` parameter). With one parameter and
@@ -501,6 +534,16 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Mapping[str, Tuple[fl
         raise TypeError(f"scene must be an exdex.Scene, got {type(scene).__name__}")
     if not isinstance(vary, Mapping) or len(vary) < 1:
         raise ValueError("vary must be a dict of parameters and their bounds, e.g. {'grip_force': (0.5, 3.0)}")
+    rest_by = None
+    if isinstance(target, Mapping) and "rest_by" in target:
+        target = dict(target)
+        rest_by = _real(target.pop("rest_by"), "target['rest_by']", low=0.0, low_open=True)
+        if not target:
+            raise ValueError("target['rest_by'] constrains a plan: name a quantity too, e.g. "
+                             "{'slip': -0.015, 'rest_by': 0.9}")
+        if len(vary) > 1 or len(target) > 1 or uncertain is not None:
+            raise ValueError("target['rest_by'] applies to plans with one varied parameter and one quantity "
+                             "(not to several parameters or robust plans)")
     if len(vary) > 1 or (isinstance(target, Mapping) and len(target) > 1):
         if uncertain is not None:
             raise ValueError("robust planning (uncertain=...) varies one parameter; pass one entry in vary")
@@ -536,8 +579,22 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Mapping[str, Tuple[fl
         return _solve_robust(run, scene, name, xs, feasible, quantity, goal, tol, unc, refine, cost, verify,
                              limits)
 
+    if rest_by is not None and rest_by > t_end:
+        raise ValueError(f"target['rest_by'] must lie in (0, t_end] = (0, {t_end:g}] s, got {rest_by:g}; "
+                         "pass a longer t_end")
     ys = np.full(xs.shape, np.nan)
     ys[feasible] = run(**{name: xs[feasible]})
+    ys_all = ys.copy()
+    if rest_by is not None:
+        # values whose object still moves after rest_by are left out, as a limit
+        rest = np.zeros(xs.shape, bool)
+        rest[feasible] = run.at_rest_by(rest_by, **{name: xs[feasible]})
+        ys[~rest] = np.nan
+        feasible = feasible & rest
+        if not feasible.any():
+            raise UnreachableTargetError(
+                f"no value of {name!r} in [{lo:g}, {hi:g}] has the object at rest by target['rest_by'] = "
+                f"{rest_by:g} s{' within the limits' if limits is not None else ''}", (math.nan, math.nan))
     f = lambda x: run(**{name: np.asarray(x)}) - goal  # noqa: E731
     xtol = 1e-13 * max(abs(lo), abs(hi))
     sols: list = []
@@ -548,6 +605,7 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Mapping[str, Tuple[fl
             if ra == 0.0 or ra * rb < 0 or (k == j - 1 and rb == 0.0):
                 x, rr = _refine(f, xs[k], xs[k + 1], ra, rb, tol, xtol, refine, 60)
                 if abs(rr) <= tol and _feasible(scene, name, x, limits) and \
+                        (rest_by is None or bool(run.at_rest_by(rest_by, **{name: np.array([x])})[0])) and \
                         not any(abs(x - s) <= xtol for s, _ in sols):
                     sols.append((x, rr))
         del r
@@ -557,10 +615,15 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Mapping[str, Tuple[fl
     if not sols:
         where = "" if goal < reach[0] or goal > reach[1] else \
             " (it lies between the scan's values only across a jump of the outcome or a limit)"
+        fin_all = ys_all[np.isfinite(ys_all)]
+        if rest_by is not None and fin_all.size and fin_all.min() <= goal <= fin_all.max():
+            where += (f"; without target['rest_by'] the scan reaches [{fin_all.min():.6g}, {fin_all.max():.6g}] "
+                      f"{u}: the values that reach the target leave the object moving after {rest_by:g} s")
         raise UnreachableTargetError(
             f"target {quantity} {goal:.6g} {u} is not reachable by varying {name!r} in [{lo:g}, {hi:g}]"
-            f"{' within the limits' if limits is not None else ''}: reachable [{reach[0]:.6g}, {reach[1]:.6g}] {u}"
-            f"{where}", reach)
+            f"{' within the limits' if limits is not None else ''}"
+            f"{f' with the object at rest by {rest_by:g} s' if rest_by is not None else ''}: reachable "
+            f"[{reach[0]:.6g}, {reach[1]:.6g}] {u}{where}", reach)
     if len(sols) > 1:
         ranked = sorted(sols, key=lambda s: (_cost_of(cost, _replace_params(scene, {name: s[0]}), name, s[0]),
                                              s[0]))
@@ -579,7 +642,7 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Mapping[str, Tuple[fl
     return Plan(scene=best, parameter=name, value=float(x), quantity=quantity, target=goal, achieved=achieved,
                 residual=achieved - goal, cost=_cost_of(cost, best, name, x),
                 reachable=(min(reach[0], achieved), max(reach[1], achieved)),
-                solutions=tuple(float(s) for s, _ in ranked), scan=(xs, ys), tol=tol)
+                solutions=tuple(float(s) for s, _ in ranked), scan=(xs, ys), tol=tol, rest_by=rest_by)
 
 
 def _final_state(scene, t_end, dt, method, rtol, atol, eps, analytic):
