@@ -155,15 +155,38 @@ static int sampled_options(PyObject *spec, exdex_motion_def *mo)
     return 0;
 }
 
-/* Fill an exdex_scene_def from a spec dict. Sampled-motion arrays are
- * returned as new references in *times / *poses (kept alive by the caller
- * until the model is built). */
+/* Optional grip schedule: key grip_schedule, a (2, n) float64 array (row 0
+ * the times, row 1 the forces; n >= 1), and grip_kind (0 linear, 1 cubic,
+ * 2 step). The array is returned as a new reference in *grip (kept alive
+ * by the caller until the model is built), NULL without a schedule. */
+static int grip_from_dict(PyObject *spec, exdex_scene_def *def, PyArrayObject **grip)
+{
+    PyObject *obj = PyDict_GetItemString(spec, "grip_schedule");
+    if (!obj || obj == Py_None) return 0;
+    if (PyDict_GetItemString(spec, "grip_kind") && dict_int(spec, "grip_kind", &def->grip_kind)) return -1;
+    *grip = (PyArrayObject *)PyArray_FROMANY(obj, NPY_DOUBLE, 2, 2, NPY_ARRAY_IN_ARRAY);
+    if (!*grip || PyArray_DIM(*grip, 0) != 2 || PyArray_DIM(*grip, 1) < 1) {
+        Py_CLEAR(*grip);
+        PyErr_Clear();
+        PyErr_SetString(PyExc_ValueError, "'grip_schedule' must be a float64 array of shape (2, n), n >= 1 "
+                                          "(row 0 the times, row 1 the forces)");
+        return -1;
+    }
+    def->grip_n = (size_t)PyArray_DIM(*grip, 1);
+    def->grip_times = (const double *)PyArray_DATA(*grip);
+    def->grip_forces = def->grip_times + def->grip_n;
+    return 0;
+}
+
+/* Fill an exdex_scene_def from a spec dict. Sampled-motion arrays and the
+ * grip schedule are returned as new references in *times / *poses / *grip
+ * (kept alive by the caller until the model is built). */
 static int scene_from_dict(PyObject *spec, exdex_scene_def *def, PyArrayObject **times,
-                           PyArrayObject **poses)
+                           PyArrayObject **poses, PyArrayObject **grip)
 {
     PyArrayObject *verts = NULL, *sp = NULL, *sn = NULL;
     npy_intp nv, nsp, nsn, nt, np_;
-    *times = *poses = NULL;
+    *times = *poses = *grip = NULL;
     if (!PyDict_Check(spec)) {
         PyErr_SetString(PyExc_TypeError, "spec must be a dict (use exdex.Scene)");
         return -1;
@@ -228,6 +251,7 @@ static int scene_from_dict(PyObject *spec, exdex_scene_def *def, PyArrayObject *
         def->motion.poses = (const double *)PyArray_DATA(*poses);
         if (sampled_options(spec, &def->motion)) goto fail;
     }
+    if (grip_from_dict(spec, def, grip)) goto fail;
     Py_DECREF(verts);
     Py_DECREF(sp);
     Py_DECREF(sn);
@@ -238,7 +262,8 @@ fail:
     Py_XDECREF(sn);
     Py_XDECREF(*times);
     Py_XDECREF(*poses);
-    *times = *poses = NULL;
+    Py_XDECREF(*grip);
+    *times = *poses = *grip = NULL;
     return -1;
 }
 
@@ -423,14 +448,15 @@ done:
 static exdex_model *model_from_spec(PyObject *module, PyObject *spec)
 {
     exdex_scene_def def;
-    PyArrayObject *times = NULL, *poses = NULL;
+    PyArrayObject *times = NULL, *poses = NULL, *grip = NULL;
     exdex_model *model;
     const char *bad = NULL;
     int status;
-    if (scene_from_dict(spec, &def, &times, &poses)) return NULL;
+    if (scene_from_dict(spec, &def, &times, &poses, &grip)) return NULL;
     model = exdex_model_alloc(&def, &status, &bad);   /* copies the sampled arrays */
     Py_XDECREF(times);
     Py_XDECREF(poses);
+    Py_XDECREF(grip);
     if (!model) raise_status(module, status, "scene", bad);
     return model;
 }
@@ -641,13 +667,14 @@ PyDoc_STRVAR(analytic_unsupported_doc,
 static PyObject *core_analytic_unsupported(PyObject *module, PyObject *spec)
 {
     exdex_scene_def def;
-    PyArrayObject *times = NULL, *poses = NULL;
+    PyArrayObject *times = NULL, *poses = NULL, *grip = NULL;
     const char *why;
     (void)module;
-    if (scene_from_dict(spec, &def, &times, &poses)) return NULL;
+    if (scene_from_dict(spec, &def, &times, &poses, &grip)) return NULL;
     why = exdex_analytic_unsupported(&def);
     Py_XDECREF(times);
     Py_XDECREF(poses);
+    Py_XDECREF(grip);
     if (!why) Py_RETURN_NONE;
     return PyUnicode_FromString(why);
 }
@@ -661,7 +688,7 @@ static PyObject *core_motion_eval(PyObject *module, PyObject *args, PyObject *kw
 {
     static char *kwlist[] = {"spec", "t", NULL};
     PyObject *spec, *tobj, *result = NULL;
-    PyArrayObject *times = NULL, *poses = NULL, *ta = NULL, *out[6] = {NULL};
+    PyArrayObject *times = NULL, *poses = NULL, *grip = NULL, *ta = NULL, *out[6] = {NULL};
     exdex_scene_def def;
     exdex_motion *mo = NULL;
     const char *bad = NULL;
@@ -671,7 +698,7 @@ static PyObject *core_motion_eval(PyObject *module, PyObject *args, PyObject *kw
     ta = (PyArrayObject *)PyArray_FROMANY(tobj, NPY_DOUBLE, 0, 1, NPY_ARRAY_IN_ARRAY);
     if (!ta) return NULL;
     n = PyArray_SIZE(ta);
-    if (scene_from_dict(spec, &def, &times, &poses)) goto done;
+    if (scene_from_dict(spec, &def, &times, &poses, &grip)) goto done;
     mo = exdex_motion_alloc(&def.motion, def.R0, def.p0, &status, &bad);
     if (!mo) {
         raise_status(module, status, "motion", bad);
@@ -711,6 +738,7 @@ done:
     exdex_motion_free(mo);
     Py_XDECREF(times);
     Py_XDECREF(poses);
+    Py_XDECREF(grip);
     Py_XDECREF(ta);
     for (int i = 0; i < 6; i++) Py_XDECREF(out[i]);
     return result;
@@ -726,14 +754,14 @@ static PyObject *core_motion_jumps(PyObject *module, PyObject *args, PyObject *k
 {
     static char *kwlist[] = {"spec", NULL};
     PyObject *spec, *result = NULL;
-    PyArrayObject *times = NULL, *poses = NULL;
+    PyArrayObject *times = NULL, *poses = NULL, *grip = NULL;
     exdex_scene_def def;
     exdex_motion *mo = NULL;
     const char *bad = NULL;
     int status = EXDEX_OK, nj;
     double tj[EXDEX_MOTION_MAX_JUMPS], dv[EXDEX_MOTION_MAX_JUMPS][3], dw[EXDEX_MOTION_MAX_JUMPS][3];
     if (!PyArg_ParseTupleAndKeywords(args, kwds, "O", kwlist, &spec)) return NULL;
-    if (scene_from_dict(spec, &def, &times, &poses)) goto done;
+    if (scene_from_dict(spec, &def, &times, &poses, &grip)) goto done;
     mo = exdex_motion_alloc(&def.motion, def.R0, def.p0, &status, &bad);
     if (!mo) {
         raise_status(module, status, "motion", bad);
@@ -751,6 +779,7 @@ done:
     exdex_motion_free(mo);
     Py_XDECREF(times);
     Py_XDECREF(poses);
+    Py_XDECREF(grip);
     return result;
 }
 
@@ -1157,7 +1186,7 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
     double t_end, dt;
     int threads = 0, check_signals = 0, final, nvary = 0, which[NVARY_MAX], ndof = 0, ns = 0, have_mutex = 0;
     PyArrayObject *varr[NVARY_MAX] = {NULL};
-    PyArrayObject *base_times = NULL, *base_poses = NULL;
+    PyArrayObject *base_times = NULL, *base_poses = NULL, *base_grip = NULL;
     PyArrayObject *t = NULL, *q = NULL, *v = NULL, *wr = NULL, *stick = NULL, *sf = NULL, *disp = NULL;
     PyArrayObject *sarr[11] = {NULL};
     exdex_model **models = NULL;
@@ -1196,7 +1225,7 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
     /* ---- the batch: one spec dict (+ vary) or a sequence of spec dicts */
     if (PyDict_Check(specs)) {
         nb = nvary_len >= 0 ? nvary_len : 1;
-        if (scene_from_dict(specs, &base, &base_times, &base_poses)) goto done;
+        if (scene_from_dict(specs, &base, &base_times, &base_poses, &base_grip)) goto done;
     } else {
         seq = PySequence_Fast(specs, "specs must be a spec dict or a sequence of spec dicts");
         if (!seq) goto done;
@@ -1221,11 +1250,11 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
     }
     for (i = 0; i < nmodels; i++) {
         exdex_scene_def def;
-        PyArrayObject *times = NULL, *poses = NULL;
+        PyArrayObject *times = NULL, *poses = NULL, *grip = NULL;
         const char *bad = NULL;
         int status;
         if (seq) {
-            if (scene_from_dict(PySequence_Fast_GET_ITEM(seq, i), &def, &times, &poses)) {
+            if (scene_from_dict(PySequence_Fast_GET_ITEM(seq, i), &def, &times, &poses, &grip)) {
                 prefix_error(i);
                 goto done;
             }
@@ -1236,6 +1265,7 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
         models[i] = exdex_model_alloc(&def, &status, &bad);
         Py_XDECREF(times);
         Py_XDECREF(poses);
+        Py_XDECREF(grip);
         if (!models[i]) {
             raise_status(module, status, "scene", bad);
             prefix_error(i);
@@ -1403,6 +1433,7 @@ done:
     for (int k = 0; k < 11; k++) Py_XDECREF(sarr[k]);
     Py_XDECREF(base_times);
     Py_XDECREF(base_poses);
+    Py_XDECREF(base_grip);
     Py_XDECREF(seq);
     Py_XDECREF(t);
     Py_XDECREF(q);
