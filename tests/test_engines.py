@@ -333,12 +333,12 @@ def test_hold_quick_exdex_is_exactly_zero_and_table_complete(tmp_path):
     import argparse
     import csv
 
-    from exdex import hold
+    from exdex import cli_hold, hold
 
     p = argparse.ArgumentParser()
-    hold.add_arguments(p)
+    cli_hold.add_arguments(p)
     args = p.parse_args(["--quick", "--out", str(tmp_path), "--no-progress"])
-    assert hold.run(args) == 0
+    assert cli_hold.run(args) == 0
     rows = list(csv.DictReader(open(tmp_path / "hold_table.csv")))
     settings = {r["setting"] for r in rows}
     scenarios = {(r["dof"], r["margin"], r["motion"]) for r in rows}
