@@ -56,7 +56,7 @@ COMMANDS = {
     "bench": ("exdex.cli_bench", "work-precision charts and stability maps of the integration methods", _needs_bench),
     "tool": ("exdex.cli_tool", "assistive-tool design: twist-cone volumes and tool-angle optimisation", _needs_tool),
     "run": ("exdex.cli_run", "simulate a scene file (TOML or JSON): CSV, NPZ, a figure, an animation", _needs_run),
-    "plan": ("exdex.plan", "plan the motion or grip for a target slip or turn; band under uncertainty; poses CSV",
+    "plan": ("exdex.cli_plan", "plan the motion or grip for a target slip or turn; band under uncertainty; poses CSV",
              _needs_run),
 }
 
