@@ -1,7 +1,8 @@
 /* explicit.c -- the naive baseline EXDEX_METHOD_EXPLICIT: explicit Coulomb
  * friction with sign(), symplectic Euler steps of dt,
  *     v+ = v + dt M^-1 (Q(t, q, v) + friction(v)),   q+ = q + dt v+,
- * friction -mu N E^2 u / |E u| and 0 at u = 0 exactly; the frame
+ * friction -C E^2 u / |E u| (C = mu N, with a grip schedule its mean over
+ * the step) and 0 at u = 0 exactly; the frame
  * accelerations enter as step means (model_frame_step). Stops:
  * velocity-level rows G v+ >= -gap(q, t + dt)/dt; 1-DoF: a clamp; planar:
  * v+ is the M-metric projection of v* onto every (stop, vertex) row
@@ -40,7 +41,7 @@ static int run_explicit(const exdex_model *m, double t_end, double dt, exdex_tra
         for (int k = 0; k < ns; k++) lamsum[k] = 0.0;
         if (nd == 1) {
             int tr = m->def.dof == EXDEX_DOF_TRANSLATION;
-            double M = tr ? m->m : m->mrot, C = tr ? m->capF : m->capF * m->e[2];
+            double capm = model_capacity_mean(m, t, t1), M = tr ? m->m : m->mrot, C = tr ? capm : capm * m->e[2];
             double Q = model_force_1dof(m, &f, q[0], v[0]);
             double fr = v[0] > 0.0 ? -C : v[0] < 0.0 ? C : 0.0;  /* -C sign(v) */
             double vn = v[0] + h * (Q + fr) / M, lo = -INFINITY, hi = INFINITY;
@@ -93,7 +94,7 @@ static int run_explicit(const exdex_model *m, double t_end, double dt, exdex_tra
             for (int c = 0; c < 3; c++) eu[c] = m->e[c] * u[c];
             sig = sqrt(ex_dot3(eu, eu));
             if (sig > 0.0)
-                for (int c = 0; c < 3; c++) w[c] = -m->capF * m->e[c] * eu[c] / sig;
+                for (int c = 0; c < 3; c++) w[c] = -model_capacity_mean(m, t, t1) * m->e[c] * eu[c] / sig;
             model_gen_of_patch(m, MODEL_CS(q[2]), w, P);
             model_to_b(MODEL_CS(q[2]), w, wrench);
             for (int c = 0; c < 3; c++) v[c] += h * m->minv[c] * (F[c] + P[c]);

@@ -364,10 +364,10 @@ static int solve_active(const exdex_model *m, const double cs[2], double cap, co
 /* Planar friction + stops: friction alone first; if a stop row is violated,
  * exact rest (try_rest), else a primal active set over the stop rows with the
  * smooth sliding subproblem (solve_active). */
-static int step_planar(const exdex_model *m, double h, double th, const double vs[3], work *w,
+static int step_planar(const exdex_model *m, double h, double capm, double th, const double vs[3], work *w,
                        double v[3], double pfB[3], exdex_friction_result *fr, exdex_stats *st)
 {
-    double cap = h * m->capF, b[3], cs[2] = {cos(th), sin(th)};
+    double cap = h * capm, b[3], cs[2] = {cos(th), sin(th)};
     int s, act[3], k = 0, round;
     model_patch_slip(m, cs, vs, b);
     s = exdex_friction_solve(&m->prep, b, cap, m->def.friction_solver, w->fws, w->have_prev ? w->p_prev : NULL, fr);
@@ -557,9 +557,11 @@ static int implicit_run(const exdex_model *m, void *ws, double t_end, double dt,
         if (n_dof == 1) {
             int tr = m->def.dof == EXDEX_DOF_TRANSLATION;
             double M = tr ? m->m : m->mrot, Q = model_force_1dof(m, &f, qm[0], vmid[0]), pf;
-            /* friction capacity of the step: |E j| = e_t = 1 for a slide,
-             * e_r for a pure spin at the centre of pressure */
-            double c = tr ? h * m->capF : h * m->capF * m->e[2];
+            /* friction capacity of the step: the capacity's mean over the
+             * step times h (the largest impulse the plates carry), |E j| =
+             * e_t = 1 for a slide, e_r for a pure spin at the centre of
+             * pressure */
+            double capm = model_capacity_mean(m, t, t1), c = tr ? h * capm : h * capm * m->e[2];
             vs[0] = v[0] + h * Q / M;
             step_1dof(M, c, vs[0], m->tol.touch, w, &vn[0], &pf, st);
             if (m->def.dof == EXDEX_DOF_TRANSLATION) {
@@ -574,7 +576,7 @@ static int implicit_run(const exdex_model *m, void *ws, double t_end, double dt,
             double pfB[3], fo[3];
             model_force_planar(m, &f, qm, vmid, F);
             for (int i = 0; i < 3; i++) vs[i] = v[i] + h * m->minv[i] * F[i];
-            status = step_planar(m, h, qm[2], vs, w, vn, pfB, &fr, st);
+            status = step_planar(m, h, model_capacity_mean(m, t, t1), qm[2], vs, w, vn, pfB, &fr, st);
             if (status) {
                 st->fail_time = t;
                 break;
