@@ -1140,7 +1140,15 @@ static int locate(hyb *H, ode *O, double t0, const double *y0, double tau0, doub
     gsl_function F = {root_fn, &c};
     double lo = tau0, hi = tau1;
     int st = gsl_root_fsolver_set(O->root, &F, lo, hi);
-    if (st) return EXDEX_ENOCONV;
+    if (st) {
+        /* no bracket: the one-step map does not reproduce at tau1 the
+         * violated sign that the accepted step found there (the guard
+         * within rounding of 0, the step's map and the evolved state
+         * differing in the last bits): the event is at the step's end */
+        if (c.fail) return EXDEX_ENOCONV;
+        *tau = tau1;
+        return EXDEX_OK;
+    }
     for (int it = 0; it < BRENT_MAX; it++) {
         st = gsl_root_fsolver_iterate(O->root);
         if (st || c.fail) return EXDEX_ENOCONV;
