@@ -108,9 +108,17 @@ static int check_fields(const exdex_scene_def *d, const char **bad_param)
         if (!d->grip_forces) return bad(bad_param, "grip_forces");
         for (size_t i = 0; i < d->grip_n; i++)
             if (!(isfinite(d->grip_forces[i]) && d->grip_forces[i] >= 0)) return bad(bad_param, "grip_forces");
-        /* the scaled forces must stay finite */
+        /* the scaled forces must stay finite, and so must the slopes of the
+         * interpolant: |dF| / h (and |dF| / h^3 for the cubic's coefficients)
+         * for each interval h between the points */
         for (size_t i = 0; i < d->grip_n; i++)
             if (!isfinite(d->grip_force * d->grip_forces[i])) return bad(bad_param, "grip_forces");
+        for (size_t i = 1; i < d->grip_n; i++) {
+            double h = d->grip_times[i] - d->grip_times[i - 1];
+            double dF = fabs(d->grip_force * d->grip_forces[i] - d->grip_force * d->grip_forces[i - 1]);
+            if (dF > 0.0 && !(isfinite(dF / h) && (d->grip_kind != EXDEX_GRIP_CUBIC || isfinite(dF / (h * h * h)))))
+                return bad(bad_param, "grip_times");
+        }
     }
     if (d->fingers != 1 && d->fingers != 2) return bad(bad_param, "fingers");
     if (!(isfinite(d->e_r) && d->e_r > 0)) return bad(bad_param, "e_r");
@@ -450,8 +458,17 @@ double model_grip_sched(const exdex_model *m, double t)
     size_t n = m->grip_n;
     if (!(t > m->grip_t[0])) return m->grip_f[0];
     if (t >= m->grip_t[n - 1]) return m->grip_f[n - 1];
-    if (!m->grip_interp) return m->grip_f[grip_piece(m, t)];
-    return gsl_interp_eval(m->grip_interp, m->grip_t, m->grip_f, t, NULL);
+    {
+        size_t i = grip_piece(m, t);
+        double a = m->grip_f[i], b = m->grip_f[i + 1], F;
+        if (m->grip_kind == EXDEX_GRIP_STEP) return a;
+        if (m->grip_kind == EXDEX_GRIP_LINEAR || !m->grip_interp)
+            /* a convex combination: between a and b, whatever the spacing */
+            return a + (b - a) * ((t - m->grip_t[i]) / (m->grip_t[i + 1] - m->grip_t[i]));
+        F = gsl_interp_eval(m->grip_interp, m->grip_t, m->grip_f, t, NULL);
+        /* Steffen's cubic is monotone on each piece: between a and b up to rounding */
+        return fmin(fmax(F, fmin(a, b)), fmax(a, b));
+    }
 }
 
 double model_grip_sched_rate(const exdex_model *m, double t)
