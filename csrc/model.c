@@ -447,10 +447,29 @@ static int grip_setup(exdex_model *m, const exdex_scene_def *def)
     return EXDEX_OK;
 }
 
-/* Index i of the piece [t_i, t_{i+1}) holding t, t inside [t_0, t_{n-1}). */
+/* Index i of the piece [t_i, t_{i+1}) holding t, t inside [t_0, t_{n-1})
+ * (bisection, as gsl_interp_bsearch, inlined: every step of a
+ * time-stepping method calls it). */
 static size_t grip_piece(const exdex_model *m, double t)
 {
-    return gsl_interp_bsearch(m->grip_t, t, 0, m->grip_n - 1);
+    size_t lo = 0, hi = m->grip_n - 1;
+    const double *x = m->grip_t;
+    while (hi > lo + 1) {
+        size_t k = (lo + hi) / 2;
+        if (x[k] > t)
+            hi = k;
+        else
+            lo = k;
+    }
+    return lo;
+}
+
+/* F at t inside piece i of the linear kind: a convex combination of the
+ * piece's end values (between them whatever the spacing). */
+static double grip_linear(const exdex_model *m, size_t i, double t)
+{
+    double a = m->grip_f[i], b = m->grip_f[i + 1];
+    return a + (b - a) * ((t - m->grip_t[i]) / (m->grip_t[i + 1] - m->grip_t[i]));
 }
 
 double model_grip_sched(const exdex_model *m, double t)
@@ -462,9 +481,7 @@ double model_grip_sched(const exdex_model *m, double t)
         size_t i = grip_piece(m, t);
         double a = m->grip_f[i], b = m->grip_f[i + 1], F;
         if (m->grip_kind == EXDEX_GRIP_STEP) return a;
-        if (m->grip_kind == EXDEX_GRIP_LINEAR || !m->grip_interp)
-            /* a convex combination: between a and b, whatever the spacing */
-            return a + (b - a) * ((t - m->grip_t[i]) / (m->grip_t[i + 1] - m->grip_t[i]));
+        if (m->grip_kind == EXDEX_GRIP_LINEAR || !m->grip_interp) return grip_linear(m, i, t);
         F = gsl_interp_eval(m->grip_interp, m->grip_t, m->grip_f, t, NULL);
         /* Steffen's cubic is monotone on each piece: between a and b up to rounding */
         return fmin(fmax(F, fmin(a, b)), fmax(a, b));
@@ -499,7 +516,9 @@ double model_grip_sched_mean(const exdex_model *m, double t0, double t1)
     if (t0 >= lo && t1 <= hi && m->grip_kind != EXDEX_GRIP_CUBIC) {
         size_t i = grip_piece(m, t0);
         /* inside one linear or constant piece: the midpoint value is the mean */
-        if (t1 <= m->grip_t[i + 1]) return model_grip_sched(m, 0.5 * (t0 + t1));
+        if (t1 <= m->grip_t[i + 1])
+            return m->grip_kind == EXDEX_GRIP_STEP || !m->grip_interp ? m->grip_f[i]
+                                                                      : grip_linear(m, i, 0.5 * (t0 + t1));
     }
     s = 0.0;
     if (t0 < lo) s += m->grip_f[0] * (lo - t0);
