@@ -329,6 +329,14 @@ typedef struct exdex_scene_def {
                                  scale (positions L, angles 1 rad, velocities L/T, 1/T,
                                  force integrals m L/T, with the scene's length L and
                                  time T scales): both dimensionless */
+    /* static friction: the plates hold the object while the wrench that
+     * holds it lies in the static ellipsoid, of capacity mu_static N, and a
+     * slip slides against the kinetic one, mu N (same shape, E); a slip
+     * sticks again where its slip twist reaches 0 with the holding wrench
+     * inside the static ellipsoid. mu_static >= mu, or 0: equal to mu (a
+     * zero-initialised field keeps the one-coefficient law). Each method's
+     * use of it is stated with the method (exdex_method above, hybrid.c). */
+    double mu_static;
 } exdex_scene_def;
 
 /* NULL if EXDEX_METHOD_ANALYTIC solves the scene, else a static sentence

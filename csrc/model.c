@@ -97,6 +97,8 @@ static int check_fields(const exdex_scene_def *d, const char **bad_param)
     if (!ex_finite_n(&d->vertices[0][0], 2 * d->n_vertices)) return bad(bad_param, "vertices");
     if (!(isfinite(d->mu) && d->mu >= 0)) return bad(bad_param, "mu");
     if (!(isfinite(d->grip_force) && d->grip_force >= 0)) return bad(bad_param, "grip_force");
+    if (!(isfinite(d->mu_static) && (d->mu_static == 0.0 || d->mu_static >= d->mu)))
+        return bad(bad_param, "mu_static");
     if (d->fingers != 1 && d->fingers != 2) return bad(bad_param, "fingers");
     if (!(isfinite(d->e_r) && d->e_r > 0)) return bad(bad_param, "e_r");
     if (!ex_finite_n(d->patch_center, 2)) return bad(bad_param, "patch_center");
@@ -403,6 +405,18 @@ static exdex_model *build_model(const exdex_scene_def *def, int *status, const c
     memcpy(m->I, def->inertia, sizeof m->I);
     m->izz = def->inertia[8];
     m->capF = def->mu * def->fingers * def->grip_force;
+    /* static capacity: the kinetic one times mu_static / mu; with mu = 0
+     * the ratio is undefined and the static capacity is stored itself */
+    m->cap_ratio = 1.0;
+    m->capS = m->capF;
+    if (def->mu_static != 0.0 && def->mu_static != def->mu) {
+        if (def->mu > 0.0) {
+            m->cap_ratio = def->mu_static / def->mu;
+            m->capS = m->capF * m->cap_ratio;
+        } else {
+            m->capS = def->mu_static * def->fingers * def->grip_force;
+        }
+    }
     m->e[0] = m->e[1] = 1.0;
     m->e[2] = def->e_r;
     m->pc[0] = def->patch_center[0];

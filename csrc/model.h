@@ -71,6 +71,12 @@ struct exdex_model {
     double vert[EXDEX_MAX_VERTICES][2];
     model_scales scale;
     model_tols tol;
+    /* static friction (exdex_scene_def.mu_static): the static capacity
+     * capS = capF cap_ratio, cap_ratio = mu_static / mu (exactly 1, and capS
+     * == capF bit for bit, when they are equal); with mu = 0 the ratio is
+     * undefined (1) and capS = mu_static fingers grip_force is set itself */
+    double cap_ratio;
+    double capS;
 };
 
 /* Per-step quantities of the moving frame, in B coordinates: gravity g_B,
