@@ -329,6 +329,17 @@ typedef struct exdex_scene_def {
                                  scale (positions L, angles 1 rad, velocities L/T, 1/T,
                                  force integrals m L/T, with the scene's length L and
                                  time T scales): both dimensionless */
+    /* grip-force schedule (grip_n = 0: the constant grip_force). With a
+     * schedule the normal force of each finger is F(t) = grip_force S(t)
+     * (grip_force a scale, 1 for the schedule as given), S the schedule
+     * through the points (grip_times[i], grip_forces[i]) by grip_kind, held
+     * at its first and last value outside [grip_times[0],
+     * grip_times[grip_n - 1]]; the friction capacity is mu fingers F(t).
+     * The points are copied by exdex_model_alloc. */
+    size_t grip_n;              /* 0 or 1 .. EXDEX_MAX_GRIP_POINTS */
+    const double *grip_times;   /* (grip_n,) finite, strictly increasing [s] */
+    const double *grip_forces;  /* (grip_n,) finite, >= 0 [N] */
+    int grip_kind;              /* enum exdex_grip_kind */
     /* static friction: the plates hold the object while the wrench that
      * holds it lies in the static ellipsoid, of capacity mu_static N, and a
      * slip slides against the kinetic one, mu N (same shape, E); a slip
@@ -339,12 +350,24 @@ typedef struct exdex_scene_def {
     double mu_static;
 } exdex_scene_def;
 
+/* Interpolation of a grip-force schedule between its points. */
+enum exdex_grip_kind {
+    EXDEX_GRIP_LINEAR = 0,  /* piecewise linear */
+    EXDEX_GRIP_CUBIC = 1,   /* Steffen's monotone cubic (GSL gsl_interp_steffen): C1, no
+                               overshoot (between two points it stays between their values,
+                               so F >= 0); linear through two points, constant through one */
+    EXDEX_GRIP_STEP = 2     /* piecewise constant, right-continuous: forces[i] on
+                               [times[i], times[i + 1]) (a release or re-grip as a step) */
+};
+#define EXDEX_MAX_GRIP_POINTS 1000000
+
 /* NULL if EXDEX_METHOD_ANALYTIC solves the scene, else a static sentence
  * saying why not: it needs a 1-DoF scene without stops whose drive is
  * piecewise constant: a translation scene whose gripper translates (Eq. 7,
  * a trapezoid with ramps, or rest), or a rotation scene about the centre of
  * mass (patch centre 0) whose gripper turns about the plate normal (to
- * 1e-12) or rests. */
+ * 1e-12) or rests; and the grip force must be constant (a schedule whose
+ * forces are all equal is). */
 const char *exdex_analytic_unsupported(const exdex_scene_def *def);
 
 /* Defaults: unit mass, unit inertia, mu 0.5, grip force 1 N, 2 fingers,
@@ -369,6 +392,11 @@ exdex_model *exdex_model_alloc(const exdex_scene_def *def, int *status,
 void exdex_model_free(exdex_model *m);   /* NULL is harmless */
 int exdex_model_ndof(const exdex_model *m);
 int exdex_model_nstops(const exdex_model *m);
+/* Normal force of each finger at time t, *force [N], and its rate dF/dt,
+ * *rate [N/s] (the right derivative at a breakpoint; either may be NULL):
+ * the constant grip_force or the scene's grip schedule scaled by it.
+ * EXDEX_EINVAL for a NULL model or a NaN t. */
+int exdex_model_grip(const exdex_model *m, double t, double *force, double *rate);
 
 /* Number of recorded samples for (t_end, dt): steps of dt, the last one
  * shortened to end exactly at t_end; samples = steps + 1. 0 if invalid:

@@ -57,7 +57,8 @@
  *   recovers (a corner lifted off a stop falling back: its maximum is
  *   searched, and the crossing after it located). The
  *   motion's own switching times (Eq. 7, trapezoid kinks, end of a sampled
- *   motion) are stepped onto, never over, and velocity jumps of the gripper
+ *   motion) and the breakpoints of a grip schedule are stepped onto, never
+ *   over, and velocity jumps of the gripper
  *   there are applied as inertial impulses. Fails by Zeno-like toggling: a
  *   load that crosses the friction limit N times costs 2N events, and more
  *   than EVENTS_MAX events within one output interval return EXDEX_ENOCONV.
@@ -197,6 +198,7 @@ typedef struct hyb {
     double zsw;        /* planar: slip speed |E u| below which a slip is small, SLIP_SMALL atol */
     double lo, hi;     /* motion segment [lo, hi) */
     double M, cap, eps;
+    double capk;       /* capacity per unit model_capacity: 1, or e_r for a 1-DoF rotation */
     double caps;       /* static capacity (force, or torque in a 1-DoF rotation), >= cap */
     double vstr;       /* regularised: speed v_s at which the capacity falls from caps to cap */
     int err;           /* first failure inside a right-hand side */
@@ -205,15 +207,30 @@ typedef struct hyb {
 
 /* ---------------------------------------------------------- shared terms */
 
-/* Frame terms at t inside the current motion segment: right-continuous at
- * its start, left limit (a few ulps before) at its end, so an RK stage on the
- * segment end never sees the next phase's acceleration. */
-static int frame_seg(const hyb *H, double t, frame *f, exdex_kinematics *k)
+/* t clamped into the current segment: right-continuous at its start, left
+ * limit (a few ulps before) at its end, so an RK stage on the segment end
+ * never sees the next phase's acceleration or grip force. */
+static double seg_time(const hyb *H, double t)
 {
     double lo = H->lo, hi = H->hi;
     if (isfinite(hi)) hi -= 4.0 * DBL_EPSILON * fmax(1.0, fabs(hi));
     if (t > hi) t = hi;
     if (t < lo) t = lo;
+    return t;
+}
+
+/* Frame terms at t inside the current motion segment (seg_time); with a
+ * grip schedule also the friction capacities H->cap, H->caps at that time (segments end
+ * at the schedule's breakpoints too), which every friction law, guard and
+ * decision below reads: the stick guard C(t) (1 + TOLF) - |load|_E is
+ * located on the stepper's dense map like every other guard. */
+static int frame_seg(hyb *H, double t, frame *f, exdex_kinematics *k)
+{
+    t = seg_time(H, t);
+    if (H->m->grip_n) {
+        H->cap = H->capk * model_capacity(H->m, t);
+        H->caps = H->capk * model_capacity_static(H->m, t);
+    }
     return model_frame_at(H->m, t, f, k);
 }
 
@@ -962,6 +979,7 @@ typedef struct ode {
     gsl_root_fsolver *root;
     gsl_odeiv2_system sys;
     double yerr[NY_MAX], ytmp[NY_MAX];
+    double *ts, *gb;   /* switching times, grip breakpoints (EXDEX_MOTION_MAX_SWITCHES + grip_n each) */
 } ode;
 
 static void ode_free(ode *O)
@@ -971,6 +989,8 @@ static void ode_free(ode *O)
     if (O->evo) gsl_odeiv2_evolve_free(O->evo);
     if (O->con) gsl_odeiv2_control_free(O->con);
     if (O->step) gsl_odeiv2_step_free(O->step);
+    free(O->ts);
+    free(O->gb);
     free(O);
 }
 
@@ -1007,7 +1027,9 @@ static void *hybrid_alloc(const exdex_model *m, int *status)
     }
     O->evo = gsl_odeiv2_evolve_alloc(ny);
     O->root = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
-    if (!O->step || !O->con || !O->evo || !O->root) {
+    O->ts = malloc((EXDEX_MOTION_MAX_SWITCHES + m->grip_n) * sizeof *O->ts);
+    O->gb = malloc((EXDEX_MOTION_MAX_SWITCHES + m->grip_n) * sizeof *O->gb);
+    if (!O->step || !O->con || !O->evo || !O->root || !O->ts || !O->gb) {
         ode_free(O);
         *status = EXDEX_ENOMEM;
         return NULL;
@@ -1118,16 +1140,25 @@ static int locate(hyb *H, ode *O, double t0, const double *y0, double tau0, doub
     return EXDEX_OK;
 }
 
-/* The motion's switching times in (0, t_end] (exdex_motion_switches: its
- * acceleration switches and velocity jumps). A jump at t_end is applied too,
- * so the state recorded there is its right limit, as at every other time. */
-static size_t switch_times(const exdex_model *m, double t_end, double *ts)
+/* The switching times in (0, t_end], increasing: the motion's
+ * (exdex_motion_switches: its acceleration switches and velocity jumps) and
+ * the grip schedule's breakpoints (model_grip_breaks: the capacity or its
+ * derivatives jump there), merged; gb is scratch for the breakpoints. A
+ * jump at t_end is applied too, so the state recorded there is its right
+ * limit, as at every other time. */
+static size_t switch_times(const exdex_model *m, double t_end, double *ts, double *gb)
 {
     double c[EXDEX_MOTION_MAX_SWITCHES];
     int n = exdex_motion_switches(m->motion, c);
-    size_t k = 0;
-    for (int i = 0; i < n; i++)
-        if (c[i] > 0.0 && c[i] <= t_end && (k == 0 || c[i] > ts[k - 1])) ts[k++] = c[i];
+    size_t k = 0, ng = model_grip_breaks(m, t_end, gb), i = 0, j = 0;
+    while (i < (size_t)n || j < ng) {
+        double x;
+        if (j >= ng || (i < (size_t)n && c[i] <= gb[j]))
+            x = c[i++];
+        else
+            x = gb[j++];
+        if (x > 0.0 && x <= t_end && (k == 0 || x > ts[k - 1])) ts[k++] = x;
+    }
     return k;
 }
 
@@ -1141,7 +1172,7 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
                       exdex_trajectory *out, exdex_stats *st)
 {
     hyb H;
-    double y[NY_MAX], y0[NY_MAX], ts[EXDEX_MOTION_MAX_SWITCHES], t = 0.0, h;
+    double y[NY_MAX], y0[NY_MAX], *ts = O->ts, t = 0.0, h;
     size_t n = out->n, nsw;
     int nd = m->ndof, ns = m->n_stops, status = EXDEX_OK;
     memset(&H, 0, sizeof H);
@@ -1157,15 +1188,18 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
     H.eps = m->ndof == 1 && m->def.dof == EXDEX_DOF_ROTATION ? m->def.eps / m->e[2] : m->def.eps;
     if (nd == 3) {
         H.M = 1.0;
+        H.capk = 1.0;
         H.cap = m->capF;
         H.caps = m->capS;
         H.zsw = SLIP_SMALL * m->def.atol * m->scale.V;  /* atol of a slip speed |E u| */
     } else if (m->def.dof == EXDEX_DOF_TRANSLATION) {
         H.M = m->m;
+        H.capk = 1.0;
         H.cap = m->capF;
         H.caps = m->capS;
     } else {
         H.M = m->mrot;
+        H.capk = m->e[2];
         H.cap = m->capF * m->e[2];
         H.caps = m->capS * m->e[2];
     }
@@ -1174,7 +1208,7 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
     H.vstr = sqrt(m->def.eps * m->scale.V);
     if (m->ndof == 1 && m->def.dof == EXDEX_DOF_ROTATION) H.vstr /= m->e[2];
     O->sys.params = &H;
-    nsw = switch_times(m, t_end, ts);
+    nsw = switch_times(m, t_end, ts, O->gb);
     memset(y, 0, sizeof y);
     if (nd == 3) {
         model_initial_state(m, y, y + 3);

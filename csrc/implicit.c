@@ -381,10 +381,10 @@ static int solve_active(const exdex_model *m, const double cs[2], double cap, co
 /* Planar friction + stops: friction alone first; if a stop row is violated,
  * exact rest (try_rest), else a primal active set over the stop rows with the
  * smooth sliding subproblem (solve_active). */
-static int step_planar(const exdex_model *m, double h, double th, const double vs[3], work *w,
+static int step_planar(const exdex_model *m, double h, double capm, double capsm, double th, const double vs[3], work *w,
                        double v[3], double pfB[3], exdex_friction_result *fr, exdex_stats *st)
 {
-    double cap = h * m->capF, caps = h * m->capS, b[3], cs[2] = {cos(th), sin(th)};
+    double cap = h * capm, caps = h * capsm, b[3], cs[2] = {cos(th), sin(th)};
     int s, act[3], k = 0, round;
     model_patch_slip(m, cs, vs, b);
     /* stick with the static capacity, else slide with the kinetic one */
@@ -580,10 +580,12 @@ static int implicit_run(const exdex_model *m, void *ws, double t_end, double dt,
         if (n_dof == 1) {
             int tr = m->def.dof == EXDEX_DOF_TRANSLATION;
             double M = tr ? m->m : m->mrot, Q = model_force_1dof(m, &f, qm[0], vmid[0]), pf;
-            /* friction capacity of the step: |E j| = e_t = 1 for a slide,
-             * e_r for a pure spin at the centre of pressure */
-            double c = tr ? h * m->capF : h * m->capF * m->e[2];
-            double c_s = tr ? h * m->capS : h * m->capS * m->e[2];
+            /* friction capacity of the step: the capacity's mean over the
+             * step times h (the largest impulse the plates carry), |E j| =
+             * e_t = 1 for a slide, e_r for a pure spin at the centre of
+             * pressure; c_s the static one */
+            double capm = model_capacity_mean(m, t, t1), c = tr ? h * capm : h * capm * m->e[2];
+            double capsm = model_capacity_static_mean(m, t, t1), c_s = tr ? h * capsm : h * capsm * m->e[2];
             vs[0] = v[0] + h * Q / M;
             step_1dof(M, c, c_s, vs[0], m->tol.touch, w, &vn[0], &pf, st);
             if (m->def.dof == EXDEX_DOF_TRANSLATION) {
@@ -598,7 +600,8 @@ static int implicit_run(const exdex_model *m, void *ws, double t_end, double dt,
             double pfB[3], fo[3];
             model_force_planar(m, &f, qm, vmid, F);
             for (int i = 0; i < 3; i++) vs[i] = v[i] + h * m->minv[i] * F[i];
-            status = step_planar(m, h, qm[2], vs, w, vn, pfB, &fr, st);
+            status = step_planar(m, h, model_capacity_mean(m, t, t1), model_capacity_static_mean(m, t, t1), qm[2], vs,
+                                 w, vn, pfB, &fr, st);
             if (status) {
                 st->fail_time = t;
                 break;

@@ -155,15 +155,38 @@ static int sampled_options(PyObject *spec, exdex_motion_def *mo)
     return 0;
 }
 
-/* Fill an exdex_scene_def from a spec dict. Sampled-motion arrays are
- * returned as new references in *times / *poses (kept alive by the caller
- * until the model is built). */
+/* Optional grip schedule: key grip_schedule, a (2, n) float64 array (row 0
+ * the times, row 1 the forces; n >= 1), and grip_kind (0 linear, 1 cubic,
+ * 2 step). The array is returned as a new reference in *grip (kept alive
+ * by the caller until the model is built), NULL without a schedule. */
+static int grip_from_dict(PyObject *spec, exdex_scene_def *def, PyArrayObject **grip)
+{
+    PyObject *obj = PyDict_GetItemString(spec, "grip_schedule");
+    if (!obj || obj == Py_None) return 0;
+    if (PyDict_GetItemString(spec, "grip_kind") && dict_int(spec, "grip_kind", &def->grip_kind)) return -1;
+    *grip = (PyArrayObject *)PyArray_FROMANY(obj, NPY_DOUBLE, 2, 2, NPY_ARRAY_IN_ARRAY);
+    if (!*grip || PyArray_DIM(*grip, 0) != 2 || PyArray_DIM(*grip, 1) < 1) {
+        Py_CLEAR(*grip);
+        PyErr_Clear();
+        PyErr_SetString(PyExc_ValueError, "'grip_schedule' must be a float64 array of shape (2, n), n >= 1 "
+                                          "(row 0 the times, row 1 the forces)");
+        return -1;
+    }
+    def->grip_n = (size_t)PyArray_DIM(*grip, 1);
+    def->grip_times = (const double *)PyArray_DATA(*grip);
+    def->grip_forces = def->grip_times + def->grip_n;
+    return 0;
+}
+
+/* Fill an exdex_scene_def from a spec dict. Sampled-motion arrays and the
+ * grip schedule are returned as new references in *times / *poses / *grip
+ * (kept alive by the caller until the model is built). */
 static int scene_from_dict(PyObject *spec, exdex_scene_def *def, PyArrayObject **times,
-                           PyArrayObject **poses)
+                           PyArrayObject **poses, PyArrayObject **grip)
 {
     PyArrayObject *verts = NULL, *sp = NULL, *sn = NULL;
     npy_intp nv, nsp, nsn, nt, np_;
-    *times = *poses = NULL;
+    *times = *poses = *grip = NULL;
     if (!PyDict_Check(spec)) {
         PyErr_SetString(PyExc_TypeError, "spec must be a dict (use exdex.Scene)");
         return -1;
@@ -230,6 +253,7 @@ static int scene_from_dict(PyObject *spec, exdex_scene_def *def, PyArrayObject *
         def->motion.poses = (const double *)PyArray_DATA(*poses);
         if (sampled_options(spec, &def->motion)) goto fail;
     }
+    if (grip_from_dict(spec, def, grip)) goto fail;
     Py_DECREF(verts);
     Py_DECREF(sp);
     Py_DECREF(sn);
@@ -240,7 +264,8 @@ fail:
     Py_XDECREF(sn);
     Py_XDECREF(*times);
     Py_XDECREF(*poses);
-    *times = *poses = NULL;
+    Py_XDECREF(*grip);
+    *times = *poses = *grip = NULL;
     return -1;
 }
 
@@ -305,8 +330,9 @@ PyDoc_STRVAR(simulate_doc,
 
 /* SolverError(message, status) of a failed run with attributes status, time
  * (exdex_stats.fail_time, None when unknown) and cause (a name): the message
- * says when, why, and what to use instead. */
-static void raise_run_error(PyObject *module, int status, const exdex_stats *st)
+ * says when, why, and what to use instead. index >= 0: trajectory `index` of
+ * a batch (the message starts "batch index i: ", attribute `index`). */
+static void raise_run_error_at(PyObject *module, int status, const exdex_stats *st, Py_ssize_t index)
 {
     static const char *const names[] = {"none", "events", "step_budget", "step_floor",
                                         "stepper", "solver", "nonfinite"};
@@ -324,13 +350,16 @@ static void raise_run_error(PyObject *module, int status, const exdex_stats *st)
         "the state left the finite range (check the scene's scales and motion)"};
     int c = st->fail_cause >= 0 && st->fail_cause <= EXDEX_FAIL_NONFINITE ? st->fail_cause : 0;
     PyObject *exc = get_state(module)->SolverError, *msg, *args, *inst, *o;
-    char when[64] = "";
+    char when[64] = "", where[64] = "";
+    if (index >= 0) PyOS_snprintf(where, sizeof where, "batch index %zd: ", index);
     if (!c) {
-        raise_status(module, status, "simulate", NULL);
+        char what[64] = "simulate";
+        if (index >= 0) PyOS_snprintf(what, sizeof what, "batch index %zd", index);
+        expy_raise_status(exc, status, what, NULL, NULL, index);
         return;
     }
     if (isfinite(st->fail_time)) PyOS_snprintf(when, sizeof when, " at t = %.9g s", st->fail_time);
-    msg = PyUnicode_FromFormat("%s%s: %s", exdex_strerror(status), when, why[c]);
+    msg = PyUnicode_FromFormat("%s%s%s: %s", where, exdex_strerror(status), when, why[c]);
     args = msg ? Py_BuildValue("(Ni)", msg, status) : NULL;
     inst = args ? PyObject_Call(exc, args, NULL) : NULL;
     Py_XDECREF(args);
@@ -348,6 +377,10 @@ static void raise_run_error(PyObject *module, int status, const exdex_stats *st)
         PyObject_SetAttrString(inst, "cause", o);
         Py_DECREF(o);
     }
+    if (index >= 0 && (o = PyLong_FromSsize_t(index))) {
+        PyObject_SetAttrString(inst, "index", o);
+        Py_DECREF(o);
+    }
     PyErr_Clear();
     PyErr_SetObject(exc, inst);
     Py_DECREF(inst);
@@ -363,7 +396,7 @@ static int simulate_released(PyObject *module, const exdex_model *model, double 
     Py_END_ALLOW_THREADS
     if (!status) return 0;
     if (status == EXDEX_ENOCONV || status == EXDEX_ENONFINITE)
-        raise_run_error(module, status, st);
+        raise_run_error_at(module, status, st, -1);
     else
         raise_status(module, status, "simulate", NULL);
     return -1;
@@ -417,14 +450,15 @@ done:
 static exdex_model *model_from_spec(PyObject *module, PyObject *spec)
 {
     exdex_scene_def def;
-    PyArrayObject *times = NULL, *poses = NULL;
+    PyArrayObject *times = NULL, *poses = NULL, *grip = NULL;
     exdex_model *model;
     const char *bad = NULL;
     int status;
-    if (scene_from_dict(spec, &def, &times, &poses)) return NULL;
+    if (scene_from_dict(spec, &def, &times, &poses, &grip)) return NULL;
     model = exdex_model_alloc(&def, &status, &bad);   /* copies the sampled arrays */
     Py_XDECREF(times);
     Py_XDECREF(poses);
+    Py_XDECREF(grip);
     if (!model) raise_status(module, status, "scene", bad);
     return model;
 }
@@ -635,13 +669,14 @@ PyDoc_STRVAR(analytic_unsupported_doc,
 static PyObject *core_analytic_unsupported(PyObject *module, PyObject *spec)
 {
     exdex_scene_def def;
-    PyArrayObject *times = NULL, *poses = NULL;
+    PyArrayObject *times = NULL, *poses = NULL, *grip = NULL;
     const char *why;
     (void)module;
-    if (scene_from_dict(spec, &def, &times, &poses)) return NULL;
+    if (scene_from_dict(spec, &def, &times, &poses, &grip)) return NULL;
     why = exdex_analytic_unsupported(&def);
     Py_XDECREF(times);
     Py_XDECREF(poses);
+    Py_XDECREF(grip);
     if (!why) Py_RETURN_NONE;
     return PyUnicode_FromString(why);
 }
@@ -655,7 +690,7 @@ static PyObject *core_motion_eval(PyObject *module, PyObject *args, PyObject *kw
 {
     static char *kwlist[] = {"spec", "t", NULL};
     PyObject *spec, *tobj, *result = NULL;
-    PyArrayObject *times = NULL, *poses = NULL, *ta = NULL, *out[6] = {NULL};
+    PyArrayObject *times = NULL, *poses = NULL, *grip = NULL, *ta = NULL, *out[6] = {NULL};
     exdex_scene_def def;
     exdex_motion *mo = NULL;
     const char *bad = NULL;
@@ -665,7 +700,7 @@ static PyObject *core_motion_eval(PyObject *module, PyObject *args, PyObject *kw
     ta = (PyArrayObject *)PyArray_FROMANY(tobj, NPY_DOUBLE, 0, 1, NPY_ARRAY_IN_ARRAY);
     if (!ta) return NULL;
     n = PyArray_SIZE(ta);
-    if (scene_from_dict(spec, &def, &times, &poses)) goto done;
+    if (scene_from_dict(spec, &def, &times, &poses, &grip)) goto done;
     mo = exdex_motion_alloc(&def.motion, def.R0, def.p0, &status, &bad);
     if (!mo) {
         raise_status(module, status, "motion", bad);
@@ -705,8 +740,49 @@ done:
     exdex_motion_free(mo);
     Py_XDECREF(times);
     Py_XDECREF(poses);
+    Py_XDECREF(grip);
     Py_XDECREF(ta);
     for (int i = 0; i < 6; i++) Py_XDECREF(out[i]);
+    return result;
+}
+
+PyDoc_STRVAR(grip_eval_doc,
+"grip_eval(spec, t) -> (force, rate)\n\n"
+"Normal force of each finger F(t) [N] and its rate dF/dt [N/s] (right derivative at a\n"
+"breakpoint) at the times t (float64, any shape up to 1-D), of the scene's constant grip\n"
+"force or grip schedule (exdex_model_grip).");
+
+static PyObject *core_grip_eval(PyObject *module, PyObject *args, PyObject *kwds)
+{
+    static char *kwlist[] = {"spec", "t", NULL};
+    PyObject *spec, *tobj, *result = NULL;
+    PyArrayObject *ta = NULL, *fo = NULL, *ra = NULL;
+    exdex_model *model = NULL;
+    npy_intp n;
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "OO", kwlist, &spec, &tobj)) return NULL;
+    ta = (PyArrayObject *)PyArray_FROMANY(tobj, NPY_DOUBLE, 0, 1, NPY_ARRAY_IN_ARRAY);
+    if (!ta) return NULL;
+    n = PyArray_SIZE(ta);
+    model = model_from_spec(module, spec);
+    if (!model) goto done;
+    fo = (PyArrayObject *)PyArray_SimpleNew(1, &n, NPY_DOUBLE);
+    ra = (PyArrayObject *)PyArray_SimpleNew(1, &n, NPY_DOUBLE);
+    if (!fo || !ra) goto done;
+    {
+        const double *tp = PyArray_DATA(ta);
+        double *f = PyArray_DATA(fo), *r = PyArray_DATA(ra);
+        for (npy_intp i = 0; i < n; i++)
+            if (exdex_model_grip(model, tp[i], f + i, r + i)) {
+                PyErr_SetString(PyExc_ValueError, "t must not hold NaN");
+                goto done;
+            }
+    }
+    result = Py_BuildValue("(OO)", fo, ra);
+done:
+    exdex_model_free(model);
+    Py_XDECREF(ta);
+    Py_XDECREF(fo);
+    Py_XDECREF(ra);
     return result;
 }
 
@@ -720,14 +796,14 @@ static PyObject *core_motion_jumps(PyObject *module, PyObject *args, PyObject *k
 {
     static char *kwlist[] = {"spec", NULL};
     PyObject *spec, *result = NULL;
-    PyArrayObject *times = NULL, *poses = NULL;
+    PyArrayObject *times = NULL, *poses = NULL, *grip = NULL;
     exdex_scene_def def;
     exdex_motion *mo = NULL;
     const char *bad = NULL;
     int status = EXDEX_OK, nj;
     double tj[EXDEX_MOTION_MAX_JUMPS], dv[EXDEX_MOTION_MAX_JUMPS][3], dw[EXDEX_MOTION_MAX_JUMPS][3];
     if (!PyArg_ParseTupleAndKeywords(args, kwds, "O", kwlist, &spec)) return NULL;
-    if (scene_from_dict(spec, &def, &times, &poses)) goto done;
+    if (scene_from_dict(spec, &def, &times, &poses, &grip)) goto done;
     mo = exdex_motion_alloc(&def.motion, def.R0, def.p0, &status, &bad);
     if (!mo) {
         raise_status(module, status, "motion", bad);
@@ -745,6 +821,7 @@ done:
     exdex_motion_free(mo);
     Py_XDECREF(times);
     Py_XDECREF(poses);
+    Py_XDECREF(grip);
     return result;
 }
 
@@ -821,12 +898,16 @@ static PyObject *core_n_samples(PyObject *module, PyObject *args)
 }
 
 /* ------------------------------------------------------------------ batch
- * simulate_batch: many trajectories in one call. Every model is built (and
- * validated) with the GIL held; then the GIL is released and the trajectories
- * run on POSIX threads that take indices from a shared, locked counter. Each
- * trajectory is one exdex_simulate call on its own model and output rows, so
- * results are bit-identical to serial exdex.simulate for any thread count.
- * The threads live here: the C core stays thread-agnostic. */
+ * simulate_batch: many trajectories in one call. With a sequence of spec
+ * dicts every model is built (and validated) with the GIL held; with one spec
+ * dict and `vary`, the dict is read once and model 0 is built with the GIL
+ * held (it fixes ndof and the stops, which scalars do not change), and every
+ * other model is built from a copy of that definition by the worker thread
+ * that runs it, with the GIL released, and freed right after its run. The
+ * trajectories run on POSIX threads that take indices from a shared, locked
+ * counter. Each trajectory is one exdex_simulate call on its own model and
+ * output rows, so results are bit-identical to serial exdex.simulate for any
+ * thread count. The threads live here: the C core stays thread-agnostic. */
 
 /* Scalar fields of exdex_scene_def a batch may vary from a base spec (`vary`). */
 static const char *const vary_keys[] = {"mass", "mu", "grip_force", "e_r", "motion_amplitude",
@@ -882,17 +963,27 @@ static void prefix_error(Py_ssize_t i)
     PyErr_Restore(type, value, tb);
 }
 
-/* The library exception of a failed trajectory: SolverError(message, status)
- * with attributes `status` and `index` (or ValueError / MemoryError). */
-static void raise_trajectory_error(PyObject *module, int status, Py_ssize_t i)
+/* The library exception of failed trajectory i: simulate's (raise_run_error_at:
+ * when, why, what to use instead; attributes status, time, cause) with
+ * "batch index i: " in front and the attribute `index` (or ValueError /
+ * MemoryError). */
+static void raise_trajectory_error(PyObject *module, int status, const exdex_stats *st, Py_ssize_t i)
 {
-    char what[64];
-    snprintf(what, sizeof what, "batch index %zd", i);
-    expy_raise_status(get_state(module)->SolverError, status, what, NULL, NULL, i);
+    if (status == EXDEX_ENOCONV || status == EXDEX_ENONFINITE) {
+        raise_run_error_at(module, status, st, i);
+    } else {
+        char what[64];
+        PyOS_snprintf(what, sizeof what, "batch index %zd", i);
+        expy_raise_status(get_state(module)->SolverError, status, what, NULL, NULL, i);
+    }
 }
 
 typedef struct batch_ctx {
-    exdex_model **models;
+    exdex_model **models;   /* every model (specs), or only models[0] (base + vary) */
+    const exdex_scene_def *base;   /* base + vary: the definition the workers copy */
+    int nvary;
+    const int *which;
+    const double **vals;   /* vals[k][i]: entry i of vary field which[k] */
     size_t nb, n;           /* trajectories, samples per trajectory */
     double t_end, dt;
     int ndof, ns, final;
@@ -905,9 +996,12 @@ typedef struct batch_ctx {
     double *max_impulse, *max_impulse_t, *first_warning_t;
     /* shared work index and the first failure */
     pthread_mutex_t lock;
-    size_t next;
-    size_t fail_index;      /* smallest failing index, nb if none */
+    size_t next, chunk;     /* next index to hand out; indices per hand-out */
+    size_t fail_index;      /* smallest failing index, nb if none (atomic stores under lock) */
     int fail_status;
+    int fail_build;         /* the failure at fail_index is the model build (bad scene) */
+    const char *fail_bad;   /* then: the parameter the core names */
+    exdex_stats fail_stats; /* else: the statistics of that failure (fail_time, fail_cause) */
     int stop;               /* set when a signal handler raised (Ctrl-C): no new indices */
     PyThreadState *ts;      /* the calling thread's state while the GIL is released */
 } batch_ctx;
@@ -917,6 +1011,7 @@ typedef struct batch_worker {
     double *buf;            /* scratch: t (all); t, q, v, wrench, stop_force (final) */
     unsigned char *stick;   /* scratch stick (final) */
     pthread_t tid;
+    size_t cur, end;        /* the indices of the chunk in hand: [cur, end) */
     int started;
     int poll;               /* the calling (main) thread: run signal handlers now and then */
     double next_poll;       /* monotonic time of the next check [s] */
@@ -944,7 +1039,7 @@ static void batch_poll_signals(batch_worker *w)
     c->ts = PyEval_SaveThread();
     if (raised) {
         pthread_mutex_lock(&c->lock);
-        c->stop = 1;
+        __atomic_store_n(&c->stop, 1, __ATOMIC_RELEASE);
         pthread_mutex_unlock(&c->lock);
     }
 }
@@ -958,20 +1053,26 @@ static void *batch_run(void *arg)
     for (;;) {
         size_t i;
         int status;
+        exdex_model *model;
         exdex_trajectory tr;
         exdex_stats st;
         if (w->poll) batch_poll_signals(w);
-        pthread_mutex_lock(&c->lock);
-        i = c->next;
-        /* after a failure at f, indices above f are not started (every index
-         * below f was handed out already), so the error reported is the
-         * smallest failing index whatever the thread count */
-        if (i >= c->nb || i > c->fail_index || c->stop) {
+        /* indices come in chunks of c->chunk consecutive ones, handed out in
+         * order; after a failure at f, indices above f are not started (every
+         * index below f was handed out already, and the ones in f's own chunk
+         * run before f), so the error reported is the smallest failing index
+         * whatever the thread count and chunk */
+        if (w->cur >= w->end) {
+            pthread_mutex_lock(&c->lock);
+            w->cur = c->next;
+            w->end = w->cur + c->chunk < c->nb ? w->cur + c->chunk : c->nb;
+            c->next = w->end;
             pthread_mutex_unlock(&c->lock);
-            break;
         }
-        c->next = i + 1;
-        pthread_mutex_unlock(&c->lock);
+        i = w->cur++;
+        if (i >= c->nb || i > __atomic_load_n(&c->fail_index, __ATOMIC_ACQUIRE) ||
+            __atomic_load_n(&c->stop, __ATOMIC_ACQUIRE))
+            break;
         tr.n = n;
         tr.t = i == 0 ? c->t : w->buf;
         if (c->final) {
@@ -987,12 +1088,34 @@ static void *batch_run(void *arg)
             tr.stop_force = ns ? c->stop_force + i * n * (size_t)ns : NULL;
             tr.stick = c->stick + i * n;
         }
-        status = exdex_simulate(c->models[i], c->t_end, c->dt, &tr, &st);
+        if (c->base && i > 0) {
+            exdex_scene_def def = *c->base;
+            const char *bad = NULL;
+            for (int k = 0; k < c->nvary; k++) *vary_field(&def, c->which[k]) = c->vals[k][i];
+            model = exdex_model_alloc(&def, &status, &bad);
+            if (!model) {
+                pthread_mutex_lock(&c->lock);
+                if (i < c->fail_index) {
+                    __atomic_store_n(&c->fail_index, i, __ATOMIC_RELEASE);
+                    c->fail_status = status;
+                    c->fail_build = 1;
+                    c->fail_bad = bad;
+                }
+                pthread_mutex_unlock(&c->lock);
+                continue;
+            }
+            status = exdex_simulate(model, c->t_end, c->dt, &tr, &st);
+            exdex_model_free(model);
+        } else {
+            status = exdex_simulate(c->models[i], c->t_end, c->dt, &tr, &st);
+        }
         if (status) {
             pthread_mutex_lock(&c->lock);
             if (i < c->fail_index) {
-                c->fail_index = i;
+                __atomic_store_n(&c->fail_index, i, __ATOMIC_RELEASE);
                 c->fail_status = status;
+                c->fail_build = 0;
+                c->fail_stats = st;
             }
             pthread_mutex_unlock(&c->lock);
             continue;
@@ -1092,7 +1215,8 @@ PyDoc_STRVAR(simulate_batch_doc,
 "Both return t (n,), displacement (B, ndof) = q[n-1] - q[0], and stats, a dict\n"
 "of (B,) arrays. Every scene must have the same ndof and number of stops.\n"
 "Errors name the batch index; a failing trajectory raises SolverError with\n"
-"attributes status and index (the smallest failing index).\n"
+"attributes status and index (the smallest failing index; with vary, a scene\n"
+"the core rejects counts as failing at its index and raises ValueError).\n"
 "check_signals : if true (pass it from the main thread), the calling thread runs\n"
 "    Python's signal handlers about every 0.1 s, so Ctrl-C stops the batch.");
 
@@ -1105,13 +1229,14 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
     double t_end, dt;
     int threads = 0, check_signals = 0, final, nvary = 0, which[NVARY_MAX], ndof = 0, ns = 0, have_mutex = 0;
     PyArrayObject *varr[NVARY_MAX] = {NULL};
-    PyArrayObject *base_times = NULL, *base_poses = NULL;
+    PyArrayObject *base_times = NULL, *base_poses = NULL, *base_grip = NULL;
     PyArrayObject *t = NULL, *q = NULL, *v = NULL, *wr = NULL, *stick = NULL, *sf = NULL, *disp = NULL;
     PyArrayObject *sarr[11] = {NULL};
     exdex_model **models = NULL;
     batch_worker *workers = NULL;
     exdex_scene_def base;
-    Py_ssize_t nb, nvary_len, i;
+    const double *vals[NVARY_MAX];
+    Py_ssize_t nb, nvary_len, i, nmodels = 0;
     size_t n;
     long nthreads, running = 1;
     batch_ctx ctx;
@@ -1143,7 +1268,7 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
     /* ---- the batch: one spec dict (+ vary) or a sequence of spec dicts */
     if (PyDict_Check(specs)) {
         nb = nvary_len >= 0 ? nvary_len : 1;
-        if (scene_from_dict(specs, &base, &base_times, &base_poses)) goto done;
+        if (scene_from_dict(specs, &base, &base_times, &base_poses, &base_grip)) goto done;
     } else {
         seq = PySequence_Fast(specs, "specs must be a spec dict or a sequence of spec dicts");
         if (!seq) goto done;
@@ -1158,19 +1283,21 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
         goto done;
     }
 
-    /* ---- build every model with the GIL held */
-    models = PyMem_Calloc((size_t)nb, sizeof *models);
+    /* ---- build the models with the GIL held: every one (specs), or model 0
+     * (base + vary; the workers build the others) */
+    nmodels = seq ? nb : 1;
+    models = PyMem_Calloc((size_t)nmodels, sizeof *models);
     if (!models) {
         PyErr_NoMemory();
         goto done;
     }
-    for (i = 0; i < nb; i++) {
+    for (i = 0; i < nmodels; i++) {
         exdex_scene_def def;
-        PyArrayObject *times = NULL, *poses = NULL;
+        PyArrayObject *times = NULL, *poses = NULL, *grip = NULL;
         const char *bad = NULL;
         int status;
         if (seq) {
-            if (scene_from_dict(PySequence_Fast_GET_ITEM(seq, i), &def, &times, &poses)) {
+            if (scene_from_dict(PySequence_Fast_GET_ITEM(seq, i), &def, &times, &poses, &grip)) {
                 prefix_error(i);
                 goto done;
             }
@@ -1181,6 +1308,7 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
         models[i] = exdex_model_alloc(&def, &status, &bad);
         Py_XDECREF(times);
         Py_XDECREF(poses);
+        Py_XDECREF(grip);
         if (!models[i]) {
             raise_status(module, status, "scene", bad);
             prefix_error(i);
@@ -1253,6 +1381,13 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
         }
     }
     ctx.models = models;
+    if (!seq) {
+        for (int k = 0; k < nvary; k++) vals[k] = (const double *)PyArray_DATA(varr[k]);
+        ctx.base = &base;
+        ctx.nvary = nvary;
+        ctx.which = which;
+        ctx.vals = vals;
+    }
     ctx.nb = (size_t)nb;
     ctx.n = n;
     ctx.t_end = t_end;
@@ -1279,6 +1414,11 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
     ctx.max_impulse_stop = PyArray_DATA(sarr[9]);
     ctx.first_warning_t = PyArray_DATA(sarr[10]);
     ctx.next = 0;
+    /* short trajectories (the analytic path: about a microsecond) in chunks,
+     * so that the lock is not the bottleneck; otherwise one at a time */
+    ctx.chunk = (size_t)nb / ((size_t)nthreads * 64);
+    if (ctx.chunk < 1) ctx.chunk = 1;
+    if (ctx.chunk > 64) ctx.chunk = 64;
     ctx.fail_index = (size_t)nb;
     ctx.fail_status = EXDEX_OK;
     if (pthread_mutex_init(&ctx.lock, NULL)) {
@@ -1303,7 +1443,12 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
     PyEval_RestoreThread(ctx.ts);
     if (ctx.stop) goto done;  /* a signal handler raised (KeyboardInterrupt): its exception is set */
     if (ctx.fail_index < (size_t)nb) {
-        raise_trajectory_error(module, ctx.fail_status, (Py_ssize_t)ctx.fail_index);
+        if (ctx.fail_build) {
+            raise_status(module, ctx.fail_status, "scene", ctx.fail_bad);
+            prefix_error((Py_ssize_t)ctx.fail_index);
+        } else {
+            raise_trajectory_error(module, ctx.fail_status, &ctx.fail_stats, (Py_ssize_t)ctx.fail_index);
+        }
         goto done;
     }
     stats = Py_BuildValue("{s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O}", "steps", sarr[0], "stick_steps",
@@ -1324,13 +1469,14 @@ done:
         PyMem_Free(workers);
     }
     if (models) {
-        for (i = 0; i < nb; i++) exdex_model_free(models[i]);
+        for (i = 0; i < nmodels; i++) exdex_model_free(models[i]);
         PyMem_Free(models);
     }
     for (int k = 0; k < NVARY_MAX; k++) Py_XDECREF(varr[k]);
     for (int k = 0; k < 11; k++) Py_XDECREF(sarr[k]);
     Py_XDECREF(base_times);
     Py_XDECREF(base_poses);
+    Py_XDECREF(base_grip);
     Py_XDECREF(seq);
     Py_XDECREF(t);
     Py_XDECREF(q);
@@ -1353,6 +1499,7 @@ static PyMethodDef core_methods[] = {
      motion_eval_doc},
     {"motion_jumps", (PyCFunction)(void (*)(void))core_motion_jumps, METH_VARARGS | METH_KEYWORDS,
      motion_jumps_doc},
+    {"grip_eval", (PyCFunction)(void (*)(void))core_grip_eval, METH_VARARGS | METH_KEYWORDS, grip_eval_doc},
     {"friction_solve", (PyCFunction)(void (*)(void))core_friction_solve, METH_VARARGS | METH_KEYWORDS,
      friction_solve_doc},
     {"er_disc", core_er_disc, METH_O, "e_r [m] of a uniform pressure disc of radius R: 2R/3 (NaN if R <= 0)."},
@@ -1386,6 +1533,10 @@ static const expy_constant core_constants[] = {
     {"MOTION_ASYMMETRIC", EXDEX_MOTION_ASYMMETRIC},
     {"MOTION_TRAPEZOID", EXDEX_MOTION_TRAPEZOID},
     {"MOTION_SAMPLED", EXDEX_MOTION_SAMPLED},
+    {"GRIP_LINEAR", EXDEX_GRIP_LINEAR},
+    {"GRIP_CUBIC", EXDEX_GRIP_CUBIC},
+    {"GRIP_STEP", EXDEX_GRIP_STEP},
+    {"MAX_GRIP_POINTS", EXDEX_MAX_GRIP_POINTS},
     {NULL, 0}};
 
 static int core_exec(PyObject *module)

@@ -29,7 +29,7 @@ from numpy.typing import ArrayLike, NDArray
 from exdex import _core
 
 __all__ = [
-    "Body", "Patch", "Grasp", "Rest", "AsymmetricProfile", "TrapezoidalProfile",
+    "Body", "Patch", "GripSchedule", "Grasp", "Rest", "AsymmetricProfile", "TrapezoidalProfile",
     "SampledTrajectory", "Stop", "Scene", "DEFAULT_GRIPPER_ROTATION",
 ]
 
@@ -49,6 +49,7 @@ METHODS = {"implicit": _core.METHOD_IMPLICIT, "event": _core.METHOD_EVENT,
            "regularised": _core.METHOD_REGULARISED, "explicit": _core.METHOD_EXPLICIT,
            "analytic": _core.METHOD_ANALYTIC}
 SOLVERS = {"scalar": _core.SOLVER_SCALAR, "brent": _core.SOLVER_BRENT, "multiroot": _core.SOLVER_MULTIROOT}
+GRIP_KINDS = {"linear": _core.GRIP_LINEAR, "cubic": _core.GRIP_CUBIC, "step": _core.GRIP_STEP}
 
 
 # ---------------------------------------------------------------- validation
@@ -224,12 +225,91 @@ class Patch:
 
 
 @dataclass(frozen=True)
+class GripSchedule:
+    """A grip force that varies in time: the normal force of each finger F(t)
+    [N] through the points ``(times[i], forces[i])``.
+
+    times : [s], finite and strictly increasing, at least one point.
+    forces : [N], finite and >= 0, one per time.
+    kind : between the points, ``"linear"`` (piecewise linear), ``"cubic"``
+        (Steffen's monotone cubic: continuous slope, no overshoot, so F stays
+        between the neighbouring forces and >= 0; through two points it is
+        the line) or ``"step"`` (piecewise constant, right-continuous:
+        ``forces[i]`` from ``times[i]`` on, e.g. a release and a re-grip).
+
+    Before ``times[0]`` and after ``times[-1]`` the force is held at the first
+    and last value. A force of 0 (a release) makes the plates frictionless
+    meanwhile. Every method evaluates the capacity ``mu * fingers * F(t)`` at
+    its own times (the time-stepping methods use its exact mean over each
+    step; the event and regularised methods step onto the times, and the
+    event method locates where a falling capacity meets the load). A
+    schedule whose forces are all equal is that constant grip force.
+    """
+
+    times: Vector
+    forces: Vector
+    kind: str = "linear"
+
+    def __post_init__(self):
+        t = _array(self.times, "GripSchedule.times", (None,))
+        f = _array(self.forces, "GripSchedule.forces", (None,))
+        if t.size < 1:
+            raise ValueError("GripSchedule.times must hold at least one time")
+        if t.size > _core.MAX_GRIP_POINTS:
+            raise ValueError(f"GripSchedule holds at most {_core.MAX_GRIP_POINTS} points, got {t.size}")
+        if f.size != t.size:
+            raise ValueError(f"GripSchedule.forces must have one force per time: {t.size} times, {f.size} forces")
+        bad = np.flatnonzero(np.diff(t) <= 0.0)
+        if bad.size:
+            i = int(bad[0]) + 1
+            raise ValueError(f"GripSchedule.times must be strictly increasing: times[{i}] = {t[i]:g} "
+                             f"<= times[{i - 1}] = {t[i - 1]:g}")
+        bad = np.flatnonzero(f < 0.0)
+        if bad.size:
+            i = int(bad[0])
+            raise ValueError(f"GripSchedule.forces[{i}] = {f[i]:g} must be >= 0 [N]")
+        if not isinstance(self.kind, str) or self.kind not in GRIP_KINDS:
+            raise ValueError(f"GripSchedule.kind must be one of {sorted(GRIP_KINDS)}, got {self.kind!r}")
+        object.__setattr__(self, "times", _tuple(t))
+        object.__setattr__(self, "forces", _tuple(f))
+
+    def _eval(self, t: ArrayLike) -> Tuple[NDArray[np.float64], NDArray[np.float64], Tuple[int, ...]]:
+        ta = np.asarray(t, dtype=np.float64)
+        if not np.all(np.isfinite(ta)):
+            raise ValueError("t must be finite")
+        probe = Scene(body=Body(mass=1.0), grasp=Grasp(mu=0.0, grip_force=self))
+        force, rate = _core.grip_eval(probe.to_spec(), ta.ravel())
+        return force, rate, ta.shape
+
+    def __call__(self, t: ArrayLike) -> Union[float, NDArray[np.float64]]:
+        """F(t) [N] (as the core evaluates it); a float for a scalar t."""
+        force, _, shape = self._eval(t)
+        return float(force[0]) if shape == () else force.reshape(shape)
+
+    def rate(self, t: ArrayLike) -> Union[float, NDArray[np.float64]]:
+        """dF/dt [N/s] (the right derivative at a point; 0 for ``"step"``)."""
+        _, rate, shape = self._eval(t)
+        return float(rate[0]) if shape == () else rate.reshape(shape)
+
+    @property
+    def max_force(self) -> float:
+        """Largest force of the schedule [N] (the interpolation never exceeds it)."""
+        return max(self.forces)
+
+    def scaled(self, factor: float) -> "GripSchedule":
+        """The schedule with every force multiplied by ``factor`` (>= 0)."""
+        k = _real(factor, "factor", low=0.0)
+        return GripSchedule(self.times, tuple(k * f for f in self.forces), self.kind)
+
+
+@dataclass(frozen=True)
 class Grasp:
     """How the plates hold the object.
 
     mu : plate-object friction coefficient, >= 0: the kinetic coefficient,
         the one a slip slides against.
-    grip_force : normal force of each finger [N], >= 0.
+    grip_force : normal force of each finger [N], >= 0, or a
+        :class:`GripSchedule` of it in time.
     patch : the pressure patch (both fingers identical and aligned).
     fingers : number of pressing patches, 1 or 2. The ellipsoids of the
         fingers add: the friction capacity is ``mu * fingers * grip_force`` [N]
@@ -244,14 +324,18 @@ class Grasp:
     """
 
     mu: float
-    grip_force: float
+    grip_force: Union[float, GripSchedule]
     patch: Patch = field(default_factory=lambda: Patch(e_r=0.01))
     fingers: int = 2
     mu_static: Optional[float] = None
 
     def __post_init__(self):
         object.__setattr__(self, "mu", _real(self.mu, "Grasp.mu", low=0.0))
-        object.__setattr__(self, "grip_force", _real(self.grip_force, "Grasp.grip_force", low=0.0))
+        if not isinstance(self.grip_force, GripSchedule):
+            if not isinstance(self.grip_force, numbers.Real) or isinstance(self.grip_force, bool):
+                raise TypeError(f"Grasp.grip_force must be a real number [N] or an exdex.GripSchedule, "
+                                f"got {type(self.grip_force).__name__}")
+            object.__setattr__(self, "grip_force", _real(self.grip_force, "Grasp.grip_force", low=0.0))
         if not isinstance(self.patch, Patch):
             raise TypeError(f"Grasp.patch must be an exdex.Patch, got {type(self.patch).__name__}")
         if isinstance(self.fingers, bool) or not isinstance(self.fingers, numbers.Integral) or self.fingers not in (1, 2):
@@ -261,7 +345,11 @@ class Grasp:
 
     @property
     def capacity(self) -> float:
-        """Largest friction force the plates can exert, mu * fingers * grip_force [N]."""
+        """Largest friction force the plates can exert, mu * fingers * grip_force
+        [N]; with a :class:`GripSchedule` the largest over time (with its
+        largest force; :meth:`capacity_at` gives it at given times)."""
+        if isinstance(self.grip_force, GripSchedule):
+            return self.mu * self.fingers * self.grip_force.max_force
         return self.mu * self.fingers * self.grip_force
 
     @property
@@ -271,8 +359,25 @@ class Grasp:
 
     @property
     def static_capacity(self) -> float:
-        """Largest friction force the plates can hold, static_mu * fingers * grip_force [N]."""
-        return self.static_mu * self.fingers * self.grip_force
+        """Largest friction force the plates can hold at rest, static_mu *
+        fingers * grip_force [N] (with a schedule: its largest force)."""
+        return self.capacity if self.mu == self.static_mu else \
+            self.static_mu * self.fingers * (self.grip_force.max_force if isinstance(self.grip_force, GripSchedule)
+                                             else self.grip_force)
+
+    def capacity_at(self, t: ArrayLike) -> Union[float, NDArray[np.float64]]:
+        """Friction capacity mu * fingers * F(t) at the times t [N] (F the
+        grip schedule, or the constant grip force); a float for a scalar t."""
+        if isinstance(self.grip_force, GripSchedule):
+            return self.mu * self.fingers * self.grip_force(t)
+        ta = np.asarray(t, dtype=np.float64)
+        c = self.mu * self.fingers * self.grip_force
+        return c if ta.shape == () else np.full(ta.shape, c)
+
+    @property
+    def schedule(self) -> Optional[GripSchedule]:
+        """The grip schedule, or None for a constant grip force."""
+        return self.grip_force if isinstance(self.grip_force, GripSchedule) else None
 
 
 # ---------------------------------------------------------------- motions
@@ -689,6 +794,11 @@ class Scene:
             eps=eps, rtol=rtol, atol=atol,
         )
         spec.update(self.motion._spec())
+        sched = self.grasp.schedule
+        if sched is not None:
+            # the core's grip_force scales the schedule (a batch's grip_force varies that scale)
+            spec.update(grip_force=1.0, grip_schedule=np.array([sched.times, sched.forces]),
+                        grip_kind=GRIP_KINDS[sched.kind])
         return spec
 
 
