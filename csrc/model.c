@@ -154,6 +154,9 @@ const char *exdex_analytic_unsupported(const exdex_scene_def *d)
     if (d->dof != EXDEX_DOF_TRANSLATION && d->dof != EXDEX_DOF_ROTATION)
         return "the analytic method solves 1-DoF scenes (translation or rotation), not planar ones";
     if (d->n_stops != 0) return "the analytic method solves scenes without stops";
+    if (mo->kind == EXDEX_MOTION_SHAKE || mo->kind == EXDEX_MOTION_CHAIN)
+        return "the analytic method needs a piecewise-constant gripper acceleration (Eq. 7, trapezoid or "
+               "rest), not a shake or a chain";
     if (d->grip_n > 1 && d->grip_forces)
         for (size_t i = 1; i < d->grip_n; i++)
             if (d->grip_forces[i] != d->grip_forces[0])

@@ -201,6 +201,13 @@ def _motion(data, where):
         raise ValueError(f"unknown {where}.type {kind!r}; allowed: {', '.join(MOTIONS)}")
     cls = MOTIONS[kind]
     rest = {k: v for k, v in data.items() if k != "type"}
+    if cls is _scene.Chain:
+        _check_keys(rest, set(_fields(cls)), _required(cls), f"{where} ({kind})")
+        pieces = rest.get("pieces")
+        if not isinstance(pieces, list):
+            raise ValueError(f"{where}.pieces must be a list of motion tables, got {type(pieces).__name__}")
+        rest["pieces"] = tuple(_motion(p, f"{where}.pieces[{i}]") for i, p in enumerate(pieces))
+        return cls(**rest)
     if cls is _scene.SampledTrajectory:
         _check_keys(rest, set(_fields(cls)), _required(cls), f"{where} ({kind})")
         return cls(**{k: np.array(v, dtype=np.float64) if isinstance(v, list) else v for k, v in rest.items()})

@@ -30,7 +30,7 @@ from exdex import _core
 
 __all__ = [
     "Body", "Patch", "GripSchedule", "Grasp", "Rest", "AsymmetricProfile", "TrapezoidalProfile",
-    "SampledTrajectory", "Stop", "Scene", "DEFAULT_GRIPPER_ROTATION",
+    "SampledTrajectory", "Shake", "Pause", "Chain", "Stop", "Scene", "DEFAULT_GRIPPER_ROTATION",
 ]
 
 #: B x = A x, B y = A z (up), B z = -A y: plates vertical, normal horizontal.
@@ -645,6 +645,184 @@ class SampledTrajectory(_Motion):
         return hash(self._key())
 
 
+@dataclass(frozen=True)
+class Shake(_Motion):
+    """An oscillation of the gripper: s(t) = A (1 - cos 2 pi f t) for
+    ``duration`` D, then held at s(D).
+
+    It starts at rest (velocity 0, acceleration A (2 pi f)^2) and, after
+    whole or half cycles, ends at rest; otherwise its velocity jumps to rest
+    at D (a :class:`exdex.GripperJumpWarning` in a run, an error between the
+    pieces of a :class:`Chain` unless allowed). The peak acceleration is
+    A (2 pi f)^2 [m/s^2 or rad/s^2].
+
+    amplitude : A [m] (translation) or [rad] (rotation); any sign.
+    frequency : f [Hz] > 0.
+    cycles, duration : give exactly one: the number of cycles f D (> 0) or
+        D [s] (> 0).
+    axis, rotation, center : as :class:`AsymmetricProfile`.
+    """
+
+    amplitude: float
+    frequency: float
+    cycles: Optional[float] = None
+    duration: Optional[float] = None
+    axis: Vector = (0.0, 0.0, 1.0)
+    rotation: bool = False
+    center: Vector = (0.0, 0.0, 0.0)
+
+    def __post_init__(self):
+        object.__setattr__(self, "amplitude", _real(self.amplitude, "Shake.amplitude"))
+        f = _real(self.frequency, "Shake.frequency", low=0.0, low_open=True)
+        object.__setattr__(self, "frequency", f)
+        if self.cycles is not None and self.duration is not None:
+            # both (a saved scene): consistent, and kept as given
+            n = _real(self.cycles, "Shake.cycles", low=0.0, low_open=True, high=1e9)
+            D = _real(self.duration, "Shake.duration", low=0.0, low_open=True)
+            if not math.isclose(n / f, D, rel_tol=1e-12):
+                raise ValueError("Shake needs exactly one of cycles (the number of cycles, > 0) and duration [s] "
+                                 f"(or both with duration = cycles / frequency), got cycles={n!r}, duration={D!r}")
+            object.__setattr__(self, "cycles", n)
+            object.__setattr__(self, "duration", D)
+        elif self.cycles is None and self.duration is None:
+            raise ValueError("Shake needs exactly one of cycles (the number of cycles, > 0) and duration [s], "
+                             "got neither")
+        elif self.cycles is not None:
+            n = _real(self.cycles, "Shake.cycles", low=0.0, low_open=True, high=1e9)
+            object.__setattr__(self, "cycles", n)
+            object.__setattr__(self, "duration", n / f)
+        else:
+            D = _real(self.duration, "Shake.duration", low=0.0, low_open=True)
+            object.__setattr__(self, "duration", D)
+            object.__setattr__(self, "cycles", D * f)
+            if D * f > 1e9:
+                raise ValueError(f"Shake.duration * Shake.frequency (cycles) must be at most 1e9, got {D * f:g}")
+        _axis_fields(self, "Shake")
+
+    @property
+    def peak_acceleration(self) -> float:
+        """|A| (2 pi f)^2 [m/s^2 or rad/s^2]."""
+        return abs(self.amplitude) * (2.0 * math.pi * self.frequency) ** 2
+
+    def _spec(self):
+        return dict(motion_kind=_core.MOTION_SHAKE, motion_rotation=int(self.rotation), motion_axis=self.axis,
+                    motion_center=self.center, motion_amplitude=self.amplitude,
+                    motion_duration=self.duration, motion_frequency=self.frequency)
+
+    @property
+    def end_time(self) -> float:
+        return float(self.duration)  # type: ignore[arg-type]
+
+
+@dataclass(frozen=True)
+class Pause(_Motion):
+    """The gripper holds its pose for ``duration`` [s] (> 0): a rest between
+    the pieces of a :class:`Chain` (on its own, the same as :class:`Rest`)."""
+
+    _may_jump = False
+
+    duration: float
+
+    def __post_init__(self):
+        object.__setattr__(self, "duration", _real(self.duration, "Pause.duration", low=0.0, low_open=True))
+
+    def _spec(self):
+        return dict(motion_kind=_core.MOTION_REST, motion_duration=self.duration)
+
+    @property
+    def end_time(self) -> float:
+        return self.duration
+
+
+#: The motion keys every chain piece passes to the core (defaults of unused fields).
+_PIECE_DEFAULTS = dict(motion_kind=_core.MOTION_REST, motion_rotation=0, motion_axis=(0.0, 0.0, 1.0),
+                       motion_center=(0.0, 0.0, 0.0), motion_amplitude=0.0, motion_duration=1.0,
+                       motion_beta=0.5, motion_v_max=1.0, motion_frequency=1.0)
+
+
+@dataclass(frozen=True)
+class Chain(_Motion):
+    """Motions played one after the other.
+
+    Each piece starts from the pose where the one before ended (the first
+    from the scene's initial gripper pose) and runs on its own clock: a
+    profile or shake from its time 0, a :class:`SampledTrajectory` from its
+    first sample (relative logs replay from that pose; an absolute log must
+    start there), a :class:`Pause` for its duration. The chain's switching
+    times (every piece boundary and the pieces' own phase switches) are
+    stepped onto by the event method.
+
+    pieces : 1 to 16 motions (:class:`AsymmetricProfile`,
+        :class:`TrapezoidalProfile`, :class:`Shake`, :class:`Pause`,
+        :class:`SampledTrajectory`); not :class:`Rest` (no duration: use a
+        :class:`Pause`) nor a chain (list its pieces instead).
+    allow_jump : the gripper's velocity must be continuous where one piece
+        ends and the next starts (e.g. a shake stopped mid-cycle followed by
+        a pause is not), and an absolute log must start at the pose where
+        the piece before ended; a violation raises a ValueError naming the
+        piece when the scene is simulated. With ``allow_jump=True`` a
+        velocity jump between pieces is accepted and applied like a sampled
+        log's (:class:`exdex.GripperJumpWarning`): the object keeps its
+        absolute velocity. A position jump is always an error. Jumps and
+        mismatches within 1e-9 of the speeds or positions compared are
+        rounding and ignored.
+    """
+
+    pieces: Tuple[_Motion, ...]
+    allow_jump: bool = False
+
+    def __post_init__(self):
+        pieces = self.pieces
+        if isinstance(pieces, _Motion) or isinstance(pieces, (str, bytes)) or not hasattr(pieces, "__iter__"):
+            raise TypeError(f"Chain.pieces must be a sequence of motions, got {type(pieces).__name__}")
+        pieces = tuple(pieces)
+        if not 1 <= len(pieces) <= _core.MOTION_MAX_PIECES:
+            raise ValueError(f"Chain.pieces must hold 1 to {_core.MOTION_MAX_PIECES} motions, got {len(pieces)}")
+        for i, p in enumerate(pieces):
+            if isinstance(p, Chain):
+                raise TypeError(f"Chain.pieces[{i}] is a Chain: list its pieces in this chain instead")
+            if isinstance(p, Rest):
+                raise TypeError(f"Chain.pieces[{i}] is a Rest, which has no duration: use exdex.Pause(duration)")
+            if not isinstance(p, _Motion):
+                raise TypeError(f"Chain.pieces[{i}] must be an exdex motion, got {type(p).__name__}")
+        object.__setattr__(self, "pieces", pieces)
+        if not isinstance(self.allow_jump, (bool, np.bool_)):
+            raise TypeError(f"Chain.allow_jump must be True or False, got {type(self.allow_jump).__name__}")
+        object.__setattr__(self, "allow_jump", bool(self.allow_jump))
+
+    @property
+    def start_times(self) -> Tuple[float, ...]:
+        """Start time of each piece in the chain [s] (a log's own clock starts
+        at its first sample)."""
+        out, t = [], 0.0
+        for p in self.pieces:
+            out.append(t)
+            t += self._length(p)
+        return tuple(out)
+
+    @staticmethod
+    def _length(p):
+        if isinstance(p, SampledTrajectory):
+            return float(p.times[-1] - p.times[0])
+        return p.end_time
+
+    def _spec(self):
+        pieces = []
+        for p in self.pieces:
+            d = dict(_PIECE_DEFAULTS)
+            d.update(p._spec())
+            pieces.append(d)
+        return dict(motion_kind=_core.MOTION_CHAIN, motion_pieces=pieces, motion_allow_jump=int(self.allow_jump),
+                    motion_duration=self.end_time)
+
+    @property
+    def end_time(self) -> float:
+        t = 0.0
+        for p in self.pieces:
+            t += self._length(p)
+        return t
+
+
 def _quat_from_matrix(R):
     """(w, x, y, z) of a rotation matrix (Shepperd's method)."""
     R = np.asarray(R, dtype=float)
@@ -715,7 +893,8 @@ class Scene:
             raise TypeError(f"Scene.grasp must be an exdex.Grasp, got {type(self.grasp).__name__}")
         if not isinstance(self.motion, _Motion):
             raise TypeError(f"Scene.motion must be an exdex motion (Rest, AsymmetricProfile, "
-                            f"TrapezoidalProfile, SampledTrajectory), got {type(self.motion).__name__}")
+                            f"TrapezoidalProfile, SampledTrajectory, Shake, Pause, Chain), "
+                            f"got {type(self.motion).__name__}")
         if self.dof not in DOFS:
             raise ValueError(f"Scene.dof must be one of {sorted(DOFS)}, got {self.dof!r}")
         object.__setattr__(self, "slide_axis", _unit(self.slide_axis, "Scene.slide_axis", 2))
@@ -765,6 +944,32 @@ class Scene:
                     f"Scene.stops[{k}] (point {st.point}, normal {st.normal}) starts inside the object: "
                     f"{where} is {-gaps[j]:.6g} m beyond it at t = 0. Move the stop or the object "
                     f"(Scene.q0 = {self.q0}) so that it starts on the stop's allowed side")
+
+    def check_motion(self) -> None:
+        """Raise a ValueError naming the piece if a :class:`Chain` motion
+        jumps between two pieces (position, or velocity without
+        ``allow_jump``), as the core checks it at this initial gripper pose."""
+        if not isinstance(self.motion, Chain):
+            return
+        try:
+            _core.motion_jumps(self.to_spec())
+        except ValueError as exc:
+            import re
+
+            m = re.search(r"motion\.pieces\[(\d+)\]", str(exc))
+            if not m:
+                raise
+            i = int(m.group(1))
+            piece = self.motion.pieces[i]
+            if i == 0:
+                raise ValueError(f"Chain.pieces[0] ({type(piece).__name__}) is not a valid chain piece: {exc}") from None
+            t = self.motion.start_times[i]
+            raise ValueError(
+                f"Chain.pieces[{i}] ({type(piece).__name__}) does not continue Chain.pieces[{i - 1}] "
+                f"({type(self.motion.pieces[i - 1]).__name__}) at t = {t:.9g} s: the gripper's velocity jumps there "
+                f"(or an absolute log starts away from the pose where the piece before ends). Make the pieces meet "
+                f"(e.g. a Shake of whole or half cycles, ramps on a trapezoid) or pass Chain(..., allow_jump=True) "
+                f"to apply the velocity jump to the object") from None
 
     @property
     def ndof(self) -> int:
