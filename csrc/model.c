@@ -152,6 +152,9 @@ const char *exdex_analytic_unsupported(const exdex_scene_def *d)
     if (d->dof != EXDEX_DOF_TRANSLATION && d->dof != EXDEX_DOF_ROTATION)
         return "the analytic method solves 1-DoF scenes (translation or rotation), not planar ones";
     if (d->n_stops != 0) return "the analytic method solves scenes without stops";
+    if (mo->kind == EXDEX_MOTION_SHAKE || mo->kind == EXDEX_MOTION_CHAIN)
+        return "the analytic method needs a piecewise-constant gripper acceleration (Eq. 7, trapezoid or "
+               "rest), not a shake or a chain";
     if (d->grip_n > 1 && d->grip_forces)
         for (size_t i = 1; i < d->grip_n; i++)
             if (d->grip_forces[i] != d->grip_forces[0])
@@ -636,3 +639,11 @@ int exdex_scene_check(const exdex_scene_def *d, const char **bad_param)
 
 int exdex_model_ndof(const exdex_model *m) { return m ? m->ndof : 0; }
 int exdex_model_nstops(const exdex_model *m) { return m ? m->n_stops : 0; }
+
+int exdex_model_grip(const exdex_model *m, double t, double *force, double *rate)
+{
+    if (!m || isnan(t)) return EXDEX_EINVAL;
+    if (force) *force = model_grip_force(m, t);
+    if (rate) *rate = m->grip_n ? model_grip_sched_rate(m, t) : 0.0;
+    return EXDEX_OK;
+}

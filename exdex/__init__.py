@@ -15,8 +15,8 @@ Units are SI; frames are described in :mod:`exdex.scene`. ``import exdex``
 needs only NumPy; plotting and progress bars need the ``plot`` extra
 (matplotlib, tqdm), the engine cross-checks the ``engines`` extra.
 """
-from exdex.scene import (AsymmetricProfile, Body, Grasp, Patch, Rest, SampledTrajectory, Scene, Stop,
-                         TrapezoidalProfile, replace)
+from exdex.scene import (AsymmetricProfile, Body, Chain, Grasp, GripSchedule, Patch, Pause, Rest, SampledTrajectory,
+                         Scene, Shake, Stop, TrapezoidalProfile, replace)
 from exdex.simulate import GripperJumpWarning, Model, PhysicsWarning, Result, SolverError, simulate
 from exdex.batch import BatchResult, simulate_batch, sweep  # noqa: E402
 from exdex.io import load_scene, save_scene  # noqa: E402  (scenes as TOML or JSON files)
@@ -31,8 +31,9 @@ from exdex._optional import MissingExtraError  # noqa: E402
 __version__ = "0.1.0"
 
 __all__ = [
-    "AsymmetricProfile", "Body", "Grasp", "Patch", "Rest", "SampledTrajectory", "Scene", "Stop",
-    "TrapezoidalProfile", "replace", "Model", "Result", "SolverError", "PhysicsWarning", "GripperJumpWarning",
+    "AsymmetricProfile", "Body", "Grasp", "GripSchedule", "Patch", "Rest", "SampledTrajectory", "Scene", "Stop",
+    "TrapezoidalProfile", "Shake", "Pause", "Chain", "replace", "Model", "Result", "SolverError", "PhysicsWarning",
+    "GripperJumpWarning",
     "MissingExtraError", "simulate", "BatchResult", "simulate_batch", "sweep", "load_scene", "save_scene", "paper",
     "tool", "plan", "sequence", "sensitivity", "Sensitivity", "identify", "Identification", "__version__",
 ]

@@ -155,6 +155,102 @@ static int sampled_options(PyObject *spec, exdex_motion_def *mo)
     return 0;
 }
 
+/* Store `item` (a new reference, stolen) at index i of the object array keep. */
+static void keep_item(PyArrayObject *keep, npy_intp i, PyObject *item)
+{
+    PyObject **slot = (PyObject **)PyArray_GETPTR1(keep, i);
+    Py_XSETREF(*slot, item);
+}
+
+/* Chain pieces (motion_kind EXDEX_MOTION_CHAIN): `motion_pieces`, a sequence
+ * of dicts with the motion_* keys of a scene spec (motion_kind,
+ * motion_rotation, motion_axis, motion_center, motion_amplitude,
+ * motion_duration, motion_beta, motion_v_max, motion_frequency; sampled:
+ * motion_times, motion_poses and the optional keys of sampled_options),
+ * and the optional motion_allow_jump (0 or 1). The piece definitions and
+ * their sample arrays live in the object array *keep (a new reference the
+ * caller keeps until the model is built). */
+static int chain_pieces(PyObject *spec, exdex_motion_def *mo, PyArrayObject **keep)
+{
+    PyObject *obj = PyDict_GetItemString(spec, "motion_pieces"), *seq = NULL, *buf = NULL;
+    exdex_motion_def *pieces;
+    Py_ssize_t n;
+    npy_intp nk;
+    if (PyDict_GetItemString(spec, "motion_allow_jump") && dict_int(spec, "motion_allow_jump", &mo->allow_jump))
+        return -1;
+    if (!obj) {
+        PyErr_SetString(PyExc_KeyError, "scene spec is missing 'motion_pieces'");
+        return -1;
+    }
+    seq = PySequence_Fast(obj, "'motion_pieces' must be a sequence of motion dicts");
+    if (!seq) return -1;
+    n = PySequence_Fast_GET_SIZE(seq);
+    if (n < 1 || n > EXDEX_MOTION_MAX_PIECES) {
+        PyErr_Format(PyExc_ValueError, "'motion_pieces' must hold 1 to %d pieces, got %zd", EXDEX_MOTION_MAX_PIECES, n);
+        Py_DECREF(seq);
+        return -1;
+    }
+    nk = 1 + 2 * (npy_intp)n;
+    *keep = (PyArrayObject *)PyArray_ZEROS(1, &nk, NPY_OBJECT, 0);
+    buf = PyBytes_FromStringAndSize(NULL, n * (Py_ssize_t)sizeof(exdex_motion_def));
+    if (!*keep || !buf) goto fail;
+    pieces = (exdex_motion_def *)PyBytes_AS_STRING(buf);
+    keep_item(*keep, 0, buf);
+    for (Py_ssize_t i = 0; i < n; i++) {
+        PyObject *d = PySequence_Fast_GET_ITEM(seq, i);
+        exdex_motion_def *pd = &pieces[i];
+        memset(pd, 0, sizeof *pd);
+        if (!PyDict_Check(d)) {
+            PyErr_Format(PyExc_TypeError, "'motion_pieces[%zd]' must be a dict", i);
+            goto fail;
+        }
+        if (dict_int(d, "motion_kind", &pd->kind) || dict_int(d, "motion_rotation", &pd->rotation) ||
+            dict_doubles(d, "motion_axis", pd->axis, 3) || dict_doubles(d, "motion_center", pd->center, 3) ||
+            dict_double(d, "motion_amplitude", &pd->amplitude) ||
+            dict_double(d, "motion_duration", &pd->duration) || dict_double(d, "motion_beta", &pd->beta) ||
+            dict_double(d, "motion_v_max", &pd->v_max))
+            goto fail;
+        if (PyDict_GetItemString(d, "motion_frequency") && dict_double(d, "motion_frequency", &pd->frequency))
+            goto fail;
+        if (pd->kind == EXDEX_MOTION_SAMPLED) {
+            PyObject *tobj = PyDict_GetItemString(d, "motion_times");
+            PyArrayObject *t, *p;
+            npy_intp np_;
+            if (!tobj) {
+                PyErr_Format(PyExc_KeyError, "'motion_pieces[%zd]' is missing 'motion_times'", i);
+                goto fail;
+            }
+            t = as_doubles(tobj, -1, "motion_times");
+            if (!t) goto fail;
+            keep_item(*keep, 1 + 2 * i, (PyObject *)t);
+            if (PyArray_NDIM(t) != 1) {
+                PyErr_SetString(PyExc_ValueError, "'motion_times' must be 1-D");
+                goto fail;
+            }
+            p = dict_rows(d, "motion_poses", 7, -1, &np_);
+            if (!p) goto fail;
+            keep_item(*keep, 2 + 2 * i, (PyObject *)p);
+            if (np_ != PyArray_SIZE(t)) {
+                PyErr_SetString(PyExc_ValueError, "'motion_poses' must have one row per entry of 'motion_times'");
+                goto fail;
+            }
+            pd->n_samples = (size_t)np_;
+            pd->times = (const double *)PyArray_DATA(t);
+            pd->poses = (const double *)PyArray_DATA(p);
+            if (sampled_options(d, pd)) goto fail;
+        }
+    }
+    Py_DECREF(seq);
+    mo->n_pieces = (size_t)n;
+    mo->pieces = pieces;
+    return 0;
+fail:
+    if (!*keep) Py_XDECREF(buf);
+    Py_XDECREF(seq);
+    Py_CLEAR(*keep);
+    return -1;
+}
+
 /* Optional grip schedule: key grip_schedule, a (2, n) float64 array (row 0
  * the times, row 1 the forces; n >= 1), and grip_kind (0 linear, 1 cubic,
  * 2 step). The array is returned as a new reference in *grip (kept alive
@@ -180,7 +276,8 @@ static int grip_from_dict(PyObject *spec, exdex_scene_def *def, PyArrayObject **
 
 /* Fill an exdex_scene_def from a spec dict. Sampled-motion arrays and the
  * grip schedule are returned as new references in *times / *poses / *grip
- * (kept alive by the caller until the model is built). */
+ * (kept alive by the caller until the model is built); a chain's pieces and
+ * their arrays in *times (an object array, chain_pieces). */
 static int scene_from_dict(PyObject *spec, exdex_scene_def *def, PyArrayObject **times,
                            PyArrayObject **poses, PyArrayObject **grip)
 {
@@ -227,6 +324,10 @@ static int scene_from_dict(PyObject *spec, exdex_scene_def *def, PyArrayObject *
         memcpy(def->stop_point, PyArray_DATA(sp), (size_t)nsp * 3 * sizeof(double));
         memcpy(def->stop_normal, PyArray_DATA(sn), (size_t)nsn * 3 * sizeof(double));
     }
+    if (PyDict_GetItemString(spec, "motion_frequency") &&
+        dict_double(spec, "motion_frequency", &def->motion.frequency))
+        goto fail;
+    if (def->motion.kind == EXDEX_MOTION_CHAIN && chain_pieces(spec, &def->motion, times)) goto fail;
     if (def->motion.kind == EXDEX_MOTION_SAMPLED) {
         PyObject *tobj = PyDict_GetItemString(spec, "motion_times");
         if (!tobj) {
@@ -741,6 +842,46 @@ done:
     Py_XDECREF(grip);
     Py_XDECREF(ta);
     for (int i = 0; i < 6; i++) Py_XDECREF(out[i]);
+    return result;
+}
+
+PyDoc_STRVAR(grip_eval_doc,
+"grip_eval(spec, t) -> (force, rate)\n\n"
+"Normal force of each finger F(t) [N] and its rate dF/dt [N/s] (right derivative at a\n"
+"breakpoint) at the times t (float64, any shape up to 1-D), of the scene's constant grip\n"
+"force or grip schedule (exdex_model_grip).");
+
+static PyObject *core_grip_eval(PyObject *module, PyObject *args, PyObject *kwds)
+{
+    static char *kwlist[] = {"spec", "t", NULL};
+    PyObject *spec, *tobj, *result = NULL;
+    PyArrayObject *ta = NULL, *fo = NULL, *ra = NULL;
+    exdex_model *model = NULL;
+    npy_intp n;
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "OO", kwlist, &spec, &tobj)) return NULL;
+    ta = (PyArrayObject *)PyArray_FROMANY(tobj, NPY_DOUBLE, 0, 1, NPY_ARRAY_IN_ARRAY);
+    if (!ta) return NULL;
+    n = PyArray_SIZE(ta);
+    model = model_from_spec(module, spec);
+    if (!model) goto done;
+    fo = (PyArrayObject *)PyArray_SimpleNew(1, &n, NPY_DOUBLE);
+    ra = (PyArrayObject *)PyArray_SimpleNew(1, &n, NPY_DOUBLE);
+    if (!fo || !ra) goto done;
+    {
+        const double *tp = PyArray_DATA(ta);
+        double *f = PyArray_DATA(fo), *r = PyArray_DATA(ra);
+        for (npy_intp i = 0; i < n; i++)
+            if (exdex_model_grip(model, tp[i], f + i, r + i)) {
+                PyErr_SetString(PyExc_ValueError, "t must not hold NaN");
+                goto done;
+            }
+    }
+    result = Py_BuildValue("(OO)", fo, ra);
+done:
+    exdex_model_free(model);
+    Py_XDECREF(ta);
+    Py_XDECREF(fo);
+    Py_XDECREF(ra);
     return result;
 }
 
@@ -1456,6 +1597,7 @@ static PyMethodDef core_methods[] = {
      motion_eval_doc},
     {"motion_jumps", (PyCFunction)(void (*)(void))core_motion_jumps, METH_VARARGS | METH_KEYWORDS,
      motion_jumps_doc},
+    {"grip_eval", (PyCFunction)(void (*)(void))core_grip_eval, METH_VARARGS | METH_KEYWORDS, grip_eval_doc},
     {"friction_solve", (PyCFunction)(void (*)(void))core_friction_solve, METH_VARARGS | METH_KEYWORDS,
      friction_solve_doc},
     {"er_disc", core_er_disc, METH_O, "e_r [m] of a uniform pressure disc of radius R: 2R/3 (NaN if R <= 0)."},
@@ -1489,6 +1631,13 @@ static const expy_constant core_constants[] = {
     {"MOTION_ASYMMETRIC", EXDEX_MOTION_ASYMMETRIC},
     {"MOTION_TRAPEZOID", EXDEX_MOTION_TRAPEZOID},
     {"MOTION_SAMPLED", EXDEX_MOTION_SAMPLED},
+    {"MOTION_SHAKE", EXDEX_MOTION_SHAKE},
+    {"MOTION_CHAIN", EXDEX_MOTION_CHAIN},
+    {"MOTION_MAX_PIECES", EXDEX_MOTION_MAX_PIECES},
+    {"GRIP_LINEAR", EXDEX_GRIP_LINEAR},
+    {"GRIP_CUBIC", EXDEX_GRIP_CUBIC},
+    {"GRIP_STEP", EXDEX_GRIP_STEP},
+    {"MAX_GRIP_POINTS", EXDEX_MAX_GRIP_POINTS},
     {NULL, 0}};
 
 static int core_exec(PyObject *module)

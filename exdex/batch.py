@@ -45,7 +45,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from exdex import _core, _optional
-from exdex.scene import METHODS, SOLVERS, AsymmetricProfile, Body, Grasp, Scene, TrapezoidalProfile, _real
+from exdex.scene import METHODS, SOLVERS, AsymmetricProfile, Body, Grasp, GripSchedule, Scene, TrapezoidalProfile, _real
 from exdex import diagnostics
 from exdex.simulate import FrictionSolver, Method, Result, _check_times, resolve_method
 
@@ -229,6 +229,9 @@ def _replace_params(scene, values):
 
 def _replace_path(obj, path, value):
     if len(path) == 1:
+        if path[0] == "grip_force" and isinstance(getattr(obj, "grip_force"), GripSchedule):
+            # on a grip schedule the batch's grip_force is a scale of it (the core's grip_force)
+            value = obj.grip_force.scaled(value)
         return dataclasses.replace(obj, **{path[0]: value})
     return dataclasses.replace(obj, **{path[0]: _replace_path(getattr(obj, path[0]), path[1:], value)})
 
@@ -375,7 +378,9 @@ def simulate_batch(scene: Union[Scene, Sequence[Scene]], t_end: float, dt: float
         C order. Names (the Scene field each replaces, its allowed range):
 
         ``mass`` (body.mass, kg > 0), ``mu`` (grasp.mu, >= 0), ``grip_force``
-        (grasp.grip_force per finger, N >= 0), ``e_r`` (grasp.patch.e_r, m > 0),
+        (grasp.grip_force per finger, N >= 0; on a :class:`exdex.GripSchedule`
+        a factor >= 0 on its forces, ``GripSchedule.scaled``), ``e_r``
+        (grasp.patch.e_r, m > 0),
         ``amplitude`` (motion.amplitude, X1 [m] or theta1 [rad]),
         ``duration`` (motion.duration, T [s] > 0), ``beta`` (motion.beta of
         an AsymmetricProfile, in (0, 1)), ``v_max`` (motion.v_max of a

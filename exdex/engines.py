@@ -190,6 +190,15 @@ class _Layout:
         return 0.0
 
 
+def _grip_force(scene):
+    """The constant grip force the engines' finger joints press with [N]."""
+    f = scene.grasp.grip_force
+    if not isinstance(f, (int, float)):
+        raise ValueError("the engine runs press the fingers with a constant grip force; this scene's "
+                         "Grasp.grip_force is a GripSchedule (use exdex.simulate for it)")
+    return f
+
+
 def _kinematics(scene, t):
     """Gripper kinematics at times t in A: dict R, p, v, a, w, dw."""
     return scene.motion.evaluate(np.atleast_1d(np.asarray(t, dtype=float)), scene.gripper_rotation,
@@ -386,7 +395,7 @@ def run_mujoco(scene, t_end, *, dt=0.002, iterations=100, cone="elliptic", impra
         d.qvel[3:6] = R.T @ kin["w"][k]
         d.xfrc_applied[gid, 0:3] = Mg * (kin["a"][k] - g)
         d.xfrc_applied[gid, 3:6] = Mg * kin["dw"][k]     # isotropic inertia: w x I w = 0
-        d.qfrc_applied[sq] = -scene.grasp.grip_force
+        d.qfrc_applied[sq] = -_grip_force(scene)
 
     dof = {name: m.joint(name).dofadr[0] for name in ("on", "ox", "oy", "ob") if _has_joint(m, name)}
 
@@ -559,7 +568,7 @@ def run_pybullet(scene, t_end, *, dt=1.0 / 240.0, iterations=50, cone=True, cont
         def drive(k):
             pb.applyExternalForce(body, -1, list(Mg * (kin["a"][k] - g)), list(kin["p"][k]), pb.WORLD_FRAME, **kw)
             pb.applyExternalTorque(body, -1, list(Mg * kin["dw"][k]), pb.WORLD_FRAME, **kw)
-            pb.setJointMotorControl2(body, 0, pb.TORQUE_CONTROL, force=-scene.grasp.grip_force, **kw)
+            pb.setJointMotorControl2(body, 0, pb.TORQUE_CONTROL, force=-_grip_force(scene), **kw)
 
         def record(k):
             pB, qB = pb.getBasePositionAndOrientation(body, **kw)
@@ -773,7 +782,7 @@ def run_drake(scene, t_end, *, dt=1e-3, contact_model="point", approximation="la
     diagram = builder.Build()
     ctx = diagram.CreateDefaultContext()
     pctx = plant.GetMyMutableContextFromRoot(ctx)
-    plant.get_actuation_input_port().FixValue(pctx, [-scene.grasp.grip_force])
+    plant.get_actuation_input_port().FixValue(pctx, [-_grip_force(scene)])
     force_port = plant.get_applied_spatial_force_input_port()
     g, times, kin, pos, vel, RBC, om, fstop = _run_arrays(scene, n, dt)
     # initial joint state: plate 2 touching, object at q0 (joints at zero)

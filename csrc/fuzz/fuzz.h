@@ -152,6 +152,7 @@ typedef struct fz_motion {
     double R0[9], p0[3];
     int have_R0, have_p0;
     int used_nonfinite;
+    exdex_motion_def pieces[5];   /* chain pieces */
 } fz_motion;
 void fz_decode_motion(fz *f, fz_motion *m);
 
