@@ -99,6 +99,8 @@ static int check_fields(const exdex_scene_def *d, const char **bad_param)
     if (!ex_finite_n(&d->vertices[0][0], 2 * d->n_vertices)) return bad(bad_param, "vertices");
     if (!(isfinite(d->mu) && d->mu >= 0)) return bad(bad_param, "mu");
     if (!(isfinite(d->grip_force) && d->grip_force >= 0)) return bad(bad_param, "grip_force");
+    if (!(isfinite(d->mu_static) && (d->mu_static == 0.0 || d->mu_static >= d->mu)))
+        return bad(bad_param, "mu_static");
     if (d->grip_n > EXDEX_MAX_GRIP_POINTS) return bad(bad_param, "grip_n");
     if (d->grip_n) {
         if (d->grip_kind < EXDEX_GRIP_LINEAR || d->grip_kind > EXDEX_GRIP_STEP) return bad(bad_param, "grip_kind");
@@ -536,6 +538,28 @@ static exdex_model *build_model(const exdex_scene_def *def, int *status, const c
         *status = st;
         if (bad_param && st == EXDEX_EINVAL) *bad_param = "grip_times";
         return NULL;
+    }
+    /* static capacity: the kinetic one times mu_static / mu (per unit grip
+     * force capks, so that it follows a grip schedule as the kinetic one
+     * does); with mu = 0 the ratio is undefined and mu_static fingers is
+     * stored itself */
+    m->cap_ratio = 1.0;
+    m->capks = m->capk;
+    m->capS = m->capF;
+    if (def->mu_static != 0.0 && def->mu_static != def->mu) {
+        if (def->mu > 0.0) {
+            m->cap_ratio = def->mu_static / def->mu;
+            m->capks = m->capk * m->cap_ratio;
+            m->capS = m->capF * m->cap_ratio;
+        } else {
+            double fmax = m->def.grip_force;
+            if (m->grip_n) {
+                fmax = 0.0;
+                for (size_t i = 0; i < m->grip_n; i++) fmax = fmax > m->grip_f[i] ? fmax : m->grip_f[i];
+            }
+            m->capks = def->mu_static * def->fingers;
+            m->capS = m->capks * fmax;
+        }
     }
     m->e[0] = m->e[1] = 1.0;
     m->e[2] = def->e_r;
