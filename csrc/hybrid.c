@@ -70,6 +70,27 @@
  *   sqrt((mu N)^2 - |E^-1 w|^2)). Stiff when eps is small: the explicit
  *   stepper's step collapses to ~ M eps / C.
  *
+ * Static and kinetic friction (capacities C_s = mu_static N >= C = mu N,
+ * two ellipsoids of the same shape):
+ *   event: every test of a stick (the stick -> slip guard, a rest against
+ *     stops, the decision after a slip stops or at a segment start) uses
+ *     C_s; every slip (the sliding law, the direction a slip starts in, the
+ *     small-slip law, sliding along a 1-DoF stop) uses C. A small slip
+ *     (planar, growing from rest) stops when its load falls back inside the
+ *     kinetic ellipsoid, where the slip decelerates; the decision there
+ *     sticks (the load is inside the static one too).
+ *   regularised: the capacity falls smoothly with the slip speed from the
+ *     static to the kinetic value,
+ *         w = -C(|E u|) E^2 u / sqrt(|E u|^2 + eps^2),
+ *         C(s) = C + (C_s - C) exp(-(s / v_s)^2),   v_s = sqrt(eps V),
+ *     V the scene's velocity scale (model_scales): v_s >> eps, so a creeping
+ *     object (|E u| ~ eps) meets C_s (the largest load it carries before it
+ *     accelerates away is C_s (1 - O(eps / v_s)), below C_s by at most
+ *     sqrt(2 (C_s - C) C_s) eps / v_s), and a slip faster than a few v_s
+ *     meets C; both errors vanish as eps -> 0 (as sqrt(eps)). In a 1-DoF
+ *     rotation scene s and v_s are divided by e_r as eps is. With C_s = C
+ *     it is the law above.
+ *
  * Stops: every scene with every method. Planar scenes in the hybrid
  * (event, regularised) integrator carry a contact set of (stop, vertex) rows
  * besides the friction mode:
@@ -178,6 +199,8 @@ typedef struct hyb {
     double lo, hi;     /* motion segment [lo, hi) */
     double M, cap, eps;
     double capk;       /* capacity per unit model_capacity: 1, or e_r for a 1-DoF rotation */
+    double caps;       /* static capacity (force, or torque in a 1-DoF rotation), >= cap */
+    double vstr;       /* regularised: speed v_s at which the capacity falls from caps to cap */
     int err;           /* first failure inside a right-hand side */
     exdex_stats *st;
 } hyb;
@@ -197,15 +220,28 @@ static double seg_time(const hyb *H, double t)
 }
 
 /* Frame terms at t inside the current motion segment (seg_time); with a
- * grip schedule also the friction capacity H->cap at that time (segments end
+ * grip schedule also the friction capacities H->cap, H->caps at that time (segments end
  * at the schedule's breakpoints too), which every friction law, guard and
  * decision below reads: the stick guard C(t) (1 + TOLF) - |load|_E is
  * located on the stepper's dense map like every other guard. */
 static int frame_seg(hyb *H, double t, frame *f, exdex_kinematics *k)
 {
     t = seg_time(H, t);
-    if (H->m->grip_n) H->cap = H->capk * model_capacity(H->m, t);
+    if (H->m->grip_n) {
+        H->cap = H->capk * model_capacity(H->m, t);
+        H->caps = H->capk * model_capacity_static(H->m, t);
+    }
     return model_frame_at(H->m, t, f, k);
+}
+
+/* Regularised capacity at slip speed sig (same units as eps): from the
+ * static capacity at rest to the kinetic one at a few vstr (see above). */
+static double smooth_cap(const hyb *H, double sig)
+{
+    double r;
+    if (H->caps == H->cap) return H->cap;
+    r = sig / H->vstr;
+    return H->cap + (H->caps - H->cap) * exp(-r * r);
 }
 
 /* Constraint acceleration of q along the row (F(q(t), t) = 0 held). */
@@ -218,7 +254,7 @@ static double contact_qdd(const crow *c, double v)
 static void contact_forces(const hyb *H, const crow *c, double R, double v, double *f, double *lam)
 {
     if (H->law == LAW_SMOOTH) {
-        *f = -H->cap * v / sqrt(v * v + H->eps * H->eps);
+        *f = -smooth_cap(H, fabs(v)) * v / sqrt(v * v + H->eps * H->eps);
         *lam = (R - *f) / c->Fq;
     } else if (H->s != 0.0) {
         *f = -H->s * H->cap;
@@ -397,8 +433,8 @@ static int planar_friction(hyb *H, const frame *f, const exdex_kinematics *kin, 
         for (int i = 0; i < 3; i++) eu[i] = m->e[i] * u[i];
         sig = sqrt(ex_dot3(eu, eu));
         if (H->law == LAW_SMOOTH) {
-            double den = sqrt(sig * sig + H->eps * H->eps);
-            for (int i = 0; i < 3; i++) w[i] = -H->cap * m->e[i] * eu[i] / den;
+            double den = sqrt(sig * sig + H->eps * H->eps), cs = smooth_cap(H, sig);
+            for (int i = 0; i < 3; i++) w[i] = -cs * m->e[i] * eu[i] / den;
         } else if (sig > 0.0 && !H->small) {
             for (int i = 0; i < 3; i++) w[i] = -H->cap * m->e[i] * eu[i] / sig;
         } else {
@@ -495,7 +531,7 @@ static int rhs(double t, const double y[], double dy[], void *params)
         } else {
             double Q = model_force_1dof(m, &f, q, v), fr;
             if (H->law == LAW_SMOOTH)
-                fr = -H->cap * v / sqrt(v * v + H->eps * H->eps);
+                fr = -smooth_cap(H, fabs(v)) * v / sqrt(v * v + H->eps * H->eps);
             else
                 fr = -H->s * H->cap;
             dy[0] = v;
@@ -592,11 +628,11 @@ static int guards(hyb *H, double t, const double *y, double *g)
             double F[3], w[3], zero[3] = {0, 0, 0}, lam[MAX_ROWS];
             model_force_planar(m, &f, y, zero, F);
             if (H->ncs) {
-                g[n++] = H->cap * (1.0 + TOLF) - planar_rest(H, &kin, y, F, w, lam);
+                g[n++] = H->caps * (1.0 + TOLF) - planar_rest(H, &kin, y, F, w, lam);
             } else {
                 for (int i = 0; i < 3; i++) F[i] = -F[i];
                 model_patch_of_gen(m, MODEL_CS(y[2]), F, w);
-                g[n++] = H->cap * (1.0 + TOLF) - model_ell_norm(m, w);
+                g[n++] = H->caps * (1.0 + TOLF) - model_ell_norm(m, w);
             }
         }
         if (H->ns) {
@@ -645,14 +681,14 @@ static int guards(hyb *H, double t, const double *y, double *g)
         if (H->mode == MODE_SLIP) {
             g[n++] = H->s * v;
         } else if (H->mode == MODE_STICK) {
-            g[n++] = H->cap * (1.0 + TOLF) - fabs(model_force_1dof(m, &f, q, 0.0));
+            g[n++] = H->caps * (1.0 + TOLF) - fabs(model_force_1dof(m, &f, q, 0.0));
         } else if (H->mode == MODE_CONTACT) {
             crow c;
             double R, fr, lam;
             contact_row_1dof(m, &kin, H->ck, H->cj, q, &c);
             R = H->M * contact_qdd(&c, v) - model_force_1dof(m, &f, q, v);
             if (H->law == LAW_COULOMB && H->s == 0.0) {
-                g[n++] = fmax(R / c.Fq, H->cap * (1.0 + TOLF) - fabs(R));
+                g[n++] = fmax(R / c.Fq, H->caps * (1.0 + TOLF) - fabs(R));
                 g[n++] = m->tol.vzero - fabs(v);
             } else {
                 contact_forces(H, &c, R, v, &fr, &lam);
@@ -740,7 +776,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
         model_force_planar(m, &f, y, zero, F);
         if (H->ncs) {
             double lam[MAX_ROWS];
-            if (planar_rest(H, &kin, y, F, w, lam) <= H->cap * (1.0 + TOLF)) {
+            if (planar_rest(H, &kin, y, F, w, lam) <= H->caps * (1.0 + TOLF)) {
                 H->mode = MODE_STICK;
                 return;
             }
@@ -748,7 +784,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
             double mF[3] = {-F[0], -F[1], -F[2]};
             model_patch_of_gen(m, MODEL_CS(y[2]), mF, w);
         }
-        if (!H->ncs && model_ell_norm(m, w) <= H->cap * (1.0 + TOLF)) {
+        if (!H->ncs && model_ell_norm(m, w) <= H->caps * (1.0 + TOLF)) {
             H->mode = MODE_STICK;
         } else {
             /* starts to slip: the direction of the slip acceleration */
@@ -836,7 +872,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
             contact_forces(H, &c, R, v, &fr, &lam);
             /* a stop force exactly 0 keeps no contact: it is about to
              * separate (or needs none) */
-            if (lam > 0.0 && (H->law == LAW_SMOOTH || H->s != 0.0 || fabs(fr) <= H->cap * (1.0 + TOLF))) {
+            if (lam > 0.0 && (H->law == LAW_SMOOTH || H->s != 0.0 || fabs(fr) <= H->caps * (1.0 + TOLF))) {
                 H->mode = MODE_CONTACT;
                 H->ck = k;
                 H->cj = j;
@@ -862,7 +898,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
         } else {
             double Q0 = model_force_1dof(m, &f, q, 0.0);
             y[1] = 0.0;
-            if (fabs(Q0) <= H->cap * (1.0 + TOLF)) {
+            if (fabs(Q0) <= H->caps * (1.0 + TOLF)) {
                 H->mode = MODE_STICK;
                 H->s = 0.0;
             } else {
@@ -1154,16 +1190,23 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
         H.M = 1.0;
         H.capk = 1.0;
         H.cap = m->capF;
+        H.caps = m->capS;
         H.zsw = SLIP_SMALL * m->def.atol * m->scale.V;  /* atol of a slip speed |E u| */
     } else if (m->def.dof == EXDEX_DOF_TRANSLATION) {
         H.M = m->m;
         H.capk = 1.0;
         H.cap = m->capF;
+        H.caps = m->capS;
     } else {
         H.M = m->mrot;
         H.capk = m->e[2];
         H.cap = m->capF * m->e[2];
+        H.caps = m->capS * m->e[2];
     }
+    /* regularised: the speed at which the capacity falls from static to
+     * kinetic, in the units of eps */
+    H.vstr = sqrt(m->def.eps * m->scale.V);
+    if (m->ndof == 1 && m->def.dof == EXDEX_DOF_ROTATION) H.vstr /= m->e[2];
     O->sys.params = &H;
     nsw = switch_times(m, t_end, ts, O->gb);
     memset(y, 0, sizeof y);
