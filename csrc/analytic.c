@@ -12,12 +12,14 @@
  *     no moment about the pivot, and
  *         I_zz thdd = -I_zz dw_z(t) + tau_f;
  *   no stops; constant grip force.
- * With the drive d(t) = Q / M constant on each phase and the friction
- * capacity c = C / M (C = mu N, or mu N e_r for the torque) the Coulomb
- * problem  qdd = d + f / M,  |f| <= C,  exact stick  has the solution:
- *   at rest (qd = 0): it stays at rest while |d| <= c (1 + TOLF) (the band
+ * With the drive d(t) = Q / M constant on each phase, the kinetic friction
+ * capacity c = C / M (C = mu N, or mu N e_r for the torque) and the static
+ * one c_s = C_s / M (mu_static in place of mu, c_s >= c) the Coulomb
+ * problem  qdd = d + f / M,  |f| <= C_s at rest, f = -C sign(qd) sliding,
+ * exact stick  has the solution:
+ *   at rest (qd = 0): it stays at rest while |d| <= c_s (1 + TOLF) (the band
  *     that the event method uses), else it slips in the direction of d with
- *     qdd = d - c sign(d);
+ *     qdd = d - c sign(d) (c_s >= c: it accelerates away from rest);
  *   sliding (qd != 0): qdd = d - c sign(qd), a quadratic in time; if it
  *     decelerates the slip stops at tau = -qd / qdd (a root of a linear
  *     equation) and the rest test applies again.
@@ -44,16 +46,18 @@ typedef struct phase {
 
 /* The run's state between output intervals: the current segment starts at
  * ts in state (xs, vs) with acceleration a, in phase k; t_rec is the last
- * recorded time; c the capacity per unit M it runs with. */
+ * recorded time; c, cs the kinetic and static capacities per unit M it
+ * runs with. */
 typedef struct analytic_state {
-    double ts, xs, vs, a, t_rec, c;
+    double ts, xs, vs, a, t_rec, c, cs;
     int k;
 } analytic_state;
 
 typedef struct analytic_ws {
     int np;
     phase ph[MAX_PHASES];
-    double M, c;   /* generalised mass; capacity per unit M */
+    double M, c;   /* generalised mass; kinetic capacity per unit M */
+    double cs;     /* static capacity per unit M */
     analytic_state S;
 } analytic_ws;
 
@@ -104,9 +108,11 @@ static void *analytic_alloc(const exdex_model *m, int *status)
     if (m->def.dof == EXDEX_DOF_TRANSLATION) {
         w->M = m->m;
         w->c = m->capF / m->m;
+        w->cs = m->capS / m->m;
     } else {
         w->M = m->mrot;
         w->c = m->capF * m->e[2] / m->mrot;
+        w->cs = m->capS * m->e[2] / m->mrot;
     }
     *status = build_phases(m, w);
     if (*status) {
@@ -122,7 +128,7 @@ static void analytic_free(void *ws) { free(ws); }
  * drive d: 0 at rest while the plates hold, else the Coulomb slip. */
 static double segment_accel(const analytic_ws *w, double d, double v)
 {
-    if (v == 0.0) return fabs(d) <= w->c * (1.0 + TOLF) ? 0.0 : d - copysign(w->c, d);
+    if (v == 0.0) return fabs(d) <= w->cs * (1.0 + TOLF) ? 0.0 : d - copysign(w->c, d);
     return d - copysign(w->c, v);
 }
 
@@ -139,6 +145,7 @@ static int analytic_begin(const exdex_model *m, void *ws, double t_end, double d
     w->S.vs = v[0];
     w->S.k = 0;
     w->S.c = w->c;
+    w->S.cs = w->cs;
     w->S.a = segment_accel(w, w->ph[0].d, v[0]);
     return EXDEX_OK;
 }
@@ -157,6 +164,7 @@ static int analytic_advance(const exdex_model *m, void *ws, double ti, int regri
     if (regrip) {
         double tau = w->S.t_rec - ts;
         w->c = m->def.dof == EXDEX_DOF_TRANSLATION ? m->capF / m->m : m->capF * m->e[2] / m->mrot;
+        w->cs = m->def.dof == EXDEX_DOF_TRANSLATION ? m->capS / m->m : m->capS * m->e[2] / m->mrot;
         xs += vs * tau + 0.5 * a * tau * tau;
         vs += a * tau;
         ts = w->S.t_rec;
@@ -206,6 +214,7 @@ static int analytic_advance(const exdex_model *m, void *ws, double ti, int regri
     w->S.k = k;
     w->S.t_rec = ti;
     w->S.c = w->c;
+    w->S.cs = w->cs;
     return EXDEX_OK;
 }
 
@@ -228,6 +237,7 @@ static void analytic_restore(void *ws, const void *buf)
     analytic_ws *w = ws;
     memcpy(&w->S, buf, sizeof w->S);
     w->c = w->S.c;
+    w->cs = w->S.cs;
 }
 
 const method_impl method_analytic = {"analytic", analytic_alloc, analytic_run, analytic_free, 0, 0,

@@ -374,6 +374,14 @@ typedef struct exdex_scene_def {
     const double *grip_times;   /* (grip_n,) finite, strictly increasing [s] */
     const double *grip_forces;  /* (grip_n,) finite, >= 0 [N] */
     int grip_kind;              /* enum exdex_grip_kind */
+    /* static friction: the plates hold the object while the wrench that
+     * holds it lies in the static ellipsoid, of capacity mu_static N, and a
+     * slip slides against the kinetic one, mu N (same shape, E); a slip
+     * sticks again where its slip twist reaches 0 with the holding wrench
+     * inside the static ellipsoid. mu_static >= mu, or 0: equal to mu (a
+     * zero-initialised field keeps the one-coefficient law). Each method's
+     * use of it is stated with the method (exdex_method above, hybrid.c). */
+    double mu_static;
 } exdex_scene_def;
 
 /* Interpolation of a grip-force schedule between its points. */

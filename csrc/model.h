@@ -87,6 +87,15 @@ struct exdex_model {
     gsl_interp *grip_interp;  /* linear and cubic kinds (NULL for step); evaluated without an
                                  accelerator, so concurrent reads are safe */
     double capk;            /* mu * fingers: capacity per unit grip force */
+    /* static friction (exdex_scene_def.mu_static): the static capacity is
+     * the kinetic one times cap_ratio = mu_static / mu (exactly 1, and the
+     * static capacity the kinetic one bit for bit, when they are equal):
+     * capks = capk cap_ratio per unit grip force, capS = capF cap_ratio the
+     * largest. With mu = 0 the ratio is undefined (1) and capks = mu_static
+     * fingers is set itself. Read it with model_capacity_static. */
+    double cap_ratio;
+    double capks;
+    double capS;
 };
 
 /* ------------------------------------------------ grip force, capacity
@@ -125,6 +134,17 @@ static inline double model_capacity_rate(const exdex_model *m, double t)
 static inline double model_capacity_mean(const exdex_model *m, double t0, double t1)
 {
     return m->grip_n ? m->capk * model_grip_sched_mean(m, t0, t1) : m->capF;
+}
+/* Static friction capacity C_s(t) = mu_static fingers F(t) >= C(t) [N]
+ * (model_capacity itself, bit for bit, when mu_static = mu). */
+static inline double model_capacity_static(const exdex_model *m, double t)
+{
+    return m->grip_n ? m->capks * model_grip_sched(m, t) : m->capS;
+}
+/* Its mean over the step [t0, t1] (t0 < t1) [N], as model_capacity_mean. */
+static inline double model_capacity_static_mean(const exdex_model *m, double t0, double t1)
+{
+    return m->grip_n ? m->capks * model_grip_sched_mean(m, t0, t1) : m->capS;
 }
 /* The schedule's breakpoints in (0, t_end] (where F or its derivatives may
  * be discontinuous), increasing, into ts (up to m->grip_n of them); returns

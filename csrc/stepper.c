@@ -35,7 +35,7 @@ typedef struct stepper_core {
     double t_base, dt, dt0;     /* grid: t_base + k dt; the first step's dt */
     double k;                   /* steps of dt since t_base */
     double grip;                /* the last step's grip force (NaN: the scene's) */
-    double capF, grip_force;    /* the copy's capacity fields */
+    double capF, capS, grip_force;   /* the copy's capacity fields */
     size_t grip_n;
     exdex_stepper_sample last;
     exdex_stats st;
@@ -57,18 +57,25 @@ struct exdex_stepper {
 static int set_grip(exdex_stepper *s, double F)
 {
     const exdex_model *m = s->c.model;
-    double cap0 = s->mc.capF;
+    double cap0 = s->mc.capF, caps0 = s->mc.capS;
     size_t n0 = s->mc.grip_n;
     if (isnan(F)) {
         s->mc.grip_n = m->grip_n;
         s->mc.capF = m->capF;
+        s->mc.capS = m->capS;
         s->mc.def.grip_force = m->def.grip_force;
     } else {
         s->mc.grip_n = 0;
         s->mc.capF = m->capk * F;
+        /* the static capacity as the model compiles a constant grip force:
+         * the kinetic one times mu_static / mu, or mu_static fingers F when
+         * mu = 0 */
+        s->mc.capS = m->def.mu > 0.0 || m->def.mu_static == 0.0 || m->def.mu_static == m->def.mu
+                         ? s->mc.capF * m->cap_ratio
+                         : m->capks * F;
         s->mc.def.grip_force = F;
     }
-    return s->mc.capF != cap0 || s->mc.grip_n != n0;
+    return s->mc.capF != cap0 || s->mc.capS != caps0 || s->mc.grip_n != n0;
 }
 
 static void initial_sample(exdex_stepper *s)
@@ -180,6 +187,7 @@ int exdex_stepper_step(exdex_stepper *s, double dt, double grip_force)
     c->dt = dt;
     c->grip = grip_force;
     c->capF = s->mc.capF;
+    c->capS = s->mc.capS;
     c->grip_force = s->mc.def.grip_force;
     c->grip_n = s->mc.grip_n;
     c->last.t = t1;
@@ -240,6 +248,7 @@ int exdex_stepper_restore(exdex_stepper *s, const void *buf, size_t size)
         s->impl->restore(s->ws, (const char *)buf + sizeof c);
         s->mc.grip_n = c.grip_n;
         s->mc.capF = c.capF;
+        s->mc.capS = c.capS;
         s->mc.def.grip_force = c.grip_force;
     } else {
         set_grip(s, NAN);

@@ -309,6 +309,8 @@ static int scene_from_dict(PyObject *spec, exdex_scene_def *def, PyArrayObject *
         dict_int(spec, "friction_solver", &def->friction_solver) || dict_double(spec, "eps", &def->eps) ||
         dict_double(spec, "rtol", &def->rtol) || dict_double(spec, "atol", &def->atol))
         return -1;
+    /* optional: 0 (the C default) is "equal to mu" */
+    if (PyDict_GetItemString(spec, "mu_static") && dict_double(spec, "mu_static", &def->mu_static)) return -1;
     verts = dict_rows(spec, "vertices", 2, EXDEX_MAX_VERTICES, &nv);
     if (!verts) goto fail;
     sp = dict_rows(spec, "stop_points", 3, EXDEX_MAX_STOPS, &nsp);
@@ -1257,7 +1259,7 @@ static PyObject *core_n_samples(PyObject *module, PyObject *args)
 /* Scalar fields of exdex_scene_def a batch may vary from a base spec (`vary`). */
 static const char *const vary_keys[] = {"mass", "mu", "grip_force", "e_r", "motion_amplitude",
                                         "motion_duration", "motion_beta", "motion_v_max", "eps",
-                                        "rtol", "atol", NULL};
+                                        "rtol", "atol", "mu_static", NULL};
 
 static double *vary_field(exdex_scene_def *d, int which)
 {
@@ -1272,6 +1274,7 @@ static double *vary_field(exdex_scene_def *d, int which)
     case 7: return &d->motion.v_max;
     case 8: return &d->eps;
     case 9: return &d->rtol;
+    case 11: return &d->mu_static;
     default: return &d->atol;
     }
 }
@@ -1515,7 +1518,7 @@ static Py_ssize_t parse_vary(PyObject *vary, int *which, PyArrayObject **arrays,
         if (w < 0) {
             PyErr_Format(PyExc_ValueError,
                          "vary: unknown key '%s' (allowed: mass, mu, grip_force, e_r, motion_amplitude, "
-                         "motion_duration, motion_beta, motion_v_max, eps, rtol, atol)", name);
+                         "motion_duration, motion_beta, motion_v_max, eps, rtol, atol, mu_static)", name);
             return -1;
         }
         arrays[*nvary] = (PyArrayObject *)PyArray_FROMANY(val, NPY_DOUBLE, 1, 1, NPY_ARRAY_IN_ARRAY);
@@ -1552,7 +1555,7 @@ PyDoc_STRVAR(simulate_batch_doc,
 "vary : optional dict {spec key: 1-D float64 array of the batch length}; entry\n"
 "    i replaces that scalar of spec i (keys: mass, mu, grip_force, e_r,\n"
 "    motion_amplitude, motion_duration, motion_beta, motion_v_max, eps, rtol,\n"
-"    atol). With a single spec dict it sets the batch length.\n"
+"    atol, mu_static). With a single spec dict it sets the batch length.\n"
 "record : 'all' returns q, v (B, n, ndof), wrench (B, n, 3), stick (B, n),\n"
 "    stop_force (B, n, n_stops); 'final' only their last sample, q, v (B, ndof),\n"
 "    wrench (B, 3), stick (B,), stop_force (B, n_stops).\n"

@@ -83,6 +83,7 @@ PARAMETERS: Dict[str, _Param] = {
     "duration": _Param(("motion", "duration"), "motion_duration", 0.0, None, True, False, _MOTIONS),
     "beta": _Param(("motion", "beta"), "motion_beta", 0.0, 1.0, True, True, (AsymmetricProfile,)),
     "v_max": _Param(("motion", "v_max"), "motion_v_max", 0.0, None, True, False, (TrapezoidalProfile,)),
+    "mu_static": _Param(("grasp", "mu_static"), "mu_static", 0.0, None, False, False),
 }
 
 # names people reach for, pointing at ours
@@ -323,6 +324,25 @@ def _check_trapezoids(scene, flat):
                          f"v_max {v[i]:g}")
 
 
+def _check_static(scene, flat):
+    """Grasp's coupled check, vectorised: mu_static >= mu where mu_static is
+    given (a scene's None means equal to mu, whatever mu is varied to)."""
+    if "mu" not in flat and "mu_static" not in flat:
+        return
+    scenes = scene if isinstance(scene, tuple) else (scene,)
+    n = len(next(iter(flat.values())))
+    base = lambda f: np.array([np.nan if getattr(sc.grasp, f) is None else getattr(sc.grasp, f)  # noqa: E731
+                               for sc in scenes]) if len(scenes) > 1 else \
+        np.full(n, np.nan if getattr(scenes[0].grasp, f) is None else getattr(scenes[0].grasp, f))
+    mu = flat.get("mu", base("mu"))
+    ms = flat.get("mu_static", base("mu_static"))
+    bad = ms < mu   # NaN (not given) compares False
+    if np.any(bad):
+        i = int(np.flatnonzero(bad)[0])
+        raise ValueError(f"batch index {i}: mu_static = {ms[i]:g} must be in [mu, inf) = [{mu[i]:g}, inf) "
+                         "(grasp.mu_static)")
+
+
 def _as_float_array(value, name):
     if isinstance(value, (str, bytes)):
         raise TypeError(f"batch parameter {name!r} must be numbers, got {type(value).__name__}")
@@ -377,7 +397,9 @@ def simulate_batch(scene: Union[Scene, Sequence[Scene]], t_end: float, dt: float
         broadcast together and the batch runs over their broadcast shape in
         C order. Names (the Scene field each replaces, its allowed range):
 
-        ``mass`` (body.mass, kg > 0), ``mu`` (grasp.mu, >= 0), ``grip_force``
+        ``mass`` (body.mass, kg > 0), ``mu`` (grasp.mu, >= 0), ``mu_static``
+        (grasp.mu_static, >= mu; a scene without it keeps it equal to mu as
+        mu varies), ``grip_force``
         (grasp.grip_force per finger, N >= 0; on a :class:`exdex.GripSchedule`
         a factor >= 0 on its forces, ``GripSchedule.scaled``), ``e_r``
         (grasp.patch.e_r, m > 0),
@@ -455,6 +477,7 @@ def simulate_batch(scene: Union[Scene, Sequence[Scene]], t_end: float, dt: float
     if math.prod(shape) == 0:
         raise ValueError(f"the batch is empty (broadcast shape {shape})")
     _check_trapezoids(scenes if scenes is not None else scene, flat)
+    _check_static(scenes if scenes is not None else scene, flat)
 
     opts: Dict[str, Any] = dict(method=method, friction_solver=friction_solver, eps=eps, rtol=rtol, atol=atol)
     specs: Any = [s.to_spec(**opts) for s in scenes] if scenes is not None else cast(Scene, scene).to_spec(**opts)

@@ -306,19 +306,28 @@ class GripSchedule:
 class Grasp:
     """How the plates hold the object.
 
-    mu : plate-object friction coefficient, >= 0.
+    mu : plate-object friction coefficient, >= 0: the kinetic coefficient,
+        the one a slip slides against.
     grip_force : normal force of each finger [N], >= 0, or a
         :class:`GripSchedule` of it in time.
     patch : the pressure patch (both fingers identical and aligned).
     fingers : number of pressing patches, 1 or 2. The ellipsoids of the
         fingers add: the friction capacity is ``mu * fingers * grip_force`` [N]
         and the largest torque ``capacity * patch.e_r`` [N m].
+    mu_static : static coefficient, >= mu; None (the default) is ``mu``. The
+        plates hold the object while the wrench that holds it lies in the
+        static ellipsoid (capacity ``mu_static * fingers * grip_force``, the
+        same shape); a slip slides against the kinetic one and sticks again
+        where its slip twist reaches 0 with the holding wrench inside the
+        static ellipsoid. ``mu_static == mu`` gives the same results, bit for
+        bit, as leaving it out.
     """
 
     mu: float
     grip_force: Union[float, GripSchedule]
     patch: Patch = field(default_factory=lambda: Patch(e_r=0.01))
     fingers: int = 2
+    mu_static: Optional[float] = None
 
     def __post_init__(self):
         object.__setattr__(self, "mu", _real(self.mu, "Grasp.mu", low=0.0))
@@ -331,6 +340,8 @@ class Grasp:
             raise TypeError(f"Grasp.patch must be an exdex.Patch, got {type(self.patch).__name__}")
         if isinstance(self.fingers, bool) or not isinstance(self.fingers, numbers.Integral) or self.fingers not in (1, 2):
             raise ValueError(f"Grasp.fingers must be 1 or 2, got {self.fingers!r}")
+        if self.mu_static is not None:
+            object.__setattr__(self, "mu_static", _real(self.mu_static, "Grasp.mu_static", low=self.mu))
 
     @property
     def capacity(self) -> float:
@@ -340,6 +351,19 @@ class Grasp:
         if isinstance(self.grip_force, GripSchedule):
             return self.mu * self.fingers * self.grip_force.max_force
         return self.mu * self.fingers * self.grip_force
+
+    @property
+    def static_mu(self) -> float:
+        """The static coefficient: ``mu_static``, or ``mu`` when it is None."""
+        return self.mu if self.mu_static is None else self.mu_static
+
+    @property
+    def static_capacity(self) -> float:
+        """Largest friction force the plates can hold at rest, static_mu *
+        fingers * grip_force [N] (with a schedule: its largest force)."""
+        return self.capacity if self.mu == self.static_mu else \
+            self.static_mu * self.fingers * (self.grip_force.max_force if isinstance(self.grip_force, GripSchedule)
+                                             else self.grip_force)
 
     def capacity_at(self, t: ArrayLike) -> Union[float, NDArray[np.float64]]:
         """Friction capacity mu * fingers * F(t) at the times t [N] (F the
@@ -963,6 +987,7 @@ class Scene:
             mass=self.body.mass, inertia=np.array(self.body.inertia).ravel(),
             vertices=self.body.vertices() if self.stops else None,
             mu=self.grasp.mu, grip_force=self.grasp.grip_force, fingers=int(self.grasp.fingers),
+            mu_static=0.0 if self.grasp.mu_static is None else self.grasp.mu_static,  # 0: equal to mu
             e_r=self.grasp.patch.e_r, patch_center=self.grasp.patch.center,
             gravity=self.gravity, dof=DOFS[self.dof], slide_axis=self.slide_axis,
             q0=self.q0, v0=self.v0, R0=np.array(self.gripper_rotation).ravel(), p0=self.gripper_position,

@@ -99,13 +99,20 @@ def _motion(rng):
     return exdex.SampledTrajectory(times, rng.normal(size=(n, 3)) * 0.1, rng.normal(size=(n, 4)), **options)
 
 
+def _grasp(rng):
+    mu = abs(_awkward(rng))
+    grasp = exdex.Grasp(mu=mu, grip_force=abs(_awkward(rng)), patch=_patch(rng), fingers=int(rng.integers(1, 3)))
+    if rng.integers(0, 2):   # a static coefficient (>= mu), or None
+        grasp = exdex.replace(grasp, mu_static=mu + abs(_awkward(rng)))
+    return grasp
+
+
 def random_scene(rng):
     dof = str(rng.choice(["translation", "rotation", "planar"]))
     stops = tuple(exdex.Stop(tuple(_awkward(rng, 3)), tuple(rng.normal(size=3))) for _ in range(rng.integers(0, 9)))
     return exdex.Scene(
         body=_body(rng),
-        grasp=exdex.Grasp(mu=abs(_awkward(rng)), grip_force=abs(_awkward(rng)), patch=_patch(rng),
-                          fingers=int(rng.integers(1, 3))),
+        grasp=_grasp(rng),
         motion=_motion(rng), dof=dof, slide_axis=tuple(rng.normal(size=2)), q0=tuple(_awkward(rng, 3)),
         v0=tuple(_awkward(rng, 3)), gripper_rotation=_rotation(rng), gripper_position=tuple(_awkward(rng, 3)),
         gravity=tuple(_awkward(rng, 3)), stops=stops)
@@ -409,7 +416,7 @@ def test_the_schema_covers_every_scene_field_and_motion():
         "Scene": ["body", "grasp", "motion", "dof", "slide_axis", "q0", "v0", "gripper_rotation",
                   "gripper_position", "gravity", "stops"],
         "Body": ["mass", "inertia", "size", "outline"],
-        "Grasp": ["mu", "grip_force", "patch", "fingers"],
+        "Grasp": ["mu", "grip_force", "patch", "fingers", "mu_static"],
         "Patch": ["e_r", "center", "shape", "dims"],
         "Stop": ["point", "normal"],
     }

@@ -228,3 +228,20 @@ def test_pivot_controller_ends_at_the_target(method):
     assert stick[-1] and w[-1] == 0.0
     assert np.all(th[: 100] == th[0])          # held while closed at the start
     assert np.all(np.diff(th) >= -1e-12)       # gravity turns it one way only
+
+
+def test_stepping_is_bit_identical_with_static_friction_and_a_grip_schedule():
+    body = exdex.Body.box(0.1, (0.04, 0.06, 0.02))
+    motion = exdex.AsymmetricProfile(0.08, 0.25, 0.85, axis=(0, 0, -1))
+    static = exdex.Scene(body=body, grasp=exdex.Grasp(0.4, 1.6, mu_static=0.6), motion=motion)
+    for method in ("implicit", "event", "regularised", "explicit", "analytic"):
+        assert _compare(static, method, 300, 2e-3) == "ok"
+    sched = exdex.GripSchedule((0.0, 0.2, 0.35, 0.6), (2.5, 2.5, 0.6, 2.0), kind="cubic")
+    scene = exdex.Scene(body=body, grasp=exdex.Grasp(0.5, sched, mu_static=0.7), motion=motion)
+    for method in ("implicit", "event", "regularised", "explicit"):
+        assert _compare(scene, method, 300, 2e-3) == "ok"
+    # a step's own force replaces the schedule; None returns to it
+    st = exdex.Stepper(scene, method="event")
+    for i in range(300):
+        s = st.step(2e-3, 0.0 if 100 <= i < 110 else None)
+        assert s.grip_force == (0.0 if 100 <= i < 110 else None)
