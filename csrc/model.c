@@ -110,9 +110,17 @@ static int check_fields(const exdex_scene_def *d, const char **bad_param)
         if (!d->grip_forces) return bad(bad_param, "grip_forces");
         for (size_t i = 0; i < d->grip_n; i++)
             if (!(isfinite(d->grip_forces[i]) && d->grip_forces[i] >= 0)) return bad(bad_param, "grip_forces");
-        /* the scaled forces must stay finite */
+        /* the scaled forces must stay finite, and so must the slopes of the
+         * interpolant: |dF| / h (and |dF| / h^3 for the cubic's coefficients)
+         * for each interval h between the points */
         for (size_t i = 0; i < d->grip_n; i++)
             if (!isfinite(d->grip_force * d->grip_forces[i])) return bad(bad_param, "grip_forces");
+        for (size_t i = 1; i < d->grip_n; i++) {
+            double h = d->grip_times[i] - d->grip_times[i - 1];
+            double dF = fabs(d->grip_force * d->grip_forces[i] - d->grip_force * d->grip_forces[i - 1]);
+            if (dF > 0.0 && !(isfinite(dF / h) && (d->grip_kind != EXDEX_GRIP_CUBIC || isfinite(dF / (h * h * h)))))
+                return bad(bad_param, "grip_times");
+        }
     }
     if (d->fingers != 1 && d->fingers != 2) return bad(bad_param, "fingers");
     if (!(isfinite(d->e_r) && d->e_r > 0)) return bad(bad_param, "e_r");
@@ -444,10 +452,29 @@ static int grip_setup(exdex_model *m, const exdex_scene_def *def)
     return EXDEX_OK;
 }
 
-/* Index i of the piece [t_i, t_{i+1}) holding t, t inside [t_0, t_{n-1}). */
+/* Index i of the piece [t_i, t_{i+1}) holding t, t inside [t_0, t_{n-1})
+ * (bisection, as gsl_interp_bsearch, inlined: every step of a
+ * time-stepping method calls it). */
 static size_t grip_piece(const exdex_model *m, double t)
 {
-    return gsl_interp_bsearch(m->grip_t, t, 0, m->grip_n - 1);
+    size_t lo = 0, hi = m->grip_n - 1;
+    const double *x = m->grip_t;
+    while (hi > lo + 1) {
+        size_t k = (lo + hi) / 2;
+        if (x[k] > t)
+            hi = k;
+        else
+            lo = k;
+    }
+    return lo;
+}
+
+/* F at t inside piece i of the linear kind: a convex combination of the
+ * piece's end values (between them whatever the spacing). */
+static double grip_linear(const exdex_model *m, size_t i, double t)
+{
+    double a = m->grip_f[i], b = m->grip_f[i + 1];
+    return a + (b - a) * ((t - m->grip_t[i]) / (m->grip_t[i + 1] - m->grip_t[i]));
 }
 
 double model_grip_sched(const exdex_model *m, double t)
@@ -455,8 +482,15 @@ double model_grip_sched(const exdex_model *m, double t)
     size_t n = m->grip_n;
     if (!(t > m->grip_t[0])) return m->grip_f[0];
     if (t >= m->grip_t[n - 1]) return m->grip_f[n - 1];
-    if (!m->grip_interp) return m->grip_f[grip_piece(m, t)];
-    return gsl_interp_eval(m->grip_interp, m->grip_t, m->grip_f, t, NULL);
+    {
+        size_t i = grip_piece(m, t);
+        double a = m->grip_f[i], b = m->grip_f[i + 1], F;
+        if (m->grip_kind == EXDEX_GRIP_STEP) return a;
+        if (m->grip_kind == EXDEX_GRIP_LINEAR || !m->grip_interp) return grip_linear(m, i, t);
+        F = gsl_interp_eval(m->grip_interp, m->grip_t, m->grip_f, t, NULL);
+        /* Steffen's cubic is monotone on each piece: between a and b up to rounding */
+        return fmin(fmax(F, fmin(a, b)), fmax(a, b));
+    }
 }
 
 double model_grip_sched_rate(const exdex_model *m, double t)
@@ -487,7 +521,9 @@ double model_grip_sched_mean(const exdex_model *m, double t0, double t1)
     if (t0 >= lo && t1 <= hi && m->grip_kind != EXDEX_GRIP_CUBIC) {
         size_t i = grip_piece(m, t0);
         /* inside one linear or constant piece: the midpoint value is the mean */
-        if (t1 <= m->grip_t[i + 1]) return model_grip_sched(m, 0.5 * (t0 + t1));
+        if (t1 <= m->grip_t[i + 1])
+            return m->grip_kind == EXDEX_GRIP_STEP || !m->grip_interp ? m->grip_f[i]
+                                                                      : grip_linear(m, i, 0.5 * (t0 + t1));
     }
     s = 0.0;
     if (t0 < lo) s += m->grip_f[0] * (lo - t0);

@@ -41,7 +41,7 @@ import functools
 import math
 import warnings
 from dataclasses import dataclass, field
-from typing import Any, Callable, Dict, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -98,7 +98,7 @@ class Limits:
                 raise ValueError(f"Limits.duration must be (low, high) with 0 <= low <= high, got {self.duration}")
             object.__setattr__(self, "duration", (lo, hi))
 
-    def violations(self, motion):
+    def violations(self, motion: Any) -> List[str]:
         """Names of the limits ``motion`` breaks (empty: within limits)."""
         pk = motion_peaks(motion)
         out = []
@@ -126,7 +126,7 @@ def _pair(value, name):
     return _real(lo, f"{name}[0]"), _real(hi, f"{name}[1]")
 
 
-def motion_peaks(motion):
+def motion_peaks(motion: Any) -> Dict[str, float]:
     """Peak |acceleration|, peak |speed|, stroke (largest |s|) and duration T of
     a gripper motion's profile s(t) (m or rad; Eq. 7 from its closed form,
     Eq. 9; the trapezoid from its ramps; a sampled log from finite
@@ -144,7 +144,7 @@ def motion_peaks(motion):
         return dict(acceleration=acc, speed=motion.v_max, stroke=abs(motion.amplitude), duration=motion.duration)
     if isinstance(motion, SampledTrajectory):
         t = np.asarray(motion.times, dtype=float)
-        p = np.asarray(motion.poses, dtype=float)[:, :3]
+        p = np.asarray(motion.positions, dtype=float)
         v = np.diff(p, axis=0) / np.diff(t)[:, None]
         a = np.diff(v, axis=0) / (0.5 * (t[2:] - t[:-2]))[:, None]
         d = np.linalg.norm(p - p[0], axis=1)
@@ -165,7 +165,7 @@ def _check_quantity(quantity, scene):
         raise ValueError(f"a {dof} scene has no {quantity!r} outcome; use one of {list(ok)}")
 
 
-def outcome(final_displacement, scene, quantity):
+def outcome(final_displacement: Any, scene: Scene, quantity: str) -> np.ndarray:
     """The named quantity from final displacements (B, ndof) of ``scene``'s coordinates."""
     d = np.atleast_2d(np.asarray(final_displacement, dtype=float))
     if scene.dof in ("translation", "rotation"):
@@ -337,7 +337,7 @@ class Plan:
     rest_by: Optional[float] = None
 
     @property
-    def meets_target(self):
+    def meets_target(self) -> bool:
         """True if the plan meets the target within tol (robust plans: over the
         whole uncertainty, by its sampled worst case)."""
         if self.band is not None:
@@ -353,7 +353,7 @@ class Plan:
             s += f", worst error {self.worst_error:.3g} {u} over {self.band.describe()}"
         return s + ")"
 
-    def gripper_poses(self, rate: float = 100.0, t_end: Optional[float] = None):
+    def gripper_poses(self, rate: float = 100.0, t_end: Optional[float] = None) -> Tuple[np.ndarray, np.ndarray]:
         """The planned gripper motion as poses at ``rate`` [Hz], what a robot
         controller consumes: ``(times, poses)``, poses (n, 7) rows
         x y z qw qx qy qz of frame B in the world (m, unit quaternion), from
@@ -376,7 +376,7 @@ class Plan:
         t, poses = self.gripper_poses(rate)
         return SampledTrajectory(t, poses[:, :3], poses[:, 3:])
 
-    def plot(self, ax=None):
+    def plot(self, ax: Any = None) -> Any:
         """The scan (outcome against the parameter), the target and the plan."""
         if ax is None:
             plt = pyplot("Plan.plot")
@@ -715,7 +715,7 @@ class Band:
     samples: Dict[str, np.ndarray]
     outcomes: np.ndarray
 
-    def describe(self):
+    def describe(self) -> str:
         return ", ".join(f"{k} in [{v[0]:.4g}, {v[-1]:.4g}]" for k, v in self.samples.items())
 
     def __repr__(self):

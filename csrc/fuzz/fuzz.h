@@ -133,7 +133,8 @@ void fuzz_note_keep(const char *target, const char *key);
     X(cone)             \
     X(tool)             \
     X(misc)             \
-    X(ldp)
+    X(ldp)              \
+    X(grip)
 
 #define FUZZ_DECLARE(name) int fuzz_##name(const uint8_t *data, size_t size);
 FUZZ_TARGETS(FUZZ_DECLARE)

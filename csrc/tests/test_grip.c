@@ -56,6 +56,18 @@ EXDEX_TEST(grip_bad_input_named)
     d.grip_kind = EXDEX_GRIP_STEP;
     d.grip_n = (size_t)EXDEX_MAX_GRIP_POINTS + 1;
     ENSURE(exdex_scene_check(&d, &bad) == EXDEX_EINVAL && bad && !strcmp(bad, "grip_n"));
+    /* slopes that overflow: forces 1e300 apart over 1e-10 s */
+    {
+        double ts[2] = {0.0, 1e-10}, fs[2] = {0.0, 1e300};
+        exdex_scene_def e = vertical_sched(0.1, ts, fs, 2, EXDEX_GRIP_LINEAR);
+        ENSURE(exdex_scene_check(&e, &bad) == EXDEX_EINVAL && bad && !strcmp(bad, "grip_times"));
+        fs[1] = 1.0;  /* a steep but finite slope (1e10 N/s) is fine */
+        ENSURE(exdex_scene_check(&e, &bad) == EXDEX_OK);
+        e.grip_kind = EXDEX_GRIP_CUBIC;  /* the cubic's 1 / h^3 coefficient: 1e30 */
+        ENSURE(exdex_scene_check(&e, &bad) == EXDEX_OK);
+        ts[1] = 1e-110;
+        ENSURE(exdex_scene_check(&e, &bad) == EXDEX_EINVAL && bad && !strcmp(bad, "grip_times"));
+    }
     /* the analytic method reports a varying schedule; a flat one is a constant */
     d.grip_n = 3;
     ENSURE(exdex_analytic_unsupported(&d) != NULL);
