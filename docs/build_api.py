@@ -12,7 +12,7 @@ import sys
 import warnings
 
 #: The documented modules: the package and its public submodules.
-MODULES = ["exdex", "exdex.scene", "exdex.simulate", "exdex.batch", "exdex.io", "exdex.animation",
+MODULES = ["exdex", "exdex.scene", "exdex.simulate", "exdex.stepper", "exdex.batch", "exdex.io", "exdex.animation",
            "exdex.tool", "exdex.paper", "exdex.engines", "exdex.bench"]
 
 
