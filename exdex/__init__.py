@@ -24,7 +24,8 @@ from exdex import paper  # noqa: E402  (the paper's case studies, Figs. 3, 4, 6)
 from exdex import tool  # noqa: E402  (assistive-tool design, paper Section 3)
 from exdex import plan  # noqa: E402  (inverse design: motion and grip for a target outcome)
 from exdex import sequence  # noqa: E402  (planar pose targets by sequences of motion primitives)
-from exdex.fit import Identification, Sensitivity, identify, sensitivity  # noqa: E402
+from exdex.fit import (EventSensitivity, EventTimes, Identification, Sensitivity, event_sensitivity,  # noqa: E402
+                       event_times, identify, sensitivity)
 from exdex import diagnostics  # noqa: E402  (physics warnings)
 from exdex._optional import MissingExtraError  # noqa: E402
 
@@ -35,5 +36,6 @@ __all__ = [
     "TrapezoidalProfile", "Shake", "Pause", "Chain", "replace", "Model", "Result", "SolverError", "PhysicsWarning",
     "GripperJumpWarning",
     "MissingExtraError", "simulate", "BatchResult", "simulate_batch", "sweep", "load_scene", "save_scene", "paper",
-    "tool", "plan", "sequence", "sensitivity", "Sensitivity", "identify", "Identification", "__version__",
+    "tool", "plan", "sequence", "sensitivity", "Sensitivity", "event_times", "EventTimes", "event_sensitivity",
+    "EventSensitivity", "identify", "Identification", "__version__",
 ]
