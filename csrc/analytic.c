@@ -46,6 +46,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #define TOLF 1e-12       /* relative band at the friction limit, as the event method */
 #define MOTION_PHASES 5
@@ -53,27 +54,38 @@
 typedef struct phase {
     double t0;   /* start [s]; the phase lasts until the next one's start */
     double d;    /* drive Q / M, constant in the phase [m/s^2 or rad/s^2] */
-    double c0, c1;    /* kinetic capacity per unit M at t0 and its rate (0 for a constant grip) */
-    double cs0, cs1;  /* static capacity per unit M at t0 and its rate */
+    double c0, c1;    /* grip schedule: kinetic capacity per unit M at t0 and its rate */
+    double cs0, cs1;  /* grip schedule: static capacity per unit M at t0 and its rate */
 } phase;
+
+/* The run's state between output intervals: the current segment starts at
+ * ts in state (xs, vs) with acceleration a and its rate b (a grip
+ * schedule), in phase k; t_rec is the last recorded time; c, cs the
+ * kinetic and static capacities per unit M it runs with (constant grip). */
+typedef struct analytic_state {
+    double ts, xs, vs, a, t_rec, c, cs, b;
+    int k;
+} analytic_state;
 
 typedef struct analytic_ws {
     int np;
     phase *ph;     /* np phases (motion phases split at the grip schedule's times) */
+    int sched;     /* 1: the capacities are the phases' (a grip schedule), 0: c, cs */
     double M, c;   /* generalised mass; kinetic capacity per unit M */
     double cs;     /* static capacity per unit M */
+    analytic_state S;
 } analytic_ws;
 
 /* The profile's phase starts (as motion.c switches them: t >= switch belongs
  * to the next phase) merged with the grip schedule's times, the drive of
  * each evaluated inside it and the capacities at its start with their
  * rates (right derivatives: linear up to the next start). ts: scratch for
- * MOTION_PHASES + grip_n + 1 times. */
+ * 2 (MOTION_PHASES + 1 + grip_n) times. */
 static int build_phases(const exdex_model *m, analytic_ws *w, double *ts)
 {
     const exdex_motion_def *mo = &m->def.motion;
     double tm[MOTION_PHASES], q[3], v[3], ke = m->def.dof == EXDEX_DOF_TRANSLATION ? 1.0 : m->e[2];
-    double *gb = ts + MOTION_PHASES + 1;  /* the schedule's times in (0, inf), after the merged list's room */
+    double *gb = ts + MOTION_PHASES + 1 + m->grip_n;  /* the schedule's times in (0, inf), after the merged list */
     int n = 0, nm = 0;
     size_t ng = m->grip_n ? model_grip_breaks(m, INFINITY, gb) : 0, jg = 0;
     tm[nm++] = 0.0;
@@ -161,6 +173,7 @@ static void *analytic_alloc(const exdex_model *m, int *status)
         w->c = m->capF * m->e[2] / m->mrot;
         w->cs = m->capS * m->e[2] / m->mrot;
     }
+    w->sched = m->grip_n != 0;
     *status = build_phases(m, w, ts);
     free(ts);
     if (*status) {
@@ -170,36 +183,40 @@ static void *analytic_alloc(const exdex_model *m, int *status)
     return w;
 }
 
-/* Capacities of phase p at t (per unit M): c0, c_s0 themselves for a
- * constant grip. */
-static double cap_kin(const phase *p, double t) { return p->c1 == 0.0 ? p->c0 : p->c0 + p->c1 * (t - p->t0); }
-static double cap_static(const phase *p, double t)
+/* Capacities per unit M at t in phase p: the phase's linear ones with a
+ * grip schedule, else the constant c, c_s. */
+static double cap_kin(const analytic_ws *w, const phase *p, double t)
 {
-    return p->cs1 == 0.0 ? p->cs0 : p->cs0 + p->cs1 * (t - p->t0);
+    return !w->sched ? w->c : p->c1 == 0.0 ? p->c0 : p->c0 + p->c1 * (t - p->t0);
+}
+static double cap_static(const analytic_ws *w, const phase *p, double t)
+{
+    return !w->sched ? w->cs : p->cs1 == 0.0 ? p->cs0 : p->cs0 + p->cs1 * (t - p->t0);
 }
 
-/* The segment that starts at t with velocity v in phase p: its acceleration
+/* The segment that starts at t with velocity v in phase k: its acceleration
  * *a at t and the acceleration's rate *b (0 for a constant grip). At rest
  * it stays while the plates hold (|d| <= c_s (1 + TOLF)), else it slips in
- * the direction of d; leave_rest: a rest ended here (the static capacity fell
- * to the load), so it slips without the test, accelerating away from rest
- * (s a >= 0: rounding at the limit removed). */
-static void segment_accel(const phase *p, double t, double v, int leave_rest, double *a, double *b)
+ * the direction of d; leave_rest: a rest ended here (the static capacity
+ * fell to the load), so it slips without the test, accelerating away from
+ * rest (s a >= 0: rounding at the limit removed). */
+static void segment_accel(const analytic_ws *w, int k, double t, double v, int leave_rest, double *a, double *b)
 {
+    const phase *p = &w->ph[k];
     double d = p->d, s;
     if (v == 0.0) {
-        if (!leave_rest && fabs(d) <= cap_static(p, t) * (1.0 + TOLF)) {
+        if (!leave_rest && fabs(d) <= cap_static(w, p, t) * (1.0 + TOLF)) {
             *a = *b = 0.0;
             return;
         }
         s = d > 0.0 ? 1.0 : -1.0;
-        *a = d - copysign(cap_kin(p, t), d);
+        *a = d - copysign(cap_kin(w, p, t), d);
         if (leave_rest && s * *a < 0.0) *a = 0.0;
     } else {
         s = v > 0.0 ? 1.0 : -1.0;
-        *a = d - copysign(cap_kin(p, t), v);
+        *a = d - copysign(cap_kin(w, p, t), v);
     }
-    *b = p->c1 == 0.0 ? 0.0 : -s * p->c1;
+    *b = !w->sched || p->c1 == 0.0 ? 0.0 : -s * p->c1;
 }
 
 /* First tau > 0 with v + a tau + b tau^2 / 2 = 0 (a slip stops; b != 0),
@@ -222,20 +239,54 @@ static double slip_stop(double v, double a, double b)
     return r;
 }
 
-static int analytic_run(const exdex_model *m, void *ws, double t_end, double dt, exdex_trajectory *out,
-                        exdex_stats *st)
+static int analytic_begin(const exdex_model *m, void *ws, double t_end, double dt, exdex_stats *st)
 {
-    const analytic_ws *w = ws;
-    size_t n = out->n;
+    analytic_ws *w = ws;
+    double q[3], v[3];
+    (void)t_end;
+    (void)dt;
+    (void)st;
+    model_initial_state(m, q, v);
+    w->S.ts = w->S.t_rec = 0.0;
+    w->S.xs = q[0];
+    w->S.vs = v[0];
+    w->S.k = 0;
+    w->S.c = w->c;
+    w->S.cs = w->cs;
+    segment_accel(w, 0, 0.0, v[0], 0, &w->S.a, &w->S.b);
+    return EXDEX_OK;
+}
+
+/* The interval from the last recorded time to ti, recorded as sample i.
+ * A new capacity (regrip: the model's constant capacity changed) starts a
+ * new segment at the interval's start. */
+static int analytic_advance(const exdex_model *m, void *ws, double ti, int regrip, exdex_trajectory *out,
+                            size_t i, exdex_stats *st)
+{
+    analytic_ws *w = ws;
     /* the current segment: starts at ts in state (xs, vs), acceleration a
      * (rate b) in phase k; samples are evaluated from its start, so the
      * output grid never changes the segments (the final state is the same
      * for any dt) */
-    double ts = 0.0, xs = out->q[0], vs = out->v[0], a, b;
-    int k = 0;
-    segment_accel(&w->ph[0], 0.0, vs, 0, &a, &b);
-    for (size_t i = 1; i < n; i++) {
-        double ti = i == n - 1 ? t_end : (double)i * dt, h = ti - out->t[i - 1], tc = out->t[i - 1];
+    double ts = w->S.ts, xs = w->S.xs, vs = w->S.vs, a = w->S.a, b = w->S.b;
+    int k = w->S.k;
+    if (regrip) {
+        double tau = w->S.t_rec - ts;
+        w->c = m->def.dof == EXDEX_DOF_TRANSLATION ? m->capF / m->m : m->capF * m->e[2] / m->mrot;
+        w->cs = m->def.dof == EXDEX_DOF_TRANSLATION ? m->capS / m->m : m->capS * m->e[2] / m->mrot;
+        w->sched = m->grip_n != 0;
+        if (b == 0.0) {
+            xs += vs * tau + 0.5 * a * tau * tau;
+            vs += a * tau;
+        } else {
+            xs += vs * tau + 0.5 * a * tau * tau + b * tau * tau * tau / 6.0;
+            vs += a * tau + 0.5 * b * tau * tau;
+        }
+        ts = w->S.t_rec;
+        segment_accel(w, k, ts, vs, 0, &a, &b);
+    }
+    do {
+        double h = ti - w->S.t_rec, tc = w->S.t_rec;
         double fint = 0.0, tau;
         for (;;) {
             const phase *p = &w->ph[k];
@@ -245,7 +296,7 @@ static int analytic_run(const exdex_model *m, void *ws, double t_end, double dt,
             } else {
                 tstop = ts + slip_stop(vs, a, b);
             }
-            if (vs == 0.0 && a == 0.0 && b == 0.0 && p->cs1 < 0.0) {
+            if (w->sched && vs == 0.0 && a == 0.0 && b == 0.0 && p->cs1 < 0.0) {
                 /* at rest under a falling static capacity: it ends where
                  * c_s(t) (1 + TOLF) = |d| */
                 double tr = p->t0 + (fabs(d) / (1.0 + TOLF) - p->cs0) / p->cs1;
@@ -276,7 +327,7 @@ static int analytic_run(const exdex_model *m, void *ws, double t_end, double dt,
             ts = tc = tev;
             if (tev == te) k++;
             if (tev == tstop) st->solver_iterations++;
-            segment_accel(&w->ph[k], ts, vs, tev == trest && tev != te, &a, &b);
+            segment_accel(w, k, ts, vs, tev == trest && tev != te, &a, &b);
         }
         tau = ti - ts;
         out->t[i] = ti;
@@ -298,8 +349,41 @@ static int analytic_run(const exdex_model *m, void *ws, double t_end, double dt,
         out->stick[i] = out->v[i] == 0.0;
         st->stick_steps += out->stick[i];
         st->steps++;
-    }
+    } while (0);
+    w->S.ts = ts;
+    w->S.xs = xs;
+    w->S.vs = vs;
+    w->S.a = a;
+    w->S.b = b;
+    w->S.k = k;
+    w->S.t_rec = ti;
+    w->S.c = w->c;
+    w->S.cs = w->cs;
     return EXDEX_OK;
 }
 
-const method_impl method_analytic = {"analytic", analytic_alloc, analytic_run, analytic_free, 0, 0};
+static int analytic_run(const exdex_model *m, void *ws, double t_end, double dt, exdex_trajectory *out,
+                        exdex_stats *st)
+{
+    size_t n = out->n;
+    analytic_begin(m, ws, t_end, dt, st);
+    for (size_t i = 1; i < n; i++) analytic_advance(m, ws, i == n - 1 ? t_end : (double)i * dt, 0, out, i, st);
+    return EXDEX_OK;
+}
+
+static void analytic_save(const void *ws, void *buf)
+{
+    memcpy(buf, &((const analytic_ws *)ws)->S, sizeof(analytic_state));
+}
+
+static void analytic_restore(void *ws, const void *buf)
+{
+    analytic_ws *w = ws;
+    memcpy(&w->S, buf, sizeof w->S);
+    w->c = w->S.c;
+    w->cs = w->S.cs;
+}
+
+const method_impl method_analytic = {"analytic", analytic_alloc, analytic_run, analytic_free, 0, 0,
+                                     analytic_begin, analytic_advance, sizeof(analytic_state), analytic_save,
+                                     analytic_restore};
