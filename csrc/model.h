@@ -71,6 +71,11 @@ struct exdex_model {
     double vert[EXDEX_MAX_VERTICES][2];
     model_scales scale;
     model_tols tol;
+    /* convex obstacles (def.obstacles): their rows follow the stops' */
+    int n_obst;
+    int n_src;              /* n_stops + n_obst: the stop_force columns */
+    int n_hull;             /* convex hull of the outline (C, counter-clockwise) */
+    double hull[EXDEX_MAX_VERTICES][2];
 };
 
 /* Per-step quantities of the moving frame, in B coordinates: gravity g_B,

@@ -15,7 +15,7 @@ Units are SI; frames are described in :mod:`exdex.scene`. ``import exdex``
 needs only NumPy; plotting and progress bars need the ``plot`` extra
 (matplotlib, tqdm), the engine cross-checks the ``engines`` extra.
 """
-from exdex.scene import (AsymmetricProfile, Body, Grasp, Patch, Rest, SampledTrajectory, Scene, Stop,
+from exdex.scene import (AsymmetricProfile, Body, Grasp, Obstacle, Patch, Rest, SampledTrajectory, Scene, Stop,
                          TrapezoidalProfile, replace)
 from exdex.simulate import GripperJumpWarning, Model, PhysicsWarning, Result, SolverError, simulate
 from exdex.batch import BatchResult, simulate_batch, sweep  # noqa: E402
@@ -30,7 +30,7 @@ from exdex._optional import MissingExtraError  # noqa: E402
 __version__ = "0.1.0"
 
 __all__ = [
-    "AsymmetricProfile", "Body", "Grasp", "Patch", "Rest", "SampledTrajectory", "Scene", "Stop",
+    "AsymmetricProfile", "Body", "Grasp", "Obstacle", "Patch", "Rest", "SampledTrajectory", "Scene", "Stop",
     "TrapezoidalProfile", "replace", "Model", "Result", "SolverError", "PhysicsWarning", "GripperJumpWarning",
     "MissingExtraError", "simulate", "BatchResult", "simulate_batch", "sweep", "load_scene", "save_scene", "paper",
     "tool", "plan", "sensitivity", "Sensitivity", "identify", "Identification", "__version__",
