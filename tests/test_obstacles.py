@@ -293,3 +293,134 @@ def test_random_scenes_never_penetrate(seed):
     worst = min(gaps_brute_force(sc, q, R, p).min() for q, R, p in zip(res.q, kin["R"], kin["p"]))
     assert worst >= -1e-9
     assert res.stats["min_gap"] >= -1e-9
+
+
+# ---------------------------------------------------------------- the tools of the paper's Section 3
+
+def _v_tool(theta, alpha1=0.0):
+    """Inward normals (pointing into the free side) of the two surfaces of
+    exdex.tool's V tool, in the tool plane (A's x and z here)."""
+    a1, a2 = alpha1, alpha1 + theta
+    return np.array([[-math.sin(a1), math.cos(a1)], [-math.sin(a2), math.cos(a2)]])
+
+
+def push_into_v(phi, theta, gaps=(0.05, 0.15), depth=0.6):
+    """The unit square (exdex.tool.UNIT_SQUARE, 1 kg) held at attack angle phi
+    and pushed by the gripper along the V's bisector into the two surfaces
+    (each a one-face obstacle through the apex). The plates span A's x-z
+    plane, so B's (x, y) are the tool plane's. It starts with clearances
+    ``gaps`` to the surfaces, so it touches one first."""
+    n = _v_tool(theta)
+    b = n.sum(axis=0) / np.linalg.norm(n.sum(axis=0))
+    c, s = math.cos(phi), math.sin(phi)
+    h = np.array([np.max(-(exdex.tool.UNIT_SQUARE @ np.array([[c, s], [-s, c]])) @ nk) for nk in n])
+    c0 = np.linalg.solve(n, h + np.array(gaps))  # n_k . c0 - h_k = gap_k
+    X = max(gaps) / float(np.min(n @ b)) + depth
+    sc = Scene(body=Body(mass=1.0, inertia=1 / 6, outline=exdex.tool.UNIT_SQUARE),
+               grasp=Grasp(mu=0.5, grip_force=5.0, patch=exdex.Patch.disc(0.2)), dof="planar",
+               q0=(c0[0], c0[1], phi), gravity=(0.0, 0.0, 0.0),
+               motion=TrapezoidalProfile(X, 1.0, 1.5 * X, axis=(-b[0], 0.0, -b[1])),
+               obstacles=tuple(Obstacle.halfspaces([(nk[0], 0.0, nk[1])], [0.0]) for nk in n))
+    return sc, run(sc, 1.2, 1e-3), n
+
+
+def cone_check(sc, res, n, theta, touch=1e-9):
+    """For every step: the contact state at its start (outline vertices within
+    ``touch`` of a surface), the rows exdex.tool derives for it
+    (contact_rows of those vertices with the surface normals, in the object
+    frame at its centre; when both surfaces are touched, the same number of
+    rows as tool_rows gives for that attack angle and tool), and the object's
+    twist relative to the tool over the step (the gripper's mean velocity plus
+    the step's relative velocity, in the object frame). A time-stepping step
+    may close a gap g it starts with, so a row may go down to -g / h. Returns
+    the smallest margin (row . x + g / h) over the run relative to the
+    gripper's peak speed, and the contact states seen."""
+    kin = sc.motion.evaluate(res.t, sc.gripper_rotation, sc.gripper_position)
+    pg = kin["p"][:, [0, 2]]
+    vmax = float(np.max(np.linalg.norm(kin["v"], axis=1)))
+    sq = exdex.tool.UNIT_SQUARE
+    worst, states = np.inf, set()
+    for i in range(1, len(res.t)):
+        th = res.q[i - 1, 2]
+        Rm = np.array([[math.cos(th), -math.sin(th)], [math.sin(th), math.cos(th)]])
+        verts = pg[i - 1] + res.q[i - 1, :2] + sq @ Rm.T
+        h = res.t[i] - res.t[i - 1]
+        vw = (pg[i] - pg[i - 1]) / h + res.v[i, :2]
+        x = np.array([*(Rm.T @ vw), res.v[i, 2]])
+        pts, nrm, slack, touched = [], [], [], set()
+        for k in range(2):
+            g = verts @ n[k]
+            for j in np.nonzero(g <= touch)[0]:
+                pts.append(sq[j])
+                nrm.append(Rm.T @ n[k])
+                slack.append(max(g[j], 0.0) / h)
+                touched.add(k)
+        states.add(tuple(sorted(touched)))
+        if not pts:
+            continue
+        rows = exdex.tool.contact_rows(np.array(pts), np.array(nrm))
+        if touched == {0, 1}:
+            tr = exdex.tool.tool_rows(exdex.tool.ToolProblem(phi=[th]), exdex.tool.Tool(theta=theta), th)
+            assert len(tr) == len(rows)
+            # every derived row is one of the simulated contacts' rows
+            for row in tr:
+                assert np.min(np.linalg.norm(rows - row, axis=1)) < 1e-9
+        worst = min(worst, float(np.min(rows @ x + np.array(slack))) / vmax)
+    return worst, states
+
+
+@pytest.mark.parametrize("phi_deg", [0.0, 10.0, 25.0, 40.0])
+def test_pushed_square_twists_lie_in_the_v_tools_cone(phi_deg):
+    """The held unit square pushed into the paper's two-surface tool (Fig. 7,
+    90 deg) at several angles of attack: every twist the simulation produces
+    relative to the tool lies in the twist cone exdex.tool computes for the
+    contact state of that step (to 1e-9 of the push speed), the object
+    touches one surface and then both (the states exdex.tool's rows cover),
+    and it never penetrates either."""
+    theta = math.radians(90.0)
+    sc, res, n = push_into_v(math.radians(phi_deg), theta)
+    worst, states = cone_check(sc, res, n, theta)
+    assert worst >= -1e-9
+    assert (0, 1) in states and ((0,) in states or (1,) in states)
+    assert res.stats["min_gap"] >= -1e-12
+
+
+def test_rod_of_fig11_turns_the_square_as_exdex_tool_predicts():
+    """The rod of the paper's Fig. 11: the unit square pinned at its centre
+    (rotation scene), the gripper moving straight down onto a rod of radius
+    r normal to the plates at x = rod_x, the rod's top level with the
+    square's bottom edge. The simulated descent at each rotation equals
+    exdex.tool.rod_descent_closed_form for a point rod under a square whose
+    half height is b + r (the rod's centre is the point the tangent edge
+    keeps its distance b + r from), and every twist lies in the cone of the
+    one contact (contact_rows at the edge point nearest the rod)."""
+    r, rod_x = 0.01, 0.25
+    # 6 cm of descent: below b' - sqrt(b'^2 - rod_x^2) = 6.55 cm (b' = b + r), where the rod
+    # reaches the point under the pin and jams the pinned square
+    motion = TrapezoidalProfile(0.06, 1.0, 0.09, axis=(0, 0, -1))
+    sc = Scene(body=Body(mass=1.0, inertia=1 / 6, outline=exdex.tool.UNIT_SQUARE),
+               grasp=Grasp(mu=0.5, grip_force=5.0, patch=exdex.Patch.disc(0.2)), dof="rotation",
+               gravity=(0.0, 0.0, 0.0), q0=(0.0, 0.5 + r, 0.0), motion=motion,
+               obstacles=(Obstacle.cylinder((rod_x, 0.0, 0.0), (0, 1, 0), r),))
+    res = run(sc, 1.2, 1e-4)
+    kin = motion.evaluate(res.t, sc.gripper_rotation, sc.gripper_position)
+    descent = -kin["p"][:, 2]
+    psi = res.q[:, 0]
+    np.testing.assert_allclose(descent, exdex.tool.rod_descent_closed_form(psi, 1.0 + 2 * r, rod_x), atol=1e-6)
+    assert psi[-1] > 0.3
+    worst = np.inf
+    pg = kin["p"][:, [0, 2]]
+    for i in range(1, len(res.t)):
+        th, h = psi[i - 1], res.t[i] - res.t[i - 1]
+        Rm = np.array([[math.cos(th), -math.sin(th)], [math.sin(th), math.cos(th)]])
+        rod = Rm.T @ (np.array([rod_x, 0.0]) - (pg[i - 1] + (0.0, 0.5 + r)))  # rod centre, object frame
+        gap = -0.5 - rod[1] - r  # the rod below the bottom edge y = -1/2 (object frame)
+        if gap > 1e-9:
+            continue
+        # the contact point: the edge point nearest the rod where the step ends (the rod slides
+        # along the edge; a row is taken at the gripper's pose at the end of its step)
+        u = (Rm.T @ (np.array([rod_x, 0.0]) - (pg[i] + (0.0, 0.5 + r))))[0]
+        row = exdex.tool.contact_rows(np.array([[u, -0.5]]), np.array([[0.0, 1.0]]))[0]
+        x = np.array([*(Rm.T @ ((pg[i] - pg[i - 1]) / h)), res.v[i, 0]])
+        worst = min(worst, (row @ x + max(gap, 0.0) / h) / 0.09)
+    assert np.isfinite(worst) and worst >= -1e-9
