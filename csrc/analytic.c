@@ -12,12 +12,14 @@
  *     no moment about the pivot, and
  *         I_zz thdd = -I_zz dw_z(t) + tau_f;
  *   no stops; constant grip force.
- * With the drive d(t) = Q / M constant on each phase and the friction
- * capacity c = C / M (C = mu N, or mu N e_r for the torque) the Coulomb
- * problem  qdd = d + f / M,  |f| <= C,  exact stick  has the solution:
- *   at rest (qd = 0): it stays at rest while |d| <= c (1 + TOLF) (the band
+ * With the drive d(t) = Q / M constant on each phase, the kinetic friction
+ * capacity c = C / M (C = mu N, or mu N e_r for the torque) and the static
+ * one c_s = C_s / M (mu_static in place of mu, c_s >= c) the Coulomb
+ * problem  qdd = d + f / M,  |f| <= C_s at rest, f = -C sign(qd) sliding,
+ * exact stick  has the solution:
+ *   at rest (qd = 0): it stays at rest while |d| <= c_s (1 + TOLF) (the band
  *     that the event method uses), else it slips in the direction of d with
- *     qdd = d - c sign(d);
+ *     qdd = d - c sign(d) (c_s >= c: it accelerates away from rest);
  *   sliding (qd != 0): qdd = d - c sign(qd), a quadratic in time; if it
  *     decelerates the slip stops at tau = -qd / qdd (a root of a linear
  *     equation) and the rest test applies again.
@@ -44,7 +46,8 @@ typedef struct phase {
 typedef struct analytic_ws {
     int np;
     phase ph[MAX_PHASES];
-    double M, c;   /* generalised mass; capacity per unit M */
+    double M, c;   /* generalised mass; kinetic capacity per unit M */
+    double cs;     /* static capacity per unit M */
 } analytic_ws;
 
 /* The profile's phase starts (as motion.c switches them: t >= switch belongs
@@ -94,9 +97,11 @@ static void *analytic_alloc(const exdex_model *m, int *status)
     if (m->def.dof == EXDEX_DOF_TRANSLATION) {
         w->M = m->m;
         w->c = m->capF / m->m;
+        w->cs = m->capS / m->m;
     } else {
         w->M = m->mrot;
         w->c = m->capF * m->e[2] / m->mrot;
+        w->cs = m->capS * m->e[2] / m->mrot;
     }
     *status = build_phases(m, w);
     if (*status) {
@@ -112,7 +117,7 @@ static void analytic_free(void *ws) { free(ws); }
  * drive d: 0 at rest while the plates hold, else the Coulomb slip. */
 static double segment_accel(const analytic_ws *w, double d, double v)
 {
-    if (v == 0.0) return fabs(d) <= w->c * (1.0 + TOLF) ? 0.0 : d - copysign(w->c, d);
+    if (v == 0.0) return fabs(d) <= w->cs * (1.0 + TOLF) ? 0.0 : d - copysign(w->c, d);
     return d - copysign(w->c, v);
 }
 

@@ -1,7 +1,8 @@
 /* explicit.c -- the naive baseline EXDEX_METHOD_EXPLICIT: explicit Coulomb
  * friction with sign(), symplectic Euler steps of dt,
  *     v+ = v + dt M^-1 (Q(t, q, v) + friction(v)),   q+ = q + dt v+,
- * friction -mu N E^2 u / |E u| and 0 at u = 0 exactly; the frame
+ * friction -C E^2 u / |E u| (C = mu N, with a grip schedule its mean over
+ * the step) and 0 at u = 0 exactly; the frame
  * accelerations enter as step means (model_frame_step). Stops:
  * velocity-level rows G v+ >= -gap(q, t + dt)/dt; 1-DoF: a clamp; planar:
  * v+ is the M-metric projection of v* onto every (stop, vertex) row
@@ -9,7 +10,20 @@
  * r_max per step (the vertex moves on a circle, the row is linear). At stick
  * it chatters: with a load |Q| < C the velocity never returns to 0 but
  * circulates in (-dt (C - Q)/M, dt (C + Q)/M] (Q > 0) and creeps on average
- * at dt Q / M. */
+ * at dt Q / M.
+ *
+ * Static friction (mu_static > mu, capacities C_s > C): sign() has no stick
+ * state, so the static coefficient can act only where u = 0 exactly (an
+ * object that starts at rest, or is stopped by a stop, before it first
+ * moves): there the plates hold the load while the wrench that holds it,
+ * w_h = -(the applied force as a patch wrench), lies in the static
+ * ellipsoid (v+ = 0 exactly), and else exert the kinetic wrench
+ * C w_h / |E^-1 w_h| (1-DoF: -C sign(Q)): a breakaway at the static limit.
+ * Once the object moves it never returns to u = 0 exactly (it chatters as
+ * above, with the kinetic capacity), so it does not stick again. With
+ * mu_static = mu the law is the sign() baseline above, friction 0 at
+ * u = 0 (the chatter and its creep are O(dt), so the two agree as
+ * dt -> 0). */
 #include "exdex.h"
 #include "contact.h"
 #include "ldp.h"
@@ -40,11 +54,18 @@ static int run_explicit(const exdex_model *m, double t_end, double dt, exdex_tra
         for (int k = 0; k < ns; k++) lamsum[k] = 0.0;
         if (nd == 1) {
             int tr = m->def.dof == EXDEX_DOF_TRANSLATION;
-            double M = tr ? m->m : m->mrot, C = tr ? m->capF : m->capF * m->e[2];
+            double capm = model_capacity_mean(m, t, t1), M = tr ? m->m : m->mrot, C = tr ? capm : capm * m->e[2];
             double Q = model_force_1dof(m, &f, q[0], v[0]);
             double fr = v[0] > 0.0 ? -C : v[0] < 0.0 ? C : 0.0;  /* -C sign(v) */
-            double vn = v[0] + h * (Q + fr) / M, lo = -INFINITY, hi = INFINITY;
+            double vn, lo = -INFINITY, hi = INFINITY;
             int klo = -1, khi = -1, jlo = 0, jhi = 0;
+            if (v[0] == 0.0 && m->capks != m->capk) {
+                /* at rest: the static capacity holds, else kinetic breakaway */
+                double capsm = model_capacity_static_mean(m, t, t1), Cs = tr ? capsm : capsm * m->e[2];
+                fr = fabs(Q) <= Cs ? -Q : Q > 0.0 ? -C : Q < 0.0 ? C : 0.0;
+            }
+            vn = v[0] + h * (Q + fr) / M;
+            if (v[0] == 0.0 && m->capks != m->capk && fr == -Q) vn = 0.0;  /* held exactly */
             /* stop rows at t + h: Fq v+ >= -gap(q, t + h) / h */
             for (int k = 0; k < ns; k++)
                 for (int j = 0; j < nv; j++) {
@@ -92,11 +113,21 @@ static int run_explicit(const exdex_model *m, double t_end, double dt, exdex_tra
             model_patch_slip(m, MODEL_CS(q[2]), v, u);
             for (int c = 0; c < 3; c++) eu[c] = m->e[c] * u[c];
             sig = sqrt(ex_dot3(eu, eu));
-            if (sig > 0.0)
-                for (int c = 0; c < 3; c++) w[c] = -m->capF * m->e[c] * eu[c] / sig;
+            int held = 0;
+            if (sig > 0.0) {
+                for (int c = 0; c < 3; c++) w[c] = -model_capacity_mean(m, t, t1) * m->e[c] * eu[c] / sig;
+            } else if (m->capks != m->capk) {
+                /* at rest: the static capacity holds, else kinetic breakaway */
+                double mF[3] = {-F[0], -F[1], -F[2]}, nh;
+                model_patch_of_gen(m, MODEL_CS(q[2]), mF, w);
+                nh = model_ell_norm(m, w);
+                held = nh <= model_capacity_static_mean(m, t, t1);
+                if (!held)
+                    for (int c = 0; c < 3; c++) w[c] *= model_capacity_mean(m, t, t1) / nh;
+            }
             model_gen_of_patch(m, MODEL_CS(q[2]), w, P);
             model_to_b(MODEL_CS(q[2]), w, wrench);
-            for (int c = 0; c < 3; c++) v[c] += h * m->minv[c] * (F[c] + P[c]);
+            for (int c = 0; c < 3; c++) v[c] = held ? 0.0 : v[c] + h * m->minv[c] * (F[c] + P[c]);
             if (ns) {
                 /* stop rows at t + h: G v+ >= -gap(q, t + h) / h, v+ the
                  * M-metric projection of v* (ldp_project) */

@@ -9,6 +9,21 @@
  * with the friction impulse p from the maximum-dissipation problem (Eq. 6)
  * and stop impulses lambda >= 0 keeping every stop gap >= 0 at t + h.
  * Stick is exact: when the friction impulse can hold the object, v+ = 0.
+ *
+ * Static and kinetic friction (capacities C_s = mu_static N >= C = mu N):
+ * each step first tries to stick with the static capacity (the impulse that
+ * makes v+ = 0, stops included, inside the ellipsoid of capacity h C_s);
+ * if it cannot, the step slides with the kinetic capacity h C (the
+ * maximum-dissipation impulse on that ellipsoid). A step that starts at rest
+ * thus breaks away once the load leaves the static ellipsoid; a slip sticks
+ * in the first step whose impulse without friction, M v*, lies in the static
+ * ellipsoid of the step. That happens when the slip speed is within h (C_s +
+ * |Q|) / M of 0, so a slip can stick one step before its velocity under the
+ * kinetic law would have reversed: an O(h) error of the stick time, as the
+ * method's other switching errors. (Sliding never reverses the velocity:
+ * outside the static ellipsoid the kinetic impulse cannot stop it.) With
+ * mu_static = mu the two capacities are the same number and the step is the
+ * one-coefficient step.
  */
 #include "exdex.h"
 #include "contact.h"
@@ -83,18 +98,20 @@ static void build_rows(const exdex_model *m, const exdex_kinematics *kin_end, co
     }
 }
 
-/* 1-DoF step: min 1/2 M (v - vs)^2 + c |v| subject to G_i v >= rhs_i.
+/* 1-DoF step: min 1/2 M (v - vs)^2 + c |v| subject to G_i v >= rhs_i
+ * (c the kinetic capacity of the step; the stick test uses the static cs).
  * Exact: soft-threshold, then clamp into the feasible interval. The impulse
  * split is unique while sliding (friction = capacity, the binding stop the
  * rest). At rest (v+ = 0) against a touching stop it is statically
  * indeterminate; exdex lets the stops carry what they can (the split with the
  * least friction), as in the planar case. */
-static void step_1dof(double M, double c, double vs, double touch, work *w, double *v_out, double *pf,
-                      exdex_stats *st)
+static void step_1dof(double M, double c, double cs, double vs, double touch, work *w, double *v_out,
+                      double *pf, exdex_stats *st)
 {
     double vu, v, P, lo = -INFINITY, hi = INFINITY;
     int ilo = -1, ihi = -1, ib;
-    if (fabs(M * vs) <= c)
+    /* stick if the static capacity cs holds, else slide against c */
+    if (fabs(M * vs) <= cs)
         vu = 0.0;
     else
         vu = vs - copysign(c / M, vs);
@@ -374,15 +391,21 @@ static int solve_active(const exdex_model *m, const double cs[2], double cap, co
 /* Planar friction + stops: friction alone first; if a stop row is violated,
  * exact rest (try_rest), else a primal active set over the stop rows with the
  * smooth sliding subproblem (solve_active). */
-static int step_planar(const exdex_model *m, double h, double th, const double vs[3], work *w,
+static int step_planar(const exdex_model *m, double h, double capm, double capsm, double th, const double vs[3], work *w,
                        double v[3], double pfB[3], exdex_friction_result *fr, exdex_stats *st)
 {
-    double cap = h * m->capF, b[3], cs[2] = {cos(th), sin(th)};
+    double cap = h * capm, caps = h * capsm, b[3], cs[2] = {cos(th), sin(th)};
     int s, act[3], k = 0, round;
     model_patch_slip(m, cs, vs, b);
-    s = exdex_friction_solve(&m->prep, b, cap, m->def.friction_solver, w->fws, w->have_prev ? w->p_prev : NULL, fr);
+    /* stick with the static capacity, else slide with the kinetic one */
+    s = exdex_friction_solve(&m->prep, b, caps, m->def.friction_solver, w->fws, w->have_prev ? w->p_prev : NULL, fr);
     if (s) return s;
     st->solver_iterations += (size_t)fr->iterations;
+    if (!fr->stick && caps != cap) {
+        s = exdex_friction_solve(&m->prep, b, cap, m->def.friction_solver, w->fws, w->have_prev ? w->p_prev : NULL, fr);
+        if (s) return s;
+        st->solver_iterations += (size_t)fr->iterations;
+    }
     model_gen_of_patch(m, cs, fr->p, pfB);
     for (int i = 0; i < 3; i++) v[i] = fr->stick ? 0.0 : vs[i] + m->minv[i] * pfB[i];
     for (round = 0; round < 12; round++) {
@@ -398,7 +421,7 @@ static int step_planar(const exdex_model *m, double h, double th, const double v
             }
         }
         if (worst < 0) break; /* every row satisfied: done */
-        if (round == 0 && try_rest(m, cs, cap, vs, w, pfB, fr, st)) {
+        if (round == 0 && try_rest(m, cs, caps, vs, w, pfB, fr, st)) {
             v[0] = v[1] = v[2] = 0.0;
             goto done;
         }
@@ -578,11 +601,14 @@ static int implicit_run(const exdex_model *m, void *ws, double t_end, double dt,
         if (n_dof == 1) {
             int tr = m->def.dof == EXDEX_DOF_TRANSLATION;
             double M = tr ? m->m : m->mrot, Q = model_force_1dof(m, &f, qm[0], vmid[0]), pf;
-            /* friction capacity of the step: |E j| = e_t = 1 for a slide,
-             * e_r for a pure spin at the centre of pressure */
-            double c = tr ? h * m->capF : h * m->capF * m->e[2];
+            /* friction capacity of the step: the capacity's mean over the
+             * step times h (the largest impulse the plates carry), |E j| =
+             * e_t = 1 for a slide, e_r for a pure spin at the centre of
+             * pressure; c_s the static one */
+            double capm = model_capacity_mean(m, t, t1), c = tr ? h * capm : h * capm * m->e[2];
+            double capsm = model_capacity_static_mean(m, t, t1), c_s = tr ? h * capsm : h * capsm * m->e[2];
             vs[0] = v[0] + h * Q / M;
-            step_1dof(M, c, vs[0], m->tol.touch, w, &vn[0], &pf, st);
+            step_1dof(M, c, c_s, vs[0], m->tol.touch, w, &vn[0], &pf, st);
             if (m->def.dof == EXDEX_DOF_TRANSLATION) {
                 wrench[0] = pf * m->d[0] / h;
                 wrench[1] = pf * m->d[1] / h;
@@ -595,7 +621,8 @@ static int implicit_run(const exdex_model *m, void *ws, double t_end, double dt,
             double pfB[3], fo[3];
             model_force_planar(m, &f, qm, vmid, F);
             for (int i = 0; i < 3; i++) vs[i] = v[i] + h * m->minv[i] * F[i];
-            status = step_planar(m, h, qm[2], vs, w, vn, pfB, &fr, st);
+            status = step_planar(m, h, model_capacity_mean(m, t, t1), model_capacity_static_mean(m, t, t1), qm[2], vs,
+                                 w, vn, pfB, &fr, st);
             if (status) {
                 st->fail_time = t;
                 break;

@@ -30,6 +30,13 @@ MOTION_REST: int
 MOTION_ASYMMETRIC: int
 MOTION_TRAPEZOID: int
 MOTION_SAMPLED: int
+MOTION_SHAKE: int
+MOTION_CHAIN: int
+MOTION_MAX_PIECES: int
+GRIP_LINEAR: int
+GRIP_CUBIC: int
+GRIP_STEP: int
+MAX_GRIP_POINTS: int
 
 class SolverError(RuntimeError):
     status: int
@@ -52,6 +59,7 @@ def simulate_batch(specs: Mapping[str, Any] | Sequence[Mapping[str, Any]], t_end
                    record: str = ..., vary: Mapping[str, ArrayLike] | None = ...,
                    check_signals: bool = ...) -> dict[str, Any]: ...
 def motion_eval(spec: Mapping[str, Any], t: ArrayLike) -> dict[str, NDArray[np.float64]]: ...
+def grip_eval(spec: Mapping[str, Any], t: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
 def friction_solve(W: ArrayLike, b: ArrayLike, e: ArrayLike, cap: float, solver: int = ...) -> Any: ...
 def obstacle_section(obstacle: Mapping[str, Any], R: ArrayLike, p: ArrayLike, /) -> Any: ...
 def er_disc(radius: float, /) -> float: ...
