@@ -1043,6 +1043,13 @@ typedef struct ode {
     gsl_odeiv2_system sys;
     double yerr[NY_MAX], ytmp[NY_MAX];
     double *ts, *gb;   /* switching times, grip breakpoints (EXDEX_MOTION_MAX_SWITCHES + grip_n each) */
+    /* the run's state between output intervals (hybrid_begin, _advance) */
+    struct hyb_state {
+        hyb H;
+        double y[NY_MAX];
+        double t, h, t_rec;   /* time reached, the stepper's next step, last recorded time */
+        size_t nsw;           /* number of switching times in ts */
+    } S;
 } ode;
 
 static void ode_free(ode *O)
@@ -1239,13 +1246,23 @@ static int is_still(const hyb *H, const double *y)
     return y[3] == 0.0 && y[4] == 0.0 && y[5] == 0.0;
 }
 
-static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, double dt,
-                      exdex_trajectory *out, exdex_stats *st)
+/* The failure record of a run that stopped at t with status. */
+static void hybrid_failed(const hyb *H, int status, double t, exdex_stats *st)
+{
+    /* the stepper and event location fail with ENOCONV, the inner
+     * solvers with their own status (simulate.c names those) */
+    if (status == EXDEX_ENOCONV && st->fail_cause == EXDEX_FAIL_NONE && !H->err)
+        st->fail_cause = EXDEX_FAIL_STEPPER;
+    st->fail_time = t;
+}
+
+/* The initial state and mode; the switching times in (0, t_end]. */
+static int hybrid_begin(const exdex_model *m, ode *O, int law, double t_end, double dt, exdex_stats *st)
 {
     hyb H;
-    double y[NY_MAX], y0[NY_MAX], *ts = O->ts, t = 0.0, h;
-    size_t n = out->n, nsw;
-    int nd = m->ndof, ns = m->n_stops, status = EXDEX_OK;
+    double y[NY_MAX], *ts = O->ts, h;
+    size_t nsw;
+    int nd = m->ndof, ns = m->n_stops;
     memset(&H, 0, sizeof H);
     H.m = m;
     H.law = law;
@@ -1290,8 +1307,42 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
     H.hi = nsw ? ts[0] : INFINITY;
     decide(&H, 0.0, y, 0);
     h = fmin(dt, m->tol.h0);
-    for (size_t i = 1; i < n && status == EXDEX_OK && !H.err; i++) {
-        double ti = i == n - 1 ? t_end : (double)i * dt, hs = ti - out->t[i - 1];
+    O->S.H = H;
+    memcpy(O->S.y, y, sizeof y);
+    O->S.t = O->S.t_rec = 0.0;
+    O->S.h = h;
+    O->S.nsw = nsw;
+    O->sys.params = &O->S.H;
+    /* a failure in the decision at t = 0 stops the run before it starts */
+    if (H.err) hybrid_failed(&H, H.err, 0.0, st);
+    return H.err;
+}
+
+/* One output interval, from the last recorded time to ti, recorded as
+ * sample i. regrip: the model's capacity changed since the last interval
+ * (the stepper's grip force): the mode is decided again at its start. */
+static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, exdex_trajectory *out, size_t i,
+                          exdex_stats *st)
+{
+    hyb H = O->S.H;
+    double y[NY_MAX], y0[NY_MAX], *ts = O->ts, t = O->S.t, h = O->S.h;
+    size_t nsw = O->S.nsw;
+    int nd = m->ndof, ns = m->n_stops, law = H.law, status = EXDEX_OK;
+    memcpy(y, O->S.y, sizeof y);
+    H.m = m;
+    H.st = st;
+    O->sys.params = &H;
+    if (regrip) {
+        H.cap = H.capk * model_capacity(m, t);
+        H.caps = H.capk * model_capacity_static(m, t);
+        decide(&H, t, y, 0);
+        gsl_odeiv2_evolve_reset(O->evo);
+        gsl_odeiv2_step_reset(O->step);
+        status = H.err;
+    }
+    do {
+        double hs = ti - O->S.t_rec;
+        if (status) break;
         int events = 0, same = 0;
         unsigned long ode_steps = 0;
         size_t brent0 = st->solver_iterations; /* Brent iterations count in the step budget */
@@ -1527,16 +1578,25 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
                           law == LAW_COULOMB && H.mode == MODE_STICK ? 1 : is_still(&H, y), sf);
             for (int c = off; c < H.ny; c++) y[c] = 0.0;
         }
-    }
-    /* a failure in the decision at t = 0 stops the loop before it starts */
+    } while (0);
     if (!status && H.err) status = H.err;
-    if (status) {
-        /* the stepper and event location fail with ENOCONV, the inner
-         * solvers with their own status (simulate.c names those) */
-        if (status == EXDEX_ENOCONV && st->fail_cause == EXDEX_FAIL_NONE && !H.err)
-            st->fail_cause = EXDEX_FAIL_STEPPER;
-        st->fail_time = t;
-    }
+    if (status) hybrid_failed(&H, status, t, st);
+    O->S.H = H;
+    memcpy(O->S.y, y, sizeof y);
+    O->S.t = t;
+    O->S.h = h;
+    O->S.t_rec = ti;
+    O->sys.params = &O->S.H;
+    return status;
+}
+
+static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, double dt,
+                      exdex_trajectory *out, exdex_stats *st)
+{
+    size_t n = out->n;
+    int status = hybrid_begin(m, O, law, t_end, dt, st);
+    for (size_t i = 1; i < n && status == EXDEX_OK; i++)
+        status = hybrid_advance(m, O, i == n - 1 ? t_end : (double)i * dt, 0, out, i, st);
     return status;
 }
 
@@ -1554,5 +1614,42 @@ static int regularised_run(const exdex_model *m, void *ws, double t_end, double 
     return run_hybrid(m, ws, LAW_SMOOTH, t_end, dt, out, st);
 }
 
-const method_impl method_event = {"event", hybrid_alloc, event_run, hybrid_free, 0, 0};
-const method_impl method_regularised = {"regularised", hybrid_alloc, regularised_run, hybrid_free, 0, 0};
+static int event_begin(const exdex_model *m, void *ws, double t_end, double dt, exdex_stats *st)
+{
+    return hybrid_begin(m, ws, LAW_COULOMB, t_end, dt, st);
+}
+
+static int regularised_begin(const exdex_model *m, void *ws, double t_end, double dt, exdex_stats *st)
+{
+    return hybrid_begin(m, ws, LAW_SMOOTH, t_end, dt, st);
+}
+
+static int hybrid_advance_ws(const exdex_model *m, void *ws, double t1, int regrip, exdex_trajectory *out,
+                             size_t i, exdex_stats *st)
+{
+    return hybrid_advance(m, ws, t1, regrip, out, i, st);
+}
+
+/* The state: O->S (the switching times are fixed by begin). GSL's stepper,
+ * control and evolve keep nothing between two applications that the next
+ * one reads (the evolve's step counts are read as differences only). */
+static void hybrid_save(const void *ws, void *buf)
+{
+    const ode *O = ws;
+    memcpy(buf, &O->S, sizeof O->S);
+}
+
+static void hybrid_restore(void *ws, const void *buf)
+{
+    ode *O = ws;
+    memcpy(&O->S, buf, sizeof O->S);
+    O->sys.params = &O->S.H;
+}
+
+#define HYBRID_STATE_SIZE sizeof(((ode *)0)->S)
+
+const method_impl method_event = {"event", hybrid_alloc, event_run, hybrid_free, 0, 0, event_begin,
+                                  hybrid_advance_ws, HYBRID_STATE_SIZE, hybrid_save, hybrid_restore};
+const method_impl method_regularised = {"regularised", hybrid_alloc, regularised_run, hybrid_free, 0, 0,
+                                        regularised_begin, hybrid_advance_ws, HYBRID_STATE_SIZE, hybrid_save,
+                                        hybrid_restore};

@@ -448,7 +448,8 @@ def band(plan: SequencePlan, uncertain: Mapping[str, Tuple[float, float]], *, n:
     interval; the plan's steps are re-simulated step by step for ``n``
     equally spaced values per interval (the product grid, ends included).
     Returns ``{quantity: (low, high)}`` over the samples for the plan's
-    target quantities (NaN where a sample leaves the object moving). The
+    target quantities; samples whose run fails or leaves the object moving
+    are left out with a UserWarning that counts them (NaN if all fail). The
     band is sampled, not exact: a sequence's outcome need not be monotone.
     """
     from exdex.batch import _replace_params
@@ -470,12 +471,13 @@ def band(plan: SequencePlan, uncertain: Mapping[str, Tuple[float, float]], *, n:
             raise ValueError(f"uncertain[{name!r}] must be (low, high) with low <= high, got {iv!r}")
         axes[name] = np.linspace(lo, hi, n)
     q_start = np.array(plan.scenes[0].q0, dtype=float)
-    lows = {q: math.inf for q in plan.targets}
-    highs = {q: -math.inf for q in plan.targets}
+    finals = []
+    failed = 0
     for combo in itertools.product(*axes.values()):
         vals = dict(zip(axes, map(float, combo)))
-        q = q_start.copy()
+        q: Optional[np.ndarray] = q_start.copy()
         for sc in plan.scenes:
+            assert q is not None
             s = _replace_params(dataclasses.replace(sc, q0=tuple(q)), vals)
             t_end = s.motion.end_time + settle
             with warnings.catch_warnings():
@@ -489,8 +491,15 @@ def band(plan: SequencePlan, uncertain: Mapping[str, Tuple[float, float]], *, n:
                 q = None
                 break
             q = np.array(r.q[-1], dtype=float)
-        for k in plan.targets:
-            v = math.nan if q is None else float((q - q_start)[_INDEX[k]])
-            lows[k], highs[k] = (math.nan, math.nan) if math.isnan(v) or math.isnan(lows[k]) else \
-                (min(lows[k], v), max(highs[k], v))
+        if q is None:
+            failed += 1
+        else:
+            finals.append(q - q_start)
+    if failed:
+        warnings.warn(f"{failed} of {failed + len(finals)} samples of the band failed (the event method gave up, "
+                      "or the object was still moving after a step); the band covers the others",
+                      UserWarning, stacklevel=2)
+    F = np.array(finals).reshape(-1, 3)
+    lows = {k: float(F[:, _INDEX[k]].min()) if len(F) else math.nan for k in plan.targets}
+    highs = {k: float(F[:, _INDEX[k]].max()) if len(F) else math.nan for k in plan.targets}
     return {k: (lows[k], highs[k]) for k in plan.targets}
