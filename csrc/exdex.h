@@ -594,7 +594,8 @@ typedef struct exdex_stepper_sample {
                                             of pressure) [N, N, N m]; 0 before the first step */
     int stick;                           /* 1 if the last step ended exactly at rest (before the
                                             first: the initial velocity is 0) */
-    double stop_force[EXDEX_MAX_STOPS];  /* mean normal force of each stop over the last step [N] */
+    double stop_force[EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES];  /* mean normal force of each stop, then
+                                            of each obstacle, over the last step [N] */
     double grip_force;                   /* the last step's grip force [N] (NaN: the scene's) */
     size_t steps;                        /* steps taken */
 } exdex_stepper_sample;
