@@ -453,8 +453,8 @@ enum exdex_grip_kind {
  * piecewise constant: a translation scene whose gripper translates (Eq. 7,
  * a trapezoid with ramps, or rest), or a rotation scene about the centre of
  * mass (patch centre 0) whose gripper turns about the plate normal (to
- * 1e-12) or rests; and the grip force must be constant (a schedule whose
- * forces are all equal is). */
+ * 1e-12) or rests; the grip force constant, or a piecewise-linear or step
+ * schedule (not a cubic one, unless its forces are all equal). */
 const char *exdex_analytic_unsupported(const exdex_scene_def *def);
 
 /* Defaults: unit mass, unit inertia, mu 0.5, grip force 1 N, 2 fingers,

@@ -100,11 +100,14 @@
  *         C(s) = C + (C_s - C) exp(-(s / v_s)^2),   v_s = sqrt(eps V),
  *     V the scene's velocity scale (model_scales): v_s >> eps, so a creeping
  *     object (|E u| ~ eps) meets C_s (the largest load it carries before it
- *     accelerates away is C_s (1 - O(eps / v_s)), below C_s by at most
- *     sqrt(2 (C_s - C) C_s) eps / v_s), and a slip faster than a few v_s
- *     meets C; both errors vanish as eps -> 0 (as sqrt(eps)). In a 1-DoF
- *     rotation scene s and v_s are divided by e_r as eps is. With C_s = C
- *     it is the law above.
+ *     accelerates away is below C_s by at most sqrt(2 (C_s - C) C_s) eps /
+ *     v_s), and a slip faster than a few v_s meets C. Past the static
+ *     limit the slip must first reach v_s against a capacity still near
+ *     C_s: under a load rising at Q' that takes about tau = (v_s^2 M^2 /
+ *     ((C_s - C) Q'))^(1/3), and the slip lags the exact one by a speed of
+ *     about (C_s - C) tau / M. Both errors vanish as eps -> 0 (v_s and tau
+ *     with it). In a 1-DoF rotation scene s and v_s are divided by e_r as
+ *     eps is. With C_s = C it is the law above.
  *
  * Stops: every scene with every method. Planar scenes in the hybrid
  * (event, regularised) integrator carry a contact set of (stop, vertex) rows
