@@ -400,8 +400,8 @@ enum exdex_grip_kind {
  * piecewise constant: a translation scene whose gripper translates (Eq. 7,
  * a trapezoid with ramps, or rest), or a rotation scene about the centre of
  * mass (patch centre 0) whose gripper turns about the plate normal (to
- * 1e-12) or rests; and the grip force must be constant (a schedule whose
- * forces are all equal is). */
+ * 1e-12) or rests; the grip force constant, or a piecewise-linear or step
+ * schedule (not a cubic one, unless its forces are all equal). */
 const char *exdex_analytic_unsupported(const exdex_scene_def *def);
 
 /* Defaults: unit mass, unit inertia, mu 0.5, grip force 1 N, 2 fingers,
@@ -499,6 +499,75 @@ typedef struct exdex_stats {
  * finite output), and a solver failure EXDEX_ENOCONV. */
 int exdex_simulate(const exdex_model *m, double t_end, double dt,
                    exdex_trajectory *out, exdex_stats *stats);
+
+/* ---------------------------------------------------------------- stepper
+ * stepper.c -- a run advanced one step at a time, for feedback control: the
+ * caller chooses each step's length and grip force from the state it reads.
+ *
+ * A stepper owns a copy of the model's numbers (the model itself must
+ * outlive it and is not changed) and one workspace of the scene's method.
+ * Step k ends at t_base + k dt while dt stays the same (t_base: where dt
+ * last changed), so stepping n times with dt reproduces exdex_simulate(m,
+ * n dt, dt) bit for bit (the same samples, stats and status), whatever the
+ * method, when every step takes the scene's own grip force (NaN below).
+ * One exception in the stats: exdex_simulate finds the impacts of the
+ * time-stepping methods (implicit, explicit) by scanning the whole run's
+ * stop impulses; a stepper leaves impacts and max_impulse at 0 for them.
+ * The first step's dt is the run's: the event and regularised methods start
+ * their adaptive step from it, as exdex_simulate from its dt.
+ *
+ * Grip force: a finite grip_force >= 0 [N per finger] holds over the step
+ * (a constant capacity mu fingers grip_force replaces the scene's grip force
+ * or schedule for that step); NaN takes the scene's own (constant or
+ * schedule). A change of the capacity between two steps is a jump at the
+ * step boundary; the event method decides stick or slip again there. The
+ * model's scales and tolerances stay those of the scene's grip. The
+ * analytic method takes a new grip force as a new segment from the step's
+ * start.
+ *
+ * save / restore copy the whole state (time, grid, method state, last
+ * sample, stats): stepping on from a restored state repeats what the saved
+ * stepper did, bit for bit. A snapshot restores into any stepper of the same
+ * model. After a failed step (a status other than EXDEX_OK and EXDEX_EINVAL)
+ * the stepper only accepts restore or free. Not thread-safe per stepper;
+ * distinct steppers of one model may run in parallel. */
+typedef struct exdex_stepper exdex_stepper;
+
+typedef struct exdex_stepper_sample {
+    double t;                            /* time reached [s] */
+    double q[3], v[3];                   /* coordinates and rates (ndof of them) */
+    double wrench[3];                    /* plate friction, mean over the last step (B, centre
+                                            of pressure) [N, N, N m]; 0 before the first step */
+    int stick;                           /* 1 if the last step ended exactly at rest (before the
+                                            first: the initial velocity is 0) */
+    double stop_force[EXDEX_MAX_STOPS];  /* mean normal force of each stop over the last step [N] */
+    double grip_force;                   /* the last step's grip force [N] (NaN: the scene's) */
+    size_t steps;                        /* steps taken */
+} exdex_stepper_sample;
+
+/* NULL with *status EXDEX_EINVAL (no model, or an unknown method) or
+ * EXDEX_ENOMEM. */
+exdex_stepper *exdex_stepper_alloc(const exdex_model *m, int *status);
+void exdex_stepper_free(exdex_stepper *s);   /* NULL is harmless */
+
+/* Advance by dt [s] (finite, > 0, with t + dt > t and at most
+ * EXDEX_MAX_STEPS steps of this dt from t_base) with grip force grip_force
+ * (above). EXDEX_EINVAL for bad arguments (the stepper unchanged), else the
+ * status exdex_simulate would return for the step (EXDEX_ENOCONV,
+ * EXDEX_ENONFINITE; stats give the cause and time). */
+int exdex_stepper_step(exdex_stepper *s, double dt, double grip_force);
+
+/* The state after the last step (or the initial state); stats (may be
+ * NULL) as exdex_simulate's over the steps taken. */
+int exdex_stepper_get(const exdex_stepper *s, exdex_stepper_sample *out, exdex_stats *stats);
+
+/* Bytes of a snapshot of this stepper's state. */
+size_t exdex_stepper_state_size(const exdex_stepper *s);
+/* EXDEX_EINVAL if size differs from exdex_stepper_state_size or buf is
+ * NULL; restore also if the snapshot is not one of a stepper of the same
+ * model (method, coordinates, stops). */
+int exdex_stepper_save(const exdex_stepper *s, void *buf, size_t size);
+int exdex_stepper_restore(exdex_stepper *s, const void *buf, size_t size);
 
 /* ------------------------------------------------------------ tool design
  * cone.c -- twist cones of a pushed planar object and their volumes

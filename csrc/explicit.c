@@ -31,20 +31,38 @@
 #include "model.h"
 #include "util.h"
 
+#include <stdlib.h>
 #include <string.h>
 
-static int run_explicit(const exdex_model *m, double t_end, double dt, exdex_trajectory *out,
-                        exdex_stats *st)
-{
-    size_t n = out->n;
-    int nd = m->ndof, ns = m->n_stops, nv = m->n_vert ? m->n_vert : 1;
-    double q[3], v[3], t = 0.0;
+/* The run's state between steps (its whole workspace). */
+typedef struct explicit_ws {
+    double q[3], v[3], t;
     exdex_kinematics kin0;
-    int status = exdex_motion_eval(m->motion, 0.0, &kin0);
+} explicit_ws;
+
+static int explicit_begin(const exdex_model *m, void *ws, double t_end, double dt, exdex_stats *st)
+{
+    explicit_ws *w = ws;
+    (void)t_end;
+    (void)dt;
+    (void)st;
+    memset(w, 0, sizeof *w);
+    model_initial_state(m, w->q, w->v);
+    return exdex_motion_eval(m->motion, 0.0, &w->kin0);
+}
+
+/* One step from the time reached to t1, recorded as sample i. */
+static int explicit_advance(const exdex_model *m, void *ws, double t1, int regrip, exdex_trajectory *out,
+                            size_t i, exdex_stats *st)
+{
+    explicit_ws *w = ws;
+    int nd = m->ndof, ns = m->n_stops, nv = m->n_vert ? m->n_vert : 1, status = EXDEX_OK;
+    double *q = w->q, *v = w->v, t = w->t;
+    exdex_kinematics kin0 = w->kin0;
     double rmax = contact_rot_radius(m);
-    model_initial_state(m, q, v);
-    for (size_t i = 1; i < n && status == EXDEX_OK; i++) {
-        double t1 = i == n - 1 ? t_end : (double)i * dt, h = t1 - t, wrench[3] = {0, 0, 0};
+    (void)regrip;   /* the capacity is read at every step */
+    do {
+        double h = t1 - t, wrench[3] = {0, 0, 0};
         double lamsum[EXDEX_MAX_STOPS];
         exdex_kinematics kin, kin_end;
         frame f;
@@ -160,24 +178,35 @@ static int run_explicit(const exdex_model *m, double t_end, double dt, exdex_tra
         st->steps++;
         for (int k = 0; k < ns; k++) lamsum[k] /= h;
         method_record(m, out, st, i, t1, q, v, wrench, still, lamsum);
-    }
+    } while (0);
+    w->t = t;
+    w->kin0 = kin0;
     return status;
 }
 
 static void *explicit_alloc(const exdex_model *m, int *status)
 {
+    explicit_ws *w = malloc(sizeof *w);
     (void)m;
-    (void)status;
-    return (void *)&method_explicit;  /* no workspace: any non-NULL token */
+    if (!w) *status = EXDEX_ENOMEM;
+    return w;
 }
 
-static void explicit_free(void *ws) { (void)ws; }
+static void explicit_free(void *ws) { free(ws); }
 
 static int explicit_run(const exdex_model *m, void *ws, double t_end, double dt, exdex_trajectory *out,
                         exdex_stats *st)
 {
-    (void)ws;
-    return run_explicit(m, t_end, dt, out, st);
+    size_t n = out->n;
+    int status = explicit_begin(m, ws, t_end, dt, st);
+    for (size_t i = 1; i < n && status == EXDEX_OK; i++)
+        status = explicit_advance(m, ws, i == n - 1 ? t_end : (double)i * dt, 0, out, i, st);
+    return status;
 }
 
-const method_impl method_explicit = {"explicit", explicit_alloc, explicit_run, explicit_free, 1, 0};
+static void explicit_save(const void *ws, void *buf) { memcpy(buf, ws, sizeof(explicit_ws)); }
+static void explicit_restore(void *ws, const void *buf) { memcpy(ws, buf, sizeof(explicit_ws)); }
+
+const method_impl method_explicit = {"explicit", explicit_alloc, explicit_run, explicit_free, 1, 0,
+                                     explicit_begin, explicit_advance, sizeof(explicit_ws), explicit_save,
+                                     explicit_restore};

@@ -27,8 +27,18 @@
  *                     the stop force; in contact also the gaps of the
  *                     contact stop's other vertices (a turning gripper or
  *                     object hands the contact over to another corner).
- *   Planar slip (|E u| compared with zsw = SLIP_SMALL atol, the speed below
- *   which the error control does not resolve a slip's direction):
+ *   Planar slip (|E u| compared with zsw = V max(SLIP_SMALL atol,
+ *   SLIP_FLOOR), V the scene's velocity scale: below it the error control
+ *   does not resolve a slip's direction, and the sliding law is stiff: its
+ *   direction relaxes at the rate C |K| / |E u| <~ A / |E u| (A = V / T the
+ *   acceleration scale), where an explicit stepper is stable only for steps
+ *   below ~5 |E u| / (C |K|). With zsw >= SLIP_FLOOR V a slip lingering at
+ *   a small speed (a load crossing the friction limit at a grazing rate, a
+ *   slip dying out) costs at most ~1 / (5 SLIP_FLOOR) steps per T, where
+ *   with zsw tied to a small atol alone the step collapsed as |E u| -> 0.
+ *   What a stop drops, |E u| <= zsw of speed, moves the object by
+ *   zsw^2 / (2 a) ~ SLIP_FLOOR^2 L / 2 at a deceleration a ~ A: 5e-13 L,
+ *   scale-free and below any tolerance of the stepper):
  *     small slip (it grows from rest): the friction is the maximum-
  *       dissipation wrench of the current load for an infinitesimal step
  *       (against stops: the fixed point of that law on the constrained
@@ -36,13 +46,18 @@
  *       it at the rate C |K| / |E u| (K = E W E), infinitely stiff at the
  *       start of a slip; the slip follows it to |E u| |dn/dt| / (C |K|) (n
  *       that direction). Guards: the load leaves the ellipsoid's outside
- *       (|E^-1 w_stick| - C (1 + TOLF): it stops), zsw - |E u| (it becomes
- *       a slip, no state change);
+ *       (|E^-1 w_stick| - C (1 + TOLF): it stops), SLIP_UP zsw - |E u| (it
+ *       becomes a slip, no state change; SLIP_UP > 1 is the hysteresis that
+ *       keeps a slip hovering near zsw from switching at every step);
  *     slip: the sliding law. Guards: (E u).(E u_0), u_0 the slip at the
  *       start of the step (it reverses: a stop if |E u| <= zsw there, else
  *       a turn of the slip direction, which only renews u_0), and
  *       |E u| - zsw (it dies out, also against stops, without reversing):
- *       a stop sets qd = 0, so a slip's last zsw of speed is dropped.
+ *       where the load can be held at rest (the stick test) a stop sets
+ *       qd = 0, so a slip's last zsw of speed is dropped; else it slips on
+ *       as a small slip with its velocity kept (a dropped speed would
+ *       persist where friction cannot take it back: with mu = 0 a spin of
+ *       zsw would last to t_end).
  *   After every accepted step the guards are checked; the earliest sign change
  *   is located by GSL Brent on the stepper's own one-step map tau -> y(t0 +
  *   tau) (an interpolant of the stepper's order) at the first point where the
@@ -85,11 +100,14 @@
  *         C(s) = C + (C_s - C) exp(-(s / v_s)^2),   v_s = sqrt(eps V),
  *     V the scene's velocity scale (model_scales): v_s >> eps, so a creeping
  *     object (|E u| ~ eps) meets C_s (the largest load it carries before it
- *     accelerates away is C_s (1 - O(eps / v_s)), below C_s by at most
- *     sqrt(2 (C_s - C) C_s) eps / v_s), and a slip faster than a few v_s
- *     meets C; both errors vanish as eps -> 0 (as sqrt(eps)). In a 1-DoF
- *     rotation scene s and v_s are divided by e_r as eps is. With C_s = C
- *     it is the law above.
+ *     accelerates away is below C_s by at most sqrt(2 (C_s - C) C_s) eps /
+ *     v_s), and a slip faster than a few v_s meets C. Past the static
+ *     limit the slip must first reach v_s against a capacity still near
+ *     C_s: under a load rising at Q' that takes about tau = (v_s^2 M^2 /
+ *     ((C_s - C) Q'))^(1/3), and the slip lags the exact one by a speed of
+ *     about (C_s - C) tau / M. Both errors vanish as eps -> 0 (v_s and tau
+ *     with it). In a 1-DoF rotation scene s and v_s are divided by e_r as
+ *     eps is. With C_s = C it is the law above.
  *
  * Stops: every scene with every method. Planar scenes in the hybrid
  * (event, regularised) integrator carry a contact set of (stop, vertex) rows
@@ -175,6 +193,8 @@
 #define NY_MAX (9 + EXDEX_MAX_STOPS)
 #define NG_MAX (2 + MAX_ROWS)  /* guards */
 #define SLIP_SMALL 1e3   /* planar slip: below SLIP_SMALL atol of |E u| the slip is "small" [units of atol] */
+#define SLIP_FLOOR 1e-6  /* ... and in any case below SLIP_FLOOR V (see the header comment) */
+#define SLIP_UP 2.0      /* a small slip becomes a slip at SLIP_UP zsw (hysteresis against zsw) */
 #define SLIP_PUSH 4.0    /* a stop pushing a stopped planar slip on below SLIP_PUSH zsw: a rest instead */
 
 enum { LAW_COULOMB = 0, LAW_SMOOTH = 1 };
@@ -195,7 +215,7 @@ typedef struct hyb {
     int cs[MAX_ROWS];  /* planar contact set: rows r = k nv + j (stop k, vertex j) */
     double uref[3];    /* planar slip: E u at the start of the step */
     int small;         /* planar Coulomb slip: 1 while |E u| < zsw (the slip grows from rest) */
-    double zsw;        /* planar: slip speed |E u| below which a slip is small, SLIP_SMALL atol */
+    double zsw;        /* planar: slip speed |E u| below which a slip is small: V max(SLIP_SMALL atol, SLIP_FLOOR) */
     double lo, hi;     /* motion segment [lo, hi) */
     double M, cap, eps;
     double capk;       /* capacity per unit model_capacity: 1, or e_r for a 1-DoF rotation */
@@ -412,6 +432,21 @@ static double planar_rest(hyb *H, const exdex_kinematics *kin, const double *y, 
     return model_ell_norm(m, w);
 }
 
+/* Would the object stay at rest at (t, y) (f, kin its frame terms; the
+ * stick test of decide): the load at zero velocity inside the static
+ * ellipsoid (against the contact-set rows: the least-friction split of
+ * planar_rest)? */
+static int planar_load_held(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y)
+{
+    const exdex_model *m = H->m;
+    double F[3], w[3], zero[3] = {0, 0, 0}, lam[MAX_ROWS];
+    model_force_planar(m, f, y, zero, F);
+    if (H->ncs) return planar_rest(H, kin, y, F, w, lam) <= H->caps * (1.0 + TOLF);
+    for (int i = 0; i < 3; i++) F[i] = -F[i];
+    model_patch_of_gen(m, MODEL_CS(y[2]), F, w);
+    return model_ell_norm(m, w) <= H->caps * (1.0 + TOLF);
+}
+
 /* Planar applied force F (B, generalized) and plate friction wrench w
  * (patch) of the current mode at (t, y): stick holds everything (w = -F as
  * a patch wrench; the stop forces of a rest against stops are not part of
@@ -605,7 +640,8 @@ static int guards(hyb *H, double t, const double *y, double *g)
             if (H->small) {
                 /* small slip growing from rest: it stops when the load
                  * falls back inside the ellipsoid (the stick guard with the
-                 * sign reversed) and becomes a (large) slip at |E u| = zsw */
+                 * sign reversed) and becomes a (large) slip at |E u| =
+                 * SLIP_UP zsw */
                 double F[3], w[3], zero[3] = {0, 0, 0}, lam[MAX_ROWS];
                 model_force_planar(m, &f, y, zero, F);
                 if (H->ncs) {
@@ -615,7 +651,7 @@ static int guards(hyb *H, double t, const double *y, double *g)
                     model_patch_of_gen(m, MODEL_CS(y[2]), F, w);
                     g[n++] = model_ell_norm(m, w) - H->cap * (1.0 + TOLF);
                 }
-                g[n++] = H->zsw - sig;
+                g[n++] = SLIP_UP * H->zsw - sig;
             } else {
                 /* the slip reverses (E u turns against its direction at
                  * the start of the step: a stop, or a turn when |E u| is
@@ -739,6 +775,23 @@ static void decide(hyb *H, double t, double *y, int vzero)
             planar_prune_set(H, &f, &kin, y);
             return;
         }
+        if (!vzero && (y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0)) {
+            /* a slip below zsw (left by an impact or a jump of the
+             * gripper): it stops where the load can be held, else it
+             * slips on as a small slip (below) */
+            model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
+            for (int i = 0; i < 3; i++) u[i] *= m->e[i];
+            if (!(sqrt(ex_dot3(u, u)) >= H->zsw)) {
+                if (planar_load_held(H, &f, &kin, y)) {
+                    vzero = 1;
+                } else {
+                    H->mode = MODE_SLIP;
+                    H->small = 1;
+                    planar_prune_set(H, &f, &kin, y);
+                    return;
+                }
+            }
+        }
         if (vzero) {
             y[3] = y[4] = y[5] = 0.0;
             if (H->ns) {
@@ -747,13 +800,26 @@ static void decide(hyb *H, double t, double *y, int vzero)
                  * SLIP_PUSH zsw it would soon count as stopped again
                  * (Zeno-like restarts); it is a rest instead, on
                  * every touching row, which the tol.rest_gap guard ends once the
-                 * stops have moved (a drift below tol.rest_gap) */
+                 * stops have moved (a drift below tol.rest_gap). The same
+                 * for a touching stop that recedes in B at a rate below
+                 * SLIP_PUSH zsw (the slip that followed it stopped): left
+                 * out of the set, the load would push the object back onto
+                 * it at once, an impact at the same time, and so on */
                 double ysv[EXDEX_MAX_STOPS], u[3], eu[3];
+                int recede = 0;
                 memcpy(ysv, y + 9, (size_t)H->ns * sizeof *ysv);
                 planar_impact_and_set(H, t, &kin, y);
                 model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
                 for (int i = 0; i < 3; i++) eu[i] = m->e[i] * u[i];
-                if ((y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0) && sqrt(ex_dot3(eu, eu)) < SLIP_PUSH * H->zsw) {
+                if (y[3] == 0.0 && y[4] == 0.0 && y[5] == 0.0)
+                    for (int k = 0; k < H->ns && !recede; k++)
+                        for (int j = 0; j < H->nv && !recede; j++) {
+                            double G[3], gd;
+                            if (contact_row_planar(m, &kin, k, j, y, y + 3, G, &gd, NULL) <= m->tol.touch &&
+                                gd > m->tol.rate && gd < SLIP_PUSH * H->zsw)
+                                recede = 1;
+                        }
+                if (recede || ((y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0) && sqrt(ex_dot3(eu, eu)) < SLIP_PUSH * H->zsw)) {
                     double G[3];
                     memcpy(y + 9, ysv, (size_t)H->ns * sizeof *ysv);
                     y[3] = y[4] = y[5] = 0.0;
@@ -980,6 +1046,13 @@ typedef struct ode {
     gsl_odeiv2_system sys;
     double yerr[NY_MAX], ytmp[NY_MAX];
     double *ts, *gb;   /* switching times, grip breakpoints (EXDEX_MOTION_MAX_SWITCHES + grip_n each) */
+    /* the run's state between output intervals (hybrid_begin, _advance) */
+    struct hyb_state {
+        hyb H;
+        double y[NY_MAX];
+        double t, h, t_rec;   /* time reached, the stepper's next step, last recorded time */
+        size_t nsw;           /* number of switching times in ts */
+    } S;
 } ode;
 
 static void ode_free(ode *O)
@@ -1114,7 +1187,15 @@ static int locate(hyb *H, ode *O, double t0, const double *y0, double tau0, doub
     gsl_function F = {root_fn, &c};
     double lo = tau0, hi = tau1;
     int st = gsl_root_fsolver_set(O->root, &F, lo, hi);
-    if (st) return EXDEX_ENOCONV;
+    if (st) {
+        /* no bracket: the one-step map does not reproduce at tau1 the
+         * violated sign that the accepted step found there (the guard
+         * within rounding of 0, the step's map and the evolved state
+         * differing in the last bits): the event is at the step's end */
+        if (c.fail) return EXDEX_ENOCONV;
+        *tau = tau1;
+        return EXDEX_OK;
+    }
     for (int it = 0; it < BRENT_MAX; it++) {
         st = gsl_root_fsolver_iterate(O->root);
         if (st || c.fail) return EXDEX_ENOCONV;
@@ -1168,13 +1249,23 @@ static int is_still(const hyb *H, const double *y)
     return y[3] == 0.0 && y[4] == 0.0 && y[5] == 0.0;
 }
 
-static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, double dt,
-                      exdex_trajectory *out, exdex_stats *st)
+/* The failure record of a run that stopped at t with status. */
+static void hybrid_failed(const hyb *H, int status, double t, exdex_stats *st)
+{
+    /* the stepper and event location fail with ENOCONV, the inner
+     * solvers with their own status (simulate.c names those) */
+    if (status == EXDEX_ENOCONV && st->fail_cause == EXDEX_FAIL_NONE && !H->err)
+        st->fail_cause = EXDEX_FAIL_STEPPER;
+    st->fail_time = t;
+}
+
+/* The initial state and mode; the switching times in (0, t_end]. */
+static int hybrid_begin(const exdex_model *m, ode *O, int law, double t_end, double dt, exdex_stats *st)
 {
     hyb H;
-    double y[NY_MAX], y0[NY_MAX], *ts = O->ts, t = 0.0, h;
-    size_t n = out->n, nsw;
-    int nd = m->ndof, ns = m->n_stops, status = EXDEX_OK;
+    double y[NY_MAX], *ts = O->ts, h;
+    size_t nsw;
+    int nd = m->ndof, ns = m->n_stops;
     memset(&H, 0, sizeof H);
     H.m = m;
     H.law = law;
@@ -1191,7 +1282,7 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
         H.capk = 1.0;
         H.cap = m->capF;
         H.caps = m->capS;
-        H.zsw = SLIP_SMALL * m->def.atol * m->scale.V;  /* atol of a slip speed |E u| */
+        H.zsw = fmax(SLIP_SMALL * m->def.atol, SLIP_FLOOR) * m->scale.V;  /* a slip speed |E u| */
     } else if (m->def.dof == EXDEX_DOF_TRANSLATION) {
         H.M = m->m;
         H.capk = 1.0;
@@ -1219,8 +1310,42 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
     H.hi = nsw ? ts[0] : INFINITY;
     decide(&H, 0.0, y, 0);
     h = fmin(dt, m->tol.h0);
-    for (size_t i = 1; i < n && status == EXDEX_OK && !H.err; i++) {
-        double ti = i == n - 1 ? t_end : (double)i * dt, hs = ti - out->t[i - 1];
+    O->S.H = H;
+    memcpy(O->S.y, y, sizeof y);
+    O->S.t = O->S.t_rec = 0.0;
+    O->S.h = h;
+    O->S.nsw = nsw;
+    O->sys.params = &O->S.H;
+    /* a failure in the decision at t = 0 stops the run before it starts */
+    if (H.err) hybrid_failed(&H, H.err, 0.0, st);
+    return H.err;
+}
+
+/* One output interval, from the last recorded time to ti, recorded as
+ * sample i. regrip: the model's capacity changed since the last interval
+ * (the stepper's grip force): the mode is decided again at its start. */
+static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, exdex_trajectory *out, size_t i,
+                          exdex_stats *st)
+{
+    hyb H = O->S.H;
+    double y[NY_MAX], y0[NY_MAX], *ts = O->ts, t = O->S.t, h = O->S.h;
+    size_t nsw = O->S.nsw;
+    int nd = m->ndof, ns = m->n_stops, law = H.law, status = EXDEX_OK;
+    memcpy(y, O->S.y, sizeof y);
+    H.m = m;
+    H.st = st;
+    O->sys.params = &H;
+    if (regrip) {
+        H.cap = H.capk * model_capacity(m, t);
+        H.caps = H.capk * model_capacity_static(m, t);
+        decide(&H, t, y, 0);
+        gsl_odeiv2_evolve_reset(O->evo);
+        gsl_odeiv2_step_reset(O->step);
+        status = H.err;
+    }
+    do {
+        double hs = ti - O->S.t_rec;
+        if (status) break;
         int events = 0, same = 0;
         unsigned long ode_steps = 0;
         size_t brent0 = st->solver_iterations; /* Brent iterations count in the step budget */
@@ -1359,7 +1484,15 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
             }
             if (status) break;
             if (e_best >= 0) {
-                int vz;
+                int vz, keep = 0;
+                if (tau_best > 0.0 && t0 + tau_best == t0 && g0[e_best] > 0.0 && t > t0) {
+                    /* a crossing within half an ulp of t0: the event time
+                     * would round to t0, where the guard holds and the
+                     * decision at the same state would be taken again
+                     * (no progress, events piling up at one time): the
+                     * event is at the next representable time */
+                    tau_best = nextafter(t0, INFINITY) - t0;
+                }
                 if (one_step(O, t0, y0, tau_best, y) != GSL_SUCCESS || H.err) {
                     status = H.err ? H.err : EXDEX_ENOCONV;
                     break;
@@ -1381,12 +1514,30 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
                     double u[3], eu[3];
                     model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
                     for (int c = 0; c < 3; c++) eu[c] = m->e[c] * u[c];
-                    if (H.small)
+                    if (H.small) {
                         vz = e_best == 0;
-                    else
+                    } else {
                         vz = e_best == 1 || !(sqrt(ex_dot3(eu, eu)) > H.zsw);
+                        if (e_best == 1) {
+                            /* decayed below zsw: it stops where the load
+                             * can be held; else it slips on as a small
+                             * slip, velocity kept (what a stop dropped
+                             * would persist where the friction cannot
+                             * take it back, e.g. mu = 0) */
+                            frame fk;
+                            exdex_kinematics kk;
+                            if (frame_seg(&H, t, &fk, &kk)) {
+                                status = EXDEX_ENOCONV;
+                                break;
+                            }
+                            keep = !planar_load_held(&H, &fk, &kk, y);
+                        }
+                    }
                 }
-                decide(&H, t, y, vz);
+                if (keep)
+                    H.small = 1;
+                else
+                    decide(&H, t, y, vz);
                 gsl_odeiv2_evolve_reset(O->evo);
                 gsl_odeiv2_step_reset(O->step);
                 if (++events > EVENTS_MAX) {
@@ -1438,16 +1589,25 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
                           law == LAW_COULOMB && H.mode == MODE_STICK ? 1 : is_still(&H, y), sf);
             for (int c = off; c < H.ny; c++) y[c] = 0.0;
         }
-    }
-    /* a failure in the decision at t = 0 stops the loop before it starts */
+    } while (0);
     if (!status && H.err) status = H.err;
-    if (status) {
-        /* the stepper and event location fail with ENOCONV, the inner
-         * solvers with their own status (simulate.c names those) */
-        if (status == EXDEX_ENOCONV && st->fail_cause == EXDEX_FAIL_NONE && !H.err)
-            st->fail_cause = EXDEX_FAIL_STEPPER;
-        st->fail_time = t;
-    }
+    if (status) hybrid_failed(&H, status, t, st);
+    O->S.H = H;
+    memcpy(O->S.y, y, sizeof y);
+    O->S.t = t;
+    O->S.h = h;
+    O->S.t_rec = ti;
+    O->sys.params = &O->S.H;
+    return status;
+}
+
+static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, double dt,
+                      exdex_trajectory *out, exdex_stats *st)
+{
+    size_t n = out->n;
+    int status = hybrid_begin(m, O, law, t_end, dt, st);
+    for (size_t i = 1; i < n && status == EXDEX_OK; i++)
+        status = hybrid_advance(m, O, i == n - 1 ? t_end : (double)i * dt, 0, out, i, st);
     return status;
 }
 
@@ -1465,5 +1625,42 @@ static int regularised_run(const exdex_model *m, void *ws, double t_end, double 
     return run_hybrid(m, ws, LAW_SMOOTH, t_end, dt, out, st);
 }
 
-const method_impl method_event = {"event", hybrid_alloc, event_run, hybrid_free, 0, 0};
-const method_impl method_regularised = {"regularised", hybrid_alloc, regularised_run, hybrid_free, 0, 0};
+static int event_begin(const exdex_model *m, void *ws, double t_end, double dt, exdex_stats *st)
+{
+    return hybrid_begin(m, ws, LAW_COULOMB, t_end, dt, st);
+}
+
+static int regularised_begin(const exdex_model *m, void *ws, double t_end, double dt, exdex_stats *st)
+{
+    return hybrid_begin(m, ws, LAW_SMOOTH, t_end, dt, st);
+}
+
+static int hybrid_advance_ws(const exdex_model *m, void *ws, double t1, int regrip, exdex_trajectory *out,
+                             size_t i, exdex_stats *st)
+{
+    return hybrid_advance(m, ws, t1, regrip, out, i, st);
+}
+
+/* The state: O->S (the switching times are fixed by begin). GSL's stepper,
+ * control and evolve keep nothing between two applications that the next
+ * one reads (the evolve's step counts are read as differences only). */
+static void hybrid_save(const void *ws, void *buf)
+{
+    const ode *O = ws;
+    memcpy(buf, &O->S, sizeof O->S);
+}
+
+static void hybrid_restore(void *ws, const void *buf)
+{
+    ode *O = ws;
+    memcpy(&O->S, buf, sizeof O->S);
+    O->sys.params = &O->S.H;
+}
+
+#define HYBRID_STATE_SIZE sizeof(((ode *)0)->S)
+
+const method_impl method_event = {"event", hybrid_alloc, event_run, hybrid_free, 0, 0, event_begin,
+                                  hybrid_advance_ws, HYBRID_STATE_SIZE, hybrid_save, hybrid_restore};
+const method_impl method_regularised = {"regularised", hybrid_alloc, regularised_run, hybrid_free, 0, 0,
+                                        regularised_begin, hybrid_advance_ws, HYBRID_STATE_SIZE, hybrid_save,
+                                        hybrid_restore};

@@ -47,6 +47,12 @@ typedef struct work {
     double rhs[MAX_ROWS];
     double lam[MAX_ROWS];
     double gap[MAX_ROWS];
+    /* the run's state between steps (begin, advance; saved with p_prev and
+     * have_prev) */
+    struct {
+        double q[3], v[3], vprev[3], hprev, t;
+        exdex_kinematics kin0;
+    } S;
 } work;
 
 /* ------------------------------------------------------------ stops */
@@ -543,19 +549,29 @@ static void implicit_free(void *ws)
     free(w);
 }
 
-static int implicit_run(const exdex_model *m, void *ws, double t_end, double dt, exdex_trajectory *out,
-                        exdex_stats *st)
+static int implicit_begin(const exdex_model *m, void *ws, double t_end, double dt, exdex_stats *st)
 {
-    size_t n = out->n;
-    int n_dof = m->ndof, ns = m->n_stops, status = EXDEX_OK;
-    double q[3], v[3], vprev[3], hprev = 0.0, t;
-    exdex_kinematics kin0;
     work *w = ws;
-    model_initial_state(m, q, v);
-    t = 0.0;
-    status = exdex_motion_eval(m->motion, 0.0, &kin0);
-    for (size_t step = 1; step < n && status == EXDEX_OK; step++) {
-        double t1 = step == n - 1 ? t_end : (double)step * dt;
+    (void)t_end;
+    (void)dt;
+    (void)st;
+    memset(&w->S, 0, sizeof w->S);
+    model_initial_state(m, w->S.q, w->S.v);
+    w->p_prev[0] = w->p_prev[1] = w->p_prev[2] = 0.0;
+    w->have_prev = 0;
+    return exdex_motion_eval(m->motion, 0.0, &w->S.kin0);
+}
+
+/* One step from the time reached to t1, recorded as sample `step`. */
+static int implicit_advance(const exdex_model *m, void *ws, double t1, int regrip, exdex_trajectory *out,
+                            size_t step, exdex_stats *st)
+{
+    int n_dof = m->ndof, ns = m->n_stops, status = EXDEX_OK;
+    work *w = ws;
+    double *q = w->S.q, *v = w->S.v, *vprev = w->S.vprev, hprev = w->S.hprev, t = w->S.t;
+    exdex_kinematics kin0 = w->S.kin0;
+    (void)regrip;   /* the capacity is read at every step */
+    do {
         double h = t1 - t, tm = t + 0.5 * h, qm[3], vmid[3], F[3], vs[3], vn[3];
         double wrench[3] = {0, 0, 0}, sf[EXDEX_MAX_STOPS];
         frame f;
@@ -649,8 +665,49 @@ static int implicit_run(const exdex_model *m, void *ws, double t_end, double dt,
         for (int k = 0; k < ns; k++) sf[k] = 0.0;
         for (int i = 0; i < w->n_rows; i++) sf[w->row_stop[i]] += w->lam[i] / h;
         method_record(m, out, st, step, t1, q, v, wrench, stick, sf);
-    }
+    } while (0);
+    w->S.hprev = hprev;
+    w->S.t = t;
+    w->S.kin0 = kin0;
     return status;
 }
 
-const method_impl method_implicit = {"implicit", implicit_alloc, implicit_run, implicit_free, 1, 1};
+static int implicit_run(const exdex_model *m, void *ws, double t_end, double dt, exdex_trajectory *out,
+                        exdex_stats *st)
+{
+    size_t n = out->n;
+    int status = implicit_begin(m, ws, t_end, dt, st);
+    for (size_t step = 1; step < n && status == EXDEX_OK; step++)
+        status = implicit_advance(m, ws, step == n - 1 ? t_end : (double)step * dt, 0, out, step, st);
+    return status;
+}
+
+typedef struct implicit_state {
+    double p_prev[3];
+    int have_prev;
+} implicit_state;
+
+static void implicit_save(const void *ws, void *buf)
+{
+    const work *w = ws;
+    implicit_state x;
+    memcpy(x.p_prev, w->p_prev, sizeof x.p_prev);
+    x.have_prev = w->have_prev;
+    memcpy(buf, &w->S, sizeof w->S);
+    memcpy((char *)buf + sizeof w->S, &x, sizeof x);
+}
+
+static void implicit_restore(void *ws, const void *buf)
+{
+    work *w = ws;
+    implicit_state x;
+    memcpy(&w->S, buf, sizeof w->S);
+    memcpy(&x, (const char *)buf + sizeof w->S, sizeof x);
+    memcpy(w->p_prev, x.p_prev, sizeof x.p_prev);
+    w->have_prev = x.have_prev;
+}
+
+const method_impl method_implicit = {"implicit", implicit_alloc, implicit_run, implicit_free, 1, 1,
+                                     implicit_begin, implicit_advance,
+                                     sizeof(((work *)0)->S) + sizeof(implicit_state), implicit_save,
+                                     implicit_restore};

@@ -165,10 +165,11 @@ const char *exdex_analytic_unsupported(const exdex_scene_def *d)
     if (mo->kind == EXDEX_MOTION_SHAKE || mo->kind == EXDEX_MOTION_CHAIN)
         return "the analytic method needs a piecewise-constant gripper acceleration (Eq. 7, trapezoid or "
                "rest), not a shake or a chain";
-    if (d->grip_n > 1 && d->grip_forces)
+    if (d->grip_n > 1 && d->grip_forces && d->grip_kind == EXDEX_GRIP_CUBIC)
         for (size_t i = 1; i < d->grip_n; i++)
             if (d->grip_forces[i] != d->grip_forces[0])
-                return "the analytic method solves scenes with a constant grip force, not a grip schedule";
+                return "the analytic method solves a constant, piecewise-linear or step grip force, not a cubic "
+                       "grip schedule";
     if (mo->kind == EXDEX_MOTION_SAMPLED)
         return "the analytic method needs a piecewise-constant gripper acceleration (Eq. 7, trapezoid or "
                "rest), not a sampled log";

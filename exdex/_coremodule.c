@@ -8,6 +8,7 @@
  * callable directly, and names the offending key in every error. */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
+#include <pythread.h>
 #define PY_ARRAY_UNIQUE_SYMBOL exdex_core_ARRAY_API
 #include <numpy/arrayobject.h>
 
@@ -22,6 +23,7 @@
 typedef struct {
     PyObject *SolverError;
     PyObject *ModelType;
+    PyObject *StepperType;
 } core_state;
 
 static core_state *get_state(PyObject *module) { return (core_state *)PyModule_GetState(module); }
@@ -713,9 +715,15 @@ static PyObject *Model_get_nstops(PyObject *self, void *closure)
     return PyLong_FromLong(exdex_model_nstops(((ModelObject *)self)->model));
 }
 
+static PyObject *Model_stepper(PyObject *self, PyObject *noargs);
+PyDoc_STRVAR(Model_stepper_doc,
+"stepper() -> Stepper\n\n"
+"A new run of this model at its initial state, to advance step by step.");
+
 static PyMethodDef Model_methods[] = {
     {"simulate", (PyCFunction)(void (*)(void))Model_simulate, METH_VARARGS | METH_KEYWORDS, Model_simulate_doc},
     {"final", (PyCFunction)(void (*)(void))Model_final, METH_VARARGS | METH_KEYWORDS, Model_final_doc},
+    {"stepper", (PyCFunction)Model_stepper, METH_NOARGS, Model_stepper_doc},
     {NULL, NULL, 0, NULL}};
 
 static PyGetSetDef Model_getset[] = {
@@ -739,6 +747,244 @@ static PyType_Spec Model_spec = {
     .flags = Py_TPFLAGS_DEFAULT | Py_TPFLAGS_HAVE_GC,
     .slots = Model_slots,
 };
+
+/* ------------------------------------------------------------- stepper
+ * _core.Stepper: exdex_stepper over a compiled Model (Model.stepper()),
+ * which it keeps alive. A step releases the GIL; a per-stepper lock makes a
+ * second thread's call on the same stepper fail instead of racing. */
+typedef struct {
+    PyObject_HEAD
+    exdex_stepper *s;
+    PyObject *model;    /* the ModelObject */
+    PyObject *module;
+    PyThread_type_lock lock;
+} StepperObject;
+
+static int Stepper_traverse(PyObject *self, visitproc visit, void *arg)
+{
+    Py_VISIT(Py_TYPE(self));
+    Py_VISIT(((StepperObject *)self)->model);
+    Py_VISIT(((StepperObject *)self)->module);
+    return 0;
+}
+
+static int Stepper_clear(PyObject *self)
+{
+    /* the stepper reads the model: it goes with the object (dealloc) */
+    (void)self;
+    return 0;
+}
+
+static void Stepper_dealloc(PyObject *self)
+{
+    StepperObject *so = (StepperObject *)self;
+    PyTypeObject *tp = Py_TYPE(self);
+    PyObject_GC_UnTrack(self);
+    exdex_stepper_free(so->s);
+    if (so->lock) PyThread_free_lock(so->lock);
+    Py_CLEAR(so->model);
+    Py_CLEAR(so->module);
+    tp->tp_free(self);
+    Py_DECREF(tp);
+}
+
+static int stepper_acquire(StepperObject *so)
+{
+    if (!PyThread_acquire_lock(so->lock, NOWAIT_LOCK)) {
+        PyErr_SetString(PyExc_RuntimeError, "this Stepper is stepping in another thread; use one Stepper per thread");
+        return -1;
+    }
+    return 0;
+}
+
+PyDoc_STRVAR(Stepper_step_doc,
+"step(dt, grip_force=None) -> None\n\n"
+"Advance by dt [s] (> 0) with this step's grip force [N per finger] (>= 0;\n"
+"None: the scene's own force or schedule), the GIL released.");
+
+static PyObject *Stepper_step(PyObject *self, PyObject *args, PyObject *kwds)
+{
+    static char *kwlist[] = {"dt", "grip_force", NULL};
+    StepperObject *so = (StepperObject *)self;
+    double dt, grip = NAN;
+    PyObject *gobj = Py_None;
+    exdex_stepper_sample x;
+    exdex_stats st;
+    int status;
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "d|O", kwlist, &dt, &gobj)) return NULL;
+    if (!(isfinite(dt) && dt > 0.0)) {
+        PyErr_Format(PyExc_ValueError, "dt must be finite and > 0 [s], got %R", PyTuple_GET_ITEM(args, 0));
+        return NULL;
+    }
+    if (gobj != Py_None) {
+        grip = PyFloat_AsDouble(gobj);
+        if (grip == -1.0 && PyErr_Occurred()) {
+            PyErr_Clear();
+            PyErr_Format(PyExc_TypeError, "grip_force must be a real number or None, not %s",
+                         Py_TYPE(gobj)->tp_name);
+            return NULL;
+        }
+        if (!(isfinite(grip) && grip >= 0.0)) {
+            PyErr_Format(PyExc_ValueError, "grip_force must be finite and >= 0 [N] (or None), got %R", gobj);
+            return NULL;
+        }
+    }
+    if (stepper_acquire(so)) return NULL;
+    exdex_stepper_get(so->s, &x, NULL);
+    Py_BEGIN_ALLOW_THREADS
+    status = exdex_stepper_step(so->s, dt, grip);
+    Py_END_ALLOW_THREADS
+    exdex_stepper_get(so->s, NULL, &st);
+    PyThread_release_lock(so->lock);
+    if (status == EXDEX_EINVAL) {
+        PyErr_Format(PyExc_ValueError,
+                     "dt = %R s cannot advance the time from t = %.17g s (t + dt rounds to t, or more than 1e9 "
+                     "steps of this dt), or the stepper failed earlier (restore a saved state)",
+                     PyTuple_GET_ITEM(args, 0), x.t);
+        return NULL;
+    }
+    if (status) {
+        raise_run_error_at(so->module, status, &st, -1);
+        return NULL;
+    }
+    Py_RETURN_NONE;
+}
+
+static PyObject *doubles_tuple(const double *x, int n)
+{
+    PyObject *t = PyTuple_New(n);
+    if (!t) return NULL;
+    for (int i = 0; i < n; i++) {
+        PyObject *f = PyFloat_FromDouble(x[i]);
+        if (!f) {
+            Py_DECREF(t);
+            return NULL;
+        }
+        PyTuple_SET_ITEM(t, i, f);
+    }
+    return t;
+}
+
+PyDoc_STRVAR(Stepper_state_doc,
+"state() -> (t, q, v, stick, wrench, stop_force, grip_force, steps)\n\n"
+"The state after the last step: time [s], q and v (ndof floats each), the\n"
+"stick flag, the mean plate wrench and stop forces over the last step, its\n"
+"grip force (None: the scene's) and the number of steps taken.");
+
+static PyObject *Stepper_state(PyObject *self, PyObject *noargs)
+{
+    StepperObject *so = (StepperObject *)self;
+    exdex_stepper_sample x;
+    int nd = exdex_model_ndof(((ModelObject *)so->model)->model);
+    int ns = exdex_model_nstops(((ModelObject *)so->model)->model);
+    (void)noargs;
+    exdex_stepper_get(so->s, &x, NULL);
+    return Py_BuildValue("(dNNNNNNn)", x.t, doubles_tuple(x.q, nd), doubles_tuple(x.v, nd),
+                         PyBool_FromLong(x.stick), doubles_tuple(x.wrench, 3), doubles_tuple(x.stop_force, ns),
+                         float_or_none(x.grip_force), (Py_ssize_t)x.steps);
+}
+
+PyDoc_STRVAR(Stepper_stats_doc, "stats() -> dict\n\nSolver statistics over the steps taken (simulate's keys).");
+
+static PyObject *Stepper_stats(PyObject *self, PyObject *noargs)
+{
+    exdex_stats st;
+    (void)noargs;
+    exdex_stepper_get(((StepperObject *)self)->s, NULL, &st);
+    return stats_dict(&st);
+}
+
+PyDoc_STRVAR(Stepper_save_doc, "save() -> bytes\n\nA snapshot of the whole state (restore() takes it back).");
+
+static PyObject *Stepper_save(PyObject *self, PyObject *noargs)
+{
+    StepperObject *so = (StepperObject *)self;
+    size_t size = exdex_stepper_state_size(so->s);
+    PyObject *b = PyBytes_FromStringAndSize(NULL, (Py_ssize_t)size);
+    (void)noargs;
+    if (!b) return NULL;
+    if (stepper_acquire(so)) {
+        Py_DECREF(b);
+        return NULL;
+    }
+    exdex_stepper_save(so->s, PyBytes_AS_STRING(b), size);
+    PyThread_release_lock(so->lock);
+    return b;
+}
+
+PyDoc_STRVAR(Stepper_restore_doc,
+"restore(snapshot) -> None\n\n"
+"Return to the state saved by save() on a stepper of the same Model.");
+
+static PyObject *Stepper_restore(PyObject *self, PyObject *arg)
+{
+    StepperObject *so = (StepperObject *)self;
+    int status;
+    if (!PyBytes_Check(arg)) {
+        PyErr_Format(PyExc_TypeError, "snapshot must be the bytes of Stepper.save(), not %s", Py_TYPE(arg)->tp_name);
+        return NULL;
+    }
+    if (stepper_acquire(so)) return NULL;
+    status = exdex_stepper_restore(so->s, PyBytes_AS_STRING(arg), (size_t)PyBytes_GET_SIZE(arg));
+    PyThread_release_lock(so->lock);
+    if (status) {
+        PyErr_SetString(PyExc_ValueError, "snapshot is not a state saved by a stepper of this Model");
+        return NULL;
+    }
+    Py_RETURN_NONE;
+}
+
+static PyMethodDef Stepper_methods[] = {
+    {"step", (PyCFunction)(void (*)(void))Stepper_step, METH_VARARGS | METH_KEYWORDS, Stepper_step_doc},
+    {"state", Stepper_state, METH_NOARGS, Stepper_state_doc},
+    {"stats", Stepper_stats, METH_NOARGS, Stepper_stats_doc},
+    {"save", Stepper_save, METH_NOARGS, Stepper_save_doc},
+    {"restore", Stepper_restore, METH_O, Stepper_restore_doc},
+    {NULL, NULL, 0, NULL}};
+
+static PyType_Slot Stepper_slots[] = {
+    {Py_tp_doc, (void *)"A run of a compiled Model advanced step by step (Model.stepper()); use exdex.Stepper."},
+    {Py_tp_new, (void *)Model_new_disallowed},
+    {Py_tp_dealloc, (void *)Stepper_dealloc},
+    {Py_tp_traverse, (void *)Stepper_traverse},
+    {Py_tp_clear, (void *)Stepper_clear},
+    {Py_tp_methods, Stepper_methods},
+    {0, NULL}};
+
+static PyType_Spec Stepper_spec = {
+    .name = "exdex._core.Stepper",
+    .basicsize = sizeof(StepperObject),
+    .flags = Py_TPFLAGS_DEFAULT | Py_TPFLAGS_HAVE_GC,
+    .slots = Stepper_slots,
+};
+
+static PyObject *Model_stepper(PyObject *self, PyObject *noargs)
+{
+    ModelObject *mo = (ModelObject *)self;
+    PyTypeObject *tp = (PyTypeObject *)get_state(mo->module)->StepperType;
+    StepperObject *so;
+    int status;
+    exdex_stepper *s;
+    (void)noargs;
+    s = exdex_stepper_alloc(mo->model, &status);
+    if (!s) return raise_status(mo->module, status, "stepper", NULL);
+    so = PyObject_GC_New(StepperObject, tp);
+    if (!so) {
+        exdex_stepper_free(s);
+        return NULL;
+    }
+    so->s = s;
+    so->model = Py_NewRef(self);
+    so->module = Py_NewRef(mo->module);
+    so->lock = PyThread_allocate_lock();
+    if (!so->lock) {
+        PyObject_GC_Track((PyObject *)so);
+        Py_DECREF(so);
+        return PyErr_NoMemory();
+    }
+    PyObject_GC_Track((PyObject *)so);
+    return (PyObject *)so;
+}
 
 PyDoc_STRVAR(compile_doc,
 "compile(spec) -> Model\n\n"
@@ -1658,6 +1904,9 @@ static int core_exec(PyObject *module)
     s->ModelType = PyType_FromModuleAndSpec(module, &Model_spec, NULL);
     if (!s->ModelType) return -1;
     if (PyModule_AddObjectRef(module, "Model", s->ModelType) < 0) return -1;
+    s->StepperType = PyType_FromModuleAndSpec(module, &Stepper_spec, NULL);
+    if (!s->StepperType) return -1;
+    if (PyModule_AddObjectRef(module, "Stepper", s->StepperType) < 0) return -1;
     if (expy_add_constants(module, core_constants) < 0) return -1;
     return 0;
 }
@@ -1666,6 +1915,7 @@ static int core_traverse(PyObject *module, visitproc visit, void *arg)
 {
     Py_VISIT(get_state(module)->SolverError);
     Py_VISIT(get_state(module)->ModelType);
+    Py_VISIT(get_state(module)->StepperType);
     return 0;
 }
 
@@ -1673,6 +1923,7 @@ static int core_clear(PyObject *module)
 {
     Py_CLEAR(get_state(module)->SolverError);
     Py_CLEAR(get_state(module)->ModelType);
+    Py_CLEAR(get_state(module)->StepperType);
     return 0;
 }
 

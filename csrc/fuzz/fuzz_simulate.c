@@ -211,6 +211,14 @@ int fuzz_simulate(const uint8_t *data, size_t size)
      * timeout (FUZZ_TIMEOUT, also under ASan) */
     if ((d.method == EXDEX_METHOD_EVENT || d.method == EXDEX_METHOD_REGULARISED) && isfinite(t_end))
         t_end = dt;
+    /* static coefficient (decoded last, so older corpus inputs keep their
+     * meaning): 0 (equal to mu), above mu, or anything (below mu, wild) */
+    switch (fz_pick(&f, 0, 3)) {
+    case 0: d.mu_static = 0.0; break;
+    case 1: d.mu_static = d.mu; break;
+    case 2: d.mu_static = d.mu + fz_num(&f, 0.0, 1.5); break;
+    default: d.mu_static = fz_num(&f, -0.5, 2.0);
+    }
 
     /* fields exdex_scene_check must validate */
     required_nonfinite = !isfinite(d.mass) || !fz_all_finite(d.inertia, 9) || !isfinite(d.mu) ||
@@ -218,7 +226,7 @@ int fuzz_simulate(const uint8_t *data, size_t size)
                          !fz_all_finite(d.gravity, 3) || !fz_all_finite(d.slide_axis, 2) ||
                          !fz_all_finite(d.q0, 3) || !fz_all_finite(d.v0, 3) || !fz_all_finite(d.p0, 3) ||
                          !isfinite(d.eps) || !isfinite(d.rtol) ||
-                         !isfinite(d.atol);
+                         !isfinite(d.atol) || !isfinite(d.mu_static);
     if (d.n_vertices >= 0 && d.n_vertices <= EXDEX_MAX_VERTICES &&
         !fz_all_finite(&d.vertices[0][0], 2 * (size_t)d.n_vertices))
         required_nonfinite = 1;
@@ -247,6 +255,9 @@ int fuzz_simulate(const uint8_t *data, size_t size)
     st_check = exdex_scene_check(&d, &bad);
     FZ_CHECK(T, st_check == EXDEX_OK || st_check == EXDEX_EINVAL || st_check == EXDEX_ENOMEM);
     if (st_check) FZ_CHECK(T, bad != NULL);
+    /* a static coefficient below mu (and not 0) is bad input */
+    if (isfinite(d.mu) && d.mu >= 0 && isfinite(d.mu_static) && d.mu_static != 0.0 && d.mu_static < d.mu)
+        FZ_CHECK(T, st_check == EXDEX_EINVAL);
     FZ_CHECK(T, exdex_scene_check(NULL, NULL) == EXDEX_EINVAL);
     m = exdex_model_alloc(&d, &st_alloc, &bad2);
     fuzz_count_status(T, st_alloc);
