@@ -40,7 +40,7 @@ from numpy.typing import ArrayLike
 
 from exdex.batch import PARAMETERS, _replace_params, simulate_batch
 from exdex.plan import _param_name
-from exdex.scene import Scene, _real
+from exdex.scene import GripSchedule, Scene, _real
 from exdex.simulate import resolve_method
 
 __all__ = ["Sensitivity", "sensitivity", "EventTimes", "event_times", "EventSensitivity", "event_sensitivity",
@@ -51,6 +51,8 @@ def _value_of(scene, name):
     obj = scene
     for part in PARAMETERS[name].path:
         obj = getattr(obj, part)
+    if isinstance(obj, GripSchedule):
+        return 1.0  # grip_force on a schedule is a factor on it (batch.py), 1 for the schedule as given
     return float(obj)
 
 
