@@ -1485,6 +1485,14 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
             if (status) break;
             if (e_best >= 0) {
                 int vz, keep = 0;
+                if (tau_best > 0.0 && t0 + tau_best == t0 && g0[e_best] > 0.0 && t > t0) {
+                    /* a crossing within half an ulp of t0: the event time
+                     * would round to t0, where the guard holds and the
+                     * decision at the same state would be taken again
+                     * (no progress, events piling up at one time): the
+                     * event is at the next representable time */
+                    tau_best = nextafter(t0, INFINITY) - t0;
+                }
                 if (one_step(O, t0, y0, tau_best, y) != GSL_SUCCESS || H.err) {
                     status = H.err ? H.err : EXDEX_ENOCONV;
                     break;
