@@ -329,6 +329,13 @@ typedef struct exdex_scene_def {
                                  scale (positions L, angles 1 rad, velocities L/T, 1/T,
                                  force integrals m L/T, with the scene's length L and
                                  time T scales): both dimensionless */
+    /* Coulomb friction coefficient of each stop against the outline vertices
+     * touching it (>= 0, finite; 0: frictionless). The friction acts along the
+     * tangent t = e_z x n_B of the plate plane (n_B the in-plane part of the
+     * stop normal in B), bounded by stop_mu times the stop's normal force.
+     * Supported by the implicit and explicit methods; event and regularised
+     * reject stop_mu > 0 (EXDEX_EINVAL, bad_param "stop_mu"). */
+    double stop_mu[EXDEX_MAX_STOPS];
 } exdex_scene_def;
 
 /* NULL if EXDEX_METHOD_ANALYTIC solves the scene, else a static sentence

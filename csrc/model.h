@@ -71,6 +71,8 @@ struct exdex_model {
     double vert[EXDEX_MAX_VERTICES][2];
     model_scales scale;
     model_tols tol;
+    double smu[EXDEX_MAX_STOPS];  /* Coulomb coefficient of each stop */
+    int stop_friction;            /* 1 if some stop has smu > 0 */
 };
 
 /* Per-step quantities of the moving frame, in B coordinates: gravity g_B,

@@ -101,7 +101,8 @@ def _motion(rng):
 
 def random_scene(rng):
     dof = str(rng.choice(["translation", "rotation", "planar"]))
-    stops = tuple(exdex.Stop(tuple(_awkward(rng, 3)), tuple(rng.normal(size=3))) for _ in range(rng.integers(0, 9)))
+    stops = tuple(exdex.Stop(tuple(_awkward(rng, 3)), tuple(rng.normal(size=3)), mu=_awkward(rng, positive=True))
+                  for _ in range(rng.integers(0, 9)))
     return exdex.Scene(
         body=_body(rng),
         grasp=exdex.Grasp(mu=abs(_awkward(rng)), grip_force=abs(_awkward(rng)), patch=_patch(rng),
@@ -411,7 +412,7 @@ def test_the_schema_covers_every_scene_field_and_motion():
         "Body": ["mass", "inertia", "size", "outline"],
         "Grasp": ["mu", "grip_force", "patch", "fingers"],
         "Patch": ["e_r", "center", "shape", "dims"],
-        "Stop": ["point", "normal"],
+        "Stop": ["point", "normal", "mu"],
     }
     motion_fields = {name: [f.name for f in dataclasses.fields(cls)] for name, cls in io.MOTIONS.items()}
     assert motion_fields == {
