@@ -10,6 +10,12 @@ output arrays and their first touch included) divided by the number of steps;
 median and spread over repeated runs. Usage:
 
     python benchmarks/bench_step.py [--repeat 7] [--out exdex-output/bench]
+    python benchmarks/bench_step.py --grip [--repeat 7]
+
+--grip prints the cost of a 1-DoF step with a grip schedule (exdex.GripSchedule)
+against the same scene's constant-grip step, measured alternately in the same
+run: medians of ns/step and of the per-repeat ratio, for the time-stepping
+methods (one step per sample).
 """
 import argparse
 import csv
@@ -48,11 +54,62 @@ def measure(scene, steps, solver, repeat):
     return ns, r
 
 
+def grip_scenes():
+    """The 1-DoF Fig. 3 scene with its constant grip (1.5 N) and with a grip
+    schedule of 11 points over the run, piecewise linear, within 1e-9
+    relative of 1.5 N: every step evaluates the schedule (its mean over the
+    step) while the motion stays the same (the same stick and slip phases,
+    so the two runs do the same work besides the schedule)."""
+    base, _ = scenes()["1-DoF (Fig. 3)"]
+    times = [0.2 * k for k in range(11)]
+    forces = [1.5 * (1.0 + 1e-9 * math.sin(1.7 * k)) for k in range(11)]
+    sched = exdex.replace(base, grasp=exdex.Grasp(mu=0.5, grip_force=exdex.GripSchedule(times, forces)))
+    return base, sched
+
+
+def measure_grip(method, steps, repeat):
+    """ns per step of the constant-grip and the scheduled scene, the two
+    runs alternating within each repeat (same machine load); returns the
+    two lists and the per-repeat ratios."""
+    base, sched = grip_scenes()
+    t_end = 2.0
+    dt = t_end / steps
+    const_ns, sched_ns, ratio = [], [], []
+    for sc in (base, sched):
+        exdex.simulate(sc, t_end, dt=dt, method=method)  # warm-up
+    for k in range(repeat):
+        pair = [0.0, 0.0]
+        for j in ((0, 1) if k % 2 == 0 else (1, 0)):  # alternate which goes first
+            t0 = time.perf_counter()
+            r = exdex.simulate((base, sched)[j], t_end, dt=dt, method=method)
+            pair[j] = (time.perf_counter() - t0) / r.stats["steps"] * 1e9
+        const_ns.append(pair[0])
+        sched_ns.append(pair[1])
+        ratio.append(pair[1] / pair[0])
+    return const_ns, sched_ns, ratio
+
+
+def main_grip(repeat):
+    print(f"1-DoF step with a grip schedule against the constant grip (Fig. 3 scene; median of {repeat} "
+          f"alternating runs)")
+    print(f"{'method':<10} {'const ns/step':>14} {'schedule ns/step':>17} {'ratio':>7} {'ratio min':>10} "
+          f"{'ratio max':>10}")
+    for method, steps in (("implicit", 200_000), ("explicit", 200_000)):
+        c, s, q = measure_grip(method, steps, repeat)
+        print(f"{method:<10} {statistics.median(c):14.1f} {statistics.median(s):17.1f} "
+              f"{statistics.median(q):7.3f} {min(q):10.3f} {max(q):10.3f}")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=7)
     ap.add_argument("--out", default=os.path.join("exdex-output", "bench"))
+    ap.add_argument("--grip", action="store_true",
+                    help="only the cost of a 1-DoF step with a grip schedule against a constant grip")
     args = ap.parse_args(argv)
+    if args.grip:
+        main_grip(args.repeat)
+        return
     os.makedirs(args.out, exist_ok=True)
     print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
           f"Python {platform.python_version()}; median of {args.repeat} runs")

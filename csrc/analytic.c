@@ -12,12 +12,14 @@
  *     no moment about the pivot, and
  *         I_zz thdd = -I_zz dw_z(t) + tau_f;
  *   no stops; constant grip force.
- * With the drive d(t) = Q / M constant on each phase and the friction
- * capacity c = C / M (C = mu N, or mu N e_r for the torque) the Coulomb
- * problem  qdd = d + f / M,  |f| <= C,  exact stick  has the solution:
- *   at rest (qd = 0): it stays at rest while |d| <= c (1 + TOLF) (the band
+ * With the drive d(t) = Q / M constant on each phase, the kinetic friction
+ * capacity c = C / M (C = mu N, or mu N e_r for the torque) and the static
+ * one c_s = C_s / M (mu_static in place of mu, c_s >= c) the Coulomb
+ * problem  qdd = d + f / M,  |f| <= C_s at rest, f = -C sign(qd) sliding,
+ * exact stick  has the solution:
+ *   at rest (qd = 0): it stays at rest while |d| <= c_s (1 + TOLF) (the band
  *     that the event method uses), else it slips in the direction of d with
- *     qdd = d - c sign(d);
+ *     qdd = d - c sign(d) (c_s >= c: it accelerates away from rest);
  *   sliding (qd != 0): qdd = d - c sign(qd), a quadratic in time; if it
  *     decelerates the slip stops at tau = -qd / qdd (a root of a linear
  *     equation) and the rest test applies again.
@@ -32,6 +34,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #define TOLF 1e-12       /* relative band at the friction limit, as the event method */
 #define MAX_PHASES 5
@@ -41,10 +44,21 @@ typedef struct phase {
     double d;    /* drive Q / M, constant in the phase [m/s^2 or rad/s^2] */
 } phase;
 
+/* The run's state between output intervals: the current segment starts at
+ * ts in state (xs, vs) with acceleration a, in phase k; t_rec is the last
+ * recorded time; c, cs the kinetic and static capacities per unit M it
+ * runs with. */
+typedef struct analytic_state {
+    double ts, xs, vs, a, t_rec, c, cs;
+    int k;
+} analytic_state;
+
 typedef struct analytic_ws {
     int np;
     phase ph[MAX_PHASES];
-    double M, c;   /* generalised mass; capacity per unit M */
+    double M, c;   /* generalised mass; kinetic capacity per unit M */
+    double cs;     /* static capacity per unit M */
+    analytic_state S;
 } analytic_ws;
 
 /* The profile's phase starts (as motion.c switches them: t >= switch belongs
@@ -94,9 +108,11 @@ static void *analytic_alloc(const exdex_model *m, int *status)
     if (m->def.dof == EXDEX_DOF_TRANSLATION) {
         w->M = m->m;
         w->c = m->capF / m->m;
+        w->cs = m->capS / m->m;
     } else {
         w->M = m->mrot;
         w->c = m->capF * m->e[2] / m->mrot;
+        w->cs = m->capS * m->e[2] / m->mrot;
     }
     *status = build_phases(m, w);
     if (*status) {
@@ -112,23 +128,50 @@ static void analytic_free(void *ws) { free(ws); }
  * drive d: 0 at rest while the plates hold, else the Coulomb slip. */
 static double segment_accel(const analytic_ws *w, double d, double v)
 {
-    if (v == 0.0) return fabs(d) <= w->c * (1.0 + TOLF) ? 0.0 : d - copysign(w->c, d);
+    if (v == 0.0) return fabs(d) <= w->cs * (1.0 + TOLF) ? 0.0 : d - copysign(w->c, d);
     return d - copysign(w->c, v);
 }
 
-static int analytic_run(const exdex_model *m, void *ws, double t_end, double dt, exdex_trajectory *out,
-                        exdex_stats *st)
+static int analytic_begin(const exdex_model *m, void *ws, double t_end, double dt, exdex_stats *st)
 {
-    const analytic_ws *w = ws;
-    size_t n = out->n;
+    analytic_ws *w = ws;
+    double q[3], v[3];
+    (void)t_end;
+    (void)dt;
+    (void)st;
+    model_initial_state(m, q, v);
+    w->S.ts = w->S.t_rec = 0.0;
+    w->S.xs = q[0];
+    w->S.vs = v[0];
+    w->S.k = 0;
+    w->S.c = w->c;
+    w->S.cs = w->cs;
+    w->S.a = segment_accel(w, w->ph[0].d, v[0]);
+    return EXDEX_OK;
+}
+
+/* The interval from the last recorded time to ti, recorded as sample i.
+ * A new capacity (regrip) starts a new segment at the interval's start. */
+static int analytic_advance(const exdex_model *m, void *ws, double ti, int regrip, exdex_trajectory *out,
+                            size_t i, exdex_stats *st)
+{
+    analytic_ws *w = ws;
     /* the current segment: starts at ts in state (xs, vs), acceleration a
      * in phase k; samples are evaluated from its start, so the output grid
      * never changes the segments (the final state is the same for any dt) */
-    double ts = 0.0, xs = out->q[0], vs = out->v[0], a;
-    int k = 0;
-    a = segment_accel(w, w->ph[0].d, vs);
-    for (size_t i = 1; i < n; i++) {
-        double ti = i == n - 1 ? t_end : (double)i * dt, h = ti - out->t[i - 1], tc = out->t[i - 1];
+    double ts = w->S.ts, xs = w->S.xs, vs = w->S.vs, a = w->S.a;
+    int k = w->S.k;
+    if (regrip) {
+        double tau = w->S.t_rec - ts;
+        w->c = m->def.dof == EXDEX_DOF_TRANSLATION ? m->capF / m->m : m->capF * m->e[2] / m->mrot;
+        w->cs = m->def.dof == EXDEX_DOF_TRANSLATION ? m->capS / m->m : m->capS * m->e[2] / m->mrot;
+        xs += vs * tau + 0.5 * a * tau * tau;
+        vs += a * tau;
+        ts = w->S.t_rec;
+        a = segment_accel(w, w->ph[k].d, vs);
+    }
+    do {
+        double h = ti - w->S.t_rec, tc = w->S.t_rec;
         double fint = 0.0, tau;
         for (;;) {
             double te = k + 1 < w->np ? w->ph[k + 1].t0 : INFINITY, d = w->ph[k].d;
@@ -163,8 +206,40 @@ static int analytic_run(const exdex_model *m, void *ws, double t_end, double dt,
         out->stick[i] = out->v[i] == 0.0;
         st->stick_steps += out->stick[i];
         st->steps++;
-    }
+    } while (0);
+    w->S.ts = ts;
+    w->S.xs = xs;
+    w->S.vs = vs;
+    w->S.a = a;
+    w->S.k = k;
+    w->S.t_rec = ti;
+    w->S.c = w->c;
+    w->S.cs = w->cs;
     return EXDEX_OK;
 }
 
-const method_impl method_analytic = {"analytic", analytic_alloc, analytic_run, analytic_free, 0, 0};
+static int analytic_run(const exdex_model *m, void *ws, double t_end, double dt, exdex_trajectory *out,
+                        exdex_stats *st)
+{
+    size_t n = out->n;
+    analytic_begin(m, ws, t_end, dt, st);
+    for (size_t i = 1; i < n; i++) analytic_advance(m, ws, i == n - 1 ? t_end : (double)i * dt, 0, out, i, st);
+    return EXDEX_OK;
+}
+
+static void analytic_save(const void *ws, void *buf)
+{
+    memcpy(buf, &((const analytic_ws *)ws)->S, sizeof(analytic_state));
+}
+
+static void analytic_restore(void *ws, const void *buf)
+{
+    analytic_ws *w = ws;
+    memcpy(&w->S, buf, sizeof w->S);
+    w->c = w->S.c;
+    w->cs = w->S.cs;
+}
+
+const method_impl method_analytic = {"analytic", analytic_alloc, analytic_run, analytic_free, 0, 0,
+                                     analytic_begin, analytic_advance, sizeof(analytic_state), analytic_save,
+                                     analytic_restore};

@@ -171,8 +171,37 @@ enum exdex_motion_kind {
     EXDEX_MOTION_REST = 0,        /* the gripper stays at (R0, p0) */
     EXDEX_MOTION_ASYMMETRIC = 1,  /* paper Eq. 7: a_H, a_L from Eq. 9; round trip over 2T */
     EXDEX_MOTION_TRAPEZOID = 2,   /* trapezoidal velocity: distance X1 in time T, peak v_max */
-    EXDEX_MOTION_SAMPLED = 3      /* poses at times, interpolated */
+    EXDEX_MOTION_SAMPLED = 3,     /* poses at times, interpolated */
+    EXDEX_MOTION_SHAKE = 4,       /* oscillation s(t) = A (1 - cos 2 pi f t) for a duration D */
+    EXDEX_MOTION_CHAIN = 5        /* pieces played one after the other (below) */
 };
+
+/* Shake: s(t) = A (1 - cos(2 pi f t)) on [0, D), A = amplitude, f =
+ * frequency, D = duration; it starts at rest with s = 0 (acceleration
+ * A (2 pi f)^2: an acceleration switch at 0) and holds s(D) from D on. Whole
+ * or half cycles (f D an integer or half-integer) end at rest; otherwise the
+ * velocity jumps to rest at D (exdex_motion_jumps). A phase 2 pi f D within
+ * 16 rounding units of a multiple of pi counts as a whole or half cycle.
+ *
+ * Chain: pieces[0 .. n_pieces-1] (no chains among them) played one after
+ * the other. Piece i occupies [T_i, T_i+1), T_0 = 0, T_i+1 = T_i + its
+ * length: exdex_motion_end of the piece, except a REST piece (a pause),
+ * which lasts its duration (> 0); every length must be > 0. Piece i runs on
+ * local time t - T_i from the pose where piece i-1 ends (piece 0 from
+ * (R0, p0)): its R0, p0 are that pose. A sampled piece with absolute poses
+ * ignores them and must start there: its first pose may differ from the end
+ * pose of the piece before by at most 1e-9 (|p_end| + |p_start|) + 1e-12 m
+ * in position and 1e-9 in each rotation-matrix entry, else EXDEX_EINVAL
+ * naming the piece ("motion.pieces[i]"). Velocity: where piece i-1 ends and
+ * piece i starts the frame's velocity jumps by the sum of their own jumps
+ * there (exdex_motion_jumps); a jump with |dv| or |dw| above 1e-9 times the
+ * speeds on either side is EXDEX_EINVAL naming piece i unless allow_jump = 1
+ * (then it is a velocity jump of the chain, applied by every method like
+ * a sampled log's); a smaller one is rounding and dropped. Jumps inside a
+ * piece and at the chain's start and end are the pieces' own. The chain's
+ * switching times are the pieces' (shifted) and every T_i; a time exactly
+ * at a shifted switch belongs to the phase after it, as in the piece. */
+#define EXDEX_MOTION_MAX_PIECES 16
 
 typedef struct exdex_motion_def {
     int kind;               /* enum exdex_motion_kind */
@@ -196,6 +225,10 @@ typedef struct exdex_motion_def {
     int tool;               /* sampled: 1 applies tool_pose */
     double tool_pose[7];    /* sampled: pose of B in the logged frame, x y z qw qx qy qz
                                (quaternion non-zero, normalised) */
+    double frequency;       /* shake: f [Hz] > 0, with f D <= 1e9 cycles */
+    size_t n_pieces;        /* chain: 1 .. EXDEX_MOTION_MAX_PIECES */
+    const struct exdex_motion_def *pieces;  /* chain: (n_pieces,) piece definitions (copied) */
+    int allow_jump;         /* chain: 1 accepts velocity jumps between pieces (0 or 1) */
 } exdex_motion_def;
 
 /* Kinematics of B in A at one time, all vectors expressed in A. */
@@ -231,18 +264,19 @@ double exdex_motion_end(const exdex_motion *m);
  * velocity dw[j] [rad/s], in A; the pose is continuous there. A sampled
  * motion jumps at its first sample when it starts at speed and at its last
  * when it ends at speed; a trapezoid without ramps (v_max = |X1|/T) at 0 and
- * T. Returns their number (0 .. EXDEX_MOTION_MAX_JUMPS); any output may be
+ * T; a shake that ends mid-cycle at D; a chain where its pieces do (above).
+ * Returns their number (0 .. EXDEX_MOTION_MAX_JUMPS); any output may be
  * NULL. */
-#define EXDEX_MOTION_MAX_JUMPS 2
+#define EXDEX_MOTION_MAX_JUMPS (2 * EXDEX_MOTION_MAX_PIECES)
 int exdex_motion_jumps(const exdex_motion *m, double t[EXDEX_MOTION_MAX_JUMPS],
                        double dv[EXDEX_MOTION_MAX_JUMPS][3], double dw[EXDEX_MOTION_MAX_JUMPS][3]);
 
 /* Switching times [s] of the motion, increasing: where its acceleration or
  * velocity may be discontinuous (Eq. 7: beta T, (2 - beta) T, 2T; trapezoid:
- * the ramp ends and T; sampled: the first and last sample times; rest:
- * none). Between two of them the kinematics are smooth. Returns their
+ * the ramp ends and T; sampled: the first and last sample times; shake: D;
+ * chain: above; rest: none). Between two of them the kinematics are smooth. Returns their
  * number (0 .. EXDEX_MOTION_MAX_SWITCHES). */
-#define EXDEX_MOTION_MAX_SWITCHES 4
+#define EXDEX_MOTION_MAX_SWITCHES (4 * EXDEX_MOTION_MAX_PIECES)
 int exdex_motion_switches(const exdex_motion *m, double ts[EXDEX_MOTION_MAX_SWITCHES]);
 
 /* Scalar profiles: position s, velocity sd, acceleration sdd at time t.
@@ -329,6 +363,25 @@ typedef struct exdex_scene_def {
                                  scale (positions L, angles 1 rad, velocities L/T, 1/T,
                                  force integrals m L/T, with the scene's length L and
                                  time T scales): both dimensionless */
+    /* grip-force schedule (grip_n = 0: the constant grip_force). With a
+     * schedule the normal force of each finger is F(t) = grip_force S(t)
+     * (grip_force a scale, 1 for the schedule as given), S the schedule
+     * through the points (grip_times[i], grip_forces[i]) by grip_kind, held
+     * at its first and last value outside [grip_times[0],
+     * grip_times[grip_n - 1]]; the friction capacity is mu fingers F(t).
+     * The points are copied by exdex_model_alloc. */
+    size_t grip_n;              /* 0 or 1 .. EXDEX_MAX_GRIP_POINTS */
+    const double *grip_times;   /* (grip_n,) finite, strictly increasing [s] */
+    const double *grip_forces;  /* (grip_n,) finite, >= 0 [N] */
+    int grip_kind;              /* enum exdex_grip_kind */
+    /* static friction: the plates hold the object while the wrench that
+     * holds it lies in the static ellipsoid, of capacity mu_static N, and a
+     * slip slides against the kinetic one, mu N (same shape, E); a slip
+     * sticks again where its slip twist reaches 0 with the holding wrench
+     * inside the static ellipsoid. mu_static >= mu, or 0: equal to mu (a
+     * zero-initialised field keeps the one-coefficient law). Each method's
+     * use of it is stated with the method (exdex_method above, hybrid.c). */
+    double mu_static;
     /* Coulomb friction coefficient of each stop against the outline vertices
      * touching it (>= 0, finite; 0: frictionless). The friction acts along the
      * tangent t = e_z x n_B of the plate plane (n_B the in-plane part of the
@@ -338,12 +391,24 @@ typedef struct exdex_scene_def {
     double stop_mu[EXDEX_MAX_STOPS];
 } exdex_scene_def;
 
+/* Interpolation of a grip-force schedule between its points. */
+enum exdex_grip_kind {
+    EXDEX_GRIP_LINEAR = 0,  /* piecewise linear */
+    EXDEX_GRIP_CUBIC = 1,   /* Steffen's monotone cubic (GSL gsl_interp_steffen): C1, no
+                               overshoot (between two points it stays between their values,
+                               so F >= 0); linear through two points, constant through one */
+    EXDEX_GRIP_STEP = 2     /* piecewise constant, right-continuous: forces[i] on
+                               [times[i], times[i + 1]) (a release or re-grip as a step) */
+};
+#define EXDEX_MAX_GRIP_POINTS 1000000
+
 /* NULL if EXDEX_METHOD_ANALYTIC solves the scene, else a static sentence
  * saying why not: it needs a 1-DoF scene without stops whose drive is
  * piecewise constant: a translation scene whose gripper translates (Eq. 7,
  * a trapezoid with ramps, or rest), or a rotation scene about the centre of
  * mass (patch centre 0) whose gripper turns about the plate normal (to
- * 1e-12) or rests. */
+ * 1e-12) or rests; and the grip force must be constant (a schedule whose
+ * forces are all equal is). */
 const char *exdex_analytic_unsupported(const exdex_scene_def *def);
 
 /* Defaults: unit mass, unit inertia, mu 0.5, grip force 1 N, 2 fingers,
@@ -368,6 +433,11 @@ exdex_model *exdex_model_alloc(const exdex_scene_def *def, int *status,
 void exdex_model_free(exdex_model *m);   /* NULL is harmless */
 int exdex_model_ndof(const exdex_model *m);
 int exdex_model_nstops(const exdex_model *m);
+/* Normal force of each finger at time t, *force [N], and its rate dF/dt,
+ * *rate [N/s] (the right derivative at a breakpoint; either may be NULL):
+ * the constant grip_force or the scene's grip schedule scaled by it.
+ * EXDEX_EINVAL for a NULL model or a NaN t. */
+int exdex_model_grip(const exdex_model *m, double t, double *force, double *rate);
 
 /* Number of recorded samples for (t_end, dt): steps of dt, the last one
  * shortened to end exactly at t_end; samples = steps + 1. 0 if invalid:
@@ -436,6 +506,75 @@ typedef struct exdex_stats {
  * finite output), and a solver failure EXDEX_ENOCONV. */
 int exdex_simulate(const exdex_model *m, double t_end, double dt,
                    exdex_trajectory *out, exdex_stats *stats);
+
+/* ---------------------------------------------------------------- stepper
+ * stepper.c -- a run advanced one step at a time, for feedback control: the
+ * caller chooses each step's length and grip force from the state it reads.
+ *
+ * A stepper owns a copy of the model's numbers (the model itself must
+ * outlive it and is not changed) and one workspace of the scene's method.
+ * Step k ends at t_base + k dt while dt stays the same (t_base: where dt
+ * last changed), so stepping n times with dt reproduces exdex_simulate(m,
+ * n dt, dt) bit for bit (the same samples, stats and status), whatever the
+ * method, when every step takes the scene's own grip force (NaN below).
+ * One exception in the stats: exdex_simulate finds the impacts of the
+ * time-stepping methods (implicit, explicit) by scanning the whole run's
+ * stop impulses; a stepper leaves impacts and max_impulse at 0 for them.
+ * The first step's dt is the run's: the event and regularised methods start
+ * their adaptive step from it, as exdex_simulate from its dt.
+ *
+ * Grip force: a finite grip_force >= 0 [N per finger] holds over the step
+ * (a constant capacity mu fingers grip_force replaces the scene's grip force
+ * or schedule for that step); NaN takes the scene's own (constant or
+ * schedule). A change of the capacity between two steps is a jump at the
+ * step boundary; the event method decides stick or slip again there. The
+ * model's scales and tolerances stay those of the scene's grip. The
+ * analytic method takes a new grip force as a new segment from the step's
+ * start.
+ *
+ * save / restore copy the whole state (time, grid, method state, last
+ * sample, stats): stepping on from a restored state repeats what the saved
+ * stepper did, bit for bit. A snapshot restores into any stepper of the same
+ * model. After a failed step (a status other than EXDEX_OK and EXDEX_EINVAL)
+ * the stepper only accepts restore or free. Not thread-safe per stepper;
+ * distinct steppers of one model may run in parallel. */
+typedef struct exdex_stepper exdex_stepper;
+
+typedef struct exdex_stepper_sample {
+    double t;                            /* time reached [s] */
+    double q[3], v[3];                   /* coordinates and rates (ndof of them) */
+    double wrench[3];                    /* plate friction, mean over the last step (B, centre
+                                            of pressure) [N, N, N m]; 0 before the first step */
+    int stick;                           /* 1 if the last step ended exactly at rest (before the
+                                            first: the initial velocity is 0) */
+    double stop_force[EXDEX_MAX_STOPS];  /* mean normal force of each stop over the last step [N] */
+    double grip_force;                   /* the last step's grip force [N] (NaN: the scene's) */
+    size_t steps;                        /* steps taken */
+} exdex_stepper_sample;
+
+/* NULL with *status EXDEX_EINVAL (no model, or an unknown method) or
+ * EXDEX_ENOMEM. */
+exdex_stepper *exdex_stepper_alloc(const exdex_model *m, int *status);
+void exdex_stepper_free(exdex_stepper *s);   /* NULL is harmless */
+
+/* Advance by dt [s] (finite, > 0, with t + dt > t and at most
+ * EXDEX_MAX_STEPS steps of this dt from t_base) with grip force grip_force
+ * (above). EXDEX_EINVAL for bad arguments (the stepper unchanged), else the
+ * status exdex_simulate would return for the step (EXDEX_ENOCONV,
+ * EXDEX_ENONFINITE; stats give the cause and time). */
+int exdex_stepper_step(exdex_stepper *s, double dt, double grip_force);
+
+/* The state after the last step (or the initial state); stats (may be
+ * NULL) as exdex_simulate's over the steps taken. */
+int exdex_stepper_get(const exdex_stepper *s, exdex_stepper_sample *out, exdex_stats *stats);
+
+/* Bytes of a snapshot of this stepper's state. */
+size_t exdex_stepper_state_size(const exdex_stepper *s);
+/* EXDEX_EINVAL if size differs from exdex_stepper_state_size or buf is
+ * NULL; restore also if the snapshot is not one of a stepper of the same
+ * model (method, coordinates, stops). */
+int exdex_stepper_save(const exdex_stepper *s, void *buf, size_t size);
+int exdex_stepper_restore(exdex_stepper *s, const void *buf, size_t size);
 
 /* ------------------------------------------------------------ tool design
  * cone.c -- twist cones of a pushed planar object and their volumes

@@ -1,7 +1,8 @@
 /* explicit.c -- the naive baseline EXDEX_METHOD_EXPLICIT: explicit Coulomb
  * friction with sign(), symplectic Euler steps of dt,
  *     v+ = v + dt M^-1 (Q(t, q, v) + friction(v)),   q+ = q + dt v+,
- * friction -mu N E^2 u / |E u| and 0 at u = 0 exactly; the frame
+ * friction -C E^2 u / |E u| (C = mu N, with a grip schedule its mean over
+ * the step) and 0 at u = 0 exactly; the frame
  * accelerations enter as step means (model_frame_step). Stops:
  * velocity-level rows G v+ >= -gap(q, t + dt)/dt; 1-DoF: a clamp; planar:
  * v+ is the M-metric projection of v* onto every (stop, vertex) row
@@ -9,7 +10,20 @@
  * r_max per step (the vertex moves on a circle, the row is linear). At stick
  * it chatters: with a load |Q| < C the velocity never returns to 0 but
  * circulates in (-dt (C - Q)/M, dt (C + Q)/M] (Q > 0) and creeps on average
- * at dt Q / M. */
+ * at dt Q / M.
+ *
+ * Static friction (mu_static > mu, capacities C_s > C): sign() has no stick
+ * state, so the static coefficient can act only where u = 0 exactly (an
+ * object that starts at rest, or is stopped by a stop, before it first
+ * moves): there the plates hold the load while the wrench that holds it,
+ * w_h = -(the applied force as a patch wrench), lies in the static
+ * ellipsoid (v+ = 0 exactly), and else exert the kinetic wrench
+ * C w_h / |E^-1 w_h| (1-DoF: -C sign(Q)): a breakaway at the static limit.
+ * Once the object moves it never returns to u = 0 exactly (it chatters as
+ * above, with the kinetic capacity), so it does not stick again. With
+ * mu_static = mu the law is the sign() baseline above, friction 0 at
+ * u = 0 (the chatter and its creep are O(dt), so the two agree as
+ * dt -> 0). */
 #include "exdex.h"
 #include "contact.h"
 #include "fcontact.h"
@@ -18,6 +32,7 @@
 #include "model.h"
 #include "util.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 /* Coulomb friction at the stops for the explicit step: the plate friction
@@ -81,18 +96,35 @@ static int explicit_stop_friction(const exdex_model *m, const exdex_kinematics *
     return 1;
 }
 
-static int run_explicit(const exdex_model *m, double t_end, double dt, exdex_trajectory *out,
-                        exdex_stats *st)
-{
-    size_t n = out->n;
-    int nd = m->ndof, ns = m->n_stops, nv = m->n_vert ? m->n_vert : 1;
-    double q[3], v[3], t = 0.0;
+/* The run's state between steps (its whole workspace). */
+typedef struct explicit_ws {
+    double q[3], v[3], t;
     exdex_kinematics kin0;
-    int status = exdex_motion_eval(m->motion, 0.0, &kin0);
+} explicit_ws;
+
+static int explicit_begin(const exdex_model *m, void *ws, double t_end, double dt, exdex_stats *st)
+{
+    explicit_ws *w = ws;
+    (void)t_end;
+    (void)dt;
+    (void)st;
+    memset(w, 0, sizeof *w);
+    model_initial_state(m, w->q, w->v);
+    return exdex_motion_eval(m->motion, 0.0, &w->kin0);
+}
+
+/* One step from the time reached to t1, recorded as sample i. */
+static int explicit_advance(const exdex_model *m, void *ws, double t1, int regrip, exdex_trajectory *out,
+                            size_t i, exdex_stats *st)
+{
+    explicit_ws *w = ws;
+    int nd = m->ndof, ns = m->n_stops, nv = m->n_vert ? m->n_vert : 1, status = EXDEX_OK;
+    double *q = w->q, *v = w->v, t = w->t;
+    exdex_kinematics kin0 = w->kin0;
     double rmax = contact_rot_radius(m);
-    model_initial_state(m, q, v);
-    for (size_t i = 1; i < n && status == EXDEX_OK; i++) {
-        double t1 = i == n - 1 ? t_end : (double)i * dt, h = t1 - t, wrench[3] = {0, 0, 0};
+    (void)regrip;   /* the capacity is read at every step */
+    do {
+        double h = t1 - t, wrench[3] = {0, 0, 0};
         double lamsum[EXDEX_MAX_STOPS];
         exdex_kinematics kin, kin_end;
         frame f;
@@ -102,11 +134,18 @@ static int run_explicit(const exdex_model *m, double t_end, double dt, exdex_tra
         for (int k = 0; k < ns; k++) lamsum[k] = 0.0;
         if (nd == 1) {
             int tr = m->def.dof == EXDEX_DOF_TRANSLATION;
-            double M = tr ? m->m : m->mrot, C = tr ? m->capF : m->capF * m->e[2];
+            double capm = model_capacity_mean(m, t, t1), M = tr ? m->m : m->mrot, C = tr ? capm : capm * m->e[2];
             double Q = model_force_1dof(m, &f, q[0], v[0]);
             double fr = v[0] > 0.0 ? -C : v[0] < 0.0 ? C : 0.0;  /* -C sign(v) */
-            double vn = v[0] + h * (Q + fr) / M, lo = -INFINITY, hi = INFINITY;
+            double vn, lo = -INFINITY, hi = INFINITY;
             int klo = -1, khi = -1, jlo = 0, jhi = 0;
+            if (v[0] == 0.0 && m->capks != m->capk) {
+                /* at rest: the static capacity holds, else kinetic breakaway */
+                double capsm = model_capacity_static_mean(m, t, t1), Cs = tr ? capsm : capsm * m->e[2];
+                fr = fabs(Q) <= Cs ? -Q : Q > 0.0 ? -C : Q < 0.0 ? C : 0.0;
+            }
+            vn = v[0] + h * (Q + fr) / M;
+            if (v[0] == 0.0 && m->capks != m->capk && fr == -Q) vn = 0.0;  /* held exactly */
             /* stop rows at t + h: Fq v+ >= -gap(q, t + h) / h */
             for (int k = 0; k < ns; k++)
                 for (int j = 0; j < nv; j++) {
@@ -139,9 +178,9 @@ static int run_explicit(const exdex_model *m, double t_end, double dt, exdex_tra
                 }
                 if (kb >= 0 && m->stop_friction && m->smu[kb] > 0.0) {
                     /* the frictional rows: every (stop, vertex) row, as above */
-                    double Gr[MAX_ROWS][3], b[MAX_ROWS], gp[MAX_ROWS], lam[MAX_ROWS], vv[3] = {vc, 0, 0};
+                    double Gr[MAX_ROWS][3], b[MAX_ROWS] = {0}, gp[MAX_ROWS] = {0}, lam[MAX_ROWS], vv[3] = {vc, 0, 0};
                     double vs3[3] = {vn, 0, 0};
-                    int stop[MAX_ROWS], nr = 0;
+                    int stop[MAX_ROWS] = {0}, nr = 0;
                     for (int k = 0; k < ns; k++)
                         for (int j = 0; j < nv; j++) {
                             crow c;
@@ -177,11 +216,21 @@ static int run_explicit(const exdex_model *m, double t_end, double dt, exdex_tra
             model_patch_slip(m, MODEL_CS(q[2]), v, u);
             for (int c = 0; c < 3; c++) eu[c] = m->e[c] * u[c];
             sig = sqrt(ex_dot3(eu, eu));
-            if (sig > 0.0)
-                for (int c = 0; c < 3; c++) w[c] = -m->capF * m->e[c] * eu[c] / sig;
+            int held = 0;
+            if (sig > 0.0) {
+                for (int c = 0; c < 3; c++) w[c] = -model_capacity_mean(m, t, t1) * m->e[c] * eu[c] / sig;
+            } else if (m->capks != m->capk) {
+                /* at rest: the static capacity holds, else kinetic breakaway */
+                double mF[3] = {-F[0], -F[1], -F[2]}, nh;
+                model_patch_of_gen(m, MODEL_CS(q[2]), mF, w);
+                nh = model_ell_norm(m, w);
+                held = nh <= model_capacity_static_mean(m, t, t1);
+                if (!held)
+                    for (int c = 0; c < 3; c++) w[c] *= model_capacity_mean(m, t, t1) / nh;
+            }
             model_gen_of_patch(m, MODEL_CS(q[2]), w, P);
             model_to_b(MODEL_CS(q[2]), w, wrench);
-            for (int c = 0; c < 3; c++) v[c] += h * m->minv[c] * (F[c] + P[c]);
+            for (int c = 0; c < 3; c++) v[c] = held ? 0.0 : v[c] + h * m->minv[c] * (F[c] + P[c]);
             if (ns) {
                 /* stop rows at t + h: G v+ >= -gap(q, t + h) / h, v+ the
                  * M-metric projection of v* (ldp_project) */
@@ -217,24 +266,35 @@ static int run_explicit(const exdex_model *m, double t_end, double dt, exdex_tra
         st->steps++;
         for (int k = 0; k < ns; k++) lamsum[k] /= h;
         method_record(m, out, st, i, t1, q, v, wrench, still, lamsum);
-    }
+    } while (0);
+    w->t = t;
+    w->kin0 = kin0;
     return status;
 }
 
 static void *explicit_alloc(const exdex_model *m, int *status)
 {
+    explicit_ws *w = malloc(sizeof *w);
     (void)m;
-    (void)status;
-    return (void *)&method_explicit;  /* no workspace: any non-NULL token */
+    if (!w) *status = EXDEX_ENOMEM;
+    return w;
 }
 
-static void explicit_free(void *ws) { (void)ws; }
+static void explicit_free(void *ws) { free(ws); }
 
 static int explicit_run(const exdex_model *m, void *ws, double t_end, double dt, exdex_trajectory *out,
                         exdex_stats *st)
 {
-    (void)ws;
-    return run_explicit(m, t_end, dt, out, st);
+    size_t n = out->n;
+    int status = explicit_begin(m, ws, t_end, dt, st);
+    for (size_t i = 1; i < n && status == EXDEX_OK; i++)
+        status = explicit_advance(m, ws, i == n - 1 ? t_end : (double)i * dt, 0, out, i, st);
+    return status;
 }
 
-const method_impl method_explicit = {"explicit", explicit_alloc, explicit_run, explicit_free, 1, 0};
+static void explicit_save(const void *ws, void *buf) { memcpy(buf, ws, sizeof(explicit_ws)); }
+static void explicit_restore(void *ws, const void *buf) { memcpy(ws, buf, sizeof(explicit_ws)); }
+
+const method_impl method_explicit = {"explicit", explicit_alloc, explicit_run, explicit_free, 1, 0,
+                                     explicit_begin, explicit_advance, sizeof(explicit_ws), explicit_save,
+                                     explicit_restore};

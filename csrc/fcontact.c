@@ -119,7 +119,7 @@ static int try_rest(const fc_problem *p, double *lam, double *beta, fc_result *r
         }
     best = ldp_min_combination(m, a, (const double (*)[3])b, l, &it);
     res->iters += it;
-    if (!(best <= p->cap * (1.0 + 1e-12))) return 0;
+    if (!(best <= (p->cap_rest > p->cap ? p->cap_rest : p->cap) * (1.0 + 1e-12))) return 0;
     for (int i = 0; i < p->nr; i++) lam[i] = beta[i] = 0.0;
     for (int c = 0; c < n; c++) P[c] = -Mvs[c];
     for (int j = 0; j < m; j++) {

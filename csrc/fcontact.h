@@ -6,7 +6,8 @@
  * The problem of one step (n = 1 or 3 free coordinates, M = diag(Md)):
  *     M (v - vs) = P + sum_i (lam_i G_i + beta_i T_i),
  *     plate:   P = -cap A^T A v / |A v| if v != 0, else any P with
- *              |A^-T P| <= cap (maximum dissipation over the ellipsoid;
+ *              |A^-T P| <= cap_rest (maximum dissipation over the ellipsoid,
+ *              static capacity cap_rest >= cap at rest;
  *              A = E J_f maps v to the scaled patch slip, so |A^-T P| is
  *              the ellipsoid norm of the plate impulse),
  *     normal:  0 <= lam_i  _|_  G_i v - rhs_i >= 0,
@@ -50,7 +51,9 @@ typedef struct fc_problem {
     double Md[3];        /* diagonal of M, > 0 */
     double vs[3];        /* velocity without plate friction and contacts */
     double A[3][3];      /* plate slip map (n x n, invertible when cap > 0) */
-    double cap;          /* plate capacity of the step (an impulse) >= 0 */
+    double cap;          /* plate capacity of the step (an impulse) >= 0: sliding */
+    double cap_rest;     /* capacity of the plates' rest test (static friction), >= cap;
+                            0: cap */
     double vscale;       /* velocity scale of the tolerances, > 0 */
     double vrest;        /* at rest a row with |tb| <= vrest has a static cone */
     int nr;              /* rows, <= LDP_MAX_ROWS / 2 */

@@ -27,8 +27,18 @@
  *                     the stop force; in contact also the gaps of the
  *                     contact stop's other vertices (a turning gripper or
  *                     object hands the contact over to another corner).
- *   Planar slip (|E u| compared with zsw = SLIP_SMALL atol, the speed below
- *   which the error control does not resolve a slip's direction):
+ *   Planar slip (|E u| compared with zsw = V max(SLIP_SMALL atol,
+ *   SLIP_FLOOR), V the scene's velocity scale: below it the error control
+ *   does not resolve a slip's direction, and the sliding law is stiff: its
+ *   direction relaxes at the rate C |K| / |E u| <~ A / |E u| (A = V / T the
+ *   acceleration scale), where an explicit stepper is stable only for steps
+ *   below ~5 |E u| / (C |K|). With zsw >= SLIP_FLOOR V a slip lingering at
+ *   a small speed (a load crossing the friction limit at a grazing rate, a
+ *   slip dying out) costs at most ~1 / (5 SLIP_FLOOR) steps per T, where
+ *   with zsw tied to a small atol alone the step collapsed as |E u| -> 0.
+ *   What a stop drops, |E u| <= zsw of speed, moves the object by
+ *   zsw^2 / (2 a) ~ SLIP_FLOOR^2 L / 2 at a deceleration a ~ A: 5e-13 L,
+ *   scale-free and below any tolerance of the stepper):
  *     small slip (it grows from rest): the friction is the maximum-
  *       dissipation wrench of the current load for an infinitesimal step
  *       (against stops: the fixed point of that law on the constrained
@@ -36,13 +46,18 @@
  *       it at the rate C |K| / |E u| (K = E W E), infinitely stiff at the
  *       start of a slip; the slip follows it to |E u| |dn/dt| / (C |K|) (n
  *       that direction). Guards: the load leaves the ellipsoid's outside
- *       (|E^-1 w_stick| - C (1 + TOLF): it stops), zsw - |E u| (it becomes
- *       a slip, no state change);
+ *       (|E^-1 w_stick| - C (1 + TOLF): it stops), SLIP_UP zsw - |E u| (it
+ *       becomes a slip, no state change; SLIP_UP > 1 is the hysteresis that
+ *       keeps a slip hovering near zsw from switching at every step);
  *     slip: the sliding law. Guards: (E u).(E u_0), u_0 the slip at the
  *       start of the step (it reverses: a stop if |E u| <= zsw there, else
  *       a turn of the slip direction, which only renews u_0), and
  *       |E u| - zsw (it dies out, also against stops, without reversing):
- *       a stop sets qd = 0, so a slip's last zsw of speed is dropped.
+ *       where the load can be held at rest (the stick test) a stop sets
+ *       qd = 0, so a slip's last zsw of speed is dropped; else it slips on
+ *       as a small slip with its velocity kept (a dropped speed would
+ *       persist where friction cannot take it back: with mu = 0 a spin of
+ *       zsw would last to t_end).
  *   After every accepted step the guards are checked; the earliest sign change
  *   is located by GSL Brent on the stepper's own one-step map tau -> y(t0 +
  *   tau) (an interpolant of the stepper's order) at the first point where the
@@ -57,7 +72,8 @@
  *   recovers (a corner lifted off a stop falling back: its maximum is
  *   searched, and the crossing after it located). The
  *   motion's own switching times (Eq. 7, trapezoid kinks, end of a sampled
- *   motion) are stepped onto, never over, and velocity jumps of the gripper
+ *   motion) and the breakpoints of a grip schedule are stepped onto, never
+ *   over, and velocity jumps of the gripper
  *   there are applied as inertial impulses. Fails by Zeno-like toggling: a
  *   load that crosses the friction limit N times costs 2N events, and more
  *   than EVENTS_MAX events within one output interval return EXDEX_ENOCONV.
@@ -68,6 +84,27 @@
  *   inside the ellipsoid the object creeps at E u = eps E^-1 w /
  *   sqrt((mu N)^2 - |E^-1 w|^2)). Stiff when eps is small: the explicit
  *   stepper's step collapses to ~ M eps / C.
+ *
+ * Static and kinetic friction (capacities C_s = mu_static N >= C = mu N,
+ * two ellipsoids of the same shape):
+ *   event: every test of a stick (the stick -> slip guard, a rest against
+ *     stops, the decision after a slip stops or at a segment start) uses
+ *     C_s; every slip (the sliding law, the direction a slip starts in, the
+ *     small-slip law, sliding along a 1-DoF stop) uses C. A small slip
+ *     (planar, growing from rest) stops when its load falls back inside the
+ *     kinetic ellipsoid, where the slip decelerates; the decision there
+ *     sticks (the load is inside the static one too).
+ *   regularised: the capacity falls smoothly with the slip speed from the
+ *     static to the kinetic value,
+ *         w = -C(|E u|) E^2 u / sqrt(|E u|^2 + eps^2),
+ *         C(s) = C + (C_s - C) exp(-(s / v_s)^2),   v_s = sqrt(eps V),
+ *     V the scene's velocity scale (model_scales): v_s >> eps, so a creeping
+ *     object (|E u| ~ eps) meets C_s (the largest load it carries before it
+ *     accelerates away is C_s (1 - O(eps / v_s)), below C_s by at most
+ *     sqrt(2 (C_s - C) C_s) eps / v_s), and a slip faster than a few v_s
+ *     meets C; both errors vanish as eps -> 0 (as sqrt(eps)). In a 1-DoF
+ *     rotation scene s and v_s are divided by e_r as eps is. With C_s = C
+ *     it is the law above.
  *
  * Stops: every scene with every method. Planar scenes in the hybrid
  * (event, regularised) integrator carry a contact set of (stop, vertex) rows
@@ -153,6 +190,8 @@
 #define NY_MAX (9 + EXDEX_MAX_STOPS)
 #define NG_MAX (2 + MAX_ROWS)  /* guards */
 #define SLIP_SMALL 1e3   /* planar slip: below SLIP_SMALL atol of |E u| the slip is "small" [units of atol] */
+#define SLIP_FLOOR 1e-6  /* ... and in any case below SLIP_FLOOR V (see the header comment) */
+#define SLIP_UP 2.0      /* a small slip becomes a slip at SLIP_UP zsw (hysteresis against zsw) */
 #define SLIP_PUSH 4.0    /* a stop pushing a stopped planar slip on below SLIP_PUSH zsw: a rest instead */
 
 enum { LAW_COULOMB = 0, LAW_SMOOTH = 1 };
@@ -173,25 +212,53 @@ typedef struct hyb {
     int cs[MAX_ROWS];  /* planar contact set: rows r = k nv + j (stop k, vertex j) */
     double uref[3];    /* planar slip: E u at the start of the step */
     int small;         /* planar Coulomb slip: 1 while |E u| < zsw (the slip grows from rest) */
-    double zsw;        /* planar: slip speed |E u| below which a slip is small, SLIP_SMALL atol */
+    double zsw;        /* planar: slip speed |E u| below which a slip is small: V max(SLIP_SMALL atol, SLIP_FLOOR) */
     double lo, hi;     /* motion segment [lo, hi) */
     double M, cap, eps;
+    double capk;       /* capacity per unit model_capacity: 1, or e_r for a 1-DoF rotation */
+    double caps;       /* static capacity (force, or torque in a 1-DoF rotation), >= cap */
+    double vstr;       /* regularised: speed v_s at which the capacity falls from caps to cap */
     int err;           /* first failure inside a right-hand side */
     exdex_stats *st;
 } hyb;
 
 /* ---------------------------------------------------------- shared terms */
 
-/* Frame terms at t inside the current motion segment: right-continuous at
- * its start, left limit (a few ulps before) at its end, so an RK stage on the
- * segment end never sees the next phase's acceleration. */
-static int frame_seg(const hyb *H, double t, frame *f, exdex_kinematics *k)
+/* t clamped into the current segment: right-continuous at its start, left
+ * limit (a few ulps before) at its end, so an RK stage on the segment end
+ * never sees the next phase's acceleration or grip force. */
+static double seg_time(const hyb *H, double t)
 {
     double lo = H->lo, hi = H->hi;
     if (isfinite(hi)) hi -= 4.0 * DBL_EPSILON * fmax(1.0, fabs(hi));
     if (t > hi) t = hi;
     if (t < lo) t = lo;
+    return t;
+}
+
+/* Frame terms at t inside the current motion segment (seg_time); with a
+ * grip schedule also the friction capacities H->cap, H->caps at that time (segments end
+ * at the schedule's breakpoints too), which every friction law, guard and
+ * decision below reads: the stick guard C(t) (1 + TOLF) - |load|_E is
+ * located on the stepper's dense map like every other guard. */
+static int frame_seg(hyb *H, double t, frame *f, exdex_kinematics *k)
+{
+    t = seg_time(H, t);
+    if (H->m->grip_n) {
+        H->cap = H->capk * model_capacity(H->m, t);
+        H->caps = H->capk * model_capacity_static(H->m, t);
+    }
     return model_frame_at(H->m, t, f, k);
+}
+
+/* Regularised capacity at slip speed sig (same units as eps): from the
+ * static capacity at rest to the kinetic one at a few vstr (see above). */
+static double smooth_cap(const hyb *H, double sig)
+{
+    double r;
+    if (H->caps == H->cap) return H->cap;
+    r = sig / H->vstr;
+    return H->cap + (H->caps - H->cap) * exp(-r * r);
 }
 
 /* Constraint acceleration of q along the row (F(q(t), t) = 0 held). */
@@ -204,7 +271,7 @@ static double contact_qdd(const crow *c, double v)
 static void contact_forces(const hyb *H, const crow *c, double R, double v, double *f, double *lam)
 {
     if (H->law == LAW_SMOOTH) {
-        *f = -H->cap * v / sqrt(v * v + H->eps * H->eps);
+        *f = -smooth_cap(H, fabs(v)) * v / sqrt(v * v + H->eps * H->eps);
         *lam = (R - *f) / c->Fq;
     } else if (H->s != 0.0) {
         *f = -H->s * H->cap;
@@ -362,6 +429,21 @@ static double planar_rest(hyb *H, const exdex_kinematics *kin, const double *y, 
     return model_ell_norm(m, w);
 }
 
+/* Would the object stay at rest at (t, y) (f, kin its frame terms; the
+ * stick test of decide): the load at zero velocity inside the static
+ * ellipsoid (against the contact-set rows: the least-friction split of
+ * planar_rest)? */
+static int planar_load_held(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y)
+{
+    const exdex_model *m = H->m;
+    double F[3], w[3], zero[3] = {0, 0, 0}, lam[MAX_ROWS];
+    model_force_planar(m, f, y, zero, F);
+    if (H->ncs) return planar_rest(H, kin, y, F, w, lam) <= H->caps * (1.0 + TOLF);
+    for (int i = 0; i < 3; i++) F[i] = -F[i];
+    model_patch_of_gen(m, MODEL_CS(y[2]), F, w);
+    return model_ell_norm(m, w) <= H->caps * (1.0 + TOLF);
+}
+
 /* Planar applied force F (B, generalized) and plate friction wrench w
  * (patch) of the current mode at (t, y): stick holds everything (w = -F as
  * a patch wrench; the stop forces of a rest against stops are not part of
@@ -383,8 +465,8 @@ static int planar_friction(hyb *H, const frame *f, const exdex_kinematics *kin, 
         for (int i = 0; i < 3; i++) eu[i] = m->e[i] * u[i];
         sig = sqrt(ex_dot3(eu, eu));
         if (H->law == LAW_SMOOTH) {
-            double den = sqrt(sig * sig + H->eps * H->eps);
-            for (int i = 0; i < 3; i++) w[i] = -H->cap * m->e[i] * eu[i] / den;
+            double den = sqrt(sig * sig + H->eps * H->eps), cs = smooth_cap(H, sig);
+            for (int i = 0; i < 3; i++) w[i] = -cs * m->e[i] * eu[i] / den;
         } else if (sig > 0.0 && !H->small) {
             for (int i = 0; i < 3; i++) w[i] = -H->cap * m->e[i] * eu[i] / sig;
         } else {
@@ -481,7 +563,7 @@ static int rhs(double t, const double y[], double dy[], void *params)
         } else {
             double Q = model_force_1dof(m, &f, q, v), fr;
             if (H->law == LAW_SMOOTH)
-                fr = -H->cap * v / sqrt(v * v + H->eps * H->eps);
+                fr = -smooth_cap(H, fabs(v)) * v / sqrt(v * v + H->eps * H->eps);
             else
                 fr = -H->s * H->cap;
             dy[0] = v;
@@ -555,7 +637,8 @@ static int guards(hyb *H, double t, const double *y, double *g)
             if (H->small) {
                 /* small slip growing from rest: it stops when the load
                  * falls back inside the ellipsoid (the stick guard with the
-                 * sign reversed) and becomes a (large) slip at |E u| = zsw */
+                 * sign reversed) and becomes a (large) slip at |E u| =
+                 * SLIP_UP zsw */
                 double F[3], w[3], zero[3] = {0, 0, 0}, lam[MAX_ROWS];
                 model_force_planar(m, &f, y, zero, F);
                 if (H->ncs) {
@@ -565,7 +648,7 @@ static int guards(hyb *H, double t, const double *y, double *g)
                     model_patch_of_gen(m, MODEL_CS(y[2]), F, w);
                     g[n++] = model_ell_norm(m, w) - H->cap * (1.0 + TOLF);
                 }
-                g[n++] = H->zsw - sig;
+                g[n++] = SLIP_UP * H->zsw - sig;
             } else {
                 /* the slip reverses (E u turns against its direction at
                  * the start of the step: a stop, or a turn when |E u| is
@@ -578,11 +661,11 @@ static int guards(hyb *H, double t, const double *y, double *g)
             double F[3], w[3], zero[3] = {0, 0, 0}, lam[MAX_ROWS];
             model_force_planar(m, &f, y, zero, F);
             if (H->ncs) {
-                g[n++] = H->cap * (1.0 + TOLF) - planar_rest(H, &kin, y, F, w, lam);
+                g[n++] = H->caps * (1.0 + TOLF) - planar_rest(H, &kin, y, F, w, lam);
             } else {
                 for (int i = 0; i < 3; i++) F[i] = -F[i];
                 model_patch_of_gen(m, MODEL_CS(y[2]), F, w);
-                g[n++] = H->cap * (1.0 + TOLF) - model_ell_norm(m, w);
+                g[n++] = H->caps * (1.0 + TOLF) - model_ell_norm(m, w);
             }
         }
         if (H->ns) {
@@ -631,14 +714,14 @@ static int guards(hyb *H, double t, const double *y, double *g)
         if (H->mode == MODE_SLIP) {
             g[n++] = H->s * v;
         } else if (H->mode == MODE_STICK) {
-            g[n++] = H->cap * (1.0 + TOLF) - fabs(model_force_1dof(m, &f, q, 0.0));
+            g[n++] = H->caps * (1.0 + TOLF) - fabs(model_force_1dof(m, &f, q, 0.0));
         } else if (H->mode == MODE_CONTACT) {
             crow c;
             double R, fr, lam;
             contact_row_1dof(m, &kin, H->ck, H->cj, q, &c);
             R = H->M * contact_qdd(&c, v) - model_force_1dof(m, &f, q, v);
             if (H->law == LAW_COULOMB && H->s == 0.0) {
-                g[n++] = fmax(R / c.Fq, H->cap * (1.0 + TOLF) - fabs(R));
+                g[n++] = fmax(R / c.Fq, H->caps * (1.0 + TOLF) - fabs(R));
                 g[n++] = m->tol.vzero - fabs(v);
             } else {
                 contact_forces(H, &c, R, v, &fr, &lam);
@@ -689,6 +772,23 @@ static void decide(hyb *H, double t, double *y, int vzero)
             planar_prune_set(H, &f, &kin, y);
             return;
         }
+        if (!vzero && (y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0)) {
+            /* a slip below zsw (left by an impact or a jump of the
+             * gripper): it stops where the load can be held, else it
+             * slips on as a small slip (below) */
+            model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
+            for (int i = 0; i < 3; i++) u[i] *= m->e[i];
+            if (!(sqrt(ex_dot3(u, u)) >= H->zsw)) {
+                if (planar_load_held(H, &f, &kin, y)) {
+                    vzero = 1;
+                } else {
+                    H->mode = MODE_SLIP;
+                    H->small = 1;
+                    planar_prune_set(H, &f, &kin, y);
+                    return;
+                }
+            }
+        }
         if (vzero) {
             y[3] = y[4] = y[5] = 0.0;
             if (H->ns) {
@@ -697,13 +797,26 @@ static void decide(hyb *H, double t, double *y, int vzero)
                  * SLIP_PUSH zsw it would soon count as stopped again
                  * (Zeno-like restarts); it is a rest instead, on
                  * every touching row, which the tol.rest_gap guard ends once the
-                 * stops have moved (a drift below tol.rest_gap) */
+                 * stops have moved (a drift below tol.rest_gap). The same
+                 * for a touching stop that recedes in B at a rate below
+                 * SLIP_PUSH zsw (the slip that followed it stopped): left
+                 * out of the set, the load would push the object back onto
+                 * it at once, an impact at the same time, and so on */
                 double ysv[EXDEX_MAX_STOPS], u[3], eu[3];
+                int recede = 0;
                 memcpy(ysv, y + 9, (size_t)H->ns * sizeof *ysv);
                 planar_impact_and_set(H, t, &kin, y);
                 model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
                 for (int i = 0; i < 3; i++) eu[i] = m->e[i] * u[i];
-                if ((y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0) && sqrt(ex_dot3(eu, eu)) < SLIP_PUSH * H->zsw) {
+                if (y[3] == 0.0 && y[4] == 0.0 && y[5] == 0.0)
+                    for (int k = 0; k < H->ns && !recede; k++)
+                        for (int j = 0; j < H->nv && !recede; j++) {
+                            double G[3], gd;
+                            if (contact_row_planar(m, &kin, k, j, y, y + 3, G, &gd, NULL) <= m->tol.touch &&
+                                gd > m->tol.rate && gd < SLIP_PUSH * H->zsw)
+                                recede = 1;
+                        }
+                if (recede || ((y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0) && sqrt(ex_dot3(eu, eu)) < SLIP_PUSH * H->zsw)) {
                     double G[3];
                     memcpy(y + 9, ysv, (size_t)H->ns * sizeof *ysv);
                     y[3] = y[4] = y[5] = 0.0;
@@ -726,7 +839,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
         model_force_planar(m, &f, y, zero, F);
         if (H->ncs) {
             double lam[MAX_ROWS];
-            if (planar_rest(H, &kin, y, F, w, lam) <= H->cap * (1.0 + TOLF)) {
+            if (planar_rest(H, &kin, y, F, w, lam) <= H->caps * (1.0 + TOLF)) {
                 H->mode = MODE_STICK;
                 return;
             }
@@ -734,7 +847,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
             double mF[3] = {-F[0], -F[1], -F[2]};
             model_patch_of_gen(m, MODEL_CS(y[2]), mF, w);
         }
-        if (!H->ncs && model_ell_norm(m, w) <= H->cap * (1.0 + TOLF)) {
+        if (!H->ncs && model_ell_norm(m, w) <= H->caps * (1.0 + TOLF)) {
             H->mode = MODE_STICK;
         } else {
             /* starts to slip: the direction of the slip acceleration */
@@ -822,7 +935,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
             contact_forces(H, &c, R, v, &fr, &lam);
             /* a stop force exactly 0 keeps no contact: it is about to
              * separate (or needs none) */
-            if (lam > 0.0 && (H->law == LAW_SMOOTH || H->s != 0.0 || fabs(fr) <= H->cap * (1.0 + TOLF))) {
+            if (lam > 0.0 && (H->law == LAW_SMOOTH || H->s != 0.0 || fabs(fr) <= H->caps * (1.0 + TOLF))) {
                 H->mode = MODE_CONTACT;
                 H->ck = k;
                 H->cj = j;
@@ -848,7 +961,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
         } else {
             double Q0 = model_force_1dof(m, &f, q, 0.0);
             y[1] = 0.0;
-            if (fabs(Q0) <= H->cap * (1.0 + TOLF)) {
+            if (fabs(Q0) <= H->caps * (1.0 + TOLF)) {
                 H->mode = MODE_STICK;
                 H->s = 0.0;
             } else {
@@ -929,6 +1042,14 @@ typedef struct ode {
     gsl_root_fsolver *root;
     gsl_odeiv2_system sys;
     double yerr[NY_MAX], ytmp[NY_MAX];
+    double *ts, *gb;   /* switching times, grip breakpoints (EXDEX_MOTION_MAX_SWITCHES + grip_n each) */
+    /* the run's state between output intervals (hybrid_begin, _advance) */
+    struct hyb_state {
+        hyb H;
+        double y[NY_MAX];
+        double t, h, t_rec;   /* time reached, the stepper's next step, last recorded time */
+        size_t nsw;           /* number of switching times in ts */
+    } S;
 } ode;
 
 static void ode_free(ode *O)
@@ -938,6 +1059,8 @@ static void ode_free(ode *O)
     if (O->evo) gsl_odeiv2_evolve_free(O->evo);
     if (O->con) gsl_odeiv2_control_free(O->con);
     if (O->step) gsl_odeiv2_step_free(O->step);
+    free(O->ts);
+    free(O->gb);
     free(O);
 }
 
@@ -974,7 +1097,9 @@ static void *hybrid_alloc(const exdex_model *m, int *status)
     }
     O->evo = gsl_odeiv2_evolve_alloc(ny);
     O->root = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
-    if (!O->step || !O->con || !O->evo || !O->root) {
+    O->ts = malloc((EXDEX_MOTION_MAX_SWITCHES + m->grip_n) * sizeof *O->ts);
+    O->gb = malloc((EXDEX_MOTION_MAX_SWITCHES + m->grip_n) * sizeof *O->gb);
+    if (!O->step || !O->con || !O->evo || !O->root || !O->ts || !O->gb) {
         ode_free(O);
         *status = EXDEX_ENOMEM;
         return NULL;
@@ -1059,7 +1184,15 @@ static int locate(hyb *H, ode *O, double t0, const double *y0, double tau0, doub
     gsl_function F = {root_fn, &c};
     double lo = tau0, hi = tau1;
     int st = gsl_root_fsolver_set(O->root, &F, lo, hi);
-    if (st) return EXDEX_ENOCONV;
+    if (st) {
+        /* no bracket: the one-step map does not reproduce at tau1 the
+         * violated sign that the accepted step found there (the guard
+         * within rounding of 0, the step's map and the evolved state
+         * differing in the last bits): the event is at the step's end */
+        if (c.fail) return EXDEX_ENOCONV;
+        *tau = tau1;
+        return EXDEX_OK;
+    }
     for (int it = 0; it < BRENT_MAX; it++) {
         st = gsl_root_fsolver_iterate(O->root);
         if (st || c.fail) return EXDEX_ENOCONV;
@@ -1085,16 +1218,25 @@ static int locate(hyb *H, ode *O, double t0, const double *y0, double tau0, doub
     return EXDEX_OK;
 }
 
-/* The motion's switching times in (0, t_end] (exdex_motion_switches: its
- * acceleration switches and velocity jumps). A jump at t_end is applied too,
- * so the state recorded there is its right limit, as at every other time. */
-static size_t switch_times(const exdex_model *m, double t_end, double *ts)
+/* The switching times in (0, t_end], increasing: the motion's
+ * (exdex_motion_switches: its acceleration switches and velocity jumps) and
+ * the grip schedule's breakpoints (model_grip_breaks: the capacity or its
+ * derivatives jump there), merged; gb is scratch for the breakpoints. A
+ * jump at t_end is applied too, so the state recorded there is its right
+ * limit, as at every other time. */
+static size_t switch_times(const exdex_model *m, double t_end, double *ts, double *gb)
 {
     double c[EXDEX_MOTION_MAX_SWITCHES];
     int n = exdex_motion_switches(m->motion, c);
-    size_t k = 0;
-    for (int i = 0; i < n; i++)
-        if (c[i] > 0.0 && c[i] <= t_end && (k == 0 || c[i] > ts[k - 1])) ts[k++] = c[i];
+    size_t k = 0, ng = model_grip_breaks(m, t_end, gb), i = 0, j = 0;
+    while (i < (size_t)n || j < ng) {
+        double x;
+        if (j >= ng || (i < (size_t)n && c[i] <= gb[j]))
+            x = c[i++];
+        else
+            x = gb[j++];
+        if (x > 0.0 && x <= t_end && (k == 0 || x > ts[k - 1])) ts[k++] = x;
+    }
     return k;
 }
 
@@ -1104,13 +1246,23 @@ static int is_still(const hyb *H, const double *y)
     return y[3] == 0.0 && y[4] == 0.0 && y[5] == 0.0;
 }
 
-static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, double dt,
-                      exdex_trajectory *out, exdex_stats *st)
+/* The failure record of a run that stopped at t with status. */
+static void hybrid_failed(const hyb *H, int status, double t, exdex_stats *st)
+{
+    /* the stepper and event location fail with ENOCONV, the inner
+     * solvers with their own status (simulate.c names those) */
+    if (status == EXDEX_ENOCONV && st->fail_cause == EXDEX_FAIL_NONE && !H->err)
+        st->fail_cause = EXDEX_FAIL_STEPPER;
+    st->fail_time = t;
+}
+
+/* The initial state and mode; the switching times in (0, t_end]. */
+static int hybrid_begin(const exdex_model *m, ode *O, int law, double t_end, double dt, exdex_stats *st)
 {
     hyb H;
-    double y[NY_MAX], y0[NY_MAX], ts[EXDEX_MOTION_MAX_SWITCHES], t = 0.0, h;
-    size_t n = out->n, nsw;
-    int nd = m->ndof, ns = m->n_stops, status = EXDEX_OK;
+    double y[NY_MAX], *ts = O->ts, h;
+    size_t nsw;
+    int nd = m->ndof, ns = m->n_stops;
     memset(&H, 0, sizeof H);
     H.m = m;
     H.law = law;
@@ -1124,17 +1276,27 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
     H.eps = m->ndof == 1 && m->def.dof == EXDEX_DOF_ROTATION ? m->def.eps / m->e[2] : m->def.eps;
     if (nd == 3) {
         H.M = 1.0;
+        H.capk = 1.0;
         H.cap = m->capF;
-        H.zsw = SLIP_SMALL * m->def.atol * m->scale.V;  /* atol of a slip speed |E u| */
+        H.caps = m->capS;
+        H.zsw = fmax(SLIP_SMALL * m->def.atol, SLIP_FLOOR) * m->scale.V;  /* a slip speed |E u| */
     } else if (m->def.dof == EXDEX_DOF_TRANSLATION) {
         H.M = m->m;
+        H.capk = 1.0;
         H.cap = m->capF;
+        H.caps = m->capS;
     } else {
         H.M = m->mrot;
+        H.capk = m->e[2];
         H.cap = m->capF * m->e[2];
+        H.caps = m->capS * m->e[2];
     }
+    /* regularised: the speed at which the capacity falls from static to
+     * kinetic, in the units of eps */
+    H.vstr = sqrt(m->def.eps * m->scale.V);
+    if (m->ndof == 1 && m->def.dof == EXDEX_DOF_ROTATION) H.vstr /= m->e[2];
     O->sys.params = &H;
-    nsw = switch_times(m, t_end, ts);
+    nsw = switch_times(m, t_end, ts, O->gb);
     memset(y, 0, sizeof y);
     if (nd == 3) {
         model_initial_state(m, y, y + 3);
@@ -1145,8 +1307,42 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
     H.hi = nsw ? ts[0] : INFINITY;
     decide(&H, 0.0, y, 0);
     h = fmin(dt, m->tol.h0);
-    for (size_t i = 1; i < n && status == EXDEX_OK && !H.err; i++) {
-        double ti = i == n - 1 ? t_end : (double)i * dt, hs = ti - out->t[i - 1];
+    O->S.H = H;
+    memcpy(O->S.y, y, sizeof y);
+    O->S.t = O->S.t_rec = 0.0;
+    O->S.h = h;
+    O->S.nsw = nsw;
+    O->sys.params = &O->S.H;
+    /* a failure in the decision at t = 0 stops the run before it starts */
+    if (H.err) hybrid_failed(&H, H.err, 0.0, st);
+    return H.err;
+}
+
+/* One output interval, from the last recorded time to ti, recorded as
+ * sample i. regrip: the model's capacity changed since the last interval
+ * (the stepper's grip force): the mode is decided again at its start. */
+static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, exdex_trajectory *out, size_t i,
+                          exdex_stats *st)
+{
+    hyb H = O->S.H;
+    double y[NY_MAX], y0[NY_MAX], *ts = O->ts, t = O->S.t, h = O->S.h;
+    size_t nsw = O->S.nsw;
+    int nd = m->ndof, ns = m->n_stops, law = H.law, status = EXDEX_OK;
+    memcpy(y, O->S.y, sizeof y);
+    H.m = m;
+    H.st = st;
+    O->sys.params = &H;
+    if (regrip) {
+        H.cap = H.capk * model_capacity(m, t);
+        H.caps = H.capk * model_capacity_static(m, t);
+        decide(&H, t, y, 0);
+        gsl_odeiv2_evolve_reset(O->evo);
+        gsl_odeiv2_step_reset(O->step);
+        status = H.err;
+    }
+    do {
+        double hs = ti - O->S.t_rec;
+        if (status) break;
         int events = 0, same = 0;
         unsigned long ode_steps = 0;
         size_t brent0 = st->solver_iterations; /* Brent iterations count in the step budget */
@@ -1285,7 +1481,7 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
             }
             if (status) break;
             if (e_best >= 0) {
-                int vz;
+                int vz, keep = 0;
                 if (one_step(O, t0, y0, tau_best, y) != GSL_SUCCESS || H.err) {
                     status = H.err ? H.err : EXDEX_ENOCONV;
                     break;
@@ -1307,12 +1503,30 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
                     double u[3], eu[3];
                     model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
                     for (int c = 0; c < 3; c++) eu[c] = m->e[c] * u[c];
-                    if (H.small)
+                    if (H.small) {
                         vz = e_best == 0;
-                    else
+                    } else {
                         vz = e_best == 1 || !(sqrt(ex_dot3(eu, eu)) > H.zsw);
+                        if (e_best == 1) {
+                            /* decayed below zsw: it stops where the load
+                             * can be held; else it slips on as a small
+                             * slip, velocity kept (what a stop dropped
+                             * would persist where the friction cannot
+                             * take it back, e.g. mu = 0) */
+                            frame fk;
+                            exdex_kinematics kk;
+                            if (frame_seg(&H, t, &fk, &kk)) {
+                                status = EXDEX_ENOCONV;
+                                break;
+                            }
+                            keep = !planar_load_held(&H, &fk, &kk, y);
+                        }
+                    }
                 }
-                decide(&H, t, y, vz);
+                if (keep)
+                    H.small = 1;
+                else
+                    decide(&H, t, y, vz);
                 gsl_odeiv2_evolve_reset(O->evo);
                 gsl_odeiv2_step_reset(O->step);
                 if (++events > EVENTS_MAX) {
@@ -1364,16 +1578,25 @@ static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, doubl
                           law == LAW_COULOMB && H.mode == MODE_STICK ? 1 : is_still(&H, y), sf);
             for (int c = off; c < H.ny; c++) y[c] = 0.0;
         }
-    }
-    /* a failure in the decision at t = 0 stops the loop before it starts */
+    } while (0);
     if (!status && H.err) status = H.err;
-    if (status) {
-        /* the stepper and event location fail with ENOCONV, the inner
-         * solvers with their own status (simulate.c names those) */
-        if (status == EXDEX_ENOCONV && st->fail_cause == EXDEX_FAIL_NONE && !H.err)
-            st->fail_cause = EXDEX_FAIL_STEPPER;
-        st->fail_time = t;
-    }
+    if (status) hybrid_failed(&H, status, t, st);
+    O->S.H = H;
+    memcpy(O->S.y, y, sizeof y);
+    O->S.t = t;
+    O->S.h = h;
+    O->S.t_rec = ti;
+    O->sys.params = &O->S.H;
+    return status;
+}
+
+static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, double dt,
+                      exdex_trajectory *out, exdex_stats *st)
+{
+    size_t n = out->n;
+    int status = hybrid_begin(m, O, law, t_end, dt, st);
+    for (size_t i = 1; i < n && status == EXDEX_OK; i++)
+        status = hybrid_advance(m, O, i == n - 1 ? t_end : (double)i * dt, 0, out, i, st);
     return status;
 }
 
@@ -1391,5 +1614,42 @@ static int regularised_run(const exdex_model *m, void *ws, double t_end, double 
     return run_hybrid(m, ws, LAW_SMOOTH, t_end, dt, out, st);
 }
 
-const method_impl method_event = {"event", hybrid_alloc, event_run, hybrid_free, 0, 0};
-const method_impl method_regularised = {"regularised", hybrid_alloc, regularised_run, hybrid_free, 0, 0};
+static int event_begin(const exdex_model *m, void *ws, double t_end, double dt, exdex_stats *st)
+{
+    return hybrid_begin(m, ws, LAW_COULOMB, t_end, dt, st);
+}
+
+static int regularised_begin(const exdex_model *m, void *ws, double t_end, double dt, exdex_stats *st)
+{
+    return hybrid_begin(m, ws, LAW_SMOOTH, t_end, dt, st);
+}
+
+static int hybrid_advance_ws(const exdex_model *m, void *ws, double t1, int regrip, exdex_trajectory *out,
+                             size_t i, exdex_stats *st)
+{
+    return hybrid_advance(m, ws, t1, regrip, out, i, st);
+}
+
+/* The state: O->S (the switching times are fixed by begin). GSL's stepper,
+ * control and evolve keep nothing between two applications that the next
+ * one reads (the evolve's step counts are read as differences only). */
+static void hybrid_save(const void *ws, void *buf)
+{
+    const ode *O = ws;
+    memcpy(buf, &O->S, sizeof O->S);
+}
+
+static void hybrid_restore(void *ws, const void *buf)
+{
+    ode *O = ws;
+    memcpy(&O->S, buf, sizeof O->S);
+    O->sys.params = &O->S.H;
+}
+
+#define HYBRID_STATE_SIZE sizeof(((ode *)0)->S)
+
+const method_impl method_event = {"event", hybrid_alloc, event_run, hybrid_free, 0, 0, event_begin,
+                                  hybrid_advance_ws, HYBRID_STATE_SIZE, hybrid_save, hybrid_restore};
+const method_impl method_regularised = {"regularised", hybrid_alloc, regularised_run, hybrid_free, 0, 0,
+                                        regularised_begin, hybrid_advance_ws, HYBRID_STATE_SIZE, hybrid_save,
+                                        hybrid_restore};

@@ -9,6 +9,21 @@
  * with the friction impulse p from the maximum-dissipation problem (Eq. 6)
  * and stop impulses lambda >= 0 keeping every stop gap >= 0 at t + h.
  * Stick is exact: when the friction impulse can hold the object, v+ = 0.
+ *
+ * Static and kinetic friction (capacities C_s = mu_static N >= C = mu N):
+ * each step first tries to stick with the static capacity (the impulse that
+ * makes v+ = 0, stops included, inside the ellipsoid of capacity h C_s);
+ * if it cannot, the step slides with the kinetic capacity h C (the
+ * maximum-dissipation impulse on that ellipsoid). A step that starts at rest
+ * thus breaks away once the load leaves the static ellipsoid; a slip sticks
+ * in the first step whose impulse without friction, M v*, lies in the static
+ * ellipsoid of the step. That happens when the slip speed is within h (C_s +
+ * |Q|) / M of 0, so a slip can stick one step before its velocity under the
+ * kinetic law would have reversed: an O(h) error of the stick time, as the
+ * method's other switching errors. (Sliding never reverses the velocity:
+ * outside the static ellipsoid the kinetic impulse cannot stop it.) With
+ * mu_static = mu the two capacities are the same number and the step is the
+ * one-coefficient step.
  */
 #include "exdex.h"
 #include "contact.h"
@@ -33,6 +48,12 @@ typedef struct work {
     double rhs[MAX_ROWS];
     double lam[MAX_ROWS];
     double gap[MAX_ROWS];
+    /* the run's state between steps (begin, advance; saved with p_prev,
+     * have_prev and fmode) */
+    struct {
+        double q[3], v[3], vprev[3], hprev, t;
+        exdex_kinematics kin0;
+    } S;
     double beta[MAX_ROWS];   /* friction impulses of the rows (stop friction) */
     int fmode[MAX_ROWS];     /* each row's contact mode in the last frictional solve (fcontact.h) */
 } work;
@@ -76,18 +97,20 @@ static void build_rows(const exdex_model *m, const exdex_kinematics *kin_end, co
         }
 }
 
-/* 1-DoF step: min 1/2 M (v - vs)^2 + c |v| subject to G_i v >= rhs_i.
+/* 1-DoF step: min 1/2 M (v - vs)^2 + c |v| subject to G_i v >= rhs_i
+ * (c the kinetic capacity of the step; the stick test uses the static cs).
  * Exact: soft-threshold, then clamp into the feasible interval. The impulse
  * split is unique while sliding (friction = capacity, the binding stop the
  * rest). At rest (v+ = 0) against a touching stop it is statically
  * indeterminate; exdex lets the stops carry what they can (the split with the
  * least friction), as in the planar case. */
-static void step_1dof(double M, double c, double vs, double touch, work *w, double *v_out, double *pf,
-                      exdex_stats *st)
+static void step_1dof(double M, double c, double cs, double vs, double touch, work *w, double *v_out,
+                      double *pf, exdex_stats *st)
 {
     double vu, v, P, lo = -INFINITY, hi = INFINITY;
     int ilo = -1, ihi = -1, ib;
-    if (fabs(M * vs) <= c)
+    /* stick if the static capacity cs holds, else slide against c */
+    if (fabs(M * vs) <= cs)
         vu = 0.0;
     else
         vu = vs - copysign(c / M, vs);
@@ -367,15 +390,21 @@ static int solve_active(const exdex_model *m, const double cs[2], double cap, co
 /* Planar friction + stops: friction alone first; if a stop row is violated,
  * exact rest (try_rest), else a primal active set over the stop rows with the
  * smooth sliding subproblem (solve_active). */
-static int step_planar(const exdex_model *m, double h, double th, const double vs[3], work *w,
+static int step_planar(const exdex_model *m, double h, double capm, double capsm, double th, const double vs[3], work *w,
                        double v[3], double pfB[3], exdex_friction_result *fr, exdex_stats *st)
 {
-    double cap = h * m->capF, b[3], cs[2] = {cos(th), sin(th)};
+    double cap = h * capm, caps = h * capsm, b[3], cs[2] = {cos(th), sin(th)};
     int s, act[3], k = 0, round;
     model_patch_slip(m, cs, vs, b);
-    s = exdex_friction_solve(&m->prep, b, cap, m->def.friction_solver, w->fws, w->have_prev ? w->p_prev : NULL, fr);
+    /* stick with the static capacity, else slide with the kinetic one */
+    s = exdex_friction_solve(&m->prep, b, caps, m->def.friction_solver, w->fws, w->have_prev ? w->p_prev : NULL, fr);
     if (s) return s;
     st->solver_iterations += (size_t)fr->iterations;
+    if (!fr->stick && caps != cap) {
+        s = exdex_friction_solve(&m->prep, b, cap, m->def.friction_solver, w->fws, w->have_prev ? w->p_prev : NULL, fr);
+        if (s) return s;
+        st->solver_iterations += (size_t)fr->iterations;
+    }
     model_gen_of_patch(m, cs, fr->p, pfB);
     for (int i = 0; i < 3; i++) v[i] = fr->stick ? 0.0 : vs[i] + m->minv[i] * pfB[i];
     for (round = 0; round < 12; round++) {
@@ -391,7 +420,7 @@ static int step_planar(const exdex_model *m, double h, double th, const double v
             }
         }
         if (worst < 0) break; /* every row satisfied: done */
-        if (round == 0 && try_rest(m, cs, cap, vs, w, pfB, fr, st)) {
+        if (round == 0 && try_rest(m, cs, caps, vs, w, pfB, fr, st)) {
             v[0] = v[1] = v[2] = 0.0;
             goto done;
         }
@@ -503,11 +532,12 @@ static void project_positions(const exdex_model *m, const exdex_kinematics *kin,
  * vertex at the pose of t + h. Where no consistent mode is found among
  * FC_MAX_CAND rows the frictionless step is kept and a warning counted.
  * n = 1: A = 1 and cap the step's capacity c (friction -c sign(v)); n = 3:
- * A = E J_f at the step's angle. On return v, the plate impulse P
+ * A = E J_f at the step's angle. cap_s is the static capacity of the step
+ * (the plates' rest test), cap the kinetic one (sliding). On return v, the plate impulse P
  * (generalized), w->lam and w->beta hold the step; *rest is 1 at plate
  * rest. Returns 1 if the step was changed. */
 static int stop_friction_step(const exdex_model *m, const exdex_kinematics *kin_end, const double *q, double th,
-                               double cap, const double vs[3], work *w, double *v, double *P, int *rest,
+                               double cap, double cap_s, const double vs[3], work *w, double *v, double *P, int *rest,
                                exdex_stats *st)
 {
     fc_row rows[MAX_ROWS];
@@ -539,6 +569,7 @@ static int stop_friction_step(const exdex_model *m, const exdex_kinematics *kin_
     memset(&p, 0, sizeof p);
     p.n = n;
     p.cap = cap;
+    p.cap_rest = cap_s;
     p.nr = w->n_rows;
     p.rows = rows;
     p.vrest = m->tol.rate;
@@ -609,19 +640,30 @@ static void implicit_free(void *ws)
     free(w);
 }
 
-static int implicit_run(const exdex_model *m, void *ws, double t_end, double dt, exdex_trajectory *out,
-                        exdex_stats *st)
+static int implicit_begin(const exdex_model *m, void *ws, double t_end, double dt, exdex_stats *st)
 {
-    size_t n = out->n;
-    int n_dof = m->ndof, ns = m->n_stops, status = EXDEX_OK;
-    double q[3], v[3], vprev[3], hprev = 0.0, t;
-    exdex_kinematics kin0;
     work *w = ws;
-    model_initial_state(m, q, v);
-    t = 0.0;
-    status = exdex_motion_eval(m->motion, 0.0, &kin0);
-    for (size_t step = 1; step < n && status == EXDEX_OK; step++) {
-        double t1 = step == n - 1 ? t_end : (double)step * dt;
+    (void)t_end;
+    (void)dt;
+    (void)st;
+    memset(&w->S, 0, sizeof w->S);
+    model_initial_state(m, w->S.q, w->S.v);
+    w->p_prev[0] = w->p_prev[1] = w->p_prev[2] = 0.0;
+    w->have_prev = 0;
+    for (int i = 0; i < MAX_ROWS; i++) w->fmode[i] = FC_OFF;
+    return exdex_motion_eval(m->motion, 0.0, &w->S.kin0);
+}
+
+/* One step from the time reached to t1, recorded as sample `step`. */
+static int implicit_advance(const exdex_model *m, void *ws, double t1, int regrip, exdex_trajectory *out,
+                            size_t step, exdex_stats *st)
+{
+    int n_dof = m->ndof, ns = m->n_stops, status = EXDEX_OK;
+    work *w = ws;
+    double *q = w->S.q, *v = w->S.v, *vprev = w->S.vprev, hprev = w->S.hprev, t = w->S.t;
+    exdex_kinematics kin0 = w->S.kin0;
+    (void)regrip;   /* the capacity is read at every step */
+    do {
         double h = t1 - t, tm = t + 0.5 * h, qm[3], vmid[3], F[3], vs[3], vn[3];
         double wrench[3] = {0, 0, 0}, sf[EXDEX_MAX_STOPS];
         frame f;
@@ -646,14 +688,17 @@ static int implicit_run(const exdex_model *m, void *ws, double t_end, double dt,
         if (n_dof == 1) {
             int tr = m->def.dof == EXDEX_DOF_TRANSLATION;
             double M = tr ? m->m : m->mrot, Q = model_force_1dof(m, &f, qm[0], vmid[0]), pf;
-            /* friction capacity of the step: |E j| = e_t = 1 for a slide,
-             * e_r for a pure spin at the centre of pressure */
-            double c = tr ? h * m->capF : h * m->capF * m->e[2];
+            /* friction capacity of the step: the capacity's mean over the
+             * step times h (the largest impulse the plates carry), |E j| =
+             * e_t = 1 for a slide, e_r for a pure spin at the centre of
+             * pressure; c_s the static one */
+            double capm = model_capacity_mean(m, t, t1), c = tr ? h * capm : h * capm * m->e[2];
+            double capsm = model_capacity_static_mean(m, t, t1), c_s = tr ? h * capsm : h * capsm * m->e[2];
             vs[0] = v[0] + h * Q / M;
-            step_1dof(M, c, vs[0], m->tol.touch, w, &vn[0], &pf, st);
+            step_1dof(M, c, c_s, vs[0], m->tol.touch, w, &vn[0], &pf, st);
             if (m->stop_friction) {
                 int rest = 0;
-                stop_friction_step(m, &kin_end, q, 0.0, c, vs, w, vn, &pf, &rest, st);
+                stop_friction_step(m, &kin_end, q, 0.0, c, c_s, vs, w, vn, &pf, &rest, st);
             }
             if (m->def.dof == EXDEX_DOF_TRANSLATION) {
                 wrench[0] = pf * m->d[0] / h;
@@ -667,14 +712,16 @@ static int implicit_run(const exdex_model *m, void *ws, double t_end, double dt,
             double pfB[3], fo[3];
             model_force_planar(m, &f, qm, vmid, F);
             for (int i = 0; i < 3; i++) vs[i] = v[i] + h * m->minv[i] * F[i];
-            status = step_planar(m, h, qm[2], vs, w, vn, pfB, &fr, st);
+            status = step_planar(m, h, model_capacity_mean(m, t, t1), model_capacity_static_mean(m, t, t1), qm[2], vs,
+                                 w, vn, pfB, &fr, st);
             if (status) {
                 st->fail_time = t;
                 break;
             }
             if (m->stop_friction) {
                 int rest = fr.stick;
-                if (stop_friction_step(m, &kin_end, q, qm[2], h * m->capF, vs, w, vn, pfB, &rest, st)) {
+                if (stop_friction_step(m, &kin_end, q, qm[2], h * model_capacity_mean(m, t, t1),
+                                       h * model_capacity_static_mean(m, t, t1), vs, w, vn, pfB, &rest, st)) {
                     model_patch_of_gen(m, MODEL_CS(qm[2]), pfB, fr.p);
                     fr.stick = rest;
                 }
@@ -722,8 +769,52 @@ static int implicit_run(const exdex_model *m, void *ws, double t_end, double dt,
         for (int k = 0; k < ns; k++) sf[k] = 0.0;
         for (int i = 0; i < w->n_rows; i++) sf[w->row_stop[i]] += w->lam[i] / h;
         method_record(m, out, st, step, t1, q, v, wrench, stick, sf);
-    }
+    } while (0);
+    w->S.hprev = hprev;
+    w->S.t = t;
+    w->S.kin0 = kin0;
     return status;
 }
 
-const method_impl method_implicit = {"implicit", implicit_alloc, implicit_run, implicit_free, 1, 1};
+static int implicit_run(const exdex_model *m, void *ws, double t_end, double dt, exdex_trajectory *out,
+                        exdex_stats *st)
+{
+    size_t n = out->n;
+    int status = implicit_begin(m, ws, t_end, dt, st);
+    for (size_t step = 1; step < n && status == EXDEX_OK; step++)
+        status = implicit_advance(m, ws, step == n - 1 ? t_end : (double)step * dt, 0, out, step, st);
+    return status;
+}
+
+typedef struct implicit_state {
+    double p_prev[3];
+    int have_prev;
+    int fmode[MAX_ROWS];  /* the stop-friction solve's first guess: part of the state */
+} implicit_state;
+
+static void implicit_save(const void *ws, void *buf)
+{
+    const work *w = ws;
+    implicit_state x;
+    memcpy(x.p_prev, w->p_prev, sizeof x.p_prev);
+    x.have_prev = w->have_prev;
+    memcpy(x.fmode, w->fmode, sizeof x.fmode);
+    memcpy(buf, &w->S, sizeof w->S);
+    memcpy((char *)buf + sizeof w->S, &x, sizeof x);
+}
+
+static void implicit_restore(void *ws, const void *buf)
+{
+    work *w = ws;
+    implicit_state x;
+    memcpy(&w->S, buf, sizeof w->S);
+    memcpy(&x, (const char *)buf + sizeof w->S, sizeof x);
+    memcpy(w->p_prev, x.p_prev, sizeof x.p_prev);
+    w->have_prev = x.have_prev;
+    memcpy(w->fmode, x.fmode, sizeof x.fmode);
+}
+
+const method_impl method_implicit = {"implicit", implicit_alloc, implicit_run, implicit_free, 1, 1,
+                                     implicit_begin, implicit_advance,
+                                     sizeof(((work *)0)->S) + sizeof(implicit_state), implicit_save,
+                                     implicit_restore};

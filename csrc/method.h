@@ -29,6 +29,24 @@ typedef struct method_impl {
     int impacts_from_steps;
     int checks_finite;       /* 1: run returns EXDEX_OK only with finite output (it checks
                                 every step), so simulate.c need not scan it again */
+    /* run is begin followed by advance for the samples 1 .. n-1 (t_i = i dt,
+     * the last one t_end); the stepper (stepper.c) calls them one interval
+     * at a time. begin puts the initial state into ws for a run to t_end
+     * (INFINITY: not known) whose first output step is dt. advance runs from
+     * the time reached to t1 (> it) and records the interval as sample i of
+     * out (method_record); regrip = 1 says that the model's friction
+     * capacity changed since the last interval (the stepper's grip force):
+     * a method that caches modes or capacities decides them again. A failed
+     * advance leaves ws unusable until begin or restore. */
+    int (*begin)(const exdex_model *m, void *ws, double t_end, double dt, exdex_stats *st);
+    int (*advance)(const exdex_model *m, void *ws, double t1, int regrip, exdex_trajectory *out, size_t i,
+                   exdex_stats *st);
+    /* The run's state between two intervals as state_size bytes (save), and
+     * back (restore, into a workspace of the same model on which begin ran):
+     * advancing from a restored state repeats the saved run bit for bit. */
+    size_t state_size;
+    void (*save)(const void *ws, void *buf);
+    void (*restore)(void *ws, const void *buf);
 } method_impl;
 
 /* Count an impact of `impulse` (> 0) [N s] on stop `k` at time t. */
@@ -70,6 +88,9 @@ static inline void method_record(const exdex_model *m, exdex_trajectory *out, ex
     for (int k = 0; k < ns; k++) out->stop_force[i * (size_t)ns + k] = stop_force[k];
     method_note_warning_time(st, t);
 }
+
+/* The method table (simulate.c): NULL for an unknown method. */
+const method_impl *method_get(int method);
 
 extern const method_impl method_implicit;     /* implicit.c */
 extern const method_impl method_event;        /* hybrid.c */

@@ -25,6 +25,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <gsl/gsl_errno.h>
+
 /* ------------------------------------------------------------ definition */
 
 exdex_scene_def exdex_default_scene_def(void)
@@ -97,6 +99,29 @@ static int check_fields(const exdex_scene_def *d, const char **bad_param)
     if (!ex_finite_n(&d->vertices[0][0], 2 * d->n_vertices)) return bad(bad_param, "vertices");
     if (!(isfinite(d->mu) && d->mu >= 0)) return bad(bad_param, "mu");
     if (!(isfinite(d->grip_force) && d->grip_force >= 0)) return bad(bad_param, "grip_force");
+    if (!(isfinite(d->mu_static) && (d->mu_static == 0.0 || d->mu_static >= d->mu)))
+        return bad(bad_param, "mu_static");
+    if (d->grip_n > EXDEX_MAX_GRIP_POINTS) return bad(bad_param, "grip_n");
+    if (d->grip_n) {
+        if (d->grip_kind < EXDEX_GRIP_LINEAR || d->grip_kind > EXDEX_GRIP_STEP) return bad(bad_param, "grip_kind");
+        if (!d->grip_times || !ex_finite_n(d->grip_times, (int)d->grip_n)) return bad(bad_param, "grip_times");
+        for (size_t i = 1; i < d->grip_n; i++)
+            if (!(d->grip_times[i] > d->grip_times[i - 1])) return bad(bad_param, "grip_times");
+        if (!d->grip_forces) return bad(bad_param, "grip_forces");
+        for (size_t i = 0; i < d->grip_n; i++)
+            if (!(isfinite(d->grip_forces[i]) && d->grip_forces[i] >= 0)) return bad(bad_param, "grip_forces");
+        /* the scaled forces must stay finite, and so must the slopes of the
+         * interpolant: |dF| / h (and |dF| / h^3 for the cubic's coefficients)
+         * for each interval h between the points */
+        for (size_t i = 0; i < d->grip_n; i++)
+            if (!isfinite(d->grip_force * d->grip_forces[i])) return bad(bad_param, "grip_forces");
+        for (size_t i = 1; i < d->grip_n; i++) {
+            double h = d->grip_times[i] - d->grip_times[i - 1];
+            double dF = fabs(d->grip_force * d->grip_forces[i] - d->grip_force * d->grip_forces[i - 1]);
+            if (dF > 0.0 && !(isfinite(dF / h) && (d->grip_kind != EXDEX_GRIP_CUBIC || isfinite(dF / (h * h * h)))))
+                return bad(bad_param, "grip_times");
+        }
+    }
     if (d->fingers != 1 && d->fingers != 2) return bad(bad_param, "fingers");
     if (!(isfinite(d->e_r) && d->e_r > 0)) return bad(bad_param, "e_r");
     if (!ex_finite_n(d->patch_center, 2)) return bad(bad_param, "patch_center");
@@ -140,6 +165,13 @@ const char *exdex_analytic_unsupported(const exdex_scene_def *d)
     if (d->dof != EXDEX_DOF_TRANSLATION && d->dof != EXDEX_DOF_ROTATION)
         return "the analytic method solves 1-DoF scenes (translation or rotation), not planar ones";
     if (d->n_stops != 0) return "the analytic method solves scenes without stops";
+    if (mo->kind == EXDEX_MOTION_SHAKE || mo->kind == EXDEX_MOTION_CHAIN)
+        return "the analytic method needs a piecewise-constant gripper acceleration (Eq. 7, trapezoid or "
+               "rest), not a shake or a chain";
+    if (d->grip_n > 1 && d->grip_forces)
+        for (size_t i = 1; i < d->grip_n; i++)
+            if (d->grip_forces[i] != d->grip_forces[0])
+                return "the analytic method solves scenes with a constant grip force, not a grip schedule";
     if (mo->kind == EXDEX_MOTION_SAMPLED)
         return "the analytic method needs a piecewise-constant gripper acceleration (Eq. 7, trapezoid or "
                "rest), not a sampled log";
@@ -375,7 +407,140 @@ void exdex_model_free(exdex_model *m)
 {
     if (!m) return;
     exdex_motion_free(m->motion);
+    if (m->grip_interp) gsl_interp_free(m->grip_interp);
+    free(m->grip_t);
+    free(m->grip_f);
     free(m);
+}
+
+/* ------------------------------------------------- grip-force schedule */
+
+/* The schedule of def (validated) into m: a schedule whose forces are all
+ * equal (one point included) is that constant force; else owned copies of
+ * the points with the forces scaled by grip_force, and the GSL interpolant
+ * (linear; cubic: Steffen through 3 or more points, linear through 2). */
+static int grip_setup(exdex_model *m, const exdex_scene_def *def)
+{
+    size_t n = def->grip_n;
+    int flat = 1;
+    double fmax = 0.0;
+    m->def.grip_times = m->def.grip_forces = NULL;
+    m->capk = def->mu * def->fingers;
+    if (!n) return EXDEX_OK;
+    for (size_t i = 1; i < n; i++)
+        if (def->grip_forces[i] != def->grip_forces[0]) flat = 0;
+    if (flat) {
+        m->def.grip_force = def->grip_force * def->grip_forces[0];
+        m->def.grip_n = 0;
+        m->capF = def->mu * def->fingers * m->def.grip_force;
+        return EXDEX_OK;
+    }
+    m->grip_t = malloc(n * sizeof *m->grip_t);
+    m->grip_f = malloc(n * sizeof *m->grip_f);
+    if (!m->grip_t || !m->grip_f) return EXDEX_ENOMEM;
+    for (size_t i = 0; i < n; i++) {
+        m->grip_t[i] = def->grip_times[i];
+        m->grip_f[i] = def->grip_force * def->grip_forces[i];
+        fmax = fmax > m->grip_f[i] ? fmax : m->grip_f[i];
+    }
+    m->grip_n = n;
+    m->grip_kind = def->grip_kind;
+    if (def->grip_kind != EXDEX_GRIP_STEP) {
+        const gsl_interp_type *T = def->grip_kind == EXDEX_GRIP_CUBIC && n >= 3 ? gsl_interp_steffen : gsl_interp_linear;
+        m->grip_interp = gsl_interp_alloc(T, n);
+        if (!m->grip_interp) return EXDEX_ENOMEM;
+        if (gsl_interp_init(m->grip_interp, m->grip_t, m->grip_f, n) != GSL_SUCCESS) return EXDEX_EINVAL;
+    }
+    m->capF = m->capk * fmax;
+    return EXDEX_OK;
+}
+
+/* Index i of the piece [t_i, t_{i+1}) holding t, t inside [t_0, t_{n-1})
+ * (bisection, as gsl_interp_bsearch, inlined: every step of a
+ * time-stepping method calls it). */
+static size_t grip_piece(const exdex_model *m, double t)
+{
+    size_t lo = 0, hi = m->grip_n - 1;
+    const double *x = m->grip_t;
+    while (hi > lo + 1) {
+        size_t k = (lo + hi) / 2;
+        if (x[k] > t)
+            hi = k;
+        else
+            lo = k;
+    }
+    return lo;
+}
+
+/* F at t inside piece i of the linear kind: a convex combination of the
+ * piece's end values (between them whatever the spacing). */
+static double grip_linear(const exdex_model *m, size_t i, double t)
+{
+    double a = m->grip_f[i], b = m->grip_f[i + 1];
+    return a + (b - a) * ((t - m->grip_t[i]) / (m->grip_t[i + 1] - m->grip_t[i]));
+}
+
+double model_grip_sched(const exdex_model *m, double t)
+{
+    size_t n = m->grip_n;
+    if (!(t > m->grip_t[0])) return m->grip_f[0];
+    if (t >= m->grip_t[n - 1]) return m->grip_f[n - 1];
+    {
+        size_t i = grip_piece(m, t);
+        double a = m->grip_f[i], b = m->grip_f[i + 1], F;
+        if (m->grip_kind == EXDEX_GRIP_STEP) return a;
+        if (m->grip_kind == EXDEX_GRIP_LINEAR || !m->grip_interp) return grip_linear(m, i, t);
+        F = gsl_interp_eval(m->grip_interp, m->grip_t, m->grip_f, t, NULL);
+        /* Steffen's cubic is monotone on each piece: between a and b up to rounding */
+        return fmin(fmax(F, fmin(a, b)), fmax(a, b));
+    }
+}
+
+double model_grip_sched_rate(const exdex_model *m, double t)
+{
+    size_t n = m->grip_n;
+    if (!(t >= m->grip_t[0]) || t >= m->grip_t[n - 1] || !m->grip_interp) return 0.0;
+    return gsl_interp_eval_deriv(m->grip_interp, m->grip_t, m->grip_f, t, NULL);
+}
+
+/* Integral of F over [a, b] (a <= b) inside [t_0, t_{n-1}]. */
+static double grip_integral_in(const exdex_model *m, double a, double b)
+{
+    double s = 0.0;
+    size_t i;
+    if (!(b > a)) return 0.0;
+    if (m->grip_interp) return gsl_interp_eval_integ(m->grip_interp, m->grip_t, m->grip_f, a, b, NULL);
+    for (i = grip_piece(m, a); i + 1 < m->grip_n && m->grip_t[i] < b; i++)
+        s += m->grip_f[i] * (fmin(b, m->grip_t[i + 1]) - fmax(a, m->grip_t[i]));
+    return s;
+}
+
+double model_grip_sched_mean(const exdex_model *m, double t0, double t1)
+{
+    size_t n = m->grip_n;
+    double lo = m->grip_t[0], hi = m->grip_t[n - 1], s;
+    if (t1 <= lo) return m->grip_f[0];
+    if (t0 >= hi) return m->grip_f[n - 1];
+    if (t0 >= lo && t1 <= hi && m->grip_kind != EXDEX_GRIP_CUBIC) {
+        size_t i = grip_piece(m, t0);
+        /* inside one linear or constant piece: the midpoint value is the mean */
+        if (t1 <= m->grip_t[i + 1])
+            return m->grip_kind == EXDEX_GRIP_STEP || !m->grip_interp ? m->grip_f[i]
+                                                                      : grip_linear(m, i, 0.5 * (t0 + t1));
+    }
+    s = 0.0;
+    if (t0 < lo) s += m->grip_f[0] * (lo - t0);
+    if (t1 > hi) s += m->grip_f[n - 1] * (t1 - hi);
+    s += grip_integral_in(m, fmax(t0, lo), fmin(t1, hi));
+    return s / (t1 - t0);
+}
+
+size_t model_grip_breaks(const exdex_model *m, double t_end, double *ts)
+{
+    size_t k = 0;
+    for (size_t i = 0; i < m->grip_n; i++)
+        if (m->grip_t[i] > 0.0 && m->grip_t[i] <= t_end) ts[k++] = m->grip_t[i];
+    return k;
 }
 
 static exdex_model *build_model(const exdex_scene_def *def, int *status, const char **bad_param)
@@ -406,6 +571,35 @@ static exdex_model *build_model(const exdex_scene_def *def, int *status, const c
     memcpy(m->I, def->inertia, sizeof m->I);
     m->izz = def->inertia[8];
     m->capF = def->mu * def->fingers * def->grip_force;
+    st = grip_setup(m, def);
+    if (st) {
+        exdex_model_free(m);
+        *status = st;
+        if (bad_param && st == EXDEX_EINVAL) *bad_param = "grip_times";
+        return NULL;
+    }
+    /* static capacity: the kinetic one times mu_static / mu (per unit grip
+     * force capks, so that it follows a grip schedule as the kinetic one
+     * does); with mu = 0 the ratio is undefined and mu_static fingers is
+     * stored itself */
+    m->cap_ratio = 1.0;
+    m->capks = m->capk;
+    m->capS = m->capF;
+    if (def->mu_static != 0.0 && def->mu_static != def->mu) {
+        if (def->mu > 0.0) {
+            m->cap_ratio = def->mu_static / def->mu;
+            m->capks = m->capk * m->cap_ratio;
+            m->capS = m->capF * m->cap_ratio;
+        } else {
+            double fmax = m->def.grip_force;
+            if (m->grip_n) {
+                fmax = 0.0;
+                for (size_t i = 0; i < m->grip_n; i++) fmax = fmax > m->grip_f[i] ? fmax : m->grip_f[i];
+            }
+            m->capks = def->mu_static * def->fingers;
+            m->capS = m->capks * fmax;
+        }
+    }
     m->e[0] = m->e[1] = 1.0;
     m->e[2] = def->e_r;
     m->pc[0] = def->patch_center[0];
@@ -510,3 +704,11 @@ int exdex_scene_check(const exdex_scene_def *d, const char **bad_param)
 
 int exdex_model_ndof(const exdex_model *m) { return m ? m->ndof : 0; }
 int exdex_model_nstops(const exdex_model *m) { return m ? m->n_stops : 0; }
+
+int exdex_model_grip(const exdex_model *m, double t, double *force, double *rate)
+{
+    if (!m || isnan(t)) return EXDEX_EINVAL;
+    if (force) *force = model_grip_force(m, t);
+    if (rate) *rate = m->grip_n ? model_grip_sched_rate(m, t) : 0.0;
+    return EXDEX_OK;
+}

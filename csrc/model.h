@@ -9,6 +9,8 @@
 
 #include <math.h>
 
+#include <gsl/gsl_interp.h>
+
 #include "exdex.h"
 
 #define MAX_ROWS (EXDEX_MAX_STOPS * EXDEX_MAX_VERTICES)
@@ -48,7 +50,8 @@ struct exdex_model {
     double m;               /* mass */
     double I[9];            /* inertia in C */
     double izz;
-    double capF;            /* friction capacity mu * fingers * grip_force [N] */
+    double capF;            /* friction capacity mu * fingers * grip_force [N] (a schedule: its
+                               largest value; read the capacity with model_capacity) */
     double e[3];            /* (1, 1, e_r) */
     double pc[2];           /* centre of pressure in C */
     double g[3];            /* gravity in A */
@@ -71,9 +74,85 @@ struct exdex_model {
     double vert[EXDEX_MAX_VERTICES][2];
     model_scales scale;
     model_tols tol;
+    /* grip-force schedule (exdex_scene_def.grip_n): read it only through
+     * model_grip_force / model_capacity and friends below. grip_n = 0 for a
+     * constant grip force, also for a schedule whose forces are all equal
+     * (it is that constant: def.grip_force is then the scaled force and
+     * capF its capacity). Otherwise grip_t, grip_f are owned copies of the
+     * points, the forces scaled by def.grip_force, and capF is the largest
+     * capacity of the schedule (the scales use it). */
+    size_t grip_n;
+    int grip_kind;          /* enum exdex_grip_kind */
+    double *grip_t, *grip_f;
+    gsl_interp *grip_interp;  /* linear and cubic kinds (NULL for step); evaluated without an
+                                 accelerator, so concurrent reads are safe */
+    double capk;            /* mu * fingers: capacity per unit grip force */
+    /* static friction (exdex_scene_def.mu_static): the static capacity is
+     * the kinetic one times cap_ratio = mu_static / mu (exactly 1, and the
+     * static capacity the kinetic one bit for bit, when they are equal):
+     * capks = capk cap_ratio per unit grip force, capS = capF cap_ratio the
+     * largest. With mu = 0 the ratio is undefined (1) and capks = mu_static
+     * fingers is set itself. Read it with model_capacity_static. */
+    double cap_ratio;
+    double capks;
+    double capS;
     double smu[EXDEX_MAX_STOPS];  /* Coulomb coefficient of each stop */
     int stop_friction;            /* 1 if some stop has smu > 0 */
 };
+
+/* ------------------------------------------------ grip force, capacity
+ * The friction capacity C(t) = mu fingers F(t) [N], F the normal force of
+ * each finger: constant (capF) or the schedule. Every method reads the
+ * capacity through these; with a constant grip force they return capF
+ * itself, bit for bit. */
+
+/* The schedule's force F(t) (grip_n > 0), its rate dF/dt (right derivative
+ * at a breakpoint; 0 outside the points and for the step kind) and its mean
+ * over [t0, t1] (t0 < t1): the exact integral over the interval divided by
+ * its length, or, inside one linear or constant piece, the value at the
+ * midpoint (the same mean, and a flat piece gives its value exactly). */
+double model_grip_sched(const exdex_model *m, double t);
+double model_grip_sched_rate(const exdex_model *m, double t);
+double model_grip_sched_mean(const exdex_model *m, double t0, double t1);
+
+/* Normal force of each finger at t [N]. */
+static inline double model_grip_force(const exdex_model *m, double t)
+{
+    return m->grip_n ? model_grip_sched(m, t) : m->def.grip_force;
+}
+/* Friction capacity C(t) = mu fingers F(t) [N]. */
+static inline double model_capacity(const exdex_model *m, double t)
+{
+    return m->grip_n ? m->capk * model_grip_sched(m, t) : m->capF;
+}
+/* dC/dt [N/s] (0 for a constant grip force). */
+static inline double model_capacity_rate(const exdex_model *m, double t)
+{
+    return m->grip_n ? m->capk * model_grip_sched_rate(m, t) : 0.0;
+}
+/* Mean capacity over the step [t0, t1] (t0 < t1) [N]: h times it is the
+ * largest friction impulse the plates can carry over the step (the bound of
+ * the time-stepping methods). capF for a constant grip force. */
+static inline double model_capacity_mean(const exdex_model *m, double t0, double t1)
+{
+    return m->grip_n ? m->capk * model_grip_sched_mean(m, t0, t1) : m->capF;
+}
+/* Static friction capacity C_s(t) = mu_static fingers F(t) >= C(t) [N]
+ * (model_capacity itself, bit for bit, when mu_static = mu). */
+static inline double model_capacity_static(const exdex_model *m, double t)
+{
+    return m->grip_n ? m->capks * model_grip_sched(m, t) : m->capS;
+}
+/* Its mean over the step [t0, t1] (t0 < t1) [N], as model_capacity_mean. */
+static inline double model_capacity_static_mean(const exdex_model *m, double t0, double t1)
+{
+    return m->grip_n ? m->capks * model_grip_sched_mean(m, t0, t1) : m->capS;
+}
+/* The schedule's breakpoints in (0, t_end] (where F or its derivatives may
+ * be discontinuous), increasing, into ts (up to m->grip_n of them); returns
+ * their number (0 for a constant grip force). The event and regularised
+ * methods step onto them as onto the motion's switching times. */
+size_t model_grip_breaks(const exdex_model *m, double t_end, double *ts);
 
 /* Per-step quantities of the moving frame, in B coordinates: gravity g_B,
  * acceleration of B's origin a0, angular velocity w, angular acceleration dw. */

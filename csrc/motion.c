@@ -51,8 +51,11 @@
 #include "exdex.h"
 #include "util.h"
 
+#include <float.h>
 #include <stdlib.h>
 #include <string.h>
+
+#define TWO_PI 6.283185307179586476925286766559
 
 
 /* relative slack of the trapezoid's v_max range check (|X1|/T <= v_max <=
@@ -87,6 +90,18 @@ struct exdex_motion {
     int n_jumps;
     double jt[EXDEX_MOTION_MAX_JUMPS], jv[EXDEX_MOTION_MAX_JUMPS][3], jw[EXDEX_MOTION_MAX_JUMPS][3];
     double end;          /* exdex_motion_end */
+    /* SHAKE: amplitude, T = D, omega = 2 pi f */
+    double omega;
+    /* CHAIN: pieces, their start times T_i (T0[np] = end) and local origins
+     * o_i (a sampled piece plays from its first sample); the pieces' own
+     * switching times in (o_i, end_i] and their chain times (phase_fix) */
+    int np;
+    exdex_motion *piece[EXDEX_MOTION_MAX_PIECES];
+    double T0[EXDEX_MOTION_MAX_PIECES + 1], origin[EXDEX_MOTION_MAX_PIECES];
+    int n_psw[EXDEX_MOTION_MAX_PIECES];
+    double psw[EXDEX_MOTION_MAX_PIECES][4], psw_chain[EXDEX_MOTION_MAX_PIECES][4];
+    int n_sw;
+    double sw[EXDEX_MOTION_MAX_SWITCHES];
 };
 
 /* ----------------------------------------------------------- profiles */
@@ -130,6 +145,19 @@ static inline void trap_core(double X1, double T, double sign, double v_max, dou
     } else {
         double tau = T - t;
         *s = X1 - sign * 0.5 * accel * tau * tau; *sd = sign * accel * tau; *sdd = -sign * accel;
+    }
+}
+
+/* Shake: s = A (1 - cos w t) on [0, D), held at s(D) from D on. */
+static inline void shake_core(double A, double w, double D, double t, double *s, double *sd, double *sdd)
+{
+    if (!(t >= 0.0)) {
+        *s = 0.0; *sd = 0.0; *sdd = 0.0;
+    } else if (t >= D) {
+        *s = A * (1.0 - cos(w * D)); *sd = 0.0; *sdd = 0.0;
+    } else {
+        double c = cos(w * t);
+        *s = A * (1.0 - c); *sd = A * w * sin(w * t); *sdd = A * w * w * c;
     }
 }
 
@@ -262,6 +290,7 @@ static void profile_kin(const exdex_motion *m, double s, double sd, double sdd, 
 void exdex_motion_free(exdex_motion *m)
 {
     if (!m) return;
+    for (int i = 0; i < m->np; i++) exdex_motion_free(m->piece[i]);
     free(m->tk);
     free(m->yk);
     free(m->mk);
@@ -542,6 +571,202 @@ static int setup_sampled(exdex_motion *m, const exdex_motion_def *def, const dou
     }
     return 1;
 }
+/* Chain tolerances (exdex.h): a position or rotation-matrix mismatch, and a
+ * velocity jump, within these relative sizes of the values compared is
+ * rounding of the pieces' own evaluation (a relative log replays its first
+ * pose from R0, p0 through a product of rotations). */
+#define CHAIN_POSE_RTOL 1e-9
+#define CHAIN_POS_ATOL 1e-12
+#define CHAIN_JUMP_RTOL 1e-9
+
+static const char *const piece_names[EXDEX_MOTION_MAX_PIECES] = {
+    "motion.pieces[0]", "motion.pieces[1]", "motion.pieces[2]", "motion.pieces[3]",
+    "motion.pieces[4]", "motion.pieces[5]", "motion.pieces[6]", "motion.pieces[7]",
+    "motion.pieces[8]", "motion.pieces[9]", "motion.pieces[10]", "motion.pieces[11]",
+    "motion.pieces[12]", "motion.pieces[13]", "motion.pieces[14]", "motion.pieces[15]"};
+
+/* Chain time of a piece's own time u (its jumps and switches): its origin
+ * and end map exactly onto T_i and T_i+1. */
+static double chain_time(const exdex_motion *m, int i, double u)
+{
+    double o = m->origin[i], e = exdex_motion_end(m->piece[i]);
+    if (u == o) return m->T0[i];
+    if (u == e && m->piece[i]->kind != EXDEX_MOTION_REST) return m->T0[i + 1];
+    return m->T0[i] + (u - o);
+}
+
+static int norm3_le(const double a[3], double tol)
+{
+    return sqrt(ex_dot3(a, a)) <= tol;
+}
+
+/* Jumps of a chain: the pieces' own jumps at their chain times, summed where
+ * they coincide; at an interior boundary a jump above rounding is an error
+ * unless allowed, one within rounding is dropped. 0 on success, else the
+ * index + 1 of the piece that starts with a jump. */
+static int chain_jumps(exdex_motion *m, int allow)
+{
+    double t[EXDEX_MOTION_MAX_JUMPS], dv[EXDEX_MOTION_MAX_JUMPS][3], dw[EXDEX_MOTION_MAX_JUMPS][3];
+    double sv[EXDEX_MOTION_MAX_JUMPS], sw[EXDEX_MOTION_MAX_JUMPS];
+    int n = 0;
+    for (int i = 0; i < m->np; i++) {
+        double pt[EXDEX_MOTION_MAX_JUMPS], pv[EXDEX_MOTION_MAX_JUMPS][3], pw[EXDEX_MOTION_MAX_JUMPS][3];
+        int nj = exdex_motion_jumps(m->piece[i], pt, pv, pw);
+        for (int j = 0; j < nj; j++) {
+            double tc = chain_time(m, i, pt[j]);
+            int k = 0;
+            while (k < n && t[k] != tc) k++;
+            if (k == n) {
+                if (n == EXDEX_MOTION_MAX_JUMPS) return i + 1;
+                t[n] = tc;
+                sv[n] = sw[n] = 0.0;
+                for (int c = 0; c < 3; c++) dv[n][c] = dw[n][c] = 0.0;
+                n++;
+            }
+            for (int c = 0; c < 3; c++) {
+                dv[k][c] += pv[j][c];
+                dw[k][c] += pw[j][c];
+            }
+            sv[k] += sqrt(ex_dot3(pv[j], pv[j]));
+            sw[k] += sqrt(ex_dot3(pw[j], pw[j]));
+        }
+    }
+    m->n_jumps = 0;
+    for (int k = 0; k < n; k++) {
+        int b = 0;   /* the piece starting at t[k] when it is an interior boundary */
+        for (int i = 1; i < m->np; i++)
+            if (t[k] == m->T0[i]) b = i;
+        if (b && norm3_le(dv[k], CHAIN_JUMP_RTOL * sv[k]) && norm3_le(dw[k], CHAIN_JUMP_RTOL * sw[k]))
+            continue;   /* continuous to rounding */
+        if (b && !allow) return b + 1;
+        m->jt[m->n_jumps] = t[k];
+        memcpy(m->jv[m->n_jumps], dv[k], sizeof dv[k]);
+        memcpy(m->jw[m->n_jumps], dw[k], sizeof dw[k]);
+        m->n_jumps++;
+    }
+    /* increasing times (pieces in order, each piece's jumps increasing) */
+    for (int a = 1; a < m->n_jumps; a++)
+        for (int b = a; b > 0 && m->jt[b] < m->jt[b - 1]; b--) {
+            double tt = m->jt[b], v[3], w[3];
+            memcpy(v, m->jv[b], sizeof v);
+            memcpy(w, m->jw[b], sizeof w);
+            m->jt[b] = m->jt[b - 1];
+            memcpy(m->jv[b], m->jv[b - 1], sizeof v);
+            memcpy(m->jw[b], m->jw[b - 1], sizeof w);
+            m->jt[b - 1] = tt;
+            memcpy(m->jv[b - 1], v, sizeof v);
+            memcpy(m->jw[b - 1], w, sizeof w);
+        }
+    return 0;
+}
+
+static int setup_chain(exdex_motion *m, const exdex_motion_def *def, const double R0[9], const double p0[3],
+                       int *status, const char **bad_param)
+{
+    size_t n = def->n_pieces;
+    double R[9], p[3], T = 0.0;
+    int bad;
+    if (n < 1 || n > EXDEX_MOTION_MAX_PIECES) return fail(status, bad_param, "motion.n_pieces");
+    if (!def->pieces) return fail(status, bad_param, "motion.pieces");
+    if (def->allow_jump != 0 && def->allow_jump != 1) return fail(status, bad_param, "motion.allow_jump");
+    memcpy(R, R0, sizeof R);
+    memcpy(p, p0, sizeof p);
+    for (size_t i = 0; i < n; i++) {
+        const exdex_motion_def *pd = &def->pieces[i];
+        exdex_motion *c;
+        exdex_kinematics k;
+        double o, len, sw[EXDEX_MOTION_MAX_SWITCHES], dp[3], tol;
+        int st = EXDEX_OK, nsw;
+        if (pd->kind == EXDEX_MOTION_CHAIN) return fail(status, bad_param, piece_names[i]);
+        if (pd->kind == EXDEX_MOTION_REST && !(pd->duration > 0.0 && isfinite(pd->duration)))
+            return fail(status, bad_param, piece_names[i]);
+        c = exdex_motion_alloc(pd, R, p, &st, NULL);
+        if (!c) {
+            if (st == EXDEX_ENOMEM) {
+                if (status) *status = st;
+                return 0;
+            }
+            return fail(status, bad_param, piece_names[i]);
+        }
+        m->piece[m->np++] = c;
+        o = c->kind == EXDEX_MOTION_SAMPLED ? c->t_first : 0.0;
+        len = c->kind == EXDEX_MOTION_REST ? pd->duration : c->end - o;
+        m->origin[i] = o;
+        m->T0[i] = T;
+        if (!(len > 0.0) || !isfinite(T + len)) return fail(status, bad_param, piece_names[i]);
+        /* the piece starts where the one before ended */
+        st = exdex_motion_eval(c, o, &k);
+        if (st) return fail(status, bad_param, piece_names[i]);
+        for (int j = 0; j < 3; j++) dp[j] = k.p[j] - p[j];
+        tol = CHAIN_POSE_RTOL * (sqrt(ex_dot3(k.p, k.p)) + sqrt(ex_dot3(p, p))) + CHAIN_POS_ATOL;
+        if (!norm3_le(dp, tol)) return fail(status, bad_param, piece_names[i]);
+        for (int j = 0; j < 9; j++)
+            if (!(fabs(k.R[j] - R[j]) <= CHAIN_POSE_RTOL)) return fail(status, bad_param, piece_names[i]);
+        T += len;
+        m->T0[i + 1] = T;
+        /* its switching times after its origin, and their chain times */
+        nsw = exdex_motion_switches(c, sw);
+        m->n_psw[i] = 0;
+        for (int j = 0; j < nsw; j++)
+            if (sw[j] > o && m->n_psw[i] < 4) {
+                m->psw[i][m->n_psw[i]] = sw[j];
+                m->psw_chain[i][m->n_psw[i]++] = chain_time(m, (int)i, sw[j]);
+            }
+        /* the pose where it ends: the next piece's start */
+        st = exdex_motion_eval(c, c->kind == EXDEX_MOTION_REST ? 0.0 : c->end, &k);
+        if (st) return fail(status, bad_param, piece_names[i]);
+        memcpy(R, k.R, sizeof R);
+        memcpy(p, k.p, sizeof p);
+    }
+    m->end = T;
+    /* switching times: the pieces' own inside each piece, and every boundary */
+    m->n_sw = 0;
+    for (int i = 0; i < m->np; i++) {
+        for (int j = 0; j < m->n_psw[i]; j++) {
+            double tc = m->psw_chain[i][j];
+            if (tc > m->T0[i] && tc < m->T0[i + 1] && (m->n_sw == 0 || tc > m->sw[m->n_sw - 1]))
+                m->sw[m->n_sw++] = tc;
+        }
+        if (m->n_sw == 0 || m->T0[i + 1] > m->sw[m->n_sw - 1]) m->sw[m->n_sw++] = m->T0[i + 1];
+    }
+    bad = chain_jumps(m, def->allow_jump);
+    if (bad) return fail(status, bad_param, piece_names[bad - 1]);
+    return 1;
+}
+
+/* Shake (exdex.h): frequency and cycles checked, the end jump when it ends
+ * mid-cycle. */
+static int setup_shake(exdex_motion *m, const exdex_motion_def *def, int *status, const char **bad_param)
+{
+    double f = def->frequency, D = def->duration, ph;
+    if (!(f > 0.0) || !isfinite(f)) return fail(status, bad_param, "motion.frequency");
+    if (!(f * D <= 1e9)) return fail(status, bad_param, "motion.duration");
+    m->omega = TWO_PI * f;
+    m->end = D;
+    ph = m->omega * D;
+    if (!isfinite(m->amplitude * m->omega * m->omega)) return fail(status, bad_param, "motion.amplitude");
+    {
+        /* rounding of the phase: sin(2 pi n) of whole cycles is not 0 in
+         * floating point */
+        double sn = sin(ph);
+        if (fabs(sn) > 16.0 * DBL_EPSILON * ph && m->amplitude != 0.0) {
+            exdex_kinematics k1;
+            double s, sd, sdd;
+            shake_core(m->amplitude, m->omega, D, D, &s, &sd, &sdd);
+            profile_kin(m, s, m->amplitude * m->omega * sn, 0.0, &k1);
+            m->n_jumps = 1;
+            m->jt[0] = D;
+            for (int i = 0; i < 3; i++) {
+                m->jv[0][i] = -k1.v[i];
+                m->jw[0][i] = -k1.w[i];
+            }
+            if (!ex_finite_n(m->jv[0], 3) || !ex_finite_n(m->jw[0], 3))
+                return fail(status, bad_param, "motion.amplitude");
+        }
+    }
+    return 1;
+}
+
 exdex_motion *exdex_motion_alloc(const exdex_motion_def *def, const double R0[9],
                                  const double p0[3], int *status,
                                  const char **bad_param)
@@ -566,7 +791,7 @@ exdex_motion *exdex_motion_alloc(const exdex_motion_def *def, const double R0[9]
         fail(status, bad_param, "p0");
         return NULL;
     }
-    if (def->kind < EXDEX_MOTION_REST || def->kind > EXDEX_MOTION_SAMPLED) {
+    if (def->kind < EXDEX_MOTION_REST || def->kind > EXDEX_MOTION_CHAIN) {
         fail(status, bad_param, "motion.kind");
         return NULL;
     }
@@ -580,7 +805,8 @@ exdex_motion *exdex_motion_alloc(const exdex_motion_def *def, const double R0[9]
     memcpy(m->R0, R0, sizeof m->R0);
     memcpy(m->p0, p0, sizeof m->p0);
 
-    if (def->kind == EXDEX_MOTION_ASYMMETRIC || def->kind == EXDEX_MOTION_TRAPEZOID) {
+    if (def->kind == EXDEX_MOTION_ASYMMETRIC || def->kind == EXDEX_MOTION_TRAPEZOID ||
+        def->kind == EXDEX_MOTION_SHAKE) {
         double na = norm_n(def->axis, 3), X1 = def->amplitude, T = def->duration;
         if (def->rotation != 0 && def->rotation != 1)
             ok = fail(status, bad_param, "motion.rotation");
@@ -610,7 +836,9 @@ exdex_motion *exdex_motion_alloc(const exdex_motion_def *def, const double R0[9]
             m->amplitude = X1;
             m->T = T;
         }
-        if (ok && def->kind == EXDEX_MOTION_ASYMMETRIC) {
+        if (ok && def->kind == EXDEX_MOTION_SHAKE) {
+            ok = setup_shake(m, def, status, bad_param);
+        } else if (ok && def->kind == EXDEX_MOTION_ASYMMETRIC) {
             double b = def->beta;
             if (!(b > 0.0 && b < 1.0)) {
                 ok = fail(status, bad_param, "motion.beta");
@@ -655,6 +883,8 @@ exdex_motion *exdex_motion_alloc(const exdex_motion_def *def, const double R0[9]
         }
     } else if (def->kind == EXDEX_MOTION_SAMPLED) {
         ok = setup_sampled(m, def, R0, p0, status, bad_param);
+    } else if (def->kind == EXDEX_MOTION_CHAIN) {
+        ok = setup_chain(m, def, R0, p0, status, bad_param);
     } else {
         m->end = 0.0;  /* REST */
     }
@@ -702,6 +932,12 @@ int exdex_motion_switches(const exdex_motion *m, double ts[EXDEX_MOTION_MAX_SWIT
     case EXDEX_MOTION_SAMPLED:
         c[n++] = m->t_first;
         c[n++] = m->t_last;
+        break;
+    case EXDEX_MOTION_SHAKE:
+        c[n++] = m->end;
+        break;
+    case EXDEX_MOTION_CHAIN:
+        for (int i = 0; i < m->n_sw; i++) c[n++] = m->sw[i];
         break;
     default:
         break;
@@ -773,11 +1009,34 @@ static void profile_kin(const exdex_motion *m, double s, double sd, double sdd, 
     }
 }
 
+/* A chain at time t: the piece holding t (right-continuous at every T_i),
+ * on its own time u = t - T_i + o_i, with u put on the same side of each of
+ * the piece's switching times as t is of the switch's chain time (the
+ * rounding of t - T_i + o_i must not move t across a phase switch). */
+static int eval_chain(const exdex_motion *m, double t, exdex_kinematics *k)
+{
+    int i = 0;
+    double u;
+    while (i + 1 < m->np && t >= m->T0[i + 1]) i++;
+    u = t - m->T0[i] + m->origin[i];
+    for (int j = 0; j < m->n_psw[i]; j++) {
+        double s = m->psw[i][j];
+        if (t >= m->psw_chain[i][j] && u < s) u = s;
+        else if (t < m->psw_chain[i][j] && u >= s) u = nextafter(s, -INFINITY);
+    }
+    return exdex_motion_eval(m->piece[i], u, k);
+}
+
 int exdex_motion_eval(const exdex_motion *m, double t, exdex_kinematics *k)
 {
     double s, sd, sdd;
     if (!m || !k || isnan(t)) return EXDEX_EINVAL;
     switch (m->kind) {
+    case EXDEX_MOTION_SHAKE:
+        shake_core(m->amplitude, m->omega, m->T, t, &s, &sd, &sdd);
+        break;
+    case EXDEX_MOTION_CHAIN:
+        return eval_chain(m, t, k);
     case EXDEX_MOTION_ASYMMETRIC:
         asym_core(m->amplitude, m->T, m->a_H, m->a_L, m->t_1, m->t_2, t, &s, &sd, &sdd);
         break;

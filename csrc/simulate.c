@@ -29,6 +29,12 @@ static const method_impl *const methods[] = {
     [EXDEX_METHOD_ANALYTIC] = &method_analytic,
 };
 
+const method_impl *method_get(int method)
+{
+    if (method < EXDEX_METHOD_IMPLICIT || method > EXDEX_METHOD_ANALYTIC) return NULL;
+    return methods[method];
+}
+
 /* A run that returned OK must not have recorded a non-finite number (e.g. a
  * capacity mu N that overflows makes the explicit friction infinite). */
 static int output_finite(const exdex_model *m, const exdex_trajectory *out)

@@ -15,23 +15,28 @@ Units are SI; frames are described in :mod:`exdex.scene`. ``import exdex``
 needs only NumPy; plotting and progress bars need the ``plot`` extra
 (matplotlib, tqdm), the engine cross-checks the ``engines`` extra.
 """
-from exdex.scene import (AsymmetricProfile, Body, Grasp, Patch, Rest, SampledTrajectory, Scene, Stop,
-                         TrapezoidalProfile, replace)
+from exdex.scene import (AsymmetricProfile, Body, Chain, Grasp, GripSchedule, Patch, Pause, Rest, SampledTrajectory,
+                         Scene, Shake, Stop, TrapezoidalProfile, replace)
 from exdex.simulate import GripperJumpWarning, Model, PhysicsWarning, Result, SolverError, simulate
+from exdex.stepper import Stepper, StepperSnapshot, StepperState  # noqa: E402  (feedback control)
 from exdex.batch import BatchResult, simulate_batch, sweep  # noqa: E402
 from exdex.io import load_scene, save_scene  # noqa: E402  (scenes as TOML or JSON files)
 from exdex import paper  # noqa: E402  (the paper's case studies, Figs. 3, 4, 6)
 from exdex import tool  # noqa: E402  (assistive-tool design, paper Section 3)
 from exdex import plan  # noqa: E402  (inverse design: motion and grip for a target outcome)
-from exdex.fit import Identification, Sensitivity, identify, sensitivity  # noqa: E402
+from exdex import sequence  # noqa: E402  (planar pose targets by sequences of motion primitives)
+from exdex.fit import (EventSensitivity, EventTimes, Identification, Sensitivity, event_sensitivity,  # noqa: E402
+                       event_times, identify, sensitivity)
 from exdex import diagnostics  # noqa: E402  (physics warnings)
 from exdex._optional import MissingExtraError  # noqa: E402
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "AsymmetricProfile", "Body", "Grasp", "Patch", "Rest", "SampledTrajectory", "Scene", "Stop",
-    "TrapezoidalProfile", "replace", "Model", "Result", "SolverError", "PhysicsWarning", "GripperJumpWarning",
+    "AsymmetricProfile", "Body", "Grasp", "GripSchedule", "Patch", "Rest", "SampledTrajectory", "Scene", "Stop",
+    "TrapezoidalProfile", "Shake", "Pause", "Chain", "replace", "Model", "Result", "SolverError", "PhysicsWarning",
+    "GripperJumpWarning", "Stepper", "StepperState", "StepperSnapshot",
     "MissingExtraError", "simulate", "BatchResult", "simulate_batch", "sweep", "load_scene", "save_scene", "paper",
-    "tool", "plan", "sensitivity", "Sensitivity", "identify", "Identification", "__version__",
+    "tool", "plan", "sequence", "sensitivity", "Sensitivity", "event_times", "EventTimes", "event_sensitivity",
+    "EventSensitivity", "identify", "Identification", "__version__",
 ]

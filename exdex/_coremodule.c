@@ -8,6 +8,7 @@
  * callable directly, and names the offending key in every error. */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
+#include <pythread.h>
 #define PY_ARRAY_UNIQUE_SYMBOL exdex_core_ARRAY_API
 #include <numpy/arrayobject.h>
 
@@ -22,6 +23,7 @@
 typedef struct {
     PyObject *SolverError;
     PyObject *ModelType;
+    PyObject *StepperType;
 } core_state;
 
 static core_state *get_state(PyObject *module) { return (core_state *)PyModule_GetState(module); }
@@ -155,15 +157,135 @@ static int sampled_options(PyObject *spec, exdex_motion_def *mo)
     return 0;
 }
 
-/* Fill an exdex_scene_def from a spec dict. Sampled-motion arrays are
- * returned as new references in *times / *poses (kept alive by the caller
- * until the model is built). */
+/* Store `item` (a new reference, stolen) at index i of the object array keep. */
+static void keep_item(PyArrayObject *keep, npy_intp i, PyObject *item)
+{
+    PyObject **slot = (PyObject **)PyArray_GETPTR1(keep, i);
+    Py_XSETREF(*slot, item);
+}
+
+/* Chain pieces (motion_kind EXDEX_MOTION_CHAIN): `motion_pieces`, a sequence
+ * of dicts with the motion_* keys of a scene spec (motion_kind,
+ * motion_rotation, motion_axis, motion_center, motion_amplitude,
+ * motion_duration, motion_beta, motion_v_max, motion_frequency; sampled:
+ * motion_times, motion_poses and the optional keys of sampled_options),
+ * and the optional motion_allow_jump (0 or 1). The piece definitions and
+ * their sample arrays live in the object array *keep (a new reference the
+ * caller keeps until the model is built). */
+static int chain_pieces(PyObject *spec, exdex_motion_def *mo, PyArrayObject **keep)
+{
+    PyObject *obj = PyDict_GetItemString(spec, "motion_pieces"), *seq = NULL, *buf = NULL;
+    exdex_motion_def *pieces;
+    Py_ssize_t n;
+    npy_intp nk;
+    if (PyDict_GetItemString(spec, "motion_allow_jump") && dict_int(spec, "motion_allow_jump", &mo->allow_jump))
+        return -1;
+    if (!obj) {
+        PyErr_SetString(PyExc_KeyError, "scene spec is missing 'motion_pieces'");
+        return -1;
+    }
+    seq = PySequence_Fast(obj, "'motion_pieces' must be a sequence of motion dicts");
+    if (!seq) return -1;
+    n = PySequence_Fast_GET_SIZE(seq);
+    if (n < 1 || n > EXDEX_MOTION_MAX_PIECES) {
+        PyErr_Format(PyExc_ValueError, "'motion_pieces' must hold 1 to %d pieces, got %zd", EXDEX_MOTION_MAX_PIECES, n);
+        Py_DECREF(seq);
+        return -1;
+    }
+    nk = 1 + 2 * (npy_intp)n;
+    *keep = (PyArrayObject *)PyArray_ZEROS(1, &nk, NPY_OBJECT, 0);
+    buf = PyBytes_FromStringAndSize(NULL, n * (Py_ssize_t)sizeof(exdex_motion_def));
+    if (!*keep || !buf) goto fail;
+    pieces = (exdex_motion_def *)PyBytes_AS_STRING(buf);
+    keep_item(*keep, 0, buf);
+    for (Py_ssize_t i = 0; i < n; i++) {
+        PyObject *d = PySequence_Fast_GET_ITEM(seq, i);
+        exdex_motion_def *pd = &pieces[i];
+        memset(pd, 0, sizeof *pd);
+        if (!PyDict_Check(d)) {
+            PyErr_Format(PyExc_TypeError, "'motion_pieces[%zd]' must be a dict", i);
+            goto fail;
+        }
+        if (dict_int(d, "motion_kind", &pd->kind) || dict_int(d, "motion_rotation", &pd->rotation) ||
+            dict_doubles(d, "motion_axis", pd->axis, 3) || dict_doubles(d, "motion_center", pd->center, 3) ||
+            dict_double(d, "motion_amplitude", &pd->amplitude) ||
+            dict_double(d, "motion_duration", &pd->duration) || dict_double(d, "motion_beta", &pd->beta) ||
+            dict_double(d, "motion_v_max", &pd->v_max))
+            goto fail;
+        if (PyDict_GetItemString(d, "motion_frequency") && dict_double(d, "motion_frequency", &pd->frequency))
+            goto fail;
+        if (pd->kind == EXDEX_MOTION_SAMPLED) {
+            PyObject *tobj = PyDict_GetItemString(d, "motion_times");
+            PyArrayObject *t, *p;
+            npy_intp np_;
+            if (!tobj) {
+                PyErr_Format(PyExc_KeyError, "'motion_pieces[%zd]' is missing 'motion_times'", i);
+                goto fail;
+            }
+            t = as_doubles(tobj, -1, "motion_times");
+            if (!t) goto fail;
+            keep_item(*keep, 1 + 2 * i, (PyObject *)t);
+            if (PyArray_NDIM(t) != 1) {
+                PyErr_SetString(PyExc_ValueError, "'motion_times' must be 1-D");
+                goto fail;
+            }
+            p = dict_rows(d, "motion_poses", 7, -1, &np_);
+            if (!p) goto fail;
+            keep_item(*keep, 2 + 2 * i, (PyObject *)p);
+            if (np_ != PyArray_SIZE(t)) {
+                PyErr_SetString(PyExc_ValueError, "'motion_poses' must have one row per entry of 'motion_times'");
+                goto fail;
+            }
+            pd->n_samples = (size_t)np_;
+            pd->times = (const double *)PyArray_DATA(t);
+            pd->poses = (const double *)PyArray_DATA(p);
+            if (sampled_options(d, pd)) goto fail;
+        }
+    }
+    Py_DECREF(seq);
+    mo->n_pieces = (size_t)n;
+    mo->pieces = pieces;
+    return 0;
+fail:
+    if (!*keep) Py_XDECREF(buf);
+    Py_XDECREF(seq);
+    Py_CLEAR(*keep);
+    return -1;
+}
+
+/* Optional grip schedule: key grip_schedule, a (2, n) float64 array (row 0
+ * the times, row 1 the forces; n >= 1), and grip_kind (0 linear, 1 cubic,
+ * 2 step). The array is returned as a new reference in *grip (kept alive
+ * by the caller until the model is built), NULL without a schedule. */
+static int grip_from_dict(PyObject *spec, exdex_scene_def *def, PyArrayObject **grip)
+{
+    PyObject *obj = PyDict_GetItemString(spec, "grip_schedule");
+    if (!obj || obj == Py_None) return 0;
+    if (PyDict_GetItemString(spec, "grip_kind") && dict_int(spec, "grip_kind", &def->grip_kind)) return -1;
+    *grip = (PyArrayObject *)PyArray_FROMANY(obj, NPY_DOUBLE, 2, 2, NPY_ARRAY_IN_ARRAY);
+    if (!*grip || PyArray_DIM(*grip, 0) != 2 || PyArray_DIM(*grip, 1) < 1) {
+        Py_CLEAR(*grip);
+        PyErr_Clear();
+        PyErr_SetString(PyExc_ValueError, "'grip_schedule' must be a float64 array of shape (2, n), n >= 1 "
+                                          "(row 0 the times, row 1 the forces)");
+        return -1;
+    }
+    def->grip_n = (size_t)PyArray_DIM(*grip, 1);
+    def->grip_times = (const double *)PyArray_DATA(*grip);
+    def->grip_forces = def->grip_times + def->grip_n;
+    return 0;
+}
+
+/* Fill an exdex_scene_def from a spec dict. Sampled-motion arrays and the
+ * grip schedule are returned as new references in *times / *poses / *grip
+ * (kept alive by the caller until the model is built); a chain's pieces and
+ * their arrays in *times (an object array, chain_pieces). */
 static int scene_from_dict(PyObject *spec, exdex_scene_def *def, PyArrayObject **times,
-                           PyArrayObject **poses)
+                           PyArrayObject **poses, PyArrayObject **grip)
 {
     PyArrayObject *verts = NULL, *sp = NULL, *sn = NULL;
     npy_intp nv, nsp, nsn, nt, np_;
-    *times = *poses = NULL;
+    *times = *poses = *grip = NULL;
     if (!PyDict_Check(spec)) {
         PyErr_SetString(PyExc_TypeError, "spec must be a dict (use exdex.Scene)");
         return -1;
@@ -187,6 +309,8 @@ static int scene_from_dict(PyObject *spec, exdex_scene_def *def, PyArrayObject *
         dict_int(spec, "friction_solver", &def->friction_solver) || dict_double(spec, "eps", &def->eps) ||
         dict_double(spec, "rtol", &def->rtol) || dict_double(spec, "atol", &def->atol))
         return -1;
+    /* optional: 0 (the C default) is "equal to mu" */
+    if (PyDict_GetItemString(spec, "mu_static") && dict_double(spec, "mu_static", &def->mu_static)) return -1;
     verts = dict_rows(spec, "vertices", 2, EXDEX_MAX_VERTICES, &nv);
     if (!verts) goto fail;
     sp = dict_rows(spec, "stop_points", 3, EXDEX_MAX_STOPS, &nsp);
@@ -216,6 +340,10 @@ static int scene_from_dict(PyObject *spec, exdex_scene_def *def, PyArrayObject *
         if (nsp) memcpy(def->stop_mu, PyArray_DATA(smu), (size_t)nsp * sizeof(double));
         Py_DECREF(smu);
     }
+    if (PyDict_GetItemString(spec, "motion_frequency") &&
+        dict_double(spec, "motion_frequency", &def->motion.frequency))
+        goto fail;
+    if (def->motion.kind == EXDEX_MOTION_CHAIN && chain_pieces(spec, &def->motion, times)) goto fail;
     if (def->motion.kind == EXDEX_MOTION_SAMPLED) {
         PyObject *tobj = PyDict_GetItemString(spec, "motion_times");
         if (!tobj) {
@@ -240,6 +368,7 @@ static int scene_from_dict(PyObject *spec, exdex_scene_def *def, PyArrayObject *
         def->motion.poses = (const double *)PyArray_DATA(*poses);
         if (sampled_options(spec, &def->motion)) goto fail;
     }
+    if (grip_from_dict(spec, def, grip)) goto fail;
     Py_DECREF(verts);
     Py_DECREF(sp);
     Py_DECREF(sn);
@@ -250,7 +379,8 @@ fail:
     Py_XDECREF(sn);
     Py_XDECREF(*times);
     Py_XDECREF(*poses);
-    *times = *poses = NULL;
+    Py_XDECREF(*grip);
+    *times = *poses = *grip = NULL;
     return -1;
 }
 
@@ -315,8 +445,9 @@ PyDoc_STRVAR(simulate_doc,
 
 /* SolverError(message, status) of a failed run with attributes status, time
  * (exdex_stats.fail_time, None when unknown) and cause (a name): the message
- * says when, why, and what to use instead. */
-static void raise_run_error(PyObject *module, int status, const exdex_stats *st)
+ * says when, why, and what to use instead. index >= 0: trajectory `index` of
+ * a batch (the message starts "batch index i: ", attribute `index`). */
+static void raise_run_error_at(PyObject *module, int status, const exdex_stats *st, Py_ssize_t index)
 {
     static const char *const names[] = {"none", "events", "step_budget", "step_floor",
                                         "stepper", "solver", "nonfinite"};
@@ -334,13 +465,16 @@ static void raise_run_error(PyObject *module, int status, const exdex_stats *st)
         "the state left the finite range (check the scene's scales and motion)"};
     int c = st->fail_cause >= 0 && st->fail_cause <= EXDEX_FAIL_NONFINITE ? st->fail_cause : 0;
     PyObject *exc = get_state(module)->SolverError, *msg, *args, *inst, *o;
-    char when[64] = "";
+    char when[64] = "", where[64] = "";
+    if (index >= 0) PyOS_snprintf(where, sizeof where, "batch index %zd: ", index);
     if (!c) {
-        raise_status(module, status, "simulate", NULL);
+        char what[64] = "simulate";
+        if (index >= 0) PyOS_snprintf(what, sizeof what, "batch index %zd", index);
+        expy_raise_status(exc, status, what, NULL, NULL, index);
         return;
     }
     if (isfinite(st->fail_time)) PyOS_snprintf(when, sizeof when, " at t = %.9g s", st->fail_time);
-    msg = PyUnicode_FromFormat("%s%s: %s", exdex_strerror(status), when, why[c]);
+    msg = PyUnicode_FromFormat("%s%s%s: %s", where, exdex_strerror(status), when, why[c]);
     args = msg ? Py_BuildValue("(Ni)", msg, status) : NULL;
     inst = args ? PyObject_Call(exc, args, NULL) : NULL;
     Py_XDECREF(args);
@@ -358,6 +492,10 @@ static void raise_run_error(PyObject *module, int status, const exdex_stats *st)
         PyObject_SetAttrString(inst, "cause", o);
         Py_DECREF(o);
     }
+    if (index >= 0 && (o = PyLong_FromSsize_t(index))) {
+        PyObject_SetAttrString(inst, "index", o);
+        Py_DECREF(o);
+    }
     PyErr_Clear();
     PyErr_SetObject(exc, inst);
     Py_DECREF(inst);
@@ -373,7 +511,7 @@ static int simulate_released(PyObject *module, const exdex_model *model, double 
     Py_END_ALLOW_THREADS
     if (!status) return 0;
     if (status == EXDEX_ENOCONV || status == EXDEX_ENONFINITE)
-        raise_run_error(module, status, st);
+        raise_run_error_at(module, status, st, -1);
     else
         raise_status(module, status, "simulate", NULL);
     return -1;
@@ -427,14 +565,15 @@ done:
 static exdex_model *model_from_spec(PyObject *module, PyObject *spec)
 {
     exdex_scene_def def;
-    PyArrayObject *times = NULL, *poses = NULL;
+    PyArrayObject *times = NULL, *poses = NULL, *grip = NULL;
     exdex_model *model;
     const char *bad = NULL;
     int status;
-    if (scene_from_dict(spec, &def, &times, &poses)) return NULL;
+    if (scene_from_dict(spec, &def, &times, &poses, &grip)) return NULL;
     model = exdex_model_alloc(&def, &status, &bad);   /* copies the sampled arrays */
     Py_XDECREF(times);
     Py_XDECREF(poses);
+    Py_XDECREF(grip);
     if (!model) raise_status(module, status, "scene", bad);
     return model;
 }
@@ -588,9 +727,15 @@ static PyObject *Model_get_nstops(PyObject *self, void *closure)
     return PyLong_FromLong(exdex_model_nstops(((ModelObject *)self)->model));
 }
 
+static PyObject *Model_stepper(PyObject *self, PyObject *noargs);
+PyDoc_STRVAR(Model_stepper_doc,
+"stepper() -> Stepper\n\n"
+"A new run of this model at its initial state, to advance step by step.");
+
 static PyMethodDef Model_methods[] = {
     {"simulate", (PyCFunction)(void (*)(void))Model_simulate, METH_VARARGS | METH_KEYWORDS, Model_simulate_doc},
     {"final", (PyCFunction)(void (*)(void))Model_final, METH_VARARGS | METH_KEYWORDS, Model_final_doc},
+    {"stepper", (PyCFunction)Model_stepper, METH_NOARGS, Model_stepper_doc},
     {NULL, NULL, 0, NULL}};
 
 static PyGetSetDef Model_getset[] = {
@@ -614,6 +759,244 @@ static PyType_Spec Model_spec = {
     .flags = Py_TPFLAGS_DEFAULT | Py_TPFLAGS_HAVE_GC,
     .slots = Model_slots,
 };
+
+/* ------------------------------------------------------------- stepper
+ * _core.Stepper: exdex_stepper over a compiled Model (Model.stepper()),
+ * which it keeps alive. A step releases the GIL; a per-stepper lock makes a
+ * second thread's call on the same stepper fail instead of racing. */
+typedef struct {
+    PyObject_HEAD
+    exdex_stepper *s;
+    PyObject *model;    /* the ModelObject */
+    PyObject *module;
+    PyThread_type_lock lock;
+} StepperObject;
+
+static int Stepper_traverse(PyObject *self, visitproc visit, void *arg)
+{
+    Py_VISIT(Py_TYPE(self));
+    Py_VISIT(((StepperObject *)self)->model);
+    Py_VISIT(((StepperObject *)self)->module);
+    return 0;
+}
+
+static int Stepper_clear(PyObject *self)
+{
+    /* the stepper reads the model: it goes with the object (dealloc) */
+    (void)self;
+    return 0;
+}
+
+static void Stepper_dealloc(PyObject *self)
+{
+    StepperObject *so = (StepperObject *)self;
+    PyTypeObject *tp = Py_TYPE(self);
+    PyObject_GC_UnTrack(self);
+    exdex_stepper_free(so->s);
+    if (so->lock) PyThread_free_lock(so->lock);
+    Py_CLEAR(so->model);
+    Py_CLEAR(so->module);
+    tp->tp_free(self);
+    Py_DECREF(tp);
+}
+
+static int stepper_acquire(StepperObject *so)
+{
+    if (!PyThread_acquire_lock(so->lock, NOWAIT_LOCK)) {
+        PyErr_SetString(PyExc_RuntimeError, "this Stepper is stepping in another thread; use one Stepper per thread");
+        return -1;
+    }
+    return 0;
+}
+
+PyDoc_STRVAR(Stepper_step_doc,
+"step(dt, grip_force=None) -> None\n\n"
+"Advance by dt [s] (> 0) with this step's grip force [N per finger] (>= 0;\n"
+"None: the scene's own force or schedule), the GIL released.");
+
+static PyObject *Stepper_step(PyObject *self, PyObject *args, PyObject *kwds)
+{
+    static char *kwlist[] = {"dt", "grip_force", NULL};
+    StepperObject *so = (StepperObject *)self;
+    double dt, grip = NAN;
+    PyObject *gobj = Py_None;
+    exdex_stepper_sample x;
+    exdex_stats st;
+    int status;
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "d|O", kwlist, &dt, &gobj)) return NULL;
+    if (!(isfinite(dt) && dt > 0.0)) {
+        PyErr_Format(PyExc_ValueError, "dt must be finite and > 0 [s], got %R", PyTuple_GET_ITEM(args, 0));
+        return NULL;
+    }
+    if (gobj != Py_None) {
+        grip = PyFloat_AsDouble(gobj);
+        if (grip == -1.0 && PyErr_Occurred()) {
+            PyErr_Clear();
+            PyErr_Format(PyExc_TypeError, "grip_force must be a real number or None, not %s",
+                         Py_TYPE(gobj)->tp_name);
+            return NULL;
+        }
+        if (!(isfinite(grip) && grip >= 0.0)) {
+            PyErr_Format(PyExc_ValueError, "grip_force must be finite and >= 0 [N] (or None), got %R", gobj);
+            return NULL;
+        }
+    }
+    if (stepper_acquire(so)) return NULL;
+    exdex_stepper_get(so->s, &x, NULL);
+    Py_BEGIN_ALLOW_THREADS
+    status = exdex_stepper_step(so->s, dt, grip);
+    Py_END_ALLOW_THREADS
+    exdex_stepper_get(so->s, NULL, &st);
+    PyThread_release_lock(so->lock);
+    if (status == EXDEX_EINVAL) {
+        PyErr_Format(PyExc_ValueError,
+                     "dt = %R s cannot advance the time from t = %.17g s (t + dt rounds to t, or more than 1e9 "
+                     "steps of this dt), or the stepper failed earlier (restore a saved state)",
+                     PyTuple_GET_ITEM(args, 0), x.t);
+        return NULL;
+    }
+    if (status) {
+        raise_run_error_at(so->module, status, &st, -1);
+        return NULL;
+    }
+    Py_RETURN_NONE;
+}
+
+static PyObject *doubles_tuple(const double *x, int n)
+{
+    PyObject *t = PyTuple_New(n);
+    if (!t) return NULL;
+    for (int i = 0; i < n; i++) {
+        PyObject *f = PyFloat_FromDouble(x[i]);
+        if (!f) {
+            Py_DECREF(t);
+            return NULL;
+        }
+        PyTuple_SET_ITEM(t, i, f);
+    }
+    return t;
+}
+
+PyDoc_STRVAR(Stepper_state_doc,
+"state() -> (t, q, v, stick, wrench, stop_force, grip_force, steps)\n\n"
+"The state after the last step: time [s], q and v (ndof floats each), the\n"
+"stick flag, the mean plate wrench and stop forces over the last step, its\n"
+"grip force (None: the scene's) and the number of steps taken.");
+
+static PyObject *Stepper_state(PyObject *self, PyObject *noargs)
+{
+    StepperObject *so = (StepperObject *)self;
+    exdex_stepper_sample x;
+    int nd = exdex_model_ndof(((ModelObject *)so->model)->model);
+    int ns = exdex_model_nstops(((ModelObject *)so->model)->model);
+    (void)noargs;
+    exdex_stepper_get(so->s, &x, NULL);
+    return Py_BuildValue("(dNNNNNNn)", x.t, doubles_tuple(x.q, nd), doubles_tuple(x.v, nd),
+                         PyBool_FromLong(x.stick), doubles_tuple(x.wrench, 3), doubles_tuple(x.stop_force, ns),
+                         float_or_none(x.grip_force), (Py_ssize_t)x.steps);
+}
+
+PyDoc_STRVAR(Stepper_stats_doc, "stats() -> dict\n\nSolver statistics over the steps taken (simulate's keys).");
+
+static PyObject *Stepper_stats(PyObject *self, PyObject *noargs)
+{
+    exdex_stats st;
+    (void)noargs;
+    exdex_stepper_get(((StepperObject *)self)->s, NULL, &st);
+    return stats_dict(&st);
+}
+
+PyDoc_STRVAR(Stepper_save_doc, "save() -> bytes\n\nA snapshot of the whole state (restore() takes it back).");
+
+static PyObject *Stepper_save(PyObject *self, PyObject *noargs)
+{
+    StepperObject *so = (StepperObject *)self;
+    size_t size = exdex_stepper_state_size(so->s);
+    PyObject *b = PyBytes_FromStringAndSize(NULL, (Py_ssize_t)size);
+    (void)noargs;
+    if (!b) return NULL;
+    if (stepper_acquire(so)) {
+        Py_DECREF(b);
+        return NULL;
+    }
+    exdex_stepper_save(so->s, PyBytes_AS_STRING(b), size);
+    PyThread_release_lock(so->lock);
+    return b;
+}
+
+PyDoc_STRVAR(Stepper_restore_doc,
+"restore(snapshot) -> None\n\n"
+"Return to the state saved by save() on a stepper of the same Model.");
+
+static PyObject *Stepper_restore(PyObject *self, PyObject *arg)
+{
+    StepperObject *so = (StepperObject *)self;
+    int status;
+    if (!PyBytes_Check(arg)) {
+        PyErr_Format(PyExc_TypeError, "snapshot must be the bytes of Stepper.save(), not %s", Py_TYPE(arg)->tp_name);
+        return NULL;
+    }
+    if (stepper_acquire(so)) return NULL;
+    status = exdex_stepper_restore(so->s, PyBytes_AS_STRING(arg), (size_t)PyBytes_GET_SIZE(arg));
+    PyThread_release_lock(so->lock);
+    if (status) {
+        PyErr_SetString(PyExc_ValueError, "snapshot is not a state saved by a stepper of this Model");
+        return NULL;
+    }
+    Py_RETURN_NONE;
+}
+
+static PyMethodDef Stepper_methods[] = {
+    {"step", (PyCFunction)(void (*)(void))Stepper_step, METH_VARARGS | METH_KEYWORDS, Stepper_step_doc},
+    {"state", Stepper_state, METH_NOARGS, Stepper_state_doc},
+    {"stats", Stepper_stats, METH_NOARGS, Stepper_stats_doc},
+    {"save", Stepper_save, METH_NOARGS, Stepper_save_doc},
+    {"restore", Stepper_restore, METH_O, Stepper_restore_doc},
+    {NULL, NULL, 0, NULL}};
+
+static PyType_Slot Stepper_slots[] = {
+    {Py_tp_doc, (void *)"A run of a compiled Model advanced step by step (Model.stepper()); use exdex.Stepper."},
+    {Py_tp_new, (void *)Model_new_disallowed},
+    {Py_tp_dealloc, (void *)Stepper_dealloc},
+    {Py_tp_traverse, (void *)Stepper_traverse},
+    {Py_tp_clear, (void *)Stepper_clear},
+    {Py_tp_methods, Stepper_methods},
+    {0, NULL}};
+
+static PyType_Spec Stepper_spec = {
+    .name = "exdex._core.Stepper",
+    .basicsize = sizeof(StepperObject),
+    .flags = Py_TPFLAGS_DEFAULT | Py_TPFLAGS_HAVE_GC,
+    .slots = Stepper_slots,
+};
+
+static PyObject *Model_stepper(PyObject *self, PyObject *noargs)
+{
+    ModelObject *mo = (ModelObject *)self;
+    PyTypeObject *tp = (PyTypeObject *)get_state(mo->module)->StepperType;
+    StepperObject *so;
+    int status;
+    exdex_stepper *s;
+    (void)noargs;
+    s = exdex_stepper_alloc(mo->model, &status);
+    if (!s) return raise_status(mo->module, status, "stepper", NULL);
+    so = PyObject_GC_New(StepperObject, tp);
+    if (!so) {
+        exdex_stepper_free(s);
+        return NULL;
+    }
+    so->s = s;
+    so->model = Py_NewRef(self);
+    so->module = Py_NewRef(mo->module);
+    so->lock = PyThread_allocate_lock();
+    if (!so->lock) {
+        PyObject_GC_Track((PyObject *)so);
+        Py_DECREF(so);
+        return PyErr_NoMemory();
+    }
+    PyObject_GC_Track((PyObject *)so);
+    return (PyObject *)so;
+}
 
 PyDoc_STRVAR(compile_doc,
 "compile(spec) -> Model\n\n"
@@ -645,13 +1028,14 @@ PyDoc_STRVAR(analytic_unsupported_doc,
 static PyObject *core_analytic_unsupported(PyObject *module, PyObject *spec)
 {
     exdex_scene_def def;
-    PyArrayObject *times = NULL, *poses = NULL;
+    PyArrayObject *times = NULL, *poses = NULL, *grip = NULL;
     const char *why;
     (void)module;
-    if (scene_from_dict(spec, &def, &times, &poses)) return NULL;
+    if (scene_from_dict(spec, &def, &times, &poses, &grip)) return NULL;
     why = exdex_analytic_unsupported(&def);
     Py_XDECREF(times);
     Py_XDECREF(poses);
+    Py_XDECREF(grip);
     if (!why) Py_RETURN_NONE;
     return PyUnicode_FromString(why);
 }
@@ -665,7 +1049,7 @@ static PyObject *core_motion_eval(PyObject *module, PyObject *args, PyObject *kw
 {
     static char *kwlist[] = {"spec", "t", NULL};
     PyObject *spec, *tobj, *result = NULL;
-    PyArrayObject *times = NULL, *poses = NULL, *ta = NULL, *out[6] = {NULL};
+    PyArrayObject *times = NULL, *poses = NULL, *grip = NULL, *ta = NULL, *out[6] = {NULL};
     exdex_scene_def def;
     exdex_motion *mo = NULL;
     const char *bad = NULL;
@@ -675,7 +1059,7 @@ static PyObject *core_motion_eval(PyObject *module, PyObject *args, PyObject *kw
     ta = (PyArrayObject *)PyArray_FROMANY(tobj, NPY_DOUBLE, 0, 1, NPY_ARRAY_IN_ARRAY);
     if (!ta) return NULL;
     n = PyArray_SIZE(ta);
-    if (scene_from_dict(spec, &def, &times, &poses)) goto done;
+    if (scene_from_dict(spec, &def, &times, &poses, &grip)) goto done;
     mo = exdex_motion_alloc(&def.motion, def.R0, def.p0, &status, &bad);
     if (!mo) {
         raise_status(module, status, "motion", bad);
@@ -715,8 +1099,49 @@ done:
     exdex_motion_free(mo);
     Py_XDECREF(times);
     Py_XDECREF(poses);
+    Py_XDECREF(grip);
     Py_XDECREF(ta);
     for (int i = 0; i < 6; i++) Py_XDECREF(out[i]);
+    return result;
+}
+
+PyDoc_STRVAR(grip_eval_doc,
+"grip_eval(spec, t) -> (force, rate)\n\n"
+"Normal force of each finger F(t) [N] and its rate dF/dt [N/s] (right derivative at a\n"
+"breakpoint) at the times t (float64, any shape up to 1-D), of the scene's constant grip\n"
+"force or grip schedule (exdex_model_grip).");
+
+static PyObject *core_grip_eval(PyObject *module, PyObject *args, PyObject *kwds)
+{
+    static char *kwlist[] = {"spec", "t", NULL};
+    PyObject *spec, *tobj, *result = NULL;
+    PyArrayObject *ta = NULL, *fo = NULL, *ra = NULL;
+    exdex_model *model = NULL;
+    npy_intp n;
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "OO", kwlist, &spec, &tobj)) return NULL;
+    ta = (PyArrayObject *)PyArray_FROMANY(tobj, NPY_DOUBLE, 0, 1, NPY_ARRAY_IN_ARRAY);
+    if (!ta) return NULL;
+    n = PyArray_SIZE(ta);
+    model = model_from_spec(module, spec);
+    if (!model) goto done;
+    fo = (PyArrayObject *)PyArray_SimpleNew(1, &n, NPY_DOUBLE);
+    ra = (PyArrayObject *)PyArray_SimpleNew(1, &n, NPY_DOUBLE);
+    if (!fo || !ra) goto done;
+    {
+        const double *tp = PyArray_DATA(ta);
+        double *f = PyArray_DATA(fo), *r = PyArray_DATA(ra);
+        for (npy_intp i = 0; i < n; i++)
+            if (exdex_model_grip(model, tp[i], f + i, r + i)) {
+                PyErr_SetString(PyExc_ValueError, "t must not hold NaN");
+                goto done;
+            }
+    }
+    result = Py_BuildValue("(OO)", fo, ra);
+done:
+    exdex_model_free(model);
+    Py_XDECREF(ta);
+    Py_XDECREF(fo);
+    Py_XDECREF(ra);
     return result;
 }
 
@@ -730,14 +1155,14 @@ static PyObject *core_motion_jumps(PyObject *module, PyObject *args, PyObject *k
 {
     static char *kwlist[] = {"spec", NULL};
     PyObject *spec, *result = NULL;
-    PyArrayObject *times = NULL, *poses = NULL;
+    PyArrayObject *times = NULL, *poses = NULL, *grip = NULL;
     exdex_scene_def def;
     exdex_motion *mo = NULL;
     const char *bad = NULL;
     int status = EXDEX_OK, nj;
     double tj[EXDEX_MOTION_MAX_JUMPS], dv[EXDEX_MOTION_MAX_JUMPS][3], dw[EXDEX_MOTION_MAX_JUMPS][3];
     if (!PyArg_ParseTupleAndKeywords(args, kwds, "O", kwlist, &spec)) return NULL;
-    if (scene_from_dict(spec, &def, &times, &poses)) goto done;
+    if (scene_from_dict(spec, &def, &times, &poses, &grip)) goto done;
     mo = exdex_motion_alloc(&def.motion, def.R0, def.p0, &status, &bad);
     if (!mo) {
         raise_status(module, status, "motion", bad);
@@ -755,6 +1180,7 @@ done:
     exdex_motion_free(mo);
     Py_XDECREF(times);
     Py_XDECREF(poses);
+    Py_XDECREF(grip);
     return result;
 }
 
@@ -831,17 +1257,21 @@ static PyObject *core_n_samples(PyObject *module, PyObject *args)
 }
 
 /* ------------------------------------------------------------------ batch
- * simulate_batch: many trajectories in one call. Every model is built (and
- * validated) with the GIL held; then the GIL is released and the trajectories
- * run on POSIX threads that take indices from a shared, locked counter. Each
- * trajectory is one exdex_simulate call on its own model and output rows, so
- * results are bit-identical to serial exdex.simulate for any thread count.
- * The threads live here: the C core stays thread-agnostic. */
+ * simulate_batch: many trajectories in one call. With a sequence of spec
+ * dicts every model is built (and validated) with the GIL held; with one spec
+ * dict and `vary`, the dict is read once and model 0 is built with the GIL
+ * held (it fixes ndof and the stops, which scalars do not change), and every
+ * other model is built from a copy of that definition by the worker thread
+ * that runs it, with the GIL released, and freed right after its run. The
+ * trajectories run on POSIX threads that take indices from a shared, locked
+ * counter. Each trajectory is one exdex_simulate call on its own model and
+ * output rows, so results are bit-identical to serial exdex.simulate for any
+ * thread count. The threads live here: the C core stays thread-agnostic. */
 
 /* Scalar fields of exdex_scene_def a batch may vary from a base spec (`vary`). */
 static const char *const vary_keys[] = {"mass", "mu", "grip_force", "e_r", "motion_amplitude",
                                         "motion_duration", "motion_beta", "motion_v_max", "eps",
-                                        "rtol", "atol", NULL};
+                                        "rtol", "atol", "mu_static", NULL};
 
 static double *vary_field(exdex_scene_def *d, int which)
 {
@@ -856,6 +1286,7 @@ static double *vary_field(exdex_scene_def *d, int which)
     case 7: return &d->motion.v_max;
     case 8: return &d->eps;
     case 9: return &d->rtol;
+    case 11: return &d->mu_static;
     default: return &d->atol;
     }
 }
@@ -891,17 +1322,27 @@ static void prefix_error(Py_ssize_t i)
     PyErr_Restore(type, value, tb);
 }
 
-/* The library exception of a failed trajectory: SolverError(message, status)
- * with attributes `status` and `index` (or ValueError / MemoryError). */
-static void raise_trajectory_error(PyObject *module, int status, Py_ssize_t i)
+/* The library exception of failed trajectory i: simulate's (raise_run_error_at:
+ * when, why, what to use instead; attributes status, time, cause) with
+ * "batch index i: " in front and the attribute `index` (or ValueError /
+ * MemoryError). */
+static void raise_trajectory_error(PyObject *module, int status, const exdex_stats *st, Py_ssize_t i)
 {
-    char what[64];
-    snprintf(what, sizeof what, "batch index %zd", i);
-    expy_raise_status(get_state(module)->SolverError, status, what, NULL, NULL, i);
+    if (status == EXDEX_ENOCONV || status == EXDEX_ENONFINITE) {
+        raise_run_error_at(module, status, st, i);
+    } else {
+        char what[64];
+        PyOS_snprintf(what, sizeof what, "batch index %zd", i);
+        expy_raise_status(get_state(module)->SolverError, status, what, NULL, NULL, i);
+    }
 }
 
 typedef struct batch_ctx {
-    exdex_model **models;
+    exdex_model **models;   /* every model (specs), or only models[0] (base + vary) */
+    const exdex_scene_def *base;   /* base + vary: the definition the workers copy */
+    int nvary;
+    const int *which;
+    const double **vals;   /* vals[k][i]: entry i of vary field which[k] */
     size_t nb, n;           /* trajectories, samples per trajectory */
     double t_end, dt;
     int ndof, ns, final;
@@ -914,9 +1355,12 @@ typedef struct batch_ctx {
     double *max_impulse, *max_impulse_t, *first_warning_t;
     /* shared work index and the first failure */
     pthread_mutex_t lock;
-    size_t next;
-    size_t fail_index;      /* smallest failing index, nb if none */
+    size_t next, chunk;     /* next index to hand out; indices per hand-out */
+    size_t fail_index;      /* smallest failing index, nb if none (atomic stores under lock) */
     int fail_status;
+    int fail_build;         /* the failure at fail_index is the model build (bad scene) */
+    const char *fail_bad;   /* then: the parameter the core names */
+    exdex_stats fail_stats; /* else: the statistics of that failure (fail_time, fail_cause) */
     int stop;               /* set when a signal handler raised (Ctrl-C): no new indices */
     PyThreadState *ts;      /* the calling thread's state while the GIL is released */
 } batch_ctx;
@@ -926,6 +1370,7 @@ typedef struct batch_worker {
     double *buf;            /* scratch: t (all); t, q, v, wrench, stop_force (final) */
     unsigned char *stick;   /* scratch stick (final) */
     pthread_t tid;
+    size_t cur, end;        /* the indices of the chunk in hand: [cur, end) */
     int started;
     int poll;               /* the calling (main) thread: run signal handlers now and then */
     double next_poll;       /* monotonic time of the next check [s] */
@@ -953,7 +1398,7 @@ static void batch_poll_signals(batch_worker *w)
     c->ts = PyEval_SaveThread();
     if (raised) {
         pthread_mutex_lock(&c->lock);
-        c->stop = 1;
+        __atomic_store_n(&c->stop, 1, __ATOMIC_RELEASE);
         pthread_mutex_unlock(&c->lock);
     }
 }
@@ -967,20 +1412,26 @@ static void *batch_run(void *arg)
     for (;;) {
         size_t i;
         int status;
+        exdex_model *model;
         exdex_trajectory tr;
         exdex_stats st;
         if (w->poll) batch_poll_signals(w);
-        pthread_mutex_lock(&c->lock);
-        i = c->next;
-        /* after a failure at f, indices above f are not started (every index
-         * below f was handed out already), so the error reported is the
-         * smallest failing index whatever the thread count */
-        if (i >= c->nb || i > c->fail_index || c->stop) {
+        /* indices come in chunks of c->chunk consecutive ones, handed out in
+         * order; after a failure at f, indices above f are not started (every
+         * index below f was handed out already, and the ones in f's own chunk
+         * run before f), so the error reported is the smallest failing index
+         * whatever the thread count and chunk */
+        if (w->cur >= w->end) {
+            pthread_mutex_lock(&c->lock);
+            w->cur = c->next;
+            w->end = w->cur + c->chunk < c->nb ? w->cur + c->chunk : c->nb;
+            c->next = w->end;
             pthread_mutex_unlock(&c->lock);
-            break;
         }
-        c->next = i + 1;
-        pthread_mutex_unlock(&c->lock);
+        i = w->cur++;
+        if (i >= c->nb || i > __atomic_load_n(&c->fail_index, __ATOMIC_ACQUIRE) ||
+            __atomic_load_n(&c->stop, __ATOMIC_ACQUIRE))
+            break;
         tr.n = n;
         tr.t = i == 0 ? c->t : w->buf;
         if (c->final) {
@@ -996,12 +1447,34 @@ static void *batch_run(void *arg)
             tr.stop_force = ns ? c->stop_force + i * n * (size_t)ns : NULL;
             tr.stick = c->stick + i * n;
         }
-        status = exdex_simulate(c->models[i], c->t_end, c->dt, &tr, &st);
+        if (c->base && i > 0) {
+            exdex_scene_def def = *c->base;
+            const char *bad = NULL;
+            for (int k = 0; k < c->nvary; k++) *vary_field(&def, c->which[k]) = c->vals[k][i];
+            model = exdex_model_alloc(&def, &status, &bad);
+            if (!model) {
+                pthread_mutex_lock(&c->lock);
+                if (i < c->fail_index) {
+                    __atomic_store_n(&c->fail_index, i, __ATOMIC_RELEASE);
+                    c->fail_status = status;
+                    c->fail_build = 1;
+                    c->fail_bad = bad;
+                }
+                pthread_mutex_unlock(&c->lock);
+                continue;
+            }
+            status = exdex_simulate(model, c->t_end, c->dt, &tr, &st);
+            exdex_model_free(model);
+        } else {
+            status = exdex_simulate(c->models[i], c->t_end, c->dt, &tr, &st);
+        }
         if (status) {
             pthread_mutex_lock(&c->lock);
             if (i < c->fail_index) {
-                c->fail_index = i;
+                __atomic_store_n(&c->fail_index, i, __ATOMIC_RELEASE);
                 c->fail_status = status;
+                c->fail_build = 0;
+                c->fail_stats = st;
             }
             pthread_mutex_unlock(&c->lock);
             continue;
@@ -1057,7 +1530,7 @@ static Py_ssize_t parse_vary(PyObject *vary, int *which, PyArrayObject **arrays,
         if (w < 0) {
             PyErr_Format(PyExc_ValueError,
                          "vary: unknown key '%s' (allowed: mass, mu, grip_force, e_r, motion_amplitude, "
-                         "motion_duration, motion_beta, motion_v_max, eps, rtol, atol)", name);
+                         "motion_duration, motion_beta, motion_v_max, eps, rtol, atol, mu_static)", name);
             return -1;
         }
         arrays[*nvary] = (PyArrayObject *)PyArray_FROMANY(val, NPY_DOUBLE, 1, 1, NPY_ARRAY_IN_ARRAY);
@@ -1094,14 +1567,15 @@ PyDoc_STRVAR(simulate_batch_doc,
 "vary : optional dict {spec key: 1-D float64 array of the batch length}; entry\n"
 "    i replaces that scalar of spec i (keys: mass, mu, grip_force, e_r,\n"
 "    motion_amplitude, motion_duration, motion_beta, motion_v_max, eps, rtol,\n"
-"    atol). With a single spec dict it sets the batch length.\n"
+"    atol, mu_static). With a single spec dict it sets the batch length.\n"
 "record : 'all' returns q, v (B, n, ndof), wrench (B, n, 3), stick (B, n),\n"
 "    stop_force (B, n, n_stops); 'final' only their last sample, q, v (B, ndof),\n"
 "    wrench (B, 3), stick (B,), stop_force (B, n_stops).\n"
 "Both return t (n,), displacement (B, ndof) = q[n-1] - q[0], and stats, a dict\n"
 "of (B,) arrays. Every scene must have the same ndof and number of stops.\n"
 "Errors name the batch index; a failing trajectory raises SolverError with\n"
-"attributes status and index (the smallest failing index).\n"
+"attributes status and index (the smallest failing index; with vary, a scene\n"
+"the core rejects counts as failing at its index and raises ValueError).\n"
 "check_signals : if true (pass it from the main thread), the calling thread runs\n"
 "    Python's signal handlers about every 0.1 s, so Ctrl-C stops the batch.");
 
@@ -1114,13 +1588,14 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
     double t_end, dt;
     int threads = 0, check_signals = 0, final, nvary = 0, which[NVARY_MAX], ndof = 0, ns = 0, have_mutex = 0;
     PyArrayObject *varr[NVARY_MAX] = {NULL};
-    PyArrayObject *base_times = NULL, *base_poses = NULL;
+    PyArrayObject *base_times = NULL, *base_poses = NULL, *base_grip = NULL;
     PyArrayObject *t = NULL, *q = NULL, *v = NULL, *wr = NULL, *stick = NULL, *sf = NULL, *disp = NULL;
     PyArrayObject *sarr[11] = {NULL};
     exdex_model **models = NULL;
     batch_worker *workers = NULL;
     exdex_scene_def base;
-    Py_ssize_t nb, nvary_len, i;
+    const double *vals[NVARY_MAX];
+    Py_ssize_t nb, nvary_len, i, nmodels = 0;
     size_t n;
     long nthreads, running = 1;
     batch_ctx ctx;
@@ -1152,7 +1627,7 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
     /* ---- the batch: one spec dict (+ vary) or a sequence of spec dicts */
     if (PyDict_Check(specs)) {
         nb = nvary_len >= 0 ? nvary_len : 1;
-        if (scene_from_dict(specs, &base, &base_times, &base_poses)) goto done;
+        if (scene_from_dict(specs, &base, &base_times, &base_poses, &base_grip)) goto done;
     } else {
         seq = PySequence_Fast(specs, "specs must be a spec dict or a sequence of spec dicts");
         if (!seq) goto done;
@@ -1167,19 +1642,21 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
         goto done;
     }
 
-    /* ---- build every model with the GIL held */
-    models = PyMem_Calloc((size_t)nb, sizeof *models);
+    /* ---- build the models with the GIL held: every one (specs), or model 0
+     * (base + vary; the workers build the others) */
+    nmodels = seq ? nb : 1;
+    models = PyMem_Calloc((size_t)nmodels, sizeof *models);
     if (!models) {
         PyErr_NoMemory();
         goto done;
     }
-    for (i = 0; i < nb; i++) {
+    for (i = 0; i < nmodels; i++) {
         exdex_scene_def def;
-        PyArrayObject *times = NULL, *poses = NULL;
+        PyArrayObject *times = NULL, *poses = NULL, *grip = NULL;
         const char *bad = NULL;
         int status;
         if (seq) {
-            if (scene_from_dict(PySequence_Fast_GET_ITEM(seq, i), &def, &times, &poses)) {
+            if (scene_from_dict(PySequence_Fast_GET_ITEM(seq, i), &def, &times, &poses, &grip)) {
                 prefix_error(i);
                 goto done;
             }
@@ -1190,6 +1667,7 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
         models[i] = exdex_model_alloc(&def, &status, &bad);
         Py_XDECREF(times);
         Py_XDECREF(poses);
+        Py_XDECREF(grip);
         if (!models[i]) {
             raise_status(module, status, "scene", bad);
             prefix_error(i);
@@ -1262,6 +1740,13 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
         }
     }
     ctx.models = models;
+    if (!seq) {
+        for (int k = 0; k < nvary; k++) vals[k] = (const double *)PyArray_DATA(varr[k]);
+        ctx.base = &base;
+        ctx.nvary = nvary;
+        ctx.which = which;
+        ctx.vals = vals;
+    }
     ctx.nb = (size_t)nb;
     ctx.n = n;
     ctx.t_end = t_end;
@@ -1288,6 +1773,11 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
     ctx.max_impulse_stop = PyArray_DATA(sarr[9]);
     ctx.first_warning_t = PyArray_DATA(sarr[10]);
     ctx.next = 0;
+    /* short trajectories (the analytic path: about a microsecond) in chunks,
+     * so that the lock is not the bottleneck; otherwise one at a time */
+    ctx.chunk = (size_t)nb / ((size_t)nthreads * 64);
+    if (ctx.chunk < 1) ctx.chunk = 1;
+    if (ctx.chunk > 64) ctx.chunk = 64;
     ctx.fail_index = (size_t)nb;
     ctx.fail_status = EXDEX_OK;
     if (pthread_mutex_init(&ctx.lock, NULL)) {
@@ -1312,7 +1802,12 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
     PyEval_RestoreThread(ctx.ts);
     if (ctx.stop) goto done;  /* a signal handler raised (KeyboardInterrupt): its exception is set */
     if (ctx.fail_index < (size_t)nb) {
-        raise_trajectory_error(module, ctx.fail_status, (Py_ssize_t)ctx.fail_index);
+        if (ctx.fail_build) {
+            raise_status(module, ctx.fail_status, "scene", ctx.fail_bad);
+            prefix_error((Py_ssize_t)ctx.fail_index);
+        } else {
+            raise_trajectory_error(module, ctx.fail_status, &ctx.fail_stats, (Py_ssize_t)ctx.fail_index);
+        }
         goto done;
     }
     stats = Py_BuildValue("{s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O}", "steps", sarr[0], "stick_steps",
@@ -1333,13 +1828,14 @@ done:
         PyMem_Free(workers);
     }
     if (models) {
-        for (i = 0; i < nb; i++) exdex_model_free(models[i]);
+        for (i = 0; i < nmodels; i++) exdex_model_free(models[i]);
         PyMem_Free(models);
     }
     for (int k = 0; k < NVARY_MAX; k++) Py_XDECREF(varr[k]);
     for (int k = 0; k < 11; k++) Py_XDECREF(sarr[k]);
     Py_XDECREF(base_times);
     Py_XDECREF(base_poses);
+    Py_XDECREF(base_grip);
     Py_XDECREF(seq);
     Py_XDECREF(t);
     Py_XDECREF(q);
@@ -1362,6 +1858,7 @@ static PyMethodDef core_methods[] = {
      motion_eval_doc},
     {"motion_jumps", (PyCFunction)(void (*)(void))core_motion_jumps, METH_VARARGS | METH_KEYWORDS,
      motion_jumps_doc},
+    {"grip_eval", (PyCFunction)(void (*)(void))core_grip_eval, METH_VARARGS | METH_KEYWORDS, grip_eval_doc},
     {"friction_solve", (PyCFunction)(void (*)(void))core_friction_solve, METH_VARARGS | METH_KEYWORDS,
      friction_solve_doc},
     {"er_disc", core_er_disc, METH_O, "e_r [m] of a uniform pressure disc of radius R: 2R/3 (NaN if R <= 0)."},
@@ -1395,6 +1892,13 @@ static const expy_constant core_constants[] = {
     {"MOTION_ASYMMETRIC", EXDEX_MOTION_ASYMMETRIC},
     {"MOTION_TRAPEZOID", EXDEX_MOTION_TRAPEZOID},
     {"MOTION_SAMPLED", EXDEX_MOTION_SAMPLED},
+    {"MOTION_SHAKE", EXDEX_MOTION_SHAKE},
+    {"MOTION_CHAIN", EXDEX_MOTION_CHAIN},
+    {"MOTION_MAX_PIECES", EXDEX_MOTION_MAX_PIECES},
+    {"GRIP_LINEAR", EXDEX_GRIP_LINEAR},
+    {"GRIP_CUBIC", EXDEX_GRIP_CUBIC},
+    {"GRIP_STEP", EXDEX_GRIP_STEP},
+    {"MAX_GRIP_POINTS", EXDEX_MAX_GRIP_POINTS},
     {NULL, 0}};
 
 static int core_exec(PyObject *module)
@@ -1412,6 +1916,9 @@ static int core_exec(PyObject *module)
     s->ModelType = PyType_FromModuleAndSpec(module, &Model_spec, NULL);
     if (!s->ModelType) return -1;
     if (PyModule_AddObjectRef(module, "Model", s->ModelType) < 0) return -1;
+    s->StepperType = PyType_FromModuleAndSpec(module, &Stepper_spec, NULL);
+    if (!s->StepperType) return -1;
+    if (PyModule_AddObjectRef(module, "Stepper", s->StepperType) < 0) return -1;
     if (expy_add_constants(module, core_constants) < 0) return -1;
     return 0;
 }
@@ -1420,6 +1927,7 @@ static int core_traverse(PyObject *module, visitproc visit, void *arg)
 {
     Py_VISIT(get_state(module)->SolverError);
     Py_VISIT(get_state(module)->ModelType);
+    Py_VISIT(get_state(module)->StepperType);
     return 0;
 }
 
@@ -1427,6 +1935,7 @@ static int core_clear(PyObject *module)
 {
     Py_CLEAR(get_state(module)->SolverError);
     Py_CLEAR(get_state(module)->ModelType);
+    Py_CLEAR(get_state(module)->StepperType);
     return 0;
 }
 

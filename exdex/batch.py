@@ -45,7 +45,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from exdex import _core, _optional
-from exdex.scene import METHODS, SOLVERS, AsymmetricProfile, Body, Grasp, Scene, TrapezoidalProfile, _real
+from exdex.scene import METHODS, SOLVERS, AsymmetricProfile, Body, Grasp, GripSchedule, Scene, TrapezoidalProfile, _real
 from exdex import diagnostics
 from exdex.simulate import FrictionSolver, Method, Result, _check_times, resolve_method
 
@@ -83,6 +83,7 @@ PARAMETERS: Dict[str, _Param] = {
     "duration": _Param(("motion", "duration"), "motion_duration", 0.0, None, True, False, _MOTIONS),
     "beta": _Param(("motion", "beta"), "motion_beta", 0.0, 1.0, True, True, (AsymmetricProfile,)),
     "v_max": _Param(("motion", "v_max"), "motion_v_max", 0.0, None, True, False, (TrapezoidalProfile,)),
+    "mu_static": _Param(("grasp", "mu_static"), "mu_static", 0.0, None, False, False),
 }
 
 # names people reach for, pointing at ours
@@ -229,6 +230,9 @@ def _replace_params(scene, values):
 
 def _replace_path(obj, path, value):
     if len(path) == 1:
+        if path[0] == "grip_force" and isinstance(getattr(obj, "grip_force"), GripSchedule):
+            # on a grip schedule the batch's grip_force is a scale of it (the core's grip_force)
+            value = obj.grip_force.scaled(value)
         return dataclasses.replace(obj, **{path[0]: value})
     return dataclasses.replace(obj, **{path[0]: _replace_path(getattr(obj, path[0]), path[1:], value)})
 
@@ -320,6 +324,25 @@ def _check_trapezoids(scene, flat):
                          f"v_max {v[i]:g}")
 
 
+def _check_static(scene, flat):
+    """Grasp's coupled check, vectorised: mu_static >= mu where mu_static is
+    given (a scene's None means equal to mu, whatever mu is varied to)."""
+    if "mu" not in flat and "mu_static" not in flat:
+        return
+    scenes = scene if isinstance(scene, tuple) else (scene,)
+    n = len(next(iter(flat.values())))
+    base = lambda f: np.array([np.nan if getattr(sc.grasp, f) is None else getattr(sc.grasp, f)  # noqa: E731
+                               for sc in scenes]) if len(scenes) > 1 else \
+        np.full(n, np.nan if getattr(scenes[0].grasp, f) is None else getattr(scenes[0].grasp, f))
+    mu = flat.get("mu", base("mu"))
+    ms = flat.get("mu_static", base("mu_static"))
+    bad = ms < mu   # NaN (not given) compares False
+    if np.any(bad):
+        i = int(np.flatnonzero(bad)[0])
+        raise ValueError(f"batch index {i}: mu_static = {ms[i]:g} must be in [mu, inf) = [{mu[i]:g}, inf) "
+                         "(grasp.mu_static)")
+
+
 def _as_float_array(value, name):
     if isinstance(value, (str, bytes)):
         raise TypeError(f"batch parameter {name!r} must be numbers, got {type(value).__name__}")
@@ -374,8 +397,12 @@ def simulate_batch(scene: Union[Scene, Sequence[Scene]], t_end: float, dt: float
         broadcast together and the batch runs over their broadcast shape in
         C order. Names (the Scene field each replaces, its allowed range):
 
-        ``mass`` (body.mass, kg > 0), ``mu`` (grasp.mu, >= 0), ``grip_force``
-        (grasp.grip_force per finger, N >= 0), ``e_r`` (grasp.patch.e_r, m > 0),
+        ``mass`` (body.mass, kg > 0), ``mu`` (grasp.mu, >= 0), ``mu_static``
+        (grasp.mu_static, >= mu; a scene without it keeps it equal to mu as
+        mu varies), ``grip_force``
+        (grasp.grip_force per finger, N >= 0; on a :class:`exdex.GripSchedule`
+        a factor >= 0 on its forces, ``GripSchedule.scaled``), ``e_r``
+        (grasp.patch.e_r, m > 0),
         ``amplitude`` (motion.amplitude, X1 [m] or theta1 [rad]),
         ``duration`` (motion.duration, T [s] > 0), ``beta`` (motion.beta of
         an AsymmetricProfile, in (0, 1)), ``v_max`` (motion.v_max of a
@@ -397,7 +424,9 @@ def simulate_batch(scene: Union[Scene, Sequence[Scene]], t_end: float, dt: float
         ("batch index i: ...").
     exdex.SolverError
         If a trajectory fails; ``.index`` is the smallest failing batch index
-        and the message names it.
+        and the message is simulate's for that trajectory ("batch index i: "
+        in front: the time reached, the cause and the remedy; attributes
+        ``time`` and ``cause`` as in :func:`exdex.simulate`).
     """
     if isinstance(scene, Scene):
         scenes = None
@@ -448,6 +477,7 @@ def simulate_batch(scene: Union[Scene, Sequence[Scene]], t_end: float, dt: float
     if math.prod(shape) == 0:
         raise ValueError(f"the batch is empty (broadcast shape {shape})")
     _check_trapezoids(scenes if scenes is not None else scene, flat)
+    _check_static(scenes if scenes is not None else scene, flat)
 
     opts: Dict[str, Any] = dict(method=method, friction_solver=friction_solver, eps=eps, rtol=rtol, atol=atol)
     specs: Any = [s.to_spec(**opts) for s in scenes] if scenes is not None else cast(Scene, scene).to_spec(**opts)

@@ -50,15 +50,27 @@ def _needs_tool(args):
 
 # command -> (module, one-line help, optional modules it needs for given args)
 COMMANDS = {
-    "paper": ("exdex.paper", "reproduce the paper's case studies (Figs. 3, 4, 6) into a folder", _needs_paper),
-    "compare": ("exdex.engines", "cross-check the paper cases against pybullet, MuJoCo and Drake", _needs_compare),
-    "hold": ("exdex.hold", "hold benchmark: drift of a held object in exdex and the engines' settings", _needs_hold),
-    "bench": ("exdex.bench", "work-precision charts and stability maps of the integration methods", _needs_bench),
-    "tool": ("exdex.tool", "assistive-tool design: twist-cone volumes and tool-angle optimisation", _needs_tool),
+    "paper": ("exdex.cli_paper", "reproduce the paper's case studies (Figs. 3, 4, 6) into a folder", _needs_paper),
+    "compare": ("exdex.cli_compare", "cross-check the paper cases against pybullet, MuJoCo and Drake", _needs_compare),
+    "hold": ("exdex.cli_hold", "hold benchmark: drift of a held object in exdex and the engines' settings", _needs_hold),
+    "bench": ("exdex.cli_bench", "work-precision charts and stability maps of the integration methods", _needs_bench),
+    "tool": ("exdex.cli_tool", "assistive-tool design: twist-cone volumes and tool-angle optimisation", _needs_tool),
     "run": ("exdex.cli_run", "simulate a scene file (TOML or JSON): CSV, NPZ, a figure, an animation", _needs_run),
-    "plan": ("exdex.plan", "plan the motion or grip for a target slip or turn; band under uncertainty; poses CSV",
+    "plan": ("exdex.cli_plan", "plan the motion or grip for a target slip or turn; band under uncertainty; poses CSV",
              _needs_run),
 }
+
+
+def require_engines(command):
+    """One line on stderr naming the extra and return 2 if an engine is missing, else None."""
+    from exdex.engines import missing_engines
+
+    missing = missing_engines()
+    if missing:
+        print(f"exdex {command} needs the engines extra ({', '.join(missing)} not installed): "
+              f"pip install 'exdex[engines]'", file=sys.stderr)
+        return 2
+    return None
 
 
 def _version():

@@ -72,9 +72,11 @@ point contacts); ``stats`` holds the engine settings and wall time;
 ``method`` is ``"pybullet"``, ``"mujoco"`` or ``"drake"``.
 
 The engines are imported inside the functions, so ``import exdex`` never
-needs them (they come with ``pip install 'exdex[engines]'``).
-``exdex compare`` runs the paper cases and the planar case (see ``run``);
-``exdex hold`` the hold benchmark (``exdex.hold``).
+needs them (they come with ``pip install 'exdex[engines]'``); a run without
+its engine raises ``exdex.MissingExtraError`` naming the extra.
+``exdex compare`` (``exdex.cli_compare``) runs the paper cases and the planar
+case in exdex and the three engines; ``exdex hold`` the hold benchmark
+(``exdex.hold``).
 """
 from __future__ import annotations
 
@@ -83,11 +85,12 @@ import time
 
 import numpy as np
 
+from exdex._optional import require
 from exdex.scene import Scene, _quat_from_matrix, _real
 from exdex.simulate import Result
 
 __all__ = ["run_pybullet", "run_mujoco", "run_drake", "missing_engines", "drift_rate", "pad_geometry", "torque_capacity",
-           "ablation", "ABLATION_MODELS", "add_arguments", "run"]
+           "ablation", "ABLATION_MODELS"]
 
 PAD_THICKNESS = 0.005      # half-thickness of the plate/pad boxes [m]
 POINT_RADIUS = 0.005       # radius of the sphere pads of contact="point" [m]
@@ -185,6 +188,15 @@ class _Layout:
         if self.contact == "point":
             return self.scene.grasp.mu * self.scene.grasp.patch.e_r
         return 0.0
+
+
+def _grip_force(scene):
+    """The constant grip force the engines' finger joints press with [N]."""
+    f = scene.grasp.grip_force
+    if not isinstance(f, (int, float)):
+        raise ValueError("the engine runs press the fingers with a constant grip force; this scene's "
+                         "Grasp.grip_force is a GripSchedule (use exdex.simulate for it)")
+    return f
 
 
 def _kinematics(scene, t):
@@ -354,7 +366,7 @@ def run_mujoco(scene, t_end, *, dt=0.002, iterations=100, cone="elliptic", impra
     gripper_mass : mass of the kinematically driven gripper body [kg].
     plate_mass : mass of the pushed plate on its prismatic joint [kg].
     """
-    import mujoco
+    mujoco = require("mujoco", "exdex.engines.run_mujoco")
 
     lay = _Layout(scene, contact)
     n, dt = _steps(t_end, dt)
@@ -383,7 +395,7 @@ def run_mujoco(scene, t_end, *, dt=0.002, iterations=100, cone="elliptic", impra
         d.qvel[3:6] = R.T @ kin["w"][k]
         d.xfrc_applied[gid, 0:3] = Mg * (kin["a"][k] - g)
         d.xfrc_applied[gid, 3:6] = Mg * kin["dw"][k]     # isotropic inertia: w x I w = 0
-        d.qfrc_applied[sq] = -scene.grasp.grip_force
+        d.qfrc_applied[sq] = -_grip_force(scene)
 
     dof = {name: m.joint(name).dofadr[0] for name in ("on", "ox", "oy", "ob") if _has_joint(m, name)}
 
@@ -441,7 +453,7 @@ def run_pybullet(scene, t_end, *, dt=1.0 / 240.0, iterations=50, cone=True, cont
     erp : contact error reduction parameter (None: pybullet's default).
     gripper_mass, plate_mass : as for ``run_mujoco``.
     """
-    import pybullet as pb
+    pb = require("pybullet", "exdex.engines.run_pybullet")
 
     lay = _Layout(scene, contact)
     n, dt = _steps(t_end, dt)
@@ -556,7 +568,7 @@ def run_pybullet(scene, t_end, *, dt=1.0 / 240.0, iterations=50, cone=True, cont
         def drive(k):
             pb.applyExternalForce(body, -1, list(Mg * (kin["a"][k] - g)), list(kin["p"][k]), pb.WORLD_FRAME, **kw)
             pb.applyExternalTorque(body, -1, list(Mg * kin["dw"][k]), pb.WORLD_FRAME, **kw)
-            pb.setJointMotorControl2(body, 0, pb.TORQUE_CONTROL, force=-scene.grasp.grip_force, **kw)
+            pb.setJointMotorControl2(body, 0, pb.TORQUE_CONTROL, force=-_grip_force(scene), **kw)
 
         def record(k):
             pB, qB = pb.getBasePositionAndOrientation(body, **kw)
@@ -655,7 +667,7 @@ def run_drake(scene, t_end, *, dt=1e-3, contact_model="point", approximation="la
         Hunt-Crossley dissipation [s/m] (None: Drake's defaults).
     gripper_mass, plate_mass : as for ``run_mujoco``.
     """
-    import pydrake
+    pydrake = require("pydrake", "exdex.engines.run_drake")
     from pydrake.geometry import (AddCompliantHydroelasticProperties, AddContactMaterial,
                                   AddRigidHydroelasticProperties, Box, CollisionFilterDeclaration, GeometrySet,
                                   ProximityProperties, Sphere)
@@ -770,7 +782,7 @@ def run_drake(scene, t_end, *, dt=1e-3, contact_model="point", approximation="la
     diagram = builder.Build()
     ctx = diagram.CreateDefaultContext()
     pctx = plant.GetMyMutableContextFromRoot(ctx)
-    plant.get_actuation_input_port().FixValue(pctx, [-scene.grasp.grip_force])
+    plant.get_actuation_input_port().FixValue(pctx, [-_grip_force(scene)])
     force_port = plant.get_applied_spatial_force_input_port()
     g, times, kin, pos, vel, RBC, om, fstop = _run_arrays(scene, n, dt)
     # initial joint state: plate 2 touching, object at q0 (joints at zero)
@@ -952,61 +964,6 @@ def ablation(scene, t_end, dt=1e-3, models=ABLATION_MODELS):
     return out
 
 
-# ---------------------------------------------------------------- `exdex compare`
-
-CASES = ("fig3", "fig4", "fig6", "planar")
-
-
-def _case_scenes(names):
-    """The paper scenes (exdex.paper) and the planar case of ``exdex bench``: {name: scene}."""
-    from exdex import paper
-
-    out = {}
-    for name in names:
-        if name == "planar":
-            from exdex.bench import planar_scene
-
-            out[name] = planar_scene()
-        else:
-            out[name] = getattr(paper, f"{name}_scene")()
-    return out
-
-
-def _unit(scene):
-    """Display scale and unit of the shown coordinate (see ``_disp``)."""
-    return (180.0 / math.pi, "deg") if scene.dof in ("rotation", "planar") else (1e3, "mm")
-
-
-def _disp(res):
-    """The coordinate shown for a result: the free one of a 1-DoF scene, theta of a planar one."""
-    return res.displacement[:, 2 if res.scene.dof == "planar" else 0]
-
-
-def _variants(args):
-    """(label, function, settings) for every engine run of a case."""
-    mj = dict(dt=args.mujoco_dt, cone=args.mujoco_cone, impratio=args.impratio,
-              noslip_iterations=args.noslip, iterations=args.mujoco_iterations, contact=args.contact)
-    pyb = dict(dt=args.pybullet_dt, iterations=args.pybullet_iterations, cone=not args.no_cone,
-               contact=args.contact)
-    dr = dict(dt=args.drake_dt, contact_model=args.drake_contact, approximation=args.drake_approximation,
-              stiction_tolerance=args.stiction_tolerance, contact=args.contact)
-    runs = [("pybullet", run_pybullet, pyb), ("mujoco", run_mujoco, mj), ("drake", run_drake, dr)]
-    if args.variants:
-        other = "hydroelastic" if args.drake_contact == "point" else "point"
-        runs += [
-            ("pybullet point+spin", run_pybullet, dict(pyb, contact="point")),
-            ("pybullet no cone", run_pybullet, dict(pyb, cone=False)),
-            ("mujoco pyramidal", run_mujoco, dict(mj, cone="pyramidal")),
-            ("mujoco impratio 10", run_mujoco, dict(mj, impratio=10.0)),
-            ("mujoco noslip 20", run_mujoco, dict(mj, noslip_iterations=20)),
-            ("mujoco point+torsion", run_mujoco, dict(mj, contact="point")),
-            (f"drake {other}", run_drake, dict(dr, contact_model=other)),
-            ("drake sap", run_drake, dict(dr, approximation="sap")),
-            ("drake stiction 1e-6", run_drake, dict(dr, stiction_tolerance=1e-6)),
-        ]
-    return runs
-
-
 #: the Python packages of the ``engines`` extra: (import name, distribution)
 ENGINE_PACKAGES = (("pybullet", "pybullet"), ("mujoco", "mujoco"), ("pydrake", "drake"))
 
@@ -1016,188 +973,3 @@ def missing_engines():
     import importlib.util
 
     return [dist for mod, dist in ENGINE_PACKAGES if importlib.util.find_spec(mod) is None]
-
-
-def require_engines(command):
-    """One line on stderr naming the extra and return 2 if an engine is missing, else None."""
-    import sys
-
-    missing = missing_engines()
-    if missing:
-        print(f"exdex {command} needs the engines extra ({', '.join(missing)} not installed): "
-              f"pip install 'exdex[engines]'", file=sys.stderr)
-        return 2
-    return None
-
-
-def add_arguments(parser):
-    """Options of ``exdex compare``."""
-    parser.add_argument("--out", default="exdex-output/compare", help="output folder (default: %(default)s)")
-    parser.add_argument("--cases", nargs="+", choices=CASES, default=list(CASES), help="paper cases to run")
-    parser.add_argument("--settle", type=float, default=1.0,
-                        help="time simulated after the gripper stops, for the drift [s] (default: %(default)s)")
-    parser.add_argument("--dt", type=float, default=1e-3, help="exdex time step [s] (default: %(default)s)")
-    parser.add_argument("--contact", choices=("pads", "point"), default="pads",
-                        help="engine contact model (default: %(default)s)")
-    parser.add_argument("--pybullet-dt", type=float, default=1 / 240, help="pybullet step [s] (default 1/240)")
-    parser.add_argument("--pybullet-iterations", type=int, default=50, help="pybullet solver iterations (50)")
-    parser.add_argument("--no-cone", action="store_true", help="pybullet: disable cone friction (square pyramid)")
-    parser.add_argument("--mujoco-dt", type=float, default=0.002, help="MuJoCo step [s] (default 0.002)")
-    parser.add_argument("--mujoco-iterations", type=int, default=100, help="MuJoCo solver iterations (100)")
-    parser.add_argument("--mujoco-cone", choices=("elliptic", "pyramidal"), default="elliptic",
-                        help="MuJoCo friction cone (default: %(default)s; MuJoCo's own default is pyramidal)")
-    parser.add_argument("--impratio", type=float, default=1.0, help="MuJoCo impratio (default 1)")
-    parser.add_argument("--noslip", type=int, default=0, help="MuJoCo noslip iterations (default 0)")
-    parser.add_argument("--drake-dt", type=float, default=1e-3, help="Drake step [s] (default 0.001)")
-    parser.add_argument("--drake-contact", choices=DRAKE_CONTACT_MODELS, default="point",
-                        help="Drake contact model (default: %(default)s)")
-    parser.add_argument("--drake-approximation", choices=DRAKE_APPROXIMATIONS, default="lagged",
-                        help="Drake discrete contact approximation (default: %(default)s, Drake's own)")
-    parser.add_argument("--stiction-tolerance", type=float, default=1e-4,
-                        help="Drake stiction tolerance [m/s] (default 1e-4, Drake's own)")
-    parser.add_argument("--no-variants", dest="variants", action="store_false",
-                        help="skip the refined/altered engine settings (point contact, cone, noslip, ...)")
-    parser.add_argument("--no-plots", dest="plots", action="store_false", help="write no figures")
-    parser.add_argument("--no-progress", action="store_true", help="print no line per run (the table only)")
-
-
-def _figure(path, name, scene, ref, runs, scale, unit):
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(7, 6.5), sharex=True)
-    colors = ablation_colors((), [r[0] for r in runs])
-    ax1.plot(ref.t, scale * _disp(ref), "k-", lw=2, label="exdex")
-    for label, res, on_ref in runs:
-        ax1.plot(res.t, scale * _disp(res), lw=1.2, color=colors[label], ls=_engine_ls(label), label=label)
-        ax2.semilogy(ref.t, np.maximum(scale * np.abs(on_ref - _disp(ref)), 1e-9), lw=1.2, color=colors[label],
-                     ls=_engine_ls(label), label=label)
-    end = scene.motion.end_time
-    for ax in (ax1, ax2):
-        ax.axvline(end, color="0.6", ls=":", lw=1)
-    ax1.set_ylabel(f"relative displacement [{unit}]")
-    ax1.set_title(f"{name}: (a) object relative to the gripper")
-    ax1.legend(fontsize=7, ncol=2)
-    ax2.set_ylabel(f"|engine - exdex| [{unit}]")
-    ax2.set_xlabel("t [s]")
-    ax2.set_title("(b) absolute difference from exdex")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-
-
-def ablation_colors(models, engine_labels):
-    """{label: colour}: one colour per exdex model ("exdex <model>") and per engine
-    run, none shared: models from matplotlib's tab10, engine runs from Dark2
-    then Set1 (17 colours, none of them in tab10)."""
-    import matplotlib
-
-    a = matplotlib.colormaps["tab10"].colors
-    b = list(matplotlib.colormaps["Dark2"].colors) + list(matplotlib.colormaps["Set1"].colors)
-    cols = {f"exdex {m}": a[i % len(a)] for i, m in enumerate(models)}
-    cols.update({lab: b[i % len(b)] for i, lab in enumerate(engine_labels)})
-    return cols
-
-
-def _engine_ls(label):
-    """Line style of an engine run: pybullet dashed, MuJoCo dash-dot, Drake dotted."""
-    return {"pybullet": "--", "mujoco": "-.", "drake": ":"}.get(label.split()[0], "-")
-
-
-def _ablation_figure(path, name, scene, ref, ab, engine_runs, scale, unit):
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    colors = ablation_colors(list(ab), [r[0] for r in engine_runs])
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11.5, 4.6), gridspec_kw=dict(width_ratios=[1.4, 1]))
-    for model, (res, _) in ab.items():
-        ax1.plot(res.t, scale * _disp(res), lw=2 if model == "ellipsoid" else 1.2,
-                 ls="-" if model == "ellipsoid" else "--", color=colors[f"exdex {model}"], label=f"exdex {model}")
-    for label, res, _ in engine_runs:
-        ax1.plot(res.t, scale * _disp(res), lw=1.2, ls=_engine_ls(label), color=colors[label], label=label)
-    ax1.set_xlabel("t [s]")
-    ax1.set_ylabel(f"relative displacement [{unit}]")
-    kind = "" if scene.dof == "rotation" else " (equivalent e_r: approximate in planar scenes)"
-    ax1.set_title(f"{name}: friction-model ablation{kind}", fontsize=9)
-    ax1.legend(fontsize=6, ncol=2)
-    labels = [f"exdex {m}" for m in ab] + [r[0] for r in engine_runs]
-    finals = [scale * _disp(r)[-1] for r, _ in ab.values()] + \
-             [scale * _disp(r)[-1] for _, r, _ in engine_runs]
-    ax2.barh(range(len(labels)), finals, color=[colors[lab] for lab in labels],
-             hatch=None, edgecolor=["none"] * len(ab) + ["k"] * len(engine_runs))
-    ax2.set_yticks(range(len(labels)))
-    ax2.set_yticklabels(labels, fontsize=7)
-    ax2.invert_yaxis()
-    ax2.set_xlabel(f"final displacement [{unit}]")
-    ax2.set_title("exdex models (no edge) and engines (black edge)", fontsize=9)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-
-
-def run(args):
-    """``exdex compare``: every case in exdex and the three engines, figures, CSV and a table."""
-    import os
-
-    from exdex.simulate import simulate
-
-    status = require_engines("compare")
-    if status:
-        return status
-    say = (lambda *a, **k: None) if getattr(args, "no_progress", False) else print  # noqa: E731
-
-    os.makedirs(args.out, exist_ok=True)
-    scenes = _case_scenes(args.cases)
-    rows = []
-    for name, scene in scenes.items():
-        scale, unit = _unit(scene)
-        col = 2 if scene.dof == "planar" else 0
-        t_end = scene.motion.end_time + args.settle
-        t0 = time.perf_counter()
-        ref = simulate(scene, t_end, dt=args.dt)
-        rows.append((name, "exdex (ellipsoid)", scale * _disp(ref)[-1], scale * drift_rate(ref)[col], 0.0,
-                     time.perf_counter() - t0, unit))
-        say(f"[{name}] exdex: {rows[-1][2]:.3f} {unit} ({rows[-1][5]:.2f} s)", flush=True)
-        runs = []
-        for label, fn, settings in _variants(args):
-            res = fn(scene, t_end, **settings)
-            on_ref = np.interp(ref.t, res.t, _disp(res))
-            err = float(np.max(np.abs(on_ref - _disp(ref))))
-            runs.append((label, res, on_ref))
-            rows.append((name, label, scale * _disp(res)[-1], scale * drift_rate(res)[col], scale * err,
-                         res.stats["wall_time"], unit))
-            say(f"[{name}] {label}: {rows[-1][2]:.3f} {unit}, drift {rows[-1][3]:.4g} {unit}/s "
-                  f"({rows[-1][5]:.2f} s)", flush=True)
-        # CSV of the main curves on exdex's time grid
-        cols = [ref.t, scale * _disp(ref)] + [r[2] * scale for r in runs]
-        header = "t_s,exdex_" + unit + "," + ",".join(f"{r[0].replace(' ', '_')}_{unit}" for r in runs)
-        np.savetxt(os.path.join(args.out, f"{name}_compare.csv"), np.column_stack(cols), delimiter=",",
-                   header=header, comments="")
-        if args.plots:
-            _figure(os.path.join(args.out, f"{name}_compare.png"), name, scene, ref, runs, scale, unit)
-        if scene.dof in ("rotation", "planar"):
-            ab = ablation(scene, t_end, dt=args.dt)
-            for model, (res, value) in ab.items():
-                rows.append((name, f"ablation {model} ({'mu' if scene.dof == 'translation' else 'e_r'}="
-                                   f"{value:.4g})", scale * _disp(res)[-1], scale * drift_rate(res)[col],
-                             float("nan"), float("nan"), unit))
-            if args.plots:
-                _ablation_figure(os.path.join(args.out, f"{name}_ablation.png"), name, scene, ref, ab,
-                                 runs[:3] + [r for r in runs if any(w in r[0] for w in ("point", "cone", "noslip", "hydro"))],
-                                 scale, unit)
-    lines = [f"{'case':6s} {'model':40s} {'final':>10s} {'drift/s':>11s} {'max|diff|':>10s} {'wall [s]':>8s}  unit"]
-    cell = lambda v, fmt, w: f"{v:{w}{fmt}}" if np.isfinite(v) else f"{'-':>{w}s}"  # noqa: E731
-    for name, label, final, drift, err, wall, unit in rows:
-        lines.append(f"{name:6s} {label:40s} {cell(final, '.3f', 10)} {cell(drift, '.4g', 11)} "
-                     f"{cell(err, '.3f', 10)} {cell(wall, '.2f', 8)}  {unit}")
-    lines.append("final: displacement at the end [unit]; drift/s: mean rate after the motion [unit/s]; "
-                 "max|diff|: largest gap to exdex [unit]; planar cases show the rotation")
-    table = "\n".join(lines)
-    print(table)
-    with open(os.path.join(args.out, "compare_table.txt"), "w") as fh:
-        fh.write(table + "\n")
-    return 0

@@ -12,6 +12,11 @@ quadratic in time, event times roots of linear equations) the extrapolated
 central difference is exact up to rounding unless an event appears or
 vanishes inside the step, which the error estimate shows.
 
+:func:`event_times` finds the first slip onset and the end of the last slip
+of a run by bisection, and :func:`event_sensitivity` differentiates them
+with respect to scalar parameters the same way (central differences,
+Richardson, an error estimate).
+
 :func:`identify` fits uncertain parameters to an observed trajectory of the
 object relative to the gripper (e.g. a tracked pose from a robot
 experiment) by nonlinear least squares (SciPy's trust-region reflective
@@ -38,7 +43,8 @@ from exdex.plan import _param_name
 from exdex.scene import Scene, _real
 from exdex.simulate import resolve_method
 
-__all__ = ["Sensitivity", "sensitivity", "Identification", "identify"]
+__all__ = ["Sensitivity", "sensitivity", "EventTimes", "event_times", "EventSensitivity", "event_sensitivity",
+           "Identification", "identify"]
 
 
 def _value_of(scene, name):
@@ -148,6 +154,176 @@ def sensitivity(scene: Scene, params: Sequence[str], t_end: float, *, dt: Option
             err.append(np.abs(Rq[0] - Dq[1]))
     return Sensitivity(params=names, values=vals, dq=np.array(dq), dv=np.array(dv), error=np.array(err),
                        t_end=t_end, method=method)
+
+
+# ------------------------------------------------------------- event times
+
+@dataclass(frozen=True)
+class EventTimes:
+    """When the object first slips and when its last slip ends [s].
+
+    onset : the first time the object moves relative to the gripper (NaN:
+        it never does before t_end); stop : the end of the last slip before
+        t_end (NaN: no slip; inf: still moving at t_end); xtol : the width
+        of the brackets the times were bisected to [s].
+    """
+
+    onset: float
+    stop: float
+    xtol: float
+
+
+def _moving(model, t, dt_max):
+    dt = t if dt_max is None else min(t, dt_max)
+    _, v, _ = model.final(t, dt)
+    return any(x != 0.0 for x in v)
+
+
+def _bisect(model, a, b, moving_at_b, xtol, dt_max):
+    """The switch between [a, b] of the predicate 'moving' (False at a when
+    moving_at_b, else True at a): bisection to xtol; returns the midpoint."""
+    while b - a > xtol:
+        m = 0.5 * (a + b)
+        if m <= a or m >= b:
+            break
+        if _moving(model, m, dt_max) == moving_at_b:
+            b = m
+        else:
+            a = m
+    return 0.5 * (a + b)
+
+
+def event_times(scene: Scene, t_end: float, *, method: str = "auto", rtol: float = 1e-10, atol: float = 1e-12,
+                eps: float = 1e-4, n_grid: int = 1024, xtol: float = 1e-13) -> EventTimes:
+    """The first slip onset and the end of the last slip of a scene, by bisection.
+
+    A run on ``n_grid`` output intervals finds the first and the last
+    interval where the relative speed is nonzero (both the analytic path and
+    the event method hold a stuck object at exactly zero relative speed);
+    each time is then bisected within its interval to ``xtol`` [s] on the
+    predicate "moving at t" (the relative speed of a run ending at t, a
+    compiled :class:`exdex.Model`, output step t for scenes without stops,
+    at most t_end / n_grid with stops). A slip episode shorter than one grid
+    interval between two rests can be missed: raise ``n_grid``.
+    """
+    from exdex.simulate import Model, simulate
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene must be an exdex.Scene, got {type(scene).__name__}")
+    t_end = _real(t_end, "t_end", low=0.0, low_open=True)
+    if isinstance(n_grid, bool) or not isinstance(n_grid, (int, np.integer)) or n_grid < 2:
+        raise ValueError(f"n_grid must be an int >= 2, got {n_grid!r}")
+    xtol = _real(xtol, "xtol", low=0.0, low_open=True)
+    method = resolve_method(scene, method)
+    dt = t_end / int(n_grid)
+    r = simulate(scene, t_end, dt, method=method, rtol=rtol, atol=atol, eps=eps)  # type: ignore[arg-type]
+    moving = np.any(r.v != 0.0, axis=1)
+    idx = np.flatnonzero(moving)
+    if idx.size == 0:
+        return EventTimes(onset=math.nan, stop=math.nan, xtol=xtol)
+    model = Model(scene, method=method, rtol=rtol, atol=atol, eps=eps)  # type: ignore[arg-type]
+    dt_max = dt if scene.stops else None
+    i = int(idx[0])
+    onset = 0.0 if i == 0 else _bisect(model, float(r.t[i - 1]), float(r.t[i]), True, xtol, dt_max)
+    j = int(idx[-1])
+    stop = math.inf if j == len(r.t) - 1 else _bisect(model, float(r.t[j]), float(r.t[j + 1]), False, xtol,
+                                                        dt_max)
+    return EventTimes(onset=float(onset), stop=float(stop), xtol=xtol)
+
+
+@dataclass(frozen=True, eq=False)
+class EventSensitivity:
+    """Derivatives of the event times with respect to parameters.
+
+    params, values : the parameters and their values; times : the
+    :class:`EventTimes` at those values. donset, dstop : (n_params,)
+    d onset / dp and d stop / dp [s per unit of p]; onset_error, stop_error :
+    their estimated errors (the spread of the Richardson ladder); NaN where
+    the event does not exist at the nominal values.
+    """
+
+    params: Tuple[str, ...]
+    values: Dict[str, float]
+    times: EventTimes
+    donset: np.ndarray
+    dstop: np.ndarray
+    onset_error: np.ndarray
+    stop_error: np.ndarray
+
+    def __repr__(self) -> str:
+        rows = ", ".join(f"d onset/d {p} = {self.donset[i]:.6g} (+- {self.onset_error[i]:.1g}), d stop/d {p} = "
+                         f"{self.dstop[i]:.6g} (+- {self.stop_error[i]:.1g})" for i, p in enumerate(self.params))
+        return f"EventSensitivity(onset {self.times.onset:.9g} s, stop {self.times.stop:.9g} s; {rows})"
+
+
+def _richardson(D):
+    """Second-order central differences D at steps h, h/2, ...: the fourth-order
+    extrapolation with the smallest difference to its neighbour, and that
+    difference as its error estimate."""
+    R = (4 * D[1:] - D[:-1]) / 3
+    if len(R) >= 2:
+        e = np.abs(np.diff(R))
+        k = int(np.nanargmin(e)) if np.any(np.isfinite(e)) else 0
+        return float(R[k + 1]), float(e[k])
+    return float(R[0]), float(abs(R[0] - D[1]))
+
+
+def event_sensitivity(scene: Scene, params: Sequence[str], t_end: float, *, method: str = "auto",
+                      rtol: float = 1e-10, atol: float = 1e-12, eps: float = 1e-4, rel_step: float = 1e-4,
+                      levels: int = 4, n_grid: int = 1024) -> EventSensitivity:
+    """d onset / dp and d stop / dp of :func:`event_times` for each named parameter.
+
+    Central differences of the bisected event times at steps h, h/2, ...,
+    h/2^(levels-1) (h = rel_step |p|, kept inside the parameter's range),
+    Richardson extrapolation, the error from the ladder (as
+    :func:`sensitivity`). The times are bisected to about 1e-13 s, so the
+    differences carry an error of about 1e-13 / h. Where the time is a
+    switch of a piecewise-constant drive (an Eq. 7 phase boundary) it is
+    piecewise linear in the motion parameters and constant in the grasp
+    parameters, and the extrapolation is exact up to that rounding; an event
+    that appears or vanishes inside the step shows as a large error.
+    """
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene must be an exdex.Scene, got {type(scene).__name__}")
+    if isinstance(params, str):
+        params = (params,)
+    names = tuple(_param_name(p, scene) for p in params)
+    if not names:
+        raise ValueError("params must name at least one parameter")
+    rel_step = _real(rel_step, "rel_step", low=0.0, high=0.5, low_open=True)
+    if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or not 2 <= levels <= 20:
+        raise ValueError(f"levels must be an int in [2, 20], got {levels!r}")
+    kw: Dict[str, Any] = dict(method=method, rtol=rtol, atol=atol, eps=eps, n_grid=n_grid)
+    nominal = event_times(scene, t_end, **kw)
+    don: List[float] = []
+    dst: List[float] = []
+    eon: List[float] = []
+    est: List[float] = []
+    vals: Dict[str, float] = {}
+    for name in names:
+        p0 = _value_of(scene, name)
+        vals[name] = p0
+        h = rel_step * (abs(p0) if p0 != 0.0 else 1.0)
+        while not (_inside(name, p0 - h) and _inside(name, p0 + h)) and h > 1e-300:
+            h *= 0.5
+        if not h > 1e-300:
+            raise ValueError(f"cannot step {name!r} = {p0:g} inside its range {PARAMETERS[name].describe()}")
+        hs = h / 2.0 ** np.arange(levels)
+        Don, Dst = np.empty(levels), np.empty(levels)
+        for k, hk in enumerate(hs):
+            ep = event_times(_replace_params(scene, {name: p0 + hk}), t_end, **kw)
+            em = event_times(_replace_params(scene, {name: p0 - hk}), t_end, **kw)
+            Don[k] = (ep.onset - em.onset) / (2 * hk)
+            Dst[k] = (ep.stop - em.stop) / (2 * hk) if math.isfinite(ep.stop) and math.isfinite(em.stop) \
+                else math.nan
+        for D, out, err in ((Don, don, eon), (Dst, dst, est)):
+            if np.all(np.isfinite(D)):
+                d, e = _richardson(D)
+            else:
+                d, e = math.nan, math.nan
+            out.append(d)
+            err.append(e)
+    return EventSensitivity(params=names, values=vals, times=nominal, donset=np.array(don), dstop=np.array(dst),
+                            onset_error=np.array(eon), stop_error=np.array(est))
 
 
 # ---------------------------------------------------------- identification

@@ -50,6 +50,14 @@ an equal scene: floats are written in their shortest exact decimal form, so
 every number, including the arrays of a :class:`exdex.SampledTrajectory`,
 comes back bit for bit.
 
+A grip force that varies in time (an :class:`exdex.GripSchedule`) is a
+table in place of the number::
+
+    [grasp.grip_force]
+    times = [0.0, 0.2, 0.4]
+    forces = [1.5, 1.5, 0.5]
+    kind = "linear"
+
 An unknown ``schema`` version, an unknown key or a missing required key is
 a ``ValueError`` naming it; the scene objects then check their own values
 (ranges, shapes) as when built in Python.
@@ -193,6 +201,13 @@ def _motion(data, where):
         raise ValueError(f"unknown {where}.type {kind!r}; allowed: {', '.join(MOTIONS)}")
     cls = MOTIONS[kind]
     rest = {k: v for k, v in data.items() if k != "type"}
+    if cls is _scene.Chain:
+        _check_keys(rest, set(_fields(cls)), _required(cls), f"{where} ({kind})")
+        pieces = rest.get("pieces")
+        if not isinstance(pieces, list):
+            raise ValueError(f"{where}.pieces must be a list of motion tables, got {type(pieces).__name__}")
+        rest["pieces"] = tuple(_motion(p, f"{where}.pieces[{i}]") for i, p in enumerate(pieces))
+        return cls(**rest)
     if cls is _scene.SampledTrajectory:
         _check_keys(rest, set(_fields(cls)), _required(cls), f"{where} ({kind})")
         return cls(**{k: np.array(v, dtype=np.float64) if isinstance(v, list) else v for k, v in rest.items()})
@@ -203,8 +218,15 @@ def _patch(data, where):
     return _build(_scene.Patch, data, where)
 
 
+def _grip(data, where):
+    """A grip force: a number, or a table (times, forces, kind) of a GripSchedule."""
+    if isinstance(data, dict):
+        return _build(_scene.GripSchedule, data, where)
+    return data
+
+
 def _grasp(data, where):
-    return _build(_scene.Grasp, data, where, nested={"patch": _patch})
+    return _build(_scene.Grasp, data, where, nested={"patch": _patch, "grip_force": _grip})
 
 
 def _body(data, where):

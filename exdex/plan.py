@@ -37,16 +37,19 @@ Units are SI.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import warnings
 from dataclasses import dataclass, field
-from typing import Any, Callable, Dict, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
+from exdex import _core
+from exdex._optional import pyplot
 from exdex.batch import PARAMETERS, _ALIASES, _replace_params, simulate_batch
 from exdex.scene import AsymmetricProfile, Rest, SampledTrajectory, Scene, TrapezoidalProfile, _real
-from exdex.simulate import SolverError, simulate
+from exdex.simulate import SolverError, resolve_method, simulate
 
 __all__ = ["Limits", "Plan", "MultiPlan", "Band", "UnreachableTargetError", "solve", "band", "outcome", "motion_peaks",
            "QUANTITIES"]
@@ -95,7 +98,7 @@ class Limits:
                 raise ValueError(f"Limits.duration must be (low, high) with 0 <= low <= high, got {self.duration}")
             object.__setattr__(self, "duration", (lo, hi))
 
-    def violations(self, motion):
+    def violations(self, motion: Any) -> List[str]:
         """Names of the limits ``motion`` breaks (empty: within limits)."""
         pk = motion_peaks(motion)
         out = []
@@ -123,7 +126,7 @@ def _pair(value, name):
     return _real(lo, f"{name}[0]"), _real(hi, f"{name}[1]")
 
 
-def motion_peaks(motion):
+def motion_peaks(motion: Any) -> Dict[str, float]:
     """Peak |acceleration|, peak |speed|, stroke (largest |s|) and duration T of
     a gripper motion's profile s(t) (m or rad; Eq. 7 from its closed form,
     Eq. 9; the trapezoid from its ramps; a sampled log from finite
@@ -141,7 +144,7 @@ def motion_peaks(motion):
         return dict(acceleration=acc, speed=motion.v_max, stroke=abs(motion.amplitude), duration=motion.duration)
     if isinstance(motion, SampledTrajectory):
         t = np.asarray(motion.times, dtype=float)
-        p = np.asarray(motion.poses, dtype=float)[:, :3]
+        p = np.asarray(motion.positions, dtype=float)
         v = np.diff(p, axis=0) / np.diff(t)[:, None]
         a = np.diff(v, axis=0) / (0.5 * (t[2:] - t[:-2]))[:, None]
         d = np.linalg.norm(p - p[0], axis=1)
@@ -162,7 +165,7 @@ def _check_quantity(quantity, scene):
         raise ValueError(f"a {dof} scene has no {quantity!r} outcome; use one of {list(ok)}")
 
 
-def outcome(final_displacement, scene, quantity):
+def outcome(final_displacement: Any, scene: Scene, quantity: str) -> np.ndarray:
     """The named quantity from final displacements (B, ndof) of ``scene``'s coordinates."""
     d = np.atleast_2d(np.asarray(final_displacement, dtype=float))
     if scene.dof in ("translation", "rotation"):
@@ -237,7 +240,58 @@ class _Runner:
     dt: float
     options: Dict
 
+    @functools.cached_property
+    def _direct(self):
+        """The scene's spec when the analytic method solves it (1-DoF, no
+        stops, no sampled log: nothing for the batch wrapper's stop, log or
+        contact checks to find), else None. Planning calls then go straight
+        to the core's batch with values the planner has range-checked."""
+        try:
+            if self.options.get("method") not in ("auto", "analytic") or \
+                    resolve_method(self.scene, "auto") != "analytic":
+                return None
+            return self.scene.to_spec(method="analytic")
+        except (TypeError, ValueError):
+            return None
+
+    def at_rest_by(self, t_rest, **arrays):
+        """True where the object is at rest relative to the gripper from
+        ``t_rest`` on: zero relative speed at t_rest and the same
+        coordinates at t_rest and t_end (within 1e-12 m or rad)."""
+        late = self.final(self.t_end, **arrays)
+        early = self.final(t_rest, **arrays)
+        still = np.all(np.abs(early[1]) <= 1e-12, axis=-1) & np.all(np.abs(late[0] - early[0]) <= 1e-12, axis=-1)
+        return still.reshape(early[2])
+
+    def final(self, t_end, **arrays):
+        """(final displacements (B, ndof), final rates (B, ndof), batch shape) at ``t_end``."""
+        spec = self._direct
+        trapezoid = isinstance(self.scene.motion, TrapezoidalProfile) and any(
+            PARAMETERS[k].path[0] == "motion" for k in arrays)
+        if spec is not None and not trapezoid:
+            vals = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in arrays.values()))
+            shape = vals[0].shape if vals else ()
+            vary = {PARAMETERS[k].key: np.ascontiguousarray(v, dtype=float).ravel() for k, v in zip(arrays, vals)}
+            n = int(np.prod(shape)) if shape else 1
+            threads = self.options.get("threads") or (1 if n < 2048 else 0)
+            out = _core.simulate_batch(spec, t_end, t_end, threads=threads, record="final", vary=vary or None)
+            return out["displacement"], out["v"], shape
+        b = simulate_batch(self.scene, t_end, t_end, record="final", warn=False, **self.options, **arrays)
+        return b.final_displacement, b.v, b.shape
+
     def __call__(self, **arrays):
+        spec = self._direct
+        trapezoid = isinstance(self.scene.motion, TrapezoidalProfile) and any(
+            PARAMETERS[k].path[0] == "motion" for k in arrays)
+        if spec is not None and not trapezoid:
+            vals = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in arrays.values()))
+            shape = vals[0].shape if vals else ()
+            vary = {PARAMETERS[k].key: np.ascontiguousarray(v, dtype=float).ravel() for k, v in zip(arrays, vals)}
+            n = int(np.prod(shape)) if shape else 1
+            threads = self.options.get("threads") or (1 if n < 2048 else 0)
+            out = _core.simulate_batch(spec, self.t_end, self.dt, threads=threads, record="final",
+                                       vary=vary or None)
+            return outcome(out["displacement"], self.scene, self.quantity).reshape(shape)
         # candidates of a search, not results: no PhysicsWarning for each scan
         b = simulate_batch(self.scene, self.t_end, self.dt, record="final", warn=False, **self.options, **arrays)
         return outcome(b.final_displacement, self.scene, self.quantity).reshape(b.shape)
@@ -262,6 +316,8 @@ class Plan:
         robust plans: (values, worst-case |outcome - target|).
     worst_error : robust plans: the largest |outcome - target| over the
         uncertain parameters' samples (else NaN); band the outcome band there.
+    rest_by : the time [s] by which the plan has the object at rest relative
+        to the gripper (``target["rest_by"]``), or None.
     """
 
     scene: Scene
@@ -278,9 +334,10 @@ class Plan:
     tol: float
     worst_error: float = math.nan
     band: Optional["Band"] = None
+    rest_by: Optional[float] = None
 
     @property
-    def meets_target(self):
+    def meets_target(self) -> bool:
         """True if the plan meets the target within tol (robust plans: over the
         whole uncertainty, by its sampled worst case)."""
         if self.band is not None:
@@ -296,7 +353,7 @@ class Plan:
             s += f", worst error {self.worst_error:.3g} {u} over {self.band.describe()}"
         return s + ")"
 
-    def gripper_poses(self, rate: float = 100.0, t_end: Optional[float] = None):
+    def gripper_poses(self, rate: float = 100.0, t_end: Optional[float] = None) -> Tuple[np.ndarray, np.ndarray]:
         """The planned gripper motion as poses at ``rate`` [Hz], what a robot
         controller consumes: ``(times, poses)``, poses (n, 7) rows
         x y z qw qx qy qz of frame B in the world (m, unit quaternion), from
@@ -319,13 +376,10 @@ class Plan:
         t, poses = self.gripper_poses(rate)
         return SampledTrajectory(t, poses[:, :3], poses[:, 3:])
 
-    def plot(self, ax=None):
+    def plot(self, ax: Any = None) -> Any:
         """The scan (outcome against the parameter), the target and the plan."""
-        try:
-            import matplotlib.pyplot as plt
-        except ImportError:
-            raise ImportError("Plan.plot needs matplotlib: pip install 'exdex[plot]'") from None
         if ax is None:
+            plt = pyplot("Plan.plot")
             _, ax = plt.subplots(figsize=(6, 4), constrained_layout=True)
         x, y = self.scan
         u = QUANTITIES[self.quantity]
@@ -351,7 +405,8 @@ def _cost_of(cost, scene, name, value):
 
 def _refine(f, a, b, ra, rb, tol, xtol, k, max_rounds):
     """Bracketing refinement of a root of r = f(x) - target between a and b
-    (ra, rb of opposite signs): k interior points per batch; returns (x, r)
+    (ra, rb of opposite signs): k equally spaced interior points and the
+    secant root per batch; returns (x, r)
     of the first point with |r| <= tol, or the bracket end of least |r| when
     the bracket shrinks below xtol (a jump of the outcome: r never meets tol)."""
     for _ in range(max_rounds):
@@ -362,6 +417,11 @@ def _refine(f, a, b, ra, rb, tol, xtol, k, max_rounds):
         if abs(b - a) <= xtol:
             break
         xs = np.linspace(a, b, k + 2)[1:-1]
+        # plus the secant root of the bracket: where the outcome is smooth
+        # it lands within tol after a round or two
+        xsec = a - ra * (b - a) / (rb - ra) if rb != ra else 0.5 * (a + b)
+        if a < xsec < b:
+            xs = np.sort(np.append(xs, xsec))
         rs = f(xs)
         good = np.flatnonzero(np.abs(rs) <= tol)
         if good.size:
@@ -412,7 +472,12 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Mapping[str, Tuple[fl
         One quantity and its wanted value, e.g. ``{"slip": 0.015}`` [m] or
         ``{"rotation": math.radians(30)}`` [rad] (see :data:`QUANTITIES`);
         several for a pose, e.g. ``{"x": 0.01, "y": -0.02, "rotation": 0.3}``
-        (then several parameters vary, see below).
+        (then several parameters vary, see below). With one varied parameter
+        and one quantity the key ``"rest_by"`` [s] adds the time by which the
+        object must be at rest relative to the gripper, e.g. ``{"slip":
+        -0.015, "rest_by": 0.9}``: parameter values whose object still moves
+        after it (relative speed above 1e-12 at rest_by, or coordinates that
+        change between rest_by and t_end) are left out like a broken limit.
     vary : dict
         ``{name: (low, high)}``: the parameter(s) to vary and their bounds
         (any :func:`exdex.simulate_batch` parameter). With one parameter and
@@ -467,6 +532,16 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Mapping[str, Tuple[fl
         raise TypeError(f"scene must be an exdex.Scene, got {type(scene).__name__}")
     if not isinstance(vary, Mapping) or len(vary) < 1:
         raise ValueError("vary must be a dict of parameters and their bounds, e.g. {'grip_force': (0.5, 3.0)}")
+    rest_by = None
+    if isinstance(target, Mapping) and "rest_by" in target:
+        target = dict(target)
+        rest_by = _real(target.pop("rest_by"), "target['rest_by']", low=0.0, low_open=True)
+        if not target:
+            raise ValueError("target['rest_by'] constrains a plan: name a quantity too, e.g. "
+                             "{'slip': -0.015, 'rest_by': 0.9}")
+        if len(vary) > 1 or len(target) > 1 or uncertain is not None:
+            raise ValueError("target['rest_by'] applies to plans with one varied parameter and one quantity "
+                             "(not to several parameters or robust plans)")
     if len(vary) > 1 or (isinstance(target, Mapping) and len(target) > 1):
         if uncertain is not None:
             raise ValueError("robust planning (uncertain=...) varies one parameter; pass one entry in vary")
@@ -502,8 +577,22 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Mapping[str, Tuple[fl
         return _solve_robust(run, scene, name, xs, feasible, quantity, goal, tol, unc, refine, cost, verify,
                              limits)
 
+    if rest_by is not None and rest_by > t_end:
+        raise ValueError(f"target['rest_by'] must lie in (0, t_end] = (0, {t_end:g}] s, got {rest_by:g}; "
+                         "pass a longer t_end")
     ys = np.full(xs.shape, np.nan)
     ys[feasible] = run(**{name: xs[feasible]})
+    ys_all = ys.copy()
+    if rest_by is not None:
+        # values whose object still moves after rest_by are left out, as a limit
+        rest = np.zeros(xs.shape, bool)
+        rest[feasible] = run.at_rest_by(rest_by, **{name: xs[feasible]})
+        ys[~rest] = np.nan
+        feasible = feasible & rest
+        if not feasible.any():
+            raise UnreachableTargetError(
+                f"no value of {name!r} in [{lo:g}, {hi:g}] has the object at rest by target['rest_by'] = "
+                f"{rest_by:g} s{' within the limits' if limits is not None else ''}", (math.nan, math.nan))
     f = lambda x: run(**{name: np.asarray(x)}) - goal  # noqa: E731
     xtol = 1e-13 * max(abs(lo), abs(hi))
     sols: list = []
@@ -514,6 +603,7 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Mapping[str, Tuple[fl
             if ra == 0.0 or ra * rb < 0 or (k == j - 1 and rb == 0.0):
                 x, rr = _refine(f, xs[k], xs[k + 1], ra, rb, tol, xtol, refine, 60)
                 if abs(rr) <= tol and _feasible(scene, name, x, limits) and \
+                        (rest_by is None or bool(run.at_rest_by(rest_by, **{name: np.array([x])})[0])) and \
                         not any(abs(x - s) <= xtol for s, _ in sols):
                     sols.append((x, rr))
         del r
@@ -523,25 +613,46 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Mapping[str, Tuple[fl
     if not sols:
         where = "" if goal < reach[0] or goal > reach[1] else \
             " (it lies between the scan's values only across a jump of the outcome or a limit)"
+        fin_all = ys_all[np.isfinite(ys_all)]
+        if rest_by is not None and fin_all.size and fin_all.min() <= goal <= fin_all.max():
+            where += (f"; without target['rest_by'] the scan reaches [{fin_all.min():.6g}, {fin_all.max():.6g}] "
+                      f"{u}: the values that reach the target leave the object moving after {rest_by:g} s")
         raise UnreachableTargetError(
             f"target {quantity} {goal:.6g} {u} is not reachable by varying {name!r} in [{lo:g}, {hi:g}]"
-            f"{' within the limits' if limits is not None else ''}: reachable [{reach[0]:.6g}, {reach[1]:.6g}] {u}"
-            f"{where}", reach)
-    ranked = sorted(sols, key=lambda s: (_cost_of(cost, _replace_params(scene, {name: s[0]}), name, s[0]), s[0]))
+            f"{' within the limits' if limits is not None else ''}"
+            f"{f' with the object at rest by {rest_by:g} s' if rest_by is not None else ''}: reachable "
+            f"[{reach[0]:.6g}, {reach[1]:.6g}] {u}{where}", reach)
+    if len(sols) > 1:
+        ranked = sorted(sols, key=lambda s: (_cost_of(cost, _replace_params(scene, {name: s[0]}), name, s[0]),
+                                             s[0]))
+    else:
+        ranked = sols
     x, r = ranked[0]
     best = _replace_params(scene, {name: float(x)})
     achieved = goal + r
     if verify:
-        res = simulate(best, t_end, dt, method=method, rtol=rtol, atol=atol, eps=eps)  # type: ignore[arg-type]
-        achieved = float(outcome(res.q[-1:] - res.q[:1], best, quantity)[0])
-        if not res.stick[-1]:
+        d, v_end, still = _final_state(best, t_end, dt, method, rtol, atol, eps, run._direct is not None)
+        achieved = float(outcome(d, best, quantity)[0])
+        if not still:
             warnings.warn(f"the planned object is still moving at t_end = {t_end:g} s (relative speed "
-                          f"{float(np.max(np.abs(res.v[-1]))):.3g}): the 'final' {quantity} is not final; "
+                          f"{float(np.max(np.abs(v_end))):.3g}): the 'final' {quantity} is not final; "
                           "pass a longer t_end", UserWarning, stacklevel=2)
     return Plan(scene=best, parameter=name, value=float(x), quantity=quantity, target=goal, achieved=achieved,
                 residual=achieved - goal, cost=_cost_of(cost, best, name, x),
                 reachable=(min(reach[0], achieved), max(reach[1], achieved)),
-                solutions=tuple(float(s) for s, _ in ranked), scan=(xs, ys), tol=tol)
+                solutions=tuple(float(s) for s, _ in ranked), scan=(xs, ys), tol=tol, rest_by=rest_by)
+
+
+def _final_state(scene, t_end, dt, method, rtol, atol, eps, analytic):
+    """(final displacement (1, ndof), final rates, at rest with exact stick)
+    of ``scene`` simulated alone: by :func:`exdex.simulate`, or for a scene
+    the analytic method solves, by the core's batch on that one trajectory
+    (the same C solution without the Python result object)."""
+    if analytic:
+        out = _core.simulate_batch(scene.to_spec(method="analytic"), t_end, dt, threads=1, record="final")
+        return out["displacement"], out["v"][0], bool(out["stick"][0])
+    res = simulate(scene, t_end, dt, method=method, rtol=rtol, atol=atol, eps=eps)  # type: ignore[arg-type]
+    return res.q[-1:] - res.q[:1], res.v[-1], bool(res.stick[-1])
 
 
 def _feasible(scene, name, x, limits):
@@ -604,7 +715,7 @@ class Band:
     samples: Dict[str, np.ndarray]
     outcomes: np.ndarray
 
-    def describe(self):
+    def describe(self) -> str:
         return ", ".join(f"{k} in [{v[0]:.4g}, {v[-1]:.4g}]" for k, v in self.samples.items())
 
     def __repr__(self):
@@ -697,111 +808,6 @@ def _solve_robust(run, scene, name, xs, feasible, quantity, goal, tol, unc, refi
                 residual=nominal - goal, cost=_cost_of(cost, best, name, best_x), reachable=reach,
                 solutions=(best_x,), scan=(xs, np.where(feasible, W, np.nan)), tol=tol, worst_error=float(w[0]),
                 band=bd)
-
-
-# ------------------------------------------------------------- command line
-
-def _kv(text, what):
-    try:
-        k, v = text.split("=", 1)
-        return k.strip(), v.strip()
-    except ValueError:
-        raise SystemExit(f"exdex plan: {what} must look like name=value, got {text!r}") from None
-
-
-def _interval(text, what):
-    k, v = _kv(text, what)
-    try:
-        lo, hi = (float(x) for x in v.split(":"))
-    except ValueError:
-        raise SystemExit(f"exdex plan: {what} must look like name=low:high, got {text!r}") from None
-    return k, (lo, hi)
-
-
-def add_arguments(parser):
-    parser.description = ("Plan the gripper motion or grip for a target in-hand outcome: scan a parameter in a "
-                          "batch, solve to tol, print the plan and its outcome band, write a figure and the "
-                          "gripper poses (CSV) a robot controller consumes.")
-    src = parser.add_mutually_exclusive_group()
-    src.add_argument("--case", choices=("fig3", "fig4", "fig6"), default="fig3",
-                     help="a paper case as the base scene (default fig3)")
-    src.add_argument("--scene", help="a scene file (TOML or JSON, exdex.save_scene) as the base scene")
-    parser.add_argument("--target", default="slip=-0.015",
-                        help="quantity=value, quantity one of slip [m], rotation [rad], x, y [m] "
-                             "(default slip=-0.015: slide 15 mm down)")
-    parser.add_argument("--vary", default="grip_force=1.0:3.0",
-                        help="parameter=low:high (default grip_force=1.0:3.0)")
-    parser.add_argument("--uncertain", action="append", default=[],
-                        help="parameter=low:high known only within the interval (repeatable): plan for the "
-                             "worst case and report the band")
-    parser.add_argument("--tol", type=float, default=1e-6, help="tolerance on the outcome (default 1e-6)")
-    parser.add_argument("--t-end", type=float, default=None, help="simulated time [s] (default: motion end x 1.5)")
-    parser.add_argument("--max-acceleration", type=float, default=None, help="robot limit [m/s^2 or rad/s^2]")
-    parser.add_argument("--max-speed", type=float, default=None, help="robot limit [m/s or rad/s]")
-    parser.add_argument("--rate", type=float, default=100.0, help="rate of the exported poses [Hz] (default 100)")
-    parser.add_argument("--out", default="exdex-output/plan", help="output folder (default exdex-output/plan)")
-    parser.add_argument("--no-progress", action="store_true", help="accepted for symmetry (a plan takes ms)")
-
-
-def run(args):
-    import os
-    from exdex import paper
-    if args.scene:
-        from exdex.io import load_scene
-        scene = load_scene(args.scene)
-    else:
-        scene = {"fig3": paper.fig3_scene, "fig4": paper.fig4_scene, "fig6": paper.fig6_scene}[args.case]()
-    q, v = _kv(args.target, "--target")
-    try:
-        target = {q: float(v)}
-    except ValueError:
-        raise SystemExit(f"exdex plan: --target value must be a number, got {v!r}") from None
-    name, bounds = _interval(args.vary, "--vary")
-    unc = dict(_interval(u, "--uncertain") for u in args.uncertain) or None
-    limits = None
-    if args.max_acceleration is not None or args.max_speed is not None:
-        limits = Limits(max_acceleration=args.max_acceleration, max_speed=args.max_speed)
-    try:
-        p = solve(scene, target, {name: bounds}, limits=limits, tol=args.tol, t_end=args.t_end, uncertain=unc)
-    except UnreachableTargetError as exc:
-        print(f"exdex plan: {exc}")
-        return 1
-    os.makedirs(args.out, exist_ok=True)
-    u = QUANTITIES[p.quantity]
-    print(f"plan: {p.parameter} = {p.value:.9g}")
-    print(f"  {p.quantity}: {p.achieved:.9g} {u} (target {p.target:g} {u}, residual {p.residual:.2e} {u}, "
-          f"tol {p.tol:g})")
-    print(f"  reachable by {p.parameter} in [{bounds[0]:g}, {bounds[1]:g}]: "
-          f"[{p.reachable[0]:.6g}, {p.reachable[1]:.6g}] {u}")
-    pk = motion_peaks(p.scene.motion)
-    print(f"  gripper: peak acceleration {pk['acceleration']:.4g}, peak speed {pk['speed']:.4g}, "
-          f"stroke {pk['stroke']:.4g}, duration {pk['duration']:.4g} s")
-    if p.band is not None:
-        print(f"  outcome band: [{p.band.low:.6g}, {p.band.high:.6g}] {u} for {p.band.describe()} "
-              f"({'exact ends' if p.band.exact else f'sampled, bound {p.band.bound:.2g}'}); worst error "
-              f"{p.worst_error:.3g} {u}: {'meets' if p.meets_target else 'does NOT meet'} tol {p.tol:g}")
-    t, poses = p.gripper_poses(args.rate)
-    csv_path = os.path.join(args.out, "gripper_poses.csv")
-    np.savetxt(csv_path, np.column_stack([t, poses]), delimiter=",", header="t,x,y,z,qw,qx,qy,qz", comments="",
-               fmt="%.17g")
-    print(f"wrote {csv_path} ({len(t)} poses at {args.rate:g} Hz)")
-    try:
-        from exdex.io import save_scene
-        scene_path = os.path.join(args.out, "planned_scene.toml")
-        save_scene(p.scene, scene_path)
-        print(f"wrote {scene_path}")
-    except ImportError:  # pragma: no cover - exdex.io is part of the package
-        pass
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        ax = p.plot()
-        fig_path = os.path.join(args.out, "plan.png")
-        ax.figure.savefig(fig_path, dpi=120)
-        print(f"wrote {fig_path}")
-    except ImportError:
-        print("(no figure: matplotlib is missing; pip install 'exdex[plot]')")
-    return 0
 
 
 # ------------------------------------------------------- several parameters

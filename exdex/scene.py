@@ -29,8 +29,8 @@ from numpy.typing import ArrayLike, NDArray
 from exdex import _core
 
 __all__ = [
-    "Body", "Patch", "Grasp", "Rest", "AsymmetricProfile", "TrapezoidalProfile",
-    "SampledTrajectory", "Stop", "Scene", "DEFAULT_GRIPPER_ROTATION",
+    "Body", "Patch", "GripSchedule", "Grasp", "Rest", "AsymmetricProfile", "TrapezoidalProfile",
+    "SampledTrajectory", "Shake", "Pause", "Chain", "Stop", "Scene", "DEFAULT_GRIPPER_ROTATION",
 ]
 
 #: B x = A x, B y = A z (up), B z = -A y: plates vertical, normal horizontal.
@@ -49,6 +49,7 @@ METHODS = {"implicit": _core.METHOD_IMPLICIT, "event": _core.METHOD_EVENT,
            "regularised": _core.METHOD_REGULARISED, "explicit": _core.METHOD_EXPLICIT,
            "analytic": _core.METHOD_ANALYTIC}
 SOLVERS = {"scalar": _core.SOLVER_SCALAR, "brent": _core.SOLVER_BRENT, "multiroot": _core.SOLVER_MULTIROOT}
+GRIP_KINDS = {"linear": _core.GRIP_LINEAR, "cubic": _core.GRIP_CUBIC, "step": _core.GRIP_STEP}
 
 
 # ---------------------------------------------------------------- validation
@@ -224,34 +225,159 @@ class Patch:
 
 
 @dataclass(frozen=True)
+class GripSchedule:
+    """A grip force that varies in time: the normal force of each finger F(t)
+    [N] through the points ``(times[i], forces[i])``.
+
+    times : [s], finite and strictly increasing, at least one point.
+    forces : [N], finite and >= 0, one per time.
+    kind : between the points, ``"linear"`` (piecewise linear), ``"cubic"``
+        (Steffen's monotone cubic: continuous slope, no overshoot, so F stays
+        between the neighbouring forces and >= 0; through two points it is
+        the line) or ``"step"`` (piecewise constant, right-continuous:
+        ``forces[i]`` from ``times[i]`` on, e.g. a release and a re-grip).
+
+    Before ``times[0]`` and after ``times[-1]`` the force is held at the first
+    and last value. A force of 0 (a release) makes the plates frictionless
+    meanwhile. Every method evaluates the capacity ``mu * fingers * F(t)`` at
+    its own times (the time-stepping methods use its exact mean over each
+    step; the event and regularised methods step onto the times, and the
+    event method locates where a falling capacity meets the load). A
+    schedule whose forces are all equal is that constant grip force.
+    """
+
+    times: Vector
+    forces: Vector
+    kind: str = "linear"
+
+    def __post_init__(self):
+        t = _array(self.times, "GripSchedule.times", (None,))
+        f = _array(self.forces, "GripSchedule.forces", (None,))
+        if t.size < 1:
+            raise ValueError("GripSchedule.times must hold at least one time")
+        if t.size > _core.MAX_GRIP_POINTS:
+            raise ValueError(f"GripSchedule holds at most {_core.MAX_GRIP_POINTS} points, got {t.size}")
+        if f.size != t.size:
+            raise ValueError(f"GripSchedule.forces must have one force per time: {t.size} times, {f.size} forces")
+        bad = np.flatnonzero(np.diff(t) <= 0.0)
+        if bad.size:
+            i = int(bad[0]) + 1
+            raise ValueError(f"GripSchedule.times must be strictly increasing: times[{i}] = {t[i]:g} "
+                             f"<= times[{i - 1}] = {t[i - 1]:g}")
+        bad = np.flatnonzero(f < 0.0)
+        if bad.size:
+            i = int(bad[0])
+            raise ValueError(f"GripSchedule.forces[{i}] = {f[i]:g} must be >= 0 [N]")
+        if not isinstance(self.kind, str) or self.kind not in GRIP_KINDS:
+            raise ValueError(f"GripSchedule.kind must be one of {sorted(GRIP_KINDS)}, got {self.kind!r}")
+        object.__setattr__(self, "times", _tuple(t))
+        object.__setattr__(self, "forces", _tuple(f))
+
+    def _eval(self, t: ArrayLike) -> Tuple[NDArray[np.float64], NDArray[np.float64], Tuple[int, ...]]:
+        ta = np.asarray(t, dtype=np.float64)
+        if not np.all(np.isfinite(ta)):
+            raise ValueError("t must be finite")
+        probe = Scene(body=Body(mass=1.0), grasp=Grasp(mu=0.0, grip_force=self))
+        force, rate = _core.grip_eval(probe.to_spec(), ta.ravel())
+        return force, rate, ta.shape
+
+    def __call__(self, t: ArrayLike) -> Union[float, NDArray[np.float64]]:
+        """F(t) [N] (as the core evaluates it); a float for a scalar t."""
+        force, _, shape = self._eval(t)
+        return float(force[0]) if shape == () else force.reshape(shape)
+
+    def rate(self, t: ArrayLike) -> Union[float, NDArray[np.float64]]:
+        """dF/dt [N/s] (the right derivative at a point; 0 for ``"step"``)."""
+        _, rate, shape = self._eval(t)
+        return float(rate[0]) if shape == () else rate.reshape(shape)
+
+    @property
+    def max_force(self) -> float:
+        """Largest force of the schedule [N] (the interpolation never exceeds it)."""
+        return max(self.forces)
+
+    def scaled(self, factor: float) -> "GripSchedule":
+        """The schedule with every force multiplied by ``factor`` (>= 0)."""
+        k = _real(factor, "factor", low=0.0)
+        return GripSchedule(self.times, tuple(k * f for f in self.forces), self.kind)
+
+
+@dataclass(frozen=True)
 class Grasp:
     """How the plates hold the object.
 
-    mu : plate-object friction coefficient, >= 0.
-    grip_force : normal force of each finger [N], >= 0.
+    mu : plate-object friction coefficient, >= 0: the kinetic coefficient,
+        the one a slip slides against.
+    grip_force : normal force of each finger [N], >= 0, or a
+        :class:`GripSchedule` of it in time.
     patch : the pressure patch (both fingers identical and aligned).
     fingers : number of pressing patches, 1 or 2. The ellipsoids of the
         fingers add: the friction capacity is ``mu * fingers * grip_force`` [N]
         and the largest torque ``capacity * patch.e_r`` [N m].
+    mu_static : static coefficient, >= mu; None (the default) is ``mu``. The
+        plates hold the object while the wrench that holds it lies in the
+        static ellipsoid (capacity ``mu_static * fingers * grip_force``, the
+        same shape); a slip slides against the kinetic one and sticks again
+        where its slip twist reaches 0 with the holding wrench inside the
+        static ellipsoid. ``mu_static == mu`` gives the same results, bit for
+        bit, as leaving it out.
     """
 
     mu: float
-    grip_force: float
+    grip_force: Union[float, GripSchedule]
     patch: Patch = field(default_factory=lambda: Patch(e_r=0.01))
     fingers: int = 2
+    mu_static: Optional[float] = None
 
     def __post_init__(self):
         object.__setattr__(self, "mu", _real(self.mu, "Grasp.mu", low=0.0))
-        object.__setattr__(self, "grip_force", _real(self.grip_force, "Grasp.grip_force", low=0.0))
+        if not isinstance(self.grip_force, GripSchedule):
+            if not isinstance(self.grip_force, numbers.Real) or isinstance(self.grip_force, bool):
+                raise TypeError(f"Grasp.grip_force must be a real number [N] or an exdex.GripSchedule, "
+                                f"got {type(self.grip_force).__name__}")
+            object.__setattr__(self, "grip_force", _real(self.grip_force, "Grasp.grip_force", low=0.0))
         if not isinstance(self.patch, Patch):
             raise TypeError(f"Grasp.patch must be an exdex.Patch, got {type(self.patch).__name__}")
         if isinstance(self.fingers, bool) or not isinstance(self.fingers, numbers.Integral) or self.fingers not in (1, 2):
             raise ValueError(f"Grasp.fingers must be 1 or 2, got {self.fingers!r}")
+        if self.mu_static is not None:
+            object.__setattr__(self, "mu_static", _real(self.mu_static, "Grasp.mu_static", low=self.mu))
 
     @property
     def capacity(self) -> float:
-        """Largest friction force the plates can exert, mu * fingers * grip_force [N]."""
+        """Largest friction force the plates can exert, mu * fingers * grip_force
+        [N]; with a :class:`GripSchedule` the largest over time (with its
+        largest force; :meth:`capacity_at` gives it at given times)."""
+        if isinstance(self.grip_force, GripSchedule):
+            return self.mu * self.fingers * self.grip_force.max_force
         return self.mu * self.fingers * self.grip_force
+
+    @property
+    def static_mu(self) -> float:
+        """The static coefficient: ``mu_static``, or ``mu`` when it is None."""
+        return self.mu if self.mu_static is None else self.mu_static
+
+    @property
+    def static_capacity(self) -> float:
+        """Largest friction force the plates can hold at rest, static_mu *
+        fingers * grip_force [N] (with a schedule: its largest force)."""
+        return self.capacity if self.mu == self.static_mu else \
+            self.static_mu * self.fingers * (self.grip_force.max_force if isinstance(self.grip_force, GripSchedule)
+                                             else self.grip_force)
+
+    def capacity_at(self, t: ArrayLike) -> Union[float, NDArray[np.float64]]:
+        """Friction capacity mu * fingers * F(t) at the times t [N] (F the
+        grip schedule, or the constant grip force); a float for a scalar t."""
+        if isinstance(self.grip_force, GripSchedule):
+            return self.mu * self.fingers * self.grip_force(t)
+        ta = np.asarray(t, dtype=np.float64)
+        c = self.mu * self.fingers * self.grip_force
+        return c if ta.shape == () else np.full(ta.shape, c)
+
+    @property
+    def schedule(self) -> Optional[GripSchedule]:
+        """The grip schedule, or None for a constant grip force."""
+        return self.grip_force if isinstance(self.grip_force, GripSchedule) else None
 
 
 # ---------------------------------------------------------------- motions
@@ -519,6 +645,184 @@ class SampledTrajectory(_Motion):
         return hash(self._key())
 
 
+@dataclass(frozen=True)
+class Shake(_Motion):
+    """An oscillation of the gripper: s(t) = A (1 - cos 2 pi f t) for
+    ``duration`` D, then held at s(D).
+
+    It starts at rest (velocity 0, acceleration A (2 pi f)^2) and, after
+    whole or half cycles, ends at rest; otherwise its velocity jumps to rest
+    at D (a :class:`exdex.GripperJumpWarning` in a run, an error between the
+    pieces of a :class:`Chain` unless allowed). The peak acceleration is
+    A (2 pi f)^2 [m/s^2 or rad/s^2].
+
+    amplitude : A [m] (translation) or [rad] (rotation); any sign.
+    frequency : f [Hz] > 0.
+    cycles, duration : give exactly one: the number of cycles f D (> 0) or
+        D [s] (> 0).
+    axis, rotation, center : as :class:`AsymmetricProfile`.
+    """
+
+    amplitude: float
+    frequency: float
+    cycles: Optional[float] = None
+    duration: Optional[float] = None
+    axis: Vector = (0.0, 0.0, 1.0)
+    rotation: bool = False
+    center: Vector = (0.0, 0.0, 0.0)
+
+    def __post_init__(self):
+        object.__setattr__(self, "amplitude", _real(self.amplitude, "Shake.amplitude"))
+        f = _real(self.frequency, "Shake.frequency", low=0.0, low_open=True)
+        object.__setattr__(self, "frequency", f)
+        if self.cycles is not None and self.duration is not None:
+            # both (a saved scene): consistent, and kept as given
+            n = _real(self.cycles, "Shake.cycles", low=0.0, low_open=True, high=1e9)
+            D = _real(self.duration, "Shake.duration", low=0.0, low_open=True)
+            if not math.isclose(n / f, D, rel_tol=1e-12):
+                raise ValueError("Shake needs exactly one of cycles (the number of cycles, > 0) and duration [s] "
+                                 f"(or both with duration = cycles / frequency), got cycles={n!r}, duration={D!r}")
+            object.__setattr__(self, "cycles", n)
+            object.__setattr__(self, "duration", D)
+        elif self.cycles is None and self.duration is None:
+            raise ValueError("Shake needs exactly one of cycles (the number of cycles, > 0) and duration [s], "
+                             "got neither")
+        elif self.cycles is not None:
+            n = _real(self.cycles, "Shake.cycles", low=0.0, low_open=True, high=1e9)
+            object.__setattr__(self, "cycles", n)
+            object.__setattr__(self, "duration", n / f)
+        else:
+            D = _real(self.duration, "Shake.duration", low=0.0, low_open=True)
+            object.__setattr__(self, "duration", D)
+            object.__setattr__(self, "cycles", D * f)
+            if D * f > 1e9:
+                raise ValueError(f"Shake.duration * Shake.frequency (cycles) must be at most 1e9, got {D * f:g}")
+        _axis_fields(self, "Shake")
+
+    @property
+    def peak_acceleration(self) -> float:
+        """|A| (2 pi f)^2 [m/s^2 or rad/s^2]."""
+        return abs(self.amplitude) * (2.0 * math.pi * self.frequency) ** 2
+
+    def _spec(self):
+        return dict(motion_kind=_core.MOTION_SHAKE, motion_rotation=int(self.rotation), motion_axis=self.axis,
+                    motion_center=self.center, motion_amplitude=self.amplitude,
+                    motion_duration=self.duration, motion_frequency=self.frequency)
+
+    @property
+    def end_time(self) -> float:
+        return float(self.duration)  # type: ignore[arg-type]
+
+
+@dataclass(frozen=True)
+class Pause(_Motion):
+    """The gripper holds its pose for ``duration`` [s] (> 0): a rest between
+    the pieces of a :class:`Chain` (on its own, the same as :class:`Rest`)."""
+
+    _may_jump = False
+
+    duration: float
+
+    def __post_init__(self):
+        object.__setattr__(self, "duration", _real(self.duration, "Pause.duration", low=0.0, low_open=True))
+
+    def _spec(self):
+        return dict(motion_kind=_core.MOTION_REST, motion_duration=self.duration)
+
+    @property
+    def end_time(self) -> float:
+        return self.duration
+
+
+#: The motion keys every chain piece passes to the core (defaults of unused fields).
+_PIECE_DEFAULTS = dict(motion_kind=_core.MOTION_REST, motion_rotation=0, motion_axis=(0.0, 0.0, 1.0),
+                       motion_center=(0.0, 0.0, 0.0), motion_amplitude=0.0, motion_duration=1.0,
+                       motion_beta=0.5, motion_v_max=1.0, motion_frequency=1.0)
+
+
+@dataclass(frozen=True)
+class Chain(_Motion):
+    """Motions played one after the other.
+
+    Each piece starts from the pose where the one before ended (the first
+    from the scene's initial gripper pose) and runs on its own clock: a
+    profile or shake from its time 0, a :class:`SampledTrajectory` from its
+    first sample (relative logs replay from that pose; an absolute log must
+    start there), a :class:`Pause` for its duration. The chain's switching
+    times (every piece boundary and the pieces' own phase switches) are
+    stepped onto by the event method.
+
+    pieces : 1 to 16 motions (:class:`AsymmetricProfile`,
+        :class:`TrapezoidalProfile`, :class:`Shake`, :class:`Pause`,
+        :class:`SampledTrajectory`); not :class:`Rest` (no duration: use a
+        :class:`Pause`) nor a chain (list its pieces instead).
+    allow_jump : the gripper's velocity must be continuous where one piece
+        ends and the next starts (e.g. a shake stopped mid-cycle followed by
+        a pause is not), and an absolute log must start at the pose where
+        the piece before ended; a violation raises a ValueError naming the
+        piece when the scene is simulated. With ``allow_jump=True`` a
+        velocity jump between pieces is accepted and applied like a sampled
+        log's (:class:`exdex.GripperJumpWarning`): the object keeps its
+        absolute velocity. A position jump is always an error. Jumps and
+        mismatches within 1e-9 of the speeds or positions compared are
+        rounding and ignored.
+    """
+
+    pieces: Tuple[_Motion, ...]
+    allow_jump: bool = False
+
+    def __post_init__(self):
+        pieces = self.pieces
+        if isinstance(pieces, _Motion) or isinstance(pieces, (str, bytes)) or not hasattr(pieces, "__iter__"):
+            raise TypeError(f"Chain.pieces must be a sequence of motions, got {type(pieces).__name__}")
+        pieces = tuple(pieces)
+        if not 1 <= len(pieces) <= _core.MOTION_MAX_PIECES:
+            raise ValueError(f"Chain.pieces must hold 1 to {_core.MOTION_MAX_PIECES} motions, got {len(pieces)}")
+        for i, p in enumerate(pieces):
+            if isinstance(p, Chain):
+                raise TypeError(f"Chain.pieces[{i}] is a Chain: list its pieces in this chain instead")
+            if isinstance(p, Rest):
+                raise TypeError(f"Chain.pieces[{i}] is a Rest, which has no duration: use exdex.Pause(duration)")
+            if not isinstance(p, _Motion):
+                raise TypeError(f"Chain.pieces[{i}] must be an exdex motion, got {type(p).__name__}")
+        object.__setattr__(self, "pieces", pieces)
+        if not isinstance(self.allow_jump, (bool, np.bool_)):
+            raise TypeError(f"Chain.allow_jump must be True or False, got {type(self.allow_jump).__name__}")
+        object.__setattr__(self, "allow_jump", bool(self.allow_jump))
+
+    @property
+    def start_times(self) -> Tuple[float, ...]:
+        """Start time of each piece in the chain [s] (a log's own clock starts
+        at its first sample)."""
+        out, t = [], 0.0
+        for p in self.pieces:
+            out.append(t)
+            t += self._length(p)
+        return tuple(out)
+
+    @staticmethod
+    def _length(p):
+        if isinstance(p, SampledTrajectory):
+            return float(p.times[-1] - p.times[0])
+        return p.end_time
+
+    def _spec(self):
+        pieces = []
+        for p in self.pieces:
+            d = dict(_PIECE_DEFAULTS)
+            d.update(p._spec())
+            pieces.append(d)
+        return dict(motion_kind=_core.MOTION_CHAIN, motion_pieces=pieces, motion_allow_jump=int(self.allow_jump),
+                    motion_duration=self.end_time)
+
+    @property
+    def end_time(self) -> float:
+        t = 0.0
+        for p in self.pieces:
+            t += self._length(p)
+        return t
+
+
 def _quat_from_matrix(R):
     """(w, x, y, z) of a rotation matrix (Shepperd's method)."""
     R = np.asarray(R, dtype=float)
@@ -600,7 +904,8 @@ class Scene:
             raise TypeError(f"Scene.grasp must be an exdex.Grasp, got {type(self.grasp).__name__}")
         if not isinstance(self.motion, _Motion):
             raise TypeError(f"Scene.motion must be an exdex motion (Rest, AsymmetricProfile, "
-                            f"TrapezoidalProfile, SampledTrajectory), got {type(self.motion).__name__}")
+                            f"TrapezoidalProfile, SampledTrajectory, Shake, Pause, Chain), "
+                            f"got {type(self.motion).__name__}")
         if self.dof not in DOFS:
             raise ValueError(f"Scene.dof must be one of {sorted(DOFS)}, got {self.dof!r}")
         object.__setattr__(self, "slide_axis", _unit(self.slide_axis, "Scene.slide_axis", 2))
@@ -651,6 +956,32 @@ class Scene:
                     f"{where} is {-gaps[j]:.6g} m beyond it at t = 0. Move the stop or the object "
                     f"(Scene.q0 = {self.q0}) so that it starts on the stop's allowed side")
 
+    def check_motion(self) -> None:
+        """Raise a ValueError naming the piece if a :class:`Chain` motion
+        jumps between two pieces (position, or velocity without
+        ``allow_jump``), as the core checks it at this initial gripper pose."""
+        if not isinstance(self.motion, Chain):
+            return
+        try:
+            _core.motion_jumps(self.to_spec())
+        except ValueError as exc:
+            import re
+
+            m = re.search(r"motion\.pieces\[(\d+)\]", str(exc))
+            if not m:
+                raise
+            i = int(m.group(1))
+            piece = self.motion.pieces[i]
+            if i == 0:
+                raise ValueError(f"Chain.pieces[0] ({type(piece).__name__}) is not a valid chain piece: {exc}") from None
+            t = self.motion.start_times[i]
+            raise ValueError(
+                f"Chain.pieces[{i}] ({type(piece).__name__}) does not continue Chain.pieces[{i - 1}] "
+                f"({type(self.motion.pieces[i - 1]).__name__}) at t = {t:.9g} s: the gripper's velocity jumps there "
+                f"(or an absolute log starts away from the pose where the piece before ends). Make the pieces meet "
+                f"(e.g. a Shake of whole or half cycles, ramps on a trapezoid) or pass Chain(..., allow_jump=True) "
+                f"to apply the velocity jump to the object") from None
+
     @property
     def ndof(self) -> int:
         """Number of free coordinates (1 or 3)."""
@@ -670,6 +1001,7 @@ class Scene:
             mass=self.body.mass, inertia=np.array(self.body.inertia).ravel(),
             vertices=self.body.vertices() if self.stops else None,
             mu=self.grasp.mu, grip_force=self.grasp.grip_force, fingers=int(self.grasp.fingers),
+            mu_static=0.0 if self.grasp.mu_static is None else self.grasp.mu_static,  # 0: equal to mu
             e_r=self.grasp.patch.e_r, patch_center=self.grasp.patch.center,
             gravity=self.gravity, dof=DOFS[self.dof], slide_axis=self.slide_axis,
             q0=self.q0, v0=self.v0, R0=np.array(self.gripper_rotation).ravel(), p0=self.gripper_position,
@@ -682,6 +1014,11 @@ class Scene:
             eps=eps, rtol=rtol, atol=atol,
         )
         spec.update(self.motion._spec())
+        sched = self.grasp.schedule
+        if sched is not None:
+            # the core's grip_force scales the schedule (a batch's grip_force varies that scale)
+            spec.update(grip_force=1.0, grip_schedule=np.array([sched.times, sched.forces]),
+                        grip_kind=GRIP_KINDS[sched.kind])
         return spec
 
 

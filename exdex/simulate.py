@@ -468,6 +468,7 @@ def _spec(scene, method, friction_solver, eps, rtol, atol):
     rtol = _real(rtol, "rtol", low=0.0, low_open=True)
     atol = _real(atol, "atol", low=0.0, low_open=True)
     scene.check_stops()
+    scene.check_motion()
     return scene.to_spec(method=method, friction_solver=friction_solver, eps=eps, rtol=rtol, atol=atol)
 
 

@@ -161,13 +161,13 @@ def test_bad_options(drop, kw, message):
 def test_paper_command_writes_one_animation_per_case(tmp_path, capsys):
     import argparse
 
-    from exdex import paper
+    from exdex import cli_paper
 
     parser = argparse.ArgumentParser()
-    paper.add_arguments(parser)
+    cli_paper.add_arguments(parser)
     args = parser.parse_args(["--out", str(tmp_path), "--cases", "fig4", "--dt", "2e-3", "--animate",
                               "--no-progress"])
-    assert paper.run(args) == 0
+    assert cli_paper.run(args) == 0
     PIL = pytest.importorskip("PIL.Image")
     with PIL.open(tmp_path / "fig4.gif") as im:
         assert im.n_frames == 26  # 1.0 s at 25 fps, real time

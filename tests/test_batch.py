@@ -115,6 +115,32 @@ def test_thread_counts_agree_on_a_larger_batch(fig3):
             np.testing.assert_array_equal(r.stats[k], runs[0].stats[k])
 
 
+@pytest.mark.parametrize("threads", [1, 2, 3])
+def test_large_analytic_vary_batch_equals_serial(fig3, threads):
+    """A batch long enough to be handed out in chunks, whose models the
+    worker threads build from the base scene (one spec + vary): every
+    trajectory equals serial exdex.simulate (checked on a spread of indices,
+    including chunk edges), for any thread count."""
+    g = np.linspace(1.1, 2.6, 20_000)
+    b = simulate_batch(fig3, 1.5, 0.5, threads=threads, record="final", method="analytic", grip_force=g,
+                       mu=0.5, warn=False)
+    for i in (0, 1, 63, 64, 65, 127, 128, 4_999, 10_000, 19_998, 19_999):
+        r = exdex.simulate(b.scene_at(i), 1.5, 0.5, method="analytic")
+        for name in ARRAYS:
+            np.testing.assert_array_equal(getattr(b, name)[i], getattr(r, name)[-1], err_msg=f"{name}[{i}]")
+
+
+@pytest.mark.parametrize("threads", [1, 2, 3])
+def test_rejected_scene_in_a_chunked_vary_batch_names_the_smallest_index(fig3, threads):
+    """Scenes the core rejects at indices 3001 and 7000 of 10^4 (built by the
+    workers): the error names 3001 whatever the thread count."""
+    spec = fig3.to_spec(method="analytic")
+    mass = np.full(10_000, fig3.body.mass)
+    mass[[3001, 7000]] = -1.0
+    with pytest.raises(ValueError, match=r"^batch index 3001: scene: invalid value of 'mass'"):
+        _core.simulate_batch(spec, 1.5, 0.5, threads=threads, record="final", vary={"mass": mass})
+
+
 def test_sequence_of_scenes(fig3):
     scenes = [fig3, exdex.replace(fig3, gravity=(0.0, 0.0, -9.0)), paper.fig3_scene(direction=1)]
     b = simulate_batch(scenes, 1.5, 1e-3, threads=2, grip_force=[1.4, 1.5, 1.6])
@@ -270,6 +296,26 @@ def test_failing_trajectory_raises_with_its_index(fig3, threads):
     with pytest.raises(exdex.SolverError, match="batch index 3: non-finite") as info:
         simulate_batch(scenes, 20.0, 1e-2, threads=threads, record="final")
     assert info.value.index == 3 and info.value.status == serial.value.status
+
+
+def test_failing_trajectory_says_when_why_and_what_instead():
+    """A batch's SolverError is simulate's (the time reached, the cause and
+    the remedy, attributes time and cause) with the batch index in front: a
+    regularised planar run whose eps makes the stepper's step collapse
+    (stiffness C/(M eps) ~ 1e9/s) fails the step budget in both."""
+    sc = exdex.Scene(body=exdex.Body.box(0.1, (0.06, 0.03, 0.02)),
+                     grasp=exdex.Grasp(mu=0.5, grip_force=2.6,
+                                       patch=exdex.Patch.rectangle(0.02, 0.02, center=(0.015, 0))),
+                     dof="planar")
+    kw = dict(method="regularised", eps=1e-12)
+    with pytest.raises(exdex.SolverError) as serial:
+        exdex.simulate(sc, 0.01, 0.01, **kw)
+    with pytest.raises(exdex.SolverError) as info:
+        simulate_batch([sc, sc], 0.01, 0.01, threads=1, record="final", **kw)
+    e, s = info.value, serial.value
+    assert s.cause == "step_budget" and "t = " in str(s) and "method='implicit'" in str(s)
+    assert e.args == (f"batch index 0: {s.args[0]}", s.status)
+    assert (e.index, e.status, e.time, e.cause) == (0, s.status, s.time, s.cause)
 
 
 def test_keyboard_interrupt_stops_a_long_batch(fig3):

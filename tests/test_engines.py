@@ -228,7 +228,9 @@ def test_planar_ablation_uses_the_equivalent_e_r():
 def test_ablation_figure_colours_are_not_shared():
     labels = ["pybullet", "mujoco", "drake", "pybullet point+spin", "pybullet no cone", "mujoco noslip 20",
               "mujoco point+torsion", "drake hydroelastic"]
-    cols = engines.ablation_colors(engines.ABLATION_MODELS, labels)
+    from exdex.cli_compare import ablation_colors
+
+    cols = ablation_colors(engines.ABLATION_MODELS, labels)
     assert len(cols) == len(engines.ABLATION_MODELS) + len(labels)
     assert len({tuple(np.round(c, 6)) for c in cols.values()}) == len(cols)
 
@@ -331,12 +333,12 @@ def test_hold_quick_exdex_is_exactly_zero_and_table_complete(tmp_path):
     import argparse
     import csv
 
-    from exdex import hold
+    from exdex import cli_hold, hold
 
     p = argparse.ArgumentParser()
-    hold.add_arguments(p)
+    cli_hold.add_arguments(p)
     args = p.parse_args(["--quick", "--out", str(tmp_path), "--no-progress"])
-    assert hold.run(args) == 0
+    assert cli_hold.run(args) == 0
     rows = list(csv.DictReader(open(tmp_path / "hold_table.csv")))
     settings = {r["setting"] for r in rows}
     scenarios = {(r["dof"], r["margin"], r["motion"]) for r in rows}
@@ -370,6 +372,8 @@ def test_engine_commands_name_the_missing_extra(command, tmp_path):
 def test_compare_takes_no_progress():
     import argparse
 
+    from exdex import cli_compare
+
     p = argparse.ArgumentParser()
-    engines.add_arguments(p)
+    cli_compare.add_arguments(p)
     assert p.parse_args(["--no-progress"]).no_progress is True

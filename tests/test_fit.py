@@ -100,3 +100,46 @@ def test_identify_bad_input(kw, match):
     args.update(kw)
     with pytest.raises(ValueError, match=match):
         exdex.identify(fig3(), args["times"], args["observed"], args["params"])
+
+
+# ------------------------------------------------------------- event times
+
+def stop_closed(F, mu):
+    """End of the Fig. 3 slip: it starts at t1 = beta T = 0.45 s (the switch
+    to a_L, when the drive first exceeds the capacity), grows at u = g +
+    |a_L| - c until t2 = (2 - beta) T = 0.55 s (tau = 0.1 s), then decays at
+    D - u (D = a_H + |a_L|): t_stop = t2 + u tau / (D - u), and
+    d t_stop / dF = tau D / (D - u)^2 du/dF = -2 mu tau D / (m (D - u)^2)."""
+    a_h, a_l = paper.eq7_accelerations(0.1, 0.5, 0.9)
+    a_l = abs(a_l)
+    c = mu * 2 * F / paper.MASS
+    u = paper.G + a_l - c
+    D = a_h + a_l
+    tau = 0.1
+    return 0.55 + u * tau / (D - u), -2 * mu * tau * D / (paper.MASS * (D - u) ** 2)
+
+
+@pytest.mark.parametrize("method", ["auto", "event"])
+def test_event_times_and_their_sensitivities_match_closed_forms(method):
+    """Onset at the Eq. 7 switch beta T: d onset / dF = 0, d onset / d beta
+    = T = 0.5 s exactly; the stop time and d stop / dF from stop_closed."""
+    F, mu = 1.5, 0.5
+    sc = fig3(grip_force=F, mu=mu)
+    t_stop, dstop_dF = stop_closed(F, mu)
+    e = exdex.fit.event_times(sc, 1.5, method=method)
+    assert e.onset == pytest.approx(0.45, abs=1e-12)
+    assert e.stop == pytest.approx(t_stop, abs=1e-12)
+    s = exdex.fit.event_sensitivity(sc, ["grip_force", "beta"], 1.5, method=method)
+    assert s.donset[0] == pytest.approx(0.0, abs=1e-6) and s.donset[1] == pytest.approx(0.5, abs=1e-6)
+    assert s.dstop[0] == pytest.approx(dstop_dF, rel=1e-6)
+    assert abs(s.dstop[0] - dstop_dF) <= max(10 * s.stop_error[0], 1e-8)
+
+
+def test_event_times_of_a_held_object_and_of_one_still_moving():
+    held = fig3(grip_force=3.0)   # capacity above every drive: no slip
+    e = exdex.fit.event_times(held, 1.5)
+    assert np.isnan(e.onset) and np.isnan(e.stop)
+    e = exdex.fit.event_times(fig3(grip_force=1.5), 0.5)   # t_end inside the slip (0.45 .. 0.59 s)
+    assert e.onset == pytest.approx(0.45, abs=1e-12) and e.stop == np.inf
+    with pytest.raises(ValueError, match="n_grid"):
+        exdex.fit.event_times(held, 1.5, n_grid=1)

@@ -99,14 +99,21 @@ def _motion(rng):
     return exdex.SampledTrajectory(times, rng.normal(size=(n, 3)) * 0.1, rng.normal(size=(n, 4)), **options)
 
 
+def _grasp(rng):
+    mu = abs(_awkward(rng))
+    grasp = exdex.Grasp(mu=mu, grip_force=abs(_awkward(rng)), patch=_patch(rng), fingers=int(rng.integers(1, 3)))
+    if rng.integers(0, 2):   # a static coefficient (>= mu), or None
+        grasp = exdex.replace(grasp, mu_static=mu + abs(_awkward(rng)))
+    return grasp
+
+
 def random_scene(rng):
     dof = str(rng.choice(["translation", "rotation", "planar"]))
     stops = tuple(exdex.Stop(tuple(_awkward(rng, 3)), tuple(rng.normal(size=3)), mu=_awkward(rng, positive=True))
                   for _ in range(rng.integers(0, 9)))
     return exdex.Scene(
         body=_body(rng),
-        grasp=exdex.Grasp(mu=abs(_awkward(rng)), grip_force=abs(_awkward(rng)), patch=_patch(rng),
-                          fingers=int(rng.integers(1, 3))),
+        grasp=_grasp(rng),
         motion=_motion(rng), dof=dof, slide_axis=tuple(rng.normal(size=2)), q0=tuple(_awkward(rng, 3)),
         v0=tuple(_awkward(rng, 3)), gripper_rotation=_rotation(rng), gripper_position=tuple(_awkward(rng, 3)),
         gravity=tuple(_awkward(rng, 3)), stops=stops)
@@ -410,7 +417,7 @@ def test_the_schema_covers_every_scene_field_and_motion():
         "Scene": ["body", "grasp", "motion", "dof", "slide_axis", "q0", "v0", "gripper_rotation",
                   "gripper_position", "gravity", "stops"],
         "Body": ["mass", "inertia", "size", "outline"],
-        "Grasp": ["mu", "grip_force", "patch", "fingers"],
+        "Grasp": ["mu", "grip_force", "patch", "fingers", "mu_static"],
         "Patch": ["e_r", "center", "shape", "dims"],
         "Stop": ["point", "normal", "mu"],
     }
@@ -421,8 +428,31 @@ def test_the_schema_covers_every_scene_field_and_motion():
         "TrapezoidalProfile": ["amplitude", "duration", "v_max", "axis", "rotation", "center"],
         "SampledTrajectory": ["times", "positions", "quaternions", "start_velocity", "start_omega",
                               "end_velocity", "end_omega", "relative", "tool"],
+        "Shake": ["amplitude", "frequency", "cycles", "duration", "axis", "rotation", "center"],
+        "Pause": ["duration"],
+        "Chain": ["pieces", "allow_jump"],
     }
-    assert sorted(io.MOTIONS) == ["AsymmetricProfile", "Rest", "SampledTrajectory", "TrapezoidalProfile"]
+    assert sorted(io.MOTIONS) == ["AsymmetricProfile", "Chain", "Pause", "Rest", "SampledTrajectory", "Shake",
+                                  "TrapezoidalProfile"]
+
+
+@pytest.mark.parametrize("fmt", ["toml", "json"])
+def test_round_trip_shake_pause_chain_is_exact(fmt, tmp_path):
+    """Chains hold other motions (a log included): written as a list of
+    motion tables and loaded back to the bit."""
+    rng = np.random.default_rng(7)
+    log = exdex.SampledTrajectory(np.cumsum(rng.uniform(0.01, 0.1, 6)), rng.normal(size=(6, 3)) * 0.1,
+                                  rng.normal(size=(6, 4)), relative=True)
+    for motion in (exdex.Shake(0.01 / 3, 2.7, cycles=3.3, axis=(0, 1, 1), rotation=True, center=(0.1, 0, 0)),
+                   exdex.Pause(0.3),
+                   exdex.Chain([exdex.Pause(0.2), exdex.Shake(-0.02, 1.5, duration=0.7), log,
+                                exdex.AsymmetricProfile(0.1, 0.5, 0.9)], allow_jump=True)):
+        sc = exdex.Scene(body=exdex.Body(0.1), grasp=exdex.Grasp(0.5, 1.0), motion=motion)
+        path = tmp_path / f"s.{fmt}"
+        exdex.save_scene(sc, path)
+        back = exdex.load_scene(path)
+        assert _same(back, sc), path.read_text()
+        assert io.dumps(back, fmt) == path.read_text()
 
 
 def test_cli_run_without_matplotlib(tmp_path):

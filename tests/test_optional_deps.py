@@ -50,6 +50,36 @@ def test_import_exdex_needs_only_numpy():
     assert out["mods"] == [] and out["n"] == 11
 
 
+def test_library_and_command_modules_import_with_only_numpy():
+    """The benchmark libraries and every command's module import without the
+    optional packages (they are imported by the call that needs them); a
+    figure asked of them names the plot extra, an engine run the engines extra."""
+    p = _run("""
+        import importlib, json, sys
+        from exdex import cli
+        mods = ["exdex.bench", "exdex.hold", "exdex.engines"] + sorted({m for m, _, _ in cli.COMMANDS.values()})
+        for m in mods:
+            importlib.import_module(m)
+        loaded = sorted(m for m in sys.modules if m.split(".")[0] in BLOCKED)
+        msgs = []
+        import exdex.bench, exdex.engines, exdex.hold
+        for call in (lambda: exdex.hold.plot({}, "unused.png", 1.0),
+                     lambda: exdex.bench.plot_maps([], "fig3", "unused.png", "", {}),
+                     lambda: exdex.engines.run_drake(exdex.paper.fig3_scene(), 0.01)):
+            try:
+                call()
+            except ImportError as exc:
+                msgs.append(str(exc))
+        print(json.dumps(dict(mods=mods, loaded=loaded, msgs=msgs)))
+    """, OPTIONAL + ["pydrake"])
+    assert p.returncode == 0, p.stderr
+    out = json.loads(p.stdout.strip().splitlines()[-1])
+    assert out["loaded"] == [] and len(out["mods"]) >= 9
+    assert len(out["msgs"]) == 3
+    assert all("exdex[plot]" in m and "matplotlib" in m for m in out["msgs"][:2])
+    assert "exdex[engines]" in out["msgs"][2] and "pydrake" in out["msgs"][2]
+
+
 def test_plot_without_matplotlib_names_the_extra():
     p = _run("""
         import exdex

@@ -242,10 +242,12 @@ def test_exactly_still_after_the_motion(name):
 # --------------------------------------------------------------- the command
 
 def test_exdex_paper_command(tmp_path, capsys):
+    from exdex import cli_paper
+
     parser = argparse.ArgumentParser()
-    paper.add_arguments(parser)
+    cli_paper.add_arguments(parser)
     args = parser.parse_args(["--out", str(tmp_path), "--no-progress"])
-    assert paper.run(args) == 0
+    assert cli_paper.run(args) == 0
     out = capsys.readouterr().out
     for name in paper.CASES:
         assert (tmp_path / f"{name}.png").stat().st_size > 10_000

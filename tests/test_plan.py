@@ -236,3 +236,49 @@ def test_planar_pose_target_by_two_parameters():
     r = exdex.simulate(p.scene, T_END, T_END, method="event", rtol=1e-12, atol=1e-14)
     d = r.q[-1] - r.q[0]
     assert abs(d[1] - (-0.01)) <= 1e-4 and abs(d[2] - 0.2) <= 1e-4
+
+
+def test_rest_by_met_by_closed_form_and_unreachable_when_too_early():
+    """target['rest_by']: the Fig. 3 object slides 15 mm for F ~ 1.557 N and
+    comes to rest at t ~ 0.584 s (closed form: the slip stops where the
+    decelerating phase's relative speed reaches 0, a root of a linear
+    equation). rest_by = 0.7 s admits that plan, and the closed form on the
+    plan's scene is at rest by then and meets the slip; rest_by = 0.55 s
+    admits no plan (a lower rest time needs a larger grip force, hence less
+    slip: both are monotone in F), and the error says so."""
+    p = plan.solve(fig3(), {"slip": -0.015, "rest_by": 0.7}, vary={"grip_force": (1.0, 3.0)}, tol=1e-7,
+                   t_end=T_END)
+    cf = paper.closed_form(p.scene)
+    assert abs(cf.final - (-0.015)) <= 1e-7 + 1e-9
+    assert cf.rest_time <= 0.7 and p.rest_by == 0.7
+    with pytest.raises(plan.UnreachableTargetError, match=r"at rest by 0.55 s.*moving after 0.55 s"):
+        plan.solve(fig3(), {"slip": -0.015, "rest_by": 0.55}, vary={"grip_force": (1.0, 3.0)}, t_end=T_END)
+    # the rest time at the unconstrained plan is above 0.55 s (why it fails)
+    free = plan.solve(fig3(), {"slip": -0.015}, vary={"grip_force": (1.0, 3.0)}, tol=1e-7, t_end=T_END)
+    assert paper.closed_form(free.scene).rest_time > 0.55
+
+
+@pytest.mark.parametrize("target, vary, match", [
+    ({"rest_by": 0.5}, {"grip_force": (1.0, 3.0)}, r"rest_by.*name a quantity"),
+    ({"slip": -0.01, "rest_by": 2.0}, {"grip_force": (1.0, 3.0)}, r"rest_by.*\(0, t_end\]"),
+    ({"slip": -0.01, "rest_by": -1.0}, {"grip_force": (1.0, 3.0)}, r"rest_by"),
+    ({"slip": -0.01, "rest_by": 0.9}, {"grip_force": (1.0, 3.0), "mu": (0.3, 0.6)}, r"rest_by.*one varied"),
+])
+def test_bad_rest_by_is_named(target, vary, match):
+    with pytest.raises(ValueError, match=match):
+        plan.solve(fig3(), target, vary=vary, t_end=T_END)
+
+
+def test_motion_peaks_of_a_sampled_log():
+    """p(t) = a t^2 / 2 along x, sampled every 10 ms to 0.5 s: second
+    differences of a quadratic are exact (a), the largest first difference
+    is the speed at the last interval's midpoint a (0.5 - 0.005), the stroke
+    a 0.5^2 / 2."""
+    a = 2.0
+    t = np.linspace(0.0, 0.5, 51)
+    pos = np.column_stack([0.5 * a * t ** 2, np.zeros_like(t), np.zeros_like(t)])
+    quat = np.tile([1.0, 0.0, 0.0, 0.0], (len(t), 1))
+    pk = plan.motion_peaks(exdex.SampledTrajectory(t, pos, quat))
+    assert pk["acceleration"] == pytest.approx(a, rel=1e-9)
+    assert pk["speed"] == pytest.approx(a * 0.495, rel=1e-9)
+    assert pk["stroke"] == pytest.approx(0.25, rel=1e-12) and pk["duration"] == pytest.approx(0.5)

@@ -172,3 +172,19 @@ def test_benchmark_figures_are_those_the_bench_wrote():
         for method, cell in zip(methods, cells[1:]):
             line = re.search(rf"^{case} {method} over \(dt, ratio\): (.*)$", summary, re.M)
             assert line and line.group(1).strip() == cell, (case, method, cell, line and line.group(1))
+
+
+def test_analytic_figures_are_those_the_bench_wrote():
+    """The analytic-path section quotes results/analytic.txt (python benchmarks/bench_analytic.py)."""
+    text = _read("benchmarks", "results", "analytic.txt")
+    sec = _section(BENCH, "Analytic path and planning")
+    checked = 0
+    for line in _tables(sec)[1:]:
+        body = line.split("|", 2)[2]  # skip the row label
+        for tok in re.findall(r"\d[\d.,]*\d|\d", body):
+            assert tok in text, f"benchmarks/README.md quotes {tok} ({line.strip()}) but analytic.txt lacks it"
+            checked += 1
+    for tok in re.findall(r"(\d+\.\d+) s\b", sec):
+        assert tok in text, f"benchmarks/README.md quotes {tok} s but analytic.txt lacks it"
+        checked += 1
+    assert checked >= 10

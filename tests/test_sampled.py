@@ -47,13 +47,7 @@ def run(scene, t_end, dt, method, **kw):
 
 # ---------------------------------------------------------------- end conditions
 
-_EVENT_PLANAR_KICK = pytest.mark.xfail(
-    strict=True, reason="event method, planar: a spin of ~zsw appears at a motion switching time with mu = 0")
-
-
-@pytest.mark.parametrize("dof, method", [(d, m) if (d, m) != ("planar", "event") else
-                                         pytest.param(d, m, marks=_EVENT_PLANAR_KICK)
-                                         for d in ("rotation", "planar") for m in METHODS])
+@pytest.mark.parametrize("dof, method", [(d, m) for d in ("rotation", "planar") for m in METHODS])
 def test_sampled_turn_rest_to_rest_mu0_ends_at_minus_the_turn(dof, method):
     """A log that turns the gripper 0.6 rad about the plate normal, from rest
     to rest (quintic profile 0.6 (10 s^3 - 15 s^4 + 6 s^5), 8 samples over

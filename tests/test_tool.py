@@ -391,10 +391,12 @@ def test_c_module_messages_name_parameter_and_range():
 # ------------------------------------------------------------ command line
 
 def test_cli_quick(tmp_path, capsys):
+    from exdex import cli_tool
+
     parser = argparse.ArgumentParser()
-    T.add_arguments(parser)
+    cli_tool.add_arguments(parser)
     args = parser.parse_args(["--out", str(tmp_path), "--quick", "--no-progress"])
-    assert T.run(args) == 0
+    assert cli_tool.run(args) == 0
     for name in ("theta_star.csv", "theta_curves.png", "box_aspect.csv", "box_aspect.png",
                  "friction.csv", "multi_shape.csv", "rod.csv", "rod.png"):
         assert (tmp_path / name).stat().st_size > 0

@@ -133,7 +133,8 @@ void fuzz_note_keep(const char *target, const char *key);
     X(cone)             \
     X(tool)             \
     X(misc)             \
-    X(ldp)
+    X(ldp)              \
+    X(grip)
 
 #define FUZZ_DECLARE(name) int fuzz_##name(const uint8_t *data, size_t size);
 FUZZ_TARGETS(FUZZ_DECLARE)
@@ -152,6 +153,7 @@ typedef struct fz_motion {
     double R0[9], p0[3];
     int have_R0, have_p0;
     int used_nonfinite;
+    exdex_motion_def pieces[5];   /* chain pieces */
 } fz_motion;
 void fz_decode_motion(fz *f, fz_motion *m);
 

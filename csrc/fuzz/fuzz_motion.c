@@ -1,6 +1,7 @@
 /* fuzz_motion.c -- exdex_motion_alloc / _eval / _end and the scalar profiles
- * on fuzzed motion definitions (all four kinds, translation and rotation,
- * sampled poses with their end conditions, relative replay and tool offset),
+ * on fuzzed motion definitions (every kind, translation and rotation,
+ * sampled poses with their end conditions, relative replay and tool offset,
+ * shakes, chains of profile pieces and pauses),
  * initial poses and evaluation times.
  *
  * Checks: a non-finite value in a field the kind uses gives EXDEX_EINVAL; a
@@ -102,6 +103,59 @@ void fz_decode_motion(fz *f, fz_motion *m)
     }
 }
 
+/* Shakes and chains of profile pieces (a nested chain among them is
+ * rejected), decoded after fz_decode_motion by this target only (the
+ * simulate target's input stream stays as it is). */
+static void decode_shake_chain(fz *f, fz_motion *m)
+{
+    exdex_motion_def *d = &m->def;
+    switch (fz_int(f, 0, 7)) {
+    case 6:
+        d->kind = EXDEX_MOTION_SHAKE;
+        m->used_nonfinite = (m->have_R0 && nf(m->R0, 9)) || (m->have_p0 && nf(m->p0, 3));
+        d->frequency = fz_log(f, 1e-2, 100.0);
+        if ((d->rotation == 0 || d->rotation == 1) &&
+            (nf(d->axis, 3) || !isfinite(d->amplitude) || !isfinite(d->duration) || !isfinite(d->frequency) ||
+             (d->rotation && nf(d->center, 3))))
+            m->used_nonfinite = 1;
+        break;
+    case 7: {
+        int np = fz_int(f, 0, 5), nonfinite = 0;
+        d->kind = EXDEX_MOTION_CHAIN;
+        m->used_nonfinite = (m->have_R0 && nf(m->R0, 9)) || (m->have_p0 && nf(m->p0, 3));
+        d->n_pieces = np < 0 ? 0 : (size_t)np;
+        d->pieces = fz_pick(f, 0, 31) ? m->pieces : NULL;
+        d->allow_jump = fz_int(f, 0, 2);
+        for (int i = 0; i < 5; i++) {
+            exdex_motion_def *p = &m->pieces[i];
+            memset(p, 0, sizeof *p);
+            p->kind = fz_int(f, 0, 5);
+            if (p->kind == EXDEX_MOTION_SAMPLED) p->kind = EXDEX_MOTION_REST;
+            p->rotation = fz_int(f, 0, 1);
+            for (int c = 0; c < 3; c++) p->axis[c] = fz_num(f, -1.0, 1.0);
+            for (int c = 0; c < 3; c++) p->center[c] = fz_num(f, -1.0, 1.0);
+            p->amplitude = fz_num(f, -1.0, 1.0) * (p->rotation ? 3.0 : 0.2);
+            p->duration = fz_log(f, 1e-2, 10.0);
+            p->beta = fz_num(f, 0.05, 0.95);
+            p->v_max = fabs(p->amplitude) / p->duration * fz_num(f, 1.0, 2.0);
+            p->frequency = fz_log(f, 1e-2, 100.0);
+            if (i < np && p->kind != EXDEX_MOTION_CHAIN &&
+                (!isfinite(p->duration) ||
+                 (p->kind != EXDEX_MOTION_REST && (p->rotation == 0 || p->rotation == 1) &&
+                  (nf(p->axis, 3) || !isfinite(p->amplitude) || (p->rotation && nf(p->center, 3)) ||
+                   (p->kind == EXDEX_MOTION_ASYMMETRIC && !isfinite(p->beta)) ||
+                   (p->kind == EXDEX_MOTION_TRAPEZOID && !isfinite(p->v_max)) ||
+                   (p->kind == EXDEX_MOTION_SHAKE && !isfinite(p->frequency))))))
+                nonfinite = 1;
+        }
+        if (nonfinite && d->pieces && np >= 1) m->used_nonfinite = 1;
+        break;
+    }
+    default:
+        break;
+    }
+}
+
 static void check_profiles(fz *f)
 {
     fz *fp = f;
@@ -147,6 +201,7 @@ int fuzz_motion(const uint8_t *data, size_t size)
 
     fz_init(&f, data, size);
     fz_decode_motion(&f, &mm);
+    decode_shake_chain(&f, &mm);
     m = exdex_motion_alloc(&mm.def, mm.have_R0 ? mm.R0 : NULL, mm.have_p0 ? mm.p0 : NULL, &status, &bad);
     fuzz_count_status(T, status);
     if (!m) {

@@ -805,7 +805,7 @@ EXDEX_TEST(motion_bad_input)
         exdex_motion_free(m);
     }
 
-    d = base; d.kind = 4; expect_bad(&d, eye, p0, "motion.kind");
+    d = base; d.kind = EXDEX_MOTION_CHAIN + 1; expect_bad(&d, eye, p0, "motion.kind");
     d = base; d.kind = -1; expect_bad(&d, eye, p0, "motion.kind");
     d = base; d.rotation = 2; expect_bad(&d, eye, p0, "motion.rotation");
     d = base; d.axis[2] = 0.0; expect_bad(&d, eye, p0, "motion.axis");
@@ -960,7 +960,7 @@ EXDEX_TEST(motion_sampled_uniform_acceleration_from_rest_is_exact)
      * is at rest (v0 = 0 exactly), the end slope is the quadratic's, so the
      * spline is the quadratic: v = a t e, acc = a e everywhere inside */
     double t[9], poses[7 * 9], x0[3] = {0.1, -0.2, 0.3}, e[3] = {2.0 / 3.0, -1.0 / 3.0, 2.0 / 3.0};
-    double a = 0.7, tj[2], dv[2][3], dw[2][3];
+    double a = 0.7, tj[EXDEX_MOTION_MAX_JUMPS], dv[EXDEX_MOTION_MAX_JUMPS][3], dw[EXDEX_MOTION_MAX_JUMPS][3];
     exdex_motion_def d = zero_def();
     exdex_motion *m;
     for (int i = 0; i < 9; i++) t[i] = 0.05 * (i + 0.3 * sin((double)i));
@@ -998,7 +998,7 @@ EXDEX_TEST(motion_sampled_constant_speed_jumps_at_both_ends)
     /* x = x0 + v t sampled from 0.5 s to 1.2 s: both ends at speed; the
      * spline is the line; the gripper rests before and after (right-
      * continuous: at rest from t_last on) and jumps by +v and -v */
-    double t[8], poses[7 * 8], x0[3] = {0, 0, 0}, e[3] = {0.6, 0.0, 0.8}, v = 0.25, tj[2], dv[2][3], dw[2][3];
+    double t[8], poses[7 * 8], x0[3] = {0, 0, 0}, e[3] = {0.6, 0.0, 0.8}, v = 0.25, tj[EXDEX_MOTION_MAX_JUMPS], dv[EXDEX_MOTION_MAX_JUMPS][3], dw[EXDEX_MOTION_MAX_JUMPS][3];
     exdex_motion_def d = zero_def();
     exdex_kinematics k;
     exdex_motion *m;
@@ -1091,7 +1091,7 @@ EXDEX_TEST(motion_sampled_given_end_velocities)
      * value) they come back to rounding (w through n' = w n / 2 and
      * w = 2 vec(n' n*)) */
     const double u[3] = {0.48, 0.6, 0.64};
-    double t[7], poses[7 * 7], tj[2], dv[2][3], dw[2][3];
+    double t[7], poses[7 * 7], tj[EXDEX_MOTION_MAX_JUMPS], dv[EXDEX_MOTION_MAX_JUMPS][3], dw[EXDEX_MOTION_MAX_JUMPS][3];
     exdex_motion_def d = zero_def();
     exdex_kinematics k;
     exdex_motion *m;
@@ -1238,7 +1238,7 @@ EXDEX_TEST(motion_sampled_relative_and_tool_composition)
 
 EXDEX_TEST(motion_switches_and_trapezoid_jumps)
 {
-    double ts[EXDEX_MOTION_MAX_SWITCHES], tj[2], dv[2][3], dw[2][3];
+    double ts[EXDEX_MOTION_MAX_SWITCHES], tj[EXDEX_MOTION_MAX_JUMPS], dv[EXDEX_MOTION_MAX_JUMPS][3], dw[EXDEX_MOTION_MAX_JUMPS][3];
     exdex_motion_def d = zero_def();
     exdex_motion *m;
     int status;

@@ -1,0 +1,258 @@
+/* stepper.c -- exdex_stepper (exdex.h): one run of the scene's method
+ * advanced one output interval at a time through the method table's begin
+ * and advance (method.h), each step with its own grip force.
+ *
+ * The grip force goes through the one capacity accessor every method reads
+ * (model_capacity and friends, model.h): the stepper owns a copy of the
+ * model's numbers and sets, per step, either the scene's own grip (its
+ * grip_n, capF and grip_force) or a constant one (grip_n = 0, capF = capk F,
+ * the product the model compiles a constant grip force to). Pointers in the
+ * copy (motion, schedule) are the model's and only read.
+ *
+ * What exdex_simulate does after a run, the stepper does after each step:
+ * the finiteness check of methods that do not check every step, and the
+ * status and failure-cause mapping. The impacts of the time-stepping methods
+ * (implicit, explicit) are found by exdex_simulate from the whole run's stop
+ * impulses, a window that looks ahead of each step; the stepper does not
+ * count them (stats.impacts and max_impulse stay 0 for those methods). */
+#include "exdex.h"
+#include "method.h"
+#include "model.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define SNAPSHOT_MAGIC 0x78656478u   /* "xdex" */
+
+/* Everything of a stepper that a snapshot holds besides the method state. */
+typedef struct stepper_core {
+    unsigned magic;
+    const exdex_model *model;   /* the model it steps (restore checks it) */
+    int method, ndof, n_stops;
+    int started, failed;
+    double t;                   /* time reached */
+    double t_base, dt, dt0;     /* grid: t_base + k dt; the first step's dt */
+    double k;                   /* steps of dt since t_base */
+    double grip;                /* the last step's grip force (NaN: the scene's) */
+    double capF, capS, grip_force;   /* the copy's capacity fields */
+    size_t grip_n;
+    exdex_stepper_sample last;
+    exdex_stats st;
+} stepper_core;
+
+struct exdex_stepper {
+    stepper_core c;
+    exdex_model mc;             /* the model's numbers with this step's grip */
+    const method_impl *impl;
+    void *ws;
+    /* the one-row output of advance */
+    double t1, q[3], v[3], wr[3], sf[EXDEX_MAX_STOPS];
+    unsigned char stick;
+    exdex_trajectory out;
+};
+
+/* Set the copy's grip: F >= 0 a constant force, NaN the scene's own.
+ * Returns 1 if the capacity changed. */
+static int set_grip(exdex_stepper *s, double F)
+{
+    const exdex_model *m = s->c.model;
+    double cap0 = s->mc.capF, caps0 = s->mc.capS;
+    size_t n0 = s->mc.grip_n;
+    if (isnan(F)) {
+        s->mc.grip_n = m->grip_n;
+        s->mc.capF = m->capF;
+        s->mc.capS = m->capS;
+        s->mc.def.grip_force = m->def.grip_force;
+    } else {
+        s->mc.grip_n = 0;
+        s->mc.capF = m->capk * F;
+        /* the static capacity as the model compiles a constant grip force:
+         * the kinetic one times mu_static / mu, or mu_static fingers F when
+         * mu = 0 */
+        s->mc.capS = m->def.mu > 0.0 || m->def.mu_static == 0.0 || m->def.mu_static == m->def.mu
+                         ? s->mc.capF * m->cap_ratio
+                         : m->capks * F;
+        s->mc.def.grip_force = F;
+    }
+    return s->mc.capF != cap0 || s->mc.capS != caps0 || s->mc.grip_n != n0;
+}
+
+static void initial_sample(exdex_stepper *s)
+{
+    exdex_stepper_sample *x = &s->c.last;
+    const exdex_model *m = s->c.model;
+    memset(x, 0, sizeof *x);
+    model_initial_state(m, x->q, x->v);
+    x->stick = x->v[0] == 0.0 && (m->ndof == 1 || (x->v[1] == 0.0 && x->v[2] == 0.0));
+    x->grip_force = NAN;
+}
+
+exdex_stepper *exdex_stepper_alloc(const exdex_model *m, int *status)
+{
+    exdex_stepper *s;
+    const method_impl *impl = m ? method_get(m->def.method) : NULL;
+    int st = EXDEX_OK;
+    if (!impl || !impl->begin) {
+        if (status) *status = EXDEX_EINVAL;
+        return NULL;
+    }
+    s = calloc(1, sizeof *s);
+    if (!s) {
+        if (status) *status = EXDEX_ENOMEM;
+        return NULL;
+    }
+    s->impl = impl;
+    s->mc = *m;
+    s->ws = impl->alloc(&s->mc, &st);
+    if (!s->ws) {
+        free(s);
+        if (status) *status = st ? st : EXDEX_ENOMEM;
+        return NULL;
+    }
+    s->c.magic = SNAPSHOT_MAGIC;
+    s->c.model = m;
+    s->c.method = m->def.method;
+    s->c.ndof = m->ndof;
+    s->c.n_stops = m->n_stops;
+    s->c.grip = NAN;
+    s->c.st.min_gap = INFINITY;
+    s->c.st.first_warning_t = NAN;
+    s->c.st.max_impulse_t = NAN;
+    s->c.st.max_impulse_stop = -1;
+    s->c.st.fail_time = NAN;
+    initial_sample(s);
+    s->out.n = 1;
+    s->out.t = &s->t1;
+    s->out.q = s->q;
+    s->out.v = s->v;
+    s->out.wrench = s->wr;
+    s->out.stick = &s->stick;
+    s->out.stop_force = s->sf;
+    if (status) *status = EXDEX_OK;
+    return s;
+}
+
+void exdex_stepper_free(exdex_stepper *s)
+{
+    if (!s) return;
+    s->impl->free(s->ws);
+    free(s);
+}
+
+static int finite_n(const double *x, int n)
+{
+    for (int i = 0; i < n; i++)
+        if (!isfinite(x[i])) return 0;
+    return 1;
+}
+
+int exdex_stepper_step(exdex_stepper *s, double dt, double grip_force)
+{
+    stepper_core *c;
+    double k, base, t1;
+    int status, regrip, nd;
+    if (!s || s->c.failed) return EXDEX_EINVAL;
+    c = &s->c;
+    if (!(isfinite(dt) && dt > 0.0)) return EXDEX_EINVAL;
+    if (!(isnan(grip_force) || (isfinite(grip_force) && grip_force >= 0.0))) return EXDEX_EINVAL;
+    if (c->started && dt == c->dt) {
+        k = c->k + 1.0;
+        base = c->t_base;
+    } else {
+        k = 1.0;
+        base = c->t;
+    }
+    t1 = base + k * dt;
+    if (!(k <= EXDEX_MAX_STEPS) || !isfinite(t1) || !(t1 > c->t)) return EXDEX_EINVAL;
+    if (!c->started) {
+        /* the run starts with the scene's grip (the switching times include
+         * its schedule's breakpoints) */
+        set_grip(s, NAN);
+        status = s->impl->begin(&s->mc, s->ws, INFINITY, dt, &c->st);
+        if (status) goto failed;
+        c->started = 1;
+        c->dt0 = dt;
+    }
+    regrip = set_grip(s, grip_force);
+    status = s->impl->advance(&s->mc, s->ws, t1, regrip, &s->out, 0, &c->st);
+    nd = s->mc.ndof;
+    if (status == EXDEX_OK && !s->impl->checks_finite &&
+        !(finite_n(s->q, nd) && finite_n(s->v, nd) && finite_n(s->wr, 3) && finite_n(s->sf, s->mc.n_stops)))
+        status = EXDEX_ENONFINITE;
+    if (status) goto failed;
+    c->t = t1;
+    c->t_base = base;
+    c->k = k;
+    c->dt = dt;
+    c->grip = grip_force;
+    c->capF = s->mc.capF;
+    c->capS = s->mc.capS;
+    c->grip_force = s->mc.def.grip_force;
+    c->grip_n = s->mc.grip_n;
+    c->last.t = t1;
+    memcpy(c->last.q, s->q, (size_t)nd * sizeof *s->q);
+    memcpy(c->last.v, s->v, (size_t)nd * sizeof *s->v);
+    memcpy(c->last.wrench, s->wr, sizeof s->wr);
+    c->last.stick = s->stick;
+    memcpy(c->last.stop_force, s->sf, (size_t)s->mc.n_stops * sizeof *s->sf);
+    c->last.grip_force = grip_force;
+    c->last.steps++;
+    return EXDEX_OK;
+failed:
+    c->failed = 1;
+    if (c->st.fail_cause == EXDEX_FAIL_NONE)
+        c->st.fail_cause = status == EXDEX_ENOCONV ? EXDEX_FAIL_SOLVER : EXDEX_FAIL_NONFINITE;
+    /* as exdex_simulate: an invalid argument inside a method means the state
+     * left the finite range */
+    return status == EXDEX_EINVAL ? EXDEX_ENONFINITE : status;
+}
+
+int exdex_stepper_get(const exdex_stepper *s, exdex_stepper_sample *out, exdex_stats *stats)
+{
+    if (!s) return EXDEX_EINVAL;
+    if (out) *out = s->c.last;
+    if (stats) *stats = s->c.st;
+    return EXDEX_OK;
+}
+
+size_t exdex_stepper_state_size(const exdex_stepper *s)
+{
+    return s ? sizeof(stepper_core) + s->impl->state_size : 0;
+}
+
+int exdex_stepper_save(const exdex_stepper *s, void *buf, size_t size)
+{
+    if (!s || !buf || size != exdex_stepper_state_size(s)) return EXDEX_EINVAL;
+    memcpy(buf, &s->c, sizeof s->c);
+    if (s->c.started) s->impl->save(s->ws, (char *)buf + sizeof s->c);
+    else memset((char *)buf + sizeof s->c, 0, s->impl->state_size);
+    return EXDEX_OK;
+}
+
+int exdex_stepper_restore(exdex_stepper *s, const void *buf, size_t size)
+{
+    stepper_core c;
+    if (!s || !buf || size != exdex_stepper_state_size(s)) return EXDEX_EINVAL;
+    memcpy(&c, buf, sizeof c);
+    if (c.magic != SNAPSHOT_MAGIC || c.model != s->c.model || c.method != s->c.method || c.ndof != s->c.ndof ||
+        c.n_stops != s->c.n_stops)
+        return EXDEX_EINVAL;
+    if (c.started) {
+        /* the workspace's fixed part (switching times) from begin, with
+         * the scene's grip and the snapshot's first dt; then its state */
+        exdex_stats scratch;
+        memset(&scratch, 0, sizeof scratch);
+        set_grip(s, NAN);
+        if (s->impl->begin(&s->mc, s->ws, INFINITY, c.dt0, &scratch)) return EXDEX_EINVAL;
+        s->impl->restore(s->ws, (const char *)buf + sizeof c);
+        s->mc.grip_n = c.grip_n;
+        s->mc.capF = c.capF;
+        s->mc.capS = c.capS;
+        s->mc.def.grip_force = c.grip_force;
+    } else {
+        set_grip(s, NAN);
+    }
+    s->c = c;
+    return EXDEX_OK;
+}

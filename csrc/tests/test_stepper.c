@@ -1,0 +1,250 @@
+/* test_stepper.c -- exdex_stepper (stepper.c): stepping reproduces
+ * exdex_simulate bit for bit (an independent driver of the same methods:
+ * the whole-run loop), save / restore branches repeat exactly, bad
+ * arguments are rejected by status, and a grip change between steps acts
+ * as its closed form says:
+ *   held (capacity above m g) until t_r, then released (grip 0): free fall
+ *   from rest, s(t) = s(t_r) - g (t - t_r)^2 / 2, v = -g (t - t_r);
+ *   the midpoint rule is exact for a constant acceleration, the event
+ *   method integrates it to its tolerance. */
+#include "check.h"
+#include "../exdex.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define G 9.81
+
+static exdex_scene_def vertical(int method)
+{
+    exdex_scene_def d = exdex_default_scene_def();
+    d.mass = 0.2;
+    d.mu = 0.5;
+    d.grip_force = 1.5 * d.mass * G / (2 * d.mu);
+    d.motion.kind = EXDEX_MOTION_ASYMMETRIC;
+    d.motion.axis[0] = 0.0;
+    d.motion.axis[1] = 0.0;
+    d.motion.axis[2] = -1.0;
+    d.motion.amplitude = 0.1;
+    d.motion.duration = 0.2;
+    d.motion.beta = 0.8;
+    d.method = method;
+    return d;
+}
+
+/* planar: a 4 cm square turned by an Eq. 7 rotation of the gripper about
+ * the plate normal, a floor stop below it */
+static exdex_scene_def planar(int method)
+{
+    exdex_scene_def d = exdex_default_scene_def();
+    const double hx = 0.02;
+    d.mass = 0.1;
+    d.inertia[0] = d.inertia[4] = d.inertia[8] = d.mass * (2 * hx) * (2 * hx) / 6;
+    d.mu = 0.4;
+    d.grip_force = 0.9;
+    d.dof = EXDEX_DOF_PLANAR;
+    d.n_vertices = 4;
+    d.vertices[0][0] = -hx; d.vertices[0][1] = -hx;
+    d.vertices[1][0] = hx;  d.vertices[1][1] = -hx;
+    d.vertices[2][0] = hx;  d.vertices[2][1] = hx;
+    d.vertices[3][0] = -hx; d.vertices[3][1] = hx;
+    d.n_stops = 1;
+    d.stop_point[0][2] = -0.03;
+    d.stop_normal[0][2] = 1.0;
+    d.motion.kind = EXDEX_MOTION_ASYMMETRIC;
+    d.motion.rotation = 1;
+    d.motion.axis[0] = 0.0;
+    d.motion.axis[1] = -1.0;   /* B z = -A y: about the plate normal */
+    d.motion.axis[2] = 0.0;
+    d.motion.amplitude = 0.6;
+    d.motion.duration = 0.25;
+    d.motion.beta = 0.7;
+    d.method = method;
+    return d;
+}
+
+static int same_bits(const void *a, const void *b, size_t n) { return memcmp(a, b, n) == 0; }
+
+/* n steps of dt against exdex_simulate(m, n dt, dt): every sample, the
+ * stats (impacts of time-stepping methods excepted) and the status. */
+static void check_bit_identical(const exdex_scene_def *d, int n, double dt)
+{
+    int status;
+    exdex_model *m = exdex_model_alloc(d, &status, NULL);
+    exdex_stepper *s;
+    exdex_trajectory tr;
+    exdex_stats st, ss;
+    size_t ns;
+    int nd, nst, sim_status;
+    ENSURE(m != NULL);
+    if (!m) return;
+    nd = exdex_model_ndof(m);
+    nst = exdex_model_nstops(m);
+    ns = exdex_n_samples(n * dt, dt);
+    ENSURE(ns == (size_t)n + 1);
+    tr.n = ns;
+    tr.t = malloc(ns * sizeof(double));
+    tr.q = malloc(ns * 3 * sizeof(double));
+    tr.v = malloc(ns * 3 * sizeof(double));
+    tr.wrench = malloc(ns * 3 * sizeof(double));
+    tr.stick = malloc(ns);
+    tr.stop_force = malloc((ns * EXDEX_MAX_STOPS + 1) * sizeof(double));
+    sim_status = exdex_simulate(m, n * dt, dt, &tr, &st);
+    s = exdex_stepper_alloc(m, &status);
+    ENSURE(s != NULL);
+    if (s) {
+        exdex_stepper_sample x;
+        exdex_stepper_get(s, &x, NULL);
+        ENSURE(x.t == 0.0 && same_bits(x.q, tr.q, nd * sizeof(double)) && x.stick == tr.stick[0]);
+        for (int i = 1; i <= n; i++) {
+            status = exdex_stepper_step(s, dt, NAN);
+            if (status) break;
+            exdex_stepper_get(s, &x, NULL);
+            ENSURE(x.t == tr.t[i]);
+            ENSURE(same_bits(x.q, tr.q + (size_t)i * nd, nd * sizeof(double)));
+            ENSURE(same_bits(x.v, tr.v + (size_t)i * nd, nd * sizeof(double)));
+            ENSURE(same_bits(x.wrench, tr.wrench + 3 * (size_t)i, 3 * sizeof(double)));
+            ENSURE(x.stick == tr.stick[i]);
+            if (nst) ENSURE(same_bits(x.stop_force, tr.stop_force + (size_t)i * nst, nst * sizeof(double)));
+        }
+        ENSURE(status == sim_status);
+        exdex_stepper_get(s, NULL, &ss);
+        ENSURE(ss.steps == st.steps && ss.stick_steps == st.stick_steps);
+        ENSURE(ss.solver_iterations == st.solver_iterations && ss.stop_iterations == st.stop_iterations);
+        ENSURE(ss.warnings == st.warnings && same_bits(&ss.min_gap, &st.min_gap, sizeof(double)));
+        if (d->method == EXDEX_METHOD_EVENT || d->method == EXDEX_METHOD_REGULARISED)
+            ENSURE(ss.impacts == st.impacts && same_bits(&ss.max_impulse, &st.max_impulse, sizeof(double)));
+    }
+    exdex_stepper_free(s);
+    free(tr.t);
+    free(tr.q);
+    free(tr.v);
+    free(tr.wrench);
+    free(tr.stick);
+    free(tr.stop_force);
+    exdex_model_free(m);
+}
+
+EXDEX_TEST(stepper_bit_identical_to_simulate)
+{
+    const int methods[5] = {EXDEX_METHOD_IMPLICIT, EXDEX_METHOD_EVENT, EXDEX_METHOD_REGULARISED,
+                            EXDEX_METHOD_EXPLICIT, EXDEX_METHOD_ANALYTIC};
+    for (int k = 0; k < 5; k++) {
+        exdex_scene_def d = vertical(methods[k]);
+        check_bit_identical(&d, 300, 1e-3);
+        if (methods[k] != EXDEX_METHOD_ANALYTIC) {
+            d = planar(methods[k]);
+            d.eps = 1e-3;
+            check_bit_identical(&d, 300, 2e-3);
+        }
+    }
+}
+
+/* step, save, step on; restore, step on again: the same bits */
+EXDEX_TEST(stepper_save_restore_branches_exactly)
+{
+    const int methods[4] = {EXDEX_METHOD_IMPLICIT, EXDEX_METHOD_EVENT, EXDEX_METHOD_EXPLICIT,
+                            EXDEX_METHOD_ANALYTIC};
+    for (int k = 0; k < 4; k++) {
+        exdex_scene_def d = methods[k] == EXDEX_METHOD_ANALYTIC ? vertical(methods[k]) : planar(methods[k]);
+        int status;
+        exdex_model *m = exdex_model_alloc(&d, &status, NULL);
+        exdex_stepper *s = m ? exdex_stepper_alloc(m, &status) : NULL, *s2 = m ? exdex_stepper_alloc(m, &status) : NULL;
+        size_t size = exdex_stepper_state_size(s);
+        char *snap = malloc(size), *bad = malloc(size);
+        exdex_stepper_sample a[40], b;
+        ENSURE(s && s2 && snap && bad);
+        if (!s || !s2 || !snap || !bad) goto done;
+        for (int i = 0; i < 60; i++) ENSURE(exdex_stepper_step(s, 2e-3, i < 30 ? NAN : 0.2 + 0.01 * i) == 0);
+        ENSURE(exdex_stepper_save(s, snap, size) == 0);
+        for (int i = 0; i < 40; i++) {
+            ENSURE(exdex_stepper_step(s, i < 20 ? 2e-3 : 3e-3, 0.5 - 0.01 * i) == 0);
+            exdex_stepper_get(s, &a[i], NULL);
+        }
+        /* into the same stepper and into a fresh one of the same model */
+        for (int r = 0; r < 2; r++) {
+            exdex_stepper *t = r ? s2 : s;
+            ENSURE(exdex_stepper_restore(t, snap, size) == 0);
+            for (int i = 0; i < 40; i++) {
+                ENSURE(exdex_stepper_step(t, i < 20 ? 2e-3 : 3e-3, 0.5 - 0.01 * i) == 0);
+                exdex_stepper_get(t, &b, NULL);
+                ENSURE(same_bits(&a[i], &b, sizeof b));
+            }
+        }
+        /* a corrupted snapshot or a wrong size is rejected */
+        memcpy(bad, snap, size);
+        memset(bad, 0, 8);
+        ENSURE(exdex_stepper_restore(s, bad, size) == EXDEX_EINVAL);
+        ENSURE(exdex_stepper_restore(s, snap, size - 1) == EXDEX_EINVAL);
+        ENSURE(exdex_stepper_save(s, snap, size + 1) == EXDEX_EINVAL);
+    done:
+        free(snap);
+        free(bad);
+        exdex_stepper_free(s);
+        exdex_stepper_free(s2);
+        exdex_model_free(m);
+    }
+}
+
+EXDEX_TEST(stepper_bad_arguments)
+{
+    exdex_scene_def d = vertical(EXDEX_METHOD_IMPLICIT);
+    int status;
+    exdex_model *m = exdex_model_alloc(&d, &status, NULL);
+    exdex_stepper *s = exdex_stepper_alloc(m, &status);
+    exdex_stepper_sample x;
+    ENSURE(exdex_stepper_alloc(NULL, &status) == NULL && status == EXDEX_EINVAL);
+    ENSURE(s != NULL);
+    if (!s) return;
+    ENSURE(exdex_stepper_step(s, 0.0, NAN) == EXDEX_EINVAL);
+    ENSURE(exdex_stepper_step(s, -1e-3, NAN) == EXDEX_EINVAL);
+    ENSURE(exdex_stepper_step(s, NAN, NAN) == EXDEX_EINVAL);
+    ENSURE(exdex_stepper_step(s, INFINITY, NAN) == EXDEX_EINVAL);
+    ENSURE(exdex_stepper_step(s, 1e-3, -1.0) == EXDEX_EINVAL);
+    ENSURE(exdex_stepper_step(s, 1e-3, INFINITY) == EXDEX_EINVAL);
+    ENSURE(exdex_stepper_step(NULL, 1e-3, NAN) == EXDEX_EINVAL);
+    ENSURE(exdex_stepper_get(NULL, &x, NULL) == EXDEX_EINVAL);
+    exdex_stepper_get(s, &x, NULL);
+    ENSURE(x.t == 0.0 && x.steps == 0);   /* unchanged */
+    ENSURE(exdex_stepper_step(s, 1e-3, NAN) == EXDEX_OK);
+    /* a step too small to advance the time */
+    ENSURE(exdex_stepper_step(s, 1e-300, NAN) == EXDEX_EINVAL);
+    exdex_stepper_free(s);
+    exdex_stepper_free(NULL);
+    exdex_model_free(m);
+}
+
+EXDEX_TEST(stepper_release_is_free_fall)
+{
+    const int methods[3] = {EXDEX_METHOD_IMPLICIT, EXDEX_METHOD_EVENT, EXDEX_METHOD_ANALYTIC};
+    for (int k = 0; k < 3; k++) {
+        exdex_scene_def d = vertical(methods[k]);
+        int status;
+        exdex_model *m;
+        exdex_stepper *s;
+        exdex_stepper_sample x;
+        d.motion.kind = EXDEX_MOTION_REST;
+        m = exdex_model_alloc(&d, &status, NULL);
+        s = exdex_stepper_alloc(m, &status);
+        ENSURE(s != NULL);
+        if (!s) continue;
+        for (int i = 0; i < 100; i++) ENSURE(exdex_stepper_step(s, 1e-3, NAN) == 0);
+        exdex_stepper_get(s, &x, NULL);
+        ENSURE(x.q[0] == 0.0 && x.v[0] == 0.0 && x.stick);   /* held exactly */
+        for (int i = 0; i < 200; i++) ENSURE(exdex_stepper_step(s, 1e-3, 0.0) == 0);
+        exdex_stepper_get(s, &x, NULL);
+        ENSURE_CLOSE(x.t, 0.3, 1e-15);
+        ENSURE_CLOSE(x.q[0], -0.5 * G * 0.2 * 0.2, 1e-10);
+        ENSURE_CLOSE(x.v[0], -G * 0.2, 1e-10);
+        ENSURE(!x.stick && x.wrench[1] == 0.0);
+        /* caught again: a capacity of 10 m g decelerates it at 9 g, so
+         * |v| = 1.962 m/s stops after 1.962 / (9 g) = 22.2 ms, inside the
+         * next 100 ms, and it sticks from then on */
+        for (int i = 0; i < 100; i++) ENSURE(exdex_stepper_step(s, 1e-3, 10.0 * d.mass * G / (2 * d.mu)) == 0);
+        exdex_stepper_get(s, &x, NULL);
+        ENSURE(x.v[0] == 0.0 && x.stick);
+        exdex_stepper_free(s);
+        exdex_model_free(m);
+    }
+}
