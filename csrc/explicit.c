@@ -55,7 +55,7 @@ static int explicit_stop_friction(const exdex_model *m, const exdex_kinematics *
     unsigned char hint[MAX_ROWS];
     double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], l[MAX_ROWS], beta[MAX_ROWS];
     int nv, need = 0, n = m->ndof;
-    for (int i = 0; i < nr; i++) need |= lam[i] > 0.0 && m->smu[stop[i]] > 0.0;
+    for (int i = 0; i < nr; i++) need |= lam[i] > 0.0 && model_source_mu(m, stop[i]) > 0.0;
     if (!need) return 0;
     nv = contact_vertices(m, q, xb, vx);
     memset(&p, 0, sizeof p);
@@ -63,9 +63,13 @@ static int explicit_stop_friction(const exdex_model *m, const exdex_kinematics *
         fc_row *r = &rows[i];
         int j = i % nv;
         for (int c = 0; c < 3; c++) r->G[c] = c < n ? Gr[i][c] : 0.0;
-        contact_stop_tangent(m, kin_end, stop[i], xb[j], vx[j], r->T, &r->tb);
+        /* stop rows are r = k nv + j; a row of another source without
+         * tangent data stays frictionless */
+        r->mu = i < m->n_stops * nv ? model_source_mu(m, stop[i]) : 0.0;
+        r->T[0] = r->T[1] = r->T[2] = 0.0;
+        r->tb = 0.0;
+        if (r->mu > 0.0) contact_stop_tangent(m, kin_end, stop[i], xb[j], vx[j], r->T, &r->tb);
         r->rhs = b[i];
-        r->mu = m->smu[stop[i]];
         r->rest = b[i] > m->tol.rate ? -1 : gap[i] <= m->tol.touch && b[i] >= -m->tol.rate ? 1 : 0;
         hint[i] = lam[i] > 0.0;
     }
@@ -176,7 +180,7 @@ static int explicit_advance(const exdex_model *m, void *ws, double t1, int regri
                     contact_row_1dof(m, &kin_end, kb, jb, q[0], &c);
                     lamsum[kb] = M * (vc - vn) / c.Fq;
                 }
-                if (kb >= 0 && m->stop_friction && m->smu[kb] > 0.0) {
+                if (kb >= 0 && m->stop_friction && model_source_mu(m, kb) > 0.0) {
                     /* the frictional rows: every (stop, vertex) row, as above */
                     double Gr[MAX_ROWS][3], b[MAX_ROWS] = {0}, gp[MAX_ROWS] = {0}, lam[MAX_ROWS], vv[3] = {vc, 0, 0};
                     double vs3[3] = {vn, 0, 0};

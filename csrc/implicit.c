@@ -548,7 +548,7 @@ static int stop_friction_step(const exdex_model *m, const exdex_kinematics *kin_
     int nv, need = 0, n = m->ndof;
     for (int i = 0; i < w->n_rows; i++) {
         w->beta[i] = 0.0;
-        need |= w->lam[i] > 0.0 && m->smu[w->row_stop[i]] > 0.0;
+        need |= w->lam[i] > 0.0 && model_source_mu(m, w->row_stop[i]) > 0.0;
     }
     if (!need) return 0;
     nv = contact_vertices(m, q, xb, vx);
@@ -557,9 +557,13 @@ static int stop_friction_step(const exdex_model *m, const exdex_kinematics *kin_
         fc_row *r = &rows[i];
         memcpy(r->G, w->G[i], sizeof r->G);
         for (int c = n; c < 3; c++) r->G[c] = 0.0;
-        contact_stop_tangent(m, kin_end, k, xb[j], vx[j], r->T, &r->tb);
+        /* stop rows are r = k nv + j (build_rows); a row of another source
+         * without tangent data stays frictionless */
+        r->mu = i < m->n_stops * nv ? model_source_mu(m, k) : 0.0;
+        r->T[0] = r->T[1] = r->T[2] = 0.0;
+        r->tb = 0.0;
+        if (r->mu > 0.0) contact_stop_tangent(m, kin_end, k, xb[j], vx[j], r->T, &r->tb);
         r->rhs = w->rhs[i];
-        r->mu = m->smu[k];
         /* at rest (v = 0) a row holds with a force only where its bound is
          * 0 (to tol.rate): a stop the gripper drives into the object
          * (rhs > 0) excludes rest, one it leaves behind carries nothing */

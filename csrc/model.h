@@ -160,6 +160,13 @@ typedef struct frame {
     double gB[3], a0[3], w[3], dw[3];
 } frame;
 
+/* Coulomb coefficient of the contact rows of source k (a stop index; 0
+ * for a source without friction data). */
+static inline double model_source_mu(const exdex_model *m, int k)
+{
+    return k >= 0 && k < m->n_stops ? m->smu[k] : 0.0;
+}
+
 /* Rotation by angle th about z applied to a plane vector. */
 static inline void rot2(double out[2], double th, const double v[2])
 {

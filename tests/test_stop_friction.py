@@ -283,3 +283,44 @@ def test_pivoting_jams_beyond_the_friction_threshold():
     om = V / rho[0]
     lam = (izz * rho[1] * om * om / rho[0] + C) / (rho[0] + 1.5 * rho[1])
     np.testing.assert_allclose(r.stop_force[i, 0], lam, rtol=1e-3)
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_frictional_stops_never_add_energy_and_rest_is_exactly_still(seed):
+    """A box thrown at a frictional stop (random normal in the plate plane,
+    random mu, approach and spin; gripper at rest, no gravity, so no force
+    does work but friction and the stops). Each implicit step satisfies
+    M (v+ - v) = P + sum (lam_i G_i + beta_i T_i) with the plate impulse P
+    dissipative (v+ . P <= 0, maximum dissipation), lam_i G_i v+ = lam_i rhs_i
+    <= 0 (complementarity; rhs = -gap / h <= 0 with the gaps kept >= 0 and
+    the stop at rest), and beta_i T_i v+ <= 0 (Coulomb opposes the slip,
+    which is T_i v+ for a stop at rest). Hence v+ . M (v+ - v) <= 0 and
+    |v+|_M <= |v|_M: the kinetic energy never grows. Once the plates hold
+    it (v = 0 exactly) nothing moves it again: every later velocity is
+    exactly 0."""
+    rng = np.random.default_rng(seed)
+    a = 0.03
+    m = 0.1
+    izz = m * (a * a + a * a) / 12
+    ang = rng.uniform(0, 2 * np.pi)
+    n_b = np.array([math.cos(ang), math.sin(ang)])   # stop normal in B
+    d = 0.0215                                        # just beyond the box's reach (half-diagonal 21.2 mm)
+    point_b = -d * n_b
+    speed = rng.uniform(0.2, 0.4)
+    tang = np.array([-n_b[1], n_b[0]])
+    v_b = -speed * n_b + rng.uniform(-1, 1) * speed * tang   # toward the stop, with a slide
+    scene = exdex.Scene(
+        body=exdex.Body.box(m, (a, a, 0.02)),
+        grasp=exdex.Grasp(mu=0.2, grip_force=rng.uniform(1.0, 2.0), patch=exdex.Patch.rectangle(0.01, 0.01)),
+        dof="planar", gravity=(0.0, 0.0, 0.0),
+        q0=(0.0, 0.0, rng.uniform(-0.5, 0.5)), v0=(v_b[0], v_b[1], rng.uniform(-5, 5)),
+        # B (x, y) is A (x, z) with the default gripper rotation
+        stops=(exdex.Stop((point_b[0], 0.0, point_b[1]), (n_b[0], 0.0, n_b[1]), mu=rng.uniform(0.0, 1.5)),))
+    r = exdex.simulate(scene, 0.5, 1e-3)
+    ke = 0.5 * (m * (r.v[:, 0] ** 2 + r.v[:, 1] ** 2) + izz * r.v[:, 2] ** 2)
+    assert np.all(np.diff(ke) <= 1e-12 * ke[0])
+    still = np.flatnonzero(np.all(r.v == 0.0, axis=1)[1:]) + 1
+    assert still.size, "the plates should stop it within 0.5 s"
+    assert np.all(r.v[still[0]:] == 0.0)
+    assert r.stats["warnings"] == 0
+    assert r.stop_force.max() > 0  # the stop acted
