@@ -53,6 +53,8 @@ def add_arguments(parser):
     parser.add_argument("--uncertain", action="append", default=[],
                         help="parameter=low:high known only within the interval (repeatable): plan for the "
                              "worst case and report the band")
+    parser.add_argument("--rest-by", type=float, default=None,
+                        help="time [s] by which the object must be at rest relative to the gripper")
     parser.add_argument("--tol", type=float, default=1e-6, help="tolerance on the outcome (default 1e-6)")
     parser.add_argument("--t-end", type=float, default=None, help="simulated time [s] (default: motion end x 1.5)")
     parser.add_argument("--max-acceleration", type=float, default=None, help="robot limit [m/s^2 or rad/s^2]")
@@ -72,6 +74,8 @@ def run(args):
         target = {q: float(v)}
     except ValueError:
         raise SystemExit(f"exdex plan: --target value must be a number, got {v!r}") from None
+    if args.rest_by is not None:
+        target["rest_by"] = args.rest_by
     name, bounds = _interval(args.vary, "--vary")
     unc = dict(_interval(u, "--uncertain") for u in args.uncertain) or None
     limits = None
@@ -87,6 +91,8 @@ def run(args):
     print(f"plan: {p.parameter} = {p.value:.9g}")
     print(f"  {p.quantity}: {p.achieved:.9g} {u} (target {p.target:g} {u}, residual {p.residual:.2e} {u}, "
           f"tol {p.tol:g})")
+    if p.rest_by is not None:
+        print(f"  at rest relative to the gripper by {p.rest_by:g} s")
     print(f"  reachable by {p.parameter} in [{bounds[0]:g}, {bounds[1]:g}]: "
           f"[{p.reachable[0]:.6g}, {p.reachable[1]:.6g}] {u}")
     pk = motion_peaks(p.scene.motion)

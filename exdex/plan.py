@@ -223,9 +223,14 @@ def _default_t_end(scene):
 def _times_and_options(scene, t_end, dt, method, rtol, atol, eps, threads):
     """(t_end, dt, batch options) of a planning call: t_end defaults to the
     motion's end plus half of it, dt to t_end (the event and analytic
-    methods' answers do not depend on the output grid)."""
+    methods' answers do not depend on the output grid) or, for scenes with
+    stops, to at most 10 ms (the output interval bounds the event method's
+    step, so that a short approach to a stop is not stepped over)."""
     t_end = _default_t_end(scene) if t_end is None else _real(t_end, "t_end", low=0.0, low_open=True)
-    dt = t_end if dt is None else _real(dt, "dt", low=0.0, low_open=True, high=t_end)
+    if dt is None:
+        dt = t_end if not scene.stops else min(t_end, 0.01)
+    else:
+        dt = _real(dt, "dt", low=0.0, low_open=True, high=t_end)
     opts: Dict[str, Any] = dict(method=method, rtol=rtol, atol=atol, eps=eps)
     if threads is not None:
         opts["threads"] = threads
@@ -266,6 +271,7 @@ class _Runner:
     def final(self, t_end, **arrays):
         """(final displacements (B, ndof), final rates (B, ndof), batch shape) at ``t_end``."""
         spec = self._direct
+        dt = t_end if not self.scene.stops else min(t_end, 0.01)
         trapezoid = isinstance(self.scene.motion, TrapezoidalProfile) and any(
             PARAMETERS[k].path[0] == "motion" for k in arrays)
         if spec is not None and not trapezoid:
@@ -274,9 +280,9 @@ class _Runner:
             vary = {PARAMETERS[k].key: np.ascontiguousarray(v, dtype=float).ravel() for k, v in zip(arrays, vals)}
             n = int(np.prod(shape)) if shape else 1
             threads = self.options.get("threads") or (1 if n < 2048 else 0)
-            out = _core.simulate_batch(spec, t_end, t_end, threads=threads, record="final", vary=vary or None)
+            out = _core.simulate_batch(spec, t_end, dt, threads=threads, record="final", vary=vary or None)
             return out["displacement"], out["v"], shape
-        b = simulate_batch(self.scene, t_end, t_end, record="final", warn=False, **self.options, **arrays)
+        b = simulate_batch(self.scene, t_end, dt, record="final", warn=False, **self.options, **arrays)
         return b.final_displacement, b.v, b.shape
 
     def __call__(self, **arrays):
@@ -496,7 +502,8 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Mapping[str, Tuple[fl
     t_end, dt : float, optional
         Simulated time [s] (default: the motion's end plus half of it) and
         output step (default t_end: the event method's answer does not
-        depend on its output grid).
+        depend on its output grid; at most 10 ms for scenes with stops,
+        whose approach the output interval must not step over).
     method, rtol, atol, eps : as in :func:`exdex.simulate` (default "auto":
         the analytic path where it applies, else the event method, whose
         answer does not depend on the output grid).

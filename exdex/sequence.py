@@ -32,7 +32,9 @@ The search (what it covers):
    bounded least squares (SciPy's trust-region reflective ``least_squares``)
    on the outcome of the sequence simulated step by step with the event
    method, residuals scaled by the tolerances, from the screen's best grid
-   point, until every residual is within a quarter of its tolerance; once a
+   point (for two steps, if that fails, in the other order too), until every
+   residual is within a quarter of its tolerance (a sequence within 0.9 of
+   every tolerance counts as solved); once a
    sequence meets the target only plausible ones as short or shorter are
    still solved;
 4. among those that meet every tolerance the shortest, then the least cost
@@ -380,31 +382,39 @@ def solve(scene: Scene, target: Mapping[str, float], *, prims: Optional[Mapping[
     for err0, L, seq, x0, plausible in screened[:n_polish]:
         if found and not (L <= min(f[0] for f in found) and plausible):
             continue   # a solution exists; only a plausible one as short or shorter could beat it
-        order = seq
-        ps = [prims[n] for n in order]
-        lo = np.array([p.bounds[0] for p in ps])
-        hi = np.array([p.bounds[1] for p in ps])
-        span = hi - lo
+        # the screen's order first; for two steps also the other order
+        orders = [seq] + ([seq[::-1]] if L == 2 else [])
+        best_err, best_x = math.inf, None
+        for order in orders:
+            ps = [prims[n] for n in order]
+            lo = np.array([p.bounds[0] for p in ps])
+            hi = np.array([p.bounds[1] for p in ps])
+            span = hi - lo
 
-        def resid(z, ps=ps, lo=lo, span=span):
-            q = _run_sequence(scene, ps, lo + z * span, settle, rtol, atol)
-            if q is None:
-                return np.full(len(idx), 1e6)
-            r = ((q - q_start)[idx] - goal) / scale
-            if np.max(np.abs(r)) <= 0.25:
-                raise _Done(np.array(z, dtype=float), r)   # well within tol: no need to polish further
-            return r
+            def resid(z, ps=ps, lo=lo, span=span):
+                q = _run_sequence(scene, ps, lo + z * span, settle, rtol, atol)
+                if q is None:
+                    return np.full(len(idx), 1e6)
+                r = ((q - q_start)[idx] - goal) / scale
+                if np.max(np.abs(r)) <= 0.25:
+                    raise _Done(np.array(z, dtype=float), r)   # well within tol: no need to polish further
+                return r
 
-        z0 = np.clip((x0 - lo) / span, 0.0, 1.0)
-        try:
-            r = least_squares(resid, z0, bounds=(np.zeros(L), np.ones(L)), method="trf", diff_step=1e-6,
-                              xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=max_nfev)
-            z, fun = r.x, r.fun
-        except _Done as done:
-            z, fun = done.z, done.r
-        best_err, best_x = float(np.max(np.abs(fun))), (order, lo + z * span)
+            start = np.array([x0[seq.index(n)] for n in order])
+            z0 = np.clip((start - lo) / span, 0.0, 1.0)
+            try:
+                r = least_squares(resid, z0, bounds=(np.zeros(L), np.ones(L)), method="trf", diff_step=1e-6,
+                                  xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=max_nfev)
+                z, fun = r.x, r.fun
+            except _Done as done:
+                z, fun = done.z, done.r
+            err = float(np.max(np.abs(fun)))
+            if err < best_err:
+                best_err, best_x = err, (order, lo + z * span)
+            if best_err <= 0.9:
+                break
         results[seq] = (best_err, best_x)
-        if best_err <= 0.5:
+        if best_err <= 0.9 and best_x is not None:
             order, xs = best_x
             cost = sum(motion_peaks(prims[n].make(float(v)))["acceleration"] for n, v in zip(order, xs))
             found.append((L, cost, order, xs))
@@ -416,10 +426,19 @@ def solve(scene: Scene, target: Mapping[str, float], *, prims: Optional[Mapping[
             f"tol ({tol_xy:g} m, {tol_th:g} rad); the closest solved, {' -> '.join(best[0])}, misses by "
             f"{best[1][0]:.3g} tolerances", (math.nan, math.nan))
     found.sort(key=lambda f: (f[0], f[1]))
-    L, cost, order, xs = found[0]
-    out = _run_sequence(scene, [prims[n] for n in order], xs, settle, verify_rtol, atol * 1e-2, with_scenes=True)
-    if out is None:  # pragma: no cover - the solve just ran it at rtol
-        raise SolverError(f"the re-simulation of the sequence {order} failed at rtol {verify_rtol:g}")
+    # the report is the re-simulation at verify_rtol: the first candidate
+    # that still meets every tolerance there
+    out = None
+    for L, cost, order, xs in found:
+        out = _run_sequence(scene, [prims[n] for n in order], xs, settle, verify_rtol, atol * 1e-2,
+                            with_scenes=True)
+        if out is not None and np.all(np.abs((out[0] - q_start)[idx] - goal) <= scale):
+            break
+        out = None
+    if out is None:
+        raise UnreachableTargetError(
+            f"the sequences solved for the target {goals} ({', '.join(' -> '.join(f[2]) for f in found)}) miss "
+            f"the tolerances when re-simulated at rtol {verify_rtol:g}", (math.nan, math.nan))
     qf, scenes = out
     # steps that leave the object where it was (a slide below the slip
     # threshold) are dropped: they change nothing

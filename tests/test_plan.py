@@ -193,6 +193,12 @@ def test_cli_plan_writes_poses_and_reports_unreachable(tmp_path, capsys):
     assert abs(closed_slip(loaded) - (-0.01)) <= 1e-6 + 1e-9
     assert cli.main(["plan", "--out", str(out), "--target", "slip=-0.9"]) == 1
     assert "reachable" in capsys.readouterr().out
+    # rest_by: 0.7 s admits the 10 mm plan (closed-form rest time below it), 0.5 s does not
+    assert cli.main(["plan", "--out", str(out), "--target", "slip=-0.01", "--rest-by", "0.7"]) == 0
+    assert "at rest relative to the gripper by 0.7 s" in capsys.readouterr().out
+    assert paper.closed_form(exdex.load_scene(out / "planned_scene.toml")).rest_time <= 0.7
+    assert cli.main(["plan", "--out", str(out), "--target", "slip=-0.01", "--rest-by", "0.5"]) == 1
+    assert "at rest by 0.5 s" in capsys.readouterr().out
 
 
 def test_band_of_a_slide_onto_a_stop_is_exact_and_flat():
