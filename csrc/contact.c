@@ -274,7 +274,6 @@ double contact_rot_radius(const exdex_model *m)
     return r;
 }
 
-<<<<<<< HEAD
 void contact_tangent(const exdex_model *m, const exdex_kinematics *kin, const double xb[3], const double vx[3],
                      const double nB_inplane[2], double T[3], double *tb)
 {
@@ -307,7 +306,7 @@ void contact_stop_tangent(const exdex_model *m, const exdex_kinematics *kin, int
     double nB[3];
     ex_mulmtv3(nB, kin->R, m->sn[k]);
     contact_tangent(m, kin, xb, vx, nB, T, tb);
-=======
+
 /* ------------------------------------------------------ convex obstacles */
 
 /* d gap / d qdot of a row whose gap changes by nB . dx when the object's
@@ -642,5 +641,4 @@ int contact_obstacle_max_rows(const exdex_model *m)
                  ? nv + (m->n_hull >= 3 ? m->def.obstacles[o].n_faces : 0)
                  : 1;
     return n;
->>>>>>> main
 }

@@ -429,7 +429,12 @@ typedef struct exdex_scene_def {
      * zero-initialised field keeps the one-coefficient law). Each method's
      * use of it is stated with the method (exdex_method above, hybrid.c). */
     double mu_static;
-<<<<<<< HEAD
+    /* convex obstacles fixed in A (above); their stop forces follow the
+     * stops' in exdex_trajectory.stop_force. The implicit method solves
+     * scenes with obstacles; the other methods reject them (bad_param
+     * "method"). */
+    int n_obstacles;          /* 0..EXDEX_MAX_OBSTACLES */
+    exdex_obstacle_def obstacles[EXDEX_MAX_OBSTACLES];
     /* Coulomb friction coefficient of each stop against the outline vertices
      * touching it (>= 0, finite; 0: frictionless). The friction acts along the
      * tangent t = e_z x n_B of the plate plane (n_B the in-plane part of the
@@ -437,14 +442,6 @@ typedef struct exdex_scene_def {
      * Supported by the implicit and explicit methods; event and regularised
      * reject stop_mu > 0 (EXDEX_EINVAL, bad_param "stop_mu"). */
     double stop_mu[EXDEX_MAX_STOPS];
-=======
-    /* convex obstacles fixed in A (above); their stop forces follow the
-     * stops' in exdex_trajectory.stop_force. The implicit method solves
-     * scenes with obstacles; the other methods reject them (bad_param
-     * "method"). */
-    int n_obstacles;          /* 0..EXDEX_MAX_OBSTACLES */
-    exdex_obstacle_def obstacles[EXDEX_MAX_OBSTACLES];
->>>>>>> main
 } exdex_scene_def;
 
 /* Interpolation of a grip-force schedule between its points. */

@@ -96,16 +96,13 @@ struct exdex_model {
     double cap_ratio;
     double capks;
     double capS;
-<<<<<<< HEAD
-    double smu[EXDEX_MAX_STOPS];  /* Coulomb coefficient of each stop */
-    int stop_friction;            /* 1 if some stop has smu > 0 */
-=======
     /* convex obstacles (def.obstacles): their rows follow the stops' */
     int n_obst;
     int n_src;              /* n_stops + n_obst: the stop_force columns */
     int n_hull;             /* convex hull of the outline (C, counter-clockwise) */
     double hull[EXDEX_MAX_VERTICES][2];
->>>>>>> main
+    double smu[EXDEX_MAX_STOPS];  /* Coulomb coefficient of each stop */
+    int stop_friction;            /* 1 if some stop has smu > 0 */
 };
 
 /* ------------------------------------------------ grip force, capacity

@@ -211,13 +211,6 @@ int fuzz_simulate(const uint8_t *data, size_t size)
      * timeout (FUZZ_TIMEOUT, also under ASan) */
     if ((d.method == EXDEX_METHOD_EVENT || d.method == EXDEX_METHOD_REGULARISED) && isfinite(t_end))
         t_end = dt;
-<<<<<<< HEAD
-    /* each stop's Coulomb coefficient, decoded last so that the inputs
-     * written before it decode as before (with frictionless stops): 0, or
-     * reasonable in [0, 1.5], or wild (negative and non-finite values are
-     * bad input; event and regularised reject mu > 0 by name) */
-    for (int k = 0; k < ns_dec; k++) d.stop_mu[k] = fz_pick(&f, 0, 1) ? fz_num(&f, 0.0, 1.5) : 0.0;
-=======
     /* static coefficient (decoded last, so older corpus inputs keep their
      * meaning): 0 (equal to mu), above mu, or anything (below mu, wild) */
     switch (fz_pick(&f, 0, 3)) {
@@ -267,7 +260,11 @@ int fuzz_simulate(const uint8_t *data, size_t size)
         }
         if (fz_pick(&f, 0, 31) == 0) ob->radius = fz_num(&f, -1.0, 1.0); /* occasionally wild */
     }
->>>>>>> main
+    /* each stop's Coulomb coefficient, decoded after the obstacles so that
+     * the inputs written before it decode as before (with frictionless stops): 0, or
+     * reasonable in [0, 1.5], or wild (negative and non-finite values are
+     * bad input; event and regularised reject mu > 0 by name) */
+    for (int k = 0; k < ns_dec; k++) d.stop_mu[k] = fz_pick(&f, 0, 1) ? fz_num(&f, 0.0, 1.5) : 0.0;
 
     /* fields exdex_scene_check must validate */
     required_nonfinite = !isfinite(d.mass) || !fz_all_finite(d.inertia, 9) || !isfinite(d.mu) ||
