@@ -306,6 +306,7 @@ void contact_stop_tangent(const exdex_model *m, const exdex_kinematics *kin, int
     double nB[3];
     ex_mulmtv3(nB, kin->R, m->sn[k]);
     contact_tangent(m, kin, xb, vx, nB, T, tb);
+}
 
 /* ------------------------------------------------------ convex obstacles */
 
