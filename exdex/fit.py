@@ -239,8 +239,10 @@ class EventSensitivity:
     params, values : the parameters and their values; times : the
     :class:`EventTimes` at those values. donset, dstop : (n_params,)
     d onset / dp and d stop / dp [s per unit of p]; onset_error, stop_error :
-    their estimated errors (the spread of the Richardson ladder); NaN where
-    the event does not exist at the nominal values.
+    their estimated errors (the spread of the Richardson ladder; 0 when
+    exact); NaN where the event does not exist at the nominal values.
+    exact : True when the derivatives were carried exactly through the
+    piecewise-analytic solution rather than differenced.
     """
 
     params: Tuple[str, ...]
@@ -250,11 +252,151 @@ class EventSensitivity:
     dstop: np.ndarray
     onset_error: np.ndarray
     stop_error: np.ndarray
+    exact: bool = False
 
     def __repr__(self) -> str:
         rows = ", ".join(f"d onset/d {p} = {self.donset[i]:.6g} (+- {self.onset_error[i]:.1g}), d stop/d {p} = "
                          f"{self.dstop[i]:.6g} (+- {self.stop_error[i]:.1g})" for i, p in enumerate(self.params))
         return f"EventSensitivity(onset {self.times.onset:.9g} s, stop {self.times.stop:.9g} s; {rows})"
+
+
+class _Dual:
+    """A value and its gradient (forward-mode differentiation): arithmetic
+    carries exact first derivatives, comparisons look at the value."""
+
+    __slots__ = ("v", "g")
+
+    def __init__(self, v, g):
+        self.v, self.g = float(v), np.asarray(g, dtype=float)
+
+    @staticmethod
+    def _lift(x, n):
+        return x if isinstance(x, _Dual) else _Dual(x, np.zeros(n))
+
+    def __add__(self, o):
+        o = _Dual._lift(o, len(self.g))
+        return _Dual(self.v + o.v, self.g + o.g)
+
+    __radd__ = __add__
+
+    def __sub__(self, o):
+        o = _Dual._lift(o, len(self.g))
+        return _Dual(self.v - o.v, self.g - o.g)
+
+    def __rsub__(self, o):
+        return _Dual._lift(o, len(self.g)) - self
+
+    def __mul__(self, o):
+        o = _Dual._lift(o, len(self.g))
+        return _Dual(self.v * o.v, self.g * o.v + self.v * o.g)
+
+    __rmul__ = __mul__
+
+    def __truediv__(self, o):
+        o = _Dual._lift(o, len(self.g))
+        return _Dual(self.v / o.v, (self.g * o.v - self.v * o.g) / (o.v * o.v))
+
+    def __rtruediv__(self, o):
+        return _Dual._lift(o, len(self.g)) / self
+
+    def __neg__(self):
+        return _Dual(-self.v, -self.g)
+
+
+def _dual_events(phases, capacity, n):
+    """Slip onsets and stops [(time as _Dual, kind)] of the 1-DoF Coulomb
+    problem x'' = d(t) + f, |f| <= capacity, exact stick, from rest: the
+    algorithm of exdex.paper.coulomb_1dof (phases of constant drive, stops at
+    t = -v / a) on dual numbers, so each event time carries its exact
+    derivative with respect to the parameters the inputs depend on; and the
+    smallest relative margin | |d| - capacity | / max of the two met by a
+    rest test (near 0: the grasp is at a threshold where a slip can appear
+    or vanish, and the derivative is one-sided)."""
+    zero = _Dual(0.0, np.zeros(n))
+    v, moving, events = zero, False, []
+    margin = math.inf
+    for ta, tb, d in phases:
+        t = ta
+        while t.v < tb.v:
+            if v.v == 0.0:
+                margin = min(margin, abs(abs(d.v) - capacity.v) / max(capacity.v, abs(d.v), 1e-300))
+                if abs(d.v) <= capacity.v:
+                    if moving:
+                        events.append((t, "stick"))
+                        moving = False
+                    break
+                if not moving:
+                    events.append((t, "slip"))
+                    moving = True
+                a = d - capacity if d.v > 0 else d + capacity
+            else:
+                a = d - capacity if v.v > 0 else d + capacity
+                if a.v * v.v < 0:
+                    ts = -v / a
+                    if (t + ts).v < tb.v:
+                        v = zero
+                        t = t + ts
+                        continue
+            if math.isfinite(tb.v):
+                v = v + a * (tb - t)
+            t = tb
+    return events, margin
+
+
+def _exact_event_derivatives(scene, names, t_end):
+    """(d onset / dp, d stop / dp, threshold margin) exactly, for scenes of the closed form
+    (exdex.paper.closed_form: 1-DoF, Eq. 7 motion, no stops, pivot at the
+    centre of mass, constant grip) and parameters among mu, grip_force,
+    mass, e_r, amplitude, duration, beta; None otherwise."""
+    from exdex import paper
+    from exdex.scene import AsymmetricProfile
+    allowed = ("mu", "grip_force", "mass", "e_r", "amplitude", "duration", "beta")
+    if not isinstance(scene.motion, AsymmetricProfile) or any(n not in allowed for n in names) or \
+            not isinstance(scene.grasp.grip_force, (int, float)) or \
+            getattr(scene.grasp, "mu_static", None) not in (None, scene.grasp.mu):
+        return None
+    try:
+        paper.closed_form(scene)
+    except (ValueError, TypeError):
+        return None
+    k = len(names)
+
+    def var(name, value):
+        g = np.zeros(k)
+        if name in names:
+            g[names.index(name)] = 1.0
+        return _Dual(value, g)
+
+    mo = scene.motion
+    X1, T, beta = var("amplitude", mo.amplitude), var("duration", mo.duration), var("beta", mo.beta)
+    a_h = 2.0 * X1 / (beta * T * T)
+    a_l = 2.0 * X1 / ((beta - 1.0) * T * T)
+    t1, t2, t3 = beta * T, (2.0 - beta) * T, 2.0 * T
+    cap = var("mu", scene.grasp.mu) * scene.grasp.fingers * var("grip_force", float(scene.grasp.grip_force))
+    if scene.dof == "translation":
+        e = paper._world_dir(scene, scene.slide_axis)
+        g_e, kk = float(np.dot(scene.gravity, e)), float(np.dot(mo.axis, e))
+        drive = [g_e - a_h * kk, g_e - a_l * kk, g_e - a_h * kk, g_e + 0.0 * a_h]
+        c = cap / var("mass", scene.body.mass)
+    else:
+        kk = float(np.dot(mo.axis, np.array(scene.gripper_rotation)[:, 2]))
+        drive = [-a_h * kk, -a_l * kk, -a_h * kk, 0.0 * a_h]
+        c = cap * var("e_r", scene.grasp.patch.e_r) / float(np.asarray(scene.body.inertia)[2, 2])
+    zero = _Dual(0.0, np.zeros(k))
+    inf = _Dual(math.inf, np.zeros(k))
+    phases = [(zero, t1, drive[0]), (t1, t2, drive[1]), (t2, t3, drive[2]), (t3, inf, drive[3])]
+    events, margin = _dual_events(phases, c, k)
+    ev = [(t, kind) for t, kind in events if t.v <= t_end]
+    nan = np.full(k, math.nan)
+    slips = [t for t, kind in ev if kind == "slip"]
+    donset = slips[0].g if slips else nan
+    if not ev:
+        dstop = nan
+    elif ev[-1][1] == "stick":
+        dstop = ev[-1][0].g
+    else:
+        dstop = np.full(k, math.nan)   # still moving at t_end
+    return donset, dstop, margin
 
 
 def _richardson(D):
@@ -271,18 +413,27 @@ def _richardson(D):
 
 def event_sensitivity(scene: Scene, params: Sequence[str], t_end: float, *, method: str = "auto",
                       rtol: float = 1e-10, atol: float = 1e-12, eps: float = 1e-4, rel_step: float = 1e-4,
-                      levels: int = 4, n_grid: int = 1024) -> EventSensitivity:
+                      levels: int = 4, n_grid: int = 1024, exact_if_possible: bool = True) -> EventSensitivity:
     """d onset / dp and d stop / dp of :func:`event_times` for each named parameter.
 
     Central differences of the bisected event times at steps h, h/2, ...,
     h/2^(levels-1) (h = rel_step |p|, kept inside the parameter's range),
     Richardson extrapolation, the error from the ladder (as
     :func:`sensitivity`). The times are bisected to about 1e-13 s, so the
-    differences carry an error of about 1e-13 / h. Where the time is a
-    switch of a piecewise-constant drive (an Eq. 7 phase boundary) it is
-    piecewise linear in the motion parameters and constant in the grasp
-    parameters, and the extrapolation is exact up to that rounding; an event
-    that appears or vanishes inside the step shows as a large error.
+    differences carry an error of about 1e-13 / h; an event that appears or
+    vanishes inside the step shows as a large error.
+
+    Exact where the solution is piecewise analytic: for 1-DoF scenes of the
+    closed form (an Eq. 7 motion, no stops, the pivot at the centre of mass,
+    a constant grip; ``exdex.paper.closed_form``) and parameters among mu,
+    grip_force, mass, e_r, amplitude, duration and beta, the event times are
+    phase switches (beta T, (2 - beta) T, 2 T) or roots t = -v / a of the
+    phase's linear speed, and their derivatives are carried through that
+    algorithm by forward-mode differentiation (``exact`` True, errors 0;
+    inf at a stick/slip threshold, relative margin below 1e-6, where a slip
+    can appear or vanish and the derivative is one-sided);
+    ``exact_if_possible=False`` forces the differences. The event times
+    themselves are always the bisected ones of :func:`event_times`.
     """
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be an exdex.Scene, got {type(scene).__name__}")
@@ -296,6 +447,15 @@ def event_sensitivity(scene: Scene, params: Sequence[str], t_end: float, *, meth
         raise ValueError(f"levels must be an int in [2, 20], got {levels!r}")
     kw: Dict[str, Any] = dict(method=method, rtol=rtol, atol=atol, eps=eps, n_grid=n_grid)
     nominal = event_times(scene, t_end, **kw)
+    exact = _exact_event_derivatives(scene, list(names), float(t_end)) if exact_if_possible else None
+    if exact is not None:
+        # at a stick/slip threshold (relative margin below 1e-6) a slip can
+        # appear or vanish with the parameter: the derivative is one-sided,
+        # which the error states as inf
+        errs = np.zeros(len(names)) if exact[2] > 1e-6 else np.full(len(names), math.inf)
+        return EventSensitivity(params=names, values={n: _value_of(scene, n) for n in names}, times=nominal,
+                                donset=np.asarray(exact[0], dtype=float), dstop=np.asarray(exact[1], dtype=float),
+                                onset_error=errs, stop_error=errs.copy(), exact=True)
     don: List[float] = []
     dst: List[float] = []
     eon: List[float] = []
