@@ -63,4 +63,26 @@ int contact_unreachable(const exdex_model *m, const exdex_kinematics *k, const d
  * translation): bounds |d^2 gap / d theta^2|. */
 double contact_rot_radius(const exdex_model *m);
 
+/* ------------------------------------------------ convex obstacles
+ * Rows of the obstacles (exdex.h, exdex_obstacle_def) after the stops' rows,
+ * in the same form: gap_i >= 0 allowed, G_i = d gap_i / d qdot. Per
+ * polytope: one row per outline vertex (its largest face distance: the
+ * row of that face, a plane row as a stop's) and, with a hull of at least 3
+ * vertices, one per vertex of the section polygon (its largest distance
+ * outside the hull's edge lines, acting at the section vertex with the
+ * edge's inward normal); per rod: one row, the hull point nearest the axis
+ * (its distance from the axis less the radius, negative when the axis meets
+ * the plane inside the hull). round_i bounds the rounding of gap_i; src_i =
+ * n_stops + obstacle index (src may be NULL). Returns the count, at most
+ * contact_obstacle_max_rows. */
+int contact_obstacle_rows(const exdex_model *m, const exdex_kinematics *kin, const double *q, double (*G)[3],
+                          double *gap, double *round, int *src);
+int contact_obstacle_max_rows(const exdex_model *m);
+/* 1 if the obstacle definition is valid (kind, face count, unit normals and
+ * axis, finite points, radius > 0). */
+int contact_obstacle_valid(const exdex_obstacle_def *o);
+/* Convex hull (counter-clockwise, 1 .. n points) of n plane points; n = 0
+ * gives the origin alone. */
+int contact_hull(const double (*v)[2], int n, double (*hull)[2]);
+
 #endif

@@ -92,6 +92,16 @@ static void build_rows(const exdex_model *m, const exdex_kinematics *kin_end, co
             w->rhs[i] = fabs(w->gap[i]) <= tau ? 0.0 : -w->gap[i] / h;
             w->lam[i] = 0.0;
         }
+    if (m->n_obst) {
+        /* the obstacles' rows, in the same form (contact_obstacle_rows) */
+        double rnd[MAX_ROWS];
+        int i0 = w->n_rows, no = contact_obstacle_rows(m, kin_end, q, w->G + i0, w->gap + i0, rnd, w->row_stop + i0);
+        for (int i = i0; i < i0 + no; i++) {
+            w->rhs[i] = fabs(w->gap[i]) <= rnd[i - i0] ? 0.0 : -w->gap[i] / h;
+            w->lam[i] = 0.0;
+        }
+        w->n_rows += no;
+    }
 }
 
 /* 1-DoF step: min 1/2 M (v - vs)^2 + c |v| subject to G_i v >= rhs_i
@@ -496,6 +506,17 @@ static void project_positions(const exdex_model *m, const exdex_kinematics *kin,
                 for (int d = 0; d < 3; d++) a[i][d] = G[d] * sq[d];
                 if (g[i] < -tol[i] && (deep < 0 || g[i] < g[deep])) deep = i;
             }
+        if (m->n_obst) {
+            /* the obstacles' rows after the stops' (their count may change
+             * with q: a section vertex row exists for each vertex) */
+            int i0 = m->n_stops * nv;
+            double Go[MAX_ROWS][3];
+            nr = i0 + contact_obstacle_rows(m, kin, q, Go, g + i0, tol + i0, NULL);
+            for (int i = i0; i < nr; i++) {
+                for (int d = 0; d < 3; d++) a[i][d] = (d < n ? Go[i - i0][d] : 0.0) * sq[d];
+                if (g[i] < -tol[i] && (deep < 0 || g[i] < g[deep])) deep = i;
+            }
+        }
         if (deep < 0) return;  /* every gap >= 0 to rounding */
         depth = -g[deep];
         for (int i = 0; i < nr; i++) {
@@ -573,7 +594,7 @@ static int implicit_advance(const exdex_model *m, void *ws, double t1, int regri
     (void)regrip;   /* the capacity is read at every step */
     do {
         double h = t1 - t, tm = t + 0.5 * h, qm[3], vmid[3], F[3], vs[3], vn[3];
-        double wrench[3] = {0, 0, 0}, sf[EXDEX_MAX_STOPS];
+        double wrench[3] = {0, 0, 0}, sf[EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES];
         frame f;
         exdex_kinematics kin, kin_end;
         int stick;
@@ -588,7 +609,7 @@ static int implicit_advance(const exdex_model *m, void *ws, double t1, int regri
              * order in smooth phases, and exactly 0 while the object sticks */
             vmid[i] = hprev > 0.0 ? v[i] + 0.5 * h * (v[i] - vprev[i]) / hprev : v[i];
         }
-        if (ns) {
+        if (ns || m->n_obst) {
             build_rows(m, &kin_end, q, h, w);
         } else {
             w->n_rows = 0;
@@ -639,7 +660,7 @@ static int implicit_advance(const exdex_model *m, void *ws, double t1, int regri
                 v[i] = vn[i];
             }
         }
-        if (ns) {
+        if (ns || m->n_obst) {
             project_positions(m, &kin_end, q, st);
             double gmin = contact_min_gap(m, &kin_end, q);
             if (gmin < st->min_gap) st->min_gap = gmin;
@@ -662,7 +683,7 @@ static int implicit_advance(const exdex_model *m, void *ws, double t1, int regri
         hprev = h;
         kin0 = kin_end;
         st->steps++;
-        for (int k = 0; k < ns; k++) sf[k] = 0.0;
+        for (int k = 0; k < m->n_src; k++) sf[k] = 0.0;
         for (int i = 0; i < w->n_rows; i++) sf[w->row_stop[i]] += w->lam[i] / h;
         method_record(m, out, st, step, t1, q, v, wrench, stick, sf);
     } while (0);

@@ -96,6 +96,11 @@ struct exdex_model {
     double cap_ratio;
     double capks;
     double capS;
+    /* convex obstacles (def.obstacles): their rows follow the stops' */
+    int n_obst;
+    int n_src;              /* n_stops + n_obst: the stop_force columns */
+    int n_hull;             /* convex hull of the outline (C, counter-clockwise) */
+    double hull[EXDEX_MAX_VERTICES][2];
 };
 
 /* ------------------------------------------------ grip force, capacity

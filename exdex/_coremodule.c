@@ -157,6 +157,71 @@ static int sampled_options(PyObject *spec, exdex_motion_def *mo)
     return 0;
 }
 
+/* One obstacle from its dict: kind (int), and face_points / face_normals
+ * ((k, 3), polytope) or center, axis (3) and radius (cylinder). */
+static int obstacle_from_dict(PyObject *d, exdex_obstacle_def *o)
+{
+    memset(o, 0, sizeof *o);
+    if (!PyDict_Check(d)) {
+        PyErr_SetString(PyExc_TypeError, "'obstacles' must be a list of dicts (use exdex.Obstacle)");
+        return -1;
+    }
+    if (dict_int(d, "kind", &o->kind)) return -1;
+    if (o->kind == EXDEX_OBSTACLE_POLYTOPE) {
+        npy_intp nfp, nfn;
+        PyArrayObject *fp = dict_rows(d, "face_points", 3, EXDEX_MAX_FACES, &nfp), *fn;
+        if (!fp) return -1;
+        fn = dict_rows(d, "face_normals", 3, EXDEX_MAX_FACES, &nfn);
+        if (!fn) {
+            Py_DECREF(fp);
+            return -1;
+        }
+        if (nfp != nfn) {
+            PyErr_SetString(PyExc_ValueError, "'face_points' and 'face_normals' must have the same length");
+            Py_DECREF(fp);
+            Py_DECREF(fn);
+            return -1;
+        }
+        o->n_faces = (int)nfp;
+        if (nfp) {
+            memcpy(o->face_point, PyArray_DATA(fp), (size_t)nfp * 3 * sizeof(double));
+            memcpy(o->face_normal, PyArray_DATA(fn), (size_t)nfn * 3 * sizeof(double));
+        }
+        Py_DECREF(fp);
+        Py_DECREF(fn);
+        return 0;
+    }
+    if (dict_doubles(d, "center", o->center, 3) || dict_doubles(d, "axis", o->axis, 3) ||
+        dict_double(d, "radius", &o->radius))
+        return -1;
+    return 0;
+}
+
+/* Optional 'obstacles' key: a sequence of obstacle dicts. */
+static int obstacles_from_dict(PyObject *spec, exdex_scene_def *def)
+{
+    PyObject *obj = PyDict_GetItemString(spec, "obstacles"), *seq;
+    Py_ssize_t n;
+    def->n_obstacles = 0;
+    if (!obj || obj == Py_None) return 0;
+    seq = PySequence_Fast(obj, "'obstacles' must be a sequence of obstacle dicts");
+    if (!seq) return -1;
+    n = PySequence_Fast_GET_SIZE(seq);
+    if (n > EXDEX_MAX_OBSTACLES) {
+        PyErr_Format(PyExc_ValueError, "'obstacles' holds at most %d obstacles", EXDEX_MAX_OBSTACLES);
+        Py_DECREF(seq);
+        return -1;
+    }
+    for (Py_ssize_t i = 0; i < n; i++)
+        if (obstacle_from_dict(PySequence_Fast_GET_ITEM(seq, i), &def->obstacles[i])) {
+            Py_DECREF(seq);
+            return -1;
+        }
+    def->n_obstacles = (int)n;
+    Py_DECREF(seq);
+    return 0;
+}
+
 /* Store `item` (a new reference, stolen) at index i of the object array keep. */
 static void keep_item(PyArrayObject *keep, npy_intp i, PyObject *item)
 {
@@ -321,6 +386,7 @@ static int scene_from_dict(PyObject *spec, exdex_scene_def *def, PyArrayObject *
         PyErr_SetString(PyExc_ValueError, "'stop_points' and 'stop_normals' must have the same length");
         goto fail;
     }
+    if (obstacles_from_dict(spec, def)) goto fail;
     def->n_vertices = (int)nv;
     if (nv) memcpy(def->vertices, PyArray_DATA(verts), (size_t)nv * 2 * sizeof(double));
     def->n_stops = (int)nsp;
@@ -1220,6 +1286,49 @@ done:
     return result;
 }
 
+PyDoc_STRVAR(obstacle_section_doc,
+"obstacle_section(obstacle, R, p)\n--\n\n"
+"Section of an obstacle (dict as in a scene spec's 'obstacles') by the plate plane of\n"
+"the gripper pose R (3x3 R_AB), p (3,): a polytope gives its polygon's vertices (k, 2)\n"
+"in B, counter-clockwise (finite vertices only); a cylinder gives (centre (2,),\n"
+"(a, b, angle)) of its ellipse, or None when the axis lies in the plane.");
+
+static PyObject *core_obstacle_section(PyObject *module, PyObject *args)
+{
+    PyObject *od, *Ro, *po;
+    exdex_obstacle_def o;
+    double R[9], p[3], xy[EXDEX_MAX_FACES][2], ab[3];
+    PyArrayObject *Ra, *pa;
+    int n;
+    (void)module;
+    if (!PyArg_ParseTuple(args, "OOO", &od, &Ro, &po)) return NULL;
+    if (obstacle_from_dict(od, &o)) return NULL;
+    Ra = as_doubles(Ro, 9, "R");
+    if (!Ra) return NULL;
+    memcpy(R, PyArray_DATA(Ra), sizeof R);
+    Py_DECREF(Ra);
+    pa = as_doubles(po, 3, "p");
+    if (!pa) return NULL;
+    memcpy(p, PyArray_DATA(pa), sizeof p);
+    Py_DECREF(pa);
+    n = exdex_obstacle_section(&o, R, p, xy, ab);
+    if (n < 0) {
+        PyErr_SetString(PyExc_ValueError, "obstacle, R or p invalid (non-finite, or not a valid obstacle)");
+        return NULL;
+    }
+    if (o.kind == EXDEX_OBSTACLE_CYLINDER) {
+        if (n == 0) Py_RETURN_NONE;
+        return Py_BuildValue("(dd)(ddd)", xy[0][0], xy[0][1], ab[0], ab[1], ab[2]);
+    }
+    {
+        npy_intp dims[2] = {n, 2};
+        PyObject *out = PyArray_SimpleNew(2, dims, NPY_DOUBLE);
+        if (!out) return NULL;
+        if (n) memcpy(PyArray_DATA((PyArrayObject *)out), xy, (size_t)n * 2 * sizeof(double));
+        return out;
+    }
+}
+
 static PyObject *core_er_disc(PyObject *module, PyObject *arg)
 {
     double r = PyFloat_AsDouble(arg);
@@ -1849,6 +1958,7 @@ static PyMethodDef core_methods[] = {
     {"grip_eval", (PyCFunction)(void (*)(void))core_grip_eval, METH_VARARGS | METH_KEYWORDS, grip_eval_doc},
     {"friction_solve", (PyCFunction)(void (*)(void))core_friction_solve, METH_VARARGS | METH_KEYWORDS,
      friction_solve_doc},
+    {"obstacle_section", core_obstacle_section, METH_VARARGS, obstacle_section_doc},
     {"er_disc", core_er_disc, METH_O, "e_r [m] of a uniform pressure disc of radius R: 2R/3 (NaN if R <= 0)."},
     {"er_rectangle", core_er_rectangle, METH_VARARGS,
      "e_r [m] of a uniform pressure rectangle with half-sides a, b (NaN if not positive)."},
@@ -1860,6 +1970,10 @@ static PyMethodDef core_methods[] = {
 static const expy_constant core_constants[] = {
     {"MAX_STOPS", EXDEX_MAX_STOPS},
     {"MAX_VERTICES", EXDEX_MAX_VERTICES},
+    {"MAX_OBSTACLES", EXDEX_MAX_OBSTACLES},
+    {"MAX_FACES", EXDEX_MAX_FACES},
+    {"OBSTACLE_POLYTOPE", EXDEX_OBSTACLE_POLYTOPE},
+    {"OBSTACLE_CYLINDER", EXDEX_OBSTACLE_CYLINDER},
     {"STATUS_OK", EXDEX_OK},
     {"STATUS_EINVAL", EXDEX_EINVAL},
     {"STATUS_ENOMEM", EXDEX_ENOMEM},

@@ -368,3 +368,30 @@ def test_properties_planar_energy(seed):
     izz = np.array(body.inertia)[2, 2]
     E = 0.5 * 0.1 * (r.v[:, 0] ** 2 + r.v[:, 1] ** 2) + 0.5 * izz * r.v[:, 2] ** 2 + 0.1 * G * r.q[:, 1]
     assert np.all(np.diff(E) <= 1e-10)
+
+
+def test_sensitivity_to_the_schedules_scale():
+    """exdex.sensitivity of the final slip to grip_force on a schedule is
+    the derivative with respect to the factor on its forces (at 1). Closed
+    form for the ramp: s(t_end) = s(Tr) + v(Tr) u - g u^2 / 2 (u = t_end -
+    Tr) with tau = Tr - t*, t* = Tr (1 - m g / (2 mu k F0)), s(Tr) = -K
+    tau^3 / 6, v(Tr) = -K tau^2 / 2, K = 2 mu k F0 / (m Tr); d/dk at k = 1
+    by a central difference of the closed form (step 1e-6, error ~1e-12)."""
+    sc = vertical(RAMP, mass=M)
+
+    def s_end(k):
+        return ramp_closed_form(M, k * F0, TR, T_END)[1]
+
+    expect = (s_end(1 + 1e-6) - s_end(1 - 1e-6)) / 2e-6
+    sens = exdex.sensitivity(sc, ["grip_force"], t_end=T_END, dt=0.01)
+    assert sens.values["grip_force"] == 1.0
+    assert float(sens.dq[0, 0]) == pytest.approx(expect, rel=1e-6)
+
+
+def test_engine_runs_name_the_schedule():
+    """The engine cross-checks press with a constant joint force: a
+    schedule is refused by name, not turned into a wrong constant."""
+    from exdex import engines
+    with pytest.raises(ValueError, match="GripSchedule"):
+        engines._grip_force(vertical(RAMP, mass=M))
+    assert engines._grip_force(vertical(1.5, mass=M)) == 1.5
