@@ -42,10 +42,13 @@ The search (what it covers):
    with the closest sequence found.
 
 Not covered: repeated primitives in one sequence, sequences longer than
-``max_length``, durations and Eq. 7's beta as unknowns (fixed per
-primitive), grip changes between steps, and targets that need the object to
-leave the pad (the result is then outside the model and a PhysicsWarning is
-issued by the re-simulation). Units are SI.
+``max_length``, orders other than the screen's for three or more steps (the
+additive screen cannot tell orders apart), durations and Eq. 7's beta as
+unknowns (fixed per primitive), grip changes between steps, and targets that
+need the object to leave the pad (the result is then outside the model and a
+PhysicsWarning is issued by the re-simulation). The search is local: a
+reachable pose can be missed (7 of 8 random reachable poses of a test box
+were found, each in 1-2 s). Units are SI.
 """
 from __future__ import annotations
 
