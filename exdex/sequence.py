@@ -47,8 +47,8 @@ additive screen cannot tell orders apart), durations and Eq. 7's beta as
 unknowns (fixed per primitive), grip changes between steps, and targets that
 need the object to leave the pad (the result is then outside the model and a
 PhysicsWarning is issued by the re-simulation). The search is local: a
-reachable pose can be missed (7 of 8 random reachable poses of a test box
-were found, each in 1-2 s). Units are SI.
+reachable pose can be missed, and the error then names the closest sequence
+solved. Units are SI.
 """
 from __future__ import annotations
 
