@@ -494,7 +494,7 @@ def band(plan: SequencePlan, uncertain: Mapping[str, Tuple[float, float]], *, n:
          settle: float = 0.3, rtol: float = 1e-10, atol: float = 1e-12) -> Dict[str, Tuple[float, float]]:
     """The sampled band of a sequence plan's pose under uncertain grasp or body parameters.
 
-    ``uncertain`` maps ``mu``, ``grip_force``, ``mass`` or ``e_r`` to an
+    ``uncertain`` maps ``mu``, ``mu_static``, ``grip_force``, ``mass`` or ``e_r`` to an
     interval; the plan's steps are re-simulated step by step for ``n``
     equally spaced values per interval (the product grid, ends included).
     Returns ``{quantity: (low, high)}`` over the samples for the plan's
@@ -511,8 +511,9 @@ def band(plan: SequencePlan, uncertain: Mapping[str, Tuple[float, float]], *, n:
         raise ValueError(f"n must be an int >= 2, got {n!r}")
     axes = {}
     for name, iv in uncertain.items():
-        if name not in ("mu", "grip_force", "mass", "e_r"):
-            raise ValueError(f"uncertain parameters of a sequence band are mu, grip_force, mass, e_r; got {name!r}")
+        if name not in ("mu", "mu_static", "grip_force", "mass", "e_r"):
+            raise ValueError("uncertain parameters of a sequence band are mu, mu_static, grip_force, mass, e_r; "
+                             f"got {name!r}")
         try:
             lo, hi = (float(iv[0]), float(iv[1]))
         except (TypeError, ValueError, IndexError):
