@@ -3,8 +3,8 @@ uncertain parameters from an observed in-hand trajectory.
 
 :func:`sensitivity` gives d q(t_end) / dp and d qd(t_end) / dp for scalar
 scene parameters (any :func:`exdex.simulate_batch` parameter: ``mu``,
-``grip_force``, ``mass``, ``e_r``, ``beta``, ``duration``, ``amplitude``,
-``v_max``) by central differences on a ladder of steps, all evaluated in one
+``mu_static`` (kept >= mu), ``grip_force``, ``mass``, ``e_r``, ``beta``,
+``duration``, ``amplitude``, ``v_max``) by central differences on a ladder of steps, all evaluated in one
 batch, with Richardson extrapolation and an error estimate from the ladder
 (the difference of successive extrapolations). Where the solution is
 piecewise polynomial in the parameter (the analytic 1-DoF path: positions
@@ -48,6 +48,8 @@ __all__ = ["Sensitivity", "sensitivity", "EventTimes", "event_times", "EventSens
 
 
 def _value_of(scene, name):
+    if name == "mu_static":   # None: equal to mu
+        return float(scene.grasp.static_mu)
     obj = scene
     for part in PARAMETERS[name].path:
         obj = getattr(obj, part)
@@ -56,8 +58,10 @@ def _value_of(scene, name):
     return float(obj)
 
 
-def _inside(name, x):
+def _inside(name, x, scene=None):
     p = PARAMETERS[name]
+    if name == "mu_static" and scene is not None and x < scene.grasp.mu:
+        return False          # the static coefficient stays >= mu
     if p.low is not None and (x <= p.low if p.low_open else x < p.low):
         return False
     if p.high is not None and (x >= p.high if p.high_open else x > p.high):
@@ -130,7 +134,7 @@ def sensitivity(scene: Scene, params: Sequence[str], t_end: float, *, dt: Option
         p0 = _value_of(scene, name)
         vals[name] = p0
         h = rel_step * (abs(p0) if p0 != 0.0 else 1.0)
-        while not (_inside(name, p0 - h) and _inside(name, p0 + h)) and h > 1e-300:
+        while not (_inside(name, p0 - h, scene) and _inside(name, p0 + h, scene)) and h > 1e-300:
             h *= 0.5
         if not h > 1e-300:
             raise ValueError(f"cannot step {name!r} = {p0:g} inside its range {PARAMETERS[name].describe()}")
@@ -465,7 +469,7 @@ def event_sensitivity(scene: Scene, params: Sequence[str], t_end: float, *, meth
         p0 = _value_of(scene, name)
         vals[name] = p0
         h = rel_step * (abs(p0) if p0 != 0.0 else 1.0)
-        while not (_inside(name, p0 - h) and _inside(name, p0 + h)) and h > 1e-300:
+        while not (_inside(name, p0 - h, scene) and _inside(name, p0 + h, scene)) and h > 1e-300:
             h *= 0.5
         if not h > 1e-300:
             raise ValueError(f"cannot step {name!r} = {p0:g} inside its range {PARAMETERS[name].describe()}")
@@ -609,7 +613,10 @@ def identify(scene: Scene, times: ArrayLike, observed: ArrayLike, params: Mappin
         b: Any = params[raw]
         P = PARAMETERS[n]
         if b is None:
-            lows.append(-np.inf if P.low is None else P.low)
+            if n == "mu_static" and "mu" not in names:   # the static coefficient stays >= mu
+                lows.append(max(P.low or 0.0, scene.grasp.mu))
+            else:
+                lows.append(-np.inf if P.low is None else P.low)
             highs.append(np.inf if P.high is None else P.high)
         else:
             try:

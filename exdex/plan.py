@@ -461,13 +461,13 @@ def _branches(y):
     return runs
 
 
-def solve(scene: Scene, target: Mapping[str, float], vary: Mapping[str, Tuple[float, float]], *,
+def solve(scene: Scene, target: Mapping[str, float], vary: Optional[Mapping[str, Tuple[float, float]]] = None, *,
           limits: Optional[Limits] = None, tol: float = 1e-6, t_end: Optional[float] = None,
           dt: Optional[float] = None, method: str = "auto", rtol: float = 1e-10, atol: float = 1e-12,
           eps: float = 1e-4, n_scan: int = 65, refine: int = 15,
           cost: Union[str, Callable[[Scene], float]] = "acceleration",
           uncertain: Optional[Mapping[str, Any]] = None, n_uncertain: int = 9, threads: Optional[int] = None,
-          verify: bool = True) -> Union[Plan, "MultiPlan"]:
+          verify: bool = True) -> Union[Plan, "MultiPlan", Any]:
     """Find the value of one scene parameter that makes a final quantity meet a target.
 
     Parameters
@@ -484,7 +484,7 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Mapping[str, Tuple[fl
         -0.015, "rest_by": 0.9}``: parameter values whose object still moves
         after it (relative speed above 1e-12 at rest_by, or coordinates that
         change between rest_by and t_end) are left out like a broken limit.
-    vary : dict
+    vary : dict, optional
         ``{name: (low, high)}``: the parameter(s) to vary and their bounds
         (any :func:`exdex.simulate_batch` parameter). With one parameter and
         one target: the scan and bracket described above. With several:
@@ -495,6 +495,10 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Mapping[str, Tuple[fl
         has fewer independent rows than parameters the solutions form a
         family (a curve for one missing rank), returned as
         :attr:`MultiPlan.family` beside the least-cost representative.
+        Omitted (None) with a planar pose target (any of ``x``, ``y``,
+        ``rotation``) on a planar scene: the pose is reached by a sequence of
+        motion primitives, :func:`exdex.sequence.solve` with its defaults
+        (0.1 mm, 0.1 deg), which returns an :class:`exdex.sequence.SequencePlan`.
     limits : Limits, optional
         The robot's limits; parameter values whose motion breaks one are left out.
     tol : float
@@ -525,7 +529,7 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Mapping[str, Tuple[fl
 
     Returns
     -------
-    Plan
+    Plan, MultiPlan (several parameters) or exdex.sequence.SequencePlan (no vary)
 
     Raises
     ------
@@ -537,8 +541,13 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Mapping[str, Tuple[fl
     """
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be an exdex.Scene, got {type(scene).__name__}")
+    if vary is None and scene.dof == "planar" and isinstance(target, Mapping) and target and \
+            all(q in ("x", "y", "rotation") for q in target):
+        from exdex import sequence
+        return sequence.solve(scene, target)
     if not isinstance(vary, Mapping) or len(vary) < 1:
-        raise ValueError("vary must be a dict of parameters and their bounds, e.g. {'grip_force': (0.5, 3.0)}")
+        raise ValueError("vary must be a dict of parameters and their bounds, e.g. {'grip_force': (0.5, 3.0)} "
+                         "(only a planar pose target on a planar scene may omit it)")
     rest_by = None
     if isinstance(target, Mapping) and "rest_by" in target:
         target = dict(target)

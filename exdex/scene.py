@@ -242,7 +242,9 @@ class GripSchedule:
     meanwhile. Every method evaluates the capacity ``mu * fingers * F(t)`` at
     its own times (the time-stepping methods use its exact mean over each
     step; the event and regularised methods step onto the times, and the
-    event method locates where a falling capacity meets the load). A
+    event method locates where a falling capacity meets the load; the
+    analytic method solves linear and step schedules in closed form, a
+    cubic one is left to the event method by ``method="auto"``). A
     schedule whose forces are all equal is that constant grip force.
     """
 

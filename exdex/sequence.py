@@ -236,8 +236,8 @@ def _scan(scene, prim, n, settle, rtol, atol):
     base = _step_scene(scene, prim, xs[-1] if xs[-1] != 0 else hi, q0)
     t_end = base.motion.end_time + settle
     try:
-        b = simulate_batch(base, t_end, _dt(base, t_end), record="final", method="event", rtol=rtol, atol=atol, warn=False,
-                           amplitude=xs)
+        b = simulate_batch(base, t_end, _dt(base, t_end), record="final", method="event", rtol=rtol, atol=atol,
+                           warn=False, amplitude=xs)
         ok = np.asarray(b.stick, dtype=bool).reshape(-1)
         out[ok] = np.asarray(b.final_displacement).reshape(n, 3)[ok]
     except SolverError:

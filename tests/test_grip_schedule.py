@@ -395,3 +395,27 @@ def test_engine_runs_name_the_schedule():
     with pytest.raises(ValueError, match="GripSchedule"):
         engines._grip_force(vertical(RAMP, mass=M))
     assert engines._grip_force(vertical(1.5, mass=M)) == 1.5
+
+
+@pytest.mark.parametrize("method, tol", [("event", 1e-9), ("implicit", None)])
+def test_planar_ramp_onset_located(method, tol):
+    """Planar box held at its centre of mass (patch centre 0), gripper at
+    rest, gravity along B's -y: the load on the patch is the pure force
+    (0, -m g), its ellipsoid norm m g, so the object sticks while
+    C(t) >= m g and then slides straight down (no torque, maximum
+    dissipation keeps x = theta = 0) with y'' = -g + C(t)/m: the 1-DoF
+    ramp's closed form in y (ramp_closed_form). Event: every sample to
+    1e-9 m, stuck exactly before t*. Implicit: first order, 2 dt |v|max."""
+    sc = Scene(body=Body.box(M, (0.06, 0.03, 0.02)),
+               grasp=Grasp(mu=MU, grip_force=RAMP, patch=Patch.rectangle(0.02, 0.02)),
+               dof="planar", gravity=(0.0, 0.0, -G))
+    dt = 0.01 if method == "event" else 1e-3
+    r = exdex.simulate(sc, t_end=T_END, dt=dt, method=method)
+    ts, s, v = ramp_closed_form(M, F0, TR, r.t)
+    if tol is None:
+        tol = 2 * dt * abs(v[-1])
+    np.testing.assert_allclose(r.q[:, 1], s, rtol=0, atol=tol)
+    np.testing.assert_allclose(r.q[:, [0, 2]], 0.0, rtol=0, atol=1e-12)
+    if method == "event":
+        before = r.t < ts
+        assert np.all(r.stick[before]) and np.all(r.v[before] == 0.0)

@@ -288,3 +288,34 @@ def test_motion_peaks_of_a_sampled_log():
     assert pk["acceleration"] == pytest.approx(a, rel=1e-9)
     assert pk["speed"] == pytest.approx(a * 0.495, rel=1e-9)
     assert pk["stroke"] == pytest.approx(0.25, rel=1e-12) and pk["duration"] == pytest.approx(0.5)
+
+
+def _event_outcome(scene, t_end):
+    r = exdex.simulate(scene, t_end, t_end, method="event", rtol=1e-12, atol=1e-14)
+    return float(r.q[-1, 0] - r.q[0, 0]), r
+
+
+@pytest.mark.parametrize("case", ["slip_grip", "slip_beta", "slip_rest_by", "turn_grip", "turn_duration"])
+def test_every_plan_meets_its_target_re_simulated_by_the_event_method(case):
+    """Plans found on the analytic path (method 'auto'), re-simulated by the
+    event method at rtol 1e-12 (an independent integrator): within tol of
+    the target, and at rest by rest_by where asked."""
+    tol = 1e-6
+    if case.startswith("slip"):
+        scene, t_end = fig3(), T_END
+        target = {"slip": -0.012}
+        vary = {"grip_force": (1.0, 3.0)} if case != "slip_beta" else {"beta": (0.6, 0.95)}
+        if case == "slip_rest_by":
+            target["rest_by"] = 0.7
+    else:
+        scene, t_end = paper.fig6_scene(), 8.0
+        target = {"rotation": math.radians(30)}
+        vary = {"grip_force": (0.5, 20.0)} if case == "turn_grip" else {"duration": (2.0, 6.0)}
+    p = plan.solve(scene, target, vary=vary, tol=tol, t_end=t_end)
+    goal = target.get("slip", target.get("rotation"))
+    achieved, r = _event_outcome(p.scene, t_end)
+    assert abs(achieved - goal) <= tol, (case, achieved, goal)
+    assert r.stick[-1]
+    if "rest_by" in target:
+        rr = exdex.simulate(p.scene, t_end, 1e-3, method="event", rtol=1e-12, atol=1e-14)
+        assert np.all(rr.v[np.searchsorted(rr.t, 0.7):] == 0.0)

@@ -115,3 +115,12 @@ def test_bad_input_is_named(kw, match):
         sequence.solve(scene(), **kw)
     with pytest.raises(ValueError, match="dof must be 'planar'"):
         sequence.primitives(paper.fig3_scene())
+
+
+def test_plan_solve_without_vary_plans_a_pose_by_a_sequence():
+    sc = scene()
+    p = plan.solve(sc, {"x": 0.0, "y": -0.004})
+    assert isinstance(p, sequence.SequencePlan) and p.meets_target
+    assert abs(resimulate(p)[1] - (-0.004)) <= TOL[0]
+    with pytest.raises(ValueError, match="vary must be a dict"):
+        plan.solve(paper.fig3_scene(), {"slip": -0.01})

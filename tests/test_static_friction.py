@@ -237,6 +237,53 @@ def test_breakaway_regularised_converges():
     assert errs[0] <= (CS - CK) * tau / M * (0.9 - ts)
 
 
+def test_sensitivity_to_mu_static_closed_form():
+    """d s(t) / d mu_static of the ramp: s depends on mu_static only through
+    t* = Cs / (m j), Cs = 2 mu_static F, and from the closed form above
+    ds/dt* = (t - t*) (j t* - Ck / m) = (t - t*) (Cs - Ck) / m, so
+        ds/dmu_static = (t - t*) (Cs - Ck) / m * 2 F / (m j)   (0.15 m at t = 0.9 s).
+    The static coefficient is also identified from the trajectory (within
+    its standard error)."""
+    j = 4.0
+    motion, _ = ramp(j)
+    sc = scene(motion)
+    ts = CS / (M * j)
+    want = (0.9 - ts) * (CS - CK) / M * 2 * GRIP / (M * j)
+    sens = exdex.sensitivity(sc, ["mu_static"], 0.9, method="event")
+    assert sens.dq[0, 0] == pytest.approx(want, abs=1e-6)
+    times = np.linspace(0.0, 0.9, 10)
+    obs = exdex.simulate(sc, t_end=0.9, dt=0.1, method="event").q[:, 0]
+    guess = exdex.replace(sc, grasp=exdex.replace(sc.grasp, mu_static=0.7))
+    fit = exdex.identify(guess, times, obs, {"mu_static": None}, method="event")
+    assert fit.values["mu_static"] == pytest.approx(MU_S, abs=1e-6)
+
+
+@pytest.mark.parametrize("method", ["event", "implicit"])
+def test_grip_ramp_down_breaks_away_at_the_static_capacity(method):
+    """The static capacity follows a grip schedule: vertical slide (gravity g
+    down, mass m), F(t) = F0 (1 - t / T1) per finger. It sticks until the
+    static capacity 2 mu_s F(t) falls to m g, t* = T1 (1 - m g / (2 mu_s F0)),
+    then slides against the kinetic one, s'' = -g + k (1 - t / T1),
+    k = 2 mu F0 / m:
+        s(t) = (k - g) tau^2 / 2 - k ((t^3 - t*^3) / 3 - t*^2 tau) / (2 T1),
+    tau = t - t*. Event: its tolerances (1e-9). Implicit: the onset falls
+    in the first step whose mean static capacity is below m g, at most dt
+    late; the slip's acceleration jumps there from 0 to g - 2 mu F(t*) / m,
+    so a late onset costs at most that times dt in speed and that times
+    dt (t_end - t*) in s."""
+    g, m, F0, T1 = 9.81, 0.1, 2.0, 1.0
+    sched = exdex.GripSchedule(times=[0.0, T1], forces=[F0, 0.0])
+    sc = Scene(body=Body(mass=m), grasp=Grasp(mu=MU, grip_force=sched, mu_static=MU_S))
+    r = exdex.simulate(sc, t_end=0.8, dt=1e-4, method=method)
+    ts = T1 * (1 - m * g / (2 * MU_S * F0))
+    k = 2 * MU * F0 / m
+    t = np.maximum(r.t, ts)
+    tau = t - ts
+    ref = (k - g) * tau ** 2 / 2 - k * ((t ** 3 - ts ** 3) / 3 - ts ** 2 * tau) / (2 * T1)
+    tol = 1e-9 if method == "event" else (g - 2 * MU * F0 * (1 - ts / T1) / m) * 1e-4 * (0.8 - ts)
+    assert np.max(np.abs(r.q[:, 0] - r.q[0, 0] - ref)) <= tol
+
+
 # ------------------------------------------------------------ (b) hysteresis loop
 
 def triangle(A=2.5, P=2.0, periods=2):
