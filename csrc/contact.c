@@ -274,6 +274,40 @@ double contact_rot_radius(const exdex_model *m)
     return r;
 }
 
+void contact_tangent(const exdex_model *m, const exdex_kinematics *kin, const double xb[3], const double vx[3],
+                     const double nB_inplane[2], double T[3], double *tb)
+{
+    double nn = hypot(nB_inplane[0], nB_inplane[1]), t[3], tA[3], Rx[3], wx[3];
+    T[0] = T[1] = T[2] = 0.0;
+    *tb = 0.0;
+    if (!(nn > FQ_MIN)) return;
+    t[0] = -nB_inplane[1] / nn;
+    t[1] = nB_inplane[0] / nn;
+    t[2] = 0.0;
+    if (m->ndof == 3) {
+        T[0] = t[0];
+        T[1] = t[1];
+        T[2] = -t[0] * vx[1] + t[1] * vx[0];
+    } else if (m->def.dof == EXDEX_DOF_TRANSLATION) {
+        T[0] = t[0] * m->d[0] + t[1] * m->d[1];
+    } else {
+        double ax = xb[0] - m->pivot[0], ay = xb[1] - m->pivot[1];
+        T[0] = -t[0] * ay + t[1] * ax;
+    }
+    ex_mulmv3(tA, kin->R, t);
+    ex_mulmv3(Rx, kin->R, xb);
+    ex_cross3(wx, kin->w, Rx);
+    *tb = tA[0] * (kin->v[0] + wx[0]) + tA[1] * (kin->v[1] + wx[1]) + tA[2] * (kin->v[2] + wx[2]);
+}
+
+void contact_stop_tangent(const exdex_model *m, const exdex_kinematics *kin, int k, const double xb[3],
+                          const double vx[3], double T[3], double *tb)
+{
+    double nB[3];
+    ex_mulmtv3(nB, kin->R, m->sn[k]);
+    contact_tangent(m, kin, xb, vx, nB, T, tb);
+}
+
 /* ------------------------------------------------------ convex obstacles */
 
 /* d gap / d qdot of a row whose gap changes by nB . dx when the object's

@@ -435,6 +435,13 @@ typedef struct exdex_scene_def {
      * methods reject them (bad_param "method"). */
     int n_obstacles;          /* 0..EXDEX_MAX_OBSTACLES */
     exdex_obstacle_def obstacles[EXDEX_MAX_OBSTACLES];
+    /* Coulomb friction coefficient of each stop against the outline vertices
+     * touching it (>= 0, finite; 0: frictionless). The friction acts along the
+     * tangent t = e_z x n_B of the plate plane (n_B the in-plane part of the
+     * stop normal in B), bounded by stop_mu times the stop's normal force.
+     * Supported by the implicit and explicit methods; event and regularised
+     * reject stop_mu > 0 (EXDEX_EINVAL, bad_param "stop_mu"). */
+    double stop_mu[EXDEX_MAX_STOPS];
 } exdex_scene_def;
 
 /* Interpolation of a grip-force schedule between its points. */

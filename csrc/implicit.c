@@ -27,6 +27,7 @@
  */
 #include "exdex.h"
 #include "contact.h"
+#include "fcontact.h"
 #include "ldp.h"
 #include "method.h"
 #include "model.h"
@@ -47,12 +48,14 @@ typedef struct work {
     double rhs[MAX_ROWS];
     double lam[MAX_ROWS];
     double gap[MAX_ROWS];
-    /* the run's state between steps (begin, advance; saved with p_prev and
-     * have_prev) */
+    /* the run's state between steps (begin, advance; saved with p_prev,
+     * have_prev and fmode) */
     struct {
         double q[3], v[3], vprev[3], hprev, t;
         exdex_kinematics kin0;
     } S;
+    double beta[MAX_ROWS];   /* friction impulses of the rows (stop friction) */
+    int fmode[MAX_ROWS];     /* each row's contact mode in the last frictional solve (fcontact.h) */
 } work;
 
 /* ------------------------------------------------------------ stops */
@@ -537,6 +540,97 @@ static void project_positions(const exdex_model *m, const exdex_kinematics *kin,
     st->warnings++;
 }
 
+/* Coulomb friction at the stops (some stop with mu > 0). The frictionless
+ * step above is a solution of the frictional problem too when no
+ * frictional row carries an impulse (a row without normal impulse has no
+ * friction): it is kept, so a scene whose frictional stops never push is
+ * stepped exactly as without friction. Otherwise the step is solved again
+ * with the friction of the rows (fcontact.h: Stewart-Trinkle velocity-level
+ * complementarity, the plate ellipsoid with its prescribed normal force,
+ * exact mode enumeration), started from the frictionless solution and its
+ * active rows. The rows are those of build_rows (gaps at t + h, rhs =
+ * -gap / h), with the tangential rows T and the gripper's slip tb of each
+ * vertex at the pose of t + h. Where no consistent mode is found among
+ * FC_MAX_CAND rows the frictionless step is kept and a warning counted.
+ * n = 1: A = 1 and cap the step's capacity c (friction -c sign(v)); n = 3:
+ * A = E J_f at the step's angle. cap_s is the static capacity of the step
+ * (the plates' rest test), cap the kinetic one (sliding). On return v, the plate impulse P
+ * (generalized), w->lam and w->beta hold the step; *rest is 1 at plate
+ * rest. Returns 1 if the step was changed. */
+static int stop_friction_step(const exdex_model *m, const exdex_kinematics *kin_end, const double *q, double th,
+                               double cap, double cap_s, const double vs[3], work *w, double *v, double *P, int *rest,
+                               exdex_stats *st)
+{
+    fc_row rows[MAX_ROWS];
+    fc_problem p;
+    fc_result res;
+    unsigned char hint[MAX_ROWS];
+    double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], lam[MAX_ROWS], beta[MAX_ROWS];
+    int nv, need = 0, n = m->ndof;
+    for (int i = 0; i < w->n_rows; i++) {
+        w->beta[i] = 0.0;
+        need |= w->lam[i] > 0.0 && model_source_mu(m, w->row_stop[i]) > 0.0;
+    }
+    if (!need) return 0;
+    nv = contact_vertices(m, q, xb, vx);
+    for (int i = 0; i < w->n_rows; i++) {
+        int k = w->row_stop[i], j = i % nv;
+        fc_row *r = &rows[i];
+        memcpy(r->G, w->G[i], sizeof r->G);
+        for (int c = n; c < 3; c++) r->G[c] = 0.0;
+        /* stop rows are r = k nv + j (build_rows); a row of another source
+         * without tangent data stays frictionless */
+        r->mu = i < m->n_stops * nv ? model_source_mu(m, k) : 0.0;
+        r->T[0] = r->T[1] = r->T[2] = 0.0;
+        r->tb = 0.0;
+        if (r->mu > 0.0) contact_stop_tangent(m, kin_end, k, xb[j], vx[j], r->T, &r->tb);
+        r->rhs = w->rhs[i];
+        /* at rest (v = 0) a row holds with a force only where its bound is
+         * 0 (to tol.rate): a stop the gripper drives into the object
+         * (rhs > 0) excludes rest, one it leaves behind carries nothing */
+        r->rest = w->rhs[i] > m->tol.rate ? -1 : w->gap[i] <= m->tol.touch && w->rhs[i] >= -m->tol.rate ? 1 : 0;
+        hint[i] = w->lam[i] > 0.0;
+    }
+    memset(&p, 0, sizeof p);
+    p.n = n;
+    p.cap = cap;
+    p.cap_rest = cap_s;
+    p.nr = w->n_rows;
+    p.rows = rows;
+    p.vrest = m->tol.rate;
+    if (n == 1) {
+        p.Md[0] = m->def.dof == EXDEX_DOF_TRANSLATION ? m->m : m->mrot;
+        p.A[0][0] = 1.0;
+        p.vscale = m->scale.V * m->scale.q / m->scale.L;
+    } else {
+        double cs[2] = {cos(th), sin(th)};
+        for (int c = 0; c < 3; c++) {
+            double ec[3] = {0, 0, 0}, r[3];
+            ec[c] = 1.0;
+            ejf(m, cs, ec, r);
+            for (int i = 0; i < 3; i++) p.A[i][c] = r[i];
+            p.Md[c] = 1.0 / m->minv[c];
+        }
+        p.vscale = m->scale.V;
+    }
+    for (int c = 0; c < 3; c++) p.vs[c] = c < n ? vs[c] : 0.0;
+    if (!fc_solve(&p, hint, v, w->fmode, lam, beta, &res)) {
+        st->warnings++;  /* no consistent mode: the frictionless step is kept */
+        return 0;
+    }
+    st->stop_iterations += (size_t)res.iters;
+    for (int i = 0; i < w->n_rows; i++) {
+        w->lam[i] = lam[i];
+        w->beta[i] = beta[i];
+    }
+    for (int c = 0; c < n; c++) {
+        v[c] = res.v[c];
+        P[c] = res.P[c];
+    }
+    *rest = res.rest;
+    return 1;
+}
+
 /* The run's workspace: malloc, not calloc: the row arrays (~13 kB) are
  * written before they are read (build_rows), and zeroing them costs ~7 % of
  * a short planar run. */
@@ -551,6 +645,7 @@ static void *implicit_alloc(const exdex_model *m, int *status)
     w->p_prev[0] = w->p_prev[1] = w->p_prev[2] = 0.0;
     w->have_prev = 0;
     w->n_rows = 0;
+    for (int i = 0; i < MAX_ROWS; i++) w->fmode[i] = FC_OFF;
     if (m->def.friction_solver != EXDEX_SOLVER_SCALAR && m->ndof == 3) {
         w->fws = exdex_friction_ws_alloc();
         if (!w->fws) {
@@ -580,6 +675,7 @@ static int implicit_begin(const exdex_model *m, void *ws, double t_end, double d
     model_initial_state(m, w->S.q, w->S.v);
     w->p_prev[0] = w->p_prev[1] = w->p_prev[2] = 0.0;
     w->have_prev = 0;
+    for (int i = 0; i < MAX_ROWS; i++) w->fmode[i] = FC_OFF;
     return exdex_motion_eval(m->motion, 0.0, &w->S.kin0);
 }
 
@@ -625,6 +721,10 @@ static int implicit_advance(const exdex_model *m, void *ws, double t1, int regri
             double capsm = model_capacity_static_mean(m, t, t1), c_s = tr ? h * capsm : h * capsm * m->e[2];
             vs[0] = v[0] + h * Q / M;
             step_1dof(M, c, c_s, vs[0], m->tol.touch, w, &vn[0], &pf, st);
+            if (m->stop_friction) {
+                int rest = 0;
+                stop_friction_step(m, &kin_end, q, 0.0, c, c_s, vs, w, vn, &pf, &rest, st);
+            }
             if (m->def.dof == EXDEX_DOF_TRANSLATION) {
                 wrench[0] = pf * m->d[0] / h;
                 wrench[1] = pf * m->d[1] / h;
@@ -642,6 +742,14 @@ static int implicit_advance(const exdex_model *m, void *ws, double t1, int regri
             if (status) {
                 st->fail_time = t;
                 break;
+            }
+            if (m->stop_friction) {
+                int rest = fr.stick;
+                if (stop_friction_step(m, &kin_end, q, qm[2], h * model_capacity_mean(m, t, t1),
+                                       h * model_capacity_static_mean(m, t, t1), vs, w, vn, pfB, &rest, st)) {
+                    model_patch_of_gen(m, MODEL_CS(qm[2]), pfB, fr.p);
+                    fr.stick = rest;
+                }
             }
             /* report the patch wrench (not the generalized impulse), in B */
             model_to_b(MODEL_CS(qm[2]), fr.p, fo);
@@ -706,6 +814,7 @@ static int implicit_run(const exdex_model *m, void *ws, double t_end, double dt,
 typedef struct implicit_state {
     double p_prev[3];
     int have_prev;
+    int fmode[MAX_ROWS];  /* the stop-friction solve's first guess: part of the state */
 } implicit_state;
 
 static void implicit_save(const void *ws, void *buf)
@@ -714,6 +823,7 @@ static void implicit_save(const void *ws, void *buf)
     implicit_state x;
     memcpy(x.p_prev, w->p_prev, sizeof x.p_prev);
     x.have_prev = w->have_prev;
+    memcpy(x.fmode, w->fmode, sizeof x.fmode);
     memcpy(buf, &w->S, sizeof w->S);
     memcpy((char *)buf + sizeof w->S, &x, sizeof x);
 }
@@ -726,6 +836,7 @@ static void implicit_restore(void *ws, const void *buf)
     memcpy(&x, (const char *)buf + sizeof w->S, sizeof x);
     memcpy(w->p_prev, x.p_prev, sizeof x.p_prev);
     w->have_prev = x.have_prev;
+    memcpy(w->fmode, x.fmode, sizeof x.fmode);
 }
 
 const method_impl method_implicit = {"implicit", implicit_alloc, implicit_run, implicit_free, 1, 1,

@@ -139,6 +139,9 @@ static int check_fields(const exdex_scene_def *d, const char **bad_param)
         if (!ex_finite_n(d->stop_normal[k], 3) ||
             fabs(sqrt(ex_dot3(d->stop_normal[k], d->stop_normal[k])) - 1.0) > 1e-9)
             return bad(bad_param, "stop_normal");
+        if (!(isfinite(d->stop_mu[k]) && d->stop_mu[k] >= 0)) return bad(bad_param, "stop_mu");
+        if (d->stop_mu[k] > 0 && (d->method == EXDEX_METHOD_EVENT || d->method == EXDEX_METHOD_REGULARISED))
+            return bad(bad_param, "stop_mu");
     }
     if (d->n_obstacles < 0 || d->n_obstacles > EXDEX_MAX_OBSTACLES) return bad(bad_param, "n_obstacles");
     for (int o = 0; o < d->n_obstacles; o++)
@@ -648,6 +651,8 @@ static exdex_model *build_model(const exdex_scene_def *def, int *status, const c
     for (int k = 0; k < def->n_stops; k++) {
         memcpy(m->sp[k], def->stop_point[k], sizeof m->sp[k]);
         memcpy(m->sn[k], def->stop_normal[k], sizeof m->sn[k]);
+        m->smu[k] = def->stop_mu[k];
+        m->stop_friction |= def->stop_mu[k] > 0.0;
     }
     m->n_vert = def->n_vertices;
     memcpy(m->vert, def->vertices, sizeof m->vert);

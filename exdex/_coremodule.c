@@ -394,6 +394,18 @@ static int scene_from_dict(PyObject *spec, exdex_scene_def *def, PyArrayObject *
         memcpy(def->stop_point, PyArray_DATA(sp), (size_t)nsp * 3 * sizeof(double));
         memcpy(def->stop_normal, PyArray_DATA(sn), (size_t)nsn * 3 * sizeof(double));
     }
+    /* optional: each stop's friction coefficient (absent: frictionless) */
+    if (PyDict_GetItemString(spec, "stop_mus")) {
+        PyArrayObject *smu = as_doubles(PyDict_GetItemString(spec, "stop_mus"), -1, "stop_mus");
+        if (!smu) goto fail;
+        if (PyArray_NDIM(smu) != 1 || PyArray_DIM(smu, 0) != nsp) {
+            PyErr_SetString(PyExc_ValueError, "'stop_mus' must have one entry per stop");
+            Py_DECREF(smu);
+            goto fail;
+        }
+        if (nsp) memcpy(def->stop_mu, PyArray_DATA(smu), (size_t)nsp * sizeof(double));
+        Py_DECREF(smu);
+    }
     if (PyDict_GetItemString(spec, "motion_frequency") &&
         dict_double(spec, "motion_frequency", &def->motion.frequency))
         goto fail;

@@ -241,7 +241,7 @@ def _body(data, where):
 
 def _stops(data, where):
     if not isinstance(data, list):
-        raise ValueError(f"{where} must be a list of tables (point, normal), got {type(data).__name__}")
+        raise ValueError(f"{where} must be a list of tables (point, normal, mu), got {type(data).__name__}")
     return tuple(_build(_scene.Stop, s, f"{where}[{i}]") for i, s in enumerate(data))
 
 

@@ -848,14 +848,25 @@ def _quat_from_matrix(R):
 @dataclass(frozen=True)
 class Stop:
     """A fixed plane of the world the object may not cross: the allowed side
-    is ``(x - point) . normal >= 0`` for every outline vertex x, in A [m]."""
+    is ``(x - point) . normal >= 0`` for every outline vertex x, in A [m].
+
+    mu : Coulomb friction coefficient between the stop and each outline
+        vertex touching it, in [0, inf) (0: frictionless). The friction acts
+        in the plate plane, along the stop's trace there, bounded by mu times
+        the vertex's normal force; exact (velocity-level complementarity,
+        stick exactly still). Supported by the ``implicit`` and ``explicit``
+        methods; ``event`` and ``regularised`` raise a ValueError for
+        mu > 0.
+    """
 
     point: Vector
     normal: Vector
+    mu: float = 0.0
 
     def __post_init__(self):
         object.__setattr__(self, "point", _tuple(_array(self.point, "Stop.point", (3,))))
         object.__setattr__(self, "normal", _unit(self.normal, "Stop.normal", 3))
+        object.__setattr__(self, "mu", _real(self.mu, "Stop.mu", low=0.0))
 
 
 @dataclass(frozen=True)
@@ -1109,6 +1120,9 @@ class Scene:
     def to_spec(self, method: str = "implicit", friction_solver: str = "scalar", eps: float = 1e-4,
                 rtol: float = 1e-8, atol: float = 1e-10) -> Dict[str, Any]:
         """The flat dict the C core reads (keys mirror ``exdex_scene_def``)."""
+        if method in ("event", "regularised") and any(s.mu > 0 for s in self.stops):
+            raise ValueError(f"Stop.mu > 0 (friction at a stop) is supported by method 'implicit' or "
+                             f"'explicit', not {method!r}: use one of those, or Stop.mu = 0")
         spec = dict(
             mass=self.body.mass, inertia=np.array(self.body.inertia).ravel(),
             vertices=self.body.vertices() if self.stops or self.obstacles else None,
@@ -1121,6 +1135,7 @@ class Scene:
             motion_amplitude=0.0, motion_duration=1.0, motion_beta=0.5, motion_v_max=1.0,
             stop_points=np.array([s.point for s in self.stops]).reshape(-1, 3),
             stop_normals=np.array([s.normal for s in self.stops]).reshape(-1, 3),
+            stop_mus=np.array([s.mu for s in self.stops], dtype=float),
             method=METHODS[method], friction_solver=SOLVERS[friction_solver],
             eps=eps, rtol=rtol, atol=atol,
         )

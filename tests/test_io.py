@@ -109,7 +109,8 @@ def _grasp(rng):
 
 def random_scene(rng):
     dof = str(rng.choice(["translation", "rotation", "planar"]))
-    stops = tuple(exdex.Stop(tuple(_awkward(rng, 3)), tuple(rng.normal(size=3))) for _ in range(rng.integers(0, 9)))
+    stops = tuple(exdex.Stop(tuple(_awkward(rng, 3)), tuple(rng.normal(size=3)), mu=_awkward(rng, positive=True))
+                  for _ in range(rng.integers(0, 9)))
     return exdex.Scene(
         body=_body(rng),
         grasp=_grasp(rng),
@@ -444,7 +445,7 @@ def test_the_schema_covers_every_scene_field_and_motion():
         "Body": ["mass", "inertia", "size", "outline"],
         "Grasp": ["mu", "grip_force", "patch", "fingers", "mu_static"],
         "Patch": ["e_r", "center", "shape", "dims"],
-        "Stop": ["point", "normal"],
+        "Stop": ["point", "normal", "mu"],
         "Obstacle": ["kind", "face_points", "face_normals", "center", "axis", "radius"],
     }
     motion_fields = {name: [f.name for f in dataclasses.fields(cls)] for name, cls in io.MOTIONS.items()}

@@ -260,6 +260,11 @@ int fuzz_simulate(const uint8_t *data, size_t size)
         }
         if (fz_pick(&f, 0, 31) == 0) ob->radius = fz_num(&f, -1.0, 1.0); /* occasionally wild */
     }
+    /* each stop's Coulomb coefficient, decoded after the obstacles so that
+     * the inputs written before it decode as before (with frictionless stops): 0, or
+     * reasonable in [0, 1.5], or wild (negative and non-finite values are
+     * bad input; event and regularised reject mu > 0 by name) */
+    for (int k = 0; k < ns_dec; k++) d.stop_mu[k] = fz_pick(&f, 0, 1) ? fz_num(&f, 0.0, 1.5) : 0.0;
 
     /* fields exdex_scene_check must validate */
     required_nonfinite = !isfinite(d.mass) || !fz_all_finite(d.inertia, 9) || !isfinite(d.mu) ||
@@ -273,7 +278,8 @@ int fuzz_simulate(const uint8_t *data, size_t size)
         required_nonfinite = 1;
     if (d.n_stops >= 0 && d.n_stops <= EXDEX_MAX_STOPS)
         for (int k = 0; k < d.n_stops; k++)
-            if (!fz_all_finite(d.stop_point[k], 3) || !fz_all_finite(d.stop_normal[k], 3))
+            if (!fz_all_finite(d.stop_point[k], 3) || !fz_all_finite(d.stop_normal[k], 3) ||
+                !isfinite(d.stop_mu[k]))
                 required_nonfinite = 1;
     for (int o = 0; o < d.n_obstacles && o < EXDEX_MAX_OBSTACLES; o++) {
         const exdex_obstacle_def *ob = &d.obstacles[o];
@@ -299,8 +305,9 @@ int fuzz_simulate(const uint8_t *data, size_t size)
                 d.p0[1], d.p0[2], d.motion.kind, d.motion.rotation, d.motion.amplitude, d.motion.duration,
                 d.n_stops, d.method, d.friction_solver, d.eps, d.rtol, d.atol, t_end, dt);
         for (int k = 0; k < ns_dec; k++)
-            fprintf(stderr, "  stop %d point %g %g %g normal %g %g %g\n", k, d.stop_point[k][0], d.stop_point[k][1],
-                    d.stop_point[k][2], d.stop_normal[k][0], d.stop_normal[k][1], d.stop_normal[k][2]);
+            fprintf(stderr, "  stop %d point %g %g %g normal %g %g %g mu %g\n", k, d.stop_point[k][0],
+                    d.stop_point[k][1], d.stop_point[k][2], d.stop_normal[k][0], d.stop_normal[k][1],
+                    d.stop_normal[k][2], d.stop_mu[k]);
         for (int j = 0; j < nv_dec; j++) fprintf(stderr, "  vertex %d %g %g\n", j, d.vertices[j][0], d.vertices[j][1]);
         for (int o = 0; o < d.n_obstacles && o < EXDEX_MAX_OBSTACLES; o++)
             fprintf(stderr, "  obstacle %d kind %d faces %d centre %g %g %g axis %g %g %g radius %g\n", o,
