@@ -406,15 +406,35 @@ static int step_planar(const exdex_model *m, double h, double capm, double capsm
     double cap = h * capm, caps = h * capsm, b[3], cs[2] = {cos(th), sin(th)};
     int s, act[3], k = 0, round;
     model_patch_slip(m, cs, vs, b);
-    /* stick with the static capacity, else slide with the kinetic one */
-    s = exdex_friction_solve(&m->prep, b, caps, m->def.friction_solver, w->fws, w->have_prev ? w->p_prev : NULL, fr);
-    if (s) return s;
-    st->solver_iterations += (size_t)fr->iterations;
+    /* stick with the static capacity, else slide with the kinetic one. The
+     * solve's own stick test, |K^-1 E b| <= caps (K = E W E), is done here
+     * first where it clearly fails (by more than its 1e-6 band, with margin
+     * for rounding): the solve with caps would slide and be discarded, so
+     * only the kinetic one runs (the same result, without the wasted slide) */
+    {
+        int skip_static = 0;
+        if (caps != cap) {
+            double c[3], ct[3], t = 0.0;
+            for (int i = 0; i < 3; i++) c[i] = m->prep.e[i] * b[i];
+            ex_mulmtv3(ct, m->prep.Q, c);
+            for (int i = 0; i < 3; i++) {
+                double r = ct[i] / m->prep.lam[i] / caps;
+                t += r * r;
+            }
+            skip_static = isfinite(t) && t > 1.0 + 1e-5;
+        }
+        s = exdex_friction_solve(&m->prep, b, skip_static ? cap : caps, m->def.friction_solver, w->fws,
+                                 w->have_prev ? w->p_prev : NULL, fr);
+        if (s) return s;
+        st->solver_iterations += (size_t)fr->iterations;
+        if (skip_static) goto friction_done;
+    }
     if (!fr->stick && caps != cap) {
         s = exdex_friction_solve(&m->prep, b, cap, m->def.friction_solver, w->fws, w->have_prev ? w->p_prev : NULL, fr);
         if (s) return s;
         st->solver_iterations += (size_t)fr->iterations;
     }
+friction_done:
     model_gen_of_patch(m, cs, fr->p, pfB);
     for (int i = 0; i < 3; i++) v[i] = fr->stick ? 0.0 : vs[i] + m->minv[i] * pfB[i];
     for (round = 0; round < 12; round++) {
