@@ -6,6 +6,7 @@
 #include "util.h"
 
 #include <float.h>
+#include <string.h>
 
 int contact_vertices(const exdex_model *m, const double *q, double xb[][3], double vx[][3])
 {
@@ -26,14 +27,17 @@ int contact_vertices(const exdex_model *m, const double *q, double xb[][3], doub
     return nv;
 }
 
-double contact_gap(const exdex_model *m, const exdex_kinematics *kin, int k, const double xb[3],
-                   const double vx[3], double G[3])
+/* Gap n.(R xb + p - sp) of the vertex at xb (offset vx from the centre of
+ * mass) against the plane through sp with unit normal sn, both in A: a stop,
+ * or an obstacle's face seen from outside. G as contact_gap. */
+static double plane_gap(const exdex_model *m, const exdex_kinematics *kin, const double sp[3], const double sn[3],
+                        const double xb[3], const double vx[3], double G[3])
 {
     double xa[3], nB[3];
     ex_mulmv3(xa, kin->R, xb);
-    for (int i = 0; i < 3; i++) xa[i] += kin->p[i] - m->sp[k][i];
+    for (int i = 0; i < 3; i++) xa[i] += kin->p[i] - sp[i];
     if (G) {
-        ex_mulmtv3(nB, kin->R, m->sn[k]);
+        ex_mulmtv3(nB, kin->R, sn);
         if (m->ndof == 3) {
             /* columns: d xb / dx, dy, dtheta = e_z x vx */
             G[0] = nB[0];
@@ -47,7 +51,13 @@ double contact_gap(const exdex_model *m, const exdex_kinematics *kin, int k, con
             G[0] = -nB[0] * ay + nB[1] * ax;
         }
     }
-    return ex_dot3(xa, m->sn[k]);
+    return ex_dot3(xa, sn);
+}
+
+double contact_gap(const exdex_model *m, const exdex_kinematics *kin, int k, const double xb[3],
+                   const double vx[3], double G[3])
+{
+    return plane_gap(m, kin, m->sp[k], m->sn[k], xb, vx, G);
 }
 
 double contact_vertex_gap(const exdex_model *m, const exdex_kinematics *kin, int k, const double *q, int j,
@@ -74,7 +84,13 @@ double contact_min_gap(const exdex_model *m, const exdex_kinematics *kin, const 
 {
     double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], gmin = INFINITY;
     int nv;
-    if (!m->n_stops) return INFINITY;
+    if (m->n_obst) {
+        double G[MAX_ROWS][3], g[MAX_ROWS], rnd[MAX_ROWS];
+        int no = contact_obstacle_rows(m, kin, q, G, g, rnd, NULL);
+        for (int i = 0; i < no; i++)
+            if (g[i] < gmin) gmin = g[i];
+    }
+    if (!m->n_stops) return gmin;
     nv = contact_vertices(m, q, xb, vx);
     for (int k = 0; k < m->n_stops; k++)
         for (int j = 0; j < nv; j++) {
@@ -256,4 +272,374 @@ double contact_rot_radius(const exdex_model *m)
         r = fmax(r, sqrt(x * x + y * y));
     }
     return r;
+}
+
+void contact_tangent(const exdex_model *m, const exdex_kinematics *kin, const double xb[3], const double vx[3],
+                     const double nB_inplane[2], double T[3], double *tb)
+{
+    double nn = hypot(nB_inplane[0], nB_inplane[1]), t[3], tA[3], Rx[3], wx[3];
+    T[0] = T[1] = T[2] = 0.0;
+    *tb = 0.0;
+    if (!(nn > FQ_MIN)) return;
+    t[0] = -nB_inplane[1] / nn;
+    t[1] = nB_inplane[0] / nn;
+    t[2] = 0.0;
+    if (m->ndof == 3) {
+        T[0] = t[0];
+        T[1] = t[1];
+        T[2] = -t[0] * vx[1] + t[1] * vx[0];
+    } else if (m->def.dof == EXDEX_DOF_TRANSLATION) {
+        T[0] = t[0] * m->d[0] + t[1] * m->d[1];
+    } else {
+        double ax = xb[0] - m->pivot[0], ay = xb[1] - m->pivot[1];
+        T[0] = -t[0] * ay + t[1] * ax;
+    }
+    ex_mulmv3(tA, kin->R, t);
+    ex_mulmv3(Rx, kin->R, xb);
+    ex_cross3(wx, kin->w, Rx);
+    *tb = tA[0] * (kin->v[0] + wx[0]) + tA[1] * (kin->v[1] + wx[1]) + tA[2] * (kin->v[2] + wx[2]);
+}
+
+void contact_stop_tangent(const exdex_model *m, const exdex_kinematics *kin, int k, const double xb[3],
+                          const double vx[3], double T[3], double *tb)
+{
+    double nB[3];
+    ex_mulmtv3(nB, kin->R, m->sn[k]);
+    contact_tangent(m, kin, xb, vx, nB, T, tb);
+}
+
+/* ------------------------------------------------------ convex obstacles */
+
+/* d gap / d qdot of a row whose gap changes by nB . dx when the object's
+ * material point at x (B) moves by dx (nB in B, its z ignored): the columns
+ * of dx / dqdot as in plane_gap. */
+static void row_G(const exdex_model *m, const double *q, const double x[3], const double nB[3], double G[3])
+{
+    if (m->ndof == 3) {
+        double rx = x[0] - q[0], ry = x[1] - q[1];
+        G[0] = nB[0];
+        G[1] = nB[1];
+        G[2] = -nB[0] * ry + nB[1] * rx;
+    } else if (m->def.dof == EXDEX_DOF_TRANSLATION) {
+        G[0] = nB[0] * m->d[0] + nB[1] * m->d[1];
+    } else {
+        double ax = x[0] - m->pivot[0], ay = x[1] - m->pivot[1];
+        G[0] = -nB[0] * ay + nB[1] * ax;
+    }
+}
+
+int contact_hull(const double (*v)[2], int n, double (*hull)[2])
+{
+    /* Andrew's monotone chain on the points sorted by (x, y); at most
+     * EXDEX_MAX_VERTICES points, insertion sort. */
+    double p[EXDEX_MAX_VERTICES][2];
+    int k = 0;
+    if (n <= 0) {
+        hull[0][0] = hull[0][1] = 0.0;
+        return 1;
+    }
+    for (int i = 0; i < n; i++) {
+        int j = i;
+        while (j > 0 && (p[j - 1][0] > v[i][0] || (p[j - 1][0] == v[i][0] && p[j - 1][1] > v[i][1]))) {
+            p[j][0] = p[j - 1][0];
+            p[j][1] = p[j - 1][1];
+            j--;
+        }
+        p[j][0] = v[i][0];
+        p[j][1] = v[i][1];
+    }
+    for (int pass = 0; pass < 2; pass++) {
+        int start = k;
+        for (int ii = 0; ii < n; ii++) {
+            int i = pass ? n - 1 - ii : ii;
+            while (k >= start + 2) {
+                double ax = hull[k - 1][0] - hull[k - 2][0], ay = hull[k - 1][1] - hull[k - 2][1];
+                double bx = p[i][0] - hull[k - 2][0], by = p[i][1] - hull[k - 2][1];
+                if (ax * by - ay * bx > 0.0) break;
+                k--;
+            }
+            hull[k][0] = p[i][0];
+            hull[k][1] = p[i][1];
+            k++;
+        }
+        k--;  /* the last point of each chain starts the other */
+    }
+    if (k < 1) k = 1;
+    /* all points equal: one point; collinear: the two ends */
+    if (k == 2 && hull[0][0] == hull[1][0] && hull[0][1] == hull[1][1]) k = 1;
+    return k;
+}
+
+/* Half-planes a.y <= b of B's plate plane cut by the polytope's faces at pose
+ * (R, p): a = (R^T n)_xy, b = n.(face point - p). Faces parallel to the
+ * plane (|a| <= 1e-12) are left out when the plane lies inside them; *empty
+ * is set when it lies outside one (the plane misses the solid). Returns the
+ * number kept. */
+static int halfplanes(const exdex_obstacle_def *o, const double R[9], const double p[3], double a[][2], double *b,
+                      int *empty)
+{
+    int k = 0;
+    *empty = 0;
+    for (int f = 0; f < o->n_faces; f++) {
+        double nB[3], d[3];
+        ex_mulmtv3(nB, R, o->face_normal[f]);
+        for (int i = 0; i < 3; i++) d[i] = o->face_point[f][i] - p[i];
+        double bf = ex_dot3(o->face_normal[f], d), na = hypot(nB[0], nB[1]);
+        if (!(na > 1e-12)) {
+            if (bf < 0.0) *empty = 1;
+            continue;
+        }
+        a[k][0] = nB[0];
+        a[k][1] = nB[1];
+        b[k] = bf;
+        k++;
+    }
+    return k;
+}
+
+/* Vertices of the polygon {y : a_i . y <= b_i}: the pairwise intersections
+ * of the lines that satisfy every other half-plane to a relative 1e-12,
+ * merged within 1e-10 of their scale, counter-clockwise about their mean. */
+static int polygon_vertices(int nh, const double a[][2], const double *b, double xy[EXDEX_MAX_FACES][2])
+{
+    int n = 0;
+    double ang[EXDEX_MAX_FACES], cx = 0.0, cy = 0.0;
+    for (int f = 0; f < nh; f++)
+        for (int g = f + 1; g < nh; g++) {
+            double det = a[f][0] * a[g][1] - a[f][1] * a[g][0], y[2], sc;
+            int ok = 1;
+            if (!(fabs(det) > 1e-12 * hypot(a[f][0], a[f][1]) * hypot(a[g][0], a[g][1]))) continue;
+            y[0] = (b[f] * a[g][1] - b[g] * a[f][1]) / det;
+            y[1] = (a[f][0] * b[g] - a[g][0] * b[f]) / det;
+            sc = hypot(y[0], y[1]);
+            for (int h = 0; ok && h < nh; h++) {
+                if (h == f || h == g) continue;
+                double r = a[h][0] * y[0] + a[h][1] * y[1] - b[h];
+                if (r > 1e-12 * (hypot(a[h][0], a[h][1]) * sc + fabs(b[h]))) ok = 0;
+            }
+            for (int i = 0; ok && i < n; i++)
+                if (hypot(xy[i][0] - y[0], xy[i][1] - y[1]) <= 1e-10 * (sc + hypot(xy[i][0], xy[i][1]))) ok = 0;
+            if (ok && n < EXDEX_MAX_FACES) {
+                xy[n][0] = y[0];
+                xy[n][1] = y[1];
+                n++;
+            }
+        }
+    for (int i = 0; i < n; i++) {
+        cx += xy[i][0] / n;
+        cy += xy[i][1] / n;
+    }
+    for (int i = 0; i < n; i++) {
+        double x0 = xy[i][0], y0 = xy[i][1], t = atan2(y0 - cy, x0 - cx);
+        int j = i;
+        while (j > 0 && ang[j - 1] > t) {
+            ang[j] = ang[j - 1];
+            xy[j][0] = xy[j - 1][0];
+            xy[j][1] = xy[j - 1][1];
+            j--;
+        }
+        ang[j] = t;
+        xy[j][0] = x0;
+        xy[j][1] = y0;
+    }
+    return n;
+}
+
+int contact_obstacle_valid(const exdex_obstacle_def *o)
+{
+    if (!o) return 0;
+    if (o->kind == EXDEX_OBSTACLE_POLYTOPE) {
+        if (o->n_faces < 1 || o->n_faces > EXDEX_MAX_FACES) return 0;
+        for (int f = 0; f < o->n_faces; f++)
+            if (!ex_finite_n(o->face_point[f], 3) || !ex_finite_n(o->face_normal[f], 3) ||
+                fabs(sqrt(ex_dot3(o->face_normal[f], o->face_normal[f])) - 1.0) > 1e-9)
+                return 0;
+        return 1;
+    }
+    if (o->kind == EXDEX_OBSTACLE_CYLINDER)
+        return ex_finite_n(o->center, 3) && ex_finite_n(o->axis, 3) &&
+               fabs(sqrt(ex_dot3(o->axis, o->axis)) - 1.0) <= 1e-9 && isfinite(o->radius) && o->radius > 0.0;
+    return 0;
+}
+
+int exdex_obstacle_section(const exdex_obstacle_def *o, const double R[9], const double p[3],
+                           double xy[EXDEX_MAX_FACES][2], double ab[3])
+{
+    if (!contact_obstacle_valid(o) || !R || !p || !xy || !ex_finite_n(R, 9) || !ex_finite_n(p, 3))
+        return -EXDEX_EINVAL;
+    if (o->kind == EXDEX_OBSTACLE_POLYTOPE) {
+        double a[EXDEX_MAX_FACES][2], b[EXDEX_MAX_FACES];
+        int empty, nh = halfplanes(o, R, p, a, b, &empty);
+        return empty ? 0 : polygon_vertices(nh, (const double (*)[2])a, b, xy);
+    } else {
+        double cB[3], aB[3], d[3];
+        if (!ab) return -EXDEX_EINVAL;
+        for (int i = 0; i < 3; i++) d[i] = o->center[i] - p[i];
+        ex_mulmtv3(cB, R, d);
+        ex_mulmtv3(aB, R, o->axis);
+        if (!(fabs(aB[2]) > 1e-12)) return 0;
+        xy[0][0] = cB[0] - cB[2] / aB[2] * aB[0];
+        xy[0][1] = cB[1] - cB[2] / aB[2] * aB[1];
+        /* points y of the plane at distance r from the axis: |y|^2 - (y.a)^2
+         * = r^2 (y from the centre), semi-axes r / |a_z| along a_xy, r across */
+        ab[0] = o->radius / fabs(aB[2]);
+        ab[1] = o->radius;
+        ab[2] = (aB[0] == 0.0 && aB[1] == 0.0) ? 0.0 : atan2(aB[1], aB[0]);
+        return 1;
+    }
+}
+
+/* The outline's convex hull in B at coordinates q (counter-clockwise). */
+static int hull_b(const exdex_model *m, const double *q, double hb[][3])
+{
+    double r[3], th, c, s;
+    model_com_pose(m, q, r, &th);
+    c = cos(th);
+    s = sin(th);
+    for (int i = 0; i < m->n_hull; i++) {
+        hb[i][0] = r[0] + c * m->hull[i][0] - s * m->hull[i][1];
+        hb[i][1] = r[1] + s * m->hull[i][0] + c * m->hull[i][1];
+        hb[i][2] = 0.0;
+    }
+    return m->n_hull;
+}
+
+/* Squared distance from the rod's axis (through cB along unit aB, in B) of
+ * the point x of the plate plane, and that offset w (perpendicular to the
+ * axis). */
+static double axis_dist2(const double cB[3], const double aB[3], const double x[3], double w[3])
+{
+    double d[3] = {x[0] - cB[0], x[1] - cB[1], x[2] - cB[2]}, t = ex_dot3(d, aB);
+    for (int i = 0; i < 3; i++) w[i] = d[i] - t * aB[i];
+    return ex_dot3(w, w);
+}
+
+int contact_obstacle_rows(const exdex_model *m, const exdex_kinematics *kin, const double *q, double (*G)[3],
+                          double *gap, double *round, int *src)
+{
+    double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], hb[EXDEX_MAX_VERTICES][3];
+    double pn = sqrt(ex_dot3(kin->p, kin->p));
+    int nv = contact_vertices(m, q, xb, vx), nh = hull_b(m, q, hb), nr = 0;
+    for (int o = 0; o < m->n_obst; o++) {
+        const exdex_obstacle_def *ob = &m->def.obstacles[o];
+        if (ob->kind == EXDEX_OBSTACLE_POLYTOPE) {
+            double a[EXDEX_MAX_FACES][2], b[EXDEX_MAX_FACES], y[EXDEX_MAX_FACES][2], fmax = 0.0;
+            int empty, nhp, ny;
+            for (int f = 0; f < ob->n_faces; f++)
+                fmax = fmax > sqrt(ex_dot3(ob->face_point[f], ob->face_point[f]))
+                           ? fmax : sqrt(ex_dot3(ob->face_point[f], ob->face_point[f]));
+            /* outline vertex j against the solid: its largest face distance */
+            for (int j = 0; j < nv; j++) {
+                int best = 0;
+                double gb = -INFINITY;
+                for (int f = 0; f < ob->n_faces; f++) {
+                    double g = plane_gap(m, kin, ob->face_point[f], ob->face_normal[f], xb[j], vx[j], NULL);
+                    if (g > gb) {
+                        gb = g;
+                        best = f;
+                    }
+                }
+                gap[nr] = plane_gap(m, kin, ob->face_point[best], ob->face_normal[best], xb[j], vx[j], G[nr]);
+                round[nr] = GAP_ROUND * (sqrt(ex_dot3(xb[j], xb[j])) + pn +
+                                         sqrt(ex_dot3(ob->face_point[best], ob->face_point[best])));
+                if (src) src[nr] = m->n_stops + o;
+                nr++;
+            }
+            /* section vertex i against the outline's hull: its largest
+             * distance outside the hull's edge lines */
+            if (nh < 3) continue;
+            nhp = halfplanes(ob, kin->R, kin->p, a, b, &empty);
+            if (empty) continue;
+            ny = polygon_vertices(nhp, (const double (*)[2])a, b, y);
+            for (int i = 0; i < ny; i++) {
+                double gb = -INFINITY, nb[3] = {0, 0, 0}, x[3] = {y[i][0], y[i][1], 0.0};
+                for (int e = 0; e < nh; e++) {
+                    const double *u = hb[e], *v = hb[(e + 1) % nh];
+                    double ex = v[0] - u[0], ey = v[1] - u[1], len = hypot(ex, ey), n0, n1, g;
+                    if (!(len > 0.0)) continue;
+                    n0 = ey / len; /* outward normal of a counter-clockwise edge */
+                    n1 = -ex / len;
+                    g = n0 * (x[0] - u[0]) + n1 * (x[1] - u[1]);
+                    if (g > gb) {
+                        gb = g;
+                        nb[0] = -n0;
+                        nb[1] = -n1;
+                    }
+                }
+                gap[nr] = gb;
+                row_G(m, q, x, nb, G[nr]);
+                round[nr] = 64.0 * DBL_EPSILON * (hypot(x[0], x[1]) + hypot(hb[0][0], hb[0][1]) + pn + fmax);
+                if (src) src[nr] = m->n_stops + o;
+                nr++;
+            }
+        } else {
+            /* the rod against the hull: the hull point nearest the axis */
+            double cB[3], aB[3], d[3], best = INFINITY, xs[3] = {0, 0, 0}, ws[3] = {0, 0, 0}, nb[3];
+            int inside = nh >= 3, ebest = 0;
+            for (int i = 0; i < 3; i++) d[i] = ob->center[i] - kin->p[i];
+            ex_mulmtv3(cB, kin->R, d);
+            ex_mulmtv3(aB, kin->R, ob->axis);
+            for (int e = 0; e < nh; e++) {
+                const double *u = hb[e], *v = hb[(e + 1) % nh];
+                double w[3], dd[3], du[3] = {v[0] - u[0], v[1] - u[1], 0.0}, t = 0.0, x[3], d2;
+                axis_dist2(cB, aB, u, w);
+                {
+                    double ta = ex_dot3(du, aB);
+                    for (int i = 0; i < 3; i++) dd[i] = du[i] - ta * aB[i];
+                }
+                if (ex_dot3(dd, dd) > 0.0 && nh > 1) {
+                    t = -ex_dot3(w, dd) / ex_dot3(dd, dd);
+                    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+                }
+                for (int i = 0; i < 3; i++) x[i] = u[i] + t * du[i];
+                d2 = axis_dist2(cB, aB, x, w);
+                if (d2 < best) {
+                    best = d2;
+                    ebest = e;
+                    memcpy(xs, x, sizeof xs);
+                    memcpy(ws, w, sizeof ws);
+                }
+            }
+            if (inside && fabs(aB[2]) > 1e-12) {
+                /* the axis meets the plane at c0: inside the hull? */
+                double c0[2] = {cB[0] - cB[2] / aB[2] * aB[0], cB[1] - cB[2] / aB[2] * aB[1]};
+                for (int e = 0; inside && e < nh; e++) {
+                    const double *u = hb[e], *v = hb[(e + 1) % nh];
+                    if ((v[0] - u[0]) * (c0[1] - u[1]) - (v[1] - u[1]) * (c0[0] - u[0]) <= 0.0) inside = 0;
+                }
+            } else {
+                inside = 0;
+            }
+            {
+                double dist = sqrt(best);
+                if (dist > 0.0) {
+                    for (int i = 0; i < 3; i++) nb[i] = (inside ? -ws[i] : ws[i]) / dist;
+                } else {
+                    /* on the axis: the edge's outward normal, reversed */
+                    const double *u = hb[ebest], *v = hb[(ebest + 1) % nh];
+                    double ex = v[0] - u[0], ey = v[1] - u[1], len = hypot(ex, ey);
+                    nb[0] = len > 0.0 ? -ey / len : 0.0;
+                    nb[1] = len > 0.0 ? ex / len : 0.0;
+                    nb[2] = 0.0;
+                }
+                gap[nr] = (inside ? -dist : dist) - ob->radius;
+                row_G(m, q, xs, nb, G[nr]);
+                round[nr] = 64.0 * DBL_EPSILON * (hypot(xs[0], xs[1]) + pn + sqrt(ex_dot3(ob->center, ob->center)) +
+                                                  ob->radius);
+                if (src) src[nr] = m->n_stops + o;
+                nr++;
+            }
+        }
+    }
+    return nr;
+}
+
+int contact_obstacle_max_rows(const exdex_model *m)
+{
+    int n = 0, nv = contact_nv(m);
+    for (int o = 0; o < m->n_obst; o++)
+        n += m->def.obstacles[o].kind == EXDEX_OBSTACLE_POLYTOPE
+                 ? nv + (m->n_hull >= 3 ? m->def.obstacles[o].n_faces : 0)
+                 : 1;
+    return n;
 }

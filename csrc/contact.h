@@ -55,6 +55,28 @@ double contact_stop_gap(const exdex_model *m, const exdex_kinematics *k, int ks,
 double contact_row_planar(const exdex_model *m, const exdex_kinematics *k, int ks, int j, const double *q,
                           const double *v, double G[3], double *gd, double *gdd0);
 
+/* Coulomb friction of a contact row (a point of the object against a
+ * contact fixed in A: a stop, or any other row with an in-plane normal).
+ * The tangent is t_B = e_z x n_B, n_B the unit in-plane part of the row's
+ * normal in B (the plates hold the object in the plate plane, so the
+ * friction acts in it). The slip of the contact point along t is
+ *     s = T . qdot + tb,
+ * T = d s / d qdot (the formula of G with t_B for n_B: planar (t_x, t_y,
+ * -t_x vx_y + t_y vx_x), translation t . slide axis, rotation t . (e_z x
+ * (x_B - pivot))), and tb = t_A . (pdot + w x R x_B) the slip of the point
+ * with the object at rest in B (the gripper's motion past the contact;
+ * exactly 0 for a gripper at rest). The friction force on the object is
+ * beta t, |beta| <= mu lambda (lambda the normal force), opposing s when
+ * s != 0; its generalized force is beta T. nB_inplane (x, y of n_B, not
+ * normalised) with |n_B| below FQ_MIN gives T = 0, tb = 0 (the row cannot
+ * act). */
+void contact_tangent(const exdex_model *m, const exdex_kinematics *kin, const double xb[3], const double vx[3],
+                     const double nB_inplane[2], double T[3], double *tb);
+/* The friction rows of stop k at the vertex xb (offset vx): contact_tangent
+ * with n_B = R^T n_k. */
+void contact_stop_tangent(const exdex_model *m, const exdex_kinematics *kin, int k, const double xb[3],
+                          const double vx[3], double T[3], double *tb);
+
 /* Is some stop out of the object's reach at pose k and coordinates q, its
  * gap below -tol.pen for every value of the free coordinates? */
 int contact_unreachable(const exdex_model *m, const exdex_kinematics *k, const double *q);
@@ -62,5 +84,27 @@ int contact_unreachable(const exdex_model *m, const exdex_kinematics *k, const d
  * centre of mass for planar scenes, the pivot for rotation; 0 for
  * translation): bounds |d^2 gap / d theta^2|. */
 double contact_rot_radius(const exdex_model *m);
+
+/* ------------------------------------------------ convex obstacles
+ * Rows of the obstacles (exdex.h, exdex_obstacle_def) after the stops' rows,
+ * in the same form: gap_i >= 0 allowed, G_i = d gap_i / d qdot. Per
+ * polytope: one row per outline vertex (its largest face distance: the
+ * row of that face, a plane row as a stop's) and, with a hull of at least 3
+ * vertices, one per vertex of the section polygon (its largest distance
+ * outside the hull's edge lines, acting at the section vertex with the
+ * edge's inward normal); per rod: one row, the hull point nearest the axis
+ * (its distance from the axis less the radius, negative when the axis meets
+ * the plane inside the hull). round_i bounds the rounding of gap_i; src_i =
+ * n_stops + obstacle index (src may be NULL). Returns the count, at most
+ * contact_obstacle_max_rows. */
+int contact_obstacle_rows(const exdex_model *m, const exdex_kinematics *kin, const double *q, double (*G)[3],
+                          double *gap, double *round, int *src);
+int contact_obstacle_max_rows(const exdex_model *m);
+/* 1 if the obstacle definition is valid (kind, face count, unit normals and
+ * axis, finite points, radius > 0). */
+int contact_obstacle_valid(const exdex_obstacle_def *o);
+/* Convex hull (counter-clockwise, 1 .. n points) of n plane points; n = 0
+ * gives the origin alone. */
+int contact_hull(const double (*v)[2], int n, double (*hull)[2]);
 
 #endif

@@ -325,6 +325,53 @@ enum exdex_method {
 
 #define EXDEX_MAX_STOPS 8
 #define EXDEX_MAX_VERTICES 32
+#define EXDEX_MAX_OBSTACLES 4
+#define EXDEX_MAX_FACES 12
+
+/* A convex obstacle fixed in the world frame A; the object's outline may not
+ * enter it.
+ *   EXDEX_OBSTACLE_POLYTOPE  the intersection of n_faces half-spaces
+ *                            (x - face_point[f]) . face_normal[f] <= 0, the
+ *                            normals unit and pointing out of the solid; it
+ *                            may be unbounded (one face is a plane stop seen
+ *                            from its other side: Stop(point, normal) keeps
+ *                            the object where a one-face obstacle with the
+ *                            same point and normal does).
+ *   EXDEX_OBSTACLE_CYLINDER  the points within radius of the line through
+ *                            center along axis (unit): an infinite rod.
+ * The plate plane (z = 0 of the moving gripper frame B) cuts a polytope in a
+ * convex polygon (each half-space a half-plane of B) and a rod in a disc
+ * (axis along the plate normal) or an ellipse. Contacts: an outline vertex
+ * against the obstacle (gap: the largest of its face distances; for a rod
+ * its distance from the axis less the radius), a polygon vertex of the
+ * section against the convex hull of the outline (gap: its largest
+ * distance outside the hull's edge lines) and, for a rod, the hull against
+ * the section (gap: the smallest distance of a hull point from the axis less
+ * the radius, negative inside). */
+enum exdex_obstacle_kind { EXDEX_OBSTACLE_POLYTOPE = 0, EXDEX_OBSTACLE_CYLINDER = 1 };
+
+typedef struct exdex_obstacle_def {
+    int kind;                               /* enum exdex_obstacle_kind */
+    int n_faces;                            /* polytope: 1..EXDEX_MAX_FACES */
+    double face_point[EXDEX_MAX_FACES][3];  /* a point of each face plane, in A [m] */
+    double face_normal[EXDEX_MAX_FACES][3]; /* outward unit normals, in A */
+    double center[3];                       /* cylinder: a point of the axis, in A [m] */
+    double axis[3];                         /* cylinder: unit direction, in A */
+    double radius;                          /* cylinder: > 0 [m] */
+} exdex_obstacle_def;
+
+/* Section of obstacle o by the plate plane of the gripper pose (R = R_AB, p):
+ * the vertices (x, y) in B of the polygon, counter-clockwise, at most
+ * EXDEX_MAX_FACES (a vertex is where two face lines meet inside every other
+ * half-plane; an unbounded section lists its finite vertices only, a
+ * section without vertices gives 0). A cylinder gives its ellipse: centre
+ * xy[0] (the axis meets the plane there), semi-axes ab[0] >= ab[1] = radius
+ * and the angle ab[2] of the major axis [rad]; returns 1, or 0 when the axis
+ * lies in the plane (the section is a strip). EXDEX_EINVAL (as a negative
+ * count, -EXDEX_EINVAL) for an invalid obstacle or pose. ab may be NULL for
+ * polytopes. */
+int exdex_obstacle_section(const exdex_obstacle_def *o, const double R[9], const double p[3],
+                           double xy[EXDEX_MAX_FACES][2], double ab[3]);
 
 typedef struct exdex_scene_def {
     /* object */
@@ -382,6 +429,19 @@ typedef struct exdex_scene_def {
      * zero-initialised field keeps the one-coefficient law). Each method's
      * use of it is stated with the method (exdex_method above, hybrid.c). */
     double mu_static;
+    /* convex obstacles fixed in A (above); their stop forces follow the
+     * stops' in exdex_trajectory.stop_force. The implicit and explicit
+     * methods solve scenes with obstacles; the event and regularised
+     * methods reject them (bad_param "method"). */
+    int n_obstacles;          /* 0..EXDEX_MAX_OBSTACLES */
+    exdex_obstacle_def obstacles[EXDEX_MAX_OBSTACLES];
+    /* Coulomb friction coefficient of each stop against the outline vertices
+     * touching it (>= 0, finite; 0: frictionless). The friction acts along the
+     * tangent t = e_z x n_B of the plate plane (n_B the in-plane part of the
+     * stop normal in B), bounded by stop_mu times the stop's normal force.
+     * Supported by the implicit and explicit methods; event and regularised
+     * reject stop_mu > 0 (EXDEX_EINVAL, bad_param "stop_mu"). */
+    double stop_mu[EXDEX_MAX_STOPS];
 } exdex_scene_def;
 
 /* Interpolation of a grip-force schedule between its points. */
@@ -400,8 +460,8 @@ enum exdex_grip_kind {
  * piecewise constant: a translation scene whose gripper translates (Eq. 7,
  * a trapezoid with ramps, or rest), or a rotation scene about the centre of
  * mass (patch centre 0) whose gripper turns about the plate normal (to
- * 1e-12) or rests; and the grip force must be constant (a schedule whose
- * forces are all equal is). */
+ * 1e-12) or rests; the grip force constant, or a piecewise-linear or step
+ * schedule (not a cubic one, unless its forces are all equal). */
 const char *exdex_analytic_unsupported(const exdex_scene_def *def);
 
 /* Defaults: unit mass, unit inertia, mu 0.5, grip force 1 N, 2 fingers,
@@ -425,7 +485,7 @@ exdex_model *exdex_model_alloc(const exdex_scene_def *def, int *status,
                                const char **bad_param);
 void exdex_model_free(exdex_model *m);   /* NULL is harmless */
 int exdex_model_ndof(const exdex_model *m);
-int exdex_model_nstops(const exdex_model *m);
+int exdex_model_nstops(const exdex_model *m);  /* stops + obstacles: stop_force columns */
 /* Normal force of each finger at time t, *force [N], and its rate dF/dt,
  * *rate [N/s] (the right derivative at a breakpoint; either may be NULL):
  * the constant grip_force or the scene's grip schedule scaled by it.
@@ -452,8 +512,9 @@ typedef struct exdex_trajectory {
                              in B at the centre of pressure, mean over the step
                              that ends at this sample [N, N, N m]; row 0 is 0 */
     unsigned char *stick; /* (n,) 1 where the step ending here stuck */
-    double *stop_force;   /* (n, n_stops) mean normal force of each stop [N];
-                             may be NULL when n_stops == 0 */
+    double *stop_force;   /* (n, n_stops + n_obstacles) mean normal force of each
+                             stop, then of each obstacle [N]; may be NULL when
+                             there are neither (exdex_model_nstops counts both) */
 } exdex_trajectory;
 
 /* Why a run returned EXDEX_ENOCONV or EXDEX_ENONFINITE (exdex_stats.fail_cause). */
@@ -540,7 +601,8 @@ typedef struct exdex_stepper_sample {
                                             of pressure) [N, N, N m]; 0 before the first step */
     int stick;                           /* 1 if the last step ended exactly at rest (before the
                                             first: the initial velocity is 0) */
-    double stop_force[EXDEX_MAX_STOPS];  /* mean normal force of each stop over the last step [N] */
+    double stop_force[EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES];  /* mean normal force of each stop, then
+                                            of each obstacle, over the last step [N] */
     double grip_force;                   /* the last step's grip force [N] (NaN: the scene's) */
     size_t steps;                        /* steps taken */
 } exdex_stepper_sample;

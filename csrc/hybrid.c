@@ -100,11 +100,14 @@
  *         C(s) = C + (C_s - C) exp(-(s / v_s)^2),   v_s = sqrt(eps V),
  *     V the scene's velocity scale (model_scales): v_s >> eps, so a creeping
  *     object (|E u| ~ eps) meets C_s (the largest load it carries before it
- *     accelerates away is C_s (1 - O(eps / v_s)), below C_s by at most
- *     sqrt(2 (C_s - C) C_s) eps / v_s), and a slip faster than a few v_s
- *     meets C; both errors vanish as eps -> 0 (as sqrt(eps)). In a 1-DoF
- *     rotation scene s and v_s are divided by e_r as eps is. With C_s = C
- *     it is the law above.
+ *     accelerates away is below C_s by at most sqrt(2 (C_s - C) C_s) eps /
+ *     v_s), and a slip faster than a few v_s meets C. Past the static
+ *     limit the slip must first reach v_s against a capacity still near
+ *     C_s: under a load rising at Q' that takes about tau = (v_s^2 M^2 /
+ *     ((C_s - C) Q'))^(1/3), and the slip lags the exact one by a speed of
+ *     about (C_s - C) tau / M. Both errors vanish as eps -> 0 (v_s and tau
+ *     with it). In a 1-DoF rotation scene s and v_s are divided by e_r as
+ *     eps is. With C_s = C it is the law above.
  *
  * Stops: every scene with every method. Planar scenes in the hybrid
  * (event, regularised) integrator carry a contact set of (stop, vertex) rows
@@ -1492,6 +1495,14 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
             if (status) break;
             if (e_best >= 0) {
                 int vz, keep = 0;
+                if (tau_best > 0.0 && t0 + tau_best == t0 && g0[e_best] > 0.0 && t > t0) {
+                    /* a crossing within half an ulp of t0: the event time
+                     * would round to t0, where the guard holds and the
+                     * decision at the same state would be taken again
+                     * (no progress, events piling up at one time): the
+                     * event is at the next representable time */
+                    tau_best = nextafter(t0, INFINITY) - t0;
+                }
                 if (one_step(O, t0, y0, tau_best, y) != GSL_SUCCESS || H.err) {
                     status = H.err ? H.err : EXDEX_ENOCONV;
                     break;

@@ -27,6 +27,7 @@
  */
 #include "exdex.h"
 #include "contact.h"
+#include "fcontact.h"
 #include "ldp.h"
 #include "method.h"
 #include "model.h"
@@ -47,12 +48,14 @@ typedef struct work {
     double rhs[MAX_ROWS];
     double lam[MAX_ROWS];
     double gap[MAX_ROWS];
-    /* the run's state between steps (begin, advance; saved with p_prev and
-     * have_prev) */
+    /* the run's state between steps (begin, advance; saved with p_prev,
+     * have_prev and fmode) */
     struct {
         double q[3], v[3], vprev[3], hprev, t;
         exdex_kinematics kin0;
     } S;
+    double beta[MAX_ROWS];   /* friction impulses of the rows (stop friction) */
+    int fmode[MAX_ROWS];     /* each row's contact mode in the last frictional solve (fcontact.h) */
 } work;
 
 /* ------------------------------------------------------------ stops */
@@ -92,6 +95,16 @@ static void build_rows(const exdex_model *m, const exdex_kinematics *kin_end, co
             w->rhs[i] = fabs(w->gap[i]) <= tau ? 0.0 : -w->gap[i] / h;
             w->lam[i] = 0.0;
         }
+    if (m->n_obst) {
+        /* the obstacles' rows, in the same form (contact_obstacle_rows) */
+        double rnd[MAX_ROWS];
+        int i0 = w->n_rows, no = contact_obstacle_rows(m, kin_end, q, w->G + i0, w->gap + i0, rnd, w->row_stop + i0);
+        for (int i = i0; i < i0 + no; i++) {
+            w->rhs[i] = fabs(w->gap[i]) <= rnd[i - i0] ? 0.0 : -w->gap[i] / h;
+            w->lam[i] = 0.0;
+        }
+        w->n_rows += no;
+    }
 }
 
 /* 1-DoF step: min 1/2 M (v - vs)^2 + c |v| subject to G_i v >= rhs_i
@@ -393,15 +406,35 @@ static int step_planar(const exdex_model *m, double h, double capm, double capsm
     double cap = h * capm, caps = h * capsm, b[3], cs[2] = {cos(th), sin(th)};
     int s, act[3], k = 0, round;
     model_patch_slip(m, cs, vs, b);
-    /* stick with the static capacity, else slide with the kinetic one */
-    s = exdex_friction_solve(&m->prep, b, caps, m->def.friction_solver, w->fws, w->have_prev ? w->p_prev : NULL, fr);
-    if (s) return s;
-    st->solver_iterations += (size_t)fr->iterations;
+    /* stick with the static capacity, else slide with the kinetic one. The
+     * solve's own stick test, |K^-1 E b| <= caps (K = E W E), is done here
+     * first where it clearly fails (by more than its 1e-6 band, with margin
+     * for rounding): the solve with caps would slide and be discarded, so
+     * only the kinetic one runs (the same result, without the wasted slide) */
+    {
+        int skip_static = 0;
+        if (caps != cap) {
+            double c[3], ct[3], t = 0.0;
+            for (int i = 0; i < 3; i++) c[i] = m->prep.e[i] * b[i];
+            ex_mulmtv3(ct, m->prep.Q, c);
+            for (int i = 0; i < 3; i++) {
+                double r = ct[i] / m->prep.lam[i] / caps;
+                t += r * r;
+            }
+            skip_static = isfinite(t) && t > 1.0 + 1e-5;
+        }
+        s = exdex_friction_solve(&m->prep, b, skip_static ? cap : caps, m->def.friction_solver, w->fws,
+                                 w->have_prev ? w->p_prev : NULL, fr);
+        if (s) return s;
+        st->solver_iterations += (size_t)fr->iterations;
+        if (skip_static) goto friction_done;
+    }
     if (!fr->stick && caps != cap) {
         s = exdex_friction_solve(&m->prep, b, cap, m->def.friction_solver, w->fws, w->have_prev ? w->p_prev : NULL, fr);
         if (s) return s;
         st->solver_iterations += (size_t)fr->iterations;
     }
+friction_done:
     model_gen_of_patch(m, cs, fr->p, pfB);
     for (int i = 0; i < 3; i++) v[i] = fr->stick ? 0.0 : vs[i] + m->minv[i] * pfB[i];
     for (round = 0; round < 12; round++) {
@@ -496,6 +529,17 @@ static void project_positions(const exdex_model *m, const exdex_kinematics *kin,
                 for (int d = 0; d < 3; d++) a[i][d] = G[d] * sq[d];
                 if (g[i] < -tol[i] && (deep < 0 || g[i] < g[deep])) deep = i;
             }
+        if (m->n_obst) {
+            /* the obstacles' rows after the stops' (their count may change
+             * with q: a section vertex row exists for each vertex) */
+            int i0 = m->n_stops * nv;
+            double Go[MAX_ROWS][3];
+            nr = i0 + contact_obstacle_rows(m, kin, q, Go, g + i0, tol + i0, NULL);
+            for (int i = i0; i < nr; i++) {
+                for (int d = 0; d < 3; d++) a[i][d] = (d < n ? Go[i - i0][d] : 0.0) * sq[d];
+                if (g[i] < -tol[i] && (deep < 0 || g[i] < g[deep])) deep = i;
+            }
+        }
         if (deep < 0) return;  /* every gap >= 0 to rounding */
         depth = -g[deep];
         for (int i = 0; i < nr; i++) {
@@ -516,6 +560,109 @@ static void project_positions(const exdex_model *m, const exdex_kinematics *kin,
     st->warnings++;
 }
 
+/* Coulomb friction at the stops (some stop with mu > 0). The frictionless
+ * step above is a solution of the frictional problem too when no
+ * frictional row carries an impulse (a row without normal impulse has no
+ * friction): it is kept, so a scene whose frictional stops never push is
+ * stepped exactly as without friction. Otherwise the step is solved again
+ * with the friction of the rows (fcontact.h: Stewart-Trinkle velocity-level
+ * complementarity, the plate ellipsoid with its prescribed normal force,
+ * exact mode enumeration), with the frictionless solution's active rows as
+ * the candidates, and the last step's modes and velocity as the first
+ * guess and Newton's start when the last step was frictional too (else the
+ * slip signs and velocity of the frictionless solution). The rows are
+ * those of build_rows (gaps at t + h, rhs = -gap / h), with the tangential
+ * rows T and the gripper's slip tb of each vertex at the pose of t + h. Where no consistent mode is found among
+ * FC_MAX_CAND rows the frictionless step is kept and a warning counted.
+ * n = 1: A = 1 and cap the step's capacity c (friction -c sign(v)); n = 3:
+ * A = E J_f at the step's angle. cap_s is the static capacity of the step
+ * (the plates' rest test), cap the kinetic one (sliding); v_old the
+ * velocity before the step. On return v, the plate impulse P
+ * (generalized), w->lam and w->beta hold the step; *rest is 1 at plate
+ * rest. Returns 1 if the step was changed. */
+static int stop_friction_step(const exdex_model *m, const exdex_kinematics *kin_end, const double *q, double th,
+                               double cap, double cap_s, const double vs[3], const double *v_old, work *w,
+                               double *v, double *P, int *rest,
+                               exdex_stats *st)
+{
+    fc_row rows[MAX_ROWS];
+    fc_problem p;
+    fc_result res;
+    unsigned char hint[MAX_ROWS];
+    double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], lam[MAX_ROWS], beta[MAX_ROWS], v_start[3];
+    int nv, need = 0, n = m->ndof;
+    for (int i = 0; i < w->n_rows; i++) {
+        w->beta[i] = 0.0;
+        need |= w->lam[i] > 0.0 && model_source_mu(m, w->row_stop[i]) > 0.0;
+    }
+    if (!need) return 0;
+    nv = contact_vertices(m, q, xb, vx);
+    for (int i = 0; i < w->n_rows; i++) {
+        int k = w->row_stop[i], j = i % nv;
+        fc_row *r = &rows[i];
+        memcpy(r->G, w->G[i], sizeof r->G);
+        for (int c = n; c < 3; c++) r->G[c] = 0.0;
+        /* stop rows are r = k nv + j (build_rows); a row of another source
+         * without tangent data stays frictionless */
+        r->mu = i < m->n_stops * nv ? model_source_mu(m, k) : 0.0;
+        r->T[0] = r->T[1] = r->T[2] = 0.0;
+        r->tb = 0.0;
+        if (r->mu > 0.0) contact_stop_tangent(m, kin_end, k, xb[j], vx[j], r->T, &r->tb);
+        r->rhs = w->rhs[i];
+        /* at rest (v = 0) a row holds with a force only where its bound is
+         * 0 (to tol.rate): a stop the gripper drives into the object
+         * (rhs > 0) excludes rest, one it leaves behind carries nothing */
+        r->rest = w->rhs[i] > m->tol.rate ? -1 : w->gap[i] <= m->tol.touch && w->rhs[i] >= -m->tol.rate ? 1 : 0;
+        hint[i] = w->lam[i] > 0.0;
+    }
+    memset(&p, 0, sizeof p);
+    p.n = n;
+    p.cap = cap;
+    p.cap_rest = cap_s;
+    p.nr = w->n_rows;
+    p.rows = rows;
+    p.vrest = m->tol.rate;
+    if (n == 1) {
+        p.Md[0] = m->def.dof == EXDEX_DOF_TRANSLATION ? m->m : m->mrot;
+        p.A[0][0] = 1.0;
+        p.vscale = m->scale.V * m->scale.q / m->scale.L;
+    } else {
+        double cs[2] = {cos(th), sin(th)};
+        for (int c = 0; c < 3; c++) {
+            double ec[3] = {0, 0, 0}, r[3];
+            ec[c] = 1.0;
+            ejf(m, cs, ec, r);
+            for (int i = 0; i < 3; i++) p.A[i][c] = r[i];
+            p.Md[c] = 1.0 / m->minv[c];
+        }
+        p.vscale = m->scale.V;
+    }
+    for (int c = 0; c < 3; c++) p.vs[c] = c < n ? vs[c] : 0.0;
+    {
+        /* Newton's start: the last step's velocity when that step was solved
+         * with friction too (a steady slide changes little per step), else
+         * the frictionless solution */
+        int cached = 0;
+        for (int i = 0; i < w->n_rows; i++) cached |= hint[i] && w->fmode[i] != FC_OFF;
+        for (int c = 0; c < 3; c++) v_start[c] = c < n ? (cached ? v_old[c] : v[c]) : 0.0;
+    }
+    if (!fc_solve(&p, hint, v_start, w->fmode, lam, beta, &res)) {
+        st->warnings++;  /* no consistent mode: the frictionless step is kept */
+        return 0;
+    }
+    st->stop_iterations += (size_t)res.iters;
+    for (int i = 0; i < w->n_rows; i++) {
+        w->lam[i] = lam[i];
+        w->beta[i] = beta[i];
+    }
+    for (int c = 0; c < n; c++) {
+        v[c] = res.v[c];
+        P[c] = res.P[c];
+    }
+    *rest = res.rest;
+    return 1;
+}
+
 /* The run's workspace: malloc, not calloc: the row arrays (~13 kB) are
  * written before they are read (build_rows), and zeroing them costs ~7 % of
  * a short planar run. */
@@ -530,6 +677,7 @@ static void *implicit_alloc(const exdex_model *m, int *status)
     w->p_prev[0] = w->p_prev[1] = w->p_prev[2] = 0.0;
     w->have_prev = 0;
     w->n_rows = 0;
+    for (int i = 0; i < MAX_ROWS; i++) w->fmode[i] = FC_OFF;
     if (m->def.friction_solver != EXDEX_SOLVER_SCALAR && m->ndof == 3) {
         w->fws = exdex_friction_ws_alloc();
         if (!w->fws) {
@@ -559,6 +707,7 @@ static int implicit_begin(const exdex_model *m, void *ws, double t_end, double d
     model_initial_state(m, w->S.q, w->S.v);
     w->p_prev[0] = w->p_prev[1] = w->p_prev[2] = 0.0;
     w->have_prev = 0;
+    for (int i = 0; i < MAX_ROWS; i++) w->fmode[i] = FC_OFF;
     return exdex_motion_eval(m->motion, 0.0, &w->S.kin0);
 }
 
@@ -573,7 +722,7 @@ static int implicit_advance(const exdex_model *m, void *ws, double t1, int regri
     (void)regrip;   /* the capacity is read at every step */
     do {
         double h = t1 - t, tm = t + 0.5 * h, qm[3], vmid[3], F[3], vs[3], vn[3];
-        double wrench[3] = {0, 0, 0}, sf[EXDEX_MAX_STOPS];
+        double wrench[3] = {0, 0, 0}, sf[EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES];
         frame f;
         exdex_kinematics kin, kin_end;
         int stick;
@@ -588,7 +737,7 @@ static int implicit_advance(const exdex_model *m, void *ws, double t1, int regri
              * order in smooth phases, and exactly 0 while the object sticks */
             vmid[i] = hprev > 0.0 ? v[i] + 0.5 * h * (v[i] - vprev[i]) / hprev : v[i];
         }
-        if (ns) {
+        if (ns || m->n_obst) {
             build_rows(m, &kin_end, q, h, w);
         } else {
             w->n_rows = 0;
@@ -604,6 +753,10 @@ static int implicit_advance(const exdex_model *m, void *ws, double t1, int regri
             double capsm = model_capacity_static_mean(m, t, t1), c_s = tr ? h * capsm : h * capsm * m->e[2];
             vs[0] = v[0] + h * Q / M;
             step_1dof(M, c, c_s, vs[0], m->tol.touch, w, &vn[0], &pf, st);
+            if (m->stop_friction) {
+                int rest = 0;
+                stop_friction_step(m, &kin_end, q, 0.0, c, c_s, vs, v, w, vn, &pf, &rest, st);
+            }
             if (m->def.dof == EXDEX_DOF_TRANSLATION) {
                 wrench[0] = pf * m->d[0] / h;
                 wrench[1] = pf * m->d[1] / h;
@@ -622,6 +775,14 @@ static int implicit_advance(const exdex_model *m, void *ws, double t1, int regri
                 st->fail_time = t;
                 break;
             }
+            if (m->stop_friction) {
+                int rest = fr.stick;
+                if (stop_friction_step(m, &kin_end, q, qm[2], h * model_capacity_mean(m, t, t1),
+                                       h * model_capacity_static_mean(m, t, t1), vs, v, w, vn, pfB, &rest, st)) {
+                    model_patch_of_gen(m, MODEL_CS(qm[2]), pfB, fr.p);
+                    fr.stick = rest;
+                }
+            }
             /* report the patch wrench (not the generalized impulse), in B */
             model_to_b(MODEL_CS(qm[2]), fr.p, fo);
             for (int i = 0; i < 3; i++) wrench[i] = fo[i] / h;
@@ -639,7 +800,7 @@ static int implicit_advance(const exdex_model *m, void *ws, double t1, int regri
                 v[i] = vn[i];
             }
         }
-        if (ns) {
+        if (ns || m->n_obst) {
             project_positions(m, &kin_end, q, st);
             double gmin = contact_min_gap(m, &kin_end, q);
             if (gmin < st->min_gap) st->min_gap = gmin;
@@ -662,7 +823,7 @@ static int implicit_advance(const exdex_model *m, void *ws, double t1, int regri
         hprev = h;
         kin0 = kin_end;
         st->steps++;
-        for (int k = 0; k < ns; k++) sf[k] = 0.0;
+        for (int k = 0; k < m->n_src; k++) sf[k] = 0.0;
         for (int i = 0; i < w->n_rows; i++) sf[w->row_stop[i]] += w->lam[i] / h;
         method_record(m, out, st, step, t1, q, v, wrench, stick, sf);
     } while (0);
@@ -685,6 +846,7 @@ static int implicit_run(const exdex_model *m, void *ws, double t_end, double dt,
 typedef struct implicit_state {
     double p_prev[3];
     int have_prev;
+    int fmode[MAX_ROWS];  /* the stop-friction solve's first guess: part of the state */
 } implicit_state;
 
 static void implicit_save(const void *ws, void *buf)
@@ -694,6 +856,7 @@ static void implicit_save(const void *ws, void *buf)
     memset(&x, 0, sizeof x);   /* padding too: a snapshot's checksum reads every byte */
     memcpy(x.p_prev, w->p_prev, sizeof x.p_prev);
     x.have_prev = w->have_prev;
+    memcpy(x.fmode, w->fmode, sizeof x.fmode);
     memcpy(buf, &w->S, sizeof w->S);
     memcpy((char *)buf + sizeof w->S, &x, sizeof x);
 }
@@ -702,10 +865,13 @@ static int implicit_restore(void *ws, const void *buf)
 {
     work *w = ws;
     implicit_state x;
-    memcpy(&w->S, buf, sizeof w->S);
     memcpy(&x, (const char *)buf + sizeof w->S, sizeof x);
+    for (int i = 0; i < MAX_ROWS; i++)
+        if (x.fmode[i] < FC_OFF || x.fmode[i] > FC_STICK) return EXDEX_EINVAL;
+    memcpy(&w->S, buf, sizeof w->S);
     memcpy(w->p_prev, x.p_prev, sizeof x.p_prev);
     w->have_prev = x.have_prev != 0;
+    memcpy(w->fmode, x.fmode, sizeof x.fmode);
     return EXDEX_OK;
 }
 

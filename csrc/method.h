@@ -79,7 +79,7 @@ static inline void method_record(const exdex_model *m, exdex_trajectory *out, ex
                                  const double *q, const double *v, const double wrench[3], int stick,
                                  const double *stop_force)
 {
-    int nd = m->ndof, ns = m->n_stops;
+    int nd = m->ndof, ns = m->n_src;
     out->t[i] = t;
     for (int c = 0; c < nd; c++) {
         out->q[i * (size_t)nd + c] = q[c];

@@ -139,8 +139,16 @@ static int check_fields(const exdex_scene_def *d, const char **bad_param)
         if (!ex_finite_n(d->stop_normal[k], 3) ||
             fabs(sqrt(ex_dot3(d->stop_normal[k], d->stop_normal[k])) - 1.0) > 1e-9)
             return bad(bad_param, "stop_normal");
+        if (!(isfinite(d->stop_mu[k]) && d->stop_mu[k] >= 0)) return bad(bad_param, "stop_mu");
+        if (d->stop_mu[k] > 0 && (d->method == EXDEX_METHOD_EVENT || d->method == EXDEX_METHOD_REGULARISED))
+            return bad(bad_param, "stop_mu");
     }
+    if (d->n_obstacles < 0 || d->n_obstacles > EXDEX_MAX_OBSTACLES) return bad(bad_param, "n_obstacles");
+    for (int o = 0; o < d->n_obstacles; o++)
+        if (!contact_obstacle_valid(&d->obstacles[o])) return bad(bad_param, "obstacles");
     if (d->method < EXDEX_METHOD_IMPLICIT || d->method > EXDEX_METHOD_ANALYTIC) return bad(bad_param, "method");
+    if (d->n_obstacles && d->method != EXDEX_METHOD_IMPLICIT && d->method != EXDEX_METHOD_EXPLICIT)
+        return bad(bad_param, "method");
     if (d->method == EXDEX_METHOD_ANALYTIC && exdex_analytic_unsupported(d)) return bad(bad_param, "method");
     if (d->friction_solver < EXDEX_SOLVER_SCALAR || d->friction_solver > EXDEX_SOLVER_MULTIROOT)
         return bad(bad_param, "friction_solver");
@@ -161,14 +169,15 @@ const char *exdex_analytic_unsupported(const exdex_scene_def *d)
     mo = &d->motion;
     if (d->dof != EXDEX_DOF_TRANSLATION && d->dof != EXDEX_DOF_ROTATION)
         return "the analytic method solves 1-DoF scenes (translation or rotation), not planar ones";
-    if (d->n_stops != 0) return "the analytic method solves scenes without stops";
+    if (d->n_stops != 0 || d->n_obstacles != 0) return "the analytic method solves scenes without stops";
     if (mo->kind == EXDEX_MOTION_SHAKE || mo->kind == EXDEX_MOTION_CHAIN)
         return "the analytic method needs a piecewise-constant gripper acceleration (Eq. 7, trapezoid or "
                "rest), not a shake or a chain";
-    if (d->grip_n > 1 && d->grip_forces)
+    if (d->grip_n > 1 && d->grip_forces && d->grip_kind == EXDEX_GRIP_CUBIC)
         for (size_t i = 1; i < d->grip_n; i++)
             if (d->grip_forces[i] != d->grip_forces[0])
-                return "the analytic method solves scenes with a constant grip force, not a grip schedule";
+                return "the analytic method solves a constant, piecewise-linear or step grip force, not a cubic "
+                       "grip schedule";
     if (mo->kind == EXDEX_MOTION_SAMPLED)
         return "the analytic method needs a piecewise-constant gripper acceleration (Eq. 7, trapezoid or "
                "rest), not a sampled log";
@@ -642,9 +651,20 @@ static exdex_model *build_model(const exdex_scene_def *def, int *status, const c
     for (int k = 0; k < def->n_stops; k++) {
         memcpy(m->sp[k], def->stop_point[k], sizeof m->sp[k]);
         memcpy(m->sn[k], def->stop_normal[k], sizeof m->sn[k]);
+        m->smu[k] = def->stop_mu[k];
+        m->stop_friction |= def->stop_mu[k] > 0.0;
     }
     m->n_vert = def->n_vertices;
     memcpy(m->vert, def->vertices, sizeof m->vert);
+    m->n_obst = def->n_obstacles;
+    m->n_src = m->n_stops + m->n_obst;
+    m->n_hull = contact_hull((const double (*)[2])m->vert, m->n_vert, m->hull);
+    if (m->n_obst && m->n_stops * contact_nv(m) + contact_obstacle_max_rows(m) > MAX_ROWS) {
+        exdex_model_free(m);
+        *status = EXDEX_EINVAL;
+        if (bad_param) *bad_param = "obstacles (more contact rows than the core holds)";
+        return NULL;
+    }
     model_set_scales(m);
     /* no vertex may start beyond a stop */
     if (m->n_stops) {
@@ -664,6 +684,28 @@ static exdex_model *build_model(const exdex_scene_def *def, int *status, const c
             exdex_model_free(m);
             *status = st;
             if (bad_param) *bad_param = "q0 (the object starts beyond a stop)";
+            return NULL;
+        }
+    }
+    /* nor inside an obstacle */
+    if (m->n_obst) {
+        exdex_kinematics kin;
+        double q[3], G[MAX_ROWS][3], g[MAX_ROWS], rnd[MAX_ROWS];
+        if (m->ndof == 3) {
+            memcpy(q, def->q0, sizeof q);
+        } else {
+            q[0] = def->dof == EXDEX_DOF_TRANSLATION ? m->s0 : m->th0;
+        }
+        st = exdex_motion_eval(m->motion, 0.0, &kin);
+        if (!st) {
+            int no = contact_obstacle_rows(m, &kin, q, G, g, rnd, NULL);
+            for (int i = 0; i < no; i++)
+                if (g[i] < -m->tol.start_gap) st = EXDEX_EINVAL;
+        }
+        if (st) {
+            exdex_model_free(m);
+            *status = st;
+            if (bad_param) *bad_param = "q0 (the object starts inside an obstacle)";
             return NULL;
         }
     }
@@ -698,7 +740,7 @@ int exdex_scene_check(const exdex_scene_def *d, const char **bad_param)
 }
 
 int exdex_model_ndof(const exdex_model *m) { return m ? m->ndof : 0; }
-int exdex_model_nstops(const exdex_model *m) { return m ? m->n_stops : 0; }
+int exdex_model_nstops(const exdex_model *m) { return m ? m->n_src : 0; }
 
 int exdex_model_grip(const exdex_model *m, double t, double *force, double *rate)
 {

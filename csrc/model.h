@@ -96,6 +96,13 @@ struct exdex_model {
     double cap_ratio;
     double capks;
     double capS;
+    /* convex obstacles (def.obstacles): their rows follow the stops' */
+    int n_obst;
+    int n_src;              /* n_stops + n_obst: the stop_force columns */
+    int n_hull;             /* convex hull of the outline (C, counter-clockwise) */
+    double hull[EXDEX_MAX_VERTICES][2];
+    double smu[EXDEX_MAX_STOPS];  /* Coulomb coefficient of each stop */
+    int stop_friction;            /* 1 if some stop has smu > 0 */
 };
 
 /* ------------------------------------------------ grip force, capacity
@@ -157,6 +164,13 @@ size_t model_grip_breaks(const exdex_model *m, double t_end, double *ts);
 typedef struct frame {
     double gB[3], a0[3], w[3], dw[3];
 } frame;
+
+/* Coulomb coefficient of the contact rows of source k (a stop index; 0
+ * for a source without friction data). */
+static inline double model_source_mu(const exdex_model *m, int k)
+{
+    return k >= 0 && k < m->n_stops ? m->smu[k] : 0.0;
+}
 
 /* Rotation by angle th about z applied to a plane vector. */
 static inline void rot2(double out[2], double th, const double v[2])

@@ -39,7 +39,7 @@ const method_impl *method_get(int method)
  * capacity mu N that overflows makes the explicit friction infinite). */
 static int output_finite(const exdex_model *m, const exdex_trajectory *out)
 {
-    size_t n = out->n, nq = n * (size_t)m->ndof, ns = n * (size_t)m->n_stops;
+    size_t n = out->n, nq = n * (size_t)m->ndof, ns = n * (size_t)m->n_src;
     for (size_t i = 0; i < nq; i++)
         if (!isfinite(out->q[i]) || !isfinite(out->v[i])) return 0;
     for (size_t i = 0; i < 3 * n; i++)
@@ -84,7 +84,7 @@ static double base_after(const exdex_trajectory *out, int ns, int k, size_t j)
 static void impacts_from_steps(const exdex_model *m, const exdex_trajectory *out, exdex_stats *st)
 {
     size_t n = out->n;
-    int ns = m->n_stops;
+    int ns = m->n_src;
     for (int k = 0; k < ns; k++)
         for (size_t i = 1; i < n; i++) {
             double P = step_impulse(out, ns, k, i), peak = P, sum = P;
@@ -116,7 +116,7 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajecto
     void *ws;
     exdex_stats st;
     if (!m || !out || n == 0 || out->n != n || !out->t || !out->q || !out->v || !out->wrench ||
-        !out->stick || (m->n_stops && !out->stop_force))
+        !out->stick || (m->n_src && !out->stop_force))
         return EXDEX_EINVAL;
     if (m->def.method < EXDEX_METHOD_IMPLICIT || m->def.method > EXDEX_METHOD_ANALYTIC) return EXDEX_EINVAL;
     impl = methods[m->def.method];
@@ -135,13 +135,13 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajecto
     }
     out->wrench[0] = out->wrench[1] = out->wrench[2] = 0.0;
     out->stick[0] = (v[0] == 0.0 && (nd == 1 || (v[1] == 0.0 && v[2] == 0.0)));
-    for (int k = 0; k < m->n_stops; k++) out->stop_force[k] = 0.0;
+    for (int k = 0; k < m->n_src; k++) out->stop_force[k] = 0.0;
     ws = impl->alloc(m, &status);
     if (!ws) return status ? status : EXDEX_ENOMEM;
     status = impl->run(m, ws, t_end, dt, out, &st);
     impl->free(ws);
     if (status == EXDEX_OK && !impl->checks_finite && !output_finite(m, out)) status = EXDEX_ENONFINITE;
-    if (status == EXDEX_OK && impl->impacts_from_steps && m->n_stops) impacts_from_steps(m, out, &st);
+    if (status == EXDEX_OK && impl->impacts_from_steps && m->n_src) impacts_from_steps(m, out, &st);
     if (status != EXDEX_OK && st.fail_cause == EXDEX_FAIL_NONE)
         st.fail_cause = status == EXDEX_ENOCONV ? EXDEX_FAIL_SOLVER : EXDEX_FAIL_NONFINITE;
     if (stats) *stats = st;

@@ -49,7 +49,7 @@ struct exdex_stepper {
     const method_impl *impl;
     void *ws;
     /* the one-row output of advance */
-    double t1, q[3], v[3], wr[3], sf[EXDEX_MAX_STOPS];
+    double t1, q[3], v[3], wr[3], sf[EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES];
     unsigned char stick;
     exdex_trajectory out;
 };
@@ -116,7 +116,7 @@ exdex_stepper *exdex_stepper_alloc(const exdex_model *m, int *status)
     s->c.model = m;
     s->c.method = m->def.method;
     s->c.ndof = m->ndof;
-    s->c.n_stops = m->n_stops;
+    s->c.n_stops = m->n_src;
     s->c.grip = NAN;
     s->c.st.min_gap = INFINITY;
     s->c.st.first_warning_t = NAN;
@@ -180,7 +180,7 @@ int exdex_stepper_step(exdex_stepper *s, double dt, double grip_force)
     status = s->impl->advance(&s->mc, s->ws, t1, regrip, &s->out, 0, &c->st);
     nd = s->mc.ndof;
     if (status == EXDEX_OK && !s->impl->checks_finite &&
-        !(finite_n(s->q, nd) && finite_n(s->v, nd) && finite_n(s->wr, 3) && finite_n(s->sf, s->mc.n_stops)))
+        !(finite_n(s->q, nd) && finite_n(s->v, nd) && finite_n(s->wr, 3) && finite_n(s->sf, s->mc.n_src)))
         status = EXDEX_ENONFINITE;
     if (status) goto failed;
     c->t = t1;
@@ -197,7 +197,7 @@ int exdex_stepper_step(exdex_stepper *s, double dt, double grip_force)
     memcpy(c->last.v, s->v, (size_t)nd * sizeof *s->v);
     memcpy(c->last.wrench, s->wr, sizeof s->wr);
     c->last.stick = s->stick;
-    memcpy(c->last.stop_force, s->sf, (size_t)s->mc.n_stops * sizeof *s->sf);
+    memcpy(c->last.stop_force, s->sf, (size_t)s->mc.n_src * sizeof *s->sf);
     c->last.grip_force = grip_force;
     c->last.steps++;
     return EXDEX_OK;

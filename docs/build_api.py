@@ -13,7 +13,7 @@ import warnings
 
 #: The documented modules: the package and its public submodules.
 MODULES = ["exdex", "exdex.scene", "exdex.simulate", "exdex.stepper", "exdex.batch", "exdex.io", "exdex.animation",
-           "exdex.tool", "exdex.paper", "exdex.engines", "exdex.bench"]
+           "exdex.tool", "exdex.paper", "exdex.plan", "exdex.sequence", "exdex.fit", "exdex.engines", "exdex.bench"]
 
 
 def build(out):

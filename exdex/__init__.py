@@ -15,8 +15,8 @@ Units are SI; frames are described in :mod:`exdex.scene`. ``import exdex``
 needs only NumPy; plotting and progress bars need the ``plot`` extra
 (matplotlib, tqdm), the engine cross-checks the ``engines`` extra.
 """
-from exdex.scene import (AsymmetricProfile, Body, Chain, Grasp, GripSchedule, Patch, Pause, Rest, SampledTrajectory,
-                         Scene, Shake, Stop, TrapezoidalProfile, replace)
+from exdex.scene import (AsymmetricProfile, Body, Chain, Grasp, GripSchedule, Obstacle, Patch, Pause, Rest,
+                         SampledTrajectory, Scene, Shake, Stop, TrapezoidalProfile, replace)
 from exdex.simulate import GripperJumpWarning, Model, PhysicsWarning, Result, SolverError, simulate
 from exdex.stepper import Stepper, StepperSnapshot, StepperState  # noqa: E402  (feedback control)
 from exdex.batch import BatchResult, simulate_batch, sweep  # noqa: E402
@@ -33,7 +33,8 @@ from exdex._optional import MissingExtraError  # noqa: E402
 __version__ = "0.1.0"
 
 __all__ = [
-    "AsymmetricProfile", "Body", "Grasp", "GripSchedule", "Patch", "Rest", "SampledTrajectory", "Scene", "Stop",
+    "AsymmetricProfile", "Body", "Grasp", "GripSchedule", "Obstacle", "Patch", "Rest", "SampledTrajectory", "Scene",
+    "Stop",
     "TrapezoidalProfile", "Shake", "Pause", "Chain", "replace", "Model", "Result", "SolverError", "PhysicsWarning",
     "GripperJumpWarning", "Stepper", "StepperState", "StepperSnapshot",
     "MissingExtraError", "simulate", "BatchResult", "simulate_batch", "sweep", "load_scene", "save_scene", "paper",

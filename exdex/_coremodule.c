@@ -157,6 +157,71 @@ static int sampled_options(PyObject *spec, exdex_motion_def *mo)
     return 0;
 }
 
+/* One obstacle from its dict: kind (int), and face_points / face_normals
+ * ((k, 3), polytope) or center, axis (3) and radius (cylinder). */
+static int obstacle_from_dict(PyObject *d, exdex_obstacle_def *o)
+{
+    memset(o, 0, sizeof *o);
+    if (!PyDict_Check(d)) {
+        PyErr_SetString(PyExc_TypeError, "'obstacles' must be a list of dicts (use exdex.Obstacle)");
+        return -1;
+    }
+    if (dict_int(d, "kind", &o->kind)) return -1;
+    if (o->kind == EXDEX_OBSTACLE_POLYTOPE) {
+        npy_intp nfp, nfn;
+        PyArrayObject *fp = dict_rows(d, "face_points", 3, EXDEX_MAX_FACES, &nfp), *fn;
+        if (!fp) return -1;
+        fn = dict_rows(d, "face_normals", 3, EXDEX_MAX_FACES, &nfn);
+        if (!fn) {
+            Py_DECREF(fp);
+            return -1;
+        }
+        if (nfp != nfn) {
+            PyErr_SetString(PyExc_ValueError, "'face_points' and 'face_normals' must have the same length");
+            Py_DECREF(fp);
+            Py_DECREF(fn);
+            return -1;
+        }
+        o->n_faces = (int)nfp;
+        if (nfp) {
+            memcpy(o->face_point, PyArray_DATA(fp), (size_t)nfp * 3 * sizeof(double));
+            memcpy(o->face_normal, PyArray_DATA(fn), (size_t)nfn * 3 * sizeof(double));
+        }
+        Py_DECREF(fp);
+        Py_DECREF(fn);
+        return 0;
+    }
+    if (dict_doubles(d, "center", o->center, 3) || dict_doubles(d, "axis", o->axis, 3) ||
+        dict_double(d, "radius", &o->radius))
+        return -1;
+    return 0;
+}
+
+/* Optional 'obstacles' key: a sequence of obstacle dicts. */
+static int obstacles_from_dict(PyObject *spec, exdex_scene_def *def)
+{
+    PyObject *obj = PyDict_GetItemString(spec, "obstacles"), *seq;
+    Py_ssize_t n;
+    def->n_obstacles = 0;
+    if (!obj || obj == Py_None) return 0;
+    seq = PySequence_Fast(obj, "'obstacles' must be a sequence of obstacle dicts");
+    if (!seq) return -1;
+    n = PySequence_Fast_GET_SIZE(seq);
+    if (n > EXDEX_MAX_OBSTACLES) {
+        PyErr_Format(PyExc_ValueError, "'obstacles' holds at most %d obstacles", EXDEX_MAX_OBSTACLES);
+        Py_DECREF(seq);
+        return -1;
+    }
+    for (Py_ssize_t i = 0; i < n; i++)
+        if (obstacle_from_dict(PySequence_Fast_GET_ITEM(seq, i), &def->obstacles[i])) {
+            Py_DECREF(seq);
+            return -1;
+        }
+    def->n_obstacles = (int)n;
+    Py_DECREF(seq);
+    return 0;
+}
+
 /* Store `item` (a new reference, stolen) at index i of the object array keep. */
 static void keep_item(PyArrayObject *keep, npy_intp i, PyObject *item)
 {
@@ -321,12 +386,25 @@ static int scene_from_dict(PyObject *spec, exdex_scene_def *def, PyArrayObject *
         PyErr_SetString(PyExc_ValueError, "'stop_points' and 'stop_normals' must have the same length");
         goto fail;
     }
+    if (obstacles_from_dict(spec, def)) goto fail;
     def->n_vertices = (int)nv;
     if (nv) memcpy(def->vertices, PyArray_DATA(verts), (size_t)nv * 2 * sizeof(double));
     def->n_stops = (int)nsp;
     if (nsp) {
         memcpy(def->stop_point, PyArray_DATA(sp), (size_t)nsp * 3 * sizeof(double));
         memcpy(def->stop_normal, PyArray_DATA(sn), (size_t)nsn * 3 * sizeof(double));
+    }
+    /* optional: each stop's friction coefficient (absent: frictionless) */
+    if (PyDict_GetItemString(spec, "stop_mus")) {
+        PyArrayObject *smu = as_doubles(PyDict_GetItemString(spec, "stop_mus"), -1, "stop_mus");
+        if (!smu) goto fail;
+        if (PyArray_NDIM(smu) != 1 || PyArray_DIM(smu, 0) != nsp) {
+            PyErr_SetString(PyExc_ValueError, "'stop_mus' must have one entry per stop");
+            Py_DECREF(smu);
+            goto fail;
+        }
+        if (nsp) memcpy(def->stop_mu, PyArray_DATA(smu), (size_t)nsp * sizeof(double));
+        Py_DECREF(smu);
     }
     if (PyDict_GetItemString(spec, "motion_frequency") &&
         dict_double(spec, "motion_frequency", &def->motion.frequency))
@@ -1220,6 +1298,49 @@ done:
     return result;
 }
 
+PyDoc_STRVAR(obstacle_section_doc,
+"obstacle_section(obstacle, R, p)\n--\n\n"
+"Section of an obstacle (dict as in a scene spec's 'obstacles') by the plate plane of\n"
+"the gripper pose R (3x3 R_AB), p (3,): a polytope gives its polygon's vertices (k, 2)\n"
+"in B, counter-clockwise (finite vertices only); a cylinder gives (centre (2,),\n"
+"(a, b, angle)) of its ellipse, or None when the axis lies in the plane.");
+
+static PyObject *core_obstacle_section(PyObject *module, PyObject *args)
+{
+    PyObject *od, *Ro, *po;
+    exdex_obstacle_def o;
+    double R[9], p[3], xy[EXDEX_MAX_FACES][2], ab[3];
+    PyArrayObject *Ra, *pa;
+    int n;
+    (void)module;
+    if (!PyArg_ParseTuple(args, "OOO", &od, &Ro, &po)) return NULL;
+    if (obstacle_from_dict(od, &o)) return NULL;
+    Ra = as_doubles(Ro, 9, "R");
+    if (!Ra) return NULL;
+    memcpy(R, PyArray_DATA(Ra), sizeof R);
+    Py_DECREF(Ra);
+    pa = as_doubles(po, 3, "p");
+    if (!pa) return NULL;
+    memcpy(p, PyArray_DATA(pa), sizeof p);
+    Py_DECREF(pa);
+    n = exdex_obstacle_section(&o, R, p, xy, ab);
+    if (n < 0) {
+        PyErr_SetString(PyExc_ValueError, "obstacle, R or p invalid (non-finite, or not a valid obstacle)");
+        return NULL;
+    }
+    if (o.kind == EXDEX_OBSTACLE_CYLINDER) {
+        if (n == 0) Py_RETURN_NONE;
+        return Py_BuildValue("(dd)(ddd)", xy[0][0], xy[0][1], ab[0], ab[1], ab[2]);
+    }
+    {
+        npy_intp dims[2] = {n, 2};
+        PyObject *out = PyArray_SimpleNew(2, dims, NPY_DOUBLE);
+        if (!out) return NULL;
+        if (n) memcpy(PyArray_DATA((PyArrayObject *)out), xy, (size_t)n * 2 * sizeof(double));
+        return out;
+    }
+}
+
 static PyObject *core_er_disc(PyObject *module, PyObject *arg)
 {
     double r = PyFloat_AsDouble(arg);
@@ -1259,7 +1380,7 @@ static PyObject *core_n_samples(PyObject *module, PyObject *args)
 /* Scalar fields of exdex_scene_def a batch may vary from a base spec (`vary`). */
 static const char *const vary_keys[] = {"mass", "mu", "grip_force", "e_r", "motion_amplitude",
                                         "motion_duration", "motion_beta", "motion_v_max", "eps",
-                                        "rtol", "atol", "mu_static", NULL};
+                                        "rtol", "atol", "mu_static", "patch_center_x", "patch_center_y", NULL};
 
 static double *vary_field(exdex_scene_def *d, int which)
 {
@@ -1275,6 +1396,8 @@ static double *vary_field(exdex_scene_def *d, int which)
     case 8: return &d->eps;
     case 9: return &d->rtol;
     case 11: return &d->mu_static;
+    case 12: return &d->patch_center[0];
+    case 13: return &d->patch_center[1];
     default: return &d->atol;
     }
 }
@@ -1518,7 +1641,8 @@ static Py_ssize_t parse_vary(PyObject *vary, int *which, PyArrayObject **arrays,
         if (w < 0) {
             PyErr_Format(PyExc_ValueError,
                          "vary: unknown key '%s' (allowed: mass, mu, grip_force, e_r, motion_amplitude, "
-                         "motion_duration, motion_beta, motion_v_max, eps, rtol, atol, mu_static)", name);
+                         "motion_duration, motion_beta, motion_v_max, eps, rtol, atol, mu_static, patch_center_x, "
+                         "patch_center_y)", name);
             return -1;
         }
         arrays[*nvary] = (PyArrayObject *)PyArray_FROMANY(val, NPY_DOUBLE, 1, 1, NPY_ARRAY_IN_ARRAY);
@@ -1555,7 +1679,8 @@ PyDoc_STRVAR(simulate_batch_doc,
 "vary : optional dict {spec key: 1-D float64 array of the batch length}; entry\n"
 "    i replaces that scalar of spec i (keys: mass, mu, grip_force, e_r,\n"
 "    motion_amplitude, motion_duration, motion_beta, motion_v_max, eps, rtol,\n"
-"    atol, mu_static). With a single spec dict it sets the batch length.\n"
+"    atol, mu_static, patch_center_x, patch_center_y). With a single spec\n"
+"    dict it sets the batch length.\n"
 "record : 'all' returns q, v (B, n, ndof), wrench (B, n, 3), stick (B, n),\n"
 "    stop_force (B, n, n_stops); 'final' only their last sample, q, v (B, ndof),\n"
 "    wrench (B, 3), stick (B,), stop_force (B, n_stops).\n"
@@ -1849,6 +1974,7 @@ static PyMethodDef core_methods[] = {
     {"grip_eval", (PyCFunction)(void (*)(void))core_grip_eval, METH_VARARGS | METH_KEYWORDS, grip_eval_doc},
     {"friction_solve", (PyCFunction)(void (*)(void))core_friction_solve, METH_VARARGS | METH_KEYWORDS,
      friction_solve_doc},
+    {"obstacle_section", core_obstacle_section, METH_VARARGS, obstacle_section_doc},
     {"er_disc", core_er_disc, METH_O, "e_r [m] of a uniform pressure disc of radius R: 2R/3 (NaN if R <= 0)."},
     {"er_rectangle", core_er_rectangle, METH_VARARGS,
      "e_r [m] of a uniform pressure rectangle with half-sides a, b (NaN if not positive)."},
@@ -1860,6 +1986,10 @@ static PyMethodDef core_methods[] = {
 static const expy_constant core_constants[] = {
     {"MAX_STOPS", EXDEX_MAX_STOPS},
     {"MAX_VERTICES", EXDEX_MAX_VERTICES},
+    {"MAX_OBSTACLES", EXDEX_MAX_OBSTACLES},
+    {"MAX_FACES", EXDEX_MAX_FACES},
+    {"OBSTACLE_POLYTOPE", EXDEX_OBSTACLE_POLYTOPE},
+    {"OBSTACLE_CYLINDER", EXDEX_OBSTACLE_CYLINDER},
     {"STATUS_OK", EXDEX_OK},
     {"STATUS_EINVAL", EXDEX_EINVAL},
     {"STATUS_ENOMEM", EXDEX_ENOMEM},

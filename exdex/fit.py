@@ -3,8 +3,8 @@ uncertain parameters from an observed in-hand trajectory.
 
 :func:`sensitivity` gives d q(t_end) / dp and d qd(t_end) / dp for scalar
 scene parameters (any :func:`exdex.simulate_batch` parameter: ``mu``,
-``grip_force``, ``mass``, ``e_r``, ``beta``, ``duration``, ``amplitude``,
-``v_max``) by central differences on a ladder of steps, all evaluated in one
+``mu_static`` (kept >= mu), ``grip_force``, ``mass``, ``e_r``, ``beta``,
+``duration``, ``amplitude``, ``v_max``) by central differences on a ladder of steps, all evaluated in one
 batch, with Richardson extrapolation and an error estimate from the ladder
 (the difference of successive extrapolations). Where the solution is
 piecewise polynomial in the parameter (the analytic 1-DoF path: positions
@@ -40,22 +40,37 @@ from numpy.typing import ArrayLike
 
 from exdex.batch import PARAMETERS, _replace_params, simulate_batch
 from exdex.plan import _param_name
-from exdex.scene import Scene, _real
+from exdex.scene import GripSchedule, Scene, _real
 from exdex.simulate import resolve_method
 
 __all__ = ["Sensitivity", "sensitivity", "EventTimes", "event_times", "EventSensitivity", "event_sensitivity",
            "Identification", "identify"]
 
 
+def _batch_method(scene, method, names):
+    """The method of a batch varying ``names``: ``resolve_method``, except that
+    "auto" stays off the analytic path when the pad centre varies (the
+    analytic path needs a rotation scene's pivot at the centre of mass)."""
+    if method == "auto" and any(n in ("patch_x", "patch_y") for n in names):
+        return "event"
+    return resolve_method(scene, method)
+
+
 def _value_of(scene, name):
+    if name == "mu_static":   # None: equal to mu
+        return float(scene.grasp.static_mu)
     obj = scene
     for part in PARAMETERS[name].path:
-        obj = getattr(obj, part)
+        obj = obj[part] if isinstance(part, int) else getattr(obj, part)
+    if isinstance(obj, GripSchedule):
+        return 1.0  # grip_force on a schedule is a factor on it (batch.py), 1 for the schedule as given
     return float(obj)
 
 
-def _inside(name, x):
+def _inside(name, x, scene=None):
     p = PARAMETERS[name]
+    if name == "mu_static" and scene is not None and x < scene.grasp.mu:
+        return False          # the static coefficient stays >= mu
     if p.low is not None and (x <= p.low if p.low_open else x < p.low):
         return False
     if p.high is not None and (x >= p.high if p.high_open else x > p.high):
@@ -118,7 +133,7 @@ def sensitivity(scene: Scene, params: Sequence[str], t_end: float, *, dt: Option
     rel_step = _real(rel_step, "rel_step", low=0.0, high=0.5, low_open=True)
     if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or not 2 <= levels <= 20:
         raise ValueError(f"levels must be an int in [2, 20], got {levels!r}")
-    method = resolve_method(scene, method)
+    method = _batch_method(scene, method, names)
     opts: Dict[str, Any] = dict(method=method, rtol=rtol, atol=atol, eps=eps, record="final")
     dq: List[np.ndarray] = []
     dv: List[np.ndarray] = []
@@ -128,7 +143,7 @@ def sensitivity(scene: Scene, params: Sequence[str], t_end: float, *, dt: Option
         p0 = _value_of(scene, name)
         vals[name] = p0
         h = rel_step * (abs(p0) if p0 != 0.0 else 1.0)
-        while not (_inside(name, p0 - h) and _inside(name, p0 + h)) and h > 1e-300:
+        while not (_inside(name, p0 - h, scene) and _inside(name, p0 + h, scene)) and h > 1e-300:
             h *= 0.5
         if not h > 1e-300:
             raise ValueError(f"cannot step {name!r} = {p0:g} inside its range {PARAMETERS[name].describe()}")
@@ -237,8 +252,10 @@ class EventSensitivity:
     params, values : the parameters and their values; times : the
     :class:`EventTimes` at those values. donset, dstop : (n_params,)
     d onset / dp and d stop / dp [s per unit of p]; onset_error, stop_error :
-    their estimated errors (the spread of the Richardson ladder); NaN where
-    the event does not exist at the nominal values.
+    their estimated errors (the spread of the Richardson ladder; 0 when
+    exact); NaN where the event does not exist at the nominal values.
+    exact : True when the derivatives were carried exactly through the
+    piecewise-analytic solution rather than differenced.
     """
 
     params: Tuple[str, ...]
@@ -248,11 +265,151 @@ class EventSensitivity:
     dstop: np.ndarray
     onset_error: np.ndarray
     stop_error: np.ndarray
+    exact: bool = False
 
     def __repr__(self) -> str:
         rows = ", ".join(f"d onset/d {p} = {self.donset[i]:.6g} (+- {self.onset_error[i]:.1g}), d stop/d {p} = "
                          f"{self.dstop[i]:.6g} (+- {self.stop_error[i]:.1g})" for i, p in enumerate(self.params))
         return f"EventSensitivity(onset {self.times.onset:.9g} s, stop {self.times.stop:.9g} s; {rows})"
+
+
+class _Dual:
+    """A value and its gradient (forward-mode differentiation): arithmetic
+    carries exact first derivatives, comparisons look at the value."""
+
+    __slots__ = ("v", "g")
+
+    def __init__(self, v, g):
+        self.v, self.g = float(v), np.asarray(g, dtype=float)
+
+    @staticmethod
+    def _lift(x, n):
+        return x if isinstance(x, _Dual) else _Dual(x, np.zeros(n))
+
+    def __add__(self, o):
+        o = _Dual._lift(o, len(self.g))
+        return _Dual(self.v + o.v, self.g + o.g)
+
+    __radd__ = __add__
+
+    def __sub__(self, o):
+        o = _Dual._lift(o, len(self.g))
+        return _Dual(self.v - o.v, self.g - o.g)
+
+    def __rsub__(self, o):
+        return _Dual._lift(o, len(self.g)) - self
+
+    def __mul__(self, o):
+        o = _Dual._lift(o, len(self.g))
+        return _Dual(self.v * o.v, self.g * o.v + self.v * o.g)
+
+    __rmul__ = __mul__
+
+    def __truediv__(self, o):
+        o = _Dual._lift(o, len(self.g))
+        return _Dual(self.v / o.v, (self.g * o.v - self.v * o.g) / (o.v * o.v))
+
+    def __rtruediv__(self, o):
+        return _Dual._lift(o, len(self.g)) / self
+
+    def __neg__(self):
+        return _Dual(-self.v, -self.g)
+
+
+def _dual_events(phases, capacity, n):
+    """Slip onsets and stops [(time as _Dual, kind)] of the 1-DoF Coulomb
+    problem x'' = d(t) + f, |f| <= capacity, exact stick, from rest: the
+    algorithm of exdex.paper.coulomb_1dof (phases of constant drive, stops at
+    t = -v / a) on dual numbers, so each event time carries its exact
+    derivative with respect to the parameters the inputs depend on; and the
+    smallest relative margin | |d| - capacity | / max of the two met by a
+    rest test (near 0: the grasp is at a threshold where a slip can appear
+    or vanish, and the derivative is one-sided)."""
+    zero = _Dual(0.0, np.zeros(n))
+    v, moving, events = zero, False, []
+    margin = math.inf
+    for ta, tb, d in phases:
+        t = ta
+        while t.v < tb.v:
+            if v.v == 0.0:
+                margin = min(margin, abs(abs(d.v) - capacity.v) / max(capacity.v, abs(d.v), 1e-300))
+                if abs(d.v) <= capacity.v:
+                    if moving:
+                        events.append((t, "stick"))
+                        moving = False
+                    break
+                if not moving:
+                    events.append((t, "slip"))
+                    moving = True
+                a = d - capacity if d.v > 0 else d + capacity
+            else:
+                a = d - capacity if v.v > 0 else d + capacity
+                if a.v * v.v < 0:
+                    ts = -v / a
+                    if (t + ts).v < tb.v:
+                        v = zero
+                        t = t + ts
+                        continue
+            if math.isfinite(tb.v):
+                v = v + a * (tb - t)
+            t = tb
+    return events, margin
+
+
+def _exact_event_derivatives(scene, names, t_end):
+    """(d onset / dp, d stop / dp, threshold margin) exactly, for scenes of the closed form
+    (exdex.paper.closed_form: 1-DoF, Eq. 7 motion, no stops, pivot at the
+    centre of mass, constant grip) and parameters among mu, grip_force,
+    mass, e_r, amplitude, duration, beta; None otherwise."""
+    from exdex import paper
+    from exdex.scene import AsymmetricProfile
+    allowed = ("mu", "grip_force", "mass", "e_r", "amplitude", "duration", "beta")
+    if not isinstance(scene.motion, AsymmetricProfile) or any(n not in allowed for n in names) or \
+            not isinstance(scene.grasp.grip_force, (int, float)) or \
+            getattr(scene.grasp, "mu_static", None) not in (None, scene.grasp.mu):
+        return None
+    try:
+        paper.closed_form(scene)
+    except (ValueError, TypeError):
+        return None
+    k = len(names)
+
+    def var(name, value):
+        g = np.zeros(k)
+        if name in names:
+            g[names.index(name)] = 1.0
+        return _Dual(value, g)
+
+    mo = scene.motion
+    X1, T, beta = var("amplitude", mo.amplitude), var("duration", mo.duration), var("beta", mo.beta)
+    a_h = 2.0 * X1 / (beta * T * T)
+    a_l = 2.0 * X1 / ((beta - 1.0) * T * T)
+    t1, t2, t3 = beta * T, (2.0 - beta) * T, 2.0 * T
+    cap = var("mu", scene.grasp.mu) * scene.grasp.fingers * var("grip_force", float(scene.grasp.grip_force))
+    if scene.dof == "translation":
+        e = paper._world_dir(scene, scene.slide_axis)
+        g_e, kk = float(np.dot(scene.gravity, e)), float(np.dot(mo.axis, e))
+        drive = [g_e - a_h * kk, g_e - a_l * kk, g_e - a_h * kk, g_e + 0.0 * a_h]
+        c = cap / var("mass", scene.body.mass)
+    else:
+        kk = float(np.dot(mo.axis, np.array(scene.gripper_rotation)[:, 2]))
+        drive = [-a_h * kk, -a_l * kk, -a_h * kk, 0.0 * a_h]
+        c = cap * var("e_r", scene.grasp.patch.e_r) / float(np.asarray(scene.body.inertia)[2, 2])
+    zero = _Dual(0.0, np.zeros(k))
+    inf = _Dual(math.inf, np.zeros(k))
+    phases = [(zero, t1, drive[0]), (t1, t2, drive[1]), (t2, t3, drive[2]), (t3, inf, drive[3])]
+    events, margin = _dual_events(phases, c, k)
+    ev = [(t, kind) for t, kind in events if t.v <= t_end]
+    nan = np.full(k, math.nan)
+    slips = [t for t, kind in ev if kind == "slip"]
+    donset = slips[0].g if slips else nan
+    if not ev:
+        dstop = nan
+    elif ev[-1][1] == "stick":
+        dstop = ev[-1][0].g
+    else:
+        dstop = np.full(k, math.nan)   # still moving at t_end
+    return donset, dstop, margin
 
 
 def _richardson(D):
@@ -269,18 +426,27 @@ def _richardson(D):
 
 def event_sensitivity(scene: Scene, params: Sequence[str], t_end: float, *, method: str = "auto",
                       rtol: float = 1e-10, atol: float = 1e-12, eps: float = 1e-4, rel_step: float = 1e-4,
-                      levels: int = 4, n_grid: int = 1024) -> EventSensitivity:
+                      levels: int = 4, n_grid: int = 1024, exact_if_possible: bool = True) -> EventSensitivity:
     """d onset / dp and d stop / dp of :func:`event_times` for each named parameter.
 
     Central differences of the bisected event times at steps h, h/2, ...,
     h/2^(levels-1) (h = rel_step |p|, kept inside the parameter's range),
     Richardson extrapolation, the error from the ladder (as
     :func:`sensitivity`). The times are bisected to about 1e-13 s, so the
-    differences carry an error of about 1e-13 / h. Where the time is a
-    switch of a piecewise-constant drive (an Eq. 7 phase boundary) it is
-    piecewise linear in the motion parameters and constant in the grasp
-    parameters, and the extrapolation is exact up to that rounding; an event
-    that appears or vanishes inside the step shows as a large error.
+    differences carry an error of about 1e-13 / h; an event that appears or
+    vanishes inside the step shows as a large error.
+
+    Exact where the solution is piecewise analytic: for 1-DoF scenes of the
+    closed form (an Eq. 7 motion, no stops, the pivot at the centre of mass,
+    a constant grip; ``exdex.paper.closed_form``) and parameters among mu,
+    grip_force, mass, e_r, amplitude, duration and beta, the event times are
+    phase switches (beta T, (2 - beta) T, 2 T) or roots t = -v / a of the
+    phase's linear speed, and their derivatives are carried through that
+    algorithm by forward-mode differentiation (``exact`` True, errors 0;
+    inf at a stick/slip threshold, relative margin below 1e-6, where a slip
+    can appear or vanish and the derivative is one-sided);
+    ``exact_if_possible=False`` forces the differences. The event times
+    themselves are always the bisected ones of :func:`event_times`.
     """
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be an exdex.Scene, got {type(scene).__name__}")
@@ -294,6 +460,15 @@ def event_sensitivity(scene: Scene, params: Sequence[str], t_end: float, *, meth
         raise ValueError(f"levels must be an int in [2, 20], got {levels!r}")
     kw: Dict[str, Any] = dict(method=method, rtol=rtol, atol=atol, eps=eps, n_grid=n_grid)
     nominal = event_times(scene, t_end, **kw)
+    exact = _exact_event_derivatives(scene, list(names), float(t_end)) if exact_if_possible else None
+    if exact is not None:
+        # at a stick/slip threshold (relative margin below 1e-6) a slip can
+        # appear or vanish with the parameter: the derivative is one-sided,
+        # which the error states as inf
+        errs = np.zeros(len(names)) if exact[2] > 1e-6 else np.full(len(names), math.inf)
+        return EventSensitivity(params=names, values={n: _value_of(scene, n) for n in names}, times=nominal,
+                                donset=np.asarray(exact[0], dtype=float), dstop=np.asarray(exact[1], dtype=float),
+                                onset_error=errs, stop_error=errs.copy(), exact=True)
     don: List[float] = []
     dst: List[float] = []
     eon: List[float] = []
@@ -303,7 +478,7 @@ def event_sensitivity(scene: Scene, params: Sequence[str], t_end: float, *, meth
         p0 = _value_of(scene, name)
         vals[name] = p0
         h = rel_step * (abs(p0) if p0 != 0.0 else 1.0)
-        while not (_inside(name, p0 - h) and _inside(name, p0 + h)) and h > 1e-300:
+        while not (_inside(name, p0 - h, scene) and _inside(name, p0 + h, scene)) and h > 1e-300:
             h *= 0.5
         if not h > 1e-300:
             raise ValueError(f"cannot step {name!r} = {p0:g} inside its range {PARAMETERS[name].describe()}")
@@ -447,7 +622,10 @@ def identify(scene: Scene, times: ArrayLike, observed: ArrayLike, params: Mappin
         b: Any = params[raw]
         P = PARAMETERS[n]
         if b is None:
-            lows.append(-np.inf if P.low is None else P.low)
+            if n == "mu_static" and "mu" not in names:   # the static coefficient stays >= mu
+                lows.append(max(P.low or 0.0, scene.grasp.mu))
+            else:
+                lows.append(-np.inf if P.low is None else P.low)
             highs.append(np.inf if P.high is None else P.high)
         else:
             try:
@@ -469,7 +647,7 @@ def identify(scene: Scene, times: ArrayLike, observed: ArrayLike, params: Mappin
         on_grid = t[0] == 0.0 and np.allclose(steps, np.round(steps), rtol=0, atol=1e-9)
         dt = float(t[1] - t[0]) if on_grid else float(np.min(np.diff(t))) / 8
     dt = _real(dt, "dt", low=0.0, low_open=True, high=t_end)
-    method = resolve_method(scene, method)
+    method = _batch_method(scene, method, names)
     opts: Dict[str, Any] = dict(method=method, rtol=rtol, atol=atol, eps=eps, record="all")
     scale = np.where(x0 != 0.0, np.abs(x0), 1.0)
 

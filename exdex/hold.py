@@ -230,8 +230,10 @@ def plot(curves, path, t_end, margin=3.0):
 
     fig, axes = plt.subplots(2, 2, figsize=(12, 8.5), sharex=True)
     labels = list(dict.fromkeys(k[0] for k in curves if k[0] != "exdex"))
-    cmap = matplotlib.colormaps["tab20"]
-    colors = {lab: cmap(i % 20) for i, lab in enumerate(labels)}
+    # 40 distinct colours, so no two settings share one: tab20, then tab20b one hue after another
+    b = matplotlib.colormaps["tab20b"].colors
+    palette = list(matplotlib.colormaps["tab20"].colors) + [b[i + k] for k in (0, 2, 1, 3) for i in range(0, 20, 4)]
+    colors = {lab: palette[i % len(palette)] for i, lab in enumerate(labels)}
     styles = {"mujoco": "-", "pybullet": "--", "drake": ":"}
     for i, dof in enumerate(DOFS):
         for j, motion in enumerate(MOTIONS):

@@ -37,6 +37,12 @@ the scene objects, plus a ``schema`` version number::
     point = [0.0, 0.0, -0.05]
     normal = [0.0, 0.0, 1.0]
 
+    [[obstacles]]                  # Obstacle: "halfspaces" or "cylinder"
+    kind = "cylinder"
+    center = [0.05, 0.0, -0.1]
+    axis = [0.0, 1.0, 0.0]
+    radius = 0.01
+
     [simulate]                     # optional: defaults for `exdex run`
     t_end = 1.5
     dt = 0.001
@@ -235,8 +241,15 @@ def _body(data, where):
 
 def _stops(data, where):
     if not isinstance(data, list):
-        raise ValueError(f"{where} must be a list of tables (point, normal), got {type(data).__name__}")
+        raise ValueError(f"{where} must be a list of tables (point, normal, mu), got {type(data).__name__}")
     return tuple(_build(_scene.Stop, s, f"{where}[{i}]") for i, s in enumerate(data))
+
+
+def _obstacles(data, where):
+    if not isinstance(data, list):
+        raise ValueError(f"{where} must be a list of tables (kind, face_points, face_normals, center, axis, "
+                         f"radius), got {type(data).__name__}")
+    return tuple(_build(_scene.Obstacle, o, f"{where}[{i}]") for i, o in enumerate(data))
 
 
 def _check_schema(data, where="scene"):
@@ -259,7 +272,8 @@ def scene_from_dict(data: Mapping[str, Any], where: str = "scene") -> _scene.Sce
     if "simulate" in data:
         _simulate_options(data["simulate"], f"{where}.simulate")
     return _build(_scene.Scene, body, where,
-                  nested={"body": _body, "grasp": _grasp, "motion": _motion, "stops": _stops})
+                  nested={"body": _body, "grasp": _grasp, "motion": _motion, "stops": _stops,
+                          "obstacles": _obstacles})
 
 
 def _simulate_options(data, where):

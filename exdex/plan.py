@@ -60,7 +60,7 @@ QUANTITIES = {"slip": "m", "rotation": "rad", "x": "m", "y": "m"}
 
 #: units of the parameters, for labels
 _PARAM_UNITS = {"grip_force": "N", "mu": "-", "mass": "kg", "e_r": "m", "amplitude": "m or rad", "duration": "s",
-                "beta": "-", "v_max": "m/s or rad/s"}
+                "beta": "-", "v_max": "m/s or rad/s", "mu_static": "-", "patch_x": "m", "patch_y": "m"}
 
 
 class UnreachableTargetError(ValueError):
@@ -274,7 +274,8 @@ class _Runner:
         dt = t_end if not self.scene.stops else min(t_end, 0.01)
         trapezoid = isinstance(self.scene.motion, TrapezoidalProfile) and any(
             PARAMETERS[k].path[0] == "motion" for k in arrays)
-        if spec is not None and not trapezoid:
+        pad = any(k in ("patch_x", "patch_y") for k in arrays)
+        if spec is not None and not trapezoid and not pad:
             vals = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in arrays.values()))
             shape = vals[0].shape if vals else ()
             vary = {PARAMETERS[k].key: np.ascontiguousarray(v, dtype=float).ravel() for k, v in zip(arrays, vals)}
@@ -289,7 +290,8 @@ class _Runner:
         spec = self._direct
         trapezoid = isinstance(self.scene.motion, TrapezoidalProfile) and any(
             PARAMETERS[k].path[0] == "motion" for k in arrays)
-        if spec is not None and not trapezoid:
+        pad = any(k in ("patch_x", "patch_y") for k in arrays)
+        if spec is not None and not trapezoid and not pad:
             vals = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in arrays.values()))
             shape = vals[0].shape if vals else ()
             vary = {PARAMETERS[k].key: np.ascontiguousarray(v, dtype=float).ravel() for k, v in zip(arrays, vals)}
@@ -461,13 +463,13 @@ def _branches(y):
     return runs
 
 
-def solve(scene: Scene, target: Mapping[str, float], vary: Mapping[str, Tuple[float, float]], *,
+def solve(scene: Scene, target: Mapping[str, float], vary: Optional[Mapping[str, Tuple[float, float]]] = None, *,
           limits: Optional[Limits] = None, tol: float = 1e-6, t_end: Optional[float] = None,
           dt: Optional[float] = None, method: str = "auto", rtol: float = 1e-10, atol: float = 1e-12,
           eps: float = 1e-4, n_scan: int = 65, refine: int = 15,
           cost: Union[str, Callable[[Scene], float]] = "acceleration",
           uncertain: Optional[Mapping[str, Any]] = None, n_uncertain: int = 9, threads: Optional[int] = None,
-          verify: bool = True) -> Union[Plan, "MultiPlan"]:
+          verify: bool = True) -> Union[Plan, "MultiPlan", Any]:
     """Find the value of one scene parameter that makes a final quantity meet a target.
 
     Parameters
@@ -484,7 +486,7 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Mapping[str, Tuple[fl
         -0.015, "rest_by": 0.9}``: parameter values whose object still moves
         after it (relative speed above 1e-12 at rest_by, or coordinates that
         change between rest_by and t_end) are left out like a broken limit.
-    vary : dict
+    vary : dict, optional
         ``{name: (low, high)}``: the parameter(s) to vary and their bounds
         (any :func:`exdex.simulate_batch` parameter). With one parameter and
         one target: the scan and bracket described above. With several:
@@ -495,6 +497,10 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Mapping[str, Tuple[fl
         has fewer independent rows than parameters the solutions form a
         family (a curve for one missing rank), returned as
         :attr:`MultiPlan.family` beside the least-cost representative.
+        Omitted (None) with a planar pose target (any of ``x``, ``y``,
+        ``rotation``) on a planar scene: the pose is reached by a sequence of
+        motion primitives, :func:`exdex.sequence.solve` with its defaults
+        (0.1 mm, 0.1 deg), which returns an :class:`exdex.sequence.SequencePlan`.
     limits : Limits, optional
         The robot's limits; parameter values whose motion breaks one are left out.
     tol : float
@@ -525,7 +531,7 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Mapping[str, Tuple[fl
 
     Returns
     -------
-    Plan
+    Plan, MultiPlan (several parameters) or exdex.sequence.SequencePlan (no vary)
 
     Raises
     ------
@@ -537,8 +543,13 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Mapping[str, Tuple[fl
     """
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be an exdex.Scene, got {type(scene).__name__}")
+    if vary is None and scene.dof == "planar" and isinstance(target, Mapping) and target and \
+            all(q in ("x", "y", "rotation") for q in target):
+        from exdex import sequence
+        return sequence.solve(scene, target)
     if not isinstance(vary, Mapping) or len(vary) < 1:
-        raise ValueError("vary must be a dict of parameters and their bounds, e.g. {'grip_force': (0.5, 3.0)}")
+        raise ValueError("vary must be a dict of parameters and their bounds, e.g. {'grip_force': (0.5, 3.0)} "
+                         "(only a planar pose target on a planar scene may omit it)")
     rest_by = None
     if isinstance(target, Mapping) and "rest_by" in target:
         target = dict(target)
@@ -638,7 +649,8 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Mapping[str, Tuple[fl
     best = _replace_params(scene, {name: float(x)})
     achieved = goal + r
     if verify:
-        d, v_end, still = _final_state(best, t_end, dt, method, rtol, atol, eps, run._direct is not None)
+        d, v_end, still = _final_state(best, t_end, dt, method, rtol, atol, eps,
+                                       run._direct is not None and name not in ("patch_x", "patch_y"))
         achieved = float(outcome(d, best, quantity)[0])
         if not still:
             warnings.warn(f"the planned object is still moving at t_end = {t_end:g} s (relative speed "

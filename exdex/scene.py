@@ -30,7 +30,7 @@ from exdex import _core
 
 __all__ = [
     "Body", "Patch", "GripSchedule", "Grasp", "Rest", "AsymmetricProfile", "TrapezoidalProfile",
-    "SampledTrajectory", "Shake", "Pause", "Chain", "Stop", "Scene", "DEFAULT_GRIPPER_ROTATION",
+    "SampledTrajectory", "Shake", "Pause", "Chain", "Stop", "Obstacle", "Scene", "DEFAULT_GRIPPER_ROTATION",
 ]
 
 #: B x = A x, B y = A z (up), B z = -A y: plates vertical, normal horizontal.
@@ -242,7 +242,9 @@ class GripSchedule:
     meanwhile. Every method evaluates the capacity ``mu * fingers * F(t)`` at
     its own times (the time-stepping methods use its exact mean over each
     step; the event and regularised methods step onto the times, and the
-    event method locates where a falling capacity meets the load). A
+    event method locates where a falling capacity meets the load; the
+    analytic method solves linear and step schedules in closed form, a
+    cubic one is left to the event method by ``method="auto"``). A
     schedule whose forces are all equal is that constant grip force.
     """
 
@@ -846,14 +848,132 @@ def _quat_from_matrix(R):
 @dataclass(frozen=True)
 class Stop:
     """A fixed plane of the world the object may not cross: the allowed side
-    is ``(x - point) . normal >= 0`` for every outline vertex x, in A [m]."""
+    is ``(x - point) . normal >= 0`` for every outline vertex x, in A [m].
+
+    mu : Coulomb friction coefficient between the stop and each outline
+        vertex touching it, in [0, inf) (0: frictionless). The friction acts
+        in the plate plane, along the stop's trace there, bounded by mu times
+        the vertex's normal force; exact (velocity-level complementarity,
+        stick exactly still). Supported by the ``implicit`` and ``explicit``
+        methods; ``event`` and ``regularised`` raise a ValueError for
+        mu > 0.
+    """
 
     point: Vector
     normal: Vector
+    mu: float = 0.0
 
     def __post_init__(self):
         object.__setattr__(self, "point", _tuple(_array(self.point, "Stop.point", (3,))))
         object.__setattr__(self, "normal", _unit(self.normal, "Stop.normal", 3))
+        object.__setattr__(self, "mu", _real(self.mu, "Stop.mu", low=0.0))
+
+
+@dataclass(frozen=True)
+class Obstacle:
+    """A convex solid fixed in the world frame A that the object's outline may
+    not enter. Build one with :meth:`halfspaces`, :meth:`box` or
+    :meth:`cylinder`.
+
+    kind : ``"halfspaces"`` (the intersection of the half-spaces
+        ``(x - face_points[i]) . face_normals[i] <= 0``, normals unit and
+        pointing out of the solid; it may be unbounded) or ``"cylinder"`` (the
+        points within ``radius`` of the line through ``center`` along
+        ``axis``: an infinite rod).
+
+    The plate plane cuts the solid in a convex polygon of the gripper frame B
+    (a rod: a disc when its axis is normal to the plates, else an ellipse),
+    recomputed from the gripper's pose as it moves (:meth:`section`). The
+    object touches it with its outline vertices (against the faces) and with
+    the edges of the outline's convex hull (against the section's vertices,
+    or the rod). A one-face obstacle keeps the object where
+    ``Stop(point, normal)`` with the same point and normal does; its force
+    is the stop force column after the stops' (``Result.stop_force``).
+    """
+
+    kind: str
+    face_points: Matrix = ()
+    face_normals: Matrix = ()
+    center: Vector = (0.0, 0.0, 0.0)
+    axis: Vector = (0.0, 0.0, 1.0)
+    radius: float = 0.0
+
+    def __post_init__(self):
+        if self.kind not in ("halfspaces", "cylinder"):
+            raise ValueError(f"Obstacle.kind must be 'halfspaces' or 'cylinder', got {self.kind!r}")
+        if self.kind == "halfspaces":
+            pts = _array(self.face_points, "Obstacle.face_points", (None, 3))
+            if not 1 <= len(pts) <= _core.MAX_FACES:
+                raise ValueError(f"Obstacle.face_points must have 1 to {_core.MAX_FACES} faces, got {len(pts)}")
+            nrm = _array(self.face_normals, "Obstacle.face_normals", (len(pts), 3))
+            units = tuple(_unit(n, f"Obstacle.face_normals[{i}]", 3) for i, n in enumerate(nrm))
+            object.__setattr__(self, "face_points", _tuple(pts) if len(pts) > 1 else (tuple(float(x) for x in pts[0]),))
+            object.__setattr__(self, "face_normals", units)
+        else:
+            object.__setattr__(self, "face_points", ())
+            object.__setattr__(self, "face_normals", ())
+        object.__setattr__(self, "center", _tuple(_array(self.center, "Obstacle.center", (3,))))
+        object.__setattr__(self, "axis", _unit(self.axis, "Obstacle.axis", 3))
+        if self.kind == "cylinder":
+            object.__setattr__(self, "radius", _real(self.radius, "Obstacle.radius", low=0.0, low_open=True))
+        else:
+            object.__setattr__(self, "radius", _real(self.radius, "Obstacle.radius"))
+
+    @classmethod
+    def halfspaces(cls, normals: Matrix, offsets: Vector) -> "Obstacle":
+        """The solid ``normals[i] . x <= offsets[i]`` for every i (A, [m]); the
+        normals need not be unit (each row is scaled with its offset)."""
+        n = _array(normals, "normals", (None, 3))
+        d = _array(offsets, "offsets", (len(n),))
+        norms = np.linalg.norm(n, axis=1)
+        if np.any(norms == 0.0):
+            raise ValueError("normals must be non-zero vectors")
+        nu, du = n / norms[:, None], d / norms
+        return cls(kind="halfspaces", face_points=du[:, None] * nu, face_normals=nu)
+
+    @classmethod
+    def box(cls, center: Vector, size: Vector, rotation: Matrix = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0),
+                                                                      (0.0, 0.0, 1.0))) -> "Obstacle":
+        """A box of full side lengths ``size`` (> 0) [m] centred at ``center``
+        (A), its edges along the columns of ``rotation`` (a rotation matrix)."""
+        c = _array(center, "center", (3,))
+        sz = _array(size, "size", (3,))
+        if np.any(sz <= 0):
+            raise ValueError("size must be positive (three side lengths > 0) [m]")
+        R = np.array(_rotation(rotation, "rotation"))
+        pts, nrm = [], []
+        for i in range(3):
+            for sgn in (1.0, -1.0):
+                nrm.append(sgn * R[:, i])
+                pts.append(c + sgn * 0.5 * sz[i] * R[:, i])
+        return cls(kind="halfspaces", face_points=np.array(pts), face_normals=np.array(nrm))
+
+    @classmethod
+    def cylinder(cls, center: Vector, axis: Vector, radius: float) -> "Obstacle":
+        """An infinite rod of ``radius`` (> 0) [m] about the line through
+        ``center`` along ``axis`` (A)."""
+        return cls(kind="cylinder", center=center, axis=axis, radius=radius)
+
+    def _spec(self) -> Dict[str, Any]:
+        if self.kind == "cylinder":
+            return dict(kind=_core.OBSTACLE_CYLINDER, center=self.center, axis=self.axis, radius=self.radius)
+        return dict(kind=_core.OBSTACLE_POLYTOPE, face_points=np.array(self.face_points).reshape(-1, 3),
+                    face_normals=np.array(self.face_normals).reshape(-1, 3))
+
+    def section(self, gripper_rotation: Matrix, gripper_position: Vector) -> Any:
+        """The section by the plate plane of the gripper pose (R_AB, position
+        of B in A), in B [m]: a polytope gives its polygon's finite vertices
+        (k, 2), counter-clockwise (none: the plane misses it, or the section
+        is a strip or half-plane without corners); a cylinder gives
+        ``(centre, (a, b, angle))``, its ellipse's centre (2,), semi-axes
+        a >= b = radius and the angle of the major axis [rad], or None when
+        the axis lies in the plate plane."""
+        R = _array(gripper_rotation, "gripper_rotation", (3, 3))
+        p = _array(gripper_position, "gripper_position", (3,))
+        out = _core.obstacle_section(self._spec(), R.ravel(), p)
+        if self.kind == "cylinder" and out is not None:
+            return np.array(out[0]), tuple(out[1])
+        return out
 
 
 @dataclass(frozen=True)
@@ -872,6 +992,9 @@ class Scene:
     gripper_rotation, gripper_position : initial pose of B in A.
     gravity : in A [m/s^2].
     stops : fixed world planes (``Stop``) the object outline may not cross.
+    obstacles : convex solids fixed in the world (``Obstacle``) the object
+        outline may not enter (the implicit and explicit methods solve such
+        scenes).
     """
 
     body: Body
@@ -885,6 +1008,7 @@ class Scene:
     gripper_position: Vector = (0.0, 0.0, 0.0)
     gravity: Vector = (0.0, 0.0, -9.81)
     stops: Tuple[Stop, ...] = ()
+    obstacles: Tuple[Obstacle, ...] = ()
 
     def __post_init__(self):
         if not isinstance(self.body, Body):
@@ -915,6 +1039,19 @@ class Scene:
         if len(stops) > _core.MAX_STOPS:
             raise ValueError(f"Scene.stops holds at most {_core.MAX_STOPS} stops, got {len(stops)}")
         object.__setattr__(self, "stops", stops)
+        obstacles = self.obstacles
+        if isinstance(obstacles, Obstacle):
+            obstacles = (obstacles,)
+        elif isinstance(obstacles, (str, bytes)) or not hasattr(obstacles, "__iter__"):
+            raise TypeError(f"Scene.obstacles must be an exdex.Obstacle or a sequence of them, "
+                            f"got {type(obstacles).__name__}")
+        obstacles = tuple(obstacles)
+        for i, o in enumerate(obstacles):
+            if not isinstance(o, Obstacle):
+                raise TypeError(f"Scene.obstacles[{i}] must be an exdex.Obstacle, got {type(o).__name__}")
+        if len(obstacles) > _core.MAX_OBSTACLES:
+            raise ValueError(f"Scene.obstacles holds at most {_core.MAX_OBSTACLES} obstacles, got {len(obstacles)}")
+        object.__setattr__(self, "obstacles", obstacles)
 
     def check_stops(self) -> None:
         """Raise a ValueError naming the stop, the outline vertex and the
@@ -983,9 +1120,12 @@ class Scene:
     def to_spec(self, method: str = "implicit", friction_solver: str = "scalar", eps: float = 1e-4,
                 rtol: float = 1e-8, atol: float = 1e-10) -> Dict[str, Any]:
         """The flat dict the C core reads (keys mirror ``exdex_scene_def``)."""
+        if method in ("event", "regularised") and any(s.mu > 0 for s in self.stops):
+            raise ValueError(f"Stop.mu > 0 (friction at a stop) is supported by method 'implicit' or "
+                             f"'explicit', not {method!r}: use one of those, or Stop.mu = 0")
         spec = dict(
             mass=self.body.mass, inertia=np.array(self.body.inertia).ravel(),
-            vertices=self.body.vertices() if self.stops else None,
+            vertices=self.body.vertices() if self.stops or self.obstacles else None,
             mu=self.grasp.mu, grip_force=self.grasp.grip_force, fingers=int(self.grasp.fingers),
             mu_static=0.0 if self.grasp.mu_static is None else self.grasp.mu_static,  # 0: equal to mu
             e_r=self.grasp.patch.e_r, patch_center=self.grasp.patch.center,
@@ -995,9 +1135,15 @@ class Scene:
             motion_amplitude=0.0, motion_duration=1.0, motion_beta=0.5, motion_v_max=1.0,
             stop_points=np.array([s.point for s in self.stops]).reshape(-1, 3),
             stop_normals=np.array([s.normal for s in self.stops]).reshape(-1, 3),
+            stop_mus=np.array([s.mu for s in self.stops], dtype=float),
             method=METHODS[method], friction_solver=SOLVERS[friction_solver],
             eps=eps, rtol=rtol, atol=atol,
         )
+        if self.obstacles:
+            if method not in ("implicit", "explicit"):
+                raise ValueError(f"Scene.obstacles: the implicit and explicit methods solve scenes with "
+                                 f"obstacles, got method={method!r}")
+            spec["obstacles"] = [o._spec() for o in self.obstacles]
         spec.update(self.motion._spec())
         sched = self.grasp.schedule
         if sched is not None:

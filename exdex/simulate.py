@@ -374,6 +374,15 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
         with symplectic Euler steps of dt, the naive baseline. Never sticks:
         under a load |Q| < mu N the velocity chatters in a band of width
         2 dt mu N / M about 0 and the object creeps at dt Q / M on average.
+        With ``Grasp.mu_static`` > mu (static capacity Cs, kinetic C):
+        "implicit" tries each step's stick with Cs first and else slides
+        against C (a slip may stick one step early: O(dt)); "event" tests
+        every stick with Cs and slides with C; "analytic" likewise;
+        "regularised" replaces mu N by C + (Cs - C) exp(-(|E u| / v_s)^2),
+        v_s = sqrt(eps V) with V the scene's velocity scale (the capacity
+        falls from static to kinetic once the slip is faster than v_s);
+        "explicit" (no stick state) holds the load with Cs only at u = 0
+        exactly (from rest), so it breaks away at Cs but never sticks again.
         Every method handles stops in every scene (planar: plastic
         frictionless impacts, unilateral contact with the stop force from the
         constraint acceleration; "event" also rests exactly against stops).

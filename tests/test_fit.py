@@ -143,3 +143,30 @@ def test_event_times_of_a_held_object_and_of_one_still_moving():
     assert e.onset == pytest.approx(0.45, abs=1e-12) and e.stop == np.inf
     with pytest.raises(ValueError, match="n_grid"):
         exdex.fit.event_times(held, 1.5, n_grid=1)
+
+
+def test_exact_event_derivatives_match_closed_form_and_differences():
+    """The forward-mode derivatives (exact=True) against the closed form of
+    stop_closed (d stop / dF), T for d onset / d beta, and the Richardson
+    differences (exact_if_possible=False) for every parameter, within their
+    stated error."""
+    F, mu = 1.5, 0.5
+    sc = fig3(grip_force=F, mu=mu)
+    names = ["grip_force", "mu", "mass", "beta", "duration", "amplitude"]
+    ex = exdex.fit.event_sensitivity(sc, names, 1.5)
+    fd = exdex.fit.event_sensitivity(sc, names, 1.5, exact_if_possible=False)
+    assert ex.exact and not fd.exact and np.all(ex.stop_error == 0)
+    assert ex.dstop[0] == pytest.approx(stop_closed(F, mu)[1], rel=1e-12)
+    assert ex.donset[3] == pytest.approx(0.5, rel=1e-14)   # onset = beta T
+    assert ex.donset[4] == pytest.approx(0.9, rel=1e-14)   # d (beta T) / dT = beta
+    for i in range(len(names)):
+        assert abs(ex.donset[i] - fd.donset[i]) <= 10 * fd.onset_error[i] + 1e-8
+        assert abs(ex.dstop[i] - fd.dstop[i]) <= 10 * fd.stop_error[i] + 1e-8 * abs(ex.dstop[i])
+
+
+def test_exact_event_derivatives_flag_a_threshold():
+    """exdex.paper.fig6_scene sits 1e-9 above the stick threshold of the
+    gentle phases (torque capacity = I_zz a_H (1 + 1e-9)): a slightly weaker
+    grasp slips from t = 0, so the derivative is one-sided: the error is inf."""
+    s = exdex.fit.event_sensitivity(paper.fig6_scene(), ["grip_force"], 8.0)
+    assert s.exact and np.isinf(s.stop_error[0])

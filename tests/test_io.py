@@ -109,7 +109,8 @@ def _grasp(rng):
 
 def random_scene(rng):
     dof = str(rng.choice(["translation", "rotation", "planar"]))
-    stops = tuple(exdex.Stop(tuple(_awkward(rng, 3)), tuple(rng.normal(size=3))) for _ in range(rng.integers(0, 9)))
+    stops = tuple(exdex.Stop(tuple(_awkward(rng, 3)), tuple(rng.normal(size=3)), mu=_awkward(rng, positive=True))
+                  for _ in range(rng.integers(0, 9)))
     return exdex.Scene(
         body=_body(rng),
         grasp=_grasp(rng),
@@ -146,6 +147,32 @@ def test_round_trip_random_scenes_is_exact(fmt, tmp_path):
     assert motions == {"Rest", "AsymmetricProfile", "TrapezoidalProfile", "SampledTrajectory"}
     assert {d for _, d, *_ in seen} == {"translation", "rotation", "planar"}
     assert {p for *_, p in seen} == {"given", "disc", "rectangle"}
+
+
+@pytest.mark.parametrize("fmt", ["toml", "json"])
+def test_round_trip_obstacles_is_exact(fmt, tmp_path):
+    """Scenes with boxes, half-space intersections and rods (awkward floats)
+    load back equal and write the same text again."""
+    rng = np.random.default_rng(20261126)
+    for i in range(40):
+        obs = []
+        for _ in range(rng.integers(1, 5)):
+            k = rng.integers(0, 3)
+            if k == 0:
+                obs.append(exdex.Obstacle.box(tuple(_awkward(rng, 3)), tuple(rng.uniform(0.01, 1.0, 3)),
+                                              rotation=_rotation(rng)))
+            elif k == 1:
+                n = int(rng.integers(1, 7))
+                obs.append(exdex.Obstacle.halfspaces(rng.normal(size=(n, 3)), _awkward(rng, n)))
+            else:
+                obs.append(exdex.Obstacle.cylinder(tuple(_awkward(rng, 3)), tuple(rng.normal(size=3)),
+                                                   float(rng.uniform(0.001, 0.1))))
+        sc = exdex.replace(random_scene(rng), obstacles=tuple(obs))
+        path = tmp_path / f"o{i}.{fmt}"
+        exdex.save_scene(sc, path)
+        back = exdex.load_scene(path)
+        assert _same(back, sc), path.read_text()
+        assert io.dumps(back, fmt) == path.read_text()
 
 
 def test_sampled_trajectory_arrays_round_trip_to_the_bit(tmp_path):
@@ -411,14 +438,15 @@ def test_the_schema_covers_every_scene_field_and_motion():
     import dataclasses
 
     fields = {cls.__name__: [f.name for f in dataclasses.fields(cls)]
-              for cls in (exdex.Scene, exdex.Body, exdex.Grasp, exdex.Patch, exdex.Stop)}
+              for cls in (exdex.Scene, exdex.Body, exdex.Grasp, exdex.Patch, exdex.Stop, exdex.Obstacle)}
     assert fields == {
         "Scene": ["body", "grasp", "motion", "dof", "slide_axis", "q0", "v0", "gripper_rotation",
-                  "gripper_position", "gravity", "stops"],
+                  "gripper_position", "gravity", "stops", "obstacles"],
         "Body": ["mass", "inertia", "size", "outline"],
         "Grasp": ["mu", "grip_force", "patch", "fingers", "mu_static"],
         "Patch": ["e_r", "center", "shape", "dims"],
-        "Stop": ["point", "normal"],
+        "Stop": ["point", "normal", "mu"],
+        "Obstacle": ["kind", "face_points", "face_normals", "center", "axis", "radius"],
     }
     motion_fields = {name: [f.name for f in dataclasses.fields(cls)] for name, cls in io.MOTIONS.items()}
     assert motion_fields == {

@@ -193,6 +193,12 @@ def test_cli_plan_writes_poses_and_reports_unreachable(tmp_path, capsys):
     assert abs(closed_slip(loaded) - (-0.01)) <= 1e-6 + 1e-9
     assert cli.main(["plan", "--out", str(out), "--target", "slip=-0.9"]) == 1
     assert "reachable" in capsys.readouterr().out
+    # rest_by: 0.7 s admits the 10 mm plan (closed-form rest time below it), 0.5 s does not
+    assert cli.main(["plan", "--out", str(out), "--target", "slip=-0.01", "--rest-by", "0.7"]) == 0
+    assert "at rest relative to the gripper by 0.7 s" in capsys.readouterr().out
+    assert paper.closed_form(exdex.load_scene(out / "planned_scene.toml")).rest_time <= 0.7
+    assert cli.main(["plan", "--out", str(out), "--target", "slip=-0.01", "--rest-by", "0.5"]) == 1
+    assert "at rest by 0.5 s" in capsys.readouterr().out
 
 
 def test_band_of_a_slide_onto_a_stop_is_exact_and_flat():
@@ -282,3 +288,34 @@ def test_motion_peaks_of_a_sampled_log():
     assert pk["acceleration"] == pytest.approx(a, rel=1e-9)
     assert pk["speed"] == pytest.approx(a * 0.495, rel=1e-9)
     assert pk["stroke"] == pytest.approx(0.25, rel=1e-12) and pk["duration"] == pytest.approx(0.5)
+
+
+def _event_outcome(scene, t_end):
+    r = exdex.simulate(scene, t_end, t_end, method="event", rtol=1e-12, atol=1e-14)
+    return float(r.q[-1, 0] - r.q[0, 0]), r
+
+
+@pytest.mark.parametrize("case", ["slip_grip", "slip_beta", "slip_rest_by", "turn_grip", "turn_duration"])
+def test_every_plan_meets_its_target_re_simulated_by_the_event_method(case):
+    """Plans found on the analytic path (method 'auto'), re-simulated by the
+    event method at rtol 1e-12 (an independent integrator): within tol of
+    the target, and at rest by rest_by where asked."""
+    tol = 1e-6
+    if case.startswith("slip"):
+        scene, t_end = fig3(), T_END
+        target = {"slip": -0.012}
+        vary = {"grip_force": (1.0, 3.0)} if case != "slip_beta" else {"beta": (0.6, 0.95)}
+        if case == "slip_rest_by":
+            target["rest_by"] = 0.7
+    else:
+        scene, t_end = paper.fig6_scene(), 8.0
+        target = {"rotation": math.radians(30)}
+        vary = {"grip_force": (0.5, 20.0)} if case == "turn_grip" else {"duration": (2.0, 6.0)}
+    p = plan.solve(scene, target, vary=vary, tol=tol, t_end=t_end)
+    goal = target.get("slip", target.get("rotation"))
+    achieved, r = _event_outcome(p.scene, t_end)
+    assert abs(achieved - goal) <= tol, (case, achieved, goal)
+    assert r.stick[-1]
+    if "rest_by" in target:
+        rr = exdex.simulate(p.scene, t_end, 1e-3, method="event", rtol=1e-12, atol=1e-14)
+        assert np.all(rr.v[np.searchsorted(rr.t, 0.7):] == 0.0)

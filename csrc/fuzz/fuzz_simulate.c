@@ -2,7 +2,7 @@
  * exdex_simulate (<= 40 steps; one output interval for the adaptive event
  * and regularised methods) on fuzzed scene definitions: every method, every dof, every
  * motion kind, 0-3 stops placed just outside the object's initial outline,
- * all friction solvers.
+ * 0-2 convex obstacles (boxes, rods) near it, all friction solvers.
  *
  * Checks: a non-finite value in a validated field gives EXDEX_EINVAL with
  * bad_param set; a scene is rejected as bad input (EXDEX_EINVAL) by both
@@ -211,6 +211,60 @@ int fuzz_simulate(const uint8_t *data, size_t size)
      * timeout (FUZZ_TIMEOUT, also under ASan) */
     if ((d.method == EXDEX_METHOD_EVENT || d.method == EXDEX_METHOD_REGULARISED) && isfinite(t_end))
         t_end = dt;
+    /* static coefficient (decoded last, so older corpus inputs keep their
+     * meaning): 0 (equal to mu), above mu, or anything (below mu, wild) */
+    switch (fz_pick(&f, 0, 3)) {
+    case 0: d.mu_static = 0.0; break;
+    case 1: d.mu_static = d.mu; break;
+    case 2: d.mu_static = d.mu + fz_num(&f, 0.0, 1.5); break;
+    default: d.mu_static = fz_num(&f, -0.5, 2.0);
+    }
+    /* 0-2 convex obstacles (decoded after the static coefficient, so inputs
+     * without them keep their meaning): a box turned at random or a rod along a random axis,
+     * placed at a random distance from the object's initial centre in A,
+     * occasionally with a wild field (the core rejects those by name) */
+    d.n_obstacles = fz_pick(&f, 0, 2) == 0 ? fz_int(&f, 0, 2) : 0;
+    for (int o = 0; o < d.n_obstacles && o < EXDEX_MAX_OBSTACLES; o++) {
+        exdex_obstacle_def *ob = &d.obstacles[o];
+        double c[3], xb[3] = {d.q0[0], d.q0[1], 0.0}, dist = fz_num(&f, 0.0, 0.2), dir[3], len;
+        for (int i = 0; i < 3; i++) dir[i] = fz_num(&f, -1.0, 1.0);
+        len = sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+        for (int i = 0; i < 3; i++) {
+            c[i] = d.R0[3 * i] * xb[0] + d.R0[3 * i + 1] * xb[1] + d.p0[i];
+            c[i] += len > 0 ? dist * dir[i] / len : 0.0;
+        }
+        ob->kind = fz_pick(&f, 0, 1);
+        if (ob->kind == EXDEX_OBSTACLE_POLYTOPE) {
+            double q[4], Q[9], h[3];
+            for (int i = 0; i < 4; i++) q[i] = fz_num(&f, -1.0, 1.0);
+            if (q[0] == 0 && q[1] == 0 && q[2] == 0 && q[3] == 0) q[0] = 1;
+            fz_quat_to_R(Q, q);
+            for (int i = 0; i < 3; i++) h[i] = fz_log(&f, 1e-3, 0.2);
+            ob->n_faces = fz_int(&f, 1, 6);
+            for (int fc = 0; fc < ob->n_faces && fc < 6; fc++) {
+                int i = fc / 2;
+                double sg = fc % 2 ? -1.0 : 1.0;
+                for (int k = 0; k < 3; k++) {
+                    ob->face_normal[fc][k] = sg * Q[3 * k + i];
+                    ob->face_point[fc][k] = c[k] + sg * h[i] * Q[3 * k + i];
+                }
+            }
+        } else {
+            double a = fz_num(&f, 0.0, 6.283185307179586), z = fz_num(&f, -1.0, 1.0), r = sqrt(fmax(0.0, 1 - z * z));
+            ob->kind = EXDEX_OBSTACLE_CYLINDER;
+            ob->axis[0] = r * cos(a);
+            ob->axis[1] = r * sin(a);
+            ob->axis[2] = z;
+            memcpy(ob->center, c, sizeof c);
+            ob->radius = fz_log(&f, 1e-3, 0.05);
+        }
+        if (fz_pick(&f, 0, 31) == 0) ob->radius = fz_num(&f, -1.0, 1.0); /* occasionally wild */
+    }
+    /* each stop's Coulomb coefficient, decoded after the obstacles so that
+     * the inputs written before it decode as before (with frictionless stops): 0, or
+     * reasonable in [0, 1.5], or wild (negative and non-finite values are
+     * bad input; event and regularised reject mu > 0 by name) */
+    for (int k = 0; k < ns_dec; k++) d.stop_mu[k] = fz_pick(&f, 0, 1) ? fz_num(&f, 0.0, 1.5) : 0.0;
 
     /* fields exdex_scene_check must validate */
     required_nonfinite = !isfinite(d.mass) || !fz_all_finite(d.inertia, 9) || !isfinite(d.mu) ||
@@ -218,14 +272,25 @@ int fuzz_simulate(const uint8_t *data, size_t size)
                          !fz_all_finite(d.gravity, 3) || !fz_all_finite(d.slide_axis, 2) ||
                          !fz_all_finite(d.q0, 3) || !fz_all_finite(d.v0, 3) || !fz_all_finite(d.p0, 3) ||
                          !isfinite(d.eps) || !isfinite(d.rtol) ||
-                         !isfinite(d.atol);
+                         !isfinite(d.atol) || !isfinite(d.mu_static);
     if (d.n_vertices >= 0 && d.n_vertices <= EXDEX_MAX_VERTICES &&
         !fz_all_finite(&d.vertices[0][0], 2 * (size_t)d.n_vertices))
         required_nonfinite = 1;
     if (d.n_stops >= 0 && d.n_stops <= EXDEX_MAX_STOPS)
         for (int k = 0; k < d.n_stops; k++)
-            if (!fz_all_finite(d.stop_point[k], 3) || !fz_all_finite(d.stop_normal[k], 3))
+            if (!fz_all_finite(d.stop_point[k], 3) || !fz_all_finite(d.stop_normal[k], 3) ||
+                !isfinite(d.stop_mu[k]))
                 required_nonfinite = 1;
+    for (int o = 0; o < d.n_obstacles && o < EXDEX_MAX_OBSTACLES; o++) {
+        const exdex_obstacle_def *ob = &d.obstacles[o];
+        if (ob->kind == EXDEX_OBSTACLE_CYLINDER &&
+            (!fz_all_finite(ob->center, 3) || !fz_all_finite(ob->axis, 3) || !isfinite(ob->radius)))
+            required_nonfinite = 1;
+        if (ob->kind == EXDEX_OBSTACLE_POLYTOPE)
+            for (int fc = 0; fc < ob->n_faces && fc < EXDEX_MAX_FACES; fc++)
+                if (!fz_all_finite(ob->face_point[fc], 3) || !fz_all_finite(ob->face_normal[fc], 3))
+                    required_nonfinite = 1;
+    }
 
     if (fz_trace) {
         fprintf(stderr, "scene: mass %g I %g %g %g / %g %g %g / %g %g %g nv %d mu %g grip %g fingers %d e_r %g pc %g %g\n"
@@ -240,13 +305,22 @@ int fuzz_simulate(const uint8_t *data, size_t size)
                 d.p0[1], d.p0[2], d.motion.kind, d.motion.rotation, d.motion.amplitude, d.motion.duration,
                 d.n_stops, d.method, d.friction_solver, d.eps, d.rtol, d.atol, t_end, dt);
         for (int k = 0; k < ns_dec; k++)
-            fprintf(stderr, "  stop %d point %g %g %g normal %g %g %g\n", k, d.stop_point[k][0], d.stop_point[k][1],
-                    d.stop_point[k][2], d.stop_normal[k][0], d.stop_normal[k][1], d.stop_normal[k][2]);
+            fprintf(stderr, "  stop %d point %g %g %g normal %g %g %g mu %g\n", k, d.stop_point[k][0],
+                    d.stop_point[k][1], d.stop_point[k][2], d.stop_normal[k][0], d.stop_normal[k][1],
+                    d.stop_normal[k][2], d.stop_mu[k]);
         for (int j = 0; j < nv_dec; j++) fprintf(stderr, "  vertex %d %g %g\n", j, d.vertices[j][0], d.vertices[j][1]);
+        for (int o = 0; o < d.n_obstacles && o < EXDEX_MAX_OBSTACLES; o++)
+            fprintf(stderr, "  obstacle %d kind %d faces %d centre %g %g %g axis %g %g %g radius %g\n", o,
+                    d.obstacles[o].kind, d.obstacles[o].n_faces, d.obstacles[o].center[0], d.obstacles[o].center[1],
+                    d.obstacles[o].center[2], d.obstacles[o].axis[0], d.obstacles[o].axis[1], d.obstacles[o].axis[2],
+                    d.obstacles[o].radius);
     }
     st_check = exdex_scene_check(&d, &bad);
     FZ_CHECK(T, st_check == EXDEX_OK || st_check == EXDEX_EINVAL || st_check == EXDEX_ENOMEM);
     if (st_check) FZ_CHECK(T, bad != NULL);
+    /* a static coefficient below mu (and not 0) is bad input */
+    if (isfinite(d.mu) && d.mu >= 0 && isfinite(d.mu_static) && d.mu_static != 0.0 && d.mu_static < d.mu)
+        FZ_CHECK(T, st_check == EXDEX_EINVAL);
     FZ_CHECK(T, exdex_scene_check(NULL, NULL) == EXDEX_EINVAL);
     m = exdex_model_alloc(&d, &st_alloc, &bad2);
     fuzz_count_status(T, st_alloc);
@@ -273,7 +347,7 @@ int fuzz_simulate(const uint8_t *data, size_t size)
         int ndof = exdex_model_ndof(m), nstops = exdex_model_nstops(m), st;
         traj a, b;
         exdex_stats sa, sb;
-        FZ_CHECK(T, ndof == (d.dof == EXDEX_DOF_PLANAR ? 3 : 1) && nstops == d.n_stops);
+        FZ_CHECK(T, ndof == (d.dof == EXDEX_DOF_PLANAR ? 3 : 1) && nstops == d.n_stops + d.n_obstacles);
         FZ_CHECK(T, exdex_simulate(m, t_end, dt, NULL, NULL) == EXDEX_EINVAL);
         if (n == 0 || n > MAX_STEPS * 2 + 2) {
             /* invalid (t_end, dt) or more steps than this harness runs */
@@ -317,6 +391,13 @@ int fuzz_simulate(const uint8_t *data, size_t size)
                     FZ_CHECK(T, !isnan(sa.min_gap));
                     if (f.wild == 0) {
                         fuzz_note_count(T, "tame runs OK with stops");
+                        if (d.n_obstacles) {
+                            fuzz_note_count(T, "tame runs OK with obstacles");
+                            fuzz_note_min(T, "min gap of tame runs with obstacles [m]", sa.min_gap);
+                            if (sa.min_gap < -1e-9)
+                                fuzz_note_keep(T, sa.warnings ? "tame obstacle runs with a gap < -1e-9 m, with warnings"
+                                                              : "tame obstacle runs with a gap < -1e-9 m, no warning");
+                        }
                         fuzz_note_min(T, "min stop gap of tame runs [m]", sa.min_gap);
                         if (sa.warnings) fuzz_note_count(T, "tame runs with stop warnings");
                         if (sa.min_gap < -1e-9) {

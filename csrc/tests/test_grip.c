@@ -68,8 +68,13 @@ EXDEX_TEST(grip_bad_input_named)
         ts[1] = 1e-110;
         ENSURE(exdex_scene_check(&e, &bad) == EXDEX_EINVAL && bad && !strcmp(bad, "grip_times"));
     }
-    /* the analytic method reports a varying schedule; a flat one is a constant */
+    /* the analytic method solves linear and step schedules, reports a
+     * varying cubic one; a flat one is a constant */
     d.grip_n = 3;
+    ENSURE(exdex_analytic_unsupported(&d) == NULL);
+    d.grip_kind = EXDEX_GRIP_LINEAR;
+    ENSURE(exdex_analytic_unsupported(&d) == NULL);
+    d.grip_kind = EXDEX_GRIP_CUBIC;
     ENSURE(exdex_analytic_unsupported(&d) != NULL);
     {
         double ff[2] = {1.0, 1.0};
@@ -180,6 +185,16 @@ EXDEX_TEST(grip_ramp_down_closed_form_every_method)
     ENSURE(sim_run_def(&d, 0.6, 1e-3, &r) == EXDEX_OK);
     ENSURE_CLOSE(r.tr.q[r.tr.n - 1], s, 2e-3 * vmax);
     sim_run_free(&r);
+    /* analytic: the same polynomials evaluated, to rounding (1e-14 m) */
+    d.method = EXDEX_METHOD_ANALYTIC;
+    ENSURE(sim_run_def(&d, 0.6, 0.01, &r) == EXDEX_OK);
+    for (size_t i = 0; i < r.tr.n; i++) {
+        double si, vi;
+        ramp_closed_form(0.1, 0.5, 2.0, 0.5, r.tr.t[i], &si, &vi);
+        ENSURE_CLOSE(r.tr.q[i], si, 1e-14);
+        ENSURE_CLOSE(r.tr.v[i], vi, 1e-13);
+    }
+    sim_run_free(&r);
 }
 
 EXDEX_TEST(grip_step_release_regrip_closed_form)
@@ -195,11 +210,13 @@ EXDEX_TEST(grip_step_release_regrip_closed_form)
     exdex_scene_def d = vertical_sched(m, t, f, 3, EXDEX_GRIP_STEP);
     sim_run r;
     int still = 1;
-    d.method = EXDEX_METHOD_EVENT;
-    ENSURE(sim_run_def(&d, 0.4, 0.01, &r) == EXDEX_OK);
-    ENSURE_CLOSE(r.tr.q[r.tr.n - 1], ss, 1e-9);
-    for (size_t i = 0; i < r.tr.n; i++)
-        if (r.tr.t[i] > ts + 1e-9 || r.tr.t[i] < 0.1) still &= r.tr.v[i] == 0.0 && r.tr.stick[i];
-    ENSURE(still);
-    sim_run_free(&r);
+    for (int meth = 0; meth < 2; meth++) {
+        d.method = meth ? EXDEX_METHOD_ANALYTIC : EXDEX_METHOD_EVENT;
+        ENSURE(sim_run_def(&d, 0.4, 0.01, &r) == EXDEX_OK);
+        ENSURE_CLOSE(r.tr.q[r.tr.n - 1], ss, meth ? 1e-15 : 1e-9);
+        for (size_t i = 0; i < r.tr.n; i++)
+            if (r.tr.t[i] > ts + 1e-9 || r.tr.t[i] < 0.1) still &= r.tr.v[i] == 0.0 && r.tr.stick[i];
+        ENSURE(still);
+        sim_run_free(&r);
+    }
 }

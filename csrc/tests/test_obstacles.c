@@ -1,0 +1,322 @@
+/* test_obstacles.c -- convex obstacles fixed in the world (contact.c): their
+ * section by the plate plane, and the implicit method against them. Every
+ * expected value is a closed form stated beside it. */
+#include "check.h"
+#include "sim_run.h"
+#include "../exdex.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define G 9.81
+#define PI 3.14159265358979323846
+
+/* A box of half sides h centred at c, its edges along the columns of Q. */
+static exdex_obstacle_def box(const double c[3], const double h[3], const double Q[9])
+{
+    exdex_obstacle_def o;
+    memset(&o, 0, sizeof o);
+    o.kind = EXDEX_OBSTACLE_POLYTOPE;
+    o.n_faces = 6;
+    for (int i = 0; i < 3; i++)
+        for (int s = 0; s < 2; s++) {
+            int f = 2 * i + s;
+            double sg = s ? -1.0 : 1.0;
+            for (int k = 0; k < 3; k++) {
+                o.face_normal[f][k] = sg * Q[3 * k + i];
+                o.face_point[f][k] = c[k] + sg * h[i] * Q[3 * k + i];
+            }
+        }
+    return o;
+}
+
+static void rot_z(double Q[9], double a)
+{
+    double c = cos(a), s = sin(a);
+    double R[9] = {c, -s, 0, s, c, 0, 0, 0, 1};
+    memcpy(Q, R, sizeof R);
+}
+
+EXDEX_TEST(obstacle_section_box_turned_about_plate_normal)
+{
+    /* A box turned by 0.3 rad about z, cut by the plane z = 0 of the
+     * identity pose: the rectangle of sides 2 h_x, 2 h_y turned by 0.3 rad
+     * about the centre, corners c + Rz(0.3) (+-h_x, +-h_y). */
+    double c[3] = {0.1, -0.2, 0.05}, h[3] = {0.3, 0.1, 0.4}, Q[9], I[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, p[3] = {0, 0, 0};
+    double xy[EXDEX_MAX_FACES][2], area = 0.0;
+    exdex_obstacle_def o;
+    int n;
+    rot_z(Q, 0.3);
+    o = box(c, h, Q);
+    n = exdex_obstacle_section(&o, I, p, xy, NULL);
+    ENSURE(n == 4);
+    for (int i = 0; i < n; i++) {
+        int found = 0;
+        for (int sx = -1; sx <= 1; sx += 2)
+            for (int sy = -1; sy <= 1; sy += 2) {
+                double x = c[0] + cos(0.3) * sx * h[0] - sin(0.3) * sy * h[1];
+                double y = c[1] + sin(0.3) * sx * h[0] + cos(0.3) * sy * h[1];
+                found |= fabs(x - xy[i][0]) < 1e-14 && fabs(y - xy[i][1]) < 1e-14;
+            }
+        ENSURE(found);
+        area += 0.5 * (xy[i][0] * xy[(i + 1) % n][1] - xy[(i + 1) % n][0] * xy[i][1]);
+    }
+    ENSURE_CLOSE(area, 4.0 * h[0] * h[1], 1e-14); /* counter-clockwise: positive */
+    /* the plane above the box misses it: no section */
+    p[2] = 1.0;
+    ENSURE(exdex_obstacle_section(&o, I, p, xy, NULL) == 0);
+}
+
+EXDEX_TEST(obstacle_section_box_corner_cut_is_a_triangle)
+{
+    /* The unit cube [0, 1]^3 cut by the plane x + y + z = 1/2 (normal along
+     * (1, 1, 1)): the triangle with corners (1/2, 0, 0), (0, 1/2, 0),
+     * (0, 0, 1/2), side sqrt(2)/2, area sqrt(3)/4 (sqrt(2)/2)^2 = sqrt(3)/8. */
+    double c[3] = {0.5, 0.5, 0.5}, h[3] = {0.5, 0.5, 0.5}, Q[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    double s3 = sqrt(3.0), s2 = sqrt(2.0), s6 = sqrt(6.0);
+    /* B's axes in A: x = (1, -1, 0)/sqrt2, y = (1, 1, -2)/sqrt6, z = (1, 1, 1)/sqrt3 */
+    double R[9] = {1 / s2, 1 / s6, 1 / s3, -1 / s2, 1 / s6, 1 / s3, 0, -2 / s6, 1 / s3};
+    double p[3] = {1.0 / 6, 1.0 / 6, 1.0 / 6}, xy[EXDEX_MAX_FACES][2], area = 0.0;
+    exdex_obstacle_def o = box(c, h, Q);
+    int n = exdex_obstacle_section(&o, R, p, xy, NULL);
+    ENSURE(n == 3);
+    for (int i = 0; i < n; i++) {
+        /* back in A: on the plane, two coordinates 0 and one 1/2 */
+        double x[3];
+        int zeros = 0;
+        for (int k = 0; k < 3; k++) {
+            x[k] = p[k] + R[3 * k] * xy[i][0] + R[3 * k + 1] * xy[i][1];
+            zeros += fabs(x[k]) < 1e-14;
+        }
+        ENSURE(zeros == 2);
+        ENSURE_CLOSE(x[0] + x[1] + x[2], 0.5, 1e-14);
+        area += 0.5 * (xy[i][0] * xy[(i + 1) % n][1] - xy[(i + 1) % n][0] * xy[i][1]);
+    }
+    ENSURE_CLOSE(area, s3 / 8.0, 1e-14);
+}
+
+EXDEX_TEST(obstacle_section_rod_disc_and_ellipse)
+{
+    /* A rod of radius r along z through (0.1, 0.2): a disc of radius r there.
+     * Tilted by 60 deg from the plate normal in the x-z plane: an ellipse
+     * with semi-axes r / cos 60 = 2 r (along x) and r. */
+    exdex_obstacle_def o;
+    double I[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, p[3] = {0, 0, 0}, xy[EXDEX_MAX_FACES][2], ab[3];
+    memset(&o, 0, sizeof o);
+    o.kind = EXDEX_OBSTACLE_CYLINDER;
+    o.center[0] = 0.1;
+    o.center[1] = 0.2;
+    o.center[2] = 0.7;
+    o.axis[2] = 1.0;
+    o.radius = 0.03;
+    ENSURE(exdex_obstacle_section(&o, I, p, xy, ab) == 1);
+    ENSURE_CLOSE(xy[0][0], 0.1, 1e-15);
+    ENSURE_CLOSE(xy[0][1], 0.2, 1e-15);
+    ENSURE_CLOSE(ab[0], 0.03, 1e-15);
+    ENSURE_CLOSE(ab[1], 0.03, 1e-15);
+    o.axis[0] = sin(PI / 3);
+    o.axis[2] = cos(PI / 3);
+    ENSURE(exdex_obstacle_section(&o, I, p, xy, ab) == 1);
+    ENSURE_CLOSE(ab[0], 0.06, 1e-14);
+    ENSURE_CLOSE(ab[1], 0.03, 1e-15);
+    ENSURE_CLOSE(ab[2], 0.0, 1e-15);
+    /* the axis meets z = 0 at centre - 0.7 / cos60 * axis */
+    ENSURE_CLOSE(xy[0][0], 0.1 - 0.7 * tan(PI / 3), 1e-14);
+    o.axis[0] = 1.0;
+    o.axis[2] = 0.0;
+    ENSURE(exdex_obstacle_section(&o, I, p, xy, ab) == 0); /* a strip */
+    o.radius = 0.0;
+    ENSURE(exdex_obstacle_section(&o, I, p, xy, ab) == -EXDEX_EINVAL);
+}
+
+/* The paper's Fig. 4 set-up (test_sim.c): a 2 x 4 cm box resting on a floor
+ * while the gripper moves down 5 cm. */
+static exdex_scene_def fig4(void)
+{
+    exdex_scene_def d = exdex_default_scene_def();
+    d.mass = 0.1;
+    d.mu = 0.5;
+    d.grip_force = 1.5 / (2 * d.mu);
+    d.n_vertices = 4;
+    d.vertices[0][0] = -0.01; d.vertices[0][1] = -0.02;
+    d.vertices[1][0] = 0.01;  d.vertices[1][1] = -0.02;
+    d.vertices[2][0] = 0.01;  d.vertices[2][1] = 0.02;
+    d.vertices[3][0] = -0.01; d.vertices[3][1] = 0.02;
+    d.motion.kind = EXDEX_MOTION_TRAPEZOID;
+    d.motion.axis[0] = 0.0;
+    d.motion.axis[1] = 0.0;
+    d.motion.axis[2] = -1.0;
+    d.motion.amplitude = 0.05;
+    d.motion.duration = 0.5;
+    d.motion.v_max = 0.12;
+    return d;
+}
+
+EXDEX_TEST(obstacle_one_face_is_the_stop_bit_for_bit)
+{
+    /* A plane stop is an obstacle with one face (the same point and
+     * normal): the same rows, the same arithmetic, the same trajectory, in
+     * 1-DoF and in the plane, implicit and explicit (explicit 1-DoF: to
+     * rounding). */
+    for (int c = 0; c < 4; c++) {
+        int planar = c % 2;
+        exdex_scene_def a = fig4(), b;
+        sim_run ra, rb;
+        a.method = c < 2 ? EXDEX_METHOD_IMPLICIT : EXDEX_METHOD_EXPLICIT;
+        if (planar) {
+            a.dof = EXDEX_DOF_PLANAR;
+            a.q0[2] = 0.2; /* lands on a corner and turns */
+        }
+        b = a;
+        a.n_stops = 1;
+        a.stop_point[0][2] = -0.03;
+        a.stop_normal[0][2] = 1.0;
+        b.n_obstacles = 1;
+        b.obstacles[0].kind = EXDEX_OBSTACLE_POLYTOPE;
+        b.obstacles[0].n_faces = 1;
+        b.obstacles[0].face_point[0][2] = -0.03;
+        b.obstacles[0].face_normal[0][2] = 1.0;
+        ENSURE(sim_run_def(&a, 1.0, 1e-3, &ra) == EXDEX_OK);
+        ENSURE(sim_run_def(&b, 1.0, 1e-3, &rb) == EXDEX_OK);
+        ENSURE(rb.nstops == 1);
+        if (c == 2) {
+            /* explicit 1-DoF: its stop clamp forms the gap as n.(R x + p - point) in
+             * another order than the planar row the obstacle shares (contact_row_1dof):
+             * equal to rounding */
+            for (size_t i = 0; i < ra.tr.n; i++) {
+                ENSURE_CLOSE(ra.tr.q[i], rb.tr.q[i], 1e-15);
+                ENSURE_CLOSE(ra.tr.stop_force[i], rb.tr.stop_force[i], 1e-9);
+            }
+        } else {
+            ENSURE(memcmp(ra.tr.q, rb.tr.q, ra.tr.n * (size_t)ra.ndof * sizeof(double)) == 0);
+            ENSURE(memcmp(ra.tr.v, rb.tr.v, ra.tr.n * (size_t)ra.ndof * sizeof(double)) == 0);
+            ENSURE(memcmp(ra.tr.stop_force, rb.tr.stop_force, ra.tr.n * sizeof(double)) == 0);
+            ENSURE(ra.st.min_gap == rb.st.min_gap);
+        }
+        sim_run_free(&ra);
+        sim_run_free(&rb);
+    }
+}
+
+EXDEX_TEST(obstacle_box_floor_carries_the_load_like_a_stop)
+{
+    /* The Fig. 4 floor as the top face of a box (the other faces far from
+     * the object): while the plates slide past, the box carries m g + the
+     * capacity 1.5 N, and the object ends 5 cm up in B (test_sim.c's closed
+     * form for the stop). */
+    exdex_scene_def d = fig4();
+    double c[3] = {0.0, 0.0, -0.53}, h[3] = {0.5, 0.5, 0.5}, Q[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    sim_run r;
+    d.n_obstacles = 1;
+    d.obstacles[0] = box(c, h, Q);
+    ENSURE(sim_run_def(&d, 1.0, 1e-4, &r) == EXDEX_OK);
+    ENSURE(r.st.min_gap >= -1e-15);
+    ENSURE_CLOSE(r.tr.q[r.tr.n - 1], 0.05 - 0.01, 1e-7); /* falls 1 cm onto it first */
+    for (size_t i = 1500; i <= 4000; i += 500) ENSURE_CLOSE(r.tr.stop_force[i], 0.1 * G + 1.5, 1e-9);
+    sim_run_free(&r);
+}
+
+EXDEX_TEST(obstacle_rod_turns_a_pinned_square_as_the_tangent_predicts)
+{
+    /* Rotation about the centre of mass (a pin at the patch centre), a square
+     * of half side a; a rod of radius r normal to the plates, at x = d right
+     * of the pin, starts g0 below the bottom edge. The gripper moves down by
+     * delta(t): in B the rod rises, c = (d, -(a + r + g0) + delta). The plates'
+     * friction torque stops the square as soon as the rod stops pushing, so
+     * the bottom edge stays tangent to the rod: with the edge's outward
+     * normal n = (sin th, -cos th) the tangency is n . c = a + r, i.e.
+     *   d sin th + (a + r + g0 - delta) cos th = a + r,
+     *   th = psi - acos((a + r) / rho),  rho = hypot(d, a + r + g0 - delta),
+     *   psi = atan2(d, a + r + g0 - delta)  (the branch through th = 0),
+     * and th = 0 before contact (rho cos psi > a + r). */
+    exdex_scene_def d = exdex_default_scene_def();
+    const double a = 0.02, r = 0.005, dx = 0.015, g0 = 1e-3;
+    sim_run run;
+    d.dof = EXDEX_DOF_ROTATION;
+    d.mass = 0.1;
+    d.inertia[0] = d.inertia[4] = d.inertia[8] = 0.1 * (2 * a) * (2 * a) / 6;
+    d.mu = 0.5;
+    d.grip_force = 1.0;
+    d.n_vertices = 4;
+    d.vertices[0][0] = -a; d.vertices[0][1] = -a;
+    d.vertices[1][0] = a;  d.vertices[1][1] = -a;
+    d.vertices[2][0] = a;  d.vertices[2][1] = a;
+    d.vertices[3][0] = -a; d.vertices[3][1] = a;
+    d.motion.kind = EXDEX_MOTION_TRAPEZOID;
+    d.motion.axis[0] = 0.0;
+    d.motion.axis[1] = 0.0;
+    d.motion.axis[2] = -1.0;
+    d.motion.amplitude = 0.005; /* rho stays above a + r: the rod never jams the square */
+    d.motion.duration = 1.0;
+    d.motion.v_max = 0.0075;
+    d.n_obstacles = 1;
+    d.obstacles[0].kind = EXDEX_OBSTACLE_CYLINDER;
+    d.obstacles[0].radius = r;
+    /* B x = A x, B y = A z, B z = -A y: the rod along A's y is normal to the plates */
+    d.obstacles[0].center[0] = dx;
+    d.obstacles[0].center[2] = -(a + r + g0);
+    d.obstacles[0].axis[1] = 1.0;
+    ENSURE(sim_run_def(&d, 1.2, 1e-4, &run) == EXDEX_OK);
+    ENSURE(run.st.min_gap >= -1e-12);
+    for (size_t i = 0; i < run.tr.n; i += 250) {
+        double s, sd, sdd, L, rho, psi, th;
+        exdex_profile_trapezoid(0.005, 1.0, 0.0075, run.tr.t[i], &s, &sd, &sdd);
+        L = a + r + g0 - s;
+        rho = hypot(dx, L);
+        psi = atan2(dx, L);
+        th = L > a + r ? 0.0 : psi - acos((a + r) / rho);
+        ENSURE_CLOSE(run.tr.q[i], th, 2e-6);
+    }
+    ENSURE(run.tr.q[run.tr.n - 1] > 0.3); /* it did turn */
+    sim_run_free(&run);
+}
+
+EXDEX_TEST(obstacle_bad_input_status)
+{
+    exdex_scene_def d;
+    const char *bad = NULL;
+    int status;
+#define EXPECT_BAD_OBST(field_expr, name)                                    \
+    do {                                                                     \
+        d = exdex_default_scene_def();                                       \
+        d.n_obstacles = 1;                                                   \
+        d.obstacles[0].kind = EXDEX_OBSTACLE_CYLINDER;                       \
+        d.obstacles[0].axis[1] = 1.0;                                        \
+        d.obstacles[0].center[2] = -1.0;                                     \
+        d.obstacles[0].radius = 0.1;                                         \
+        field_expr;                                                          \
+        bad = NULL;                                                          \
+        ENSURE(exdex_model_alloc(&d, &status, &bad) == NULL);                \
+        ENSURE(status == EXDEX_EINVAL);                                      \
+        ENSURE(bad != NULL && strncmp(bad, name, strlen(name)) == 0);        \
+        ENSURE(exdex_scene_check(&d, &bad) == EXDEX_EINVAL);                 \
+    } while (0)
+    EXPECT_BAD_OBST(d.n_obstacles = EXDEX_MAX_OBSTACLES + 1, "n_obstacles");
+    EXPECT_BAD_OBST(d.n_obstacles = -1, "n_obstacles");
+    EXPECT_BAD_OBST(d.obstacles[0].radius = 0.0, "obstacles");
+    EXPECT_BAD_OBST(d.obstacles[0].radius = NAN, "obstacles");
+    EXPECT_BAD_OBST(d.obstacles[0].axis[1] = 2.0, "obstacles");
+    EXPECT_BAD_OBST(d.obstacles[0].kind = 7, "obstacles");
+    EXPECT_BAD_OBST((d.obstacles[0].kind = EXDEX_OBSTACLE_POLYTOPE, d.obstacles[0].n_faces = 0), "obstacles");
+    EXPECT_BAD_OBST((d.obstacles[0].kind = EXDEX_OBSTACLE_POLYTOPE, d.obstacles[0].n_faces = EXDEX_MAX_FACES + 1),
+                    "obstacles");
+    EXPECT_BAD_OBST(d.method = EXDEX_METHOD_EVENT, "method");
+    EXPECT_BAD_OBST(d.method = EXDEX_METHOD_REGULARISED, "method");
+    EXPECT_BAD_OBST(d.obstacles[0].center[2] = -0.05, "q0"); /* the object (its centre) starts inside */
+    {
+        /* a valid one builds */
+        exdex_model *m;
+        d = exdex_default_scene_def();
+        d.n_obstacles = 1;
+        d.obstacles[0].kind = EXDEX_OBSTACLE_CYLINDER;
+        d.obstacles[0].axis[1] = 1.0;
+        d.obstacles[0].center[2] = -1.0;
+        d.obstacles[0].radius = 0.1;
+        m = exdex_model_alloc(&d, &status, &bad);
+        ENSURE(m != NULL && status == EXDEX_OK);
+        ENSURE(exdex_model_nstops(m) == 1);
+        exdex_model_free(m);
+    }
+#undef EXPECT_BAD_OBST
+}

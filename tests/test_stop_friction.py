@@ -1,0 +1,404 @@
+"""Coulomb friction at the stops (``Stop(point, normal, mu)``): closed forms
+with their derivations, properties, and the input checks.
+
+Frames as everywhere in exdex: with the default gripper rotation B's x axis
+is A's x, B's y axis is A's z (up), B's z axis is -A's y; gravity (0, 0,
+-9.81) in A is -9.81 along B's y. A stop's normal (n_x, 0, n_y) in A is
+(n_x, n_y) in the plate plane; its tangent there is t = e_z x n = (-n_y,
+n_x). Stops are fixed in A, so a gripper moving past a stop slides the
+touching vertex along it.
+"""
+import math
+
+import numpy as np
+import pytest
+
+import exdex
+
+G = 9.81
+
+
+def _wall_scene(mu_stop, V=0.01, m=0.1, a=0.03, mu=0.5, grip=1.5, **kw):
+    """A square block (side a) in the planar grasp, its right face flush
+    against a wall fixed in A at x = 0.1 (normal -x), the gripper moving
+    toward the wall at constant speed V from t = 0 (a trapezoid without
+    ramps: the velocity jumps to V at t = 0, the block keeps its absolute
+    velocity 0, the plates slide past it)."""
+    xw = 0.1
+    return exdex.Scene(
+        body=exdex.Body.box(m, (a, a, 0.02)),
+        grasp=exdex.Grasp(mu=mu, grip_force=grip, patch=exdex.Patch.rectangle(0.02, 0.02)),
+        motion=exdex.TrapezoidalProfile(amplitude=2.0 * V, duration=2.0, v_max=V, axis=(1, 0, 0)),
+        dof="planar", q0=(xw - a / 2, 0.0, 0.0),
+        stops=(exdex.Stop((xw, 0.0, 0.0), (-1.0, 0.0, 0.0), mu=mu_stop),), **kw)
+
+
+def _wall_closed_form(mu_s, V=0.01, m=0.1, cap=1.5):
+    """Block dragged against a frictional wall, gravity along the wall.
+
+    The wall stops the block in x (its absolute x velocity is 0), so the
+    plates slide past it at (-V, w) in B (w its downward speed, > 0). The
+    plate friction opposes that slip (maximum dissipation over the ellipsoid
+    with no spin: a pure translation slip gets a pure force): cap (V, w) / s,
+    s = sqrt(V^2 + w^2), toward the wall and up. The wall's normal force
+    balances the x part, lam = cap V / s; its friction, mu_s lam, acts up
+    while the block slides down. Steady state (constant w):
+        m g = cap w / s + mu_s cap V / s,   i.e.
+        (m g)^2 (V^2 + w^2) = cap^2 (w + mu_s V)^2,
+    a quadratic in w: (m^2 g^2 - cap^2) w^2 - 2 cap^2 mu_s V w + (m^2 g^2 -
+    cap^2 mu_s^2) V^2 = 0. At w = 0 the wall alone can hold the weight iff
+    mu_s cap >= m g: then the block does not slide down at all (w = 0,
+    lam = cap). The two normal forces of the flush corners are both
+    positive (the block does not tip) when mu_s < 1 for a square: the
+    torque mu_s lam a / 2 of the friction about the centre is carried by
+    lam_1 - lam_2 over the lever a / 2."""
+    mg = m * G
+    if mu_s * cap >= mg:
+        return 0.0, cap
+    A2 = mg ** 2 - cap ** 2
+    B = -2.0 * cap ** 2 * mu_s * V
+    C = (mg ** 2 - cap ** 2 * mu_s ** 2) * V ** 2
+    disc = B * B - 4.0 * A2 * C
+    roots = [(-B + sg * math.sqrt(disc)) / (2.0 * A2) for sg in (1.0, -1.0)]
+    w = max(r for r in roots if r > 0)
+    return w, cap * V / math.hypot(V, w)
+
+
+@pytest.mark.parametrize("method", ["implicit", "explicit"])
+@pytest.mark.parametrize("mu_s", [0.0, 0.3, 0.5])
+def test_block_dragged_along_frictional_wall_slides_at_closed_form_speed(mu_s, method):
+    """Sliding regime (mu_s cap < m g): after the transient (relaxation rate
+    cap (V^2 - mu_s V w) / (m s^3) > 100 / s here, so 0.3 s is > 30 time
+    constants) the speed and the wall force are the closed form's. The
+    implicit step is backward Euler in the velocity: its fixed point at a
+    constant velocity is the exact force balance, so the steady state is
+    exact to rounding and the solver's tolerance. The explicit step
+    evaluates the plate friction at the previous velocity, the same one at a
+    steady state, and solves the stop rows at the new one: exact there too."""
+    w, lam = _wall_closed_form(mu_s)
+    assert w > 0
+    r = exdex.simulate(_wall_scene(mu_s), t_end=0.3, dt=1e-3, method=method)
+    assert r.stats["warnings"] == 0
+    np.testing.assert_allclose(r.v[-1, 0], -0.01, rtol=1e-12)
+    np.testing.assert_allclose(r.v[-1, 1], -w, rtol=1e-9)
+    np.testing.assert_allclose(r.stop_force[-1, 0], lam, rtol=1e-9)
+
+
+@pytest.mark.parametrize("method", ["implicit", "explicit"])
+@pytest.mark.parametrize("mu_s", [0.8, 2.0])
+def test_block_dragged_along_frictional_wall_holds_when_wall_friction_carries_weight(mu_s, method):
+    """Holding regime (mu_s cap >= m g = 0.981 N, cap = 1.5 N): the block
+    does not move down at all; the wall's normal force is the whole plate
+    capacity (the slip is purely along x). The sticking contact is an
+    equality of the step (slip T v + tb = 0): exact to rounding (the
+    vertical velocity is a rounding error of the 0.01 m/s slide). The
+    explicit method's first step has no plate friction (it is evaluated at
+    the velocity before the step, 0) and so no wall force either: the block
+    falls freely for that step, by g dt^2 at most; from then on it holds."""
+    w, lam = _wall_closed_form(mu_s)
+    assert w == 0.0
+    r = exdex.simulate(_wall_scene(mu_s), t_end=0.3, dt=1e-3, method=method)
+    assert r.stats["warnings"] == 0
+    first = 1 if method == "implicit" else 2
+    assert np.all(np.abs(r.v[first:, 1]) <= 1e-15)
+    if method == "implicit":
+        assert np.all(np.abs(r.q[:, 1]) <= 1e-15)
+    else:
+        assert np.all(np.abs(r.q[:, 1]) <= 2 * G * 1e-3 ** 2)
+    np.testing.assert_allclose(r.stop_force[-1, 0], lam, rtol=1e-12)
+
+
+def _incline_scene(mu_s, alpha, V, m=0.1, cap=0.5):
+    """1-DoF translation along B's y (vertical) with the centre of mass as
+    the outline: a point resting on an incline fixed in A, normal n =
+    (sin alpha, cos alpha) in the plate plane, while the gripper translates
+    along x at speed V (trapezoid with ramps of 0.05 s, then constant)."""
+    n = (math.sin(alpha), 0.0, math.cos(alpha))
+    return exdex.Scene(
+        body=exdex.Body(mass=m), grasp=exdex.Grasp(mu=0.5, grip_force=cap),
+        motion=exdex.TrapezoidalProfile(amplitude=math.copysign(V * 0.95, V), duration=1.0, v_max=abs(V),
+                                        axis=(1, 0, 0)),
+        stops=(exdex.Stop((0.0, 0.0, 0.0), n, mu=mu_s),))
+
+
+@pytest.mark.parametrize("direction", [1.0, -1.0])
+@pytest.mark.parametrize("mu_s", [0.0, 0.4])
+def test_1dof_point_on_inclined_frictional_stop_closed_form(mu_s, direction):
+    """The point follows the incline: its gap n . (V_g + v d) = 0 with d =
+    (0, 1) gives v = -tan(alpha) V (kinematics: no friction in it). Its
+    slip along t = (-cos a, sin a) is s = t . (V, v) = -V / cos(alpha): the
+    gripper moving +x slides it with s < 0, so the stop's friction on it is
+    +mu_s lam along t, and the generalised force on the free coordinate is
+    lam (n . d) + beta (t . d) = lam (cos a + sigma' mu_s sin a) with sigma'
+    = -sign(s). In the constant-speed phase v is constant: the plate
+    friction -cap sign(v) (capacity cap = 2 mu F = 0.5 N < m g), gravity -m g
+    and the stop balance:
+        lam = (m g + cap sign(v)) / (cos a - sign(s) mu_s sin a).
+    (Moving down, sign(v) = -1 and sign(s) = -1: (m g - cap) / (cos a + mu_s
+    sin a); moving up, (m g + cap) / (cos a - mu_s sin a).)"""
+    alpha, V, m, cap = 0.5, 0.05 * direction, 0.1, 0.5
+    r = exdex.simulate(_incline_scene(mu_s, alpha, V), t_end=0.5, dt=1e-3)
+    assert r.stats["warnings"] == 0
+    v = -math.tan(alpha) * V
+    s = -V / math.cos(alpha)
+    lam = (m * G + cap * math.copysign(1.0, v)) / (math.cos(alpha) - math.copysign(1.0, s) * mu_s * math.sin(alpha))
+    np.testing.assert_allclose(r.v[-1, 0], v, rtol=1e-12)
+    np.testing.assert_allclose(r.stop_force[-1, 0], lam, rtol=1e-10)
+
+
+def test_1dof_incline_jams_beyond_the_friction_angle():
+    """Dragged up the incline (s > 0) the stop's generalised force per unit
+    normal force is cos a - mu_s sin a: for mu_s > cot(alpha) it is negative,
+    so no normal force >= 0 can lift the point along the incline while the
+    prescribed gripper motion demands it (a Painleve jam of the velocity
+    level too: the motion has no finite-force solution). The step keeps the
+    frictionless solution and counts a warning."""
+    alpha = 0.5
+    mu_s = 1.2 / math.tan(alpha)
+    with pytest.warns(exdex.PhysicsWarning, match="soft problems"):
+        r = exdex.simulate(_incline_scene(mu_s, alpha, -0.05), t_end=0.3, dt=1e-3)
+    assert r.stats["warnings"] > 0
+
+
+def test_mu_zero_is_the_frictionless_stop_bit_for_bit():
+    for scene in (_wall_scene(0.0), _incline_scene(0.0, 0.5, 0.05)):
+        plain = exdex.replace(scene, stops=tuple(exdex.Stop(s.point, s.normal) for s in scene.stops))
+        a = exdex.simulate(scene, 0.2, 1e-3)
+        b = exdex.simulate(plain, 0.2, 1e-3)
+        assert np.array_equal(a.q, b.q) and np.array_equal(a.v, b.v)
+        assert np.array_equal(a.stop_force, b.stop_force) and np.array_equal(a.wrench, b.wrench)
+
+
+def test_stop_mu_input_checks():
+    with pytest.raises(ValueError, match=r"Stop\.mu must be in \[0, inf\)"):
+        exdex.Stop((0, 0, 0), (1, 0, 0), mu=-0.1)
+    with pytest.raises(ValueError, match=r"Stop\.mu must be finite"):
+        exdex.Stop((0, 0, 0), (1, 0, 0), mu=float("nan"))
+    with pytest.raises(TypeError, match=r"Stop\.mu must be a real number"):
+        exdex.Stop((0, 0, 0), (1, 0, 0), mu="0.3")  # type: ignore[arg-type]
+    for method in ("event", "regularised"):
+        with pytest.raises(ValueError, match=r"Stop\.mu > 0"):
+            exdex.simulate(_wall_scene(0.3), 0.01, 1e-3, method=method)
+
+
+def test_stop_mu_survives_a_scene_file(tmp_path):
+    scene = _wall_scene(0.3)
+    for ext in ("toml", "json"):
+        path = tmp_path / f"wall.{ext}"
+        exdex.save_scene(scene, path)
+        assert exdex.load_scene(path) == scene
+
+
+def _pivot_scene(mu_s, X=0.006, T=0.4, V=0.016):
+    """1-DoF rotation about the patch centre (the centre of mass, so gravity
+    has no torque about the pin): an outline whose one low corner rho_0 =
+    (0.02, -0.02) m (from the pivot, at theta = 0) touches a floor fixed in
+    A; the gripper descends along -z_A (B's -y) by X in T, peak speed V
+    (trapezoid with ramps), so the floor pushes the corner up and the object
+    pivots in the grip against the grip torque C = mu N e_r."""
+    m, a = 0.1, 0.04
+    izz = m * (a * a + a * a) / 12
+    body = exdex.Body(mass=m, inertia=np.diag([izz, izz, izz]),
+                      outline=[(0.02, -0.02), (-0.005, 0.01), (0.005, 0.01)])
+    patch = exdex.Patch.disc(0.01)
+    scene = exdex.Scene(body=body, grasp=exdex.Grasp(mu=0.5, grip_force=1.0, patch=patch),
+                        motion=exdex.TrapezoidalProfile(X, T, V, axis=(0, 0, -1)), dof="rotation",
+                        stops=(exdex.Stop((0, 0, -0.02), (0, 0, 1), mu=mu_s),))
+    return scene, izz, 2 * 0.5 * 1.0 * patch.e_r
+
+
+@pytest.mark.parametrize("mu_s", [0.0, 0.5, 0.9])
+def test_pivoting_on_frictional_floor_corner_closed_form(mu_s):
+    """The corner rho = Rz(theta) rho_0 = r (cos(theta + phi), sin(theta +
+    phi)) (r = 0.02 sqrt 2, phi = -45 deg) stays on the floor: p_z(t) +
+    rho_y = z_floor, so theta(t) = asin((z_floor - p_z(t)) / r) - phi
+    (kinematics alone), and in the constant-speed phase omega = V / rho_x,
+    omega' = rho_y omega^2 / rho_x (from d rho_x / dt = -rho_y omega).
+    Torques about the pin (izz omega' = sum): the plates -C sign(omega)
+    (sliding: omega > 0), the floor's normal force lam (up, n = e_y in B)
+    with arm G = n . (e_z x rho) = rho_x, and its friction beta along t =
+    e_z x n = -e_x with arm T = t . (e_z x rho) = rho_y. The corner slips
+    along the floor at s = T omega = rho_y omega < 0, so beta = +mu lam and
+        lam = (izz omega' + C) / (rho_x + mu rho_y).
+    Friction raises the floor force needed to pivot the object (rho_y < 0).
+    The implicit step is first order: the row and the friction direction
+    are taken at the step's start, so lam is off by O(dt): by the relative
+    change of the arm D = rho_x + mu rho_y over a step, |dD/dtheta| / D
+    omega dt (dD/dtheta = -rho_y + mu rho_x), which the test allows twice
+    of; and the error must double with dt (first order)."""
+    X, T, V = 0.006, 0.4, 0.016
+    scene, izz, C = _pivot_scene(mu_s, X, T, V)
+    r0, phi = math.hypot(0.02, 0.02), -math.pi / 4
+    tr = T - X / V  # ramp time
+    A = V / tr
+
+    def p_z(t):
+        if t <= tr:
+            return -0.5 * A * t * t
+        if t <= T - tr:
+            return -(0.5 * A * tr * tr + V * (t - tr))
+        return -(X - 0.5 * A * (T - t) ** 2)
+
+    errs = []
+    for dt in (1e-5, 2e-5):
+        r = exdex.simulate(scene, T, dt)
+        assert r.stats["warnings"] == 0
+        theta = np.array([math.asin((-0.02 - p_z(t)) / r0) - phi for t in r.t])
+        np.testing.assert_allclose(r.q[:, 0], theta, atol=1e-12)
+        err = 0.0
+        for t_s in (0.1, 0.2, 0.3):
+            i = int(round(t_s / dt))
+            th = r.q[i, 0]
+            rho = (r0 * math.cos(th + phi), r0 * math.sin(th + phi))
+            om = V / rho[0]
+            omd = rho[1] * om * om / rho[0]
+            lam = (izz * omd + C) / (rho[0] + mu_s * rho[1])
+            bound = 2.0 * abs(-rho[1] + mu_s * rho[0]) / (rho[0] + mu_s * rho[1]) * om * dt
+            rel = abs(r.stop_force[i, 0] / lam - 1.0)
+            assert rel <= bound, (t_s, rel, bound)
+            err = max(err, rel)
+        errs.append(err)
+    assert 1.6 < errs[1] / errs[0] < 2.4
+
+
+def test_pivoting_jams_beyond_the_friction_threshold():
+    """The floor can turn the object only while the arm of its reaction,
+    rho_x + mu rho_y, is positive: mu < mu* = rho_x / |rho_y| = cot(45 deg -
+    theta), 1 at the start. With mu = 1.5 the descending gripper drives the
+    corner into the floor with no finite force that pivots it (a jam: the
+    step keeps the frictionless solution and counts warnings) until theta
+    passes 45 deg - acot(1.5) = 11.3 deg; from there the closed form holds
+    again."""
+    scene, izz, C = _pivot_scene(1.5)
+    with pytest.warns(exdex.PhysicsWarning, match="soft problems"):
+        r = exdex.simulate(scene, 0.4, 1e-5)
+    assert r.stats["warnings"] > 0
+    jam_end = math.pi / 4 - math.atan(1 / 1.5)
+    late = r.q[:, 0] > jam_end + 0.02
+    assert late.any()
+    i = int(np.argmax(late)) + 100
+    th = r.q[i, 0]
+    r0, phi, V = math.hypot(0.02, 0.02), -math.pi / 4, 0.016
+    rho = (r0 * math.cos(th + phi), r0 * math.sin(th + phi))
+    om = V / rho[0]
+    lam = (izz * rho[1] * om * om / rho[0] + C) / (rho[0] + 1.5 * rho[1])
+    np.testing.assert_allclose(r.stop_force[i, 0], lam, rtol=1e-3)
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_frictional_stops_never_add_energy_and_rest_is_exactly_still(seed):
+    """A box thrown at a frictional stop (random normal in the plate plane,
+    random mu, approach and spin; gripper at rest, no gravity, so no force
+    does work but friction and the stops). Each implicit step satisfies
+    M (v+ - v) = P + sum (lam_i G_i + beta_i T_i) with the plate impulse P
+    dissipative (v+ . P <= 0, maximum dissipation), lam_i G_i v+ = lam_i rhs_i
+    <= 0 (complementarity; rhs = -gap / h <= 0 with the gaps kept >= 0 and
+    the stop at rest), and beta_i T_i v+ <= 0 (Coulomb opposes the slip,
+    which is T_i v+ for a stop at rest). Hence v+ . M (v+ - v) <= 0 and
+    |v+|_M <= |v|_M: the kinetic energy never grows. Once the plates hold
+    it (v = 0 exactly) nothing moves it again: every later velocity is
+    exactly 0."""
+    rng = np.random.default_rng(seed)
+    a = 0.03
+    m = 0.1
+    izz = m * (a * a + a * a) / 12
+    ang = rng.uniform(0, 2 * np.pi)
+    n_b = np.array([math.cos(ang), math.sin(ang)])   # stop normal in B
+    d = 0.0215                                        # just beyond the box's reach (half-diagonal 21.2 mm)
+    point_b = -d * n_b
+    speed = rng.uniform(0.2, 0.4)
+    tang = np.array([-n_b[1], n_b[0]])
+    v_b = -speed * n_b + rng.uniform(-1, 1) * speed * tang   # toward the stop, with a slide
+    scene = exdex.Scene(
+        body=exdex.Body.box(m, (a, a, 0.02)),
+        grasp=exdex.Grasp(mu=0.2, grip_force=rng.uniform(1.0, 2.0), patch=exdex.Patch.rectangle(0.01, 0.01)),
+        dof="planar", gravity=(0.0, 0.0, 0.0),
+        q0=(0.0, 0.0, rng.uniform(-0.5, 0.5)), v0=(v_b[0], v_b[1], rng.uniform(-5, 5)),
+        # B (x, y) is A (x, z) with the default gripper rotation
+        stops=(exdex.Stop((point_b[0], 0.0, point_b[1]), (n_b[0], 0.0, n_b[1]), mu=rng.uniform(0.0, 1.5)),))
+    r = exdex.simulate(scene, 0.5, 1e-3)
+    ke = 0.5 * (m * (r.v[:, 0] ** 2 + r.v[:, 1] ** 2) + izz * r.v[:, 2] ** 2)
+    assert np.all(np.diff(ke) <= 1e-12 * ke[0])
+    still = np.flatnonzero(np.all(r.v == 0.0, axis=1)[1:]) + 1
+    assert still.size, "the plates should stop it within 0.5 s"
+    assert np.all(r.v[still[0]:] == 0.0)
+    assert r.stats["warnings"] == 0
+    assert r.stop_force.max() > 0  # the stop acted
+
+
+@pytest.mark.parametrize("mu_s", [0.3, 0.8])
+def test_stepper_with_frictional_stops_is_bit_identical_and_branches_exactly(mu_s):
+    """Stepping a frictional-stop scene reproduces simulate bit for bit, and
+    a saved state restored into another stepper of the same model (whose
+    own last contact modes differ: it has not run) continues exactly as the
+    original: the friction solve's warm start is part of the state."""
+    scene = _wall_scene(mu_s)
+    n, dt = 200, 1e-3
+    res = exdex.simulate(scene, n * dt, dt)
+    st = exdex.Stepper(scene)
+    steps = [st.step(dt) for _ in range(n)]
+    assert np.array_equal(np.array([s.q for s in steps]), res.q[1:])
+    assert np.array_equal(np.array([s.v for s in steps]), res.v[1:])
+    assert np.array_equal(np.array([s.stop_force for s in steps]).reshape(n, -1), res.stop_force[1:])
+    model = exdex.Model(scene)
+    a, b = exdex.Stepper(model), exdex.Stepper(model)
+    for _ in range(100):
+        a.step(dt)
+    snap = a.save()
+    first = [a.step(dt, 1.5 - 0.005 * i) for i in range(60)]
+    b.restore(snap)
+    again = [b.step(dt, 1.5 - 0.005 * i) for i in range(60)]
+    for x, y in zip(first, again):
+        assert np.array_equal(x.q, y.q) and np.array_equal(x.v, y.v) and np.array_equal(x.stop_force, y.stop_force)
+
+
+def _incline_block(mu_s, cap, alpha=0.4, m=0.1, a=0.03):
+    """A square block (side a) resting with a face flush on an inclined
+    floor (a stop through the face, in-plane normal n = (-sin a, cos a),
+    the block turned by alpha to match), gripper at rest, gravity -y in B;
+    plate capacity cap = 2 mu F (mu = 0.5: F = cap)."""
+    n_b = np.array([-math.sin(alpha), math.cos(alpha)])
+    p_b = -0.5 * a * n_b
+    return exdex.Scene(body=exdex.Body.box(m, (a, a, 0.02)),
+                       grasp=exdex.Grasp(mu=0.5, grip_force=cap, patch=exdex.Patch.rectangle(0.01, 0.01)),
+                       dof="planar", q0=(0.0, 0.0, alpha),
+                       stops=(exdex.Stop((p_b[0], 0.0, p_b[1]), (n_b[0], 0.0, n_b[1]), mu=mu_s),))
+
+
+@pytest.mark.parametrize("mu_s, cap, rests", [(0.5, 0.01, True), (0.2, 0.21, True), (0.2, 0.18, False),
+                                              (0.0, 0.40, True), (0.0, 0.37, False)])
+def test_rest_on_a_frictional_incline_is_exact_and_its_threshold_closed_form(mu_s, cap, rests):
+    """At rest the stop's reaction lies in its cone, the directions within
+    phi = atan(mu_s) of the normal n (the incline's angle alpha from the
+    vertical), and the plates must supply the rest of the weight m g: the
+    distance from the weight to the cone, m g sin(alpha - phi) for alpha >
+    phi, else 0 (the cone alone carries the weight: the wall's friction
+    angle exceeds the incline). The contact resultant passes through the
+    centre of mass (the two corners' forces share it), so the plates need no
+    torque. The split is the least plate friction (the stop carries what its
+    cone can). Rest holds iff m g sin(alpha - phi) <= cap, and then the block
+    is exactly still (v = 0 bit for bit at every step). Otherwise it slides
+    down the incline with the normal force m g cos(alpha), friction mu_s m g
+    cos(alpha) and the plates' cap against it:
+        a = g sin(alpha) - mu_s g cos(alpha) - cap / m,
+    which backward Euler reproduces exactly for a constant force (v = a t)."""
+    alpha, m = 0.4, 0.1
+    need = m * G * math.sin(alpha - math.atan(mu_s)) if alpha > math.atan(mu_s) else 0.0
+    assert (need <= cap) == rests
+    r = exdex.simulate(_incline_block(mu_s, cap), 0.2, 1e-3)
+    assert r.stats["warnings"] == 0
+    if rests:
+        assert np.all(r.v == 0.0) and np.all(r.stick[1:])
+        # the least plate friction: the reaction is the weight's projection
+        # onto the cone, the weight itself inside it (normal part m g cos
+        # alpha), else on its edge, |F| = m g cos(alpha - phi), normal part
+        # |F| cos(phi)
+        phi = math.atan(mu_s)
+        lam = m * G * math.cos(alpha) if alpha <= phi else m * G * math.cos(alpha - phi) * math.cos(phi)
+        np.testing.assert_allclose(r.stop_force[-1, 0], lam, rtol=1e-12)
+    else:
+        acc = G * math.sin(alpha) - mu_s * G * math.cos(alpha) - cap / m
+        speed = np.hypot(r.v[-1, 0], r.v[-1, 1])
+        np.testing.assert_allclose(speed, acc * 0.2, rtol=1e-9)
+        np.testing.assert_allclose(r.stop_force[-1, 0], m * G * math.cos(alpha), rtol=1e-9)
+        assert abs(r.v[-1, 2]) <= 1e-12
