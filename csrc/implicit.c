@@ -569,25 +569,29 @@ static void project_positions(const exdex_model *m, const exdex_kinematics *kin,
  * stepped exactly as without friction. Otherwise the step is solved again
  * with the friction of the rows (fcontact.h: Stewart-Trinkle velocity-level
  * complementarity, the plate ellipsoid with its prescribed normal force,
- * exact mode enumeration), started from the frictionless solution and its
- * active rows. The rows are those of build_rows (gaps at t + h, rhs =
- * -gap / h), with the tangential rows T and the gripper's slip tb of each
- * vertex at the pose of t + h. Where no consistent mode is found among
+ * exact mode enumeration), with the frictionless solution's active rows as
+ * the candidates, and the last step's modes and velocity as the first
+ * guess and Newton's start when the last step was frictional too (else the
+ * slip signs and velocity of the frictionless solution). The rows are
+ * those of build_rows (gaps at t + h, rhs = -gap / h), with the tangential
+ * rows T and the gripper's slip tb of each vertex at the pose of t + h. Where no consistent mode is found among
  * FC_MAX_CAND rows the frictionless step is kept and a warning counted.
  * n = 1: A = 1 and cap the step's capacity c (friction -c sign(v)); n = 3:
  * A = E J_f at the step's angle. cap_s is the static capacity of the step
- * (the plates' rest test), cap the kinetic one (sliding). On return v, the plate impulse P
+ * (the plates' rest test), cap the kinetic one (sliding); v_old the
+ * velocity before the step. On return v, the plate impulse P
  * (generalized), w->lam and w->beta hold the step; *rest is 1 at plate
  * rest. Returns 1 if the step was changed. */
 static int stop_friction_step(const exdex_model *m, const exdex_kinematics *kin_end, const double *q, double th,
-                               double cap, double cap_s, const double vs[3], work *w, double *v, double *P, int *rest,
+                               double cap, double cap_s, const double vs[3], const double *v_old, work *w,
+                               double *v, double *P, int *rest,
                                exdex_stats *st)
 {
     fc_row rows[MAX_ROWS];
     fc_problem p;
     fc_result res;
     unsigned char hint[MAX_ROWS];
-    double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], lam[MAX_ROWS], beta[MAX_ROWS];
+    double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], lam[MAX_ROWS], beta[MAX_ROWS], v_start[3];
     int nv, need = 0, n = m->ndof;
     for (int i = 0; i < w->n_rows; i++) {
         w->beta[i] = 0.0;
@@ -641,7 +645,15 @@ static int stop_friction_step(const exdex_model *m, const exdex_kinematics *kin_
         p.vscale = m->scale.V;
     }
     for (int c = 0; c < 3; c++) p.vs[c] = c < n ? vs[c] : 0.0;
-    if (!fc_solve(&p, hint, v, w->fmode, lam, beta, &res)) {
+    {
+        /* Newton's start: the last step's velocity when that step was solved
+         * with friction too (a steady slide changes little per step), else
+         * the frictionless solution */
+        int cached = 0;
+        for (int i = 0; i < w->n_rows; i++) cached |= hint[i] && w->fmode[i] != FC_OFF;
+        for (int c = 0; c < 3; c++) v_start[c] = c < n ? (cached ? v_old[c] : v[c]) : 0.0;
+    }
+    if (!fc_solve(&p, hint, v_start, w->fmode, lam, beta, &res)) {
         st->warnings++;  /* no consistent mode: the frictionless step is kept */
         return 0;
     }
@@ -750,7 +762,7 @@ static int implicit_advance(const exdex_model *m, void *ws, double t1, int regri
             step_1dof(M, c, c_s, vs[0], m->tol.touch, w, &vn[0], &pf, st);
             if (m->stop_friction) {
                 int rest = 0;
-                stop_friction_step(m, &kin_end, q, 0.0, c, c_s, vs, w, vn, &pf, &rest, st);
+                stop_friction_step(m, &kin_end, q, 0.0, c, c_s, vs, v, w, vn, &pf, &rest, st);
             }
             if (m->def.dof == EXDEX_DOF_TRANSLATION) {
                 wrench[0] = pf * m->d[0] / h;
@@ -773,7 +785,7 @@ static int implicit_advance(const exdex_model *m, void *ws, double t1, int regri
             if (m->stop_friction) {
                 int rest = fr.stick;
                 if (stop_friction_step(m, &kin_end, q, qm[2], h * model_capacity_mean(m, t, t1),
-                                       h * model_capacity_static_mean(m, t, t1), vs, w, vn, pfB, &rest, st)) {
+                                       h * model_capacity_static_mean(m, t, t1), vs, v, w, vn, pfB, &rest, st)) {
                     model_patch_of_gen(m, MODEL_CS(qm[2]), pfB, fr.p);
                     fr.stick = rest;
                 }
