@@ -145,13 +145,14 @@ static int explicit_advance(const exdex_model *m, void *ws, double t1, int regri
             double fr = v[0] > 0.0 ? -C : v[0] < 0.0 ? C : 0.0;  /* -C sign(v) */
             double vn, lo = -INFINITY, hi = INFINITY, fqlo = 0.0, fqhi = 0.0;
             int klo = -1, khi = -1, jlo = -1, jhi = -1;  /* jlo, jhi: the stop row's vertex (-1: an obstacle's) */
+            int held = 0;
             if (v[0] == 0.0 && m->capks != m->capk) {
                 /* at rest: the static capacity holds, else kinetic breakaway */
                 double capsm = model_capacity_static_mean(m, t, t1), Cs = tr ? capsm : capsm * m->e[2];
-                fr = fabs(Q) <= Cs ? -Q : Q > 0.0 ? -C : Q < 0.0 ? C : 0.0;
+                held = fabs(Q) <= Cs;
+                fr = held ? -Q : Q > 0.0 ? -C : C;
             }
-            vn = v[0] + h * (Q + fr) / M;
-            if (v[0] == 0.0 && m->capks != m->capk && fr == -Q) vn = 0.0;  /* held exactly */
+            vn = held ? 0.0 : v[0] + h * (Q + fr) / M;  /* held: exactly at rest */
             /* stop rows at t + h: Fq v+ >= -gap(q, t + h) / h */
             for (int k = 0; k < ns; k++)
                 for (int j = 0; j < nv; j++) {
