@@ -358,6 +358,9 @@ typedef struct exdex_obstacle_def {
     double center[3];                       /* cylinder: a point of the axis, in A [m] */
     double axis[3];                         /* cylinder: unit direction, in A */
     double radius;                          /* cylinder: > 0 [m] */
+    double mu;                              /* Coulomb coefficient against the object (>= 0,
+                                               finite; 0: frictionless), as a stop's stop_mu:
+                                               along the tangent e_z x n_B of each row */
 } exdex_obstacle_def;
 
 /* Section of obstacle o by the plate plane of the gripper pose (R = R_AB, p):

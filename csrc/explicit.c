@@ -176,7 +176,7 @@ static int explicit_advance(const exdex_model *m, void *ws, double t1, int regri
             if (m->n_obst) {
                 /* the obstacles' rows, in the same form (contact_obstacle_rows) */
                 double Go[MAX_ROWS][3], go[MAX_ROWS], ro[MAX_ROWS];
-                int so[MAX_ROWS], no = contact_obstacle_rows(m, &kin_end, q, Go, go, ro, so);
+                int so[MAX_ROWS], no = contact_obstacle_rows(m, &kin_end, q, Go, go, ro, so, NULL);
                 for (int r = 0; r < no; r++) {
                     double b;
                     if (!(fabs(Go[r][0]) > m->tol.fq_min)) continue;
@@ -266,7 +266,7 @@ static int explicit_advance(const exdex_model *m, void *ws, double t1, int regri
                 int stop[MAX_ROWS], nr = contact_rows(m, &kin_end, q, Gr, gap, stop);
                 if (m->n_obst) {
                     double ro[MAX_ROWS];
-                    nr += contact_obstacle_rows(m, &kin_end, q, Gr + nr, gap + nr, ro, stop + nr);
+                    nr += contact_obstacle_rows(m, &kin_end, q, Gr + nr, gap + nr, ro, stop + nr, NULL);
                 }
                 for (int r = 0; r < nr; r++) b[r] = -gap[r] / h;
                 memcpy(vs, v, sizeof vs);
