@@ -6,7 +6,9 @@
  * accelerations enter as step means (model_frame_step). Stops:
  * velocity-level rows G v+ >= -gap(q, t + dt)/dt; 1-DoF: a clamp; planar:
  * v+ is the M-metric projection of v* onto every (stop, vertex) row
- * (ldp_project), stop force lam / dt. Penetration at most 1/2 dt^2 thd^2
+ * (ldp_project), stop force lam / dt. Obstacles add their rows
+ * (contact_obstacle_rows) to the same clamp and projection. Penetration
+ * at most 1/2 dt^2 thd^2
  * r_max per step (the vertex moves on a circle, the row is linear). At stick
  * it chatters: with a load |Q| < C the velocity never returns to 0 but
  * circulates in (-dt (C - Q)/M, dt (C + Q)/M] (Q > 0) and creeps on average
@@ -129,20 +131,20 @@ static int explicit_advance(const exdex_model *m, void *ws, double t1, int regri
     (void)regrip;   /* the capacity is read at every step */
     do {
         double h = t1 - t, wrench[3] = {0, 0, 0};
-        double lamsum[EXDEX_MAX_STOPS];
+        double lamsum[EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES];
         exdex_kinematics kin, kin_end;
         frame f;
         int still;
         status = model_frame_step(m, &kin0, t, t1, h, &f, &kin, &kin_end);
         if (status) break;
-        for (int k = 0; k < ns; k++) lamsum[k] = 0.0;
+        for (int k = 0; k < m->n_src; k++) lamsum[k] = 0.0;
         if (nd == 1) {
             int tr = m->def.dof == EXDEX_DOF_TRANSLATION;
             double capm = model_capacity_mean(m, t, t1), M = tr ? m->m : m->mrot, C = tr ? capm : capm * m->e[2];
             double Q = model_force_1dof(m, &f, q[0], v[0]);
             double fr = v[0] > 0.0 ? -C : v[0] < 0.0 ? C : 0.0;  /* -C sign(v) */
-            double vn, lo = -INFINITY, hi = INFINITY;
-            int klo = -1, khi = -1, jlo = 0, jhi = 0;
+            double vn, lo = -INFINITY, hi = INFINITY, fqlo = 0.0, fqhi = 0.0;
+            int klo = -1, khi = -1, jlo = -1, jhi = -1;  /* jlo, jhi: the stop row's vertex (-1: an obstacle's) */
             if (v[0] == 0.0 && m->capks != m->capk) {
                 /* at rest: the static capacity holds, else kinetic breakaway */
                 double capsm = model_capacity_static_mean(m, t, t1), Cs = tr ? capsm : capsm * m->e[2];
@@ -162,12 +164,35 @@ static int explicit_advance(const exdex_model *m, void *ws, double t1, int regri
                         lo = b;
                         klo = k;
                         jlo = j;
+                        fqlo = c.Fq;
                     } else if (c.Fq < 0 && b < hi) {
                         hi = b;
                         khi = k;
                         jhi = j;
+                        fqhi = c.Fq;
                     }
                 }
+            if (m->n_obst) {
+                /* the obstacles' rows, in the same form (contact_obstacle_rows) */
+                double Go[MAX_ROWS][3], go[MAX_ROWS], ro[MAX_ROWS];
+                int so[MAX_ROWS], no = contact_obstacle_rows(m, &kin_end, q, Go, go, ro, so);
+                for (int r = 0; r < no; r++) {
+                    double b;
+                    if (!(fabs(Go[r][0]) > m->tol.fq_min)) continue;
+                    b = -go[r] / h / Go[r][0];
+                    if (Go[r][0] > 0 && b > lo) {
+                        lo = b;
+                        klo = so[r];
+                        jlo = -1;
+                        fqlo = Go[r][0];
+                    } else if (Go[r][0] < 0 && b < hi) {
+                        hi = b;
+                        khi = so[r];
+                        jhi = -1;
+                        fqhi = Go[r][0];
+                    }
+                }
+            }
             if (lo > hi) {
                 st->warnings++;
                 hi = lo;
@@ -175,11 +200,8 @@ static int explicit_advance(const exdex_model *m, void *ws, double t1, int regri
             {
                 double vc = vn < lo ? lo : vn > hi ? hi : vn;
                 int kb = vc != vn ? (vn < lo ? klo : khi) : -1, jb = vn < lo ? jlo : jhi;
-                if (kb >= 0) {
-                    crow c;
-                    contact_row_1dof(m, &kin_end, kb, jb, q[0], &c);
-                    lamsum[kb] = M * (vc - vn) / c.Fq;
-                }
+                double fq = vn < lo ? fqlo : fqhi;
+                if (kb >= 0) lamsum[kb] = M * (vc - vn) / fq;
                 if (kb >= 0 && m->stop_friction && model_source_mu(m, kb) > 0.0) {
                     /* the frictional rows: every (stop, vertex) row, as above */
                     double Gr[MAX_ROWS][3], b[MAX_ROWS] = {0}, gp[MAX_ROWS] = {0}, lam[MAX_ROWS], vv[3] = {vc, 0, 0};
@@ -235,11 +257,16 @@ static int explicit_advance(const exdex_model *m, void *ws, double t1, int regri
             model_gen_of_patch(m, MODEL_CS(q[2]), w, P);
             model_to_b(MODEL_CS(q[2]), w, wrench);
             for (int c = 0; c < 3; c++) v[c] = held ? 0.0 : v[c] + h * m->minv[c] * (F[c] + P[c]);
-            if (ns) {
+            if (ns || m->n_obst) {
                 /* stop rows at t + h: G v+ >= -gap(q, t + h) / h, v+ the
-                 * M-metric projection of v* (ldp_project) */
+                 * M-metric projection of v* (ldp_project); the obstacles'
+                 * rows after the stops' */
                 double Gr[MAX_ROWS][3], gap[MAX_ROWS], b[MAX_ROWS], lam[MAX_ROWS], vs[3];
                 int stop[MAX_ROWS], nr = contact_rows(m, &kin_end, q, Gr, gap, stop);
+                if (m->n_obst) {
+                    double ro[MAX_ROWS];
+                    nr += contact_obstacle_rows(m, &kin_end, q, Gr + nr, gap + nr, ro, stop + nr);
+                }
                 for (int r = 0; r < nr; r++) b[r] = -gap[r] / h;
                 memcpy(vs, v, sizeof vs);
                 if (ldp_project(m->minv, nr, (const double (*)[3])Gr, b, vs, FQ_MIN, v, lam, &st->stop_iterations, &st->warnings)) {
@@ -255,7 +282,7 @@ static int explicit_advance(const exdex_model *m, void *ws, double t1, int regri
             status = EXDEX_ENONFINITE;
             break;
         }
-        if (ns) {
+        if (ns || m->n_obst) {
             /* beyond the scheme's own bound (a vertex moves on a circle
              * over the step while its row is linear in v+): the scene drives
              * the object through a stop (see tol.pen) */
@@ -268,7 +295,7 @@ static int explicit_advance(const exdex_model *m, void *ws, double t1, int regri
         t = t1;
         kin0 = kin_end;
         st->steps++;
-        for (int k = 0; k < ns; k++) lamsum[k] /= h;
+        for (int k = 0; k < m->n_src; k++) lamsum[k] /= h;
         method_record(m, out, st, i, t1, q, v, wrench, still, lamsum);
     } while (0);
     w->t = t;

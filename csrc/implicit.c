@@ -406,15 +406,35 @@ static int step_planar(const exdex_model *m, double h, double capm, double capsm
     double cap = h * capm, caps = h * capsm, b[3], cs[2] = {cos(th), sin(th)};
     int s, act[3], k = 0, round;
     model_patch_slip(m, cs, vs, b);
-    /* stick with the static capacity, else slide with the kinetic one */
-    s = exdex_friction_solve(&m->prep, b, caps, m->def.friction_solver, w->fws, w->have_prev ? w->p_prev : NULL, fr);
-    if (s) return s;
-    st->solver_iterations += (size_t)fr->iterations;
+    /* stick with the static capacity, else slide with the kinetic one. The
+     * solve's own stick test, |K^-1 E b| <= caps (K = E W E), is done here
+     * first where it clearly fails (by more than its 1e-6 band, with margin
+     * for rounding): the solve with caps would slide and be discarded, so
+     * only the kinetic one runs (the same result, without the wasted slide) */
+    {
+        int skip_static = 0;
+        if (caps != cap) {
+            double c[3], ct[3], t = 0.0;
+            for (int i = 0; i < 3; i++) c[i] = m->prep.e[i] * b[i];
+            ex_mulmtv3(ct, m->prep.Q, c);
+            for (int i = 0; i < 3; i++) {
+                double r = ct[i] / m->prep.lam[i] / caps;
+                t += r * r;
+            }
+            skip_static = isfinite(t) && t > 1.0 + 1e-5;
+        }
+        s = exdex_friction_solve(&m->prep, b, skip_static ? cap : caps, m->def.friction_solver, w->fws,
+                                 w->have_prev ? w->p_prev : NULL, fr);
+        if (s) return s;
+        st->solver_iterations += (size_t)fr->iterations;
+        if (skip_static) goto friction_done;
+    }
     if (!fr->stick && caps != cap) {
         s = exdex_friction_solve(&m->prep, b, cap, m->def.friction_solver, w->fws, w->have_prev ? w->p_prev : NULL, fr);
         if (s) return s;
         st->solver_iterations += (size_t)fr->iterations;
     }
+friction_done:
     model_gen_of_patch(m, cs, fr->p, pfB);
     for (int i = 0; i < 3; i++) v[i] = fr->stick ? 0.0 : vs[i] + m->minv[i] * pfB[i];
     for (round = 0; round < 12; round++) {
@@ -556,25 +576,29 @@ static double project_positions(const exdex_model *m, const exdex_kinematics *ki
  * stepped exactly as without friction. Otherwise the step is solved again
  * with the friction of the rows (fcontact.h: Stewart-Trinkle velocity-level
  * complementarity, the plate ellipsoid with its prescribed normal force,
- * exact mode enumeration), started from the frictionless solution and its
- * active rows. The rows are those of build_rows (gaps at t + h, rhs =
- * -gap / h), with the tangential rows T and the gripper's slip tb of each
- * vertex at the pose of t + h. Where no consistent mode is found among
+ * exact mode enumeration), with the frictionless solution's active rows as
+ * the candidates, and the last step's modes and velocity as the first
+ * guess and Newton's start when the last step was frictional too (else the
+ * slip signs and velocity of the frictionless solution). The rows are
+ * those of build_rows (gaps at t + h, rhs = -gap / h), with the tangential
+ * rows T and the gripper's slip tb of each vertex at the pose of t + h. Where no consistent mode is found among
  * FC_MAX_CAND rows the frictionless step is kept and a warning counted.
  * n = 1: A = 1 and cap the step's capacity c (friction -c sign(v)); n = 3:
  * A = E J_f at the step's angle. cap_s is the static capacity of the step
- * (the plates' rest test), cap the kinetic one (sliding). On return v, the plate impulse P
+ * (the plates' rest test), cap the kinetic one (sliding); v_old the
+ * velocity before the step. On return v, the plate impulse P
  * (generalized), w->lam and w->beta hold the step; *rest is 1 at plate
  * rest. Returns 1 if the step was changed. */
 static int stop_friction_step(const exdex_model *m, const exdex_kinematics *kin_end, const double *q, double th,
-                               double cap, double cap_s, const double vs[3], work *w, double *v, double *P, int *rest,
+                               double cap, double cap_s, const double vs[3], const double *v_old, work *w,
+                               double *v, double *P, int *rest,
                                exdex_stats *st)
 {
     fc_row rows[MAX_ROWS];
     fc_problem p;
     fc_result res;
     unsigned char hint[MAX_ROWS];
-    double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], lam[MAX_ROWS], beta[MAX_ROWS];
+    double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], lam[MAX_ROWS], beta[MAX_ROWS], v_start[3];
     int nv, need = 0, n = m->ndof;
     for (int i = 0; i < w->n_rows; i++) {
         w->beta[i] = 0.0;
@@ -623,7 +647,15 @@ static int stop_friction_step(const exdex_model *m, const exdex_kinematics *kin_
         p.vscale = m->scale.V;
     }
     for (int c = 0; c < 3; c++) p.vs[c] = c < n ? vs[c] : 0.0;
-    if (!fc_solve(&p, hint, v, w->fmode, lam, beta, &res)) {
+    {
+        /* Newton's start: the last step's velocity when that step was solved
+         * with friction too (a steady slide changes little per step), else
+         * the frictionless solution */
+        int cached = 0;
+        for (int i = 0; i < w->n_rows; i++) cached |= hint[i] && w->fmode[i] != FC_OFF;
+        for (int c = 0; c < 3; c++) v_start[c] = c < n ? (cached ? v_old[c] : v[c]) : 0.0;
+    }
+    if (!fc_solve(&p, hint, v_start, w->fmode, lam, beta, &res)) {
         st->warnings++;  /* no consistent mode: the frictionless step is kept */
         return 0;
     }
@@ -732,7 +764,7 @@ static int implicit_advance(const exdex_model *m, void *ws, double t1, int regri
             step_1dof(M, c, c_s, vs[0], m->tol.touch, w, &vn[0], &pf, st);
             if (m->stop_friction) {
                 int rest = 0;
-                stop_friction_step(m, &kin_end, q, 0.0, c, c_s, vs, w, vn, &pf, &rest, st);
+                stop_friction_step(m, &kin_end, q, 0.0, c, c_s, vs, v, w, vn, &pf, &rest, st);
             }
             if (m->def.dof == EXDEX_DOF_TRANSLATION) {
                 wrench[0] = pf * m->d[0] / h;
@@ -755,7 +787,7 @@ static int implicit_advance(const exdex_model *m, void *ws, double t1, int regri
             if (m->stop_friction) {
                 int rest = fr.stick;
                 if (stop_friction_step(m, &kin_end, q, qm[2], h * model_capacity_mean(m, t, t1),
-                                       h * model_capacity_static_mean(m, t, t1), vs, w, vn, pfB, &rest, st)) {
+                                       h * model_capacity_static_mean(m, t, t1), vs, v, w, vn, pfB, &rest, st)) {
                     model_patch_of_gen(m, MODEL_CS(qm[2]), pfB, fr.p);
                     fr.stick = rest;
                 }

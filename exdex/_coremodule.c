@@ -1380,7 +1380,7 @@ static PyObject *core_n_samples(PyObject *module, PyObject *args)
 /* Scalar fields of exdex_scene_def a batch may vary from a base spec (`vary`). */
 static const char *const vary_keys[] = {"mass", "mu", "grip_force", "e_r", "motion_amplitude",
                                         "motion_duration", "motion_beta", "motion_v_max", "eps",
-                                        "rtol", "atol", "mu_static", NULL};
+                                        "rtol", "atol", "mu_static", "patch_center_x", "patch_center_y", NULL};
 
 static double *vary_field(exdex_scene_def *d, int which)
 {
@@ -1396,6 +1396,8 @@ static double *vary_field(exdex_scene_def *d, int which)
     case 8: return &d->eps;
     case 9: return &d->rtol;
     case 11: return &d->mu_static;
+    case 12: return &d->patch_center[0];
+    case 13: return &d->patch_center[1];
     default: return &d->atol;
     }
 }
@@ -1639,7 +1641,8 @@ static Py_ssize_t parse_vary(PyObject *vary, int *which, PyArrayObject **arrays,
         if (w < 0) {
             PyErr_Format(PyExc_ValueError,
                          "vary: unknown key '%s' (allowed: mass, mu, grip_force, e_r, motion_amplitude, "
-                         "motion_duration, motion_beta, motion_v_max, eps, rtol, atol, mu_static)", name);
+                         "motion_duration, motion_beta, motion_v_max, eps, rtol, atol, mu_static, patch_center_x, "
+                         "patch_center_y)", name);
             return -1;
         }
         arrays[*nvary] = (PyArrayObject *)PyArray_FROMANY(val, NPY_DOUBLE, 1, 1, NPY_ARRAY_IN_ARRAY);
@@ -1676,7 +1679,8 @@ PyDoc_STRVAR(simulate_batch_doc,
 "vary : optional dict {spec key: 1-D float64 array of the batch length}; entry\n"
 "    i replaces that scalar of spec i (keys: mass, mu, grip_force, e_r,\n"
 "    motion_amplitude, motion_duration, motion_beta, motion_v_max, eps, rtol,\n"
-"    atol, mu_static). With a single spec dict it sets the batch length.\n"
+"    atol, mu_static, patch_center_x, patch_center_y). With a single spec\n"
+"    dict it sets the batch length.\n"
 "record : 'all' returns q, v (B, n, ndof), wrench (B, n, 3), stick (B, n),\n"
 "    stop_force (B, n, n_stops); 'final' only their last sample, q, v (B, ndof),\n"
 "    wrench (B, 3), stick (B,), stop_force (B, n_stops).\n"

@@ -54,7 +54,7 @@ __all__ = ["BatchResult", "simulate_batch", "sweep", "grid_points", "PARAMETERS"
 
 @dataclass(frozen=True)
 class _Param:
-    path: Tuple[str, ...]     # dataclass fields from the Scene down, for dataclasses.replace
+    path: Tuple[Union[str, int], ...]   # attribute names, or an index into a tuple field     # dataclass fields from the Scene down, for dataclasses.replace
     key: str                  # the scalar of Scene.to_spec() (and exdex_scene_def) it sets
     low: Optional[float]      # bounds, as in the dataclass's own validation
     high: Optional[float]
@@ -84,6 +84,10 @@ PARAMETERS: Dict[str, _Param] = {
     "beta": _Param(("motion", "beta"), "motion_beta", 0.0, 1.0, True, True, (AsymmetricProfile,)),
     "v_max": _Param(("motion", "v_max"), "motion_v_max", 0.0, None, True, False, (TrapezoidalProfile,)),
     "mu_static": _Param(("grasp", "mu_static"), "mu_static", 0.0, None, False, False),
+    # the pad centre in the object frame (the centre of mass is at its
+    # negative from the pivot of a rotation scene) [m]
+    "patch_x": _Param(("grasp", "patch", "center", 0), "patch_center_x", None, None, False, False),
+    "patch_y": _Param(("grasp", "patch", "center", 1), "patch_center_y", None, None, False, False),
 }
 
 # names people reach for, pointing at ours
@@ -229,6 +233,10 @@ def _replace_params(scene, values):
 
 
 def _replace_path(obj, path, value):
+    if isinstance(path[0], int):   # a component of a tuple field (Patch.center)
+        items = list(obj)
+        items[path[0]] = value
+        return tuple(items)
     if len(path) == 1:
         if path[0] == "grip_force" and isinstance(getattr(obj, "grip_force"), GripSchedule):
             # on a grip schedule the batch's grip_force is a scale of it (the core's grip_force)
@@ -299,7 +307,7 @@ def _check_values(name, p, a):
         idx = np.unravel_index(i, a.shape) if a.ndim else ()
         where = f"{name}[{', '.join(map(str, idx))}]" if a.ndim else name
         raise ValueError(f"{where} = {a.ravel()[i]:g} must be finite and in {p.describe()} "
-                         f"({'.'.join(p.path)})")
+                         f"({'.'.join(map(str, p.path))})")
 
 
 def _check_trapezoids(scene, flat):
@@ -406,7 +414,10 @@ def simulate_batch(scene: Union[Scene, Sequence[Scene]], t_end: float, dt: float
         ``amplitude`` (motion.amplitude, X1 [m] or theta1 [rad]),
         ``duration`` (motion.duration, T [s] > 0), ``beta`` (motion.beta of
         an AsymmetricProfile, in (0, 1)), ``v_max`` (motion.v_max of a
-        TrapezoidalProfile).
+        TrapezoidalProfile), ``patch_x``, ``patch_y`` (grasp.patch.center,
+        the pad centre in the object frame [m]; with ``method="auto"`` such
+        a batch runs the event method, since the analytic path needs a
+        rotation scene's pivot at the centre of mass).
 
         Trajectory i is the scene ``dataclasses.replace`` would make with the
         i-th values (:meth:`BatchResult.scene_at`), and its arrays are
@@ -443,7 +454,8 @@ def simulate_batch(scene: Union[Scene, Sequence[Scene]], t_end: float, dt: float
     if record not in ("all", "final"):
         raise ValueError(f"record must be 'all' or 'final', got {record!r}")
     if method == "auto":
-        ok = all(resolve_method(s, "auto") == "analytic" for s in (scenes if scenes is not None else (scene,)))
+        ok = all(resolve_method(s, "auto") == "analytic" for s in (scenes if scenes is not None else (scene,))) \
+            and not any(k in ("patch_x", "patch_y") for k in arrays)
         method = "analytic" if ok else "event"
     eps, rtol, atol = _check_options(method, friction_solver, eps, rtol, atol)
 

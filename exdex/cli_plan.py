@@ -4,7 +4,10 @@ Scans a parameter of a paper case or a scene file in a batch and solves to
 ``--tol`` (:func:`exdex.plan.solve`), prints the plan and its outcome band,
 and writes ``gripper_poses.csv`` (the poses a robot controller consumes,
 :meth:`exdex.plan.Plan.gripper_poses`), ``planned_scene.toml`` and, with
-matplotlib, ``plan.png`` to ``--out``.
+matplotlib, ``plan.png`` to ``--out``. With ``--pose`` (a planar scene file)
+it plans a planar pose by a sequence of motion primitives
+(:func:`exdex.sequence.solve`) and writes the sequence's poses and one scene
+file per step.
 """
 from __future__ import annotations
 
@@ -48,6 +51,10 @@ def add_arguments(parser):
     parser.add_argument("--target", default="slip=-0.015",
                         help="quantity=value, quantity one of slip [m], rotation [rad], x, y [m] "
                              "(default slip=-0.015: slide 15 mm down)")
+    parser.add_argument("--pose", default=None,
+                        help="a planar pose target x=..,y=..,rotation=.. (m, m, rad; any of them) for a planar "
+                             "--scene: planned by a sequence of motion primitives (exdex.sequence.solve) instead "
+                             "of --target/--vary; --uncertain then gives its sampled band")
     parser.add_argument("--vary", default="grip_force=1.0:3.0",
                         help="parameter=low:high (default grip_force=1.0:3.0)")
     parser.add_argument("--uncertain", action="append", default=[],
@@ -64,11 +71,69 @@ def add_arguments(parser):
     parser.add_argument("--no-progress", action="store_true", help="accepted for symmetry (a plan takes ms)")
 
 
+def _write_poses(args, t, poses):
+    csv_path = os.path.join(args.out, "gripper_poses.csv")
+    np.savetxt(csv_path, np.column_stack([t, poses]), delimiter=",", header="t,x,y,z,qw,qx,qy,qz", comments="",
+               fmt="%.17g")
+    print(f"wrote {csv_path} ({len(t)} poses at {args.rate:g} Hz)")
+
+
+def _run_pose(args, scene):
+    import math
+    import warnings
+    from exdex import sequence
+    if scene.dof != "planar":
+        raise SystemExit(f"exdex plan: --pose needs a planar scene (--scene FILE with dof = 'planar'), got a "
+                         f"{scene.dof} scene")
+    target = {}
+    for item in args.pose.split(","):
+        k, v = _kv(item, "--pose")
+        try:
+            target[k] = float(v)
+        except ValueError:
+            raise SystemExit(f"exdex plan: --pose values must be numbers, got {item!r}") from None
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            p = sequence.solve(scene, target)
+    except UnreachableTargetError as exc:
+        print(f"exdex plan: {exc}")
+        return 1
+    except ValueError as exc:
+        raise SystemExit(f"exdex plan: {exc}") from None
+    os.makedirs(args.out, exist_ok=True)
+    print("plan: " + " -> ".join(f"{n}({v:.6g})" for n, v in p.steps))
+    for k in p.targets:
+        u, f = ("deg", 180.0 / math.pi) if k == "rotation" else ("mm", 1e3)
+        print(f"  {k}: {f * p.achieved[k]:.6g} {u} (target {f * p.targets[k]:g} {u}, residual "
+              f"{f * p.residuals[k]:.2e} {u}, tol {f * p.tol[k]:g} {u})")
+    if args.uncertain:
+        unc = dict(_interval(u, "--uncertain") for u in args.uncertain)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            b = sequence.band(p, unc, n=5)
+        for k, (lo, hi) in b.items():
+            u, f = ("deg", 180.0 / math.pi) if k == "rotation" else ("mm", 1e3)
+            print(f"  band of {k} (sampled) for {', '.join(f'{n} in [{a:g}, {c:g}]' for n, (a, c) in unc.items())}: "
+                  f"[{f * lo:.6g}, {f * hi:.6g}] {u}")
+        for w in caught:
+            print(f"  note: {w.message}")
+    t, poses = p.gripper_poses(args.rate)
+    _write_poses(args, t, poses)
+    for k, sc in enumerate(p.scenes):
+        path = os.path.join(args.out, f"step_{k + 1}.toml")
+        save_scene(sc, path)
+        print(f"wrote {path}")
+    return 0
+
+
 def run(args):
     if args.scene:
         scene = load_scene(args.scene)
     else:
         scene = {"fig3": paper.fig3_scene, "fig4": paper.fig4_scene, "fig6": paper.fig6_scene}[args.case]()
+    if args.pose is not None:
+        return _run_pose(args, scene)
     q, v = _kv(args.target, "--target")
     try:
         target = {q: float(v)}
@@ -103,10 +168,7 @@ def run(args):
               f"({'exact ends' if p.band.exact else f'sampled, bound {p.band.bound:.2g}'}); worst error "
               f"{p.worst_error:.3g} {u}: {'meets' if p.meets_target else 'does NOT meet'} tol {p.tol:g}")
     t, poses = p.gripper_poses(args.rate)
-    csv_path = os.path.join(args.out, "gripper_poses.csv")
-    np.savetxt(csv_path, np.column_stack([t, poses]), delimiter=",", header="t,x,y,z,qw,qx,qy,qz", comments="",
-               fmt="%.17g")
-    print(f"wrote {csv_path} ({len(t)} poses at {args.rate:g} Hz)")
+    _write_poses(args, t, poses)
     scene_path = os.path.join(args.out, "planned_scene.toml")
     save_scene(p.scene, scene_path)
     print(f"wrote {scene_path}")

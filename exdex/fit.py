@@ -47,12 +47,21 @@ __all__ = ["Sensitivity", "sensitivity", "EventTimes", "event_times", "EventSens
            "Identification", "identify"]
 
 
+def _batch_method(scene, method, names):
+    """The method of a batch varying ``names``: ``resolve_method``, except that
+    "auto" stays off the analytic path when the pad centre varies (the
+    analytic path needs a rotation scene's pivot at the centre of mass)."""
+    if method == "auto" and any(n in ("patch_x", "patch_y") for n in names):
+        return "event"
+    return resolve_method(scene, method)
+
+
 def _value_of(scene, name):
     if name == "mu_static":   # None: equal to mu
         return float(scene.grasp.static_mu)
     obj = scene
     for part in PARAMETERS[name].path:
-        obj = getattr(obj, part)
+        obj = obj[part] if isinstance(part, int) else getattr(obj, part)
     if isinstance(obj, GripSchedule):
         return 1.0  # grip_force on a schedule is a factor on it (batch.py), 1 for the schedule as given
     return float(obj)
@@ -124,7 +133,7 @@ def sensitivity(scene: Scene, params: Sequence[str], t_end: float, *, dt: Option
     rel_step = _real(rel_step, "rel_step", low=0.0, high=0.5, low_open=True)
     if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or not 2 <= levels <= 20:
         raise ValueError(f"levels must be an int in [2, 20], got {levels!r}")
-    method = resolve_method(scene, method)
+    method = _batch_method(scene, method, names)
     opts: Dict[str, Any] = dict(method=method, rtol=rtol, atol=atol, eps=eps, record="final")
     dq: List[np.ndarray] = []
     dv: List[np.ndarray] = []
@@ -638,7 +647,7 @@ def identify(scene: Scene, times: ArrayLike, observed: ArrayLike, params: Mappin
         on_grid = t[0] == 0.0 and np.allclose(steps, np.round(steps), rtol=0, atol=1e-9)
         dt = float(t[1] - t[0]) if on_grid else float(np.min(np.diff(t))) / 8
     dt = _real(dt, "dt", low=0.0, low_open=True, high=t_end)
-    method = resolve_method(scene, method)
+    method = _batch_method(scene, method, names)
     opts: Dict[str, Any] = dict(method=method, rtol=rtol, atol=atol, eps=eps, record="all")
     scale = np.where(x0 != 0.0, np.abs(x0), 1.0)
 

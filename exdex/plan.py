@@ -60,7 +60,7 @@ QUANTITIES = {"slip": "m", "rotation": "rad", "x": "m", "y": "m"}
 
 #: units of the parameters, for labels
 _PARAM_UNITS = {"grip_force": "N", "mu": "-", "mass": "kg", "e_r": "m", "amplitude": "m or rad", "duration": "s",
-                "beta": "-", "v_max": "m/s or rad/s"}
+                "beta": "-", "v_max": "m/s or rad/s", "mu_static": "-", "patch_x": "m", "patch_y": "m"}
 
 
 class UnreachableTargetError(ValueError):
@@ -274,7 +274,8 @@ class _Runner:
         dt = t_end if not self.scene.stops else min(t_end, 0.01)
         trapezoid = isinstance(self.scene.motion, TrapezoidalProfile) and any(
             PARAMETERS[k].path[0] == "motion" for k in arrays)
-        if spec is not None and not trapezoid:
+        pad = any(k in ("patch_x", "patch_y") for k in arrays)
+        if spec is not None and not trapezoid and not pad:
             vals = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in arrays.values()))
             shape = vals[0].shape if vals else ()
             vary = {PARAMETERS[k].key: np.ascontiguousarray(v, dtype=float).ravel() for k, v in zip(arrays, vals)}
@@ -289,7 +290,8 @@ class _Runner:
         spec = self._direct
         trapezoid = isinstance(self.scene.motion, TrapezoidalProfile) and any(
             PARAMETERS[k].path[0] == "motion" for k in arrays)
-        if spec is not None and not trapezoid:
+        pad = any(k in ("patch_x", "patch_y") for k in arrays)
+        if spec is not None and not trapezoid and not pad:
             vals = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in arrays.values()))
             shape = vals[0].shape if vals else ()
             vary = {PARAMETERS[k].key: np.ascontiguousarray(v, dtype=float).ravel() for k, v in zip(arrays, vals)}
@@ -647,7 +649,8 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Optional[Mapping[str,
     best = _replace_params(scene, {name: float(x)})
     achieved = goal + r
     if verify:
-        d, v_end, still = _final_state(best, t_end, dt, method, rtol, atol, eps, run._direct is not None)
+        d, v_end, still = _final_state(best, t_end, dt, method, rtol, atol, eps,
+                                       run._direct is not None and name not in ("patch_x", "patch_y"))
         achieved = float(outcome(d, best, quantity)[0])
         if not still:
             warnings.warn(f"the planned object is still moving at t_end = {t_end:g} s (relative speed "

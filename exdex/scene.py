@@ -993,7 +993,8 @@ class Scene:
     gravity : in A [m/s^2].
     stops : fixed world planes (``Stop``) the object outline may not cross.
     obstacles : convex solids fixed in the world (``Obstacle``) the object
-        outline may not enter (the implicit method solves such scenes).
+        outline may not enter (the implicit and explicit methods solve such
+        scenes).
     """
 
     body: Body
@@ -1139,9 +1140,9 @@ class Scene:
             eps=eps, rtol=rtol, atol=atol,
         )
         if self.obstacles:
-            if method != "implicit":
-                raise ValueError(f"Scene.obstacles: the implicit method solves scenes with obstacles, "
-                                 f"got method={method!r}")
+            if method not in ("implicit", "explicit"):
+                raise ValueError(f"Scene.obstacles: the implicit and explicit methods solve scenes with "
+                                 f"obstacles, got method={method!r}")
             spec["obstacles"] = [o._spec() for o in self.obstacles]
         spec.update(self.motion._spec())
         sched = self.grasp.schedule

@@ -42,10 +42,13 @@ The search (what it covers):
    with the closest sequence found.
 
 Not covered: repeated primitives in one sequence, sequences longer than
-``max_length``, durations and Eq. 7's beta as unknowns (fixed per
-primitive), grip changes between steps, and targets that need the object to
-leave the pad (the result is then outside the model and a PhysicsWarning is
-issued by the re-simulation). Units are SI.
+``max_length``, orders other than the screen's for three or more steps (the
+additive screen cannot tell orders apart), durations and Eq. 7's beta as
+unknowns (fixed per primitive), grip changes between steps, and targets that
+need the object to leave the pad (the result is then outside the model and a
+PhysicsWarning is issued by the re-simulation). The search is local: a
+reachable pose can be missed, and the error then names the closest sequence
+solved. Units are SI.
 """
 from __future__ import annotations
 
@@ -154,6 +157,7 @@ class SequencePlan:
     tried : ((sequence, screened scaled error, solved scaled error or NaN), ...)
         for every sequence screened, best screened first; the scaled error is
         max |residual| / tol.
+    settle : the rest after each step's motion [s].
     """
 
     steps: Tuple[Tuple[str, float], ...]
@@ -165,6 +169,33 @@ class SequencePlan:
     tol: Dict[str, float]
     cost: float
     tried: Tuple[Tuple[Tuple[str, ...], float, float], ...]
+    settle: float = 0.3
+
+    def gripper_poses(self, rate: float = 100.0) -> Tuple[np.ndarray, np.ndarray]:
+        """The whole sequence's gripper motion as poses at ``rate`` [Hz], what a
+        robot controller consumes: ``(times, poses)``, poses (n, 7) rows x y
+        z qw qx qy qz of frame B in the world (m, unit quaternion); each step
+        runs its motion and then rests ``settle`` s, and starts where the
+        previous one ended (every primitive is a round trip)."""
+        from exdex.scene import _quat_from_matrix
+        rate = _real(rate, "rate", low=0.0, low_open=True)
+        ts, ps = [], []
+        t0 = 0.0
+        for k, sc in enumerate(self.scenes):
+            span = sc.motion.end_time + self.settle
+            n = max(int(math.floor(span * rate + 1e-9)), 1)
+            t = np.arange(n + 1) / rate
+            t[-1] = min(t[-1], span)
+            if t[-1] < span:
+                t = np.append(t, span)
+            if k:
+                t = t[1:]   # the previous step's last sample is this one's first
+            kin = sc.motion.evaluate(t, sc.gripper_rotation, sc.gripper_position)
+            q = np.array([_quat_from_matrix(R) for R in kin["R"]])
+            ts.append(t0 + t)
+            ps.append(np.hstack([kin["p"], q]))
+            t0 += span
+        return np.concatenate(ts), np.vstack(ps)
 
     @property
     def meets_target(self) -> bool:
@@ -456,14 +487,14 @@ def solve(scene: Scene, target: Mapping[str, float], *, prims: Optional[Mapping[
     return SequencePlan(steps=tuple((n, float(v)) for n, v in zip(order, xs)), scenes=tuple(scenes),
                         final=(float(qf[0]), float(qf[1]), float(qf[2])), targets=dict(goals), achieved=achieved,
                         residuals={q: achieved[q] - goals[q] for q in goals}, tol=tols, cost=float(cost),
-                        tried=tried)
+                        tried=tried, settle=settle)
 
 
 def band(plan: SequencePlan, uncertain: Mapping[str, Tuple[float, float]], *, n: int = 9,
          settle: float = 0.3, rtol: float = 1e-10, atol: float = 1e-12) -> Dict[str, Tuple[float, float]]:
     """The sampled band of a sequence plan's pose under uncertain grasp or body parameters.
 
-    ``uncertain`` maps ``mu``, ``grip_force``, ``mass`` or ``e_r`` to an
+    ``uncertain`` maps ``mu``, ``mu_static``, ``grip_force``, ``mass`` or ``e_r`` to an
     interval; the plan's steps are re-simulated step by step for ``n``
     equally spaced values per interval (the product grid, ends included).
     Returns ``{quantity: (low, high)}`` over the samples for the plan's
@@ -480,8 +511,9 @@ def band(plan: SequencePlan, uncertain: Mapping[str, Tuple[float, float]], *, n:
         raise ValueError(f"n must be an int >= 2, got {n!r}")
     axes = {}
     for name, iv in uncertain.items():
-        if name not in ("mu", "grip_force", "mass", "e_r"):
-            raise ValueError(f"uncertain parameters of a sequence band are mu, grip_force, mass, e_r; got {name!r}")
+        if name not in ("mu", "mu_static", "grip_force", "mass", "e_r"):
+            raise ValueError("uncertain parameters of a sequence band are mu, mu_static, grip_force, mass, e_r; "
+                             f"got {name!r}")
         try:
             lo, hi = (float(iv[0]), float(iv[1]))
         except (TypeError, ValueError, IndexError):

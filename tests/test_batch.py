@@ -423,3 +423,22 @@ def test_sweep_on_dask_local_cluster(fig3, processes):
         np.testing.assert_array_equal(getattr(remote, name), getattr(local, name))
     for k in STATS:
         np.testing.assert_array_equal(remote.stats[k], local.stats[k])
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_pad_centre_batch_equals_serial(threads):
+    """patch_x / patch_y vary the pad centre (the pivot of a rotation scene);
+    trajectory i equals exdex.simulate of scene_at(i) bit for bit, and
+    method "auto" runs the event method (the analytic path needs the pivot
+    at the centre of mass)."""
+    s6 = paper.fig6_scene()
+    b = simulate_batch(s6, 8.0, 0.5, threads=threads, record="all", method="auto", patch_y=[0.0, -0.005, 0.004],
+                       patch_x=0.001, warn=False)
+    assert b.method == "event"
+    assert b.scene_at(1).grasp.patch.center == (0.001, -0.005)
+    for i in range(len(b)):
+        r = exdex.simulate(b.scene_at(i), 8.0, 0.5, method="event")
+        for name in ARRAYS:
+            np.testing.assert_array_equal(getattr(b, name)[i], getattr(r, name), err_msg=f"{name}[{i}]")
+    with pytest.raises(ValueError, match=r"patch_y\[1\] = nan must be finite .*grasp\.patch\.center\.1"):
+        simulate_batch(s6, 8.0, 0.5, patch_y=[0.0, np.nan])

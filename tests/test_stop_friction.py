@@ -324,3 +324,81 @@ def test_frictional_stops_never_add_energy_and_rest_is_exactly_still(seed):
     assert np.all(r.v[still[0]:] == 0.0)
     assert r.stats["warnings"] == 0
     assert r.stop_force.max() > 0  # the stop acted
+
+
+@pytest.mark.parametrize("mu_s", [0.3, 0.8])
+def test_stepper_with_frictional_stops_is_bit_identical_and_branches_exactly(mu_s):
+    """Stepping a frictional-stop scene reproduces simulate bit for bit, and
+    a saved state restored into another stepper of the same model (whose
+    own last contact modes differ: it has not run) continues exactly as the
+    original: the friction solve's warm start is part of the state."""
+    scene = _wall_scene(mu_s)
+    n, dt = 200, 1e-3
+    res = exdex.simulate(scene, n * dt, dt)
+    st = exdex.Stepper(scene)
+    steps = [st.step(dt) for _ in range(n)]
+    assert np.array_equal(np.array([s.q for s in steps]), res.q[1:])
+    assert np.array_equal(np.array([s.v for s in steps]), res.v[1:])
+    assert np.array_equal(np.array([s.stop_force for s in steps]).reshape(n, -1), res.stop_force[1:])
+    model = exdex.Model(scene)
+    a, b = exdex.Stepper(model), exdex.Stepper(model)
+    for _ in range(100):
+        a.step(dt)
+    snap = a.save()
+    first = [a.step(dt, 1.5 - 0.005 * i) for i in range(60)]
+    b.restore(snap)
+    again = [b.step(dt, 1.5 - 0.005 * i) for i in range(60)]
+    for x, y in zip(first, again):
+        assert np.array_equal(x.q, y.q) and np.array_equal(x.v, y.v) and np.array_equal(x.stop_force, y.stop_force)
+
+
+def _incline_block(mu_s, cap, alpha=0.4, m=0.1, a=0.03):
+    """A square block (side a) resting with a face flush on an inclined
+    floor (a stop through the face, in-plane normal n = (-sin a, cos a),
+    the block turned by alpha to match), gripper at rest, gravity -y in B;
+    plate capacity cap = 2 mu F (mu = 0.5: F = cap)."""
+    n_b = np.array([-math.sin(alpha), math.cos(alpha)])
+    p_b = -0.5 * a * n_b
+    return exdex.Scene(body=exdex.Body.box(m, (a, a, 0.02)),
+                       grasp=exdex.Grasp(mu=0.5, grip_force=cap, patch=exdex.Patch.rectangle(0.01, 0.01)),
+                       dof="planar", q0=(0.0, 0.0, alpha),
+                       stops=(exdex.Stop((p_b[0], 0.0, p_b[1]), (n_b[0], 0.0, n_b[1]), mu=mu_s),))
+
+
+@pytest.mark.parametrize("mu_s, cap, rests", [(0.5, 0.01, True), (0.2, 0.21, True), (0.2, 0.18, False),
+                                              (0.0, 0.40, True), (0.0, 0.37, False)])
+def test_rest_on_a_frictional_incline_is_exact_and_its_threshold_closed_form(mu_s, cap, rests):
+    """At rest the stop's reaction lies in its cone, the directions within
+    phi = atan(mu_s) of the normal n (the incline's angle alpha from the
+    vertical), and the plates must supply the rest of the weight m g: the
+    distance from the weight to the cone, m g sin(alpha - phi) for alpha >
+    phi, else 0 (the cone alone carries the weight: the wall's friction
+    angle exceeds the incline). The contact resultant passes through the
+    centre of mass (the two corners' forces share it), so the plates need no
+    torque. The split is the least plate friction (the stop carries what its
+    cone can). Rest holds iff m g sin(alpha - phi) <= cap, and then the block
+    is exactly still (v = 0 bit for bit at every step). Otherwise it slides
+    down the incline with the normal force m g cos(alpha), friction mu_s m g
+    cos(alpha) and the plates' cap against it:
+        a = g sin(alpha) - mu_s g cos(alpha) - cap / m,
+    which backward Euler reproduces exactly for a constant force (v = a t)."""
+    alpha, m = 0.4, 0.1
+    need = m * G * math.sin(alpha - math.atan(mu_s)) if alpha > math.atan(mu_s) else 0.0
+    assert (need <= cap) == rests
+    r = exdex.simulate(_incline_block(mu_s, cap), 0.2, 1e-3)
+    assert r.stats["warnings"] == 0
+    if rests:
+        assert np.all(r.v == 0.0) and np.all(r.stick[1:])
+        # the least plate friction: the reaction is the weight's projection
+        # onto the cone, the weight itself inside it (normal part m g cos
+        # alpha), else on its edge, |F| = m g cos(alpha - phi), normal part
+        # |F| cos(phi)
+        phi = math.atan(mu_s)
+        lam = m * G * math.cos(alpha) if alpha <= phi else m * G * math.cos(alpha - phi) * math.cos(phi)
+        np.testing.assert_allclose(r.stop_force[-1, 0], lam, rtol=1e-12)
+    else:
+        acc = G * math.sin(alpha) - mu_s * G * math.cos(alpha) - cap / m
+        speed = np.hypot(r.v[-1, 0], r.v[-1, 1])
+        np.testing.assert_allclose(speed, acc * 0.2, rtol=1e-9)
+        np.testing.assert_allclose(r.stop_force[-1, 0], m * G * math.cos(alpha), rtol=1e-9)
+        assert abs(r.v[-1, 2]) <= 1e-12
