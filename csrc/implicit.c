@@ -56,6 +56,7 @@ typedef struct work {
     } S;
     double beta[MAX_ROWS];   /* friction impulses of the rows (stop friction) */
     int fmode[MAX_ROWS];     /* each row's contact mode in the last frictional solve (fcontact.h) */
+    contact_point cpt[MAX_ROWS];  /* where each obstacle row acts (build_rows; rows from n_stops nv on) */
 } work;
 
 /* ------------------------------------------------------------ stops */
@@ -98,7 +99,8 @@ static void build_rows(const exdex_model *m, const exdex_kinematics *kin_end, co
     if (m->n_obst) {
         /* the obstacles' rows, in the same form (contact_obstacle_rows) */
         double rnd[MAX_ROWS];
-        int i0 = w->n_rows, no = contact_obstacle_rows(m, kin_end, q, w->G + i0, w->gap + i0, rnd, w->row_stop + i0);
+        int i0 = w->n_rows,
+            no = contact_obstacle_rows(m, kin_end, q, w->G + i0, w->gap + i0, rnd, w->row_stop + i0, w->cpt + i0);
         for (int i = i0; i < i0 + no; i++) {
             w->rhs[i] = fabs(w->gap[i]) <= rnd[i - i0] ? 0.0 : -w->gap[i] / h;
             w->lam[i] = 0.0;
@@ -536,7 +538,7 @@ static double project_positions(const exdex_model *m, const exdex_kinematics *ki
              * with q: a section vertex row exists for each vertex) */
             int i0 = m->n_stops * nv;
             double Go[MAX_ROWS][3];
-            nr = i0 + contact_obstacle_rows(m, kin, q, Go, g + i0, tol + i0, NULL);
+            nr = i0 + contact_obstacle_rows(m, kin, q, Go, g + i0, tol + i0, NULL, NULL);
             for (int i = i0; i < nr; i++) {
                 for (int d = 0; d < 3; d++) a[i][d] = (d < n ? Go[i - i0][d] : 0.0) * sq[d];
                 if (g[i] < -tol[i] && (deep < 0 || g[i] < g[deep])) deep = i;
@@ -611,12 +613,17 @@ static int stop_friction_step(const exdex_model *m, const exdex_kinematics *kin_
         fc_row *r = &rows[i];
         memcpy(r->G, w->G[i], sizeof r->G);
         for (int c = n; c < 3; c++) r->G[c] = 0.0;
-        /* stop rows are r = k nv + j (build_rows); a row of another source
-         * without tangent data stays frictionless */
-        r->mu = i < m->n_stops * nv ? model_source_mu(m, k) : 0.0;
+        /* stop rows are r = k nv + j (build_rows), the obstacles' rows
+         * follow with the point where each acts (w->cpt) */
+        r->mu = model_source_mu(m, k);
         r->T[0] = r->T[1] = r->T[2] = 0.0;
         r->tb = 0.0;
-        if (r->mu > 0.0) contact_stop_tangent(m, kin_end, k, xb[j], vx[j], r->T, &r->tb);
+        if (r->mu > 0.0) {
+            if (i < m->n_stops * nv)
+                contact_stop_tangent(m, kin_end, k, xb[j], vx[j], r->T, &r->tb);
+            else
+                contact_tangent(m, kin_end, w->cpt[i].x, w->cpt[i].vx, w->cpt[i].nB, r->T, &r->tb);
+        }
         r->rhs = w->rhs[i];
         /* at rest (v = 0) a row holds with a force only where its bound is
          * 0 (to tol.rate): a stop the gripper drives into the object
