@@ -86,7 +86,7 @@ double contact_min_gap(const exdex_model *m, const exdex_kinematics *kin, const 
     int nv;
     if (m->n_obst) {
         double G[MAX_ROWS][3], g[MAX_ROWS], rnd[MAX_ROWS];
-        int no = contact_obstacle_rows(m, kin, q, G, g, rnd, NULL);
+        int no = contact_obstacle_rows(m, kin, q, G, g, rnd, NULL, NULL);
         for (int i = 0; i < no; i++)
             if (g[i] < gmin) gmin = g[i];
     }
@@ -447,7 +447,7 @@ static int polygon_vertices(int nh, const double a[][2], const double *b, double
 
 int contact_obstacle_valid(const exdex_obstacle_def *o)
 {
-    if (!o) return 0;
+    if (!o || !(isfinite(o->mu) && o->mu >= 0.0)) return 0;
     if (o->kind == EXDEX_OBSTACLE_POLYTOPE) {
         if (o->n_faces < 1 || o->n_faces > EXDEX_MAX_FACES) return 0;
         for (int f = 0; f < o->n_faces; f++)
@@ -514,12 +514,27 @@ static double axis_dist2(const double cB[3], const double aB[3], const double x[
     return ex_dot3(w, w);
 }
 
+/* Fill cp (if not NULL) for a row acting at x with normal nB; vx = x less
+ * the centre of mass r. */
+static void set_point(contact_point *cp, const double x[3], const double r[3], const double nB[3])
+{
+    if (!cp) return;
+    for (int i = 0; i < 3; i++) {
+        cp->x[i] = x[i];
+        cp->vx[i] = x[i] - r[i];
+        cp->nB[i] = nB[i];
+    }
+    cp->x[2] = cp->vx[2] = 0.0;
+}
+
 int contact_obstacle_rows(const exdex_model *m, const exdex_kinematics *kin, const double *q, double (*G)[3],
-                          double *gap, double *round, int *src)
+                          double *gap, double *round, int *src, contact_point *cp)
 {
     double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], hb[EXDEX_MAX_VERTICES][3];
     double pn = sqrt(ex_dot3(kin->p, kin->p));
     int nv = contact_vertices(m, q, xb, vx), nh = hull_b(m, q, hb), nr = 0;
+    double rc[3], thc;
+    model_com_pose(m, q, rc, &thc);
     for (int o = 0; o < m->n_obst; o++) {
         const exdex_obstacle_def *ob = &m->def.obstacles[o];
         if (ob->kind == EXDEX_OBSTACLE_POLYTOPE) {
@@ -542,6 +557,12 @@ int contact_obstacle_rows(const exdex_model *m, const exdex_kinematics *kin, con
                 gap[nr] = plane_gap(m, kin, ob->face_point[best], ob->face_normal[best], xb[j], vx[j], G[nr]);
                 round[nr] = GAP_ROUND * (sqrt(ex_dot3(xb[j], xb[j])) + pn +
                                          sqrt(ex_dot3(ob->face_point[best], ob->face_point[best])));
+                if (cp) {
+                    /* as a stop's row: the vertex and its offset as contact_vertices gives them */
+                    memcpy(cp[nr].x, xb[j], sizeof cp[nr].x);
+                    memcpy(cp[nr].vx, vx[j], sizeof cp[nr].vx);
+                    ex_mulmtv3(cp[nr].nB, kin->R, ob->face_normal[best]);
+                }
                 if (src) src[nr] = m->n_stops + o;
                 nr++;
             }
@@ -568,6 +589,7 @@ int contact_obstacle_rows(const exdex_model *m, const exdex_kinematics *kin, con
                 }
                 gap[nr] = gb;
                 row_G(m, q, x, nb, G[nr]);
+                set_point(cp ? &cp[nr] : NULL, x, rc, nb);
                 round[nr] = 64.0 * DBL_EPSILON * (hypot(x[0], x[1]) + hypot(hb[0][0], hb[0][1]) + pn + fmax);
                 if (src) src[nr] = m->n_stops + o;
                 nr++;
@@ -624,6 +646,7 @@ int contact_obstacle_rows(const exdex_model *m, const exdex_kinematics *kin, con
                 }
                 gap[nr] = (inside ? -dist : dist) - ob->radius;
                 row_G(m, q, xs, nb, G[nr]);
+                set_point(cp ? &cp[nr] : NULL, xs, rc, nb);
                 round[nr] = 64.0 * DBL_EPSILON * (hypot(xs[0], xs[1]) + pn + sqrt(ex_dot3(ob->center, ob->center)) +
                                                   ob->radius);
                 if (src) src[nr] = m->n_stops + o;

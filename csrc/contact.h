@@ -95,10 +95,17 @@ double contact_rot_radius(const exdex_model *m);
  * edge's inward normal); per rod: one row, the hull point nearest the axis
  * (its distance from the axis less the radius, negative when the axis meets
  * the plane inside the hull). round_i bounds the rounding of gap_i; src_i =
- * n_stops + obstacle index (src may be NULL). Returns the count, at most
- * contact_obstacle_max_rows. */
+ * n_stops + obstacle index (src may be NULL); cp_i (cp may be NULL) where
+ * the row acts. Returns the count, at most contact_obstacle_max_rows. */
+/* Where a row acts, for friction along it (contact_tangent): the object's
+ * material point x (B), its offset vx from the centre of mass (planar) and
+ * the row's normal nB (B; its in-plane part is the direction the gap grows
+ * in when the point moves). */
+typedef struct contact_point {
+    double x[3], vx[3], nB[3];
+} contact_point;
 int contact_obstacle_rows(const exdex_model *m, const exdex_kinematics *kin, const double *q, double (*G)[3],
-                          double *gap, double *round, int *src);
+                          double *gap, double *round, int *src, contact_point *cp);
 int contact_obstacle_max_rows(const exdex_model *m);
 /* 1 if the obstacle definition is valid (kind, face count, unit normals and
  * axis, finite points, radius > 0). */

@@ -145,13 +145,14 @@ static int explicit_advance(const exdex_model *m, void *ws, double t1, int regri
             double fr = v[0] > 0.0 ? -C : v[0] < 0.0 ? C : 0.0;  /* -C sign(v) */
             double vn, lo = -INFINITY, hi = INFINITY, fqlo = 0.0, fqhi = 0.0;
             int klo = -1, khi = -1, jlo = -1, jhi = -1;  /* jlo, jhi: the stop row's vertex (-1: an obstacle's) */
+            int held = 0;
             if (v[0] == 0.0 && m->capks != m->capk) {
                 /* at rest: the static capacity holds, else kinetic breakaway */
                 double capsm = model_capacity_static_mean(m, t, t1), Cs = tr ? capsm : capsm * m->e[2];
-                fr = fabs(Q) <= Cs ? -Q : Q > 0.0 ? -C : Q < 0.0 ? C : 0.0;
+                held = fabs(Q) <= Cs;
+                fr = held ? -Q : Q > 0.0 ? -C : C;
             }
-            vn = v[0] + h * (Q + fr) / M;
-            if (v[0] == 0.0 && m->capks != m->capk && fr == -Q) vn = 0.0;  /* held exactly */
+            vn = held ? 0.0 : v[0] + h * (Q + fr) / M;  /* held: exactly at rest */
             /* stop rows at t + h: Fq v+ >= -gap(q, t + h) / h */
             for (int k = 0; k < ns; k++)
                 for (int j = 0; j < nv; j++) {
@@ -175,7 +176,7 @@ static int explicit_advance(const exdex_model *m, void *ws, double t1, int regri
             if (m->n_obst) {
                 /* the obstacles' rows, in the same form (contact_obstacle_rows) */
                 double Go[MAX_ROWS][3], go[MAX_ROWS], ro[MAX_ROWS];
-                int so[MAX_ROWS], no = contact_obstacle_rows(m, &kin_end, q, Go, go, ro, so);
+                int so[MAX_ROWS], no = contact_obstacle_rows(m, &kin_end, q, Go, go, ro, so, NULL);
                 for (int r = 0; r < no; r++) {
                     double b;
                     if (!(fabs(Go[r][0]) > m->tol.fq_min)) continue;
@@ -265,7 +266,7 @@ static int explicit_advance(const exdex_model *m, void *ws, double t1, int regri
                 int stop[MAX_ROWS], nr = contact_rows(m, &kin_end, q, Gr, gap, stop);
                 if (m->n_obst) {
                     double ro[MAX_ROWS];
-                    nr += contact_obstacle_rows(m, &kin_end, q, Gr + nr, gap + nr, ro, stop + nr);
+                    nr += contact_obstacle_rows(m, &kin_end, q, Gr + nr, gap + nr, ro, stop + nr, NULL);
                 }
                 for (int r = 0; r < nr; r++) b[r] = -gap[r] / h;
                 memcpy(vs, v, sizeof vs);

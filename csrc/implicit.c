@@ -56,6 +56,7 @@ typedef struct work {
     } S;
     double beta[MAX_ROWS];   /* friction impulses of the rows (stop friction) */
     int fmode[MAX_ROWS];     /* each row's contact mode in the last frictional solve (fcontact.h) */
+    contact_point cpt[MAX_ROWS];  /* where each obstacle row acts (build_rows; rows from n_stops nv on) */
 } work;
 
 /* ------------------------------------------------------------ stops */
@@ -98,7 +99,8 @@ static void build_rows(const exdex_model *m, const exdex_kinematics *kin_end, co
     if (m->n_obst) {
         /* the obstacles' rows, in the same form (contact_obstacle_rows) */
         double rnd[MAX_ROWS];
-        int i0 = w->n_rows, no = contact_obstacle_rows(m, kin_end, q, w->G + i0, w->gap + i0, rnd, w->row_stop + i0);
+        int i0 = w->n_rows,
+            no = contact_obstacle_rows(m, kin_end, q, w->G + i0, w->gap + i0, rnd, w->row_stop + i0, w->cpt + i0);
         for (int i = i0; i < i0 + no; i++) {
             w->rhs[i] = fabs(w->gap[i]) <= rnd[i - i0] ? 0.0 : -w->gap[i] / h;
             w->lam[i] = 0.0;
@@ -503,9 +505,11 @@ done:
  * positive (1e-12 of the deepest penetration), so the next pass sees no
  * rounding-level penetration from this one; a gap within its rounding bound
  * (contact_gap_round) of 0 counts as 0, as in build_rows, and may stay
- * there: the sign of a rounding-level gap is not determined by the data. */
-static void project_positions(const exdex_model *m, const exdex_kinematics *kin, double *q,
-                              exdex_stats *st)
+ * there: the sign of a rounding-level gap is not determined by the data.
+ * Returns the smallest gap at the final q (contact_min_gap: the gaps of the
+ * last pass when it moved nothing). */
+static double project_positions(const exdex_model *m, const exdex_kinematics *kin, double *q,
+                                exdex_stats *st)
 {
     int nv = contact_nv(m), n = m->ndof, nr = m->n_stops * nv;
     double sq[3] = {0, 0, 0};  /* M^-1/2 (the metric of the correction) */
@@ -534,13 +538,19 @@ static void project_positions(const exdex_model *m, const exdex_kinematics *kin,
              * with q: a section vertex row exists for each vertex) */
             int i0 = m->n_stops * nv;
             double Go[MAX_ROWS][3];
-            nr = i0 + contact_obstacle_rows(m, kin, q, Go, g + i0, tol + i0, NULL);
+            nr = i0 + contact_obstacle_rows(m, kin, q, Go, g + i0, tol + i0, NULL, NULL);
             for (int i = i0; i < nr; i++) {
                 for (int d = 0; d < 3; d++) a[i][d] = (d < n ? Go[i - i0][d] : 0.0) * sq[d];
                 if (g[i] < -tol[i] && (deep < 0 || g[i] < g[deep])) deep = i;
             }
         }
-        if (deep < 0) return;  /* every gap >= 0 to rounding */
+        if (deep < 0) {
+            /* every gap >= 0 to rounding */
+            double gmin = INFINITY;
+            for (int i = 0; i < nr; i++)
+                if (g[i] < gmin) gmin = g[i];
+            return gmin;
+        }
         depth = -g[deep];
         for (int i = 0; i < nr; i++) {
             c[i] = -g[i] + 1e-12 * depth;
@@ -558,6 +568,7 @@ static void project_positions(const exdex_model *m, const exdex_kinematics *kin,
     /* still penetrating after every pass (e.g. the prescribed motion drives a
      * pinned pivot through a stop): report it rather than stay silent */
     st->warnings++;
+    return contact_min_gap(m, kin, q);
 }
 
 /* Coulomb friction at the stops (some stop with mu > 0). The frictionless
@@ -602,12 +613,17 @@ static int stop_friction_step(const exdex_model *m, const exdex_kinematics *kin_
         fc_row *r = &rows[i];
         memcpy(r->G, w->G[i], sizeof r->G);
         for (int c = n; c < 3; c++) r->G[c] = 0.0;
-        /* stop rows are r = k nv + j (build_rows); a row of another source
-         * without tangent data stays frictionless */
-        r->mu = i < m->n_stops * nv ? model_source_mu(m, k) : 0.0;
+        /* stop rows are r = k nv + j (build_rows), the obstacles' rows
+         * follow with the point where each acts (w->cpt) */
+        r->mu = model_source_mu(m, k);
         r->T[0] = r->T[1] = r->T[2] = 0.0;
         r->tb = 0.0;
-        if (r->mu > 0.0) contact_stop_tangent(m, kin_end, k, xb[j], vx[j], r->T, &r->tb);
+        if (r->mu > 0.0) {
+            if (i < m->n_stops * nv)
+                contact_stop_tangent(m, kin_end, k, xb[j], vx[j], r->T, &r->tb);
+            else
+                contact_tangent(m, kin_end, w->cpt[i].x, w->cpt[i].vx, w->cpt[i].nB, r->T, &r->tb);
+        }
         r->rhs = w->rhs[i];
         /* at rest (v = 0) a row holds with a force only where its bound is
          * 0 (to tol.rate): a stop the gripper drives into the object
@@ -801,8 +817,7 @@ static int implicit_advance(const exdex_model *m, void *ws, double t1, int regri
             }
         }
         if (ns || m->n_obst) {
-            project_positions(m, &kin_end, q, st);
-            double gmin = contact_min_gap(m, &kin_end, q);
+            double gmin = project_positions(m, &kin_end, q, st);
             if (gmin < st->min_gap) st->min_gap = gmin;
         }
         if (!ex_finite_n(q, n_dof) || !ex_finite_n(v, n_dof) || !ex_finite_n(wrench, 3)) {

@@ -150,6 +150,8 @@ static int check_fields(const exdex_scene_def *d, const char **bad_param)
     if (d->method < EXDEX_METHOD_IMPLICIT || d->method > EXDEX_METHOD_ANALYTIC) return bad(bad_param, "method");
     if (d->n_obstacles && d->method != EXDEX_METHOD_IMPLICIT && d->method != EXDEX_METHOD_EXPLICIT)
         return bad(bad_param, "method");
+    for (int o = 0; o < d->n_obstacles; o++)
+        if (d->obstacles[o].mu > 0.0 && d->method != EXDEX_METHOD_IMPLICIT) return bad(bad_param, "method");
     if (d->method == EXDEX_METHOD_ANALYTIC && exdex_analytic_unsupported(d)) return bad(bad_param, "method");
     if (d->friction_solver < EXDEX_SOLVER_SCALAR || d->friction_solver > EXDEX_SOLVER_MULTIROOT)
         return bad(bad_param, "friction_solver");
@@ -659,6 +661,7 @@ static exdex_model *build_model(const exdex_scene_def *def, int *status, const c
     memcpy(m->vert, def->vertices, sizeof m->vert);
     m->n_obst = def->n_obstacles;
     m->n_src = m->n_stops + m->n_obst;
+    for (int o = 0; o < m->n_obst; o++) m->stop_friction |= def->obstacles[o].mu > 0.0;
     m->n_hull = contact_hull((const double (*)[2])m->vert, m->n_vert, m->hull);
     if (m->n_obst && m->n_stops * contact_nv(m) + contact_obstacle_max_rows(m) > MAX_ROWS) {
         exdex_model_free(m);
@@ -699,7 +702,7 @@ static exdex_model *build_model(const exdex_scene_def *def, int *status, const c
         }
         st = exdex_motion_eval(m->motion, 0.0, &kin);
         if (!st) {
-            int no = contact_obstacle_rows(m, &kin, q, G, g, rnd, NULL);
+            int no = contact_obstacle_rows(m, &kin, q, G, g, rnd, NULL, NULL);
             for (int i = 0; i < no; i++)
                 if (g[i] < -m->tol.start_gap) st = EXDEX_EINVAL;
         }

@@ -165,10 +165,11 @@ typedef struct frame {
     double gB[3], a0[3], w[3], dw[3];
 } frame;
 
-/* Coulomb coefficient of the contact rows of source k (a stop index; 0
- * for a source without friction data). */
+/* Coulomb coefficient of the contact rows of source k (a stop index, or
+ * n_stops + an obstacle index; 0 for a source without friction data). */
 static inline double model_source_mu(const exdex_model *m, int k)
 {
+    if (k >= m->n_stops && k < m->n_src) return m->def.obstacles[k - m->n_stops].mu;
     return k >= 0 && k < m->n_stops ? m->smu[k] : 0.0;
 }
 

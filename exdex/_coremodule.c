@@ -158,7 +158,8 @@ static int sampled_options(PyObject *spec, exdex_motion_def *mo)
 }
 
 /* One obstacle from its dict: kind (int), and face_points / face_normals
- * ((k, 3), polytope) or center, axis (3) and radius (cylinder). */
+ * ((k, 3), polytope) or center, axis (3) and radius (cylinder); optional
+ * mu (default 0). */
 static int obstacle_from_dict(PyObject *d, exdex_obstacle_def *o)
 {
     memset(o, 0, sizeof *o);
@@ -167,6 +168,7 @@ static int obstacle_from_dict(PyObject *d, exdex_obstacle_def *o)
         return -1;
     }
     if (dict_int(d, "kind", &o->kind)) return -1;
+    if (PyDict_GetItemString(d, "mu") && dict_double(d, "mu", &o->mu)) return -1;
     if (o->kind == EXDEX_OBSTACLE_POLYTOPE) {
         npy_intp nfp, nfn;
         PyArrayObject *fp = dict_rows(d, "face_points", 3, EXDEX_MAX_FACES, &nfp), *fn;

@@ -307,7 +307,7 @@ def _check_values(name, p, a):
         idx = np.unravel_index(i, a.shape) if a.ndim else ()
         where = f"{name}[{', '.join(map(str, idx))}]" if a.ndim else name
         raise ValueError(f"{where} = {a.ravel()[i]:g} must be finite and in {p.describe()} "
-                         f"({'.'.join(p.path)})")
+                         f"({'.'.join(map(str, p.path))})")
 
 
 def _check_trapezoids(scene, flat):

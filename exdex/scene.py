@@ -880,6 +880,9 @@ class Obstacle:
         pointing out of the solid; it may be unbounded) or ``"cylinder"`` (the
         points within ``radius`` of the line through ``center`` along
         ``axis``: an infinite rod).
+    mu : Coulomb friction coefficient against the object (>= 0; the implicit
+        method), as a stop's: along the tangent of the plate plane at each
+        contact, bounded by mu times the contact's normal force.
 
     The plate plane cuts the solid in a convex polygon of the gripper frame B
     (a rod: a disc when its axis is normal to the plates, else an ellipse),
@@ -897,8 +900,10 @@ class Obstacle:
     center: Vector = (0.0, 0.0, 0.0)
     axis: Vector = (0.0, 0.0, 1.0)
     radius: float = 0.0
+    mu: float = 0.0
 
     def __post_init__(self):
+        object.__setattr__(self, "mu", _real(self.mu, "Obstacle.mu", low=0.0))
         if self.kind not in ("halfspaces", "cylinder"):
             raise ValueError(f"Obstacle.kind must be 'halfspaces' or 'cylinder', got {self.kind!r}")
         if self.kind == "halfspaces":
@@ -920,7 +925,7 @@ class Obstacle:
             object.__setattr__(self, "radius", _real(self.radius, "Obstacle.radius"))
 
     @classmethod
-    def halfspaces(cls, normals: Matrix, offsets: Vector) -> "Obstacle":
+    def halfspaces(cls, normals: Matrix, offsets: Vector, mu: float = 0.0) -> "Obstacle":
         """The solid ``normals[i] . x <= offsets[i]`` for every i (A, [m]); the
         normals need not be unit (each row is scaled with its offset)."""
         n = _array(normals, "normals", (None, 3))
@@ -929,11 +934,12 @@ class Obstacle:
         if np.any(norms == 0.0):
             raise ValueError("normals must be non-zero vectors")
         nu, du = n / norms[:, None], d / norms
-        return cls(kind="halfspaces", face_points=du[:, None] * nu, face_normals=nu)
+        return cls(kind="halfspaces", face_points=du[:, None] * nu, face_normals=nu, mu=mu)
 
     @classmethod
     def box(cls, center: Vector, size: Vector, rotation: Matrix = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0),
-                                                                      (0.0, 0.0, 1.0))) -> "Obstacle":
+                                                                      (0.0, 0.0, 1.0)),
+            mu: float = 0.0) -> "Obstacle":
         """A box of full side lengths ``size`` (> 0) [m] centred at ``center``
         (A), its edges along the columns of ``rotation`` (a rotation matrix)."""
         c = _array(center, "center", (3,))
@@ -946,19 +952,20 @@ class Obstacle:
             for sgn in (1.0, -1.0):
                 nrm.append(sgn * R[:, i])
                 pts.append(c + sgn * 0.5 * sz[i] * R[:, i])
-        return cls(kind="halfspaces", face_points=np.array(pts), face_normals=np.array(nrm))
+        return cls(kind="halfspaces", face_points=np.array(pts), face_normals=np.array(nrm), mu=mu)
 
     @classmethod
-    def cylinder(cls, center: Vector, axis: Vector, radius: float) -> "Obstacle":
+    def cylinder(cls, center: Vector, axis: Vector, radius: float, mu: float = 0.0) -> "Obstacle":
         """An infinite rod of ``radius`` (> 0) [m] about the line through
         ``center`` along ``axis`` (A)."""
-        return cls(kind="cylinder", center=center, axis=axis, radius=radius)
+        return cls(kind="cylinder", center=center, axis=axis, radius=radius, mu=mu)
 
     def _spec(self) -> Dict[str, Any]:
         if self.kind == "cylinder":
-            return dict(kind=_core.OBSTACLE_CYLINDER, center=self.center, axis=self.axis, radius=self.radius)
+            return dict(kind=_core.OBSTACLE_CYLINDER, center=self.center, axis=self.axis, radius=self.radius,
+                        mu=self.mu)
         return dict(kind=_core.OBSTACLE_POLYTOPE, face_points=np.array(self.face_points).reshape(-1, 3),
-                    face_normals=np.array(self.face_normals).reshape(-1, 3))
+                    face_normals=np.array(self.face_normals).reshape(-1, 3), mu=self.mu)
 
     def section(self, gripper_rotation: Matrix, gripper_position: Vector) -> Any:
         """The section by the plate plane of the gripper pose (R_AB, position
@@ -1143,6 +1150,9 @@ class Scene:
             if method not in ("implicit", "explicit"):
                 raise ValueError(f"Scene.obstacles: the implicit and explicit methods solve scenes with "
                                  f"obstacles, got method={method!r}")
+            if method != "implicit" and any(o.mu > 0 for o in self.obstacles):
+                raise ValueError(f"Scene.obstacles: the implicit method solves obstacles with friction "
+                                 f"(Obstacle.mu > 0), got method={method!r}")
             spec["obstacles"] = [o._spec() for o in self.obstacles]
         spec.update(self.motion._spec())
         sched = self.grasp.schedule

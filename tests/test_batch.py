@@ -440,3 +440,5 @@ def test_pad_centre_batch_equals_serial(threads):
         r = exdex.simulate(b.scene_at(i), 8.0, 0.5, method="event")
         for name in ARRAYS:
             np.testing.assert_array_equal(getattr(b, name)[i], getattr(r, name), err_msg=f"{name}[{i}]")
+    with pytest.raises(ValueError, match=r"patch_y\[1\] = nan must be finite .*grasp\.patch\.center\.1"):
+        simulate_batch(s6, 8.0, 0.5, patch_y=[0.0, np.nan])

@@ -160,7 +160,7 @@ def test_round_trip_obstacles_is_exact(fmt, tmp_path):
             k = rng.integers(0, 3)
             if k == 0:
                 obs.append(exdex.Obstacle.box(tuple(_awkward(rng, 3)), tuple(rng.uniform(0.01, 1.0, 3)),
-                                              rotation=_rotation(rng)))
+                                              rotation=_rotation(rng), mu=abs(_awkward(rng))))
             elif k == 1:
                 n = int(rng.integers(1, 7))
                 obs.append(exdex.Obstacle.halfspaces(rng.normal(size=(n, 3)), _awkward(rng, n)))
@@ -446,7 +446,7 @@ def test_the_schema_covers_every_scene_field_and_motion():
         "Grasp": ["mu", "grip_force", "patch", "fingers", "mu_static"],
         "Patch": ["e_r", "center", "shape", "dims"],
         "Stop": ["point", "normal", "mu"],
-        "Obstacle": ["kind", "face_points", "face_normals", "center", "axis", "radius"],
+        "Obstacle": ["kind", "face_points", "face_normals", "center", "axis", "radius", "mu"],
     }
     motion_fields = {name: [f.name for f in dataclasses.fields(cls)] for name, cls in io.MOTIONS.items()}
     assert motion_fields == {

@@ -478,3 +478,49 @@ def test_rod_of_fig11_turns_the_square_as_exdex_tool_predicts():
         x = np.array([*(Rm.T @ ((pg[i] - pg[i - 1]) / h)), res.v[i, 0]])
         worst = min(worst, (row @ x + max(gap, 0.0) / h) / 0.09)
     assert np.isfinite(worst) and worst >= -1e-9
+
+
+# ---------------------------------------------------------------- friction (Obstacle.mu)
+
+@pytest.mark.parametrize("mu_s", [0.3, 0.8])
+def test_frictional_face_is_the_frictional_stop_and_meets_the_wall_closed_form(mu_s):
+    """The frictional wall of tests/test_stop_friction.py (a block dragged
+    along a wall at x = 0.1 with gravity along it) as a one-face obstacle
+    with Obstacle.mu: bit for bit the frictional Stop; as the face of a box
+    (the other faces far away), the same closed-form terminal slide speed
+    and wall force (sliding regime, mu_s = 0.3) or the hold (0.8)."""
+    from test_stop_friction import _wall_closed_form, _wall_scene
+    stop_scene = _wall_scene(mu_s)
+    face = Obstacle.halfspaces([(-1.0, 0.0, 0.0)], [-0.1], mu=mu_s)
+    a = run(stop_scene, 0.3, 1e-3)
+    b = run(exdex.replace(stop_scene, stops=(), obstacles=(face,)), 0.3, 1e-3)
+    assert np.array_equal(a.q, b.q) and np.array_equal(a.v, b.v) and np.array_equal(a.stop_force, b.stop_force)
+    box = Obstacle.box((0.6, 0.0, 0.0), (1.0, 1.0, 1.0), mu=mu_s)
+    c = run(exdex.replace(stop_scene, stops=(), obstacles=(box,)), 0.3, 1e-3)
+    w, lam = _wall_closed_form(mu_s)
+    assert c.stats["warnings"] == 0
+    np.testing.assert_allclose(c.v[-1, 0], -0.01, rtol=1e-12)
+    np.testing.assert_allclose(c.v[-1, 1], -w, rtol=1e-9, atol=1e-15)
+    np.testing.assert_allclose(c.stop_force[-1, 0], lam, rtol=1e-9)
+
+
+def test_frictional_rod_slows_the_pinned_square_and_never_adds_energy():
+    """The rod pushing the pinned square (rotation scene) with friction: the
+    kinematics are the tangency's whatever the rod's friction (the contact
+    keeps the edge on the rod). Energy: the rod's power on the square is
+    d(KE)/dt plus the plates' dissipation C |omega|, the same with and
+    without rod friction (the same motion); it is lam v_n (normal) plus the
+    friction's power, which is <= 0 (it opposes the edge's slide over the
+    rod). With the same contact normal speed v_n > 0, lam with friction is
+    at least lam without, and larger where the edge slides over the rod."""
+    d, g0 = 0.015, 1e-3
+    motion = TrapezoidalProfile(0.005, 1.0, 0.0075, axis=(0, 0, -1))
+    out = {}
+    for mu in (0.0, 0.5):
+        sc = Scene(body=square(), grasp=Grasp(mu=0.5, grip_force=1.0), dof="rotation", motion=motion,
+                   obstacles=(Obstacle.cylinder((d, 0.0, -(A + RADIUS + g0)), (0, 1, 0), RADIUS, mu=mu),))
+        out[mu] = run(sc, 1.2, 1e-4)
+    np.testing.assert_allclose(out[0.5].q[:, 0], out[0.0].q[:, 0], rtol=0, atol=1e-8)
+    pushing = out[0.0].stop_force[:, 0] > 1e-6
+    assert np.all(out[0.5].stop_force[pushing, 0] >= out[0.0].stop_force[pushing, 0] * (1 - 1e-9))
+    assert np.any(out[0.5].stop_force[pushing, 0] > 1.01 * out[0.0].stop_force[pushing, 0])

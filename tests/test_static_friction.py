@@ -368,6 +368,35 @@ def test_hysteresis_regularised_converges():
     assert errs[0] <= (CS - CK) * tau / M * 0.9
 
 
+@pytest.mark.parametrize("method", ["analytic", "event", "implicit", "explicit"])
+def test_torsion_stick_slip_stick_closed_form(method):
+    """Rotation about the centre of mass (patch centre 0), the gripper turning
+    about the plate normal by Eq. 7 (theta1 0.5 rad, T 0.5 s, beta 0.8): the
+    drive is the inertial torque -I dw, piecewise constant, a_H = 2 theta1 /
+    (beta T^2) = 5 and a_L = 2 theta1 / ((1 - beta) T^2) = 20 rad/s^2. The
+    capacities per unit inertia (I = 1e-4 kg m^2, e_r = 0.01 m, F = 0.04 N):
+    c = 2 mu F e_r / I = 4, cs = 2 mu_s F e_r / I = 6.4 rad/s^2. Phase 1: a_H
+    <= cs, it sticks (with one coefficient a_H > c: it would slip). Phase 2
+    (0.2 s): slips at a_L - c = 16, reaching 3.2 rad/s after 0.32 rad. Phase
+    3: decelerates at a_H + c = 9, stops after 3.2^2 / 18 rad (inside the
+    phase) and, a_H <= cs, sticks for good: |theta| = 0.32 + 3.2^2 / 18.
+    Implicit, explicit: first order, within the largest speed times dt."""
+    sc = Scene(body=Body(mass=0.1), grasp=Grasp(mu=MU, grip_force=0.04, mu_static=MU_S),
+               motion=AsymmetricProfile(amplitude=0.5, duration=0.5, beta=0.8, axis=(0.0, -1.0, 0.0), rotation=True),
+               dof="rotation")
+    dt = 1e-3
+    r = exdex.simulate(sc, t_end=1.2, dt=dt, method=method)
+    want = 0.32 + 3.2 ** 2 / 18
+    tol = {"analytic": 1e-14, "event": 1e-9}.get(method, 3.2 * dt)
+    assert abs(r.q[-1, 0] - r.q[0, 0]) == pytest.approx(want, abs=tol)
+    first = r.t < 0.4 - 1e-12
+    assert np.all(r.v[first, 0] == 0.0)
+    if method != "explicit":
+        assert r.stick[-1] and r.v[-1, 0] == 0.0
+        one = exdex.simulate(exdex.replace(sc, grasp=Grasp(mu=MU, grip_force=0.04)), t_end=0.3, dt=dt, method=method)
+        assert one.v[-1, 0] != 0.0
+
+
 # ------------------------------------------------------------ (c) planar breakaway
 
 @pytest.mark.parametrize("method", ["event", "implicit", "explicit"])
@@ -424,6 +453,19 @@ def test_equal_coefficients_bit_identical(method, dof):
     for name in ("t", "q", "v", "wrench", "stick", "stop_force"):
         assert np.array_equal(getattr(a, name), getattr(b, name)), name
     assert a.stats == b.stats
+
+
+@pytest.mark.parametrize("method", ["implicit", "event", "regularised", "explicit"])
+def test_equal_coefficients_bit_identical_with_a_grip_schedule(method):
+    """The static capacity follows a grip schedule as the kinetic one does
+    (the same ratio, 1 here): mu_static = mu is still the same bits."""
+    sched = exdex.GripSchedule(times=[0.0, 0.3, 0.6], forces=[2.0, 0.5, 1.5], kind="cubic")
+    a = exdex.simulate(Scene(body=Body(mass=0.1), grasp=Grasp(mu=0.5, grip_force=sched), v0=(0.0, 0.5, 0.0)),
+                       t_end=0.8, dt=1e-3, method=method)
+    b = exdex.simulate(Scene(body=Body(mass=0.1), grasp=Grasp(mu=0.5, grip_force=sched, mu_static=0.5),
+                             v0=(0.0, 0.5, 0.0)), t_end=0.8, dt=1e-3, method=method)
+    for name in ("q", "v", "wrench", "stick"):
+        assert np.array_equal(getattr(a, name), getattr(b, name)), name
 
 
 # ------------------------------------------------------------ properties

@@ -259,6 +259,7 @@ int fuzz_simulate(const uint8_t *data, size_t size)
             ob->radius = fz_log(&f, 1e-3, 0.05);
         }
         if (fz_pick(&f, 0, 31) == 0) ob->radius = fz_num(&f, -1.0, 1.0); /* occasionally wild */
+        ob->mu = fz_pick(&f, 0, 1) ? 0.0 : fz_num(&f, -0.1, 1.5);     /* friction, sometimes < 0 */
     }
     /* each stop's Coulomb coefficient, decoded after the obstacles so that
      * the inputs written before it decode as before (with frictionless stops): 0, or
@@ -286,6 +287,7 @@ int fuzz_simulate(const uint8_t *data, size_t size)
         if (ob->kind == EXDEX_OBSTACLE_CYLINDER &&
             (!fz_all_finite(ob->center, 3) || !fz_all_finite(ob->axis, 3) || !isfinite(ob->radius)))
             required_nonfinite = 1;
+        if (!isfinite(ob->mu)) required_nonfinite = 1;
         if (ob->kind == EXDEX_OBSTACLE_POLYTOPE)
             for (int fc = 0; fc < ob->n_faces && fc < EXDEX_MAX_FACES; fc++)
                 if (!fz_all_finite(ob->face_point[fc], 3) || !fz_all_finite(ob->face_normal[fc], 3))

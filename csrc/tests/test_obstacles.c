@@ -303,6 +303,9 @@ EXDEX_TEST(obstacle_bad_input_status)
                     "obstacles");
     EXPECT_BAD_OBST(d.method = EXDEX_METHOD_EVENT, "method");
     EXPECT_BAD_OBST(d.method = EXDEX_METHOD_REGULARISED, "method");
+    EXPECT_BAD_OBST(d.obstacles[0].mu = -0.1, "obstacles");
+    EXPECT_BAD_OBST(d.obstacles[0].mu = NAN, "obstacles");
+    EXPECT_BAD_OBST((d.obstacles[0].mu = 0.5, d.method = EXDEX_METHOD_EXPLICIT), "method"); /* friction: implicit */
     EXPECT_BAD_OBST(d.obstacles[0].center[2] = -0.05, "q0"); /* the object (its centre) starts inside */
     {
         /* a valid one builds */
