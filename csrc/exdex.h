@@ -429,8 +429,13 @@ typedef struct exdex_scene_def {
      * slip slides against the kinetic one, mu N (same shape, E); a slip
      * sticks again where its slip twist reaches 0 with the holding wrench
      * inside the static ellipsoid. mu_static >= mu, or 0: equal to mu (a
-     * zero-initialised field keeps the one-coefficient law). Each method's
-     * use of it is stated with the method (exdex_method above, hybrid.c). */
+     * zero-initialised field keeps the one-coefficient law). The static
+     * capacity is the kinetic one times mu_static / mu, so it follows a grip
+     * schedule too. Each method states its use of it at the top of its file
+     * (implicit.c: stick with the static capacity first, else slide with the
+     * kinetic one; hybrid.c: event, and the regularised law's capacity
+     * falling from static to kinetic with the slip speed; explicit.c: the
+     * static rule at rest only; analytic.c). */
     double mu_static;
     /* convex obstacles fixed in A (above); their stop forces follow the
      * stops' in exdex_trajectory.stop_force. The implicit and explicit
