@@ -447,8 +447,9 @@ typedef struct exdex_scene_def {
      * touching it (>= 0, finite; 0: frictionless). The friction acts along the
      * tangent t = e_z x n_B of the plate plane (n_B the in-plane part of the
      * stop normal in B), bounded by stop_mu times the stop's normal force.
-     * Supported by the implicit and explicit methods; event and regularised
-     * reject stop_mu > 0 (EXDEX_EINVAL, bad_param "stop_mu"). */
+     * Supported by the implicit and explicit methods, and by event and
+     * regularised in 1-DoF scenes (hybrid.c); a planar scene with event or
+     * regularised rejects stop_mu > 0 (EXDEX_EINVAL, bad_param "stop_mu"). */
     double stop_mu[EXDEX_MAX_STOPS];
 } exdex_scene_def;
 
