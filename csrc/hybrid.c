@@ -1120,6 +1120,13 @@ typedef struct ode {
         double y[NY_MAX];
         double t, h, t_rec;   /* time reached, the stepper's next step, last recorded time */
         size_t nsw;           /* number of switching times in ts */
+        /* GSL's evolve object (its public fields): what it keeps between two
+         * applications (step counts, the last step, its work vectors) is
+         * saved with the state (hybrid_save), so a restored run repeats the
+         * saved one bit for bit whatever GSL reads from them */
+        unsigned long count, failed_steps;
+        double last_step;
+        double e_y0[NY_MAX], e_yerr[NY_MAX], e_dydt_in[NY_MAX], e_dydt_out[NY_MAX];
     } S;
 } ode;
 
@@ -1384,6 +1391,9 @@ static int hybrid_begin(const exdex_model *m, ode *O, int law, double t_end, dou
     O->S.h = h;
     O->S.nsw = nsw;
     O->sys.params = &O->S.H;
+    /* GSL's objects as allocated: a begin after a run starts afresh */
+    gsl_odeiv2_evolve_reset(O->evo);
+    gsl_odeiv2_step_reset(O->step);
     /* a failure in the decision at t = 0 stops the run before it starts */
     if (H.err) hybrid_failed(&H, H.err, 0.0, st);
     return H.err;
@@ -1709,20 +1719,53 @@ static int hybrid_advance_ws(const exdex_model *m, void *ws, double t1, int regr
     return hybrid_advance(m, ws, t1, regrip, out, i, st);
 }
 
-/* The state: O->S (the switching times are fixed by begin). GSL's stepper,
- * control and evolve keep nothing between two applications that the next
- * one reads (the evolve's step counts are read as differences only). */
+/* The state: O->S with the evolve object's fields (the switching times
+ * are fixed by begin; the stepper and control objects are not saved: the
+ * rk8pd stepper recomputes all its stages in each application and the
+ * scaled control has no state). */
 static void hybrid_save(const void *ws, void *buf)
 {
     const ode *O = ws;
-    memcpy(buf, &O->S, sizeof O->S);
+    struct hyb_state S;
+    size_t n = O->evo->dimension;
+    memcpy(&S, &O->S, sizeof S);
+    S.count = O->evo->count;
+    S.failed_steps = O->evo->failed_steps;
+    S.last_step = O->evo->last_step;
+    memcpy(S.e_y0, O->evo->y0, n * sizeof(double));
+    memcpy(S.e_yerr, O->evo->yerr, n * sizeof(double));
+    memcpy(S.e_dydt_in, O->evo->dydt_in, n * sizeof(double));
+    memcpy(S.e_dydt_out, O->evo->dydt_out, n * sizeof(double));
+    memcpy(buf, &S, sizeof S);
 }
 
-static void hybrid_restore(void *ws, const void *buf)
+static int hybrid_restore(void *ws, const void *buf)
 {
     ode *O = ws;
-    memcpy(&O->S, buf, sizeof O->S);
+    struct hyb_state S;
+    const hyb *B = &O->S.H;   /* as begin set it up for this model and law */
+    int nr;
+    memcpy(&S, buf, sizeof S);
+    nr = B->ns * B->nv;
+    if (S.H.law != B->law || S.H.ndof != B->ndof || S.H.ns != B->ns || S.H.ny != B->ny || S.H.nv != B->nv ||
+        S.nsw != O->S.nsw || S.H.mode < MODE_SLIP || S.H.mode > MODE_FREE || S.H.ncs < 0 || S.H.ncs > nr ||
+        (S.H.mode == MODE_CONTACT && (S.H.ck < 0 || S.H.ck >= B->ns || S.H.cj < 0 || S.H.cj >= B->nv)))
+        return EXDEX_EINVAL;
+    for (int i = 0; i < S.H.ncs; i++)
+        if (S.H.cs[i] < 0 || S.H.cs[i] >= nr) return EXDEX_EINVAL;
+    O->S = S;
     O->sys.params = &O->S.H;
+    {
+        size_t n = O->evo->dimension;
+        O->evo->count = S.count;
+        O->evo->failed_steps = S.failed_steps;
+        O->evo->last_step = S.last_step;
+        memcpy(O->evo->y0, S.e_y0, n * sizeof(double));
+        memcpy(O->evo->yerr, S.e_yerr, n * sizeof(double));
+        memcpy(O->evo->dydt_in, S.e_dydt_in, n * sizeof(double));
+        memcpy(O->evo->dydt_out, S.e_dydt_out, n * sizeof(double));
+    }
+    return EXDEX_OK;
 }
 
 #define HYBRID_STATE_SIZE sizeof(((ode *)0)->S)

@@ -868,6 +868,7 @@ static void implicit_save(const void *ws, void *buf)
 {
     const work *w = ws;
     implicit_state x;
+    memset(&x, 0, sizeof x);   /* padding too: a snapshot's checksum reads every byte */
     memcpy(x.p_prev, w->p_prev, sizeof x.p_prev);
     x.have_prev = w->have_prev;
     memcpy(x.fmode, w->fmode, sizeof x.fmode);
@@ -875,15 +876,18 @@ static void implicit_save(const void *ws, void *buf)
     memcpy((char *)buf + sizeof w->S, &x, sizeof x);
 }
 
-static void implicit_restore(void *ws, const void *buf)
+static int implicit_restore(void *ws, const void *buf)
 {
     work *w = ws;
     implicit_state x;
-    memcpy(&w->S, buf, sizeof w->S);
     memcpy(&x, (const char *)buf + sizeof w->S, sizeof x);
+    for (int i = 0; i < MAX_ROWS; i++)
+        if (x.fmode[i] < FC_OFF || x.fmode[i] > FC_STICK) return EXDEX_EINVAL;
+    memcpy(&w->S, buf, sizeof w->S);
     memcpy(w->p_prev, x.p_prev, sizeof x.p_prev);
-    w->have_prev = x.have_prev;
+    w->have_prev = x.have_prev != 0;
     memcpy(w->fmode, x.fmode, sizeof x.fmode);
+    return EXDEX_OK;
 }
 
 const method_impl method_implicit = {"implicit", implicit_alloc, implicit_run, implicit_free, 1, 1,
