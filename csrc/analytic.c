@@ -247,6 +247,16 @@ static int analytic_begin(const exdex_model *m, void *ws, double t_end, double d
     (void)dt;
     (void)st;
     model_initial_state(m, q, v);
+    memset(&w->S, 0, sizeof w->S);   /* padding too: a snapshot's checksum reads every byte */
+    /* the capacities of the model (a stepper's earlier run may have changed
+     * them), computed as analytic_alloc does */
+    if (m->def.dof == EXDEX_DOF_TRANSLATION) {
+        w->c = m->capF / m->m;
+        w->cs = m->capS / m->m;
+    } else {
+        w->c = m->capF * m->e[2] / m->mrot;
+        w->cs = m->capS * m->e[2] / m->mrot;
+    }
     w->S.ts = w->S.t_rec = 0.0;
     w->S.xs = q[0];
     w->S.vs = v[0];
@@ -376,12 +386,16 @@ static void analytic_save(const void *ws, void *buf)
     memcpy(buf, &((const analytic_ws *)ws)->S, sizeof(analytic_state));
 }
 
-static void analytic_restore(void *ws, const void *buf)
+static int analytic_restore(void *ws, const void *buf)
 {
     analytic_ws *w = ws;
-    memcpy(&w->S, buf, sizeof w->S);
-    w->c = w->S.c;
-    w->cs = w->S.cs;
+    analytic_state S;
+    memcpy(&S, buf, sizeof S);
+    if (S.k < 0 || S.k >= w->np) return EXDEX_EINVAL;
+    w->S = S;
+    w->c = S.c;
+    w->cs = S.cs;
+    return EXDEX_OK;
 }
 
 const method_impl method_analytic = {"analytic", analytic_alloc, analytic_run, analytic_free, 0, 0,

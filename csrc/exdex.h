@@ -447,8 +447,9 @@ typedef struct exdex_scene_def {
      * touching it (>= 0, finite; 0: frictionless). The friction acts along the
      * tangent t = e_z x n_B of the plate plane (n_B the in-plane part of the
      * stop normal in B), bounded by stop_mu times the stop's normal force.
-     * Supported by the implicit and explicit methods; event and regularised
-     * reject stop_mu > 0 (EXDEX_EINVAL, bad_param "stop_mu"). */
+     * Supported by the implicit and explicit methods, and by event and
+     * regularised in 1-DoF scenes (hybrid.c); a planar scene with event or
+     * regularised rejects stop_mu > 0 (EXDEX_EINVAL, bad_param "stop_mu"). */
     double stop_mu[EXDEX_MAX_STOPS];
 } exdex_scene_def;
 
@@ -615,8 +616,9 @@ typedef struct exdex_stepper_sample {
     size_t steps;                        /* steps taken */
 } exdex_stepper_sample;
 
-/* NULL with *status EXDEX_EINVAL (no model, or an unknown method) or
- * EXDEX_ENOMEM. */
+/* NULL with *status EXDEX_EINVAL (no model, or an unknown method),
+ * EXDEX_ENOMEM, or the status of the method's set-up (EXDEX_ENONFINITE: the
+ * analytic method's drive overflows, as exdex_simulate reports it). */
 exdex_stepper *exdex_stepper_alloc(const exdex_model *m, int *status);
 void exdex_stepper_free(exdex_stepper *s);   /* NULL is harmless */
 
@@ -634,8 +636,9 @@ int exdex_stepper_get(const exdex_stepper *s, exdex_stepper_sample *out, exdex_s
 /* Bytes of a snapshot of this stepper's state. */
 size_t exdex_stepper_state_size(const exdex_stepper *s);
 /* EXDEX_EINVAL if size differs from exdex_stepper_state_size or buf is
- * NULL; restore also if the snapshot is not one of a stepper of the same
- * model (method, coordinates, stops). */
+ * NULL; restore also (the stepper unchanged) if the snapshot is not one
+ * saved by a stepper of the same model, or was changed after save (a
+ * checksum and the ranges of its indices are checked); EXDEX_ENOMEM. */
 int exdex_stepper_save(const exdex_stepper *s, void *buf, size_t size);
 int exdex_stepper_restore(exdex_stepper *s, const void *buf, size_t size);
 

@@ -325,7 +325,11 @@ static int explicit_run(const exdex_model *m, void *ws, double t_end, double dt,
 }
 
 static void explicit_save(const void *ws, void *buf) { memcpy(buf, ws, sizeof(explicit_ws)); }
-static void explicit_restore(void *ws, const void *buf) { memcpy(ws, buf, sizeof(explicit_ws)); }
+static int explicit_restore(void *ws, const void *buf)
+{
+    memcpy(ws, buf, sizeof(explicit_ws));
+    return EXDEX_OK;
+}
 
 const method_impl method_explicit = {"explicit", explicit_alloc, explicit_run, explicit_free, 1, 0,
                                      explicit_begin, explicit_advance, sizeof(explicit_ws), explicit_save,

@@ -138,6 +138,21 @@
  *     (1 + TOLF); the rest ends when that fails or a set row's gap leaves
  *     +-tol.rest_gap (stops moving in B).
  *
+ * Frictional stops (stop_mu > 0), 1-DoF scenes: in contact the vertex
+ *   slips along its stop at s = T qd + tb (contact_tangent), and the stop's
+ *   Coulomb force -mu lam sign(s) along the tangent adds -mu lam sign(s) T
+ *   to the generalized force: M qdd = Q + f + lam D, D = Fq - mu sign(s) T,
+ *   the constraint fixing qdd, so lam = (M qdd - Q - f) / D. The slip's sign
+ *   is a mode (hyb.ss) with its guard ss s >= 0, located like every guard;
+ *   at a reversal the mode is decided again with the new sign. Where D Fq
+ *   <= 0 the friction turns the normal force's generalized direction
+ *   around and the acceleration-level contact has no solution (Painleve):
+ *   the contact is taken frictionless there and a warning counted (the
+ *   implicit method, at the velocity level, reports the same jam). Impacts
+ *   stay frictionless (their normal impulse is counted as without
+ *   friction). Planar scenes: not supported (model_alloc rejects stop_mu >
+ *   0 with these methods).
+ *
  * Penetration: event and regularised keep every stop to rounding and event
  *   location (|gap rate| tol.root; planar decisions also project positions
  *   back). A gap below -tol.pen after a step counts a warning in
@@ -223,6 +238,8 @@ typedef struct hyb {
     double vstr;       /* regularised: speed v_s at which the capacity falls from caps to cap */
     int err;           /* first failure inside a right-hand side */
     exdex_stats *st;
+    double ss;         /* 1-DoF contact with a frictional stop: sign of the contact vertex's
+                          slip along the stop (its Coulomb force opposes it); 0: none */
 } hyb;
 
 /* ---------------------------------------------------------- shared terms */
@@ -270,20 +287,43 @@ static double contact_qdd(const crow *c, double v)
     return -(c->Ftt + 2.0 * c->Ftq * v + c->Fqq * v * v) / c->Fq;
 }
 
-/* Friction f and stop force lam in contact (M qdd = Q + f + lam Fq). */
-static void contact_forces(const hyb *H, const crow *c, double R, double v, double *f, double *lam)
+/* Slip of the 1-DoF contact vertex along its stop at (q, v) and pose kin:
+ * s = T v + tb (contact_stop_tangent); T (may be NULL) gets d s / d qdot. */
+static double contact_slip_1dof(const hyb *H, const exdex_kinematics *kin, double q, double v, double *T)
 {
+    double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], Tv[3], tb;
+    contact_vertices(H->m, &q, xb, vx);
+    contact_stop_tangent(H->m, kin, H->ck, xb[H->cj], vx[H->cj], Tv, &tb);
+    if (T) *T = Tv[0];
+    return Tv[0] * v + tb;
+}
+
+/* The stop's generalized force per unit normal force in contact: Fq, less
+ * mu ss T with a frictional stop (its Coulomb force -mu lam ss along the
+ * tangent, generalized force -mu lam ss T). */
+static double contact_dir(const hyb *H, const crow *c, double T)
+{
+    double mu = model_source_mu(H->m, H->ck);
+    return mu > 0.0 && H->ss != 0.0 ? c->Fq - mu * H->ss * T : c->Fq;
+}
+
+/* Friction f and stop force lam in contact (M qdd = Q + f + lam D, D =
+ * contact_dir: Fq for a frictionless stop); T the tangent row of the
+ * contact vertex (contact_slip_1dof). */
+static void contact_forces(const hyb *H, const crow *c, double T, double R, double v, double *f, double *lam)
+{
+    double D = contact_dir(H, c, T);
     if (H->law == LAW_SMOOTH) {
         *f = -smooth_cap(H, fabs(v)) * v / sqrt(v * v + H->eps * H->eps);
-        *lam = (R - *f) / c->Fq;
+        *lam = (R - *f) / D;
     } else if (H->s != 0.0) {
         *f = -H->s * H->cap;
-        *lam = (R - *f) / c->Fq;
+        *lam = (R - *f) / D;
     } else {
         /* at rest against the stop: the stop carries what it can (as the implicit method) */
-        double l = R / c->Fq;
+        double l = R / D;
         *lam = l > 0.0 ? l : 0.0;
-        *f = R - *lam * c->Fq;
+        *f = R - *lam * D;
     }
 }
 
@@ -555,10 +595,12 @@ static int rhs(double t, const double y[], double dy[], void *params)
         } else if (H->mode == MODE_CONTACT) {
             crow c;
             double qdd, R, fr, lam;
+            double T = 0.0;
             contact_row_1dof(m, &kin, H->ck, H->cj, q, &c);
+            if (H->ss != 0.0) contact_slip_1dof(H, &kin, q, v, &T);
             qdd = contact_qdd(&c, v);
             R = H->M * qdd - model_force_1dof(m, &f, q, v);
-            contact_forces(H, &c, R, v, &fr, &lam);
+            contact_forces(H, &c, T, R, v, &fr, &lam);
             dy[0] = v;
             dy[1] = qdd;
             dy[2] = fr;
@@ -720,14 +762,15 @@ static int guards(hyb *H, double t, const double *y, double *g)
             g[n++] = H->caps * (1.0 + TOLF) - fabs(model_force_1dof(m, &f, q, 0.0));
         } else if (H->mode == MODE_CONTACT) {
             crow c;
-            double R, fr, lam;
+            double R, fr, lam, T = 0.0;
             contact_row_1dof(m, &kin, H->ck, H->cj, q, &c);
+            if (H->ss != 0.0) contact_slip_1dof(H, &kin, q, v, &T);
             R = H->M * contact_qdd(&c, v) - model_force_1dof(m, &f, q, v);
             if (H->law == LAW_COULOMB && H->s == 0.0) {
-                g[n++] = fmax(R / c.Fq, H->caps * (1.0 + TOLF) - fabs(R));
+                g[n++] = fmax(R / contact_dir(H, &c, T), H->caps * (1.0 + TOLF) - fabs(R));
                 g[n++] = m->tol.vzero - fabs(v);
             } else {
-                contact_forces(H, &c, R, v, &fr, &lam);
+                contact_forces(H, &c, T, R, v, &fr, &lam);
                 g[n++] = lam;
                 if (H->law == LAW_COULOMB) g[n++] = H->s * v;
             }
@@ -745,6 +788,9 @@ static int guards(hyb *H, double t, const double *y, double *g)
             }
             g[n++] = contact_stop_gap(m, &kin, k, q, NULL);
         }
+        /* a frictional contact: its vertex keeps slipping the same way
+         * along the stop (at a reversal the friction turns: decided again) */
+        if (H->mode == MODE_CONTACT && H->ss != 0.0) g[n++] = H->ss * contact_slip_1dof(H, &kin, q, v, NULL);
     }
     return n;
 }
@@ -935,7 +981,28 @@ static void decide(hyb *H, double t, double *y, int vzero)
             }
             Q = model_force_1dof(m, &f, q, v);
             R = H->M * contact_qdd(&c, v) - Q;
-            contact_forces(H, &c, R, v, &fr, &lam);
+            {
+                /* a frictional stop: the friction opposes the vertex's slip
+                 * along it (located guards put a reversal just past its
+                 * zero: the new sign). With mu ss T turning the normal
+                 * force's generalized direction around (D Fq <= 0) the
+                 * acceleration-level contact has no solution (Painleve):
+                 * the contact is taken frictionless there, counted as a
+                 * warning */
+                double sl, T = 0.0;
+                H->ck = k;
+                H->cj = j;
+                H->ss = 0.0;
+                if (model_source_mu(m, k) > 0.0) {
+                    sl = contact_slip_1dof(H, &kin, q, v, &T);
+                    H->ss = sl > 0.0 ? 1.0 : sl < 0.0 ? -1.0 : 0.0;
+                    if (H->ss != 0.0 && !(contact_dir(H, &c, T) * c.Fq > 0.0)) {
+                        H->ss = 0.0;
+                        H->st->warnings++;
+                    }
+                }
+                contact_forces(H, &c, T, R, v, &fr, &lam);
+            }
             /* a stop force exactly 0 keeps no contact: it is about to
              * separate (or needs none) */
             if (lam > 0.0 && (H->law == LAW_SMOOTH || H->s != 0.0 || fabs(fr) <= H->caps * (1.0 + TOLF))) {
@@ -955,6 +1022,7 @@ static void decide(hyb *H, double t, double *y, int vzero)
                 return;
             }
             H->s = s_old;
+            H->ss = 0.0;
         }
         if (H->law == LAW_SMOOTH) {
             H->mode = MODE_FREE;
@@ -1052,6 +1120,13 @@ typedef struct ode {
         double y[NY_MAX];
         double t, h, t_rec;   /* time reached, the stepper's next step, last recorded time */
         size_t nsw;           /* number of switching times in ts */
+        /* GSL's evolve object (its public fields): what it keeps between two
+         * applications (step counts, the last step, its work vectors) is
+         * saved with the state (hybrid_save), so a restored run repeats the
+         * saved one bit for bit whatever GSL reads from them */
+        unsigned long count, failed_steps;
+        double last_step;
+        double e_y0[NY_MAX], e_yerr[NY_MAX], e_dydt_in[NY_MAX], e_dydt_out[NY_MAX];
     } S;
 } ode;
 
@@ -1316,6 +1391,9 @@ static int hybrid_begin(const exdex_model *m, ode *O, int law, double t_end, dou
     O->S.h = h;
     O->S.nsw = nsw;
     O->sys.params = &O->S.H;
+    /* GSL's objects as allocated: a begin after a run starts afresh */
+    gsl_odeiv2_evolve_reset(O->evo);
+    gsl_odeiv2_step_reset(O->step);
     /* a failure in the decision at t = 0 stops the run before it starts */
     if (H.err) hybrid_failed(&H, H.err, 0.0, st);
     return H.err;
@@ -1641,20 +1719,53 @@ static int hybrid_advance_ws(const exdex_model *m, void *ws, double t1, int regr
     return hybrid_advance(m, ws, t1, regrip, out, i, st);
 }
 
-/* The state: O->S (the switching times are fixed by begin). GSL's stepper,
- * control and evolve keep nothing between two applications that the next
- * one reads (the evolve's step counts are read as differences only). */
+/* The state: O->S with the evolve object's fields (the switching times
+ * are fixed by begin; the stepper and control objects are not saved: the
+ * rk8pd stepper recomputes all its stages in each application and the
+ * scaled control has no state). */
 static void hybrid_save(const void *ws, void *buf)
 {
     const ode *O = ws;
-    memcpy(buf, &O->S, sizeof O->S);
+    struct hyb_state S;
+    size_t n = O->evo->dimension;
+    memcpy(&S, &O->S, sizeof S);
+    S.count = O->evo->count;
+    S.failed_steps = O->evo->failed_steps;
+    S.last_step = O->evo->last_step;
+    memcpy(S.e_y0, O->evo->y0, n * sizeof(double));
+    memcpy(S.e_yerr, O->evo->yerr, n * sizeof(double));
+    memcpy(S.e_dydt_in, O->evo->dydt_in, n * sizeof(double));
+    memcpy(S.e_dydt_out, O->evo->dydt_out, n * sizeof(double));
+    memcpy(buf, &S, sizeof S);
 }
 
-static void hybrid_restore(void *ws, const void *buf)
+static int hybrid_restore(void *ws, const void *buf)
 {
     ode *O = ws;
-    memcpy(&O->S, buf, sizeof O->S);
+    struct hyb_state S;
+    const hyb *B = &O->S.H;   /* as begin set it up for this model and law */
+    int nr;
+    memcpy(&S, buf, sizeof S);
+    nr = B->ns * B->nv;
+    if (S.H.law != B->law || S.H.ndof != B->ndof || S.H.ns != B->ns || S.H.ny != B->ny || S.H.nv != B->nv ||
+        S.nsw != O->S.nsw || S.H.mode < MODE_SLIP || S.H.mode > MODE_FREE || S.H.ncs < 0 || S.H.ncs > nr ||
+        (S.H.mode == MODE_CONTACT && (S.H.ck < 0 || S.H.ck >= B->ns || S.H.cj < 0 || S.H.cj >= B->nv)))
+        return EXDEX_EINVAL;
+    for (int i = 0; i < S.H.ncs; i++)
+        if (S.H.cs[i] < 0 || S.H.cs[i] >= nr) return EXDEX_EINVAL;
+    O->S = S;
     O->sys.params = &O->S.H;
+    {
+        size_t n = O->evo->dimension;
+        O->evo->count = S.count;
+        O->evo->failed_steps = S.failed_steps;
+        O->evo->last_step = S.last_step;
+        memcpy(O->evo->y0, S.e_y0, n * sizeof(double));
+        memcpy(O->evo->yerr, S.e_yerr, n * sizeof(double));
+        memcpy(O->evo->dydt_in, S.e_dydt_in, n * sizeof(double));
+        memcpy(O->evo->dydt_out, S.e_dydt_out, n * sizeof(double));
+    }
+    return EXDEX_OK;
 }
 
 #define HYBRID_STATE_SIZE sizeof(((ode *)0)->S)

@@ -505,9 +505,11 @@ done:
  * positive (1e-12 of the deepest penetration), so the next pass sees no
  * rounding-level penetration from this one; a gap within its rounding bound
  * (contact_gap_round) of 0 counts as 0, as in build_rows, and may stay
- * there: the sign of a rounding-level gap is not determined by the data. */
-static void project_positions(const exdex_model *m, const exdex_kinematics *kin, double *q,
-                              exdex_stats *st)
+ * there: the sign of a rounding-level gap is not determined by the data.
+ * Returns the smallest gap at the final q (contact_min_gap: the gaps of the
+ * last pass when it moved nothing). */
+static double project_positions(const exdex_model *m, const exdex_kinematics *kin, double *q,
+                                exdex_stats *st)
 {
     int nv = contact_nv(m), n = m->ndof, nr = m->n_stops * nv;
     double sq[3] = {0, 0, 0};  /* M^-1/2 (the metric of the correction) */
@@ -542,7 +544,13 @@ static void project_positions(const exdex_model *m, const exdex_kinematics *kin,
                 if (g[i] < -tol[i] && (deep < 0 || g[i] < g[deep])) deep = i;
             }
         }
-        if (deep < 0) return;  /* every gap >= 0 to rounding */
+        if (deep < 0) {
+            /* every gap >= 0 to rounding */
+            double gmin = INFINITY;
+            for (int i = 0; i < nr; i++)
+                if (g[i] < gmin) gmin = g[i];
+            return gmin;
+        }
         depth = -g[deep];
         for (int i = 0; i < nr; i++) {
             c[i] = -g[i] + 1e-12 * depth;
@@ -560,6 +568,7 @@ static void project_positions(const exdex_model *m, const exdex_kinematics *kin,
     /* still penetrating after every pass (e.g. the prescribed motion drives a
      * pinned pivot through a stop): report it rather than stay silent */
     st->warnings++;
+    return contact_min_gap(m, kin, q);
 }
 
 /* Coulomb friction at the stops (some stop with mu > 0). The frictionless
@@ -808,8 +817,7 @@ static int implicit_advance(const exdex_model *m, void *ws, double t1, int regri
             }
         }
         if (ns || m->n_obst) {
-            project_positions(m, &kin_end, q, st);
-            double gmin = contact_min_gap(m, &kin_end, q);
+            double gmin = project_positions(m, &kin_end, q, st);
             if (gmin < st->min_gap) st->min_gap = gmin;
         }
         if (!ex_finite_n(q, n_dof) || !ex_finite_n(v, n_dof) || !ex_finite_n(wrench, 3)) {
@@ -860,6 +868,7 @@ static void implicit_save(const void *ws, void *buf)
 {
     const work *w = ws;
     implicit_state x;
+    memset(&x, 0, sizeof x);   /* padding too: a snapshot's checksum reads every byte */
     memcpy(x.p_prev, w->p_prev, sizeof x.p_prev);
     x.have_prev = w->have_prev;
     memcpy(x.fmode, w->fmode, sizeof x.fmode);
@@ -867,15 +876,18 @@ static void implicit_save(const void *ws, void *buf)
     memcpy((char *)buf + sizeof w->S, &x, sizeof x);
 }
 
-static void implicit_restore(void *ws, const void *buf)
+static int implicit_restore(void *ws, const void *buf)
 {
     work *w = ws;
     implicit_state x;
-    memcpy(&w->S, buf, sizeof w->S);
     memcpy(&x, (const char *)buf + sizeof w->S, sizeof x);
+    for (int i = 0; i < MAX_ROWS; i++)
+        if (x.fmode[i] < FC_OFF || x.fmode[i] > FC_STICK) return EXDEX_EINVAL;
+    memcpy(&w->S, buf, sizeof w->S);
     memcpy(w->p_prev, x.p_prev, sizeof x.p_prev);
-    w->have_prev = x.have_prev;
+    w->have_prev = x.have_prev != 0;
     memcpy(w->fmode, x.fmode, sizeof x.fmode);
+    return EXDEX_OK;
 }
 
 const method_impl method_implicit = {"implicit", implicit_alloc, implicit_run, implicit_free, 1, 1,

@@ -43,10 +43,13 @@ typedef struct method_impl {
                    exdex_stats *st);
     /* The run's state between two intervals as state_size bytes (save), and
      * back (restore, into a workspace of the same model on which begin ran):
-     * advancing from a restored state repeats the saved run bit for bit. */
+     * advancing from a restored state repeats the saved run bit for bit.
+     * restore returns EXDEX_EINVAL, leaving ws as begin left it, when an
+     * index or count of the state is out of its range for this model
+     * (numbers are not checked: a non-finite one fails the next advance). */
     size_t state_size;
     void (*save)(const void *ws, void *buf);
-    void (*restore)(void *ws, const void *buf);
+    int (*restore)(void *ws, const void *buf);
 } method_impl;
 
 /* Count an impact of `impulse` (> 0) [N s] on stop `k` at time t. */

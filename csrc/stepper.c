@@ -20,6 +20,7 @@
 #include "model.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -28,6 +29,7 @@
 /* Everything of a stepper that a snapshot holds besides the method state. */
 typedef struct stepper_core {
     unsigned magic;
+    unsigned long long check;   /* FNV-1a of the snapshot with this field 0 */
     const exdex_model *model;   /* the model it steps (restore checks it) */
     int method, ndof, n_stops;
     int started, failed;
@@ -221,12 +223,30 @@ size_t exdex_stepper_state_size(const exdex_stepper *s)
     return s ? sizeof(stepper_core) + s->impl->state_size : 0;
 }
 
+/* FNV-1a (64 bit) of a snapshot, its check field counted as 0: restore
+ * rejects a snapshot that was changed after save (a corrupted or
+ * hand-made buffer), before any of its fields is used. */
+static unsigned long long snapshot_check(const void *buf, size_t size)
+{
+    const unsigned char *p = buf;
+    size_t lo = offsetof(stepper_core, check), hi = lo + sizeof(unsigned long long);
+    unsigned long long h = 14695981039346656037ull;
+    for (size_t i = 0; i < size; i++) {
+        h ^= i >= lo && i < hi ? 0u : p[i];
+        h *= 1099511628211ull;
+    }
+    return h;
+}
+
 int exdex_stepper_save(const exdex_stepper *s, void *buf, size_t size)
 {
+    unsigned long long check;
     if (!s || !buf || size != exdex_stepper_state_size(s)) return EXDEX_EINVAL;
+    memset(buf, 0, size);
     memcpy(buf, &s->c, sizeof s->c);
     if (s->c.started) s->impl->save(s->ws, (char *)buf + sizeof s->c);
-    else memset((char *)buf + sizeof s->c, 0, s->impl->state_size);
+    check = snapshot_check(buf, size);
+    memcpy((char *)buf + offsetof(stepper_core, check), &check, sizeof check);
     return EXDEX_OK;
 }
 
@@ -235,17 +255,41 @@ int exdex_stepper_restore(exdex_stepper *s, const void *buf, size_t size)
     stepper_core c;
     if (!s || !buf || size != exdex_stepper_state_size(s)) return EXDEX_EINVAL;
     memcpy(&c, buf, sizeof c);
+    if (c.check != snapshot_check(buf, size)) return EXDEX_EINVAL;
     if (c.magic != SNAPSHOT_MAGIC || c.model != s->c.model || c.method != s->c.method || c.ndof != s->c.ndof ||
-        c.n_stops != s->c.n_stops)
+        c.n_stops != s->c.n_stops || (c.started != 0 && c.started != 1) || (c.failed != 0 && c.failed != 1))
         return EXDEX_EINVAL;
     if (c.started) {
         /* the workspace's fixed part (switching times) from begin, with
-         * the scene's grip and the snapshot's first dt; then its state */
+         * the scene's grip and the snapshot's first dt; then its state. A
+         * state the method rejects leaves the stepper as it was. */
         exdex_stats scratch;
+        char *own = NULL;
+        int bad;
+        if (!(isfinite(c.dt0) && c.dt0 > 0.0)) return EXDEX_EINVAL;
+        if (s->c.started) {
+            own = malloc(s->impl->state_size);
+            if (!own) return EXDEX_ENOMEM;
+            s->impl->save(s->ws, own);
+        }
         memset(&scratch, 0, sizeof scratch);
         set_grip(s, NAN);
-        if (s->impl->begin(&s->mc, s->ws, INFINITY, c.dt0, &scratch)) return EXDEX_EINVAL;
-        s->impl->restore(s->ws, (const char *)buf + sizeof c);
+        bad = s->impl->begin(&s->mc, s->ws, INFINITY, c.dt0, &scratch) ||
+              s->impl->restore(s->ws, (const char *)buf + sizeof c);
+        if (bad) {
+            if (own) {
+                s->impl->begin(&s->mc, s->ws, INFINITY, s->c.dt0, &scratch);
+                s->impl->restore(s->ws, own);
+            }
+            s->mc.grip_n = s->c.grip_n;
+            s->mc.capF = s->c.capF;
+            s->mc.capS = s->c.capS;
+            s->mc.def.grip_force = s->c.grip_force;
+            if (!s->c.started) set_grip(s, NAN);
+            free(own);
+            return EXDEX_EINVAL;
+        }
+        free(own);
         s->mc.grip_n = c.grip_n;
         s->mc.capF = c.capF;
         s->mc.capS = c.capS;

@@ -300,7 +300,8 @@ def stats_findings(stats):
         out.append(PhysicsWarning(
             f"the solver counted {n_warn} soft problem{'s' if n_warn != 1 else ''}{when} (stats['warnings']): "
             "an iteration limit reached with the last iterate kept, a stop that cannot act along the free "
-            "direction or pinches the object, or a penetration left after a step. The result may be "
+            "direction or pinches the object, a penetration left after a step, or a frictional stop that "
+            "jams (its friction turns its normal force around: no finite contact force). The result may be "
             "inaccurate there: try a smaller dt, or another method",
             kind="solver", time=float(tw) if tw is not None and math.isfinite(tw) else None,
             quantity="stats['warnings']", value=float(n_warn), limit=0.0))

@@ -32,6 +32,10 @@ Quantities (final value minus initial value of the free coordinates):
 the distance moved in the plate plane (planar scenes); ``"rotation"`` [rad]
 the turn of the object relative to the gripper (rotation and planar scenes);
 ``"x"``, ``"y"`` [m] the planar displacement's components in the gripper frame.
+A target may add ``"rest_by"`` [s], the time by which the object must be at
+rest relative to the gripper. A planar pose (``x``, ``y``, ``rotation``)
+without ``vary`` is planned as a sequence of motion primitives by
+:func:`exdex.sequence.solve`.
 Units are SI.
 """
 from __future__ import annotations

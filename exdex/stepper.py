@@ -95,7 +95,7 @@ class Stepper:
     steppers may run in parallel.
     """
 
-    __slots__ = ("model", "_s", "_failed")
+    __slots__ = ("model", "_s", "_t")
 
     def __init__(self, scene: Union[Scene, Model], method: Optional[Method] = None,
                  friction_solver: Optional[FrictionSolver] = None, eps: Optional[float] = None,
@@ -111,6 +111,7 @@ class Stepper:
         else:
             raise TypeError(f"scene must be an exdex.Scene or an exdex.Model, got {type(scene).__name__}")
         self._s = self.model._model.stepper()
+        self._t = 0.0   # time reached (the last step's end)
 
     @property
     def scene(self) -> Scene:
@@ -147,11 +148,11 @@ class Stepper:
             grip_force = float(grip_force)
             if not (math.isfinite(grip_force) and grip_force >= 0.0):
                 raise ValueError(f"grip_force must be finite and >= 0 [N per finger] (or None), got {grip_force!r}")
-        t0 = self._s.state()[0]
         self._s.step(dt, grip_force)
         state = self.state
         if self.model._jumps:
-            _warn_jumps(self.model.scene, [j for j in self.model._jumps if t0 < j[0]], state.t, stacklevel=3)
+            _warn_jumps(self.model.scene, [j for j in self.model._jumps if self._t < j[0]], state.t, stacklevel=3)
+        self._t = state.t
         return state
 
     @property
@@ -185,6 +186,7 @@ class Stepper:
             raise ValueError("state was saved by a stepper of another model: pass Stepper(model) the same "
                              "exdex.Model to branch runs")
         self._s.restore(state._data)
+        self._t = self.t
 
     def run(self, dt: float, grip_forces: Any) -> Dict[str, NDArray[Any]]:
         """Take ``len(grip_forces)`` steps of ``dt``, step i with grip force

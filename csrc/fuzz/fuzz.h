@@ -134,7 +134,8 @@ void fuzz_note_keep(const char *target, const char *key);
     X(tool)             \
     X(misc)             \
     X(ldp)              \
-    X(grip)
+    X(grip)             \
+    X(stepper)
 
 #define FUZZ_DECLARE(name) int fuzz_##name(const uint8_t *data, size_t size);
 FUZZ_TARGETS(FUZZ_DECLARE)

@@ -123,7 +123,9 @@ static void decode_shake_chain(fz *f, fz_motion *m)
         int np = fz_int(f, 0, 5), nonfinite = 0;
         d->kind = EXDEX_MOTION_CHAIN;
         m->used_nonfinite = (m->have_R0 && nf(m->R0, 9)) || (m->have_p0 && nf(m->p0, 3));
-        d->n_pieces = np < 0 ? 0 : (size_t)np;
+        /* more pieces than the harness holds would be its own overrun;
+         * negative or beyond EXDEX_MOTION_MAX_PIECES must be rejected unread */
+        d->n_pieces = np < 0 ? (size_t)(long)np : np > 5 && np <= EXDEX_MOTION_MAX_PIECES ? 5 : (size_t)np;
         d->pieces = fz_pick(f, 0, 31) ? m->pieces : NULL;
         d->allow_jump = fz_int(f, 0, 2);
         for (int i = 0; i < 5; i++) {
@@ -148,7 +150,7 @@ static void decode_shake_chain(fz *f, fz_motion *m)
                    (p->kind == EXDEX_MOTION_SHAKE && !isfinite(p->frequency))))))
                 nonfinite = 1;
         }
-        if (nonfinite && d->pieces && np >= 1) m->used_nonfinite = 1;
+        if (nonfinite && d->pieces && np >= 1 && np <= EXDEX_MOTION_MAX_PIECES) m->used_nonfinite = 1;
         break;
     }
     default:

@@ -172,10 +172,25 @@ EXDEX_TEST(stepper_save_restore_branches_exactly)
                 ENSURE(same_bits(&a[i], &b, sizeof b));
             }
         }
-        /* a corrupted snapshot or a wrong size is rejected */
+        /* a corrupted snapshot or a wrong size is rejected, and the
+         * stepper carries on as if nothing happened */
         memcpy(bad, snap, size);
         memset(bad, 0, 8);
         ENSURE(exdex_stepper_restore(s, bad, size) == EXDEX_EINVAL);
+        memcpy(bad, snap, size);
+        bad[size - 3] ^= 0x5a;
+        ENSURE(exdex_stepper_restore(s, bad, size) == EXDEX_EINVAL);
+        {
+            exdex_stepper_sample before, after1, after2;
+            exdex_stepper_get(s, &before, NULL);
+            ENSURE(exdex_stepper_step(s, 1e-3, 0.3) == 0);
+            exdex_stepper_get(s, &after1, NULL);
+            ENSURE(exdex_stepper_restore(s2, snap, size) == 0);   /* s2 replays s from the snapshot */
+            for (int i = 0; i < 40; i++) exdex_stepper_step(s2, i < 20 ? 2e-3 : 3e-3, 0.5 - 0.01 * i);
+            ENSURE(exdex_stepper_step(s2, 1e-3, 0.3) == 0);
+            exdex_stepper_get(s2, &after2, NULL);
+            ENSURE(before.steps == 100 && same_bits(&after1, &after2, sizeof after1));
+        }
         ENSURE(exdex_stepper_restore(s, snap, size - 1) == EXDEX_EINVAL);
         ENSURE(exdex_stepper_save(s, snap, size + 1) == EXDEX_EINVAL);
     done:
