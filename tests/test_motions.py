@@ -199,3 +199,57 @@ def test_allowed_jump_is_applied_to_the_object(method):
     i = np.searchsorted(res.t, 1.0)
     assert res.v[i, 0] == pytest.approx(-0.1, rel=1e-9)
     assert res.v[-1, 0] == pytest.approx(0.0, abs=1e-12)
+
+
+def _random_chain(rng, axis, scale=1.0):
+    """Pauses, whole-cycle shakes and Eq. 7 round trips along axis (every
+    piece starts and ends at rest, so the chain is continuous)."""
+    pieces = []
+    for _ in range(int(rng.integers(2, 6))):
+        kind = int(rng.integers(0, 3))
+        if kind == 0:
+            pieces.append(exdex.Pause(float(rng.uniform(0.02, 0.1))))
+        elif kind == 1:
+            pieces.append(exdex.Shake(scale * float(rng.uniform(-5e-3, 5e-3)), float(rng.uniform(1.0, 6.0)),
+                                      cycles=float(rng.integers(1, 4)) / 2, axis=axis))
+        else:
+            pieces.append(exdex.AsymmetricProfile(scale * float(rng.uniform(-0.02, 0.02)), float(rng.uniform(0.1, 0.3)),
+                                                  float(rng.uniform(0.55, 0.9)), axis=axis))
+    return exdex.Chain(pieces)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_random_chains_below_the_slip_threshold_hold_exactly(seed):
+    """Property: a capacity above m (g + the chain's largest acceleration)
+    keeps the object exactly still (q and v bit for bit) in the exact-stick
+    methods, whatever the chain."""
+    rng = np.random.default_rng(seed)
+    motion = _random_chain(rng, (0, 0, 1))
+    t = np.linspace(0, motion.end_time, 4001)
+    a_max = float(np.max(np.abs(motion.evaluate(t)["a"][:, 2])))
+    m = 0.1
+    grasp = exdex.Grasp(mu=0.5, grip_force=1.1 * m * (9.81 + a_max) / (2 * 0.5))
+    scene = exdex.Scene(body=exdex.Body(m), grasp=grasp, motion=motion)
+    for method in ("implicit", "event"):
+        res = exdex.simulate(scene, motion.end_time + 0.05, 1e-3, method=method)
+        assert np.all(res.q == res.q[0]) and np.all(res.v == 0.0) and np.all(res.stick), method
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_mirrored_chain_gives_the_mirrored_slide(seed):
+    """Property (mirror symmetry): without gravity, a chain along the slide
+    axis and the same chain with every amplitude negated move the object by
+    opposite amounts (Coulomb friction is odd in the slip velocity)."""
+    rng = np.random.default_rng(100 + seed)
+    state = rng.bit_generator.state
+    plus = _random_chain(rng, (0, 0, 1))
+    rng.bit_generator.state = state
+    minus = _random_chain(rng, (0, 0, 1), scale=-1.0)
+    grasp = exdex.Grasp(mu=0.4, grip_force=0.05)
+    for method in ("implicit", "event"):
+        a = exdex.simulate(exdex.Scene(body=exdex.Body(0.1), grasp=grasp, motion=plus, gravity=(0, 0, 0)),
+                           plus.end_time, 1e-3, method=method)
+        b = exdex.simulate(exdex.Scene(body=exdex.Body(0.1), grasp=grasp, motion=minus, gravity=(0, 0, 0)),
+                           minus.end_time, 1e-3, method=method)
+        assert np.max(np.abs(a.q)) > 1e-4   # it slides
+        np.testing.assert_allclose(b.q, -a.q, rtol=0, atol=1e-12 * np.max(np.abs(a.q)) + 1e-15)

@@ -245,3 +245,21 @@ def test_stepping_is_bit_identical_with_static_friction_and_a_grip_schedule():
     for i in range(300):
         s = st.step(2e-3, 0.0 if 100 <= i < 110 else None)
         assert s.grip_force == (0.0 if 100 <= i < 110 else None)
+
+
+@pytest.mark.parametrize("method", ["implicit", "event", "explicit"])
+def test_friction_never_adds_energy_under_random_grip_forces(method):
+    """Property: with the gripper at rest and no gravity, only friction acts
+    on a sliding block, whatever grip force each step takes: its speed never
+    grows (the explicit method's sign friction may overshoot zero by at most
+    one step's deceleration, h 2 mu F / m, so its speed is bounded by that)."""
+    rng = np.random.default_rng(5)
+    m, mu = 0.1, 0.5
+    scene = exdex.Scene(body=exdex.Body(m), grasp=exdex.Grasp(mu, 0.0), v0=(0.0, 0.3, 0.0), gravity=(0, 0, 0))
+    st = exdex.Stepper(scene, method=method)
+    speed = 0.3
+    for _ in range(400):
+        s = st.step(1e-3, float(rng.uniform(0.0, 0.2)))
+        bound = speed if method != "explicit" else max(speed, 1e-3 * 2 * mu * 0.2 / m)
+        assert abs(s.v[0]) <= bound * (1 + 1e-12)
+        speed = abs(s.v[0])
