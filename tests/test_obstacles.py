@@ -524,3 +524,69 @@ def test_frictional_rod_slows_the_pinned_square_and_never_adds_energy():
     pushing = out[0.0].stop_force[:, 0] > 1e-6
     assert np.all(out[0.5].stop_force[pushing, 0] >= out[0.0].stop_force[pushing, 0] * (1 - 1e-9))
     assert np.any(out[0.5].stop_force[pushing, 0] > 1.01 * out[0.0].stop_force[pushing, 0])
+
+
+# ---------------------------------------------------------------- properties
+
+def _ke(body, v):
+    I = np.array(body.inertia)[2, 2]
+    return 0.5 * body.mass * (v[:, 0] ** 2 + v[:, 1] ** 2) + 0.5 * I * v[:, 2] ** 2
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_obstacles_never_add_energy_with_the_gripper_at_rest(seed):
+    """Gripper at rest, no gravity: the object's kinetic energy (its
+    velocity relative to B is absolute) can only fall, whatever it hits: the
+    plates, frictional boxes and rods only dissipate (plastic impacts, Coulomb
+    friction). Checked at every step, to rounding."""
+    rng = np.random.default_rng(50 + seed)
+    body = Body.box(0.1, (0.03, 0.04, 0.02))
+    obs = (Obstacle.box((rng.uniform(-0.02, 0.02), 0.0, -0.08), (0.2, 0.2, 0.08),
+                        rotation=Rotation.from_rotvec(rng.normal(size=3) * 0.3).as_matrix(), mu=rng.uniform(0, 1)),
+           Obstacle.cylinder((0.07, 0.0, rng.uniform(-0.03, 0.03)), (0, 1, 0) + rng.normal(size=3) * 0.2, 0.01,
+                             mu=rng.uniform(0, 1)))
+    sc = Scene(body=body, grasp=Grasp(mu=rng.uniform(0.0, 0.05), grip_force=0.5), dof="planar", gravity=(0, 0, 0),
+               v0=(rng.uniform(0.1, 0.3), -rng.uniform(0.5, 0.8), rng.normal() * 5), obstacles=obs)
+    res = run(sc, 0.5, 1e-3)
+    assert res.stop_force.max() > 0  # it hit something
+    ke = _ke(body, res.v)
+    assert np.all(np.diff(ke) <= 1e-12 * ke[0])
+
+
+def test_resting_on_a_frictional_box_is_exactly_still():
+    """A square whose plates cannot hold its weight (capacity 0.5 m g) rests
+    on a frictional face tilted by 10 deg (mu = 0.5 > tan 10 deg: the face
+    and the plates hold it together): once it has settled, every sample is
+    the same pose, bit for bit, and every step reports stick."""
+    a = math.radians(10.0)
+    n = np.array([-math.sin(a), 0.0, math.cos(a)])   # the plane rises along +x
+    floor = Obstacle.halfspaces([n], [float(n @ (0.021, 0.0, -0.021))], mu=0.5)
+    sc = Scene(body=square(), grasp=Grasp(mu=0.5, grip_force=0.5 * 0.1 * G / 2 / 0.5), dof="planar",
+               obstacles=(floor,))
+    res = run(sc, 1.0, 1e-3)
+    late = res.t > 0.5
+    assert np.all(res.q[late] == res.q[late][0])
+    assert np.all(res.stick[late])
+    assert res.stop_force[late, 0].min() > 0
+
+
+def test_mirror_symmetry():
+    """Mirroring the world in its x = 0 plane (B's x is A's x: the plates'
+    plane maps to itself) mirrors the motion: x -> -x, theta -> -theta, the
+    outline, the boxes' poses (M R M, M = diag(-1, 1, 1)) and the rods' axes
+    mirrored. The implicit method's result mirrors to rounding."""
+    M = np.diag([-1.0, 1.0, 1.0])
+    Rb = Rotation.from_rotvec([0.2, -0.3, 0.5]).as_matrix()
+    body = Body(mass=0.1, inertia=3e-5, outline=[(-0.02, -0.015), (0.025, -0.02), (0.015, 0.02), (-0.02, 0.01)])
+    mbody = Body(mass=0.1, inertia=3e-5, outline=[(-x, y) for x, y in body.outline][::-1])
+    box = Obstacle.box((0.01, 0.0, -0.1), (0.1, 0.1, 0.06), rotation=Rb, mu=0.4)
+    mbox = Obstacle.box((-0.01, 0.0, -0.1), (0.1, 0.1, 0.06), rotation=M @ Rb @ M, mu=0.4)
+    rod = Obstacle.cylinder((0.05, 0.0, -0.01), (0.1, 1.0, 0.2), 0.008, mu=0.2)
+    mrod = Obstacle.cylinder((-0.05, 0.0, -0.01), (-0.1, 1.0, 0.2), 0.008, mu=0.2)
+    kw = dict(grasp=Grasp(mu=0.3, grip_force=0.8), dof="planar",
+              motion=TrapezoidalProfile(0.05, 0.4, 0.15, axis=(0, 0, -1)))
+    a = run(Scene(body=body, q0=(0.004, 0.0, 0.3), v0=(0.05, 0.0, 1.0), obstacles=(box, rod), **kw), 0.6, 1e-3)
+    b = run(Scene(body=mbody, q0=(-0.004, 0.0, -0.3), v0=(-0.05, 0.0, -1.0), obstacles=(mbox, mrod), **kw), 0.6, 1e-3)
+    assert a.stop_force.max() > 0
+    np.testing.assert_allclose(b.q, a.q * [-1, 1, -1], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(b.stop_force, a.stop_force, rtol=1e-6, atol=1e-6)
