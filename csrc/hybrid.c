@@ -1120,10 +1120,11 @@ typedef struct ode {
         double y[NY_MAX];
         double t, h, t_rec;   /* time reached, the stepper's next step, last recorded time */
         size_t nsw;           /* number of switching times in ts */
-        /* GSL's evolve object (its public fields): what it keeps between two
-         * applications (step counts, the last step, its work vectors) is
-         * saved with the state (hybrid_save), so a restored run repeats the
-         * saved one bit for bit whatever GSL reads from them */
+        /* GSL's evolve object (its public fields): it keeps state between
+         * two applications (GSL 2.7 starts a step from the last step's
+         * dydt_out while count > 0), so its counts, last step and work
+         * vectors are saved with the state (hybrid_save) and a restored run
+         * repeats the saved one bit for bit */
         unsigned long count, failed_steps;
         double last_step;
         double e_y0[NY_MAX], e_yerr[NY_MAX], e_dydt_in[NY_MAX], e_dydt_out[NY_MAX];
@@ -1721,8 +1722,8 @@ static int hybrid_advance_ws(const exdex_model *m, void *ws, double t1, int regr
 
 /* The state: O->S with the evolve object's fields (the switching times
  * are fixed by begin; the stepper and control objects are not saved: the
- * rk8pd stepper recomputes all its stages in each application and the
- * scaled control has no state). */
+ * rk8pd stepper recomputes all its stages from y and dydt_in in each
+ * application and the scaled control has no state). */
 static void hybrid_save(const void *ws, void *buf)
 {
     const ode *O = ws;

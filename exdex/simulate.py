@@ -6,7 +6,7 @@ import numbers
 import os
 import warnings
 from dataclasses import dataclass, field
-from typing import Any, Dict, Literal, Optional, Tuple, Union
+from typing import TYPE_CHECKING, Any, Dict, Literal, Optional, Tuple, Union
 
 import numpy as np
 from numpy.typing import NDArray
@@ -14,6 +14,9 @@ from numpy.typing import NDArray
 from exdex import _core, diagnostics
 from exdex.diagnostics import PhysicsWarning
 from exdex.scene import METHODS, SOLVERS, Scene, _real
+
+if TYPE_CHECKING:
+    from exdex.stepper import Stepper
 
 __all__ = ["Result", "simulate", "SolverError", "PhysicsWarning", "GripperJumpWarning"]
 
@@ -504,6 +507,7 @@ class Model:
     ``simulate`` returns the same :class:`Result` as :func:`exdex.simulate`
     (bit-identical). ``final`` keeps only the last sample (tuples of floats
     and the stick flag), without building the trajectory arrays.
+    ``stepper()`` starts a run to advance step by step (:class:`exdex.Stepper`).
     """
 
     __slots__ = ("scene", "method", "friction_solver", "_model", "_jumps")
@@ -537,6 +541,13 @@ class Model:
         out = self._model.final(t_end, dt)
         _warn_jumps(self.scene, self._jumps, t_end)
         return out
+
+    def stepper(self) -> "Stepper":
+        """A new :class:`exdex.Stepper` of this model at its initial state
+        (runs of one model branch into each other with save / restore)."""
+        from exdex.stepper import Stepper
+
+        return Stepper(self)
 
     def __repr__(self) -> str:
         return f"exdex.Model(ndof={self.ndof}, method={self.method!r}, friction_solver={self.friction_solver!r})"

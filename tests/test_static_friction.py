@@ -428,6 +428,23 @@ def test_planar_torsion_and_force_breakaway(method, mu_static):
     assert np.all(r.v[before] == 0.0) and np.all(r.q[before] == r.q[0])
 
 
+def test_planar_stick_slip_implicit_converges_to_event():
+    """A shaken planar box with an offset patch (mu 0.3, mu_static 0.45),
+    sticking most of the time and slipping and turning in between: the
+    implicit method's final pose approaches the event method's (rtol 1e-11)
+    at first order, the difference halving with dt (each switch is located
+    within a step)."""
+    sc = Scene(body=Body.box(0.1, (0.06, 0.03, 0.02)),
+               grasp=Grasp(mu=0.3, grip_force=3.0, mu_static=0.45,
+                           patch=Patch.rectangle(0.02, 0.02, center=(0.01, 0.0))),
+               motion=AsymmetricProfile(amplitude=0.1, duration=0.5, beta=0.9, axis=(0.0, 0.0, -1.0)), dof="planar")
+    e = exdex.simulate(sc, t_end=1.2, dt=1e-3, method="event", rtol=1e-11, atol=1e-13)
+    assert 0.5 < e.stick.mean() < 0.95
+    d = [np.abs(exdex.simulate(sc, t_end=1.2, dt=dt, method="implicit").q[-1] - e.q[-1]).max()
+         for dt in (1e-3, 5e-4, 2.5e-4)]
+    assert 1.7 < d[0] / d[1] < 2.3 and 1.7 < d[1] / d[2] < 2.3
+
+
 # ------------------------------------------------------------ (d) mu_static == mu
 
 def paper_scene(**grasp):

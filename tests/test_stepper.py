@@ -98,7 +98,7 @@ def _branch_scene():
 @pytest.mark.parametrize("method", ["implicit", "event", "analytic"])
 def test_save_restore_branches_exactly(method):
     model = exdex.Model(_branch_scene(), method=method)
-    a, b = exdex.Stepper(model), exdex.Stepper(model)
+    a, b = exdex.Stepper(model), model.stepper()
     for i in range(150):
         a.step(1e-3, None if i < 100 else 0.3)
     snap = a.save()

@@ -18,7 +18,7 @@
 #include <string.h>
 
 #define T "stepper"
-#define OPS 16
+#define OPS 10
 
 static void decode_scene(fz *f, exdex_scene_def *d, exdex_motion_def pieces[2])
 {
@@ -112,7 +112,7 @@ int fuzz_stepper(const uint8_t *data, size_t size)
         exdex_stepper_sample before, after;
         exdex_stepper_get(s, &before, NULL);
         if (what <= 4) {
-            double dt = fz_log(&f, 1e-4, 0.05), grip = fz_pick(&f, 0, 2) ? fz_num(&f, 0.0, 3.0) : NAN;
+            double dt = fz_log(&f, 1e-4, 0.02), grip = fz_pick(&f, 0, 2) ? fz_num(&f, 0.0, 3.0) : NAN;
             int bad_arg = !(isfinite(dt) && dt > 0.0) || !(isnan(grip) || (isfinite(grip) && grip >= 0.0));
             status = exdex_stepper_step(s, dt, grip);
             fuzz_count_status(T, status);
