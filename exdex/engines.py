@@ -19,7 +19,9 @@ How each scene is built (all engines)
 * Plates: plate 1 is rigid on the gripper; plate 2 sits on a prismatic joint
   along the plate normal (B z) and is pushed against the object by a constant
   joint force equal to ``grasp.grip_force``. In steady state each plate presses
-  with exactly that force, whatever the engine's contact stiffness.
+  with exactly that force, whatever the engine's contact stiffness. A
+  ``GripSchedule`` is applied as a zero-order hold: the joint force of the
+  step [t, t + dt] is the schedule at the step's midpoint t + dt / 2.
 * Object: a box of ``body.size`` with the scene's mass and full inertia
   tensor, jointed to the gripper so that it has the scene's free coordinates
   plus the normal translation (so the squeeze passes through it):
@@ -44,7 +46,16 @@ How each scene is built (all engines)
 * Friction: MuJoCo explicit contact pairs with friction (mu, mu, torsional);
   pybullet lateral friction mu on the pads and 1 on the object (Bullet
   multiplies them), spinning friction on the pads (Bullet combines it as
-  spin_pad * lateral_object). Stops are frictionless in exdex and here.
+  spin_pad * lateral_object). Each stop-object pair gets exactly the stop's
+  ``Stop.mu`` (Coulomb, static = kinetic; 0: frictionless), the way each
+  engine combines two coefficients: MuJoCo takes an explicit ``<pair>``'s
+  friction as given (it replaces the geoms' combination, the max), so the
+  stop's pair has friction (mu, mu, 0) and condim 3 (condim 1, frictionless,
+  for mu = 0); Bullet multiplies the two bodies' lateral friction, so the
+  stop's box gets mu against the object's 1; Drake combines 2 mu1 mu2 /
+  (mu1 + mu2), so the object gets the largest pair coefficient M and each pad
+  and stop the partner x = mu M / (2 M - mu) that combines with M to its mu
+  (the pads keep the grasp's mu when no stop's exceeds it).
 * Drake (``run_drake``): a discrete ``MultibodyPlant`` built in code (no model
   files), the object on prismatic joints and a revolute joint about the plate
   normal (no out-of-plane tilt). ``contact_model="point"``: Drake's compliant
@@ -190,13 +201,27 @@ class _Layout:
         return 0.0
 
 
-def _grip_force(scene):
-    """The constant grip force the engines' finger joints press with [N]."""
+def _grip_force(scene, t):
+    """The force [N] the engines' finger joint presses with during the step that
+    starts at ``t``: the constant grip force, or a ``GripSchedule`` evaluated at
+    the step's midpoint t + dt / 2 (``t`` is that midpoint here)."""
     f = scene.grasp.grip_force
-    if not isinstance(f, (int, float)):
-        raise ValueError("the engine runs press the fingers with a constant grip force; this scene's "
-                         "Grasp.grip_force is a GripSchedule (use exdex.simulate for it)")
-    return f
+    if isinstance(f, (int, float)):
+        return float(f)
+    return float(f(t))
+
+
+def _drake_friction(targets):
+    """Drake combines two surfaces' friction as 2 mu1 mu2 / (mu1 + mu2). Given
+    the coefficients each object pair must get (``targets``: the pads' and the
+    stops'), return (M, partners): the object's coefficient M, the largest
+    target, and each partner's x, for which 2 x M / (x + M) = mu, i.e.
+    x = mu M / (2 M - mu) (finite, >= 0, since mu <= M < 2 M); a target equal
+    to M keeps M itself (0 if all are 0)."""
+    M = max(targets)
+    if M == 0.0:
+        return 0.0, [0.0] * len(targets)
+    return M, [mu if mu == M else mu * M / (2.0 * M - mu) for mu in targets]
 
 
 def _kinematics(scene, t):
@@ -310,7 +335,9 @@ def _mujoco_xml(lay, *, dt, iterations, cone, impratio, noslip_iterations, solve
         c, R = _stop_pose(s)
         stops.append(f'<geom name="stop{k}" type="box" pos="{f(c)}" quat="{f(_quat_from_matrix(R))}" '
                      f'size="{f(STOP_HALF)}" contype="0" conaffinity="0"/>')
-        pairs.append(f'<pair geom1="stop{k}" geom2="object" condim="1"/>')
+        # an explicit pair's friction replaces MuJoCo's combination of the geoms' (the max): exactly mu
+        pairs.append(f'<pair geom1="stop{k}" geom2="object" condim="3" friction="{f((s.mu, s.mu, 0, 0, 0))}"/>'
+                     if s.mu > 0 else f'<pair geom1="stop{k}" geom2="object" condim="1"/>')
     return f"""<mujoco model="exdex-scene">
   <option timestep="{dt!r}" gravity="{f(sc.gravity)}" cone="{cone}" impratio="{impratio!r}"
           noslip_iterations="{int(noslip_iterations)}" iterations="{int(iterations)}" solver="{solver}"
@@ -395,7 +422,7 @@ def run_mujoco(scene, t_end, *, dt=0.002, iterations=100, cone="elliptic", impra
         d.qvel[3:6] = R.T @ kin["w"][k]
         d.xfrc_applied[gid, 0:3] = Mg * (kin["a"][k] - g)
         d.xfrc_applied[gid, 3:6] = Mg * kin["dw"][k]     # isotropic inertia: w x I w = 0
-        d.qfrc_applied[sq] = -_grip_force(scene)
+        d.qfrc_applied[sq] = -_grip_force(scene, (k + 0.5) * dt)
 
     dof = {name: m.joint(name).dofadr[0] for name in ("on", "ox", "oy", "ob") if _has_joint(m, name)}
 
@@ -546,7 +573,8 @@ def run_pybullet(scene, t_end, *, dt=1.0 / 240.0, iterations=50, cone=True, cont
             sh = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=list(STOP_HALF), **kw)
             sid = pb.createMultiBody(baseMass=0, baseCollisionShapeIndex=sh, basePosition=list(c),
                                      baseOrientation=_xyzw(R), **kw)
-            pb.changeDynamics(sid, -1, lateralFriction=0.0, spinningFriction=0.0, rollingFriction=0.0, **kw)
+            # Bullet multiplies the two bodies' lateral friction: the object link has 1, so the pair gets mu
+            pb.changeDynamics(sid, -1, lateralFriction=s.mu, spinningFriction=0.0, rollingFriction=0.0, **kw)
             for j in range(-1, obj_link):
                 pb.setCollisionFilterPair(sid, body, -1, j, 0, **kw)
             stop_ids.append(sid)
@@ -568,7 +596,7 @@ def run_pybullet(scene, t_end, *, dt=1.0 / 240.0, iterations=50, cone=True, cont
         def drive(k):
             pb.applyExternalForce(body, -1, list(Mg * (kin["a"][k] - g)), list(kin["p"][k]), pb.WORLD_FRAME, **kw)
             pb.applyExternalTorque(body, -1, list(Mg * kin["dw"][k]), pb.WORLD_FRAME, **kw)
-            pb.setJointMotorControl2(body, 0, pb.TORQUE_CONTROL, force=-_grip_force(scene), **kw)
+            pb.setJointMotorControl2(body, 0, pb.TORQUE_CONTROL, force=-_grip_force(scene, (k + 0.5) * dt), **kw)
 
         def record(k):
             pB, qB = pb.getBasePositionAndOrientation(body, **kw)
@@ -758,23 +786,24 @@ def run_drake(scene, t_end, *, dt=1e-3, contact_model="point", approximation="la
 
     hydro = contact_model == "hydroelastic"
     pad_ids = []
-    for body, sign, mu, X0 in ((gripper, -1.0, lay.mu[0], pc + [0, 0, -lay.pad_z]), (plate2, 1.0, lay.mu[1], np.zeros(3))):
+    mu_obj, (mu_pad1, mu_pad2, *mu_stops) = _drake_friction([lay.mu[0], lay.mu[1]] + [s.mu for s in scene.stops])
+    for body, sign, mu, X0 in ((gripper, -1.0, mu_pad1, pc + [0, 0, -lay.pad_z]), (plate2, 1.0, mu_pad2, np.zeros(3))):
         for k, (kind, off) in enumerate(shapes):
             size = (2 * lay.pad_half[0], 2 * lay.pad_half[1], 2 * PAD_THICKNESS) if kind == "box" else (POINT_RADIUS,)
             shape = Box(*size) if kind == "box" else Sphere(POINT_RADIUS)
             gid = plant.RegisterCollisionGeometry(body, X(np.eye(3), X0 + off), shape, f"{body.name()}_pad{k}",
                                                   props(mu, compliant=E if hydro else None, size=size))
             pad_ids.append(gid)
-    # Drake combines two surfaces' mu as 2 mu1 mu2 / (mu1 + mu2): the object gets the grasp's
-    # mu, so a pad of mu gives mu and a frictionless pad (or stop) gives 0
-    obj_props = props(scene.grasp.mu, compliant=object_modulus if hydro else None,
+    # Drake combines two surfaces' mu as 2 mu1 mu2 / (mu1 + mu2): the object gets the largest
+    # pair coefficient and each pad and stop its partner (_drake_friction), so every pair gets its own
+    obj_props = props(mu_obj, compliant=object_modulus if hydro else None,
                       rigid=hydro and object_modulus is None, size=(lx, ly, lz))
     plant.RegisterCollisionGeometry(obj, X(np.eye(3), com), Box(lx, ly, lz), "object", obj_props)
     stop_ids = []
     for k, s in enumerate(scene.stops):
         c, R = _stop_pose(s)
         stop_ids.append(plant.RegisterCollisionGeometry(plant.world_body(), X(R, c), Box(*(2 * np.array(STOP_HALF))),
-                                                        f"stop{k}", props(0.0)))
+                                                        f"stop{k}", props(mu_stops[k])))
     plant.Finalize()
     # only the pads and the stops touch the object
     cfm = sg.collision_filter_manager()
@@ -782,7 +811,7 @@ def run_drake(scene, t_end, *, dt=1e-3, contact_model="point", approximation="la
     diagram = builder.Build()
     ctx = diagram.CreateDefaultContext()
     pctx = plant.GetMyMutableContextFromRoot(ctx)
-    plant.get_actuation_input_port().FixValue(pctx, [-_grip_force(scene)])
+    actuation = plant.get_actuation_input_port()
     force_port = plant.get_applied_spatial_force_input_port()
     g, times, kin, pos, vel, RBC, om, fstop = _run_arrays(scene, n, dt)
     # initial joint state: plate 2 touching, object at q0 (joints at zero)
@@ -797,6 +826,7 @@ def run_drake(scene, t_end, *, dt=1e-3, contact_model="point", approximation="la
         plant.SetFreeBodySpatialVelocity(pctx, gb, SpatialVelocity(kin["w"][k], kin["v"][k]))
         wrench.F_Bq_W = SpatialForce(Mg * kin["dw"][k], Mg * (kin["a"][k] - g))
         force_port.FixValue(pctx, [wrench])
+        actuation.FixValue(pctx, [-_grip_force(scene, (k + 0.5) * dt)])
 
     query_port = plant.get_contact_results_output_port()
 
