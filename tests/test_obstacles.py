@@ -590,3 +590,20 @@ def test_mirror_symmetry():
     assert a.stop_force.max() > 0
     np.testing.assert_allclose(b.q, a.q * [-1, 1, -1], rtol=0, atol=1e-9)
     np.testing.assert_allclose(b.stop_force, a.stop_force, rtol=1e-6, atol=1e-6)
+
+
+def test_batch_and_stepper_with_obstacles_are_simulate_bit_for_bit():
+    """The V-tool push through simulate_batch (the grip force a batch
+    parameter) and through the Stepper, step by step: the same arrays as
+    simulate, stop forces of the obstacles included."""
+    sc, res, n = push_into_v(math.radians(10.0), math.radians(90.0))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", exdex.PhysicsWarning)
+        b = exdex.simulate_batch(sc, t_end=1.2, dt=1e-3, grip_force=[5.0, 3.0])
+    assert b.stop_force.shape == (2, len(res.t), 2)
+    assert np.array_equal(b.q[0], res.q) and np.array_equal(b.stop_force[0], res.stop_force)
+    assert not np.array_equal(b.q[1], res.q)
+    st = exdex.Stepper(sc)
+    for i in range(1, len(res.t)):
+        s = st.step(1e-3)
+        assert np.array_equal(s.q, res.q[i]) and np.array_equal(s.stop_force, res.stop_force[i])

@@ -323,3 +323,178 @@ def test_inputs_scene(method, seed):
         return
     assert "jump_error" not in ref, (s, ref["jump_error"])
     assert o["ok"], (s, {k: v for k, v in o.items() if k != "pose"}, {k: v for k, v in ref.items() if k != "pose"})
+
+
+# ---------------------------------------------------------------- properties
+
+#: (property, method, seed) -> the defect; strict xfails.
+_CROSS = ('explicit: its stated penetration bound per step, 1/2 h^2 thd^2 r_max (csrc/explicit.c: a vertex on a circle '
+          'against a face), omits the rotation-translation cross term of an obstacle corner against an object edge: '
+          'the edge normal turns with theta while the object translates, so the linear row misses about h^2 |thd| |v| '
+          'more; ')
+KNOWN_PROPS = {  # noqa: E501 - the defects, stated in full
+    ('penetration', 'explicit', 48): _CROSS + 'seed 48 (wedge, planar, translating log) penetrates 2.16e-4 L at h = t_end/500 against the stated 7.4e-5 L (1.32e-5 vs 4.5e-6 at h/4: O(h^2), not accumulating); 1/2 h^2 max(thd^2 r_max + 2 |thd| |v|) = 2.66e-4 L holds',
+    ('penetration', 'explicit', 76): _CROSS + 'seed 76 (box corner, planar, Chain) penetrates 1.63e-3 L at h = t_end/500 against the stated 1.37e-3 L; with the cross term 4.39e-3 L holds',
+}
+
+#: Penetration allowed of the methods that keep contacts exactly (event and
+#: regularised to their tolerance atol = REF_RTOL x the scene's scales, the
+#: implicit method's position projection to rounding), relative to L.
+GAP_TOL = zoo.REF_RTOL
+
+
+def _params(prop, methods):
+    out = []
+    for method in methods:
+        for seed in SEEDS:
+            marks = []
+            if (prop, method, seed) in KNOWN_PROPS:
+                marks.append(pytest.mark.xfail(strict=True, reason=KNOWN_PROPS[prop, method, seed]))
+            out.append(pytest.param(method, seed, marks=marks, id=f"{method}-{seed}"))
+    return out
+
+
+_RUNS: dict = {}
+
+
+def test_inputs_generator_is_valid_and_covers_the_inputs():
+    """Every drawn scene is a pure function of its seed, starts with no
+    vertex beyond a stop, keeps mu_static >= mu, and the seeds in the test
+    cover every new input: each schedule kind and a release, mu_static,
+    stop friction (with each dof), each obstacle kind with and without
+    friction, Shake and Chain motions, and every method's refusal."""
+    seen = set()
+    for seed in SEEDS:
+        s = input_scene(seed)
+        sc = s.scene
+        sc.check_stops()
+        if sc.grasp.mu_static is not None:
+            assert sc.grasp.mu_static >= sc.grasp.mu
+        for k in ("grip", "obstacle"):
+            if k in s.tags:
+                seen.add((k, s.tags[k]))
+                seen.add((k, s.tags[k].split("-")[0]))
+        if "mu_static" in s.tags:
+            seen.add("mu_static")
+        if "stop_mu" in s.tags:
+            seen.add(("stop_mu", sc.dof))
+        seen.add(("motion", s.tags["motion"]))
+        for m in zoo.METHODS:
+            if unsupported(sc, m):
+                seen.add(("refuses", m, unsupported(sc, m)))
+    assert input_scene(5).scene == input_scene(5).scene
+    want = {("grip", k) for k in ("linear", "cubic", "step")} | {("obstacle", k) for k in ("box", "rod", "wedge")}
+    want |= {("obstacle", k + "-mu") for k in ("box", "rod", "wedge")} | {"mu_static", ("motion", "shake"),
+                                                                        ("motion", "chain")}
+    want |= {("stop_mu", d) for d in zoo.DOFS} | {("refuses", "event", "Scene.obstacles"),
+                                                  ("refuses", "event", "Stop.mu"), ("refuses", "explicit", "Obstacle.mu")}
+    assert want <= seen, want - seen
+    assert any(k[0] == "grip" and k[1].endswith("-release") for k in seen if isinstance(k, tuple))
+
+
+def plain_run(seed, method):
+    """One run of a supporting method at the zoo's coarsest settings (time
+    stepping at t_end / N_DT, adaptive at REF_RTOL with output t_end / N_OUT)."""
+    key = (seed, method)
+    if key not in _RUNS:
+        zs = input_scene(seed).zs
+        kw = dict(dt=zs.t_end / zoo.N_DT) if method in ("implicit", "explicit") else {}
+        _RUNS[key] = zoo.run(zs, method, **kw)
+    return _RUNS[key]
+
+
+@pytest.mark.parametrize("method,seed", _params("penetration", zoo.METHODS))
+def test_inputs_no_penetration(method, seed):
+    """The smallest gap to a stop or obstacle over the run stays above
+    -GAP_TOL L; explicit: above -(GAP_TOL L + 1/2 h^2 thd_max^2 r_max), its
+    stated per-step bound (the vertex moves on a circle while its contact
+    row is linear in the velocity)."""
+    s = input_scene(seed)
+    zs = s.zs
+    if unsupported(zs.scene, method) or not (zs.scene.stops or zs.scene.obstacles):
+        pytest.skip("no contact, or not supported")
+    r = plain_run(seed, method)
+    allow = GAP_TOL * zs.L
+    if method == "explicit":
+        h = zs.t_end / zoo.N_DT
+        allow += 0.5 * h * h * float(np.max(r.v[:, -1] ** 2)) * zs.radius if zs.scene.dof != "translation" else 0.0
+    assert r.stats["min_gap"] >= -allow, (s, r.stats["min_gap"] / zs.L, allow / zs.L)
+
+
+@pytest.mark.parametrize("method,seed", _params("stick", zoo.METHODS))
+def test_inputs_stick_is_still(method, seed):
+    """A sample flagged stick has a relative velocity of exactly 0; for the
+    implicit method (one step per sample) two consecutive stuck samples have
+    the same pose, bit for bit."""
+    s = input_scene(seed)
+    if unsupported(s.scene, method):
+        pytest.skip("not supported")
+    r = plain_run(seed, method)
+    st = r.stick.astype(bool)
+    assert np.all(r.v[st] == 0.0), (s, np.max(np.abs(r.v[st])))
+    if method == "implicit":
+        both = st[1:] & st[:-1]
+        assert np.all(r.q[1:][both] == r.q[:-1][both]), s
+
+
+def rest_variant(seed):
+    """The seed's scene with the gripper at rest (so the energy of the
+    relative motion is defined) and an initial relative velocity (drawn if
+    the scene has none), run to t_end."""
+    s = input_scene(seed)
+    zs = s.zs
+    rng = np.random.default_rng([int(seed), 0x13])
+    v0 = zs.scene.v0
+    if not any(v0):
+        v0 = (float(rng.uniform(-0.5, 0.5) * zs.L / zs.tau), float(rng.uniform(-0.5, 0.5) * zs.L / zs.tau),
+              float(rng.uniform(-0.5, 0.5) / zs.tau))
+    return s, exdex.replace(zs.scene, motion=exdex.Rest(), v0=v0)
+
+
+def energy(sc, r, gravity_B):
+    """Kinetic + gravitational energy of the relative motion [J]: the centre
+    of mass C at pose[:, :2] in B, the gripper at rest; translation: m v^2 / 2
+    along the slide axis; rotation: (Izz + m |c|^2) w^2 / 2 about the patch
+    centre c; planar: m |v|^2 / 2 + Izz w^2 / 2."""
+    m = sc.body.mass
+    Izz = float(np.array(sc.body.inertia)[2, 2])
+    if sc.dof == "translation":
+        T_ = 0.5 * m * r.v[:, 0] ** 2
+    elif sc.dof == "rotation":
+        c = np.array(sc.grasp.patch.center)
+        T_ = 0.5 * (Izz + m * (c @ c)) * r.v[:, 0] ** 2
+    else:
+        T_ = 0.5 * m * (r.v[:, 0] ** 2 + r.v[:, 1] ** 2) + 0.5 * Izz * r.v[:, 2] ** 2
+    V = -m * (r.pose[:, :2] @ gravity_B[:2])
+    return T_ + V
+
+
+@pytest.mark.parametrize("method,seed", _params("energy", ("implicit", "event", "regularised")))
+def test_inputs_friction_adds_no_energy(method, seed):
+    """Gripper at rest: the plates' friction (any grip schedule, static or
+    kinetic), the stops' and the obstacles' (normal forces and friction)
+    never add energy: E = kinetic + gravitational energy never increases
+    from one sample to the next. Event and regularised (adaptive at
+    REF_RTOL): to their integration error, steps x REF_RTOL x the energy
+    scale m g L + max E - min E. Implicit: gravity along the plate normal
+    (only contact forces act in the plane, E is the kinetic energy: its
+    midpoint position update changes the potential energy by O(h^2) in the
+    step that stops the object, the scheme's, not the friction's); its
+    velocity update is dissipative for every contact, to rounding. The
+    explicit method chatters at stick and is not checked."""
+    s, sc = rest_variant(seed)
+    zs = s.zs
+    if unsupported(sc, method):
+        pytest.skip("not supported")
+    R0 = np.array(sc.gripper_rotation)
+    if method == "implicit":
+        sc = exdex.replace(sc, gravity=tuple(R0 @ np.array([0.0, 0.0, -G])))
+        r = exdex.simulate(sc, zs.t_end, zs.t_end / zoo.N_DT, method=method)
+    else:
+        r = zoo.run(dataclasses.replace(zs, scene=sc), method)
+    gB = R0.T @ np.array(sc.gravity)
+    E = energy(sc, r, gB)
+    scale = sc.body.mass * G * zs.L + float(np.ptp(E))
+    tol = (r.stats["steps"] * zoo.REF_RTOL if method != "implicit" else 1e-12) * scale
+    rise = float(np.max(np.diff(E)))
+    assert rise <= tol, (s, method, rise / scale)
