@@ -55,7 +55,11 @@ How each scene is built (all engines)
   stop's box gets mu against the object's 1; Drake combines 2 mu1 mu2 /
   (mu1 + mu2), so the object gets the largest pair coefficient M and each pad
   and stop the partner x = mu M / (2 M - mu) that combines with M to its mu
-  (the pads keep the grasp's mu when no stop's exceeds it).
+  (the pads keep the grasp's mu when no stop's exceeds it). Drake's point
+  contact touches a box on a stop at a single point, where friction jams a
+  block flush on a stop: ``run_drake(stop_contact="corners")`` gives the
+  object a sphere inside each in-plane corner instead, one contact per
+  touching outline vertex as in exdex.
 * Drake (``run_drake``): a discrete ``MultibodyPlant`` built in code (no model
   files), the object on prismatic joints and a revolute joint about the plate
   normal (no out-of-plane tilt). ``contact_model="point"``: Drake's compliant
@@ -660,7 +664,7 @@ def _drake_pad_shapes(lay, contact_model):
 
 def run_drake(scene, t_end, *, dt=1e-3, contact_model="point", approximation="lagged", stiction_tolerance=1e-4,
               contact="pads", hydroelastic_modulus=1e6, object_modulus=None, resolution_hint=None,
-              point_stiffness=None, dissipation=None, gripper_mass=1e4, plate_mass=0.1):
+              point_stiffness=None, dissipation=None, gripper_mass=1e4, plate_mass=0.1, stop_contact="box"):
     """Simulate ``scene`` in Drake (pydrake's discrete MultibodyPlant) from 0 to
     ``t_end`` [s]; return an ``exdex.Result``.
 
@@ -694,6 +698,12 @@ def run_drake(scene, t_end, *, dt=1e-3, contact_model="point", approximation="la
     point_stiffness, dissipation : point-contact stiffness [N/m] and
         Hunt-Crossley dissipation [s/m] (None: Drake's defaults).
     gripper_mass, plate_mass : as for ``run_mujoco``.
+    stop_contact : how the object meets the stops: "box" (default: its box,
+        which Drake's point contact touches at a single point per stop) or
+        "corners" (a sphere of radius ``POINT_RADIUS`` inside each corner of
+        the box's section by the plate plane, touching its two faces there:
+        one point contact per touching outline vertex, as in exdex; the box
+        then meets only the pads).
     """
     pydrake = require("pydrake", "exdex.engines.run_drake")
     from pydrake.geometry import (AddCompliantHydroelasticProperties, AddContactMaterial,
@@ -710,6 +720,8 @@ def run_drake(scene, t_end, *, dt=1e-3, contact_model="point", approximation="la
 
     lay = _Layout(scene, contact)
     n, dt = _steps(t_end, dt)
+    if stop_contact not in ("box", "corners"):
+        raise ValueError(f"stop_contact must be 'box' or 'corners', got {stop_contact!r}")
     if contact_model not in DRAKE_CONTACT_MODELS:
         raise ValueError(f"contact_model must be one of {DRAKE_CONTACT_MODELS}, got {contact_model!r}")
     if approximation not in DRAKE_APPROXIMATIONS:
@@ -798,7 +810,14 @@ def run_drake(scene, t_end, *, dt=1e-3, contact_model="point", approximation="la
     # pair coefficient and each pad and stop its partner (_drake_friction), so every pair gets its own
     obj_props = props(mu_obj, compliant=object_modulus if hydro else None,
                       rigid=hydro and object_modulus is None, size=(lx, ly, lz))
-    plant.RegisterCollisionGeometry(obj, X(np.eye(3), com), Box(lx, ly, lz), "object", obj_props)
+    obj_id = plant.RegisterCollisionGeometry(obj, X(np.eye(3), com), Box(lx, ly, lz), "object", obj_props)
+    corner_ids = []
+    if stop_contact == "corners":
+        r = POINT_RADIUS
+        for sx, sy in ((1, 1), (-1, 1), (-1, -1), (1, -1)):
+            off = com + [sx * (lx / 2 - r), sy * (ly / 2 - r), 0.0]
+            corner_ids.append(plant.RegisterCollisionGeometry(obj, X(np.eye(3), off), Sphere(r), f"corner{len(corner_ids)}",
+                                                              props(mu_obj)))
     stop_ids = []
     for k, s in enumerate(scene.stops):
         c, R = _stop_pose(s)
@@ -808,6 +827,9 @@ def run_drake(scene, t_end, *, dt=1e-3, contact_model="point", approximation="la
     # only the pads and the stops touch the object
     cfm = sg.collision_filter_manager()
     cfm.Apply(CollisionFilterDeclaration().ExcludeWithin(GeometrySet(pad_ids + stop_ids)))
+    if corner_ids:   # the corner spheres meet the stops, the box the pads
+        cfm.Apply(CollisionFilterDeclaration().ExcludeBetween(GeometrySet(corner_ids), GeometrySet(pad_ids)))
+        cfm.Apply(CollisionFilterDeclaration().ExcludeBetween(GeometrySet([obj_id]), GeometrySet(stop_ids)))
     diagram = builder.Build()
     ctx = diagram.CreateDefaultContext()
     pctx = plant.GetMyMutableContextFromRoot(ctx)
@@ -863,6 +885,7 @@ def run_drake(scene, t_end, *, dt=1e-3, contact_model="point", approximation="la
     wall = time.perf_counter() - t0
     stats = dict(engine="drake", version=getattr(pydrake, "__version__", ""), dt=dt,
                  contact_model=contact_model, approximation=approximation, stiction_tolerance=vs, contact=contact,
+                 stop_contact=stop_contact,
                  hydroelastic_modulus=E if hydro else None, wall_time=wall, steps=n)
     return _to_result(scene, "drake", times, pos, RBC, vel, om, fstop, stats, dt)
 
