@@ -1,7 +1,9 @@
 """``exdex compare``: the paper cases and the planar case in exdex and the three engines.
 
 Each case (Figs. 3, 4 and 6 of :mod:`exdex.paper`, the planar case of
-:func:`exdex.bench.planar_scene`) runs in exdex and in every engine setting
+:func:`exdex.bench.planar_scene`, and ``incline``: a block sliding down an
+inclined frictional stop, :func:`incline_scene`, shown as its slide along the
+incline with its closed form) runs in exdex and in every engine setting
 (:func:`exdex.engines.run_pybullet`, :func:`exdex.engines.run_mujoco`,
 :func:`exdex.engines.run_drake`); rotation and planar cases also run the
 friction-model ablation (:func:`exdex.engines.ablation`). Writes
@@ -20,12 +22,42 @@ from exdex._optional import pyplot, require
 from exdex.cli import require_engines
 from exdex.engines import (DRAKE_APPROXIMATIONS, DRAKE_CONTACT_MODELS, ablation, drift_rate, run_drake, run_mujoco,
                            run_pybullet)
+from exdex.scene import Body, Grasp, Patch, Scene, Stop
 from exdex.simulate import simulate
 
-__all__ = ["add_arguments", "run", "ablation_colors", "CASES"]
+__all__ = ["add_arguments", "run", "ablation_colors", "CASES", "incline_scene", "incline_closed_form"]
 
 
-CASES = ("fig3", "fig4", "fig6", "planar")
+CASES = ("fig3", "fig4", "fig6", "planar", "incline")
+
+INCLINE_ALPHA = 0.4      # incline of the stop from the horizontal [rad]
+INCLINE_T = 0.6          # simulated time of the incline case [s]
+
+
+def incline_scene(mu_s: float = 0.3, cap: float = 0.09, m: float = 0.1, a: float = 0.2,
+                  patch: float = 0.08) -> Scene:
+    """A square block (side ``a`` [m], mass ``m`` [kg]) resting with a face flush
+    on a stop inclined by 0.4 rad, friction ``mu_s``, gripper at rest, plate
+    capacity ``cap`` = 2 mu F [N] (mu 0.5), pads of side ``patch`` [m]."""
+    n_b = np.array([-math.sin(INCLINE_ALPHA), math.cos(INCLINE_ALPHA)])
+    p_b = -0.5 * a * n_b
+    return Scene(body=Body.box(m, (a, a, 0.02)),
+                 grasp=Grasp(mu=0.5, grip_force=cap, patch=Patch.rectangle(patch, patch)),
+                 dof="planar", q0=(0.0, 0.0, INCLINE_ALPHA),
+                 stops=(Stop((p_b[0], 0.0, p_b[1]), (n_b[0], 0.0, n_b[1]), mu=mu_s),))
+
+
+def incline_closed_form(scene: Scene, t: np.ndarray) -> np.ndarray:
+    """Slide [m] down the incline of :func:`incline_scene` at the times t (Coulomb,
+    rigid): 0 if m g sin(alpha - atan mu_s) <= cap, else a t^2 / 2 with
+    a = g sin(alpha) - mu_s g cos(alpha) - cap / m."""
+    m, g = scene.body.mass, float(np.linalg.norm(scene.gravity))
+    mu_s, cap = scene.stops[0].mu, scene.grasp.capacity
+    t = np.asarray(t, dtype=float)
+    if m * g * math.sin(INCLINE_ALPHA - math.atan(mu_s)) <= cap:
+        return np.zeros_like(t)
+    acc = g * math.sin(INCLINE_ALPHA) - mu_s * g * math.cos(INCLINE_ALPHA) - cap / m
+    return 0.5 * acc * t * t
 
 
 def _case_scenes(names):
@@ -38,19 +70,40 @@ def _case_scenes(names):
             from exdex.bench import planar_scene
 
             out[name] = planar_scene()
+        elif name == "incline":
+            out[name] = incline_scene()
         else:
             out[name] = getattr(paper, f"{name}_scene")()
     return out
 
 
+def _is_incline(scene):
+    return scene.dof == "planar" and len(scene.stops) == 1 and scene.stops[0].mu > 0
+
+
 def _unit(scene):
     """Display scale and unit of the shown coordinate (see ``_disp``)."""
+    if _is_incline(scene):
+        return 1e3, "mm"
     return (180.0 / math.pi, "deg") if scene.dof in ("rotation", "planar") else (1e3, "mm")
 
 
 def _disp(res):
-    """The coordinate shown for a result: the free one of a 1-DoF scene, theta of a planar one."""
+    """The coordinate shown for a result: the free one of a 1-DoF scene, theta of
+    a planar one, the slide down the stop of the incline case."""
+    if _is_incline(res.scene):
+        u = np.array([math.cos(INCLINE_ALPHA), math.sin(INCLINE_ALPHA)])
+        return -(res.q[:, :2] - res.q[0, :2]) @ u
     return res.displacement[:, 2 if res.scene.dof == "planar" else 0]
+
+
+def _drift(res, col):
+    """Mean rate of the shown coordinate after the motion (drift_rate's window)."""
+    if not _is_incline(res.scene):
+        return drift_rate(res)[col]
+    d = _disp(res)
+    i = int(np.searchsorted(res.t, res.scene.motion.end_time + 0.1 - 1e-12))
+    return (d[-1] - d[i]) / (res.t[-1] - res.t[i])
 
 
 def _variants(args):
@@ -194,19 +247,28 @@ def run(args):
     for name, scene in scenes.items():
         scale, unit = _unit(scene)
         col = 2 if scene.dof == "planar" else 0
-        t_end = scene.motion.end_time + args.settle
+        # the incline slides without bound: a fixed time keeps the block on the pads
+        t_end = INCLINE_T if name == "incline" else scene.motion.end_time + args.settle
         t0 = time.perf_counter()
         ref = simulate(scene, t_end, dt=args.dt)
-        rows.append((name, "exdex (ellipsoid)", scale * _disp(ref)[-1], scale * drift_rate(ref)[col], 0.0,
+        rows.append((name, "exdex (ellipsoid)", scale * _disp(ref)[-1], scale * _drift(ref, col), 0.0,
                      time.perf_counter() - t0, unit))
         say(f"[{name}] exdex: {rows[-1][2]:.3f} {unit} ({rows[-1][5]:.2f} s)", flush=True)
+        variants = _variants(args)
+        if name == "incline":
+            cf = incline_closed_form(scene, ref.t)
+            i = int(np.searchsorted(ref.t, scene.motion.end_time + 0.1 - 1e-12))
+            rows.append((name, "closed form (Coulomb)", scale * cf[-1], scale * (cf[-1] - cf[i]) / (ref.t[-1] - ref.t[i]),
+                         scale * float(np.max(np.abs(cf - _disp(ref)))), float("nan"), unit))
+            dr = next(v[2] for v in variants if v[0] == "drake")
+            variants = variants + [("drake stop corners", run_drake, dict(dr, stop_contact="corners"))]
         runs = []
-        for label, fn, settings in _variants(args):
+        for label, fn, settings in variants:
             res = fn(scene, t_end, **settings)
             on_ref = np.interp(ref.t, res.t, _disp(res))
             err = float(np.max(np.abs(on_ref - _disp(ref))))
             runs.append((label, res, on_ref))
-            rows.append((name, label, scale * _disp(res)[-1], scale * drift_rate(res)[col], scale * err,
+            rows.append((name, label, scale * _disp(res)[-1], scale * _drift(res, col), scale * err,
                          res.stats["wall_time"], unit))
             say(f"[{name}] {label}: {rows[-1][2]:.3f} {unit}, drift {rows[-1][3]:.4g} {unit}/s "
                   f"({rows[-1][5]:.2f} s)", flush=True)
@@ -217,7 +279,7 @@ def run(args):
                    header=header, comments="")
         if args.plots:
             _figure(os.path.join(args.out, f"{name}_compare.png"), name, scene, ref, runs, scale, unit)
-        if scene.dof in ("rotation", "planar"):
+        if scene.dof in ("rotation", "planar") and name != "incline":   # the ablation concerns the plates' torque
             ab = ablation(scene, t_end, dt=args.dt)
             for model, (res, value) in ab.items():
                 rows.append((name, f"ablation {model} ({'mu' if scene.dof == 'translation' else 'e_r'}="
@@ -233,7 +295,8 @@ def run(args):
         lines.append(f"{name:6s} {label:40s} {cell(final, '.3f', 10)} {cell(drift, '.4g', 11)} "
                      f"{cell(err, '.3f', 10)} {cell(wall, '.2f', 8)}  {unit}")
     lines.append("final: displacement at the end [unit]; drift/s: mean rate after the motion [unit/s]; "
-                 "max|diff|: largest gap to exdex [unit]; planar cases show the rotation")
+                 "max|diff|: largest gap to exdex [unit]; planar cases show the rotation, incline the slide "
+                 "down the stop")
     table = "\n".join(lines)
     print(table)
     with open(os.path.join(args.out, "compare_table.txt"), "w") as fh:

@@ -528,3 +528,26 @@ def test_drake_friction_combination_gives_each_pair_its_mu():
             assert x >= 0.0
             got = 0.0 if x + M == 0.0 else 2 * x * M / (x + M)
             assert got == pytest.approx(mu, rel=1e-15, abs=0.0)
+
+
+def test_compare_incline_row(tmp_path):
+    # the incline case of `exdex compare`: the closed-form row is the Coulomb
+    # slide a T^2 / 2 (a from the scene's numbers, derived above) and every
+    # engine (and Drake's corner contact) has a row
+    _pybullet(), _mujoco(), _drake()
+    import argparse
+
+    from exdex import cli_compare
+
+    p = argparse.ArgumentParser()
+    cli_compare.add_arguments(p)
+    args = p.parse_args(["--cases", "incline", "--out", str(tmp_path), "--no-progress", "--no-variants",
+                         "--no-plots"])
+    assert cli_compare.run(args) == 0
+    rows = {line[7:47].strip(): line[47:].split() for line in
+            (tmp_path / "compare_table.txt").read_text().splitlines() if line.startswith("incline")}
+    assert set(rows) == {"exdex (ellipsoid)", "closed form (Coulomb)", "pybullet", "mujoco", "drake",
+                         "drake stop corners"}
+    g, m = 9.81, 0.1
+    a = g * math.sin(0.4) - 0.3 * g * math.cos(0.4) - 0.09 / m
+    assert float(rows["closed form (Coulomb)"][0]) == pytest.approx(1e3 * 0.5 * a * 0.6 ** 2, abs=1e-3)
