@@ -468,7 +468,8 @@ def test_incline_closed_form_sides_of_the_threshold():
 _MUJOCO_SLIDE = ("MuJoCo's sliding friction at the stop falls short of mu_s N: measured a = 0.275 m/s^2 against the "
                  "closed form 0.2095 (0.2445 with solver tolerance 1e-12 and 1000 iterations, 0.270 with noslip), "
                  "tolerance 0.0172, while its frictionless twin (the plates carrying that friction) is within "
-                 "0.0008 m/s^2")
+                 "0.0008 m/s^2; not from the block's rotation (the same scene with translation only: about 0.29) nor "
+                 "the pads (point pads: 0.30), and a stiffer stop contact (solref 0.004) widens it (0.38)")
 _DRAKE_SLIDE = ("Drake's point contact between two boxes is a single point: with friction there the block jams on the "
                 "incline (measured a = 0, where Coulomb slides at 0.2095 m/s^2 for any mu_s < tan(alpha) = 0.42; "
                 "a 30 mm block jams at mu_s = 0.1 too); its frictionless twin is within 0.002 m/s^2; with "
