@@ -76,7 +76,8 @@ static void traj_free(traj *t)
  * in v+ while the vertex moves on a circle of radius r, so gap(q + h v+) >=
  * gap(q) + h G v+ - 1/2 h^2 thd^2 r (r the vertex's distance from the
  * rotation centre: the centre of mass for planar scenes, the pivot (the
- * centre of pressure) for rotation; thd the output velocity v+). */
+ * centre of pressure) for rotation; thd the output velocity v+); planar
+ * with obstacles also the cross term of a section vertex against an edge. */
 static double penetration_bound(const exdex_scene_def *d, const exdex_trajectory *tr)
 {
     double hmax = 0.0, wmax = 0.0, rmax = 0.0;
@@ -91,6 +92,18 @@ static double penetration_bound(const exdex_scene_def *d, const exdex_trajectory
             y -= d->patch_center[1];
         }
         rmax = fmax(rmax, sqrt(x * x + y * y));
+    }
+    if (nd == 3 && d->n_obstacles > 0) {
+        /* an obstacle's section vertex against an object edge (the bound
+         * derived in explicit.c): 1/2 h^2 thd^2 (r + h |v|) + h^2 |thd| |v|,
+         * v the centre of mass's velocity in v+ */
+        double pmax = 0.0;
+        for (size_t i = 1; i < tr->n; i++) {
+            const double *vi = tr->v + i * 3;
+            double h = tr->t[i] - tr->t[i - 1], w = fabs(vi[2]), sp = hypot(vi[0], vi[1]);
+            pmax = fmax(pmax, 0.5 * h * h * w * w * (rmax + h * sp) + h * h * w * sp);
+        }
+        return 1e-9 + pmax * (1.0 + 1e-9);
     }
     return 1e-9 + 0.5 * hmax * hmax * wmax * wmax * rmax * (1.0 + 1e-9);
 }
