@@ -289,10 +289,11 @@ def run(args):
                 _ablation_figure(os.path.join(args.out, f"{name}_ablation.png"), name, scene, ref, ab,
                                  runs[:3] + [r for r in runs if any(w in r[0] for w in ("point", "cone", "noslip", "hydro"))],
                                  scale, unit)
-    lines = [f"{'case':6s} {'model':40s} {'final':>10s} {'drift/s':>11s} {'max|diff|':>10s} {'wall [s]':>8s}  unit"]
+    cw = max([6] + [len(r[0]) for r in rows])  # the case column fits the longest case name
+    lines = [f"{'case':{cw}s} {'model':40s} {'final':>10s} {'drift/s':>11s} {'max|diff|':>10s} {'wall [s]':>8s}  unit"]
     cell = lambda v, fmt, w: f"{v:{w}{fmt}}" if np.isfinite(v) else f"{'-':>{w}s}"  # noqa: E731
     for name, label, final, drift, err, wall, unit in rows:
-        lines.append(f"{name:6s} {label:40s} {cell(final, '.3f', 10)} {cell(drift, '.4g', 11)} "
+        lines.append(f"{name:{cw}s} {label:40s} {cell(final, '.3f', 10)} {cell(drift, '.4g', 11)} "
                      f"{cell(err, '.3f', 10)} {cell(wall, '.2f', 8)}  {unit}")
     lines.append("final: displacement at the end [unit]; drift/s: mean rate after the motion [unit/s]; "
                  "max|diff|: largest gap to exdex [unit]; planar cases show the rotation, incline the slide "

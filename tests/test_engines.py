@@ -545,8 +545,10 @@ def test_compare_incline_row(tmp_path):
     args = p.parse_args(["--cases", "incline", "--out", str(tmp_path), "--no-progress", "--no-variants",
                          "--no-plots"])
     assert cli_compare.run(args) == 0
-    rows = {line[7:47].strip(): line[47:].split() for line in
-            (tmp_path / "compare_table.txt").read_text().splitlines() if line.startswith("incline")}
+    lines = (tmp_path / "compare_table.txt").read_text().splitlines()
+    # the case column fits "incline": the header's model column starts where the rows' labels do
+    assert lines[0].index("model") == len("incline ")
+    rows = {line[8:48].strip(): line[48:].split() for line in lines if line.startswith("incline")}
     assert set(rows) == {"exdex (ellipsoid)", "closed form (Coulomb)", "pybullet", "mujoco", "drake",
                          "drake stop corners"}
     g, m = 9.81, 0.1
