@@ -825,9 +825,14 @@ static void decide(hyb *H, double t, double *y, int vzero)
             /* a slip below zsw (left by an impact or a jump of the
              * gripper): it stops where the load can be held, else it
              * slips on as a small slip (below) */
+            /* a small slip stays small up to SLIP_UP zsw (its guard's
+             * hysteresis): an event of another guard (a stop row) within
+             * that band must not turn it into a large slip, whose decay
+             * guard at zsw would fire at once and stop it again */
+            double band = H->mode == MODE_SLIP && H->small ? SLIP_UP * H->zsw : H->zsw;
             model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
             for (int i = 0; i < 3; i++) u[i] *= m->e[i];
-            if (!(sqrt(ex_dot3(u, u)) >= H->zsw)) {
+            if (!(sqrt(ex_dot3(u, u)) >= band)) {
                 if (planar_load_held(H, &f, &kin, y)) {
                     vzero = 1;
                 } else {
@@ -1595,6 +1600,8 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                     for (int c = 0; c < 3; c++) eu[c] = m->e[c] * u[c];
                     if (H.small) {
                         vz = e_best == 0;
+                        /* grown to SLIP_UP zsw: decided as a (large) slip */
+                        if (e_best == 1) H.small = 0;
                     } else {
                         vz = e_best == 1 || !(sqrt(ex_dot3(eu, eu)) > H.zsw);
                         if (e_best == 1) {
