@@ -1092,6 +1092,9 @@ static void project_contact(hyb *H, double t, double *y)
         }
         if (ldp_project(H->m->minv, H->ncs, (const double (*)[3])Gr, b, zero, FQ_MIN, dq, lam, &H->st->stop_iterations, &H->st->warnings))
             for (int c2 = 0; c2 < 3; c2++) y[c2] += dq[c2];
+        /* the projection (a rotation about a set row) can push a row off
+         * the set into its stop: then onto every row */
+        if (contact_min_gap(H->m, &kin, y) < 0.0) planar_unpenetrate(H, &kin, y);
         for (int i = 0; i < H->ncs; i++) {
             int r = H->cs[i];
             double gd;
