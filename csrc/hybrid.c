@@ -408,13 +408,34 @@ static void planar_impact_and_set(hyb *H, double t, const exdex_kinematics *kin,
         }
         if (lift && ldp_project(m->minv, n2, (const double (*)[3])G2, b2, y + 3, FQ_MIN, v2, lam2,
                                 &H->st->stop_iterations, &H->st->warnings)) {
+            /* The hold may pull a stop (the lifting corner of a face held
+             * flat, or an object held between two stops while the other
+             * stop pushes), but a hold that pushes nowhere is no contact
+             * reaction: when no stop of this event gets a positive net
+             * impulse (impact + hold), e.g. an object between two nearly
+             * opposed stops both pulled, or a non-finite hold, the hold is
+             * not applied: the plastic impact velocity stands and the
+             * rows separate. */
+            double net[EXDEX_MAX_STOPS] = {0};
+            int pull = 1;
             for (int i = 0, r = 0; i < n; i++) {
+                double rate = ex_dot3(Gr[i], y + 3) - b[i];
+                net[rows[i] / H->nv] += lam[i];
+                if (rate > H->zsw) continue;
+                net[rows[i] / H->nv] += lam2[r] - lam2[r + 1];
+                r += 2;
+            }
+            for (int k = 0; k < H->ns; k++)
+                if (net[k] > 0.0) pull = 0;
+            for (int k = 0; k < H->ns; k++)
+                if (!isfinite(net[k])) pull = 1;
+            for (int i = 0, r = 0; !pull && i < n; i++) {
                 double rate = ex_dot3(Gr[i], y + 3) - b[i];
                 if (rate > H->zsw) continue;
                 y[9 + rows[i] / H->nv] += lam2[r] - lam2[r + 1];
                 r += 2;
             }
-            memcpy(y + 3, v2, sizeof v2);
+            if (!pull) memcpy(y + 3, v2, sizeof v2);
         }
     }
     for (int i = 0; i < n; i++) {
