@@ -444,20 +444,24 @@ static void planar_impact_and_set(hyb *H, double t, const exdex_kinematics *kin,
     }
 }
 
-/* Positions back onto the stops at (t, y): the M-metric projection of q
- * onto G dq >= -gap of every penetrating row (a located impact lies up to
- * |gap rate| ROOT_TOL beyond its stop, a rest against a stop moving in B up
- * to REST_GAP). */
+/* Positions back onto the stops at (t, y), when a row penetrates: the
+ * M-metric projection of q onto G dq >= -gap of every row (a located impact
+ * lies up to |gap rate| ROOT_TOL beyond its stop, a rest against a stop
+ * moving in B up to REST_GAP). The rows that do not penetrate are
+ * constraints too: projecting only the penetrating ones can turn the object
+ * into a touching neighbour (a rotation about one corner pushes the next
+ * corner in), by as much as it removes. */
 static void planar_unpenetrate(hyb *H, const exdex_kinematics *kin, double *y)
 {
     double Gr[MAX_ROWS][3], b[MAX_ROWS], lam[MAX_ROWS], zero[3] = {0, 0, 0}, dq[3];
-    int n = 0;
+    int n = 0, pen = 0;
     for (int k = 0; k < H->ns; k++)
         for (int j = 0; j < H->nv; j++) {
             double gap = contact_row_planar(H->m, kin, k, j, y, y + 3, Gr[n], NULL, NULL);
-            if (gap < 0.0) b[n++] = -gap;
+            if (gap < 0.0) pen = 1;
+            b[n++] = -gap;
         }
-    if (n && ldp_project(H->m->minv, n, (const double (*)[3])Gr, b, zero, FQ_MIN, dq, lam, &H->st->stop_iterations, &H->st->warnings))
+    if (pen && ldp_project(H->m->minv, n, (const double (*)[3])Gr, b, zero, FQ_MIN, dq, lam, &H->st->stop_iterations, &H->st->warnings))
         for (int c = 0; c < 3; c++) y[c] += dq[c];
 }
 
@@ -850,9 +854,14 @@ static void decide(hyb *H, double t, double *y, int vzero)
             /* a slip below zsw (left by an impact or a jump of the
              * gripper): it stops where the load can be held, else it
              * slips on as a small slip (below) */
+            /* a small slip stays small up to SLIP_UP zsw (its guard's
+             * hysteresis): an event of another guard (a stop row) within
+             * that band must not turn it into a large slip, whose decay
+             * guard at zsw would fire at once and stop it again */
+            double band = H->mode == MODE_SLIP && H->small ? SLIP_UP * H->zsw : H->zsw;
             model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
             for (int i = 0; i < 3; i++) u[i] *= m->e[i];
-            if (!(sqrt(ex_dot3(u, u)) >= H->zsw)) {
+            if (!(sqrt(ex_dot3(u, u)) >= band)) {
                 if (planar_load_held(H, &f, &kin, y)) {
                     vzero = 1;
                 } else {
@@ -1216,6 +1225,19 @@ static void *hybrid_alloc(const exdex_model *m, int *status)
 }
 
 static void hybrid_free(void *ws) { ode_free(ws); }
+
+/* Forget the last accepted step. GSL's evolve object starts a step from
+ * the previous step's end derivative (dydt_out, at the state it returned)
+ * while its step count is > 0, for steppers that take an input derivative
+ * (rk8pd does): after any change of y or of the right-hand side between two
+ * gsl_odeiv2_evolve_apply calls (an event, a projection, a velocity jump, a
+ * new motion or grip segment, a new mode) the next step must evaluate it
+ * afresh. */
+static void ode_restart(ode *O)
+{
+    gsl_odeiv2_evolve_reset(O->evo);
+    gsl_odeiv2_step_reset(O->step);
+}
 
 /* The stepper's one-step map from (t0, y0) over tau, into out. */
 static int one_step(ode *O, double t0, const double *y0, double tau, double *out)
@@ -1620,6 +1642,8 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                     for (int c = 0; c < 3; c++) eu[c] = m->e[c] * u[c];
                     if (H.small) {
                         vz = e_best == 0;
+                        /* grown to SLIP_UP zsw: decided as a (large) slip */
+                        if (e_best == 1) H.small = 0;
                     } else {
                         vz = e_best == 1 || !(sqrt(ex_dot3(eu, eu)) > H.zsw);
                         if (e_best == 1) {
@@ -1651,7 +1675,13 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                     break;
                 }
             } else {
+                /* the projection moves y off the evolve object's last
+                 * output: the next step must not start from that output's
+                 * derivative */
+                double yp[NY_MAX];
+                memcpy(yp, y, sizeof yp);
                 project_contact(&H, t, y);
+                if (memcmp(yp, y, (size_t)H.ny * sizeof *y)) ode_restart(O);
             }
             /* a penetration left after the step: the scene drives the
              * object through a stop (see tol.pen) */
@@ -1669,7 +1699,7 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                 status = apply_jump(&H, t, y);
                 if (status) break;
                 decide(&H, t, y, 0);
-                gsl_odeiv2_evolve_reset(O->evo);
+                ode_restart(O);
             }
             if (!ex_finite_n(y, H.ny)) status = EXDEX_ENONFINITE;
         }

@@ -112,6 +112,12 @@ import zoo
 
 N_SCENES = 200
 SEEDS = range(N_SCENES)
+#: Seeds beyond the CI range where a method once failed to return in the
+#: long run (benchmarks/zoo_long.py), checked like the others: 7614, a planar
+#: small slip (|E u| between zsw and its SLIP_UP zsw hysteresis bound) that
+#: met a stop-row event, re-decided as a large slip, decayed below zsw at
+#: once, stopped, restarted small: event budget exceeded.
+EXTRA_SEEDS = (7614,)
 #: The regularised method's agreement (three stiff runs) on every REG_EVERY-th
 #: seed; it returns on all of them.
 REG_EVERY = 2
@@ -144,7 +150,7 @@ def results(seed):
 
 def _cases():
     for method in zoo.METHODS:
-        for seed in SEEDS:
+        for seed in (*SEEDS, *EXTRA_SEEDS):
             marks = []
             if (method, seed) in KNOWN:
                 marks.append(pytest.mark.xfail(strict=True, reason=KNOWN[method, seed]))
