@@ -27,15 +27,20 @@
  *                     the stop force; in contact also the gaps of the
  *                     contact stop's other vertices (a turning gripper or
  *                     object hands the contact over to another corner).
- *   Planar slip (|E u| compared with zsw = V max(SLIP_SMALL atol,
- *   SLIP_FLOOR), V the scene's velocity scale: below it the error control
- *   does not resolve a slip's direction, and the sliding law is stiff: its
+ *   Planar slip (|E u| compared with zsw = SLIP_FLOOR V, V the scene's
+ *   velocity scale: below it the sliding law is stiff: its
  *   direction relaxes at the rate C |K| / |E u| <~ A / |E u| (A = V / T the
  *   acceleration scale), where an explicit stepper is stable only for steps
- *   below ~5 |E u| / (C |K|). With zsw >= SLIP_FLOOR V a slip lingering at
+ *   below ~5 |E u| / (C |K|). With zsw = SLIP_FLOOR V a slip lingering at
  *   a small speed (a load crossing the friction limit at a grazing rate, a
  *   slip dying out) costs at most ~1 / (5 SLIP_FLOOR) steps per T, where
  *   with zsw tied to a small atol alone the step collapsed as |E u| -> 0.
+ *   zsw does not depend on rtol, atol: a band that grew with a loose atol
+ *   would exceed real speeds of the scene (a stop moving in B pushes a
+ *   resting object at its own speed; an impact leaving it below zsw would
+ *   be taken as a rest, which the stop ends again after tol.rest_gap of
+ *   its travel, over and over), so a loose tolerance would fail instead of
+ *   giving a less accurate answer.
  *   What a stop drops, |E u| <= zsw of speed, moves the object by
  *   zsw^2 / (2 a) ~ SLIP_FLOOR^2 L / 2 at a deceleration a ~ A: 5e-13 L,
  *   scale-free and below any tolerance of the stepper):
@@ -207,8 +212,7 @@
 #define BRENT_MAX 200     /* Brent iterations per located event */
 #define NY_MAX (9 + EXDEX_MAX_STOPS)
 #define NG_MAX (2 + MAX_ROWS)  /* guards */
-#define SLIP_SMALL 1e3   /* planar slip: below SLIP_SMALL atol of |E u| the slip is "small" [units of atol] */
-#define SLIP_FLOOR 1e-6  /* ... and in any case below SLIP_FLOOR V (see the header comment) */
+#define SLIP_FLOOR 1e-6  /* planar slip: below SLIP_FLOOR V of |E u| the slip is "small" (see the header comment) */
 #define SLIP_UP 2.0      /* a small slip becomes a slip at SLIP_UP zsw (hysteresis against zsw) */
 #define SLIP_PUSH 4.0    /* a stop pushing a stopped planar slip on below SLIP_PUSH zsw: a rest instead */
 
@@ -230,7 +234,7 @@ typedef struct hyb {
     int cs[MAX_ROWS];  /* planar contact set: rows r = k nv + j (stop k, vertex j) */
     double uref[3];    /* planar slip: E u at the start of the step */
     int small;         /* planar Coulomb slip: 1 while |E u| < zsw (the slip grows from rest) */
-    double zsw;        /* planar: slip speed |E u| below which a slip is small: V max(SLIP_SMALL atol, SLIP_FLOOR) */
+    double zsw;        /* planar: slip speed |E u| below which a slip is small: SLIP_FLOOR V */
     double lo, hi;     /* motion segment [lo, hi) */
     double M, cap, eps;
     double capk;       /* capacity per unit model_capacity: 1, or e_r for a 1-DoF rotation */
@@ -1404,7 +1408,7 @@ static int hybrid_begin(const exdex_model *m, ode *O, int law, double t_end, dou
         H.capk = 1.0;
         H.cap = m->capF;
         H.caps = m->capS;
-        H.zsw = fmax(SLIP_SMALL * m->def.atol, SLIP_FLOOR) * m->scale.V;  /* a slip speed |E u| */
+        H.zsw = SLIP_FLOOR * m->scale.V;  /* a slip speed |E u| */
     } else if (m->def.dof == EXDEX_DOF_TRANSLATION) {
         H.M = m->m;
         H.capk = 1.0;
