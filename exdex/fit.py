@@ -107,6 +107,18 @@ class Sensitivity:
         return f"Sensitivity(t_end={self.t_end:g} s, {rows})"
 
 
+def _fd_steps(scene, name, p0, rel_step, levels):
+    """Central-difference steps h, h/2, ..., h/2^(levels-1) for parameter
+    ``name`` at ``p0``: h = rel_step |p0| (rel_step when p0 = 0), halved
+    until p0 +- h both lie inside the parameter's range."""
+    h = rel_step * (abs(p0) if p0 != 0.0 else 1.0)
+    while not (_inside(name, p0 - h, scene) and _inside(name, p0 + h, scene)) and h > 1e-300:
+        h *= 0.5
+    if not h > 1e-300:
+        raise ValueError(f"cannot step {name!r} = {p0:g} inside its range {PARAMETERS[name].describe()}")
+    return h / 2.0 ** np.arange(levels)
+
+
 def sensitivity(scene: Scene, params: Sequence[str], t_end: float, *, dt: Optional[float] = None,
                 method: str = "auto", rtol: float = 1e-10, atol: float = 1e-12, eps: float = 1e-4,
                 rel_step: float = 1e-3, levels: int = 4) -> Sensitivity:
@@ -142,12 +154,7 @@ def sensitivity(scene: Scene, params: Sequence[str], t_end: float, *, dt: Option
     for name in names:
         p0 = _value_of(scene, name)
         vals[name] = p0
-        h = rel_step * (abs(p0) if p0 != 0.0 else 1.0)
-        while not (_inside(name, p0 - h, scene) and _inside(name, p0 + h, scene)) and h > 1e-300:
-            h *= 0.5
-        if not h > 1e-300:
-            raise ValueError(f"cannot step {name!r} = {p0:g} inside its range {PARAMETERS[name].describe()}")
-        hs = h / 2.0 ** np.arange(levels)
+        hs = _fd_steps(scene, name, p0, rel_step, levels)
         x = np.concatenate([p0 + hs, p0 - hs])
         vary: Dict[str, Any] = {name: x}
         b = simulate_batch(scene, t_end, dt, **opts, **vary)
@@ -477,12 +484,7 @@ def event_sensitivity(scene: Scene, params: Sequence[str], t_end: float, *, meth
     for name in names:
         p0 = _value_of(scene, name)
         vals[name] = p0
-        h = rel_step * (abs(p0) if p0 != 0.0 else 1.0)
-        while not (_inside(name, p0 - h, scene) and _inside(name, p0 + h, scene)) and h > 1e-300:
-            h *= 0.5
-        if not h > 1e-300:
-            raise ValueError(f"cannot step {name!r} = {p0:g} inside its range {PARAMETERS[name].describe()}")
-        hs = h / 2.0 ** np.arange(levels)
+        hs = _fd_steps(scene, name, p0, rel_step, levels)
         Don, Dst = np.empty(levels), np.empty(levels)
         for k, hk in enumerate(hs):
             ep = event_times(_replace_params(scene, {name: p0 + hk}), t_end, **kw)
