@@ -18,12 +18,10 @@ of --steps steps, and the ratio of each median to its peer's. Usage:
     python benchmarks/bench_obstacles.py [--repeat 7] [--steps 100000]
 """
 import argparse
-import os
-import platform
 import statistics
-import time
 
 import exdex
+from _harness import machine_line, measure
 
 
 def wall_scene(stops=(), obstacles=(), V=0.01, m=0.1, a=0.03):
@@ -43,24 +41,12 @@ def rod_scene(stops=(), obstacles=()):
                        stops=stops, obstacles=obstacles)
 
 
-def measure(model, t_end, dt, repeat):
-    model.final(t_end, dt)  # warm-up
-    ns = []
-    steps = round(t_end / dt)
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        model.final(t_end, dt)
-        ns.append((time.perf_counter() - t0) / steps * 1e9)
-    return ns
-
-
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=7)
     ap.add_argument("--steps", type=int, default=100_000)
     args = ap.parse_args(argv)
-    print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
-          f"Python {platform.python_version()}; median of {args.repeat} runs of {args.steps} steps")
+    print(machine_line(args.repeat, args.steps))
     print(f"{'contact':<44} {'ns/step':>9} {'min':>8} {'max':>8} {'ratio':>7}")
     wall = ((0.1, 0.0, 0.0), (-1.0, 0.0, 0.0))
     cases = [

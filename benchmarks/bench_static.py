@@ -15,13 +15,11 @@ the ratio of each median to its peer's. Usage:
     python benchmarks/bench_static.py [--repeat 7] [--steps 100000]
 """
 import argparse
-import os
-import platform
 import statistics
-import time
 import warnings
 
 import exdex
+from _harness import machine_line, measure
 
 
 def shaken(dof, mu_static):
@@ -33,17 +31,6 @@ def shaken(dof, mu_static):
         dof=dof)
 
 
-def measure(model, t_end, dt, repeat):
-    model.final(t_end, dt)  # warm-up
-    ns = []
-    steps = round(t_end / dt)
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        model.final(t_end, dt)
-        ns.append((time.perf_counter() - t0) / steps * 1e9)
-    return ns
-
-
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=7)
@@ -51,8 +38,7 @@ def main(argv=None):
     args = ap.parse_args(argv)
     t_end = 1.2
     dt = t_end / args.steps
-    print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
-          f"Python {platform.python_version()}; median of {args.repeat} runs of {args.steps} steps")
+    print(machine_line(args.repeat, args.steps))
     print(f"{'scene':<34} {'ns/step':>9} {'min':>8} {'max':>8} {'ratio':>7} {'stick %':>8}")
     for dof in ("planar", "translation"):
         base = None

@@ -17,12 +17,10 @@ the frictionless one. Usage:
     python benchmarks/bench_stop_friction.py [--repeat 7] [--steps 200000]
 """
 import argparse
-import os
-import platform
 import statistics
-import time
 
 import exdex
+from _harness import machine_line, measure
 
 
 def wall_scene(mu_stop, V=0.01, m=0.1, a=0.03):
@@ -35,17 +33,6 @@ def wall_scene(mu_stop, V=0.01, m=0.1, a=0.03):
         stops=(exdex.Stop((xw, 0.0, 0.0), (-1.0, 0.0, 0.0), mu=mu_stop),))
 
 
-def measure(model, t_end, dt, repeat):
-    model.final(t_end, dt)  # warm-up
-    ns = []
-    steps = round(t_end / dt)
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        model.final(t_end, dt)
-        ns.append((time.perf_counter() - t0) / steps * 1e9)
-    return ns
-
-
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=7)
@@ -53,8 +40,7 @@ def main(argv=None):
     args = ap.parse_args(argv)
     t_end = 0.2
     dt = t_end / args.steps
-    print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
-          f"Python {platform.python_version()}; median of {args.repeat} runs of {args.steps} steps")
+    print(machine_line(args.repeat, args.steps))
     print(f"{'wall':<28} {'ns/step':>9} {'min':>8} {'max':>8} {'ratio':>7} {'rows on':>8}")
     base = None
     for name, mu in (("frictionless (mu = 0)", 0.0), ("sliding corners (mu = 0.3)", 0.3),
