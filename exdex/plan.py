@@ -274,35 +274,36 @@ class _Runner:
 
     def final(self, t_end, **arrays):
         """(final displacements (B, ndof), final rates (B, ndof), batch shape) at ``t_end``."""
-        spec = self._direct
         dt = t_end if not self.scene.stops else min(t_end, 0.01)
-        trapezoid = isinstance(self.scene.motion, TrapezoidalProfile) and any(
-            PARAMETERS[k].path[0] == "motion" for k in arrays)
-        pad = any(k in ("patch_x", "patch_y") for k in arrays)
-        if spec is not None and not trapezoid and not pad:
-            vals = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in arrays.values()))
-            shape = vals[0].shape if vals else ()
-            vary = {PARAMETERS[k].key: np.ascontiguousarray(v, dtype=float).ravel() for k, v in zip(arrays, vals)}
-            n = int(np.prod(shape)) if shape else 1
-            threads = self.options.get("threads") or (1 if n < 2048 else 0)
-            out = _core.simulate_batch(spec, t_end, dt, threads=threads, record="final", vary=vary or None)
+        direct = self._direct_batch(t_end, dt, arrays)
+        if direct is not None:
+            out, shape = direct
             return out["displacement"], out["v"], shape
         b = simulate_batch(self.scene, t_end, dt, record="final", warn=False, **self.options, **arrays)
         return b.final_displacement, b.v, b.shape
 
-    def __call__(self, **arrays):
+    def _direct_batch(self, t_end, dt, arrays):
+        """(core batch output, batch shape) from the compiled spec, or None
+        where the batch must go through the scene (no spec, a trapezoid's
+        motion parameters or the pad centre varied)."""
         spec = self._direct
         trapezoid = isinstance(self.scene.motion, TrapezoidalProfile) and any(
             PARAMETERS[k].path[0] == "motion" for k in arrays)
         pad = any(k in ("patch_x", "patch_y") for k in arrays)
-        if spec is not None and not trapezoid and not pad:
-            vals = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in arrays.values()))
-            shape = vals[0].shape if vals else ()
-            vary = {PARAMETERS[k].key: np.ascontiguousarray(v, dtype=float).ravel() for k, v in zip(arrays, vals)}
-            n = int(np.prod(shape)) if shape else 1
-            threads = self.options.get("threads") or (1 if n < 2048 else 0)
-            out = _core.simulate_batch(spec, self.t_end, self.dt, threads=threads, record="final",
-                                       vary=vary or None)
+        if spec is None or trapezoid or pad:
+            return None
+        vals = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in arrays.values()))
+        shape = vals[0].shape if vals else ()
+        vary = {PARAMETERS[k].key: np.ascontiguousarray(v, dtype=float).ravel() for k, v in zip(arrays, vals)}
+        n = int(np.prod(shape)) if shape else 1
+        threads = self.options.get("threads") or (1 if n < 2048 else 0)
+        out = _core.simulate_batch(spec, t_end, dt, threads=threads, record="final", vary=vary or None)
+        return out, shape
+
+    def __call__(self, **arrays):
+        direct = self._direct_batch(self.t_end, self.dt, arrays)
+        if direct is not None:
+            out, shape = direct
             return outcome(out["displacement"], self.scene, self.quantity).reshape(shape)
         # candidates of a search, not results: no PhysicsWarning for each scan
         b = simulate_batch(self.scene, self.t_end, self.dt, record="final", warn=False, **self.options, **arrays)
