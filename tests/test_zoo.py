@@ -126,9 +126,6 @@ ZENO_OUT = 512
 
 #: (method, seed) -> the defect; strict xfails.
 KNOWN = {  # noqa: E501 - the defects, stated in full
-    ('implicit', 50): 'implicit: the noisy log ends at speed (a velocity jump of the gripper, 1.8 mm/s): the exact (event) answer is a slide of 5.1e-8 L after it (the relative velocity jumps, friction stops it within |dv| m / C); the implicit step takes the jump as a step-mean acceleration whose friction impulse h C exceeds m |dv| at every h of the ladder (h C / m = 7.8 mm/s at t_end/4000), so it absorbs the jump in one step and never slides: its error is the documented O(h |dv|) of a jump, but identical at h..h/8, so the successive-difference estimate is 0 and misses it',
-    ('implicit', 125): 'implicit: on a stop its final slide stays 2.2e-7 L from the exact one for dt = t_end/500 to t_end/4000 and then jumps to it at t_end/8000: a discrete contact decision, not a first-order error',
-    ('implicit', 128): 'implicit: the noisy log ends at speed (a velocity jump of the gripper): the exact (event) answer is a slide of 8.6e-8 L after it; the implicit step absorbs the jump (its friction impulse h C exceeds m |dv| at every h of the ladder) and never slides: the documented O(h |dv|) error of a jump, identical at h..h/8, so the successive-difference estimate is 0 and misses it',
 }
 
 
