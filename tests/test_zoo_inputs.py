@@ -68,10 +68,6 @@ G = zoo.G
 _STATIC_REG = ('regularised with mu_static > mu: its static band v_s = sqrt(eps V) (csrc/hybrid.c) makes its error '
                'O(sqrt(eps)) or slower, not first order, with a pre-asymptotic regime at eps0 .. eps0/4 that the '
                'successive differences (the first-order estimate S max(D)) do not reveal; ')
-_STATIC_EXP = ('explicit with mu_static > mu: once the object has moved it never returns to u = 0 exactly, so it never '
-               'sticks again (csrc/explicit.c) and slides with the kinetic capacity under a load between the kinetic and '
-               'the static one, where the exact solution sticks: it does not converge to the exact solution as dt -> 0 '
-               '(it converges to the mu_static = mu answer); ')
 _PLATEAU = ('implicit with mu_static > mu, 1-DoF: the error is identical on the ladder t_end/500 .. t_end/4000 '
             '(differences 0 or ~1e-7 L) and drops only at finer steps, so the successive-difference estimate misses '
             'it (a brief load excursion past the static capacity that the step-mean load does not see until h is '
@@ -83,10 +79,6 @@ KNOWN = {  # noqa: E501 - the defects, stated in full
     ('implicit', 354): _PLATEAU + 'translation, trapezoid, one frictional stop, mu_static = 1.26 mu: 1.24e-7 L at t_end/500 .. /4000, 1.4e-10 L at /32000',
     ('implicit', 358): _PLATEAU + 'translation, noisy log, mu_static = 1.37 mu: 5.6e-7 L identical from t_end/500 to t_end/16000, 1.9e-7 L at /64000',
     ('event', 143): 'event: the answer depends on the output grid and jumps between three values as rtol changes (planar, Chain of turns, linear grip schedule released to 0 at 3.04 s and re-gripped): final pose 2.12e-5 L from the rtol 1e-12 reference at rtol 1e-9 with output t_end/8, 2.33e-4 L with output t_end/64 (L = 0.85 m); rtol 1e-10: 2.33e-4 L (t_end/8), 2.12e-5 L (t_end/64); so the rtol 1e-10 run is 10x farther than the 1e-9 one; the gravity +-1e-6 perturbation moves the reference by 2.1e-5 L (a near-threshold decision during the release)',
-    ('explicit', 169): _STATIC_EXP + 'rotation, Shake, mu_static = 1.31 mu: 0.059 L from the event reference at t_end/4000 .. /128000; 3.9e-5 L from the event with mu_static = mu',
-    ('explicit', 335): _STATIC_EXP + 'translation, Eq. 7, a stop, mu_static = 1.55 mu: 2.46 L off (bound 0.42 L)',
-    ('explicit', 365): _STATIC_EXP + 'rotation at rest, cubic schedule with a release, mu_static = 1.52 mu: 0.019 L off (bound 2e-3 L)',
-    ('explicit', 395): _STATIC_EXP + 'translation, Eq. 7, mu_static = 1.39 mu: 0.295 L off at t_end/4000, 0.292 L at /128000; 2.6e-4 L from the event with mu_static = mu',
     ('explicit', 206): 'explicit against the implicit reference (planar, Eq. 7, one frictional stop): 0.78 L apart against the bound 0.40 L, the explicit ladder differences 0.091, 0.079, 0.068 L not converging at first order. Final theta: implicit -1.5323, -1.5324, -1.5325 rad at t_end/500, /4000, /32000; explicit -3.07, -2.72, -2.52 rad. With the stop frictionless both approach the event answer (-1.5786 rad: implicit -1.5786, explicit -1.656, -1.559, -1.576), so the disagreement is in the planar stop friction of one of them; no independent reference (event rejects planar stop friction), cause not determined',
     ('regularised', 140): _STATIC_REG + 'translation, noisy log, a stop, mu_static = 1.2 mu: 0.164 L (bound 0.122 L)',
     ('regularised', 158): _STATIC_REG + 'rotation, log, a frictional stop, linear schedule, mu_static = 1.6 mu: 0.106 L (bound 0.063 L)',
@@ -361,7 +353,6 @@ def test_inputs_scene(method, seed):
 
 #: (property, method, seed) -> the defect; strict xfails.
 KNOWN_PROPS = {  # noqa: E501 - the defects, stated in full
-    ('penetration', 'regularised', 123): 'regularised, translation, one frictional stop (mu 0.1..1), linear grip schedule, smooth log: the stop is penetrated by 7.4e-5 L at rtol 1e-9 (atol 1e-9 x the scene scales), 1.2e-15 L at rtol 1e-11 and at eps0/10: the stop contact is not held to the tolerance; the run reports 26 soft problems from t = 0.586 s (stats warnings; the event method on the same scene: none, no penetration); with the stop frictionless, or the grip constant, no penetration: the frictional stop with a grip schedule',
 }
 
 #: Penetration allowed of the methods that keep contacts exactly (event and
