@@ -27,6 +27,9 @@
  *                     the stop force; in contact also the gaps of the
  *                     contact stop's other vertices (a turning gripper or
  *                     object hands the contact over to another corner).
+ *                     A gap that dips below 0 and recovers within one
+ *                     step (a corner grazing a stop) is found from its
+ *                     rates at the step's ends (gap_dips).
  *   Planar slip (|E u| compared with zsw = SLIP_FLOOR V, V the scene's
  *   velocity scale: below it the sliding law is stiff: its
  *   direction relaxes at the rate C |K| / |E u| <~ A / |E u| (A = V / T the
@@ -265,6 +268,7 @@ typedef struct hyb {
     exdex_stats *st;
     double ss;         /* 1-DoF contact with a frictional stop: sign of the contact vertex's
                           slip along the stop (its Coulomb force opposes it); 0: none */
+    int gap0, gap1;    /* guards() entries [gap0, gap1): free gaps, functions of (t, q) only */
     int sfric;         /* planar with a frictional stop: the stop friction below (sf_*) */
     int fm[EXDEX_MAX_STOPS];  /* planar: friction mode of each stop with contact-set rows (SF_*) */
 } hyb;
@@ -1018,12 +1022,49 @@ static int rhs(double t, const double y[], double dy[], void *params)
 
 /* Guard values of the current mode at (t, y); each is >= 0 while the mode
  * holds. Returns how many (<= 2 + n_stops). */
+/* The free gaps among the guards, in guards()'s order: planar, the gap of
+ * every (stop, vertex) row outside the contact set; 1-DoF, each stop's
+ * smallest vertex gap (the contact stop: its other vertices'). Functions of
+ * (t, q) alone, so their rates along the motion are those of q' = qd. */
+static int gap_guards(const hyb *H, const exdex_kinematics *kin, const double *y, double *g)
+{
+    const exdex_model *m = H->m;
+    int n = 0;
+    if (H->ndof == 3) {
+        unsigned char in[MAX_ROWS];
+        memset(in, 0, (size_t)(H->ns * H->nv));
+        for (int i = 0; i < H->ncs; i++) in[H->cs[i]] = 1;
+        for (int k = 0; k < H->ns; k++)
+            for (int j = 0; j < H->nv; j++) {
+                double G[3];
+                if (!in[k * H->nv + j]) g[n++] = contact_row_planar(m, kin, k, j, y, y + 3, G, NULL, NULL);
+            }
+        return n;
+    }
+    for (int k = 0; k < H->ns; k++) {
+        double q = y[0];
+        if (H->mode == MODE_CONTACT && k == H->ck) {
+            /* the other vertices of the contact stop: the gripper's
+             * rotation (or the object's) can bring one of them onto
+             * the stop while the contact vertex is held at 0 */
+            double gmin = INFINITY;
+            for (int j = 0; j < H->nv; j++)
+                if (j != H->cj) gmin = fmin(gmin, contact_vertex_gap(m, kin, k, &q, j, NULL));
+            if (H->nv > 1) g[n++] = gmin;
+            continue;
+        }
+        g[n++] = contact_stop_gap(m, kin, k, q, NULL);
+    }
+    return n;
+}
+
 static int guards(hyb *H, double t, const double *y, double *g)
 {
     const exdex_model *m = H->m;
     frame f;
     exdex_kinematics kin;
     int n = 0, fs = frame_seg(H, t, &f, &kin);
+    H->gap0 = H->gap1 = 0;
     if (fs) {
         H->err = H->err ? H->err : fs;
         return 0;
@@ -1074,14 +1115,9 @@ static int guards(hyb *H, double t, const double *y, double *g)
             /* stops: free rows, their gap (impact when it reaches 0); rows of
              * the contact set, lam_i G_i M^-1 G_i^T - gap acceleration_i (> 0
              * while the row pushes, < 0 once it separates) */
-            unsigned char in[MAX_ROWS];
-            memset(in, 0, (size_t)(H->ns * H->nv));
-            for (int i = 0; i < H->ncs; i++) in[H->cs[i]] = 1;
-            for (int k = 0; k < H->ns; k++)
-                for (int j = 0; j < H->nv; j++) {
-                    double G[3];
-                    if (!in[k * H->nv + j]) g[n++] = contact_row_planar(m, &kin, k, j, y, y + 3, G, NULL, NULL);
-                }
+            H->gap0 = n;
+            n += gap_guards(H, &kin, y, g + n);
+            H->gap1 = n;
             if (H->ncs && H->mode == MODE_STICK) {
                 /* at rest against stops that move in B the contact ends
                  * once a set row's gap leaves +-tol.rest_gap */
@@ -1133,19 +1169,9 @@ static int guards(hyb *H, double t, const double *y, double *g)
                 if (H->law == LAW_COULOMB) g[n++] = H->s * v;
             }
         }
-        for (int k = 0; k < H->ns; k++) {
-            if (H->mode == MODE_CONTACT && k == H->ck) {
-                /* the other vertices of the contact stop: the gripper's
-                 * rotation (or the object's) can bring one of them onto
-                 * the stop while the contact vertex is held at 0 */
-                double gmin = INFINITY;
-                for (int j = 0; j < H->nv; j++)
-                    if (j != H->cj) gmin = fmin(gmin, contact_vertex_gap(m, &kin, k, &q, j, NULL));
-                if (H->nv > 1) g[n++] = gmin;
-                continue;
-            }
-            g[n++] = contact_stop_gap(m, &kin, k, q, NULL);
-        }
+        H->gap0 = n;
+        n += gap_guards(H, &kin, y, g + n);
+        H->gap1 = n;
         /* a frictional contact: its vertex keeps slipping the same way
          * along the stop (at a reversal the friction turns: decided again) */
         if (H->mode == MODE_CONTACT && H->ss != 0.0) g[n++] = H->ss * contact_slip_1dof(H, &kin, q, v, NULL);
@@ -1645,6 +1671,92 @@ static int guard_extremum(hyb *H, ode *O, double t0, const double *y0, double ta
     return EXDEX_OK;
 }
 
+/* A free gap can dip below 0 and recover within one accepted step (a corner
+ * of a turning outline grazing a stop): both end values are positive and
+ * the impact would be missed. The gaps are functions of (t, q), so their
+ * rates at the step's ends follow from q' = qd (one-sided differences over
+ * DIP_DELTA of the step). A gap falling at the start and rising at the end
+ * has an interior minimum; the cubic Hermite interpolant of the end values
+ * and rates estimates it with an error O(h^4 max |g^(4)|), far below its end
+ * values for a step the error control accepted, so a minimum estimated
+ * below DIP_MARGIN of the smaller end value is searched for on the
+ * stepper's map (guard_extremum) and, if negative, its crossing located
+ * (the event is the first crossing, in [0, the minimum]). Candidates
+ * improve *tau_best, *e_best. */
+#define DIP_DELTA 1e-3
+#define DIP_MARGIN 0.5
+
+static int locate(hyb *H, ode *O, double t0, const double *y0, double tau0, double tau1, int e, double *tau);
+
+/* Smallest value on [0, h] of the cubic with values g0, g1 and slopes r0, r1
+ * at the ends. */
+static double hermite_min(double g0, double g1, double r0, double r1, double h)
+{
+    /* p(s) = g0 + r0 s + c2 s^2 + c3 s^3; p'(s) = r0 + 2 c2 s + 3 c3 s^2 */
+    double c2 = (3.0 * (g1 - g0) / h - 2.0 * r0 - r1) / h, c3 = (r0 + r1 - 2.0 * (g1 - g0) / h) / (h * h);
+    double a = 3.0 * c3, b = 2.0 * c2, c = r0, pmin = fmin(g0, g1), roots[2];
+    int nr = 0;
+    if (fabs(a) * h <= 1e-14 * fabs(b)) {
+        if (b != 0.0) roots[nr++] = -c / b;
+    } else {
+        double disc = b * b - 4.0 * a * c;
+        if (disc >= 0.0) {
+            double sq = sqrt(disc), qq = -0.5 * (b + (b >= 0.0 ? sq : -sq));
+            if (qq != 0.0) {
+                roots[nr++] = qq / a;
+                roots[nr++] = c / qq;
+            }
+        }
+    }
+    for (int i = 0; i < nr; i++)
+        if (roots[i] > 0.0 && roots[i] < h) {
+            double x = roots[i];
+            pmin = fmin(pmin, g0 + x * (r0 + x * (c2 + x * c3)));
+        }
+    return pmin;
+}
+
+static int gap_dips(hyb *H, ode *O, double t0, const double *y0, double t1, const double *y1, const double *g0,
+                    const double *g1, double *tau_best, int *e_best)
+{
+    int a = H->gap0, b = H->gap1, nd = H->ndof, want = 0, fs;
+    double h = t1 - t0, d = DIP_DELTA * h, ya[NY_MAX], yb[NY_MAX], ga[NG_MAX], gb[NG_MAX];
+    double cap = H->cap, caps = H->caps;
+    exdex_kinematics ka, kb;
+    frame fa, fb;
+    if (b <= a || !(h > 0.0)) return EXDEX_OK;
+    for (int e = a; e < b; e++) want |= g0[e] > 0.0 && g1[e] >= 0.0;
+    if (!want) return EXDEX_OK;
+    memcpy(ya, y0, (size_t)H->ny * sizeof *ya);
+    memcpy(yb, y1, (size_t)H->ny * sizeof *yb);
+    for (int c = 0; c < nd; c++) {
+        ya[c] += d * y0[nd + c];
+        yb[c] -= d * y1[nd + c];
+    }
+    fs = frame_seg(H, t0 + d, &fa, &ka);
+    if (!fs) fs = frame_seg(H, t1 - d, &fb, &kb);
+    H->cap = cap; /* frame_seg reads the capacities at its time: keep t1's */
+    H->caps = caps;
+    if (fs) return fs;
+    if (gap_guards(H, &ka, ya, ga + a) != b - a || gap_guards(H, &kb, yb, gb + a) != b - a) return EXDEX_OK;
+    for (int e = a; e < b; e++) {
+        double r0 = (ga[e] - g0[e]) / d, r1 = (g1[e] - gb[e]) / d, tm, gm, tau;
+        int st;
+        if (!(g0[e] > 0.0 && g1[e] >= 0.0 && r0 < 0.0 && r1 > 0.0)) continue;
+        if (!(hermite_min(g0[e], g1[e], r0, r1, h) < DIP_MARGIN * fmin(g0[e], g1[e]))) continue;
+        st = guard_extremum(H, O, t0, y0, h, e, 1.0, &tm, &gm);
+        if (st) return st;
+        if (!(gm < 0.0)) continue;
+        st = locate(H, O, t0, y0, 0.0, tm, e, &tau);
+        if (st) return st;
+        if (tau < *tau_best) {
+            *tau_best = tau;
+            *e_best = e;
+        }
+    }
+    return EXDEX_OK;
+}
+
 /* Locate the root of guard e in [tau0, tau1] (g(tau0) > 0 > g(tau1)) with Brent;
  * returns the upper end of the final bracket (the guard is just violated). */
 static int locate(hyb *H, ode *O, double t0, const double *y0, double tau0, double tau1, int e, double *tau)
@@ -1919,6 +2031,8 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                     e_best = e;
                 }
             }
+            /* a free gap that dipped below 0 and recovered within the step */
+            if (!status) status = gap_dips(&H, O, t0, y0, t, y, g0, g1, &tau_best, &e_best);
             /* a guard can dip below 0 and recover within one step (its end
              * value is >= 0): the located event's point shows it; take the
              * earliest such crossing instead (at most ng passes) */
