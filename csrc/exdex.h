@@ -447,9 +447,10 @@ typedef struct exdex_scene_def {
      * touching it (>= 0, finite; 0: frictionless). The friction acts along the
      * tangent t = e_z x n_B of the plate plane (n_B the in-plane part of the
      * stop normal in B), bounded by stop_mu times the stop's normal force.
-     * Supported by the implicit and explicit methods, and by event and
-     * regularised in 1-DoF scenes (hybrid.c); a planar scene with event or
-     * regularised rejects stop_mu > 0 (EXDEX_EINVAL, bad_param "stop_mu"). */
+     * Every method but analytic: exact in the implicit and explicit methods
+     * (velocity level) and in the event and regularised methods (acceleration
+     * level, hybrid.c; the regularised method smooths the plate friction
+     * only); impacts in the event and regularised methods are frictionless. */
     double stop_mu[EXDEX_MAX_STOPS];
 } exdex_scene_def;
 
@@ -580,9 +581,10 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt,
  * last changed), so stepping n times with dt reproduces exdex_simulate(m,
  * n dt, dt) bit for bit (the same samples, stats and status), whatever the
  * method, when every step takes the scene's own grip force (NaN below).
- * One exception in the stats: exdex_simulate finds the impacts of the
- * time-stepping methods (implicit, explicit) by scanning the whole run's
- * stop impulses; a stepper leaves impacts and max_impulse at 0 for them.
+ * The impacts of the time-stepping methods (implicit, explicit), which
+ * exdex_simulate finds from the stop impulses of a few steps around each,
+ * the end of the run cutting off an undecided one, are the stepper's stats
+ * over the steps taken in the same way.
  * The first step's dt is the run's: the event and regularised methods start
  * their adaptive step from it, as exdex_simulate from its dt.
  *
