@@ -23,11 +23,11 @@ The output grid is no part of the answer: a run's step ends fall on the
 output samples, and where steps end changes the answer only through the
 stepper's local errors, so the final poses at two output grids differ by an
 amount proportional to rtol. A rest against stops that move in B holds q
-exactly (the rest ends once a stop has moved tol.rest_gap = 1e-7 L); were q
-projected out of the stops after each step of the rest, it would follow the
-stops in jumps set by where the steps end, and the rest would end at a time
-that depends on them: the two grids then differed by 2.1e-8, 1.2e-8, 7.5e-9
-L at rtol 1e-9, 1e-10, 1e-11, not falling with rtol.
+exactly (the rest ends once a stop has moved tol.rest_gap = 1e-7 L). A q
+projected out of the stops after each step of the rest follows the stops in
+jumps set by where the steps end, and the rest ends at a time that depends on
+them: with that projection the two grids differ by 2.1e-8, 1.2e-8, 7.5e-9 L
+at rtol 1e-9, 1e-10, 1e-11, not falling with rtol.
 """
 import pytest
 
@@ -54,9 +54,9 @@ def test_planar_log_between_two_stops_output_grid_converges_with_rtol():
     with output grids t_end/8 and t_end/64. With an error proportional to
     rtol, D(1e-10) / D(1e-9) and D(1e-11) / D(1e-9) are about 0.1 and 0.01;
     the checks allow PROPORTIONAL = 0.3 (tests/test_zoo.py: the error
-    constant may change up to 3x between tolerances) plus the zoo's floor
-    1e-12 of event location (3e-12 T) at each, and a distance that does not
-    fall with rtol (a decision that depends on where steps end) fails them."""
+    constant may change up to 3x between tolerances) plus 1e-12 for event
+    location (3e-12 T, ~1e-12 L here), and a distance that does not fall
+    with rtol (a decision that depends on where steps end) fails them."""
     zs = zoo.zoo_scene(9)
     d = {}
     for rtol in (1e-9, 1e-10, 1e-11):
