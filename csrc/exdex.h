@@ -347,7 +347,10 @@ enum exdex_method {
  * section against the convex hull of the outline (gap: its largest
  * distance outside the hull's edge lines) and, for a rod, the hull against
  * the section (gap: the smallest distance of a hull point from the axis less
- * the radius, negative inside). */
+ * the radius, negative inside). A disc outline (disc_radius) touches each
+ * obstacle with one row: its distance from the section less its radius (a
+ * face's plane row, the nearest section vertex, or the rim point nearest the
+ * rod's axis). */
 enum exdex_obstacle_kind { EXDEX_OBSTACLE_POLYTOPE = 0, EXDEX_OBSTACLE_CYLINDER = 1 };
 
 typedef struct exdex_obstacle_def {

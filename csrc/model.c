@@ -154,7 +154,8 @@ static int check_fields(const exdex_scene_def *d, const char **bad_param)
     if (d->n_obstacles && d->method != EXDEX_METHOD_IMPLICIT && d->method != EXDEX_METHOD_EXPLICIT)
         return bad(bad_param, "method");
     for (int o = 0; o < d->n_obstacles; o++)
-        if (d->obstacles[o].mu > 0.0 && d->method != EXDEX_METHOD_IMPLICIT) return bad(bad_param, "method");
+        if (d->obstacles[o].mu > 0.0 && d->method != EXDEX_METHOD_IMPLICIT && d->method != EXDEX_METHOD_EXPLICIT)
+            return bad(bad_param, "method");
     if (d->method == EXDEX_METHOD_ANALYTIC && exdex_analytic_unsupported(d)) return bad(bad_param, "method");
     if (d->friction_solver < EXDEX_SOLVER_SCALAR || d->friction_solver > EXDEX_SOLVER_MULTIROOT)
         return bad(bad_param, "friction_solver");

@@ -923,15 +923,16 @@ class Obstacle:
         points within ``radius`` of the line through ``center`` along
         ``axis``: an infinite rod).
     mu : Coulomb friction coefficient against the object (>= 0; the implicit
-        method), as a stop's: along the tangent of the plate plane at each
-        contact, bounded by mu times the contact's normal force.
+        and explicit methods), as a stop's: along the tangent of the plate
+        plane at each contact, bounded by mu times the contact's normal force.
 
     The plate plane cuts the solid in a convex polygon of the gripper frame B
     (a rod: a disc when its axis is normal to the plates, else an ellipse),
     recomputed from the gripper's pose as it moves (:meth:`section`). The
     object touches it with its outline vertices (against the faces) and with
     the edges of the outline's convex hull (against the section's vertices,
-    or the rod). A one-face obstacle keeps the object where
+    or the rod); a disc outline (``Body.outline_radius``) with its point
+    nearest the section. A one-face obstacle keeps the object where
     ``Stop(point, normal)`` with the same point and normal does; its force
     is the stop force column after the stops' (``Result.stop_force``).
     """
@@ -1117,15 +1118,16 @@ class Scene:
             R, p = kin["R"][0], kin["p"][0]
         th = self.q0[2]
         c, s = math.cos(th), math.sin(th)
-        disc = self.body.outline_radius is not None
+        radius = self.body.outline_radius
+        disc = radius is not None
         verts = np.array([self.body.outline_center]) if disc else self.body.vertices()
         xb = np.array(self.q0[:2]) + verts @ np.array([[c, s], [-s, c]])   # rows: q0 + Rz(th) v
         xa = np.hstack([xb, np.zeros((len(xb), 1))]) @ R.T + p
         for k, st in enumerate(self.stops):
             gaps = (xa - np.array(st.point)) @ np.array(st.normal)
-            if disc:
+            if radius is not None:
                 # the support point: the centre less the radius times |n_B,xy|
-                gaps = gaps - self.body.outline_radius * float(np.hypot(*(R.T @ np.array(st.normal))[:2]))
+                gaps = gaps - radius * float(np.hypot(*(R.T @ np.array(st.normal))[:2]))
             j = int(np.argmin(gaps))
             if gaps[j] < -1e-9:
                 where = "the disc outline" if disc else (
@@ -1200,9 +1202,6 @@ class Scene:
             if method not in ("implicit", "explicit"):
                 raise ValueError(f"Scene.obstacles: the implicit and explicit methods solve scenes with "
                                  f"obstacles, got method={method!r}")
-            if method != "implicit" and any(o.mu > 0 for o in self.obstacles):
-                raise ValueError(f"Scene.obstacles: the implicit method solves obstacles with friction "
-                                 f"(Obstacle.mu > 0), got method={method!r}")
             spec["obstacles"] = [o._spec() for o in self.obstacles]
         spec.update(self.motion._spec())
         sched = self.grasp.schedule
