@@ -981,38 +981,23 @@ double contact_slip_planar(const exdex_model *m, const exdex_kinematics *k, int 
 {
     double rv[3] = {0.0, 0.0, 0.0}, xB[3], xd[3], xdd[3], Rx[3], Rxd[3], Rxdd[3], nB[3], tB[3], tA[3];
     double VP[3], AP[3], wB[3], dnB[3], dtB[3], dtA[3], tmp[3], tmp2[3], nn, udu;
-    double du[3] = {0.0, 0.0, 0.0}, ub[3] = {0.0, 0.0, 0.0};
-    int disc = 0;
     if (m->n_vert) rot2(rv, q[2], m->vert[j]);
     xB[0] = q[0] + rv[0];
     xB[1] = q[1] + rv[1];
     xB[2] = 0.0;
     contact_stop_tangent(m, k, ks, xB, rv, T, tb);
     if (sdd0 && m->disc_r > 0.0) {
-        /* a disc slips at its support point x_s = x_c - r u, u = n_B,xy / |n_B,xy|:
-         * the material point there (xB, rv below), whose acceleration differs from a
-         * fixed material point's because the contact moves along the rim: d x_s / dt =
-         * xd_c - r du/dt (not xd_c + thd e_z x (-r u)), so A_P gains
-         * R (-thd^2 r u - r thd e_z x du/dt) + w x R (-r du/dt + r thd e_z x u),
-         * du/dt = (d n_B,xy / dt - u (u . d n_B,xy / dt)) / |n_B,xy| */
-        double xs[3], vs[3], nB0[3], wn[3], d1[3], sn;
-        ex_mulmtv3(nB0, k->R, m->sn[ks]);
-        sn = hypot(nB0[0], nB0[1]);
-        if (sn > FQ_MIN) {
-            disc = 1;
-            disc_support(m, k, m->sn[ks], xB, rv, xs, vs);
-            memcpy(xB, xs, sizeof xs);
-            memcpy(rv, vs, sizeof vs);
-            ex_cross3(wn, k->w, m->sn[ks]);
-            ex_mulmtv3(d1, k->R, wn);
-            ub[0] = nB0[0] / sn;
-            ub[1] = nB0[1] / sn;
-            {
-                double a = -(ub[0] * d1[0] + ub[1] * d1[1]);
-                du[0] = (-d1[0] - ub[0] * a) / sn;
-                du[1] = (-d1[1] - ub[1] * a) / sn;
-            }
-        }
+        /* a disc slips at its support point x_s = x_c - r u (u = n_B,xy / |n_B,xy|):
+         * below, the material point there. The contact moves along the rim (d x_s /
+         * dt = xd_c - r du/dt, not the material point's xd_c - r thd e_z x u), which
+         * changes A_P by R (-thd^2 r u - r thd e_z x du/dt) + w x R (r thd e_z x u -
+         * r du/dt); with du/dt along t (u is unit) the first is along u and the
+         * second is w x (a vector along t_A): both are normal to t_A, so t_A . A_P
+         * and the slip acceleration are the material point's */
+        double xs[3], vs[3];
+        disc_support(m, k, m->sn[ks], xB, rv, xs, vs);
+        memcpy(xB, xs, sizeof xs);
+        memcpy(rv, vs, sizeof vs);
     }
     if (sdd0) {
         *sdd0 = 0.0;
@@ -1041,19 +1026,6 @@ double contact_slip_planar(const exdex_model *m, const exdex_kinematics *k, int 
             for (int c = 0; c < 3; c++) AP[c] += tmp[c];
             ex_cross3(tmp, k->w, Rxd);
             for (int c = 0; c < 3; c++) AP[c] += 2.0 * tmp[c];
-            if (disc) {
-                double r = m->disc_r, thd = v[2], e1[3], e2[3], R1[3], R2[3];
-                e1[0] = -thd * thd * r * ub[0] + r * thd * du[1];
-                e1[1] = -thd * thd * r * ub[1] - r * thd * du[0];
-                e1[2] = 0.0;
-                e2[0] = -r * du[0] - r * thd * ub[1];
-                e2[1] = -r * du[1] + r * thd * ub[0];
-                e2[2] = 0.0;
-                ex_mulmv3(R1, k->R, e1);
-                ex_mulmv3(R2, k->R, e2);
-                ex_cross3(tmp, k->w, R2);
-                for (int c = 0; c < 3; c++) AP[c] += R1[c] + tmp[c];
-            }
             tB[0] = -nB[1] / nn;
             tB[1] = nB[0] / nn;
             tB[2] = 0.0;
