@@ -28,8 +28,10 @@
  *                     contact stop's other vertices (a turning gripper or
  *                     object hands the contact over to another corner).
  *                     A gap that dips below 0 and recovers within one
- *                     step (a corner grazing a stop) is found from its
- *                     rates at the step's ends (gap_dips).
+ *                     step (a corner grazing a stop), and at rest any
+ *                     guard that does (a load leaving the friction limit
+ *                     for a moment), is found from its rates at the
+ *                     step's ends (gap_dips).
  *   Planar slip (|E u| compared with zsw = SLIP_FLOOR V, V the scene's
  *   velocity scale: below it the sliding law is stiff: its
  *   direction relaxes at the rate C |K| / |E u| <~ A / |E u| (A = V / T the
@@ -1810,11 +1812,14 @@ static double hermite_min(double g0, double g1, double r0, double r1, double h)
     return pmin;
 }
 
-static int gap_dips(hyb *H, ode *O, double t0, const double *y0, double t1, const double *y1, const double *g0,
-                    const double *g1, double *tau_best, int *e_best)
+static int gap_dips(hyb *H, ode *O, double t0, const double *y0, double t1, const double *y1, int ng,
+                    const double *g0, const double *g1, double *tau_best, int *e_best)
 {
-    int a = H->gap0, b = H->gap1, nd = H->ndof, want = 0, fs;
-    double h = t1 - t0, d = DIP_DELTA * h, ya[NY_MAX], yb[NY_MAX], ga[NG_MAX], gb[NG_MAX];
+    /* at rest (Coulomb stick) q and qd are held, so every guard is a
+     * function of t alone (the load, the stops' motion in B): all of them */
+    int stick = H->law == LAW_COULOMB && H->mode == MODE_STICK;
+    int a = stick ? 0 : H->gap0, b = stick ? ng : H->gap1, nd = H->ndof, want = 0, fs = 0;
+    double h = t1 - t0, d = DIP_DELTA * h, ya[NY_MAX], yb[NY_MAX], ga[NG_MAX], gb[2 * NG_MAX];
     double cap = H->cap, caps = H->caps;
     exdex_kinematics ka, kb;
     frame fa, fb;
@@ -1827,12 +1832,19 @@ static int gap_dips(hyb *H, ode *O, double t0, const double *y0, double t1, cons
         ya[c] += d * y0[nd + c];
         yb[c] -= d * y1[nd + c];
     }
-    fs = frame_seg(H, t0 + d, &fa, &ka);
-    if (!fs) fs = frame_seg(H, t1 - d, &fb, &kb);
-    H->cap = cap; /* frame_seg reads the capacities at its time: keep t1's */
-    H->caps = caps;
-    if (fs) return fs;
-    if (gap_guards(H, &ka, ya, ga + a) != b - a || gap_guards(H, &kb, yb, gb + a) != b - a) return EXDEX_OK;
+    if (stick) {
+        int na = guards(H, t0 + d, ya, ga), nb = guards(H, t1 - d, yb, gb);
+        guards(H, t1, y1, gb + ng); /* H as after the step's own evaluation */
+        if (H->err) return H->err;
+        if (na != ng || nb != ng) return EXDEX_OK;
+    } else {
+        fs = frame_seg(H, t0 + d, &fa, &ka);
+        if (!fs) fs = frame_seg(H, t1 - d, &fb, &kb);
+        H->cap = cap; /* frame_seg reads the capacities at its time: keep t1's */
+        H->caps = caps;
+        if (fs) return fs;
+        if (gap_guards(H, &ka, ya, ga + a) != b - a || gap_guards(H, &kb, yb, gb + a) != b - a) return EXDEX_OK;
+    }
     for (int e = a; e < b; e++) {
         double r0 = (ga[e] - g0[e]) / d, r1 = (g1[e] - gb[e]) / d, tm, gm, tau;
         int st;
@@ -2141,7 +2153,7 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                 }
             }
             /* a free gap that dipped below 0 and recovered within the step */
-            if (!status) status = gap_dips(&H, O, t0, y0, t, y, g0, g1, &tau_best, &e_best);
+            if (!status) status = gap_dips(&H, O, t0, y0, t, y, ng, g0, g1, &tau_best, &e_best);
             /* a guard can dip below 0 and recover within one step (its end
              * value is >= 0): the located event's point shows it; take the
              * earliest such crossing instead (at most ng passes) */

@@ -461,3 +461,41 @@ def test_grazing_corner_planar_found_in_one_output_interval(method):
     assert one.stats["min_gap"] >= -1e-12
     np.testing.assert_allclose(one.q[-1], fine.q[-1], rtol=0, atol=1e-7)
     np.testing.assert_allclose(one.v[-1], fine.v[-1], rtol=0, atol=1e-6)
+
+
+@pytest.mark.parametrize("rtol", [1e-6, 1e-8, 1e-10])
+def test_brief_slip_inside_one_stick_step(rtol):
+    """A held object (q and qd fixed, so the stepper takes the whole rest as
+    one step) whose load leaves the friction cone for a moment: a vertical
+    Shake(A < 0) peaks the gripper's upward acceleration |A| w^2 at
+    t = pi / w, and the capacity C = m (g + (1 - delta) |A| w^2) holds the
+    object except near that peak. Closed form, tau = t - pi / w, K = |A| w^2:
+    the object slips down from tau1 = -arccos(1 - delta) / w with
+    s'' = K ((1 - delta) - cos w tau), so
+        s'(tau) = K ((1 - delta) (tau - tau1) - (sin w tau - sin w tau1) / w),
+        s(tau)  = K ((1 - delta) (tau - tau1)^2 / 2
+                     + (cos w tau - cos w tau1) / w^2 + sin(w tau1) (tau - tau1) / w),
+    and sticks again at the root tau2 > -tau1 of s' (scipy's brentq; the
+    load is then back inside the cone, and stays there). The output grid is
+    one interval and the tolerance loose: the rest before and after the slip
+    is one stick step across the peak unless the slip is found inside it.
+    Event method, error within 10 rtol of the slip."""
+    from scipy.optimize import brentq
+    m, A, f, delta, g = 0.1, -0.01, 2.0, 0.02, 9.81
+    w = 2 * math.pi * f
+    K = abs(A) * w * w
+    cap = m * (g + (1 - delta) * K)
+    grasp = Grasp(mu=0.5, grip_force=cap / (2 * 0.5))
+    scene = Scene(body=Body(m), grasp=grasp, motion=exdex.Shake(A, f, cycles=1, axis=(0, 0, 1)))
+    tau1 = -math.acos(1 - delta) / w
+
+    def v(tau):
+        return K * ((1 - delta) * (tau - tau1) - (math.sin(w * tau) - math.sin(w * tau1)) / w)
+
+    tau2 = brentq(v, -tau1, math.pi / w, xtol=1e-15)
+    s2 = K * ((1 - delta) * (tau2 - tau1) ** 2 / 2 + (math.cos(w * tau2) - math.cos(w * tau1)) / w**2
+              + math.sin(w * tau1) * (tau2 - tau1) / w)
+    assert s2 < -1e-6
+    for dt in (1.0, 1e-3):
+        r = exdex.simulate(scene, t_end=1.0, dt=dt, method="event", rtol=rtol, atol=1e-3 * rtol)
+        assert abs(r.q[-1, 0] - s2) <= 10 * rtol * abs(s2), (dt, r.q[-1, 0], s2)
