@@ -14,6 +14,12 @@ explicit methods find those from the stop impulses of a few steps around
 each, and ``stats`` after n steps counts them as a run ending there).
 ``save()`` and ``restore()`` branch a run: stepping on from a
 restored snapshot repeats what the saved stepper did, bit for bit.
+
+A step may also prescribe the gripper's pose at its end
+(``step(dt, gripper=exdex.GripperPose(position, rotation, velocity,
+omega))``): the gripper then moves over the step along the cubic
+interpolation that :class:`GripperPose` states, in place of the scene's
+motion, on that step and every later one.
 """
 from __future__ import annotations
 
