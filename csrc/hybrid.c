@@ -99,20 +99,39 @@
  *     (planar, growing from rest) stops when its load falls back inside the
  *     kinetic ellipsoid, where the slip decelerates; the decision there
  *     sticks (the load is inside the static one too).
- *   regularised: the capacity falls smoothly with the slip speed from the
- *     static to the kinetic value,
- *         w = -C(|E u|) E^2 u / sqrt(|E u|^2 + eps^2),
- *         C(s) = C + (C_s - C) exp(-(s / v_s)^2),   v_s = sqrt(eps V),
- *     V the scene's velocity scale (model_scales): v_s >> eps, so a creeping
- *     object (|E u| ~ eps) meets C_s (the largest load it carries before it
- *     accelerates away is below C_s by at most sqrt(2 (C_s - C) C_s) eps /
- *     v_s), and a slip faster than a few v_s meets C. Past the static
- *     limit the slip must first reach v_s against a capacity still near
- *     C_s: under a load rising at Q' that takes about tau = (v_s^2 M^2 /
- *     ((C_s - C) Q'))^(1/3), and the slip lags the exact one by a speed of
- *     about (C_s - C) tau / M. Both errors vanish as eps -> 0 (v_s and tau
- *     with it). In a 1-DoF rotation scene s and v_s are divided by e_r as
- *     eps is. With C_s = C it is the law above.
+ *   regularised: a stick band of slip speeds |E u| <= eps, viscous up to
+ *     the static capacity, and Coulomb against the kinetic one beyond,
+ *         w = -C_s E^2 u / eps     (|E u| <= eps),
+ *         w = -C E^2 u / |E u|     (|E u| > eps).
+ *     First order in eps: a load w_h inside the static ellipsoid is held at
+ *     the creep E u = eps E^-1 w_h / C_s (|E u| < eps: a drift of at most
+ *     eps per unit time, reached after the band's relaxation time M eps /
+ *     C_s); a load leaving it (|E^-1 w_h| > C_s) pushes the slip out of the
+ *     band, where the kinetic law is exact, so the slip starts at |E u| =
+ *     eps, at most a relaxation time after the exact breakaway, instead of
+ *     0: its speed differs from the exact one by at most eps (eps C / C_s
+ *     under a slowly rising load, as the exact slip has gained (C_s - C) /
+ *     M times the relaxation time by then), and s by eps times the slip's
+ *     duration; a slip that decelerates enters the band and is
+ *     caught there at its creep speed (the viscous rate C_s / (M eps) is
+ *     that of the one-coefficient law, as stiff and no stiffer). Why a band
+ *     that reaches C_s: a smooth capacity falling from C_s to C over a speed
+ *     v_s (a Stribeck curve C + (C_s - C) exp(-(|E u| / v_s)^2) under the
+ *     one-coefficient regularisation) holds at most C_s (1 - O(eps / v_s))
+ *     before it accelerates away, and past the static limit the slip lags
+ *     the exact one by the time it takes to cross v_s against a capacity
+ *     still near C_s, (v_s^2 M^2 / ((C_s - C) Q'))^(1/3) under a load rising
+ *     at Q'; both vanish only if eps / v_s -> 0 and v_s -> 0, so no choice of
+ *     v_s is first order (v_s = sqrt(eps V): O(eps^(1/2)) and O(eps^(1/3)),
+ *     v_s proportional to eps: an O(1) deficit of the static limit). The
+ *     band has no such deficit (its force reaches C_s at |E u| = eps) and no
+ *     speed range with the static capacity beyond eps. The switch at |E u| =
+ *     eps is a jump of the right-hand side that the error control steps
+ *     across (it is crossed once per stick -> slip or slip -> stick: below
+ *     it the flow goes to the creep point, above it away from the band or
+ *     into it, never along it, as C < C_s). In a 1-DoF rotation scene the
+ *     band is eps / e_r in |thd|, as eps is. With C_s = C it is the one-
+ *     coefficient law above (its creep eps |w_h| / sqrt(C^2 - |w_h|^2)).
  *
  * Stops: every scene with every method. Planar scenes in the hybrid
  * (event, regularised) integrator carry a contact set of (stop, vertex) rows
@@ -239,7 +258,6 @@ typedef struct hyb {
     double M, cap, eps;
     double capk;       /* capacity per unit model_capacity: 1, or e_r for a 1-DoF rotation */
     double caps;       /* static capacity (force, or torque in a 1-DoF rotation), >= cap */
-    double vstr;       /* regularised: speed v_s at which the capacity falls from caps to cap */
     int err;           /* first failure inside a right-hand side */
     exdex_stats *st;
     double ss;         /* 1-DoF contact with a frictional stop: sign of the contact vertex's
@@ -275,14 +293,15 @@ static int frame_seg(hyb *H, double t, frame *f, exdex_kinematics *k)
     return model_frame_at(H->m, t, f, k);
 }
 
-/* Regularised capacity at slip speed sig (same units as eps): from the
- * static capacity at rest to the kinetic one at a few vstr (see above). */
-static double smooth_cap(const hyb *H, double sig)
+/* Regularised friction per unit slip at slip speed sig = |E u| (same
+ * units as eps): the wrench is -smooth_gain E^2 u (1-DoF: -smooth_gain v).
+ * One coefficient: C / sqrt(sig^2 + eps^2). Static and kinetic (caps >
+ * cap): the stick band C_s / eps for sig <= eps, Coulomb C / sig beyond
+ * (see the top). */
+static double smooth_gain(const hyb *H, double sig)
 {
-    double r;
-    if (H->caps == H->cap) return H->cap;
-    r = sig / H->vstr;
-    return H->cap + (H->caps - H->cap) * exp(-r * r);
+    if (H->caps == H->cap) return H->cap / sqrt(sig * sig + H->eps * H->eps);
+    return sig <= H->eps ? H->caps / H->eps : H->cap / sig;
 }
 
 /* Constraint acceleration of q along the row (F(q(t), t) = 0 held). */
@@ -318,7 +337,7 @@ static void contact_forces(const hyb *H, const crow *c, double T, double R, doub
 {
     double D = contact_dir(H, c, T);
     if (H->law == LAW_SMOOTH) {
-        *f = -smooth_cap(H, fabs(v)) * v / sqrt(v * v + H->eps * H->eps);
+        *f = H->caps == H->cap ? -H->cap * v / sqrt(v * v + H->eps * H->eps) : -smooth_gain(H, fabs(v)) * v;
         *lam = (R - *f) / D;
     } else if (H->s != 0.0) {
         *f = -H->s * H->cap;
@@ -537,8 +556,13 @@ static int planar_friction(hyb *H, const frame *f, const exdex_kinematics *kin, 
         for (int i = 0; i < 3; i++) eu[i] = m->e[i] * u[i];
         sig = sqrt(ex_dot3(eu, eu));
         if (H->law == LAW_SMOOTH) {
-            double den = sqrt(sig * sig + H->eps * H->eps), cs = smooth_cap(H, sig);
-            for (int i = 0; i < 3; i++) w[i] = -cs * m->e[i] * eu[i] / den;
+            if (H->caps == H->cap) {
+                double den = sqrt(sig * sig + H->eps * H->eps);
+                for (int i = 0; i < 3; i++) w[i] = -H->cap * m->e[i] * eu[i] / den;
+            } else {
+                double gn = smooth_gain(H, sig);
+                for (int i = 0; i < 3; i++) w[i] = -gn * m->e[i] * eu[i];
+            }
         } else if (sig > 0.0 && !H->small) {
             for (int i = 0; i < 3; i++) w[i] = -H->cap * m->e[i] * eu[i] / sig;
         } else {
@@ -637,7 +661,7 @@ static int rhs(double t, const double y[], double dy[], void *params)
         } else {
             double Q = model_force_1dof(m, &f, q, v), fr;
             if (H->law == LAW_SMOOTH)
-                fr = -smooth_cap(H, fabs(v)) * v / sqrt(v * v + H->eps * H->eps);
+                fr = H->caps == H->cap ? -H->cap * v / sqrt(v * v + H->eps * H->eps) : -smooth_gain(H, fabs(v)) * v;
             else
                 fr = -H->s * H->cap;
             dy[0] = v;
@@ -1427,10 +1451,6 @@ static int hybrid_begin(const exdex_model *m, ode *O, int law, double t_end, dou
         H.cap = m->capF * m->e[2];
         H.caps = m->capS * m->e[2];
     }
-    /* regularised: the speed at which the capacity falls from static to
-     * kinetic, in the units of eps */
-    H.vstr = sqrt(m->def.eps * m->scale.V);
-    if (m->ndof == 1 && m->def.dof == EXDEX_DOF_ROTATION) H.vstr /= m->e[2];
     O->sys.params = &H;
     nsw = switch_times(m, t_end, ts, O->gb);
     memset(y, 0, sizeof y);
