@@ -140,9 +140,6 @@ static int check_fields(const exdex_scene_def *d, const char **bad_param)
             fabs(sqrt(ex_dot3(d->stop_normal[k], d->stop_normal[k])) - 1.0) > 1e-9)
             return bad(bad_param, "stop_normal");
         if (!(isfinite(d->stop_mu[k]) && d->stop_mu[k] >= 0)) return bad(bad_param, "stop_mu");
-        if (d->stop_mu[k] > 0 && d->dof == EXDEX_DOF_PLANAR &&
-            (d->method == EXDEX_METHOD_EVENT || d->method == EXDEX_METHOD_REGULARISED))
-            return bad(bad_param, "stop_mu");
     }
     if (d->n_obstacles < 0 || d->n_obstacles > EXDEX_MAX_OBSTACLES) return bad(bad_param, "n_obstacles");
     for (int o = 0; o < d->n_obstacles; o++)
