@@ -338,3 +338,57 @@ def test_planar_bench_scene_at_loose_rtol_converges_to_tight_rtol():
         errs.append(float(np.max(np.abs(r.q[-1] - ref))))
     assert errs[0] < 1e-2 * np.max(np.abs(ref)), errs
     assert errs[1] < errs[0] / 2 and errs[2] < errs[1] / 2, errs
+
+
+def sweep_scene(dof, d_rel, w0=20.0, theta0=0.3):
+    """A 40 x 20 mm box (100 g) spinning at w0 about its centre of mass
+    (patch there, mu = 0, gravity along the plate normal: no in-plane load,
+    no friction) over a floor stop that cuts its corners' circle (radius R)
+    by d_rel R. Returns the scene and the closed-form first contact: a corner
+    at angle beta + theta (beta = atan2(+-ly/2, +-lx/2)) has height R sin(beta
+    + theta) above the centre; the floor is at -D, D = R (1 - d_rel), so a
+    corner turning counterclockwise reaches it at beta + theta = pi + alpha
+    (mod 2 pi), alpha = asin(D / R): theta* is the first such angle after
+    theta0 over the four corners, at t* = (theta* - theta0) / w0."""
+    lx, ly, m = 0.04, 0.02, 0.1
+    R = 0.5 * math.hypot(lx, ly)
+    D = R * (1.0 - d_rel)
+    sc = Scene(body=Body.box(m, (lx, ly, 0.01)), grasp=Grasp(mu=0.0, grip_force=1.0, patch=Patch.disc(0.005)),
+               dof=dof, q0=(0.0, 0.0, theta0), v0=(0.0, 0.0, w0), gravity=(0.0, -G, 0.0),
+               stops=(Stop(point=(0.0, 0.0, -D), normal=(0.0, 0.0, 1.0)),))
+    alpha = math.asin(D / R)
+    theta = min((math.pi + alpha - math.atan2(sy * ly / 2, sx * lx / 2) - theta0) % (2 * math.pi) + theta0
+                for sx in (1, -1) for sy in (1, -1))
+    return sc, theta, R, alpha, m * (lx * lx + ly * ly) / 12.0
+
+
+@pytest.mark.parametrize("d_rel", [1e-3, 1e-4])
+@pytest.mark.parametrize("dof", ["rotation", "planar"])
+def test_corner_sweeping_past_a_stop_that_cuts_its_path_a_little(dof, d_rel):
+    """A corner that enters a stop's half-space and would leave it again
+    within one step (the spin is uniform, so the steps are as long as the
+    output interval allows) still meets the stop where it first reaches it,
+    at every rtol and output grid (closed form, sweep_scene).
+    Rotation (pinned at the centre): the plastic impact stops the turn for
+    good (nothing loads it), final angle theta*. Planar: the plastic,
+    frictionless impact at the corner r = R (cos(pi + alpha), sin(pi +
+    alpha)) relative to the centre, row G = (0, 1, r_x) (d gap / d (x, y,
+    theta)), takes out the approach rate G v = w0 r_x < 0: impulse lam =
+    -w0 r_x / (1/m + r_x^2 / I), then vy = lam / m, w = w0 + r_x lam / I,
+    and the box flies free (rising, the next corners pass above the floor):
+    (0, vy (t_end - t*), theta* + w (t_end - t*))."""
+    w0, t_end = 20.0, 1.0
+    sc, theta, R, alpha, izz = sweep_scene(dof, d_rel, w0)
+    ts = (theta - 0.3) / w0
+    if dof == "rotation":
+        want = np.array([theta])
+    else:
+        rx = -R * math.cos(alpha)
+        lam = -w0 * rx / (1.0 / 0.1 + rx * rx / izz)
+        vy, w = lam / 0.1, w0 + rx * lam / izz
+        want = np.array([0.0, vy * (t_end - ts), theta + w * (t_end - ts)])
+    for rtol in (1e-6, 1e-9):
+        for n in (8, 64):
+            r = exdex.simulate(sc, t_end=t_end, dt=t_end / n, method="event", rtol=rtol, atol=rtol * 0.02)
+            assert r.stats["impacts"] >= 1 and r.stats["min_gap"] >= -1e-9 * R, (rtol, n, r.stats)
+            np.testing.assert_allclose(r.q[-1], want, rtol=1e-9, atol=1e-12 * R, err_msg=f"rtol {rtol}, dt t_end/{n}")

@@ -273,6 +273,52 @@ EXDEX_TEST(methods_event_rotation_stop_matches_implicit)
     sim_run_free(&b);
 }
 
+EXDEX_TEST(methods_event_corner_sweeping_past_a_stop)
+{
+    /* A 40 x 20 mm box pinned at its centre of mass (the patch centre), no
+     * friction (mu = 0), gravity along the plate normal (no in-plane load),
+     * spinning at w0 = 20 rad/s from theta0 = 0.3 over a floor stop (B y up)
+     * at -D, D = R (1 - d), R = |corner| = sqrt(0.02^2 + 0.01^2): the stop
+     * cuts the corners' circle by d R, d = 1e-4. A corner at angle beta +
+     * theta (beta = atan2(+-0.01, +-0.02)) is R sin(beta + theta) above the
+     * pivot and reaches the floor turning counterclockwise at beta + theta =
+     * pi + asin(D / R) (mod 2 pi); the first of the four corners to get
+     * there stops the turn for good (plastic impact, nothing loads it):
+     * final theta = theta*. The uniform spin lets the stepper take steps as
+     * long as the output interval: the corner is in the floor's half-space
+     * for 2 acos(D / R) / w0 = 1.4 ms only, inside one step. */
+    exdex_scene_def d = mvertical(0.1, 1.0, EXDEX_METHOD_EVENT);
+    double v[4][2] = {{-0.02, -0.01}, {0.02, -0.01}, {0.02, 0.01}, {-0.02, 0.01}};
+    double pi = acos(-1.0), R = hypot(0.02, 0.01), D = R * (1.0 - 1e-4), alpha = asin(D / R), want = INFINITY;
+    d.dof = EXDEX_DOF_ROTATION;
+    d.mu = 0.0;
+    d.grip_force = 1.0;
+    d.gravity[1] = -G;
+    d.gravity[2] = 0.0;
+    d.n_vertices = 4;
+    memcpy(d.vertices, v, sizeof v);
+    d.q0[2] = 0.3;
+    d.v0[2] = 20.0;
+    d.n_stops = 1;
+    d.stop_point[0][2] = -D;
+    d.stop_normal[0][2] = 1.0;
+    for (int j = 0; j < 4; j++) {
+        double th = fmod(pi + alpha - atan2(v[j][1], v[j][0]) - 0.3, 2.0 * pi);
+        if (th < 0.0) th += 2.0 * pi;
+        want = fmin(want, th + 0.3);
+    }
+    for (int k = 0; k < 2; k++) {
+        sim_run a;
+        d.rtol = k ? 1e-9 : 1e-6;
+        d.atol = 0.02 * d.rtol;
+        ENSURE(sim_run_def(&d, 1.0, 0.125, &a) == EXDEX_OK);
+        ENSURE(a.st.impacts >= 1);
+        ENSURE(a.st.min_gap >= -1e-9 * R);
+        ENSURE_CLOSE(qlast(&a, 0), want, 1e-9 * want);
+        sim_run_free(&a);
+    }
+}
+
 /* ------------------------------------------------------ stability claims */
 
 EXDEX_TEST(methods_stillness_map_event_implicit)
