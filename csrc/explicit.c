@@ -31,18 +31,29 @@
  * circulates in (-dt (C - Q)/M, dt (C + Q)/M] (Q > 0) and creeps on average
  * at dt Q / M.
  *
- * Static friction (mu_static > mu, capacities C_s > C): sign() has no stick
- * state, so the static coefficient can act only where u = 0 exactly (an
- * object that starts at rest, or is stopped by a stop, before it first
- * moves): there the plates hold the load while the wrench that holds it,
+ * Static friction (mu_static > mu, capacities C_s > C): the plates hold
+ * the object at rest (v+ = 0 exactly) while the wrench that holds it,
  * w_h = -(the applied force as a patch wrench), lies in the static
- * ellipsoid (v+ = 0 exactly), and else exert the kinetic wrench
- * C w_h / |E^-1 w_h| (1-DoF: -C sign(Q)): a breakaway at the static limit.
- * Once the object moves it never returns to u = 0 exactly (it chatters as
- * above, with the kinetic capacity), so it does not stick again. With
- * mu_static = mu the law is the sign() baseline above, friction 0 at
- * u = 0 (the chatter and its creep are O(dt), so the two agree as
- * dt -> 0). */
+ * ellipsoid, and else exert the kinetic wrench C w_h / |E^-1 w_h| (1-DoF:
+ * -C sign(Q)): a breakaway at the static limit. A slip returns to rest
+ * (re-stick) where the step stops it: with the kinetic friction of the
+ * step's start the slip u* = u(v*) predicted at the step's end reverses,
+ * (E u).(E u*) <= 0, or the mean friction that ends the step at rest,
+ * w_st = the patch wrench of -M v / h - F, lies in the kinetic ellipsoid
+ * (the step's kinetic friction impulse can stop it); there the slip reaches
+ * 0 within the step, and the object is held (v+ = 0, the plates' mean wrench
+ * w_st) iff w_h lies in the static ellipsoid, else the kinetic step v* is
+ * kept. Why: under a load constant over the step the exact (Coulomb) slip
+ * stops within the step iff the kinetic step reverses it (1-DoF: v v* <= 0,
+ * which contains the second test), and then sticks iff |Q| <= C_s, so the
+ * rule makes the event method's slip -> stick decision with the step-start
+ * load, an O(h) error in the stop time and O(h^2) in position per switch,
+ * and the scheme converges at first order. Without it a slip never returns
+ * to u = 0 exactly: it chatters as above with the kinetic capacity and
+ * slides under loads between C and C_s where the exact solution sticks (an
+ * O(1) error). With mu_static = mu the rule is off and the law is the
+ * sign() baseline above, friction 0 at u = 0 (the chatter and its creep
+ * are O(dt), so the two agree as dt -> 0). */
 #include "exdex.h"
 #include "contact.h"
 #include "fcontact.h"
@@ -61,12 +72,15 @@
  * mode enumeration. Applied when a frictional row carries an impulse in
  * the frictionless projection (else that projection is a solution of the
  * frictional problem too); rows (G, b, stop) as the caller built them at
- * t + h, with q the coordinates of the step's start. Where no consistent
- * mode exists the frictionless projection is kept and a warning counted.
- * Returns 1 if v and lam were replaced. */
+ * t + h, with q the coordinates of the step's start: the stop rows r = k
+ * nv + j first, then the obstacles' rows, each acting at cp[r - n_stops nv]
+ * (contact_obstacle_rows; cp may be NULL without obstacle rows). Where no
+ * consistent mode exists the frictionless projection is kept and a warning
+ * counted. Returns 1 if v and lam were replaced. */
 static int explicit_stop_friction(const exdex_model *m, const exdex_kinematics *kin_end, const double *q, int nr,
                                   const double (*Gr)[3], const double *b, const double *gap, const int *stop,
-                                  const double vs[3], double *v, double *lam, exdex_stats *st)
+                                  const contact_point *cp, const double vs[3], double *v, double *lam,
+                                  exdex_stats *st)
 {
     fc_row rows[MAX_ROWS];
     fc_problem p;
@@ -82,12 +96,19 @@ static int explicit_stop_friction(const exdex_model *m, const exdex_kinematics *
         fc_row *r = &rows[i];
         int j = i % nv;
         for (int c = 0; c < 3; c++) r->G[c] = c < n ? Gr[i][c] : 0.0;
-        /* stop rows are r = k nv + j; a row of another source without
-         * tangent data stays frictionless */
-        r->mu = i < m->n_stops * nv ? model_source_mu(m, stop[i]) : 0.0;
+        /* stop rows are r = k nv + j; an obstacle's row without its point
+         * (cp NULL) stays frictionless */
+        r->mu = i < m->n_stops * nv || cp ? model_source_mu(m, stop[i]) : 0.0;
         r->T[0] = r->T[1] = r->T[2] = 0.0;
         r->tb = 0.0;
-        if (r->mu > 0.0) contact_stop_tangent(m, kin_end, stop[i], xb[j], vx[j], r->T, &r->tb);
+        if (r->mu > 0.0) {
+            if (i < m->n_stops * nv) {
+                contact_stop_tangent(m, kin_end, stop[i], xb[j], vx[j], r->T, &r->tb);
+            } else {
+                const contact_point *c = &cp[i - m->n_stops * nv];
+                contact_tangent(m, kin_end, c->x, c->vx, c->nB, r->T, &r->tb);
+            }
+        }
         r->rhs = b[i];
         r->rest = b[i] > m->tol.rate ? -1 : gap[i] <= m->tol.touch && b[i] >= -m->tol.rate ? 1 : 0;
         hint[i] = lam[i] > 0.0;
@@ -168,6 +189,14 @@ static int explicit_advance(const exdex_model *m, void *ws, double t1, int regri
                 double capsm = model_capacity_static_mean(m, t, t1), Cs = tr ? capsm : capsm * m->e[2];
                 held = fabs(Q) <= Cs;
                 fr = held ? -Q : Q > 0.0 ? -C : C;
+            } else if (m->capks != m->capk && v[0] * (v[0] + h * (Q + fr) / M) <= 0.0) {
+                /* re-stick: the kinetic step reverses the slip, so it stops
+                 * within the step; held iff the static capacity holds Q */
+                double capsm = model_capacity_static_mean(m, t, t1), Cs = tr ? capsm : capsm * m->e[2];
+                if (fabs(Q) <= Cs) {
+                    held = 1;
+                    fr = -M * v[0] / h - Q;   /* the step's mean friction: v+ = 0 */
+                }
             }
             vn = held ? 0.0 : v[0] + h * (Q + fr) / M;  /* held: exactly at rest */
             /* stop rows at t + h: Fq v+ >= -gap(q, t + h) / h */
@@ -221,10 +250,12 @@ static int explicit_advance(const exdex_model *m, void *ws, double t1, int regri
                 double fq = vn < lo ? fqlo : fqhi;
                 if (kb >= 0) lamsum[kb] = M * (vc - vn) / fq;
                 if (kb >= 0 && m->stop_friction && model_source_mu(m, kb) > 0.0) {
-                    /* the frictional rows: every (stop, vertex) row, as above */
+                    /* the frictional rows: every (stop, vertex) row, then
+                     * the obstacles' rows, as above */
                     double Gr[MAX_ROWS][3], b[MAX_ROWS] = {0}, gp[MAX_ROWS] = {0}, lam[MAX_ROWS], vv[3] = {vc, 0, 0};
                     double vs3[3] = {vn, 0, 0};
-                    int stop[MAX_ROWS] = {0}, nr = 0;
+                    contact_point cpo[MAX_ROWS];
+                    int stop[MAX_ROWS] = {0}, nr = 0, bound = 0;
                     for (int k = 0; k < ns; k++)
                         for (int j = 0; j < nv; j++) {
                             crow c;
@@ -234,12 +265,28 @@ static int explicit_advance(const exdex_model *m, void *ws, double t1, int regri
                             b[nr] = -c.F / h;
                             gp[nr] = c.F;
                             lam[nr] = k == kb && j == jb ? lamsum[kb] : 0.0;
+                            bound |= k == kb && j == jb;
                             stop[nr++] = k;
                         }
-                    if (explicit_stop_friction(m, &kin_end, q, nr, (const double (*)[3])Gr, b, gp, stop, vs3, vv,
-                                               lam, st)) {
+                    if (m->n_obst) {
+                        double ro[MAX_ROWS];
+                        int i0 = nr;
+                        nr += contact_obstacle_rows(m, &kin_end, q, Gr + i0, gp + i0, ro, stop + i0, cpo);
+                        for (int r = i0; r < nr; r++) {
+                            /* the clamping row: the first of its obstacle with that bound */
+                            int clamp = !bound && stop[r] == kb && fabs(Gr[r][0]) > m->tol.fq_min &&
+                                        Gr[r][0] == (vn < lo ? fqlo : fqhi) && -gp[r] / h / Gr[r][0] == (vn < lo ? lo : hi);
+                            if (!(fabs(Gr[r][0]) > m->tol.fq_min)) Gr[r][0] = 0.0;
+                            Gr[r][1] = Gr[r][2] = 0.0;
+                            b[r] = -gp[r] / h;
+                            lam[r] = clamp ? lamsum[kb] : 0.0;
+                            bound |= clamp;
+                        }
+                    }
+                    if (explicit_stop_friction(m, &kin_end, q, nr, (const double (*)[3])Gr, b, gp, stop,
+                                               m->n_obst ? cpo : NULL, vs3, vv, lam, st)) {
                         vc = vv[0];
-                        for (int k = 0; k < ns; k++) lamsum[k] = 0.0;
+                        for (int k = 0; k < m->n_src; k++) lamsum[k] = 0.0;
                         for (int r = 0; r < nr; r++) lamsum[stop[r]] += lam[r];
                     }
                 }
@@ -262,7 +309,27 @@ static int explicit_advance(const exdex_model *m, void *ws, double t1, int regri
             sig = sqrt(ex_dot3(eu, eu));
             int held = 0;
             if (sig > 0.0) {
-                for (int c = 0; c < 3; c++) w[c] = -model_capacity_mean(m, t, t1) * m->e[c] * eu[c] / sig;
+                double capm = model_capacity_mean(m, t, t1);
+                for (int c = 0; c < 3; c++) w[c] = -capm * m->e[c] * eu[c] / sig;
+                if (m->capks != m->capk) {
+                    /* re-stick (see the top): the kinetic step reverses the
+                     * slip, or its friction can stop it within the step */
+                    double vk[3], uk[3], rev = 0.0, Pst[3], wst[3];
+                    model_gen_of_patch(m, MODEL_CS(q[2]), w, P);
+                    for (int c = 0; c < 3; c++) {
+                        vk[c] = v[c] + h * m->minv[c] * (F[c] + P[c]);
+                        Pst[c] = -v[c] / (h * m->minv[c]) - F[c];
+                    }
+                    model_patch_slip(m, MODEL_CS(q[2]), vk, uk);
+                    for (int c = 0; c < 3; c++) rev += eu[c] * m->e[c] * uk[c];
+                    model_patch_of_gen(m, MODEL_CS(q[2]), Pst, wst);
+                    if (rev <= 0.0 || model_ell_norm(m, wst) <= capm) {
+                        double mF[3] = {-F[0], -F[1], -F[2]}, wh[3];
+                        model_patch_of_gen(m, MODEL_CS(q[2]), mF, wh);
+                        held = model_ell_norm(m, wh) <= model_capacity_static_mean(m, t, t1);
+                        if (held) memcpy(w, wst, sizeof w);
+                    }
+                }
             } else if (m->capks != m->capk) {
                 /* at rest: the static capacity holds, else kinetic breakaway */
                 double mF[3] = {-F[0], -F[1], -F[2]}, nh;
@@ -280,16 +347,18 @@ static int explicit_advance(const exdex_model *m, void *ws, double t1, int regri
                  * M-metric projection of v* (ldp_project); the obstacles'
                  * rows after the stops' */
                 double Gr[MAX_ROWS][3], gap[MAX_ROWS], b[MAX_ROWS], lam[MAX_ROWS], vs[3];
+                contact_point cpo[MAX_ROWS];
                 int stop[MAX_ROWS], nr = contact_rows(m, &kin_end, q, Gr, gap, stop);
                 if (m->n_obst) {
                     double ro[MAX_ROWS];
-                    nr += contact_obstacle_rows(m, &kin_end, q, Gr + nr, gap + nr, ro, stop + nr, NULL);
+                    nr += contact_obstacle_rows(m, &kin_end, q, Gr + nr, gap + nr, ro, stop + nr, cpo);
                 }
                 for (int r = 0; r < nr; r++) b[r] = -gap[r] / h;
                 memcpy(vs, v, sizeof vs);
                 if (ldp_project(m->minv, nr, (const double (*)[3])Gr, b, vs, FQ_MIN, v, lam, &st->stop_iterations, &st->warnings)) {
                     if (m->stop_friction)
-                        explicit_stop_friction(m, &kin_end, q, nr, (const double (*)[3])Gr, b, gap, stop, vs, v, lam, st);
+                        explicit_stop_friction(m, &kin_end, q, nr, (const double (*)[3])Gr, b, gap, stop,
+                                               m->n_obst ? cpo : NULL, vs, v, lam, st);
                     for (int r = 0; r < nr; r++) lamsum[stop[r]] += lam[r];
                 }
             }

@@ -27,6 +27,11 @@
  *                     the stop force; in contact also the gaps of the
  *                     contact stop's other vertices (a turning gripper or
  *                     object hands the contact over to another corner).
+ *                     A gap that dips below 0 and recovers within one
+ *                     step (a corner grazing a stop), and at rest any
+ *                     guard that does (a load leaving the friction limit
+ *                     for a moment), is found from its rates at the
+ *                     step's ends (gap_dips).
  *   Planar slip (|E u| compared with zsw = SLIP_FLOOR V, V the scene's
  *   velocity scale: below it the sliding law is stiff: its
  *   direction relaxes at the rate C |K| / |E u| <~ A / |E u| (A = V / T the
@@ -75,14 +80,16 @@
  *   then rising over the step: its minimum is searched, golden section on
  *   the one-step map), a guard violated at the step start that first
  *   recovers (a corner lifted off a stop falling back: its maximum is
- *   searched, and the crossing after it located), and a free (stop,
- *   vertex) row whose gap dips below the stop and out again (a corner of a
- *   turning object sweeping past a stop that cuts its path a little: its
- *   gap positive at both step ends, its rate turning from approach to
- *   recession; the minimum is searched where the cubic Hermite
- *   interpolant of the end values and rates comes within its own depth of
- *   the stop, and a minimum below -tol.touch is an impact, located, see
- *   row_dip). The
+ *   searched, and the crossing after it located), and the stick guard of a
+ *   rest, whose steps are long (the state is constant; only the force
+ *   integrals and the output grid bound them): a load that leaves the
+ *   ellipsoid and comes back within one step (its minimum is searched,
+ *   stick_guard_min), so whether a short slip happens does not depend on
+ *   where steps end. In a 1-DoF scene a stop's gap guard is the least gap
+ *   over the outline, whose end rates need not show one corner's dip (a
+ *   corner of a turning object sweeping past a stop that cuts its path a
+ *   little while another corner is the nearest at both step ends): each
+ *   free (stop, vertex) row is checked too (row_dip). The
  *   motion's own switching times (Eq. 7, trapezoid kinks, end of a sampled
  *   motion) and the breakpoints of a grip schedule are stepped onto, never
  *   over, and velocity jumps of the gripper
@@ -106,20 +113,39 @@
  *     (planar, growing from rest) stops when its load falls back inside the
  *     kinetic ellipsoid, where the slip decelerates; the decision there
  *     sticks (the load is inside the static one too).
- *   regularised: the capacity falls smoothly with the slip speed from the
- *     static to the kinetic value,
- *         w = -C(|E u|) E^2 u / sqrt(|E u|^2 + eps^2),
- *         C(s) = C + (C_s - C) exp(-(s / v_s)^2),   v_s = sqrt(eps V),
- *     V the scene's velocity scale (model_scales): v_s >> eps, so a creeping
- *     object (|E u| ~ eps) meets C_s (the largest load it carries before it
- *     accelerates away is below C_s by at most sqrt(2 (C_s - C) C_s) eps /
- *     v_s), and a slip faster than a few v_s meets C. Past the static
- *     limit the slip must first reach v_s against a capacity still near
- *     C_s: under a load rising at Q' that takes about tau = (v_s^2 M^2 /
- *     ((C_s - C) Q'))^(1/3), and the slip lags the exact one by a speed of
- *     about (C_s - C) tau / M. Both errors vanish as eps -> 0 (v_s and tau
- *     with it). In a 1-DoF rotation scene s and v_s are divided by e_r as
- *     eps is. With C_s = C it is the law above.
+ *   regularised: a stick band of slip speeds |E u| <= eps, viscous up to
+ *     the static capacity, and Coulomb against the kinetic one beyond,
+ *         w = -C_s E^2 u / eps     (|E u| <= eps),
+ *         w = -C E^2 u / |E u|     (|E u| > eps).
+ *     First order in eps: a load w_h inside the static ellipsoid is held at
+ *     the creep E u = eps E^-1 w_h / C_s (|E u| < eps: a drift of at most
+ *     eps per unit time, reached after the band's relaxation time M eps /
+ *     C_s); a load leaving it (|E^-1 w_h| > C_s) pushes the slip out of the
+ *     band, where the kinetic law is exact, so the slip starts at |E u| =
+ *     eps, at most a relaxation time after the exact breakaway, instead of
+ *     0: its speed differs from the exact one by at most eps (eps C / C_s
+ *     under a slowly rising load, as the exact slip has gained (C_s - C) /
+ *     M times the relaxation time by then), and s by eps times the slip's
+ *     duration; a slip that decelerates enters the band and is
+ *     caught there at its creep speed (the viscous rate C_s / (M eps) is
+ *     that of the one-coefficient law, as stiff and no stiffer). Why a band
+ *     that reaches C_s: a smooth capacity falling from C_s to C over a speed
+ *     v_s (a Stribeck curve C + (C_s - C) exp(-(|E u| / v_s)^2) under the
+ *     one-coefficient regularisation) holds at most C_s (1 - O(eps / v_s))
+ *     before it accelerates away, and past the static limit the slip lags
+ *     the exact one by the time it takes to cross v_s against a capacity
+ *     still near C_s, (v_s^2 M^2 / ((C_s - C) Q'))^(1/3) under a load rising
+ *     at Q'; both vanish only if eps / v_s -> 0 and v_s -> 0, so no choice of
+ *     v_s is first order (v_s = sqrt(eps V): O(eps^(1/2)) and O(eps^(1/3)),
+ *     v_s proportional to eps: an O(1) deficit of the static limit). The
+ *     band has no such deficit (its force reaches C_s at |E u| = eps) and no
+ *     speed range with the static capacity beyond eps. The switch at |E u| =
+ *     eps is a jump of the right-hand side that the error control steps
+ *     across (it is crossed once per stick -> slip or slip -> stick: below
+ *     it the flow goes to the creep point, above it away from the band or
+ *     into it, never along it, as C < C_s). In a 1-DoF rotation scene the
+ *     band is eps / e_r in |thd|, as eps is. With C_s = C it is the one-
+ *     coefficient law above (its creep eps |w_h| / sqrt(C^2 - |w_h|^2)).
  *
  * Stops: every scene with every method. Planar scenes in the hybrid
  * (event, regularised) integrator carry a contact set of (stop, vertex) rows
@@ -148,7 +174,11 @@
  *     combination over the stop forces lam >= 0, ldp_min_combination, as the
  *     implicit method) has |E^-1 w| <= mu N
  *     (1 + TOLF); the rest ends when that fails or a set row's gap leaves
- *     +-tol.rest_gap (stops moving in B).
+ *     +-tol.rest_gap (stops moving in B). During the rest q is held
+ *     exactly (no projection after its steps, which would move it by the
+ *     stops' travel over each step and make the rest's end depend on where
+ *     steps end); the samples and the smallest gap report it pushed out of
+ *     the stops (reported_pose), as the decision at the rest's end does.
  *
  * Frictional stops (stop_mu > 0), 1-DoF scenes: in contact the vertex
  *   slips along its stop at s = T qd + tb (contact_tangent), and the stop's
@@ -162,8 +192,10 @@
  *   the contact is taken frictionless there and a warning counted (the
  *   implicit method, at the velocity level, reports the same jam). Impacts
  *   stay frictionless (their normal impulse is counted as without
- *   friction). Planar scenes: not supported (model_alloc rejects stop_mu >
- *   0 with these methods).
+ *   friction). Planar scenes: a friction mode per stop (stick, slide +-),
+ *   exact at the acceleration level, in both methods (the regularised one
+ *   smooths the plate friction only): see "planar frictional stops" below
+ *   (sf_*, sfric.h).
  *
  * Penetration: event and regularised keep every stop to rounding and event
  *   location (|gap rate| tol.root; planar decisions also project positions
@@ -202,6 +234,7 @@
 #include "ldp.h"
 #include "method.h"
 #include "model.h"
+#include "sfric.h"
 #include "util.h"
 
 #include <float.h>
@@ -218,7 +251,7 @@
 #define H_FLOOR_ULPS 16.0 /* a suggested step below this many ulps of t is a collapse: EXDEX_ENOCONV */
 #define BRENT_MAX 200     /* Brent iterations per located event */
 #define NY_MAX (9 + EXDEX_MAX_STOPS)
-#define NG_MAX (2 + MAX_ROWS)  /* guards */
+#define NG_MAX (3 + MAX_ROWS + EXDEX_MAX_STOPS)  /* guards (planar: 2 friction, the rows, stop friction) */
 #define SLIP_FLOOR 1e-6  /* planar slip: below SLIP_FLOOR V of |E u| the slip is "small" (see the header comment) */
 #define SLIP_UP 2.0      /* a small slip becomes a slip at SLIP_UP zsw (hysteresis against zsw) */
 #define SLIP_PUSH 4.0    /* a stop pushing a stopped planar slip on below SLIP_PUSH zsw: a rest instead */
@@ -246,11 +279,13 @@ typedef struct hyb {
     double M, cap, eps;
     double capk;       /* capacity per unit model_capacity: 1, or e_r for a 1-DoF rotation */
     double caps;       /* static capacity (force, or torque in a 1-DoF rotation), >= cap */
-    double vstr;       /* regularised: speed v_s at which the capacity falls from caps to cap */
     int err;           /* first failure inside a right-hand side */
     exdex_stats *st;
     double ss;         /* 1-DoF contact with a frictional stop: sign of the contact vertex's
                           slip along the stop (its Coulomb force opposes it); 0: none */
+    int gap0, gap1;    /* guards() entries [gap0, gap1): free gaps, functions of (t, q) only */
+    int sfric;         /* planar with a frictional stop: the stop friction below (sf_*) */
+    int fm[EXDEX_MAX_STOPS];  /* planar: friction mode of each stop with contact-set rows (SF_*) */
 } hyb;
 
 /* ---------------------------------------------------------- shared terms */
@@ -282,14 +317,15 @@ static int frame_seg(hyb *H, double t, frame *f, exdex_kinematics *k)
     return model_frame_at(H->m, t, f, k);
 }
 
-/* Regularised capacity at slip speed sig (same units as eps): from the
- * static capacity at rest to the kinetic one at a few vstr (see above). */
-static double smooth_cap(const hyb *H, double sig)
+/* Regularised friction per unit slip at slip speed sig = |E u| (same
+ * units as eps): the wrench is -smooth_gain E^2 u (1-DoF: -smooth_gain v).
+ * One coefficient: C / sqrt(sig^2 + eps^2). Static and kinetic (caps >
+ * cap): the stick band C_s / eps for sig <= eps, Coulomb C / sig beyond
+ * (see the top). */
+static double smooth_gain(const hyb *H, double sig)
 {
-    double r;
-    if (H->caps == H->cap) return H->cap;
-    r = sig / H->vstr;
-    return H->cap + (H->caps - H->cap) * exp(-r * r);
+    if (H->caps == H->cap) return H->cap / sqrt(sig * sig + H->eps * H->eps);
+    return sig <= H->eps ? H->caps / H->eps : H->cap / sig;
 }
 
 /* Constraint acceleration of q along the row (F(q(t), t) = 0 held). */
@@ -325,7 +361,7 @@ static void contact_forces(const hyb *H, const crow *c, double T, double R, doub
 {
     double D = contact_dir(H, c, T);
     if (H->law == LAW_SMOOTH) {
-        *f = -smooth_cap(H, fabs(v)) * v / sqrt(v * v + H->eps * H->eps);
+        *f = H->caps == H->cap ? -H->cap * v / sqrt(v * v + H->eps * H->eps) : -smooth_gain(H, fabs(v)) * v;
         *lam = (R - *f) / D;
     } else if (H->s != 0.0) {
         *f = -H->s * H->cap;
@@ -336,6 +372,168 @@ static void contact_forces(const hyb *H, const crow *c, double T, double R, doub
         *lam = l > 0.0 ? l : 0.0;
         *f = R - *lam * D;
     }
+}
+
+/* ------------------------------------------------ planar frictional stops
+ * Coulomb friction between a stop with stop_mu > 0 and the outline
+ * vertices of a planar object touching it, exact (not regularised, also in
+ * the regularised method, which smooths the plate friction only): the
+ * acceleration-level problem of sfric.h on the contact-set rows. Each stop
+ * with contact-set rows has a friction mode H->fm (one per stop: its
+ * touching vertices lie on its line and slip together): sliding with the
+ * sign of its slip s (along the tangent of contact_slip_planar) or
+ * sticking. The modes are decided at every decision (decide: sf_decide)
+ * and held between decisions, where their guards (sf_guards) say when they
+ * end: a sliding stop's slip reaching 0 (sigma s), a sticking stop's force
+ * reaching its cone (mu sum lam (1 + SF_BAND) - |beta|). A slip with |s| <=
+ * zsw is decided as rolling (stick or slide, the acceleration-level mode
+ * enumeration: a slip located at its reversal is within rounding of 0
+ * there), and a sticking stop's slip is projected to 0 at the decision and
+ * after every step (sf_project_stick), like the gap of a contact row.
+ * Normal forces and separations stay as without friction (the contact set,
+ * its separation guards); impacts stay frictionless (a plastic normal
+ * impact, as for the 1-DoF scenes).
+ * At rest (stick) the least-friction split of planar_rest takes each
+ * stop's force in its friction cone, {lam (G + mu c T) : -1 <= c <= 1},
+ * generated by G + mu T and G - mu T (ldp_min_combination over the
+ * generators), while the stop's slip past the resting object |tb| <= zsw;
+ * a stop moving past it faster slides: G - mu sign(tb) T. That choice is
+ * the stop's mode, decided with the rest and held through it (the rest's
+ * load is then smooth in time), its guards |tb| leaving or entering the
+ * band. A stop whose mode is not decided (inside a decision) is classified
+ * by its tb as it stands.
+ * Painleve: where no mode of the acceleration-level problem is consistent
+ * (a sliding stop whose friction turns the normal force's effect around:
+ * a jam, or a problem with more rows than sfric.h enumerates), the stops
+ * of the contact set are taken frictionless until the next decision, and a
+ * warning is counted, as for a 1-DoF jam; the loss of consistency is a
+ * located guard (+1 / -1). The velocity-level (impulse) solution would
+ * exist there (fcontact.h), but it is a jump of the velocity that the
+ * acceleration-level machine would have to apply as an impact at a time it
+ * cannot locate from a smooth guard; the implicit method, which is that
+ * velocity-level step, reports the same scenes with its own warning. */
+
+#define SF_TOL 1e-10  /* sign slack of the mode checks: x the scene's acceleration V / T and force F */
+
+/* The contact-set rows at (kin, y) as sfric.h's problem; has[k]: stop k
+ * has set rows, s[k], tb[k] its slip and the slip at v = 0 (its first set
+ * row's vertex). A stop in SF_ROLL with |s| > zsw is given the slide of
+ * its sign. Returns the row count, or -1 when it exceeds SF_MAX_ROWS (rows
+ * then hold only the first SF_MAX_ROWS; has, s, tb are complete). */
+static int sf_build(hyb *H, const exdex_kinematics *kin, const double *y, sf_row *rows, sf_stop *st, double *s,
+                    double *tb, int *has)
+{
+    const exdex_model *m = H->m;
+    for (int k = 0; k < H->ns; k++) {
+        has[k] = 0;
+        s[k] = tb[k] = 0.0;
+        st[k].mu = model_source_mu(m, k);
+        st[k].fm = H->fm[k];
+        st[k].sdd0 = 0.0;
+        st[k].T[0] = st[k].T[1] = st[k].T[2] = 0.0;
+    }
+    for (int i = 0; i < H->ncs; i++) {
+        int r = H->cs[i], k = r / H->nv, j = r % H->nv;
+        if (i < SF_MAX_ROWS) {
+            contact_row_planar(m, kin, k, j, y, y + 3, rows[i].G, NULL, &rows[i].gdd0);
+            rows[i].stop = k;
+        }
+        if (has[k]) continue;
+        has[k] = 1;
+        s[k] = contact_slip_planar(m, kin, k, j, y, y + 3, st[k].T, &tb[k], &st[k].sdd0);
+        if (st[k].fm == SF_ROLL && fabs(s[k]) > H->zsw) st[k].fm = s[k] > 0.0 ? SF_SLIDE_P : SF_SLIDE_M;
+    }
+    return H->ncs > SF_MAX_ROWS ? -1 : H->ncs;
+}
+
+/* The stops' problem solved at (kin, y) with the acceleration a without
+ * stops (sf_solve); res (may be NULL) gets the solution. Returns 0 when no
+ * mode is consistent (then nothing is written but res). */
+static int sf_solve_at(hyb *H, const exdex_kinematics *kin, const double *y, const double a[3], sf_result *res)
+{
+    sf_row rows[SF_MAX_ROWS];
+    sf_stop st[EXDEX_MAX_STOPS];
+    double s[EXDEX_MAX_STOPS], tb[EXDEX_MAX_STOPS];
+    int has[EXDEX_MAX_STOPS], ok;
+    const model_scales *sc = &H->m->scale;
+    if (sf_build(H, kin, y, rows, st, s, tb, has) < 0) return 0;
+    ok = sf_solve(H->ncs, rows, H->ns, st, H->m->minv, a, SF_TOL * sc->V / sc->T, SF_TOL * sc->F, res);
+    H->st->stop_iterations += (size_t)res->tried;
+    return ok;
+}
+
+/* contact_acc_planar with frictional stops: 1 with qdd, lam, acc as it
+ * defines them, 0 when no mode is consistent (the caller then takes the
+ * stops frictionless). */
+static int sf_acc(hyb *H, const exdex_kinematics *kin, const double *y, const double afree[3], double qdd[3],
+                  double *lam, double *acc)
+{
+    sf_result res;
+    if (!sf_solve_at(H, kin, y, afree, &res)) return 0;
+    memcpy(qdd, res.qdd, sizeof res.qdd);
+    for (int i = 0; i < H->ncs; i++) {
+        lam[i] = res.lam[i];
+        if (acc) acc[i] = res.acc[i];
+    }
+    return 1;
+}
+
+/* planar_rest with frictional stops (the same contract): the least plate
+ * friction over the stop forces in their cones (above). Returns -1 when
+ * the generators exceed ldp_min_combination's rows (planar_rest then
+ * takes the stops frictionless). */
+static double sf_rest(hyb *H, const exdex_kinematics *kin, const double *y, const double F[3], double w[3],
+                      double *lam)
+{
+    const exdex_model *m = H->m;
+    double D[LDP_MAX_ROWS][3], B[LDP_MAX_ROWS][3], c[LDP_MAX_ROWS], a[3], mF[3], P[3];
+    double T[EXDEX_MAX_STOPS][3], tb[EXDEX_MAX_STOPS];
+    int own[LDP_MAX_ROWS], has[EXDEX_MAX_STOPS] = {0}, ng = 0, it = 0;
+    if (2 * H->ncs > LDP_MAX_ROWS) return -1.0;
+    for (int i = 0; i < H->ncs; i++) {
+        int r = H->cs[i], k = r / H->nv, j = r % H->nv, fm;
+        double G[3], mu = model_source_mu(m, k);
+        contact_row_planar(m, kin, k, j, y, y + 3, G, NULL, NULL);
+        if (mu > 0.0 && !has[k]) {
+            contact_slip_planar(m, kin, k, j, y, y + 3, T[k], &tb[k], NULL);
+            has[k] = 1;
+        }
+        fm = H->fm[k] == SF_ROLL ? (fabs(tb[k]) <= H->zsw ? SF_STICK : tb[k] > 0.0 ? SF_SLIDE_P : SF_SLIDE_M)
+                                 : H->fm[k];
+        if (!(mu > 0.0) || fm == SF_NONE) {
+            memcpy(D[ng], G, sizeof G);
+            own[ng++] = i;
+        } else if (fm == SF_STICK) {
+            for (int c2 = 0; c2 < 3; c2++) {
+                D[ng][c2] = G[c2] + mu * T[k][c2];
+                D[ng + 1][c2] = G[c2] - mu * T[k][c2];
+            }
+            own[ng++] = i;
+            own[ng++] = i;
+        } else {
+            double sg = fm == SF_SLIDE_P ? 1.0 : -1.0;
+            for (int c2 = 0; c2 < 3; c2++) D[ng][c2] = G[c2] - mu * sg * T[k][c2];
+            own[ng++] = i;
+        }
+    }
+    for (int c2 = 0; c2 < 3; c2++) mF[c2] = -F[c2];
+    model_patch_of_gen(m, MODEL_CS(y[2]), mF, a);
+    for (int c2 = 0; c2 < 3; c2++) a[c2] /= m->e[c2];
+    for (int g = 0; g < ng; g++) {
+        double mD[3] = {-D[g][0], -D[g][1], -D[g][2]};
+        model_patch_of_gen(m, MODEL_CS(y[2]), mD, B[g]);
+        for (int c2 = 0; c2 < 3; c2++) B[g][c2] /= m->e[c2];
+    }
+    ldp_min_combination(ng, a, (const double (*)[3])B, c, &it);
+    H->st->stop_iterations += (size_t)it;
+    for (int i = 0; i < H->ncs; i++) lam[i] = 0.0;
+    for (int c2 = 0; c2 < 3; c2++) P[c2] = -F[c2];
+    for (int g = 0; g < ng; g++) {
+        lam[own[g]] += c[g];
+        for (int c2 = 0; c2 < 3; c2++) P[c2] -= c[g] * D[g][c2];
+    }
+    model_patch_of_gen(m, MODEL_CS(y[2]), P, w);
+    return model_ell_norm(m, w);
 }
 
 /* Accelerations in planar contact: qdd = M^-1 (F + P + G_A^T lam), lam >= 0
@@ -349,6 +547,7 @@ static void contact_acc_planar(hyb *H, const exdex_kinematics *kin, const double
                                double qdd[3], double *lam, double *acc)
 {
     double Gr[MAX_ROWS][3], b[MAX_ROWS];
+    if (H->sfric && sf_acc(H, kin, y, afree, qdd, lam, acc)) return;
     b[0] = 0.0;
     for (int i = 0; i < H->ncs; i++) {
         int r = H->cs[i];
@@ -472,6 +671,24 @@ static void planar_unpenetrate(hyb *H, const exdex_kinematics *kin, double *y)
         for (int c = 0; c < 3; c++) y[c] += dq[c];
 }
 
+/* The pose reported at (t, y) (an output sample, the smallest gap): a
+ * planar rest holds q exactly, also while a stop moving in B closes in on
+ * it (up to tol.rest_gap, where the rest ends); reported is the held pose
+ * pushed out of the stops (planar_unpenetrate, the projection the decision
+ * at the rest's end makes), a function of q and t alone. Projecting the
+ * held q itself after every step would move it by the stop's travel over
+ * each step: the rest's end, and the answer, would depend on where steps
+ * end (the output grid among them). Any other mode: y as it is. */
+static const double *reported_pose(hyb *H, double t, const double *y, double *buf)
+{
+    frame f;
+    exdex_kinematics kin;
+    if (H->ndof != 3 || !H->ns || H->law != LAW_COULOMB || H->mode != MODE_STICK) return y;
+    memcpy(buf, y, (size_t)H->ny * sizeof *y);
+    if (!frame_seg(H, t, &f, &kin)) planar_unpenetrate(H, &kin, buf);
+    return buf;
+}
+
 /* Rest against the contact-set rows (event method, stick): can the object
  * stay at rest with stop forces lam >= 0 and a plate wrench inside the
  * ellipsoid? The wrench needed is w(lam) = patch(-(F + G^T lam)); minimise
@@ -484,6 +701,10 @@ static double planar_rest(hyb *H, const exdex_kinematics *kin, const double *y, 
     const exdex_model *m = H->m;
     double B[MAX_ROWS][3], a[3], mF[3], P[3];
     int it = 0;
+    if (H->sfric) {
+        double r = sf_rest(H, kin, y, F, w, lam);
+        if (r >= 0.0) return r;
+    }
     for (int c = 0; c < 3; c++) mF[c] = -F[c];
     model_patch_of_gen(m, MODEL_CS(y[2]), mF, a);
     for (int c = 0; c < 3; c++) a[c] /= m->e[c];
@@ -544,8 +765,13 @@ static int planar_friction(hyb *H, const frame *f, const exdex_kinematics *kin, 
         for (int i = 0; i < 3; i++) eu[i] = m->e[i] * u[i];
         sig = sqrt(ex_dot3(eu, eu));
         if (H->law == LAW_SMOOTH) {
-            double den = sqrt(sig * sig + H->eps * H->eps), cs = smooth_cap(H, sig);
-            for (int i = 0; i < 3; i++) w[i] = -cs * m->e[i] * eu[i] / den;
+            if (H->caps == H->cap) {
+                double den = sqrt(sig * sig + H->eps * H->eps);
+                for (int i = 0; i < 3; i++) w[i] = -H->cap * m->e[i] * eu[i] / den;
+            } else {
+                double gn = smooth_gain(H, sig);
+                for (int i = 0; i < 3; i++) w[i] = -gn * m->e[i] * eu[i];
+            }
         } else if (sig > 0.0 && !H->small) {
             for (int i = 0; i < 3; i++) w[i] = -H->cap * m->e[i] * eu[i] / sig;
         } else {
@@ -610,6 +836,138 @@ static void planar_prune_set(hyb *H, const frame *f, const exdex_kinematics *kin
     H->ncs = n;
 }
 
+/* ------------------------------------ planar frictional stops: modes */
+
+/* The velocity of a planar object with sticking stops (H->fm SF_STICK,
+ * not at rest) projected in the M metric onto their slips 0 (T v = -tb)
+ * and the contact-set rows' no-approach G v >= -(gd - G v). */
+static void sf_project_stick(hyb *H, const exdex_kinematics *kin, double *y)
+{
+    sf_row rows[SF_MAX_ROWS];
+    sf_stop st[EXDEX_MAX_STOPS];
+    double s[EXDEX_MAX_STOPS], tb[EXDEX_MAX_STOPS], Gr[SF_MAX_ROWS + 2 * EXDEX_MAX_STOPS][3],
+        b[SF_MAX_ROWS + 2 * EXDEX_MAX_STOPS], lam[SF_MAX_ROWS + 2 * EXDEX_MAX_STOPS], v[3];
+    int has[EXDEX_MAX_STOPS], n = 0, stick = 0;
+    if (H->mode == MODE_STICK || !H->ncs || sf_build(H, kin, y, rows, st, s, tb, has) < 0) return;
+    for (int k = 0; k < H->ns; k++) stick |= has[k] && st[k].mu > 0.0 && H->fm[k] == SF_STICK;
+    if (!stick) return;
+    for (int i = 0; i < H->ncs; i++) {
+        int r = H->cs[i];
+        double gd;
+        contact_row_planar(H->m, kin, r / H->nv, r % H->nv, y, y + 3, Gr[n], &gd, NULL);
+        b[n] = -(gd - ex_dot3(Gr[n], y + 3));
+        n++;
+    }
+    for (int k = 0; k < H->ns; k++) {
+        if (!(has[k] && st[k].mu > 0.0 && H->fm[k] == SF_STICK)) continue;
+        for (int c = 0; c < 3; c++) {
+            Gr[n][c] = st[k].T[c];
+            Gr[n + 1][c] = -st[k].T[c];
+        }
+        b[n] = -tb[k];
+        b[n + 1] = tb[k];
+        n += 2;
+    }
+    if (ldp_project(H->m->minv, n, (const double (*)[3])Gr, b, y + 3, FQ_MIN, v, lam, &H->st->stop_iterations,
+                    &H->st->warnings))
+        memcpy(y + 3, v, sizeof v);
+}
+
+/* The acceleration without stops of the current (non-stick) mode at y. */
+static int sf_free_acc(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y, double a[3])
+{
+    double F[3], w[3], P[3];
+    int st = planar_friction(H, f, kin, y, F, w);
+    if (st) return st;
+    model_gen_of_patch(H->m, MODEL_CS(y[2]), w, P);
+    for (int i = 0; i < 3; i++) a[i] = H->m->minv[i] * (F[i] + P[i]);
+    return EXDEX_OK;
+}
+
+/* Guards of the stops' friction modes at (t, y) (planar, contact set not
+ * empty) into g; returns their count. At rest, per frictional stop with
+ * set rows: zsw - |tb| (static) or sigma tb - zsw (sliding past). Else +1
+ * / -1 (a consistent mode exists or not), and per frictional stop with set
+ * rows: sliding, sigma s; sticking, mu sum lam (1 + SF_BAND) - |beta|. */
+static int sf_guards(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y, double *g)
+{
+    sf_row rows[SF_MAX_ROWS];
+    sf_stop st[EXDEX_MAX_STOPS];
+    sf_result res;
+    double s[EXDEX_MAX_STOPS], tb[EXDEX_MAX_STOPS], a[3];
+    int has[EXDEX_MAX_STOPS], n = 0, ok = 0;
+    int nr = sf_build(H, kin, y, rows, st, s, tb, has);
+    if (H->mode == MODE_STICK) {
+        for (int k = 0; k < H->ns; k++) {
+            if (!(has[k] && st[k].mu > 0.0)) continue;
+            g[n++] = H->fm[k] == SF_STICK     ? H->zsw - fabs(tb[k])
+                     : H->fm[k] == SF_SLIDE_P ? tb[k] - H->zsw
+                     : H->fm[k] == SF_SLIDE_M ? -tb[k] - H->zsw
+                                              : 1.0;
+        }
+        return n;
+    }
+    memset(&res, 0, sizeof res);
+    if (nr >= 0 && sf_free_acc(H, f, kin, y, a) == EXDEX_OK) ok = sf_solve_at(H, kin, y, a, &res);
+    g[n++] = ok ? 1.0 : -1.0;
+    for (int k = 0; k < H->ns; k++) {
+        if (!(has[k] && st[k].mu > 0.0)) continue;
+        if (H->fm[k] == SF_SLIDE_P)
+            g[n++] = s[k];
+        else if (H->fm[k] == SF_SLIDE_M)
+            g[n++] = -s[k];
+        else if (H->fm[k] == SF_STICK && ok)
+            g[n++] = st[k].mu * res.lsum[k] * (1.0 + SF_BAND) - fabs(res.beta[k]);
+        else
+            g[n++] = 1.0;
+    }
+    return n;
+}
+
+/* The stops' friction modes after decide_modes at (t, y) (every H->fm was
+ * SF_ROLL during it): at rest from each stop's tb (above); else the mode
+ * that the acceleration-level problem finds, the stops sliding where |s| >
+ * zsw, and a sticking stop's slip projected to 0; no consistent mode
+ * (Painleve): the stops frictionless, a warning. */
+static void sf_decide(hyb *H, double t, double *y)
+{
+    frame f;
+    exdex_kinematics kin;
+    sf_row rows[SF_MAX_ROWS];
+    sf_stop st[EXDEX_MAX_STOPS];
+    sf_result res;
+    double s[EXDEX_MAX_STOPS], tb[EXDEX_MAX_STOPS], a[3];
+    int has[EXDEX_MAX_STOPS], nr, ok = 0, fs;
+    if (!H->ncs) return;
+    fs = frame_seg(H, t, &f, &kin);
+    if (fs) {
+        H->err = H->err ? H->err : fs;
+        return;
+    }
+    nr = sf_build(H, &kin, y, rows, st, s, tb, has);
+    if (H->mode == MODE_STICK) {
+        for (int k = 0; k < H->ns; k++)
+            if (has[k] && st[k].mu > 0.0)
+                H->fm[k] = fabs(tb[k]) <= H->zsw ? SF_STICK : tb[k] > 0.0 ? SF_SLIDE_P : SF_SLIDE_M;
+        return;
+    }
+    fs = sf_free_acc(H, &f, &kin, y, a);
+    if (fs) {
+        H->err = H->err ? H->err : fs;
+        return;
+    }
+    if (nr >= 0) ok = sf_solve_at(H, &kin, y, a, &res);
+    for (int k = 0; k < H->ns; k++) {
+        if (!(has[k] && st[k].mu > 0.0)) continue;
+        H->fm[k] = ok ? res.fm[k] : SF_NONE;
+    }
+    if (!ok) {
+        H->st->warnings++;
+        return;
+    }
+    sf_project_stick(H, &kin, y);
+}
+
 /* ------------------------------------------------------- right-hand side */
 
 static int rhs(double t, const double y[], double dy[], void *params)
@@ -644,7 +1002,7 @@ static int rhs(double t, const double y[], double dy[], void *params)
         } else {
             double Q = model_force_1dof(m, &f, q, v), fr;
             if (H->law == LAW_SMOOTH)
-                fr = -smooth_cap(H, fabs(v)) * v / sqrt(v * v + H->eps * H->eps);
+                fr = H->caps == H->cap ? -H->cap * v / sqrt(v * v + H->eps * H->eps) : -smooth_gain(H, fabs(v)) * v;
             else
                 fr = -H->s * H->cap;
             dy[0] = v;
@@ -697,12 +1055,49 @@ static int rhs(double t, const double y[], double dy[], void *params)
 
 /* Guard values of the current mode at (t, y); each is >= 0 while the mode
  * holds. Returns how many (<= 2 + n_stops). */
+/* The free gaps among the guards, in guards()'s order: planar, the gap of
+ * every (stop, vertex) row outside the contact set; 1-DoF, each stop's
+ * smallest vertex gap (the contact stop: its other vertices'). Functions of
+ * (t, q) alone, so their rates along the motion are those of q' = qd. */
+static int gap_guards(const hyb *H, const exdex_kinematics *kin, const double *y, double *g)
+{
+    const exdex_model *m = H->m;
+    int n = 0;
+    if (H->ndof == 3) {
+        unsigned char in[MAX_ROWS];
+        memset(in, 0, (size_t)(H->ns * H->nv));
+        for (int i = 0; i < H->ncs; i++) in[H->cs[i]] = 1;
+        for (int k = 0; k < H->ns; k++)
+            for (int j = 0; j < H->nv; j++) {
+                double G[3];
+                if (!in[k * H->nv + j]) g[n++] = contact_row_planar(m, kin, k, j, y, y + 3, G, NULL, NULL);
+            }
+        return n;
+    }
+    for (int k = 0; k < H->ns; k++) {
+        double q = y[0];
+        if (H->mode == MODE_CONTACT && k == H->ck) {
+            /* the other vertices of the contact stop: the gripper's
+             * rotation (or the object's) can bring one of them onto
+             * the stop while the contact vertex is held at 0 */
+            double gmin = INFINITY;
+            for (int j = 0; j < H->nv; j++)
+                if (j != H->cj) gmin = fmin(gmin, contact_vertex_gap(m, kin, k, &q, j, NULL));
+            if (H->nv > 1) g[n++] = gmin;
+            continue;
+        }
+        g[n++] = contact_stop_gap(m, kin, k, q, NULL);
+    }
+    return n;
+}
+
 static int guards(hyb *H, double t, const double *y, double *g)
 {
     const exdex_model *m = H->m;
     frame f;
     exdex_kinematics kin;
     int n = 0, fs = frame_seg(H, t, &f, &kin);
+    H->gap0 = H->gap1 = 0;
     if (fs) {
         H->err = H->err ? H->err : fs;
         return 0;
@@ -753,14 +1148,9 @@ static int guards(hyb *H, double t, const double *y, double *g)
             /* stops: free rows, their gap (impact when it reaches 0); rows of
              * the contact set, lam_i G_i M^-1 G_i^T - gap acceleration_i (> 0
              * while the row pushes, < 0 once it separates) */
-            unsigned char in[MAX_ROWS];
-            memset(in, 0, (size_t)(H->ns * H->nv));
-            for (int i = 0; i < H->ncs; i++) in[H->cs[i]] = 1;
-            for (int k = 0; k < H->ns; k++)
-                for (int j = 0; j < H->nv; j++) {
-                    double G[3];
-                    if (!in[k * H->nv + j]) g[n++] = contact_row_planar(m, &kin, k, j, y, y + 3, G, NULL, NULL);
-                }
+            H->gap0 = n;
+            n += gap_guards(H, &kin, y, g + n);
+            H->gap1 = n;
             if (H->ncs && H->mode == MODE_STICK) {
                 /* at rest against stops that move in B the contact ends
                  * once a set row's gap leaves +-tol.rest_gap */
@@ -787,6 +1177,7 @@ static int guards(hyb *H, double t, const double *y, double *g)
                     g[n++] = lam[i] * d - acc[i];
                 }
             }
+            if (H->sfric && H->ncs) n += sf_guards(H, &f, &kin, y, g + n);
         }
         return n;
     }
@@ -811,19 +1202,9 @@ static int guards(hyb *H, double t, const double *y, double *g)
                 if (H->law == LAW_COULOMB) g[n++] = H->s * v;
             }
         }
-        for (int k = 0; k < H->ns; k++) {
-            if (H->mode == MODE_CONTACT && k == H->ck) {
-                /* the other vertices of the contact stop: the gripper's
-                 * rotation (or the object's) can bring one of them onto
-                 * the stop while the contact vertex is held at 0 */
-                double gmin = INFINITY;
-                for (int j = 0; j < H->nv; j++)
-                    if (j != H->cj) gmin = fmin(gmin, contact_vertex_gap(m, &kin, k, &q, j, NULL));
-                if (H->nv > 1) g[n++] = gmin;
-                continue;
-            }
-            g[n++] = contact_stop_gap(m, &kin, k, q, NULL);
-        }
+        H->gap0 = n;
+        n += gap_guards(H, &kin, y, g + n);
+        H->gap1 = n;
         /* a frictional contact: its vertex keeps slipping the same way
          * along the stop (at a reversal the friction turns: decided again) */
         if (H->mode == MODE_CONTACT && H->ss != 0.0) g[n++] = H->ss * contact_slip_1dof(H, &kin, q, v, NULL);
@@ -836,7 +1217,7 @@ static int guards(hyb *H, double t, const double *y, double *g)
 /* Choose the mode at (t, y) (after an event, at a segment start, at t = 0).
  * vzero: qd is known to be 0 (a slip just stopped). May change y (impacts,
  * projection onto a stop). */
-static void decide(hyb *H, double t, double *y, int vzero)
+static void decide_modes(hyb *H, double t, double *y, int vzero)
 {
     const exdex_model *m = H->m;
     frame f;
@@ -1084,6 +1465,16 @@ static void decide(hyb *H, double t, double *y, int vzero)
     }
 }
 
+/* decide_modes, and with frictional stops in a planar scene the stops'
+ * friction modes after it (decided afresh at every decision: sf_decide). */
+static void decide(hyb *H, double t, double *y, int vzero)
+{
+    if (H->sfric)
+        for (int k = 0; k < H->ns; k++) H->fm[k] = SF_ROLL;
+    decide_modes(H, t, y, vzero);
+    if (H->sfric && !H->err) sf_decide(H, t, y);
+}
+
 /* After an accepted step in contact: back onto the constraint (the
  * integrated q drifts off it at the tolerance level). */
 static void project_contact(hyb *H, double t, double *y)
@@ -1114,6 +1505,7 @@ static void project_contact(hyb *H, double t, double *y)
         }
         if (ldp_project(H->m->minv, H->ncs, (const double (*)[3])Gr, b, y + 3, FQ_MIN, v, lam, &H->st->stop_iterations, &H->st->warnings))
             memcpy(y + 3, v, sizeof v);
+        if (H->sfric) sf_project_stick(H, &kin, y);
         return;
     }
     if (H->ndof != 1 || H->mode != MODE_CONTACT) return;
@@ -1227,6 +1619,13 @@ static void *hybrid_alloc(const exdex_model *m, int *status)
         *status = EXDEX_ENOMEM;
         return NULL;
     }
+    /* the evolve object's vectors go into a saved state (hybrid_save) also
+     * before its first step writes them (a run stuck from the start): they
+     * start at 0, not as malloc left them */
+    memset(O->evo->y0, 0, ny * sizeof(double));
+    memset(O->evo->yerr, 0, ny * sizeof(double));
+    memset(O->evo->dydt_in, 0, ny * sizeof(double));
+    memset(O->evo->dydt_out, 0, ny * sizeof(double));
     O->sys.function = rhs;
     O->sys.jacobian = NULL;
     O->sys.dimension = ny;
@@ -1351,6 +1750,169 @@ static int extremum(rootctx *cp, double tau1, double dir, double *tau, double *g
     return EXDEX_OK;
 }
 
+/* At rest (stick) q and qd are constant, so the stick guard (guard 0: the
+ * capacity less the load that holds) is a function of t alone, and a step
+ * is as long as the error control of the force integrals, the output grid
+ * and the switching times allow: the load can leave the ellipsoid and come
+ * back within one step (a short slip that the end values do not show, and
+ * that a step ending elsewhere would catch). Its minimum over [0, tau1]:
+ * STICK_SAMPLES equal parts, then golden section (at most 60 iterations)
+ * about the smallest sample, stopping at the first point found with g < 0.
+ * *tau, *g: that point (the earliest negative sample, else the minimum). */
+#define STICK_SAMPLES 8
+static void stick_guard_min(hyb *H, double t0, const double *y0, double tau1, double *tau, double *g)
+{
+    double gs[NG_MAX], r = 0.5 * (3.0 - sqrt(5.0)), a, b, x1, x2, f1, f2, best = INFINITY, tb = 0.0;
+    int jb = 0;
+    for (int j = 1; j < STICK_SAMPLES; j++) {
+        double tj = tau1 * j / STICK_SAMPLES;
+        guards(H, t0 + tj, y0, gs);
+        H->st->solver_iterations++;
+        if (gs[0] < best) {
+            best = gs[0];
+            tb = tj;
+            jb = j;
+        }
+        if (best < 0.0) {
+            *tau = tb;
+            *g = best;
+            return;
+        }
+    }
+    a = tau1 * (jb - 1) / STICK_SAMPLES;
+    b = tau1 * (jb + 1) / STICK_SAMPLES;
+    x1 = a + r * (b - a);
+    x2 = b - r * (b - a);
+    guards(H, t0 + x1, y0, gs);
+    f1 = gs[0];
+    guards(H, t0 + x2, y0, gs);
+    f2 = gs[0];
+    for (int it = 0; it < 60 && f1 >= 0.0 && f2 >= 0.0 && b - a > H->m->tol.root; it++) {
+        if (f1 < f2) {
+            b = x2;
+            x2 = x1;
+            f2 = f1;
+            x1 = a + r * (b - a);
+            guards(H, t0 + x1, y0, gs);
+            f1 = gs[0];
+        } else {
+            a = x1;
+            x1 = x2;
+            f1 = f2;
+            x2 = b - r * (b - a);
+            guards(H, t0 + x2, y0, gs);
+            f2 = gs[0];
+        }
+        H->st->solver_iterations++;
+    }
+    if (f1 < best) {
+        best = f1;
+        tb = x1;
+    }
+    if (f2 < best) {
+        best = f2;
+        tb = x2;
+    }
+    *tau = tb;
+    *g = best;
+}
+
+/* A free gap can dip below 0 and recover within one accepted step (a corner
+ * of a turning outline grazing a stop): both end values are positive and
+ * the impact would be missed. The gaps are functions of (t, q), so their
+ * rates at the step's ends follow from q' = qd (one-sided differences over
+ * DIP_DELTA of the step). A gap falling at the start and rising at the end
+ * has an interior minimum; the cubic Hermite interpolant of the end values
+ * and rates estimates it with an error O(h^4 max |g^(4)|), far below its end
+ * values for a step the error control accepted, so a minimum estimated
+ * below DIP_MARGIN of the smaller end value is searched for on the
+ * stepper's map (guard_extremum) and, if negative, its crossing located
+ * (the event is the first crossing, in [0, the minimum]). Candidates
+ * improve *tau_best, *e_best. */
+#define DIP_DELTA 1e-3
+#define DIP_MARGIN 0.5
+
+static int locate(hyb *H, ode *O, double t0, const double *y0, double tau0, double tau1, int e, double *tau);
+
+/* Smallest value on [0, h] of the cubic with values g0, g1 and slopes r0, r1
+ * at the ends. */
+static double hermite_min(double g0, double g1, double r0, double r1, double h)
+{
+    /* p(s) = g0 + r0 s + c2 s^2 + c3 s^3; p'(s) = r0 + 2 c2 s + 3 c3 s^2 */
+    double c2 = (3.0 * (g1 - g0) / h - 2.0 * r0 - r1) / h, c3 = (r0 + r1 - 2.0 * (g1 - g0) / h) / (h * h);
+    double a = 3.0 * c3, b = 2.0 * c2, c = r0, pmin = fmin(g0, g1), roots[2];
+    int nr = 0;
+    if (fabs(a) * h <= 1e-14 * fabs(b)) {
+        if (b != 0.0) roots[nr++] = -c / b;
+    } else {
+        double disc = b * b - 4.0 * a * c;
+        if (disc >= 0.0) {
+            double sq = sqrt(disc), qq = -0.5 * (b + (b >= 0.0 ? sq : -sq));
+            if (qq != 0.0) {
+                roots[nr++] = qq / a;
+                roots[nr++] = c / qq;
+            }
+        }
+    }
+    for (int i = 0; i < nr; i++)
+        if (roots[i] > 0.0 && roots[i] < h) {
+            double x = roots[i];
+            pmin = fmin(pmin, g0 + x * (r0 + x * (c2 + x * c3)));
+        }
+    return pmin;
+}
+
+static int gap_dips(hyb *H, ode *O, double t0, const double *y0, double t1, const double *y1, int ng,
+                    const double *g0, const double *g1, double *tau_best, int *e_best)
+{
+    /* at rest (Coulomb stick) q and qd are held, so every guard is a
+     * function of t alone (the load, the stops' motion in B): all of them */
+    int stick = H->law == LAW_COULOMB && H->mode == MODE_STICK;
+    int a = stick ? 0 : H->gap0, b = stick ? ng : H->gap1, nd = H->ndof, want = 0, fs = 0;
+    double h = t1 - t0, d = DIP_DELTA * h, ya[NY_MAX], yb[NY_MAX], ga[NG_MAX], gb[2 * NG_MAX];
+    double cap = H->cap, caps = H->caps;
+    exdex_kinematics ka, kb;
+    frame fa, fb;
+    if (b <= a || !(h > 0.0)) return EXDEX_OK;
+    for (int e = a; e < b; e++) want |= g0[e] > 0.0 && g1[e] >= 0.0;
+    if (!want) return EXDEX_OK;
+    memcpy(ya, y0, (size_t)H->ny * sizeof *ya);
+    memcpy(yb, y1, (size_t)H->ny * sizeof *yb);
+    for (int c = 0; c < nd; c++) {
+        ya[c] += d * y0[nd + c];
+        yb[c] -= d * y1[nd + c];
+    }
+    if (stick) {
+        int na = guards(H, t0 + d, ya, ga), nb = guards(H, t1 - d, yb, gb);
+        guards(H, t1, y1, gb + ng); /* H as after the step's own evaluation */
+        if (H->err) return H->err;
+        if (na != ng || nb != ng) return EXDEX_OK;
+    } else {
+        fs = frame_seg(H, t0 + d, &fa, &ka);
+        if (!fs) fs = frame_seg(H, t1 - d, &fb, &kb);
+        H->cap = cap; /* frame_seg reads the capacities at its time: keep t1's */
+        H->caps = caps;
+        if (fs) return fs;
+        if (gap_guards(H, &ka, ya, ga + a) != b - a || gap_guards(H, &kb, yb, gb + a) != b - a) return EXDEX_OK;
+    }
+    for (int e = a; e < b; e++) {
+        double r0 = (ga[e] - g0[e]) / d, r1 = (g1[e] - gb[e]) / d, tm, gm, tau;
+        int st;
+        if (!(g0[e] > 0.0 && g1[e] >= 0.0 && r0 < 0.0 && r1 > 0.0)) continue;
+        if (!(hermite_min(g0[e], g1[e], r0, r1, h) < DIP_MARGIN * fmin(g0[e], g1[e]))) continue;
+        st = guard_extremum(H, O, t0, y0, h, e, 1.0, &tm, &gm);
+        if (st) return st;
+        if (!(gm < 0.0)) continue;
+        st = locate(H, O, t0, y0, 0.0, tm, e, &tau);
+        if (st) return st;
+        if (tau < *tau_best) {
+            *tau_best = tau;
+            *e_best = e;
+        }
+    }
+    return EXDEX_OK;
+}
+
 /* Locate the root of guard e in [tau0, tau1] (g(tau0) > 0 > g(tau1)) with Brent;
  * returns the upper end of the final bracket (the guard is just violated). */
 static int locate(hyb *H, ode *O, double t0, const double *y0, double tau0, double tau1, int e, double *tau)
@@ -1393,31 +1955,10 @@ static int locate(hyb *H, ode *O, double t0, const double *y0, double tau0, doub
     return EXDEX_OK;
 }
 
-/* Minimum over s in [0, 1] of the cubic Hermite interpolant with values
- * p0, p1 and derivatives d0, d1 (per unit s) at the ends. */
-static double hermite_min(double p0, double d0, double p1, double d1)
-{
-    /* p(s) = p0 + d0 s + c2 s^2 + c3 s^3 */
-    double c3 = 2.0 * (p0 - p1) + d0 + d1, c2 = 3.0 * (p1 - p0) - 2.0 * d0 - d1;
-    double best = fmin(p0, p1), a = 3.0 * c3, b = 2.0 * c2, c = d0, r[2];
-    int n = 0;
-    if (fabs(a) <= 1e-14 * (fabs(b) + fabs(c))) {
-        if (b != 0.0) r[n++] = -c / b;
-    } else {
-        double disc = b * b - 4.0 * a * c;
-        if (disc >= 0.0) {
-            double q = -0.5 * (b + copysign(sqrt(disc), b));
-            if (q != 0.0) r[n++] = q / a;
-            if (q != 0.0) r[n++] = c / q;
-        }
-    }
-    for (int i = 0; i < n; i++)
-        if (r[i] > 0.0 && r[i] < 1.0) best = fmin(best, p0 + r[i] * (d0 + r[i] * (c2 + r[i] * c3)));
-    return best;
-}
-
-/* A free (stop, vertex) row can meet its stop and leave it again within one
- * step: a vertex sweeping past a stop that cuts its path only a little (a
+/* A free (stop, vertex) row of a 1-DoF scene can meet its stop and leave it
+ * again within one step (planar rows are guards of their own, gap_dips; a
+ * 1-DoF stop's guard is its least gap over the outline, whose end rates can
+ * belong to another corner): a vertex sweeping past a stop that cuts its path only a little (a
  * turning object, a corner passing a stop at a shallow angle) has a gap that
  * is positive at both ends of the step and negative in between, which the
  * guards' end values do not show; the exact motion has an impact there.
@@ -1460,7 +2001,7 @@ static int row_dip(hyb *H, ode *O, double t0, const double *y0, double t1, const
             /* screen: the cubic Hermite interpolant of (ga, ra, gb, rb)
              * has its minimum pm at least its own depth below the ends
              * (min(ga, gb) - pm) above the touching band: no search */
-            double h = t1 - t0, pm = hermite_min(ga, h * ra, gb, h * rb);
+            double pm = hermite_min(ga, gb, ra, rb, t1 - t0);
             if (pm - touch >= fmin(ga, gb) - pm) continue;
         }
         {
@@ -1529,6 +2070,7 @@ static int hybrid_begin(const exdex_model *m, ode *O, int law, double t_end, dou
     H.ny = nd == 3 ? 9 + ns : 3 + ns;
     H.nv = m->n_vert ? m->n_vert : 1;
     H.st = st;
+    for (int k = 0; nd == 3 && k < ns; k++) H.sfric |= model_source_mu(m, k) > 0.0;
     /* eps is a slip speed |E u| [m/s]; a 1-DoF rotation slips at
      * |E u| = e_r |thd|, so its smoothing rate is eps / e_r [rad/s] */
     H.eps = m->ndof == 1 && m->def.dof == EXDEX_DOF_ROTATION ? m->def.eps / m->e[2] : m->def.eps;
@@ -1549,10 +2091,6 @@ static int hybrid_begin(const exdex_model *m, ode *O, int law, double t_end, dou
         H.cap = m->capF * m->e[2];
         H.caps = m->capS * m->e[2];
     }
-    /* regularised: the speed at which the capacity falls from static to
-     * kinetic, in the units of eps */
-    H.vstr = sqrt(m->def.eps * m->scale.V);
-    if (m->ndof == 1 && m->def.dof == EXDEX_DOF_ROTATION) H.vstr /= m->e[2];
     O->sys.params = &H;
     nsw = switch_times(m, t_end, ts, O->gb);
     memset(y, 0, sizeof y);
@@ -1671,6 +2209,21 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                     }
                 }
             }
+            if (law == LAW_COULOMB && H.mode == MODE_STICK && g0[0] > 0.0 && g1[0] >= 0.0 && t > t0) {
+                /* a short slip inside the step (stick_guard_min): the step
+                 * ends where the guard is negative, located below */
+                double tm, gm;
+                stick_guard_min(&H, t0, y0, t - t0, &tm, &gm);
+                if (H.err) break;
+                if (gm < 0.0) {
+                    if (one_step(O, t0, y0, tm, y) != GSL_SUCCESS) {
+                        status = EXDEX_ENOCONV;
+                        break;
+                    }
+                    t = t0 + tm;
+                }
+                guards(&H, t, y, g1);
+            }
             for (int e = 0; e < ng; e++) {
                 double tau;
                 if (!(g1[e] < 0.0)) continue;
@@ -1711,9 +2264,12 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                     e_best = e;
                 }
             }
-            if (!status && ns) {
-                /* a free row's gap dipping below 0 within the step (row_dip):
-                 * the event is its stop guard, violated at the crossing */
+            /* a free gap that dipped below 0 and recovered within the step */
+            if (!status) status = gap_dips(&H, O, t0, y0, t, y, ng, g0, g1, &tau_best, &e_best);
+            if (!status && ns && nd == 1) {
+                /* 1-DoF: a corner's gap dipping below 0 within the step
+                 * (row_dip): the event is its stop guard, violated at the
+                 * crossing */
                 double tau, gt[NG_MAX], ye[NY_MAX], t1 = t;
                 const double *y1 = y;
                 if (tau_best < t - t0) {
@@ -1843,14 +2399,17 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                  * derivative */
                 double yp[NY_MAX];
                 memcpy(yp, y, sizeof yp);
-                project_contact(&H, t, y);
+                /* a planar rest holds q (reported_pose) */
+                if (!(nd == 3 && law == LAW_COULOMB && H.mode == MODE_STICK)) project_contact(&H, t, y);
                 if (memcmp(yp, y, (size_t)H.ny * sizeof *y)) ode_restart(O);
             }
             /* a penetration left after the step: the scene drives the
              * object through a stop (see tol.pen) */
             if (ns) {
                 exdex_kinematics kt;
-                double gmin = exdex_motion_eval(m->motion, t, &kt) ? INFINITY : contact_min_gap(m, &kt, y);
+                double yr[NY_MAX];
+                const double *yq = reported_pose(&H, t, y, yr);
+                double gmin = exdex_motion_eval(m->motion, t, &kt) ? INFINITY : contact_min_gap(m, &kt, yq);
                 if (gmin < st->min_gap) st->min_gap = gmin;
                 if (gmin < -m->tol.pen) st->warnings++;
             }
@@ -1872,7 +2431,8 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
             /* the interval's integrals (friction, stop forces) as means
              * over it; then they restart from 0 */
             int off = nd == 1 ? 2 : 6, nw = nd == 1 ? 1 : 3;
-            double wrench[3] = {0, 0, 0}, sf[EXDEX_MAX_STOPS];
+            double wrench[3] = {0, 0, 0}, sf[EXDEX_MAX_STOPS], yr[NY_MAX];
+            const double *yq;
             if (nd == 3) {
                 for (int c = 0; c < 3; c++) wrench[c] = y[6 + c] / hs;
             } else if (m->def.dof == EXDEX_DOF_TRANSLATION) {
@@ -1882,7 +2442,8 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                 wrench[2] = y[2] / hs;
             }
             for (int k2 = 0; k2 < ns; k2++) sf[k2] = y[off + nw + k2] / hs;
-            method_record(m, out, st, i, ti, y, y + nd, wrench,
+            yq = reported_pose(&H, ti, y, yr);
+            method_record(m, out, st, i, ti, yq, yq + nd, wrench,
                           law == LAW_COULOMB && H.mode == MODE_STICK ? 1 : is_still(&H, y), sf);
             for (int c = off; c < H.ny; c++) y[c] = 0.0;
         }
@@ -1972,6 +2533,9 @@ static int hybrid_restore(void *ws, const void *buf)
         return EXDEX_EINVAL;
     for (int i = 0; i < S.H.ncs; i++)
         if (S.H.cs[i] < 0 || S.H.cs[i] >= nr) return EXDEX_EINVAL;
+    if (S.H.sfric != B->sfric) return EXDEX_EINVAL;
+    for (int k = 0; k < B->ns; k++)
+        if (S.H.fm[k] < SF_ROLL || S.H.fm[k] > SF_NONE) return EXDEX_EINVAL;
     O->S = S;
     O->sys.params = &O->S.H;
     {
