@@ -148,8 +148,7 @@ static int check_fields(const exdex_scene_def *d, const char **bad_param)
     for (int o = 0; o < d->n_obstacles; o++)
         if (!contact_obstacle_valid(&d->obstacles[o])) return bad(bad_param, "obstacles");
     if (d->method < EXDEX_METHOD_IMPLICIT || d->method > EXDEX_METHOD_ANALYTIC) return bad(bad_param, "method");
-    if (d->n_obstacles && d->method != EXDEX_METHOD_IMPLICIT && d->method != EXDEX_METHOD_EXPLICIT)
-        return bad(bad_param, "method");
+    if (d->n_obstacles && d->method == EXDEX_METHOD_ANALYTIC) return bad(bad_param, "method");
     for (int o = 0; o < d->n_obstacles; o++)
         if (d->obstacles[o].mu > 0.0 && d->method != EXDEX_METHOD_IMPLICIT) return bad(bad_param, "method");
     if (d->method == EXDEX_METHOD_ANALYTIC && exdex_analytic_unsupported(d)) return bad(bad_param, "method");

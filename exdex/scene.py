@@ -1147,9 +1147,9 @@ class Scene:
             eps=eps, rtol=rtol, atol=atol,
         )
         if self.obstacles:
-            if method not in ("implicit", "explicit"):
-                raise ValueError(f"Scene.obstacles: the implicit and explicit methods solve scenes with "
-                                 f"obstacles, got method={method!r}")
+            if method not in ("implicit", "explicit", "event", "regularised"):
+                raise ValueError(f"Scene.obstacles: the implicit, explicit, event and regularised methods solve "
+                                 f"scenes with obstacles, got method={method!r}")
             if method != "implicit" and any(o.mu > 0 for o in self.obstacles):
                 raise ValueError(f"Scene.obstacles: the implicit method solves obstacles with friction "
                                  f"(Obstacle.mu > 0), got method={method!r}")
