@@ -580,9 +580,10 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt,
  * last changed), so stepping n times with dt reproduces exdex_simulate(m,
  * n dt, dt) bit for bit (the same samples, stats and status), whatever the
  * method, when every step takes the scene's own grip force (NaN below).
- * One exception in the stats: exdex_simulate finds the impacts of the
- * time-stepping methods (implicit, explicit) by scanning the whole run's
- * stop impulses; a stepper leaves impacts and max_impulse at 0 for them.
+ * The impacts of the time-stepping methods (implicit, explicit), which
+ * exdex_simulate finds from the stop impulses of a few steps around each,
+ * the end of the run cutting off an undecided one, are the stepper's stats
+ * over the steps taken in the same way.
  * The first step's dt is the run's: the event and regularised methods start
  * their adaptive step from it, as exdex_simulate from its dt.
  *

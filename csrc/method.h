@@ -92,6 +92,25 @@ static inline void method_record(const exdex_model *m, exdex_trajectory *out, ex
     method_note_warning_time(st, t);
 }
 
+/* The stop impulses of a time-stepping run (impacts.c): impulse(ctx, k, i)
+ * is P_i = stop_force_i h_i of source k for step i >= 1 and 0 for i = 0,
+ * time(ctx, i) the end of step i; samples 0 .. n-1 exist. */
+#define IMPACT_STEPS 4
+typedef struct impact_steps {
+    double (*impulse)(const void *ctx, int k, size_t i);
+    double (*time)(const void *ctx, size_t i);
+    const void *ctx;
+    size_t n;
+} impact_steps;
+
+/* Count the impacts of source k (impacts.c) whose bursts start at step i
+ * (>= 1) or later into st (impacts, max_impulse and its time and stop):
+ * final = 0 to the end of the samples, as a whole run's scan; final = 1 only
+ * those whose decision no later step can change (it reads P_{i-1} ..
+ * P_{i+2 IMPACT_STEPS}). Returns the first step not yet scanned, where a
+ * later final or whole scan of the same source goes on to the same count. */
+size_t impact_scan(const impact_steps *s, int k, size_t i, int final, exdex_stats *st);
+
 /* The method table (simulate.c): NULL for an unknown method. */
 const method_impl *method_get(int method);
 

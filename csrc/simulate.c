@@ -49,61 +49,29 @@ static int output_finite(const exdex_model *m, const exdex_trajectory *out)
     return 1;
 }
 
-/* Impacts of a time-stepping run, read from its per-step stop impulses
- * P_i = stop_force_i h_i. A stop force bounded by the loads gives impulses of
- * order h that change little from step to step; an impact (a velocity jump)
- * gives impulses of order M v, independent of h, in one step or spread over
- * a few (the velocity-level rows of the explicit method let the object cover
- * the last gap in the first of them). With base_j = min(P_j .. P_j+W), the
- * load level just after step j (W = IMPACT_STEPS), an impact of stop k is a
- * burst: steps i .. j-1 (at most W of them) where P_i > IMPACT_RATIO P_{i-1}
- * (P_0 = 0) and every P_l > IMPACT_RATIO base_l, whose largest impulse
- * exceeds IMPACT_RATIO base_j. Its impulse is the burst's sum, its time the
- * end of its largest step. This resolves approach speeds above about
- * IMPACT_RATIO h times the loading acceleration; slower touch-downs are not
- * distinguishable from a contact that starts to carry a load, and a burst
- * that the end of the run cuts off is not counted. */
-#define IMPACT_RATIO 4.0
-#define IMPACT_STEPS 4
+/* Impacts of a time-stepping run: impact_scan over the recorded
+ * per-step stop impulses P_i = stop_force_i (t_i - t_{i-1}). */
+typedef struct out_steps {
+    const exdex_trajectory *out;
+    size_t ns;
+} out_steps;
 
-static double step_impulse(const exdex_trajectory *out, int ns, int k, size_t i)
+static double out_impulse(const void *ctx, int k, size_t i)
 {
-    return i == 0 ? 0.0 : out->stop_force[i * ns + k] * (out->t[i] - out->t[i - 1]);
+    const out_steps *o = ctx;
+    return i == 0 ? 0.0 : o->out->stop_force[i * o->ns + (size_t)k] * (o->out->t[i] - o->out->t[i - 1]);
 }
 
-static double base_after(const exdex_trajectory *out, int ns, int k, size_t j)
+static double out_time(const void *ctx, size_t i)
 {
-    double b = step_impulse(out, ns, k, j);
-    for (size_t l = j + 1; l < out->n && l <= j + IMPACT_STEPS; l++) {
-        double P = step_impulse(out, ns, k, l);
-        if (P < b) b = P;
-    }
-    return b;
+    return ((const out_steps *)ctx)->out->t[i];
 }
 
 static void impacts_from_steps(const exdex_model *m, const exdex_trajectory *out, exdex_stats *st)
 {
-    size_t n = out->n;
-    int ns = m->n_src;
-    for (int k = 0; k < ns; k++)
-        for (size_t i = 1; i < n; i++) {
-            double P = step_impulse(out, ns, k, i), peak = P, sum = P;
-            size_t ipk = i, j;
-            if (!(P > 0.0 && P > IMPACT_RATIO * step_impulse(out, ns, k, i - 1))) continue;
-            for (j = i + 1; j < n && j < i + IMPACT_STEPS; j++) {
-                double Pj = step_impulse(out, ns, k, j);
-                if (!(Pj > IMPACT_RATIO * base_after(out, ns, k, j))) break;   /* the burst is over */
-                sum += Pj;
-                if (Pj > peak) {
-                    peak = Pj;
-                    ipk = j;
-                }
-            }
-            if (j < n && peak > IMPACT_RATIO * base_after(out, ns, k, j)) {
-                method_note_impact(st, out->t[ipk], k, sum);
-                i = j - 1;   /* continue after the burst */
-            }
-        }
+    out_steps o = {out, (size_t)m->n_src};
+    impact_steps s = {out_impulse, out_time, &o, out->n};
+    for (int k = 0; k < m->n_src; k++) impact_scan(&s, k, 1, 0, st);
 }
 
 int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajectory *out,

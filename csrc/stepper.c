@@ -12,9 +12,11 @@
  * What exdex_simulate does after a run, the stepper does after each step:
  * the finiteness check of methods that do not check every step, and the
  * status and failure-cause mapping. The impacts of the time-stepping methods
- * (implicit, explicit) are found by exdex_simulate from the whole run's stop
- * impulses, a window that looks ahead of each step; the stepper does not
- * count them (stats.impacts and max_impulse stay 0 for those methods). */
+ * (implicit, explicit) come from the stop impulses of a few steps around
+ * each (impact_scan, method.h): the stepper keeps the impulses of its last
+ * IMP_WIN steps, counts an impact once no later step can change its
+ * decision, and scans the undecided last steps as the end of a run when
+ * the stats are read, so they are exdex_simulate's over the same steps. */
 #include "exdex.h"
 #include "method.h"
 #include "model.h"
@@ -25,6 +27,11 @@
 #include <string.h>
 
 #define SNAPSHOT_MAGIC 0x78656478u   /* "xdex" */
+#define N_SRC (EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES)
+/* samples kept for the impact scan: a final scan that stopped at step i
+ * (i + 2 IMPACT_STEPS >= n samples) reads P_{i-1} on, and goes on after the
+ * next step */
+#define IMP_WIN (2 * IMPACT_STEPS + 2)
 
 /* Everything of a stepper that a snapshot holds besides the method state. */
 typedef struct stepper_core {
@@ -41,6 +48,14 @@ typedef struct stepper_core {
     size_t grip_n;
     exdex_stepper_sample last;
     exdex_stats st;
+    /* impacts of a time-stepping method: samples imp_n (steps + 1), the
+     * end times and stop impulses of samples imp_n - IMP_WIN .. imp_n - 1
+     * (sample i in slot i % IMP_WIN), each source's first undecided step,
+     * and the final impacts (impacts, max_impulse and its time and stop) */
+    size_t imp_n;
+    size_t imp_next[N_SRC];
+    double imp_t[IMP_WIN], imp_P[N_SRC][IMP_WIN];
+    exdex_stats imp;
 } stepper_core;
 
 struct exdex_stepper {
@@ -49,7 +64,7 @@ struct exdex_stepper {
     const method_impl *impl;
     void *ws;
     /* the one-row output of advance */
-    double t1, q[3], v[3], wr[3], sf[EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES];
+    double t1, q[3], v[3], wr[3], sf[N_SRC];
     unsigned char stick;
     exdex_trajectory out;
 };
@@ -123,6 +138,10 @@ exdex_stepper *exdex_stepper_alloc(const exdex_model *m, int *status)
     s->c.st.max_impulse_t = NAN;
     s->c.st.max_impulse_stop = -1;
     s->c.st.fail_time = NAN;
+    s->c.imp.max_impulse_t = NAN;
+    s->c.imp.max_impulse_stop = -1;
+    s->c.imp_n = 1;   /* sample 0: t = 0, no impulse */
+    for (int k = 0; k < N_SRC; k++) s->c.imp_next[k] = 1;
     initial_sample(s);
     s->out.n = 1;
     s->out.t = &s->t1;
@@ -140,6 +159,28 @@ void exdex_stepper_free(exdex_stepper *s)
     if (!s) return;
     s->impl->free(s->ws);
     free(s);
+}
+
+static double ring_impulse(const void *ctx, int k, size_t i)
+{
+    return i == 0 ? 0.0 : ((const stepper_core *)ctx)->imp_P[k][i % IMP_WIN];
+}
+
+static double ring_time(const void *ctx, size_t i)
+{
+    return ((const stepper_core *)ctx)->imp_t[i % IMP_WIN];
+}
+
+/* Record the step that ended at t1 after t0 for the impact scan and, for a
+ * time-stepping method (scan = 1), count the impacts it decides. */
+static void impacts_step(stepper_core *c, const double *sf, int ns, double t0, double t1, int scan)
+{
+    size_t slot = c->imp_n % IMP_WIN;
+    impact_steps w = {ring_impulse, ring_time, c, c->imp_n + 1};
+    c->imp_t[slot] = t1;
+    for (int k = 0; k < ns; k++) c->imp_P[k][slot] = sf[k] * (t1 - t0);
+    c->imp_n++;
+    for (int k = 0; k < ns && scan; k++) c->imp_next[k] = impact_scan(&w, k, c->imp_next[k], 1, &c->imp);
 }
 
 static int finite_n(const double *x, int n)
@@ -183,6 +224,7 @@ int exdex_stepper_step(exdex_stepper *s, double dt, double grip_force)
         !(finite_n(s->q, nd) && finite_n(s->v, nd) && finite_n(s->wr, 3) && finite_n(s->sf, s->mc.n_src)))
         status = EXDEX_ENONFINITE;
     if (status) goto failed;
+    impacts_step(c, s->sf, s->mc.n_src, c->t, t1, s->impl->impacts_from_steps);
     c->t = t1;
     c->t_base = base;
     c->k = k;
@@ -214,7 +256,21 @@ int exdex_stepper_get(const exdex_stepper *s, exdex_stepper_sample *out, exdex_s
 {
     if (!s) return EXDEX_EINVAL;
     if (out) *out = s->c.last;
-    if (stats) *stats = s->c.st;
+    if (stats) {
+        *stats = s->c.st;
+        if (s->impl->impacts_from_steps && s->c.n_stops && !s->c.failed) {
+            /* the final impacts, and the undecided last steps scanned as
+             * the end of a run (exdex_simulate counts only after a run that
+             * returned EXDEX_OK) */
+            exdex_stats imp = s->c.imp;
+            impact_steps w = {ring_impulse, ring_time, &s->c, s->c.imp_n};
+            for (int k = 0; k < s->c.n_stops; k++) impact_scan(&w, k, s->c.imp_next[k], 0, &imp);
+            stats->impacts = imp.impacts;
+            stats->max_impulse = imp.max_impulse;
+            stats->max_impulse_t = imp.max_impulse_t;
+            stats->max_impulse_stop = imp.max_impulse_stop;
+        }
+    }
     return EXDEX_OK;
 }
 
@@ -257,8 +313,12 @@ int exdex_stepper_restore(exdex_stepper *s, const void *buf, size_t size)
     memcpy(&c, buf, sizeof c);
     if (c.check != snapshot_check(buf, size)) return EXDEX_EINVAL;
     if (c.magic != SNAPSHOT_MAGIC || c.model != s->c.model || c.method != s->c.method || c.ndof != s->c.ndof ||
-        c.n_stops != s->c.n_stops || (c.started != 0 && c.started != 1) || (c.failed != 0 && c.failed != 1))
+        c.n_stops != s->c.n_stops || (c.started != 0 && c.started != 1) || (c.failed != 0 && c.failed != 1) ||
+        c.imp_n != c.last.steps + 1)
         return EXDEX_EINVAL;
+    for (int k = 0; k < c.n_stops && s->impl->impacts_from_steps; k++)
+        if (c.imp_next[k] < 1 || c.imp_next[k] > c.imp_n || c.imp_next[k] + 2 * IMPACT_STEPS < c.imp_n)
+            return EXDEX_EINVAL;
     if (c.started) {
         /* the workspace's fixed part (switching times) from begin, with
          * the scene's grip and the snapshot's first dt; then its state. A

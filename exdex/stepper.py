@@ -9,9 +9,10 @@ grip force::
 
 Stepping n times with the same ``dt`` and the scene's own grip force
 reproduces ``exdex.simulate(scene, n * dt, dt, method=...)`` bit for bit (the
-same samples and solver statistics, except that the implicit and explicit
-methods' impact counts, which ``simulate`` finds by scanning the whole run,
-stay 0). ``save()`` and ``restore()`` branch a run: stepping on from a
+same samples and solver statistics, the impacts included: the implicit and
+explicit methods find those from the stop impulses of a few steps around
+each, and ``stats`` after n steps counts them as a run ending there).
+``save()`` and ``restore()`` branch a run: stepping on from a
 restored snapshot repeats what the saved stepper did, bit for bit.
 """
 from __future__ import annotations
