@@ -1000,8 +1000,8 @@ class Scene:
     gravity : in A [m/s^2].
     stops : fixed world planes (``Stop``) the object outline may not cross.
     obstacles : convex solids fixed in the world (``Obstacle``) the object
-        outline may not enter (the implicit and explicit methods solve such
-        scenes).
+        outline may not enter (every method but the analytic one solves such
+        scenes; with ``Obstacle.mu > 0`` the implicit method).
     """
 
     body: Body
