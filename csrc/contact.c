@@ -677,3 +677,62 @@ int contact_obstacle_max_rows(const exdex_model *m)
                  : 1;
     return n;
 }
+
+/* ------------------------------------------- planar slip along a stop */
+
+double contact_slip_planar(const exdex_model *m, const exdex_kinematics *k, int ks, int j, const double *q,
+                           const double *v, double T[3], double *tb, double *sdd0)
+{
+    double rv[3] = {0.0, 0.0, 0.0}, xB[3], xd[3], xdd[3], Rx[3], Rxd[3], Rxdd[3], nB[3], tB[3], tA[3];
+    double VP[3], AP[3], wB[3], dnB[3], dtB[3], dtA[3], tmp[3], tmp2[3], nn, udu;
+    if (m->n_vert) rot2(rv, q[2], m->vert[j]);
+    xB[0] = q[0] + rv[0];
+    xB[1] = q[1] + rv[1];
+    xB[2] = 0.0;
+    contact_stop_tangent(m, k, ks, xB, rv, T, tb);
+    if (sdd0) {
+        *sdd0 = 0.0;
+        ex_mulmtv3(nB, k->R, m->sn[ks]);
+        nn = hypot(nB[0], nB[1]);
+        if (nn > FQ_MIN) {
+            /* s = t_A . V_P, V_P the velocity of the material point in A,
+             * t_A = R t_B, t_B = e_z x n_B / |n_B| (in-plane part):
+             * ds/dt = t_A . A_P + (w x t_A + R dt_B/dt) . V_P, with
+             * dn_B/dt = -(w_B x n_B), w_B = R^T w */
+            xd[0] = v[0] - rv[1] * v[2];
+            xd[1] = v[1] + rv[0] * v[2];
+            xd[2] = 0.0;
+            xdd[0] = -rv[0] * v[2] * v[2];
+            xdd[1] = -rv[1] * v[2] * v[2];
+            xdd[2] = 0.0;
+            ex_mulmv3(Rx, k->R, xB);
+            ex_mulmv3(Rxd, k->R, xd);
+            ex_mulmv3(Rxdd, k->R, xdd);
+            ex_cross3(tmp, k->w, Rx);
+            for (int c = 0; c < 3; c++) VP[c] = k->v[c] + tmp[c] + Rxd[c];
+            for (int c = 0; c < 3; c++) AP[c] = k->a[c] + Rxdd[c];
+            ex_cross3(tmp2, k->w, tmp);
+            for (int c = 0; c < 3; c++) AP[c] += tmp2[c];
+            ex_cross3(tmp, k->dw, Rx);
+            for (int c = 0; c < 3; c++) AP[c] += tmp[c];
+            ex_cross3(tmp, k->w, Rxd);
+            for (int c = 0; c < 3; c++) AP[c] += 2.0 * tmp[c];
+            tB[0] = -nB[1] / nn;
+            tB[1] = nB[0] / nn;
+            tB[2] = 0.0;
+            ex_mulmv3(tA, k->R, tB);
+            ex_mulmtv3(wB, k->R, k->w);
+            ex_cross3(dnB, wB, nB);
+            for (int c = 0; c < 3; c++) dnB[c] = -dnB[c];
+            udu = nB[0] * dnB[0] + nB[1] * dnB[1];
+            dtB[0] = -dnB[1] / nn + nB[1] * udu / (nn * nn * nn);
+            dtB[1] = dnB[0] / nn - nB[0] * udu / (nn * nn * nn);
+            dtB[2] = 0.0;
+            ex_mulmv3(tmp, k->R, dtB);
+            ex_cross3(dtA, k->w, tA);
+            for (int c = 0; c < 3; c++) dtA[c] += tmp[c];
+            *sdd0 = ex_dot3(tA, AP) + ex_dot3(dtA, VP);
+        }
+    }
+    return ex_dot3(T, v) + *tb;
+}

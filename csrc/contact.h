@@ -124,4 +124,12 @@ int contact_obstacle_valid(const exdex_obstacle_def *o);
  * gives the origin alone. */
 int contact_hull(const double (*v)[2], int n, double (*hull)[2]);
 
+/* Slip of vertex j of a planar object along stop ks at coordinates q,
+ * velocity v and gripper kinematics k: returns s = T . v + tb with T, tb of
+ * contact_stop_tangent (the vertex as the material point); sdd0 (may be
+ * NULL) gets the slip acceleration less T qdd (the stop's tangent turns
+ * with the gripper: its rate is part of it). */
+double contact_slip_planar(const exdex_model *m, const exdex_kinematics *k, int ks, int j, const double *q,
+                           const double *v, double T[3], double *tb, double *sdd0);
+
 #endif

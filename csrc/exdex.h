@@ -447,9 +447,10 @@ typedef struct exdex_scene_def {
      * touching it (>= 0, finite; 0: frictionless). The friction acts along the
      * tangent t = e_z x n_B of the plate plane (n_B the in-plane part of the
      * stop normal in B), bounded by stop_mu times the stop's normal force.
-     * Supported by the implicit and explicit methods, and by event and
-     * regularised in 1-DoF scenes (hybrid.c); a planar scene with event or
-     * regularised rejects stop_mu > 0 (EXDEX_EINVAL, bad_param "stop_mu"). */
+     * Every method but analytic: exact in the implicit and explicit methods
+     * (velocity level) and in the event and regularised methods (acceleration
+     * level, hybrid.c; the regularised method smooths the plate friction
+     * only); impacts in the event and regularised methods are frictionless. */
     double stop_mu[EXDEX_MAX_STOPS];
 } exdex_scene_def;
 

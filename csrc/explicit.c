@@ -31,18 +31,29 @@
  * circulates in (-dt (C - Q)/M, dt (C + Q)/M] (Q > 0) and creeps on average
  * at dt Q / M.
  *
- * Static friction (mu_static > mu, capacities C_s > C): sign() has no stick
- * state, so the static coefficient can act only where u = 0 exactly (an
- * object that starts at rest, or is stopped by a stop, before it first
- * moves): there the plates hold the load while the wrench that holds it,
+ * Static friction (mu_static > mu, capacities C_s > C): the plates hold
+ * the object at rest (v+ = 0 exactly) while the wrench that holds it,
  * w_h = -(the applied force as a patch wrench), lies in the static
- * ellipsoid (v+ = 0 exactly), and else exert the kinetic wrench
- * C w_h / |E^-1 w_h| (1-DoF: -C sign(Q)): a breakaway at the static limit.
- * Once the object moves it never returns to u = 0 exactly (it chatters as
- * above, with the kinetic capacity), so it does not stick again. With
- * mu_static = mu the law is the sign() baseline above, friction 0 at
- * u = 0 (the chatter and its creep are O(dt), so the two agree as
- * dt -> 0). */
+ * ellipsoid, and else exert the kinetic wrench C w_h / |E^-1 w_h| (1-DoF:
+ * -C sign(Q)): a breakaway at the static limit. A slip returns to rest
+ * (re-stick) where the step stops it: with the kinetic friction of the
+ * step's start the slip u* = u(v*) predicted at the step's end reverses,
+ * (E u).(E u*) <= 0, or the mean friction that ends the step at rest,
+ * w_st = the patch wrench of -M v / h - F, lies in the kinetic ellipsoid
+ * (the step's kinetic friction impulse can stop it); there the slip reaches
+ * 0 within the step, and the object is held (v+ = 0, the plates' mean wrench
+ * w_st) iff w_h lies in the static ellipsoid, else the kinetic step v* is
+ * kept. Why: under a load constant over the step the exact (Coulomb) slip
+ * stops within the step iff the kinetic step reverses it (1-DoF: v v* <= 0,
+ * which contains the second test), and then sticks iff |Q| <= C_s, so the
+ * rule makes the event method's slip -> stick decision with the step-start
+ * load, an O(h) error in the stop time and O(h^2) in position per switch,
+ * and the scheme converges at first order. Without it a slip never returns
+ * to u = 0 exactly: it chatters as above with the kinetic capacity and
+ * slides under loads between C and C_s where the exact solution sticks (an
+ * O(1) error). With mu_static = mu the rule is off and the law is the
+ * sign() baseline above, friction 0 at u = 0 (the chatter and its creep
+ * are O(dt), so the two agree as dt -> 0). */
 #include "exdex.h"
 #include "contact.h"
 #include "fcontact.h"
@@ -168,6 +179,14 @@ static int explicit_advance(const exdex_model *m, void *ws, double t1, int regri
                 double capsm = model_capacity_static_mean(m, t, t1), Cs = tr ? capsm : capsm * m->e[2];
                 held = fabs(Q) <= Cs;
                 fr = held ? -Q : Q > 0.0 ? -C : C;
+            } else if (m->capks != m->capk && v[0] * (v[0] + h * (Q + fr) / M) <= 0.0) {
+                /* re-stick: the kinetic step reverses the slip, so it stops
+                 * within the step; held iff the static capacity holds Q */
+                double capsm = model_capacity_static_mean(m, t, t1), Cs = tr ? capsm : capsm * m->e[2];
+                if (fabs(Q) <= Cs) {
+                    held = 1;
+                    fr = -M * v[0] / h - Q;   /* the step's mean friction: v+ = 0 */
+                }
             }
             vn = held ? 0.0 : v[0] + h * (Q + fr) / M;  /* held: exactly at rest */
             /* stop rows at t + h: Fq v+ >= -gap(q, t + h) / h */
@@ -262,7 +281,27 @@ static int explicit_advance(const exdex_model *m, void *ws, double t1, int regri
             sig = sqrt(ex_dot3(eu, eu));
             int held = 0;
             if (sig > 0.0) {
-                for (int c = 0; c < 3; c++) w[c] = -model_capacity_mean(m, t, t1) * m->e[c] * eu[c] / sig;
+                double capm = model_capacity_mean(m, t, t1);
+                for (int c = 0; c < 3; c++) w[c] = -capm * m->e[c] * eu[c] / sig;
+                if (m->capks != m->capk) {
+                    /* re-stick (see the top): the kinetic step reverses the
+                     * slip, or its friction can stop it within the step */
+                    double vk[3], uk[3], rev = 0.0, Pst[3], wst[3];
+                    model_gen_of_patch(m, MODEL_CS(q[2]), w, P);
+                    for (int c = 0; c < 3; c++) {
+                        vk[c] = v[c] + h * m->minv[c] * (F[c] + P[c]);
+                        Pst[c] = -v[c] / (h * m->minv[c]) - F[c];
+                    }
+                    model_patch_slip(m, MODEL_CS(q[2]), vk, uk);
+                    for (int c = 0; c < 3; c++) rev += eu[c] * m->e[c] * uk[c];
+                    model_patch_of_gen(m, MODEL_CS(q[2]), Pst, wst);
+                    if (rev <= 0.0 || model_ell_norm(m, wst) <= capm) {
+                        double mF[3] = {-F[0], -F[1], -F[2]}, wh[3];
+                        model_patch_of_gen(m, MODEL_CS(q[2]), mF, wh);
+                        held = model_ell_norm(m, wh) <= model_capacity_static_mean(m, t, t1);
+                        if (held) memcpy(w, wst, sizeof w);
+                    }
+                }
             } else if (m->capks != m->capk) {
                 /* at rest: the static capacity holds, else kinetic breakaway */
                 double mF[3] = {-F[0], -F[1], -F[2]}, nh;

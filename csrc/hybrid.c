@@ -27,6 +27,9 @@
  *                     the stop force; in contact also the gaps of the
  *                     contact stop's other vertices (a turning gripper or
  *                     object hands the contact over to another corner).
+ *                     A gap that dips below 0 and recovers within one
+ *                     step (a corner grazing a stop) is found from its
+ *                     rates at the step's ends (gap_dips).
  *   Planar slip (|E u| compared with zsw = SLIP_FLOOR V, V the scene's
  *   velocity scale: below it the sliding law is stiff: its
  *   direction relaxes at the rate C |K| / |E u| <~ A / |E u| (A = V / T the
@@ -99,20 +102,39 @@
  *     (planar, growing from rest) stops when its load falls back inside the
  *     kinetic ellipsoid, where the slip decelerates; the decision there
  *     sticks (the load is inside the static one too).
- *   regularised: the capacity falls smoothly with the slip speed from the
- *     static to the kinetic value,
- *         w = -C(|E u|) E^2 u / sqrt(|E u|^2 + eps^2),
- *         C(s) = C + (C_s - C) exp(-(s / v_s)^2),   v_s = sqrt(eps V),
- *     V the scene's velocity scale (model_scales): v_s >> eps, so a creeping
- *     object (|E u| ~ eps) meets C_s (the largest load it carries before it
- *     accelerates away is below C_s by at most sqrt(2 (C_s - C) C_s) eps /
- *     v_s), and a slip faster than a few v_s meets C. Past the static
- *     limit the slip must first reach v_s against a capacity still near
- *     C_s: under a load rising at Q' that takes about tau = (v_s^2 M^2 /
- *     ((C_s - C) Q'))^(1/3), and the slip lags the exact one by a speed of
- *     about (C_s - C) tau / M. Both errors vanish as eps -> 0 (v_s and tau
- *     with it). In a 1-DoF rotation scene s and v_s are divided by e_r as
- *     eps is. With C_s = C it is the law above.
+ *   regularised: a stick band of slip speeds |E u| <= eps, viscous up to
+ *     the static capacity, and Coulomb against the kinetic one beyond,
+ *         w = -C_s E^2 u / eps     (|E u| <= eps),
+ *         w = -C E^2 u / |E u|     (|E u| > eps).
+ *     First order in eps: a load w_h inside the static ellipsoid is held at
+ *     the creep E u = eps E^-1 w_h / C_s (|E u| < eps: a drift of at most
+ *     eps per unit time, reached after the band's relaxation time M eps /
+ *     C_s); a load leaving it (|E^-1 w_h| > C_s) pushes the slip out of the
+ *     band, where the kinetic law is exact, so the slip starts at |E u| =
+ *     eps, at most a relaxation time after the exact breakaway, instead of
+ *     0: its speed differs from the exact one by at most eps (eps C / C_s
+ *     under a slowly rising load, as the exact slip has gained (C_s - C) /
+ *     M times the relaxation time by then), and s by eps times the slip's
+ *     duration; a slip that decelerates enters the band and is
+ *     caught there at its creep speed (the viscous rate C_s / (M eps) is
+ *     that of the one-coefficient law, as stiff and no stiffer). Why a band
+ *     that reaches C_s: a smooth capacity falling from C_s to C over a speed
+ *     v_s (a Stribeck curve C + (C_s - C) exp(-(|E u| / v_s)^2) under the
+ *     one-coefficient regularisation) holds at most C_s (1 - O(eps / v_s))
+ *     before it accelerates away, and past the static limit the slip lags
+ *     the exact one by the time it takes to cross v_s against a capacity
+ *     still near C_s, (v_s^2 M^2 / ((C_s - C) Q'))^(1/3) under a load rising
+ *     at Q'; both vanish only if eps / v_s -> 0 and v_s -> 0, so no choice of
+ *     v_s is first order (v_s = sqrt(eps V): O(eps^(1/2)) and O(eps^(1/3)),
+ *     v_s proportional to eps: an O(1) deficit of the static limit). The
+ *     band has no such deficit (its force reaches C_s at |E u| = eps) and no
+ *     speed range with the static capacity beyond eps. The switch at |E u| =
+ *     eps is a jump of the right-hand side that the error control steps
+ *     across (it is crossed once per stick -> slip or slip -> stick: below
+ *     it the flow goes to the creep point, above it away from the band or
+ *     into it, never along it, as C < C_s). In a 1-DoF rotation scene the
+ *     band is eps / e_r in |thd|, as eps is. With C_s = C it is the one-
+ *     coefficient law above (its creep eps |w_h| / sqrt(C^2 - |w_h|^2)).
  *
  * Stops: every scene with every method. Planar scenes in the hybrid
  * (event, regularised) integrator carry a contact set of (stop, vertex) rows
@@ -155,8 +177,10 @@
  *   the contact is taken frictionless there and a warning counted (the
  *   implicit method, at the velocity level, reports the same jam). Impacts
  *   stay frictionless (their normal impulse is counted as without
- *   friction). Planar scenes: not supported (model_alloc rejects stop_mu >
- *   0 with these methods).
+ *   friction). Planar scenes: a friction mode per stop (stick, slide +-),
+ *   exact at the acceleration level, in both methods (the regularised one
+ *   smooths the plate friction only): see "planar frictional stops" below
+ *   (sf_*, sfric.h).
  *
  * Obstacles (frictionless; Obstacle.mu > 0 is rejected by model_alloc with
  *   these methods): their rows (orows.h: an outline vertex against a
@@ -211,6 +235,7 @@
 #include "method.h"
 #include "model.h"
 #include "orows.h"
+#include "sfric.h"
 #include "util.h"
 
 #include <float.h>
@@ -227,7 +252,7 @@
 #define H_FLOOR_ULPS 16.0 /* a suggested step below this many ulps of t is a collapse: EXDEX_ENOCONV */
 #define BRENT_MAX 200     /* Brent iterations per located event */
 #define NY_MAX (9 + EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES)
-#define NG_MAX (2 + 3 * MAX_ROWS + EXDEX_MAX_OBSTACLES)  /* guards */
+#define NG_MAX (3 + 3 * MAX_ROWS + EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES)  /* guards (planar: 2 friction, the rows, stop friction, obstacle features) */
 #define NSRC_MAX (EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES)
 #define SLIP_FLOOR 1e-6  /* planar slip: below SLIP_FLOOR V of |E u| the slip is "small" (see the header comment) */
 #define SLIP_UP 2.0      /* a small slip becomes a slip at SLIP_UP zsw (hysteresis against zsw) */
@@ -256,11 +281,13 @@ typedef struct hyb {
     double M, cap, eps;
     double capk;       /* capacity per unit model_capacity: 1, or e_r for a 1-DoF rotation */
     double caps;       /* static capacity (force, or torque in a 1-DoF rotation), >= cap */
-    double vstr;       /* regularised: speed v_s at which the capacity falls from caps to cap */
     int err;           /* first failure inside a right-hand side */
     exdex_stats *st;
     double ss;         /* 1-DoF contact with a frictional stop: sign of the contact vertex's
                           slip along the stop (its Coulomb force opposes it); 0: none */
+    int gap0, gap1;    /* guards() entries [gap0, gap1): free gaps, functions of (t, q) only */
+    int sfric;         /* planar with a frictional stop: the stop friction below (sf_*) */
+    int fm[EXDEX_MAX_STOPS];  /* planar: friction mode of each stop with contact-set rows (SF_*) */
     int no;            /* obstacles (their rows follow the stops', see hrow_src) */
 } hyb;
 
@@ -368,14 +395,15 @@ static int frame_seg(hyb *H, double t, frame *f, exdex_kinematics *k)
     return model_frame_at(H->m, t, f, k);
 }
 
-/* Regularised capacity at slip speed sig (same units as eps): from the
- * static capacity at rest to the kinetic one at a few vstr (see above). */
-static double smooth_cap(const hyb *H, double sig)
+/* Regularised friction per unit slip at slip speed sig = |E u| (same
+ * units as eps): the wrench is -smooth_gain E^2 u (1-DoF: -smooth_gain v).
+ * One coefficient: C / sqrt(sig^2 + eps^2). Static and kinetic (caps >
+ * cap): the stick band C_s / eps for sig <= eps, Coulomb C / sig beyond
+ * (see the top). */
+static double smooth_gain(const hyb *H, double sig)
 {
-    double r;
-    if (H->caps == H->cap) return H->cap;
-    r = sig / H->vstr;
-    return H->cap + (H->caps - H->cap) * exp(-r * r);
+    if (H->caps == H->cap) return H->cap / sqrt(sig * sig + H->eps * H->eps);
+    return sig <= H->eps ? H->caps / H->eps : H->cap / sig;
 }
 
 /* Constraint acceleration of q along the row (F(q(t), t) = 0 held). */
@@ -411,7 +439,7 @@ static void contact_forces(const hyb *H, const crow *c, double T, double R, doub
 {
     double D = contact_dir(H, c, T);
     if (H->law == LAW_SMOOTH) {
-        *f = -smooth_cap(H, fabs(v)) * v / sqrt(v * v + H->eps * H->eps);
+        *f = H->caps == H->cap ? -H->cap * v / sqrt(v * v + H->eps * H->eps) : -smooth_gain(H, fabs(v)) * v;
         *lam = (R - *f) / D;
     } else if (H->s != 0.0) {
         *f = -H->s * H->cap;
@@ -422,6 +450,168 @@ static void contact_forces(const hyb *H, const crow *c, double T, double R, doub
         *lam = l > 0.0 ? l : 0.0;
         *f = R - *lam * D;
     }
+}
+
+/* ------------------------------------------------ planar frictional stops
+ * Coulomb friction between a stop with stop_mu > 0 and the outline
+ * vertices of a planar object touching it, exact (not regularised, also in
+ * the regularised method, which smooths the plate friction only): the
+ * acceleration-level problem of sfric.h on the contact-set rows. Each stop
+ * with contact-set rows has a friction mode H->fm (one per stop: its
+ * touching vertices lie on its line and slip together): sliding with the
+ * sign of its slip s (along the tangent of contact_slip_planar) or
+ * sticking. The modes are decided at every decision (decide: sf_decide)
+ * and held between decisions, where their guards (sf_guards) say when they
+ * end: a sliding stop's slip reaching 0 (sigma s), a sticking stop's force
+ * reaching its cone (mu sum lam (1 + SF_BAND) - |beta|). A slip with |s| <=
+ * zsw is decided as rolling (stick or slide, the acceleration-level mode
+ * enumeration: a slip located at its reversal is within rounding of 0
+ * there), and a sticking stop's slip is projected to 0 at the decision and
+ * after every step (sf_project_stick), like the gap of a contact row.
+ * Normal forces and separations stay as without friction (the contact set,
+ * its separation guards); impacts stay frictionless (a plastic normal
+ * impact, as for the 1-DoF scenes).
+ * At rest (stick) the least-friction split of planar_rest takes each
+ * stop's force in its friction cone, {lam (G + mu c T) : -1 <= c <= 1},
+ * generated by G + mu T and G - mu T (ldp_min_combination over the
+ * generators), while the stop's slip past the resting object |tb| <= zsw;
+ * a stop moving past it faster slides: G - mu sign(tb) T. That choice is
+ * the stop's mode, decided with the rest and held through it (the rest's
+ * load is then smooth in time), its guards |tb| leaving or entering the
+ * band. A stop whose mode is not decided (inside a decision) is classified
+ * by its tb as it stands.
+ * Painleve: where no mode of the acceleration-level problem is consistent
+ * (a sliding stop whose friction turns the normal force's effect around:
+ * a jam, or a problem with more rows than sfric.h enumerates), the stops
+ * of the contact set are taken frictionless until the next decision, and a
+ * warning is counted, as for a 1-DoF jam; the loss of consistency is a
+ * located guard (+1 / -1). The velocity-level (impulse) solution would
+ * exist there (fcontact.h), but it is a jump of the velocity that the
+ * acceleration-level machine would have to apply as an impact at a time it
+ * cannot locate from a smooth guard; the implicit method, which is that
+ * velocity-level step, reports the same scenes with its own warning. */
+
+#define SF_TOL 1e-10  /* sign slack of the mode checks: x the scene's acceleration V / T and force F */
+
+/* The contact-set rows at (kin, y) as sfric.h's problem; has[k]: stop k
+ * has set rows, s[k], tb[k] its slip and the slip at v = 0 (its first set
+ * row's vertex). A stop in SF_ROLL with |s| > zsw is given the slide of
+ * its sign. Returns the row count, or -1 when it exceeds SF_MAX_ROWS (rows
+ * then hold only the first SF_MAX_ROWS; has, s, tb are complete). */
+static int sf_build(hyb *H, const exdex_kinematics *kin, const double *y, sf_row *rows, sf_stop *st, double *s,
+                    double *tb, int *has)
+{
+    const exdex_model *m = H->m;
+    for (int k = 0; k < H->ns; k++) {
+        has[k] = 0;
+        s[k] = tb[k] = 0.0;
+        st[k].mu = model_source_mu(m, k);
+        st[k].fm = H->fm[k];
+        st[k].sdd0 = 0.0;
+        st[k].T[0] = st[k].T[1] = st[k].T[2] = 0.0;
+    }
+    for (int i = 0; i < H->ncs; i++) {
+        int r = H->cs[i], k = r / H->nv, j = r % H->nv;
+        if (i < SF_MAX_ROWS) {
+            contact_row_planar(m, kin, k, j, y, y + 3, rows[i].G, NULL, &rows[i].gdd0);
+            rows[i].stop = k;
+        }
+        if (has[k]) continue;
+        has[k] = 1;
+        s[k] = contact_slip_planar(m, kin, k, j, y, y + 3, st[k].T, &tb[k], &st[k].sdd0);
+        if (st[k].fm == SF_ROLL && fabs(s[k]) > H->zsw) st[k].fm = s[k] > 0.0 ? SF_SLIDE_P : SF_SLIDE_M;
+    }
+    return H->ncs > SF_MAX_ROWS ? -1 : H->ncs;
+}
+
+/* The stops' problem solved at (kin, y) with the acceleration a without
+ * stops (sf_solve); res (may be NULL) gets the solution. Returns 0 when no
+ * mode is consistent (then nothing is written but res). */
+static int sf_solve_at(hyb *H, const exdex_kinematics *kin, const double *y, const double a[3], sf_result *res)
+{
+    sf_row rows[SF_MAX_ROWS];
+    sf_stop st[EXDEX_MAX_STOPS];
+    double s[EXDEX_MAX_STOPS], tb[EXDEX_MAX_STOPS];
+    int has[EXDEX_MAX_STOPS], ok;
+    const model_scales *sc = &H->m->scale;
+    if (sf_build(H, kin, y, rows, st, s, tb, has) < 0) return 0;
+    ok = sf_solve(H->ncs, rows, H->ns, st, H->m->minv, a, SF_TOL * sc->V / sc->T, SF_TOL * sc->F, res);
+    H->st->stop_iterations += (size_t)res->tried;
+    return ok;
+}
+
+/* contact_acc_planar with frictional stops: 1 with qdd, lam, acc as it
+ * defines them, 0 when no mode is consistent (the caller then takes the
+ * stops frictionless). */
+static int sf_acc(hyb *H, const exdex_kinematics *kin, const double *y, const double afree[3], double qdd[3],
+                  double *lam, double *acc)
+{
+    sf_result res;
+    if (!sf_solve_at(H, kin, y, afree, &res)) return 0;
+    memcpy(qdd, res.qdd, sizeof res.qdd);
+    for (int i = 0; i < H->ncs; i++) {
+        lam[i] = res.lam[i];
+        if (acc) acc[i] = res.acc[i];
+    }
+    return 1;
+}
+
+/* planar_rest with frictional stops (the same contract): the least plate
+ * friction over the stop forces in their cones (above). Returns -1 when
+ * the generators exceed ldp_min_combination's rows (planar_rest then
+ * takes the stops frictionless). */
+static double sf_rest(hyb *H, const exdex_kinematics *kin, const double *y, const double F[3], double w[3],
+                      double *lam)
+{
+    const exdex_model *m = H->m;
+    double D[LDP_MAX_ROWS][3], B[LDP_MAX_ROWS][3], c[LDP_MAX_ROWS], a[3], mF[3], P[3];
+    double T[EXDEX_MAX_STOPS][3], tb[EXDEX_MAX_STOPS];
+    int own[LDP_MAX_ROWS], has[EXDEX_MAX_STOPS] = {0}, ng = 0, it = 0;
+    if (2 * H->ncs > LDP_MAX_ROWS) return -1.0;
+    for (int i = 0; i < H->ncs; i++) {
+        int r = H->cs[i], k = r / H->nv, j = r % H->nv, fm;
+        double G[3], mu = model_source_mu(m, k);
+        contact_row_planar(m, kin, k, j, y, y + 3, G, NULL, NULL);
+        if (mu > 0.0 && !has[k]) {
+            contact_slip_planar(m, kin, k, j, y, y + 3, T[k], &tb[k], NULL);
+            has[k] = 1;
+        }
+        fm = H->fm[k] == SF_ROLL ? (fabs(tb[k]) <= H->zsw ? SF_STICK : tb[k] > 0.0 ? SF_SLIDE_P : SF_SLIDE_M)
+                                 : H->fm[k];
+        if (!(mu > 0.0) || fm == SF_NONE) {
+            memcpy(D[ng], G, sizeof G);
+            own[ng++] = i;
+        } else if (fm == SF_STICK) {
+            for (int c2 = 0; c2 < 3; c2++) {
+                D[ng][c2] = G[c2] + mu * T[k][c2];
+                D[ng + 1][c2] = G[c2] - mu * T[k][c2];
+            }
+            own[ng++] = i;
+            own[ng++] = i;
+        } else {
+            double sg = fm == SF_SLIDE_P ? 1.0 : -1.0;
+            for (int c2 = 0; c2 < 3; c2++) D[ng][c2] = G[c2] - mu * sg * T[k][c2];
+            own[ng++] = i;
+        }
+    }
+    for (int c2 = 0; c2 < 3; c2++) mF[c2] = -F[c2];
+    model_patch_of_gen(m, MODEL_CS(y[2]), mF, a);
+    for (int c2 = 0; c2 < 3; c2++) a[c2] /= m->e[c2];
+    for (int g = 0; g < ng; g++) {
+        double mD[3] = {-D[g][0], -D[g][1], -D[g][2]};
+        model_patch_of_gen(m, MODEL_CS(y[2]), mD, B[g]);
+        for (int c2 = 0; c2 < 3; c2++) B[g][c2] /= m->e[c2];
+    }
+    ldp_min_combination(ng, a, (const double (*)[3])B, c, &it);
+    H->st->stop_iterations += (size_t)it;
+    for (int i = 0; i < H->ncs; i++) lam[i] = 0.0;
+    for (int c2 = 0; c2 < 3; c2++) P[c2] = -F[c2];
+    for (int g = 0; g < ng; g++) {
+        lam[own[g]] += c[g];
+        for (int c2 = 0; c2 < 3; c2++) P[c2] -= c[g] * D[g][c2];
+    }
+    model_patch_of_gen(m, MODEL_CS(y[2]), P, w);
+    return model_ell_norm(m, w);
 }
 
 /* Accelerations in planar contact: qdd = M^-1 (F + P + G_A^T lam), lam >= 0
@@ -435,6 +625,7 @@ static void contact_acc_planar(hyb *H, const exdex_kinematics *kin, const double
                                double qdd[3], double *lam, double *acc)
 {
     double Gr[MAX_ROWS][3], b[MAX_ROWS];
+    if (H->sfric && sf_acc(H, kin, y, afree, qdd, lam, acc)) return;
     b[0] = 0.0;
     for (int i = 0; i < H->ncs; i++) {
         int r = H->cs[i];
@@ -567,6 +758,10 @@ static double planar_rest(hyb *H, const exdex_kinematics *kin, const double *y, 
     const exdex_model *m = H->m;
     double B[MAX_ROWS][3], a[3], mF[3], P[3];
     int it = 0;
+    if (H->sfric) {
+        double r = sf_rest(H, kin, y, F, w, lam);
+        if (r >= 0.0) return r;
+    }
     for (int c = 0; c < 3; c++) mF[c] = -F[c];
     model_patch_of_gen(m, MODEL_CS(y[2]), mF, a);
     for (int c = 0; c < 3; c++) a[c] /= m->e[c];
@@ -627,8 +822,13 @@ static int planar_friction(hyb *H, const frame *f, const exdex_kinematics *kin, 
         for (int i = 0; i < 3; i++) eu[i] = m->e[i] * u[i];
         sig = sqrt(ex_dot3(eu, eu));
         if (H->law == LAW_SMOOTH) {
-            double den = sqrt(sig * sig + H->eps * H->eps), cs = smooth_cap(H, sig);
-            for (int i = 0; i < 3; i++) w[i] = -cs * m->e[i] * eu[i] / den;
+            if (H->caps == H->cap) {
+                double den = sqrt(sig * sig + H->eps * H->eps);
+                for (int i = 0; i < 3; i++) w[i] = -H->cap * m->e[i] * eu[i] / den;
+            } else {
+                double gn = smooth_gain(H, sig);
+                for (int i = 0; i < 3; i++) w[i] = -gn * m->e[i] * eu[i];
+            }
         } else if (sig > 0.0 && !H->small) {
             for (int i = 0; i < 3; i++) w[i] = -H->cap * m->e[i] * eu[i] / sig;
         } else {
@@ -693,6 +893,138 @@ static void planar_prune_set(hyb *H, const frame *f, const exdex_kinematics *kin
     H->ncs = n;
 }
 
+/* ------------------------------------ planar frictional stops: modes */
+
+/* The velocity of a planar object with sticking stops (H->fm SF_STICK,
+ * not at rest) projected in the M metric onto their slips 0 (T v = -tb)
+ * and the contact-set rows' no-approach G v >= -(gd - G v). */
+static void sf_project_stick(hyb *H, const exdex_kinematics *kin, double *y)
+{
+    sf_row rows[SF_MAX_ROWS];
+    sf_stop st[EXDEX_MAX_STOPS];
+    double s[EXDEX_MAX_STOPS], tb[EXDEX_MAX_STOPS], Gr[SF_MAX_ROWS + 2 * EXDEX_MAX_STOPS][3],
+        b[SF_MAX_ROWS + 2 * EXDEX_MAX_STOPS], lam[SF_MAX_ROWS + 2 * EXDEX_MAX_STOPS], v[3];
+    int has[EXDEX_MAX_STOPS], n = 0, stick = 0;
+    if (H->mode == MODE_STICK || !H->ncs || sf_build(H, kin, y, rows, st, s, tb, has) < 0) return;
+    for (int k = 0; k < H->ns; k++) stick |= has[k] && st[k].mu > 0.0 && H->fm[k] == SF_STICK;
+    if (!stick) return;
+    for (int i = 0; i < H->ncs; i++) {
+        int r = H->cs[i];
+        double gd;
+        contact_row_planar(H->m, kin, r / H->nv, r % H->nv, y, y + 3, Gr[n], &gd, NULL);
+        b[n] = -(gd - ex_dot3(Gr[n], y + 3));
+        n++;
+    }
+    for (int k = 0; k < H->ns; k++) {
+        if (!(has[k] && st[k].mu > 0.0 && H->fm[k] == SF_STICK)) continue;
+        for (int c = 0; c < 3; c++) {
+            Gr[n][c] = st[k].T[c];
+            Gr[n + 1][c] = -st[k].T[c];
+        }
+        b[n] = -tb[k];
+        b[n + 1] = tb[k];
+        n += 2;
+    }
+    if (ldp_project(H->m->minv, n, (const double (*)[3])Gr, b, y + 3, FQ_MIN, v, lam, &H->st->stop_iterations,
+                    &H->st->warnings))
+        memcpy(y + 3, v, sizeof v);
+}
+
+/* The acceleration without stops of the current (non-stick) mode at y. */
+static int sf_free_acc(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y, double a[3])
+{
+    double F[3], w[3], P[3];
+    int st = planar_friction(H, f, kin, y, F, w);
+    if (st) return st;
+    model_gen_of_patch(H->m, MODEL_CS(y[2]), w, P);
+    for (int i = 0; i < 3; i++) a[i] = H->m->minv[i] * (F[i] + P[i]);
+    return EXDEX_OK;
+}
+
+/* Guards of the stops' friction modes at (t, y) (planar, contact set not
+ * empty) into g; returns their count. At rest, per frictional stop with
+ * set rows: zsw - |tb| (static) or sigma tb - zsw (sliding past). Else +1
+ * / -1 (a consistent mode exists or not), and per frictional stop with set
+ * rows: sliding, sigma s; sticking, mu sum lam (1 + SF_BAND) - |beta|. */
+static int sf_guards(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y, double *g)
+{
+    sf_row rows[SF_MAX_ROWS];
+    sf_stop st[EXDEX_MAX_STOPS];
+    sf_result res;
+    double s[EXDEX_MAX_STOPS], tb[EXDEX_MAX_STOPS], a[3];
+    int has[EXDEX_MAX_STOPS], n = 0, ok = 0;
+    int nr = sf_build(H, kin, y, rows, st, s, tb, has);
+    if (H->mode == MODE_STICK) {
+        for (int k = 0; k < H->ns; k++) {
+            if (!(has[k] && st[k].mu > 0.0)) continue;
+            g[n++] = H->fm[k] == SF_STICK     ? H->zsw - fabs(tb[k])
+                     : H->fm[k] == SF_SLIDE_P ? tb[k] - H->zsw
+                     : H->fm[k] == SF_SLIDE_M ? -tb[k] - H->zsw
+                                              : 1.0;
+        }
+        return n;
+    }
+    memset(&res, 0, sizeof res);
+    if (nr >= 0 && sf_free_acc(H, f, kin, y, a) == EXDEX_OK) ok = sf_solve_at(H, kin, y, a, &res);
+    g[n++] = ok ? 1.0 : -1.0;
+    for (int k = 0; k < H->ns; k++) {
+        if (!(has[k] && st[k].mu > 0.0)) continue;
+        if (H->fm[k] == SF_SLIDE_P)
+            g[n++] = s[k];
+        else if (H->fm[k] == SF_SLIDE_M)
+            g[n++] = -s[k];
+        else if (H->fm[k] == SF_STICK && ok)
+            g[n++] = st[k].mu * res.lsum[k] * (1.0 + SF_BAND) - fabs(res.beta[k]);
+        else
+            g[n++] = 1.0;
+    }
+    return n;
+}
+
+/* The stops' friction modes after decide_modes at (t, y) (every H->fm was
+ * SF_ROLL during it): at rest from each stop's tb (above); else the mode
+ * that the acceleration-level problem finds, the stops sliding where |s| >
+ * zsw, and a sticking stop's slip projected to 0; no consistent mode
+ * (Painleve): the stops frictionless, a warning. */
+static void sf_decide(hyb *H, double t, double *y)
+{
+    frame f;
+    exdex_kinematics kin;
+    sf_row rows[SF_MAX_ROWS];
+    sf_stop st[EXDEX_MAX_STOPS];
+    sf_result res;
+    double s[EXDEX_MAX_STOPS], tb[EXDEX_MAX_STOPS], a[3];
+    int has[EXDEX_MAX_STOPS], nr, ok = 0, fs;
+    if (!H->ncs) return;
+    fs = frame_seg(H, t, &f, &kin);
+    if (fs) {
+        H->err = H->err ? H->err : fs;
+        return;
+    }
+    nr = sf_build(H, &kin, y, rows, st, s, tb, has);
+    if (H->mode == MODE_STICK) {
+        for (int k = 0; k < H->ns; k++)
+            if (has[k] && st[k].mu > 0.0)
+                H->fm[k] = fabs(tb[k]) <= H->zsw ? SF_STICK : tb[k] > 0.0 ? SF_SLIDE_P : SF_SLIDE_M;
+        return;
+    }
+    fs = sf_free_acc(H, &f, &kin, y, a);
+    if (fs) {
+        H->err = H->err ? H->err : fs;
+        return;
+    }
+    if (nr >= 0) ok = sf_solve_at(H, &kin, y, a, &res);
+    for (int k = 0; k < H->ns; k++) {
+        if (!(has[k] && st[k].mu > 0.0)) continue;
+        H->fm[k] = ok ? res.fm[k] : SF_NONE;
+    }
+    if (!ok) {
+        H->st->warnings++;
+        return;
+    }
+    sf_project_stick(H, &kin, y);
+}
+
 /* ------------------------------------------------------- right-hand side */
 
 static int rhs(double t, const double y[], double dy[], void *params)
@@ -727,7 +1059,7 @@ static int rhs(double t, const double y[], double dy[], void *params)
         } else {
             double Q = model_force_1dof(m, &f, q, v), fr;
             if (H->law == LAW_SMOOTH)
-                fr = -smooth_cap(H, fabs(v)) * v / sqrt(v * v + H->eps * H->eps);
+                fr = H->caps == H->cap ? -H->cap * v / sqrt(v * v + H->eps * H->eps) : -smooth_gain(H, fabs(v)) * v;
             else
                 fr = -H->s * H->cap;
             dy[0] = v;
@@ -809,8 +1141,7 @@ static int obst_guards(const hyb *H, const exdex_kinematics *kin, const double *
 
 /* 1-DoF guards of the obstacles at (kin, q): per obstacle the smallest gap
  * of its rows (in contact with it: of its other rows, a length of the scene
- * when there are none), and in contact with an obstacle row, its feature
- * guard. Returns how many. */
+ * when there are none). Returns how many. */
 static int obst_guards_1dof(const hyb *H, const exdex_kinematics *kin, double q, double *g)
 {
     const exdex_model *m = H->m;
@@ -824,18 +1155,57 @@ static int obst_guards_1dof(const hyb *H, const exdex_kinematics *kin, double q,
             if (!(own && orow_pair(code[i]) == orow_pair(H->cj)) && gap[i] < gmin) gmin = gap[i];
         g[n++] = gmin;
     }
-    if (contact && H->ck >= H->ns) g[n++] = orow_feature_guard(m, kin, H->cj, &q);
     return n;
 }
 
 /* Guard values of the current mode at (t, y); each is >= 0 while the mode
  * holds. Returns how many (<= 2 + n_stops). */
+/* The free gaps among the guards, in guards()'s order: planar, the gap of
+ * every (stop, vertex) row outside the contact set; 1-DoF, each stop's
+ * smallest vertex gap (the contact stop: its other vertices'). Functions of
+ * (t, q) alone, so their rates along the motion are those of q' = qd. */
+static int gap_guards(const hyb *H, const exdex_kinematics *kin, const double *y, double *g)
+{
+    const exdex_model *m = H->m;
+    int n = 0;
+    if (H->ndof == 3) {
+        unsigned char in[MAX_ROWS];
+        memset(in, 0, (size_t)(H->ns * H->nv));
+        for (int i = 0; i < H->ncs; i++)
+            if (H->cs[i] < H->ns * H->nv) in[H->cs[i]] = 1;
+        for (int k = 0; k < H->ns; k++)
+            for (int j = 0; j < H->nv; j++) {
+                double G[3];
+                if (!in[k * H->nv + j]) g[n++] = contact_row_planar(m, kin, k, j, y, y + 3, G, NULL, NULL);
+            }
+        if (H->no) n += obst_guards(H, kin, y, g + n);
+        return n;
+    }
+    for (int k = 0; k < H->ns; k++) {
+        double q = y[0];
+        if (H->mode == MODE_CONTACT && k == H->ck) {
+            /* the other vertices of the contact stop: the gripper's
+             * rotation (or the object's) can bring one of them onto
+             * the stop while the contact vertex is held at 0 */
+            double gmin = INFINITY;
+            for (int j = 0; j < H->nv; j++)
+                if (j != H->cj) gmin = fmin(gmin, contact_vertex_gap(m, kin, k, &q, j, NULL));
+            if (H->nv > 1) g[n++] = gmin;
+            continue;
+        }
+        g[n++] = contact_stop_gap(m, kin, k, q, NULL);
+    }
+    if (H->no) n += obst_guards_1dof(H, kin, y[0], g + n);
+    return n;
+}
+
 static int guards(hyb *H, double t, const double *y, double *g)
 {
     const exdex_model *m = H->m;
     frame f;
     exdex_kinematics kin;
     int n = 0, fs = frame_seg(H, t, &f, &kin);
+    H->gap0 = H->gap1 = 0;
     if (fs) {
         H->err = H->err ? H->err : fs;
         return 0;
@@ -886,16 +1256,9 @@ static int guards(hyb *H, double t, const double *y, double *g)
             /* stops: free rows, their gap (impact when it reaches 0); rows of
              * the contact set, lam_i G_i M^-1 G_i^T - gap acceleration_i (> 0
              * while the row pushes, < 0 once it separates) */
-            unsigned char in[MAX_ROWS];
-            memset(in, 0, (size_t)(H->ns * H->nv));
-            for (int i = 0; i < H->ncs; i++)
-                if (H->cs[i] < H->ns * H->nv) in[H->cs[i]] = 1;
-            for (int k = 0; k < H->ns; k++)
-                for (int j = 0; j < H->nv; j++) {
-                    double G[3];
-                    if (!in[k * H->nv + j]) g[n++] = contact_row_planar(m, &kin, k, j, y, y + 3, G, NULL, NULL);
-                }
-            if (H->no) n += obst_guards(H, &kin, y, g + n);
+            H->gap0 = n;
+            n += gap_guards(H, &kin, y, g + n);
+            H->gap1 = n;
             if (H->ncs && H->mode == MODE_STICK) {
                 /* at rest against stops that move in B the contact ends
                  * once a set row's gap leaves +-tol.rest_gap */
@@ -925,6 +1288,7 @@ static int guards(hyb *H, double t, const double *y, double *g)
             /* an obstacle row of the set: its feature stays the active one */
             for (int i = 0; i < H->ncs; i++)
                 if (H->cs[i] >= H->ns * H->nv) g[n++] = orow_feature_guard(m, &kin, H->cs[i] - H->ns * H->nv, y);
+            if (H->sfric && H->ncs) n += sf_guards(H, &f, &kin, y, g + n);
         }
         return n;
     }
@@ -949,23 +1313,14 @@ static int guards(hyb *H, double t, const double *y, double *g)
                 if (H->law == LAW_COULOMB) g[n++] = H->s * v;
             }
         }
-        for (int k = 0; k < H->ns; k++) {
-            if (H->mode == MODE_CONTACT && k == H->ck) {
-                /* the other vertices of the contact stop: the gripper's
-                 * rotation (or the object's) can bring one of them onto
-                 * the stop while the contact vertex is held at 0 */
-                double gmin = INFINITY;
-                for (int j = 0; j < H->nv; j++)
-                    if (j != H->cj) gmin = fmin(gmin, contact_vertex_gap(m, &kin, k, &q, j, NULL));
-                if (H->nv > 1) g[n++] = gmin;
-                continue;
-            }
-            g[n++] = contact_stop_gap(m, &kin, k, q, NULL);
-        }
+        H->gap0 = n;
+        n += gap_guards(H, &kin, y, g + n);
+        H->gap1 = n;
         /* a frictional contact: its vertex keeps slipping the same way
          * along the stop (at a reversal the friction turns: decided again) */
         if (H->mode == MODE_CONTACT && H->ss != 0.0) g[n++] = H->ss * contact_slip_1dof(H, &kin, q, v, NULL);
-        if (H->no) n += obst_guards_1dof(H, &kin, q, g + n);
+        /* in contact with an obstacle row: its feature stays the active one */
+        if (H->mode == MODE_CONTACT && H->ck >= H->ns) g[n++] = orow_feature_guard(m, &kin, H->cj, &q);
     }
     return n;
 }
@@ -975,7 +1330,7 @@ static int guards(hyb *H, double t, const double *y, double *g)
 /* Choose the mode at (t, y) (after an event, at a segment start, at t = 0).
  * vzero: qd is known to be 0 (a slip just stopped). May change y (impacts,
  * projection onto a stop). */
-static void decide(hyb *H, double t, double *y, int vzero)
+static void decide_modes(hyb *H, double t, double *y, int vzero)
 {
     const exdex_model *m = H->m;
     frame f;
@@ -1217,6 +1572,16 @@ static void decide(hyb *H, double t, double *y, int vzero)
     }
 }
 
+/* decide_modes, and with frictional stops in a planar scene the stops'
+ * friction modes after it (decided afresh at every decision: sf_decide). */
+static void decide(hyb *H, double t, double *y, int vzero)
+{
+    if (H->sfric)
+        for (int k = 0; k < H->ns; k++) H->fm[k] = SF_ROLL;
+    decide_modes(H, t, y, vzero);
+    if (H->sfric && !H->err) sf_decide(H, t, y);
+}
+
 /* After an accepted step in contact: back onto the constraint (the
  * integrated q drifts off it at the tolerance level). */
 static void project_contact(hyb *H, double t, double *y)
@@ -1247,6 +1612,7 @@ static void project_contact(hyb *H, double t, double *y)
         }
         if (ldp_project(H->m->minv, H->ncs, (const double (*)[3])Gr, b, y + 3, FQ_MIN, v, lam, &H->st->stop_iterations, &H->st->warnings))
             memcpy(y + 3, v, sizeof v);
+        if (H->sfric) sf_project_stick(H, &kin, y);
         return;
     }
     if (H->ndof != 1 || H->mode != MODE_CONTACT) return;
@@ -1445,6 +1811,92 @@ static int guard_extremum(hyb *H, ode *O, double t0, const double *y0, double ta
     return EXDEX_OK;
 }
 
+/* A free gap can dip below 0 and recover within one accepted step (a corner
+ * of a turning outline grazing a stop): both end values are positive and
+ * the impact would be missed. The gaps are functions of (t, q), so their
+ * rates at the step's ends follow from q' = qd (one-sided differences over
+ * DIP_DELTA of the step). A gap falling at the start and rising at the end
+ * has an interior minimum; the cubic Hermite interpolant of the end values
+ * and rates estimates it with an error O(h^4 max |g^(4)|), far below its end
+ * values for a step the error control accepted, so a minimum estimated
+ * below DIP_MARGIN of the smaller end value is searched for on the
+ * stepper's map (guard_extremum) and, if negative, its crossing located
+ * (the event is the first crossing, in [0, the minimum]). Candidates
+ * improve *tau_best, *e_best. */
+#define DIP_DELTA 1e-3
+#define DIP_MARGIN 0.5
+
+static int locate(hyb *H, ode *O, double t0, const double *y0, double tau0, double tau1, int e, double *tau);
+
+/* Smallest value on [0, h] of the cubic with values g0, g1 and slopes r0, r1
+ * at the ends. */
+static double hermite_min(double g0, double g1, double r0, double r1, double h)
+{
+    /* p(s) = g0 + r0 s + c2 s^2 + c3 s^3; p'(s) = r0 + 2 c2 s + 3 c3 s^2 */
+    double c2 = (3.0 * (g1 - g0) / h - 2.0 * r0 - r1) / h, c3 = (r0 + r1 - 2.0 * (g1 - g0) / h) / (h * h);
+    double a = 3.0 * c3, b = 2.0 * c2, c = r0, pmin = fmin(g0, g1), roots[2];
+    int nr = 0;
+    if (fabs(a) * h <= 1e-14 * fabs(b)) {
+        if (b != 0.0) roots[nr++] = -c / b;
+    } else {
+        double disc = b * b - 4.0 * a * c;
+        if (disc >= 0.0) {
+            double sq = sqrt(disc), qq = -0.5 * (b + (b >= 0.0 ? sq : -sq));
+            if (qq != 0.0) {
+                roots[nr++] = qq / a;
+                roots[nr++] = c / qq;
+            }
+        }
+    }
+    for (int i = 0; i < nr; i++)
+        if (roots[i] > 0.0 && roots[i] < h) {
+            double x = roots[i];
+            pmin = fmin(pmin, g0 + x * (r0 + x * (c2 + x * c3)));
+        }
+    return pmin;
+}
+
+static int gap_dips(hyb *H, ode *O, double t0, const double *y0, double t1, const double *y1, const double *g0,
+                    const double *g1, double *tau_best, int *e_best)
+{
+    int a = H->gap0, b = H->gap1, nd = H->ndof, want = 0, fs;
+    double h = t1 - t0, d = DIP_DELTA * h, ya[NY_MAX], yb[NY_MAX], ga[NG_MAX], gb[NG_MAX];
+    double cap = H->cap, caps = H->caps;
+    exdex_kinematics ka, kb;
+    frame fa, fb;
+    if (b <= a || !(h > 0.0)) return EXDEX_OK;
+    for (int e = a; e < b; e++) want |= g0[e] > 0.0 && g1[e] >= 0.0;
+    if (!want) return EXDEX_OK;
+    memcpy(ya, y0, (size_t)H->ny * sizeof *ya);
+    memcpy(yb, y1, (size_t)H->ny * sizeof *yb);
+    for (int c = 0; c < nd; c++) {
+        ya[c] += d * y0[nd + c];
+        yb[c] -= d * y1[nd + c];
+    }
+    fs = frame_seg(H, t0 + d, &fa, &ka);
+    if (!fs) fs = frame_seg(H, t1 - d, &fb, &kb);
+    H->cap = cap; /* frame_seg reads the capacities at its time: keep t1's */
+    H->caps = caps;
+    if (fs) return fs;
+    if (gap_guards(H, &ka, ya, ga + a) != b - a || gap_guards(H, &kb, yb, gb + a) != b - a) return EXDEX_OK;
+    for (int e = a; e < b; e++) {
+        double r0 = (ga[e] - g0[e]) / d, r1 = (g1[e] - gb[e]) / d, tm, gm, tau;
+        int st;
+        if (!(g0[e] > 0.0 && g1[e] >= 0.0 && r0 < 0.0 && r1 > 0.0)) continue;
+        if (!(hermite_min(g0[e], g1[e], r0, r1, h) < DIP_MARGIN * fmin(g0[e], g1[e]))) continue;
+        st = guard_extremum(H, O, t0, y0, h, e, 1.0, &tm, &gm);
+        if (st) return st;
+        if (!(gm < 0.0)) continue;
+        st = locate(H, O, t0, y0, 0.0, tm, e, &tau);
+        if (st) return st;
+        if (tau < *tau_best) {
+            *tau_best = tau;
+            *e_best = e;
+        }
+    }
+    return EXDEX_OK;
+}
+
 /* Locate the root of guard e in [tau0, tau1] (g(tau0) > 0 > g(tau1)) with Brent;
  * returns the upper end of the final bracket (the guard is just violated). */
 static int locate(hyb *H, ode *O, double t0, const double *y0, double tau0, double tau1, int e, double *tau)
@@ -1541,6 +1993,7 @@ static int hybrid_begin(const exdex_model *m, ode *O, int law, double t_end, dou
     H.ny = nd == 3 ? 9 + m->n_src : 3 + m->n_src;
     H.nv = m->n_vert ? m->n_vert : 1;
     H.st = st;
+    for (int k = 0; nd == 3 && k < ns; k++) H.sfric |= model_source_mu(m, k) > 0.0;
     /* eps is a slip speed |E u| [m/s]; a 1-DoF rotation slips at
      * |E u| = e_r |thd|, so its smoothing rate is eps / e_r [rad/s] */
     H.eps = m->ndof == 1 && m->def.dof == EXDEX_DOF_ROTATION ? m->def.eps / m->e[2] : m->def.eps;
@@ -1561,10 +2014,6 @@ static int hybrid_begin(const exdex_model *m, ode *O, int law, double t_end, dou
         H.cap = m->capF * m->e[2];
         H.caps = m->capS * m->e[2];
     }
-    /* regularised: the speed at which the capacity falls from static to
-     * kinetic, in the units of eps */
-    H.vstr = sqrt(m->def.eps * m->scale.V);
-    if (m->ndof == 1 && m->def.dof == EXDEX_DOF_ROTATION) H.vstr /= m->e[2];
     O->sys.params = &H;
     nsw = switch_times(m, t_end, ts, O->gb);
     memset(y, 0, sizeof y);
@@ -1723,6 +2172,8 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                     e_best = e;
                 }
             }
+            /* a free gap that dipped below 0 and recovered within the step */
+            if (!status) status = gap_dips(&H, O, t0, y0, t, y, g0, g1, &tau_best, &e_best);
             /* a guard can dip below 0 and recover within one step (its end
              * value is >= 0): the located event's point shows it; take the
              * earliest such crossing instead (at most ng passes) */
@@ -1956,6 +2407,9 @@ static int hybrid_restore(void *ws, const void *buf)
         return EXDEX_EINVAL;
     for (int i = 0; i < S.H.ncs; i++)
         if (S.H.cs[i] < 0 || (S.H.cs[i] >= nr && !(B->no && orow_valid(B->m, S.H.cs[i] - nr)))) return EXDEX_EINVAL;
+    if (S.H.sfric != B->sfric) return EXDEX_EINVAL;
+    for (int k = 0; k < B->ns; k++)
+        if (S.H.fm[k] < SF_ROLL || S.H.fm[k] > SF_NONE) return EXDEX_EINVAL;
     O->S = S;
     O->sys.params = &O->S.H;
     {

@@ -140,9 +140,6 @@ static int check_fields(const exdex_scene_def *d, const char **bad_param)
             fabs(sqrt(ex_dot3(d->stop_normal[k], d->stop_normal[k])) - 1.0) > 1e-9)
             return bad(bad_param, "stop_normal");
         if (!(isfinite(d->stop_mu[k]) && d->stop_mu[k] >= 0)) return bad(bad_param, "stop_mu");
-        if (d->stop_mu[k] > 0 && d->dof == EXDEX_DOF_PLANAR &&
-            (d->method == EXDEX_METHOD_EVENT || d->method == EXDEX_METHOD_REGULARISED))
-            return bad(bad_param, "stop_mu");
     }
     if (d->n_obstacles < 0 || d->n_obstacles > EXDEX_MAX_OBSTACLES) return bad(bad_param, "n_obstacles");
     for (int o = 0; o < d->n_obstacles; o++)
@@ -151,6 +148,12 @@ static int check_fields(const exdex_scene_def *d, const char **bad_param)
     if (d->n_obstacles && d->method == EXDEX_METHOD_ANALYTIC) return bad(bad_param, "method");
     for (int o = 0; o < d->n_obstacles; o++)
         if (d->obstacles[o].mu > 0.0 && d->method != EXDEX_METHOD_IMPLICIT) return bad(bad_param, "method");
+    /* planar frictional stops in the hybrid methods (sfric.h) solve the
+     * stops' rows only: not beside obstacles */
+    if (d->n_obstacles && d->dof == EXDEX_DOF_PLANAR &&
+        (d->method == EXDEX_METHOD_EVENT || d->method == EXDEX_METHOD_REGULARISED))
+        for (int k = 0; k < d->n_stops && k < EXDEX_MAX_STOPS; k++)
+            if (d->stop_mu[k] > 0.0) return bad(bad_param, "method");
     if (d->method == EXDEX_METHOD_ANALYTIC && exdex_analytic_unsupported(d)) return bad(bad_param, "method");
     if (d->friction_solver < EXDEX_SOLVER_SCALAR || d->friction_solver > EXDEX_SOLVER_MULTIROOT)
         return bad(bad_param, "friction_solver");

@@ -853,10 +853,12 @@ class Stop:
     mu : Coulomb friction coefficient between the stop and each outline
         vertex touching it, in [0, inf) (0: frictionless). The friction acts
         in the plate plane, along the stop's trace there, bounded by mu times
-        the vertex's normal force; exact (velocity-level complementarity,
-        stick exactly still). Supported by the ``implicit`` and ``explicit``
-        methods, and by ``event`` and ``regularised`` in 1-DoF scenes; a
-        planar scene with those two raises a ValueError for mu > 0.
+        the vertex's normal force; exact in every method that supports
+        stops (``implicit`` and ``explicit``: velocity-level
+        complementarity; ``event`` and ``regularised``: friction modes with
+        located switches, the regularised method smoothing only the plate
+        friction), stick exactly still. Impacts in ``event`` and
+        ``regularised`` are frictionless.
     """
 
     point: Vector
@@ -1127,9 +1129,6 @@ class Scene:
     def to_spec(self, method: str = "implicit", friction_solver: str = "scalar", eps: float = 1e-4,
                 rtol: float = 1e-8, atol: float = 1e-10) -> Dict[str, Any]:
         """The flat dict the C core reads (keys mirror ``exdex_scene_def``)."""
-        if method in ("event", "regularised") and self.dof == "planar" and any(s.mu > 0 for s in self.stops):
-            raise ValueError(f"Stop.mu > 0 (friction at a stop) in a planar scene is supported by method "
-                             f"'implicit' or 'explicit', not {method!r}: use one of those, or Stop.mu = 0")
         spec = dict(
             mass=self.body.mass, inertia=np.array(self.body.inertia).ravel(),
             vertices=self.body.vertices() if self.stops or self.obstacles else None,
@@ -1153,6 +1152,10 @@ class Scene:
             if method != "implicit" and any(o.mu > 0 for o in self.obstacles):
                 raise ValueError(f"Scene.obstacles: the implicit method solves obstacles with friction "
                                  f"(Obstacle.mu > 0), got method={method!r}")
+            if (method in ("event", "regularised") and self.dof == "planar"
+                    and any(s.mu > 0 for s in self.stops)):
+                raise ValueError(f"Scene.obstacles: the implicit and explicit methods solve planar scenes with "
+                                 f"obstacles and frictional stops (Stop.mu > 0), got method={method!r}")
             spec["obstacles"] = [o._spec() for o in self.obstacles]
         spec.update(self.motion._spec())
         sched = self.grasp.schedule

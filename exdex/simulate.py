@@ -381,11 +381,14 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
         "implicit" tries each step's stick with Cs first and else slides
         against C (a slip may stick one step early: O(dt)); "event" tests
         every stick with Cs and slides with C; "analytic" likewise;
-        "regularised" replaces mu N by C + (Cs - C) exp(-(|E u| / v_s)^2),
-        v_s = sqrt(eps V) with V the scene's velocity scale (the capacity
-        falls from static to kinetic once the slip is faster than v_s);
-        "explicit" (no stick state) holds the load with Cs only at u = 0
-        exactly (from rest), so it breaks away at Cs but never sticks again.
+        "regularised" holds the load in a stick band |E u| <= eps with the
+        viscous friction -Cs E^2 u / eps (up to Cs at the band's edge) and
+        slides with -C E^2 u / |E u| beyond it: first order in eps (it
+        creeps below eps while stuck and starts a slip at eps instead of 0);
+        "explicit" holds the load with Cs at u = 0 and returns a slip to
+        u = 0 in the step whose kinetic update reverses it (or whose
+        friction impulse can stop it) if Cs holds the load there: first
+        order in dt.
         Every method handles stops in every scene (planar: plastic
         frictionless impacts, unilateral contact with the stop force from the
         constraint acceleration; "event" also rests exactly against stops).

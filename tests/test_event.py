@@ -338,3 +338,79 @@ def test_planar_bench_scene_at_loose_rtol_converges_to_tight_rtol():
         errs.append(float(np.max(np.abs(r.q[-1] - ref))))
     assert errs[0] < 1e-2 * np.max(np.abs(ref)), errs
     assert errs[1] < errs[0] / 2 and errs[2] < errs[1] / 2, errs
+
+
+# ------------------------------------------------- a corner grazing a stop
+# A box spins freely (mu = 0, gravity along the plate normal, gripper at
+# rest, frame B = A) past a stop y >= -d placed eps short of its corners'
+# reach, d = R_c cos(eps) (R_c the half-diagonal): a corner dips below the
+# stop plane only over a turn of 2 eps. Its gap is a smooth function whose
+# end values over one step can both be positive, and a free spin is
+# integrated exactly by the Runge-Kutta stepper, so its error control
+# allows one step over the whole output interval: the impact shows only as
+# an interior minimum of the gap.
+
+def _grazing_scene(dof, v0, eps):
+    a, b = 0.04, 0.02
+    Rc = 0.5 * math.hypot(a, b)
+    stop = Stop(point=(0.0, -Rc * math.cos(eps), 0.0), normal=(0.0, 1.0, 0.0))
+    sc = Scene(body=Body.box(0.1, (a, b, 0.01)), grasp=Grasp(mu=0.0, grip_force=1.0, patch=Patch.disc(0.005)),
+               dof=dof, stops=(stop,), v0=v0, gripper_rotation=np.eye(3))
+    corners = [(sx * a / 2, sy * b / 2) for sx in (1, -1) for sy in (1, -1)]
+    return sc, corners, Rc * math.cos(eps)
+
+
+@pytest.mark.parametrize("method", ["event", "regularised"])
+@pytest.mark.parametrize("rtol", [1e-6, 1e-9])
+def test_grazing_corner_stops_a_spin_in_one_output_interval(method, rtol):
+    """Rotation about the centre of mass at w0 (the patch there: no torque).
+    Closed form: corner j at angle alpha_j reaches the stop when
+    alpha_j + w0 t = -pi/2 - eps (mod 2 pi), first at t* = min_j
+    ((-pi/2 - eps - alpha_j) mod 2 pi) / w0; the inelastic impact at a corner
+    off the pivot's vertical kills the only velocity, and with no torque the
+    box stays there: final angle w0 t*, rate 0, for output dt = t_end."""
+    w0, eps = 2.0 * math.pi, 0.05
+    sc, corners, _ = _grazing_scene("rotation", (0.0, 0.0, w0), eps)
+    t_star = min(((-math.pi / 2 - eps - math.atan2(y, x)) % (2 * math.pi)) / w0 for x, y in corners)
+    with pytest.warns(exdex.PhysicsWarning):
+        r = exdex.simulate(sc, t_end=1.0, dt=1.0, method=method, rtol=rtol)
+    assert r.stats["impacts"] == 1
+    assert abs(r.q[-1, 0] - w0 * t_star) <= 1e-8
+    assert r.v[-1, 0] == 0.0
+    assert r.stats["min_gap"] >= -1e-12
+
+
+@pytest.mark.parametrize("method", ["event", "regularised"])
+def test_grazing_corner_planar_found_in_one_output_interval(method):
+    """Planar free flight (mu = 0) at v = (vx, vy, w0): corner j is at
+    (vx t, vy t) + Rz(w0 t) c_j; its first crossing of the stop t* is found
+    here by scipy's brentq on a fine bracket of that closed-form gap
+    (independent of exdex). Run to t_end = 2 s, past t* + 3 eps / w0 (when the
+    free corner would be back above the stop), with the output grid one
+    interval: the impact must be found (the same final state as with 4000
+    output intervals, which cap the steps far below the dip's duration) and
+    the outline must stay out of the stop."""
+    from scipy.optimize import brentq
+    w0, eps, vx, vy = 3.0, 0.03, 0.01, -0.0005
+    sc, corners, d = _grazing_scene("planar", (vx, vy, w0), eps)
+
+    def gap(t, c):
+        ct, st = math.cos(w0 * t), math.sin(w0 * t)
+        return vy * t + st * c[0] + ct * c[1] + d
+
+    ts = np.linspace(0.0, 2 * math.pi / w0, 20001)
+    t_star = math.inf
+    for c in corners:
+        g = np.array([gap(t, c) for t in ts])
+        k = np.flatnonzero((g[:-1] > 0) & (g[1:] <= 0))
+        if k.size:
+            t_star = min(t_star, brentq(gap, ts[k[0]], ts[k[0] + 1], args=(c,), xtol=1e-15))
+    t_end = 2.0
+    assert t_star + 3.0 * eps / w0 < t_end
+    with pytest.warns(exdex.PhysicsWarning):
+        one = exdex.simulate(sc, t_end=t_end, dt=t_end, method=method, rtol=1e-9)
+        fine = exdex.simulate(sc, t_end=t_end, dt=t_end / 4000, method=method, rtol=1e-9)
+    assert one.stats["impacts"] >= 1
+    assert one.stats["min_gap"] >= -1e-12
+    np.testing.assert_allclose(one.q[-1], fine.q[-1], rtol=0, atol=1e-7)
+    np.testing.assert_allclose(one.v[-1], fine.v[-1], rtol=0, atol=1e-6)

@@ -37,3 +37,22 @@ def test_planar_log_between_two_stops_stays_out(rtol, n_out):
     assert r.stats["warnings"] == 0, r.stats
     assert r.stats["min_gap"] / zs.L > -PEN_REL, r.stats["min_gap"] / zs.L
     assert r.stats["min_gap"] / zs.L > -LOCATE_REL, r.stats["min_gap"] / zs.L
+
+
+def test_regularised_frictional_stop_with_a_grip_schedule_stays_out():
+    """The regularised method on a 1-DoF slide against one frictional stop
+    (Stop.mu 0.97) under a linear grip schedule (tests/test_zoo_inputs.py
+    input scene 123): in contact each step ends with the projection onto the
+    stop (project_contact), so every following step must restart from the
+    projected state's derivative. From a stale one the run sinks 7.4e-5 L
+    into the stop at rtol 1e-9 with 26 soft problems from t = 0.586 s; the
+    contract is the stop kept to rounding and event location, as above."""
+    import test_zoo_inputs
+
+    zs = test_zoo_inputs.input_scene(123).zs
+    sc = zs.scene
+    assert sc.dof == "translation" and len(sc.stops) == 1 and sc.stops[0].mu > 0
+    with pytest.warns(Warning):  # the scene's grasp warnings (impacts)
+        r = zoo.run(zs, "regularised", rtol=zoo.REF_RTOL)
+    assert r.stats["warnings"] == 0, r.stats
+    assert r.stats["min_gap"] / zs.L > -LOCATE_REL, r.stats["min_gap"] / zs.L

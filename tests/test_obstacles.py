@@ -140,6 +140,9 @@ def test_bad_input_names_the_parameter():
     assert len(sc.obstacles) == 1
     with pytest.raises(ValueError, match="analytic method solves scenes without stops"):
         exdex.simulate(sc, t_end=0.1, dt=0.01, method="analytic")
+    with pytest.raises(ValueError, match=r"Scene\.obstacles.*frictional stops"):
+        exdex.simulate(exdex.replace(sc, dof="planar", stops=(Stop((0, 0, -0.5), (0, 0, 1), mu=0.3),)),
+                       t_end=0.1, dt=0.01, method="event")
     for method in ("explicit", "event", "regularised"):
         with pytest.raises(ValueError, match=r"Obstacle\.mu"):
             exdex.simulate(exdex.replace(sc, obstacles=(Obstacle.box((0, 0, -1), (1, 1, 1), mu=0.5),)),

@@ -117,7 +117,11 @@ SEEDS = range(N_SCENES)
 #: small slip (|E u| between zsw and its SLIP_UP zsw hysteresis bound) that
 #: met a stop-row event, re-decided as a large slip, decayed below zsw at
 #: once, stopped, restarted small: event budget exceeded.
-EXTRA_SEEDS = (7614,)
+#: 7401, 7414, 9682, 5990, 2311: an outline corner grazing a stop within one
+#: step of the event method (the gap dips below 0 and recovers between the
+#: step's ends): the impact was missed at some tolerances and output grids
+#: (7401 ended 5.7 L off the reference).
+EXTRA_SEEDS = (7614, 7401, 7414, 9682, 5990, 2311)
 #: The regularised method's agreement (three stiff runs) on every REG_EVERY-th
 #: seed; it returns on all of them.
 REG_EVERY = 2

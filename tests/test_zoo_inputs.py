@@ -25,8 +25,8 @@ reproducer: ``input_scene(seed).scene``):
 
 Which method supports which input (simulate raises a ValueError naming the
 parameter otherwise, checked here): obstacles: every method but analytic;
-obstacle friction: implicit; stop friction in a planar scene: implicit and
-explicit; everything else: every method.
+obstacle friction: implicit; everything else (stop friction included, in
+every dof): every method.
 
 Agreement, with tests/test_zoo.py's machinery and bounds (zoo.check_scene;
 derivations in tests/test_zoo.py): where the event method supports the
@@ -34,8 +34,8 @@ scene it is the reference and every supporting method must lie within its
 stated error of it (event: proportional to rtol; implicit, explicit: S times
 the largest successive difference of the dt ladder t_end / 500 .. / 4000,
 explicit plus its creep; regularised: its eps ladder, on every REG_EVERY-th
-seed). Unsupported methods must refuse by name. Where the event method does not (frictional obstacles, planar
-frictional stops) the reference is the implicit method at h/8, whose own error is
+seed). Unsupported methods must refuse by name. Where the event method does not (frictional obstacles) the
+reference is the implicit method at h/8, whose own error is
 bounded by its ladder's estimate S max(D) (the extrapolation of its
 successive differences in dt, tests/test_zoo.py), and the explicit method
 must lie within the sum of both estimates (plus its creep and FLOOR).
@@ -65,13 +65,6 @@ REG_EVERY = 1
 G = zoo.G
 
 #: (method, seed) -> the defect; strict xfails.
-_STATIC_REG = ('regularised with mu_static > mu: its static band v_s = sqrt(eps V) (csrc/hybrid.c) makes its error '
-               'O(sqrt(eps)) or slower, not first order, with a pre-asymptotic regime at eps0 .. eps0/4 that the '
-               'successive differences (the first-order estimate S max(D)) do not reveal; ')
-_STATIC_EXP = ('explicit with mu_static > mu: once the object has moved it never returns to u = 0 exactly, so it never '
-               'sticks again (csrc/explicit.c) and slides with the kinetic capacity under a load between the kinetic and '
-               'the static one, where the exact solution sticks: it does not converge to the exact solution as dt -> 0 '
-               '(it converges to the mu_static = mu answer); ')
 _PLATEAU = ('implicit with mu_static > mu, 1-DoF: the error is identical on the ladder t_end/500 .. t_end/4000 '
             '(differences 0 or ~1e-7 L) and drops only at finer steps, so the successive-difference estimate misses '
             'it (a brief load excursion past the static capacity that the step-mean load does not see until h is '
@@ -83,21 +76,11 @@ KNOWN = {  # noqa: E501 - the defects, stated in full
     ('implicit', 354): _PLATEAU + 'translation, trapezoid, one frictional stop, mu_static = 1.26 mu: 1.24e-7 L at t_end/500 .. /4000, 1.4e-10 L at /32000',
     ('implicit', 358): _PLATEAU + 'translation, noisy log, mu_static = 1.37 mu: 5.6e-7 L identical from t_end/500 to t_end/16000, 1.9e-7 L at /64000',
     ('event', 143): 'event: the answer depends on the output grid and jumps between three values as rtol changes (planar, Chain of turns, linear grip schedule released to 0 at 3.04 s and re-gripped): final pose 2.12e-5 L from the rtol 1e-12 reference at rtol 1e-9 with output t_end/8, 2.33e-4 L with output t_end/64 (L = 0.85 m); rtol 1e-10: 2.33e-4 L (t_end/8), 2.12e-5 L (t_end/64); so the rtol 1e-10 run is 10x farther than the 1e-9 one; the gravity +-1e-6 perturbation moves the reference by 2.1e-5 L (a near-threshold decision during the release)',
-    ('explicit', 169): _STATIC_EXP + 'rotation, Shake, mu_static = 1.31 mu: 0.059 L from the event reference at t_end/4000 .. /128000; 3.9e-5 L from the event with mu_static = mu',
-    ('explicit', 335): _STATIC_EXP + 'translation, Eq. 7, a stop, mu_static = 1.55 mu: 2.46 L off (bound 0.42 L)',
-    ('explicit', 365): _STATIC_EXP + 'rotation at rest, cubic schedule with a release, mu_static = 1.52 mu: 0.019 L off (bound 2e-3 L)',
-    ('explicit', 395): _STATIC_EXP + 'translation, Eq. 7, mu_static = 1.39 mu: 0.295 L off at t_end/4000, 0.292 L at /128000; 2.6e-4 L from the event with mu_static = mu',
-    ('explicit', 206): 'explicit against the implicit reference (planar, Eq. 7, one frictional stop): 0.78 L apart against the bound 0.40 L, the explicit ladder differences 0.091, 0.079, 0.068 L not converging at first order. Final theta: implicit -1.5323, -1.5324, -1.5325 rad at t_end/500, /4000, /32000; explicit -3.07, -2.72, -2.52 rad. With the stop frictionless both approach the event answer (-1.5786 rad: implicit -1.5786, explicit -1.656, -1.559, -1.576), so the disagreement is in the planar stop friction of one of them; no independent reference (event rejects planar stop friction), cause not determined',
-    ('regularised', 140): _STATIC_REG + 'translation, noisy log, a stop, mu_static = 1.2 mu: 0.164 L (bound 0.122 L)',
-    ('regularised', 158): _STATIC_REG + 'rotation, log, a frictional stop, linear schedule, mu_static = 1.6 mu: 0.106 L (bound 0.063 L)',
-    ('regularised', 182): _STATIC_REG + 'planar, noisy log, two stops, mu_static = 1.48 mu: 0.169 L (bound 0.141 L)',
-    ('regularised', 247): _STATIC_REG + 'translation, Eq. 7, cubic schedule, mu_static = 1.21 mu: 0.147 L (bound 0.109 L)',
-    ('regularised', 250): _STATIC_REG + 'translation, trapezoid, mu_static = 1.47 mu: 5.0e-3 L (bound 3.9e-3 L)',
-    ('regularised', 319): _STATIC_REG + 'rotation, Shake, a frictional stop, step schedule, mu_static = 1.44 mu: 0.302 L (bound 0.285 L)',
-    ('regularised', 325): _STATIC_REG + 'planar, Chain, cubic schedule, mu_static = 1.24 mu: 0.042 L (bound 0.033 L)',
-    ('regularised', 32): _STATIC_REG + 'planar, cubic grip schedule, mu_static = 1.53 mu, Shake: 0.19 L / 0.22 L off the event reference at eps0 / eps0/4 (D = 0.035, 0.012 L), then 4.5e-3 L at eps0/16, 4e-6 L at eps0/64; with mu_static = mu 0.015 L at eps0, first order',
-    ('regularised', 50): _STATIC_REG + 'translation, cubic grip schedule, mu_static = 1.39 mu, Chain: 0.188 L off at eps0/4 against the bound 0.176 L (D = 0.053, 0.017 L)',
-    ('regularised', 55): _STATIC_REG + 'translation, two frictional stops, mu_static = 1.52 mu, Shake: error 0.0198, 0.0153, 0.0091, 0.0049, 0.0025 L at eps0 / 1, 4, 16, 64, 256 (halving per factor 4: order 1/2); with mu_static = mu 0.0077 L at eps0, quartering per factor 4',
+    ('explicit', 206): 'explicit against the event reference (planar, Eq. 7, one frictional stop): 0.78 L apart against the bound 0.40 L, the explicit ladder differences 0.091, 0.079, 0.068 L not converging at first order. Final theta: event -1.532466 rad, implicit -1.5323, -1.5324, -1.5325 rad at t_end/500, /4000, /32000 (2.5e-5 L from the event, within its bound), explicit -3.07, -2.72, -2.52 rad: the two exact methods agree, the explicit method is the one that is off (its planar stop friction; with the stop frictionless it approaches the event answer -1.5786 rad: -1.656, -1.559, -1.576)',
+    ('implicit', 45): 'the event and regularised methods take impacts frictionless (csrc/hybrid.c), the implicit and explicit methods frictional (Coulomb at the velocity level over the impact step); planar, Chain, two frictional stops: at t = 0.06952 s a stop moving in B strikes the object resting in the grip with a slip along it, and the frictionless impact leaves it turning at -30.4 rad/s, the frictional one at +31 rad/s; the final x differs by 0.72 L (theta by 1e-4 rad). Before the impact the runs agree; with Stop.mu = 0 the final poses agree (event -9.5655 rad, implicit -9.5544 rad at t_end/8000)',
+    ('implicit', 84): 'the event and regularised methods take impacts frictionless (csrc/hybrid.c), the implicit and explicit methods frictional (Coulomb at the velocity level over the impact step); planar, step grip schedule, mu_static = 1.54 mu, one frictional stop: the object spins at 121 rad/s when a corner strikes the stop at t = 0.010144 s; at t = 0.0101 s (before it) the implicit run converges to the event run at first order (1.49, 0.37, 0.092, 0.022 L at dt = 5e-5 s / 1, 4, 16, 64), at t = 0.0125 s (after it) it converges to a point 9.2 L away; the explicit method agrees with the implicit one (final poses 2e-4 rad apart)',
+    ('explicit', 84): 'the event and regularised methods take impacts frictionless (csrc/hybrid.c), the implicit and explicit methods frictional (Coulomb at the velocity level over the impact step); the scene of (implicit, 84): the explicit final pose agrees with the implicit one (2e-4 rad), 0.12 L from the event reference',
+    ('regularised', 206): 'regularised against the event reference (planar, Eq. 7, one frictional stop): the event run rests against the stop for 89% of the run (the least-friction split of the load over the plates and the stop cone fits the capacities) while the regularised run creeps there (eps0/16: at 3.9e-4 m/s between 0.72 and 1.29 s, where the event run is still), and a creep makes the stop friction kinetic; the distance does not shrink with eps (0.86, 0.73, 0.67, 0.62 L at eps0 / 1, 4, 16, 64). With the stop frictionless it converges (0.11, 0.0068 L at eps0, eps0/16). Likely cause: a load that a rest (static split) and a slide (kinetic stop friction, plates at capacity) both satisfy (Coulomb with two frictional contacts is not unique), the smoothed law selecting the slide; not confirmed',
     ('implicit', 71): 'implicit: a Chain (pause, half-cycle shake, pause, Eq. 7 profile): the load jumps beyond the capacity at the profile\'s phase switch t_s = 0.692782 s and the exact (event) slip starts there; the implicit step does not split at that known switch, so the step containing it sticks (or slips with the stuck part\'s deceleration) and the slip velocity lags by a (t1 - t_s), t1 the step end. t_s lies 1.06e-4 s before a grid point common to every ladder level t_end/500 .. t_end/4000, so that error (6.6e-3 L) is the same at h .. h/8 and the successive differences (1e-4 L) miss it; at t_end/16000 and /64000 the step containing t_s again starts at a common grid point (identical error 3.1e-4 L)',
     ('implicit', 27): 'implicit: a step grip schedule (released from t = 0, re-grip to 0.023 N at 0.256 s, steps at 0.389 and 0.549 s) on a pendulum (rotation dof): the capacity jumps at the steps and the implicit step takes their exact step mean without splitting at them, a first-order error that stays 2.3e-4 L at t_end/500 .. t_end/4000 (differences 3.7e-5 .. 2.5e-6 L, so S max(D) = 1.1e-4 L misses it) and drops to 6.8e-5 L only at t_end/8000: the step-switch times sit where the nested grids share the error',
 }
@@ -257,8 +240,6 @@ def unsupported(scene, method):
             return "Scene.obstacles"
         if method != "implicit" and any(o.mu > 0 for o in scene.obstacles):
             return "Obstacle.mu"
-    if scene.dof == "planar" and method in ("event", "regularised") and any(s.mu > 0 for s in scene.stops):
-        return "Stop.mu"
     return None
 
 
@@ -361,7 +342,6 @@ def test_inputs_scene(method, seed):
 
 #: (property, method, seed) -> the defect; strict xfails.
 KNOWN_PROPS = {  # noqa: E501 - the defects, stated in full
-    ('penetration', 'regularised', 123): 'regularised, translation, one frictional stop (mu 0.1..1), linear grip schedule, smooth log: the stop is penetrated by 7.4e-5 L at rtol 1e-9 (atol 1e-9 x the scene scales), 1.2e-15 L at rtol 1e-11 and at eps0/10: the stop contact is not held to the tolerance; the run reports 26 soft problems from t = 0.586 s (stats warnings; the event method on the same scene: none, no penetration); with the stop frictionless, or the grip constant, no penetration: the frictional stop with a grip schedule',
 }
 
 #: Penetration allowed of the methods that keep contacts exactly (event and
@@ -419,7 +399,7 @@ def test_inputs_generator_is_valid_and_covers_the_inputs():
     want |= {("obstacle", k + "-mu") for k in ("box", "rod", "wedge")} | {"mu_static", ("motion", "shake"),
                                                                         ("motion", "chain")}
     want |= {("stop_mu", d) for d in zoo.DOFS} | {("refuses", "event", "Obstacle.mu"),
-                                                  ("refuses", "event", "Stop.mu"), ("refuses", "explicit", "Obstacle.mu")}
+                                                  ("refuses", "explicit", "Obstacle.mu")}
     assert want <= seen, want - seen
     assert any(k[0] == "grip" and k[1].endswith("-release") for k in seen if isinstance(k, tuple))
 

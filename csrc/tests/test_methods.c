@@ -18,6 +18,8 @@
 static double qlast(const sim_run *r, int c) { return r->tr.q[(r->tr.n - 1) * r->ndof + c]; }
 
 /* 1-DoF vertical scene (B y up), gripper at rest, capacity ratio * m g. */
+#define EXDEX_TEST_PI 3.14159265358979323846
+
 static exdex_scene_def mvertical(double mass, double ratio, int method)
 {
     exdex_scene_def d = exdex_default_scene_def();
@@ -1113,6 +1115,59 @@ EXDEX_TEST(methods_overflowing_capacity_is_not_ok)
         } else {
             ENSURE(st == EXDEX_ENONFINITE);
         }
+        sim_run_free(&r);
+    }
+}
+
+EXDEX_TEST(methods_hybrid_grazing_corner_impact_inside_one_step)
+{
+    /* A 4 x 2 cm box spins freely about its centre of mass (mu = 0, gravity
+     * along the plate normal, B = A) at w0 = 2 pi rad/s past a stop placed
+     * eps = 0.05 rad short of its corners' reach: a corner is below the
+     * stop plane only while it turns through 2 eps. The free spin is
+     * integrated exactly, so one step can span the output interval and
+     * both end gaps are positive. Closed form: corner j (angle alpha_j)
+     * reaches the stop when alpha_j + w0 t = -pi/2 - eps (mod 2 pi); the
+     * first such t* stops the spin (the inelastic impact kills the only
+     * velocity, no torque acts after it): theta = w0 t*, rate 0. */
+    const double a = 0.04, b = 0.02, eps = 0.05, w0 = 2.0 * EXDEX_TEST_PI, Rc = 0.5 * hypot(a, b);
+    int methods[2] = {EXDEX_METHOD_EVENT, EXDEX_METHOD_REGULARISED};
+    double t_star = INFINITY;
+    for (int sx = -1; sx <= 1; sx += 2)
+        for (int sy = -1; sy <= 1; sy += 2) {
+            double al = atan2(sy * b / 2, sx * a / 2), x = fmod(-EXDEX_TEST_PI / 2 - eps - al, 2 * EXDEX_TEST_PI);
+            if (x < 0) x += 2 * EXDEX_TEST_PI;
+            t_star = fmin(t_star, x / w0);
+        }
+    for (int k = 0; k < 2; k++) {
+        exdex_scene_def d = exdex_default_scene_def();
+        sim_run r;
+        d.method = methods[k];
+        d.mass = 0.1;
+        d.mu = 0.0;
+        d.grip_force = 1.0;
+        d.fingers = 2;
+        d.dof = EXDEX_DOF_ROTATION;
+        d.gravity[0] = d.gravity[1] = 0.0;
+        d.gravity[2] = -G;
+        for (int i = 0; i < 9; i++) d.R0[i] = i % 4 == 0 ? 1.0 : 0.0;
+        d.v0[2] = w0;
+        d.n_vertices = 4;
+        d.vertices[0][0] = a / 2, d.vertices[0][1] = b / 2;
+        d.vertices[1][0] = -a / 2, d.vertices[1][1] = b / 2;
+        d.vertices[2][0] = -a / 2, d.vertices[2][1] = -b / 2;
+        d.vertices[3][0] = a / 2, d.vertices[3][1] = -b / 2;
+        d.n_stops = 1;
+        d.stop_point[0][0] = d.stop_point[0][2] = 0.0;
+        d.stop_point[0][1] = -Rc * cos(eps);
+        d.stop_normal[0][0] = d.stop_normal[0][2] = 0.0;
+        d.stop_normal[0][1] = 1.0;
+        d.rtol = 1e-9;
+        ENSURE(sim_run_def(&d, 1.0, 1.0, &r) == EXDEX_OK);
+        ENSURE(r.st.impacts == 1);
+        ENSURE_CLOSE(r.tr.q[r.tr.n - 1], w0 * t_star, 1e-8);
+        ENSURE(r.tr.v[r.tr.n - 1] == 0.0);
+        ENSURE(r.st.min_gap >= -1e-12);
         sim_run_free(&r);
     }
 }

@@ -317,6 +317,10 @@ EXDEX_TEST(obstacle_bad_input_status)
     EXPECT_BAD_OBST(d.method = EXDEX_METHOD_ANALYTIC, "method");
     EXPECT_BAD_OBST((d.obstacles[0].mu = 0.5, d.method = EXDEX_METHOD_EVENT), "method"); /* friction: implicit */
     EXPECT_BAD_OBST((d.obstacles[0].mu = 0.5, d.method = EXDEX_METHOD_REGULARISED), "method");
+    /* planar frictional stops beside obstacles: implicit, explicit */
+    EXPECT_BAD_OBST((d.dof = EXDEX_DOF_PLANAR, d.n_stops = 1, d.stop_normal[0][2] = 1.0, d.stop_point[0][2] = -0.5,
+                     d.stop_mu[0] = 0.3, d.method = EXDEX_METHOD_EVENT),
+                    "method");
     EXPECT_BAD_OBST(d.obstacles[0].mu = -0.1, "obstacles");
     EXPECT_BAD_OBST(d.obstacles[0].mu = NAN, "obstacles");
     EXPECT_BAD_OBST((d.obstacles[0].mu = 0.5, d.method = EXDEX_METHOD_EXPLICIT), "method"); /* friction: implicit */

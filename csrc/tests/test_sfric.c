@@ -1,0 +1,172 @@
+/* test_sfric.c -- the acceleration-level problem of a planar object against
+ * frictional stops (sfric.c) against closed forms, a Painleve configuration
+ * with no consistent mode, and the slip acceleration of a vertex along a
+ * stop (contact_slip_planar) against a central difference of the slip along
+ * a trajectory under a turning gripper. */
+#include "check.h"
+#include "../contact.h"
+#include "../model.h"
+#include "../sfric.h"
+
+#include <math.h>
+#include <string.h>
+
+#define G 9.81
+
+/* A particle (planar coordinates, rotation idle) on an incline of angle a:
+ * normal n = (-sin a, cos a), tangent t = e_z x n = (-cos a, -sin a);
+ * gravity (0, -g). Along the incline the weight's part is m g sin a (down
+ * the slope, +t direction: t . (0, -g) = g sin a), into it m g cos a. Stick
+ * iff mu >= tan a: qdd = 0, lam = m g cos a, beta = -m g sin a. Else it
+ * slides along +t with g (sin a - mu cos a), beta = -mu lam. */
+EXDEX_TEST(sfric_particle_on_incline_sticks_or_slides_closed_form)
+{
+    double a = 0.4, m = 0.5, minv[3] = {1.0 / m, 1.0 / m, 10.0}, acc[3] = {0.0, -G, 0.0};
+    for (int c = 0; c < 2; c++) {
+        double mu = c ? 0.5 : 0.3;  /* tan 0.4 = 0.4228 */
+        sf_row row = {{-sin(a), cos(a), 0.0}, 0.0, 0};
+        sf_stop st = {{-cos(a), -sin(a), 0.0}, 0.0, mu, SF_ROLL};
+        sf_result r;
+        ENSURE(sf_solve(1, &row, 1, &st, minv, acc, 1e-12, 1e-12, &r) == 1);
+        ENSURE_CLOSE(r.lam[0], m * G * cos(a), 1e-14);
+        if (mu >= tan(a)) {
+            ENSURE(r.fm[0] == SF_STICK);
+            ENSURE_CLOSE(r.beta[0], -m * G * sin(a), 1e-14);
+            ENSURE_CLOSE(hypot(r.qdd[0], r.qdd[1]), 0.0, 1e-14);
+        } else {
+            double at = G * (sin(a) - mu * cos(a));
+            ENSURE(r.fm[0] == SF_SLIDE_P);
+            ENSURE_CLOSE(r.beta[0], -mu * m * G * cos(a), 1e-14);
+            ENSURE_CLOSE(r.acct[0], at, 1e-14);
+            ENSURE_CLOSE(r.qdd[0], -at * cos(a), 1e-14);
+            ENSURE_CLOSE(r.qdd[1], -at * sin(a), 1e-14);
+        }
+        ENSURE_CLOSE(r.acc[0], 0.0, 1e-14);
+        /* a stop given a mode keeps it: sliding the other way (its slip
+         * negative), the friction acts down the slope */
+        st.fm = SF_SLIDE_M;
+        ENSURE(sf_solve(1, &row, 1, &st, minv, acc, 1e-12, 1e-12, &r) == 1);
+        ENSURE(r.fm[0] == SF_SLIDE_M);
+        ENSURE_CLOSE(r.beta[0], mu * m * G * cos(a), 1e-14);
+        ENSURE_CLOSE(r.acct[0], G * (sin(a) + mu * cos(a)), 1e-14);
+        /* lifted off (the free acceleration leaves the stop): no force */
+        acc[1] = G;
+        st.fm = SF_ROLL;
+        ENSURE(sf_solve(1, &row, 1, &st, minv, acc, 1e-12, 1e-12, &r) == 1);
+        ENSURE(r.lam[0] == 0.0 && r.beta[0] == 0.0 && r.qdd[1] == G);
+        acc[1] = -G;
+    }
+}
+
+/* A face flat on a wall: two rows of one stop whose tangent rows are equal
+ * (the face's corners slip together), the block at rest in the plane, a
+ * load f = (fx, fy) at the centre pushing it into the wall (fx < 0, wall
+ * normal +x at x = -h) and along it. One tangential unknown per stop keeps
+ * the system regular (two tangential unknowns would have dependent rows):
+ * stick iff |fy| <= mu |fx|, then lam1 + lam2 = -fx, beta = -fy, and the
+ * moments about the centre, -h lam1 (corner (-h, h)) + h lam2 (corner
+ * (-h, -h)) - h beta (the friction at x = -h), vanish: lam2 - lam1 = beta.
+ * Else it slides along +y, beta = -mu (lam1 + lam2), qdd_y = (fy - mu |fx|)
+ * / m. */
+EXDEX_TEST(sfric_face_on_wall_sticks_with_one_tangential_force)
+{
+    double h = 0.01, minv[3] = {10.0, 10.0, 1e4};
+    for (int c = 0; c < 2; c++) {
+        double fx = -1.0, fy = c ? 0.7 : 0.3, mu = 0.5, acc[3] = {fx * minv[0], fy * minv[1], 0.0};
+        /* corners (-h, +h) and (-h, -h) from the centre: G = (n, r x n) with
+         * n = (1, 0): r x n = -r_y; T = (t, r x t) with t = (0, 1): r_x */
+        sf_row rows[2] = {{{1.0, 0.0, -h}, 0.0, 0}, {{1.0, 0.0, h}, 0.0, 0}};
+        sf_stop st = {{0.0, 1.0, -h}, 0.0, mu, SF_ROLL};
+        sf_result r;
+        ENSURE(sf_solve(2, rows, 1, &st, minv, acc, 1e-12, 1e-12, &r) == 1);
+        ENSURE_CLOSE(r.lam[0] + r.lam[1], -fx, 1e-12);
+        if (fabs(fy) <= mu * fabs(fx)) {
+            ENSURE(r.fm[0] == SF_STICK);
+            ENSURE_CLOSE(r.beta[0], -fy, 1e-12);
+            ENSURE_CLOSE(fabs(r.qdd[0]) + fabs(r.qdd[1]) + fabs(r.qdd[2]), 0.0, 1e-9);
+            /* moments about the centre: -h lam1 + h lam2 - h beta = 0 */
+            ENSURE_CLOSE(r.lam[1] - r.lam[0], r.beta[0], 1e-12);
+        } else {
+            ENSURE(r.fm[0] == SF_SLIDE_P);
+            ENSURE_CLOSE(r.beta[0], -mu * (r.lam[0] + r.lam[1]), 1e-12);
+            ENSURE_CLOSE(r.qdd[1], (fy - mu * fabs(fx)) * minv[1], 1e-9);
+        }
+    }
+}
+
+/* Painleve: one row of a stop sliding with a fixed sign whose friction
+ * turns the normal force's effect around: G = (0, 1, 1), T = (1, 0, 2), mu
+ * = 1, sliding +: the force direction D = G - T = (-1, 1, -1), G M^-1 D =
+ * 1 - 10 < 0 with M = diag(1, 1, 0.1); the free acceleration drives the
+ * row in (G a = -1). With force lam = (G a) / -(G M^-1 D) < 0; without, the
+ * row penetrates: no consistent mode. Frictionless it is consistent. */
+EXDEX_TEST(sfric_painleve_has_no_consistent_mode)
+{
+    double minv[3] = {1.0, 1.0, 10.0}, acc[3] = {0.0, -1.0, 0.0};
+    sf_row row = {{0.0, 1.0, 1.0}, 0.0, 0};
+    sf_stop st = {{1.0, 0.0, 2.0}, 0.0, 1.0, SF_SLIDE_P};
+    sf_result r;
+    ENSURE(sf_solve(1, &row, 1, &st, minv, acc, 1e-12, 1e-12, &r) == 0);
+    st.fm = SF_NONE;
+    ENSURE(sf_solve(1, &row, 1, &st, minv, acc, 1e-12, 1e-12, &r) == 1);
+    ENSURE(r.lam[0] > 0.0 && r.beta[0] == 0.0);
+    ENSURE_CLOSE(r.acc[0], 0.0, 1e-14);
+    /* out of range */
+    ENSURE(sf_solve(SF_MAX_ROWS + 1, &row, 1, &st, minv, acc, 1e-12, 1e-12, &r) == 0);
+}
+
+/* The slip acceleration: along q(t) = q0 + v0 t + qdd t^2 / 2 under a
+ * gripper turning about a tilted axis (a rotation shake: w and dw change,
+ * the stop's trace in the plate plane turns), ds/dt by a central
+ * difference must equal T qdd + sdd0. */
+EXDEX_TEST(sfric_slip_acceleration_matches_central_difference)
+{
+    exdex_scene_def d = exdex_default_scene_def();
+    const char *bad = NULL;
+    int status = 0;
+    double verts[4][2] = {{0.01, 0.01}, {-0.01, 0.01}, {-0.01, -0.01}, {0.01, -0.01}};
+    exdex_model *m;
+    d.dof = EXDEX_DOF_PLANAR;
+    d.mass = 0.1;
+    d.n_vertices = 4;
+    memcpy(d.vertices, verts, sizeof verts);
+    d.motion.kind = EXDEX_MOTION_SHAKE;
+    d.motion.rotation = 1;
+    d.motion.axis[0] = 0.3;
+    d.motion.axis[1] = 1.0;
+    d.motion.axis[2] = 0.5;
+    d.motion.center[0] = 0.05;
+    d.motion.amplitude = 0.3;
+    d.motion.frequency = 2.0;
+    d.motion.duration = 1.0;
+    d.n_stops = 1;
+    d.stop_point[0][2] = -0.02;
+    d.stop_normal[0][0] = 0.3;
+    d.stop_normal[0][2] = sqrt(1.0 - 0.09);
+    d.stop_mu[0] = 0.5;
+    m = exdex_model_alloc(&d, &status, &bad);
+    ENSURE(m != NULL);
+    if (!m) return;
+    {
+        double q0[3] = {0.001, 0.002, 0.3}, v0[3] = {0.05, -0.02, 1.5}, qdd[3] = {0.7, -1.1, 20.0};
+        double t = 0.13, h = 1e-5;
+        for (int j = 0; j < 4; j++) {
+            double s[2], T[3], tb, sdd0, q[3], v[3];
+            exdex_kinematics k;
+            for (int e = 0; e < 2; e++) {
+                double tau = e ? h : -h;
+                for (int c = 0; c < 3; c++) {
+                    q[c] = q0[c] + v0[c] * tau + 0.5 * qdd[c] * tau * tau;
+                    v[c] = v0[c] + qdd[c] * tau;
+                }
+                ENSURE(exdex_motion_eval(m->motion, t + tau, &k) == EXDEX_OK);
+                s[e] = contact_slip_planar(m, &k, 0, j, q, v, T, &tb, NULL);
+            }
+            ENSURE(exdex_motion_eval(m->motion, t, &k) == EXDEX_OK);
+            contact_slip_planar(m, &k, 0, j, q0, v0, T, &tb, &sdd0);
+            ENSURE(fabs(T[0] * qdd[0] + T[1] * qdd[1] + T[2] * qdd[2] + sdd0) > 1e-3); /* not trivially 0 */
+            ENSURE_CLOSE((s[1] - s[0]) / (2.0 * h), T[0] * qdd[0] + T[1] * qdd[1] + T[2] * qdd[2] + sdd0, 1e-6);
+        }
+    }
+    exdex_model_free(m);
+}
