@@ -347,7 +347,10 @@ enum exdex_method {
  * section against the convex hull of the outline (gap: its largest
  * distance outside the hull's edge lines) and, for a rod, the hull against
  * the section (gap: the smallest distance of a hull point from the axis less
- * the radius, negative inside). */
+ * the radius, negative inside). A disc outline (disc_radius) touches each
+ * obstacle with one row: its distance from the section less its radius (a
+ * face's plane row, the nearest section vertex, or the rim point nearest the
+ * rod's axis). */
 enum exdex_obstacle_kind { EXDEX_OBSTACLE_POLYTOPE = 0, EXDEX_OBSTACLE_CYLINDER = 1 };
 
 typedef struct exdex_obstacle_def {
@@ -452,6 +455,20 @@ typedef struct exdex_scene_def {
      * level, hybrid.c; the regularised method smooths the plate friction
      * only); impacts in the event and regularised methods are frictionless. */
     double stop_mu[EXDEX_MAX_STOPS];
+    /* A disc outline: disc_radius > 0 [m] makes the object's outline in the
+     * plate plane the disc of that radius about disc_center (C, relative to
+     * the centre of mass [m]) instead of the polygon of vertices (n_vertices
+     * must then be 0; EXDEX_EINVAL, bad_param "disc_radius"); 0 keeps the
+     * polygon. Against a stop the disc touches at its support point, the
+     * rim point farthest along -n_B (n_B the stop normal in B): gap =
+     * n . (centre in A - stop point) - disc_radius |n_B,xy|, a single row
+     * per stop whose contact point moves along the rim as the object turns
+     * (its friction acts there, so a disc rolls on a frictional stop).
+     * Against an obstacle: the disc's distance from the section less the
+     * radius (a face, a section vertex, or a rod's axis). Every method
+     * solves it where it solves the stops and obstacles. */
+    double disc_radius;
+    double disc_center[2];
 } exdex_scene_def;
 
 /* Interpolation of a grip-force schedule between its points. */

@@ -103,6 +103,9 @@ struct exdex_model {
     double hull[EXDEX_MAX_VERTICES][2];
     double smu[EXDEX_MAX_STOPS];  /* Coulomb coefficient of each stop */
     int stop_friction;            /* 1 if some stop has smu > 0 */
+    /* disc outline (def.disc_radius > 0): n_vert = 1 with vert[0] the disc
+     * centre, and disc_r its radius; 0 for a polygon outline */
+    double disc_r;
 };
 
 /* ------------------------------------------------ grip force, capacity

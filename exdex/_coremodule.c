@@ -378,6 +378,10 @@ static int scene_from_dict(PyObject *spec, exdex_scene_def *def, PyArrayObject *
         return -1;
     /* optional: 0 (the C default) is "equal to mu" */
     if (PyDict_GetItemString(spec, "mu_static") && dict_double(spec, "mu_static", &def->mu_static)) return -1;
+    /* optional: a disc outline (absent or 0: the polygon of 'vertices') */
+    if (PyDict_GetItemString(spec, "disc_radius") && dict_double(spec, "disc_radius", &def->disc_radius)) return -1;
+    if (PyDict_GetItemString(spec, "disc_center") && dict_doubles(spec, "disc_center", def->disc_center, 2))
+        return -1;
     verts = dict_rows(spec, "vertices", 2, EXDEX_MAX_VERTICES, &nv);
     if (!verts) goto fail;
     sp = dict_rows(spec, "stop_points", 3, EXDEX_MAX_STOPS, &nsp);

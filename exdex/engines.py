@@ -22,8 +22,10 @@ How each scene is built (all engines)
   with exactly that force, whatever the engine's contact stiffness. A
   ``GripSchedule`` is applied as a zero-order hold: the joint force of the
   step [t, t + dt] is the schedule at the step's midpoint t + dt / 2.
-* Object: a box of ``body.size`` with the scene's mass and full inertia
-  tensor, jointed to the gripper so that it has the scene's free coordinates
+* Object: a box of ``body.size`` (a disc outline, ``Body.outline_radius``:
+  a cylinder of that radius about ``Body.outline_center``, its axis along the
+  plate normal, as tall as ``body.size``'s lz) with the scene's mass and full
+  inertia tensor, jointed to the gripper so that it has the scene's free coordinates
   plus the normal translation (so the squeeze passes through it):
   ``translation``: three prismatic joints (normal, B x, B y);
   ``rotation``: normal prismatic joint and a ball joint at the pivot (the
@@ -158,6 +160,9 @@ class _Layout:
         self.contact = contact
         self.size = np.array(scene.body.size)
         lx, ly, lz = self.size
+        # a disc outline: a cylinder (radius, centre in C) instead of the box
+        self.disc = scene.body.outline_radius
+        self.disc_center = np.array(tuple(scene.body.outline_center) + (0.0,))
         x0, y0, th0 = scene.q0
         self.th0 = th0
         self.R_BC0 = _rot_z(th0)
@@ -185,7 +190,8 @@ class _Layout:
             self.pad_half = (a, b)
             reach = math.hypot(a, b)
             # the object's face must cover the pad in every orientation about the pivot
-            dist_edge = min(lx / 2 - abs(c[0]), ly / 2 - abs(c[1]))
+            dist_edge = (min(lx / 2 - abs(c[0]), ly / 2 - abs(c[1])) if self.disc is None
+                         else self.disc - float(np.hypot(*(c - self.disc_center)[:2])))
             self.pad_covered = dist_edge >= reach
         mu = scene.grasp.mu
         self.mu = (mu, mu if scene.grasp.fingers == 2 else 0.0)   # plate 1, plate 2
@@ -342,6 +348,10 @@ def _mujoco_xml(lay, *, dt, iterations, cone, impratio, noslip_iterations, solve
         # an explicit pair's friction replaces MuJoCo's combination of the geoms' (the max): exactly mu
         pairs.append(f'<pair geom1="stop{k}" geom2="object" condim="3" friction="{f((s.mu, s.mu, 0, 0, 0))}"/>'
                      if s.mu > 0 else f'<pair geom1="stop{k}" geom2="object" condim="1"/>')
+    obj_geom = (f'<geom name="object" type="box" pos="{f(com)}" size="{f(lay.size / 2)}" contype="0" conaffinity="0"/>'
+                if lay.disc is None else
+                f'<geom name="object" type="cylinder" pos="{f(com + lay.disc_center)}" size="{f((lay.disc, lz / 2))}" '
+                f'contype="0" conaffinity="0"/>')
     return f"""<mujoco model="exdex-scene">
   <option timestep="{dt!r}" gravity="{f(sc.gravity)}" cone="{cone}" impratio="{impratio!r}"
           noslip_iterations="{int(noslip_iterations)}" iterations="{int(iterations)}" solver="{solver}"
@@ -362,7 +372,7 @@ def _mujoco_xml(lay, *, dt, iterations, cone, impratio, noslip_iterations, solve
       <body name="object" pos="{f(lay.joint_B)}" quat="{f(_quat_from_matrix(Rj))}">
         {joints}
         <inertial pos="{f(com)}" mass="{sc.body.mass!r}" fullinertia="{full}"/>
-        <geom name="object" type="box" pos="{f(com)}" size="{f(lay.size / 2)}" contype="0" conaffinity="0"/>
+        {obj_geom}
       </body>
     </body>
   </worldbody>
@@ -510,8 +520,12 @@ def run_pybullet(scene, t_end, *, dt=1.0 / 240.0, iterations=50, cone=True, cont
                                            collisionFramePosition=list(pc + [0, 0, -lay.pad_z]), **kw)
             pad2 = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=half, **kw)
         com = lay.R_C_principal  # principal axes in C
-        obj_shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=list(lay.size / 2),
-                                            collisionFramePosition=list(lay.com_in_joint), **kw)
+        if lay.disc is None:
+            obj_shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=list(lay.size / 2),
+                                                collisionFramePosition=list(lay.com_in_joint), **kw)
+        else:  # a disc outline: a cylinder along the plate normal (Bullet's cylinders run along z)
+            obj_shape = pb.createCollisionShape(pb.GEOM_CYLINDER, radius=lay.disc, height=lz,
+                                                collisionFramePosition=list(lay.com_in_joint + lay.disc_center), **kw)
         I4 = [0, 0, 0, 1]
         Rj = lay.R_BC0
         # links (parent indices are 1-based, 0 = the gripper base)
@@ -703,12 +717,13 @@ def run_drake(scene, t_end, *, dt=1e-3, contact_model="point", approximation="la
         "corners" (a sphere of radius ``POINT_RADIUS`` inside each corner of
         the box's section by the plate plane, touching its two faces there:
         one point contact per touching outline vertex, as in exdex; the box
-        then meets only the pads).
+        then meets only the pads). A disc outline takes "box" only (its
+        cylinder meets the stops; it has no corners).
     """
     pydrake = require("pydrake", "exdex.engines.run_drake")
     from pydrake.geometry import (AddCompliantHydroelasticProperties, AddContactMaterial,
-                                  AddRigidHydroelasticProperties, Box, CollisionFilterDeclaration, GeometrySet,
-                                  ProximityProperties, Sphere)
+                                  AddRigidHydroelasticProperties, Box, CollisionFilterDeclaration, Cylinder,
+                                  GeometrySet, ProximityProperties, Sphere)
     from pydrake.math import RigidTransform, RotationMatrix
     from pydrake.multibody.math import SpatialForce, SpatialVelocity
     from pydrake.multibody.plant import (AddMultibodyPlant, CoulombFriction, ExternallyAppliedSpatialForce,
@@ -722,6 +737,9 @@ def run_drake(scene, t_end, *, dt=1e-3, contact_model="point", approximation="la
     n, dt = _steps(t_end, dt)
     if stop_contact not in ("box", "corners"):
         raise ValueError(f"stop_contact must be 'box' or 'corners', got {stop_contact!r}")
+    if stop_contact == "corners" and lay.disc is not None:
+        raise ValueError("stop_contact='corners' needs a polygon outline (spheres in the box's corners); "
+                         "a disc outline (Body.outline_radius) has none: use stop_contact='box'")
     if contact_model not in DRAKE_CONTACT_MODELS:
         raise ValueError(f"contact_model must be one of {DRAKE_CONTACT_MODELS}, got {contact_model!r}")
     if approximation not in DRAKE_APPROXIMATIONS:
@@ -810,7 +828,11 @@ def run_drake(scene, t_end, *, dt=1e-3, contact_model="point", approximation="la
     # pair coefficient and each pad and stop its partner (_drake_friction), so every pair gets its own
     obj_props = props(mu_obj, compliant=object_modulus if hydro else None,
                       rigid=hydro and object_modulus is None, size=(lx, ly, lz))
-    obj_id = plant.RegisterCollisionGeometry(obj, X(np.eye(3), com), Box(lx, ly, lz), "object", obj_props)
+    if lay.disc is None:
+        obj_id = plant.RegisterCollisionGeometry(obj, X(np.eye(3), com), Box(lx, ly, lz), "object", obj_props)
+    else:  # a disc outline: a cylinder along the plate normal (Drake's cylinders run along z)
+        obj_id = plant.RegisterCollisionGeometry(obj, X(np.eye(3), com + lay.disc_center), Cylinder(lay.disc, lz),
+                                                 "object", obj_props)
     corner_ids = []
     if stop_contact == "corners":
         r = POINT_RADIUS

@@ -554,3 +554,36 @@ def test_compare_incline_row(tmp_path):
     g, m = 9.81, 0.1
     a = g * math.sin(0.4) - 0.3 * g * math.cos(0.4) - 0.09 / m
     assert float(rows["closed form (Coulomb)"][0]) == pytest.approx(1e3 * 0.5 * a * 0.6 ** 2, abs=1e-3)
+
+
+# ---------------------------------------------------------------- disc outlines
+
+@pytest.mark.parametrize("engine", sorted(RUNNERS))
+def test_disc_outline_is_a_cylinder_resting_on_the_floor_at_any_angle(engine):
+    """A disc outline (Body.cylinder) becomes a cylinder in the engines: turned
+    by 0.7 rad and dropped 5 mm onto a floor (planar, weak plates), it comes
+    to rest with its centre R above the floor, as exdex's disc does exactly,
+    and keeps its angle (a box of the same size turned so would stand on a
+    corner 1.33 R high and topple to a face, 0.7 or 0.87 rad away).
+    Tolerances: 0.5 mm, above the soft contacts' penetration under the
+    weight (MuJoCo's is about 0.2 mm here), and 0.1 rad in the angle
+    (pybullet's cylinder turns by about 0.05 rad as it settles)."""
+    need, run, h = RUNNERS[engine]
+    need()
+    R, floor = 0.02, -0.03
+    sc = exdex.Scene(body=exdex.Body.cylinder(0.1, R, 0.02),
+                     grasp=exdex.Grasp(mu=0.1, grip_force=1.0, patch=exdex.Patch.rectangle(0.01, 0.01)),
+                     dof="planar", q0=(0.0, floor + R + 0.005, 0.7), stops=(exdex.Stop((0, 0, floor), (0, 0, 1)),))
+    ref = exdex.simulate(sc, t_end=0.5, dt=1e-3)
+    assert ref.q[-1, 1] == pytest.approx(floor + R, abs=1e-15) and ref.q[-1, 2] == pytest.approx(0.7, abs=1e-15)
+    res = run(sc, 0.5, dt=h)
+    assert abs(res.q[-1, 1] - (floor + R)) < 5e-4
+    assert abs(res.q[-1, 2] - 0.7) < 0.1
+
+
+def test_drake_corner_spheres_need_a_polygon_outline():
+    _drake()
+    sc = exdex.Scene(body=exdex.Body.cylinder(0.1, 0.02, 0.02), grasp=exdex.Grasp(mu=0.5, grip_force=1.0),
+                     dof="planar", stops=(exdex.Stop((0, 0, -0.05), (0, 0, 1)),))
+    with pytest.raises(ValueError, match="stop_contact='corners' needs a polygon outline"):
+        engines.run_drake(sc, 0.01, stop_contact="corners")
