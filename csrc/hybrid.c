@@ -78,9 +78,14 @@
  *   for an infinitesimal step). A guard can change sign and back within one
  *   step: a 1-DoF slip that stops and restarts the same way (s qd falling
  *   then rising over the step: its minimum is searched, golden section on
- *   the one-step map), and a guard violated at the step start that first
+ *   the one-step map), a guard violated at the step start that first
  *   recovers (a corner lifted off a stop falling back: its maximum is
- *   searched, and the crossing after it located). The
+ *   searched, and the crossing after it located), and the stick guard of a
+ *   rest, whose steps are long (the state is constant; only the force
+ *   integrals and the output grid bound them): a load that leaves the
+ *   ellipsoid and comes back within one step (its minimum is searched,
+ *   stick_guard_min), so whether a short slip happens does not depend on
+ *   where steps end. The
  *   motion's own switching times (Eq. 7, trapezoid kinks, end of a sampled
  *   motion) and the breakpoints of a grip schedule are stepped onto, never
  *   over, and velocity jumps of the gripper
@@ -165,7 +170,11 @@
  *     combination over the stop forces lam >= 0, ldp_min_combination, as the
  *     implicit method) has |E^-1 w| <= mu N
  *     (1 + TOLF); the rest ends when that fails or a set row's gap leaves
- *     +-tol.rest_gap (stops moving in B).
+ *     +-tol.rest_gap (stops moving in B). During the rest q is held
+ *     exactly (no projection after its steps, which would move it by the
+ *     stops' travel over each step and make the rest's end depend on where
+ *     steps end); the samples and the smallest gap report it pushed out of
+ *     the stops (reported_pose), as the decision at the rest's end does.
  *
  * Frictional stops (stop_mu > 0), 1-DoF scenes: in contact the vertex
  *   slips along its stop at s = T qd + tb (contact_tangent), and the stop's
@@ -656,6 +665,24 @@ static void planar_unpenetrate(hyb *H, const exdex_kinematics *kin, double *y)
         }
     if (pen && ldp_project(H->m->minv, n, (const double (*)[3])Gr, b, zero, FQ_MIN, dq, lam, &H->st->stop_iterations, &H->st->warnings))
         for (int c = 0; c < 3; c++) y[c] += dq[c];
+}
+
+/* The pose reported at (t, y) (an output sample, the smallest gap): a
+ * planar rest holds q exactly, also while a stop moving in B closes in on
+ * it (up to tol.rest_gap, where the rest ends); reported is the held pose
+ * pushed out of the stops (planar_unpenetrate, the projection the decision
+ * at the rest's end makes), a function of q and t alone. Projecting the
+ * held q itself after every step would move it by the stop's travel over
+ * each step: the rest's end, and the answer, would depend on where steps
+ * end (the output grid among them). Any other mode: y as it is. */
+static const double *reported_pose(hyb *H, double t, const double *y, double *buf)
+{
+    frame f;
+    exdex_kinematics kin;
+    if (H->ndof != 3 || !H->ns || H->law != LAW_COULOMB || H->mode != MODE_STICK) return y;
+    memcpy(buf, y, (size_t)H->ny * sizeof *y);
+    if (!frame_seg(H, t, &f, &kin)) planar_unpenetrate(H, &kin, buf);
+    return buf;
 }
 
 /* Rest against the contact-set rows (event method, stick): can the object
@@ -1588,6 +1615,13 @@ static void *hybrid_alloc(const exdex_model *m, int *status)
         *status = EXDEX_ENOMEM;
         return NULL;
     }
+    /* the evolve object's vectors go into a saved state (hybrid_save) also
+     * before its first step writes them (a run stuck from the start): they
+     * start at 0, not as malloc left them */
+    memset(O->evo->y0, 0, ny * sizeof(double));
+    memset(O->evo->yerr, 0, ny * sizeof(double));
+    memset(O->evo->dydt_in, 0, ny * sizeof(double));
+    memset(O->evo->dydt_out, 0, ny * sizeof(double));
     O->sys.function = rhs;
     O->sys.jacobian = NULL;
     O->sys.dimension = ny;
@@ -1671,6 +1705,73 @@ static int guard_extremum(hyb *H, ode *O, double t0, const double *y0, double ta
     *tau = f1 < f2 ? x1 : x2;
     *g = dir * (f1 < f2 ? f1 : f2);
     return EXDEX_OK;
+}
+
+/* At rest (stick) q and qd are constant, so the stick guard (guard 0: the
+ * capacity less the load that holds) is a function of t alone, and a step
+ * is as long as the error control of the force integrals, the output grid
+ * and the switching times allow: the load can leave the ellipsoid and come
+ * back within one step (a short slip that the end values do not show, and
+ * that a step ending elsewhere would catch). Its minimum over [0, tau1]:
+ * STICK_SAMPLES equal parts, then golden section (at most 60 iterations)
+ * about the smallest sample, stopping at the first point found with g < 0.
+ * *tau, *g: that point (the earliest negative sample, else the minimum). */
+#define STICK_SAMPLES 8
+static void stick_guard_min(hyb *H, double t0, const double *y0, double tau1, double *tau, double *g)
+{
+    double gs[NG_MAX], r = 0.5 * (3.0 - sqrt(5.0)), a, b, x1, x2, f1, f2, best = INFINITY, tb = 0.0;
+    int jb = 0;
+    for (int j = 1; j < STICK_SAMPLES; j++) {
+        double tj = tau1 * j / STICK_SAMPLES;
+        guards(H, t0 + tj, y0, gs);
+        H->st->solver_iterations++;
+        if (gs[0] < best) {
+            best = gs[0];
+            tb = tj;
+            jb = j;
+        }
+        if (best < 0.0) {
+            *tau = tb;
+            *g = best;
+            return;
+        }
+    }
+    a = tau1 * (jb - 1) / STICK_SAMPLES;
+    b = tau1 * (jb + 1) / STICK_SAMPLES;
+    x1 = a + r * (b - a);
+    x2 = b - r * (b - a);
+    guards(H, t0 + x1, y0, gs);
+    f1 = gs[0];
+    guards(H, t0 + x2, y0, gs);
+    f2 = gs[0];
+    for (int it = 0; it < 60 && f1 >= 0.0 && f2 >= 0.0 && b - a > H->m->tol.root; it++) {
+        if (f1 < f2) {
+            b = x2;
+            x2 = x1;
+            f2 = f1;
+            x1 = a + r * (b - a);
+            guards(H, t0 + x1, y0, gs);
+            f1 = gs[0];
+        } else {
+            a = x1;
+            x1 = x2;
+            f1 = f2;
+            x2 = b - r * (b - a);
+            guards(H, t0 + x2, y0, gs);
+            f2 = gs[0];
+        }
+        H->st->solver_iterations++;
+    }
+    if (f1 < best) {
+        best = f1;
+        tb = x1;
+    }
+    if (f2 < best) {
+        best = f2;
+        tb = x2;
+    }
+    *tau = tb;
+    *g = best;
 }
 
 /* A free gap can dip below 0 and recover within one accepted step (a corner
@@ -2003,6 +2104,21 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                     }
                 }
             }
+            if (law == LAW_COULOMB && H.mode == MODE_STICK && g0[0] > 0.0 && g1[0] >= 0.0 && t > t0) {
+                /* a short slip inside the step (stick_guard_min): the step
+                 * ends where the guard is negative, located below */
+                double tm, gm;
+                stick_guard_min(&H, t0, y0, t - t0, &tm, &gm);
+                if (H.err) break;
+                if (gm < 0.0) {
+                    if (one_step(O, t0, y0, tm, y) != GSL_SUCCESS) {
+                        status = EXDEX_ENOCONV;
+                        break;
+                    }
+                    t = t0 + tm;
+                }
+                guards(&H, t, y, g1);
+            }
             for (int e = 0; e < ng; e++) {
                 double tau;
                 if (!(g1[e] < 0.0)) continue;
@@ -2146,14 +2262,17 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                  * derivative */
                 double yp[NY_MAX];
                 memcpy(yp, y, sizeof yp);
-                project_contact(&H, t, y);
+                /* a planar rest holds q (reported_pose) */
+                if (!(nd == 3 && law == LAW_COULOMB && H.mode == MODE_STICK)) project_contact(&H, t, y);
                 if (memcmp(yp, y, (size_t)H.ny * sizeof *y)) ode_restart(O);
             }
             /* a penetration left after the step: the scene drives the
              * object through a stop (see tol.pen) */
             if (ns) {
                 exdex_kinematics kt;
-                double gmin = exdex_motion_eval(m->motion, t, &kt) ? INFINITY : contact_min_gap(m, &kt, y);
+                double yr[NY_MAX];
+                const double *yq = reported_pose(&H, t, y, yr);
+                double gmin = exdex_motion_eval(m->motion, t, &kt) ? INFINITY : contact_min_gap(m, &kt, yq);
                 if (gmin < st->min_gap) st->min_gap = gmin;
                 if (gmin < -m->tol.pen) st->warnings++;
             }
@@ -2175,7 +2294,8 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
             /* the interval's integrals (friction, stop forces) as means
              * over it; then they restart from 0 */
             int off = nd == 1 ? 2 : 6, nw = nd == 1 ? 1 : 3;
-            double wrench[3] = {0, 0, 0}, sf[EXDEX_MAX_STOPS];
+            double wrench[3] = {0, 0, 0}, sf[EXDEX_MAX_STOPS], yr[NY_MAX];
+            const double *yq;
             if (nd == 3) {
                 for (int c = 0; c < 3; c++) wrench[c] = y[6 + c] / hs;
             } else if (m->def.dof == EXDEX_DOF_TRANSLATION) {
@@ -2185,7 +2305,8 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                 wrench[2] = y[2] / hs;
             }
             for (int k2 = 0; k2 < ns; k2++) sf[k2] = y[off + nw + k2] / hs;
-            method_record(m, out, st, i, ti, y, y + nd, wrench,
+            yq = reported_pose(&H, ti, y, yr);
+            method_record(m, out, st, i, ti, yq, yq + nd, wrench,
                           law == LAW_COULOMB && H.mode == MODE_STICK ? 1 : is_still(&H, y), sf);
             for (int c = off; c < H.ny; c++) y[c] = 0.0;
         }

@@ -568,6 +568,65 @@ EXDEX_TEST(methods_event_slip_onset_inside_a_phase)
     }
 }
 
+EXDEX_TEST(methods_event_short_slip_inside_a_stick_step)
+{
+    /* The scene above with a peak load: the gripper turns 2 rad in 3 s
+     * (trapezoid, cruise at w = 0.9 rad/s from t_a = 7/9 s to 20/9 s), the
+     * load along the slide m g sin s(t) peaks at s = pi/2 in the cruise (t_p
+     * = t_a + (pi/2 - w t_a/2) / w = 2.134 s), and the capacity is C = m g
+     * (1 - delta), delta = 1e-5: the object slips only while |s - pi/2| <
+     * arccos(1 - delta), about 5 ms, inside a stick whose steps (constant
+     * state) span far more. With tau = t - t_p, q'' = g cos(w tau) - C/m from
+     * rest at tau1 = -arccos(1 - delta)/w:
+     *   q' = (g/w)(sin w tau - sin w tau1) - (C/m)(tau - tau1),
+     *   q  = -(g/w^2)(cos w tau - cos w tau1) - (g/w) sin(w tau1) (tau - tau1)
+     *        - (C/m)(tau - tau1)^2 / 2,
+     * until q' = 0 at tau2 (bisection), then stick. The centrifugal term w^2 q
+     * adds w^2 q / (g delta) ~ 2e-5 of it (left out). The final q must be
+     * that for output dt = t_end / 2 (one output interval spans the slip)
+     * and 2^-8 s, to 1e-4 of itself. */
+    double m = 0.1, w = 0.9, delta = 1e-5, T = 3.0, C, tau1, lo, hi, dtau, x;
+    double dts[2] = {1.5, 1.0 / 256};
+    exdex_scene_def d = exdex_default_scene_def();
+    d.mass = m;
+    d.mu = 0.5;
+    d.fingers = 2;
+    C = m * G * (1 - delta);
+    d.grip_force = C / (2 * d.mu);
+    d.gravity[2] = -G;
+    d.slide_axis[0] = 1.0;
+    d.slide_axis[1] = 0.0;
+    d.motion.kind = EXDEX_MOTION_TRAPEZOID;
+    d.motion.rotation = 1;
+    d.motion.axis[0] = 0.0;
+    d.motion.axis[1] = 1.0;
+    d.motion.axis[2] = 0.0;
+    d.motion.amplitude = 2.0;
+    d.motion.duration = T;
+    d.motion.v_max = w;
+    d.method = EXDEX_METHOD_EVENT;
+    d.rtol = 1e-10;
+    d.atol = 1e-13;
+    tau1 = -acos(1 - delta) / w;
+    lo = -tau1 * 1.0001;
+    hi = -10 * tau1;
+    for (int it = 0; it < 200; it++) {
+        double mid = 0.5 * (lo + hi);
+        double v = (G / w) * (sin(w * mid) - sin(w * tau1)) - (C / m) * (mid - tau1);
+        if (v > 0) lo = mid; else hi = mid;
+    }
+    dtau = 0.5 * (lo + hi) - tau1;
+    x = -(G / (w * w)) * (cos(w * (tau1 + dtau)) - cos(w * tau1)) - (G / w) * sin(w * tau1) * dtau -
+        (C / m) * dtau * dtau / 2;
+    ENSURE(x > 5e-9 && x < 6e-9);
+    for (int i = 0; i < 2; i++) {
+        sim_run r;
+        ENSURE(sim_run_def(&d, T, dts[i], &r) == EXDEX_OK);
+        ENSURE_CLOSE(qlast(&r, 0) / x, 1.0, 1e-4);
+        sim_run_free(&r);
+    }
+}
+
 /* --------------------------------------------------------- observed orders */
 
 /* Centrifugal slide with friction (no events): gripper spinning at w, the
