@@ -1615,6 +1615,13 @@ static void *hybrid_alloc(const exdex_model *m, int *status)
         *status = EXDEX_ENOMEM;
         return NULL;
     }
+    /* the evolve object's vectors go into a saved state (hybrid_save) also
+     * before its first step writes them (a run stuck from the start): they
+     * start at 0, not as malloc left them */
+    memset(O->evo->y0, 0, ny * sizeof(double));
+    memset(O->evo->yerr, 0, ny * sizeof(double));
+    memset(O->evo->dydt_in, 0, ny * sizeof(double));
+    memset(O->evo->dydt_out, 0, ny * sizeof(double));
     O->sys.function = rhs;
     O->sys.jacobian = NULL;
     O->sys.dimension = ny;
