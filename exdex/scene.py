@@ -1045,8 +1045,8 @@ class Scene:
     gravity : in A [m/s^2].
     stops : fixed world planes (``Stop``) the object outline may not cross.
     obstacles : convex solids fixed in the world (``Obstacle``) the object
-        outline may not enter (the implicit and explicit methods solve such
-        scenes).
+        outline may not enter (every method but the analytic one solves such
+        scenes; with ``Obstacle.mu > 0`` the implicit method).
     """
 
     body: Body
@@ -1198,9 +1198,19 @@ class Scene:
         if self.body.outline_radius is not None:
             spec.update(disc_radius=self.body.outline_radius, disc_center=self.body.outline_center)
         if self.obstacles:
-            if method not in ("implicit", "explicit"):
-                raise ValueError(f"Scene.obstacles: the implicit and explicit methods solve scenes with "
-                                 f"obstacles, got method={method!r}")
+            if method not in ("implicit", "explicit", "event", "regularised"):
+                raise ValueError(f"Scene.obstacles: the implicit, explicit, event and regularised methods solve "
+                                 f"scenes with obstacles, got method={method!r}")
+            if method in ("event", "regularised"):
+                if any(o.mu > 0 for o in self.obstacles):
+                    raise ValueError(f"Scene.obstacles: the implicit and explicit methods solve obstacles with "
+                                     f"friction (Obstacle.mu > 0), got method={method!r}")
+                if self.dof == "planar" and any(s.mu > 0 for s in self.stops):
+                    raise ValueError(f"Scene.obstacles: the implicit and explicit methods solve planar scenes with "
+                                     f"obstacles and frictional stops (Stop.mu > 0), got method={method!r}")
+                if self.body.outline_radius is not None:
+                    raise ValueError(f"Scene.obstacles: the implicit and explicit methods solve scenes with "
+                                     f"obstacles and a disc outline (Body.cylinder), got method={method!r}")
             spec["obstacles"] = [o._spec() for o in self.obstacles]
         spec.update(self.motion._spec())
         sched = self.grasp.schedule
