@@ -1046,7 +1046,8 @@ class Scene:
     stops : fixed world planes (``Stop``) the object outline may not cross.
     obstacles : convex solids fixed in the world (``Obstacle``) the object
         outline may not enter (every method but the analytic one solves such
-        scenes; with ``Obstacle.mu > 0`` the implicit method).
+        scenes; with ``Obstacle.mu > 0`` or a disc outline the implicit and
+        explicit methods).
     """
 
     body: Body
