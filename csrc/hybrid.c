@@ -85,7 +85,11 @@
  *   integrals and the output grid bound them): a load that leaves the
  *   ellipsoid and comes back within one step (its minimum is searched,
  *   stick_guard_min), so whether a short slip happens does not depend on
- *   where steps end. The
+ *   where steps end. In a 1-DoF scene a stop's gap guard is the least gap
+ *   over the outline, whose end rates need not show one corner's dip (a
+ *   corner of a turning object sweeping past a stop that cuts its path a
+ *   little while another corner is the nearest at both step ends): each
+ *   free (stop, vertex) row is checked too (row_dip). The
  *   motion's own switching times (Eq. 7, trapezoid kinks, end of a sampled
  *   motion) and the breakpoints of a grip schedule are stepped onto, never
  *   over, and velocity jumps of the gripper
@@ -1800,8 +1804,36 @@ typedef struct rootctx {
     const double *y0;
     int e;
     int fail;
+    double off;   /* added to a row's gap (e < 0) */
 } rootctx;
 
+/* Gap of the (stop, vertex) row r = k nv + j at (t, y) (the value its stop
+ * guard takes for that vertex); rate (may be NULL) gets d gap / dt. */
+static double row_gap(hyb *H, double t, const double *y, int r, double *rate)
+{
+    const exdex_model *m = H->m;
+    frame f;
+    exdex_kinematics kin;
+    int k = r / H->nv, j = r % H->nv, fs = frame_seg(H, t, &f, &kin);
+    if (fs) {
+        H->err = H->err ? H->err : fs;
+        return 0.0;
+    }
+    if (H->ndof == 3) {
+        double G[3], gd;
+        double g = contact_row_planar(m, &kin, k, j, y, y + 3, G, &gd, NULL);
+        if (rate) *rate = gd;
+        return g;
+    }
+    if (rate) {
+        crow c;
+        contact_row_1dof(m, &kin, k, j, y[0], &c);
+        *rate = c.Fq * y[1] + c.Ft;
+    }
+    return contact_vertex_gap(m, &kin, k, y, j, NULL);
+}
+
+/* e >= 0: guard e; e < 0: the gap of row -1 - e (row_gap). */
 static double root_fn(double tau, void *p)
 {
     rootctx *c = p;
@@ -1810,6 +1842,7 @@ static double root_fn(double tau, void *p)
         c->fail = 1;
         return 0.0;
     }
+    if (c->e < 0) return row_gap(c->H, c->t0 + tau, c->O->ytmp, -1 - c->e, NULL) + c->off;
     guards(c->H, c->t0 + tau, c->O->ytmp, g);
     return g[c->e];
 }
@@ -1819,10 +1852,20 @@ static double root_fn(double tau, void *p)
  * iterations, stopping early once the guard has the sign sought (dir +1:
  * g < 0, -1: g > 0). *tau, *g: the best point found. EXDEX_ENOCONV if the
  * stepper fails. */
+static int extremum(rootctx *cp, double tau1, double dir, double *tau, double *g);
+
 static int guard_extremum(hyb *H, ode *O, double t0, const double *y0, double tau1, int e, double dir,
                           double *tau, double *g)
 {
-    rootctx c = {H, O, t0, y0, e, 0};
+    rootctx c = {H, O, t0, y0, e, 0, 0.0};
+    return extremum(&c, tau1, dir, tau, g);
+}
+
+/* guard_extremum on the function of c (a guard, or a row's gap plus c.off) */
+static int extremum(rootctx *cp, double tau1, double dir, double *tau, double *g)
+{
+    rootctx c = *cp;
+    hyb *H = c.H;
     double a = 0.0, b = tau1, r = 0.5 * (3.0 - sqrt(5.0));
     double x1 = a + r * (b - a), x2 = b - r * (b - a), f1 = dir * root_fn(x1, &c), f2 = dir * root_fn(x2, &c);
     for (int it = 0; it < 60 && f1 >= 0.0 && f2 >= 0.0 && !c.fail && b - a > H->m->tol.root; it++) {
@@ -2014,7 +2057,7 @@ static int gap_dips(hyb *H, ode *O, double t0, const double *y0, double t1, cons
  * returns the upper end of the final bracket (the guard is just violated). */
 static int locate(hyb *H, ode *O, double t0, const double *y0, double tau0, double tau1, int e, double *tau)
 {
-    rootctx c = {H, O, t0, y0, e, 0};
+    rootctx c = {H, O, t0, y0, e, 0, 0.0};
     gsl_function F = {root_fn, &c};
     double lo = tau0, hi = tau1;
     int st = gsl_root_fsolver_set(O->root, &F, lo, hi);
@@ -2049,6 +2092,68 @@ static int locate(hyb *H, ode *O, double t0, const double *y0, double tau0, doub
     }
     if (c.fail) return EXDEX_ENOCONV;
     *tau = hi;
+    return EXDEX_OK;
+}
+
+/* A free (stop, vertex) row of a 1-DoF scene can meet its stop and leave it
+ * again within one step (planar rows are guards of their own, gap_dips; a
+ * 1-DoF stop's guard is its least gap over the outline, whose end rates can
+ * belong to another corner): a vertex sweeping past a stop that cuts its path only a little (a
+ * turning object, a corner passing a stop at a shallow angle) has a gap that
+ * is positive at both ends of the step and negative in between, which the
+ * guards' end values do not show; the exact motion has an impact there.
+ * Where a free row's gap is positive at both ends and its rate turns from
+ * approaching (< 0) at t0 to receding (> 0) at t1, the gap has an interior
+ * minimum. It is searched (golden section on the stepper's one-step map,
+ * extremum) unless the cubic Hermite interpolant of the end values and
+ * rates keeps its minimum above the touching band by at least its own depth
+ * below the ends (the interpolant's error is of fourth order in the step,
+ * the depth of second: a step that resolves the motion resolves the dip
+ * to well within its depth); where the minimum falls below -tol.touch (a
+ * penetration beyond the touching band: rows touching at either end, gap <=
+ * tol.touch, are the impact and contact-set logic's, and a rounding-level
+ * dip of a row left at 0 is no impact) the first crossing of 0 is located
+ * (Brent, locate). A gap without such a turn over one step (two turns
+ * within one step) is beyond the stepper's resolution of the motion and
+ * not searched. *tau: the earliest crossing, INFINITY if none. Rows in the
+ * contact set, and the 1-DoF contact row, are not free. */
+static int row_dip(hyb *H, ode *O, double t0, const double *y0, double t1, const double *y1, double *tau)
+{
+    int nr = H->ns * H->nv;
+    double touch = H->m->tol.touch;
+    unsigned char in[MAX_ROWS];
+    *tau = INFINITY;
+    if (!H->ns || !(t1 > t0)) return EXDEX_OK;
+    memset(in, 0, (size_t)nr);
+    if (H->ndof == 3)
+        for (int i = 0; i < H->ncs; i++) in[H->cs[i]] = 1;
+    else if (H->mode == MODE_CONTACT)
+        in[H->ck * H->nv + H->cj] = 1;
+    for (int r = 0; r < nr; r++) {
+        double ga, gb, ra, rb, tm, gm, tr;
+        int st;
+        if (in[r]) continue;
+        ga = row_gap(H, t0, y0, r, &ra);
+        gb = row_gap(H, t1, y1, r, &rb);
+        if (H->err) return H->err;
+        if (!(ga > touch && gb > touch && ra < 0.0 && rb > 0.0)) continue;
+        {
+            /* screen: the cubic Hermite interpolant of (ga, ra, gb, rb)
+             * has its minimum pm at least its own depth below the ends
+             * (min(ga, gb) - pm) above the touching band: no search */
+            double pm = hermite_min(ga, gb, ra, rb, t1 - t0);
+            if (pm - touch >= fmin(ga, gb) - pm) continue;
+        }
+        {
+            rootctx c = {H, O, t0, y0, -1 - r, 0, touch};
+            st = extremum(&c, t1 - t0, 1.0, &tm, &gm);
+        }
+        if (st) return st;
+        if (!(gm < 0.0)) continue;
+        st = locate(H, O, t0, y0, 0.0, tm, -1 - r, &tr);
+        if (st) return st;
+        if (tr < *tau) *tau = tr;
+    }
     return EXDEX_OK;
 }
 
@@ -2302,6 +2407,38 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
             }
             /* a free gap that dipped below 0 and recovered within the step */
             if (!status) status = gap_dips(&H, O, t0, y0, t, y, ng, g0, g1, &tau_best, &e_best);
+            if (!status && ns && nd == 1) {
+                /* 1-DoF: a corner's gap dipping below 0 within the step
+                 * (row_dip): the event is its stop guard, violated at the
+                 * crossing */
+                double tau, gt[NG_MAX], ye[NY_MAX], t1 = t;
+                const double *y1 = y;
+                if (tau_best < t - t0) {
+                    /* only a dip before the event found matters */
+                    if (one_step(O, t0, y0, tau_best, O->ytmp) != GSL_SUCCESS || H.err) {
+                        status = H.err ? H.err : EXDEX_ENOCONV;
+                        break;
+                    }
+                    memcpy(ye, O->ytmp, (size_t)H.ny * sizeof *ye);
+                    t1 = t0 + tau_best;
+                    y1 = ye;
+                }
+                status = row_dip(&H, O, t0, y0, t1, y1, &tau);
+                if (!status && tau < tau_best) {
+                    if (one_step(O, t0, y0, tau, O->ytmp) != GSL_SUCCESS || H.err) {
+                        status = H.err ? H.err : EXDEX_ENOCONV;
+                    } else {
+                        guards(&H, t0 + tau, O->ytmp, gt);
+                        for (int e = 0; e < ng; e++)
+                            if (g0[e] > 0.0 && gt[e] < 0.0) {
+                                tau_best = tau;
+                                e_best = e;
+                                break;
+                            }
+                    }
+                }
+            }
+            if (status) break;
             /* a guard can dip below 0 and recover within one step (its end
              * value is >= 0): the located event's point shows it; take the
              * earliest such crossing instead (at most ng passes) */
