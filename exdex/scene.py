@@ -891,10 +891,12 @@ def _quat_from_matrix(R):
 @dataclass(frozen=True)
 class Stop:
     """A fixed plane of the world the object may not cross: the allowed side
-    is ``(x - point) . normal >= 0`` for every outline vertex x, in A [m].
+    is ``(x - point) . normal >= 0`` for every outline vertex x (a disc
+    outline: every point of the disc), in A [m].
 
     mu : Coulomb friction coefficient between the stop and each outline
-        vertex touching it, in [0, inf) (0: frictionless). The friction acts
+        vertex touching it (a disc: its support point, so it rolls or
+        slides), in [0, inf) (0: frictionless). The friction acts
         in the plate plane, along the stop's trace there, bounded by mu times
         the vertex's normal force; exact in every method that supports
         stops (``implicit`` and ``explicit``: velocity-level
@@ -1047,7 +1049,8 @@ class Scene:
     stops : fixed world planes (``Stop``) the object outline may not cross.
     obstacles : convex solids fixed in the world (``Obstacle``) the object
         outline may not enter (every method but the analytic one solves such
-        scenes; with ``Obstacle.mu > 0`` the implicit method).
+        scenes; with ``Obstacle.mu > 0`` or a disc outline the implicit and
+        explicit methods).
     """
 
     body: Body

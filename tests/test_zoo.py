@@ -90,7 +90,24 @@ units (zoo.run), so a 1 mm and a 1 m scene are held to the same standard.
   0.93 of the friction limit), so the ladder starts at eps0 = EPS L / tau
   (EPS = 1e-2) reduced until the creep at eps0 is at most CREEP_REGIME =
   0.1 L, but not below EPS / 16 (each halving doubles the cost of a stiff
-  run). Where even EPS / 16 creeps more, the method is outside its
+  run). The ladder must also end on the reference's branch: the stops
+  pressing on the object over the last output interval (zoo.stop_contacts)
+  the same as the reference's. The first-order error shifts the time of a
+  stop contact, and where the reference ends short of a stop (or leaves
+  one) a run that reaches it ends held by that stop: the final pose is
+  then the stop's, the same at eps0, eps0/2 and eps0/4, and the successive
+  differences are 0 whatever the error (seen in the zoo: a translation
+  slide from rest gains O(eps) of speed while its friction builds up, ends
+  on a stop the reference misses by 1e-3 L, 1e-3 L off at eps = EPS / 32
+  and above with D = 0, then 5.3e-4, 2.7e-4, 1.3e-4 L at EPS / 64, / 128,
+  / 256; a rotation stuck under 0.94 of the friction limit, whose load
+  reaches the limit after 0.01 rad of rotation, 5.4 per radian: its creep
+  tips it into a slip onto the stop, 0.50 L off down to eps0 / 8, then
+  9.4e-3, 3.5e-3, 1.6e-3, 8.0e-4 L at eps0 / 16 .. / 128). So eps0 is
+  halved further, down to EPS / EPS_BRANCH_RANGE (256), until the run at
+  eps0 ends on the reference's branch; the three runs must all end on it,
+  else the scene is outside the regime (reported, not asserted). Where
+  even EPS / 16 creeps more, the method is outside its
   first-order regime at any affordable eps: it must return finite values,
   and the bound is reported, not asserted (test_zoo_regularised_regime
   bounds how often that happens). Three stiff
@@ -128,7 +145,12 @@ SEEDS = range(N_SCENES)
 #: guard, the least gap, showed no dip): no impact at some rtol and output
 #: grids (the reference among them), final angles 0.32 rad apart, every
 #: other method 0.17 L off it.
-EXTRA_SEEDS = (7614, 7401, 7414, 9682, 5990, 2311, 5652, 833)
+#: 6636, 7200, 5632, 7936: the regularised run at eps0 .. eps0/4 ended at rest
+#: on a stop the reference never reaches (its O(eps) lead, or its creep
+#: tipping a load 0.86-0.94 of the limit into a slip), identical at all three
+#: eps, so the successive differences were 0 (the ladder now starts on the
+#: reference's branch).
+EXTRA_SEEDS = (7614, 7401, 7414, 9682, 5990, 2311, 5652, 833, 6636, 7200, 5632, 7936)
 #: The regularised method's agreement (three stiff runs) on every REG_EVERY-th
 #: seed; it returns on all of them.
 REG_EVERY = 2
