@@ -394,7 +394,6 @@ static int explicit_substep(const exdex_model *m, explicit_ws *w, const model_su
                 st->warnings++;
         }
         t = t1;
-        st->steps++;
         for (int k = 0; k < m->n_src; k++) lamsum[k] /= h;
         if (sub->jumps) {
             /* the frame's velocity jumps at te: the relative velocity jumps
@@ -439,6 +438,7 @@ static int explicit_advance(const exdex_model *m, void *ws, double t1, int regri
         for (int k = 0; k < m->n_src; k++) sf[k] = first ? sfs[k] * wt : sf[k] + sfs[k] * wt;
         first = 0;
     }
+    st->steps++;   /* one step per sample: its sub-steps are parts of it */
     method_record(m, out, st, i, t1, w->q, w->v, wrench, still, sf);
     return status;
 }

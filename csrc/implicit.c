@@ -856,7 +856,6 @@ static int implicit_substep(const exdex_model *m, work *w, const model_sub *sub,
         }
         t = t1;
         hprev = h;
-        st->steps++;
         for (int k = 0; k < m->n_src; k++) sf[k] = 0.0;
         for (int i = 0; i < w->n_rows; i++) sf[w->row_stop[i]] += w->lam[i] / h;
         if (sub->jumps) {
@@ -913,6 +912,7 @@ static int implicit_advance(const exdex_model *m, void *ws, double t1, int regri
     /* a split output step: the next one does not extrapolate from its last,
      * possibly very short, sub-step */
     if (split) w->S.hprev = 0.0;
+    st->steps++;   /* one step per sample: its sub-steps are parts of it */
     method_record(m, out, st, step, t1, w->S.q, w->S.v, wrench, stick, sf);
     return status;
 }
