@@ -1290,3 +1290,51 @@ EXDEX_TEST(methods_event_brief_slip_inside_one_stick_step)
         sim_run_free(&r);
     }
 }
+
+/* The gripper carries the object down at V along the slide axis (B y up,
+ * gravity along it) and stops instantly at T (a trapezoid without ramps:
+ * v_max = |X1| / T, a velocity jump at T; the one at 0 is the start). The
+ * object, held before T (capacity 2 m g >= m g), keeps its absolute
+ * velocity through the stop (the plates carry no impulse), slides down at
+ * V relative to the plates, decelerated by friction minus gravity,
+ * a = C / m - g = g, and slides V^2 / (2 a). T = 0.3001 s falls inside a
+ * step of every dt below (the step is split there). implicit: at rest
+ * before T, exact under the trapezoid rule after it but for the step in
+ * which it sticks, which starts at a slip speed u <= min(V, h a) and moves
+ * h u / 2 instead of u^2 / (2 a): |err| <= h min(V, h a) / 2 (a step taking
+ * the jump as a step-mean acceleration errs by V h / 2 at dt = 1e-4, or
+ * absorbs the whole slide at dt = 1e-3, where h a >= V). explicit (its
+ * velocity chatters about rest in a band h (C / m + g) before T and after
+ * the stop): |err| <= V h (C/m + g) / a + (h (C/m + g))^2 / (2 a) + h V / 2
+ * + h^2 a + h (C/m + g) (t_end - t_stop). Measured from the sample before T. */
+EXDEX_TEST(methods_stop_from_speed_slide_closed_form)
+{
+    const double V = 0.005, T = 0.3001, t_end = 0.32, a = G, ca = 3 * G, exact = -V * V / (2 * a);
+    const double dts[3] = {1e-3, 1e-4, 1e-5};
+    const int methods[2] = {EXDEX_METHOD_IMPLICIT, EXDEX_METHOD_EXPLICIT};
+    for (int k = 0; k < 2; k++)
+        for (int i = 0; i < 3; i++) {
+            double h = dts[i], d, bound, t_stop = T + V / a;
+            exdex_scene_def sd = mvertical(0.1, 2.0, methods[k]);
+            sim_run r;
+            size_t j0;
+            sd.motion.kind = EXDEX_MOTION_TRAPEZOID;
+            sd.motion.axis[0] = 0.0;
+            sd.motion.axis[1] = 0.0;
+            sd.motion.axis[2] = -1.0;
+            sd.motion.amplitude = V * T;
+            sd.motion.duration = T;
+            sd.motion.v_max = V;
+            ENSURE(sim_run_def(&sd, t_end, h, &r) == EXDEX_OK);
+            j0 = (size_t)floor(T / h);   /* the sample before T */
+            ENSURE(r.tr.t[j0] < T && r.tr.t[j0 + 1] > T);
+            d = qlast(&r, 0) - r.tr.q[j0 * (size_t)r.ndof];
+            bound = k == 0 ? h * fmin(V, h * a) / 2
+                           : V * h * ca / a + (h * ca) * (h * ca) / (2 * a) + h * V / 2 + h * h * a +
+                                 h * ca * (t_end - t_stop);
+            ENSURE(fabs(d - exact) <= bound + 1e-15);
+            if (i == 2) report(k == 0 ? "methods_stop_slide_err_implicit_1e-5" : "methods_stop_slide_err_explicit_1e-5",
+                               d - exact);
+            sim_run_free(&r);
+        }
+}
