@@ -193,8 +193,9 @@
  *   smooths the plate friction only): see "planar frictional stops" below
  *   (sf_*, sfric.h).
  *
- * Obstacles (frictionless; Obstacle.mu > 0 is rejected by model_alloc with
- *   these methods): their rows (orows.h: an outline vertex against a
+ * Obstacles (Obstacle.mu > 0 in 1-DoF scenes, as a frictional stop: the
+ *   row's tangent at its point, orow_point; model_alloc rejects it in
+ *   planar scenes, and disc outlines with obstacles): their rows (orows.h: an outline vertex against a
  *   polytope's faces, a section vertex against the outline's hull, a rod
  *   against the hull) go through the stops' code path: the same gap guards,
  *   impacts, contact sets (planar) and single-row contact (1-DoF), their
@@ -424,10 +425,18 @@ static double contact_qdd(const crow *c, double v)
 }
 
 /* Slip of the 1-DoF contact vertex along its stop at (q, v) and pose kin:
- * s = T v + tb (contact_stop_tangent); T (may be NULL) gets d s / d qdot. */
+ * s = T v + tb (contact_stop_tangent; an obstacle row: contact_tangent at
+ * its point, orow_point); T (may be NULL) gets d s / d qdot. */
 static double contact_slip_1dof(const hyb *H, const exdex_kinematics *kin, double q, double v, double *T)
 {
     double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], Tv[3], tb;
+    if (H->ck >= H->ns) {
+        contact_point cp;
+        orow_point(H->m, kin, H->cj, &q, &cp);
+        contact_tangent(H->m, kin, cp.x, cp.vx, cp.nB, Tv, &tb);
+        if (T) *T = Tv[0];
+        return Tv[0] * v + tb;
+    }
     contact_vertices(H->m, &q, xb, vx);
     contact_stop_tangent(H->m, kin, H->ck, xb[H->cj], vx[H->cj], Tv, &tb);
     if (T) *T = Tv[0];
