@@ -8,6 +8,9 @@
 #include <float.h>
 #include <string.h>
 
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_poly.h>
+
 int contact_vertices(const exdex_model *m, const double *q, double xb[][3], double vx[][3])
 {
     double r[3], th, c, s;
@@ -27,9 +30,61 @@ int contact_vertices(const exdex_model *m, const double *q, double xb[][3], doub
     return nv;
 }
 
+/* ------------------------------------------------------ disc outline
+ * A disc of radius r about the centre x_c (the model's one vertex) against
+ * the plane with unit normal n (A): its support point is x_c - r u, u =
+ * n_B,xy / s the unit in-plane direction of n_B = R^T n, s = |n_B,xy|, so
+ * the gap is the centre's plane gap less r s. The support point's
+ * d gap / d qdot is the centre's (a turn about the centre moves the
+ * support point along the rim, along the plane: u x u = 0), and s depends
+ * on time only through the gripper's orientation:
+ *     d n_B / dt = -R^T (w x n),  d^2 n_B / dt^2 = R^T (w x (w x n)) - R^T (dw x n),
+ *     s' = u . n_B'_xy,  s'' = (|n_B'_xy|^2 + n_B,xy . n_B''_xy) / s - s'^2 / s.
+ * A plane with s <= FQ_MIN faces the plate normal: no support point (shift 0). */
+static void disc_shift(const exdex_kinematics *kin, const double n[3], double *s0, double *s1, double *s2)
+{
+    double nB[3], wn[3], wwn[3], dwn[3], d1[3], d2[3], a[3], s;
+    ex_mulmtv3(nB, kin->R, n);
+    s = hypot(nB[0], nB[1]);
+    *s0 = *s1 = 0.0;
+    if (s2) *s2 = 0.0;
+    if (!(s > FQ_MIN)) return;
+    *s0 = s;
+    ex_cross3(wn, kin->w, n);
+    ex_mulmtv3(d1, kin->R, wn);
+    for (int i = 0; i < 3; i++) d1[i] = -d1[i];
+    *s1 = (nB[0] * d1[0] + nB[1] * d1[1]) / s;
+    if (!s2) return;
+    ex_cross3(wwn, kin->w, wn);
+    ex_cross3(dwn, kin->dw, n);
+    for (int i = 0; i < 3; i++) a[i] = wwn[i] - dwn[i];
+    ex_mulmtv3(d2, kin->R, a);
+    *s2 = (d1[0] * d1[0] + d1[1] * d1[1] + nB[0] * d2[0] + nB[1] * d2[1]) / s - *s1 * *s1 / s;
+}
+
+/* The disc's support point against the plane of unit normal n (A) at pose
+ * kin, from its centre xc (B) and the centre's offset vc from the centre of
+ * mass: x_s = xc - r u, vs = vc - r u (unchanged when the plane faces the
+ * plate normal). */
+static void disc_support(const exdex_model *m, const exdex_kinematics *kin, const double n[3], const double xc[3],
+                         const double vc[3], double xs[3], double vs[3])
+{
+    double nB[3], s;
+    ex_mulmtv3(nB, kin->R, n);
+    s = hypot(nB[0], nB[1]);
+    memcpy(xs, xc, 3 * sizeof *xs);
+    memcpy(vs, vc, 3 * sizeof *vs);
+    if (!(s > FQ_MIN)) return;
+    for (int i = 0; i < 2; i++) {
+        xs[i] -= m->disc_r * nB[i] / s;
+        vs[i] -= m->disc_r * nB[i] / s;
+    }
+}
+
 /* Gap n.(R xb + p - sp) of the vertex at xb (offset vx from the centre of
  * mass) against the plane through sp with unit normal sn, both in A: a stop,
- * or an obstacle's face seen from outside. G as contact_gap. */
+ * or an obstacle's face seen from outside. G as contact_gap. A disc outline:
+ * xb is its centre and the gap its support point's (disc_shift). */
 static double plane_gap(const exdex_model *m, const exdex_kinematics *kin, const double sp[3], const double sn[3],
                         const double xb[3], const double vx[3], double G[3])
 {
@@ -50,6 +105,12 @@ static double plane_gap(const exdex_model *m, const exdex_kinematics *kin, const
             double ax = xb[0] - m->pivot[0], ay = xb[1] - m->pivot[1];
             G[0] = -nB[0] * ay + nB[1] * ax;
         }
+    }
+    if (m->disc_r > 0.0) {
+        /* the disc's centre is the vertex xb: its support point's gap */
+        double s0, s1;
+        disc_shift(kin, sn, &s0, &s1, NULL);
+        return ex_dot3(xa, sn) - m->disc_r * s0;
     }
     return ex_dot3(xa, sn);
 }
@@ -77,7 +138,8 @@ double contact_vertex_gap(const exdex_model *m, const exdex_kinematics *kin, int
 
 double contact_gap_round(const exdex_model *m, const exdex_kinematics *kin, int k, const double xb[3])
 {
-    return GAP_ROUND * (sqrt(ex_dot3(xb, xb)) + sqrt(ex_dot3(kin->p, kin->p)) + sqrt(ex_dot3(m->sp[k], m->sp[k])));
+    return GAP_ROUND * (sqrt(ex_dot3(xb, xb)) + m->disc_r + sqrt(ex_dot3(kin->p, kin->p)) +
+                        sqrt(ex_dot3(m->sp[k], m->sp[k])));
 }
 
 double contact_min_gap(const exdex_model *m, const exdex_kinematics *kin, const double *q)
@@ -155,6 +217,14 @@ void contact_row_1dof(const exdex_model *m, const exdex_kinematics *k, int ks, i
     c->Ft = ex_dot3(n, wx) + ex_dot3(n, k->v);
     c->Ftq = ex_dot3(n, w1);
     c->Ftt = ex_dot3(n, dwx) + ex_dot3(n, wwx) + ex_dot3(n, k->a);
+    if (m->disc_r > 0.0) {
+        /* the disc's support point: the centre's row less r s(t) */
+        double s0, s1, s2;
+        disc_shift(k, n, &s0, &s1, &s2);
+        c->F -= m->disc_r * s0;
+        c->Ft -= m->disc_r * s1;
+        c->Ftt -= m->disc_r * s2;
+    }
 }
 
 /* Smallest gap of stop k over the outline, and its vertex. */
@@ -220,6 +290,14 @@ double contact_row_planar(const exdex_model *m, const exdex_kinematics *k, int k
             s += ex_dot3(n, b);
             *gdd0 = s;
         }
+    }
+    if (m->disc_r > 0.0) {
+        /* the disc's support point: the centre's row less r s(t) */
+        double s0, s1, s2;
+        disc_shift(k, n, &s0, &s1, &s2);
+        gap -= m->disc_r * s0;
+        if (gd) *gd -= m->disc_r * s1;
+        if (gdd0) *gdd0 -= m->disc_r * s2;
     }
     return gap;
 }
@@ -305,6 +383,13 @@ void contact_stop_tangent(const exdex_model *m, const exdex_kinematics *kin, int
 {
     double nB[3];
     ex_mulmtv3(nB, kin->R, m->sn[k]);
+    if (m->disc_r > 0.0) {
+        /* a disc (xb its centre) slips at its support point */
+        double xs[3], vs[3];
+        disc_support(m, kin, m->sn[k], xb, vx, xs, vs);
+        contact_tangent(m, kin, xs, vs, nB, T, tb);
+        return;
+    }
     contact_tangent(m, kin, xb, vx, nB, T, tb);
 }
 
@@ -527,6 +612,221 @@ static void set_point(contact_point *cp, const double x[3], const double r[3], c
     cp->x[2] = cp->vx[2] = 0.0;
 }
 
+/* The unit vector u minimising g(u) = 2 r b . u - r^2 (u . a)^2 over the
+ * unit circle (a, b plane vectors, r > 0). In the frame of e1 = a / |a|
+ * (alpha = |a|), u = (cos phi, sin phi), b = (b1, b2): g' = 0 is
+ *     -b1 sin phi + b2 cos phi + r alpha^2 sin phi cos phi = 0,
+ * with t = tan(phi / 2) the quartic
+ *     -b2 t^4 - 2 (b1 + r alpha^2) t^3 + 2 (r alpha^2 - b1) t + b2 = 0
+ * (GSL gsl_poly_complex_solve); phi = pi (t infinite) is a candidate too.
+ * The global minimum is one of the stationary points, so the candidate with
+ * the least g is it (the real parts of complex roots are extra candidates
+ * that can only lose); two guarded Newton steps on g' polish it. */
+static void circle_min(const double a[2], const double b[2], double r, double u[2])
+{
+    double alpha = hypot(a[0], a[1]), e1[2], b1, b2, k, c[5], z[8], best_phi = EXDEX_PI, best;
+    int deg = 4;
+    if (alpha > 0.0) {
+        e1[0] = a[0] / alpha;
+        e1[1] = a[1] / alpha;
+    } else {
+        e1[0] = 1.0;
+        e1[1] = 0.0;
+    }
+    b1 = b[0] * e1[0] + b[1] * e1[1];
+    b2 = -b[0] * e1[1] + b[1] * e1[0];
+    k = r * alpha * alpha;
+#define GPHI(ph) (2.0 * (b1 * cos(ph) + b2 * sin(ph)) - k * cos(ph) * cos(ph))
+    best = GPHI(EXDEX_PI);
+    c[0] = b2;
+    c[1] = 2.0 * (k - b1);
+    c[2] = 0.0;
+    c[3] = -2.0 * (b1 + k);
+    c[4] = -b2;
+    {
+        double sc = fabs(b1) + fabs(b2) + fabs(k);
+        while (deg > 0 && !(fabs(c[deg]) > 1e-14 * sc)) deg--;
+    }
+    if (deg >= 1) {
+        gsl_poly_complex_workspace *ws = gsl_poly_complex_workspace_alloc((size_t)deg + 1);
+        int ok = ws && gsl_poly_complex_solve(c, (size_t)deg + 1, ws, z) == GSL_SUCCESS;
+        if (ws) gsl_poly_complex_workspace_free(ws);
+        for (int i = 0; ok && i < deg; i++) {
+            double ph = 2.0 * atan(z[2 * i]), g = GPHI(ph);
+            if (g < best) {
+                best = g;
+                best_phi = ph;
+            }
+        }
+        if (!ok) {
+            /* no roots: the candidates of a coarse scan */
+            for (int i = 0; i < 64; i++) {
+                double ph = -EXDEX_PI + 2.0 * EXDEX_PI * i / 64.0, g = GPHI(ph);
+                if (g < best) {
+                    best = g;
+                    best_phi = ph;
+                }
+            }
+        }
+    }
+    for (int it = 0; it < 2; it++) {
+        double sn = sin(best_phi), cs = cos(best_phi);
+        double d1 = 2.0 * (-b1 * sn + b2 * cs) + 2.0 * k * cs * sn;
+        double d2 = 2.0 * (-b1 * cs - b2 * sn) + 2.0 * k * (cs * cs - sn * sn);
+        double ph, g;
+        if (!(d2 > 0.0)) break;
+        ph = best_phi - d1 / d2;
+        g = GPHI(ph);
+        if (!(g <= best)) break;
+        best = g;
+        best_phi = ph;
+    }
+#undef GPHI
+    u[0] = cos(best_phi) * e1[0] - sin(best_phi) * e1[1];
+    u[1] = cos(best_phi) * e1[1] + sin(best_phi) * e1[0];
+}
+
+/* The one row of a disc outline (centre xc in B, offset vc from the centre
+ * of mass rc) against obstacle ob (contact.h). Polytope: the disc's
+ * distance from the section less the radius: while the centre's nearest
+ * point of the section lies on a face line (or the centre is inside), that
+ * face's plane row (plane_gap, the support point's gap); else the nearest
+ * section vertex y: |xc - y| - r along (xc - y) / |xc - y|. Rod: the rim
+ * point nearest the axis (circle_min in the metric of the distance from the
+ * axis), its distance from the axis less the rod's radius, negative when the
+ * axis meets the plane inside the disc. Returns the gap. */
+static double disc_obstacle_row(const exdex_model *m, const exdex_kinematics *kin, const double *q,
+                                const exdex_obstacle_def *ob, const double xc[3], const double vc[3],
+                                const double rc[3], double G[3], double *round, contact_point *cp)
+{
+    double pn = sqrt(ex_dot3(kin->p, kin->p)), r = m->disc_r, gap;
+    if (ob->kind == EXDEX_OBSTACLE_POLYTOPE) {
+        double a[EXDEX_MAX_FACES][2], b[EXDEX_MAX_FACES], fmax = 0.0, db = -INFINITY;
+        int face[EXDEX_MAX_FACES], nh = 0, fb = -1, fplane = 0, empty = 0;
+        for (int f = 0; f < ob->n_faces; f++) {
+            double nB[3], d[3], bf, na;
+            fmax = fmax > sqrt(ex_dot3(ob->face_point[f], ob->face_point[f]))
+                       ? fmax : sqrt(ex_dot3(ob->face_point[f], ob->face_point[f]));
+            ex_mulmtv3(nB, kin->R, ob->face_normal[f]);
+            for (int i = 0; i < 3; i++) d[i] = ob->face_point[f][i] - kin->p[i];
+            bf = ex_dot3(ob->face_normal[f], d);
+            na = hypot(nB[0], nB[1]);
+            if (!(na > 1e-12)) {
+                if (bf < 0.0) empty = 1;
+                continue;
+            }
+            a[nh][0] = nB[0];
+            a[nh][1] = nB[1];
+            b[nh] = bf;
+            face[nh] = f;
+            {
+                double dd = (nB[0] * xc[0] + nB[1] * xc[1] - bf) / na;
+                if (dd > db) {
+                    db = dd;
+                    fb = nh;
+                }
+            }
+            nh++;
+        }
+        if (empty || fb < 0 || db <= 0.0) {
+            fplane = 1;
+        } else {
+            /* the centre's foot on the farthest face line: on the face? */
+            double na = hypot(a[fb][0], a[fb][1]), y[2] = {xc[0] - db * a[fb][0] / na, xc[1] - db * a[fb][1] / na};
+            double sc = hypot(y[0], y[1]);
+            fplane = 1;
+            for (int h = 0; h < nh; h++) {
+                if (h == fb) continue;
+                if (a[h][0] * y[0] + a[h][1] * y[1] - b[h] > 1e-12 * (hypot(a[h][0], a[h][1]) * sc + fabs(b[h])))
+                    fplane = 0;
+            }
+        }
+        if (fplane) {
+            /* a face row: the largest face distance (as an outline vertex's) */
+            int best = 0;
+            double gb = -INFINITY, xs[3], vs[3];
+            for (int f = 0; f < ob->n_faces; f++) {
+                double g = plane_gap(m, kin, ob->face_point[f], ob->face_normal[f], xc, vc, NULL);
+                if (g > gb) {
+                    gb = g;
+                    best = f;
+                }
+            }
+            if (!empty && fb >= 0 && db > 0.0) best = face[fb];
+            gap = plane_gap(m, kin, ob->face_point[best], ob->face_normal[best], xc, vc, G);
+            *round = GAP_ROUND * (sqrt(ex_dot3(xc, xc)) + r + pn +
+                                  sqrt(ex_dot3(ob->face_point[best], ob->face_point[best])));
+            if (cp) {
+                disc_support(m, kin, ob->face_normal[best], xc, vc, xs, vs);
+                memcpy(cp->x, xs, sizeof cp->x);
+                memcpy(cp->vx, vs, sizeof cp->vx);
+                ex_mulmtv3(cp->nB, kin->R, ob->face_normal[best]);
+            }
+        } else {
+            /* the nearest section vertex */
+            double y[EXDEX_MAX_FACES][2], dmin = INFINITY, nb[3] = {0, 0, 0}, x[3];
+            int ny = polygon_vertices(nh, (const double (*)[2])a, b, y), ib = 0;
+            for (int i = 0; i < ny; i++) {
+                double dd = hypot(xc[0] - y[i][0], xc[1] - y[i][1]);
+                if (dd < dmin) {
+                    dmin = dd;
+                    ib = i;
+                }
+            }
+            if (ny == 0) dmin = db;  /* not reached: a foot off its face has a vertex */
+            if (ny > 0 && dmin > 0.0) {
+                nb[0] = (xc[0] - y[ib][0]) / dmin;
+                nb[1] = (xc[1] - y[ib][1]) / dmin;
+            } else {
+                double na = hypot(a[fb][0], a[fb][1]);
+                nb[0] = a[fb][0] / na;
+                nb[1] = a[fb][1] / na;
+            }
+            gap = dmin - r;
+            x[0] = xc[0] - r * nb[0];
+            x[1] = xc[1] - r * nb[1];
+            x[2] = 0.0;
+            row_G(m, q, x, nb, G);
+            set_point(cp, x, rc, nb);
+            *round = 64.0 * DBL_EPSILON * (hypot(xc[0], xc[1]) + r + pn + fmax);
+        }
+        return gap;
+    } else {
+        double cB[3], aB[3], d[3], w[3], bvec[2], u[2], x[3], nb[3], dist;
+        int inside = 0;
+        for (int i = 0; i < 3; i++) d[i] = ob->center[i] - kin->p[i];
+        ex_mulmtv3(cB, kin->R, d);
+        ex_mulmtv3(aB, kin->R, ob->axis);
+        if (fabs(aB[2]) > 1e-12) {
+            double c0[2] = {cB[0] - cB[2] / aB[2] * aB[0], cB[1] - cB[2] / aB[2] * aB[1]};
+            inside = hypot(xc[0] - c0[0], xc[1] - c0[1]) < r;
+        }
+        /* |P (x - cB)|^2 over the rim x = xc + r u: P z0 the centre's offset
+         * from the axis, b its in-plane part */
+        axis_dist2(cB, aB, xc, w);
+        bvec[0] = w[0];
+        bvec[1] = w[1];
+        circle_min(aB, bvec, r, u);
+        x[0] = xc[0] + r * u[0];
+        x[1] = xc[1] + r * u[1];
+        x[2] = 0.0;
+        dist = sqrt(axis_dist2(cB, aB, x, w));
+        if (dist > 0.0) {
+            for (int i = 0; i < 3; i++) nb[i] = (inside ? -w[i] : w[i]) / dist;
+        } else {
+            nb[0] = -u[0];
+            nb[1] = -u[1];
+            nb[2] = 0.0;
+        }
+        gap = (inside ? -dist : dist) - ob->radius;
+        row_G(m, q, x, nb, G);
+        set_point(cp, x, rc, nb);
+        *round = 64.0 * DBL_EPSILON * (hypot(x[0], x[1]) + r + pn + sqrt(ex_dot3(ob->center, ob->center)) +
+                                       ob->radius);
+        return gap;
+    }
+}
+
 int contact_obstacle_rows(const exdex_model *m, const exdex_kinematics *kin, const double *q, double (*G)[3],
                           double *gap, double *round, int *src, contact_point *cp)
 {
@@ -537,6 +837,12 @@ int contact_obstacle_rows(const exdex_model *m, const exdex_kinematics *kin, con
     model_com_pose(m, q, rc, &thc);
     for (int o = 0; o < m->n_obst; o++) {
         const exdex_obstacle_def *ob = &m->def.obstacles[o];
+        if (m->disc_r > 0.0) {
+            gap[nr] = disc_obstacle_row(m, kin, q, ob, xb[0], vx[0], rc, G[nr], &round[nr], cp ? &cp[nr] : NULL);
+            if (src) src[nr] = m->n_stops + o;
+            nr++;
+            continue;
+        }
         if (ob->kind == EXDEX_OBSTACLE_POLYTOPE) {
             double a[EXDEX_MAX_FACES][2], b[EXDEX_MAX_FACES], y[EXDEX_MAX_FACES][2], fmax = 0.0;
             int empty, nhp, ny;
@@ -660,6 +966,7 @@ int contact_obstacle_rows(const exdex_model *m, const exdex_kinematics *kin, con
 int contact_obstacle_max_rows(const exdex_model *m)
 {
     int n = 0, nv = contact_nv(m);
+    if (m->disc_r > 0.0) return m->n_obst;  /* one row per obstacle */
     for (int o = 0; o < m->n_obst; o++)
         n += m->def.obstacles[o].kind == EXDEX_OBSTACLE_POLYTOPE
                  ? nv + (m->n_hull >= 3 ? m->def.obstacles[o].n_faces : 0)
@@ -679,6 +986,19 @@ double contact_slip_planar(const exdex_model *m, const exdex_kinematics *k, int 
     xB[1] = q[1] + rv[1];
     xB[2] = 0.0;
     contact_stop_tangent(m, k, ks, xB, rv, T, tb);
+    if (sdd0 && m->disc_r > 0.0) {
+        /* a disc slips at its support point x_s = x_c - r u (u = n_B,xy / |n_B,xy|):
+         * below, the material point there. The contact moves along the rim (d x_s /
+         * dt = xd_c - r du/dt, not the material point's xd_c - r thd e_z x u), which
+         * changes A_P by R (-thd^2 r u - r thd e_z x du/dt) + w x R (r thd e_z x u -
+         * r du/dt); with du/dt along t (u is unit) the first is along u and the
+         * second is w x (a vector along t_A): both are normal to t_A, so t_A . A_P
+         * and the slip acceleration are the material point's */
+        double xs[3], vs[3];
+        disc_support(m, k, m->sn[ks], xB, rv, xs, vs);
+        memcpy(xB, xs, sizeof xs);
+        memcpy(rv, vs, sizeof vs);
+    }
     if (sdd0) {
         *sdd0 = 0.0;
         ex_mulmtv3(nB, k->R, m->sn[ks]);

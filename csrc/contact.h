@@ -3,7 +3,10 @@
  * shared by every method. A row is one (stop k, outline vertex j) pair: its
  * gap n_k . (x_A - p_k) >= 0 allowed, and the derivatives of the gap with
  * respect to the free coordinates and time. An object without an outline
- * counts its centre of mass as its one vertex. */
+ * counts its centre of mass as its one vertex; a disc outline (disc_r > 0)
+ * its centre, every gap being its support point's (the centre's less the
+ * radius along the row's in-plane normal) and every friction row acting at
+ * that support point. */
 #ifndef EXDEX_CONTACT_H
 #define EXDEX_CONTACT_H
 
@@ -94,7 +97,9 @@ double contact_rot_radius(const exdex_model *m);
  * outside the hull's edge lines, acting at the section vertex with the
  * edge's inward normal); per rod: one row, the hull point nearest the axis
  * (its distance from the axis less the radius, negative when the axis meets
- * the plane inside the hull). round_i bounds the rounding of gap_i; src_i =
+ * the plane inside the hull). A disc outline: one row per obstacle (its
+ * distance from the section less its radius: disc_obstacle_row in
+ * contact.c). round_i bounds the rounding of gap_i; src_i =
  * n_stops + obstacle index (src may be NULL); cp_i (cp may be NULL) where
  * the row acts. Returns the count, at most contact_obstacle_max_rows. */
 /* Where a row acts, for friction along it (contact_tangent): the object's

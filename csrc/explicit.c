@@ -72,12 +72,15 @@
  * mode enumeration. Applied when a frictional row carries an impulse in
  * the frictionless projection (else that projection is a solution of the
  * frictional problem too); rows (G, b, stop) as the caller built them at
- * t + h, with q the coordinates of the step's start. Where no consistent
- * mode exists the frictionless projection is kept and a warning counted.
- * Returns 1 if v and lam were replaced. */
+ * t + h, with q the coordinates of the step's start: the stop rows r = k
+ * nv + j first, then the obstacles' rows, each acting at cp[r - n_stops nv]
+ * (contact_obstacle_rows; cp may be NULL without obstacle rows). Where no
+ * consistent mode exists the frictionless projection is kept and a warning
+ * counted. Returns 1 if v and lam were replaced. */
 static int explicit_stop_friction(const exdex_model *m, const exdex_kinematics *kin_end, const double *q, int nr,
                                   const double (*Gr)[3], const double *b, const double *gap, const int *stop,
-                                  const double vs[3], double *v, double *lam, exdex_stats *st)
+                                  const contact_point *cp, const double vs[3], double *v, double *lam,
+                                  exdex_stats *st)
 {
     fc_row rows[MAX_ROWS];
     fc_problem p;
@@ -93,12 +96,19 @@ static int explicit_stop_friction(const exdex_model *m, const exdex_kinematics *
         fc_row *r = &rows[i];
         int j = i % nv;
         for (int c = 0; c < 3; c++) r->G[c] = c < n ? Gr[i][c] : 0.0;
-        /* stop rows are r = k nv + j; a row of another source without
-         * tangent data stays frictionless */
-        r->mu = i < m->n_stops * nv ? model_source_mu(m, stop[i]) : 0.0;
+        /* stop rows are r = k nv + j; an obstacle's row without its point
+         * (cp NULL) stays frictionless */
+        r->mu = i < m->n_stops * nv || cp ? model_source_mu(m, stop[i]) : 0.0;
         r->T[0] = r->T[1] = r->T[2] = 0.0;
         r->tb = 0.0;
-        if (r->mu > 0.0) contact_stop_tangent(m, kin_end, stop[i], xb[j], vx[j], r->T, &r->tb);
+        if (r->mu > 0.0) {
+            if (i < m->n_stops * nv) {
+                contact_stop_tangent(m, kin_end, stop[i], xb[j], vx[j], r->T, &r->tb);
+            } else {
+                const contact_point *c = &cp[i - m->n_stops * nv];
+                contact_tangent(m, kin_end, c->x, c->vx, c->nB, r->T, &r->tb);
+            }
+        }
         r->rhs = b[i];
         r->rest = b[i] > m->tol.rate ? -1 : gap[i] <= m->tol.touch && b[i] >= -m->tol.rate ? 1 : 0;
         hint[i] = lam[i] > 0.0;
@@ -240,10 +250,12 @@ static int explicit_advance(const exdex_model *m, void *ws, double t1, int regri
                 double fq = vn < lo ? fqlo : fqhi;
                 if (kb >= 0) lamsum[kb] = M * (vc - vn) / fq;
                 if (kb >= 0 && m->stop_friction && model_source_mu(m, kb) > 0.0) {
-                    /* the frictional rows: every (stop, vertex) row, as above */
+                    /* the frictional rows: every (stop, vertex) row, then
+                     * the obstacles' rows, as above */
                     double Gr[MAX_ROWS][3], b[MAX_ROWS] = {0}, gp[MAX_ROWS] = {0}, lam[MAX_ROWS], vv[3] = {vc, 0, 0};
                     double vs3[3] = {vn, 0, 0};
-                    int stop[MAX_ROWS] = {0}, nr = 0;
+                    contact_point cpo[MAX_ROWS];
+                    int stop[MAX_ROWS] = {0}, nr = 0, bound = 0;
                     for (int k = 0; k < ns; k++)
                         for (int j = 0; j < nv; j++) {
                             crow c;
@@ -253,12 +265,28 @@ static int explicit_advance(const exdex_model *m, void *ws, double t1, int regri
                             b[nr] = -c.F / h;
                             gp[nr] = c.F;
                             lam[nr] = k == kb && j == jb ? lamsum[kb] : 0.0;
+                            bound |= k == kb && j == jb;
                             stop[nr++] = k;
                         }
-                    if (explicit_stop_friction(m, &kin_end, q, nr, (const double (*)[3])Gr, b, gp, stop, vs3, vv,
-                                               lam, st)) {
+                    if (m->n_obst) {
+                        double ro[MAX_ROWS];
+                        int i0 = nr;
+                        nr += contact_obstacle_rows(m, &kin_end, q, Gr + i0, gp + i0, ro, stop + i0, cpo);
+                        for (int r = i0; r < nr; r++) {
+                            /* the clamping row: the first of its obstacle with that bound */
+                            int clamp = !bound && stop[r] == kb && fabs(Gr[r][0]) > m->tol.fq_min &&
+                                        Gr[r][0] == (vn < lo ? fqlo : fqhi) && -gp[r] / h / Gr[r][0] == (vn < lo ? lo : hi);
+                            if (!(fabs(Gr[r][0]) > m->tol.fq_min)) Gr[r][0] = 0.0;
+                            Gr[r][1] = Gr[r][2] = 0.0;
+                            b[r] = -gp[r] / h;
+                            lam[r] = clamp ? lamsum[kb] : 0.0;
+                            bound |= clamp;
+                        }
+                    }
+                    if (explicit_stop_friction(m, &kin_end, q, nr, (const double (*)[3])Gr, b, gp, stop,
+                                               m->n_obst ? cpo : NULL, vs3, vv, lam, st)) {
                         vc = vv[0];
-                        for (int k = 0; k < ns; k++) lamsum[k] = 0.0;
+                        for (int k = 0; k < m->n_src; k++) lamsum[k] = 0.0;
                         for (int r = 0; r < nr; r++) lamsum[stop[r]] += lam[r];
                     }
                 }
@@ -319,16 +347,18 @@ static int explicit_advance(const exdex_model *m, void *ws, double t1, int regri
                  * M-metric projection of v* (ldp_project); the obstacles'
                  * rows after the stops' */
                 double Gr[MAX_ROWS][3], gap[MAX_ROWS], b[MAX_ROWS], lam[MAX_ROWS], vs[3];
+                contact_point cpo[MAX_ROWS];
                 int stop[MAX_ROWS], nr = contact_rows(m, &kin_end, q, Gr, gap, stop);
                 if (m->n_obst) {
                     double ro[MAX_ROWS];
-                    nr += contact_obstacle_rows(m, &kin_end, q, Gr + nr, gap + nr, ro, stop + nr, NULL);
+                    nr += contact_obstacle_rows(m, &kin_end, q, Gr + nr, gap + nr, ro, stop + nr, cpo);
                 }
                 for (int r = 0; r < nr; r++) b[r] = -gap[r] / h;
                 memcpy(vs, v, sizeof vs);
                 if (ldp_project(m->minv, nr, (const double (*)[3])Gr, b, vs, FQ_MIN, v, lam, &st->stop_iterations, &st->warnings)) {
                     if (m->stop_friction)
-                        explicit_stop_friction(m, &kin_end, q, nr, (const double (*)[3])Gr, b, gap, stop, vs, v, lam, st);
+                        explicit_stop_friction(m, &kin_end, q, nr, (const double (*)[3])Gr, b, gap, stop,
+                                               m->n_obst ? cpo : NULL, vs, v, lam, st);
                     for (int r = 0; r < nr; r++) lamsum[stop[r]] += lam[r];
                 }
             }

@@ -28,8 +28,10 @@
  *                     contact stop's other vertices (a turning gripper or
  *                     object hands the contact over to another corner).
  *                     A gap that dips below 0 and recovers within one
- *                     step (a corner grazing a stop) is found from its
- *                     rates at the step's ends (gap_dips).
+ *                     step (a corner grazing a stop), and at rest any
+ *                     guard that does (a load leaving the friction limit
+ *                     for a moment), is found from its rates at the
+ *                     step's ends (gap_dips).
  *   Planar slip (|E u| compared with zsw = SLIP_FLOOR V, V the scene's
  *   velocity scale: below it the sliding law is stiff: its
  *   direction relaxes at the rate C |K| / |E u| <~ A / |E u| (A = V / T the
@@ -76,9 +78,14 @@
  *   for an infinitesimal step). A guard can change sign and back within one
  *   step: a 1-DoF slip that stops and restarts the same way (s qd falling
  *   then rising over the step: its minimum is searched, golden section on
- *   the one-step map), and a guard violated at the step start that first
+ *   the one-step map), a guard violated at the step start that first
  *   recovers (a corner lifted off a stop falling back: its maximum is
- *   searched, and the crossing after it located). The
+ *   searched, and the crossing after it located), and the stick guard of a
+ *   rest, whose steps are long (the state is constant; only the force
+ *   integrals and the output grid bound them): a load that leaves the
+ *   ellipsoid and comes back within one step (its minimum is searched,
+ *   stick_guard_min), so whether a short slip happens does not depend on
+ *   where steps end. The
  *   motion's own switching times (Eq. 7, trapezoid kinks, end of a sampled
  *   motion) and the breakpoints of a grip schedule are stepped onto, never
  *   over, and velocity jumps of the gripper
@@ -163,7 +170,11 @@
  *     combination over the stop forces lam >= 0, ldp_min_combination, as the
  *     implicit method) has |E^-1 w| <= mu N
  *     (1 + TOLF); the rest ends when that fails or a set row's gap leaves
- *     +-tol.rest_gap (stops moving in B).
+ *     +-tol.rest_gap (stops moving in B). During the rest q is held
+ *     exactly (no projection after its steps, which would move it by the
+ *     stops' travel over each step and make the rest's end depend on where
+ *     steps end); the samples and the smallest gap report it pushed out of
+ *     the stops (reported_pose), as the decision at the rest's end does.
  *
  * Frictional stops (stop_mu > 0), 1-DoF scenes: in contact the vertex
  *   slips along its stop at s = T qd + tb (contact_tangent), and the stop's
@@ -654,6 +665,24 @@ static void planar_unpenetrate(hyb *H, const exdex_kinematics *kin, double *y)
         }
     if (pen && ldp_project(H->m->minv, n, (const double (*)[3])Gr, b, zero, FQ_MIN, dq, lam, &H->st->stop_iterations, &H->st->warnings))
         for (int c = 0; c < 3; c++) y[c] += dq[c];
+}
+
+/* The pose reported at (t, y) (an output sample, the smallest gap): a
+ * planar rest holds q exactly, also while a stop moving in B closes in on
+ * it (up to tol.rest_gap, where the rest ends); reported is the held pose
+ * pushed out of the stops (planar_unpenetrate, the projection the decision
+ * at the rest's end makes), a function of q and t alone. Projecting the
+ * held q itself after every step would move it by the stop's travel over
+ * each step: the rest's end, and the answer, would depend on where steps
+ * end (the output grid among them). Any other mode: y as it is. */
+static const double *reported_pose(hyb *H, double t, const double *y, double *buf)
+{
+    frame f;
+    exdex_kinematics kin;
+    if (H->ndof != 3 || !H->ns || H->law != LAW_COULOMB || H->mode != MODE_STICK) return y;
+    memcpy(buf, y, (size_t)H->ny * sizeof *y);
+    if (!frame_seg(H, t, &f, &kin)) planar_unpenetrate(H, &kin, buf);
+    return buf;
 }
 
 /* Rest against the contact-set rows (event method, stick): can the object
@@ -1622,6 +1651,13 @@ static void *hybrid_alloc(const exdex_model *m, int *status)
         *status = EXDEX_ENOMEM;
         return NULL;
     }
+    /* the evolve object's vectors go into a saved state (hybrid_save) also
+     * before its first step writes them (a run stuck from the start): they
+     * start at 0, not as malloc left them */
+    memset(O->evo->y0, 0, ny * sizeof(double));
+    memset(O->evo->yerr, 0, ny * sizeof(double));
+    memset(O->evo->dydt_in, 0, ny * sizeof(double));
+    memset(O->evo->dydt_out, 0, ny * sizeof(double));
     O->sys.function = rhs;
     O->sys.jacobian = NULL;
     O->sys.dimension = ny;
@@ -1707,6 +1743,73 @@ static int guard_extremum(hyb *H, ode *O, double t0, const double *y0, double ta
     return EXDEX_OK;
 }
 
+/* At rest (stick) q and qd are constant, so the stick guard (guard 0: the
+ * capacity less the load that holds) is a function of t alone, and a step
+ * is as long as the error control of the force integrals, the output grid
+ * and the switching times allow: the load can leave the ellipsoid and come
+ * back within one step (a short slip that the end values do not show, and
+ * that a step ending elsewhere would catch). Its minimum over [0, tau1]:
+ * STICK_SAMPLES equal parts, then golden section (at most 60 iterations)
+ * about the smallest sample, stopping at the first point found with g < 0.
+ * *tau, *g: that point (the earliest negative sample, else the minimum). */
+#define STICK_SAMPLES 8
+static void stick_guard_min(hyb *H, double t0, const double *y0, double tau1, double *tau, double *g)
+{
+    double gs[NG_MAX], r = 0.5 * (3.0 - sqrt(5.0)), a, b, x1, x2, f1, f2, best = INFINITY, tb = 0.0;
+    int jb = 0;
+    for (int j = 1; j < STICK_SAMPLES; j++) {
+        double tj = tau1 * j / STICK_SAMPLES;
+        guards(H, t0 + tj, y0, gs);
+        H->st->solver_iterations++;
+        if (gs[0] < best) {
+            best = gs[0];
+            tb = tj;
+            jb = j;
+        }
+        if (best < 0.0) {
+            *tau = tb;
+            *g = best;
+            return;
+        }
+    }
+    a = tau1 * (jb - 1) / STICK_SAMPLES;
+    b = tau1 * (jb + 1) / STICK_SAMPLES;
+    x1 = a + r * (b - a);
+    x2 = b - r * (b - a);
+    guards(H, t0 + x1, y0, gs);
+    f1 = gs[0];
+    guards(H, t0 + x2, y0, gs);
+    f2 = gs[0];
+    for (int it = 0; it < 60 && f1 >= 0.0 && f2 >= 0.0 && b - a > H->m->tol.root; it++) {
+        if (f1 < f2) {
+            b = x2;
+            x2 = x1;
+            f2 = f1;
+            x1 = a + r * (b - a);
+            guards(H, t0 + x1, y0, gs);
+            f1 = gs[0];
+        } else {
+            a = x1;
+            x1 = x2;
+            f1 = f2;
+            x2 = b - r * (b - a);
+            guards(H, t0 + x2, y0, gs);
+            f2 = gs[0];
+        }
+        H->st->solver_iterations++;
+    }
+    if (f1 < best) {
+        best = f1;
+        tb = x1;
+    }
+    if (f2 < best) {
+        best = f2;
+        tb = x2;
+    }
+    *tau = tb;
+    *g = best;
+}
+
 /* A free gap can dip below 0 and recover within one accepted step (a corner
  * of a turning outline grazing a stop): both end values are positive and
  * the impact would be missed. The gaps are functions of (t, q), so their
@@ -1752,11 +1855,14 @@ static double hermite_min(double g0, double g1, double r0, double r1, double h)
     return pmin;
 }
 
-static int gap_dips(hyb *H, ode *O, double t0, const double *y0, double t1, const double *y1, const double *g0,
-                    const double *g1, double *tau_best, int *e_best)
+static int gap_dips(hyb *H, ode *O, double t0, const double *y0, double t1, const double *y1, int ng,
+                    const double *g0, const double *g1, double *tau_best, int *e_best)
 {
-    int a = H->gap0, b = H->gap1, nd = H->ndof, want = 0, fs;
-    double h = t1 - t0, d = DIP_DELTA * h, ya[NY_MAX], yb[NY_MAX], ga[NG_MAX], gb[NG_MAX];
+    /* at rest (Coulomb stick) q and qd are held, so every guard is a
+     * function of t alone (the load, the stops' motion in B): all of them */
+    int stick = H->law == LAW_COULOMB && H->mode == MODE_STICK;
+    int a = stick ? 0 : H->gap0, b = stick ? ng : H->gap1, nd = H->ndof, want = 0, fs = 0;
+    double h = t1 - t0, d = DIP_DELTA * h, ya[NY_MAX], yb[NY_MAX], ga[NG_MAX], gb[2 * NG_MAX];
     double cap = H->cap, caps = H->caps;
     exdex_kinematics ka, kb;
     frame fa, fb;
@@ -1769,12 +1875,19 @@ static int gap_dips(hyb *H, ode *O, double t0, const double *y0, double t1, cons
         ya[c] += d * y0[nd + c];
         yb[c] -= d * y1[nd + c];
     }
-    fs = frame_seg(H, t0 + d, &fa, &ka);
-    if (!fs) fs = frame_seg(H, t1 - d, &fb, &kb);
-    H->cap = cap; /* frame_seg reads the capacities at its time: keep t1's */
-    H->caps = caps;
-    if (fs) return fs;
-    if (gap_guards(H, &ka, ya, ga + a) != b - a || gap_guards(H, &kb, yb, gb + a) != b - a) return EXDEX_OK;
+    if (stick) {
+        int na = guards(H, t0 + d, ya, ga), nb = guards(H, t1 - d, yb, gb);
+        guards(H, t1, y1, gb + ng); /* H as after the step's own evaluation */
+        if (H->err) return H->err;
+        if (na != ng || nb != ng) return EXDEX_OK;
+    } else {
+        fs = frame_seg(H, t0 + d, &fa, &ka);
+        if (!fs) fs = frame_seg(H, t1 - d, &fb, &kb);
+        H->cap = cap; /* frame_seg reads the capacities at its time: keep t1's */
+        H->caps = caps;
+        if (fs) return fs;
+        if (gap_guards(H, &ka, ya, ga + a) != b - a || gap_guards(H, &kb, yb, gb + a) != b - a) return EXDEX_OK;
+    }
     for (int e = a; e < b; e++) {
         double r0 = (ga[e] - g0[e]) / d, r1 = (g1[e] - gb[e]) / d, tm, gm, tau;
         int st;
@@ -2027,6 +2140,21 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                     }
                 }
             }
+            if (law == LAW_COULOMB && H.mode == MODE_STICK && g0[0] > 0.0 && g1[0] >= 0.0 && t > t0) {
+                /* a short slip inside the step (stick_guard_min): the step
+                 * ends where the guard is negative, located below */
+                double tm, gm;
+                stick_guard_min(&H, t0, y0, t - t0, &tm, &gm);
+                if (H.err) break;
+                if (gm < 0.0) {
+                    if (one_step(O, t0, y0, tm, y) != GSL_SUCCESS) {
+                        status = EXDEX_ENOCONV;
+                        break;
+                    }
+                    t = t0 + tm;
+                }
+                guards(&H, t, y, g1);
+            }
             for (int e = 0; e < ng; e++) {
                 double tau;
                 if (!(g1[e] < 0.0)) continue;
@@ -2068,7 +2196,7 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                 }
             }
             /* a free gap that dipped below 0 and recovered within the step */
-            if (!status) status = gap_dips(&H, O, t0, y0, t, y, g0, g1, &tau_best, &e_best);
+            if (!status) status = gap_dips(&H, O, t0, y0, t, y, ng, g0, g1, &tau_best, &e_best);
             /* a guard can dip below 0 and recover within one step (its end
              * value is >= 0): the located event's point shows it; take the
              * earliest such crossing instead (at most ng passes) */
@@ -2170,14 +2298,17 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                  * derivative */
                 double yp[NY_MAX];
                 memcpy(yp, y, sizeof yp);
-                project_contact(&H, t, y);
+                /* a planar rest holds q (reported_pose) */
+                if (!(nd == 3 && law == LAW_COULOMB && H.mode == MODE_STICK)) project_contact(&H, t, y);
                 if (memcmp(yp, y, (size_t)H.ny * sizeof *y)) ode_restart(O);
             }
             /* a penetration left after the step: the scene drives the
              * object through a stop (see tol.pen) */
             if (ns) {
                 exdex_kinematics kt;
-                double gmin = exdex_motion_eval(m->motion, t, &kt) ? INFINITY : contact_min_gap(m, &kt, y);
+                double yr[NY_MAX];
+                const double *yq = reported_pose(&H, t, y, yr);
+                double gmin = exdex_motion_eval(m->motion, t, &kt) ? INFINITY : contact_min_gap(m, &kt, yq);
                 if (gmin < st->min_gap) st->min_gap = gmin;
                 if (gmin < -m->tol.pen) st->warnings++;
             }
@@ -2199,7 +2330,8 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
             /* the interval's integrals (friction, stop forces) as means
              * over it; then they restart from 0 */
             int off = nd == 1 ? 2 : 6, nw = nd == 1 ? 1 : 3;
-            double wrench[3] = {0, 0, 0}, sf[EXDEX_MAX_STOPS];
+            double wrench[3] = {0, 0, 0}, sf[EXDEX_MAX_STOPS], yr[NY_MAX];
+            const double *yq;
             if (nd == 3) {
                 for (int c = 0; c < 3; c++) wrench[c] = y[6 + c] / hs;
             } else if (m->def.dof == EXDEX_DOF_TRANSLATION) {
@@ -2209,7 +2341,8 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                 wrench[2] = y[2] / hs;
             }
             for (int k2 = 0; k2 < ns; k2++) sf[k2] = y[off + nw + k2] / hs;
-            method_record(m, out, st, i, ti, y, y + nd, wrench,
+            yq = reported_pose(&H, ti, y, yr);
+            method_record(m, out, st, i, ti, yq, yq + nd, wrench,
                           law == LAW_COULOMB && H.mode == MODE_STICK ? 1 : is_still(&H, y), sf);
             for (int c = off; c < H.ny; c++) y[c] = 0.0;
         }

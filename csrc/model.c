@@ -97,6 +97,9 @@ static int check_fields(const exdex_scene_def *d, const char **bad_param)
     if (d->n_vertices < 0 || d->n_vertices > EXDEX_MAX_VERTICES)
         return bad(bad_param, "n_vertices");
     if (!ex_finite_n(&d->vertices[0][0], 2 * d->n_vertices)) return bad(bad_param, "vertices");
+    if (!(isfinite(d->disc_radius) && d->disc_radius >= 0.0) || (d->disc_radius > 0.0 && d->n_vertices != 0))
+        return bad(bad_param, "disc_radius");
+    if (!ex_finite_n(d->disc_center, 2)) return bad(bad_param, "disc_center");
     if (!(isfinite(d->mu) && d->mu >= 0)) return bad(bad_param, "mu");
     if (!(isfinite(d->grip_force) && d->grip_force >= 0)) return bad(bad_param, "grip_force");
     if (!(isfinite(d->mu_static) && (d->mu_static == 0.0 || d->mu_static >= d->mu)))
@@ -148,7 +151,8 @@ static int check_fields(const exdex_scene_def *d, const char **bad_param)
     if (d->n_obstacles && d->method != EXDEX_METHOD_IMPLICIT && d->method != EXDEX_METHOD_EXPLICIT)
         return bad(bad_param, "method");
     for (int o = 0; o < d->n_obstacles; o++)
-        if (d->obstacles[o].mu > 0.0 && d->method != EXDEX_METHOD_IMPLICIT) return bad(bad_param, "method");
+        if (d->obstacles[o].mu > 0.0 && d->method != EXDEX_METHOD_IMPLICIT && d->method != EXDEX_METHOD_EXPLICIT)
+            return bad(bad_param, "method");
     if (d->method == EXDEX_METHOD_ANALYTIC && exdex_analytic_unsupported(d)) return bad(bad_param, "method");
     if (d->friction_solver < EXDEX_SOLVER_SCALAR || d->friction_solver > EXDEX_SOLVER_MULTIROOT)
         return bad(bad_param, "friction_solver");
@@ -381,7 +385,7 @@ static void model_set_scales(exdex_model *m)
     double A = fmax(sqrt(ex_dot3(m->g, m->g)), m->capF / m->m), v0 = hypot(m->def.v0[0], m->def.v0[1]);
     s->L = m->e[2];
     s->L = fmax(s->L, hypot(m->pc[0], m->pc[1]));
-    for (int j = 0; j < m->n_vert; j++) s->L = fmax(s->L, hypot(m->vert[j][0], m->vert[j][1]));
+    for (int j = 0; j < m->n_vert; j++) s->L = fmax(s->L, hypot(m->vert[j][0], m->vert[j][1]) + m->disc_r);
     if (A > 0.0 && isfinite(A))
         s->T = sqrt(s->L / A);
     else if (m->def.motion.kind != EXDEX_MOTION_REST)
@@ -656,6 +660,13 @@ static exdex_model *build_model(const exdex_scene_def *def, int *status, const c
     }
     m->n_vert = def->n_vertices;
     memcpy(m->vert, def->vertices, sizeof m->vert);
+    if (def->disc_radius > 0.0) {
+        /* the disc's centre is its one vertex; contact.c adds the radius */
+        m->n_vert = 1;
+        m->vert[0][0] = def->disc_center[0];
+        m->vert[0][1] = def->disc_center[1];
+        m->disc_r = def->disc_radius;
+    }
     m->n_obst = def->n_obstacles;
     m->n_src = m->n_stops + m->n_obst;
     for (int o = 0; o < m->n_obst; o++) m->stop_friction |= def->obstacles[o].mu > 0.0;

@@ -135,7 +135,10 @@ def _outline(body):
     """The body's outline in C as a convex polygon (counter-clockwise): the
     box of ``Body.size`` when given (``Body.outline`` may list only the
     vertices that touch stops), else the hull of ``Body.outline``; None when
-    neither states an area."""
+    neither states an area. A disc outline (``Body.outline_radius``): the
+    64 rim points of ``Body.vertices``, a polygon inscribed in the disc."""
+    if body.outline_radius is not None:
+        return body.vertices()
     if body.size is not None:
         hx, hy = body.size[0] / 2, body.size[1] / 2
         return np.array([(-hx, -hy), (hx, -hy), (hx, hy), (-hx, hy)])

@@ -132,12 +132,22 @@ class Body:
         shape the physics-engine cross-checks build).
     outline : polygon vertices (k, 2) in C [m] touching stops; default: the
         box corners from ``size``, or the centre of mass alone.
+    outline_radius : radius [m] > 0 of a disc outline, or None (a polygon
+        outline). A disc touches each stop at its support point, the rim
+        point nearest the stop, which moves along the rim as the object turns
+        (on a frictional stop it rolls or slides), and each obstacle at its
+        point nearest the obstacle. Exclusive with ``outline``.
+        ``Body.cylinder`` makes a uniform cylinder with this outline.
+    outline_center : centre of the disc outline in C, relative to the centre
+        of mass [m]; default the centre of mass.
     """
 
     mass: float
     inertia: Union[float, Vector, Matrix] = ((1e-4, 0.0, 0.0), (0.0, 1e-4, 0.0), (0.0, 0.0, 1e-4))
     size: Optional[Vector] = None
     outline: Optional[Matrix] = None
+    outline_radius: Optional[float] = None
+    outline_center: Vector = (0.0, 0.0)
 
     def __post_init__(self):
         object.__setattr__(self, "mass", _real(self.mass, "Body.mass", low=0.0, low_open=True))
@@ -164,6 +174,33 @@ class Body:
             if not 1 <= len(o) <= _core.MAX_VERTICES:
                 raise ValueError(f"Body.outline must have 1 to {_core.MAX_VERTICES} vertices, got {len(o)}")
             object.__setattr__(self, "outline", _tuple(o))
+        object.__setattr__(self, "outline_center", _tuple(_array(self.outline_center, "Body.outline_center", (2,))))
+        if self.outline_radius is not None:
+            object.__setattr__(self, "outline_radius",
+                               _real(self.outline_radius, "Body.outline_radius", low=0.0, low_open=True))
+            if self.outline is not None:
+                raise ValueError("Body.outline and Body.outline_radius are exclusive: give a polygon outline or a "
+                                 "disc outline, not both")
+        elif self.outline_center != (0.0, 0.0):
+            raise ValueError("Body.outline_center is the centre of a disc outline: it needs Body.outline_radius")
+
+    @classmethod
+    def cylinder(cls, mass: float, radius: float, height: float, **kw: Any) -> "Body":
+        """A uniform cylinder of ``radius`` and ``height`` [m] with its axis along
+        the plate normal (C's z), so its outline in the plate plane is a disc:
+        inertia m/12 diag(3 r^2 + h^2, 3 r^2 + h^2, 6 r^2), ``size`` its
+        bounding box (2 r, 2 r, h), ``outline_radius`` r (``outline_center``
+        may be passed to put the disc's centre off the centre of mass)."""
+        r = _real(radius, "radius", low=0.0, low_open=True)
+        h = _real(height, "height", low=0.0, low_open=True)
+        m = _real(mass, "Body.mass", low=0.0, low_open=True)
+        I = m / 12.0 * np.diag([3 * r**2 + h**2, 3 * r**2 + h**2, 6 * r**2])
+        return cls(mass=m, inertia=I, size=(2 * r, 2 * r, h), outline_radius=r, **kw)
+
+    @property
+    def is_disc(self) -> bool:
+        """True when the outline is a disc (``outline_radius`` given)."""
+        return self.outline_radius is not None
 
     @classmethod
     def box(cls, mass: float, size: Vector, **kw: Any) -> "Body":
@@ -174,7 +211,12 @@ class Body:
         return cls(mass=mass, inertia=I, size=(lx, ly, lz), **kw)
 
     def vertices(self) -> NDArray[np.float64]:
-        """Outline vertices (k, 2) in C used against stops."""
+        """Outline vertices (k, 2) in C used against stops. A disc outline gives
+        64 points of its rim, equally spaced from angle 0 (for drawing and
+        distances; the core uses the disc itself)."""
+        if self.outline_radius is not None:
+            a = np.linspace(0.0, 2.0 * np.pi, 64, endpoint=False)
+            return np.asarray(self.outline_center) + self.outline_radius * np.column_stack([np.cos(a), np.sin(a)])
         if self.outline is not None:
             return np.array(self.outline)
         if self.size is not None:
@@ -883,15 +925,16 @@ class Obstacle:
         points within ``radius`` of the line through ``center`` along
         ``axis``: an infinite rod).
     mu : Coulomb friction coefficient against the object (>= 0; the implicit
-        method), as a stop's: along the tangent of the plate plane at each
-        contact, bounded by mu times the contact's normal force.
+        and explicit methods), as a stop's: along the tangent of the plate
+        plane at each contact, bounded by mu times the contact's normal force.
 
     The plate plane cuts the solid in a convex polygon of the gripper frame B
     (a rod: a disc when its axis is normal to the plates, else an ellipse),
     recomputed from the gripper's pose as it moves (:meth:`section`). The
     object touches it with its outline vertices (against the faces) and with
     the edges of the outline's convex hull (against the section's vertices,
-    or the rod). A one-face obstacle keeps the object where
+    or the rod); a disc outline (``Body.outline_radius``) with its point
+    nearest the section. A one-face obstacle keeps the object where
     ``Stop(point, normal)`` with the same point and normal does; its force
     is the stop force column after the stops' (``Result.stop_force``).
     """
@@ -1077,15 +1120,21 @@ class Scene:
             R, p = kin["R"][0], kin["p"][0]
         th = self.q0[2]
         c, s = math.cos(th), math.sin(th)
-        verts = self.body.vertices()
+        radius = self.body.outline_radius
+        disc = radius is not None
+        verts = np.array([self.body.outline_center]) if disc else self.body.vertices()
         xb = np.array(self.q0[:2]) + verts @ np.array([[c, s], [-s, c]])   # rows: q0 + Rz(th) v
         xa = np.hstack([xb, np.zeros((len(xb), 1))]) @ R.T + p
         for k, st in enumerate(self.stops):
             gaps = (xa - np.array(st.point)) @ np.array(st.normal)
+            if radius is not None:
+                # the support point: the centre less the radius times |n_B,xy|
+                gaps = gaps - radius * float(np.hypot(*(R.T @ np.array(st.normal))[:2]))
             j = int(np.argmin(gaps))
             if gaps[j] < -1e-9:
-                where = "the centre of mass" if self.body.size is None and self.body.outline is None \
-                    else f"outline vertex {j} ({verts[j][0]:g}, {verts[j][1]:g}) m"
+                where = "the disc outline" if disc else (
+                    "the centre of mass" if self.body.size is None and self.body.outline is None
+                    else f"outline vertex {j} ({verts[j][0]:g}, {verts[j][1]:g}) m")
                 raise ValueError(
                     f"Scene.stops[{k}] (point {st.point}, normal {st.normal}) starts inside the object: "
                     f"{where} is {-gaps[j]:.6g} m beyond it at t = 0. Move the stop or the object "
@@ -1131,7 +1180,8 @@ class Scene:
         """The flat dict the C core reads (keys mirror ``exdex_scene_def``)."""
         spec = dict(
             mass=self.body.mass, inertia=np.array(self.body.inertia).ravel(),
-            vertices=self.body.vertices() if self.stops or self.obstacles else None,
+            vertices=self.body.vertices() if (self.stops or self.obstacles) and self.body.outline_radius is None
+            else None,
             mu=self.grasp.mu, grip_force=self.grasp.grip_force, fingers=int(self.grasp.fingers),
             mu_static=0.0 if self.grasp.mu_static is None else self.grasp.mu_static,  # 0: equal to mu
             e_r=self.grasp.patch.e_r, patch_center=self.grasp.patch.center,
@@ -1145,13 +1195,12 @@ class Scene:
             method=METHODS[method], friction_solver=SOLVERS[friction_solver],
             eps=eps, rtol=rtol, atol=atol,
         )
+        if self.body.outline_radius is not None:
+            spec.update(disc_radius=self.body.outline_radius, disc_center=self.body.outline_center)
         if self.obstacles:
             if method not in ("implicit", "explicit"):
                 raise ValueError(f"Scene.obstacles: the implicit and explicit methods solve scenes with "
                                  f"obstacles, got method={method!r}")
-            if method != "implicit" and any(o.mu > 0 for o in self.obstacles):
-                raise ValueError(f"Scene.obstacles: the implicit method solves obstacles with friction "
-                                 f"(Obstacle.mu > 0), got method={method!r}")
             spec["obstacles"] = [o._spec() for o in self.obstacles]
         spec.update(self.motion._spec())
         sched = self.grasp.schedule

@@ -96,6 +96,53 @@ def test_slip_onset_at_the_exact_crossing(t_end):
         assert abs(r.q[-1, 0] - q_ex) / qd_ex < 1e-9, (dt, r.q[-1, 0], q_ex)
 
 
+@pytest.mark.parametrize("rtol", [1e-6, 1e-8, 1e-10])
+def test_short_slip_inside_a_long_stick_step(rtol):
+    """While the object sticks its state is constant, so the stepper's steps
+    grow to the output interval or the motion's next switch; the stick guard
+    C - |load| can still dip below 0 and recover within one such step. Here
+    the gripper, tilted by -0.3 rad about its plate normal, turns by 0.7 rad
+    (trapezoid, cruise at w = 0.9 rad/s from 0.222 s to 0.778 s) about that
+    normal through the centre of mass, and the capacity is C = m g (1 -
+    delta), delta = 1e-5: along the slide axis (B's y) the load m g cos(phi),
+    phi = w tau the angle from upright (tau = t - 4/9 s in the cruise),
+    exceeds C only for |tau| < arccos(1 - delta) / w ~ 5 ms. The slip then
+    obeys s'' = -g cos(w tau) + C / m + w^2 s (gravity, friction up against
+    the downward slip, the centrifugal term of the turn; Coriolis is normal
+    to the slide axis) from s = s' = 0 at tau1 = -arccos(1 - delta) / w until
+    s' returns to 0, after which the load is back inside the capacity
+    (reference: scipy's DOP853 at rtol 1e-13). The final slip, -5.45e-9 m,
+    is the same for output grids T/2, T/16 and 2^-8 s (steps that end at
+    output samples no longer decide whether the slip is seen) and agrees
+    with the reference to 1e-6 of itself at every rtol (the slip's start and
+    end are located to 3e-12 T)."""
+    from scipy.integrate import solve_ivp
+    m, mu, delta, tilt, w, T = 0.1, 0.5, 1e-5, 0.3, 0.9, 1.0
+    axis = np.array([0.0, -1.0, 0.0])
+    K = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    R0 = (np.eye(3) - math.sin(tilt) * K + (1 - math.cos(tilt)) * K @ K) @ np.array(
+        exdex.scene.DEFAULT_GRIPPER_ROTATION)
+    C = m * G * (1 - delta)
+    sc = Scene(body=Body.box(m, (0.03, 0.06, 0.02)),
+               grasp=Grasp(mu=mu, grip_force=C / (2 * mu), patch=Patch.rectangle(0.01, 0.02)),
+               motion=TrapezoidalProfile(amplitude=0.7, duration=T, v_max=w, axis=tuple(axis), rotation=True),
+               gripper_rotation=tuple(map(tuple, R0)))
+    tau1 = -math.acos(1 - delta) / w
+
+    def ode(tau, y):
+        return [y[1], -G * math.cos(w * tau) + C / m + w * w * y[0]]
+
+    def stopped(tau, y):
+        return y[1]
+    stopped.terminal, stopped.direction = True, 1
+    sol = solve_ivp(ode, (tau1, 1.0), [0.0, 0.0], method="DOP853", rtol=1e-13, atol=1e-22, events=stopped)
+    s_ref = float(sol.y_events[0][0][0])
+    assert -6e-9 < s_ref < -5e-9
+    for dt in (T / 2, T / 16, 2.0 ** -8):
+        r = exdex.simulate(sc, t_end=T, dt=dt, method="event", rtol=rtol, atol=1e-3 * rtol)
+        assert abs(r.q[-1, 0] - s_ref) <= 1e-6 * abs(s_ref), (dt, r.q[-1, 0], s_ref)
+
+
 def test_rotation_final_angle_independent_of_output_grid():
     """Rotation DoF about the patch centre 20 mm above the centre of mass (no
     gravity torque at rest); the gripper turns about its plate normal at
@@ -414,3 +461,41 @@ def test_grazing_corner_planar_found_in_one_output_interval(method):
     assert one.stats["min_gap"] >= -1e-12
     np.testing.assert_allclose(one.q[-1], fine.q[-1], rtol=0, atol=1e-7)
     np.testing.assert_allclose(one.v[-1], fine.v[-1], rtol=0, atol=1e-6)
+
+
+@pytest.mark.parametrize("rtol", [1e-6, 1e-8, 1e-10])
+def test_brief_slip_inside_one_stick_step(rtol):
+    """A held object (q and qd fixed, so the stepper takes the whole rest as
+    one step) whose load leaves the friction cone for a moment: a vertical
+    Shake(A < 0) peaks the gripper's upward acceleration |A| w^2 at
+    t = pi / w, and the capacity C = m (g + (1 - delta) |A| w^2) holds the
+    object except near that peak. Closed form, tau = t - pi / w, K = |A| w^2:
+    the object slips down from tau1 = -arccos(1 - delta) / w with
+    s'' = K ((1 - delta) - cos w tau), so
+        s'(tau) = K ((1 - delta) (tau - tau1) - (sin w tau - sin w tau1) / w),
+        s(tau)  = K ((1 - delta) (tau - tau1)^2 / 2
+                     + (cos w tau - cos w tau1) / w^2 + sin(w tau1) (tau - tau1) / w),
+    and sticks again at the root tau2 > -tau1 of s' (scipy's brentq; the
+    load is then back inside the cone, and stays there). The output grid is
+    one interval and the tolerance loose: the rest before and after the slip
+    is one stick step across the peak unless the slip is found inside it.
+    Event method, error within 10 rtol of the slip."""
+    from scipy.optimize import brentq
+    m, A, f, delta, g = 0.1, -0.01, 2.0, 0.02, 9.81
+    w = 2 * math.pi * f
+    K = abs(A) * w * w
+    cap = m * (g + (1 - delta) * K)
+    grasp = Grasp(mu=0.5, grip_force=cap / (2 * 0.5))
+    scene = Scene(body=Body(m), grasp=grasp, motion=exdex.Shake(A, f, cycles=1, axis=(0, 0, 1)))
+    tau1 = -math.acos(1 - delta) / w
+
+    def v(tau):
+        return K * ((1 - delta) * (tau - tau1) - (math.sin(w * tau) - math.sin(w * tau1)) / w)
+
+    tau2 = brentq(v, -tau1, math.pi / w, xtol=1e-15)
+    s2 = K * ((1 - delta) * (tau2 - tau1) ** 2 / 2 + (math.cos(w * tau2) - math.cos(w * tau1)) / w**2
+              + math.sin(w * tau1) * (tau2 - tau1) / w)
+    assert s2 < -1e-6
+    for dt in (1.0, 1e-3):
+        r = exdex.simulate(scene, t_end=1.0, dt=dt, method="event", rtol=rtol, atol=1e-3 * rtol)
+        assert abs(r.q[-1, 0] - s2) <= 10 * rtol * abs(s2), (dt, r.q[-1, 0], s2)

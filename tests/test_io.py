@@ -2,7 +2,7 @@
 save / load / repr) and the ``exdex run`` command.
 
 Round trips are checked on seeded random scenes covering every scene object
-and option: bodies (scalar, diagonal and full inertia; size; outline),
+and option: bodies (scalar, diagonal and full inertia; size; outline; a disc outline),
 patches (given, disc, rectangle), one or two fingers, every motion (Rest,
 AsymmetricProfile and TrapezoidalProfile translating and rotating,
 SampledTrajectory with random arrays), 0 to 8 stops, every dof, random
@@ -48,9 +48,12 @@ def _rotation(rng):
 
 def _body(rng):
     mass = abs(_awkward(rng)) or 0.3
-    kind = rng.integers(0, 4)
+    kind = rng.integers(0, 5)
     if kind == 0:
         return exdex.Body(mass=mass, inertia=float(rng.uniform(1e-6, 1e-2)))
+    if kind == 4:
+        return exdex.Body.cylinder(float(rng.uniform(0.01, 1.0)), float(rng.uniform(0.005, 0.1)),
+                                   float(rng.uniform(0.005, 0.1)), outline_center=tuple(rng.normal(size=2) * 0.01))
     if kind == 1:
         return exdex.Body(mass=mass, inertia=rng.uniform(1e-6, 1e-2, size=3))
     if kind == 2:
@@ -442,7 +445,7 @@ def test_the_schema_covers_every_scene_field_and_motion():
     assert fields == {
         "Scene": ["body", "grasp", "motion", "dof", "slide_axis", "q0", "v0", "gripper_rotation",
                   "gripper_position", "gravity", "stops", "obstacles"],
-        "Body": ["mass", "inertia", "size", "outline"],
+        "Body": ["mass", "inertia", "size", "outline", "outline_radius", "outline_center"],
         "Grasp": ["mu", "grip_force", "patch", "fingers", "mu_static"],
         "Patch": ["e_r", "center", "shape", "dims"],
         "Stop": ["point", "normal", "mu"],

@@ -102,6 +102,43 @@ def test_regularised_matches_an_independent_stiff_integrator():
     assert r.v[-1, 0] == pytest.approx(y[1], abs=1e-9)
 
 
+@pytest.mark.parametrize("ratio", [1.01, 1.5, 2.0])
+def test_regularised_rotation_creeps_at_the_smoothed_slip_speed(ratio):
+    """eps is a slip speed [m/s]; a 1-DoF rotation about the centre of
+    pressure slips at e_r |theta'|, so its friction torque is -C w /
+    sqrt(w^2 + (eps / e_r)^2) (C = mu N e_r, w = theta'). Paper Fig. 6 with
+    the torque capacity C = ratio I_zz a_H: the object is pinned at its
+    centre of mass, so over the first gentle phase (0 < t < beta T = 2.1 s)
+    the load is Q = I_zz a_H and I_zz w' = Q - C w / sqrt(w^2 + (eps/e_r)^2)
+    from rest. It creeps towards w_c = (eps / e_r) Q / sqrt(C^2 - Q^2) with
+    the relaxation time I_zz (eps / e_r) / (C (1 - (Q/C)^2)^(3/2)): 0.0094 s
+    at ratio 2, 0.020 s at 1.5, so the mean rate over 1.045 .. 2.09 s is w_c
+    (closed form) to 1e-6; 4.4 s at ratio 1.01, where the same mean is the
+    transient's, from scipy's Radau on that ODE. Smoothing theta' with eps
+    as if it were rad/s gives 68x less (1 / e_r)."""
+    solve_ivp = pytest.importorskip("scipy.integrate").solve_ivp
+    eps = 1e-4
+    izz = paper.FIG6["inertia"][2]
+    a_h, _ = paper.eq7_accelerations(paper.FIG6["amplitude"], paper.FIG6["duration"], paper.FIG6["beta"])
+    sc = paper.fig6_scene(grip_force=ratio * paper.fig3_grip_force(),
+                          e_r=izz * a_h / (paper.MU * paper.FINGERS * paper.fig3_grip_force()))
+    e_r = sc.grasp.patch.e_r
+    Q, C = izz * a_h, paper.MU * paper.FINGERS * sc.grasp.grip_force * e_r
+    assert C / Q == pytest.approx(ratio, rel=1e-12)
+    ws = eps / e_r
+    t0, t1 = 1.045, 2.09
+    r = exdex.simulate(sc, t1, dt=t1 - t0, method="regularised", eps=eps, rtol=1e-10, atol=1e-13)
+    assert r.t[1] == pytest.approx(t0, rel=1e-12)
+    mean = (r.q[-1, 0] - r.q[1, 0]) / (t1 - t0)
+    if ratio > 1.2:
+        expected = ws * Q / math.sqrt(C * C - Q * Q)
+    else:
+        sol = solve_ivp(lambda t, y: [y[1], (Q - C * y[1] / math.hypot(y[1], ws)) / izz], (0.0, t1), [0.0, 0.0],
+                        method="Radau", rtol=1e-11, atol=1e-15, t_eval=[t0, t1])
+        expected = (sol.y[0, 1] - sol.y[0, 0]) / (t1 - t0)
+    assert abs(mean) == pytest.approx(expected, rel=1e-6)
+
+
 def test_explicit_scheme_closed_form_and_chatter():
     """Symplectic Euler free fall: q_n = -g t (t + h)/2. At rest with a load
     inside the capacity the explicit Coulomb velocity never returns to 0 and

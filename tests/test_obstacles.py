@@ -6,6 +6,7 @@ half-space intersection, a brute-force pairwise intersection of the face
 lines, the tangency of the outline to a rod in closed form) or from the
 equivalent plane stop, never from the code under test.
 """
+import dataclasses
 import math
 import warnings
 
@@ -506,6 +507,50 @@ def test_frictional_face_is_the_frictional_stop_and_meets_the_wall_closed_form(m
     np.testing.assert_allclose(c.v[-1, 0], -0.01, rtol=1e-12)
     np.testing.assert_allclose(c.v[-1, 1], -w, rtol=1e-9, atol=1e-15)
     np.testing.assert_allclose(c.stop_force[-1, 0], lam, rtol=1e-9)
+
+
+@pytest.mark.parametrize("mu_s", [0.3, 0.8])
+def test_frictional_face_is_the_frictional_stop_in_the_explicit_method(mu_s):
+    """The explicit method solves obstacle friction with the stops' frictional
+    step (the rows' tangents at the points where they act): the one-face
+    frictional obstacle is the frictional Stop bit for bit there too, and the
+    box face meets the wall closed form of tests/test_stop_friction.py
+    (whose explicit steady state is exact: the plate friction evaluated at
+    the previous velocity is the same one at a constant velocity)."""
+    from test_stop_friction import _wall_closed_form, _wall_scene
+    stop_scene = _wall_scene(mu_s)
+    face = Obstacle.halfspaces([(-1.0, 0.0, 0.0)], [-0.1], mu=mu_s)
+    a = run(stop_scene, 0.3, 1e-3, method="explicit")
+    b = run(exdex.replace(stop_scene, stops=(), obstacles=(face,)), 0.3, 1e-3, method="explicit")
+    assert np.array_equal(a.q, b.q) and np.array_equal(a.v, b.v) and np.array_equal(a.stop_force, b.stop_force)
+    box = Obstacle.box((0.6, 0.0, 0.0), (1.0, 1.0, 1.0), mu=mu_s)
+    c = run(exdex.replace(stop_scene, stops=(), obstacles=(box,)), 0.3, 1e-3, method="explicit")
+    w, lam = _wall_closed_form(mu_s)
+    assert c.stats["warnings"] == 0
+    np.testing.assert_allclose(c.v[-1, 0], -0.01, rtol=1e-12)
+    np.testing.assert_allclose(c.v[-1, 1], -w, rtol=1e-9, atol=1e-15)
+    np.testing.assert_allclose(c.stop_force[-1, 0], lam, rtol=1e-9)
+
+
+def test_explicit_converges_to_implicit_with_a_frictional_rod():
+    """Rod friction in the explicit method: the square dropped onto a
+    frictional rod off its centre in weak plates (planar). Against the
+    implicit method at a fine step (1e-5 s) as the reference, the explicit
+    method's error falls with its step, to first order (errors at 1e-3 and
+    1e-4 s about ten times apart), and the rod's friction changes the motion
+    (the run without it ends elsewhere)."""
+    sc = Scene(body=square(), grasp=Grasp(mu=0.3, grip_force=0.3), dof="planar", q0=(0.0, 0.0, 0.1),
+               obstacles=(Obstacle.cylinder((0.01, 0.0, -(A + RADIUS + 0.003)), (0, 1, 0), RADIUS, mu=0.6),))
+    ref = run(sc, 0.3, 1e-5)
+    errs = []
+    for dt in (1e-3, 1e-4):
+        ex = run(sc, 0.3, dt, method="explicit")
+        assert ex.stats["warnings"] == 0
+        errs.append(np.abs(ex.q - ref.q[::int(round(dt / 1e-5))]).max())
+    assert errs[1] < 0.2 * errs[0] and errs[1] < 2e-3
+    free = run(exdex.replace(sc, obstacles=(dataclasses.replace(sc.obstacles[0], mu=0.0),)), 0.3, 1e-4,
+               method="explicit")
+    assert np.abs(free.q[-1] - ref.q[-1]).max() > 10 * errs[1]
 
 
 def test_frictional_rod_slows_the_pinned_square_and_never_adds_energy():

@@ -120,8 +120,10 @@ SEEDS = range(N_SCENES)
 #: 7401, 7414, 9682, 5990, 2311: an outline corner grazing a stop within one
 #: step of the event method (the gap dips below 0 and recovers between the
 #: step's ends): the impact was missed at some tolerances and output grids
-#: (7401 ended 5.7 L off the reference).
-EXTRA_SEEDS = (7614, 7401, 7414, 9682, 5990, 2311)
+#: (7401 ended 5.7 L off the reference). 5652: a load leaving the friction
+#: limit for a moment inside one step at rest (a brief slip missed at
+#: output t_end / 8).
+EXTRA_SEEDS = (7614, 7401, 7414, 9682, 5990, 2311, 5652)
 #: The regularised method's agreement (three stiff runs) on every REG_EVERY-th
 #: seed; it returns on all of them.
 REG_EVERY = 2
@@ -131,6 +133,8 @@ ZENO_OUT = 512
 #: (method, seed) -> the defect; strict xfails.
 KNOWN = {  # noqa: E501 - the defects, stated in full
     ('implicit', 50): 'implicit: the noisy log ends at speed (a velocity jump of the gripper, 1.8 mm/s): the exact (event) answer is a slide of 5.1e-8 L after it (the relative velocity jumps, friction stops it within |dv| m / C); the implicit step takes the jump as a step-mean acceleration whose friction impulse h C exceeds m |dv| at every h of the ladder (h C / m = 7.8 mm/s at t_end/4000), so it absorbs the jump in one step and never slides: its error is the documented O(h |dv|) of a jump, but identical at h..h/8, so the successive-difference estimate is 0 and misses it',
+    ('implicit', 9): 'implicit against the event reference on a planar log between two turning stops (~35 impacts, rests against the stops): 2.4e-8, 3.0e-8, 4.3e-8, 4.6e-8, 3.4e-8, 2.0e-8, 4.6e-8, 2.4e-8 L at dt = t_end/500 .. t_end/64000, not converging (contact decisions; the event method holds a rest against a stop moving in B to tol.rest_gap = 1e-7 L, so either side may carry it); the ladder differences 6.8e-9, 1.2e-8, 3.6e-9 L give a bound of 3.8e-8 L. The allowance for the reference\'s own error (3.6e-10 L) does not cover it; with rests projected at step ends that error is 2.5e-8 L and does',
+    ('implicit', 48): 'implicit against the event reference on a planar log with two stops (a rest against a stop moving in B from 0.87 s): 4.74e-9, 4.70e-9, 4.70e-9, 4.69e-9, 4.69e-9, 4.69e-9, 4.69e-9, 4.69e-9 L at dt = t_end/500 .. t_end/64000, a plateau the ladder differences (2.7e-10, 2e-16, 1.7e-11 L) do not show; the event method holds such a rest to tol.rest_gap = 1e-7 L (5.8e-8 m here), the implicit method follows the stop, so the two models of the rest differ at that level. The allowance for the reference\'s own error (3e-13 L) does not cover it; with rests projected at step ends that error is 4.4e-9 L and does',
     ('implicit', 125): 'implicit: on a stop its final slide stays 2.2e-7 L from the exact one for dt = t_end/500 to t_end/4000 and then jumps to it at t_end/8000: a discrete contact decision, not a first-order error',
     ('implicit', 128): 'implicit: the noisy log ends at speed (a velocity jump of the gripper): the exact (event) answer is a slide of 8.6e-8 L after it; the implicit step absorbs the jump (its friction impulse h C exceeds m |dv| at every h of the ladder) and never slides: the documented O(h |dv|) error of a jump, identical at h..h/8, so the successive-difference estimate is 0 and misses it',
 }

@@ -87,6 +87,11 @@ static double penetration_bound(const exdex_scene_def *d, const exdex_trajectory
     for (size_t i = 0; i < tr->n; i++) wmax = fmax(wmax, fabs(tr->v[i * (size_t)nd + (size_t)nd - 1]));
     for (int j = 0; j < nv; j++) {
         double x = d->n_vertices > 0 ? d->vertices[j][0] : 0.0, y = d->n_vertices > 0 ? d->vertices[j][1] : 0.0;
+        if (d->disc_radius > 0.0) {
+            /* a disc: its centre's path (the gap is the centre's less a constant in theta) */
+            x = d->disc_center[0];
+            y = d->disc_center[1];
+        }
         if (d->dof == EXDEX_DOF_ROTATION) {
             x -= d->patch_center[0];
             y -= d->patch_center[1];
@@ -119,7 +124,8 @@ int fuzz_simulate(const uint8_t *data, size_t size)
     fz f;
     fz_motion mm;
     exdex_scene_def d = exdex_default_scene_def();
-    int imode, st_check, st_alloc = -1, required_nonfinite = 0, nv_dec, ns_dec;
+    int imode, st_check, st_alloc = -1, required_nonfinite = 0, nv_dec, ns_dec, raw_normal[EXDEX_MAX_STOPS] = {0};
+    double stop_gap[EXDEX_MAX_STOPS] = {0};
     const char *bad = NULL, *bad2 = NULL;
     exdex_model *m;
     double dt, t_end;
@@ -201,12 +207,15 @@ int fuzz_simulate(const uint8_t *data, size_t size)
             lo = fmin(lo, xa[0] * nrm[0] + xa[1] * nrm[1] + xa[2] * nrm[2]);
         }
         gap = fz_pick(&f, 0, 3) == 0 ? 0.0 : fz_num(&f, 0.0, 0.02);
+        stop_gap[k] = gap;
         for (int i = 0; i < 3; i++) {
             d.stop_normal[k][i] = nrm[i];
             d.stop_point[k][i] = (lo - gap) * nrm[i];
         }
-        if (fz_pick(&f, 0, 31) == 0)  /* occasionally a raw (wild) normal */
+        if (fz_pick(&f, 0, 31) == 0) { /* occasionally a raw (wild) normal */
             for (int i = 0; i < 3; i++) d.stop_normal[k][i] = fz_num(&f, -1.0, 1.0);
+            raw_normal[k] = 1;
+        }
     }
     /* every method (each bounds its loops: EXDEX_ENOCONV past its step,
      * step-floor and event budgets), and invalid ids when wild */
@@ -279,6 +288,30 @@ int fuzz_simulate(const uint8_t *data, size_t size)
      * reasonable in [0, 1.5], or wild (negative and non-finite values are
      * bad input; event and regularised reject mu > 0 by name) */
     for (int k = 0; k < ns_dec; k++) d.stop_mu[k] = fz_pick(&f, 0, 1) ? fz_num(&f, 0.0, 1.5) : 0.0;
+    /* a disc outline (decoded last, and only for a selector of 1, so older
+     * inputs keep their polygon): radius and centre in C, the polygon
+     * dropped (kept with 1 in 8: bad input, "disc_radius"), and each stop
+     * (but a raw normal) moved to its gap below the disc's support point */
+    if (fz_pick(&f, 0, 3) == 1) {
+        d.disc_radius = fz_log(&f, 1e-3, 0.05);
+        d.disc_center[0] = fz_num(&f, -0.02, 0.02);
+        d.disc_center[1] = fz_num(&f, -0.02, 0.02);
+        if (fz_pick(&f, 0, 7) != 0) d.n_vertices = 0;
+        for (int k = 0; k < ns_dec; k++) {
+            double cb[2], xa[3], nb[2], lo;
+            if (raw_normal[k]) continue;
+            rot2(cb, d.q0[2], d.disc_center);
+            cb[0] += d.q0[0];
+            cb[1] += d.q0[1];
+            for (int i = 0; i < 3; i++) xa[i] = d.R0[3 * i] * cb[0] + d.R0[3 * i + 1] * cb[1] + d.p0[i];
+            for (int i = 0; i < 2; i++)
+                nb[i] = d.R0[i] * d.stop_normal[k][0] + d.R0[3 + i] * d.stop_normal[k][1] +
+                        d.R0[6 + i] * d.stop_normal[k][2];
+            lo = xa[0] * d.stop_normal[k][0] + xa[1] * d.stop_normal[k][1] + xa[2] * d.stop_normal[k][2] -
+                 d.disc_radius * hypot(nb[0], nb[1]);
+            for (int i = 0; i < 3; i++) d.stop_point[k][i] = (lo - stop_gap[k]) * d.stop_normal[k][i];
+        }
+    }
 
     /* fields exdex_scene_check must validate */
     required_nonfinite = !isfinite(d.mass) || !fz_all_finite(d.inertia, 9) || !isfinite(d.mu) ||
@@ -286,7 +319,8 @@ int fuzz_simulate(const uint8_t *data, size_t size)
                          !fz_all_finite(d.gravity, 3) || !fz_all_finite(d.slide_axis, 2) ||
                          !fz_all_finite(d.q0, 3) || !fz_all_finite(d.v0, 3) || !fz_all_finite(d.p0, 3) ||
                          !isfinite(d.eps) || !isfinite(d.rtol) ||
-                         !isfinite(d.atol) || !isfinite(d.mu_static);
+                         !isfinite(d.atol) || !isfinite(d.mu_static) || !isfinite(d.disc_radius) ||
+                         !fz_all_finite(d.disc_center, 2);
     if (d.n_vertices >= 0 && d.n_vertices <= EXDEX_MAX_VERTICES &&
         !fz_all_finite(&d.vertices[0][0], 2 * (size_t)d.n_vertices))
         required_nonfinite = 1;
@@ -324,6 +358,8 @@ int fuzz_simulate(const uint8_t *data, size_t size)
                     d.stop_point[k][1], d.stop_point[k][2], d.stop_normal[k][0], d.stop_normal[k][1],
                     d.stop_normal[k][2], d.stop_mu[k]);
         for (int j = 0; j < nv_dec; j++) fprintf(stderr, "  vertex %d %g %g\n", j, d.vertices[j][0], d.vertices[j][1]);
+        if (d.disc_radius != 0.0)
+            fprintf(stderr, "  disc radius %g centre %g %g\n", d.disc_radius, d.disc_center[0], d.disc_center[1]);
         for (int o = 0; o < d.n_obstacles && o < EXDEX_MAX_OBSTACLES; o++)
             fprintf(stderr, "  obstacle %d kind %d faces %d centre %g %g %g axis %g %g %g radius %g\n", o,
                     d.obstacles[o].kind, d.obstacles[o].n_faces, d.obstacles[o].center[0], d.obstacles[o].center[1],

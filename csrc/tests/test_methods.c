@@ -13,6 +13,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <gsl/gsl_roots.h>
+
 #define G 9.81
 
 static double qlast(const sim_run *r, int c) { return r->tr.q[(r->tr.n - 1) * r->ndof + c]; }
@@ -562,6 +564,65 @@ EXDEX_TEST(methods_event_slip_onset_inside_a_phase)
         ENSURE(sim_run_def(&d, t_end, dts[i], &r) == EXDEX_OK);
         ENSURE(fabs(qlast(&r, 0) - q) / qd < 1e-9);
         if (i == 0) report("methods_event_slip_onset_error_s", (qlast(&r, 0) - q) / qd);
+        sim_run_free(&r);
+    }
+}
+
+EXDEX_TEST(methods_event_short_slip_inside_a_stick_step)
+{
+    /* The scene above with a peak load: the gripper turns 2 rad in 3 s
+     * (trapezoid, cruise at w = 0.9 rad/s from t_a = 7/9 s to 20/9 s), the
+     * load along the slide m g sin s(t) peaks at s = pi/2 in the cruise (t_p
+     * = t_a + (pi/2 - w t_a/2) / w = 2.134 s), and the capacity is C = m g
+     * (1 - delta), delta = 1e-5: the object slips only while |s - pi/2| <
+     * arccos(1 - delta), about 5 ms, inside a stick whose steps (constant
+     * state) span far more. With tau = t - t_p, q'' = g cos(w tau) - C/m from
+     * rest at tau1 = -arccos(1 - delta)/w:
+     *   q' = (g/w)(sin w tau - sin w tau1) - (C/m)(tau - tau1),
+     *   q  = -(g/w^2)(cos w tau - cos w tau1) - (g/w) sin(w tau1) (tau - tau1)
+     *        - (C/m)(tau - tau1)^2 / 2,
+     * until q' = 0 at tau2 (bisection), then stick. The centrifugal term w^2 q
+     * adds w^2 q / (g delta) ~ 2e-5 of it (left out). The final q must be
+     * that for output dt = t_end / 2 (one output interval spans the slip)
+     * and 2^-8 s, to 1e-4 of itself. */
+    double m = 0.1, w = 0.9, delta = 1e-5, T = 3.0, C, tau1, lo, hi, dtau, x;
+    double dts[2] = {1.5, 1.0 / 256};
+    exdex_scene_def d = exdex_default_scene_def();
+    d.mass = m;
+    d.mu = 0.5;
+    d.fingers = 2;
+    C = m * G * (1 - delta);
+    d.grip_force = C / (2 * d.mu);
+    d.gravity[2] = -G;
+    d.slide_axis[0] = 1.0;
+    d.slide_axis[1] = 0.0;
+    d.motion.kind = EXDEX_MOTION_TRAPEZOID;
+    d.motion.rotation = 1;
+    d.motion.axis[0] = 0.0;
+    d.motion.axis[1] = 1.0;
+    d.motion.axis[2] = 0.0;
+    d.motion.amplitude = 2.0;
+    d.motion.duration = T;
+    d.motion.v_max = w;
+    d.method = EXDEX_METHOD_EVENT;
+    d.rtol = 1e-10;
+    d.atol = 1e-13;
+    tau1 = -acos(1 - delta) / w;
+    lo = -tau1 * 1.0001;
+    hi = -10 * tau1;
+    for (int it = 0; it < 200; it++) {
+        double mid = 0.5 * (lo + hi);
+        double v = (G / w) * (sin(w * mid) - sin(w * tau1)) - (C / m) * (mid - tau1);
+        if (v > 0) lo = mid; else hi = mid;
+    }
+    dtau = 0.5 * (lo + hi) - tau1;
+    x = -(G / (w * w)) * (cos(w * (tau1 + dtau)) - cos(w * tau1)) - (G / w) * sin(w * tau1) * dtau -
+        (C / m) * dtau * dtau / 2;
+    ENSURE(x > 5e-9 && x < 6e-9);
+    for (int i = 0; i < 2; i++) {
+        sim_run r;
+        ENSURE(sim_run_def(&d, T, dts[i], &r) == EXDEX_OK);
+        ENSURE_CLOSE(qlast(&r, 0) / x, 1.0, 1e-4);
         sim_run_free(&r);
     }
 }
@@ -1168,6 +1229,59 @@ EXDEX_TEST(methods_hybrid_grazing_corner_impact_inside_one_step)
         ENSURE_CLOSE(r.tr.q[r.tr.n - 1], w0 * t_star, 1e-8);
         ENSURE(r.tr.v[r.tr.n - 1] == 0.0);
         ENSURE(r.st.min_gap >= -1e-12);
+        sim_run_free(&r);
+    }
+}
+
+/* s' of the brief slip below (closed form; params: K, delta, w, tau1) */
+static double brief_slip_rate(double tau, void *p)
+{
+    const double *c = p;
+    return c[0] * ((1 - c[1]) * (tau - c[3]) - (sin(c[2] * tau) - sin(c[2] * c[3])) / c[2]);
+}
+
+EXDEX_TEST(methods_event_brief_slip_inside_one_stick_step)
+{
+    /* A held object under a vertical shake A (1 - cos w t), A < 0: the
+     * gripper's upward acceleration peaks at |A| w^2 at t = pi / w and the
+     * capacity m (g + (1 - delta) |A| w^2) lets the object slip only near
+     * that peak. With tau = t - pi / w and K = |A| w^2 it slips down from
+     * tau1 = -acos(1 - delta) / w with s'' = K ((1 - delta) - cos w tau):
+     *   s'(tau) = K ((1 - delta) (tau - tau1) - (sin w tau - sin w tau1) / w),
+     *   s(tau)  = K ((1 - delta) (tau - tau1)^2 / 2
+     *             + (cos w tau - cos w tau1) / w^2 + sin(w tau1) (tau - tau1) / w),
+     * until s' = 0 at tau2 > -tau1 (GSL Brent here), then holds. Output
+     * grid one interval, loose tolerance: the rest is one step across the
+     * peak unless the slip is found inside it. */
+    const double m = 0.1, A = -0.01, f = 2.0, delta = 0.01, w = 2.0 * EXDEX_TEST_PI * f, K = fabs(A) * w * w;
+    double c[4] = {K, delta, w, -acos(1 - delta) / w}, tau2 = 0.0, s2;
+    gsl_function F = {brief_slip_rate, c};
+    gsl_root_fsolver *rs = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
+    ENSURE(rs != NULL);
+    gsl_root_fsolver_set(rs, &F, -c[3], EXDEX_TEST_PI / w);
+    for (int it = 0; it < 200; it++) {
+        gsl_root_fsolver_iterate(rs);
+        tau2 = gsl_root_fsolver_root(rs);
+        if (gsl_root_fsolver_x_upper(rs) - gsl_root_fsolver_x_lower(rs) < 1e-15) break;
+    }
+    gsl_root_fsolver_free(rs);
+    s2 = K * ((1 - delta) * (tau2 - c[3]) * (tau2 - c[3]) / 2 + (cos(w * tau2) - cos(w * c[3])) / (w * w) +
+              sin(w * c[3]) * (tau2 - c[3]) / w);
+    ENSURE(s2 < -1e-6);
+    for (int k = 0; k < 2; k++) {
+        double rtol = k ? 1e-8 : 1e-6;
+        exdex_scene_def d = mvertical(m, (G + (1 - delta) * K) / G, EXDEX_METHOD_EVENT);
+        sim_run r;
+        d.motion.kind = EXDEX_MOTION_SHAKE;
+        d.motion.axis[0] = d.motion.axis[1] = 0.0;
+        d.motion.axis[2] = 1.0;
+        d.motion.amplitude = A;
+        d.motion.frequency = f;
+        d.motion.duration = 1.0 / f;
+        d.rtol = rtol;
+        d.atol = 1e-3 * rtol;
+        ENSURE(sim_run_def(&d, 1.0, 1.0, &r) == EXDEX_OK);
+        ENSURE_CLOSE(r.tr.q[r.tr.n - 1], s2, 10 * rtol * fabs(s2));
         sim_run_free(&r);
     }
 }

@@ -199,6 +199,66 @@ EXDEX_TEST(obstacle_one_face_is_the_stop_bit_for_bit)
     }
 }
 
+EXDEX_TEST(obstacle_frictional_face_is_the_frictional_stop_in_every_method_that_solves_it)
+{
+    /* The Fig. 4 scene against a tilted floor (normal (0.3, 0, 1), through
+     * z = -0.03) with Coulomb coefficient 0.4: as a stop and as a one-face
+     * obstacle with the same friction, the same trajectory and forces in
+     * the implicit and explicit methods, planar (bit for bit) and 1-DoF
+     * (explicit: to rounding, its stop clamp forms the gap in another
+     * order, as above), and the friction acts (the frictionless floor gives
+     * other forces, and in the plane another motion). */
+    const double nz = 1.0 / hypot(0.3, 1.0), nx = 0.3 * nz;
+    for (int c = 0; c < 4; c++) {
+        int planar = c % 2;
+        exdex_scene_def a = fig4(), b, f;
+        sim_run ra, rb, rf;
+        int differs = 0;
+        a.method = c < 2 ? EXDEX_METHOD_IMPLICIT : EXDEX_METHOD_EXPLICIT;
+        if (planar) {
+            a.dof = EXDEX_DOF_PLANAR;
+            a.q0[2] = 0.2;
+        }
+        b = a;
+        a.n_stops = 1;
+        a.stop_point[0][2] = -0.03;
+        a.stop_normal[0][0] = nx;
+        a.stop_normal[0][2] = nz;
+        a.stop_mu[0] = 0.4;
+        f = a;
+        f.stop_mu[0] = 0.0;
+        b.n_obstacles = 1;
+        b.obstacles[0].kind = EXDEX_OBSTACLE_POLYTOPE;
+        b.obstacles[0].n_faces = 1;
+        b.obstacles[0].face_point[0][2] = -0.03;
+        b.obstacles[0].face_normal[0][0] = nx;
+        b.obstacles[0].face_normal[0][2] = nz;
+        b.obstacles[0].mu = 0.4;
+        ENSURE(sim_run_def(&a, 1.0, 1e-3, &ra) == EXDEX_OK);
+        ENSURE(sim_run_def(&b, 1.0, 1e-3, &rb) == EXDEX_OK);
+        ENSURE(sim_run_def(&f, 1.0, 1e-3, &rf) == EXDEX_OK);
+        if (c == 2) {
+            for (size_t i = 0; i < ra.tr.n; i++) {
+                ENSURE_CLOSE(ra.tr.q[i], rb.tr.q[i], 1e-15);
+                ENSURE_CLOSE(ra.tr.stop_force[i], rb.tr.stop_force[i], 1e-9);
+            }
+        } else {
+            ENSURE(memcmp(ra.tr.q, rb.tr.q, ra.tr.n * (size_t)ra.ndof * sizeof(double)) == 0);
+            ENSURE(memcmp(ra.tr.v, rb.tr.v, ra.tr.n * (size_t)ra.ndof * sizeof(double)) == 0);
+            ENSURE(memcmp(ra.tr.stop_force, rb.tr.stop_force, ra.tr.n * sizeof(double)) == 0);
+        }
+        /* 1-DoF: the friction shares the stop's push along the free coordinate (another
+         * normal force); planar: it changes the motion too */
+        for (size_t i = 0; i < ra.tr.n; i++)
+            differs |= fabs(ra.tr.stop_force[i] - rf.tr.stop_force[i]) > 1e-3 &&
+                       (!planar || fabs(ra.tr.q[i * 3 + 2] - rf.tr.q[i * 3 + 2]) > 1e-6);
+        ENSURE(differs);
+        sim_run_free(&ra);
+        sim_run_free(&rb);
+        sim_run_free(&rf);
+    }
+}
+
 EXDEX_TEST(obstacle_box_floor_carries_the_load_like_a_stop)
 {
     /* The Fig. 4 floor as the top face of a box (the other faces far from
@@ -305,7 +365,7 @@ EXDEX_TEST(obstacle_bad_input_status)
     EXPECT_BAD_OBST(d.method = EXDEX_METHOD_REGULARISED, "method");
     EXPECT_BAD_OBST(d.obstacles[0].mu = -0.1, "obstacles");
     EXPECT_BAD_OBST(d.obstacles[0].mu = NAN, "obstacles");
-    EXPECT_BAD_OBST((d.obstacles[0].mu = 0.5, d.method = EXDEX_METHOD_EXPLICIT), "method"); /* friction: implicit */
+    EXPECT_BAD_OBST((d.obstacles[0].mu = 0.5, d.method = EXDEX_METHOD_EVENT), "method"); /* implicit, explicit */
     EXPECT_BAD_OBST(d.obstacles[0].center[2] = -0.05, "q0"); /* the object (its centre) starts inside */
     {
         /* a valid one builds */
