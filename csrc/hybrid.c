@@ -78,14 +78,9 @@
  *   for an infinitesimal step). A guard can change sign and back within one
  *   step: a 1-DoF slip that stops and restarts the same way (s qd falling
  *   then rising over the step: its minimum is searched, golden section on
- *   the one-step map), a guard violated at the step start that first
+ *   the one-step map), and a guard violated at the step start that first
  *   recovers (a corner lifted off a stop falling back: its maximum is
- *   searched, and the crossing after it located), and the stick guard of a
- *   rest, whose steps are long (the state is constant; only the force
- *   integrals and the output grid bound them): a load that leaves the
- *   ellipsoid and comes back within one step (its minimum is searched,
- *   stick_guard_min), so whether a short slip happens does not depend on
- *   where steps end. The
+ *   searched, and the crossing after it located). The
  *   motion's own switching times (Eq. 7, trapezoid kinks, end of a sampled
  *   motion) and the breakpoints of a grip schedule are stepped onto, never
  *   over, and velocity jumps of the gripper
@@ -1700,73 +1695,6 @@ static int guard_extremum(hyb *H, ode *O, double t0, const double *y0, double ta
     return EXDEX_OK;
 }
 
-/* At rest (stick) q and qd are constant, so the stick guard (guard 0: the
- * capacity less the load that holds) is a function of t alone, and a step
- * is as long as the error control of the force integrals, the output grid
- * and the switching times allow: the load can leave the ellipsoid and come
- * back within one step (a short slip that the end values do not show, and
- * that a step ending elsewhere would catch). Its minimum over [0, tau1]:
- * STICK_SAMPLES equal parts, then golden section (at most 60 iterations)
- * about the smallest sample, stopping at the first point found with g < 0.
- * *tau, *g: that point (the earliest negative sample, else the minimum). */
-#define STICK_SAMPLES 8
-static void stick_guard_min(hyb *H, double t0, const double *y0, double tau1, double *tau, double *g)
-{
-    double gs[NG_MAX], r = 0.5 * (3.0 - sqrt(5.0)), a, b, x1, x2, f1, f2, best = INFINITY, tb = 0.0;
-    int jb = 0;
-    for (int j = 1; j < STICK_SAMPLES; j++) {
-        double tj = tau1 * j / STICK_SAMPLES;
-        guards(H, t0 + tj, y0, gs);
-        H->st->solver_iterations++;
-        if (gs[0] < best) {
-            best = gs[0];
-            tb = tj;
-            jb = j;
-        }
-        if (best < 0.0) {
-            *tau = tb;
-            *g = best;
-            return;
-        }
-    }
-    a = tau1 * (jb - 1) / STICK_SAMPLES;
-    b = tau1 * (jb + 1) / STICK_SAMPLES;
-    x1 = a + r * (b - a);
-    x2 = b - r * (b - a);
-    guards(H, t0 + x1, y0, gs);
-    f1 = gs[0];
-    guards(H, t0 + x2, y0, gs);
-    f2 = gs[0];
-    for (int it = 0; it < 60 && f1 >= 0.0 && f2 >= 0.0 && b - a > H->m->tol.root; it++) {
-        if (f1 < f2) {
-            b = x2;
-            x2 = x1;
-            f2 = f1;
-            x1 = a + r * (b - a);
-            guards(H, t0 + x1, y0, gs);
-            f1 = gs[0];
-        } else {
-            a = x1;
-            x1 = x2;
-            f1 = f2;
-            x2 = b - r * (b - a);
-            guards(H, t0 + x2, y0, gs);
-            f2 = gs[0];
-        }
-        H->st->solver_iterations++;
-    }
-    if (f1 < best) {
-        best = f1;
-        tb = x1;
-    }
-    if (f2 < best) {
-        best = f2;
-        tb = x2;
-    }
-    *tau = tb;
-    *g = best;
-}
-
 /* A free gap can dip below 0 and recover within one accepted step (a corner
  * of a turning outline grazing a stop): both end values are positive and
  * the impact would be missed. The gaps are functions of (t, q), so their
@@ -2096,21 +2024,6 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                         guards(&H, t, y, g1);
                     }
                 }
-            }
-            if (law == LAW_COULOMB && H.mode == MODE_STICK && g0[0] > 0.0 && g1[0] >= 0.0 && t > t0) {
-                /* a short slip inside the step (stick_guard_min): the step
-                 * ends where the guard is negative, located below */
-                double tm, gm;
-                stick_guard_min(&H, t0, y0, t - t0, &tm, &gm);
-                if (H.err) break;
-                if (gm < 0.0) {
-                    if (one_step(O, t0, y0, tm, y) != GSL_SUCCESS) {
-                        status = EXDEX_ENOCONV;
-                        break;
-                    }
-                    t = t0 + tm;
-                }
-                guards(&H, t, y, g1);
             }
             for (int e = 0; e < ng; e++) {
                 double tau;
