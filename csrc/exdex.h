@@ -648,6 +648,37 @@ void exdex_stepper_free(exdex_stepper *s);   /* NULL is harmless */
  * EXDEX_ENONFINITE; stats give the cause and time). */
 int exdex_stepper_step(exdex_stepper *s, double dt, double grip_force);
 
+/* A prescribed gripper pose (exdex_stepper_step_gripper): the pose of B in
+ * A at the end of the step, R = R_AB (a rotation matrix to 1e-9) and p [m],
+ * and its twist there, the velocity v [m/s] of B's origin and the angular
+ * velocity w [rad/s] (A), each used when given_v / given_w is 1 and
+ * otherwise the step's secant: the mean velocity (p - p0) / dt and the
+ * constant angular velocity turning R0 into R over dt (the shorter way),
+ * with (R0, p0) the pose at the step's start. */
+typedef struct exdex_gripper_pose {
+    double R[9], p[3], v[3], w[3];
+    int given_v, given_w;
+} exdex_gripper_pose;
+
+/* As exdex_stepper_step, the gripper following a prescribed pose over the
+ * step (pose NULL: the scene's motion, exdex_stepper_step itself). From the
+ * gripper's pose and twist at the step's start (the last step's given end,
+ * or the scene's motion at t for the first step with a pose) to the given
+ * end, its position and the quaternion of its rotation are each the cubic
+ * with those end values and rates (Hermite interpolation, the quaternion
+ * normalised): position, velocity, orientation and angular velocity
+ * continuous from step to step, the accelerations of the cubic inside each
+ * step (the position's linear in time). Sampling a smooth motion at the
+ * step ends with its twist, this interpolates it with errors O(dt^4) in
+ * the pose, O(dt^3) in the twist and O(dt^2) in the accelerations. The
+ * scene's switching times and velocity jumps no longer apply: once a step
+ * gives a pose, every later step must (EXDEX_EINVAL otherwise, the stepper
+ * unchanged), and so after a restore of a snapshot saved after such a step.
+ * EXDEX_EINVAL also for a pose with the analytic method (its phases are the
+ * scene's motion) and for a non-finite pose or an R that is not a
+ * rotation. */
+int exdex_stepper_step_gripper(exdex_stepper *s, double dt, double grip_force, const exdex_gripper_pose *pose);
+
 /* The state after the last step (or the initial state); stats (may be
  * NULL) as exdex_simulate's over the steps taken. */
 int exdex_stepper_get(const exdex_stepper *s, exdex_stepper_sample *out, exdex_stats *stats);

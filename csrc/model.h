@@ -229,6 +229,28 @@ int model_frame_at(const exdex_model *m, double t, frame *f, exdex_kinematics *k
 int model_frame_step(const exdex_model *m, const exdex_kinematics *kin0, double t_eval, double t1, double h,
                      frame *f, exdex_kinematics *kin, exdex_kinematics *kin_end);
 
+/* A motion over one step [t0, t1] given by its ends (motion.c; the
+ * stepper's prescribed gripper pose): from the kinematics k0 at t0 (pose
+ * R, p and twist v, w; its accelerations are not used) to the pose R1, p1
+ * with the twist v1, w1 at t1 (A). The position and the quaternion of R
+ * (n1 taken on n0's side, n1 . n0 >= 0) are each the cubic with these end
+ * values and rates (n' = (1/2) (0, w) n), and the quaternion is normalised
+ * (eval_log's kinematics): position, velocity, R and w continuous at the
+ * step's ends, the accelerations of the cubic inside (linear in time for
+ * the position), exact for a motion whose position is a cubic of time.
+ * Evaluated outside [t0, t1] it extends the cubics. No switching times or
+ * jumps. v1 = NULL takes the step's mean velocity (p1 - p0) / (t1 - t0),
+ * w1 = NULL the constant angular velocity that turns R0 into R1 over the
+ * step (the shorter way). k1 (may be NULL) receives R1, p1 and the end twist
+ * used (accelerations 0). motion_step_alloc returns NULL when out of
+ * memory; the motion starts at rest at the identity, and exdex_motion_free
+ * frees it. motion_step_set returns EXDEX_EINVAL (the motion unchanged) for
+ * t1 <= t0, a non-finite input or an R1 that is not a rotation matrix (to
+ * 1e-9). */
+exdex_motion *motion_step_alloc(void);
+int motion_step_set(exdex_motion *m, double t0, double t1, const exdex_kinematics *k0, const double R1[9],
+                    const double p1[3], const double *v1, const double *w1, exdex_kinematics *k1);
+
 /* --------------------------------------- paper Eqs. 3-5: applied forces */
 
 /* Gravity + inertial force on the centre of mass at r moving at rd (Eq. 5),

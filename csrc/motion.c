@@ -49,6 +49,7 @@
  * accelerations likewise.
  */
 #include "exdex.h"
+#include "model.h"
 #include "util.h"
 
 #include <float.h>
@@ -102,7 +103,15 @@ struct exdex_motion {
     double psw[EXDEX_MOTION_MAX_PIECES][4], psw_chain[EXDEX_MOTION_MAX_PIECES][4];
     int n_sw;
     double sw[EXDEX_MOTION_MAX_SWITCHES];
+    /* STEP (motion_step_set): position x y z and quaternion qw qx qy qz of
+     * B, each a cubic in Hermite form on [st0, st0 + sh]: values sy and
+     * slopes sm at the two ends */
+    double st0, sh, sy[2][7], sm[2][7];
 };
+
+/* the kind of a one-step motion (motion_step_alloc), which
+ * exdex_motion_alloc does not make */
+#define MOTION_STEP (-1)
 
 /* ----------------------------------------------------------- profiles */
 
@@ -350,24 +359,44 @@ static void clamped_slopes(size_t n, const double *t, const double *y, double *m
     }
 }
 
+/* The cubic with values y0, y1 and slopes m0, m1 at the ends of an
+ * interval of length h, at s = (t - start) / h: value, first and second
+ * derivatives. */
+static void hermite_at(double y0, double y1, double m0, double m1, double h, double s, double *y, double *yd,
+                       double *ydd)
+{
+    double s2 = s * s, s3 = s2 * s, dy = y0 - y1;
+    *y = (2.0 * s3 - 3.0 * s2 + 1.0) * y0 + (-2.0 * s3 + 3.0 * s2) * y1
+         + h * ((s3 - 2.0 * s2 + s) * m0 + (s3 - s2) * m1);
+    *yd = (6.0 * s2 - 6.0 * s) * dy / h + (3.0 * s2 - 4.0 * s + 1.0) * m0 + (3.0 * s2 - 2.0 * s) * m1;
+    *ydd = ((12.0 * s - 6.0) * dy / h + (6.0 * s - 4.0) * m0 + (6.0 * s - 2.0) * m1) / h;
+}
+
 /* Hermite evaluation of component c on the interval [t_i, t_{i+1}]. */
 static void hermite(const exdex_motion *m, int c, size_t i, double t, double *y, double *yd, double *ydd)
 {
     const double *Y = m->yk + (size_t)c * m->n, *M = m->mk + (size_t)c * m->n;
-    double h = m->tk[i + 1] - m->tk[i], s = (t - m->tk[i]) / h, s2 = s * s, s3 = s2 * s;
-    double dy = Y[i] - Y[i + 1];
-    *y = (2.0 * s3 - 3.0 * s2 + 1.0) * Y[i] + (-2.0 * s3 + 3.0 * s2) * Y[i + 1]
-         + h * ((s3 - 2.0 * s2 + s) * M[i] + (s3 - s2) * M[i + 1]);
-    *yd = (6.0 * s2 - 6.0 * s) * dy / h + (3.0 * s2 - 4.0 * s + 1.0) * M[i] + (3.0 * s2 - 2.0 * s) * M[i + 1];
-    *ydd = ((12.0 * s - 6.0) * dy / h + (6.0 * s - 4.0) * M[i] + (6.0 * s - 2.0) * M[i + 1]) / h;
+    double h = m->tk[i + 1] - m->tk[i], s = (t - m->tk[i]) / h;
+    hermite_at(Y[i], Y[i + 1], M[i], M[i + 1], h, s, y, yd, ydd);
 }
+
+static int pose_kin(const double y[7], const double yd[7], const double ydd[7], exdex_kinematics *k);
 
 /* Kinematics of the logged frame L on the interval i at time t (s = 1 at
  * t = t_{i+1} gives the left limit there), in the log's coordinates. */
 static int eval_log(const exdex_motion *m, size_t i, double t, exdex_kinematics *k)
 {
-    double y[7], yd[7], ydd[7], n[4], nd[4], ndd[4], qn2 = 0.0, qn, md, mdd;
+    double y[7], yd[7], ydd[7];
     for (int c = 0; c < 7; c++) hermite(m, c, i, t, &y[c], &yd[c], &ydd[c]);
+    return pose_kin(y, yd, ydd, k);
+}
+
+/* Kinematics of a frame whose position x y z and (not normalised)
+ * quaternion qw qx qy qz are y, with first and second time derivatives yd,
+ * ydd. */
+static int pose_kin(const double y[7], const double yd[7], const double ydd[7], exdex_kinematics *k)
+{
+    double n[4], nd[4], ndd[4], qn2 = 0.0, qn, md, mdd;
     for (int j = 0; j < 3; j++) {
         k->p[j] = y[j];
         k->v[j] = yd[j];
@@ -1027,11 +1056,144 @@ static int eval_chain(const exdex_motion *m, double t, exdex_kinematics *k)
     return exdex_motion_eval(m->piece[i], u, k);
 }
 
+/* ---------------------------------------------------- one-step motion */
+
+exdex_motion *motion_step_alloc(void)
+{
+    exdex_motion *m = calloc(1, sizeof *m);
+    if (!m) return NULL;
+    m->kind = MOTION_STEP;
+    m->sh = 1.0;
+    m->sy[0][3] = m->sy[1][3] = 1.0;
+    m->end = INFINITY;
+    return m;
+}
+
+/* Quaternion (w, x, y, z) of a rotation matrix (Shepperd: from the largest
+ * of the four squared components, so no cancellation). */
+static void R_to_quat(double q[4], const double R[9])
+{
+    double tr = R[0] + R[4] + R[8], d[4] = {tr, R[0], R[4], R[8]}, r;
+    int i = 0;
+    for (int j = 1; j < 4; j++)
+        if (d[j] > d[i]) i = j;
+    if (i == 0) {
+        r = sqrt(1.0 + tr);
+        q[0] = 0.5 * r;
+        q[1] = 0.5 * (R[7] - R[5]) / r;
+        q[2] = 0.5 * (R[2] - R[6]) / r;
+        q[3] = 0.5 * (R[3] - R[1]) / r;
+    } else if (i == 1) {
+        r = sqrt(1.0 + R[0] - R[4] - R[8]);
+        q[0] = 0.5 * (R[7] - R[5]) / r;
+        q[1] = 0.5 * r;
+        q[2] = 0.5 * (R[1] + R[3]) / r;
+        q[3] = 0.5 * (R[2] + R[6]) / r;
+    } else if (i == 2) {
+        r = sqrt(1.0 - R[0] + R[4] - R[8]);
+        q[0] = 0.5 * (R[2] - R[6]) / r;
+        q[1] = 0.5 * (R[1] + R[3]) / r;
+        q[2] = 0.5 * r;
+        q[3] = 0.5 * (R[5] + R[7]) / r;
+    } else {
+        r = sqrt(1.0 - R[0] - R[4] + R[8]);
+        q[0] = 0.5 * (R[3] - R[1]) / r;
+        q[1] = 0.5 * (R[2] + R[6]) / r;
+        q[2] = 0.5 * (R[5] + R[7]) / r;
+        q[3] = 0.5 * r;
+    }
+}
+
+/* The quaternion's rate n' = (1/2) (0, w) n for the angular velocity w in A
+ * (the convention of eval_log: w = 2 vec(n' n*)). */
+static void quat_rate(double nd[4], const double n[4], const double w[3])
+{
+    double c[3];
+    ex_cross3(c, w, n + 1);
+    nd[0] = -0.5 * (w[0] * n[1] + w[1] * n[2] + w[2] * n[3]);
+    for (int i = 0; i < 3; i++) nd[1 + i] = 0.5 * (n[0] * w[i] + c[i]);
+}
+
+int motion_step_set(exdex_motion *m, double t0, double t1, const exdex_kinematics *k0, const double R1[9],
+                    const double p1[3], const double *v1, const double *w1, exdex_kinematics *k1)
+{
+    double n0[4], n1[4], dot = 0.0, nd[4], v[3], w[3], h = t1 - t0;
+    if (!m || m->kind != MOTION_STEP || !k0 || !R1 || !p1) return EXDEX_EINVAL;
+    if (!(isfinite(t0) && isfinite(t1) && t1 > t0 && isfinite(h))) return EXDEX_EINVAL;
+    if (!check_rotation_matrix(R1) || !ex_finite_n(p1, 3) || (v1 && !ex_finite_n(v1, 3)) ||
+        (w1 && !ex_finite_n(w1, 3)))
+        return EXDEX_EINVAL;
+    if (!ex_finite_n(k0->R, 9) || !ex_finite_n(k0->p, 3) || !ex_finite_n(k0->v, 3) || !ex_finite_n(k0->w, 3))
+        return EXDEX_EINVAL;
+    R_to_quat(n0, k0->R);
+    R_to_quat(n1, R1);
+    /* the end quaternion on the start's side: the shorter way round */
+    for (int c = 0; c < 4; c++) dot += n0[c] * n1[c];
+    if (dot < 0.0)
+        for (int c = 0; c < 4; c++) n1[c] = -n1[c];
+    /* the secants of the step where no end twist is given: the mean
+     * velocity (p1 - p0) / h, and the constant angular velocity that turns
+     * R0 into R1 over h, angle 2 atan2(|vec r|, r_w) about vec r for
+     * r = n1 n0* (r_w = n1 . n0 >= 0) */
+    for (int j = 0; j < 3; j++) v[j] = v1 ? v1[j] : (p1[j] - k0->p[j]) / h;
+    if (w1) {
+        memcpy(w, w1, sizeof w);
+    } else {
+        double r[3], rn, ang;
+        two_vec_conj_product(r, n1, n0);   /* 2 vec(n1 n0*) */
+        rn = norm_n(r, 3);
+        ang = 2.0 * atan2(0.5 * rn, fabs(dot));
+        for (int j = 0; j < 3; j++) w[j] = rn > 0.0 ? ang / h * (r[j] / rn) : 0.0;
+    }
+    if (!ex_finite_n(v, 3) || !ex_finite_n(w, 3)) return EXDEX_EINVAL;
+    m->st0 = t0;
+    m->sh = h;
+    for (int j = 0; j < 3; j++) {
+        m->sy[0][j] = k0->p[j];
+        m->sy[1][j] = p1[j];
+        m->sm[0][j] = k0->v[j];
+        m->sm[1][j] = v[j];
+    }
+    if (k1) {
+        memcpy(k1->R, R1, sizeof k1->R);
+        memcpy(k1->p, p1, sizeof k1->p);
+        memcpy(k1->v, v, sizeof k1->v);
+        memcpy(k1->w, w, sizeof k1->w);
+        for (int j = 0; j < 3; j++) k1->a[j] = k1->dw[j] = 0.0;
+    }
+    quat_rate(nd, n0, k0->w);
+    for (int c = 0; c < 4; c++) {
+        m->sy[0][3 + c] = n0[c];
+        m->sm[0][3 + c] = nd[c];
+    }
+    quat_rate(nd, n1, w);
+    for (int c = 0; c < 4; c++) {
+        m->sy[1][3 + c] = n1[c];
+        m->sm[1][3 + c] = nd[c];
+    }
+    m->end = t1;
+    return EXDEX_OK;
+}
+
+static int eval_step(const exdex_motion *m, double t, exdex_kinematics *k)
+{
+    double y[7], yd[7], ydd[7], s = (t - m->st0) / m->sh;
+    for (int c = 0; c < 7; c++) hermite_at(m->sy[0][c], m->sy[1][c], m->sm[0][c], m->sm[1][c], m->sh, s, &y[c], &yd[c],
+                                           &ydd[c]);
+    if (pose_kin(y, yd, ydd, k)) return EXDEX_ENONFINITE;
+    if (!ex_finite_n(k->p, 3) || !ex_finite_n(k->v, 3) || !ex_finite_n(k->a, 3) || !ex_finite_n(k->w, 3) ||
+        !ex_finite_n(k->dw, 3))
+        return EXDEX_ENONFINITE;
+    return EXDEX_OK;
+}
+
 int exdex_motion_eval(const exdex_motion *m, double t, exdex_kinematics *k)
 {
     double s, sd, sdd;
     if (!m || !k || isnan(t)) return EXDEX_EINVAL;
     switch (m->kind) {
+    case MOTION_STEP:
+        return eval_step(m, t, k);
     case EXDEX_MOTION_SHAKE:
         shake_core(m->amplitude, m->omega, m->T, t, &s, &sd, &sdd);
         break;

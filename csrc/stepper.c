@@ -56,11 +56,16 @@ typedef struct stepper_core {
     size_t imp_next[N_SRC];
     double imp_t[IMP_WIN], imp_P[N_SRC][IMP_WIN];
     exdex_stats imp;
+    /* prescribed gripper poses: posed = 1 once a step gave one (every later
+     * step must), gk the gripper's pose and twist at t then */
+    int posed;
+    exdex_kinematics gk;
 } stepper_core;
 
 struct exdex_stepper {
     stepper_core c;
-    exdex_model mc;             /* the model's numbers with this step's grip */
+    exdex_model mc;             /* the model's numbers with this step's grip (and motion) */
+    exdex_motion *smo;          /* the motion of a step with a prescribed gripper pose */
     const method_impl *impl;
     void *ws;
     /* the one-row output of advance */
@@ -121,8 +126,10 @@ exdex_stepper *exdex_stepper_alloc(const exdex_model *m, int *status)
     }
     s->impl = impl;
     s->mc = *m;
-    s->ws = impl->alloc(&s->mc, &st);
+    s->smo = motion_step_alloc();
+    s->ws = s->smo ? impl->alloc(&s->mc, &st) : NULL;
     if (!s->ws) {
+        exdex_motion_free(s->smo);
         free(s);
         if (status) *status = st ? st : EXDEX_ENOMEM;
         return NULL;
@@ -158,6 +165,7 @@ void exdex_stepper_free(exdex_stepper *s)
 {
     if (!s) return;
     s->impl->free(s->ws);
+    exdex_motion_free(s->smo);
     free(s);
 }
 
@@ -192,13 +200,22 @@ static int finite_n(const double *x, int n)
 
 int exdex_stepper_step(exdex_stepper *s, double dt, double grip_force)
 {
+    return exdex_stepper_step_gripper(s, dt, grip_force, NULL);
+}
+
+int exdex_stepper_step_gripper(exdex_stepper *s, double dt, double grip_force, const exdex_gripper_pose *pose)
+{
     stepper_core *c;
     double k, base, t1;
     int status, regrip, nd;
+    exdex_kinematics k0, k1;
     if (!s || s->c.failed) return EXDEX_EINVAL;
     c = &s->c;
     if (!(isfinite(dt) && dt > 0.0)) return EXDEX_EINVAL;
     if (!(isnan(grip_force) || (isfinite(grip_force) && grip_force >= 0.0))) return EXDEX_EINVAL;
+    /* a pose on every step from the first that gives one; none for the
+     * analytic method (its phases are the scene's motion) */
+    if (pose ? c->method == EXDEX_METHOD_ANALYTIC : c->posed) return EXDEX_EINVAL;
     if (c->started && dt == c->dt) {
         k = c->k + 1.0;
         base = c->t_base;
@@ -208,15 +225,25 @@ int exdex_stepper_step(exdex_stepper *s, double dt, double grip_force)
     }
     t1 = base + k * dt;
     if (!(k <= EXDEX_MAX_STEPS) || !isfinite(t1) || !(t1 > c->t)) return EXDEX_EINVAL;
+    if (pose) {
+        /* the step's motion, from the gripper's state at t: the last given
+         * pose, or the scene's motion there */
+        if (c->posed) k0 = c->gk;
+        else if (exdex_motion_eval(c->model->motion, c->t, &k0)) return EXDEX_EINVAL;
+        if (motion_step_set(s->smo, c->t, t1, &k0, pose->R, pose->p, pose->given_v ? pose->v : NULL,
+                            pose->given_w ? pose->w : NULL, &k1))
+            return EXDEX_EINVAL;
+    }
     if (!c->started) {
         /* the run starts with the scene's grip (the switching times include
-         * its schedule's breakpoints) */
+         * its schedule's breakpoints) and motion */
         set_grip(s, NAN);
         status = s->impl->begin(&s->mc, s->ws, INFINITY, dt, &c->st);
         if (status) goto failed;
         c->started = 1;
         c->dt0 = dt;
     }
+    if (pose) s->mc.motion = s->smo;
     regrip = set_grip(s, grip_force);
     status = s->impl->advance(&s->mc, s->ws, t1, regrip, &s->out, 0, &c->st);
     nd = s->mc.ndof;
@@ -242,6 +269,10 @@ int exdex_stepper_step(exdex_stepper *s, double dt, double grip_force)
     memcpy(c->last.stop_force, s->sf, (size_t)s->mc.n_src * sizeof *s->sf);
     c->last.grip_force = grip_force;
     c->last.steps++;
+    if (pose) {
+        c->posed = 1;
+        c->gk = k1;
+    }
     return EXDEX_OK;
 failed:
     c->failed = 1;
@@ -314,7 +345,7 @@ int exdex_stepper_restore(exdex_stepper *s, const void *buf, size_t size)
     if (c.check != snapshot_check(buf, size)) return EXDEX_EINVAL;
     if (c.magic != SNAPSHOT_MAGIC || c.model != s->c.model || c.method != s->c.method || c.ndof != s->c.ndof ||
         c.n_stops != s->c.n_stops || (c.started != 0 && c.started != 1) || (c.failed != 0 && c.failed != 1) ||
-        c.imp_n != c.last.steps + 1)
+        c.imp_n != c.last.steps + 1 || (c.posed != 0 && c.posed != 1))
         return EXDEX_EINVAL;
     for (int k = 0; k < c.n_stops && s->impl->impacts_from_steps; k++)
         if (c.imp_next[k] < 1 || c.imp_next[k] > c.imp_n || c.imp_next[k] + 2 * IMPACT_STEPS < c.imp_n)
@@ -334,6 +365,7 @@ int exdex_stepper_restore(exdex_stepper *s, const void *buf, size_t size)
         }
         memset(&scratch, 0, sizeof scratch);
         set_grip(s, NAN);
+        s->mc.motion = s->c.model->motion;
         bad = s->impl->begin(&s->mc, s->ws, INFINITY, c.dt0, &scratch) ||
               s->impl->restore(s->ws, (const char *)buf + sizeof c);
         if (bad) {
@@ -346,6 +378,7 @@ int exdex_stepper_restore(exdex_stepper *s, const void *buf, size_t size)
             s->mc.capS = s->c.capS;
             s->mc.def.grip_force = s->c.grip_force;
             if (!s->c.started) set_grip(s, NAN);
+            if (s->c.posed) s->mc.motion = s->smo;
             free(own);
             return EXDEX_EINVAL;
         }
@@ -357,6 +390,7 @@ int exdex_stepper_restore(exdex_stepper *s, const void *buf, size_t size)
     } else {
         set_grip(s, NAN);
     }
+    s->mc.motion = c.posed ? s->smo : s->c.model->motion;
     s->c = c;
     return EXDEX_OK;
 }

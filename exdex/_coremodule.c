@@ -882,20 +882,63 @@ static int stepper_acquire(StepperObject *so)
 }
 
 PyDoc_STRVAR(Stepper_step_doc,
-"step(dt, grip_force=None) -> None\n\n"
+"step(dt, grip_force=None, gripper=None) -> None\n\n"
 "Advance by dt [s] (> 0) with this step's grip force [N per finger] (>= 0;\n"
-"None: the scene's own force or schedule), the GIL released.");
+"None: the scene's own force or schedule), the GIL released. gripper: None\n"
+"(the scene's motion) or (R, p, v, w), the gripper's pose at the step's end\n"
+"(R_AB as 9 floats, row-major; p [m]) and its twist there (v [m/s], w\n"
+"[rad/s], 3 floats each, or None: the step's secant), as\n"
+"exdex_stepper_step_gripper.");
+
+/* n floats of a sequence into x; 0, or -1 with a TypeError naming what. */
+static int stepper_floats(PyObject *o, double *x, Py_ssize_t n, const char *what)
+{
+    PyObject *seq = PySequence_Fast(o, "");
+    if (!seq || PySequence_Fast_GET_SIZE(seq) != n) {
+        Py_XDECREF(seq);
+        PyErr_Clear();
+        PyErr_Format(PyExc_TypeError, "gripper %s must be %zd floats", what, n);
+        return -1;
+    }
+    for (Py_ssize_t i = 0; i < n; i++) {
+        x[i] = PyFloat_AsDouble(PySequence_Fast_GET_ITEM(seq, i));
+        if (x[i] == -1.0 && PyErr_Occurred()) {
+            Py_DECREF(seq);
+            PyErr_Clear();
+            PyErr_Format(PyExc_TypeError, "gripper %s must be %zd floats", what, n);
+            return -1;
+        }
+    }
+    Py_DECREF(seq);
+    return 0;
+}
 
 static PyObject *Stepper_step(PyObject *self, PyObject *args, PyObject *kwds)
 {
-    static char *kwlist[] = {"dt", "grip_force", NULL};
+    static char *kwlist[] = {"dt", "grip_force", "gripper", NULL};
     StepperObject *so = (StepperObject *)self;
     double dt, grip = NAN;
-    PyObject *gobj = Py_None;
+    PyObject *gobj = Py_None, *pobj = Py_None;
     exdex_stepper_sample x;
     exdex_stats st;
+    exdex_gripper_pose pose;
     int status;
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "d|O", kwlist, &dt, &gobj)) return NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "d|OO", kwlist, &dt, &gobj, &pobj)) return NULL;
+    memset(&pose, 0, sizeof pose);
+    if (pobj != Py_None) {
+        if (!PyTuple_Check(pobj) || PyTuple_GET_SIZE(pobj) != 4) {
+            PyErr_SetString(PyExc_TypeError, "gripper must be None or a tuple (R, p, v, w)");
+            return NULL;
+        }
+        if (stepper_floats(PyTuple_GET_ITEM(pobj, 0), pose.R, 9, "R") ||
+            stepper_floats(PyTuple_GET_ITEM(pobj, 1), pose.p, 3, "p"))
+            return NULL;
+        pose.given_v = PyTuple_GET_ITEM(pobj, 2) != Py_None;
+        pose.given_w = PyTuple_GET_ITEM(pobj, 3) != Py_None;
+        if ((pose.given_v && stepper_floats(PyTuple_GET_ITEM(pobj, 2), pose.v, 3, "v")) ||
+            (pose.given_w && stepper_floats(PyTuple_GET_ITEM(pobj, 3), pose.w, 3, "w")))
+            return NULL;
+    }
     if (!(isfinite(dt) && dt > 0.0)) {
         PyErr_Format(PyExc_ValueError, "dt must be finite and > 0 [s], got %R", PyTuple_GET_ITEM(args, 0));
         return NULL;
@@ -916,15 +959,18 @@ static PyObject *Stepper_step(PyObject *self, PyObject *args, PyObject *kwds)
     if (stepper_acquire(so)) return NULL;
     exdex_stepper_get(so->s, &x, NULL);
     Py_BEGIN_ALLOW_THREADS
-    status = exdex_stepper_step(so->s, dt, grip);
+    status = exdex_stepper_step_gripper(so->s, dt, grip, pobj != Py_None ? &pose : NULL);
     Py_END_ALLOW_THREADS
     exdex_stepper_get(so->s, NULL, &st);
     PyThread_release_lock(so->lock);
     if (status == EXDEX_EINVAL) {
         PyErr_Format(PyExc_ValueError,
                      "dt = %R s cannot advance the time from t = %.17g s (t + dt rounds to t, or more than 1e9 "
-                     "steps of this dt), or the stepper failed earlier (restore a saved state)",
-                     PyTuple_GET_ITEM(args, 0), x.t);
+                     "steps of this dt), or the stepper failed earlier (restore a saved state)%s",
+                     PyTuple_GET_ITEM(args, 0), x.t,
+                     pobj != Py_None ? ", or gripper is not a finite pose with a rotation matrix R (to 1e-9), "
+                                       "or the method is 'analytic' (it follows the scene's motion)"
+                                     : ", or an earlier step gave the gripper pose (then every step must)");
         return NULL;
     }
     if (status) {

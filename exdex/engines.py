@@ -62,6 +62,25 @@ How each scene is built (all engines)
   block flush on a stop: ``run_drake(stop_contact="corners")`` gives the
   object a sphere inside each in-plane corner instead, one contact per
   touching outline vertex as in exdex.
+* Obstacles (``Scene(obstacles=...)``): fixed collision geometry of the
+  world, touching only the object, with the obstacle's ``mu`` combined as a
+  stop's (``_obstacle_shape``): an ``Obstacle.box`` (six faces in opposite
+  pairs) is a box; a rod (``Obstacle.cylinder``, infinite) a capsule of
+  length 2 ``OBSTACLE_REACH`` centred at the axis point nearest the
+  gripper's initial position (its side is the rod's; the engines collide
+  capsules with boxes more robustly than cylinders); a one-face obstacle
+  the box of the equivalent ``Stop``; any other intersection of
+  half-spaces its convex polytope, cut by the cube of half-side
+  ``OBSTACLE_REACH`` about the gripper's initial position when unbounded,
+  as a mesh whose convex hull the engine collides with (MuJoCo ``mesh``,
+  Bullet ``GEOM_MESH``, Drake ``Convex``). Their normal forces follow the
+  stops' in ``stop_force``, as in exdex.
+* Static friction: ``Grasp(mu_static=...)`` above ``mu`` is a ValueError
+  naming it in every engine. Bullet and MuJoCo have one coefficient per
+  contact; Drake's ``CoulombFriction`` takes a static one, but its contact
+  solvers use only the dynamic one (measured: a block held at rest between
+  2 mu F and 2 mu_static F slides exactly as without it, lagged and SAP
+  discrete solvers and a continuous plant alike).
 * Drake (``run_drake``): a discrete ``MultibodyPlant`` built in code (no model
   files), the object on prismatic joints and a revolute joint about the plate
   normal (no out-of-plane tilt). ``contact_model="point"``: Drake's compliant
@@ -107,7 +126,7 @@ from exdex.scene import Scene, _quat_from_matrix, _real
 from exdex.simulate import Result
 
 __all__ = ["run_pybullet", "run_mujoco", "run_drake", "missing_engines", "drift_rate", "pad_geometry", "torque_capacity",
-           "ablation", "ABLATION_MODELS"]
+           "ablation", "ABLATION_MODELS", "OBSTACLE_REACH"]
 
 PAD_THICKNESS = 0.005      # half-thickness of the plate/pad boxes [m]
 POINT_RADIUS = 0.005       # radius of the sphere pads of contact="point" [m]
@@ -211,6 +230,25 @@ class _Layout:
         return 0.0
 
 
+#: why each engine cannot take a static friction coefficient above the kinetic one
+_NO_STATIC_FRICTION = {
+    "pybullet": "Bullet has one friction coefficient per contact (lateralFriction)",
+    "mujoco": "MuJoCo has one sliding friction coefficient per contact",
+    "drake": ("Drake's CoulombFriction takes a static coefficient, but its contact solvers use only the dynamic one: "
+              "a block held at rest with its weight between 2 mu F and 2 mu_static F slides exactly as without "
+              "mu_static (measured with the lagged and SAP discrete approximations and a continuous plant)"),
+}
+
+
+def _check_static_friction(scene, engine):
+    """ValueError naming Grasp.mu_static when it exceeds mu: no engine here
+    has a faithful static coefficient (``_NO_STATIC_FRICTION``)."""
+    g = scene.grasp
+    if g.mu_static is not None and g.mu_static > g.mu:
+        raise ValueError(f"Grasp.mu_static = {g.mu_static:g} > mu = {g.mu:g} cannot be run in {engine}: "
+                         f"{_NO_STATIC_FRICTION[engine]}; run the engines with mu_static = None (equal to mu)")
+
+
 def _grip_force(scene, t):
     """The force [N] the engines' finger joint presses with during the step that
     starts at ``t``: the constant grip force, or a ``GripSchedule`` evaluated at
@@ -246,7 +284,8 @@ def _run_arrays(scene, n, dt):
     of an engine run of n steps of dt."""
     times = np.arange(n + 1) * dt
     return (np.array(scene.gravity), times, _kinematics(scene, times), np.empty((n + 1, 3)),
-            np.empty((n + 1, 3)), np.empty((n + 1, 3, 3)), np.empty(n + 1), np.zeros((n + 1, len(scene.stops))))
+            np.empty((n + 1, 3)), np.empty((n + 1, 3, 3)), np.empty(n + 1),
+            np.zeros((n + 1, len(scene.stops) + len(scene.obstacles))))
 
 
 def _stop_pose(stop):
@@ -258,6 +297,112 @@ def _stop_pose(stop):
     ey = np.cross(n, ex)
     R = np.column_stack([ex, ey, n])
     return np.array(stop.point) - n * STOP_HALF[2], R
+
+
+#: half-length [m] of the finite rod standing for a cylinder obstacle, and half-side of the cube that cuts an
+#: unbounded intersection of half-spaces (a box of the same reach as a stop's, STOP_HALF)
+OBSTACLE_REACH = 0.5
+
+
+def _frame_of(axis):
+    """A rotation whose third column is the unit ``axis``."""
+    n = np.asarray(axis, float)
+    ref = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    ex = np.cross(ref, n)
+    ex /= np.linalg.norm(ex)
+    return np.column_stack([ex, np.cross(n, ex), n])
+
+
+def _obstacle_shape(obs, near):
+    """The fixed collision geometry standing for an ``exdex.Obstacle`` in the
+    engines, near the point ``near`` (A, the gripper's initial position):
+
+    * a cylinder (an infinite rod) -> ("cylinder", centre, R, radius, half
+      length): a rod of length 2 OBSTACLE_REACH along R's z, centred at the
+      point of the axis nearest ``near``;
+    * one half-space -> ("box", centre, R, half-sides): the box that stands
+      for a ``Stop`` with the same point and normal (the obstacle acts as
+      that stop);
+    * six half-spaces in three opposite pairs of orthogonal normals (an
+      ``Obstacle.box``) -> ("box", centre, R, half-sides);
+    * any other intersection of half-spaces -> ("mesh", vertices (k, 3)):
+      the vertices of the convex polytope (scipy's HalfspaceIntersection
+      from its Chebyshev centre), cut by the cube of half-side
+      OBSTACLE_REACH about ``near`` when unbounded. An empty one raises a
+      ValueError.
+    """
+    near = np.asarray(near, float)
+    if obs.kind == "cylinder":
+        a, c = np.array(obs.axis), np.array(obs.center)
+        centre = c + a * float(np.dot(near - c, a))
+        return ("cylinder", centre, _frame_of(a), float(obs.radius), OBSTACLE_REACH)
+    P, N = np.array(obs.face_points, float).reshape(-1, 3), np.array(obs.face_normals, float).reshape(-1, 3)
+    if len(N) == 1:
+        c, R = _stop_pose(_StopLike(P[0], N[0]))
+        return ("box", c, R, np.array(STOP_HALF))
+    if len(N) == 6:
+        pairs, used = [], set()
+        for i in range(6):
+            if i in used:
+                continue
+            j = next((j for j in range(6) if j != i and j not in used and np.allclose(N[j], -N[i], atol=1e-12)), None)
+            if j is None:
+                break
+            used |= {i, j}
+            pairs.append((N[i], float(N[i] @ P[i]), float(N[i] @ P[j])))
+        if len(pairs) == 3:
+            R = np.column_stack([p[0] for p in pairs])
+            if np.allclose(R.T @ R, np.eye(3), atol=1e-12):
+                if np.linalg.det(R) < 0:   # -n bounds -x: upper -lo, lower -hi
+                    R[:, 2] = -R[:, 2]
+                    pairs[2] = (-pairs[2][0], -pairs[2][2], -pairs[2][1])
+                half = np.array([(hi - lo) / 2 for _, hi, lo in pairs])
+                if np.all(half > 0):
+                    centre = R @ np.array([(hi + lo) / 2 for _, hi, lo in pairs])
+                    return ("box", centre, R, half)
+    from scipy.optimize import linprog
+    from scipy.spatial import ConvexHull, HalfspaceIntersection
+
+    # the faces n . x <= n . p, and the cube about `near` (cuts an unbounded solid)
+    A = np.vstack([N, np.eye(3), -np.eye(3)])
+    b = np.concatenate([np.einsum("ij,ij->i", N, P), near + OBSTACLE_REACH, -(near - OBSTACLE_REACH)])
+    # Chebyshev centre: max r with A x + r |a_i| <= b
+    norms = np.linalg.norm(A, axis=1)
+    lp = linprog(np.r_[0.0, 0.0, 0.0, -1.0], A_ub=np.column_stack([A, norms]), b_ub=b,
+                 bounds=[(None, None)] * 3 + [(0, None)])
+    if not lp.success or lp.x[3] <= 1e-9:
+        raise ValueError("an Obstacle's half-spaces have no interior within "
+                         f"{OBSTACLE_REACH} m of the gripper's initial position: the engines cannot build it")
+    hs = HalfspaceIntersection(np.column_stack([A, -b]), lp.x[:3])
+    verts = hs.intersections[ConvexHull(hs.intersections).vertices]
+    return ("mesh", verts)
+
+
+class _StopLike:
+    """A plane (point, normal) as _stop_pose reads a Stop."""
+
+    def __init__(self, point, normal):
+        self.point, self.normal = tuple(point), tuple(normal)
+
+
+def _obstacle_shapes(scene):
+    return [_obstacle_shape(o, scene.gripper_position) for o in scene.obstacles]
+
+
+def _obj_text(verts):
+    """A Wavefront OBJ of the convex hull of ``verts`` (Drake's Convex reads it)."""
+    from scipy.spatial import ConvexHull
+
+    hull = ConvexHull(verts)
+    lines = [f"v {float(x)!r} {float(y)!r} {float(z)!r}" for x, y, z in verts]
+    c = verts.mean(axis=0)
+    for simplex in hull.simplices:
+        i, j, k = simplex
+        # outward winding: the normal points away from the centroid
+        if np.dot(np.cross(verts[j] - verts[i], verts[k] - verts[i]), verts[i] - c) < 0:
+            j, k = k, j
+        lines.append(f"f {i + 1} {j + 1} {k + 1}")
+    return "\n".join(lines) + "\n"
 
 
 def _to_result(scene, method, t, pos_B, R_BC, vel_B, omega_B, stop_force, stats, dt):
@@ -348,11 +493,26 @@ def _mujoco_xml(lay, *, dt, iterations, cone, impratio, noslip_iterations, solve
         # an explicit pair's friction replaces MuJoCo's combination of the geoms' (the max): exactly mu
         pairs.append(f'<pair geom1="stop{k}" geom2="object" condim="3" friction="{f((s.mu, s.mu, 0, 0, 0))}"/>'
                      if s.mu > 0 else f'<pair geom1="stop{k}" geom2="object" condim="1"/>')
+    assets = []
+    for k, (o, shape) in enumerate(zip(sc.obstacles, _obstacle_shapes(sc))):
+        if shape[0] == "box":
+            geom = (f'type="box" pos="{f(shape[1])}" quat="{f(_quat_from_matrix(shape[2]))}" '
+                    f'size="{f(shape[3])}"')
+        elif shape[0] == "cylinder":
+            geom = (f'type="capsule" pos="{f(shape[1])}" quat="{f(_quat_from_matrix(shape[2]))}" '
+                    f'size="{shape[3]!r} {shape[4]!r}"')
+        else:   # MuJoCo collides with a mesh's convex hull
+            assets.append(f'<mesh name="obstacle{k}" vertex="{f(shape[1])}"/>')
+            geom = f'type="mesh" mesh="obstacle{k}"'
+        stops.append(f'<geom name="obstacle{k}" {geom} contype="0" conaffinity="0"/>')
+        pairs.append(f'<pair geom1="obstacle{k}" geom2="object" condim="3" friction="{f((o.mu, o.mu, 0, 0, 0))}"/>'
+                     if o.mu > 0 else f'<pair geom1="obstacle{k}" geom2="object" condim="1"/>')
     obj_geom = (f'<geom name="object" type="box" pos="{f(com)}" size="{f(lay.size / 2)}" contype="0" conaffinity="0"/>'
                 if lay.disc is None else
                 f'<geom name="object" type="cylinder" pos="{f(com + lay.disc_center)}" size="{f((lay.disc, lz / 2))}" '
                 f'contype="0" conaffinity="0"/>')
     return f"""<mujoco model="exdex-scene">
+  <asset>{''.join(assets)}</asset>
   <option timestep="{dt!r}" gravity="{f(sc.gravity)}" cone="{cone}" impratio="{impratio!r}"
           noslip_iterations="{int(noslip_iterations)}" iterations="{int(iterations)}" solver="{solver}"
           tolerance="{tolerance!r}">
@@ -410,6 +570,7 @@ def run_mujoco(scene, t_end, *, dt=0.002, iterations=100, cone="elliptic", impra
     mujoco = require("mujoco", "exdex.engines.run_mujoco")
 
     lay = _Layout(scene, contact)
+    _check_static_friction(scene, "mujoco")
     n, dt = _steps(t_end, dt)
     if cone not in ("elliptic", "pyramidal"):
         raise ValueError(f"cone must be 'elliptic' or 'pyramidal', got {cone!r}")
@@ -423,7 +584,8 @@ def run_mujoco(scene, t_end, *, dt=0.002, iterations=100, cone="elliptic", impra
     gid = m.body("gripper").id
     oid = m.body("object").id
     sq = m.joint("squeeze").dofadr[0]
-    stop_gids = [m.geom(f"stop{k}").id for k in range(len(scene.stops))]
+    stop_gids = ([m.geom(f"stop{k}").id for k in range(len(scene.stops))] +
+                 [m.geom(f"obstacle{k}").id for k in range(len(scene.obstacles))])
     Mg = float(gripper_mass)
     g, times, kin, pos, vel, RBC, om, fstop = _run_arrays(scene, n, dt)
     cf = np.zeros(6)
@@ -497,6 +659,7 @@ def run_pybullet(scene, t_end, *, dt=1.0 / 240.0, iterations=50, cone=True, cont
     pb = require("pybullet", "exdex.engines.run_pybullet")
 
     lay = _Layout(scene, contact)
+    _check_static_friction(scene, "pybullet")
     n, dt = _steps(t_end, dt)
     cid = pb.connect(pb.DIRECT)
     kw = dict(physicsClientId=cid)
@@ -596,6 +759,23 @@ def run_pybullet(scene, t_end, *, dt=1.0 / 240.0, iterations=50, cone=True, cont
             for j in range(-1, obj_link):
                 pb.setCollisionFilterPair(sid, body, -1, j, 0, **kw)
             stop_ids.append(sid)
+        for o, shape in zip(scene.obstacles, _obstacle_shapes(scene)):
+            if shape[0] == "box":
+                sh = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=list(shape[3]), **kw)
+                c, orn = shape[1], _xyzw(shape[2])
+            elif shape[0] == "cylinder":
+                sh = pb.createCollisionShape(pb.GEOM_CAPSULE, radius=shape[3], height=2 * shape[4], **kw)
+                c, orn = shape[1], _xyzw(shape[2])
+            else:   # Bullet collides with a mesh's convex hull
+                c = shape[1].mean(axis=0)
+                sh = pb.createCollisionShape(pb.GEOM_MESH, vertices=(shape[1] - c).tolist(), **kw)
+                orn = [0, 0, 0, 1]
+            sid = pb.createMultiBody(baseMass=0, baseCollisionShapeIndex=sh, basePosition=list(c),
+                                     baseOrientation=orn, **kw)
+            pb.changeDynamics(sid, -1, lateralFriction=o.mu, spinningFriction=0.0, rollingFriction=0.0, **kw)
+            for j in range(-1, obj_link):
+                pb.setCollisionFilterPair(sid, body, -1, j, 0, **kw)
+            stop_ids.append(sid)
 
         times = np.arange(n + 1) * dt
         kin = _kinematics(scene, times)
@@ -604,7 +784,7 @@ def run_pybullet(scene, t_end, *, dt=1.0 / 240.0, iterations=50, cone=True, cont
         vel = np.empty((n + 1, 3))
         RBC = np.empty((n + 1, 3, 3))
         om = np.empty(n + 1)
-        fstop = np.zeros((n + 1, len(scene.stops)))
+        fstop = np.zeros((n + 1, len(stop_ids)))
         R_principal_T = lay.R_C_principal.T
 
         def set_gripper(k):
@@ -712,8 +892,9 @@ def run_drake(scene, t_end, *, dt=1e-3, contact_model="point", approximation="la
     point_stiffness, dissipation : point-contact stiffness [N/m] and
         Hunt-Crossley dissipation [s/m] (None: Drake's defaults).
     gripper_mass, plate_mass : as for ``run_mujoco``.
-    stop_contact : how the object meets the stops: "box" (default: its box,
-        which Drake's point contact touches at a single point per stop) or
+    stop_contact : how the object meets the stops and obstacles: "box"
+        (default: its box, which Drake's point contact touches at a single
+        point per stop) or
         "corners" (a sphere of radius ``POINT_RADIUS`` inside each corner of
         the box's section by the plate plane, touching its two faces there:
         one point contact per touching outline vertex, as in exdex; the box
@@ -722,8 +903,8 @@ def run_drake(scene, t_end, *, dt=1e-3, contact_model="point", approximation="la
     """
     pydrake = require("pydrake", "exdex.engines.run_drake")
     from pydrake.geometry import (AddCompliantHydroelasticProperties, AddContactMaterial,
-                                  AddRigidHydroelasticProperties, Box, CollisionFilterDeclaration, Cylinder,
-                                  GeometrySet, ProximityProperties, Sphere)
+                                  AddRigidHydroelasticProperties, Box, Capsule, CollisionFilterDeclaration, Convex,
+                                  Cylinder, GeometrySet, ProximityProperties, Sphere)
     from pydrake.math import RigidTransform, RotationMatrix
     from pydrake.multibody.math import SpatialForce, SpatialVelocity
     from pydrake.multibody.plant import (AddMultibodyPlant, CoulombFriction, ExternallyAppliedSpatialForce,
@@ -734,6 +915,7 @@ def run_drake(scene, t_end, *, dt=1e-3, contact_model="point", approximation="la
     from pydrake.systems.framework import DiagramBuilder
 
     lay = _Layout(scene, contact)
+    _check_static_friction(scene, "drake")
     n, dt = _steps(t_end, dt)
     if stop_contact not in ("box", "corners"):
         raise ValueError(f"stop_contact must be 'box' or 'corners', got {stop_contact!r}")
@@ -816,7 +998,8 @@ def run_drake(scene, t_end, *, dt=1e-3, contact_model="point", approximation="la
 
     hydro = contact_model == "hydroelastic"
     pad_ids = []
-    mu_obj, (mu_pad1, mu_pad2, *mu_stops) = _drake_friction([lay.mu[0], lay.mu[1]] + [s.mu for s in scene.stops])
+    mu_obj, (mu_pad1, mu_pad2, *mu_stops) = _drake_friction([lay.mu[0], lay.mu[1]] + [s.mu for s in scene.stops]
+                                                            + [o.mu for o in scene.obstacles])
     for body, sign, mu, X0 in ((gripper, -1.0, mu_pad1, pc + [0, 0, -lay.pad_z]), (plate2, 1.0, mu_pad2, np.zeros(3))):
         for k, (kind, off) in enumerate(shapes):
             size = (2 * lay.pad_half[0], 2 * lay.pad_half[1], 2 * PAD_THICKNESS) if kind == "box" else (POINT_RADIUS,)
@@ -845,6 +1028,19 @@ def run_drake(scene, t_end, *, dt=1e-3, contact_model="point", approximation="la
         c, R = _stop_pose(s)
         stop_ids.append(plant.RegisterCollisionGeometry(plant.world_body(), X(R, c), Box(*(2 * np.array(STOP_HALF))),
                                                         f"stop{k}", props(mu_stops[k])))
+    for k, shape in enumerate(_obstacle_shapes(scene)):
+        mu_k = mu_stops[len(scene.stops) + k]
+        if shape[0] == "box":
+            geo, Xo = Box(*(2 * np.asarray(shape[3]))), X(shape[2], shape[1])
+        elif shape[0] == "cylinder":
+            geo, Xo = Capsule(shape[3], 2 * shape[4]), X(shape[2], shape[1])
+        else:   # Drake collides with a Convex shape's hull
+            from pydrake.common import MemoryFile
+            from pydrake.geometry import InMemoryMesh
+
+            geo = Convex(InMemoryMesh(mesh_file=MemoryFile(_obj_text(shape[1]), ".obj", f"obstacle{k}.obj")))
+            Xo = X(np.eye(3), np.zeros(3))
+        stop_ids.append(plant.RegisterCollisionGeometry(plant.world_body(), Xo, geo, f"obstacle{k}", props(mu_k)))
     plant.Finalize()
     # only the pads and the stops touch the object
     cfm = sg.collision_filter_manager()

@@ -14,6 +14,12 @@ explicit methods find those from the stop impulses of a few steps around
 each, and ``stats`` after n steps counts them as a run ending there).
 ``save()`` and ``restore()`` branch a run: stepping on from a
 restored snapshot repeats what the saved stepper did, bit for bit.
+
+A step may also prescribe the gripper's pose at its end
+(``step(dt, gripper=exdex.GripperPose(position, rotation, velocity,
+omega))``): the gripper then moves over the step along the cubic
+interpolation that :class:`GripperPose` states, in place of the scene's
+motion, on that step and every later one.
 """
 from __future__ import annotations
 
@@ -26,10 +32,62 @@ import numpy as np
 from numpy.typing import NDArray
 
 from exdex import _core
-from exdex.scene import Scene
+from exdex.scene import Scene, _array
 from exdex.simulate import FrictionSolver, Method, Model, _warn_jumps
 
-__all__ = ["Stepper", "StepperState", "StepperSnapshot"]
+__all__ = ["Stepper", "StepperState", "StepperSnapshot", "GripperPose"]
+
+
+@dataclass(frozen=True, eq=False)
+class GripperPose:
+    """The gripper's pose at the end of a step, for ``Stepper.step(dt,
+    gripper=...)``: the pose of the gripper frame B in the world frame A
+    and, optionally, its twist there.
+
+    position : (3,) position of B's origin in A [m].
+    rotation : (3, 3) R_AB, the columns B's axes in A (a rotation matrix:
+        orthonormal with det +1, to 1e-9). Default: the identity.
+    velocity : (3,) velocity of B's origin in A [m/s], or None: the step's
+        mean velocity (position - p0) / dt, p0 the position at the step's
+        start.
+    omega : (3,) angular velocity of B in A [rad/s], or None: the constant
+        angular velocity that turns the rotation at the step's start into
+        ``rotation`` over dt (the shorter way).
+
+    Over the step the gripper moves from its pose and twist at the step's
+    start (the previous step's end, or the scene's motion at that time for
+    the first step given a pose) to this pose and twist: its position and
+    the quaternion of its rotation are each the cubic with those end values
+    and rates (cubic Hermite interpolation, the quaternion normalised). The
+    position, velocity, orientation and angular velocity are continuous
+    from step to step; the accelerations are the cubic's, linear in time
+    within a step for the position. Poses and twists sampled from a smooth
+    motion at the step ends reproduce it with errors O(dt^4) in the pose,
+    O(dt^3) in the twist and O(dt^2) in the accelerations (exactly, for a
+    position cubic in time and a fixed rotation). Without the twist (the
+    secants) the velocity lags the motion's by about dt / 2: first order.
+    """
+
+    position: Any
+    rotation: Any = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+    velocity: Any = None
+    omega: Any = None
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "position", _array(self.position, "GripperPose.position", (3,)))
+        R = _array(self.rotation, "GripperPose.rotation", (3, 3))
+        if not (np.max(np.abs(R @ R.T - np.eye(3))) <= 1e-9 and abs(np.linalg.det(R) - 1.0) <= 1e-9):
+            raise ValueError("GripperPose.rotation must be a rotation matrix (orthonormal with det +1, to 1e-9)")
+        object.__setattr__(self, "rotation", R)
+        for name in ("velocity", "omega"):
+            value = getattr(self, name)
+            if value is not None:
+                object.__setattr__(self, name, _array(value, f"GripperPose.{name}", (3,)))
+
+    def _core(self) -> Any:
+        return (tuple(self.rotation.ravel()), tuple(self.position),
+                None if self.velocity is None else tuple(self.velocity),
+                None if self.omega is None else tuple(self.omega))
 
 
 @dataclass(frozen=True, eq=False)
@@ -64,10 +122,10 @@ class StepperSnapshot:
     """An opaque copy of a :class:`Stepper`'s whole state (``Stepper.save``),
     valid for the steppers of the same compiled model."""
 
-    __slots__ = ("_data", "_model", "t")
+    __slots__ = ("_data", "_model", "t", "_posed")
 
-    def __init__(self, data: bytes, model: Any, t: float) -> None:
-        self._data, self._model, self.t = data, model, t
+    def __init__(self, data: bytes, model: Any, t: float, posed: bool = False) -> None:
+        self._data, self._model, self.t, self._posed = data, model, t, posed
 
     def __repr__(self) -> str:
         return f"exdex.StepperSnapshot(t={self.t!r})"
@@ -96,7 +154,7 @@ class Stepper:
     steppers may run in parallel.
     """
 
-    __slots__ = ("model", "_s", "_t")
+    __slots__ = ("model", "_s", "_t", "_posed")
 
     def __init__(self, scene: Union[Scene, Model], method: Optional[Method] = None,
                  friction_solver: Optional[FrictionSolver] = None, eps: Optional[float] = None,
@@ -113,6 +171,7 @@ class Stepper:
             raise TypeError(f"scene must be an exdex.Scene or an exdex.Model, got {type(scene).__name__}")
         self._s = self.model._model.stepper()
         self._t = 0.0   # time reached (the last step's end)
+        self._posed = False   # a step gave the gripper pose (every later one must)
 
     @property
     def scene(self) -> Scene:
@@ -126,17 +185,31 @@ class Stepper:
     def ndof(self) -> int:
         return self.model.ndof
 
-    def step(self, dt: float, grip_force: Optional[float] = None) -> StepperState:
+    def step(self, dt: float, grip_force: Optional[float] = None,
+             gripper: Optional[GripperPose] = None) -> StepperState:
         """Advance by ``dt`` [s] (> 0) with this step's ``grip_force`` [N per
-        finger] (>= 0; None: the scene's own) and return the new state.
+        finger] (>= 0; None: the scene's own) and, optionally, the gripper's
+        pose at the step's end, and return the new state.
+
+        Parameters
+        ----------
+        dt : step [s], > 0.
+        grip_force : this step's grip force [N per finger], >= 0, or None.
+        gripper : an :class:`exdex.GripperPose`, the gripper's pose (and
+            twist) at t + dt, or None: the scene's motion. The gripper moves
+            over the step by the interpolation :class:`GripperPose` states,
+            in place of the scene's motion (whose switching times and
+            velocity jumps then no longer apply). Once a step gives a pose,
+            every later step must. Not with the analytic method (its phases
+            are the scene's motion).
 
         Steps of one ``dt`` end on the grid t_base + k dt (t_base where dt
         last changed), as :func:`exdex.simulate`'s samples. Raises
         ValueError / TypeError naming the argument, and
         :class:`exdex.SolverError` as :func:`exdex.simulate` does (after
         which only :meth:`restore` revives the stepper). Warns
-        :class:`exdex.GripperJumpWarning` for a gripper velocity jump inside
-        the step.
+        :class:`exdex.GripperJumpWarning` for a gripper velocity jump of the
+        scene's motion inside the step.
         """
         if isinstance(dt, bool) or not isinstance(dt, numbers.Real):
             raise TypeError(f"dt must be a real number [s], got {type(dt).__name__}")
@@ -149,9 +222,20 @@ class Stepper:
             grip_force = float(grip_force)
             if not (math.isfinite(grip_force) and grip_force >= 0.0):
                 raise ValueError(f"grip_force must be finite and >= 0 [N per finger] (or None), got {grip_force!r}")
-        self._s.step(dt, grip_force)
+        if gripper is not None:
+            if not isinstance(gripper, GripperPose):
+                raise TypeError(f"gripper must be an exdex.GripperPose or None, got {type(gripper).__name__}")
+            if self.method == "analytic":
+                raise ValueError("gripper poses need method 'implicit', 'event', 'regularised' or 'explicit': "
+                                 "the analytic method follows the scene's motion")
+        elif self._posed:
+            raise ValueError("gripper must be given on every step after the first step that gives it "
+                             "(an exdex.GripperPose: the scene's motion no longer describes the gripper)")
+        self._s.step(dt, grip_force, None if gripper is None else gripper._core())
         state = self.state
-        if self.model._jumps:
+        if gripper is not None:
+            self._posed = True
+        elif self.model._jumps:
             _warn_jumps(self.model.scene, [j for j in self.model._jumps if self._t < j[0]], state.t, stacklevel=3)
         self._t = state.t
         return state
@@ -176,7 +260,7 @@ class Stepper:
 
     def save(self) -> StepperSnapshot:
         """A snapshot of the whole state, to :meth:`restore` later."""
-        return StepperSnapshot(self._s.save(), self.model._model, self.t)
+        return StepperSnapshot(self._s.save(), self.model._model, self.t, self._posed)
 
     def restore(self, state: StepperSnapshot) -> None:
         """Return to a snapshot saved by a stepper of the same model (this
@@ -188,6 +272,7 @@ class Stepper:
                              "exdex.Model to branch runs")
         self._s.restore(state._data)
         self._t = self.t
+        self._posed = state._posed
 
     def run(self, dt: float, grip_forces: Any) -> Dict[str, NDArray[Any]]:
         """Take ``len(grip_forces)`` steps of ``dt``, step i with grip force

@@ -121,6 +121,21 @@ def test_stepper_counts_impacts_as_simulate(method):
                     got["impacts"] == ref["impacts"] == 0), (n, got, ref)
         counted.append(st.stats["impacts"])
     assert counted[0] == 1 and counted[1] >= 2, counted
+    # a snapshot carries the impulses of the last steps: stepping on from it
+    # counts the same impacts
+    st = exdex.Stepper(shake, method=method)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for _ in range(150):
+            st.step(2e-3)
+        snap = st.save()
+        for _ in range(250):
+            st.step(2e-3)
+        first = st.stats
+        st.restore(snap)
+        for _ in range(250):
+            st.step(2e-3)
+    assert [st.stats[k] for k in keys] == [first[k] for k in keys]
 
 
 def _branch_scene():
@@ -296,3 +311,113 @@ def test_friction_never_adds_energy_under_random_grip_forces(method):
         bound = speed if method != "explicit" else max(speed, 1e-3 * 2 * mu * 0.2 / m)
         assert abs(s.v[0]) <= bound * (1 + 1e-12)
         speed = abs(s.v[0])
+
+
+# ---------------------------------------------------------------- prescribed gripper poses
+
+def _posed_scene():
+    """A 40 mm square on a floor stop, slipping in a gripper that a Shake
+    turns about an axis off the plate normal's line (gravity turns in B, the
+    frame's rotation and its offset centre load the object)."""
+    motion = exdex.Shake(0.5, 2.0, cycles=1, axis=(0, -1, 0), rotation=True, center=(0.01, 0, 0.02))
+    scene = exdex.Scene(body=exdex.Body.box(0.1, (0.04, 0.04, 0.02)), grasp=exdex.Grasp(0.3, 0.5), dof="planar",
+                        motion=motion, stops=(exdex.Stop((0, 0, -0.03), (0, 0, 1)),))
+    return scene, motion
+
+
+def _stepped_with_poses(scene, motion, method, n, t_end, twist=True, **options):
+    """n steps of t_end / n, each given the motion's pose (and twist) at its end,
+    on the same scene with the gripper at rest; the final q."""
+    dt = t_end / n
+    st = exdex.Stepper(exdex.replace(scene, motion=exdex.Rest()), method=method, **options)
+    kin = motion.evaluate(np.arange(1, n + 1) * dt, scene.gripper_rotation, scene.gripper_position)
+    for i in range(n):
+        st.step(dt, gripper=exdex.GripperPose(kin["p"][i], kin["R"][i], kin["v"][i] if twist else None,
+                                              kin["w"][i] if twist else None))
+    return st.state.q
+
+
+@pytest.mark.parametrize("method, ns", [("event", (25, 50, 100, 200)), ("implicit", (25, 50, 100)),
+                                        ("explicit", (25, 50))])
+def test_stepping_with_sampled_poses_reproduces_simulate(method, ns):
+    """Stepping with the poses and twists of a known motion at the step ends
+    reproduces simulate with that motion, to the interpolation's order.
+
+    Over each step the interpolation matches the motion's pose and twist at
+    both ends, with acceleration errors at most dt^2 / 12 max|f''''| (cubic
+    Hermite) whose integral over the step vanishes (the velocities agree at
+    the ends). The explicit method reads the frame only at the step ends and
+    through its mean accelerations (v(t + dt) - v(t)) / dt: the same numbers
+    up to the quaternion's rounding (1e-12 L). The implicit method also reads
+    the pose at the step's midpoint, off by O(dt^4), and the twist, off by
+    O(dt^3); the event method integrates the interpolated accelerations,
+    off by O(dt^2) inside each step: each differs from simulate by at least
+    second order in dt (halving dt divides the difference by >= 2^1.8), and
+    by much less than the slip itself."""
+    scene, motion = _posed_scene()
+    T, L = 0.5, 0.02
+    options = {"rtol": 1e-11, "atol": 1e-13} if method == "event" else {}
+    errs = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for n in ns:
+            ref = exdex.simulate(scene, T, T / n, method=method, **options)
+            errs.append(float(np.max(np.abs(_stepped_with_poses(scene, motion, method, n, T, **options) - ref.q[-1]))))
+            slip = float(np.max(np.abs(ref.q[-1] - ref.q[0])))
+    assert slip > 0.1 * L
+    if method == "explicit":
+        assert max(errs) <= 1e-12 * L, errs
+    else:
+        assert errs[-1] <= 1e-6 * L, errs
+        for a, b in zip(errs, errs[1:]):
+            assert a / b >= 2 ** 1.8, errs
+
+
+def test_stepping_with_poses_without_twist_is_first_order():
+    """Without the twist the velocity at each step end is the secant's,
+    which lags the motion's by about dt / 2 (a first-order error): the
+    difference from simulate halves (at least) with dt, and stays far above
+    the run with the twist."""
+    scene, motion = _posed_scene()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ref = {n: exdex.simulate(scene, 0.5, 0.5 / n, method="event").q[-1] for n in (50, 100)}
+        secant = [float(np.max(np.abs(_stepped_with_poses(scene, motion, "event", n, 0.5, twist=False) - ref[n])))
+                  for n in (50, 100)]
+        full = float(np.max(np.abs(_stepped_with_poses(scene, motion, "event", 100, 0.5) - ref[100])))
+    assert secant[0] / secant[1] >= 2 ** 0.8 and full < 0.1 * secant[1], (secant, full)
+
+
+def test_gripper_pose_contract_and_errors():
+    scene, motion = _posed_scene()
+    model = exdex.Model(exdex.replace(scene, motion=exdex.Rest()), method="implicit")
+    st = exdex.Stepper(model)
+    R0, p0 = np.array(scene.gripper_rotation), np.array(scene.gripper_position)
+    # no pose: bit-identical to simulate (the scene's motion); a pose that holds
+    # the gripper where it is, at rest, is the same motion
+    a = exdex.Stepper(model)
+    for _ in range(20):
+        st.step(1e-3)
+        s = a.step(1e-3, gripper=exdex.GripperPose(p0, R0, np.zeros(3), np.zeros(3)))
+    assert np.array_equal(s.q, st.state.q) and np.array_equal(s.v, st.state.v)
+    with pytest.raises(ValueError, match="every step after"):
+        a.step(1e-3)
+    snap = a.save()
+    b = exdex.Stepper(model)
+    b.restore(snap)
+    with pytest.raises(ValueError, match="every step after"):
+        b.step(1e-3)
+    x = b.step(1e-3, gripper=exdex.GripperPose(p0 + [0, 0, 1e-4], R0))
+    y = a.step(1e-3, gripper=exdex.GripperPose(p0 + [0, 0, 1e-4], R0))
+    assert np.array_equal(x.q, y.q)
+    with pytest.raises(TypeError, match="GripperPose"):
+        a.step(1e-3, gripper=(p0, R0))
+    with pytest.raises(ValueError, match="GripperPose.rotation must be a rotation"):
+        exdex.GripperPose(p0, 1.01 * R0)
+    with pytest.raises(ValueError, match="GripperPose.position must have shape"):
+        exdex.GripperPose((0.0, 1.0), R0)
+    with pytest.raises(ValueError, match="GripperPose.velocity must be finite"):
+        exdex.GripperPose(p0, R0, velocity=(np.nan, 0, 0))
+    analytic = exdex.Stepper(_branch_scene(), method="analytic")
+    with pytest.raises(ValueError, match="analytic method follows the scene's motion"):
+        analytic.step(1e-3, gripper=exdex.GripperPose((0, 0, 0)))

@@ -24,7 +24,7 @@ reproducer: ``input_scene(seed).scene``):
   (and with a rotation dof only parallel to the stop), as in the zoo.
 
 Which method supports which input (simulate raises a ValueError naming the
-parameter otherwise, checked here): obstacles: implicit and explicit;
+parameter otherwise, checked here): obstacles: every method but analytic;
 obstacle friction: implicit; everything else (stop friction included, in
 every dof): every method.
 
@@ -34,7 +34,8 @@ scene it is the reference and every supporting method must lie within its
 stated error of it (event: proportional to rtol; implicit, explicit: S times
 the largest successive difference of the dt ladder t_end / 500 .. / 4000,
 explicit plus its creep; regularised: its eps ladder, on every REG_EVERY-th
-seed). Unsupported methods must refuse by name. Where the event method does not (obstacles) the reference is the implicit method at h/8, whose own error is
+seed). Unsupported methods must refuse by name. Where the event method does not (frictional obstacles) the
+reference is the implicit method at h/8, whose own error is
 bounded by its ladder's estimate S max(D) (the extrapolation of its
 successive differences in dt, tests/test_zoo.py), and the explicit method
 must lie within the sum of both estimates (plus its creep and FLOOR).
@@ -234,8 +235,10 @@ def unsupported(scene, method):
     """The parameter simulate() names when ``method`` cannot run ``scene``,
     or None."""
     if scene.obstacles:
-        if method in ("event", "regularised", "analytic"):
+        if method == "analytic":
             return "Scene.obstacles"
+        if method not in ("implicit", "explicit") and any(o.mu > 0 for o in scene.obstacles):
+            return "Obstacle.mu"
     return None
 
 
@@ -414,7 +417,7 @@ def test_inputs_generator_is_valid_and_covers_the_inputs():
     want = {("grip", k) for k in ("linear", "cubic", "step")} | {("obstacle", k) for k in ("box", "rod", "wedge")}
     want |= {("obstacle", k + "-mu") for k in ("box", "rod", "wedge")} | {"mu_static", ("motion", "shake"),
                                                                         ("motion", "chain")}
-    want |= {("stop_mu", d) for d in zoo.DOFS} | {("refuses", "event", "Scene.obstacles")}
+    want |= {("stop_mu", d) for d in zoo.DOFS} | {("refuses", "event", "Obstacle.mu")}
     assert want <= seen, want - seen
     assert any(k[0] == "grip" and k[1].endswith("-release") for k in seen if isinstance(k, tuple))
 

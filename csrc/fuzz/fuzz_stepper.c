@@ -1,10 +1,13 @@
 /* fuzz_stepper.c -- exdex_stepper_* on fuzzed scenes (1-DoF and planar,
  * every method, rest, Eq. 7, shake and chain motions, a stop) driven by a
  * fuzzed sequence of steps (step lengths and grip forces, wild ones
- * included), saves, restores and corrupted restores.
+ * included; in some runs a prescribed gripper pose per step, valid or
+ * not), saves, restores and corrupted restores.
  *
  * Checks: a non-finite or non-positive dt, and a negative or infinite grip
- * force, give EXDEX_EINVAL and leave the stepper unchanged; a step returns
+ * force, and a pose whose R is not a rotation, give EXDEX_EINVAL and leave
+ * the stepper unchanged, as do a pose with the analytic method and a step
+ * without a pose after one with; a step returns
  * EXDEX_OK (then finite state, time advanced), EXDEX_EINVAL, EXDEX_ENOCONV
  * or EXDEX_ENONFINITE, and after a failure only EXDEX_EINVAL until a
  * restore; a snapshot with one byte changed is rejected and leaves the
@@ -75,6 +78,25 @@ static int same_sample(const exdex_stepper_sample *a, const exdex_stepper_sample
            memcmp(&a->grip_force, &b->grip_force, sizeof a->grip_force) == 0 && a->steps == b->steps;
 }
 
+/* A pose near the initial one: R0 turned about A z by up to 0.3 rad, p0
+ * moved by up to 1 cm, the twist given or not; bad = 1 scales R by 1.01
+ * (not a rotation). */
+static void decode_pose(fz *f, const exdex_scene_def *d, exdex_gripper_pose *pose, int bad)
+{
+    double phi = fz_num(f, -0.3, 0.3), c = cos(phi), sn = sin(phi);
+    for (int j = 0; j < 3; j++) {
+        pose->R[j] = c * d->R0[j] - sn * d->R0[3 + j];
+        pose->R[3 + j] = sn * d->R0[j] + c * d->R0[3 + j];
+        pose->R[6 + j] = d->R0[6 + j];
+        pose->p[j] = d->p0[j] + fz_num(f, -0.01, 0.01);
+        pose->v[j] = fz_num(f, -0.5, 0.5);
+        pose->w[j] = fz_num(f, -5.0, 5.0);
+    }
+    if (bad) pose->R[0] *= 1.01;
+    pose->given_v = fz_pick(f, 0, 1);
+    pose->given_w = fz_pick(f, 0, 1);
+}
+
 int fuzz_stepper(const uint8_t *data, size_t size)
 {
     fz f;
@@ -85,10 +107,12 @@ int fuzz_stepper(const uint8_t *data, size_t size)
     int status, failed = 0;
     size_t ss;
     unsigned char *snap = NULL, *bad = NULL;
-    int have_snap = 0;
+    int have_snap = 0, posing, posed = 0, snap_posed = 0;
+    exdex_gripper_pose pose;
 
     fz_init(&f, data, size);
     decode_scene(&f, &d, pieces);
+    posing = fz_pick(&f, 0, 2) == 0;   /* steps give the gripper pose */
     m = exdex_model_alloc(&d, &status, NULL);
     if (fz_trace)
         fprintf(stderr, "scene: method %d dof %d motion %d stops %d mu %.17g grip %.17g mass %.17g\n", d.method, d.dof,
@@ -114,7 +138,12 @@ int fuzz_stepper(const uint8_t *data, size_t size)
         if (what <= 4) {
             double dt = fz_log(&f, 1e-4, 0.02), grip = fz_pick(&f, 0, 2) ? fz_num(&f, 0.0, 3.0) : NAN;
             int bad_arg = !(isfinite(dt) && dt > 0.0) || !(isnan(grip) || (isfinite(grip) && grip >= 0.0));
-            status = exdex_stepper_step(s, dt, grip);
+            int with_pose = posing && fz_pick(&f, 0, 15) != 0, bad_pose = with_pose && fz_pick(&f, 0, 15) == 0;
+            if (with_pose) decode_pose(&f, &d, &pose, bad_pose);
+            bad_arg = bad_arg || bad_pose || (with_pose && d.method == EXDEX_METHOD_ANALYTIC) ||
+                      (!with_pose && posed);
+            status = exdex_stepper_step_gripper(s, dt, grip, with_pose ? &pose : NULL);
+            if (status == EXDEX_OK && with_pose) posed = 1;
             fuzz_count_status(T, status);
             exdex_stepper_get(s, &after, NULL);
             FZ_CHECK(T, status == EXDEX_OK || status == EXDEX_EINVAL || status == EXDEX_ENOCONV ||
@@ -130,17 +159,20 @@ int fuzz_stepper(const uint8_t *data, size_t size)
         } else if (what == 5) {
             FZ_CHECK(T, exdex_stepper_save(s, snap, ss) == EXDEX_OK);
             have_snap = 1;
+            snap_posed = posed;
             if (!failed) {
                 /* two steps, back, the same two steps: the same bits */
                 exdex_stepper_sample a[2], b[2];
+                exdex_gripper_pose pk[2];
                 int st1[2], st2[2];
                 for (int k = 0; k < 2; k++) {
-                    st1[k] = exdex_stepper_step(s, 1e-3 * (k + 1), k ? 0.5 : NAN);
+                    decode_pose(&f, &d, &pk[k], 0);
+                    st1[k] = exdex_stepper_step_gripper(s, 1e-3 * (k + 1), k ? 0.5 : NAN, posed ? &pk[k] : NULL);
                     exdex_stepper_get(s, &a[k], NULL);
                 }
                 FZ_CHECK(T, exdex_stepper_restore(s, snap, ss) == EXDEX_OK);
                 for (int k = 0; k < 2; k++) {
-                    st2[k] = exdex_stepper_step(s, 1e-3 * (k + 1), k ? 0.5 : NAN);
+                    st2[k] = exdex_stepper_step_gripper(s, 1e-3 * (k + 1), k ? 0.5 : NAN, posed ? &pk[k] : NULL);
                     exdex_stepper_get(s, &b[k], NULL);
                     FZ_CHECK(T, st1[k] == st2[k] && same_sample(&a[k], &b[k]));
                 }
@@ -150,6 +182,7 @@ int fuzz_stepper(const uint8_t *data, size_t size)
             status = exdex_stepper_restore(s, snap, ss);
             FZ_CHECK(T, status == EXDEX_OK);
             failed = 0;
+            posed = snap_posed;
             {
                 exdex_stepper_sample x;
                 exdex_stats st;

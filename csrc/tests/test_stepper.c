@@ -264,3 +264,68 @@ EXDEX_TEST(stepper_release_is_free_fall)
         exdex_model_free(m);
     }
 }
+
+/* A prescribed gripper pose per step (exdex_stepper_step_gripper). The
+ * gripper rises along A z (B's slide axis y) as p(t) = p0 + c t^3, given at
+ * each step's end with its velocity 3 c t^2: the cubic Hermite
+ * interpolation of a cubic is the cubic itself, so the frame's
+ * acceleration is 6 c t exactly. With grip 0 the object falls freely in A:
+ * relative to B, s(t) = s0 - g t^2 / 2 - c t^3 (closed form), which the
+ * event method integrates to its tolerance. Then the contract's errors. */
+EXDEX_TEST(stepper_gripper_pose_cubic_rise_is_free_fall)
+{
+    exdex_scene_def d = vertical(EXDEX_METHOD_EVENT);
+    const double c = 0.8, dt = 2e-3;
+    int status;
+    exdex_model *m;
+    exdex_stepper *s;
+    exdex_stepper_sample x;
+    exdex_gripper_pose pose;
+    d.motion.kind = EXDEX_MOTION_REST;
+    d.rtol = 1e-12;
+    d.atol = 1e-14;
+    m = exdex_model_alloc(&d, &status, NULL);
+    s = m ? exdex_stepper_alloc(m, &status) : NULL;
+    ENSURE(s != NULL);
+    if (!s) {
+        exdex_model_free(m);
+        return;
+    }
+    memset(&pose, 0, sizeof pose);
+    memcpy(pose.R, d.R0, sizeof pose.R);
+    pose.given_v = pose.given_w = 1;
+    for (int i = 1; i <= 150; i++) {
+        double t = i * dt;
+        pose.p[2] = d.p0[2] + c * t * t * t;
+        pose.v[2] = 3.0 * c * t * t;
+        ENSURE(exdex_stepper_step_gripper(s, dt, 0.0, &pose) == EXDEX_OK);
+    }
+    exdex_stepper_get(s, &x, NULL);
+    ENSURE_CLOSE(x.q[0] - d.q0[1], -0.5 * G * 0.09 - c * 0.027, 1e-9);
+    ENSURE_CLOSE(x.v[0], -G * 0.3 - 3.0 * c * 0.09, 1e-9);
+    /* once posed, every step must give a pose; a pose must be a rotation */
+    ENSURE(exdex_stepper_step(s, dt, 0.0) == EXDEX_EINVAL);
+    pose.R[0] = 1.1;
+    ENSURE(exdex_stepper_step_gripper(s, dt, 0.0, &pose) == EXDEX_EINVAL);
+    memcpy(pose.R, d.R0, sizeof pose.R);
+    pose.v[0] = NAN;
+    ENSURE(exdex_stepper_step_gripper(s, dt, 0.0, &pose) == EXDEX_EINVAL);
+    exdex_stepper_get(s, &x, NULL);
+    ENSURE(x.steps == 150);   /* unchanged */
+    exdex_stepper_free(s);
+    exdex_model_free(m);
+    /* the analytic method follows the scene's motion: no poses */
+    d = vertical(EXDEX_METHOD_ANALYTIC);
+    m = exdex_model_alloc(&d, &status, NULL);
+    s = m ? exdex_stepper_alloc(m, &status) : NULL;
+    ENSURE(s != NULL);
+    if (s) {
+        memcpy(pose.R, d.R0, sizeof pose.R);
+        memcpy(pose.p, d.p0, sizeof pose.p);
+        pose.given_v = pose.given_w = 0;
+        ENSURE(exdex_stepper_step_gripper(s, dt, NAN, &pose) == EXDEX_EINVAL);
+        ENSURE(exdex_stepper_step_gripper(s, dt, NAN, NULL) == EXDEX_OK);
+    }
+    exdex_stepper_free(s);
+    exdex_model_free(m);
+}
