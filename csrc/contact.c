@@ -85,8 +85,8 @@ static void disc_support(const exdex_model *m, const exdex_kinematics *kin, cons
  * mass) against the plane through sp with unit normal sn, both in A: a stop,
  * or an obstacle's face seen from outside. G as contact_gap. A disc outline:
  * xb is its centre and the gap its support point's (disc_shift). */
-static double plane_gap(const exdex_model *m, const exdex_kinematics *kin, const double sp[3], const double sn[3],
-                        const double xb[3], const double vx[3], double G[3])
+double contact_plane_gap(const exdex_model *m, const exdex_kinematics *kin, const double sp[3], const double sn[3],
+                         const double xb[3], const double vx[3], double G[3])
 {
     double xa[3], nB[3];
     ex_mulmv3(xa, kin->R, xb);
@@ -118,7 +118,7 @@ static double plane_gap(const exdex_model *m, const exdex_kinematics *kin, const
 double contact_gap(const exdex_model *m, const exdex_kinematics *kin, int k, const double xb[3],
                    const double vx[3], double G[3])
 {
-    return plane_gap(m, kin, m->sp[k], m->sn[k], xb, vx, G);
+    return contact_plane_gap(m, kin, m->sp[k], m->sn[k], xb, vx, G);
 }
 
 double contact_vertex_gap(const exdex_model *m, const exdex_kinematics *kin, int k, const double *q, int j,
@@ -178,9 +178,14 @@ int contact_rows(const exdex_model *m, const exdex_kinematics *kin, const double
 
 void contact_row_1dof(const exdex_model *m, const exdex_kinematics *k, int ks, int j, double q, crow *c)
 {
+    contact_plane_row_1dof(m, k, m->sp[ks], m->sn[ks], j, q, c);
+}
+
+void contact_plane_row_1dof(const exdex_model *m, const exdex_kinematics *k, const double sp[3], const double n[3],
+                            int j, double q, crow *c)
+{
     double xB[3] = {0, 0, 0}, x1[3] = {0, 0, 0}, x2[3] = {0, 0, 0};
     double Rx[3], R1[3], R2[3], wx[3], wwx[3], dwx[3], w1[3];
-    const double *n = m->sn[ks];
     double vert[2] = {0.0, 0.0};
     if (m->n_vert) {
         vert[0] = m->vert[j][0];
@@ -206,8 +211,8 @@ void contact_row_1dof(const exdex_model *m, const exdex_kinematics *k, int ks, i
     ex_mulmv3(Rx, k->R, xB);
     ex_mulmv3(R1, k->R, x1);
     ex_mulmv3(R2, k->R, x2);
-    c->F = n[0] * (Rx[0] + k->p[0] - m->sp[ks][0]) + n[1] * (Rx[1] + k->p[1] - m->sp[ks][1]) +
-           n[2] * (Rx[2] + k->p[2] - m->sp[ks][2]);
+    c->F = n[0] * (Rx[0] + k->p[0] - sp[0]) + n[1] * (Rx[1] + k->p[1] - sp[1]) +
+           n[2] * (Rx[2] + k->p[2] - sp[2]);
     c->Fq = ex_dot3(n, R1);
     c->Fqq = ex_dot3(n, R2);
     ex_cross3(wx, k->w, Rx);
@@ -255,16 +260,22 @@ double contact_stop_gap(const exdex_model *m, const exdex_kinematics *k, int ks,
 double contact_row_planar(const exdex_model *m, const exdex_kinematics *k, int ks, int j, const double *q,
                           const double *v, double G[3], double *gd, double *gdd0)
 {
+    return contact_plane_row_planar(m, k, m->sp[ks], m->sn[ks], j, q, v, G, gd, gdd0);
+}
+
+double contact_plane_row_planar(const exdex_model *m, const exdex_kinematics *k, const double sp[3],
+                                const double n[3], int j, const double *q, const double *v, double G[3], double *gd,
+                                double *gdd0)
+{
     double rv[2] = {0.0, 0.0}, xB[3], xd[3], xdd[3], Rx[3], Rxd[3], Rxdd[3], nB[3], a[3], b[3], c[3];
-    const double *n = m->sn[ks];
     double gap;
     if (m->n_vert) rot2(rv, q[2], m->vert[j]);
     xB[0] = q[0] + rv[0];
     xB[1] = q[1] + rv[1];
     xB[2] = 0.0;
     ex_mulmv3(Rx, k->R, xB);
-    gap = n[0] * (Rx[0] + k->p[0] - m->sp[ks][0]) + n[1] * (Rx[1] + k->p[1] - m->sp[ks][1]) +
-          n[2] * (Rx[2] + k->p[2] - m->sp[ks][2]);
+    gap = n[0] * (Rx[0] + k->p[0] - sp[0]) + n[1] * (Rx[1] + k->p[1] - sp[1]) +
+          n[2] * (Rx[2] + k->p[2] - sp[2]);
     ex_mulmtv3(nB, k->R, n);
     G[0] = nB[0];
     G[1] = nB[1];
@@ -397,7 +408,7 @@ void contact_stop_tangent(const exdex_model *m, const exdex_kinematics *kin, int
 
 /* d gap / d qdot of a row whose gap changes by nB . dx when the object's
  * material point at x (B) moves by dx (nB in B, its z ignored): the columns
- * of dx / dqdot as in plane_gap. */
+ * of dx / dqdot as in contact_plane_gap. */
 static void row_G(const exdex_model *m, const double *q, const double x[3], const double nB[3], double G[3])
 {
     if (m->ndof == 3) {
@@ -746,14 +757,14 @@ static double disc_obstacle_row(const exdex_model *m, const exdex_kinematics *ki
             int best = 0;
             double gb = -INFINITY, xs[3], vs[3];
             for (int f = 0; f < ob->n_faces; f++) {
-                double g = plane_gap(m, kin, ob->face_point[f], ob->face_normal[f], xc, vc, NULL);
+                double g = contact_plane_gap(m, kin, ob->face_point[f], ob->face_normal[f], xc, vc, NULL);
                 if (g > gb) {
                     gb = g;
                     best = f;
                 }
             }
             if (!empty && fb >= 0 && db > 0.0) best = face[fb];
-            gap = plane_gap(m, kin, ob->face_point[best], ob->face_normal[best], xc, vc, G);
+            gap = contact_plane_gap(m, kin, ob->face_point[best], ob->face_normal[best], xc, vc, G);
             *round = GAP_ROUND * (sqrt(ex_dot3(xc, xc)) + r + pn +
                                   sqrt(ex_dot3(ob->face_point[best], ob->face_point[best])));
             if (cp) {
@@ -854,13 +865,13 @@ int contact_obstacle_rows(const exdex_model *m, const exdex_kinematics *kin, con
                 int best = 0;
                 double gb = -INFINITY;
                 for (int f = 0; f < ob->n_faces; f++) {
-                    double g = plane_gap(m, kin, ob->face_point[f], ob->face_normal[f], xb[j], vx[j], NULL);
+                    double g = contact_plane_gap(m, kin, ob->face_point[f], ob->face_normal[f], xb[j], vx[j], NULL);
                     if (g > gb) {
                         gb = g;
                         best = f;
                     }
                 }
-                gap[nr] = plane_gap(m, kin, ob->face_point[best], ob->face_normal[best], xb[j], vx[j], G[nr]);
+                gap[nr] = contact_plane_gap(m, kin, ob->face_point[best], ob->face_normal[best], xb[j], vx[j], G[nr]);
                 round[nr] = GAP_ROUND * (sqrt(ex_dot3(xb[j], xb[j])) + pn +
                                          sqrt(ex_dot3(ob->face_point[best], ob->face_point[best])));
                 if (cp) {

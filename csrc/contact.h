@@ -49,6 +49,16 @@ typedef struct crow {
     double F, Fq, Fqq, Ft, Ftq, Ftt;
 } crow;
 void contact_row_1dof(const exdex_model *m, const exdex_kinematics *k, int ks, int j, double q, crow *c);
+/* The same rows against any plane of A through sp with unit normal n (a
+ * stop's, or an obstacle's face seen from outside): contact_row_1dof,
+ * contact_row_planar and contact_gap are these with the stop's plane. */
+void contact_plane_row_1dof(const exdex_model *m, const exdex_kinematics *k, const double sp[3], const double n[3],
+                            int j, double q, crow *c);
+double contact_plane_row_planar(const exdex_model *m, const exdex_kinematics *k, const double sp[3],
+                                const double n[3], int j, const double *q, const double *v, double G[3], double *gd,
+                                double *gdd0);
+double contact_plane_gap(const exdex_model *m, const exdex_kinematics *kin, const double sp[3], const double sn[3],
+                         const double xb[3], const double vx[3], double G[3]);
 /* Smallest gap of stop ks over the outline at the 1-DoF coordinate q, and
  * its vertex (jmin may be NULL). */
 double contact_stop_gap(const exdex_model *m, const exdex_kinematics *k, int ks, double q, int *jmin);

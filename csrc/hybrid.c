@@ -78,14 +78,13 @@
  *   for an infinitesimal step). A guard can change sign and back within one
  *   step: a 1-DoF slip that stops and restarts the same way (s qd falling
  *   then rising over the step: its minimum is searched, golden section on
- *   the one-step map), a guard violated at the step start that first
+ *   the one-step map), and a guard violated at the step start that first
  *   recovers (a corner lifted off a stop falling back: its maximum is
- *   searched, and the crossing after it located), and the stick guard of a
- *   rest, whose steps are long (the state is constant; only the force
- *   integrals and the output grid bound them): a load that leaves the
- *   ellipsoid and comes back within one step (its minimum is searched,
- *   stick_guard_min), so whether a short slip happens does not depend on
- *   where steps end. The
+ *   searched, and the crossing after it located). In a 1-DoF scene a stop's
+ *   gap guard is the least gap over the outline, whose end rates need not
+ *   show one corner's dip (a corner of a turning object sweeping past a stop
+ *   that cuts its path a little while another corner is the nearest at both
+ *   step ends): each free (stop, vertex) row is checked too (row_dip). The
  *   motion's own switching times (Eq. 7, trapezoid kinks, end of a sampled
  *   motion) and the breakpoints of a grip schedule are stepped onto, never
  *   over, and velocity jumps of the gripper
@@ -193,6 +192,21 @@
  *   smooths the plate friction only): see "planar frictional stops" below
  *   (sf_*, sfric.h).
  *
+ * Obstacles (frictionless; Obstacle.mu > 0 is rejected by model_alloc with
+ *   these methods): their rows (orows.h: an outline vertex against a
+ *   polytope's faces, a section vertex against the outline's hull, a rod
+ *   against the hull) go through the stops' code path: the same gap guards,
+ *   impacts, contact sets (planar) and single-row contact (1-DoF), their
+ *   forces in source n_stops + o. Each row is a largest (or, for a rod,
+ *   smallest) distance over features; a row in contact holds its feature
+ *   (a smooth function with exact rates and gap accelerations), and a
+ *   guard, >= 0 while that feature stays the active one, locates the switch
+ *   as a root like every other guard: the mode is decided again there with
+ *   the new feature. Free rows' guards are the gaps themselves, which are
+ *   continuous across feature switches (planar: one per outline vertex and
+ *   per polytope the smallest gap of its section vertices, whose number
+ *   changes with the gripper's pose; 1-DoF: the smallest gap per obstacle).
+ *
  * Penetration: event and regularised keep every stop to rounding and event
  *   location (|gap rate| tol.root; planar decisions also project positions
  *   back). A gap below -tol.pen after a step counts a warning in
@@ -230,6 +244,7 @@
 #include "ldp.h"
 #include "method.h"
 #include "model.h"
+#include "orows.h"
 #include "sfric.h"
 #include "util.h"
 
@@ -246,8 +261,9 @@
 #define STEPS_MAX 100000  /* ODE steps (accepted + rejected) per output interval before EXDEX_ENOCONV */
 #define H_FLOOR_ULPS 16.0 /* a suggested step below this many ulps of t is a collapse: EXDEX_ENOCONV */
 #define BRENT_MAX 200     /* Brent iterations per located event */
-#define NY_MAX (9 + EXDEX_MAX_STOPS)
-#define NG_MAX (3 + MAX_ROWS + EXDEX_MAX_STOPS)  /* guards (planar: 2 friction, the rows, stop friction) */
+#define NY_MAX (9 + EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES)
+#define NG_MAX (3 + 3 * MAX_ROWS + EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES)  /* guards (planar: 2 friction, the rows, stop friction, obstacle features) */
+#define NSRC_MAX (EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES)
 #define SLIP_FLOOR 1e-6  /* planar slip: below SLIP_FLOOR V of |E u| the slip is "small" (see the header comment) */
 #define SLIP_UP 2.0      /* a small slip becomes a slip at SLIP_UP zsw (hysteresis against zsw) */
 #define SLIP_PUSH 4.0    /* a stop pushing a stopped planar slip on below SLIP_PUSH zsw: a rest instead */
@@ -282,7 +298,83 @@ typedef struct hyb {
     int gap0, gap1;    /* guards() entries [gap0, gap1): free gaps, functions of (t, q) only */
     int sfric;         /* planar with a frictional stop: the stop friction below (sf_*) */
     int fm[EXDEX_MAX_STOPS];  /* planar: friction mode of each stop with contact-set rows (SF_*) */
+    int no;            /* obstacles (their rows follow the stops', see hrow_src) */
 } hyb;
+
+/* ---------------------------------------------------------- contact rows
+ * The stops' rows and the obstacles' (orows.h) in one numbering: planar row
+ * r < ns nv is stop r / nv against outline vertex r % nv, r >= ns nv the
+ * obstacle row of code r - ns nv (its feature held); the 1-DoF contact
+ * (ck, cj) is a stop and a vertex, or ck = ns + o and cj an obstacle row
+ * code. Obstacle rows take the stops' code path everywhere: gaps, rates,
+ * impacts, contact forces, rests; their force is source ns + o's. */
+
+/* Source (stop_force column) of planar row r. */
+static int hrow_src(const hyb *H, int r)
+{
+    int base = H->ns * H->nv;
+    return r < base ? r / H->nv : H->ns + orow_obst(r - base);
+}
+
+/* Planar row r at (q, v): contact_row_planar's contract. */
+static double hrow_planar(const hyb *H, const exdex_kinematics *kin, int r, const double *q, const double *v,
+                          double G[3], double *gd, double *gdd0)
+{
+    int base = H->ns * H->nv;
+    if (r < base) return contact_row_planar(H->m, kin, r / H->nv, r % H->nv, q, v, G, gd, gdd0);
+    return orow_planar(H->m, kin, r - base, q, v, G, gd, gdd0);
+}
+
+/* Every planar row at (kin, y), an obstacle's with its active feature:
+ * rows, G, gaps and (gd may be NULL) gap rates. Returns the count. */
+static int hrow_all_planar(const hyb *H, const exdex_kinematics *kin, const double *y, int *rows, double (*G)[3],
+                           double *gap, double *gd)
+{
+    int n = 0;
+    for (int k = 0; k < H->ns; k++)
+        for (int j = 0; j < H->nv; j++) {
+            gap[n] = contact_row_planar(H->m, kin, k, j, y, y + 3, G[n], gd ? &gd[n] : NULL, NULL);
+            rows[n++] = k * H->nv + j;
+        }
+    if (H->no) {
+        int code[MAX_ROWS], no = orow_all(H->m, kin, y, y + 3, 1, code, NULL);
+        for (int i = 0; i < no && n < MAX_ROWS; i++) {
+            rows[n] = H->ns * H->nv + code[i];
+            gap[n] = orow_planar(H->m, kin, code[i], y, y + 3, G[n], gd ? &gd[n] : NULL, NULL);
+            n++;
+        }
+    }
+    return n;
+}
+
+/* 1-DoF row (k, j) (a stop and vertex, or an obstacle and row code) at q. */
+static void hrow_1dof(const hyb *H, const exdex_kinematics *kin, int k, int j, double q, crow *c)
+{
+    if (k < H->ns)
+        contact_row_1dof(H->m, kin, k, j, q, c);
+    else
+        orow_1dof(H->m, kin, j, q, c);
+}
+
+/* Every 1-DoF row at (kin, q, v): sources k and rows j (vertex or code),
+ * the stops' first (r = k nv + j). Returns the count. */
+static int hrow_all_1dof(const hyb *H, const exdex_kinematics *kin, double q, const double *v, int *k, int *j)
+{
+    int n = 0;
+    for (int s = 0; s < H->ns; s++)
+        for (int v = 0; v < H->nv; v++) {
+            k[n] = s;
+            j[n++] = v;
+        }
+    if (H->no) {
+        int code[MAX_ROWS], no = orow_all(H->m, kin, &q, v, 0, code, NULL);
+        for (int i = 0; i < no && n < MAX_ROWS; i++) {
+            k[n] = H->ns + orow_obst(code[i]);
+            j[n++] = code[i];
+        }
+    }
+    return n;
+}
 
 /* ---------------------------------------------------------- shared terms */
 
@@ -548,7 +640,7 @@ static void contact_acc_planar(hyb *H, const exdex_kinematics *kin, const double
     for (int i = 0; i < H->ncs; i++) {
         int r = H->cs[i];
         double gdd0 = 0.0;
-        contact_row_planar(H->m, kin, r / H->nv, r % H->nv, y, y + 3, Gr[i], NULL, &gdd0);
+        hrow_planar(H, kin, r, y, y + 3, Gr[i], NULL, &gdd0);
         b[i] = -gdd0;
     }
     ldp_project(H->m->minv, H->ncs, (const double (*)[3])Gr, b, afree, FQ_MIN, qdd, lam, &H->st->stop_iterations, &H->st->warnings);
@@ -564,28 +656,27 @@ static void contact_acc_planar(hyb *H, const exdex_kinematics *kin, const double
 static void planar_impact_and_set(hyb *H, double t, const exdex_kinematics *kin, double *y)
 {
     const exdex_model *m = H->m;
-    double Gr[MAX_ROWS][3], b[MAX_ROWS], lam[MAX_ROWS], v[3];
-    int rows[MAX_ROWS], n = 0;
-    for (int k = 0; k < H->ns; k++)
-        for (int j = 0; j < H->nv; j++) {
-            double gd, gap = contact_row_planar(m, kin, k, j, y, y + 3, Gr[n], &gd, NULL);
-            if (gap > m->tol.touch) continue;
-            b[n] = -(gd - ex_dot3(Gr[n], y + 3));
-            rows[n++] = k * H->nv + j;
-        }
+    double Gr[MAX_ROWS][3], b[MAX_ROWS], lam[MAX_ROWS], v[3], ga[MAX_ROWS], gda[MAX_ROWS];
+    int rows[MAX_ROWS], n = 0, na = hrow_all_planar(H, kin, y, rows, Gr, ga, gda);
+    for (int i = 0; i < na; i++) {
+        if (ga[i] > m->tol.touch) continue;
+        memcpy(Gr[n], Gr[i], sizeof Gr[n]);
+        b[n] = -(gda[i] - ex_dot3(Gr[n], y + 3));
+        rows[n++] = rows[i];
+    }
     H->ncs = 0;
     if (!n) return;
     if (ldp_project(m->minv, n, (const double (*)[3])Gr, b, y + 3, FQ_MIN, v, lam, &H->st->stop_iterations, &H->st->warnings)) {
         double G2[2 * MAX_ROWS][3], b2[2 * MAX_ROWS], lam2[2 * MAX_ROWS], v2[3];
-        double per_stop[EXDEX_MAX_STOPS] = {0};
+        double per_stop[NSRC_MAX] = {0};
         int n2 = 0, lift = 0;
         for (int i = 0; i < n; i++) {
-            y[9 + rows[i] / H->nv] += lam[i];
+            y[9 + hrow_src(H, rows[i])] += lam[i];
             /* an approached row (gap rate below -tol.rate) takes an impact */
             if (lam[i] > 0 && ex_dot3(Gr[i], y + 3) - b[i] < -m->tol.rate)
-                per_stop[rows[i] / H->nv] += lam[i];
+                per_stop[hrow_src(H, rows[i])] += lam[i];
         }
-        for (int k = 0; k < H->ns; k++) method_note_impact(H->st, t, k, per_stop[k]);
+        for (int k = 0; k < H->ns + H->no; k++) method_note_impact(H->st, t, k, per_stop[k]);
         memcpy(y + 3, v, sizeof v);
         /* A plastic impact at one corner of a face that lands flat lifts
          * the other corner off, which falls back, impacts, lifts the first:
@@ -618,23 +709,23 @@ static void planar_impact_and_set(hyb *H, double t, const exdex_kinematics *kin,
              * opposed stops both pulled, or a non-finite hold, the hold is
              * not applied: the plastic impact velocity stands and the
              * rows separate. */
-            double net[EXDEX_MAX_STOPS] = {0};
+            double net[NSRC_MAX] = {0};
             int pull = 1;
             for (int i = 0, r = 0; i < n; i++) {
                 double rate = ex_dot3(Gr[i], y + 3) - b[i];
-                net[rows[i] / H->nv] += lam[i];
+                net[hrow_src(H, rows[i])] += lam[i];
                 if (rate > H->zsw) continue;
-                net[rows[i] / H->nv] += lam2[r] - lam2[r + 1];
+                net[hrow_src(H, rows[i])] += lam2[r] - lam2[r + 1];
                 r += 2;
             }
-            for (int k = 0; k < H->ns; k++)
+            for (int k = 0; k < H->ns + H->no; k++)
                 if (net[k] > 0.0) pull = 0;
-            for (int k = 0; k < H->ns; k++)
+            for (int k = 0; k < H->ns + H->no; k++)
                 if (!isfinite(net[k])) pull = 1;
             for (int i = 0, r = 0; !pull && i < n; i++) {
                 double rate = ex_dot3(Gr[i], y + 3) - b[i];
                 if (rate > H->zsw) continue;
-                y[9 + rows[i] / H->nv] += lam2[r] - lam2[r + 1];
+                y[9 + hrow_src(H, rows[i])] += lam2[r] - lam2[r + 1];
                 r += 2;
             }
             if (!pull) memcpy(y + 3, v2, sizeof v2);
@@ -656,13 +747,11 @@ static void planar_impact_and_set(hyb *H, double t, const exdex_kinematics *kin,
 static void planar_unpenetrate(hyb *H, const exdex_kinematics *kin, double *y)
 {
     double Gr[MAX_ROWS][3], b[MAX_ROWS], lam[MAX_ROWS], zero[3] = {0, 0, 0}, dq[3];
-    int n = 0, pen = 0;
-    for (int k = 0; k < H->ns; k++)
-        for (int j = 0; j < H->nv; j++) {
-            double gap = contact_row_planar(H->m, kin, k, j, y, y + 3, Gr[n], NULL, NULL);
-            if (gap < 0.0) pen = 1;
-            b[n++] = -gap;
-        }
+    int rows[MAX_ROWS], n = hrow_all_planar(H, kin, y, rows, Gr, b, NULL), pen = 0;
+    for (int i = 0; i < n; i++) {
+        if (b[i] < 0.0) pen = 1;
+        b[i] = -b[i];
+    }
     if (pen && ldp_project(H->m->minv, n, (const double (*)[3])Gr, b, zero, FQ_MIN, dq, lam, &H->st->stop_iterations, &H->st->warnings))
         for (int c = 0; c < 3; c++) y[c] += dq[c];
 }
@@ -707,7 +796,7 @@ static double planar_rest(hyb *H, const exdex_kinematics *kin, const double *y, 
     for (int i = 0; i < H->ncs; i++) {
         int r = H->cs[i];
         double G[3], mG[3];
-        contact_row_planar(m, kin, r / H->nv, r % H->nv, y, y + 3, G, NULL, NULL);
+        hrow_planar(H, kin, r, y, y + 3, G, NULL, NULL);
         for (int c = 0; c < 3; c++) mG[c] = -G[c];
         model_patch_of_gen(m, MODEL_CS(y[2]), mG, B[i]);
         for (int c = 0; c < 3; c++) B[i][c] /= m->e[c];
@@ -718,7 +807,7 @@ static double planar_rest(hyb *H, const exdex_kinematics *kin, const double *y, 
     for (int i = 0; i < H->ncs; i++) {
         int r = H->cs[i];
         double G[3];
-        contact_row_planar(m, kin, r / H->nv, r % H->nv, y, y + 3, G, NULL, NULL);
+        hrow_planar(H, kin, r, y, y + 3, G, NULL, NULL);
         for (int c = 0; c < 3; c++) P[c] -= lam[i] * G[c];
     }
     model_patch_of_gen(m, MODEL_CS(y[2]), P, w);
@@ -1022,7 +1111,7 @@ static int rhs(double t, const double y[], double dy[], void *params)
             crow c;
             double qdd, R, fr, lam;
             double T = 0.0;
-            contact_row_1dof(m, &kin, H->ck, H->cj, q, &c);
+            hrow_1dof(H, &kin, H->ck, H->cj, q, &c);
             if (H->ss != 0.0) contact_slip_1dof(H, &kin, q, v, &T);
             qdd = contact_qdd(&c, v);
             R = H->M * qdd - model_force_1dof(m, &f, q, v);
@@ -1052,7 +1141,7 @@ static int rhs(double t, const double y[], double dy[], void *params)
         if (H->mode == MODE_STICK && H->ncs) {
             double lam[MAX_ROWS];
             planar_rest(H, &kin, y, F, w, lam);
-            for (int i = 0; i < H->ncs; i++) dy[9 + H->cs[i] / H->nv] += lam[i];
+            for (int i = 0; i < H->ncs; i++) dy[9 + hrow_src(H, H->cs[i])] += lam[i];
         }
         if (H->mode != MODE_STICK) {
             double a[3];
@@ -1065,7 +1154,7 @@ static int rhs(double t, const double y[], double dy[], void *params)
             if (H->ncs) {
                 double lam[MAX_ROWS];
                 contact_acc_planar(H, &kin, y, a, dy + 3, lam, NULL);
-                for (int i = 0; i < H->ncs; i++) dy[9 + H->cs[i] / H->nv] += lam[i];
+                for (int i = 0; i < H->ncs; i++) dy[9 + hrow_src(H, H->cs[i])] += lam[i];
             }
         }
         {
@@ -1085,6 +1174,54 @@ static int rhs(double t, const double y[], double dy[], void *params)
 
 /* ---------------------------------------------------------------- guards */
 
+/* Planar guards of the obstacles' free rows at (kin, y), as the stops':
+ * per polytope the gap of each outline vertex's row not in the contact set
+ * and the smallest gap of its section rows not in the set (a length of the
+ * scene when there are none: the count stays fixed between events), per
+ * rod its row's gap unless in the set. Returns how many. */
+static int obst_guards(const hyb *H, const exdex_kinematics *kin, const double *y, double *g)
+{
+    const exdex_model *m = H->m;
+    int code[MAX_ROWS], n = 0, base = H->ns * H->nv, no = 0;
+    double gap[MAX_ROWS];
+    no = orow_all(m, kin, y, NULL, 1, code, gap);
+    for (int o = 0, i = 0; o < H->no; o++) {
+        int poly = m->def.obstacles[o].kind == EXDEX_OBSTACLE_POLYTOPE;
+        double smin = m->scale.L;
+        for (; i < no && orow_obst(code[i]) == o; i++) {
+            int in = 0;
+            for (int c = 0; c < H->ncs && !in; c++)
+                in = H->cs[c] >= base && orow_pair(H->cs[c] - base) == orow_pair(code[i]);
+            if (orow_kind(code[i]) == OROW_SECTION) {
+                if (!in) smin = fmin(smin, gap[i]);
+            } else if (!in) {
+                g[n++] = gap[i];
+            }
+        }
+        if (poly) g[n++] = smin;
+    }
+    return n;
+}
+
+/* 1-DoF guards of the obstacles at (kin, q): per obstacle the smallest gap
+ * of its rows (in contact with it: of its other rows, a length of the scene
+ * when there are none). Returns how many. */
+static int obst_guards_1dof(const hyb *H, const exdex_kinematics *kin, double q, double *g)
+{
+    const exdex_model *m = H->m;
+    int code[MAX_ROWS], n = 0, no, contact = H->mode == MODE_CONTACT;
+    double gap[MAX_ROWS];
+    no = orow_all(m, kin, &q, NULL, 0, code, gap);
+    for (int o = 0, i = 0; o < H->no; o++) {
+        int own = contact && H->ck == H->ns + o;
+        double gmin = own ? m->scale.L : INFINITY;
+        for (; i < no && orow_obst(code[i]) == o; i++)
+            if (!(own && orow_pair(code[i]) == orow_pair(H->cj)) && gap[i] < gmin) gmin = gap[i];
+        g[n++] = gmin;
+    }
+    return n;
+}
+
 /* Guard values of the current mode at (t, y); each is >= 0 while the mode
  * holds. Returns how many (<= 2 + n_stops). */
 /* The free gaps among the guards, in guards()'s order: planar, the gap of
@@ -1098,12 +1235,14 @@ static int gap_guards(const hyb *H, const exdex_kinematics *kin, const double *y
     if (H->ndof == 3) {
         unsigned char in[MAX_ROWS];
         memset(in, 0, (size_t)(H->ns * H->nv));
-        for (int i = 0; i < H->ncs; i++) in[H->cs[i]] = 1;
+        for (int i = 0; i < H->ncs; i++)
+            if (H->cs[i] < H->ns * H->nv) in[H->cs[i]] = 1;
         for (int k = 0; k < H->ns; k++)
             for (int j = 0; j < H->nv; j++) {
                 double G[3];
                 if (!in[k * H->nv + j]) g[n++] = contact_row_planar(m, kin, k, j, y, y + 3, G, NULL, NULL);
             }
+        if (H->no) n += obst_guards(H, kin, y, g + n);
         return n;
     }
     for (int k = 0; k < H->ns; k++) {
@@ -1120,6 +1259,7 @@ static int gap_guards(const hyb *H, const exdex_kinematics *kin, const double *y
         }
         g[n++] = contact_stop_gap(m, kin, k, q, NULL);
     }
+    if (H->no) n += obst_guards_1dof(H, kin, y[0], g + n);
     return n;
 }
 
@@ -1176,7 +1316,7 @@ static int guards(hyb *H, double t, const double *y, double *g)
                 g[n++] = H->caps * (1.0 + TOLF) - model_ell_norm(m, w);
             }
         }
-        if (H->ns) {
+        if (H->ns || H->no) {
             /* stops: free rows, their gap (impact when it reaches 0); rows of
              * the contact set, lam_i G_i M^-1 G_i^T - gap acceleration_i (> 0
              * while the row pushes, < 0 once it separates) */
@@ -1189,7 +1329,7 @@ static int guards(hyb *H, double t, const double *y, double *g)
                 for (int i = 0; i < H->ncs; i++) {
                     int r = H->cs[i];
                     double G[3];
-                    g[n++] = m->tol.rest_gap - fabs(contact_row_planar(m, &kin, r / H->nv, r % H->nv, y, y + 3, G, NULL, NULL));
+                    g[n++] = m->tol.rest_gap - fabs(hrow_planar(H, &kin, r, y, y + 3, G, NULL, NULL));
                 }
             } else if (H->ncs) {
                 double F[3], w[3], P[3], a[3], qdd[3], lam[MAX_ROWS], acc[MAX_ROWS];
@@ -1204,11 +1344,14 @@ static int guards(hyb *H, double t, const double *y, double *g)
                 for (int i = 0; i < H->ncs; i++) {
                     int r = H->cs[i];
                     double G[3], d = 0.0;
-                    contact_row_planar(m, &kin, r / H->nv, r % H->nv, y, y + 3, G, NULL, NULL);
+                    hrow_planar(H, &kin, r, y, y + 3, G, NULL, NULL);
                     for (int c = 0; c < 3; c++) d += G[c] * G[c] * m->minv[c];
                     g[n++] = lam[i] * d - acc[i];
                 }
             }
+            /* an obstacle row of the set: its feature stays the active one */
+            for (int i = 0; i < H->ncs; i++)
+                if (H->cs[i] >= H->ns * H->nv) g[n++] = orow_feature_guard(m, &kin, H->cs[i] - H->ns * H->nv, y);
             if (H->sfric && H->ncs) n += sf_guards(H, &f, &kin, y, g + n);
         }
         return n;
@@ -1222,7 +1365,7 @@ static int guards(hyb *H, double t, const double *y, double *g)
         } else if (H->mode == MODE_CONTACT) {
             crow c;
             double R, fr, lam, T = 0.0;
-            contact_row_1dof(m, &kin, H->ck, H->cj, q, &c);
+            hrow_1dof(H, &kin, H->ck, H->cj, q, &c);
             if (H->ss != 0.0) contact_slip_1dof(H, &kin, q, v, &T);
             R = H->M * contact_qdd(&c, v) - model_force_1dof(m, &f, q, v);
             if (H->law == LAW_COULOMB && H->s == 0.0) {
@@ -1240,6 +1383,8 @@ static int guards(hyb *H, double t, const double *y, double *g)
         /* a frictional contact: its vertex keeps slipping the same way
          * along the stop (at a reversal the friction turns: decided again) */
         if (H->mode == MODE_CONTACT && H->ss != 0.0) g[n++] = H->ss * contact_slip_1dof(H, &kin, q, v, NULL);
+        /* in contact with an obstacle row: its feature stays the active one */
+        if (H->mode == MODE_CONTACT && H->ck >= H->ns) g[n++] = orow_feature_guard(m, &kin, H->cj, &q);
     }
     return n;
 }
@@ -1261,7 +1406,7 @@ static void decide_modes(hyb *H, double t, double *y, int vzero)
     }
     if (H->ndof == 3) {
         double F[3], w[3], u[3], zero[3] = {0, 0, 0};
-        if (H->ns) {
+        if (H->ns || H->no) {
             planar_unpenetrate(H, &kin, y);
             planar_impact_and_set(H, t, &kin, y);
         }
@@ -1294,7 +1439,7 @@ static void decide_modes(hyb *H, double t, double *y, int vzero)
         }
         if (vzero) {
             y[3] = y[4] = y[5] = 0.0;
-            if (H->ns) {
+            if (H->ns || H->no) {
                 /* a slip that stopped against stops moving in B: the stops
                  * push it on at their own speed. If that slip is below
                  * SLIP_PUSH zsw it would soon count as stopped again
@@ -1305,29 +1450,23 @@ static void decide_modes(hyb *H, double t, double *y, int vzero)
                  * SLIP_PUSH zsw (the slip that followed it stopped): left
                  * out of the set, the load would push the object back onto
                  * it at once, an impact at the same time, and so on */
-                double ysv[EXDEX_MAX_STOPS], u[3], eu[3];
-                int recede = 0;
-                memcpy(ysv, y + 9, (size_t)H->ns * sizeof *ysv);
+                double ysv[NSRC_MAX], u[3], eu[3], Ga[MAX_ROWS][3], ga[MAX_ROWS], gda[MAX_ROWS];
+                int recede = 0, ra[MAX_ROWS], na;
+                memcpy(ysv, y + 9, (size_t)(H->ns + H->no) * sizeof *ysv);
                 planar_impact_and_set(H, t, &kin, y);
                 model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
                 for (int i = 0; i < 3; i++) eu[i] = m->e[i] * u[i];
+                na = hrow_all_planar(H, &kin, y, ra, Ga, ga, gda);
                 if (y[3] == 0.0 && y[4] == 0.0 && y[5] == 0.0)
-                    for (int k = 0; k < H->ns && !recede; k++)
-                        for (int j = 0; j < H->nv && !recede; j++) {
-                            double G[3], gd;
-                            if (contact_row_planar(m, &kin, k, j, y, y + 3, G, &gd, NULL) <= m->tol.touch &&
-                                gd > m->tol.rate && gd < SLIP_PUSH * H->zsw)
-                                recede = 1;
-                        }
+                    for (int i = 0; i < na && !recede; i++)
+                        if (ga[i] <= m->tol.touch && gda[i] > m->tol.rate && gda[i] < SLIP_PUSH * H->zsw) recede = 1;
                 if (recede || ((y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0) && sqrt(ex_dot3(eu, eu)) < SLIP_PUSH * H->zsw)) {
-                    double G[3];
-                    memcpy(y + 9, ysv, (size_t)H->ns * sizeof *ysv);
+                    memcpy(y + 9, ysv, (size_t)(H->ns + H->no) * sizeof *ysv);
                     y[3] = y[4] = y[5] = 0.0;
                     H->ncs = 0;
-                    for (int k = 0; k < H->ns; k++)
-                        for (int j = 0; j < H->nv; j++)
-                            if (contact_row_planar(m, &kin, k, j, y, y + 3, G, NULL, NULL) <= m->tol.touch)
-                                H->cs[H->ncs++] = k * H->nv + j;
+                    na = hrow_all_planar(H, &kin, y, ra, Ga, ga, NULL);
+                    for (int i = 0; i < na; i++)
+                        if (ga[i] <= m->tol.touch) H->cs[H->ncs++] = ra[i];
                 }
             }
         }
@@ -1387,23 +1526,23 @@ static void decide_modes(hyb *H, double t, double *y, int vzero)
         /* impacts: a touching stop approached by the object stops it
          * (plastic, like the implicit step); the normal impulse is counted
          * in the stop's force integral */
-        for (int pass = 0; pass < 3 && H->ns; pass++) {
+        int rk[MAX_ROWS], rj[MAX_ROWS], nr = (H->ns || H->no) ? hrow_all_1dof(H, &kin, q, y + 1, rk, rj) : 0;
+        for (int pass = 0; pass < 3 && nr; pass++) {
             int kb = -1;
             double worst = -m->tol.rate;
             crow cb;
-            for (int k = 0; k < H->ns; k++)
-                for (int j = 0; j < H->nv; j++) {
-                    double rate;
-                    crow c;
-                    contact_row_1dof(m, &kin, k, j, q, &c);
-                    if (c.F > m->tol.touch || !(fabs(c.Fq) > m->tol.fq_min)) continue;
-                    rate = c.Fq * y[1] + c.Ft;
-                    if (rate < worst) {
-                        worst = rate;
-                        kb = k;
-                        cb = c;
-                    }
+            for (int r = 0; r < nr; r++) {
+                double rate;
+                crow c;
+                hrow_1dof(H, &kin, rk[r], rj[r], q, &c);
+                if (c.F > m->tol.touch || !(fabs(c.Fq) > m->tol.fq_min)) continue;
+                rate = c.Fq * y[1] + c.Ft;
+                if (rate < worst) {
+                    worst = rate;
+                    kb = rk[r];
+                    cb = c;
                 }
+            }
             if (kb < 0) break;
             {
                 double vn = -cb.Ft / cb.Fq;
@@ -1415,11 +1554,11 @@ static void decide_modes(hyb *H, double t, double *y, int vzero)
             }
         }
         /* contact with a touching stop */
-        for (int r = 0; r < H->ns * H->nv; r++) {
-            int k = r / H->nv, j = r % H->nv;
+        for (int r = 0; r < nr; r++) {
+            int k = rk[r], j = rj[r];
             double rate, v, Q, R, fr, lam, s_old = H->s;
             crow c;
-            contact_row_1dof(m, &kin, k, j, q, &c);
+            hrow_1dof(H, &kin, k, j, q, &c);
             if (c.F > m->tol.touch || !(fabs(c.Fq) > m->tol.fq_min)) continue;
             rate = c.Fq * y[1] + c.Ft;
             if (fabs(rate) > m->tol.rate) continue;
@@ -1467,7 +1606,7 @@ static void decide_modes(hyb *H, double t, double *y, int vzero)
                 for (int it = 0; it < 8 && fabs(c.F) > 0.0; it++) {
                     double dq = c.F / c.Fq;
                     q -= dq;
-                    contact_row_1dof(m, &kin, k, j, q, &c);
+                    hrow_1dof(H, &kin, k, j, q, &c);
                     H->st->stop_iterations++;
                     if (fabs(dq) <= 1e-16 * (m->scale.q + fabs(q))) break;
                 }
@@ -1522,7 +1661,7 @@ static void project_contact(hyb *H, double t, double *y)
         if (frame_seg(H, t, &f, &kin)) return;
         for (int i = 0; i < H->ncs; i++) {
             int r = H->cs[i];
-            b[i] = -contact_row_planar(H->m, &kin, r / H->nv, r % H->nv, y, y + 3, Gr[i], NULL, NULL);
+            b[i] = -hrow_planar(H, &kin, r, y, y + 3, Gr[i], NULL, NULL);
         }
         if (ldp_project(H->m->minv, H->ncs, (const double (*)[3])Gr, b, zero, FQ_MIN, dq, lam, &H->st->stop_iterations, &H->st->warnings))
             for (int c2 = 0; c2 < 3; c2++) y[c2] += dq[c2];
@@ -1532,7 +1671,7 @@ static void project_contact(hyb *H, double t, double *y)
         for (int i = 0; i < H->ncs; i++) {
             int r = H->cs[i];
             double gd;
-            contact_row_planar(H->m, &kin, r / H->nv, r % H->nv, y, y + 3, Gr[i], &gd, NULL);
+            hrow_planar(H, &kin, r, y, y + 3, Gr[i], &gd, NULL);
             b[i] = -(gd - ex_dot3(Gr[i], y + 3));
         }
         if (ldp_project(H->m->minv, H->ncs, (const double (*)[3])Gr, b, y + 3, FQ_MIN, v, lam, &H->st->stop_iterations, &H->st->warnings))
@@ -1542,11 +1681,11 @@ static void project_contact(hyb *H, double t, double *y)
     }
     if (H->ndof != 1 || H->mode != MODE_CONTACT) return;
     if (frame_seg(H, t, &f, &kin)) return;
-    contact_row_1dof(H->m, &kin, H->ck, H->cj, y[0], &c);
+    hrow_1dof(H, &kin, H->ck, H->cj, y[0], &c);
     for (int it = 0; it < 8 && fabs(c.F) > 0.0; it++) {
         double dq = c.F / c.Fq;
         y[0] -= dq;
-        contact_row_1dof(H->m, &kin, H->ck, H->cj, y[0], &c);
+        hrow_1dof(H, &kin, H->ck, H->cj, y[0], &c);
         H->st->stop_iterations++;
         if (fabs(dq) <= 1e-16 * (H->m->scale.q + fabs(y[0]))) break;
     }
@@ -1615,7 +1754,7 @@ static void ode_free(ode *O)
  * parameters are set by the run. */
 static void *hybrid_alloc(const exdex_model *m, int *status)
 {
-    size_t ny = (size_t)(m->ndof == 3 ? 9 + m->n_stops : 3 + m->n_stops);
+    size_t ny = (size_t)(m->ndof == 3 ? 9 + m->n_src : 3 + m->n_src);
     ode *O = calloc(1, sizeof *O);
     if (!O) {
         *status = EXDEX_ENOMEM;
@@ -1696,8 +1835,36 @@ typedef struct rootctx {
     const double *y0;
     int e;
     int fail;
+    double off;   /* added to a row's gap (e < 0) */
 } rootctx;
 
+/* Gap of the (stop, vertex) row r = k nv + j at (t, y) (the value its stop
+ * guard takes for that vertex); rate (may be NULL) gets d gap / dt. */
+static double row_gap(hyb *H, double t, const double *y, int r, double *rate)
+{
+    const exdex_model *m = H->m;
+    frame f;
+    exdex_kinematics kin;
+    int k = r / H->nv, j = r % H->nv, fs = frame_seg(H, t, &f, &kin);
+    if (fs) {
+        H->err = H->err ? H->err : fs;
+        return 0.0;
+    }
+    if (H->ndof == 3) {
+        double G[3], gd;
+        double g = contact_row_planar(m, &kin, k, j, y, y + 3, G, &gd, NULL);
+        if (rate) *rate = gd;
+        return g;
+    }
+    if (rate) {
+        crow c;
+        contact_row_1dof(m, &kin, k, j, y[0], &c);
+        *rate = c.Fq * y[1] + c.Ft;
+    }
+    return contact_vertex_gap(m, &kin, k, y, j, NULL);
+}
+
+/* e >= 0: guard e; e < 0: the gap of row -1 - e (row_gap). */
 static double root_fn(double tau, void *p)
 {
     rootctx *c = p;
@@ -1706,6 +1873,7 @@ static double root_fn(double tau, void *p)
         c->fail = 1;
         return 0.0;
     }
+    if (c->e < 0) return row_gap(c->H, c->t0 + tau, c->O->ytmp, -1 - c->e, NULL) + c->off;
     guards(c->H, c->t0 + tau, c->O->ytmp, g);
     return g[c->e];
 }
@@ -1715,10 +1883,20 @@ static double root_fn(double tau, void *p)
  * iterations, stopping early once the guard has the sign sought (dir +1:
  * g < 0, -1: g > 0). *tau, *g: the best point found. EXDEX_ENOCONV if the
  * stepper fails. */
+static int extremum(rootctx *cp, double tau1, double dir, double *tau, double *g);
+
 static int guard_extremum(hyb *H, ode *O, double t0, const double *y0, double tau1, int e, double dir,
                           double *tau, double *g)
 {
-    rootctx c = {H, O, t0, y0, e, 0};
+    rootctx c = {H, O, t0, y0, e, 0, 0.0};
+    return extremum(&c, tau1, dir, tau, g);
+}
+
+/* guard_extremum on the function of c (a guard, or a row's gap plus c.off) */
+static int extremum(rootctx *cp, double tau1, double dir, double *tau, double *g)
+{
+    rootctx c = *cp;
+    hyb *H = c.H;
     double a = 0.0, b = tau1, r = 0.5 * (3.0 - sqrt(5.0));
     double x1 = a + r * (b - a), x2 = b - r * (b - a), f1 = dir * root_fn(x1, &c), f2 = dir * root_fn(x2, &c);
     for (int it = 0; it < 60 && f1 >= 0.0 && f2 >= 0.0 && !c.fail && b - a > H->m->tol.root; it++) {
@@ -1741,73 +1919,6 @@ static int guard_extremum(hyb *H, ode *O, double t0, const double *y0, double ta
     *tau = f1 < f2 ? x1 : x2;
     *g = dir * (f1 < f2 ? f1 : f2);
     return EXDEX_OK;
-}
-
-/* At rest (stick) q and qd are constant, so the stick guard (guard 0: the
- * capacity less the load that holds) is a function of t alone, and a step
- * is as long as the error control of the force integrals, the output grid
- * and the switching times allow: the load can leave the ellipsoid and come
- * back within one step (a short slip that the end values do not show, and
- * that a step ending elsewhere would catch). Its minimum over [0, tau1]:
- * STICK_SAMPLES equal parts, then golden section (at most 60 iterations)
- * about the smallest sample, stopping at the first point found with g < 0.
- * *tau, *g: that point (the earliest negative sample, else the minimum). */
-#define STICK_SAMPLES 8
-static void stick_guard_min(hyb *H, double t0, const double *y0, double tau1, double *tau, double *g)
-{
-    double gs[NG_MAX], r = 0.5 * (3.0 - sqrt(5.0)), a, b, x1, x2, f1, f2, best = INFINITY, tb = 0.0;
-    int jb = 0;
-    for (int j = 1; j < STICK_SAMPLES; j++) {
-        double tj = tau1 * j / STICK_SAMPLES;
-        guards(H, t0 + tj, y0, gs);
-        H->st->solver_iterations++;
-        if (gs[0] < best) {
-            best = gs[0];
-            tb = tj;
-            jb = j;
-        }
-        if (best < 0.0) {
-            *tau = tb;
-            *g = best;
-            return;
-        }
-    }
-    a = tau1 * (jb - 1) / STICK_SAMPLES;
-    b = tau1 * (jb + 1) / STICK_SAMPLES;
-    x1 = a + r * (b - a);
-    x2 = b - r * (b - a);
-    guards(H, t0 + x1, y0, gs);
-    f1 = gs[0];
-    guards(H, t0 + x2, y0, gs);
-    f2 = gs[0];
-    for (int it = 0; it < 60 && f1 >= 0.0 && f2 >= 0.0 && b - a > H->m->tol.root; it++) {
-        if (f1 < f2) {
-            b = x2;
-            x2 = x1;
-            f2 = f1;
-            x1 = a + r * (b - a);
-            guards(H, t0 + x1, y0, gs);
-            f1 = gs[0];
-        } else {
-            a = x1;
-            x1 = x2;
-            f1 = f2;
-            x2 = b - r * (b - a);
-            guards(H, t0 + x2, y0, gs);
-            f2 = gs[0];
-        }
-        H->st->solver_iterations++;
-    }
-    if (f1 < best) {
-        best = f1;
-        tb = x1;
-    }
-    if (f2 < best) {
-        best = f2;
-        tb = x2;
-    }
-    *tau = tb;
-    *g = best;
 }
 
 /* A free gap can dip below 0 and recover within one accepted step (a corner
@@ -1910,7 +2021,7 @@ static int gap_dips(hyb *H, ode *O, double t0, const double *y0, double t1, cons
  * returns the upper end of the final bracket (the guard is just violated). */
 static int locate(hyb *H, ode *O, double t0, const double *y0, double tau0, double tau1, int e, double *tau)
 {
-    rootctx c = {H, O, t0, y0, e, 0};
+    rootctx c = {H, O, t0, y0, e, 0, 0.0};
     gsl_function F = {root_fn, &c};
     double lo = tau0, hi = tau1;
     int st = gsl_root_fsolver_set(O->root, &F, lo, hi);
@@ -1945,6 +2056,68 @@ static int locate(hyb *H, ode *O, double t0, const double *y0, double tau0, doub
     }
     if (c.fail) return EXDEX_ENOCONV;
     *tau = hi;
+    return EXDEX_OK;
+}
+
+/* A free (stop, vertex) row of a 1-DoF scene can meet its stop and leave it
+ * again within one step (planar rows are guards of their own, gap_dips; a
+ * 1-DoF stop's guard is its least gap over the outline, whose end rates can
+ * belong to another corner): a vertex sweeping past a stop that cuts its path only a little (a
+ * turning object, a corner passing a stop at a shallow angle) has a gap that
+ * is positive at both ends of the step and negative in between, which the
+ * guards' end values do not show; the exact motion has an impact there.
+ * Where a free row's gap is positive at both ends and its rate turns from
+ * approaching (< 0) at t0 to receding (> 0) at t1, the gap has an interior
+ * minimum. It is searched (golden section on the stepper's one-step map,
+ * extremum) unless the cubic Hermite interpolant of the end values and
+ * rates keeps its minimum above the touching band by at least its own depth
+ * below the ends (the interpolant's error is of fourth order in the step,
+ * the depth of second: a step that resolves the motion resolves the dip
+ * to well within its depth); where the minimum falls below -tol.touch (a
+ * penetration beyond the touching band: rows touching at either end, gap <=
+ * tol.touch, are the impact and contact-set logic's, and a rounding-level
+ * dip of a row left at 0 is no impact) the first crossing of 0 is located
+ * (Brent, locate). A gap without such a turn over one step (two turns
+ * within one step) is beyond the stepper's resolution of the motion and
+ * not searched. *tau: the earliest crossing, INFINITY if none. Rows in the
+ * contact set, and the 1-DoF contact row, are not free. */
+static int row_dip(hyb *H, ode *O, double t0, const double *y0, double t1, const double *y1, double *tau)
+{
+    int nr = H->ns * H->nv;
+    double touch = H->m->tol.touch;
+    unsigned char in[MAX_ROWS];
+    *tau = INFINITY;
+    if (!H->ns || !(t1 > t0)) return EXDEX_OK;
+    memset(in, 0, (size_t)nr);
+    if (H->ndof == 3)
+        for (int i = 0; i < H->ncs; i++) in[H->cs[i]] = 1;
+    else if (H->mode == MODE_CONTACT)
+        in[H->ck * H->nv + H->cj] = 1;
+    for (int r = 0; r < nr; r++) {
+        double ga, gb, ra, rb, tm, gm, tr;
+        int st;
+        if (in[r]) continue;
+        ga = row_gap(H, t0, y0, r, &ra);
+        gb = row_gap(H, t1, y1, r, &rb);
+        if (H->err) return H->err;
+        if (!(ga > touch && gb > touch && ra < 0.0 && rb > 0.0)) continue;
+        {
+            /* screen: the cubic Hermite interpolant of (ga, ra, gb, rb)
+             * has its minimum pm at least its own depth below the ends
+             * (min(ga, gb) - pm) above the touching band: no search */
+            double pm = hermite_min(ga, gb, ra, rb, t1 - t0);
+            if (pm - touch >= fmin(ga, gb) - pm) continue;
+        }
+        {
+            rootctx c = {H, O, t0, y0, -1 - r, 0, touch};
+            st = extremum(&c, t1 - t0, 1.0, &tm, &gm);
+        }
+        if (st) return st;
+        if (!(gm < 0.0)) continue;
+        st = locate(H, O, t0, y0, 0.0, tm, -1 - r, &tr);
+        if (st) return st;
+        if (tr < *tau) *tau = tr;
+    }
     return EXDEX_OK;
 }
 
@@ -1998,7 +2171,8 @@ static int hybrid_begin(const exdex_model *m, ode *O, int law, double t_end, dou
     H.law = law;
     H.ndof = nd;
     H.ns = ns;
-    H.ny = nd == 3 ? 9 + ns : 3 + ns;
+    H.no = m->n_obst;
+    H.ny = nd == 3 ? 9 + m->n_src : 3 + m->n_src;
     H.nv = m->n_vert ? m->n_vert : 1;
     H.st = st;
     for (int k = 0; nd == 3 && k < ns; k++) H.sfric |= model_source_mu(m, k) > 0.0;
@@ -2140,21 +2314,6 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                     }
                 }
             }
-            if (law == LAW_COULOMB && H.mode == MODE_STICK && g0[0] > 0.0 && g1[0] >= 0.0 && t > t0) {
-                /* a short slip inside the step (stick_guard_min): the step
-                 * ends where the guard is negative, located below */
-                double tm, gm;
-                stick_guard_min(&H, t0, y0, t - t0, &tm, &gm);
-                if (H.err) break;
-                if (gm < 0.0) {
-                    if (one_step(O, t0, y0, tm, y) != GSL_SUCCESS) {
-                        status = EXDEX_ENOCONV;
-                        break;
-                    }
-                    t = t0 + tm;
-                }
-                guards(&H, t, y, g1);
-            }
             for (int e = 0; e < ng; e++) {
                 double tau;
                 if (!(g1[e] < 0.0)) continue;
@@ -2197,6 +2356,38 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
             }
             /* a free gap that dipped below 0 and recovered within the step */
             if (!status) status = gap_dips(&H, O, t0, y0, t, y, ng, g0, g1, &tau_best, &e_best);
+            if (!status && ns && nd == 1) {
+                /* 1-DoF: a corner's gap dipping below 0 within the step
+                 * (row_dip): the event is its stop guard, violated at the
+                 * crossing */
+                double tau, gt[NG_MAX], ye[NY_MAX], t1 = t;
+                const double *y1 = y;
+                if (tau_best < t - t0) {
+                    /* only a dip before the event found matters */
+                    if (one_step(O, t0, y0, tau_best, O->ytmp) != GSL_SUCCESS || H.err) {
+                        status = H.err ? H.err : EXDEX_ENOCONV;
+                        break;
+                    }
+                    memcpy(ye, O->ytmp, (size_t)H.ny * sizeof *ye);
+                    t1 = t0 + tau_best;
+                    y1 = ye;
+                }
+                status = row_dip(&H, O, t0, y0, t1, y1, &tau);
+                if (!status && tau < tau_best) {
+                    if (one_step(O, t0, y0, tau, O->ytmp) != GSL_SUCCESS || H.err) {
+                        status = H.err ? H.err : EXDEX_ENOCONV;
+                    } else {
+                        guards(&H, t0 + tau, O->ytmp, gt);
+                        for (int e = 0; e < ng; e++)
+                            if (g0[e] > 0.0 && gt[e] < 0.0) {
+                                tau_best = tau;
+                                e_best = e;
+                                break;
+                            }
+                    }
+                }
+            }
+            if (status) break;
             /* a guard can dip below 0 and recover within one step (its end
              * value is >= 0): the located event's point shows it; take the
              * earliest such crossing instead (at most ng passes) */
@@ -2304,7 +2495,7 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
             }
             /* a penetration left after the step: the scene drives the
              * object through a stop (see tol.pen) */
-            if (ns) {
+            if (ns || m->n_obst) {
                 exdex_kinematics kt;
                 double yr[NY_MAX];
                 const double *yq = reported_pose(&H, t, y, yr);
@@ -2330,7 +2521,7 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
             /* the interval's integrals (friction, stop forces) as means
              * over it; then they restart from 0 */
             int off = nd == 1 ? 2 : 6, nw = nd == 1 ? 1 : 3;
-            double wrench[3] = {0, 0, 0}, sf[EXDEX_MAX_STOPS], yr[NY_MAX];
+            double wrench[3] = {0, 0, 0}, sf[NSRC_MAX], yr[NY_MAX];
             const double *yq;
             if (nd == 3) {
                 for (int c = 0; c < 3; c++) wrench[c] = y[6 + c] / hs;
@@ -2340,7 +2531,7 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
             } else {
                 wrench[2] = y[2] / hs;
             }
-            for (int k2 = 0; k2 < ns; k2++) sf[k2] = y[off + nw + k2] / hs;
+            for (int k2 = 0; k2 < m->n_src; k2++) sf[k2] = y[off + nw + k2] / hs;
             yq = reported_pose(&H, ti, y, yr);
             method_record(m, out, st, i, ti, yq, yq + nd, wrench,
                           law == LAW_COULOMB && H.mode == MODE_STICK ? 1 : is_still(&H, y), sf);
@@ -2426,12 +2617,15 @@ static int hybrid_restore(void *ws, const void *buf)
     int nr;
     memcpy(&S, buf, sizeof S);
     nr = B->ns * B->nv;
-    if (S.H.law != B->law || S.H.ndof != B->ndof || S.H.ns != B->ns || S.H.ny != B->ny || S.H.nv != B->nv ||
-        S.nsw != O->S.nsw || S.H.mode < MODE_SLIP || S.H.mode > MODE_FREE || S.H.ncs < 0 || S.H.ncs > nr ||
-        (S.H.mode == MODE_CONTACT && (S.H.ck < 0 || S.H.ck >= B->ns || S.H.cj < 0 || S.H.cj >= B->nv)))
+    if (S.H.law != B->law || S.H.ndof != B->ndof || S.H.ns != B->ns || S.H.no != B->no || S.H.ny != B->ny ||
+        S.H.nv != B->nv || S.nsw != O->S.nsw || S.H.mode < MODE_SLIP || S.H.mode > MODE_FREE || S.H.ncs < 0 ||
+        S.H.ncs > MAX_ROWS ||
+        (S.H.mode == MODE_CONTACT && !(S.H.ck >= 0 && S.H.ck < B->ns && S.H.cj >= 0 && S.H.cj < B->nv) &&
+         !(S.H.ck >= B->ns && S.H.ck < B->ns + B->no && orow_valid(B->m, S.H.cj) &&
+           orow_obst(S.H.cj) == S.H.ck - B->ns)))
         return EXDEX_EINVAL;
     for (int i = 0; i < S.H.ncs; i++)
-        if (S.H.cs[i] < 0 || S.H.cs[i] >= nr) return EXDEX_EINVAL;
+        if (S.H.cs[i] < 0 || (S.H.cs[i] >= nr && !(B->no && orow_valid(B->m, S.H.cs[i] - nr)))) return EXDEX_EINVAL;
     if (S.H.sfric != B->sfric) return EXDEX_EINVAL;
     for (int k = 0; k < B->ns; k++)
         if (S.H.fm[k] < SF_ROLL || S.H.fm[k] > SF_NONE) return EXDEX_EINVAL;

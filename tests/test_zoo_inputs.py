@@ -24,7 +24,7 @@ reproducer: ``input_scene(seed).scene``):
   (and with a rotation dof only parallel to the stop), as in the zoo.
 
 Which method supports which input (simulate raises a ValueError naming the
-parameter otherwise, checked here): obstacles: implicit and explicit;
+parameter otherwise, checked here): obstacles: every method but analytic;
 obstacle friction: implicit; everything else (stop friction included, in
 every dof): every method.
 
@@ -34,7 +34,8 @@ scene it is the reference and every supporting method must lie within its
 stated error of it (event: proportional to rtol; implicit, explicit: S times
 the largest successive difference of the dt ladder t_end / 500 .. / 4000,
 explicit plus its creep; regularised: its eps ladder, on every REG_EVERY-th
-seed). Unsupported methods must refuse by name. Where the event method does not (obstacles) the reference is the implicit method at h/8, whose own error is
+seed). Unsupported methods must refuse by name. Where the event method does not (frictional obstacles) the
+reference is the implicit method at h/8, whose own error is
 bounded by its ladder's estimate S max(D) (the extrapolation of its
 successive differences in dt, tests/test_zoo.py), and the explicit method
 must lie within the sum of both estimates (plus its creep and FLOOR).
@@ -70,17 +71,13 @@ _PLATEAU = ('implicit with mu_static > mu, 1-DoF: the error is identical on the 
             'shorter than it); ')
 KNOWN = {  # noqa: E501 - the defects, stated in full
     # seeds beyond N_SCENES: found by ZOO_INPUTS_SEEDS=100:400
-    ('implicit', 128): 'the zoo scene 128 (tests/test_zoo.py KNOWN: the noisy log ends at speed, the implicit step absorbs the jump at every h of the ladder) with mu_static = 1.275 mu: error 8.2e-8 L, ladder differences 0',
     ('implicit', 151): _PLATEAU + 'translation, Shake, mu_static = 1.2 mu: 1.6e-5 L at t_end/500 and /4000, 1.3e-6 L at /32000, 2.4e-7 L at /128000',
-    ('implicit', 354): _PLATEAU + 'translation, trapezoid, one frictional stop, mu_static = 1.26 mu: 1.24e-7 L at t_end/500 .. /4000, 1.4e-10 L at /32000',
-    ('implicit', 358): _PLATEAU + 'translation, noisy log, mu_static = 1.37 mu: 5.6e-7 L identical from t_end/500 to t_end/16000, 1.9e-7 L at /64000',
     ('explicit', 206): 'explicit against the event reference (planar, Eq. 7, one frictional stop): 0.78 L apart against the bound 0.40 L, the explicit ladder differences 0.091, 0.079, 0.068 L not converging at first order. Final theta: event -1.532466 rad, implicit -1.5323, -1.5324, -1.5325 rad at t_end/500, /4000, /32000 (2.5e-5 L from the event, within its bound), explicit -3.07, -2.72, -2.52 rad: the two exact methods agree, the explicit method is the one that is off (its planar stop friction; with the stop frictionless it approaches the event answer -1.5786 rad: -1.656, -1.559, -1.576)',
     ('implicit', 45): 'the event and regularised methods take impacts frictionless (csrc/hybrid.c), the implicit and explicit methods frictional (Coulomb at the velocity level over the impact step); planar, Chain, two frictional stops: at t = 0.06952 s a stop moving in B strikes the object resting in the grip with a slip along it, and the frictionless impact leaves it turning at -30.4 rad/s, the frictional one at +31 rad/s; the final x differs by 0.72 L (theta by 1e-4 rad). Before the impact the runs agree; with Stop.mu = 0 the final poses agree (event -9.5655 rad, implicit -9.5544 rad at t_end/8000)',
     ('implicit', 84): 'the event and regularised methods take impacts frictionless (csrc/hybrid.c), the implicit and explicit methods frictional (Coulomb at the velocity level over the impact step); planar, step grip schedule, mu_static = 1.54 mu, one frictional stop: the object spins at 121 rad/s when a corner strikes the stop at t = 0.010144 s; at t = 0.0101 s (before it) the implicit run converges to the event run at first order (1.49, 0.37, 0.092, 0.022 L at dt = 5e-5 s / 1, 4, 16, 64), at t = 0.0125 s (after it) it converges to a point 9.2 L away; the explicit method agrees with the implicit one (final poses 2e-4 rad apart)',
     ('explicit', 84): 'the event and regularised methods take impacts frictionless (csrc/hybrid.c), the implicit and explicit methods frictional (Coulomb at the velocity level over the impact step); the scene of (implicit, 84): the explicit final pose agrees with the implicit one (2e-4 rad), 0.12 L from the event reference',
     ('regularised', 206): 'regularised against the event reference (planar, Eq. 7, one frictional stop): the event run rests against the stop for 89% of the run (the least-friction split of the load over the plates and the stop cone fits the capacities) while the regularised run creeps there (eps0/16: at 3.9e-4 m/s between 0.72 and 1.29 s, where the event run is still), and a creep makes the stop friction kinetic; the distance does not shrink with eps (0.86, 0.73, 0.67, 0.62 L at eps0 / 1, 4, 16, 64). With the stop frictionless it converges (0.11, 0.0068 L at eps0, eps0/16). Likely cause: a load that a rest (static split) and a slide (kinetic stop friction, plates at capacity) both satisfy (Coulomb with two frictional contacts is not unique), the smoothed law selecting the slide; not confirmed',
-    ('implicit', 71): 'implicit: a Chain (pause, half-cycle shake, pause, Eq. 7 profile): the load jumps beyond the capacity at the profile\'s phase switch t_s = 0.692782 s and the exact (event) slip starts there; the implicit step does not split at that known switch, so the step containing it sticks (or slips with the stuck part\'s deceleration) and the slip velocity lags by a (t1 - t_s), t1 the step end. t_s lies 1.06e-4 s before a grid point common to every ladder level t_end/500 .. t_end/4000, so that error (6.6e-3 L) is the same at h .. h/8 and the successive differences (1e-4 L) miss it; at t_end/16000 and /64000 the step containing t_s again starts at a common grid point (identical error 3.1e-4 L)',
-    ('implicit', 27): 'implicit: a step grip schedule (released from t = 0, re-grip to 0.023 N at 0.256 s, steps at 0.389 and 0.549 s) on a pendulum (rotation dof): the capacity jumps at the steps and the implicit step takes their exact step mean without splitting at them, a first-order error that stays 2.3e-4 L at t_end/500 .. t_end/4000 (differences 3.7e-5 .. 2.5e-6 L, so S max(D) = 1.1e-4 L misses it) and drops to 6.8e-5 L only at t_end/8000: the step-switch times sit where the nested grids share the error',
+    ('implicit', 27): 'implicit: a pendulum (rotation dof, noisy log, step grip schedule with a release, mu_static = 1.44 mu) whose slip reverses through zero velocity at t = 0.3352 s without sticking (the load exceeds the capacity there); the implicit step in which the velocity crosses zero sticks (v+ = 0) and the next one slides on, so the velocity the exact motion regains within that step is lost: an O(h) velocity error whose constant depends on where the crossing falls in the step. 0.33525 s is a grid point of t_end/2000 and t_end/4000 alike, so the error is 2.34e-4 and 2.33e-4 L there (differences 3.7e-5 .. 1.3e-6 L, S max(D) = 1.1e-4 L misses it) and 6.8e-5 L at t_end/8000. The reversal time is not known before the step (not a switching time the step could be split at); the same with mu_static = mu',
 }
 
 
@@ -234,8 +231,10 @@ def unsupported(scene, method):
     """The parameter simulate() names when ``method`` cannot run ``scene``,
     or None."""
     if scene.obstacles:
-        if method in ("event", "regularised", "analytic"):
+        if method == "analytic":
             return "Scene.obstacles"
+        if method not in ("implicit", "explicit") and any(o.mu > 0 for o in scene.obstacles):
+            return "Obstacle.mu"
     return None
 
 
@@ -414,7 +413,7 @@ def test_inputs_generator_is_valid_and_covers_the_inputs():
     want = {("grip", k) for k in ("linear", "cubic", "step")} | {("obstacle", k) for k in ("box", "rod", "wedge")}
     want |= {("obstacle", k + "-mu") for k in ("box", "rod", "wedge")} | {"mu_static", ("motion", "shake"),
                                                                         ("motion", "chain")}
-    want |= {("stop_mu", d) for d in zoo.DOFS} | {("refuses", "event", "Scene.obstacles")}
+    want |= {("stop_mu", d) for d in zoo.DOFS} | {("refuses", "event", "Obstacle.mu")}
     assert want <= seen, want - seen
     assert any(k[0] == "grip" and k[1].endswith("-release") for k in seen if isinstance(k, tuple))
 
@@ -496,8 +495,10 @@ def test_inputs_no_penetration(method, seed):
                                                 lambda seed, method: not unsupported(input_scene(seed).scene, method)))
 def test_inputs_stick_is_still(method, seed):
     """A sample flagged stick has a relative velocity of exactly 0; for the
-    implicit method (one step per sample) two consecutive stuck samples have
-    the same pose, bit for bit."""
+    implicit method (a sample is flagged stick when every step of its
+    interval stuck: one step, or the sub-steps of an interval split at a
+    switching time) two consecutive stuck samples have the same pose, bit
+    for bit."""
     s = input_scene(seed)
     r = plain_run(seed, method)
     st = r.stick.astype(bool)

@@ -157,13 +157,15 @@ EXDEX_TEST(obstacle_one_face_is_the_stop_bit_for_bit)
 {
     /* A plane stop is an obstacle with one face (the same point and
      * normal): the same rows, the same arithmetic, the same trajectory, in
-     * 1-DoF and in the plane, implicit and explicit (explicit 1-DoF: to
-     * rounding). */
-    for (int c = 0; c < 4; c++) {
+     * 1-DoF and in the plane, implicit, explicit (1-DoF: to rounding),
+     * event and regularised. */
+    for (int c = 0; c < 8; c++) {
         int planar = c % 2;
         exdex_scene_def a = fig4(), b;
         sim_run ra, rb;
-        a.method = c < 2 ? EXDEX_METHOD_IMPLICIT : EXDEX_METHOD_EXPLICIT;
+        const int meth[4] = {EXDEX_METHOD_IMPLICIT, EXDEX_METHOD_EXPLICIT, EXDEX_METHOD_EVENT,
+                             EXDEX_METHOD_REGULARISED};
+        a.method = meth[c / 2];
         if (planar) {
             a.dof = EXDEX_DOF_PLANAR;
             a.q0[2] = 0.2; /* lands on a corner and turns */
@@ -270,11 +272,17 @@ EXDEX_TEST(obstacle_box_floor_carries_the_load_like_a_stop)
     sim_run r;
     d.n_obstacles = 1;
     d.obstacles[0] = box(c, h, Q);
-    ENSURE(sim_run_def(&d, 1.0, 1e-4, &r) == EXDEX_OK);
-    ENSURE(r.st.min_gap >= -1e-15);
-    ENSURE_CLOSE(r.tr.q[r.tr.n - 1], 0.05 - 0.01, 1e-7); /* falls 1 cm onto it first */
-    for (size_t i = 1500; i <= 4000; i += 500) ENSURE_CLOSE(r.tr.stop_force[i], 0.1 * G + 1.5, 1e-9);
-    sim_run_free(&r);
+    for (int k = 0; k < 3; k++) {
+        const int meth[3] = {EXDEX_METHOD_IMPLICIT, EXDEX_METHOD_EVENT, EXDEX_METHOD_REGULARISED};
+        d.method = meth[k];
+        ENSURE(sim_run_def(&d, 1.0, 1e-4, &r) == EXDEX_OK);
+        ENSURE(r.st.min_gap >= -1e-15);
+        ENSURE_CLOSE(r.tr.q[r.tr.n - 1], 0.05 - 0.01, 1e-7); /* falls 1 cm onto it first */
+        /* regularised: the sliding friction is within (eps / v)^2 of the
+         * capacity at the plates' slip speed v (~0.1 m/s) */
+        for (size_t i = 1500; i <= 4000; i += 500) ENSURE_CLOSE(r.tr.stop_force[i], 0.1 * G + 1.5, k == 2 ? 1e-6 : 1e-9);
+        sim_run_free(&r);
+    }
 }
 
 EXDEX_TEST(obstacle_rod_turns_a_pinned_square_as_the_tangent_predicts)
@@ -317,19 +325,24 @@ EXDEX_TEST(obstacle_rod_turns_a_pinned_square_as_the_tangent_predicts)
     d.obstacles[0].center[0] = dx;
     d.obstacles[0].center[2] = -(a + r + g0);
     d.obstacles[0].axis[1] = 1.0;
-    ENSURE(sim_run_def(&d, 1.2, 1e-4, &run) == EXDEX_OK);
-    ENSURE(run.st.min_gap >= -1e-12);
-    for (size_t i = 0; i < run.tr.n; i += 250) {
-        double s, sd, sdd, L, rho, psi, th;
-        exdex_profile_trapezoid(0.005, 1.0, 0.0075, run.tr.t[i], &s, &sd, &sdd);
-        L = a + r + g0 - s;
-        rho = hypot(dx, L);
-        psi = atan2(dx, L);
-        th = L > a + r ? 0.0 : psi - acos((a + r) / rho);
-        ENSURE_CLOSE(run.tr.q[i], th, 2e-6);
+    for (int k = 0; k < 2; k++) {
+        /* implicit (dt 1e-4, its error O(dt)); event (exact contact: to the
+         * closed form's rounding and rtol) */
+        d.method = k ? EXDEX_METHOD_EVENT : EXDEX_METHOD_IMPLICIT;
+        ENSURE(sim_run_def(&d, 1.2, k ? 1e-3 : 1e-4, &run) == EXDEX_OK);
+        ENSURE(run.st.min_gap >= -1e-12);
+        for (size_t i = 0; i < run.tr.n; i += k ? 25 : 250) {
+            double s, sd, sdd, L, rho, psi, th;
+            exdex_profile_trapezoid(0.005, 1.0, 0.0075, run.tr.t[i], &s, &sd, &sdd);
+            L = a + r + g0 - s;
+            rho = hypot(dx, L);
+            psi = atan2(dx, L);
+            th = L > a + r ? 0.0 : psi - acos((a + r) / rho);
+            ENSURE_CLOSE(run.tr.q[i], th, k ? 1e-12 : 2e-6);
+        }
+        ENSURE(run.tr.q[run.tr.n - 1] > 0.3); /* it did turn */
+        sim_run_free(&run);
     }
-    ENSURE(run.tr.q[run.tr.n - 1] > 0.3); /* it did turn */
-    sim_run_free(&run);
 }
 
 EXDEX_TEST(obstacle_bad_input_status)
@@ -361,8 +374,13 @@ EXDEX_TEST(obstacle_bad_input_status)
     EXPECT_BAD_OBST((d.obstacles[0].kind = EXDEX_OBSTACLE_POLYTOPE, d.obstacles[0].n_faces = 0), "obstacles");
     EXPECT_BAD_OBST((d.obstacles[0].kind = EXDEX_OBSTACLE_POLYTOPE, d.obstacles[0].n_faces = EXDEX_MAX_FACES + 1),
                     "obstacles");
-    EXPECT_BAD_OBST(d.method = EXDEX_METHOD_EVENT, "method");
-    EXPECT_BAD_OBST(d.method = EXDEX_METHOD_REGULARISED, "method");
+    EXPECT_BAD_OBST(d.method = EXDEX_METHOD_ANALYTIC, "method");
+    EXPECT_BAD_OBST((d.obstacles[0].mu = 0.5, d.method = EXDEX_METHOD_EVENT), "method"); /* friction: implicit */
+    EXPECT_BAD_OBST((d.obstacles[0].mu = 0.5, d.method = EXDEX_METHOD_REGULARISED), "method");
+    /* planar frictional stops beside obstacles: implicit, explicit */
+    EXPECT_BAD_OBST((d.dof = EXDEX_DOF_PLANAR, d.n_stops = 1, d.stop_normal[0][2] = 1.0, d.stop_point[0][2] = -0.5,
+                     d.stop_mu[0] = 0.3, d.method = EXDEX_METHOD_EVENT),
+                    "method");
     EXPECT_BAD_OBST(d.obstacles[0].mu = -0.1, "obstacles");
     EXPECT_BAD_OBST(d.obstacles[0].mu = NAN, "obstacles");
     EXPECT_BAD_OBST((d.obstacles[0].mu = 0.5, d.method = EXDEX_METHOD_EVENT), "method"); /* implicit, explicit */

@@ -1,0 +1,583 @@
+/* orows.c -- the obstacles' rows with their feature held (orows.h).
+ *
+ * Derivatives. A vertex row is a plane row (contact_plane_row_*, the
+ * stops' formulas). A section or rod row is evaluated in truncated Taylor
+ * arithmetic: every quantity is a jet (c0, c1, c2), its value and first two
+ * Taylor coefficients along a line s -> (q + dq s, t + dt s) of coordinates
+ * and time, the gripper's pose along it R(s) = R + s dt Rdot + s^2 dt^2
+ * Rddot / 2 (Rdot = [w]x R, Rddot = [dw]x R + [w]x [w]x R) and p(s) = p +
+ * s dt v + s^2 dt^2 a / 2, exact to second order. Sums, products,
+ * quotients and square roots of jets are exact to second order, so c1 is
+ * the gap's directional derivative and 2 c2 its second one:
+ *   planar: G_i = c1 along (e_i, 0); gd = c1 and gdd0 = 2 c2 along (v, 1)
+ *     (d^2 gap / dt^2 along q + v s + qdd s^2 / 2 is 2 c2 + G qdd);
+ *   1-DoF: Fq, Fqq along (1, 0); Ft, Ftt along (0, 1); Ftq from (1, 1).
+ * The geometry is that of contact_obstacle_rows: the section vertex of
+ * faces f, g solves (R^T n_f)_xy . y = n_f . (p_f - p) (and for g) by
+ * Cramer's rule; its gap against the hull edge (u, w) is the edge's outward
+ * normal times y - u; a rod's gap is the distance of the hull vertex x from
+ * the axis, |(x - c) - ((x - c) . a) a| - r, or for an edge's interior the
+ * distance of the edge's line from the axis, |(u - c) . m| / |m| - r with
+ * m = (w - u) x a (all in B: c, a the axis's point and direction). */
+#include "exdex.h"
+#include "orows.h"
+#include "util.h"
+
+#include <float.h>
+#include <string.h>
+
+typedef struct jet {
+    double c[3];
+} jet;
+
+static jet jk(double x)
+{
+    jet r = {{x, 0.0, 0.0}};
+    return r;
+}
+static jet jadd(jet a, jet b)
+{
+    jet r = {{a.c[0] + b.c[0], a.c[1] + b.c[1], a.c[2] + b.c[2]}};
+    return r;
+}
+static jet jsub(jet a, jet b)
+{
+    jet r = {{a.c[0] - b.c[0], a.c[1] - b.c[1], a.c[2] - b.c[2]}};
+    return r;
+}
+static jet jmul(jet a, jet b)
+{
+    jet r = {{a.c[0] * b.c[0], a.c[0] * b.c[1] + a.c[1] * b.c[0], a.c[0] * b.c[2] + a.c[1] * b.c[1] + a.c[2] * b.c[0]}};
+    return r;
+}
+static jet jdiv(jet a, jet b)
+{
+    jet r;
+    r.c[0] = a.c[0] / b.c[0];
+    r.c[1] = (a.c[1] - r.c[0] * b.c[1]) / b.c[0];
+    r.c[2] = (a.c[2] - r.c[0] * b.c[2] - r.c[1] * b.c[1]) / b.c[0];
+    return r;
+}
+static jet jsqrt(jet a)
+{
+    jet r;
+    r.c[0] = sqrt(a.c[0]);
+    r.c[1] = a.c[1] / (2.0 * r.c[0]);
+    r.c[2] = (a.c[2] - r.c[1] * r.c[1]) / (2.0 * r.c[0]);
+    return r;
+}
+
+/* The pose along the line: gripper R(s), p(s); the object's centre of mass
+ * r(s) in B and cos, sin of its angle. */
+typedef struct ojet {
+    jet R[9], p[3], r[2], ct, st;
+} ojet;
+
+static void ojet_init(const exdex_model *m, const exdex_kinematics *k, const double *q, const double *dq, double dt,
+                      ojet *J)
+{
+    double r0[3], th;
+    for (int j = 0; j < 3; j++) {
+        double col[3] = {k->R[j], k->R[3 + j], k->R[6 + j]}, d1[3], w1[3], d2[3];
+        ex_cross3(d1, k->w, col);
+        ex_cross3(w1, k->w, d1);
+        ex_cross3(d2, k->dw, col);
+        for (int i = 0; i < 3; i++) {
+            J->R[3 * i + j].c[0] = col[i];
+            J->R[3 * i + j].c[1] = dt * d1[i];
+            J->R[3 * i + j].c[2] = 0.5 * dt * dt * (d2[i] + w1[i]);
+        }
+    }
+    for (int i = 0; i < 3; i++) {
+        J->p[i].c[0] = k->p[i];
+        J->p[i].c[1] = dt * k->v[i];
+        J->p[i].c[2] = 0.5 * dt * dt * k->a[i];
+    }
+    model_com_pose(m, q, r0, &th);
+    if (m->ndof == 3) {
+        double w = dq[2], c = cos(th), s = sin(th);
+        J->r[0] = jk(r0[0]);
+        J->r[0].c[1] = dq[0];
+        J->r[1] = jk(r0[1]);
+        J->r[1].c[1] = dq[1];
+        J->ct = (jet){{c, -s * w, -0.5 * c * w * w}};
+        J->st = (jet){{s, c * w, -0.5 * s * w * w}};
+    } else if (m->def.dof == EXDEX_DOF_TRANSLATION) {
+        J->r[0] = (jet){{r0[0], dq[0] * m->d[0], 0.0}};
+        J->r[1] = (jet){{r0[1], dq[0] * m->d[1], 0.0}};
+        J->ct = jk(cos(th));
+        J->st = jk(sin(th));
+    } else {
+        double w = dq[0], c = cos(th), s = sin(th);
+        J->ct = (jet){{c, -s * w, -0.5 * c * w * w}};
+        J->st = (jet){{s, c * w, -0.5 * s * w * w}};
+        J->r[0] = jadd(jk(m->pivot[0]), jsub(jmul(J->ct, jk(m->c[0])), jmul(J->st, jk(m->c[1]))));
+        J->r[1] = jadd(jk(m->pivot[1]), jadd(jmul(J->st, jk(m->c[0])), jmul(J->ct, jk(m->c[1]))));
+    }
+}
+
+/* Hull vertex k in B. */
+static void ojet_hull(const exdex_model *m, const ojet *J, int k, jet x[2])
+{
+    double hx = m->hull[k][0], hy = m->hull[k][1];
+    x[0] = jadd(J->r[0], jsub(jmul(J->ct, jk(hx)), jmul(J->st, jk(hy))));
+    x[1] = jadd(J->r[1], jadd(jmul(J->st, jk(hx)), jmul(J->ct, jk(hy))));
+}
+
+/* R(s)^T u for a fixed vector u of A. */
+static void ojet_rt(const ojet *J, const double u[3], jet out[3])
+{
+    for (int i = 0; i < 3; i++) {
+        out[i] = jk(0.0);
+        for (int k = 0; k < 3; k++) out[i] = jadd(out[i], jmul(J->R[3 * k + i], jk(u[k])));
+    }
+}
+
+/* The gap of a section or rod row along the line (see the header). */
+static jet orow_jet(const exdex_model *m, const exdex_kinematics *kin, int code, const double *q, const double *dq,
+                    double dt)
+{
+    const exdex_obstacle_def *ob = &m->def.obstacles[orow_obst(code)];
+    int nh = m->n_hull, feat = orow_feat(code);
+    ojet J;
+    ojet_init(m, kin, q, dq, dt, &J);
+    if (orow_kind(code) == OROW_SECTION) {
+        int f = orow_a(code), g = orow_b(code);
+        jet af[3], ag[3], bf = jk(ex_dot3(ob->face_normal[f], ob->face_point[f]));
+        jet bg = jk(ex_dot3(ob->face_normal[g], ob->face_point[g])), det, y[2], u[2], w[2], ex, ey, len;
+        ojet_rt(&J, ob->face_normal[f], af);
+        ojet_rt(&J, ob->face_normal[g], ag);
+        for (int k = 0; k < 3; k++) {
+            bf = jsub(bf, jmul(jk(ob->face_normal[f][k]), J.p[k]));
+            bg = jsub(bg, jmul(jk(ob->face_normal[g][k]), J.p[k]));
+        }
+        det = jsub(jmul(af[0], ag[1]), jmul(af[1], ag[0]));
+        y[0] = jdiv(jsub(jmul(bf, ag[1]), jmul(bg, af[1])), det);
+        y[1] = jdiv(jsub(jmul(af[0], bg), jmul(ag[0], bf)), det);
+        ojet_hull(m, &J, feat, u);
+        ojet_hull(m, &J, (feat + 1) % nh, w);
+        ex = jsub(w[0], u[0]);
+        ey = jsub(w[1], u[1]);
+        len = jsqrt(jadd(jmul(ex, ex), jmul(ey, ey)));
+        return jdiv(jsub(jmul(ey, jsub(y[0], u[0])), jmul(ex, jsub(y[1], u[1]))), len);
+    } else {
+        jet cB[3], aB[3], d[3];
+        ojet_rt(&J, ob->axis, aB);
+        /* c_B = R^T (c - p) */
+        ojet_rt(&J, ob->center, cB);
+        for (int i = 0; i < 3; i++) {
+            jet t = jk(0.0);
+            for (int k = 0; k < 3; k++) t = jadd(t, jmul(J.R[3 * k + i], J.p[k]));
+            cB[i] = jsub(cB[i], t);
+        }
+        if (feat < 32) {
+            jet x[2], t, w2 = jk(0.0);
+            ojet_hull(m, &J, feat, x);
+            d[0] = jsub(x[0], cB[0]);
+            d[1] = jsub(x[1], cB[1]);
+            d[2] = jsub(jk(0.0), cB[2]);
+            t = jadd(jadd(jmul(d[0], aB[0]), jmul(d[1], aB[1])), jmul(d[2], aB[2]));
+            for (int i = 0; i < 3; i++) {
+                jet wi = jsub(d[i], jmul(t, aB[i]));
+                w2 = jadd(w2, jmul(wi, wi));
+            }
+            return jsub(jsqrt(w2), jk(ob->radius));
+        } else {
+            int e = feat - 32;
+            jet u[2], w[2], du[2], mv[3], num, mm;
+            ojet_hull(m, &J, e, u);
+            ojet_hull(m, &J, (e + 1) % nh, w);
+            du[0] = jsub(w[0], u[0]);
+            du[1] = jsub(w[1], u[1]);
+            mv[0] = jmul(du[1], aB[2]);
+            mv[1] = jsub(jk(0.0), jmul(du[0], aB[2]));
+            mv[2] = jsub(jmul(du[0], aB[1]), jmul(du[1], aB[0]));
+            d[0] = jsub(u[0], cB[0]);
+            d[1] = jsub(u[1], cB[1]);
+            d[2] = jsub(jk(0.0), cB[2]);
+            num = jadd(jadd(jmul(d[0], mv[0]), jmul(d[1], mv[1])), jmul(d[2], mv[2]));
+            mm = jsqrt(jadd(jadd(jmul(mv[0], mv[0]), jmul(mv[1], mv[1])), jmul(mv[2], mv[2])));
+            if (num.c[0] < 0.0) num = jsub(jk(0.0), num);
+            return jsub(jdiv(num, mm), jk(ob->radius));
+        }
+    }
+}
+
+int orow_valid(const exdex_model *m, int code)
+{
+    int o, kind, a, b, f;
+    const exdex_obstacle_def *ob;
+    if (code < 0) return 0;
+    o = orow_obst(code);
+    kind = orow_kind(code);
+    a = orow_a(code);
+    b = orow_b(code);
+    f = orow_feat(code);
+    if (o >= m->n_obst) return 0;
+    ob = &m->def.obstacles[o];
+    if (ob->kind == EXDEX_OBSTACLE_POLYTOPE) {
+        if (kind == OROW_VERTEX) return a < contact_nv(m) && b == 0 && f < ob->n_faces;
+        return kind == OROW_SECTION && m->n_hull >= 3 && a < b && b < ob->n_faces && f < m->n_hull;
+    }
+    return kind == OROW_ROD && a == 0 && b == 0 && (f < 32 ? f < m->n_hull : f - 32 < m->n_hull && m->n_hull > 1);
+}
+
+/* ------------------------------------------------ plain geometry at t */
+
+/* Hull in B at q (counter-clockwise), as contact.c's hull_b. */
+static int hull_at(const exdex_model *m, const double *q, double hb[][2])
+{
+    double r[3], th, c, s;
+    model_com_pose(m, q, r, &th);
+    c = cos(th);
+    s = sin(th);
+    for (int i = 0; i < m->n_hull; i++) {
+        hb[i][0] = r[0] + c * m->hull[i][0] - s * m->hull[i][1];
+        hb[i][1] = r[1] + s * m->hull[i][0] + c * m->hull[i][1];
+    }
+    return m->n_hull;
+}
+
+/* Half-plane a . y <= b of face f in B's plate plane; returns |a|. */
+static double face_line(const exdex_obstacle_def *ob, const exdex_kinematics *kin, int f, double a[2], double *b)
+{
+    double nB[3], d[3];
+    ex_mulmtv3(nB, kin->R, ob->face_normal[f]);
+    for (int i = 0; i < 3; i++) d[i] = ob->face_point[f][i] - kin->p[i];
+    a[0] = nB[0];
+    a[1] = nB[1];
+    *b = ex_dot3(ob->face_normal[f], d);
+    return hypot(nB[0], nB[1]);
+}
+
+/* Largest distance of y outside the hull's edge lines; *edge its edge. */
+static double hull_dist(int nh, const double hb[][2], const double y[2], int *edge)
+{
+    double gb = -INFINITY;
+    *edge = 0;
+    for (int e = 0; e < nh; e++) {
+        const double *u = hb[e], *v = hb[(e + 1) % nh];
+        double ex = v[0] - u[0], ey = v[1] - u[1], len = hypot(ex, ey), g;
+        if (!(len > 0.0)) continue;
+        g = ey / len * (y[0] - u[0]) + (-ex / len) * (y[1] - u[1]);
+        if (g > gb) {
+            gb = g;
+            *edge = e;
+        }
+    }
+    return gb;
+}
+
+/* The rod's axis in B: point cB, direction aB. */
+static void rod_axis(const exdex_obstacle_def *ob, const exdex_kinematics *kin, double cB[3], double aB[3])
+{
+    double d[3];
+    for (int i = 0; i < 3; i++) d[i] = ob->center[i] - kin->p[i];
+    ex_mulmtv3(cB, kin->R, d);
+    ex_mulmtv3(aB, kin->R, ob->axis);
+}
+
+/* Foot parameter (unclamped) along the hull edge e of the point nearest the
+ * axis, as contact.c computes it; *len the edge's length perpendicular to the
+ * axis (0: the edge is parallel to it). */
+static double rod_foot(int nh, const double hb[][2], const double cB[3], const double aB[3], int e, double *len)
+{
+    const double *u = hb[e], *v = hb[(e + 1) % nh];
+    double du[3] = {v[0] - u[0], v[1] - u[1], 0.0}, d[3] = {u[0] - cB[0], u[1] - cB[1], -cB[2]}, w[3], dd[3];
+    double t = ex_dot3(d, aB), ta = ex_dot3(du, aB);
+    for (int i = 0; i < 3; i++) {
+        w[i] = d[i] - t * aB[i];
+        dd[i] = du[i] - ta * aB[i];
+    }
+    *len = sqrt(ex_dot3(dd, dd));
+    return *len > 0.0 ? -ex_dot3(w, dd) / ex_dot3(dd, dd) : 0.0;
+}
+
+static double rod_dist2(const double cB[3], const double aB[3], const double x[2])
+{
+    double d[3] = {x[0] - cB[0], x[1] - cB[1], -cB[2]}, t = ex_dot3(d, aB), w[3];
+    for (int i = 0; i < 3; i++) w[i] = d[i] - t * aB[i];
+    return ex_dot3(w, w);
+}
+
+/* The rod row's gap and feature at (kin, q), as contact_obstacle_rows. */
+static double rod_row(const exdex_model *m, const exdex_obstacle_def *ob, const exdex_kinematics *kin, int nh,
+                      const double hb[][2], int *feat)
+{
+    double cB[3], aB[3], best = INFINITY;
+    int inside = nh >= 3;
+    rod_axis(ob, kin, cB, aB);
+    *feat = 0;
+    for (int e = 0; e < nh; e++) {
+        const double *u = hb[e], *v = hb[(e + 1) % nh];
+        double len, t = nh > 1 ? rod_foot(nh, hb, cB, aB, e, &len) : 0.0, x[2], d2;
+        t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+        x[0] = u[0] + t * (v[0] - u[0]);
+        x[1] = u[1] + t * (v[1] - u[1]);
+        d2 = rod_dist2(cB, aB, x);
+        if (d2 < best) {
+            best = d2;
+            *feat = t == 0.0 ? e : t == 1.0 ? (e + 1) % nh : 32 + e;
+        }
+    }
+    if (*feat < 32 && nh > 1) {
+        /* at a vertex: an adjacent edge whose foot lies inside it is the
+         * feature (the distances differ there only at second order, the
+         * feet at first: the choice agrees with orow_feature_guard's sign) */
+        int k = *feat, ep = (k + nh - 1) % nh;
+        double lp, ln, tp = rod_foot(nh, hb, cB, aB, ep, &lp), tn = rod_foot(nh, hb, cB, aB, k, &ln);
+        if (lp > 0.0 && tp < 1.0)
+            *feat = 32 + ep;
+        else if (ln > 0.0 && tn > 0.0)
+            *feat = 32 + k;
+    }
+    if (inside && fabs(aB[2]) > 1e-12) {
+        double c0[2] = {cB[0] - cB[2] / aB[2] * aB[0], cB[1] - cB[2] / aB[2] * aB[1]};
+        for (int e = 0; inside && e < nh; e++) {
+            const double *u = hb[e], *v = hb[(e + 1) % nh];
+            if ((v[0] - u[0]) * (c0[1] - u[1]) - (v[1] - u[1]) * (c0[0] - u[0]) <= 0.0) inside = 0;
+        }
+    } else {
+        inside = 0;
+    }
+    (void)m;
+    return (inside ? -sqrt(best) : sqrt(best)) - ob->radius;
+}
+
+/* Rate of the row code (feature held) at (q, v) (the gap's first Taylor
+ * coefficient along (v, 1)). */
+static double orow_rate(const exdex_model *m, const exdex_kinematics *kin, int code, const double *q, const double *v)
+{
+    const exdex_obstacle_def *ob = &m->def.obstacles[orow_obst(code)];
+    if (orow_kind(code) == OROW_VERTEX) {
+        int f = orow_feat(code);
+        if (m->ndof == 3) {
+            double G[3], gd;
+            contact_plane_row_planar(m, kin, ob->face_point[f], ob->face_normal[f], orow_a(code), q, v, G, &gd, NULL);
+            return gd;
+        } else {
+            crow c;
+            contact_plane_row_1dof(m, kin, ob->face_point[f], ob->face_normal[f], orow_a(code), q[0], &c);
+            return c.Fq * v[0] + c.Ft;
+        }
+    }
+    return orow_jet(m, kin, code, q, v, 1.0).c[1];
+}
+
+/* A largest-distance row whose largest distance is attained by several
+ * features (within tol.touch: an object corner on an obstacle corner) is
+ * the largest of them at the next instant: the feature of the largest rate
+ * (a max of several pieces stays >= 0 while any piece does; holding a piece
+ * that decreases would block a motion the others allow). cand: the
+ * candidate codes (values vals), best: the index of the largest value. */
+static int orow_tie(const exdex_model *m, const exdex_kinematics *kin, const double *q, const double *v,
+                    const int *cand, const double *vals, int n, int best)
+{
+    double rb = -INFINITY;
+    int pick = best, ties = 0;
+    if (!v) return best;
+    for (int i = 0; i < n; i++) ties += vals[i] >= vals[best] - m->tol.touch;
+    if (ties < 2) return best;
+    for (int i = 0; i < n; i++) {
+        double r;
+        if (!(vals[i] >= vals[best] - m->tol.touch)) continue;
+        r = orow_rate(m, kin, cand[i], q, v);
+        if (r > rb) {
+            rb = r;
+            pick = i;
+        }
+    }
+    return pick;
+}
+
+int orow_all(const exdex_model *m, const exdex_kinematics *kin, const double *q, const double *v, int planar,
+             int *code, double *gap)
+{
+    double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], hb[EXDEX_MAX_VERTICES][2], zero[3] = {0, 0, 0};
+    int nv = contact_vertices(m, q, xb, vx), nh = hull_at(m, q, hb), n = 0;
+    for (int o = 0; o < m->n_obst; o++) {
+        const exdex_obstacle_def *ob = &m->def.obstacles[o];
+        if (ob->kind == EXDEX_OBSTACLE_POLYTOPE) {
+            double a[EXDEX_MAX_FACES][2], b[EXDEX_MAX_FACES], ys[EXDEX_MAX_FACES][2];
+            int idx[EXDEX_MAX_FACES], nk = 0, empty = 0, ny = 0;
+            for (int j = 0; j < nv; j++) {
+                int best = 0, cand[EXDEX_MAX_FACES];
+                double gb = -INFINITY, G[3], vals[EXDEX_MAX_FACES];
+                for (int f = 0; f < ob->n_faces; f++) {
+                    double g = contact_plane_gap(m, kin, ob->face_point[f], ob->face_normal[f], xb[j], vx[j], NULL);
+                    vals[f] = g;
+                    cand[f] = orow_code(o, OROW_VERTEX, j, 0, f);
+                    if (g > gb) {
+                        gb = g;
+                        best = f;
+                    }
+                }
+                best = orow_tie(m, kin, q, v, cand, vals, ob->n_faces, best);
+                if (gap)
+                    gap[n] = planar ? contact_plane_row_planar(m, kin, ob->face_point[best], ob->face_normal[best], j,
+                                                               q, zero, G, NULL, NULL)
+                                    : gb;
+                code[n++] = orow_code(o, OROW_VERTEX, j, 0, best);
+            }
+            if (nh < 3) continue;
+            /* the section's vertices, as contact.c's polygon_vertices
+             * accepts them, with their face pairs */
+            for (int f = 0; f < ob->n_faces; f++) {
+                double af[2], bf, na = face_line(ob, kin, f, af, &bf);
+                if (!(na > 1e-12)) {
+                    if (bf < 0.0) empty = 1;
+                    continue;
+                }
+                a[nk][0] = af[0];
+                a[nk][1] = af[1];
+                b[nk] = bf;
+                idx[nk++] = f;
+            }
+            if (empty) continue;
+            for (int f = 0; f < nk; f++)
+                for (int g = f + 1; g < nk; g++) {
+                    double det = a[f][0] * a[g][1] - a[f][1] * a[g][0], y[2], sc;
+                    int ok = 1, e;
+                    if (!(fabs(det) > 1e-12 * hypot(a[f][0], a[f][1]) * hypot(a[g][0], a[g][1]))) continue;
+                    y[0] = (b[f] * a[g][1] - b[g] * a[f][1]) / det;
+                    y[1] = (a[f][0] * b[g] - a[g][0] * b[f]) / det;
+                    sc = hypot(y[0], y[1]);
+                    for (int h = 0; ok && h < nk; h++) {
+                        if (h == f || h == g) continue;
+                        if (a[h][0] * y[0] + a[h][1] * y[1] - b[h] > 1e-12 * (hypot(a[h][0], a[h][1]) * sc + fabs(b[h])))
+                            ok = 0;
+                    }
+                    for (int i = 0; ok && i < ny; i++)
+                        if (hypot(ys[i][0] - y[0], ys[i][1] - y[1]) <= 1e-10 * (sc + hypot(ys[i][0], ys[i][1]))) ok = 0;
+                    if (!ok || ny >= EXDEX_MAX_FACES) continue;
+                    ys[ny][0] = y[0];
+                    ys[ny][1] = y[1];
+                    ny++;
+                    {
+                        double gv = hull_dist(nh, (const double (*)[2])hb, y, &e);
+                        if (v && m->tol.touch > 0.0) {
+                            /* ties between edge lines: orow_tie */
+                            int cand[EXDEX_MAX_VERTICES];
+                            double vals[EXDEX_MAX_VERTICES];
+                            for (int k = 0; k < nh; k++) {
+                                const double *u = hb[k], *w = hb[(k + 1) % nh];
+                                double ex = w[0] - u[0], ey = w[1] - u[1], len = hypot(ex, ey);
+                                vals[k] = len > 0.0 ? ey / len * (y[0] - u[0]) + (-ex / len) * (y[1] - u[1]) : -INFINITY;
+                                cand[k] = orow_code(o, OROW_SECTION, idx[f], idx[g], k);
+                            }
+                            e = orow_tie(m, kin, q, v, cand, vals, nh, e);
+                        }
+                        if (gap) gap[n] = gv;
+                        code[n++] = orow_code(o, OROW_SECTION, idx[f], idx[g], e);
+                    }
+                }
+        } else {
+            int feat;
+            double gv = rod_row(m, ob, kin, nh, (const double (*)[2])hb, &feat);
+            if (gap) gap[n] = gv;
+            code[n++] = orow_code(o, OROW_ROD, 0, 0, feat);
+        }
+    }
+    return n;
+}
+
+double orow_planar(const exdex_model *m, const exdex_kinematics *kin, int code, const double *q, const double *v,
+                   double G[3], double *gd, double *gdd0)
+{
+    const exdex_obstacle_def *ob = &m->def.obstacles[orow_obst(code)];
+    jet g;
+    if (orow_kind(code) == OROW_VERTEX) {
+        int f = orow_feat(code);
+        return contact_plane_row_planar(m, kin, ob->face_point[f], ob->face_normal[f], orow_a(code), q, v, G, gd,
+                                        gdd0);
+    }
+    for (int i = 0; i < 3; i++) {
+        double e[3] = {0, 0, 0};
+        e[i] = 1.0;
+        G[i] = orow_jet(m, kin, code, q, e, 0.0).c[1];
+    }
+    g = orow_jet(m, kin, code, q, v, 1.0);
+    if (gd) *gd = g.c[1];
+    if (gdd0) *gdd0 = 2.0 * g.c[2];
+    return g.c[0];
+}
+
+void orow_1dof(const exdex_model *m, const exdex_kinematics *kin, int code, double q, crow *c)
+{
+    const exdex_obstacle_def *ob = &m->def.obstacles[orow_obst(code)];
+    double one = 1.0, zero = 0.0;
+    jet gq, gt, gb;
+    if (orow_kind(code) == OROW_VERTEX) {
+        int f = orow_feat(code);
+        contact_plane_row_1dof(m, kin, ob->face_point[f], ob->face_normal[f], orow_a(code), q, c);
+        return;
+    }
+    gq = orow_jet(m, kin, code, &q, &one, 0.0);
+    gt = orow_jet(m, kin, code, &q, &zero, 1.0);
+    gb = orow_jet(m, kin, code, &q, &one, 1.0);
+    c->F = gq.c[0];
+    c->Fq = gq.c[1];
+    c->Fqq = 2.0 * gq.c[2];
+    c->Ft = gt.c[1];
+    c->Ftt = 2.0 * gt.c[2];
+    c->Ftq = gb.c[2] - gq.c[2] - gt.c[2];
+}
+
+double orow_feature_guard(const exdex_model *m, const exdex_kinematics *kin, int code, const double *q)
+{
+    const exdex_obstacle_def *ob = &m->def.obstacles[orow_obst(code)];
+    double hb[EXDEX_MAX_VERTICES][2], big = m->scale.L;
+    int nh = hull_at(m, q, hb), feat = orow_feat(code), kind = orow_kind(code);
+    if (kind == OROW_VERTEX) {
+        double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], gf, go = -INFINITY;
+        int j = orow_a(code);
+        contact_vertices(m, q, xb, vx);
+        gf = contact_plane_gap(m, kin, ob->face_point[feat], ob->face_normal[feat], xb[j], vx[j], NULL);
+        for (int f = 0; f < ob->n_faces; f++)
+            if (f != feat) go = fmax(go, contact_plane_gap(m, kin, ob->face_point[f], ob->face_normal[f], xb[j], vx[j], NULL));
+        return ob->n_faces > 1 ? gf - go : big;
+    }
+    if (kind == OROW_SECTION) {
+        int f = orow_a(code), g = orow_b(code);
+        double af[2], ag[2], bf, bg, det, y[2], res = big, ge = -INFINITY, go = -INFINITY;
+        face_line(ob, kin, f, af, &bf);
+        face_line(ob, kin, g, ag, &bg);
+        det = af[0] * ag[1] - af[1] * ag[0];
+        y[0] = (bf * ag[1] - bg * af[1]) / det;
+        y[1] = (af[0] * bg - ag[0] * bf) / det;
+        /* the held edge stays the farthest edge line */
+        for (int e = 0; e < nh; e++) {
+            const double *u = hb[e], *v = hb[(e + 1) % nh];
+            double ex = v[0] - u[0], ey = v[1] - u[1], len = hypot(ex, ey), gv;
+            if (!(len > 0.0)) continue;
+            gv = ey / len * (y[0] - u[0]) + (-ex / len) * (y[1] - u[1]);
+            if (e == feat)
+                ge = gv;
+            else
+                go = fmax(go, gv);
+        }
+        if (nh > 1 && isfinite(go)) res = fmin(res, ge - go);
+        /* and y a vertex of the section: inside the other faces' half-planes */
+        for (int h = 0; h < ob->n_faces; h++) {
+            double ah[2], bh, na;
+            if (h == f || h == g) continue;
+            na = face_line(ob, kin, h, ah, &bh);
+            if (na > 1e-12) res = fmin(res, (bh - ah[0] * y[0] - ah[1] * y[1]) / na);
+        }
+        return res;
+    }
+    {
+        double cB[3], aB[3], len, t;
+        rod_axis(ob, kin, cB, aB);
+        if (nh < 2) return big;
+        if (feat >= 32) {
+            t = rod_foot(nh, (const double (*)[2])hb, cB, aB, feat - 32, &len);
+            return fmin(t, 1.0 - t) * len;
+        } else {
+            int ep = (feat + nh - 1) % nh;
+            double lp, tp = rod_foot(nh, (const double (*)[2])hb, cB, aB, ep, &lp);
+            double tn = rod_foot(nh, (const double (*)[2])hb, cB, aB, feat, &len);
+            return fmin((tp - 1.0) * lp, -tn * len);
+        }
+    }
+}
