@@ -78,18 +78,17 @@
  *   for an infinitesimal step). A guard can change sign and back within one
  *   step: a 1-DoF slip that stops and restarts the same way (s qd falling
  *   then rising over the step: its minimum is searched, golden section on
- *   the one-step map), a guard violated at the step start that first
+ *   the one-step map), and a guard violated at the step start that first
  *   recovers (a corner lifted off a stop falling back: its maximum is
- *   searched, and the crossing after it located), and the stick guard of a
- *   rest, whose steps are long (the state is constant; only the force
- *   integrals and the output grid bound them): a load that leaves the
- *   ellipsoid and comes back within one step (at rest every guard is a
- *   function of t alone: gap_dips checks them all), so whether a short slip happens does not depend on
- *   where steps end. In a 1-DoF scene a stop's gap guard is the least gap
- *   over the outline, whose end rates need not show one corner's dip (a
- *   corner of a turning object sweeping past a stop that cuts its path a
- *   little while another corner is the nearest at both step ends): each
- *   free (stop, vertex) row is checked too (row_dip). The
+ *   searched, and the crossing after it located); at rest every guard is
+ *   a function of t alone and a step can be long (the state is constant), so
+ *   a load that leaves the ellipsoid and comes back within one step is
+ *   found from the guards' rates at the step's ends (gap_dips). In a 1-DoF
+ *   scene a stop's gap guard is the least gap over the outline, whose end
+ *   rates need not show one corner's dip (a corner of a turning object
+ *   sweeping past a stop that cuts its path a little while another corner
+ *   is the nearest at both step ends): each free (stop, vertex) row is
+ *   checked too (row_dip). The
  *   motion's own switching times (Eq. 7, trapezoid kinks, end of a sampled
  *   motion) and the breakpoints of a grip schedule are stepped onto, never
  *   over, and velocity jumps of the gripper
@@ -1017,8 +1016,12 @@ static int sf_guards(hyb *H, const frame *f, const exdex_kinematics *kin, const 
 /* The stops' friction modes after decide_modes at (t, y) (every H->fm was
  * SF_ROLL during it): at rest from each stop's tb (above); else the mode
  * that the acceleration-level problem finds, the stops sliding where |s| >
- * zsw, and a sticking stop's slip projected to 0; no consistent mode
- * (Painleve): the stops frictionless, a warning. */
+ * zsw, and a sticking stop's slip projected to 0. In a small slip the
+ * plate friction depends on the stops' modes (below): a mode is kept only
+ * if the problem decides it again on its own plate friction. No
+ * consistent mode (Painleve, or a small slip whose coupled problem has
+ * none, or more than 3 rolling stops in a small slip): the stops
+ * frictionless, a warning. */
 static void sf_decide(hyb *H, double t, double *y)
 {
     frame f;
@@ -1041,12 +1044,44 @@ static void sf_decide(hyb *H, double t, double *y)
                 H->fm[k] = fabs(tb[k]) <= H->zsw ? SF_STICK : tb[k] > 0.0 ? SF_SLIDE_P : SF_SLIDE_M;
         return;
     }
-    fs = sf_free_acc(H, &f, &kin, y, a);
-    if (fs) {
-        H->err = H->err ? H->err : fs;
-        return;
+    if (H->mode == MODE_SLIP && H->small && nr >= 0) {
+        /* a small slip's plate friction is found together with the stop
+         * forces (planar_friction's fixed point), so it depends on the
+         * stops' modes: each mode of the rolling stops (|s| <= zsw) is
+         * tried with its own plate friction, and the first that the
+         * problem decides again from that friction is kept (the guards
+         * then start from a consistent mode) */
+        int roll[EXDEX_MAX_STOPS], pick[EXDEX_MAX_STOPS] = {0}, nroll = 0, found = 0;
+        static const int cand[3] = {SF_STICK, SF_SLIDE_P, SF_SLIDE_M};
+        for (int k = 0; k < H->ns; k++)
+            if (has[k] && st[k].mu > 0.0 && st[k].fm == SF_ROLL) roll[nroll++] = k;
+        for (int combo = 0; nroll <= 3 && !found; combo++) {
+            int c = combo, same = 1;
+            if (combo >= (nroll == 0 ? 1 : nroll == 1 ? 3 : nroll == 2 ? 9 : 27)) break;
+            for (int i = 0; i < nroll; i++) {
+                pick[i] = cand[c % 3];
+                c /= 3;
+            }
+            for (int k = 0; k < H->ns; k++) H->fm[k] = SF_ROLL;
+            for (int i = 0; i < nroll; i++) H->fm[roll[i]] = pick[i];
+            fs = sf_free_acc(H, &f, &kin, y, a);
+            if (fs) {
+                H->err = H->err ? H->err : fs;
+                return;
+            }
+            for (int k = 0; k < H->ns; k++) H->fm[k] = SF_ROLL;
+            if (!sf_solve_at(H, &kin, y, a, &res)) continue;
+            for (int i = 0; i < nroll; i++) same &= res.fm[roll[i]] == pick[i];
+            found = ok = same;
+        }
+    } else if (nr >= 0) {
+        fs = sf_free_acc(H, &f, &kin, y, a);
+        if (fs) {
+            H->err = H->err ? H->err : fs;
+            return;
+        }
+        ok = sf_solve_at(H, &kin, y, a, &res);
     }
-    if (nr >= 0) ok = sf_solve_at(H, &kin, y, a, &res);
     for (int k = 0; k < H->ns; k++) {
         if (!(has[k] && st[k].mu > 0.0)) continue;
         H->fm[k] = ok ? res.fm[k] : SF_NONE;

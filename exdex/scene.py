@@ -794,7 +794,8 @@ class Chain(_Motion):
     first sample (relative logs replay from that pose; an absolute log must
     start there), a :class:`Pause` for its duration. The chain's switching
     times (every piece boundary and the pieces' own phase switches) are
-    stepped onto by the event method.
+    stepped onto by the event and regularised methods; the implicit and
+    explicit methods split a step that holds one there.
 
     pieces : 1 to 16 motions (:class:`AsymmetricProfile`,
         :class:`TrapezoidalProfile`, :class:`Shake`, :class:`Pause`,
