@@ -78,14 +78,17 @@
  *   for an infinitesimal step). A guard can change sign and back within one
  *   step: a 1-DoF slip that stops and restarts the same way (s qd falling
  *   then rising over the step: its minimum is searched, golden section on
- *   the one-step map), a guard violated at the step start that first
+ *   the one-step map), and a guard violated at the step start that first
  *   recovers (a corner lifted off a stop falling back: its maximum is
- *   searched, and the crossing after it located), and the stick guard of a
- *   rest, whose steps are long (the state is constant; only the force
- *   integrals and the output grid bound them): a load that leaves the
- *   ellipsoid and comes back within one step (its minimum is searched,
- *   stick_guard_min), so whether a short slip happens does not depend on
- *   where steps end. The
+ *   searched, and the crossing after it located); at rest every guard is
+ *   a function of t alone and a step can be long (the state is constant), so
+ *   a load that leaves the ellipsoid and comes back within one step is
+ *   found from the guards' rates at the step's ends (gap_dips). In a 1-DoF
+ *   scene a stop's gap guard is the least gap over the outline, whose end
+ *   rates need not show one corner's dip (a corner of a turning object
+ *   sweeping past a stop that cuts its path a little while another corner
+ *   is the nearest at both step ends): each free (stop, vertex) row is
+ *   checked too (row_dip). The
  *   motion's own switching times (Eq. 7, trapezoid kinks, end of a sampled
  *   motion) and the breakpoints of a grip schedule are stepped onto, never
  *   over, and velocity jumps of the gripper
@@ -1022,8 +1025,12 @@ static int sf_guards(hyb *H, const frame *f, const exdex_kinematics *kin, const 
 /* The stops' friction modes after decide_modes at (t, y) (every H->fm was
  * SF_ROLL during it): at rest from each stop's tb (above); else the mode
  * that the acceleration-level problem finds, the stops sliding where |s| >
- * zsw, and a sticking stop's slip projected to 0; no consistent mode
- * (Painleve): the stops frictionless, a warning. */
+ * zsw, and a sticking stop's slip projected to 0. In a small slip the
+ * plate friction depends on the stops' modes (below): a mode is kept only
+ * if the problem decides it again on its own plate friction. No
+ * consistent mode (Painleve, or a small slip whose coupled problem has
+ * none, or more than 3 rolling stops in a small slip): the stops
+ * frictionless, a warning. */
 static void sf_decide(hyb *H, double t, double *y)
 {
     frame f;
@@ -1046,12 +1053,44 @@ static void sf_decide(hyb *H, double t, double *y)
                 H->fm[k] = fabs(tb[k]) <= H->zsw ? SF_STICK : tb[k] > 0.0 ? SF_SLIDE_P : SF_SLIDE_M;
         return;
     }
-    fs = sf_free_acc(H, &f, &kin, y, a);
-    if (fs) {
-        H->err = H->err ? H->err : fs;
-        return;
+    if (H->mode == MODE_SLIP && H->small && nr >= 0) {
+        /* a small slip's plate friction is found together with the stop
+         * forces (planar_friction's fixed point), so it depends on the
+         * stops' modes: each mode of the rolling stops (|s| <= zsw) is
+         * tried with its own plate friction, and the first that the
+         * problem decides again from that friction is kept (the guards
+         * then start from a consistent mode) */
+        int roll[EXDEX_MAX_STOPS], pick[EXDEX_MAX_STOPS] = {0}, nroll = 0, found = 0;
+        static const int cand[3] = {SF_STICK, SF_SLIDE_P, SF_SLIDE_M};
+        for (int k = 0; k < H->ns; k++)
+            if (has[k] && st[k].mu > 0.0 && st[k].fm == SF_ROLL) roll[nroll++] = k;
+        for (int combo = 0; nroll <= 3 && !found; combo++) {
+            int c = combo, same = 1;
+            if (combo >= (nroll == 0 ? 1 : nroll == 1 ? 3 : nroll == 2 ? 9 : 27)) break;
+            for (int i = 0; i < nroll; i++) {
+                pick[i] = cand[c % 3];
+                c /= 3;
+            }
+            for (int k = 0; k < H->ns; k++) H->fm[k] = SF_ROLL;
+            for (int i = 0; i < nroll; i++) H->fm[roll[i]] = pick[i];
+            fs = sf_free_acc(H, &f, &kin, y, a);
+            if (fs) {
+                H->err = H->err ? H->err : fs;
+                return;
+            }
+            for (int k = 0; k < H->ns; k++) H->fm[k] = SF_ROLL;
+            if (!sf_solve_at(H, &kin, y, a, &res)) continue;
+            for (int i = 0; i < nroll; i++) same &= res.fm[roll[i]] == pick[i];
+            found = ok = same;
+        }
+    } else if (nr >= 0) {
+        fs = sf_free_acc(H, &f, &kin, y, a);
+        if (fs) {
+            H->err = H->err ? H->err : fs;
+            return;
+        }
+        ok = sf_solve_at(H, &kin, y, a, &res);
     }
-    if (nr >= 0) ok = sf_solve_at(H, &kin, y, a, &res);
     for (int k = 0; k < H->ns; k++) {
         if (!(has[k] && st[k].mu > 0.0)) continue;
         H->fm[k] = ok ? res.fm[k] : SF_NONE;
@@ -1809,8 +1848,36 @@ typedef struct rootctx {
     const double *y0;
     int e;
     int fail;
+    double off;   /* added to a row's gap (e < 0) */
 } rootctx;
 
+/* Gap of the (stop, vertex) row r = k nv + j at (t, y) (the value its stop
+ * guard takes for that vertex); rate (may be NULL) gets d gap / dt. */
+static double row_gap(hyb *H, double t, const double *y, int r, double *rate)
+{
+    const exdex_model *m = H->m;
+    frame f;
+    exdex_kinematics kin;
+    int k = r / H->nv, j = r % H->nv, fs = frame_seg(H, t, &f, &kin);
+    if (fs) {
+        H->err = H->err ? H->err : fs;
+        return 0.0;
+    }
+    if (H->ndof == 3) {
+        double G[3], gd;
+        double g = contact_row_planar(m, &kin, k, j, y, y + 3, G, &gd, NULL);
+        if (rate) *rate = gd;
+        return g;
+    }
+    if (rate) {
+        crow c;
+        contact_row_1dof(m, &kin, k, j, y[0], &c);
+        *rate = c.Fq * y[1] + c.Ft;
+    }
+    return contact_vertex_gap(m, &kin, k, y, j, NULL);
+}
+
+/* e >= 0: guard e; e < 0: the gap of row -1 - e (row_gap). */
 static double root_fn(double tau, void *p)
 {
     rootctx *c = p;
@@ -1819,6 +1886,7 @@ static double root_fn(double tau, void *p)
         c->fail = 1;
         return 0.0;
     }
+    if (c->e < 0) return row_gap(c->H, c->t0 + tau, c->O->ytmp, -1 - c->e, NULL) + c->off;
     guards(c->H, c->t0 + tau, c->O->ytmp, g);
     return g[c->e];
 }
@@ -1828,10 +1896,20 @@ static double root_fn(double tau, void *p)
  * iterations, stopping early once the guard has the sign sought (dir +1:
  * g < 0, -1: g > 0). *tau, *g: the best point found. EXDEX_ENOCONV if the
  * stepper fails. */
+static int extremum(rootctx *cp, double tau1, double dir, double *tau, double *g);
+
 static int guard_extremum(hyb *H, ode *O, double t0, const double *y0, double tau1, int e, double dir,
                           double *tau, double *g)
 {
-    rootctx c = {H, O, t0, y0, e, 0};
+    rootctx c = {H, O, t0, y0, e, 0, 0.0};
+    return extremum(&c, tau1, dir, tau, g);
+}
+
+/* guard_extremum on the function of c (a guard, or a row's gap plus c.off) */
+static int extremum(rootctx *cp, double tau1, double dir, double *tau, double *g)
+{
+    rootctx c = *cp;
+    hyb *H = c.H;
     double a = 0.0, b = tau1, r = 0.5 * (3.0 - sqrt(5.0));
     double x1 = a + r * (b - a), x2 = b - r * (b - a), f1 = dir * root_fn(x1, &c), f2 = dir * root_fn(x2, &c);
     for (int it = 0; it < 60 && f1 >= 0.0 && f2 >= 0.0 && !c.fail && b - a > H->m->tol.root; it++) {
@@ -1854,73 +1932,6 @@ static int guard_extremum(hyb *H, ode *O, double t0, const double *y0, double ta
     *tau = f1 < f2 ? x1 : x2;
     *g = dir * (f1 < f2 ? f1 : f2);
     return EXDEX_OK;
-}
-
-/* At rest (stick) q and qd are constant, so the stick guard (guard 0: the
- * capacity less the load that holds) is a function of t alone, and a step
- * is as long as the error control of the force integrals, the output grid
- * and the switching times allow: the load can leave the ellipsoid and come
- * back within one step (a short slip that the end values do not show, and
- * that a step ending elsewhere would catch). Its minimum over [0, tau1]:
- * STICK_SAMPLES equal parts, then golden section (at most 60 iterations)
- * about the smallest sample, stopping at the first point found with g < 0.
- * *tau, *g: that point (the earliest negative sample, else the minimum). */
-#define STICK_SAMPLES 8
-static void stick_guard_min(hyb *H, double t0, const double *y0, double tau1, double *tau, double *g)
-{
-    double gs[NG_MAX], r = 0.5 * (3.0 - sqrt(5.0)), a, b, x1, x2, f1, f2, best = INFINITY, tb = 0.0;
-    int jb = 0;
-    for (int j = 1; j < STICK_SAMPLES; j++) {
-        double tj = tau1 * j / STICK_SAMPLES;
-        guards(H, t0 + tj, y0, gs);
-        H->st->solver_iterations++;
-        if (gs[0] < best) {
-            best = gs[0];
-            tb = tj;
-            jb = j;
-        }
-        if (best < 0.0) {
-            *tau = tb;
-            *g = best;
-            return;
-        }
-    }
-    a = tau1 * (jb - 1) / STICK_SAMPLES;
-    b = tau1 * (jb + 1) / STICK_SAMPLES;
-    x1 = a + r * (b - a);
-    x2 = b - r * (b - a);
-    guards(H, t0 + x1, y0, gs);
-    f1 = gs[0];
-    guards(H, t0 + x2, y0, gs);
-    f2 = gs[0];
-    for (int it = 0; it < 60 && f1 >= 0.0 && f2 >= 0.0 && b - a > H->m->tol.root; it++) {
-        if (f1 < f2) {
-            b = x2;
-            x2 = x1;
-            f2 = f1;
-            x1 = a + r * (b - a);
-            guards(H, t0 + x1, y0, gs);
-            f1 = gs[0];
-        } else {
-            a = x1;
-            x1 = x2;
-            f1 = f2;
-            x2 = b - r * (b - a);
-            guards(H, t0 + x2, y0, gs);
-            f2 = gs[0];
-        }
-        H->st->solver_iterations++;
-    }
-    if (f1 < best) {
-        best = f1;
-        tb = x1;
-    }
-    if (f2 < best) {
-        best = f2;
-        tb = x2;
-    }
-    *tau = tb;
-    *g = best;
 }
 
 /* A free gap can dip below 0 and recover within one accepted step (a corner
@@ -2023,7 +2034,7 @@ static int gap_dips(hyb *H, ode *O, double t0, const double *y0, double t1, cons
  * returns the upper end of the final bracket (the guard is just violated). */
 static int locate(hyb *H, ode *O, double t0, const double *y0, double tau0, double tau1, int e, double *tau)
 {
-    rootctx c = {H, O, t0, y0, e, 0};
+    rootctx c = {H, O, t0, y0, e, 0, 0.0};
     gsl_function F = {root_fn, &c};
     double lo = tau0, hi = tau1;
     int st = gsl_root_fsolver_set(O->root, &F, lo, hi);
@@ -2058,6 +2069,68 @@ static int locate(hyb *H, ode *O, double t0, const double *y0, double tau0, doub
     }
     if (c.fail) return EXDEX_ENOCONV;
     *tau = hi;
+    return EXDEX_OK;
+}
+
+/* A free (stop, vertex) row of a 1-DoF scene can meet its stop and leave it
+ * again within one step (planar rows are guards of their own, gap_dips; a
+ * 1-DoF stop's guard is its least gap over the outline, whose end rates can
+ * belong to another corner): a vertex sweeping past a stop that cuts its path only a little (a
+ * turning object, a corner passing a stop at a shallow angle) has a gap that
+ * is positive at both ends of the step and negative in between, which the
+ * guards' end values do not show; the exact motion has an impact there.
+ * Where a free row's gap is positive at both ends and its rate turns from
+ * approaching (< 0) at t0 to receding (> 0) at t1, the gap has an interior
+ * minimum. It is searched (golden section on the stepper's one-step map,
+ * extremum) unless the cubic Hermite interpolant of the end values and
+ * rates keeps its minimum above the touching band by at least its own depth
+ * below the ends (the interpolant's error is of fourth order in the step,
+ * the depth of second: a step that resolves the motion resolves the dip
+ * to well within its depth); where the minimum falls below -tol.touch (a
+ * penetration beyond the touching band: rows touching at either end, gap <=
+ * tol.touch, are the impact and contact-set logic's, and a rounding-level
+ * dip of a row left at 0 is no impact) the first crossing of 0 is located
+ * (Brent, locate). A gap without such a turn over one step (two turns
+ * within one step) is beyond the stepper's resolution of the motion and
+ * not searched. *tau: the earliest crossing, INFINITY if none. Rows in the
+ * contact set, and the 1-DoF contact row, are not free. */
+static int row_dip(hyb *H, ode *O, double t0, const double *y0, double t1, const double *y1, double *tau)
+{
+    int nr = H->ns * H->nv;
+    double touch = H->m->tol.touch;
+    unsigned char in[MAX_ROWS];
+    *tau = INFINITY;
+    if (!H->ns || !(t1 > t0)) return EXDEX_OK;
+    memset(in, 0, (size_t)nr);
+    if (H->ndof == 3)
+        for (int i = 0; i < H->ncs; i++) in[H->cs[i]] = 1;
+    else if (H->mode == MODE_CONTACT)
+        in[H->ck * H->nv + H->cj] = 1;
+    for (int r = 0; r < nr; r++) {
+        double ga, gb, ra, rb, tm, gm, tr;
+        int st;
+        if (in[r]) continue;
+        ga = row_gap(H, t0, y0, r, &ra);
+        gb = row_gap(H, t1, y1, r, &rb);
+        if (H->err) return H->err;
+        if (!(ga > touch && gb > touch && ra < 0.0 && rb > 0.0)) continue;
+        {
+            /* screen: the cubic Hermite interpolant of (ga, ra, gb, rb)
+             * has its minimum pm at least its own depth below the ends
+             * (min(ga, gb) - pm) above the touching band: no search */
+            double pm = hermite_min(ga, gb, ra, rb, t1 - t0);
+            if (pm - touch >= fmin(ga, gb) - pm) continue;
+        }
+        {
+            rootctx c = {H, O, t0, y0, -1 - r, 0, touch};
+            st = extremum(&c, t1 - t0, 1.0, &tm, &gm);
+        }
+        if (st) return st;
+        if (!(gm < 0.0)) continue;
+        st = locate(H, O, t0, y0, 0.0, tm, -1 - r, &tr);
+        if (st) return st;
+        if (tr < *tau) *tau = tr;
+    }
     return EXDEX_OK;
 }
 
@@ -2254,21 +2327,6 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                     }
                 }
             }
-            if (law == LAW_COULOMB && H.mode == MODE_STICK && g0[0] > 0.0 && g1[0] >= 0.0 && t > t0) {
-                /* a short slip inside the step (stick_guard_min): the step
-                 * ends where the guard is negative, located below */
-                double tm, gm;
-                stick_guard_min(&H, t0, y0, t - t0, &tm, &gm);
-                if (H.err) break;
-                if (gm < 0.0) {
-                    if (one_step(O, t0, y0, tm, y) != GSL_SUCCESS) {
-                        status = EXDEX_ENOCONV;
-                        break;
-                    }
-                    t = t0 + tm;
-                }
-                guards(&H, t, y, g1);
-            }
             for (int e = 0; e < ng; e++) {
                 double tau;
                 if (!(g1[e] < 0.0)) continue;
@@ -2311,6 +2369,38 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
             }
             /* a free gap that dipped below 0 and recovered within the step */
             if (!status) status = gap_dips(&H, O, t0, y0, t, y, ng, g0, g1, &tau_best, &e_best);
+            if (!status && ns && nd == 1) {
+                /* 1-DoF: a corner's gap dipping below 0 within the step
+                 * (row_dip): the event is its stop guard, violated at the
+                 * crossing */
+                double tau, gt[NG_MAX], ye[NY_MAX], t1 = t;
+                const double *y1 = y;
+                if (tau_best < t - t0) {
+                    /* only a dip before the event found matters */
+                    if (one_step(O, t0, y0, tau_best, O->ytmp) != GSL_SUCCESS || H.err) {
+                        status = H.err ? H.err : EXDEX_ENOCONV;
+                        break;
+                    }
+                    memcpy(ye, O->ytmp, (size_t)H.ny * sizeof *ye);
+                    t1 = t0 + tau_best;
+                    y1 = ye;
+                }
+                status = row_dip(&H, O, t0, y0, t1, y1, &tau);
+                if (!status && tau < tau_best) {
+                    if (one_step(O, t0, y0, tau, O->ytmp) != GSL_SUCCESS || H.err) {
+                        status = H.err ? H.err : EXDEX_ENOCONV;
+                    } else {
+                        guards(&H, t0 + tau, O->ytmp, gt);
+                        for (int e = 0; e < ng; e++)
+                            if (g0[e] > 0.0 && gt[e] < 0.0) {
+                                tau_best = tau;
+                                e_best = e;
+                                break;
+                            }
+                    }
+                }
+            }
+            if (status) break;
             /* a guard can dip below 0 and recover within one step (its end
              * value is >= 0): the located event's point shows it; take the
              * earliest such crossing instead (at most ng passes) */

@@ -794,7 +794,8 @@ class Chain(_Motion):
     first sample (relative logs replay from that pose; an absolute log must
     start there), a :class:`Pause` for its duration. The chain's switching
     times (every piece boundary and the pieces' own phase switches) are
-    stepped onto by the event method.
+    stepped onto by the event and regularised methods; the implicit and
+    explicit methods split a step that holds one there.
 
     pieces : 1 to 16 motions (:class:`AsymmetricProfile`,
         :class:`TrapezoidalProfile`, :class:`Shake`, :class:`Pause`,
@@ -890,10 +891,12 @@ def _quat_from_matrix(R):
 @dataclass(frozen=True)
 class Stop:
     """A fixed plane of the world the object may not cross: the allowed side
-    is ``(x - point) . normal >= 0`` for every outline vertex x, in A [m].
+    is ``(x - point) . normal >= 0`` for every outline vertex x (a disc
+    outline: every point of the disc), in A [m].
 
     mu : Coulomb friction coefficient between the stop and each outline
-        vertex touching it, in [0, inf) (0: frictionless). The friction acts
+        vertex touching it (a disc: its support point, so it rolls or
+        slides), in [0, inf) (0: frictionless). The friction acts
         in the plate plane, along the stop's trace there, bounded by mu times
         the vertex's normal force; exact in every method that supports
         stops (``implicit`` and ``explicit``: velocity-level
@@ -1047,8 +1050,9 @@ class Scene:
     stops : fixed world planes (``Stop``) the object outline may not cross.
     obstacles : convex solids fixed in the world (``Obstacle``) the object
         outline may not enter (every method but the analytic one solves such
-        scenes; with ``Obstacle.mu > 0`` the implicit and explicit methods,
-        in 1-DoF scenes also the event and regularised ones).
+        scenes; with a disc outline the implicit and explicit methods, with
+        ``Obstacle.mu > 0`` those and, in 1-DoF scenes, the event and
+        regularised ones).
     """
 
     body: Body

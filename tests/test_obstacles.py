@@ -442,12 +442,15 @@ def _v_tool(theta, alpha1=0.0):
     return np.array([[-math.sin(a1), math.cos(a1)], [-math.sin(a2), math.cos(a2)]])
 
 
-def push_into_v(phi, theta, gaps=(0.05, 0.15), depth=0.6, method="implicit"):
+def push_into_v(phi, theta, gaps=(0.05, 0.15), depth=0.6, method="implicit", dt=1.0 / 3000):
     """The unit square (exdex.tool.UNIT_SQUARE, 1 kg) held at attack angle phi
     and pushed by the gripper along the V's bisector into the two surfaces
     (each a one-face obstacle through the apex). The plates span A's x-z
     plane, so B's (x, y) are the tool plane's. It starts with clearances
-    ``gaps`` to the surfaces, so it touches one first."""
+    ``gaps`` to the surfaces, so it touches one first. The default output
+    step dt divides the trapezoid's switching times 1/3, 2/3 and 1 s, so
+    each output step is one step of the method (a step holding a switch is
+    taken as two sub-steps split there)."""
     n = _v_tool(theta)
     b = n.sum(axis=0) / np.linalg.norm(n.sum(axis=0))
     c, s = math.cos(phi), math.sin(phi)
@@ -459,7 +462,7 @@ def push_into_v(phi, theta, gaps=(0.05, 0.15), depth=0.6, method="implicit"):
                q0=(c0[0], c0[1], phi), gravity=(0.0, 0.0, 0.0),
                motion=TrapezoidalProfile(X, 1.0, 1.5 * X, axis=(-b[0], 0.0, -b[1])),
                obstacles=tuple(Obstacle.halfspaces([(nk[0], 0.0, nk[1])], [0.0]) for nk in n))
-    return sc, run(sc, 1.2, 1e-3, method=method), n
+    return sc, run(sc, 1.2, dt, method=method), n
 
 
 def cone_check(sc, res, n, theta, touch=1e-9):
@@ -756,8 +759,9 @@ def test_batch_and_stepper_with_obstacles_are_simulate_bit_for_bit(method):
     """The V-tool push through simulate_batch (the grip force a batch
     parameter) and through the Stepper, step by step (and from a saved
     state): the same arrays as simulate, stop forces of the obstacles
-    included."""
-    sc, res, n = push_into_v(math.radians(10.0), math.radians(90.0), method=method)
+    included. Output steps of 1e-3 s: the trapezoid's switches at 1/3 and
+    2/3 s fall inside steps (split there by the time-stepping methods)."""
+    sc, res, n = push_into_v(math.radians(10.0), math.radians(90.0), method=method, dt=1e-3)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", exdex.PhysicsWarning)
         b = exdex.simulate_batch(sc, t_end=1.2, dt=1e-3, grip_force=[5.0, 3.0], method=method)
