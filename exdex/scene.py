@@ -928,7 +928,8 @@ class Obstacle:
         points within ``radius`` of the line through ``center`` along
         ``axis``: an infinite rod).
     mu : Coulomb friction coefficient against the object (>= 0; the implicit
-        and explicit methods), as a stop's: along the tangent of the plate
+        and explicit methods, in 1-DoF scenes also event and regularised),
+        as a stop's: along the tangent of the plate
         plane at each contact, bounded by mu times the contact's normal force.
 
     The plate plane cuts the solid in a convex polygon of the gripper frame B
@@ -1049,8 +1050,9 @@ class Scene:
     stops : fixed world planes (``Stop``) the object outline may not cross.
     obstacles : convex solids fixed in the world (``Obstacle``) the object
         outline may not enter (every method but the analytic one solves such
-        scenes; with ``Obstacle.mu > 0`` or a disc outline the implicit and
-        explicit methods).
+        scenes; with a disc outline the implicit and explicit methods, with
+        ``Obstacle.mu > 0`` those and, in 1-DoF scenes, the event and
+        regularised ones).
     """
 
     body: Body
@@ -1206,9 +1208,9 @@ class Scene:
                 raise ValueError(f"Scene.obstacles: the implicit, explicit, event and regularised methods solve "
                                  f"scenes with obstacles, got method={method!r}")
             if method in ("event", "regularised"):
-                if any(o.mu > 0 for o in self.obstacles):
-                    raise ValueError(f"Scene.obstacles: the implicit and explicit methods solve obstacles with "
-                                     f"friction (Obstacle.mu > 0), got method={method!r}")
+                if self.dof == "planar" and any(o.mu > 0 for o in self.obstacles):
+                    raise ValueError(f"Scene.obstacles: the implicit and explicit methods solve planar scenes with "
+                                     f"frictional obstacles (Obstacle.mu > 0), got method={method!r}")
                 if self.dof == "planar" and any(s.mu > 0 for s in self.stops):
                     raise ValueError(f"Scene.obstacles: the implicit and explicit methods solve planar scenes with "
                                      f"obstacles and frictional stops (Stop.mu > 0), got method={method!r}")

@@ -149,7 +149,7 @@ def test_bad_input_names_the_parameter():
                        t_end=0.1, dt=0.01, method="regularised")
     for method in ("event", "regularised"):
         with pytest.raises(ValueError, match=r"Obstacle\.mu"):
-            exdex.simulate(exdex.replace(sc, obstacles=(Obstacle.box((0, 0, -1), (1, 1, 1), mu=0.5),)),
+            exdex.simulate(exdex.replace(sc, dof="planar", obstacles=(Obstacle.box((0, 0, -1), (1, 1, 1), mu=0.5),)),
                            t_end=0.1, dt=0.01, method=method)
     inside = Scene(body=body, grasp=grasp, obstacles=Obstacle.box((0, 0, 0), (1, 1, 1)))
     with pytest.raises(ValueError, match="inside an obstacle"):
@@ -655,6 +655,37 @@ def test_frictional_rod_slows_the_pinned_square_and_never_adds_energy():
     pushing = out[0.0].stop_force[:, 0] > 1e-6
     assert np.all(out[0.5].stop_force[pushing, 0] >= out[0.0].stop_force[pushing, 0] * (1 - 1e-9))
     assert np.any(out[0.5].stop_force[pushing, 0] > 1.01 * out[0.0].stop_force[pushing, 0])
+
+
+@pytest.mark.parametrize("method", ["event", "regularised"])
+def test_frictional_rod_on_the_pinned_square_event_and_regularised(method):
+    """The rod pushing the pinned square (rotation scene, above) with
+    friction mu = 0.5, in the event and regularised methods, up to t = 0.6 s
+    (the friction then turns the rod's force toward the pin: the contact
+    jams at ~0.66 s, where the force grows without bound): the kinematics
+    are the tangency's (event to 1e-12 rad, regularised to 1e-9 at eps =
+    1e-5), the rod's force is at least the frictionless one and above it
+    while the edge slides over the rod, and it agrees with the implicit
+    method's (dt 1e-4, first order) to 1 %."""
+    d, g0 = 0.015, 1e-3
+    motion = TrapezoidalProfile(0.005, 1.0, 0.0075, axis=(0, 0, -1))
+    kw = dict(eps=1e-5) if method == "regularised" else {}
+    out = {}
+    for mu in (0.0, 0.5):
+        sc = Scene(body=square(), grasp=Grasp(mu=0.5, grip_force=1.0), dof="rotation", motion=motion,
+                   obstacles=(Obstacle.cylinder((d, 0.0, -(A + RADIUS + g0)), (0, 1, 0), RADIUS, mu=mu),))
+        out[mu] = run(sc, 0.6, 1e-3, method=method, **kw)
+    imp = run(sc, 0.6, 1e-4, method="implicit")
+    res = out[0.5]
+    delta = -motion.evaluate(res.t)["p"][:, 2]
+    L = A + RADIUS + g0 - delta
+    th = np.where(L > A + RADIUS, 0.0, np.arctan2(d, L) - np.arccos(np.minimum(1.0, (A + RADIUS) / np.hypot(d, L))))
+    np.testing.assert_allclose(res.q[:, 0], th, rtol=0, atol=1e-12 if method == "event" else 1e-9)
+    pushing = out[0.0].stop_force[:, 0] > 1e-6
+    assert np.all(res.stop_force[pushing, 0] >= out[0.0].stop_force[pushing, 0] * (1 - 1e-9))
+    assert np.any(res.stop_force[pushing, 0] > 1.01 * out[0.0].stop_force[pushing, 0])
+    late = res.t > 0.32  # after the first contact's impact interval
+    np.testing.assert_allclose(res.stop_force[late, 0], imp.stop_force[::10][late, 0], rtol=1e-2)
 
 
 # ---------------------------------------------------------------- properties
