@@ -3,7 +3,15 @@
  *     v+ = v + dt M^-1 (Q(t, q, v) + friction(v)),   q+ = q + dt v+,
  * friction -C E^2 u / |E u| (C = mu N, with a grip schedule its mean over
  * the step) and 0 at u = 0 exactly; the frame
- * accelerations enter as step means (model_frame_step). Stops:
+ * accelerations enter as step means (model_frame_step). An output step
+ * holding a switching time of the scene strictly inside (the motion's
+ * acceleration switches and velocity jumps, the grip schedule's
+ * breakpoints) is taken as sub-steps split there (model_substep), each the
+ * step above with its own h; a velocity jump of the frame at a sub-step's
+ * end is applied to the relative velocity there (model_velocity_jump) and
+ * friction acts on it from the next sub-step on. The recorded wrench and
+ * stop forces are means over the output step. Everything below ("per
+ * step", h) holds per sub-step. Stops:
  * velocity-level rows G v+ >= -gap(q, t + dt)/dt; 1-DoF: a clamp; planar:
  * v+ is the M-metric projection of v* onto every (stop, vertex) row
  * (ldp_project), stop force lam / dt. Obstacles add their rows
@@ -157,23 +165,24 @@ static int explicit_begin(const exdex_model *m, void *ws, double t_end, double d
     return exdex_motion_eval(m->motion, 0.0, &w->kin0);
 }
 
-/* One step from the time reached to t1, recorded as sample i. */
-static int explicit_advance(const exdex_model *m, void *ws, double t1, int regrip, exdex_trajectory *out,
-                            size_t i, exdex_stats *st)
+/* One sub-step from the time reached, w->t, to sub->te (model_substep):
+ * the scheme at the top with h = te - t; then the frame's velocity jumps at
+ * te, if any. On return (EXDEX_OK) the state is at te, wrench holds the
+ * sub-step's plate wrench, lamsum each source's mean stop force and *still
+ * the stick flag. */
+static int explicit_substep(const exdex_model *m, explicit_ws *w, const model_sub *sub, double wrench[3],
+                            double *lamsum, int *still, exdex_stats *st)
 {
-    explicit_ws *w = ws;
     int nd = m->ndof, ns = m->n_stops, nv = m->n_vert ? m->n_vert : 1, status = EXDEX_OK;
-    double *q = w->q, *v = w->v, t = w->t;
+    double *q = w->q, *v = w->v, t = w->t, t1 = sub->te;
     exdex_kinematics kin0 = w->kin0;
     double rmax = contact_rot_radius(m);
-    (void)regrip;   /* the capacity is read at every step */
     do {
-        double h = t1 - t, wrench[3] = {0, 0, 0};
-        double lamsum[EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES];
+        double h = t1 - t;
         exdex_kinematics kin, kin_end;
         frame f;
-        int still;
-        status = model_frame_step(m, &kin0, t, t1, h, &f, &kin, &kin_end);
+        wrench[0] = wrench[1] = wrench[2] = 0.0;
+        status = model_frame_substep(m, &kin0, t, sub, h, &f, &kin, &kin_end);
         if (status) break;
         for (int k = 0; k < m->n_src; k++) lamsum[k] = 0.0;
         if (nd == 1) {
@@ -300,7 +309,7 @@ static int explicit_advance(const exdex_model *m, void *ws, double t1, int regri
             } else {
                 wrench[2] = fr;
             }
-            still = v[0] == 0.0;
+            *still = v[0] == 0.0;
         } else {
             double F[3], u[3], eu[3], sig, w[3] = {0, 0, 0}, P[3];
             model_force_planar(m, &f, q, v, F);
@@ -363,7 +372,7 @@ static int explicit_advance(const exdex_model *m, void *ws, double t1, int regri
                 }
             }
             for (int c = 0; c < 3; c++) q[c] += h * v[c];
-            still = v[0] == 0.0 && v[1] == 0.0 && v[2] == 0.0;
+            *still = v[0] == 0.0 && v[1] == 0.0 && v[2] == 0.0;
         }
         if (!ex_finite_n(q, nd) || !ex_finite_n(v, nd)) {
             status = EXDEX_ENONFINITE;
@@ -385,13 +394,52 @@ static int explicit_advance(const exdex_model *m, void *ws, double t1, int regri
                 st->warnings++;
         }
         t = t1;
-        kin0 = kin_end;
         st->steps++;
         for (int k = 0; k < m->n_src; k++) lamsum[k] /= h;
-        method_record(m, out, st, i, t1, q, v, wrench, still, lamsum);
+        if (sub->jumps) {
+            /* the frame's velocity jumps at te: the relative velocity jumps
+             * (the plates carry no impulse); friction acts on it from the
+             * next sub-step on */
+            model_substep_jump(m, sub, q, v, &kin_end);
+            if (!ex_finite_n(v, nd)) {
+                status = EXDEX_ENONFINITE;
+                break;
+            }
+            *still = nd == 1 ? v[0] == 0.0 : v[0] == 0.0 && v[1] == 0.0 && v[2] == 0.0;
+        }
+        kin0 = kin_end;
     } while (0);
     w->t = t;
     w->kin0 = kin0;
+    return status;
+}
+
+/* One output step from the time reached to t1, recorded as sample i: its
+ * sub-steps (model_substep), the recorded wrench and stop forces their
+ * means over the output step weighted by their lengths (one sub-step: its
+ * own values, bit for bit), the stick flag set when every sub-step stuck
+ * (the object held through the whole output step). */
+static int explicit_advance(const exdex_model *m, void *ws, double t1, int regrip, exdex_trajectory *out,
+                            size_t i, exdex_stats *st)
+{
+    explicit_ws *w = ws;
+    double t0 = w->t, H = t1 - t0, wrench[3] = {0, 0, 0}, sf[EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES];
+    int status = EXDEX_OK, still = 0, first = 1;
+    (void)regrip;   /* the capacity is read at every step */
+    while (w->t < t1) {
+        model_sub sub;
+        int sub_still = 0;
+        double wr[3], sfs[EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES], ts = w->t, wt;
+        model_substep(m, ts, t1, &sub);
+        status = explicit_substep(m, w, &sub, wr, sfs, &sub_still, st);
+        if (status) return status;
+        still = first ? sub_still : still && sub_still;
+        wt = (sub.te - ts) / H;
+        for (int c = 0; c < 3; c++) wrench[c] = first ? wr[c] * wt : wrench[c] + wr[c] * wt;
+        for (int k = 0; k < m->n_src; k++) sf[k] = first ? sfs[k] * wt : sf[k] + sfs[k] * wt;
+        first = 0;
+    }
+    method_record(m, out, st, i, t1, w->q, w->v, wrench, still, sf);
     return status;
 }
 

@@ -78,18 +78,17 @@
  *   for an infinitesimal step). A guard can change sign and back within one
  *   step: a 1-DoF slip that stops and restarts the same way (s qd falling
  *   then rising over the step: its minimum is searched, golden section on
- *   the one-step map), a guard violated at the step start that first
+ *   the one-step map), and a guard violated at the step start that first
  *   recovers (a corner lifted off a stop falling back: its maximum is
- *   searched, and the crossing after it located), and the stick guard of a
- *   rest, whose steps are long (the state is constant; only the force
- *   integrals and the output grid bound them): a load that leaves the
- *   ellipsoid and comes back within one step (its minimum is searched,
- *   stick_guard_min), so whether a short slip happens does not depend on
- *   where steps end. In a 1-DoF scene a stop's gap guard is the least gap
- *   over the outline, whose end rates need not show one corner's dip (a
- *   corner of a turning object sweeping past a stop that cuts its path a
- *   little while another corner is the nearest at both step ends): each
- *   free (stop, vertex) row is checked too (row_dip). The
+ *   searched, and the crossing after it located); at rest every guard is
+ *   a function of t alone and a step can be long (the state is constant), so
+ *   a load that leaves the ellipsoid and comes back within one step is
+ *   found from the guards' rates at the step's ends (gap_dips). In a 1-DoF
+ *   scene a stop's gap guard is the least gap over the outline, whose end
+ *   rates need not show one corner's dip (a corner of a turning object
+ *   sweeping past a stop that cuts its path a little while another corner
+ *   is the nearest at both step ends): each free (stop, vertex) row is
+ *   checked too (row_dip). The
  *   motion's own switching times (Eq. 7, trapezoid kinks, end of a sampled
  *   motion) and the breakpoints of a grip schedule are stepped onto, never
  *   over, and velocity jumps of the gripper
@@ -202,8 +201,9 @@
  *   smooths the plate friction only): see "planar frictional stops" below
  *   (sf_*, sfric.h).
  *
- * Obstacles (frictionless; Obstacle.mu > 0 is rejected by model_alloc with
- *   these methods): their rows (orows.h: an outline vertex against a
+ * Obstacles (Obstacle.mu > 0 in 1-DoF scenes, as a frictional stop: the
+ *   row's tangent at its point, orow_point; model_alloc rejects it in
+ *   planar scenes, and disc outlines with obstacles): their rows (orows.h: an outline vertex against a
  *   polytope's faces, a section vertex against the outline's hull, a rod
  *   against the hull) go through the stops' code path: the same gap guards,
  *   impacts, contact sets (planar) and single-row contact (1-DoF), their
@@ -433,10 +433,18 @@ static double contact_qdd(const crow *c, double v)
 }
 
 /* Slip of the 1-DoF contact vertex along its stop at (q, v) and pose kin:
- * s = T v + tb (contact_stop_tangent); T (may be NULL) gets d s / d qdot. */
+ * s = T v + tb (contact_stop_tangent; an obstacle row: contact_tangent at
+ * its point, orow_point); T (may be NULL) gets d s / d qdot. */
 static double contact_slip_1dof(const hyb *H, const exdex_kinematics *kin, double q, double v, double *T)
 {
     double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], Tv[3], tb;
+    if (H->ck >= H->ns) {
+        contact_point cp;
+        orow_point(H->m, kin, H->cj, &q, &cp);
+        contact_tangent(H->m, kin, cp.x, cp.vx, cp.nB, Tv, &tb);
+        if (T) *T = Tv[0];
+        return Tv[0] * v + tb;
+    }
     contact_vertices(H->m, &q, xb, vx);
     contact_stop_tangent(H->m, kin, H->ck, xb[H->cj], vx[H->cj], Tv, &tb);
     if (T) *T = Tv[0];
@@ -1042,8 +1050,12 @@ static int sf_guards(hyb *H, const frame *f, const exdex_kinematics *kin, const 
 /* The stops' friction modes after decide_modes at (t, y) (every H->fm was
  * SF_ROLL during it): at rest from each stop's tb (above); else the mode
  * that the acceleration-level problem finds, the stops sliding where |s| >
- * zsw, and a sticking stop's slip projected to 0; no consistent mode
- * (Painleve): the stops frictionless, a warning. */
+ * zsw, and a sticking stop's slip projected to 0. In a small slip the
+ * plate friction depends on the stops' modes (below): a mode is kept only
+ * if the problem decides it again on its own plate friction. No
+ * consistent mode (Painleve, or a small slip whose coupled problem has
+ * none, or more than 3 rolling stops in a small slip): the stops
+ * frictionless, a warning. */
 static void sf_decide(hyb *H, double t, double *y)
 {
     frame f;
@@ -1066,12 +1078,44 @@ static void sf_decide(hyb *H, double t, double *y)
                 H->fm[k] = fabs(tb[k]) <= H->zsw ? SF_STICK : tb[k] > 0.0 ? SF_SLIDE_P : SF_SLIDE_M;
         return;
     }
-    fs = sf_free_acc(H, &f, &kin, y, a);
-    if (fs) {
-        H->err = H->err ? H->err : fs;
-        return;
+    if (H->mode == MODE_SLIP && H->small && nr >= 0) {
+        /* a small slip's plate friction is found together with the stop
+         * forces (planar_friction's fixed point), so it depends on the
+         * stops' modes: each mode of the rolling stops (|s| <= zsw) is
+         * tried with its own plate friction, and the first that the
+         * problem decides again from that friction is kept (the guards
+         * then start from a consistent mode) */
+        int roll[EXDEX_MAX_STOPS], pick[EXDEX_MAX_STOPS] = {0}, nroll = 0, found = 0;
+        static const int cand[3] = {SF_STICK, SF_SLIDE_P, SF_SLIDE_M};
+        for (int k = 0; k < H->ns; k++)
+            if (has[k] && st[k].mu > 0.0 && st[k].fm == SF_ROLL) roll[nroll++] = k;
+        for (int combo = 0; nroll <= 3 && !found; combo++) {
+            int c = combo, same = 1;
+            if (combo >= (nroll == 0 ? 1 : nroll == 1 ? 3 : nroll == 2 ? 9 : 27)) break;
+            for (int i = 0; i < nroll; i++) {
+                pick[i] = cand[c % 3];
+                c /= 3;
+            }
+            for (int k = 0; k < H->ns; k++) H->fm[k] = SF_ROLL;
+            for (int i = 0; i < nroll; i++) H->fm[roll[i]] = pick[i];
+            fs = sf_free_acc(H, &f, &kin, y, a);
+            if (fs) {
+                H->err = H->err ? H->err : fs;
+                return;
+            }
+            for (int k = 0; k < H->ns; k++) H->fm[k] = SF_ROLL;
+            if (!sf_solve_at(H, &kin, y, a, &res)) continue;
+            for (int i = 0; i < nroll; i++) same &= res.fm[roll[i]] == pick[i];
+            found = ok = same;
+        }
+    } else if (nr >= 0) {
+        fs = sf_free_acc(H, &f, &kin, y, a);
+        if (fs) {
+            H->err = H->err ? H->err : fs;
+            return;
+        }
+        ok = sf_solve_at(H, &kin, y, a, &res);
     }
-    if (nr >= 0) ok = sf_solve_at(H, &kin, y, a, &res);
     for (int k = 0; k < H->ns; k++) {
         if (!(has[k] && st[k].mu > 0.0)) continue;
         H->fm[k] = ok ? res.fm[k] : SF_NONE;
@@ -1923,73 +1967,6 @@ static int extremum(rootctx *cp, double tau1, double dir, double *tau, double *g
     return EXDEX_OK;
 }
 
-/* At rest (stick) q and qd are constant, so the stick guard (guard 0: the
- * capacity less the load that holds) is a function of t alone, and a step
- * is as long as the error control of the force integrals, the output grid
- * and the switching times allow: the load can leave the ellipsoid and come
- * back within one step (a short slip that the end values do not show, and
- * that a step ending elsewhere would catch). Its minimum over [0, tau1]:
- * STICK_SAMPLES equal parts, then golden section (at most 60 iterations)
- * about the smallest sample, stopping at the first point found with g < 0.
- * *tau, *g: that point (the earliest negative sample, else the minimum). */
-#define STICK_SAMPLES 8
-static void stick_guard_min(hyb *H, double t0, const double *y0, double tau1, double *tau, double *g)
-{
-    double gs[NG_MAX], r = 0.5 * (3.0 - sqrt(5.0)), a, b, x1, x2, f1, f2, best = INFINITY, tb = 0.0;
-    int jb = 0;
-    for (int j = 1; j < STICK_SAMPLES; j++) {
-        double tj = tau1 * j / STICK_SAMPLES;
-        guards(H, t0 + tj, y0, gs);
-        H->st->solver_iterations++;
-        if (gs[0] < best) {
-            best = gs[0];
-            tb = tj;
-            jb = j;
-        }
-        if (best < 0.0) {
-            *tau = tb;
-            *g = best;
-            return;
-        }
-    }
-    a = tau1 * (jb - 1) / STICK_SAMPLES;
-    b = tau1 * (jb + 1) / STICK_SAMPLES;
-    x1 = a + r * (b - a);
-    x2 = b - r * (b - a);
-    guards(H, t0 + x1, y0, gs);
-    f1 = gs[0];
-    guards(H, t0 + x2, y0, gs);
-    f2 = gs[0];
-    for (int it = 0; it < 60 && f1 >= 0.0 && f2 >= 0.0 && b - a > H->m->tol.root; it++) {
-        if (f1 < f2) {
-            b = x2;
-            x2 = x1;
-            f2 = f1;
-            x1 = a + r * (b - a);
-            guards(H, t0 + x1, y0, gs);
-            f1 = gs[0];
-        } else {
-            a = x1;
-            x1 = x2;
-            f1 = f2;
-            x2 = b - r * (b - a);
-            guards(H, t0 + x2, y0, gs);
-            f2 = gs[0];
-        }
-        H->st->solver_iterations++;
-    }
-    if (f1 < best) {
-        best = f1;
-        tb = x1;
-    }
-    if (f2 < best) {
-        best = f2;
-        tb = x2;
-    }
-    *tau = tb;
-    *g = best;
-}
-
 /* A free gap can dip below 0 and recover within one accepted step (a corner
  * of a turning outline grazing a stop): both end values are positive and
  * the impact would be missed. The gaps are functions of (t, q), so their
@@ -2382,21 +2359,6 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                         guards(&H, t, y, g1);
                     }
                 }
-            }
-            if (law == LAW_COULOMB && H.mode == MODE_STICK && g0[0] > 0.0 && g1[0] >= 0.0 && t > t0) {
-                /* a short slip inside the step (stick_guard_min): the step
-                 * ends where the guard is negative, located below */
-                double tm, gm;
-                stick_guard_min(&H, t0, y0, t - t0, &tm, &gm);
-                if (H.err) break;
-                if (gm < 0.0) {
-                    if (one_step(O, t0, y0, tm, y) != GSL_SUCCESS) {
-                        status = EXDEX_ENOCONV;
-                        break;
-                    }
-                    t = t0 + tm;
-                }
-                guards(&H, t, y, g1);
             }
             for (int e = 0; e < ng; e++) {
                 double tau;

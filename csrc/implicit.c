@@ -10,6 +10,24 @@
  * and stop impulses lambda >= 0 keeping every stop gap >= 0 at t + h.
  * Stick is exact: when the friction impulse can hold the object, v+ = 0.
  *
+ * Sub-steps: an output step (t, t1] that holds one of the scene's switching
+ * times (the motion's acceleration switches and velocity jumps, the grip
+ * schedule's breakpoints) strictly inside is taken as sub-steps split there
+ * (model_substep), each the step above with its own h; so the frame's
+ * step-mean accelerations and the capacity's step mean are those of one
+ * smooth phase, and a stick -> slip onset at a switch starts there. A
+ * velocity jump of the frame at the end of a sub-step is applied to the
+ * relative velocity there (model_velocity_jump: the plates carry no
+ * impulse), and friction acts on it from the next sub-step on: the slide
+ * it starts carries the scheme's own errors (the slide stopping inside a
+ * step of length h from a slip speed u <= h C / M moves h u / 2 instead of
+ * u^2 / (2 a), a the deceleration: at most h min(|dqd|, h a) / 2 for a
+ * jump dqd), not an error of the jump. Samples stay on the output grid;
+ * the recorded wrench and stop forces are means over the output step. The
+ * velocity extrapolated for the midpoint's velocity-dependent terms is not
+ * carried across a switching time (it restarts from the step's start
+ * velocity).
+ *
  * Static and kinetic friction (capacities C_s = mu_static N >= C = mu N):
  * each step first tries to stick with the static capacity (the impulse that
  * makes v+ = 0, stops included, inside the ellipsoid of capacity h C_s);
@@ -727,24 +745,26 @@ static int implicit_begin(const exdex_model *m, void *ws, double t_end, double d
     return exdex_motion_eval(m->motion, 0.0, &w->S.kin0);
 }
 
-/* One step from the time reached to t1, recorded as sample `step`. */
-static int implicit_advance(const exdex_model *m, void *ws, double t1, int regrip, exdex_trajectory *out,
-                            size_t step, exdex_stats *st)
+/* One sub-step from the time reached, w->S.t, to sub->te (model_substep):
+ * the scheme at the top with h = te - t; then the frame's velocity jumps at
+ * te, if any. On return (EXDEX_OK) the state is at te, wrench holds the
+ * sub-step's mean plate wrench (impulse / h), sf each source's mean stop
+ * force and *stick the stick flag. */
+static int implicit_substep(const exdex_model *m, work *w, const model_sub *sub, double wrench[3], double *sf,
+                            int *stick, exdex_stats *st)
 {
     int n_dof = m->ndof, ns = m->n_stops, status = EXDEX_OK;
-    work *w = ws;
-    double *q = w->S.q, *v = w->S.v, *vprev = w->S.vprev, hprev = w->S.hprev, t = w->S.t;
+    double *q = w->S.q, *v = w->S.v, *vprev = w->S.vprev, hprev = w->S.hprev, t = w->S.t, t1 = sub->te;
     exdex_kinematics kin0 = w->S.kin0;
-    (void)regrip;   /* the capacity is read at every step */
     do {
         double h = t1 - t, tm = t + 0.5 * h, qm[3], vmid[3], F[3], vs[3], vn[3];
-        double wrench[3] = {0, 0, 0}, sf[EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES];
         frame f;
         exdex_kinematics kin, kin_end;
-        int stick;
+        wrench[0] = wrench[1] = wrench[2] = 0.0;
         /* step-mean frame accelerations (a midpoint sample would make an
-         * acceleration jump inside the step an O(h) error) */
-        status = model_frame_step(m, &kin0, tm, t1, h, &f, &kin, &kin_end);
+         * acceleration jump inside the step an O(h) error); no switch lies
+         * inside the sub-step */
+        status = model_frame_substep(m, &kin0, tm, sub, h, &f, &kin, &kin_end);
         if (status) break;
         for (int i = 0; i < n_dof; i++) {
             qm[i] = q[i] + 0.5 * h * v[i];
@@ -779,7 +799,7 @@ static int implicit_advance(const exdex_model *m, void *ws, double t1, int regri
             } else {
                 wrench[2] = pf / h;
             }
-            stick = vn[0] == 0.0;
+            *stick = vn[0] == 0.0;
         } else {
             exdex_friction_result fr;
             double pfB[3], fo[3];
@@ -802,7 +822,7 @@ static int implicit_advance(const exdex_model *m, void *ws, double t1, int regri
             /* report the patch wrench (not the generalized impulse), in B */
             model_to_b(MODEL_CS(qm[2]), fr.p, fo);
             for (int i = 0; i < 3; i++) wrench[i] = fo[i] / h;
-            stick = vn[0] == 0.0 && vn[1] == 0.0 && vn[2] == 0.0;
+            *stick = vn[0] == 0.0 && vn[1] == 0.0 && vn[2] == 0.0;
         }
         {
             /* A step in which a stop pushes ends where its row put it: q + h v+
@@ -836,15 +856,64 @@ static int implicit_advance(const exdex_model *m, void *ws, double t1, int regri
         }
         t = t1;
         hprev = h;
-        kin0 = kin_end;
         st->steps++;
         for (int k = 0; k < m->n_src; k++) sf[k] = 0.0;
         for (int i = 0; i < w->n_rows; i++) sf[w->row_stop[i]] += w->lam[i] / h;
-        method_record(m, out, st, step, t1, q, v, wrench, stick, sf);
+        if (sub->jumps) {
+            /* the frame's velocity jumps at te: the relative velocity jumps
+             * (the plates carry no impulse); friction acts on it from the
+             * next sub-step on. The last step's velocity change no longer
+             * extrapolates. */
+            model_substep_jump(m, sub, q, v, &kin_end);
+            if (!ex_finite_n(v, n_dof)) {
+                status = EXDEX_ENONFINITE;
+                break;
+            }
+            *stick = 0;
+            for (int i = 0; i < n_dof; i++) *stick |= v[i] != 0.0;
+            *stick = !*stick;
+        }
+        /* across a switching time the acceleration jumps: no extrapolation
+         * of the last (sub-)step's velocity change past it */
+        if (sub->split || sub->jumps) hprev = 0.0;
+        kin0 = kin_end;
     } while (0);
     w->S.hprev = hprev;
     w->S.t = t;
     w->S.kin0 = kin0;
+    return status;
+}
+
+/* One output step from the time reached to t1, recorded as sample `step`:
+ * its sub-steps (model_substep), the recorded wrench and stop forces their
+ * means over the output step weighted by their lengths (one sub-step: its
+ * own values, bit for bit), the stick flag set when every sub-step stuck
+ * (the object held through the whole output step). */
+static int implicit_advance(const exdex_model *m, void *ws, double t1, int regrip, exdex_trajectory *out,
+                            size_t step, exdex_stats *st)
+{
+    work *w = ws;
+    double t0 = w->S.t, H = t1 - t0, wrench[3] = {0, 0, 0}, sf[EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES];
+    int status = EXDEX_OK, stick = 0, first = 1, split = 0;
+    (void)regrip;   /* the capacity is read at every step */
+    while (w->S.t < t1) {
+        model_sub sub;
+        int sub_stick = 0;
+        double wr[3], sfs[EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES], ts = w->S.t, wt;
+        model_substep(m, ts, t1, &sub);
+        split |= sub.split;
+        status = implicit_substep(m, w, &sub, wr, sfs, &sub_stick, st);
+        if (status) return status;
+        stick = first ? sub_stick : stick && sub_stick;
+        wt = (sub.te - ts) / H;
+        for (int c = 0; c < 3; c++) wrench[c] = first ? wr[c] * wt : wrench[c] + wr[c] * wt;
+        for (int k = 0; k < m->n_src; k++) sf[k] = first ? sfs[k] * wt : sf[k] + sfs[k] * wt;
+        first = 0;
+    }
+    /* a split output step: the next one does not extrapolate from its last,
+     * possibly very short, sub-step */
+    if (split) w->S.hprev = 0.0;
+    method_record(m, out, st, step, t1, w->S.q, w->S.v, wrench, stick, sf);
     return status;
 }
 

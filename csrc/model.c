@@ -150,14 +150,15 @@ static int check_fields(const exdex_scene_def *d, const char **bad_param)
     if (d->method < EXDEX_METHOD_IMPLICIT || d->method > EXDEX_METHOD_ANALYTIC) return bad(bad_param, "method");
     if (d->n_obstacles && d->method == EXDEX_METHOD_ANALYTIC) return bad(bad_param, "method");
     for (int o = 0; o < d->n_obstacles; o++)
-        if (d->obstacles[o].mu > 0.0 && d->method != EXDEX_METHOD_IMPLICIT && d->method != EXDEX_METHOD_EXPLICIT)
+        if (d->obstacles[o].mu > 0.0 && d->method != EXDEX_METHOD_IMPLICIT && d->method != EXDEX_METHOD_EXPLICIT &&
+            d->method != EXDEX_METHOD_EVENT && d->method != EXDEX_METHOD_REGULARISED)
             return bad(bad_param, "method");
     /* the hybrid methods (event, regularised): obstacles against polygon
-     * outlines, frictionless, and in a planar scene not beside frictional
-     * stops (sfric.h solves the stops' rows only) */
+     * outlines, frictional in 1-DoF scenes only, and in a planar scene not
+     * beside frictional stops (sfric.h solves the stops' rows only) */
     if (d->n_obstacles && (d->method == EXDEX_METHOD_EVENT || d->method == EXDEX_METHOD_REGULARISED)) {
         if (d->disc_radius > 0.0) return bad(bad_param, "method");
-        for (int o = 0; o < d->n_obstacles; o++)
+        for (int o = 0; d->dof == EXDEX_DOF_PLANAR && o < d->n_obstacles; o++)
             if (d->obstacles[o].mu > 0.0) return bad(bad_param, "method");
         for (int k = 0; d->dof == EXDEX_DOF_PLANAR && k < d->n_stops && k < EXDEX_MAX_STOPS; k++)
             if (d->stop_mu[k] > 0.0) return bad(bad_param, "method");
@@ -264,6 +265,83 @@ int model_frame_step(const exdex_model *m, const exdex_kinematics *kin0, double 
     ex_mulmtv3(f->a0, kin->R, dv);
     ex_mulmtv3(f->dw, kin->R, dwv);
     return EXDEX_OK;
+}
+
+/* Sub-steps at switching times (model.h). snap(x): the distance from a
+ * step end within which a switching time counts as on it. */
+static double substep_snap(const exdex_model *m, double x)
+{
+    return 1e-12 * (fabs(x) + m->scale.T);
+}
+
+void model_substep(const exdex_model *m, double tc, double t1, model_sub *s)
+{
+    double sw[EXDEX_MOTION_MAX_SWITCHES], tj[EXDEX_MOTION_MAX_JUMPS], jv[EXDEX_MOTION_MAX_JUMPS][3],
+        jw[EXDEX_MOTION_MAX_JUMPS][3];
+    double lo = tc + substep_snap(m, tc), hi = t1 - substep_snap(m, t1), te = t1, top;
+    int n = exdex_motion_switches(m->motion, sw), nj;
+    memset(s, 0, sizeof *s);
+    /* both lists increase: the first time past lo is the only candidate */
+    for (int i = 0; i < n; i++)
+        if (sw[i] > lo) {
+            if (sw[i] < hi) te = sw[i];
+            break;
+        }
+    for (size_t i = 0; i < m->grip_n; i++)
+        if (m->grip_t[i] > lo) {
+            if (m->grip_t[i] < te && m->grip_t[i] < hi) te = m->grip_t[i];
+            break;
+        }
+    nj = exdex_motion_jumps(m->motion, tj, jv, jw);
+    for (int j = 0; j < nj; j++)   /* jump times are switching times; kept if one were not */
+        if (tj[j] > lo && tj[j] < hi && tj[j] < te) te = tj[j];
+    s->te = te;
+    s->split = te < t1;
+    top = te + substep_snap(m, te);
+    for (int j = 0; j < nj; j++) {
+        if (!(tj[j] > lo && tj[j] <= top)) continue;
+        s->jumps++;
+        for (int c = 0; c < 3; c++) {
+            s->dv[c] += jv[j][c];
+            s->dw[c] += jw[j][c];
+            if (tj[j] <= te) {
+                s->dvl[c] += jv[j][c];
+                s->dwl[c] += jw[j][c];
+            }
+        }
+    }
+}
+
+int model_frame_substep(const exdex_model *m, const exdex_kinematics *kin0, double t_eval, const model_sub *s,
+                        double h, frame *f, exdex_kinematics *kin, exdex_kinematics *kin_end)
+{
+    double dv[3], dwv[3];
+    int status;
+    if (!s->jumps) return model_frame_step(m, kin0, t_eval, s->te, h, f, kin, kin_end);
+    status = model_frame_at(m, t_eval, f, kin);
+    if (status) return status;
+    status = exdex_motion_eval(m->motion, s->te, kin_end);
+    if (status) return status;
+    for (int i = 0; i < 3; i++) {
+        kin_end->v[i] -= s->dvl[i];
+        kin_end->w[i] -= s->dwl[i];
+        dv[i] = (kin_end->v[i] - kin0->v[i]) / h;
+        dwv[i] = (kin_end->w[i] - kin0->w[i]) / h;
+    }
+    ex_mulmtv3(f->a0, kin->R, dv);
+    ex_mulmtv3(f->dw, kin->R, dwv);
+    return EXDEX_OK;
+}
+
+void model_substep_jump(const exdex_model *m, const model_sub *s, const double *q, double *v,
+                        exdex_kinematics *kin_end)
+{
+    if (!s->jumps) return;
+    model_velocity_jump(m, kin_end->R, q, s->dv, s->dw, v);
+    for (int i = 0; i < 3; i++) {
+        kin_end->v[i] += s->dv[i];
+        kin_end->w[i] += s->dw[i];
+    }
 }
 
 /* Inertial + gravity force on the centre of mass (Eq. 5), B coordinates. */

@@ -293,16 +293,58 @@ void model_force_planar(const exdex_model *m, const frame *f, const double *q, c
  * absolute velocity along the free coordinates; with friction it then slips
  * until friction stops it.
  *
- * Every method applies this jump. The event and regularised methods step
- * onto the jump time (a switching time, exdex_motion_switches) and apply it
- * there with this function. The implicit and explicit methods take the
- * frame's mean accelerations over each step, (v(t + h) - v(t)) / h (the
- * motion is right-continuous), so the step holding a jump carries dv / h
- * and dw / h: its velocity update adds the same generalised impulse (the
- * inertial force above times h), evaluated within the step, an O(h |dqd|)
- * error in position. */
+ * Every method applies this jump with this function, at the jump time
+ * itself: the event and regularised methods step onto it (a switching time,
+ * exdex_motion_switches), the implicit and explicit methods end a sub-step
+ * there (model_substep below), so friction acts on the jumped relative
+ * velocity only after it, over the following steps, and the slide the jump
+ * starts carries the method's own first-order error in h. */
 void model_velocity_jump(const exdex_model *m, const double R[9], const double *q, const double dv[3],
                          const double dw[3], double *v);
+
+/* ------------------------------- sub-steps of the time-stepping methods
+ * The implicit and explicit methods take an output step (t, t1] as
+ * sub-steps ending at the scene's switching times strictly inside it: the
+ * motion's (exdex_motion_switches: acceleration switches and velocity
+ * jumps) and the grip schedule's breakpoints (model_grip_breaks; m's own
+ * grip_n, so a stepper step with a constant grip force has none). Inside a
+ * sub-step the frame's kinematics and the capacity are smooth, so its
+ * step-mean accelerations and capacity carry no switch; a velocity jump is
+ * applied between two sub-steps (model_velocity_jump), not spread over a
+ * step as dv / h.
+ *
+ * "Strictly inside" is to within snap(x) = 1e-12 (|x| + T) (T the scene's
+ * time scale) of a step end x: a switch that an output grid point i dt
+ * meets to within rounding (dt chosen to land on it) does not split the
+ * step, so such a run takes exactly the steps it takes without switches. A
+ * velocity jump at tj belongs to the sub-step (tc, te] with
+ * tc + snap(tc) < tj <= te + snap(te) and is applied at its end te: these
+ * sets partition the time axis for any sequence of steps (the stepper's
+ * steps of varying dt too), so every jump in (snap(0), t_end + snap(t_end)]
+ * is applied exactly once, and one at the output time t_end is applied
+ * before that sample is recorded (its right limit, as the event method
+ * records). A jump at t = 0 is not applied (v0 is the velocity after it). */
+typedef struct model_sub {
+    double te;         /* end of the sub-step (tc < te <= t1) */
+    int jumps;         /* number of velocity jumps applied at te */
+    double dv[3], dw[3];    /* their sum (A coordinates) */
+    double dvl[3], dwl[3];  /* the part with tj <= te, which exdex_motion_eval(te) holds */
+    int split;         /* 1 if te < t1 (a switching time inside the step) */
+} model_sub;
+/* The sub-step from tc towards the step end t1 (tc < t1). */
+void model_substep(const exdex_model *m, double tc, double t1, model_sub *s);
+/* model_frame_step for the sub-step from tc (kinematics kin0, the right
+ * limit there) to s->te, h = s->te - tc: with jumps at te, kin_end is the
+ * left limit at te (its velocities without the jumps), so the step-mean
+ * accelerations are those of the smooth motion inside the sub-step.
+ * Without jumps it is model_frame_step itself. */
+int model_frame_substep(const exdex_model *m, const exdex_kinematics *kin0, double t_eval, const model_sub *s,
+                        double h, frame *f, exdex_kinematics *kin, exdex_kinematics *kin_end);
+/* At the end of a sub-step with jumps: applies them to the relative
+ * velocities v at coordinates q (model_velocity_jump, R of kin_end) and
+ * turns kin_end into the right limit at te (the next sub-step's kin0). */
+void model_substep_jump(const exdex_model *m, const model_sub *s, const double *q, double *v,
+                        exdex_kinematics *kin_end);
 
 /* ----------------------------------------------------- patch coordinates
  * The friction patch sits at the centre of pressure pc (object frame C). A

@@ -581,3 +581,60 @@ double orow_feature_guard(const exdex_model *m, const exdex_kinematics *kin, int
         }
     }
 }
+
+void orow_point(const exdex_model *m, const exdex_kinematics *kin, int code, const double *q, contact_point *cp)
+{
+    const exdex_obstacle_def *ob = &m->def.obstacles[orow_obst(code)];
+    double hb[EXDEX_MAX_VERTICES][2], r[3], th, x[3] = {0, 0, 0}, nb[3] = {0, 0, 0};
+    int nh = hull_at(m, q, hb), feat = orow_feat(code), kind = orow_kind(code);
+    model_com_pose(m, q, r, &th);
+    if (kind == OROW_VERTEX) {
+        double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3];
+        int j = orow_a(code);
+        contact_vertices(m, q, xb, vx);
+        memcpy(cp->x, xb[j], sizeof cp->x);
+        memcpy(cp->vx, vx[j], sizeof cp->vx);
+        ex_mulmtv3(cp->nB, kin->R, ob->face_normal[feat]);
+        return;
+    }
+    if (kind == OROW_SECTION) {
+        int f = orow_a(code), g = orow_b(code);
+        double af[2], ag[2], bf, bg, det;
+        const double *u = hb[feat], *w = hb[(feat + 1) % nh];
+        double ex = w[0] - u[0], ey = w[1] - u[1], len = hypot(ex, ey);
+        face_line(ob, kin, f, af, &bf);
+        face_line(ob, kin, g, ag, &bg);
+        det = af[0] * ag[1] - af[1] * ag[0];
+        x[0] = (bf * ag[1] - bg * af[1]) / det;
+        x[1] = (af[0] * bg - ag[0] * bf) / det;
+        /* the edge's inward normal: the gap grows as the object's point at
+         * y moves into the object (away from the section vertex) */
+        if (len > 0.0) {
+            nb[0] = -ey / len;
+            nb[1] = ex / len;
+        }
+    } else {
+        double cB[3], aB[3], d[3], t, dist;
+        rod_axis(ob, kin, cB, aB);
+        if (feat < 32) {
+            x[0] = hb[feat][0];
+            x[1] = hb[feat][1];
+        } else {
+            double len, tf = rod_foot(nh, (const double (*)[2])hb, cB, aB, feat - 32, &len);
+            const double *u = hb[feat - 32], *w = hb[(feat - 31) % nh];
+            x[0] = u[0] + tf * (w[0] - u[0]);
+            x[1] = u[1] + tf * (w[1] - u[1]);
+        }
+        for (int i = 0; i < 3; i++) d[i] = x[i] - cB[i];
+        t = ex_dot3(d, aB);
+        for (int i = 0; i < 3; i++) nb[i] = d[i] - t * aB[i];
+        dist = sqrt(ex_dot3(nb, nb));
+        for (int i = 0; i < 3; i++) nb[i] = dist > 0.0 ? nb[i] / dist : 0.0;
+    }
+    for (int i = 0; i < 3; i++) {
+        cp->x[i] = x[i];
+        cp->vx[i] = x[i] - r[i];
+        cp->nB[i] = nb[i];
+    }
+    cp->x[2] = cp->vx[2] = 0.0;
+}

@@ -65,5 +65,10 @@ void orow_1dof(const exdex_model *m, const exdex_kinematics *kin, int code, doub
 /* >= 0 while the feature held in code is the row's active one (and a
  * section vertex is a vertex of the section): a length. */
 double orow_feature_guard(const exdex_model *m, const exdex_kinematics *kin, int code, const double *q);
+/* Where the row `code` (feature held) acts at (kin, q), for its friction
+ * (contact_tangent): the object's material point, its offset from the
+ * centre of mass and the row's normal in B (the direction the gap grows in
+ * when that point moves), as contact_obstacle_rows gives them. */
+void orow_point(const exdex_model *m, const exdex_kinematics *kin, int code, const double *q, contact_point *cp);
 
 #endif

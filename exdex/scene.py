@@ -794,7 +794,8 @@ class Chain(_Motion):
     first sample (relative logs replay from that pose; an absolute log must
     start there), a :class:`Pause` for its duration. The chain's switching
     times (every piece boundary and the pieces' own phase switches) are
-    stepped onto by the event method.
+    stepped onto by the event and regularised methods; the implicit and
+    explicit methods split a step that holds one there.
 
     pieces : 1 to 16 motions (:class:`AsymmetricProfile`,
         :class:`TrapezoidalProfile`, :class:`Shake`, :class:`Pause`,
@@ -890,10 +891,12 @@ def _quat_from_matrix(R):
 @dataclass(frozen=True)
 class Stop:
     """A fixed plane of the world the object may not cross: the allowed side
-    is ``(x - point) . normal >= 0`` for every outline vertex x, in A [m].
+    is ``(x - point) . normal >= 0`` for every outline vertex x (a disc
+    outline: every point of the disc), in A [m].
 
     mu : Coulomb friction coefficient between the stop and each outline
-        vertex touching it, in [0, inf) (0: frictionless). The friction acts
+        vertex touching it (a disc: its support point, so it rolls or
+        slides), in [0, inf) (0: frictionless). The friction acts
         in the plate plane, along the stop's trace there, bounded by mu times
         the vertex's normal force; exact in every method that supports
         stops (``implicit`` and ``explicit``: velocity-level
@@ -925,7 +928,8 @@ class Obstacle:
         points within ``radius`` of the line through ``center`` along
         ``axis``: an infinite rod).
     mu : Coulomb friction coefficient against the object (>= 0; the implicit
-        and explicit methods), as a stop's: along the tangent of the plate
+        and explicit methods, in 1-DoF scenes also event and regularised),
+        as a stop's: along the tangent of the plate
         plane at each contact, bounded by mu times the contact's normal force.
 
     The plate plane cuts the solid in a convex polygon of the gripper frame B
@@ -1046,7 +1050,9 @@ class Scene:
     stops : fixed world planes (``Stop``) the object outline may not cross.
     obstacles : convex solids fixed in the world (``Obstacle``) the object
         outline may not enter (every method but the analytic one solves such
-        scenes; with ``Obstacle.mu > 0`` the implicit method).
+        scenes; with a disc outline the implicit and explicit methods, with
+        ``Obstacle.mu > 0`` those and, in 1-DoF scenes, the event and
+        regularised ones).
     """
 
     body: Body
@@ -1202,9 +1208,9 @@ class Scene:
                 raise ValueError(f"Scene.obstacles: the implicit, explicit, event and regularised methods solve "
                                  f"scenes with obstacles, got method={method!r}")
             if method in ("event", "regularised"):
-                if any(o.mu > 0 for o in self.obstacles):
-                    raise ValueError(f"Scene.obstacles: the implicit and explicit methods solve obstacles with "
-                                     f"friction (Obstacle.mu > 0), got method={method!r}")
+                if self.dof == "planar" and any(o.mu > 0 for o in self.obstacles):
+                    raise ValueError(f"Scene.obstacles: the implicit and explicit methods solve planar scenes with "
+                                     f"frictional obstacles (Obstacle.mu > 0), got method={method!r}")
                 if self.dof == "planar" and any(s.mu > 0 for s in self.stops):
                     raise ValueError(f"Scene.obstacles: the implicit and explicit methods solve planar scenes with "
                                      f"obstacles and frictional stops (Stop.mu > 0), got method={method!r}")

@@ -347,7 +347,11 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
         "implicit" (default): Moreau's midpoint time stepping with the
         maximum-dissipation friction solve (paper Eq. 6) at every step of dt;
         exact stick; first order in dt where stick/slip switches fall inside
-        a step.
+        a step. A step holding one of the scene's known switching times (the
+        motion's phase switches and velocity jumps, the grip schedule's
+        breakpoints) is taken as two sub-steps split there (the output stays
+        on the grid), and a velocity jump of the gripper is applied at its
+        time as a jump of the relative velocity, friction acting after it.
         "event": event-driven exact Coulomb friction. Smooth slip phases are
         integrated by GSL's adaptive rk8pd stepper to ``rtol``/``atol``;
         slip -> stick (the slip speed reaches 0) and stick -> slip (the
@@ -374,7 +378,8 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
         Other scenes raise ValueError saying why.
         "auto": "analytic" where it applies, else "event".
         "explicit": explicit Coulomb friction -mu N E^2 u / |E u| (0 at u = 0)
-        with symplectic Euler steps of dt, the naive baseline. Never sticks:
+        with symplectic Euler steps of dt (split at the known switching
+        times as "implicit"), the naive baseline. Never sticks:
         under a load |Q| < mu N the velocity chatters in a band of width
         2 dt mu N / M about 0 and the object creeps at dt Q / M on average.
         With ``Grasp.mu_static`` > mu (static capacity Cs, kinetic C):

@@ -149,7 +149,7 @@ def test_bad_input_names_the_parameter():
                        t_end=0.1, dt=0.01, method="regularised")
     for method in ("event", "regularised"):
         with pytest.raises(ValueError, match=r"Obstacle\.mu"):
-            exdex.simulate(exdex.replace(sc, obstacles=(Obstacle.box((0, 0, -1), (1, 1, 1), mu=0.5),)),
+            exdex.simulate(exdex.replace(sc, dof="planar", obstacles=(Obstacle.box((0, 0, -1), (1, 1, 1), mu=0.5),)),
                            t_end=0.1, dt=0.01, method=method)
     inside = Scene(body=body, grasp=grasp, obstacles=Obstacle.box((0, 0, 0), (1, 1, 1)))
     with pytest.raises(ValueError, match="inside an obstacle"):
@@ -442,12 +442,15 @@ def _v_tool(theta, alpha1=0.0):
     return np.array([[-math.sin(a1), math.cos(a1)], [-math.sin(a2), math.cos(a2)]])
 
 
-def push_into_v(phi, theta, gaps=(0.05, 0.15), depth=0.6, method="implicit"):
+def push_into_v(phi, theta, gaps=(0.05, 0.15), depth=0.6, method="implicit", dt=1.0 / 3000):
     """The unit square (exdex.tool.UNIT_SQUARE, 1 kg) held at attack angle phi
     and pushed by the gripper along the V's bisector into the two surfaces
     (each a one-face obstacle through the apex). The plates span A's x-z
     plane, so B's (x, y) are the tool plane's. It starts with clearances
-    ``gaps`` to the surfaces, so it touches one first."""
+    ``gaps`` to the surfaces, so it touches one first. The default output
+    step dt divides the trapezoid's switching times 1/3, 2/3 and 1 s, so
+    each output step is one step of the method (a step holding a switch is
+    taken as two sub-steps split there)."""
     n = _v_tool(theta)
     b = n.sum(axis=0) / np.linalg.norm(n.sum(axis=0))
     c, s = math.cos(phi), math.sin(phi)
@@ -459,7 +462,7 @@ def push_into_v(phi, theta, gaps=(0.05, 0.15), depth=0.6, method="implicit"):
                q0=(c0[0], c0[1], phi), gravity=(0.0, 0.0, 0.0),
                motion=TrapezoidalProfile(X, 1.0, 1.5 * X, axis=(-b[0], 0.0, -b[1])),
                obstacles=tuple(Obstacle.halfspaces([(nk[0], 0.0, nk[1])], [0.0]) for nk in n))
-    return sc, run(sc, 1.2, 1e-3, method=method), n
+    return sc, run(sc, 1.2, dt, method=method), n
 
 
 def cone_check(sc, res, n, theta, touch=1e-9):
@@ -654,6 +657,37 @@ def test_frictional_rod_slows_the_pinned_square_and_never_adds_energy():
     assert np.any(out[0.5].stop_force[pushing, 0] > 1.01 * out[0.0].stop_force[pushing, 0])
 
 
+@pytest.mark.parametrize("method", ["event", "regularised"])
+def test_frictional_rod_on_the_pinned_square_event_and_regularised(method):
+    """The rod pushing the pinned square (rotation scene, above) with
+    friction mu = 0.5, in the event and regularised methods, up to t = 0.6 s
+    (the friction then turns the rod's force toward the pin: the contact
+    jams at ~0.66 s, where the force grows without bound): the kinematics
+    are the tangency's (event to 1e-12 rad, regularised to 1e-9 at eps =
+    1e-5), the rod's force is at least the frictionless one and above it
+    while the edge slides over the rod, and it agrees with the implicit
+    method's (dt 1e-4, first order) to 1 %."""
+    d, g0 = 0.015, 1e-3
+    motion = TrapezoidalProfile(0.005, 1.0, 0.0075, axis=(0, 0, -1))
+    kw = dict(eps=1e-5) if method == "regularised" else {}
+    out = {}
+    for mu in (0.0, 0.5):
+        sc = Scene(body=square(), grasp=Grasp(mu=0.5, grip_force=1.0), dof="rotation", motion=motion,
+                   obstacles=(Obstacle.cylinder((d, 0.0, -(A + RADIUS + g0)), (0, 1, 0), RADIUS, mu=mu),))
+        out[mu] = run(sc, 0.6, 1e-3, method=method, **kw)
+    imp = run(sc, 0.6, 1e-4, method="implicit")
+    res = out[0.5]
+    delta = -motion.evaluate(res.t)["p"][:, 2]
+    L = A + RADIUS + g0 - delta
+    th = np.where(L > A + RADIUS, 0.0, np.arctan2(d, L) - np.arccos(np.minimum(1.0, (A + RADIUS) / np.hypot(d, L))))
+    np.testing.assert_allclose(res.q[:, 0], th, rtol=0, atol=1e-12 if method == "event" else 1e-9)
+    pushing = out[0.0].stop_force[:, 0] > 1e-6
+    assert np.all(res.stop_force[pushing, 0] >= out[0.0].stop_force[pushing, 0] * (1 - 1e-9))
+    assert np.any(res.stop_force[pushing, 0] > 1.01 * out[0.0].stop_force[pushing, 0])
+    late = res.t > 0.32  # after the first contact's impact interval
+    np.testing.assert_allclose(res.stop_force[late, 0], imp.stop_force[::10][late, 0], rtol=1e-2)
+
+
 # ---------------------------------------------------------------- properties
 
 def _ke(body, v):
@@ -725,8 +759,9 @@ def test_batch_and_stepper_with_obstacles_are_simulate_bit_for_bit(method):
     """The V-tool push through simulate_batch (the grip force a batch
     parameter) and through the Stepper, step by step (and from a saved
     state): the same arrays as simulate, stop forces of the obstacles
-    included."""
-    sc, res, n = push_into_v(math.radians(10.0), math.radians(90.0), method=method)
+    included. Output steps of 1e-3 s: the trapezoid's switches at 1/3 and
+    2/3 s fall inside steps (split there by the time-stepping methods)."""
+    sc, res, n = push_into_v(math.radians(10.0), math.radians(90.0), method=method, dt=1e-3)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", exdex.PhysicsWarning)
         b = exdex.simulate_batch(sc, t_end=1.2, dt=1e-3, grip_force=[5.0, 3.0], method=method)

@@ -685,10 +685,15 @@ EXDEX_TEST(methods_observed_orders)
         report("methods_order_explicit_smooth_slip", log2(e1 / e2));
     }
     /* implicit on Fig. 3 with grids that do not hit the switching times
-     * 0.45 s, 0.55 s: the stick -> slip onset falls inside a step, whose
-     * friction impulse is decided by the step-mean load, a velocity error
-     * O(h) that the slip carries on: first order globally (erratic
-     * constant, so a least-squares slope over 12 grids). */
+     * 0.45 s, 0.55 s: the step holding one is split there (model_substep),
+     * so the stick -> slip onset at the switch is exact and the
+     * accelerations are constant inside every sub-step, where the midpoint
+     * rule is exact. What is left is the slip -> stick inside a step: it
+     * sticks in the first step that can hold it, when the slip speed is
+     * below h (C + |Q|) / M, so it stops early by at most that speed times
+     * h: O(h^2) in position (erratic constant, so a least-squares slope
+     * over 12 grids). A step taking the onset as a step mean (no split)
+     * errs O(h) in velocity and makes it first order. */
     {
         double ts, xcf = fig3_closed_form(15.0, &ts), sx = 0, sy = 0, sxx = 0, sxy = 0, slope;
         int n = 12;
@@ -706,7 +711,7 @@ EXDEX_TEST(methods_observed_orders)
             sim_run_free(&r);
         }
         slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
-        ENSURE(slope > 0.7 && slope < 1.6);
+        ENSURE(slope > 1.7 && slope < 2.6);
         report("methods_order_implicit_fig3_misaligned", slope);
     }
 }

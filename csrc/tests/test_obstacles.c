@@ -179,6 +179,11 @@ EXDEX_TEST(obstacle_one_face_is_the_stop_bit_for_bit)
         b.obstacles[0].n_faces = 1;
         b.obstacles[0].face_point[0][2] = -0.03;
         b.obstacles[0].face_normal[0][2] = 1.0;
+        if (!planar && c >= 4) {
+            /* 1-DoF event, regularised: with friction too (the same tangent) */
+            a.stop_mu[0] = 0.3;
+            b.obstacles[0].mu = 0.3;
+        }
         ENSURE(sim_run_def(&a, 1.0, 1e-3, &ra) == EXDEX_OK);
         ENSURE(sim_run_def(&b, 1.0, 1e-3, &rb) == EXDEX_OK);
         ENSURE(rb.nstops == 1);
@@ -375,15 +380,15 @@ EXDEX_TEST(obstacle_bad_input_status)
     EXPECT_BAD_OBST((d.obstacles[0].kind = EXDEX_OBSTACLE_POLYTOPE, d.obstacles[0].n_faces = EXDEX_MAX_FACES + 1),
                     "obstacles");
     EXPECT_BAD_OBST(d.method = EXDEX_METHOD_ANALYTIC, "method");
-    EXPECT_BAD_OBST((d.obstacles[0].mu = 0.5, d.method = EXDEX_METHOD_EVENT), "method"); /* friction: implicit */
-    EXPECT_BAD_OBST((d.obstacles[0].mu = 0.5, d.method = EXDEX_METHOD_REGULARISED), "method");
+    /* obstacle friction in the hybrid methods: 1-DoF scenes */
+    EXPECT_BAD_OBST((d.dof = EXDEX_DOF_PLANAR, d.obstacles[0].mu = 0.5, d.method = EXDEX_METHOD_EVENT), "method");
+    EXPECT_BAD_OBST((d.dof = EXDEX_DOF_PLANAR, d.obstacles[0].mu = 0.5, d.method = EXDEX_METHOD_REGULARISED), "method");
     /* planar frictional stops beside obstacles: implicit, explicit */
     EXPECT_BAD_OBST((d.dof = EXDEX_DOF_PLANAR, d.n_stops = 1, d.stop_normal[0][2] = 1.0, d.stop_point[0][2] = -0.5,
                      d.stop_mu[0] = 0.3, d.method = EXDEX_METHOD_EVENT),
                     "method");
     EXPECT_BAD_OBST(d.obstacles[0].mu = -0.1, "obstacles");
     EXPECT_BAD_OBST(d.obstacles[0].mu = NAN, "obstacles");
-    EXPECT_BAD_OBST((d.obstacles[0].mu = 0.5, d.method = EXDEX_METHOD_EVENT), "method"); /* implicit, explicit */
     EXPECT_BAD_OBST(d.obstacles[0].center[2] = -0.05, "q0"); /* the object (its centre) starts inside */
     {
         /* a valid one builds */
