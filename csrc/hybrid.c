@@ -168,7 +168,12 @@
  *     push it on (the plastic impact on v = 0), and if that slip is below
  *     SLIP_PUSH zsw it is a rest on the touching rows instead (a restart
  *     there would stop again at once, Zeno-like: a gripper's rotation
- *     reversing with the object against a stop); stick against
+ *     reversing with the object against a stop), and so is a stop of a
+ *     slip below zsw that a set row held while its stop recedes in B at
+ *     SLIP_PUSH zsw or faster and friction alone cannot hold the load (the
+ *     object followed the stop: at rest the row separates and the load
+ *     drives it back, an impact every few hundred ns; the rest lags the
+ *     stop by at most tol.rest_gap, see decide); stick against
  *     stops: rest iff the least-friction split (planar_rest: least
  *     combination over the stop forces lam >= 0, ldp_min_combination, as the
  *     implicit method) has |E^-1 w| <= mu N
@@ -842,6 +847,26 @@ static int planar_load_held(hyb *H, const frame *f, const exdex_kinematics *kin,
     return model_ell_norm(m, w) <= H->caps * (1.0 + TOLF);
 }
 
+/* Does a contact-set row's stop recede in B, at zero velocity, at SLIP_PUSH
+ * zsw or faster, while friction alone cannot hold the load at rest (see
+ * decide)? f, kin the frame terms at (t, y). */
+static int planar_set_recedes(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y)
+{
+    double zero[3] = {0, 0, 0}, F[3], w[3];
+    if (!H->ncs) return 0;
+    model_force_planar(H->m, f, y, zero, F);
+    for (int i = 0; i < 3; i++) F[i] = -F[i];
+    model_patch_of_gen(H->m, MODEL_CS(y[2]), F, w);
+    if (model_ell_norm(H->m, w) <= H->caps * (1.0 + TOLF)) return 0;
+    for (int i = 0; i < H->ncs; i++) {
+        int r = H->cs[i];
+        double G[3], gd;
+        hrow_planar(H, kin, r, y, zero, G, &gd, NULL);
+        if (gd >= SLIP_PUSH * H->zsw) return 1;
+    }
+    return 0;
+}
+
 /* Planar applied force F (B, generalized) and plate friction wrench w
  * (patch) of the current mode at (t, y): stick holds everything (w = -F as
  * a patch wrench; the stop forces of a rest against stops are not part of
@@ -1462,9 +1487,17 @@ static void decide_modes(hyb *H, double t, double *y, int vzero)
                  * for a touching stop that recedes in B at a rate below
                  * SLIP_PUSH zsw (the slip that followed it stopped): left
                  * out of the set, the load would push the object back onto
-                 * it at once, an impact at the same time, and so on */
+                 * it at once, an impact at the same time, and so on. And
+                 * for a slip that stopped (below zsw) while a contact-set
+                 * row held it, when that row's stop recedes faster and
+                 * friction alone cannot hold the load (planar_set_recedes:
+                 * the object followed the stop, pushing on it): at rest the
+                 * row would separate at once and the load drive the object
+                 * back onto it, an impact every few hundred ns; the rest on
+                 * the touching rows lags the stop by at most tol.rest_gap
+                 * before its guard ends it, as for a slow recession */
                 double ysv[NSRC_MAX], u[3], eu[3], Ga[MAX_ROWS][3], ga[MAX_ROWS], gda[MAX_ROWS];
-                int recede = 0, ra[MAX_ROWS], na;
+                int recede = planar_set_recedes(H, &f, &kin, y), ra[MAX_ROWS], na;
                 memcpy(ysv, y + 9, (size_t)(H->ns + H->no) * sizeof *ysv);
                 planar_impact_and_set(H, t, &kin, y);
                 model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
