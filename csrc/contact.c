@@ -81,6 +81,39 @@ static void disc_support(const exdex_model *m, const exdex_kinematics *kin, cons
     }
 }
 
+/* Velocity xd and acceleration less the part in qdd, xdd, in B of the
+ * material point at offset rv (B) from the centre of mass of a planar
+ * object moving at v = (xd, yd, thd): xd = (vx, vy) + thd e_z x rv,
+ * xdd = -thd^2 rv. */
+static void point_rates(const double rv[2], const double v[3], double xd[3], double xdd[3])
+{
+    xd[0] = v[0] - rv[1] * v[2];
+    xd[1] = v[1] + rv[0] * v[2];
+    xd[2] = 0.0;
+    xdd[0] = -rv[0] * v[2] * v[2];
+    xdd[1] = -rv[1] * v[2] * v[2];
+    xdd[2] = 0.0;
+}
+
+/* The generalised row of an in-plane direction d (B) at the material point
+ * xb of the object (offset vx from the centre of mass): d . (d xb / d qdot).
+ * Planar, columns d xb / dx, dy, dtheta = e_z x vx; translation, d along
+ * the slide axis; rotation about the pivot, d xb / dtheta = e_z x (xb -
+ * pivot). */
+static void dir_row(const exdex_model *m, const double d[2], const double xb[3], const double vx[3], double out[3])
+{
+    if (m->ndof == 3) {
+        out[0] = d[0];
+        out[1] = d[1];
+        out[2] = -d[0] * vx[1] + d[1] * vx[0];
+    } else if (m->def.dof == EXDEX_DOF_TRANSLATION) {
+        out[0] = d[0] * m->d[0] + d[1] * m->d[1];
+    } else {
+        double ax = xb[0] - m->pivot[0], ay = xb[1] - m->pivot[1];
+        out[0] = -d[0] * ay + d[1] * ax;
+    }
+}
+
 /* Gap n.(R xb + p - sp) of the vertex at xb (offset vx from the centre of
  * mass) against the plane through sp with unit normal sn, both in A: a stop,
  * or an obstacle's face seen from outside. G as contact_gap. A disc outline:
@@ -93,18 +126,7 @@ double contact_plane_gap(const exdex_model *m, const exdex_kinematics *kin, cons
     for (int i = 0; i < 3; i++) xa[i] += kin->p[i] - sp[i];
     if (G) {
         ex_mulmtv3(nB, kin->R, sn);
-        if (m->ndof == 3) {
-            /* columns: d xb / dx, dy, dtheta = e_z x vx */
-            G[0] = nB[0];
-            G[1] = nB[1];
-            G[2] = -nB[0] * vx[1] + nB[1] * vx[0];
-        } else if (m->def.dof == EXDEX_DOF_TRANSLATION) {
-            G[0] = nB[0] * m->d[0] + nB[1] * m->d[1];
-        } else {
-            /* rotation about the pivot: d xb / dtheta = e_z x (xb - pivot) */
-            double ax = xb[0] - m->pivot[0], ay = xb[1] - m->pivot[1];
-            G[0] = -nB[0] * ay + nB[1] * ax;
-        }
+        dir_row(m, nB, xb, vx, G);
     }
     if (m->disc_r > 0.0) {
         /* the disc's centre is the vertex xb: its support point's gap */
@@ -281,12 +303,7 @@ double contact_plane_row_planar(const exdex_model *m, const exdex_kinematics *k,
     G[1] = nB[1];
     G[2] = -nB[0] * rv[1] + nB[1] * rv[0];
     if (gd || gdd0) {
-        xd[0] = v[0] - rv[1] * v[2];
-        xd[1] = v[1] + rv[0] * v[2];
-        xd[2] = 0.0;
-        xdd[0] = -rv[0] * v[2] * v[2];
-        xdd[1] = -rv[1] * v[2] * v[2];
-        xdd[2] = 0.0;
+        point_rates(rv, v, xd, xdd);
         ex_mulmv3(Rxd, k->R, xd);
         ex_mulmv3(Rxdd, k->R, xdd);
         ex_cross3(a, k->w, Rx);
@@ -373,16 +390,7 @@ void contact_tangent(const exdex_model *m, const exdex_kinematics *kin, const do
     t[0] = -nB_inplane[1] / nn;
     t[1] = nB_inplane[0] / nn;
     t[2] = 0.0;
-    if (m->ndof == 3) {
-        T[0] = t[0];
-        T[1] = t[1];
-        T[2] = -t[0] * vx[1] + t[1] * vx[0];
-    } else if (m->def.dof == EXDEX_DOF_TRANSLATION) {
-        T[0] = t[0] * m->d[0] + t[1] * m->d[1];
-    } else {
-        double ax = xb[0] - m->pivot[0], ay = xb[1] - m->pivot[1];
-        T[0] = -t[0] * ay + t[1] * ax;
-    }
+    dir_row(m, t, xb, vx, T);
     ex_mulmv3(tA, kin->R, t);
     ex_mulmv3(Rx, kin->R, xb);
     ex_cross3(wx, kin->w, Rx);
@@ -585,8 +593,17 @@ int exdex_obstacle_section(const exdex_obstacle_def *o, const double R[9], const
     }
 }
 
-/* The outline's convex hull in B at coordinates q (counter-clockwise). */
-static int hull_b(const exdex_model *m, const double *q, double hb[][3])
+int contact_axis_in_hull(int nh, const double hb[][3], const double cB[3], const double aB[3])
+{
+    double c0[2] = {cB[0] - cB[2] / aB[2] * aB[0], cB[1] - cB[2] / aB[2] * aB[1]};
+    for (int e = 0; e < nh; e++) {
+        const double *u = hb[e], *v = hb[(e + 1) % nh];
+        if ((v[0] - u[0]) * (c0[1] - u[1]) - (v[1] - u[1]) * (c0[0] - u[0]) <= 0.0) return 0;
+    }
+    return 1;
+}
+
+int contact_hull_b(const exdex_model *m, const double *q, double hb[][3])
 {
     double r[3], th, c, s;
     model_com_pose(m, q, r, &th);
@@ -843,7 +860,7 @@ int contact_obstacle_rows(const exdex_model *m, const exdex_kinematics *kin, con
 {
     double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], hb[EXDEX_MAX_VERTICES][3];
     double pn = sqrt(ex_dot3(kin->p, kin->p));
-    int nv = contact_vertices(m, q, xb, vx), nh = hull_b(m, q, hb), nr = 0;
+    int nv = contact_vertices(m, q, xb, vx), nh = contact_hull_b(m, q, hb), nr = 0;
     double rc[3], thc;
     model_com_pose(m, q, rc, &thc);
     for (int o = 0; o < m->n_obst; o++) {
@@ -941,11 +958,7 @@ int contact_obstacle_rows(const exdex_model *m, const exdex_kinematics *kin, con
             }
             if (inside && fabs(aB[2]) > 1e-12) {
                 /* the axis meets the plane at c0: inside the hull? */
-                double c0[2] = {cB[0] - cB[2] / aB[2] * aB[0], cB[1] - cB[2] / aB[2] * aB[1]};
-                for (int e = 0; inside && e < nh; e++) {
-                    const double *u = hb[e], *v = hb[(e + 1) % nh];
-                    if ((v[0] - u[0]) * (c0[1] - u[1]) - (v[1] - u[1]) * (c0[0] - u[0]) <= 0.0) inside = 0;
-                }
+                inside = contact_axis_in_hull(nh, (const double (*)[3])hb, cB, aB);
             } else {
                 inside = 0;
             }
@@ -1019,12 +1032,7 @@ double contact_slip_planar(const exdex_model *m, const exdex_kinematics *k, int 
              * t_A = R t_B, t_B = e_z x n_B / |n_B| (in-plane part):
              * ds/dt = t_A . A_P + (w x t_A + R dt_B/dt) . V_P, with
              * dn_B/dt = -(w_B x n_B), w_B = R^T w */
-            xd[0] = v[0] - rv[1] * v[2];
-            xd[1] = v[1] + rv[0] * v[2];
-            xd[2] = 0.0;
-            xdd[0] = -rv[0] * v[2] * v[2];
-            xdd[1] = -rv[1] * v[2] * v[2];
-            xdd[2] = 0.0;
+            point_rates(rv, v, xd, xdd);
             ex_mulmv3(Rx, k->R, xB);
             ex_mulmv3(Rxd, k->R, xd);
             ex_mulmv3(Rxdd, k->R, xdd);

@@ -137,4 +137,11 @@ int contact_hull(const double (*v)[2], int n, double (*hull)[2]);
 double contact_slip_planar(const exdex_model *m, const exdex_kinematics *k, int ks, int j, const double *q,
                            const double *v, double T[3], double *tb, double *sdd0);
 
+/* The outline's convex hull in B at coordinates q, counter-clockwise (z = 0);
+ * returns its vertex count. */
+int contact_hull_b(const exdex_model *m, const double *q, double hb[][3]);
+/* Whether the line through cB along aB (B, aB[2] != 0) meets the plate plane
+ * strictly inside the counter-clockwise hull hb (nh vertices). */
+int contact_axis_in_hull(int nh, const double hb[][3], const double cB[3], const double aB[3]);
+
 #endif

@@ -453,16 +453,6 @@ static void *explicit_alloc(const exdex_model *m, int *status)
 
 static void explicit_free(void *ws) { free(ws); }
 
-static int explicit_run(const exdex_model *m, void *ws, double t_end, double dt, exdex_trajectory *out,
-                        exdex_stats *st)
-{
-    size_t n = out->n;
-    int status = explicit_begin(m, ws, t_end, dt, st);
-    for (size_t i = 1; i < n && status == EXDEX_OK; i++)
-        status = explicit_advance(m, ws, i == n - 1 ? t_end : (double)i * dt, 0, out, i, st);
-    return status;
-}
-
 static void explicit_save(const void *ws, void *buf) { memcpy(buf, ws, sizeof(explicit_ws)); }
 static int explicit_restore(void *ws, const void *buf)
 {
@@ -470,6 +460,6 @@ static int explicit_restore(void *ws, const void *buf)
     return EXDEX_OK;
 }
 
-const method_impl method_explicit = {"explicit", explicit_alloc, explicit_run, explicit_free, 1, 0,
+const method_impl method_explicit = {"explicit", explicit_alloc, NULL, explicit_free, 1, 0,
                                      explicit_begin, explicit_advance, sizeof(explicit_ws), explicit_save,
                                      explicit_restore};

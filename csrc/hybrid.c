@@ -2595,29 +2595,7 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
     return status;
 }
 
-static int run_hybrid(const exdex_model *m, ode *O, int law, double t_end, double dt,
-                      exdex_trajectory *out, exdex_stats *st)
-{
-    size_t n = out->n;
-    int status = hybrid_begin(m, O, law, t_end, dt, st);
-    for (size_t i = 1; i < n && status == EXDEX_OK; i++)
-        status = hybrid_advance(m, O, i == n - 1 ? t_end : (double)i * dt, 0, out, i, st);
-    return status;
-}
-
 /* ------------------------------------------------------------ entry points */
-
-static int event_run(const exdex_model *m, void *ws, double t_end, double dt, exdex_trajectory *out,
-                     exdex_stats *st)
-{
-    return run_hybrid(m, ws, LAW_COULOMB, t_end, dt, out, st);
-}
-
-static int regularised_run(const exdex_model *m, void *ws, double t_end, double dt, exdex_trajectory *out,
-                           exdex_stats *st)
-{
-    return run_hybrid(m, ws, LAW_SMOOTH, t_end, dt, out, st);
-}
 
 static int event_begin(const exdex_model *m, void *ws, double t_end, double dt, exdex_stats *st)
 {
@@ -2692,8 +2670,8 @@ static int hybrid_restore(void *ws, const void *buf)
 
 #define HYBRID_STATE_SIZE sizeof(((ode *)0)->S)
 
-const method_impl method_event = {"event", hybrid_alloc, event_run, hybrid_free, 0, 0, event_begin,
+const method_impl method_event = {"event", hybrid_alloc, NULL, hybrid_free, 0, 0, event_begin,
                                   hybrid_advance_ws, HYBRID_STATE_SIZE, hybrid_save, hybrid_restore};
-const method_impl method_regularised = {"regularised", hybrid_alloc, regularised_run, hybrid_free, 0, 0,
+const method_impl method_regularised = {"regularised", hybrid_alloc, NULL, hybrid_free, 0, 0,
                                         regularised_begin, hybrid_advance_ws, HYBRID_STATE_SIZE, hybrid_save,
                                         hybrid_restore};

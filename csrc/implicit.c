@@ -917,16 +917,6 @@ static int implicit_advance(const exdex_model *m, void *ws, double t1, int regri
     return status;
 }
 
-static int implicit_run(const exdex_model *m, void *ws, double t_end, double dt, exdex_trajectory *out,
-                        exdex_stats *st)
-{
-    size_t n = out->n;
-    int status = implicit_begin(m, ws, t_end, dt, st);
-    for (size_t step = 1; step < n && status == EXDEX_OK; step++)
-        status = implicit_advance(m, ws, step == n - 1 ? t_end : (double)step * dt, 0, out, step, st);
-    return status;
-}
-
 typedef struct implicit_state {
     double p_prev[3];
     int have_prev;
@@ -959,7 +949,7 @@ static int implicit_restore(void *ws, const void *buf)
     return EXDEX_OK;
 }
 
-const method_impl method_implicit = {"implicit", implicit_alloc, implicit_run, implicit_free, 1, 1,
+const method_impl method_implicit = {"implicit", implicit_alloc, NULL, implicit_free, 1, 1,
                                      implicit_begin, implicit_advance,
                                      sizeof(((work *)0)->S) + sizeof(implicit_state), implicit_save,
                                      implicit_restore};

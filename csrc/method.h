@@ -21,6 +21,7 @@ typedef struct method_impl {
     const char *name;
     /* The run's mutable workspace, or NULL with *status EXDEX_ENOMEM. */
     void *(*alloc)(const exdex_model *m, int *status);
+    /* NULL: the run is begin and advance (below) over the output grid */
     int (*run)(const exdex_model *m, void *ws, double t_end, double dt, exdex_trajectory *out, exdex_stats *st);
     void (*free)(void *ws);  /* NULL is harmless */
     /* 1: a time-stepping method whose per-step stop impulses (stop_force
@@ -29,9 +30,9 @@ typedef struct method_impl {
     int impacts_from_steps;
     int checks_finite;       /* 1: run returns EXDEX_OK only with finite output (it checks
                                 every step), so simulate.c need not scan it again */
-    /* run is begin followed by advance for the samples 1 .. n-1 (t_i = i dt,
-     * the last one t_end); the stepper (stepper.c) calls them one interval
-     * at a time. begin puts the initial state into ws for a run to t_end
+    /* A run is begin followed by advance for the samples 1 .. n-1 (t_i = i
+     * dt, the last one t_end; simulate.c where run is NULL); the stepper
+     * (stepper.c) calls them one interval at a time. begin puts the initial state into ws for a run to t_end
      * (INFINITY: not known) whose first output step is dt. advance runs from
      * the time reached to t1 (> it) and records the interval as sample i of
      * out (method_record); regrip = 1 says that the model's friction

@@ -224,20 +224,6 @@ int orow_valid(const exdex_model *m, int code)
 
 /* ------------------------------------------------ plain geometry at t */
 
-/* Hull in B at q (counter-clockwise), as contact.c's hull_b. */
-static int hull_at(const exdex_model *m, const double *q, double hb[][2])
-{
-    double r[3], th, c, s;
-    model_com_pose(m, q, r, &th);
-    c = cos(th);
-    s = sin(th);
-    for (int i = 0; i < m->n_hull; i++) {
-        hb[i][0] = r[0] + c * m->hull[i][0] - s * m->hull[i][1];
-        hb[i][1] = r[1] + s * m->hull[i][0] + c * m->hull[i][1];
-    }
-    return m->n_hull;
-}
-
 /* Half-plane a . y <= b of face f in B's plate plane; returns |a|. */
 static double face_line(const exdex_obstacle_def *ob, const exdex_kinematics *kin, int f, double a[2], double *b)
 {
@@ -251,7 +237,7 @@ static double face_line(const exdex_obstacle_def *ob, const exdex_kinematics *ki
 }
 
 /* Largest distance of y outside the hull's edge lines; *edge its edge. */
-static double hull_dist(int nh, const double hb[][2], const double y[2], int *edge)
+static double hull_dist(int nh, const double hb[][3], const double y[2], int *edge)
 {
     double gb = -INFINITY;
     *edge = 0;
@@ -280,7 +266,7 @@ static void rod_axis(const exdex_obstacle_def *ob, const exdex_kinematics *kin, 
 /* Foot parameter (unclamped) along the hull edge e of the point nearest the
  * axis, as contact.c computes it; *len the edge's length perpendicular to the
  * axis (0: the edge is parallel to it). */
-static double rod_foot(int nh, const double hb[][2], const double cB[3], const double aB[3], int e, double *len)
+static double rod_foot(int nh, const double hb[][3], const double cB[3], const double aB[3], int e, double *len)
 {
     const double *u = hb[e], *v = hb[(e + 1) % nh];
     double du[3] = {v[0] - u[0], v[1] - u[1], 0.0}, d[3] = {u[0] - cB[0], u[1] - cB[1], -cB[2]}, w[3], dd[3];
@@ -302,7 +288,7 @@ static double rod_dist2(const double cB[3], const double aB[3], const double x[2
 
 /* The rod row's gap and feature at (kin, q), as contact_obstacle_rows. */
 static double rod_row(const exdex_model *m, const exdex_obstacle_def *ob, const exdex_kinematics *kin, int nh,
-                      const double hb[][2], int *feat)
+                      const double hb[][3], int *feat)
 {
     double cB[3], aB[3], best = INFINITY;
     int inside = nh >= 3;
@@ -332,11 +318,7 @@ static double rod_row(const exdex_model *m, const exdex_obstacle_def *ob, const 
             *feat = 32 + k;
     }
     if (inside && fabs(aB[2]) > 1e-12) {
-        double c0[2] = {cB[0] - cB[2] / aB[2] * aB[0], cB[1] - cB[2] / aB[2] * aB[1]};
-        for (int e = 0; inside && e < nh; e++) {
-            const double *u = hb[e], *v = hb[(e + 1) % nh];
-            if ((v[0] - u[0]) * (c0[1] - u[1]) - (v[1] - u[1]) * (c0[0] - u[0]) <= 0.0) inside = 0;
-        }
+        inside = contact_axis_in_hull(nh, hb, cB, aB);
     } else {
         inside = 0;
     }
@@ -393,8 +375,8 @@ static int orow_tie(const exdex_model *m, const exdex_kinematics *kin, const dou
 int orow_all(const exdex_model *m, const exdex_kinematics *kin, const double *q, const double *v, int planar,
              int *code, double *gap)
 {
-    double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], hb[EXDEX_MAX_VERTICES][2], zero[3] = {0, 0, 0};
-    int nv = contact_vertices(m, q, xb, vx), nh = hull_at(m, q, hb), n = 0;
+    double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], hb[EXDEX_MAX_VERTICES][3], zero[3] = {0, 0, 0};
+    int nv = contact_vertices(m, q, xb, vx), nh = contact_hull_b(m, q, hb), n = 0;
     for (int o = 0; o < m->n_obst; o++) {
         const exdex_obstacle_def *ob = &m->def.obstacles[o];
         if (ob->kind == EXDEX_OBSTACLE_POLYTOPE) {
@@ -454,7 +436,7 @@ int orow_all(const exdex_model *m, const exdex_kinematics *kin, const double *q,
                     ys[ny][1] = y[1];
                     ny++;
                     {
-                        double gv = hull_dist(nh, (const double (*)[2])hb, y, &e);
+                        double gv = hull_dist(nh, (const double (*)[3])hb, y, &e);
                         if (v && m->tol.touch > 0.0) {
                             /* ties between edge lines: orow_tie */
                             int cand[EXDEX_MAX_VERTICES];
@@ -473,7 +455,7 @@ int orow_all(const exdex_model *m, const exdex_kinematics *kin, const double *q,
                 }
         } else {
             int feat;
-            double gv = rod_row(m, ob, kin, nh, (const double (*)[2])hb, &feat);
+            double gv = rod_row(m, ob, kin, nh, (const double (*)[3])hb, &feat);
             if (gap) gap[n] = gv;
             code[n++] = orow_code(o, OROW_ROD, 0, 0, feat);
         }
@@ -526,8 +508,8 @@ void orow_1dof(const exdex_model *m, const exdex_kinematics *kin, int code, doub
 double orow_feature_guard(const exdex_model *m, const exdex_kinematics *kin, int code, const double *q)
 {
     const exdex_obstacle_def *ob = &m->def.obstacles[orow_obst(code)];
-    double hb[EXDEX_MAX_VERTICES][2], big = m->scale.L;
-    int nh = hull_at(m, q, hb), feat = orow_feat(code), kind = orow_kind(code);
+    double hb[EXDEX_MAX_VERTICES][3], big = m->scale.L;
+    int nh = contact_hull_b(m, q, hb), feat = orow_feat(code), kind = orow_kind(code);
     if (kind == OROW_VERTEX) {
         double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], gf, go = -INFINITY;
         int j = orow_a(code);
@@ -571,12 +553,12 @@ double orow_feature_guard(const exdex_model *m, const exdex_kinematics *kin, int
         rod_axis(ob, kin, cB, aB);
         if (nh < 2) return big;
         if (feat >= 32) {
-            t = rod_foot(nh, (const double (*)[2])hb, cB, aB, feat - 32, &len);
+            t = rod_foot(nh, (const double (*)[3])hb, cB, aB, feat - 32, &len);
             return fmin(t, 1.0 - t) * len;
         } else {
             int ep = (feat + nh - 1) % nh;
-            double lp, tp = rod_foot(nh, (const double (*)[2])hb, cB, aB, ep, &lp);
-            double tn = rod_foot(nh, (const double (*)[2])hb, cB, aB, feat, &len);
+            double lp, tp = rod_foot(nh, (const double (*)[3])hb, cB, aB, ep, &lp);
+            double tn = rod_foot(nh, (const double (*)[3])hb, cB, aB, feat, &len);
             return fmin((tp - 1.0) * lp, -tn * len);
         }
     }
@@ -585,8 +567,8 @@ double orow_feature_guard(const exdex_model *m, const exdex_kinematics *kin, int
 void orow_point(const exdex_model *m, const exdex_kinematics *kin, int code, const double *q, contact_point *cp)
 {
     const exdex_obstacle_def *ob = &m->def.obstacles[orow_obst(code)];
-    double hb[EXDEX_MAX_VERTICES][2], r[3], th, x[3] = {0, 0, 0}, nb[3] = {0, 0, 0};
-    int nh = hull_at(m, q, hb), feat = orow_feat(code), kind = orow_kind(code);
+    double hb[EXDEX_MAX_VERTICES][3], r[3], th, x[3] = {0, 0, 0}, nb[3] = {0, 0, 0};
+    int nh = contact_hull_b(m, q, hb), feat = orow_feat(code), kind = orow_kind(code);
     model_com_pose(m, q, r, &th);
     if (kind == OROW_VERTEX) {
         double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3];
@@ -620,7 +602,7 @@ void orow_point(const exdex_model *m, const exdex_kinematics *kin, int code, con
             x[0] = hb[feat][0];
             x[1] = hb[feat][1];
         } else {
-            double len, tf = rod_foot(nh, (const double (*)[2])hb, cB, aB, feat - 32, &len);
+            double len, tf = rod_foot(nh, (const double (*)[3])hb, cB, aB, feat - 32, &len);
             const double *u = hb[feat - 32], *w = hb[(feat - 31) % nh];
             x[0] = u[0] + tf * (w[0] - u[0]);
             x[1] = u[1] + tf * (w[1] - u[1]);

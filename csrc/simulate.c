@@ -106,7 +106,14 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajecto
     for (int k = 0; k < m->n_src; k++) out->stop_force[k] = 0.0;
     ws = impl->alloc(m, &status);
     if (!ws) return status ? status : EXDEX_ENOMEM;
-    status = impl->run(m, ws, t_end, dt, out, &st);
+    if (impl->run) {
+        status = impl->run(m, ws, t_end, dt, out, &st);
+    } else {
+        size_t n = out->n;
+        status = impl->begin(m, ws, t_end, dt, &st);
+        for (size_t i = 1; i < n && status == EXDEX_OK; i++)
+            status = impl->advance(m, ws, i == n - 1 ? t_end : (double)i * dt, 0, out, i, &st);
+    }
     impl->free(ws);
     if (status == EXDEX_OK && !impl->checks_finite && !output_finite(m, out)) status = EXDEX_ENONFINITE;
     if (status == EXDEX_OK && impl->impacts_from_steps && m->n_src) impacts_from_steps(m, out, &st);
