@@ -434,8 +434,7 @@ static int explicit_advance(const exdex_model *m, void *ws, double t1, int regri
         if (status) return status;
         still = first ? sub_still : still && sub_still;
         wt = (sub.te - ts) / H;
-        for (int c = 0; c < 3; c++) wrench[c] = first ? wr[c] * wt : wrench[c] + wr[c] * wt;
-        for (int k = 0; k < m->n_src; k++) sf[k] = first ? sfs[k] * wt : sf[k] + sfs[k] * wt;
+        method_add_sub(first, wt, wr, sfs, m->n_src, wrench, sf);
         first = 0;
     }
     st->steps++;   /* one step per sample: its sub-steps are parts of it */

@@ -905,8 +905,7 @@ static int implicit_advance(const exdex_model *m, void *ws, double t1, int regri
         if (status) return status;
         stick = first ? sub_stick : stick && sub_stick;
         wt = (sub.te - ts) / H;
-        for (int c = 0; c < 3; c++) wrench[c] = first ? wr[c] * wt : wrench[c] + wr[c] * wt;
-        for (int k = 0; k < m->n_src; k++) sf[k] = first ? sfs[k] * wt : sf[k] + sfs[k] * wt;
+        method_add_sub(first, wt, wr, sfs, m->n_src, wrench, sf);
         first = 0;
     }
     /* a split output step: the next one does not extrapolate from its last,

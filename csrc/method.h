@@ -53,6 +53,17 @@ typedef struct method_impl {
     int (*restore)(void *ws, const void *buf);
 } method_impl;
 
+/* A sub-step's share of its output interval's means (the time-stepping
+ * methods split an output step at switching times): the sub-step's plate
+ * wrench wr and source forces sfs (n_src of them) weighted by its fraction
+ * wt of the interval, added to wrench and sf, or starting them (first). */
+static inline void method_add_sub(int first, double wt, const double wr[3], const double *sfs, int n_src,
+                                  double wrench[3], double *sf)
+{
+    for (int c = 0; c < 3; c++) wrench[c] = first ? wr[c] * wt : wrench[c] + wr[c] * wt;
+    for (int k = 0; k < n_src; k++) sf[k] = first ? sfs[k] * wt : sf[k] + sfs[k] * wt;
+}
+
 /* Count an impact of `impulse` (> 0) [N s] on stop `k` at time t. */
 static inline void method_note_impact(exdex_stats *st, double t, int k, double impulse)
 {
