@@ -54,7 +54,16 @@
  * 0 for translation. At stick
  * it chatters: with a load |Q| < C the velocity never returns to 0 but
  * circulates in (-dt (C - Q)/M, dt (C + Q)/M] (Q > 0) and creeps on average
- * at dt Q / M.
+ * at dt Q / M (1-DoF). Planar, the creep is not bounded by that band: in
+ * the scaled slip s = E u (s_3 = e_r times the rotation rate) the step is
+ * s+ = s + h K (a - C s / |s|), K = E J M^-1 J^T E, a the load; held
+ * (|a| < C), the translational part of s chatters in a band ~ h C / m, and
+ * the friction torque, C e_r s_3 / |s|, is then only the fraction
+ * s_3 / |s| of C e_r, so the rotation runs until s_3 is comparable to the
+ * band: the object turns at up to ~ (h C / m) / e_r (times rho /
+ * sqrt(1 - rho^2), rho = |a| / C), first order in h but with a constant
+ * 1 / e_r, far above the 1-DoF band h C e_r / I when e_r is small against
+ * the object (the re-stick rule below removes it).
  *
  * Static friction (mu_static > mu, capacities C_s > C): the plates hold
  * the object at rest (v+ = 0 exactly) while the wrench that holds it,
