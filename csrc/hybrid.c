@@ -277,6 +277,7 @@
 #define STEPS_MAX 100000  /* ODE steps (accepted + rejected) per output interval before EXDEX_ENOCONV */
 #define H_FLOOR_ULPS 16.0 /* a suggested step below this many ulps of t is a collapse: EXDEX_ENOCONV */
 #define BRENT_MAX 200     /* Brent iterations per located event */
+#define DOUBLING_EXACT 10 /* locate: a forward search past 2^10 of its first increment is bisected back */
 #define NY_MAX (9 + EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES)
 #define NG_MAX (3 + 3 * MAX_ROWS + EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES)  /* guards (planar: 2 friction, the rows, stop friction, obstacle features) */
 #define NSRC_MAX (EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES)
@@ -951,6 +952,25 @@ static int planar_friction(hyb *H, const frame *f, const exdex_kinematics *kin, 
         }
     }
     return EXDEX_OK;
+}
+
+/* A contact-set row whose separation was located at t and that the
+ * decision there put back into the set, twice at the same time: at the
+ * separation instant its force and gap acceleration both vanish, and the
+ * complementarity solve at the decided state may return a force of
+ * rounding size (lam > 0) with the guard lam G M^-1 G^T - gap acceleration
+ * of rounding size below 0, which the next step then finds falling (the row
+ * separates with the row still in the set: the step would be taken with a
+ * violated guard and the row's gap unwatched, its stop no longer able to
+ * act as an impact). The event's own answer stands: the row leaves the set
+ * (its free gap guard watches it again; a row that still pushes comes back
+ * by an impact at rate ~0). */
+static void set_tie_leaves(hyb *H, int r)
+{
+    int n = 0;
+    for (int i = 0; i < H->ncs; i++)
+        if (H->cs[i] != r) H->cs[n++] = H->cs[i];
+    H->ncs = n;
 }
 
 /* Keep in the planar contact set only the rows that push (lam > 0) under
@@ -2180,10 +2200,30 @@ static int locate(hyb *H, ode *O, double t0, const double *y0, double tau0, doub
      * until the next step). Step forward from it, doubling, to a point with
      * g < 0 (g(tau1) < 0 bounds the search). */
     {
-        double d = fmax(H->m->tol.root, 4.0 * DBL_EPSILON * fabs(t0 + hi));
+        double d = fmax(H->m->tol.root, 4.0 * DBL_EPSILON * fabs(t0 + hi)), d0 = d, lo2 = hi;
         for (int k = 0; k < 64 && hi < tau1 && !(root_fn(hi, &c) < 0.0) && !c.fail; k++) {
+            lo2 = hi;
             hi = fmin(tau1, hi + d);
             d *= 2.0;
+        }
+        /* Brent can stop on a zero that is no crossing: a gap lifted off
+         * by an impact at the step start is 0 to rounding just after it
+         * (g >= 0 there, and the crossing sought where it comes back down
+         * later in the step). The doubling then passes over the crossing
+         * by up to its last increment, a good part of the step: an
+         * increment beyond 2^DOUBLING_EXACT d0 is bisected (g >= 0 at lo2,
+         * < 0 at hi) to tol.root (a search that ends sooner leaves the
+         * event at most 2^(DOUBLING_EXACT + 1) tol.root, ~6e-9 T, late). */
+        if (hi - lo2 > ldexp(d0, DOUBLING_EXACT) && !c.fail && root_fn(hi, &c) < 0.0) {
+            for (int it = 0; it < 2 * BRENT_MAX && hi - lo2 > H->m->tol.root && !c.fail; it++) {
+                double mid = lo2 + 0.5 * (hi - lo2);
+                if (!(mid > lo2 && mid < hi)) break;
+                H->st->solver_iterations++;
+                if (root_fn(mid, &c) < 0.0)
+                    hi = mid;
+                else
+                    lo2 = mid;
+            }
         }
     }
     if (c.fail) return EXDEX_ENOCONV;
@@ -2559,7 +2599,7 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
             }
             if (status) break;
             if (e_best >= 0) {
-                int vz, keep = 0;
+                int vz, keep = 0, sep = -1;
                 if (tau_best > 0.0 && t0 + tau_best == t0 && g0[e_best] > 0.0 && t > t0) {
                     /* a crossing within half an ulp of t0: the event time
                      * would round to t0, where the guard holds and the
@@ -2611,10 +2651,16 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                         }
                     }
                 }
+                /* planar, a contact-set row separating (its guard lam G
+                 * M^-1 G^T - gap acceleration, after the free gaps) */
+                if (nd == 3 && law == LAW_COULOMB && H.mode != MODE_STICK && !H.sfric && e_best >= H.gap1 &&
+                    e_best < H.gap1 + H.ncs)
+                    sep = H.cs[e_best - H.gap1];
                 if (keep)
                     H.small = 1;
                 else
                     decide(&H, t, y, vz);
+                if (sep >= 0 && same >= 1 && H.mode == MODE_SLIP) set_tie_leaves(&H, sep);
                 gsl_odeiv2_evolve_reset(O->evo);
                 gsl_odeiv2_step_reset(O->step);
                 if (++events > EVENTS_MAX) {
