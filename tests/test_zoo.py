@@ -185,7 +185,22 @@ SEEDS = range(N_SCENES)
 #: while the stop receded in B faster than SLIP_PUSH zsw stopped; at rest
 #: the stop separated and the load (beyond friction alone) drove the object
 #: back: an impact every ~300 ns, event budget exceeded.
-EXTRA_SEEDS = (7614, 7401, 7414, 9682, 5990, 2311, 5652, 833, 6636, 7200, 5632, 7936, 7437)
+#: 3914, planar: a load just beyond the friction limit grew a slip from rest
+#: at ~6e-6 of the velocity scale per time scale, lingering at 2-7 zsw for
+#: a time scale, where the sliding law's direction is stiff: the explicit
+#: stepper's ~1.6e-7 s steps exceeded the step budget of an output
+#: interval t_end / 8 (it returned at t_end / 64).
+#: 4355, 7779, planar: a contact-set row whose separation was located was
+#: put back into the set by the decision there (a force of rounding size
+#: from the complementarity solve), four times at the same time, and then
+#: kept while it separated (warnings): 1.3e-4 L and 1.8e-6 L off at some
+#: rtol and output grids. 7779, 4421: an event located late by up to a
+#: good part of a step (the gap of a corner just lifted off by an impact is
+#: 0 to rounding at the step start, Brent stopped there, and the forward
+#: search for a violated point doubled past the crossing): an impact 6e-6 s
+#: late, or an extra one; 1.8e-6 L and 2.8e-6 L off.
+EXTRA_SEEDS = (7614, 7401, 7414, 9682, 5990, 2311, 5652, 833, 6636, 7200, 5632, 7936, 7437, 3914, 4355, 7779,
+               4421)
 #: The regularised method's agreement (a ladder of four or more stiff runs) on every REG_EVERY-th
 #: seed; it returns on all of them.
 REG_EVERY = 2
