@@ -105,19 +105,19 @@ units (zoo.run), so a 1 mm and a 1 m scene are held to the same standard.
   ladder that gets there without it (or whose next run fails) is outside
   the regime (``regime`` False) and still judged on its last differences:
   every scene gets a verdict. The bound is S max of the last N_RATIOS + 1
-  differences (the window where the model was seen: S times its largest,
-  not only its last, as the differences of a ladder not yet in its regime
-  can pass two ratios and grow again, seen in the zoo: 0.11, 0.083, 0.032
-  then 0.047, 0.068, 0.060 L, the run at the window's end 0.285 L off: 8.9
-  times the last difference, 2.6 times the largest), plus the runs' own
-  integration tolerance (zoo.integration_tol: its adaptive runs are at
-  REF_RTOL too, so steps x REF_RTOL x (1 + the pose's size), the sum of
-  the steps' errors), plus its
-  creep at the finest eps: under a load w inside the friction ellipsoid it
-  does not stick but creeps at eps |E^-1 w| / sqrt((mu N)^2 - |E^-1
-  w|^2), summed here over the reference's stuck intervals with the
-  reference's wrench (zoo.regularised_creep); where the reference's load
-  sits on the limit that law has no first-order term (infinite speed) and
+  differences (the window where the model was seen; its largest, not only
+  its last, as in the implicit check, so that the bound does not rest on
+  a single difference: a window 0.11, 0.083, 0.032 L, ratios 0.74 and
+  0.39, was followed in the zoo by 0.047, 0.068, 0.060 L, its last run
+  0.285 L off, 8.9 times the last difference and 2.5 times the largest),
+  plus the runs' own integration tolerance (zoo.integration_tol: its
+  adaptive runs are at REF_RTOL too, so steps x REF_RTOL x (1 + the pose's
+  size), the sum of the steps' errors), plus its creep at the finest eps:
+  under a load w inside the friction ellipsoid it does not stick but
+  creeps at eps |E^-1 w| / sqrt((mu N)^2 - |E^-1 w|^2), summed here over
+  the reference's stuck intervals with the reference's wrench
+  (zoo.regularised_creep); where the reference's load sits on the limit
+  that law has no first-order term (infinite speed) and
   the ladder's differences alone carry the error. Cost: each halving
   doubles the cost of a stiff run, so the ladder starts where its creep
   leaves the configuration nearly unchanged: eps0 = EPS L / tau (EPS =
