@@ -78,7 +78,7 @@ units (zoo.run), so a 1 mm and a 1 m scene are held to the same standard.
   ladder's finest step over the reference's stuck time is added.
   The explicit ladder is judged only where it shows the model, as the
   regularised one below: N_RATIOS = 2 consecutive ratios D_{k+1} / D_k in
-  [RATIO_LO, RATIO_HI] = [1/8, 3/4] (zoo.ladder_consistent), and its last
+  [RATIO_LO, RATIO_HI] = [1/8, 2/3] (zoo.ladder_consistent), and its last
   N_RATIOS + 2 runs sharing the discrete events the model's g counts: the
   same number of impacts on stops in every run, and the reference's stop
   contacts at the end (zoo.same_events; a ladder across which an impact
