@@ -194,7 +194,9 @@
  *   <= 0 the friction turns the normal force's generalized direction
  *   around and the acceleration-level contact has no solution (Painleve):
  *   the contact is taken frictionless there and a warning counted (the
- *   implicit method, at the velocity level, reports the same jam). Impacts
+ *   implicit method, at the velocity level, reports the same jam); a jam
+ *   reached in contact (D / Fq falling to 0, lam without bound) is located
+ *   by a guard at D / Fq = JAM_DIR. Impacts
  *   stay frictionless (their normal impulse is counted as without
  *   friction). Planar scenes: a friction mode per stop (stick, slide +-),
  *   exact at the acceleration level, in both methods (the regularised one
