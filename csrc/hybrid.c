@@ -67,7 +67,13 @@
  *       qd = 0, so a slip's last zsw of speed is dropped; else it slips on
  *       as a small slip with its velocity kept (a dropped speed would
  *       persist where friction cannot take it back: with mu = 0 a spin of
- *       zsw would last to t_end).
+ *       zsw would last to t_end). A slip that lingers below SLIP_STIFF zsw
+ *       (STIFF_AFTER consecutive steps) is integrated by a linearly
+ *       implicit stepper instead of rk8pd, the same law under the same
+ *       error control (stiff_track): a load just beyond the friction limit
+ *       grows a slip at a small rate, or holds it at a small steady speed,
+ *       and the explicit stepper's stable step ~5 (|E u| / V) T would make
+ *       the cost (and the step budget below) grow without bound.
  *   After every accepted step the guards are checked; the earliest sign change
  *   is located by GSL Brent on the stepper's own one-step map tau -> y(t0 +
  *   tau) (an interpolant of the stepper's order) at the first point where the
@@ -273,6 +279,7 @@
 #define STEPS_MAX 100000  /* ODE steps (accepted + rejected) per output interval before EXDEX_ENOCONV */
 #define H_FLOOR_ULPS 16.0 /* a suggested step below this many ulps of t is a collapse: EXDEX_ENOCONV */
 #define BRENT_MAX 200     /* Brent iterations per located event */
+#define DOUBLING_EXACT 10 /* locate: a forward search past 2^10 of its first increment is bisected back */
 #define NY_MAX (9 + EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES)
 #define NG_MAX (3 + 3 * MAX_ROWS + EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES)  /* guards (planar: 2 friction, the rows, stop friction, obstacle features) */
 #define NSRC_MAX (EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES)
@@ -290,6 +297,8 @@
 #define SLIP_FLOOR 1e-6  /* planar slip: below SLIP_FLOOR V of |E u| the slip is "small" (see the header comment) */
 #define SLIP_UP 2.0      /* a small slip becomes a slip at SLIP_UP zsw (hysteresis against zsw) */
 #define SLIP_PUSH 4.0    /* a stop pushing a stopped planar slip on below SLIP_PUSH zsw: a rest instead */
+#define SLIP_STIFF 100.0 /* a planar slip below SLIP_STIFF zsw for STIFF_AFTER steps: the stiff stepper */
+#define STIFF_AFTER 1000
 
 enum { LAW_COULOMB = 0, LAW_SMOOTH = 1 };
 enum { MODE_SLIP = 0, MODE_STICK = 1, MODE_CONTACT = 2, MODE_FREE = 3 };
@@ -322,6 +331,8 @@ typedef struct hyb {
     int sfric;         /* planar with a frictional stop: the stop friction below (sf_*) */
     int fm[EXDEX_MAX_STOPS];  /* planar: friction mode of each stop with contact-set rows (SF_*) */
     int no;            /* obstacles (their rows follow the stops', see hrow_src) */
+    int stiff;         /* event, planar slip: 1 while the stiff stepper integrates it (stiff_track) */
+    int nlow;          /* consecutive steps of that slip below SLIP_STIFF zsw (up to STIFF_AFTER) */
     double jam;        /* 1-DoF contact with a frictional stop taken frictionless at a jam (its
                           friction would turn the normal force around, see JAM_DIR): the sign of
                           the slip there; 0: none */
@@ -957,6 +968,25 @@ static int planar_friction(hyb *H, const frame *f, const exdex_kinematics *kin, 
         }
     }
     return EXDEX_OK;
+}
+
+/* A contact-set row whose separation was located at t and that the
+ * decision there put back into the set, twice at the same time: at the
+ * separation instant its force and gap acceleration both vanish, and the
+ * complementarity solve at the decided state may return a force of
+ * rounding size (lam > 0) with the guard lam G M^-1 G^T - gap acceleration
+ * of rounding size below 0, which the next step then finds falling (the row
+ * separates with the row still in the set: the step would be taken with a
+ * violated guard and the row's gap unwatched, its stop no longer able to
+ * act as an impact). The event's own answer stands: the row leaves the set
+ * (its free gap guard watches it again; a row that still pushes comes back
+ * by an impact at rate ~0). */
+static void set_tie_leaves(hyb *H, int r)
+{
+    int n = 0;
+    for (int i = 0; i < H->ncs; i++)
+        if (H->cs[i] != r) H->cs[n++] = H->cs[i];
+    H->ncs = n;
 }
 
 /* Keep in the planar contact set only the rows that push (lam > 0) under
@@ -1794,8 +1824,81 @@ static int apply_jump(hyb *H, double ts, double *y)
 
 /* ------------------------------------------------------ the hybrid loop */
 
+/* Stiff planar slip. The sliding law's direction E u / |E u| relaxes onto
+ * the one where the friction balances the load at the rate C |K| / |E u|
+ * (see the top), and rk8pd is stable only for steps below ~5 |E u| / (C
+ * |K|): a slip that lingers at a small speed (a load just beyond the
+ * friction limit, growing it slowly) holds the explicit stepper to steps
+ * ~5 (|E u| / V) T whatever the tolerance. Such a slip, below SLIP_STIFF
+ * zsw for STIFF_AFTER consecutive accepted steps (a slip passing through
+ * that band on its way up or down at an acceleration of the scene's scale
+ * A takes a few steps; a brief lingering costs at most STIFF_AFTER explicit
+ * steps and keeps rk8pd's answer), is integrated by GSL's bsimp (Bader-Deuflhard
+ * semi-implicit extrapolation, stable on the relaxing direction), whose
+ * steps are set by the same error control alone; it goes back to rk8pd
+ * above 2 SLIP_STIFF zsw and at every event (the mode decided again). The
+ * same ODE under the same rtol, atol: the answer differs from an rk8pd run
+ * by the tolerance, not by the output grid or the step budget. */
+static void stiff_track(hyb *H, const double *y, int reset)
+{
+    double u[3], eu[3], s;
+    if (reset || H->ndof != 3 || H->law != LAW_COULOMB || H->mode != MODE_SLIP || H->small) {
+        H->stiff = 0;
+        H->nlow = 0;
+        return;
+    }
+    model_patch_slip(H->m, MODEL_CS(y[2]), y + 3, u);
+    for (int c = 0; c < 3; c++) eu[c] = H->m->e[c] * u[c];
+    s = sqrt(ex_dot3(eu, eu));
+    if (s < SLIP_STIFF * H->zsw) {
+        if (H->nlow < STIFF_AFTER) H->nlow++;
+        if (H->nlow >= STIFF_AFTER) H->stiff = 1;
+    } else if (!H->stiff || !(s <= 2.0 * SLIP_STIFF * H->zsw)) {
+        H->stiff = 0;
+        H->nlow = 0;
+    }
+}
+
+/* The Jacobian of rhs for bsimp, by forward differences: the columns of
+ * the configuration and velocity (planar: 6; the force integrals do not
+ * enter rhs, their columns are 0), each perturbed by sqrt(DBL_EPSILON)
+ * times the larger of its size and its scale (L, 1 rad, V, 1 / T), and
+ * d/dt likewise over sqrt(DBL_EPSILON) max(|t|, T), backwards at the end
+ * of the motion segment (rhs clamps t into it). */
+static int slip_jac(double t, const double y[], double *dfdy, double dfdt[], void *params)
+{
+    hyb *H = params;
+    const model_scales *sc = &H->m->scale;
+    int ny = H->ny, nq = H->ndof == 3 ? 6 : 2;
+    double f0[NY_MAX], f1[NY_MAX], yp[NY_MAX], dt;
+    double scale[6] = {sc->L, sc->L, 1.0, sc->V, sc->V, 1.0 / sc->T};
+    if (H->ndof == 1) {
+        scale[0] = sc->q;
+        scale[1] = sc->q / sc->T;
+    }
+    if (rhs(t, y, f0, H) != GSL_SUCCESS) return GSL_EBADFUNC;
+    memset(dfdy, 0, (size_t)(ny * ny) * sizeof *dfdy);
+    memcpy(yp, y, (size_t)ny * sizeof *yp);
+    for (int j = 0; j < nq; j++) {
+        double d = sqrt(DBL_EPSILON) * fmax(fabs(y[j]), scale[j]);
+        yp[j] = y[j] + d;
+        d = yp[j] - y[j];
+        if (rhs(t, yp, f1, H) != GSL_SUCCESS) return GSL_EBADFUNC;
+        for (int i = 0; i < ny; i++) dfdy[i * ny + j] = (f1[i] - f0[i]) / d;
+        yp[j] = y[j];
+    }
+    dt = sqrt(DBL_EPSILON) * fmax(fabs(t), sc->T);
+    if (seg_time(H, t + dt) < t + dt) dt = -dt;
+    dt = (t + dt) - t;
+    if (rhs(t + dt, y, f1, H) != GSL_SUCCESS) return GSL_EBADFUNC;
+    for (int i = 0; i < ny; i++) dfdt[i] = (f1[i] - f0[i]) / dt;
+    return GSL_SUCCESS;
+}
+
+
 typedef struct ode {
-    gsl_odeiv2_step *step;
+    gsl_odeiv2_step *step;         /* the stepper in use: rk, or bs while H.stiff */
+    gsl_odeiv2_step *rk, *bs;      /* rk8pd (explicit), bsimp (linearly implicit, stiff_track) */
     gsl_odeiv2_control *con;
     gsl_odeiv2_evolve *evo;
     gsl_root_fsolver *root;
@@ -1825,7 +1928,8 @@ static void ode_free(ode *O)
     if (O->root) gsl_root_fsolver_free(O->root);
     if (O->evo) gsl_odeiv2_evolve_free(O->evo);
     if (O->con) gsl_odeiv2_control_free(O->con);
-    if (O->step) gsl_odeiv2_step_free(O->step);
+    if (O->rk) gsl_odeiv2_step_free(O->rk);
+    if (O->bs) gsl_odeiv2_step_free(O->bs);
     free(O->ts);
     free(O->gb);
     free(O);
@@ -1841,7 +1945,9 @@ static void *hybrid_alloc(const exdex_model *m, int *status)
         *status = EXDEX_ENOMEM;
         return NULL;
     }
-    O->step = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, ny);
+    O->rk = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, ny);
+    O->bs = gsl_odeiv2_step_alloc(gsl_odeiv2_step_bsimp, ny);
+    O->step = O->rk;
     {
         /* atol is relative to the scene's scales: each state component's
          * absolute tolerance is atol times its own scale (positions L,
@@ -1866,7 +1972,7 @@ static void *hybrid_alloc(const exdex_model *m, int *status)
     O->root = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
     O->ts = malloc((EXDEX_MOTION_MAX_SWITCHES + m->grip_n) * sizeof *O->ts);
     O->gb = malloc((EXDEX_MOTION_MAX_SWITCHES + m->grip_n) * sizeof *O->gb);
-    if (!O->step || !O->con || !O->evo || !O->root || !O->ts || !O->gb) {
+    if (!O->rk || !O->bs || !O->con || !O->evo || !O->root || !O->ts || !O->gb) {
         ode_free(O);
         *status = EXDEX_ENOMEM;
         return NULL;
@@ -1879,7 +1985,7 @@ static void *hybrid_alloc(const exdex_model *m, int *status)
     memset(O->evo->dydt_in, 0, ny * sizeof(double));
     memset(O->evo->dydt_out, 0, ny * sizeof(double));
     O->sys.function = rhs;
-    O->sys.jacobian = NULL;
+    O->sys.jacobian = slip_jac;
     O->sys.dimension = ny;
     O->sys.params = NULL;
     return O;
@@ -2129,10 +2235,30 @@ static int locate(hyb *H, ode *O, double t0, const double *y0, double tau0, doub
      * until the next step). Step forward from it, doubling, to a point with
      * g < 0 (g(tau1) < 0 bounds the search). */
     {
-        double d = fmax(H->m->tol.root, 4.0 * DBL_EPSILON * fabs(t0 + hi));
+        double d = fmax(H->m->tol.root, 4.0 * DBL_EPSILON * fabs(t0 + hi)), d0 = d, lo2 = hi;
         for (int k = 0; k < 64 && hi < tau1 && !(root_fn(hi, &c) < 0.0) && !c.fail; k++) {
+            lo2 = hi;
             hi = fmin(tau1, hi + d);
             d *= 2.0;
+        }
+        /* Brent can stop on a zero that is no crossing: a gap lifted off
+         * by an impact at the step start is 0 to rounding just after it
+         * (g >= 0 there, and the crossing sought where it comes back down
+         * later in the step). The doubling then passes over the crossing
+         * by up to its last increment, a good part of the step: an
+         * increment beyond 2^DOUBLING_EXACT d0 is bisected (g >= 0 at lo2,
+         * < 0 at hi) to tol.root (a search that ends sooner leaves the
+         * event at most 2^(DOUBLING_EXACT + 1) tol.root, ~6e-9 T, late). */
+        if (hi - lo2 > ldexp(d0, DOUBLING_EXACT) && !c.fail && root_fn(hi, &c) < 0.0) {
+            for (int it = 0; it < 2 * BRENT_MAX && hi - lo2 > H->m->tol.root && !c.fail; it++) {
+                double mid = lo2 + 0.5 * (hi - lo2);
+                if (!(mid > lo2 && mid < hi)) break;
+                H->st->solver_iterations++;
+                if (root_fn(mid, &c) < 0.0)
+                    hi = mid;
+                else
+                    lo2 = mid;
+            }
         }
     }
     if (c.fail) return EXDEX_ENOCONV;
@@ -2295,6 +2421,7 @@ static int hybrid_begin(const exdex_model *m, ode *O, int law, double t_end, dou
     O->S.h = h;
     O->S.nsw = nsw;
     O->sys.params = &O->S.H;
+    O->step = O->rk;
     /* GSL's objects as allocated: a begin after a run starts afresh */
     gsl_odeiv2_evolve_reset(O->evo);
     gsl_odeiv2_step_reset(O->step);
@@ -2317,10 +2444,13 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
     H.m = m;
     H.st = st;
     O->sys.params = &H;
+    O->step = H.stiff ? O->bs : O->rk;
     if (regrip) {
         H.cap = H.capk * model_capacity(m, t);
         H.caps = H.capk * model_capacity_static(m, t);
         decide(&H, t, y, 0);
+        stiff_track(&H, y, 1);
+        O->step = O->rk;
         gsl_odeiv2_evolve_reset(O->evo);
         gsl_odeiv2_step_reset(O->step);
         status = H.err;
@@ -2348,6 +2478,10 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
             }
             memcpy(y0, y, sizeof y);
             ng = guards(&H, t0, y0, g0);
+            if (O->step != (H.stiff ? O->bs : O->rk)) {
+                O->step = H.stiff ? O->bs : O->rk;
+                ode_restart(O);
+            }
             {
                 unsigned long c0 = O->evo->count + O->evo->failed_steps;
                 gs = gsl_odeiv2_evolve_apply(O->evo, O->con, O->step, &O->sys, &t, tstop, &h, y);
@@ -2500,7 +2634,7 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
             }
             if (status) break;
             if (e_best >= 0) {
-                int vz, keep = 0;
+                int vz, keep = 0, sep = -1;
                 if (tau_best > 0.0 && t0 + tau_best == t0 && g0[e_best] > 0.0 && t > t0) {
                     /* a crossing within half an ulp of t0: the event time
                      * would round to t0, where the guard holds and the
@@ -2552,10 +2686,16 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                         }
                     }
                 }
+                /* planar, a contact-set row separating (its guard lam G
+                 * M^-1 G^T - gap acceleration, after the free gaps) */
+                if (nd == 3 && law == LAW_COULOMB && H.mode != MODE_STICK && !H.sfric && e_best >= H.gap1 &&
+                    e_best < H.gap1 + H.ncs)
+                    sep = H.cs[e_best - H.gap1];
                 if (keep)
                     H.small = 1;
                 else
                     decide(&H, t, y, vz);
+                if (sep >= 0 && same >= 1 && H.mode == MODE_SLIP) set_tie_leaves(&H, sep);
                 gsl_odeiv2_evolve_reset(O->evo);
                 gsl_odeiv2_step_reset(O->step);
                 if (++events > EVENTS_MAX) {
@@ -2574,6 +2714,7 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                 if (!(nd == 3 && law == LAW_COULOMB && H.mode == MODE_STICK)) project_contact(&H, t, y);
                 if (memcmp(yp, y, (size_t)H.ny * sizeof *y)) ode_restart(O);
             }
+            stiff_track(&H, y, e_best >= 0);
             /* a penetration left after the step: the scene drives the
              * object through a stop (see tol.pen) */
             if (ns || m->n_obst) {
@@ -2592,6 +2733,7 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                 status = apply_jump(&H, t, y);
                 if (status) break;
                 decide(&H, t, y, 0);
+                stiff_track(&H, y, 1);
                 ode_restart(O);
             }
             if (!ex_finite_n(y, H.ny)) status = EXDEX_ENONFINITE;
@@ -2650,8 +2792,9 @@ static int hybrid_advance_ws(const exdex_model *m, void *ws, double t1, int regr
 
 /* The state: O->S with the evolve object's fields (the switching times
  * are fixed by begin; the stepper and control objects are not saved: the
- * rk8pd stepper recomputes all its stages from y and dydt_in in each
- * application and the scaled control has no state). */
+ * rk8pd and bsimp steppers recompute all their stages (bsimp also its
+ * Jacobian) from y and dydt_in in each application, the one in use is
+ * H.stiff's, and the scaled control has no state). */
 static void hybrid_save(const void *ws, void *buf)
 {
     const ode *O = ws;
@@ -2685,7 +2828,8 @@ static int hybrid_restore(void *ws, const void *buf)
         return EXDEX_EINVAL;
     for (int i = 0; i < S.H.ncs; i++)
         if (S.H.cs[i] < 0 || (S.H.cs[i] >= nr && !(B->no && orow_valid(B->m, S.H.cs[i] - nr)))) return EXDEX_EINVAL;
-    if (S.H.sfric != B->sfric) return EXDEX_EINVAL;
+    if (S.H.sfric != B->sfric || (S.H.stiff != 0 && S.H.stiff != 1) || S.H.nlow < 0 || S.H.nlow > STIFF_AFTER)
+        return EXDEX_EINVAL;
     for (int k = 0; k < B->ns; k++)
         if (S.H.fm[k] < SF_ROLL || S.H.fm[k] > SF_NONE) return EXDEX_EINVAL;
     O->S = S;
