@@ -2828,7 +2828,8 @@ static int hybrid_restore(void *ws, const void *buf)
         return EXDEX_EINVAL;
     for (int i = 0; i < S.H.ncs; i++)
         if (S.H.cs[i] < 0 || (S.H.cs[i] >= nr && !(B->no && orow_valid(B->m, S.H.cs[i] - nr)))) return EXDEX_EINVAL;
-    if (S.H.sfric != B->sfric || (S.H.stiff != 0 && S.H.stiff != 1) || S.H.nlow < 0 || S.H.nlow > STIFF_AFTER)
+    if (S.H.sfric != B->sfric || (S.H.stiff != 0 && S.H.stiff != 1) || S.H.nlow < 0 || S.H.nlow > STIFF_AFTER ||
+        (S.H.jam != 0.0 && S.H.jam != 1.0 && S.H.jam != -1.0))
         return EXDEX_EINVAL;
     for (int k = 0; k < B->ns; k++)
         if (S.H.fm[k] < SF_ROLL || S.H.fm[k] > SF_NONE) return EXDEX_EINVAL;
