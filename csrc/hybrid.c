@@ -156,9 +156,10 @@
  * (event, regularised) integrator carry a contact set of (stop, vertex) rows
  * besides the friction mode:
  *   free row -> impact: its gap reaches 0 (located by Brent); the impact is
- *     plastic and frictionless (the grip force is finite): v is projected
- *     onto G v >= -dgap/dt|_q (no approach) of the touching rows in the M
- *     metric (ldp_project), the impulses counted in the stop force integrals;
+ *     plastic, with no plate impulse (the grip force is finite): v is
+ *     projected onto G v >= -dgap/dt|_q (no approach) of the touching rows
+ *     in the M metric (ldp_project), with Coulomb friction at frictional
+ *     rows (sf_impact), the impulses counted in the stop force integrals;
  *     the rows left touching at rate ~0 that push join the contact set;
  *   in contact: qdd = M^-1 (F + friction + G^T lam), lam >= 0 the LCP
  *     G M^-1 G^T lam = -(G M^-1 (F + friction) + Gdot v) with complementarity
@@ -203,11 +204,13 @@
  *   implicit method, at the velocity level, reports the same jam); a jam
  *   reached in contact (D / Fq falling to 0, lam without bound) is located
  *   by a guard at D / Fq = JAM_DIR. Impacts
- *   stay frictionless (their normal impulse is counted as without
- *   friction). Planar scenes: a friction mode per stop (stick, slide +-),
- *   exact at the acceleration level, in both methods (the regularised one
- *   smooths the plate friction only): see "planar frictional stops" below
- *   (sf_*, sfric.h).
+ *   are plastic with Coulomb friction at the impulse level
+ *   (impact_impulse_1dof: the velocity after one is the frictionless one,
+ *   the impulse the stop takes is not). Planar scenes: a friction mode per
+ *   stop (stick, slide +-), exact at the acceleration level, in both
+ *   methods (the regularised one smooths the plate friction only), and
+ *   impacts with Coulomb friction at the impulse level: see "planar
+ *   frictional stops" and "frictional impacts" below (sf_*, sfric.h).
  *
  * Obstacles (Obstacle.mu > 0 in 1-DoF scenes, as a frictional stop: the
  *   row's tangent at its point, orow_point; model_alloc rejects it in
@@ -259,6 +262,7 @@
  */
 #include "exdex.h"
 #include "contact.h"
+#include "fcontact.h"
 #include "ldp.h"
 #include "method.h"
 #include "model.h"
@@ -459,23 +463,30 @@ static double contact_qdd(const crow *c, double v)
     return -(c->Ftt + 2.0 * c->Ftq * v + c->Fqq * v * v) / c->Fq;
 }
 
-/* Slip of the 1-DoF contact vertex along its stop at (q, v) and pose kin:
- * s = T v + tb (contact_stop_tangent; an obstacle row: contact_tangent at
- * its point, orow_point); T (may be NULL) gets d s / d qdot. */
-static double contact_slip_1dof(const hyb *H, const exdex_kinematics *kin, double q, double v, double *T)
+/* Slip of the 1-DoF row (k, j) (a stop and vertex, or an obstacle and row
+ * code) along its stop at (q, v) and pose kin: s = T v + tb
+ * (contact_stop_tangent; an obstacle row: contact_tangent at its point,
+ * orow_point); T (may be NULL) gets d s / d qdot. contact_slip_1dof: of the
+ * contact row (H->ck, H->cj). */
+static double row_slip_1dof(const hyb *H, const exdex_kinematics *kin, int k, int j, double q, double v, double *T)
 {
     double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], Tv[3], tb;
-    if (H->ck >= H->ns) {
+    if (k >= H->ns) {
         contact_point cp;
-        orow_point(H->m, kin, H->cj, &q, &cp);
+        orow_point(H->m, kin, j, &q, &cp);
         contact_tangent(H->m, kin, cp.x, cp.vx, cp.nB, Tv, &tb);
         if (T) *T = Tv[0];
         return Tv[0] * v + tb;
     }
     contact_vertices(H->m, &q, xb, vx);
-    contact_stop_tangent(H->m, kin, H->ck, xb[H->cj], vx[H->cj], Tv, &tb);
+    contact_stop_tangent(H->m, kin, k, xb[j], vx[j], Tv, &tb);
     if (T) *T = Tv[0];
     return Tv[0] * v + tb;
+}
+
+static double contact_slip_1dof(const hyb *H, const exdex_kinematics *kin, double q, double v, double *T)
+{
+    return row_slip_1dof(H, kin, H->ck, H->cj, q, v, T);
 }
 
 /* The stop's generalized force per unit normal force in contact: Fq, less
@@ -507,6 +518,33 @@ static void contact_forces(const hyb *H, const crow *c, double T, double R, doub
     }
 }
 
+/* Normal impulse of a 1-DoF impact on row (k, j) (c its row at q): the
+ * velocity v goes to vn = -Ft / Fq (no approach), plastic. With a
+ * frictional stop the impact is Coulomb's at the impulse level (fcontact.h's
+ * problem with no plate impulse: the plates' friction is bounded, its
+ * impulse over the impact 0; the implicit step's impulse as the step
+ * vanishes): M (vn - v) = lam Fq + beta T, beta = -mu lam sigma, sigma the
+ * sign of the row's slip s = T vn + tb after the impact, so lam = M (vn -
+ * v) / D with D = Fq - mu sigma T (contact_dir's). The velocity after the
+ * impact is vn either way (one free coordinate); the friction changes the
+ * impulse the stop takes. Where D Fq <= 0 no lam >= 0 is consistent (the
+ * friction turns the impulse's generalized direction around: a jam, as
+ * for the contact mode): the frictionless impulse and a warning. */
+static double impact_impulse_1dof(hyb *H, const exdex_kinematics *kin, int k, int j, double q, const crow *c,
+                                  double v, double vn)
+{
+    double mu = model_source_mu(H->m, k), T = 0.0, sl, D = c->Fq;
+    if (mu > 0.0) {
+        sl = row_slip_1dof(H, kin, k, j, q, vn, &T);
+        if (sl != 0.0) D = c->Fq - mu * (sl > 0.0 ? 1.0 : -1.0) * T;
+        if (!(D * c->Fq > 0.0)) {
+            H->st->warnings++;
+            D = c->Fq;
+        }
+    }
+    return H->M * (vn - v) / D;
+}
+
 /* ------------------------------------------------ planar frictional stops
  * Coulomb friction between a stop with stop_mu > 0 and the outline
  * vertices of a planar object touching it, exact (not regularised, also in
@@ -524,8 +562,8 @@ static void contact_forces(const hyb *H, const crow *c, double T, double R, doub
  * there), and a sticking stop's slip is projected to 0 at the decision and
  * after every step (sf_project_stick), like the gap of a contact row.
  * Normal forces and separations stay as without friction (the contact set,
- * its separation guards); impacts stay frictionless (a plastic normal
- * impact, as for the 1-DoF scenes).
+ * its separation guards); impacts are frictional at the impulse level
+ * (sf_impact, below).
  * At rest (stick) the least-friction split of planar_rest takes each
  * stop's force in its friction cone, {lam (G + mu c T) : -1 <= c <= 1},
  * generated by G + mu T and G - mu T (ldp_min_combination over the
@@ -693,11 +731,124 @@ static void contact_acc_planar(hyb *H, const exdex_kinematics *kin, const double
         for (int i = 0; i < H->ncs; i++) acc[i] = ex_dot3(Gr[i], qdd) - b[i];
 }
 
+/* ------------------------------------------------- frictional impacts
+ * An impact on frictional rows is plastic with Coulomb friction at the
+ * rows: the impulse-level problem of fcontact.h (Stewart-Trinkle velocity
+ * level, exact mode enumeration) over the vanishing duration of the impact,
+ *     M (v+ - v) = sum_i (lam_i G_i + beta_i T_i),
+ *     0 <= lam_i  _|_  G_i v+ - b_i >= 0    (b_i = -(gd_i - G_i v): no approach),
+ *     |beta_i| <= mu_i lam_i, beta_i = -mu_i lam_i sign(s_i) where the
+ *     post-impact slip s_i = T_i v+ + tb_i != 0,
+ * with no plate impulse: the plates' friction force is bounded by the grip
+ * force (cap = 0 in fcontact.h), so its impulse over the impact is 0. This
+ * is the implicit step's impulse (fcontact.h with the plate term cap h) in
+ * the limit of a vanishing step h, and the explicit method's (cap = 0 as
+ * here). Frictionless rows make it the plastic M-metric projection
+ * (ldp_project), which is solved first: where no frictional row carries an
+ * impulse there, that projection is the answer, and the arithmetic is that
+ * of frictionless stops bit for bit.
+ * An impact whose frictional rows are approached slower than SLIP_PUSH zsw
+ * (b_i - G_i v) is taken frictionless: a push the band takes as none, as
+ * a slip the stops push on below SLIP_PUSH zsw is a rest (decide_modes).
+ * Its normal impulse is O(M zsw), but the friction of a stop sliding past
+ * the object adds up to mu times it along the tangent, which near a
+ * Painleve configuration (the friction nearly cancelling the normal
+ * impulse's effect on the gap) moves the object at many times the push;
+ * at such rates that velocity is of the order of the slips the band does
+ * not resolve (it decides them from the load: stop, small slip), and
+ * applying it turns a stop touching a resting object again at a rate of
+ * the order of zsw (its return to where its push left the object, a
+ * tangency: rate 0 in the limit zsw -> 0) into a slip that the stop's
+ * friction drags on, and a small slip creeping along a receding stop into
+ * an endless cycle of impacts and slip / small-slip switches. The implicit
+ * step, whose plates' static impulse over a step h holds the object
+ * against a friction impulse below cap h, does the same at every practical
+ * h (the two differ only for h below mu M SLIP_PUSH zsw / cap, ~1e-6 of the
+ * scene's time scale). */
+
+/* Coulomb coefficient of planar row r at (kin, y) and, when > 0, its slip
+ * row: s = T v + tb along the tangent in the plate plane (stop rows:
+ * contact_slip_planar). Obstacle rows are frictionless here (planar
+ * obstacle friction is rejected by model_alloc in the event and
+ * regularised methods). */
+static double hrow_friction_planar(const hyb *H, const exdex_kinematics *kin, int r, const double *y, double T[3],
+                                   double *tb)
+{
+    double mu;
+    T[0] = T[1] = T[2] = 0.0;
+    *tb = 0.0;
+    if (r >= H->ns * H->nv) return 0.0;
+    mu = model_source_mu(H->m, r / H->nv);
+    if (mu > 0.0) contact_slip_planar(H->m, kin, r / H->nv, r % H->nv, y, y + 3, T, tb, NULL);
+    return mu;
+}
+
+/* The planar impact with friction at (kin, y): rows (their G, bounds b as
+ * planar_impact_and_set builds them: the touching rows), v and lam the
+ * frictionless impact (ldp_project), replaced by the frictional one when a
+ * frictional row carries an impulse in it and is approached at SLIP_PUSH
+ * zsw or faster (above). Where fcontact.h finds no consistent mode (more
+ * than FC_MAX_CAND rows would have to be enumerated) the frictionless
+ * impact stands and a warning is counted. Returns 1 if v and lam were
+ * replaced. */
+static int sf_impact(hyb *H, const exdex_kinematics *kin, const double *y, int n, const int *rows,
+                     const double (*Gr)[3], const double *b, double v[3], double *lam)
+{
+    const exdex_model *m = H->m;
+    fc_row fr[MAX_ROWS];
+    fc_problem p;
+    fc_result res;
+    unsigned char hint[MAX_ROWS];
+    double lf[MAX_ROWS], bf[MAX_ROWS], T[3], tb, push = 0.0;
+    for (int i = 0; i < n; i++)
+        if (lam[i] > 0.0 && hrow_friction_planar(H, kin, rows[i], y, T, &tb) > 0.0)
+            push = fmax(push, b[i] - ex_dot3(Gr[i], y + 3));
+    if (!(push >= SLIP_PUSH * H->zsw)) return 0;
+    if (n > LDP_MAX_ROWS / 2) {
+        H->st->warnings++;
+        return 0;
+    }
+    for (int i = 0; i < n; i++) {
+        fc_row *r = &fr[i];
+        memcpy(r->G, Gr[i], sizeof r->G);
+        r->mu = hrow_friction_planar(H, kin, rows[i], y, r->T, &r->tb);
+        r->rhs = b[i];
+        /* at v = 0 a row can carry an impulse only where its bound is 0
+         * (a stop at rest in B, or moving along its face): one the gripper
+         * drives into the object excludes rest, one it leaves behind
+         * carries nothing (as the implicit step's rows) */
+        r->rest = b[i] > m->tol.rate ? -1 : b[i] >= -m->tol.rate ? 1 : 0;
+        hint[i] = lam[i] > 0.0;
+    }
+    memset(&p, 0, sizeof p);
+    p.n = 3;
+    for (int c = 0; c < 3; c++) {
+        p.Md[c] = 1.0 / m->minv[c];
+        p.vs[c] = y[3 + c];
+        p.A[c][c] = 1.0;
+    }
+    p.cap = p.cap_rest = 0.0;
+    p.vscale = m->scale.V;
+    p.vrest = m->tol.rate;
+    p.nr = n;
+    p.rows = fr;
+    if (!fc_solve(&p, hint, v, NULL, lf, bf, &res)) {
+        H->st->warnings++;
+        return 0;
+    }
+    H->st->stop_iterations += (size_t)res.iters;
+    memcpy(v, res.v, 3 * sizeof *v);
+    for (int i = 0; i < n; i++) lam[i] = lf[i];
+    return 1;
+}
+
 /* Impacts of a planar object on the touching rows (gap <= tol.touch) at
  * (t, y): the plastic impact projects v onto G v >= -(gd - G v) (no
- * approach) in the M metric; the impulses go into the stops' force
- * integrals. Then the contact set: the touching rows whose rate is ~0
- * and which push (lam > 0) under the accelerations of the mode. */
+ * approach) in the M metric; with frictional rows carrying an impulse
+ * there, the impact with Coulomb friction replaces it (sf_impact); the
+ * impulses go into the stops' force integrals. Then the contact set: the
+ * touching rows whose rate is ~0 and which push (lam > 0) under the
+ * accelerations of the mode. */
 static void planar_impact_and_set(hyb *H, double t, const exdex_kinematics *kin, double *y)
 {
     const exdex_model *m = H->m;
@@ -713,6 +864,7 @@ static void planar_impact_and_set(hyb *H, double t, const exdex_kinematics *kin,
     if (!n) return;
     if (ldp_project(m->minv, n, (const double (*)[3])Gr, b, y + 3, FQ_MIN, v, lam, &H->st->stop_iterations, &H->st->warnings)) {
         double G2[2 * MAX_ROWS][3], b2[2 * MAX_ROWS], lam2[2 * MAX_ROWS], v2[3];
+        if (H->sfric) sf_impact(H, kin, y, n, rows, (const double (*)[3])Gr, b, v, lam);
         double per_stop[NSRC_MAX] = {0};
         int n2 = 0, lift = 0;
         for (int i = 0; i < n; i++) {
@@ -1636,7 +1788,7 @@ static void decide_modes(hyb *H, double t, double *y, int vzero)
          * in the stop's force integral */
         int rk[MAX_ROWS], rj[MAX_ROWS], nr = (H->ns || H->no) ? hrow_all_1dof(H, &kin, q, y + 1, rk, rj) : 0;
         for (int pass = 0; pass < 3 && nr; pass++) {
-            int kb = -1;
+            int kb = -1, jb = -1;
             double worst = -m->tol.rate;
             crow cb;
             for (int r = 0; r < nr; r++) {
@@ -1648,14 +1800,15 @@ static void decide_modes(hyb *H, double t, double *y, int vzero)
                 if (rate < worst) {
                     worst = rate;
                     kb = rk[r];
+                    jb = rj[r];
                     cb = c;
                 }
             }
             if (kb < 0) break;
             {
-                double vn = -cb.Ft / cb.Fq;
-                y[3 + kb] += H->M * (vn - y[1]) / cb.Fq;
-                method_note_impact(H->st, t, kb, H->M * (vn - y[1]) / cb.Fq);
+                double vn = -cb.Ft / cb.Fq, ln = impact_impulse_1dof(H, &kin, kb, jb, q, &cb, y[1], vn);
+                y[3 + kb] += ln;
+                method_note_impact(H->st, t, kb, ln);
                 y[1] = vn;
                 vzero = 0;
                 if (pass == 2) H->st->warnings++; /* stops pinch the object */
