@@ -2175,7 +2175,7 @@ typedef struct rootctx {
     const double *y0;
     int e;
     int fail;
-    double off;   /* added to a row's gap (e < 0) */
+    double off;   /* added to the function's value (a row's gap or guard e) */
 } rootctx;
 
 /* Gap of the (stop, vertex) row r = k nv + j at (t, y) (the value its stop
@@ -2215,7 +2215,7 @@ static double root_fn(double tau, void *p)
     }
     if (c->e < 0) return row_gap(c->H, c->t0 + tau, c->O->ytmp, -1 - c->e, NULL) + c->off;
     guards(c->H, c->t0 + tau, c->O->ytmp, g);
-    return g[c->e];
+    return g[c->e] + c->off;
 }
 
 /* Golden-section search for the extremum of guard e over [0, tau1] on the
@@ -2348,6 +2348,70 @@ static int gap_dips(hyb *H, ode *O, double t0, const double *y0, double t1, cons
         if (st) return st;
         if (!(gm < 0.0)) continue;
         st = locate(H, O, t0, y0, 0.0, tm, e, &tau);
+        if (st) return st;
+        if (tau < *tau_best) {
+            *tau_best = tau;
+            *e_best = e;
+        }
+    }
+    return EXDEX_OK;
+}
+
+/* A free obstacle row's gap is a largest distance over features (orows.h):
+ * continuous, but its rate jumps where the active feature changes. Within
+ * one step an outline vertex can cross a face close to the section's corner
+ * and leave the polytope again past the next face (it cuts through the
+ * corner), or a section vertex an outline edge near its end: the gap falls
+ * below 0 and is back above it at a feature switch, with no turn of a smooth
+ * rate for gap_dips to see; from a touching start (a row the decision left
+ * free at gap 0 with a small rate, which the load turns back) the end
+ * values even look like a recovery. So where an obstacle row's active
+ * feature differs at the step's ends, each obstacle guard that is not
+ * violated at the end is searched for a value below -tol.touch (beyond the
+ * touching band) on the stepper's map (golden section towards its minimum,
+ * extremum); found, the first crossing of 0 before it is located, from the
+ * step start if the guard is positive there, else from a point after it
+ * where the guard is positive (searched towards its largest value); a guard
+ * that stays <= 0 from the start up to that point is the decision's at t0,
+ * not an event. Candidates improve *tau_best, *e_best. */
+static int obst_dips(hyb *H, ode *O, double t0, const double *y0, double t1, const double *y1, const double *g0,
+                     const double *g1, double *tau_best, int *e_best)
+{
+    const exdex_model *m = H->m;
+    int c0[MAX_ROWS], c1[MAX_ROWS], n0, n1, changed, fs, a, b = H->gap1, nin = 0;
+    double h = t1 - t0, cap = H->cap, caps = H->caps;
+    exdex_kinematics k0, k1;
+    frame f0, f1;
+    if (!H->no || H->ndof != 3 || !(h > 0.0)) return EXDEX_OK;
+    fs = frame_seg(H, t0, &f0, &k0);
+    if (!fs) fs = frame_seg(H, t1, &f1, &k1);
+    H->cap = cap; /* frame_seg reads the capacities at its time: keep t1's */
+    H->caps = caps;
+    if (fs) return fs;
+    n0 = orow_all(m, &k0, y0, NULL, 1, c0, NULL);
+    n1 = orow_all(m, &k1, y1, NULL, 1, c1, NULL);
+    changed = n0 != n1;
+    for (int i = 0; i < n0 && !changed; i++) changed = c0[i] != c1[i];
+    if (!changed) return EXDEX_OK;
+    /* the obstacles' guards follow the free (stop, vertex) rows' (gap_guards) */
+    for (int i = 0; i < H->ncs; i++) nin += H->cs[i] < H->ns * H->nv;
+    a = H->gap0 + H->ns * H->nv - nin;
+    for (int e = a; e < b; e++) {
+        rootctx c = {H, O, t0, y0, e, 0, m->tol.touch};
+        double tm, gm, lo = 0.0, tau;
+        int st;
+        if (!(g1[e] >= 0.0)) continue; /* violated at the end: the main loop's */
+        st = extremum(&c, h, 1.0, &tm, &gm);
+        if (st) return st;
+        if (!(gm < 0.0)) continue;
+        if (!(g0[e] > 0.0)) {
+            double tx, gx;
+            st = guard_extremum(H, O, t0, y0, tm, e, -1.0, &tx, &gx);
+            if (st) return st;
+            if (!(gx > 0.0)) continue;
+            lo = tx;
+        }
+        st = locate(H, O, t0, y0, lo, tm, e, &tau);
         if (st) return st;
         if (tau < *tau_best) {
             *tau_best = tau;
@@ -2724,6 +2788,8 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
             }
             /* a free gap that dipped below 0 and recovered within the step */
             if (!status) status = gap_dips(&H, O, t0, y0, t, y, ng, g0, g1, &tau_best, &e_best);
+            /* ... or through an obstacle row's feature switch */
+            if (!status) status = obst_dips(&H, O, t0, y0, t, y, g0, g1, &tau_best, &e_best);
             if (!status && ns && nd == 1) {
                 /* 1-DoF: a corner's gap dipping below 0 within the step
                  * (row_dip): the event is its stop guard, violated at the

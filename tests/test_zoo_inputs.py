@@ -351,6 +351,35 @@ def test_event_short_slips_do_not_depend_on_the_output_grid():
         assert d[1] <= zoo.PROPORTIONAL * d[0] + zoo.FLOOR, (n_out, d)
 
 
+def test_event_corner_cutting_through_an_obstacle_is_an_impact():
+    """Seed 248 (planar, a box obstacle, frictionless, a step grip released
+    to 0 at 0.107 s): the object slides along the box's face with one corner
+    on it and the other just lifted off by an impact (gap 0, rate +2.5e-4
+    m/s), which the load turns back onto the face near the section's corner:
+    the exact motion has an impact there 7.5e-5 s later. A free obstacle
+    row's gap is a largest distance over the faces, continuous but with a
+    rate that jumps at a feature switch: over one 3.3 ms step the corner
+    went through the face (3.3e-5 m deep) and out again past the next face,
+    so the step's end showed a positive gap (a "recovery" of a row that
+    starts at 0) and the box's corner, which had entered the object's edge,
+    was found only at its end: an impulse of 1676 N s, a final pose 0.03 rad
+    off, a gap of -4.1e-8 L at output t_end / 8 (at t_end / 64 the shorter
+    steps caught the impact). Every run must stay out of the box to the
+    zoo's GAP_TOL and lie within its own integration tolerance
+    (zoo.integration_tol: steps x rtol per unit of size) of the rtol 1e-11
+    reference, at both output grids."""
+    zs = input_scene(248).zs
+    tight = zoo.run(zs, "event", rtol=zoo.REF_RTOL_TIGHT, n_out=zoo.N_OUT_FINE)
+    ref = zoo.final_pose(tight)
+    size = zoo.pose_distance(zs, ref, np.zeros(3))
+    for n_out in (zoo.N_OUT, zoo.N_OUT_FINE):
+        r = zoo.run(zs, "event", n_out=n_out)
+        assert r.stats["min_gap"] >= -GAP_TOL * zs.L, (n_out, r.stats["min_gap"] / zs.L)
+        d = zoo.pose_distance(zs, zoo.final_pose(r), ref)
+        assert d <= zoo.integration_tol(r, size) + zoo.FLOOR, (n_out, d, zoo.integration_tol(r, size))
+    assert tight.stats["min_gap"] >= -GAP_TOL * zs.L
+
+
 def test_event_rest_touched_again_by_a_frictional_stop_stays_at_rest():
     """Seed 206 (planar, an Eq. 7 turn about a tilted axis and back, one
     stop with mu 0.92): the turning stop pushes the object until it stops
