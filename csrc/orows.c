@@ -620,3 +620,119 @@ void orow_point(const exdex_model *m, const exdex_kinematics *kin, int code, con
     }
     cp->x[2] = cp->vx[2] = 0.0;
 }
+
+/* ------------------------------------------------ slip along a row
+ * The slip of the object's material point at the row's contact point x
+ * along the tangent t = e_z x n (n the unit in-plane normal of the row, B):
+ * s = t . (xdot + R^T pdot + w_B x x), xdot the material point's velocity in
+ * B, w_B = R^T w (contact_tangent's T v + tb). Along the line (q + v s, t +
+ * s) with v held, its first Taylor coefficient is d s / dt less T qdd: the
+ * slip acceleration sdd0 (sfric.h) of a row whose contact point moves over
+ * the object (a section vertex along the object's edge, a rod's nearest
+ * point) as exactly as of a vertex row. */
+
+/* The contact point x and the unit in-plane normal n (B) of a section or rod
+ * row along the line (orow_point's, as jets). */
+static void orow_point_jet(const exdex_model *m, const exdex_obstacle_def *ob, const ojet *J, int code, jet x[2],
+                           jet n[2])
+{
+    int nh = m->n_hull, feat = orow_feat(code);
+    if (orow_kind(code) == OROW_SECTION) {
+        int f = orow_a(code), g = orow_b(code);
+        jet af[3], ag[3], bf = jk(ex_dot3(ob->face_normal[f], ob->face_point[f]));
+        jet bg = jk(ex_dot3(ob->face_normal[g], ob->face_point[g])), det, u[2], w[2], ex, ey, len;
+        ojet_rt(J, ob->face_normal[f], af);
+        ojet_rt(J, ob->face_normal[g], ag);
+        for (int k = 0; k < 3; k++) {
+            bf = jsub(bf, jmul(jk(ob->face_normal[f][k]), J->p[k]));
+            bg = jsub(bg, jmul(jk(ob->face_normal[g][k]), J->p[k]));
+        }
+        det = jsub(jmul(af[0], ag[1]), jmul(af[1], ag[0]));
+        x[0] = jdiv(jsub(jmul(bf, ag[1]), jmul(bg, af[1])), det);
+        x[1] = jdiv(jsub(jmul(af[0], bg), jmul(ag[0], bf)), det);
+        ojet_hull(m, J, feat, u);
+        ojet_hull(m, J, (feat + 1) % nh, w);
+        ex = jsub(w[0], u[0]);
+        ey = jsub(w[1], u[1]);
+        len = jsqrt(jadd(jmul(ex, ex), jmul(ey, ey)));
+        n[0] = jdiv(jsub(jk(0.0), ey), len);
+        n[1] = jdiv(ex, len);
+    } else {
+        jet cB[3], aB[3], d[3], t, nn;
+        ojet_rt(J, ob->axis, aB);
+        ojet_rt(J, ob->center, cB);
+        for (int i = 0; i < 3; i++) {
+            jet s = jk(0.0);
+            for (int k = 0; k < 3; k++) s = jadd(s, jmul(J->R[3 * k + i], J->p[k]));
+            cB[i] = jsub(cB[i], s);
+        }
+        if (feat < 32) {
+            ojet_hull(m, J, feat, x);
+        } else {
+            jet u[2], w[2], du[3], dd[3], ta, tf, num = jk(0.0), den = jk(0.0);
+            ojet_hull(m, J, feat - 32, u);
+            ojet_hull(m, J, (feat - 31) % nh, w);
+            du[0] = jsub(w[0], u[0]);
+            du[1] = jsub(w[1], u[1]);
+            du[2] = jk(0.0);
+            d[0] = jsub(u[0], cB[0]);
+            d[1] = jsub(u[1], cB[1]);
+            d[2] = jsub(jk(0.0), cB[2]);
+            t = jadd(jadd(jmul(d[0], aB[0]), jmul(d[1], aB[1])), jmul(d[2], aB[2]));
+            ta = jadd(jmul(du[0], aB[0]), jmul(du[1], aB[1]));
+            for (int i = 0; i < 3; i++) {
+                jet wi = jsub(d[i], jmul(t, aB[i]));
+                dd[i] = jsub(du[i], jmul(ta, aB[i]));
+                num = jadd(num, jmul(wi, dd[i]));
+                den = jadd(den, jmul(dd[i], dd[i]));
+            }
+            tf = jdiv(jsub(jk(0.0), num), den);
+            x[0] = jadd(u[0], jmul(tf, du[0]));
+            x[1] = jadd(u[1], jmul(tf, du[1]));
+        }
+        d[0] = jsub(x[0], cB[0]);
+        d[1] = jsub(x[1], cB[1]);
+        d[2] = jsub(jk(0.0), cB[2]);
+        t = jadd(jadd(jmul(d[0], aB[0]), jmul(d[1], aB[1])), jmul(d[2], aB[2]));
+        n[0] = jsub(d[0], jmul(t, aB[0]));
+        n[1] = jsub(d[1], jmul(t, aB[1]));
+        nn = jsqrt(jadd(jmul(n[0], n[0]), jmul(n[1], n[1])));
+        n[0] = jdiv(n[0], nn);
+        n[1] = jdiv(n[1], nn);
+    }
+}
+
+double orow_slip(const exdex_model *m, const exdex_kinematics *kin, int code, const double *q, const double *v,
+                 double T[3], double *tb, double *sdd0)
+{
+    const exdex_obstacle_def *ob = &m->def.obstacles[orow_obst(code)];
+    contact_point cp;
+    if (orow_kind(code) == OROW_VERTEX)
+        return contact_plane_slip_planar(m, kin, ob->face_normal[orow_feat(code)], orow_a(code), q, v, T, tb, sdd0);
+    orow_point(m, kin, code, q, &cp);
+    contact_tangent(m, kin, cp.x, cp.vx, cp.nB, T, tb);
+    if (sdd0) {
+        ojet J;
+        jet x[2], n[2], wB[3], vp[3], pv[3], wv[3], tx, ty, s;
+        ojet_init(m, kin, q, v, 1.0, &J);
+        orow_point_jet(m, ob, &J, code, x, n);
+        for (int i = 0; i < 3; i++) {
+            wv[i] = (jet){{kin->w[i], kin->dw[i], 0.0}};
+            pv[i] = (jet){{kin->v[i], kin->a[i], 0.0}};
+        }
+        for (int i = 0; i < 3; i++) {
+            wB[i] = jk(0.0);
+            vp[i] = jk(0.0);
+            for (int k = 0; k < 3; k++) {
+                wB[i] = jadd(wB[i], jmul(J.R[3 * k + i], wv[k]));
+                vp[i] = jadd(vp[i], jmul(J.R[3 * k + i], pv[k]));
+            }
+        }
+        /* the material point's velocity in B, plus the frame's at x */
+        tx = jadd(jsub(jk(v[0]), jmul(jk(v[2]), jsub(x[1], J.r[1]))), jsub(vp[0], jmul(wB[2], x[1])));
+        ty = jadd(jadd(jk(v[1]), jmul(jk(v[2]), jsub(x[0], J.r[0]))), jadd(vp[1], jmul(wB[2], x[0])));
+        s = jadd(jmul(jsub(jk(0.0), n[1]), tx), jmul(n[0], ty));
+        *sdd0 = s.c[1];
+    }
+    return ex_dot3(T, v) + *tb;
+}

@@ -71,4 +71,12 @@ double orow_feature_guard(const exdex_model *m, const exdex_kinematics *kin, int
  * when that point moves), as contact_obstacle_rows gives them. */
 void orow_point(const exdex_model *m, const exdex_kinematics *kin, int code, const double *q, contact_point *cp);
 
+/* Planar slip along row `code` (feature held) at (kin, q, v): s = T . v +
+ * tb with T, tb of contact_tangent at the row's point (orow_point; a vertex
+ * row: contact_plane_slip_planar with the face's normal, as a stop's);
+ * sdd0 (may be NULL) the slip acceleration less T qdd, exact also where the
+ * contact point moves over the object (section and rod rows). Returns s. */
+double orow_slip(const exdex_model *m, const exdex_kinematics *kin, int code, const double *q, const double *v,
+                 double T[3], double *tb, double *sdd0);
+
 #endif

@@ -927,9 +927,8 @@ class Obstacle:
         pointing out of the solid; it may be unbounded) or ``"cylinder"`` (the
         points within ``radius`` of the line through ``center`` along
         ``axis``: an infinite rod).
-    mu : Coulomb friction coefficient against the object (>= 0; the implicit
-        and explicit methods, in 1-DoF scenes also event and regularised),
-        as a stop's: along the tangent of the plate
+    mu : Coulomb friction coefficient against the object (>= 0; every method
+        that takes obstacles), as a stop's: along the tangent of the plate
         plane at each contact, bounded by mu times the contact's normal force.
 
     The plate plane cuts the solid in a convex polygon of the gripper frame B
@@ -1050,9 +1049,8 @@ class Scene:
     stops : fixed world planes (``Stop``) the object outline may not cross.
     obstacles : convex solids fixed in the world (``Obstacle``) the object
         outline may not enter (every method but the analytic one solves such
-        scenes; with a disc outline the implicit and explicit methods, with
-        ``Obstacle.mu > 0`` those and, in 1-DoF scenes, the event and
-        regularised ones).
+        scenes, frictional ones too; with a disc outline the implicit and
+        explicit methods).
     """
 
     body: Body
@@ -1208,12 +1206,6 @@ class Scene:
                 raise ValueError(f"Scene.obstacles: the implicit, explicit, event and regularised methods solve "
                                  f"scenes with obstacles, got method={method!r}")
             if method in ("event", "regularised"):
-                if self.dof == "planar" and any(o.mu > 0 for o in self.obstacles):
-                    raise ValueError(f"Scene.obstacles: the implicit and explicit methods solve planar scenes with "
-                                     f"frictional obstacles (Obstacle.mu > 0), got method={method!r}")
-                if self.dof == "planar" and any(s.mu > 0 for s in self.stops):
-                    raise ValueError(f"Scene.obstacles: the implicit and explicit methods solve planar scenes with "
-                                     f"obstacles and frictional stops (Stop.mu > 0), got method={method!r}")
                 if self.body.outline_radius is not None:
                     raise ValueError(f"Scene.obstacles: the implicit and explicit methods solve scenes with "
                                      f"obstacles and a disc outline (Body.cylinder), got method={method!r}")
