@@ -720,6 +720,11 @@ static void circle_min(const double a[2], const double b[2], double r, double u[
     u[1] = cos(best_phi) * e1[1] + sin(best_phi) * e1[0];
 }
 
+void contact_circle_min(const double a[2], const double b[2], double r, double u[2])
+{
+    circle_min(a, b, r, u);
+}
+
 /* The one row of a disc outline (centre xc in B, offset vc from the centre
  * of mass rc) against obstacle ob (contact.h). Polytope: the disc's
  * distance from the section less the radius: while the centre's nearest

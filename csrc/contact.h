@@ -135,6 +135,12 @@ int contact_obstacle_valid(const exdex_obstacle_def *o);
  * gives the origin alone. */
 int contact_hull(const double (*v)[2], int n, double (*hull)[2]);
 
+/* The rim point of a disc of radius r nearest a rod's axis: the unit u
+ * minimising 2 r b . u - r^2 (u . a)^2 over the unit circle, a the in-plane
+ * part of the axis direction (B), b the in-plane part of the centre's
+ * offset from the axis (as contact_obstacle_rows finds it). */
+void contact_circle_min(const double a[2], const double b[2], double r, double u[2]);
+
 /* Slip of vertex j of a planar object along stop ks at coordinates q,
  * velocity v and gripper kinematics k: returns s = T . v + tb with T, tb of
  * contact_stop_tangent (the vertex as the material point); sdd0 (may be

@@ -442,9 +442,8 @@ typedef struct exdex_scene_def {
     double mu_static;
     /* convex obstacles fixed in A (above); their stop forces follow the
      * stops' in exdex_trajectory.stop_force. Every method but analytic
-     * solves scenes with obstacles (frictional ones too); the event and
-     * regularised methods reject a disc outline with obstacles (bad_param
-     * "method"). */
+     * solves scenes with obstacles (frictional ones and disc outlines
+     * too). */
     int n_obstacles;          /* 0..EXDEX_MAX_OBSTACLES */
     exdex_obstacle_def obstacles[EXDEX_MAX_OBSTACLES];
     /* Coulomb friction coefficient of each stop against the outline vertices

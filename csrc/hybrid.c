@@ -203,10 +203,11 @@
  *
  * Obstacles (Obstacle.mu > 0 as a frictional stop: the row's tangent at its
  *   point, orow_point; planar scenes: the stop friction below, one friction
- *   group per line of contact; model_alloc rejects disc outlines with
- *   obstacles): their rows (orows.h: an outline vertex against a
- *   polytope's faces, a section vertex against the outline's hull, a rod
- *   against the hull) go through the stops' code path: the same gap guards,
+ *   group per line of contact): their rows (orows.h: an outline vertex
+ *   against a polytope's faces, a section vertex against the outline's
+ *   hull, a rod against the hull; a disc outline: one row per obstacle, its
+ *   support point against a face, its centre against a section vertex, its
+ *   rim against a rod) go through the stops' code path: the same gap guards,
  *   impacts, contact sets (planar) and single-row contact (1-DoF), their
  *   forces in source n_stops + o. Each row is a largest (or, for a rod,
  *   smallest) distance over features; a row in contact holds its feature
@@ -216,7 +217,8 @@
  *   the new feature. Free rows' guards are the gaps themselves, which are
  *   continuous across feature switches (planar: one per outline vertex and
  *   per polytope the smallest gap of its section vertices, whose number
- *   changes with the gripper's pose; 1-DoF: the smallest gap per obstacle).
+ *   changes with the gripper's pose, a disc's one row per obstacle; 1-DoF:
+ *   the smallest gap per obstacle).
  *
  * Penetration: event and regularised keep every stop to rounding and event
  *   location (|gap rate| tol.root; planar decisions also project positions
@@ -1324,6 +1326,16 @@ static int obst_guards(const hyb *H, const exdex_kinematics *kin, const double *
     int code[MAX_ROWS], n = 0, base = H->ns * H->nv, no = 0;
     double gap[MAX_ROWS];
     no = orow_all(m, kin, y, NULL, 1, code, gap);
+    if (m->disc_r > 0.0) {
+        /* a disc: one row per obstacle, whose kind changes with its
+         * feature: its gap while out of the contact set */
+        for (int o = 0; o < no; o++) {
+            int in = 0;
+            for (int c = 0; c < H->ncs && !in; c++) in = H->cs[c] >= base && orow_obst(H->cs[c] - base) == o;
+            g[n++] = in ? m->scale.L : gap[o];
+        }
+        return n;
+    }
     for (int o = 0, i = 0; o < H->no; o++) {
         int poly = m->def.obstacles[o].kind == EXDEX_OBSTACLE_POLYTOPE;
         double smin = m->scale.L;
@@ -1355,7 +1367,7 @@ static int obst_guards_1dof(const hyb *H, const exdex_kinematics *kin, double q,
         int own = contact && H->ck == H->ns + o;
         double gmin = own ? m->scale.L : INFINITY;
         for (; i < no && orow_obst(code[i]) == o; i++)
-            if (!(own && orow_pair(code[i]) == orow_pair(H->cj)) && gap[i] < gmin) gmin = gap[i];
+            if (!(own && (m->disc_r > 0.0 || orow_pair(code[i]) == orow_pair(H->cj))) && gap[i] < gmin) gmin = gap[i];
         g[n++] = gmin;
     }
     return n;

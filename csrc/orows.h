@@ -17,6 +17,10 @@
  *                 feat = the hull edge (from hull vertex feat to feat + 1);
  *   OROW_ROD:     a = b = 0, feat = hull vertex k (k < 32) or hull edge
  *                 32 + e (its interior).
+ * A disc outline has one row per obstacle: OROW_VERTEX (a = 0) its support
+ * point against face feat, OROW_SECTION (faces a < b, feat 0) its centre's
+ * distance from their section vertex less the radius, OROW_ROD (feat 0) its
+ * rim point nearest the axis (orows.c).
  * The gaps are those of contact_obstacle_rows (a vertex row's face distance
  * is computed as a stop's, so a one-face obstacle is its plane stop bit for
  * bit). */

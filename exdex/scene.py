@@ -1049,8 +1049,7 @@ class Scene:
     stops : fixed world planes (``Stop``) the object outline may not cross.
     obstacles : convex solids fixed in the world (``Obstacle``) the object
         outline may not enter (every method but the analytic one solves such
-        scenes, frictional ones too; with a disc outline the implicit and
-        explicit methods).
+        scenes, with frictional obstacles and disc outlines too).
     """
 
     body: Body
@@ -1205,10 +1204,6 @@ class Scene:
             if method not in ("implicit", "explicit", "event", "regularised"):
                 raise ValueError(f"Scene.obstacles: the implicit, explicit, event and regularised methods solve "
                                  f"scenes with obstacles, got method={method!r}")
-            if method in ("event", "regularised"):
-                if self.body.outline_radius is not None:
-                    raise ValueError(f"Scene.obstacles: the implicit and explicit methods solve scenes with "
-                                     f"obstacles and a disc outline (Body.cylinder), got method={method!r}")
             spec["obstacles"] = [o._spec() for o in self.obstacles]
         spec.update(self.motion._spec())
         sched = self.grasp.schedule

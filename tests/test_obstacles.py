@@ -141,9 +141,6 @@ def test_bad_input_names_the_parameter():
     assert len(sc.obstacles) == 1
     with pytest.raises(ValueError, match="analytic method solves scenes without stops"):
         exdex.simulate(sc, t_end=0.1, dt=0.01, method="analytic")
-    with pytest.raises(ValueError, match=r"Scene\.obstacles.*disc outline"):
-        exdex.simulate(Scene(body=Body.cylinder(0.1, 0.02, 0.02), grasp=grasp, obstacles=sc.obstacles),
-                       t_end=0.1, dt=0.01, method="regularised")
     inside = Scene(body=body, grasp=grasp, obstacles=Obstacle.box((0, 0, 0), (1, 1, 1)))
     with pytest.raises(ValueError, match="inside an obstacle"):
         exdex.simulate(inside, t_end=0.1, dt=0.01)
