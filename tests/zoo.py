@@ -795,7 +795,7 @@ def check_scene(zs, methods=METHODS, agree=METHODS):
     size = pose_distance(zs, ref, np.zeros(3))
     refd = dict(pose=ref, err=pose_distance(zs, final_pose(ev), ref), err_mid=pose_distance(zs, final_pose(mid), ref),
                 min_gap=min(ev.stats["min_gap"], tight.stats["min_gap"]) / zs.L,
-                warnings=ev.stats["warnings"] + tight.stats["warnings"])
+                warnings=ev.stats["warnings"] + tight.stats["warnings"], tol=integration_tol(ev, size))
     out["reference"] = refd
     stuck = float(np.sum(tight.stick[1:])) * zs.t_end / N_OUT_FINE
     for method in agree:
@@ -829,6 +829,10 @@ def check_scene(zs, methods=METHODS, agree=METHODS):
             if not o["error"]:
                 o["bound"] = bound(method, o, refd)
                 o["ok"] = o["err"] <= o["bound"]
+                if method == "event":
+                    # the REF_RTOL run within its stated error (tests/test_zoo.py)
+                    o["ref_ok"] = refd["err"] <= refd["tol"] + refd.get("jump", 0.0) + FLOOR
+                    o["ok"] = o["ok"] and o["ref_ok"]
 
     judge()
     if not all(out[m]["ok"] for m in agree if not out[m]["error"]):
