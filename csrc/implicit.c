@@ -49,6 +49,7 @@
 #include "ldp.h"
 #include "method.h"
 #include "model.h"
+#include "orows.h"
 #include "util.h"
 
 #include <float.h>
@@ -184,6 +185,102 @@ static void step_1dof(double M, double c, double cs, double vs, double touch, wo
         *pf = P;
     }
     *v_out = v;
+}
+
+/* A 1-DoF step that starts slipping (v != 0) and ends at rest or slipping
+ * the other way (v+ = 0 or sign v+ = -sign v), with no stop impulse: where
+ * inside the step the slip stops. With the step's applied force Q and
+ * kinetic capacity C (forces; torques for a rotation) held constant over the
+ * step, the slip decelerates at d = (C - s Q) / M (s = sign v) and stops at
+ * t* = |v| / d, having moved v t* / 2. If t* < h, the step's end state is
+ * that of this motion: at rest at q + v t* / 2 when the static capacity
+ * holds the load (|Q| <= C_s), else broken away at once the way Q points,
+ * v+ = a (h - t*) with a = (Q - C sign Q) / M, at q + v t* / 2 + v+ (h - t*)
+ * / 2. Otherwise (d <= 0: the kinetic law never stops this slip, or t* >= h)
+ * the step keeps its own end state.
+ *
+ * Why: the step's own end state treats the whole step as one friction
+ * phase. A stick step ends where Moreau's midpoint puts it, h v / 2 from q
+ * (v t* / 2 exactly); a reversal either stalls at rest until the step's end
+ * (v+ off by (h - t*) |a|) or slides through it with the friction of the
+ * new direction over the whole step (v+ off by 2 C t* / M). These errors
+ * are set by where t* falls in its step, and in a ladder of nested grids (h,
+ * h/2, h/4, ...) a t* near an end of a step of the coarsest grid falls in
+ * the fine step at that end on every level down to a fine enough one: the
+ * error is the same on those levels, and their differences do not show it.
+ * With t* located to O(h^2) (the variation of Q over the step) none of these
+ * errors remains at first order. A slip that starts at a velocity jump of
+ * the frame (model_substep) and stops within the short sub-step after it is
+ * the same case. With C_s = C, t* < h exactly when the step's own end state
+ * is at rest or reversed. Returns 1 and sets *v_end and *dq (the step's
+ * displacement) when t* < h. */
+static int slip_stop_in_step(double M, double Q, double C, double Cs, double h, double v, double *v_end, double *dq)
+{
+    double d = (C - (v > 0.0 ? Q : -Q)) / M, ts;
+    if (!(d > 0.0)) return 0;
+    ts = fabs(v) / d;
+    if (!(ts < h)) return 0;
+    if (fabs(Q) <= Cs) {
+        *v_end = 0.0;
+        *dq = 0.5 * v * ts;
+    } else {
+        *v_end = (Q - copysign(C, Q)) / M * (h - ts);
+        *dq = 0.5 * v * ts + 0.5 * *v_end * (h - ts);
+    }
+    return 1;
+}
+
+/* A 1-DoF step in which one stop row pushes the object along (v+ != 0 set
+ * by that row's bound, impulse lam > 0) ends with the object on the stop:
+ * its position is where the row put it, q + h v+ (gap 0), but v+ =
+ * -gap(q, t + h) / (h G) is the stop's mean rate over the step, off the
+ * velocity of the held contact at t + h by O(h) (half the step times the
+ * stop's acceleration in B). While the contact holds that error stays in
+ * v and never reaches q; where the object leaves the stop it carries into
+ * the free motion, and where it leaves at a switching time of the motion
+ * (the stop's acceleration changes sign there) it is set by the sub-step
+ * before the switch, whose length is the same on every level of a nested
+ * grid ladder that has the same grid point before the switch: an error
+ * that differences between levels do not show. The end velocity is
+ * therefore the held contact's, the v_e with F_q v_e + F_t = 0 at t + h
+ * and q + h v+ (contact_row_1dof: the gap's rates), and the row's impulse
+ * carries the change, lam += M (v_e - v+) / G, so that the step's momentum
+ * balance M (v_e - v) = h Q + p_f + G lam still holds. Left as it is when
+ * more than one row pushes, or an obstacle's row of a disc outline, when
+ * F_q = 0, or when the
+ * change would make lam negative (the contact would have to pull: the
+ * object leaves the stop there). Returns v_e, or NAN when left. */
+static double held_velocity_1dof(const exdex_model *m, const exdex_kinematics *kin_end, double q, double h,
+                                 double M, double v, work *w)
+{
+    int nv = contact_nv(m), ib = -1;
+    double ve, lam;
+    crow c;
+    if (v == 0.0) return NAN;
+    for (int i = 0; i < w->n_rows; i++)
+        if (w->lam[i] > 0.0) {
+            if (ib >= 0) return NAN;
+            ib = i;
+        }
+    if (ib < 0 || w->G[ib][0] == 0.0) return NAN;
+    if (ib < m->n_stops * nv) {
+        contact_row_1dof(m, kin_end, w->row_stop[ib], ib % nv, q + h * v, &c);
+    } else {
+        /* an obstacle's row: the same row as the event method holds it
+         * (orow_all lists them in contact_obstacle_rows' order, for an
+         * outline of vertices), its feature kept at the step's end */
+        int code[MAX_ROWS], io = ib - m->n_stops * nv, no;
+        if (m->disc_r > 0.0) return NAN;
+        no = orow_all(m, kin_end, &q, NULL, 0, code, NULL);
+        if (no != w->n_rows - m->n_stops * nv) return NAN;
+        orow_1dof(m, kin_end, code[io], q + h * v, &c);
+    }
+    if (!(c.Fq != 0.0)) return NAN;
+    ve = -c.Ft / c.Fq;
+    lam = w->lam[ib] + M * (ve - v) / w->G[ib][0];
+    if (!isfinite(ve) || !(lam >= 0.0)) return NAN;
+    w->lam[ib] = lam;
+    return ve;
 }
 
 /* ------------------------------------------------------------ the step loop */
@@ -757,7 +854,7 @@ static int implicit_substep(const exdex_model *m, work *w, const model_sub *sub,
     double *q = w->S.q, *v = w->S.v, *vprev = w->S.vprev, hprev = w->S.hprev, t = w->S.t, t1 = sub->te;
     exdex_kinematics kin0 = w->S.kin0;
     do {
-        double h = t1 - t, tm = t + 0.5 * h, qm[3], vmid[3], F[3], vs[3], vn[3];
+        double h = t1 - t, tm = t + 0.5 * h, qm[3], vmid[3], F[3], vs[3], vn[3], qset = NAN, vheld = NAN;
         frame f;
         exdex_kinematics kin, kin_end;
         wrench[0] = wrench[1] = wrench[2] = 0.0;
@@ -793,6 +890,21 @@ static int implicit_substep(const exdex_model *m, work *w, const model_sub *sub,
                 int rest = 0;
                 stop_friction_step(m, &kin_end, q, 0.0, c, c_s, vs, v, w, vn, &pf, &rest, st);
             }
+            if (v[0] != 0.0 && (vn[0] == 0.0 || (vn[0] > 0.0) != (v[0] > 0.0))) {
+                /* a slip that stops or reverses inside the step
+                 * (slip_stop_in_step), where no stop acts and the end
+                 * position keeps every row's bound */
+                double ve, dq;
+                int ok = slip_stop_in_step(M, Q, c / h, c_s / h, h, v[0], &ve, &dq);
+                for (int i = 0; ok && i < w->n_rows; i++)
+                    ok = w->lam[i] == 0.0 && w->G[i][0] * dq >= w->rhs[i] * h;
+                if (ok) {
+                    vn[0] = ve;
+                    pf = M * (ve - vs[0]);
+                    qset = q[0] + dq;
+                }
+            }
+            if (!m->stop_friction && isnan(qset)) vheld = held_velocity_1dof(m, &kin_end, q[0], h, M, vn[0], w);
             if (m->def.dof == EXDEX_DOF_TRANSLATION) {
                 wrench[0] = pf * m->d[0] / h;
                 wrench[1] = pf * m->d[1] / h;
@@ -832,6 +944,8 @@ static int implicit_substep(const exdex_model *m, work *w, const model_sub *sub,
             for (int i = 0; i < w->n_rows; i++) pushed |= w->lam[i] > 0.0;
             for (int i = 0; i < n_dof; i++) {
                 q[i] = pushed ? q[i] + h * vn[i] : qm[i] + 0.5 * h * vn[i];
+                if (!isnan(qset)) q[i] = qset;
+                if (!isnan(vheld)) vn[i] = vheld;
                 vprev[i] = v[i];
                 v[i] = vn[i];
             }
