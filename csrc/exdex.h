@@ -278,6 +278,9 @@ int exdex_motion_jumps(const exdex_motion *m, double t[EXDEX_MOTION_MAX_JUMPS],
  * number (0 .. EXDEX_MOTION_MAX_SWITCHES). */
 #define EXDEX_MOTION_MAX_SWITCHES (4 * EXDEX_MOTION_MAX_PIECES)
 int exdex_motion_switches(const exdex_motion *m, double ts[EXDEX_MOTION_MAX_SWITCHES]);
+/* The first of exdex_motion_switches' times above lo, INFINITY if none:
+ * the same time, found without building the list. */
+double exdex_motion_next_switch(const exdex_motion *m, double lo);
 
 /* Scalar profiles: position s, velocity sd, acceleration sdd at time t.
  * Before 0: s = sd = sdd = 0; after the end: at rest at the end value. */

@@ -152,6 +152,7 @@ static int explicit_stop_friction(const exdex_model *m, const exdex_kinematics *
 typedef struct explicit_ws {
     double q[3], v[3], t;
     exdex_kinematics kin0;
+    model_sw_cache swc;   /* model_substep's */
 } explicit_ws;
 
 static int explicit_begin(const exdex_model *m, void *ws, double t_end, double dt, exdex_stats *st)
@@ -161,6 +162,7 @@ static int explicit_begin(const exdex_model *m, void *ws, double t_end, double d
     (void)dt;
     (void)st;
     memset(w, 0, sizeof *w);
+    model_sw_cache_reset(&w->swc);
     model_initial_state(m, w->q, w->v);
     return exdex_motion_eval(m->motion, 0.0, &w->kin0);
 }
@@ -429,9 +431,13 @@ static int explicit_advance(const exdex_model *m, void *ws, double t1, int regri
         model_sub sub;
         int sub_still = 0;
         double wr[3], sfs[EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES], ts = w->t, wt;
-        model_substep(m, ts, t1, &sub);
-        status = explicit_substep(m, w, &sub, wr, sfs, &sub_still, st);
+        int whole;
+        model_substep(m, &w->swc, ts, t1, &sub);
+        /* the whole output step as one sub-step records its own values */
+        whole = first && !sub.split;
+        status = explicit_substep(m, w, &sub, whole ? wrench : wr, whole ? sf : sfs, whole ? &still : &sub_still, st);
         if (status) return status;
+        if (whole) break;
         still = first ? sub_still : still && sub_still;
         wt = (sub.te - ts) / H;
         method_add_sub(first, wt, wr, sfs, m->n_src, wrench, sf);

@@ -76,6 +76,7 @@ typedef struct work {
     double beta[MAX_ROWS];   /* friction impulses of the rows (stop friction) */
     int fmode[MAX_ROWS];     /* each row's contact mode in the last frictional solve (fcontact.h) */
     contact_point cpt[MAX_ROWS];  /* where each obstacle row acts (build_rows; rows from n_stops nv on) */
+    model_sw_cache swc;           /* model_substep's */
 } work;
 
 /* ------------------------------------------------------------ stops */
@@ -839,6 +840,7 @@ static int implicit_begin(const exdex_model *m, void *ws, double t_end, double d
     w->p_prev[0] = w->p_prev[1] = w->p_prev[2] = 0.0;
     w->have_prev = 0;
     for (int i = 0; i < MAX_ROWS; i++) w->fmode[i] = FC_OFF;
+    model_sw_cache_reset(&w->swc);
     return exdex_motion_eval(m->motion, 0.0, &w->S.kin0);
 }
 
@@ -1013,10 +1015,14 @@ static int implicit_advance(const exdex_model *m, void *ws, double t1, int regri
         model_sub sub;
         int sub_stick = 0;
         double wr[3], sfs[EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES], ts = w->S.t, wt;
-        model_substep(m, ts, t1, &sub);
-        split |= sub.split;
-        status = implicit_substep(m, w, &sub, wr, sfs, &sub_stick, st);
+        int whole;
+        model_substep(m, &w->swc, ts, t1, &sub);
+        /* the whole output step as one sub-step records its own values */
+        whole = first && !sub.split;
+        status = implicit_substep(m, w, &sub, whole ? wrench : wr, whole ? sf : sfs, whole ? &stick : &sub_stick, st);
         if (status) return status;
+        if (whole) break;
+        split |= sub.split;
         stick = first ? sub_stick : stick && sub_stick;
         wt = (sub.te - ts) / H;
         method_add_sub(first, wt, wr, sfs, m->n_src, wrench, sf);

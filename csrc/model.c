@@ -26,6 +26,7 @@
 #include <string.h>
 
 #include <gsl/gsl_errno.h>
+#include <gsl/gsl_sort.h>
 
 /* ------------------------------------------------------------ definition */
 
@@ -269,34 +270,34 @@ int model_frame_step(const exdex_model *m, const exdex_kinematics *kin0, double 
 
 /* Sub-steps at switching times (model.h). snap(x): the distance from a
  * step end within which a switching time counts as on it. */
-static double substep_snap(const exdex_model *m, double x)
-{
-    return 1e-12 * (fabs(x) + m->scale.T);
-}
+#define substep_snap model_substep_snap
 
-void model_substep(const exdex_model *m, double tc, double t1, model_sub *s)
+void model_substep_full(const exdex_model *m, double tc, double t1, model_sub *s)
 {
-    double sw[EXDEX_MOTION_MAX_SWITCHES], tj[EXDEX_MOTION_MAX_JUMPS], jv[EXDEX_MOTION_MAX_JUMPS][3],
-        jw[EXDEX_MOTION_MAX_JUMPS][3];
-    double lo = tc + substep_snap(m, tc), hi = t1 - substep_snap(m, t1), te = t1, top;
-    int n = exdex_motion_switches(m->motion, sw), nj;
-    memset(s, 0, sizeof *s);
+    double tj[EXDEX_MOTION_MAX_JUMPS], jv[EXDEX_MOTION_MAX_JUMPS][3], jw[EXDEX_MOTION_MAX_JUMPS][3];
+    double lo = tc + substep_snap(m, tc), hi = t1 - substep_snap(m, t1), te = t1, top, ts;
+    int nj;
+    s->jumps = 0;
+    for (int c = 0; c < 3; c++) s->dv[c] = s->dw[c] = s->dvl[c] = s->dwl[c] = 0.0;
     /* both lists increase: the first time past lo is the only candidate */
-    for (int i = 0; i < n; i++)
-        if (sw[i] > lo) {
-            if (sw[i] < hi) te = sw[i];
-            break;
+    ts = exdex_motion_next_switch(m->motion, lo);
+    if (ts < hi) te = ts;
+    if (m->grip_n) {
+        size_t a = 0, b = m->grip_n;
+        while (a < b) {
+            size_t mid = a + (b - a) / 2;
+            if (m->grip_t[mid] > lo) b = mid;
+            else a = mid + 1;
         }
-    for (size_t i = 0; i < m->grip_n; i++)
-        if (m->grip_t[i] > lo) {
-            if (m->grip_t[i] < te && m->grip_t[i] < hi) te = m->grip_t[i];
-            break;
-        }
-    nj = exdex_motion_jumps(m->motion, tj, jv, jw);
+        if (a < m->grip_n && m->grip_t[a] < te && m->grip_t[a] < hi) te = m->grip_t[a];
+    }
+    nj = exdex_motion_jumps(m->motion, NULL, NULL, NULL);
+    if (nj) nj = exdex_motion_jumps(m->motion, tj, jv, jw);
     for (int j = 0; j < nj; j++)   /* jump times are switching times; kept if one were not */
         if (tj[j] > lo && tj[j] < hi && tj[j] < te) te = tj[j];
     s->te = te;
     s->split = te < t1;
+    if (!nj) return;
     top = te + substep_snap(m, te);
     for (int j = 0; j < nj; j++) {
         if (!(tj[j] > lo && tj[j] <= top)) continue;
@@ -312,12 +313,12 @@ void model_substep(const exdex_model *m, double tc, double t1, model_sub *s)
     }
 }
 
-int model_frame_substep(const exdex_model *m, const exdex_kinematics *kin0, double t_eval, const model_sub *s,
-                        double h, frame *f, exdex_kinematics *kin, exdex_kinematics *kin_end)
+int model_frame_substep_jumps(const exdex_model *m, const exdex_kinematics *kin0, double t_eval,
+                              const model_sub *s, double h, frame *f, exdex_kinematics *kin,
+                              exdex_kinematics *kin_end)
 {
     double dv[3], dwv[3];
     int status;
-    if (!s->jumps) return model_frame_step(m, kin0, t_eval, s->te, h, f, kin, kin_end);
     status = model_frame_at(m, t_eval, f, kin);
     if (status) return status;
     status = exdex_motion_eval(m->motion, s->te, kin_end);
@@ -507,6 +508,7 @@ void exdex_model_free(exdex_model *m)
     if (m->grip_interp) gsl_interp_free(m->grip_interp);
     free(m->grip_t);
     free(m->grip_f);
+    free(m->sw_t);
     free(m);
 }
 
@@ -549,6 +551,27 @@ static int grip_setup(exdex_model *m, const exdex_scene_def *def)
         if (gsl_interp_init(m->grip_interp, m->grip_t, m->grip_f, n) != GSL_SUCCESS) return EXDEX_EINVAL;
     }
     m->capF = m->capk * fmax;
+    return EXDEX_OK;
+}
+
+/* m->sw_t: the motion's switching and jump times and the schedule's
+ * breakpoints, sorted (repeats kept: the whole-step test only asks whether
+ * one lies in an interval). */
+static int switch_list(exdex_model *m)
+{
+    double sw[EXDEX_MOTION_MAX_SWITCHES], tj[EXDEX_MOTION_MAX_JUMPS];
+    int ns = exdex_motion_switches(m->motion, sw), nj = exdex_motion_jumps(m->motion, tj, NULL, NULL);
+    size_t n = (size_t)ns + (size_t)nj + m->grip_n, k = 0;
+    m->sw_motion = m->motion;
+    m->sw_n = 0;
+    if (!n) return EXDEX_OK;
+    m->sw_t = malloc(n * sizeof *m->sw_t);
+    if (!m->sw_t) return EXDEX_ENOMEM;
+    for (int i = 0; i < ns; i++) m->sw_t[k++] = sw[i];
+    for (int i = 0; i < nj; i++) m->sw_t[k++] = tj[i];
+    for (size_t i = 0; i < m->grip_n; i++) m->sw_t[k++] = m->grip_t[i];
+    gsl_sort(m->sw_t, 1, n);
+    m->sw_n = n;
     return EXDEX_OK;
 }
 
@@ -673,6 +696,12 @@ static exdex_model *build_model(const exdex_scene_def *def, int *status, const c
         exdex_model_free(m);
         *status = st;
         if (bad_param && st == EXDEX_EINVAL) *bad_param = "grip_times";
+        return NULL;
+    }
+    st = switch_list(m);
+    if (st) {
+        exdex_model_free(m);
+        *status = st;
         return NULL;
     }
     /* static capacity: the kinetic one times mu_static / mu (per unit grip

@@ -106,6 +106,12 @@ struct exdex_model {
     /* disc outline (def.disc_radius > 0): n_vert = 1 with vert[0] the disc
      * centre, and disc_r its radius; 0 for a polygon outline */
     double disc_r;
+    /* every time at which the scene's motion (the one allocated for the
+     * model, sw_motion) switches or jumps, and the grip schedule's
+     * breakpoints: increasing, owned (model_substep's whole-step test) */
+    const exdex_motion *sw_motion;
+    size_t sw_n;
+    double *sw_t;
 };
 
 /* ------------------------------------------------ grip force, capacity
@@ -332,14 +338,65 @@ typedef struct model_sub {
     int split;         /* 1 if te < t1 (a switching time inside the step) */
 } model_sub;
 /* The sub-step from tc towards the step end t1 (tc < t1). */
-void model_substep(const exdex_model *m, double tc, double t1, model_sub *s);
+void model_substep_full(const exdex_model *m, double tc, double t1, model_sub *s);
+/* snap(x) above */
+static inline double model_substep_snap(const exdex_model *m, double x)
+{
+    return 1e-12 * (fabs(x) + m->scale.T);
+}
+/* What model_substep has learnt of m->sw_t: none of its times lies in
+ * (lo, next) (lo = INFINITY: nothing yet). A method's workspace keeps one
+ * per run; it holds for the model whatever the time, so a restored state
+ * may keep it. */
+typedef struct model_sw_cache {
+    double lo, next;
+} model_sw_cache;
+static inline void model_sw_cache_reset(model_sw_cache *c)
+{
+    c->lo = INFINITY;
+    c->next = 0.0;
+}
+/* model_substep_full, with the common case first: the model's own motion
+ * in use and none of its switching times (m->sw_t) in (tc + snap(tc),
+ * t1 + snap(t1)], so the sub-step is the whole step, without jumps. */
+static inline void model_substep(const exdex_model *m, model_sw_cache *c, double tc, double t1, model_sub *s)
+{
+    if (m->motion == m->sw_motion) {
+        double lo = tc + model_substep_snap(m, tc), top = t1 + model_substep_snap(m, t1);
+        if (!(lo >= c->lo && top < c->next)) {
+            size_t a = 0, b = m->sw_n;
+            while (a < b) {
+                size_t mid = a + (b - a) / 2;
+                if (m->sw_t[mid] > lo) b = mid;
+                else a = mid + 1;
+            }
+            c->lo = lo;
+            c->next = a < m->sw_n ? m->sw_t[a] : INFINITY;
+        }
+        if (top < c->next) {
+            s->te = t1;
+            s->split = 0;
+            s->jumps = 0;
+            return;
+        }
+    }
+    model_substep_full(m, tc, t1, s);
+}
 /* model_frame_step for the sub-step from tc (kinematics kin0, the right
  * limit there) to s->te, h = s->te - tc: with jumps at te, kin_end is the
  * left limit at te (its velocities without the jumps), so the step-mean
  * accelerations are those of the smooth motion inside the sub-step.
  * Without jumps it is model_frame_step itself. */
-int model_frame_substep(const exdex_model *m, const exdex_kinematics *kin0, double t_eval, const model_sub *s,
-                        double h, frame *f, exdex_kinematics *kin, exdex_kinematics *kin_end);
+int model_frame_substep_jumps(const exdex_model *m, const exdex_kinematics *kin0, double t_eval,
+                              const model_sub *s, double h, frame *f, exdex_kinematics *kin,
+                              exdex_kinematics *kin_end);
+static inline int model_frame_substep(const exdex_model *m, const exdex_kinematics *kin0, double t_eval,
+                                      const model_sub *s, double h, frame *f, exdex_kinematics *kin,
+                                      exdex_kinematics *kin_end)
+{
+    if (!s->jumps) return model_frame_step(m, kin0, t_eval, s->te, h, f, kin, kin_end);
+    return model_frame_substep_jumps(m, kin0, t_eval, s, h, f, kin, kin_end);
+}
 /* At the end of a sub-step with jumps: applies them to the relative
  * velocities v at coordinates q (model_velocity_jump, R of kin_end) and
  * turns kin_end into the right limit at te (the next sub-step's kin0). */

@@ -978,6 +978,48 @@ int exdex_motion_switches(const exdex_motion *m, double ts[EXDEX_MOTION_MAX_SWIT
     return k;
 }
 
+double exdex_motion_next_switch(const exdex_motion *m, double lo)
+{
+    double c[3];
+    const double *list = c;
+    int n = 0, a = 0, b;
+    if (!m) return INFINITY;
+    switch (m->kind) {
+    case EXDEX_MOTION_ASYMMETRIC:
+        c[n++] = m->t_1;
+        c[n++] = m->t_2;
+        c[n++] = m->end;
+        break;
+    case EXDEX_MOTION_TRAPEZOID:
+        if (m->amplitude == 0.0) break;
+        c[n++] = m->t_a;
+        c[n++] = m->T - m->t_a;
+        c[n++] = m->T;
+        break;
+    case EXDEX_MOTION_SAMPLED:
+        c[n++] = m->t_first;
+        c[n++] = m->t_last;
+        break;
+    case EXDEX_MOTION_SHAKE:
+        c[n++] = m->end;
+        break;
+    case EXDEX_MOTION_CHAIN:
+        list = m->sw;
+        n = m->n_sw;
+        break;
+    default:
+        break;
+    }
+    /* every list is non-decreasing: bisect for its first entry above lo */
+    b = n;
+    while (a < b) {
+        int mid = a + (b - a) / 2;
+        if (list[mid] > lo) b = mid;
+        else a = mid + 1;
+    }
+    return a < n ? list[a] : INFINITY;
+}
+
 /* ------------------------------------------------------------ evaluation */
 
 static int eval_sampled(const exdex_motion *m, double t, exdex_kinematics *k)

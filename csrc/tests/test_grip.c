@@ -220,3 +220,81 @@ EXDEX_TEST(grip_step_release_regrip_closed_form)
         sim_run_free(&r);
     }
 }
+
+/* model_substep's whole-step test (a switch list cached per run) against
+ * the full search, model_substep_full, on a motion with every kind of
+ * switching time: a chain (trapezoid with ramps, a constant-speed piece
+ * with velocity jumps, a shake, Eq. 7 as a turn) and a 6-point grip
+ * schedule. Steps of random length, some ending within rounding of a
+ * switching time (a grid chosen to land on it), and jumps back in time (a
+ * restored state): every sub-step must be the full search's, bit for bit;
+ * and exdex_motion_next_switch is the first listed switch above lo. */
+#include "../model.h"
+#include <gsl/gsl_rng.h>
+
+EXDEX_TEST(grip_substep_whole_step_test_equals_full_search)
+{
+    double gt[6] = {0.0, 0.7, 1.3, 2.0, 3.1, 4.5}, gf[6] = {2.0, 1.5, 1.5, 0.4, 1.0, 2.0};
+    double ts[EXDEX_MOTION_MAX_SWITCHES];
+    exdex_motion_def pc[4];
+    exdex_scene_def d = vertical_sched(0.1, gt, gf, 6, EXDEX_GRIP_LINEAR);
+    exdex_model *m;
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    model_sw_cache c;
+    int st = -1, n, mism = 0, splits = 0, jumps = 0;
+    double t = 0.0, t_end = 5.5;
+    memset(pc, 0, sizeof pc);
+    for (int i = 0; i < 4; i++) pc[i].axis[1] = 1.0;
+    pc[0].kind = EXDEX_MOTION_TRAPEZOID; pc[0].amplitude = 0.1; pc[0].duration = 1.0; pc[0].v_max = 0.15;
+    pc[1].kind = EXDEX_MOTION_TRAPEZOID; pc[1].amplitude = 0.1; pc[1].duration = 1.0; pc[1].v_max = 0.1;
+    pc[2].kind = EXDEX_MOTION_SHAKE; pc[2].amplitude = 0.01; pc[2].frequency = 2.0; pc[2].duration = 1.3;
+    pc[3].kind = EXDEX_MOTION_ASYMMETRIC; pc[3].rotation = 1; pc[3].center[0] = 0.2;
+    pc[3].amplitude = 0.5; pc[3].duration = 0.5; pc[3].beta = 0.5;
+    d.motion.kind = EXDEX_MOTION_CHAIN; d.motion.n_pieces = 4; d.motion.pieces = pc; d.motion.allow_jump = 1;
+    m = exdex_model_alloc(&d, &st, NULL);
+    ENSURE(m != NULL && st == EXDEX_OK && r != NULL);
+    if (!m || !r) {
+        exdex_model_free(m);
+        if (r) gsl_rng_free(r);
+        return;
+    }
+    n = exdex_motion_switches(m->motion, ts);
+    ENSURE(n >= 8 && exdex_motion_jumps(m->motion, NULL, NULL, NULL) >= 2);
+    for (int i = 0; i < 2000; i++) {
+        double lo = gsl_rng_uniform(r) < 0.2 ? ts[gsl_rng_uniform_int(r, (unsigned long)n)] : 6.0 * gsl_rng_uniform(r);
+        double want = INFINITY;
+        for (int k = 0; k < n; k++)
+            if (ts[k] > lo) {
+                want = ts[k];
+                break;
+            }
+        mism += exdex_motion_next_switch(m->motion, lo) != want;
+    }
+    ENSURE(mism == 0);
+    model_sw_cache_reset(&c);
+    for (int i = 0; i < 20000; i++) {
+        double u = gsl_rng_uniform(r), t1;
+        model_sub a, b;
+        if (u < 0.05) t = t_end * gsl_rng_uniform(r);          /* a restored state */
+        if (u > 0.9) {                                          /* onto a switching time, within rounding */
+            double sw = exdex_motion_next_switch(m->motion, t);
+            t1 = isfinite(sw) && sw < t + 0.2 ? sw * (1.0 + 1e-15 * (gsl_rng_uniform(r) - 0.5)) : t + 0.01;
+            if (!(t1 > t)) t1 = t + 0.01;
+        } else {
+            t1 = t + 0.2 * gsl_rng_uniform_pos(r);
+        }
+        model_substep(m, &c, t, t1, &a);
+        model_substep_full(m, t, t1, &b);
+        splits += b.split;
+        jumps += b.jumps > 0;
+        if (a.te != b.te || a.split != b.split || a.jumps != b.jumps) mism++;
+        else if (a.jumps)
+            for (int k = 0; k < 3; k++)
+                mism += a.dv[k] != b.dv[k] || a.dw[k] != b.dw[k] || a.dvl[k] != b.dvl[k] || a.dwl[k] != b.dwl[k];
+        t = b.te < t_end ? b.te : 0.0;   /* a new run */
+    }
+    ENSURE(mism == 0);
+    ENSURE(splits > 500 && jumps > 100);
+    gsl_rng_free(r);
+    exdex_model_free(m);
+}
