@@ -231,12 +231,12 @@ static int slip_stop_in_step(double M, double Q, double C, double Cs, double h, 
     return 1;
 }
 
-/* A 1-DoF step in which one stop row pushes the object along (v+ != 0 set
- * by that row's bound, impulse lam > 0) ends with the object on the stop:
- * its position is where the row put it, q + h v+ (gap 0), but v+ =
- * -gap(q, t + h) / (h G) is the stop's mean rate over the step, off the
- * velocity of the held contact at t + h by O(h) (half the step times the
- * stop's acceleration in B). While the contact holds that error stays in
+/* A translation step in which a stop row pushes the object along (v+ != 0
+ * set by that row's bound, impulse lam > 0) ends with the object on the
+ * stop: its position is where the row put it, q + h v+ (gap 0: the row is
+ * linear in q), but v+ = -gap(q, t + h) / (h G) is the stop's mean rate
+ * over the step, off the velocity of the held contact at t + h by O(h)
+ * (half the step times the stop's acceleration in B). While the contact holds that error stays in
  * v and never reaches q; where the object leaves the stop it carries into
  * the free motion, and where it leaves at a switching time of the motion
  * (the stop's acceleration changes sign there) it is set by the sub-step
@@ -248,42 +248,68 @@ static int slip_stop_in_step(double M, double Q, double C, double Cs, double h, 
  * carries the change, lam += M (v_e - v+) / G, so that the step's momentum
  * balance M (v_e - v) = h Q + p_f + G lam still holds: for a row of a
  * plane fixed in A (a stop, or an outline vertex on a polytope's face).
- * Left as it is when more than one row pushes, for the other obstacle rows
- * (a section vertex on the outline's edge, a rod, a disc outline), when
- * F_q = 0, or when the change would make lam negative (the contact would
- * have to pull: the object leaves the stop there). Returns v_e, or NAN
- * when left. */
-static double held_velocity_1dof(const exdex_model *m, const exdex_kinematics *kin_end, double q, double h,
-                                 double M, double v, work *w)
+ * Several rows pushing the same way (an edge flush against a stop): v_e is
+ * the held velocity that keeps every one's gap from closing (the largest
+ * of theirs along the push), its row carrying the change. Left as it is
+ * when rows push from both sides, when v_e and v+ have opposite signs (the
+ * stop turns from pushing to receding inside the step: whether the object
+ * follows it is a stick decision), for the other obstacle rows (a
+ * section vertex on the outline's edge, a rod, a disc outline), when F_q =
+ * 0, or when the change would make lam negative (the contact would
+ * have to pull: the object leaves the stop there). A rotation's row is
+ * linearised in q, so its step ends off the stop by the row's curvature
+ * and v+ is what closes that over the next steps: left too (and a zoo
+ * rotation scene has stops only where they do not move in B, F_t = 0).
+ * Returns v_e, or NAN when left. */
+static double held_rate_1dof(const exdex_model *m, const exdex_kinematics *kin_end, double qe, const double *q,
+                             const work *w, int i)
 {
-    int nv = contact_nv(m), ib = -1;
-    double ve, lam;
+    int nv = contact_nv(m);
     crow c;
-    if (v == 0.0) return NAN;
-    for (int i = 0; i < w->n_rows; i++)
-        if (w->lam[i] > 0.0) {
-            if (ib >= 0) return NAN;
-            ib = i;
-        }
-    if (ib < 0 || w->G[ib][0] == 0.0) return NAN;
-    if (ib < m->n_stops * nv) {
-        contact_row_1dof(m, kin_end, w->row_stop[ib], ib % nv, q + h * v, &c);
+    if (i < m->n_stops * nv) {
+        contact_row_1dof(m, kin_end, w->row_stop[i], i % nv, qe, &c);
     } else {
         /* an obstacle's row: the same row as the event method holds it
          * (orow_all lists them in contact_obstacle_rows' order, for an
          * outline of vertices), its feature kept at the step's end; an
          * outline vertex on a polytope's face only (a plane fixed in A, as a
          * stop) */
-        int code[MAX_ROWS], io = ib - m->n_stops * nv, no;
+        int code[MAX_ROWS], io = i - m->n_stops * nv, no;
         if (m->disc_r > 0.0) return NAN;
-        no = orow_all(m, kin_end, &q, NULL, 0, code, NULL);
+        no = orow_all(m, kin_end, q, NULL, 0, code, NULL);
         if (no != w->n_rows - m->n_stops * nv || orow_kind(code[io]) != OROW_VERTEX) return NAN;
-        orow_1dof(m, kin_end, code[io], q + h * v, &c);
+        orow_1dof(m, kin_end, code[io], qe, &c);
     }
-    if (!(c.Fq != 0.0)) return NAN;
-    ve = -c.Ft / c.Fq;
+    return c.Fq != 0.0 ? -c.Ft / c.Fq : NAN;
+}
+
+static double held_velocity_1dof(const exdex_model *m, const exdex_kinematics *kin_end, double q, double h,
+                                 double M, double v, work *w)
+{
+    int ib = -1, sign = 0;
+    double ve = NAN, lam;
+    if (v == 0.0 || m->def.dof != EXDEX_DOF_TRANSLATION) return NAN;
+    for (int i = 0; i < w->n_rows; i++) {
+        double vi;
+        int si;
+        if (!(w->lam[i] > 0.0)) continue;
+        si = w->G[i][0] > 0.0 ? 1 : w->G[i][0] < 0.0 ? -1 : 0;
+        if (!si || (sign && si != sign)) return NAN;
+        sign = si;
+        vi = held_rate_1dof(m, kin_end, q + h * v, &q, w, i);
+        if (!isfinite(vi)) return NAN;
+        /* the held velocity keeps every pushing row's gap from closing */
+        if (ib < 0 || (sign > 0 ? vi > ve : vi < ve)) {
+            ib = i;
+            ve = vi;
+        }
+    }
+    /* a stop whose rate passes zero inside the step (ve against v+) turns
+     * from pushing to receding: whether the object follows it or stays is a
+     * stick decision the held contact does not make */
+    if (ib < 0 || ve * v < 0.0) return NAN;
     lam = w->lam[ib] + M * (ve - v) / w->G[ib][0];
-    if (!isfinite(ve) || !(lam >= 0.0)) return NAN;
+    if (!(lam >= 0.0)) return NAN;
     w->lam[ib] = lam;
     return ve;
 }
