@@ -855,8 +855,37 @@ static double disc_obstacle_row(const exdex_model *m, const exdex_kinematics *ki
     }
 }
 
+/* The tie rule of contact_obstacle_rows_pred: among the n pieces of one
+ * row (distance g_i, its rounding bound r_i, its row Gi_i) keep the largest
+ * distance (best, the first of equal ones) unless a prediction vp is given
+ * and best is not penetrating (g_best >= -r_best); then, among the pieces
+ * with g_i >= -r_i, the one of the largest predicted distance g_i + h Gi_i
+ * . vp (the first of equal ones). */
+static int piece_pred(const exdex_model *m, int n, const double *g, const double *r, const double (*Gi)[3],
+                      const double *vp, double h, int best)
+{
+    double pb = -INFINITY;
+    int pick = best;
+    if (!vp) return best;
+    for (int i = 0; i < n; i++) {
+        double pr = g[i];
+        for (int d = 0; d < m->ndof; d++) pr += h * Gi[i][d] * vp[d];
+        if (pr > pb) {
+            pb = pr;
+            pick = i;
+        }
+    }
+    return pick;
+}
+
 int contact_obstacle_rows(const exdex_model *m, const exdex_kinematics *kin, const double *q, double (*G)[3],
                           double *gap, double *round, int *src, contact_point *cp)
+{
+    return contact_obstacle_rows_pred(m, kin, q, NULL, 0.0, G, gap, round, src, cp);
+}
+
+int contact_obstacle_rows_pred(const exdex_model *m, const exdex_kinematics *kin, const double *q, const double *vp,
+                               double h, double (*G)[3], double *gap, double *round, int *src, contact_point *cp)
 {
     double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], hb[EXDEX_MAX_VERTICES][3];
     double pn = sqrt(ex_dot3(kin->p, kin->p));
@@ -880,14 +909,19 @@ int contact_obstacle_rows(const exdex_model *m, const exdex_kinematics *kin, con
             /* outline vertex j against the solid: its largest face distance */
             for (int j = 0; j < nv; j++) {
                 int best = 0;
-                double gb = -INFINITY;
+                double gb = -INFINITY, gf[EXDEX_MAX_FACES], rf[EXDEX_MAX_FACES], Gf[EXDEX_MAX_FACES][3];
                 for (int f = 0; f < ob->n_faces; f++) {
-                    double g = contact_plane_gap(m, kin, ob->face_point[f], ob->face_normal[f], xb[j], vx[j], NULL);
+                    double g = contact_plane_gap(m, kin, ob->face_point[f], ob->face_normal[f], xb[j], vx[j],
+                                                 vp ? Gf[f] : NULL);
+                    gf[f] = g;
+                    rf[f] = GAP_ROUND * (sqrt(ex_dot3(xb[j], xb[j])) + pn +
+                                         sqrt(ex_dot3(ob->face_point[f], ob->face_point[f])));
                     if (g > gb) {
                         gb = g;
                         best = f;
                     }
                 }
+                best = piece_pred(m, ob->n_faces, gf, rf, (const double (*)[3])Gf, vp, h, best);
                 gap[nr] = contact_plane_gap(m, kin, ob->face_point[best], ob->face_normal[best], xb[j], vx[j], G[nr]);
                 round[nr] = GAP_ROUND * (sqrt(ex_dot3(xb[j], xb[j])) + pn +
                                          sqrt(ex_dot3(ob->face_point[best], ob->face_point[best])));
@@ -908,6 +942,10 @@ int contact_obstacle_rows(const exdex_model *m, const exdex_kinematics *kin, con
             ny = polygon_vertices(nhp, (const double (*)[2])a, b, y);
             for (int i = 0; i < ny; i++) {
                 double gb = -INFINITY, nb[3] = {0, 0, 0}, x[3] = {y[i][0], y[i][1], 0.0};
+                double ge[EXDEX_MAX_VERTICES], re[EXDEX_MAX_VERTICES], Ge[EXDEX_MAX_VERTICES][3],
+                    ne[EXDEX_MAX_VERTICES][3];
+                double rnd = 64.0 * DBL_EPSILON * (hypot(x[0], x[1]) + hypot(hb[0][0], hb[0][1]) + pn + fmax);
+                int eb = -1, ne_n = 0;
                 for (int e = 0; e < nh; e++) {
                     const double *u = hb[e], *v = hb[(e + 1) % nh];
                     double ex = v[0] - u[0], ey = v[1] - u[1], len = hypot(ex, ey), n0, n1, g;
@@ -915,16 +953,28 @@ int contact_obstacle_rows(const exdex_model *m, const exdex_kinematics *kin, con
                     n0 = ey / len; /* outward normal of a counter-clockwise edge */
                     n1 = -ex / len;
                     g = n0 * (x[0] - u[0]) + n1 * (x[1] - u[1]);
+                    ge[ne_n] = g;
+                    re[ne_n] = rnd;
+                    ne[ne_n][0] = -n0;
+                    ne[ne_n][1] = -n1;
+                    ne[ne_n][2] = 0.0;
+                    if (vp) row_G(m, q, x, ne[ne_n], Ge[ne_n]);
                     if (g > gb) {
                         gb = g;
-                        nb[0] = -n0;
-                        nb[1] = -n1;
+                        eb = ne_n;
                     }
+                    ne_n++;
+                }
+                if (eb >= 0) {
+                    eb = piece_pred(m, ne_n, ge, re, (const double (*)[3])Ge, vp, h, eb);
+                    gb = ge[eb];
+                    nb[0] = ne[eb][0];
+                    nb[1] = ne[eb][1];
                 }
                 gap[nr] = gb;
                 row_G(m, q, x, nb, G[nr]);
                 set_point(cp ? &cp[nr] : NULL, x, rc, nb);
-                round[nr] = 64.0 * DBL_EPSILON * (hypot(x[0], x[1]) + hypot(hb[0][0], hb[0][1]) + pn + fmax);
+                round[nr] = rnd;
                 if (src) src[nr] = m->n_stops + o;
                 nr++;
             }

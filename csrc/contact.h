@@ -121,6 +121,23 @@ typedef struct contact_point {
 } contact_point;
 int contact_obstacle_rows(const exdex_model *m, const exdex_kinematics *kin, const double *q, double (*G)[3],
                           double *gap, double *round, int *src, contact_point *cp);
+/* The same rows with a tie rule for a time step of length h: a row's gap
+ * is a largest distance over pieces (faces for an outline vertex, hull
+ * edges for a section vertex), whose constraint set {max_i g_i >= 0} is not
+ * convex where two pieces meet (a corner against a corner); a linearised
+ * row holds one piece. Without a prediction (vp NULL: contact_obstacle_rows)
+ * it is the piece of the largest distance at q. With the predicted velocity
+ * vp it is, among the pieces whose distance is >= 0 (to rounding; each of
+ * them alone keeps max_i g_i >= 0 to first order), the one of the largest
+ * distance at the predicted position, g_i + h G_i . vp: the piece that is
+ * the largest at the step's end, so a corner sliding past a corner is held
+ * by the piece it moves along rather than stopped by the piece it leaves.
+ * The pick differs from the largest at q only where two pieces' order
+ * changes within the step; a penetrating row (largest g < 0 beyond
+ * rounding) keeps its largest piece. Rods and disc outlines: as
+ * contact_obstacle_rows. */
+int contact_obstacle_rows_pred(const exdex_model *m, const exdex_kinematics *kin, const double *q, const double *vp,
+                               double h, double (*G)[3], double *gap, double *round, int *src, contact_point *cp);
 int contact_obstacle_max_rows(const exdex_model *m);
 /* 1 if the obstacle definition is valid (kind, face count, unit normals and
  * axis, finite points, radius > 0). */

@@ -456,7 +456,9 @@ typedef struct exdex_scene_def {
      * Every method but analytic: exact in the implicit and explicit methods
      * (velocity level) and in the event and regularised methods (acceleration
      * level, hybrid.c; the regularised method smooths the plate friction
-     * only); impacts in the event and regularised methods are frictionless. */
+     * only). Impacts on a frictional stop, in every method: plastic with
+     * Coulomb friction at the impulse level and no plate impulse (the
+     * implicit step's law as the step vanishes). */
     double stop_mu[EXDEX_MAX_STOPS];
     /* A disc outline: disc_radius > 0 [m] makes the object's outline in the
      * plate plane the disc of that radius about disc_center (C, relative to

@@ -15,7 +15,8 @@
  * velocity-level rows G v+ >= -gap(q, t + dt)/dt; 1-DoF: a clamp; planar:
  * v+ is the M-metric projection of v* onto every (stop, vertex) row
  * (ldp_project), stop force lam / dt. Obstacles add their rows
- * (contact_obstacle_rows) to the same clamp and projection. Penetration
+ * (contact_obstacle_rows_pred, their pieces picked with the step's
+ * velocity before the rows act, v*) to the same clamp and projection. Penetration
  * per step: every row enforces the linearisation g(q) + h G v+ >= 0 of its
  * gap at the step's start (G = dg/dq, contacts at t + h) and q+ = q + h v+,
  * so a row's gap after the step is at least the remainder
@@ -233,7 +234,8 @@ static int explicit_substep(const exdex_model *m, explicit_ws *w, const model_su
             if (m->n_obst) {
                 /* the obstacles' rows, in the same form (contact_obstacle_rows) */
                 double Go[MAX_ROWS][3], go[MAX_ROWS], ro[MAX_ROWS];
-                int so[MAX_ROWS], no = contact_obstacle_rows(m, &kin_end, q, Go, go, ro, so, NULL);
+                double vp[3] = {vn, 0.0, 0.0};
+                int so[MAX_ROWS], no = contact_obstacle_rows_pred(m, &kin_end, q, vp, h, Go, go, ro, so, NULL);
                 for (int r = 0; r < no; r++) {
                     double b;
                     if (!(fabs(Go[r][0]) > m->tol.fq_min)) continue;
@@ -282,7 +284,7 @@ static int explicit_substep(const exdex_model *m, explicit_ws *w, const model_su
                     if (m->n_obst) {
                         double ro[MAX_ROWS];
                         int i0 = nr;
-                        nr += contact_obstacle_rows(m, &kin_end, q, Gr + i0, gp + i0, ro, stop + i0, cpo);
+                        nr += contact_obstacle_rows_pred(m, &kin_end, q, vs3, h, Gr + i0, gp + i0, ro, stop + i0, cpo);
                         for (int r = i0; r < nr; r++) {
                             /* the clamping row: the first of its obstacle with that bound */
                             int clamp = !bound && stop[r] == kb && fabs(Gr[r][0]) > m->tol.fq_min &&
@@ -362,7 +364,7 @@ static int explicit_substep(const exdex_model *m, explicit_ws *w, const model_su
                 int stop[MAX_ROWS], nr = contact_rows(m, &kin_end, q, Gr, gap, stop);
                 if (m->n_obst) {
                     double ro[MAX_ROWS];
-                    nr += contact_obstacle_rows(m, &kin_end, q, Gr + nr, gap + nr, ro, stop + nr, cpo);
+                    nr += contact_obstacle_rows_pred(m, &kin_end, q, v, h, Gr + nr, gap + nr, ro, stop + nr, cpo);
                 }
                 for (int r = 0; r < nr; r++) b[r] = -gap[r] / h;
                 memcpy(vs, v, sizeof vs);

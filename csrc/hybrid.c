@@ -67,7 +67,13 @@
  *       qd = 0, so a slip's last zsw of speed is dropped; else it slips on
  *       as a small slip with its velocity kept (a dropped speed would
  *       persist where friction cannot take it back: with mu = 0 a spin of
- *       zsw would last to t_end).
+ *       zsw would last to t_end). A slip that lingers below SLIP_STIFF zsw
+ *       (STIFF_AFTER consecutive steps) is integrated by a linearly
+ *       implicit stepper instead of rk8pd, the same law under the same
+ *       error control (stiff_track): a load just beyond the friction limit
+ *       grows a slip at a small rate, or holds it at a small steady speed,
+ *       and the explicit stepper's stable step ~5 (|E u| / V) T would make
+ *       the cost (and the step budget below) grow without bound.
  *   After every accepted step the guards are checked; the earliest sign change
  *   is located by GSL Brent on the stepper's own one-step map tau -> y(t0 +
  *   tau) (an interpolant of the stepper's order) at the first point where the
@@ -150,9 +156,10 @@
  * (event, regularised) integrator carry a contact set of (stop, vertex) rows
  * besides the friction mode:
  *   free row -> impact: its gap reaches 0 (located by Brent); the impact is
- *     plastic and frictionless (the grip force is finite): v is projected
- *     onto G v >= -dgap/dt|_q (no approach) of the touching rows in the M
- *     metric (ldp_project), the impulses counted in the stop force integrals;
+ *     plastic, with no plate impulse (the grip force is finite): v is
+ *     projected onto G v >= -dgap/dt|_q (no approach) of the touching rows
+ *     in the M metric (ldp_project), with Coulomb friction at frictional
+ *     rows (sf_impact), the impulses counted in the stop force integrals;
  *     the rows left touching at rate ~0 that push join the contact set;
  *   in contact: qdd = M^-1 (F + friction + G^T lam), lam >= 0 the LCP
  *     G M^-1 G^T lam = -(G M^-1 (F + friction) + Gdot v) with complementarity
@@ -195,11 +202,13 @@
  *   around and the acceleration-level contact has no solution (Painleve):
  *   the contact is taken frictionless there and a warning counted (the
  *   implicit method, at the velocity level, reports the same jam). Impacts
- *   stay frictionless (their normal impulse is counted as without
- *   friction). Planar scenes: a friction mode per stop (stick, slide +-),
- *   exact at the acceleration level, in both methods (the regularised one
- *   smooths the plate friction only): see "planar frictional stops" below
- *   (sf_*, sfric.h).
+ *   are plastic with Coulomb friction at the impulse level
+ *   (impact_impulse_1dof: the velocity after one is the frictionless one,
+ *   the impulse the stop takes is not). Planar scenes: a friction mode per
+ *   stop (stick, slide +-), exact at the acceleration level, in both
+ *   methods (the regularised one smooths the plate friction only), and
+ *   impacts with Coulomb friction at the impulse level: see "planar
+ *   frictional stops" and "frictional impacts" below (sf_*, sfric.h).
  *
  * Obstacles (Obstacle.mu > 0 in 1-DoF scenes, as a frictional stop: the
  *   row's tangent at its point, orow_point; model_alloc rejects it in
@@ -251,6 +260,7 @@
  */
 #include "exdex.h"
 #include "contact.h"
+#include "fcontact.h"
 #include "ldp.h"
 #include "method.h"
 #include "model.h"
@@ -271,12 +281,15 @@
 #define STEPS_MAX 100000  /* ODE steps (accepted + rejected) per output interval before EXDEX_ENOCONV */
 #define H_FLOOR_ULPS 16.0 /* a suggested step below this many ulps of t is a collapse: EXDEX_ENOCONV */
 #define BRENT_MAX 200     /* Brent iterations per located event */
+#define DOUBLING_EXACT 10 /* locate: a forward search past 2^10 of its first increment is bisected back */
 #define NY_MAX (9 + EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES)
 #define NG_MAX (3 + 3 * MAX_ROWS + EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES)  /* guards (planar: 2 friction, the rows, stop friction, obstacle features) */
 #define NSRC_MAX (EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES)
 #define SLIP_FLOOR 1e-6  /* planar slip: below SLIP_FLOOR V of |E u| the slip is "small" (see the header comment) */
 #define SLIP_UP 2.0      /* a small slip becomes a slip at SLIP_UP zsw (hysteresis against zsw) */
 #define SLIP_PUSH 4.0    /* a stop pushing a stopped planar slip on below SLIP_PUSH zsw: a rest instead */
+#define SLIP_STIFF 100.0 /* a planar slip below SLIP_STIFF zsw for STIFF_AFTER steps: the stiff stepper */
+#define STIFF_AFTER 1000
 
 enum { LAW_COULOMB = 0, LAW_SMOOTH = 1 };
 enum { MODE_SLIP = 0, MODE_STICK = 1, MODE_CONTACT = 2, MODE_FREE = 3 };
@@ -309,6 +322,8 @@ typedef struct hyb {
     int sfric;         /* planar with a frictional stop: the stop friction below (sf_*) */
     int fm[EXDEX_MAX_STOPS];  /* planar: friction mode of each stop with contact-set rows (SF_*) */
     int no;            /* obstacles (their rows follow the stops', see hrow_src) */
+    int stiff;         /* event, planar slip: 1 while the stiff stepper integrates it (stiff_track) */
+    int nlow;          /* consecutive steps of that slip below SLIP_STIFF zsw (up to STIFF_AFTER) */
 } hyb;
 
 /* ---------------------------------------------------------- contact rows
@@ -432,23 +447,30 @@ static double contact_qdd(const crow *c, double v)
     return -(c->Ftt + 2.0 * c->Ftq * v + c->Fqq * v * v) / c->Fq;
 }
 
-/* Slip of the 1-DoF contact vertex along its stop at (q, v) and pose kin:
- * s = T v + tb (contact_stop_tangent; an obstacle row: contact_tangent at
- * its point, orow_point); T (may be NULL) gets d s / d qdot. */
-static double contact_slip_1dof(const hyb *H, const exdex_kinematics *kin, double q, double v, double *T)
+/* Slip of the 1-DoF row (k, j) (a stop and vertex, or an obstacle and row
+ * code) along its stop at (q, v) and pose kin: s = T v + tb
+ * (contact_stop_tangent; an obstacle row: contact_tangent at its point,
+ * orow_point); T (may be NULL) gets d s / d qdot. contact_slip_1dof: of the
+ * contact row (H->ck, H->cj). */
+static double row_slip_1dof(const hyb *H, const exdex_kinematics *kin, int k, int j, double q, double v, double *T)
 {
     double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], Tv[3], tb;
-    if (H->ck >= H->ns) {
+    if (k >= H->ns) {
         contact_point cp;
-        orow_point(H->m, kin, H->cj, &q, &cp);
+        orow_point(H->m, kin, j, &q, &cp);
         contact_tangent(H->m, kin, cp.x, cp.vx, cp.nB, Tv, &tb);
         if (T) *T = Tv[0];
         return Tv[0] * v + tb;
     }
     contact_vertices(H->m, &q, xb, vx);
-    contact_stop_tangent(H->m, kin, H->ck, xb[H->cj], vx[H->cj], Tv, &tb);
+    contact_stop_tangent(H->m, kin, k, xb[j], vx[j], Tv, &tb);
     if (T) *T = Tv[0];
     return Tv[0] * v + tb;
+}
+
+static double contact_slip_1dof(const hyb *H, const exdex_kinematics *kin, double q, double v, double *T)
+{
+    return row_slip_1dof(H, kin, H->ck, H->cj, q, v, T);
 }
 
 /* The stop's generalized force per unit normal force in contact: Fq, less
@@ -480,6 +502,33 @@ static void contact_forces(const hyb *H, const crow *c, double T, double R, doub
     }
 }
 
+/* Normal impulse of a 1-DoF impact on row (k, j) (c its row at q): the
+ * velocity v goes to vn = -Ft / Fq (no approach), plastic. With a
+ * frictional stop the impact is Coulomb's at the impulse level (fcontact.h's
+ * problem with no plate impulse: the plates' friction is bounded, its
+ * impulse over the impact 0; the implicit step's impulse as the step
+ * vanishes): M (vn - v) = lam Fq + beta T, beta = -mu lam sigma, sigma the
+ * sign of the row's slip s = T vn + tb after the impact, so lam = M (vn -
+ * v) / D with D = Fq - mu sigma T (contact_dir's). The velocity after the
+ * impact is vn either way (one free coordinate); the friction changes the
+ * impulse the stop takes. Where D Fq <= 0 no lam >= 0 is consistent (the
+ * friction turns the impulse's generalized direction around: a jam, as
+ * for the contact mode): the frictionless impulse and a warning. */
+static double impact_impulse_1dof(hyb *H, const exdex_kinematics *kin, int k, int j, double q, const crow *c,
+                                  double v, double vn)
+{
+    double mu = model_source_mu(H->m, k), T = 0.0, sl, D = c->Fq;
+    if (mu > 0.0) {
+        sl = row_slip_1dof(H, kin, k, j, q, vn, &T);
+        if (sl != 0.0) D = c->Fq - mu * (sl > 0.0 ? 1.0 : -1.0) * T;
+        if (!(D * c->Fq > 0.0)) {
+            H->st->warnings++;
+            D = c->Fq;
+        }
+    }
+    return H->M * (vn - v) / D;
+}
+
 /* ------------------------------------------------ planar frictional stops
  * Coulomb friction between a stop with stop_mu > 0 and the outline
  * vertices of a planar object touching it, exact (not regularised, also in
@@ -497,8 +546,8 @@ static void contact_forces(const hyb *H, const crow *c, double T, double R, doub
  * there), and a sticking stop's slip is projected to 0 at the decision and
  * after every step (sf_project_stick), like the gap of a contact row.
  * Normal forces and separations stay as without friction (the contact set,
- * its separation guards); impacts stay frictionless (a plastic normal
- * impact, as for the 1-DoF scenes).
+ * its separation guards); impacts are frictional at the impulse level
+ * (sf_impact, below).
  * At rest (stick) the least-friction split of planar_rest takes each
  * stop's force in its friction cone, {lam (G + mu c T) : -1 <= c <= 1},
  * generated by G + mu T and G - mu T (ldp_min_combination over the
@@ -666,11 +715,124 @@ static void contact_acc_planar(hyb *H, const exdex_kinematics *kin, const double
         for (int i = 0; i < H->ncs; i++) acc[i] = ex_dot3(Gr[i], qdd) - b[i];
 }
 
+/* ------------------------------------------------- frictional impacts
+ * An impact on frictional rows is plastic with Coulomb friction at the
+ * rows: the impulse-level problem of fcontact.h (Stewart-Trinkle velocity
+ * level, exact mode enumeration) over the vanishing duration of the impact,
+ *     M (v+ - v) = sum_i (lam_i G_i + beta_i T_i),
+ *     0 <= lam_i  _|_  G_i v+ - b_i >= 0    (b_i = -(gd_i - G_i v): no approach),
+ *     |beta_i| <= mu_i lam_i, beta_i = -mu_i lam_i sign(s_i) where the
+ *     post-impact slip s_i = T_i v+ + tb_i != 0,
+ * with no plate impulse: the plates' friction force is bounded by the grip
+ * force (cap = 0 in fcontact.h), so its impulse over the impact is 0. This
+ * is the implicit step's impulse (fcontact.h with the plate term cap h) in
+ * the limit of a vanishing step h, and the explicit method's (cap = 0 as
+ * here). Frictionless rows make it the plastic M-metric projection
+ * (ldp_project), which is solved first: where no frictional row carries an
+ * impulse there, that projection is the answer, and the arithmetic is that
+ * of frictionless stops bit for bit.
+ * An impact whose frictional rows are approached slower than SLIP_PUSH zsw
+ * (b_i - G_i v) is taken frictionless: a push the band takes as none, as
+ * a slip the stops push on below SLIP_PUSH zsw is a rest (decide_modes).
+ * Its normal impulse is O(M zsw), but the friction of a stop sliding past
+ * the object adds up to mu times it along the tangent, which near a
+ * Painleve configuration (the friction nearly cancelling the normal
+ * impulse's effect on the gap) moves the object at many times the push;
+ * at such rates that velocity is of the order of the slips the band does
+ * not resolve (it decides them from the load: stop, small slip), and
+ * applying it turns a stop touching a resting object again at a rate of
+ * the order of zsw (its return to where its push left the object, a
+ * tangency: rate 0 in the limit zsw -> 0) into a slip that the stop's
+ * friction drags on, and a small slip creeping along a receding stop into
+ * an endless cycle of impacts and slip / small-slip switches. The implicit
+ * step, whose plates' static impulse over a step h holds the object
+ * against a friction impulse below cap h, does the same at every practical
+ * h (the two differ only for h below mu M SLIP_PUSH zsw / cap, ~1e-6 of the
+ * scene's time scale). */
+
+/* Coulomb coefficient of planar row r at (kin, y) and, when > 0, its slip
+ * row: s = T v + tb along the tangent in the plate plane (stop rows:
+ * contact_slip_planar). Obstacle rows are frictionless here (planar
+ * obstacle friction is rejected by model_alloc in the event and
+ * regularised methods). */
+static double hrow_friction_planar(const hyb *H, const exdex_kinematics *kin, int r, const double *y, double T[3],
+                                   double *tb)
+{
+    double mu;
+    T[0] = T[1] = T[2] = 0.0;
+    *tb = 0.0;
+    if (r >= H->ns * H->nv) return 0.0;
+    mu = model_source_mu(H->m, r / H->nv);
+    if (mu > 0.0) contact_slip_planar(H->m, kin, r / H->nv, r % H->nv, y, y + 3, T, tb, NULL);
+    return mu;
+}
+
+/* The planar impact with friction at (kin, y): rows (their G, bounds b as
+ * planar_impact_and_set builds them: the touching rows), v and lam the
+ * frictionless impact (ldp_project), replaced by the frictional one when a
+ * frictional row carries an impulse in it and is approached at SLIP_PUSH
+ * zsw or faster (above). Where fcontact.h finds no consistent mode (more
+ * than FC_MAX_CAND rows would have to be enumerated) the frictionless
+ * impact stands and a warning is counted. Returns 1 if v and lam were
+ * replaced. */
+static int sf_impact(hyb *H, const exdex_kinematics *kin, const double *y, int n, const int *rows,
+                     const double (*Gr)[3], const double *b, double v[3], double *lam)
+{
+    const exdex_model *m = H->m;
+    fc_row fr[MAX_ROWS];
+    fc_problem p;
+    fc_result res;
+    unsigned char hint[MAX_ROWS];
+    double lf[MAX_ROWS], bf[MAX_ROWS], T[3], tb, push = 0.0;
+    for (int i = 0; i < n; i++)
+        if (lam[i] > 0.0 && hrow_friction_planar(H, kin, rows[i], y, T, &tb) > 0.0)
+            push = fmax(push, b[i] - ex_dot3(Gr[i], y + 3));
+    if (!(push >= SLIP_PUSH * H->zsw)) return 0;
+    if (n > LDP_MAX_ROWS / 2) {
+        H->st->warnings++;
+        return 0;
+    }
+    for (int i = 0; i < n; i++) {
+        fc_row *r = &fr[i];
+        memcpy(r->G, Gr[i], sizeof r->G);
+        r->mu = hrow_friction_planar(H, kin, rows[i], y, r->T, &r->tb);
+        r->rhs = b[i];
+        /* at v = 0 a row can carry an impulse only where its bound is 0
+         * (a stop at rest in B, or moving along its face): one the gripper
+         * drives into the object excludes rest, one it leaves behind
+         * carries nothing (as the implicit step's rows) */
+        r->rest = b[i] > m->tol.rate ? -1 : b[i] >= -m->tol.rate ? 1 : 0;
+        hint[i] = lam[i] > 0.0;
+    }
+    memset(&p, 0, sizeof p);
+    p.n = 3;
+    for (int c = 0; c < 3; c++) {
+        p.Md[c] = 1.0 / m->minv[c];
+        p.vs[c] = y[3 + c];
+        p.A[c][c] = 1.0;
+    }
+    p.cap = p.cap_rest = 0.0;
+    p.vscale = m->scale.V;
+    p.vrest = m->tol.rate;
+    p.nr = n;
+    p.rows = fr;
+    if (!fc_solve(&p, hint, v, NULL, lf, bf, &res)) {
+        H->st->warnings++;
+        return 0;
+    }
+    H->st->stop_iterations += (size_t)res.iters;
+    memcpy(v, res.v, 3 * sizeof *v);
+    for (int i = 0; i < n; i++) lam[i] = lf[i];
+    return 1;
+}
+
 /* Impacts of a planar object on the touching rows (gap <= tol.touch) at
  * (t, y): the plastic impact projects v onto G v >= -(gd - G v) (no
- * approach) in the M metric; the impulses go into the stops' force
- * integrals. Then the contact set: the touching rows whose rate is ~0
- * and which push (lam > 0) under the accelerations of the mode. */
+ * approach) in the M metric; with frictional rows carrying an impulse
+ * there, the impact with Coulomb friction replaces it (sf_impact); the
+ * impulses go into the stops' force integrals. Then the contact set: the
+ * touching rows whose rate is ~0 and which push (lam > 0) under the
+ * accelerations of the mode. */
 static void planar_impact_and_set(hyb *H, double t, const exdex_kinematics *kin, double *y)
 {
     const exdex_model *m = H->m;
@@ -686,6 +848,7 @@ static void planar_impact_and_set(hyb *H, double t, const exdex_kinematics *kin,
     if (!n) return;
     if (ldp_project(m->minv, n, (const double (*)[3])Gr, b, y + 3, FQ_MIN, v, lam, &H->st->stop_iterations, &H->st->warnings)) {
         double G2[2 * MAX_ROWS][3], b2[2 * MAX_ROWS], lam2[2 * MAX_ROWS], v2[3];
+        if (H->sfric) sf_impact(H, kin, y, n, rows, (const double (*)[3])Gr, b, v, lam);
         double per_stop[NSRC_MAX] = {0};
         int n2 = 0, lift = 0;
         for (int i = 0; i < n; i++) {
@@ -941,6 +1104,25 @@ static int planar_friction(hyb *H, const frame *f, const exdex_kinematics *kin, 
         }
     }
     return EXDEX_OK;
+}
+
+/* A contact-set row whose separation was located at t and that the
+ * decision there put back into the set, twice at the same time: at the
+ * separation instant its force and gap acceleration both vanish, and the
+ * complementarity solve at the decided state may return a force of
+ * rounding size (lam > 0) with the guard lam G M^-1 G^T - gap acceleration
+ * of rounding size below 0, which the next step then finds falling (the row
+ * separates with the row still in the set: the step would be taken with a
+ * violated guard and the row's gap unwatched, its stop no longer able to
+ * act as an impact). The event's own answer stands: the row leaves the set
+ * (its free gap guard watches it again; a row that still pushes comes back
+ * by an impact at rate ~0). */
+static void set_tie_leaves(hyb *H, int r)
+{
+    int n = 0;
+    for (int i = 0; i < H->ncs; i++)
+        if (H->cs[i] != r) H->cs[n++] = H->cs[i];
+    H->ncs = n;
 }
 
 /* Keep in the planar contact set only the rows that push (lam > 0) under
@@ -1574,7 +1756,7 @@ static void decide_modes(hyb *H, double t, double *y, int vzero)
          * in the stop's force integral */
         int rk[MAX_ROWS], rj[MAX_ROWS], nr = (H->ns || H->no) ? hrow_all_1dof(H, &kin, q, y + 1, rk, rj) : 0;
         for (int pass = 0; pass < 3 && nr; pass++) {
-            int kb = -1;
+            int kb = -1, jb = -1;
             double worst = -m->tol.rate;
             crow cb;
             for (int r = 0; r < nr; r++) {
@@ -1586,14 +1768,15 @@ static void decide_modes(hyb *H, double t, double *y, int vzero)
                 if (rate < worst) {
                     worst = rate;
                     kb = rk[r];
+                    jb = rj[r];
                     cb = c;
                 }
             }
             if (kb < 0) break;
             {
-                double vn = -cb.Ft / cb.Fq;
-                y[3 + kb] += H->M * (vn - y[1]) / cb.Fq;
-                method_note_impact(H->st, t, kb, H->M * (vn - y[1]) / cb.Fq);
+                double vn = -cb.Ft / cb.Fq, ln = impact_impulse_1dof(H, &kin, kb, jb, q, &cb, y[1], vn);
+                y[3 + kb] += ln;
+                method_note_impact(H->st, t, kb, ln);
                 y[1] = vn;
                 vzero = 0;
                 if (pass == 2) H->st->warnings++; /* stops pinch the object */
@@ -1759,8 +1942,81 @@ static int apply_jump(hyb *H, double ts, double *y)
 
 /* ------------------------------------------------------ the hybrid loop */
 
+/* Stiff planar slip. The sliding law's direction E u / |E u| relaxes onto
+ * the one where the friction balances the load at the rate C |K| / |E u|
+ * (see the top), and rk8pd is stable only for steps below ~5 |E u| / (C
+ * |K|): a slip that lingers at a small speed (a load just beyond the
+ * friction limit, growing it slowly) holds the explicit stepper to steps
+ * ~5 (|E u| / V) T whatever the tolerance. Such a slip, below SLIP_STIFF
+ * zsw for STIFF_AFTER consecutive accepted steps (a slip passing through
+ * that band on its way up or down at an acceleration of the scene's scale
+ * A takes a few steps; a brief lingering costs at most STIFF_AFTER explicit
+ * steps and keeps rk8pd's answer), is integrated by GSL's bsimp (Bader-Deuflhard
+ * semi-implicit extrapolation, stable on the relaxing direction), whose
+ * steps are set by the same error control alone; it goes back to rk8pd
+ * above 2 SLIP_STIFF zsw and at every event (the mode decided again). The
+ * same ODE under the same rtol, atol: the answer differs from an rk8pd run
+ * by the tolerance, not by the output grid or the step budget. */
+static void stiff_track(hyb *H, const double *y, int reset)
+{
+    double u[3], eu[3], s;
+    if (reset || H->ndof != 3 || H->law != LAW_COULOMB || H->mode != MODE_SLIP || H->small) {
+        H->stiff = 0;
+        H->nlow = 0;
+        return;
+    }
+    model_patch_slip(H->m, MODEL_CS(y[2]), y + 3, u);
+    for (int c = 0; c < 3; c++) eu[c] = H->m->e[c] * u[c];
+    s = sqrt(ex_dot3(eu, eu));
+    if (s < SLIP_STIFF * H->zsw) {
+        if (H->nlow < STIFF_AFTER) H->nlow++;
+        if (H->nlow >= STIFF_AFTER) H->stiff = 1;
+    } else if (!H->stiff || !(s <= 2.0 * SLIP_STIFF * H->zsw)) {
+        H->stiff = 0;
+        H->nlow = 0;
+    }
+}
+
+/* The Jacobian of rhs for bsimp, by forward differences: the columns of
+ * the configuration and velocity (planar: 6; the force integrals do not
+ * enter rhs, their columns are 0), each perturbed by sqrt(DBL_EPSILON)
+ * times the larger of its size and its scale (L, 1 rad, V, 1 / T), and
+ * d/dt likewise over sqrt(DBL_EPSILON) max(|t|, T), backwards at the end
+ * of the motion segment (rhs clamps t into it). */
+static int slip_jac(double t, const double y[], double *dfdy, double dfdt[], void *params)
+{
+    hyb *H = params;
+    const model_scales *sc = &H->m->scale;
+    int ny = H->ny, nq = H->ndof == 3 ? 6 : 2;
+    double f0[NY_MAX], f1[NY_MAX], yp[NY_MAX], dt;
+    double scale[6] = {sc->L, sc->L, 1.0, sc->V, sc->V, 1.0 / sc->T};
+    if (H->ndof == 1) {
+        scale[0] = sc->q;
+        scale[1] = sc->q / sc->T;
+    }
+    if (rhs(t, y, f0, H) != GSL_SUCCESS) return GSL_EBADFUNC;
+    memset(dfdy, 0, (size_t)(ny * ny) * sizeof *dfdy);
+    memcpy(yp, y, (size_t)ny * sizeof *yp);
+    for (int j = 0; j < nq; j++) {
+        double d = sqrt(DBL_EPSILON) * fmax(fabs(y[j]), scale[j]);
+        yp[j] = y[j] + d;
+        d = yp[j] - y[j];
+        if (rhs(t, yp, f1, H) != GSL_SUCCESS) return GSL_EBADFUNC;
+        for (int i = 0; i < ny; i++) dfdy[i * ny + j] = (f1[i] - f0[i]) / d;
+        yp[j] = y[j];
+    }
+    dt = sqrt(DBL_EPSILON) * fmax(fabs(t), sc->T);
+    if (seg_time(H, t + dt) < t + dt) dt = -dt;
+    dt = (t + dt) - t;
+    if (rhs(t + dt, y, f1, H) != GSL_SUCCESS) return GSL_EBADFUNC;
+    for (int i = 0; i < ny; i++) dfdt[i] = (f1[i] - f0[i]) / dt;
+    return GSL_SUCCESS;
+}
+
+
 typedef struct ode {
-    gsl_odeiv2_step *step;
+    gsl_odeiv2_step *step;         /* the stepper in use: rk, or bs while H.stiff */
+    gsl_odeiv2_step *rk, *bs;      /* rk8pd (explicit), bsimp (linearly implicit, stiff_track) */
     gsl_odeiv2_control *con;
     gsl_odeiv2_evolve *evo;
     gsl_root_fsolver *root;
@@ -1790,7 +2046,8 @@ static void ode_free(ode *O)
     if (O->root) gsl_root_fsolver_free(O->root);
     if (O->evo) gsl_odeiv2_evolve_free(O->evo);
     if (O->con) gsl_odeiv2_control_free(O->con);
-    if (O->step) gsl_odeiv2_step_free(O->step);
+    if (O->rk) gsl_odeiv2_step_free(O->rk);
+    if (O->bs) gsl_odeiv2_step_free(O->bs);
     free(O->ts);
     free(O->gb);
     free(O);
@@ -1806,7 +2063,9 @@ static void *hybrid_alloc(const exdex_model *m, int *status)
         *status = EXDEX_ENOMEM;
         return NULL;
     }
-    O->step = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, ny);
+    O->rk = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, ny);
+    O->bs = gsl_odeiv2_step_alloc(gsl_odeiv2_step_bsimp, ny);
+    O->step = O->rk;
     {
         /* atol is relative to the scene's scales: each state component's
          * absolute tolerance is atol times its own scale (positions L,
@@ -1831,7 +2090,7 @@ static void *hybrid_alloc(const exdex_model *m, int *status)
     O->root = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
     O->ts = malloc((EXDEX_MOTION_MAX_SWITCHES + m->grip_n) * sizeof *O->ts);
     O->gb = malloc((EXDEX_MOTION_MAX_SWITCHES + m->grip_n) * sizeof *O->gb);
-    if (!O->step || !O->con || !O->evo || !O->root || !O->ts || !O->gb) {
+    if (!O->rk || !O->bs || !O->con || !O->evo || !O->root || !O->ts || !O->gb) {
         ode_free(O);
         *status = EXDEX_ENOMEM;
         return NULL;
@@ -1844,7 +2103,7 @@ static void *hybrid_alloc(const exdex_model *m, int *status)
     memset(O->evo->dydt_in, 0, ny * sizeof(double));
     memset(O->evo->dydt_out, 0, ny * sizeof(double));
     O->sys.function = rhs;
-    O->sys.jacobian = NULL;
+    O->sys.jacobian = slip_jac;
     O->sys.dimension = ny;
     O->sys.params = NULL;
     return O;
@@ -2094,10 +2353,30 @@ static int locate(hyb *H, ode *O, double t0, const double *y0, double tau0, doub
      * until the next step). Step forward from it, doubling, to a point with
      * g < 0 (g(tau1) < 0 bounds the search). */
     {
-        double d = fmax(H->m->tol.root, 4.0 * DBL_EPSILON * fabs(t0 + hi));
+        double d = fmax(H->m->tol.root, 4.0 * DBL_EPSILON * fabs(t0 + hi)), d0 = d, lo2 = hi;
         for (int k = 0; k < 64 && hi < tau1 && !(root_fn(hi, &c) < 0.0) && !c.fail; k++) {
+            lo2 = hi;
             hi = fmin(tau1, hi + d);
             d *= 2.0;
+        }
+        /* Brent can stop on a zero that is no crossing: a gap lifted off
+         * by an impact at the step start is 0 to rounding just after it
+         * (g >= 0 there, and the crossing sought where it comes back down
+         * later in the step). The doubling then passes over the crossing
+         * by up to its last increment, a good part of the step: an
+         * increment beyond 2^DOUBLING_EXACT d0 is bisected (g >= 0 at lo2,
+         * < 0 at hi) to tol.root (a search that ends sooner leaves the
+         * event at most 2^(DOUBLING_EXACT + 1) tol.root, ~6e-9 T, late). */
+        if (hi - lo2 > ldexp(d0, DOUBLING_EXACT) && !c.fail && root_fn(hi, &c) < 0.0) {
+            for (int it = 0; it < 2 * BRENT_MAX && hi - lo2 > H->m->tol.root && !c.fail; it++) {
+                double mid = lo2 + 0.5 * (hi - lo2);
+                if (!(mid > lo2 && mid < hi)) break;
+                H->st->solver_iterations++;
+                if (root_fn(mid, &c) < 0.0)
+                    hi = mid;
+                else
+                    lo2 = mid;
+            }
         }
     }
     if (c.fail) return EXDEX_ENOCONV;
@@ -2260,6 +2539,7 @@ static int hybrid_begin(const exdex_model *m, ode *O, int law, double t_end, dou
     O->S.h = h;
     O->S.nsw = nsw;
     O->sys.params = &O->S.H;
+    O->step = O->rk;
     /* GSL's objects as allocated: a begin after a run starts afresh */
     gsl_odeiv2_evolve_reset(O->evo);
     gsl_odeiv2_step_reset(O->step);
@@ -2282,10 +2562,13 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
     H.m = m;
     H.st = st;
     O->sys.params = &H;
+    O->step = H.stiff ? O->bs : O->rk;
     if (regrip) {
         H.cap = H.capk * model_capacity(m, t);
         H.caps = H.capk * model_capacity_static(m, t);
         decide(&H, t, y, 0);
+        stiff_track(&H, y, 1);
+        O->step = O->rk;
         gsl_odeiv2_evolve_reset(O->evo);
         gsl_odeiv2_step_reset(O->step);
         status = H.err;
@@ -2313,6 +2596,10 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
             }
             memcpy(y0, y, sizeof y);
             ng = guards(&H, t0, y0, g0);
+            if (O->step != (H.stiff ? O->bs : O->rk)) {
+                O->step = H.stiff ? O->bs : O->rk;
+                ode_restart(O);
+            }
             {
                 unsigned long c0 = O->evo->count + O->evo->failed_steps;
                 gs = gsl_odeiv2_evolve_apply(O->evo, O->con, O->step, &O->sys, &t, tstop, &h, y);
@@ -2465,7 +2752,7 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
             }
             if (status) break;
             if (e_best >= 0) {
-                int vz, keep = 0;
+                int vz, keep = 0, sep = -1;
                 if (tau_best > 0.0 && t0 + tau_best == t0 && g0[e_best] > 0.0 && t > t0) {
                     /* a crossing within half an ulp of t0: the event time
                      * would round to t0, where the guard holds and the
@@ -2517,10 +2804,16 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                         }
                     }
                 }
+                /* planar, a contact-set row separating (its guard lam G
+                 * M^-1 G^T - gap acceleration, after the free gaps) */
+                if (nd == 3 && law == LAW_COULOMB && H.mode != MODE_STICK && !H.sfric && e_best >= H.gap1 &&
+                    e_best < H.gap1 + H.ncs)
+                    sep = H.cs[e_best - H.gap1];
                 if (keep)
                     H.small = 1;
                 else
                     decide(&H, t, y, vz);
+                if (sep >= 0 && same >= 1 && H.mode == MODE_SLIP) set_tie_leaves(&H, sep);
                 gsl_odeiv2_evolve_reset(O->evo);
                 gsl_odeiv2_step_reset(O->step);
                 if (++events > EVENTS_MAX) {
@@ -2539,6 +2832,7 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                 if (!(nd == 3 && law == LAW_COULOMB && H.mode == MODE_STICK)) project_contact(&H, t, y);
                 if (memcmp(yp, y, (size_t)H.ny * sizeof *y)) ode_restart(O);
             }
+            stiff_track(&H, y, e_best >= 0);
             /* a penetration left after the step: the scene drives the
              * object through a stop (see tol.pen) */
             if (ns || m->n_obst) {
@@ -2557,6 +2851,7 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                 status = apply_jump(&H, t, y);
                 if (status) break;
                 decide(&H, t, y, 0);
+                stiff_track(&H, y, 1);
                 ode_restart(O);
             }
             if (!ex_finite_n(y, H.ny)) status = EXDEX_ENONFINITE;
@@ -2615,8 +2910,9 @@ static int hybrid_advance_ws(const exdex_model *m, void *ws, double t1, int regr
 
 /* The state: O->S with the evolve object's fields (the switching times
  * are fixed by begin; the stepper and control objects are not saved: the
- * rk8pd stepper recomputes all its stages from y and dydt_in in each
- * application and the scaled control has no state). */
+ * rk8pd and bsimp steppers recompute all their stages (bsimp also its
+ * Jacobian) from y and dydt_in in each application, the one in use is
+ * H.stiff's, and the scaled control has no state). */
 static void hybrid_save(const void *ws, void *buf)
 {
     const ode *O = ws;
@@ -2650,7 +2946,8 @@ static int hybrid_restore(void *ws, const void *buf)
         return EXDEX_EINVAL;
     for (int i = 0; i < S.H.ncs; i++)
         if (S.H.cs[i] < 0 || (S.H.cs[i] >= nr && !(B->no && orow_valid(B->m, S.H.cs[i] - nr)))) return EXDEX_EINVAL;
-    if (S.H.sfric != B->sfric) return EXDEX_EINVAL;
+    if (S.H.sfric != B->sfric || (S.H.stiff != 0 && S.H.stiff != 1) || S.H.nlow < 0 || S.H.nlow > STIFF_AFTER)
+        return EXDEX_EINVAL;
     for (int k = 0; k < B->ns; k++)
         if (S.H.fm[k] < SF_ROLL || S.H.fm[k] > SF_NONE) return EXDEX_EINVAL;
     O->S = S;

@@ -102,7 +102,7 @@ typedef struct work {
  * adds (|x_B|, |p|, |stop point|; R is orthonormal). */
 
 static void build_rows(const exdex_model *m, const exdex_kinematics *kin_end, const double *q,
-                       double h, work *w)
+                       const double *vp, double h, work *w)
 {
     double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3];
     int nv = contact_vertices(m, q, xb, vx);
@@ -120,12 +120,28 @@ static void build_rows(const exdex_model *m, const exdex_kinematics *kin_end, co
         /* the obstacles' rows, in the same form (contact_obstacle_rows) */
         double rnd[MAX_ROWS];
         int i0 = w->n_rows,
-            no = contact_obstacle_rows(m, kin_end, q, w->G + i0, w->gap + i0, rnd, w->row_stop + i0, w->cpt + i0);
+            no = contact_obstacle_rows_pred(m, kin_end, q, vp, h, w->G + i0, w->gap + i0, rnd, w->row_stop + i0,
+                                            w->cpt + i0);
         for (int i = i0; i < i0 + no; i++) {
             w->rhs[i] = fabs(w->gap[i]) <= rnd[i - i0] ? 0.0 : -w->gap[i] / h;
             w->lam[i] = 0.0;
         }
         w->n_rows += no;
+    }
+}
+
+/* The step's rows (build_rows), none in a scene without stops and
+ * obstacles. The obstacles' rows take their pieces by the tie rule of
+ * contact_obstacle_rows_pred with the predicted velocity vs = v + h M^-1 Q,
+ * the step's velocity without contact or friction impulses: at rest (v = 0)
+ * it is the direction the applied forces drive the object in. */
+static void build_rows_or_none(const exdex_model *m, const exdex_kinematics *kin_end, const double *q,
+                               const double *vs, double h, work *w)
+{
+    if (m->n_stops || m->n_obst) {
+        build_rows(m, kin_end, q, vs, h, w);
+    } else {
+        w->n_rows = 0;
     }
 }
 
@@ -991,11 +1007,6 @@ static int implicit_substep(const exdex_model *m, work *w, const model_sub *sub,
              * order in smooth phases, and exactly 0 while the object sticks */
             vmid[i] = hprev > 0.0 ? v[i] + 0.5 * h * (v[i] - vprev[i]) / hprev : v[i];
         }
-        if (ns || m->n_obst) {
-            build_rows(m, &kin_end, q, h, w);
-        } else {
-            w->n_rows = 0;
-        }
         if (n_dof == 1) {
             int tr = m->def.dof == EXDEX_DOF_TRANSLATION;
             double M = tr ? m->m : m->mrot, Q = model_force_1dof(m, &f, qm[0], vmid[0]), pf;
@@ -1006,6 +1017,7 @@ static int implicit_substep(const exdex_model *m, work *w, const model_sub *sub,
             double capm = model_capacity_mean(m, t, t1), c = tr ? h * capm : h * capm * m->e[2];
             double capsm = model_capacity_static_mean(m, t, t1), c_s = tr ? h * capsm : h * capsm * m->e[2];
             vs[0] = v[0] + h * Q / M;
+            build_rows_or_none(m, &kin_end, q, vs, h, w);
             step_1dof(M, c, c_s, vs[0], m->tol.touch, w, &vn[0], &pf, st);
             if (m->stop_friction) {
                 int rest = 0;
@@ -1039,6 +1051,7 @@ static int implicit_substep(const exdex_model *m, work *w, const model_sub *sub,
             double pfB[3], fo[3];
             model_force_planar(m, &f, qm, vmid, F);
             for (int i = 0; i < 3; i++) vs[i] = v[i] + h * m->minv[i] * F[i];
+            build_rows_or_none(m, &kin_end, q, vs, h, w);
             status = step_planar(m, h, model_capacity_mean(m, t, t1), model_capacity_static_mean(m, t, t1), qm[2], vs,
                                  w, vn, pfB, &fr, st);
             if (status) {

@@ -902,8 +902,9 @@ class Stop:
         stops (``implicit`` and ``explicit``: velocity-level
         complementarity; ``event`` and ``regularised``: friction modes with
         located switches, the regularised method smoothing only the plate
-        friction), stick exactly still. Impacts in ``event`` and
-        ``regularised`` are frictionless.
+        friction), stick exactly still. Impacts are plastic with Coulomb
+        friction at the impulse level (no plate impulse: the grip force is
+        finite), in every method.
     """
 
     point: Vector

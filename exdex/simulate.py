@@ -394,9 +394,10 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
         u = 0 in the step whose kinetic update reverses it (or whose
         friction impulse can stop it) if Cs holds the load there: first
         order in dt.
-        Every method handles stops in every scene (planar: plastic
-        frictionless impacts, unilateral contact with the stop force from the
-        constraint acceleration; "event" also rests exactly against stops).
+        Every method handles stops in every scene (planar: plastic impacts,
+        Coulomb at the impulse level on frictional stops, unilateral contact
+        with the stop force from the constraint acceleration; "event" also
+        rests exactly against stops).
     friction_solver : {"scalar", "brent", "multiroot"}
         How the ellipsoid step is solved in planar scenes: the monotone scalar
         (secular) equation by safeguarded Newton (default) or GSL Brent, or the

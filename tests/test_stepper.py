@@ -421,3 +421,30 @@ def test_gripper_pose_contract_and_errors():
     analytic = exdex.Stepper(_branch_scene(), method="analytic")
     with pytest.raises(ValueError, match="analytic method follows the scene's motion"):
         analytic.step(1e-3, gripper=exdex.GripperPose((0, 0, 0)))
+
+
+def test_save_restore_in_a_stiff_planar_slip():
+    """The event method integrates a planar slip lingering at a small speed
+    with a linearly implicit stepper (tests/test_event.py, the slip at the
+    friction incline launched across it): a snapshot taken in that phase
+    branches exactly too, on the same stepper and on another one of the same
+    model, and a stepper that never saved takes the same steps."""
+    m, mu, F, v0 = 0.1, 0.4, 0.5, 2e-6
+    scene = exdex.Scene(body=exdex.Body.box(m, (0.04, 0.02, 0.01)),
+                        grasp=exdex.Grasp(mu=mu, grip_force=F, patch=exdex.Patch.disc(0.008)),
+                        dof="planar", gravity=(2 * mu * F / m, -9.81, 0.0), v0=(0.0, v0, 0.0))
+    model = exdex.Model(scene, method="event", rtol=1e-10, atol=1e-13)
+    a, b, c = exdex.Stepper(model), model.stepper(), model.stepper()
+    for _ in range(10):
+        a.step(0.05)
+        c.step(0.05)
+    snap = a.save()
+    first = [a.step(0.05) for _ in range(10)]
+    plain = [c.step(0.05) for _ in range(10)]
+    assert a.stats["steps"] < 5000  # the implicit stepper took over (rk8pd alone: ~7.7e5 steps to 1 s)
+    for stepper in (a, b):
+        stepper.restore(snap)
+        again = [stepper.step(0.05) for _ in range(10)]
+        for x, y, z in zip(first, again, plain):
+            assert x.t == y.t == z.t and np.array_equal(x.q, y.q) and np.array_equal(x.v, y.v)
+            assert np.array_equal(x.q, z.q) and np.array_equal(x.v, z.v) and x.stick == y.stick

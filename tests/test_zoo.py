@@ -83,8 +83,10 @@ units (zoo.run), so a 1 mm and a 1 m scene are held to the same standard.
   p(0) with the D_k shrinking geometrically once eps is small enough,
   D_{k+1} / D_k = r (1/2 at first order, 1/4 at second). Then the finest
   run's error is the tail of the differences past the last one,
-  e <= D_last (r + r^2 + ...) = D_last r / (1 - r) <= S D_last for r <=
-  RATIO_HI = 3/4 (S = 3). The model holds only once eps is small against
+  e <= D_last (r + r^2 + ...) = D_last r / (1 - r): 2 D_last for r <=
+  RATIO_HI = 2/3, and S D_last (S = 3) as long as the ratios past the
+  ladder stay below 3/4 (the margin for ratios that drift up as eps
+  leaves a transition). The model holds only once eps is small against
   every speed that decides the outcome: a load near the friction limit
   creeps at eps |w| / sqrt(C^2 - |w|^2), so at a margin C - |w| small
   against C the creep (and the error) is not first order until eps is
@@ -93,27 +95,29 @@ units (zoo.run), so a 1 mm and a 1 m scene are held to the same standard.
   eps0 / 1 .. / 32, differences 0.053, 0.058, 0.12, 0.10, 0.074 L: the
   error grows before it falls, and 3 D at eps0/4 missed it). So the ladder
   is judged only where it shows the model: N_RATIOS = 2 consecutive ratios
-  D_{k+1} / D_k in [RATIO_LO, RATIO_HI] = [1/8, 3/4] (down to third order;
+  D_{k+1} / D_k in [RATIO_LO, RATIO_HI] = [1/8, 2/3] (down to third order;
   a single ratio was seen in range by coincidence on a ladder still 4 L
-  from its limit, 0.35 then 0.11 then 0.23, 0.41 L), or the last three
+  from its limit, 0.35 then 0.11 then 0.23, 0.41 L, and ratios 0.72, 0.60
+  on a ladder slowly leaving a plateau, 0.0025, 0.0018, 0.0011 L, before
+  a difference of 0.0062 L at the next halving, 0.015 L off), or the last three
   differences all within the runs' own integration error (below). Until
   then eps is halved further, down to EPS / EPS_LADDER_RANGE (1024); a
   ladder that gets there without it (or whose next run fails) is outside
   the regime (``regime`` False) and still judged on its last differences:
   every scene gets a verdict. The bound is S max of the last N_RATIOS + 1
-  differences (the window where the model was seen: S times its largest,
-  not only its last, as the differences of a ladder not yet in its regime
-  can pass two ratios and grow again, seen in the zoo: 0.11, 0.083, 0.032
-  then 0.047, 0.068, 0.060 L, the run at the window's end 0.285 L off: 8.9
-  times the last difference, 2.6 times the largest), plus the runs' own
-  integration tolerance
-  (zoo.integration_tol: its adaptive runs are at REF_RTOL too, so steps x
-  REF_RTOL x (1 + the pose's size), the sum of the steps' errors), plus its
-  creep at the finest eps: under a load w inside the friction ellipsoid it
-  does not stick but creeps at eps |E^-1 w| / sqrt((mu N)^2 - |E^-1
-  w|^2), summed here over the reference's stuck intervals with the
-  reference's wrench (zoo.regularised_creep); where the reference's load
-  sits on the limit that law has no first-order term (infinite speed) and
+  differences (the window where the model was seen; its largest, not only
+  its last, as in the implicit check, so that the bound does not rest on
+  a single difference: a window 0.11, 0.083, 0.032 L, ratios 0.74 and
+  0.39, was followed in the zoo by 0.047, 0.068, 0.060 L, its last run
+  0.285 L off, 8.9 times the last difference and 2.5 times the largest),
+  plus the runs' own integration tolerance (zoo.integration_tol: its
+  adaptive runs are at REF_RTOL too, so steps x REF_RTOL x (1 + the pose's
+  size), the sum of the steps' errors), plus its creep at the finest eps:
+  under a load w inside the friction ellipsoid it does not stick but
+  creeps at eps |E^-1 w| / sqrt((mu N)^2 - |E^-1 w|^2), summed here over
+  the reference's stuck intervals with the reference's wrench
+  (zoo.regularised_creep); where the reference's load sits on the limit
+  that law has no first-order term (infinite speed) and
   the ladder's differences alone carry the error. Cost: each halving
   doubles the cost of a stiff run, so the ladder starts where its creep
   leaves the configuration nearly unchanged: eps0 = EPS L / tau (EPS =
@@ -181,7 +185,22 @@ SEEDS = range(N_SCENES)
 #: while the stop receded in B faster than SLIP_PUSH zsw stopped; at rest
 #: the stop separated and the load (beyond friction alone) drove the object
 #: back: an impact every ~300 ns, event budget exceeded.
-EXTRA_SEEDS = (7614, 7401, 7414, 9682, 5990, 2311, 5652, 833, 6636, 7200, 5632, 7936, 7437)
+#: 3914, planar: a load just beyond the friction limit grew a slip from rest
+#: at ~6e-6 of the velocity scale per time scale, lingering at 2-7 zsw for
+#: a time scale, where the sliding law's direction is stiff: the explicit
+#: stepper's ~1.6e-7 s steps exceeded the step budget of an output
+#: interval t_end / 8 (it returned at t_end / 64).
+#: 4355, 7779, planar: a contact-set row whose separation was located was
+#: put back into the set by the decision there (a force of rounding size
+#: from the complementarity solve), four times at the same time, and then
+#: kept while it separated (warnings): 1.3e-4 L and 1.8e-6 L off at some
+#: rtol and output grids. 7779, 4421: an event located late by up to a
+#: good part of a step (the gap of a corner just lifted off by an impact is
+#: 0 to rounding at the step start, Brent stopped there, and the forward
+#: search for a violated point doubled past the crossing): an impact 6e-6 s
+#: late, or an extra one; 1.8e-6 L and 2.8e-6 L off.
+EXTRA_SEEDS = (7614, 7401, 7414, 9682, 5990, 2311, 5652, 833, 6636, 7200, 5632, 7936, 7437, 3914, 4355, 7779,
+               4421)
 #: The regularised method's agreement (a ladder of four or more stiff runs) on every REG_EVERY-th
 #: seed; it returns on all of them.
 REG_EVERY = 2
@@ -301,6 +320,7 @@ def test_zoo_regularised_ladder_consistency():
     assert not zoo.ladder_consistent([0.053, 0.058, 0.12])      # growing first
     assert not zoo.ladder_consistent([0.35, 0.11, 0.23])        # one ratio by coincidence
     assert not zoo.ladder_consistent([0.15, 0.0011, 0.03])      # collapse, then growth
+    assert not zoo.ladder_consistent([0.0025, 0.0018, 0.0011])  # slower than first order
     assert not zoo.ladder_consistent([0.1, 0.05])               # one ratio is not two
     assert zoo.ladder_consistent([3e-9, 1e-9, 2e-9], noise=1e-8)
     assert not zoo.ladder_consistent([3e-9, 1e-9, 2e-9], noise=1e-10)

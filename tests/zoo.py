@@ -602,12 +602,13 @@ def _branch_eps(zs, ref_run, eps0):
 
 #: The regularised ladder's successive differences D_k (between eps_k and
 #: eps_k / 2) are an error estimate only once they shrink as a convergent
-#: sequence's do: D_{k+1} / D_k in [RATIO_LO, RATIO_HI] (first order: 1/2;
-#: the tail of a sequence shrinking by at most RATIO_HI per halving is at
-#: most RATIO_HI / (1 - RATIO_HI) = S times its last difference). The ladder
+#: sequence's do: D_{k+1} / D_k in [RATIO_LO, RATIO_HI] (first order: 1/2,
+#: second: 1/4; the tail of a sequence shrinking by at most r per halving is
+#: at most r / (1 - r) times its last difference: 2 at RATIO_HI, S = 3 at
+#: 3/4, the margin for ratios past the ladder). The ladder
 #: is extended by halvings, down to EPS / EPS_LADDER_RANGE, until its last
 #: N_RATIOS ratios are in that range (see tests/test_zoo.py).
-RATIO_LO, RATIO_HI = 0.125, 0.75
+RATIO_LO, RATIO_HI = 0.125, 2.0 / 3.0
 EPS_LADDER_RANGE = 1024.0
 
 

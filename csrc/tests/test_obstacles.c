@@ -350,6 +350,63 @@ EXDEX_TEST(obstacle_rod_turns_a_pinned_square_as_the_tangent_predicts)
     }
 }
 
+EXDEX_TEST(obstacle_square_slides_past_a_box_corner_on_a_slope)
+{
+    /* A square of half side a (planar, frictionless plates and box) rests
+     * flush on the top face of a box turned by alpha about A's y (the plate
+     * normal), its leading edge L0 before the box's downhill top corner K
+     * (at B's origin), its edges parallel to the box's. Gravity's component
+     * along the face, g sin(alpha), is the only force along it and the
+     * weight passes through the square's base, so it translates:
+     *   c(t) = c0 + 1/2 g sin(alpha) t^2 s,  theta = theta0,
+     * s the downhill direction, through the instant its leading corner meets
+     * K (the vertex's two face distances and K's two edge distances tie at
+     * 0) and on while it overhangs (checked to an overhang of a / 2, the
+     * centre of mass still over the box). The steps q+ = q + h v+ miss the
+     * path by h v(t) / 2 + O(h^2) along s: bound h v(t); theta exact. */
+    exdex_scene_def d = exdex_default_scene_def();
+    const double a = 0.02, al = 0.3, L0 = 0.01, hs = 0.05;
+    /* B x = A x, B y = A z: the box's axes in B are e1 = (cos al, -sin al)
+     * and its top face normal n = (sin al, cos al); downhill s = e1 */
+    double Q[9] = {cos(al), 0, sin(al), 0, 1, 0, -sin(al), 0, cos(al)};
+    double s[2] = {cos(al), -sin(al)}, n[2] = {sin(al), cos(al)}, c[3], hh[3] = {hs, hs, hs}, c0[2];
+    sim_run run;
+    c[0] = -hs * s[0] - hs * n[0];
+    c[1] = 0.0;
+    c[2] = -hs * s[1] - hs * n[1];
+    c0[0] = -(L0 + a) * s[0] + a * n[0];
+    c0[1] = -(L0 + a) * s[1] + a * n[1];
+    d.dof = EXDEX_DOF_PLANAR;
+    d.mass = 0.1;
+    d.inertia[0] = d.inertia[4] = d.inertia[8] = 0.1 * (2 * a) * (2 * a) / 6;
+    d.mu = 0.0;
+    d.grip_force = 1.0;
+    d.n_vertices = 4;
+    d.vertices[0][0] = -a; d.vertices[0][1] = -a;
+    d.vertices[1][0] = a;  d.vertices[1][1] = -a;
+    d.vertices[2][0] = a;  d.vertices[2][1] = a;
+    d.vertices[3][0] = -a; d.vertices[3][1] = a;
+    d.q0[0] = c0[0];
+    d.q0[1] = c0[1];
+    d.q0[2] = -al;
+    d.n_obstacles = 1;
+    d.obstacles[0] = box(c, hh, Q);
+    for (int k = 0; k < 2; k++) {
+        d.method = k ? EXDEX_METHOD_EXPLICIT : EXDEX_METHOD_IMPLICIT;
+        ENSURE(sim_run_def(&d, 0.12, 1e-4, &run) == EXDEX_OK);
+        ENSURE(run.st.min_gap >= -1e-12);
+        for (size_t i = 0; i < run.tr.n; i++) {
+            double t = run.tr.t[i], acc = G * sin(al), dd = 0.5 * acc * t * t;
+            if (dd > L0 + 0.5 * a) break;
+            ENSURE(hypot(run.tr.q[3 * i] - (c0[0] + dd * s[0]), run.tr.q[3 * i + 1] - (c0[1] + dd * s[1])) <=
+                   1e-4 * acc * t + 1e-12);
+            ENSURE_CLOSE(run.tr.q[3 * i + 2], -al, 1e-12);
+        }
+        ENSURE(0.5 * G * sin(al) * 0.12 * 0.12 > L0 + 0.5 * a); /* the run reaches past the corner */
+        sim_run_free(&run);
+    }
+}
+
 EXDEX_TEST(obstacle_bad_input_status)
 {
     exdex_scene_def d;
