@@ -42,6 +42,14 @@
  * outside the static ellipsoid the kinetic impulse cannot stop it.) With
  * mu_static = mu the two capacities are the same number and the step is the
  * one-coefficient step.
+ *
+ * Where the slip stops inside a step, the step's end state is that of the
+ * slip stopping under the step's force (slip_stop_in_step, 1-DoF: also a
+ * reversal through zero, stopping and breaking away; the planar form
+ * slip_stop_in_step_planar), and a translation step that a stop pushes
+ * ends with the held contact's velocity (held_velocity_1dof): errors that
+ * the step's own end state would make depend on where the switch falls in
+ * the step, the same on every level of a nested step ladder.
  */
 #include "exdex.h"
 #include "contact.h"
