@@ -4,8 +4,9 @@
 
 Draws scenes ``seed .. seed + n - 1`` from tests/zoo.py (the generator the
 test suite uses; see its docstring for what a scene can be), runs each one
-through ``zoo.check_scene`` (implicit and explicit at three time steps,
-event at two tolerances and output grids, regularised at one smoothing
+through ``zoo.check_scene`` (implicit at four time steps, explicit on its
+time-step ladder from there, extended until consistent, event at two
+tolerances and output grids, regularised at one smoothing
 speed, and on its eps ladder on every 4th scene as in the test suite; every
 tolerance in the scene's own units) on ``--jobs`` processes, shows a progress bar on
 stderr and prints:

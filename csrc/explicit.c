@@ -31,14 +31,40 @@
  *   normal n0, offset d from the centre of mass): g = R(theta) n0.(y - r) - d,
  *   with n = R n0 the remainder is (R(phi) n - n - phi J n).(y - r)
  *   - h (R(phi) n - n).v, at most 1/2 phi^2 |y - r| + h |phi| |v|, and
- *   |y - r| <= r_max + h |v| when y ends inside the hull.
+ *   |y - r| <= r_max + h |v| when y ends inside the hull;
+ *   a rod of radius rho normal to the plate plane (its section a disc,
+ *   centre a) against the hull K: the row is the hull point V nearest a
+ *   (R0 = |V - a| > 0, n = (V - a) / R0), whose material point moves while
+ *   the nearest point slides along the hull, so the remainder of V's row
+ *   does not bound the gap. K lies in the half-plane n.(x - V) >= 0 (V is
+ *   the projection of a onto K), so the moved hull lies in
+ *   R(phi) n.(x - V+) >= 0 and its distance from a is at least
+ *   R(phi) n.(V+ - a) = cos(phi) n.(V+ - a) + sin(phi) Jn.(V+ - a). With
+ *   V+ = V + h Vd + e (Vd = v + thd J (V - r) the point's velocity,
+ *   |e| <= 1/2 phi^2 r_max the rotation's remainder), the row
+ *   R0 + h n.Vd >= rho, and Jn.(V - a) = 0, the gap after the step is at
+ *   least -(1 - cos phi) rho - |e| (1 + |phi|) - |phi| h |Vd|, i.e. at most
+ *   1/2 phi^2 (rho + r_max (1 + |phi|)) + |phi| h (|v| + |thd| r_max)
+ *   below 0 (1-DoF rotation: v = 0, r from the pivot; translation: 0).
+ *   A tilted rod (an elliptic section) is checked against the same term,
+ *   which this argument (Euclidean distance from a) does not cover.
  * So at most 1/2 h^2 thd^2 r_max per step with stops (1-DoF rotation: about
  * the pivot, r_max from it), and 1/2 h^2 thd^2 (r_max + h |v|)
  * + h^2 |thd| |v| for planar scenes with obstacles (the edge normal turns
- * while the object translates); 0 for translation. At stick
+ * while the object translates), at least the rod's term above with a rod;
+ * 0 for translation. At stick
  * it chatters: with a load |Q| < C the velocity never returns to 0 but
  * circulates in (-dt (C - Q)/M, dt (C + Q)/M] (Q > 0) and creeps on average
- * at dt Q / M.
+ * at dt Q / M (1-DoF). Planar, the creep is not bounded by that band: in
+ * the scaled slip s = E u (s_3 = e_r times the rotation rate) the step is
+ * s+ = s + h K (a - C s / |s|), K = E J M^-1 J^T E, a the load; held
+ * (|a| < C), the translational part of s chatters in a band ~ h C / m, and
+ * the friction torque, C e_r s_3 / |s|, is then only the fraction
+ * s_3 / |s| of C e_r, so the rotation runs until s_3 is comparable to the
+ * band: the object turns at up to ~ (h C / m) / e_r (times rho /
+ * sqrt(1 - rho^2), rho = |a| / C), first order in h but with a constant
+ * 1 / e_r, far above the 1-DoF band h C e_r / I when e_r is small against
+ * the object (the re-stick rule below removes it).
  *
  * Static friction (mu_static > mu, capacities C_s > C): the plates hold
  * the object at rest (v+ = 0 exactly) while the wrench that holds it,
@@ -388,10 +414,17 @@ static int explicit_substep(const exdex_model *m, explicit_ws *w, const model_su
              * the object through a stop (see tol.pen) */
             double thd = nd == 3 ? v[2] : m->def.dof == EXDEX_DOF_ROTATION ? v[0] : 0.0;
             double gmin = contact_min_gap(m, &kin_end, q), pen = 0.5 * h * h * thd * thd * rmax;
+            double sp = nd == 3 ? hypot(v[0], v[1]) : 0.0, rho = 0.0;
             if (nd == 3 && m->n_obst) {
                 /* a section vertex against an object edge (see the top) */
-                double sp = hypot(v[0], v[1]);
                 pen += 0.5 * h * h * thd * thd * h * sp + h * h * fabs(thd) * sp;
+            }
+            for (int o = 0; o < m->n_obst; o++)
+                if (m->def.obstacles[o].kind == EXDEX_OBSTACLE_CYLINDER) rho = fmax(rho, m->def.obstacles[o].radius);
+            if (rho > 0.0 && thd != 0.0) {
+                /* a rod's row: the hull point nearest its axis (see the top) */
+                double phi = fabs(h * thd);
+                pen = fmax(pen, 0.5 * phi * phi * (rho + rmax * (1.0 + phi)) + phi * h * (sp + fabs(thd) * rmax));
             }
             if (gmin < st->min_gap) st->min_gap = gmin;
             if (gmin < -(m->tol.pen + pen) || contact_unreachable(m, &kin_end, q))

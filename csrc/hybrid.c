@@ -201,7 +201,9 @@
  *   <= 0 the friction turns the normal force's generalized direction
  *   around and the acceleration-level contact has no solution (Painleve):
  *   the contact is taken frictionless there and a warning counted (the
- *   implicit method, at the velocity level, reports the same jam). Impacts
+ *   implicit method, at the velocity level, reports the same jam); a jam
+ *   reached in contact (D / Fq falling to 0, lam without bound) is located
+ *   by a guard at D / Fq = JAM_DIR. Impacts
  *   are plastic with Coulomb friction at the impulse level
  *   (impact_impulse_1dof: the velocity after one is the frictionless one,
  *   the impulse the stop takes is not). Planar scenes: a friction mode per
@@ -285,6 +287,17 @@
 #define NY_MAX (9 + EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES)
 #define NG_MAX (3 + 3 * MAX_ROWS + EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES)  /* guards (planar: 2 friction, the rows, stop friction, obstacle features) */
 #define NSRC_MAX (EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES)
+/* 1-DoF frictional contact (see "Frictional stops" above): its normal force
+ * is lam = R / D, D = Fq - mu ss T, i.e. the frictionless force R / Fq times
+ * Fq / D. Where D / Fq falls to 0 (a jam: the friction turns the normal
+ * force's generalized direction around) lam grows as 1 / (t_jam - t) and its
+ * integral as -log(t_jam - t): no step reaches t_jam. The contact is taken
+ * frictionless (warning counted) once D / Fq <= JAM_DIR, a guard located
+ * like every guard: the normal force is then 1 / JAM_DIR times the
+ * frictionless one, and the impulse given up, the integral of lam beyond,
+ * grows as log(1 / JAM_DIR) only. Friction returns where D / Fq of the slip's
+ * sign exceeds JAM_DIR again, or the slip reverses (decided again there). */
+#define JAM_DIR 1e-6
 #define SLIP_FLOOR 1e-6  /* planar slip: below SLIP_FLOOR V of |E u| the slip is "small" (see the header comment) */
 #define SLIP_UP 2.0      /* a small slip becomes a slip at SLIP_UP zsw (hysteresis against zsw) */
 #define SLIP_PUSH 4.0    /* a stop pushing a stopped planar slip on below SLIP_PUSH zsw: a rest instead */
@@ -324,6 +337,9 @@ typedef struct hyb {
     int no;            /* obstacles (their rows follow the stops', see hrow_src) */
     int stiff;         /* event, planar slip: 1 while the stiff stepper integrates it (stiff_track) */
     int nlow;          /* consecutive steps of that slip below SLIP_STIFF zsw (up to STIFF_AFTER) */
+    double jam;        /* 1-DoF contact with a frictional stop taken frictionless at a jam (its
+                          friction would turn the normal force around, see JAM_DIR): the sign of
+                          the slip there; 0: none */
 } hyb;
 
 /* ---------------------------------------------------------- contact rows
@@ -1602,7 +1618,23 @@ static int guards(hyb *H, double t, const double *y, double *g)
         H->gap1 = n;
         /* a frictional contact: its vertex keeps slipping the same way
          * along the stop (at a reversal the friction turns: decided again) */
-        if (H->mode == MODE_CONTACT && H->ss != 0.0) g[n++] = H->ss * contact_slip_1dof(H, &kin, q, v, NULL);
+        if (H->mode == MODE_CONTACT && H->ss != 0.0) {
+            double T = 0.0;
+            crow c;
+            g[n++] = H->ss * contact_slip_1dof(H, &kin, q, v, &T);
+            /* ... and its friction does not jam the contact (JAM_DIR) */
+            hrow_1dof(H, &kin, H->ck, H->cj, q, &c);
+            g[n++] = contact_dir(H, &c, T) / c.Fq - JAM_DIR;
+        }
+        if (H->mode == MODE_CONTACT && H->jam != 0.0) {
+            /* taken frictionless at a jam: until the slip reverses or its
+             * friction would no longer jam the contact */
+            double T = 0.0;
+            crow c;
+            g[n++] = H->jam * contact_slip_1dof(H, &kin, q, v, &T);
+            hrow_1dof(H, &kin, H->ck, H->cj, q, &c);
+            g[n++] = JAM_DIR - (c.Fq - model_source_mu(m, H->ck) * H->jam * T) / c.Fq;
+        }
         /* in contact with an obstacle row: its feature stays the active one */
         if (H->mode == MODE_CONTACT && H->ck >= H->ns) g[n++] = orow_feature_guard(m, &kin, H->cj, &q);
     }
@@ -1815,10 +1847,12 @@ static void decide_modes(hyb *H, double t, double *y, int vzero)
                 H->ck = k;
                 H->cj = j;
                 H->ss = 0.0;
+                H->jam = 0.0;
                 if (model_source_mu(m, k) > 0.0) {
                     sl = contact_slip_1dof(H, &kin, q, v, &T);
                     H->ss = sl > 0.0 ? 1.0 : sl < 0.0 ? -1.0 : 0.0;
-                    if (H->ss != 0.0 && !(contact_dir(H, &c, T) * c.Fq > 0.0)) {
+                    if (H->ss != 0.0 && !(contact_dir(H, &c, T) / c.Fq > JAM_DIR)) {
+                        H->jam = H->ss;
                         H->ss = 0.0;
                         H->st->warnings++;
                     }
@@ -1845,6 +1879,7 @@ static void decide_modes(hyb *H, double t, double *y, int vzero)
             }
             H->s = s_old;
             H->ss = 0.0;
+            H->jam = 0.0;
         }
         if (H->law == LAW_SMOOTH) {
             H->mode = MODE_FREE;
@@ -2946,7 +2981,8 @@ static int hybrid_restore(void *ws, const void *buf)
         return EXDEX_EINVAL;
     for (int i = 0; i < S.H.ncs; i++)
         if (S.H.cs[i] < 0 || (S.H.cs[i] >= nr && !(B->no && orow_valid(B->m, S.H.cs[i] - nr)))) return EXDEX_EINVAL;
-    if (S.H.sfric != B->sfric || (S.H.stiff != 0 && S.H.stiff != 1) || S.H.nlow < 0 || S.H.nlow > STIFF_AFTER)
+    if (S.H.sfric != B->sfric || (S.H.stiff != 0 && S.H.stiff != 1) || S.H.nlow < 0 || S.H.nlow > STIFF_AFTER ||
+        (S.H.jam != 0.0 && S.H.jam != 1.0 && S.H.jam != -1.0))
         return EXDEX_EINVAL;
     for (int k = 0; k < B->ns; k++)
         if (S.H.fm[k] < SF_ROLL || S.H.fm[k] > SF_NONE) return EXDEX_EINVAL;

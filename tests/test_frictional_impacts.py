@@ -149,7 +149,7 @@ def test_spinning_box_corner_strikes_a_frictional_floor_closed_form(mu, law, met
     np.testing.assert_allclose(res.v[after], np.tile(vp, (after.sum(), 1)), rtol=0, atol=1e-9)
 
 
-@pytest.mark.parametrize("mu_s, vt", [(0.3, 0.2), (0.8, 0.2), (0.5, -0.1)])
+@pytest.mark.parametrize("mu_s, vt", [(0.3, 0.2), (0.8, 0.2), (0.5, -0.1), (1.5, 0.2)])
 def test_thrown_block_strikes_a_frictional_wall_closed_form(mu_s, vt):
     """A square block with a face parallel to a wall (normal +x at x =
     -0.02 m, B = A), no gravity, gripper at rest, thrown at it with (-vn,
@@ -161,7 +161,10 @@ def test_thrown_block_strikes_a_frictional_wall_closed_form(mu_s, vt):
     face strike together, their normal impulses carry the friction's
     torque: no spin), tangential velocity vt' = vt* - sign(vt*) min(|vt*|,
     mu vn*). Then it slides along the wall without pushing it (the plate
-    friction is along the wall) and decelerates at c."""
+    friction is along the wall) and decelerates at c. At mu 1.5 the impact
+    sticks (|vt*| <= mu vn*): the block stops dead at the wall, and the
+    decision after the impact, from rest, holds it there (no load): v = 0
+    exactly from then on."""
     a, m, cap, vn, gap = 0.03, 0.1, 1e-3, 0.2, 0.005
     sc = exdex.Scene(body=exdex.Body.box(m, (a, a, 0.02)),
                      grasp=exdex.Grasp(mu=0.5, grip_force=1e-3, patch=exdex.Patch.rectangle(0.01, 0.01)),

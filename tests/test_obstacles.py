@@ -695,7 +695,8 @@ def test_frictional_rod_on_the_pinned_square_event_and_regularised(method):
     """The rod pushing the pinned square (rotation scene, above) with
     friction mu = 0.5, in the event and regularised methods, up to t = 0.6 s
     (the friction then turns the rod's force toward the pin: the contact
-    jams at ~0.66 s, where the force grows without bound): the kinematics
+    jams at 0.652 s, where the force grows without bound; the test below
+    runs through it): the kinematics
     are the tangency's (event to 1e-12 rad, regularised to 1e-9 at eps =
     1e-5), the rod's force is at least the frictionless one and above it
     while the edge slides over the rod, and it agrees with the implicit
@@ -719,6 +720,78 @@ def test_frictional_rod_on_the_pinned_square_event_and_regularised(method):
     assert np.any(res.stop_force[pushing, 0] > 1.01 * out[0.0].stop_force[pushing, 0])
     late = res.t > 0.32  # after the first contact's impact interval
     np.testing.assert_allclose(res.stop_force[late, 0], imp.stop_force[::10][late, 0], rtol=1e-2)
+
+
+def _rod_jam_time(d, g0, mu, motion):
+    """The time the frictional rod jams the pinned square (the scene above):
+    with the tangency th(t) (above), the edge's outward normal n = (sin th,
+    -cos th) and tangent t = (cos th, sin th), the rod (centre c = (d, -L),
+    L = a + r + g0 - delta) touches the edge at p = c - r n, where the
+    square's point moves at th' e_z x p and the rod at delta' e_y, so the
+    square slips along the rod at s = (th' e_z x p - delta' e_y) . t, and
+    th' = delta' cos th / (d cos th - L sin th) (the time derivative of the
+    tangency d sin th + L cos th = a + r). The rod's force on the square is
+    N (-n - mu sign(s) t); its moment about the pin per unit N,
+        m(t) = p x (-n - mu sign(s) t),
+    is the rod's generalized direction (the frictionless one p x -n, turned
+    by the friction). The contact jams where m reaches 0: the force needed
+    to turn the square, (its torque) / m, grows without bound there."""
+    from scipy.optimize import brentq
+
+    def moment(t):
+        k = motion.evaluate(np.array([t]))
+        delta, ddelta = -k["p"][0, 2], -k["v"][0, 2]
+        L = A + RADIUS + g0 - delta
+        th = math.atan2(d, L) - math.acos((A + RADIUS) / math.hypot(d, L))
+        thd = ddelta * math.cos(th) / (d * math.cos(th) - L * math.sin(th))
+        n, tv = np.array([math.sin(th), -math.cos(th)]), np.array([math.cos(th), math.sin(th)])
+        p = np.array([d, -L]) - RADIUS * n
+        slip = (thd * np.array([-p[1], p[0]]) - np.array([0.0, ddelta])) @ tv
+        f = -n - mu * np.sign(slip) * tv
+        return p[0] * f[1] - p[1] * f[0]
+
+    assert moment(0.5) > 0 > moment(0.9)
+    return brentq(moment, 0.5, 0.9, xtol=1e-12)
+
+
+@pytest.mark.parametrize("method", ["event", "regularised"])
+def test_frictional_rod_jams_the_pinned_square_and_the_run_goes_on(method):
+    """The frictional rod on the pinned square (above) to t = 1 s, through
+    the jam at t_jam (_rod_jam_time, 0.6519 s): beyond it the
+    acceleration-level contact has no solution with friction (Painleve), the
+    run returns, states the jam (a warning, the first one within an output
+    step after t_jam) and takes the contact frictionless from there: its rod
+    force equals the frictionless scene's, and it agrees with the implicit
+    method's (dt 1e-4: at the velocity level the implicit step finds no
+    frictional solution either, and its steps from the jam on are
+    frictionless, each counted) to 1 % (regularised: up to 0.99 s); the
+    kinematics stay the tangency's throughout (the rod's friction does not
+    enter them)."""
+    d, g0, mu, dt = 0.015, 1e-3, 0.5, 1e-3
+    motion = TrapezoidalProfile(0.005, 1.0, 0.0075, axis=(0, 0, -1))
+    kw = dict(eps=1e-5) if method == "regularised" else {}
+    t_jam = _rod_jam_time(d, g0, mu, motion)
+    out = {}
+    for m in (0.0, mu):
+        sc = Scene(body=square(), grasp=Grasp(mu=0.5, grip_force=1.0), dof="rotation", motion=motion,
+                   obstacles=(Obstacle.cylinder((d, 0.0, -(A + RADIUS + g0)), (0, 1, 0), RADIUS, mu=m),))
+        out[m] = run(sc, 1.0, dt, method=method, **kw)
+    imp = run(sc, 1.0, 1e-4, method="implicit")
+    res = out[mu]
+    assert out[0.0].stats["warnings"] == 0
+    assert res.stats["warnings"] >= 1 and t_jam <= res.stats["first_warning_t"] <= t_jam + dt, res.stats
+    assert imp.stats["warnings"] >= 1 and t_jam <= imp.stats["first_warning_t"] <= t_jam + dt, imp.stats
+    delta = -motion.evaluate(res.t)["p"][:, 2]
+    L = A + RADIUS + g0 - delta
+    th = np.where(L > A + RADIUS, 0.0, np.arctan2(d, L) - np.arccos(np.minimum(1.0, (A + RADIUS) / np.hypot(d, L))))
+    np.testing.assert_allclose(res.q[:, 0], th, rtol=0, atol=1e-12 if method == "event" else 1e-9)
+    after = res.t > t_jam + dt
+    np.testing.assert_allclose(res.stop_force[after, 0], out[0.0].stop_force[after, 0], rtol=1e-9)
+    if method == "regularised":
+        # its smooth plate friction falls short of Coulomb's where the square's
+        # turn rate falls to its eps scale, as the gripper comes to rest at 1 s
+        after &= res.t <= 0.99
+    np.testing.assert_allclose(res.stop_force[after, 0], imp.stop_force[::10][after, 0], rtol=1e-2)
 
 
 # ---------------------------------------------------------------- properties

@@ -672,6 +672,51 @@ def _extend_ladder(zs, ref_run, rs, eps):
         eps /= 2
 
 
+#: The explicit method's dt ladder is judged the same way (its differences are
+#: an error estimate only once they shrink at a convergent rate:
+#: ladder_consistent, and its last runs share their impacts and end on the
+#: reference's branch: same_events), and
+#: extended by halvings of dt, down to t_end / (N_DT x DT_LADDER_RANGE),
+#: until they do (see tests/test_zoo.py).
+DT_LADDER_RANGE = 512.0
+
+
+def same_events(rs, ref_run):
+    """Whether the runs of a time-stepping ladder share the discrete event
+    structure its error model assumes: the same number of impacts on stops
+    (Result.stats["impacts"]) in every run, and the reference's stop
+    contacts at the end (stop_contacts)."""
+    want = stop_contacts(ref_run)
+    return (len({int(r.stats["impacts"]) for r in rs}) == 1
+            and all(stop_contacts(r) == want for r in rs))
+
+
+def _extend_dt_ladder(zs, method, ref_run, rs, dt):
+    """A time-stepping ladder rs (dt = t_end / N_DT, dt/2, ..., the last at
+    ``dt``) of ``method`` extended by halvings of dt, down to t_end / (N_DT
+    x DT_LADDER_RANGE), until its last N_RATIOS + 1 differences are
+    consistent (ladder_consistent; a fixed-step run has no integration
+    tolerance) and its last N_RATIOS + 2 runs end with the reference's stop
+    contacts and count the same impacts (same_events). A run that fails ends
+    the extension (the scene is then judged on the ladder so far). Returns
+    (runs, the last dt)."""
+    while True:
+        poses = [final_pose(r) for r in rs]
+        d = [pose_distance(zs, a, b) for a, b in zip(poses[:-1], poses[1:])]
+        if ladder_consistent(d) and same_events(rs[-N_RATIOS - 2:], ref_run):
+            return rs, dt
+        if dt / 2 < zs.t_end / (N_DT * DT_LADDER_RANGE) * (1 - 1e-12):
+            return rs, dt
+        try:
+            r = run(zs, method, dt=dt / 2)
+        except Exception:  # noqa: BLE001 - the ladder so far is judged
+            return rs, dt
+        if not all(np.all(np.isfinite(getattr(r, k))) for k in ("q", "v", "wrench", "stop_force")):
+            return rs, dt
+        rs = rs + [r]
+        dt /= 2
+
+
 def check_scene(zs, methods=METHODS, agree=METHODS):
     """Run every method on a zoo scene and measure the agreement.
 
@@ -679,9 +724,13 @@ def check_scene(zs, methods=METHODS, agree=METHODS):
     ``pose`` (final pose of its finest run; event: the REF_RTOL run) and for the methods in
     ``agree``: ``err`` (pose_distance from the finest run to the
     reference), ``d`` (distances between successive runs at h, h/2, h/4,
-    h/8; regularised: the last N_RATIOS + 1 of its ladder eps0, eps0/2,
+    h/8; explicit: the last N_RATIOS + 1 of its ladder h, h/2, ... (extended
+    by _extend_dt_ladder), all of them in ``ladder``, the steps in ``dt``;
+    regularised: the last N_RATIOS + 1 of its ladder eps0, eps0/2,
     ..., all of them in ``ladder``, the eps in ``eps``), explicit and regularised also
-    ``creep`` (explicit: the reference's stuck time x h/8 x creep_speed;
+    ``creep`` (explicit: the reference's stuck time x its finest dt x
+    creep_speed, and ``regime``: the ladder consistent, its last runs
+    same_events;
     regularised: regularised_creep at its finest eps, ``eps0``, ``branch``
     and ``regime``: the ladder consistent, ladder_consistent), ``bound``
     (zoo.bound) and ``ok``. Key "reference": the
@@ -708,7 +757,8 @@ def check_scene(zs, methods=METHODS, agree=METHODS):
         agree = agree + ("event",)
     runs = {}
     shifted = None  # the implicit run on the offset grid (N_SHIFT)
-    for method in methods:
+    # the reference first: the regularised and explicit ladders follow its branch
+    for method in sorted(methods, key=lambda m: m != "event"):
         full = method in agree
         first = None  # the regularised run at eps0, when the branch search made it
         if method in ("implicit", "explicit"):
@@ -735,8 +785,12 @@ def check_scene(zs, methods=METHODS, agree=METHODS):
         if method == "implicit" and full and err is None:
             r, err = attempt(method, dt=zs.t_end / N_SHIFT)
             shifted = r
+        if method == "explicit" and full and err is None and runs.get("event") and len(runs["event"]) == 3:
+            rs, _ = _extend_dt_ladder(zs, method, runs["event"][1], rs, seq[-1]["dt"])
         runs[method] = rs
         out[method] = dict(error=err, pose=None if err else final_pose(rs[-1]))
+        if method == "explicit" and full:
+            out[method]["dt"] = [seq[0]["dt"] / 2 ** k for k in range(len(rs))]
         if method == "regularised":
             out[method]["eps0"] = seq[0]["eps_rel"]
             out[method]["eps"] = [seq[0]["eps_rel"] / 2 ** k for k in range(len(rs))]
@@ -759,13 +813,14 @@ def check_scene(zs, methods=METHODS, agree=METHODS):
             o.update(err=refd["err_mid"])
         else:
             d = [pose_distance(zs, a, b) for a, b in zip(poses[:-1], poses[1:])]
-            o.update(err=pose_distance(zs, poses[-1], ref), d=d[-N_RATIOS - 1:] if method == "regularised" else d)
-            if method == "regularised":
+            o.update(err=pose_distance(zs, poses[-1], ref), d=d[-N_RATIOS - 1:] if method != "implicit" else d)
+            if method != "implicit":
                 o["ladder"] = d
             if method == "implicit" and shifted is not None:
                 o["d_shift"] = pose_distance(zs, poses[-1], final_pose(shifted))
             if method == "explicit":
-                o["creep"] = stuck * zs.t_end / (8 * N_DT) * creep_speed(zs)
+                o["creep"] = stuck * o["dt"][-1] * creep_speed(zs)
+                o["regime"] = ladder_consistent(d) and same_events(runs[method][-N_RATIOS - 2:], tight)
             if method == "regularised":
                 last = runs[method][-N_RATIOS - 2:]
                 o["tol"] = max(integration_tol(r, size) for r in last)
