@@ -648,17 +648,22 @@ def _extend_ladder(zs, ref_run, rs, eps):
     """The regularised ladder rs (eps0, eps0/2, eps0/4, ..., the last at
     eps) extended by halvings of eps, down to EPS / EPS_LADDER_RANGE, until
     its last N_RATIOS + 1 differences are consistent (ladder_consistent,
-    with the runs' integration_tol as the noise) and its last N_RATIOS + 2
-    runs end with the reference's stop contacts. A run that fails ends the
-    extension (the scene is then judged on the ladder so far, outside the
-    regime). Returns (runs, the last eps)."""
+    with the runs' integration_tol as the noise) and, where they are all
+    within that noise (the pose may be held by a stop), its last N_RATIOS
+    + 2 runs end with the reference's stop contacts; differences that
+    shrink at a consistent rate show a pose that moves with eps, which the
+    ladder measures on either branch (reported outside the regime when off
+    it). A run that fails ends the extension (the scene is then judged on
+    the ladder so far, outside the regime). Returns (runs, the last
+    eps)."""
     want = stop_contacts(ref_run)
     size = pose_distance(zs, final_pose(ref_run), np.zeros(3))
     while True:
         poses = [final_pose(r) for r in rs]
         d = [pose_distance(zs, a, b) for a, b in zip(poses[:-1], poses[1:])]
         noise = max(integration_tol(r, size) for r in rs[-N_RATIOS - 2:])
-        if ladder_consistent(d, noise) and all(stop_contacts(r) == want for r in rs[-N_RATIOS - 2:]):
+        held = len(d) > N_RATIOS and max(d[-N_RATIOS - 1:]) <= noise
+        if ladder_consistent(d, noise) and (not held or all(stop_contacts(r) == want for r in rs[-N_RATIOS - 2:])):
             return rs, eps
         if eps / 2 < EPS / EPS_LADDER_RANGE * (1 - 1e-12):
             return rs, eps
