@@ -1250,6 +1250,37 @@ static void set_tie_leaves(hyb *H, int r)
     H->ncs = n;
 }
 
+static void planar_prune_set(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y);
+
+/* The other tie: a free stop row whose gap crossing was located at t, twice
+ * at the same time, with the decision leaving it free: a corner (or a face,
+ * two corners) arriving at its stop tangentially (normal rate ~0, the
+ * object sliding along it) and pressed into it, whose rate at the located
+ * point is positive by up to the gap acceleration times the location
+ * tolerance, above tol.rate, so that it neither takes an impact nor joins
+ * the contact set, and the next step drives it into the stop. The event's
+ * answer stands: every touching stop row (gap <= tol.touch) whose rate is
+ * below zsw joins the set, where the complementarity solve keeps the rows
+ * that push (planar_prune_set). */
+static void set_tie_joins(hyb *H, const double *y, double t)
+{
+    frame f;
+    exdex_kinematics kin;
+    unsigned char in[MAX_ROWS];
+    if (frame_seg(H, t, &f, &kin)) return;
+    memset(in, 0, (size_t)(H->ns * H->nv));
+    for (int i = 0; i < H->ncs; i++)
+        if (H->cs[i] < H->ns * H->nv) in[H->cs[i]] = 1;
+    for (int r = 0; r < H->ns * H->nv && H->ncs < MAX_ROWS; r++) {
+        double G[3], gd;
+        if (in[r]) continue;
+        if (contact_row_planar(H->m, &kin, r / H->nv, r % H->nv, y, y + 3, G, &gd, NULL) <= H->m->tol.touch &&
+            fabs(gd) <= H->zsw)
+            H->cs[H->ncs++] = r;
+    }
+    planar_prune_set(H, &f, &kin, y);
+}
+
 /* Keep in the planar contact set only the rows that push (lam > 0) under
  * the accelerations of the current (non-stick) mode at (t, y). */
 static void planar_prune_set(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y)
@@ -2907,7 +2938,7 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
             }
             if (status) break;
             if (e_best >= 0) {
-                int vz, keep = 0, sep = -1;
+                int vz, keep = 0, sep = -1, join = 0;
                 if (tau_best > 0.0 && t0 + tau_best == t0 && g0[e_best] > 0.0 && t > t0) {
                     /* a crossing within half an ulp of t0: the event time
                      * would round to t0, where the guard holds and the
@@ -2964,11 +2995,16 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                 if (nd == 3 && law == LAW_COULOMB && H.mode != MODE_STICK && !H.sfric && e_best >= H.gap1 &&
                     e_best < H.gap1 + H.ncs)
                     sep = H.cs[e_best - H.gap1];
+                /* planar, a free stop row's gap (the first guards from gap0) */
+                if (nd == 3 && law == LAW_COULOMB && H.mode == MODE_SLIP && !H.sfric && e_best >= H.gap0 &&
+                    e_best < H.gap1 && e_best - H.gap0 < H.ns * H.nv - H.ncs)
+                    join = 1;
                 if (keep)
                     H.small = 1;
                 else
                     decide(&H, t, y, vz);
                 if (sep >= 0 && same >= 1 && H.mode == MODE_SLIP) set_tie_leaves(&H, sep);
+                if (join && same >= 1 && H.mode == MODE_SLIP) set_tie_joins(&H, y, t);
                 gsl_odeiv2_evolve_reset(O->evo);
                 gsl_odeiv2_step_reset(O->step);
                 if (++events > EVENTS_MAX) {

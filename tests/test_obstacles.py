@@ -782,6 +782,58 @@ def test_event_and_implicit_agree_on_random_planar_frictional_obstacle_scenes(se
         assert ext <= 0.2 * e2, (ext, e2)
 
 
+def _narrow_box_scene(seed):
+    """A rectangle resting flush on a random tilted frictional box narrower
+    than it (0.3 .. 0.9 of its width, offset up to 0.4 of it): the box's
+    top corners touch the block's bottom edge (the section's vertices
+    against the block's hull, their friction along the block's edge, the
+    contact point moving over the block), and where the block overhangs a
+    corner of the box one of the block's corners lies on the box's top face
+    as well (one line of contact, one friction group). The gripper (plate
+    capacity 0.5 .. 2 N) drags it 3 .. 8 mm along the face (within 0.3 rad)
+    and stops."""
+    rng = np.random.default_rng([seed, 95])
+    alpha = rng.uniform(-0.4, 0.4)
+    w, h = rng.uniform(0.03, 0.05), rng.uniform(0.02, 0.03)
+    n_b = np.array([-math.sin(alpha), math.cos(alpha)])
+    t_b = np.array([math.cos(alpha), math.sin(alpha)])
+    bw = rng.uniform(0.3, 0.9) * w
+    off = rng.uniform(-0.4, 0.4) * w
+    bc = -(0.5 * h + 1e-9) * n_b - 0.15 * n_b + off * t_b
+    box = Obstacle.box((bc[0], 0.0, bc[1]), (bw, 0.3, 0.3), rotation=Rotation.from_rotvec([0, -alpha, 0]).as_matrix(),
+                       mu=rng.uniform(0.05, 0.5))
+    dist = rng.uniform(0.003, 0.008)
+    ang = math.atan2(t_b[1], t_b[0]) + rng.choice([0, math.pi]) + rng.uniform(-0.3, 0.3)
+    return Scene(body=Body.box(0.1, (w, h, 0.02)),
+                 grasp=Grasp(mu=0.5, grip_force=rng.uniform(0.5, 2.0), patch=exdex.Patch.rectangle(0.01, 0.01)),
+                 dof="planar", q0=(0.0, 0.0, alpha),
+                 motion=TrapezoidalProfile(dist, 0.6, 1.5 * dist / 0.6, axis=(math.cos(ang), 0, math.sin(ang))),
+                 obstacles=(box,))
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_event_and_implicit_agree_on_narrow_frictional_box_scenes(seed):
+    """The block on a frictional box narrower than it (_narrow_box_scene):
+    the implicit method's final pose on the ladder dt = 1e-3 .. 1.25e-4
+    converges (its last successive difference not above the largest) to the
+    event method's (rtol 1e-10): at the finest step within S = 3 times the
+    ladder's largest successive difference plus 1e-9 m (the estimate of
+    test_event_and_implicit_agree_on_random_obstacle_scenes; here the
+    implicit error is not always monotone in dt: a stick decision that one
+    step size takes and another not). The event run with the box's mu x
+    1.01 fails this check on 8 of the 12 seeds. (Not checked here: the
+    event run's smallest gap over its steps, -1.7e-9 m on seed 8 at rtol
+    1e-10, -3.2e-10 m at the default, while every output sample's gap is
+    >= 0.)"""
+    sc = _narrow_box_scene(seed)
+    ev = run(sc, 0.8, 1e-3, method="event", rtol=1e-10, atol=1e-12)
+    assert ev.stats["warnings"] == 0
+    qs = [run(sc, 0.8, h, method="implicit").q[-1] for h in (1e-3, 5e-4, 2.5e-4, 1.25e-4)]
+    d = [float(np.max(np.abs(a - b))) for a, b in zip(qs[:-1], qs[1:])]
+    assert d[-1] <= max(d[:-1]), d
+    assert float(np.max(np.abs(qs[-1] - ev.q[-1]))) <= 3.0 * max(d) + 1e-9, (d, qs[-1] - ev.q[-1])
+
+
 def test_random_planar_frictional_obstacle_scenes_use_both_contacts():
     """The scenes above exercise both frictional obstacles: the box carries
     the block in every one, and the rod pushes it in at least three."""
