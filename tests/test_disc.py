@@ -459,3 +459,26 @@ def test_cylinder_inertia_and_outline():
     assert b.size == (0.06, 0.06, 0.01) and b.outline_radius == 0.03 and b.is_disc
     v = b.vertices()
     np.testing.assert_allclose(np.hypot(v[:, 0], v[:, 1]), 0.03, rtol=1e-15)
+
+
+@pytest.mark.parametrize("method", ["implicit", "event", "regularised"])
+def test_pinned_disc_off_its_centre_stops_on_a_rod_at_the_closed_form_angle(method):
+    """The pinned disc of the floor test above turning down onto a rod
+    normal to the plates instead: its centre c(theta) = d (cos theta, sin
+    theta) meets the rod (centre rc, radius r) where |c - rc| = R + r. With
+    rc = c(theta_s) - (R + r) e_y, theta_s = -0.5, the distance falls on
+    [theta_s, 0] (rc's angle, -1.28 rad, lies below), so the disc's rim
+    first touches the rod at theta_s and stays there (a plastic impact on a
+    frictionless rod leaves no rate along the free coordinate). The row is
+    the disc's rim point nearest the rod's axis (a circle-circle distance
+    here). (The explicit method, whose impact step linearises the row,
+    ends 9e-13 rad off.)"""
+    d, theta_s, r = 0.01, -0.5, 0.005
+    rc = (d * math.cos(theta_s), d * math.sin(theta_s) - (R + r))
+    rod = Obstacle.cylinder((rc[0], 0.0, rc[1]), (0.0, 1.0, 0.0), r)
+    sc = Scene(body=disc(outline_center=(d, 0.0)), grasp=Grasp(mu=0.0, grip_force=1.0, patch=PAD),
+               dof="rotation", v0=(0.0, 0.0, -3.0), obstacles=(rod,), gravity=(0.0, 0.0, 0.0))
+    with pytest.warns(exdex.PhysicsWarning, match="impact"):
+        res = exdex.simulate(sc, t_end=0.5, dt=1e-4, method=method)
+    np.testing.assert_allclose(res.q[-1, 0], theta_s, rtol=0, atol=1e-14 if method in ("implicit", "explicit") else 1e-11)
+    assert res.v[-1, 0] == 0.0
