@@ -400,12 +400,18 @@ void contact_tangent(const exdex_model *m, const exdex_kinematics *kin, const do
 void contact_stop_tangent(const exdex_model *m, const exdex_kinematics *kin, int k, const double xb[3],
                           const double vx[3], double T[3], double *tb)
 {
+    contact_plane_tangent(m, kin, m->sn[k], xb, vx, T, tb);
+}
+
+void contact_plane_tangent(const exdex_model *m, const exdex_kinematics *kin, const double n[3], const double xb[3],
+                           const double vx[3], double T[3], double *tb)
+{
     double nB[3];
-    ex_mulmtv3(nB, kin->R, m->sn[k]);
+    ex_mulmtv3(nB, kin->R, n);
     if (m->disc_r > 0.0) {
         /* a disc (xb its centre) slips at its support point */
         double xs[3], vs[3];
-        disc_support(m, kin, m->sn[k], xb, vx, xs, vs);
+        disc_support(m, kin, n, xb, vx, xs, vs);
         contact_tangent(m, kin, xs, vs, nB, T, tb);
         return;
     }
@@ -712,6 +718,11 @@ static void circle_min(const double a[2], const double b[2], double r, double u[
 #undef GPHI
     u[0] = cos(best_phi) * e1[0] - sin(best_phi) * e1[1];
     u[1] = cos(best_phi) * e1[1] + sin(best_phi) * e1[0];
+}
+
+void contact_circle_min(const double a[2], const double b[2], double r, double u[2])
+{
+    circle_min(a, b, r, u);
 }
 
 /* The one row of a disc outline (centre xc in B, offset vc from the centre
@@ -1053,13 +1064,19 @@ int contact_obstacle_max_rows(const exdex_model *m)
 double contact_slip_planar(const exdex_model *m, const exdex_kinematics *k, int ks, int j, const double *q,
                            const double *v, double T[3], double *tb, double *sdd0)
 {
+    return contact_plane_slip_planar(m, k, m->sn[ks], j, q, v, T, tb, sdd0);
+}
+
+double contact_plane_slip_planar(const exdex_model *m, const exdex_kinematics *k, const double n[3], int j,
+                                 const double *q, const double *v, double T[3], double *tb, double *sdd0)
+{
     double rv[3] = {0.0, 0.0, 0.0}, xB[3], xd[3], xdd[3], Rx[3], Rxd[3], Rxdd[3], nB[3], tB[3], tA[3];
     double VP[3], AP[3], wB[3], dnB[3], dtB[3], dtA[3], tmp[3], tmp2[3], nn, udu;
     if (m->n_vert) rot2(rv, q[2], m->vert[j]);
     xB[0] = q[0] + rv[0];
     xB[1] = q[1] + rv[1];
     xB[2] = 0.0;
-    contact_stop_tangent(m, k, ks, xB, rv, T, tb);
+    contact_plane_tangent(m, k, n, xB, rv, T, tb);
     if (sdd0 && m->disc_r > 0.0) {
         /* a disc slips at its support point x_s = x_c - r u (u = n_B,xy / |n_B,xy|):
          * below, the material point there. The contact moves along the rim (d x_s /
@@ -1069,13 +1086,13 @@ double contact_slip_planar(const exdex_model *m, const exdex_kinematics *k, int 
          * second is w x (a vector along t_A): both are normal to t_A, so t_A . A_P
          * and the slip acceleration are the material point's */
         double xs[3], vs[3];
-        disc_support(m, k, m->sn[ks], xB, rv, xs, vs);
+        disc_support(m, k, n, xB, rv, xs, vs);
         memcpy(xB, xs, sizeof xs);
         memcpy(rv, vs, sizeof vs);
     }
     if (sdd0) {
         *sdd0 = 0.0;
-        ex_mulmtv3(nB, k->R, m->sn[ks]);
+        ex_mulmtv3(nB, k->R, n);
         nn = hypot(nB[0], nB[1]);
         if (nn > FQ_MIN) {
             /* s = t_A . V_P, V_P the velocity of the material point in A,

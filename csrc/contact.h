@@ -90,6 +90,12 @@ void contact_tangent(const exdex_model *m, const exdex_kinematics *kin, const do
 void contact_stop_tangent(const exdex_model *m, const exdex_kinematics *kin, int k, const double xb[3],
                           const double vx[3], double T[3], double *tb);
 
+/* The same against any plane of A with unit normal n (a stop's, or an
+ * obstacle's face seen from outside): contact_stop_tangent is this with the
+ * stop's normal. */
+void contact_plane_tangent(const exdex_model *m, const exdex_kinematics *kin, const double n[3], const double xb[3],
+                           const double vx[3], double T[3], double *tb);
+
 /* Is some stop out of the object's reach at pose k and coordinates q, its
  * gap below -tol.pen for every value of the free coordinates? */
 int contact_unreachable(const exdex_model *m, const exdex_kinematics *k, const double *q);
@@ -146,6 +152,12 @@ int contact_obstacle_valid(const exdex_obstacle_def *o);
  * gives the origin alone. */
 int contact_hull(const double (*v)[2], int n, double (*hull)[2]);
 
+/* The rim point of a disc of radius r nearest a rod's axis: the unit u
+ * minimising 2 r b . u - r^2 (u . a)^2 over the unit circle, a the in-plane
+ * part of the axis direction (B), b the in-plane part of the centre's
+ * offset from the axis (as contact_obstacle_rows finds it). */
+void contact_circle_min(const double a[2], const double b[2], double r, double u[2]);
+
 /* Slip of vertex j of a planar object along stop ks at coordinates q,
  * velocity v and gripper kinematics k: returns s = T . v + tb with T, tb of
  * contact_stop_tangent (the vertex as the material point); sdd0 (may be
@@ -153,6 +165,10 @@ int contact_hull(const double (*v)[2], int n, double (*hull)[2]);
  * with the gripper: its rate is part of it). */
 double contact_slip_planar(const exdex_model *m, const exdex_kinematics *k, int ks, int j, const double *q,
                            const double *v, double T[3], double *tb, double *sdd0);
+/* The same along the plane of A with unit normal n (an obstacle's face seen
+ * from outside): contact_slip_planar is this with the stop's normal. */
+double contact_plane_slip_planar(const exdex_model *m, const exdex_kinematics *k, const double n[3], int j,
+                                 const double *q, const double *v, double T[3], double *tb, double *sdd0);
 
 /* The outline's convex hull in B at coordinates q, counter-clockwise (z = 0);
  * returns its vertex count. */

@@ -444,9 +444,9 @@ typedef struct exdex_scene_def {
      * static rule at rest only; analytic.c). */
     double mu_static;
     /* convex obstacles fixed in A (above); their stop forces follow the
-     * stops' in exdex_trajectory.stop_force. The implicit and explicit
-     * methods solve scenes with obstacles; the event and regularised
-     * methods reject them (bad_param "method"). */
+     * stops' in exdex_trajectory.stop_force. Every method but analytic
+     * solves scenes with obstacles (frictional ones and disc outlines
+     * too). */
     int n_obstacles;          /* 0..EXDEX_MAX_OBSTACLES */
     exdex_obstacle_def obstacles[EXDEX_MAX_OBSTACLES];
     /* Coulomb friction coefficient of each stop against the outline vertices

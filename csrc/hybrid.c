@@ -212,11 +212,13 @@
  *   impacts with Coulomb friction at the impulse level: see "planar
  *   frictional stops" and "frictional impacts" below (sf_*, sfric.h).
  *
- * Obstacles (Obstacle.mu > 0 in 1-DoF scenes, as a frictional stop: the
- *   row's tangent at its point, orow_point; model_alloc rejects it in
- *   planar scenes, and disc outlines with obstacles): their rows (orows.h: an outline vertex against a
- *   polytope's faces, a section vertex against the outline's hull, a rod
- *   against the hull) go through the stops' code path: the same gap guards,
+ * Obstacles (Obstacle.mu > 0 as a frictional stop: the row's tangent at its
+ *   point, orow_point; planar scenes: the stop friction below, one friction
+ *   group per line of contact): their rows (orows.h: an outline vertex
+ *   against a polytope's faces, a section vertex against the outline's
+ *   hull, a rod against the hull; a disc outline: one row per obstacle, its
+ *   support point against a face, its centre against a section vertex, its
+ *   rim against a rod) go through the stops' code path: the same gap guards,
  *   impacts, contact sets (planar) and single-row contact (1-DoF), their
  *   forces in source n_stops + o. Each row is a largest (or, for a rod,
  *   smallest) distance over features; a row in contact holds its feature
@@ -226,7 +228,8 @@
  *   the new feature. Free rows' guards are the gaps themselves, which are
  *   continuous across feature switches (planar: one per outline vertex and
  *   per polytope the smallest gap of its section vertices, whose number
- *   changes with the gripper's pose; 1-DoF: the smallest gap per obstacle).
+ *   changes with the gripper's pose, a disc's one row per obstacle; 1-DoF:
+ *   the smallest gap per obstacle).
  *
  * Penetration: event and regularised keep every stop to rounding and event
  *   location (|gap rate| tol.root; planar decisions also project positions
@@ -285,7 +288,7 @@
 #define BRENT_MAX 200     /* Brent iterations per located event */
 #define DOUBLING_EXACT 10 /* locate: a forward search past 2^10 of its first increment is bisected back */
 #define NY_MAX (9 + EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES)
-#define NG_MAX (3 + 3 * MAX_ROWS + EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES)  /* guards (planar: 2 friction, the rows, stop friction, obstacle features) */
+#define NG_MAX (3 + 3 * MAX_ROWS + 1 + SF_MAX_STOPS + EXDEX_MAX_OBSTACLES)  /* guards (planar: 2 friction, the rows, stop friction, obstacle features) */
 #define NSRC_MAX (EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES)
 /* 1-DoF frictional contact (see "Frictional stops" above): its normal force
  * is lam = R / D, D = Fq - mu ss T, i.e. the frictionless force R / Fq times
@@ -333,13 +336,16 @@ typedef struct hyb {
                           slip along the stop (its Coulomb force opposes it); 0: none */
     int gap0, gap1;    /* guards() entries [gap0, gap1): free gaps, functions of (t, q) only */
     int sfric;         /* planar with a frictional stop: the stop friction below (sf_*) */
-    int fm[EXDEX_MAX_STOPS];  /* planar: friction mode of each stop with contact-set rows (SF_*) */
+    int fm[SF_MAX_STOPS];  /* planar: friction mode of each friction group with contact-set rows (SF_*) */
     int no;            /* obstacles (their rows follow the stops', see hrow_src) */
     int stiff;         /* event, planar slip: 1 while the stiff stepper integrates it (stiff_track) */
     int nlow;          /* consecutive steps of that slip below SLIP_STIFF zsw (up to STIFF_AFTER) */
     double jam;        /* 1-DoF contact with a frictional stop taken frictionless at a jam (its
                           friction would turn the normal force around, see JAM_DIR): the sign of
                           the slip there; 0: none */
+    int sgn;           /* planar friction groups of the contact set fixed at the decision (sf_groups):
+                          their count, 0 while a decision builds the set (then found afresh) */
+    int sg[MAX_ROWS];  /* the group of each contact-set row while sgn > 0 */
 } hyb;
 
 /* ---------------------------------------------------------- contact rows
@@ -546,13 +552,18 @@ static double impact_impulse_1dof(hyb *H, const exdex_kinematics *kin, int k, in
 }
 
 /* ------------------------------------------------ planar frictional stops
- * Coulomb friction between a stop with stop_mu > 0 and the outline
- * vertices of a planar object touching it, exact (not regularised, also in
- * the regularised method, which smooths the plate friction only): the
- * acceleration-level problem of sfric.h on the contact-set rows. Each stop
- * with contact-set rows has a friction mode H->fm (one per stop: its
- * touching vertices lie on its line and slip together): sliding with the
- * sign of its slip s (along the tangent of contact_slip_planar) or
+ * Coulomb friction between a stop with stop_mu > 0 (or an obstacle with mu
+ * > 0) and the points of a planar object touching it, exact (not
+ * regularised, also in the regularised method, which smooths the plate
+ * friction only): the acceleration-level problem of sfric.h on the
+ * contact-set rows. The rows fall into friction groups, lines of contact
+ * (sf_groups: a stop's rows, an obstacle face's vertex rows, the section
+ * vertices on one edge of the object, a rod's row), fixed at each decision
+ * (sf_fix_groups) and held with the contact set. Each group with
+ * contact-set rows has a friction mode H->fm (one per group: its touching
+ * points lie on its line and slip together): sliding with the sign of its
+ * slip s (along the tangent of contact_slip_planar, or orow_slip for an
+ * obstacle row, whose contact point may move over the object) or
  * sticking. The modes are decided at every decision (decide: sf_decide)
  * and held between decisions, where their guards (sf_guards) say when they
  * end: a sliding stop's slip reaching 0 (sigma s), a sticking stop's force
@@ -585,50 +596,147 @@ static double impact_impulse_1dof(hyb *H, const exdex_kinematics *kin, int k, in
  * velocity-level step, reports the same scenes with its own warning. */
 
 #define SF_TOL 1e-10  /* sign slack of the mode checks: x the scene's acceleration V / T and force F */
+#define SF_SAME_LINE 1e-6  /* obstacle rows whose unit in-plane normals differ by at most this share a group */
 
-/* The contact-set rows at (kin, y) as sfric.h's problem; has[k]: stop k
- * has set rows, s[k], tb[k] its slip and the slip at v = 0 (its first set
- * row's vertex). A stop in SF_ROLL with |s| > zsw is given the slide of
- * its sign. Returns the row count, or -1 when it exceeds SF_MAX_ROWS (rows
- * then hold only the first SF_MAX_ROWS; has, s, tb are complete). */
-static int sf_build(hyb *H, const exdex_kinematics *kin, const double *y, sf_row *rows, sf_stop *st, double *s,
-                    double *tb, int *has)
+/* The contact set as sfric.h's problem at (kin, y): its rows, their
+ * friction groups (sfric.h's "stops") and each group's slip. */
+typedef struct sf_set {
+    sf_row rows[SF_MAX_ROWS];
+    sf_stop st[SF_MAX_STOPS];
+    double s[SF_MAX_STOPS], tb[SF_MAX_STOPS];  /* a group's slip and its slip at v = 0 */
+    int has[SF_MAX_STOPS];                     /* the group has contact-set rows */
+    int grp[MAX_ROWS];                         /* the group of each contact-set row */
+    int ng;                                    /* groups */
+} sf_set;
+
+/* The unit in-plane normal (B) of planar row r at (kin, y): the direction
+ * its gap grows in when the object's point moves (a stop's, an obstacle
+ * face's, or orow_point's). */
+static void sf_row_normal(const hyb *H, const exdex_kinematics *kin, int r, const double *y, double n[2])
+{
+    int base = H->ns * H->nv;
+    double nB[3], nn;
+    if (r < base) {
+        ex_mulmtv3(nB, kin->R, H->m->sn[r / H->nv]);
+    } else {
+        contact_point cp;
+        orow_point(H->m, kin, r - base, y, &cp);
+        memcpy(nB, cp.nB, sizeof nB);
+    }
+    nn = hypot(nB[0], nB[1]);
+    n[0] = nn > 0.0 ? nB[0] / nn : 0.0;
+    n[1] = nn > 0.0 ? nB[1] / nn : 0.0;
+}
+
+/* Friction groups of the contact-set rows at (kin, y) into grp: a group is
+ * a line of contact, whose rows slip together (one slip, one tangent row:
+ * two points on one line have the same arm of the tangent about the centre
+ * of mass and the same frame slip along it). Stop k's rows are group k;
+ * an obstacle's rows join the first group of the same obstacle whose
+ * normal agrees to SF_SAME_LINE (the vertices on one face; the section
+ * vertices on one edge of the object; both, where a face lies flush on an
+ * edge), else start one, numbered from ns. Returns the count, -1 beyond
+ * SF_MAX_STOPS. */
+static int sf_groups(const hyb *H, const exdex_kinematics *kin, const double *y, int *grp)
+{
+    double gn[SF_MAX_STOPS][2];
+    int gsrc[SF_MAX_STOPS], ng = H->ns, base = H->ns * H->nv;
+    for (int i = 0; i < H->ncs; i++) {
+        int r = H->cs[i], src, g;
+        double n[2];
+        if (r < base) {
+            grp[i] = r / H->nv;
+            continue;
+        }
+        src = hrow_src(H, r);
+        sf_row_normal(H, kin, r, y, n);
+        for (g = H->ns; g < ng; g++)
+            if (gsrc[g] == src && fabs(n[0] - gn[g][0]) <= SF_SAME_LINE && fabs(n[1] - gn[g][1]) <= SF_SAME_LINE) break;
+        if (g == ng) {
+            if (ng == SF_MAX_STOPS) return -1;
+            gsrc[ng] = src;
+            gn[ng][0] = n[0];
+            gn[ng][1] = n[1];
+            ng++;
+        }
+        grp[i] = g;
+    }
+    return ng;
+}
+
+/* The contact-set rows at (kin, y) as sfric.h's problem into S (groups:
+ * those fixed at the decision, else sf_groups); a group's slip is its first
+ * set row's (contact_slip_planar, orow_slip). A group in SF_ROLL with |s| >
+ * zsw is given the slide of its sign. Returns the row count, or -1 when it
+ * exceeds SF_MAX_ROWS or the groups SF_MAX_STOPS (rows then hold only the
+ * first SF_MAX_ROWS; with the groups found, grp, has, s, tb, st are
+ * complete). */
+static int sf_build(hyb *H, const exdex_kinematics *kin, const double *y, sf_set *S)
 {
     const exdex_model *m = H->m;
-    for (int k = 0; k < H->ns; k++) {
-        has[k] = 0;
-        s[k] = tb[k] = 0.0;
-        st[k].mu = model_source_mu(m, k);
-        st[k].fm = H->fm[k];
-        st[k].sdd0 = 0.0;
-        st[k].T[0] = st[k].T[1] = st[k].T[2] = 0.0;
+    int base = H->ns * H->nv;
+    if (H->sgn > 0) {
+        memcpy(S->grp, H->sg, (size_t)H->ncs * sizeof *S->grp);
+        S->ng = H->sgn;
+    } else {
+        S->ng = sf_groups(H, kin, y, S->grp);
+        if (S->ng < 0) {
+            S->ng = 0;
+            return -1;
+        }
+    }
+    for (int k = 0; k < S->ng; k++) {
+        S->has[k] = 0;
+        S->s[k] = S->tb[k] = 0.0;
+        S->st[k].mu = k < H->ns ? model_source_mu(m, k) : 0.0;
+        S->st[k].fm = H->fm[k];
+        S->st[k].sdd0 = 0.0;
+        S->st[k].T[0] = S->st[k].T[1] = S->st[k].T[2] = 0.0;
     }
     for (int i = 0; i < H->ncs; i++) {
-        int r = H->cs[i], k = r / H->nv, j = r % H->nv;
+        int r = H->cs[i], k = S->grp[i];
+        sf_stop *st = &S->st[k];
         if (i < SF_MAX_ROWS) {
-            contact_row_planar(m, kin, k, j, y, y + 3, rows[i].G, NULL, &rows[i].gdd0);
-            rows[i].stop = k;
+            hrow_planar(H, kin, r, y, y + 3, S->rows[i].G, NULL, &S->rows[i].gdd0);
+            S->rows[i].stop = k;
         }
-        if (has[k]) continue;
-        has[k] = 1;
-        s[k] = contact_slip_planar(m, kin, k, j, y, y + 3, st[k].T, &tb[k], &st[k].sdd0);
-        if (st[k].fm == SF_ROLL && fabs(s[k]) > H->zsw) st[k].fm = s[k] > 0.0 ? SF_SLIDE_P : SF_SLIDE_M;
+        if (S->has[k]) continue;
+        S->has[k] = 1;
+        if (r < base) {
+            S->s[k] = contact_slip_planar(m, kin, k, r % H->nv, y, y + 3, st->T, &S->tb[k], &st->sdd0);
+        } else {
+            st->mu = model_source_mu(m, hrow_src(H, r));
+            S->s[k] = orow_slip(m, kin, r - base, y, y + 3, st->T, &S->tb[k], &st->sdd0);
+        }
+        if (st->fm == SF_ROLL && fabs(S->s[k]) > H->zsw) st->fm = S->s[k] > 0.0 ? SF_SLIDE_P : SF_SLIDE_M;
     }
     return H->ncs > SF_MAX_ROWS ? -1 : H->ncs;
 }
 
-/* The stops' problem solved at (kin, y) with the acceleration a without
- * stops (sf_solve); res (may be NULL) gets the solution. Returns 0 when no
- * mode is consistent (then nothing is written but res). */
+/* The groups of the contact set fixed for the mode after a decision at
+ * (t, y), so that between decisions (the contact set held) every guard and
+ * mode keeps its group. */
+static void sf_fix_groups(hyb *H, double t, const double *y)
+{
+    frame f;
+    exdex_kinematics kin;
+    int ng;
+    H->sgn = 0;
+    if (!H->ncs || frame_seg(H, t, &f, &kin)) return;
+    ng = sf_groups(H, &kin, y, H->sg);
+    H->sgn = ng > 0 ? ng : 0;
+}
+
+/* The problem solved at (kin, y) with the acceleration a without stops
+ * (sf_solve); res (may be NULL) gets the solution. Returns 0 when no mode is
+ * consistent (then nothing is written but res). */
 static int sf_solve_at(hyb *H, const exdex_kinematics *kin, const double *y, const double a[3], sf_result *res)
 {
-    sf_row rows[SF_MAX_ROWS];
-    sf_stop st[EXDEX_MAX_STOPS];
-    double s[EXDEX_MAX_STOPS], tb[EXDEX_MAX_STOPS];
-    int has[EXDEX_MAX_STOPS], ok;
+    sf_set S;
+    int ok;
     const model_scales *sc = &H->m->scale;
-    if (sf_build(H, kin, y, rows, st, s, tb, has) < 0) return 0;
-    ok = sf_solve(H->ncs, rows, H->ns, st, H->m->minv, a, SF_TOL * sc->V / sc->T, SF_TOL * sc->F, res);
+    if (sf_build(H, kin, y, &S) < 0) return 0;
+    ok = sf_solve(H->ncs, S.rows, S.ng, S.st, H->m->minv, a, SF_TOL * sc->V / sc->T, SF_TOL * sc->F, res);
     H->st->stop_iterations += (size_t)res->tried;
     return ok;
 }
@@ -658,32 +766,30 @@ static double sf_rest(hyb *H, const exdex_kinematics *kin, const double *y, cons
 {
     const exdex_model *m = H->m;
     double D[LDP_MAX_ROWS][3], B[LDP_MAX_ROWS][3], c[LDP_MAX_ROWS], a[3], mF[3], P[3];
-    double T[EXDEX_MAX_STOPS][3], tb[EXDEX_MAX_STOPS];
-    int own[LDP_MAX_ROWS], has[EXDEX_MAX_STOPS] = {0}, ng = 0, it = 0;
+    int own[LDP_MAX_ROWS], ng = 0, it = 0;
+    sf_set S;
     if (2 * H->ncs > LDP_MAX_ROWS) return -1.0;
+    sf_build(H, kin, y, &S);
+    if (H->ncs && S.ng == 0) return -1.0;
     for (int i = 0; i < H->ncs; i++) {
-        int r = H->cs[i], k = r / H->nv, j = r % H->nv, fm;
-        double G[3], mu = model_source_mu(m, k);
-        contact_row_planar(m, kin, k, j, y, y + 3, G, NULL, NULL);
-        if (mu > 0.0 && !has[k]) {
-            contact_slip_planar(m, kin, k, j, y, y + 3, T[k], &tb[k], NULL);
-            has[k] = 1;
-        }
-        fm = H->fm[k] == SF_ROLL ? (fabs(tb[k]) <= H->zsw ? SF_STICK : tb[k] > 0.0 ? SF_SLIDE_P : SF_SLIDE_M)
-                                 : H->fm[k];
+        int r = H->cs[i], k = S.grp[i], fm;
+        double G[3], mu = S.st[k].mu;
+        const double *T = S.st[k].T, tb = S.tb[k];
+        hrow_planar(H, kin, r, y, y + 3, G, NULL, NULL);
+        fm = H->fm[k] == SF_ROLL ? (fabs(tb) <= H->zsw ? SF_STICK : tb > 0.0 ? SF_SLIDE_P : SF_SLIDE_M) : H->fm[k];
         if (!(mu > 0.0) || fm == SF_NONE) {
             memcpy(D[ng], G, sizeof G);
             own[ng++] = i;
         } else if (fm == SF_STICK) {
             for (int c2 = 0; c2 < 3; c2++) {
-                D[ng][c2] = G[c2] + mu * T[k][c2];
-                D[ng + 1][c2] = G[c2] - mu * T[k][c2];
+                D[ng][c2] = G[c2] + mu * T[c2];
+                D[ng + 1][c2] = G[c2] - mu * T[c2];
             }
             own[ng++] = i;
             own[ng++] = i;
         } else {
             double sg = fm == SF_SLIDE_P ? 1.0 : -1.0;
-            for (int c2 = 0; c2 < 3; c2++) D[ng][c2] = G[c2] - mu * sg * T[k][c2];
+            for (int c2 = 0; c2 < 3; c2++) D[ng][c2] = G[c2] - mu * sg * T[c2];
             own[ng++] = i;
         }
     }
@@ -768,18 +874,21 @@ static void contact_acc_planar(hyb *H, const exdex_kinematics *kin, const double
 
 /* Coulomb coefficient of planar row r at (kin, y) and, when > 0, its slip
  * row: s = T v + tb along the tangent in the plate plane (stop rows:
- * contact_slip_planar). Obstacle rows are frictionless here (planar
- * obstacle friction is rejected by model_alloc in the event and
- * regularised methods). */
+ * contact_slip_planar; obstacle rows: orow_slip, the tangent at the row's
+ * point). */
 static double hrow_friction_planar(const hyb *H, const exdex_kinematics *kin, int r, const double *y, double T[3],
                                    double *tb)
 {
     double mu;
+    int base = H->ns * H->nv;
     T[0] = T[1] = T[2] = 0.0;
     *tb = 0.0;
-    if (r >= H->ns * H->nv) return 0.0;
-    mu = model_source_mu(H->m, r / H->nv);
-    if (mu > 0.0) contact_slip_planar(H->m, kin, r / H->nv, r % H->nv, y, y + 3, T, tb, NULL);
+    mu = model_source_mu(H->m, hrow_src(H, r));
+    if (!(mu > 0.0)) return mu;
+    if (r < base)
+        contact_slip_planar(H->m, kin, r / H->nv, r % H->nv, y, y + 3, T, tb, NULL);
+    else
+        orow_slip(H->m, kin, r - base, y, y + 3, T, tb, NULL);
     return mu;
 }
 
@@ -1141,6 +1250,37 @@ static void set_tie_leaves(hyb *H, int r)
     H->ncs = n;
 }
 
+static void planar_prune_set(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y);
+
+/* The other tie: a free stop row whose gap crossing was located at t, twice
+ * at the same time, with the decision leaving it free: a corner (or a face,
+ * two corners) arriving at its stop tangentially (normal rate ~0, the
+ * object sliding along it) and pressed into it, whose rate at the located
+ * point is positive by up to the gap acceleration times the location
+ * tolerance, above tol.rate, so that it neither takes an impact nor joins
+ * the contact set, and the next step drives it into the stop. The event's
+ * answer stands: every touching stop row (gap <= tol.touch) whose rate is
+ * below zsw joins the set, where the complementarity solve keeps the rows
+ * that push (planar_prune_set). */
+static void set_tie_joins(hyb *H, const double *y, double t)
+{
+    frame f;
+    exdex_kinematics kin;
+    unsigned char in[MAX_ROWS];
+    if (frame_seg(H, t, &f, &kin)) return;
+    memset(in, 0, (size_t)(H->ns * H->nv));
+    for (int i = 0; i < H->ncs; i++)
+        if (H->cs[i] < H->ns * H->nv) in[H->cs[i]] = 1;
+    for (int r = 0; r < H->ns * H->nv && H->ncs < MAX_ROWS; r++) {
+        double G[3], gd;
+        if (in[r]) continue;
+        if (contact_row_planar(H->m, &kin, r / H->nv, r % H->nv, y, y + 3, G, &gd, NULL) <= H->m->tol.touch &&
+            fabs(gd) <= H->zsw)
+            H->cs[H->ncs++] = r;
+    }
+    planar_prune_set(H, &f, &kin, y);
+}
+
 /* Keep in the planar contact set only the rows that push (lam > 0) under
  * the accelerations of the current (non-stick) mode at (t, y). */
 static void planar_prune_set(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y)
@@ -1164,29 +1304,28 @@ static void planar_prune_set(hyb *H, const frame *f, const exdex_kinematics *kin
  * and the contact-set rows' no-approach G v >= -(gd - G v). */
 static void sf_project_stick(hyb *H, const exdex_kinematics *kin, double *y)
 {
-    sf_row rows[SF_MAX_ROWS];
-    sf_stop st[EXDEX_MAX_STOPS];
-    double s[EXDEX_MAX_STOPS], tb[EXDEX_MAX_STOPS], Gr[SF_MAX_ROWS + 2 * EXDEX_MAX_STOPS][3],
-        b[SF_MAX_ROWS + 2 * EXDEX_MAX_STOPS], lam[SF_MAX_ROWS + 2 * EXDEX_MAX_STOPS], v[3];
-    int has[EXDEX_MAX_STOPS], n = 0, stick = 0;
-    if (H->mode == MODE_STICK || !H->ncs || sf_build(H, kin, y, rows, st, s, tb, has) < 0) return;
-    for (int k = 0; k < H->ns; k++) stick |= has[k] && st[k].mu > 0.0 && H->fm[k] == SF_STICK;
+    sf_set S;
+    double Gr[SF_MAX_ROWS + 2 * SF_MAX_STOPS][3], b[SF_MAX_ROWS + 2 * SF_MAX_STOPS],
+        lam[SF_MAX_ROWS + 2 * SF_MAX_STOPS], v[3];
+    int n = 0, stick = 0;
+    if (H->mode == MODE_STICK || !H->ncs || sf_build(H, kin, y, &S) < 0) return;
+    for (int k = 0; k < S.ng; k++) stick |= S.has[k] && S.st[k].mu > 0.0 && H->fm[k] == SF_STICK;
     if (!stick) return;
     for (int i = 0; i < H->ncs; i++) {
         int r = H->cs[i];
         double gd;
-        contact_row_planar(H->m, kin, r / H->nv, r % H->nv, y, y + 3, Gr[n], &gd, NULL);
+        hrow_planar(H, kin, r, y, y + 3, Gr[n], &gd, NULL);
         b[n] = -(gd - ex_dot3(Gr[n], y + 3));
         n++;
     }
-    for (int k = 0; k < H->ns; k++) {
-        if (!(has[k] && st[k].mu > 0.0 && H->fm[k] == SF_STICK)) continue;
+    for (int k = 0; k < S.ng; k++) {
+        if (!(S.has[k] && S.st[k].mu > 0.0 && H->fm[k] == SF_STICK)) continue;
         for (int c = 0; c < 3; c++) {
-            Gr[n][c] = st[k].T[c];
-            Gr[n + 1][c] = -st[k].T[c];
+            Gr[n][c] = S.st[k].T[c];
+            Gr[n + 1][c] = -S.st[k].T[c];
         }
-        b[n] = -tb[k];
-        b[n + 1] = tb[k];
+        b[n] = -S.tb[k];
+        b[n + 1] = S.tb[k];
         n += 2;
     }
     if (ldp_project(H->m->minv, n, (const double (*)[3])Gr, b, y + 3, FQ_MIN, v, lam, &H->st->stop_iterations,
@@ -1212,18 +1351,17 @@ static int sf_free_acc(hyb *H, const frame *f, const exdex_kinematics *kin, cons
  * rows: sliding, sigma s; sticking, mu sum lam (1 + SF_BAND) - |beta|. */
 static int sf_guards(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y, double *g)
 {
-    sf_row rows[SF_MAX_ROWS];
-    sf_stop st[EXDEX_MAX_STOPS];
+    sf_set S;
     sf_result res;
-    double s[EXDEX_MAX_STOPS], tb[EXDEX_MAX_STOPS], a[3];
-    int has[EXDEX_MAX_STOPS], n = 0, ok = 0;
-    int nr = sf_build(H, kin, y, rows, st, s, tb, has);
+    double a[3];
+    int n = 0, ok = 0;
+    int nr = sf_build(H, kin, y, &S);
     if (H->mode == MODE_STICK) {
-        for (int k = 0; k < H->ns; k++) {
-            if (!(has[k] && st[k].mu > 0.0)) continue;
-            g[n++] = H->fm[k] == SF_STICK     ? H->zsw - fabs(tb[k])
-                     : H->fm[k] == SF_SLIDE_P ? tb[k] - H->zsw
-                     : H->fm[k] == SF_SLIDE_M ? -tb[k] - H->zsw
+        for (int k = 0; k < S.ng; k++) {
+            if (!(S.has[k] && S.st[k].mu > 0.0)) continue;
+            g[n++] = H->fm[k] == SF_STICK     ? H->zsw - fabs(S.tb[k])
+                     : H->fm[k] == SF_SLIDE_P ? S.tb[k] - H->zsw
+                     : H->fm[k] == SF_SLIDE_M ? -S.tb[k] - H->zsw
                                               : 1.0;
         }
         return n;
@@ -1231,14 +1369,14 @@ static int sf_guards(hyb *H, const frame *f, const exdex_kinematics *kin, const 
     memset(&res, 0, sizeof res);
     if (nr >= 0 && sf_free_acc(H, f, kin, y, a) == EXDEX_OK) ok = sf_solve_at(H, kin, y, a, &res);
     g[n++] = ok ? 1.0 : -1.0;
-    for (int k = 0; k < H->ns; k++) {
-        if (!(has[k] && st[k].mu > 0.0)) continue;
+    for (int k = 0; k < S.ng; k++) {
+        if (!(S.has[k] && S.st[k].mu > 0.0)) continue;
         if (H->fm[k] == SF_SLIDE_P)
-            g[n++] = s[k];
+            g[n++] = S.s[k];
         else if (H->fm[k] == SF_SLIDE_M)
-            g[n++] = -s[k];
+            g[n++] = -S.s[k];
         else if (H->fm[k] == SF_STICK && ok)
-            g[n++] = st[k].mu * res.lsum[k] * (1.0 + SF_BAND) - fabs(res.beta[k]);
+            g[n++] = S.st[k].mu * res.lsum[k] * (1.0 + SF_BAND) - fabs(res.beta[k]);
         else
             g[n++] = 1.0;
     }
@@ -1258,22 +1396,21 @@ static void sf_decide(hyb *H, double t, double *y)
 {
     frame f;
     exdex_kinematics kin;
-    sf_row rows[SF_MAX_ROWS];
-    sf_stop st[EXDEX_MAX_STOPS];
+    sf_set S;
     sf_result res;
-    double s[EXDEX_MAX_STOPS], tb[EXDEX_MAX_STOPS], a[3];
-    int has[EXDEX_MAX_STOPS], nr, ok = 0, fs;
+    double a[3];
+    int nr, ok = 0, fs;
     if (!H->ncs) return;
     fs = frame_seg(H, t, &f, &kin);
     if (fs) {
         H->err = H->err ? H->err : fs;
         return;
     }
-    nr = sf_build(H, &kin, y, rows, st, s, tb, has);
+    nr = sf_build(H, &kin, y, &S);
     if (H->mode == MODE_STICK) {
-        for (int k = 0; k < H->ns; k++)
-            if (has[k] && st[k].mu > 0.0)
-                H->fm[k] = fabs(tb[k]) <= H->zsw ? SF_STICK : tb[k] > 0.0 ? SF_SLIDE_P : SF_SLIDE_M;
+        for (int k = 0; k < S.ng; k++)
+            if (S.has[k] && S.st[k].mu > 0.0)
+                H->fm[k] = fabs(S.tb[k]) <= H->zsw ? SF_STICK : S.tb[k] > 0.0 ? SF_SLIDE_P : SF_SLIDE_M;
         return;
     }
     if (H->mode == MODE_SLIP && H->small && nr >= 0) {
@@ -1283,10 +1420,10 @@ static void sf_decide(hyb *H, double t, double *y)
          * tried with its own plate friction, and the first that the
          * problem decides again from that friction is kept (the guards
          * then start from a consistent mode) */
-        int roll[EXDEX_MAX_STOPS], pick[EXDEX_MAX_STOPS] = {0}, nroll = 0, found = 0;
+        int roll[SF_MAX_STOPS], pick[SF_MAX_STOPS] = {0}, nroll = 0, found = 0;
         static const int cand[3] = {SF_STICK, SF_SLIDE_P, SF_SLIDE_M};
-        for (int k = 0; k < H->ns; k++)
-            if (has[k] && st[k].mu > 0.0 && st[k].fm == SF_ROLL) roll[nroll++] = k;
+        for (int k = 0; k < S.ng; k++)
+            if (S.has[k] && S.st[k].mu > 0.0 && S.st[k].fm == SF_ROLL) roll[nroll++] = k;
         for (int combo = 0; nroll <= 3 && !found; combo++) {
             int c = combo, same = 1;
             if (combo >= (nroll == 0 ? 1 : nroll == 1 ? 3 : nroll == 2 ? 9 : 27)) break;
@@ -1294,14 +1431,14 @@ static void sf_decide(hyb *H, double t, double *y)
                 pick[i] = cand[c % 3];
                 c /= 3;
             }
-            for (int k = 0; k < H->ns; k++) H->fm[k] = SF_ROLL;
+            for (int k = 0; k < S.ng; k++) H->fm[k] = SF_ROLL;
             for (int i = 0; i < nroll; i++) H->fm[roll[i]] = pick[i];
             fs = sf_free_acc(H, &f, &kin, y, a);
             if (fs) {
                 H->err = H->err ? H->err : fs;
                 return;
             }
-            for (int k = 0; k < H->ns; k++) H->fm[k] = SF_ROLL;
+            for (int k = 0; k < S.ng; k++) H->fm[k] = SF_ROLL;
             if (!sf_solve_at(H, &kin, y, a, &res)) continue;
             for (int i = 0; i < nroll; i++) same &= res.fm[roll[i]] == pick[i];
             found = ok = same;
@@ -1314,8 +1451,8 @@ static void sf_decide(hyb *H, double t, double *y)
         }
         ok = sf_solve_at(H, &kin, y, a, &res);
     }
-    for (int k = 0; k < H->ns; k++) {
-        if (!(has[k] && st[k].mu > 0.0)) continue;
+    for (int k = 0; k < S.ng; k++) {
+        if (!(S.has[k] && S.st[k].mu > 0.0)) continue;
         H->fm[k] = ok ? res.fm[k] : SF_NONE;
     }
     if (!ok) {
@@ -1421,6 +1558,16 @@ static int obst_guards(const hyb *H, const exdex_kinematics *kin, const double *
     int code[MAX_ROWS], n = 0, base = H->ns * H->nv, no = 0;
     double gap[MAX_ROWS];
     no = orow_all(m, kin, y, NULL, 1, code, gap);
+    if (m->disc_r > 0.0) {
+        /* a disc: one row per obstacle, whose kind changes with its
+         * feature: its gap while out of the contact set */
+        for (int o = 0; o < no; o++) {
+            int in = 0;
+            for (int c = 0; c < H->ncs && !in; c++) in = H->cs[c] >= base && orow_obst(H->cs[c] - base) == o;
+            g[n++] = in ? m->scale.L : gap[o];
+        }
+        return n;
+    }
     for (int o = 0, i = 0; o < H->no; o++) {
         int poly = m->def.obstacles[o].kind == EXDEX_OBSTACLE_POLYTOPE;
         double smin = m->scale.L;
@@ -1452,7 +1599,7 @@ static int obst_guards_1dof(const hyb *H, const exdex_kinematics *kin, double q,
         int own = contact && H->ck == H->ns + o;
         double gmin = own ? m->scale.L : INFINITY;
         for (; i < no && orow_obst(code[i]) == o; i++)
-            if (!(own && orow_pair(code[i]) == orow_pair(H->cj)) && gap[i] < gmin) gmin = gap[i];
+            if (!(own && (m->disc_r > 0.0 || orow_pair(code[i]) == orow_pair(H->cj))) && gap[i] < gmin) gmin = gap[i];
         g[n++] = gmin;
     }
     return n;
@@ -1905,9 +2052,13 @@ static void decide_modes(hyb *H, double t, double *y, int vzero)
 static void decide(hyb *H, double t, double *y, int vzero)
 {
     if (H->sfric)
-        for (int k = 0; k < H->ns; k++) H->fm[k] = SF_ROLL;
+        for (int k = 0; k < SF_MAX_STOPS; k++) H->fm[k] = SF_ROLL;
+    H->sgn = 0;
     decide_modes(H, t, y, vzero);
-    if (H->sfric && !H->err) sf_decide(H, t, y);
+    if (H->sfric && !H->err) {
+        sf_fix_groups(H, t, y);
+        sf_decide(H, t, y);
+    }
 }
 
 /* After an accepted step in contact: back onto the constraint (the
@@ -2599,7 +2750,7 @@ static int hybrid_begin(const exdex_model *m, ode *O, int law, double t_end, dou
     H.ny = nd == 3 ? 9 + m->n_src : 3 + m->n_src;
     H.nv = m->n_vert ? m->n_vert : 1;
     H.st = st;
-    for (int k = 0; nd == 3 && k < ns; k++) H.sfric |= model_source_mu(m, k) > 0.0;
+    for (int k = 0; nd == 3 && k < ns + m->n_obst; k++) H.sfric |= model_source_mu(m, k) > 0.0;
     /* eps is a slip speed |E u| [m/s]; a 1-DoF rotation slips at
      * |E u| = e_r |thd|, so its smoothing rate is eps / e_r [rad/s] */
     H.eps = m->ndof == 1 && m->def.dof == EXDEX_DOF_ROTATION ? m->def.eps / m->e[2] : m->def.eps;
@@ -2853,7 +3004,7 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
             }
             if (status) break;
             if (e_best >= 0) {
-                int vz, keep = 0, sep = -1;
+                int vz, keep = 0, sep = -1, join = 0;
                 if (tau_best > 0.0 && t0 + tau_best == t0 && g0[e_best] > 0.0 && t > t0) {
                     /* a crossing within half an ulp of t0: the event time
                      * would round to t0, where the guard holds and the
@@ -2910,11 +3061,16 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                 if (nd == 3 && law == LAW_COULOMB && H.mode != MODE_STICK && !H.sfric && e_best >= H.gap1 &&
                     e_best < H.gap1 + H.ncs)
                     sep = H.cs[e_best - H.gap1];
+                /* planar, a free stop row's gap (the first guards from gap0) */
+                if (nd == 3 && law == LAW_COULOMB && H.mode == MODE_SLIP && !H.sfric && e_best >= H.gap0 &&
+                    e_best < H.gap1 && e_best - H.gap0 < H.ns * H.nv - H.ncs)
+                    join = 1;
                 if (keep)
                     H.small = 1;
                 else
                     decide(&H, t, y, vz);
                 if (sep >= 0 && same >= 1 && H.mode == MODE_SLIP) set_tie_leaves(&H, sep);
+                if (join && same >= 1 && H.mode == MODE_SLIP) set_tie_joins(&H, y, t);
                 gsl_odeiv2_evolve_reset(O->evo);
                 gsl_odeiv2_step_reset(O->step);
                 if (++events > EVENTS_MAX) {
@@ -3050,8 +3206,11 @@ static int hybrid_restore(void *ws, const void *buf)
     if (S.H.sfric != B->sfric || (S.H.stiff != 0 && S.H.stiff != 1) || S.H.nlow < 0 || S.H.nlow > STIFF_AFTER ||
         (S.H.jam != 0.0 && S.H.jam != 1.0 && S.H.jam != -1.0))
         return EXDEX_EINVAL;
-    for (int k = 0; k < B->ns; k++)
+    for (int k = 0; k < SF_MAX_STOPS; k++)
         if (S.H.fm[k] < SF_ROLL || S.H.fm[k] > SF_NONE) return EXDEX_EINVAL;
+    if (S.H.sgn < 0 || S.H.sgn > SF_MAX_STOPS || (S.H.sgn > 0 && S.H.ndof != 3)) return EXDEX_EINVAL;
+    for (int i = 0; S.H.sgn > 0 && i < S.H.ncs; i++)
+        if (S.H.sg[i] < 0 || S.H.sg[i] >= S.H.sgn) return EXDEX_EINVAL;
     O->S = S;
     O->sys.params = &O->S.H;
     {

@@ -42,6 +42,14 @@
  * outside the static ellipsoid the kinetic impulse cannot stop it.) With
  * mu_static = mu the two capacities are the same number and the step is the
  * one-coefficient step.
+ *
+ * Where the slip stops inside a step, the step's end state is that of the
+ * slip stopping under the step's force (slip_stop_in_step, 1-DoF: also a
+ * reversal through zero, stopping and breaking away; the planar form
+ * slip_stop_in_step_planar), and a translation step that a stop pushes
+ * ends with the held contact's velocity (held_velocity_1dof): errors that
+ * the step's own end state would make depend on where the switch falls in
+ * the step, the same on every level of a nested step ladder.
  */
 #include "exdex.h"
 #include "contact.h"
@@ -49,6 +57,7 @@
 #include "ldp.h"
 #include "method.h"
 #include "model.h"
+#include "orows.h"
 #include "util.h"
 
 #include <float.h>
@@ -203,6 +212,132 @@ static void step_1dof(double M, double c, double cs, double vs, double touch, wo
     *v_out = v;
 }
 
+/* A 1-DoF step that starts slipping (v != 0) and ends at rest or slipping
+ * the other way (v+ = 0 or sign v+ = -sign v), with no stop impulse: where
+ * inside the step the slip stops. With the step's applied force Q and
+ * kinetic capacity C (forces; torques for a rotation) held constant over the
+ * step, the slip decelerates at d = (C - s Q) / M (s = sign v) and stops at
+ * t* = |v| / d, having moved v t* / 2. If t* < h, the step's end state is
+ * that of this motion: at rest at q + v t* / 2 when the static capacity
+ * holds the load (|Q| <= C_s), else broken away at once the way Q points,
+ * v+ = a (h - t*) with a = (Q - C sign Q) / M, at q + v t* / 2 + v+ (h - t*)
+ * / 2. Otherwise (d <= 0: the kinetic law never stops this slip, or t* >= h)
+ * the step keeps its own end state.
+ *
+ * Why: the step's own end state treats the whole step as one friction
+ * phase. A stick step ends where Moreau's midpoint puts it, h v / 2 from q
+ * (v t* / 2 exactly); a reversal either stalls at rest until the step's end
+ * (v+ off by (h - t*) |a|) or slides through it with the friction of the
+ * new direction over the whole step (v+ off by 2 C t* / M). These errors
+ * are set by where t* falls in its step, and in a ladder of nested grids (h,
+ * h/2, h/4, ...) a t* near an end of a step of the coarsest grid falls in
+ * the fine step at that end on every level down to a fine enough one: the
+ * error is the same on those levels, and their differences do not show it.
+ * With t* located to O(h^2) (the variation of Q over the step) none of these
+ * errors remains at first order. A slip that starts at a velocity jump of
+ * the frame (model_substep) and stops within the short sub-step after it is
+ * the same case. With C_s = C, t* < h exactly when the step's own end state
+ * is at rest or reversed. Returns 1 and sets *v_end and *dq (the step's
+ * displacement) when t* < h. */
+static int slip_stop_in_step(double M, double Q, double C, double Cs, double h, double v, double *v_end, double *dq)
+{
+    double d = (C - (v > 0.0 ? Q : -Q)) / M, ts;
+    if (!(d > 0.0)) return 0;
+    ts = fabs(v) / d;
+    if (!(ts < h)) return 0;
+    if (fabs(Q) <= Cs) {
+        *v_end = 0.0;
+        *dq = 0.5 * v * ts;
+    } else {
+        *v_end = (Q - copysign(C, Q)) / M * (h - ts);
+        *dq = 0.5 * v * ts + 0.5 * *v_end * (h - ts);
+    }
+    return 1;
+}
+
+/* A translation step in which a stop row pushes the object along (v+ != 0
+ * set by that row's bound, impulse lam > 0) ends with the object on the
+ * stop: its position is where the row put it, q + h v+ (gap 0: the row is
+ * linear in q), but v+ = -gap(q, t + h) / (h G) is the stop's mean rate
+ * over the step, off the velocity of the held contact at t + h by O(h)
+ * (half the step times the stop's acceleration in B). While the contact holds that error stays in
+ * v and never reaches q; where the object leaves the stop it carries into
+ * the free motion, and where it leaves at a switching time of the motion
+ * (the stop's acceleration changes sign there) it is set by the sub-step
+ * before the switch, whose length is the same on every level of a nested
+ * grid ladder that has the same grid point before the switch: an error
+ * that differences between levels do not show. The end velocity is
+ * therefore the held contact's, the v_e with F_q v_e + F_t = 0 at t + h
+ * and q + h v+ (contact_row_1dof: the gap's rates), and the row's impulse
+ * carries the change, lam += M (v_e - v+) / G, so that the step's momentum
+ * balance M (v_e - v) = h Q + p_f + G lam still holds: for a row of a
+ * plane fixed in A (a stop, or an outline vertex on a polytope's face).
+ * Several rows pushing the same way (an edge flush against a stop): v_e is
+ * the held velocity that keeps every one's gap from closing (the largest
+ * of theirs along the push), its row carrying the change. Left as it is
+ * when rows push from both sides, when v_e and v+ have opposite signs (the
+ * stop turns from pushing to receding inside the step: whether the object
+ * follows it is a stick decision), for the other obstacle rows (a
+ * section vertex on the outline's edge, a rod, a disc outline), when F_q =
+ * 0, or when the change would make lam negative (the contact would
+ * have to pull: the object leaves the stop there). A rotation's row is
+ * linearised in q, so its step ends off the stop by the row's curvature
+ * and v+ is what closes that over the next steps: left too (and a zoo
+ * rotation scene has stops only where they do not move in B, F_t = 0).
+ * Returns v_e, or NAN when left. */
+static double held_rate_1dof(const exdex_model *m, const exdex_kinematics *kin_end, double qe, const double *q,
+                             const work *w, int i)
+{
+    int nv = contact_nv(m);
+    crow c;
+    if (i < m->n_stops * nv) {
+        contact_row_1dof(m, kin_end, w->row_stop[i], i % nv, qe, &c);
+    } else {
+        /* an obstacle's row: the same row as the event method holds it
+         * (orow_all lists them in contact_obstacle_rows' order, for an
+         * outline of vertices), its feature kept at the step's end; an
+         * outline vertex on a polytope's face only (a plane fixed in A, as a
+         * stop) */
+        int code[MAX_ROWS], io = i - m->n_stops * nv, no;
+        if (m->disc_r > 0.0) return NAN;
+        no = orow_all(m, kin_end, q, NULL, 0, code, NULL);
+        if (no != w->n_rows - m->n_stops * nv || orow_kind(code[io]) != OROW_VERTEX) return NAN;
+        orow_1dof(m, kin_end, code[io], qe, &c);
+    }
+    return c.Fq != 0.0 ? -c.Ft / c.Fq : NAN;
+}
+
+static double held_velocity_1dof(const exdex_model *m, const exdex_kinematics *kin_end, double q, double h,
+                                 double M, double v, work *w)
+{
+    int ib = -1, sign = 0;
+    double ve = NAN, lam;
+    if (v == 0.0 || m->def.dof != EXDEX_DOF_TRANSLATION) return NAN;
+    for (int i = 0; i < w->n_rows; i++) {
+        double vi;
+        int si;
+        if (!(w->lam[i] > 0.0)) continue;
+        si = w->G[i][0] > 0.0 ? 1 : w->G[i][0] < 0.0 ? -1 : 0;
+        if (!si || (sign && si != sign)) return NAN;
+        sign = si;
+        vi = held_rate_1dof(m, kin_end, q + h * v, &q, w, i);
+        if (!isfinite(vi)) return NAN;
+        /* the held velocity keeps every pushing row's gap from closing */
+        if (ib < 0 || (sign > 0 ? vi > ve : vi < ve)) {
+            ib = i;
+            ve = vi;
+        }
+    }
+    /* a stop whose rate passes zero inside the step (ve against v+) turns
+     * from pushing to receding: whether the object follows it or stays is a
+     * stick decision the held contact does not make */
+    if (ib < 0 || ve * v < 0.0) return NAN;
+    lam = w->lam[ib] + M * (ve - v) / w->G[ib][0];
+    if (!(lam >= 0.0)) return NAN;
+    w->lam[ib] = lam;
+    return ve;
+}
+
 /* ------------------------------------------------------------ the step loop */
 
 /* Can the object stay exactly at rest (v+ = 0) with stop impulses lambda >= 0
@@ -255,6 +390,94 @@ static void ejf(const exdex_model *m, const double cs[2], const double v[3], dou
 {
     model_patch_slip(m, cs, v, r);
     for (int i = 0; i < 3; i++) r[i] *= m->e[i];
+}
+
+/* The planar form of slip_stop_in_step, for a step that starts slipping
+ * (v != 0) and ends at rest with no stop impulse. The slip under the step's
+ * applied force F (held constant) and kinetic friction obeys
+ *     M vdot = F + J^T w,   w = -C E z / |z|,   z = E J v
+ * (the patch wrench opposing the scaled slip z, ejf; C the kinetic
+ * capacity), a direction that turns as the slip decays unless F and M are
+ * aligned with it: no closed form. Over an interval on which the friction
+ * keeps its direction the momentum balance gives the stop time t from the
+ * slip v0 at its start: the friction impulse -(M v0 + F t) has the norm C t
+ * of the rest test (try_rest: |E^-1 w| of the patch wrench of a generalized
+ * impulse), so with a, b those vectors of M v0 and F,
+ *     (C^2 - b.b) t^2 - 2 a.b t - a.a = 0,
+ *     t = (a.b + sqrt((a.b)^2 + (C^2 - b.b) a.a)) / (C^2 - b.b)
+ * (1-DoF: |M v0| / (C - s Q)), and it moves v0 t / 2. The slip is integrated
+ * (classical Runge-Kutta, 4th order) in pieces of a sixteenth of that
+ * estimate from v, each piece first testing whether the estimate from its
+ * start ends inside it; that last piece takes the estimate, whose error is
+ * second order in the friction's turn over it. Applied when the load at
+ * rest is held (|b| <= C_s: the object stays at rest after the stop) and the
+ * slip stops before h; otherwise (a load beyond the static capacity breaks
+ * away at once, or no stop within 64 pieces or before h) the step keeps its
+ * own end state, q + h v / 2 at rest. Returns 1 and sets dq (the step's
+ * displacement) when applied. */
+static double stop_time_planar(const exdex_model *m, const double cs[2], double C, const double v[3],
+                               const double b[3], double bb)
+{
+    double P[3], a[3], ab, aa, den = C * C - bb;
+    for (int i = 0; i < 3; i++) P[i] = v[i] / m->minv[i];
+    model_patch_of_gen(m, cs, P, a);
+    for (int i = 0; i < 3; i++) a[i] /= m->e[i];
+    ab = ex_dot3(a, b);
+    aa = ex_dot3(a, a);
+    return (ab + sqrt(ab * ab + den * aa)) / den;
+}
+
+static int slip_accel_planar(const exdex_model *m, const double cs[2], double C, const double F[3], const double v[3],
+                             double acc[3])
+{
+    double r[3], nr, w[3], P[3];
+    ejf(m, cs, v, r);
+    nr = sqrt(ex_dot3(r, r));
+    if (!(nr > 0.0)) return 0;
+    for (int c = 0; c < 3; c++) w[c] = -C * m->e[c] * r[c] / nr;
+    model_gen_of_patch(m, cs, w, P);
+    for (int c = 0; c < 3; c++) acc[c] = m->minv[c] * (F[c] + P[c]);
+    return 1;
+}
+
+static int slip_stop_in_step_planar(const exdex_model *m, const double cs[2], double C, double Cs, double h,
+                                    const double v0[3], const double F[3], double dq[3])
+{
+    double b[3], bb, t = 0.0, tau, v[3];
+    model_patch_of_gen(m, cs, F, b);
+    for (int i = 0; i < 3; i++) {
+        b[i] /= m->e[i];
+        v[i] = v0[i];
+        dq[i] = 0.0;
+    }
+    bb = ex_dot3(b, b);
+    if (!(bb <= Cs * Cs) || !(C * C - bb > 0.0)) return 0;
+    tau = stop_time_planar(m, cs, C, v, b, bb) / 16.0;
+    if (!(tau > 0.0) || !(tau < h)) return 0;
+    for (int piece = 0; piece < 64; piece++) {
+        double ts = stop_time_planar(m, cs, C, v, b, bb), k[4][3], vt[3];
+        if (!(ts >= 0.0)) return 0;
+        if (ts <= tau) {
+            if (!(t + ts < h)) return 0;
+            for (int i = 0; i < 3; i++) dq[i] += 0.5 * v[i] * ts;
+            return 1;
+        }
+        /* one RK4 piece of length tau: v' = acc(v), q' = v */
+        if (!slip_accel_planar(m, cs, C, F, v, k[0])) return 0;
+        for (int i = 0; i < 3; i++) vt[i] = v[i] + 0.5 * tau * k[0][i];
+        if (!slip_accel_planar(m, cs, C, F, vt, k[1])) return 0;
+        for (int i = 0; i < 3; i++) vt[i] = v[i] + 0.5 * tau * k[1][i];
+        if (!slip_accel_planar(m, cs, C, F, vt, k[2])) return 0;
+        for (int i = 0; i < 3; i++) vt[i] = v[i] + tau * k[2][i];
+        if (!slip_accel_planar(m, cs, C, F, vt, k[3])) return 0;
+        for (int i = 0; i < 3; i++) {
+            dq[i] += tau * (v[i] + tau * (k[0][i] + k[1][i] + k[2][i]) / 6.0);
+            v[i] += tau * (k[0][i] + 2.0 * k[1][i] + 2.0 * k[2][i] + k[3][i]) / 6.0;
+        }
+        t += tau;
+        if (!(t < h)) return 0;
+    }
+    return 0;
 }
 
 /* Sliding with the stop rows of `act` held as equalities:
@@ -775,7 +998,8 @@ static int implicit_substep(const exdex_model *m, work *w, const model_sub *sub,
     double *q = w->S.q, *v = w->S.v, *vprev = w->S.vprev, hprev = w->S.hprev, t = w->S.t, t1 = sub->te;
     exdex_kinematics kin0 = w->S.kin0;
     do {
-        double h = t1 - t, tm = t + 0.5 * h, qm[3], vmid[3], F[3], vs[3], vn[3];
+        double h = t1 - t, tm = t + 0.5 * h, qm[3], vmid[3], F[3], vs[3], vn[3], qset[3], vheld = NAN;
+        int moved = 0;   /* qset holds the step's end position (a slip stopped inside it) */
         frame f;
         exdex_kinematics kin, kin_end;
         wrench[0] = wrench[1] = wrench[2] = 0.0;
@@ -807,6 +1031,22 @@ static int implicit_substep(const exdex_model *m, work *w, const model_sub *sub,
                 int rest = 0;
                 stop_friction_step(m, &kin_end, q, 0.0, c, c_s, vs, v, w, vn, &pf, &rest, st);
             }
+            if (v[0] != 0.0 && (vn[0] == 0.0 || (vn[0] > 0.0) != (v[0] > 0.0))) {
+                /* a slip that stops or reverses inside the step
+                 * (slip_stop_in_step), where no stop acts and the end
+                 * position keeps every row's bound */
+                double ve, dq;
+                int ok = slip_stop_in_step(M, Q, c / h, c_s / h, h, v[0], &ve, &dq);
+                for (int i = 0; ok && i < w->n_rows; i++)
+                    ok = w->lam[i] == 0.0 && w->G[i][0] * dq >= w->rhs[i] * h;
+                if (ok) {
+                    vn[0] = ve;
+                    pf = M * (ve - vs[0]);
+                    qset[0] = q[0] + dq;
+                    moved = 1;
+                }
+            }
+            if (!m->stop_friction && !moved) vheld = held_velocity_1dof(m, &kin_end, q[0], h, M, vn[0], w);
             if (m->def.dof == EXDEX_DOF_TRANSLATION) {
                 wrench[0] = pf * m->d[0] / h;
                 wrench[1] = pf * m->d[1] / h;
@@ -834,6 +1074,20 @@ static int implicit_substep(const exdex_model *m, work *w, const model_sub *sub,
                     fr.stick = rest;
                 }
             }
+            if (fr.stick && (v[0] != 0.0 || v[1] != 0.0 || v[2] != 0.0)) {
+                /* a slip that stops inside the step (slip_stop_in_step_planar),
+                 * where no stop acts and the end position keeps every row's
+                 * bound */
+                double dq[3];
+                int ok = slip_stop_in_step_planar(m, MODEL_CS(qm[2]), model_capacity_mean(m, t, t1),
+                                                  model_capacity_static_mean(m, t, t1), h, v, F, dq);
+                for (int i = 0; ok && i < w->n_rows; i++)
+                    ok = w->lam[i] == 0.0 && ex_dot3(w->G[i], dq) >= w->rhs[i] * h;
+                if (ok) {
+                    for (int i = 0; i < 3; i++) qset[i] = q[i] + dq[i];
+                    moved = 1;
+                }
+            }
             /* report the patch wrench (not the generalized impulse), in B */
             model_to_b(MODEL_CS(qm[2]), fr.p, fo);
             for (int i = 0; i < 3; i++) wrench[i] = fo[i] / h;
@@ -847,6 +1101,8 @@ static int implicit_substep(const exdex_model *m, work *w, const model_sub *sub,
             for (int i = 0; i < w->n_rows; i++) pushed |= w->lam[i] > 0.0;
             for (int i = 0; i < n_dof; i++) {
                 q[i] = pushed ? q[i] + h * vn[i] : qm[i] + 0.5 * h * vn[i];
+                if (moved) q[i] = qset[i];
+                if (!isnan(vheld)) vn[i] = vheld;
                 vprev[i] = v[i];
                 v[i] = vn[i];
             }

@@ -154,16 +154,6 @@ static int check_fields(const exdex_scene_def *d, const char **bad_param)
         if (d->obstacles[o].mu > 0.0 && d->method != EXDEX_METHOD_IMPLICIT && d->method != EXDEX_METHOD_EXPLICIT &&
             d->method != EXDEX_METHOD_EVENT && d->method != EXDEX_METHOD_REGULARISED)
             return bad(bad_param, "method");
-    /* the hybrid methods (event, regularised): obstacles against polygon
-     * outlines, frictional in 1-DoF scenes only, and in a planar scene not
-     * beside frictional stops (sfric.h solves the stops' rows only) */
-    if (d->n_obstacles && (d->method == EXDEX_METHOD_EVENT || d->method == EXDEX_METHOD_REGULARISED)) {
-        if (d->disc_radius > 0.0) return bad(bad_param, "method");
-        for (int o = 0; d->dof == EXDEX_DOF_PLANAR && o < d->n_obstacles; o++)
-            if (d->obstacles[o].mu > 0.0) return bad(bad_param, "method");
-        for (int k = 0; d->dof == EXDEX_DOF_PLANAR && k < d->n_stops && k < EXDEX_MAX_STOPS; k++)
-            if (d->stop_mu[k] > 0.0) return bad(bad_param, "method");
-    }
     if (d->method == EXDEX_METHOD_ANALYTIC && exdex_analytic_unsupported(d)) return bad(bad_param, "method");
     if (d->friction_solver < EXDEX_SOLVER_SCALAR || d->friction_solver > EXDEX_SOLVER_MULTIROOT)
         return bad(bad_param, "friction_solver");

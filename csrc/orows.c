@@ -133,6 +133,123 @@ static void ojet_rt(const ojet *J, const double u[3], jet out[3])
     }
 }
 
+/* ------------------------------------------------ disc outlines
+ * A disc outline (disc_r > 0, its centre the one vertex) has one row per
+ * obstacle, the same kinds with their own meaning: OROW_VERTEX (a = 0) the
+ * support point against face feat (a plane row, as a stop's); OROW_SECTION
+ * (faces a < b, feat 0) the centre's distance from the section vertex of
+ * faces a, b less the radius; OROW_ROD (feat 0) the rim point nearest the
+ * axis, its distance from the axis less the rod's radius. That last is a
+ * minimum over the rim angle phi of f(phi; q, t): with phi* the minimiser
+ * (contact_circle_min), the gap's first derivatives are f's at phi* and its
+ * second ones f_ab - f_a,phi f_b,phi / f_phi,phi (the envelope), from jets
+ * along lines that also move phi. */
+
+/* The disc's centre in B along the line. */
+static void ojet_disc(const exdex_model *m, const ojet *J, jet x[2])
+{
+    double hx = m->vert[0][0], hy = m->vert[0][1];
+    x[0] = jadd(J->r[0], jsub(jmul(J->ct, jk(hx)), jmul(J->st, jk(hy))));
+    x[1] = jadd(J->r[1], jadd(jmul(J->st, jk(hx)), jmul(J->ct, jk(hy))));
+}
+
+/* The section vertex of faces f, g along the line (Cramer's rule). */
+static void ojet_section_vertex(const exdex_obstacle_def *ob, const ojet *J, int f, int g, jet y[2])
+{
+    jet af[3], ag[3], bf = jk(ex_dot3(ob->face_normal[f], ob->face_point[f]));
+    jet bg = jk(ex_dot3(ob->face_normal[g], ob->face_point[g])), det;
+    ojet_rt(J, ob->face_normal[f], af);
+    ojet_rt(J, ob->face_normal[g], ag);
+    for (int k = 0; k < 3; k++) {
+        bf = jsub(bf, jmul(jk(ob->face_normal[f][k]), J->p[k]));
+        bg = jsub(bg, jmul(jk(ob->face_normal[g][k]), J->p[k]));
+    }
+    det = jsub(jmul(af[0], ag[1]), jmul(af[1], ag[0]));
+    y[0] = jdiv(jsub(jmul(bf, ag[1]), jmul(bg, af[1])), det);
+    y[1] = jdiv(jsub(jmul(af[0], bg), jmul(ag[0], bf)), det);
+}
+
+/* The rod's axis in B along the line: point cB, direction aB. */
+static void ojet_axis(const exdex_obstacle_def *ob, const ojet *J, jet cB[3], jet aB[3])
+{
+    ojet_rt(J, ob->axis, aB);
+    ojet_rt(J, ob->center, cB);
+    for (int i = 0; i < 3; i++) {
+        jet t = jk(0.0);
+        for (int k = 0; k < 3; k++) t = jadd(t, jmul(J->R[3 * k + i], J->p[k]));
+        cB[i] = jsub(cB[i], t);
+    }
+}
+
+/* The rim point at angle phi0 + dphi s and its offset w from the axis (its
+ * distance |w|) along the line (q + dq s, t + dt s). */
+static void disc_rim_jet(const exdex_model *m, const exdex_kinematics *kin, const exdex_obstacle_def *ob,
+                         const double *q, const double *dq, double dt, double phi0, double dphi, jet x[2], jet w[3])
+{
+    ojet J;
+    jet cB[3], aB[3], d[3], t, c = {{cos(phi0), -sin(phi0) * dphi, -0.5 * cos(phi0) * dphi * dphi}};
+    jet sn = {{sin(phi0), cos(phi0) * dphi, -0.5 * sin(phi0) * dphi * dphi}};
+    ojet_init(m, kin, q, dq, dt, &J);
+    ojet_axis(ob, &J, cB, aB);
+    ojet_disc(m, &J, x);
+    x[0] = jadd(x[0], jmul(jk(m->disc_r), c));
+    x[1] = jadd(x[1], jmul(jk(m->disc_r), sn));
+    d[0] = jsub(x[0], cB[0]);
+    d[1] = jsub(x[1], cB[1]);
+    d[2] = jsub(jk(0.0), cB[2]);
+    t = jadd(jadd(jmul(d[0], aB[0]), jmul(d[1], aB[1])), jmul(d[2], aB[2]));
+    for (int i = 0; i < 3; i++) w[i] = jsub(d[i], jmul(t, aB[i]));
+}
+
+/* The distance of that rim point from the axis less the rod's radius. */
+static jet disc_rod_jet(const exdex_model *m, const exdex_kinematics *kin, const exdex_obstacle_def *ob,
+                        const double *q, const double *dq, double dt, double phi0, double dphi)
+{
+    jet x[2], w[3];
+    disc_rim_jet(m, kin, ob, q, dq, dt, phi0, dphi, x, w);
+    return jsub(jsqrt(jadd(jadd(jmul(w[0], w[0]), jmul(w[1], w[1])), jmul(w[2], w[2]))), jk(ob->radius));
+}
+
+/* The rim angle nearest the rod's axis at (kin, q) (contact_circle_min). */
+static double disc_rod_phi(const exdex_model *m, const exdex_kinematics *kin, const exdex_obstacle_def *ob,
+                           const double *q)
+{
+    double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], cB[3], aB[3], d[3], t, b[2], u[2];
+    contact_vertices(m, q, xb, vx);
+    for (int i = 0; i < 3; i++) d[i] = ob->center[i] - kin->p[i];
+    ex_mulmtv3(cB, kin->R, d);
+    ex_mulmtv3(aB, kin->R, ob->axis);
+    for (int i = 0; i < 3; i++) d[i] = xb[0][i] - cB[i];
+    t = ex_dot3(d, aB);
+    b[0] = d[0] - t * aB[0];
+    b[1] = d[1] - t * aB[1];
+    contact_circle_min(aB, b, m->disc_r, u);
+    return atan2(u[1], u[0]);
+}
+
+/* Along the line (q + dq s, t + dt s) from the minimiser phi: the rod row's
+ * first derivative (*g1), its second (*g2, the envelope's) and the rate of
+ * the minimiser (returned). */
+static double disc_rod_env(const exdex_model *m, const exdex_kinematics *kin, const exdex_obstacle_def *ob,
+                           const double *q, const double *dq, double dt, double phi, double *g0, double *g1,
+                           double *g2)
+{
+    double zero[3] = {0, 0, 0}, fss, fpp, fsp;
+    jet a = disc_rod_jet(m, kin, ob, q, dq, dt, phi, 0.0), b = disc_rod_jet(m, kin, ob, q, zero, 0.0, phi, 1.0);
+    jet c = disc_rod_jet(m, kin, ob, q, dq, dt, phi, 1.0);
+    fss = 2.0 * a.c[2];
+    fpp = 2.0 * b.c[2];
+    fsp = 0.5 * (2.0 * c.c[2] - fss - fpp);
+    if (g0) *g0 = a.c[0];
+    if (g1) *g1 = a.c[1];
+    if (!(fpp > 0.0)) {
+        if (g2) *g2 = fss;
+        return 0.0;
+    }
+    if (g2) *g2 = fss - fsp * fsp / fpp;
+    return -fsp / fpp;
+}
+
 /* The gap of a section or rod row along the line (see the header). */
 static jet orow_jet(const exdex_model *m, const exdex_kinematics *kin, int code, const double *q, const double *dq,
                     double dt)
@@ -141,6 +258,17 @@ static jet orow_jet(const exdex_model *m, const exdex_kinematics *kin, int code,
     int nh = m->n_hull, feat = orow_feat(code);
     ojet J;
     ojet_init(m, kin, q, dq, dt, &J);
+    if (m->disc_r > 0.0) {
+        /* the centre's distance from the section vertex (a rod: disc_rod_jet) */
+        jet y[2], xc[2], dx, dy;
+        ojet_section_vertex(ob, &J, orow_a(code), orow_b(code), y);
+        ojet_disc(m, &J, xc);
+        dx = jsub(xc[0], y[0]);
+        dy = jsub(xc[1], y[1]);
+        (void)nh;
+        (void)feat;
+        return jsub(jsqrt(jadd(jmul(dx, dx), jmul(dy, dy))), jk(m->disc_r));
+    }
     if (orow_kind(code) == OROW_SECTION) {
         int f = orow_a(code), g = orow_b(code);
         jet af[3], ag[3], bf = jk(ex_dot3(ob->face_normal[f], ob->face_point[f]));
@@ -215,6 +343,12 @@ int orow_valid(const exdex_model *m, int code)
     f = orow_feat(code);
     if (o >= m->n_obst) return 0;
     ob = &m->def.obstacles[o];
+    if (m->disc_r > 0.0) {
+        if (ob->kind == EXDEX_OBSTACLE_POLYTOPE)
+            return (kind == OROW_VERTEX && a == 0 && b == 0 && f < ob->n_faces) ||
+                   (kind == OROW_SECTION && a < b && b < ob->n_faces && f == 0);
+        return kind == OROW_ROD && a == 0 && b == 0 && f == 0;
+    }
     if (ob->kind == EXDEX_OBSTACLE_POLYTOPE) {
         if (kind == OROW_VERTEX) return a < contact_nv(m) && b == 0 && f < ob->n_faces;
         return kind == OROW_SECTION && m->n_hull >= 3 && a < b && b < ob->n_faces && f < m->n_hull;
@@ -372,6 +506,120 @@ static int orow_tie(const exdex_model *m, const exdex_kinematics *kin, const dou
     return pick;
 }
 
+/* The disc's row against obstacle o at (kin, q) (centre xc, offset vc):
+ * its code and gap (planar: a face row's gap as contact_plane_row_planar),
+ * the feature as contact_obstacle_rows chooses it: the face whose line is
+ * farthest from the centre while the centre's foot on it lies on the face
+ * (or the centre is inside), else the nearest section vertex; a rod's rim
+ * point nearest the axis. */
+static int disc_row(const exdex_model *m, const exdex_kinematics *kin, int o, const double *q, const double xc[3],
+                    const double vc[3], int planar, double *gap)
+{
+    const exdex_obstacle_def *ob = &m->def.obstacles[o];
+    double r = m->disc_r, zero[3] = {0, 0, 0}, G[3];
+    if (ob->kind == EXDEX_OBSTACLE_POLYTOPE) {
+        double a[EXDEX_MAX_FACES][2], b[EXDEX_MAX_FACES], db = -INFINITY;
+        int idx[EXDEX_MAX_FACES], nk = 0, fb = -1, empty = 0, best = 0, fplane = 1;
+        for (int f = 0; f < ob->n_faces; f++) {
+            double af[2], bf, na = face_line(ob, kin, f, af, &bf), dd;
+            if (!(na > 1e-12)) {
+                if (bf < 0.0) empty = 1;
+                continue;
+            }
+            a[nk][0] = af[0];
+            a[nk][1] = af[1];
+            b[nk] = bf;
+            idx[nk] = f;
+            dd = (af[0] * xc[0] + af[1] * xc[1] - bf) / na;
+            if (dd > db) {
+                db = dd;
+                fb = nk;
+            }
+            nk++;
+        }
+        if (!(empty || fb < 0 || db <= 0.0)) {
+            double na = hypot(a[fb][0], a[fb][1]), y[2] = {xc[0] - db * a[fb][0] / na, xc[1] - db * a[fb][1] / na};
+            double sc = hypot(y[0], y[1]);
+            for (int h = 0; h < nk; h++) {
+                if (h == fb) continue;
+                if (a[h][0] * y[0] + a[h][1] * y[1] - b[h] > 1e-12 * (hypot(a[h][0], a[h][1]) * sc + fabs(b[h])))
+                    fplane = 0;
+            }
+        }
+        if (!fplane) {
+            /* the nearest section vertex (the pairs as orow_all finds them) */
+            double ys[EXDEX_MAX_FACES][2], dmin = INFINITY;
+            int ny = 0, pf = -1, pg = -1;
+            for (int f = 0; f < nk; f++)
+                for (int g = f + 1; g < nk; g++) {
+                    double det = a[f][0] * a[g][1] - a[f][1] * a[g][0], y[2], sc, dd;
+                    int ok = 1;
+                    if (!(fabs(det) > 1e-12 * hypot(a[f][0], a[f][1]) * hypot(a[g][0], a[g][1]))) continue;
+                    y[0] = (b[f] * a[g][1] - b[g] * a[f][1]) / det;
+                    y[1] = (a[f][0] * b[g] - a[g][0] * b[f]) / det;
+                    sc = hypot(y[0], y[1]);
+                    for (int h = 0; ok && h < nk; h++) {
+                        if (h == f || h == g) continue;
+                        if (a[h][0] * y[0] + a[h][1] * y[1] - b[h] > 1e-12 * (hypot(a[h][0], a[h][1]) * sc + fabs(b[h])))
+                            ok = 0;
+                    }
+                    for (int i = 0; ok && i < ny; i++)
+                        if (hypot(ys[i][0] - y[0], ys[i][1] - y[1]) <= 1e-10 * (sc + hypot(ys[i][0], ys[i][1]))) ok = 0;
+                    if (!ok || ny >= EXDEX_MAX_FACES) continue;
+                    ys[ny][0] = y[0];
+                    ys[ny][1] = y[1];
+                    ny++;
+                    dd = hypot(xc[0] - y[0], xc[1] - y[1]);
+                    if (dd < dmin) {
+                        dmin = dd;
+                        pf = idx[f];
+                        pg = idx[g];
+                    }
+                }
+            if (pf >= 0) {
+                if (gap) gap[0] = dmin - r;
+                return orow_code(o, OROW_SECTION, pf, pg, 0);
+            }
+        }
+        if (!empty && fb >= 0 && db > 0.0) {
+            best = idx[fb];
+        } else {
+            double gb = -INFINITY;
+            for (int f = 0; f < ob->n_faces; f++) {
+                double g = contact_plane_gap(m, kin, ob->face_point[f], ob->face_normal[f], xc, vc, NULL);
+                if (g > gb) {
+                    gb = g;
+                    best = f;
+                }
+            }
+        }
+        if (gap)
+            gap[0] = planar ? contact_plane_row_planar(m, kin, ob->face_point[best], ob->face_normal[best], 0, q, zero, G,
+                                                       NULL, NULL)
+                            : contact_plane_gap(m, kin, ob->face_point[best], ob->face_normal[best], xc, vc, NULL);
+        return orow_code(o, OROW_VERTEX, 0, 0, best);
+    }
+    if (gap) {
+        /* as contact_obstacle_rows: negative when the axis meets the plane inside the disc */
+        double cB[3], aB[3], phi = disc_rod_phi(m, kin, ob, q), x[3], d[3], t, w[3], dist;
+        int inside = 0;
+        rod_axis(ob, kin, cB, aB);
+        if (fabs(aB[2]) > 1e-12) {
+            double c0[2] = {cB[0] - cB[2] / aB[2] * aB[0], cB[1] - cB[2] / aB[2] * aB[1]};
+            inside = hypot(xc[0] - c0[0], xc[1] - c0[1]) < r;
+        }
+        x[0] = xc[0] + r * cos(phi);
+        x[1] = xc[1] + r * sin(phi);
+        x[2] = 0.0;
+        for (int i = 0; i < 3; i++) d[i] = x[i] - cB[i];
+        t = ex_dot3(d, aB);
+        for (int i = 0; i < 3; i++) w[i] = d[i] - t * aB[i];
+        dist = sqrt(ex_dot3(w, w));
+        gap[0] = (inside ? -dist : dist) - ob->radius;
+    }
+    return orow_code(o, OROW_ROD, 0, 0, 0);
+}
+
 int orow_all(const exdex_model *m, const exdex_kinematics *kin, const double *q, const double *v, int planar,
              int *code, double *gap)
 {
@@ -379,6 +627,11 @@ int orow_all(const exdex_model *m, const exdex_kinematics *kin, const double *q,
     int nv = contact_vertices(m, q, xb, vx), nh = contact_hull_b(m, q, hb), n = 0;
     for (int o = 0; o < m->n_obst; o++) {
         const exdex_obstacle_def *ob = &m->def.obstacles[o];
+        if (m->disc_r > 0.0) {
+            code[n] = disc_row(m, kin, o, q, xb[0], vx[0], planar, gap ? &gap[n] : NULL);
+            n++;
+            continue;
+        }
         if (ob->kind == EXDEX_OBSTACLE_POLYTOPE) {
             double a[EXDEX_MAX_FACES][2], b[EXDEX_MAX_FACES], ys[EXDEX_MAX_FACES][2];
             int idx[EXDEX_MAX_FACES], nk = 0, empty = 0, ny = 0;
@@ -473,6 +726,18 @@ double orow_planar(const exdex_model *m, const exdex_kinematics *kin, int code, 
         return contact_plane_row_planar(m, kin, ob->face_point[f], ob->face_normal[f], orow_a(code), q, v, G, gd,
                                         gdd0);
     }
+    if (m->disc_r > 0.0 && orow_kind(code) == OROW_ROD) {
+        double phi = disc_rod_phi(m, kin, ob, q), g0, g1, g2;
+        for (int i = 0; i < 3; i++) {
+            double e[3] = {0, 0, 0};
+            e[i] = 1.0;
+            G[i] = disc_rod_jet(m, kin, ob, q, e, 0.0, phi, 0.0).c[1];
+        }
+        disc_rod_env(m, kin, ob, q, v, 1.0, phi, &g0, &g1, &g2);
+        if (gd) *gd = g1;
+        if (gdd0) *gdd0 = g2;
+        return g0;
+    }
     for (int i = 0; i < 3; i++) {
         double e[3] = {0, 0, 0};
         e[i] = 1.0;
@@ -494,6 +759,26 @@ void orow_1dof(const exdex_model *m, const exdex_kinematics *kin, int code, doub
         contact_plane_row_1dof(m, kin, ob->face_point[f], ob->face_normal[f], orow_a(code), q, c);
         return;
     }
+    if (m->disc_r > 0.0 && orow_kind(code) == OROW_ROD) {
+        /* the envelope: f_ab - f_a,phi f_b,phi / f_phi,phi */
+        double phi = disc_rod_phi(m, kin, ob, &q), fqp, ftp, fpp, dq, dt;
+        jet jp = disc_rod_jet(m, kin, ob, &q, &zero, 0.0, phi, 1.0);
+        gq = disc_rod_jet(m, kin, ob, &q, &one, 0.0, phi, 0.0);
+        gt = disc_rod_jet(m, kin, ob, &q, &zero, 1.0, phi, 0.0);
+        gb = disc_rod_jet(m, kin, ob, &q, &one, 1.0, phi, 0.0);
+        fpp = 2.0 * jp.c[2];
+        fqp = disc_rod_jet(m, kin, ob, &q, &one, 0.0, phi, 1.0).c[2] - gq.c[2] - jp.c[2];
+        ftp = disc_rod_jet(m, kin, ob, &q, &zero, 1.0, phi, 1.0).c[2] - gt.c[2] - jp.c[2];
+        dq = fpp > 0.0 ? fqp / fpp : 0.0;
+        dt = fpp > 0.0 ? ftp / fpp : 0.0;
+        c->F = gq.c[0];
+        c->Fq = gq.c[1];
+        c->Fqq = 2.0 * gq.c[2] - fqp * dq;
+        c->Ft = gt.c[1];
+        c->Ftt = 2.0 * gt.c[2] - ftp * dt;
+        c->Ftq = gb.c[2] - gq.c[2] - gt.c[2] - fqp * dt;
+        return;
+    }
     gq = orow_jet(m, kin, code, &q, &one, 0.0);
     gt = orow_jet(m, kin, code, &q, &zero, 1.0);
     gb = orow_jet(m, kin, code, &q, &one, 1.0);
@@ -510,6 +795,52 @@ double orow_feature_guard(const exdex_model *m, const exdex_kinematics *kin, int
     const exdex_obstacle_def *ob = &m->def.obstacles[orow_obst(code)];
     double hb[EXDEX_MAX_VERTICES][3], big = m->scale.L;
     int nh = contact_hull_b(m, q, hb), feat = orow_feat(code), kind = orow_kind(code);
+    if (m->disc_r > 0.0) {
+        /* a face row: the centre's foot on the face line stays on the
+         * face (inside the other faces' half-planes); a section vertex:
+         * the centre's feet on both its face lines stay beyond it, and it
+         * stays a vertex of the section; a rod: no feature */
+        double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], res = big;
+        contact_vertices(m, q, xb, vx);
+        if (kind == OROW_VERTEX) {
+            double af[2], bf, na = face_line(ob, kin, feat, af, &bf), dd, y[2];
+            if (!(na > 1e-12)) return big;
+            dd = (af[0] * xb[0][0] + af[1] * xb[0][1] - bf) / na;
+            y[0] = xb[0][0] - dd * af[0] / na;
+            y[1] = xb[0][1] - dd * af[1] / na;
+            for (int h = 0; h < ob->n_faces; h++) {
+                double ah[2], bh, nh2;
+                if (h == feat) continue;
+                nh2 = face_line(ob, kin, h, ah, &bh);
+                if (nh2 > 1e-12) res = fmin(res, (bh - ah[0] * y[0] - ah[1] * y[1]) / nh2);
+            }
+            return res;
+        }
+        if (kind == OROW_SECTION) {
+            int f = orow_a(code), g = orow_b(code);
+            double af[2], ag[2], bf, bg, det, y[2], nf, ng, df, dg, yf[2], yg[2];
+            nf = face_line(ob, kin, f, af, &bf);
+            ng = face_line(ob, kin, g, ag, &bg);
+            det = af[0] * ag[1] - af[1] * ag[0];
+            y[0] = (bf * ag[1] - bg * af[1]) / det;
+            y[1] = (af[0] * bg - ag[0] * bf) / det;
+            df = (af[0] * xb[0][0] + af[1] * xb[0][1] - bf) / nf;
+            dg = (ag[0] * xb[0][0] + ag[1] * xb[0][1] - bg) / ng;
+            yf[0] = xb[0][0] - df * af[0] / nf;
+            yf[1] = xb[0][1] - df * af[1] / nf;
+            yg[0] = xb[0][0] - dg * ag[0] / ng;
+            yg[1] = xb[0][1] - dg * ag[1] / ng;
+            res = fmin((ag[0] * yf[0] + ag[1] * yf[1] - bg) / ng, (af[0] * yg[0] + af[1] * yg[1] - bf) / nf);
+            for (int h = 0; h < ob->n_faces; h++) {
+                double ah[2], bh, na;
+                if (h == f || h == g) continue;
+                na = face_line(ob, kin, h, ah, &bh);
+                if (na > 1e-12) res = fmin(res, (bh - ah[0] * y[0] - ah[1] * y[1]) / na);
+            }
+            return res;
+        }
+        return big;
+    }
     if (kind == OROW_VERTEX) {
         double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], gf, go = -INFINITY;
         int j = orow_a(code);
@@ -570,6 +901,51 @@ void orow_point(const exdex_model *m, const exdex_kinematics *kin, int code, con
     double hb[EXDEX_MAX_VERTICES][3], r[3], th, x[3] = {0, 0, 0}, nb[3] = {0, 0, 0};
     int nh = contact_hull_b(m, q, hb), feat = orow_feat(code), kind = orow_kind(code);
     model_com_pose(m, q, r, &th);
+    if (m->disc_r > 0.0) {
+        /* the disc: its support point against the face, the rim point
+         * toward the section vertex, the rim point nearest the axis */
+        double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], rd = m->disc_r, nn;
+        contact_vertices(m, q, xb, vx);
+        if (kind == OROW_VERTEX) {
+            ex_mulmtv3(nb, kin->R, ob->face_normal[feat]);
+            nn = hypot(nb[0], nb[1]);
+            x[0] = xb[0][0] - (nn > FQ_MIN ? rd * nb[0] / nn : 0.0);
+            x[1] = xb[0][1] - (nn > FQ_MIN ? rd * nb[1] / nn : 0.0);
+        } else if (kind == OROW_SECTION) {
+            int f = orow_a(code), g = orow_b(code);
+            double af[2], ag[2], bf, bg, det, y[2];
+            face_line(ob, kin, f, af, &bf);
+            face_line(ob, kin, g, ag, &bg);
+            det = af[0] * ag[1] - af[1] * ag[0];
+            y[0] = (bf * ag[1] - bg * af[1]) / det;
+            y[1] = (af[0] * bg - ag[0] * bf) / det;
+            nb[0] = xb[0][0] - y[0];
+            nb[1] = xb[0][1] - y[1];
+            nn = hypot(nb[0], nb[1]);
+            nb[0] = nn > 0.0 ? nb[0] / nn : 0.0;
+            nb[1] = nn > 0.0 ? nb[1] / nn : 0.0;
+            x[0] = xb[0][0] - rd * nb[0];
+            x[1] = xb[0][1] - rd * nb[1];
+        } else {
+            double cB[3], aB[3], d[3], t, phi = disc_rod_phi(m, kin, ob, q);
+            rod_axis(ob, kin, cB, aB);
+            x[0] = xb[0][0] + rd * cos(phi);
+            x[1] = xb[0][1] + rd * sin(phi);
+            for (int i = 0; i < 3; i++) d[i] = x[i] - cB[i];
+            t = ex_dot3(d, aB);
+            for (int i = 0; i < 3; i++) nb[i] = d[i] - t * aB[i];
+            nn = sqrt(ex_dot3(nb, nb));
+            for (int i = 0; i < 3; i++) nb[i] = nn > 0.0 ? nb[i] / nn : 0.0;
+        }
+        for (int i = 0; i < 3; i++) {
+            cp->x[i] = x[i];
+            cp->vx[i] = x[i] - r[i];
+            cp->nB[i] = nb[i];
+        }
+        cp->x[2] = cp->vx[2] = 0.0;
+        (void)nh;
+        return;
+    }
     if (kind == OROW_VERTEX) {
         double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3];
         int j = orow_a(code);
@@ -619,4 +995,145 @@ void orow_point(const exdex_model *m, const exdex_kinematics *kin, int code, con
         cp->nB[i] = nb[i];
     }
     cp->x[2] = cp->vx[2] = 0.0;
+}
+
+/* ------------------------------------------------ slip along a row
+ * The slip of the object's material point at the row's contact point x
+ * along the tangent t = e_z x n (n the unit in-plane normal of the row, B):
+ * s = t . (xdot + R^T pdot + w_B x x), xdot the material point's velocity in
+ * B, w_B = R^T w (contact_tangent's T v + tb). Along the line (q + v s, t +
+ * s) with v held, its first Taylor coefficient is d s / dt less T qdd: the
+ * slip acceleration sdd0 (sfric.h) of a row whose contact point moves over
+ * the object (a section vertex along the object's edge, a rod's nearest
+ * point) as exactly as of a vertex row. */
+
+/* The contact point x and the unit in-plane normal n (B) of a section or rod
+ * row along the line (orow_point's, as jets). */
+static void orow_point_jet(const exdex_model *m, const exdex_obstacle_def *ob, const ojet *J, int code, jet x[2],
+                           jet n[2])
+{
+    int nh = m->n_hull, feat = orow_feat(code);
+    if (m->disc_r > 0.0) {
+        /* a disc's section row: the rim point toward the section vertex */
+        jet y[2], xc[2], nn;
+        ojet_section_vertex(ob, J, orow_a(code), orow_b(code), y);
+        ojet_disc(m, J, xc);
+        n[0] = jsub(xc[0], y[0]);
+        n[1] = jsub(xc[1], y[1]);
+        nn = jsqrt(jadd(jmul(n[0], n[0]), jmul(n[1], n[1])));
+        n[0] = jdiv(n[0], nn);
+        n[1] = jdiv(n[1], nn);
+        x[0] = jsub(xc[0], jmul(jk(m->disc_r), n[0]));
+        x[1] = jsub(xc[1], jmul(jk(m->disc_r), n[1]));
+        return;
+    }
+    if (orow_kind(code) == OROW_SECTION) {
+        int f = orow_a(code), g = orow_b(code);
+        jet af[3], ag[3], bf = jk(ex_dot3(ob->face_normal[f], ob->face_point[f]));
+        jet bg = jk(ex_dot3(ob->face_normal[g], ob->face_point[g])), det, u[2], w[2], ex, ey, len;
+        ojet_rt(J, ob->face_normal[f], af);
+        ojet_rt(J, ob->face_normal[g], ag);
+        for (int k = 0; k < 3; k++) {
+            bf = jsub(bf, jmul(jk(ob->face_normal[f][k]), J->p[k]));
+            bg = jsub(bg, jmul(jk(ob->face_normal[g][k]), J->p[k]));
+        }
+        det = jsub(jmul(af[0], ag[1]), jmul(af[1], ag[0]));
+        x[0] = jdiv(jsub(jmul(bf, ag[1]), jmul(bg, af[1])), det);
+        x[1] = jdiv(jsub(jmul(af[0], bg), jmul(ag[0], bf)), det);
+        ojet_hull(m, J, feat, u);
+        ojet_hull(m, J, (feat + 1) % nh, w);
+        ex = jsub(w[0], u[0]);
+        ey = jsub(w[1], u[1]);
+        len = jsqrt(jadd(jmul(ex, ex), jmul(ey, ey)));
+        n[0] = jdiv(jsub(jk(0.0), ey), len);
+        n[1] = jdiv(ex, len);
+    } else {
+        jet cB[3], aB[3], d[3], t, nn;
+        ojet_rt(J, ob->axis, aB);
+        ojet_rt(J, ob->center, cB);
+        for (int i = 0; i < 3; i++) {
+            jet s = jk(0.0);
+            for (int k = 0; k < 3; k++) s = jadd(s, jmul(J->R[3 * k + i], J->p[k]));
+            cB[i] = jsub(cB[i], s);
+        }
+        if (feat < 32) {
+            ojet_hull(m, J, feat, x);
+        } else {
+            jet u[2], w[2], du[3], dd[3], ta, tf, num = jk(0.0), den = jk(0.0);
+            ojet_hull(m, J, feat - 32, u);
+            ojet_hull(m, J, (feat - 31) % nh, w);
+            du[0] = jsub(w[0], u[0]);
+            du[1] = jsub(w[1], u[1]);
+            du[2] = jk(0.0);
+            d[0] = jsub(u[0], cB[0]);
+            d[1] = jsub(u[1], cB[1]);
+            d[2] = jsub(jk(0.0), cB[2]);
+            t = jadd(jadd(jmul(d[0], aB[0]), jmul(d[1], aB[1])), jmul(d[2], aB[2]));
+            ta = jadd(jmul(du[0], aB[0]), jmul(du[1], aB[1]));
+            for (int i = 0; i < 3; i++) {
+                jet wi = jsub(d[i], jmul(t, aB[i]));
+                dd[i] = jsub(du[i], jmul(ta, aB[i]));
+                num = jadd(num, jmul(wi, dd[i]));
+                den = jadd(den, jmul(dd[i], dd[i]));
+            }
+            tf = jdiv(jsub(jk(0.0), num), den);
+            x[0] = jadd(u[0], jmul(tf, du[0]));
+            x[1] = jadd(u[1], jmul(tf, du[1]));
+        }
+        d[0] = jsub(x[0], cB[0]);
+        d[1] = jsub(x[1], cB[1]);
+        d[2] = jsub(jk(0.0), cB[2]);
+        t = jadd(jadd(jmul(d[0], aB[0]), jmul(d[1], aB[1])), jmul(d[2], aB[2]));
+        n[0] = jsub(d[0], jmul(t, aB[0]));
+        n[1] = jsub(d[1], jmul(t, aB[1]));
+        nn = jsqrt(jadd(jmul(n[0], n[0]), jmul(n[1], n[1])));
+        n[0] = jdiv(n[0], nn);
+        n[1] = jdiv(n[1], nn);
+    }
+}
+
+double orow_slip(const exdex_model *m, const exdex_kinematics *kin, int code, const double *q, const double *v,
+                 double T[3], double *tb, double *sdd0)
+{
+    const exdex_obstacle_def *ob = &m->def.obstacles[orow_obst(code)];
+    contact_point cp;
+    if (orow_kind(code) == OROW_VERTEX)
+        return contact_plane_slip_planar(m, kin, ob->face_normal[orow_feat(code)], orow_a(code), q, v, T, tb, sdd0);
+    orow_point(m, kin, code, q, &cp);
+    contact_tangent(m, kin, cp.x, cp.vx, cp.nB, T, tb);
+    if (sdd0) {
+        ojet J;
+        jet x[2], n[2], wB[3], vp[3], pv[3], wv[3], tx, ty, s;
+        ojet_init(m, kin, q, v, 1.0, &J);
+        if (m->disc_r > 0.0 && orow_kind(code) == OROW_ROD) {
+            /* the rim point nearest the axis moves along the rim at the
+             * minimiser's rate */
+            double phi = disc_rod_phi(m, kin, ob, q), dphi = disc_rod_env(m, kin, ob, q, v, 1.0, phi, NULL, NULL, NULL);
+            jet w[3], nn;
+            disc_rim_jet(m, kin, ob, q, v, 1.0, phi, dphi, x, w);
+            nn = jsqrt(jadd(jmul(w[0], w[0]), jmul(w[1], w[1])));
+            n[0] = jdiv(w[0], nn);
+            n[1] = jdiv(w[1], nn);
+        } else {
+            orow_point_jet(m, ob, &J, code, x, n);
+        }
+        for (int i = 0; i < 3; i++) {
+            wv[i] = (jet){{kin->w[i], kin->dw[i], 0.0}};
+            pv[i] = (jet){{kin->v[i], kin->a[i], 0.0}};
+        }
+        for (int i = 0; i < 3; i++) {
+            wB[i] = jk(0.0);
+            vp[i] = jk(0.0);
+            for (int k = 0; k < 3; k++) {
+                wB[i] = jadd(wB[i], jmul(J.R[3 * k + i], wv[k]));
+                vp[i] = jadd(vp[i], jmul(J.R[3 * k + i], pv[k]));
+            }
+        }
+        /* the material point's velocity in B, plus the frame's at x */
+        tx = jadd(jsub(jk(v[0]), jmul(jk(v[2]), jsub(x[1], J.r[1]))), jsub(vp[0], jmul(wB[2], x[1])));
+        ty = jadd(jadd(jk(v[1]), jmul(jk(v[2]), jsub(x[0], J.r[0]))), jadd(vp[1], jmul(wB[2], x[0])));
+        s = jadd(jmul(jsub(jk(0.0), n[1]), tx), jmul(n[0], ty));
+        *sdd0 = s.c[1];
+    }
+    return ex_dot3(T, v) + *tb;
 }

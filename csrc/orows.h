@@ -17,6 +17,10 @@
  *                 feat = the hull edge (from hull vertex feat to feat + 1);
  *   OROW_ROD:     a = b = 0, feat = hull vertex k (k < 32) or hull edge
  *                 32 + e (its interior).
+ * A disc outline has one row per obstacle: OROW_VERTEX (a = 0) its support
+ * point against face feat, OROW_SECTION (faces a < b, feat 0) its centre's
+ * distance from their section vertex less the radius, OROW_ROD (feat 0) its
+ * rim point nearest the axis (orows.c).
  * The gaps are those of contact_obstacle_rows (a vertex row's face distance
  * is computed as a stop's, so a one-face obstacle is its plane stop bit for
  * bit). */
@@ -70,5 +74,13 @@ double orow_feature_guard(const exdex_model *m, const exdex_kinematics *kin, int
  * centre of mass and the row's normal in B (the direction the gap grows in
  * when that point moves), as contact_obstacle_rows gives them. */
 void orow_point(const exdex_model *m, const exdex_kinematics *kin, int code, const double *q, contact_point *cp);
+
+/* Planar slip along row `code` (feature held) at (kin, q, v): s = T . v +
+ * tb with T, tb of contact_tangent at the row's point (orow_point; a vertex
+ * row: contact_plane_slip_planar with the face's normal, as a stop's);
+ * sdd0 (may be NULL) the slip acceleration less T qdd, exact also where the
+ * contact point moves over the object (section and rod rows). Returns s. */
+double orow_slip(const exdex_model *m, const exdex_kinematics *kin, int code, const double *q, const double *v,
+                 double T[3], double *tb, double *sdd0);
 
 #endif

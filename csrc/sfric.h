@@ -1,6 +1,8 @@
 /* sfric.h -- private to the exdex core: the acceleration-level contact
  * problem of a planar object against stops with Coulomb friction, for the
- * event-driven and regularised methods (hybrid.c). Pure numerics on ldp.h:
+ * event-driven and regularised methods (hybrid.c). A "stop" here is a
+ * friction group: a line of contact whose rows slip together (a stop, or
+ * an obstacle's contact line: hybrid.c, sf_groups). Pure numerics on ldp.h:
  * no model, no allocation, every loop bounded.
  *
  * The problem (3 free coordinates, M = diag(1 / minv)):
@@ -46,7 +48,7 @@
 #define EXDEX_SFRIC_H
 
 #define SF_MAX_ROWS 8   /* rows whose normal modes are enumerated */
-#define SF_MAX_STOPS 8  /* stops (EXDEX_MAX_STOPS) */
+#define SF_MAX_STOPS 16 /* friction groups ("stops"): the stops (EXDEX_MAX_STOPS) and the obstacles' contact lines */
 #define SF_BAND 1e-12   /* relative band of the stick cone: a stop sticks while |beta| <= mu sum lam (1 + SF_BAND) */
 
 /* Friction mode of a stop (sf_solve's fm). */

@@ -452,7 +452,7 @@ def _steps(t_end, dt):
 # ---------------------------------------------------------------- MuJoCo
 
 def _mujoco_xml(lay, *, dt, iterations, cone, impratio, noslip_iterations, solver, tolerance, torsional,
-                gripper_mass, plate_mass):
+                gripper_mass, plate_mass, solimp=None, solreffriction=None):
     sc = lay.scene
     f = lambda v: " ".join(f"{float(x):.12g}" for x in np.ravel(v))  # noqa: E731
     lx, ly, lz = lay.size
@@ -482,8 +482,12 @@ def _mujoco_xml(lay, *, dt, iterations, cone, impratio, noslip_iterations, solve
     I = np.array(sc.body.inertia)
     full = f(([I[0, 0], I[1, 1], I[2, 2], I[0, 1], I[0, 2], I[1, 2]]))
     com = lay.com_in_joint
-    pairs = [f'<pair geom1="pad1" geom2="object" condim="{condim}" friction="{f((lay.mu[0], lay.mu[0], spin, 0, 0))}"/>',
-             f'<pair geom1="pad2" geom2="object" condim="{condim}" '
+    # every contact pair's solver parameters (absent: MuJoCo's defaults)
+    sol = ((f' solimp="{f(solimp)}"' if solimp is not None else "") +
+           (f' solreffriction="{f(solreffriction)}"' if solreffriction is not None else ""))
+    pairs = [f'<pair geom1="pad1" geom2="object" condim="{condim}"{sol} '
+             f'friction="{f((lay.mu[0], lay.mu[0], spin, 0, 0))}"/>',
+             f'<pair geom1="pad2" geom2="object" condim="{condim}"{sol} '
              f'friction="{f((max(lay.mu[1], 0.0), max(lay.mu[1], 0.0), spin if lay.mu[1] > 0 else 0.0, 0, 0))}"/>']
     stops = []
     for k, s in enumerate(sc.stops):
@@ -491,8 +495,8 @@ def _mujoco_xml(lay, *, dt, iterations, cone, impratio, noslip_iterations, solve
         stops.append(f'<geom name="stop{k}" type="box" pos="{f(c)}" quat="{f(_quat_from_matrix(R))}" '
                      f'size="{f(STOP_HALF)}" contype="0" conaffinity="0"/>')
         # an explicit pair's friction replaces MuJoCo's combination of the geoms' (the max): exactly mu
-        pairs.append(f'<pair geom1="stop{k}" geom2="object" condim="3" friction="{f((s.mu, s.mu, 0, 0, 0))}"/>'
-                     if s.mu > 0 else f'<pair geom1="stop{k}" geom2="object" condim="1"/>')
+        pairs.append(f'<pair geom1="stop{k}" geom2="object" condim="3"{sol} friction="{f((s.mu, s.mu, 0, 0, 0))}"/>'
+                     if s.mu > 0 else f'<pair geom1="stop{k}" geom2="object" condim="1"{sol}/>')
     assets = []
     for k, (o, shape) in enumerate(zip(sc.obstacles, _obstacle_shapes(sc))):
         if shape[0] == "box":
@@ -505,8 +509,8 @@ def _mujoco_xml(lay, *, dt, iterations, cone, impratio, noslip_iterations, solve
             assets.append(f'<mesh name="obstacle{k}" vertex="{f(shape[1])}"/>')
             geom = f'type="mesh" mesh="obstacle{k}"'
         stops.append(f'<geom name="obstacle{k}" {geom} contype="0" conaffinity="0"/>')
-        pairs.append(f'<pair geom1="obstacle{k}" geom2="object" condim="3" friction="{f((o.mu, o.mu, 0, 0, 0))}"/>'
-                     if o.mu > 0 else f'<pair geom1="obstacle{k}" geom2="object" condim="1"/>')
+        pairs.append(f'<pair geom1="obstacle{k}" geom2="object" condim="3"{sol} friction="{f((o.mu, o.mu, 0, 0, 0))}"/>'
+                     if o.mu > 0 else f'<pair geom1="obstacle{k}" geom2="object" condim="1"{sol}/>')
     obj_geom = (f'<geom name="object" type="box" pos="{f(com)}" size="{f(lay.size / 2)}" contype="0" conaffinity="0"/>'
                 if lay.disc is None else
                 f'<geom name="object" type="cylinder" pos="{f(com + lay.disc_center)}" size="{f((lay.disc, lz / 2))}" '
@@ -550,7 +554,7 @@ def _has_joint(m, name):
 
 def run_mujoco(scene, t_end, *, dt=0.002, iterations=100, cone="elliptic", impratio=1.0, noslip_iterations=0,
                solver="Newton", tolerance=1e-8, contact="pads", torsional=None, gripper_mass=1e4,
-               plate_mass=0.1):
+               plate_mass=0.1, solimp=None, solreffriction=None):
     """Simulate ``scene`` in MuJoCo from 0 to ``t_end`` [s]; return an ``exdex.Result``.
 
     Parameters (MuJoCo's own defaults unless said)
@@ -566,6 +570,20 @@ def run_mujoco(scene, t_end, *, dt=0.002, iterations=100, cone="elliptic", impra
         for "point", 0 for "pads").
     gripper_mass : mass of the kinematically driven gripper body [kg].
     plate_mass : mass of the pushed plate on its prismatic joint [kg].
+    solimp : MuJoCo's contact impedance (d0, dwidth, width[, midpoint, power])
+        of every contact pair (None: MuJoCo's default (0.9, 0.95, 0.001, 0.5, 2)).
+    solreffriction : MuJoCo's reference (timeconst, dampratio), or in the
+        direct format (-stiffness, -damping), of the frictional rows of every
+        contact pair (None: the normal rows' solref, MuJoCo's default). In an
+        elliptic cone a sliding contact pushes its normal with
+        mu |a_t + B v_t| / (R_n (1 + mu^2 / impratio)) besides its penetration
+        (a_t, v_t its slip acceleration and speed, B the frictional rows'
+        damping, R_n = (1 - d) / d * A its normal regulariser, A the inverse
+        mass there): a contact whose load falls below that separates and
+        chatters while it slides; it slides on the cone (friction mu times
+        its normal force) once mu |a_t + B v_t| exceeds (mu^2 / impratio) W R_n
+        (W its load). A smaller d or B raises the slip speed it separates at,
+        a larger impratio lowers the one it reaches the cone at.
     """
     mujoco = require("mujoco", "exdex.engines.run_mujoco")
 
@@ -576,9 +594,20 @@ def run_mujoco(scene, t_end, *, dt=0.002, iterations=100, cone="elliptic", impra
         raise ValueError(f"cone must be 'elliptic' or 'pyramidal', got {cone!r}")
     if solver not in ("Newton", "CG", "PGS"):
         raise ValueError(f"solver must be 'Newton', 'CG' or 'PGS', got {solver!r}")
+    if solimp is not None:
+        solimp = [_real(v, "solimp") for v in solimp]
+        if len(solimp) not in (3, 5) or not (0 < solimp[0] < 1 and 0 < solimp[1] < 1 and solimp[2] >= 0):
+            raise ValueError(f"solimp must be (d0, dwidth, width[, midpoint, power]) with 0 < d0, dwidth < 1 "
+                             f"and width >= 0, got {solimp!r}")
+    if solreffriction is not None:
+        solreffriction = [_real(v, "solreffriction") for v in solreffriction]
+        if len(solreffriction) != 2 or not (all(v > 0 for v in solreffriction) or all(v < 0 for v in solreffriction)):
+            raise ValueError(f"solreffriction must be two reals of the same sign (timeconst, dampratio > 0 or "
+                             f"-stiffness, -damping < 0), got {solreffriction!r}")
     xml = _mujoco_xml(lay, dt=dt, iterations=iterations, cone=cone, impratio=float(impratio),
                       noslip_iterations=noslip_iterations, solver=solver, tolerance=float(tolerance),
-                      torsional=torsional, gripper_mass=float(gripper_mass), plate_mass=float(plate_mass))
+                      torsional=torsional, gripper_mass=float(gripper_mass), plate_mass=float(plate_mass),
+                      solimp=solimp, solreffriction=solreffriction)
     m = mujoco.MjModel.from_xml_string(xml)
     d = mujoco.MjData(m)
     gid = m.body("gripper").id
@@ -631,6 +660,7 @@ def run_mujoco(scene, t_end, *, dt=0.002, iterations=100, cone="elliptic", impra
     wall = time.perf_counter() - t0
     stats = dict(engine="mujoco", version=mujoco.__version__, dt=dt, iterations=iterations, cone=cone,
                  impratio=impratio, noslip_iterations=noslip_iterations, solver=solver, contact=contact,
+                 solimp=solimp, solreffriction=solreffriction,
                  torsional=lay.spin(torsional), wall_time=wall, steps=n)
     return _to_result(scene, "mujoco", times, pos, RBC, vel, om, fstop, stats, dt)
 

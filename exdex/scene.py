@@ -928,9 +928,8 @@ class Obstacle:
         pointing out of the solid; it may be unbounded) or ``"cylinder"`` (the
         points within ``radius`` of the line through ``center`` along
         ``axis``: an infinite rod).
-    mu : Coulomb friction coefficient against the object (>= 0; the implicit
-        and explicit methods, in 1-DoF scenes also event and regularised),
-        as a stop's: along the tangent of the plate
+    mu : Coulomb friction coefficient against the object (>= 0; every method
+        that takes obstacles), as a stop's: along the tangent of the plate
         plane at each contact, bounded by mu times the contact's normal force.
 
     The plate plane cuts the solid in a convex polygon of the gripper frame B
@@ -1051,9 +1050,7 @@ class Scene:
     stops : fixed world planes (``Stop``) the object outline may not cross.
     obstacles : convex solids fixed in the world (``Obstacle``) the object
         outline may not enter (every method but the analytic one solves such
-        scenes; with a disc outline the implicit and explicit methods, with
-        ``Obstacle.mu > 0`` those and, in 1-DoF scenes, the event and
-        regularised ones).
+        scenes, with frictional obstacles and disc outlines too).
     """
 
     body: Body
@@ -1208,16 +1205,6 @@ class Scene:
             if method not in ("implicit", "explicit", "event", "regularised"):
                 raise ValueError(f"Scene.obstacles: the implicit, explicit, event and regularised methods solve "
                                  f"scenes with obstacles, got method={method!r}")
-            if method in ("event", "regularised"):
-                if self.dof == "planar" and any(o.mu > 0 for o in self.obstacles):
-                    raise ValueError(f"Scene.obstacles: the implicit and explicit methods solve planar scenes with "
-                                     f"frictional obstacles (Obstacle.mu > 0), got method={method!r}")
-                if self.dof == "planar" and any(s.mu > 0 for s in self.stops):
-                    raise ValueError(f"Scene.obstacles: the implicit and explicit methods solve planar scenes with "
-                                     f"obstacles and frictional stops (Stop.mu > 0), got method={method!r}")
-                if self.body.outline_radius is not None:
-                    raise ValueError(f"Scene.obstacles: the implicit and explicit methods solve scenes with "
-                                     f"obstacles and a disc outline (Body.cylinder), got method={method!r}")
             spec["obstacles"] = [o._spec() for o in self.obstacles]
         spec.update(self.motion._spec())
         sched = self.grasp.schedule

@@ -352,6 +352,11 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
         breakpoints) is taken as two sub-steps split there (the output stays
         on the grid), and a velocity jump of the gripper is applied at its
         time as a jump of the relative velocity, friction acting after it.
+        A slip that stops inside a step is stopped where it ends under the
+        step's force (1-DoF: also a slip that reverses through zero, which
+        slides on from there; exact for a constant force), and a
+        translation step in which a stop pushes the object ends with the
+        stop's own velocity.
         "event": event-driven exact Coulomb friction. Smooth slip phases are
         integrated by GSL's adaptive rk8pd stepper to ``rtol``/``atol``;
         slip -> stick (the slip speed reaches 0) and stick -> slip (the

@@ -80,6 +80,34 @@ def test_rotation_scene_friction_torque_capacity():
     assert r.q[-1, 0] == pytest.approx(3.0 * t_star / 2, rel=1e-3)
 
 
+@pytest.mark.parametrize("ratio", [0.5, 2.0])
+def test_implicit_slip_stopping_or_reversing_inside_a_step_is_exact(ratio):
+    """Vertical slide (B y = A z, gravity along -q), gripper at rest, the
+    object thrown up at v0 = 1 m/s with capacity C = ratio m g: the slip
+    decelerates at a1 = g + C / m and stops at t* = v0 / a1, having risen
+    v0 t* / 2. With C < m g (ratio 0.5) it reverses at once and slides down
+    at a2 = g - C / m: q(t) = v0 t* / 2 - a2 (t - t*)^2 / 2 after t*; with
+    C >= m g (ratio 2) it stays at rest there. The forces are constant, so
+    the implicit method, which places a stop inside a step where the slip
+    ends under the step's constant force, is exact to rounding at every
+    step of a nested ladder (t* = 0.0203.. s or 0.0340.. s is on none of the
+    grids). Placing the stop at the step's end instead (rest at q + h v /
+    2; a reversal stalled at rest until the step's end, or slid through with
+    the new direction's friction over the whole step) errs by up to h^2 a1 /
+    2 in q or 2 C t* / m in speed: 5e-6 m and more at these steps."""
+    m, v0, t_end = 0.1, 1.0, 0.08
+    C = ratio * m * G
+    sc = exdex.Scene(body=exdex.Body(mass=m), grasp=exdex.Grasp(mu=0.5, grip_force=C), slide_axis=(0, 1),
+                     v0=(0.0, v0, 0.0))
+    a1 = G + C / m
+    t_star = v0 / a1
+    top = v0 * t_star / 2
+    exact = top if ratio >= 1.0 else top - (G - C / m) * (t_end - t_star) ** 2 / 2
+    for k in range(4):
+        r = exdex.simulate(sc, t_end, dt=t_end / 50 / 2**k, method="implicit")
+        assert r.q[-1, 0] == pytest.approx(exact, rel=1e-12, abs=1e-15), (k, r.q[-1, 0] - exact)
+
+
 def test_sampled_trajectory_matches_analytic_motion():
     """mu = 0, no gravity: the object stays put in A, so its coordinate in B
     is minus the gripper displacement. Gripper y(t) = 0.02 sin(2 pi t) sampled

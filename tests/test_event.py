@@ -532,14 +532,17 @@ def test_steady_slow_slip_on_the_friction_incline(rtol):
         assert np.all(np.abs(r.q[-1] - want) <= 10 * rtol * want[0]), (n, r.q[-1], want)
 
 
-@pytest.mark.parametrize("seed", [4355, 4421, 7779])
+@pytest.mark.parametrize("seed", [4355, 4421, 7779, 5253])
 def test_planar_stop_events_agree_across_output_grids_and_rtol(seed):
     """Planar zoo scenes with two and one stops (tests/zoo.py), whose stop
     events are delicate: a contact-set row separating where its force and gap
     acceleration both vanish (the complementarity solve at the decided state
     may return a force of rounding size for it), a corner lifted off by an
     impact coming back down within the next step (its gap starts at 0 to
-    rounding, a zero that is no crossing). The event method's error is set by
+    rounding, a zero that is no crossing), a box face arriving at a stop
+    tangentially while sliding along it (normal rate ~0, pressed into it: at
+    rtol 1e-9 on t_end / 8 it was 0.76 L off with 8 warnings). The event
+    method's error is set by
     its tolerance (tests/test_zoo.py: c rtol): its runs at rtol 1e-9 and
     1e-10 on the output grids t_end / 8 and t_end / 64 are within 100 rtol
     of the run at 1e-11 on t_end / 64 (the constant c measured on these

@@ -113,16 +113,12 @@ def test_spinning_box_corner_touching_a_frictional_floor_closed_form(mu, law, me
     np.testing.assert_allclose(res.v[1:], np.tile(vp, (len(res.t) - 1, 1)), rtol=0, atol=1e-12)
 
 
-@pytest.mark.parametrize("method", ["event", "regularised"])
-@pytest.mark.parametrize("mu, law", MUS)
-def test_spinning_box_corner_strikes_a_frictional_floor_closed_form(mu, law, method):
-    """The box of the test above starts 3 mm above the floor and flies
-    freely into it (frictionless plates, no gravity): q(t) = q0 + v0 t,
-    so a corner c reaches the floor where y0 + vy t + (R(th0 + w t) c)_y
-    = floor_y, the first root over the four corners (brentq on a bracket
-    from a scan). The impact there is the closed form of _corner_impact
-    with r = R(th(t*)) c; the method locates it (its own guard) and applies
-    the law: the impulse, the impact time and the free flight after it."""
+def _strike():
+    """The located strike: the box of the touching test 3 mm higher, flying
+    freely (q(t) = q0 + v0 t) until a corner c reaches the floor, where y0
+    + vy t + (R(th0 + w t) c)_y = floor_y: the first root over the four
+    corners (brentq on a bracket from a scan). Returns (th0, v0, floor_y,
+    t_hit, corner index)."""
     th0, v0 = 0.3, np.array([0.15, -0.2, 2.0])
     floor_y = min(p[1] for p in _corners(th0)) - 0.003
 
@@ -137,6 +133,18 @@ def test_spinning_box_corner_strikes_a_frictional_floor_closed_form(mu, law, met
         if i.size:
             hits.append((brentq(gap, ts[i[0] - 1], ts[i[0]], args=(k,), xtol=1e-15), k))
     t_hit, k = min(hits)
+    return th0, v0, floor_y, t_hit, k
+
+
+@pytest.mark.parametrize("method", ["event", "regularised"])
+@pytest.mark.parametrize("mu, law", MUS)
+def test_spinning_box_corner_strikes_a_frictional_floor_closed_form(mu, law, method):
+    """The box of the test above starts 3 mm above the floor and flies
+    freely into it (frictionless plates, no gravity; _strike finds where a
+    corner reaches the floor). The impact there is the closed form of _corner_impact
+    with r = R(th(t*)) c; the method locates it (its own guard) and applies
+    the law: the impulse, the impact time and the free flight after it."""
+    th0, v0, floor_y, t_hit, k = _strike()
     r = _corners(th0 + v0[2] * t_hit)[k]
     vp, pn, sliding = _corner_impact(r, v0, mu)
     assert sliding == (law == "slide")
@@ -147,6 +155,22 @@ def test_spinning_box_corner_strikes_a_frictional_floor_closed_form(mu, law, met
     before, after = res.t < t_hit, res.t > t_hit
     np.testing.assert_allclose(res.v[before], np.tile(v0, (before.sum(), 1)), rtol=0, atol=1e-12)
     np.testing.assert_allclose(res.v[after], np.tile(vp, (after.sum(), 1)), rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("mu, law", MUS)
+def test_implicit_converges_to_the_law_on_the_located_strike(mu, law):
+    """The located strike above with the implicit method: its impact falls
+    inside a step (whose bound G v+ >= -gap / h can leave part of the
+    approach to the next step: the impulse spread over two steps), and the law is
+    the limit h -> 0 of its steps: the velocity after the strike tends to
+    the closed form, the error falling at least fivefold per decade of h
+    (1e-4, 1e-5, 1e-6 s: 2.6e-4, 7.3e-6, 8.1e-7 relative at mu 0.1)."""
+    th0, v0, floor_y, t_hit, k = _strike()
+    vp, _, sliding = _corner_impact(_corners(th0 + v0[2] * t_hit)[k], v0, mu)
+    assert sliding == (law == "slide")
+    err = [np.abs(_run(_box_scene(th0, v0, floor_y, mu), t_hit + 0.002, h, "implicit").v[-1] - vp).max()
+           / np.abs(vp).max() for h in (1e-4, 1e-5, 1e-6)]
+    assert err[1] < 0.2 * err[0] and err[2] < 0.2 * err[1] and err[2] < 1e-5, err
 
 
 @pytest.mark.parametrize("mu_s, vt", [(0.3, 0.2), (0.8, 0.2), (0.5, -0.1), (1.5, 0.2)])

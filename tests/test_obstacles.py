@@ -141,16 +141,6 @@ def test_bad_input_names_the_parameter():
     assert len(sc.obstacles) == 1
     with pytest.raises(ValueError, match="analytic method solves scenes without stops"):
         exdex.simulate(sc, t_end=0.1, dt=0.01, method="analytic")
-    with pytest.raises(ValueError, match=r"Scene\.obstacles.*frictional stops"):
-        exdex.simulate(exdex.replace(sc, dof="planar", stops=(Stop((0, 0, -0.5), (0, 0, 1), mu=0.3),)),
-                       t_end=0.1, dt=0.01, method="event")
-    with pytest.raises(ValueError, match=r"Scene\.obstacles.*disc outline"):
-        exdex.simulate(Scene(body=Body.cylinder(0.1, 0.02, 0.02), grasp=grasp, obstacles=sc.obstacles),
-                       t_end=0.1, dt=0.01, method="regularised")
-    for method in ("event", "regularised"):
-        with pytest.raises(ValueError, match=r"Obstacle\.mu"):
-            exdex.simulate(exdex.replace(sc, dof="planar", obstacles=(Obstacle.box((0, 0, -1), (1, 1, 1), mu=0.5),)),
-                           t_end=0.1, dt=0.01, method=method)
     inside = Scene(body=body, grasp=grasp, obstacles=Obstacle.box((0, 0, 0), (1, 1, 1)))
     with pytest.raises(ValueError, match="inside an obstacle"):
         exdex.simulate(inside, t_end=0.1, dt=0.01)
@@ -645,6 +635,214 @@ def test_frictional_face_is_the_frictional_stop_in_the_explicit_method(mu_s):
     np.testing.assert_allclose(c.v[-1, 0], -0.01, rtol=1e-12)
     np.testing.assert_allclose(c.v[-1, 1], -w, rtol=1e-9, atol=1e-15)
     np.testing.assert_allclose(c.stop_force[-1, 0], lam, rtol=1e-9)
+
+
+@pytest.mark.parametrize("mu_s", [0.3, 0.8])
+def test_frictional_face_is_the_frictional_stop_in_the_event_method(mu_s):
+    """The frictional wall of tests/test_stop_friction.py in the event method
+    (rtol 1e-10): the one-face frictional obstacle is the frictional Stop
+    bit for bit (its rows are the stop's, their slip the stop's: one
+    friction group per face); as the face of a box (the other faces far
+    away) it meets the wall closed form: the steady slide speed and wall
+    force to 1e-9 (sliding, mu_s = 0.3), or the hold (0.8: no vertical
+    motion beyond rounding, the wall force the whole capacity)."""
+    from test_stop_friction import _wall_closed_form, _wall_scene
+    kw = dict(method="event", rtol=1e-10, atol=1e-12)
+    stop_scene = _wall_scene(mu_s)
+    face = Obstacle.halfspaces([(-1.0, 0.0, 0.0)], [-0.1], mu=mu_s)
+    a = run(stop_scene, 0.3, 1e-3, **kw)
+    b = run(exdex.replace(stop_scene, stops=(), obstacles=(face,)), 0.3, 1e-3, **kw)
+    assert np.array_equal(a.q, b.q) and np.array_equal(a.v, b.v) and np.array_equal(a.stop_force, b.stop_force)
+    box = Obstacle.box((0.6, 0.0, 0.0), (1.0, 1.0, 1.0), mu=mu_s)
+    c = run(exdex.replace(stop_scene, stops=(), obstacles=(box,)), 0.3, 1e-3, **kw)
+    w, lam = _wall_closed_form(mu_s)
+    assert c.stats["warnings"] == 0
+    np.testing.assert_allclose(c.v[-1, 0], -0.01, rtol=1e-12)
+    if w > 0:
+        np.testing.assert_allclose(c.v[-1, 1], -w, rtol=1e-9)
+        np.testing.assert_allclose(c.stop_force[-1, 0], lam, rtol=1e-9)
+    else:
+        assert np.all(np.abs(c.v[:, 1]) <= 1e-15) and np.all(np.abs(c.q[:, 1]) <= 1e-15)
+        np.testing.assert_allclose(c.stop_force[-1, 0], lam, rtol=1e-12)
+
+
+@pytest.mark.parametrize("mu_s", [0.3, 0.8])
+def test_frictional_face_is_the_frictional_stop_in_the_regularised_method(mu_s):
+    """The same wall in the regularised method, which smooths the plate
+    friction only (the face's friction stays exact Coulomb): the one-face
+    obstacle is the frictional Stop bit for bit, and the box face gives the
+    stop's answer (a different row set: the box's far faces and corners are
+    inactive) to 1e-12, and its closed form: sliding, the steady speed moves
+    off it by O(eps^2 / s^2) (below 1e-3 relative at eps = 1e-4); holding,
+    the smoothed law's lam = cap V / sqrt(V^2 + eps^2) exactly."""
+    from test_stop_friction import _wall_closed_form, _wall_scene
+    V, cap, eps = 0.01, 1.5, 1e-4
+    kw = dict(method="regularised", eps=eps, rtol=1e-10, atol=1e-12)
+    stop_scene = _wall_scene(mu_s)
+    face = Obstacle.halfspaces([(-1.0, 0.0, 0.0)], [-0.1], mu=mu_s)
+    a = run(stop_scene, 0.3, 1e-3, **kw)
+    b = run(exdex.replace(stop_scene, stops=(), obstacles=(face,)), 0.3, 1e-3, **kw)
+    assert np.array_equal(a.q, b.q) and np.array_equal(a.v, b.v) and np.array_equal(a.stop_force, b.stop_force)
+    box = Obstacle.box((0.6, 0.0, 0.0), (1.0, 1.0, 1.0), mu=mu_s)
+    c = run(exdex.replace(stop_scene, stops=(), obstacles=(box,)), 0.3, 1e-3, **kw)
+    assert c.stats["warnings"] == 0
+    np.testing.assert_allclose(c.q, a.q, rtol=0, atol=1e-12)
+    w, lam = _wall_closed_form(mu_s)
+    if w > 0:
+        assert abs(-c.v[-1, 1] / w - 1.0) + abs(c.stop_force[-1, 0] / lam - 1.0) < 1e-3
+    else:
+        assert np.all(np.abs(c.v[:, 1]) <= 1e-15)
+        np.testing.assert_allclose(c.stop_force[-1, 0], cap * V / math.hypot(V, eps), rtol=1e-9)
+
+
+@pytest.mark.parametrize("method", ["implicit", "explicit", "event", "regularised"])
+def test_frictional_stop_beside_a_frictional_face_is_two_frictional_stops_bit_for_bit(method):
+    """Stop friction and obstacle friction in one scene: the wall of
+    tests/test_stop_friction.py as a frictional Stop, with a frictional
+    floor below the block, either a second Stop or a one-face Obstacle: the
+    same run bit for bit in every method (the obstacle's rows and friction
+    are the stop's, in the same order). The gripper moves at 0.02 m/s: at
+    0.01 m/s the event method's run with the two Stops meets more than 1000
+    mode switches in one output interval at t = 0.22 s (SolverError)."""
+    from test_stop_friction import _wall_scene
+    sc = _wall_scene(0.3, V=0.02)
+    n = np.array([0.0, 0.0, 1.0])
+    floor_stop = Stop(point=(0.0, 0.0, -0.015), normal=n, mu=0.4)
+    floor = Obstacle.halfspaces([n], [-0.015], mu=0.4)
+    a = run(exdex.replace(sc, stops=sc.stops + (floor_stop,)), 0.3, 1e-3, method=method)
+    b = run(exdex.replace(sc, obstacles=(floor,)), 0.3, 1e-3, method=method)
+    assert a.stop_force.shape == b.stop_force.shape == (301, 2)
+    assert np.array_equal(a.q, b.q) and np.array_equal(a.v, b.v) and np.array_equal(a.stop_force, b.stop_force)
+    assert a.stop_force[-1].min() > 0  # both carry the block
+
+
+def _frictional_contact_scene(seed):
+    """A rectangle resting flush on the top face of a random tilted
+    frictional box (the face's slope within +-0.5 rad, the box wide enough
+    that the block never reaches its edge) with a frictional rod normal to
+    the plates touching its side at a random height; the gripper (plate
+    capacity 0.5 .. 2 N) moves 5 .. 15 mm toward the rod side, within 0.5 rad
+    of it or away from it, and stops: the block sticks and slides on the
+    face, is dragged along it or pushed and turned by the rod, which slides
+    along its side or sticks, and a
+    corner may lift and land again (small tangential slips at the
+    landings: the event method's impacts are frictionless, the implicit
+    method's frictional, which these scenes do not tell apart). Both
+    contacts touch from the start (gaps 1e-9 m)."""
+    rng = np.random.default_rng([seed, 91])
+    alpha = rng.uniform(-0.5, 0.5)
+    w, h = rng.uniform(0.02, 0.04), rng.uniform(0.02, 0.04)
+    n_b = np.array([-math.sin(alpha), math.cos(alpha)])
+    t_b = np.array([math.cos(alpha), math.sin(alpha)])
+    p_b = -(0.5 * h + 1e-9) * n_b
+    bc = p_b - 0.15 * n_b + rng.uniform(-0.01, 0.01) * t_b
+    box = Obstacle.box((bc[0], 0.0, bc[1]), (0.3, 0.3, 0.3), rotation=Rotation.from_rotvec([0, -alpha, 0]).as_matrix(),
+                       mu=rng.uniform(0.05, 0.5))
+    r = 0.006
+    side = rng.choice([-1.0, 1.0])
+    c = side * (0.5 * w + r + 1e-9) * t_b + rng.uniform(0.0, 0.4) * h * n_b
+    rod = Obstacle.cylinder((c[0], 0.0, c[1]), (0, 1, 0), r, mu=rng.uniform(0.1, 1.0))
+    dist = rng.uniform(0.005, 0.015)
+    toward = rng.choice([-1.0, 1.0])
+    ang = math.atan2(toward * side * t_b[1], toward * side * t_b[0]) + rng.uniform(-0.5, 0.5)
+    return Scene(body=Body.box(0.1, (w, h, 0.02)),
+                 grasp=Grasp(mu=0.5, grip_force=rng.uniform(0.5, 2.0), patch=exdex.Patch.rectangle(0.01, 0.01)),
+                 dof="planar", q0=(0.0, 0.0, alpha),
+                 motion=TrapezoidalProfile(dist, 0.6, 1.5 * dist / 0.6, axis=(math.cos(ang), 0, math.sin(ang))),
+                 obstacles=(box, rod))
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_event_and_implicit_agree_on_random_planar_frictional_obstacle_scenes(seed):
+    """Two independent formulations of the same Coulomb contacts with
+    obstacles (_frictional_contact_scene): the event method (acceleration-
+    level friction modes per contact line, the rod's slip with its contact
+    point moving over the block, located switches, rtol 1e-10) and the
+    implicit method (velocity-level complementarity per step, first order
+    in dt). The implicit error against the event run must halve with dt
+    (ratio <= 0.6) and its Richardson extrapolation 2 q(h/4) - q(h/2) lie
+    closer to the event run than q(h/2) by at least 5x: the two converge to
+    the same motion (q over the whole run, every sample). Where the block's
+    motion in B is nearly uniform the implicit error is not first order but
+    tiny: then its error at h / 2 must be below 1e-8 m and not above its
+    error at h. (The event run with the obstacles' mu x 1.01 fails this
+    check on 7 of the 12 seeds.) The implicit run's soft warnings are not
+    checked: at rest against the rod and the box after the motion (seed 10,
+    dt <= 5e-4) it counts one per step, with the answer still converging."""
+    sc = _frictional_contact_scene(seed)
+    ev = run(sc, 0.8, 1e-3, method="event", rtol=1e-10, atol=1e-12)
+    assert ev.stats["warnings"] == 0 and ev.stats["min_gap"] >= -1e-11
+    q = {}
+    for k in (1, 2, 4):
+        q[k] = run(sc, 0.8, 1e-3 / k, method="implicit").q[::k]
+    e1, e2 = np.abs(q[1] - ev.q).max(), np.abs(q[2] - ev.q).max()
+    ext = np.abs(2 * q[4] - q[2] - ev.q).max()
+    if not (e2 <= 1e-8 and e2 <= e1):
+        assert e2 <= 0.6 * e1, (e1, e2)
+        assert ext <= 0.2 * e2, (ext, e2)
+
+
+def _narrow_box_scene(seed):
+    """A rectangle resting flush on a random tilted frictional box narrower
+    than it (0.3 .. 0.9 of its width, offset up to 0.4 of it): the box's
+    top corners touch the block's bottom edge (the section's vertices
+    against the block's hull, their friction along the block's edge, the
+    contact point moving over the block), and where the block overhangs a
+    corner of the box one of the block's corners lies on the box's top face
+    as well (one line of contact, one friction group). The gripper (plate
+    capacity 0.5 .. 2 N) drags it 3 .. 8 mm along the face (within 0.3 rad)
+    and stops."""
+    rng = np.random.default_rng([seed, 95])
+    alpha = rng.uniform(-0.4, 0.4)
+    w, h = rng.uniform(0.03, 0.05), rng.uniform(0.02, 0.03)
+    n_b = np.array([-math.sin(alpha), math.cos(alpha)])
+    t_b = np.array([math.cos(alpha), math.sin(alpha)])
+    bw = rng.uniform(0.3, 0.9) * w
+    off = rng.uniform(-0.4, 0.4) * w
+    bc = -(0.5 * h + 1e-9) * n_b - 0.15 * n_b + off * t_b
+    box = Obstacle.box((bc[0], 0.0, bc[1]), (bw, 0.3, 0.3), rotation=Rotation.from_rotvec([0, -alpha, 0]).as_matrix(),
+                       mu=rng.uniform(0.05, 0.5))
+    dist = rng.uniform(0.003, 0.008)
+    ang = math.atan2(t_b[1], t_b[0]) + rng.choice([0, math.pi]) + rng.uniform(-0.3, 0.3)
+    return Scene(body=Body.box(0.1, (w, h, 0.02)),
+                 grasp=Grasp(mu=0.5, grip_force=rng.uniform(0.5, 2.0), patch=exdex.Patch.rectangle(0.01, 0.01)),
+                 dof="planar", q0=(0.0, 0.0, alpha),
+                 motion=TrapezoidalProfile(dist, 0.6, 1.5 * dist / 0.6, axis=(math.cos(ang), 0, math.sin(ang))),
+                 obstacles=(box,))
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_event_and_implicit_agree_on_narrow_frictional_box_scenes(seed):
+    """The block on a frictional box narrower than it (_narrow_box_scene):
+    the implicit method's final pose on the ladder dt = 1e-3 .. 1.25e-4
+    converges (its last successive difference not above the largest) to the
+    event method's (rtol 1e-10): at the finest step within S = 3 times the
+    ladder's largest successive difference plus 1e-9 m (the estimate of
+    test_event_and_implicit_agree_on_random_obstacle_scenes; here the
+    implicit error is not always monotone in dt: a stick decision that one
+    step size takes and another not). The event run with the box's mu x
+    1.01 fails this check on 8 of the 12 seeds. (Not checked here: the
+    event run's smallest gap over its steps, -1.7e-9 m on seed 8 at rtol
+    1e-10, -3.2e-10 m at the default, while every output sample's gap is
+    >= 0.)"""
+    sc = _narrow_box_scene(seed)
+    ev = run(sc, 0.8, 1e-3, method="event", rtol=1e-10, atol=1e-12)
+    assert ev.stats["warnings"] == 0
+    qs = [run(sc, 0.8, h, method="implicit").q[-1] for h in (1e-3, 5e-4, 2.5e-4, 1.25e-4)]
+    d = [float(np.max(np.abs(a - b))) for a, b in zip(qs[:-1], qs[1:])]
+    assert d[-1] <= max(d[:-1]), d
+    assert float(np.max(np.abs(qs[-1] - ev.q[-1]))) <= 3.0 * max(d) + 1e-9, (d, qs[-1] - ev.q[-1])
+
+
+def test_random_planar_frictional_obstacle_scenes_use_both_contacts():
+    """The scenes above exercise both frictional obstacles: the box carries
+    the block in every one, and the rod pushes it in at least three."""
+    pushed = 0
+    for seed in range(12):
+        ev = run(_frictional_contact_scene(seed), 0.8, 1e-3, method="event", rtol=1e-10, atol=1e-12)
+        assert ev.stop_force[:, 0].max() > 0
+        pushed += ev.stop_force[:, 1].max() > 1e-3
+    assert pushed >= 3
 
 
 def test_explicit_converges_to_implicit_with_a_frictional_rod():

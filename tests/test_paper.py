@@ -122,18 +122,21 @@ def test_fig3_off_grid_switch_times_second_order():
     assert abs(res.displacement[-1, 0] - paper.closed_form(sc).final) <= 4e-7
 
 
-def test_fig3_switch_inside_a_common_step_error_shrinks():
+def test_fig3_switch_inside_a_common_step_is_exact():
     # the Fig. 3 switch at beta T = 0.45 s lies 1e-4 s before 0.4501 s, a grid point of every level of
     # the nested ladder dt = 0.4501 / 45 / 2^k (k = 1..4), so each level has it inside a step at the
     # same distance from the step's end. The implicit method splits that step at 0.45 s (a known
-    # switching time), so its error against the closed form shrinks with dt: at least 8x over the
-    # 8x ladder (a step taking the switch as a step mean starts the slip with a velocity error of
-    # the acceleration's jump times those 1e-4 s at every level alike: 3.1e-5 .. 4.1e-5 m, not shrinking).
+    # switching time), so every sub-step has constant accelerations, where the midpoint rule is exact,
+    # and the slip's stop inside a step is located under the step's constant force (t* = |v| / d, the
+    # displacement v t* / 2): the final displacement is the closed form's to rounding at every level (a
+    # step taking the switch as a step mean starts the slip with a velocity error of the acceleration's
+    # jump times those 1e-4 s at every level alike: 3.1e-5 .. 4.1e-5 m, not shrinking; a stop placed at
+    # the step's end errs O(dt^2)).
     sc = paper.fig3_scene(grip_force=1.5)
     final = paper.closed_form(sc).final
     errs = [abs(exdex.simulate(sc, t_end=1.5, dt=0.4501 / 45 / 2**k).displacement[-1, 0] - final)
             for k in (1, 2, 3, 4)]
-    assert errs[-1] <= errs[0] / 8, errs
+    assert max(errs) <= 1e-12 * abs(final), errs
 
 
 # ------------------------------------------------------------------ Fig. 4
@@ -149,6 +152,23 @@ def test_fig4_reproduces_50mm(fig4):
     # closed form: the object stays fixed in the world, x2 = the gripper's trapezoid, all along
     x2, _, _ = paper.stop_closed_form(fig4.scene, fig4.t)
     assert np.max(np.abs(fig4.displacement[:, 0] - x2)) <= 1e-8
+
+
+@pytest.mark.parametrize("dt", [1e-4, 1.3e-3])
+def test_fig4_implicit_velocity_and_force_on_the_stop_are_the_closed_forms(dt):
+    # while the stop holds the object still in the world, its velocity relative to the fingers is the
+    # gripper's speed v2(t) and the stop force is m g + mu N (closed form, exdex.paper.stop_closed_form),
+    # at every sample where the gripper moves, also on a grid that misses the trapezoid's switching
+    # times (1.3e-3 s). The implicit step that a stop pushes ends with the velocity of the held contact
+    # (gap rate 0 at the step's end), its impulse carrying the change; the stop's mean rate over the
+    # step, v2 at mid-step, is off by dt a / 2 on the ramps (a = 1.44 m/s^2: 9.4e-4 m/s at 1.3e-3 s) and
+    # a first step from rest that ends at it records a force off by m a / 2 = 0.072 N.
+    sc = paper.fig4_scene()
+    r = exdex.simulate(sc, t_end=1.0, dt=dt, method="implicit")
+    _, v2, force = paper.stop_closed_form(sc, r.t)
+    moving = v2 > 0
+    assert np.max(np.abs(r.v[:, 0] - v2)) <= 1e-12
+    assert np.max(np.abs(r.stop_force[1:, 0] - force[1:])[moving[1:]]) <= 1e-12 * force[moving].max()
 
 
 def test_fig4_no_penetration(fig4):

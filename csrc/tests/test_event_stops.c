@@ -4,7 +4,9 @@
  * and gap acceleration both vanish (the complementarity solve at the decided
  * state can return a force of rounding size for it), a corner lifted off by
  * an impact coming back down within the next step (its gap is 0 to rounding
- * at the step start, a zero that is no crossing). The method's error is set
+ * at the step start, a zero that is no crossing), a box face arriving at a
+ * stop tangentially while sliding along it (normal rate ~0 and pressed into
+ * it). The method's error is set
  * by its tolerance, c rtol with c < 0.01 measured on these scenes: runs at
  * rtol 1e-9 and 1e-10 on the output grids t_end / 8 and t_end / 64 must end
  * within 100 rtol L (L the scene's length; an angle counts as the
@@ -199,6 +201,64 @@ static exdex_scene_def zoo4421(void)
     /* atol = rtol x 0.9447278892221066 (tests/zoo.py run) */
     return d;
 }
+/* zoo seed 5253 (tests/zoo.py: zoo_scene(5253).scene), t_end 0.7489275717477806 s,
+ * length scale 0.012805452789366012 m, time scale 0.03612958440746683 s */
+static exdex_scene_def zoo5253(void)
+{
+    exdex_scene_def d = exdex_default_scene_def();
+    double inertia[9] = {6.899948839846372e-08, 0.0, 0.0, 0.0, 4.439308256348532e-08, 0.0, 0.0, 0.0, 5.706872241540932e-08};
+    double R0[9] = {0.1643251060449712, 0.443461644092149, 0.8811010326531215, -0.30355495266042914, -0.8271608865052849, 0.4729262717920367, 0.9385369732933453, -0.34517624201975283, -0.0013083220121248296};
+    double v[4][2] = {{-0.004036544880026047, -0.006402726394683006}, {0.004036544880026047, -0.006402726394683006}, {0.004036544880026047, 0.006402726394683006}, {-0.004036544880026047, 0.006402726394683006}};
+    d.mass = 0.002988485801427123;
+    memcpy(d.inertia, inertia, sizeof inertia);
+    memcpy(d.R0, R0, sizeof R0);
+    d.n_vertices = 4;
+    memcpy(d.vertices, v, sizeof v);
+    d.mu = 0.32725458663229434;
+    d.grip_force = 0.015193008244969863;
+    d.e_r = 0.0011574117427256556;
+    d.fingers = 1;
+    d.patch_center[0] = -0.0014482523467545681;
+    d.patch_center[1] = -0.002554991538285729;
+    d.gravity[0] = -1.525284358924961;
+    d.gravity[1] = 0.7475502145849029;
+    d.gravity[2] = -9.661820547965737;
+    d.q0[0] = -0.0007093727580331791;
+    d.q0[1] = -0.0007574027475938609;
+    d.q0[2] = -0.5175706818760206;
+    d.v0[0] = 0.0;
+    d.v0[1] = 0.0;
+    d.v0[2] = 0.0;
+    d.p0[0] = -0.023849665790820106;
+    d.p0[1] = -0.005810252508507204;
+    d.p0[2] = 0.021925642122023626;
+    d.slide_axis[0] = -0.27534337219030525;
+    d.slide_axis[1] = -0.9613459457400707;
+    d.dof = EXDEX_DOF_PLANAR;
+    d.motion.kind = EXDEX_MOTION_ASYMMETRIC;
+    d.motion.rotation = 1;
+    d.motion.axis[0] = 0.8811010326531215;
+    d.motion.axis[1] = 0.4729262717920367;
+    d.motion.axis[2] = -0.0013083220121248296;
+    d.motion.center[0] = -0.027098305514515045;
+    d.motion.center[1] = 8.880611011342129e-05;
+    d.motion.center[2] = 0.04459534783721356;
+    d.motion.amplitude = 0.8872174691778334;
+    d.motion.duration = 0.3480407647813984;
+    d.motion.beta = 0.6165154588509041;
+    d.motion.v_max = 1.0;
+    d.n_stops = 1;
+    d.stop_point[0][0] = 4.3424001758383325e-05;
+    d.stop_normal[0][0] = 0.08736896482544512;
+    d.stop_point[0][1] = -0.0004760447571364174;
+    d.stop_normal[0][1] = -0.9578006622468797;
+    d.stop_point[0][2] = 0.0001361001374573308;
+    d.stop_normal[0][2] = 0.2738330794202345;
+    d.method = EXDEX_METHOD_EVENT;
+    /* atol = rtol x 0.0010592126776292703 (tests/zoo.py run) */
+    return d;
+}
+
 static double qlast(const sim_run *r, int c) { return r->tr.q[(r->tr.n - 1) * 3 + c]; }
 
 /* The check above for one scene: its t_end, length L, farthest vertex
@@ -237,4 +297,10 @@ EXDEX_TEST(event_stops_corner_back_down_7779)
 EXDEX_TEST(event_stops_corner_back_down_4421)
 {
     grids_and_rtol_agree(zoo4421(), 2.0091742850830165, 0.9447278892221066, 0.5558462301597924, 0.9447278892221066);
+}
+
+EXDEX_TEST(event_stops_face_arrives_tangentially_5253)
+{
+    grids_and_rtol_agree(zoo5253(), 0.7489275717477806, 0.012805452789366012, 0.007568923295531204,
+                         0.0010592126776292703);
 }

@@ -112,7 +112,8 @@ EXDEX_TEST(fimpact_1dof_incline_strike_closed_form)
     for (int method = EXDEX_METHOD_EVENT; method <= EXDEX_METHOD_REGULARISED; method++)
         for (int c = 0; c < 3; c++) {
             double mu = c == 0 ? 0.4 : c == 1 ? 1.0 : 2.5, V = -0.05, v = -tan(al) * V, s = -V / cos(al);
-            double D = cos(al) - copysign(1.0, s) * mu * sin(al), pn = D > 0.0 ? m * fabs(v) / fabs(D) : m * fabs(v) / cos(al);
+            double D = cos(al) - copysign(1.0, s) * mu * sin(al);
+            double pn = D > 0.0 ? m * fabs(v) / D : m * fabs(v) / cos(al);
             exdex_scene_def d = exdex_default_scene_def();
             sim_run r;
             d.mass = m;

@@ -524,13 +524,30 @@ EXDEX_TEST(obstacle_bad_input_status)
     EXPECT_BAD_OBST((d.obstacles[0].kind = EXDEX_OBSTACLE_POLYTOPE, d.obstacles[0].n_faces = EXDEX_MAX_FACES + 1),
                     "obstacles");
     EXPECT_BAD_OBST(d.method = EXDEX_METHOD_ANALYTIC, "method");
-    /* obstacle friction in the hybrid methods: 1-DoF scenes */
-    EXPECT_BAD_OBST((d.dof = EXDEX_DOF_PLANAR, d.obstacles[0].mu = 0.5, d.method = EXDEX_METHOD_EVENT), "method");
-    EXPECT_BAD_OBST((d.dof = EXDEX_DOF_PLANAR, d.obstacles[0].mu = 0.5, d.method = EXDEX_METHOD_REGULARISED), "method");
-    /* planar frictional stops beside obstacles: implicit, explicit */
-    EXPECT_BAD_OBST((d.dof = EXDEX_DOF_PLANAR, d.n_stops = 1, d.stop_normal[0][2] = 1.0, d.stop_point[0][2] = -0.5,
-                     d.stop_mu[0] = 0.3, d.method = EXDEX_METHOD_EVENT),
-                    "method");
+    /* planar obstacle friction, and frictional stops beside obstacles, in
+     * every method that takes obstacles */
+    for (int meth = EXDEX_METHOD_IMPLICIT; meth <= EXDEX_METHOD_EXPLICIT; meth++)
+        for (int c = 0; c < 2; c++) {
+            exdex_model *m;
+            d = exdex_default_scene_def();
+            d.dof = EXDEX_DOF_PLANAR;
+            d.method = meth;
+            d.n_obstacles = 1;
+            d.obstacles[0].kind = EXDEX_OBSTACLE_CYLINDER;
+            d.obstacles[0].axis[1] = 1.0;
+            d.obstacles[0].center[2] = -1.0;
+            d.obstacles[0].radius = 0.1;
+            d.obstacles[0].mu = c ? 0.0 : 0.5;
+            if (c) {
+                d.n_stops = 1;
+                d.stop_normal[0][2] = 1.0;
+                d.stop_point[0][2] = -0.5;
+                d.stop_mu[0] = 0.3;
+            }
+            m = exdex_model_alloc(&d, &status, &bad);
+            ENSURE(m != NULL && status == EXDEX_OK);
+            exdex_model_free(m);
+        }
     EXPECT_BAD_OBST(d.obstacles[0].mu = -0.1, "obstacles");
     EXPECT_BAD_OBST(d.obstacles[0].mu = NAN, "obstacles");
     EXPECT_BAD_OBST(d.obstacles[0].center[2] = -0.05, "q0"); /* the object (its centre) starts inside */

@@ -1,11 +1,13 @@
 /* test_sfric.c -- the acceleration-level problem of a planar object against
  * frictional stops (sfric.c) against closed forms, a Painleve configuration
  * with no consistent mode, and the slip acceleration of a vertex along a
- * stop (contact_slip_planar) against a central difference of the slip along
- * a trajectory under a turning gripper. */
+ * stop (contact_slip_planar) and along an obstacle's section and rod rows
+ * (orow_slip) against a central difference of the slip along a trajectory
+ * under a turning gripper. */
 #include "check.h"
 #include "../contact.h"
 #include "../model.h"
+#include "../orows.h"
 #include "../sfric.h"
 
 #include <math.h>
@@ -169,4 +171,186 @@ EXDEX_TEST(sfric_slip_acceleration_matches_central_difference)
         }
     }
     exdex_model_free(m);
+}
+
+/* The slip along an obstacle's rows whose contact point moves over the
+ * object (orow_slip): a section vertex of a tilted box against the square's
+ * edges, and a tilted rod's nearest hull point (its vertex and its edge
+ * interior), each with its feature held, along the trajectory q(tau) = q0 +
+ * v0 tau + qdd tau^2 / 2 in a turning gripper: the central difference of s
+ * must equal T qdd + sdd0, and T v + tb must be the slip of contact_tangent
+ * at orow_point. */
+EXDEX_TEST(sfric_obstacle_row_slip_acceleration_matches_central_difference)
+{
+    exdex_scene_def d = exdex_default_scene_def();
+    const char *bad = NULL;
+    int status = 0, codes[6], nc = 0;
+    double verts[4][2] = {{0.01, 0.01}, {-0.01, 0.01}, {-0.01, -0.01}, {0.01, -0.01}};
+    double ca = cos(0.3), sa = sin(0.3), cb = cos(0.2), sb = sin(0.2);
+    exdex_model *m;
+    d.dof = EXDEX_DOF_PLANAR;
+    d.mass = 0.1;
+    d.n_vertices = 4;
+    memcpy(d.vertices, verts, sizeof verts);
+    d.motion.kind = EXDEX_MOTION_SHAKE;
+    d.motion.rotation = 1;
+    d.motion.axis[0] = 0.3;
+    d.motion.axis[1] = 1.0;
+    d.motion.axis[2] = 0.5;
+    d.motion.center[0] = 0.05;
+    d.motion.amplitude = 0.3;
+    d.motion.frequency = 2.0;
+    d.motion.duration = 1.0;
+    d.n_obstacles = 2;
+    /* a wedge: two faces tilted out of the plate normal, meeting below */
+    d.obstacles[0].kind = EXDEX_OBSTACLE_POLYTOPE;
+    d.obstacles[0].n_faces = 3;
+    {
+        double n[3][3] = {{ca, 0.1, sa}, {-ca, 0.05, sa}, {0.0, 0.0, -1.0}};
+        for (int f = 0; f < 3; f++) {
+            double l = sqrt(n[f][0] * n[f][0] + n[f][1] * n[f][1] + n[f][2] * n[f][2]);
+            for (int c = 0; c < 3; c++) d.obstacles[0].face_normal[f][c] = n[f][c] / l;
+            d.obstacles[0].face_point[f][2] = f == 2 ? -1.0 : -0.5;
+        }
+    }
+    d.obstacles[0].mu = 0.5;
+    d.obstacles[1].kind = EXDEX_OBSTACLE_CYLINDER;
+    d.obstacles[1].center[0] = 0.2;
+    d.obstacles[1].axis[0] = sb;
+    d.obstacles[1].axis[2] = cb;
+    d.obstacles[1].radius = 0.01;
+    d.obstacles[1].mu = 0.5;
+    m = exdex_model_alloc(&d, &status, &bad);
+    ENSURE(m != NULL);
+    if (!m) return;
+    /* the section vertex of faces 0, 1 against hull edges 0 and 2; the rod
+     * against hull vertex 1 and the interior of hull edge 3 */
+    codes[nc++] = orow_code(0, OROW_SECTION, 0, 1, 0);
+    codes[nc++] = orow_code(0, OROW_SECTION, 0, 1, 2);
+    codes[nc++] = orow_code(1, OROW_ROD, 0, 0, 1);
+    codes[nc++] = orow_code(1, OROW_ROD, 0, 0, 32 + 3);
+    {
+        double q0[3] = {0.001, 0.002, 0.3}, v0[3] = {0.05, -0.02, 1.5}, qdd[3] = {0.7, -1.1, 20.0};
+        double t = 0.13, h = 1e-5;
+        for (int i = 0; i < nc; i++) {
+            double s[2], T[3], T2[3], tb, tb2, sdd0, q[3], v[3], s0;
+            exdex_kinematics k;
+            contact_point cp;
+            ENSURE(orow_valid(m, codes[i]));
+            for (int e = 0; e < 2; e++) {
+                double tau = e ? h : -h;
+                for (int c = 0; c < 3; c++) {
+                    q[c] = q0[c] + v0[c] * tau + 0.5 * qdd[c] * tau * tau;
+                    v[c] = v0[c] + qdd[c] * tau;
+                }
+                ENSURE(exdex_motion_eval(m->motion, t + tau, &k) == EXDEX_OK);
+                s[e] = orow_slip(m, &k, codes[i], q, v, T, &tb, NULL);
+            }
+            ENSURE(exdex_motion_eval(m->motion, t, &k) == EXDEX_OK);
+            s0 = orow_slip(m, &k, codes[i], q0, v0, T, &tb, &sdd0);
+            orow_point(m, &k, codes[i], q0, &cp);
+            contact_tangent(m, &k, cp.x, cp.vx, cp.nB, T2, &tb2);
+            ENSURE_CLOSE(s0, T2[0] * v0[0] + T2[1] * v0[1] + T2[2] * v0[2] + tb2, 1e-15);
+            ENSURE(fabs(T[0] * qdd[0] + T[1] * qdd[1] + T[2] * qdd[2] + sdd0) > 1e-3); /* not trivially 0 */
+            ENSURE_CLOSE((s[1] - s[0]) / (2.0 * h), T[0] * qdd[0] + T[1] * qdd[1] + T[2] * qdd[2] + sdd0, 1e-6);
+        }
+    }
+    exdex_model_free(m);
+}
+
+/* A disc outline's obstacle rows (orows.c): the rim point nearest a tilted
+ * rod (an envelope over the rim angle) and the centre against a wedge's
+ * section vertex, each with its feature held, along q(tau) = q0 + v0 tau +
+ * qdd tau^2 / 2 in a turning gripper: the central differences of the gap
+ * must give its rate and G qdd + gdd0, those of the slip T qdd + sdd0; a
+ * rotation scene's row (orow_1dof) the same with Fq, Fqq, Ft, Ftq, Ftt. */
+EXDEX_TEST(sfric_disc_obstacle_rows_match_central_differences)
+{
+    for (int dof = 0; dof < 2; dof++) {
+        exdex_scene_def d = exdex_default_scene_def();
+        const char *bad = NULL;
+        int status = 0, codes[2];
+        double ca = cos(0.3), sa = sin(0.3), cb = cos(0.2), sb = sin(0.2);
+        exdex_model *m;
+        d.dof = dof ? EXDEX_DOF_ROTATION : EXDEX_DOF_PLANAR;
+        d.mass = 0.1;
+        d.disc_radius = 0.02;
+        d.disc_center[0] = 0.004;
+        d.disc_center[1] = -0.002;
+        d.motion.kind = EXDEX_MOTION_SHAKE;
+        d.motion.rotation = 1;
+        d.motion.axis[0] = 0.3;
+        d.motion.axis[1] = 1.0;
+        d.motion.axis[2] = 0.5;
+        d.motion.center[0] = 0.05;
+        d.motion.amplitude = 0.3;
+        d.motion.frequency = 2.0;
+        d.motion.duration = 1.0;
+        d.n_obstacles = 2;
+        d.obstacles[0].kind = EXDEX_OBSTACLE_POLYTOPE;
+        d.obstacles[0].n_faces = 3;
+        {
+            double n[3][3] = {{ca, 0.1, sa}, {-ca, 0.05, sa}, {0.0, 0.0, -1.0}};
+            for (int f = 0; f < 3; f++) {
+                double l = sqrt(n[f][0] * n[f][0] + n[f][1] * n[f][1] + n[f][2] * n[f][2]);
+                for (int c = 0; c < 3; c++) d.obstacles[0].face_normal[f][c] = n[f][c] / l;
+                d.obstacles[0].face_point[f][2] = f == 2 ? -1.0 : -0.5;
+            }
+        }
+        d.obstacles[0].mu = 0.5;
+        d.obstacles[1].kind = EXDEX_OBSTACLE_CYLINDER;
+        d.obstacles[1].center[0] = 0.2;
+        d.obstacles[1].axis[0] = sb;
+        d.obstacles[1].axis[2] = cb;
+        d.obstacles[1].radius = 0.01;
+        d.obstacles[1].mu = 0.5;
+        m = exdex_model_alloc(&d, &status, &bad);
+        ENSURE(m != NULL);
+        if (!m) return;
+        codes[0] = orow_code(1, OROW_ROD, 0, 0, 0);
+        codes[1] = orow_code(0, OROW_SECTION, 0, 1, 0);
+        for (int i = 0; i < 2; i++) {
+            double t = 0.13, h = 1e-4;
+            exdex_kinematics k;
+            ENSURE(orow_valid(m, codes[i]));
+            if (!dof) {
+                double q0[3] = {0.001, 0.002, 0.3}, v0[3] = {0.05, -0.02, 1.5}, qdd[3] = {0.7, -1.1, 20.0};
+                double g[3], s[2], Gr[3], gd, gdd0, T[3], tb, sdd0;
+                for (int e = 0; e < 3; e++) {
+                    double tau = (e - 1) * h, q[3], v[3];
+                    for (int c = 0; c < 3; c++) {
+                        q[c] = q0[c] + v0[c] * tau + 0.5 * qdd[c] * tau * tau;
+                        v[c] = v0[c] + qdd[c] * tau;
+                    }
+                    ENSURE(exdex_motion_eval(m->motion, t + tau, &k) == EXDEX_OK);
+                    g[e] = orow_planar(m, &k, codes[i], q, v, Gr, NULL, NULL);
+                    if (e != 1) s[e / 2] = orow_slip(m, &k, codes[i], q, v, T, &tb, NULL);
+                }
+                ENSURE(exdex_motion_eval(m->motion, t, &k) == EXDEX_OK);
+                orow_planar(m, &k, codes[i], q0, v0, Gr, &gd, &gdd0);
+                orow_slip(m, &k, codes[i], q0, v0, T, &tb, &sdd0);
+                ENSURE_CLOSE((g[2] - g[0]) / (2.0 * h), gd, 1e-6); /* difference error h^2 |g'''| / 6 */
+                ENSURE(fabs(Gr[0] * qdd[0] + Gr[1] * qdd[1] + Gr[2] * qdd[2] + gdd0) > 1e-3);
+                ENSURE_CLOSE((g[2] - 2.0 * g[1] + g[0]) / (h * h), Gr[0] * qdd[0] + Gr[1] * qdd[1] + Gr[2] * qdd[2] + gdd0,
+                             1e-5);
+                ENSURE(fabs(T[0] * qdd[0] + T[1] * qdd[1] + T[2] * qdd[2] + sdd0) > 1e-3);
+                ENSURE_CLOSE((s[1] - s[0]) / (2.0 * h), T[0] * qdd[0] + T[1] * qdd[1] + T[2] * qdd[2] + sdd0, 1e-6);
+            } else {
+                double q0 = 0.3, v0 = 1.5, a0 = 20.0, F[3];
+                crow c;
+                for (int e = 0; e < 3; e++) {
+                    double tau = (e - 1) * h;
+                    ENSURE(exdex_motion_eval(m->motion, t + tau, &k) == EXDEX_OK);
+                    orow_1dof(m, &k, codes[i], q0 + v0 * tau + 0.5 * a0 * tau * tau, &c);
+                    F[e] = c.F;
+                }
+                ENSURE(exdex_motion_eval(m->motion, t, &k) == EXDEX_OK);
+                orow_1dof(m, &k, codes[i], q0, &c);
+                ENSURE_CLOSE((F[2] - F[0]) / (2.0 * h), c.Fq * v0 + c.Ft, 1e-6);
+                ENSURE_CLOSE((F[2] - 2.0 * F[1] + F[0]) / (h * h),
+                             c.Fqq * v0 * v0 + 2.0 * c.Ftq * v0 + c.Ftt + c.Fq * a0, 1e-5);
+            }
+        }
+        exdex_model_free(m);
+    }
 }
