@@ -1083,3 +1083,43 @@ def test_batch_and_stepper_with_obstacles_are_simulate_bit_for_bit(method):
     for i in range(i_snap + 1, len(res.t)):
         s = st.step(1e-3)
         assert np.array_equal(s.q, res.q[i]) and np.array_equal(s.stop_force, res.stop_force[i])
+
+
+def test_event_rocking_block_does_not_cut_through_the_box_corner():
+    """A tall block (half-width a, half-height b = 3 a, so I = m (a^2 + b^2) /
+    3 > m a^2: a plastic impact on one bottom corner lifts the other) slides
+    on the top face of a box (planar, frictionless plates and box), pivoting
+    on its right corner with its left corner lifted, toward the box's right
+    top corner K. The face is horizontal, so the box pushes vertically and
+    the block's horizontal velocity keeps its initial value u - w0 b until
+    its centre passes K (x_c = K at t_K = (a + L0) / (u - w0 b)); the rocking
+    (impacts alternating between the corners at rates shrinking by a
+    constant factor) ends flat (theta = 0, centre at height b) long before.
+    Between impacts each corner is a free row starting at gap 0 and turned
+    back by gravity; near K the box's corner takes over from the top face as
+    the nearest feature. The event method's output grid must not change the
+    motion (the steps the stepper takes between samples are longer on a
+    coarse grid, so a corner falling onto the face and cutting through K
+    within one step went unseen there: theta 0.22 rad off at dt = t_end, a
+    gap of -2e-8 m): at every grid the least gap stays >= -1e-12 m, the
+    final pose agrees with the finest grid's to 1e-9, and the flat phase
+    follows the closed form x_c = (u - w0 b) t, y_c = b, theta = 0."""
+    a, b, m, u, w0, L0, t_end = 0.01, 0.03, 0.1, 0.2, -2.0, 0.01, 0.1
+    body = Body(mass=m, inertia=m * (a * a + b * b) / 3, outline=[(-a, -b), (a, -b), (a, b), (-a, b)])
+    K, size = a + L0, 0.1
+    # about the right corner (a, -b) from the centre: v_c = u e_x + w0 x (c - V), c - V = (-a, b)
+    sc = Scene(body=body, grasp=Grasp(mu=0.0, grip_force=1.0), dof="planar", q0=(0.0, b, 0.0),
+               v0=(u - w0 * b, -w0 * a, w0),
+               obstacles=(Obstacle.box((K - size / 2, 0.0, -size / 2), (size, size, size)),))
+    vx = u - w0 * b
+    fine = run(sc, t_end, t_end / 1000, method="event")
+    for dt in (t_end, t_end / 10, t_end / 100, t_end / 1000):
+        r = run(sc, t_end, dt, method="event")
+        assert r.stats["min_gap"] >= -1e-12, (dt, r.stats["min_gap"])
+        np.testing.assert_allclose(r.q[-1], fine.q[-1], rtol=0, atol=1e-9, err_msg=str(dt))
+    flat = (fine.t >= 0.045) & (fine.t <= K / vx - 1e-3)
+    assert np.count_nonzero(flat) > 20
+    np.testing.assert_allclose(fine.q[flat, 0], vx * fine.t[flat], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(fine.q[flat, 1], b, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(fine.q[flat, 2], 0.0, rtol=0, atol=1e-12)
+    assert fine.q[-1, 2] < -0.01  # past K it tips over the corner
