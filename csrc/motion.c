@@ -941,11 +941,12 @@ int exdex_motion_jumps(const exdex_motion *m, double t[EXDEX_MOTION_MAX_JUMPS],
     return m->n_jumps;
 }
 
-int exdex_motion_switches(const exdex_motion *m, double ts[EXDEX_MOTION_MAX_SWITCHES])
+/* The switching times of m as a non-decreasing list: the kind's own (at
+ * most 3, written to c) or a chain's; *list points at them. */
+static int switch_list(const exdex_motion *m, double c[3], const double **list)
 {
-    double c[EXDEX_MOTION_MAX_SWITCHES];
-    int n = 0, k = 0;
-    if (!m) return 0;
+    int n = 0;
+    *list = c;
     switch (m->kind) {
     case EXDEX_MOTION_ASYMMETRIC:
         c[n++] = m->t_1;
@@ -966,50 +967,36 @@ int exdex_motion_switches(const exdex_motion *m, double ts[EXDEX_MOTION_MAX_SWIT
         c[n++] = m->end;
         break;
     case EXDEX_MOTION_CHAIN:
-        for (int i = 0; i < m->n_sw; i++) c[n++] = m->sw[i];
+        *list = m->sw;
+        n = m->n_sw;
         break;
     default:
         break;
     }
+    return n;
+}
+
+int exdex_motion_switches(const exdex_motion *m, double ts[EXDEX_MOTION_MAX_SWITCHES])
+{
+    double c[3];
+    const double *list;
+    int n, k = 0;
+    if (!m) return 0;
+    n = switch_list(m, c, &list);
     /* increasing, without repeats (a trapezoid without ramps, or with two
      * ramps meeting at T/2) */
     for (int i = 0; i < n; i++)
-        if (k == 0 || c[i] > ts[k - 1]) ts[k++] = c[i];
+        if (k == 0 || list[i] > ts[k - 1]) ts[k++] = list[i];
     return k;
 }
 
 double exdex_motion_next_switch(const exdex_motion *m, double lo)
 {
     double c[3];
-    const double *list = c;
-    int n = 0, a = 0, b;
+    const double *list;
+    int n, a = 0, b;
     if (!m) return INFINITY;
-    switch (m->kind) {
-    case EXDEX_MOTION_ASYMMETRIC:
-        c[n++] = m->t_1;
-        c[n++] = m->t_2;
-        c[n++] = m->end;
-        break;
-    case EXDEX_MOTION_TRAPEZOID:
-        if (m->amplitude == 0.0) break;
-        c[n++] = m->t_a;
-        c[n++] = m->T - m->t_a;
-        c[n++] = m->T;
-        break;
-    case EXDEX_MOTION_SAMPLED:
-        c[n++] = m->t_first;
-        c[n++] = m->t_last;
-        break;
-    case EXDEX_MOTION_SHAKE:
-        c[n++] = m->end;
-        break;
-    case EXDEX_MOTION_CHAIN:
-        list = m->sw;
-        n = m->n_sw;
-        break;
-    default:
-        break;
-    }
+    n = switch_list(m, c, &list);
     /* every list is non-decreasing: bisect for its first entry above lo */
     b = n;
     while (a < b) {

@@ -506,6 +506,39 @@ static int orow_tie(const exdex_model *m, const exdex_kinematics *kin, const dou
     return pick;
 }
 
+/* The vertices of a section polygon given by nk face lines a[f] . y <= b[f]:
+ * each intersection of two lines f < g (not parallel to rounding) that
+ * satisfies every other line to rounding, once (repeats within 1e-10
+ * relative dropped), in the order of (f, g), with its pair in fg. Returns
+ * their number (at most EXDEX_MAX_FACES). */
+static int section_vertices(int nk, const double (*a)[2], const double *b, double ys[][2], int fg[][2])
+{
+    int ny = 0;
+    for (int f = 0; f < nk; f++)
+        for (int g = f + 1; g < nk; g++) {
+            double det = a[f][0] * a[g][1] - a[f][1] * a[g][0], y[2], sc;
+            int ok = 1;
+            if (!(fabs(det) > 1e-12 * hypot(a[f][0], a[f][1]) * hypot(a[g][0], a[g][1]))) continue;
+            y[0] = (b[f] * a[g][1] - b[g] * a[f][1]) / det;
+            y[1] = (a[f][0] * b[g] - a[g][0] * b[f]) / det;
+            sc = hypot(y[0], y[1]);
+            for (int h = 0; ok && h < nk; h++) {
+                if (h == f || h == g) continue;
+                if (a[h][0] * y[0] + a[h][1] * y[1] - b[h] > 1e-12 * (hypot(a[h][0], a[h][1]) * sc + fabs(b[h])))
+                    ok = 0;
+            }
+            for (int i = 0; ok && i < ny; i++)
+                if (hypot(ys[i][0] - y[0], ys[i][1] - y[1]) <= 1e-10 * (sc + hypot(ys[i][0], ys[i][1]))) ok = 0;
+            if (!ok || ny >= EXDEX_MAX_FACES) continue;
+            ys[ny][0] = y[0];
+            ys[ny][1] = y[1];
+            fg[ny][0] = f;
+            fg[ny][1] = g;
+            ny++;
+        }
+    return ny;
+}
+
 /* The disc's row against obstacle o at (kin, q) (centre xc, offset vc):
  * its code and gap (planar: a face row's gap as contact_plane_row_planar),
  * the feature as contact_obstacle_rows chooses it: the face whose line is
@@ -549,33 +582,15 @@ static int disc_row(const exdex_model *m, const exdex_kinematics *kin, int o, co
         if (!fplane) {
             /* the nearest section vertex (the pairs as orow_all finds them) */
             double ys[EXDEX_MAX_FACES][2], dmin = INFINITY;
-            int ny = 0, pf = -1, pg = -1;
-            for (int f = 0; f < nk; f++)
-                for (int g = f + 1; g < nk; g++) {
-                    double det = a[f][0] * a[g][1] - a[f][1] * a[g][0], y[2], sc, dd;
-                    int ok = 1;
-                    if (!(fabs(det) > 1e-12 * hypot(a[f][0], a[f][1]) * hypot(a[g][0], a[g][1]))) continue;
-                    y[0] = (b[f] * a[g][1] - b[g] * a[f][1]) / det;
-                    y[1] = (a[f][0] * b[g] - a[g][0] * b[f]) / det;
-                    sc = hypot(y[0], y[1]);
-                    for (int h = 0; ok && h < nk; h++) {
-                        if (h == f || h == g) continue;
-                        if (a[h][0] * y[0] + a[h][1] * y[1] - b[h] > 1e-12 * (hypot(a[h][0], a[h][1]) * sc + fabs(b[h])))
-                            ok = 0;
-                    }
-                    for (int i = 0; ok && i < ny; i++)
-                        if (hypot(ys[i][0] - y[0], ys[i][1] - y[1]) <= 1e-10 * (sc + hypot(ys[i][0], ys[i][1]))) ok = 0;
-                    if (!ok || ny >= EXDEX_MAX_FACES) continue;
-                    ys[ny][0] = y[0];
-                    ys[ny][1] = y[1];
-                    ny++;
-                    dd = hypot(xc[0] - y[0], xc[1] - y[1]);
-                    if (dd < dmin) {
-                        dmin = dd;
-                        pf = idx[f];
-                        pg = idx[g];
-                    }
+            int fg[EXDEX_MAX_FACES][2], ny = section_vertices(nk, (const double (*)[2])a, b, ys, fg), pf = -1, pg = -1;
+            for (int i = 0; i < ny; i++) {
+                double dd = hypot(xc[0] - ys[i][0], xc[1] - ys[i][1]);
+                if (dd < dmin) {
+                    dmin = dd;
+                    pf = idx[fg[i][0]];
+                    pg = idx[fg[i][1]];
                 }
+            }
             if (pf >= 0) {
                 if (gap) gap[0] = dmin - r;
                 return orow_code(o, OROW_SECTION, pf, pg, 0);
@@ -634,7 +649,7 @@ int orow_all(const exdex_model *m, const exdex_kinematics *kin, const double *q,
         }
         if (ob->kind == EXDEX_OBSTACLE_POLYTOPE) {
             double a[EXDEX_MAX_FACES][2], b[EXDEX_MAX_FACES], ys[EXDEX_MAX_FACES][2];
-            int idx[EXDEX_MAX_FACES], nk = 0, empty = 0, ny = 0;
+            int idx[EXDEX_MAX_FACES], fg[EXDEX_MAX_FACES][2], nk = 0, empty = 0, ny;
             for (int j = 0; j < nv; j++) {
                 int best = 0, cand[EXDEX_MAX_FACES];
                 double gb = -INFINITY, G[3], vals[EXDEX_MAX_FACES];
@@ -669,43 +684,26 @@ int orow_all(const exdex_model *m, const exdex_kinematics *kin, const double *q,
                 idx[nk++] = f;
             }
             if (empty) continue;
-            for (int f = 0; f < nk; f++)
-                for (int g = f + 1; g < nk; g++) {
-                    double det = a[f][0] * a[g][1] - a[f][1] * a[g][0], y[2], sc;
-                    int ok = 1, e;
-                    if (!(fabs(det) > 1e-12 * hypot(a[f][0], a[f][1]) * hypot(a[g][0], a[g][1]))) continue;
-                    y[0] = (b[f] * a[g][1] - b[g] * a[f][1]) / det;
-                    y[1] = (a[f][0] * b[g] - a[g][0] * b[f]) / det;
-                    sc = hypot(y[0], y[1]);
-                    for (int h = 0; ok && h < nk; h++) {
-                        if (h == f || h == g) continue;
-                        if (a[h][0] * y[0] + a[h][1] * y[1] - b[h] > 1e-12 * (hypot(a[h][0], a[h][1]) * sc + fabs(b[h])))
-                            ok = 0;
+            ny = section_vertices(nk, (const double (*)[2])a, b, ys, fg);
+            for (int i = 0; i < ny; i++) {
+                const double *y = ys[i];
+                int f = fg[i][0], g = fg[i][1], e;
+                double gv = hull_dist(nh, (const double (*)[3])hb, y, &e);
+                if (v && m->tol.touch > 0.0) {
+                    /* ties between edge lines: orow_tie */
+                    int cand[EXDEX_MAX_VERTICES];
+                    double vals[EXDEX_MAX_VERTICES];
+                    for (int k = 0; k < nh; k++) {
+                        const double *u = hb[k], *w = hb[(k + 1) % nh];
+                        double ex = w[0] - u[0], ey = w[1] - u[1], len = hypot(ex, ey);
+                        vals[k] = len > 0.0 ? ey / len * (y[0] - u[0]) + (-ex / len) * (y[1] - u[1]) : -INFINITY;
+                        cand[k] = orow_code(o, OROW_SECTION, idx[f], idx[g], k);
                     }
-                    for (int i = 0; ok && i < ny; i++)
-                        if (hypot(ys[i][0] - y[0], ys[i][1] - y[1]) <= 1e-10 * (sc + hypot(ys[i][0], ys[i][1]))) ok = 0;
-                    if (!ok || ny >= EXDEX_MAX_FACES) continue;
-                    ys[ny][0] = y[0];
-                    ys[ny][1] = y[1];
-                    ny++;
-                    {
-                        double gv = hull_dist(nh, (const double (*)[3])hb, y, &e);
-                        if (v && m->tol.touch > 0.0) {
-                            /* ties between edge lines: orow_tie */
-                            int cand[EXDEX_MAX_VERTICES];
-                            double vals[EXDEX_MAX_VERTICES];
-                            for (int k = 0; k < nh; k++) {
-                                const double *u = hb[k], *w = hb[(k + 1) % nh];
-                                double ex = w[0] - u[0], ey = w[1] - u[1], len = hypot(ex, ey);
-                                vals[k] = len > 0.0 ? ey / len * (y[0] - u[0]) + (-ex / len) * (y[1] - u[1]) : -INFINITY;
-                                cand[k] = orow_code(o, OROW_SECTION, idx[f], idx[g], k);
-                            }
-                            e = orow_tie(m, kin, q, v, cand, vals, nh, e);
-                        }
-                        if (gap) gap[n] = gv;
-                        code[n++] = orow_code(o, OROW_SECTION, idx[f], idx[g], e);
-                    }
+                    e = orow_tie(m, kin, q, v, cand, vals, nh, e);
                 }
+                if (gap) gap[n] = gv;
+                code[n++] = orow_code(o, OROW_SECTION, idx[f], idx[g], e);
+            }
         } else {
             int feat;
             double gv = rod_row(m, ob, kin, nh, (const double (*)[3])hb, &feat);
