@@ -386,7 +386,12 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
         with symplectic Euler steps of dt (split at the known switching
         times as "implicit"), the naive baseline. Never sticks:
         under a load |Q| < mu N the velocity chatters in a band of width
-        2 dt mu N / M about 0 and the object creeps at dt Q / M on average.
+        2 dt mu N / M about 0 and the object creeps at dt Q / M on average
+        (1-DoF). In a planar scene the chatter of the translation (~dt
+        mu N / M) leaves only part of the friction torque acting, so the
+        object can turn at up to ~(dt mu N / M) / e_r: first order in dt,
+        but with a constant 1 / e_r, so coarse steps can be far off when
+        the patch is small against the outline.
         With ``Grasp.mu_static`` > mu (static capacity Cs, kinetic C):
         "implicit" tries each step's stick with Cs first and else slides
         against C (a slip may stick one step early: O(dt)); "event" tests
