@@ -2666,7 +2666,7 @@ static int row_dip(hyb *H, ode *O, double t0, const double *y0, double t1, const
     memset(in, 0, (size_t)nr);
     if (H->ndof == 3)
         for (int i = 0; i < H->ncs; i++) in[H->cs[i]] = 1;
-    else if (H->mode == MODE_CONTACT)
+    else if (H->mode == MODE_CONTACT && H->ck < H->ns)   /* an obstacle's contact row is not a stop row */
         in[H->ck * H->nv + H->cj] = 1;
     for (int r = 0; r < nr; r++) {
         double ga, gb, ra, rb, tm, gm, tr;
