@@ -1063,10 +1063,12 @@ static void planar_unpenetrate(hyb *H, const exdex_kinematics *kin, double *y)
 }
 
 /* The pose reported at (t, y) (an output sample, the smallest gap): a
- * planar rest holds q exactly, also while a stop moving in B closes in on
- * it (up to tol.rest_gap, where the rest ends); reported is the held pose
- * pushed out of the stops (planar_unpenetrate, the projection the decision
- * at the rest's end makes), a function of q and t alone. Projecting the
+ * planar rest holds q exactly, also while a stop or an obstacle moving in B
+ * (an obstacle is fixed in the world, so it moves in B with the gripper)
+ * closes in on it (up to tol.rest_gap, where the rest ends); reported is
+ * the held pose pushed out of the stops and obstacles (planar_unpenetrate,
+ * the projection the decision at the rest's end makes), a function of q
+ * and t alone. Projecting the
  * held q itself after every step would move it by the stop's travel over
  * each step: the rest's end, and the answer, would depend on where steps
  * end (the output grid among them). Any other mode: y as it is. */
@@ -1074,7 +1076,7 @@ static const double *reported_pose(hyb *H, double t, const double *y, double *bu
 {
     frame f;
     exdex_kinematics kin;
-    if (H->ndof != 3 || !H->ns || H->law != LAW_COULOMB || H->mode != MODE_STICK) return y;
+    if (H->ndof != 3 || !(H->ns || H->no) || H->law != LAW_COULOMB || H->mode != MODE_STICK) return y;
     memcpy(buf, y, (size_t)H->ny * sizeof *y);
     if (!frame_seg(H, t, &f, &kin)) planar_unpenetrate(H, &kin, buf);
     return buf;
@@ -1241,7 +1243,8 @@ static int planar_friction(hyb *H, const frame *f, const exdex_kinematics *kin, 
  * violated guard and the row's gap unwatched, its stop no longer able to
  * act as an impact). The event's own answer stands: the row leaves the set
  * (its free gap guard watches it again; a row that still pushes comes back
- * by an impact at rate ~0). */
+ * by an impact at rate ~0); with frictional rows the friction groups and
+ * modes of the rows left are decided again (sf_redecide). */
 static void set_tie_leaves(hyb *H, int r)
 {
     int n = 0;
@@ -2061,6 +2064,90 @@ static void decide(hyb *H, double t, double *y, int vzero)
     }
 }
 
+/* The stops' friction groups and modes of the contact set decided again at
+ * (t, y) after the set changed outside decide (set_tie_leaves), as decide
+ * makes them after decide_modes: groups afresh, every mode from SF_ROLL. */
+static void sf_redecide(hyb *H, double t, double *y)
+{
+    for (int k = 0; k < SF_MAX_STOPS; k++) H->fm[k] = SF_ROLL;
+    sf_fix_groups(H, t, y);
+    if (!H->err) sf_decide(H, t, y);
+}
+
+/* The rows of the planar contact set held as equalities (hold_set_rows):
+ * given the n set rows G_i x >= b_i (in the set's order), appends
+ * -G_i x >= -b_i for each row whose G_i is independent of the set rows
+ * before it (in the M^-1 metric, a residual above 1e-6 of its norm; a row
+ * within that of their span is implied by them to rounding, and its
+ * mirror would make the rows inconsistent by rounding). Returns the new
+ * count (n when the mirrors would exceed LDP_MAX_ROWS). */
+static int set_row_equalities(const hyb *H, int n, double (*Gr)[3], double *b)
+{
+    double basis[3][3];
+    int nb = 0, m = n;
+    if (n + 3 > LDP_MAX_ROWS) return n;
+    for (int i = 0; i < n && nb < 3; i++) {
+        double u[3], n0, nn;
+        for (int c = 0; c < 3; c++) u[c] = Gr[i][c] * sqrt(H->m->minv[c]);
+        n0 = ex_dot3(u, u);
+        for (int k = 0; k < nb; k++) {
+            double p = ex_dot3(u, basis[k]);
+            for (int c = 0; c < 3; c++) u[c] -= p * basis[k][c];
+        }
+        nn = ex_dot3(u, u);
+        if (!(nn > 1e-12 * n0)) continue;
+        for (int c = 0; c < 3; c++) basis[nb][c] = u[c] / sqrt(nn);
+        nb++;
+        for (int c = 0; c < 3; c++) Gr[m][c] = -Gr[i][c];
+        b[m++] = -b[i];
+    }
+    return m;
+}
+
+/* The planar contact set at a decision (t, y) (an event, a switching time
+ * of the motion or the grip before its jump, a regrip), outside a rest: a
+ * set row pushes (lam > 0) until its separation, the located root of its
+ * guard, so its exact gap and rate are 0 over the whole contact, up to and
+ * at that root. The integrated state leaves them off by the integrator's
+ * error (project_contact after each step removes only penetration and
+ * approach), up to its tolerance, far above tol.touch and tol.rate, the
+ * bands in which the decision takes a row as touching at rate 0
+ * (planar_impact_and_set): it would find a pushing row separating and drop
+ * it from the set, a free flight of that row with its friction lost until
+ * an impact brings it back. Where a set row is beyond either band, q and
+ * then v are projected (M metric) onto every set row at gap 0 and rate 0
+ * (equalities; the rows implied by others one-sided); within both bands the
+ * decision takes them so already and y is left as it is. Scenes with
+ * obstacles; a scene of stops alone keeps its state as integrated. */
+static void hold_set_rows(hyb *H, double t, double *y)
+{
+    const exdex_model *m = H->m;
+    frame f;
+    exdex_kinematics kin;
+    double Gr[MAX_ROWS + 3][3], b[MAX_ROWS + 3], lam[MAX_ROWS + 3], zero[3] = {0, 0, 0}, dq[3], v[3];
+    int off = 0, n;
+    if (H->ndof != 3 || !H->no || !H->ncs || (H->law == LAW_COULOMB && H->mode == MODE_STICK)) return;
+    if (frame_seg(H, t, &f, &kin)) return;
+    for (int i = 0; i < H->ncs && !off; i++) {
+        double gd, g = hrow_planar(H, &kin, H->cs[i], y, y + 3, Gr[i], &gd, NULL);
+        off = g > m->tol.touch || gd > m->tol.rate;
+    }
+    if (!off) return;
+    for (int i = 0; i < H->ncs; i++) b[i] = -hrow_planar(H, &kin, H->cs[i], y, y + 3, Gr[i], NULL, NULL);
+    n = set_row_equalities(H, H->ncs, Gr, b);
+    if (ldp_project(m->minv, n, (const double (*)[3])Gr, b, zero, FQ_MIN, dq, lam, &H->st->stop_iterations, &H->st->warnings))
+        for (int c = 0; c < 3; c++) y[c] += dq[c];
+    if (contact_min_gap(m, &kin, y) < 0.0) planar_unpenetrate(H, &kin, y);
+    for (int i = 0; i < H->ncs; i++) {
+        double gd;
+        hrow_planar(H, &kin, H->cs[i], y, y + 3, Gr[i], &gd, NULL);
+        b[i] = -(gd - ex_dot3(Gr[i], y + 3));
+    }
+    n = set_row_equalities(H, H->ncs, Gr, b);
+    if (ldp_project(m->minv, n, (const double (*)[3])Gr, b, y + 3, FQ_MIN, v, lam, &H->st->stop_iterations, &H->st->warnings))
+        memcpy(y + 3, v, sizeof v);
+}
+
 /* After an accepted step in contact: back onto the constraint (the
  * integrated q drifts off it at the tolerance level). */
 static void project_contact(hyb *H, double t, double *y)
@@ -2816,6 +2903,7 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
     if (regrip) {
         H.cap = H.capk * model_capacity(m, t);
         H.caps = H.capk * model_capacity_static(m, t);
+        hold_set_rows(&H, t, y);
         decide(&H, t, y, 0);
         stiff_track(&H, y, 1);
         O->step = O->rk;
@@ -3058,18 +3146,22 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                 }
                 /* planar, a contact-set row separating (its guard lam G
                  * M^-1 G^T - gap acceleration, after the free gaps) */
-                if (nd == 3 && law == LAW_COULOMB && H.mode != MODE_STICK && !H.sfric && e_best >= H.gap1 &&
+                if (nd == 3 && law == LAW_COULOMB && H.mode != MODE_STICK && e_best >= H.gap1 &&
                     e_best < H.gap1 + H.ncs)
                     sep = H.cs[e_best - H.gap1];
                 /* planar, a free stop row's gap (the first guards from gap0) */
                 if (nd == 3 && law == LAW_COULOMB && H.mode == MODE_SLIP && !H.sfric && e_best >= H.gap0 &&
                     e_best < H.gap1 && e_best - H.gap0 < H.ns * H.nv - H.ncs)
                     join = 1;
+                hold_set_rows(&H, t, y);
                 if (keep)
                     H.small = 1;
                 else
                     decide(&H, t, y, vz);
-                if (sep >= 0 && same >= 1 && H.mode == MODE_SLIP) set_tie_leaves(&H, sep);
+                if (sep >= 0 && same >= 1 && H.mode == MODE_SLIP) {
+                    set_tie_leaves(&H, sep);
+                    if (H.sfric) sf_redecide(&H, t, y);
+                }
                 if (join && same >= 1 && H.mode == MODE_SLIP) set_tie_joins(&H, y, t);
                 gsl_odeiv2_evolve_reset(O->evo);
                 gsl_odeiv2_step_reset(O->step);
@@ -3102,6 +3194,7 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
             }
             if (t == H.hi) {
                 /* a switching time of the motion: next segment */
+                hold_set_rows(&H, t, y);
                 H.lo = H.hi;
                 k++;
                 H.hi = k < nsw ? ts[k] : INFINITY;
