@@ -397,6 +397,20 @@ static void rod_axis(const exdex_obstacle_def *ob, const exdex_kinematics *kin, 
     ex_mulmtv3(aB, kin->R, ob->axis);
 }
 
+/* The rod's contact normal at the point x (B): the offset of x from the
+ * axis (cB, aB), d - (d . aB) aB with d = x - cB, normalised (zero when x is
+ * on the axis) into nb. Returns the distance |d - (d . aB) aB|. */
+static double rod_normal(const double cB[3], const double aB[3], const double x[3], double nb[3])
+{
+    double d[3], t, dist;
+    for (int i = 0; i < 3; i++) d[i] = x[i] - cB[i];
+    t = ex_dot3(d, aB);
+    for (int i = 0; i < 3; i++) nb[i] = d[i] - t * aB[i];
+    dist = sqrt(ex_dot3(nb, nb));
+    for (int i = 0; i < 3; i++) nb[i] = dist > 0.0 ? nb[i] / dist : 0.0;
+    return dist;
+}
+
 /* Foot parameter (unclamped) along the hull edge e of the point nearest the
  * axis, as contact.c computes it; *len the edge's length perpendicular to the
  * axis (0: the edge is parallel to it). */
@@ -616,7 +630,7 @@ static int disc_row(const exdex_model *m, const exdex_kinematics *kin, int o, co
     }
     if (gap) {
         /* as contact_obstacle_rows: negative when the axis meets the plane inside the disc */
-        double cB[3], aB[3], phi = disc_rod_phi(m, kin, ob, q), x[3], d[3], t, w[3], dist;
+        double cB[3], aB[3], phi = disc_rod_phi(m, kin, ob, q), x[3], nb[3], dist;
         int inside = 0;
         rod_axis(ob, kin, cB, aB);
         if (fabs(aB[2]) > 1e-12) {
@@ -626,10 +640,7 @@ static int disc_row(const exdex_model *m, const exdex_kinematics *kin, int o, co
         x[0] = xc[0] + r * cos(phi);
         x[1] = xc[1] + r * sin(phi);
         x[2] = 0.0;
-        for (int i = 0; i < 3; i++) d[i] = x[i] - cB[i];
-        t = ex_dot3(d, aB);
-        for (int i = 0; i < 3; i++) w[i] = d[i] - t * aB[i];
-        dist = sqrt(ex_dot3(w, w));
+        dist = rod_normal(cB, aB, x, nb);
         gap[0] = (inside ? -dist : dist) - ob->radius;
     }
     return orow_code(o, OROW_ROD, 0, 0, 0);
@@ -925,15 +936,11 @@ void orow_point(const exdex_model *m, const exdex_kinematics *kin, int code, con
             x[0] = xb[0][0] - rd * nb[0];
             x[1] = xb[0][1] - rd * nb[1];
         } else {
-            double cB[3], aB[3], d[3], t, phi = disc_rod_phi(m, kin, ob, q);
+            double cB[3], aB[3], phi = disc_rod_phi(m, kin, ob, q);
             rod_axis(ob, kin, cB, aB);
             x[0] = xb[0][0] + rd * cos(phi);
             x[1] = xb[0][1] + rd * sin(phi);
-            for (int i = 0; i < 3; i++) d[i] = x[i] - cB[i];
-            t = ex_dot3(d, aB);
-            for (int i = 0; i < 3; i++) nb[i] = d[i] - t * aB[i];
-            nn = sqrt(ex_dot3(nb, nb));
-            for (int i = 0; i < 3; i++) nb[i] = nn > 0.0 ? nb[i] / nn : 0.0;
+            rod_normal(cB, aB, x, nb);
         }
         for (int i = 0; i < 3; i++) {
             cp->x[i] = x[i];
@@ -970,7 +977,7 @@ void orow_point(const exdex_model *m, const exdex_kinematics *kin, int code, con
             nb[1] = ex / len;
         }
     } else {
-        double cB[3], aB[3], d[3], t, dist;
+        double cB[3], aB[3];
         rod_axis(ob, kin, cB, aB);
         if (feat < 32) {
             x[0] = hb[feat][0];
@@ -981,11 +988,7 @@ void orow_point(const exdex_model *m, const exdex_kinematics *kin, int code, con
             x[0] = u[0] + tf * (w[0] - u[0]);
             x[1] = u[1] + tf * (w[1] - u[1]);
         }
-        for (int i = 0; i < 3; i++) d[i] = x[i] - cB[i];
-        t = ex_dot3(d, aB);
-        for (int i = 0; i < 3; i++) nb[i] = d[i] - t * aB[i];
-        dist = sqrt(ex_dot3(nb, nb));
-        for (int i = 0; i < 3; i++) nb[i] = dist > 0.0 ? nb[i] / dist : 0.0;
+        rod_normal(cB, aB, x, nb);
     }
     for (int i = 0; i < 3; i++) {
         cp->x[i] = x[i];
