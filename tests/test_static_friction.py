@@ -319,15 +319,21 @@ def test_hysteresis_reference_loop():
     ("implicit", 1e-3, 1e-6),     # second order away from the switches, each located within dt
     ("implicit", 1e-4, 1e-8),
 ])
-def test_hysteresis_loop_closed_form(method, dt, tol):
+@pytest.mark.parametrize("dof", ["translation", "planar"])
+def test_hysteresis_loop_closed_form(method, dt, tol, dof):
     """A slowly oscillating load (the triangle wave above, two periods):
     s(t) against the piecewise closed form; the stick flags agree except
-    within one step of a switch; while stuck the object is exactly still."""
+    within one step of a switch; while stuck the object is exactly still.
+    Planar: the same slide (patch centred: no torque, no turn); its slips
+    stop under loads between Ck and Cs, where the kinetic step passes
+    through zero and the static capacity holds."""
     motion, pieces = triangle()
     segs = coulomb_segments(pieces, CS, CK)
     kw = {"rtol": 1e-10, "atol": 1e-12} if method == "event" else {}
-    r = exdex.simulate(scene(motion), t_end=3.5, dt=dt, method=method, **kw)
-    s = r.q[:, 0] - r.q[0, 0]
+    r = exdex.simulate(scene(motion, dof=dof), t_end=3.5, dt=dt, method=method, **kw)
+    s = r.q[:, 0] - r.q[0, 0] if dof == "translation" else r.q[:, 1] - r.q[0, 1]
+    if dof == "planar":
+        assert np.all(r.q[:, [0, 2]] == r.q[0, [0, 2]])
     assert np.max(np.abs(s - evaluate(segs, r.t))) <= tol
     near = np.min(np.abs(r.t[:, None] - switch_times(segs)[None, :]), axis=1) <= dt + 1e-12
     st = r.stick.astype(bool)
@@ -335,6 +341,94 @@ def test_hysteresis_loop_closed_form(method, dt, tol):
     assert np.all(r.v[st, 0] == 0.0)
     both = st[1:] & st[:-1]
     assert np.all(s[1:][both] == s[:-1][both])
+
+
+def near_stop(v_min):
+    """A slip that slows to |s'| = v_min without stopping, then speeds up
+    again. Acceleration knots (0, 0), (0.25, 2), (0.3, 0), (0.5, A), (1, A):
+    the load Q = -m a0 passes -Cs at t = 0.2 (breakaway, sliding down),
+    drops to 0 at 0.3 (the slip decelerates at (Q + Ck) / m), then falls
+    through -Ck at t_m in (0.3, 0.5), where the slip is slowest and the load
+    (|Q| = Ck < Cs) lies inside the static capacity. A is chosen (brentq on
+    the piecewise closed form) so that s'(t_m) = -v_min. Returns the motion,
+    its pieces and t_m."""
+    from scipy.optimize import brentq
+    knots = [0.0, 0.25, 0.3, 0.5, 1.0]
+
+    def slowest(A):
+        _, pieces = cubic_motion(knots, [0.0, 2.0, 0.0, A, A], 1.0, n_per_piece=10)
+        segs = coulomb_segments(pieces, CS, CK)
+        assert not any(st for (*_, st) in segs[1:]), "the slip stops"
+        t0, _, _, v0, acc, jerk, _ = next(sg for sg in segs if sg[0] == 0.3)
+        h = -acc / jerk                     # s'' = 0: the slowest point, Q = -Ck
+        assert 0.0 < h < 0.2
+        return v0 + acc * h + jerk * h * h / 2, t0 + h
+
+    A = brentq(lambda a: slowest(a)[0] + v_min, 2.5001, 3.0, xtol=1e-14)
+    motion, pieces = cubic_motion(knots, [0.0, 2.0, 0.0, A, A], 1.0, n_per_piece=100)
+    return motion, pieces, slowest(A)[1]
+
+
+@pytest.mark.parametrize("method", ["event", "implicit", "explicit"])
+@pytest.mark.parametrize("v_min", [2e-5, 2e-4])
+@pytest.mark.parametrize("dof", ["translation", "planar"])
+def test_a_slip_that_only_slows_does_not_stick(method, v_min, dof):
+    """Slip -> stick needs the slip to reach 0: a slip whose speed dips to
+    v_min > 0 where the load is inside the static capacity (near_stop) slides
+    on, however slow v_min is against the step (here below (Cs - Ck) h / m,
+    the speed the static capacity could stop within one step of 1e-3 s);
+    planar: the same slide (the patch centred, no torque, no turn).
+    Reference: the piecewise closed form (coulomb_segments, no stick after
+    the breakaway). Had the method stuck at t_m, it would stay until |Q| = Cs
+    (0.1 s later), 2 mm behind. Event: to its tolerance; implicit: second
+    order; explicit: first order."""
+    motion, pieces, t_m = near_stop(v_min)
+    segs = coulomb_segments(pieces, CS, CK)
+    errs = []
+    for dt in (1e-3, 5e-4):
+        kw = {"rtol": 1e-10, "atol": 1e-12} if method == "event" else {}
+        r = exdex.simulate(scene(motion, dof=dof), t_end=1.0, dt=dt, method=method, **kw)
+        s = r.q[:, 0] - r.q[0, 0] if dof == "translation" else r.q[:, 1] - r.q[0, 1]
+        if dof == "planar":
+            assert np.all(r.q[:, [0, 2]] == r.q[0, [0, 2]])
+        st = r.stick.astype(bool)
+        assert not np.any(st[r.t > 0.25]), f"stuck at t = {r.t[st & (r.t > 0.25)][:3]} (slowest at {t_m:.4f} s)"
+        errs.append(np.max(np.abs(s - evaluate(segs, r.t))))
+    if method == "event":
+        assert max(errs) <= 1e-9
+    else:
+        # implicit: the breakaway located in its step, the slip's polynomial
+        # load integrated at second order; explicit: symplectic Euler, first
+        # order (as in test_breakaway_under_a_ramp_closed_form)
+        assert errs[0] <= (1e-6 if method == "implicit" else 1e-3), errs
+        assert errs[1] <= (0.3 if method == "implicit" else 0.6) * errs[0], errs
+
+
+@pytest.mark.parametrize("method", ["event", "implicit", "explicit"])
+@pytest.mark.parametrize("dof", ["translation", "planar"])
+def test_a_slip_stopped_by_a_load_between_the_capacities_sticks(method, dof):
+    """A slip s'(0) = v0 > 0 against a constant load Q = -1.5 N (gravity
+    along the slide), Ck = 1 < |Q| < Cs = 1.6: it decelerates at (|Q| + Ck)
+    / m = 2.5 m/s^2, stops at t* = v0 / 2.5 at s* = v0^2 / 5 and stays there
+    (the static capacity holds Q). With dt = 1e-3 s the kinetic step's
+    velocity falls by 2.5e-3 m/s per step, more than the width 2 Ck h / m of
+    the speeds it can end at rest, so for some v0 it passes through zero
+    within a step: the slip stopped there, and must stick, not reverse.
+    Several v0 (fractions of a step's fall) cover both cases. Reference: the
+    closed form; s* to O(h v) (the stop's place in its step), then exactly
+    still."""
+    dt, g = 1e-3, 1.5
+    for frac in np.linspace(0.05, 0.95, 7):
+        v0 = 2.5e-3 * (20 + frac)
+        sc = Scene(body=Body(mass=M), grasp=Grasp(mu=MU, grip_force=GRIP, mu_static=MU_S), motion=exdex.Rest(),
+                   gravity=(0.0, 0.0, -g), dof=dof, v0=(0.0, v0, 0.0))
+        kw = {"rtol": 1e-10, "atol": 1e-12} if method == "event" else {}
+        r = exdex.simulate(sc, t_end=0.1, dt=dt, method=method, **kw)
+        s = r.q[:, 0] - r.q[0, 0] if dof == "translation" else r.q[:, 1] - r.q[0, 1]
+        ts, ss = v0 / (g + CK / M), v0 ** 2 / (2 * (g + CK / M))
+        after = r.t > ts + dt
+        assert np.all(r.stick[after]) and np.all(s[after] == s[-1]), (frac, s[-3:])
+        assert abs(s[-1] - ss) <= (1e-9 if method == "event" else dt * v0), (frac, s[-1], ss)
 
 
 def test_hysteresis_explicit_converges():
