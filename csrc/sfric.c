@@ -49,6 +49,32 @@ int sf_lock_solve(int k, const double (*C)[3], const double *rhs, const double m
     return 1;
 }
 
+/* Do the rows whose gap acceleration in r is within tol_a of 0 span the
+ * plane's three coordinates (unit rows in the metric diag(minv)^1/2, a
+ * volume above SF_LOCK_RANK)? Then they fix qdd by themselves. */
+static int rows_fix_qdd(int nr, const sf_row *rows, const double minv[3], double tol_a, const sf_result *r)
+{
+    double Cn[SF_MAX_ROWS][3];
+    int n = 0;
+    for (int i = 0; i < nr; i++) {
+        double nn = 0.0;
+        if (!(fabs(r->acc[i]) <= tol_a)) continue;
+        for (int c = 0; c < 3; c++) nn += rows[i].G[c] * rows[i].G[c] * minv[c];
+        nn = sqrt(nn);
+        if (!(nn > 0.0)) continue;
+        for (int c = 0; c < 3; c++) Cn[n][c] = rows[i].G[c] * sqrt(minv[c]) / nn;
+        n++;
+    }
+    for (int i = 0; i < n; i++)
+        for (int j = i + 1; j < n; j++)
+            for (int l = j + 1; l < n; l++) {
+                double cr[3];
+                ex_cross3(cr, Cn[i], Cn[j]);
+                if (fabs(ex_dot3(cr, Cn[l])) > SF_LOCK_RANK) return 1;
+            }
+    return 0;
+}
+
 /* A mode whose constraints fix qdd by themselves (a lock, sfric.h): qdd
  * from sf_lock_solve (its constraints dependent but consistent to tol_a,
  * else no lock). The stop forces are then any
@@ -251,11 +277,14 @@ static int solve_mode(int nr, const sf_row *rows, int ns, const sf_stop *st, con
             double sg = m[j] == SF_SLIDE_P ? 1.0 : -1.0;
             r->beta[j] = -st[j].mu * sg * r->lsum[j];
             if (roll[j] && !(sg * r->acct[j] >= -tol_a)) return 0;
-            /* three constraints (rows carrying force, sticking stops) fix
-             * qdd whatever the friction: the slip acceleration is the
-             * kinematics', and one within tol_a of 0 is no slide either
-             * way (the stop is held: a lock, with its stick mode) */
-            if (roll[j] && kinematic && !(sg * r->acct[j] > tol_a)) return 0;
+            /* three constraints (rows carrying force, sticking stops), or
+             * the rows held at gap acceleration 0 (within tol_a) with or
+             * without force, fix qdd whatever the friction: the slip
+             * acceleration is the kinematics', and one within tol_a of 0
+             * is no slide either way (the stop is held: a lock, with its
+             * stick mode) */
+            if (roll[j] && !(sg * r->acct[j] > tol_a) && (kinematic || rows_fix_qdd(nr, rows, minv, tol_a, r)))
+                return 0;
         }
     }
     return 1;
