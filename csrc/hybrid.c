@@ -1815,6 +1815,13 @@ static int guards(hyb *H, double t, const double *y, double *g)
             if (H->ss != 0.0) contact_slip_1dof(H, &kin, q, v, &T);
             R = H->M * contact_qdd(&c, v) - model_force_1dof(m, &f, q, v);
             if (H->law == LAW_COULOMB && H->s == 0.0) {
+                /* at rest against the stop (q and the stop at rest in B,
+                 * |qd| <= tol.vzero): the load at rest, R = -Q(q, 0), the
+                 * same number that the decision at its end tests against
+                 * C_s (decide_modes), so a rest that ends there is not
+                 * taken up again as a stick and left by the stick guard at
+                 * once */
+                R = -model_force_1dof(m, &f, q, 0.0);
                 g[n++] = fmax(R / contact_dir(H, &c, T), H->caps * (1.0 + TOLF) - fabs(R));
                 g[n++] = m->tol.vzero - fabs(v);
             } else {
@@ -2038,13 +2045,28 @@ static void decide_modes(hyb *H, double t, double *y, int vzero)
                 if (fabs(v) > m->tol.vzero && !vzero) {
                     H->s = v > 0 ? 1.0 : -1.0;
                 } else {
-                    double a = contact_qdd(&c, 0.0);
-                    H->s = a > 0 ? 1.0 : a < 0 ? -1.0 : 0.0;
+                    /* the stop at rest in B: the object slides with it in
+                     * the direction of its acceleration, or rests against
+                     * it (s = 0: static friction, the stick test at C_s)
+                     * where that acceleration is 0. An acceleration that
+                     * gains less than tol.vzero of speed over the time
+                     * scale T counts as 0: a stop fixed in B (a gripper
+                     * moving along it) has Ftt of a few ulps, whose sign
+                     * must not choose a sliding contact (kinetic friction
+                     * of a sign set by rounding, the rest ending at C
+                     * instead of C_s); a real acceleration that small
+                     * reaches tol.vzero, where the rest's guard decides
+                     * again, after at least T */
+                    double a = contact_qdd(&c, 0.0), a0 = m->tol.vzero / m->scale.T;
+                    H->s = a > a0 ? 1.0 : a < -a0 ? -1.0 : 0.0;
                     v = 0.0;
                 }
             }
             Q = model_force_1dof(m, &f, q, v);
-            R = H->M * contact_qdd(&c, v) - Q;
+            /* a rest (s = 0): the stop's acceleration counts as 0 (above),
+             * the load is the one at rest that the stick test below and the
+             * rest's guard use */
+            R = H->law == LAW_COULOMB && H->s == 0.0 ? -Q : H->M * contact_qdd(&c, v) - Q;
             {
                 /* a frictional stop: the friction opposes the vertex's slip
                  * along it (located guards put a reversal just past its
@@ -3084,9 +3106,15 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                 same = t == t_event ? same + 1 : 0;
                 t_event = t;
                 /* the first guard of 1-DoF slip (and of moving contact, the
-                 * second) is the slip speed: it stopped */
+                 * second) is the slip speed: it stopped. A rest against a
+                 * stop (1-DoF contact, s = 0) ends at its first guard (the
+                 * stop no longer pushes and the load leaves the static
+                 * capacity) from rest: the velocity it carries is the
+                 * stop's, below tol.vzero (its second guard), whose sign
+                 * must not choose a slip */
                 vz = (nd == 1 && H.mode == MODE_SLIP && e_best == 0) ||
-                     (H.mode == MODE_CONTACT && H.law == LAW_COULOMB && H.s != 0.0 && e_best == 1);
+                     (H.mode == MODE_CONTACT && H.law == LAW_COULOMB && H.s != 0.0 && e_best == 1) ||
+                     (nd == 1 && H.mode == MODE_CONTACT && H.law == LAW_COULOMB && H.s == 0.0 && e_best == 0);
                 if (nd == 3 && H.mode == MODE_SLIP && law == LAW_COULOMB && e_best < 2) {
                     /* planar: a small slip stops (guard 0) or has grown
                      * (guard 1: on as a slip, no stop); a slip decays below

@@ -19,6 +19,7 @@ from scipy.spatial.transform import Rotation
 
 import exdex
 from exdex import Body, Grasp, Obstacle, Scene, Stop, TrapezoidalProfile
+from runs import face_is_the_stop, implicit_converges_to_event, with_obstacles
 
 G = 9.81
 
@@ -602,11 +603,9 @@ def test_frictional_face_is_the_frictional_stop_and_meets_the_wall_closed_form(m
     from test_stop_friction import _wall_closed_form, _wall_scene
     stop_scene = _wall_scene(mu_s)
     face = Obstacle.halfspaces([(-1.0, 0.0, 0.0)], [-0.1], mu=mu_s)
-    a = run(stop_scene, 0.3, 1e-3)
-    b = run(exdex.replace(stop_scene, stops=(), obstacles=(face,)), 0.3, 1e-3)
-    assert np.array_equal(a.q, b.q) and np.array_equal(a.v, b.v) and np.array_equal(a.stop_force, b.stop_force)
+    face_is_the_stop(run, stop_scene, face, 0.3, 1e-3)
     box = Obstacle.box((0.6, 0.0, 0.0), (1.0, 1.0, 1.0), mu=mu_s)
-    c = run(exdex.replace(stop_scene, stops=(), obstacles=(box,)), 0.3, 1e-3)
+    c = run(with_obstacles(stop_scene, box), 0.3, 1e-3)
     w, lam = _wall_closed_form(mu_s)
     assert c.stats["warnings"] == 0
     np.testing.assert_allclose(c.v[-1, 0], -0.01, rtol=1e-12)
@@ -625,11 +624,9 @@ def test_frictional_face_is_the_frictional_stop_in_the_explicit_method(mu_s):
     from test_stop_friction import _wall_closed_form, _wall_scene
     stop_scene = _wall_scene(mu_s)
     face = Obstacle.halfspaces([(-1.0, 0.0, 0.0)], [-0.1], mu=mu_s)
-    a = run(stop_scene, 0.3, 1e-3, method="explicit")
-    b = run(exdex.replace(stop_scene, stops=(), obstacles=(face,)), 0.3, 1e-3, method="explicit")
-    assert np.array_equal(a.q, b.q) and np.array_equal(a.v, b.v) and np.array_equal(a.stop_force, b.stop_force)
+    face_is_the_stop(run, stop_scene, face, 0.3, 1e-3, method="explicit")
     box = Obstacle.box((0.6, 0.0, 0.0), (1.0, 1.0, 1.0), mu=mu_s)
-    c = run(exdex.replace(stop_scene, stops=(), obstacles=(box,)), 0.3, 1e-3, method="explicit")
+    c = run(with_obstacles(stop_scene, box), 0.3, 1e-3, method="explicit")
     w, lam = _wall_closed_form(mu_s)
     assert c.stats["warnings"] == 0
     np.testing.assert_allclose(c.v[-1, 0], -0.01, rtol=1e-12)
@@ -650,11 +647,9 @@ def test_frictional_face_is_the_frictional_stop_in_the_event_method(mu_s):
     kw = dict(method="event", rtol=1e-10, atol=1e-12)
     stop_scene = _wall_scene(mu_s)
     face = Obstacle.halfspaces([(-1.0, 0.0, 0.0)], [-0.1], mu=mu_s)
-    a = run(stop_scene, 0.3, 1e-3, **kw)
-    b = run(exdex.replace(stop_scene, stops=(), obstacles=(face,)), 0.3, 1e-3, **kw)
-    assert np.array_equal(a.q, b.q) and np.array_equal(a.v, b.v) and np.array_equal(a.stop_force, b.stop_force)
+    face_is_the_stop(run, stop_scene, face, 0.3, 1e-3, **kw)
     box = Obstacle.box((0.6, 0.0, 0.0), (1.0, 1.0, 1.0), mu=mu_s)
-    c = run(exdex.replace(stop_scene, stops=(), obstacles=(box,)), 0.3, 1e-3, **kw)
+    c = run(with_obstacles(stop_scene, box), 0.3, 1e-3, **kw)
     w, lam = _wall_closed_form(mu_s)
     assert c.stats["warnings"] == 0
     np.testing.assert_allclose(c.v[-1, 0], -0.01, rtol=1e-12)
@@ -680,11 +675,9 @@ def test_frictional_face_is_the_frictional_stop_in_the_regularised_method(mu_s):
     kw = dict(method="regularised", eps=eps, rtol=1e-10, atol=1e-12)
     stop_scene = _wall_scene(mu_s)
     face = Obstacle.halfspaces([(-1.0, 0.0, 0.0)], [-0.1], mu=mu_s)
-    a = run(stop_scene, 0.3, 1e-3, **kw)
-    b = run(exdex.replace(stop_scene, stops=(), obstacles=(face,)), 0.3, 1e-3, **kw)
-    assert np.array_equal(a.q, b.q) and np.array_equal(a.v, b.v) and np.array_equal(a.stop_force, b.stop_force)
+    a = face_is_the_stop(run, stop_scene, face, 0.3, 1e-3, **kw)
     box = Obstacle.box((0.6, 0.0, 0.0), (1.0, 1.0, 1.0), mu=mu_s)
-    c = run(exdex.replace(stop_scene, stops=(), obstacles=(box,)), 0.3, 1e-3, **kw)
+    c = run(with_obstacles(stop_scene, box), 0.3, 1e-3, **kw)
     assert c.stats["warnings"] == 0
     np.testing.assert_allclose(c.q, a.q, rtol=0, atol=1e-12)
     w, lam = _wall_closed_form(mu_s)
@@ -769,17 +762,7 @@ def test_event_and_implicit_agree_on_random_planar_frictional_obstacle_scenes(se
     check on 7 of the 12 seeds.) The implicit run's soft warnings are not
     checked: at rest against the rod and the box after the motion (seed 10,
     dt <= 5e-4) it counts one per step, with the answer still converging."""
-    sc = _frictional_contact_scene(seed)
-    ev = run(sc, 0.8, 1e-3, method="event", rtol=1e-10, atol=1e-12)
-    assert ev.stats["warnings"] == 0 and ev.stats["min_gap"] >= -1e-11
-    q = {}
-    for k in (1, 2, 4):
-        q[k] = run(sc, 0.8, 1e-3 / k, method="implicit").q[::k]
-    e1, e2 = np.abs(q[1] - ev.q).max(), np.abs(q[2] - ev.q).max()
-    ext = np.abs(2 * q[4] - q[2] - ev.q).max()
-    if not (e2 <= 1e-8 and e2 <= e1):
-        assert e2 <= 0.6 * e1, (e1, e2)
-        assert ext <= 0.2 * e2, (ext, e2)
+    implicit_converges_to_event(run, _frictional_contact_scene(seed), 0.8)
 
 
 def _narrow_box_scene(seed):
