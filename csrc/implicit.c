@@ -29,18 +29,20 @@
  * velocity).
  *
  * Static and kinetic friction (capacities C_s = mu_static N >= C = mu N):
- * each step first tries to stick with the static capacity (the impulse that
- * makes v+ = 0, stops included, inside the ellipsoid of capacity h C_s);
- * if it cannot, the step slides with the kinetic capacity h C (the
- * maximum-dissipation impulse on that ellipsoid). A step that starts at rest
- * thus breaks away once the load leaves the static ellipsoid; a slip sticks
- * in the first step whose impulse without friction, M v*, lies in the static
- * ellipsoid of the step. That happens when the slip speed is within h (C_s +
- * |Q|) / M of 0, so a slip can stick one step before its velocity under the
- * kinetic law would have reversed: an O(h) error of the stick time, as the
- * method's other switching errors. (Sliding never reverses the velocity:
- * outside the static ellipsoid the kinetic impulse cannot stop it.) With
- * mu_static = mu the two capacities are the same number and the step is the
+ * a step that starts at rest sticks with the static capacity (the impulse
+ * that makes v+ = 0, stops included, inside the ellipsoid of capacity h
+ * C_s) and else slides with the kinetic capacity h C (the
+ * maximum-dissipation impulse on that ellipsoid): it breaks away once the
+ * load leaves the static ellipsoid. A step that starts slipping is solved
+ * with the kinetic capacity alone: it ends at rest where the kinetic
+ * impulse can stop the slip within the step, and where the kinetic step
+ * passes the slip through zero (1-DoF: v+ reverses; planar: restick_planar)
+ * the slip stopped inside the step and the static capacity decides whether
+ * it stays (slip_stop_in_step). So slip -> stick needs the slip to reach
+ * zero under the kinetic law, as in the exact solution: a slip that slows
+ * to a speed below h C_s / M without stopping slides on (a static test on
+ * it would stick it, an O(1) error however short the step). With mu_static
+ * = mu the two capacities are the same number and the step is the
  * one-coefficient step.
  *
  * Where the slip stops inside a step, the step's end state is that of the
@@ -162,7 +164,7 @@ static void build_rows_or_none(const exdex_model *m, const exdex_kinematics *kin
 }
 
 /* 1-DoF step: min 1/2 M (v - vs)^2 + c |v| subject to G_i v >= rhs_i
- * (c the kinetic capacity of the step; the stick test uses the static cs).
+ * (c the kinetic capacity of the step, cs the capacity of its stick test).
  * Exact: soft-threshold, then clamp into the feasible interval. The impulse
  * split is unique while sliding (friction = capacity, the binding stop the
  * rest). At rest (v+ = 0) against a touching stop it is statically
@@ -534,6 +536,31 @@ static int slip_stop_in_step_planar(const exdex_model *m, work *w, const double 
         }
     }
     return 0;
+}
+
+/* Static and kinetic friction, a step that starts slipping (v != 0) and
+ * slides (the kinetic impulse cannot end it at rest): does the slip stop
+ * inside the step and stay there? Under the kinetic law the slip z = E J v
+ * (ejf) keeps or turns its direction; if the kinetic step's end slip points
+ * against the start's, z(v).z(v+) <= 0, it passed through 0 inside the step,
+ * and there the object is held iff the load lies in the static ellipsoid,
+ * |E^-1 b| <= C_s (b the applied force F as a patch wrench, the test of
+ * slip_stop_in_step_planar). That is the event method's slip -> stick
+ * decision with the step's load; a slip that slows without reaching 0 does
+ * not stick however slow it gets. Applied where no stop row carries an
+ * impulse and rest keeps every row's bound (0 >= rhs). */
+static int restick_planar(const exdex_model *m, const double cs[2], double Cs, const double v[3],
+                          const double vn[3], const double F[3], const work *w)
+{
+    double z0[3], z1[3], b[3];
+    for (int i = 0; i < w->n_rows; i++)
+        if (w->lam[i] != 0.0 || w->rhs[i] > 0.0) return 0;
+    ejf(m, cs, v, z0);
+    ejf(m, cs, vn, z1);
+    if (!(ex_dot3(z0, z1) <= 0.0)) return 0;
+    model_patch_of_gen(m, cs, F, b);
+    for (int i = 0; i < 3; i++) b[i] /= m->e[i];
+    return ex_dot3(b, b) <= Cs * Cs;
 }
 
 /* Sliding with the stop rows of `act` held as equalities:
@@ -1098,12 +1125,17 @@ static int implicit_substep(const exdex_model *m, work *w, const model_sub *sub,
              * pressure; c_s the static one */
             double capm = model_capacity_mean(m, t, t1), c = tr ? h * capm : h * capm * m->e[2];
             double capsm = model_capacity_static_mean(m, t, t1), c_s = tr ? h * capsm : h * capsm * m->e[2];
+            /* the stick test's capacity: static for a step that starts at
+             * rest, kinetic for one that starts slipping (the slip must stop
+             * under the kinetic law first; slip_stop_in_step then holds it
+             * with the static one) */
+            double c_t = v[0] != 0.0 ? c : c_s;
             vs[0] = v[0] + h * Q / M;
             build_rows_or_none(m, &kin_end, q, vs, h, w);
-            step_1dof(M, c, c_s, vs[0], m->tol.touch, w, &vn[0], &pf, st);
+            step_1dof(M, c, c_t, vs[0], m->tol.touch, w, &vn[0], &pf, st);
             if (m->stop_friction) {
                 int rest = 0;
-                stop_friction_step(m, &kin_end, q, 0.0, c, c_s, vs, v, w, vn, &pf, &rest, st);
+                stop_friction_step(m, &kin_end, q, 0.0, c, c_t, vs, v, w, vn, &pf, &rest, st);
             }
             if (v[0] != 0.0 && (vn[0] == 0.0 || (vn[0] > 0.0) != (v[0] > 0.0))) {
                 /* a slip that stops or reverses inside the step
@@ -1132,21 +1164,35 @@ static int implicit_substep(const exdex_model *m, work *w, const model_sub *sub,
             exdex_friction_result fr;
             double pfB[3], fo[3];
             model_force_planar(m, &f, qm, vmid, F);
+            /* the stick test's capacity: static for a step that starts at
+             * rest, kinetic for one that starts slipping (see restick_planar) */
+            int slipping = v[0] != 0.0 || v[1] != 0.0 || v[2] != 0.0;
+            double capm = model_capacity_mean(m, t, t1), capsm = model_capacity_static_mean(m, t, t1);
+            double capt = slipping ? capm : capsm;
             for (int i = 0; i < 3; i++) vs[i] = v[i] + h * m->minv[i] * F[i];
             build_rows_or_none(m, &kin_end, q, vs, h, w);
-            status = step_planar(m, h, model_capacity_mean(m, t, t1), model_capacity_static_mean(m, t, t1), qm[2], vs,
-                                 w, vn, pfB, &fr, st);
+            status = step_planar(m, h, capm, capt, qm[2], vs, w, vn, pfB, &fr, st);
             if (status) {
                 st->fail_time = t;
                 break;
             }
             if (m->stop_friction) {
                 int rest = fr.stick;
-                if (stop_friction_step(m, &kin_end, q, qm[2], h * model_capacity_mean(m, t, t1),
-                                       h * model_capacity_static_mean(m, t, t1), vs, v, w, vn, pfB, &rest, st)) {
+                if (stop_friction_step(m, &kin_end, q, qm[2], h * capm, h * capt, vs, v, w, vn, pfB, &rest, st)) {
                     model_patch_of_gen(m, MODEL_CS(qm[2]), pfB, fr.p);
                     fr.stick = rest;
                 }
+            }
+            if (slipping && !fr.stick && capsm != capm && restick_planar(m, MODEL_CS(qm[2]), capsm, v, vn, F, w)) {
+                /* the slip stops inside the step and the static capacity
+                 * holds the load: at rest, the plates' impulse the one that
+                 * ends the step there */
+                for (int i = 0; i < 3; i++) {
+                    vn[i] = 0.0;
+                    pfB[i] = -vs[i] / m->minv[i];
+                }
+                model_patch_of_gen(m, MODEL_CS(qm[2]), pfB, fr.p);
+                fr.stick = 1;
             }
             if (fr.stick && (v[0] != 0.0 || v[1] != 0.0 || v[2] != 0.0)) {
                 /* a slip that stops inside the step (slip_stop_in_step_planar),
