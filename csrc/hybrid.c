@@ -151,6 +151,31 @@
  *     into it, never along it, as C < C_s). In a 1-DoF rotation scene the
  *     band is eps / e_r in |thd|, as eps is. With C_s = C it is the one-
  *     coefficient law above (its creep eps |w_h| / sqrt(C^2 - |w_h|^2)).
+ *     Planar: a held regime. In the band z = E u relaxes as z' = -(C_s /
+ *     eps) S (z - z*) with S = E J M^-1 J^T E (J: qd -> u) symmetric, z* the
+ *     creep of the current load; each eigencomponent of S moves
+ *     monotonically from the old creep to the new one, so after a load that
+ *     jumps and turns (a motion's acceleration jump, a grip step) |z| can
+ *     pass max(|z_0|, |z*|), up to sqrt(|z_0|^2 + |z*|^2): beyond eps for a
+ *     load still inside the static ellipsoid, where the kinetic law would
+ *     let it break away at every eps (the excursion is scale-free in z /
+ *     eps). So the object is held (hyb.held) from the band on, and a held
+ *     slip beyond it meets Coulomb at C_s (w = -C_s E^2 u / |E u|,
+ *     continuous with the band), under which its kinetic energy relative to
+ *     the plates falls while the load is inside C_s (power |E u| (|E^-1
+ *     w_h| - C_s) <= 0), so it comes back into the band; it breaks away
+ *     (kinetic beyond the band) where the slip is beyond the band and the
+ *     object could not rest in B: the load at rest (the event method's
+ *     stick test, against the contact set its least-friction split) leaves
+ *     the static ellipsoid, or a contact-set row's stop moves into it (a
+ *     slip the stop forces). A guard locates either switch: held, fmax(eps -
+ *     |E u|, that test); not held, |E u| - eps (held again in the band). A
+ *     velocity changed by an impact or a gripper jump is a slip (not held
+ *     unless in the band). Under a slowly rising load the creep reaches eps
+ *     as the load reaches C_s, so the break-away is where it was (first
+ *     order). A 1-DoF band needs no such regime: its one component relaxes
+ *     monotonically, and at |v| = eps the band pushes inward while |Q| <=
+ *     C_s.
  *
  * Stops: every scene with every method. Planar scenes in the hybrid
  * (event, regularised) integrator carry a contact set of (stop, vertex) rows
@@ -349,6 +374,9 @@ typedef struct hyb {
     int sgn;           /* planar friction groups of the contact set fixed at the decision (sf_groups):
                           their count, 0 while a decision builds the set (then found afresh) */
     int sg[MAX_ROWS];  /* the group of each contact-set row while sgn > 0 */
+    int held;          /* regularised, planar, C_s > C: 1 while the object is held (in the
+                          stick band, or beyond it with the load inside the static ellipsoid),
+                          0 once it broke away (until it slows into the band again); see the top */
 } hyb;
 
 /* ---------------------------------------------------------- contact rows
@@ -463,7 +491,7 @@ static int frame_seg(hyb *H, double t, frame *f, exdex_kinematics *k)
 static double smooth_gain(const hyb *H, double sig)
 {
     if (H->caps == H->cap) return H->cap / sqrt(sig * sig + H->eps * H->eps);
-    return sig <= H->eps ? H->caps / H->eps : H->cap / sig;
+    return sig <= H->eps ? H->caps / H->eps : (H->held ? H->caps : H->cap) / sig;
 }
 
 /* Constraint acceleration of q along the row (F(q(t), t) = 0 held). */
@@ -1206,19 +1234,40 @@ static double planar_rest(hyb *H, const exdex_kinematics *kin, const double *y, 
     return model_ell_norm(m, w);
 }
 
-/* Would the object stay at rest at (t, y) (f, kin its frame terms; the
- * stick test of decide): the load at zero velocity inside the static
- * ellipsoid (against the contact-set rows: the least-friction split of
- * planar_rest)? */
-static int planar_load_held(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y)
+/* The load at (t, y) (f, kin its frame terms): the ellipsoid norm |E^-1 w|
+ * of the plate wrench w that holds the object at zero velocity (against
+ * the contact-set rows: the least-friction split of planar_rest).
+ * planar_load_held: would the object stay at rest there (the stick test of
+ * decide): that load inside the static ellipsoid? */
+static double planar_load(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y)
 {
     const exdex_model *m = H->m;
     double F[3], w[3], zero[3] = {0, 0, 0}, lam[MAX_ROWS];
     model_force_planar(m, f, y, zero, F);
-    if (H->ncs) return planar_rest(H, kin, y, F, w, lam) <= H->caps * (1.0 + TOLF);
+    if (H->ncs) return planar_rest(H, kin, y, F, w, lam);
     for (int i = 0; i < 3; i++) F[i] = -F[i];
     model_patch_of_gen(m, MODEL_CS(y[2]), F, w);
-    return model_ell_norm(m, w) <= H->caps * (1.0 + TOLF);
+    return model_ell_norm(m, w);
+}
+
+static int planar_load_held(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y)
+{
+    return planar_load(H, f, kin, y) <= H->caps * (1.0 + TOLF);
+}
+
+/* Regularised, planar, C_s > C: whether the held regime applies (see the
+ * top), and the slip speed |E u| at y. */
+static int smooth_two(const hyb *H)
+{
+    return H->law == LAW_SMOOTH && H->ndof == 3 && H->m->capks > H->m->capk;
+}
+
+static double planar_slip_speed(const hyb *H, const double *y)
+{
+    double u[3], eu[3];
+    model_patch_slip(H->m, MODEL_CS(y[2]), y + 3, u);
+    for (int i = 0; i < 3; i++) eu[i] = H->m->e[i] * u[i];
+    return sqrt(ex_dot3(eu, eu));
 }
 
 /* Does a contact-set row's stop recede in B, at zero velocity, at SLIP_PUSH
@@ -1745,7 +1794,26 @@ static int guards(hyb *H, double t, const double *y, double *g)
     }
     if (H->ndof == 3) {
         if (H->law == LAW_SMOOTH) {
-            /* no friction guard */
+            /* one coefficient: no friction guard. Two: the held regime's
+             * (see the top), its first guard: held, it breaks away where
+             * the slip is beyond the band and the object could not rest
+             * in B (the load at rest leaves the static ellipsoid, or a
+             * contact-set row's stop moves into it: a forced slip); not
+             * held, it is held again where the slip slows into the band */
+            if (smooth_two(H)) {
+                double sig = planar_slip_speed(H, y);
+                if (H->held) {
+                    double gh = H->caps * (1.0 + TOLF) - planar_load(H, &f, &kin, y), zero[3] = {0, 0, 0};
+                    for (int i = 0; i < H->ncs; i++) {
+                        double G[3], gd;
+                        hrow_planar(H, &kin, H->cs[i], y, zero, G, &gd, NULL);
+                        gh = fmin(gh, H->caps * (gd + m->tol.rate) / m->scale.V);
+                    }
+                    g[n++] = fmax(H->eps - sig, gh);
+                } else {
+                    g[n++] = sig - H->eps;
+                }
+            }
         } else if (H->mode == MODE_SLIP) {
             double u[3], eu[3], sig;
             model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
@@ -2159,10 +2227,20 @@ static void decide_modes(hyb *H, double t, double *y, int vzero)
  * friction modes after it (decided afresh at every decision: sf_decide). */
 static void decide(hyb *H, double t, double *y, int vzero)
 {
+    double v0[3] = {0, 0, 0};
     if (H->sfric)
         for (int k = 0; k < SF_MAX_STOPS; k++) H->fm[k] = SF_ROLL;
     H->sgn = 0;
+    if (H->ndof == 3) memcpy(v0, y + 3, sizeof v0);
     decide_modes(H, t, y, vzero);
+    if (smooth_two(H)) {
+        /* the held regime: held in the band; a velocity changed by an
+         * impact is a slip (kinetic beyond the band); else as it was */
+        if (planar_slip_speed(H, y) <= H->eps)
+            H->held = 1;
+        else if (y[3] != v0[0] || y[4] != v0[1] || y[5] != v0[2])
+            H->held = 0;
+    }
     if (H->sfric && !H->err) {
         sf_fix_groups(H, t, y);
         sf_decide(H, t, y);
@@ -2230,6 +2308,7 @@ static int apply_jump(hyb *H, double ts, double *y)
         st = exdex_motion_eval(m->motion, ts, &k);
         if (st) return st;
         model_velocity_jump(m, k.R, y, dv[j], dw[j], y + (H->ndof == 1 ? 1 : 3));
+        H->held = 0;  /* a slip (regularised, planar): held again by the decision if in the band */
     }
     return EXDEX_OK;
 }
@@ -3179,6 +3258,10 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                 if (nd == 3 && law == LAW_COULOMB && H.mode == MODE_SLIP && !H.sfric && e_best >= H.gap0 &&
                     e_best < H.gap1 && e_best - H.gap0 < H.ns * H.nv - H.ncs)
                     join = 1;
+                /* regularised, planar, two coefficients: the held
+                 * regime's guard (the first): it broke away, or a slip
+                 * slowed into the band */
+                if (smooth_two(&H) && e_best == 0) H.held = !H.held;
                 if (keep)
                     H.small = 1;
                 else
@@ -3318,7 +3401,7 @@ static int hybrid_restore(void *ws, const void *buf)
     for (int i = 0; i < S.H.ncs; i++)
         if (S.H.cs[i] < 0 || (S.H.cs[i] >= nr && !(B->no && orow_valid(B->m, S.H.cs[i] - nr)))) return EXDEX_EINVAL;
     if (S.H.sfric != B->sfric || (S.H.stiff != 0 && S.H.stiff != 1) || S.H.nlow < 0 || S.H.nlow > STIFF_AFTER ||
-        (S.H.jam != 0.0 && S.H.jam != 1.0 && S.H.jam != -1.0))
+        (S.H.jam != 0.0 && S.H.jam != 1.0 && S.H.jam != -1.0) || (S.H.held != 0 && S.H.held != 1))
         return EXDEX_EINVAL;
     for (int k = 0; k < SF_MAX_STOPS; k++)
         if (S.H.fm[k] < SF_ROLL || S.H.fm[k] > SF_NONE) return EXDEX_EINVAL;
