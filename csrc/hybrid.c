@@ -586,7 +586,7 @@ static double impact_impulse_1dof(hyb *H, const exdex_kinematics *kin, int k, in
  * by its tb as it stands.
  * Painleve: where no mode of the acceleration-level problem is consistent
  * (a sliding stop whose friction turns the normal force's effect around:
- * a jam, or a problem with more rows than sfric.h enumerates), the stops
+ * a jam, or none within sfric.h's SF_MAX_TRIED mode solves), the stops
  * of the contact set are taken frictionless until the next decision, and a
  * warning is counted, as for a 1-DoF jam; the loss of consistency is a
  * located guard (+1 / -1). The velocity-level (impulse) solution would
@@ -594,6 +594,10 @@ static double impact_impulse_1dof(hyb *H, const exdex_kinematics *kin, int k, in
  * acceleration-level machine would have to apply as an impact at a time it
  * cannot locate from a smooth guard; the implicit method, which is that
  * velocity-level step, reports the same scenes with its own warning. */
+
+/* every contact-set row and friction group fits sfric.h's problem */
+_Static_assert(MAX_ROWS <= SF_MAX_ROWS, "sfric.h holds every contact-set row");
+_Static_assert(EXDEX_MAX_STOPS + MAX_ROWS <= SF_MAX_STOPS, "sfric.h holds every friction group");
 
 #define SF_TOL 1e-10  /* sign slack of the mode checks: x the scene's acceleration V / T and force F */
 #define SF_SAME_LINE 1e-6  /* obstacle rows whose unit in-plane normals differ by at most this share a group */
@@ -896,8 +900,8 @@ static double hrow_friction_planar(const hyb *H, const exdex_kinematics *kin, in
  * planar_impact_and_set builds them: the touching rows), v and lam the
  * frictionless impact (ldp_project), replaced by the frictional one when a
  * frictional row carries an impulse in it and is approached at SLIP_PUSH
- * zsw or faster (above). Where fcontact.h finds no consistent mode (more
- * than FC_MAX_CAND rows would have to be enumerated) the frictionless
+ * zsw or faster (above). Where fcontact.h finds no consistent mode (none
+ * among its candidates: fc_solve) the frictionless
  * impact stands and a warning is counted. Returns 1 if v and lam were
  * replaced. */
 static int sf_impact(hyb *H, const exdex_kinematics *kin, const double *y, int n, const int *rows,

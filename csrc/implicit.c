@@ -841,8 +841,8 @@ static double project_positions(const exdex_model *m, const exdex_kinematics *ki
  * guess and Newton's start when the last step was frictional too (else the
  * slip signs and velocity of the frictionless solution). The rows are
  * those of build_rows (gaps at t + h, rhs = -gap / h), with the tangential
- * rows T and the gripper's slip tb of each vertex at the pose of t + h. Where no consistent mode is found among
- * FC_MAX_CAND rows the frictionless step is kept and a warning counted.
+ * rows T and the gripper's slip tb of each vertex at the pose of t + h. Where fc_solve finds no consistent
+ * mode among its candidates the frictionless step is kept and a warning counted.
  * n = 1: A = 1 and cap the step's capacity c (friction -c sign(v)); n = 3:
  * A = E J_f at the step's angle. cap_s is the static capacity of the step
  * (the plates' rest test), cap the kinetic one (sliding); v_old the
