@@ -507,34 +507,41 @@ static int halfplanes(const exdex_obstacle_def *o, const double R[9], const doub
     return k;
 }
 
-/* Vertices of the polygon {y : a_i . y <= b_i}: the pairwise intersections
- * of the lines that satisfy every other half-plane to a relative 1e-12,
- * merged within 1e-10 of their scale, counter-clockwise about their mean. */
-static int polygon_vertices(int nh, const double a[][2], const double *b, double xy[EXDEX_MAX_FACES][2])
+int contact_section_vertices(int n, const double (*a)[2], const double *b, double ys[][2], int fg[][2])
 {
-    int n = 0;
-    double ang[EXDEX_MAX_FACES], cx = 0.0, cy = 0.0;
-    for (int f = 0; f < nh; f++)
-        for (int g = f + 1; g < nh; g++) {
+    int ny = 0;
+    for (int f = 0; f < n; f++)
+        for (int g = f + 1; g < n; g++) {
             double det = a[f][0] * a[g][1] - a[f][1] * a[g][0], y[2], sc;
             int ok = 1;
             if (!(fabs(det) > 1e-12 * hypot(a[f][0], a[f][1]) * hypot(a[g][0], a[g][1]))) continue;
             y[0] = (b[f] * a[g][1] - b[g] * a[f][1]) / det;
             y[1] = (a[f][0] * b[g] - a[g][0] * b[f]) / det;
             sc = hypot(y[0], y[1]);
-            for (int h = 0; ok && h < nh; h++) {
+            for (int h = 0; ok && h < n; h++) {
                 if (h == f || h == g) continue;
-                double r = a[h][0] * y[0] + a[h][1] * y[1] - b[h];
-                if (r > 1e-12 * (hypot(a[h][0], a[h][1]) * sc + fabs(b[h]))) ok = 0;
+                if (a[h][0] * y[0] + a[h][1] * y[1] - b[h] > 1e-12 * (hypot(a[h][0], a[h][1]) * sc + fabs(b[h])))
+                    ok = 0;
             }
-            for (int i = 0; ok && i < n; i++)
-                if (hypot(xy[i][0] - y[0], xy[i][1] - y[1]) <= 1e-10 * (sc + hypot(xy[i][0], xy[i][1]))) ok = 0;
-            if (ok && n < EXDEX_MAX_FACES) {
-                xy[n][0] = y[0];
-                xy[n][1] = y[1];
-                n++;
+            for (int i = 0; ok && i < ny; i++)
+                if (hypot(ys[i][0] - y[0], ys[i][1] - y[1]) <= 1e-10 * (sc + hypot(ys[i][0], ys[i][1]))) ok = 0;
+            if (!ok || ny >= EXDEX_MAX_FACES) continue;
+            ys[ny][0] = y[0];
+            ys[ny][1] = y[1];
+            if (fg) {
+                fg[ny][0] = f;
+                fg[ny][1] = g;
             }
+            ny++;
         }
+    return ny;
+}
+
+/* The n points xy in counter-clockwise order about their mean (insertion
+ * by angle, equal angles kept in their order). */
+static void sort_ccw(int n, double xy[][2])
+{
+    double ang[EXDEX_MAX_FACES], cx = 0.0, cy = 0.0;
     for (int i = 0; i < n; i++) {
         cx += xy[i][0] / n;
         cy += xy[i][1] / n;
@@ -552,7 +559,6 @@ static int polygon_vertices(int nh, const double a[][2], const double *b, double
         xy[j][0] = x0;
         xy[j][1] = y0;
     }
-    return n;
 }
 
 int contact_obstacle_valid(const exdex_obstacle_def *o)
@@ -580,7 +586,9 @@ int exdex_obstacle_section(const exdex_obstacle_def *o, const double R[9], const
     if (o->kind == EXDEX_OBSTACLE_POLYTOPE) {
         double a[EXDEX_MAX_FACES][2], b[EXDEX_MAX_FACES];
         int empty, nh = halfplanes(o, R, p, a, b, &empty);
-        return empty ? 0 : polygon_vertices(nh, (const double (*)[2])a, b, xy);
+        int ny = empty ? 0 : contact_section_vertices(nh, (const double (*)[2])a, b, xy, NULL);
+        sort_ccw(ny, xy);
+        return ny;
     } else {
         double cB[3], aB[3], d[3];
         if (!ab) return -EXDEX_EINVAL;
@@ -804,7 +812,8 @@ static double disc_obstacle_row(const exdex_model *m, const exdex_kinematics *ki
         } else {
             /* the nearest section vertex */
             double y[EXDEX_MAX_FACES][2], dmin = INFINITY, nb[3] = {0, 0, 0}, x[3];
-            int ny = polygon_vertices(nh, (const double (*)[2])a, b, y), ib = 0;
+            int ny = contact_section_vertices(nh, (const double (*)[2])a, b, y, NULL), ib = 0;
+            sort_ccw(ny, y);
             for (int i = 0; i < ny; i++) {
                 double dd = hypot(xc[0] - y[i][0], xc[1] - y[i][1]);
                 if (dd < dmin) {
@@ -950,7 +959,8 @@ int contact_obstacle_rows_pred(const exdex_model *m, const exdex_kinematics *kin
             if (nh < 3) continue;
             nhp = halfplanes(ob, kin->R, kin->p, a, b, &empty);
             if (empty) continue;
-            ny = polygon_vertices(nhp, (const double (*)[2])a, b, y);
+            ny = contact_section_vertices(nhp, (const double (*)[2])a, b, y, NULL);
+            sort_ccw(ny, y);
             for (int i = 0; i < ny; i++) {
                 double gb = -INFINITY, nb[3] = {0, 0, 0}, x[3] = {y[i][0], y[i][1], 0.0};
                 double ge[EXDEX_MAX_VERTICES], re[EXDEX_MAX_VERTICES], Ge[EXDEX_MAX_VERTICES][3],

@@ -148,6 +148,13 @@ int contact_obstacle_max_rows(const exdex_model *m);
 /* 1 if the obstacle definition is valid (kind, face count, unit normals and
  * axis, finite points, radius > 0). */
 int contact_obstacle_valid(const exdex_obstacle_def *o);
+/* The vertices of the polygon {y : a_i . y <= b_i} of n lines (|a_i| > 0):
+ * each intersection of two lines f < g (not parallel: |det| > 1e-12 |a_f|
+ * |a_g|) that satisfies every other half-plane to a relative 1e-12 (a_h . y
+ * - b_h <= 1e-12 (|a_h| |y| + |b_h|)), once (one within 1e-10 (|y| + |y'|)
+ * of an earlier y' is dropped), in the order of (f, g), with its pair in fg
+ * (may be NULL). Returns their number (at most EXDEX_MAX_FACES). */
+int contact_section_vertices(int n, const double (*a)[2], const double *b, double ys[][2], int fg[][2]);
 /* Convex hull (counter-clockwise, 1 .. n points) of n plane points; n = 0
  * gives the origin alone. */
 int contact_hull(const double (*v)[2], int n, double (*hull)[2]);

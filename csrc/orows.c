@@ -397,6 +397,20 @@ static void rod_axis(const exdex_obstacle_def *ob, const exdex_kinematics *kin, 
     ex_mulmtv3(aB, kin->R, ob->axis);
 }
 
+/* The rod's contact normal at the point x (B): the offset of x from the
+ * axis (cB, aB), d - (d . aB) aB with d = x - cB, normalised (zero when x is
+ * on the axis) into nb. Returns the distance |d - (d . aB) aB|. */
+static double rod_normal(const double cB[3], const double aB[3], const double x[3], double nb[3])
+{
+    double d[3], t, dist;
+    for (int i = 0; i < 3; i++) d[i] = x[i] - cB[i];
+    t = ex_dot3(d, aB);
+    for (int i = 0; i < 3; i++) nb[i] = d[i] - t * aB[i];
+    dist = sqrt(ex_dot3(nb, nb));
+    for (int i = 0; i < 3; i++) nb[i] = dist > 0.0 ? nb[i] / dist : 0.0;
+    return dist;
+}
+
 /* Foot parameter (unclamped) along the hull edge e of the point nearest the
  * axis, as contact.c computes it; *len the edge's length perpendicular to the
  * axis (0: the edge is parallel to it). */
@@ -506,39 +520,6 @@ static int orow_tie(const exdex_model *m, const exdex_kinematics *kin, const dou
     return pick;
 }
 
-/* The vertices of a section polygon given by nk face lines a[f] . y <= b[f]:
- * each intersection of two lines f < g (not parallel to rounding) that
- * satisfies every other line to rounding, once (repeats within 1e-10
- * relative dropped), in the order of (f, g), with its pair in fg. Returns
- * their number (at most EXDEX_MAX_FACES). */
-static int section_vertices(int nk, const double (*a)[2], const double *b, double ys[][2], int fg[][2])
-{
-    int ny = 0;
-    for (int f = 0; f < nk; f++)
-        for (int g = f + 1; g < nk; g++) {
-            double det = a[f][0] * a[g][1] - a[f][1] * a[g][0], y[2], sc;
-            int ok = 1;
-            if (!(fabs(det) > 1e-12 * hypot(a[f][0], a[f][1]) * hypot(a[g][0], a[g][1]))) continue;
-            y[0] = (b[f] * a[g][1] - b[g] * a[f][1]) / det;
-            y[1] = (a[f][0] * b[g] - a[g][0] * b[f]) / det;
-            sc = hypot(y[0], y[1]);
-            for (int h = 0; ok && h < nk; h++) {
-                if (h == f || h == g) continue;
-                if (a[h][0] * y[0] + a[h][1] * y[1] - b[h] > 1e-12 * (hypot(a[h][0], a[h][1]) * sc + fabs(b[h])))
-                    ok = 0;
-            }
-            for (int i = 0; ok && i < ny; i++)
-                if (hypot(ys[i][0] - y[0], ys[i][1] - y[1]) <= 1e-10 * (sc + hypot(ys[i][0], ys[i][1]))) ok = 0;
-            if (!ok || ny >= EXDEX_MAX_FACES) continue;
-            ys[ny][0] = y[0];
-            ys[ny][1] = y[1];
-            fg[ny][0] = f;
-            fg[ny][1] = g;
-            ny++;
-        }
-    return ny;
-}
-
 /* The disc's row against obstacle o at (kin, q) (centre xc, offset vc):
  * its code and gap (planar: a face row's gap as contact_plane_row_planar),
  * the feature as contact_obstacle_rows chooses it: the face whose line is
@@ -582,7 +563,8 @@ static int disc_row(const exdex_model *m, const exdex_kinematics *kin, int o, co
         if (!fplane) {
             /* the nearest section vertex (the pairs as orow_all finds them) */
             double ys[EXDEX_MAX_FACES][2], dmin = INFINITY;
-            int fg[EXDEX_MAX_FACES][2], ny = section_vertices(nk, (const double (*)[2])a, b, ys, fg), pf = -1, pg = -1;
+            int fg[EXDEX_MAX_FACES][2], pf = -1, pg = -1;
+            int ny = contact_section_vertices(nk, (const double (*)[2])a, b, ys, fg);
             for (int i = 0; i < ny; i++) {
                 double dd = hypot(xc[0] - ys[i][0], xc[1] - ys[i][1]);
                 if (dd < dmin) {
@@ -616,7 +598,7 @@ static int disc_row(const exdex_model *m, const exdex_kinematics *kin, int o, co
     }
     if (gap) {
         /* as contact_obstacle_rows: negative when the axis meets the plane inside the disc */
-        double cB[3], aB[3], phi = disc_rod_phi(m, kin, ob, q), x[3], d[3], t, w[3], dist;
+        double cB[3], aB[3], phi = disc_rod_phi(m, kin, ob, q), x[3], nb[3], dist;
         int inside = 0;
         rod_axis(ob, kin, cB, aB);
         if (fabs(aB[2]) > 1e-12) {
@@ -626,10 +608,7 @@ static int disc_row(const exdex_model *m, const exdex_kinematics *kin, int o, co
         x[0] = xc[0] + r * cos(phi);
         x[1] = xc[1] + r * sin(phi);
         x[2] = 0.0;
-        for (int i = 0; i < 3; i++) d[i] = x[i] - cB[i];
-        t = ex_dot3(d, aB);
-        for (int i = 0; i < 3; i++) w[i] = d[i] - t * aB[i];
-        dist = sqrt(ex_dot3(w, w));
+        dist = rod_normal(cB, aB, x, nb);
         gap[0] = (inside ? -dist : dist) - ob->radius;
     }
     return orow_code(o, OROW_ROD, 0, 0, 0);
@@ -670,8 +649,8 @@ int orow_all(const exdex_model *m, const exdex_kinematics *kin, const double *q,
                 code[n++] = orow_code(o, OROW_VERTEX, j, 0, best);
             }
             if (nh < 3) continue;
-            /* the section's vertices, as contact.c's polygon_vertices
-             * accepts them, with their face pairs */
+            /* the section's vertices, as contact_obstacle_rows finds
+             * them, with their face pairs */
             for (int f = 0; f < ob->n_faces; f++) {
                 double af[2], bf, na = face_line(ob, kin, f, af, &bf);
                 if (!(na > 1e-12)) {
@@ -684,7 +663,7 @@ int orow_all(const exdex_model *m, const exdex_kinematics *kin, const double *q,
                 idx[nk++] = f;
             }
             if (empty) continue;
-            ny = section_vertices(nk, (const double (*)[2])a, b, ys, fg);
+            ny = contact_section_vertices(nk, (const double (*)[2])a, b, ys, fg);
             for (int i = 0; i < ny; i++) {
                 const double *y = ys[i];
                 int f = fg[i][0], g = fg[i][1], e;
@@ -925,15 +904,11 @@ void orow_point(const exdex_model *m, const exdex_kinematics *kin, int code, con
             x[0] = xb[0][0] - rd * nb[0];
             x[1] = xb[0][1] - rd * nb[1];
         } else {
-            double cB[3], aB[3], d[3], t, phi = disc_rod_phi(m, kin, ob, q);
+            double cB[3], aB[3], phi = disc_rod_phi(m, kin, ob, q);
             rod_axis(ob, kin, cB, aB);
             x[0] = xb[0][0] + rd * cos(phi);
             x[1] = xb[0][1] + rd * sin(phi);
-            for (int i = 0; i < 3; i++) d[i] = x[i] - cB[i];
-            t = ex_dot3(d, aB);
-            for (int i = 0; i < 3; i++) nb[i] = d[i] - t * aB[i];
-            nn = sqrt(ex_dot3(nb, nb));
-            for (int i = 0; i < 3; i++) nb[i] = nn > 0.0 ? nb[i] / nn : 0.0;
+            rod_normal(cB, aB, x, nb);
         }
         for (int i = 0; i < 3; i++) {
             cp->x[i] = x[i];
@@ -970,7 +945,7 @@ void orow_point(const exdex_model *m, const exdex_kinematics *kin, int code, con
             nb[1] = ex / len;
         }
     } else {
-        double cB[3], aB[3], d[3], t, dist;
+        double cB[3], aB[3];
         rod_axis(ob, kin, cB, aB);
         if (feat < 32) {
             x[0] = hb[feat][0];
@@ -981,11 +956,7 @@ void orow_point(const exdex_model *m, const exdex_kinematics *kin, int code, con
             x[0] = u[0] + tf * (w[0] - u[0]);
             x[1] = u[1] + tf * (w[1] - u[1]);
         }
-        for (int i = 0; i < 3; i++) d[i] = x[i] - cB[i];
-        t = ex_dot3(d, aB);
-        for (int i = 0; i < 3; i++) nb[i] = d[i] - t * aB[i];
-        dist = sqrt(ex_dot3(nb, nb));
-        for (int i = 0; i < 3; i++) nb[i] = dist > 0.0 ? nb[i] / dist : 0.0;
+        rod_normal(cB, aB, x, nb);
     }
     for (int i = 0; i < 3; i++) {
         cp->x[i] = x[i];

@@ -1,6 +1,6 @@
 /* _common.h -- the helper layer shared by the exdex extension modules
  * (_coremodule.c, _toolmodule.c). Include it after Python.h and
- * numpy/arrayobject.h; every helper is static, so each module gets its own
+ * numpy/arrayobject.h; every helper is static inline, so each module gets its own
  * copy and no symbol is exported.
  *
  * Calling convention of both modules:
@@ -31,7 +31,7 @@
 /* ------------------------------------------------------------ exceptions */
 
 /* ValueError with a printf-style message (PyErr_Format has no %g). */
-static void expy_value_error(const char *fmt, ...)
+static inline void expy_value_error(const char *fmt, ...)
 {
     char buf[512];
     va_list ap;
@@ -43,7 +43,7 @@ static void expy_value_error(const char *fmt, ...)
 
 /* Raise solver_error(message, status) with the attribute `status` set (and
  * `index` when index >= 0). */
-static void expy_raise_solver_error(PyObject *solver_error, int status, Py_ssize_t index, const char *message)
+static inline void expy_raise_solver_error(PyObject *solver_error, int status, Py_ssize_t index, const char *message)
 {
     PyObject *args, *inst, *o;
     args = Py_BuildValue("(si)", message, status);
@@ -68,7 +68,7 @@ static void expy_raise_solver_error(PyObject *solver_error, int status, Py_ssize
  * the call ("simulate", "volumes", "batch index 3: simulate", ...), `bad` the
  * offending parameter of an EXDEX_EINVAL (or NULL), `detail` an optional
  * explanation appended to the SolverError message (or NULL). Returns NULL. */
-static PyObject *expy_raise_status(PyObject *solver_error, int status, const char *what, const char *bad,
+static inline PyObject *expy_raise_status(PyObject *solver_error, int status, const char *what, const char *bad,
                                    const char *detail, Py_ssize_t index)
 {
     char msg[768];
@@ -96,7 +96,7 @@ static PyObject *expy_raise_status(PyObject *solver_error, int status, const cha
 
 /* obj as a C-contiguous float64 array of any shape; NULL with a TypeError
  * "<name> must be a real array of shape <shape>". Rejects complex input. */
-static PyArrayObject *expy_doubles(PyObject *obj, const char *name, const char *shape)
+static inline PyArrayObject *expy_doubles(PyObject *obj, const char *name, const char *shape)
 {
     PyArrayObject *a;
     if (PyComplex_Check(obj) || PyUnicode_Check(obj) || PyBytes_Check(obj) ||
@@ -114,7 +114,7 @@ static PyArrayObject *expy_doubles(PyObject *obj, const char *name, const char *
 }
 
 /* 1 when every element of a float64 array is finite. */
-static int expy_all_finite(PyArrayObject *a)
+static inline int expy_all_finite(PyArrayObject *a)
 {
     const double *d = (const double *)PyArray_DATA(a);
     npy_intp n = PyArray_SIZE(a);
@@ -124,7 +124,7 @@ static int expy_all_finite(PyArrayObject *a)
 }
 
 /* A real number (not complex, not a str); -1 with a TypeError naming it. */
-static int expy_double(PyObject *obj, const char *name, double *out)
+static inline int expy_double(PyObject *obj, const char *name, double *out)
 {
     double v;
     if (!PyNumber_Check(obj) || PyComplex_Check(obj)) {
@@ -142,7 +142,7 @@ static int expy_double(PyObject *obj, const char *name, double *out)
 }
 
 /* An int (not a bool) in [lo, hi]; -1 with TypeError / ValueError naming it. */
-static int expy_long(PyObject *obj, const char *name, long lo, long hi, long *out)
+static inline int expy_long(PyObject *obj, const char *name, long lo, long hi, long *out)
 {
     int overflow = 0;
     long v;
@@ -162,7 +162,7 @@ static int expy_long(PyObject *obj, const char *name, long lo, long hi, long *ou
 
 /* A str among `names` (NULL-terminated); *out gets values[i]. -1 with
  * TypeError / ValueError listing the allowed names. */
-static int expy_choice(PyObject *obj, const char *name, const char *const *names, const int *values, int *out)
+static inline int expy_choice(PyObject *obj, const char *name, const char *const *names, const int *values, int *out)
 {
     char allowed[256] = "";
     const char *s;
@@ -194,7 +194,7 @@ typedef struct {
 } expy_constant;
 
 /* Add every {name, value} of a table ending in {NULL, 0} as an int constant. */
-static int expy_add_constants(PyObject *module, const expy_constant *table)
+static inline int expy_add_constants(PyObject *module, const expy_constant *table)
 {
     for (; table->name; table++)
         if (PyModule_AddIntConstant(module, table->name, table->value) < 0) return -1;

@@ -38,6 +38,61 @@ int sim_run_def(const exdex_scene_def *def, double t_end, double dt, sim_run *r)
     return r->status;
 }
 
+exdex_scene_def scene_vertical(double mass, double ratio)
+{
+    exdex_scene_def d = exdex_default_scene_def();
+    d.mass = mass;
+    d.mu = 0.5;
+    d.fingers = 2;
+    d.grip_force = ratio * mass * 9.81 / (2 * d.mu);
+    d.gravity[2] = -9.81;
+    return d;
+}
+
+static void motion_line(exdex_scene_def *d, int kind, int rotation, double ax, double ay, double az,
+                        double amplitude, double duration)
+{
+    d->motion.kind = kind;
+    d->motion.rotation = rotation;
+    d->motion.axis[0] = ax;
+    d->motion.axis[1] = ay;
+    d->motion.axis[2] = az;
+    d->motion.amplitude = amplitude;
+    d->motion.duration = duration;
+}
+
+void scene_eq7(exdex_scene_def *d, int rotation, double ax, double ay, double az, double amplitude, double duration,
+               double beta)
+{
+    motion_line(d, EXDEX_MOTION_ASYMMETRIC, rotation, ax, ay, az, amplitude, duration);
+    d->motion.beta = beta;
+}
+
+void scene_trapezoid(exdex_scene_def *d, int rotation, double ax, double ay, double az, double amplitude,
+                     double duration, double v_max)
+{
+    motion_line(d, EXDEX_MOTION_TRAPEZOID, rotation, ax, ay, az, amplitude, duration);
+    d->motion.v_max = v_max;
+}
+
+void scene_rect(exdex_scene_def *d, double hx, double hy)
+{
+    double v[4][2] = {{-hx, -hy}, {hx, -hy}, {hx, hy}, {-hx, hy}};
+    d->n_vertices = 4;
+    memcpy(d->vertices, v, sizeof v);
+}
+
+void scene_stop(exdex_scene_def *d, int k, double px, double py, double pz, double nx, double ny, double nz)
+{
+    d->stop_point[k][0] = px;
+    d->stop_point[k][1] = py;
+    d->stop_point[k][2] = pz;
+    d->stop_normal[k][0] = nx;
+    d->stop_normal[k][1] = ny;
+    d->stop_normal[k][2] = nz;
+    if (d->n_stops < k + 1) d->n_stops = k + 1;
+}
+
 /* Closed form of the 1-DoF vertical problem under piecewise-constant gripper
  * acceleration (up positive), written independently of the core: exact
  * propagation with analytic stick/slip switching. */

@@ -1,5 +1,6 @@
-/* sim_run.h -- test helper: run a scene definition through the public API
- * into freshly allocated trajectory arrays (shared by the C test files). */
+/* sim_run.h -- test helpers shared by the C test files: run a scene
+ * definition through the public API into freshly allocated trajectory
+ * arrays, and build the scene definitions the files have in common. */
 #ifndef EXDEX_TEST_SIM_RUN_H
 #define EXDEX_TEST_SIM_RUN_H
 
@@ -23,5 +24,24 @@ void sim_run_free(sim_run *r);
  * (NaN if none). Written independently of the core. */
 double vertical_closed_form(double g, double cap_acc, const double *t_sw, const double *acc, int n_phase,
                             double *t_stick);
+
+/* Scene builders. scene_vertical returns a 1-DoF vertical scene (B y up,
+ * default pose), gripper at rest, gravity 9.81 m/s^2 down A z, mu 0.5 on
+ * two fingers, friction capacity ratio x m g. The others set the fields
+ * they name and leave the rest of d as it is:
+ *   scene_eq7        the motion: Eq. 7 (asymmetric) along (rotation 0) or
+ *                    about (rotation 1) the axis (ax, ay, az), amplitude,
+ *                    duration, ratio beta;
+ *   scene_trapezoid  the same for the trapezoid of peak speed v_max;
+ *   scene_rect       the outline (-hx, -hy), (hx, -hy), (hx, hy), (-hx, hy);
+ *   scene_stop       stop k's point p and normal n (A), n_stops at least
+ *                    k + 1. */
+exdex_scene_def scene_vertical(double mass, double ratio);
+void scene_eq7(exdex_scene_def *d, int rotation, double ax, double ay, double az, double amplitude, double duration,
+               double beta);
+void scene_trapezoid(exdex_scene_def *d, int rotation, double ax, double ay, double az, double amplitude,
+                     double duration, double v_max);
+void scene_rect(exdex_scene_def *d, double hx, double hy);
+void scene_stop(exdex_scene_def *d, int k, double px, double py, double pz, double nx, double ny, double nz);
 
 #endif

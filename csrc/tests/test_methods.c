@@ -19,17 +19,12 @@
 
 static double qlast(const sim_run *r, int c) { return r->tr.q[(r->tr.n - 1) * r->ndof + c]; }
 
-/* 1-DoF vertical scene (B y up), gripper at rest, capacity ratio * m g. */
 #define EXDEX_TEST_PI 3.14159265358979323846
 
+/* 1-DoF vertical scene (B y up), gripper at rest, capacity ratio * m g. */
 static exdex_scene_def mvertical(double mass, double ratio, int method)
 {
-    exdex_scene_def d = exdex_default_scene_def();
-    d.mass = mass;
-    d.mu = 0.5;
-    d.fingers = 2;
-    d.grip_force = ratio * mass * G / (2 * d.mu);
-    d.gravity[2] = -G;
+    exdex_scene_def d = scene_vertical(mass, ratio);
     d.method = method;
     return d;
 }
@@ -38,35 +33,15 @@ static exdex_scene_def mvertical(double mass, double ratio, int method)
 static exdex_scene_def mfig3(int method)
 {
     exdex_scene_def d = mvertical(0.1, 1.5 / (0.1 * G), method);
-    d.motion.kind = EXDEX_MOTION_ASYMMETRIC;
-    d.motion.axis[0] = 0.0;
-    d.motion.axis[1] = 0.0;
-    d.motion.axis[2] = -1.0;
-    d.motion.amplitude = 0.1;
-    d.motion.duration = 0.5;
-    d.motion.beta = 0.9;
+    scene_eq7(&d, 0, 0.0, 0.0, -1.0, 0.1, 0.5, 0.9);
     return d;
-}
-
-static void box_outline(exdex_scene_def *d)
-{
-    double v[4][2] = {{-0.01, -0.02}, {0.01, -0.02}, {0.01, 0.02}, {-0.01, 0.02}};
-    d->n_vertices = 4;
-    memcpy(d->vertices, v, sizeof v);
 }
 
 /* Gripper spinning at constant rate w about its plate normal (B z) through
  * B's origin: a trapezoid without ramps (constant speed) until t = 5 s. */
 static void spin_motion(exdex_scene_def *d, double w)
 {
-    d->motion.kind = EXDEX_MOTION_TRAPEZOID;
-    d->motion.rotation = 1;
-    d->motion.axis[0] = 0.0;
-    d->motion.axis[1] = -1.0;
-    d->motion.axis[2] = 0.0;
-    d->motion.amplitude = w * 5.0;
-    d->motion.duration = 5.0;
-    d->motion.v_max = w;
+    scene_trapezoid(d, 1, 0.0, -1.0, 0.0, w * 5.0, 5.0, w);
 }
 
 /* ------------------------------------------------------------ closed forms */
@@ -210,17 +185,11 @@ EXDEX_TEST(methods_fig4_stop_all_methods)
     for (int method = EXDEX_METHOD_EVENT; method <= EXDEX_METHOD_EXPLICIT; method++) {
         exdex_scene_def d = mvertical(0.1, 1.5 / (0.1 * G), method);
         sim_run r;
-        box_outline(&d);
+        scene_rect(&d, 0.01, 0.02);
         d.n_stops = 1;
         d.stop_point[0][2] = -0.02;
         d.stop_normal[0][2] = 1.0;
-        d.motion.kind = EXDEX_MOTION_TRAPEZOID;
-        d.motion.axis[0] = 0.0;
-        d.motion.axis[1] = 0.0;
-        d.motion.axis[2] = -1.0;
-        d.motion.amplitude = 0.05;
-        d.motion.duration = 0.5;
-        d.motion.v_max = 0.12;
+        scene_trapezoid(&d, 0, 0.0, 0.0, -1.0, 0.05, 0.5, 0.12);
         ENSURE(sim_run_def(&d, 1.0, 1e-3, &r) == EXDEX_OK);
         ENSURE(r.st.min_gap >= -1e-15);
         ENSURE_CLOSE(qlast(&r, 0), 0.05, 1e-12);
@@ -250,14 +219,7 @@ EXDEX_TEST(methods_event_rotation_stop_matches_implicit)
     d.n_vertices = 2;
     d.vertices[0][0] = 0.05;
     d.vertices[1][0] = -0.05;
-    d.motion.kind = EXDEX_MOTION_ASYMMETRIC;
-    d.motion.rotation = 1;
-    d.motion.axis[0] = 0.0;
-    d.motion.axis[1] = -1.0;
-    d.motion.axis[2] = 0.0;
-    d.motion.amplitude = 1.0;
-    d.motion.duration = 0.5;
-    d.motion.beta = 0.7;
+    scene_eq7(&d, 1, 0.0, -1.0, 0.0, 1.0, 0.5, 0.7);
     d.n_stops = 1;
     d.stop_point[0][2] = -0.01;
     d.stop_normal[0][2] = 1.0;
@@ -540,14 +502,7 @@ EXDEX_TEST(methods_event_slip_onset_inside_a_phase)
     d.gravity[2] = -G;
     d.slide_axis[0] = 1.0;
     d.slide_axis[1] = 0.0;
-    d.motion.kind = EXDEX_MOTION_TRAPEZOID;
-    d.motion.rotation = 1;
-    d.motion.axis[0] = 0.0;
-    d.motion.axis[1] = 1.0;
-    d.motion.axis[2] = 0.0;
-    d.motion.amplitude = 1.2;
-    d.motion.duration = 1.0;
-    d.motion.v_max = w;
+    scene_trapezoid(&d, 1, 0.0, 1.0, 0.0, 1.2, 1.0, w);
     d.method = EXDEX_METHOD_EVENT;
     s_star = asin(C / (m * G));
     t_star = ta + (s_star - 0.5 * w * ta) / w;
@@ -596,14 +551,7 @@ EXDEX_TEST(methods_event_short_slip_inside_a_stick_step)
     d.gravity[2] = -G;
     d.slide_axis[0] = 1.0;
     d.slide_axis[1] = 0.0;
-    d.motion.kind = EXDEX_MOTION_TRAPEZOID;
-    d.motion.rotation = 1;
-    d.motion.axis[0] = 0.0;
-    d.motion.axis[1] = 1.0;
-    d.motion.axis[2] = 0.0;
-    d.motion.amplitude = 2.0;
-    d.motion.duration = T;
-    d.motion.v_max = w;
+    scene_trapezoid(&d, 1, 0.0, 1.0, 0.0, 2.0, T, w);
     d.method = EXDEX_METHOD_EVENT;
     d.rtol = 1e-10;
     d.atol = 1e-13;
@@ -718,14 +666,7 @@ static exdex_scene_def planar_rot(int method)
     d.dof = EXDEX_DOF_PLANAR;
     d.inertia[8] = 1e-4;
     d.patch_center[0] = 0.01;
-    d.motion.kind = EXDEX_MOTION_ASYMMETRIC;
-    d.motion.rotation = 1;
-    d.motion.axis[0] = 0.0;
-    d.motion.axis[1] = -1.0;
-    d.motion.axis[2] = 0.0;
-    d.motion.amplitude = 1.0;
-    d.motion.duration = 0.5;
-    d.motion.beta = 0.7;
+    scene_eq7(&d, 1, 0.0, -1.0, 0.0, 1.0, 0.5, 0.7);
     return d;
 }
 
@@ -839,7 +780,7 @@ static exdex_scene_def planar_floor(int method)
 {
     exdex_scene_def d = mvertical(0.1, 0.8, method);
     double tilt = 0.2;
-    box_outline(&d);
+    scene_rect(&d, 0.01, 0.02);
     d.dof = EXDEX_DOF_PLANAR;
     d.inertia[8] = 0.1 * (0.02 * 0.02 + 0.04 * 0.04) / 12;
     d.patch_center[0] = 0.004;
@@ -1343,13 +1284,7 @@ EXDEX_TEST(methods_stop_from_speed_slide_closed_form)
             exdex_scene_def sd = mvertical(0.1, 2.0, methods[k]);
             sim_run r;
             size_t j0;
-            sd.motion.kind = EXDEX_MOTION_TRAPEZOID;
-            sd.motion.axis[0] = 0.0;
-            sd.motion.axis[1] = 0.0;
-            sd.motion.axis[2] = -1.0;
-            sd.motion.amplitude = V * T;
-            sd.motion.duration = T;
-            sd.motion.v_max = V;
+            scene_trapezoid(&sd, 0, 0.0, 0.0, -1.0, V * T, T, V);
             ENSURE(sim_run_def(&sd, t_end, h, &r) == EXDEX_OK);
             j0 = (size_t)floor(T / h);   /* the sample before T */
             ENSURE(r.tr.t[j0] < T && r.tr.t[j0 + 1] > T);

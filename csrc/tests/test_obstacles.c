@@ -138,18 +138,8 @@ static exdex_scene_def fig4(void)
     d.mass = 0.1;
     d.mu = 0.5;
     d.grip_force = 1.5 / (2 * d.mu);
-    d.n_vertices = 4;
-    d.vertices[0][0] = -0.01; d.vertices[0][1] = -0.02;
-    d.vertices[1][0] = 0.01;  d.vertices[1][1] = -0.02;
-    d.vertices[2][0] = 0.01;  d.vertices[2][1] = 0.02;
-    d.vertices[3][0] = -0.01; d.vertices[3][1] = 0.02;
-    d.motion.kind = EXDEX_MOTION_TRAPEZOID;
-    d.motion.axis[0] = 0.0;
-    d.motion.axis[1] = 0.0;
-    d.motion.axis[2] = -1.0;
-    d.motion.amplitude = 0.05;
-    d.motion.duration = 0.5;
-    d.motion.v_max = 0.12;
+    scene_rect(&d, 0.01, 0.02);
+    scene_trapezoid(&d, 0, 0.0, 0.0, -1.0, 0.05, 0.5, 0.12);
     return d;
 }
 
@@ -171,9 +161,7 @@ EXDEX_TEST(obstacle_one_face_is_the_stop_bit_for_bit)
             a.q0[2] = 0.2; /* lands on a corner and turns */
         }
         b = a;
-        a.n_stops = 1;
-        a.stop_point[0][2] = -0.03;
-        a.stop_normal[0][2] = 1.0;
+        scene_stop(&a, 0, 0.0, 0.0, -0.03, 0.0, 0.0, 1.0);
         b.n_obstacles = 1;
         b.obstacles[0].kind = EXDEX_OBSTACLE_POLYTOPE;
         b.obstacles[0].n_faces = 1;
@@ -227,10 +215,7 @@ EXDEX_TEST(obstacle_frictional_face_is_the_frictional_stop_in_every_method_that_
             a.q0[2] = 0.2;
         }
         b = a;
-        a.n_stops = 1;
-        a.stop_point[0][2] = -0.03;
-        a.stop_normal[0][0] = nx;
-        a.stop_normal[0][2] = nz;
+        scene_stop(&a, 0, 0.0, 0.0, -0.03, nx, 0.0, nz);
         a.stop_mu[0] = 0.4;
         f = a;
         f.stop_mu[0] = 0.0;
@@ -290,6 +275,32 @@ EXDEX_TEST(obstacle_box_floor_carries_the_load_like_a_stop)
     }
 }
 
+/* A square of half side a turning about its centre of mass (rotation
+ * scene: a pin at the patch centre, mu 0.5, grip 1 N) and a frictionless
+ * rod of radius r normal to the plates at x = dx right of the pin, starting
+ * g0 below the bottom edge; the gripper moves down 5 mm over 1 s (a
+ * trapezoid of peak speed 7.5 mm/s: rho stays above a + r, the rod never
+ * jams the square). B x = A x, B y = A z, B z = -A y: the rod along A's y
+ * is normal to the plates. */
+static exdex_scene_def pinned_square_rod(double a, double r, double dx, double g0)
+{
+    exdex_scene_def d = exdex_default_scene_def();
+    d.dof = EXDEX_DOF_ROTATION;
+    d.mass = 0.1;
+    d.inertia[0] = d.inertia[4] = d.inertia[8] = 0.1 * (2 * a) * (2 * a) / 6;
+    d.mu = 0.5;
+    d.grip_force = 1.0;
+    scene_rect(&d, a, a);
+    scene_trapezoid(&d, 0, 0.0, 0.0, -1.0, 0.005, 1.0, 0.0075);
+    d.n_obstacles = 1;
+    d.obstacles[0].kind = EXDEX_OBSTACLE_CYLINDER;
+    d.obstacles[0].radius = r;
+    d.obstacles[0].center[0] = dx;
+    d.obstacles[0].center[2] = -(a + r + g0);
+    d.obstacles[0].axis[1] = 1.0;
+    return d;
+}
+
 EXDEX_TEST(obstacle_rod_turns_a_pinned_square_as_the_tangent_predicts)
 {
     /* Rotation about the centre of mass (a pin at the patch centre), a square
@@ -303,33 +314,9 @@ EXDEX_TEST(obstacle_rod_turns_a_pinned_square_as_the_tangent_predicts)
      *   th = psi - acos((a + r) / rho),  rho = hypot(d, a + r + g0 - delta),
      *   psi = atan2(d, a + r + g0 - delta)  (the branch through th = 0),
      * and th = 0 before contact (rho cos psi > a + r). */
-    exdex_scene_def d = exdex_default_scene_def();
     const double a = 0.02, r = 0.005, dx = 0.015, g0 = 1e-3;
+    exdex_scene_def d = pinned_square_rod(a, r, dx, g0);
     sim_run run;
-    d.dof = EXDEX_DOF_ROTATION;
-    d.mass = 0.1;
-    d.inertia[0] = d.inertia[4] = d.inertia[8] = 0.1 * (2 * a) * (2 * a) / 6;
-    d.mu = 0.5;
-    d.grip_force = 1.0;
-    d.n_vertices = 4;
-    d.vertices[0][0] = -a; d.vertices[0][1] = -a;
-    d.vertices[1][0] = a;  d.vertices[1][1] = -a;
-    d.vertices[2][0] = a;  d.vertices[2][1] = a;
-    d.vertices[3][0] = -a; d.vertices[3][1] = a;
-    d.motion.kind = EXDEX_MOTION_TRAPEZOID;
-    d.motion.axis[0] = 0.0;
-    d.motion.axis[1] = 0.0;
-    d.motion.axis[2] = -1.0;
-    d.motion.amplitude = 0.005; /* rho stays above a + r: the rod never jams the square */
-    d.motion.duration = 1.0;
-    d.motion.v_max = 0.0075;
-    d.n_obstacles = 1;
-    d.obstacles[0].kind = EXDEX_OBSTACLE_CYLINDER;
-    d.obstacles[0].radius = r;
-    /* B x = A x, B y = A z, B z = -A y: the rod along A's y is normal to the plates */
-    d.obstacles[0].center[0] = dx;
-    d.obstacles[0].center[2] = -(a + r + g0);
-    d.obstacles[0].axis[1] = 1.0;
     for (int k = 0; k < 2; k++) {
         /* implicit (dt 1e-4, its error O(dt)); event (exact contact: to the
          * closed form's rounding and rtol) */
@@ -381,11 +368,7 @@ EXDEX_TEST(obstacle_square_slides_past_a_box_corner_on_a_slope)
     d.inertia[0] = d.inertia[4] = d.inertia[8] = 0.1 * (2 * a) * (2 * a) / 6;
     d.mu = 0.0;
     d.grip_force = 1.0;
-    d.n_vertices = 4;
-    d.vertices[0][0] = -a; d.vertices[0][1] = -a;
-    d.vertices[1][0] = a;  d.vertices[1][1] = -a;
-    d.vertices[2][0] = a;  d.vertices[2][1] = a;
-    d.vertices[3][0] = -a; d.vertices[3][1] = a;
+    scene_rect(&d, a, a);
     d.q0[0] = c0[0];
     d.q0[1] = c0[1];
     d.q0[2] = -al;
@@ -442,7 +425,7 @@ EXDEX_TEST(obstacle_frictional_rod_jams_the_pinned_square_event_goes_on)
      * output step after t_jam, keeps the tangency (closed form above: the
      * friction does not enter the kinematics) and from the jam on carries
      * the frictionless rod force. */
-    exdex_scene_def d = exdex_default_scene_def();
+    exdex_scene_def d;
     const double a = 0.02, r = 0.005, dx = 0.015, g0 = 1e-3, mu = 0.5, dt = 1e-3;
     double lo = 0.5, hi = 0.9, t_jam;
     sim_run run, run0;
@@ -452,27 +435,7 @@ EXDEX_TEST(obstacle_frictional_rod_jams_the_pinned_square_event_goes_on)
         if (rod_moment(mid, a, r, dx, g0, mu) > 0.0) lo = mid; else hi = mid;
     }
     t_jam = 0.5 * (lo + hi);
-    d.dof = EXDEX_DOF_ROTATION;
-    d.mass = 0.1;
-    d.inertia[0] = d.inertia[4] = d.inertia[8] = 0.1 * (2 * a) * (2 * a) / 6;
-    d.mu = 0.5;
-    d.grip_force = 1.0;
-    d.n_vertices = 4;
-    d.vertices[0][0] = -a; d.vertices[0][1] = -a;
-    d.vertices[1][0] = a;  d.vertices[1][1] = -a;
-    d.vertices[2][0] = a;  d.vertices[2][1] = a;
-    d.vertices[3][0] = -a; d.vertices[3][1] = a;
-    d.motion.kind = EXDEX_MOTION_TRAPEZOID;
-    d.motion.axis[2] = -1.0;
-    d.motion.amplitude = 0.005;
-    d.motion.duration = 1.0;
-    d.motion.v_max = 0.0075;
-    d.n_obstacles = 1;
-    d.obstacles[0].kind = EXDEX_OBSTACLE_CYLINDER;
-    d.obstacles[0].radius = r;
-    d.obstacles[0].center[0] = dx;
-    d.obstacles[0].center[2] = -(a + r + g0);
-    d.obstacles[0].axis[1] = 1.0;
+    d = pinned_square_rod(a, r, dx, g0);
     d.method = EXDEX_METHOD_EVENT;
     ENSURE(sim_run_def(&d, 1.0, dt, &run0) == EXDEX_OK);
     d.obstacles[0].mu = mu;
@@ -494,6 +457,19 @@ EXDEX_TEST(obstacle_frictional_rod_jams_the_pinned_square_event_goes_on)
     sim_run_free(&run0);
 }
 
+/* The default scene with a rod of radius 0.1 along A's y (normal to the
+ * plates) 1 m below B's origin. */
+static exdex_scene_def rod_below(void)
+{
+    exdex_scene_def d = exdex_default_scene_def();
+    d.n_obstacles = 1;
+    d.obstacles[0].kind = EXDEX_OBSTACLE_CYLINDER;
+    d.obstacles[0].axis[1] = 1.0;
+    d.obstacles[0].center[2] = -1.0;
+    d.obstacles[0].radius = 0.1;
+    return d;
+}
+
 EXDEX_TEST(obstacle_bad_input_status)
 {
     exdex_scene_def d;
@@ -501,12 +477,7 @@ EXDEX_TEST(obstacle_bad_input_status)
     int status;
 #define EXPECT_BAD_OBST(field_expr, name)                                    \
     do {                                                                     \
-        d = exdex_default_scene_def();                                       \
-        d.n_obstacles = 1;                                                   \
-        d.obstacles[0].kind = EXDEX_OBSTACLE_CYLINDER;                       \
-        d.obstacles[0].axis[1] = 1.0;                                        \
-        d.obstacles[0].center[2] = -1.0;                                     \
-        d.obstacles[0].radius = 0.1;                                         \
+        d = rod_below();                                                     \
         field_expr;                                                          \
         bad = NULL;                                                          \
         ENSURE(exdex_model_alloc(&d, &status, &bad) == NULL);                \
@@ -529,14 +500,9 @@ EXDEX_TEST(obstacle_bad_input_status)
     for (int meth = EXDEX_METHOD_IMPLICIT; meth <= EXDEX_METHOD_EXPLICIT; meth++)
         for (int c = 0; c < 2; c++) {
             exdex_model *m;
-            d = exdex_default_scene_def();
+            d = rod_below();
             d.dof = EXDEX_DOF_PLANAR;
             d.method = meth;
-            d.n_obstacles = 1;
-            d.obstacles[0].kind = EXDEX_OBSTACLE_CYLINDER;
-            d.obstacles[0].axis[1] = 1.0;
-            d.obstacles[0].center[2] = -1.0;
-            d.obstacles[0].radius = 0.1;
             d.obstacles[0].mu = c ? 0.0 : 0.5;
             if (c) {
                 d.n_stops = 1;
@@ -554,12 +520,7 @@ EXDEX_TEST(obstacle_bad_input_status)
     {
         /* a valid one builds */
         exdex_model *m;
-        d = exdex_default_scene_def();
-        d.n_obstacles = 1;
-        d.obstacles[0].kind = EXDEX_OBSTACLE_CYLINDER;
-        d.obstacles[0].axis[1] = 1.0;
-        d.obstacles[0].center[2] = -1.0;
-        d.obstacles[0].radius = 0.1;
+        d = rod_below();
         m = exdex_model_alloc(&d, &status, &bad);
         ENSURE(m != NULL && status == EXDEX_OK);
         ENSURE(exdex_model_nstops(m) == 1);
@@ -589,11 +550,7 @@ EXDEX_TEST(obstacle_rod_explicit_spinning_square_within_its_per_step_bound)
     d.mass = 0.1;
     d.inertia[0] = d.inertia[4] = d.inertia[8] = 0.1 * (2 * a) * (2 * a) / 6;
     d.mu = 0.0;
-    d.n_vertices = 4;
-    d.vertices[0][0] = -a; d.vertices[0][1] = -a;
-    d.vertices[1][0] = a;  d.vertices[1][1] = -a;
-    d.vertices[2][0] = a;  d.vertices[2][1] = a;
-    d.vertices[3][0] = -a; d.vertices[3][1] = a;
+    scene_rect(&d, a, a);
     d.v0[2] = 20.0;
     d.n_obstacles = 1;
     d.obstacles[0].kind = EXDEX_OBSTACLE_CYLINDER;

@@ -160,21 +160,24 @@ EXDEX_TEST(sfric_painleve_has_no_consistent_mode)
     ENSURE(sf_solve(SF_MAX_ROWS + 1, &row, 1, &st, minv, acc, 1e-12, 1e-12, &r) == 0);
 }
 
-/* The slip acceleration: along q(t) = q0 + v0 t + qdd t^2 / 2 under a
- * gripper turning about a tilted axis (a rotation shake: w and dw change,
- * the stop's trace in the plate plane turns), ds/dt by a central
- * difference must equal T qdd + sdd0. */
-EXDEX_TEST(sfric_slip_acceleration_matches_central_difference)
+/* A planar object of mass 0.1 kg, a square of side 2 cm (disc 0) or a disc
+ * of radius 2 cm centred at (4, -2) mm (disc 1), in a gripper turning about
+ * a tilted axis (a rotation shake: w and dw change, a stop's or an
+ * obstacle's trace in the plate plane turns). */
+static exdex_scene_def turning_object(int disc)
 {
     exdex_scene_def d = exdex_default_scene_def();
-    const char *bad = NULL;
-    int status = 0;
     double verts[4][2] = {{0.01, 0.01}, {-0.01, 0.01}, {-0.01, -0.01}, {0.01, -0.01}};
-    exdex_model *m;
     d.dof = EXDEX_DOF_PLANAR;
     d.mass = 0.1;
-    d.n_vertices = 4;
-    memcpy(d.vertices, verts, sizeof verts);
+    if (disc) {
+        d.disc_radius = 0.02;
+        d.disc_center[0] = 0.004;
+        d.disc_center[1] = -0.002;
+    } else {
+        d.n_vertices = 4;
+        memcpy(d.vertices, verts, sizeof verts);
+    }
     d.motion.kind = EXDEX_MOTION_SHAKE;
     d.motion.rotation = 1;
     d.motion.axis[0] = 0.3;
@@ -184,6 +187,43 @@ EXDEX_TEST(sfric_slip_acceleration_matches_central_difference)
     d.motion.amplitude = 0.3;
     d.motion.frequency = 2.0;
     d.motion.duration = 1.0;
+    return d;
+}
+
+/* Two obstacles of Coulomb coefficient 0.5: a wedge (two faces tilted out
+ * of the plate normal, meeting below, and a floor far below) and a rod of
+ * radius 0.01 through (0.2, 0, 0) tilted by 0.2 rad from A's z. */
+static void wedge_and_rod(exdex_scene_def *d)
+{
+    double ca = cos(0.3), sa = sin(0.3), cb = cos(0.2), sb = sin(0.2);
+    double n[3][3] = {{ca, 0.1, sa}, {-ca, 0.05, sa}, {0.0, 0.0, -1.0}};
+    d->n_obstacles = 2;
+    d->obstacles[0].kind = EXDEX_OBSTACLE_POLYTOPE;
+    d->obstacles[0].n_faces = 3;
+    for (int f = 0; f < 3; f++) {
+        double l = sqrt(n[f][0] * n[f][0] + n[f][1] * n[f][1] + n[f][2] * n[f][2]);
+        for (int c = 0; c < 3; c++) d->obstacles[0].face_normal[f][c] = n[f][c] / l;
+        d->obstacles[0].face_point[f][2] = f == 2 ? -1.0 : -0.5;
+    }
+    d->obstacles[0].mu = 0.5;
+    d->obstacles[1].kind = EXDEX_OBSTACLE_CYLINDER;
+    d->obstacles[1].center[0] = 0.2;
+    d->obstacles[1].axis[0] = sb;
+    d->obstacles[1].axis[2] = cb;
+    d->obstacles[1].radius = 0.01;
+    d->obstacles[1].mu = 0.5;
+}
+
+/* The slip acceleration: along q(t) = q0 + v0 t + qdd t^2 / 2 under a
+ * gripper turning about a tilted axis (a rotation shake: w and dw change,
+ * the stop's trace in the plate plane turns), ds/dt by a central
+ * difference must equal T qdd + sdd0. */
+EXDEX_TEST(sfric_slip_acceleration_matches_central_difference)
+{
+    exdex_scene_def d = turning_object(0);
+    const char *bad = NULL;
+    int status = 0;
+    exdex_model *m;
     d.n_stops = 1;
     d.stop_point[0][2] = -0.02;
     d.stop_normal[0][0] = 0.3;
@@ -225,44 +265,11 @@ EXDEX_TEST(sfric_slip_acceleration_matches_central_difference)
  * at orow_point. */
 EXDEX_TEST(sfric_obstacle_row_slip_acceleration_matches_central_difference)
 {
-    exdex_scene_def d = exdex_default_scene_def();
+    exdex_scene_def d = turning_object(0);
     const char *bad = NULL;
     int status = 0, codes[6], nc = 0;
-    double verts[4][2] = {{0.01, 0.01}, {-0.01, 0.01}, {-0.01, -0.01}, {0.01, -0.01}};
-    double ca = cos(0.3), sa = sin(0.3), cb = cos(0.2), sb = sin(0.2);
     exdex_model *m;
-    d.dof = EXDEX_DOF_PLANAR;
-    d.mass = 0.1;
-    d.n_vertices = 4;
-    memcpy(d.vertices, verts, sizeof verts);
-    d.motion.kind = EXDEX_MOTION_SHAKE;
-    d.motion.rotation = 1;
-    d.motion.axis[0] = 0.3;
-    d.motion.axis[1] = 1.0;
-    d.motion.axis[2] = 0.5;
-    d.motion.center[0] = 0.05;
-    d.motion.amplitude = 0.3;
-    d.motion.frequency = 2.0;
-    d.motion.duration = 1.0;
-    d.n_obstacles = 2;
-    /* a wedge: two faces tilted out of the plate normal, meeting below */
-    d.obstacles[0].kind = EXDEX_OBSTACLE_POLYTOPE;
-    d.obstacles[0].n_faces = 3;
-    {
-        double n[3][3] = {{ca, 0.1, sa}, {-ca, 0.05, sa}, {0.0, 0.0, -1.0}};
-        for (int f = 0; f < 3; f++) {
-            double l = sqrt(n[f][0] * n[f][0] + n[f][1] * n[f][1] + n[f][2] * n[f][2]);
-            for (int c = 0; c < 3; c++) d.obstacles[0].face_normal[f][c] = n[f][c] / l;
-            d.obstacles[0].face_point[f][2] = f == 2 ? -1.0 : -0.5;
-        }
-    }
-    d.obstacles[0].mu = 0.5;
-    d.obstacles[1].kind = EXDEX_OBSTACLE_CYLINDER;
-    d.obstacles[1].center[0] = 0.2;
-    d.obstacles[1].axis[0] = sb;
-    d.obstacles[1].axis[2] = cb;
-    d.obstacles[1].radius = 0.01;
-    d.obstacles[1].mu = 0.5;
+    wedge_and_rod(&d);
     m = exdex_model_alloc(&d, &status, &bad);
     ENSURE(m != NULL);
     if (!m) return;
@@ -310,43 +317,12 @@ EXDEX_TEST(sfric_obstacle_row_slip_acceleration_matches_central_difference)
 EXDEX_TEST(sfric_disc_obstacle_rows_match_central_differences)
 {
     for (int dof = 0; dof < 2; dof++) {
-        exdex_scene_def d = exdex_default_scene_def();
+        exdex_scene_def d = turning_object(1);
         const char *bad = NULL;
         int status = 0, codes[2];
-        double ca = cos(0.3), sa = sin(0.3), cb = cos(0.2), sb = sin(0.2);
         exdex_model *m;
         d.dof = dof ? EXDEX_DOF_ROTATION : EXDEX_DOF_PLANAR;
-        d.mass = 0.1;
-        d.disc_radius = 0.02;
-        d.disc_center[0] = 0.004;
-        d.disc_center[1] = -0.002;
-        d.motion.kind = EXDEX_MOTION_SHAKE;
-        d.motion.rotation = 1;
-        d.motion.axis[0] = 0.3;
-        d.motion.axis[1] = 1.0;
-        d.motion.axis[2] = 0.5;
-        d.motion.center[0] = 0.05;
-        d.motion.amplitude = 0.3;
-        d.motion.frequency = 2.0;
-        d.motion.duration = 1.0;
-        d.n_obstacles = 2;
-        d.obstacles[0].kind = EXDEX_OBSTACLE_POLYTOPE;
-        d.obstacles[0].n_faces = 3;
-        {
-            double n[3][3] = {{ca, 0.1, sa}, {-ca, 0.05, sa}, {0.0, 0.0, -1.0}};
-            for (int f = 0; f < 3; f++) {
-                double l = sqrt(n[f][0] * n[f][0] + n[f][1] * n[f][1] + n[f][2] * n[f][2]);
-                for (int c = 0; c < 3; c++) d.obstacles[0].face_normal[f][c] = n[f][c] / l;
-                d.obstacles[0].face_point[f][2] = f == 2 ? -1.0 : -0.5;
-            }
-        }
-        d.obstacles[0].mu = 0.5;
-        d.obstacles[1].kind = EXDEX_OBSTACLE_CYLINDER;
-        d.obstacles[1].center[0] = 0.2;
-        d.obstacles[1].axis[0] = sb;
-        d.obstacles[1].axis[2] = cb;
-        d.obstacles[1].radius = 0.01;
-        d.obstacles[1].mu = 0.5;
+        wedge_and_rod(&d);
         m = exdex_model_alloc(&d, &status, &bad);
         ENSURE(m != NULL);
         if (!m) return;

@@ -11,23 +11,11 @@
 
 #define G 9.81
 
-/* 1-DoF vertical scene (B y up by default) with the gripper at rest. */
-static exdex_scene_def vertical(double mass, double capacity_over_g)
-{
-    exdex_scene_def d = exdex_default_scene_def();
-    d.mass = mass;
-    d.mu = 0.5;
-    d.fingers = 2;
-    d.grip_force = capacity_over_g * mass * G / (2 * d.mu);
-    d.gravity[2] = -G;
-    return d;
-}
-
 EXDEX_TEST(sim_free_fall_closed_form)
 {
     /* mu = 0, gripper at rest: s = -g t^2 / 2 (midpoint rule exact for
      * constant acceleration). */
-    exdex_scene_def d = vertical(0.3, 1.0);
+    exdex_scene_def d = scene_vertical(0.3, 1.0);
     sim_run r;
     d.mu = 0.0;
     ENSURE(sim_run_def(&d, 0.7, 1e-3, &r) == EXDEX_OK);
@@ -41,7 +29,7 @@ EXDEX_TEST(sim_block_sliding_constant_acceleration)
 {
     /* Capacity 0.6 m g < m g: slides down at a = -(1 - 0.6) g from rest,
      * friction force +0.6 m g throughout; s(1) = -0.2 g. */
-    exdex_scene_def d = vertical(0.2, 0.6);
+    exdex_scene_def d = scene_vertical(0.2, 0.6);
     sim_run r;
     ENSURE(sim_run_def(&d, 1.0, 1e-3, &r) == EXDEX_OK);
     ENSURE_CLOSE(r.tr.q[r.tr.n - 1], ref("sim_slide_1s"), 1e-12);
@@ -58,7 +46,7 @@ EXDEX_TEST(sim_rest_inside_ellipsoid_exactly_still_10s)
 {
     /* Load m g inside the capacity (1.01 m g): the object must not move at
      * all, bit for bit, for 10 s, and every step must report stick. */
-    exdex_scene_def d = vertical(0.1, 1.01);
+    exdex_scene_def d = scene_vertical(0.1, 1.01);
     sim_run r;
     int moved = 0, slipped = 0;
     d.q0[0] = 0.003;
@@ -133,14 +121,7 @@ EXDEX_TEST(sim_euler_term_alone)
     d.mu = 0.0;
     d.gravity[2] = 0.0;
     d.dof = EXDEX_DOF_ROTATION;
-    d.motion.kind = EXDEX_MOTION_ASYMMETRIC;
-    d.motion.rotation = 1;
-    d.motion.axis[0] = 0.0;
-    d.motion.axis[1] = -1.0;
-    d.motion.axis[2] = 0.0;
-    d.motion.amplitude = 1.0;
-    d.motion.duration = 1.0;
-    d.motion.beta = 0.7;
+    scene_eq7(&d, 1, 0.0, -1.0, 0.0, 1.0, 1.0, 0.7);
     ENSURE(sim_run_def(&d, 2.5, 1e-3, &r) == EXDEX_OK);
     for (size_t i = 0; i < r.tr.n; i += 11) {
         double s, sd, sdd;
@@ -167,14 +148,7 @@ EXDEX_TEST(sim_centrifugal_term_alone)
     d.slide_axis[0] = 1.0;
     d.slide_axis[1] = 0.0;
     d.q0[0] = s0;
-    d.motion.kind = EXDEX_MOTION_TRAPEZOID;
-    d.motion.rotation = 1;
-    d.motion.axis[0] = 0.0;
-    d.motion.axis[1] = -1.0;
-    d.motion.axis[2] = 0.0;
-    d.motion.amplitude = w * 1.0;
-    d.motion.duration = 1.0;
-    d.motion.v_max = w;
+    scene_trapezoid(&d, 1, 0.0, -1.0, 0.0, w * 1.0, 1.0, w);
     ENSURE(sim_run_def(&d, 1.0, 1e-4, &r) == EXDEX_OK);
     for (size_t i = 0; i < r.tr.n; i += 1001)
         ENSURE_CLOSE(r.tr.q[i] / (s0 * cosh(w * r.tr.t[i])), 1.0, 2e-7);
@@ -241,19 +215,13 @@ EXDEX_TEST(sim_fig3_matches_closed_form)
      * relative displacement matches the independent closed form above and
      * the hand derivation in reference.dat, and the object is exactly still
      * after the motion. */
-    exdex_scene_def d = vertical(0.1, 1.5 / (0.1 * G));
+    exdex_scene_def d = scene_vertical(0.1, 1.5 / (0.1 * G));
     sim_run r;
     double t_sw[4] = {0.0, 0.45, 0.55, 1.0};
     double aH = 2 * 0.1 / (0.9 * 0.25), aL = 2 * 0.1 / (0.1 * 0.25);
     double acc[3] = {-aH, aL, -aH}, xcf;
     int still = 1;
-    d.motion.kind = EXDEX_MOTION_ASYMMETRIC;
-    d.motion.axis[0] = 0.0;
-    d.motion.axis[1] = 0.0;
-    d.motion.axis[2] = -1.0;
-    d.motion.amplitude = 0.1;
-    d.motion.duration = 0.5;
-    d.motion.beta = 0.9;
+    scene_eq7(&d, 0, 0.0, 0.0, -1.0, 0.1, 0.5, 0.9);
     xcf = vertical_closed_form(G, 15.0, t_sw, acc, 3, NULL);
     ENSURE_CLOSE(xcf, ref("sim_fig3_grip1p5_final"), 1e-15);
     ENSURE(sim_run_def(&d, 1.5, 1e-4, &r) == EXDEX_OK);
@@ -271,23 +239,13 @@ EXDEX_TEST(sim_stop_never_penetrated_and_force)
      * stop while the gripper moves down 5 cm (trapezoid, v_max 0.12 m/s in
      * 0.5 s). Gap never negative; relative displacement +5 cm; while the
      * plates slide past, the stop carries m g + capacity. */
-    exdex_scene_def d = vertical(0.1, 1.5 / (0.1 * G));
+    exdex_scene_def d = scene_vertical(0.1, 1.5 / (0.1 * G));
     sim_run r;
-    d.n_vertices = 4;
-    d.vertices[0][0] = -0.01; d.vertices[0][1] = -0.02;
-    d.vertices[1][0] = 0.01;  d.vertices[1][1] = -0.02;
-    d.vertices[2][0] = 0.01;  d.vertices[2][1] = 0.02;
-    d.vertices[3][0] = -0.01; d.vertices[3][1] = 0.02;
+    scene_rect(&d, 0.01, 0.02);
     d.n_stops = 1;
     d.stop_point[0][2] = -0.02;
     d.stop_normal[0][2] = 1.0;
-    d.motion.kind = EXDEX_MOTION_TRAPEZOID;
-    d.motion.axis[0] = 0.0;
-    d.motion.axis[1] = 0.0;
-    d.motion.axis[2] = -1.0;
-    d.motion.amplitude = 0.05;
-    d.motion.duration = 0.5;
-    d.motion.v_max = 0.12;
+    scene_trapezoid(&d, 0, 0.0, 0.0, -1.0, 0.05, 0.5, 0.12);
     ENSURE(sim_run_def(&d, 1.0, 1e-4, &r) == EXDEX_OK);
     ENSURE(r.st.min_gap >= -1e-15);
     ENSURE_CLOSE(r.tr.q[r.tr.n - 1], 0.05, 1e-7);
@@ -302,17 +260,13 @@ EXDEX_TEST(sim_planar_box_falls_onto_tilted_stop)
     /* A planar box released with slip under gravity onto a stop tilted by
      * 20 deg: it lands on a corner, turns and slides; no vertex may ever be
      * beyond the plane (after-step gap >= 0 up to rounding). */
-    exdex_scene_def d = vertical(0.1, 0.3);
+    exdex_scene_def d = scene_vertical(0.1, 0.3);
     sim_run r;
     double a = 20.0 * 3.14159265358979 / 180.0;
     d.dof = EXDEX_DOF_PLANAR;
     d.inertia[8] = 0.1 * (0.02 * 0.02 + 0.04 * 0.04) / 12.0;
     d.e_r = 0.01;
-    d.n_vertices = 4;
-    d.vertices[0][0] = -0.01; d.vertices[0][1] = -0.02;
-    d.vertices[1][0] = 0.01;  d.vertices[1][1] = -0.02;
-    d.vertices[2][0] = 0.01;  d.vertices[2][1] = 0.02;
-    d.vertices[3][0] = -0.01; d.vertices[3][1] = 0.02;
+    scene_rect(&d, 0.01, 0.02);
     d.n_stops = 1;
     d.stop_point[0][2] = -0.06;
     d.stop_normal[0][0] = sin(a);
@@ -353,21 +307,11 @@ EXDEX_TEST(sim_planar_box_slides_flat_along_stop)
     d.gravity[0] = G * 12.0 / 13.0;  /* B x = A x, B y = A z (default R0) */
     d.gravity[1] = 0.0;
     d.gravity[2] = G * 5.0 / 13.0;
-    d.n_vertices = 4;
-    d.vertices[0][0] = -0.03125; d.vertices[0][1] = -0.015625;
-    d.vertices[1][0] = 0.03125;  d.vertices[1][1] = -0.015625;
-    d.vertices[2][0] = 0.03125;  d.vertices[2][1] = 0.015625;
-    d.vertices[3][0] = -0.03125; d.vertices[3][1] = 0.015625;
+    scene_rect(&d, 0.03125, 0.015625);
     d.n_stops = 1;
     d.stop_point[0][2] = 0.015625;
     d.stop_normal[0][2] = -1.0;
-    d.motion.kind = EXDEX_MOTION_ASYMMETRIC;
-    d.motion.axis[0] = -5.0 / 13.0;
-    d.motion.axis[1] = 0.0;
-    d.motion.axis[2] = 12.0 / 13.0;
-    d.motion.amplitude = -0.125;
-    d.motion.duration = 0.25;
-    d.motion.beta = 0.75;
+    scene_eq7(&d, 0, -5.0 / 13.0, 0.0, 12.0 / 13.0, -0.125, 0.25, 0.75);
     for (int k = 0; k < 3; k++) {
         double dt = k == 0 ? 2e-4 : k == 1 ? 1e-3 : 4e-3;
         ENSURE(sim_run_def(&d, 0.45, dt, &r) == EXDEX_OK);
@@ -382,19 +326,12 @@ EXDEX_TEST(sim_planar_box_slides_flat_along_stop)
 
 EXDEX_TEST(sim_determinism_bit_identical)
 {
-    exdex_scene_def d = vertical(0.1, 0.8);
+    exdex_scene_def d = scene_vertical(0.1, 0.8);
     sim_run a, b;
     d.dof = EXDEX_DOF_PLANAR;
     d.inertia[8] = 1e-4;
     d.patch_center[0] = 0.01;
-    d.motion.kind = EXDEX_MOTION_ASYMMETRIC;
-    d.motion.rotation = 1;
-    d.motion.axis[0] = 0.0;
-    d.motion.axis[1] = -1.0;
-    d.motion.axis[2] = 0.0;
-    d.motion.amplitude = 1.0;
-    d.motion.duration = 0.5;
-    d.motion.beta = 0.7;
+    scene_eq7(&d, 1, 0.0, -1.0, 0.0, 1.0, 0.5, 0.7);
     ENSURE(sim_run_def(&d, 1.0, 1e-3, &a) == EXDEX_OK);
     ENSURE(sim_run_def(&d, 1.0, 1e-3, &b) == EXDEX_OK);
     ENSURE(memcmp(a.tr.q, b.tr.q, a.tr.n * 3 * sizeof(double)) == 0);
@@ -407,7 +344,7 @@ EXDEX_TEST(sim_kinetic_energy_never_increases_at_rest_gripper)
 {
     /* Gripper at rest, no gravity: only friction acts, so the relative
      * kinetic energy may never increase from one step to the next. */
-    exdex_scene_def d = vertical(0.1, 1.0);
+    exdex_scene_def d = scene_vertical(0.1, 1.0);
     sim_run r;
     int ok = 1;
     d.gravity[2] = 0.0;

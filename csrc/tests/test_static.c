@@ -191,11 +191,7 @@ EXDEX_TEST(static_equal_is_bit_identical)
             if (planar) {
                 d.dof = EXDEX_DOF_PLANAR;
                 d.patch_center[0] = 0.01;
-                d.n_vertices = 4;
-                d.vertices[0][0] = -0.03, d.vertices[0][1] = -0.03;
-                d.vertices[1][0] = 0.03, d.vertices[1][1] = -0.03;
-                d.vertices[2][0] = 0.03, d.vertices[2][1] = 0.03;
-                d.vertices[3][0] = -0.03, d.vertices[3][1] = 0.03;
+                scene_rect(&d, 0.03, 0.03);
                 d.n_stops = 1;
                 d.stop_point[0][2] = -0.1;
                 d.stop_normal[0][2] = 1.0;

@@ -8,6 +8,7 @@
  *   the midpoint rule is exact for a constant acceleration, the event
  *   method integrates it to its tolerance. */
 #include "check.h"
+#include "sim_run.h"
 #include "../exdex.h"
 
 #include <math.h>
@@ -18,17 +19,8 @@
 
 static exdex_scene_def vertical(int method)
 {
-    exdex_scene_def d = exdex_default_scene_def();
-    d.mass = 0.2;
-    d.mu = 0.5;
-    d.grip_force = 1.5 * d.mass * G / (2 * d.mu);
-    d.motion.kind = EXDEX_MOTION_ASYMMETRIC;
-    d.motion.axis[0] = 0.0;
-    d.motion.axis[1] = 0.0;
-    d.motion.axis[2] = -1.0;
-    d.motion.amplitude = 0.1;
-    d.motion.duration = 0.2;
-    d.motion.beta = 0.8;
+    exdex_scene_def d = scene_vertical(0.2, 1.5);
+    scene_eq7(&d, 0, 0.0, 0.0, -1.0, 0.1, 0.2, 0.8);
     d.method = method;
     return d;
 }
@@ -44,11 +36,7 @@ static exdex_scene_def planar(int method)
     d.mu = 0.4;
     d.grip_force = 0.9;
     d.dof = EXDEX_DOF_PLANAR;
-    d.n_vertices = 4;
-    d.vertices[0][0] = -hx; d.vertices[0][1] = -hx;
-    d.vertices[1][0] = hx;  d.vertices[1][1] = -hx;
-    d.vertices[2][0] = hx;  d.vertices[2][1] = hx;
-    d.vertices[3][0] = -hx; d.vertices[3][1] = hx;
+    scene_rect(&d, hx, hx);
     d.n_stops = 1;
     d.stop_point[0][2] = -0.03;
     d.stop_normal[0][2] = 1.0;
