@@ -159,8 +159,11 @@
  *     plastic, with no plate impulse (the grip force is finite): v is
  *     projected onto G v >= -dgap/dt|_q (no approach) of the touching rows
  *     in the M metric (ldp_project), with Coulomb friction at frictional
- *     rows (sf_impact), the impulses counted in the stop force integrals;
- *     the rows left touching at rate ~0 that push join the contact set;
+ *     rows at every approach speed (sf_impact), the impulses counted in the
+ *     stop force integrals; the rows left touching at rate ~0 that push
+ *     join the contact set; event, frictional rows touching a rest: a stop
+ *     whose path turns back within tol.rest_gap of the held pose is a
+ *     contact of the rest, not an impact (sf_graze);
  *   in contact: qdd = M^-1 (F + friction + G^T lam), lam >= 0 the LCP
  *     G M^-1 G^T lam = -(G M^-1 (F + friction) + Gdot v) with complementarity
  *     (the M-metric projection of the free acceleration, ldp_project); after each
@@ -857,24 +860,11 @@ static void contact_acc_planar(hyb *H, const exdex_kinematics *kin, const double
  * (ldp_project), which is solved first: where no frictional row carries an
  * impulse there, that projection is the answer, and the arithmetic is that
  * of frictionless stops bit for bit.
- * An impact whose frictional rows are approached slower than SLIP_PUSH zsw
- * (b_i - G_i v) is taken frictionless: a push the band takes as none, as
- * a slip the stops push on below SLIP_PUSH zsw is a rest (decide_modes).
- * Its normal impulse is O(M zsw), but the friction of a stop sliding past
- * the object adds up to mu times it along the tangent, which near a
- * Painleve configuration (the friction nearly cancelling the normal
- * impulse's effect on the gap) moves the object at many times the push;
- * at such rates that velocity is of the order of the slips the band does
- * not resolve (it decides them from the load: stop, small slip), and
- * applying it turns a stop touching a resting object again at a rate of
- * the order of zsw (its return to where its push left the object, a
- * tangency: rate 0 in the limit zsw -> 0) into a slip that the stop's
- * friction drags on, and a small slip creeping along a receding stop into
- * an endless cycle of impacts and slip / small-slip switches. The implicit
- * step, whose plates' static impulse over a step h holds the object
- * against a friction impulse below cap h, does the same at every practical
- * h (the two differ only for h below mu M SLIP_PUSH zsw / cap, ~1e-6 of the
- * scene's time scale). */
+ * Friction applies at every approach speed: the impulses scale with the
+ * approach, the law does not. The one touch that is not an impact is a
+ * stop grazing a resting object within the rest's own tolerance
+ * (sf_graze): there the rows join the rest as contacts, at the
+ * acceleration level. */
 
 /* Coulomb coefficient of planar row r at (kin, y) and, when > 0, its slip
  * row: s = T v + tb along the tangent in the plate plane (stop rows:
@@ -896,14 +886,54 @@ static double hrow_friction_planar(const hyb *H, const exdex_kinematics *kin, in
     return mu;
 }
 
+/* A stop touching a resting object at a tangency of its path (event
+ * method, v = 0 held exactly by a rest): is every row that the touching
+ * stops drive into the object (approach b_i > tol.rate at v = 0) a graze
+ * the rest already tolerates? At the held pose the gap is a function of t
+ * alone, gap(t) = -b_i (t - t0) + gdd0_i (t - t0)^2 / 2 + ..., gdd0_i its
+ * acceleration at v = 0: with gdd0_i > 0 the stop's path turns back after
+ * reaching at most b_i^2 / (2 gdd0_i) into the held pose. Where that is
+ * within tol.rest_gap for every such row, the touch is a contact of the
+ * rest (the rows join its contact set, the rest split with the stops'
+ * friction decides whether it holds, and the rest ends where a row's gap
+ * leaves +-tol.rest_gap), not an impact: a rest against stops moving in B
+ * holds q exactly while their gaps stay within +-tol.rest_gap, so a dip
+ * below that is below the resolution of the held pose (an exact tangency,
+ * rate 0, arrives at a rate up to sqrt(2 gdd0 tol.rest_gap) from the held
+ * pose's offset). An impulse there would be the Coulomb impulse of an
+ * approach that the held pose does not determine: near a Painleve
+ * configuration of the stop's friction (the friction nearly cancelling the
+ * normal impulse's effect on the gap) it moves the object at many times
+ * the approach, where the exact motion stays at rest. A stop whose path
+ * keeps approaching (gdd0_i <= 0: a stop moving at a constant or growing
+ * rate into the object), or dips deeper, strikes it: the impact with
+ * Coulomb friction, at every approach speed. Returns 1 for a graze. */
+static int sf_graze(const hyb *H, const exdex_kinematics *kin, const double *y, int n, const int *rows, const double *b)
+{
+    const exdex_model *m = H->m;
+    double zero[3] = {0.0, 0.0, 0.0};
+    int any = 0;
+    if (H->law != LAW_COULOMB || y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0) return 0;
+    for (int i = 0; i < n; i++) {
+        double G[3], gd = 0.0, gdd0 = 0.0;
+        if (!(b[i] > m->tol.rate)) continue;
+        hrow_planar(H, kin, rows[i], y, zero, G, &gd, &gdd0);
+        if (!(gdd0 > 0.0 && b[i] * b[i] <= 2.0 * gdd0 * m->tol.rest_gap)) return 0;
+        any = 1;
+    }
+    return any;
+}
+
 /* The planar impact with friction at (kin, y): rows (their G, bounds b as
  * planar_impact_and_set builds them: the touching rows), v and lam the
  * frictionless impact (ldp_project), replaced by the frictional one when a
- * frictional row carries an impulse in it and is approached at SLIP_PUSH
- * zsw or faster (above). Where fcontact.h finds no consistent mode (none
- * among its candidates: fc_solve) the frictionless
- * impact stands and a warning is counted. Returns 1 if v and lam were
- * replaced. */
+ * frictional row carries an impulse in it and some row is approached
+ * (b_i - G_i v > tol.rate: below that a row's rate is 0 to the method, as
+ * for the contact set and the impact count, and the projection only
+ * removes rounding). Where fcontact.h finds no consistent mode (none
+ * among its candidates: fc_solve) the frictionless impact stands and a
+ * warning is counted. Returns 1 if v and lam were replaced, 2 for a graze
+ * of a rest (sf_graze: no impulse, v and lam untouched), else 0. */
 static int sf_impact(hyb *H, const exdex_kinematics *kin, const double *y, int n, const int *rows,
                      const double (*Gr)[3], const double *b, double v[3], double *lam)
 {
@@ -912,11 +942,14 @@ static int sf_impact(hyb *H, const exdex_kinematics *kin, const double *y, int n
     fc_problem p;
     fc_result res;
     unsigned char hint[MAX_ROWS];
-    double lf[MAX_ROWS], bf[MAX_ROWS], T[3], tb, push = 0.0;
-    for (int i = 0; i < n; i++)
-        if (lam[i] > 0.0 && hrow_friction_planar(H, kin, rows[i], y, T, &tb) > 0.0)
-            push = fmax(push, b[i] - ex_dot3(Gr[i], y + 3));
-    if (!(push >= SLIP_PUSH * H->zsw)) return 0;
+    double lf[MAX_ROWS], bf[MAX_ROWS], T[3], tb;
+    int fric = 0, approach = 0;
+    for (int i = 0; i < n; i++) {
+        if (lam[i] > 0.0 && hrow_friction_planar(H, kin, rows[i], y, T, &tb) > 0.0) fric = 1;
+        if (b[i] - ex_dot3(Gr[i], y + 3) > m->tol.rate) approach = 1;
+    }
+    if (!fric || !approach) return 0;
+    if (sf_graze(H, kin, y, n, rows, b)) return 2;
     if (n > LDP_MAX_ROWS / 2) {
         H->st->warnings++;
         return 0;
@@ -955,6 +988,51 @@ static int sf_impact(hyb *H, const exdex_kinematics *kin, const double *y, int n
     return 1;
 }
 
+/* The hold of a face landing flat (planar_impact_and_set) on frictional
+ * stops: the held rows' normal rates are taken as 0 below zsw; a held
+ * frictional stop whose slip along it is below zsw there too is decided
+ * sticking (sf_decide) and its slip projected to 0 on the contact set with
+ * inequality rows (sf_project_stick), which can lift a corner of the face
+ * just held flat again (the tangential impulse's torque) and restart the
+ * cascade the hold ends. Both are the same band: the hold takes the slip
+ * to 0 with the normal rates, in one M-metric projection (the held rows as
+ * equality pairs G2 v = b2 and, per held frictional stop with |T v2 + tb|
+ * <= zsw, T v = -tb at its first held row). v2 and lam2 (the normal pairs'
+ * multipliers, first n2 entries) are replaced when that projection
+ * succeeds with finite multipliers. */
+static void sf_hold_stick(hyb *H, const exdex_kinematics *kin, const double *y, int n, const int *rows,
+                          const double (*Gr)[3], const double *b, int n2, double (*G2)[3], double *b2, double *v2,
+                          double *lam2)
+{
+    double G3[2 * MAX_ROWS + 2 * NSRC_MAX][3], b3[2 * MAX_ROWS + 2 * NSRC_MAX], lam3[2 * MAX_ROWS + 2 * NSRC_MAX], v3[3];
+    int done[NSRC_MAX] = {0}, n3 = n2, add = 0;
+    memcpy(G3, G2, (size_t)n2 * sizeof *G3);
+    memcpy(b3, b2, (size_t)n2 * sizeof *b3);
+    for (int i = 0; i < n; i++) {
+        double T[3], tb, rate = ex_dot3(Gr[i], y + 3) - b[i];
+        int src = hrow_src(H, rows[i]);
+        if (rate > H->zsw || done[src]) continue;
+        done[src] = 1;
+        if (!(hrow_friction_planar(H, kin, rows[i], y, T, &tb) > 0.0)) continue;
+        if (!(fabs(ex_dot3(T, v2) + tb) <= H->zsw)) continue;
+        for (int c = 0; c < 3; c++) {
+            G3[n3][c] = T[c];
+            G3[n3 + 1][c] = -T[c];
+        }
+        b3[n3] = -tb;
+        b3[n3 + 1] = tb;
+        n3 += 2;
+        add = 1;
+    }
+    if (!add || !ldp_project(H->m->minv, n3, (const double (*)[3])G3, b3, y + 3, FQ_MIN, v3, lam3,
+                             &H->st->stop_iterations, &H->st->warnings))
+        return;
+    for (int i = 0; i < n3; i++)
+        if (!isfinite(lam3[i])) return;
+    memcpy(v2, v3, sizeof v3);
+    memcpy(lam2, lam3, (size_t)n2 * sizeof *lam2);
+}
+
 /* Impacts of a planar object on the touching rows (gap <= tol.touch) at
  * (t, y): the plastic impact projects v onto G v >= -(gd - G v) (no
  * approach) in the M metric; with frictional rows carrying an impulse
@@ -966,7 +1044,7 @@ static void planar_impact_and_set(hyb *H, double t, const exdex_kinematics *kin,
 {
     const exdex_model *m = H->m;
     double Gr[MAX_ROWS][3], b[MAX_ROWS], lam[MAX_ROWS], v[3], ga[MAX_ROWS], gda[MAX_ROWS];
-    int rows[MAX_ROWS], n = 0, na = hrow_all_planar(H, kin, y, rows, Gr, ga, gda);
+    int rows[MAX_ROWS], n = 0, na = hrow_all_planar(H, kin, y, rows, Gr, ga, gda), graze = 0;
     for (int i = 0; i < na; i++) {
         if (ga[i] > m->tol.touch) continue;
         memcpy(Gr[n], Gr[i], sizeof Gr[n]);
@@ -977,7 +1055,13 @@ static void planar_impact_and_set(hyb *H, double t, const exdex_kinematics *kin,
     if (!n) return;
     if (ldp_project(m->minv, n, (const double (*)[3])Gr, b, y + 3, FQ_MIN, v, lam, &H->st->stop_iterations, &H->st->warnings)) {
         double G2[2 * MAX_ROWS][3], b2[2 * MAX_ROWS], lam2[2 * MAX_ROWS], v2[3];
-        if (H->sfric) sf_impact(H, kin, y, n, rows, (const double (*)[3])Gr, b, v, lam);
+        if (H->sfric) graze = sf_impact(H, kin, y, n, rows, (const double (*)[3])Gr, b, v, lam) == 2;
+        if (graze) {
+            /* a graze of a rest (sf_graze): no impulse, the rows join the
+             * rest's contact set */
+            memcpy(v, y + 3, sizeof v);
+            for (int i = 0; i < n; i++) lam[i] = 0.0;
+        }
         double per_stop[NSRC_MAX] = {0};
         int n2 = 0, lift = 0;
         for (int i = 0; i < n; i++) {
@@ -1032,6 +1116,7 @@ static void planar_impact_and_set(hyb *H, double t, const exdex_kinematics *kin,
                 if (net[k] > 0.0) pull = 0;
             for (int k = 0; k < H->ns + H->no; k++)
                 if (!isfinite(net[k])) pull = 1;
+            if (!pull && H->sfric) sf_hold_stick(H, kin, y, n, rows, (const double (*)[3])Gr, b, n2, G2, b2, v2, lam2);
             for (int i = 0, r = 0; !pull && i < n; i++) {
                 double rate = ex_dot3(Gr[i], y + 3) - b[i];
                 if (rate > H->zsw) continue;
@@ -1043,7 +1128,7 @@ static void planar_impact_and_set(hyb *H, double t, const exdex_kinematics *kin,
     }
     for (int i = 0; i < n; i++) {
         double rate = ex_dot3(Gr[i], y + 3) - b[i];
-        if (fabs(rate) <= m->tol.rate) H->cs[H->ncs++] = rows[i];
+        if (fabs(rate) <= m->tol.rate || (graze && rate < 0.0)) H->cs[H->ncs++] = rows[i];
     }
 }
 
@@ -1756,6 +1841,13 @@ static int guards(hyb *H, double t, const double *y, double *g)
             if (H->ss != 0.0) contact_slip_1dof(H, &kin, q, v, &T);
             R = H->M * contact_qdd(&c, v) - model_force_1dof(m, &f, q, v);
             if (H->law == LAW_COULOMB && H->s == 0.0) {
+                /* at rest against the stop (q and the stop at rest in B,
+                 * |qd| <= tol.vzero): the load at rest, R = -Q(q, 0), the
+                 * same number that the decision at its end tests against
+                 * C_s (decide_modes), so a rest that ends there is not
+                 * taken up again as a stick and left by the stick guard at
+                 * once */
+                R = -model_force_1dof(m, &f, q, 0.0);
                 g[n++] = fmax(R / contact_dir(H, &c, T), H->caps * (1.0 + TOLF) - fabs(R));
                 g[n++] = m->tol.vzero - fabs(v);
             } else {
@@ -1979,13 +2071,28 @@ static void decide_modes(hyb *H, double t, double *y, int vzero)
                 if (fabs(v) > m->tol.vzero && !vzero) {
                     H->s = v > 0 ? 1.0 : -1.0;
                 } else {
-                    double a = contact_qdd(&c, 0.0);
-                    H->s = a > 0 ? 1.0 : a < 0 ? -1.0 : 0.0;
+                    /* the stop at rest in B: the object slides with it in
+                     * the direction of its acceleration, or rests against
+                     * it (s = 0: static friction, the stick test at C_s)
+                     * where that acceleration is 0. An acceleration that
+                     * gains less than tol.vzero of speed over the time
+                     * scale T counts as 0: a stop fixed in B (a gripper
+                     * moving along it) has Ftt of a few ulps, whose sign
+                     * must not choose a sliding contact (kinetic friction
+                     * of a sign set by rounding, the rest ending at C
+                     * instead of C_s); a real acceleration that small
+                     * reaches tol.vzero, where the rest's guard decides
+                     * again, after at least T */
+                    double a = contact_qdd(&c, 0.0), a0 = m->tol.vzero / m->scale.T;
+                    H->s = a > a0 ? 1.0 : a < -a0 ? -1.0 : 0.0;
                     v = 0.0;
                 }
             }
             Q = model_force_1dof(m, &f, q, v);
-            R = H->M * contact_qdd(&c, v) - Q;
+            /* a rest (s = 0): the stop's acceleration counts as 0 (above),
+             * the load is the one at rest that the stick test below and the
+             * rest's guard use */
+            R = H->law == LAW_COULOMB && H->s == 0.0 ? -Q : H->M * contact_qdd(&c, v) - Q;
             {
                 /* a frictional stop: the friction opposes the vertex's slip
                  * along it (located guards put a reversal just past its
@@ -3025,9 +3132,15 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                 same = t == t_event ? same + 1 : 0;
                 t_event = t;
                 /* the first guard of 1-DoF slip (and of moving contact, the
-                 * second) is the slip speed: it stopped */
+                 * second) is the slip speed: it stopped. A rest against a
+                 * stop (1-DoF contact, s = 0) ends at its first guard (the
+                 * stop no longer pushes and the load leaves the static
+                 * capacity) from rest: the velocity it carries is the
+                 * stop's, below tol.vzero (its second guard), whose sign
+                 * must not choose a slip */
                 vz = (nd == 1 && H.mode == MODE_SLIP && e_best == 0) ||
-                     (H.mode == MODE_CONTACT && H.law == LAW_COULOMB && H.s != 0.0 && e_best == 1);
+                     (H.mode == MODE_CONTACT && H.law == LAW_COULOMB && H.s != 0.0 && e_best == 1) ||
+                     (nd == 1 && H.mode == MODE_CONTACT && H.law == LAW_COULOMB && H.s == 0.0 && e_best == 0);
                 if (nd == 3 && H.mode == MODE_SLIP && law == LAW_COULOMB && e_best < 2) {
                     /* planar: a small slip stops (guard 0) or has grown
                      * (guard 1: on as a slip, no stop); a slip decays below

@@ -29,18 +29,20 @@
  * velocity).
  *
  * Static and kinetic friction (capacities C_s = mu_static N >= C = mu N):
- * each step first tries to stick with the static capacity (the impulse that
- * makes v+ = 0, stops included, inside the ellipsoid of capacity h C_s);
- * if it cannot, the step slides with the kinetic capacity h C (the
- * maximum-dissipation impulse on that ellipsoid). A step that starts at rest
- * thus breaks away once the load leaves the static ellipsoid; a slip sticks
- * in the first step whose impulse without friction, M v*, lies in the static
- * ellipsoid of the step. That happens when the slip speed is within h (C_s +
- * |Q|) / M of 0, so a slip can stick one step before its velocity under the
- * kinetic law would have reversed: an O(h) error of the stick time, as the
- * method's other switching errors. (Sliding never reverses the velocity:
- * outside the static ellipsoid the kinetic impulse cannot stop it.) With
- * mu_static = mu the two capacities are the same number and the step is the
+ * a step that starts at rest sticks with the static capacity (the impulse
+ * that makes v+ = 0, stops included, inside the ellipsoid of capacity h
+ * C_s) and else slides with the kinetic capacity h C (the
+ * maximum-dissipation impulse on that ellipsoid): it breaks away once the
+ * load leaves the static ellipsoid. A step that starts slipping is solved
+ * with the kinetic capacity alone: it ends at rest where the kinetic
+ * impulse can stop the slip within the step, and where the kinetic step
+ * passes the slip through zero (1-DoF: v+ reverses; planar: restick_planar)
+ * the slip stopped inside the step and the static capacity decides whether
+ * it stays (slip_stop_in_step). So slip -> stick needs the slip to reach
+ * zero under the kinetic law, as in the exact solution: a slip that slows
+ * to a speed below h C_s / M without stopping slides on (a static test on
+ * it would stick it, an O(1) error however short the step). With mu_static
+ * = mu the two capacities are the same number and the step is the
  * one-coefficient step.
  *
  * Where the slip stops inside a step, the step's end state is that of the
@@ -64,6 +66,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_odeiv2.h>
+
 /* Mutable per-call workspace (nothing is allocated in the step loop). */
 typedef struct work {
     exdex_friction_ws *fws;
@@ -85,6 +90,11 @@ typedef struct work {
     int fmode[MAX_ROWS];     /* each row's contact mode in the last frictional solve (fcontact.h) */
     contact_point cpt[MAX_ROWS];  /* where each obstacle row acts (build_rows; rows from n_stops nv on) */
     model_sw_cache swc;           /* model_substep's */
+    /* the in-step slip stop's integrator (slip_stop_in_step_planar; planar
+     * models only, NULL otherwise) */
+    gsl_odeiv2_step *slip_step;
+    gsl_odeiv2_control *slip_con;
+    gsl_odeiv2_evolve *slip_evo;
 } work;
 
 /* ------------------------------------------------------------ stops */
@@ -154,7 +164,7 @@ static void build_rows_or_none(const exdex_model *m, const exdex_kinematics *kin
 }
 
 /* 1-DoF step: min 1/2 M (v - vs)^2 + c |v| subject to G_i v >= rhs_i
- * (c the kinetic capacity of the step; the stick test uses the static cs).
+ * (c the kinetic capacity of the step, cs the capacity of its stick test).
  * Exact: soft-threshold, then clamp into the feasible interval. The impulse
  * split is unique while sliding (friction = capacity, the binding stop the
  * rest). At rest (v+ = 0) against a touching stop it is statically
@@ -394,90 +404,163 @@ static void ejf(const exdex_model *m, const double cs[2], const double v[3], dou
 
 /* The planar form of slip_stop_in_step, for a step that starts slipping
  * (v != 0) and ends at rest with no stop impulse. The slip under the step's
- * applied force F (held constant) and kinetic friction obeys
+ * applied force F (held constant, as the orientation cs) and kinetic
+ * friction obeys
  *     M vdot = F + J^T w,   w = -C E z / |z|,   z = E J v
  * (the patch wrench opposing the scaled slip z, ejf; C the kinetic
- * capacity), a direction that turns as the slip decays unless F and M are
- * aligned with it: no closed form. Over an interval on which the friction
- * keeps its direction the momentum balance gives the stop time t from the
- * slip v0 at its start: the friction impulse -(M v0 + F t) has the norm C t
- * of the rest test (try_rest: |E^-1 w| of the patch wrench of a generalized
- * impulse), so with a, b those vectors of M v0 and F,
- *     (C^2 - b.b) t^2 - 2 a.b t - a.a = 0,
- *     t = (a.b + sqrt((a.b)^2 + (C^2 - b.b) a.a)) / (C^2 - b.b)
- * (1-DoF: |M v0| / (C - s Q)), and it moves v0 t / 2. The slip is integrated
- * (classical Runge-Kutta, 4th order) in pieces of a sixteenth of that
- * estimate from v, each piece first testing whether the estimate from its
- * start ends inside it; that last piece takes the estimate, whose error is
- * second order in the friction's turn over it. Applied when the load at
- * rest is held (|b| <= C_s: the object stays at rest after the stop) and the
- * slip stops before h; otherwise (a load beyond the static capacity breaks
- * away at once, or no stop within 64 pieces or before h) the step keeps its
- * own end state, q + h v / 2 at rest. Returns 1 and sets dq (the step's
- * displacement) when applied. */
-static double stop_time_planar(const exdex_model *m, const double cs[2], double C, const double v[3],
-                               const double b[3], double bb)
-{
-    double P[3], a[3], ab, aa, den = C * C - bb;
-    for (int i = 0; i < 3; i++) P[i] = v[i] / m->minv[i];
-    model_patch_of_gen(m, cs, P, a);
-    for (int i = 0; i < 3; i++) a[i] /= m->e[i];
-    ab = ex_dot3(a, b);
-    aa = ex_dot3(a, a);
-    return (ab + sqrt(ab * ab + den * aa)) / den;
-}
+ * capacity). M^-1 commutes with the plane rotation in J, so
+ *     zdot = A (b - C z / |z|),   A = E J' M^-1 J'^T E,
+ * b = E^-1 J^-T F (the load of try_rest's test; z . b is the rate at which F
+ * feeds the slip). The friction's direction turns as the slip decays, unless
+ * F and A are aligned with it, at a rate ~ C |A| / |z| that grows without
+ * bound as z -> 0 (towards A's weakest directions, where the object can
+ * still move most: often a slow spin): no closed form, and a fixed division
+ * of the stop time misses the end of the slip. On the slip's own clock
+ * ds = C dt / |z| the law is
+ *     dz/ds = A (b |z| / C - z),   dt/ds = |z| / C,   dZ/ds = z |z| / C
+ * (Z the integral of z over time), Lipschitz and homogeneous of degree 1 in
+ * z: z decays exponentially in s, stiff by A's condition number, while t
+ * converges to the stop time t*. It is integrated by GSL's bsimp (linearly
+ * implicit Bulirsch-Stoer, with the Jacobian below) in the units r0 = |z0|,
+ * a = tr A, C (y = (z / r0, t C a / r0, Z a C / r0^2), s a), until |z| <=
+ * SLIP_END r0; the step's displacement is dq = Rz J'^-1 E^-1 Z. The slip
+ * stops when |b| < C: V = z^T A^-1 z / 2 has dV/dt = z . (b - C z / |z|) <=
+ * -(C - |b|) |z|, so from |z| = r it stops within r / (lmin (C - |b|)) at
+ * speeds |z| <= r sqrt(lmax / lmin) (lmin, lmax A's eigenvalues), and the
+ * part of Z left out is at most r^2 sqrt(lmax / lmin) / (lmin (C - |b|)):
+ * with r = SLIP_END r0 a fraction 1e-20 (lmax / lmin)^(3/2) / (1 - |b| / C)
+ * of r0^2 / (lmax C) (the slide's scale in its stiffest direction). Applied
+ * when the load at rest is held (|b| <= C_s: the object stays at rest after
+ * the stop) and t* < h; otherwise (a load beyond the static capacity
+ * breaks away at once, t* >= h, or the integration fails or takes more than
+ * SLIP_STEPS steps) the step keeps its own end state, q + h v / 2 at rest.
+ * Returns 1 and sets dq (the step's displacement) when applied. */
+#define SLIP_END 1e-10    /* |z| / |z0| where the integration ends */
+#define SLIP_TOL 1e-12    /* its absolute and relative error per step (scaled units) */
+#define SLIP_STEPS 2000   /* its step budget */
+#define SLIP_DIM 7
 
-static int slip_accel_planar(const exdex_model *m, const double cs[2], double C, const double F[3], const double v[3],
-                             double acc[3])
-{
-    double r[3], nr, w[3], P[3];
-    ejf(m, cs, v, r);
-    nr = sqrt(ex_dot3(r, r));
-    if (!(nr > 0.0)) return 0;
-    for (int c = 0; c < 3; c++) w[c] = -C * m->e[c] * r[c] / nr;
-    model_gen_of_patch(m, cs, w, P);
-    for (int c = 0; c < 3; c++) acc[c] = m->minv[c] * (F[c] + P[c]);
-    return 1;
-}
+typedef struct slip_law {
+    double A[3][3];   /* A / a */
+    double b[3];      /* b / C */
+} slip_law;
 
-static int slip_stop_in_step_planar(const exdex_model *m, const double cs[2], double C, double Cs, double h,
-                                    const double v0[3], const double F[3], double dq[3])
+static int slip_rhs(double s, const double y[], double f[], void *par)
 {
-    double b[3], bb, t = 0.0, tau, v[3];
-    model_patch_of_gen(m, cs, F, b);
+    const slip_law *L = par;
+    double r = sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]), d[3];
+    (void)s;
+    for (int i = 0; i < 3; i++) d[i] = L->b[i] * r - y[i];
     for (int i = 0; i < 3; i++) {
-        b[i] /= m->e[i];
-        v[i] = v0[i];
-        dq[i] = 0.0;
+        f[i] = L->A[i][0] * d[0] + L->A[i][1] * d[1] + L->A[i][2] * d[2];
+        f[4 + i] = y[i] * r;
     }
+    f[3] = r;
+    return GSL_SUCCESS;
+}
+
+static int slip_jac(double s, const double y[], double *J, double dfdt[], void *par)
+{
+    const slip_law *L = par;
+    double r = sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]), n[3];
+    (void)s;
+    for (int i = 0; i < 3; i++) n[i] = r > 0.0 ? y[i] / r : 0.0;
+    for (int i = 0; i < SLIP_DIM * SLIP_DIM; i++) J[i] = 0.0;
+    for (int i = 0; i < 3; i++) {
+        /* d/dz of A (b |z| - z): A (b n^T - I) */
+        double Ab = L->A[i][0] * L->b[0] + L->A[i][1] * L->b[1] + L->A[i][2] * L->b[2];
+        for (int j = 0; j < 3; j++) {
+            J[i * SLIP_DIM + j] = Ab * n[j] - L->A[i][j];
+            /* d/dz of z |z|: |z| I + z n^T */
+            J[(4 + i) * SLIP_DIM + j] = (i == j ? r : 0.0) + y[i] * n[j];
+        }
+        J[3 * SLIP_DIM + i] = n[i];   /* d|z|/dz */
+    }
+    for (int i = 0; i < SLIP_DIM; i++) dfdt[i] = 0.0;
+    return GSL_SUCCESS;
+}
+
+static int slip_stop_in_step_planar(const exdex_model *m, work *w, const double cs[2], double C, double Cs,
+                                    double h, const double v0[3], const double F[3], double dq[3])
+{
+    slip_law L;
+    gsl_odeiv2_system sys = {slip_rhs, slip_jac, SLIP_DIM, &L};
+    double b[3], bb, z[3], r0, a = 0.0, y[SLIP_DIM], s = 0.0, ds, tmax, Z[3], u[3];
+    if (!w->slip_evo) return 0;
+    model_patch_of_gen(m, cs, F, b);
+    for (int i = 0; i < 3; i++) b[i] /= m->e[i];
     bb = ex_dot3(b, b);
     if (!(bb <= Cs * Cs) || !(C * C - bb > 0.0)) return 0;
-    tau = stop_time_planar(m, cs, C, v, b, bb) / 16.0;
-    if (!(tau > 0.0) || !(tau < h)) return 0;
-    for (int piece = 0; piece < 64; piece++) {
-        double ts = stop_time_planar(m, cs, C, v, b, bb), k[4][3], vt[3];
-        if (!(ts >= 0.0)) return 0;
-        if (ts <= tau) {
-            if (!(t + ts < h)) return 0;
-            for (int i = 0; i < 3; i++) dq[i] += 0.5 * v[i] * ts;
-            return 1;
-        }
-        /* one RK4 piece of length tau: v' = acc(v), q' = v */
-        if (!slip_accel_planar(m, cs, C, F, v, k[0])) return 0;
-        for (int i = 0; i < 3; i++) vt[i] = v[i] + 0.5 * tau * k[0][i];
-        if (!slip_accel_planar(m, cs, C, F, vt, k[1])) return 0;
-        for (int i = 0; i < 3; i++) vt[i] = v[i] + 0.5 * tau * k[1][i];
-        if (!slip_accel_planar(m, cs, C, F, vt, k[2])) return 0;
-        for (int i = 0; i < 3; i++) vt[i] = v[i] + tau * k[2][i];
-        if (!slip_accel_planar(m, cs, C, F, vt, k[3])) return 0;
+    ejf(m, cs, v0, z);
+    r0 = sqrt(ex_dot3(z, z));
+    if (!(r0 > 0.0) || !isfinite(r0)) return 0;
+    {
+        /* A = E W E, W = J' M^-1 J'^T (J' = [[1, 0, -pc_y], [0, 1, pc_x], [0, 0, 1]]) */
+        double Jp[3][3] = {{1.0, 0.0, -m->pc[1]}, {0.0, 1.0, m->pc[0]}, {0.0, 0.0, 1.0}};
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++) {
+                double sum = 0.0;
+                for (int k = 0; k < 3; k++) sum += Jp[i][k] * m->minv[k] * Jp[j][k];
+                L.A[i][j] = m->e[i] * sum * m->e[j];
+            }
+        for (int i = 0; i < 3; i++) a += L.A[i][i];
+        if (!(a > 0.0) || !isfinite(a)) return 0;
         for (int i = 0; i < 3; i++) {
-            dq[i] += tau * (v[i] + tau * (k[0][i] + k[1][i] + k[2][i]) / 6.0);
-            v[i] += tau * (k[0][i] + 2.0 * k[1][i] + 2.0 * k[2][i] + k[3][i]) / 6.0;
+            for (int j = 0; j < 3; j++) L.A[i][j] /= a;
+            L.b[i] = b[i] / C;
+            y[i] = z[i] / r0;
+            y[4 + i] = 0.0;
         }
-        t += tau;
-        if (!(t < h)) return 0;
+        y[3] = 0.0;
+    }
+    tmax = h * C * a / r0;   /* the step's length in the units of y[3] */
+    if (!(tmax > 0.0)) return 0;
+    gsl_odeiv2_step_reset(w->slip_step);
+    gsl_odeiv2_evolve_reset(w->slip_evo);
+    ds = 1e-3;
+    for (int k = 0; k < SLIP_STEPS; k++) {
+        int st = gsl_odeiv2_evolve_apply(w->slip_evo, w->slip_con, w->slip_step, &sys, &s, INFINITY, &ds, y);
+        if (st != GSL_SUCCESS || !ex_finite_n(y, SLIP_DIM)) return 0;
+        if (!(y[3] < tmax)) return 0;
+        if (y[0] * y[0] + y[1] * y[1] + y[2] * y[2] <= SLIP_END * SLIP_END) {
+            /* Z, then the displacement: u = E^-1 Z, J'^-1 u, rotated by th */
+            double c = cs[0], sn = cs[1], px, py;
+            for (int i = 0; i < 3; i++) Z[i] = y[4 + i] * r0 * r0 / (a * C);
+            for (int i = 0; i < 3; i++) u[i] = Z[i] / m->e[i];
+            px = u[0] + m->pc[1] * u[2];
+            py = u[1] - m->pc[0] * u[2];
+            dq[0] = c * px - sn * py;
+            dq[1] = sn * px + c * py;
+            dq[2] = u[2];
+            return ex_finite_n(dq, 3);
+        }
     }
     return 0;
+}
+
+/* Static and kinetic friction, a step that starts slipping (v != 0) and
+ * slides (the kinetic impulse cannot end it at rest): does the slip stop
+ * inside the step and stay there? Under the kinetic law the slip z = E J v
+ * (ejf) keeps or turns its direction; if the kinetic step's end slip points
+ * against the start's, z(v).z(v+) <= 0, it passed through 0 inside the step,
+ * and there the object is held iff the load lies in the static ellipsoid,
+ * |E^-1 b| <= C_s (b the applied force F as a patch wrench, the test of
+ * slip_stop_in_step_planar). That is the event method's slip -> stick
+ * decision with the step's load; a slip that slows without reaching 0 does
+ * not stick however slow it gets. Applied where no stop row carries an
+ * impulse and rest keeps every row's bound (0 >= rhs). */
+static int restick_planar(const exdex_model *m, const double cs[2], double Cs, const double v[3],
+                          const double vn[3], const double F[3], const work *w)
+{
+    double z0[3], z1[3], b[3];
+    for (int i = 0; i < w->n_rows; i++)
+        if (w->lam[i] != 0.0 || w->rhs[i] > 0.0) return 0;
+    ejf(m, cs, v, z0);
+    ejf(m, cs, vn, z1);
+    if (!(ex_dot3(z0, z1) <= 0.0)) return 0;
+    model_patch_of_gen(m, cs, F, b);
+    for (int i = 0; i < 3; i++) b[i] /= m->e[i];
+    return ex_dot3(b, b) <= Cs * Cs;
 }
 
 /* Sliding with the stop rows of `act` held as equalities:
@@ -940,6 +1023,8 @@ static int stop_friction_step(const exdex_model *m, const exdex_kinematics *kin_
 /* The run's workspace: malloc, not calloc: the row arrays (~13 kB) are
  * written before they are read (build_rows), and zeroing them costs ~7 % of
  * a short planar run. */
+static void implicit_free(void *ws);
+
 static void *implicit_alloc(const exdex_model *m, int *status)
 {
     work *w = malloc(sizeof *w);
@@ -948,6 +1033,9 @@ static void *implicit_alloc(const exdex_model *m, int *status)
         return NULL;
     }
     w->fws = NULL;
+    w->slip_step = NULL;
+    w->slip_con = NULL;
+    w->slip_evo = NULL;
     w->p_prev[0] = w->p_prev[1] = w->p_prev[2] = 0.0;
     w->have_prev = 0;
     w->n_rows = 0;
@@ -960,6 +1048,16 @@ static void *implicit_alloc(const exdex_model *m, int *status)
             return NULL;
         }
     }
+    if (m->ndof == 3) {
+        w->slip_step = gsl_odeiv2_step_alloc(gsl_odeiv2_step_bsimp, SLIP_DIM);
+        w->slip_con = gsl_odeiv2_control_y_new(SLIP_TOL, SLIP_TOL);
+        w->slip_evo = gsl_odeiv2_evolve_alloc(SLIP_DIM);
+        if (!w->slip_step || !w->slip_con || !w->slip_evo) {
+            implicit_free(w);
+            *status = EXDEX_ENOMEM;
+            return NULL;
+        }
+    }
     return w;
 }
 
@@ -968,6 +1066,9 @@ static void implicit_free(void *ws)
     work *w = ws;
     if (!w) return;
     exdex_friction_ws_free(w->fws);
+    if (w->slip_evo) gsl_odeiv2_evolve_free(w->slip_evo);
+    if (w->slip_con) gsl_odeiv2_control_free(w->slip_con);
+    if (w->slip_step) gsl_odeiv2_step_free(w->slip_step);
     free(w);
 }
 
@@ -1024,12 +1125,17 @@ static int implicit_substep(const exdex_model *m, work *w, const model_sub *sub,
              * pressure; c_s the static one */
             double capm = model_capacity_mean(m, t, t1), c = tr ? h * capm : h * capm * m->e[2];
             double capsm = model_capacity_static_mean(m, t, t1), c_s = tr ? h * capsm : h * capsm * m->e[2];
+            /* the stick test's capacity: static for a step that starts at
+             * rest, kinetic for one that starts slipping (the slip must stop
+             * under the kinetic law first; slip_stop_in_step then holds it
+             * with the static one) */
+            double c_t = v[0] != 0.0 ? c : c_s;
             vs[0] = v[0] + h * Q / M;
             build_rows_or_none(m, &kin_end, q, vs, h, w);
-            step_1dof(M, c, c_s, vs[0], m->tol.touch, w, &vn[0], &pf, st);
+            step_1dof(M, c, c_t, vs[0], m->tol.touch, w, &vn[0], &pf, st);
             if (m->stop_friction) {
                 int rest = 0;
-                stop_friction_step(m, &kin_end, q, 0.0, c, c_s, vs, v, w, vn, &pf, &rest, st);
+                stop_friction_step(m, &kin_end, q, 0.0, c, c_t, vs, v, w, vn, &pf, &rest, st);
             }
             if (v[0] != 0.0 && (vn[0] == 0.0 || (vn[0] > 0.0) != (v[0] > 0.0))) {
                 /* a slip that stops or reverses inside the step
@@ -1058,28 +1164,42 @@ static int implicit_substep(const exdex_model *m, work *w, const model_sub *sub,
             exdex_friction_result fr;
             double pfB[3], fo[3];
             model_force_planar(m, &f, qm, vmid, F);
+            /* the stick test's capacity: static for a step that starts at
+             * rest, kinetic for one that starts slipping (see restick_planar) */
+            int slipping = v[0] != 0.0 || v[1] != 0.0 || v[2] != 0.0;
+            double capm = model_capacity_mean(m, t, t1), capsm = model_capacity_static_mean(m, t, t1);
+            double capt = slipping ? capm : capsm;
             for (int i = 0; i < 3; i++) vs[i] = v[i] + h * m->minv[i] * F[i];
             build_rows_or_none(m, &kin_end, q, vs, h, w);
-            status = step_planar(m, h, model_capacity_mean(m, t, t1), model_capacity_static_mean(m, t, t1), qm[2], vs,
-                                 w, vn, pfB, &fr, st);
+            status = step_planar(m, h, capm, capt, qm[2], vs, w, vn, pfB, &fr, st);
             if (status) {
                 st->fail_time = t;
                 break;
             }
             if (m->stop_friction) {
                 int rest = fr.stick;
-                if (stop_friction_step(m, &kin_end, q, qm[2], h * model_capacity_mean(m, t, t1),
-                                       h * model_capacity_static_mean(m, t, t1), vs, v, w, vn, pfB, &rest, st)) {
+                if (stop_friction_step(m, &kin_end, q, qm[2], h * capm, h * capt, vs, v, w, vn, pfB, &rest, st)) {
                     model_patch_of_gen(m, MODEL_CS(qm[2]), pfB, fr.p);
                     fr.stick = rest;
                 }
+            }
+            if (slipping && !fr.stick && capsm != capm && restick_planar(m, MODEL_CS(qm[2]), capsm, v, vn, F, w)) {
+                /* the slip stops inside the step and the static capacity
+                 * holds the load: at rest, the plates' impulse the one that
+                 * ends the step there */
+                for (int i = 0; i < 3; i++) {
+                    vn[i] = 0.0;
+                    pfB[i] = -vs[i] / m->minv[i];
+                }
+                model_patch_of_gen(m, MODEL_CS(qm[2]), pfB, fr.p);
+                fr.stick = 1;
             }
             if (fr.stick && (v[0] != 0.0 || v[1] != 0.0 || v[2] != 0.0)) {
                 /* a slip that stops inside the step (slip_stop_in_step_planar),
                  * where no stop acts and the end position keeps every row's
                  * bound */
                 double dq[3];
-                int ok = slip_stop_in_step_planar(m, MODEL_CS(qm[2]), model_capacity_mean(m, t, t1),
+                int ok = slip_stop_in_step_planar(m, w, MODEL_CS(qm[2]), model_capacity_mean(m, t, t1),
                                                   model_capacity_static_mean(m, t, t1), h, v, F, dq);
                 for (int i = 0; ok && i < w->n_rows; i++)
                     ok = w->lam[i] == 0.0 && ex_dot3(w->G[i], dq) >= w->rhs[i] * h;

@@ -20,6 +20,7 @@ from scipy.spatial.transform import Rotation
 
 import exdex
 from exdex import Body, Grasp, Obstacle, Patch, Scene, Stop
+from runs import face_is_the_stop, implicit_converges_to_event, implicit_errors, with_obstacles
 
 G = 9.81
 R = 0.02          # disc radius [m]
@@ -87,11 +88,9 @@ def test_eccentric_spinning_disc_event_and_implicit_agree_and_never_sink():
     sc = Scene(body=body, grasp=Grasp(mu=0.2, grip_force=0.5, patch=PAD), dof="planar",
                q0=(-0.005, FLOOR + R, 0.0), v0=(0.0, 0.0, 5.0), stops=(floor(),))
     ev = exdex.simulate(sc, t_end=0.5, dt=1e-3, method="event", rtol=1e-10, atol=1e-12)
-    errs = []
-    for dt in (1e-3, 1e-4):
-        im = exdex.simulate(sc, t_end=0.5, dt=dt, method="implicit")
-        step = int(round(1e-3 / dt))
-        errs.append(np.abs(im.q[::step] - ev.q).max())
+    runs = implicit_errors(exdex.simulate, sc, ev, 0.5)
+    errs = [err for _, err in runs]
+    for im, _ in runs:
         cy = im.q[:, 1] + 0.005 * np.sin(im.q[:, 2])
         assert cy.min() >= FLOOR + R - 1e-15
     cy = ev.q[:, 1] + 0.005 * np.sin(ev.q[:, 2])
@@ -162,6 +161,13 @@ def test_disc_rolls_down_a_frictional_incline_exactly_in_the_adaptive_methods(me
     rim only adds terms normal to the stop's tangent)."""
     alpha = 0.3
     res = exdex.simulate(incline_scene(alpha, mu_s), t_end=0.2, dt=1e-3, method=method)
+    assert_incline_exactly(res, alpha, mu_s)
+
+
+def assert_incline_exactly(res, alpha, mu_s):
+    """The continuous incline closed form (incline_closed_form) to 1e-12
+    relative: s = a t^2 / 2 down the slope, theta = beta t^2 / 2, the normal
+    force m g cos alpha after the first sample, no warnings."""
     a, beta = incline_closed_form(alpha, mu_s)
     d = np.array([-math.cos(alpha), -math.sin(alpha)])
     t = res.t
@@ -183,10 +189,7 @@ def test_rolling_eccentric_disc_in_a_turning_gripper_event_and_implicit_agree():
                q0=(-0.004, FLOOR + R, 0.0), stops=(floor(0.8),), motion=mot)
     ev = exdex.simulate(sc, t_end=0.6, dt=1e-3, method="event", rtol=1e-10, atol=1e-12)
     assert ev.stats["warnings"] == 0 and abs(ev.q[-1, 2]) > 0.3
-    errs = []
-    for dt in (1e-3, 1e-4):
-        im = exdex.simulate(sc, t_end=0.6, dt=dt, method="implicit")
-        errs.append(np.abs(im.q[::int(round(1e-3 / dt))] - ev.q).max())
+    errs = [err for _, err in implicit_errors(exdex.simulate, sc, ev, 0.6)]
     assert errs[1] < 2e-3 and errs[1] < 0.12 * errs[0]
 
 
@@ -323,17 +326,9 @@ def test_disc_rolls_or_slides_down_a_frictional_box_top_as_the_incline(method, m
     face = Obstacle.halfspaces([n], [0.0], mu=mu_s)
     box = Obstacle.box(tuple(-0.5 * n), (1.0, 1.0, 1.0), rotation=Rotation.from_rotvec([0, -alpha, 0]).as_matrix(),
                        mu=mu_s)
-    a = exdex.simulate(sc, t_end=0.2, dt=1e-3, method=method)
-    b = exdex.simulate(exdex.replace(sc, stops=(), obstacles=(face,)), t_end=0.2, dt=1e-3, method=method)
-    assert np.array_equal(a.q, b.q) and np.array_equal(a.v, b.v) and np.array_equal(a.stop_force, b.stop_force)
-    res = exdex.simulate(exdex.replace(sc, stops=(), obstacles=(box,)), t_end=0.2, dt=1e-3, method=method)
-    acc, beta = incline_closed_form(alpha, mu_s)
-    d = np.array([-math.cos(alpha), -math.sin(alpha)])
-    t = res.t
-    np.testing.assert_allclose((res.q[:, :2] - res.q[0, :2]) @ d, 0.5 * acc * t * t, rtol=1e-12, atol=1e-16)
-    np.testing.assert_allclose(res.q[:, 2], 0.5 * beta * t * t, rtol=1e-12, atol=1e-14)
-    np.testing.assert_allclose(res.stop_force[1:, 0], M * G * math.cos(alpha), rtol=1e-12)
-    assert res.stats["warnings"] == 0
+    face_is_the_stop(exdex.simulate, sc, face, 0.2, 1e-3, method=method)
+    res = exdex.simulate(with_obstacles(sc, box), t_end=0.2, dt=1e-3, method=method)
+    assert_incline_exactly(res, alpha, mu_s)
 
 
 def _disc_contact_scene(seed):
@@ -375,15 +370,7 @@ def test_event_and_implicit_agree_on_random_disc_obstacle_scenes(seed):
     the check of tests/test_obstacles.py's random frictional obstacle scenes
     (implicit error halving with dt, its Richardson extrapolation 5x closer;
     or below 1e-8 m at h / 2 and not growing)."""
-    sc = _disc_contact_scene(seed)
-    ev = exdex.simulate(sc, 0.8, 1e-3, method="event", rtol=1e-10, atol=1e-12)
-    assert ev.stats["warnings"] == 0 and ev.stats["min_gap"] >= -1e-11
-    q = {k: exdex.simulate(sc, 0.8, 1e-3 / k, method="implicit").q[::k] for k in (1, 2, 4)}
-    e1, e2 = np.abs(q[1] - ev.q).max(), np.abs(q[2] - ev.q).max()
-    ext = np.abs(2 * q[4] - q[2] - ev.q).max()
-    if not (e2 <= 1e-8 and e2 <= e1):
-        assert e2 <= 0.6 * e1, (e1, e2)
-        assert ext <= 0.2 * e2, (ext, e2)
+    implicit_converges_to_event(exdex.simulate, _disc_contact_scene(seed), 0.8)
 
 
 # ---------------------------------------------------------------- 1-DoF rotation

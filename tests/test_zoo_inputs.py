@@ -382,20 +382,22 @@ def test_event_rest_touched_again_by_a_frictional_stop_stays_at_rest():
     """Seed 206 (planar, an Eq. 7 turn about a tilted axis and back, one
     stop with mu 0.92): the turning stop pushes the object until it stops
     at t = 0.28 s, where the stop's trace in B has its envelope, so the
-    object rests on it (the push then below the band the event method takes
-    as a rest). At t = 1.3035 s the turn back carries the stop through the
-    same place: it touches the resting object again, at a rate of the order
-    of the band (a tangency; 0 in the limit of a vanishing band), while
-    sliding past it at 0.39 m/s (approach 8.8e-7 m/s). The exact motion
+    object rests on it. At t = 1.3035 s the turn back carries the stop
+    through the same place: its path touches the resting pose at a
+    tangency (rate 0 exactly), which the event method, whose rest holds the
+    pose to tol.rest_gap of the stop's path, meets at an approach of
+    8.8e-7 m/s while the stop slides past at 0.39 m/s. The exact motion
     stays at rest there (the plates hold the load, the stop recedes). Taken
-    with Coulomb friction, that impact's velocity is 10-100 times the push
-    (the stop's friction nearly cancels the normal impulse's effect on the
-    gap, near a Painleve configuration), and the slip it started was dragged
-    by the stop's friction to 5 rad/s, final theta -2.407 rad; the implicit
-    ladder converges to the rest's -1.53247 rad (Richardson over t_end/16000
-    and /32000: -1.5324697). Pushes below the band (SLIP_PUSH zsw) are
-    therefore frictionless in the event method, and its run must lie within
-    the implicit ladder's estimate of the implicit answer (zoo.check_scene)."""
+    as an impact with Coulomb friction, the impulse of that approach moves
+    the object at 10-100 times it (the stop's friction nearly cancels the
+    normal impulse's effect on the gap, near a Painleve configuration) and
+    the stop's friction then drags the slip to 5 rad/s, final theta -2.407
+    rad; the implicit ladder converges to the rest's -1.53247 rad
+    (Richardson over t_end/16000 and /32000: -1.5324697). The event method
+    takes a stop whose path turns back within tol.rest_gap of a held pose
+    as a contact of the rest, not an impact (impacts are frictional at
+    every approach speed otherwise), and its run must lie within the
+    implicit ladder's estimate of the implicit answer (zoo.check_scene)."""
     zs = input_scene(206).zs
     out = zoo.check_scene(zs, methods=("implicit", "event"), agree=("implicit", "event"))
     assert out["event"]["error"] is None and out["implicit"]["error"] is None

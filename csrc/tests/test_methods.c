@@ -670,6 +670,57 @@ static exdex_scene_def planar_rot(int method)
     return d;
 }
 
+EXDEX_TEST(methods_implicit_planar_slip_stops_inside_a_step)
+{
+    /* Planar, gripper at rest, gravity along the plate normal (no load in
+     * the plane), patch centre at the centre of mass and I_zz = m e_r^2:
+     * then A = E J' M^-1 J'^T E = I / m, and the scaled slip z = E u obeys
+     * zdot = -C A z / |z| = -(C / m) z / |z|: a straight line decelerated
+     * at C / m, for any mix of slide and spin. From v0 it stops at t* = m
+     * |E v0| / C, having moved v0 t* / 2. A slide and a spin alone are
+     * straight lines for any inertia: t* = m |v| / C and t* = I_zz
+     * |thetad| / (C e_r). The first implicit step (h > t*) ends at rest, and
+     * the slip's stop inside it (slip_stop_in_step_planar, integrated on the
+     * slip's own clock) must give that displacement to its integration
+     * tolerance. */
+    const double m = 0.1, er = 0.01, C = 5.0, cases[3][4] = {
+        {2e-3, -1e-3, 0.15, 1.0},   /* slide and spin, I_zz = m e_r^2 */
+        {2e-3, -1e-3, 0.0, 7.0},    /* slide alone, I_zz = 7 m e_r^2 */
+        {0.0, 0.0, -2.0, 0.3},      /* spin alone, I_zz = 0.3 m e_r^2 */
+    };
+    double worst = 0.0;
+    for (int k = 0; k < 3; k++) {
+        exdex_scene_def d = exdex_default_scene_def();
+        double izz = cases[k][3] * m * er * er, v[3] = {cases[k][0], cases[k][1], cases[k][2]}, ts;
+        sim_run r;
+        d.method = EXDEX_METHOD_IMPLICIT;
+        d.dof = EXDEX_DOF_PLANAR;
+        d.mass = m;
+        d.inertia[8] = izz;
+        d.e_r = er;
+        d.mu = 0.5;
+        d.fingers = 2;
+        d.grip_force = C / (2 * d.mu);
+        d.gravity[0] = d.gravity[2] = 0.0;
+        d.gravity[1] = -G;   /* along B's z (the default R0 maps B z to -A y) */
+        for (int c = 0; c < 3; c++) d.v0[c] = v[c];
+        if (k == 0) ts = m * sqrt(v[0] * v[0] + v[1] * v[1] + er * er * v[2] * v[2]) / C;
+        else if (k == 1) ts = m * sqrt(v[0] * v[0] + v[1] * v[1]) / C;
+        else ts = izz * fabs(v[2]) / (C * er);
+        ENSURE(ts < 0.5e-3);
+        ENSURE(sim_run_def(&d, 3e-3, 1e-3, &r) == EXDEX_OK);
+        for (int c = 0; c < 3; c++) {
+            double want = d.q0[c] + 0.5 * v[c] * ts, scale = 0.5 * fabs(v[c]) * ts + (c < 2 ? 1e-3 : 1e-1) * ts;
+            worst = fmax(worst, fabs(qlast(&r, c) - want) / scale);
+            ENSURE(fabs(qlast(&r, c) - want) <= 1e-9 * scale);
+        }
+        for (size_t i = 1; i < r.tr.n; i++)
+            for (int c = 0; c < 3; c++) ENSURE(r.tr.v[i * 3 + c] == 0.0);
+        sim_run_free(&r);
+    }
+    report("methods_implicit_planar_slip_stop_worst_rel", worst);
+}
+
 EXDEX_TEST(methods_planar_event_is_the_implicit_limit)
 {
     /* Two independent methods agree in the limit: the implicit solution
