@@ -773,19 +773,22 @@ static int sf_solve_at(hyb *H, const exdex_kinematics *kin, const double *y, con
 }
 
 /* contact_acc_planar with frictional stops: 1 with qdd, lam, acc as it
- * defines them, 0 when no mode is consistent (the caller then takes the
+ * defines them (2: the mode is a lock, sfric.h: lam is one split of
+ * indeterminate forces, lock_rows (may be NULL) the set rows it holds, bit
+ * i for H->cs[i]), 0 when no mode is consistent (the caller then takes the
  * stops frictionless). */
 static int sf_acc(hyb *H, const exdex_kinematics *kin, const double *y, const double afree[3], double qdd[3],
-                  double *lam, double *acc)
+                  double *lam, double *acc, unsigned *lock_rows)
 {
     sf_result res;
     if (!sf_solve_at(H, kin, y, afree, &res)) return 0;
+    if (lock_rows) *lock_rows = res.lock ? res.mask : 0u;
     memcpy(qdd, res.qdd, sizeof res.qdd);
     for (int i = 0; i < H->ncs; i++) {
         lam[i] = res.lam[i];
         if (acc) acc[i] = res.acc[i];
     }
-    return 1;
+    return 1 + res.lock;
 }
 
 /* planar_rest with frictional stops (the same contract): the least plate
@@ -850,12 +853,16 @@ static double sf_rest(hyb *H, const exdex_kinematics *kin, const double *y, cons
  * -(G M^-1 (F + P) + gdd0) with complementarity): the M-metric projection
  * of the free acceleration (ldp_project). The plate friction does not depend on
  * the stop forces (the grip force is given). acc_i (may be NULL) gets the
- * gap acceleration of every contact-set row. */
-static void contact_acc_planar(hyb *H, const exdex_kinematics *kin, const double *y, const double afree[3],
-                               double qdd[3], double *lam, double *acc)
+ * gap acceleration of every contact-set row. Returns 1 when the stop
+ * friction's mode is a lock (sf_acc; lock_rows, may be NULL, gets its rows),
+ * else 0. */
+static int contact_acc_planar(hyb *H, const exdex_kinematics *kin, const double *y, const double afree[3],
+                              double qdd[3], double *lam, double *acc, unsigned *lock_rows)
 {
     double Gr[MAX_ROWS][3], b[MAX_ROWS];
-    if (H->sfric && sf_acc(H, kin, y, afree, qdd, lam, acc)) return;
+    int lk = H->sfric ? sf_acc(H, kin, y, afree, qdd, lam, acc, lock_rows) : 0;
+    if (lock_rows && lk != 2) *lock_rows = 0u;
+    if (lk) return lk - 1;
     b[0] = 0.0;
     for (int i = 0; i < H->ncs; i++) {
         int r = H->cs[i];
@@ -866,6 +873,7 @@ static void contact_acc_planar(hyb *H, const exdex_kinematics *kin, const double
     ldp_project(H->m->minv, H->ncs, (const double (*)[3])Gr, b, afree, FQ_MIN, qdd, lam, &H->st->stop_iterations, &H->st->warnings);
     if (acc)
         for (int i = 0; i < H->ncs; i++) acc[i] = ex_dot3(Gr[i], qdd) - b[i];
+    return 0;
 }
 
 /* ------------------------------------------------- frictional impacts
@@ -1347,7 +1355,7 @@ static int planar_friction(hyb *H, const frame *f, const exdex_kinematics *kin, 
                     double P[3], a[3], qdd[3], lam[MAX_ROWS], ua[3], ea[3], sa, wn[3], d = 0.0;
                     model_gen_of_patch(m, MODEL_CS(th), w, P);
                     for (int i = 0; i < 3; i++) a[i] = m->minv[i] * (F[i] + P[i]);
-                    contact_acc_planar(H, kin, y, a, qdd, lam, NULL);
+                    contact_acc_planar(H, kin, y, a, qdd, lam, NULL, NULL);
                     model_patch_slip(m, MODEL_CS(th), qdd, ua);
                     for (int i = 0; i < 3; i++) ea[i] = m->e[i] * ua[i];
                     sa = sqrt(ex_dot3(ea, ea));
@@ -1417,7 +1425,10 @@ static void set_tie_joins(hyb *H, const double *y, double t)
 }
 
 /* Keep in the planar contact set only the rows that push (lam > 0) under
- * the accelerations of the current (non-stick) mode at (t, y). */
+ * the accelerations of the current (non-stick) mode at (t, y); in a lock
+ * (sfric.h) the rows it holds: their forces are indeterminate, a row
+ * without force in one split carries it in another, and they all hold (gap
+ * acceleration 0) while the lock lasts. */
 static void planar_prune_set(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y)
 {
     double F[3], w[3], P[3], a[3], qdd[3], lam[MAX_ROWS];
@@ -1426,26 +1437,71 @@ static void planar_prune_set(hyb *H, const frame *f, const exdex_kinematics *kin
     if (planar_friction(H, f, kin, y, F, w)) return;
     model_gen_of_patch(H->m, MODEL_CS(y[2]), w, P);
     for (int i = 0; i < 3; i++) a[i] = H->m->minv[i] * (F[i] + P[i]);
-    contact_acc_planar(H, kin, y, a, qdd, lam, NULL);
+    unsigned lk = 0u;
+    contact_acc_planar(H, kin, y, a, qdd, lam, NULL, &lk);
     for (int i = 0; i < H->ncs; i++)
-        if (lam[i] > 0.0) H->cs[n++] = H->cs[i];
+        if (lam[i] > 0.0 || (lk >> i & 1u)) H->cs[n++] = H->cs[i];
     H->ncs = n;
 }
 
 /* ------------------------------------ planar frictional stops: modes */
 
+static int sf_free_acc(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y, double a[3]);
+
+/* In a lock of the current modes at (t, y) (S its problem): y's velocity
+ * replaced by the one holding the lock's rows at rate 0 and its sticking
+ * stops' slips at 0 (sf_lock_solve to tol.rate), provided the set's other
+ * rows do not approach at it. Returns 1 if replaced. */
+static int sf_lock_velocity(hyb *H, const frame *f, const exdex_kinematics *kin, double *y, const sf_set *S)
+{
+    double a[3], qdd[3], lamc[MAX_ROWS], C[SF_MAX_ROWS + SF_MAX_STOPS][3], rhs[SF_MAX_ROWS + SF_MAX_STOPS], v[3],
+        Go[SF_MAX_ROWS][3], bo[SF_MAX_ROWS];
+    unsigned lk = 0u;
+    int k = 0, no = 0;
+    if (sf_free_acc(H, f, kin, y, a) != EXDEX_OK) return 0;
+    contact_acc_planar(H, kin, y, a, qdd, lamc, NULL, &lk);
+    if (!lk) return 0;
+    for (int i = 0; i < H->ncs && i < SF_MAX_ROWS; i++) {
+        double G[3], gd;
+        hrow_planar(H, kin, H->cs[i], y, y + 3, G, &gd, NULL);
+        if (lk >> i & 1u) {
+            memcpy(C[k], G, sizeof G);
+            rhs[k++] = -(gd - ex_dot3(G, y + 3));
+        } else {
+            memcpy(Go[no], G, sizeof G);
+            bo[no++] = -(gd - ex_dot3(G, y + 3));
+        }
+    }
+    for (int j = 0; j < S->ng; j++) {
+        if (!(S->has[j] && S->st[j].mu > 0.0 && H->fm[j] == SF_STICK)) continue;
+        memcpy(C[k], S->st[j].T, sizeof C[k]);
+        rhs[k++] = -S->tb[j];
+    }
+    if (!sf_lock_solve(k, (const double (*)[3])C, rhs, H->m->minv, H->m->tol.rate, v)) return 0;
+    for (int i = 0; i < no; i++)
+        if (!(ex_dot3(Go[i], v) >= bo[i] - H->m->tol.rate)) return 0;
+    memcpy(y + 3, v, sizeof v);
+    return 1;
+}
+
 /* The velocity of a planar object with sticking stops (H->fm SF_STICK,
  * not at rest) projected in the M metric onto their slips 0 (T v = -tb)
- * and the contact-set rows' no-approach G v >= -(gd - G v). */
-static void sf_project_stick(hyb *H, const exdex_kinematics *kin, double *y)
+ * and the contact-set rows' no-approach G v >= -(gd - G v). In a lock
+ * (sfric.h: more such rows than coordinates, dependent) the velocity is
+ * the one that holds the lock's rows at rate 0 and its stops' slips at 0
+ * (sf_lock_solve, to tol.rate), the set's other rows not approaching; the
+ * projection of the dependent rows as inequality pairs would be
+ * inconsistent by rounding. */
+static void sf_project_stick(hyb *H, const frame *f, const exdex_kinematics *kin, double *y)
 {
     sf_set S;
     double Gr[SF_MAX_ROWS + 2 * SF_MAX_STOPS][3], b[SF_MAX_ROWS + 2 * SF_MAX_STOPS],
         lam[SF_MAX_ROWS + 2 * SF_MAX_STOPS], v[3];
     int n = 0, stick = 0;
     if (H->mode == MODE_STICK || !H->ncs || sf_build(H, kin, y, &S) < 0) return;
-    for (int k = 0; k < S.ng; k++) stick |= S.has[k] && S.st[k].mu > 0.0 && H->fm[k] == SF_STICK;
+    for (int k = 0; k < S.ng; k++) stick += S.has[k] && S.st[k].mu > 0.0 && H->fm[k] == SF_STICK;
     if (!stick) return;
+    if (H->ncs + stick > 3 && sf_lock_velocity(H, f, kin, y, &S)) return;
     for (int i = 0; i < H->ncs; i++) {
         int r = H->cs[i];
         double gd;
@@ -1483,7 +1539,8 @@ static int sf_free_acc(hyb *H, const frame *f, const exdex_kinematics *kin, cons
  * empty) into g; returns their count. At rest, per frictional stop with
  * set rows: zsw - |tb| (static) or sigma tb - zsw (sliding past). Else +1
  * / -1 (a consistent mode exists or not), and per frictional stop with set
- * rows: sliding, sigma s; sticking, mu sum lam (1 + SF_BAND) - |beta|. */
+ * rows: sliding, sigma s; sticking, mu sum lam (1 + SF_BAND) - |beta|, or
+ * in a lock (sfric.h) its margin. */
 static int sf_guards(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y, double *g)
 {
     sf_set S;
@@ -1510,6 +1567,8 @@ static int sf_guards(hyb *H, const frame *f, const exdex_kinematics *kin, const 
             g[n++] = S.s[k];
         else if (H->fm[k] == SF_SLIDE_M)
             g[n++] = -S.s[k];
+        else if (H->fm[k] == SF_STICK && ok && res.lock)
+            g[n++] = res.margin;
         else if (H->fm[k] == SF_STICK && ok)
             g[n++] = S.st[k].mu * res.lsum[k] * (1.0 + SF_BAND) - fabs(res.beta[k]);
         else
@@ -1594,7 +1653,7 @@ static void sf_decide(hyb *H, double t, double *y)
         H->st->warnings++;
         return;
     }
-    sf_project_stick(H, &kin, y);
+    sf_project_stick(H, &f, &kin, y);
 }
 
 /* ------------------------------------------------------- right-hand side */
@@ -1661,7 +1720,7 @@ static int rhs(double t, const double y[], double dy[], void *params)
             }
             if (H->ncs) {
                 double lam[MAX_ROWS];
-                contact_acc_planar(H, &kin, y, a, dy + 3, lam, NULL);
+                contact_acc_planar(H, &kin, y, a, dy + 3, lam, NULL, NULL);
                 for (int i = 0; i < H->ncs; i++) dy[9 + hrow_src(H, H->cs[i])] += lam[i];
             }
         }
@@ -1877,13 +1936,17 @@ static int guards(hyb *H, double t, const double *y, double *g)
                 }
                 model_gen_of_patch(m, MODEL_CS(y[2]), w, P);
                 for (int i = 0; i < 3; i++) a[i] = m->minv[i] * (F[i] + P[i]);
-                contact_acc_planar(H, &kin, y, a, qdd, lam, acc);
+                /* in a lock (sfric.h) the rows' forces are one split of
+                 * indeterminate ones: the lock's margin (sf_guards) says
+                 * when a row must separate or a stop slide */
+                unsigned lk = 0u;
+                contact_acc_planar(H, &kin, y, a, qdd, lam, acc, &lk);
                 for (int i = 0; i < H->ncs; i++) {
                     int r = H->cs[i];
                     double G[3], d = 0.0;
                     hrow_planar(H, &kin, r, y, y + 3, G, NULL, NULL);
                     for (int c = 0; c < 3; c++) d += G[c] * G[c] * m->minv[c];
-                    g[n++] = lam[i] * d - acc[i];
+                    g[n++] = (lk >> i & 1u) ? 1.0 : lam[i] * d - acc[i];
                 }
             }
             /* an obstacle row of the set: its feature stays the active one */
@@ -2080,7 +2143,7 @@ static void decide_modes(hyb *H, double t, double *y, int vzero)
                 double P[3], a[3], qdd[3], lam[MAX_ROWS], ua[3];
                 model_gen_of_patch(m, MODEL_CS(y[2]), res.p, P);
                 for (int i = 0; i < 3; i++) a[i] = m->minv[i] * (F[i] + P[i]);
-                contact_acc_planar(H, &kin, y, a, qdd, lam, NULL);
+                contact_acc_planar(H, &kin, y, a, qdd, lam, NULL, NULL);
                 model_patch_slip(m, MODEL_CS(y[2]), qdd, ua);
                 for (int i = 0; i < 3; i++) H->uref[i] = m->e[i] * ua[i];
                 planar_prune_set(H, &f, &kin, y);
@@ -2277,7 +2340,7 @@ static void project_contact(hyb *H, double t, double *y)
         }
         if (ldp_project(H->m->minv, H->ncs, (const double (*)[3])Gr, b, y + 3, FQ_MIN, v, lam, &H->st->stop_iterations, &H->st->warnings))
             memcpy(y + 3, v, sizeof v);
-        if (H->sfric) sf_project_stick(H, &kin, y);
+        if (H->sfric) sf_project_stick(H, &f, &kin, y);
         return;
     }
     if (H->ndof != 1 || H->mode != MODE_CONTACT) return;

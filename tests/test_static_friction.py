@@ -431,6 +431,57 @@ def test_a_slip_stopped_by_a_load_between_the_capacities_sticks(method, dof):
         assert abs(s[-1] - ss) <= (1e-9 if method == "event" else dt * v0), (frac, s[-1], ss)
 
 
+def touching_stop_scene(dof, al, A):
+    """An object held by static friction with a stop touching one outline
+    corner, the load pointing away from the stop and between the kinetic
+    and static capacities (|Q| = 1.25 C = 0.77 C_s; mu_static / mu = 1.625),
+    the gripper accelerating (at most A) along the stop's plane (tilted by al
+    from B's x), so the stop stays where it is in B while the gripper moves.
+    rotation: pivot (the patch centre) 10 mm right of the centre of mass,
+    gravity torque 0.01 m g counter-clockwise, the stop through the lower
+    right corner, which that turn lifts off it; translation: slide along B's
+    y, gravity down, the stop through the upper left corner (the slide
+    leaves it). The gripper's inertial load (at most 0.01 m A sin(al) or m A
+    sin(al)) stays within 0.15 of the gravity load, so |Q| stays in (C,
+    C_s)."""
+    m, g = 0.1, 9.81
+    patch = Patch.disc(0.005, center=(0.01, 0.0) if dof == "rotation" else (0.0, 0.0))
+    mu, mus = 0.4, 0.65
+    if dof == "rotation":
+        N = 0.01 * m * g / 1.25 / (mu * 2 * patch.e_r)
+        n, corner, d = (-math.sin(al), math.cos(al)), (0.02, -0.01), (math.cos(al), math.sin(al))
+    else:
+        N = m * g / 1.25 / (mu * 2)
+        n, corner, d = (math.sin(al), -math.cos(al)), (-0.02, 0.01), (math.cos(al), math.sin(al))
+    vmax = 0.3
+    motion = exdex.TrapezoidalProfile(amplitude=0.2, duration=vmax / A + 0.2 / vmax, v_max=vmax,
+                                      axis=(d[0], 0.0, d[1]))
+    # B's x, y are A's x, z at the default gripper pose
+    stop = exdex.Stop((corner[0], 0.0, corner[1]), (n[0], 0.0, n[1]))
+    return Scene(body=Body.box(m, (0.04, 0.02, 0.02)), grasp=Grasp(mu=mu, grip_force=N, mu_static=mus, patch=patch),
+                 motion=motion, dof=dof, stops=(stop,))
+
+
+@pytest.mark.parametrize("seed", range(4))
+@pytest.mark.parametrize("dof", ["rotation", "translation"])
+@pytest.mark.parametrize("method", ["event", "implicit", "explicit"])
+def test_static_hold_beside_a_touching_stop_is_exact(method, dof, seed):
+    """touching_stop_scene with al, A drawn at random (A sin(al) <= 0.15 g):
+    statics (the load inside the static capacity throughout, pointing away
+    from the stop) says the object never moves. Every method holds it
+    exactly: q constant and v = 0 at every sample, at several dt. A stop
+    whose gap is touched at the rounding level does not push it (a push of
+    any speed would make the friction kinetic, which cannot hold this
+    load)."""
+    rng = np.random.default_rng([seed, 77])
+    al = math.radians(rng.uniform(3.0, 20.0))
+    A = rng.uniform(0.5, 0.15 * 9.81 / math.sin(al))
+    sc = touching_stop_scene(dof, al, A)
+    for dt in (1e-3, 1e-4):
+        r = exdex.simulate(sc, t_end=1.0, dt=dt, method=method)
+        assert np.all(r.q[:, 0] == r.q[0, 0]) and np.all(r.v == 0.0), (dt, np.abs(r.q[:, 0] - r.q[0, 0]).max())
+
+
 def test_hysteresis_explicit_converges():
     """The explicit baseline over the whole loop (two breakaways, two
     re-sticks with the reversed load between Ck and Cs): it holds the load
