@@ -244,7 +244,10 @@ static int explicit_substep(const exdex_model *m, explicit_ws *w, const model_su
                     double b;
                     contact_row_1dof(m, &kin_end, k, j, q[0], &c);
                     if (!(fabs(c.Fq) > m->tol.fq_min)) continue;
-                    b = -c.F / h / c.Fq;
+                    /* held by static friction: a row whose gap closes at a
+                     * rate below tol.rate (a touching stop's rounding, or its
+                     * linearisation's remainder) does not move the object */
+                    b = held && fabs(c.F / h) <= m->tol.rate ? 0.0 : -c.F / h / c.Fq;
                     if (c.Fq > 0 && b > lo) {
                         lo = b;
                         klo = k;
@@ -392,7 +395,8 @@ static int explicit_substep(const exdex_model *m, explicit_ws *w, const model_su
                     double ro[MAX_ROWS];
                     nr += contact_obstacle_rows_pred(m, &kin_end, q, v, h, Gr + nr, gap + nr, ro, stop + nr, cpo);
                 }
-                for (int r = 0; r < nr; r++) b[r] = -gap[r] / h;
+                for (int r = 0; r < nr; r++)
+                    b[r] = held && fabs(gap[r] / h) <= m->tol.rate ? 0.0 : -gap[r] / h;  /* as in 1-DoF */
                 memcpy(vs, v, sizeof vs);
                 if (ldp_project(m->minv, nr, (const double (*)[3])Gr, b, vs, FQ_MIN, v, lam, &st->stop_iterations, &st->warnings)) {
                     if (m->stop_friction)

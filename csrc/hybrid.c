@@ -151,6 +151,31 @@
  *     into it, never along it, as C < C_s). In a 1-DoF rotation scene the
  *     band is eps / e_r in |thd|, as eps is. With C_s = C it is the one-
  *     coefficient law above (its creep eps |w_h| / sqrt(C^2 - |w_h|^2)).
+ *     Planar: a held regime. In the band z = E u relaxes as z' = -(C_s /
+ *     eps) S (z - z*) with S = E J M^-1 J^T E (J: qd -> u) symmetric, z* the
+ *     creep of the current load; each eigencomponent of S moves
+ *     monotonically from the old creep to the new one, so after a load that
+ *     jumps and turns (a motion's acceleration jump, a grip step) |z| can
+ *     pass max(|z_0|, |z*|), up to sqrt(|z_0|^2 + |z*|^2): beyond eps for a
+ *     load still inside the static ellipsoid, where the kinetic law would
+ *     let it break away at every eps (the excursion is scale-free in z /
+ *     eps). So the object is held (hyb.held) from the band on, and a held
+ *     slip beyond it meets Coulomb at C_s (w = -C_s E^2 u / |E u|,
+ *     continuous with the band), under which its kinetic energy relative to
+ *     the plates falls while the load is inside C_s (power |E u| (|E^-1
+ *     w_h| - C_s) <= 0), so it comes back into the band; it breaks away
+ *     (kinetic beyond the band) where the slip is beyond the band and the
+ *     object could not rest in B: the load at rest (the event method's
+ *     stick test, against the contact set its least-friction split) leaves
+ *     the static ellipsoid, or a contact-set row's stop moves into it (a
+ *     slip the stop forces). A guard locates either switch: held, fmax(eps -
+ *     |E u|, that test); not held, |E u| - eps (held again in the band). A
+ *     velocity changed by an impact or a gripper jump is a slip (not held
+ *     unless in the band). Under a slowly rising load the creep reaches eps
+ *     as the load reaches C_s, so the break-away is where it was (first
+ *     order). A 1-DoF band needs no such regime: its one component relaxes
+ *     monotonically, and at |v| = eps the band pushes inward while |Q| <=
+ *     C_s.
  *
  * Stops: every scene with every method. Planar scenes in the hybrid
  * (event, regularised) integrator carry a contact set of (stop, vertex) rows
@@ -159,8 +184,11 @@
  *     plastic, with no plate impulse (the grip force is finite): v is
  *     projected onto G v >= -dgap/dt|_q (no approach) of the touching rows
  *     in the M metric (ldp_project), with Coulomb friction at frictional
- *     rows (sf_impact), the impulses counted in the stop force integrals;
- *     the rows left touching at rate ~0 that push join the contact set;
+ *     rows at every approach speed (sf_impact), the impulses counted in the
+ *     stop force integrals; the rows left touching at rate ~0 that push
+ *     join the contact set; event, frictional rows touching a rest: a stop
+ *     whose path turns back within tol.rest_gap of the held pose is a
+ *     contact of the rest, not an impact (sf_graze);
  *   in contact: qdd = M^-1 (F + friction + G^T lam), lam >= 0 the LCP
  *     G M^-1 G^T lam = -(G M^-1 (F + friction) + Gdot v) with complementarity
  *     (the M-metric projection of the free acceleration, ldp_project); after each
@@ -346,6 +374,9 @@ typedef struct hyb {
     int sgn;           /* planar friction groups of the contact set fixed at the decision (sf_groups):
                           their count, 0 while a decision builds the set (then found afresh) */
     int sg[MAX_ROWS];  /* the group of each contact-set row while sgn > 0 */
+    int held;          /* regularised, planar, C_s > C: 1 while the object is held (in the
+                          stick band, or beyond it with the load inside the static ellipsoid),
+                          0 once it broke away (until it slows into the band again); see the top */
 } hyb;
 
 /* ---------------------------------------------------------- contact rows
@@ -460,7 +491,7 @@ static int frame_seg(hyb *H, double t, frame *f, exdex_kinematics *k)
 static double smooth_gain(const hyb *H, double sig)
 {
     if (H->caps == H->cap) return H->cap / sqrt(sig * sig + H->eps * H->eps);
-    return sig <= H->eps ? H->caps / H->eps : H->cap / sig;
+    return sig <= H->eps ? H->caps / H->eps : (H->held ? H->caps : H->cap) / sig;
 }
 
 /* Constraint acceleration of q along the row (F(q(t), t) = 0 held). */
@@ -742,19 +773,22 @@ static int sf_solve_at(hyb *H, const exdex_kinematics *kin, const double *y, con
 }
 
 /* contact_acc_planar with frictional stops: 1 with qdd, lam, acc as it
- * defines them, 0 when no mode is consistent (the caller then takes the
+ * defines them (2: the mode is a lock, sfric.h: lam is one split of
+ * indeterminate forces, lock_rows (may be NULL) the set rows it holds, bit
+ * i for H->cs[i]), 0 when no mode is consistent (the caller then takes the
  * stops frictionless). */
 static int sf_acc(hyb *H, const exdex_kinematics *kin, const double *y, const double afree[3], double qdd[3],
-                  double *lam, double *acc)
+                  double *lam, double *acc, unsigned *lock_rows)
 {
     sf_result res;
     if (!sf_solve_at(H, kin, y, afree, &res)) return 0;
+    if (lock_rows) *lock_rows = res.lock ? res.mask : 0u;
     memcpy(qdd, res.qdd, sizeof res.qdd);
     for (int i = 0; i < H->ncs; i++) {
         lam[i] = res.lam[i];
         if (acc) acc[i] = res.acc[i];
     }
-    return 1;
+    return 1 + res.lock;
 }
 
 /* planar_rest with frictional stops (the same contract): the least plate
@@ -819,12 +853,16 @@ static double sf_rest(hyb *H, const exdex_kinematics *kin, const double *y, cons
  * -(G M^-1 (F + P) + gdd0) with complementarity): the M-metric projection
  * of the free acceleration (ldp_project). The plate friction does not depend on
  * the stop forces (the grip force is given). acc_i (may be NULL) gets the
- * gap acceleration of every contact-set row. */
-static void contact_acc_planar(hyb *H, const exdex_kinematics *kin, const double *y, const double afree[3],
-                               double qdd[3], double *lam, double *acc)
+ * gap acceleration of every contact-set row. Returns 1 when the stop
+ * friction's mode is a lock (sf_acc; lock_rows, may be NULL, gets its rows),
+ * else 0. */
+static int contact_acc_planar(hyb *H, const exdex_kinematics *kin, const double *y, const double afree[3],
+                              double qdd[3], double *lam, double *acc, unsigned *lock_rows)
 {
     double Gr[MAX_ROWS][3], b[MAX_ROWS];
-    if (H->sfric && sf_acc(H, kin, y, afree, qdd, lam, acc)) return;
+    int lk = H->sfric ? sf_acc(H, kin, y, afree, qdd, lam, acc, lock_rows) : 0;
+    if (lock_rows && lk != 2) *lock_rows = 0u;
+    if (lk) return lk - 1;
     b[0] = 0.0;
     for (int i = 0; i < H->ncs; i++) {
         int r = H->cs[i];
@@ -835,6 +873,7 @@ static void contact_acc_planar(hyb *H, const exdex_kinematics *kin, const double
     ldp_project(H->m->minv, H->ncs, (const double (*)[3])Gr, b, afree, FQ_MIN, qdd, lam, &H->st->stop_iterations, &H->st->warnings);
     if (acc)
         for (int i = 0; i < H->ncs; i++) acc[i] = ex_dot3(Gr[i], qdd) - b[i];
+    return 0;
 }
 
 /* ------------------------------------------------- frictional impacts
@@ -853,24 +892,11 @@ static void contact_acc_planar(hyb *H, const exdex_kinematics *kin, const double
  * (ldp_project), which is solved first: where no frictional row carries an
  * impulse there, that projection is the answer, and the arithmetic is that
  * of frictionless stops bit for bit.
- * An impact whose frictional rows are approached slower than SLIP_PUSH zsw
- * (b_i - G_i v) is taken frictionless: a push the band takes as none, as
- * a slip the stops push on below SLIP_PUSH zsw is a rest (decide_modes).
- * Its normal impulse is O(M zsw), but the friction of a stop sliding past
- * the object adds up to mu times it along the tangent, which near a
- * Painleve configuration (the friction nearly cancelling the normal
- * impulse's effect on the gap) moves the object at many times the push;
- * at such rates that velocity is of the order of the slips the band does
- * not resolve (it decides them from the load: stop, small slip), and
- * applying it turns a stop touching a resting object again at a rate of
- * the order of zsw (its return to where its push left the object, a
- * tangency: rate 0 in the limit zsw -> 0) into a slip that the stop's
- * friction drags on, and a small slip creeping along a receding stop into
- * an endless cycle of impacts and slip / small-slip switches. The implicit
- * step, whose plates' static impulse over a step h holds the object
- * against a friction impulse below cap h, does the same at every practical
- * h (the two differ only for h below mu M SLIP_PUSH zsw / cap, ~1e-6 of the
- * scene's time scale). */
+ * Friction applies at every approach speed: the impulses scale with the
+ * approach, the law does not. The one touch that is not an impact is a
+ * stop grazing a resting object within the rest's own tolerance
+ * (sf_graze): there the rows join the rest as contacts, at the
+ * acceleration level. */
 
 /* Coulomb coefficient of planar row r at (kin, y) and, when > 0, its slip
  * row: s = T v + tb along the tangent in the plate plane (stop rows:
@@ -892,14 +918,55 @@ static double hrow_friction_planar(const hyb *H, const exdex_kinematics *kin, in
     return mu;
 }
 
+/* A stop touching a resting object at a tangency of its path (event
+ * method, v = 0 held exactly by a rest): is every row that the touching
+ * stops drive into the object (approach b_i > tol.rate at v = 0) a graze
+ * the rest already tolerates? At the held pose the gap is a function of t
+ * alone, gap(t) = -b_i (t - t0) + gdd0_i (t - t0)^2 / 2 + ..., gdd0_i its
+ * acceleration at v = 0: with gdd0_i > 0 the stop's path turns back after
+ * reaching at most b_i^2 / (2 gdd0_i) into the held pose. Where that is
+ * within tol.rest_gap for every such row, the touch is a contact of the
+ * rest (the rows join its contact set, the rest split with the stops'
+ * friction decides whether it holds, and the rest ends where a row's gap
+ * leaves +-tol.rest_gap), not an impact: a rest against stops moving in B
+ * holds q exactly while their gaps stay within +-tol.rest_gap, so a dip
+ * below that is below the resolution of the held pose (an exact tangency,
+ * rate 0, arrives at a rate up to sqrt(2 gdd0 tol.rest_gap) from the held
+ * pose's offset). An impulse there would be the Coulomb impulse of an
+ * approach that the held pose does not determine: near a Painleve
+ * configuration of the stop's friction (the friction nearly cancelling the
+ * normal impulse's effect on the gap) it moves the object at many times
+ * the approach, where the exact motion stays at rest. A stop whose path
+ * keeps approaching (gdd0_i <= 0: a stop moving at a constant or growing
+ * rate into the object), or dips deeper, strikes it: the impact with
+ * Coulomb friction, at every approach speed. Returns 1 for a graze. */
+static int sf_graze(const hyb *H, const exdex_kinematics *kin, const double *y, int n, const int *rows, const double *b)
+{
+    const exdex_model *m = H->m;
+    double zero[3] = {0.0, 0.0, 0.0};
+    int any = 0;
+    if (H->law != LAW_COULOMB || y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0) return 0;
+    for (int i = 0; i < n; i++) {
+        double G[3], gd = 0.0, gdd0 = 0.0;
+        if (!(b[i] > m->tol.rate)) continue;
+        hrow_planar(H, kin, rows[i], y, zero, G, &gd, &gdd0);
+        if (!(gdd0 > 0.0 && b[i] * b[i] <= 2.0 * gdd0 * m->tol.rest_gap)) return 0;
+        any = 1;
+    }
+    return any;
+}
+
 /* The planar impact with friction at (kin, y): rows (their G, bounds b as
  * planar_impact_and_set builds them: the touching rows), v and lam the
  * frictionless impact (ldp_project), replaced by the frictional one when a
- * frictional row carries an impulse in it and is approached at SLIP_PUSH
- * zsw or faster (above). Where fcontact.h finds no consistent mode (more
- * than FC_MAX_CAND rows would have to be enumerated) the frictionless
- * impact stands and a warning is counted. Returns 1 if v and lam were
- * replaced. */
+ * frictional row carries an impulse in it and some row is approached
+ * (b_i - G_i v > tol.rate: below that a row's rate is 0 to the method, as
+ * for the contact set and the impact count, and the projection only
+ * removes rounding). Where fcontact.h finds no
+ * consistent mode (more than FC_MAX_CAND rows would have to be enumerated)
+ * the frictionless impact stands and a warning is counted. Returns 1 if v
+ * and lam were replaced, 2 for a graze of a rest (sf_graze: no impulse,
+ * v and lam untouched), else 0. */
 static int sf_impact(hyb *H, const exdex_kinematics *kin, const double *y, int n, const int *rows,
                      const double (*Gr)[3], const double *b, double v[3], double *lam)
 {
@@ -908,11 +975,14 @@ static int sf_impact(hyb *H, const exdex_kinematics *kin, const double *y, int n
     fc_problem p;
     fc_result res;
     unsigned char hint[MAX_ROWS];
-    double lf[MAX_ROWS], bf[MAX_ROWS], T[3], tb, push = 0.0;
-    for (int i = 0; i < n; i++)
-        if (lam[i] > 0.0 && hrow_friction_planar(H, kin, rows[i], y, T, &tb) > 0.0)
-            push = fmax(push, b[i] - ex_dot3(Gr[i], y + 3));
-    if (!(push >= SLIP_PUSH * H->zsw)) return 0;
+    double lf[MAX_ROWS], bf[MAX_ROWS], T[3], tb;
+    int fric = 0, approach = 0;
+    for (int i = 0; i < n; i++) {
+        if (lam[i] > 0.0 && hrow_friction_planar(H, kin, rows[i], y, T, &tb) > 0.0) fric = 1;
+        if (b[i] - ex_dot3(Gr[i], y + 3) > m->tol.rate) approach = 1;
+    }
+    if (!fric || !approach) return 0;
+    if (sf_graze(H, kin, y, n, rows, b)) return 2;
     if (n > LDP_MAX_ROWS / 2) {
         H->st->warnings++;
         return 0;
@@ -951,6 +1021,51 @@ static int sf_impact(hyb *H, const exdex_kinematics *kin, const double *y, int n
     return 1;
 }
 
+/* The hold of a face landing flat (planar_impact_and_set) on frictional
+ * stops: the held rows' normal rates are taken as 0 below zsw; a held
+ * frictional stop whose slip along it is below zsw there too is decided
+ * sticking (sf_decide) and its slip projected to 0 on the contact set with
+ * inequality rows (sf_project_stick), which can lift a corner of the face
+ * just held flat again (the tangential impulse's torque) and restart the
+ * cascade the hold ends. Both are the same band: the hold takes the slip
+ * to 0 with the normal rates, in one M-metric projection (the held rows as
+ * equality pairs G2 v = b2 and, per held frictional stop with |T v2 + tb|
+ * <= zsw, T v = -tb at its first held row). v2 and lam2 (the normal pairs'
+ * multipliers, first n2 entries) are replaced when that projection
+ * succeeds with finite multipliers. */
+static void sf_hold_stick(hyb *H, const exdex_kinematics *kin, const double *y, int n, const int *rows,
+                          const double (*Gr)[3], const double *b, int n2, double (*G2)[3], double *b2, double *v2,
+                          double *lam2)
+{
+    double G3[2 * MAX_ROWS + 2 * NSRC_MAX][3], b3[2 * MAX_ROWS + 2 * NSRC_MAX], lam3[2 * MAX_ROWS + 2 * NSRC_MAX], v3[3];
+    int done[NSRC_MAX] = {0}, n3 = n2, add = 0;
+    memcpy(G3, G2, (size_t)n2 * sizeof *G3);
+    memcpy(b3, b2, (size_t)n2 * sizeof *b3);
+    for (int i = 0; i < n; i++) {
+        double T[3], tb, rate = ex_dot3(Gr[i], y + 3) - b[i];
+        int src = hrow_src(H, rows[i]);
+        if (rate > H->zsw || done[src]) continue;
+        done[src] = 1;
+        if (!(hrow_friction_planar(H, kin, rows[i], y, T, &tb) > 0.0)) continue;
+        if (!(fabs(ex_dot3(T, v2) + tb) <= H->zsw)) continue;
+        for (int c = 0; c < 3; c++) {
+            G3[n3][c] = T[c];
+            G3[n3 + 1][c] = -T[c];
+        }
+        b3[n3] = -tb;
+        b3[n3 + 1] = tb;
+        n3 += 2;
+        add = 1;
+    }
+    if (!add || !ldp_project(H->m->minv, n3, (const double (*)[3])G3, b3, y + 3, FQ_MIN, v3, lam3,
+                             &H->st->stop_iterations, &H->st->warnings))
+        return;
+    for (int i = 0; i < n3; i++)
+        if (!isfinite(lam3[i])) return;
+    memcpy(v2, v3, sizeof v3);
+    memcpy(lam2, lam3, (size_t)n2 * sizeof *lam2);
+}
+
 /* Impacts of a planar object on the touching rows (gap <= tol.touch) at
  * (t, y): the plastic impact projects v onto G v >= -(gd - G v) (no
  * approach) in the M metric; with frictional rows carrying an impulse
@@ -962,7 +1077,7 @@ static void planar_impact_and_set(hyb *H, double t, const exdex_kinematics *kin,
 {
     const exdex_model *m = H->m;
     double Gr[MAX_ROWS][3], b[MAX_ROWS], lam[MAX_ROWS], v[3], ga[MAX_ROWS], gda[MAX_ROWS];
-    int rows[MAX_ROWS], n = 0, na = hrow_all_planar(H, kin, y, rows, Gr, ga, gda);
+    int rows[MAX_ROWS], n = 0, na = hrow_all_planar(H, kin, y, rows, Gr, ga, gda), graze = 0;
     for (int i = 0; i < na; i++) {
         if (ga[i] > m->tol.touch) continue;
         memcpy(Gr[n], Gr[i], sizeof Gr[n]);
@@ -973,7 +1088,13 @@ static void planar_impact_and_set(hyb *H, double t, const exdex_kinematics *kin,
     if (!n) return;
     if (ldp_project(m->minv, n, (const double (*)[3])Gr, b, y + 3, FQ_MIN, v, lam, &H->st->stop_iterations, &H->st->warnings)) {
         double G2[2 * MAX_ROWS][3], b2[2 * MAX_ROWS], lam2[2 * MAX_ROWS], v2[3];
-        if (H->sfric) sf_impact(H, kin, y, n, rows, (const double (*)[3])Gr, b, v, lam);
+        if (H->sfric) graze = sf_impact(H, kin, y, n, rows, (const double (*)[3])Gr, b, v, lam) == 2;
+        if (graze) {
+            /* a graze of a rest (sf_graze): no impulse, the rows join the
+             * rest's contact set */
+            memcpy(v, y + 3, sizeof v);
+            for (int i = 0; i < n; i++) lam[i] = 0.0;
+        }
         double per_stop[NSRC_MAX] = {0};
         int n2 = 0, lift = 0;
         for (int i = 0; i < n; i++) {
@@ -1028,6 +1149,7 @@ static void planar_impact_and_set(hyb *H, double t, const exdex_kinematics *kin,
                 if (net[k] > 0.0) pull = 0;
             for (int k = 0; k < H->ns + H->no; k++)
                 if (!isfinite(net[k])) pull = 1;
+            if (!pull && H->sfric) sf_hold_stick(H, kin, y, n, rows, (const double (*)[3])Gr, b, n2, G2, b2, v2, lam2);
             for (int i = 0, r = 0; !pull && i < n; i++) {
                 double rate = ex_dot3(Gr[i], y + 3) - b[i];
                 if (rate > H->zsw) continue;
@@ -1039,7 +1161,7 @@ static void planar_impact_and_set(hyb *H, double t, const exdex_kinematics *kin,
     }
     for (int i = 0; i < n; i++) {
         double rate = ex_dot3(Gr[i], y + 3) - b[i];
-        if (fabs(rate) <= m->tol.rate) H->cs[H->ncs++] = rows[i];
+        if (fabs(rate) <= m->tol.rate || (graze && rate < 0.0)) H->cs[H->ncs++] = rows[i];
     }
 }
 
@@ -1120,19 +1242,40 @@ static double planar_rest(hyb *H, const exdex_kinematics *kin, const double *y, 
     return model_ell_norm(m, w);
 }
 
-/* Would the object stay at rest at (t, y) (f, kin its frame terms; the
- * stick test of decide): the load at zero velocity inside the static
- * ellipsoid (against the contact-set rows: the least-friction split of
- * planar_rest)? */
-static int planar_load_held(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y)
+/* The load at (t, y) (f, kin its frame terms): the ellipsoid norm |E^-1 w|
+ * of the plate wrench w that holds the object at zero velocity (against
+ * the contact-set rows: the least-friction split of planar_rest).
+ * planar_load_held: would the object stay at rest there (the stick test of
+ * decide): that load inside the static ellipsoid? */
+static double planar_load(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y)
 {
     const exdex_model *m = H->m;
     double F[3], w[3], zero[3] = {0, 0, 0}, lam[MAX_ROWS];
     model_force_planar(m, f, y, zero, F);
-    if (H->ncs) return planar_rest(H, kin, y, F, w, lam) <= H->caps * (1.0 + TOLF);
+    if (H->ncs) return planar_rest(H, kin, y, F, w, lam);
     for (int i = 0; i < 3; i++) F[i] = -F[i];
     model_patch_of_gen(m, MODEL_CS(y[2]), F, w);
-    return model_ell_norm(m, w) <= H->caps * (1.0 + TOLF);
+    return model_ell_norm(m, w);
+}
+
+static int planar_load_held(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y)
+{
+    return planar_load(H, f, kin, y) <= H->caps * (1.0 + TOLF);
+}
+
+/* Regularised, planar, C_s > C: whether the held regime applies (see the
+ * top), and the slip speed |E u| at y. */
+static int smooth_two(const hyb *H)
+{
+    return H->law == LAW_SMOOTH && H->ndof == 3 && H->m->capks > H->m->capk;
+}
+
+static double planar_slip_speed(const hyb *H, const double *y)
+{
+    double u[3], eu[3];
+    model_patch_slip(H->m, MODEL_CS(y[2]), y + 3, u);
+    for (int i = 0; i < 3; i++) eu[i] = H->m->e[i] * u[i];
+    return sqrt(ex_dot3(eu, eu));
 }
 
 /* Does a contact-set row's stop recede in B, at zero velocity, at SLIP_PUSH
@@ -1212,7 +1355,7 @@ static int planar_friction(hyb *H, const frame *f, const exdex_kinematics *kin, 
                     double P[3], a[3], qdd[3], lam[MAX_ROWS], ua[3], ea[3], sa, wn[3], d = 0.0;
                     model_gen_of_patch(m, MODEL_CS(th), w, P);
                     for (int i = 0; i < 3; i++) a[i] = m->minv[i] * (F[i] + P[i]);
-                    contact_acc_planar(H, kin, y, a, qdd, lam, NULL);
+                    contact_acc_planar(H, kin, y, a, qdd, lam, NULL, NULL);
                     model_patch_slip(m, MODEL_CS(th), qdd, ua);
                     for (int i = 0; i < 3; i++) ea[i] = m->e[i] * ua[i];
                     sa = sqrt(ex_dot3(ea, ea));
@@ -1282,7 +1425,10 @@ static void set_tie_joins(hyb *H, const double *y, double t)
 }
 
 /* Keep in the planar contact set only the rows that push (lam > 0) under
- * the accelerations of the current (non-stick) mode at (t, y). */
+ * the accelerations of the current (non-stick) mode at (t, y); in a lock
+ * (sfric.h) the rows it holds: their forces are indeterminate, a row
+ * without force in one split carries it in another, and they all hold (gap
+ * acceleration 0) while the lock lasts. */
 static void planar_prune_set(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y)
 {
     double F[3], w[3], P[3], a[3], qdd[3], lam[MAX_ROWS];
@@ -1291,26 +1437,71 @@ static void planar_prune_set(hyb *H, const frame *f, const exdex_kinematics *kin
     if (planar_friction(H, f, kin, y, F, w)) return;
     model_gen_of_patch(H->m, MODEL_CS(y[2]), w, P);
     for (int i = 0; i < 3; i++) a[i] = H->m->minv[i] * (F[i] + P[i]);
-    contact_acc_planar(H, kin, y, a, qdd, lam, NULL);
+    unsigned lk = 0u;
+    contact_acc_planar(H, kin, y, a, qdd, lam, NULL, &lk);
     for (int i = 0; i < H->ncs; i++)
-        if (lam[i] > 0.0) H->cs[n++] = H->cs[i];
+        if (lam[i] > 0.0 || (lk >> i & 1u)) H->cs[n++] = H->cs[i];
     H->ncs = n;
 }
 
 /* ------------------------------------ planar frictional stops: modes */
 
+static int sf_free_acc(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y, double a[3]);
+
+/* In a lock of the current modes at (t, y) (S its problem): y's velocity
+ * replaced by the one holding the lock's rows at rate 0 and its sticking
+ * stops' slips at 0 (sf_lock_solve to tol.rate), provided the set's other
+ * rows do not approach at it. Returns 1 if replaced. */
+static int sf_lock_velocity(hyb *H, const frame *f, const exdex_kinematics *kin, double *y, const sf_set *S)
+{
+    double a[3], qdd[3], lamc[MAX_ROWS], C[SF_MAX_ROWS + SF_MAX_STOPS][3], rhs[SF_MAX_ROWS + SF_MAX_STOPS], v[3],
+        Go[SF_MAX_ROWS][3], bo[SF_MAX_ROWS];
+    unsigned lk = 0u;
+    int k = 0, no = 0;
+    if (sf_free_acc(H, f, kin, y, a) != EXDEX_OK) return 0;
+    contact_acc_planar(H, kin, y, a, qdd, lamc, NULL, &lk);
+    if (!lk) return 0;
+    for (int i = 0; i < H->ncs && i < SF_MAX_ROWS; i++) {
+        double G[3], gd;
+        hrow_planar(H, kin, H->cs[i], y, y + 3, G, &gd, NULL);
+        if (lk >> i & 1u) {
+            memcpy(C[k], G, sizeof G);
+            rhs[k++] = -(gd - ex_dot3(G, y + 3));
+        } else {
+            memcpy(Go[no], G, sizeof G);
+            bo[no++] = -(gd - ex_dot3(G, y + 3));
+        }
+    }
+    for (int j = 0; j < S->ng; j++) {
+        if (!(S->has[j] && S->st[j].mu > 0.0 && H->fm[j] == SF_STICK)) continue;
+        memcpy(C[k], S->st[j].T, sizeof C[k]);
+        rhs[k++] = -S->tb[j];
+    }
+    if (!sf_lock_solve(k, (const double (*)[3])C, rhs, H->m->minv, H->m->tol.rate, v)) return 0;
+    for (int i = 0; i < no; i++)
+        if (!(ex_dot3(Go[i], v) >= bo[i] - H->m->tol.rate)) return 0;
+    memcpy(y + 3, v, sizeof v);
+    return 1;
+}
+
 /* The velocity of a planar object with sticking stops (H->fm SF_STICK,
  * not at rest) projected in the M metric onto their slips 0 (T v = -tb)
- * and the contact-set rows' no-approach G v >= -(gd - G v). */
-static void sf_project_stick(hyb *H, const exdex_kinematics *kin, double *y)
+ * and the contact-set rows' no-approach G v >= -(gd - G v). In a lock
+ * (sfric.h: more such rows than coordinates, dependent) the velocity is
+ * the one that holds the lock's rows at rate 0 and its stops' slips at 0
+ * (sf_lock_solve, to tol.rate), the set's other rows not approaching; the
+ * projection of the dependent rows as inequality pairs would be
+ * inconsistent by rounding. */
+static void sf_project_stick(hyb *H, const frame *f, const exdex_kinematics *kin, double *y)
 {
     sf_set S;
     double Gr[SF_MAX_ROWS + 2 * SF_MAX_STOPS][3], b[SF_MAX_ROWS + 2 * SF_MAX_STOPS],
         lam[SF_MAX_ROWS + 2 * SF_MAX_STOPS], v[3];
     int n = 0, stick = 0;
     if (H->mode == MODE_STICK || !H->ncs || sf_build(H, kin, y, &S) < 0) return;
-    for (int k = 0; k < S.ng; k++) stick |= S.has[k] && S.st[k].mu > 0.0 && H->fm[k] == SF_STICK;
+    for (int k = 0; k < S.ng; k++) stick += S.has[k] && S.st[k].mu > 0.0 && H->fm[k] == SF_STICK;
     if (!stick) return;
+    if (H->ncs + stick > 3 && sf_lock_velocity(H, f, kin, y, &S)) return;
     for (int i = 0; i < H->ncs; i++) {
         int r = H->cs[i];
         double gd;
@@ -1348,7 +1539,8 @@ static int sf_free_acc(hyb *H, const frame *f, const exdex_kinematics *kin, cons
  * empty) into g; returns their count. At rest, per frictional stop with
  * set rows: zsw - |tb| (static) or sigma tb - zsw (sliding past). Else +1
  * / -1 (a consistent mode exists or not), and per frictional stop with set
- * rows: sliding, sigma s; sticking, mu sum lam (1 + SF_BAND) - |beta|. */
+ * rows: sliding, sigma s; sticking, mu sum lam (1 + SF_BAND) - |beta|, or
+ * in a lock (sfric.h) its margin. */
 static int sf_guards(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y, double *g)
 {
     sf_set S;
@@ -1375,6 +1567,8 @@ static int sf_guards(hyb *H, const frame *f, const exdex_kinematics *kin, const 
             g[n++] = S.s[k];
         else if (H->fm[k] == SF_SLIDE_M)
             g[n++] = -S.s[k];
+        else if (H->fm[k] == SF_STICK && ok && res.lock)
+            g[n++] = res.margin;
         else if (H->fm[k] == SF_STICK && ok)
             g[n++] = S.st[k].mu * res.lsum[k] * (1.0 + SF_BAND) - fabs(res.beta[k]);
         else
@@ -1459,7 +1653,7 @@ static void sf_decide(hyb *H, double t, double *y)
         H->st->warnings++;
         return;
     }
-    sf_project_stick(H, &kin, y);
+    sf_project_stick(H, &f, &kin, y);
 }
 
 /* ------------------------------------------------------- right-hand side */
@@ -1526,7 +1720,7 @@ static int rhs(double t, const double y[], double dy[], void *params)
             }
             if (H->ncs) {
                 double lam[MAX_ROWS];
-                contact_acc_planar(H, &kin, y, a, dy + 3, lam, NULL);
+                contact_acc_planar(H, &kin, y, a, dy + 3, lam, NULL, NULL);
                 for (int i = 0; i < H->ncs; i++) dy[9 + hrow_src(H, H->cs[i])] += lam[i];
             }
         }
@@ -1659,7 +1853,26 @@ static int guards(hyb *H, double t, const double *y, double *g)
     }
     if (H->ndof == 3) {
         if (H->law == LAW_SMOOTH) {
-            /* no friction guard */
+            /* one coefficient: no friction guard. Two: the held regime's
+             * (see the top), its first guard: held, it breaks away where
+             * the slip is beyond the band and the object could not rest
+             * in B (the load at rest leaves the static ellipsoid, or a
+             * contact-set row's stop moves into it: a forced slip); not
+             * held, it is held again where the slip slows into the band */
+            if (smooth_two(H)) {
+                double sig = planar_slip_speed(H, y);
+                if (H->held) {
+                    double gh = H->caps * (1.0 + TOLF) - planar_load(H, &f, &kin, y), zero[3] = {0, 0, 0};
+                    for (int i = 0; i < H->ncs; i++) {
+                        double G[3], gd;
+                        hrow_planar(H, &kin, H->cs[i], y, zero, G, &gd, NULL);
+                        gh = fmin(gh, H->caps * (gd + m->tol.rate) / m->scale.V);
+                    }
+                    g[n++] = fmax(H->eps - sig, gh);
+                } else {
+                    g[n++] = sig - H->eps;
+                }
+            }
         } else if (H->mode == MODE_SLIP) {
             double u[3], eu[3], sig;
             model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
@@ -1723,13 +1936,17 @@ static int guards(hyb *H, double t, const double *y, double *g)
                 }
                 model_gen_of_patch(m, MODEL_CS(y[2]), w, P);
                 for (int i = 0; i < 3; i++) a[i] = m->minv[i] * (F[i] + P[i]);
-                contact_acc_planar(H, &kin, y, a, qdd, lam, acc);
+                /* in a lock (sfric.h) the rows' forces are one split of
+                 * indeterminate ones: the lock's margin (sf_guards) says
+                 * when a row must separate or a stop slide */
+                unsigned lk = 0u;
+                contact_acc_planar(H, &kin, y, a, qdd, lam, acc, &lk);
                 for (int i = 0; i < H->ncs; i++) {
                     int r = H->cs[i];
                     double G[3], d = 0.0;
                     hrow_planar(H, &kin, r, y, y + 3, G, NULL, NULL);
                     for (int c = 0; c < 3; c++) d += G[c] * G[c] * m->minv[c];
-                    g[n++] = lam[i] * d - acc[i];
+                    g[n++] = (lk >> i & 1u) ? 1.0 : lam[i] * d - acc[i];
                 }
             }
             /* an obstacle row of the set: its feature stays the active one */
@@ -1926,7 +2143,7 @@ static void decide_modes(hyb *H, double t, double *y, int vzero)
                 double P[3], a[3], qdd[3], lam[MAX_ROWS], ua[3];
                 model_gen_of_patch(m, MODEL_CS(y[2]), res.p, P);
                 for (int i = 0; i < 3; i++) a[i] = m->minv[i] * (F[i] + P[i]);
-                contact_acc_planar(H, &kin, y, a, qdd, lam, NULL);
+                contact_acc_planar(H, &kin, y, a, qdd, lam, NULL, NULL);
                 model_patch_slip(m, MODEL_CS(y[2]), qdd, ua);
                 for (int i = 0; i < 3; i++) H->uref[i] = m->e[i] * ua[i];
                 planar_prune_set(H, &f, &kin, y);
@@ -2073,10 +2290,20 @@ static void decide_modes(hyb *H, double t, double *y, int vzero)
  * friction modes after it (decided afresh at every decision: sf_decide). */
 static void decide(hyb *H, double t, double *y, int vzero)
 {
+    double v0[3] = {0, 0, 0};
     if (H->sfric)
         for (int k = 0; k < SF_MAX_STOPS; k++) H->fm[k] = SF_ROLL;
     H->sgn = 0;
+    if (H->ndof == 3) memcpy(v0, y + 3, sizeof v0);
     decide_modes(H, t, y, vzero);
+    if (smooth_two(H)) {
+        /* the held regime: held in the band; a velocity changed by an
+         * impact is a slip (kinetic beyond the band); else as it was */
+        if (planar_slip_speed(H, y) <= H->eps)
+            H->held = 1;
+        else if (y[3] != v0[0] || y[4] != v0[1] || y[5] != v0[2])
+            H->held = 0;
+    }
     if (H->sfric && !H->err) {
         sf_fix_groups(H, t, y);
         sf_decide(H, t, y);
@@ -2113,7 +2340,7 @@ static void project_contact(hyb *H, double t, double *y)
         }
         if (ldp_project(H->m->minv, H->ncs, (const double (*)[3])Gr, b, y + 3, FQ_MIN, v, lam, &H->st->stop_iterations, &H->st->warnings))
             memcpy(y + 3, v, sizeof v);
-        if (H->sfric) sf_project_stick(H, &kin, y);
+        if (H->sfric) sf_project_stick(H, &f, &kin, y);
         return;
     }
     if (H->ndof != 1 || H->mode != MODE_CONTACT) return;
@@ -2144,6 +2371,7 @@ static int apply_jump(hyb *H, double ts, double *y)
         st = exdex_motion_eval(m->motion, ts, &k);
         if (st) return st;
         model_velocity_jump(m, k.R, y, dv[j], dw[j], y + (H->ndof == 1 ? 1 : 3));
+        H->held = 0;  /* a slip (regularised, planar): held again by the decision if in the band */
     }
     return EXDEX_OK;
 }
@@ -3093,6 +3321,10 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                 if (nd == 3 && law == LAW_COULOMB && H.mode == MODE_SLIP && !H.sfric && e_best >= H.gap0 &&
                     e_best < H.gap1 && e_best - H.gap0 < H.ns * H.nv - H.ncs)
                     join = 1;
+                /* regularised, planar, two coefficients: the held
+                 * regime's guard (the first): it broke away, or a slip
+                 * slowed into the band */
+                if (smooth_two(&H) && e_best == 0) H.held = !H.held;
                 if (keep)
                     H.small = 1;
                 else
@@ -3232,7 +3464,7 @@ static int hybrid_restore(void *ws, const void *buf)
     for (int i = 0; i < S.H.ncs; i++)
         if (S.H.cs[i] < 0 || (S.H.cs[i] >= nr && !(B->no && orow_valid(B->m, S.H.cs[i] - nr)))) return EXDEX_EINVAL;
     if (S.H.sfric != B->sfric || (S.H.stiff != 0 && S.H.stiff != 1) || S.H.nlow < 0 || S.H.nlow > STIFF_AFTER ||
-        (S.H.jam != 0.0 && S.H.jam != 1.0 && S.H.jam != -1.0))
+        (S.H.jam != 0.0 && S.H.jam != 1.0 && S.H.jam != -1.0) || (S.H.held != 0 && S.H.held != 1))
         return EXDEX_EINVAL;
     for (int k = 0; k < SF_MAX_STOPS; k++)
         if (S.H.fm[k] < SF_ROLL || S.H.fm[k] > SF_NONE) return EXDEX_EINVAL;

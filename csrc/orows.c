@@ -181,6 +181,18 @@ static void ojet_axis(const exdex_obstacle_def *ob, const ojet *J, jet cB[3], je
     }
 }
 
+/* The hull edge e along the line: its start u, its direction (ex, ey) to
+ * the next hull vertex; returns its length. */
+static jet ojet_edge(const exdex_model *m, const ojet *J, int e, jet u[2], jet *ex, jet *ey)
+{
+    jet w[2];
+    ojet_hull(m, J, e, u);
+    ojet_hull(m, J, (e + 1) % m->n_hull, w);
+    *ex = jsub(w[0], u[0]);
+    *ey = jsub(w[1], u[1]);
+    return jsqrt(jadd(jmul(*ex, *ex), jmul(*ey, *ey)));
+}
+
 /* The rim point at angle phi0 + dphi s and its offset w from the axis (its
  * distance |w|) along the line (q + dq s, t + dt s). */
 static void disc_rim_jet(const exdex_model *m, const exdex_kinematics *kin, const exdex_obstacle_def *ob,
@@ -255,7 +267,7 @@ static jet orow_jet(const exdex_model *m, const exdex_kinematics *kin, int code,
                     double dt)
 {
     const exdex_obstacle_def *ob = &m->def.obstacles[orow_obst(code)];
-    int nh = m->n_hull, feat = orow_feat(code);
+    int feat = orow_feat(code);
     ojet J;
     ojet_init(m, kin, q, dq, dt, &J);
     if (m->disc_r > 0.0) {
@@ -265,39 +277,16 @@ static jet orow_jet(const exdex_model *m, const exdex_kinematics *kin, int code,
         ojet_disc(m, &J, xc);
         dx = jsub(xc[0], y[0]);
         dy = jsub(xc[1], y[1]);
-        (void)nh;
-        (void)feat;
         return jsub(jsqrt(jadd(jmul(dx, dx), jmul(dy, dy))), jk(m->disc_r));
     }
     if (orow_kind(code) == OROW_SECTION) {
-        int f = orow_a(code), g = orow_b(code);
-        jet af[3], ag[3], bf = jk(ex_dot3(ob->face_normal[f], ob->face_point[f]));
-        jet bg = jk(ex_dot3(ob->face_normal[g], ob->face_point[g])), det, y[2], u[2], w[2], ex, ey, len;
-        ojet_rt(&J, ob->face_normal[f], af);
-        ojet_rt(&J, ob->face_normal[g], ag);
-        for (int k = 0; k < 3; k++) {
-            bf = jsub(bf, jmul(jk(ob->face_normal[f][k]), J.p[k]));
-            bg = jsub(bg, jmul(jk(ob->face_normal[g][k]), J.p[k]));
-        }
-        det = jsub(jmul(af[0], ag[1]), jmul(af[1], ag[0]));
-        y[0] = jdiv(jsub(jmul(bf, ag[1]), jmul(bg, af[1])), det);
-        y[1] = jdiv(jsub(jmul(af[0], bg), jmul(ag[0], bf)), det);
-        ojet_hull(m, &J, feat, u);
-        ojet_hull(m, &J, (feat + 1) % nh, w);
-        ex = jsub(w[0], u[0]);
-        ey = jsub(w[1], u[1]);
-        len = jsqrt(jadd(jmul(ex, ex), jmul(ey, ey)));
+        jet y[2], u[2], ex, ey, len;
+        ojet_section_vertex(ob, &J, orow_a(code), orow_b(code), y);
+        len = ojet_edge(m, &J, feat, u, &ex, &ey);
         return jdiv(jsub(jmul(ey, jsub(y[0], u[0])), jmul(ex, jsub(y[1], u[1]))), len);
     } else {
         jet cB[3], aB[3], d[3];
-        ojet_rt(&J, ob->axis, aB);
-        /* c_B = R^T (c - p) */
-        ojet_rt(&J, ob->center, cB);
-        for (int i = 0; i < 3; i++) {
-            jet t = jk(0.0);
-            for (int k = 0; k < 3; k++) t = jadd(t, jmul(J.R[3 * k + i], J.p[k]));
-            cB[i] = jsub(cB[i], t);
-        }
+        ojet_axis(ob, &J, cB, aB);
         if (feat < 32) {
             jet x[2], t, w2 = jk(0.0);
             ojet_hull(m, &J, feat, x);
@@ -312,11 +301,8 @@ static jet orow_jet(const exdex_model *m, const exdex_kinematics *kin, int code,
             return jsub(jsqrt(w2), jk(ob->radius));
         } else {
             int e = feat - 32;
-            jet u[2], w[2], du[2], mv[3], num, mm;
-            ojet_hull(m, &J, e, u);
-            ojet_hull(m, &J, (e + 1) % nh, w);
-            du[0] = jsub(w[0], u[0]);
-            du[1] = jsub(w[1], u[1]);
+            jet u[2], du[2], mv[3], num, mm;
+            ojet_edge(m, &J, e, u, &du[0], &du[1]);
             mv[0] = jmul(du[1], aB[2]);
             mv[1] = jsub(jk(0.0), jmul(du[0], aB[2]));
             mv[2] = jsub(jmul(du[0], aB[1]), jmul(du[1], aB[0]));
@@ -981,7 +967,7 @@ void orow_point(const exdex_model *m, const exdex_kinematics *kin, int code, con
 static void orow_point_jet(const exdex_model *m, const exdex_obstacle_def *ob, const ojet *J, int code, jet x[2],
                            jet n[2])
 {
-    int nh = m->n_hull, feat = orow_feat(code);
+    int feat = orow_feat(code);
     if (m->disc_r > 0.0) {
         /* a disc's section row: the rim point toward the section vertex */
         jet y[2], xc[2], nn;
@@ -997,42 +983,19 @@ static void orow_point_jet(const exdex_model *m, const exdex_obstacle_def *ob, c
         return;
     }
     if (orow_kind(code) == OROW_SECTION) {
-        int f = orow_a(code), g = orow_b(code);
-        jet af[3], ag[3], bf = jk(ex_dot3(ob->face_normal[f], ob->face_point[f]));
-        jet bg = jk(ex_dot3(ob->face_normal[g], ob->face_point[g])), det, u[2], w[2], ex, ey, len;
-        ojet_rt(J, ob->face_normal[f], af);
-        ojet_rt(J, ob->face_normal[g], ag);
-        for (int k = 0; k < 3; k++) {
-            bf = jsub(bf, jmul(jk(ob->face_normal[f][k]), J->p[k]));
-            bg = jsub(bg, jmul(jk(ob->face_normal[g][k]), J->p[k]));
-        }
-        det = jsub(jmul(af[0], ag[1]), jmul(af[1], ag[0]));
-        x[0] = jdiv(jsub(jmul(bf, ag[1]), jmul(bg, af[1])), det);
-        x[1] = jdiv(jsub(jmul(af[0], bg), jmul(ag[0], bf)), det);
-        ojet_hull(m, J, feat, u);
-        ojet_hull(m, J, (feat + 1) % nh, w);
-        ex = jsub(w[0], u[0]);
-        ey = jsub(w[1], u[1]);
-        len = jsqrt(jadd(jmul(ex, ex), jmul(ey, ey)));
+        jet u[2], ex, ey, len;
+        ojet_section_vertex(ob, J, orow_a(code), orow_b(code), x);
+        len = ojet_edge(m, J, feat, u, &ex, &ey);
         n[0] = jdiv(jsub(jk(0.0), ey), len);
         n[1] = jdiv(ex, len);
     } else {
         jet cB[3], aB[3], d[3], t, nn;
-        ojet_rt(J, ob->axis, aB);
-        ojet_rt(J, ob->center, cB);
-        for (int i = 0; i < 3; i++) {
-            jet s = jk(0.0);
-            for (int k = 0; k < 3; k++) s = jadd(s, jmul(J->R[3 * k + i], J->p[k]));
-            cB[i] = jsub(cB[i], s);
-        }
+        ojet_axis(ob, J, cB, aB);
         if (feat < 32) {
             ojet_hull(m, J, feat, x);
         } else {
-            jet u[2], w[2], du[3], dd[3], ta, tf, num = jk(0.0), den = jk(0.0);
-            ojet_hull(m, J, feat - 32, u);
-            ojet_hull(m, J, (feat - 31) % nh, w);
-            du[0] = jsub(w[0], u[0]);
-            du[1] = jsub(w[1], u[1]);
+            jet u[2], du[3], dd[3], ta, tf, num = jk(0.0), den = jk(0.0);
+            ojet_edge(m, J, feat - 32, u, &du[0], &du[1]);
             du[2] = jk(0.0);
             d[0] = jsub(u[0], cB[0]);
             d[1] = jsub(u[1], cB[1]);

@@ -29,7 +29,8 @@
  * Contact modes: each row carries force (its gap acceleration 0) or not (its
  * lam 0); each stop with rows carrying force sticks or slides with a sign.
  * A mode is solved exactly (at most 3 independent constraint rows in the
- * plane: a mode with more is skipped as singular, ldp_solve_small) and
+ * plane, ldp_solve_small; a mode with more, or a singular one, is a lock
+ * (below) or skipped) and
  * accepted when its signs hold: lam >= -tol_f, the gap accelerations of the
  * rows without force >= -tol_a and, for a rolling stop (SF_ROLL), the mode
  * chosen for it: sticking inside its cone (|beta| <= mu sum lam (1 +
@@ -37,6 +38,34 @@
  * (>= -tol_a). A stop given a mode (SF_STICK, SF_SLIDE_*) keeps it without
  * these checks: its equations stay smooth in time, and the caller's guards
  * (the cone margin, the slip's sign) say when it ends.
+ * A mode with more than 3 constraint rows, or 3 whose system is singular,
+ * is a lock when the rows carrying force (and the sticking stops' slip
+ * rows) fix qdd by themselves (rank 3, the others consistent with them): an
+ * object wedged between stops, e.g. a block pressed into a corner, whose
+ * slips are then 0 at every instant while the lock holds. Its motion is
+ * determined, its forces are not (any split over the stops' cones that
+ * gives the required M (qdd - a)): the lock is consistent iff that force
+ * lies in the cone of the mode's generators (the rows' G_i +- mu T_k in
+ * the friction cones, G_i - mu sigma T_k for a sliding stop, G_i for a
+ * frictionless one), with the margin (res.margin, the least signed distance
+ * of the force to the cone's facets plus the band SF_BAND of its size) as
+ * the caller's guard of it; res.lam, res.beta get one such split (the
+ * combination nearest the required force). A lock whose stops all have
+ * given modes is kept whatever its margin, like any given mode (the guard
+ * ends it). Where a rolling stop is to be decided, locks are tried only
+ * after every other mode has failed: a lock's forces include wedge forces
+ * that a less constrained consistent mode (a row separating, a stop
+ * sliding) does without, so where both are consistent (Coulomb friction's
+ * acceleration-level ambiguity) the less constrained one is taken (the
+ * Python tests check the choice against the implicit method's velocity-
+ * level step on random corner scenes). And in a mode whose
+ * three constraints fix qdd, a rolling stop's slip acceleration is the
+ * kinematics': one within tol_a of 0 is no slide in either direction (the
+ * stop is held, which its stick mode, a lock, describes); a slide of it is
+ * accepted only with sigma acct > tol_a. Without the lock such a mode
+ * would be skipped as singular and a sticking stop of a wedged object
+ * could only be described as sliding with a slip of 0, whose sign is
+ * rounding.
  * The modes are enumerated in a fixed order (per stop the given mode, or
  * for a rolling stop: stick, slide +, slide -; the rows: every row carrying
  * force first, then the subsets by a binary count down), the first
@@ -50,6 +79,7 @@
 #define SF_MAX_ROWS 8   /* rows whose normal modes are enumerated */
 #define SF_MAX_STOPS 16 /* friction groups ("stops"): the stops (EXDEX_MAX_STOPS) and the obstacles' contact lines */
 #define SF_BAND 1e-12   /* relative band of the stick cone: a stop sticks while |beta| <= mu sum lam (1 + SF_BAND) */
+#define SF_LOCK_RANK 1e-9  /* a lock's constraints (unit rows, M^-1/2 metric) and generators span R^3 above this volume */
 
 /* Friction mode of a stop (sf_solve's fm). */
 enum { SF_ROLL = 0, SF_STICK = 1, SF_SLIDE_P = 2, SF_SLIDE_M = 3, SF_NONE = 4 };
@@ -78,6 +108,9 @@ typedef struct sf_result {
     int fm[SF_MAX_STOPS];       /* mode found: SF_STICK, SF_SLIDE_P, SF_SLIDE_M, or the given one for a
                                    stop without force (SF_ROLL stays SF_ROLL) */
     int tried;                  /* modes solved */
+    int lock;                   /* 1: the mode found is a lock (above) */
+    double margin;              /* a lock's margin (>= 0 while consistent), else 0 */
+    unsigned mask;              /* a lock's rows (bit i: row i carries force in it), else 0 */
 } sf_result;
 
 /* Solve the problem of nr rows (<= SF_MAX_ROWS) on ns stops (<= SF_MAX_STOPS;
@@ -86,5 +119,13 @@ typedef struct sf_result {
  * solution). */
 int sf_solve(int nr, const sf_row *rows, int ns, const sf_stop *st, const double minv[3], const double a[3],
              double tol_a, double tol_f, sf_result *res);
+
+/* x with C_l x = rhs_l for all k rows (3 <= k <= SF_MAX_ROWS + SF_MAX_STOPS):
+ * solved on the three rows of largest volume (unit rows in the metric
+ * diag(minv)^1/2, above SF_LOCK_RANK), every row then checked to |C_l x -
+ * rhs_l| <= tol. Returns 0 if the rows have rank below 3 or are
+ * inconsistent beyond tol. A lock's acceleration, and its velocity (every
+ * row's rate held). */
+int sf_lock_solve(int k, const double (*C)[3], const double *rhs, const double minv[3], double tol, double x[3]);
 
 #endif

@@ -47,6 +47,19 @@ __all__ = ["Sensitivity", "sensitivity", "EventTimes", "event_times", "EventSens
            "Identification", "identify"]
 
 
+def _scene_params(scene, params):
+    """The canonical names of params (one name or a sequence of them, at
+    least one) for scene, an exdex.Scene: TypeError/ValueError otherwise."""
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene must be an exdex.Scene, got {type(scene).__name__}")
+    if isinstance(params, str):
+        params = (params,)
+    names = tuple(_param_name(p, scene) for p in params)
+    if not names:
+        raise ValueError("params must name at least one parameter")
+    return names
+
+
 def _batch_method(scene, method, names):
     """The method of a batch varying ``names``: ``resolve_method``, except that
     "auto" stays off the analytic path when the pad centre varies (the
@@ -133,13 +146,7 @@ def sensitivity(scene: Scene, params: Sequence[str], t_end: float, *, dt: Option
     (default "auto": the analytic path where it applies, else the event
     method at ``rtol``).
     """
-    if not isinstance(scene, Scene):
-        raise TypeError(f"scene must be an exdex.Scene, got {type(scene).__name__}")
-    if isinstance(params, str):
-        params = (params,)
-    names = tuple(_param_name(p, scene) for p in params)
-    if not names:
-        raise ValueError("params must name at least one parameter")
+    names = _scene_params(scene, params)
     t_end = _real(t_end, "t_end", low=0.0, low_open=True)
     dt = t_end if dt is None else _real(dt, "dt", low=0.0, low_open=True, high=t_end)
     rel_step = _real(rel_step, "rel_step", low=0.0, high=0.5, low_open=True)
@@ -455,13 +462,7 @@ def event_sensitivity(scene: Scene, params: Sequence[str], t_end: float, *, meth
     ``exact_if_possible=False`` forces the differences. The event times
     themselves are always the bisected ones of :func:`event_times`.
     """
-    if not isinstance(scene, Scene):
-        raise TypeError(f"scene must be an exdex.Scene, got {type(scene).__name__}")
-    if isinstance(params, str):
-        params = (params,)
-    names = tuple(_param_name(p, scene) for p in params)
-    if not names:
-        raise ValueError("params must name at least one parameter")
+    names = _scene_params(scene, params)
     rel_step = _real(rel_step, "rel_step", low=0.0, high=0.5, low_open=True)
     if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or not 2 <= levels <= 20:
         raise ValueError(f"levels must be an int in [2, 20], got {levels!r}")

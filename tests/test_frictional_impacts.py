@@ -283,3 +283,105 @@ def test_1dof_frictional_impact_jam_is_frictionless_with_a_warning(method):
     assert res.stats["warnings"] > 0
     extra = 1.0 * h / math.sin(0.4) if method == "implicit" else 0.0
     np.testing.assert_allclose(res.stats["max_impulse"], pn0 + extra, rtol=1e-12)
+
+
+# ------------------------------------------------ slow impacts: every speed
+
+def _corner_law(r, v, mu):
+    """The law for the corner r (from C, in B) of the box striking the floor
+    (normal (0, 1), tangent (1, 0), at rest) with velocity v, solved for
+    every consistent mode (Stewart-Trinkle, plastic): rows G = (n, r x n),
+    T = (t, r x t), W = M^-1, v+ = v + W (G Pn + T Pt), G v+ = 0.
+      stick: T v+ = 0 too, the 2 x 2 system of _corner_impact, kept if
+        |Pt| <= mu Pn;
+      slide with sign sg of the slip after the impact: Pt = -mu sg Pn,
+        Pn = -G v / (G W (G - mu sg T)), kept if Pn >= 0 and sg T v+ > 0
+        (the slip before the impact need not have that sign: the normal
+        impulse's coupling G W T can turn it).
+    Returns the list of (v+, Pn, mode) of the consistent modes."""
+    Mi = np.diag([1 / M_BOX, 1 / M_BOX, 1 / I_BOX])
+    G = np.array([0.0, 1.0, r[0]])
+    T = np.array([1.0, 0.0, -r[1]])
+    A = np.array([[G @ Mi @ G, G @ Mi @ T], [T @ Mi @ G, T @ Mi @ T]])
+    pn, pt = np.linalg.solve(A, -np.array([G @ v, T @ v]))
+    if abs(pt) <= mu * pn:
+        return [(v + Mi @ (G * pn + T * pt), pn, "stick")]
+    out = []
+    for sg in (1.0, -1.0):
+        pn = -(G @ v) / (G @ Mi @ (G - mu * sg * T))
+        vp = v + Mi @ (G - mu * sg * T) * pn
+        if pn >= 0 and sg * (T @ vp) > 0:
+            out.append((vp, pn, "slide"))
+    return out
+
+
+def _slow_strikes(n, seed):
+    """n slow slanted strikes of the box's lowest corner on a frictional
+    floor, drawn from a fixed stream: tilt th0 in (0.1, 0.6) rad, approach
+    speed vn log-uniform in (1e-9, 1e-3) m/s, the corner's slip ct = vn
+    tan(phi) (slant phi uniform in (-1.4, 1.4) rad), the box spinning at w
+    (|w| 1 to 5 rad/s) about that corner, so v_C = (ct, -vn) - w (-r_y,
+    r_x) is ~w |r| whatever vn; mu 0.05 to 2.5. Yields (th0, v0, r, mu,
+    vn)."""
+    rng = np.random.default_rng(seed)
+    for _ in range(n):
+        th0 = rng.uniform(0.1, 0.6)
+        vn = 10.0 ** rng.uniform(-9.0, -3.0)
+        phi = rng.uniform(-1.4, 1.4)
+        w = rng.uniform(1.0, 5.0) * rng.choice([-1.0, 1.0])
+        mu = rng.uniform(0.05, 2.5)
+        r = min(_corners(th0), key=lambda p: p[1])
+        v0 = np.array([vn * math.tan(phi) + w * r[1], -vn - w * r[0], w])
+        yield th0, v0, r, mu, vn
+
+
+@pytest.mark.parametrize("method", ["event", "regularised", "implicit", "explicit"])
+def test_slow_slanted_strikes_on_a_frictional_floor_closed_form(method):
+    """The touching strike of the spinning box (frictionless plates, no
+    gravity, the impact at t = 0, free flight after it) at approach speeds
+    from 1e-9 to 1e-3 m/s, at random slants, spins and mu (_slow_strikes):
+    the law of _corner_law (one consistent mode in every scene) holds at
+    every speed. The friction's share of the velocity change, v+ minus the
+    frictionless v+, is ~mu vn: the error is held to 1e-6 of it (plus
+    rounding of v), so a slow impact taken frictionless fails by 1e6. The
+    implicit and explicit steps have no plate impulse here (mu 0): their
+    first step is the law."""
+    modes = set()
+    for th0, v0, r, mu, vn in _slow_strikes(30, 7):
+        law = _corner_law(r, v0, mu)
+        assert len(law) == 1
+        vp, pn, mode = law[0]
+        modes.add(mode)
+        (vf, _, _), = _corner_law(r, v0, 0.0)
+        share = np.abs(vp - vf).max()
+        assert share > 0.01 * mu * vn
+        res = _run(_box_scene(th0, v0, r[1], mu), 0.002, 1e-4, method)
+        assert res.stats["impacts"] == 1 and res.stats["warnings"] == 0
+        np.testing.assert_allclose(res.stats["max_impulse"], pn, rtol=1e-9, atol=1e-14 * M_BOX)
+        np.testing.assert_array_less(np.abs(res.v[-1] - vp), 1e-6 * share + 1e-14 * np.abs(vp) + 1e-15)
+    assert modes == {"stick", "slide"}
+
+
+@pytest.mark.parametrize("vn", [1e-9, 1e-7, 1e-5, 1e-3])
+@pytest.mark.parametrize("method", ["event", "regularised", "implicit", "explicit"])
+def test_block_sliding_slowly_into_a_frictional_wall_closed_form(method, vn):
+    """The box flat on a floor stop (its lower face on it, gap 0), sliding
+    along it at vt = 0.05 m/s and approaching it at vn (frictionless
+    plates, gravity along the plate normal only: no in-plane force, the
+    scene's velocity scale sqrt(g L) fixed while vn varies). Both corners
+    of the face strike together: Pn = m vn, the friction impulse
+    -sign(vt) min(m |vt|, mu m vn) at the face (its torque about C, at
+    most mu Pn B / 2, is carried by the corners' split of Pn, possible
+    while mu B <= A), so v+ = (vt - mu vn, 0, 0) at mu 0.3; the box then
+    flies along the floor at that velocity. The friction's change mu vn is
+    resolved to 1e-6 of itself."""
+    mu, vt = 0.3, 0.05
+    sc = exdex.Scene(body=exdex.Body.box(M_BOX, (A_BOX, B_BOX, 0.02)),
+                     grasp=exdex.Grasp(mu=0.0, grip_force=1.0, patch=exdex.Patch.rectangle(0.01, 0.01)),
+                     dof="planar", gravity=(0.0, 0.0, -9.81), gripper_rotation=IDENTITY, q0=(0.0, 0.0, 0.0),
+                     v0=(vt, -vn, 0.0), stops=(exdex.Stop((0.0, -B_BOX / 2, 0.0), (0.0, 1.0, 0.0), mu=mu),))
+    res = _run(sc, 0.002, 1e-4, method)
+    assert res.stats["warnings"] == 0 and res.stats["impacts"] == 1
+    np.testing.assert_allclose(res.stats["max_impulse"], M_BOX * vn, rtol=1e-9)
+    assert abs(res.v[-1, 0] - (vt - mu * vn)) <= 1e-6 * mu * vn + 1e-16
+    assert abs(res.v[-1, 1]) <= 1e-15 and abs(res.v[-1, 2]) <= 1e-13

@@ -593,6 +593,32 @@ def test_rod_of_fig11_turns_the_square_as_exdex_tool_predicts():
 
 # ---------------------------------------------------------------- friction (Obstacle.mu)
 
+def _wall_face_runs(mu_s, **kw):
+    """The frictional wall of tests/test_stop_friction.py (_wall_scene) for
+    0.3 s at dt 1e-3 with the options kw: the Stop's run, which the one-face
+    obstacle through the wall with Obstacle.mu gives bit for bit
+    (face_is_the_stop), and the run with the wall as the face of a box (the
+    other faces far away)."""
+    from test_stop_friction import _wall_scene
+    stop_scene = _wall_scene(mu_s)
+    face = Obstacle.halfspaces([(-1.0, 0.0, 0.0)], [-0.1], mu=mu_s)
+    a = face_is_the_stop(run, stop_scene, face, 0.3, 1e-3, **kw)
+    box = Obstacle.box((0.6, 0.0, 0.0), (1.0, 1.0, 1.0), mu=mu_s)
+    return a, run(with_obstacles(stop_scene, box), 0.3, 1e-3, **kw)
+
+
+def _assert_wall_steady(c, mu_s):
+    """The run c at the wall's closed form (_wall_closed_form): no warnings,
+    the final v_x -0.01 m/s to 1e-12, the terminal slide speed and the wall
+    force to 1e-9."""
+    from test_stop_friction import _wall_closed_form
+    w, lam = _wall_closed_form(mu_s)
+    assert c.stats["warnings"] == 0
+    np.testing.assert_allclose(c.v[-1, 0], -0.01, rtol=1e-12)
+    np.testing.assert_allclose(c.v[-1, 1], -w, rtol=1e-9, atol=1e-15)
+    np.testing.assert_allclose(c.stop_force[-1, 0], lam, rtol=1e-9)
+
+
 @pytest.mark.parametrize("mu_s", [0.3, 0.8])
 def test_frictional_face_is_the_frictional_stop_and_meets_the_wall_closed_form(mu_s):
     """The frictional wall of tests/test_stop_friction.py (a block dragged
@@ -600,17 +626,7 @@ def test_frictional_face_is_the_frictional_stop_and_meets_the_wall_closed_form(m
     with Obstacle.mu: bit for bit the frictional Stop; as the face of a box
     (the other faces far away), the same closed-form terminal slide speed
     and wall force (sliding regime, mu_s = 0.3) or the hold (0.8)."""
-    from test_stop_friction import _wall_closed_form, _wall_scene
-    stop_scene = _wall_scene(mu_s)
-    face = Obstacle.halfspaces([(-1.0, 0.0, 0.0)], [-0.1], mu=mu_s)
-    face_is_the_stop(run, stop_scene, face, 0.3, 1e-3)
-    box = Obstacle.box((0.6, 0.0, 0.0), (1.0, 1.0, 1.0), mu=mu_s)
-    c = run(with_obstacles(stop_scene, box), 0.3, 1e-3)
-    w, lam = _wall_closed_form(mu_s)
-    assert c.stats["warnings"] == 0
-    np.testing.assert_allclose(c.v[-1, 0], -0.01, rtol=1e-12)
-    np.testing.assert_allclose(c.v[-1, 1], -w, rtol=1e-9, atol=1e-15)
-    np.testing.assert_allclose(c.stop_force[-1, 0], lam, rtol=1e-9)
+    _assert_wall_steady(_wall_face_runs(mu_s)[1], mu_s)
 
 
 @pytest.mark.parametrize("mu_s", [0.3, 0.8])
@@ -621,17 +637,7 @@ def test_frictional_face_is_the_frictional_stop_in_the_explicit_method(mu_s):
     box face meets the wall closed form of tests/test_stop_friction.py
     (whose explicit steady state is exact: the plate friction evaluated at
     the previous velocity is the same one at a constant velocity)."""
-    from test_stop_friction import _wall_closed_form, _wall_scene
-    stop_scene = _wall_scene(mu_s)
-    face = Obstacle.halfspaces([(-1.0, 0.0, 0.0)], [-0.1], mu=mu_s)
-    face_is_the_stop(run, stop_scene, face, 0.3, 1e-3, method="explicit")
-    box = Obstacle.box((0.6, 0.0, 0.0), (1.0, 1.0, 1.0), mu=mu_s)
-    c = run(with_obstacles(stop_scene, box), 0.3, 1e-3, method="explicit")
-    w, lam = _wall_closed_form(mu_s)
-    assert c.stats["warnings"] == 0
-    np.testing.assert_allclose(c.v[-1, 0], -0.01, rtol=1e-12)
-    np.testing.assert_allclose(c.v[-1, 1], -w, rtol=1e-9, atol=1e-15)
-    np.testing.assert_allclose(c.stop_force[-1, 0], lam, rtol=1e-9)
+    _assert_wall_steady(_wall_face_runs(mu_s, method="explicit")[1], mu_s)
 
 
 @pytest.mark.parametrize("mu_s", [0.3, 0.8])
@@ -643,13 +649,9 @@ def test_frictional_face_is_the_frictional_stop_in_the_event_method(mu_s):
     away) it meets the wall closed form: the steady slide speed and wall
     force to 1e-9 (sliding, mu_s = 0.3), or the hold (0.8: no vertical
     motion beyond rounding, the wall force the whole capacity)."""
-    from test_stop_friction import _wall_closed_form, _wall_scene
+    from test_stop_friction import _wall_closed_form
     kw = dict(method="event", rtol=1e-10, atol=1e-12)
-    stop_scene = _wall_scene(mu_s)
-    face = Obstacle.halfspaces([(-1.0, 0.0, 0.0)], [-0.1], mu=mu_s)
-    face_is_the_stop(run, stop_scene, face, 0.3, 1e-3, **kw)
-    box = Obstacle.box((0.6, 0.0, 0.0), (1.0, 1.0, 1.0), mu=mu_s)
-    c = run(with_obstacles(stop_scene, box), 0.3, 1e-3, **kw)
+    _, c = _wall_face_runs(mu_s, **kw)
     w, lam = _wall_closed_form(mu_s)
     assert c.stats["warnings"] == 0
     np.testing.assert_allclose(c.v[-1, 0], -0.01, rtol=1e-12)
@@ -670,14 +672,10 @@ def test_frictional_face_is_the_frictional_stop_in_the_regularised_method(mu_s):
     inactive) to 1e-12, and its closed form: sliding, the steady speed moves
     off it by O(eps^2 / s^2) (below 1e-3 relative at eps = 1e-4); holding,
     the smoothed law's lam = cap V / sqrt(V^2 + eps^2) exactly."""
-    from test_stop_friction import _wall_closed_form, _wall_scene
+    from test_stop_friction import _wall_closed_form
     V, cap, eps = 0.01, 1.5, 1e-4
     kw = dict(method="regularised", eps=eps, rtol=1e-10, atol=1e-12)
-    stop_scene = _wall_scene(mu_s)
-    face = Obstacle.halfspaces([(-1.0, 0.0, 0.0)], [-0.1], mu=mu_s)
-    a = face_is_the_stop(run, stop_scene, face, 0.3, 1e-3, **kw)
-    box = Obstacle.box((0.6, 0.0, 0.0), (1.0, 1.0, 1.0), mu=mu_s)
-    c = run(with_obstacles(stop_scene, box), 0.3, 1e-3, **kw)
+    a, c = _wall_face_runs(mu_s, **kw)
     assert c.stats["warnings"] == 0
     np.testing.assert_allclose(c.q, a.q, rtol=0, atol=1e-12)
     w, lam = _wall_closed_form(mu_s)

@@ -431,6 +431,57 @@ def test_a_slip_stopped_by_a_load_between_the_capacities_sticks(method, dof):
         assert abs(s[-1] - ss) <= (1e-9 if method == "event" else dt * v0), (frac, s[-1], ss)
 
 
+def touching_stop_scene(dof, al, A):
+    """An object held by static friction with a stop touching one outline
+    corner, the load pointing away from the stop and between the kinetic
+    and static capacities (|Q| = 1.25 C = 0.77 C_s; mu_static / mu = 1.625),
+    the gripper accelerating (at most A) along the stop's plane (tilted by al
+    from B's x), so the stop stays where it is in B while the gripper moves.
+    rotation: pivot (the patch centre) 10 mm right of the centre of mass,
+    gravity torque 0.01 m g counter-clockwise, the stop through the lower
+    right corner, which that turn lifts off it; translation: slide along B's
+    y, gravity down, the stop through the upper left corner (the slide
+    leaves it). The gripper's inertial load (at most 0.01 m A sin(al) or m A
+    sin(al)) stays within 0.15 of the gravity load, so |Q| stays in (C,
+    C_s)."""
+    m, g = 0.1, 9.81
+    patch = Patch.disc(0.005, center=(0.01, 0.0) if dof == "rotation" else (0.0, 0.0))
+    mu, mus = 0.4, 0.65
+    if dof == "rotation":
+        N = 0.01 * m * g / 1.25 / (mu * 2 * patch.e_r)
+        n, corner, d = (-math.sin(al), math.cos(al)), (0.02, -0.01), (math.cos(al), math.sin(al))
+    else:
+        N = m * g / 1.25 / (mu * 2)
+        n, corner, d = (math.sin(al), -math.cos(al)), (-0.02, 0.01), (math.cos(al), math.sin(al))
+    vmax = 0.3
+    motion = exdex.TrapezoidalProfile(amplitude=0.2, duration=vmax / A + 0.2 / vmax, v_max=vmax,
+                                      axis=(d[0], 0.0, d[1]))
+    # B's x, y are A's x, z at the default gripper pose
+    stop = exdex.Stop((corner[0], 0.0, corner[1]), (n[0], 0.0, n[1]))
+    return Scene(body=Body.box(m, (0.04, 0.02, 0.02)), grasp=Grasp(mu=mu, grip_force=N, mu_static=mus, patch=patch),
+                 motion=motion, dof=dof, stops=(stop,))
+
+
+@pytest.mark.parametrize("seed", range(4))
+@pytest.mark.parametrize("dof", ["rotation", "translation"])
+@pytest.mark.parametrize("method", ["event", "implicit", "explicit"])
+def test_static_hold_beside_a_touching_stop_is_exact(method, dof, seed):
+    """touching_stop_scene with al, A drawn at random (A sin(al) <= 0.15 g):
+    statics (the load inside the static capacity throughout, pointing away
+    from the stop) says the object never moves. Every method holds it
+    exactly: q constant and v = 0 at every sample, at several dt. A stop
+    whose gap is touched at the rounding level does not push it (a push of
+    any speed would make the friction kinetic, which cannot hold this
+    load)."""
+    rng = np.random.default_rng([seed, 77])
+    al = math.radians(rng.uniform(3.0, 20.0))
+    A = rng.uniform(0.5, 0.15 * 9.81 / math.sin(al))
+    sc = touching_stop_scene(dof, al, A)
+    for dt in (1e-3, 1e-4):
+        r = exdex.simulate(sc, t_end=1.0, dt=dt, method=method)
+        assert np.all(r.q[:, 0] == r.q[0, 0]) and np.all(r.v == 0.0), (dt, np.abs(r.q[:, 0] - r.q[0, 0]).max())
+
+
 def test_hysteresis_explicit_converges():
     """The explicit baseline over the whole loop (two breakaways, two
     re-sticks with the reversed load between Ck and Cs): it holds the load
@@ -743,3 +794,94 @@ def test_rest_against_a_stop_fixed_in_B_breaks_away_at_the_static_capacity(seed,
         assert np.max(np.abs(got - s)) <= tol * (1.0 + np.max(s)), (method, np.max(np.abs(got - s)))
         still = r.t < tb - dt
         assert np.all(np.abs(got[still]) <= 1e-12), (method, np.max(np.abs(got[still])))
+
+
+# ------------------------------------------------------------ a held load stepping inside the static ellipsoid
+
+
+def held_step_scene(rng, f0=0.8, f1=0.97):
+    """A planar box (mass M, random sides, centre of pressure pc off the
+    centre of mass, torsional semi-axis e_r) held under gravity in a random
+    in-plane direction, the grip set so that the gravity load is f0 Cs;
+    after a pause a one-cycle Shake along an in-plane direction d, whose
+    acceleration jumps from 0 to a0 = A (2 pi f)^2 at its start (and then
+    runs through +-a0), with a0 the largest for which the load stays inside
+    f1 Cs over the whole cycle. The load is linear in the gripper's
+    acceleration (translation only): the generalized force F = M (g - a),
+    held by the patch wrench w = -(F_x, F_y, pc_y F_x - pc_x F_y) (about the
+    centre of pressure), |E^-1 w| = |(w_x, w_y, w_z / e_r)|.
+
+    d (and its sign) is the one, of 36, whose step the regularised stick
+    band turns into the largest excursion of the slip speed: in the band
+    (w = -Cs E^2 u / eps) z = E u relaxes as z' = -(Cs / eps) S (z - z*) with
+    S = E J M^-1 J^T E symmetric (J: qd -> u), z* = eps E^-1 w / Cs the
+    creep of the new load; each of S's eigencomponents moves monotonically
+    from the old creep to the new, so |z| can pass max(|z0|, |z*|) when the
+    load turns (up to sqrt(|z0|^2 + |z*|^2)): past eps for a load still
+    inside Cs. Scenes are drawn until that excursion (of this linear model)
+    exceeds 1.02 eps. Returns (scene, t_end, e_r, pc)."""
+    while True:
+        a, b = rng.uniform(0.02, 0.05, size=2)
+        pc = rng.uniform(-0.4, 0.4, size=2) * (a, b)
+        er = rng.uniform(0.1, 0.4) * min(a, b)
+        J = np.array([[1.0, 0.0, -pc[1]], [0.0, 1.0, pc[0]], [0.0, 0.0, 1.0]])
+        E = np.diag([1.0, 1.0, er])
+        S = E @ J @ np.diag([1 / M, 1 / M, 12 / (M * (a * a + b * b))]) @ J.T @ E
+        lam, Qs = np.linalg.eigh(S)
+
+        def z(F):
+            return -np.array([F[0], F[1], (pc[1] * F[0] - pc[0] * F[1]) / er])
+        th = rng.uniform(0.0, 2.0 * math.pi)
+        g = 9.81 * np.array([math.cos(th), math.sin(th)])
+        cs = np.linalg.norm(z(M * g)) / f0
+        z0 = z(M * g) / cs
+        ts = np.linspace(0.0, 10.0 / lam[0], 400)
+        best = (0.0, None, 0.0)
+        for ph in np.linspace(0.0, math.pi, 36, endpoint=False):
+            d = np.array([math.cos(ph), math.sin(ph)])
+            lo, hi = 0.0, 100.0
+            for _ in range(50):
+                s = (lo + hi) / 2
+                ok = max(np.linalg.norm(z(M * (g - s * d))), np.linalg.norm(z(M * (g + s * d)))) <= f1 * cs
+                lo, hi = (s, hi) if ok else (lo, s)
+            for sg in (1.0, -1.0):
+                zs = z(M * (g - sg * lo * d)) / cs
+                path = zs[:, None] + Qs @ (np.exp(-np.outer(ts, lam)) * (Qs.T @ (z0 - zs))).T
+                over = float(np.max(np.linalg.norm(path, axis=0)))
+                if over > best[0]:
+                    best = (over, d, sg * lo)
+        if best[0] > 1.02:
+            break
+    _, d, a0 = best
+    f = rng.uniform(5.0, 20.0)
+    T0 = 0.05
+    motion = exdex.Chain((exdex.Pause(T0), exdex.Shake(a0 / (2 * math.pi * f) ** 2, f, cycles=1.0,
+                                                       axis=(d[0], 0.0, d[1]))))
+    # default gripper rotation: B's (x, y) is A's (x, z)
+    sc = Scene(body=Body.box(M, (a, b, 0.01)),
+               grasp=Grasp(mu=MU, grip_force=cs / (2 * MU_S), mu_static=MU_S, patch=Patch(e_r=er, center=tuple(pc))),
+               motion=motion, gravity=(g[0], 0.0, g[1]), dof="planar")
+    return sc, T0 + 1.0 / f, er, pc
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_held_load_step_inside_the_static_capacity_planar(seed):
+    """held_step_scene: the load stays inside f1 Cs < Cs throughout, so the
+    exact motion is at rest (the event method: still, q exactly q0). The
+    regularised method holds it by its stick band: the slip speed |E u| is
+    at most eps there (and beyond it only while a step's transient relaxes,
+    for a relaxation time M eps / Cs, with the friction at Cs, held), so the
+    pose moves by at most ~ eps t_end per unit of (1 + |pc| / e_r) (the
+    centre of mass moves at the patch's speed plus omega |pc|, omega <= eps
+    / e_r); the check allows twice that. A band that dropped to Ck as soon
+    as the transient left it (|E u| > eps) broke away at the step at every
+    eps (35 to 180 times the allowance at eps = 1e-4 m/s)."""
+    rng = np.random.default_rng([seed, 0x52])
+    sc, t_end, er, pc = held_step_scene(rng)
+    ev = exdex.simulate(sc, t_end, t_end / 16, method="event")
+    assert np.all(ev.stick[1:]) and np.all(ev.q == ev.q[0])
+    for eps in (1e-3, 1e-4):
+        r = exdex.simulate(sc, t_end, t_end / 16, method="regularised", eps=eps)
+        dq = np.abs(r.q - r.q[0])
+        moved = max(np.max(dq[:, 0]), np.max(dq[:, 1]), np.max(dq[:, 2]) * er)
+        assert moved <= 2.0 * eps * t_end * (1.0 + math.hypot(*pc) / er), (eps, moved)

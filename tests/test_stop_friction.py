@@ -734,3 +734,221 @@ def test_event_and_implicit_agree_on_random_planar_frictional_stop_scenes(seed):
     ext = np.abs(2 * q[4] - q[2] - ev.q).max()
     assert e2 <= 0.6 * e1, (e1, e2)
     assert ext <= 0.2 * e2, (ext, e2)
+
+
+# ------------------------------------------- planar: a block in a corner
+
+def _corner_scene(mu_w, mu_f, V=0.01, **kw):
+    """_wall_scene with a floor: a frictional stop fixed in A at z = -a/2
+    (normal +z), flush under the block's bottom face from t = 0, so the
+    block sits in the corner of the wall and the floor while the gripper
+    drives it toward the wall at V."""
+    sc = _wall_scene(mu_w, V=V, **kw)
+    return exdex.replace(sc, stops=sc.stops + (exdex.Stop((0.0, 0.0, -0.015), (0.0, 0.0, 1.0), mu=mu_f),))
+
+
+@pytest.mark.parametrize("method", ["event", "regularised", "implicit"])
+@pytest.mark.parametrize("V", [0.001, 0.01, 0.02])
+@pytest.mark.parametrize("mu_w", [0.0, 0.3, 0.5, 2.0])
+def test_block_held_in_frictional_corner_stays_at_rest(mu_w, V, method):
+    """The gripper slides toward the wall past a block that sits in the
+    corner of the wall and a floor (both frictional, the floor mu 0.4).
+    The block stays at rest in A: its plate slip is the pure translation
+    (V, 0) in B, so the plates push it toward the wall with the force cap
+    (the regularised law: cap V / sqrt(V^2 + eps^2)) and no moment; the
+    wall's normal force balances that force and the floor's the weight m g
+    (0.981 N), both through the centre (each face's two corners share its
+    force equally), with no friction needed at either stop: a split inside
+    every cone, so the block is wedged (a lock: the three touching rows and
+    the sticking stops fix its acceleration at 0). In B it moves at -V:
+    q(t) = q0 - (V t, 0, 0), v = (-V, 0, 0) at every sample (to 1e-12 m
+    and 1e-13 m/s: the event and regularised methods' integration
+    tolerance, the implicit step's complementarity solve). With mu_w <
+    m g / cap the block alone against the wall slides down (the wall scenes
+    above); the floor holds it. A method that cannot describe the lock
+    (its stops' slips exactly 0 at every instant) may decide the stops'
+    friction from the slips' rounding and toggle without end."""
+    r = exdex.simulate(_corner_scene(mu_w, 0.4, V=V), t_end=0.3, dt=1e-3, method=method, rtol=1e-10,
+                       atol=1e-12)
+    assert r.stats["warnings"] == 0
+    q0 = np.array([0.1 - 0.015, 0.0, 0.0])
+    np.testing.assert_allclose(r.q[:, 0], q0[0] - V * r.t, rtol=0, atol=1e-12)
+    assert np.all(np.abs(r.q[:, 1:]) <= 1e-12)
+    np.testing.assert_allclose(r.v[1:, 0], -V, rtol=0, atol=1e-13)
+    assert np.all(np.abs(r.v[:, 1:]) <= 1e-12)
+
+
+def _accel_corner_scene(mu_w, phi, Ag=2.0, T=0.2, m=0.1, a=0.03):
+    """A square block (side a, mass m) flush in the corner of a wall (x =
+    0.1, normal -x, mu_w) and a floor (z = -a/2, normal +z, mu 0.4) while
+    the gripper accelerates from rest at Ag along (cos phi, sin phi) in the
+    plate plane (a trapezoid whose ramps take half its duration: constant
+    acceleration up to T / 2). Plate capacity 2 mu F = 1.5 N."""
+    X = Ag * T * T / 4.0
+    return exdex.Scene(body=exdex.Body.box(m, (a, a, 0.02)),
+                       grasp=exdex.Grasp(mu=0.5, grip_force=1.5, patch=exdex.Patch.rectangle(0.02, 0.02)),
+                       motion=exdex.TrapezoidalProfile(amplitude=X, duration=T, v_max=2.0 * X / T,
+                                                       axis=(math.cos(phi), 0.0, math.sin(phi))),
+                       dof="planar", q0=(0.1 - a / 2, 0.0, 0.0),
+                       stops=(exdex.Stop((0.1, 0.0, 0.0), (-1.0, 0.0, 0.0), mu=mu_w),
+                              exdex.Stop((0.0, 0.0, -a / 2), (0.0, 0.0, 1.0), mu=0.4)))
+
+
+def _accel_corner_closed_form(mu_w, phi, Ag=2.0, m=0.1, cap=1.5):
+    """The block's upward acceleration kappa along the wall (0: it stays).
+
+    The gripper's velocity Ag t (c, s) (c = cos phi > 0: toward the wall)
+    leaves the block behind: the plates slip past it and push it with cap
+    along the slip, a pure force (a translation slip). At rest in A that
+    force is cap (c, s): the wall takes cap c, and the rest of the load, m g
+    - cap s downward, goes to the floor when it is >= 0 (no friction needed:
+    the block stays, wedged). When cap s > m g the floor cannot pull: the
+    wall's friction must hold cap s - m g <= mu_w cap c (Coulomb), or the
+    block slides up the wall off the floor (for mu_w < 1 the friction's
+    moment about the centre stays within what the wall's two corners carry,
+    so it does not tip). Sliding at u(t) in A, the slip is t (Ag c, Ag s -
+    u / t): with u = kappa t the direction is constant (self-similar, the
+    solution from rest: w = u / t obeys t dw/dt = f(w) / m with f
+    decreasing through its root), sigma = s - kappa / Ag, and
+        m kappa = cap (sigma - mu_w c) / sqrt(c^2 + sigma^2) - m g,
+    the wall's normal force cap c / sqrt(c^2 + sigma^2) times mu_w opposing
+    the slide. f(0) > 0 in the sliding case and f(Ag s) < 0: one root."""
+    from scipy.optimize import brentq
+    c, s = math.cos(phi), math.sin(phi)
+    if cap * s - m * G <= mu_w * cap * c:
+        return 0.0
+
+    def f(k):
+        sig = s - k / Ag
+        return cap * (sig - mu_w * c) / math.hypot(c, sig) - m * G - m * k
+    return brentq(f, 0.0, Ag * s, xtol=1e-15, rtol=1e-15)
+
+
+@pytest.mark.parametrize("phi_deg", [-30.0, 30.0, 60.0, 75.0])
+@pytest.mark.parametrize("mu_w", [0.0, 0.2, 0.5, 0.9])
+def test_block_in_corner_under_constant_gripper_acceleration_closed_form(mu_w, phi_deg):
+    """_accel_corner_closed_form: the block stays wedged (kappa = 0) or
+    slides up the wall at kappa t, so in B (the gripper displaced by Ag t^2
+    / 2 (c, s)) q = q0 + (-Ag c, kappa - Ag s) t^2 / 2, theta = 0. The event
+    method holds it to the integration tolerance; the implicit step is exact
+    for the wedged block and converges to the slide (its error must fall by
+    at least 0.6 per halving of dt)."""
+    phi, Ag = math.radians(phi_deg), 2.0
+    kappa = _accel_corner_closed_form(mu_w, phi)
+    sc = _accel_corner_scene(mu_w, phi)
+
+    def err(r):
+        qx = 0.085 - 0.5 * Ag * math.cos(phi) * r.t ** 2
+        qy = 0.5 * (kappa - Ag * math.sin(phi)) * r.t ** 2
+        return max(np.abs(r.q[:, 0] - qx).max(), np.abs(r.q[:, 1] - qy).max(), 0.03 * np.abs(r.q[:, 2]).max())
+    ev = exdex.simulate(sc, 0.1, 1e-3, method="event", rtol=1e-10, atol=1e-12)
+    assert ev.stats["warnings"] == 0
+    assert err(ev) <= 1e-11
+    e = [err(exdex.simulate(sc, 0.1, dt, method="implicit")) for dt in (1e-3, 5e-4)]
+    if kappa == 0.0:
+        assert max(e) <= 1e-15
+    else:
+        assert e[1] <= 0.6 * e[0] and e[0] <= 1e-6, e
+
+
+def _random_corner_scene(seed):
+    """A rectangular block (sides 15..40 mm, 50..300 g) flush on a floor
+    tilted by up to 0.4 rad and touching a wall at 90 deg +- 0.4 rad to it
+    (the corner's angle; 30 % of the corners square), both frictional (mu
+    0..1.5), the corner fixed in A; the gripper (plate capacity 0.08..4 N)
+    drives the block into the corner at a speed V from 1e-4 to 0.1 m/s: along
+    the floor toward the wall, or into the corner within +-0.6 rad, the
+    velocity jumping to V at t = 0 or ramping up, or by turning about a
+    point 5..10 cm from the corner at V / r (30 %); it stops at t = 0.5 s."""
+    rng = np.random.default_rng([seed, 31])
+    a, b = rng.uniform(0.015, 0.04, 2)
+    m = rng.uniform(0.05, 0.3)
+    mu_w, mu_f = rng.uniform(0.0, 1.5, 2)
+    V = 10.0 ** rng.uniform(-4.0, -1.0)
+    alpha = rng.uniform(-0.4, 0.4)
+    beta = alpha + rng.uniform(-0.4, 0.4) * (rng.uniform() < 0.7)
+    n_f = np.array([math.sin(alpha), math.cos(alpha)])
+    n_w = np.array([-math.cos(beta), math.sin(beta)])
+    P = np.array([0.02, -0.02])
+    c, s = math.cos(alpha), math.sin(alpha)
+    verts = [np.array([c * x - s * y, s * x + c * y])
+             for x, y in ((a / 2, b / 2), (-a / 2, b / 2), (-a / 2, -b / 2), (a / 2, -b / 2))]
+    # the centre whose least gap to each stop is 0
+    C = np.linalg.solve(np.array([n_w, n_f]), [n_w @ P - min(n_w @ v for v in verts),
+                                               n_f @ P - min(n_f @ v for v in verts)])
+    T = 0.5
+    if rng.uniform() < 0.3:
+        r = rng.uniform(0.05, 0.1)
+        ang = rng.uniform(0, 2 * np.pi)
+        ctr = P + r * np.array([math.cos(ang), math.sin(ang)])
+        motion = exdex.TrapezoidalProfile(amplitude=rng.choice([-1.0, 1.0]) * 0.9 * V / r * T, duration=T,
+                                          v_max=V / r, axis=(0.0, 1.0, 0.0), rotation=True,
+                                          center=(ctr[0], 0.0, ctr[1]))
+    else:
+        if rng.uniform() < 0.5:
+            d = np.array([n_f[1], -n_f[0]])
+            d = d if d @ n_w < 0 else -d
+        else:
+            d = -(n_w + n_f) / np.linalg.norm(n_w + n_f)
+            phi = rng.uniform(-0.6, 0.6)
+            d = np.array([math.cos(phi) * d[0] - math.sin(phi) * d[1], math.sin(phi) * d[0] + math.cos(phi) * d[1]])
+        motion = exdex.TrapezoidalProfile(amplitude=(1.0 if rng.uniform() < 0.5 else 0.9) * V * T, duration=T,
+                                          v_max=V, axis=(d[0], 0.0, d[1]))
+    return exdex.Scene(body=exdex.Body.box(m, (a, b, 0.02)),
+                       grasp=exdex.Grasp(mu=rng.uniform(0.2, 1.0), grip_force=rng.uniform(0.2, 2.0),
+                                         patch=exdex.Patch.rectangle(0.01, 0.01)),
+                       dof="planar", q0=(C[0], C[1], alpha), motion=motion,
+                       stops=(exdex.Stop((P[0], 0.0, P[1]), (n_w[0], 0.0, n_w[1]), mu=mu_w),
+                              exdex.Stop((P[0], 0.0, P[1]), (n_f[0], 0.0, n_f[1]), mu=mu_f)))
+
+
+@pytest.mark.parametrize("seed", range(24))
+def test_event_and_regularised_return_on_random_corner_scenes_and_agree_with_the_implicit_ladder(seed):
+    """_random_corner_scene: the event and regularised methods return (no
+    EXDEX_ENOCONV from mode switches at one instant), and the event
+    method's final state lies on the implicit method's dt ladder (1, 1/2,
+    1/4, 1/8 ms; first order): within 4 times the ladder's largest step
+    between neighbouring rungs, plus 1e-8 m for the event method's own
+    error (rtol 1e-10 on positions of centimetres, over its located events
+    and impacts; theta weighted by 30 mm). A
+    wrong branch (a block held wedged where it turns off a stop, or the
+    reverse) is off by orders of magnitude more."""
+    sc = _random_corner_scene(seed)
+    ev = exdex.simulate(sc, 0.6, 1e-3, method="event", rtol=1e-10, atol=1e-12)
+    exdex.simulate(sc, 0.6, 1e-3, method="regularised", rtol=1e-10, atol=1e-12)
+    wgt = np.array([1.0, 1.0, 0.03])
+    q = [exdex.simulate(sc, 0.6, 1e-3 / k, method="implicit").q[-1] for k in (1, 2, 4, 8)]
+    spread = max(np.abs((q[i] - q[i + 1]) * wgt).max() for i in range(3))
+    err = np.abs((ev.q[-1] - q[-1]) * wgt).max()
+    assert err <= 4.0 * spread + 1e-8, (err, spread)
+
+
+def test_event_takes_the_mode_without_wedge_forces_where_a_lock_is_also_consistent():
+    """A block touching a square corner (tilted by -0.387 rad) at one
+    corner on the wall (mu 1.24) and one on the floor (mu 0.56) while the
+    gripper pushes it into the corner at 5 mm/s. With both stops sticking
+    the two contacts would pin it (a lock), and with mu > 1 on the wall the
+    stops can hold it so with wedge forces; but it can also turn on the
+    floor away from the wall, which needs no wall force at all. Both are
+    consistent at the acceleration level (Coulomb friction's ambiguity);
+    the implicit method's velocity-level step takes the turn (no wall force,
+    theta rising by 0.02 rad), and so must the event method: its final
+    state on the implicit ladder as in the random corner scenes."""
+    sc = exdex.Scene(body=exdex.Body.box(0.13714788776095493, (0.03285224699425235, 0.028286567298935146, 0.02)),
+                     grasp=exdex.Grasp(mu=0.3788270433585025, grip_force=1.4873026797533841,
+                                       patch=exdex.Patch.rectangle(0.01, 0.01)),
+                     dof="planar", q0=(-0.008184359777314102, -0.008167297844797956, -0.3870724019514009),
+                     motion=exdex.TrapezoidalProfile(amplitude=0.0022785392670171918, duration=0.5,
+                                                     v_max=0.005063420593371537,
+                                                     axis=(0.7800079826440133, 0.0, -0.6257695638265066)),
+                     stops=(exdex.Stop((0.02, 0.0, -0.02), (-0.9260181335131014, 0.0, -0.37747902776831443),
+                                       mu=1.239938721245917),
+                            exdex.Stop((0.02, 0.0, -0.02), (-0.37747902776831443, 0.0, 0.9260181335131014),
+                                       mu=0.5633545316525804)))
+    ev = exdex.simulate(sc, 0.6, 1e-3, method="event", rtol=1e-10, atol=1e-12)
+    assert ev.stats["warnings"] == 0
+    wgt = np.array([1.0, 1.0, 0.03])
+    q = [exdex.simulate(sc, 0.6, 1e-3 / k, method="implicit").q[-1] for k in (1, 2, 4, 8)]
+    spread = max(np.abs((q[i] - q[i + 1]) * wgt).max() for i in range(3))
+    assert ev.q[-1, 2] - sc.q0[2] > 0.015
+    assert np.abs((ev.q[-1] - q[-1]) * wgt).max() <= 4.0 * spread + 1e-8

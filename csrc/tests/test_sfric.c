@@ -117,6 +117,94 @@ EXDEX_TEST(sfric_painleve_has_no_consistent_mode)
     ENSURE(sf_solve(SF_MAX_ROWS + 1, &row, 1, &st, minv, acc, 1e-12, 1e-12, &r) == 0);
 }
 
+/* A square block (half side h, at rest, centre at the origin) in the
+ * corner of a wall at x = h (normal -x, mu_w) and a floor at y = -h
+ * (normal +y, mu_f), each face flush: rows G = (n, r x n) at the corners
+ * (h, h), (h, -h) on the wall (r x n = r_y) and (-h, -h), (h, -h) on the
+ * floor (r x n = r_x); tangents t = e_z x n, T = (t, r x t): the wall's
+ * (0, -1, -h), the floor's (-1, 0, -h). A load (fx, fy) at the centre
+ * pushes it into the wall (fx > 0). It stays (qdd = 0) iff stop forces in
+ * the cones give -F. For |fy| <= mu_w fx the wall alone does it (normal
+ * force fx, friction -fy, its moment h fy about the centre within what the
+ * wall's two corners carry, h fx, for mu_w < 1): the floor is not needed,
+ * and the least constrained consistent mode is that one, no lock. For fy <
+ * -mu_w fx both stops are needed: the floor takes -fy and the wall fx
+ * through the centre, no friction needed: a lock (the four rows fix qdd).
+ * For fy > mu_w fx the floor cannot pull and the wall cannot hold: the
+ * block slides up the wall off the floor, qdd = (0, (fy - mu_w fx) / m, 0),
+ * the wall's slip s = T v = -v_y negative (SF_SLIDE_M), its normal force
+ * fx. */
+#undef G /* the rows' member below, not gravity */
+EXDEX_TEST(sfric_block_in_corner_is_a_lock_or_slides_up_the_wall_per_coulomb)
+{
+    double h = 0.015, m = 0.1, minv[3] = {1.0 / m, 1.0 / m, 1e4}, mu_w = 0.5, mu_f = 0.4, fx = 1.0;
+    const double fys[6] = {-0.8, -0.3, 0.3, 0.49, 0.51, 0.8};
+    sf_row rows[4] = {{{-1.0, 0.0, h}, 0.0, 0}, {{-1.0, 0.0, -h}, 0.0, 0},
+                      {{0.0, 1.0, -h}, 0.0, 1}, {{0.0, 1.0, h}, 0.0, 1}};
+    for (int c = 0; c < 6; c++) {
+        double fy = fys[c], acc[3] = {fx * minv[0], fy * minv[1], 0.0}, F[3] = {fx, fy, 0.0};
+        sf_stop st[2] = {{{0.0, -1.0, -h}, 0.0, mu_w, SF_ROLL}, {{-1.0, 0.0, -h}, 0.0, mu_f, SF_ROLL}};
+        sf_result r;
+        ENSURE(sf_solve(4, rows, 2, st, minv, acc, 1e-12, 1e-12, &r) == 1);
+        if (fy <= mu_w * fx) {
+            double sum[3] = {F[0], F[1], F[2]};
+            ENSURE(r.fm[0] == SF_STICK);
+            if (fy < -mu_w * fx)
+                ENSURE(r.fm[1] == SF_STICK && r.lock == 1 && r.mask == 0xfu && r.margin >= 0.0);
+            else
+                ENSURE(r.lock == 0 && r.lam[2] == 0.0 && r.lam[3] == 0.0);
+            ENSURE_CLOSE(r.qdd[0], 0.0, 1e-14);
+            ENSURE_CLOSE(r.qdd[1], 0.0, 1e-14);
+            ENSURE_CLOSE(r.qdd[2], 0.0, 1e-13 / h);
+            /* the split gives -F, inside the cones */
+            for (int i = 0; i < 4; i++) {
+                ENSURE(r.lam[i] >= 0.0);
+                for (int k = 0; k < 3; k++) sum[k] += r.lam[i] * rows[i].G[k];
+            }
+            for (int j = 0; j < 2; j++) {
+                ENSURE(fabs(r.beta[j]) <= st[j].mu * r.lsum[j] * (1.0 + SF_BAND));
+                for (int k = 0; k < 3; k++) sum[k] += r.beta[j] * st[j].T[k];
+            }
+            ENSURE_CLOSE(fabs(sum[0]) + fabs(sum[1]) + fabs(sum[2]) / h, 0.0, 1e-12);
+        } else {
+            ENSURE(r.lock == 0 && r.fm[0] == SF_SLIDE_M);
+            ENSURE_CLOSE(r.qdd[0], 0.0, 1e-12);
+            ENSURE_CLOSE(r.qdd[1], (fy - mu_w * fx) / m, 1e-12);
+            ENSURE_CLOSE(r.qdd[2], 0.0, 1e-9);
+            ENSURE_CLOSE(r.lam[0] + r.lam[1], fx, 1e-12);
+            ENSURE(r.lam[2] == 0.0 && r.lam[3] == 0.0 && r.acc[2] > 0.0 && r.acc[3] > 0.0);
+            ENSURE_CLOSE(r.beta[0], mu_w * fx, 1e-12);
+        }
+        /* both stops given stick (a decided lock): kept, the margin's sign
+         * says whether it still holds */
+        st[0].fm = st[1].fm = SF_STICK;
+        ENSURE(sf_solve(4, rows, 2, st, minv, acc, 1e-12, 1e-12, &r) == 1);
+        ENSURE(r.lock == 1 && (r.margin >= 0.0) == (fy <= mu_w * fx));
+    }
+}
+
+#define G 9.81
+
+/* The lock's rows: three of four rows and two tangents (five constraints,
+ * rank 3) give back x; inconsistent or rank-deficient rows are refused. */
+EXDEX_TEST(sfric_lock_solve_checks_rank_and_consistency)
+{
+    double minv[3] = {10.0, 10.0, 1e4}, x[3];
+    double C[5][3] = {{-1.0, 0.0, 0.015}, {-1.0, 0.0, -0.015}, {0.0, 1.0, -0.015}, {0.0, -1.0, -0.015},
+                      {-1.0, 0.0, -0.015}};
+    double x0[3] = {0.3, -0.2, 5.0}, rhs[5];
+    for (int l = 0; l < 5; l++) rhs[l] = C[l][0] * x0[0] + C[l][1] * x0[1] + C[l][2] * x0[2];
+    ENSURE(sf_lock_solve(5, (const double (*)[3])C, rhs, minv, 1e-12, x) == 1);
+    for (int k = 0; k < 3; k++) ENSURE_CLOSE(x[k], x0[k], 1e-12);
+    rhs[4] += 1e-6;
+    ENSURE(sf_lock_solve(5, (const double (*)[3])C, rhs, minv, 1e-9, x) == 0);
+    /* rank 2: only translations along x and y constrained */
+    {
+        double D[3][3] = {{1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, {1.0, 1.0, 0.0}}, r3[3] = {1.0, 2.0, 3.0};
+        ENSURE(sf_lock_solve(3, (const double (*)[3])D, r3, minv, 1e-9, x) == 0);
+    }
+}
+
 /* A planar object of mass 0.1 kg, a square of side 2 cm (disc 0) or a disc
  * of radius 2 cm centred at (4, -2) mm (disc 1), in a gripper turning about
  * a tilted axis (a rotation shake: w and dw change, a stop's or an
