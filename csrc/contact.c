@@ -480,13 +480,8 @@ int contact_hull(const double (*v)[2], int n, double (*hull)[2])
     return k;
 }
 
-/* Half-planes a.y <= b of B's plate plane cut by the polytope's faces at pose
- * (R, p): a = (R^T n)_xy, b = n.(face point - p). Faces parallel to the
- * plane (|a| <= 1e-12) are left out when the plane lies inside them; *empty
- * is set when it lies outside one (the plane misses the solid). Returns the
- * number kept. */
-static int halfplanes(const exdex_obstacle_def *o, const double R[9], const double p[3], double a[][2], double *b,
-                      int *empty)
+int contact_halfplanes(const exdex_obstacle_def *o, const double R[9], const double p[3], double a[][2], double *b,
+                       int *idx, int *empty)
 {
     int k = 0;
     *empty = 0;
@@ -502,9 +497,42 @@ static int halfplanes(const exdex_obstacle_def *o, const double R[9], const doub
         a[k][0] = nB[0];
         a[k][1] = nB[1];
         b[k] = bf;
+        if (idx) idx[k] = f;
         k++;
     }
     return k;
+}
+
+int contact_farthest_line(int n, const double (*a)[2], const double *b, const double xc[3], double *db, int *on)
+{
+    int fb = -1;
+    *db = -INFINITY;
+    for (int k = 0; k < n; k++) {
+        double dd = (a[k][0] * xc[0] + a[k][1] * xc[1] - b[k]) / hypot(a[k][0], a[k][1]);
+        if (dd > *db) {
+            *db = dd;
+            fb = k;
+        }
+    }
+    *on = 1;
+    if (fb >= 0 && *db > 0.0) {
+        double na = hypot(a[fb][0], a[fb][1]), y[2] = {xc[0] - *db * a[fb][0] / na, xc[1] - *db * a[fb][1] / na};
+        double sc = hypot(y[0], y[1]);
+        for (int h = 0; h < n; h++) {
+            if (h == fb) continue;
+            if (a[h][0] * y[0] + a[h][1] * y[1] - b[h] > 1e-12 * (hypot(a[h][0], a[h][1]) * sc + fabs(b[h])))
+                *on = 0;
+        }
+    }
+    return fb;
+}
+
+void contact_rod_axis(const exdex_obstacle_def *o, const double R[9], const double p[3], double cB[3], double aB[3])
+{
+    double d[3];
+    for (int i = 0; i < 3; i++) d[i] = o->center[i] - p[i];
+    ex_mulmtv3(cB, R, d);
+    ex_mulmtv3(aB, R, o->axis);
 }
 
 int contact_section_vertices(int n, const double (*a)[2], const double *b, double ys[][2], int fg[][2])
@@ -585,16 +613,14 @@ int exdex_obstacle_section(const exdex_obstacle_def *o, const double R[9], const
         return -EXDEX_EINVAL;
     if (o->kind == EXDEX_OBSTACLE_POLYTOPE) {
         double a[EXDEX_MAX_FACES][2], b[EXDEX_MAX_FACES];
-        int empty, nh = halfplanes(o, R, p, a, b, &empty);
+        int empty, nh = contact_halfplanes(o, R, p, a, b, NULL, &empty);
         int ny = empty ? 0 : contact_section_vertices(nh, (const double (*)[2])a, b, xy, NULL);
         sort_ccw(ny, xy);
         return ny;
     } else {
-        double cB[3], aB[3], d[3];
+        double cB[3], aB[3];
         if (!ab) return -EXDEX_EINVAL;
-        for (int i = 0; i < 3; i++) d[i] = o->center[i] - p[i];
-        ex_mulmtv3(cB, R, d);
-        ex_mulmtv3(aB, R, o->axis);
+        contact_rod_axis(o, R, p, cB, aB);
         if (!(fabs(aB[2]) > 1e-12)) return 0;
         xy[0][0] = cB[0] - cB[2] / aB[2] * aB[0];
         xy[0][1] = cB[1] - cB[2] / aB[2] * aB[1];
@@ -748,47 +774,14 @@ static double disc_obstacle_row(const exdex_model *m, const exdex_kinematics *ki
 {
     double pn = sqrt(ex_dot3(kin->p, kin->p)), r = m->disc_r, gap;
     if (ob->kind == EXDEX_OBSTACLE_POLYTOPE) {
-        double a[EXDEX_MAX_FACES][2], b[EXDEX_MAX_FACES], fmax = 0.0, db = -INFINITY;
-        int face[EXDEX_MAX_FACES], nh = 0, fb = -1, fplane = 0, empty = 0;
-        for (int f = 0; f < ob->n_faces; f++) {
-            double nB[3], d[3], bf, na;
+        double a[EXDEX_MAX_FACES][2], b[EXDEX_MAX_FACES], fmax = 0.0, db;
+        int face[EXDEX_MAX_FACES], empty, on, nh = contact_halfplanes(ob, kin->R, kin->p, a, b, face, &empty);
+        int fb = contact_farthest_line(nh, (const double (*)[2])a, b, xc, &db, &on);
+        for (int f = 0; f < ob->n_faces; f++)
             fmax = fmax > sqrt(ex_dot3(ob->face_point[f], ob->face_point[f]))
                        ? fmax : sqrt(ex_dot3(ob->face_point[f], ob->face_point[f]));
-            ex_mulmtv3(nB, kin->R, ob->face_normal[f]);
-            for (int i = 0; i < 3; i++) d[i] = ob->face_point[f][i] - kin->p[i];
-            bf = ex_dot3(ob->face_normal[f], d);
-            na = hypot(nB[0], nB[1]);
-            if (!(na > 1e-12)) {
-                if (bf < 0.0) empty = 1;
-                continue;
-            }
-            a[nh][0] = nB[0];
-            a[nh][1] = nB[1];
-            b[nh] = bf;
-            face[nh] = f;
-            {
-                double dd = (nB[0] * xc[0] + nB[1] * xc[1] - bf) / na;
-                if (dd > db) {
-                    db = dd;
-                    fb = nh;
-                }
-            }
-            nh++;
-        }
-        if (empty || fb < 0 || db <= 0.0) {
-            fplane = 1;
-        } else {
-            /* the centre's foot on the farthest face line: on the face? */
-            double na = hypot(a[fb][0], a[fb][1]), y[2] = {xc[0] - db * a[fb][0] / na, xc[1] - db * a[fb][1] / na};
-            double sc = hypot(y[0], y[1]);
-            fplane = 1;
-            for (int h = 0; h < nh; h++) {
-                if (h == fb) continue;
-                if (a[h][0] * y[0] + a[h][1] * y[1] - b[h] > 1e-12 * (hypot(a[h][0], a[h][1]) * sc + fabs(b[h])))
-                    fplane = 0;
-            }
-        }
-        if (fplane) {
+        /* a face row where the centre's foot on the farthest face line lies on the face */
+        if (empty || on) {
             /* a face row: the largest face distance (as an outline vertex's) */
             int best = 0;
             double gb = -INFINITY, xs[3], vs[3];
@@ -840,11 +833,9 @@ static double disc_obstacle_row(const exdex_model *m, const exdex_kinematics *ki
         }
         return gap;
     } else {
-        double cB[3], aB[3], d[3], w[3], bvec[2], u[2], x[3], nb[3], dist;
+        double cB[3], aB[3], w[3], bvec[2], u[2], x[3], nb[3], dist;
         int inside = 0;
-        for (int i = 0; i < 3; i++) d[i] = ob->center[i] - kin->p[i];
-        ex_mulmtv3(cB, kin->R, d);
-        ex_mulmtv3(aB, kin->R, ob->axis);
+        contact_rod_axis(ob, kin->R, kin->p, cB, aB);
         if (fabs(aB[2]) > 1e-12) {
             double c0[2] = {cB[0] - cB[2] / aB[2] * aB[0], cB[1] - cB[2] / aB[2] * aB[1]};
             inside = hypot(xc[0] - c0[0], xc[1] - c0[1]) < r;
@@ -957,7 +948,7 @@ int contact_obstacle_rows_pred(const exdex_model *m, const exdex_kinematics *kin
             /* section vertex i against the outline's hull: its largest
              * distance outside the hull's edge lines */
             if (nh < 3) continue;
-            nhp = halfplanes(ob, kin->R, kin->p, a, b, &empty);
+            nhp = contact_halfplanes(ob, kin->R, kin->p, a, b, NULL, &empty);
             if (empty) continue;
             ny = contact_section_vertices(nhp, (const double (*)[2])a, b, y, NULL);
             sort_ccw(ny, y);
@@ -1001,11 +992,9 @@ int contact_obstacle_rows_pred(const exdex_model *m, const exdex_kinematics *kin
             }
         } else {
             /* the rod against the hull: the hull point nearest the axis */
-            double cB[3], aB[3], d[3], best = INFINITY, xs[3] = {0, 0, 0}, ws[3] = {0, 0, 0}, nb[3];
+            double cB[3], aB[3], best = INFINITY, xs[3] = {0, 0, 0}, ws[3] = {0, 0, 0}, nb[3];
             int inside = nh >= 3, ebest = 0;
-            for (int i = 0; i < 3; i++) d[i] = ob->center[i] - kin->p[i];
-            ex_mulmtv3(cB, kin->R, d);
-            ex_mulmtv3(aB, kin->R, ob->axis);
+            contact_rod_axis(ob, kin->R, kin->p, cB, aB);
             for (int e = 0; e < nh; e++) {
                 const double *u = hb[e], *v = hb[(e + 1) % nh];
                 double w[3], dd[3], du[3] = {v[0] - u[0], v[1] - u[1], 0.0}, t = 0.0, x[3], d2;

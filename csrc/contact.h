@@ -148,6 +148,22 @@ int contact_obstacle_max_rows(const exdex_model *m);
 /* 1 if the obstacle definition is valid (kind, face count, unit normals and
  * axis, finite points, radius > 0). */
 int contact_obstacle_valid(const exdex_obstacle_def *o);
+/* Half-planes a.y <= b of B's plate plane cut by the polytope's faces at pose
+ * (R, p): a = (R^T n)_xy, b = n.(face point - p), with their face numbers in
+ * idx (may be NULL). Faces parallel to the plane (|a| <= 1e-12) are left out
+ * when the plane lies inside them; *empty is set when it lies outside one
+ * (the plane misses the solid). Returns the number kept. */
+int contact_halfplanes(const exdex_obstacle_def *o, const double R[9], const double p[3], double a[][2], double *b,
+                       int *idx, int *empty);
+/* The line of the n half-planes a_k . y <= b_k farthest from the point xc
+ * (largest (a_k . xc - b_k) / |a_k|, the first of equal ones; -1 for n = 0),
+ * that distance in *db; *on is 0 when the distance is positive and the foot
+ * of xc on the line lies outside another half-plane beyond a relative 1e-12
+ * (a_h . y - b_h > 1e-12 (|a_h| |y| + |b_h|)), else 1. */
+int contact_farthest_line(int n, const double (*a)[2], const double *b, const double xc[3], double *db, int *on);
+/* A rod's axis in B at pose (R, p): the point cB = R^T (center - p) and the
+ * direction aB = R^T axis. */
+void contact_rod_axis(const exdex_obstacle_def *o, const double R[9], const double p[3], double cB[3], double aB[3]);
 /* The vertices of the polygon {y : a_i . y <= b_i} of n lines (|a_i| > 0):
  * each intersection of two lines f < g (not parallel: |det| > 1e-12 |a_f|
  * |a_g|) that satisfies every other half-plane to a relative 1e-12 (a_h . y

@@ -228,9 +228,7 @@ static double disc_rod_phi(const exdex_model *m, const exdex_kinematics *kin, co
 {
     double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], cB[3], aB[3], d[3], t, b[2], u[2];
     contact_vertices(m, q, xb, vx);
-    for (int i = 0; i < 3; i++) d[i] = ob->center[i] - kin->p[i];
-    ex_mulmtv3(cB, kin->R, d);
-    ex_mulmtv3(aB, kin->R, ob->axis);
+    contact_rod_axis(ob, kin->R, kin->p, cB, aB);
     for (int i = 0; i < 3; i++) d[i] = xb[0][i] - cB[i];
     t = ex_dot3(d, aB);
     b[0] = d[0] - t * aB[0];
@@ -374,15 +372,6 @@ static double hull_dist(int nh, const double hb[][3], const double y[2], int *ed
     return gb;
 }
 
-/* The rod's axis in B: point cB, direction aB. */
-static void rod_axis(const exdex_obstacle_def *ob, const exdex_kinematics *kin, double cB[3], double aB[3])
-{
-    double d[3];
-    for (int i = 0; i < 3; i++) d[i] = ob->center[i] - kin->p[i];
-    ex_mulmtv3(cB, kin->R, d);
-    ex_mulmtv3(aB, kin->R, ob->axis);
-}
-
 /* The rod's contact normal at the point x (B): the offset of x from the
  * axis (cB, aB), d - (d . aB) aB with d = x - cB, normalised (zero when x is
  * on the axis) into nb. Returns the distance |d - (d . aB) aB|. */
@@ -426,7 +415,7 @@ static double rod_row(const exdex_model *m, const exdex_obstacle_def *ob, const 
 {
     double cB[3], aB[3], best = INFINITY;
     int inside = nh >= 3;
-    rod_axis(ob, kin, cB, aB);
+    contact_rod_axis(ob, kin->R, kin->p, cB, aB);
     *feat = 0;
     for (int e = 0; e < nh; e++) {
         const double *u = hb[e], *v = hb[(e + 1) % nh];
@@ -518,35 +507,10 @@ static int disc_row(const exdex_model *m, const exdex_kinematics *kin, int o, co
     const exdex_obstacle_def *ob = &m->def.obstacles[o];
     double r = m->disc_r, zero[3] = {0, 0, 0}, G[3];
     if (ob->kind == EXDEX_OBSTACLE_POLYTOPE) {
-        double a[EXDEX_MAX_FACES][2], b[EXDEX_MAX_FACES], db = -INFINITY;
-        int idx[EXDEX_MAX_FACES], nk = 0, fb = -1, empty = 0, best = 0, fplane = 1;
-        for (int f = 0; f < ob->n_faces; f++) {
-            double af[2], bf, na = face_line(ob, kin, f, af, &bf), dd;
-            if (!(na > 1e-12)) {
-                if (bf < 0.0) empty = 1;
-                continue;
-            }
-            a[nk][0] = af[0];
-            a[nk][1] = af[1];
-            b[nk] = bf;
-            idx[nk] = f;
-            dd = (af[0] * xc[0] + af[1] * xc[1] - bf) / na;
-            if (dd > db) {
-                db = dd;
-                fb = nk;
-            }
-            nk++;
-        }
-        if (!(empty || fb < 0 || db <= 0.0)) {
-            double na = hypot(a[fb][0], a[fb][1]), y[2] = {xc[0] - db * a[fb][0] / na, xc[1] - db * a[fb][1] / na};
-            double sc = hypot(y[0], y[1]);
-            for (int h = 0; h < nk; h++) {
-                if (h == fb) continue;
-                if (a[h][0] * y[0] + a[h][1] * y[1] - b[h] > 1e-12 * (hypot(a[h][0], a[h][1]) * sc + fabs(b[h])))
-                    fplane = 0;
-            }
-        }
-        if (!fplane) {
+        double a[EXDEX_MAX_FACES][2], b[EXDEX_MAX_FACES], db;
+        int idx[EXDEX_MAX_FACES], empty, on, best = 0, nk = contact_halfplanes(ob, kin->R, kin->p, a, b, idx, &empty);
+        int fb = contact_farthest_line(nk, (const double (*)[2])a, b, xc, &db, &on);
+        if (!(empty || on)) {
             /* the nearest section vertex (the pairs as orow_all finds them) */
             double ys[EXDEX_MAX_FACES][2], dmin = INFINITY;
             int fg[EXDEX_MAX_FACES][2], pf = -1, pg = -1;
@@ -586,7 +550,7 @@ static int disc_row(const exdex_model *m, const exdex_kinematics *kin, int o, co
         /* as contact_obstacle_rows: negative when the axis meets the plane inside the disc */
         double cB[3], aB[3], phi = disc_rod_phi(m, kin, ob, q), x[3], nb[3], dist;
         int inside = 0;
-        rod_axis(ob, kin, cB, aB);
+        contact_rod_axis(ob, kin->R, kin->p, cB, aB);
         if (fabs(aB[2]) > 1e-12) {
             double c0[2] = {cB[0] - cB[2] / aB[2] * aB[0], cB[1] - cB[2] / aB[2] * aB[1]};
             inside = hypot(xc[0] - c0[0], xc[1] - c0[1]) < r;
@@ -614,7 +578,7 @@ int orow_all(const exdex_model *m, const exdex_kinematics *kin, const double *q,
         }
         if (ob->kind == EXDEX_OBSTACLE_POLYTOPE) {
             double a[EXDEX_MAX_FACES][2], b[EXDEX_MAX_FACES], ys[EXDEX_MAX_FACES][2];
-            int idx[EXDEX_MAX_FACES], fg[EXDEX_MAX_FACES][2], nk = 0, empty = 0, ny;
+            int idx[EXDEX_MAX_FACES], fg[EXDEX_MAX_FACES][2], nk, empty, ny;
             for (int j = 0; j < nv; j++) {
                 int best = 0, cand[EXDEX_MAX_FACES];
                 double gb = -INFINITY, G[3], vals[EXDEX_MAX_FACES];
@@ -637,17 +601,7 @@ int orow_all(const exdex_model *m, const exdex_kinematics *kin, const double *q,
             if (nh < 3) continue;
             /* the section's vertices, as contact_obstacle_rows finds
              * them, with their face pairs */
-            for (int f = 0; f < ob->n_faces; f++) {
-                double af[2], bf, na = face_line(ob, kin, f, af, &bf);
-                if (!(na > 1e-12)) {
-                    if (bf < 0.0) empty = 1;
-                    continue;
-                }
-                a[nk][0] = af[0];
-                a[nk][1] = af[1];
-                b[nk] = bf;
-                idx[nk++] = f;
-            }
+            nk = contact_halfplanes(ob, kin->R, kin->p, a, b, idx, &empty);
             if (empty) continue;
             ny = contact_section_vertices(nk, (const double (*)[2])a, b, ys, fg);
             for (int i = 0; i < ny; i++) {
@@ -844,7 +798,7 @@ double orow_feature_guard(const exdex_model *m, const exdex_kinematics *kin, int
     }
     {
         double cB[3], aB[3], len, t;
-        rod_axis(ob, kin, cB, aB);
+        contact_rod_axis(ob, kin->R, kin->p, cB, aB);
         if (nh < 2) return big;
         if (feat >= 32) {
             t = rod_foot(nh, (const double (*)[3])hb, cB, aB, feat - 32, &len);
@@ -891,7 +845,7 @@ void orow_point(const exdex_model *m, const exdex_kinematics *kin, int code, con
             x[1] = xb[0][1] - rd * nb[1];
         } else {
             double cB[3], aB[3], phi = disc_rod_phi(m, kin, ob, q);
-            rod_axis(ob, kin, cB, aB);
+            contact_rod_axis(ob, kin->R, kin->p, cB, aB);
             x[0] = xb[0][0] + rd * cos(phi);
             x[1] = xb[0][1] + rd * sin(phi);
             rod_normal(cB, aB, x, nb);
@@ -932,7 +886,7 @@ void orow_point(const exdex_model *m, const exdex_kinematics *kin, int code, con
         }
     } else {
         double cB[3], aB[3];
-        rod_axis(ob, kin, cB, aB);
+        contact_rod_axis(ob, kin->R, kin->p, cB, aB);
         if (feat < 32) {
             x[0] = hb[feat][0];
             x[1] = hb[feat][1];
