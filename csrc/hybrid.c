@@ -1637,6 +1637,21 @@ static void sf_decide(hyb *H, double t, double *y)
             for (int i = 0; i < nroll; i++) same &= res.fm[roll[i]] == pick[i];
             found = ok = same;
         }
+        if (!found && nroll) {
+            /* no combination is decided again on its own plate friction
+             * (a lock's plate friction, with its stops given, against the
+             * roll decision that tries locks last, sfric.h): the modes
+             * the problem finds with every rolling stop left to it, on the
+             * plate friction of that same problem (the fixed point of
+             * planar_friction with the stops rolling) */
+            for (int k = 0; k < S.ng; k++) H->fm[k] = SF_ROLL;
+            fs = sf_free_acc(H, &f, &kin, y, a);
+            if (fs) {
+                H->err = H->err ? H->err : fs;
+                return;
+            }
+            ok = sf_solve_at(H, &kin, y, a, &res);
+        }
     } else if (nr >= 0) {
         fs = sf_free_acc(H, &f, &kin, y, a);
         if (fs) {
