@@ -77,9 +77,12 @@
  * w_st = the patch wrench of -M v / h - F, lies in the kinetic ellipsoid
  * (the step's kinetic friction impulse can stop it); there the slip reaches
  * 0 within the step, and the object is held (v+ = 0, the plates' mean wrench
- * w_st) iff w_h lies in the static ellipsoid, else the kinetic step v* is
- * kept. Why: under a load constant over the step the exact (Coulomb) slip
- * stops within the step iff the kinetic step reverses it (1-DoF: v v* <= 0,
+ * w_st) iff w_h lies in the static ellipsoid; else (1-DoF) the step is
+ * split where the kinetic step stops the slip, with the kinetic friction of
+ * the load's sign beyond (exact under a load constant over the step), and
+ * (planar) the kinetic step v* is kept. Why: under a load constant over the
+ * step the exact (Coulomb) slip stops within the step iff the kinetic step
+ * reverses it (1-DoF: v v* <= 0,
  * which contains the second test), and then sticks iff |Q| <= C_s, so the
  * rule makes the event method's slip -> stick decision with the step-start
  * load, an O(h) error in the stop time and O(h^2) in position per switch,
@@ -234,6 +237,17 @@ static int explicit_substep(const exdex_model *m, explicit_ws *w, const model_su
                 if (fabs(Q) <= Cs) {
                     held = 1;
                     fr = -M * v[0] / h - Q;   /* the step's mean friction: v+ = 0 */
+                } else {
+                    /* not held: it stops at tau = -M v / (Q + fr) inside the
+                     * step and slides on the other way, driven by Q, for the
+                     * rest of it: the step's mean friction is (tau fr + (h -
+                     * tau) (-C sign Q)) / h, so v+ = (h - tau) (Q - C sign
+                     * Q) / M, the exact slip under the step's load (the
+                     * kinetic step v* keeps fr beyond the stop: a velocity
+                     * off by 2 C (h - tau) / M, set by where the grid falls
+                     * relative to the stop) */
+                    double tau = -M * v[0] / (Q + fr);
+                    fr = (tau * fr + (h - tau) * (Q > 0.0 ? -C : C)) / h;
                 }
             }
             vn = held ? 0.0 : v[0] + h * (Q + fr) / M;  /* held: exactly at rest */

@@ -885,3 +885,32 @@ def test_held_load_step_inside_the_static_capacity_planar(seed):
         dq = np.abs(r.q - r.q[0])
         moved = max(np.max(dq[:, 0]), np.max(dq[:, 1]), np.max(dq[:, 2]) * er)
         assert moved <= 2.0 * eps * t_end * (1.0 + math.hypot(*pc) / er), (eps, moved)
+
+
+@pytest.mark.parametrize("v0", [0.7, 0.53, 1.1])
+@pytest.mark.parametrize("dt", [0.03, 0.007, 0.0013])
+def test_explicit_reversal_beyond_the_static_capacity_closed_form(v0, dt):
+    """1-DoF translation thrown up its slide axis at v0 against a constant
+    load Q = -m g (g = 2.5 m/s^2, |Q| = 2.5 N > Cs = 1.6 N > Ck = 1 N): it
+    slides up against Ck, s' = v0 - (|Q| + Ck) t / m, stops at t_r = m v0 /
+    (|Q| + Ck), where the static capacity cannot hold the load, and slides
+    back down against Ck: s' = -(|Q| - Ck) (t - t_r) / m. Under a constant
+    load the explicit step's velocity is exact at every step end (the
+    step's mean force is exact) once the step holding t_r is split there
+    (kinetic friction of the other sign beyond the stop); keeping the
+    step-start friction beyond it left the velocity 2 Ck (h - tau) / m off
+    for the rest of the run (tau the stop's offset in its step), set by
+    where the grid falls relative to t_r, so a nested dt ladder could show
+    no difference while the error stayed. Positions: symplectic Euler,
+    within h |s'| max of the exact one."""
+    g = 2.5
+    sc = Scene(body=Body(mass=M), grasp=Grasp(mu=MU, grip_force=GRIP, mu_static=MU_S), motion=exdex.Rest(),
+               gravity=(0.0, 0.0, -g), dof="translation", v0=(0.0, v0, 0.0))
+    t_end = 0.6
+    r = exdex.simulate(sc, t_end=t_end, dt=dt, method="explicit")
+    tr = M * v0 / (M * g + CK)
+    ve = np.where(r.t <= tr, v0 - (M * g + CK) * r.t / M, -(M * g - CK) * (r.t - tr) / M)
+    se = np.where(r.t <= tr, v0 * r.t - (M * g + CK) * r.t ** 2 / (2 * M),
+                  v0 * tr / 2 - (M * g - CK) * (r.t - tr) ** 2 / (2 * M))
+    assert np.max(np.abs(r.v[:, 0] - ve)) <= 1e-12, np.max(np.abs(r.v[:, 0] - ve))
+    assert np.max(np.abs(r.q[:, 0] - r.q[0, 0] - se)) <= dt * max(v0, (M * g - CK) * (t_end - tr) / M)

@@ -162,6 +162,27 @@ static exdex_model *disc_model(double r, double cx, double cy, const exdex_obsta
     return exdex_model_alloc(&d, &st, &bad);
 }
 
+/* disc_model with the disc's centre drawn in (-0.01, 0.01)^2 and a pose q
+ * drawn in (-span, span)^2 x (-3, 3): its one obstacle row's gap in g[0]
+ * and the disc's centre in B in xc. Returns the model (NULL: it failed). */
+static exdex_model *disc_random_row(double r, const exdex_obstacle_def *ob, double span, double g[MAX_ROWS],
+                                    double xc[2])
+{
+    double G[MAX_ROWS][3], rnd[MAX_ROWS], q[3];
+    exdex_kinematics kin;
+    exdex_model *m = disc_model(r, urand(-0.01, 0.01), urand(-0.01, 0.01), ob);
+    ENSURE(m != NULL);
+    if (!m) return NULL;
+    q[0] = urand(-span, span);
+    q[1] = urand(-span, span);
+    q[2] = urand(-3.0, 3.0);
+    ENSURE(exdex_motion_eval(m->motion, 0.0, &kin) == EXDEX_OK);
+    ENSURE(contact_obstacle_rows(m, &kin, q, G, g, rnd, NULL, NULL) == 1);
+    xc[0] = q[0] + cos(q[2]) * m->vert[0][0] - sin(q[2]) * m->vert[0][1];
+    xc[1] = q[1] + sin(q[2]) * m->vert[0][0] + cos(q[2]) * m->vert[0][1];
+    return m;
+}
+
 EXDEX_TEST(disc_rod_row_is_the_brute_force_rim_distance_from_the_axis)
 {
     /* Random rods (axis at any angle to the plate plane, down to 0.05 rad)
@@ -173,10 +194,9 @@ EXDEX_TEST(disc_rod_row_is_the_brute_force_rim_distance_from_the_axis)
     for (int c = 0; c < 100; c++) {
         exdex_obstacle_def ob;
         exdex_model *m;
-        exdex_kinematics kin;
-        double r = urand(0.005, 0.03), el = urand(0.05, 1.5707963), az = urand(0.0, 6.2831853), q[3];
-        double G[MAX_ROWS][3], g[MAX_ROWS], rnd[MAX_ROWS], best = INFINITY, c0[2], xc[2];
-        int n, ib = 0;
+        double r = urand(0.005, 0.03), el = urand(0.05, 1.5707963), az = urand(0.0, 6.2831853);
+        double g[MAX_ROWS], best = INFINITY, c0[2], xc[2];
+        int ib = 0;
         const int N = 20000;
         memset(&ob, 0, sizeof ob);
         ob.kind = EXDEX_OBSTACLE_CYLINDER;
@@ -187,17 +207,8 @@ EXDEX_TEST(disc_rod_row_is_the_brute_force_rim_distance_from_the_axis)
         ob.center[1] = urand(-0.05, 0.05);
         ob.center[2] = urand(-0.05, 0.05);
         ob.radius = urand(0.002, 0.02);
-        m = disc_model(r, urand(-0.01, 0.01), urand(-0.01, 0.01), &ob);
-        ENSURE(m != NULL);
+        m = disc_random_row(r, &ob, 0.08, g, xc);
         if (!m) continue;
-        q[0] = urand(-0.08, 0.08);
-        q[1] = urand(-0.08, 0.08);
-        q[2] = urand(-3.0, 3.0);
-        ENSURE(exdex_motion_eval(m->motion, 0.0, &kin) == EXDEX_OK);
-        n = contact_obstacle_rows(m, &kin, q, G, g, rnd, NULL, NULL);
-        ENSURE(n == 1);
-        xc[0] = q[0] + cos(q[2]) * m->vert[0][0] - sin(q[2]) * m->vert[0][1];
-        xc[1] = q[1] + sin(q[2]) * m->vert[0][0] + cos(q[2]) * m->vert[0][1];
         c0[0] = ob.center[0] - ob.center[2] / ob.axis[2] * ob.axis[0];
         c0[1] = ob.center[1] - ob.center[2] / ob.axis[2] * ob.axis[1];
         if (hypot(xc[0] - c0[0], xc[1] - c0[1]) < r) {
@@ -234,11 +245,10 @@ EXDEX_TEST(disc_box_row_is_the_distance_from_the_section_less_the_radius)
     for (int c = 0; c < 400; c++) {
         exdex_obstacle_def ob;
         exdex_model *m;
-        exdex_kinematics kin;
-        double h[3] = {urand(0.005, 0.05), urand(0.005, 0.05), 0.1}, ang = urand(0.0, 3.14159), ctr[3], q[3];
-        double G[MAX_ROWS][3], g[MAX_ROWS], rnd[MAX_ROWS], xy[EXDEX_MAX_FACES][2], xc[2], dist = INFINITY;
+        double h[3] = {urand(0.005, 0.05), urand(0.005, 0.05), 0.1}, ang = urand(0.0, 3.14159), ctr[3];
+        double g[MAX_ROWS], xy[EXDEX_MAX_FACES][2], xc[2], dist = INFINITY;
         double I[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, p0[3] = {0, 0, 0}, r = urand(0.002, 0.03);
-        int n, ns, inside = 1;
+        int ns, inside = 1;
         ctr[0] = urand(-0.03, 0.03);
         ctr[1] = urand(-0.03, 0.03);
         ctr[2] = 0.0;
@@ -257,17 +267,8 @@ EXDEX_TEST(disc_box_row_is_the_distance_from_the_section_less_the_radius)
                     ob.face_point[f][k] = ctr[k] + sg * h[i] * col[k];
                 }
             }
-        m = disc_model(r, urand(-0.01, 0.01), urand(-0.01, 0.01), &ob);
-        ENSURE(m != NULL);
+        m = disc_random_row(r, &ob, 0.1, g, xc);
         if (!m) continue;
-        q[0] = urand(-0.1, 0.1);
-        q[1] = urand(-0.1, 0.1);
-        q[2] = urand(-3.0, 3.0);
-        ENSURE(exdex_motion_eval(m->motion, 0.0, &kin) == EXDEX_OK);
-        n = contact_obstacle_rows(m, &kin, q, G, g, rnd, NULL, NULL);
-        ENSURE(n == 1);
-        xc[0] = q[0] + cos(q[2]) * m->vert[0][0] - sin(q[2]) * m->vert[0][1];
-        xc[1] = q[1] + sin(q[2]) * m->vert[0][0] + cos(q[2]) * m->vert[0][1];
         ns = exdex_obstacle_section(&ob, I, p0, xy, NULL);
         ENSURE(ns == 4);
         for (int e = 0; e < ns; e++) {
