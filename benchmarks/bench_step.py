@@ -7,9 +7,12 @@ Two scenes, each with the three friction solvers:
     slides, sticks and the stop pushes.
 The time is the whole exdex.simulate call (scene conversion, model set-up,
 output arrays and their first touch included) divided by the number of steps;
-median and spread over repeated runs. Usage:
+median and spread over repeated runs, and the ratio of each solver's median
+to the scalar solver's on the same scene (measured in the same run). The
+table is also written to --results (default benchmarks/results/step.txt).
+Usage:
 
-    python benchmarks/bench_step.py [--repeat 7] [--out exdex-output/bench]
+    python benchmarks/bench_step.py [--repeat 7] [--out exdex-output/bench] [--results PATH]
     python benchmarks/bench_step.py --grip [--repeat 7]
 
 --grip prints the cost of a 1-DoF step with a grip schedule (exdex.GripSchedule)
@@ -104,6 +107,8 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=7)
     ap.add_argument("--out", default=os.path.join("exdex-output", "bench"))
+    ap.add_argument("--results", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), "results", "step.txt"),
+                    help="the printed table, as benchmarks/README.md quotes it ('' : not written)")
     ap.add_argument("--grip", action="store_true",
                     help="only the cost of a 1-DoF step with a grip schedule against a constant grip")
     args = ap.parse_args(argv)
@@ -111,20 +116,32 @@ def main(argv=None):
         main_grip(args.repeat)
         return
     os.makedirs(args.out, exist_ok=True)
-    print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
-          f"Python {platform.python_version()}; median of {args.repeat} runs")
-    print(f"{'scene':<16} {'solver':<10} {'ns/step':>9} {'min':>8} {'max':>8} {'stick %':>8} {'iter/step':>9}")
+    lines = [f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
+             f"Python {platform.python_version()}; median of {args.repeat} runs",
+             f"{'scene':<16} {'solver':<10} {'ns/step':>9} {'min':>8} {'max':>8} {'vs scalar':>9} {'stick %':>8} "
+             f"{'iter/step':>9}"]
+    print("\n".join(lines), flush=True)
     rows = []
     for name, (scene, steps) in scenes().items():
+        base = None
         for solver in ("scalar", "brent", "multiroot"):
             ns, r = measure(scene, steps, solver, args.repeat)
             st = r.stats
             row = dict(scene=name, solver=solver, ns_per_step=statistics.median(ns), ns_min=min(ns), ns_max=max(ns),
                        steps=st["steps"], stick_fraction=st["stick_steps"] / st["steps"],
                        iterations_per_step=st["solver_iterations"] / st["steps"])
+            base = base if base is not None else row["ns_per_step"]
+            row["vs_scalar"] = row["ns_per_step"] / base
             rows.append(row)
-            print(f"{name:<16} {solver:<10} {row['ns_per_step']:9.1f} {row['ns_min']:8.1f} {row['ns_max']:8.1f} "
-                  f"{100 * row['stick_fraction']:8.1f} {row['iterations_per_step']:9.2f}")
+            lines.append(f"{name:<16} {solver:<10} {row['ns_per_step']:9.1f} {row['ns_min']:8.1f} "
+                         f"{row['ns_max']:8.1f} {row['vs_scalar']:9.2f} {100 * row['stick_fraction']:8.1f} "
+                         f"{row['iterations_per_step']:9.2f}")
+            print(lines[-1], flush=True)
+    if args.results:
+        os.makedirs(os.path.dirname(os.path.abspath(args.results)), exist_ok=True)
+        with open(args.results, "w") as f:
+            f.write("\n".join(lines) + "\n")
+        print(f"wrote {args.results}")
     path = os.path.join(args.out, "step_cost.csv")
     with open(path, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0]))

@@ -153,13 +153,14 @@ static double slide_sign(int mode) { return mode == SLIDE_P ? 1.0 : -1.0; }
  * G_i for a sticking one. R is linear in lam, beta and smooth in z (the
  * plate slides, A v != 0); Newton's method with backtracking on |R|_M^-1
  * converges quadratically. Then the signs are checked. Returns 1 with the
- * solution if the mode is consistent. */
-static int try_mode(const fc_problem *p, const int *C, int nc, const int *md, const double v0[3], double *lam,
-                    double *beta, fc_result *res)
+ * solution if the mode is consistent. wide: the enumeration of fc_solve's
+ * wide candidates (a start without plate slip is allowed there). */
+static int try_mode(const fc_problem *p, const int *C, int nc, const int *md, const double v0[3], int wide,
+                    double *lam, double *beta, fc_result *res)
 {
-    int n = p->n, m = 0, on[FC_MAX_CAND], k = 0, grp[FC_MAX_CAND], gfirst[FC_MAX_CAND], ng = 0;
+    int n = p->n, m = 0, on[FC_MAX_WIDE], k = 0, grp[FC_MAX_WIDE], gfirst[FC_MAX_WIDE], ng = 0;
     double E[3][3], e[3], Q[3][3], N[3][3], vp[3] = {0, 0, 0}, z[3] = {0, 0, 0}, x[3] = {0, 0, 0};
-    double D[FC_MAX_CAND][3], v[3] = {0, 0, 0}, Pf[3], dP[3][3], Ls, vtol;
+    double D[FC_MAX_WIDE][3], v[3] = {0, 0, 0}, Pf[3], dP[3][3], Ls, vtol;
     int nz, converged = 0;
     /* equalities */
     for (int a = 0; a < nc; a++) {
@@ -184,7 +185,7 @@ static int try_mode(const fc_problem *p, const int *C, int nc, const int *md, co
             if (d <= 1e-12 * norm1(n, r->T) && fabs(q->tb - r->tb) <= REL * (p->vscale + fabs(r->tb))) g = h;
         }
         if (g < 0) {
-            if (m >= n || ng >= FC_MAX_CAND) return 0;
+            if (m >= n || ng >= FC_MAX_WIDE) return 0;
             g = ng;
             gfirst[ng++] = a;
             for (int c = 0; c < n; c++) E[m][c] = r->T[c];
@@ -262,7 +263,20 @@ static int try_mode(const fc_problem *p, const int *C, int nc, const int *md, co
             v[c] = vp[c];
             for (int j = 0; j < nz; j++) v[c] += N[c][j] * z[j];
         }
-        if (!plate(p, v, Pf, dP)) return 0;
+        int lin = 0;
+        if (!plate(p, v, Pf, dP)) {
+            /* the start has no plate slip (A v = 0), where the sliding law
+             * is not defined: in the wide enumeration the first iterate
+             * solves the mode without the plate term (linear, one step),
+             * a velocity at which the plate slides, and Newton goes on
+             * from there */
+            if (!(wide && it == 0 && p->cap > 0.0)) return 0;
+            lin = 1;
+            for (int c = 0; c < n; c++) {
+                Pf[c] = 0.0;
+                for (int d = 0; d < n; d++) dP[c][d] = 0.0;
+            }
+        }
         for (int c = 0; c < n; c++) {
             R[c] = p->Md[c] * (v[c] - p->vs[c]) - Pf[c];
             for (int a = 0; a < k; a++) R[c] -= x[a] * D[on[a]][c];
@@ -281,6 +295,11 @@ static int try_mode(const fc_problem *p, const int *C, int nc, const int *md, co
         }
         if (!ldp_solve_small(n, J, R, dx)) return 0;
         res->iters++;
+        if (lin) {
+            for (int j = 0; j < nz; j++) z[j] += dx[j];
+            for (int a = 0; a < k + ng; a++) x[a] += dx[nz + a];
+            continue;
+        }
         if (!(p->cap > 0.0)) {
             /* linear: one step is exact */
             for (int j = 0; j < nz; j++) z[j] += dx[j];
@@ -400,22 +419,17 @@ static int worst_row(const fc_problem *p, const int *C, int nc, const double v[3
     return worst;
 }
 
-int fc_solve(const fc_problem *p, const unsigned char *hint, const double v0[3], int *modes, double *lam,
-             double *beta, fc_result *res)
+/* The rounds of the enumeration from the candidates C (nc, room for cap):
+ * every mode of the candidates (per row: the guess, stick, the other slide,
+ * separate; a frictionless row: on or off), the first consistent one; then
+ * a row outside the candidates that it violates joins them and the modes
+ * are enumerated again. Returns 1 with the solution (and modes), 0 when a
+ * round has no consistent mode or the candidates would exceed cap. */
+static int enumerate(const fc_problem *p, int *C, int nc, int cap, const double v0[3], int *modes, double *lam,
+                     double *beta, fc_result *res)
 {
-    int C[FC_MAX_CAND], nc = 0, guess[FC_MAX_CAND], ord[FC_MAX_CAND][4], nord[FC_MAX_CAND], md[FC_MAX_CAND];
-    res->iters = 0;
-    if (try_rest(p, lam, beta, res)) {
-        if (modes)
-            for (int i = 0; i < p->nr; i++) modes[i] = lam[i] > 0.0 ? STICK : OFF;
-        return 1;
-    }
-    for (int i = 0; i < p->nr && hint; i++)
-        if (hint[i]) {
-            if (nc == FC_MAX_CAND) return 0;
-            C[nc++] = i;
-        }
-    for (int round = 0; round <= FC_MAX_CAND; round++) {
+    int guess[FC_MAX_WIDE], ord[FC_MAX_WIDE][4], nord[FC_MAX_WIDE], md[FC_MAX_WIDE];
+    for (int round = 0; round <= cap; round++) {
         int total = 1, found = 0;
         for (int a = 0; a < nc; a++) {
             const fc_row *r = &p->rows[C[a]];
@@ -447,7 +461,7 @@ int fc_solve(const fc_problem *p, const unsigned char *hint, const double v0[3],
                 md[a] = ord[a][c % nord[a]];
                 c /= nord[a];
             }
-            found = try_mode(p, C, nc, md, v0, lam, beta, res);
+            found = try_mode(p, C, nc, md, v0, cap > FC_MAX_CAND, lam, beta, res);
         }
         if (!found) return 0;
         {
@@ -460,9 +474,98 @@ int fc_solve(const fc_problem *p, const unsigned char *hint, const double v0[3],
                 }
                 return 1;
             }
-            if (nc == FC_MAX_CAND) return 0;
+            if (nc == cap) return 0;
             C[nc++] = w;
         }
     }
     return 0;
+}
+
+/* Rows i and j lie on one line of contact: frictional, the same Coulomb
+ * coefficient, the same tangent row and frame slip (T = (t, r x t) is the
+ * same for every point of a line with tangent t) and the same normal part
+ * of G (n = 3: G = (n, r x n)). */
+static int same_line(const fc_problem *p, int i, int j)
+{
+    const fc_row *a = &p->rows[i], *b = &p->rows[j];
+    double dt = 0.0, tn = norm1(3, a->T), gn = fabs(a->G[0]) + fabs(a->G[1]);
+    if (p->n != 3 || !(a->mu > 0.0) || a->mu != b->mu) return 0;
+    for (int c = 0; c < 3; c++) dt += fabs(a->T[c] - b->T[c]);
+    return dt <= 1e-12 * tn && fabs(a->tb - b->tb) <= REL * (p->vscale + fabs(a->tb)) &&
+           fabs(a->G[0] - b->G[0]) + fabs(a->G[1] - b->G[1]) <= 1e-12 * gn;
+}
+
+/* Squared distance of rows i and j's G. */
+static double gdist2(const fc_problem *p, int i, int j)
+{
+    double d = 0.0;
+    for (int c = 0; c < p->n; c++) d += (p->rows[i].G[c] - p->rows[j].G[c]) * (p->rows[i].G[c] - p->rows[j].G[c]);
+    return d;
+}
+
+/* Candidates of the wide enumeration into C (returns their count, -1 beyond
+ * FC_MAX_WIDE): the rows that may carry an impulse, i.e. the hint's rows,
+ * the rows touching at rest (rest 1) and the rows v0 violates, each line
+ * of contact (same_line) by its two extreme rows (the pair farthest apart
+ * in G). On one line G_i = (n, r_i x n) is affine in the point's place, so
+ * every other row's G is a convex combination of the extremes': an impulse
+ * on it is one on the extremes, and its gap rate G_i v - rhs_i (rhs affine
+ * too: the gaps of points on the line) holds when theirs do; worst_row
+ * still checks it. */
+static int wide_candidates(const fc_problem *p, const unsigned char *hint, const double v0[3], int *C)
+{
+    int nc = 0;
+    for (int i = 0; i < p->nr; i++) {
+        const fc_row *r = &p->rows[i];
+        int want = (hint && hint[i]) || r->rest == 1 ||
+                   dotn(p->n, r->G, v0) - r->rhs < -REL * (p->vscale * norm1(p->n, r->G) + fabs(r->rhs));
+        int ea = i, eb = i;
+        double da = 0.0, db = 0.0;
+        if (!want) continue;
+        /* the line's extremes among all its rows: ea the farthest from row
+         * i, eb the farthest from ea */
+        for (int j = 0; j < p->nr; j++)
+            if (same_line(p, i, j) && gdist2(p, i, j) > da) {
+                da = gdist2(p, i, j);
+                ea = j;
+            }
+        for (int j = 0; j < p->nr; j++)
+            if (same_line(p, i, j) && gdist2(p, ea, j) > db) {
+                db = gdist2(p, ea, j);
+                eb = j;
+            }
+        for (int e = 0; e < 2; e++) {
+            int x = e ? eb : ea, dup = 0;
+            for (int a = 0; a < nc; a++) dup |= C[a] == x;
+            if (dup) continue;
+            if (nc == FC_MAX_WIDE) return -1;
+            C[nc++] = x;
+        }
+    }
+    return nc;
+}
+
+int fc_solve(const fc_problem *p, const unsigned char *hint, const double v0[3], int *modes, double *lam,
+             double *beta, fc_result *res)
+{
+    int C[FC_MAX_WIDE], nc = 0, over = 0;
+    res->iters = 0;
+    if (try_rest(p, lam, beta, res)) {
+        if (modes)
+            for (int i = 0; i < p->nr; i++) modes[i] = lam[i] > 0.0 ? STICK : OFF;
+        return 1;
+    }
+    for (int i = 0; i < p->nr && hint; i++)
+        if (hint[i]) {
+            if (nc == FC_MAX_CAND) {
+                over = 1;
+                break;
+            }
+            C[nc++] = i;
+        }
+    if (!over && enumerate(p, C, nc, FC_MAX_CAND, v0, modes, lam, beta, res)) return 1;
+    /* the hint's rows did not suffice (a row it leaves out must carry an
+     * impulse, or more than FC_MAX_CAND rows): the wide candidates */
+    nc = wide_candidates(p, hint, v0, C);
+    return nc >= 0 && enumerate(p, C, nc, FC_MAX_WIDE, v0, modes, lam, beta, res);
 }

@@ -29,13 +29,23 @@
  * several modes are consistent (non-uniqueness) the order of the
  * enumeration decides: plate rest first (the least plate friction split),
  * then the mode guessed from the hint, then the others in a fixed order
- * (per row: the guess, stick, the other slide, separate). */
+ * (per row: the guess, stick, the other slide, separate).
+ * The candidates: the hint's rows (at most FC_MAX_CAND), joined by a row a
+ * consistent mode violates. Where those give no consistent mode (a row
+ * outside the hint must carry an impulse, or the hint has more rows), the
+ * wide candidates: every row that may carry an impulse (the hint's, the
+ * touching ones, those v0 violates), the rows of one frictional line of
+ * contact (points with one normal and one tangent row) by its two extreme
+ * rows, at most FC_MAX_WIDE. In the plane at most 3 rows are independent,
+ * and on one line G_i = (n, r_i x n) is affine in the point's place: an
+ * impulse on an inner point is one on the two extremes. */
 #ifndef EXDEX_FCONTACT_H
 #define EXDEX_FCONTACT_H
 
 #include "ldp.h"
 
-#define FC_MAX_CAND 4  /* rows whose modes are enumerated (4^4 modes at most) */
+#define FC_MAX_CAND 4  /* rows whose modes are enumerated from the hint (4^4 modes at most) */
+#define FC_MAX_WIDE 6  /* rows whose modes are enumerated when those do not suffice (4^6 modes at most) */
 
 typedef struct fc_row {
     double G[3];   /* d gap / d qdot (n entries) */
@@ -80,8 +90,9 @@ typedef struct fc_result {
  * successful return each row's mode (FC_STICK for a row carrying force at
  * plate rest). lam, beta (nr each) get the impulses. Returns
  * 1 when a consistent mode was found, 0 otherwise (then lam, beta and res
- * hold no solution): more than FC_MAX_CAND rows would have to be enumerated, or no
- * mode of those is consistent (e.g. rows whose equations are dependent). */
+ * hold no solution): no mode of the candidates is consistent (e.g. a jam:
+ * friction turning a row's normal impulse around), or the wide candidates
+ * exceed FC_MAX_WIDE. */
 int fc_solve(const fc_problem *p, const unsigned char *hint, const double v0[3], int *modes, double *lam,
              double *beta, fc_result *res);
 

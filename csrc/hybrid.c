@@ -617,7 +617,7 @@ static double impact_impulse_1dof(hyb *H, const exdex_kinematics *kin, int k, in
  * by its tb as it stands.
  * Painleve: where no mode of the acceleration-level problem is consistent
  * (a sliding stop whose friction turns the normal force's effect around:
- * a jam, or a problem with more rows than sfric.h enumerates), the stops
+ * a jam, or more rows than sf_solve reduces to its enumeration), the stops
  * of the contact set are taken frictionless until the next decision, and a
  * warning is counted, as for a 1-DoF jam; the loss of consistency is a
  * located guard (+1 / -1). The velocity-level (impulse) solution would
@@ -625,6 +625,10 @@ static double impact_impulse_1dof(hyb *H, const exdex_kinematics *kin, int k, in
  * acceleration-level machine would have to apply as an impact at a time it
  * cannot locate from a smooth guard; the implicit method, which is that
  * velocity-level step, reports the same scenes with its own warning. */
+
+/* every contact-set row and friction group fits sfric.h's problem */
+_Static_assert(MAX_ROWS <= SF_MAX_ROWS, "sfric.h holds every contact-set row");
+_Static_assert(EXDEX_MAX_STOPS + MAX_ROWS <= SF_MAX_STOPS, "sfric.h holds every friction group");
 
 #define SF_TOL 1e-10  /* sign slack of the mode checks: x the scene's acceleration V / T and force F */
 #define SF_SAME_LINE 1e-6  /* obstacle rows whose unit in-plane normals differ by at most this share a group */
@@ -962,11 +966,10 @@ static int sf_graze(const hyb *H, const exdex_kinematics *kin, const double *y, 
  * frictional row carries an impulse in it and some row is approached
  * (b_i - G_i v > tol.rate: below that a row's rate is 0 to the method, as
  * for the contact set and the impact count, and the projection only
- * removes rounding). Where fcontact.h finds no
- * consistent mode (more than FC_MAX_CAND rows would have to be enumerated)
- * the frictionless impact stands and a warning is counted. Returns 1 if v
- * and lam were replaced, 2 for a graze of a rest (sf_graze: no impulse,
- * v and lam untouched), else 0. */
+ * removes rounding). Where fcontact.h finds no consistent mode (none
+ * among its candidates: fc_solve) the frictionless impact stands and a
+ * warning is counted. Returns 1 if v and lam were replaced, 2 for a graze
+ * of a rest (sf_graze: no impulse, v and lam untouched), else 0. */
 static int sf_impact(hyb *H, const exdex_kinematics *kin, const double *y, int n, const int *rows,
                      const double (*Gr)[3], const double *b, double v[3], double *lam)
 {
@@ -1636,6 +1639,21 @@ static void sf_decide(hyb *H, double t, double *y)
             if (!sf_solve_at(H, &kin, y, a, &res)) continue;
             for (int i = 0; i < nroll; i++) same &= res.fm[roll[i]] == pick[i];
             found = ok = same;
+        }
+        if (!found && nroll) {
+            /* no combination is decided again on its own plate friction
+             * (a lock's plate friction, with its stops given, against the
+             * roll decision that tries locks last, sfric.h): the modes
+             * the problem finds with every rolling stop left to it, on the
+             * plate friction of that same problem (the fixed point of
+             * planar_friction with the stops rolling) */
+            for (int k = 0; k < S.ng; k++) H->fm[k] = SF_ROLL;
+            fs = sf_free_acc(H, &f, &kin, y, a);
+            if (fs) {
+                H->err = H->err ? H->err : fs;
+                return;
+            }
+            ok = sf_solve_at(H, &kin, y, a, &res);
         }
     } else if (nr >= 0) {
         fs = sf_free_acc(H, &f, &kin, y, a);

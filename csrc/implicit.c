@@ -22,7 +22,11 @@
  * it starts carries the scheme's own errors (the slide stopping inside a
  * step of length h from a slip speed u <= h C / M moves h u / 2 instead of
  * u^2 / (2 a), a the deceleration: at most h min(|dqd|, h a) / 2 for a
- * jump dqd), not an error of the jump. Samples stay on the output grid;
+ * jump dqd), not an error of the jump; where it stops inside a step that
+ * is located (slip_stop_in_step, slip_stop_in_step_planar), and a planar
+ * slip that slides through the sub-step after the jump, whose length the
+ * jump's position sets (the same on nested grids), follows the slip's own
+ * law over it (slip_through_step_planar). Samples stay on the output grid;
  * the recorded wrench and stop forces are means over the output step. The
  * velocity extrapolated for the midpoint's velocity-dependent terms is not
  * carried across a switching time (it restarts from the step's start
@@ -538,6 +542,136 @@ static int slip_stop_in_step_planar(const exdex_model *m, work *w, const double 
     return 0;
 }
 
+/* The slip of slip_stop_in_step_planar over a whole (sub-)step that it does
+ * not stop in, on the time axis: in the units of slip_stop_in_step_planar
+ * (zeta = z / r0, T = t C a / r0, Zeta = Z a C / r0^2)
+ *     dzeta/dT = A (b - zeta / |zeta|) / a,   dZeta/dT = zeta
+ * (y[3] unused), integrated by the same bsimp to T = h C a / r0, the
+ * Jacobian -A (I - n n^T) / (a |zeta|) and I. Sets the end velocity v_end =
+ * Rz J'^-1 E^-1 z(h) and the displacement dq = Rz J'^-1 E^-1 Z(h). Returns
+ * 0 (the step keeps its own end state) where the slip comes within
+ * SLIP_NEAR |z0| of rest inside the step (a stop, which the step's own test
+ * decides), or the integration fails or takes more than SLIP_STEPS steps. */
+#define SLIP_NEAR 1e-3
+
+static int slip_rhs_t(double s, const double y[], double f[], void *par)
+{
+    const slip_law *L = par;
+    double r = sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]), d[3];
+    (void)s;
+    if (!(r > 0.0)) return GSL_EBADFUNC;
+    for (int i = 0; i < 3; i++) d[i] = L->b[i] - y[i] / r;
+    for (int i = 0; i < 3; i++) {
+        f[i] = L->A[i][0] * d[0] + L->A[i][1] * d[1] + L->A[i][2] * d[2];
+        f[4 + i] = y[i];
+    }
+    f[3] = 0.0;
+    return GSL_SUCCESS;
+}
+
+static int slip_jac_t(double s, const double y[], double *J, double dfdt[], void *par)
+{
+    const slip_law *L = par;
+    double r = sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]), n[3], P[3][3];
+    (void)s;
+    if (!(r > 0.0)) return GSL_EBADFUNC;
+    for (int i = 0; i < 3; i++) n[i] = y[i] / r;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) P[i][j] = ((i == j ? 1.0 : 0.0) - n[i] * n[j]) / r;
+    for (int i = 0; i < SLIP_DIM * SLIP_DIM; i++) J[i] = 0.0;
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++)
+            J[i * SLIP_DIM + j] = -(L->A[i][0] * P[0][j] + L->A[i][1] * P[1][j] + L->A[i][2] * P[2][j]);
+        J[(4 + i) * SLIP_DIM + i] = 1.0;
+    }
+    for (int i = 0; i < SLIP_DIM; i++) dfdt[i] = 0.0;
+    return GSL_SUCCESS;
+}
+
+/* v = Rz J'^-1 E^-1 z: the generalized velocity (or displacement) of a scaled
+ * patch slip z (the inverse of ejf) */
+static void gen_of_slip(const exdex_model *m, const double cs[2], const double z[3], double v[3])
+{
+    double u[3], px, py;
+    for (int i = 0; i < 3; i++) u[i] = z[i] / m->e[i];
+    px = u[0] + m->pc[1] * u[2];
+    py = u[1] - m->pc[0] * u[2];
+    v[0] = cs[0] * px - cs[1] * py;
+    v[1] = cs[1] * px + cs[0] * py;
+    v[2] = u[2];
+}
+
+/* A and b of the slip law in the units of slip_stop_in_step_planar (L->A =
+ * A / a, L->b = b / C), the initial slip z0 = E J v0 and *a = tr A; 0 if
+ * they are not finite or v0 does not slip. */
+static int slip_law_set(const exdex_model *m, const double cs[2], double C, const double v0[3], const double F[3],
+                        slip_law *L, double z0[3], double *a)
+{
+    double Jp[3][3] = {{1.0, 0.0, -m->pc[1]}, {0.0, 1.0, m->pc[0]}, {0.0, 0.0, 1.0}}, b[3];
+    model_patch_of_gen(m, cs, F, b);
+    ejf(m, cs, v0, z0);
+    *a = 0.0;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            double sum = 0.0;
+            for (int k = 0; k < 3; k++) sum += Jp[i][k] * m->minv[k] * Jp[j][k];
+            L->A[i][j] = m->e[i] * sum * m->e[j];
+        }
+    for (int i = 0; i < 3; i++) *a += L->A[i][i];
+    if (!(*a > 0.0) || !isfinite(*a) || !(C > 0.0)) return 0;
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++) L->A[i][j] /= *a;
+        L->b[i] = b[i] / m->e[i] / C;
+    }
+    return ex_finite_n(z0, 3) && (z0[0] != 0.0 || z0[1] != 0.0 || z0[2] != 0.0);
+}
+
+static int slip_through_step_planar(const exdex_model *m, work *w, const double cs[2], double C, double h,
+                                    const double v0[3], const double F[3], double v_end[3], double dq[3])
+{
+    slip_law L;
+    gsl_odeiv2_system sys = {slip_rhs_t, slip_jac_t, SLIP_DIM, &L};
+    double z[3], r0, a, y[SLIP_DIM], s = 0.0, ds, tmax, Z[3];
+    if (!w->slip_evo || !slip_law_set(m, cs, C, v0, F, &L, z, &a)) return 0;
+    r0 = sqrt(ex_dot3(z, z));
+    tmax = h * C * a / r0;
+    if (!(r0 > 0.0) || !(tmax > 0.0) || !isfinite(tmax)) return 0;
+    for (int i = 0; i < 3; i++) {
+        y[i] = z[i] / r0;
+        y[4 + i] = 0.0;
+    }
+    y[3] = 0.0;
+    gsl_odeiv2_step_reset(w->slip_step);
+    gsl_odeiv2_evolve_reset(w->slip_evo);
+    ds = tmax / 16.0;
+    for (int k = 0; k < SLIP_STEPS && s < tmax; k++) {
+        int st = gsl_odeiv2_evolve_apply(w->slip_evo, w->slip_con, w->slip_step, &sys, &s, tmax, &ds, y);
+        if (st != GSL_SUCCESS || !ex_finite_n(y, SLIP_DIM)) return 0;
+        if (!(y[0] * y[0] + y[1] * y[1] + y[2] * y[2] > SLIP_NEAR * SLIP_NEAR)) return 0;
+    }
+    if (!(s >= tmax)) return 0;
+    for (int i = 0; i < 3; i++) {
+        z[i] = y[i] * r0;
+        Z[i] = y[4 + i] * r0 * r0 / (a * C);
+    }
+    gen_of_slip(m, cs, z, v_end);
+    gen_of_slip(m, cs, Z, dq);
+    return ex_finite_n(v_end, 3) && ex_finite_n(dq, 3);
+}
+
+/* 1 if one of the frame's velocity jumps is at t (model_substep's snap):
+ * a sub-step starting at t starts with the slip the jump set */
+static int jump_at(const exdex_model *m, double t)
+{
+    double tj[EXDEX_MOTION_MAX_JUMPS], jv[EXDEX_MOTION_MAX_JUMPS][3], jw[EXDEX_MOTION_MAX_JUMPS][3];
+    int nj = exdex_motion_jumps(m->motion, NULL, NULL, NULL);
+    if (!nj) return 0;
+    nj = exdex_motion_jumps(m->motion, tj, jv, jw);
+    for (int j = 0; j < nj; j++)
+        if (fabs(tj[j] - t) <= model_substep_snap(m, t)) return 1;
+    return 0;
+}
+
 /* Static and kinetic friction, a step that starts slipping (v != 0) and
  * slides (the kinetic impulse cannot end it at rest): does the slip stop
  * inside the step and stay there? Under the kinetic law the slip z = E J v
@@ -924,8 +1058,8 @@ static double project_positions(const exdex_model *m, const exdex_kinematics *ki
  * guess and Newton's start when the last step was frictional too (else the
  * slip signs and velocity of the frictionless solution). The rows are
  * those of build_rows (gaps at t + h, rhs = -gap / h), with the tangential
- * rows T and the gripper's slip tb of each vertex at the pose of t + h. Where no consistent mode is found among
- * FC_MAX_CAND rows the frictionless step is kept and a warning counted.
+ * rows T and the gripper's slip tb of each vertex at the pose of t + h. Where fc_solve finds no consistent
+ * mode among its candidates the frictionless step is kept and a warning counted.
  * n = 1: A = 1 and cap the step's capacity c (friction -c sign(v)); n = 3:
  * A = E J_f at the step's angle. cap_s is the static capacity of the step
  * (the plates' rest test), cap the kinetic one (sliding); v_old the
@@ -1205,6 +1339,31 @@ static int implicit_substep(const exdex_model *m, work *w, const model_sub *sub,
                     ok = w->lam[i] == 0.0 && ex_dot3(w->G[i], dq) >= w->rhs[i] * h;
                 if (ok) {
                     for (int i = 0; i < 3; i++) qset[i] = q[i] + dq[i];
+                    moved = 1;
+                }
+            }
+            if (!fr.stick && !moved && slipping && jump_at(m, t)) {
+                /* a sub-step that starts at a velocity jump of the frame
+                 * with the slip the jump set, and slides through: the slip
+                 * integrated over it (slip_through_step_planar), where no
+                 * stop acts and the end position keeps every row's bound.
+                 * Its length is set by where the jump falls between grid
+                 * points, the same on every level of a nested step ladder
+                 * whose grids share the point after the jump, so the
+                 * scheme's own error there (the friction's turn over the
+                 * sub-step) would be the same on those levels. */
+                double ve[3], dq[3];
+                int ok = 1;
+                for (int i = 0; i < w->n_rows; i++) ok = ok && w->lam[i] == 0.0;
+                ok = ok && slip_through_step_planar(m, w, MODEL_CS(qm[2]), capm, h, v, F, ve, dq);
+                for (int i = 0; ok && i < w->n_rows; i++) ok = ex_dot3(w->G[i], dq) >= w->rhs[i] * h;
+                if (ok) {
+                    for (int i = 0; i < 3; i++) {
+                        vn[i] = ve[i];
+                        qset[i] = q[i] + dq[i];
+                        pfB[i] = (ve[i] - v[i]) / m->minv[i] - h * F[i];
+                    }
+                    model_patch_of_gen(m, MODEL_CS(qm[2]), pfB, fr.p);
                     moved = 1;
                 }
             }

@@ -290,13 +290,23 @@ static int solve_mode(int nr, const sf_row *rows, int ns, const sf_stop *st, con
     return 1;
 }
 
-int sf_solve(int nr, const sf_row *rows, int ns, const sf_stop *st, const double minv[3], const double a[3],
-             double tol_a, double tol_f, sf_result *res)
+/* sf_solve on at most SF_ENUM_ROWS rows: every row's modes enumerated. */
+static int solve_enum(int nr, const sf_row *rows, int ns, const sf_stop *st, const double minv[3], const double a[3],
+                      double tol_a, double tol_f, sf_result *res)
 {
     int opt[SF_MAX_STOPS][3], nopt[SF_MAX_STOPS], roll[SF_MAX_STOPS], has[SF_MAX_STOPS] = {0}, pick[SF_MAX_STOPS],
         m[SF_MAX_STOPS], anyroll = 0;
-    memset(res, 0, sizeof *res);
-    if (nr < 0 || nr > SF_MAX_ROWS || ns < 0 || ns > SF_MAX_STOPS) return 0;
+    /* res zeroed where it is read (rows 0 .. nr - 1, stops 0 .. ns - 1) */
+    memset(res->qdd, 0, sizeof res->qdd);
+    res->tried = res->lock = 0;
+    res->margin = 0.0;
+    res->mask = 0u;
+    if (nr < 0 || nr > SF_ENUM_ROWS || ns < 0 || ns > SF_MAX_STOPS) return 0;
+    for (int i = 0; i < nr; i++) res->lam[i] = res->acc[i] = 0.0;
+    for (int j = 0; j < ns; j++) {
+        res->beta[j] = res->lsum[j] = res->acct[j] = 0.0;
+        res->fm[j] = 0;
+    }
     for (int i = 0; i < nr; i++) {
         if (rows[i].stop < 0 || rows[i].stop >= ns) return 0;
         has[rows[i].stop] = 1;
@@ -349,4 +359,106 @@ int sf_solve(int nr, const sf_row *rows, int ns, const sf_stop *st, const double
         if (mask == 0u) break;
     }
     return 0;
+}
+
+/* Squared distance of two rows' G. */
+static double gdist2(const sf_row *p, const sf_row *q)
+{
+    double s = 0.0;
+    for (int c = 0; c < 3; c++) s += (p->G[c] - q->G[c]) * (p->G[c] - q->G[c]);
+    return s;
+}
+
+/* The rows enumerated when there are more than SF_ENUM_ROWS (sfric.h) into
+ * en, in increasing index; returns their count. A stop's rows are points
+ * on one line with one normal n, so G_i = (n, arm_i) with the arm affine
+ * in the point's place along the line: every G_i is a convex combination of
+ * the two extreme rows' (the pair farthest apart in G), and so are the gap
+ * accelerations G_i qdd + gdd0_i (gdd0 is affine in the point too). A force
+ * sum lam_i G_i, lam >= 0, is therefore a force on the extremes alone, and
+ * the extremes' gap accelerations >= 0 hold the others': a stop with more
+ * than two rows enters with its two extremes. */
+static int enum_rows(int nr, const sf_row *rows, int ns, int *en)
+{
+    int ne = 0, cnt[SF_MAX_STOPS], first[SF_MAX_STOPS], ea[SF_MAX_STOPS], eb[SF_MAX_STOPS];
+    double da[SF_MAX_STOPS], db[SF_MAX_STOPS];
+    for (int j = 0; j < ns; j++) {
+        cnt[j] = 0;
+        first[j] = ea[j] = eb[j] = -1;
+        da[j] = db[j] = -1.0;
+    }
+    for (int i = 0; i < nr; i++) {
+        int j = rows[i].stop;
+        if (!cnt[j]++) first[j] = i;
+    }
+    /* ea: the row farthest from the stop's first; eb: the row farthest from ea */
+    for (int i = 0; i < nr; i++) {
+        int j = rows[i].stop;
+        double d = gdist2(&rows[i], &rows[first[j]]);
+        if (d > da[j]) {
+            da[j] = d;
+            ea[j] = i;
+        }
+    }
+    for (int i = 0; i < nr; i++) {
+        int j = rows[i].stop;
+        double d = gdist2(&rows[i], &rows[ea[j]]);
+        if (d > db[j]) {
+            db[j] = d;
+            eb[j] = i;
+        }
+    }
+    for (int i = 0; i < nr; i++) {
+        int j = rows[i].stop;
+        if (cnt[j] <= 2 || i == ea[j] || i == eb[j]) en[ne++] = i;
+    }
+    return ne;
+}
+
+int sf_solve(int nr, const sf_row *rows, int ns, const sf_stop *st, const double minv[3], const double a[3],
+             double tol_a, double tol_f, sf_result *res)
+{
+    sf_row rr[SF_ENUM_ROWS];
+    sf_result sub;
+    int en[SF_MAX_ROWS], ne, ok;
+    if (nr <= SF_ENUM_ROWS) return solve_enum(nr, rows, ns, st, minv, a, tol_a, tol_f, res);
+    memset(res->qdd, 0, sizeof res->qdd);
+    res->tried = res->lock = 0;
+    res->margin = 0.0;
+    res->mask = 0u;
+    if (nr > SF_MAX_ROWS || ns < 0 || ns > SF_MAX_STOPS) return 0;
+    for (int i = 0; i < nr; i++)
+        if (rows[i].stop < 0 || rows[i].stop >= ns) return 0;
+    /* the reduced problem (enum_rows), then every row's force (0 off the
+     * extremes) and gap acceleration, each >= -tol_a */
+    ne = enum_rows(nr, rows, ns, en);
+    if (ne > SF_ENUM_ROWS) return 0;
+    for (int b = 0; b < ne; b++) rr[b] = rows[en[b]];
+    ok = solve_enum(ne, rr, ns, st, minv, a, tol_a, tol_f, &sub);
+    memcpy(res->qdd, sub.qdd, sizeof res->qdd);
+    res->tried = sub.tried;
+    res->lock = sub.lock;
+    res->margin = sub.margin;
+    for (int j = 0; j < ns; j++) {
+        res->beta[j] = sub.beta[j];
+        res->lsum[j] = sub.lsum[j];
+        res->acct[j] = sub.acct[j];
+        res->fm[j] = sub.fm[j];
+    }
+    for (int i = 0; i < nr; i++) {
+        res->lam[i] = 0.0;
+        res->acc[i] = ex_dot3(rows[i].G, res->qdd) + rows[i].gdd0;
+    }
+    for (int b = 0; b < ne; b++) {
+        res->lam[en[b]] = sub.lam[b];
+        res->acc[en[b]] = sub.acc[b];
+        if (sub.mask >> b & 1u) {
+            if (en[b] >= 32) return 0;  /* a lock's rows must fit the mask's bits */
+            res->mask |= 1u << en[b];
+        }
+    }
+    if (!ok) return 0;
+    for (int i = 0; i < nr; i++)
+        if (!(res->acc[i] >= -tol_a)) return 0;
+    return 1;
 }

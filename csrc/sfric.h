@@ -69,15 +69,22 @@
  * The modes are enumerated in a fixed order (per stop the given mode, or
  * for a rolling stop: stick, slide +, slide -; the rows: every row carrying
  * force first, then the subsets by a binary count down), the first
- * consistent one is returned. With friction the acceleration-level problem
+ * consistent one is returned. Beyond SF_ENUM_ROWS rows a stop with more
+ * than two rows (points on its line) enters the enumeration with its two
+ * extreme rows only: every other row's G and gap acceleration is a convex
+ * combination of theirs, so a force on the others is one on the extremes;
+ * the others carry none and keep their sign check (gap acceleration >=
+ * -tol_a). With friction the acceleration-level problem
  * can have no consistent mode (Painleve: a sliding stop whose friction turns
  * the normal force's effect around) or several; the caller decides what to
  * do when none is found. */
 #ifndef EXDEX_SFRIC_H
 #define EXDEX_SFRIC_H
 
-#define SF_MAX_ROWS 8   /* rows whose normal modes are enumerated */
-#define SF_MAX_STOPS 16 /* friction groups ("stops"): the stops (EXDEX_MAX_STOPS) and the obstacles' contact lines */
+#define SF_ENUM_ROWS 8  /* up to this many rows every row's normal modes are enumerated (above: sf_solve) */
+#define SF_MAX_ROWS 256 /* rows: every contact row of a planar object (model.h's MAX_ROWS) */
+#define SF_MAX_STOPS (SF_MAX_ROWS + 8) /* friction groups ("stops"): the stops (EXDEX_MAX_STOPS) and the
+                                          obstacles' contact lines (at most one per row) */
 #define SF_BAND 1e-12   /* relative band of the stick cone: a stop sticks while |beta| <= mu sum lam (1 + SF_BAND) */
 #define SF_LOCK_RANK 1e-9  /* a lock's constraints (unit rows, M^-1/2 metric) and generators span R^3 above this volume */
 
@@ -115,7 +122,8 @@ typedef struct sf_result {
 
 /* Solve the problem of nr rows (<= SF_MAX_ROWS) on ns stops (<= SF_MAX_STOPS;
  * a row's stop indexes st). Returns 1 with a consistent mode in res, 0 when
- * no mode is consistent or nr is out of range (res then holds no
+ * no mode is consistent, nr or ns are out of range, or more than
+ * SF_ENUM_ROWS rows remain after the reduction above (res then holds no
  * solution). */
 int sf_solve(int nr, const sf_row *rows, int ns, const sf_stop *st, const double minv[3], const double a[3],
              double tol_a, double tol_f, sf_result *res);

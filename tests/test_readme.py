@@ -188,3 +188,28 @@ def test_analytic_figures_are_those_the_bench_wrote():
         assert tok in text, f"benchmarks/README.md quotes {tok} s but analytic.txt lacks it"
         checked += 1
     assert checked >= 10
+
+
+def _quoted_from(section, filename, minimum):
+    """Every number in the table rows of ``section`` (after the row label) is
+    in benchmarks/results/``filename``; returns how many were checked."""
+    text = _read("benchmarks", "results", filename)
+    sec = _section(BENCH, section)
+    checked = 0
+    for line in _tables(sec)[1:]:
+        body = line.split("|", 2)[2]  # skip the row label
+        for tok in re.findall(r"\d[\d.]*", body):
+            assert tok in text, f"benchmarks/README.md quotes {tok} ({line.strip()}) but {filename} lacks it"
+            checked += 1
+    assert checked >= minimum
+    return checked
+
+
+def test_step_cost_figures_are_those_the_bench_wrote():
+    """The per-step table quotes results/step.txt (python benchmarks/bench_step.py)."""
+    _quoted_from("Per-step cost", "step.txt", 10)
+
+
+def test_obstacle_figures_are_those_the_bench_wrote():
+    """The obstacle table quotes results/obstacles.txt (python benchmarks/bench_obstacles.py)."""
+    _quoted_from("Obstacles and methods", "obstacles.txt", 30)

@@ -54,6 +54,54 @@ EXDEX_TEST(fcontact_oblique_impact_closed_form)
     }
 }
 
+/* A block's face landing flat on a floor, the face drawn by N = 13 points
+ * x_i in [-h, h] at y = -h, every one hinted (more than FC_MAX_CAND rows):
+ * n = (0, 1), t = e_z x n = (-1, 0), so G_i = (0, 1, x_i) and the tangent
+ * row T = (-1, 0, -h) is the face's (r x t = -h for every point), tb = 0.
+ * No plate friction. A plastic landing with the face flat (omega' = 0,
+ * vy' = 0): sum lam = -M vy; the moment sum lam_i x_i = beta h puts the
+ * centre of pressure at beta h / sum lam, inside the face for mu <= 1.
+ * Stick (v' = 0) iff |vx| <= mu |vy|, beta = M vx; else the slide slows by
+ * mu |vy|: vx' = vx - sign(vx) mu |vy|, beta = sign(vx) mu sum lam. */
+EXDEX_TEST(fcontact_face_of_many_points_lands_as_its_corners)
+{
+    enum { N = 13 };
+    double h = 0.01, Md[3] = {0.1, 0.1, 1e-5};
+    for (int c = 0; c < 2; c++) {
+        double mu = c ? 0.8 : 0.3, vs[3] = {0.5, -1.0, 0.0}, lam[N], beta[N], ls = 0.0, bs = 0.0, mom = 0.0;
+        fc_row r[N];
+        unsigned char hint[N];
+        fc_problem p;
+        fc_result res;
+        for (int i = 0; i < N; i++) {
+            double x = -h + 2.0 * h * i / (N - 1);
+            r[i] = (fc_row){{0, 1, x}, {-1, 0, -h}, 0.0, 0.0, mu, 0};
+            hint[i] = 1;
+        }
+        p = problem(3, Md, vs, 0.0, N, r);
+        ENSURE(fc_solve(&p, hint, vs, NULL, lam, beta, &res) == 1);
+        for (int i = 0; i < N; i++) {
+            double x = -h + 2.0 * h * i / (N - 1);
+            ENSURE(lam[i] >= 0.0);
+            ENSURE(res.v[1] + x * res.v[2] >= -1e-14);
+            ls += lam[i];
+            bs += beta[i];
+            mom += lam[i] * x;
+        }
+        ENSURE_CLOSE(ls, Md[0] * 1.0, 1e-14);
+        ENSURE_CLOSE(res.v[1], 0.0, 1e-14);
+        ENSURE_CLOSE(res.v[2], 0.0, 1e-12);
+        ENSURE_CLOSE(mom, bs * h, 1e-15);
+        if (0.5 <= mu * 1.0) {
+            ENSURE_CLOSE(res.v[0], 0.0, 1e-14);
+            ENSURE_CLOSE(bs, Md[0] * 0.5, 1e-14);
+        } else {
+            ENSURE_CLOSE(res.v[0], 0.5 - mu * 1.0, 1e-14);
+            ENSURE_CLOSE(bs, mu * ls, 1e-14);
+        }
+    }
+}
+
 /* 1-DoF: a row G v >= rhs with a sliding contact. With the row on, v =
  * rhs / G, and the balance M (v - vs) = -c sign(v) + lam (G - mu sigma T),
  * sigma = sign(T v + tb), gives lam = (M (v - vs) + c sign(v)) / (G - mu

@@ -721,6 +721,52 @@ EXDEX_TEST(methods_implicit_planar_slip_stops_inside_a_step)
     report("methods_implicit_planar_slip_stop_worst_rel", worst);
 }
 
+EXDEX_TEST(methods_implicit_planar_slip_through_the_sub_step_after_a_jump)
+{
+    /* A log cruising at V (A coordinates) ends at speed at t_last = 0.2 s -
+     * 0.25 ms, between grid points of dt = 1 ms; planar, patch centre at the
+     * centre of mass, no load in the plane (gravity along the plate normal):
+     * the object is held until t_last, then slides at v = R0^T V relative to
+     * the resting gripper, decelerated at C / m along a straight line, and
+     * stops after t* = m |v| / C = 0.6 ms, having moved v t* / 2. The slip
+     * slides through the 0.25 ms sub-step after the jump
+     * (slip_through_step_planar) and stops inside the next step
+     * (slip_stop_in_step_planar): the closed form to the integration's
+     * tolerance. */
+    const double m = 0.1, C = 5.0, V[3] = {0.024, 0.0, 0.018}, tl = 0.2 - 2.5e-4;
+    double times[8], poses[8 * 7], v[3] = {V[0], V[2], 0.0}, ts = m * 0.03 / C;
+    exdex_scene_def d = exdex_default_scene_def();
+    sim_run r;
+    for (int i = 0; i < 8; i++) {
+        times[i] = tl * i / 7.0;
+        for (int c = 0; c < 3; c++) poses[7 * i + c] = V[c] * times[i];
+        poses[7 * i + 3] = poses[7 * i + 4] = sqrt(0.5);   /* R0: B y = A z */
+        poses[7 * i + 5] = poses[7 * i + 6] = 0.0;
+    }
+    d.method = EXDEX_METHOD_IMPLICIT;
+    d.dof = EXDEX_DOF_PLANAR;
+    d.mass = m;
+    d.inertia[8] = 1e-5;
+    d.mu = 0.5;
+    d.fingers = 2;
+    d.grip_force = C / (2 * d.mu);
+    d.gravity[0] = d.gravity[2] = 0.0;
+    d.gravity[1] = -G;   /* along B's z */
+    d.motion.kind = EXDEX_MOTION_SAMPLED;
+    d.motion.n_samples = 8;
+    d.motion.times = times;
+    d.motion.poses = poses;
+    for (int e = 0; e < 2; e++) {
+        d.motion.end_given[e] = 1;
+        for (int c = 0; c < 3; c++) d.motion.end_velocity[e][c] = V[c];
+    }
+    ENSURE(ts > 2.5e-4 && ts < 1.25e-3);
+    ENSURE(sim_run_def(&d, 0.205, 1e-3, &r) == EXDEX_OK);
+    for (int c = 0; c < 3; c++) ENSURE(fabs(qlast(&r, c) - (d.q0[c] + 0.5 * v[c] * ts)) <= 1e-9 * 0.5 * 0.03 * ts);
+    ENSURE(r.tr.stick[r.tr.n - 1]);
+    sim_run_free(&r);
+}
+
 EXDEX_TEST(methods_planar_event_is_the_implicit_limit)
 {
     /* Two independent methods agree in the limit: the implicit solution

@@ -96,6 +96,49 @@ EXDEX_TEST(sfric_face_on_wall_sticks_with_one_tangential_force)
     }
 }
 
+/* The face of the test above drawn with N = 13 points on the wall (more
+ * rows than SF_ENUM_ROWS): the points (-h, y_i), y_i from h to -h, have
+ * G_i = (1, 0, -y_i) and one tangent row. Their forces are a force at the
+ * centre of pressure, so the closed form is that of the two corners: stick
+ * iff |fy| <= mu |fx|, sum lam = -fx, beta = -fy and the moment sum lam_i
+ * (-y_i) - h beta = 0; else slide, qdd_y = (fy - mu |fx|) / m. Every row's
+ * gap acceleration is >= 0 (to rounding). */
+EXDEX_TEST(sfric_many_points_on_one_line_as_two_corners)
+{
+    enum { N = 13 };
+    double h = 0.01, minv[3] = {10.0, 10.0, 1e4};
+    for (int c = 0; c < 2; c++) {
+        double fx = -1.0, fy = c ? 0.7 : 0.3, mu = 0.5, acc[3] = {fx * minv[0], fy * minv[1], 0.0}, ls = 0.0,
+               mom = 0.0;
+        sf_row rows[N];
+        sf_stop st = {{0.0, 1.0, -h}, 0.0, mu, SF_ROLL};
+        sf_result r;
+        for (int i = 0; i < N; i++) {
+            double y = h - 2.0 * h * i / (N - 1);
+            rows[i] = (sf_row){{1.0, 0.0, -y}, 0.0, 0};
+        }
+        ENSURE(sf_solve(N, rows, 1, &st, minv, acc, 1e-12, 1e-12, &r) == 1);
+        for (int i = 0; i < N; i++) {
+            double y = h - 2.0 * h * i / (N - 1);
+            ENSURE(r.lam[i] >= 0.0);
+            ENSURE(r.acc[i] >= -1e-12);
+            ls += r.lam[i];
+            mom += -y * r.lam[i];
+        }
+        ENSURE_CLOSE(ls, -fx, 1e-12);
+        if (fabs(fy) <= mu * fabs(fx)) {
+            ENSURE(r.fm[0] == SF_STICK);
+            ENSURE_CLOSE(r.beta[0], -fy, 1e-12);
+            ENSURE_CLOSE(fabs(r.qdd[0]) + fabs(r.qdd[1]) + fabs(r.qdd[2]), 0.0, 1e-9);
+            ENSURE_CLOSE(mom - h * r.beta[0], 0.0, 1e-12);
+        } else {
+            ENSURE(r.fm[0] == SF_SLIDE_P);
+            ENSURE_CLOSE(r.beta[0], -mu * ls, 1e-12);
+            ENSURE_CLOSE(r.qdd[1], (fy - mu * fabs(fx)) * minv[1], 1e-9);
+        }
+    }
+}
+
 /* Painleve: one row of a stop sliding with a fixed sign whose friction
  * turns the normal force's effect around: G = (0, 1, 1), T = (1, 0, 2), mu
  * = 1, sliding +: the force direction D = G - T = (-1, 1, -1), G M^-1 D =
