@@ -667,9 +667,7 @@ static double axis_dist2(const double cB[3], const double aB[3], const double x[
     return ex_dot3(w, w);
 }
 
-/* Fill cp (if not NULL) for a row acting at x with normal nB; vx = x less
- * the centre of mass r. */
-static void set_point(contact_point *cp, const double x[3], const double r[3], const double nB[3])
+void contact_set_point(contact_point *cp, const double x[3], const double r[3], const double nB[3])
 {
     if (!cp) return;
     for (int i = 0; i < 3; i++) {
@@ -828,7 +826,7 @@ static double disc_obstacle_row(const exdex_model *m, const exdex_kinematics *ki
             x[1] = xc[1] - r * nb[1];
             x[2] = 0.0;
             row_G(m, q, x, nb, G);
-            set_point(cp, x, rc, nb);
+            contact_set_point(cp, x, rc, nb);
             *round = 64.0 * DBL_EPSILON * (hypot(xc[0], xc[1]) + r + pn + fmax);
         }
         return gap;
@@ -859,7 +857,7 @@ static double disc_obstacle_row(const exdex_model *m, const exdex_kinematics *ki
         }
         gap = (inside ? -dist : dist) - ob->radius;
         row_G(m, q, x, nb, G);
-        set_point(cp, x, rc, nb);
+        contact_set_point(cp, x, rc, nb);
         *round = 64.0 * DBL_EPSILON * (hypot(x[0], x[1]) + r + pn + sqrt(ex_dot3(ob->center, ob->center)) +
                                        ob->radius);
         return gap;
@@ -985,7 +983,7 @@ int contact_obstacle_rows_pred(const exdex_model *m, const exdex_kinematics *kin
                 }
                 gap[nr] = gb;
                 row_G(m, q, x, nb, G[nr]);
-                set_point(cp ? &cp[nr] : NULL, x, rc, nb);
+                contact_set_point(cp ? &cp[nr] : NULL, x, rc, nb);
                 round[nr] = rnd;
                 if (src) src[nr] = m->n_stops + o;
                 nr++;
@@ -1036,7 +1034,7 @@ int contact_obstacle_rows_pred(const exdex_model *m, const exdex_kinematics *kin
                 }
                 gap[nr] = (inside ? -dist : dist) - ob->radius;
                 row_G(m, q, xs, nb, G[nr]);
-                set_point(cp ? &cp[nr] : NULL, xs, rc, nb);
+                contact_set_point(cp ? &cp[nr] : NULL, xs, rc, nb);
                 round[nr] = 64.0 * DBL_EPSILON * (hypot(xs[0], xs[1]) + pn + sqrt(ex_dot3(ob->center, ob->center)) +
                                                   ob->radius);
                 if (src) src[nr] = m->n_stops + o;

@@ -148,6 +148,9 @@ int contact_obstacle_max_rows(const exdex_model *m);
 /* 1 if the obstacle definition is valid (kind, face count, unit normals and
  * axis, finite points, radius > 0). */
 int contact_obstacle_valid(const exdex_obstacle_def *o);
+/* Fill cp (if not NULL) for a row acting at x with normal nB: x and nB,
+ * vx = x less the centre of mass r, the z components of x and vx 0. */
+void contact_set_point(contact_point *cp, const double x[3], const double r[3], const double nB[3]);
 /* Half-planes a.y <= b of B's plate plane cut by the polytope's faces at pose
  * (R, p): a = (R^T n)_xy, b = n.(face point - p), with their face numbers in
  * idx (may be NULL). Faces parallel to the plane (|a| <= 1e-12) are left out

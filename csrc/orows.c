@@ -850,12 +850,7 @@ void orow_point(const exdex_model *m, const exdex_kinematics *kin, int code, con
             x[1] = xb[0][1] + rd * sin(phi);
             rod_normal(cB, aB, x, nb);
         }
-        for (int i = 0; i < 3; i++) {
-            cp->x[i] = x[i];
-            cp->vx[i] = x[i] - r[i];
-            cp->nB[i] = nb[i];
-        }
-        cp->x[2] = cp->vx[2] = 0.0;
+        contact_set_point(cp, x, r, nb);
         (void)nh;
         return;
     }
@@ -898,12 +893,7 @@ void orow_point(const exdex_model *m, const exdex_kinematics *kin, int code, con
         }
         rod_normal(cB, aB, x, nb);
     }
-    for (int i = 0; i < 3; i++) {
-        cp->x[i] = x[i];
-        cp->vx[i] = x[i] - r[i];
-        cp->nB[i] = nb[i];
-    }
-    cp->x[2] = cp->vx[2] = 0.0;
+    contact_set_point(cp, x, r, nb);
 }
 
 /* ------------------------------------------------ slip along a row
