@@ -2384,8 +2384,9 @@ static int set_row_equalities(const hyb *H, int n, double (*Gr)[3], double *b)
  * an impact brings it back. Where a set row is beyond either band, q and
  * then v are projected (M metric) onto every set row at gap 0 and rate 0
  * (equalities; the rows implied by others one-sided); within both bands the
- * decision takes them so already and y is left as it is. Scenes with
- * obstacles; a scene of stops alone keeps its state as integrated. */
+ * decision takes them so already and y is left as it is. The event method
+ * in scenes with obstacles; a scene of stops alone, and the regularised
+ * method, keep their state as integrated. */
 static void hold_set_rows(hyb *H, double t, double *y)
 {
     const exdex_model *m = H->m;
@@ -2393,7 +2394,7 @@ static void hold_set_rows(hyb *H, double t, double *y)
     exdex_kinematics kin;
     double Gr[MAX_ROWS + 3][3], b[MAX_ROWS + 3], lam[MAX_ROWS + 3], zero[3] = {0, 0, 0}, dq[3], v[3];
     int off = 0, n;
-    if (H->ndof != 3 || !H->no || !H->ncs || (H->law == LAW_COULOMB && H->mode == MODE_STICK)) return;
+    if (H->law != LAW_COULOMB || H->ndof != 3 || !H->no || !H->ncs || H->mode == MODE_STICK) return;
     if (frame_seg(H, t, &f, &kin)) return;
     for (int i = 0; i < H->ncs && !off; i++) {
         double gd, g = hrow_planar(H, &kin, H->cs[i], y, y + 3, Gr[i], &gd, NULL);
