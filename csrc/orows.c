@@ -354,6 +354,21 @@ static double face_line(const exdex_obstacle_def *ob, const exdex_kinematics *ki
     return hypot(nB[0], nB[1]);
 }
 
+/* min(res, the least distance of the point y inside the plate-plane lines of
+ * the obstacle's faces other than f and g): a point of the section stays
+ * inside the other faces' half-planes. */
+static double inside_other_faces(const exdex_obstacle_def *ob, const exdex_kinematics *kin, int f, int g,
+                                 const double y[2], double res)
+{
+    for (int h = 0; h < ob->n_faces; h++) {
+        double ah[2], bh, na;
+        if (h == f || h == g) continue;
+        na = face_line(ob, kin, h, ah, &bh);
+        if (na > 1e-12) res = fmin(res, (bh - ah[0] * y[0] - ah[1] * y[1]) / na);
+    }
+    return res;
+}
+
 /* Largest distance of y outside the hull's edge lines; *edge its edge. */
 static double hull_dist(int nh, const double hb[][3], const double y[2], int *edge)
 {
@@ -725,13 +740,7 @@ double orow_feature_guard(const exdex_model *m, const exdex_kinematics *kin, int
             dd = (af[0] * xb[0][0] + af[1] * xb[0][1] - bf) / na;
             y[0] = xb[0][0] - dd * af[0] / na;
             y[1] = xb[0][1] - dd * af[1] / na;
-            for (int h = 0; h < ob->n_faces; h++) {
-                double ah[2], bh, nh2;
-                if (h == feat) continue;
-                nh2 = face_line(ob, kin, h, ah, &bh);
-                if (nh2 > 1e-12) res = fmin(res, (bh - ah[0] * y[0] - ah[1] * y[1]) / nh2);
-            }
-            return res;
+            return inside_other_faces(ob, kin, feat, feat, y, res);
         }
         if (kind == OROW_SECTION) {
             int f = orow_a(code), g = orow_b(code);
@@ -748,13 +757,7 @@ double orow_feature_guard(const exdex_model *m, const exdex_kinematics *kin, int
             yg[0] = xb[0][0] - dg * ag[0] / ng;
             yg[1] = xb[0][1] - dg * ag[1] / ng;
             res = fmin((ag[0] * yf[0] + ag[1] * yf[1] - bg) / ng, (af[0] * yg[0] + af[1] * yg[1] - bf) / nf);
-            for (int h = 0; h < ob->n_faces; h++) {
-                double ah[2], bh, na;
-                if (h == f || h == g) continue;
-                na = face_line(ob, kin, h, ah, &bh);
-                if (na > 1e-12) res = fmin(res, (bh - ah[0] * y[0] - ah[1] * y[1]) / na);
-            }
-            return res;
+            return inside_other_faces(ob, kin, f, g, y, res);
         }
         return big;
     }
@@ -788,13 +791,7 @@ double orow_feature_guard(const exdex_model *m, const exdex_kinematics *kin, int
         }
         if (nh > 1 && isfinite(go)) res = fmin(res, ge - go);
         /* and y a vertex of the section: inside the other faces' half-planes */
-        for (int h = 0; h < ob->n_faces; h++) {
-            double ah[2], bh, na;
-            if (h == f || h == g) continue;
-            na = face_line(ob, kin, h, ah, &bh);
-            if (na > 1e-12) res = fmin(res, (bh - ah[0] * y[0] - ah[1] * y[1]) / na);
-        }
-        return res;
+        return inside_other_faces(ob, kin, f, g, y, res);
     }
     {
         double cB[3], aB[3], len, t;

@@ -24,6 +24,8 @@ import pytest
 import exdex
 from exdex import AsymmetricProfile, Body, Grasp, Patch, SampledTrajectory, Scene
 
+from zoo import _random_rotation
+
 # the planar runs turn the object off its pads on purpose (breakaway and
 # symmetry checks, not grasp outcomes)
 pytestmark = pytest.mark.filterwarnings("ignore::exdex.PhysicsWarning")
@@ -711,14 +713,6 @@ def test_mirror_symmetry(seed, method):
 
 
 # ------------------------------------------------------------ at rest against a stop
-
-
-def _random_rotation(rng):
-    q = rng.normal(size=4)
-    w, x, y, z = q / np.linalg.norm(q)
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
 
 
 def stop_rest_scene(rng, mu_static, push=0.5, pull=1.3, t_end=1.0):
