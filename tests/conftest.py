@@ -6,6 +6,8 @@ import subprocess
 import matplotlib
 import pytest
 
+import expected_warnings
+
 matplotlib.use("Agg")
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
@@ -36,3 +38,41 @@ def c_suite():
     run = subprocess.run([str(ROOT / "csrc" / "build" / "run_tests"), "--data", str(DATA), "--values"],
                          capture_output=True, text=True, cwd=str(ROOT / "csrc"), timeout=600)
     return run.returncode, run.stdout
+
+
+# ----------------------------------------------------------------- warnings
+# A test's scenes may warn by design (tests/expected_warnings.py); the log
+# keeps only warnings nobody declared, and the run fails when more than
+# WARNINGS_LIMIT of them are left: each one is news.
+
+WARNINGS_LIMIT = 10
+_undeclared = []
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_call(item):
+    marks = list(item.iter_markers("warns_by_design"))
+    if not marks:
+        yield
+        return
+    kinds = [k for m in marks for k in m.args]
+    with expected_warnings.by_design(*kinds):
+        yield
+
+
+def pytest_warning_recorded(warning_message, when, nodeid, location):
+    _undeclared.append((nodeid, warning_message))
+
+
+def pytest_terminal_summary(terminalreporter, exitstatus, config):
+    n = len(_undeclared)
+    if n > WARNINGS_LIMIT:
+        terminalreporter.write_line(
+            f"{n} warnings were issued that no test declared (limit {WARNINGS_LIMIT}): a test that is about a "
+            "warning asserts it with pytest.warns; scenes that warn by design say so with "
+            "@pytest.mark.warns_by_design (tests/expected_warnings.py)", red=True)
+
+
+def pytest_sessionfinish(session, exitstatus):
+    if len(_undeclared) > WARNINGS_LIMIT and exitstatus == 0:
+        session.exitstatus = 1

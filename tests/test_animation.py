@@ -65,6 +65,7 @@ def test_friction_arrow_balances_gravity_at_rest(seed):
     assert np.allclose(g["plate"][0].mean(axis=0), g["cop"][0], atol=1e-12)
 
 
+@pytest.mark.warns_by_design("impact", "outline")
 @pytest.mark.parametrize("normal", [(0, 0, 1), (0.15, 0.0, 1.0)])
 def test_outline_rests_on_the_stop_without_crossing(normal):
     """The gripper goes down 0.1 m onto a table 0.09 m below the grasp: the box
@@ -115,6 +116,7 @@ def drop():
                                       stops=(exdex.Stop((0, 0, -0.09), (0, 0, 1)),)), 1.2, 1e-3)
 
 
+@pytest.mark.warns_by_design("impact", "outline")
 def test_frame_timing(drop):
     a = drop.animate()
     assert a.n_frames == 31 and a.interval_ms == pytest.approx(40.0)  # 1.2 s at 25 fps, real time

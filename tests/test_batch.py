@@ -73,6 +73,7 @@ def test_batch_bit_identical_to_serial_fig3_grid(fig3, threads):
     assert_same_as_serial(b, 1.5, 1e-3)
 
 
+@pytest.mark.warns_by_design("impact", "pad", "outline")
 @pytest.mark.parametrize("threads", [1, 2])
 def test_batch_bit_identical_to_serial_planar_with_stop(threads):
     """3-DoF scene with a stop: stop forces, planar friction solve, stats."""
@@ -91,6 +92,7 @@ def test_batch_bit_identical_rotation_and_motion_parameters():
     assert_same_as_serial(b, 7.0, 2e-3)
 
 
+@pytest.mark.warns_by_design("outline")
 @pytest.mark.parametrize("method", sorted(METHODS))
 def test_every_method_bit_identical_to_serial(fig3, method):
     """Each integration method in a 2-thread batch equals serial
@@ -104,6 +106,7 @@ def test_every_method_bit_identical_to_serial(fig3, method):
             assert b.stats[k][i] == r.stats[k], (method, k, i)
 
 
+@pytest.mark.warns_by_design("outline")
 def test_thread_counts_agree_on_a_larger_batch(fig3):
     """1, 2 and 7 threads (more than cores) give identical arrays."""
     g = np.linspace(1.2, 1.9, 150)
@@ -115,6 +118,7 @@ def test_thread_counts_agree_on_a_larger_batch(fig3):
             np.testing.assert_array_equal(r.stats[k], runs[0].stats[k])
 
 
+@pytest.mark.warns_by_design("impact", "pad", "outline", "solver", "jump")
 @pytest.mark.parametrize("threads", [1, 2, 3])
 def test_large_analytic_vary_batch_equals_serial(fig3, threads):
     """A batch long enough to be handed out in chunks, whose models the
@@ -150,6 +154,7 @@ def test_sequence_of_scenes(fig3):
 
 # ------------------------------------------------------------ record="final"
 
+@pytest.mark.warns_by_design("impact", "pad", "outline")
 @pytest.mark.parametrize("threads", [1, 2])
 def test_record_final_is_last_row_of_all(threads):
     sc = planar_scene()
@@ -171,6 +176,7 @@ def test_record_final_is_last_row_of_all(threads):
 
 # ------------------------------------------------------------ physics
 
+@pytest.mark.warns_by_design("outline")
 def test_grip_force_batch_matches_closed_form(fig3):
     """Final slip of the Fig. 3 scene over grip forces 1.05..2.0 N per finger
     against the event-by-event closed form (exdex.paper.closed_form, no C
@@ -271,6 +277,7 @@ def test_core_errors_name_the_batch_index(fig3):
         simulate_batch(fig3, 1.5, 1e-3, amplitude=[0.1, 1e308])
 
 
+@pytest.mark.warns_by_design("impact", "pad", "outline", "jump")
 def test_trapezoid_coupled_check_as_the_dataclass():
     """TrapezoidalProfile needs X1 != 0 and |X1|/T <= v_max <= 2|X1|/T."""
     sc = planar_scene()   # X1 -0.05 m, T 0.5 s, v_max 0.12 m/s (range 0.1 .. 0.2)
@@ -407,6 +414,7 @@ def test_sweep_progress_bar(fig3, capsys):
 
 # ------------------------------------------------------------ Dask
 
+@pytest.mark.warns_by_design("outline")
 @pytest.mark.parametrize("processes", [False, True])
 def test_sweep_on_dask_local_cluster(fig3, processes):
     """The same sweep through a Dask LocalCluster on loopback

@@ -95,6 +95,7 @@ def test_planar_scene_geometry():
     assert sc.grasp.capacity == pytest.approx(1.1 * 0.1 * 9.81, rel=1e-15)
 
 
+@pytest.mark.warns_by_design("impact")
 def test_planar_reference_uncertainty_is_small():
     # the tight reference agrees with itself one notch looser far below the chart's errors
     c = bench.make_case("planar", methods=bench.available_methods()[0], quick=True)
@@ -182,6 +183,7 @@ def test_classify_synthetic_runs():
     assert bench.classify(_fake(t, x, v, dict(events=bench.EVENT_BUDGET + 1)), *args)[0] == "collapse"
 
 
+@pytest.mark.warns_by_design("outline")
 @pytest.mark.parametrize("ratio", [0.5, 1.1, 2.0, 10.0])
 def test_classify_implicit_runs_hold_exact_stick(ratio):
     # the implicit method (exact stick) classified "ok" across capacities (the maximum-dissipation step: no chatter,

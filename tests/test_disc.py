@@ -77,6 +77,7 @@ def test_spinning_disc_keeps_its_centre_at_the_radius_on_a_frictionless_floor(me
     assert res.stats["warnings"] == 0
 
 
+@pytest.mark.warns_by_design("impact")
 def test_eccentric_spinning_disc_event_and_implicit_agree_and_never_sink():
     """A disc whose centre is 5 mm from the centre of mass, spinning on a
     frictionless floor in frictional plates: no closed form, but the
@@ -127,6 +128,7 @@ def incline_closed_form(alpha, mu_s):
     return G * (math.sin(alpha) - mu_s * math.cos(alpha)), 2.0 * mu_s * G * math.cos(alpha) / R
 
 
+@pytest.mark.warns_by_design("pad", "outline")
 @pytest.mark.parametrize("mu_s", [0.5, 0.05])
 @pytest.mark.parametrize("method", ["implicit", "explicit"])
 def test_disc_rolls_or_slides_down_a_frictional_incline_as_the_closed_form(method, mu_s):
@@ -151,6 +153,7 @@ def test_disc_rolls_or_slides_down_a_frictional_incline_as_the_closed_form(metho
     assert res.stats["warnings"] == 0
 
 
+@pytest.mark.warns_by_design("pad", "outline")
 @pytest.mark.parametrize("mu_s", [0.5, 0.05])
 @pytest.mark.parametrize("method", ["event", "regularised"])
 def test_disc_rolls_down_a_frictional_incline_exactly_in_the_adaptive_methods(method, mu_s):
@@ -177,6 +180,7 @@ def assert_incline_exactly(res, alpha, mu_s):
     assert res.stats["warnings"] == 0
 
 
+@pytest.mark.warns_by_design("pad", "outline")
 def test_rolling_eccentric_disc_in_a_turning_gripper_event_and_implicit_agree():
     """A disc whose centre is 4 mm from the centre of mass rolls on a
     frictional floor (mu 0.8) while the gripper turns 0.6 rad about its
@@ -193,6 +197,7 @@ def test_rolling_eccentric_disc_in_a_turning_gripper_event_and_implicit_agree():
     assert errs[1] < 2e-3 and errs[1] < 0.12 * errs[0]
 
 
+@pytest.mark.warns_by_design("pad", "outline")
 def test_rolling_disc_is_invariant_under_turning_it_about_its_centre():
     """Turning the disc (its centre on the centre of mass, the patch at the
     centre) about its centre by any angle changes nothing but theta's
@@ -232,6 +237,7 @@ def test_disc_rests_on_top_of_a_rod_at_the_sum_of_the_radii(method, beta):
     np.testing.assert_allclose(res.stop_force[-1, 0], M * G, rtol=1e-12)
 
 
+@pytest.mark.warns_by_design("pad", "outline")
 def test_disc_rolls_off_a_box_corner_touching_it_at_the_radius():
     """A box occupying x <= 0, z <= FLOOR; the disc starts 1 mm right of its
     corner, touching the corner (centre at distance R from it), frictionless
@@ -266,6 +272,7 @@ def test_disc_rolls_off_a_box_corner_touching_it_at_the_radius():
     assert c[-1, 0] > R and c[-1, 1] < FLOOR  # it fell past the corner
 
 
+@pytest.mark.warns_by_design("impact", "pad", "outline")
 @pytest.mark.parametrize("method", ["implicit", "explicit", "event", "regularised"])
 def test_one_face_obstacle_is_the_stop_for_a_disc_bit_for_bit(method):
     """A one-face obstacle and the stop through its plane: for a disc too,
@@ -284,6 +291,7 @@ def test_one_face_obstacle_is_the_stop_for_a_disc_bit_for_bit(method):
     assert a.stop_force[:, 0].max() > 0.1  # the floor pushed
 
 
+@pytest.mark.warns_by_design("pad", "outline")
 @pytest.mark.parametrize("method", ["event", "regularised"])
 def test_disc_swings_off_a_box_corner_at_the_radius_in_the_adaptive_methods(method):
     """The box corner of test_disc_rolls_off_a_box_corner_touching_it_at_the_radius
@@ -310,6 +318,7 @@ def test_disc_swings_off_a_box_corner_at_the_radius_in_the_adaptive_methods(meth
     assert np.abs(im.q[::100] - res.q).max() < 2e-6
 
 
+@pytest.mark.warns_by_design("pad", "outline")
 @pytest.mark.parametrize("mu_s", [0.5, 0.05])
 @pytest.mark.parametrize("method", ["event", "regularised"])
 def test_disc_rolls_or_slides_down_a_frictional_box_top_as_the_incline(method, mu_s):
@@ -363,6 +372,7 @@ def _disc_contact_scene(seed):
                  obstacles=(box, rod))
 
 
+@pytest.mark.warns_by_design("impact", "pad", "outline", "solver", "jump")
 @pytest.mark.parametrize("seed", range(8))
 def test_event_and_implicit_agree_on_random_disc_obstacle_scenes(seed):
     """The disc against frictional obstacles (_disc_contact_scene): the event

@@ -90,6 +90,7 @@ def _creep_speed(run, scene):
 
 # ---------------------------------------------------------------- translational cases
 
+@pytest.mark.warns_by_design("outline")
 @pytest.mark.parametrize("engine", sorted(RUNNERS))
 @pytest.mark.parametrize("case", ["fig3", "fig4"])
 def test_translation_agrees_within_contact_model_tolerance(engine, case):
@@ -107,6 +108,7 @@ def test_translation_agrees_within_contact_model_tolerance(engine, case):
     assert tol < 0.25 * abs(_at(ref, end))
 
 
+@pytest.mark.warns_by_design("outline")
 def test_exdex_drift_is_exactly_zero():
     for scene in (fig3_scene(), fig4_scene(), fig6_scene()):
         res = exdex.simulate(scene, scene.motion.end_time + 1.0, dt=1e-3)
@@ -275,6 +277,7 @@ def _drake_tolerance(ref, res, T, radius=None):
     return _step_bound(ref, res.stats["dt"]) + creep
 
 
+@pytest.mark.warns_by_design("outline")
 @pytest.mark.parametrize("contact_model", ["point", "hydroelastic"])
 @pytest.mark.parametrize("case", ["fig3", "fig4"])
 def test_drake_translation_agrees_within_its_own_error(case, contact_model):
@@ -631,6 +634,7 @@ _PYBULLET_PRISM = ("Bullet's contact with a convex hull (GEOM_MESH) rocks the sq
     pytest.param("pybullet", "rod", marks=pytest.mark.xfail(strict=True, reason=_PYBULLET_ROD)),
     pytest.param("pybullet", "prism", marks=pytest.mark.xfail(strict=True, reason=_PYBULLET_PRISM)),
     ("mujoco", "rod"), ("mujoco", "prism"), ("drake", "rod"), ("drake", "prism")])
+@pytest.mark.warns_by_design("impact", "outline")
 def test_square_rests_on_an_obstacle_within_the_engines_own_error(engine, shape):
     need, run, h = RUNNERS[engine]
     need()
@@ -686,6 +690,7 @@ def test_obstacle_shapes_in_the_engines():
             run(scene, 0.01)
 
 
+@pytest.mark.warns_by_design("outline")
 @pytest.mark.parametrize("engine", sorted(RUNNERS))
 def test_grip_schedule_ramp_down_agrees_within_contact_model_tolerance(engine):
     # The Fig. 3 object held by a gripper at rest while the grip force ramps
@@ -747,6 +752,7 @@ def test_compare_incline_row(tmp_path):
 
 # ---------------------------------------------------------------- disc outlines
 
+@pytest.mark.warns_by_design("impact")
 @pytest.mark.parametrize("engine", sorted(RUNNERS))
 def test_disc_outline_is_a_cylinder_resting_on_the_floor_at_any_angle(engine):
     """A disc outline (Body.cylinder) becomes a cylinder in the engines: turned

@@ -163,6 +163,7 @@ def test_rotation_final_angle_independent_of_output_grid():
 
 @pytest.mark.parametrize("v0, kind", [((0.3, 0.0, 0.0), "slide"), ((0.2, -0.15, 0.0), "slide"),
                                       ((0.0, 0.0, 4.0), "spin")])
+@pytest.mark.warns_by_design("pad")
 def test_launched_object_stops_on_resting_gripper(v0, kind):
     """Gripper at rest, gravity along the plate normal (no in-plane load),
     patch at the centre of mass. A slide v0 = (vx, vy, 0): the slip stays
@@ -189,6 +190,7 @@ def test_launched_object_stops_on_resting_gripper(v0, kind):
     np.testing.assert_allclose(r.q[-1], want, rtol=1e-7, atol=1e-12)
 
 
+@pytest.mark.warns_by_design("impact")
 def test_object_comes_to_rest_on_a_stop():
     """Grip below the weight: the box slides down (B y is up) at g - C/m,
     lands flat on a floor stop 5 mm below its lower face at
@@ -256,6 +258,7 @@ def random_planar_scene(rng):
     return sc, t_end, L
 
 
+@pytest.mark.warns_by_design("impact", "pad", "outline", "solver", "jump")
 @pytest.mark.parametrize("seed", range(24))
 def test_random_planar_scene_agrees_with_implicit(seed):
     """Every random planar scene returns with the event method at its default
@@ -306,6 +309,7 @@ def launched_scene(rng):
     return sc, 2 * T, L
 
 
+@pytest.mark.warns_by_design("impact", "pad", "outline", "solver", "jump")
 @pytest.mark.parametrize("seed", range(12))
 def test_launched_random_object_at_tight_tolerance(seed):
     """Launched objects at rtol 1e-12 (atol 1e-12 L): the event method
@@ -346,6 +350,7 @@ def implicit_sequence(scene, t_end, k=(4000, 8000, 16000, 32000)):
     return qs[-1], np.max(np.abs(np.array(qs[:-1]) - qs[-1]), axis=0)
 
 
+@pytest.mark.warns_by_design("impact", "pad", "outline")
 @pytest.mark.parametrize("seed", range(12))
 def test_object_falling_onto_a_stop(seed):
     """The event method returns at rtol 1e-8 and 1e-10 (atol rtol L), keeps
@@ -362,6 +367,7 @@ def test_object_falling_onto_a_stop(seed):
         assert np.all(np.abs(r.q[-1] - ref) / scale <= 2 * est / scale + 1e-7), (rtol, r.q[-1], ref, est)
 
 
+@pytest.mark.warns_by_design("impact")
 def test_planar_bench_scene_at_loose_rtol_converges_to_tight_rtol():
     """A loose rtol gives a less accurate answer, never a failure: the bench's
     planar scene (a stop turning in B pushes the resting box, so the rest and
@@ -532,6 +538,7 @@ def test_steady_slow_slip_on_the_friction_incline(rtol):
         assert np.all(np.abs(r.q[-1] - want) <= 10 * rtol * want[0]), (n, r.q[-1], want)
 
 
+@pytest.mark.warns_by_design("impact", "pad", "outline")
 @pytest.mark.parametrize("seed", [4355, 4421, 7779, 5253])
 def test_planar_stop_events_agree_across_output_grids_and_rtol(seed):
     """Planar zoo scenes with two and one stops (tests/zoo.py), whose stop

@@ -421,6 +421,7 @@ def test_python_api_accepts_any_real_array_layout():
 
 # ----------------------------------------------------------------- threads and determinism
 
+@pytest.mark.warns_by_design("impact", "outline", "jump")
 def test_concurrent_calls_identical_to_serial():
     names = list(SCENES)
     serial = {n: trajectory_bytes(run_scene(n, dt=2e-3)) for n in names}
@@ -453,6 +454,7 @@ def test_concurrent_calls_identical_to_serial():
             assert _same(r["theta"], theta_serial)
 
 
+@pytest.mark.warns_by_design("impact", "outline")
 def test_gil_released_threads_make_progress():
     """A long simulate in one thread does not block another thread (the GIL
     is released around the C loop)."""
@@ -475,6 +477,7 @@ def test_gil_released_threads_make_progress():
     assert len(ticks) > 5
 
 
+@pytest.mark.warns_by_design("impact", "outline", "jump")
 def test_bit_identical_across_runs():
     for name in SCENES:
         first = trajectory_bytes(run_scene(name))
@@ -497,6 +500,7 @@ with ThreadPoolExecutor(max_workers=workers) as ex:
 """
 
 
+@pytest.mark.warns_by_design("impact", "outline", "jump")
 def test_bit_identical_across_processes_and_thread_counts():
     """The same scenes hashed in fresh processes with 1 and 4 worker threads
     and different BLAS/OpenMP thread settings: identical digests."""

@@ -196,6 +196,7 @@ def test_sampled_trajectory_arrays_round_trip_to_the_bit(tmp_path):
             assert b.tobytes() == a.tobytes(), name  # bitwise, sign of zero included
 
 
+@pytest.mark.warns_by_design("impact", "pad", "outline")
 def test_loaded_scene_simulates_bit_identically(tmp_path):
     """A scene and its reload give bit-identical trajectories with every method."""
     sc = exdex.Scene(body=exdex.Body.box(0.1, (0.04, 0.06, 0.02)),
@@ -331,6 +332,7 @@ def results():
     return {k: exdex.simulate(sc, 1.2, 1e-3) for k, sc in _scenes().items()}
 
 
+@pytest.mark.warns_by_design("impact", "outline")
 @pytest.mark.parametrize("dof", list(COLUMNS))
 def test_to_dict_columns(results, dof):
     r = results[dof]
@@ -384,6 +386,7 @@ def test_to_dataframe(results, monkeypatch):
     assert np.array_equal(df["y"].to_numpy(), r.q[:, 1]) and df.attrs["units"]["y"] == "m"
 
 
+@pytest.mark.warns_by_design("impact", "outline")
 def test_repr_is_short_and_says_what_matters(results):
     r = exdex.simulate(_scenes()["planar"], 20.0, 1e-4)  # 200,001 samples
     text = repr(r)
@@ -403,6 +406,7 @@ def _cli(*args, cwd):
                           env=env, timeout=300)
 
 
+@pytest.mark.warns_by_design("impact", "outline")
 def test_cli_run_writes_result_figure_and_animation(tmp_path):
     sc = _scenes()["planar"]
     exdex.save_scene(sc, tmp_path / "drop.json", simulate=dict(t_end=0.9, dt=2e-3))

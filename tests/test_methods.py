@@ -26,6 +26,7 @@ def vertical(mass, capacity, motion=exdex.Rest(), **kw):
 FIG3 = vertical(0.1, 1.5, motion=exdex.AsymmetricProfile(0.1, 0.5, 0.9, axis=(0, 0, -1)))
 
 
+@pytest.mark.warns_by_design("outline")
 @pytest.mark.parametrize("method", METHODS)
 def test_every_method_runs_the_paper_cases(method):
     for scene, t_end in [(paper.fig3_scene(), 1.5), (paper.fig4_scene(), 1.0), (paper.fig6_scene(), 7.0)]:
@@ -208,6 +209,7 @@ def pose_err(a, b, t):
     return max(d[0], d[1], 0.02 * d[2])
 
 
+@pytest.mark.warns_by_design("impact", "outline")
 def test_planar_stop_methods_agree_with_implicit_at_small_dt():
     """The box slides and turns, lands on a corner, slides along the floor
     and comes to rest on it. Reference: the implicit method at dt = 1e-5.
@@ -238,6 +240,7 @@ def test_planar_stop_methods_agree_with_implicit_at_small_dt():
         assert pose_err(rg2, im2, t) <= tol_im + 3 * pose_err(rg1, rg2, t) / 9, t
 
 
+@pytest.mark.warns_by_design("impact", "outline")
 @pytest.mark.parametrize("method", ["event", "regularised", "explicit", "implicit"])
 @pytest.mark.parametrize("case", ["sliding", "falling"])
 def test_planar_stop_never_penetrated_beyond_the_methods_bound(method, case):
@@ -273,6 +276,7 @@ def test_planar_stop_never_penetrated_beyond_the_methods_bound(method, case):
     assert np.all(r.stop_force >= 0.0)
 
 
+@pytest.mark.warns_by_design("impact", "outline")
 def test_planar_box_resting_on_stop_stays_still_and_the_stop_balances_the_load():
     """Event method: after landing the box rests on the floor. Friction
     alone (0.8 m g) cannot hold the weight; the floor carries the rest.
@@ -326,6 +330,7 @@ def turning_box_on_tilted_stop():
         stops=(exdex.Stop(point=(0.0, 0.0, -0.015 - 0.008), normal=(math.sin(tilt), 0.0, math.cos(tilt))),))
 
 
+@pytest.mark.warns_by_design("impact")
 def test_event_slip_dying_against_a_moving_stop_converges_at_tight_rtol():
     """Regression: where the slip along the stop died out (|E u| < 1e-9 m/s)
     the stop, moving in B, pushed the object on at a slip below that

@@ -26,6 +26,7 @@ CASES = [
 ]
 
 
+@pytest.mark.warns_by_design("impact", "pad", "outline")
 @pytest.mark.parametrize("name,make,kw,t_end,dt", CASES, ids=[c[0] for c in CASES])
 def test_model_runs_are_bit_identical_to_simulate(name, make, kw, t_end, dt):
     scene = make()

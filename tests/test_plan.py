@@ -210,6 +210,7 @@ def test_band_of_a_slide_onto_a_stop_is_exact_and_flat():
     assert b.low == pytest.approx(0.05, abs=1e-12) and b.high == pytest.approx(0.05, abs=1e-12)
 
 
+@pytest.mark.warns_by_design("outline")
 def test_two_parameters_one_target_is_a_curve_of_solutions():
     """Fig. 3 with grip force and mu varied for one slip: they act only
     through the capacity mu * 2 F, so the solutions form the curve
@@ -227,6 +228,7 @@ def test_two_parameters_one_target_is_a_curve_of_solutions():
     assert max(prod) - min(prod) <= 1e-5 * max(prod)
 
 
+@pytest.mark.warns_by_design("pad", "outline")
 def test_planar_pose_target_by_two_parameters():
     """A planar box held by an off-centre pad slides and turns under Eq. 7:
     grip force and pad size (e_r) for a pose (y, theta); the plan re-simulated

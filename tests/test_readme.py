@@ -121,6 +121,7 @@ def test_paper_table_matches_a_fresh_run():
     assert _close(bound, math.degrees(paper.fig6_rotation_bound()))
 
 
+@pytest.mark.warns_by_design("outline")
 def test_other_readme_code_runs():
     blocks = _blocks(README, "python")[1:]
     assert len(blocks) >= 2

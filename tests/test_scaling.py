@@ -172,6 +172,7 @@ def deviation(ref, got):
     return out
 
 
+@pytest.mark.warns_by_design("impact", "pad", "outline", "solver", "jump")
 @pytest.mark.parametrize("name,p", CASES, ids=[c[0] for c in CASES])
 @pytest.mark.parametrize("method", METHODS)
 def test_results_scale_with_the_scene(name, p, method):

@@ -78,6 +78,7 @@ def test_one_slide_matches_the_1dof_closed_form():
     assert abs(resimulate(p)[1] - (-0.004)) <= TOL[0]
 
 
+@pytest.mark.warns_by_design("impact", "pad")
 def test_push_against_a_stop_is_set_by_the_stop_not_by_mu():
     """A stop 10 mm below the box: y = +8 mm needs a push (slides only move
     the object down). A slow push of gap + 8 mm is the gentlest way. With a

@@ -267,6 +267,7 @@ def test_pivoting_on_frictional_floor_corner_closed_form(mu_s):
     assert 1.6 < errs[1] / errs[0] < 2.4
 
 
+@pytest.mark.warns_by_design("impact")
 def test_pivoting_jams_beyond_the_friction_threshold():
     """The floor can turn the object only while the arm of its reaction,
     rho_x + mu rho_y, is positive: mu < mu* = rho_x / |rho_y| = cot(45 deg -
@@ -291,6 +292,7 @@ def test_pivoting_jams_beyond_the_friction_threshold():
     np.testing.assert_allclose(r.stop_force[i, 0], lam, rtol=1e-3)
 
 
+@pytest.mark.warns_by_design("impact", "pad")
 @pytest.mark.parametrize("seed", range(12))
 def test_frictional_stops_never_add_energy_and_rest_is_exactly_still(seed):
     """A box thrown at a frictional stop (random normal in the plate plane,
@@ -472,6 +474,7 @@ def _random_incline_scene(seed):
                           mu=rng.uniform(0.0, 1.0)),))
 
 
+@pytest.mark.warns_by_design("impact", "pad", "outline", "solver", "jump")
 @pytest.mark.parametrize("seed", range(8))
 def test_methods_agree_on_random_1dof_frictional_stop_scenes(seed):
     """Seeded 1-DoF scenes: a point falling onto an incline (random angle
@@ -631,6 +634,7 @@ def _thrown_box(seed):
         stops=(exdex.Stop((point_b[0], 0.0, point_b[1]), (n_b[0], 0.0, n_b[1]), mu=rng.uniform(0.0, 1.5)),))
 
 
+@pytest.mark.warns_by_design("impact", "pad")
 @pytest.mark.parametrize("seed", range(12))
 def test_event_frictional_stop_never_adds_energy_and_rest_is_exactly_still(seed):
     """The thrown box with the event method: its impacts are plastic and
@@ -713,6 +717,7 @@ def _random_planar_incline_scene(seed):
                                          mu=rng.uniform(0.1, 1.0)),))
 
 
+@pytest.mark.warns_by_design("impact", "pad", "outline", "solver", "jump")
 @pytest.mark.parametrize("seed", range(8))
 def test_event_and_implicit_agree_on_random_planar_frictional_stop_scenes(seed):
     """Two independent formulations of the same Coulomb contact: the event
@@ -747,6 +752,7 @@ def _corner_scene(mu_w, mu_f, V=0.01, **kw):
     return exdex.replace(sc, stops=sc.stops + (exdex.Stop((0.0, 0.0, -0.015), (0.0, 0.0, 1.0), mu=mu_f),))
 
 
+@pytest.mark.warns_by_design("impact")
 @pytest.mark.parametrize("method", ["event", "regularised", "implicit"])
 @pytest.mark.parametrize("V", [0.001, 0.01, 0.02])
 @pytest.mark.parametrize("mu_w", [0.0, 0.3, 0.5, 2.0])
@@ -824,6 +830,7 @@ def _accel_corner_closed_form(mu_w, phi, Ag=2.0, m=0.1, cap=1.5):
     return brentq(f, 0.0, Ag * s, xtol=1e-15, rtol=1e-15)
 
 
+@pytest.mark.warns_by_design("impact")
 @pytest.mark.parametrize("phi_deg", [-30.0, 30.0, 60.0, 75.0])
 @pytest.mark.parametrize("mu_w", [0.0, 0.2, 0.5, 0.9])
 def test_block_in_corner_under_constant_gripper_acceleration_closed_form(mu_w, phi_deg):
@@ -902,6 +909,7 @@ def _random_corner_scene(seed):
                               exdex.Stop((P[0], 0.0, P[1]), (n_f[0], 0.0, n_f[1]), mu=mu_f)))
 
 
+@pytest.mark.warns_by_design("impact", "pad", "outline", "solver", "jump")
 @pytest.mark.parametrize("seed", range(24))
 def test_event_and_regularised_return_on_random_corner_scenes_and_agree_with_the_implicit_ladder(seed):
     """_random_corner_scene: the event and regularised methods return (no
@@ -923,6 +931,7 @@ def test_event_and_regularised_return_on_random_corner_scenes_and_agree_with_the
     assert err <= 4.0 * spread + 1e-8, (err, spread)
 
 
+@pytest.mark.warns_by_design("impact")
 def test_event_takes_the_mode_without_wedge_forces_where_a_lock_is_also_consistent():
     """A block touching a square corner (tilted by -0.387 rad) at one
     corner on the wall (mu 1.24) and one on the floor (mu 0.56) while the

@@ -412,6 +412,7 @@ def test_zoo_regularised_ladder_consistency():
     assert not zoo.ladder_consistent([0.0, 0.0, 1e-3])
 
 
+@pytest.mark.warns_by_design("impact", "pad", "outline")
 def test_zoo_regularised_check_flags_a_wrong_answer(monkeypatch):
     """The regularised check can fail: the method run on each scene with
     mu 5 % higher (the right answer to another question), against the
@@ -436,6 +437,7 @@ def test_zoo_regularised_check_flags_a_wrong_answer(monkeypatch):
     assert flagged >= len(seeds) // 10, flagged
 
 
+@pytest.mark.warns_by_design("impact", "pad", "outline")
 def test_zoo_event_check_flags_a_wrong_reference_run(monkeypatch):
     """The event check holds the REF_RTOL run to its stated error
     (zoo.integration_tol): the run at REF_RTOL made on the scene with mu 5 %

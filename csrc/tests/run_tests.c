@@ -1,14 +1,16 @@
 /* run_tests.c -- runner of the exdex C suite.
  *
- *   run_tests [--data FILE] [--values] [NAME-FILTER]
+ *   run_tests [--data FILE] [--values] [--times] [NAME-FILTER]
  *
  * Runs every registered test whose name contains NAME-FILTER, prints one line
- * per test and a closing "N passed, N failed" line, and exits 1 on failure. */
+ * per test (with --times, the test's CPU seconds after it) and a closing
+ * "N passed, N failed" line, and exits 1 on failure. */
 #include "check.h"
 #include "../exdex.h"
 
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #define MAX_TESTS 512
 #define MAX_REFS 1024
@@ -17,6 +19,7 @@ static struct { const char *name, *file; check_fn fn; } tests[MAX_TESTS];
 static int n_tests;
 static int current_failed;
 static int print_values;
+static int print_times;
 static struct { char key[96]; double value; } refs[MAX_REFS];
 static int n_refs;
 static const char *data_path = "../tests/data/reference.dat";
@@ -91,6 +94,8 @@ int main(int argc, char **argv)
             data_path = argv[++i];
         else if (strcmp(argv[i], "--values") == 0)
             print_values = 1;
+        else if (strcmp(argv[i], "--times") == 0)
+            print_times = 1;
         else
             filter = argv[i];
     }
@@ -99,14 +104,18 @@ int main(int argc, char **argv)
     for (int i = 0; i < n_tests; i++) {
         if (filter && !strstr(tests[i].name, filter)) continue;
         current_failed = 0;
+        clock_t c0 = clock();
         tests[i].fn();
+        double sec = (double)(clock() - c0) / CLOCKS_PER_SEC;
         if (current_failed) {
-            printf("FAIL %s (%s)\n", tests[i].name, tests[i].file);
+            printf("FAIL %s (%s)", tests[i].name, tests[i].file);
             failed++;
         } else {
-            printf("ok   %s\n", tests[i].name);
+            printf("ok   %s", tests[i].name);
             passed++;
         }
+        if (print_times) printf("  %.3f s", sec);
+        printf("\n");
     }
     printf("%d passed, %d failed\n", passed, failed);
     return failed ? 1 : 0;
