@@ -1,31 +1,49 @@
 #!/usr/bin/env bash
-# The whole test suite: the C suite (no Python), then pytest (which also runs
-# the C suite again and cross-checks its numbers through the Python API, and
-# executes the notebooks). Installs what is missing first.
+# The whole test suite: the C suite (no Python), the C suite under
+# AddressSanitizer + UBSan and under valgrind memcheck (in the background,
+# beside pytest: they use separate build folders), then pytest (which also
+# runs the C suite again, cross-checks its numbers through the Python API,
+# and executes the notebooks). Installs what is missing first.
+#
+# Depth: this is the depth CI runs. The long run (see benchmarks/README.md,
+# "The long run") takes valgrind's origin tracking, more fuzz inputs and
+# the zoo's longer seed ranges.
 set -uo pipefail
 cd "$(dirname "$0")/.."
 bash .ci/setup.sh || exit 1
 
 echo "== C suite"
 make -s -C csrc test || { echo "C suite failed"; exit 1; }
+make -s -C csrc fuzz-driver > /dev/null || { echo "fuzz driver build failed"; exit 1; }
 
-echo "== C suite under AddressSanitizer + UndefinedBehaviorSanitizer"
-make -s -C csrc asan > csrc/build-asan.log 2>&1 || { tail -40 csrc/build-asan.log; echo "sanitizer run failed"; exit 1; }
-grep -E "passed, .* failed" csrc/build-asan.log | tail -1
-
-if command -v valgrind >/dev/null 2>&1; then
-  echo "== C suite and fuzz inputs under valgrind memcheck (zero errors, zero leaks)"
-  make -s -C csrc valgrind > csrc/build-valgrind.log 2>&1 || { tail -40 csrc/build-valgrind.log; echo "valgrind run failed"; exit 1; }
-  grep -E "passed, .* failed|^fuzz:" csrc/build-valgrind.log | tail -2
-else
-  echo "== valgrind not installed: memcheck run skipped (apt-get install valgrind)"
-fi
+# Sanitizers and memcheck beside pytest: each writes its own log.
+(
+  make -s -C csrc asan > csrc/build-asan.log 2>&1 || { echo "sanitizer run failed" >> csrc/build-asan.log; exit 1; }
+  if command -v valgrind >/dev/null 2>&1; then
+    make -s -C csrc valgrind > csrc/build-valgrind.log 2>&1 || { echo "valgrind run failed" >> csrc/build-valgrind.log; exit 2; }
+  else
+    echo "valgrind not installed: memcheck run skipped (apt-get install valgrind)" > csrc/build-valgrind.log
+  fi
+) &
+c_pid=$!
 
 echo "== pytest"
 .venv/bin/python -m pytest -q "$@"
 rc=$?
 if [ $rc -eq 5 ]; then
   echo "pytest collected no tests: that is a failure of the suite, not a pass" >&2
-  exit 1
+  rc=1
 fi
+
+echo "== C suite under AddressSanitizer + UndefinedBehaviorSanitizer, and under valgrind memcheck (zero errors, zero leaks)"
+wait $c_pid
+c_rc=$?
+if [ $c_rc -eq 1 ]; then
+  tail -40 csrc/build-asan.log; echo "sanitizer run failed"; exit 1
+fi
+grep -E "passed, .* failed" csrc/build-asan.log | tail -1
+if [ $c_rc -eq 2 ]; then
+  tail -40 csrc/build-valgrind.log; echo "valgrind run failed"; exit 1
+fi
+grep -E "passed, .* failed|^fuzz:|not installed" csrc/build-valgrind.log | tail -2
 exit $rc

@@ -641,8 +641,10 @@ def identify(scene: Scene, times: ArrayLike, observed: ArrayLike, params: Mappin
     if np.any(~(lo < hi)) or np.any(x0 < lo) or np.any(x0 > hi):
         raise ValueError("each parameter's start (the scene's value) must lie in its bounds (low < high)")
     # open ends of the parameters' own ranges: keep the solver strictly inside
-    lo_in = np.where(np.isfinite(lo), lo + 1e-12 * np.maximum(np.abs(lo), 1.0), lo)
-    hi_in = np.where(np.isfinite(hi), hi - 1e-12 * np.maximum(np.abs(hi), 1.0), hi)
+    lo_in, hi_in = lo.copy(), hi.copy()
+    fl, fh = np.isfinite(lo), np.isfinite(hi)
+    lo_in[fl] = lo[fl] + 1e-12 * np.maximum(np.abs(lo[fl]), 1.0)
+    hi_in[fh] = hi[fh] - 1e-12 * np.maximum(np.abs(hi[fh]), 1.0)
     x0 = np.clip(x0, lo_in, hi_in)
     t_end = float(t[-1])
     if dt is None:

@@ -22,6 +22,7 @@ import math
 import os
 
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, assume, event, example, given, settings
 from hypothesis import strategies as st
 
