@@ -1,4 +1,5 @@
 """Shared pytest fixtures: paths, the C suite build, reference data."""
+import contextlib
 import os
 import pathlib
 import subprocess
@@ -49,14 +50,21 @@ WARNINGS_LIMIT = 10
 _undeclared = []
 
 
+def _by_design(item):
+    """The item's declared kinds as a context (its fixtures' set-up and the call)."""
+    kinds = [k for m in item.iter_markers("warns_by_design") for k in m.args]
+    return expected_warnings.by_design(*kinds) if kinds else contextlib.nullcontext()
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_setup(item):
+    with _by_design(item):
+        yield
+
+
 @pytest.hookimpl(hookwrapper=True)
 def pytest_runtest_call(item):
-    marks = list(item.iter_markers("warns_by_design"))
-    if not marks:
-        yield
-        return
-    kinds = [k for m in marks for k in m.args]
-    with expected_warnings.by_design(*kinds):
+    with _by_design(item):
         yield
 
 

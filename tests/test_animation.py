@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 import exdex
+from expected_warnings import by_design
 from exdex import animation
 
 BOX = exdex.Body.box(0.1, (0.04, 0.06, 0.02))
@@ -112,8 +113,9 @@ def test_view_is_invariant_under_a_rigid_motion_of_the_world():
 
 @pytest.fixture(scope="module")
 def drop():
-    return exdex.simulate(exdex.Scene(body=BOX, grasp=GRASP, motion=DROP, dof="planar",
-                                      stops=(exdex.Stop((0, 0, -0.09), (0, 0, 1)),)), 1.2, 1e-3)
+    with by_design("impact", "outline"):  # a box dropped onto a stop, sliding off the pads' centre
+        return exdex.simulate(exdex.Scene(body=BOX, grasp=GRASP, motion=DROP, dof="planar",
+                                          stops=(exdex.Stop((0, 0, -0.09), (0, 0, 1)),)), 1.2, 1e-3)
 
 
 @pytest.mark.warns_by_design("impact", "outline")

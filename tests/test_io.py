@@ -22,6 +22,7 @@ import numpy as np
 import pytest
 
 import exdex
+from expected_warnings import by_design
 from exdex import io
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -329,7 +330,8 @@ COLUMNS = {
 
 @pytest.fixture(scope="module")
 def results():
-    return {k: exdex.simulate(sc, 1.2, 1e-3) for k, sc in _scenes().items()}
+    with by_design("impact", "outline"):  # the planar scene drops onto its stop
+        return {k: exdex.simulate(sc, 1.2, 1e-3) for k, sc in _scenes().items()}
 
 
 @pytest.mark.warns_by_design("impact", "outline")
