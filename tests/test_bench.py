@@ -1,4 +1,4 @@
-"""``exdex bench`` (exdex.bench): a --quick smoke run and the reference machinery.
+"""``exdex bench`` (exdex.studies.bench): a --quick smoke run and the reference machinery.
 
 No timing is asserted anywhere (speed is measured in the benchmark only).
 Where an expected number comes from is said at each test: hand-derived closed
@@ -15,7 +15,8 @@ import numpy as np
 import pytest
 
 import exdex
-from exdex import bench, cli, paper
+from exdex import cli, paper
+from exdex.studies import bench
 
 
 # ------------------------------------------------------------------ smoke run

@@ -26,6 +26,7 @@ import pytest
 
 import exdex
 from exdex import engines
+from exdex.engines import _runner
 
 
 def _pybullet():
@@ -228,7 +229,7 @@ def test_planar_ablation_uses_the_equivalent_e_r():
 def test_ablation_figure_colours_are_not_shared():
     labels = ["pybullet", "mujoco", "drake", "pybullet point+spin", "pybullet no cone", "mujoco noslip 20",
               "mujoco point+torsion", "drake hydroelastic"]
-    from exdex.cli_compare import ablation_colors
+    from exdex.cli.compare import ablation_colors
 
     cols = ablation_colors(engines.ABLATION_MODELS, labels)
     assert len(cols) == len(engines.ABLATION_MODELS) + len(labels)
@@ -253,7 +254,7 @@ def test_bad_input_is_named():
 
 
 def test_import_exdex_does_not_import_engines():
-    code = ("import sys, exdex, exdex.engines, exdex.hold; "
+    code = ("import sys, exdex, exdex.engines, exdex.studies.hold; "
             "print('pybullet' in sys.modules or 'mujoco' in sys.modules or 'pydrake' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
@@ -340,7 +341,8 @@ def test_hold_quick_exdex_is_exactly_zero_and_table_complete(tmp_path):
     import argparse
     import csv
 
-    from exdex import cli_hold, hold
+    from exdex.cli import hold as cli_hold
+    from exdex.studies import hold
 
     p = argparse.ArgumentParser()
     cli_hold.add_arguments(p)
@@ -379,7 +381,7 @@ def test_engine_commands_name_the_missing_extra(command, tmp_path):
 def test_compare_takes_no_progress():
     import argparse
 
-    from exdex import cli_compare
+    from exdex.cli import compare as cli_compare
 
     p = argparse.ArgumentParser()
     cli_compare.add_arguments(p)
@@ -658,23 +660,23 @@ def test_obstacle_shapes_in_the_engines():
     empty intersection a named ValueError; mu_static above mu a ValueError
     naming it in every engine."""
     R = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
-    kind, c, Rb, half = engines._obstacle_shape(exdex.Obstacle.box((0.1, 0.2, 0.3), (0.02, 0.04, 0.06), rotation=R),
+    kind, c, Rb, half = _runner.obstacle_shape(exdex.Obstacle.box((0.1, 0.2, 0.3), (0.02, 0.04, 0.06), rotation=R),
                                                (0, 0, 0))
     assert kind == "box" and np.allclose(c, (0.1, 0.2, 0.3)) and np.allclose(half, (0.01, 0.02, 0.03))
     assert np.allclose(Rb, R)
-    kind, c, Rc, r, hl = engines._obstacle_shape(exdex.Obstacle.cylinder((0, 0, -0.05), (0, 1, 0), 0.01), (0.1, 0.3, 0))
+    kind, c, Rc, r, hl = _runner.obstacle_shape(exdex.Obstacle.cylinder((0, 0, -0.05), (0, 1, 0), 0.01), (0.1, 0.3, 0))
     assert kind == "cylinder" and np.allclose(c, (0, 0.3, -0.05)) and np.allclose(Rc[:, 2], (0, 1, 0))
     assert r == 0.01 and hl == engines.OBSTACLE_REACH
-    kind, c, Rs, half = engines._obstacle_shape(exdex.Obstacle.halfspaces([(0, 0, 1)], [-0.03]), (0, 0, 0))
-    c_stop, R_stop = engines._stop_pose(exdex.Stop((0, 0, -0.03), (0, 0, 1)))
+    kind, c, Rs, half = _runner.obstacle_shape(exdex.Obstacle.halfspaces([(0, 0, 1)], [-0.03]), (0, 0, 0))
+    c_stop, R_stop = _runner.stop_pose(exdex.Stop((0, 0, -0.03), (0, 0, 1)))
     assert kind == "box" and np.allclose(c, c_stop) and np.allclose(Rs, R_stop)
-    kind, verts = engines._obstacle_shape(exdex.Obstacle.halfspaces([(1, 0, 1), (-1, 0, 1)], [-0.03, -0.03]), (0, 0, 0))
+    kind, verts = _runner.obstacle_shape(exdex.Obstacle.halfspaces([(1, 0, 1), (-1, 0, 1)], [-0.03, -0.03]), (0, 0, 0))
     assert kind == "mesh"
     assert np.all(verts[:, 0] + verts[:, 2] <= -0.03 + 1e-12) and np.all(-verts[:, 0] + verts[:, 2] <= -0.03 + 1e-12)
     assert np.all(np.abs(verts) <= engines.OBSTACLE_REACH + 1e-12)
     assert any(np.allclose(v, (0, 0.5, -0.03)) for v in verts)      # the wedge's ridge meets the cube
     with pytest.raises(ValueError, match="no interior"):
-        engines._obstacle_shape(exdex.Obstacle.halfspaces([(0, 0, 1), (0, 0, -1)], [-0.1, 0.0]), (0, 0, 0))
+        _runner.obstacle_shape(exdex.Obstacle.halfspaces([(0, 0, 1), (0, 0, -1)], [-0.1, 0.0]), (0, 0, 0))
     scene = exdex.Scene(body=exdex.Body(mass=0.1, size=(0.04, 0.06, 0.03)),
                         grasp=exdex.Grasp(mu=0.4, mu_static=0.6, grip_force=1.0))
     for engine, (need, run, _) in RUNNERS.items():
@@ -712,7 +714,7 @@ def test_grip_schedule_ramp_down_agrees_within_contact_model_tolerance(engine):
 def test_drake_friction_combination_gives_each_pair_its_mu():
     # Drake's rule 2 x M / (x + M) with the partners from _drake_friction
     for targets in ([0.5, 0.5, 0.0], [0.5, 0.0, 0.3], [0.5, 0.5, 0.8, 2.0], [0.0, 0.0, 0.0]):
-        M, xs = engines._drake_friction(targets)
+        M, xs = _runner.drake_friction(targets)
         assert M == max(targets)
         for mu, x in zip(targets, xs):
             assert x >= 0.0
@@ -727,7 +729,7 @@ def test_compare_incline_row(tmp_path):
     _pybullet(), _mujoco(), _drake()
     import argparse
 
-    from exdex import cli_compare
+    from exdex.cli import compare as cli_compare
 
     p = argparse.ArgumentParser()
     cli_compare.add_arguments(p)

@@ -374,7 +374,7 @@ def test_planar_bench_scene_at_loose_rtol_converges_to_tight_rtol():
     than a factor 2 (an error controlled by rtol falls about tenfold), and the
     error at rtol 1e-2 must stay below rtol times the size of the final state
     (a tolerance-proportional error, not a different outcome)."""
-    from exdex import bench
+    from exdex.studies import bench
     sc = bench.planar_scene()
     t_end, dt = 1.5, bench.GRID_DT
     ref = exdex.simulate(sc, t_end, dt=dt, method="event", rtol=1e-12, atol=1e-14).q[-1]

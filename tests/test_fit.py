@@ -126,10 +126,10 @@ def test_event_times_and_their_sensitivities_match_closed_forms(method):
     F, mu = 1.5, 0.5
     sc = fig3(grip_force=F, mu=mu)
     t_stop, dstop_dF = stop_closed(F, mu)
-    e = exdex.fit.event_times(sc, 1.5, method=method)
+    e = exdex.design.fit.event_times(sc, 1.5, method=method)
     assert e.onset == pytest.approx(0.45, abs=1e-12)
     assert e.stop == pytest.approx(t_stop, abs=1e-12)
-    s = exdex.fit.event_sensitivity(sc, ["grip_force", "beta"], 1.5, method=method)
+    s = exdex.design.fit.event_sensitivity(sc, ["grip_force", "beta"], 1.5, method=method)
     assert s.donset[0] == pytest.approx(0.0, abs=1e-6) and s.donset[1] == pytest.approx(0.5, abs=1e-6)
     assert s.dstop[0] == pytest.approx(dstop_dF, rel=1e-6)
     assert abs(s.dstop[0] - dstop_dF) <= max(10 * s.stop_error[0], 1e-8)
@@ -137,12 +137,12 @@ def test_event_times_and_their_sensitivities_match_closed_forms(method):
 
 def test_event_times_of_a_held_object_and_of_one_still_moving():
     held = fig3(grip_force=3.0)   # capacity above every drive: no slip
-    e = exdex.fit.event_times(held, 1.5)
+    e = exdex.design.fit.event_times(held, 1.5)
     assert np.isnan(e.onset) and np.isnan(e.stop)
-    e = exdex.fit.event_times(fig3(grip_force=1.5), 0.5)   # t_end inside the slip (0.45 .. 0.59 s)
+    e = exdex.design.fit.event_times(fig3(grip_force=1.5), 0.5)   # t_end inside the slip (0.45 .. 0.59 s)
     assert e.onset == pytest.approx(0.45, abs=1e-12) and e.stop == np.inf
     with pytest.raises(ValueError, match="n_grid"):
-        exdex.fit.event_times(held, 1.5, n_grid=1)
+        exdex.design.fit.event_times(held, 1.5, n_grid=1)
 
 
 def test_exact_event_derivatives_match_closed_form_and_differences():
@@ -153,8 +153,8 @@ def test_exact_event_derivatives_match_closed_form_and_differences():
     F, mu = 1.5, 0.5
     sc = fig3(grip_force=F, mu=mu)
     names = ["grip_force", "mu", "mass", "beta", "duration", "amplitude"]
-    ex = exdex.fit.event_sensitivity(sc, names, 1.5)
-    fd = exdex.fit.event_sensitivity(sc, names, 1.5, exact_if_possible=False)
+    ex = exdex.design.fit.event_sensitivity(sc, names, 1.5)
+    fd = exdex.design.fit.event_sensitivity(sc, names, 1.5, exact_if_possible=False)
     assert ex.exact and not fd.exact and np.all(ex.stop_error == 0)
     assert ex.dstop[0] == pytest.approx(stop_closed(F, mu)[1], rel=1e-12)
     assert ex.donset[3] == pytest.approx(0.5, rel=1e-14)   # onset = beta T
@@ -168,5 +168,5 @@ def test_exact_event_derivatives_flag_a_threshold():
     """exdex.paper.fig6_scene sits 1e-9 above the stick threshold of the
     gentle phases (torque capacity = I_zz a_H (1 + 1e-9)): a slightly weaker
     grasp slips from t = 0, so the derivative is one-sided: the error is inf."""
-    s = exdex.fit.event_sensitivity(paper.fig6_scene(), ["grip_force"], 8.0)
+    s = exdex.design.fit.event_sensitivity(paper.fig6_scene(), ["grip_force"], 8.0)
     assert s.exact and np.isinf(s.stop_error[0])

@@ -308,7 +308,7 @@ def test_planar_box_resting_on_stop_stays_still_and_the_stop_balances_the_load()
 
 
 def turning_box_on_tilted_stop():
-    """The benchmark's planar case (exdex.bench.planar_scene, spelled out
+    """The benchmark's planar case (exdex.studies.bench.planar_scene, spelled out
     here): a 60 x 30 x 20 mm box, 0.1 kg, friction capacity 1.1 m g through
     a 20 x 20 mm patch 10 mm beside the centre of mass, the gripper turning
     0.6 rad about the plate normal and back (Eq. 7, T 0.5 s, beta 0.8), a

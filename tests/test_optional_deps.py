@@ -57,14 +57,14 @@ def test_library_and_command_modules_import_with_only_numpy():
     p = _run("""
         import importlib, json, sys
         from exdex import cli
-        mods = ["exdex.bench", "exdex.hold", "exdex.engines"] + sorted({m for m, _, _ in cli.COMMANDS.values()})
+        mods = ["exdex.studies.bench", "exdex.studies.hold", "exdex.engines"] + sorted({m for m, _, _ in cli.COMMANDS.values()})
         for m in mods:
             importlib.import_module(m)
         loaded = sorted(m for m in sys.modules if m.split(".")[0] in BLOCKED)
         msgs = []
-        import exdex.bench, exdex.engines, exdex.hold
-        for call in (lambda: exdex.hold.plot({}, "unused.png", 1.0),
-                     lambda: exdex.bench.plot_maps([], "fig3", "unused.png", "", {}),
+        import exdex.studies.bench, exdex.engines, exdex.studies.hold
+        for call in (lambda: exdex.studies.hold.plot({}, "unused.png", 1.0),
+                     lambda: exdex.studies.bench.plot_maps([], "fig3", "unused.png", "", {}),
                      lambda: exdex.engines.run_drake(exdex.paper.fig3_scene(), 0.01)):
             try:
                 call()

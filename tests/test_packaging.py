@@ -96,6 +96,10 @@ def test_wheel_metadata_and_contents(dist):
     assert any(n.endswith(".dist-info/licenses/LICENSE") for n in names)
     assert sum(1 for n in names if re.match(r"exdex/_(core|tool)\..*\.so$", n)) == 2
     assert not [n for n in names if n.endswith(".c")], "C sources belong in the sdist, not the wheel"
+    tracked = _tracked("exdex")
+    if tracked is not None:   # every module of every subpackage (exdex.design, .studies, .engines, .cli)
+        missing = sorted(n for n in tracked if n.endswith((".py", ".pyi", "py.typed")) and n not in names)
+        assert not missing, f"modules missing from the wheel: {missing}"
     assert "License-Expression: MIT" in meta
     assert "Requires-Python: >=3.10" in meta
     assert "Classifier: Typing :: Typed" in meta

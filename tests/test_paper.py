@@ -276,7 +276,7 @@ def test_exactly_still_after_the_motion(name):
 # --------------------------------------------------------------- the command
 
 def test_exdex_paper_command(tmp_path, capsys):
-    from exdex import cli_paper
+    from exdex.cli import paper as cli_paper
 
     parser = argparse.ArgumentParser()
     cli_paper.add_arguments(parser)

@@ -391,7 +391,7 @@ def test_c_module_messages_name_parameter_and_range():
 # ------------------------------------------------------------ command line
 
 def test_cli_quick(tmp_path, capsys):
-    from exdex import cli_tool
+    from exdex.cli import tool as cli_tool
 
     parser = argparse.ArgumentParser()
     cli_tool.add_arguments(parser)

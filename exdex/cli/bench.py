@@ -13,9 +13,9 @@ import sys
 import time
 
 from exdex._optional import progress_bar
-from exdex.bench import (CASES, METHODS, _engine_runners, _map_dts, _sweeps, _write_csv, available_methods, headline,
-                         machine_name, make_case, map_grids, map_summary, orders_table, plot_maps,
-                         plot_work_precision, scene_supports, stability_maps, sweep_engines, sweep_exdex)
+from exdex.studies.bench import (CASES, METHODS, engine_runners, map_dts, sweeps, write_csv, available_methods, headline,
+                                 machine_name, make_case, map_grids, map_summary, orders_table, plot_maps,
+                                 plot_work_precision, scene_supports, stability_maps, sweep_engines, sweep_exdex)
 from exdex.engines import missing_engines
 
 __all__ = ["add_arguments", "run"]
@@ -60,7 +60,7 @@ def run(args):
 
     # exdex sweeps
     n_pts = sum(len(p[3]) for c in cases.values()
-                for p in _sweeps([m for m in methods if scene_supports(c.scene, m)], args.quick, c.aligned_dt))
+                for p in sweeps([m for m in methods if scene_supports(c.scene, m)], args.quick, c.aligned_dt))
     rows = []
     with tqdm(total=n_pts, desc="exdex sweeps", disable=args.no_progress) as bar:
         for c in cases.values():
@@ -69,7 +69,7 @@ def run(args):
     # engines
     engine_missing = {}
     if args.engines:
-        runners, engine_missing = _engine_runners()
+        runners, engine_missing = engine_runners()
         ecases = [c for c in cases.values() if not args.quick or c.name == "fig3"]
         n = len(ecases) * len(runners) * (1 if args.quick else 5)
         with tqdm(total=n, desc="engines", disable=args.no_progress) as bar:
@@ -79,10 +79,10 @@ def run(args):
     all_missing.update({k: f"engine not installed ({v})" for k, v in engine_missing.items()})
 
     path = os.path.join(args.out, "work_precision.csv")
-    _write_csv(path, rows)
+    write_csv(path, rows)
     written.append(path)
     path = os.path.join(args.out, "orders.csv")
-    _write_csv(path, orders_table(rows, cases))
+    write_csv(path, orders_table(rows, cases))
     written.append(path)
     path = os.path.join(args.out, "work_precision.png")
     plot_work_precision(rows, cases, path, machine, all_missing)
@@ -94,18 +94,18 @@ def run(args):
     text, recs = headline(rows, cases, machine, all_missing)
     text += "\n\nreferences:\n" + refs
     path = os.path.join(args.out, "headline.csv")
-    _write_csv(path, recs, ["item", "method", "knob", "value", "run_time_s", "error", "ratio"])
+    write_csv(path, recs, ["item", "method", "knob", "value", "run_time_s", "error", "ratio"])
     written.append(path)
 
     # stability maps
     if args.maps:
         g = map_grids(args.quick)
-        n = sum(len(_map_dts(g, m)) * (len(g["ratios"]) + (len(g["eps"]) if m == "regularised" else 0))
+        n = sum(len(map_dts(g, m)) * (len(g["ratios"]) + (len(g["eps"]) if m == "regularised" else 0))
                 for m in METHODS) * len(g["families"])
         with tqdm(total=n, desc="stability maps", disable=args.no_progress) as bar:
             mrows = stability_maps(methods, args.quick, bar)
         path = os.path.join(args.out, "stability.csv")
-        _write_csv(path, mrows, ["family", "method", "axis", "y", "y_label", "dt", "eps", "ratio", "cls",
+        write_csv(path, mrows, ["family", "method", "axis", "y", "y_label", "dt", "eps", "ratio", "cls",
                                  "chatter_sign_changes", "max_v_stick", "max_v_after", "creep_rate", "max_error",
                                  "steps", "events",
                                  "wall_s", "note"])

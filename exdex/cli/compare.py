@@ -19,7 +19,7 @@ import time
 import numpy as np
 
 from exdex._optional import pyplot, require
-from exdex.cli import require_engines
+from exdex.cli.main import require_engines
 from exdex.engines import (DRAKE_APPROXIMATIONS, DRAKE_CONTACT_MODELS, ablation, drift_rate, run_drake, run_mujoco,
                            run_pybullet)
 from exdex.scene import Body, Grasp, Patch, Scene, Stop
@@ -62,12 +62,12 @@ def incline_closed_form(scene: Scene, t: np.ndarray) -> np.ndarray:
 
 def _case_scenes(names):
     """The paper scenes (exdex.paper) and the planar case of ``exdex bench``: {name: scene}."""
-    from exdex import paper
+    from exdex.studies import paper
 
     out = {}
     for name in names:
         if name == "planar":
-            from exdex.bench import planar_scene
+            from exdex.studies.bench import planar_scene
 
             out[name] = planar_scene()
         elif name == "incline":

@@ -16,8 +16,8 @@ import sys
 
 import numpy as np
 
-from exdex.cli import require_engines
-from exdex.hold import FIELDS, MARGINS, QUICK_SETTINGS, SETTINGS, benchmark, format_table, plot
+from exdex.cli.main import require_engines
+from exdex.studies.hold import FIELDS, MARGINS, QUICK_SETTINGS, SETTINGS, benchmark, format_table, plot
 
 __all__ = ["add_arguments", "run"]
 

@@ -50,13 +50,13 @@ def _needs_tool(args):
 
 # command -> (module, one-line help, optional modules it needs for given args)
 COMMANDS = {
-    "paper": ("exdex.cli_paper", "reproduce the paper's case studies (Figs. 3, 4, 6) into a folder", _needs_paper),
-    "compare": ("exdex.cli_compare", "cross-check the paper cases against pybullet, MuJoCo and Drake", _needs_compare),
-    "hold": ("exdex.cli_hold", "hold benchmark: drift of a held object in exdex and the engines' settings", _needs_hold),
-    "bench": ("exdex.cli_bench", "work-precision charts and stability maps of the integration methods", _needs_bench),
-    "tool": ("exdex.cli_tool", "assistive-tool design: twist-cone volumes and tool-angle optimisation", _needs_tool),
-    "run": ("exdex.cli_run", "simulate a scene file (TOML or JSON): CSV, NPZ, a figure, an animation", _needs_run),
-    "plan": ("exdex.cli_plan", "plan the motion or grip for a target slip or turn; band under uncertainty; poses CSV",
+    "paper": ("exdex.cli.paper", "reproduce the paper's case studies (Figs. 3, 4, 6) into a folder", _needs_paper),
+    "compare": ("exdex.cli.compare", "cross-check the paper cases against pybullet, MuJoCo and Drake", _needs_compare),
+    "hold": ("exdex.cli.hold", "hold benchmark: drift of a held object in exdex and the engines' settings", _needs_hold),
+    "bench": ("exdex.cli.bench", "work-precision charts and stability maps of the integration methods", _needs_bench),
+    "tool": ("exdex.cli.tool", "assistive-tool design: twist-cone volumes and tool-angle optimisation", _needs_tool),
+    "run": ("exdex.cli.run", "simulate a scene file (TOML or JSON): CSV, NPZ, a figure, an animation", _needs_run),
+    "plan": ("exdex.cli.plan", "plan the motion or grip for a target slip or turn; band under uncertainty; poses CSV",
              _needs_run),
 }
 

@@ -11,7 +11,7 @@ import os
 import time
 from typing import Any
 
-from exdex.paper import CASES, format_table, plot_case, run_case, write_csv, write_summary
+from exdex.studies.paper import CASES, format_table, plot_case, run_case, write_csv, write_summary
 
 __all__ = ["add_arguments", "run"]
 

@@ -15,10 +15,10 @@ import os
 
 import numpy as np
 
-from exdex import paper
+from exdex.studies import paper
 from exdex._optional import pyplot
 from exdex.io import load_scene, save_scene
-from exdex.plan import QUANTITIES, Limits, UnreachableTargetError, motion_peaks, solve
+from exdex.design.plan import QUANTITIES, Limits, UnreachableTargetError, motion_peaks, solve
 
 __all__ = ["add_arguments", "run"]
 
@@ -81,7 +81,7 @@ def _write_poses(args, t, poses):
 def _run_pose(args, scene):
     import math
     import warnings
-    from exdex import sequence
+    from exdex.design import sequence
     if scene.dof != "planar":
         raise SystemExit(f"exdex plan: --pose needs a planar scene (--scene FILE with dof = 'planar'), got a "
                          f"{scene.dof} scene")

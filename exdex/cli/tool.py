@@ -14,9 +14,9 @@ from typing import Any
 
 import numpy as np
 
-from exdex.tool import (BOX_CONVENTIONS, UNIT_SQUARE, Box, Tool, ToolProblem, figure_box_aspect, figure_rod,
-                        figure_theta_curves, optimise_theta, optimise_tool, phi_set, rectangle, regular_polygon,
-                        rod_descent_closed_form, rod_max_rotation, rod_rotation, theta_study)
+from exdex.design.tool import (BOX_CONVENTIONS, UNIT_SQUARE, Box, Tool, ToolProblem, figure_box_aspect, figure_rod,
+                               figure_theta_curves, optimise_theta, optimise_tool, phi_set, rectangle, regular_polygon,
+                               rod_descent_closed_form, rod_max_rotation, rod_rotation, theta_study)
 
 __all__ = ["add_arguments", "run"]
 

@@ -38,9 +38,10 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 import numpy as np
 from numpy.typing import ArrayLike
 
-from exdex.batch import PARAMETERS, _replace_params, simulate_batch
-from exdex.plan import _param_name
-from exdex.scene import GripSchedule, Scene, _real
+from exdex._params import PARAMETERS, param_name as _param_name, replace_params as _replace_params
+from exdex.batch import simulate_batch
+from exdex._validate import real as _real
+from exdex.scene import GripSchedule, Scene
 from exdex.simulate import resolve_method
 
 __all__ = ["Sensitivity", "sensitivity", "EventTimes", "event_times", "EventSensitivity", "event_sensitivity",
@@ -375,7 +376,7 @@ def _exact_event_derivatives(scene, names, t_end):
     (exdex.paper.closed_form: 1-DoF, Eq. 7 motion, no stops, pivot at the
     centre of mass, constant grip) and parameters among mu, grip_force,
     mass, e_r, amplitude, duration, beta; None otherwise."""
-    from exdex import paper
+    from exdex.studies import paper
     from exdex.scene import AsymmetricProfile
     allowed = ("mu", "grip_force", "mass", "e_r", "amplitude", "duration", "beta")
     if not isinstance(scene.motion, AsymmetricProfile) or any(n not in allowed for n in names) or \

@@ -51,31 +51,19 @@ import numpy as np
 
 from exdex import _core
 from exdex._optional import pyplot
-from exdex.batch import PARAMETERS, _ALIASES, _replace_params, simulate_batch
-from exdex.scene import AsymmetricProfile, Rest, SampledTrajectory, Scene, TrapezoidalProfile, _real
+from exdex._validate import real as _real
+from exdex._params import PARAMETERS, param_name as _param_name, replace_params as _replace_params
+from exdex.batch import simulate_batch
+from exdex.design._targets import QUANTITIES, UnreachableTargetError, check_quantity as _check_quantity, motion_peaks
+from exdex.scene import AsymmetricProfile, Rest, SampledTrajectory, Scene, TrapezoidalProfile
 from exdex.simulate import SolverError, resolve_method, simulate
 
 __all__ = ["Limits", "Plan", "MultiPlan", "Band", "UnreachableTargetError", "solve", "band", "outcome", "motion_peaks",
            "QUANTITIES"]
 
-#: the quantities a target can name, with their units
-QUANTITIES = {"slip": "m", "rotation": "rad", "x": "m", "y": "m"}
-
-
 #: units of the parameters, for labels
 _PARAM_UNITS = {"grip_force": "N", "mu": "-", "mass": "kg", "e_r": "m", "amplitude": "m or rad", "duration": "s",
                 "beta": "-", "v_max": "m/s or rad/s", "mu_static": "-", "patch_x": "m", "patch_y": "m"}
-
-
-class UnreachableTargetError(ValueError):
-    """The target lies outside what the varied parameter can reach.
-
-    ``reachable`` is the (low, high) interval of the outcome over the
-    parameter's bounds and limits (from the scan and its refinement)."""
-
-    def __init__(self, message, reachable):
-        super().__init__(message)
-        self.reachable = reachable
 
 
 @dataclass(frozen=True)
@@ -130,44 +118,7 @@ def _pair(value, name):
     return _real(lo, f"{name}[0]"), _real(hi, f"{name}[1]")
 
 
-def motion_peaks(motion: Any) -> Dict[str, float]:
-    """Peak |acceleration|, peak |speed|, stroke (largest |s|) and duration T of
-    a gripper motion's profile s(t) (m or rad; Eq. 7 from its closed form,
-    Eq. 9; the trapezoid from its ramps; a sampled log from finite
-    differences of its sample positions, angles ignored)."""
-    if isinstance(motion, Rest):
-        return dict(acceleration=0.0, speed=0.0, stroke=0.0, duration=0.0)
-    if isinstance(motion, AsymmetricProfile):
-        a_h, a_l = abs(motion.a_high), abs(motion.a_low)
-        # speed peaks at the end of the first a_H phase (beta T): a_H beta T
-        return dict(acceleration=max(a_h, a_l), speed=a_h * motion.beta * motion.duration,
-                    stroke=abs(motion.amplitude), duration=motion.duration)
-    if isinstance(motion, TrapezoidalProfile):
-        ta = motion.duration - abs(motion.amplitude) / motion.v_max
-        acc = motion.v_max / ta if ta > 0 else math.inf
-        return dict(acceleration=acc, speed=motion.v_max, stroke=abs(motion.amplitude), duration=motion.duration)
-    if isinstance(motion, SampledTrajectory):
-        t = np.asarray(motion.times, dtype=float)
-        p = np.asarray(motion.positions, dtype=float)
-        v = np.diff(p, axis=0) / np.diff(t)[:, None]
-        a = np.diff(v, axis=0) / (0.5 * (t[2:] - t[:-2]))[:, None]
-        d = np.linalg.norm(p - p[0], axis=1)
-        return dict(acceleration=float(np.max(np.linalg.norm(a, axis=1), initial=0.0)),
-                    speed=float(np.max(np.linalg.norm(v, axis=1), initial=0.0)),
-                    stroke=float(d.max()), duration=float(t[-1] - t[0]))
-    raise TypeError(f"unknown motion type {type(motion).__name__}")
-
-
 # ---------------------------------------------------------------- outcomes
-
-def _check_quantity(quantity, scene):
-    if quantity not in QUANTITIES:
-        raise ValueError(f"target quantity must be one of {sorted(QUANTITIES)}, got {quantity!r}")
-    dof = scene.dof
-    ok = {"translation": ("slip",), "rotation": ("rotation",), "planar": ("slip", "rotation", "x", "y")}[dof]
-    if quantity not in ok:
-        raise ValueError(f"a {dof} scene has no {quantity!r} outcome; use one of {list(ok)}")
-
 
 def outcome(final_displacement: Any, scene: Scene, quantity: str) -> np.ndarray:
     """The named quantity from final displacements (B, ndof) of ``scene``'s coordinates."""
@@ -192,16 +143,6 @@ def _target(target, scene):
     q, v = items[0]
     _check_quantity(q, scene)
     return q, _real(v, f"target[{q!r}]")
-
-
-def _param_name(name, scene):
-    name = _ALIASES.get(name, name)
-    if name not in PARAMETERS:
-        raise ValueError(f"cannot vary {name!r}: the parameters are {sorted(PARAMETERS)}")
-    p = PARAMETERS[name]
-    if p.motions and not isinstance(scene.motion, p.motions):
-        raise ValueError(f"cannot vary {name!r}: the scene's motion {type(scene.motion).__name__} has no such field")
-    return name
 
 
 def _bounds(name, value):
@@ -379,7 +320,7 @@ class Plan:
         if t[-1] < end:
             t = np.append(t, end)
         k = motion.evaluate(t, self.scene.gripper_rotation, self.scene.gripper_position)
-        from exdex.scene import _quat_from_matrix
+        from exdex._rotations import quat_from_matrix as _quat_from_matrix
         q = np.array([_quat_from_matrix(R) for R in k["R"]])
         return t, np.hstack([k["p"], q])
 
@@ -550,7 +491,7 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Optional[Mapping[str,
         raise TypeError(f"scene must be an exdex.Scene, got {type(scene).__name__}")
     if vary is None and scene.dof == "planar" and isinstance(target, Mapping) and target and \
             all(q in ("x", "y", "rotation") for q in target):
-        from exdex import sequence
+        from exdex.design import sequence
         return sequence.solve(scene, target)
     if not isinstance(vary, Mapping) or len(vary) < 1:
         raise ValueError("vary must be a dict of parameters and their bounds, e.g. {'grip_force': (0.5, 3.0)} "

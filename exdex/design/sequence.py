@@ -62,8 +62,9 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 import numpy as np
 
 from exdex import _core
-from exdex.plan import UnreachableTargetError, _check_quantity, motion_peaks
-from exdex.scene import AsymmetricProfile, Scene, _real, _Motion
+from exdex.design._targets import UnreachableTargetError, check_quantity as _check_quantity, motion_peaks
+from exdex._validate import real as _real
+from exdex.scene import AsymmetricProfile, Scene
 from exdex.simulate import SolverError, simulate
 
 __all__ = ["Primitive", "SequencePlan", "primitives", "solve", "band", "POSE_QUANTITIES"]
@@ -86,9 +87,9 @@ class Primitive:
     name: str
     kind: str
     bounds: Tuple[float, float]
-    make: Callable[[float], _Motion]
+    make: Callable[[float], Any]
 
-    def motion(self, value: float) -> _Motion:
+    def motion(self, value: float) -> Any:
         """The gripper motion for a parameter value (checked against bounds)."""
         lo, hi = self.bounds
         v = _real(value, f"{self.name} parameter")
@@ -138,7 +139,7 @@ def primitives(scene: Scene, *, duration: float = 0.15, beta: float = 0.3, max_s
 
 
 def _push(axis, T):
-    def make(v: float) -> _Motion:
+    def make(v: float) -> Any:
         return AsymmetricProfile(v, T, 0.5, axis=axis)
     return make
 
@@ -177,7 +178,7 @@ class SequencePlan:
         z qw qx qy qz of frame B in the world (m, unit quaternion); each step
         runs its motion and then rests ``settle`` s, and starts where the
         previous one ended (every primitive is a round trip)."""
-        from exdex.scene import _quat_from_matrix
+        from exdex._rotations import quat_from_matrix as _quat_from_matrix
         rate = _real(rate, "rate", low=0.0, low_open=True)
         ts, ps = [], []
         t0 = 0.0
@@ -502,7 +503,7 @@ def band(plan: SequencePlan, uncertain: Mapping[str, Tuple[float, float]], *, n:
     are left out with a UserWarning that counts them (NaN if all fail). The
     band is sampled, not exact: a sequence's outcome need not be monotone.
     """
-    from exdex.batch import _replace_params
+    from exdex._params import replace_params as _replace_params
     if not isinstance(plan, SequencePlan):
         raise TypeError(f"plan must be an exdex.sequence.SequencePlan, got {type(plan).__name__}")
     if not isinstance(uncertain, Mapping) or not uncertain:

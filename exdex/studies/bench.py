@@ -108,9 +108,10 @@ from typing import Optional
 
 import numpy as np
 
-from exdex import paper
+from exdex.studies import paper
 from exdex._optional import pyplot, require
-from exdex.scene import AsymmetricProfile, Body, Grasp, Patch, Scene, Stop, _quat_from_matrix
+from exdex._rotations import quat_from_matrix as _quat_from_matrix
+from exdex.scene import AsymmetricProfile, Body, Grasp, Patch, Scene, Stop
 from exdex.simulate import Model, SolverError, simulate
 
 __all__ = ["planar_scene", "CASES", "Case", "make_case", "method_available", "available_methods",
@@ -356,7 +357,7 @@ def machine_name():
 ALIGNED_LINE = "implicit, dt on switch times"
 
 
-def _sweeps(methods, quick, aligned=None):
+def sweeps(methods, quick, aligned=None):
     """[(method, line label, eps or None, [(knob name, knob value, kwargs)])].
 
     ``aligned``: a step that divides the motion's switching times and the
@@ -407,7 +408,7 @@ def sweep_exdex(case, methods, quick, bar=None, budget=None):
     budget = budget if budget is not None else (0.5 if quick else 3.0)
     target, min_rep, max_rep = (0.02, 3, 5) if quick else (0.15, 3, 15)
     rows = []
-    for method, line, eps, points in _sweeps(methods, quick, case.aligned_dt):
+    for method, line, eps, points in sweeps(methods, quick, case.aligned_dt):
         skip = False
         for knob, value, kw in points:
             if bar is not None:
@@ -452,7 +453,7 @@ def _compiled_time(case, method, kw, target, min_rep, max_rep):
     return secs
 
 
-def _engine_runners():
+def engine_runners():
     """{engine: function} of the engines that import; and {engine: reason} of the others."""
     from exdex import engines
 
@@ -476,16 +477,17 @@ def mujoco_bare_step_time(scene, t_end, dt, contact):
     try:
         import mujoco
 
-        from exdex import engines as E
+        from exdex.engines._runner import Layout, gripper_kinematics
+        from exdex.engines.mujoco import mujoco_xml
 
-        lay = E._Layout(scene, contact)
-        xml = E._mujoco_xml(lay, dt=dt, iterations=100, cone="elliptic", impratio=1.0, noslip_iterations=0,
-                            solver="Newton", tolerance=1e-8, torsional=None, gripper_mass=1e4, plate_mass=0.1)
+        lay = Layout(scene, contact)
+        xml = mujoco_xml(lay, dt=dt, iterations=100, cone="elliptic", impratio=1.0, noslip_iterations=0,
+                          solver="Newton", tolerance=1e-8, torsional=None, gripper_mass=1e4, plate_mass=0.1)
         m = mujoco.MjModel.from_xml_string(xml)
         d = mujoco.MjData(m)
         gid = m.body("gripper").id
         sq = m.joint("squeeze").dofadr[0]
-        kin = E._kinematics(scene, [0.0])
+        kin = gripper_kinematics(scene, [0.0])
         d.qpos[0:3] = kin["p"][0]
         d.qpos[3:7] = _quat_from_matrix(kin["R"][0])
         d.xfrc_applied[gid, 0:3] = -1e4 * np.array(scene.gravity)
@@ -971,7 +973,7 @@ def map_grids(quick):
                 eps=[10.0 ** -k for k in range(1, 8)], families=("fig3", "fig6"))
 
 
-def _map_dts(g, method):
+def map_dts(g, method):
     return g["dts_adaptive"] if method in ADAPTIVE else g["dts"]
 
 
@@ -1011,7 +1013,7 @@ def stability_maps(methods, quick, bar=None):
                     if predicted > predict_cap:
                         skip_reason = f"skipped: predicted {predicted:.3g} s per run (cost ~ 1/eps)"
                 walls = []
-                for dt in sorted(_map_dts(g, method), reverse=True):
+                for dt in sorted(map_dts(g, method), reverse=True):
                     if bar is not None:
                         bar.set_postfix_str(f"{fam} {method} {axis}={yval:.3g} dt={dt:.2g}")
                     row = dict(family=fam, method=method, axis=axis, y=yval, dt=dt,
@@ -1133,7 +1135,7 @@ def map_summary(rows):
 
 # ------------------------------------------------------------------ CSV
 
-def _write_csv(path, rows, fields=None):
+def write_csv(path, rows, fields=None):
     fields = fields or list(dict.fromkeys(k for r in rows for k in r))
     with open(path, "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=fields, extrasaction="ignore")

@@ -45,7 +45,8 @@ import time
 import numpy as np
 
 from exdex._optional import pyplot, require
-from exdex.scene import DEFAULT_GRIPPER_ROTATION, Body, Grasp, Patch, SampledTrajectory, Scene, _quat_from_matrix
+from exdex._rotations import quat_from_matrix as _quat_from_matrix
+from exdex.scene import DEFAULT_GRIPPER_ROTATION, Body, Grasp, Patch, SampledTrajectory, Scene
 from exdex.simulate import simulate
 
 __all__ = ["MARGINS", "MOTIONS", "DOFS", "SETTINGS", "QUICK_SETTINGS", "hold_scene", "run_setting", "benchmark",
