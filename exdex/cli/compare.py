@@ -19,7 +19,7 @@ import time
 import numpy as np
 
 from exdex._optional import pyplot, require
-from exdex.cli.main import require_engines
+from exdex.cli.dispatch import require_engines
 from exdex.engines import (DRAKE_APPROXIMATIONS, DRAKE_CONTACT_MODELS, ablation, drift_rate, run_drake, run_mujoco,
                            run_pybullet)
 from exdex.scene import Body, Grasp, Patch, Scene, Stop

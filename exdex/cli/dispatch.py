@@ -1,6 +1,6 @@
 """Command line of exdex: exdex <command> [options].
 
-Each command lives in its own module and exposes ``add_arguments(parser)`` and
+Each command lives in its own module of exdex.cli and exposes ``add_arguments(parser)`` and
 ``run(args)``; this file only dispatches, importing a command's module when it
 is used so that e.g. ``exdex tool`` never imports the physics engines. Every
 command takes ``--no-progress``; a command whose optional dependencies are

@@ -16,7 +16,7 @@ import sys
 
 import numpy as np
 
-from exdex.cli.main import require_engines
+from exdex.cli.dispatch import require_engines
 from exdex.studies.hold import FIELDS, MARGINS, QUICK_SETTINGS, SETTINGS, benchmark, format_table, plot
 
 __all__ = ["add_arguments", "run"]
