@@ -1,6 +1,6 @@
 """``exdex bench``: the work-precision chart, headline table and stability maps into a folder.
 
-What is run and measured is described in :mod:`exdex.bench`. Writes, in
+What is run and measured is described in :mod:`exdex.studies.bench`. Writes, in
 ``--out`` (default ``exdex-output/bench``): ``work_precision.png``,
 ``work_precision.csv``, ``orders.csv``, ``headline.csv``, ``headline.txt``
 (also printed), ``stability_<family>.png``, ``stability.csv`` and

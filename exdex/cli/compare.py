@@ -1,7 +1,7 @@
 """``exdex compare``: the paper cases and the planar case in exdex and the three engines.
 
 Each case (Figs. 3, 4 and 6 of :mod:`exdex.paper`, the planar case of
-:func:`exdex.bench.planar_scene`, and ``incline``: a block sliding down an
+:func:`exdex.studies.bench.planar_scene`, and ``incline``: a block sliding down an
 inclined frictional stop, :func:`incline_scene`, shown as its slide along the
 incline with its closed form) runs in exdex and in every engine setting
 (:func:`exdex.engines.run_pybullet`, :func:`exdex.engines.run_mujoco`,

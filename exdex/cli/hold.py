@@ -1,10 +1,10 @@
-"""``exdex hold``: the hold benchmark (:mod:`exdex.hold`) into a folder.
+"""``exdex hold``: the hold benchmark (:mod:`exdex.studies.hold`) into a folder.
 
 Runs every engine setting on every scenario (or ``--quick``: 1 s, margins
 1.5x and 20x, one default setting per engine), prints the tables
-(:func:`exdex.hold.format_table`) and writes ``hold_table.csv``,
+(:func:`exdex.studies.hold.format_table`) and writes ``hold_table.csv``,
 ``hold_table.txt``, ``hold_curves.npz`` and ``hold_drift.png``
-(:func:`exdex.hold.plot`) to ``--out``. ``--combine`` merges the folders of
+(:func:`exdex.studies.hold.plot`) to ``--out``. ``--combine`` merges the folders of
 earlier runs instead of running.
 """
 from __future__ import annotations

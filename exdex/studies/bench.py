@@ -744,7 +744,7 @@ ROUNDING = 1e-12
 def _log_axes(ax, floor, decades=4):
     """Log axes that cannot zoom into rounding noise: at least ``decades`` decades
     in y, labels on the decades only (no crowded minor labels)."""
-    ticker = require("matplotlib.ticker", "exdex.bench's figures")
+    ticker = require("matplotlib.ticker", "exdex.studies.bench's figures")
     LogLocator, NullFormatter = ticker.LogLocator, ticker.NullFormatter
 
     lo, hi = ax.get_ylim()
@@ -776,7 +776,7 @@ def _rounding_panel(ax, rows, key, case, what):
 
 def plot_work_precision(rows, cases, path, machine, missing):
     """The work-precision chart (see the module docstring) of sweep rows, saved to ``path``."""
-    plt = pyplot("exdex.bench.plot_work_precision", backend="Agg")
+    plt = pyplot("exdex.studies.bench.plot_work_precision", backend="Agg")
 
     names = list(cases)
     fig, axes = plt.subplots(2, len(names), figsize=(4.6 * len(names), 8.6), squeeze=False)
@@ -1048,9 +1048,9 @@ _CLS_CODE = {"ok": "", "drift": "D", "chatter": "C", "blow-up": "B", "collapse":
 
 def plot_maps(rows, family, path, machine, missing):
     """The stability maps of one family (see the module docstring), saved to ``path``."""
-    plt = pyplot("exdex.bench.plot_maps", backend="Agg")
-    ListedColormap = require("matplotlib.colors", "exdex.bench.plot_maps").ListedColormap
-    LegendPatch = require("matplotlib.patches", "exdex.bench.plot_maps").Patch
+    plt = pyplot("exdex.studies.bench.plot_maps", backend="Agg")
+    ListedColormap = require("matplotlib.colors", "exdex.studies.bench.plot_maps").ListedColormap
+    LegendPatch = require("matplotlib.patches", "exdex.studies.bench.plot_maps").Patch
 
     panels = [(m, "ratio") for m in METHODS] + [("regularised", "eps")]
     panels = [p for p in panels if any(r["family"] == family and r["method"] == p[0] and r["axis"] == p[1]

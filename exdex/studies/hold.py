@@ -1,6 +1,6 @@
 """Hold benchmark: does a grasped object that should stay put stay put?
 
-``exdex hold`` (``exdex.cli_hold``) holds an object between the plates for ``--duration`` seconds
+``exdex hold`` (``exdex.cli.hold``) holds an object between the plates for ``--duration`` seconds
 (10 s by default) and measures how far it moves relative to the gripper, in
 exdex and in every engine setting users pick. Exact stick (exdex) gives
 exactly zero; regularised or soft friction lets an in-cone load creep.
@@ -226,8 +226,8 @@ def format_table(rows):
 def plot(curves, path, t_end, margin=3.0):
     """Drift against time (log scale) of every engine setting at ``margin``, one
     panel per dof and motion; exdex's exact zero said in words. Saved to ``path``."""
-    matplotlib = require("matplotlib", "exdex.hold.plot")
-    plt = pyplot("exdex.hold.plot", backend="Agg")
+    matplotlib = require("matplotlib", "exdex.studies.hold.plot")
+    plt = pyplot("exdex.studies.hold.plot", backend="Agg")
 
     fig, axes = plt.subplots(2, 2, figsize=(12, 8.5), sharex=True)
     labels = list(dict.fromkeys(k[0] for k in curves if k[0] != "exdex"))
