@@ -27,6 +27,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from exdex import _core
+from exdex._rotations import quat_from_matrix as _quat_from_matrix
 from exdex._validate import array as _array, real as _real
 
 __all__ = [
