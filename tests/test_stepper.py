@@ -425,7 +425,7 @@ def test_gripper_pose_contract_and_errors():
 
 def test_save_restore_in_a_stiff_planar_slip():
     """The event method integrates a planar slip lingering at a small speed
-    with a linearly implicit stepper (tests/test_event.py, the slip at the
+    with a linearly implicit stepper (tests/scenarios/test_event.py, the slip at the
     friction incline launched across it): a snapshot taken in that phase
     branches exactly too, on the same stepper and on another one of the same
     model, and a stepper that never saved takes the same steps."""

@@ -845,7 +845,7 @@ EXDEX_TEST(methods_planar_slow_steady_slip_event)
      * exactly), launched at v0 along B y. With phi the angle of v from x:
      * dv/dt = g' (cos phi - 1), v dphi/dt = -g' sin phi, so v (1 + cos phi)
      * = v0: the speed tends to v0 / 2 along x, y to 2/3 v0^2 / g', and x -
-     * v0 t / 2 to -3/16 v0^2 / g' (the integrals in tests/test_event.py),
+     * v0 t / 2 to -3/16 v0^2 / g' (the integrals in tests/scenarios/test_event.py),
      * within a few v0 / g'. v0 = 2e-6 m/s (~3e-6 of the velocity scale)
      * for 2 s: the run returns on one output interval and matches. */
     exdex_scene_def d = mvertical(0.1, 1.0, EXDEX_METHOD_EVENT);

@@ -374,7 +374,7 @@ def fig4_scene(grip_force: Optional[float] = None) -> Scene:
       Once the gripper is at rest the split between friction and stop is
       statically indeterminate for rigid bodies; the core lets the stop carry
       what it can, so the stop force drops to m g = 0.981 N and friction to 0
-      (only their sum, m g, is checked in tests/test_paper.py).
+      (only their sum, m g, is checked in tests/studies/test_paper.py).
 
     grip_force : per finger [N]; default that of Fig. 3.
     """
@@ -407,7 +407,7 @@ def fig6_rotation_bound(amplitude: float = FIG6["amplitude"], beta: float = FIG6
 
     For kappa < a_H the object also slips backwards in the first phase. For
     the paper's beta = 0.7 the bound is then still the maximum over all
-    kappa > 0 (a dense scan of the closed form, tests/test_paper.py); this is
+    kappa > 0 (a dense scan of the closed form, tests/studies/test_paper.py); this is
     not true for every beta (beta = 0.6: a weaker grasp gives ~77 deg against
     the bound's 66.7 deg; notebooks/parameters.ipynb).
     Requires 1/2 < beta < 1 (else a_H >= |a_L|: nothing slips forward).

@@ -16,7 +16,7 @@ from hypothesis import given, settings, strategies as st
 
 from exdex import tool as T
 
-HERE = os.path.dirname(os.path.abspath(__file__))
+HERE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))   # tests/
 SQRT2 = math.sqrt(2.0)
 
 

@@ -393,7 +393,7 @@ def test_compare_takes_no_progress():
 # A square block resting with a face flush on an inclined frictional stop
 # (incline alpha = 0.4 rad from the horizontal, stop mu_s = 0.3), gripper at
 # rest, plate capacity cap = 2 mu F (mu 0.5: cap = F). Closed form (rigid
-# Coulomb, derived in tests/test_stop_friction.py): the block rests iff
+# Coulomb, derived in tests/scenarios/test_stop_friction.py): the block rests iff
 # m g sin(alpha - atan mu_s) <= cap (0.107 N here); otherwise it slides down
 # the incline at the constant acceleration
 #     a = g sin(alpha) - mu_s g cos(alpha) - cap / m,
@@ -695,7 +695,7 @@ def test_grip_schedule_ramp_down_agrees_within_contact_model_tolerance(engine):
     # 2 mu F(t) falls below m g (F = 0.981 N, at t = 0.26 s) and slides ~45 mm
     # by 0.5 s. The engines press with the schedule at each step's midpoint.
     # Reference: exdex (checked against this ramp's closed form in
-    # tests/test_grip_schedule.py); tolerance as for the translational cases
+    # tests/scenarios/test_grip_schedule.py); tolerance as for the translational cases
     # above (the step bound plus the creep at the largest in-cone load).
     need, run, h = RUNNERS[engine]
     need()

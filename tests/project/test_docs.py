@@ -13,7 +13,7 @@ import pytest
 
 pytest.importorskip("pdoc")
 
-ROOT = pathlib.Path(__file__).resolve().parent.parent
+ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "docs"))
 import build_api  # noqa: E402
 

@@ -25,7 +25,7 @@ import pathlib
 
 import pytest
 
-ROOT = pathlib.Path(__file__).resolve().parents[1]
+ROOT = pathlib.Path(__file__).resolve().parents[2]
 PKG = ROOT / "exdex"
 
 #: edges that break a rule today, each with its reason; a new one fails the test

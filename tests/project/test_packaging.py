@@ -26,7 +26,7 @@ import pytest
 
 pytestmark = pytest.mark.packaging
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 PY = sys.executable
 
 # a scene that needs GSL at run time: the event method integrates with GSL's rk8pd

@@ -27,7 +27,7 @@ import pytest
 import exdex
 from exdex import paper
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
 
 
@@ -86,7 +86,7 @@ def test_quick_start_prints_what_the_readme_says():
         assert re.sub(NUM, "#", s) == re.sub(NUM, "#", f), (s, f)     # same words
         for a, b in zip(re.findall(NUM, s), re.findall(NUM, f)):
             assert _close(a, float(b)), f"README says {a}, a fresh run prints {b}: {f!r}"
-    # the worked e_r is the closed form of a 1 x 2 cm rectangle (tests/test_sizes.py derives it)
+    # the worked e_r is the closed form of a 1 x 2 cm rectangle (tests/scenarios/test_sizes.py derives it)
     a, b = 0.005, 0.01
     d = math.hypot(a, b)
     er = (a * b * d / 3 + a**3 / 6 * math.log((b + d) / a) + b**3 / 6 * math.log((a + d) / b)) / (a * b)

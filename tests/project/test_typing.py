@@ -1,9 +1,9 @@
 """Type hints of the public API, checked by mypy (the package ships py.typed).
 
 * mypy on the package itself: zero errors;
-* mypy on a typed user script (tests/typing/usage.py): zero errors, and the
+* mypy on a typed user script (tests/project/typing/usage.py): zero errors, and the
   script runs;
-* mypy on wrong calls (tests/typing/misuse.py): exactly the marked lines are
+* mypy on wrong calls (tests/project/typing/misuse.py): exactly the marked lines are
   reported, so the hints are live, not ``Any``;
 * every public function and method of the API modules has annotations on all
   of its parameters and its return value (CLI plumbing excluded).
@@ -20,8 +20,8 @@ import pytest
 
 import exdex
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-HERE = os.path.join(ROOT, "tests", "typing")
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+HERE = os.path.join(ROOT, "tests", "project", "typing")
 
 pytest.importorskip("mypy", reason="mypy comes with the test extra: pip install -e .[test]")
 
@@ -45,7 +45,7 @@ def test_mypy_on_the_package(cache):
 
 
 def test_mypy_on_a_typed_user_script(cache):
-    rc, errors = _mypy(os.path.join("tests", "typing", "usage.py"), cache)
+    rc, errors = _mypy(os.path.join("tests", "project", "typing", "usage.py"), cache)
     assert errors == [] and rc == 0, "\n".join(errors)
     run = subprocess.run([sys.executable, os.path.join(HERE, "usage.py")], capture_output=True, text=True)
     assert run.returncode == 0, run.stderr[-2000:]
@@ -55,7 +55,7 @@ def test_mypy_rejects_wrong_calls(cache):
     path = os.path.join(HERE, "misuse.py")
     with open(path) as f:
         marked = {i for i, line in enumerate(f, 1) if "# E:" in line}
-    rc, errors = _mypy(os.path.join("tests", "typing", "misuse.py"), cache)
+    rc, errors = _mypy(os.path.join("tests", "project", "typing", "misuse.py"), cache)
     reported = {int(re.match(r"[^:]+:(\d+):", e).group(1)) for e in errors}
     assert rc != 0
     assert reported == marked, f"expected errors on lines {sorted(marked)}, mypy reported:\n" + "\n".join(errors)

@@ -367,7 +367,7 @@ def _disc_contact_scene(seed):
 def test_event_and_implicit_agree_on_random_disc_obstacle_scenes(seed):
     """The disc against frictional obstacles (_disc_contact_scene): the event
     method (rtol 1e-10) and the implicit method converge to the same motion,
-    the check of tests/test_obstacles.py's random frictional obstacle scenes
+    the check of tests/scenarios/test_obstacles.py's random frictional obstacle scenes
     (implicit error halving with dt, its Richardson extrapolation 5x closer;
     or below 1e-8 m at h / 2 and not growing)."""
     implicit_converges_to_event(exdex.simulate, _disc_contact_scene(seed), 0.8)

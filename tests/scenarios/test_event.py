@@ -543,7 +543,7 @@ def test_planar_stop_events_agree_across_output_grids_and_rtol(seed):
     tangentially while sliding along it (normal rate ~0, pressed into it: at
     rtol 1e-9 on t_end / 8 it was 0.76 L off with 8 warnings). The event
     method's error is set by
-    its tolerance (tests/test_zoo.py: c rtol): its runs at rtol 1e-9 and
+    its tolerance (tests/scenarios/test_zoo.py: c rtol): its runs at rtol 1e-9 and
     1e-10 on the output grids t_end / 8 and t_end / 64 are within 100 rtol
     of the run at 1e-11 on t_end / 64 (the constant c measured on these
     scenes is below 0.01) and report no warnings."""

@@ -36,7 +36,7 @@ import pytest
 import exdex
 from exdex import _core, _tool
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 CSRC = os.path.join(ROOT, "csrc")
 
 # 10^5 calls per entry point (the figure); EXDEX_HARDENING_CALLS

@@ -55,7 +55,7 @@ def test_planar_log_between_two_stops_output_grid_converges_with_rtol():
     steps that the samples cut, each of whose local errors the stepper keeps
     below rtol of the state (~L here), so D(rtol) stays at the tolerance
     level: D <= rtol at each rtol, and it falls with rtol, D(1e-11) <=
-    PROPORTIONAL D(1e-9) + 1e-12 (tests/test_zoo.py: the error constant may
+    PROPORTIONAL D(1e-9) + 1e-12 (tests/scenarios/test_zoo.py: the error constant may
     change up to 3x between tolerances; 1e-12 for event location, 3e-12 T).
     A decision that depends on where steps end gives a D that does not fall
     with rtol and fails both."""
@@ -71,7 +71,7 @@ def test_planar_log_between_two_stops_output_grid_converges_with_rtol():
 
 def test_regularised_frictional_stop_with_a_grip_schedule_stays_out():
     """The regularised method on a 1-DoF slide against one frictional stop
-    (Stop.mu 0.97) under a linear grip schedule (tests/test_zoo_inputs.py
+    (Stop.mu 0.97) under a linear grip schedule (tests/scenarios/test_zoo_inputs.py
     input scene 123): in contact each step ends with the projection onto the
     stop (project_contact), so every following step must restart from the
     projected state's derivative. From a stale one the run sinks 7.4e-5 L

@@ -185,7 +185,7 @@ def planar_floor(capacity_ratio=0.8, mu=0.5, theta0=0.0, height=0.01):
 def vertex_gaps(scene, res):
     """Gaps (n_samples, n_vertices) of every outline vertex to the stop,
     recomputed from the returned poses and the gripper kinematics (as in
-    tests/test_properties.py)."""
+    tests/scenarios/test_properties.py)."""
     kin = scene.motion.evaluate(res.t, scene.gripper_rotation, scene.gripper_position)
     pose = res.pose
     stop = scene.stops[0]
@@ -248,7 +248,7 @@ def test_planar_stop_never_penetrated_beyond_the_methods_bound(method, case):
     on a circle of radius <= r_max about the centre of mass, so a step
     penetrates at most 1/2 h^2 thd^2 r_max (thd the step's v+, the returned
     velocity). Implicit (implicit.c): its positions are projected back, 1e-9 m
-    as tests/test_properties.py. No warnings from the other methods: nothing here is
+    as tests/scenarios/test_properties.py. No warnings from the other methods: nothing here is
     unavoidable.
     "falling": frictionless, tilted 0.3 rad, dropped from 20 mm: free fall,
     a corner impact at ~0.6 m/s, rocking and sliding along the floor."""

@@ -266,7 +266,7 @@ def test_event_and_implicit_agree_on_random_obstacle_scenes(seed):
     approaches the event method's (rtol 1e-10): its successive differences
     do not grow at the finest step (the ladder converges), and at the finest
     step it lies within S = 3 times the ladder's largest successive
-    difference (its first-order error estimate, as in tests/test_zoo.py)
+    difference (its first-order error estimate, as in tests/scenarios/test_zoo.py)
     plus 1e-9; and the event answer itself moves by less than 1e-9 between
     rtol 1e-10 and the default."""
     sc = _random_pushed_scene(seed)
@@ -594,7 +594,7 @@ def test_rod_of_fig11_turns_the_square_as_exdex_tool_predicts():
 # ---------------------------------------------------------------- friction (Obstacle.mu)
 
 def _wall_face_runs(mu_s, **kw):
-    """The frictional wall of tests/test_stop_friction.py (_wall_scene) for
+    """The frictional wall of tests/scenarios/test_stop_friction.py (_wall_scene) for
     0.3 s at dt 1e-3 with the options kw: the Stop's run, which the one-face
     obstacle through the wall with Obstacle.mu gives bit for bit
     (face_is_the_stop), and the run with the wall as the face of a box (the
@@ -621,7 +621,7 @@ def _assert_wall_steady(c, mu_s):
 
 @pytest.mark.parametrize("mu_s", [0.3, 0.8])
 def test_frictional_face_is_the_frictional_stop_and_meets_the_wall_closed_form(mu_s):
-    """The frictional wall of tests/test_stop_friction.py (a block dragged
+    """The frictional wall of tests/scenarios/test_stop_friction.py (a block dragged
     along a wall at x = 0.1 with gravity along it) as a one-face obstacle
     with Obstacle.mu: bit for bit the frictional Stop; as the face of a box
     (the other faces far away), the same closed-form terminal slide speed
@@ -634,7 +634,7 @@ def test_frictional_face_is_the_frictional_stop_in_the_explicit_method(mu_s):
     """The explicit method solves obstacle friction with the stops' frictional
     step (the rows' tangents at the points where they act): the one-face
     frictional obstacle is the frictional Stop bit for bit there too, and the
-    box face meets the wall closed form of tests/test_stop_friction.py
+    box face meets the wall closed form of tests/scenarios/test_stop_friction.py
     (whose explicit steady state is exact: the plate friction evaluated at
     the previous velocity is the same one at a constant velocity)."""
     _assert_wall_steady(_wall_face_runs(mu_s, method="explicit")[1], mu_s)
@@ -642,7 +642,7 @@ def test_frictional_face_is_the_frictional_stop_in_the_explicit_method(mu_s):
 
 @pytest.mark.parametrize("mu_s", [0.3, 0.8])
 def test_frictional_face_is_the_frictional_stop_in_the_event_method(mu_s):
-    """The frictional wall of tests/test_stop_friction.py in the event method
+    """The frictional wall of tests/scenarios/test_stop_friction.py in the event method
     (rtol 1e-10): the one-face frictional obstacle is the frictional Stop
     bit for bit (its rows are the stop's, their slip the stop's: one
     friction group per face); as the face of a box (the other faces far
@@ -689,7 +689,7 @@ def test_frictional_face_is_the_frictional_stop_in_the_regularised_method(mu_s):
 @pytest.mark.parametrize("method", ["implicit", "explicit", "event", "regularised"])
 def test_frictional_stop_beside_a_frictional_face_is_two_frictional_stops_bit_for_bit(method):
     """Stop friction and obstacle friction in one scene: the wall of
-    tests/test_stop_friction.py as a frictional Stop, with a frictional
+    tests/scenarios/test_stop_friction.py as a frictional Stop, with a frictional
     floor below the block, either a second Stop or a one-face Obstacle: the
     same run bit for bit in every method (the obstacle's rows and friction
     are the stop's, in the same order). The gripper moves at 0.02 m/s: at

@@ -28,8 +28,8 @@ parameter otherwise, checked here): obstacles (frictional ones too): every
 method but analytic; everything else (stop friction included, in every
 dof): every method.
 
-Agreement, with tests/test_zoo.py's machinery and bounds (zoo.check_scene;
-derivations in tests/test_zoo.py): where the event method supports the
+Agreement, with tests/scenarios/test_zoo.py's machinery and bounds (zoo.check_scene;
+derivations in tests/scenarios/test_zoo.py): where the event method supports the
 scene it is the reference and every supporting method must lie within its
 stated error of it (event: proportional to rtol; implicit: S times the
 largest successive difference of the dt ladder t_end / 500 .. / 4000;
@@ -38,7 +38,7 @@ creep; regularised: its eps ladder, on every REG_EVERY-th
 seed). Unsupported methods must refuse by name. Where the event method does not support a scene the
 reference is the implicit method at h/8, whose own error is
 bounded by its ladder's estimate S max(D) (the extrapolation of its
-successive differences in dt, tests/test_zoo.py), and the explicit method
+successive differences in dt, tests/scenarios/test_zoo.py), and the explicit method
 must lie within the sum of both estimates (plus its creep and FLOOR).
 
 Known defects are strict xfails in KNOWN with the cause stated; the list can
@@ -240,7 +240,7 @@ def unsupported(scene, method):
 def check_implicit_reference(zs, methods):
     """Agreement where the event method cannot run the scene: the implicit
     ladder h .. h/8 (h = t_end / N_DT) is the reference, its final pose at
-    h/8 within its own estimate S max(D) of the exact one (tests/test_zoo.py:
+    h/8 within its own estimate S max(D) of the exact one (tests/scenarios/test_zoo.py:
     the extrapolation of its successive differences in dt); the explicit
     ladder must lie within the sum of both estimates, its creep and FLOOR.
     Same keys as zoo.check_scene."""
@@ -341,7 +341,7 @@ def test_event_short_slips_do_not_depend_on_the_output_grid():
     t_end/64 and between rtol 1e-9 and 1e-10. With the stick guard's minimum
     searched inside each step, each run's distance to the reference (rtol
     1e-12, output t_end/64) is proportional to rtol: D(1e-10) <=
-    PROPORTIONAL D(1e-9) + FLOOR at both grids (tests/test_zoo.py)."""
+    PROPORTIONAL D(1e-9) + FLOOR at both grids (tests/scenarios/test_zoo.py)."""
     zs = input_scene(143).zs
     ref = zoo.final_pose(zoo.run(zs, "event", rtol=1e-12, n_out=zoo.N_OUT_FINE))
     for n_out in (8, 64):
@@ -461,7 +461,7 @@ def test_event_sliding_contact_with_an_obstacle_holds_through_decisions():
     Held at gap 0 and rate 0 there, every run has the exact motion's 3
     impacts and its distance to the reference (rtol 1e-12) shrinks with
     rtol: D(1e-10) <= PROPORTIONAL D(1e-9) + FLOOR at both output grids
-    (tests/test_zoo.py)."""
+    (tests/scenarios/test_zoo.py)."""
     zs = input_scene(795).zs
     tight = zoo.run(zs, "event", rtol=1e-12, n_out=zoo.N_OUT_FINE)
     ref = zoo.final_pose(tight)

@@ -1,5 +1,5 @@
 """A typed user script: what a user of exdex writes, checked by mypy (zero errors)
-and also executed by tests/test_typing.py."""
+and also executed by tests/project/test_typing.py."""
 from __future__ import annotations
 
 import dataclasses
