@@ -1,4 +1,4 @@
-/* orows.c -- the obstacles' rows with their feature held (orows.h).
+/* obstacle_rows.c -- the obstacles' rows with their feature held (obstacle_rows.h).
  *
  * Derivatives. A vertex row is a plane row (contact_plane_row_*, the
  * stops' formulas). A section or rod row is evaluated in truncated Taylor
@@ -20,7 +20,7 @@
  * distance of the edge's line from the axis, |(u - c) . m| / |m| - r with
  * m = (w - u) x a (all in B: c, a the axis's point and direction). */
 #include "exdex.h"
-#include "orows.h"
+#include "obstacle_rows.h"
 #include "util.h"
 
 #include <float.h>
@@ -899,7 +899,7 @@ void orow_point(const exdex_model *m, const exdex_kinematics *kin, int code, con
  * s = t . (xdot + R^T pdot + w_B x x), xdot the material point's velocity in
  * B, w_B = R^T w (contact_tangent's T v + tb). Along the line (q + v s, t +
  * s) with v held, its first Taylor coefficient is d s / dt less T qdd: the
- * slip acceleration sdd0 (sfric.h) of a row whose contact point moves over
+ * slip acceleration sdd0 (stop_friction.h) of a row whose contact point moves over
  * the object (a section vertex along the object's edge, a rod's nearest
  * point) as exactly as of a vertex row. */
 

@@ -1,4 +1,4 @@
-/* orows.h -- private to the exdex core: the obstacles' contact rows as the
+/* obstacle_rows.h -- private to the exdex core: the obstacles' contact rows as the
  * hybrid (event, regularised) machine holds them. A row of
  * contact_obstacle_rows is a largest (or smallest) distance over the
  * features of a pair: an outline vertex against the faces of a polytope
@@ -20,12 +20,12 @@
  * A disc outline has one row per obstacle: OROW_VERTEX (a = 0) its support
  * point against face feat, OROW_SECTION (faces a < b, feat 0) its centre's
  * distance from their section vertex less the radius, OROW_ROD (feat 0) its
- * rim point nearest the axis (orows.c).
+ * rim point nearest the axis (obstacle_rows.c).
  * The gaps are those of contact_obstacle_rows (a vertex row's face distance
  * is computed as a stop's, so a one-face obstacle is its plane stop bit for
  * bit). */
-#ifndef EXDEX_OROWS_H
-#define EXDEX_OROWS_H
+#ifndef EXDEX_OBSTACLE_ROWS_H
+#define EXDEX_OBSTACLE_ROWS_H
 
 #include "contact.h"
 

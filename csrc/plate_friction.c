@@ -1,4 +1,4 @@
-/* friction.c -- the friction ellipsoid and its maximum-dissipation solve.
+/* plate_friction.c -- the friction ellipsoid and its maximum-dissipation solve.
  *
  * Plate friction at a patch (paper Eq. 6). The friction
  * impulse p = (p_x, p_y, p_r) of one implicit velocity-level step minimises

@@ -1,7 +1,7 @@
-/* sfric.c -- the acceleration-level contact problem of a planar object
- * against frictional stops (sfric.h): mode enumeration, each mode solved
+/* stop_friction.c -- the acceleration-level contact problem of a planar object
+ * against frictional stops (stop_friction.h): mode enumeration, each mode solved
  * exactly. */
-#include "sfric.h"
+#include "stop_friction.h"
 #include "ldp.h"
 #include "util.h"
 
@@ -75,7 +75,7 @@ static int rows_fix_qdd(int nr, const sf_row *rows, const double minv[3], double
     return 0;
 }
 
-/* A mode whose constraints fix qdd by themselves (a lock, sfric.h): qdd
+/* A mode whose constraints fix qdd by themselves (a lock, stop_friction.h): qdd
  * from sf_lock_solve (its constraints dependent but consistent to tol_a,
  * else no lock). The stop forces are then any
  * combination with coefficients c >= 0 of the mode's generators D_g (a
@@ -330,7 +330,7 @@ static int solve_enum(int nr, const sf_row *rows, int ns, const sf_stop *st, con
     /* the rows carrying force: every row first, then fewer (binary count
      * down); per row set, the stops' friction modes (mixed radix). With a
      * rolling stop, locks only after every other mode (two passes, see
-     * sfric.h); with every mode given, in the one order */
+     * stop_friction.h); with every mode given, in the one order */
     for (int j = 0; j < ns; j++) anyroll |= roll[j];
     for (int pass = anyroll ? 0 : 1; pass < 2; pass++)
     for (unsigned mask = (1u << nr) - 1u;; mask--) {
@@ -369,7 +369,7 @@ static double gdist2(const sf_row *p, const sf_row *q)
     return s;
 }
 
-/* The rows enumerated when there are more than SF_ENUM_ROWS (sfric.h) into
+/* The rows enumerated when there are more than SF_ENUM_ROWS (stop_friction.h) into
  * en, in increasing index; returns their count. A stop's rows are points
  * on one line with one normal n, so G_i = (n, arm_i) with the arm affine
  * in the point's place along the line: every G_i is a convex combination of

@@ -1,4 +1,4 @@
-/* sfric.h -- private to the exdex core: the acceleration-level contact
+/* stop_friction.h -- private to the exdex core: the acceleration-level contact
  * problem of a planar object against stops with Coulomb friction, for the
  * event-driven and regularised methods (hybrid.c). A "stop" here is a
  * friction group: a line of contact whose rows slip together (a stop, or
@@ -78,8 +78,8 @@
  * can have no consistent mode (Painleve: a sliding stop whose friction turns
  * the normal force's effect around) or several; the caller decides what to
  * do when none is found. */
-#ifndef EXDEX_SFRIC_H
-#define EXDEX_SFRIC_H
+#ifndef EXDEX_STOP_FRICTION_H
+#define EXDEX_STOP_FRICTION_H
 
 #define SF_ENUM_ROWS 8  /* up to this many rows every row's normal modes are enumerated (above: sf_solve) */
 #define SF_MAX_ROWS 256 /* rows: every contact row of a planar object (model.h's MAX_ROWS) */

@@ -1,7 +1,7 @@
-/* fcontact.c -- the velocity-level contact step with Coulomb friction at
- * the contact rows (fcontact.h): mode enumeration, each mode solved
+/* stop_impulse.c -- the velocity-level contact step with Coulomb friction at
+ * the contact rows (stop_impulse.h): mode enumeration, each mode solved
  * exactly. */
-#include "fcontact.h"
+#include "stop_impulse.h"
 #include "util.h"
 
 #include <float.h>

@@ -1,4 +1,4 @@
-/* fcontact.h -- private to the exdex core: the velocity-level (impulse)
+/* stop_impulse.h -- private to the exdex core: the velocity-level (impulse)
  * contact step with Coulomb friction at the contact rows, besides the plate
  * friction with its prescribed normal force. Pure numerics on ldp.h: no
  * model, no allocation, every loop bounded.
@@ -39,8 +39,8 @@
  * rows, at most FC_MAX_WIDE. In the plane at most 3 rows are independent,
  * and on one line G_i = (n, r_i x n) is affine in the point's place: an
  * impulse on an inner point is one on the two extremes. */
-#ifndef EXDEX_FCONTACT_H
-#define EXDEX_FCONTACT_H
+#ifndef EXDEX_STOP_IMPULSE_H
+#define EXDEX_STOP_IMPULSE_H
 
 #include "ldp.h"
 

@@ -1,4 +1,4 @@
-/* test_friction.c -- the friction ellipsoid (friction.c).
+/* test_plate_friction.c -- the friction ellipsoid (plate_friction.c).
  *
  * References, test by test:
  *   e_r            closed form 2R/3 (disc), the square's closed form

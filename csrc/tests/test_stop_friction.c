@@ -1,5 +1,5 @@
-/* test_sfric.c -- the acceleration-level problem of a planar object against
- * frictional stops (sfric.c) against closed forms, a Painleve configuration
+/* test_stop_friction.c -- the acceleration-level problem of a planar object against
+ * frictional stops (stop_friction.c) against closed forms, a Painleve configuration
  * with no consistent mode, and the slip acceleration of a vertex along a
  * stop (contact_slip_planar) and along an obstacle's section and rod rows
  * (orow_slip) against a central difference of the slip along a trajectory
@@ -7,8 +7,8 @@
 #include "check.h"
 #include "../contact.h"
 #include "../model.h"
-#include "../orows.h"
-#include "../sfric.h"
+#include "../obstacle_rows.h"
+#include "../stop_friction.h"
 
 #include <math.h>
 #include <string.h>
@@ -396,7 +396,7 @@ EXDEX_TEST(sfric_obstacle_row_slip_acceleration_matches_central_difference)
     exdex_model_free(m);
 }
 
-/* A disc outline's obstacle rows (orows.c): the rim point nearest a tilted
+/* A disc outline's obstacle rows (obstacle_rows.c): the rim point nearest a tilted
  * rod (an envelope over the rim angle) and the centre against a wedge's
  * section vertex, each with its feature held, along q(tau) = q0 + v0 tau +
  * qdd tau^2 / 2 in a turning gripper: the central differences of the gap

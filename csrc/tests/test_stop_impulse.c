@@ -1,10 +1,10 @@
-/* test_fcontact.c -- the velocity-level frictional contact step
- * (fcontact.c) against closed forms, and on seeded random problems against
+/* test_stop_impulse.c -- the velocity-level frictional contact step
+ * (stop_impulse.c) against closed forms, and on seeded random problems against
  * the conditions that define its solution, checked here independently of
  * the solver: the impulse balance, the plate's maximum dissipation, normal
  * complementarity, Coulomb's law at every row, and the energy inequality. */
 #include "check.h"
-#include "../fcontact.h"
+#include "../stop_impulse.h"
 
 #include <math.h>
 #include <string.h>

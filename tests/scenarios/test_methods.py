@@ -3,7 +3,7 @@ the Python API: the paper cases against their closed forms (exdex.paper),
 the regularised ODE against an independent stiff integrator (scipy Radau),
 an event-driven closed form with a stick event, the explicit scheme's own
 closed form and chatter, argument checks, and the numbers the C suite
-reports (csrc/tests/test_methods.c) recomputed through Python."""
+reports (csrc/tests/scenarios/test_methods.c) recomputed through Python."""
 import math
 import re
 
@@ -367,7 +367,7 @@ def test_event_zeno_like_toggling_raises_solver_error():
         exdex.simulate(scene, 1.0, 1.0, method="event")
 
 
-# --- numbers reported by csrc/tests/test_methods.c, recomputed via Python ---
+# --- numbers reported by csrc/tests/scenarios/test_methods.c, recomputed via Python ---
 
 def _c_values(stdout):
     return {m.group(1): float(m.group(2)) for m in re.finditer(r"^VALUE (\S+) (\S+)$", stdout, re.M)}

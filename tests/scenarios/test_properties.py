@@ -135,7 +135,7 @@ def test_friction_step_never_adds_energy(prob):
     of the scaled form: every y_i = (p_i / e_i) / cap carries 2 roundings, the
     norm of 3 terms 3 more (relative to |y|), so a p exactly on the
     ellipsoid evaluates to 1 + 5 eps; p itself is put on the ellipsoid by
-    friction.c to about 3 eps (n computed, then p /= n), and a component p_i
+    plate_friction.c to about 3 eps (n computed, then p /= n), and a component p_i
     that is subnormal (cap >= DBL_MIN, e_i >= 1e-3 here) is off by at most
     half the subnormal spacing 2^-1075, i.e. |y| by 3 2^-1075 / (e_min cap)
     <= 3e3 2^-53 = 3.3e-13 relative. The allowance 1e-9 covers all of it

@@ -1,11 +1,11 @@
 /* test_disc.c -- disc outlines (exdex_scene_def.disc_radius): a disc against
  * stops and obstacles in every method that solves them. Every expected value
  * is a closed form stated beside it. */
-#include "check.h"
-#include "sim_run.h"
-#include "../contact.h"
-#include "../exdex.h"
-#include "../model.h"
+#include "../check.h"
+#include "../sim_run.h"
+#include "../../contact.h"
+#include "../../exdex.h"
+#include "../../model.h"
 
 #include <math.h>
 #include <string.h>

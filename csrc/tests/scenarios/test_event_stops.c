@@ -12,8 +12,8 @@
  * within 100 rtol L (L the scene's length; an angle counts as the
  * displacement of the farthest vertex) of the run at rtol 1e-11 on
  * t_end / 64, with no warnings. */
-#include "check.h"
-#include "sim_run.h"
+#include "../check.h"
+#include "../sim_run.h"
 
 #include <math.h>
 #include <string.h>

@@ -1,4 +1,4 @@
-/* test_fimpact.c -- impacts on frictional stops in the event and
+/* test_frictional_impacts.c -- impacts on frictional stops in the event and
  * regularised methods (hybrid.c: sf_impact for planar scenes,
  * impact_impulse_1dof for 1-DoF scenes) against the closed form of the
  * impulse-level law: plastic, Coulomb friction at the stop, no plate
@@ -6,9 +6,9 @@
  * 0):
  *     M (v+ - v-) = G Pn + T Pt,  G v+ = b,  |Pt| <= mu Pn,
  *     Pt = -mu Pn sign(T v+ + tb) where that slip is not 0. */
-#include "check.h"
-#include "sim_run.h"
-#include "../exdex.h"
+#include "../check.h"
+#include "../sim_run.h"
+#include "../../exdex.h"
 
 #include <math.h>
 #include <string.h>

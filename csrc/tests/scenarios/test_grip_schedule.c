@@ -1,13 +1,13 @@
-/* test_grip.c -- grip-force schedules (exdex_scene_def.grip_n): validation,
+/* test_grip_schedule.c -- grip-force schedules (exdex_scene_def.grip_n): validation,
  * the force and its rate through exdex_model_grip, and closed-form runs of
  * a 1-DoF vertical slide under gravity with every method.
  *
  * Scene: translation along B's y (up), gripper at rest, gravity g down,
  * mass m, mu, two fingers: the capacity is C(t) = 2 mu F(t) and
  *     m s'' = -m g + f,   |f| <= C(t),   f = C(t) while sliding down. */
-#include "check.h"
-#include "sim_run.h"
-#include "../exdex.h"
+#include "../check.h"
+#include "../sim_run.h"
+#include "../../exdex.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -229,7 +229,7 @@ EXDEX_TEST(grip_step_release_regrip_closed_form)
  * switching time (a grid chosen to land on it), and jumps back in time (a
  * restored state): every sub-step must be the full search's, bit for bit;
  * and exdex_motion_next_switch is the first listed switch above lo. */
-#include "../model.h"
+#include "../../model.h"
 #include <gsl/gsl_rng.h>
 
 EXDEX_TEST(grip_substep_whole_step_test_equals_full_search)

@@ -4,9 +4,9 @@
  * Every expected value is a closed form written here (or in
  * tests/data/reference.dat), a bound derived here, or an independent
  * method; never an output of the code under test. */
-#include "check.h"
-#include "sim_run.h"
-#include "../exdex.h"
+#include "../check.h"
+#include "../sim_run.h"
+#include "../../exdex.h"
 
 #include <float.h>
 #include <math.h>

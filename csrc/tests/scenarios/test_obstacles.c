@@ -1,9 +1,9 @@
 /* test_obstacles.c -- convex obstacles fixed in the world (contact.c): their
  * section by the plate plane, and the implicit method against them. Every
  * expected value is a closed form stated beside it. */
-#include "check.h"
-#include "sim_run.h"
-#include "../exdex.h"
+#include "../check.h"
+#include "../sim_run.h"
+#include "../../exdex.h"
 
 #include <math.h>
 #include <stdlib.h>

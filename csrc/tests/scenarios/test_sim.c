@@ -1,9 +1,9 @@
 /* test_sim.c -- the relative dynamics (model.c) and the implicit method (implicit.c).
  * Every expected value is a closed form stated beside it (or in
  * tests/data/reference.dat), never an output of the code under test. */
-#include "check.h"
-#include "sim_run.h"
-#include "../exdex.h"
+#include "../check.h"
+#include "../sim_run.h"
+#include "../../exdex.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -1,9 +1,9 @@
 /* test_stop_friction.c -- Coulomb friction at the stops (stop_mu) through
  * the public API: a 1-DoF closed form with every method that supports it,
  * and the named rejections. */
-#include "check.h"
-#include "sim_run.h"
-#include "../exdex.h"
+#include "../check.h"
+#include "../sim_run.h"
+#include "../../exdex.h"
 
 #include <math.h>
 #include <string.h>

@@ -9,9 +9,9 @@
  * carries no force and the motion is the one with that stop removed:
  *     stop_force[., 1] == 0, stop_force[., 0] == the one-stop scene's force,
  * and the same trajectory. */
-#include "check.h"
-#include "sim_run.h"
-#include "../exdex.h"
+#include "../check.h"
+#include "../sim_run.h"
+#include "../../exdex.h"
 
 #include <math.h>
 
