@@ -19,6 +19,8 @@ same methods, an independent loop); closed forms for the controllers:
   sin theta_c) says; the controller closes when that stop falls on the
   target (one step of look-ahead), so it ends within about one step's
   rotation w dt of the target, and then sticks (C > m g arm).
+
+Its twin in the C suite (same subject, tested on the C API): csrc/tests/test_stepper.c.
 """
 from __future__ import annotations
 

@@ -10,6 +10,8 @@ is A's x, B's y axis is A's z (up), B's z axis is -A's y; gravity (0, 0,
 A disc of radius R about its centre c touches a stop at its support point
 c - R n (n the stop's unit normal in the plate plane): the gap is n . c - R
 (relative to the stop's line), whatever the disc's orientation.
+
+Its twin in the C suite (same subject, tested on the C API): csrc/tests/scenarios/test_disc.c.
 """
 import math
 import warnings

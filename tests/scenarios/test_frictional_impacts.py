@@ -17,6 +17,8 @@ methods apply it at the located impact time.
 
 Frames: ``gripper_rotation`` is the identity here, so B's axes are A's and
 the plate plane is A's xy plane.
+
+Its twin in the C suite (same subject, tested on the C API): csrc/tests/scenarios/test_frictional_impacts.c.
 """
 import math
 import warnings

@@ -6,6 +6,8 @@ Reference values are closed forms, derived in each test's docstring, on the
 g down, mass m, two fingers, so that while the object slides down
     m s'' = -m g + C(t),
 and it sticks (s' = 0 exactly) while m g <= C(t).
+
+Its twin in the C suite (same subject, tested on the C API): csrc/tests/scenarios/test_grip_schedule.c.
 """
 import dataclasses
 import math

@@ -3,7 +3,10 @@ the Python API: the paper cases against their closed forms (exdex.paper),
 the regularised ODE against an independent stiff integrator (scipy Radau),
 an event-driven closed form with a stick event, the explicit scheme's own
 closed form and chatter, argument checks, and the numbers the C suite
-reports (csrc/tests/scenarios/test_methods.c) recomputed through Python."""
+reports (csrc/tests/scenarios/test_methods.c) recomputed through Python.
+
+Its twin in the C suite (same subject, tested on the C API): csrc/tests/scenarios/test_methods.c.
+"""
 import math
 import re
 

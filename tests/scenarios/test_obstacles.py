@@ -6,6 +6,8 @@ Reference values come from independent computations written here (SciPy's
 half-space intersection, a brute-force pairwise intersection of the face
 lines, the tangency of the outline to a rod in closed form) or from the
 equivalent plane stop, never from the code under test.
+
+Its twin in the C suite (same subject, tested on the C API): csrc/tests/scenarios/test_obstacles.c.
 """
 import dataclasses
 import math

@@ -15,6 +15,8 @@ object (mass m) then feels the load Q(t) = -m a0(t) along the axis, and
     sliding:   m s'' = Q - sign(s') Ck,
 with the switching times roots of linear or quadratic equations (Q is
 linear in each piece).
+
+Its twin in the C suite (same subject, tested on the C API): csrc/tests/scenarios/test_static_friction.c.
 """
 import math
 

@@ -7,6 +7,8 @@ is A's x, B's y axis is A's z (up), B's z axis is -A's y; gravity (0, 0,
 (n_x, n_y) in the plate plane; its tangent there is t = e_z x n = (-n_y,
 n_x). Stops are fixed in A, so a gripper moving past a stop slides the
 touching vertex along it.
+
+Its twin in the C suite (same subject, tested on the C API): csrc/tests/scenarios/test_stop_friction.c.
 """
 import math
 

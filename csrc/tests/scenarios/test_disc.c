@@ -1,6 +1,8 @@
 /* test_disc.c -- disc outlines (exdex_scene_def.disc_radius): a disc against
  * stops and obstacles in every method that solves them. Every expected value
- * is a closed form stated beside it. */
+ * is a closed form stated beside it.
+ * Its twin through the Python API (same subject, other side of the core): tests/scenarios/test_disc.py.
+ */
 #include "../check.h"
 #include "../sim_run.h"
 #include "../../contact.h"

@@ -5,7 +5,9 @@
  * impulse (the plates' friction is bounded; its impulse over an impact is
  * 0):
  *     M (v+ - v-) = G Pn + T Pt,  G v+ = b,  |Pt| <= mu Pn,
- *     Pt = -mu Pn sign(T v+ + tb) where that slip is not 0. */
+ *     Pt = -mu Pn sign(T v+ + tb) where that slip is not 0.
+ * Its twin through the Python API (same subject, other side of the core): tests/scenarios/test_frictional_impacts.py.
+ */
 #include "../check.h"
 #include "../sim_run.h"
 #include "../../exdex.h"

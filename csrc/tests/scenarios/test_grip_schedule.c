@@ -4,7 +4,9 @@
  *
  * Scene: translation along B's y (up), gripper at rest, gravity g down,
  * mass m, mu, two fingers: the capacity is C(t) = 2 mu F(t) and
- *     m s'' = -m g + f,   |f| <= C(t),   f = C(t) while sliding down. */
+ *     m s'' = -m g + f,   |f| <= C(t),   f = C(t) while sliding down.
+ * Its twin through the Python API (same subject, other side of the core): tests/scenarios/test_grip_schedule.py.
+ */
 #include "../check.h"
 #include "../sim_run.h"
 #include "../../exdex.h"

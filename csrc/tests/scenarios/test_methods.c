@@ -3,7 +3,9 @@
  * boundaries derived below, and observed orders of convergence.
  * Every expected value is a closed form written here (or in
  * tests/data/reference.dat), a bound derived here, or an independent
- * method; never an output of the code under test. */
+ * method; never an output of the code under test.
+ * Its twin through the Python API (same subject, other side of the core): tests/scenarios/test_methods.py.
+ */
 #include "../check.h"
 #include "../sim_run.h"
 #include "../../exdex.h"

@@ -1,6 +1,8 @@
 /* test_obstacles.c -- convex obstacles fixed in the world (contact.c): their
  * section by the plate plane, and the implicit method against them. Every
- * expected value is a closed form stated beside it. */
+ * expected value is a closed form stated beside it.
+ * Its twin through the Python API (same subject, other side of the core): tests/scenarios/test_obstacles.py.
+ */
 #include "../check.h"
 #include "../sim_run.h"
 #include "../../exdex.h"

@@ -1,7 +1,9 @@
 /* test_static_friction.c -- static and kinetic friction (exdex_scene_def.mu_static):
  * the input check, closed forms of a stick after a slip and of a breakaway
  * in every method, and mu_static = mu giving the one-coefficient results
- * bit for bit. */
+ * bit for bit.
+ * Its twin through the Python API (same subject, other side of the core): tests/scenarios/test_static_friction.py.
+ */
 #include "../check.h"
 #include "../sim_run.h"
 

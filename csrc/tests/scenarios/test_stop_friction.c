@@ -1,6 +1,8 @@
 /* test_stop_friction.c -- Coulomb friction at the stops (stop_mu) through
  * the public API: a 1-DoF closed form with every method that supports it,
- * and the named rejections. */
+ * and the named rejections.
+ * Its twin through the Python API (same subject, other side of the core): tests/scenarios/test_stop_friction.py.
+ */
 #include "../check.h"
 #include "../sim_run.h"
 #include "../../exdex.h"
