@@ -63,8 +63,8 @@ def test_mypy_rejects_wrong_calls(cache):
 
 def _public_callables():
     modules = {m: m.__all__ for m in [exdex] + [importlib.import_module(f"exdex.{n}")
-                                               for n in ("scene", "simulate", "batch", "paper", "tool", "plan",
-                                                         "fit", "sequence")]}
+                                               for n in ("scene", "simulate", "batch", "studies.paper", "design.tool",
+                                                         "design.plan", "design.fit", "design.sequence")]}
     skip = {"add_arguments", "run"}  # command-line plumbing of `exdex paper` / `exdex tool`
     seen = {}
     for mod, names in modules.items():
