@@ -104,9 +104,10 @@
  *   rk8pd's step across one has a local error set by where the knot falls
  *   in it (the order lost), so the global error summed over a log's
  *   hundreds of knots scatters by 10x from one rtol or last bit of the
- *   data to the next instead of falling with rtol (zoo_inputs 795: 7e-9 ..
- *   7e-8 L at rtol 1e-9 over inputs a few ulps apart; 3e-11 L with the
- *   steps ending at knots, in fewer steps). Fails by Zeno-like toggling: a
+ *   data to the next instead of falling with rtol (zoo_inputs 795, 335
+ *   knots: 6.9e-9 .. 1.2e-7 L at rtol 1e-9 over logs a few ulps apart;
+ *   2.6e-11 .. 3.3e-11 L with the steps ending at knots, in 377 steps
+ *   instead of 923). Fails by Zeno-like toggling: a
  *   load that crosses the friction limit N times costs 2N events, and more
  *   than EVENTS_MAX events within one output interval return EXDEX_ENOCONV.
  *
