@@ -38,7 +38,7 @@ fi
 if [ "$(uname -m)" = x86_64 ] && [ $# -eq 0 ]; then
   echo "== pytest, log scenes on NumPy's baseline SIMD path (NPY_DISABLE_CPU_FEATURES)"
   NPY_DISABLE_CPU_FEATURES="X86_V3 X86_V4 AVX512_ICL" .venv/bin/python -m pytest -q -p no:cacheprovider \
-    tests/test_sampled.py "tests/test_zoo_inputs.py::test_event_sliding_contact_with_an_obstacle_holds_through_decisions" \
+    tests/scenarios/test_sampled.py "tests/scenarios/test_zoo_inputs.py::test_event_sliding_contact_with_an_obstacle_holds_through_decisions" \
     || exit 1
 fi
 exit 0
