@@ -34,6 +34,17 @@ if [ $rc -eq 5 ]; then
   echo "pytest collected no tests: that is a failure of the suite, not a pass" >&2
   rc=1
 fi
+# NumPy's SIMD paths round some ufuncs differently in the last bit (x ** 3 in
+# the zoo's sampled logs), so another CPU draws the same seeds 1 ulp apart:
+# the tests on log scenes run again without AVX2/AVX-512 (a no-op where
+# the CPU lacks them), an assertion that passes only by one machine's last
+# bits fails here
+if [ "$(uname -m)" = x86_64 ] && [ $# -eq 0 ]; then
+  echo "== pytest, log scenes on NumPy's baseline SIMD path (NPY_DISABLE_CPU_FEATURES)"
+  NPY_DISABLE_CPU_FEATURES="X86_V3 X86_V4 AVX512_ICL" .venv/bin/python -m pytest -q -p no:cacheprovider \
+    tests/scenarios/test_sampled.py "tests/scenarios/test_zoo_inputs.py::test_event_sliding_contact_with_an_obstacle_holds_through_decisions" \
+    || rc=1
+fi
 
 echo "== C suite under AddressSanitizer + UndefinedBehaviorSanitizer, and under valgrind memcheck (zero errors, zero leaks)"
 wait $c_pid

@@ -274,13 +274,21 @@ int exdex_motion_jumps(const exdex_motion *m, double t[EXDEX_MOTION_MAX_JUMPS],
 /* Switching times [s] of the motion, increasing: where its acceleration or
  * velocity may be discontinuous (Eq. 7: beta T, (2 - beta) T, 2T; trapezoid:
  * the ramp ends and T; sampled: the first and last sample times; shake: D;
- * chain: above; rest: none). Between two of them the kinematics are smooth. Returns their
+ * chain: above; rest: none). Between two of them the kinematics are smooth,
+ * except at a sampled log's knots (exdex_motion_next_knot). Returns their
  * number (0 .. EXDEX_MOTION_MAX_SWITCHES). */
 #define EXDEX_MOTION_MAX_SWITCHES (4 * EXDEX_MOTION_MAX_PIECES)
 int exdex_motion_switches(const exdex_motion *m, double ts[EXDEX_MOTION_MAX_SWITCHES]);
 /* The first of exdex_motion_switches' times above lo, INFINITY if none:
  * the same time, found without building the list. */
 double exdex_motion_next_switch(const exdex_motion *m, double lo);
+/* The first knot of the motion above t, INFINITY if none: a sampled log's
+ * sample times (inside a chain: those of the sampled piece holding t, at
+ * their chain times). Its clamped cubic splines are C2 there, and their
+ * third derivative jumps, so the kinematics are smooth between two knots
+ * (and the switching times), not across one: an adaptive integrator's step
+ * that straddles a knot loses its order there. */
+double exdex_motion_next_knot(const exdex_motion *m, double t);
 
 /* Scalar profiles: position s, velocity sd, acceleration sdd at time t.
  * Before 0: s = sd = sdd = 0; after the end: at rest at the end value. */

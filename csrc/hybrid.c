@@ -98,7 +98,16 @@
  *   motion's own switching times (Eq. 7, trapezoid kinks, end of a sampled
  *   motion) and the breakpoints of a grip schedule are stepped onto, never
  *   over, and velocity jumps of the gripper
- *   there are applied as inertial impulses. Fails by Zeno-like toggling: a
+ *   there are applied as inertial impulses. A sampled motion's knots (its
+ *   sample times, exdex_motion_next_knot) end steps too, with no decision
+ *   (the kinematics are C2 there): the gripper's jerk jumps at a knot, and
+ *   rk8pd's step across one has a local error set by where the knot falls
+ *   in it (the order lost), so the global error summed over a log's
+ *   hundreds of knots scatters by 10x from one rtol or last bit of the
+ *   data to the next instead of falling with rtol (zoo_inputs 795, 335
+ *   knots: 6.9e-9 .. 1.2e-7 L at rtol 1e-9 over logs a few ulps apart;
+ *   2.6e-11 .. 3.3e-11 L with the steps ending at knots, in 377 steps
+ *   instead of 923). Fails by Zeno-like toggling: a
  *   load that crosses the friction limit N times costs 2N events, and more
  *   than EVENTS_MAX events within one output interval return EXDEX_ENOCONV.
  *
@@ -3195,6 +3204,7 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
             H.lo = k ? ts[k - 1] : 0.0;
             H.hi = k < nsw ? ts[k] : INFINITY;
             tstop = fmin(ti, H.hi);
+            tstop = fmin(tstop, exdex_motion_next_knot(m->motion, t));  /* a step ends at a knot: header */
             if (nd == 3 && H.mode == MODE_SLIP && law == LAW_COULOMB &&
                 (y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0)) {
                 double u[3];

@@ -1007,6 +1007,43 @@ double exdex_motion_next_switch(const exdex_motion *m, double lo)
     return a < n ? list[a] : INFINITY;
 }
 
+/* The first knot of a sampled log's splines above t (exdex.h), on the
+ * motion's own time: its sample times, t_first for t before it, INFINITY
+ * from t_last on. */
+static double sampled_next_knot(const exdex_motion *m, double t)
+{
+    size_t lo = 0, hi = m->n - 1;
+    if (!(t < m->t_last)) return INFINITY;
+    if (t < m->t_first) return m->t_first;
+    while (hi - lo > 1) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (m->tk[mid] <= t) lo = mid;
+        else hi = mid;
+    }
+    return m->tk[hi];
+}
+
+double exdex_motion_next_knot(const exdex_motion *m, double t)
+{
+    int i = 0;
+    double u, k;
+    if (!m) return INFINITY;
+    if (m->kind == EXDEX_MOTION_SAMPLED) return sampled_next_knot(m, t);
+    if (m->kind != EXDEX_MOTION_CHAIN) return INFINITY;
+    /* the piece holding t (as eval_chain), a sampled one's knots on its
+     * own time u = t - T_i + o_i mapped to chain time; its end T_i+1 is a
+     * switching time */
+    while (i + 1 < m->np && t >= m->T0[i + 1]) i++;
+    if (m->piece[i]->kind != EXDEX_MOTION_SAMPLED) return INFINITY;
+    u = t - m->T0[i] + m->origin[i];
+    for (k = sampled_next_knot(m->piece[i], u); isfinite(k); k = sampled_next_knot(m->piece[i], k)) {
+        double tc = chain_time(m, i, k);
+        if (!(tc < m->T0[i + 1])) break;
+        if (tc > t) return tc;  /* the rounding of u may put t at or past it */
+    }
+    return INFINITY;
+}
+
 /* ------------------------------------------------------------ evaluation */
 
 static int eval_sampled(const exdex_motion *m, double t, exdex_kinematics *k)

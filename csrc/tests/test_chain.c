@@ -232,3 +232,51 @@ EXDEX_TEST(chain_position_jump_and_bad_pieces)
     d.pieces = NULL;
     ENSURE(exdex_motion_alloc(&d, NULL, NULL, &status, &bad) == NULL && strcmp(bad, "motion.pieces") == 0);
 }
+
+/* A sampled log's knots (exdex_motion_next_knot) are its sample times: the
+ * first one above t, the first sample before it, none from the last on;
+ * inside a chain the running log piece's, at chain time T_i + (t_k - o_i)
+ * (its origin o_i the first sample), up to the piece's end (a switching
+ * time, not a knot); other motions have none. */
+EXDEX_TEST(sampled_and_chain_knots)
+{
+    exdex_motion_def pc[3], d = piece(EXDEX_MOTION_CHAIN), log = piece(EXDEX_MOTION_SAMPLED);
+    double times[4] = {5.0, 5.5, 6.0, 6.5}, poses[28];
+    exdex_motion *m;
+    const char *bad = NULL;
+    int status;
+    memset(poses, 0, sizeof poses);
+    for (int i = 0; i < 4; i++) poses[7 * i + 3] = 1.0;
+    log.n_samples = 4; log.times = times; log.poses = poses;
+    m = exdex_motion_alloc(&log, NULL, NULL, &status, &bad);
+    ENSURE(m != NULL);
+    ENSURE(exdex_motion_next_knot(m, 4.0) == 5.0);
+    ENSURE(exdex_motion_next_knot(m, 5.0) == 5.5);
+    ENSURE(exdex_motion_next_knot(m, 5.2) == 5.5);
+    ENSURE(exdex_motion_next_knot(m, 5.5) == 6.0);
+    ENSURE(exdex_motion_next_knot(m, 6.4) == 6.5);
+    ENSURE(isinf(exdex_motion_next_knot(m, 6.5)) && isinf(exdex_motion_next_knot(m, 7.0)));
+    exdex_motion_free(m);
+    /* a pause of 1 s, the log (from its first sample), a pause: chain knots
+     * at 1.5 and 2.0 s, the log's end 2.5 s a piece boundary */
+    pc[0] = piece(EXDEX_MOTION_REST);
+    pc[0].duration = 1.0;
+    pc[1] = log;
+    pc[1].relative = 1;
+    pc[2] = pc[0];
+    d.n_pieces = 3;
+    d.pieces = pc;
+    m = exdex_motion_alloc(&d, NULL, NULL, &status, &bad);
+    ENSURE(m != NULL);
+    ENSURE(isinf(exdex_motion_next_knot(m, 0.5)));
+    ENSURE(exdex_motion_next_knot(m, 1.0) == 1.5);
+    ENSURE(exdex_motion_next_knot(m, 1.7) == 2.0);
+    ENSURE(isinf(exdex_motion_next_knot(m, 2.0)) && isinf(exdex_motion_next_knot(m, 3.0)));
+    exdex_motion_free(m);
+    d = piece(EXDEX_MOTION_SHAKE);
+    d.amplitude = 0.01; d.frequency = 2.0; d.duration = 1.0;
+    m = exdex_motion_alloc(&d, NULL, NULL, &status, &bad);
+    ENSURE(m != NULL && isinf(exdex_motion_next_knot(m, 0.1)));
+    exdex_motion_free(m);
+    ENSURE(isinf(exdex_motion_next_knot(NULL, 0.0)));
+}

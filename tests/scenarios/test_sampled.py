@@ -14,6 +14,7 @@ import pytest
 
 import exdex
 from exdex.scene import DEFAULT_GRIPPER_ROTATION, _quat_from_matrix
+from exdex.diagnostics import PhysicsWarning
 from exdex.simulate import GripperJumpWarning
 
 METHODS = ("implicit", "event", "regularised", "explicit")
@@ -662,3 +663,63 @@ def test_planar_slip_after_a_jump_between_grid_points_against_scipy():
         errs.append(np.max(np.abs(r.pose[-1] - q0 - d_ref) / np.abs(d_ref)))
     assert errs[0] <= 1e-3, errs
     assert errs[2] <= 0.5 * errs[0], errs
+
+
+# ---------------------------------------------------------------- knots
+
+def _two_move_log(t_first=0.0):
+    """A robot log of the kind tests/zoo.py draws: held, two minimum-jerk
+    moves of the gripper (no turn) with holds between and after, 161
+    samples over 0.4 s (400 per second), so its clamped cubic splines have
+    159 interior knots, where the gripper's jerk jumps."""
+    t = np.linspace(0.0, 0.4, 161)
+
+    def blend(s):
+        s = np.clip(s, 0.0, 1.0)
+        return s**3 * (10.0 - 15.0 * s + 6.0 * s * s)
+
+    pos = (np.array([0.1, 0.2, 0.3]) + np.outer(blend((t - 0.02) / 0.18), [0.03, -0.02, 0.05])
+           + np.outer(blend((t - 0.22) / 0.15), [-0.04, 0.01, 0.02]))
+    return exdex.SampledTrajectory(t + t_first, pos, np.tile(Q0, (len(t), 1)))
+
+
+@pytest.mark.parametrize("kind", ["log", "chain"])
+def test_free_flight_under_a_log_is_exact_at_every_rtol(kind):
+    """mu = 0, planar: the object flies free in the plate plane while the
+    gripper follows a log (_two_move_log; chain: the same log between two
+    pauses, its knots at chain times). The gripper does not turn, so in the
+    world the object's in-plane motion is a parabola, x(t) = x0 + v0 t +
+    g t^2 / 2 with x0 = p(0) + R0 q0 and v0 = R0 v0_rel (the log starts at
+    rest), and it spins at its initial rate; its relative pose at t_end is
+    R0^T (x(t_end) - p(t_end)), p(t_end) the last sample (the log ends at
+    rest and holds it): a closed form of the data, whatever the spline does
+    in between. Integrated by the event method, the relative acceleration
+    R0^T (g - a(t)) is the spline's, piecewise linear in t with a kink at
+    every knot: rk8pd integrates it exactly on a step inside one piece (an
+    8th-order method, a polynomial of degree 1), so with its steps ending
+    at the knots the answer is the closed form to rounding at every rtol.
+    A step across a knot loses the order there, its error set by where the
+    knot falls in it: before steps ended at knots this scene was off by
+    3.4e-8, 1.3e-8, 1.2e-9, 4.0e-10 m at rtol 1e-8 .. 1e-11 (output t_end
+    / 8; t_end / 64: 9.2e-9, 7.5e-9, 2.8e-9, 1.4e-11 m), the sum of such
+    errors over the log's knots, in 612 .. 1550 steps (now 165 .. 220).
+    Bound: 1e-13 m, ~100 ulps of the 1.2 m flown."""
+    log = _two_move_log()
+    motion, t0 = log, 0.0
+    if kind == "chain":
+        motion, t0 = exdex.Chain((exdex.Pause(0.03), _two_move_log(t_first=0.2), exdex.Pause(0.05))), 0.03
+    p = np.array(log.positions)
+    g = np.array([1.1, -0.7, -9.7])
+    q0, v0 = np.array([0.002, -0.001, 0.3]), np.array([0.01, -0.02, 1.5])
+    sc = exdex.Scene(body=exdex.Body.box(0.05, (0.02, 0.015, 0.01)), grasp=exdex.Grasp(mu=0.0, grip_force=1.0),
+                     motion=motion, dof="planar", q0=tuple(q0), v0=tuple(v0), gravity=tuple(g),
+                     gripper_rotation=DEFAULT_GRIPPER_ROTATION, gripper_position=tuple(p[0]))
+    T = 0.5
+    x = p[0] + R0 @ np.array([q0[0], q0[1], 0.0]) + R0 @ np.array([v0[0], v0[1], 0.0]) * T + 0.5 * g * T * T
+    exact = np.array([*(R0.T @ (x - p[-1]))[:2], q0[2] + v0[2] * T])
+    assert T > t0 + 0.4   # the log has ended and holds its last sample
+    for n_out in (8, 64):
+        for rtol in (1e-8, 1e-9, 1e-10, 1e-11):
+            with pytest.warns(PhysicsWarning, match="outside the body outline"):  # it flies off the pads
+                r = run(sc, T, T / n_out, "event", rtol=rtol, atol=1e-3 * rtol)
+            assert np.max(np.abs(r.pose[-1] - exact)) <= 1e-13, (n_out, rtol, r.pose[-1] - exact)
