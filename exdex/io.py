@@ -89,8 +89,8 @@ __all__ = ["SCHEMA_VERSION", "save_scene", "load_scene", "load_simulate_options"
            "scene_from_dict", "dumps", "loads"]
 
 #: Version of the scene-file schema written by :func:`save_scene`.
-SCHEMA_VERSION = 1
-SUPPORTED_SCHEMAS = (1,)
+SCHEMA_VERSION = 2
+SUPPORTED_SCHEMAS = (1, 2)
 
 def _motion_classes() -> Dict[str, type]:
     """Every gripper motion class (the subclasses of the scenes' motion base), by name."""
@@ -231,8 +231,12 @@ def _grip(data, where):
     return data
 
 
+def _pad(data, where):
+    return _build(_scene.Pad, data, where)
+
+
 def _grasp(data, where):
-    return _build(_scene.Grasp, data, where, nested={"patch": _patch, "grip_force": _grip})
+    return _build(_scene.Grasp, data, where, nested={"patch": _patch, "grip_force": _grip, "pad": _pad})
 
 
 def _body(data, where):
@@ -268,6 +272,8 @@ def scene_from_dict(data: Mapping[str, Any], where: str = "scene") -> _scene.Sce
     """An :class:`exdex.Scene` from the plain data of :func:`scene_to_dict`
     (a ``simulate`` table, if present, is checked and ignored)."""
     _check_schema(data, where)
+    if data["schema"] == 1 and isinstance(data.get("grasp"), dict) and "pad" in data["grasp"]:
+        raise ValueError(f"unknown key in {where}.grasp: 'pad' (pads on the fingers need schema 2)")
     body = {k: v for k, v in data.items() if k not in ("schema", "simulate")}
     if "simulate" in data:
         _simulate_options(data["simulate"], f"{where}.simulate")
