@@ -23,7 +23,8 @@
  * the boundary forms of F, G and Phi over the circle are
  *   F   = (R/3) (4 R s E + 16 R rho^2 T / s),
  *   G   = -(16 R^2 T / s) d,
- *   Phi = 2 (s E + (R - rho) K).
+ *   Phi = 2 (s E + (R - rho) K),
+ *   H   = grad_c G + Phi I  (G's derivative with dT/dm from those of K, E).
  * (G by parts: Int |x| cos(theta) dtheta = -R rho Int sin^2 / |x| dtheta.)
  * For k^2 < 1/2 (rho < 0.17 R or rho > 5.8 R) K, E and T come from their
  * hypergeometric series (the closed form of T cancels there), with
@@ -191,31 +192,36 @@ static void poly_moments(const region *rg, const double c[2], region_moments *ou
 
 /* ------------------------------------------------------------ disc */
 
-/* K, E and T of k^2 = k2 (1 - k^2 = kp2, given separately). */
-static int disc_kernels(double k2, double kp2, double *K, double *E, double *T)
+/* K, E, T and dT = dT/dm (m = k^2; NaN at m = 1, where it diverges like
+ * K) of k^2 = k2, 1 - k^2 = kp2 (given separately). */
+static int disc_kernels(double k2, double kp2, double *K, double *E, double *T, double *dT)
 {
     if (k2 < 0.5) {
         /* series: a_n = (2n-1)!!/(2n)!!, a_(n+1) = a_n (2n+1)/(2n+2) */
-        double a = 1.0, p = 1.0, sk = 0.0, se = 0.0, st = 0.0;
+        double a = 1.0, p = 1.0, pm = 0.0, sk = 0.0, se = 0.0, st = 0.0, sd = 0.0;
         for (int n = 0; n < REGION_SERIES_MAX; n++) {
             double an1 = a * (2.0 * n + 1.0) / (2.0 * n + 2.0);
             double tk = a * a * p;
             sk += tk;
             se += tk / (1.0 - 2.0 * n);
             st += a * an1 * p / (2.0 * n + 4.0);
+            sd += n * a * an1 * pm / (2.0 * n + 4.0);
             if (tk < 1e-18 * sk) break;
             a = an1;
+            pm = p;
             p *= k2;
         }
         *K = 0.5 * PI * sk;
         *E = 0.5 * PI * se;
         *T = 0.5 * PI * st;
+        *dT = 0.5 * PI * sd;
         return EXDEX_OK;
     }
     if (!(kp2 > 1e-300)) {
         *K = INFINITY;
         *E = 1.0;
         *T = 1.0 / 3.0;
+        *dT = NAN;
         return EXDEX_OK;
     }
     gsl_sf_result rf, rd;
@@ -224,6 +230,11 @@ static int disc_kernels(double k2, double kp2, double *K, double *E, double *T)
     *K = rf.val;
     *E = rf.val - k2 / 3.0 * rd.val;
     *T = ((2.0 - k2) * *E - 2.0 * kp2 * *K) / (3.0 * k2 * k2);
+    /* dT/dm from dE/dm = (E - K) / (2m), 2 (1 - m) dK/dm = (E - (1 - m) K) / m */
+    {
+        double m = k2, N = -*E + (2.0 - m) * (*E - *K) / (2.0 * m) + 2.0 * *K - (*E - kp2 * *K) / m;
+        *dT = N / (3.0 * m * m) - 2.0 * *T / m;
+    }
     return EXDEX_OK;
 }
 
@@ -231,14 +242,22 @@ static int disc_moments(const region *rg, const double c[2], region_moments *out
 {
     double R = rg->r, dx = c[0] - rg->c[0], dy = c[1] - rg->c[1], rho = hypot(dx, dy);
     double s = R + rho, q = (R - rho) / s;
-    double k2 = 4.0 * (R / s) * (rho / s), kp2 = q * q, K, E, T;
-    int st = disc_kernels(k2, kp2, &K, &E, &T);
+    double k2 = 4.0 * (R / s) * (rho / s), kp2 = q * q, K, E, T, dT;
+    int st = disc_kernels(k2, kp2, &K, &E, &T, &dT);
     if (st != EXDEX_OK) return st;
     out->F = (R / 3.0) * (4.0 * R * s * E + 16.0 * R * (rho / s) * rho * T);
-    double g = -16.0 * R * (R / s) * T;
-    out->G[0] = g * dx, out->G[1] = g * dy;
+    /* G = -gam d, gam(rho) = 16 R^2 T / s; grad_c G = -gam I - gam' d d^T / rho,
+     * gam' = 16 R^2 (T'(m) m'(rho) / s - T / s^2), m' = 4 R (R - rho) / s^3
+     * (T' grows like K near the rim, where m' vanishes: the product -> 0) */
+    double gam = 16.0 * R * (R / s) * T;
+    out->G[0] = -gam * dx, out->G[1] = -gam * dy;
     out->Phi = 2.0 * (s * E + (rho == R ? 0.0 : (R - rho) * K));
-    out->H[0] = out->H[1] = out->H[2] = NAN;
+    double dgam = -16.0 * R * (R / s) * T / s;
+    if (rho != R && isfinite(dT)) dgam += 16.0 * R * R * dT * 4.0 * R * (R - rho) / (s * s * s * s);
+    double gx = rho > 0.0 ? dx / rho : 0.0, gy = rho > 0.0 ? dy / rho : 0.0;
+    out->H[0] = -gam - dgam * rho * gx * gx + out->Phi;
+    out->H[1] = -dgam * rho * gx * gy;
+    out->H[2] = -gam - dgam * rho * gy * gy + out->Phi;
     return EXDEX_OK;
 }
 

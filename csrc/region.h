@@ -24,7 +24,7 @@
  * discs by complete elliptic integrals (GSL's Carlson forms RF, RD, from the
  * boundary integral over the circle), with a hypergeometric series for a
  * centre near the disc's centre or far from the disc (k^2 < 1/4) where the
- * Legendre combination cancels. H is given for polygons only.
+ * Legendre combination cancels.
  *
  * Accuracy: to a few units of rounding relative to the integrals' scale
  * (A |c - centroid| + A rho, rho the region's largest vertex distance from
@@ -60,7 +60,7 @@ typedef struct region_moments {
     double F;        /* Int |x| dA */
     double G[2];     /* Int x / |x| dA */
     double Phi;      /* Int 1 / |x| dA */
-    double H[3];     /* Int x x^T / |x|^3 dA as (xx, xy, yy); polygon only (NaN for a disc) */
+    double H[3];     /* Int x x^T / |x|^3 dA as (xx, xy, yy) */
 } region_moments;
 
 /* EXDEX_OK for a valid region: a polygon with 3 .. REGION_MAX_VERTICES
@@ -81,7 +81,7 @@ void region_centroid(const region *rg, double g[2]);
 /* Largest distance of a point of the region from the point c [m]. */
 double region_reach(const region *rg, const double c[2]);
 
-/* The integrals F, G, Phi (and H for a polygon) of a valid region at c.
+/* The integrals F, G, Phi and H of a valid region at c.
  * Returns EXDEX_OK, or EXDEX_EINVAL for a non-finite c. */
 int region_moments_at(const region *rg, const double c[2], region_moments *out);
 

@@ -6,8 +6,7 @@
  * counter-clockwise polygons of positive area and finite discs of positive
  * radius; for an accepted region and a finite point: finite integrals,
  * F >= A |centroid - c| (Jensen: the mean distance is at least the distance
- * of the mean) and F <= A reach, |G| <= A, Phi >= 0, and for a polygon
- * trace H = Phi and H positive semi-definite, each to the rounding of the
+ * of the mean) and F <= A reach, |G| <= A, Phi >= 0, trace H = Phi and H positive semi-definite, each to the rounding of the
  * integrals' scale. */
 #include "fuzz.h"
 #include "../region.h"
@@ -80,12 +79,14 @@ int fuzz_region(const uint8_t *data, size_t size)
     FZ_EXTREME(T, &f, mo.F <= A * reach * (1.0 + tol) + 1e-300);
     FZ_EXTREME(T, &f, hypot(mo.G[0], mo.G[1]) <= A * (1.0 + tol) + 1e-300);
     FZ_EXTREME(T, &f, mo.Phi >= -tol * A / reach);
-    if (rg.kind == REGION_POLYGON) {
+    {
         FZ_EXTREME(T, &f, isfinite(mo.H[0]) && isfinite(mo.H[1]) && isfinite(mo.H[2]));
-        double sc = fabs(mo.Phi) + A / reach;
-        FZ_EXTREME(T, &f, fabs(mo.H[0] + mo.H[2] - mo.Phi) <= 1e-8 * sc);
-        FZ_EXTREME(T, &f, mo.H[0] >= -1e-8 * sc && mo.H[2] >= -1e-8 * sc);
-        FZ_EXTREME(T, &f, mo.H[0] * mo.H[2] - mo.H[1] * mo.H[1] >= -1e-8 * sc * sc);
+        /* H of a far point is a small difference (Phi - |G| / |c|, ...):
+         * its rounding grows like (reach^2 / A) */
+        double sc = fabs(mo.Phi) + A / reach, q = reach * reach / A, ht = 1e-10 * (1.0 + q);
+        FZ_EXTREME(T, &f, fabs(mo.H[0] + mo.H[2] - mo.Phi) <= ht * sc);
+        FZ_EXTREME(T, &f, mo.H[0] >= -ht * sc && mo.H[2] >= -ht * sc);
+        FZ_EXTREME(T, &f, mo.H[0] * mo.H[2] - mo.H[1] * mo.H[1] >= -ht * sc * sc);
     }
     return 0;
 }
