@@ -2,19 +2,13 @@
  *
  * Clipping: Sutherland-Hodgman of one convex polygon by the half-planes of
  * the other's edges (both convex, so the result is the convex
- * intersection). Integrals: the shoelace area and centroid, and the mean
- * distance from the centroid c as the sum over the fan triangles (c, a, b)
- * of the edges: in polar coordinates about c, Int |x - c| dA over one
- * triangle is (1/3) Int rho^3 dphi, and along the edge line at signed
- * distance d from c, with s the coordinate along the edge from the foot of
- * the perpendicular, rho^2 = d^2 + s^2 and dphi = d ds / rho^2, so
- *     Int |x - c| dA = (d / 3) [F(s_b) - F(s_a)],
- *     F(s) = (s sqrt(d^2 + s^2) + d^2 asinh(s / d)) / 2,
- * signed with the triangle's orientation (0 for an edge through c). */
+ * intersection). The region's area, centroid and mean distance from the
+ * centroid are region.c's closed forms. */
 #include <math.h>
 #include <string.h>
 
 #include "pads.h"
+#include "region.h"
 #include "util.h"
 
 double pads_signed_area2(const double (*v)[2], int n)
@@ -140,46 +134,18 @@ int pads_clip(const double (*s)[2], int ns, const double (*k)[2], int nk, double
 
 void pads_poly_props(const double (*v)[2], int n, double *area, double c[2], double *er)
 {
-    double a2 = 0.0, cx = 0.0, cy = 0.0, ox, oy, I = 0.0;
+    region rg;
     *area = 0.0;
     c[0] = c[1] = 0.0;
     *er = 0.0;
-    if (n < 3) return;
-    /* about the first vertex, for rounding */
-    ox = v[0][0];
-    oy = v[0][1];
-    for (int i = 0; i < n; i++) {
-        int j = i + 1 == n ? 0 : i + 1;
-        double xi = v[i][0] - ox, yi = v[i][1] - oy, xj = v[j][0] - ox, yj = v[j][1] - oy;
-        double cr = xi * yj - xj * yi;
-        a2 += cr;
-        cx += (xi + xj) * cr;
-        cy += (yi + yj) * cr;
-    }
-    if (!(a2 > 0.0)) return;
-    cx = cx / (3.0 * a2);
-    cy = cy / (3.0 * a2);
-    for (int i = 0; i < n; i++) {
-        int j = i + 1 == n ? 0 : i + 1;
-        double ax = v[i][0] - ox - cx, ay = v[i][1] - oy - cy, bx = v[j][0] - ox - cx, by = v[j][1] - oy - cy;
-        double ex = bx - ax, ey = by - ay, len = hypot(ex, ey), tx, ty, d;
-        if (!(len > 0.0)) continue;
-        tx = ex / len;
-        ty = ey / len;
-        d = ax * ty - ay * tx;
-        if (d == 0.0) continue;
-        {
-            double sa = ax * tx + ay * ty, sb = bx * tx + by * ty;
-            /* F with asinh(s / |d|) times |d| d: d^3 / |d| keeps the sign */
-            double Fa = 0.5 * (sa * hypot(d, sa) + d * d * asinh(sa / fabs(d)));
-            double Fb = 0.5 * (sb * hypot(d, sb) + d * d * asinh(sb / fabs(d)));
-            I += d / 3.0 * (Fb - Fa);
-        }
-    }
-    *area = 0.5 * a2;
-    c[0] = ox + cx;
-    c[1] = oy + cy;
-    *er = I / *area;
+    if (n < 3 || n > REGION_MAX_VERTICES) return;
+    rg.kind = REGION_POLYGON;
+    rg.n = n;
+    memcpy(rg.v, v, (size_t)n * sizeof rg.v[0]);
+    if (region_check(&rg) != EXDEX_OK) return;
+    *area = region_area(&rg);
+    region_centroid(&rg, c);
+    *er = region_mean_distance(&rg, c);
 }
 
 static void region_disc(const double c[2], double r, pads_region *out)

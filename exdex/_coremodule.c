@@ -1004,6 +1004,12 @@ static PyObject *Stepper_step(PyObject *self, PyObject *args, PyObject *kwds)
     Py_END_ALLOW_THREADS
     exdex_stepper_get(so->s, NULL, &st);
     PyThread_release_lock(so->lock);
+    if (status == EXDEX_EINVAL && st.lost_sample) {
+        PyErr_Format(PyExc_ValueError,
+                     "the grasp was lost at t = %.17g s (the pads' contact region vanished): the stepper takes no "
+                     "more steps (restore a saved state)", st.lost_t);
+        return NULL;
+    }
     if (status == EXDEX_EINVAL) {
         PyErr_Format(PyExc_ValueError,
                      "dt = %R s cannot advance the time from t = %.17g s (t + dt rounds to t, or more than 1e9 "

@@ -9,7 +9,7 @@ The format is chosen by the file extension (``.json`` or ``.toml``). A file
 holds one scene as nested tables whose keys are the constructor arguments of
 the scene objects, plus a ``schema`` version number::
 
-    schema = 1
+    schema = 2
     dof = "translation"
     q0 = [0.0, 0.0, 0.0]
     ...
@@ -25,6 +25,10 @@ the scene objects, plus a ``schema`` version number::
 
     [grasp.patch]
     e_r = 0.01
+    center = [0.0, 0.0]
+
+    [grasp.pad]                    # optional: pads on the fingers (exdex.Pad)
+    vertices = [[-0.01, -0.01], [0.01, -0.01], [0.01, 0.01], [-0.01, 0.01]]
     center = [0.0, 0.0]
 
     [motion]
@@ -64,6 +68,7 @@ table in place of the number::
     forces = [1.5, 1.5, 0.5]
     kind = "linear"
 
+Schema 2 added ``grasp.pad``; schema 1 files (without it) load as before.
 An unknown ``schema`` version, an unknown key or a missing required key is
 a ``ValueError`` naming it; the scene objects then check their own values
 (ranges, shapes) as when built in Python.

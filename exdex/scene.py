@@ -308,8 +308,9 @@ class Pad:
     center : position of the pad on the plate, in B [m].
     scale : the polygon's size factor (> 0) about ``center``.
 
-    A disc meets a polygon edge as the regular 64-gon of its area (its rim
-    within 1.2e-3 R); a disc inside the other shape is exact.
+    A disc whose rim crosses the other shape enters as the regular 32-gon of
+    its area (its rim within 3.3e-3 R); a disc inside the other shape is
+    exact.
     """
 
     vertices: Optional[Matrix] = None

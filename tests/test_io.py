@@ -254,7 +254,7 @@ def test_simulate_options_round_trip_and_checks(tmp_path):
 
 
 @pytest.mark.parametrize("edit, message", [
-    (lambda d: d.update(schema=2), r"unsupported scene-file schema 2.*reads schema 1"),
+    (lambda d: d.update(schema=3), r"unsupported scene-file schema 3.*reads schema 1, 2"),
     (lambda d: d.update(schema="1"), r"unsupported scene-file schema '1'"),
     (lambda d: d.pop("schema"), r"missing key in scene: 'schema'"),
     (lambda d: d["grasp"].update(frction=0.3), r"unknown key in scene\.grasp: 'frction'; allowed: .*mu"),
