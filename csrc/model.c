@@ -22,6 +22,7 @@
 #include "contact.h"
 #include "util.h"
 
+#include <float.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -504,11 +505,139 @@ static void patch_delassus(const exdex_model *m, double W[9])
         }
 }
 
+/* The friction problem of the patch at pc with semi-axes e (planar), as
+ * exdex_friction_prepare makes it from W = J' M^-1 J'^T, but from the
+ * factor W = F F^T, F = J' M^-1/2 (known here, and W positive definite by
+ * construction): K = E W E = B^T B with B = F^T E, its eigen-decomposition
+ * from B's one-sided Jacobi SVD (Hestenes; 3 x 3, inline, to full relative
+ * accuracy as friction.c's), eigenvalues ascending. EXDEX_EINVAL where
+ * exdex_friction_prepare would refuse K (an eigenvalue below DBL_MIN or not
+ * finite, or no convergence). */
+int model_pads_prepare(const exdex_model *m, const double pc[2], const double e[3], exdex_friction_prep *p)
+{
+    double F[9], B[3][3], V[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, lam[3], d0 = sqrt(m->minv[0]),
+           d2 = sqrt(m->minv[2]);
+    int order[3] = {0, 1, 2}, sweep;
+    /* F = J' diag(d0, d0, d2), J' = [[1, 0, -pc_y], [0, 1, pc_x], [0, 0, 1]] */
+    F[0] = d0, F[1] = 0.0, F[2] = -pc[1] * d2;
+    F[3] = 0.0, F[4] = d0, F[5] = pc[0] * d2;
+    F[6] = 0.0, F[7] = 0.0, F[8] = d2;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            double w = 0.0;
+            for (int k = 0; k < 3; k++) w += F[3 * i + k] * F[3 * j + k];
+            p->W[3 * i + j] = w;
+        }
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++) {
+            p->K[3 * i + j] = e[i] * p->W[3 * i + j] * e[j];
+            B[i][j] = F[3 * j + i] * e[j];   /* B = F^T E */
+        }
+        p->e[i] = e[i];
+    }
+    for (sweep = 0; sweep < 40; sweep++) {
+        int rotated = 0;
+        for (int a = 0; a < 2; a++)
+            for (int b = a + 1; b < 3; b++) {
+                double al = 0.0, be = 0.0, ga = 0.0, z, t, c, s;
+                for (int k = 0; k < 3; k++) {
+                    al += B[k][a] * B[k][a];
+                    be += B[k][b] * B[k][b];
+                    ga += B[k][a] * B[k][b];
+                }
+                if (!(fabs(ga) > 4e-16 * sqrt(al * be))) continue;
+                rotated = 1;
+                z = (be - al) / (2.0 * ga);
+                t = (z >= 0.0 ? 1.0 : -1.0) / (fabs(z) + sqrt(1.0 + z * z));
+                c = 1.0 / sqrt(1.0 + t * t);
+                s = c * t;
+                for (int k = 0; k < 3; k++) {
+                    double x = B[k][a], y = B[k][b];
+                    B[k][a] = c * x - s * y;
+                    B[k][b] = s * x + c * y;
+                    x = V[k][a], y = V[k][b];
+                    V[k][a] = c * x - s * y;
+                    V[k][b] = s * x + c * y;
+                }
+            }
+        if (!rotated) break;
+    }
+    if (sweep == 40) return EXDEX_EINVAL;
+    for (int j = 0; j < 3; j++) lam[j] = B[0][j] * B[0][j] + B[1][j] * B[1][j] + B[2][j] * B[2][j];
+    /* ascending */
+    for (int i = 0; i < 2; i++)
+        for (int j = 0; j < 2 - i; j++)
+            if (lam[order[j]] > lam[order[j + 1]]) {
+                int x = order[j];
+                order[j] = order[j + 1];
+                order[j + 1] = x;
+            }
+    for (int j = 0; j < 3; j++) {
+        p->lam[j] = lam[order[j]];
+        for (int k = 0; k < 3; k++) p->Q[3 * k + j] = V[k][order[j]];
+    }
+    if (!(p->lam[0] >= DBL_MIN) || !isfinite(p->lam[2])) return EXDEX_EINVAL;
+    return EXDEX_OK;
+}
+
 /* A point c of B in C relative to the centre of mass at r turned by th. */
 static void pads_local_center(const double c[2], const double r[2], double th, double pc[2])
 {
     double d[2] = {c[0] - r[0], c[1] - r[1]};
     rot2(pc, -th, d);
+}
+
+/* 1 if every vertex of the ccw polygon a (n) lies in the ccw polygon b (k). */
+static int poly_in_poly(const double (*a)[2], int n, const double (*b)[2], int k)
+{
+    for (int e = 0; e < k; e++) {
+        const double *p = b[e], *q = b[e + 1 == k ? 0 : e + 1];
+        double ex = q[0] - p[0], ey = q[1] - p[1];
+        for (int i = 0; i < n; i++)
+            if (ex * (a[i][1] - p[1]) - ey * (a[i][0] - p[0]) < 0.0) return 0;
+    }
+    return 1;
+}
+
+/* 1 if the disc (c, r) lies in the ccw polygon b (k). */
+static int disc_in_poly(const double c[2], double r, const double (*b)[2], int k)
+{
+    for (int e = 0; e < k; e++) {
+        const double *p = b[e], *q = b[e + 1 == k ? 0 : e + 1];
+        double ex = q[0] - p[0], ey = q[1] - p[1];
+        if (ex * (c[1] - p[1]) - ey * (c[0] - p[0]) < r * hypot(ex, ey)) return 0;
+    }
+    return 1;
+}
+
+/* The face at the pose (r, th) in B. */
+static void face_at(const exdex_model *m, const double r[2], double th, pads_shape *f)
+{
+    double cs = cos(th), sn = sin(th);
+    f->n = m->face.n;
+    for (int i = 0; i < f->n; i++) {
+        const double *v = m->face.v[i];
+        f->v[i][0] = r[0] + cs * v[0] - sn * v[1];
+        f->v[i][1] = r[1] + sn * v[0] + cs * v[1];
+    }
+    f->r = m->face.r;
+    f->c[0] = r[0] + cs * m->face.c[0] - sn * m->face.c[1];
+    f->c[1] = r[1] + sn * m->face.c[0] + cs * m->face.c[1];
+}
+
+/* Which shape contains the other at the face pose f: 1 the pad lies in the
+ * face, 2 the face in the pad, 0 neither (or not decided here). */
+static int pads_containment(const exdex_model *m, const pads_shape *f)
+{
+    const pads_shape *p = &m->pad;
+    if (p->n && f->n) {
+        if (poly_in_poly((const double (*)[2])p->v, p->n, (const double (*)[2])f->v, f->n)) return 1;
+        if (poly_in_poly((const double (*)[2])f->v, f->n, (const double (*)[2])p->v, p->n)) return 2;
+        return 0;
+    }
+    if (!p->n && f->n) return disc_in_poly(p->c, p->r, (const double (*)[2])f->v, f->n) ? 1 : 0;
+    if (p->n && !f->n) return disc_in_poly(f->c, f->r, (const double (*)[2])p->v, p->n) ? 2 : 0;
+    return 0;   /* two discs: pads_intersect decides */
 }
 
 void model_pads_region(const exdex_model *m, const double r[2], double th, pads_region *out)
@@ -530,13 +659,38 @@ void model_pads_region(const exdex_model *m, const double r[2], double th, pads_
 void model_pads_set(exdex_model *mc, const double q[3])
 {
     pads_region rg;
-    double pc[2], e[3], W[9], pc0[2], e2;
+    pads_shape f;
+    double pc[2], e[3], pc0[2], e2, cs, sn;
     exdex_friction_prep prep;
+    int in;
     if (!mc->pads || mc->ndof != 3) return;
     if (q[0] == mc->pad_q[0] && q[1] == mc->pad_q[1] && q[2] == mc->pad_q[2]) return;
-    model_pads_region(mc, q, q[2], &rg);
+    face_at(mc, q, q[2], &f);
+    in = pads_containment(mc, &f);
+    cs = cos(q[2]);
+    sn = sin(q[2]);
+    if (in == 2 && mc->face_prep_ok) {
+        /* the face inside the pad: the region is the face, fixed on the object */
+        mc->pc[0] = mc->face_in_c[0];
+        mc->pc[1] = mc->face_in_c[1];
+        mc->e[2] = mc->face_in_er;
+        mc->prep = mc->face_prep;
+        memcpy(mc->pad_q, q, sizeof mc->pad_q);
+        return;
+    }
+    if (in == 1) {
+        /* the pad inside the face: the region is the pad, fixed on the finger */
+        rg.area = mc->pad_in_area;
+        rg.c[0] = mc->pad_in_c[0];
+        rg.c[1] = mc->pad_in_c[1];
+        rg.er = mc->pad_in_er;
+    } else {
+        pads_intersect(&mc->pad, &f, &rg);
+    }
     if (!(rg.area > EXDEX_PAD_LOST * mc->pad_area0 && rg.er > 0.0)) return;
-    pads_local_center(rg.c, q, q[2], pc);
+    /* the centroid in C: Rz(-theta) (c - r) */
+    pc[0] = cs * (rg.c[0] - q[0]) + sn * (rg.c[1] - q[1]);
+    pc[1] = -sn * (rg.c[0] - q[0]) + cs * (rg.c[1] - q[1]);
     pc0[0] = mc->pc[0];
     pc0[1] = mc->pc[1];
     e2 = mc->e[2];
@@ -544,8 +698,7 @@ void model_pads_set(exdex_model *mc, const double q[3])
     mc->pc[1] = pc[1];
     e[0] = e[1] = 1.0;
     e[2] = rg.er;
-    patch_delassus(mc, W);
-    if (exdex_friction_prepare(&prep, W, e)) {
+    if (model_pads_prepare(mc, pc, e, &prep)) {
         mc->pc[0] = pc0[0];
         mc->pc[1] = pc0[1];
         mc->e[2] = e2;
@@ -556,19 +709,54 @@ void model_pads_set(exdex_model *mc, const double q[3])
     memcpy(mc->pad_q, q, sizeof mc->pad_q);
 }
 
+/* The regions of the two containments (the pad in the face, the face in
+ * the pad) and the friction problem of the face inside the pad. */
+static void pads_precompute(exdex_model *m)
+{
+    const double zero[2] = {0.0, 0.0};
+    pads_shape f;
+    /* the pad inside a face large enough: the pad itself */
+    if (m->pad.n) {
+        pads_poly_props((const double (*)[2])m->pad.v, m->pad.n, &m->pad_in_area, m->pad_in_c, &m->pad_in_er);
+    } else {
+        m->pad_in_area = EXDEX_PI * m->pad.r * m->pad.r;
+        m->pad_in_c[0] = m->pad.c[0];
+        m->pad_in_c[1] = m->pad.c[1];
+        m->pad_in_er = exdex_er_disc(m->pad.r);
+    }
+    /* the face at the identity pose, intersected with itself: the face */
+    face_at(m, zero, 0.0, &f);
+    if (f.n) {
+        pads_poly_props((const double (*)[2])f.v, f.n, &m->face_in_area, m->face_in_c, &m->face_in_er);
+    } else {
+        m->face_in_area = EXDEX_PI * f.r * f.r;
+        m->face_in_c[0] = f.c[0];
+        m->face_in_c[1] = f.c[1];
+        m->face_in_er = exdex_er_disc(f.r);
+    }
+    m->face_prep_ok = 0;
+    if (m->ndof == 3 && m->face_in_area > 0.0 && m->face_in_er > 0.0) {
+        exdex_model t = *m;
+        double W[9], e[3] = {1.0, 1.0, m->face_in_er};
+        t.pc[0] = m->face_in_c[0];
+        t.pc[1] = m->face_in_c[1];
+        patch_delassus(&t, W);
+        m->face_prep_ok = exdex_friction_prepare(&m->face_prep, W, e) == EXDEX_OK;
+    }
+}
+
 const exdex_model *model_pads_follow(const exdex_model *m, exdex_model *copy)
 {
     if (!m->pads || m == copy) return m;
     if (copy->pad_src == m && copy->pads) {
-        double pc[2] = {copy->pc[0], copy->pc[1]}, e2 = copy->e[2], q[3];
-        exdex_friction_prep prep = copy->prep;
-        memcpy(q, copy->pad_q, sizeof q);
-        *copy = *m;
-        copy->pc[0] = pc[0];
-        copy->pc[1] = pc[1];
-        copy->e[2] = e2;
-        copy->prep = prep;
-        memcpy(copy->pad_q, q, sizeof q);
+        /* a model is read-only but for a stepper's copy, which sets only its
+         * grip (grip_n, capF, capS, def.grip_force) and motion between
+         * steps: those are refreshed, the contact fields kept */
+        copy->grip_n = m->grip_n;
+        copy->capF = m->capF;
+        copy->capS = m->capS;
+        copy->def.grip_force = m->def.grip_force;
+        copy->motion = m->motion;
     } else {
         *copy = *m;
     }
@@ -579,10 +767,13 @@ const exdex_model *model_pads_follow(const exdex_model *m, exdex_model *copy)
 int model_pads_lost(const exdex_model *m, const double *q)
 {
     pads_region rg;
+    pads_shape f;
     double r[3], th;
     if (!m->pads) return 0;
     model_com_pose(m, q, r, &th);
-    model_pads_region(m, r, th, &rg);
+    face_at(m, r, th, &f);
+    if (pads_containment(m, &f)) return 0;   /* the pad or the face whole */
+    pads_intersect(&m->pad, &f, &rg);
     return !(rg.area > EXDEX_PAD_LOST * m->pad_area0);
 }
 
@@ -941,6 +1132,7 @@ static exdex_model *build_model(const exdex_scene_def *def, int *status, const c
             return NULL;
         }
     }
+    if (m->pads) pads_precompute(m);
     m->n_stops = def->n_stops;
     for (int k = 0; k < def->n_stops; k++) {
         memcpy(m->sp[k], def->stop_point[k], sizeof m->sp[k]);

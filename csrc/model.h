@@ -124,6 +124,13 @@ struct exdex_model {
     double pad_q[3];
     double pad_area0;   /* the region's area at the start */
     const exdex_model *pad_src;  /* a copy (model_pads_follow): the model it copies */
+    /* the regions of the two containments, computed once: the pad inside the
+     * face (pad_in: its area, centroid in B, e_r) and the face inside the pad
+     * (face_in: centroid in C, and face_prep the friction problem there) */
+    double pad_in_area, pad_in_c[2], pad_in_er;
+    double face_in_area, face_in_c[2], face_in_er;
+    exdex_friction_prep face_prep;
+    int face_prep_ok;
 };
 
 /* ------------------------------------------------ grip force, capacity
@@ -451,6 +458,11 @@ void model_pads_set(exdex_model *mc, const double q[3]);
  * refreshed from m, its contact fields kept when they came from m before
  * (they depend on the pose only). */
 const exdex_model *model_pads_follow(const exdex_model *m, exdex_model *copy);
+/* The planar friction problem of the patch at pc (C) with semi-axes e, as
+ * exdex_friction_prepare(W = J' M^-1 J'^T, e) makes it, from the factor
+ * J' M^-1/2 by an inline 3 x 3 one-sided Jacobi SVD (model.c); EXDEX_EINVAL
+ * where that would refuse K. */
+int model_pads_prepare(const exdex_model *m, const double pc[2], const double e[3], exdex_friction_prep *p);
 /* 1 if the pads' region at the coordinates q (ndof entries) has vanished. */
 int model_pads_lost(const exdex_model *m, const double *q);
 

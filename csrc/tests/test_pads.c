@@ -15,6 +15,9 @@
  *                   2 (R^2 - d^2)^(3/2) / (3 A), to the stated 32-gon bound.
  *   containment     a disc inside the face is exact (e_r = 2R/3); a face
  *                   beyond the pad leaves no region.
+ *   prepare         the pads' friction problem (an inline Jacobi SVD of the
+ *                   factor) against exdex_friction_prepare on the same W:
+ *                   the same K, eigenvalues and friction solutions.
  *   translation     a 1-DoF translation with pads on the fingers is the
  *                   patch's run sample for sample (mu N whatever the region)
  *                   until the face leaves the pad, where the run stops.
@@ -22,6 +25,7 @@
 #include "check.h"
 #include "../exdex.h"
 #include "../pads.h"
+#include "../model.h"
 
 #include <math.h>
 #include <string.h>
@@ -227,4 +231,52 @@ EXDEX_TEST(pads_bad_input_named)
     d = slide_def(1);
     d.q0[0] = 0.5;        /* no region at the start */
     ENSURE(exdex_model_alloc(&d, &st, &bad) == NULL && st == EXDEX_EINVAL && bad && !strcmp(bad, "pad"));
+}
+
+EXDEX_TEST(pads_prepare_matches_friction_prepare)
+{
+    exdex_scene_def d = slide_def(1);
+    exdex_model *m;
+    int st;
+    unsigned long long x = 12345;
+    d.dof = EXDEX_DOF_PLANAR;
+    m = exdex_model_alloc(&d, &st, NULL);
+    ENSURE(m != NULL);
+    if (!m) return;
+    for (int k = 0; k < 200; k++) {
+        double u[6], pc[2], e[3], W[9], b[3];
+        exdex_friction_prep a, p;
+        exdex_friction_result ra, rp;
+        for (int i = 0; i < 6; i++) {
+            x ^= x << 13, x ^= x >> 7, x ^= x << 17;
+            u[i] = (double)(x >> 11) / 9007199254740992.0;
+        }
+        pc[0] = 0.1 * (u[0] - 0.5);
+        pc[1] = 0.1 * (u[1] - 0.5);
+        e[0] = e[1] = 1.0;
+        e[2] = 1e-4 + 0.03 * u[2];
+        for (int i = 0; i < 3; i++) b[i] = u[3 + i] - 0.5;
+        {
+            double J[9] = {1, 0, -pc[1], 0, 1, pc[0], 0, 0, 1};
+            for (int i = 0; i < 3; i++)
+                for (int j = 0; j < 3; j++) {
+                    double s = 0;
+                    for (int l = 0; l < 3; l++) s += J[3 * i + l] * m->minv[l] * J[3 * j + l];
+                    W[3 * i + j] = s;
+                }
+        }
+        ENSURE(exdex_friction_prepare(&a, W, e) == EXDEX_OK);
+        ENSURE(model_pads_prepare(m, pc, e, &p) == EXDEX_OK);
+        for (int i = 0; i < 3; i++) ENSURE_CLOSE(p.lam[i], a.lam[i], 1e-12 * a.lam[2]);
+        for (int i = 0; i < 9; i++) ENSURE_CLOSE(p.K[i], a.K[i], 1e-13 * a.lam[2]);
+        /* a slip and a stick (small b) solve the same with either */
+        for (int s = 0; s < 2; s++) {
+            double cap = s ? 10.0 : 0.05;
+            ENSURE(exdex_friction_solve(&a, b, cap, EXDEX_SOLVER_SCALAR, NULL, NULL, &ra) == EXDEX_OK);
+            ENSURE(exdex_friction_solve(&p, b, cap, EXDEX_SOLVER_SCALAR, NULL, NULL, &rp) == EXDEX_OK);
+            ENSURE(ra.stick == rp.stick);
+            for (int i = 0; i < 3; i++) ENSURE_CLOSE(rp.p[i], ra.p[i], 1e-9 * (fabs(ra.p[0]) + fabs(ra.p[1]) + fabs(ra.p[2]) / e[2]));
+        }
+    }
+    exdex_model_free(m);
 }
