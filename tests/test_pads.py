@@ -227,3 +227,21 @@ def test_bad_pads_are_named():
         exdex.simulate(sc, 0.01, 1e-3)
     with pytest.raises(ValueError, match="analytic"):
         exdex.simulate(_box_scene(exdex.Pad.disc(0.01), dof="translation"), 0.01, 1e-3, method="analytic")
+
+
+def test_engines_build_the_pads_where_exdex_has_them():
+    """The engine runners' pad boxes: at Pad.center in B with the rectangle's
+    half-sides, a disc pad as the square of its e_r (2R/3 = 0.76520 a), the
+    joint at the region's centroid at the start."""
+    from exdex import engines
+
+    sc = _box_scene(exdex.Pad.rectangle(0.02, 0.012, center=(0.003, -0.001)))
+    lay = engines._Layout(sc, "pads")
+    np.testing.assert_allclose(lay.pad_center, (0.003, -0.001, 0.0), atol=1e-15)
+    np.testing.assert_allclose(lay.pad_half, (0.01, 0.006), rtol=1e-12)
+    np.testing.assert_allclose(lay.joint_B, (0.003, -0.001, 0.0), atol=1e-12)
+    lay = engines._Layout(_box_scene(exdex.Pad.disc(0.009)), "pads")
+    a = (2 * 0.009 / 3) / ((math.sqrt(2) + math.asinh(1)) / 3)
+    np.testing.assert_allclose(lay.pad_half, (a, a), rtol=1e-12)
+    with pytest.raises(ValueError, match="rectangle pad"):
+        engines._Layout(_box_scene(exdex.Pad(vertices=((-0.01, -0.01), (0.01, -0.01), (0.0, 0.01)))), "pads")
