@@ -36,7 +36,7 @@ PEER = os.path.join(HERE, "..", "tests", "data", "peer_planar_slip_stick.csv")
 METHODS = ("implicit", "event", "regularised", "explicit")
 
 
-def peer_scene(pad=True, t_end=2.0):
+def peer_scene(pad=True, t_end=2.0, mu_static=None):
     """The peer's scene: B's x along the box's long side, gravity -9.81 along B's y."""
     t = np.linspace(0.0, t_end, 4001)
     sched = exdex.GripSchedule(times=t, forces=1.73 + 0.91 * np.sin(4 * np.pi * t), kind="cubic")
@@ -44,7 +44,7 @@ def peer_scene(pad=True, t_end=2.0):
     # the patch of the patch-on-object model: the pad's square, centred where
     # the pad is at t = 0 (2 mm beside the centre of mass)
     grasp = exdex.Grasp(mu=1.0, grip_force=sched, patch=exdex.Patch.rectangle(0.02, 0.02, center=(-0.002, 0.0)),
-                        pad=exdex.Pad.rectangle(0.02, 0.02) if pad else None)
+                        pad=exdex.Pad.rectangle(0.02, 0.02) if pad else None, mu_static=mu_static)
     return exdex.Scene(body=body, grasp=grasp, dof="planar", q0=(0.002, 0.0, 0.0), gravity=(0.0, -9.81, 0.0),
                        gripper_rotation=np.eye(3))
 
@@ -77,6 +77,10 @@ def peer_part(results, plot):
             runs[("pads" if pad else "patch", m)] = r
             rows.append((f"exdex, {'pads on the fingers' if pad else 'patch on the object'}, ellipsoid", m,
                          summary(r.t, r.q[:, 0], r.q[:, 1], r.q[:, 2])))
+    # the peer's LuGre breaks away at mu_s = 1.2 (its Stribeck curve falls to mu_c = 1 by v_s = 1 mm/s)
+    r = run(peer_scene(True, mu_static=1.2), "event")
+    runs[("pads-static", "event")] = r
+    rows.append(("exdex, pads on the fingers, ellipsoid, mu_static 1.2", "event", summary(r.t, r.q[:, 0], r.q[:, 1], r.q[:, 2])))
     peer = load_peer()
     rows.append(("FrictionModelling, distributed LuGre (21 x 21)", "its own", summary(peer["t"], peer["x"], peer["y"], peer["theta"])))
     rows.append(("FrictionModelling, reduced LuGre", "its own",
@@ -97,7 +101,7 @@ def peer_part(results, plot):
         fig, axes = plt.subplots(3, 1, figsize=(7, 7), sharex=True)
         series = [("patch on the object (event)", runs[("patch", "event")], "C0"),
                   ("pads on the fingers (event)", runs[("pads", "event")], "C1"),
-                  ("pads on the fingers (implicit)", runs[("pads", "implicit")], "C2")]
+                  ("pads on the fingers, mu_static 1.2 (event)", runs[("pads-static", "event")], "C2")]
         for label, r, c in series:
             axes[0].plot(r.t, r.q[:, 0] * 1e3, c, label=label, lw=1.2)
             axes[1].plot(r.t, r.q[:, 1] * 1e3, c, lw=1.2)
