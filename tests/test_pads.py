@@ -245,3 +245,34 @@ def test_engines_build_the_pads_where_exdex_has_them():
     np.testing.assert_allclose(lay.pad_half, (a, a), rtol=1e-12)
     with pytest.raises(ValueError, match="rectangle pad"):
         engines._Layout(_box_scene(exdex.Pad(vertices=((-0.01, -0.01), (0.01, -0.01), (0.0, 0.01)))), "pads")
+
+
+@pytest.mark.parametrize("method,dt", [("event", 1e-4), ("implicit", 2e-5)])
+def test_rotation_about_the_pad_is_a_pendulum_with_coulomb_torque(method, dt):
+    """A 0.2 m rod held 0.08 m from its centre of mass by a disc pad (R = 5 mm)
+    on the pin of a rotation scene, gravity in the plane: it pivots at the pad
+    centre and swings as a physical pendulum whose friction torque is the
+    disc's C e_r = C 2R/3. Linearised (closed form): every half period
+    pi sqrt(I_pad / (m g d)) the turning angle goes from theta_k to
+    -theta_k + 2 delta sgn(theta_k), delta = C e_r / (m g d), until
+    |theta_k| <= delta holds it; the amplitude 0.05 rad keeps sin theta =
+    theta to 4e-4 relative."""
+    m, d, R, mu, grip, th0, g = 0.1, 0.08, 0.005, 0.5, 0.05, 0.05, 9.81
+    body = exdex.Body.box(m, (0.02, 0.2, 0.01))
+    sc = exdex.Scene(body=body, grasp=exdex.Grasp(mu=mu, grip_force=grip, pad=exdex.Pad.disc(R)), dof="rotation",
+                     q0=(d * math.sin(th0), -d * math.cos(th0), th0), gravity=(0.0, -g, 0.0),
+                     gripper_rotation=np.eye(3))
+    I = body.inertia[2][2] + m * d * d
+    delta = mu * 2 * grip * (2 * R / 3) / (m * g * d)
+    half = math.pi * math.sqrt(I / (m * g * d))
+    want = [th0]
+    while abs(want[-1]) > delta:
+        want.append(-want[-1] + 2 * delta * math.copysign(1.0, want[-1]))
+    r = exdex.simulate(sc, half * (len(want) - 0.5), dt, method=method)
+    th, v = r.q[:, 0], r.v[:, 0]
+    turns = [i for i in range(1, len(v)) if v[i - 1] != 0 and (np.sign(v[i]) != np.sign(v[i - 1]) or v[i] == 0)]
+    assert len(turns) == len(want) - 1, ([th[i] for i in turns], want)
+    for k, i in enumerate(turns, start=1):
+        assert th[i] == pytest.approx(want[k], abs=3e-5), (k, th[i], want[k])
+        assert r.t[i] == pytest.approx(k * half, abs=4e-4 + dt)
+    assert th[-1] == pytest.approx(want[-1], abs=3e-5) and v[-1] == 0.0
