@@ -276,3 +276,23 @@ def test_rotation_about_the_pad_is_a_pendulum_with_coulomb_torque(method, dt):
         assert th[i] == pytest.approx(want[k], abs=3e-5), (k, th[i], want[k])
         assert r.t[i] == pytest.approx(k * half, abs=4e-4 + dt)
     assert th[-1] == pytest.approx(want[-1], abs=3e-5) and v[-1] == 0.0
+
+
+def test_contact_slip_outcome():
+    """plan's "contact_slip": the object's face sliding under the contact.
+    Pads (the pad inside the face, its centroid fixed in B): a shift (dx, dy)
+    at theta = 0 moves the centroid by (-dx, -dy) over the object, a turn by
+    phi about the centre of mass moves it by 2 |c - r| sin(phi / 2); the patch
+    fixed on the object: its centre's travel in B."""
+    from exdex import plan
+
+    sc = _box_scene(exdex.Pad.rectangle(0.02, 0.02, center=(0.001, 0.0)), q0=(0.004, 0.0, 0.0))
+    d = np.array([[0.003, -0.004, 0.0], [0.0, 0.0, 0.2]])
+    got = plan.outcome(d, sc, "contact_slip")
+    np.testing.assert_allclose(got, [0.005, 2 * 0.003 * math.sin(0.1)], rtol=1e-12)
+    patch = _box_scene(None, q0=(0.004, 0.0, 0.0))   # patch centre at (-0.004, 0) in C: the CoM's offset
+    np.testing.assert_allclose(plan.outcome(d, patch, "contact_slip"), [0.005, 2 * 0.004 * math.sin(0.1)], rtol=1e-12)
+    # a slide that leaves the pad: no region, NaN
+    assert np.isnan(plan.outcome(np.array([[0.2, 0.0, 0.0]]), sc, "contact_slip")[0])
+    with pytest.raises(ValueError, match="contact_slip"):
+        plan._check_quantity("contact_slip", _box_scene(None, dof="translation"))
