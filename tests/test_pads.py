@@ -296,3 +296,17 @@ def test_contact_slip_outcome():
     assert np.isnan(plan.outcome(np.array([[0.2, 0.0, 0.0]]), sc, "contact_slip")[0])
     with pytest.raises(ValueError, match="contact_slip"):
         plan._check_quantity("contact_slip", _box_scene(None, dof="translation"))
+
+
+def test_stepper_stops_where_the_grasp_is_lost():
+    sc = _box_scene(exdex.Pad.disc(0.01), mu=0.3, grip=0.3)
+    with pytest.warns(exdex.PhysicsWarning):
+        r = exdex.simulate(sc, 0.5, 1e-3)
+    st = exdex.Stepper(sc)
+    with pytest.warns(exdex.PhysicsWarning, match="grasp is lost"):
+        for _ in range(len(r.t) - 1):
+            st.step(1e-3)
+    np.testing.assert_array_equal(st.state.q, r.q[-1])
+    assert st.stats["grasp_lost_t"] == r.t[-1]
+    with pytest.raises(ValueError, match="grasp was lost"):
+        st.step(1e-3)
