@@ -70,7 +70,8 @@ QUANTITIES = {"slip": "m", "rotation": "rad", "x": "m", "y": "m", "contact_slip"
 
 #: units of the parameters, for labels
 _PARAM_UNITS = {"grip_force": "N", "mu": "-", "mass": "kg", "e_r": "m", "amplitude": "m or rad", "duration": "s",
-                "beta": "-", "v_max": "m/s or rad/s", "mu_static": "-", "patch_x": "m", "patch_y": "m"}
+                "beta": "-", "v_max": "m/s or rad/s", "mu_static": "-", "patch_x": "m", "patch_y": "m",
+                "pad_x": "m", "pad_y": "m", "pad_radius": "m", "pad_scale": "-"}
 
 
 class UnreachableTargetError(ValueError):
