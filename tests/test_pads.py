@@ -27,7 +27,10 @@ def _box_scene(pad=None, q0=(0.002, 0.0, 0.0), mu=1.0, grip=1.73, gravity=(0.0, 
     return exdex.Scene(body=body, grasp=grasp, dof=dof, q0=q0, gravity=gravity, gripper_rotation=np.eye(3), **kw)
 
 
-def _grid_region(pad_outline, face_B, n=700):
+GRID = 450
+
+
+def _grid_region(pad_outline, face_B, n=GRID):
     """Area, centroid and mean distance from the centroid of pad & face by a
     midpoint grid over the pad's bounding box (convex ccw polygons)."""
     lo, hi = pad_outline.min(axis=0), pad_outline.max(axis=0)
@@ -72,7 +75,7 @@ def test_region_and_centroid_against_grid_as_an_edge_crosses(seed):
         q = (*(base + (k - 3) / 3 * 0.5 * size * d), th)
         got = _core.pad_region(spec, q)
         A, cen, er = _grid_region(pad.outline(), _face_B(sc, q))
-        h = size / 700
+        h = size / GRID
         assert got["area"] == pytest.approx(A, abs=4 * h * size)
         if A > 20 * h * size:
             assert np.allclose(got["centroid"], cen, atol=4 * h)
