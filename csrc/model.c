@@ -21,6 +21,7 @@
 #include "model.h"
 #include "contact.h"
 #include "util.h"
+#include "region.h"
 
 #include <float.h>
 #include <stdlib.h>
@@ -762,6 +763,32 @@ const exdex_model *model_pads_follow(const exdex_model *m, exdex_model *copy)
     }
     copy->pad_src = m;
     return copy;
+}
+
+int model_pads_patch_region(const exdex_model *m, const double q[3], struct region *rg, double pc[2])
+{
+    pads_region r;
+    double cs = cos(q[2]), sn = sin(q[2]);
+    if (!m->pads) return EXDEX_EINVAL;
+    model_pads_region(m, q, q[2], &r);
+    if (!(r.area > 0.0)) return EXDEX_EINVAL;
+    pc[0] = cs * (r.c[0] - q[0]) + sn * (r.c[1] - q[1]);
+    pc[1] = -sn * (r.c[0] - q[0]) + cs * (r.c[1] - q[1]);
+    memset(rg, 0, sizeof *rg);
+    if (r.disc) {
+        rg->kind = REGION_DISC;
+        rg->r = r.r;
+        return EXDEX_OK;
+    }
+    if (r.n > REGION_MAX_VERTICES) return EXDEX_EINVAL;
+    rg->kind = REGION_POLYGON;
+    rg->n = r.n;
+    for (int i = 0; i < r.n; i++) {
+        double x = r.v[i][0] - r.c[0], y = r.v[i][1] - r.c[1];
+        rg->v[i][0] = cs * x + sn * y;
+        rg->v[i][1] = -sn * x + cs * y;
+    }
+    return region_check(rg);
 }
 
 int model_pads_lost(const exdex_model *m, const double *q)

@@ -463,6 +463,12 @@ const exdex_model *model_pads_follow(const exdex_model *m, exdex_model *copy);
  * J' M^-1/2 by an inline 3 x 3 one-sided Jacobi SVD (model.c); EXDEX_EINVAL
  * where that would refuse K. */
 int model_pads_prepare(const exdex_model *m, const double pc[2], const double e[3], exdex_friction_prep *p);
+/* The pads' contact region at the planar pose q as a region.c region in
+ * patch coordinates (object frame C, relative to the region's centroid,
+ * which it returns in pc, in C relative to the centre of mass): the input of
+ * a limit surface of the current region. EXDEX_EINVAL for an empty one. */
+struct region;   /* region.h */
+int model_pads_patch_region(const exdex_model *m, const double q[3], struct region *rg, double pc[2]);
 /* 1 if the pads' region at the coordinates q (ndof entries) has vanished. */
 int model_pads_lost(const exdex_model *m, const double *q);
 

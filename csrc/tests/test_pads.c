@@ -26,6 +26,7 @@
 #include "../exdex.h"
 #include "../pads.h"
 #include "../model.h"
+#include "../region.h"
 
 #include <math.h>
 #include <string.h>
@@ -278,5 +279,31 @@ EXDEX_TEST(pads_prepare_matches_friction_prepare)
             for (int i = 0; i < 3; i++) ENSURE_CLOSE(rp.p[i], ra.p[i], 1e-9 * (fabs(ra.p[0]) + fabs(ra.p[1]) + fabs(ra.p[2]) / e[2]));
         }
     }
+    exdex_model_free(m);
+}
+
+EXDEX_TEST(pads_patch_region_is_the_region_in_the_object_frame)
+{
+    /* the slide scene's square pad (half-side 0.01) under the face, the
+     * object at (0.003, -0.002) turned by 0.4: in C about the centroid the
+     * region is the pad turned by -0.4, its mean distance the square's */
+    exdex_scene_def d = slide_def(1);
+    exdex_model *m;
+    region rg;
+    double pc[2], q[3] = {0.003, -0.002, 0.4};
+    int st;
+    d.dof = EXDEX_DOF_PLANAR;
+    m = exdex_model_alloc(&d, &st, NULL);
+    ENSURE(m != NULL);
+    if (!m) return;
+    ENSURE(model_pads_patch_region(m, q, &rg, pc) == EXDEX_OK);
+    ENSURE(rg.kind == REGION_POLYGON && rg.n == 4);
+    ENSURE_CLOSE(pc[0], cos(0.4) * -0.003 + sin(0.4) * 0.002, 1e-15);
+    ENSURE_CLOSE(pc[1], -sin(0.4) * -0.003 + cos(0.4) * 0.002, 1e-15);
+    {
+        const double c0[2] = {0.0, 0.0};
+        ENSURE_CLOSE(region_mean_distance(&rg, c0), exdex_er_rectangle(0.01, 0.01), 1e-15);
+    }
+    for (int i = 0; i < 4; i++) ENSURE_CLOSE(hypot(rg.v[i][0], rg.v[i][1]), 0.01 * sqrt(2.0), 1e-15);
     exdex_model_free(m);
 }
