@@ -21,7 +21,9 @@
 #include "model.h"
 #include "contact.h"
 #include "util.h"
+#include "region.h"
 
+#include <float.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -82,6 +84,49 @@ static int spd3(const double A[9])
     return d2 > 0;
 }
 
+/* Pads on the fingers: 0 without them; else the pad (B) and face (C) as
+ * shapes into pad, face (may be NULL), or EXDEX_EINVAL naming the field. */
+static int check_pads(const exdex_scene_def *d, pads_shape *pad, pads_shape *face, const char **bad_param)
+{
+    pads_shape tmp[2];
+    const int np[2] = {d->pad_n, d->face_n};
+    const double *rad[2] = {&d->pad_radius, &d->face_radius}, *cen[2] = {d->pad_center, d->face_center};
+    const double (*pv[2])[2] = {d->pad, d->face};
+    static const char *names[2][3] = {{"pad_n", "pad_radius", "pad_center"}, {"face_n", "face_radius", "face_center"}};
+    if (!pad) pad = &tmp[0];
+    if (!face) face = &tmp[1];
+    if (d->pad_n < 0 || d->pad_n > EXDEX_MAX_PAD_VERTICES) return bad(bad_param, "pad_n");
+    if (!(isfinite(d->pad_radius) && d->pad_radius >= 0.0)) return bad(bad_param, "pad_radius");
+    if (d->pad_n == 0 && d->pad_radius == 0.0) {
+        /* no pads: the face is not read */
+        return EXDEX_OK;
+    }
+    for (int k = 0; k < 2; k++) {
+        pads_shape *s = k ? face : pad;
+        if (np[k] < 0 || np[k] > EXDEX_MAX_PAD_VERTICES) return bad(bad_param, names[k][0]);
+        if (!(isfinite(*rad[k]) && *rad[k] >= 0.0)) return bad(bad_param, names[k][1]);
+        if ((np[k] > 0) == (*rad[k] > 0.0)) return bad(bad_param, np[k] ? names[k][1] : names[k][0]);
+        memset(s, 0, sizeof *s);
+        if (np[k]) {
+            double sc = k == 0 && d->pad_scale != 0.0 ? d->pad_scale : 1.0;
+            s->n = np[k];
+            if (k == 0 && !(isfinite(d->pad_scale) && d->pad_scale >= 0.0)) return bad(bad_param, "pad_scale");
+            if (k == 0 && !ex_finite_n(d->pad_center, 2)) return bad(bad_param, "pad_center");
+            for (int i = 0; i < np[k]; i++) {
+                s->v[i][0] = k == 0 ? d->pad_center[0] + sc * pv[k][i][0] : pv[k][i][0];
+                s->v[i][1] = k == 0 ? d->pad_center[1] + sc * pv[k][i][1] : pv[k][i][1];
+            }
+            if (!pads_poly_ccw(s->v, s->n)) return bad(bad_param, k ? "face" : "pad");
+        } else {
+            if (!ex_finite_n(cen[k], 2)) return bad(bad_param, names[k][2]);
+            s->r = *rad[k];
+            s->c[0] = cen[k][0];
+            s->c[1] = cen[k][1];
+        }
+    }
+    return EXDEX_OK;
+}
+
 /* Field-by-field validation of everything but R0, the motion, the planar
  * friction problem and the initial stop gaps (those need the model built). */
 static int check_fields(const exdex_scene_def *d, const char **bad_param)
@@ -101,6 +146,10 @@ static int check_fields(const exdex_scene_def *d, const char **bad_param)
     if (!(isfinite(d->disc_radius) && d->disc_radius >= 0.0) || (d->disc_radius > 0.0 && d->n_vertices != 0))
         return bad(bad_param, "disc_radius");
     if (!ex_finite_n(d->disc_center, 2)) return bad(bad_param, "disc_center");
+    {
+        int st = check_pads(d, NULL, NULL, bad_param);
+        if (st) return st;
+    }
     if (!(isfinite(d->mu) && d->mu >= 0)) return bad(bad_param, "mu");
     if (!(isfinite(d->grip_force) && d->grip_force >= 0)) return bad(bad_param, "grip_force");
     if (!(isfinite(d->mu_static) && (d->mu_static == 0.0 || d->mu_static >= d->mu)))
@@ -175,6 +224,8 @@ const char *exdex_analytic_unsupported(const exdex_scene_def *d)
     if (d->dof != EXDEX_DOF_TRANSLATION && d->dof != EXDEX_DOF_ROTATION)
         return "the analytic method solves 1-DoF scenes (translation or rotation), not planar ones";
     if (d->n_stops != 0 || d->n_obstacles != 0) return "the analytic method solves scenes without stops";
+    if (d->pad_n > 0 || d->pad_radius > 0.0)
+        return "the analytic method solves the patch fixed on the object, not pads on the fingers";
     if (mo->kind == EXDEX_MOTION_SHAKE || mo->kind == EXDEX_MOTION_CHAIN)
         return "the analytic method needs a piecewise-constant gripper acceleration (Eq. 7, trapezoid or "
                "rest), not a shake or a chain";
@@ -439,6 +490,345 @@ void model_patch_of_gen(const exdex_model *m, const double cs[2], const double P
     w[0] = px;
     w[1] = py;
     w[2] = P[2] + m->pc[1] * px - m->pc[0] * py;
+}
+
+/* ------------------------------------------------ pads on the fingers */
+
+/* W = J' M^-1 J'^T of the patch at m->pc (planar). */
+static void patch_delassus(const exdex_model *m, double W[9])
+{
+    double J[9] = {1, 0, -m->pc[1], 0, 1, m->pc[0], 0, 0, 1};
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            double s = 0;
+            for (int k = 0; k < 3; k++) s += J[3 * i + k] * m->minv[k] * J[3 * j + k];
+            W[3 * i + j] = s;
+        }
+}
+
+/* The friction problem of the patch at pc with semi-axes e (planar), as
+ * exdex_friction_prepare makes it from W = J' M^-1 J'^T, but from the
+ * factor W = F F^T, F = J' M^-1/2 (known here, and W positive definite by
+ * construction): K = E W E = B^T B with B = F^T E, its eigen-decomposition
+ * from B's one-sided Jacobi SVD (Hestenes; 3 x 3, inline, to full relative
+ * accuracy as friction.c's), eigenvalues ascending. EXDEX_EINVAL where
+ * exdex_friction_prepare would refuse K (an eigenvalue below DBL_MIN or not
+ * finite, or no convergence). */
+int model_pads_prepare(const exdex_model *m, const double pc[2], const double e[3], exdex_friction_prep *p)
+{
+    double F[9], B[3][3], V[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, lam[3], d0 = sqrt(m->minv[0]),
+           d2 = sqrt(m->minv[2]);
+    int order[3] = {0, 1, 2}, sweep;
+    /* F = J' diag(d0, d0, d2), J' = [[1, 0, -pc_y], [0, 1, pc_x], [0, 0, 1]] */
+    F[0] = d0, F[1] = 0.0, F[2] = -pc[1] * d2;
+    F[3] = 0.0, F[4] = d0, F[5] = pc[0] * d2;
+    F[6] = 0.0, F[7] = 0.0, F[8] = d2;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            double w = 0.0;
+            for (int k = 0; k < 3; k++) w += F[3 * i + k] * F[3 * j + k];
+            p->W[3 * i + j] = w;
+        }
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++) {
+            p->K[3 * i + j] = e[i] * p->W[3 * i + j] * e[j];
+            B[i][j] = F[3 * j + i] * e[j];   /* B = F^T E */
+        }
+        p->e[i] = e[i];
+    }
+    for (sweep = 0; sweep < 40; sweep++) {
+        int rotated = 0;
+        for (int a = 0; a < 2; a++)
+            for (int b = a + 1; b < 3; b++) {
+                double al = 0.0, be = 0.0, ga = 0.0, z, t, c, s;
+                for (int k = 0; k < 3; k++) {
+                    al += B[k][a] * B[k][a];
+                    be += B[k][b] * B[k][b];
+                    ga += B[k][a] * B[k][b];
+                }
+                if (!(fabs(ga) > 4e-16 * sqrt(al * be))) continue;
+                rotated = 1;
+                z = (be - al) / (2.0 * ga);
+                t = (z >= 0.0 ? 1.0 : -1.0) / (fabs(z) + sqrt(1.0 + z * z));
+                c = 1.0 / sqrt(1.0 + t * t);
+                s = c * t;
+                for (int k = 0; k < 3; k++) {
+                    double x = B[k][a], y = B[k][b];
+                    B[k][a] = c * x - s * y;
+                    B[k][b] = s * x + c * y;
+                    x = V[k][a], y = V[k][b];
+                    V[k][a] = c * x - s * y;
+                    V[k][b] = s * x + c * y;
+                }
+            }
+        if (!rotated) break;
+    }
+    if (sweep == 40) return EXDEX_EINVAL;
+    for (int j = 0; j < 3; j++) lam[j] = B[0][j] * B[0][j] + B[1][j] * B[1][j] + B[2][j] * B[2][j];
+    /* ascending */
+    for (int i = 0; i < 2; i++)
+        for (int j = 0; j < 2 - i; j++)
+            if (lam[order[j]] > lam[order[j + 1]]) {
+                int x = order[j];
+                order[j] = order[j + 1];
+                order[j + 1] = x;
+            }
+    for (int j = 0; j < 3; j++) {
+        p->lam[j] = lam[order[j]];
+        for (int k = 0; k < 3; k++) p->Q[3 * k + j] = V[k][order[j]];
+    }
+    if (!(p->lam[0] >= DBL_MIN) || !isfinite(p->lam[2])) return EXDEX_EINVAL;
+    return EXDEX_OK;
+}
+
+/* A point c of B in C relative to the centre of mass at r turned by th. */
+static void pads_local_center(const double c[2], const double r[2], double th, double pc[2])
+{
+    double d[2] = {c[0] - r[0], c[1] - r[1]};
+    rot2(pc, -th, d);
+}
+
+/* 1 if every vertex of the ccw polygon a (n) lies in the ccw polygon b (k). */
+static int poly_in_poly(const double (*a)[2], int n, const double (*b)[2], int k)
+{
+    for (int e = 0; e < k; e++) {
+        const double *p = b[e], *q = b[e + 1 == k ? 0 : e + 1];
+        double ex = q[0] - p[0], ey = q[1] - p[1];
+        for (int i = 0; i < n; i++)
+            if (ex * (a[i][1] - p[1]) - ey * (a[i][0] - p[0]) < 0.0) return 0;
+    }
+    return 1;
+}
+
+/* 1 if the disc (c, r) lies in the ccw polygon b (k). */
+static int disc_in_poly(const double c[2], double r, const double (*b)[2], int k)
+{
+    for (int e = 0; e < k; e++) {
+        const double *p = b[e], *q = b[e + 1 == k ? 0 : e + 1];
+        double ex = q[0] - p[0], ey = q[1] - p[1];
+        if (ex * (c[1] - p[1]) - ey * (c[0] - p[0]) < r * hypot(ex, ey)) return 0;
+    }
+    return 1;
+}
+
+/* The face at the pose (r, th) in B. */
+static void face_at(const exdex_model *m, const double r[2], double th, pads_shape *f)
+{
+    double cs = cos(th), sn = sin(th);
+    f->n = m->face.n;
+    for (int i = 0; i < f->n; i++) {
+        const double *v = m->face.v[i];
+        f->v[i][0] = r[0] + cs * v[0] - sn * v[1];
+        f->v[i][1] = r[1] + sn * v[0] + cs * v[1];
+    }
+    f->r = m->face.r;
+    f->c[0] = r[0] + cs * m->face.c[0] - sn * m->face.c[1];
+    f->c[1] = r[1] + sn * m->face.c[0] + cs * m->face.c[1];
+}
+
+/* Which shape contains the other at the face pose f: 1 the pad lies in the
+ * face, 2 the face in the pad, 0 neither (or not decided here). */
+static int pads_containment(const exdex_model *m, const pads_shape *f)
+{
+    const pads_shape *p = &m->pad;
+    if (p->n && f->n) {
+        if (poly_in_poly((const double (*)[2])p->v, p->n, (const double (*)[2])f->v, f->n)) return 1;
+        if (poly_in_poly((const double (*)[2])f->v, f->n, (const double (*)[2])p->v, p->n)) return 2;
+        return 0;
+    }
+    if (!p->n && f->n) return disc_in_poly(p->c, p->r, (const double (*)[2])f->v, f->n) ? 1 : 0;
+    if (p->n && !f->n) return disc_in_poly(f->c, f->r, (const double (*)[2])p->v, p->n) ? 2 : 0;
+    return 0;   /* two discs: pads_intersect decides */
+}
+
+void model_pads_region(const exdex_model *m, const double r[2], double th, pads_region *out)
+{
+    pads_shape f;
+    double cs = cos(th), sn = sin(th);
+    f.n = m->face.n;
+    for (int i = 0; i < f.n; i++) {
+        const double *v = m->face.v[i];
+        f.v[i][0] = r[0] + cs * v[0] - sn * v[1];
+        f.v[i][1] = r[1] + sn * v[0] + cs * v[1];
+    }
+    f.r = m->face.r;
+    f.c[0] = r[0] + cs * m->face.c[0] - sn * m->face.c[1];
+    f.c[1] = r[1] + sn * m->face.c[0] + cs * m->face.c[1];
+    pads_intersect(&m->pad, &f, out);
+}
+
+void model_pads_set(exdex_model *mc, const double q[3])
+{
+    pads_region rg;
+    pads_shape f;
+    double pc[2], e[3], pc0[2], e2, cs, sn;
+    exdex_friction_prep prep;
+    int in;
+    if (!mc->pads || mc->ndof != 3) return;
+    if (q[0] == mc->pad_q[0] && q[1] == mc->pad_q[1] && q[2] == mc->pad_q[2]) return;
+    face_at(mc, q, q[2], &f);
+    in = pads_containment(mc, &f);
+    cs = cos(q[2]);
+    sn = sin(q[2]);
+    if (in == 2 && mc->face_prep_ok) {
+        /* the face inside the pad: the region is the face, fixed on the object */
+        mc->pc[0] = mc->face_in_c[0];
+        mc->pc[1] = mc->face_in_c[1];
+        mc->e[2] = mc->face_in_er;
+        mc->prep = mc->face_prep;
+        memcpy(mc->pad_q, q, sizeof mc->pad_q);
+        return;
+    }
+    if (in == 1) {
+        /* the pad inside the face: the region is the pad, fixed on the finger */
+        rg.area = mc->pad_in_area;
+        rg.c[0] = mc->pad_in_c[0];
+        rg.c[1] = mc->pad_in_c[1];
+        rg.er = mc->pad_in_er;
+    } else {
+        pads_intersect(&mc->pad, &f, &rg);
+    }
+    if (!(rg.area > EXDEX_PAD_LOST * mc->pad_area0 && rg.er > 0.0)) return;
+    /* the centroid in C: Rz(-theta) (c - r) */
+    pc[0] = cs * (rg.c[0] - q[0]) + sn * (rg.c[1] - q[1]);
+    pc[1] = -sn * (rg.c[0] - q[0]) + cs * (rg.c[1] - q[1]);
+    pc0[0] = mc->pc[0];
+    pc0[1] = mc->pc[1];
+    e2 = mc->e[2];
+    mc->pc[0] = pc[0];
+    mc->pc[1] = pc[1];
+    e[0] = e[1] = 1.0;
+    e[2] = rg.er;
+    if (model_pads_prepare(mc, pc, e, &prep)) {
+        mc->pc[0] = pc0[0];
+        mc->pc[1] = pc0[1];
+        mc->e[2] = e2;
+        return;
+    }
+    mc->e[2] = rg.er;
+    mc->prep = prep;
+    memcpy(mc->pad_q, q, sizeof mc->pad_q);
+}
+
+/* The regions of the two containments (the pad in the face, the face in
+ * the pad) and the friction problem of the face inside the pad. */
+static void pads_precompute(exdex_model *m)
+{
+    const double zero[2] = {0.0, 0.0};
+    pads_shape f;
+    /* the pad inside a face large enough: the pad itself */
+    if (m->pad.n) {
+        pads_poly_props((const double (*)[2])m->pad.v, m->pad.n, &m->pad_in_area, m->pad_in_c, &m->pad_in_er);
+    } else {
+        m->pad_in_area = EXDEX_PI * m->pad.r * m->pad.r;
+        m->pad_in_c[0] = m->pad.c[0];
+        m->pad_in_c[1] = m->pad.c[1];
+        m->pad_in_er = exdex_er_disc(m->pad.r);
+    }
+    /* the face at the identity pose, intersected with itself: the face */
+    face_at(m, zero, 0.0, &f);
+    if (f.n) {
+        pads_poly_props((const double (*)[2])f.v, f.n, &m->face_in_area, m->face_in_c, &m->face_in_er);
+    } else {
+        m->face_in_area = EXDEX_PI * f.r * f.r;
+        m->face_in_c[0] = f.c[0];
+        m->face_in_c[1] = f.c[1];
+        m->face_in_er = exdex_er_disc(f.r);
+    }
+    m->face_prep_ok = 0;
+    if (m->ndof == 3 && m->face_in_area > 0.0 && m->face_in_er > 0.0) {
+        exdex_model t = *m;
+        double W[9], e[3] = {1.0, 1.0, m->face_in_er};
+        t.pc[0] = m->face_in_c[0];
+        t.pc[1] = m->face_in_c[1];
+        patch_delassus(&t, W);
+        m->face_prep_ok = exdex_friction_prepare(&m->face_prep, W, e) == EXDEX_OK;
+    }
+}
+
+const exdex_model *model_pads_follow(const exdex_model *m, exdex_model *copy)
+{
+    if (!m->pads || m == copy) return m;
+    if (copy->pad_src == m && copy->pads) {
+        /* a model is read-only but for a stepper's copy, which sets only its
+         * grip (grip_n, capF, capS, def.grip_force) and motion between
+         * steps: those are refreshed, the contact fields kept */
+        copy->grip_n = m->grip_n;
+        copy->capF = m->capF;
+        copy->capS = m->capS;
+        copy->def.grip_force = m->def.grip_force;
+        copy->motion = m->motion;
+    } else {
+        *copy = *m;
+    }
+    copy->pad_src = m;
+    return copy;
+}
+
+int model_pads_patch_region(const exdex_model *m, const double q[3], struct region *rg, double pc[2])
+{
+    pads_region r;
+    double cs = cos(q[2]), sn = sin(q[2]);
+    if (!m->pads) return EXDEX_EINVAL;
+    model_pads_region(m, q, q[2], &r);
+    if (!(r.area > 0.0)) return EXDEX_EINVAL;
+    pc[0] = cs * (r.c[0] - q[0]) + sn * (r.c[1] - q[1]);
+    pc[1] = -sn * (r.c[0] - q[0]) + cs * (r.c[1] - q[1]);
+    memset(rg, 0, sizeof *rg);
+    if (r.disc) {
+        rg->kind = REGION_DISC;
+        rg->r = r.r;
+        return EXDEX_OK;
+    }
+    if (r.n > REGION_MAX_VERTICES) return EXDEX_EINVAL;
+    rg->kind = REGION_POLYGON;
+    rg->n = r.n;
+    for (int i = 0; i < r.n; i++) {
+        double x = r.v[i][0] - r.c[0], y = r.v[i][1] - r.c[1];
+        rg->v[i][0] = cs * x + sn * y;
+        rg->v[i][1] = -sn * x + cs * y;
+    }
+    return region_check(rg);
+}
+
+int model_pads_lost(const exdex_model *m, const double *q)
+{
+    pads_region rg;
+    pads_shape f;
+    double r[3], th;
+    if (!m->pads) return 0;
+    model_com_pose(m, q, r, &th);
+    face_at(m, r, th, &f);
+    if (pads_containment(m, &f)) return 0;   /* the pad or the face whole */
+    pads_intersect(&m->pad, &f, &rg);
+    return !(rg.area > EXDEX_PAD_LOST * m->pad_area0);
+}
+
+int exdex_pad_region(const exdex_scene_def *def, const double q[3], double *area, double c[2], double *er,
+                     double *radius, double (*verts)[2], int nmax, int *nv)
+{
+    exdex_model m;
+    pads_region rg;
+    if (!def || !q || !ex_finite_n(q, 3) || !(def->pad_n > 0 || def->pad_radius > 0.0)) return EXDEX_EINVAL;
+    memset(&m, 0, sizeof m);
+    if (check_pads(def, &m.pad, &m.face, NULL)) return EXDEX_EINVAL;
+    model_pads_region(&m, q, q[2], &rg);
+    if (area) *area = rg.area;
+    if (c) {
+        c[0] = rg.c[0];
+        c[1] = rg.c[1];
+    }
+    if (er) *er = rg.er;
+    if (radius) *radius = rg.disc ? rg.r : 0.0;
+    if (nv) {
+        int n = rg.n < nmax ? rg.n : nmax;
+        *nv = verts ? n : 0;
+        for (int i = 0; verts && i < n; i++) {
+            verts[i][0] = rg.v[i][0];
+            verts[i][1] = rg.v[i][1];
+        }
+    }
+    return EXDEX_OK;
 }
 
 /* ------------------------------------------------------------ scales */
@@ -720,6 +1110,23 @@ static exdex_model *build_model(const exdex_scene_def *def, int *status, const c
     m->e[2] = def->e_r;
     m->pc[0] = def->patch_center[0];
     m->pc[1] = def->patch_center[1];
+    if (def->pad_n > 0 || def->pad_radius > 0.0) {
+        /* pads on the fingers: the region at the start in place of the patch */
+        pads_region rg;
+        check_pads(def, &m->pad, &m->face, NULL);
+        m->pads = 1;
+        model_pads_region(m, def->q0, def->q0[2], &rg);
+        if (!(rg.area > 0.0 && rg.er > 0.0)) {
+            exdex_model_free(m);
+            *status = EXDEX_EINVAL;
+            if (bad_param) *bad_param = "pad";
+            return NULL;
+        }
+        m->pad_area0 = rg.area;
+        pads_local_center(rg.c, def->q0, def->q0[2], m->pc);
+        m->e[2] = rg.er;
+        memcpy(m->pad_q, def->q0, sizeof m->pad_q);
+    }
     memcpy(m->g, def->gravity, sizeof m->g);
     m->d[0] = def->slide_axis[0];
     m->d[1] = def->slide_axis[1];
@@ -742,13 +1149,8 @@ static exdex_model *build_model(const exdex_scene_def *def, int *status, const c
     m->minv[0] = m->minv[1] = 1.0 / m->m;
     m->minv[2] = 1.0 / m->izz;
     if (m->ndof == 3) {
-        double J[9] = {1, 0, -m->pc[1], 0, 1, m->pc[0], 0, 0, 1}, W[9];
-        for (int i = 0; i < 3; i++)
-            for (int j = 0; j < 3; j++) {
-                double s = 0;
-                for (int k = 0; k < 3; k++) s += J[3 * i + k] * m->minv[k] * J[3 * j + k];
-                W[3 * i + j] = s;
-            }
+        double W[9];
+        patch_delassus(m, W);
         st = exdex_friction_prepare(&m->prep, W, m->e);
         if (st) {
             exdex_model_free(m);
@@ -757,6 +1159,7 @@ static exdex_model *build_model(const exdex_scene_def *def, int *status, const c
             return NULL;
         }
     }
+    if (m->pads) pads_precompute(m);
     m->n_stops = def->n_stops;
     for (int k = 0; k < def->n_stops; k++) {
         memcpy(m->sp[k], def->stop_point[k], sizeof m->sp[k]);

@@ -12,6 +12,7 @@
 #include <gsl/gsl_interp.h>
 
 #include "exdex.h"
+#include "pads.h"
 
 #define MAX_ROWS (EXDEX_MAX_STOPS * EXDEX_MAX_VERTICES)
 
@@ -112,6 +113,24 @@ struct exdex_model {
     const exdex_motion *sw_motion;
     size_t sw_n;
     double *sw_t;
+    /* pads on the fingers (def.pad_n > 0 or def.pad_radius > 0): pad (in
+     * B) and face (in C, a ccw polygon or a disc); pc, e[2] and prep then
+     * hold the contact region at the pose pad_q (planar) or at the start
+     * (1-DoF). A model is read-only: a method that follows the region keeps
+     * its own copy of the model (model_pads_follow) and sets it with
+     * model_pads_set. */
+    int pads;
+    pads_shape pad, face;
+    double pad_q[3];
+    double pad_area0;   /* the region's area at the start */
+    const exdex_model *pad_src;  /* a copy (model_pads_follow): the model it copies */
+    /* the regions of the two containments, computed once: the pad inside the
+     * face (pad_in: its area, centroid in B, e_r) and the face inside the pad
+     * (face_in: centroid in C, and face_prep the friction problem there) */
+    double pad_in_area, pad_in_c[2], pad_in_er;
+    double face_in_area, face_in_c[2], face_in_er;
+    exdex_friction_prep face_prep;
+    int face_prep_ok;
 };
 
 /* ------------------------------------------------ grip force, capacity
@@ -423,6 +442,36 @@ static inline void model_to_b(const double cs[2], const double w[3], double out[
     out[1] = y;
     out[2] = w[2];
 }
+/* ------------------------------------------------------ pads on the fingers */
+
+/* The contact region with the object's centre of mass at r (B) turned by th. */
+void model_pads_region(const exdex_model *m, const double r[2], double th, pads_region *out);
+/* The planar contact fields of a model copy mc (pads: pc, e[2], prep) set
+ * to the region at the planar pose q (x, y, theta); nothing when q is the
+ * pose they hold, or without pads. A region that has vanished (area at most
+ * EXDEX_PAD_LOST times the start's) or whose prepare fails keeps the
+ * fields of the last pose (the run stops at the next output sample, see
+ * model_pads_lost). */
+void model_pads_set(exdex_model *mc, const double q[3]);
+/* For a method's entry point: m itself without pads, else copy (a
+ * method's own copy of the model, zeroed when the workspace was made)
+ * refreshed from m, its contact fields kept when they came from m before
+ * (they depend on the pose only). */
+const exdex_model *model_pads_follow(const exdex_model *m, exdex_model *copy);
+/* The planar friction problem of the patch at pc (C) with semi-axes e, as
+ * exdex_friction_prepare(W = J' M^-1 J'^T, e) makes it, from the factor
+ * J' M^-1/2 by an inline 3 x 3 one-sided Jacobi SVD (model.c); EXDEX_EINVAL
+ * where that would refuse K. */
+int model_pads_prepare(const exdex_model *m, const double pc[2], const double e[3], exdex_friction_prep *p);
+/* The pads' contact region at the planar pose q as a region.c region in
+ * patch coordinates (object frame C, relative to the region's centroid,
+ * which it returns in pc, in C relative to the centre of mass): the input of
+ * a limit surface of the current region. EXDEX_EINVAL for an empty one. */
+struct region;   /* region.h */
+int model_pads_patch_region(const exdex_model *m, const double q[3], struct region *rg, double pc[2]);
+/* 1 if the pads' region at the coordinates q (ndof entries) has vanished. */
+int model_pads_lost(const exdex_model *m, const double *q);
+
 /* |E^-1 w|, the ellipsoid norm of a patch wrench (paper Eq. 6). */
 static inline double model_ell_norm(const exdex_model *m, const double w[3])
 {

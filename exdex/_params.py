@@ -45,6 +45,12 @@ PARAMETERS: Dict[str, _Param] = {
     # negative from the pivot of a rotation scene) [m]
     "patch_x": _Param(("grasp", "patch", "center", 0), "patch_center_x", None, None, False, False),
     "patch_y": _Param(("grasp", "patch", "center", 1), "patch_center_y", None, None, False, False),
+    # pads on the fingers (Grasp.pad): the pad's position on the plate in B [m],
+    # a disc pad's radius [m] and a polygon pad's size factor
+    "pad_x": _Param(("grasp", "pad", "center", 0), "pad_center_x", None, None, False, False),
+    "pad_y": _Param(("grasp", "pad", "center", 1), "pad_center_y", None, None, False, False),
+    "pad_radius": _Param(("grasp", "pad", "radius"), "pad_radius", 0.0, None, True, False),
+    "pad_scale": _Param(("grasp", "pad", "scale"), "pad_scale", 0.0, None, True, False),
 }
 
 # names people reach for, pointing at ours

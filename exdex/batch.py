@@ -227,6 +227,14 @@ def _check_param(name, scene):
     p = PARAMETERS[name]
     scenes = scene if isinstance(scene, tuple) else (scene,)
     for sc in scenes:
+        if name.startswith("pad_"):
+            pad = sc.grasp.pad
+            if pad is None:
+                raise ValueError(f"batch parameter {name!r} sets Grasp.pad, which the scene does not have "
+                                 "(pads on the fingers: Grasp(pad=exdex.Pad...))")
+            if (name == "pad_radius") != (pad.radius is not None):
+                raise ValueError(f"batch parameter {name!r} needs a {'disc' if name == 'pad_radius' else 'polygon'} "
+                                 f"pad (Pad.{'radius' if name == 'pad_radius' else 'scale'})")
         if p.motions and not isinstance(sc.motion, p.motions):
             kinds = " or ".join(c.__name__ for c in p.motions)
             raise ValueError(f"batch parameter {name!r} sets motion.{p.path[-1]}, which needs a {kinds} "

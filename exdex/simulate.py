@@ -56,8 +56,10 @@ class Result:
         pushing an approaching object: velocity jumps), max_impulse [N s]
         (largest impact impulse, generalized N m s on a rotation pin; 0:
         none), max_impulse_t [s] and max_impulse_stop (its time and stop;
-        None: none). ``stop_force`` shows an impact as its impulse divided by the
-        step.
+        None: none), grasp_lost_t [s] (pads on the fingers: the time of the
+        sample where the contact region vanished; the run stopped there and
+        the arrays end at it; None: held to the end). ``stop_force`` shows an
+        impact as its impulse divided by the step.
     scene, method, friction_solver, dt : what produced it.
     """
 

@@ -135,7 +135,9 @@ void fuzz_note_keep(const char *target, const char *key);
     X(misc)             \
     X(ldp)              \
     X(grip)             \
-    X(stepper)
+    X(stepper)          \
+    X(region)           \
+    X(pads)
 
 #define FUZZ_DECLARE(name) int fuzz_##name(const uint8_t *data, size_t size);
 FUZZ_TARGETS(FUZZ_DECLARE)

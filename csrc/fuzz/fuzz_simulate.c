@@ -313,6 +313,35 @@ int fuzz_simulate(const uint8_t *data, size_t size)
         }
     }
 
+    /* pads on the fingers (decoded last, only for a selector of 1, so older
+     * inputs decode as before): a square or disc pad about a decoded point
+     * of B near the object, and the face a box rectangle or a disc in C
+     * (a region empty at the start is bad input, "pad") */
+    if (fz_pick(&f, 0, 3) == 1) {
+        double a = fz_log(&f, 1e-3, 0.03), cx = fz_num(&f, -0.02, 0.02), cy = fz_num(&f, -0.02, 0.02);
+        if (fz_pick(&f, 0, 1)) {
+            d.pad_radius = a;
+            d.pad_center[0] = cx;
+            d.pad_center[1] = cy;
+        } else {
+            d.pad_n = 4;
+            d.pad[0][0] = cx - a, d.pad[0][1] = cy - a;
+            d.pad[1][0] = cx + a, d.pad[1][1] = cy - a;
+            d.pad[2][0] = cx + a, d.pad[2][1] = cy + a;
+            d.pad[3][0] = cx - a, d.pad[3][1] = cy + a;
+        }
+        if (fz_pick(&f, 0, 1)) {
+            d.face_radius = fz_log(&f, 1e-3, 0.05);
+        } else {
+            double hx = fz_log(&f, 1e-3, 0.05), hy = fz_log(&f, 1e-3, 0.05);
+            d.face_n = 4;
+            d.face[0][0] = -hx, d.face[0][1] = -hy;
+            d.face[1][0] = hx, d.face[1][1] = -hy;
+            d.face[2][0] = hx, d.face[2][1] = hy;
+            d.face[3][0] = -hx, d.face[3][1] = hy;
+        }
+    }
+
     /* fields exdex_scene_check must validate */
     required_nonfinite = !isfinite(d.mass) || !fz_all_finite(d.inertia, 9) || !isfinite(d.mu) ||
                          !isfinite(d.grip_force) || !isfinite(d.e_r) || !fz_all_finite(d.patch_center, 2) ||
@@ -340,6 +369,11 @@ int fuzz_simulate(const uint8_t *data, size_t size)
                 if (!fz_all_finite(ob->face_point[fc], 3) || !fz_all_finite(ob->face_normal[fc], 3))
                     required_nonfinite = 1;
     }
+    /* pads: every decoded field of a pad and face in use */
+    if (d.pad_n || d.pad_radius != 0.0)
+        if (!isfinite(d.pad_radius) || !fz_all_finite(d.pad_center, 2) || !fz_all_finite(&d.pad[0][0], 8) ||
+            !isfinite(d.face_radius) || !fz_all_finite(&d.face[0][0], 8))
+            required_nonfinite = 1;
 
     if (fz_trace) {
         fprintf(stderr, "scene: mass %g I %g %g %g / %g %g %g / %g %g %g nv %d mu %g grip %g fingers %d e_r %g pc %g %g\n"
@@ -423,20 +457,28 @@ int fuzz_simulate(const uint8_t *data, size_t size)
             /* EINVAL is for arguments; the model and trajectory are valid */
             FZ_EXTREME(T, &f, st != EXDEX_EINVAL && st != EXDEX_ENOMEM);
             if (st == EXDEX_OK) {
+                /* pads: a lost grasp ends the run at sample lost_sample (nw samples written) */
+                size_t nw = sa.lost_sample ? sa.lost_sample + 1 : n;
+                FZ_CHECK(T, sa.lost_sample < n && (sa.lost_sample == 0) == isnan(sa.lost_t));
+                FZ_CHECK(T, sa.lost_sample == 0 || d.pad_n > 0 || d.pad_radius > 0.0);
+                if (sa.lost_sample) {
+                    fuzz_note_count(T, "runs OK that lost the grasp");
+                    FZ_CHECK(T, sa.lost_t == a.tr.t[sa.lost_sample]);
+                }
                 fuzz_note_count(T, "runs OK");
-                FZ_EXTREME(T, &f, fz_all_finite(a.tr.t, n) && fz_all_finite(a.tr.q, n * (size_t)ndof) &&
-                                      fz_all_finite(a.tr.v, n * (size_t)ndof) &&
-                                      fz_all_finite(a.tr.wrench, 3 * n));
+                FZ_EXTREME(T, &f, fz_all_finite(a.tr.t, nw) && fz_all_finite(a.tr.q, nw * (size_t)ndof) &&
+                                      fz_all_finite(a.tr.v, nw * (size_t)ndof) &&
+                                      fz_all_finite(a.tr.wrench, 3 * nw));
                 /* the fixed-step methods take exactly one step per sample,
                  * and the analytic method counts one per sample */
                 if (d.method == EXDEX_METHOD_IMPLICIT || d.method == EXDEX_METHOD_EXPLICIT ||
                     d.method == EXDEX_METHOD_ANALYTIC)
-                    FZ_CHECK(T, sa.steps == n - 1);
+                    FZ_CHECK(T, sa.steps == nw - 1);
                 FZ_CHECK(T, sa.stick_steps <= sa.steps);
-                FZ_CHECK(T, a.tr.t[0] == 0.0 && a.tr.t[n - 1] == t_end);
-                for (size_t i = 1; i < n; i++) FZ_CHECK(T, a.tr.t[i] > a.tr.t[i - 1]);
-                for (size_t i = 0; i < n; i++) FZ_CHECK(T, a.tr.stick[i] <= 1);
-                for (size_t i = 0; i < n * (size_t)nstops; i++)
+                FZ_CHECK(T, a.tr.t[0] == 0.0 && (sa.lost_sample || a.tr.t[n - 1] == t_end));
+                for (size_t i = 1; i < nw; i++) FZ_CHECK(T, a.tr.t[i] > a.tr.t[i - 1]);
+                for (size_t i = 0; i < nw; i++) FZ_CHECK(T, a.tr.stick[i] <= 1);
+                for (size_t i = 0; i < nw * (size_t)nstops; i++)
                     FZ_EXTREME(T, &f, isfinite(a.tr.stop_force[i]) && a.tr.stop_force[i] >= 0.0);
                 if (nstops) {
                     FZ_CHECK(T, !isnan(sa.min_gap));

@@ -11,7 +11,7 @@ from exdex.scene import AsymmetricProfile, Rest, SampledTrajectory, TrapezoidalP
 __all__ = ["QUANTITIES", "UnreachableTargetError", "motion_peaks", "check_quantity"]
 
 #: the quantities a target can name, with their units
-QUANTITIES = {"slip": "m", "rotation": "rad", "x": "m", "y": "m"}
+QUANTITIES = {"slip": "m", "rotation": "rad", "x": "m", "y": "m", "contact_slip": "m"}
 
 
 class UnreachableTargetError(ValueError):
@@ -59,6 +59,7 @@ def check_quantity(quantity, scene):
     if quantity not in QUANTITIES:
         raise ValueError(f"target quantity must be one of {sorted(QUANTITIES)}, got {quantity!r}")
     dof = scene.dof
-    ok = {"translation": ("slip",), "rotation": ("rotation",), "planar": ("slip", "rotation", "x", "y")}[dof]
+    ok = {"translation": ("slip",), "rotation": ("rotation",),
+          "planar": ("slip", "rotation", "x", "y", "contact_slip")}[dof]
     if quantity not in ok:
         raise ValueError(f"a {dof} scene has no {quantity!r} outcome; use one of {list(ok)}")

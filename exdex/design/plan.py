@@ -31,7 +31,13 @@ Quantities (final value minus initial value of the free coordinates):
 ``"slip"`` [m] the displacement along the slide axis (translation scenes) or
 the distance moved in the plate plane (planar scenes); ``"rotation"`` [rad]
 the turn of the object relative to the gripper (rotation and planar scenes);
-``"x"``, ``"y"`` [m] the planar displacement's components in the gripper frame.
+``"x"``, ``"y"`` [m] the planar displacement's components in the gripper frame;
+``"contact_slip"`` [m] (planar scenes) how far the object's face slid under
+the contact: with pads on the fingers (``Grasp.pad``) the distance the
+contact region's centroid moved over the object (in C, from the region at
+the start and at the end; NaN where the grasp was lost), with the patch the
+distance its centre moved relative to the gripper. It uses the scene's own
+pad (not one a batch varies).
 A target may add ``"rest_by"`` [s], the time by which the object must be at
 rest relative to the gripper. A planar pose (``x``, ``y``, ``rotation``)
 without ``vary`` is planned as a sequence of motion primitives by
@@ -63,7 +69,8 @@ __all__ = ["Limits", "Plan", "MultiPlan", "Band", "UnreachableTargetError", "sol
 
 #: units of the parameters, for labels
 _PARAM_UNITS = {"grip_force": "N", "mu": "-", "mass": "kg", "e_r": "m", "amplitude": "m or rad", "duration": "s",
-                "beta": "-", "v_max": "m/s or rad/s", "mu_static": "-", "patch_x": "m", "patch_y": "m"}
+                "beta": "-", "v_max": "m/s or rad/s", "mu_static": "-", "patch_x": "m", "patch_y": "m",
+                "pad_x": "m", "pad_y": "m", "pad_radius": "m", "pad_scale": "-"}
 
 
 @dataclass(frozen=True)
@@ -127,7 +134,37 @@ def outcome(final_displacement: Any, scene: Scene, quantity: str) -> np.ndarray:
         return d[:, 0]
     if quantity == "slip":
         return np.hypot(d[:, 0], d[:, 1])
+    if quantity == "contact_slip":
+        return contact_slip(scene, d)
     return d[:, {"x": 0, "y": 1, "rotation": 2}[quantity]]
+
+
+def contact_slip(scene: Scene, final_displacement: Any) -> np.ndarray:
+    """How far the object's face slid under the contact [m] for final
+    displacements (B, 3) of a planar ``scene`` (the ``"contact_slip"``
+    outcome): with pads, the travel of the region's centroid over the object
+    (in C); with the patch, the travel of its centre relative to the gripper."""
+    d = np.atleast_2d(np.asarray(final_displacement, dtype=float))
+    q0 = np.asarray(scene.q0, dtype=float)
+    q = q0 + d
+
+    def rot(th, v):
+        c, s = np.cos(th), np.sin(th)
+        return np.stack([c * v[..., 0] - s * v[..., 1], s * v[..., 0] + c * v[..., 1]], axis=-1)
+
+    if scene.grasp.pad is None:
+        pc = np.asarray(scene.grasp.patch.center, dtype=float)
+        return np.linalg.norm(q[:, :2] + rot(q[:, 2], pc) - q0[:2] - rot(q0[2], pc), axis=1)
+    spec = scene.to_spec()
+
+    def centroid_C(p):
+        reg = _core.pad_region(spec, p)
+        if not reg["area"] > 0.0:
+            return np.array([np.nan, np.nan])
+        return rot(-p[2], np.asarray(reg["centroid"]) - p[:2])
+
+    c0 = centroid_C(q0)
+    return np.array([float(np.linalg.norm(centroid_C(p) - c0)) for p in q])
 
 
 def _target(target, scene):

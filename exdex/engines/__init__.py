@@ -41,7 +41,11 @@ How each scene is built (all engines)
   own box-box collision turns each face-to-face contact into points at the
   pad's corners (the paper's "multiple contact points at the vertices"). In
   translation scenes the pads are plates larger than the object (e_r plays no
-  role there). ``"point"``: one small sphere per finger at the patch centre,
+  role there). With pads on the fingers (``Grasp.pad``) the engines' pads are
+  exdex's: at ``Pad.center`` in B, a ``Pad.rectangle`` that rectangle, a
+  ``Pad.disc`` the square of the same e_r (a general polygon: ValueError),
+  the joints at the centroid of the region at the start (exdex's pivot).
+  ``"point"``: one small sphere per finger at the patch centre,
   with torsional friction mu * e_r per contact: in MuJoCo (elliptic cone,
   condim 4) this is the same ellipsoid as exdex's, per contact; in pybullet the
   spin limit is independent of the lateral one (a cylinder).

@@ -10,6 +10,7 @@ import time
 
 import numpy as np
 
+from exdex import _core
 from exdex._optional import require
 from exdex._rotations import quat_from_matrix as _quat_from_matrix
 from exdex._validate import real as _real
@@ -53,6 +54,23 @@ def xyzw(R):
     return [x, y, z, w]
 
 
+def _pad_half_sides(pad):
+    """Half-sides (a, b) [m] of the engines' box pad for an exdex.Pad: a
+    rectangle with sides along B's axes keeps its rectangle, a disc becomes
+    the square of the same e_r (as pad_geometry does for a disc patch)."""
+    if pad.radius is not None:
+        a = _core.er_disc(pad.radius) / _er_rectangle(1.0, 1.0)
+        return float(a), float(a)
+    v = np.asarray(pad.vertices) * pad.scale
+    xs, ys = np.unique(np.round(v[:, 0], 15)), np.unique(np.round(v[:, 1], 15))
+    if len(v) != 4 or len(xs) != 2 or len(ys) != 2:
+        raise ValueError("the engines build a rectangle pad (sides along B's x and y, Pad.rectangle) or a disc pad "
+                         "(Pad.disc), not a general polygon")
+    if abs(xs[0] + xs[1]) > 1e-12 * (abs(xs[0]) + abs(xs[1])) or abs(ys[0] + ys[1]) > 1e-12 * (abs(ys[0]) + abs(ys[1])):
+        raise ValueError("the engines build a rectangle pad centred on Pad.center (vertices symmetric about it)")
+    return float(xs[1] - xs[0]) / 2, float(ys[1] - ys[0]) / 2
+
+
 class Layout:
     """Where everything sits in the gripper frame B, from an exdex scene."""
 
@@ -74,7 +92,14 @@ class Layout:
         self.th0 = th0
         self.R_BC0 = _rot_z(th0)
         self.com0 = np.array([x0, y0, 0.0])          # C origin in B
-        c = np.array(scene.grasp.patch.center + (0.0,))
+        pad = scene.grasp.pad
+        if pad is not None:
+            # pads on the fingers: the pivot (and the joint frame) at the centroid of the
+            # region at the start, as exdex's rotation pivots there
+            cB = np.array(_core.pad_region(scene.to_spec(), scene.q0)["centroid"])
+            c = np.append(self.R_BC0[:2, :2].T @ (cB - self.com0[:2]), 0.0)
+        else:
+            c = np.array(scene.grasp.patch.center + (0.0,))
         self.patch_B = self.com0 + self.R_BC0 @ c     # patch centre (pivot) in B
         self.patch_C = c                              # in C
         # the joint frame of the object: at the pivot (rotation/planar) or at the COM
@@ -91,6 +116,12 @@ class Layout:
             span = float(np.hypot(lx, ly)) + 0.2
             self.pad_center = self.com0.copy()
             self.pad_half = (span, span)
+        elif pad is not None:
+            # exdex's pads on the fingers: the engines' pads where they are, in B
+            a, b = _pad_half_sides(pad)
+            self.pad_center = np.array(tuple(pad.center) + (0.0,))
+            self.pad_half = (a, b)
+            self.pad_covered = True
         else:
             a, b = pad_geometry(scene.grasp.patch)
             self.pad_center = self.patch_B.copy()

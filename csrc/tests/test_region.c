@@ -1,0 +1,312 @@
+/* test_region.c -- integrals over a uniform contact region (region.c).
+ *
+ * References, test by test:
+ *   closed forms    the disc's F(centre) = 2 pi R^3 / 3, Phi(centre) = 2 pi R,
+ *                   G near the centre -pi R rho (Taylor: grad^2 F = 2 pi R);
+ *                   the rectangle's mean distance from its centre (Howe and
+ *                   Cutkosky's closed form, exdex_er_rectangle) and the
+ *                   square's (sqrt2 + asinh 1)/3 a = 0.76520 a; the disc's
+ *                   value at its rim (F = 32 R^3 / 9, a classic).
+ *   grid            brute-force midpoint quadrature on a fine grid (every
+ *                   cell centre tested for inclusion) of F, G at points
+ *                   inside, on the boundary and outside random convex
+ *                   polygons and discs; Phi and H at points outside (smooth
+ *                   integrand there).
+ *   identities      trace H = Phi; grad_c G = H - Phi I against central
+ *                   differences of G; G = -grad_c F against differences of F
+ *                   (polygons and the disc, across its two branches).
+ *   polygon -> disc regular n-gons inscribed in the disc converge to the
+ *                   disc's values (error O(1/n^2)).
+ */
+#include "check.h"
+#include "../exdex.h"
+#include "../region.h"
+
+#include <math.h>
+#include <string.h>
+
+static const double PI = 3.14159265358979323846;
+
+/* tiny deterministic generator (the cases do not depend on a library) */
+static unsigned long long rs = 88172645463325252ULL;
+static double urand(void)
+{
+    rs ^= rs << 13, rs ^= rs >> 7, rs ^= rs << 17;
+    return (double)(rs >> 11) / 9007199254740992.0;
+}
+
+/* a random convex polygon: n points on an ellipse at sorted random angles,
+ * rotated and shifted */
+static void random_polygon(region *rg, int n)
+{
+    double ang[REGION_MAX_VERTICES];
+    for (int i = 0; i < n; i++) ang[i] = 2.0 * PI * urand();
+    for (int i = 1; i < n; i++)
+        for (int j = i; j > 0 && ang[j - 1] > ang[j]; j--) {
+            double t = ang[j];
+            ang[j] = ang[j - 1], ang[j - 1] = t;
+        }
+    double a = 0.5 + urand(), b = 0.2 + urand(), rot = 2.0 * PI * urand(), cx = urand() - 0.5, cy = urand() - 0.5;
+    memset(rg, 0, sizeof *rg);
+    rg->kind = REGION_POLYGON;
+    rg->n = n;
+    for (int i = 0; i < n; i++) {
+        double x = a * cos(ang[i]), y = b * sin(ang[i]);
+        rg->v[i][0] = cx + cos(rot) * x - sin(rot) * y;
+        rg->v[i][1] = cy + sin(rot) * x + cos(rot) * y;
+    }
+}
+
+static int inside(const region *rg, double x, double y)
+{
+    if (rg->kind == REGION_DISC) return hypot(x - rg->c[0], y - rg->c[1]) <= rg->r;
+    for (int i = 0; i < rg->n; i++) {
+        const double *p = rg->v[i], *q = rg->v[(i + 1) % rg->n];
+        if ((q[0] - p[0]) * (y - p[1]) - (q[1] - p[1]) * (x - p[0]) < 0.0) return 0;
+    }
+    return 1;
+}
+
+/* midpoint rule on an N x N grid over the bounding box */
+static void grid(const region *rg, const double c[2], int N, region_moments *m, double *area)
+{
+    double lo[2], hi[2];
+    if (rg->kind == REGION_DISC) {
+        for (int k = 0; k < 2; k++) lo[k] = rg->c[k] - rg->r, hi[k] = rg->c[k] + rg->r;
+    } else {
+        lo[0] = hi[0] = rg->v[0][0], lo[1] = hi[1] = rg->v[0][1];
+        for (int i = 1; i < rg->n; i++)
+            for (int k = 0; k < 2; k++) {
+                if (rg->v[i][k] < lo[k]) lo[k] = rg->v[i][k];
+                if (rg->v[i][k] > hi[k]) hi[k] = rg->v[i][k];
+            }
+    }
+    double hx = (hi[0] - lo[0]) / N, hy = (hi[1] - lo[1]) / N, dA = hx * hy;
+    double F = 0, Gx = 0, Gy = 0, Phi = 0, Hxx = 0, Hxy = 0, Hyy = 0, A = 0;
+    for (int i = 0; i < N; i++)
+        for (int j = 0; j < N; j++) {
+            double x = lo[0] + (i + 0.5) * hx, y = lo[1] + (j + 0.5) * hy;
+            if (!inside(rg, x, y)) continue;
+            double dx = x - c[0], dy = y - c[1], r = hypot(dx, dy);
+            A += dA;
+            F += r * dA;
+            if (r == 0.0) continue;
+            Gx += dx / r * dA, Gy += dy / r * dA;
+            Phi += dA / r;
+            Hxx += dx * dx / (r * r * r) * dA, Hxy += dx * dy / (r * r * r) * dA, Hyy += dy * dy / (r * r * r) * dA;
+        }
+    m->F = F, m->G[0] = Gx, m->G[1] = Gy, m->Phi = Phi, m->H[0] = Hxx, m->H[1] = Hxy, m->H[2] = Hyy;
+    *area = A;
+}
+
+EXDEX_TEST(region_check_rejects)
+{
+    region rg;
+    region_set_rectangle(&rg, 0, 0, 1, 2);
+    ENSURE(region_check(&rg) == EXDEX_OK);
+    /* clockwise */
+    double t[2];
+    memcpy(t, rg.v[1], sizeof t), memcpy(rg.v[1], rg.v[3], sizeof t), memcpy(rg.v[3], t, sizeof t);
+    ENSURE(region_check(&rg) == EXDEX_EINVAL);
+    /* non-convex: a dent */
+    region_set_rectangle(&rg, 0, 0, 1, 1);
+    rg.n = 5;
+    rg.v[4][0] = -0.5, rg.v[4][1] = 0.0; /* after (-1, 1): a right turn */
+    ENSURE(region_check(&rg) == EXDEX_EINVAL);
+    region_set_rectangle(&rg, 0, 0, 1, NAN);
+    ENSURE(region_check(&rg) == EXDEX_EINVAL);
+    region_set_rectangle(&rg, 0, 0, 1, 0);
+    ENSURE(region_check(&rg) == EXDEX_EINVAL);
+    region_set_disc(&rg, 0, 0, 0);
+    ENSURE(region_check(&rg) == EXDEX_EINVAL);
+    region_set_disc(&rg, 0, INFINITY, 1);
+    ENSURE(region_check(&rg) == EXDEX_EINVAL);
+    rg.kind = REGION_NONE;
+    ENSURE(region_check(&rg) == EXDEX_EINVAL);
+    ENSURE(region_check(NULL) == EXDEX_EINVAL);
+    region_set_disc(&rg, 0, 0, 1);
+    double c[2] = {NAN, 0};
+    region_moments mo;
+    ENSURE(region_moments_at(&rg, c, &mo) == EXDEX_EINVAL);
+}
+
+EXDEX_TEST(region_disc_closed_forms)
+{
+    for (int k = 0; k < 3; k++) {
+        double R = k == 0 ? 1.0 : k == 1 ? 0.013 : 7.5;
+        region rg;
+        region_set_disc(&rg, 0.3 * R, -0.2 * R, R);
+        ENSURE(region_check(&rg) == EXDEX_OK);
+        region_moments mo;
+        ENSURE(region_moments_at(&rg, rg.c, &mo) == EXDEX_OK);
+        ENSURE_CLOSE(mo.F, 2.0 * PI * R * R * R / 3.0, 1e-15 * R * R * R);
+        ENSURE_CLOSE(mo.Phi, 2.0 * PI * R, 1e-15 * R);
+        ENSURE_CLOSE(region_mean_distance(&rg, rg.c), 2.0 * R / 3.0, 1e-15 * R);
+        ENSURE_CLOSE(region_mean_distance(&rg, rg.c), exdex_er_disc(R), 1e-15 * R);
+        ENSURE(mo.G[0] == 0.0 && mo.G[1] == 0.0);
+        /* near the centre: G = -pi R rho (1 + O(rho^2 / R^2)) */
+        double c[2] = {rg.c[0] + 1e-4 * R, rg.c[1]};
+        ENSURE(region_moments_at(&rg, c, &mo) == EXDEX_OK);
+        ENSURE_CLOSE(mo.G[0], -PI * R * 1e-4 * R, 1e-9 * R * R);
+        ENSURE_CLOSE(mo.G[1], 0.0, 1e-20 * R * R);
+        /* on the rim: mean distance of a disc from a point of its rim 32 R / (9 pi) */
+        c[0] = rg.c[0], c[1] = rg.c[1] + R;
+        ENSURE(region_moments_at(&rg, c, &mo) == EXDEX_OK);
+        ENSURE_CLOSE(mo.F, 32.0 * R * R * R / 9.0, 1e-14 * R * R * R);
+        /* on the rim Phi = 4R (from the boundary form: 2 (2R E(1))) */
+        ENSURE_CLOSE(mo.Phi, 4.0 * R, 1e-14 * R);
+        /* far away: the mean distance is rho + R^2 / (8 rho) + O(R^4 / rho^3) */
+        c[0] = rg.c[0] + 1e3 * R, c[1] = rg.c[1];
+        ENSURE(region_moments_at(&rg, c, &mo) == EXDEX_OK);
+        ENSURE_CLOSE(mo.F / (PI * R * R * 1e3 * R), 1.0 + 0.125e-6, 1e-11);
+        ENSURE_CLOSE(mo.G[0] / (PI * R * R), -1.0, 1e-6);
+    }
+}
+
+EXDEX_TEST(region_rectangle_closed_forms)
+{
+    region rg;
+    double a = 0.02, b = 0.013;
+    region_set_rectangle(&rg, 0.1, -0.05, a, b);
+    double g[2];
+    region_centroid(&rg, g);
+    ENSURE_CLOSE(g[0], 0.1, 1e-16);
+    ENSURE_CLOSE(g[1], -0.05, 1e-16);
+    ENSURE_CLOSE(region_area(&rg), 4 * a * b, 1e-18);
+    ENSURE_CLOSE(region_mean_distance(&rg, g), exdex_er_rectangle(a, b), 1e-15);
+    region_set_rectangle(&rg, 0, 0, a, a);
+    double o[2] = {0, 0};
+    ENSURE_CLOSE(region_mean_distance(&rg, o) / a, (sqrt(2.0) + asinh(1.0)) / 3.0, 1e-15);
+    ENSURE_CLOSE(region_mean_distance(&rg, o) / a, 0.76520, 5e-6);
+    region_moments mo;
+    ENSURE(region_moments_at(&rg, o, &mo) == EXDEX_OK);
+    ENSURE_SMALL(mo.G[0], 1e-18);
+    ENSURE_SMALL(mo.G[1], 1e-18);
+    /* Phi at the centre of a square: 8 a asinh(1) (four triangles, each 2 a asinh 1) */
+    ENSURE_CLOSE(mo.Phi, 8.0 * a * asinh(1.0), 1e-16);
+    ENSURE_CLOSE(mo.H[0], mo.Phi / 2.0, 1e-16);
+    ENSURE_SMALL(mo.H[1], 1e-17);
+}
+
+static void check_grid(const region *rg, const double c[2], int smooth, const char *what)
+{
+    region_moments mo, gr;
+    double A;
+    (void)what;
+    ENSURE(region_moments_at(rg, c, &mo) == EXDEX_OK);
+    grid(rg, c, 1200, &gr, &A);
+    double L = sqrt(region_area(rg)), reach = region_reach(rg, c);
+    ENSURE_CLOSE(A / region_area(rg), 1.0, 5e-3);
+    /* the grid's error is dominated by the boundary cells: O(h / L) of the integral's scale */
+    ENSURE_CLOSE(mo.F / (A * reach), gr.F / (A * reach), 5e-3);
+    ENSURE_CLOSE(mo.G[0] / A, gr.G[0] / A, 5e-3);
+    ENSURE_CLOSE(mo.G[1] / A, gr.G[1] / A, 5e-3);
+    if (smooth) {
+        ENSURE_CLOSE(mo.Phi * L / A, gr.Phi * L / A, 5e-3);
+        for (int k = 0; k < 3; k++) ENSURE_CLOSE(mo.H[k] * L / A, gr.H[k] * L / A, 5e-3);
+    }
+}
+
+EXDEX_TEST(region_grid_polygons)
+{
+    for (int trial = 0; trial < 12; trial++) {
+        region rg;
+        random_polygon(&rg, 3 + trial % 6);
+        ENSURE(region_check(&rg) == EXDEX_OK);
+        double g[2], c[2];
+        region_centroid(&rg, g);
+        /* inside (the centroid), a vertex, an edge midpoint, outside near and far */
+        check_grid(&rg, g, 0, "centroid");
+        check_grid(&rg, rg.v[0], 0, "vertex");
+        c[0] = 0.5 * (rg.v[1][0] + rg.v[2][0]), c[1] = 0.5 * (rg.v[1][1] + rg.v[2][1]);
+        check_grid(&rg, c, 0, "edge");
+        double rr = region_reach(&rg, g), ang = 2.0 * PI * urand();
+        c[0] = g[0] + 1.5 * rr * cos(ang), c[1] = g[1] + 1.5 * rr * sin(ang);
+        check_grid(&rg, c, 1, "outside");
+        c[0] = g[0] + 6.0 * rr * cos(ang), c[1] = g[1] + 6.0 * rr * sin(ang);
+        check_grid(&rg, c, 1, "far");
+    }
+}
+
+EXDEX_TEST(region_grid_discs)
+{
+    for (int trial = 0; trial < 6; trial++) {
+        region rg;
+        region_set_disc(&rg, urand() - 0.5, urand() - 0.5, 0.3 + urand());
+        /* distances from the centre across both branches (series k^2 < 1/2, Carlson) */
+        const double fr[7] = {0.0, 0.1, 0.3, 0.9, 1.0, 2.0, 8.0};
+        for (int k = 0; k < 7; k++) {
+            double ang = 2.0 * PI * urand(), c[2] = {rg.c[0] + fr[k] * rg.r * cos(ang), rg.c[1] + fr[k] * rg.r * sin(ang)};
+            check_grid(&rg, c, fr[k] > 1.0, "disc");
+        }
+    }
+}
+
+EXDEX_TEST(region_identities)
+{
+    for (int trial = 0; trial < 20; trial++) {
+        region rg;
+        random_polygon(&rg, 3 + trial % 8);
+        double g[2], c[2];
+        region_centroid(&rg, g);
+        double rr = region_reach(&rg, g), f = 3.0 * urand(), ang = 2.0 * PI * urand();
+        c[0] = g[0] + f * rr * cos(ang), c[1] = g[1] + f * rr * sin(ang);
+        region_moments mo, mp, mm;
+        ENSURE(region_moments_at(&rg, c, &mo) == EXDEX_OK);
+        ENSURE_CLOSE(mo.H[0] + mo.H[2], mo.Phi, 1e-13 * mo.Phi);
+        double hstep = 1e-5 * rr;
+        for (int k = 0; k < 2; k++) {
+            double cp[2] = {c[0], c[1]}, cm[2] = {c[0], c[1]};
+            cp[k] += hstep, cm[k] -= hstep;
+            ENSURE(region_moments_at(&rg, cp, &mp) == EXDEX_OK);
+            ENSURE(region_moments_at(&rg, cm, &mm) == EXDEX_OK);
+            /* G = -grad F */
+            ENSURE_CLOSE(-(mp.F - mm.F) / (2 * hstep), mo.G[k], 1e-7 * mo.Phi * rr);
+            /* d G_j / d c_k = H_jk - Phi delta_jk */
+            double dG0 = (mp.G[0] - mm.G[0]) / (2 * hstep), dG1 = (mp.G[1] - mm.G[1]) / (2 * hstep);
+            double H0k = k == 0 ? mo.H[0] - mo.Phi : mo.H[1], H1k = k == 0 ? mo.H[1] : mo.H[2] - mo.Phi;
+            ENSURE_CLOSE(dG0, H0k, 1e-6 * mo.Phi);
+            ENSURE_CLOSE(dG1, H1k, 1e-6 * mo.Phi);
+        }
+    }
+    /* the disc: G = -grad F by differences, across the branch switch */
+    region rg;
+    region_set_disc(&rg, 0.2, -0.1, 0.7);
+    for (int k = 0; k < 40; k++) {
+        double rho = 0.05 * k * rg.r + 0.01, c[2] = {rg.c[0] + rho * 0.6, rg.c[1] + rho * 0.8}, h = 1e-6;
+        double cp[2] = {c[0] + h, c[1]}, cm[2] = {c[0] - h, c[1]};
+        region_moments mo, mp, mm;
+        ENSURE(region_moments_at(&rg, c, &mo) == EXDEX_OK);
+        ENSURE(region_moments_at(&rg, cp, &mp) == EXDEX_OK);
+        ENSURE(region_moments_at(&rg, cm, &mm) == EXDEX_OK);
+        ENSURE_CLOSE(-(mp.F - mm.F) / (2 * h), mo.G[0], 1e-8);
+        ENSURE_CLOSE(mo.H[0] + mo.H[2], mo.Phi, 1e-13 * mo.Phi);
+        /* d G / d c_x = (H_xx - Phi, H_xy) */
+        ENSURE_CLOSE((mp.G[0] - mm.G[0]) / (2 * h), mo.H[0] - mo.Phi, 1e-6 * mo.Phi);
+        ENSURE_CLOSE((mp.G[1] - mm.G[1]) / (2 * h), mo.H[1], 1e-6 * mo.Phi);
+    }
+}
+
+EXDEX_TEST(region_polygon_to_disc)
+{
+    region dk, pg;
+    double R = 0.4;
+    region_set_disc(&dk, 0.1, 0.2, R);
+    double err_prev = INFINITY;
+    for (int n = 8; n <= 64; n *= 2) {
+        memset(&pg, 0, sizeof pg);
+        pg.kind = REGION_POLYGON;
+        pg.n = n;
+        for (int i = 0; i < n; i++)
+            pg.v[i][0] = 0.1 + R * cos(2 * PI * i / n), pg.v[i][1] = 0.2 + R * sin(2 * PI * i / n);
+        double c[2] = {0.1 + 0.55 * R, 0.2 - 0.3 * R};
+        region_moments a, b;
+        ENSURE(region_moments_at(&dk, c, &a) == EXDEX_OK);
+        ENSURE(region_moments_at(&pg, c, &b) == EXDEX_OK);
+        double err = fabs(a.F - b.F) / a.F + fabs(a.G[0] - b.G[0]) / fabs(a.G[0]) + fabs(a.Phi - b.Phi) / a.Phi;
+        /* inscribed n-gon: area deficit 1 - sin(2 pi/n) n / (2 pi) ~ (2 pi^2/3) / n^2 */
+        ENSURE(err < 8.0 * PI * PI / ((double)n * n));
+        ENSURE(err < err_prev / 3.0);
+        err_prev = err;
+    }
+}
