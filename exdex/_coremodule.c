@@ -589,12 +589,25 @@ static int simulate_released(PyObject *module, const exdex_model *model, double 
     return -1;
 }
 
+/* The certificate of a reduced run as a dict (None for a planar run). */
+static PyObject *cert_dict(const exdex_certificate *c)
+{
+    if (!c->reduced) Py_RETURN_NONE;
+    if (c->holds)
+        return Py_BuildValue("{s:O,s:d}", "holds", Py_True, "valid_until", c->valid_until);
+    return Py_BuildValue("{s:O,s:d,s:n,s:O,s:(ddd),s:d,s:d,s:i}", "holds", Py_False, "valid_until",
+                         c->valid_until, "first_bad", (Py_ssize_t)c->first_bad, "stick",
+                         c->stick ? Py_True : Py_False, "load", c->load[0], c->load[1], c->load[2], "capacity",
+                         c->capacity, "gauge", c->gauge, "coordinate", c->coordinate);
+}
+
 /* Run `model` over (t_end, dt), already checked (check_times gave n
  * samples), and return the result dict of simulate(); NULL with an
  * exception set. */
-static PyObject *run_model(PyObject *module, const exdex_model *model, double t_end, double dt, size_t n)
+static PyObject *run_model(PyObject *module, const exdex_model *model, double t_end, double dt, size_t n,
+                           int certify)
 {
-    PyObject *result = NULL, *stats = NULL;
+    PyObject *result = NULL, *stats = NULL, *cert = NULL;
     PyArrayObject *t = NULL, *q = NULL, *v = NULL, *wr = NULL, *stick = NULL, *sf = NULL;
     exdex_trajectory tr;
     exdex_stats st;
@@ -620,8 +633,23 @@ static PyObject *run_model(PyObject *module, const exdex_model *model, double t_
     if (simulate_released(module, model, t_end, dt, &tr, &st)) goto done;
     stats = stats_dict(&st);
     if (!stats) goto done;
-    result = Py_BuildValue("{s:O,s:O,s:O,s:O,s:O,s:O,s:O}", "t", t, "q", q, "v", v, "wrench", wr, "stick",
-                           stick, "stop_force", sf, "stats", stats);
+    if (certify) {
+        exdex_certificate c;
+        int cs;
+        Py_BEGIN_ALLOW_THREADS
+        cs = exdex_certify(model, &tr, &c);
+        Py_END_ALLOW_THREADS
+        if (cs) {
+            raise_status(module, cs, "certify", NULL);
+            goto done;
+        }
+        cert = cert_dict(&c);
+    } else {
+        cert = Py_NewRef(Py_None);
+    }
+    if (!cert) goto done;
+    result = Py_BuildValue("{s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O}", "t", t, "q", q, "v", v, "wrench", wr, "stick",
+                           stick, "stop_force", sf, "stats", stats, "certificate", cert);
 done:
     Py_XDECREF(t);
     Py_XDECREF(q);
@@ -630,6 +658,7 @@ done:
     Py_XDECREF(stick);
     Py_XDECREF(sf);
     Py_XDECREF(stats);
+    Py_XDECREF(cert);
     return result;
 }
 
@@ -652,17 +681,18 @@ static exdex_model *model_from_spec(PyObject *module, PyObject *spec)
 
 static PyObject *core_simulate(PyObject *module, PyObject *args, PyObject *kwds)
 {
-    static char *kwlist[] = {"spec", "t_end", "dt", NULL};
+    static char *kwlist[] = {"spec", "t_end", "dt", "certify", NULL};
     PyObject *spec, *result;
     double t_end, dt;
     size_t n;
+    int certify = 1;
     exdex_model *model;
 
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "Odd", kwlist, &spec, &t_end, &dt)) return NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "Odd|p", kwlist, &spec, &t_end, &dt, &certify)) return NULL;
     if (check_times(t_end, dt, &n)) return NULL;
     model = model_from_spec(module, spec);
     if (!model) return NULL;
-    result = run_model(module, model, t_end, dt, n);
+    result = run_model(module, model, t_end, dt, n, certify);
     exdex_model_free(model);
     return result;
 }
@@ -717,13 +747,14 @@ PyDoc_STRVAR(Model_simulate_doc,
 
 static PyObject *Model_simulate(PyObject *self, PyObject *args, PyObject *kwds)
 {
-    static char *kwlist[] = {"t_end", "dt", NULL};
+    static char *kwlist[] = {"t_end", "dt", "certify", NULL};
     double t_end, dt;
     size_t n;
+    int certify = 1;
     ModelObject *mo = (ModelObject *)self;
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "dd", kwlist, &t_end, &dt)) return NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "dd|p", kwlist, &t_end, &dt, &certify)) return NULL;
     if (check_times(t_end, dt, &n)) return NULL;
-    return run_model(mo->module, mo->model, t_end, dt, n);
+    return run_model(mo->module, mo->model, t_end, dt, n, certify);
 }
 
 PyDoc_STRVAR(Model_final_doc,

@@ -108,6 +108,25 @@ class Result:
         None: none). ``stop_force`` shows an impact as its impulse divided by the
         step.
     scene, method, friction_solver, dt : what produced it.
+    certificate : the check of a translation or rotation run's reduction
+        (None for planar runs, which neglect nothing, and for runs with
+        ``certify=False``): a dict with ``holds`` (bool) and
+        ``valid_until`` [s]; where it fails also ``first_bad`` (the first
+        sample that fails), ``stick``, ``load`` (f_x, f_y, m_z) [N, N, N m],
+        ``capacity`` [N], ``gauge`` and ``coordinate`` (see
+        :class:`exdex.ReductionWarning`, issued then). Along the run, the
+        plate friction wrench that the neglected in-plane coordinates need
+        to stay still (the planar equations with the reduced coordinate's
+        motion, gravity and the frame's inertial terms, stops that touch the
+        object pushing as needed) is checked against the friction limit
+        surface: inside the static surface while the reduced coordinate
+        sticks; while it slips, maximum dissipation gives a pure translation
+        slip no friction moment and a pure rotation about the centre of
+        pressure no friction force, so that part of the load must be zero
+        (to 1e-9 of the scene's force scale) or carried by a stop. Checked
+        at every sample and every switching time of the motion and grip
+        schedule; the failure is located between samples by Brent's method.
+        :attr:`reduction_valid_until` and :attr:`reduction_holds` read it.
     """
 
     t: np.ndarray
@@ -121,6 +140,29 @@ class Result:
     method: str = "implicit"
     friction_solver: str = "scalar"
     dt: float = float("nan")
+    certificate: Optional[Dict[str, Any]] = None
+
+    @property
+    def reduction_valid_until(self) -> Optional[float]:
+        """Until when a translation or rotation run's reduction held [s]: the
+        last time at which the planar model admits the reduced motion (the
+        last sample's time when it held throughout; the failure is just
+        after it otherwise). None for planar runs and uncertified ones."""
+        if self.certificate is None:
+            return None
+        return float(self.certificate["valid_until"])
+
+    @property
+    def reduction_holds(self) -> NDArray[np.bool_]:
+        """(n,) True at the samples up to :attr:`reduction_valid_until`
+        (every sample of a run whose reduction held, of a planar run and of
+        an uncertified one): where the reduced result describes the grasp."""
+        c = self.certificate
+        if c is None or c["holds"]:
+            return np.ones(len(self.t), dtype=bool)
+        out = np.zeros(len(self.t), dtype=bool)
+        out[:int(c["first_bad"])] = True
+        return out
 
     @property
     def displacement(self) -> NDArray[np.float64]:
@@ -263,7 +305,7 @@ class Result:
             import json
 
             meta = dict(method=self.method, friction_solver=self.friction_solver, dt=self.dt,
-                        stats=self.stats, names=list(self._names()))
+                        stats=self.stats, names=list(self._names()), certificate=self.certificate)
             arrays: Dict[str, Any] = dict(t=self.t, q=self.q, v=self.v, wrench=self.wrench, stick=self.stick,
                           stop_force=self.stop_force, meta=np.array(json.dumps(meta)))
             if self.scene is not None:
@@ -300,7 +342,8 @@ class Result:
                 scene = io.loads(str(z["scene"]), "json")
             return cls(t=z["t"], q=z["q"], v=z["v"], wrench=z["wrench"], stick=z["stick"],
                        stop_force=z["stop_force"], stats=meta["stats"], scene=scene, method=meta["method"],
-                       friction_solver=meta["friction_solver"], dt=meta["dt"])
+                       friction_solver=meta["friction_solver"], dt=meta["dt"],
+                       certificate=_cert_load(meta.get("certificate")))
 
     def __repr__(self) -> str:
         names = self._names()
@@ -332,7 +375,7 @@ class Result:
 
 def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "implicit",
              friction_solver: FrictionSolver = "scalar", eps: float = 1e-4, rtol: float = 1e-8,
-             atol: float = 1e-10) -> Result:
+             atol: float = 1e-10, certify: bool = True) -> Result:
     """Simulate the object in the moving gripper from t = 0 to ``t_end``.
 
     Parameters
@@ -438,6 +481,9 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
 
     Warns
     -----
+    exdex.ReductionWarning
+        A kind of PhysicsWarning: where a translation or rotation run's
+        reduction fails (time, neglected coordinate, load, margin).
     exdex.PhysicsWarning
         When the result leaves the model's assumptions (the object slides
         beyond the pad, the pads leave the body outline, impacts on stops,
@@ -452,7 +498,7 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
     dt, t_end = _check_times(t_end, dt)
     method = resolve_method(scene, method)
     spec = _spec(scene, method, friction_solver, eps, rtol, atol)
-    out = _core.simulate(spec, t_end, dt)
+    out = _core.simulate(spec, t_end, dt, certify=bool(certify))
     _warn_jumps(scene, _jumps(scene, spec), t_end)
     res = _result(out, scene, method, friction_solver, dt)
     diagnostics.issue(diagnostics.findings(res))
@@ -503,10 +549,16 @@ def _spec(scene, method, friction_solver, eps, rtol, atol):
     return scene.to_spec(method=method, friction_solver=friction_solver, eps=eps, rtol=rtol, atol=atol)
 
 
+def _cert_load(c):
+    if c is not None and "load" in c:
+        c = dict(c, load=tuple(c["load"]))
+    return c
+
+
 def _result(out, scene, method, friction_solver, dt):
     return Result(t=out["t"], q=out["q"], v=out["v"], wrench=out["wrench"], stick=out["stick"],
                   stop_force=out["stop_force"], stats=out["stats"], scene=scene, method=method,
-                  friction_solver=friction_solver, dt=dt)
+                  friction_solver=friction_solver, dt=dt, certificate=out.get("certificate"))
 
 
 class Model:
@@ -544,10 +596,11 @@ class Model:
         """Number of free coordinates: 1 (translation or rotation) or 3 (planar)."""
         return self._model.ndof
 
-    def simulate(self, t_end: float, dt: float = 1e-3) -> Result:
-        """Run from t = 0 to ``t_end`` in steps of ``dt``: an :class:`exdex.Result`."""
+    def simulate(self, t_end: float, dt: float = 1e-3, certify: bool = True) -> Result:
+        """Run from t = 0 to ``t_end`` in steps of ``dt``: an :class:`exdex.Result`
+        (``certify`` as in :func:`exdex.simulate`)."""
         dt, t_end = _check_times(t_end, dt)
-        out = self._model.simulate(t_end, dt)
+        out = self._model.simulate(t_end, dt, certify=bool(certify))
         _warn_jumps(self.scene, self._jumps, t_end)
         res = _result(out, self.scene, self.method, self.friction_solver, dt)
         diagnostics.issue(diagnostics.findings(res))
