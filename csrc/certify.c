@@ -338,24 +338,29 @@ static int piecewise_constant(const exdex_model *m)
     return (d->kind == EXDEX_MOTION_ASYMMETRIC || d->kind == EXDEX_MOTION_TRAPEZOID) && !d->rotation;
 }
 
-/* Does the reduced coordinate count as at rest at rate v after a step of h?
- * Exactly at rest, or, for the methods without true stick, within their own
- * resolution of rest: the regularised method's band |E u| <= eps (it creeps
- * there under any load inside the surface), the explicit method's chatter
- * band: a step's update h (Q - C sgn v) / M with |Q| <= C keeps it within
- * |v| <= 2 h C / M. */
-static int at_rest(const exdex_model *m, double h, double t, double v)
+/* Does the reduced coordinate count as at rest at (t, q, v) after a step
+ * of h? Exactly at rest (v = 0), or, for the methods without true stick,
+ * within their own resolution of rest while the reduced load Q is inside
+ * the reduced surface (|Q| < C, C e_r for a rotation): the regularised
+ * method creeps at |E u| = eps g / sqrt(1 - g^2) (g = |Q| / C), counted at
+ * rest up to twice that plus eps; the explicit method chatters within
+ * |v| <= h (|Q| + C) / M (a step's update h (Q - C sgn v) / M). */
+static int at_rest(const exdex_model *m, double h, double t, double q, double v)
 {
     int rot = m->def.dof == EXDEX_DOF_ROTATION;
+    double C, Q, M, g;
+    frame f;
+    exdex_kinematics kin;
     if (v == 0.0) return 1;
-    switch (m->def.method) {
-    case EXDEX_METHOD_REGULARISED:
-        return fabs(v) * (rot ? m->e[2] : 1.0) <= m->def.eps;
-    case EXDEX_METHOD_EXPLICIT:
-        return fabs(v) <= 2.0 * h * model_capacity(m, t) * (rot ? m->e[2] / m->mrot : 1.0 / m->m);
-    default:
-        return 0;
-    }
+    if (m->def.method != EXDEX_METHOD_REGULARISED && m->def.method != EXDEX_METHOD_EXPLICIT) return 0;
+    if (model_frame_at(m, t, &f, &kin)) return 0;
+    C = model_capacity(m, t) * (rot ? m->e[2] : 1.0);
+    M = rot ? m->mrot : m->m;
+    Q = fabs(model_force_1dof(m, &f, q, v));
+    if (!(Q < C)) return 0;
+    if (m->def.method == EXDEX_METHOD_EXPLICIT) return fabs(v) <= h * (Q + C) / M;
+    g = Q / C;
+    return fabs(v) * (rot ? m->e[2] : 1.0) <= m->def.eps * (1.0 + 2.0 * g / sqrt(1.0 - g * g));
 }
 
 int exdex_certify(const exdex_model *m, const exdex_trajectory *out, exdex_certificate *c)
@@ -377,16 +382,19 @@ int exdex_certify(const exdex_model *m, const exdex_trajectory *out, exdex_certi
     if (m->ndof != 1) return EXDEX_OK;
     c->reduced = 1;
     pc = piecewise_constant(m);
-    /* sample 0 */
-    st = cert_at(m, out->t[0], out->q[0], out->v[0], out->stick[0], &cp);
-    if (st) return st;
-    if (cp.excess > 0.0) {
-        fill(m, c, &cp, out->t[0], 0);
-        return EXDEX_OK;
+    /* sample 0; at rest there but slipping right after, it is the start of
+     * that slip, which sample 1 checks (a slip from rest) */
+    if (!(n > 1 && out->v[0] == 0.0 && !(out->stick[1] || at_rest(m, out->t[1] - out->t[0], out->t[1], out->q[1], out->v[1])))) {
+        st = cert_at(m, out->t[0], out->q[0], out->v[0], out->stick[0], &cp);
+        if (st) return st;
+        if (cp.excess > 0.0) {
+            fill(m, c, &cp, out->t[0], 0);
+            return EXDEX_OK;
+        }
     }
     for (size_t i = 1; i < n; i++) {
         double t0 = out->t[i - 1], t1 = out->t[i], q1 = out->q[i], v1 = out->v[i], te;
-        int s1 = out->stick[i] || at_rest(m, t1 - t0, t1, v1);
+        int s1 = out->stick[i] || at_rest(m, t1 - t0, t1, q1, v1);
         int key = s1 ? 0 : (v1 > 0.0 ? 1 : 2);
         /* switching times inside (t0, t1): checked with the end state */
         while (sw < m->sw_n && m->sw_t[sw] <= t0) sw++;
@@ -434,7 +442,7 @@ int exdex_certify(const exdex_model *m, const exdex_trajectory *out, exdex_certi
         if (ce.excess > 0.0) {
             /* locate it in (t0, t1] */
             double ta = t0;
-            int s0 = out->stick[i - 1] || at_rest(m, i > 1 ? t0 - out->t[i - 2] : t1 - t0, t0, out->v[i - 1]);
+            int s0 = out->stick[i - 1] || at_rest(m, i > 1 ? t0 - out->t[i - 2] : t1 - t0, t0, out->q[i - 1], out->v[i - 1]);
             cert_eval c0;
             if (s1) {
                 st = cert_at(m, t0, q1, 0.0, 1, &c0);

@@ -1547,6 +1547,8 @@ typedef struct batch_ctx {
     double *min_gap;
     npy_int64 *impacts, *max_impulse_stop;
     double *max_impulse, *max_impulse_t, *first_warning_t;
+    double *cert_until;     /* certificate: valid_until (NaN: planar) */
+    npy_int64 *cert_bad;    /* certificate: first failing sample (n: none, -1: planar) */
     /* shared work index and the first failure */
     pthread_mutex_t lock;
     size_t next, chunk;     /* next index to hand out; indices per hand-out */
@@ -1595,6 +1597,17 @@ static void batch_poll_signals(batch_worker *w)
         __atomic_store_n(&c->stop, 1, __ATOMIC_RELEASE);
         pthread_mutex_unlock(&c->lock);
     }
+}
+
+/* The certificate of trajectory i into the batch's arrays. */
+static int batch_certify(batch_ctx *c, const exdex_model *model, const exdex_trajectory *tr, size_t i)
+{
+    exdex_certificate cert;
+    int status = exdex_certify(model, tr, &cert);
+    if (status) return status;
+    c->cert_until[i] = cert.reduced ? cert.valid_until : NAN;
+    c->cert_bad[i] = cert.reduced ? (npy_int64)cert.first_bad : -1;
+    return EXDEX_OK;
 }
 
 static void *batch_run(void *arg)
@@ -1658,9 +1671,11 @@ static void *batch_run(void *arg)
                 continue;
             }
             status = exdex_simulate(model, c->t_end, c->dt, &tr, &st);
+            if (!status) status = batch_certify(c, model, &tr, i);
             exdex_model_free(model);
         } else {
             status = exdex_simulate(c->models[i], c->t_end, c->dt, &tr, &st);
+            if (!status) status = batch_certify(c, c->models[i], &tr, i);
         }
         if (status) {
             pthread_mutex_lock(&c->lock);
@@ -1786,7 +1801,7 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
     PyArrayObject *varr[NVARY_MAX] = {NULL};
     PyArrayObject *base_times = NULL, *base_poses = NULL, *base_grip = NULL;
     PyArrayObject *t = NULL, *q = NULL, *v = NULL, *wr = NULL, *stick = NULL, *sf = NULL, *disp = NULL;
-    PyArrayObject *sarr[11] = {NULL};
+    PyArrayObject *sarr[13] = {NULL};
     exdex_model **models = NULL;
     batch_worker *workers = NULL;
     exdex_scene_def base;
@@ -1903,10 +1918,12 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
         }
         /* int64: steps .. warnings (0-4), impacts (6), max_impulse_stop (9);
          * float64: min_gap (5), max_impulse (7), max_impulse_t (8), first_warning_t (10) */
-        for (int k = 0; k < 11; k++)
-            sarr[k] = (PyArrayObject *)PyArray_ZEROS(1, d_b, (k < 5 || k == 6 || k == 9) ? NPY_INT64 : NPY_DOUBLE, 0);
+        /* certificate: valid_until (11, float64), first failing sample (12, int64) */
+        for (int k = 0; k < 13; k++)
+            sarr[k] = (PyArrayObject *)PyArray_ZEROS(1, d_b, (k < 5 || k == 6 || k == 9 || k == 12) ? NPY_INT64
+                                                                                                 : NPY_DOUBLE, 0);
         if (!t || !disp || !q || !v || !wr || !stick || !sf) goto done;
-        for (int k = 0; k < 11; k++)
+        for (int k = 0; k < 13; k++)
             if (!sarr[k]) goto done;
     }
 
@@ -1968,6 +1985,8 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
     ctx.max_impulse_t = PyArray_DATA(sarr[8]);
     ctx.max_impulse_stop = PyArray_DATA(sarr[9]);
     ctx.first_warning_t = PyArray_DATA(sarr[10]);
+    ctx.cert_until = PyArray_DATA(sarr[11]);
+    ctx.cert_bad = PyArray_DATA(sarr[12]);
     ctx.next = 0;
     /* short trajectories (the analytic path: about a microsecond) in chunks,
      * so that the lock is not the bottleneck; otherwise one at a time */
@@ -2011,9 +2030,10 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
                           "min_gap", sarr[5], "impacts", sarr[6], "max_impulse", sarr[7], "max_impulse_t",
                           sarr[8], "max_impulse_stop", sarr[9], "first_warning_t", sarr[10]);
     if (!stats) goto done;
-    result = Py_BuildValue("{s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:n}", "t", t, "q", q, "v", v, "wrench", wr,
+    result = Py_BuildValue("{s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:n,s:O,s:O}", "t", t, "q", q, "v", v, "wrench", wr,
                            "stick", stick, "stop_force", sf, "displacement", disp, "stats", stats,
-                           "threads", (Py_ssize_t)running);
+                           "threads", (Py_ssize_t)running, "reduction_valid_until", sarr[11],
+                           "reduction_first_bad", sarr[12]);
 done:
     if (have_mutex) pthread_mutex_destroy(&ctx.lock);
     if (workers) {
@@ -2028,7 +2048,7 @@ done:
         PyMem_Free(models);
     }
     for (int k = 0; k < NVARY_MAX; k++) Py_XDECREF(varr[k]);
-    for (int k = 0; k < 11; k++) Py_XDECREF(sarr[k]);
+    for (int k = 0; k < 13; k++) Py_XDECREF(sarr[k]);
     Py_XDECREF(base_times);
     Py_XDECREF(base_poses);
     Py_XDECREF(base_grip);
