@@ -161,7 +161,37 @@ typedef struct cert_eval {
     double cap;        /* capacity used (static while stuck) */
     int stick;
     double th;
+    double along;      /* |generalised load along the free coordinate| (a stuck reduced model needs <= its capacity) */
 } cert_eval;
+
+/* The verdict for the load b (patch wrench with no stop force) with the
+ * columns cols (the free acceleration first when nfree = 1, then stop
+ * rows): stuck (vf NULL) against the static surface, slipping at the planar
+ * velocity vf against the slip's friction. */
+static int cert_decide(const exdex_model *m, double t, const double b[3], const double *vf, const double cs[2],
+                       const double (*cols)[3], int nfree, int ncol, cert_eval *ce)
+{
+    double y0[3];
+    if (!vf) {
+        double Cs = model_capacity_static(m, t), res;
+        for (int c = 0; c < 3; c++) y0[c] = b[c] / m->e[c];
+        res = ncol ? min_residual(y0, cols, nfree, ncol) : cert_gauge(m, b);
+        ce->cap = Cs;
+        ce->gauge = Cs > 0.0 ? res / Cs : (res > 0.0 ? INFINITY : 0.0);
+        ce->excess = ce->gauge - 1.0;
+    } else {
+        double C = model_capacity(m, t), u[3], wf[3], res, tol;
+        model_patch_slip(m, cs, vf, u);
+        cert_slip_wrench(m, u, C, wf);
+        for (int c = 0; c < 3; c++) y0[c] = (b[c] - wf[c]) / m->e[c];
+        res = min_residual(y0, cols, nfree, ncol);
+        tol = CERT_SLIP_TOL * (m->scale.F + cert_gauge(m, b) + C);
+        ce->cap = C;
+        ce->gauge = C > 0.0 ? res / C : res;
+        ce->excess = res / tol - 1.0;
+    }
+    return EXDEX_OK;
+}
 
 /* The certificate at time t for reduced coordinate q, rate v, mode stick. */
 static int cert_at(const exdex_model *m, double t, double q, double v, int stick, cert_eval *ce)
@@ -169,7 +199,7 @@ static int cert_at(const exdex_model *m, double t, double q, double v, int stick
     frame f;
     exdex_kinematics kin;
     double r[3], th, qf[3], vf[3], kap[3] = {0, 0, 0}, T[3], F[3], P[3], b[3], cs[2], gM[3];
-    double y0[3], cols[1 + CERT_MAX_ROWS][3];
+    double cols[1 + CERT_MAX_ROWS][3];
     int ncol = 0, nfree = 0;
     int st = model_frame_at(m, t, &f, &kin);
     if (st) return st;
@@ -208,6 +238,7 @@ static int cert_at(const exdex_model *m, double t, double q, double v, int stick
     P[2] = m->izz * kap[2] - F[2];
     model_patch_of_gen(m, cs, P, b);
     memcpy(ce->load, b, sizeof b);
+    ce->along = fabs(P[0] * T[0] + P[1] * T[1] + P[2] * T[2]);
     ce->stick = stick || v == 0.0;
     ce->th = th;
     if (!ce->stick) {
@@ -217,6 +248,16 @@ static int cert_at(const exdex_model *m, double t, double q, double v, int stick
         for (int c = 0; c < 3; c++) cols[ncol][c] = gM[c] / m->e[c];
         ncol++;
         nfree = 1;
+    }
+    if (m->n_stops) {
+        /* without a stop force first: stops are looked for only where it fails */
+        cert_eval free_ce = *ce;
+        int fst = cert_decide(m, t, b, ce->stick ? NULL : vf, cs, (const double(*)[3])cols, nfree, ncol, &free_ce);
+        if (fst) return fst;
+        if (!(free_ce.excess > 0.0)) {
+            *ce = free_ce;
+            return EXDEX_OK;
+        }
     }
     if (m->n_stops) {
         /* stops in contact push along their normals: generalized force lambda G */
@@ -234,25 +275,7 @@ static int cert_at(const exdex_model *m, double t, double q, double v, int stick
             }
         }
     }
-    if (ce->stick) {
-        double Cs = model_capacity_static(m, t), res;
-        for (int c = 0; c < 3; c++) y0[c] = b[c] / m->e[c];
-        res = ncol ? min_residual(y0, (const double(*)[3])cols, nfree, ncol) : cert_gauge(m, b);
-        ce->cap = Cs;
-        ce->gauge = Cs > 0.0 ? res / Cs : (res > 0.0 ? INFINITY : 0.0);
-        ce->excess = ce->gauge - 1.0;
-    } else {
-        double C = model_capacity(m, t), u[3], wf[3], res, tol;
-        model_patch_slip(m, cs, vf, u);
-        cert_slip_wrench(m, u, C, wf);
-        for (int c = 0; c < 3; c++) y0[c] = (b[c] - wf[c]) / m->e[c];
-        res = min_residual(y0, (const double(*)[3])cols, nfree, ncol);
-        tol = CERT_SLIP_TOL * (m->scale.F + cert_gauge(m, b) + C);
-        ce->cap = C;
-        ce->gauge = C > 0.0 ? res / C : res;
-        ce->excess = res / tol - 1.0;
-    }
-    return EXDEX_OK;
+    return cert_decide(m, t, b, ce->stick ? NULL : vf, cs, (const double(*)[3])cols, nfree, ncol, ce);
 }
 
 /* -------------------------------------------------------- along a run */
@@ -339,7 +362,7 @@ static int piecewise_constant(const exdex_model *m)
 }
 
 /* Does the reduced coordinate count as at rest at (t, q, v) after a step
- * of h? Exactly at rest (v = 0), or, for the methods without true stick,
+ * of h? At rest to the model's rate threshold (|v| <= tol.vzero), or, for the methods without true stick,
  * within their own resolution of rest while the reduced load Q is inside
  * the reduced surface (|Q| < C, C e_r for a rotation): the regularised
  * method creeps at |E u| = eps g / sqrt(1 - g^2) (g = |Q| / C), counted at
@@ -351,7 +374,7 @@ static int at_rest(const exdex_model *m, double h, double t, double q, double v)
     double C, Q, M, g;
     frame f;
     exdex_kinematics kin;
-    if (v == 0.0) return 1;
+    if (fabs(v) <= m->tol.vzero) return 1;   /* the methods' own zero rate (a rest against a stop) */
     if (m->def.method != EXDEX_METHOD_REGULARISED && m->def.method != EXDEX_METHOD_EXPLICIT) return 0;
     if (model_frame_at(m, t, &f, &kin)) return 0;
     C = model_capacity(m, t) * (rot ? m->e[2] : 1.0);
@@ -365,7 +388,7 @@ static int at_rest(const exdex_model *m, double h, double t, double q, double v)
 
 int exdex_certify(const exdex_model *m, const exdex_trajectory *out, exdex_certificate *c)
 {
-    size_t n, sw = 0;
+    size_t n, sw = 0, i_start = 1;
     int pc, st;
     cert_eval ce, cp;
     /* piecewise-constant loads: one evaluation per piece and mode */
@@ -382,9 +405,35 @@ int exdex_certify(const exdex_model *m, const exdex_trajectory *out, exdex_certi
     if (m->ndof != 1) return EXDEX_OK;
     c->reduced = 1;
     pc = piecewise_constant(m);
+    if (pc) {
+        /* the load takes one value per piece between switching times, the
+         * same for every state: a piece where it holds stuck and slipping
+         * either way holds for every sample in it, so the samples are
+         * scanned only from the first piece where some mode fails */
+        double t_end = out->t[n - 1], lo = out->t[0];
+        size_t p = 0;
+        int fails = 0;
+        while (p < m->sw_n && m->sw_t[p] <= lo) p++;
+        for (;; p++) {
+            double hi = p < m->sw_n ? m->sw_t[p] : INFINITY, tm = lo + 0.5 * ((hi < t_end ? hi : t_end) - lo);
+            for (int key = 0; key < 3 && !fails; key++) {
+                st = cert_at(m, tm, out->q[0], key == 0 ? 0.0 : (key == 1 ? m->scale.V : -m->scale.V), key == 0,
+                             &cp);
+                if (st) return st;
+                /* no sample sticks where the reduced load exceeds the static capacity */
+                fails = cp.excess > 0.0 && !(key == 0 && cp.along > cp.cap * (1.0 + 1e-9));
+            }
+            if (fails || !(hi < t_end)) break;
+            lo = hi;
+        }
+        if (!fails) return EXDEX_OK;
+        /* the last sample at or before the piece's start holds */
+        while (i_start < n && out->t[i_start] <= lo) i_start++;
+    }
     /* sample 0; at rest there but slipping right after, it is the start of
      * that slip, which sample 1 checks (a slip from rest) */
-    if (!(n > 1 && out->v[0] == 0.0 && !(out->stick[1] || at_rest(m, out->t[1] - out->t[0], out->t[1], out->q[1], out->v[1])))) {
+    if (i_start == 1 &&
+        !(n > 1 && out->v[0] == 0.0 && !(out->stick[1] || at_rest(m, out->t[1] - out->t[0], out->t[1], out->q[1], out->v[1])))) {
         st = cert_at(m, out->t[0], out->q[0], out->v[0], out->stick[0], &cp);
         if (st) return st;
         if (cp.excess > 0.0) {
@@ -392,7 +441,7 @@ int exdex_certify(const exdex_model *m, const exdex_trajectory *out, exdex_certi
             return EXDEX_OK;
         }
     }
-    for (size_t i = 1; i < n; i++) {
+    for (size_t i = i_start; i < n; i++) {
         double t0 = out->t[i - 1], t1 = out->t[i], q1 = out->q[i], v1 = out->v[i], te;
         int s1 = out->stick[i] || at_rest(m, t1 - t0, t1, q1, v1);
         int key = s1 ? 0 : (v1 > 0.0 ? 1 : 2);

@@ -510,10 +510,12 @@ static int check_times(double t_end, double dt, size_t *n)
 }
 
 PyDoc_STRVAR(simulate_doc,
-"simulate(spec, t_end, dt) -> dict\n\n"
+"simulate(spec, t_end, dt, certify=True) -> dict\n\n"
 "Run one trajectory in C with the GIL released. `spec` is the dict made by\n"
 "exdex.Scene.to_spec(); use exdex.simulate() instead of calling this directly.\n"
-"Returns a dict of arrays t, q, v, wrench, stick, stop_force and a stats dict.");
+"Returns a dict of arrays t, q, v, wrench, stick, stop_force, a stats dict and\n"
+"the certificate of a 1-DoF run's reduction (exdex_certify; None for planar\n"
+"runs and with certify=False).");
 
 /* SolverError(message, status) of a failed run with attributes status, time
  * (exdex_stats.fail_time, None when unknown) and cause (a name): the message

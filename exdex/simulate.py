@@ -505,6 +505,19 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
     return res
 
 
+def reduction_fails_at(scene: Scene, t_end: float, dt: float, method: str = "auto", **options: Any) -> Optional[float]:
+    """Where the reduction of a translation or rotation scene fails over
+    [0, t_end]: :attr:`Result.reduction_valid_until` of its run (which
+    issues the :class:`exdex.ReductionWarning`), or None when it holds and
+    for planar scenes. Plans, sequences and fits record it for what they
+    return."""
+    if scene.dof == "planar":
+        return None
+    res = simulate(scene, t_end, dt, method=method, **options)
+    c = res.certificate
+    return None if c is None or c["holds"] else float(c["valid_until"])
+
+
 def _check_times(t_end, dt):
     """(dt, t_end) as floats, or a ValueError / TypeError naming the bad one."""
     dt = _real(dt, "dt", low=0.0, low_open=True)
