@@ -356,7 +356,7 @@ static int piecewise_constant(const exdex_model *m)
 {
     const exdex_motion_def *d = &m->def.motion;
     if (m->def.dof != EXDEX_DOF_TRANSLATION || m->n_src || m->grip_n) return 0;
-    if (m->motion != m->sw_motion) return 0;
+    if (m->motion != m->sw_motion || d->time_shift != 0.0) return 0;
     if (d->kind == EXDEX_MOTION_REST) return 1;
     return (d->kind == EXDEX_MOTION_ASYMMETRIC || d->kind == EXDEX_MOTION_TRAPEZOID) && !d->rotation;
 }

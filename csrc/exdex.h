@@ -229,6 +229,10 @@ typedef struct exdex_motion_def {
     size_t n_pieces;        /* chain: 1 .. EXDEX_MOTION_MAX_PIECES */
     const struct exdex_motion_def *pieces;  /* chain: (n_pieces,) piece definitions (copied) */
     int allow_jump;         /* chain: 1 accepts velocity jumps between pieces (0 or 1) */
+    double time_shift;      /* >= 0 [s]: the motion defined by the other fields, played from
+                               its time time_shift on (t = 0 is its time_shift; its
+                               switching times and jumps at or before it are dropped); 0: as
+                               defined. A run that continues another from a later time. */
 } exdex_motion_def;
 
 /* Kinematics of B in A at one time, all vectors expressed in A. */

@@ -415,6 +415,10 @@ static int scene_from_dict(PyObject *spec, exdex_scene_def *def, PyArrayObject *
     if (PyDict_GetItemString(spec, "motion_frequency") &&
         dict_double(spec, "motion_frequency", &def->motion.frequency))
         goto fail;
+    /* optional: the motion played from a later time (a continued run) */
+    if (PyDict_GetItemString(spec, "motion_time_shift") &&
+        dict_double(spec, "motion_time_shift", &def->motion.time_shift))
+        goto fail;
     if (def->motion.kind == EXDEX_MOTION_CHAIN && chain_pieces(spec, &def->motion, times)) goto fail;
     if (def->motion.kind == EXDEX_MOTION_SAMPLED) {
         PyObject *tobj = PyDict_GetItemString(spec, "motion_times");

@@ -195,7 +195,8 @@ class BatchResult:
         cert = None
         if self.reduction_first_bad is not None and int(self.reduction_first_bad[i]) >= 0:
             # the batch keeps how long the reduction held; simulate the scene for the load
-            cert = dict(holds=bool(self.reduction_holds[i]), valid_until=float(self.reduction_valid_until[i]))
+            until = np.asarray(self.reduction_valid_until)
+            cert = dict(holds=bool(self.reduction_holds[i]), valid_until=float(until[i]))
             if not cert["holds"]:
                 cert["first_bad"] = int(self.reduction_first_bad[i])
         return Result(t=self.t, q=self.q[i], v=self.v[i], wrench=self.wrench[i], stick=self.stick[i],

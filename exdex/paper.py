@@ -733,6 +733,7 @@ def fig6_reduction_notes(result: Result, dt: float = 1e-3) -> List[str]:
     if c is None or c["holds"]:
         return [f"Fig. 6: the rotation model's reduction holds up to t = {result.t[-1]:g} s"]
     sc = result.scene
+    assert sc is not None
     f = c["load"]
     lines = [f"Fig. 6: the paper's 1-DoF rotation model (kept above) fails its certificate at t = "
              f"{c['valid_until']:g} s: with the object {'stuck' if c['stick'] else 'slipping'}, the pin would carry "

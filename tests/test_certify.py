@@ -241,3 +241,98 @@ def test_result_save_load_keeps_certificate(tmp_path):
     p = res.save(tmp_path / "r.npz")
     back = exdex.Result.load(p)
     assert back.certificate == res.certificate
+
+
+# ---------------------------------------------------------------- dof="auto"
+
+@pytest.mark.parametrize("case", ["fig3", "fig4"])
+@pytest.mark.parametrize("method", ["implicit", "event", "auto"])
+def test_auto_keeps_the_paper_cases(case, method):
+    # the reduction holds: "auto" is the paper's 1-DoF run itself, bit for bit
+    sc = getattr(exdex.paper, f"{case}_scene")()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        a = exdex.simulate(exdex.replace(sc, dof="auto"), 1.0, 1e-3, method=method)
+        b = exdex.simulate(sc, 1.0, 1e-3, method=method)
+    assert a.scene.dof == "translation" and len(a.models) == 1 and a.models[0][0] == "translation"
+    for k in ("t", "q", "v", "wrench", "stick", "stop_force"):
+        assert np.array_equal(getattr(a, k), getattr(b, k)), k
+
+
+def test_auto_fig6_is_planar_from_the_start():
+    sc = exdex.paper.fig6_scene()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        a = exdex.simulate(exdex.replace(sc, dof="auto"), 8.0, 1e-3, method="event")
+        p = exdex.simulate(exdex.replace(sc, dof="planar"), 8.0, 1e-3, method="event")
+    assert [m[0] for m in a.models] == ["planar"] and a.models[0][2] == 0.0
+    assert "fails its certificate at t = 0 s" in a.models[0][4]
+    assert np.array_equal(a.q, p.q)
+
+
+@pytest.mark.parametrize("method", ["implicit", "event"])
+def test_auto_switches_where_the_certificate_fails(method):
+    # the located-failure scene above: translation to beta T, then planar; the
+    # planar run from t = 0 holds the box still up to there (exact stick), so
+    # both end in the same state
+    T, beta, X1 = 0.3, 0.7, 0.1
+    aH, aL = exdex.paper.eq7_accelerations(X1, T, beta)
+    C = 0.5 * (math.hypot(MASS * aH, W) + math.hypot(MASS * aL, W))
+    sc = box_scene(offset=0.0, grip=C / (2 * MU), motion=AsymmetricProfile(X1, T, beta, axis=(1.0, 0.0, 0.0)),
+                   dof="auto")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        a = exdex.simulate(sc, 1.0, 1e-3, method=method)
+        p = exdex.simulate(exdex.replace(sc, dof="planar"), 1.0, 1e-3, method=method)
+    assert [m[0] for m in a.models] == ["translation", "planar"]
+    assert a.models[0][3] == pytest.approx(beta * T, abs=1e-9) and a.models[1][2] == a.models[0][3]
+    assert a.scene.dof == "planar" and a.q.shape[1] == 3 and a.t[-1] == pytest.approx(1.0, abs=1e-12)
+    # before the switch both grids are i dt, the object at rest in both
+    pre = a.t < beta * T
+    assert np.array_equal(a.t[pre], p.t[: pre.sum()]) and np.all(a.q[pre] == p.q[0])
+    assert np.max(np.abs(a.q[-1] - p.q[-1])) < 1e-9 * 0.15   # event/implicit rounding against the box size
+    assert abs(a.q[-1, 0] - p.q[0, 0]) > 1e-3                 # it did slide
+
+
+def test_auto_against_planar_on_zoo_scenes():
+    # Random 1-DoF zoo scenes run as dof="auto" and as planar from t = 0 (event
+    # method, rtol 1e-10): the final poses agree. Tolerance: a slip's unbalanced
+    # load counts as zero up to 1e-9 of the scene's force scale m A, which can
+    # move the planar object by at most 1e-9 A t^2 / 2, under 1e-6 L over a
+    # zoo run (t_end below ~40 tau, A ~ g = L / tau^2), plus the event method's
+    # rtol.
+    import zoo
+
+    checked = switched = 0
+    for seed in range(60):
+        zs = zoo.zoo_scene(seed)
+        sc = zs.scene
+        if sc.dof == "planar" or sc.obstacles:
+            continue
+        dt = zs.t_end / 200
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            try:
+                a = exdex.simulate(exdex.replace(sc, dof="auto"), zs.t_end, dt, method="event", rtol=1e-10,
+                                   atol=1e-12)
+                p = exdex.simulate(exdex.replace(sc, dof="planar"), zs.t_end, dt, method="event", rtol=1e-10,
+                                   atol=1e-12)
+            except exdex.SolverError:
+                continue
+        qa = a.q if a.q.shape[1] == 3 else exdex.diagnostics.poses(a.scene, a.q)
+        assert a.t[-1] == pytest.approx(p.t[-1], rel=1e-12)
+        assert np.all(np.abs(qa[-1, :2] - p.q[-1, :2]) <= 1e-6 * zs.L), (seed, a.models)
+        assert abs(qa[-1, 2] - p.q[-1, 2]) <= 1e-6, (seed, a.models)
+        if a.models[0][0] == "planar":
+            assert np.array_equal(a.q, p.q), seed   # planar from t = 0: the same run
+        checked += 1
+        switched += len(a.models) == 2
+    assert checked >= 20 and switched >= 2
+
+
+def test_auto_is_refused_where_a_dof_is_needed():
+    sc = box_scene(dof="auto")
+    with pytest.raises(ValueError, match="dof='auto'"):
+        exdex.Model(sc)
+    with pytest.raises(ValueError, match="dof='auto'"):
+        exdex.simulate_batch(sc, 0.1, 1e-3, grip_force=[1.0, 2.0])
