@@ -3,7 +3,8 @@
 Each case is compiled once (``exdex.Model``); ``Model.simulate(t_end, dt,
 certify=...)`` is timed alternately with and without the check, after a
 warm-up, and the table gives the medians and the extra time in percent of
-the uncertified run, both for the whole call (``exdex.Model.simulate``: the
+the uncertified run (CPU time of the process, time.process_time: wall
+times on a shared machine mostly measure the wait for a core), both for the whole call (``exdex.Model.simulate``: the
 C run, the Result and the physics-warning checks) and for the C core alone
 (the compiled model's run returning its arrays). The cases are reduced scenes whose reduction holds over
 the whole run (a failing one stops checking at its failure, so it costs
@@ -57,8 +58,8 @@ def main(argv=None):
     ap.add_argument("--out", default=os.path.join(HERE, "results", "certify.txt"))
     args = ap.parse_args(argv)
     warnings.simplefilter("ignore")
-    lines = [f"certificate cost: medians of {args.repeat} alternating runs (Python {sys.version.split()[0]}); "
-             f"whole call Model.simulate, and the C core alone",
+    lines = [f"certificate cost: CPU time (time.process_time), medians of {args.repeat} alternating runs "
+             f"(Python {sys.version.split()[0]}); whole call Model.simulate, and the C core alone",
              f"{'case':40s} {'steps':>7s} {'without [ms]':>13s} {'with [ms]':>10s} {'extra':>7s}"
              f" {'core without':>13s} {'core with':>10s} {'extra':>7s}"]
     print(lines[0])
@@ -71,15 +72,15 @@ def main(argv=None):
         a, b, ca, cb = [], [], [], []
         core = m._model
         for _ in range(args.repeat):
-            t0 = time.perf_counter()
+            t0 = time.process_time()
             m.simulate(t_end, dt, certify=False)
-            t1 = time.perf_counter()
+            t1 = time.process_time()
             m.simulate(t_end, dt, certify=True)
-            t2 = time.perf_counter()
+            t2 = time.process_time()
             core.simulate(t_end, dt, certify=False)
-            t3 = time.perf_counter()
+            t3 = time.process_time()
             core.simulate(t_end, dt, certify=True)
-            t4 = time.perf_counter()
+            t4 = time.process_time()
             a.append(t1 - t0)
             b.append(t2 - t1)
             ca.append(t3 - t2)
