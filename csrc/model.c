@@ -226,6 +226,7 @@ const char *exdex_analytic_unsupported(const exdex_scene_def *d)
     if (d->n_stops != 0 || d->n_obstacles != 0) return "the analytic method solves scenes without stops";
     if (d->pad_n > 0 || d->pad_radius > 0.0)
         return "the analytic method solves the patch fixed on the object, not pads on the fingers";
+    if (mo->time_shift != 0.0) return "the analytic method plays a motion from its start (no time shift)";
     if (mo->kind == EXDEX_MOTION_SHAKE || mo->kind == EXDEX_MOTION_CHAIN)
         return "the analytic method needs a piecewise-constant gripper acceleration (Eq. 7, trapezoid or "
                "rest), not a shake or a chain";
