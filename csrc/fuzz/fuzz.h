@@ -136,7 +136,8 @@ void fuzz_note_keep(const char *target, const char *key);
     X(ldp)              \
     X(grip)             \
     X(stepper)          \
-    X(region)
+    X(region)           \
+    X(limitsurf)
 
 #define FUZZ_DECLARE(name) int fuzz_##name(const uint8_t *data, size_t size);
 FUZZ_TARGETS(FUZZ_DECLARE)
