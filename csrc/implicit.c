@@ -890,7 +890,7 @@ static int step_planar(const exdex_model *m, double h, double capm, double capsm
      * only the kinetic one runs (the same result, without the wasted slide) */
     {
         int skip_static = 0;
-        if (caps != cap) {
+        if (caps != cap && !m->ls_exact) {
             double c[3], ct[3], t = 0.0;
             for (int i = 0; i < 3; i++) c[i] = m->prep.e[i] * b[i];
             ex_mulmtv3(ct, m->prep.Q, c);
@@ -900,14 +900,14 @@ static int step_planar(const exdex_model *m, double h, double capm, double capsm
             }
             skip_static = isfinite(t) && t > 1.0 + 1e-5;
         }
-        s = exdex_friction_solve(&m->prep, b, skip_static ? cap : caps, m->def.friction_solver, w->fws,
-                                 w->have_prev ? w->p_prev : NULL, fr);
+        s = limitsurf_step(&m->ls, &m->prep, b, skip_static ? cap : caps, m->def.friction_solver, w->fws,
+                           w->have_prev ? w->p_prev : NULL, fr);
         if (s) return s;
         st->solver_iterations += (size_t)fr->iterations;
         if (skip_static) goto friction_done;
     }
     if (!fr->stick && caps != cap) {
-        s = exdex_friction_solve(&m->prep, b, cap, m->def.friction_solver, w->fws, w->have_prev ? w->p_prev : NULL, fr);
+        s = limitsurf_step(&m->ls, &m->prep, b, cap, m->def.friction_solver, w->fws, w->have_prev ? w->p_prev : NULL, fr);
         if (s) return s;
         st->solver_iterations += (size_t)fr->iterations;
     }
@@ -1317,7 +1317,9 @@ static int implicit_substep(const exdex_model *m, work *w, const model_sub *sub,
                     fr.stick = rest;
                 }
             }
-            if (slipping && !fr.stick && capsm != capm && restick_planar(m, MODEL_CS(qm[2]), capsm, v, vn, F, w)) {
+            /* the in-step refinements below integrate the ellipsoid's slip
+             * law: the exact surface takes the plain step */
+            if (slipping && !fr.stick && capsm != capm && !m->ls_exact && restick_planar(m, MODEL_CS(qm[2]), capsm, v, vn, F, w)) {
                 /* the slip stops inside the step and the static capacity
                  * holds the load: at rest, the plates' impulse the one that
                  * ends the step there */
@@ -1328,7 +1330,7 @@ static int implicit_substep(const exdex_model *m, work *w, const model_sub *sub,
                 model_patch_of_gen(m, MODEL_CS(qm[2]), pfB, fr.p);
                 fr.stick = 1;
             }
-            if (fr.stick && (v[0] != 0.0 || v[1] != 0.0 || v[2] != 0.0)) {
+            if (fr.stick && !m->ls_exact && (v[0] != 0.0 || v[1] != 0.0 || v[2] != 0.0)) {
                 /* a slip that stops inside the step (slip_stop_in_step_planar),
                  * where no stop acts and the end position keeps every row's
                  * bound */
@@ -1342,7 +1344,7 @@ static int implicit_substep(const exdex_model *m, work *w, const model_sub *sub,
                     moved = 1;
                 }
             }
-            if (!fr.stick && !moved && slipping && jump_at(m, t)) {
+            if (!fr.stick && !moved && slipping && !m->ls_exact && jump_at(m, t)) {
                 /* a sub-step that starts at a velocity jump of the frame
                  * with the slip the jump set, and slides through: the slip
                  * integrated over it (slip_through_step_planar), where no

@@ -203,11 +203,11 @@ static double exact_wrench(const limitsurf *ls, const double u[3], double w[3], 
         w[0] = w[1] = w[2] = NAN;
         return NAN;
     }
-    w[0] = sg * mo.G[1] / A;
-    w[1] = -sg * mo.G[0] / A;
-    w[2] = -sg * (mo.F + c[0] * mo.G[0] + c[1] * mo.G[1]) / A;
+    w[0] = sg * mo.dir[1] / A;
+    w[1] = -sg * mo.dir[0] / A;
+    w[2] = -sg * (mo.dist + c[0] * mo.dir[0] + c[1] * mo.dir[1]) / A;
     if (hess) {
-        double M[3][2] = {{1, 0}, {0, 1}, {-c[1], c[0]}}, H[2][2] = {{mo.H[0], mo.H[1]}, {mo.H[1], mo.H[2]}};
+        double M[3][2] = {{1, 0}, {0, 1}, {-c[1], c[0]}}, H[2][2] = {{mo.dyad[0], mo.dyad[1]}, {mo.dyad[1], mo.dyad[2]}};
         double k = 1.0 / (A * fabs(om));
         for (int i = 0; i < 3; i++)
             for (int j = 0; j < 3; j++) {
@@ -217,7 +217,7 @@ static double exact_wrench(const limitsurf *ls, const double u[3], double w[3], 
                 hess[3 * i + j] = k * s;
             }
     }
-    return fabs(om) * mo.F / A;
+    return fabs(om) * mo.dist / A;
 }
 
 static double exact_dissipation(const limitsurf *ls, const double u[3])

@@ -182,12 +182,12 @@ static void poly_moments(const region *rg, const double c[2], region_moments *ou
         dyx -= hJ * ny * nx + S * ny * tx;
         dyy -= hJ * ny * ny + S * ny * ty;
     }
-    out->F = F / 3.0;
-    out->G[0] = Gx, out->G[1] = Gy;
-    out->Phi = Phi;
-    out->H[0] = dxx + Phi;
-    out->H[1] = 0.5 * (dxy + dyx);
-    out->H[2] = dyy + Phi;
+    out->dist = F / 3.0;
+    out->dir[0] = Gx, out->dir[1] = Gy;
+    out->inv = Phi;
+    out->dyad[0] = dxx + Phi;
+    out->dyad[1] = 0.5 * (dxy + dyx);
+    out->dyad[2] = dyy + Phi;
 }
 
 /* ------------------------------------------------------------ disc */
@@ -245,19 +245,19 @@ static int disc_moments(const region *rg, const double c[2], region_moments *out
     double k2 = 4.0 * (R / s) * (rho / s), kp2 = q * q, K, E, T, dT;
     int st = disc_kernels(k2, kp2, &K, &E, &T, &dT);
     if (st != EXDEX_OK) return st;
-    out->F = (R / 3.0) * (4.0 * R * s * E + 16.0 * R * (rho / s) * rho * T);
+    out->dist = (R / 3.0) * (4.0 * R * s * E + 16.0 * R * (rho / s) * rho * T);
     /* G = -gam d, gam(rho) = 16 R^2 T / s; grad_c G = -gam I - gam' d d^T / rho,
      * gam' = 16 R^2 (T'(m) m'(rho) / s - T / s^2), m' = 4 R (R - rho) / s^3
      * (T' grows like K near the rim, where m' vanishes: the product -> 0) */
     double gam = 16.0 * R * (R / s) * T;
-    out->G[0] = -gam * dx, out->G[1] = -gam * dy;
-    out->Phi = 2.0 * (s * E + (rho == R ? 0.0 : (R - rho) * K));
+    out->dir[0] = -gam * dx, out->dir[1] = -gam * dy;
+    out->inv = 2.0 * (s * E + (rho == R ? 0.0 : (R - rho) * K));
     double dgam = -16.0 * R * (R / s) * T / s;
     if (rho != R && isfinite(dT)) dgam += 16.0 * R * R * dT * 4.0 * R * (R - rho) / (s * s * s * s);
     double gx = rho > 0.0 ? dx / rho : 0.0, gy = rho > 0.0 ? dy / rho : 0.0;
-    out->H[0] = -gam - dgam * rho * gx * gx + out->Phi;
-    out->H[1] = -dgam * rho * gx * gy;
-    out->H[2] = -gam - dgam * rho * gy * gy + out->Phi;
+    out->dyad[0] = -gam - dgam * rho * gx * gx + out->inv;
+    out->dyad[1] = -dgam * rho * gx * gy;
+    out->dyad[2] = -gam - dgam * rho * gy * gy + out->inv;
     return EXDEX_OK;
 }
 
@@ -273,5 +273,5 @@ double region_mean_distance(const region *rg, const double c[2])
 {
     region_moments mo;
     if (region_moments_at(rg, c, &mo) != EXDEX_OK) return NAN;
-    return mo.F / region_area(rg);
+    return mo.dist / region_area(rg);
 }

@@ -57,10 +57,10 @@ typedef struct region {
 
 /* The integrals at one point c (see above). */
 typedef struct region_moments {
-    double F;        /* Int |x| dA */
-    double G[2];     /* Int x / |x| dA */
-    double Phi;      /* Int 1 / |x| dA */
-    double H[3];     /* Int x x^T / |x|^3 dA as (xx, xy, yy) */
+    double dist;     /* F = Int |x| dA */
+    double dir[2];   /* G = Int x / |x| dA */
+    double inv;      /* Phi = Int 1 / |x| dA */
+    double dyad[3];  /* H = Int x x^T / |x|^3 dA as (xx, xy, yy) */
 } region_moments;
 
 /* EXDEX_OK for a valid region: a polygon with 3 .. REGION_MAX_VERTICES
