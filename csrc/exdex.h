@@ -331,6 +331,7 @@ enum exdex_method {
 #define EXDEX_REGION_MAX_VERTICES 32  /* vertices of a contact region (exdex_scene_def) */
 #define EXDEX_MAX_OBSTACLES 4
 #define EXDEX_MAX_FACES 12
+#define EXDEX_MAX_PAD_VERTICES 32
 
 /* A convex obstacle fixed in the world frame A; the object's outline may not
  * enter it.
@@ -475,6 +476,36 @@ typedef struct exdex_scene_def {
      * solves it where it solves the stops and obstacles. */
     double disc_radius;
     double disc_center[2];
+    /* Pads on the fingers: pad_n > 0 (a convex polygon, either orientation,
+     * at pad_center + s pad[i] in B [m], s = pad_scale, 0 taken as 1) or
+     * pad_radius > 0 (a disc of that radius about pad_center in B) fixes the
+     * contact on the finger. The object's contact
+     * face is then face_n > 0 (a convex polygon in C, relative to the centre
+     * of mass [m]) or face_radius > 0 (a disc about face_center in C). At each
+     * instant the contact region is the pad intersected with the face (in
+     * B, the face at the object's pose; a disc against a polygon as stated
+     * in pads.h), under uniform pressure N / area: the friction acts at the
+     * region's centroid (in place of patch_center) with the ellipsoid's e_r
+     * the region's mean distance from its centroid (in place of e_r), both
+     * following the object's pose. The capacity stays mu N while the region
+     * is non-empty. A 1-DoF translation is unaffected but for that; a 1-DoF
+     * rotation pivots at the centroid of the region at the start and keeps
+     * its e_r. The region must be non-empty at the start (EXDEX_EINVAL,
+     * bad_param "pad"). When it vanishes (area below EXDEX_PAD_LOST times
+     * the region's at the start) at an output sample, the grasp is lost:
+     * the run records that sample, stops there, and exdex_stats.lost_t
+     * and lost_sample say where (the samples after it are not written).
+     * pad_n = 0 and pad_radius = 0 (zero-initialised) keep the patch fixed
+     * on the object (patch_center, e_r), bit for bit. */
+    int pad_n;
+    double pad[EXDEX_MAX_PAD_VERTICES][2];
+    double pad_radius;
+    double pad_center[2];
+    double pad_scale;
+    int face_n;
+    double face[EXDEX_MAX_PAD_VERTICES][2];
+    double face_radius;
+    double face_center[2];
     /* The limit surface of the plate friction (enum exdex_limit_surface):
      * EXDEX_LS_ELLIPSOID (0, a zero-initialised field) the paper's Eq. 6
      * with e_r; EXDEX_LS_EXACT uniform-pressure Coulomb friction over the
@@ -483,8 +514,9 @@ typedef struct exdex_scene_def {
      * method needs a torsional length, the 1-DoF rotation's capacity and
      * the scene's length scale). The exact surface needs a region
      * (EXDEX_EINVAL, bad_param "region_kind" without one); planar scenes
-     * with it run the implicit and event methods, without stops or
-     * obstacles (EXDEX_EINVAL, bad_param "limit_surface", otherwise);
+     * with it run the implicit and event methods, without stops,
+     * obstacles or pads (EXDEX_EINVAL, bad_param "limit_surface",
+     * otherwise);
      * 1-DoF scenes run every method (a translation's friction is the
      * capacity whatever the shape; a rotation's torque capacity is the
      * region's). */
@@ -507,6 +539,18 @@ enum exdex_limit_surface {
     EXDEX_LS_EXACT = 1       /* uniform pressure over the region, maximum dissipation */
 };
 enum exdex_region_kind { EXDEX_REGION_NONE = 0, EXDEX_REGION_POLYGON = 1, EXDEX_REGION_DISC = 2 };
+
+/* The area ratio below which the pads' contact region counts as vanished. */
+#define EXDEX_PAD_LOST 1e-6
+
+/* The pads' contact region of def (pads on the fingers) with the object at
+ * the pose q = (x, y, theta) of C in B: its area [m^2] (0: empty), centroid
+ * c in B, e_r (mean distance from the centroid [m]) and, when verts is not
+ * NULL, up to nmax of its polygon vertices (B, ccw) with their count in
+ * *nv (0 for a region that is a disc exactly: then *radius > 0, else 0).
+ * EXDEX_EINVAL for a def without pads or with an invalid pad or face. */
+int exdex_pad_region(const exdex_scene_def *def, const double q[3], double *area, double c[2], double *er,
+                     double *radius, double (*verts)[2], int nmax, int *nv);
 
 /* Interpolation of a grip-force schedule between its points. */
 enum exdex_grip_kind {
@@ -615,6 +659,10 @@ typedef struct exdex_stats {
                                    (event, regularised: the start of the failing step
                                    or event) [s]; NaN after success or when unknown */
     int fail_cause;             /* enum exdex_fail_cause; EXDEX_FAIL_NONE after success */
+    double lost_t;              /* pads on the fingers: the time of the output sample at which
+                                   the contact region vanished and the run stopped (the grasp
+                                   is lost); NaN: held to the end */
+    size_t lost_sample;         /* its sample index (the last one written); 0: none */
 } exdex_stats;
 
 /* Run the whole trajectory. Thread-safe for distinct out/stats. Returns

@@ -185,6 +185,14 @@ typedef struct explicit_ws {
     model_sw_cache swc;   /* model_substep's */
 } explicit_ws;
 
+/* The workspace: the run's state (saved and restored as a whole) and, with
+ * pads on the fingers, the model whose contact follows the state
+ * (model_pads_follow; NULL without pads). */
+typedef struct explicit_run {
+    explicit_ws s;
+    exdex_model *mc;
+} explicit_run;
+
 static int explicit_begin(const exdex_model *m, void *ws, double t_end, double dt, exdex_stats *st)
 {
     explicit_ws *w = ws;
@@ -359,6 +367,8 @@ static int explicit_substep(const exdex_model *m, explicit_ws *w, const model_su
             *still = v[0] == 0.0;
         } else {
             double F[3], u[3], eu[3], sig, w[3] = {0, 0, 0}, P[3];
+            /* pads on the fingers: the contact region at the step's start */
+            if (m->pads) model_pads_set((exdex_model *)m, q);
             model_force_planar(m, &f, q, v, F);
             model_patch_slip(m, MODEL_CS(q[2]), v, u);
             for (int c = 0; c < 3; c++) eu[c] = m->e[c] * u[c];
@@ -480,6 +490,8 @@ static int explicit_advance(const exdex_model *m, void *ws, double t1, int regri
     double t0 = w->t, H = t1 - t0, wrench[3] = {0, 0, 0}, sf[EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES];
     int status = EXDEX_OK, still = 0, first = 1;
     (void)regrip;   /* the capacity is read at every step */
+    /* with pads m is then the run's own copy (model_pads_set writes it) */
+    if (((explicit_run *)ws)->mc) m = model_pads_follow(m, ((explicit_run *)ws)->mc);
     while (w->t < t1) {
         model_sub sub;
         int sub_still = 0;
@@ -503,13 +515,25 @@ static int explicit_advance(const exdex_model *m, void *ws, double t1, int regri
 
 static void *explicit_alloc(const exdex_model *m, int *status)
 {
-    explicit_ws *w = malloc(sizeof *w);
-    (void)m;
-    if (!w) *status = EXDEX_ENOMEM;
+    explicit_run *w = malloc(sizeof *w);
+    if (!w) {
+        *status = EXDEX_ENOMEM;
+        return NULL;
+    }
+    w->mc = NULL;
+    if (m->pads && !(w->mc = calloc(1, sizeof *w->mc))) {
+        free(w);
+        *status = EXDEX_ENOMEM;
+        return NULL;
+    }
     return w;
 }
 
-static void explicit_free(void *ws) { free(ws); }
+static void explicit_free(void *ws)
+{
+    if (ws) free(((explicit_run *)ws)->mc);
+    free(ws);
+}
 
 static void explicit_save(const void *ws, void *buf) { memcpy(buf, ws, sizeof(explicit_ws)); }
 static int explicit_restore(void *ws, const void *buf)

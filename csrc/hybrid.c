@@ -345,6 +345,8 @@ enum { MODE_SLIP = 0, MODE_STICK = 1, MODE_CONTACT = 2, MODE_FREE = 3 };
  *           plate wrench (f_x, f_y, m_z) in B) */
 typedef struct hyb {
     const exdex_model *m;
+    exdex_model *mc;   /* pads on the fingers: m itself, the run's own copy whose contact
+                          fields follow the state (hyb_pads); NULL without pads */
     int law, ndof, ns, ny;
     int mode;
     double s;          /* 1-DoF slip / friction direction (contact: 0 = at rest) */
@@ -378,6 +380,15 @@ typedef struct hyb {
                           stick band, or beyond it with the load inside the static ellipsoid),
                           0 once it broke away (until it slows into the band again); see the top */
 } hyb;
+
+/* Pads on the fingers: the model's contact fields set to the region at the
+ * planar state y (model_pads_set; nothing when they hold it already). Every
+ * function below that reads the contact (pc, e, prep) at a state calls it
+ * first. */
+static inline void hyb_pads(const hyb *H, const double *y)
+{
+    if (H->mc && H->ndof == 3) model_pads_set(H->mc, y);
+}
 
 /* ---------------------------------------------------------- contact rows
  * The stops' rows and the obstacles' (orows.h) in one numbering: planar row
@@ -802,6 +813,7 @@ static int sf_acc(hyb *H, const exdex_kinematics *kin, const double *y, const do
 static double sf_rest(hyb *H, const exdex_kinematics *kin, const double *y, const double F[3], double w[3],
                       double *lam)
 {
+    hyb_pads(H, y);
     const exdex_model *m = H->m;
     double D[LDP_MAX_ROWS][3], B[LDP_MAX_ROWS][3], c[LDP_MAX_ROWS], a[3], mF[3], P[3];
     int own[LDP_MAX_ROWS], ng = 0, it = 0;
@@ -1216,6 +1228,7 @@ static const double *reported_pose(hyb *H, double t, const double *y, double *bu
 static double planar_rest(hyb *H, const exdex_kinematics *kin, const double *y, const double F[3], double w[3],
                           double *lam)
 {
+    hyb_pads(H, y);
     const exdex_model *m = H->m;
     double B[MAX_ROWS][3], a[3], mF[3], P[3];
     int it = 0;
@@ -1254,6 +1267,7 @@ static double planar_rest(hyb *H, const exdex_kinematics *kin, const double *y, 
  * decide): that load inside the static ellipsoid? */
 static double planar_load(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y)
 {
+    hyb_pads(H, y);
     const exdex_model *m = H->m;
     double F[3], w[3], zero[3] = {0, 0, 0}, lam[MAX_ROWS];
     model_force_planar(m, f, y, zero, F);
@@ -1277,6 +1291,7 @@ static int smooth_two(const hyb *H)
 
 static double planar_slip_speed(const hyb *H, const double *y)
 {
+    hyb_pads(H, y);
     double u[3], eu[3];
     model_patch_slip(H->m, MODEL_CS(y[2]), y + 3, u);
     for (int i = 0; i < 3; i++) eu[i] = H->m->e[i] * u[i];
@@ -1288,6 +1303,7 @@ static double planar_slip_speed(const hyb *H, const double *y)
  * decide)? f, kin the frame terms at (t, y). */
 static int planar_set_recedes(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y)
 {
+    hyb_pads(H, y);
     double zero[3] = {0, 0, 0}, F[3], w[3];
     if (!H->ncs) return 0;
     model_force_planar(H->m, f, y, zero, F);
@@ -1311,6 +1327,7 @@ static int planar_set_recedes(hyb *H, const frame *f, const exdex_kinematics *ki
 static int planar_friction(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y, double F[3],
                            double w[3])
 {
+    hyb_pads(H, y);
     const exdex_model *m = H->m;
     double th = y[2];
     const double *v = y + 3;
@@ -1443,6 +1460,7 @@ static void set_tie_joins(hyb *H, const double *y, double t)
  * acceleration 0) while the lock lasts. */
 static void planar_prune_set(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y)
 {
+    hyb_pads(H, y);
     double F[3], w[3], P[3], a[3], qdd[3], lam[MAX_ROWS];
     int n = 0;
     if (!H->ncs || H->mode == MODE_STICK) return;
@@ -1539,6 +1557,7 @@ static void sf_project_stick(hyb *H, const frame *f, const exdex_kinematics *kin
 /* The acceleration without stops of the current (non-stick) mode at y. */
 static int sf_free_acc(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y, double a[3])
 {
+    hyb_pads(H, y);
     double F[3], w[3], P[3];
     int st = planar_friction(H, f, kin, y, F, w);
     if (st) return st;
@@ -1688,6 +1707,7 @@ static void sf_decide(hyb *H, double t, double *y)
 static int rhs(double t, const double y[], double dy[], void *params)
 {
     hyb *H = params;
+    hyb_pads(H, y);
     const exdex_model *m = H->m;
     frame f;
     exdex_kinematics kin;
@@ -1869,6 +1889,7 @@ static int gap_guards(const hyb *H, const exdex_kinematics *kin, const double *y
 
 static int guards(hyb *H, double t, const double *y, double *g)
 {
+    hyb_pads(H, y);
     const exdex_model *m = H->m;
     frame f;
     exdex_kinematics kin;
@@ -2046,6 +2067,7 @@ static int guards(hyb *H, double t, const double *y, double *g)
  * projection onto a stop). */
 static void decide_modes(hyb *H, double t, double *y, int vzero)
 {
+    hyb_pads(H, y);
     const exdex_model *m = H->m;
     frame f;
     exdex_kinematics kin;
@@ -2507,6 +2529,7 @@ static int apply_jump(hyb *H, double ts, double *y)
  * by the tolerance, not by the output grid or the step budget. */
 static void stiff_track(hyb *H, const double *y, int reset)
 {
+    hyb_pads(H, y);
     double u[3], eu[3], s;
     if (reset || H->ndof != 3 || H->law != LAW_COULOMB || H->mode != MODE_SLIP || H->small) {
         H->stiff = 0;
@@ -2571,6 +2594,7 @@ typedef struct ode {
     gsl_odeiv2_system sys;
     double yerr[NY_MAX], ytmp[NY_MAX];
     double *ts, *gb;   /* switching times, grip breakpoints (EXDEX_MOTION_MAX_SWITCHES + grip_n each) */
+    exdex_model *mc;   /* pads on the fingers: the run's own copy of the model (hyb.mc) */
     /* the run's state between output intervals (hybrid_begin, _advance) */
     struct hyb_state {
         hyb H;
@@ -2591,6 +2615,7 @@ typedef struct ode {
 static void ode_free(ode *O)
 {
     if (!O) return;
+    free(O->mc);
     if (O->root) gsl_root_fsolver_free(O->root);
     if (O->evo) gsl_odeiv2_evolve_free(O->evo);
     if (O->con) gsl_odeiv2_control_free(O->con);
@@ -2638,7 +2663,8 @@ static void *hybrid_alloc(const exdex_model *m, int *status)
     O->root = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
     O->ts = malloc((EXDEX_MOTION_MAX_SWITCHES + m->grip_n) * sizeof *O->ts);
     O->gb = malloc((EXDEX_MOTION_MAX_SWITCHES + m->grip_n) * sizeof *O->gb);
-    if (!O->rk || !O->bs || !O->con || !O->evo || !O->root || !O->ts || !O->gb) {
+    if (m->pads) O->mc = calloc(1, sizeof *O->mc);
+    if (!O->rk || !O->bs || !O->con || !O->evo || !O->root || !O->ts || !O->gb || (m->pads && !O->mc)) {
         ode_free(O);
         *status = EXDEX_ENOMEM;
         return NULL;
@@ -3102,9 +3128,13 @@ static int hybrid_begin(const exdex_model *m, ode *O, int law, double t_end, dou
     hyb H;
     double y[NY_MAX], *ts = O->ts, h;
     size_t nsw;
-    int nd = m->ndof, ns = m->n_stops;
+    int nd, ns;
+    if (O->mc) m = model_pads_follow(m, O->mc);
+    nd = m->ndof;
+    ns = m->n_stops;
     memset(&H, 0, sizeof H);
     H.m = m;
+    H.mc = O->mc;
     H.law = law;
     H.ndof = nd;
     H.ns = ns;
@@ -3169,9 +3199,13 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
     hyb H = O->S.H;
     double y[NY_MAX], y0[NY_MAX], *ts = O->ts, t = O->S.t, h = O->S.h;
     size_t nsw = O->S.nsw;
-    int nd = m->ndof, ns = m->n_stops, law = H.law, status = EXDEX_OK;
+    int nd, ns, law = H.law, status = EXDEX_OK;
+    if (O->mc) m = model_pads_follow(m, O->mc);
+    nd = m->ndof;
+    ns = m->n_stops;
     memcpy(y, O->S.y, sizeof y);
     H.m = m;
+    H.mc = O->mc;
     H.st = st;
     O->sys.params = &H;
     O->step = H.stiff ? O->bs : O->rk;
@@ -3204,6 +3238,7 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
             if (nd == 3 && H.mode == MODE_SLIP && law == LAW_COULOMB &&
                 (y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0)) {
                 double u[3];
+                hyb_pads(&H, y);
                 model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
                 for (int c = 0; c < 3; c++) H.uref[c] = m->e[c] * u[c];
             }
@@ -3401,6 +3436,7 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                      * direction at the step start (a turn: on as a slip
                      * with the new reference direction) */
                     double u[3], eu[3];
+                    hyb_pads(&H, y);
                     model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
                     for (int c = 0; c < 3; c++) eu[c] = m->e[c] * u[c];
                     if (H.small) {

@@ -99,6 +99,8 @@ typedef struct work {
     gsl_odeiv2_step *slip_step;
     gsl_odeiv2_control *slip_con;
     gsl_odeiv2_evolve *slip_evo;
+    exdex_model *mc;   /* pads on the fingers: the model whose contact follows the state
+                          (model_pads_follow); NULL without pads */
 } work;
 
 /* ------------------------------------------------------------ stops */
@@ -1170,6 +1172,12 @@ static void *implicit_alloc(const exdex_model *m, int *status)
     w->slip_step = NULL;
     w->slip_con = NULL;
     w->slip_evo = NULL;
+    w->mc = NULL;
+    if (m->pads && !(w->mc = calloc(1, sizeof *w->mc))) {
+        free(w);
+        *status = EXDEX_ENOMEM;
+        return NULL;
+    }
     w->p_prev[0] = w->p_prev[1] = w->p_prev[2] = 0.0;
     w->have_prev = 0;
     w->n_rows = 0;
@@ -1177,6 +1185,7 @@ static void *implicit_alloc(const exdex_model *m, int *status)
     if (m->def.friction_solver != EXDEX_SOLVER_SCALAR && m->ndof == 3) {
         w->fws = exdex_friction_ws_alloc();
         if (!w->fws) {
+            free(w->mc);
             free(w);
             *status = EXDEX_ENOMEM;
             return NULL;
@@ -1200,6 +1209,7 @@ static void implicit_free(void *ws)
     work *w = ws;
     if (!w) return;
     exdex_friction_ws_free(w->fws);
+    free(w->mc);
     if (w->slip_evo) gsl_odeiv2_evolve_free(w->slip_evo);
     if (w->slip_con) gsl_odeiv2_control_free(w->slip_con);
     if (w->slip_step) gsl_odeiv2_step_free(w->slip_step);
@@ -1297,6 +1307,8 @@ static int implicit_substep(const exdex_model *m, work *w, const model_sub *sub,
         } else {
             exdex_friction_result fr;
             double pfB[3], fo[3];
+            /* pads on the fingers: the contact region at the step's midpoint */
+            if (w->mc) model_pads_set(w->mc, qm);
             model_force_planar(m, &f, qm, vmid, F);
             /* the stick test's capacity: static for a step that starts at
              * rest, kinetic for one that starts slipping (see restick_planar) */
@@ -1447,6 +1459,7 @@ static int implicit_advance(const exdex_model *m, void *ws, double t1, int regri
     double t0 = w->S.t, H = t1 - t0, wrench[3] = {0, 0, 0}, sf[EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES];
     int status = EXDEX_OK, stick = 0, first = 1, split = 0;
     (void)regrip;   /* the capacity is read at every step */
+    if (w->mc) m = model_pads_follow(m, w->mc);
     while (w->S.t < t1) {
         model_sub sub;
         int sub_stick = 0;

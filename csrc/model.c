@@ -82,6 +82,49 @@ static int spd3(const double A[9])
     return d2 > 0;
 }
 
+/* Pads on the fingers: 0 without them; else the pad (B) and face (C) as
+ * shapes into pad, face (may be NULL), or EXDEX_EINVAL naming the field. */
+static int check_pads(const exdex_scene_def *d, pads_shape *pad, pads_shape *face, const char **bad_param)
+{
+    pads_shape tmp[2];
+    const int np[2] = {d->pad_n, d->face_n};
+    const double *rad[2] = {&d->pad_radius, &d->face_radius}, *cen[2] = {d->pad_center, d->face_center};
+    const double (*pv[2])[2] = {d->pad, d->face};
+    static const char *names[2][3] = {{"pad_n", "pad_radius", "pad_center"}, {"face_n", "face_radius", "face_center"}};
+    if (!pad) pad = &tmp[0];
+    if (!face) face = &tmp[1];
+    if (d->pad_n < 0 || d->pad_n > EXDEX_MAX_PAD_VERTICES) return bad(bad_param, "pad_n");
+    if (!(isfinite(d->pad_radius) && d->pad_radius >= 0.0)) return bad(bad_param, "pad_radius");
+    if (d->pad_n == 0 && d->pad_radius == 0.0) {
+        /* no pads: the face is not read */
+        return EXDEX_OK;
+    }
+    for (int k = 0; k < 2; k++) {
+        pads_shape *s = k ? face : pad;
+        if (np[k] < 0 || np[k] > EXDEX_MAX_PAD_VERTICES) return bad(bad_param, names[k][0]);
+        if (!(isfinite(*rad[k]) && *rad[k] >= 0.0)) return bad(bad_param, names[k][1]);
+        if ((np[k] > 0) == (*rad[k] > 0.0)) return bad(bad_param, np[k] ? names[k][1] : names[k][0]);
+        memset(s, 0, sizeof *s);
+        if (np[k]) {
+            double sc = k == 0 && d->pad_scale != 0.0 ? d->pad_scale : 1.0;
+            s->n = np[k];
+            if (k == 0 && !(isfinite(d->pad_scale) && d->pad_scale >= 0.0)) return bad(bad_param, "pad_scale");
+            if (k == 0 && !ex_finite_n(d->pad_center, 2)) return bad(bad_param, "pad_center");
+            for (int i = 0; i < np[k]; i++) {
+                s->v[i][0] = k == 0 ? d->pad_center[0] + sc * pv[k][i][0] : pv[k][i][0];
+                s->v[i][1] = k == 0 ? d->pad_center[1] + sc * pv[k][i][1] : pv[k][i][1];
+            }
+            if (!pads_poly_ccw(s->v, s->n)) return bad(bad_param, k ? "face" : "pad");
+        } else {
+            if (!ex_finite_n(cen[k], 2)) return bad(bad_param, names[k][2]);
+            s->r = *rad[k];
+            s->c[0] = cen[k][0];
+            s->c[1] = cen[k][1];
+        }
+    }
+    return EXDEX_OK;
+}
+
 /* Field-by-field validation of everything but R0, the motion, the planar
  * friction problem and the initial stop gaps (those need the model built). */
 int model_region(const exdex_scene_def *d, region *rg)
@@ -117,6 +160,10 @@ static int check_fields(const exdex_scene_def *d, const char **bad_param)
     if (!(isfinite(d->disc_radius) && d->disc_radius >= 0.0) || (d->disc_radius > 0.0 && d->n_vertices != 0))
         return bad(bad_param, "disc_radius");
     if (!ex_finite_n(d->disc_center, 2)) return bad(bad_param, "disc_center");
+    {
+        int st = check_pads(d, NULL, NULL, bad_param);
+        if (st) return st;
+    }
     if (!(isfinite(d->mu) && d->mu >= 0)) return bad(bad_param, "mu");
     if (!(isfinite(d->grip_force) && d->grip_force >= 0)) return bad(bad_param, "grip_force");
     if (!(isfinite(d->mu_static) && (d->mu_static == 0.0 || d->mu_static >= d->mu)))
@@ -181,6 +228,7 @@ static int check_fields(const exdex_scene_def *d, const char **bad_param)
     }
     if (d->limit_surface == EXDEX_LS_EXACT) {
         if (d->region_kind == EXDEX_REGION_NONE) return bad(bad_param, "region_kind");
+        if (d->pad_n > 0 || d->pad_radius > 0.0) return bad(bad_param, "limit_surface");
         if (d->dof == EXDEX_DOF_PLANAR &&
             (d->n_stops || d->n_obstacles || (d->method != EXDEX_METHOD_IMPLICIT && d->method != EXDEX_METHOD_EVENT)))
             return bad(bad_param, "limit_surface");
@@ -203,6 +251,8 @@ const char *exdex_analytic_unsupported(const exdex_scene_def *d)
     if (d->dof != EXDEX_DOF_TRANSLATION && d->dof != EXDEX_DOF_ROTATION)
         return "the analytic method solves 1-DoF scenes (translation or rotation), not planar ones";
     if (d->n_stops != 0 || d->n_obstacles != 0) return "the analytic method solves scenes without stops";
+    if (d->pad_n > 0 || d->pad_radius > 0.0)
+        return "the analytic method solves the patch fixed on the object, not pads on the fingers";
     if (mo->kind == EXDEX_MOTION_SHAKE || mo->kind == EXDEX_MOTION_CHAIN)
         return "the analytic method needs a piecewise-constant gripper acceleration (Eq. 7, trapezoid or "
                "rest), not a shake or a chain";
@@ -467,6 +517,129 @@ void model_patch_of_gen(const exdex_model *m, const double cs[2], const double P
     w[0] = px;
     w[1] = py;
     w[2] = P[2] + m->pc[1] * px - m->pc[0] * py;
+}
+
+/* ------------------------------------------------ pads on the fingers */
+
+/* W = J' M^-1 J'^T of the patch at m->pc (planar). */
+static void patch_delassus(const exdex_model *m, double W[9])
+{
+    double J[9] = {1, 0, -m->pc[1], 0, 1, m->pc[0], 0, 0, 1};
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            double s = 0;
+            for (int k = 0; k < 3; k++) s += J[3 * i + k] * m->minv[k] * J[3 * j + k];
+            W[3 * i + j] = s;
+        }
+}
+
+/* A point c of B in C relative to the centre of mass at r turned by th. */
+static void pads_local_center(const double c[2], const double r[2], double th, double pc[2])
+{
+    double d[2] = {c[0] - r[0], c[1] - r[1]};
+    rot2(pc, -th, d);
+}
+
+void model_pads_region(const exdex_model *m, const double r[2], double th, pads_region *out)
+{
+    pads_shape f;
+    double cs = cos(th), sn = sin(th);
+    f.n = m->face.n;
+    for (int i = 0; i < f.n; i++) {
+        const double *v = m->face.v[i];
+        f.v[i][0] = r[0] + cs * v[0] - sn * v[1];
+        f.v[i][1] = r[1] + sn * v[0] + cs * v[1];
+    }
+    f.r = m->face.r;
+    f.c[0] = r[0] + cs * m->face.c[0] - sn * m->face.c[1];
+    f.c[1] = r[1] + sn * m->face.c[0] + cs * m->face.c[1];
+    pads_intersect(&m->pad, &f, out);
+}
+
+void model_pads_set(exdex_model *mc, const double q[3])
+{
+    pads_region rg;
+    double pc[2], e[3], W[9], pc0[2], e2;
+    exdex_friction_prep prep;
+    if (!mc->pads || mc->ndof != 3) return;
+    if (q[0] == mc->pad_q[0] && q[1] == mc->pad_q[1] && q[2] == mc->pad_q[2]) return;
+    model_pads_region(mc, q, q[2], &rg);
+    if (!(rg.area > EXDEX_PAD_LOST * mc->pad_area0 && rg.er > 0.0)) return;
+    pads_local_center(rg.c, q, q[2], pc);
+    pc0[0] = mc->pc[0];
+    pc0[1] = mc->pc[1];
+    e2 = mc->e[2];
+    mc->pc[0] = pc[0];
+    mc->pc[1] = pc[1];
+    e[0] = e[1] = 1.0;
+    e[2] = rg.er;
+    patch_delassus(mc, W);
+    if (exdex_friction_prepare(&prep, W, e)) {
+        mc->pc[0] = pc0[0];
+        mc->pc[1] = pc0[1];
+        mc->e[2] = e2;
+        return;
+    }
+    mc->e[2] = rg.er;
+    mc->prep = prep;
+    memcpy(mc->pad_q, q, sizeof mc->pad_q);
+}
+
+const exdex_model *model_pads_follow(const exdex_model *m, exdex_model *copy)
+{
+    if (!m->pads || m == copy) return m;
+    if (copy->pad_src == m && copy->pads) {
+        double pc[2] = {copy->pc[0], copy->pc[1]}, e2 = copy->e[2], q[3];
+        exdex_friction_prep prep = copy->prep;
+        memcpy(q, copy->pad_q, sizeof q);
+        *copy = *m;
+        copy->pc[0] = pc[0];
+        copy->pc[1] = pc[1];
+        copy->e[2] = e2;
+        copy->prep = prep;
+        memcpy(copy->pad_q, q, sizeof q);
+    } else {
+        *copy = *m;
+    }
+    copy->pad_src = m;
+    return copy;
+}
+
+int model_pads_lost(const exdex_model *m, const double *q)
+{
+    pads_region rg;
+    double r[3], th;
+    if (!m->pads) return 0;
+    model_com_pose(m, q, r, &th);
+    model_pads_region(m, r, th, &rg);
+    return !(rg.area > EXDEX_PAD_LOST * m->pad_area0);
+}
+
+int exdex_pad_region(const exdex_scene_def *def, const double q[3], double *area, double c[2], double *er,
+                     double *radius, double (*verts)[2], int nmax, int *nv)
+{
+    exdex_model m;
+    pads_region rg;
+    if (!def || !q || !ex_finite_n(q, 3) || !(def->pad_n > 0 || def->pad_radius > 0.0)) return EXDEX_EINVAL;
+    memset(&m, 0, sizeof m);
+    if (check_pads(def, &m.pad, &m.face, NULL)) return EXDEX_EINVAL;
+    model_pads_region(&m, q, q[2], &rg);
+    if (area) *area = rg.area;
+    if (c) {
+        c[0] = rg.c[0];
+        c[1] = rg.c[1];
+    }
+    if (er) *er = rg.er;
+    if (radius) *radius = rg.disc ? rg.r : 0.0;
+    if (nv) {
+        int n = rg.n < nmax ? rg.n : nmax;
+        *nv = verts ? n : 0;
+        for (int i = 0; verts && i < n; i++) {
+            verts[i][0] = rg.v[i][0];
+            verts[i][1] = rg.v[i][1];
+        }
+    }
+    return EXDEX_OK;
 }
 
 /* ------------------------------------------------------------ scales */
@@ -757,6 +930,23 @@ static exdex_model *build_model(const exdex_scene_def *def, int *status, const c
     }
     m->pc[0] = def->patch_center[0];
     m->pc[1] = def->patch_center[1];
+    if (def->pad_n > 0 || def->pad_radius > 0.0) {
+        /* pads on the fingers: the region at the start in place of the patch */
+        pads_region rg;
+        check_pads(def, &m->pad, &m->face, NULL);
+        m->pads = 1;
+        model_pads_region(m, def->q0, def->q0[2], &rg);
+        if (!(rg.area > 0.0 && rg.er > 0.0)) {
+            exdex_model_free(m);
+            *status = EXDEX_EINVAL;
+            if (bad_param) *bad_param = "pad";
+            return NULL;
+        }
+        m->pad_area0 = rg.area;
+        pads_local_center(rg.c, def->q0, def->q0[2], m->pc);
+        m->e[2] = rg.er;
+        memcpy(m->pad_q, def->q0, sizeof m->pad_q);
+    }
     memcpy(m->g, def->gravity, sizeof m->g);
     m->d[0] = def->slide_axis[0];
     m->d[1] = def->slide_axis[1];
@@ -779,13 +969,8 @@ static exdex_model *build_model(const exdex_scene_def *def, int *status, const c
     m->minv[0] = m->minv[1] = 1.0 / m->m;
     m->minv[2] = 1.0 / m->izz;
     if (m->ndof == 3) {
-        double J[9] = {1, 0, -m->pc[1], 0, 1, m->pc[0], 0, 0, 1}, W[9];
-        for (int i = 0; i < 3; i++)
-            for (int j = 0; j < 3; j++) {
-                double s = 0;
-                for (int k = 0; k < 3; k++) s += J[3 * i + k] * m->minv[k] * J[3 * j + k];
-                W[3 * i + j] = s;
-            }
+        double W[9];
+        patch_delassus(m, W);
         st = exdex_friction_prepare(&m->prep, W, m->e);
         if (st) {
             exdex_model_free(m);

@@ -13,6 +13,7 @@
 
 #include "exdex.h"
 #include "limitsurf.h"
+#include "pads.h"
 
 #define MAX_ROWS (EXDEX_MAX_STOPS * EXDEX_MAX_VERTICES)
 
@@ -116,6 +117,17 @@ struct exdex_model {
     const exdex_motion *sw_motion;
     size_t sw_n;
     double *sw_t;
+    /* pads on the fingers (def.pad_n > 0 or def.pad_radius > 0): pad (in
+     * B) and face (in C, a ccw polygon or a disc); pc, e[2] and prep then
+     * hold the contact region at the pose pad_q (planar) or at the start
+     * (1-DoF). A model is read-only: a method that follows the region keeps
+     * its own copy of the model (model_pads_follow) and sets it with
+     * model_pads_set. */
+    int pads;
+    pads_shape pad, face;
+    double pad_q[3];
+    double pad_area0;   /* the region's area at the start */
+    const exdex_model *pad_src;  /* a copy (model_pads_follow): the model it copies */
 };
 
 /* ------------------------------------------------ grip force, capacity
@@ -442,6 +454,25 @@ static inline double model_ls_gauge(const exdex_model *m, const double w[3])
     if (!m->ls_exact) return model_ell_norm(m, w);
     return limitsurf_gauge(&m->ls, w, &g, NULL) == EXDEX_OK ? g : NAN;
 }
+/* ------------------------------------------------------ pads on the fingers */
+
+/* The contact region with the object's centre of mass at r (B) turned by th. */
+void model_pads_region(const exdex_model *m, const double r[2], double th, pads_region *out);
+/* The planar contact fields of a model copy mc (pads: pc, e[2], prep) set
+ * to the region at the planar pose q (x, y, theta); nothing when q is the
+ * pose they hold, or without pads. A region that has vanished (area at most
+ * EXDEX_PAD_LOST times the start's) or whose prepare fails keeps the
+ * fields of the last pose (the run stops at the next output sample, see
+ * model_pads_lost). */
+void model_pads_set(exdex_model *mc, const double q[3]);
+/* For a method's entry point: m itself without pads, else copy (a
+ * method's own copy of the model, zeroed when the workspace was made)
+ * refreshed from m, its contact fields kept when they came from m before
+ * (they depend on the pose only). */
+const exdex_model *model_pads_follow(const exdex_model *m, exdex_model *copy);
+/* 1 if the pads' region at the coordinates q (ndof entries) has vanished. */
+int model_pads_lost(const exdex_model *m, const double *q);
+
 /* |E^-1 w|, the ellipsoid norm of a patch wrench (paper Eq. 6). */
 static inline double model_ell_norm(const exdex_model *m, const double w[3])
 {

@@ -83,6 +83,7 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajecto
     const method_impl *impl;
     void *ws;
     exdex_stats st;
+    exdex_trajectory lost;
     if (!m || !out || n == 0 || out->n != n || !out->t || !out->q || !out->v || !out->wrench ||
         !out->stick || (m->n_src && !out->stop_force))
         return EXDEX_EINVAL;
@@ -94,6 +95,7 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajecto
     st.max_impulse_t = NAN;
     st.max_impulse_stop = -1;
     st.fail_time = NAN;
+    st.lost_t = NAN;
     nd = m->ndof;
     model_initial_state(m, q, v);
     out->t[0] = 0.0;
@@ -111,10 +113,23 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajecto
     } else {
         size_t n = out->n;
         status = impl->begin(m, ws, t_end, dt, &st);
-        for (size_t i = 1; i < n && status == EXDEX_OK; i++)
+        for (size_t i = 1; i < n && status == EXDEX_OK; i++) {
             status = impl->advance(m, ws, i == n - 1 ? t_end : (double)i * dt, 0, out, i, &st);
+            if (status == EXDEX_OK && m->pads && model_pads_lost(m, out->q + i * (size_t)nd)) {
+                /* the grasp is lost: the run stops at this sample */
+                st.lost_t = out->t[i];
+                st.lost_sample = i;
+                break;
+            }
+        }
     }
     impl->free(ws);
+    if (st.lost_sample) {
+        /* only the samples written are checked and scanned */
+        lost = *out;
+        lost.n = st.lost_sample + 1;
+        out = &lost;
+    }
     if (status == EXDEX_OK && !impl->checks_finite && !output_finite(m, out)) status = EXDEX_ENONFINITE;
     if (status == EXDEX_OK && impl->impacts_from_steps && m->n_src) impacts_from_steps(m, out, &st);
     if (status != EXDEX_OK && st.fail_cause == EXDEX_FAIL_NONE)

@@ -145,6 +145,7 @@ exdex_stepper *exdex_stepper_alloc(const exdex_model *m, int *status)
     s->c.st.max_impulse_t = NAN;
     s->c.st.max_impulse_stop = -1;
     s->c.st.fail_time = NAN;
+    s->c.st.lost_t = NAN;
     s->c.imp.max_impulse_t = NAN;
     s->c.imp.max_impulse_stop = -1;
     s->c.imp_n = 1;   /* sample 0: t = 0, no impulse */
@@ -209,7 +210,7 @@ int exdex_stepper_step_gripper(exdex_stepper *s, double dt, double grip_force, c
     double k, base, t1;
     int status, regrip, nd;
     exdex_kinematics k0, k1;
-    if (!s || s->c.failed) return EXDEX_EINVAL;
+    if (!s || s->c.failed || s->c.st.lost_sample) return EXDEX_EINVAL;
     c = &s->c;
     if (!(isfinite(dt) && dt > 0.0)) return EXDEX_EINVAL;
     if (!(isnan(grip_force) || (isfinite(grip_force) && grip_force >= 0.0))) return EXDEX_EINVAL;
@@ -269,6 +270,11 @@ int exdex_stepper_step_gripper(exdex_stepper *s, double dt, double grip_force, c
     memcpy(c->last.stop_force, s->sf, (size_t)s->mc.n_src * sizeof *s->sf);
     c->last.grip_force = grip_force;
     c->last.steps++;
+    if (s->mc.pads && model_pads_lost(&s->mc, s->q)) {
+        /* pads: the grasp is lost at this step, the last one the stepper takes */
+        c->st.lost_t = t1;
+        c->st.lost_sample = c->last.steps;
+    }
     if (pose) {
         c->posed = 1;
         c->gk = k1;

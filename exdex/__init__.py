@@ -15,7 +15,7 @@ Units are SI; frames are described in :mod:`exdex.scene`. ``import exdex``
 needs only NumPy; plotting and progress bars need the ``plot`` extra
 (matplotlib, tqdm), the engine cross-checks the ``engines`` extra.
 """
-from exdex.scene import (AsymmetricProfile, Body, Chain, Grasp, GripSchedule, Obstacle, Patch, Pause, Rest,
+from exdex.scene import (AsymmetricProfile, Body, Chain, Grasp, GripSchedule, Obstacle, Pad, Patch, Pause, Rest,
                          SampledTrajectory, Scene, Shake, Stop, TrapezoidalProfile, replace)
 from exdex.simulate import GripperJumpWarning, Model, PhysicsWarning, Result, SolverError, simulate
 from exdex.stepper import GripperPose, Stepper, StepperSnapshot, StepperState  # noqa: E402  (feedback control)
@@ -33,7 +33,7 @@ from exdex._optional import MissingExtraError  # noqa: E402
 __version__ = "0.1.0"
 
 __all__ = [
-    "AsymmetricProfile", "Body", "Grasp", "GripSchedule", "Obstacle", "Patch", "Rest", "SampledTrajectory", "Scene",
+    "AsymmetricProfile", "Body", "Grasp", "GripSchedule", "Obstacle", "Pad", "Patch", "Rest", "SampledTrajectory", "Scene",
     "Stop",
     "TrapezoidalProfile", "Shake", "Pause", "Chain", "replace", "Model", "Result", "SolverError", "PhysicsWarning",
     "GripperJumpWarning", "Stepper", "StepperState", "StepperSnapshot", "GripperPose",

@@ -343,6 +343,30 @@ static int grip_from_dict(PyObject *spec, exdex_scene_def *def, PyArrayObject **
     return 0;
 }
 
+/* Optional pads on the fingers: pad (k, 2) or pad_radius, pad_center,
+ * pad_scale; face (k, 2) or face_radius, face_center (absent: the patch
+ * fixed on the object). */
+static int pads_from_dict(PyObject *spec, exdex_scene_def *def)
+{
+    static const char *keys[2] = {"pad", "face"};
+    for (int k = 0; k < 2; k++) {
+        npy_intp n = 0;
+        PyArrayObject *a = dict_rows(spec, keys[k], 2, EXDEX_MAX_PAD_VERTICES, &n);
+        if (!a) return -1;
+        if (n) memcpy(k ? def->face : def->pad, PyArray_DATA(a), (size_t)n * 2 * sizeof(double));
+        if (k) def->face_n = (int)n;
+        else def->pad_n = (int)n;
+        Py_DECREF(a);
+    }
+    if (PyDict_GetItemString(spec, "pad_radius") && dict_double(spec, "pad_radius", &def->pad_radius)) return -1;
+    if (PyDict_GetItemString(spec, "pad_center") && dict_doubles(spec, "pad_center", def->pad_center, 2)) return -1;
+    if (PyDict_GetItemString(spec, "pad_scale") && dict_double(spec, "pad_scale", &def->pad_scale)) return -1;
+    if (PyDict_GetItemString(spec, "face_radius") && dict_double(spec, "face_radius", &def->face_radius)) return -1;
+    if (PyDict_GetItemString(spec, "face_center") && dict_doubles(spec, "face_center", def->face_center, 2))
+        return -1;
+    return 0;
+}
+
 /* Fill an exdex_scene_def from a spec dict. Sampled-motion arrays and the
  * grip schedule are returned as new references in *times / *poses / *grip
  * (kept alive by the caller until the model is built); a chain's pieces and
@@ -415,6 +439,7 @@ static int scene_from_dict(PyObject *spec, exdex_scene_def *def, PyArrayObject *
     if (PyDict_GetItemString(spec, "motion_frequency") &&
         dict_double(spec, "motion_frequency", &def->motion.frequency))
         goto fail;
+    if (pads_from_dict(spec, def)) goto fail;
     if (def->motion.kind == EXDEX_MOTION_CHAIN && chain_pieces(spec, &def->motion, times)) goto fail;
     if (def->motion.kind == EXDEX_MOTION_SAMPLED) {
         PyObject *tobj = PyDict_GetItemString(spec, "motion_times");
@@ -486,6 +511,11 @@ static PyObject *stats_dict(const exdex_stats *st)
                                 "stop_iterations", (Py_ssize_t)st->stop_iterations, "warnings",
                                 (Py_ssize_t)st->warnings, "min_gap", st->min_gap);
     if (d && add_impact_stats(d, st)) Py_CLEAR(d);
+    if (d) {
+        PyObject *o = Py_BuildValue("{s:N}", "grasp_lost_t", float_or_none(st->lost_t));
+        if (!o || PyDict_Update(d, o)) Py_CLEAR(d);
+        Py_XDECREF(o);
+    }
     return d;
 }
 
@@ -620,6 +650,17 @@ static PyObject *run_model(PyObject *module, const exdex_model *model, double t_
     if (simulate_released(module, model, t_end, dt, &tr, &st)) goto done;
     stats = stats_dict(&st);
     if (!stats) goto done;
+    if (st.lost_sample) {
+        /* pads: the grasp was lost and the run stopped at that sample: the
+         * arrays end there (views of the samples written) */
+        PyArrayObject **arrs[6] = {&t, &q, &v, &wr, &stick, &sf};
+        for (int k = 0; k < 6; k++) {
+            PyObject *sl = PySequence_GetSlice((PyObject *)*arrs[k], 0, (Py_ssize_t)st.lost_sample + 1);
+            if (!sl) goto done;
+            Py_DECREF(*arrs[k]);
+            *arrs[k] = (PyArrayObject *)sl;
+        }
+    }
     result = Py_BuildValue("{s:O,s:O,s:O,s:O,s:O,s:O,s:O}", "t", t, "q", q, "v", v, "wrench", wr, "stick",
                            stick, "stop_force", sf, "stats", stats);
 done:
@@ -963,6 +1004,12 @@ static PyObject *Stepper_step(PyObject *self, PyObject *args, PyObject *kwds)
     Py_END_ALLOW_THREADS
     exdex_stepper_get(so->s, NULL, &st);
     PyThread_release_lock(so->lock);
+    if (status == EXDEX_EINVAL && st.lost_sample) {
+        PyErr_Format(PyExc_ValueError,
+                     "the grasp was lost at t = %.17g s (the pads' contact region vanished): the stepper takes no "
+                     "more steps (restore a saved state)", st.lost_t);
+        return NULL;
+    }
     if (status == EXDEX_EINVAL) {
         PyErr_Format(PyExc_ValueError,
                      "dt = %R s cannot advance the time from t = %.17g s (t + dt rounds to t, or more than 1e9 "
@@ -1409,6 +1456,45 @@ static PyObject *core_er_rectangle(PyObject *module, PyObject *args)
     return PyFloat_FromDouble(exdex_er_rectangle(a, b));
 }
 
+static PyObject *core_pad_region(PyObject *module, PyObject *args)
+{
+    PyObject *spec, *qobj, *verts = NULL;
+    exdex_scene_def def;
+    PyArrayObject *times = NULL, *poses = NULL, *grip = NULL;
+    double q[3], area, c[2], er, radius, (*v)[2] = NULL;
+    int nv = 0, st;
+    (void)module;
+    if (!PyArg_ParseTuple(args, "OO", &spec, &qobj)) return NULL;
+    {
+        PyObject *d = Py_BuildValue("{s:O}", "q", qobj);
+        st = d ? dict_doubles(d, "q", q, 3) : -1;
+        Py_XDECREF(d);
+        if (st) return NULL;
+    }
+    if (scene_from_dict(spec, &def, &times, &poses, &grip)) return NULL;
+    Py_XDECREF(times);
+    Py_XDECREF(poses);
+    Py_XDECREF(grip);
+    v = PyMem_Malloc(4 * (EXDEX_MAX_PAD_VERTICES + 64) * sizeof *v);
+    if (!v) return PyErr_NoMemory();
+    st = exdex_pad_region(&def, q, &area, c, &er, &radius, v, 4 * (EXDEX_MAX_PAD_VERTICES + 64), &nv);
+    if (st) {
+        PyMem_Free(v);
+        PyErr_SetString(PyExc_ValueError, "pad_region: the spec must have pads on the fingers (a valid convex pad "
+                                          "and face) and q three finite numbers");
+        return NULL;
+    }
+    {
+        npy_intp dims[2] = {nv, 2};
+        verts = PyArray_SimpleNew(2, dims, NPY_DOUBLE);
+        if (verts && nv) memcpy(PyArray_DATA((PyArrayObject *)verts), v, (size_t)nv * 2 * sizeof(double));
+    }
+    PyMem_Free(v);
+    if (!verts) return NULL;
+    return Py_BuildValue("{s:d,s:(dd),s:d,s:d,s:N}", "area", area, "centroid", c[0], c[1], "e_r", er, "radius",
+                         radius, "vertices", verts);
+}
+
 static PyObject *core_n_samples(PyObject *module, PyObject *args)
 {
     double t_end, dt;
@@ -1432,7 +1518,8 @@ static PyObject *core_n_samples(PyObject *module, PyObject *args)
 /* Scalar fields of exdex_scene_def a batch may vary from a base spec (`vary`). */
 static const char *const vary_keys[] = {"mass", "mu", "grip_force", "e_r", "motion_amplitude",
                                         "motion_duration", "motion_beta", "motion_v_max", "eps",
-                                        "rtol", "atol", "mu_static", "patch_center_x", "patch_center_y", NULL};
+                                        "rtol", "atol", "mu_static", "patch_center_x", "patch_center_y",
+                                        "pad_center_x", "pad_center_y", "pad_radius", "pad_scale", NULL};
 
 static double *vary_field(exdex_scene_def *d, int which)
 {
@@ -1450,6 +1537,10 @@ static double *vary_field(exdex_scene_def *d, int which)
     case 11: return &d->mu_static;
     case 12: return &d->patch_center[0];
     case 13: return &d->patch_center[1];
+    case 14: return &d->pad_center[0];
+    case 15: return &d->pad_center[1];
+    case 16: return &d->pad_radius;
+    case 17: return &d->pad_scale;
     default: return &d->atol;
     }
 }
@@ -1642,6 +1733,16 @@ static void *batch_run(void *arg)
             pthread_mutex_unlock(&c->lock);
             continue;
         }
+        if (st.lost_sample) {
+            /* pads: the grasp was lost at sample lost_sample and the run
+             * stopped there: NaN after it (stick 0) */
+            for (size_t j = st.lost_sample + 1; j < n; j++) {
+                for (int k = 0; k < nd; k++) tr.q[j * nd + k] = tr.v[j * nd + k] = NAN;
+                for (int k = 0; k < 3; k++) tr.wrench[j * 3 + k] = NAN;
+                for (int k = 0; k < ns; k++) tr.stop_force[j * ns + k] = NAN;
+                tr.stick[j] = 0;
+            }
+        }
         if (c->final) {
             const size_t last = n - 1;
             for (int k = 0; k < nd; k++) {
@@ -1694,7 +1795,7 @@ static Py_ssize_t parse_vary(PyObject *vary, int *which, PyArrayObject **arrays,
             PyErr_Format(PyExc_ValueError,
                          "vary: unknown key '%s' (allowed: mass, mu, grip_force, e_r, motion_amplitude, "
                          "motion_duration, motion_beta, motion_v_max, eps, rtol, atol, mu_static, patch_center_x, "
-                         "patch_center_y)", name);
+                         "patch_center_y, pad_center_x, pad_center_y, pad_radius, pad_scale)", name);
             return -1;
         }
         arrays[*nvary] = (PyArrayObject *)PyArray_FROMANY(val, NPY_DOUBLE, 1, 1, NPY_ARRAY_IN_ARRAY);
@@ -2028,6 +2129,9 @@ static PyMethodDef core_methods[] = {
      friction_solve_doc},
     {"obstacle_section", core_obstacle_section, METH_VARARGS, obstacle_section_doc},
     {"er_disc", core_er_disc, METH_O, "e_r [m] of a uniform pressure disc of radius R: 2R/3 (NaN if R <= 0)."},
+    {"pad_region", core_pad_region, METH_VARARGS,
+     "pad_region(spec, q) -> dict: the pads' contact region (area, centroid in B, e_r, radius of an exact disc "
+     "region else 0, polygon vertices in B) with the object at q = (x, y, theta)."},
     {"er_rectangle", core_er_rectangle, METH_VARARGS,
      "e_r [m] of a uniform pressure rectangle with half-sides a, b (NaN if not positive)."},
     {"n_samples", core_n_samples, METH_VARARGS, "Number of samples simulate returns for (t_end, dt); 0 if invalid."},
@@ -2038,6 +2142,7 @@ static PyMethodDef core_methods[] = {
 static const expy_constant core_constants[] = {
     {"MAX_STOPS", EXDEX_MAX_STOPS},
     {"MAX_VERTICES", EXDEX_MAX_VERTICES},
+    {"MAX_PAD_VERTICES", EXDEX_MAX_PAD_VERTICES},
     {"MAX_OBSTACLES", EXDEX_MAX_OBSTACLES},
     {"MAX_FACES", EXDEX_MAX_FACES},
     {"OBSTACLE_POLYTOPE", EXDEX_OBSTACLE_POLYTOPE},

@@ -88,6 +88,12 @@ PARAMETERS: Dict[str, _Param] = {
     # negative from the pivot of a rotation scene) [m]
     "patch_x": _Param(("grasp", "patch", "center", 0), "patch_center_x", None, None, False, False),
     "patch_y": _Param(("grasp", "patch", "center", 1), "patch_center_y", None, None, False, False),
+    # pads on the fingers (Grasp.pad): the pad's position on the plate in B [m],
+    # a disc pad's radius [m] and a polygon pad's size factor
+    "pad_x": _Param(("grasp", "pad", "center", 0), "pad_center_x", None, None, False, False),
+    "pad_y": _Param(("grasp", "pad", "center", 1), "pad_center_y", None, None, False, False),
+    "pad_radius": _Param(("grasp", "pad", "radius"), "pad_radius", 0.0, None, True, False),
+    "pad_scale": _Param(("grasp", "pad", "scale"), "pad_scale", 0.0, None, True, False),
 }
 
 # names people reach for, pointing at ours
@@ -288,6 +294,14 @@ def _check_param(name, scene):
     p = PARAMETERS[name]
     scenes = scene if isinstance(scene, tuple) else (scene,)
     for sc in scenes:
+        if name.startswith("pad_"):
+            pad = sc.grasp.pad
+            if pad is None:
+                raise ValueError(f"batch parameter {name!r} sets Grasp.pad, which the scene does not have "
+                                 "(pads on the fingers: Grasp(pad=exdex.Pad...))")
+            if (name == "pad_radius") != (pad.radius is not None):
+                raise ValueError(f"batch parameter {name!r} needs a {'disc' if name == 'pad_radius' else 'polygon'} "
+                                 f"pad (Pad.{'radius' if name == 'pad_radius' else 'scale'})")
         if p.motions and not isinstance(sc.motion, p.motions):
             kinds = " or ".join(c.__name__ for c in p.motions)
             raise ValueError(f"batch parameter {name!r} sets motion.{p.path[-1]}, which needs a {kinds} "

@@ -36,7 +36,8 @@ __all__ = ["PhysicsWarning", "findings", "pad_half_size"]
 class PhysicsWarning(UserWarning):
     """A simulated result left the assumptions of the model.
 
-    Attributes: ``kind`` ("pad", "outline", "impact" or "solver"), ``time``
+    Attributes: ``kind`` ("pad", "outline", "impact", "solver" or
+    "grasp": pads on the fingers lost the object), ``time``
     (the first time it happened [s], or None when the core does not know it),
     ``quantity`` (what was measured), ``value`` and ``limit`` (its size and
     the bound it passed, SI units; ``limit`` may be None).
@@ -162,6 +163,8 @@ def contact_checks(scene, q):
     out = []
     if scene.dof == "rotation" or len(q) == 0:
         return out  # the centre of pressure is the pin: fixed on the plates
+    if scene.grasp.pad is not None:
+        return out  # pads on the fingers: the core follows the contact region (and its loss)
     q = np.asarray(q, dtype=float).reshape(len(q), -1)
     c = np.array(scene.grasp.patch.center)
     th0 = scene.q0[2]
@@ -269,7 +272,7 @@ def contact_findings(scene, t, q, chunk=2048):
 
 def _possible_kinds(scene):
     """The kinds of contact finding a scene can give at all."""
-    if scene.dof == "rotation":
+    if scene.dof == "rotation" or scene.grasp.pad is not None:
         return set()
     outline = _outline(scene.body)
     kinds = set()
@@ -283,6 +286,12 @@ def _possible_kinds(scene):
 def stats_findings(stats):
     """Impact and solver-warning findings from a stats dict of one trajectory."""
     out = []
+    tl = stats.get("grasp_lost_t", None)
+    if tl is not None:
+        out.append(PhysicsWarning(
+            f"at t = {tl:.6g} s the contact region of the pads and the object's face vanished: the grasp is "
+            "lost and the run stopped there (the result ends at that sample)",
+            kind="grasp", time=float(tl), quantity="contact area [m^2]", value=0.0, limit=None))
     n_imp = int(stats.get("impacts", 0) or 0)
     if n_imp > 0:
         J = float(stats.get("max_impulse", float("nan")))

@@ -9,7 +9,7 @@ The format is chosen by the file extension (``.json`` or ``.toml``). A file
 holds one scene as nested tables whose keys are the constructor arguments of
 the scene objects, plus a ``schema`` version number::
 
-    schema = 1
+    schema = 2
     dof = "translation"
     q0 = [0.0, 0.0, 0.0]
     ...
@@ -25,6 +25,10 @@ the scene objects, plus a ``schema`` version number::
 
     [grasp.patch]
     e_r = 0.01
+    center = [0.0, 0.0]
+
+    [grasp.pad]                    # optional: pads on the fingers (exdex.Pad)
+    vertices = [[-0.01, -0.01], [0.01, -0.01], [0.01, 0.01], [-0.01, 0.01]]
     center = [0.0, 0.0]
 
     [motion]
@@ -64,6 +68,7 @@ table in place of the number::
     forces = [1.5, 1.5, 0.5]
     kind = "linear"
 
+Schema 2 added ``grasp.pad``; schema 1 files (without it) load as before.
 An unknown ``schema`` version, an unknown key or a missing required key is
 a ``ValueError`` naming it; the scene objects then check their own values
 (ranges, shapes) as when built in Python.
@@ -89,8 +94,8 @@ __all__ = ["SCHEMA_VERSION", "save_scene", "load_scene", "load_simulate_options"
            "scene_from_dict", "dumps", "loads"]
 
 #: Version of the scene-file schema written by :func:`save_scene`.
-SCHEMA_VERSION = 1
-SUPPORTED_SCHEMAS = (1,)
+SCHEMA_VERSION = 2
+SUPPORTED_SCHEMAS = (1, 2)
 
 def _motion_classes() -> Dict[str, type]:
     """Every gripper motion class (the subclasses of the scenes' motion base), by name."""
@@ -231,8 +236,12 @@ def _grip(data, where):
     return data
 
 
+def _pad(data, where):
+    return _build(_scene.Pad, data, where)
+
+
 def _grasp(data, where):
-    return _build(_scene.Grasp, data, where, nested={"patch": _patch, "grip_force": _grip})
+    return _build(_scene.Grasp, data, where, nested={"patch": _patch, "grip_force": _grip, "pad": _pad})
 
 
 def _body(data, where):
@@ -268,6 +277,8 @@ def scene_from_dict(data: Mapping[str, Any], where: str = "scene") -> _scene.Sce
     """An :class:`exdex.Scene` from the plain data of :func:`scene_to_dict`
     (a ``simulate`` table, if present, is checked and ignored)."""
     _check_schema(data, where)
+    if data["schema"] == 1 and isinstance(data.get("grasp"), dict) and "pad" in data["grasp"]:
+        raise ValueError(f"unknown key in {where}.grasp: 'pad' (pads on the fingers need schema 2)")
     body = {k: v for k, v in data.items() if k not in ("schema", "simulate")}
     if "simulate" in data:
         _simulate_options(data["simulate"], f"{where}.simulate")

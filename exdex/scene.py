@@ -210,6 +210,23 @@ class Body:
         I = mass / 12.0 * np.diag([ly**2 + lz**2, lx**2 + lz**2, lx**2 + ly**2])
         return cls(mass=mass, inertia=I, size=(lx, ly, lz), **kw)
 
+    def contact_face(self) -> Dict[str, Any]:
+        """The face the pads touch, in C relative to the centre of mass
+        (:class:`Pad`): the disc outline (a cylinder's disc), else the given
+        ``outline`` (it must then be convex), else the box's x-y rectangle
+        from ``size``. A dict ``{"face": (k, 2) array}`` or ``{"face_radius":
+        r, "face_center": (x, y)}``; ValueError for a body with none of them."""
+        if self.outline_radius is not None:
+            return dict(face_radius=self.outline_radius, face_center=self.outline_center)
+        if self.outline is not None:
+            if len(self.outline) < 3:
+                raise ValueError("pads on the fingers need a contact face: Body.outline has fewer than 3 vertices")
+            return dict(face=np.array(self.outline))
+        if self.size is not None:
+            return dict(face=self.vertices())
+        raise ValueError("pads on the fingers need the object's contact face: give Body.size (a box), "
+                         "Body.outline (a convex polygon) or Body.outline_radius (a disc)")
+
     def vertices(self) -> NDArray[np.float64]:
         """Outline vertices (k, 2) in C used against stops. A disc outline gives
         64 points of its rim, equally spaced from angle 0 (for drawing and
@@ -264,6 +281,79 @@ class Patch:
         w = _real(width, "width", low=0.0, low_open=True)
         h = _real(height, "height", low=0.0, low_open=True)
         return cls(e_r=_core.er_rectangle(w / 2, h / 2), center=center, shape="rectangle", dims=(w, h))
+
+
+@dataclass(frozen=True)
+class Pad:
+    """A pad fixed on the finger: where the plate touches the object, in the
+    gripper frame B (both fingers identical and aligned).
+
+    With ``Grasp(pad=...)`` the contact stays on the finger: at each instant
+    the contact region is the pad intersected with the object's contact face
+    (:meth:`Body.contact_face`) at the object's pose, under uniform pressure
+    (grip force / area). The friction acts at the region's centroid with the
+    ellipsoid's e_r its mean distance from the centroid (in place of
+    ``Patch.center`` and ``Patch.e_r``), both following the object's pose; the
+    capacity stays ``mu * fingers * grip_force`` while the region is not
+    empty. When the region vanishes at an output sample the grasp is lost:
+    the run stops there (the Result ends at that sample, ``stats
+    ["grasp_lost_t"]`` holds its time) with a :class:`PhysicsWarning` of kind
+    ``"grasp"``. A 1-DoF translation is unaffected but for that; a 1-DoF
+    rotation pivots at the centroid of the region at the start (the pad
+    centre when the face covers the pad) with that region's e_r.
+
+    vertices : convex polygon (k, 2) [m] relative to ``center`` (either
+        orientation, up to ``MAX_PAD_VERTICES`` vertices), or None for a disc.
+    radius : disc radius [m] > 0 (exclusive with ``vertices``).
+    center : position of the pad on the plate, in B [m].
+    scale : the polygon's size factor (> 0) about ``center``.
+
+    A disc whose rim crosses the other shape enters as the regular 32-gon of
+    its area (its rim within 3.3e-3 R); a disc inside the other shape is
+    exact.
+    """
+
+    vertices: Optional[Matrix] = None
+    radius: Optional[float] = None
+    center: Vector = (0.0, 0.0)
+    scale: float = 1.0
+
+    def __post_init__(self):
+        object.__setattr__(self, "center", _tuple(_array(self.center, "Pad.center", (2,))))
+        object.__setattr__(self, "scale", _real(self.scale, "Pad.scale", low=0.0, low_open=True))
+        if (self.vertices is None) == (self.radius is None):
+            raise ValueError("Pad needs exactly one of vertices (a convex polygon) and radius (a disc)")
+        if self.vertices is not None:
+            v = _array(self.vertices, "Pad.vertices", (None, 2))
+            if not 3 <= len(v) <= _core.MAX_PAD_VERTICES:
+                raise ValueError(f"Pad.vertices must have 3 to {_core.MAX_PAD_VERTICES} vertices, got {len(v)}")
+            object.__setattr__(self, "vertices", _tuple(v))
+        else:
+            object.__setattr__(self, "radius", _real(self.radius, "Pad.radius", low=0.0, low_open=True))
+
+    @classmethod
+    def rectangle(cls, width: float, height: float, center: Vector = (0.0, 0.0)) -> "Pad":
+        """A ``width`` x ``height`` rectangle [m] (sides along B's x and y) about ``center``."""
+        w = _real(width, "width", low=0.0, low_open=True) / 2
+        h = _real(height, "height", low=0.0, low_open=True) / 2
+        return cls(vertices=((-w, -h), (w, -h), (w, h), (-w, h)), center=center)
+
+    @classmethod
+    def disc(cls, radius: float, center: Vector = (0.0, 0.0)) -> "Pad":
+        """A disc of ``radius`` [m] about ``center``."""
+        return cls(radius=radius, center=center)
+
+    def outline(self) -> NDArray[np.float64]:
+        """The pad's boundary (k, 2) in B [m] (a disc: 64 rim points)."""
+        if self.radius is not None:
+            a = np.linspace(0.0, 2.0 * np.pi, 64, endpoint=False)
+            return np.asarray(self.center) + self.radius * np.column_stack([np.cos(a), np.sin(a)])
+        return np.asarray(self.center) + self.scale * np.asarray(self.vertices)
+
+    def _spec(self) -> Dict[str, Any]:
+        if self.radius is not None:
+            return dict(pad_radius=self.radius, pad_center=self.center)
+        return dict(pad=np.array(self.vertices), pad_center=self.center, pad_scale=self.scale)
 
 
 @dataclass(frozen=True)
@@ -354,7 +444,11 @@ class Grasp:
         the one a slip slides against.
     grip_force : normal force of each finger [N], >= 0, or a
         :class:`GripSchedule` of it in time.
-    patch : the pressure patch (both fingers identical and aligned).
+    patch : the pressure patch (both fingers identical and aligned), fixed
+        on the object.
+    pad : a :class:`Pad` fixed on the fingers, or None (the default: the
+        patch). With a pad the contact region follows the object's pose and
+        ``patch`` is not used.
     fingers : number of pressing patches, 1 or 2. The ellipsoids of the
         fingers add: the friction capacity is ``mu * fingers * grip_force`` [N]
         and the largest torque ``capacity * patch.e_r`` [N m].
@@ -372,9 +466,12 @@ class Grasp:
     patch: Patch = field(default_factory=lambda: Patch(e_r=0.01))
     fingers: int = 2
     mu_static: Optional[float] = None
+    pad: Optional[Pad] = None
 
     def __post_init__(self):
         object.__setattr__(self, "mu", _real(self.mu, "Grasp.mu", low=0.0))
+        if self.pad is not None and not isinstance(self.pad, Pad):
+            raise TypeError(f"Grasp.pad must be an exdex.Pad or None, got {type(self.pad).__name__}")
         if not isinstance(self.grip_force, GripSchedule):
             if not isinstance(self.grip_force, numbers.Real) or isinstance(self.grip_force, bool):
                 raise TypeError(f"Grasp.grip_force must be a real number [N] or an exdex.GripSchedule, "
@@ -1201,6 +1298,12 @@ class Scene:
         )
         if self.body.outline_radius is not None:
             spec.update(disc_radius=self.body.outline_radius, disc_center=self.body.outline_center)
+        if self.grasp.pad is not None:
+            if method == "analytic":
+                raise ValueError("Grasp.pad: the analytic method solves the patch fixed on the object; use "
+                                 "method='implicit', 'event', 'regularised' or 'explicit' with pads on the fingers")
+            spec.update(self.grasp.pad._spec())
+            spec.update(self.body.contact_face())
         if self.obstacles:
             if method not in ("implicit", "explicit", "event", "regularised"):
                 raise ValueError(f"Scene.obstacles: the implicit, explicit, event and regularised methods solve "

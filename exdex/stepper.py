@@ -31,7 +31,7 @@ from typing import Any, Dict, Optional, Union
 import numpy as np
 from numpy.typing import NDArray
 
-from exdex import _core
+from exdex import _core, diagnostics
 from exdex.scene import Scene, _array
 from exdex.simulate import FrictionSolver, Method, Model, _warn_jumps
 
@@ -154,7 +154,7 @@ class Stepper:
     steppers may run in parallel.
     """
 
-    __slots__ = ("model", "_s", "_t", "_posed")
+    __slots__ = ("model", "_s", "_t", "_posed", "_pads")
 
     def __init__(self, scene: Union[Scene, Model], method: Optional[Method] = None,
                  friction_solver: Optional[FrictionSolver] = None, eps: Optional[float] = None,
@@ -172,6 +172,7 @@ class Stepper:
         self._s = self.model._model.stepper()
         self._t = 0.0   # time reached (the last step's end)
         self._posed = False   # a step gave the gripper pose (every later one must)
+        self._pads = self.model.scene.grasp.pad is not None   # pads: warn when the grasp is lost
 
     @property
     def scene(self) -> Scene:
@@ -233,6 +234,10 @@ class Stepper:
                              "(an exdex.GripperPose: the scene's motion no longer describes the gripper)")
         self._s.step(dt, grip_force, None if gripper is None else gripper._core())
         state = self.state
+        if self._pads:
+            tl = self._s.stats().get("grasp_lost_t")
+            if tl is not None:
+                diagnostics.issue(diagnostics.stats_findings({"grasp_lost_t": tl}), stacklevel=2)
         if gripper is not None:
             self._posed = True
         elif self.model._jumps:

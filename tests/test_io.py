@@ -107,6 +107,13 @@ def _grasp(rng):
     grasp = exdex.Grasp(mu=mu, grip_force=abs(_awkward(rng)), patch=_patch(rng), fingers=int(rng.integers(1, 3)))
     if rng.integers(0, 2):   # a static coefficient (>= mu), or None
         grasp = exdex.replace(grasp, mu_static=mu + abs(_awkward(rng)))
+    k = int(rng.integers(0, 3))   # pads on the fingers: none, a disc or a polygon
+    if k == 1:
+        grasp = exdex.replace(grasp, pad=exdex.Pad.disc(abs(_awkward(rng)) + 1e-3, center=tuple(rng.normal(size=2) * 0.01)))
+    elif k == 2:
+        a = np.sort(rng.uniform(0, 2 * np.pi, 5))
+        grasp = exdex.replace(grasp, pad=exdex.Pad(vertices=tuple(zip(np.cos(a) * 0.01, np.sin(a) * 0.01)),
+                                                   center=tuple(rng.normal(size=2) * 0.01), scale=abs(_awkward(rng)) + 1e-3))
     return grasp
 
 
@@ -254,7 +261,7 @@ def test_simulate_options_round_trip_and_checks(tmp_path):
 
 
 @pytest.mark.parametrize("edit, message", [
-    (lambda d: d.update(schema=2), r"unsupported scene-file schema 2.*reads schema 1"),
+    (lambda d: d.update(schema=3), r"unsupported scene-file schema 3.*reads schema 1, 2"),
     (lambda d: d.update(schema="1"), r"unsupported scene-file schema '1'"),
     (lambda d: d.pop("schema"), r"missing key in scene: 'schema'"),
     (lambda d: d["grasp"].update(frction=0.3), r"unknown key in scene\.grasp: 'frction'; allowed: .*mu"),
@@ -441,13 +448,14 @@ def test_the_schema_covers_every_scene_field_and_motion():
     import dataclasses
 
     fields = {cls.__name__: [f.name for f in dataclasses.fields(cls)]
-              for cls in (exdex.Scene, exdex.Body, exdex.Grasp, exdex.Patch, exdex.Stop, exdex.Obstacle)}
+              for cls in (exdex.Scene, exdex.Body, exdex.Grasp, exdex.Patch, exdex.Pad, exdex.Stop, exdex.Obstacle)}
     assert fields == {
         "Scene": ["body", "grasp", "motion", "dof", "slide_axis", "q0", "v0", "gripper_rotation",
                   "gripper_position", "gravity", "stops", "obstacles"],
         "Body": ["mass", "inertia", "size", "outline", "outline_radius", "outline_center"],
-        "Grasp": ["mu", "grip_force", "patch", "fingers", "mu_static"],
+        "Grasp": ["mu", "grip_force", "patch", "fingers", "mu_static", "pad"],
         "Patch": ["e_r", "center", "shape", "dims"],
+        "Pad": ["vertices", "radius", "center", "scale"],
         "Stop": ["point", "normal", "mu"],
         "Obstacle": ["kind", "face_points", "face_normals", "center", "axis", "radius", "mu"],
     }

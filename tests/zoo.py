@@ -881,3 +881,41 @@ import exdex
 from exdex import (AsymmetricProfile, Body, Grasp, Patch, Rest, SampledTrajectory, Scene, Stop,
                    TrapezoidalProfile)
 """
+
+
+def zoo_pad_scene(seed):
+    """The zoo scene of a seed with pads on the fingers in place of its patch
+    (exdex.Pad, drawn from a stream of its own so zoo_scene's draws stay as
+    they are): the pad sits where the patch is at t = 0 (in B), of the
+    patch's shape and size (a given e_r: the disc of that e_r, R = 3 e_r / 2),
+    the rectangle turned with the object; in a third of the scenes it is
+    moved toward the face's edge (its centre kept inside the face), so the
+    region starts clipped. Returns a ZooScene (tags["pad"] says which)."""
+    zs = zoo_scene(seed)
+    sc = zs.scene
+    rng = np.random.default_rng([int(seed), 0x300])
+    patch, th = sc.grasp.patch, sc.q0[2]
+    c, s = math.cos(th), math.sin(th)
+    R = np.array([[c, -s], [s, c]])
+    center = np.array(sc.q0[:2]) + R @ np.array(patch.center)
+    kind = "inside"
+    if rng.random() < 1.0 / 3.0:
+        # toward the face's boundary along a random direction, up to 0.5..0.95 of the way
+        d = _unit([*rng.normal(size=2), 0.0])[:2]
+        face = np.array(sc.q0[:2]) + sc.body.vertices() @ R.T
+        # the outward normals of the ccw face's edges; the ray from the centre leaves through one
+        edges = [(p, np.array([b[1] - p[1], p[0] - b[0]])) for p, b in zip(face, np.roll(face, -1, axis=0))]
+        reach = min(float(((p - center) @ n) / (d @ n)) for p, n in edges if d @ n > 0)
+        center = center + rng.uniform(0.5, 0.95) * reach * d
+        kind = "edge"
+    if patch.shape == "rectangle":
+        w, h = patch.dims
+        verts = np.array([(-w / 2, -h / 2), (w / 2, -h / 2), (w / 2, h / 2), (-w / 2, h / 2)]) @ R.T
+        pad = exdex.Pad(vertices=tuple(map(tuple, verts)), center=tuple(center))
+    else:
+        radius = patch.dims[0] if patch.shape == "disc" else 1.5 * patch.e_r
+        pad = exdex.Pad.disc(radius, center=tuple(center))
+    grasp = exdex.replace(sc.grasp, pad=pad)
+    tags = dict(zs.tags, pad=f"{patch.shape}-{kind}")
+    return ZooScene(seed=zs.seed, scene=exdex.replace(sc, grasp=grasp), t_end=zs.t_end, L=zs.L, tau=zs.tau,
+                    radius=zs.radius, tags=tags)

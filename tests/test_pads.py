@@ -1,0 +1,229 @@
+"""Pads on the fingers (exdex.Pad): the contact region and its use by every method.
+
+References, test by test: a brute-force grid of the region (each cell centre
+tested against the pad's and the turned face's half-planes, in NumPy,
+independent of the core's clipping and closed forms); the patch fixed on
+the object, where the region is fixed on the object (the face inside the
+pad); the translation's friction mu N whatever the region (the patch's run);
+the face's edge crossing the pad at a known pose (the loss time from the
+slide's closed form); and the methods against each other.
+"""
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+import exdex
+from exdex import _core
+
+BOX = (0.15, 0.08, 0.02)
+
+
+def _box_scene(pad=None, q0=(0.002, 0.0, 0.0), mu=1.0, grip=1.73, gravity=(0.0, -9.81, 0.0), dof="planar", **kw):
+    body = exdex.Body.box(0.2, BOX)
+    grasp = exdex.Grasp(mu=mu, grip_force=grip, patch=exdex.Patch.rectangle(0.02, 0.02, center=(-q0[0], -q0[1])),
+                        pad=pad)
+    return exdex.Scene(body=body, grasp=grasp, dof=dof, q0=q0, gravity=gravity, gripper_rotation=np.eye(3), **kw)
+
+
+def _grid_region(pad_outline, face_B, n=700):
+    """Area, centroid and mean distance from the centroid of pad & face by a
+    midpoint grid over the pad's bounding box (convex ccw polygons)."""
+    lo, hi = pad_outline.min(axis=0), pad_outline.max(axis=0)
+    xs = lo[0] + (np.arange(n) + 0.5) * (hi[0] - lo[0]) / n
+    ys = lo[1] + (np.arange(n) + 0.5) * (hi[1] - lo[1]) / n
+    X, Y = np.meshgrid(xs, ys)
+    inside = np.ones_like(X, dtype=bool)
+    for poly in (pad_outline, face_B):
+        for p, q in zip(poly, np.roll(poly, -1, axis=0)):
+            inside &= (q[0] - p[0]) * (Y - p[1]) - (q[1] - p[1]) * (X - p[0]) >= 0
+    dA = (hi[0] - lo[0]) * (hi[1] - lo[1]) / n**2
+    A = inside.sum() * dA
+    if A == 0:
+        return 0.0, None, None
+    cx, cy = X[inside].mean(), Y[inside].mean()
+    er = np.hypot(X[inside] - cx, Y[inside] - cy).mean()
+    return A, np.array([cx, cy]), er
+
+
+def _face_B(scene, q):
+    c, s = math.cos(q[2]), math.sin(q[2])
+    return np.array(q[:2]) + scene.body.vertices() @ np.array([[c, s], [-s, c]])
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_region_and_centroid_against_grid_as_an_edge_crosses(seed):
+    """The face's corner region sweeps across a random rectangle pad: area,
+    centroid and e_r of the core's region against the brute-force grid."""
+    rng = np.random.default_rng(seed)
+    pad = exdex.Pad.rectangle(rng.uniform(0.01, 0.03), rng.uniform(0.01, 0.03), center=tuple(rng.uniform(-0.01, 0.01, 2)))
+    sc = _box_scene(pad)
+    spec = sc.to_spec()
+    th = rng.uniform(-0.6, 0.6)
+    # put a face corner near the pad centre, then sweep it across the pad
+    corner = sc.body.vertices()[int(rng.integers(4))]
+    c, s = math.cos(th), math.sin(th)
+    base = np.array(pad.center) - np.array([c * corner[0] - s * corner[1], s * corner[0] + c * corner[1]])
+    d = rng.normal(size=2)
+    d /= np.linalg.norm(d)
+    size = float(np.max(np.ptp(pad.outline(), axis=0)))
+    for k in range(7):
+        q = (*(base + (k - 3) / 3 * 0.5 * size * d), th)
+        got = _core.pad_region(spec, q)
+        A, cen, er = _grid_region(pad.outline(), _face_B(sc, q))
+        h = size / 700
+        assert got["area"] == pytest.approx(A, abs=4 * h * size)
+        if A > 20 * h * size:
+            assert np.allclose(got["centroid"], cen, atol=4 * h)
+            assert got["e_r"] == pytest.approx(er, abs=4 * h)
+
+
+def test_region_shrinks_and_its_centroid_moves_continuously():
+    """As the face's end crosses a square pad the area falls linearly, the
+    centroid moves at half the slide's speed and e_r falls monotonically
+    (the rectangle's closed form: exdex_er_rectangle), with no jump."""
+    sc = _box_scene(exdex.Pad.rectangle(0.02, 0.02))
+    spec = sc.to_spec()
+    xs = np.linspace(-0.085, -0.065, 201)   # the face's right end x + 0.075 from -0.01 to 0.01
+    reg = [_core.pad_region(spec, (x, 0.0, 0.0)) for x in xs]
+    A = np.array([r["area"] for r in reg])
+    cx = np.array([r["centroid"][0] for r in reg])
+    er = np.array([r["e_r"] for r in reg])
+    e = xs + 0.075
+    np.testing.assert_allclose(A, 0.02 * (e + 0.01), rtol=1e-12, atol=1e-18)
+    ok = A > 0
+    np.testing.assert_allclose(cx[ok], 0.5 * (e[ok] - 0.01), rtol=0, atol=1e-15)
+    np.testing.assert_allclose(er[ok], [_core.er_rectangle(0.5 * (v + 0.01), 0.01) for v in e[ok]], rtol=1e-12)
+    assert np.all(np.diff(er[ok]) > 0)
+
+
+def test_object_inside_the_pads_is_the_patch_on_the_object():
+    """A pad larger than the face: the region is the face, fixed on the
+    object, so each method's run is the run of the patch at the face's
+    centroid with the face's e_r (to rounding of the region's integrals)."""
+    body = exdex.Body.box(0.2, (0.04, 0.03, 0.02))
+    pad = exdex.Pad.rectangle(0.3, 0.3)
+    er = _core.er_rectangle(0.02, 0.015)
+    mo = exdex.Shake(axis=(1.0, 0.3, 0.0), amplitude=0.01, frequency=3.0, cycles=2) \
+        if hasattr(exdex, "Shake") else exdex.Rest()
+    for method in ("implicit", "event", "regularised", "explicit"):
+        res = []
+        for p in (None, pad):
+            sc = exdex.Scene(body=body, grasp=exdex.Grasp(mu=0.3, grip_force=3.0, patch=exdex.Patch(e_r=er), pad=p),
+                             dof="planar", q0=(0.001, 0.002, 0.3), gravity=(0.0, -9.81, 0.0),
+                             gripper_rotation=np.eye(3), motion=mo)
+            res.append(exdex.simulate(sc, 0.3, 1e-3, method=method))
+        np.testing.assert_allclose(res[1].q, res[0].q, rtol=0, atol=1e-9, err_msg=method)
+
+
+@pytest.mark.parametrize("method", ["implicit", "event", "regularised", "explicit"])
+def test_translation_is_unaffected_and_the_grasp_is_lost_off_the_pad(method):
+    """1-DoF translation: mu N whatever the region, so the run is the patch's
+    sample for sample; the face (0.08 m along the slide) leaves the 2 cm pad
+    after a slide of 0.05 m, where the run stops with a grasp warning."""
+    pad = exdex.Pad.rectangle(0.02, 0.02)
+    kw = dict(dof="translation", slide_axis=(0.0, 1.0), q0=(0.0, 0.0, 0.0), mu=0.3, grip=0.2)
+    a = exdex.simulate(_box_scene(None, **kw), 0.4, 1e-3, method=method)
+    with pytest.warns(exdex.PhysicsWarning, match="grasp is lost") as rec:
+        b = exdex.simulate(_box_scene(pad, **kw), 0.4, 1e-3, method=method)
+    assert any(w.message.kind == "grasp" for w in rec)
+    n = len(b.t)
+    assert n < len(a.t)
+    np.testing.assert_array_equal(b.q, a.q[:n])
+    # the slide from rest at a = g - mu N / m: the face's end (0.04 m) passes the pad's edge (0.01 m)
+    acc = 9.81 - 0.3 * 2 * 0.2 / 0.2
+    t_loss = math.sqrt(2 * 0.05 / acc)
+    assert b.stats["grasp_lost_t"] == b.t[-1]
+    if method != "explicit":   # explicit: first order in dt, its slide not the closed form's
+        assert t_loss <= b.t[-1] < t_loss + 1e-3 + 1e-9
+    assert abs(b.q[-1, 0]) >= 0.05 and abs(b.q[-2, 0]) < 0.05
+
+
+@pytest.mark.parametrize("method", ["implicit", "event", "regularised", "explicit"])
+def test_planar_slide_off_the_pad_stops_the_run(method):
+    """A weak grip: the box slides down off a small pad; the result ends at
+    the first sample with no region, which the core's region confirms."""
+    sc = _box_scene(exdex.Pad.disc(0.01), mu=0.3, grip=0.3)
+    with pytest.warns(exdex.PhysicsWarning, match="grasp is lost"):
+        r = exdex.simulate(sc, 0.5, 1e-3, method=method)
+    spec = sc.to_spec()
+    assert r.stats["grasp_lost_t"] == r.t[-1] < 0.5
+    assert _core.pad_region(spec, r.q[-1])["area"] == 0.0
+    assert _core.pad_region(spec, r.q[-2])["area"] > 0.0
+
+
+def test_methods_agree_on_the_peer_scene():
+    """The peer's box on 2 cm pads, its grip force 1.73 + 0.91 sin(4 pi t):
+    the event method (exact Coulomb, adaptive) and the implicit one at
+    dt = 1e-4 agree to 0.02 deg in the final rotation; the regularised and
+    explicit methods (first order in eps and dt) to 0.6 deg."""
+    t = np.linspace(0.0, 2.0, 2001)
+    sched = exdex.GripSchedule(times=t, forces=1.73 + 0.91 * np.sin(4 * np.pi * t), kind="cubic")
+    sc = _box_scene(exdex.Pad.rectangle(0.02, 0.02), grip=sched)
+    th = {m: math.degrees(exdex.simulate(sc, 2.0, 1e-4 if m in ("implicit", "explicit") else 1e-3, method=m).q[-1, 2])
+          for m in ("implicit", "event", "regularised", "explicit")}
+    assert abs(th["implicit"] - th["event"]) < 0.02, th
+    assert abs(th["regularised"] - th["event"]) < 0.6, th
+    assert abs(th["explicit"] - th["event"]) < 0.6, th
+    # and it turns less than the patch fixed on the object, whose lever arm stays 2 mm
+    th_patch = math.degrees(exdex.simulate(_box_scene(None, grip=sched), 2.0, 1e-4).q[-1, 2])
+    assert th["event"] > th_patch + 3.0, (th, th_patch)
+
+
+def test_stepper_repeats_simulate_with_pads():
+    sc = _box_scene(exdex.Pad.rectangle(0.02, 0.02), grip=1.0)
+    for method in ("implicit", "event"):
+        r = exdex.simulate(sc, 0.2, 1e-3, method=method)
+        st = exdex.Stepper(sc, method=method)
+        qs = [st.step(1e-3).q for _ in range(200)]
+        np.testing.assert_array_equal(np.array(qs), r.q[1:])
+
+
+def test_batch_pad_parameters_match_single_runs():
+    sc = _box_scene(exdex.Pad.rectangle(0.02, 0.02), grip=1.0)
+    xs = np.array([-0.004, 0.0, 0.006])
+    b = exdex.simulate_batch(sc, 0.2, 1e-3, pad_x=xs, pad_scale=np.array([1.0, 0.7, 1.3]))
+    for i, (x, s) in enumerate(zip(xs, [1.0, 0.7, 1.3])):
+        one = exdex.simulate(exdex.replace(sc, grasp=exdex.replace(sc.grasp, pad=exdex.replace(sc.grasp.pad, center=(x, 0.0), scale=s))), 0.2, 1e-3)
+        np.testing.assert_array_equal(b.q[i], one.q)
+    with pytest.raises(ValueError, match="pad_radius.*disc"):
+        exdex.simulate_batch(sc, 0.2, 1e-3, pad_radius=np.array([0.01]))
+    with pytest.raises(ValueError, match="Grasp.pad"):
+        exdex.simulate_batch(_box_scene(None), 0.2, 1e-3, pad_x=xs)
+
+
+def test_scene_file_with_pads_round_trips_and_schema_1_rejects_it(tmp_path):
+    sc = _box_scene(exdex.Pad.disc(0.012, center=(0.001, -0.002)))
+    for ext in (".json", ".toml"):
+        p = tmp_path / f"s{ext}"
+        exdex.save_scene(sc, p)
+        assert exdex.load_scene(p) == sc
+    d = exdex.io.scene_to_dict(sc)
+    assert d["schema"] == 2
+    d["schema"] = 1
+    with pytest.raises(ValueError, match="pad.*schema 2"):
+        exdex.io.scene_from_dict(d)
+    d.pop("grasp").pop("pad")
+    d["grasp"] = exdex.io.scene_to_dict(_box_scene())["grasp"]
+    assert exdex.io.scene_from_dict(d).grasp.pad is None
+
+
+def test_bad_pads_are_named():
+    with pytest.raises(ValueError, match="exactly one of vertices"):
+        exdex.Pad()
+    with pytest.raises(ValueError, match="exactly one of vertices"):
+        exdex.Pad(vertices=((0, 0), (1, 0), (0, 1)), radius=1.0)
+    with pytest.raises(ValueError, match="Pad.radius"):
+        exdex.Pad(radius=-1.0)
+    dent = ((0, 0), (0.02, 0), (0.02, 0.02), (0.01, 0.005), (0, 0.02))
+    with pytest.raises(ValueError, match="pad"):
+        exdex.simulate(_box_scene(exdex.Pad(vertices=dent)), 0.01, 1e-3)
+    with pytest.raises(ValueError, match="pad"):
+        exdex.simulate(_box_scene(exdex.Pad.disc(0.01, center=(0.5, 0.0))), 0.01, 1e-3)
+    with pytest.raises(ValueError, match="contact face"):
+        sc = exdex.Scene(body=exdex.Body(mass=0.1), grasp=exdex.Grasp(mu=0.5, grip_force=1.0, pad=exdex.Pad.disc(0.01)),
+                         dof="planar")
+        exdex.simulate(sc, 0.01, 1e-3)
+    with pytest.raises(ValueError, match="analytic"):
+        exdex.simulate(_box_scene(exdex.Pad.disc(0.01), dof="translation"), 0.01, 1e-3, method="analytic")
