@@ -367,6 +367,29 @@ static int pads_from_dict(PyObject *spec, exdex_scene_def *def)
     return 0;
 }
 
+/* Optional limit surface: limit_surface (0 ellipsoid, 1 exact) and the
+ * contact region region_vertices (k, 2) or region_radius (absent: none). */
+static int surface_from_dict(PyObject *spec, exdex_scene_def *def)
+{
+    npy_intp n = 0;
+    PyArrayObject *a;
+    if (PyDict_GetItemString(spec, "limit_surface") && dict_int(spec, "limit_surface", &def->limit_surface))
+        return -1;
+    a = dict_rows(spec, "region_vertices", 2, EXDEX_REGION_MAX_VERTICES, &n);
+    if (!a) return -1;
+    if (n) {
+        memcpy(def->region_vertices, PyArray_DATA(a), (size_t)n * 2 * sizeof(double));
+        def->region_n = (int)n;
+        def->region_kind = EXDEX_REGION_POLYGON;
+    }
+    Py_DECREF(a);
+    if (PyDict_GetItemString(spec, "region_radius") && PyDict_GetItemString(spec, "region_radius") != Py_None) {
+        if (dict_double(spec, "region_radius", &def->region_radius)) return -1;
+        if (!n) def->region_kind = EXDEX_REGION_DISC;
+    }
+    return 0;
+}
+
 /* Fill an exdex_scene_def from a spec dict. Sampled-motion arrays and the
  * grip schedule are returned as new references in *times / *poses / *grip
  * (kept alive by the caller until the model is built); a chain's pieces and
@@ -440,6 +463,7 @@ static int scene_from_dict(PyObject *spec, exdex_scene_def *def, PyArrayObject *
         dict_double(spec, "motion_frequency", &def->motion.frequency))
         goto fail;
     if (pads_from_dict(spec, def)) goto fail;
+    if (surface_from_dict(spec, def)) goto fail;
     if (def->motion.kind == EXDEX_MOTION_CHAIN && chain_pieces(spec, &def->motion, times)) goto fail;
     if (def->motion.kind == EXDEX_MOTION_SAMPLED) {
         PyObject *tobj = PyDict_GetItemString(spec, "motion_times");
