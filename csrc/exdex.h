@@ -540,6 +540,21 @@ enum exdex_limit_surface {
 };
 enum exdex_region_kind { EXDEX_REGION_NONE = 0, EXDEX_REGION_POLYGON = 1, EXDEX_REGION_DISC = 2 };
 
+/* A contact's limit surface per unit capacity (mu N = 1), at the reference
+ * point of the region (limitsurf.c): surface an enum exdex_limit_surface,
+ * e_r [m] > 0 for the ellipsoid, the region (region_kind, region_n,
+ * region_vertices, region_radius, as in exdex_scene_def) for the exact
+ * surface. what = 0: in is a slip twist u = (v_x, v_y, omega) != 0, out
+ * its friction wrench (f_x, f_y, m_z) and *scalar its dissipation D(u)
+ * (out . u = -D(u)); what = 1: in is a wrench the contact must supply,
+ * *scalar its gauge (it is carried at capacity C iff gauge <= C: the stick
+ * test) and out the unit slip twist it drives at the limit. Returns
+ * EXDEX_OK, EXDEX_EINVAL (bad surface, e_r or region, non-finite or zero u,
+ * what not 0 or 1), EXDEX_ENOCONV (the exact gauge's search, capped). */
+int exdex_limit_surface_eval(int surface, double e_r, int region_kind, int region_n,
+                             const double (*region_vertices)[2], double region_radius, int what, const double in[3],
+                             double out[3], double *scalar);
+
 /* The area ratio below which the pads' contact region counts as vanished. */
 #define EXDEX_PAD_LOST 1e-6
 

@@ -552,3 +552,38 @@ int limitsurf_step(const limitsurf *ls, const exdex_friction_prep *prep, const d
     if (!ex_finite_n(res->p, 3)) return EXDEX_ENONFINITE;
     return EXDEX_OK;
 }
+
+/* ------------------------------------------------------------ public */
+
+int exdex_limit_surface_eval(int surface, double e_r, int region_kind, int region_n,
+                             const double (*region_vertices)[2], double region_radius, int what, const double in[3],
+                             double out[3], double *scalar)
+{
+    limitsurf ls;
+    region rg;
+    if (!in || !out || !scalar || (what != 0 && what != 1) || !ex_finite_n(in, 3)) return EXDEX_EINVAL;
+    if (surface == EXDEX_LS_ELLIPSOID) {
+        if (limitsurf_set_ellipsoid(&ls, e_r) != EXDEX_OK) return EXDEX_EINVAL;
+    } else if (surface == EXDEX_LS_EXACT) {
+        memset(&rg, 0, sizeof rg);
+        if (region_kind == EXDEX_REGION_DISC) {
+            region_set_disc(&rg, 0.0, 0.0, region_radius);
+        } else if (region_kind == EXDEX_REGION_POLYGON && region_vertices && region_n >= 3 &&
+                   region_n <= EXDEX_REGION_MAX_VERTICES) {
+            rg.kind = REGION_POLYGON;
+            rg.n = region_n;
+            memcpy(rg.v, region_vertices, (size_t)region_n * sizeof rg.v[0]);
+        } else {
+            return EXDEX_EINVAL;
+        }
+        if (limitsurf_set_exact(&ls, &rg) != EXDEX_OK) return EXDEX_EINVAL;
+    } else {
+        return EXDEX_EINVAL;
+    }
+    if (what == 0) {
+        if (in[0] == 0.0 && in[1] == 0.0 && in[2] == 0.0) return EXDEX_EINVAL;
+        *scalar = limitsurf_wrench(&ls, in, out, NULL);
+        return ex_finite_n(out, 3) && isfinite(*scalar) ? EXDEX_OK : EXDEX_ENONFINITE;
+    }
+    return limitsurf_gauge(&ls, in, scalar, out);
+}

@@ -282,6 +282,43 @@ class Patch:
             return {"vertices": np.array([[-a, -b], [a, -b], [a, b], [-a, b]])}
         return None
 
+    def _surface_args(self, limit_surface: str):
+        if not isinstance(limit_surface, str) or limit_surface not in LIMIT_SURFACES:
+            raise ValueError(f"limit_surface must be one of {', '.join(map(repr, LIMIT_SURFACES))}, "
+                             f"got {limit_surface!r}")
+        reg = self.region() if limit_surface == "exact" else None
+        if limit_surface == "exact" and reg is None:
+            raise ValueError("limit_surface='exact' needs a patch with a contact region (Patch.disc or "
+                             f"Patch.rectangle); this patch is given by e_r alone (shape {self.shape!r})")
+        verts = None if reg is None else reg.get("vertices")
+        radius = 0.0 if reg is None else float(reg.get("radius", 0.0))
+        return LIMIT_SURFACES[limit_surface], float(self.e_r), verts, radius
+
+    def friction_wrench(self, slip: Sequence[float], limit_surface: str = "ellipsoid") -> Tuple[NDArray[np.float64], float]:
+        """The friction of one unit of capacity (mu N = 1 N) for a slip twist
+        ``slip = (v_x, v_y, omega)`` [m/s, m/s, rad/s] of the object over the
+        plate at the patch's centre, in the object frame: the wrench
+        ``(f_x, f_y, m_z)`` [N, N, N m] (maximum dissipation: it opposes the
+        slip) and the power it dissipates, ``D = -wrench . slip`` [W]. Multiply
+        both by the capacity. ``"ellipsoid"`` is the paper's Eq. 6,
+        ``"exact"`` uniform Coulomb friction over the region."""
+        u = _tuple(_array(slip, "slip", (3,)))
+        if u == (0.0, 0.0, 0.0):
+            raise ValueError("slip must be a non-zero twist (v_x, v_y, omega): a patch at rest has no slip direction")
+        w, d = _core.limit_surface(*self._surface_args(limit_surface), 0, u)
+        return np.array(w), d
+
+    def load_gauge(self, wrench: Sequence[float], limit_surface: str = "ellipsoid") -> Tuple[float, NDArray[np.float64]]:
+        """The stick test of a load: the friction wrench ``(f_x, f_y, m_z)``
+        [N, N, N m] the plates must supply to hold the object (at the patch's
+        centre, object frame) is carried at capacity C iff the returned gauge
+        [N] is <= C. Also returns the unit slip twist the load drives once it
+        reaches the limit (the direction in which the object starts to
+        slide)."""
+        w = _tuple(_array(wrench, "wrench", (3,)))
+        u, g = _core.limit_surface(*self._surface_args(limit_surface), 1, w)
+        return g, np.array(u)
+
     @classmethod
     def disc(cls, radius: float, center: Vector = (0.0, 0.0)) -> "Patch":
         """Uniform pressure over a disc of ``radius`` [m]: e_r = 2 R / 3."""
