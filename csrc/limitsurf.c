@@ -49,16 +49,18 @@
 #include <math.h>
 #include <string.h>
 
+
 #define FAR_RATIO 4.0
 /* Newton's stopping rules, on the squared Newton decrement lam2 (about
- * twice the objective's excess over its minimum) relative to the
- * objective's scale: done below NEWTON_DONE (the minimiser then to about
- * 1e-12 relative, the minimum to 1e-24); full steps without a line search
+ * twice the objective's excess over its optimum) relative to the
+ * objective's scale: done below NEWTON_DONE (the optimum to 1e-24
+ * relative, the optimiser to about 1e-12); full steps without a line search
  * below NEWTON_FULL (the decrease is below the rounding of the objective
- * there); a line search that finds no decrease ends the iteration, which
- * counts as converged below NEWTON_ACCEPT. */
+ * there), and done once they stop shrinking lam2 quadratically (the
+ * rounding floor of the gradient); a line search that finds no decrease
+ * ends the iteration, which counts as converged below NEWTON_ACCEPT. */
 #define NEWTON_DONE 1e-24
-#define NEWTON_FULL 1e-10
+#define NEWTON_FULL 1e-8
 #define NEWTON_ACCEPT 1e-12
 #define NGL 12
 #define NTH 32
@@ -291,7 +293,7 @@ static int exact_gauge(const limitsurf *ls, const double w[3], double *g, double
         z[1] = ex_dot3(N[1], en);
         for (int i = 0; i < 3; i++) u0[i] = n[i];
     }
-    double D = 0.0, wu[3], Hu[9];
+    double D = 0.0, wu[3], Hu[9], lam2_prev = INFINITY;
     int ok = 0;
     for (int it = 0; it < LIMITSURF_MAX_ITER; it++) {
         for (int i = 0; i < 3; i++) u[i] = u0[i] + z[0] * N[0][i] + z[1] * N[1][i];
@@ -311,10 +313,11 @@ static int exact_gauge(const limitsurf *ls, const double w[3], double *g, double
         double mg[2] = {-gz[0], -gz[1]};
         if (!spd_solve(2, Hz, mg, dz)) return EXDEX_ENOCONV;
         lam2 = -(gz[0] * dz[0] + gz[1] * dz[1]);
-        if (lam2 <= NEWTON_DONE * D) {
+        if (lam2 <= NEWTON_DONE * D || (lam2 <= NEWTON_FULL * D && lam2 > 0.25 * lam2_prev)) {
             ok = 1;
             break;
         }
+        lam2_prev = lam2;
         /* backtracking (Armijo), except in the quadratic range where the
          * decrease is below the rounding of D */
         t = 1.0;
@@ -465,7 +468,8 @@ int limitsurf_step(const limitsurf *ls, const exdex_friction_prep *prep, const d
         if (spd_solve(3, W, r, dy))
             for (int i = 0; i < 3; i++) y[i] += dy[i];
     }
-    int st = limitsurf_gauge(ls, y, &g, NULL);
+    double d[3], dir[3];
+    int st = limitsurf_gauge(ls, y, &g, dir);
     if (st != EXDEX_OK) return st;
     if (g <= cap) {
         for (int i = 0; i < 3; i++) {
@@ -484,11 +488,9 @@ int limitsurf_step(const limitsurf *ls, const exdex_friction_prep *prep, const d
      * in the plane tangent to the unit sphere at d, with a backtracking line
      * search (and a Levenberg shift where psi's Hessian is not negative
      * definite). */
-    double d[3], dir[3];
-    st = limitsurf_gauge(ls, y, &g, dir);
-    if (st != EXDEX_OK) return st;
     for (int i = 0; i < 3; i++) d[i] = -dir[i];
     int ok = 0, it;
+    double lam2_prev = INFINITY;
     for (it = 0; it < LIMITSURF_MAX_ITER; it++) {
         double gr[3], hs[9], N[2][3], gz[2], Hz[4], dz[2], lam2, t, P0, f, q;
         P0 = reduced(ls, Winv, y, cap, d, gr, hs, &f, &q);
@@ -514,19 +516,29 @@ int limitsurf_step(const limitsurf *ls, const exdex_friction_prep *prep, const d
             if (!solved) return EXDEX_ENOCONV;
         }
         lam2 = gz[0] * dz[0] + gz[1] * dz[1];
-        if (lam2 <= NEWTON_DONE * P0 * P0) {
+        /* psi's scale: its terms before they cancel (near the stick
+         * boundary f = d . y - cap D is a small difference) */
+        double psc = (fabs(ex_dot3(d, y)) + cap * limitsurf_dissipation(ls, d)) / sqrt(q);
+        if (lam2 <= NEWTON_DONE * psc) {
             ok = 1;
             break;
         }
+        if (lam2 <= NEWTON_FULL * psc && lam2 > 0.25 * lam2_prev) {
+            /* full steps no longer decrease the decrement quadratically: the
+             * rounding floor of psi's gradient */
+            ok = 1;
+            break;
+        }
+        lam2_prev = lam2;
         t = 1.0;
-        for (int k = 0; k < 40 && lam2 > NEWTON_FULL * P0 * P0; k++) {
+        for (int k = 0; k < 40 && lam2 > NEWTON_FULL * psc; k++) {
             double dt[3];
             for (int i = 0; i < 3; i++) dt[i] = d[i] + t * (dz[0] * N[0][i] + dz[1] * N[1][i]);
             if (reduced(ls, Winv, y, cap, dt, NULL, NULL, NULL, NULL) >= P0 + 0.25 * t * lam2) break;
             t *= 0.5;
         }
         if (t < 1e-9) {
-            ok = lam2 <= NEWTON_ACCEPT * P0 * P0;
+            ok = lam2 <= NEWTON_ACCEPT * psc;
             break;
         }
         {

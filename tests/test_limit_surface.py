@@ -96,10 +96,11 @@ def test_exact_inside_the_ellipsoid_of_the_same_largest_moment():
     # disc and square: 6.6 % inside at most (the and the literature's figure)
     for patch in (exdex.Patch.disc(0.01), exdex.Patch.rectangle(0.02, 0.02)):
         gs = []
-        for t in np.linspace(0.0, math.pi / 2, 181):
-            c = 0.01 * math.tan(t) if t < math.pi / 2 else 1e6
-            w, _ = patch.friction_wrench((c, 0.0, 1.0) if t < math.pi / 2 else (1.0, 0.0, 0.0), "exact")
-            gs.append(patch.load_gauge(w, "ellipsoid")[0])
+        for phi in np.linspace(0.0, math.pi / 4, 10):
+            for t in np.linspace(0.0, math.pi / 2, 91)[:-1]:
+                c = 0.01 * math.tan(t)   # the centre of rotation at distance c along phi
+                w, _ = patch.friction_wrench((-c * math.sin(phi), c * math.cos(phi), 1.0), "exact")
+                gs.append(patch.load_gauge(w, "ellipsoid")[0])
         assert min(gs) == pytest.approx(0.934, abs=0.002)
 
 
@@ -121,12 +122,17 @@ def test_bad_input_is_named():
         exdex.Patch.disc(0.01).friction_wrench((0, 0, 1), "Exact")
 
 
+# the free disc slides far over its plates: the slide-past-the-patch warning is expected
+free_disc_warning = pytest.mark.filterwarnings("ignore::exdex.PhysicsWarning")
+
+
 def _free_disc(limit_surface, eps0, R=0.02, w0=40.0):
     body = exdex.Body(mass=1.0, inertia=np.diag([R * R / 4, R * R / 4, R * R / 2]))
     g = exdex.Grasp(mu=0.5, grip_force=1.0, patch=exdex.Patch.disc(R), limit_surface=limit_surface)
     return exdex.Scene(body=body, grasp=g, dof="planar", gravity=(0, 0, 0), v0=(eps0 * R * w0, 0.0, w0))
 
 
+@free_disc_warning
 @pytest.mark.parametrize("eps0", [0.4, 2.0])
 def test_free_disc_exact_ratio_and_common_stop(eps0):
     R, w0 = 0.02, 40.0
@@ -140,6 +146,7 @@ def test_free_disc_exact_ratio_and_common_stop(eps0):
     assert np.all(v[1:stop] > 0) and np.all(w[1:stop] > 0) and np.all(v[stop:] == 0) and np.all(w[stop:] == 0)
 
 
+@free_disc_warning
 def test_free_disc_ellipsoid_drift_law():
     R, w0, eps0 = 0.02, 40.0, 1.0
     r = exdex.simulate(_free_disc("ellipsoid", eps0), 3.0, 1e-4, method="event", rtol=1e-10, atol=1e-12)
@@ -156,7 +163,7 @@ def test_rotation_1dof_exact_is_the_ellipsoid_of_the_region():
     for patch in (exdex.Patch.disc(0.012), exdex.Patch.rectangle(0.03, 0.01)):
         sc = exdex.Scene(body=exdex.Body(0.2, size=(0.1, 0.05, 0.02)),
                          grasp=exdex.Grasp(0.5, 0.4, patch), dof="rotation",
-                         motion=exdex.AsymmetricProfile(0.5, 0.4, beta=0.8, axis=(0, 0, 1), rotation=True))
+                         motion=exdex.AsymmetricProfile(0.5, 0.4, beta=0.8, axis=(0, 1, 0), rotation=True))
         ex = exdex.replace(sc, grasp=exdex.replace(sc.grasp, limit_surface="exact"))
         for method in ("implicit", "event", "analytic"):
             a = exdex.simulate(sc, 1.0, 1e-3, method=method)
