@@ -13,7 +13,8 @@ ellipsoid's error in the force-motion map (Grasp.limit_surface).
         translation), the angle between the two friction wrenches (force and
         moment scaled by the patch's size) and the ratios of their forces and
         of their moments; a table printed and the figure
-        limit_surface_error.png in --out (default benchmarks/results).
+        limit_surface_error.png in --out (default benchmarks/results); then
+        the free sliding and spinning disc under each surface.
     python benchmarks/bench_limit_surface.py --baseline PYTHON [--repeat 7]
         the ellipsoid paths of this exdex against another install's (PYTHON:
         the interpreter of a virtual environment with another exdex, e.g. an
@@ -133,6 +134,7 @@ def errors(out_dir):
           f"{'moment ratio rho=1':>19} {'moment ratio rho->inf':>22}")
     for name, amax, at, f0, m1, minf in rows:
         print(f"{name:<22} {amax:>20.2f} {at:>8.3g} {f0:>19.4f} {m1:>19.4f} {minf:>22.4f}")
+    free_disc()
     try:
         import matplotlib
         matplotlib.use("Agg")
@@ -159,6 +161,25 @@ def errors(out_dir):
     path = os.path.join(out_dir, "limit_surface_error.png")
     fig.savefig(path, dpi=110)
     print(f"wrote {path}")
+
+
+def free_disc():
+    """The free sliding and spinning disc (v0 = R w0), event method: v / (R w)
+    late in the slip and the instant both motions stop, for each surface."""
+    sc0, t_end = scenes("ellipsoid")["free disc"]
+    R, w0 = 0.02, sc0.v0[2]
+    print("free uniform disc launched at v0 = R w0, event method:")
+    print(f"{'surface':<10} {'v/(R w) at w = 1e-3 w0':>24} {'stops at [s]':>13}")
+    for ls in ("ellipsoid", "exact"):
+        sc, _ = scenes(ls)["free disc"]
+        sc = exdex.replace(sc, v0=(R * w0, 0.0, w0))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            r = exdex.simulate(sc, 2.0, 1e-4, method="event", rtol=1e-10, atol=1e-12)
+        v, w = np.hypot(r.v[:, 0], r.v[:, 1]), np.abs(r.v[:, 2])
+        i = np.nonzero(w > 1e-3 * w0)[0][-1]
+        stop = r.t[np.nonzero((v == 0) & (w == 0))[0][0]]
+        print(f"{ls:<10} {v[i] / (R * w[i]):>24.4f} {stop:>13.4f}")
 
 
 _CHILD = r"""
