@@ -963,6 +963,15 @@ friction_done:
     }
     if (round == 12) st->warnings++; /* active-set rounds ran out: last iterate kept */
 done:
+    if (m->ls_exact) {
+        /* the exact surface's warm start is the last slip twist (its
+         * direction starts the next sliding step's search) */
+        if (!fr->stick) {
+            memcpy(w->p_prev, fr->u, sizeof w->p_prev);
+            w->have_prev = 1;
+        }
+        return EXDEX_OK;
+    }
     w->p_prev[0] = fr->p[0];
     w->p_prev[1] = fr->p[1];
     w->p_prev[2] = fr->p[2];

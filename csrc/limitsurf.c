@@ -16,13 +16,14 @@
  * lies far from the region (the slip at the centroid exceeds FAR_RATIO
  * times |omega| times the region's reach, which includes omega = 0), the
  * closed forms cancel (their terms grow like |c|^2 while the moment about
- * the centroid shrinks like 1 / |c|), but the integrand s / |s| is smooth
- * over the region: a fixed product Gauss rule (12 x 12 Gauss-Legendre
- * points on each triangle of the fan from the centroid, collapsed; a disc
- * 12 Gauss points in the radius times 32 in the angle) integrates it to
+ * the centroid shrinks like 1 / |c|: at FAR_RATIO = 16 they lose about
+ * 16^2 rounding units), but the integrand s / |s| is smooth over the
+ * region: a fixed product Gauss rule (6 x 6 Gauss-Legendre points on each
+ * triangle of the fan from the first vertex, collapsed; a disc 6 Gauss points
+ * in the radius times 12 in the angle, trapezoidal) integrates it to
  * rounding: the integrand is analytic in a neighbourhood FAR_RATIO - 1
- * region sizes wide, and 12-point Gauss converges like (FAR_RATIO +
- * sqrt(FAR_RATIO^2 - 1))^-24 < 1e-21.
+ * region sizes wide, so 6-point Gauss converges like (2 FAR_RATIO)^-12 <
+ * 1e-18 and the periodic trapezoid like FAR_RATIO^-12 < 4e-15.
  *
  * Exact gauge. g(w) = 1 / min { D(u) : w . u = 1 } (the polar of the
  * support function), a smooth strictly convex problem in the plane
@@ -50,7 +51,7 @@
 #include <string.h>
 
 
-#define FAR_RATIO 4.0
+#define FAR_RATIO 16.0
 /* Newton's stopping rules, on the squared Newton decrement lam2 (about
  * twice the objective's excess over its optimum) relative to the
  * objective's scale: done below NEWTON_DONE (the optimum to 1e-24
@@ -62,25 +63,32 @@
 #define NEWTON_DONE 1e-24
 #define NEWTON_FULL 1e-8
 #define NEWTON_ACCEPT 1e-12
-#define NGL 12
-#define NTH 32
+#define NGL 6
+#define NTH 12
 
 static const double PI = 3.14159265358979323846;
 
-/* 12-point Gauss-Legendre on [-1, 1]: nodes +-x_i, weights w_i */
-static const double GLX[6] = {0.12523340851146891, 0.36783149899818018, 0.58731795428661748,
-                              0.76990267419430469, 0.9041172563704748,  0.98156063424671924};
-static const double GLW[6] = {0.24914704581340269, 0.23349253653835461, 0.20316742672306573,
-                              0.16007832854334642, 0.10693932599531907, 0.047175336386511411};
+/* 6-point Gauss-Legendre on [-1, 1]: nodes +-x_i, weights w_i */
+static const double GLX[3] = {0.2386191860831969, 0.66120938646626448, 0.93246951420315194};
+static const double GLW[3] = {0.46791393457269104, 0.36076157304813872, 0.17132449237917027};
+
+/* the disc's NTH = 12 angles (j + 1/2) 30 degrees */
+#define C15 0.96592582628906831
+#define S15 0.25881904510252074
+#define C45 0.70710678118654757
+static const double TH_COS[NTH] = {C15, C45, S15, -S15, -C45, -C15, -C15, -C45, -S15, S15, C45, C15};
+static const double TH_SIN[NTH] = {S15, C45, C15, C15, C45, S15, -S15, -C45, -C15, -C15, -C45, -S15};
 
 /* node k (0 .. NGL-1) on [0, 1] and its weight */
 static void gl01(int k, double *x, double *w)
 {
-    int i = k < 6 ? 5 - k : k - 6;
-    double t = k < 6 ? -GLX[i] : GLX[i];
+    int i = k < 3 ? 2 - k : k - 3;
+    double t = k < 3 ? -GLX[i] : GLX[i];
     *x = 0.5 * (1.0 + t);
     *w = 0.5 * GLW[i];
 }
+
+static void plane_basis(const double n[3], double N[2][3]);
 
 /* ------------------------------------------------------------ ellipsoid */
 
@@ -126,7 +134,7 @@ const limitsurf_type limitsurf_ellipsoid = {"ellipsoid", ell_dissipation, ell_wr
  * the Hessian. */
 static void quad_add(const double r[2], double wt, const double u[3], double *D, double w[3], double *hess)
 {
-    double sx = u[0] - u[2] * r[1], sy = u[1] + u[2] * r[0], s = hypot(sx, sy);
+    double sx = u[0] - u[2] * r[1], sy = u[1] + u[2] * r[0], s = sqrt(sx * sx + sy * sy);
     double hx = sx / s, hy = sy / s;
     *D += wt * s;
     w[0] -= wt * hx;
@@ -136,7 +144,7 @@ static void quad_add(const double r[2], double wt, const double u[3], double *D,
         /* J_r^T t, t = (-hy, hx) the unit tangent */
         double a[3] = {-hy, hx, -r[1] * -hy + r[0] * hx}, k = wt / s;
         for (int i = 0; i < 3; i++)
-            for (int j = 0; j < 3; j++) hess[3 * i + j] += k * a[i] * a[j];
+            for (int j = i; j < 3; j++) hess[3 * i + j] += k * a[i] * a[j];
     }
 }
 
@@ -154,14 +162,16 @@ static double exact_quad(const limitsurf *ls, const double u[3], double w[3], do
             gl01(a, &x, &wx);
             double rho = R * x, wr = R * wx * rho * (2.0 * PI / NTH);
             for (int j = 0; j < NTH; j++) {
-                double th = 2.0 * PI * (j + 0.5) / NTH, r[2] = {rg->c[0] + rho * cos(th), rg->c[1] + rho * sin(th)};
+                double r[2] = {rg->c[0] + rho * TH_COS[j], rg->c[1] + rho * TH_SIN[j]};
                 quad_add(r, wr, u, &D, w, hess);
             }
         }
     } else {
-        const double *g = ls->g;
-        for (int i = 0; i < rg->n; i++) {
-            const double *p = rg->v[i], *q = rg->v[(i + 1) % rg->n];
+        /* the fan from vertex 0 (n - 2 triangles: the integrand is smooth
+         * over the whole region, no point of it is special) */
+        const double *g = rg->v[0];
+        for (int i = 1; i + 1 < rg->n; i++) {
+            const double *p = rg->v[i], *q = rg->v[i + 1];
             double ax = p[0] - g[0], ay = p[1] - g[1], ex = q[0] - p[0], ey = q[1] - p[1];
             double at2 = ax * ey - ay * ex; /* twice the triangle's area */
             if (!(at2 > 0.0)) continue;
@@ -180,7 +190,8 @@ static double exact_quad(const limitsurf *ls, const double u[3], double w[3], do
     double inv = 1.0 / ls->area;
     for (int i = 0; i < 3; i++) w[i] *= inv;
     if (hess)
-        for (int i = 0; i < 9; i++) hess[i] *= inv;
+        for (int i = 0; i < 3; i++)
+            for (int j = i; j < 3; j++) hess[3 * j + i] = hess[3 * i + j] *= inv;  /* upper, mirrored */
     return D * inv;
 }
 
@@ -358,6 +369,7 @@ int limitsurf_set_ellipsoid(limitsurf *ls, double e_r)
     ls->e[0] = ls->e[1] = 1.0;
     ls->e[2] = e_r;
     ls->rg.kind = REGION_NONE;
+    ls->kmin = ls->kmax = 1.0;
     return EXDEX_OK;
 }
 
@@ -374,7 +386,58 @@ int limitsurf_set_exact(limitsurf *ls, const region *rg)
     ls->reach = region_reach(rg, ls->g);
     ls->e[0] = ls->e[1] = 1.0;
     ls->e[2] = er;
+    ls->kmin = 0.0;
+    ls->kmax = INFINITY;
     return EXDEX_OK;
+}
+
+/* D(E^-1 s) for the unit E-space direction s */
+static double kratio(const limitsurf *ls, const double s[3])
+{
+    double d[3] = {s[0] / ls->e[0], s[1] / ls->e[1], s[2] / ls->e[2]}, n = sqrt(ex_dot3(s, s));
+    return exact_dissipation(ls, d) / n;
+}
+
+/* local search on the sphere from s for the minimum (sign 1) or maximum (-1) */
+static double krefine(const limitsurf *ls, double s[3], int sign)
+{
+    double best = sign * kratio(ls, s), h = 0.1;
+    for (int it = 0; it < 200 && h > 1e-7; it++) {
+        double N[2][3], ns = sqrt(ex_dot3(s, s)), n[3] = {s[0] / ns, s[1] / ns, s[2] / ns};
+        int moved = 0;
+        plane_basis(n, N);
+        for (int k = 0; k < 4 && !moved; k++) {
+            double t[3], a = k < 2 ? 1.0 : -1.0;
+            for (int i = 0; i < 3; i++) t[i] = n[i] + a * h * N[k % 2][i];
+            double v = sign * kratio(ls, t);
+            if (v < best) {
+                best = v;
+                for (int i = 0; i < 3; i++) s[i] = t[i];
+                moved = 1;
+            }
+        }
+        if (!moved) h *= 0.5;
+    }
+    return sign * best;
+}
+
+void limitsurf_prepare_bounds(limitsurf *ls)
+{
+    if (ls->type != &limitsurf_exact) return;
+    double lo = INFINITY, hi = 0.0, slo[3] = {1, 0, 0}, shi[3] = {1, 0, 0};
+    const int n = 256;
+    for (int i = 0; i < n; i++) {
+        /* a Fibonacci lattice on the unit sphere */
+        double z = 1.0 - (2.0 * i + 1.0) / n, r = sqrt(1.0 - z * z), ph = 2.399963229728653 * i;
+        double s[3] = {r * cos(ph), r * sin(ph), z}, v = kratio(ls, s);
+        if (v < lo) lo = v, slo[0] = s[0], slo[1] = s[1], slo[2] = s[2];
+        if (v > hi) hi = v, shi[0] = s[0], shi[1] = s[1], shi[2] = s[2];
+    }
+    lo = fmin(lo, krefine(ls, slo, 1));
+    hi = fmax(hi, krefine(ls, shi, -1));
+    if (!(lo > 0.0) || !isfinite(hi)) return; /* keep the gauge for every decision */
+    ls->kmin = lo * (1.0 - 1e-3);
+    ls->kmax = hi * (1.0 + 1e-3);
 }
 
 int limitsurf_sticks(const limitsurf *ls, const double w[3], double C)
@@ -468,9 +531,41 @@ int limitsurf_step(const limitsurf *ls, const exdex_friction_prep *prep, const d
         if (spd_solve(3, W, r, dy))
             for (int i = 0; i < 3; i++) y[i] += dy[i];
     }
-    double d[3], dir[3];
-    int st = limitsurf_gauge(ls, y, &g, dir);
-    if (st != EXDEX_OK) return st;
+    double d[3], dir[3], ge;
+    int st = EXDEX_OK, decided = 0;
+    /* from the bounds alone where they decide: g(y) lies in
+     * [|E^-1 y| / kmax, |E^-1 y| / kmin] (D >= kmin |E u| bounds the gauge's
+     * maximum above; the ellipsoid's maximiser E^-2 y bounds it below) */
+    {
+        double a = y[0] / ls->e[0], b2 = y[1] / ls->e[1], c = y[2] / ls->e[2];
+        ge = sqrt(a * a + b2 * b2 + c * c);
+    }
+    if (ge <= cap * ls->kmin) {
+        g = 0.0; /* stick, certain */
+        decided = 1;
+    } else if (ge > cap * ls->kmax) {
+        /* slip, certain; E^-2 y starts it with f >= |E^-1 y| |E d| - cap kmax |E d| > 0 */
+        double nd = 0.0;
+        for (int i = 0; i < 3; i++) {
+            d[i] = y[i] / (ls->e[i] * ls->e[i]);
+            nd += d[i] * d[i];
+        }
+        nd = sqrt(nd);
+        for (int i = 0; i < 3; i++) d[i] /= nd;
+        g = INFINITY;
+        decided = 2;
+    }
+    if (!decided) {
+        st = limitsurf_gauge(ls, y, &g, dir);
+        if (st != EXDEX_OK) return st;
+        for (int i = 0; i < 3; i++) d[i] = -dir[i];
+    }
+    if (g > cap && warm && ex_finite_n(warm, 3) && (warm[0] != 0.0 || warm[1] != 0.0 || warm[2] != 0.0)) {
+        /* a warm slip direction (the last step's slip) where psi is positive there */
+        double f, q, nw = sqrt(ex_dot3(warm, warm)), dw[3] = {warm[0] / nw, warm[1] / nw, warm[2] / nw};
+        reduced(ls, Winv, y, cap, dw, NULL, NULL, &f, &q);
+        if (f > 0.0) memcpy(d, dw, sizeof d);
+    }
     if (g <= cap) {
         for (int i = 0; i < 3; i++) {
             res->p[i] = -y[i];
@@ -488,7 +583,6 @@ int limitsurf_step(const limitsurf *ls, const exdex_friction_prep *prep, const d
      * in the plane tangent to the unit sphere at d, with a backtracking line
      * search (and a Levenberg shift where psi's Hessian is not negative
      * definite). */
-    for (int i = 0; i < 3; i++) d[i] = -dir[i];
     int ok = 0, it;
     double lam2_prev = INFINITY;
     for (it = 0; it < LIMITSURF_MAX_ITER; it++) {

@@ -74,6 +74,11 @@ typedef struct limitsurf {
     double area;      /* exact: area of the region */
     double g[2];      /* exact: centroid */
     double reach;     /* exact: largest distance of the region from its centroid */
+    /* bounds kmin |E u| <= D(u) <= kmax |E u| (E of e; the ellipsoid: 1, 1;
+     * the exact surface: 0 and INFINITY until limitsurf_prepare_bounds): the
+     * step decides stick or slip from |E^-1 y| alone outside the band they
+     * leave, without the gauge's search */
+    double kmin, kmax;
 } limitsurf;
 
 extern const limitsurf_type limitsurf_ellipsoid;
@@ -83,6 +88,14 @@ extern const limitsurf_type limitsurf_exact;
  * valid region (region_check). EXDEX_EINVAL otherwise (ls unchanged). */
 int limitsurf_set_ellipsoid(limitsurf *ls, double e_r);
 int limitsurf_set_exact(limitsurf *ls, const region *rg);
+
+/* The bounds kmin, kmax of an exact surface (see limitsurf), found by
+ * sampling D(E^-1 s) over 256 unit s and refining the extremes by a local
+ * search, then widened by 1e-3 (the step's decisions from them are
+ * certain as long as the sampled extremes are within 1e-3 of the true
+ * ones; the band between falls back to the gauge). A few hundred
+ * evaluations: once per model. */
+void limitsurf_prepare_bounds(limitsurf *ls);
 
 /* Shorthands for the table. */
 static inline double limitsurf_dissipation(const limitsurf *ls, const double u[3])
@@ -115,8 +128,11 @@ int limitsurf_slip_direction(const limitsurf *ls, const double w[3], double u[3]
  * line search, warm-started from the ellipsoid's solution of prep) and
  * p = cap w(u+). prep is the ellipsoid problem of W and this surface's e
  * (exdex_friction_prepare): for the ellipsoid the step is
- * exdex_friction_solve(prep, b, cap, solver, ws, warm, res) itself. res as
- * for exdex_friction_solve (sigma = D(u+)); returns its statuses. */
+ * exdex_friction_solve(prep, b, cap, solver, ws, warm, res) itself (warm a
+ * guess of p). For the exact surface warm (may be NULL) is a guess of the
+ * slip twist's direction (e.g. the last step's u+), used when the reduced
+ * problem is positive there. res as for exdex_friction_solve (sigma =
+ * D(u+)); returns its statuses. */
 int limitsurf_step(const limitsurf *ls, const exdex_friction_prep *prep, const double b[3], double cap, int solver,
                    exdex_friction_ws *ws, const double *warm, exdex_friction_result *res);
 

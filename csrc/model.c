@@ -923,6 +923,7 @@ static exdex_model *build_model(const exdex_scene_def *def, int *status, const c
         region rg;
         model_region(def, &rg);  /* checked by check_fields */
         limitsurf_set_exact(&m->ls, &rg);
+        limitsurf_prepare_bounds(&m->ls);
         m->ls_exact = 1;
         m->e[2] = m->ls.e[2];
     } else {

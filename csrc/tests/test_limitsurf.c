@@ -398,6 +398,16 @@ EXDEX_TEST(limitsurf_step_exact)
         }
         /* friction adds no kinetic energy: |u+|_W^-1 <= |b|_W^-1, i.e. p . (b + W p / 2) <= 0 */
         ENSURE(dot3(r.p, b) + 0.5 * dot3(r.p, Wp) <= 1e-14 * fabs(dot3(r.p, b)));
+        {
+            /* with the bounds prepared: the same decision and the same impulse */
+            limitsurf lb = ls;
+            exdex_friction_result rb;
+            limitsurf_prepare_bounds(&lb);
+            ENSURE(lb.kmin > 0.0 && lb.kmax < INFINITY);
+            ENSURE(limitsurf_step(&lb, &prep, b, cap, EXDEX_SOLVER_SCALAR, NULL, NULL, &rb) == EXDEX_OK);
+            ENSURE(rb.stick == r.stick);
+            for (int i = 0; i < 3; i++) ENSURE_CLOSE(rb.p[i], r.p[i], 1e-9 * cap * (i < 2 ? 1 : ls.e[2]));
+        }
         if (r.stick) {
             n_stick++;
             ENSURE(r.sigma == 0.0);
@@ -412,4 +422,30 @@ EXDEX_TEST(limitsurf_step_exact)
         }
     }
     ENSURE(n_stick > 10 && n_slip > 10);
+}
+
+EXDEX_TEST(limitsurf_bounds)
+{
+    /* kmin |E u| <= D(u) <= kmax |E u| on random slips; the disc's are the
+     * ratios of the exact surface to its ellipsoid (0.934 and 1, widened 1e-3) */
+    for (int k = 0; k < 12; k++) {
+        region rg;
+        limitsurf ls;
+        random_region(&rg, k);
+        ENSURE(limitsurf_set_exact(&ls, &rg) == EXDEX_OK);
+        limitsurf_prepare_bounds(&ls);
+        for (int j = 0; j < 2000; j++) {
+            double u[3] = {srand1(), srand1(), srand1() / ls.e[2]}, eu = 0.0;
+            for (int i = 0; i < 3; i++) eu += (ls.e[i] * u[i]) * (ls.e[i] * u[i]);
+            double D = limitsurf_dissipation(&ls, u);
+            ENSURE(D >= ls.kmin * sqrt(eu) && D <= ls.kmax * sqrt(eu));
+        }
+    }
+    region rg;
+    limitsurf ls;
+    region_set_disc(&rg, 0, 0, 0.01);
+    ENSURE(limitsurf_set_exact(&ls, &rg) == EXDEX_OK);
+    limitsurf_prepare_bounds(&ls);
+    ENSURE_CLOSE(ls.kmin, 0.9342051836507127 * (1 - 1e-3), 2e-6);
+    ENSURE_CLOSE(ls.kmax, 1.0 + 1e-3, 1e-6);
 }

@@ -25,6 +25,8 @@
 #include <math.h>
 #include <string.h>
 
+#include <gsl/gsl_sf_ellint.h>
+
 static const double PI = 3.14159265358979323846;
 
 /* tiny deterministic generator (the cases do not depend on a library) */
@@ -308,5 +310,29 @@ EXDEX_TEST(region_polygon_to_disc)
         ENSURE(err < 8.0 * PI * PI / ((double)n * n));
         ENSURE(err < err_prev / 3.0);
         err_prev = err;
+    }
+}
+
+EXDEX_TEST(region_disc_against_gsl_elliptic)
+{
+    /* the disc's F and Phi from GSL's complete elliptic integrals directly
+     * (gsl_sf_ellint_Kcomp, _Ecomp: Carlson's forms), on the branch where the
+     * region module uses the AGM: F = (R/3)(4 R s E + 16 R rho^2 T / s),
+     * Phi = 2 (s E + (R - rho) K), T = [(2 - k^2) E - 2 (1 - k^2) K] / (3 k^4) */
+    double R = 0.7;
+    region rg;
+    region_set_disc(&rg, 0.0, 0.0, R);
+    for (int i = 1; i < 60; i++) {
+        double rho = R * (0.18 + 0.09 * i); /* k^2 >= 1/2 for rho/R in (0.17, 5.8) */
+        if (fabs(rho - R) < 1e-9) continue;
+        double s = R + rho, k2 = 4.0 * R * rho / (s * s), kp2 = ((R - rho) / s) * ((R - rho) / s);
+        if (k2 < 0.5) continue;
+        double k = sqrt(k2), K = gsl_sf_ellint_Kcomp(k, GSL_PREC_DOUBLE), E = gsl_sf_ellint_Ecomp(k, GSL_PREC_DOUBLE);
+        double T = ((2.0 - k2) * E - 2.0 * kp2 * K) / (3.0 * k2 * k2);
+        double c[2] = {rho, 0.0};
+        region_moments mo;
+        ENSURE(region_moments_at(&rg, c, &mo) == EXDEX_OK);
+        ENSURE_CLOSE(mo.dist, (R / 3.0) * (4.0 * R * s * E + 16.0 * R * rho * rho * T / s), 1e-13 * R * R * R);
+        ENSURE_CLOSE(mo.inv, 2.0 * (s * E + (R - rho) * K), 1e-13 * R);
     }
 }
