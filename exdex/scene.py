@@ -282,7 +282,7 @@ class Patch:
             return {"vertices": np.array([[-a, -b], [a, -b], [a, b], [-a, b]])}
         return None
 
-    def _surface_args(self, limit_surface: str):
+    def _surface_args(self, limit_surface: str) -> Tuple[int, float, Any, float]:
         if not isinstance(limit_surface, str) or limit_surface not in LIMIT_SURFACES:
             raise ValueError(f"limit_surface must be one of {', '.join(map(repr, LIMIT_SURFACES))}, "
                              f"got {limit_surface!r}")
@@ -1407,6 +1407,7 @@ class Scene:
         if self.grasp.limit_surface == "exact":
             self._check_exact(method)
             reg = self.grasp.patch.region()
+            assert reg is not None   # Grasp checked it
             spec["limit_surface"] = LIMIT_SURFACES["exact"]
             if "radius" in reg:
                 spec["region_radius"] = reg["radius"]
