@@ -5,7 +5,7 @@
 Test set: N cones from the paper's Eqs. 10-11 at random (phi, theta)
 (phi in [0, 90) deg, theta in (10, 170) deg; seed 0) in the centred Eq. 13 box.
 Reference: the exact volume (divergence theorem); it agrees with scipy's
-qhull to ~1e-16 (tests/test_tool.py). For each method and resolution the
+qhull to ~1e-16 (tests/design/test_tool.py). For each method and resolution the
 script times one vectorised C call over all N cones, R times, and reports the
 median time per cone and the median and the maximum absolute error over the
 cones. "Equal error 1e-4": the time per cone at which a method's error curve

@@ -1,10 +1,10 @@
-/* bench_friction.c -- nanoseconds per friction solve (csrc/friction.c) for the
+/* bench_friction.c -- nanoseconds per friction solve (csrc/plate_friction.c) for the
  * SCALAR, BRENT and MULTIROOT solvers, and per exdex_friction_prepare.
  *
  * Build and run by hand from the repository root:
  *
  *   cc -O2 -std=c99 -D_POSIX_C_SOURCE=200809L -Icsrc $(gsl-config --cflags) \
- *      benchmarks/bench_friction.c csrc/friction.c csrc/status.c \
+ *      benchmarks/bench_friction.c csrc/plate_friction.c csrc/status.c \
  *      $(gsl-config --libs) -lm -o bench_friction && ./bench_friction
  *
  * Cases: the random set of the C test (csrc/tests/friction_cases.h, seed

@@ -15,7 +15,7 @@ stderr and prints:
   exception's message, the free coordinates and the motion kind);
 * per method how many scenes were compared with the reference and how many
   fell outside the method's error bound (``zoo.bound``, derived in
-  tests/test_zoo.py), and the agreement error (the final pose's distance to
+  tests/scenarios/test_zoo.py), and the agreement error (the final pose's distance to
   the event reference, relative to L; see ``zoo.pose_distance``) at the
   quantiles 50, 90, 99, 99.9 % and the maximum, and the same for the ratio
   of that error to the bound;

@@ -46,7 +46,7 @@ const char *exdex_strerror(int status);
 void exdex_init(void);
 
 /* ---------------------------------------------------------------- friction
- * friction.c -- the friction ellipsoid and its maximum-dissipation solve.
+ * plate_friction.c -- the friction ellipsoid and its maximum-dissipation solve.
  *
  * Limit surface over the plate friction wrench w = (f_x, f_y, m_z) at the
  * patch's centre of pressure:  w^T E^-2 w <= (mu N)^2,  E = diag(e_t, e_t, e_r).

@@ -94,7 +94,7 @@
  * are O(dt), so the two agree as dt -> 0). */
 #include "exdex.h"
 #include "contact.h"
-#include "fcontact.h"
+#include "stop_impulse.h"
 #include "ldp.h"
 #include "method.h"
 #include "model.h"
@@ -105,7 +105,7 @@
 
 /* Coulomb friction at the stops for the explicit step: the plate friction
  * is explicit (already in vs), so the contact step is the velocity-level
- * frictional problem of fcontact.h without a plate term (cap = 0): the
+ * frictional problem of stop_impulse.h without a plate term (cap = 0): the
  * stop rows G v+ >= b with their tangential rows, exact complementarity by
  * mode enumeration. Applied when a frictional row carries an impulse in
  * the frictionless projection (else that projection is a solution of the

@@ -238,11 +238,11 @@
  *   stop (stick, slide +-), exact at the acceleration level, in both
  *   methods (the regularised one smooths the plate friction only), and
  *   impacts with Coulomb friction at the impulse level: see "planar
- *   frictional stops" and "frictional impacts" below (sf_*, sfric.h).
+ *   frictional stops" and "frictional impacts" below (sf_*, stop_friction.h).
  *
  * Obstacles (Obstacle.mu > 0 as a frictional stop: the row's tangent at its
  *   point, orow_point; planar scenes: the stop friction below, one friction
- *   group per line of contact): their rows (orows.h: an outline vertex
+ *   group per line of contact): their rows (obstacle_rows.h: an outline vertex
  *   against a polytope's faces, a section vertex against the outline's
  *   hull, a rod against the hull; a disc outline: one row per obstacle, its
  *   support point against a face, its centre against a section vertex, its
@@ -293,12 +293,12 @@
  */
 #include "exdex.h"
 #include "contact.h"
-#include "fcontact.h"
+#include "stop_impulse.h"
 #include "ldp.h"
 #include "method.h"
 #include "model.h"
-#include "orows.h"
-#include "sfric.h"
+#include "obstacle_rows.h"
+#include "stop_friction.h"
 #include "util.h"
 
 #include <float.h>
@@ -391,7 +391,7 @@ static inline void hyb_pads(const hyb *H, const double *y)
 }
 
 /* ---------------------------------------------------------- contact rows
- * The stops' rows and the obstacles' (orows.h) in one numbering: planar row
+ * The stops' rows and the obstacles' (obstacle_rows.h) in one numbering: planar row
  * r < ns nv is stop r / nv against outline vertex r % nv, r >= ns nv the
  * obstacle row of code r - ns nv (its feature held); the 1-DoF contact
  * (ck, cj) is a stop and a vertex, or ck = ns + o and cj an obstacle row
@@ -568,7 +568,7 @@ static void contact_forces(const hyb *H, const crow *c, double T, double R, doub
 
 /* Normal impulse of a 1-DoF impact on row (k, j) (c its row at q): the
  * velocity v goes to vn = -Ft / Fq (no approach), plastic. With a
- * frictional stop the impact is Coulomb's at the impulse level (fcontact.h's
+ * frictional stop the impact is Coulomb's at the impulse level (stop_impulse.h's
  * problem with no plate impulse: the plates' friction is bounded, its
  * impulse over the impact 0; the implicit step's impulse as the step
  * vanishes): M (vn - v) = lam Fq + beta T, beta = -mu lam sigma, sigma the
@@ -597,7 +597,7 @@ static double impact_impulse_1dof(hyb *H, const exdex_kinematics *kin, int k, in
  * Coulomb friction between a stop with stop_mu > 0 (or an obstacle with mu
  * > 0) and the points of a planar object touching it, exact (not
  * regularised, also in the regularised method, which smooths the plate
- * friction only): the acceleration-level problem of sfric.h on the
+ * friction only): the acceleration-level problem of stop_friction.h on the
  * contact-set rows. The rows fall into friction groups, lines of contact
  * (sf_groups: a stop's rows, an obstacle face's vertex rows, the section
  * vertices on one edge of the object, a rod's row), fixed at each decision
@@ -632,20 +632,20 @@ static double impact_impulse_1dof(hyb *H, const exdex_kinematics *kin, int k, in
  * of the contact set are taken frictionless until the next decision, and a
  * warning is counted, as for a 1-DoF jam; the loss of consistency is a
  * located guard (+1 / -1). The velocity-level (impulse) solution would
- * exist there (fcontact.h), but it is a jump of the velocity that the
+ * exist there (stop_impulse.h), but it is a jump of the velocity that the
  * acceleration-level machine would have to apply as an impact at a time it
  * cannot locate from a smooth guard; the implicit method, which is that
  * velocity-level step, reports the same scenes with its own warning. */
 
-/* every contact-set row and friction group fits sfric.h's problem */
-_Static_assert(MAX_ROWS <= SF_MAX_ROWS, "sfric.h holds every contact-set row");
-_Static_assert(EXDEX_MAX_STOPS + MAX_ROWS <= SF_MAX_STOPS, "sfric.h holds every friction group");
+/* every contact-set row and friction group fits stop_friction.h's problem */
+_Static_assert(MAX_ROWS <= SF_MAX_ROWS, "stop_friction.h holds every contact-set row");
+_Static_assert(EXDEX_MAX_STOPS + MAX_ROWS <= SF_MAX_STOPS, "stop_friction.h holds every friction group");
 
 #define SF_TOL 1e-10  /* sign slack of the mode checks: x the scene's acceleration V / T and force F */
 #define SF_SAME_LINE 1e-6  /* obstacle rows whose unit in-plane normals differ by at most this share a group */
 
-/* The contact set as sfric.h's problem at (kin, y): its rows, their
- * friction groups (sfric.h's "stops") and each group's slip. */
+/* The contact set as stop_friction.h's problem at (kin, y): its rows, their
+ * friction groups (stop_friction.h's "stops") and each group's slip. */
 typedef struct sf_set {
     sf_row rows[SF_MAX_ROWS];
     sf_stop st[SF_MAX_STOPS];
@@ -710,7 +710,7 @@ static int sf_groups(const hyb *H, const exdex_kinematics *kin, const double *y,
     return ng;
 }
 
-/* The contact-set rows at (kin, y) as sfric.h's problem into S (groups:
+/* The contact-set rows at (kin, y) as stop_friction.h's problem into S (groups:
  * those fixed at the decision, else sf_groups); a group's slip is its first
  * set row's (contact_slip_planar, orow_slip). A group in SF_ROLL with |s| >
  * zsw is given the slide of its sign. Returns the row count, or -1 when it
@@ -788,7 +788,7 @@ static int sf_solve_at(hyb *H, const exdex_kinematics *kin, const double *y, con
 }
 
 /* contact_acc_planar with frictional stops: 1 with qdd, lam, acc as it
- * defines them (2: the mode is a lock, sfric.h: lam is one split of
+ * defines them (2: the mode is a lock, stop_friction.h: lam is one split of
  * indeterminate forces, lock_rows (may be NULL) the set rows it holds, bit
  * i for H->cs[i]), 0 when no mode is consistent (the caller then takes the
  * stops frictionless). */
@@ -894,15 +894,15 @@ static int contact_acc_planar(hyb *H, const exdex_kinematics *kin, const double 
 
 /* ------------------------------------------------- frictional impacts
  * An impact on frictional rows is plastic with Coulomb friction at the
- * rows: the impulse-level problem of fcontact.h (Stewart-Trinkle velocity
+ * rows: the impulse-level problem of stop_impulse.h (Stewart-Trinkle velocity
  * level, exact mode enumeration) over the vanishing duration of the impact,
  *     M (v+ - v) = sum_i (lam_i G_i + beta_i T_i),
  *     0 <= lam_i  _|_  G_i v+ - b_i >= 0    (b_i = -(gd_i - G_i v): no approach),
  *     |beta_i| <= mu_i lam_i, beta_i = -mu_i lam_i sign(s_i) where the
  *     post-impact slip s_i = T_i v+ + tb_i != 0,
  * with no plate impulse: the plates' friction force is bounded by the grip
- * force (cap = 0 in fcontact.h), so its impulse over the impact is 0. This
- * is the implicit step's impulse (fcontact.h with the plate term cap h) in
+ * force (cap = 0 in stop_impulse.h), so its impulse over the impact is 0. This
+ * is the implicit step's impulse (stop_impulse.h with the plate term cap h) in
  * the limit of a vanishing step h, and the explicit method's (cap = 0 as
  * here). Frictionless rows make it the plastic M-metric projection
  * (ldp_project), which is solved first: where no frictional row carries an
@@ -978,7 +978,7 @@ static int sf_graze(const hyb *H, const exdex_kinematics *kin, const double *y, 
  * frictional row carries an impulse in it and some row is approached
  * (b_i - G_i v > tol.rate: below that a row's rate is 0 to the method, as
  * for the contact set and the impact count, and the projection only
- * removes rounding). Where fcontact.h finds no consistent mode (none
+ * removes rounding). Where stop_impulse.h finds no consistent mode (none
  * among its candidates: fc_solve) the frictionless impact stands and a
  * warning is counted. Returns 1 if v and lam were replaced, 2 for a graze
  * of a rest (sf_graze: no impulse, v and lam untouched), else 0. */
@@ -1455,7 +1455,7 @@ static void set_tie_joins(hyb *H, const double *y, double t)
 
 /* Keep in the planar contact set only the rows that push (lam > 0) under
  * the accelerations of the current (non-stick) mode at (t, y); in a lock
- * (sfric.h) the rows it holds: their forces are indeterminate, a row
+ * (stop_friction.h) the rows it holds: their forces are indeterminate, a row
  * without force in one split carries it in another, and they all hold (gap
  * acceleration 0) while the lock lasts. */
 static void planar_prune_set(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y)
@@ -1517,7 +1517,7 @@ static int sf_lock_velocity(hyb *H, const frame *f, const exdex_kinematics *kin,
 /* The velocity of a planar object with sticking stops (H->fm SF_STICK,
  * not at rest) projected in the M metric onto their slips 0 (T v = -tb)
  * and the contact-set rows' no-approach G v >= -(gd - G v). In a lock
- * (sfric.h: more such rows than coordinates, dependent) the velocity is
+ * (stop_friction.h: more such rows than coordinates, dependent) the velocity is
  * the one that holds the lock's rows at rate 0 and its stops' slips at 0
  * (sf_lock_solve, to tol.rate), the set's other rows not approaching; the
  * projection of the dependent rows as inequality pairs would be
@@ -1571,7 +1571,7 @@ static int sf_free_acc(hyb *H, const frame *f, const exdex_kinematics *kin, cons
  * set rows: zsw - |tb| (static) or sigma tb - zsw (sliding past). Else +1
  * / -1 (a consistent mode exists or not), and per frictional stop with set
  * rows: sliding, sigma s; sticking, mu sum lam (1 + SF_BAND) - |beta|, or
- * in a lock (sfric.h) its margin. */
+ * in a lock (stop_friction.h) its margin. */
 static int sf_guards(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y, double *g)
 {
     sf_set S;
@@ -1671,7 +1671,7 @@ static void sf_decide(hyb *H, double t, double *y)
         if (!found && nroll) {
             /* no combination is decided again on its own plate friction
              * (a lock's plate friction, with its stops given, against the
-             * roll decision that tries locks last, sfric.h): the modes
+             * roll decision that tries locks last, stop_friction.h): the modes
              * the problem finds with every rolling stop left to it, on the
              * plate friction of that same problem (the fixed point of
              * planar_friction with the stops rolling) */
@@ -1984,7 +1984,7 @@ static int guards(hyb *H, double t, const double *y, double *g)
                 }
                 model_gen_of_patch(m, MODEL_CS(y[2]), w, P);
                 for (int i = 0; i < 3; i++) a[i] = m->minv[i] * (F[i] + P[i]);
-                /* in a lock (sfric.h) the rows' forces are one split of
+                /* in a lock (stop_friction.h) the rows' forces are one split of
                  * indeterminate ones: the lock's margin (sf_guards) says
                  * when a row must separate or a stop slide */
                 unsigned lk = 0u;
@@ -2896,7 +2896,7 @@ static int gap_dips(hyb *H, ode *O, double t0, const double *y0, double t1, cons
     return EXDEX_OK;
 }
 
-/* A free obstacle row's gap is a largest distance over features (orows.h):
+/* A free obstacle row's gap is a largest distance over features (obstacle_rows.h):
  * continuous, but its rate jumps where the active feature changes. Within
  * one step an outline vertex can cross a face close to the section's corner
  * and leave the polytope again past the next face (it cuts through the

@@ -59,11 +59,11 @@
  */
 #include "exdex.h"
 #include "contact.h"
-#include "fcontact.h"
+#include "stop_impulse.h"
 #include "ldp.h"
 #include "method.h"
 #include "model.h"
-#include "orows.h"
+#include "obstacle_rows.h"
 #include "util.h"
 
 #include <float.h>
@@ -91,7 +91,7 @@ typedef struct work {
         exdex_kinematics kin0;
     } S;
     double beta[MAX_ROWS];   /* friction impulses of the rows (stop friction) */
-    int fmode[MAX_ROWS];     /* each row's contact mode in the last frictional solve (fcontact.h) */
+    int fmode[MAX_ROWS];     /* each row's contact mode in the last frictional solve (stop_impulse.h) */
     contact_point cpt[MAX_ROWS];  /* where each obstacle row acts (build_rows; rows from n_stops nv on) */
     model_sw_cache swc;           /* model_substep's */
     /* the in-step slip stop's integrator (slip_stop_in_step_planar; planar
@@ -1062,7 +1062,7 @@ static double project_positions(const exdex_model *m, const exdex_kinematics *ki
  * frictional row carries an impulse (a row without normal impulse has no
  * friction): it is kept, so a scene whose frictional stops never push is
  * stepped exactly as without friction. Otherwise the step is solved again
- * with the friction of the rows (fcontact.h: Stewart-Trinkle velocity-level
+ * with the friction of the rows (stop_impulse.h: Stewart-Trinkle velocity-level
  * complementarity, the plate ellipsoid with its prescribed normal force,
  * exact mode enumeration), with the frictionless solution's active rows as
  * the candidates, and the last step's modes and velocity as the first

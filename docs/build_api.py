@@ -13,7 +13,9 @@ import warnings
 
 #: The documented modules: the package and its public submodules.
 MODULES = ["exdex", "exdex.scene", "exdex.simulate", "exdex.stepper", "exdex.batch", "exdex.io", "exdex.animation",
-           "exdex.tool", "exdex.paper", "exdex.plan", "exdex.sequence", "exdex.fit", "exdex.engines", "exdex.bench"]
+           "exdex.design", "exdex.design.tool", "exdex.design.plan", "exdex.design.sequence", "exdex.design.fit",
+           "exdex.studies", "exdex.studies.paper", "exdex.studies.bench", "exdex.engines", "exdex.engines.pybullet",
+           "exdex.engines.mujoco", "exdex.engines.drake", "exdex.engines.ablation"]
 
 
 def build(out):

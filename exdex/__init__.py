@@ -21,14 +21,31 @@ from exdex.simulate import GripperJumpWarning, Model, PhysicsWarning, Result, So
 from exdex.stepper import GripperPose, Stepper, StepperSnapshot, StepperState  # noqa: E402  (feedback control)
 from exdex.batch import BatchResult, simulate_batch, sweep  # noqa: E402
 from exdex.io import load_scene, save_scene  # noqa: E402  (scenes as TOML or JSON files)
-from exdex import paper  # noqa: E402  (the paper's case studies, Figs. 3, 4, 6)
-from exdex import tool  # noqa: E402  (assistive-tool design, paper Section 3)
-from exdex import plan  # noqa: E402  (inverse design: motion and grip for a target outcome)
-from exdex import sequence  # noqa: E402  (planar pose targets by sequences of motion primitives)
-from exdex.fit import (EventSensitivity, EventTimes, Identification, Sensitivity, event_sensitivity,  # noqa: E402
-                       event_times, identify, sensitivity)
+from exdex import design, studies  # noqa: E402  (subpackages: inverse design; the paper and benchmark studies)
+from exdex.studies import paper  # noqa: E402  (the paper's case studies, Figs. 3, 4, 6)
+from exdex.design import tool  # noqa: E402  (assistive-tool design, paper Section 3)
+from exdex.design import plan  # noqa: E402  (inverse design: motion and grip for a target outcome)
+from exdex.design import sequence  # noqa: E402  (planar pose targets by sequences of motion primitives)
+from exdex.design.fit import (EventSensitivity, EventTimes, Identification, Sensitivity, event_sensitivity,  # noqa: E402
+                              event_times, identify, sensitivity)
 from exdex import diagnostics  # noqa: E402  (physics warnings)
 from exdex._optional import MissingExtraError  # noqa: E402
+from exdex import _moved  # noqa: E402  (old module paths, e.g. exdex.cli_run, with a DeprecationWarning)
+
+_moved.install()
+
+
+def __getattr__(name):
+    """Old module attributes (exdex.fit, exdex.bench, exdex.hold, exdex.cli_run, ...): the moved
+    module, with a DeprecationWarning naming its new path."""
+    old = f"exdex.{name}"
+    if old in _moved.MOVED:
+        import importlib
+
+        _moved.warn(old, 2)
+        return importlib.import_module(_moved.MOVED[old])
+    raise AttributeError(f"module 'exdex' has no attribute {name!r}")
+
 
 __version__ = "0.1.0"
 

@@ -241,7 +241,7 @@ def animate(result: Any, fps: float = 25, speed: float = 1.0, max_frames: int = 
     figsize : of the matplotlib Figure [inch].
     title : text above the picture (default: the scene's dof and method).
     """
-    from exdex.scene import _real
+    from exdex._validate import real as _real
 
     fps = _real(fps, "fps", low=0.0, low_open=True)
     speed = _real(speed, "speed", low=0.0, low_open=True)

@@ -27,6 +27,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from exdex import _core
+from exdex._rotations import quat_from_matrix as _quat_from_matrix
+from exdex._validate import array as _array, real as _real
 
 __all__ = [
     "Body", "Patch", "GripSchedule", "Grasp", "Rest", "AsymmetricProfile", "TrapezoidalProfile",
@@ -55,45 +57,6 @@ LIMIT_SURFACES = {"ellipsoid": 0, "exact": 1}
 
 
 # ---------------------------------------------------------------- validation
-
-def _real(value, name, *, low=None, high=None, low_open=False, high_open=False):
-    """A finite float within [low, high] (open ends where asked), else a clear error."""
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
-    x = float(value)
-    if not math.isfinite(x):
-        raise ValueError(f"{name} must be finite, got {x}")
-    bad_low = low is not None and (x <= low if low_open else x < low)
-    bad_high = high is not None and (x >= high if high_open else x > high)
-    if bad_low or bad_high:
-        lo = "-inf" if low is None else f"{low:g}"
-        hi = "inf" if high is None else f"{high:g}"
-        lb = "(" if low_open or low is None else "["
-        hb = ")" if high_open or high is None else "]"
-        raise ValueError(f"{name} must be in {lb}{lo}, {hi}{hb}, got {x:g}")
-    return x
-
-
-def _array(value, name, shape):
-    """A finite float64 array of the given shape (None in shape = any length)."""
-    if isinstance(value, (str, bytes)):
-        raise TypeError(f"{name} must be an array of numbers, got {type(value).__name__}")
-    try:
-        a = np.asarray(value)
-    except Exception as exc:  # pragma: no cover - numpy raises varied errors
-        raise TypeError(f"{name} must be an array of numbers") from exc
-    if a.dtype == object or not (np.issubdtype(a.dtype, np.number) or a.dtype == bool):
-        raise TypeError(f"{name} must be an array of numbers, got dtype {a.dtype}")
-    if np.iscomplexobj(a):
-        raise TypeError(f"{name} must be real, got a complex array")
-    a = np.array(a, dtype=np.float64)
-    if a.ndim != len(shape) or any(s is not None and s != d for s, d in zip(shape, a.shape)):
-        want = "(" + ", ".join("n" if s is None else str(s) for s in shape) + ("," if len(shape) == 1 else "") + ")"
-        raise ValueError(f"{name} must have shape {want}, got {a.shape}")
-    if not np.all(np.isfinite(a)):
-        raise ValueError(f"{name} must be finite (no NaN or infinity)")
-    return a
-
 
 def _tuple(a):
     return tuple(_tuple(x) for x in a) if isinstance(a, np.ndarray) and a.ndim > 1 else tuple(float(x) for x in a)
@@ -1036,24 +999,6 @@ class Chain(_Motion):
         for p in self.pieces:
             t += self._length(p)
         return t
-
-
-def _quat_from_matrix(R):
-    """(w, x, y, z) of a rotation matrix (Shepperd's method)."""
-    R = np.asarray(R, dtype=float)
-    tr = np.trace(R)
-    if tr > 0:
-        s = 2.0 * np.sqrt(tr + 1.0)
-        return np.array([0.25 * s, (R[2, 1] - R[1, 2]) / s, (R[0, 2] - R[2, 0]) / s, (R[1, 0] - R[0, 1]) / s])
-    i = int(np.argmax(np.diag(R)))
-    j, k = (i + 1) % 3, (i + 2) % 3
-    s = 2.0 * np.sqrt(1.0 + R[i, i] - R[j, j] - R[k, k])
-    q = np.empty(4)
-    q[0] = (R[k, j] - R[j, k]) / s
-    q[1 + i] = 0.25 * s
-    q[1 + j] = (R[j, i] + R[i, j]) / s
-    q[1 + k] = (R[k, i] + R[i, k]) / s
-    return q
 
 
 # ---------------------------------------------------------------- stops and scene

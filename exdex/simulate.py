@@ -12,8 +12,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from exdex import _core, diagnostics
+from exdex._jumps import GripperJumpWarning, jumps as _jumps, warn_jumps as _warn_jumps
 from exdex.diagnostics import PhysicsWarning
-from exdex.scene import METHODS, SOLVERS, Scene, _real
+from exdex._validate import check_times as _check_times, real as _real
+from exdex.scene import METHODS, SOLVERS, Scene
 
 if TYPE_CHECKING:
     from exdex.stepper import Stepper
@@ -25,57 +27,6 @@ SolverError = _core.SolverError
 #: The integration methods and friction solvers (see :func:`simulate`).
 Method = Literal["implicit", "event", "regularised", "explicit", "analytic", "auto"]
 FrictionSolver = Literal["scalar", "brent", "multiroot"]
-
-
-class GripperJumpWarning(PhysicsWarning):
-    """The gripper's velocity jumps inside the simulated interval (a sampled
-    log that starts or ends at speed, a trapezoid without ramps).
-
-    The plates cannot transmit an impulse (the grip force and hence the
-    friction force are finite), so the object keeps its absolute velocity
-    and its velocity relative to the gripper jumps by minus the gripper's
-    jump at the object, projected onto the free coordinates in the mass
-    metric; every method applies that jump. Attributes: ``t`` [s], ``dv``
-    [m/s] and ``dw`` [rad/s], the jumps of the velocity of the gripper
-    frame's origin and of its angular velocity in the world frame. A kind of
-    :class:`exdex.PhysicsWarning` (``kind`` "gripper_jump").
-    """
-
-    def __init__(self, t, dv, dw, hint=""):
-        self.t, self.dv, self.dw = float(t), np.asarray(dv, dtype=float), np.asarray(dw, dtype=float)
-        super().__init__(
-            f"the gripper's velocity jumps at t = {self.t:.9g} s by |dv| = {np.linalg.norm(self.dv):.3g} m/s, "
-            f"|dw| = {np.linalg.norm(self.dw):.3g} rad/s (dv = {_fmt(self.dv)}, dw = {_fmt(self.dw)} in the "
-            f"world frame): the plates cannot transmit an impulse, so the object keeps its absolute velocity "
-            f"and its velocity relative to the gripper jumps{hint}",
-            kind="gripper_jump", time=self.t, quantity="gripper velocity jump |dv| [m/s]",
-            value=float(np.linalg.norm(self.dv)), limit=None)
-
-
-def _fmt(x):
-    return "(" + ", ".join(f"{v + 0.0:.3g}" for v in x) + ")"
-
-
-def _jumps(scene, spec):
-    """The gripper's velocity jumps of a scene (its spec), [(t, dv, dw)]."""
-    if not scene.motion._may_jump:
-        return []
-    return _core.motion_jumps(spec)
-
-
-def _warn_jumps(scene, jumps, t_end, stacklevel=3):
-    from exdex.scene import SampledTrajectory
-
-    for t, dv, dw in jumps:
-        if 0.0 < t <= t_end:
-            if isinstance(scene.motion, SampledTrajectory):
-                which = "start" if t == scene.motion.times[0] else "end"
-                hint = (f". The log {which}s at speed; if the robot was at rest there, pass "
-                        f"SampledTrajectory({which}_velocity=(0, 0, 0), {which}_omega=(0, 0, 0)), "
-                        f"otherwise log the motion until the robot is at rest.")
-            else:
-                hint = " (a trapezoid without ramps, v_max = |amplitude| / duration)."
-            warnings.warn(GripperJumpWarning(t, dv, dw, hint), stacklevel=stacklevel)
 
 
 @dataclass(frozen=True, eq=False)
@@ -457,18 +408,6 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
     res = _result(out, scene, method, friction_solver, dt)
     diagnostics.issue(diagnostics.findings(res))
     return res
-
-
-def _check_times(t_end, dt):
-    """(dt, t_end) as floats, or a ValueError / TypeError naming the bad one."""
-    dt = _real(dt, "dt", low=0.0, low_open=True)
-    t_end = _real(t_end, "t_end", low=0.0, low_open=True)
-    if dt > t_end:
-        raise ValueError(f"dt must be <= t_end: got dt = {dt:g} s and t_end = {t_end:g} s "
-                         "(dt is the output step, t_end the end time)")
-    if t_end / dt > 1e9:
-        raise ValueError(f"t_end / dt must be at most 1e9 steps, got {t_end / dt:.3g}")
-    return dt, t_end
 
 
 def resolve_method(scene, method):

@@ -32,8 +32,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from exdex import _core, diagnostics
-from exdex.scene import Scene, _array
-from exdex.simulate import FrictionSolver, Method, Model, _warn_jumps
+from exdex._validate import array as _array
+from exdex.scene import Scene
+from exdex._jumps import warn_jumps as _warn_jumps
+from exdex.simulate import FrictionSolver, Method, Model
 
 __all__ = ["Stepper", "StepperState", "StepperSnapshot", "GripperPose"]
 

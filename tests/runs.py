@@ -1,5 +1,5 @@
-"""Run loops shared by the obstacle and disc tests (tests/test_obstacles.py,
-tests/test_disc.py). Each takes the simulate function the test uses
+"""Run loops shared by the obstacle and disc tests (tests/scenarios/test_obstacles.py,
+tests/scenarios/test_disc.py). Each takes the simulate function the test uses
 (exdex.simulate or a wrapper with the same signature) and keeps the
 references and tolerances of the tests that call it."""
 import numpy as np

@@ -161,7 +161,7 @@ def test_bad_options(drop, kw, message):
 def test_paper_command_writes_one_animation_per_case(tmp_path, capsys):
     import argparse
 
-    from exdex import cli_paper
+    from exdex.cli import paper as cli_paper
 
     parser = argparse.ArgumentParser()
     cli_paper.add_arguments(parser)

@@ -19,6 +19,8 @@ same methods, an independent loop); closed forms for the controllers:
   sin theta_c) says; the controller closes when that stop falls on the
   target (one step of look-ahead), so it ends within about one step's
   rotation w dt of the target, and then sticks (C > m g arm).
+
+Its twin in the C suite (same subject, tested on the C API): csrc/tests/test_stepper.c.
 """
 from __future__ import annotations
 
@@ -425,7 +427,7 @@ def test_gripper_pose_contract_and_errors():
 
 def test_save_restore_in_a_stiff_planar_slip():
     """The event method integrates a planar slip lingering at a small speed
-    with a linearly implicit stepper (tests/test_event.py, the slip at the
+    with a linearly implicit stepper (tests/scenarios/test_event.py, the slip at the
     friction incline launched across it): a snapshot taken in that phase
     branches exactly too, on the same stepper and on another one of the same
     model, and a stepper that never saved takes the same steps."""

@@ -445,7 +445,7 @@ N_DT = 500
 #: The implicit method's ladder is also run at dt = t_end / N_SHIFT (about
 #: h / 8.8), a grid sharing no point with the ladder's but 0 and t_end
 #: (4401 = 3^3 163 is prime to 4000 = 2^5 5^3), so that an error set by a
-#: switching time's position in its step shows (see tests/test_zoo.py).
+#: switching time's position in its step shows (see tests/scenarios/test_zoo.py).
 N_SHIFT = 4401
 REF_RTOL, REF_RTOL_TIGHT = 1e-9, 1e-11
 EPS = 1e-2
@@ -501,7 +501,7 @@ def creep_speed(zs):
 
 
 #: Safety factor of the first-order error estimates, the event method's
-#: tolerance proportionality (derivations in tests/test_zoo.py) and the
+#: tolerance proportionality (derivations in tests/scenarios/test_zoo.py) and the
 #: floor of every bound.
 S = 3.0
 PROPORTIONAL = 0.3
@@ -509,7 +509,7 @@ FLOOR = REF_RTOL
 #: The event method's planar rest against stops moving in B ends when a
 #: touching row's gap leaves +-REST_GAP_REL x its length scale (the
 #: outline's radius): the reference's rests are held to that (see
-#: tests/test_zoo.py).
+#: tests/scenarios/test_zoo.py).
 REST_GAP_REL = 1e-7
 
 
@@ -525,7 +525,7 @@ def integration_tol(res, size):
 
 def bound(method, o, ref):
     """The largest final-pose distance from the reference that a method's own
-    error estimate allows (derivation in tests/test_zoo.py)."""
+    error estimate allows (derivation in tests/scenarios/test_zoo.py)."""
     allow = ref["err"] + ref.get("jump", 0.0) + ref.get("rest", 0.0) + FLOOR
     if method == "event":
         return PROPORTIONAL * ref["err"] + ref.get("jump", 0.0) + FLOOR
@@ -566,7 +566,7 @@ def regularised_creep(zs, ref_run, eps_rel):
 #: Where the regularised ladder starts: its creep must leave the
 #: configuration nearly unchanged, at most this fraction of L at eps0 (a
 #: starting point that saves halvings; the ladder's ratios decide whether
-#: it is in its first-order regime, see tests/test_zoo.py).
+#: it is in its first-order regime, see tests/scenarios/test_zoo.py).
 CREEP_REGIME = 0.1
 #: ... and the agreement ladder starts at eps0 = EPS x min(1, CREEP_REGIME /
 #: creep(EPS)), but not below EPS / EPS_RANGE (each halving of eps doubles
@@ -579,7 +579,7 @@ EPS_RANGE = 16.0
 #: first-order error moves the time of a stop contact, and a final pose held
 #: by a stop the reference does not touch (or freed from one it rests on)
 #: is a discrete outcome, identical at eps0, eps0/2, eps0/4 (see
-#: tests/test_zoo.py).
+#: tests/scenarios/test_zoo.py).
 EPS_BRANCH_RANGE = 256.0
 
 
@@ -619,7 +619,7 @@ def _branch_eps(zs, ref_run, eps0):
 #: at most r / (1 - r) times its last difference: 2 at RATIO_HI, S = 3 at
 #: 3/4, the margin for ratios past the ladder). The ladder
 #: is extended by halvings, down to EPS / EPS_LADDER_RANGE, until its last
-#: N_RATIOS ratios are in that range (see tests/test_zoo.py).
+#: N_RATIOS ratios are in that range (see tests/scenarios/test_zoo.py).
 RATIO_LO, RATIO_HI = 0.125, 2.0 / 3.0
 EPS_LADDER_RANGE = 1024.0
 
@@ -687,7 +687,7 @@ def _extend_ladder(zs, ref_run, rs, eps):
 #: ladder_consistent, and its last runs share their impacts and end on the
 #: reference's branch: same_events), and
 #: extended by halvings of dt, down to t_end / (N_DT x DT_LADDER_RANGE),
-#: until they do (see tests/test_zoo.py).
+#: until they do (see tests/scenarios/test_zoo.py).
 DT_LADDER_RANGE = 512.0
 
 
@@ -849,7 +849,7 @@ def check_scene(zs, methods=METHODS, agree=METHODS):
                 o["bound"] = bound(method, o, refd)
                 o["ok"] = o["err"] <= o["bound"]
                 if method == "event":
-                    # the REF_RTOL run within its stated error (tests/test_zoo.py)
+                    # the REF_RTOL run within its stated error (tests/scenarios/test_zoo.py)
                     o["ref_ok"] = refd["err"] <= refd["tol"] + refd.get("jump", 0.0) + FLOOR
                     o["ok"] = o["ok"] and o["ref_ok"]
 

@@ -15,7 +15,7 @@
  *
  *   1. driver.c: plain C99, builds with gcc, no extra tools. Deterministic
  *      random + systematic edge-case inputs, then the seed corpus. Part of the
- *      normal test suite (tests/test_hardening.py runs `make -C csrc fuzz-quick`):
+ *      normal test suite (tests/scenarios/test_hardening.py runs `make -C csrc fuzz-quick`):
  *         make -C csrc fuzz-quick                  # 10^5 inputs in total
  *         make -C csrc fuzz-long FUZZ_N=1000000    # 10^6 inputs per target
  *         make -C csrc fuzz-asan                   # the quick run under ASan+UBSan

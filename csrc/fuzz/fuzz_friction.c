@@ -7,7 +7,7 @@
  * gives EXDEX_EINVAL; EXDEX_OK gives finite p, u, sigma with p inside the
  * ellipsoid, p . u <= 0 (maximum dissipation never adds energy), the
  * objective 1/2 p'Wp + p'b <= 0 = its value at p = 0, u == 0 at stick; a
- * failed solve leaves NaN in the result (documented in friction.c). */
+ * failed solve leaves NaN in the result (documented in plate_friction.c). */
 #include "fuzz.h"
 
 #include <float.h>

@@ -1,5 +1,5 @@
 /* friction_cases.h -- the random friction-step problems shared by the C test
- * (csrc/tests/test_friction.c) and the solver benchmark
+ * (csrc/tests/test_plate_friction.c) and the solver benchmark
  * (benchmarks/bench_friction.c): SPD W with condition numbers up to 1e6,
  * e = (1, 1, e_r), e_r in [1e-3, 1], 60% generic (stick or slip), 40% within
  * 1e-3..1e-9 of the stick/slip boundary (`near`). Header-only (static
@@ -23,7 +23,7 @@ static void matvec(double r[3], const double W[9], const double v[3])
     for (int i = 0; i < 3; i++) r[i] = W[3 * i] * v[0] + W[3 * i + 1] * v[1] + W[3 * i + 2] * v[2];
 }
 
-/* x = W^-1 v by GSL LU with partial pivoting (independent of friction.c). */
+/* x = W^-1 v by GSL LU with partial pivoting (independent of plate_friction.c). */
 static void lu_solve(double x[3], const double W[9], const double v[3])
 {
     double A[9];

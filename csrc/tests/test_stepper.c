@@ -6,7 +6,9 @@
  *   held (capacity above m g) until t_r, then released (grip 0): free fall
  *   from rest, s(t) = s(t_r) - g (t - t_r)^2 / 2, v = -g (t - t_r);
  *   the midpoint rule is exact for a constant acceleration, the event
- *   method integrates it to its tolerance. */
+ *   method integrates it to its tolerance.
+ * Its twin through the Python API (same subject, other side of the core): tests/test_stepper.py.
+ */
 #include "check.h"
 #include "sim_run.h"
 #include "../exdex.h"

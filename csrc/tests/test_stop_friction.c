@@ -1,83 +1,463 @@
-/* test_stop_friction.c -- Coulomb friction at the stops (stop_mu) through
- * the public API: a 1-DoF closed form with every method that supports it,
- * and the named rejections. */
+/* test_stop_friction.c -- the acceleration-level problem of a planar object against
+ * frictional stops (stop_friction.c) against closed forms, a Painleve configuration
+ * with no consistent mode, and the slip acceleration of a vertex along a
+ * stop (contact_slip_planar) and along an obstacle's section and rod rows
+ * (orow_slip) against a central difference of the slip along a trajectory
+ * under a turning gripper. */
 #include "check.h"
-#include "sim_run.h"
-#include "../exdex.h"
+#include "../contact.h"
+#include "../model.h"
+#include "../obstacle_rows.h"
+#include "../stop_friction.h"
 
 #include <math.h>
 #include <string.h>
 
 #define G 9.81
 
-/* The centre of mass (the outline) slides along B's y (vertical) and rests
- * on an incline fixed in A with in-plane normal n = (sin a, cos a) (A: (sin
- * a, 0, cos a), B's y being A's z), while the gripper translates along x at
- * speed V (trapezoid with ramps). The gap n . (V_g + v d) = 0 fixes v =
- * -tan(a) V; the point slips along t = (-cos a, sin a) at s = -V / cos(a),
- * so the stop's friction on it is -mu lam sign(s) t, with generalized force
- * lam (cos a - sign(s) mu sin a) = lam D. At constant speed the balance on
- * the free coordinate is 0 = -m g - cap sign(v) + lam D:
- *     lam = (m g + cap sign(v)) / D.
- * Time stepping reaches it exactly (a fixed point), the event method holds
- * it exactly; the regularised one is off by cap eps^2 / (2 v^2) / D. */
-static exdex_scene_def incline(double mu_s, double V, int method)
+/* A particle (planar coordinates, rotation idle) on an incline of angle a:
+ * normal n = (-sin a, cos a), tangent t = e_z x n = (-cos a, -sin a);
+ * gravity (0, -g). Along the incline the weight's part is m g sin a (down
+ * the slope, +t direction: t . (0, -g) = g sin a), into it m g cos a. Stick
+ * iff mu >= tan a: qdd = 0, lam = m g cos a, beta = -m g sin a. Else it
+ * slides along +t with g (sin a - mu cos a), beta = -mu lam. */
+EXDEX_TEST(sfric_particle_on_incline_sticks_or_slides_closed_form)
+{
+    double a = 0.4, m = 0.5, minv[3] = {1.0 / m, 1.0 / m, 10.0}, acc[3] = {0.0, -G, 0.0};
+    for (int c = 0; c < 2; c++) {
+        double mu = c ? 0.5 : 0.3;  /* tan 0.4 = 0.4228 */
+        sf_row row = {{-sin(a), cos(a), 0.0}, 0.0, 0};
+        sf_stop st = {{-cos(a), -sin(a), 0.0}, 0.0, mu, SF_ROLL};
+        sf_result r;
+        ENSURE(sf_solve(1, &row, 1, &st, minv, acc, 1e-12, 1e-12, &r) == 1);
+        ENSURE_CLOSE(r.lam[0], m * G * cos(a), 1e-14);
+        if (mu >= tan(a)) {
+            ENSURE(r.fm[0] == SF_STICK);
+            ENSURE_CLOSE(r.beta[0], -m * G * sin(a), 1e-14);
+            ENSURE_CLOSE(hypot(r.qdd[0], r.qdd[1]), 0.0, 1e-14);
+        } else {
+            double at = G * (sin(a) - mu * cos(a));
+            ENSURE(r.fm[0] == SF_SLIDE_P);
+            ENSURE_CLOSE(r.beta[0], -mu * m * G * cos(a), 1e-14);
+            ENSURE_CLOSE(r.acct[0], at, 1e-14);
+            ENSURE_CLOSE(r.qdd[0], -at * cos(a), 1e-14);
+            ENSURE_CLOSE(r.qdd[1], -at * sin(a), 1e-14);
+        }
+        ENSURE_CLOSE(r.acc[0], 0.0, 1e-14);
+        /* a stop given a mode keeps it: sliding the other way (its slip
+         * negative), the friction acts down the slope */
+        st.fm = SF_SLIDE_M;
+        ENSURE(sf_solve(1, &row, 1, &st, minv, acc, 1e-12, 1e-12, &r) == 1);
+        ENSURE(r.fm[0] == SF_SLIDE_M);
+        ENSURE_CLOSE(r.beta[0], mu * m * G * cos(a), 1e-14);
+        ENSURE_CLOSE(r.acct[0], G * (sin(a) + mu * cos(a)), 1e-14);
+        /* lifted off (the free acceleration leaves the stop): no force */
+        acc[1] = G;
+        st.fm = SF_ROLL;
+        ENSURE(sf_solve(1, &row, 1, &st, minv, acc, 1e-12, 1e-12, &r) == 1);
+        ENSURE(r.lam[0] == 0.0 && r.beta[0] == 0.0 && r.qdd[1] == G);
+        acc[1] = -G;
+    }
+}
+
+/* A face flat on a wall: two rows of one stop whose tangent rows are equal
+ * (the face's corners slip together), the block at rest in the plane, a
+ * load f = (fx, fy) at the centre pushing it into the wall (fx < 0, wall
+ * normal +x at x = -h) and along it. One tangential unknown per stop keeps
+ * the system regular (two tangential unknowns would have dependent rows):
+ * stick iff |fy| <= mu |fx|, then lam1 + lam2 = -fx, beta = -fy, and the
+ * moments about the centre, -h lam1 (corner (-h, h)) + h lam2 (corner
+ * (-h, -h)) - h beta (the friction at x = -h), vanish: lam2 - lam1 = beta.
+ * Else it slides along +y, beta = -mu (lam1 + lam2), qdd_y = (fy - mu |fx|)
+ * / m. */
+EXDEX_TEST(sfric_face_on_wall_sticks_with_one_tangential_force)
+{
+    double h = 0.01, minv[3] = {10.0, 10.0, 1e4};
+    for (int c = 0; c < 2; c++) {
+        double fx = -1.0, fy = c ? 0.7 : 0.3, mu = 0.5, acc[3] = {fx * minv[0], fy * minv[1], 0.0};
+        /* corners (-h, +h) and (-h, -h) from the centre: G = (n, r x n) with
+         * n = (1, 0): r x n = -r_y; T = (t, r x t) with t = (0, 1): r_x */
+        sf_row rows[2] = {{{1.0, 0.0, -h}, 0.0, 0}, {{1.0, 0.0, h}, 0.0, 0}};
+        sf_stop st = {{0.0, 1.0, -h}, 0.0, mu, SF_ROLL};
+        sf_result r;
+        ENSURE(sf_solve(2, rows, 1, &st, minv, acc, 1e-12, 1e-12, &r) == 1);
+        ENSURE_CLOSE(r.lam[0] + r.lam[1], -fx, 1e-12);
+        if (fabs(fy) <= mu * fabs(fx)) {
+            ENSURE(r.fm[0] == SF_STICK);
+            ENSURE_CLOSE(r.beta[0], -fy, 1e-12);
+            ENSURE_CLOSE(fabs(r.qdd[0]) + fabs(r.qdd[1]) + fabs(r.qdd[2]), 0.0, 1e-9);
+            /* moments about the centre: -h lam1 + h lam2 - h beta = 0 */
+            ENSURE_CLOSE(r.lam[1] - r.lam[0], r.beta[0], 1e-12);
+        } else {
+            ENSURE(r.fm[0] == SF_SLIDE_P);
+            ENSURE_CLOSE(r.beta[0], -mu * (r.lam[0] + r.lam[1]), 1e-12);
+            ENSURE_CLOSE(r.qdd[1], (fy - mu * fabs(fx)) * minv[1], 1e-9);
+        }
+    }
+}
+
+/* The face of the test above drawn with N = 13 points on the wall (more
+ * rows than SF_ENUM_ROWS): the points (-h, y_i), y_i from h to -h, have
+ * G_i = (1, 0, -y_i) and one tangent row. Their forces are a force at the
+ * centre of pressure, so the closed form is that of the two corners: stick
+ * iff |fy| <= mu |fx|, sum lam = -fx, beta = -fy and the moment sum lam_i
+ * (-y_i) - h beta = 0; else slide, qdd_y = (fy - mu |fx|) / m. Every row's
+ * gap acceleration is >= 0 (to rounding). */
+EXDEX_TEST(sfric_many_points_on_one_line_as_two_corners)
+{
+    enum { N = 13 };
+    double h = 0.01, minv[3] = {10.0, 10.0, 1e4};
+    for (int c = 0; c < 2; c++) {
+        double fx = -1.0, fy = c ? 0.7 : 0.3, mu = 0.5, acc[3] = {fx * minv[0], fy * minv[1], 0.0}, ls = 0.0,
+               mom = 0.0;
+        sf_row rows[N];
+        sf_stop st = {{0.0, 1.0, -h}, 0.0, mu, SF_ROLL};
+        sf_result r;
+        for (int i = 0; i < N; i++) {
+            double y = h - 2.0 * h * i / (N - 1);
+            rows[i] = (sf_row){{1.0, 0.0, -y}, 0.0, 0};
+        }
+        ENSURE(sf_solve(N, rows, 1, &st, minv, acc, 1e-12, 1e-12, &r) == 1);
+        for (int i = 0; i < N; i++) {
+            double y = h - 2.0 * h * i / (N - 1);
+            ENSURE(r.lam[i] >= 0.0);
+            ENSURE(r.acc[i] >= -1e-12);
+            ls += r.lam[i];
+            mom += -y * r.lam[i];
+        }
+        ENSURE_CLOSE(ls, -fx, 1e-12);
+        if (fabs(fy) <= mu * fabs(fx)) {
+            ENSURE(r.fm[0] == SF_STICK);
+            ENSURE_CLOSE(r.beta[0], -fy, 1e-12);
+            ENSURE_CLOSE(fabs(r.qdd[0]) + fabs(r.qdd[1]) + fabs(r.qdd[2]), 0.0, 1e-9);
+            ENSURE_CLOSE(mom - h * r.beta[0], 0.0, 1e-12);
+        } else {
+            ENSURE(r.fm[0] == SF_SLIDE_P);
+            ENSURE_CLOSE(r.beta[0], -mu * ls, 1e-12);
+            ENSURE_CLOSE(r.qdd[1], (fy - mu * fabs(fx)) * minv[1], 1e-9);
+        }
+    }
+}
+
+/* Painleve: one row of a stop sliding with a fixed sign whose friction
+ * turns the normal force's effect around: G = (0, 1, 1), T = (1, 0, 2), mu
+ * = 1, sliding +: the force direction D = G - T = (-1, 1, -1), G M^-1 D =
+ * 1 - 10 < 0 with M = diag(1, 1, 0.1); the free acceleration drives the
+ * row in (G a = -1). With force lam = (G a) / -(G M^-1 D) < 0; without, the
+ * row penetrates: no consistent mode. Frictionless it is consistent. */
+EXDEX_TEST(sfric_painleve_has_no_consistent_mode)
+{
+    double minv[3] = {1.0, 1.0, 10.0}, acc[3] = {0.0, -1.0, 0.0};
+    sf_row row = {{0.0, 1.0, 1.0}, 0.0, 0};
+    sf_stop st = {{1.0, 0.0, 2.0}, 0.0, 1.0, SF_SLIDE_P};
+    sf_result r;
+    ENSURE(sf_solve(1, &row, 1, &st, minv, acc, 1e-12, 1e-12, &r) == 0);
+    st.fm = SF_NONE;
+    ENSURE(sf_solve(1, &row, 1, &st, minv, acc, 1e-12, 1e-12, &r) == 1);
+    ENSURE(r.lam[0] > 0.0 && r.beta[0] == 0.0);
+    ENSURE_CLOSE(r.acc[0], 0.0, 1e-14);
+    /* out of range */
+    ENSURE(sf_solve(SF_MAX_ROWS + 1, &row, 1, &st, minv, acc, 1e-12, 1e-12, &r) == 0);
+}
+
+/* A square block (half side h, at rest, centre at the origin) in the
+ * corner of a wall at x = h (normal -x, mu_w) and a floor at y = -h
+ * (normal +y, mu_f), each face flush: rows G = (n, r x n) at the corners
+ * (h, h), (h, -h) on the wall (r x n = r_y) and (-h, -h), (h, -h) on the
+ * floor (r x n = r_x); tangents t = e_z x n, T = (t, r x t): the wall's
+ * (0, -1, -h), the floor's (-1, 0, -h). A load (fx, fy) at the centre
+ * pushes it into the wall (fx > 0). It stays (qdd = 0) iff stop forces in
+ * the cones give -F. For |fy| <= mu_w fx the wall alone does it (normal
+ * force fx, friction -fy, its moment h fy about the centre within what the
+ * wall's two corners carry, h fx, for mu_w < 1): the floor is not needed,
+ * and the least constrained consistent mode is that one, no lock. For fy <
+ * -mu_w fx both stops are needed: the floor takes -fy and the wall fx
+ * through the centre, no friction needed: a lock (the four rows fix qdd).
+ * For fy > mu_w fx the floor cannot pull and the wall cannot hold: the
+ * block slides up the wall off the floor, qdd = (0, (fy - mu_w fx) / m, 0),
+ * the wall's slip s = T v = -v_y negative (SF_SLIDE_M), its normal force
+ * fx. */
+#undef G /* the rows' member below, not gravity */
+EXDEX_TEST(sfric_block_in_corner_is_a_lock_or_slides_up_the_wall_per_coulomb)
+{
+    double h = 0.015, m = 0.1, minv[3] = {1.0 / m, 1.0 / m, 1e4}, mu_w = 0.5, mu_f = 0.4, fx = 1.0;
+    const double fys[6] = {-0.8, -0.3, 0.3, 0.49, 0.51, 0.8};
+    sf_row rows[4] = {{{-1.0, 0.0, h}, 0.0, 0}, {{-1.0, 0.0, -h}, 0.0, 0},
+                      {{0.0, 1.0, -h}, 0.0, 1}, {{0.0, 1.0, h}, 0.0, 1}};
+    for (int c = 0; c < 6; c++) {
+        double fy = fys[c], acc[3] = {fx * minv[0], fy * minv[1], 0.0}, F[3] = {fx, fy, 0.0};
+        sf_stop st[2] = {{{0.0, -1.0, -h}, 0.0, mu_w, SF_ROLL}, {{-1.0, 0.0, -h}, 0.0, mu_f, SF_ROLL}};
+        sf_result r;
+        ENSURE(sf_solve(4, rows, 2, st, minv, acc, 1e-12, 1e-12, &r) == 1);
+        if (fy <= mu_w * fx) {
+            double sum[3] = {F[0], F[1], F[2]};
+            ENSURE(r.fm[0] == SF_STICK);
+            if (fy < -mu_w * fx)
+                ENSURE(r.fm[1] == SF_STICK && r.lock == 1 && r.mask == 0xfu && r.margin >= 0.0);
+            else
+                ENSURE(r.lock == 0 && r.lam[2] == 0.0 && r.lam[3] == 0.0);
+            ENSURE_CLOSE(r.qdd[0], 0.0, 1e-14);
+            ENSURE_CLOSE(r.qdd[1], 0.0, 1e-14);
+            ENSURE_CLOSE(r.qdd[2], 0.0, 1e-13 / h);
+            /* the split gives -F, inside the cones */
+            for (int i = 0; i < 4; i++) {
+                ENSURE(r.lam[i] >= 0.0);
+                for (int k = 0; k < 3; k++) sum[k] += r.lam[i] * rows[i].G[k];
+            }
+            for (int j = 0; j < 2; j++) {
+                ENSURE(fabs(r.beta[j]) <= st[j].mu * r.lsum[j] * (1.0 + SF_BAND));
+                for (int k = 0; k < 3; k++) sum[k] += r.beta[j] * st[j].T[k];
+            }
+            ENSURE_CLOSE(fabs(sum[0]) + fabs(sum[1]) + fabs(sum[2]) / h, 0.0, 1e-12);
+        } else {
+            ENSURE(r.lock == 0 && r.fm[0] == SF_SLIDE_M);
+            ENSURE_CLOSE(r.qdd[0], 0.0, 1e-12);
+            ENSURE_CLOSE(r.qdd[1], (fy - mu_w * fx) / m, 1e-12);
+            ENSURE_CLOSE(r.qdd[2], 0.0, 1e-9);
+            ENSURE_CLOSE(r.lam[0] + r.lam[1], fx, 1e-12);
+            ENSURE(r.lam[2] == 0.0 && r.lam[3] == 0.0 && r.acc[2] > 0.0 && r.acc[3] > 0.0);
+            ENSURE_CLOSE(r.beta[0], mu_w * fx, 1e-12);
+        }
+        /* both stops given stick (a decided lock): kept, the margin's sign
+         * says whether it still holds */
+        st[0].fm = st[1].fm = SF_STICK;
+        ENSURE(sf_solve(4, rows, 2, st, minv, acc, 1e-12, 1e-12, &r) == 1);
+        ENSURE(r.lock == 1 && (r.margin >= 0.0) == (fy <= mu_w * fx));
+    }
+}
+
+#define G 9.81
+
+/* The lock's rows: three of four rows and two tangents (five constraints,
+ * rank 3) give back x; inconsistent or rank-deficient rows are refused. */
+EXDEX_TEST(sfric_lock_solve_checks_rank_and_consistency)
+{
+    double minv[3] = {10.0, 10.0, 1e4}, x[3];
+    double C[5][3] = {{-1.0, 0.0, 0.015}, {-1.0, 0.0, -0.015}, {0.0, 1.0, -0.015}, {0.0, -1.0, -0.015},
+                      {-1.0, 0.0, -0.015}};
+    double x0[3] = {0.3, -0.2, 5.0}, rhs[5];
+    for (int l = 0; l < 5; l++) rhs[l] = C[l][0] * x0[0] + C[l][1] * x0[1] + C[l][2] * x0[2];
+    ENSURE(sf_lock_solve(5, (const double (*)[3])C, rhs, minv, 1e-12, x) == 1);
+    for (int k = 0; k < 3; k++) ENSURE_CLOSE(x[k], x0[k], 1e-12);
+    rhs[4] += 1e-6;
+    ENSURE(sf_lock_solve(5, (const double (*)[3])C, rhs, minv, 1e-9, x) == 0);
+    /* rank 2: only translations along x and y constrained */
+    {
+        double D[3][3] = {{1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, {1.0, 1.0, 0.0}}, r3[3] = {1.0, 2.0, 3.0};
+        ENSURE(sf_lock_solve(3, (const double (*)[3])D, r3, minv, 1e-9, x) == 0);
+    }
+}
+
+/* A planar object of mass 0.1 kg, a square of side 2 cm (disc 0) or a disc
+ * of radius 2 cm centred at (4, -2) mm (disc 1), in a gripper turning about
+ * a tilted axis (a rotation shake: w and dw change, a stop's or an
+ * obstacle's trace in the plate plane turns). */
+static exdex_scene_def turning_object(int disc)
 {
     exdex_scene_def d = exdex_default_scene_def();
-    double a = 0.5;
+    double verts[4][2] = {{0.01, 0.01}, {-0.01, 0.01}, {-0.01, -0.01}, {0.01, -0.01}};
+    d.dof = EXDEX_DOF_PLANAR;
     d.mass = 0.1;
-    d.mu = 0.5;
-    d.grip_force = 0.5;  /* capacity 2 mu F = 0.5 N */
-    d.gravity[2] = -G;
-    d.method = method;
-    d.motion.kind = EXDEX_MOTION_TRAPEZOID;
-    d.motion.axis[0] = 1.0;
-    d.motion.axis[1] = d.motion.axis[2] = 0.0;
-    d.motion.amplitude = copysign(0.95 * fabs(V), V);
+    if (disc) {
+        d.disc_radius = 0.02;
+        d.disc_center[0] = 0.004;
+        d.disc_center[1] = -0.002;
+    } else {
+        d.n_vertices = 4;
+        memcpy(d.vertices, verts, sizeof verts);
+    }
+    d.motion.kind = EXDEX_MOTION_SHAKE;
+    d.motion.rotation = 1;
+    d.motion.axis[0] = 0.3;
+    d.motion.axis[1] = 1.0;
+    d.motion.axis[2] = 0.5;
+    d.motion.center[0] = 0.05;
+    d.motion.amplitude = 0.3;
+    d.motion.frequency = 2.0;
     d.motion.duration = 1.0;
-    d.motion.v_max = fabs(V);
-    d.n_stops = 1;
-    d.stop_normal[0][0] = sin(a);
-    d.stop_normal[0][2] = cos(a);
-    d.stop_mu[0] = mu_s;
     return d;
 }
 
-EXDEX_TEST(stop_friction_1dof_incline_every_method)
+/* Two obstacles of Coulomb coefficient 0.5: a wedge (two faces tilted out
+ * of the plate normal, meeting below, and a floor far below) and a rod of
+ * radius 0.01 through (0.2, 0, 0) tilted by 0.2 rad from A's z. */
+static void wedge_and_rod(exdex_scene_def *d)
 {
-    double a = 0.5, m = 0.1, cap = 0.5, eps = 1e-4;
-    for (int method = EXDEX_METHOD_IMPLICIT; method <= EXDEX_METHOD_EXPLICIT; method++)
-        for (int dir = -1; dir <= 1; dir += 2) {
-            double V = 0.05 * dir, v = -tan(a) * V, s = -V / cos(a);
-            double D = cos(a) - copysign(1.0, s) * 0.4 * sin(a), lam = (m * G + cap * copysign(1.0, v)) / D;
-            double tol = method == EXDEX_METHOD_REGULARISED ? 2 * cap * eps * eps / (2 * v * v) / D : 1e-10 * lam;
-            exdex_scene_def d = incline(0.4, V, method);
-            sim_run r;
-            d.eps = eps;
-            ENSURE(sim_run_def(&d, 0.5, 1e-3, &r) == EXDEX_OK);
-            ENSURE(r.st.warnings == 0);
-            ENSURE_CLOSE(r.tr.v[r.tr.n - 1], v, 1e-12 * fabs(v));
-            ENSURE_CLOSE(r.tr.stop_force[r.tr.n - 1], lam, tol);
-            sim_run_free(&r);
-        }
+    double ca = cos(0.3), sa = sin(0.3), cb = cos(0.2), sb = sin(0.2);
+    double n[3][3] = {{ca, 0.1, sa}, {-ca, 0.05, sa}, {0.0, 0.0, -1.0}};
+    d->n_obstacles = 2;
+    d->obstacles[0].kind = EXDEX_OBSTACLE_POLYTOPE;
+    d->obstacles[0].n_faces = 3;
+    for (int f = 0; f < 3; f++) {
+        double l = sqrt(n[f][0] * n[f][0] + n[f][1] * n[f][1] + n[f][2] * n[f][2]);
+        for (int c = 0; c < 3; c++) d->obstacles[0].face_normal[f][c] = n[f][c] / l;
+        d->obstacles[0].face_point[f][2] = f == 2 ? -1.0 : -0.5;
+    }
+    d->obstacles[0].mu = 0.5;
+    d->obstacles[1].kind = EXDEX_OBSTACLE_CYLINDER;
+    d->obstacles[1].center[0] = 0.2;
+    d->obstacles[1].axis[0] = sb;
+    d->obstacles[1].axis[2] = cb;
+    d->obstacles[1].radius = 0.01;
+    d->obstacles[1].mu = 0.5;
 }
 
-/* stop_mu: finite and >= 0 (by name); a planar scene accepts it with every
- * method that supports stops. */
-EXDEX_TEST(stop_friction_bad_input_named)
+/* The slip acceleration: along q(t) = q0 + v0 t + qdd t^2 / 2 under a
+ * gripper turning about a tilted axis (a rotation shake: w and dw change,
+ * the stop's trace in the plate plane turns), ds/dt by a central
+ * difference must equal T qdd + sdd0. */
+EXDEX_TEST(sfric_slip_acceleration_matches_central_difference)
 {
+    exdex_scene_def d = turning_object(0);
     const char *bad = NULL;
-    exdex_scene_def d = incline(-0.1, 0.05, EXDEX_METHOD_IMPLICIT);
-    ENSURE(exdex_scene_check(&d, &bad) == EXDEX_EINVAL && bad && strcmp(bad, "stop_mu") == 0);
-    d.stop_mu[0] = NAN;
-    ENSURE(exdex_scene_check(&d, &bad) == EXDEX_EINVAL && bad && strcmp(bad, "stop_mu") == 0);
-    d.stop_mu[0] = 0.3;
-    ENSURE(exdex_scene_check(&d, &bad) == EXDEX_OK);
-    d.dof = EXDEX_DOF_PLANAR;
-    d.q0[1] = 0.01;
-    for (int method = EXDEX_METHOD_IMPLICIT; method <= EXDEX_METHOD_EXPLICIT; method++) {
-        d.method = method;
-        bad = NULL;
-        ENSURE(exdex_scene_check(&d, &bad) == EXDEX_OK);
+    int status = 0;
+    exdex_model *m;
+    d.n_stops = 1;
+    d.stop_point[0][2] = -0.02;
+    d.stop_normal[0][0] = 0.3;
+    d.stop_normal[0][2] = sqrt(1.0 - 0.09);
+    d.stop_mu[0] = 0.5;
+    m = exdex_model_alloc(&d, &status, &bad);
+    ENSURE(m != NULL);
+    if (!m) return;
+    {
+        double q0[3] = {0.001, 0.002, 0.3}, v0[3] = {0.05, -0.02, 1.5}, qdd[3] = {0.7, -1.1, 20.0};
+        double t = 0.13, h = 1e-5;
+        for (int j = 0; j < 4; j++) {
+            double s[2], T[3], tb, sdd0, q[3], v[3];
+            exdex_kinematics k;
+            for (int e = 0; e < 2; e++) {
+                double tau = e ? h : -h;
+                for (int c = 0; c < 3; c++) {
+                    q[c] = q0[c] + v0[c] * tau + 0.5 * qdd[c] * tau * tau;
+                    v[c] = v0[c] + qdd[c] * tau;
+                }
+                ENSURE(exdex_motion_eval(m->motion, t + tau, &k) == EXDEX_OK);
+                s[e] = contact_slip_planar(m, &k, 0, j, q, v, T, &tb, NULL);
+            }
+            ENSURE(exdex_motion_eval(m->motion, t, &k) == EXDEX_OK);
+            contact_slip_planar(m, &k, 0, j, q0, v0, T, &tb, &sdd0);
+            ENSURE(fabs(T[0] * qdd[0] + T[1] * qdd[1] + T[2] * qdd[2] + sdd0) > 1e-3); /* not trivially 0 */
+            ENSURE_CLOSE((s[1] - s[0]) / (2.0 * h), T[0] * qdd[0] + T[1] * qdd[1] + T[2] * qdd[2] + sdd0, 1e-6);
+        }
+    }
+    exdex_model_free(m);
+}
+
+/* The slip along an obstacle's rows whose contact point moves over the
+ * object (orow_slip): a section vertex of a tilted box against the square's
+ * edges, and a tilted rod's nearest hull point (its vertex and its edge
+ * interior), each with its feature held, along the trajectory q(tau) = q0 +
+ * v0 tau + qdd tau^2 / 2 in a turning gripper: the central difference of s
+ * must equal T qdd + sdd0, and T v + tb must be the slip of contact_tangent
+ * at orow_point. */
+EXDEX_TEST(sfric_obstacle_row_slip_acceleration_matches_central_difference)
+{
+    exdex_scene_def d = turning_object(0);
+    const char *bad = NULL;
+    int status = 0, codes[6], nc = 0;
+    exdex_model *m;
+    wedge_and_rod(&d);
+    m = exdex_model_alloc(&d, &status, &bad);
+    ENSURE(m != NULL);
+    if (!m) return;
+    /* the section vertex of faces 0, 1 against hull edges 0 and 2; the rod
+     * against hull vertex 1 and the interior of hull edge 3 */
+    codes[nc++] = orow_code(0, OROW_SECTION, 0, 1, 0);
+    codes[nc++] = orow_code(0, OROW_SECTION, 0, 1, 2);
+    codes[nc++] = orow_code(1, OROW_ROD, 0, 0, 1);
+    codes[nc++] = orow_code(1, OROW_ROD, 0, 0, 32 + 3);
+    {
+        double q0[3] = {0.001, 0.002, 0.3}, v0[3] = {0.05, -0.02, 1.5}, qdd[3] = {0.7, -1.1, 20.0};
+        double t = 0.13, h = 1e-5;
+        for (int i = 0; i < nc; i++) {
+            double s[2], T[3], T2[3], tb, tb2, sdd0, q[3], v[3], s0;
+            exdex_kinematics k;
+            contact_point cp;
+            ENSURE(orow_valid(m, codes[i]));
+            for (int e = 0; e < 2; e++) {
+                double tau = e ? h : -h;
+                for (int c = 0; c < 3; c++) {
+                    q[c] = q0[c] + v0[c] * tau + 0.5 * qdd[c] * tau * tau;
+                    v[c] = v0[c] + qdd[c] * tau;
+                }
+                ENSURE(exdex_motion_eval(m->motion, t + tau, &k) == EXDEX_OK);
+                s[e] = orow_slip(m, &k, codes[i], q, v, T, &tb, NULL);
+            }
+            ENSURE(exdex_motion_eval(m->motion, t, &k) == EXDEX_OK);
+            s0 = orow_slip(m, &k, codes[i], q0, v0, T, &tb, &sdd0);
+            orow_point(m, &k, codes[i], q0, &cp);
+            contact_tangent(m, &k, cp.x, cp.vx, cp.nB, T2, &tb2);
+            ENSURE_CLOSE(s0, T2[0] * v0[0] + T2[1] * v0[1] + T2[2] * v0[2] + tb2, 1e-15);
+            ENSURE(fabs(T[0] * qdd[0] + T[1] * qdd[1] + T[2] * qdd[2] + sdd0) > 1e-3); /* not trivially 0 */
+            ENSURE_CLOSE((s[1] - s[0]) / (2.0 * h), T[0] * qdd[0] + T[1] * qdd[1] + T[2] * qdd[2] + sdd0, 1e-6);
+        }
+    }
+    exdex_model_free(m);
+}
+
+/* A disc outline's obstacle rows (obstacle_rows.c): the rim point nearest a tilted
+ * rod (an envelope over the rim angle) and the centre against a wedge's
+ * section vertex, each with its feature held, along q(tau) = q0 + v0 tau +
+ * qdd tau^2 / 2 in a turning gripper: the central differences of the gap
+ * must give its rate and G qdd + gdd0, those of the slip T qdd + sdd0; a
+ * rotation scene's row (orow_1dof) the same with Fq, Fqq, Ft, Ftq, Ftt. */
+EXDEX_TEST(sfric_disc_obstacle_rows_match_central_differences)
+{
+    for (int dof = 0; dof < 2; dof++) {
+        exdex_scene_def d = turning_object(1);
+        const char *bad = NULL;
+        int status = 0, codes[2];
+        exdex_model *m;
+        d.dof = dof ? EXDEX_DOF_ROTATION : EXDEX_DOF_PLANAR;
+        wedge_and_rod(&d);
+        m = exdex_model_alloc(&d, &status, &bad);
+        ENSURE(m != NULL);
+        if (!m) return;
+        codes[0] = orow_code(1, OROW_ROD, 0, 0, 0);
+        codes[1] = orow_code(0, OROW_SECTION, 0, 1, 0);
+        for (int i = 0; i < 2; i++) {
+            double t = 0.13, h = 1e-4;
+            exdex_kinematics k;
+            ENSURE(orow_valid(m, codes[i]));
+            if (!dof) {
+                double q0[3] = {0.001, 0.002, 0.3}, v0[3] = {0.05, -0.02, 1.5}, qdd[3] = {0.7, -1.1, 20.0};
+                double g[3], s[2], Gr[3], gd, gdd0, T[3], tb, sdd0;
+                for (int e = 0; e < 3; e++) {
+                    double tau = (e - 1) * h, q[3], v[3];
+                    for (int c = 0; c < 3; c++) {
+                        q[c] = q0[c] + v0[c] * tau + 0.5 * qdd[c] * tau * tau;
+                        v[c] = v0[c] + qdd[c] * tau;
+                    }
+                    ENSURE(exdex_motion_eval(m->motion, t + tau, &k) == EXDEX_OK);
+                    g[e] = orow_planar(m, &k, codes[i], q, v, Gr, NULL, NULL);
+                    if (e != 1) s[e / 2] = orow_slip(m, &k, codes[i], q, v, T, &tb, NULL);
+                }
+                ENSURE(exdex_motion_eval(m->motion, t, &k) == EXDEX_OK);
+                orow_planar(m, &k, codes[i], q0, v0, Gr, &gd, &gdd0);
+                orow_slip(m, &k, codes[i], q0, v0, T, &tb, &sdd0);
+                ENSURE_CLOSE((g[2] - g[0]) / (2.0 * h), gd, 1e-6); /* difference error h^2 |g'''| / 6 */
+                ENSURE(fabs(Gr[0] * qdd[0] + Gr[1] * qdd[1] + Gr[2] * qdd[2] + gdd0) > 1e-3);
+                ENSURE_CLOSE((g[2] - 2.0 * g[1] + g[0]) / (h * h), Gr[0] * qdd[0] + Gr[1] * qdd[1] + Gr[2] * qdd[2] + gdd0,
+                             1e-5);
+                ENSURE(fabs(T[0] * qdd[0] + T[1] * qdd[1] + T[2] * qdd[2] + sdd0) > 1e-3);
+                ENSURE_CLOSE((s[1] - s[0]) / (2.0 * h), T[0] * qdd[0] + T[1] * qdd[1] + T[2] * qdd[2] + sdd0, 1e-6);
+            } else {
+                double q0 = 0.3, v0 = 1.5, a0 = 20.0, F[3];
+                crow c;
+                for (int e = 0; e < 3; e++) {
+                    double tau = (e - 1) * h;
+                    ENSURE(exdex_motion_eval(m->motion, t + tau, &k) == EXDEX_OK);
+                    orow_1dof(m, &k, codes[i], q0 + v0 * tau + 0.5 * a0 * tau * tau, &c);
+                    F[e] = c.F;
+                }
+                ENSURE(exdex_motion_eval(m->motion, t, &k) == EXDEX_OK);
+                orow_1dof(m, &k, codes[i], q0, &c);
+                ENSURE_CLOSE((F[2] - F[0]) / (2.0 * h), c.Fq * v0 + c.Ft, 1e-6);
+                ENSURE_CLOSE((F[2] - 2.0 * F[1] + F[0]) / (h * h),
+                             c.Fqq * v0 * v0 + 2.0 * c.Ftq * v0 + c.Ftt + c.Fq * a0, 1e-5);
+            }
+        }
+        exdex_model_free(m);
     }
 }

@@ -1,0 +1,464 @@
+/* stop_friction.c -- the acceleration-level contact problem of a planar object
+ * against frictional stops (stop_friction.h): mode enumeration, each mode solved
+ * exactly. */
+#include "stop_friction.h"
+#include "ldp.h"
+#include "util.h"
+
+#include <math.h>
+#include <string.h>
+
+#define MAX_TRIED 4096  /* modes solved at most */
+#define KMAX (SF_MAX_ROWS + SF_MAX_STOPS)  /* constraints of one mode */
+#define GMAX (2 * SF_MAX_ROWS)             /* force generators of one mode */
+enum { LOCKS_NONE = 0, LOCKS_ONLY = 1, LOCKS_TOO = 2 };  /* solve_mode: which modes it solves */
+
+int sf_lock_solve(int k, const double (*C)[3], const double *rhs, const double minv[3], double tol, double x[3])
+{
+    double Cn[KMAX][3], sq[3], best = 0.0, A[3][3], b[3];
+    int sel[3] = {-1, -1, -1};
+    if (k < 3 || k > KMAX) return 0;
+    for (int c = 0; c < 3; c++) sq[c] = sqrt(minv[c]);
+    for (int l = 0; l < k; l++) {
+        double nn = 0.0;
+        for (int c = 0; c < 3; c++) nn += (C[l][c] * sq[c]) * (C[l][c] * sq[c]);
+        nn = sqrt(nn);
+        for (int c = 0; c < 3; c++) Cn[l][c] = nn > 0.0 ? C[l][c] * sq[c] / nn : 0.0;
+    }
+    for (int i = 0; i < k; i++)
+        for (int j = i + 1; j < k; j++)
+            for (int l = j + 1; l < k; l++) {
+                double cr[3], d;
+                ex_cross3(cr, Cn[i], Cn[j]);
+                d = fabs(ex_dot3(cr, Cn[l]));
+                if (d > best) {
+                    best = d;
+                    sel[0] = i;
+                    sel[1] = j;
+                    sel[2] = l;
+                }
+            }
+    if (!(best > SF_LOCK_RANK)) return 0;
+    for (int l = 0; l < 3; l++) {
+        for (int c = 0; c < 3; c++) A[l][c] = C[sel[l]][c];
+        b[l] = rhs[sel[l]];
+    }
+    if (!ldp_solve_small(3, A, b, x)) return 0;
+    for (int l = 0; l < k; l++)
+        if (!(fabs(ex_dot3(C[l], x) - rhs[l]) <= tol)) return 0;
+    return 1;
+}
+
+/* Do the rows whose gap acceleration in r is within tol_a of 0 span the
+ * plane's three coordinates (unit rows in the metric diag(minv)^1/2, a
+ * volume above SF_LOCK_RANK)? Then they fix qdd by themselves. */
+static int rows_fix_qdd(int nr, const sf_row *rows, const double minv[3], double tol_a, const sf_result *r)
+{
+    double Cn[SF_MAX_ROWS][3];
+    int n = 0;
+    for (int i = 0; i < nr; i++) {
+        double nn = 0.0;
+        if (!(fabs(r->acc[i]) <= tol_a)) continue;
+        for (int c = 0; c < 3; c++) nn += rows[i].G[c] * rows[i].G[c] * minv[c];
+        nn = sqrt(nn);
+        if (!(nn > 0.0)) continue;
+        for (int c = 0; c < 3; c++) Cn[n][c] = rows[i].G[c] * sqrt(minv[c]) / nn;
+        n++;
+    }
+    for (int i = 0; i < n; i++)
+        for (int j = i + 1; j < n; j++)
+            for (int l = j + 1; l < n; l++) {
+                double cr[3];
+                ex_cross3(cr, Cn[i], Cn[j]);
+                if (fabs(ex_dot3(cr, Cn[l])) > SF_LOCK_RANK) return 1;
+            }
+    return 0;
+}
+
+/* A mode whose constraints fix qdd by themselves (a lock, stop_friction.h): qdd
+ * from sf_lock_solve (its constraints dependent but consistent to tol_a,
+ * else no lock). The stop forces are then any
+ * combination with coefficients c >= 0 of the mode's generators D_g (a
+ * sticking stop's row: G_i + mu T and G_i - mu T, a sliding one's: G_i -
+ * mu sigma T, a frictionless one's: G_i) that gives M (qdd - a); in the
+ * scaled coordinates x_c sqrt(minv_c / minv_0) (forces, and torques over
+ * the radius of gyration) such a combination exists iff the required R
+ * lies in the cone spanned by the D_g: the margin is the least signed
+ * distance of R to the cone's facets (planes through pairs of generators
+ * with every generator on one side), plus the band SF_BAND |R|. A cone that
+ * is all of R^3 has no facet: any force is available (margin |R| +
+ * band). Generators of rank below 3 are no lock (returns 0). The split
+ * written into r is the combination nearest R (ldp_min_combination). */
+static int solve_lock(int nr, const sf_row *rows, int ns, const sf_stop *st, const double minv[3],
+                      const double a[3], unsigned mask, const int *m, const int *roll, const double (*C)[3],
+                      const double *c0, int k, double tol_a, double tol_f, sf_result *r)
+{
+    double qdd[3], R[3], Rs[3], D[GMAX][3], Ds[GMAX][3], coef[GMAX], mR[3], mc0[KMAX], margin = INFINITY, nR;
+    int ng = 0, own[GMAX], rank3 = 0, given = 1;
+    double sgn[GMAX];
+    for (int l = 0; l < k; l++) mc0[l] = -c0[l];
+    if (!sf_lock_solve(k, C, mc0, minv, tol_a, qdd)) return 0;
+    r->tried++;
+    /* generators, scaled (above) */
+    for (int i = 0; i < nr; i++) {
+        const sf_stop *s = &st[rows[i].stop];
+        int mk = m[rows[i].stop];
+        if (!(mask >> i & 1u)) continue;
+        if (s->mu > 0.0 && roll[rows[i].stop]) given = 0;
+        if (s->mu > 0.0 && mk == SF_STICK) {
+            for (int c = 0; c < 3; c++) {
+                D[ng][c] = rows[i].G[c] + s->mu * s->T[c];
+                D[ng + 1][c] = rows[i].G[c] - s->mu * s->T[c];
+            }
+            own[ng] = own[ng + 1] = i;
+            sgn[ng] = 1.0;
+            sgn[ng + 1] = -1.0;
+            ng += 2;
+        } else if (s->mu > 0.0 && (mk == SF_SLIDE_P || mk == SF_SLIDE_M)) {
+            double sg = mk == SF_SLIDE_P ? 1.0 : -1.0;
+            for (int c = 0; c < 3; c++) D[ng][c] = rows[i].G[c] - s->mu * sg * s->T[c];
+            own[ng] = i;
+            sgn[ng++] = -sg;
+        } else {
+            memcpy(D[ng], rows[i].G, sizeof D[ng]);
+            own[ng] = i;
+            sgn[ng++] = 0.0;
+        }
+    }
+    for (int c = 0; c < 3; c++) {
+        double s0 = sqrt(minv[c] / minv[0]);
+        R[c] = (qdd[c] - a[c]) / minv[c];
+        Rs[c] = R[c] * s0;
+        mR[c] = -Rs[c];
+        for (int g = 0; g < ng; g++) Ds[g][c] = D[g][c] * s0;
+    }
+    nR = sqrt(ex_dot3(Rs, Rs));
+    /* facets of the generators' cone */
+    for (int g = 0; g < ng; g++)
+        for (int h = g + 1; h < ng; h++) {
+            double n[3], nn, lg = sqrt(ex_dot3(Ds[g], Ds[g])), lh = sqrt(ex_dot3(Ds[h], Ds[h]));
+            int pos = 1, neg = 1;
+            ex_cross3(n, Ds[g], Ds[h]);
+            nn = sqrt(ex_dot3(n, n));
+            if (!(nn > SF_LOCK_RANK * lg * lh)) continue;
+            for (int c = 0; c < 3; c++) n[c] /= nn;
+            for (int j = 0; j < ng; j++) {
+                double d = ex_dot3(n, Ds[j]), lj = sqrt(ex_dot3(Ds[j], Ds[j]));
+                if (d > SF_LOCK_RANK * lj) neg = 0;
+                if (d < -SF_LOCK_RANK * lj) pos = 0;
+                if (fabs(d) > SF_LOCK_RANK * lj) rank3 = 1;
+            }
+            if (pos && !neg) margin = fmin(margin, ex_dot3(n, Rs));
+            if (neg && !pos) margin = fmin(margin, -ex_dot3(n, Rs));
+        }
+    if (!rank3) return 0;
+    margin = (isfinite(margin) ? margin : nR) + SF_BAND * nR;
+    if (!given && !(margin >= 0.0)) return 0;
+    ldp_min_combination(ng, mR, (const double (*)[3])Ds, coef, NULL);
+    for (int c = 0; c < 3; c++) r->qdd[c] = qdd[c];
+    for (int j = 0; j < ns; j++) {
+        r->beta[j] = r->lsum[j] = 0.0;
+        r->acct[j] = ex_dot3(st[j].T, r->qdd) + st[j].sdd0;
+        r->fm[j] = st[j].fm;
+    }
+    for (int i = 0; i < nr; i++) {
+        r->lam[i] = 0.0;
+        r->acc[i] = ex_dot3(rows[i].G, r->qdd) + rows[i].gdd0;
+        if (mask >> i & 1u) r->fm[rows[i].stop] = m[rows[i].stop];
+    }
+    for (int g = 0; g < ng; g++) {
+        int i = own[g], j = rows[i].stop;
+        r->lam[i] += coef[g];
+        r->lsum[j] += coef[g];
+        r->beta[j] += sgn[g] * st[j].mu * coef[g];
+    }
+    for (int i = 0; i < nr; i++)
+        if (!(mask >> i & 1u) && !(r->acc[i] >= -tol_a)) return 0;
+    for (int j = 0; j < ns; j++) {
+        double sg;
+        if (!(st[j].mu > 0.0) || !(m[j] == SF_SLIDE_P || m[j] == SF_SLIDE_M)) continue;
+        sg = m[j] == SF_SLIDE_P ? 1.0 : -1.0;
+        if (roll[j] && !(sg * r->acct[j] >= -tol_a)) return 0;
+    }
+    (void)tol_f;
+    r->lock = 1;
+    r->margin = margin;
+    r->mask = mask;
+    return 1;
+}
+
+/* Solve one mode: rows in `mask` carry force, stop k has mode m[k] (a
+ * stop without such rows is left as given). Returns 1 if its signs hold. */
+static int solve_mode(int nr, const sf_row *rows, int ns, const sf_stop *st, const int *roll, const double minv[3],
+                      const double a[3], unsigned mask, const int *m, double tol_a, double tol_f, int locks,
+                      sf_result *r)
+{
+    double C[KMAX][3], D[KMAX][3], c0[KMAX], A[3][3], b[3], x[3] = {0, 0, 0};
+    int kind[KMAX], idx[KMAX], k = 0, has[SF_MAX_STOPS] = {0}, kinematic;
+    for (int i = 0; i < nr; i++)
+        if (mask >> i & 1u) has[rows[i].stop] = 1;
+    /* unknowns and constraints: each row carrying force (lam, its gap
+     * acceleration 0), each sticking stop with such rows (beta, its slip
+     * acceleration 0) */
+    for (int i = 0; i < nr; i++) {
+        const sf_stop *s = &st[rows[i].stop];
+        int mk = m[rows[i].stop];
+        if (!(mask >> i & 1u)) continue;
+        for (int c = 0; c < 3; c++) {
+            C[k][c] = rows[i].G[c];
+            D[k][c] = rows[i].G[c];
+        }
+        if (s->mu > 0.0 && (mk == SF_SLIDE_P || mk == SF_SLIDE_M)) {
+            double sg = mk == SF_SLIDE_P ? 1.0 : -1.0;
+            for (int c = 0; c < 3; c++) D[k][c] -= s->mu * sg * s->T[c];
+        }
+        c0[k] = rows[i].gdd0;
+        kind[k] = 0;
+        idx[k++] = i;
+    }
+    for (int j = 0; j < ns; j++) {
+        if (!has[j] || !(st[j].mu > 0.0) || m[j] != SF_STICK) continue;
+        for (int c = 0; c < 3; c++) C[k][c] = D[k][c] = st[j].T[c];
+        c0[k] = st[j].sdd0;
+        kind[k] = 1;
+        idx[k++] = j;
+    }
+    r->lock = 0;
+    r->margin = 0.0;
+    r->mask = 0u;
+    if (k > 3) return locks && solve_lock(nr, rows, ns, st, minv, a, mask, m, roll, (const double (*)[3])C, c0, k,
+                                          tol_a, tol_f, r);
+    r->tried++;
+    for (int l = 0; l < k; l++) {
+        for (int j = 0; j < k; j++) {
+            A[l][j] = 0.0;
+            for (int c = 0; c < 3; c++) A[l][j] += C[l][c] * minv[c] * D[j][c];
+        }
+        b[l] = -(ex_dot3(C[l], a) + c0[l]);
+    }
+    kinematic = k == 3;
+    if (k && !ldp_solve_small(k, A, b, x))
+        return locks && k == 3 &&
+               solve_lock(nr, rows, ns, st, minv, a, mask, m, roll, (const double (*)[3])C, c0, k, tol_a, tol_f, r);
+    if (locks == LOCKS_ONLY) return 0;
+    for (int c = 0; c < 3; c++) {
+        r->qdd[c] = a[c];
+        for (int j = 0; j < k; j++) r->qdd[c] += x[j] * minv[c] * D[j][c];
+    }
+    for (int j = 0; j < ns; j++) {
+        r->beta[j] = r->lsum[j] = 0.0;
+        r->acct[j] = ex_dot3(st[j].T, r->qdd) + st[j].sdd0;
+        r->fm[j] = has[j] ? m[j] : st[j].fm;
+    }
+    for (int i = 0; i < nr; i++) {
+        r->lam[i] = 0.0;
+        r->acc[i] = ex_dot3(rows[i].G, r->qdd) + rows[i].gdd0;
+    }
+    for (int l = 0; l < k; l++) {
+        if (kind[l] == 0) {
+            r->lam[idx[l]] = x[l];
+            r->lsum[rows[idx[l]].stop] += x[l];
+        } else {
+            r->beta[idx[l]] = x[l];
+        }
+    }
+    for (int i = 0; i < nr; i++) {
+        if (mask >> i & 1u) {
+            if (!(r->lam[i] >= -tol_f)) return 0;
+        } else if (!(r->acc[i] >= -tol_a)) {
+            return 0;
+        }
+    }
+    for (int j = 0; j < ns; j++) {
+        if (!has[j] || !(st[j].mu > 0.0)) continue;
+        if (m[j] == SF_STICK && roll[j]) {
+            if (!(fabs(r->beta[j]) <= st[j].mu * r->lsum[j] * (1.0 + SF_BAND))) return 0;
+        } else if (m[j] == SF_SLIDE_P || m[j] == SF_SLIDE_M) {
+            double sg = m[j] == SF_SLIDE_P ? 1.0 : -1.0;
+            r->beta[j] = -st[j].mu * sg * r->lsum[j];
+            if (roll[j] && !(sg * r->acct[j] >= -tol_a)) return 0;
+            /* three constraints (rows carrying force, sticking stops), or
+             * the rows held at gap acceleration 0 (within tol_a) with or
+             * without force, fix qdd whatever the friction: the slip
+             * acceleration is the kinematics', and one within tol_a of 0
+             * is no slide either way (the stop is held: a lock, with its
+             * stick mode) */
+            if (roll[j] && !(sg * r->acct[j] > tol_a) && (kinematic || rows_fix_qdd(nr, rows, minv, tol_a, r)))
+                return 0;
+        }
+    }
+    return 1;
+}
+
+/* sf_solve on at most SF_ENUM_ROWS rows: every row's modes enumerated. */
+static int solve_enum(int nr, const sf_row *rows, int ns, const sf_stop *st, const double minv[3], const double a[3],
+                      double tol_a, double tol_f, sf_result *res)
+{
+    int opt[SF_MAX_STOPS][3], nopt[SF_MAX_STOPS], roll[SF_MAX_STOPS], has[SF_MAX_STOPS] = {0}, pick[SF_MAX_STOPS],
+        m[SF_MAX_STOPS], anyroll = 0;
+    /* res zeroed where it is read (rows 0 .. nr - 1, stops 0 .. ns - 1) */
+    memset(res->qdd, 0, sizeof res->qdd);
+    res->tried = res->lock = 0;
+    res->margin = 0.0;
+    res->mask = 0u;
+    if (nr < 0 || nr > SF_ENUM_ROWS || ns < 0 || ns > SF_MAX_STOPS) return 0;
+    for (int i = 0; i < nr; i++) res->lam[i] = res->acc[i] = 0.0;
+    for (int j = 0; j < ns; j++) {
+        res->beta[j] = res->lsum[j] = res->acct[j] = 0.0;
+        res->fm[j] = 0;
+    }
+    for (int i = 0; i < nr; i++) {
+        if (rows[i].stop < 0 || rows[i].stop >= ns) return 0;
+        has[rows[i].stop] = 1;
+    }
+    for (int j = 0; j < ns; j++) {
+        roll[j] = 0;
+        if (!(st[j].mu > 0.0) || st[j].fm == SF_NONE || !has[j]) {
+            opt[j][0] = st[j].fm;
+            nopt[j] = 1;
+        } else if (st[j].fm == SF_ROLL) {
+            opt[j][0] = SF_STICK;
+            opt[j][1] = SF_SLIDE_P;
+            opt[j][2] = SF_SLIDE_M;
+            nopt[j] = 3;
+            roll[j] = 1;
+        } else {
+            opt[j][0] = st[j].fm;
+            nopt[j] = 1;
+        }
+    }
+    /* the rows carrying force: every row first, then fewer (binary count
+     * down); per row set, the stops' friction modes (mixed radix). With a
+     * rolling stop, locks only after every other mode (two passes, see
+     * stop_friction.h); with every mode given, in the one order */
+    for (int j = 0; j < ns; j++) anyroll |= roll[j];
+    for (int pass = anyroll ? 0 : 1; pass < 2; pass++)
+    for (unsigned mask = (1u << nr) - 1u;; mask--) {
+        int on[SF_MAX_STOPS] = {0};
+        for (int i = 0; i < nr; i++)
+            if (mask >> i & 1u) on[rows[i].stop] = 1;
+        for (int j = 0; j < ns; j++) pick[j] = 0;
+        for (;;) {
+            int dup = 0;
+            for (int j = 0; j < ns; j++) {
+                m[j] = opt[j][pick[j]];
+                dup |= !on[j] && pick[j] > 0;  /* a stop without force: its mode does not matter */
+            }
+            if (!dup) {
+                if (res->tried >= MAX_TRIED) return 0;
+                if (solve_mode(nr, rows, ns, st, roll, minv, a, mask, m, tol_a, tol_f,
+                               !anyroll ? LOCKS_TOO : pass ? LOCKS_ONLY : LOCKS_NONE, res))
+                    return 1;
+            }
+            {
+                int j = 0;
+                while (j < ns && ++pick[j] >= nopt[j]) pick[j++] = 0;
+                if (j == ns) break;
+            }
+        }
+        if (mask == 0u) break;
+    }
+    return 0;
+}
+
+/* Squared distance of two rows' G. */
+static double gdist2(const sf_row *p, const sf_row *q)
+{
+    double s = 0.0;
+    for (int c = 0; c < 3; c++) s += (p->G[c] - q->G[c]) * (p->G[c] - q->G[c]);
+    return s;
+}
+
+/* The rows enumerated when there are more than SF_ENUM_ROWS (stop_friction.h) into
+ * en, in increasing index; returns their count. A stop's rows are points
+ * on one line with one normal n, so G_i = (n, arm_i) with the arm affine
+ * in the point's place along the line: every G_i is a convex combination of
+ * the two extreme rows' (the pair farthest apart in G), and so are the gap
+ * accelerations G_i qdd + gdd0_i (gdd0 is affine in the point too). A force
+ * sum lam_i G_i, lam >= 0, is therefore a force on the extremes alone, and
+ * the extremes' gap accelerations >= 0 hold the others': a stop with more
+ * than two rows enters with its two extremes. */
+static int enum_rows(int nr, const sf_row *rows, int ns, int *en)
+{
+    int ne = 0, cnt[SF_MAX_STOPS], first[SF_MAX_STOPS], ea[SF_MAX_STOPS], eb[SF_MAX_STOPS];
+    double da[SF_MAX_STOPS], db[SF_MAX_STOPS];
+    for (int j = 0; j < ns; j++) {
+        cnt[j] = 0;
+        first[j] = ea[j] = eb[j] = -1;
+        da[j] = db[j] = -1.0;
+    }
+    for (int i = 0; i < nr; i++) {
+        int j = rows[i].stop;
+        if (!cnt[j]++) first[j] = i;
+    }
+    /* ea: the row farthest from the stop's first; eb: the row farthest from ea */
+    for (int i = 0; i < nr; i++) {
+        int j = rows[i].stop;
+        double d = gdist2(&rows[i], &rows[first[j]]);
+        if (d > da[j]) {
+            da[j] = d;
+            ea[j] = i;
+        }
+    }
+    for (int i = 0; i < nr; i++) {
+        int j = rows[i].stop;
+        double d = gdist2(&rows[i], &rows[ea[j]]);
+        if (d > db[j]) {
+            db[j] = d;
+            eb[j] = i;
+        }
+    }
+    for (int i = 0; i < nr; i++) {
+        int j = rows[i].stop;
+        if (cnt[j] <= 2 || i == ea[j] || i == eb[j]) en[ne++] = i;
+    }
+    return ne;
+}
+
+int sf_solve(int nr, const sf_row *rows, int ns, const sf_stop *st, const double minv[3], const double a[3],
+             double tol_a, double tol_f, sf_result *res)
+{
+    sf_row rr[SF_ENUM_ROWS];
+    sf_result sub;
+    int en[SF_MAX_ROWS], ne, ok;
+    if (nr <= SF_ENUM_ROWS) return solve_enum(nr, rows, ns, st, minv, a, tol_a, tol_f, res);
+    memset(res->qdd, 0, sizeof res->qdd);
+    res->tried = res->lock = 0;
+    res->margin = 0.0;
+    res->mask = 0u;
+    if (nr > SF_MAX_ROWS || ns < 0 || ns > SF_MAX_STOPS) return 0;
+    for (int i = 0; i < nr; i++)
+        if (rows[i].stop < 0 || rows[i].stop >= ns) return 0;
+    /* the reduced problem (enum_rows), then every row's force (0 off the
+     * extremes) and gap acceleration, each >= -tol_a */
+    ne = enum_rows(nr, rows, ns, en);
+    if (ne > SF_ENUM_ROWS) return 0;
+    for (int b = 0; b < ne; b++) rr[b] = rows[en[b]];
+    ok = solve_enum(ne, rr, ns, st, minv, a, tol_a, tol_f, &sub);
+    memcpy(res->qdd, sub.qdd, sizeof res->qdd);
+    res->tried = sub.tried;
+    res->lock = sub.lock;
+    res->margin = sub.margin;
+    for (int j = 0; j < ns; j++) {
+        res->beta[j] = sub.beta[j];
+        res->lsum[j] = sub.lsum[j];
+        res->acct[j] = sub.acct[j];
+        res->fm[j] = sub.fm[j];
+    }
+    for (int i = 0; i < nr; i++) {
+        res->lam[i] = 0.0;
+        res->acc[i] = ex_dot3(rows[i].G, res->qdd) + rows[i].gdd0;
+    }
+    for (int b = 0; b < ne; b++) {
+        res->lam[en[b]] = sub.lam[b];
+        res->acc[en[b]] = sub.acc[b];
+        if (sub.mask >> b & 1u) {
+            if (en[b] >= 32) return 0;  /* a lock's rows must fit the mask's bits */
+            res->mask |= 1u << en[b];
+        }
+    }
+    if (!ok) return 0;
+    for (int i = 0; i < nr; i++)
+        if (!(res->acc[i] >= -tol_a)) return 0;
+    return 1;
+}

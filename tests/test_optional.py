@@ -1,0 +1,156 @@
+"""``import exdex`` needs only NumPy; the optional parts say which extra to install.
+
+Each test runs a fresh interpreter whose import system refuses the optional
+packages (a meta-path finder raising ModuleNotFoundError, as a missing
+package does), so the installed matplotlib/tqdm/pybullet/mujoco cannot leak in.
+"""
+import json
+import os
+import subprocess
+import sys
+import textwrap
+
+import pytest
+
+BLOCKER = textwrap.dedent("""
+    import importlib.abc, sys
+    BLOCKED = set({blocked!r})
+    class _Blocker(importlib.abc.MetaPathFinder):
+        def find_spec(self, name, path=None, target=None):
+            if name.split(".")[0] in BLOCKED:
+                raise ModuleNotFoundError(f"No module named {{name!r}}", name=name)
+            return None
+    sys.meta_path.insert(0, _Blocker())
+""")
+
+OPTIONAL = ["matplotlib", "tqdm", "pybullet", "mujoco", "scipy", "pandas", "dask"]
+
+
+def _run(code, blocked, *args):
+    src = BLOCKER.format(blocked=list(blocked)) + textwrap.dedent(code)
+    env = dict(os.environ, PYTHONWARNINGS="ignore")
+    return subprocess.run([sys.executable, "-c", src, *args], capture_output=True, text=True, env=env, timeout=300)
+
+
+def test_import_exdex_needs_only_numpy():
+    """With every optional package blocked, ``import exdex`` works, imports
+    none of them, and a simulation runs."""
+    p = _run("""
+        import json, sys, time
+        t0 = time.perf_counter()
+        import exdex
+        dt = time.perf_counter() - t0
+        sc = exdex.Scene(body=exdex.Body(mass=0.1), grasp=exdex.Grasp(mu=0.5, grip_force=2.0))
+        r = exdex.simulate(sc, 0.01, 1e-3)
+        mods = sorted(m for m in sys.modules if m.split(".")[0] in BLOCKED)
+        print(json.dumps(dict(mods=mods, n=len(r.t), seconds=dt)))
+    """, OPTIONAL)
+    assert p.returncode == 0, p.stderr
+    out = json.loads(p.stdout.strip().splitlines()[-1])
+    assert out["mods"] == [] and out["n"] == 11
+
+
+def test_library_and_command_modules_import_with_only_numpy():
+    """The benchmark libraries and every command's module import without the
+    optional packages (they are imported by the call that needs them); a
+    figure asked of them names the plot extra, an engine run the engines extra."""
+    p = _run("""
+        import importlib, json, sys
+        from exdex import cli
+        mods = ["exdex.studies.bench", "exdex.studies.hold", "exdex.engines"] + sorted({m for m, _, _ in cli.COMMANDS.values()})
+        for m in mods:
+            importlib.import_module(m)
+        loaded = sorted(m for m in sys.modules if m.split(".")[0] in BLOCKED)
+        msgs = []
+        import exdex.studies.bench, exdex.engines, exdex.studies.hold
+        for call in (lambda: exdex.studies.hold.plot({}, "unused.png", 1.0),
+                     lambda: exdex.studies.bench.plot_maps([], "fig3", "unused.png", "", {}),
+                     lambda: exdex.engines.run_drake(exdex.paper.fig3_scene(), 0.01)):
+            try:
+                call()
+            except ImportError as exc:
+                msgs.append(str(exc))
+        print(json.dumps(dict(mods=mods, loaded=loaded, msgs=msgs)))
+    """, OPTIONAL + ["pydrake"])
+    assert p.returncode == 0, p.stderr
+    out = json.loads(p.stdout.strip().splitlines()[-1])
+    assert out["loaded"] == [] and len(out["mods"]) >= 9
+    assert len(out["msgs"]) == 3
+    assert all("exdex[plot]" in m and "matplotlib" in m for m in out["msgs"][:2])
+    assert "exdex[engines]" in out["msgs"][2] and "pydrake" in out["msgs"][2]
+
+
+def test_plot_without_matplotlib_names_the_extra():
+    p = _run("""
+        import exdex
+        sc = exdex.Scene(body=exdex.Body(mass=0.1), grasp=exdex.Grasp(mu=0.5, grip_force=2.0))
+        r = exdex.simulate(sc, 0.01, 1e-3)
+        try:
+            r.plot()
+        except ImportError as exc:
+            assert isinstance(exc, exdex.MissingExtraError), type(exc)
+            print("MSG", exc)
+        else:
+            print("NO ERROR")
+    """, ["matplotlib", "tqdm"])
+    assert p.returncode == 0, p.stderr
+    assert "MSG" in p.stdout and "exdex[plot]" in p.stdout and "matplotlib" in p.stdout
+
+
+def test_animate_and_tool_figures_without_matplotlib():
+    p = _run("""
+        import exdex
+        sc = exdex.Scene(body=exdex.Body.box(0.1, (0.02, 0.04, 0.02)), grasp=exdex.Grasp(mu=0.5, grip_force=2.0))
+        r = exdex.simulate(sc, 0.01, 1e-3)
+        for name, call in (("animate", lambda: r.animate()),
+                           ("tool", lambda: exdex.tool.figure_theta_curves([]))):
+            try:
+                call()
+            except ImportError as exc:
+                print(name, "MSG", exc)
+    """, ["matplotlib", "tqdm"])
+    assert p.returncode == 0, p.stderr
+    lines = [ln for ln in p.stdout.splitlines() if "MSG" in ln]
+    assert len(lines) == 2 and all("exdex[plot]" in ln and "matplotlib" in ln for ln in lines), p.stdout
+
+
+def test_sweep_progress_without_tqdm():
+    """sweep's default bar appears only when tqdm is installed; asking for it
+    without tqdm names the extra."""
+    p = _run("""
+        import exdex
+        sc = exdex.Scene(body=exdex.Body(mass=0.1), grasp=exdex.Grasp(mu=0.5, grip_force=2.0))
+        s = exdex.sweep(sc, {"mu": [0.3, 0.5]}, t_end=0.01, dt=1e-3)
+        print("DEFAULT", len(s))
+        try:
+            exdex.sweep(sc, {"mu": [0.3, 0.5]}, t_end=0.01, dt=1e-3, progress=True)
+        except ImportError as exc:
+            print("MSG", exc)
+    """, ["tqdm"])
+    assert p.returncode == 0, p.stderr
+    assert "DEFAULT 2" in p.stdout
+    assert "MSG" in p.stdout and "exdex[plot]" in p.stdout and "tqdm" in p.stdout
+
+
+@pytest.mark.parametrize("argv,blocked,extra", [
+    (["paper", "--cases", "fig3"], ["matplotlib"], "plot"),
+    (["tool", "--quick", "--no-progress"], ["matplotlib"], "plot"),
+    (["bench", "--quick"], ["matplotlib", "tqdm"], "plot"),
+    (["compare", "--cases", "fig3", "--no-plots"], ["pybullet"], "engines"),
+    (["compare", "--cases", "fig3"], ["mujoco", "matplotlib"], "engines"),
+])
+def test_cli_missing_extra_is_one_line(argv, blocked, extra, tmp_path):
+    """A command whose optional packages are missing prints one line naming
+    them and the extra, and exits with status 3 (not a traceback)."""
+    p = _run("""
+        import sys
+        from exdex.cli import main
+        sys.exit(main(sys.argv[1:]))
+    """, blocked, *argv, "--out", str(tmp_path))
+    assert p.returncode == 3, (p.returncode, p.stdout, p.stderr)
+    lines = [ln for ln in p.stderr.splitlines() if ln.strip()]
+    assert len(lines) == 1, p.stderr
+    assert f"exdex[{extra}]" in lines[0] and "Traceback" not in p.stderr
+    for mod in blocked:
+        assert mod in lines[0]
+    assert os.listdir(tmp_path) == []  # nothing was computed before the check
