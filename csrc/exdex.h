@@ -340,6 +340,7 @@ enum exdex_method {
 
 #define EXDEX_MAX_STOPS 8
 #define EXDEX_MAX_VERTICES 32
+#define EXDEX_REGION_MAX_VERTICES 32  /* vertices of a contact region (exdex_scene_def) */
 #define EXDEX_MAX_OBSTACLES 4
 #define EXDEX_MAX_FACES 12
 #define EXDEX_MAX_PAD_VERTICES 32
@@ -517,7 +518,54 @@ typedef struct exdex_scene_def {
     double face[EXDEX_MAX_PAD_VERTICES][2];
     double face_radius;
     double face_center[2];
+    /* The limit surface of the plate friction (enum exdex_limit_surface):
+     * EXDEX_LS_ELLIPSOID (0, a zero-initialised field) the paper's Eq. 6
+     * with e_r; EXDEX_LS_EXACT uniform-pressure Coulomb friction over the
+     * contact region below with maximum dissipation (e_r is then not used:
+     * the region's mean distance from patch_center takes its place where a
+     * method needs a torsional length, the 1-DoF rotation's capacity and
+     * the scene's length scale). The exact surface needs a region
+     * (EXDEX_EINVAL, bad_param "region_kind" without one); planar scenes
+     * with it run the implicit and event methods, without stops,
+     * obstacles or pads (EXDEX_EINVAL, bad_param "limit_surface",
+     * otherwise);
+     * 1-DoF scenes run every method (a translation's friction is the
+     * capacity whatever the shape; a rotation's torque capacity is the
+     * region's). */
+    int limit_surface;
+    /* The contact region of each finger in C relative to patch_center (the
+     * reference point of the friction wrench) [m]: region_kind 0 none,
+     * 1 a convex polygon of region_n (3 .. EXDEX_REGION_MAX_VERTICES)
+     * vertices region_vertices, counter-clockwise, 2 a disc of radius
+     * region_radius centred on patch_center. Used by the exact surface
+     * only (a region with the ellipsoid is checked and otherwise ignored). */
+    int region_kind;
+    int region_n;
+    double region_vertices[EXDEX_REGION_MAX_VERTICES][2];
+    double region_radius;
 } exdex_scene_def;
+
+/* Limit surfaces of the plate friction (exdex_scene_def.limit_surface). */
+enum exdex_limit_surface {
+    EXDEX_LS_ELLIPSOID = 0,  /* paper Eq. 6: w^T E^-2 w <= (mu N)^2 */
+    EXDEX_LS_EXACT = 1       /* uniform pressure over the region, maximum dissipation */
+};
+enum exdex_region_kind { EXDEX_REGION_NONE = 0, EXDEX_REGION_POLYGON = 1, EXDEX_REGION_DISC = 2 };
+
+/* A contact's limit surface per unit capacity (mu N = 1), at the reference
+ * point of the region (limitsurf.c): surface an enum exdex_limit_surface,
+ * e_r [m] > 0 for the ellipsoid, the region (region_kind, region_n,
+ * region_vertices, region_radius, as in exdex_scene_def) for the exact
+ * surface. what = 0: in is a slip twist u = (v_x, v_y, omega) != 0, out
+ * its friction wrench (f_x, f_y, m_z) and *scalar its dissipation D(u)
+ * (out . u = -D(u)); what = 1: in is a wrench the contact must supply,
+ * *scalar its gauge (it is carried at capacity C iff gauge <= C: the stick
+ * test) and out the unit slip twist it drives at the limit. Returns
+ * EXDEX_OK, EXDEX_EINVAL (bad surface, e_r or region, non-finite or zero u,
+ * what not 0 or 1), EXDEX_ENOCONV (the exact gauge's search, capped). */
+int exdex_limit_surface_eval(int surface, double e_r, int region_kind, int region_n,
+                             const double (*region_vertices)[2], double region_radius, int what, const double in[3],
+                             double out[3], double *scalar);
 
 /* The area ratio below which the pads' contact region counts as vanished. */
 #define EXDEX_PAD_LOST 1e-6

@@ -1283,7 +1283,7 @@ static double planar_load(hyb *H, const frame *f, const exdex_kinematics *kin, c
     if (H->ncs) return planar_rest(H, kin, y, F, w, lam);
     for (int i = 0; i < 3; i++) F[i] = -F[i];
     model_patch_of_gen(m, MODEL_CS(y[2]), F, w);
-    return model_ell_norm(m, w);
+    return model_ls_gauge(m, w);
 }
 
 static int planar_load_held(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y)
@@ -1358,7 +1358,13 @@ static int planar_friction(hyb *H, const frame *f, const exdex_kinematics *kin, 
                 for (int i = 0; i < 3; i++) w[i] = -gn * m->e[i] * eu[i];
             }
         } else if (sig > 0.0 && !H->small) {
-            for (int i = 0; i < 3; i++) w[i] = -H->cap * m->e[i] * eu[i] / sig;
+            if (m->ls_exact) {
+                /* the exact surface's maximum-dissipation wrench of the slip */
+                limitsurf_wrench(&m->ls, u, w, NULL);
+                for (int i = 0; i < 3; i++) w[i] *= H->cap;
+            } else {
+                for (int i = 0; i < 3; i++) w[i] = -H->cap * m->e[i] * eu[i] / sig;
+            }
         } else {
             /* slip starting from rest, and a small slip growing from rest:
              * the maximum-dissipation wrench for an infinitesimal step,
@@ -1373,7 +1379,7 @@ static int planar_friction(hyb *H, const frame *f, const exdex_kinematics *kin, 
             int st;
             model_patch_of_gen(m, MODEL_CS(th), F, wF);
             ex_mulmv3(b, m->prep.W, wF);
-            st = exdex_friction_solve(&m->prep, b, H->cap, EXDEX_SOLVER_SCALAR, NULL, NULL, &res);
+            st = limitsurf_step(&m->ls, &m->prep, b, H->cap, EXDEX_SOLVER_SCALAR, NULL, NULL, &res);
             if (st) return st;
             memcpy(w, res.p, 3 * sizeof *w);
             if (H->ncs && kin) {
@@ -1941,7 +1947,7 @@ static int guards(hyb *H, double t, const double *y, double *g)
                 } else {
                     for (int i = 0; i < 3; i++) F[i] = -F[i];
                     model_patch_of_gen(m, MODEL_CS(y[2]), F, w);
-                    g[n++] = model_ell_norm(m, w) - H->cap * (1.0 + TOLF);
+                    g[n++] = model_ls_gauge(m, w) - H->cap * (1.0 + TOLF);
                 }
                 g[n++] = SLIP_UP * H->zsw - sig;
             } else {
@@ -1960,7 +1966,7 @@ static int guards(hyb *H, double t, const double *y, double *g)
             } else {
                 for (int i = 0; i < 3; i++) F[i] = -F[i];
                 model_patch_of_gen(m, MODEL_CS(y[2]), F, w);
-                g[n++] = H->caps * (1.0 + TOLF) - model_ell_norm(m, w);
+                g[n++] = H->caps * (1.0 + TOLF) - model_ls_gauge(m, w);
             }
         }
         if (H->ns || H->no) {
@@ -2172,7 +2178,7 @@ static void decide_modes(hyb *H, double t, double *y, int vzero)
             double mF[3] = {-F[0], -F[1], -F[2]};
             model_patch_of_gen(m, MODEL_CS(y[2]), mF, w);
         }
-        if (!H->ncs && model_ell_norm(m, w) <= H->caps * (1.0 + TOLF)) {
+        if (!H->ncs && model_ls_gauge(m, w) <= H->caps * (1.0 + TOLF)) {
             H->mode = MODE_STICK;
         } else {
             /* starts to slip: the direction of the slip acceleration */
@@ -2181,7 +2187,7 @@ static void decide_modes(hyb *H, double t, double *y, int vzero)
             int st;
             model_patch_of_gen(m, MODEL_CS(y[2]), F, wF);
             ex_mulmv3(b, m->prep.W, wF);
-            st = exdex_friction_solve(&m->prep, b, H->cap, EXDEX_SOLVER_SCALAR, NULL, NULL, &res);
+            st = limitsurf_step(&m->ls, &m->prep, b, H->cap, EXDEX_SOLVER_SCALAR, NULL, NULL, &res);
             if (st) {
                 H->err = H->err ? H->err : st;
                 return;

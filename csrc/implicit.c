@@ -892,7 +892,7 @@ static int step_planar(const exdex_model *m, double h, double capm, double capsm
      * only the kinetic one runs (the same result, without the wasted slide) */
     {
         int skip_static = 0;
-        if (caps != cap) {
+        if (caps != cap && !m->ls_exact) {
             double c[3], ct[3], t = 0.0;
             for (int i = 0; i < 3; i++) c[i] = m->prep.e[i] * b[i];
             ex_mulmtv3(ct, m->prep.Q, c);
@@ -902,14 +902,14 @@ static int step_planar(const exdex_model *m, double h, double capm, double capsm
             }
             skip_static = isfinite(t) && t > 1.0 + 1e-5;
         }
-        s = exdex_friction_solve(&m->prep, b, skip_static ? cap : caps, m->def.friction_solver, w->fws,
-                                 w->have_prev ? w->p_prev : NULL, fr);
+        s = limitsurf_step(&m->ls, &m->prep, b, skip_static ? cap : caps, m->def.friction_solver, w->fws,
+                           w->have_prev ? w->p_prev : NULL, fr);
         if (s) return s;
         st->solver_iterations += (size_t)fr->iterations;
         if (skip_static) goto friction_done;
     }
     if (!fr->stick && caps != cap) {
-        s = exdex_friction_solve(&m->prep, b, cap, m->def.friction_solver, w->fws, w->have_prev ? w->p_prev : NULL, fr);
+        s = limitsurf_step(&m->ls, &m->prep, b, cap, m->def.friction_solver, w->fws, w->have_prev ? w->p_prev : NULL, fr);
         if (s) return s;
         st->solver_iterations += (size_t)fr->iterations;
     }
@@ -963,6 +963,15 @@ friction_done:
     }
     if (round == 12) st->warnings++; /* active-set rounds ran out: last iterate kept */
 done:
+    if (m->ls_exact) {
+        /* the exact surface's warm start is the last slip twist (its
+         * direction starts the next sliding step's search) */
+        if (!fr->stick) {
+            memcpy(w->p_prev, fr->u, sizeof w->p_prev);
+            w->have_prev = 1;
+        }
+        return EXDEX_OK;
+    }
     w->p_prev[0] = fr->p[0];
     w->p_prev[1] = fr->p[1];
     w->p_prev[2] = fr->p[2];
@@ -1329,7 +1338,9 @@ static int implicit_substep(const exdex_model *m, work *w, const model_sub *sub,
                     fr.stick = rest;
                 }
             }
-            if (slipping && !fr.stick && capsm != capm && restick_planar(m, MODEL_CS(qm[2]), capsm, v, vn, F, w)) {
+            /* the in-step refinements below integrate the ellipsoid's slip
+             * law: the exact surface takes the plain step */
+            if (slipping && !fr.stick && capsm != capm && !m->ls_exact && restick_planar(m, MODEL_CS(qm[2]), capsm, v, vn, F, w)) {
                 /* the slip stops inside the step and the static capacity
                  * holds the load: at rest, the plates' impulse the one that
                  * ends the step there */
@@ -1340,7 +1351,7 @@ static int implicit_substep(const exdex_model *m, work *w, const model_sub *sub,
                 model_patch_of_gen(m, MODEL_CS(qm[2]), pfB, fr.p);
                 fr.stick = 1;
             }
-            if (fr.stick && (v[0] != 0.0 || v[1] != 0.0 || v[2] != 0.0)) {
+            if (fr.stick && !m->ls_exact && (v[0] != 0.0 || v[1] != 0.0 || v[2] != 0.0)) {
                 /* a slip that stops inside the step (slip_stop_in_step_planar),
                  * where no stop acts and the end position keeps every row's
                  * bound */
@@ -1354,7 +1365,7 @@ static int implicit_substep(const exdex_model *m, work *w, const model_sub *sub,
                     moved = 1;
                 }
             }
-            if (!fr.stick && !moved && slipping && jump_at(m, t)) {
+            if (!fr.stick && !moved && slipping && !m->ls_exact && jump_at(m, t)) {
                 /* a sub-step that starts at a velocity jump of the frame
                  * with the slip the jump set, and slides through: the slip
                  * integrated over it (slip_through_step_planar), where no

@@ -129,6 +129,22 @@ static int check_pads(const exdex_scene_def *d, pads_shape *pad, pads_shape *fac
 
 /* Field-by-field validation of everything but R0, the motion, the planar
  * friction problem and the initial stop gaps (those need the model built). */
+int model_region(const exdex_scene_def *d, region *rg)
+{
+    if (d->region_kind == EXDEX_REGION_DISC) {
+        region_set_disc(rg, 0.0, 0.0, d->region_radius);
+    } else if (d->region_kind == EXDEX_REGION_POLYGON) {
+        if (d->region_n < 3 || d->region_n > EXDEX_REGION_MAX_VERTICES) return EXDEX_EINVAL;
+        memset(rg, 0, sizeof *rg);
+        rg->kind = REGION_POLYGON;
+        rg->n = d->region_n;
+        memcpy(rg->v, d->region_vertices, (size_t)d->region_n * sizeof rg->v[0]);
+    } else {
+        return EXDEX_EINVAL;
+    }
+    return region_check(rg);
+}
+
 static int check_fields(const exdex_scene_def *d, const char **bad_param)
 {
     double scale;
@@ -206,6 +222,19 @@ static int check_fields(const exdex_scene_def *d, const char **bad_param)
     if (d->method == EXDEX_METHOD_ANALYTIC && exdex_analytic_unsupported(d)) return bad(bad_param, "method");
     if (d->friction_solver < EXDEX_SOLVER_SCALAR || d->friction_solver > EXDEX_SOLVER_MULTIROOT)
         return bad(bad_param, "friction_solver");
+    if (d->limit_surface != EXDEX_LS_ELLIPSOID && d->limit_surface != EXDEX_LS_EXACT)
+        return bad(bad_param, "limit_surface");
+    if (d->region_kind != EXDEX_REGION_NONE) {
+        region rg;
+        if (model_region(d, &rg) != EXDEX_OK) return bad(bad_param, "region_kind");
+    }
+    if (d->limit_surface == EXDEX_LS_EXACT) {
+        if (d->region_kind == EXDEX_REGION_NONE) return bad(bad_param, "region_kind");
+        if (d->pad_n > 0 || d->pad_radius > 0.0) return bad(bad_param, "limit_surface");
+        if (d->dof == EXDEX_DOF_PLANAR &&
+            (d->n_stops || d->n_obstacles || (d->method != EXDEX_METHOD_IMPLICIT && d->method != EXDEX_METHOD_EVENT)))
+            return bad(bad_param, "limit_surface");
+    }
     if (!(isfinite(d->eps) && d->eps > 0)) return bad(bad_param, "eps");
     if (!(isfinite(d->rtol) && d->rtol > 0)) return bad(bad_param, "rtol");
     if (!(isfinite(d->atol) && d->atol > 0)) return bad(bad_param, "atol");
@@ -1109,6 +1138,16 @@ static exdex_model *build_model(const exdex_scene_def *def, int *status, const c
     }
     m->e[0] = m->e[1] = 1.0;
     m->e[2] = def->e_r;
+    if (def->limit_surface == EXDEX_LS_EXACT) {
+        region rg;
+        model_region(def, &rg);  /* checked by check_fields */
+        limitsurf_set_exact(&m->ls, &rg);
+        limitsurf_prepare_bounds(&m->ls);
+        m->ls_exact = 1;
+        m->e[2] = m->ls.e[2];
+    } else {
+        limitsurf_set_ellipsoid(&m->ls, def->e_r);
+    }
     m->pc[0] = def->patch_center[0];
     m->pc[1] = def->patch_center[1];
     if (def->pad_n > 0 || def->pad_radius > 0.0) {

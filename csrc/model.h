@@ -12,6 +12,7 @@
 #include <gsl/gsl_interp.h>
 
 #include "exdex.h"
+#include "limitsurf.h"
 #include "pads.h"
 
 #define MAX_ROWS (EXDEX_MAX_STOPS * EXDEX_MAX_VERTICES)
@@ -53,7 +54,10 @@ struct exdex_model {
     double izz;
     double capF;            /* friction capacity mu * fingers * grip_force [N] (a schedule: its
                                largest value; read the capacity with model_capacity) */
-    double e[3];            /* (1, 1, e_r) */
+    double e[3];            /* (1, 1, e_r); the exact surface: e_r its mean distance (limitsurf.h) */
+    limitsurf ls;           /* the limit surface per unit capacity (the ellipsoid of e, or the
+                               exact surface of the region in patch coordinates) */
+    int ls_exact;           /* 1: ls is the exact surface */
     double pc[2];           /* centre of pressure in C */
     double g[3];            /* gravity in A */
     /* translation */
@@ -441,6 +445,21 @@ static inline void model_to_b(const double cs[2], const double w[3], double out[
     out[0] = x;
     out[1] = y;
     out[2] = w[2];
+}
+/* The scene's contact region (region_kind, region_n, region_vertices,
+ * region_radius) as a region in patch coordinates: EXDEX_OK if valid. */
+int model_region(const exdex_scene_def *d, region *rg);
+
+/* The gauge of a patch wrench per unit capacity (limitsurf.h): w is
+ * carried at capacity C iff it is <= C. The ellipsoid's |E^-1 w|
+ * (model_ell_norm itself, bit for bit), or the exact surface's (NaN if its
+ * search fails: a comparison with it is then false). */
+static inline double model_ell_norm(const exdex_model *m, const double w[3]);
+static inline double model_ls_gauge(const exdex_model *m, const double w[3])
+{
+    double g;
+    if (!m->ls_exact) return model_ell_norm(m, w);
+    return limitsurf_gauge(&m->ls, w, &g, NULL) == EXDEX_OK ? g : NAN;
 }
 /* ------------------------------------------------------ pads on the fingers */
 

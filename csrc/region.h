@@ -1,7 +1,7 @@
 /* region.h -- private to the exdex core: integrals over a plane contact
  * region of uniform pressure, in closed form. Pure geometry: no model, no
  * allocation, every loop bounded (a polygon's edges; the disc's series at
- * most REGION_SERIES_MAX terms). Used for the centre of pressure and e_r of
+ * most REGION_SERIES_MAX terms, its AGM REGION_AGM_MAX rounds). Used for the centre of pressure and e_r of
  * a region and by the exact limit surface (limitsurf.h).
  *
  * A region is a convex polygon (vertices counter-clockwise, 3 ..
@@ -21,9 +21,10 @@
  * Polygons by the divergence and gradient theorems as sums over the edges
  * (div(x |x|) = 3 |x|, grad |x| = x / |x|, div(x / |x|) = 1 / |x| in the
  * plane), each edge integral of |x| and x/|x| in closed form with asinh;
- * discs by complete elliptic integrals (GSL's Carlson forms RF, RD, from the
- * boundary integral over the circle), with a hypergeometric series for a
- * centre near the disc's centre or far from the disc (k^2 < 1/4) where the
+ * discs by complete elliptic integrals K, E (from the boundary integral
+ * over the circle; by the arithmetic-geometric mean, checked against GSL's
+ * gsl_sf_ellint_Kcomp/_Ecomp), with a hypergeometric series for a centre
+ * near the disc's centre or far from the disc (k^2 < 1/2) where the
  * Legendre combination cancels.
  *
  * Accuracy: to a few units of rounding relative to the integrals' scale
@@ -40,6 +41,7 @@
 
 #define REGION_MAX_VERTICES 64
 #define REGION_SERIES_MAX 80
+#define REGION_AGM_MAX 40
 
 enum region_kind {
     REGION_NONE = 0,     /* no region (a patch given by e_r alone) */
@@ -57,10 +59,10 @@ typedef struct region {
 
 /* The integrals at one point c (see above). */
 typedef struct region_moments {
-    double F;        /* Int |x| dA */
-    double G[2];     /* Int x / |x| dA */
-    double Phi;      /* Int 1 / |x| dA */
-    double H[3];     /* Int x x^T / |x|^3 dA as (xx, xy, yy) */
+    double dist;     /* F = Int |x| dA */
+    double dir[2];   /* G = Int x / |x| dA */
+    double inv;      /* Phi = Int 1 / |x| dA */
+    double dyad[3];  /* H = Int x x^T / |x|^3 dA as (xx, xy, yy) */
 } region_moments;
 
 /* EXDEX_OK for a valid region: a polygon with 3 .. REGION_MAX_VERTICES

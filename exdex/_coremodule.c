@@ -367,6 +367,29 @@ static int pads_from_dict(PyObject *spec, exdex_scene_def *def)
     return 0;
 }
 
+/* Optional limit surface: limit_surface (0 ellipsoid, 1 exact) and the
+ * contact region region_vertices (k, 2) or region_radius (absent: none). */
+static int surface_from_dict(PyObject *spec, exdex_scene_def *def)
+{
+    npy_intp n = 0;
+    PyArrayObject *a;
+    if (PyDict_GetItemString(spec, "limit_surface") && dict_int(spec, "limit_surface", &def->limit_surface))
+        return -1;
+    a = dict_rows(spec, "region_vertices", 2, EXDEX_REGION_MAX_VERTICES, &n);
+    if (!a) return -1;
+    if (n) {
+        memcpy(def->region_vertices, PyArray_DATA(a), (size_t)n * 2 * sizeof(double));
+        def->region_n = (int)n;
+        def->region_kind = EXDEX_REGION_POLYGON;
+    }
+    Py_DECREF(a);
+    if (PyDict_GetItemString(spec, "region_radius") && PyDict_GetItemString(spec, "region_radius") != Py_None) {
+        if (dict_double(spec, "region_radius", &def->region_radius)) return -1;
+        if (!n) def->region_kind = EXDEX_REGION_DISC;
+    }
+    return 0;
+}
+
 /* Fill an exdex_scene_def from a spec dict. Sampled-motion arrays and the
  * grip schedule are returned as new references in *times / *poses / *grip
  * (kept alive by the caller until the model is built); a chain's pieces and
@@ -444,6 +467,7 @@ static int scene_from_dict(PyObject *spec, exdex_scene_def *def, PyArrayObject *
     if (PyDict_GetItemString(spec, "motion_time_shift") &&
         dict_double(spec, "motion_time_shift", &def->motion.time_shift))
         goto fail;
+    if (surface_from_dict(spec, def)) goto fail;
     if (def->motion.kind == EXDEX_MOTION_CHAIN && chain_pieces(spec, &def->motion, times)) goto fail;
     if (def->motion.kind == EXDEX_MOTION_SAMPLED) {
         PyObject *tobj = PyDict_GetItemString(spec, "motion_times");
@@ -1496,6 +1520,36 @@ static PyObject *core_er_rectangle(PyObject *module, PyObject *args)
     return PyFloat_FromDouble(exdex_er_rectangle(a, b));
 }
 
+static PyObject *core_limit_surface(PyObject *module, PyObject *args)
+{
+    int surface, what, st, n = 0, kind = EXDEX_REGION_NONE;
+    double e_r, radius, in[3], out[3], scalar;
+    PyObject *vobj;
+    PyArrayObject *va = NULL;
+    (void)module;
+    if (!PyArg_ParseTuple(args, "idOdi(ddd)", &surface, &e_r, &vobj, &radius, &what, &in[0], &in[1], &in[2]))
+        return NULL;
+    if (vobj != Py_None) {
+        va = (PyArrayObject *)PyArray_FROMANY(vobj, NPY_DOUBLE, 2, 2, NPY_ARRAY_IN_ARRAY);
+        if (!va || PyArray_DIM(va, 1) != 2 || PyArray_DIM(va, 0) > EXDEX_REGION_MAX_VERTICES) {
+            Py_XDECREF(va);
+            PyErr_Clear();
+            PyErr_Format(PyExc_ValueError, "region vertices must be a float64 array of shape (k, 2), k <= %d",
+                         EXDEX_REGION_MAX_VERTICES);
+            return NULL;
+        }
+        n = (int)PyArray_DIM(va, 0);
+        kind = EXDEX_REGION_POLYGON;
+    } else if (radius > 0.0) {
+        kind = EXDEX_REGION_DISC;
+    }
+    st = exdex_limit_surface_eval(surface, e_r, kind, n, va ? (const double (*)[2])PyArray_DATA(va) : NULL, radius,
+                                  what, in, out, &scalar);
+    Py_XDECREF(va);
+    if (st) return raise_status(module, st, "limit_surface", NULL);
+    return Py_BuildValue("(ddd)d", out[0], out[1], out[2], scalar);
+}
+
 static PyObject *core_pad_region(PyObject *module, PyObject *args)
 {
     PyObject *spec, *qobj, *verts = NULL;
@@ -2192,6 +2246,10 @@ static PyMethodDef core_methods[] = {
     {"pad_region", core_pad_region, METH_VARARGS,
      "pad_region(spec, q) -> dict: the pads' contact region (area, centroid in B, e_r, radius of an exact disc "
      "region else 0, polygon vertices in B) with the object at q = (x, y, theta)."},
+    {"limit_surface", core_limit_surface, METH_VARARGS,
+     "limit_surface(surface, e_r, vertices or None, radius, what, (x, y, z)) -> ((x, y, z), s): "
+     "exdex_limit_surface_eval per unit capacity (what 0: the friction wrench and dissipation of a slip twist; "
+     "1: the gauge of a wrench and its slip direction at the limit)."},
     {"er_rectangle", core_er_rectangle, METH_VARARGS,
      "e_r [m] of a uniform pressure rectangle with half-sides a, b (NaN if not positive)."},
     {"n_samples", core_n_samples, METH_VARARGS, "Number of samples simulate returns for (t_end, dt); 0 if invalid."},

@@ -9,7 +9,7 @@ The format is chosen by the file extension (``.json`` or ``.toml``). A file
 holds one scene as nested tables whose keys are the constructor arguments of
 the scene objects, plus a ``schema`` version number::
 
-    schema = 2
+    schema = 3
     dof = "translation"
     q0 = [0.0, 0.0, 0.0]
     ...
@@ -22,6 +22,7 @@ the scene objects, plus a ``schema`` version number::
     mu = 0.5
     grip_force = 1.5
     fingers = 2
+    limit_surface = "ellipsoid"    # or "exact" (a patch with a region)
 
     [grasp.patch]
     e_r = 0.01
@@ -68,7 +69,8 @@ table in place of the number::
     forces = [1.5, 1.5, 0.5]
     kind = "linear"
 
-Schema 2 added ``grasp.pad``; schema 1 files (without it) load as before.
+Schema 2 added ``grasp.pad``, schema 3 ``grasp.limit_surface``; files of
+an older schema (without them) load as before.
 An unknown ``schema`` version, an unknown key or a missing required key is
 a ``ValueError`` naming it; the scene objects then check their own values
 (ranges, shapes) as when built in Python.
@@ -94,8 +96,8 @@ __all__ = ["SCHEMA_VERSION", "save_scene", "load_scene", "load_simulate_options"
            "scene_from_dict", "dumps", "loads"]
 
 #: Version of the scene-file schema written by :func:`save_scene`.
-SCHEMA_VERSION = 2
-SUPPORTED_SCHEMAS = (1, 2)
+SCHEMA_VERSION = 3
+SUPPORTED_SCHEMAS = (1, 2, 3)
 
 def _motion_classes() -> Dict[str, type]:
     """Every gripper motion class (the subclasses of the scenes' motion base), by name."""
@@ -279,6 +281,8 @@ def scene_from_dict(data: Mapping[str, Any], where: str = "scene") -> _scene.Sce
     _check_schema(data, where)
     if data["schema"] == 1 and isinstance(data.get("grasp"), dict) and "pad" in data["grasp"]:
         raise ValueError(f"unknown key in {where}.grasp: 'pad' (pads on the fingers need schema 2)")
+    if data["schema"] < 3 and isinstance(data.get("grasp"), dict) and "limit_surface" in data["grasp"]:
+        raise ValueError(f"unknown key in {where}.grasp: 'limit_surface' (the limit surface needs schema 3)")
     body = {k: v for k, v in data.items() if k not in ("schema", "simulate")}
     if "simulate" in data:
         _simulate_options(data["simulate"], f"{where}.simulate")

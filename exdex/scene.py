@@ -52,6 +52,8 @@ METHODS = {"implicit": _core.METHOD_IMPLICIT, "event": _core.METHOD_EVENT,
            "analytic": _core.METHOD_ANALYTIC}
 SOLVERS = {"scalar": _core.SOLVER_SCALAR, "brent": _core.SOLVER_BRENT, "multiroot": _core.SOLVER_MULTIROOT}
 GRIP_KINDS = {"linear": _core.GRIP_LINEAR, "cubic": _core.GRIP_CUBIC, "step": _core.GRIP_STEP}
+#: Limit surfaces of the plate friction (Grasp.limit_surface), as the core's enum.
+LIMIT_SURFACES = {"ellipsoid": 0, "exact": 1}
 
 
 # ---------------------------------------------------------------- validation
@@ -229,6 +231,56 @@ class Patch:
     def __post_init__(self):
         object.__setattr__(self, "e_r", _real(self.e_r, "Patch.e_r", low=0.0, low_open=True))
         object.__setattr__(self, "center", _tuple(_array(self.center, "Patch.center", (2,))))
+
+    def region(self) -> Optional[Dict[str, Any]]:
+        """The contact region the exact limit surface integrates over, in the
+        object frame relative to ``center`` (the reference point of the
+        friction wrench): ``{"radius": R}`` for a disc, ``{"vertices": (k, 2)
+        array}`` (counter-clockwise) for a rectangle, None for a patch given
+        by e_r alone."""
+        if self.shape == "disc" and len(self.dims) == 1:
+            return {"radius": float(self.dims[0])}
+        if self.shape == "rectangle" and len(self.dims) == 2:
+            a, b = 0.5 * float(self.dims[0]), 0.5 * float(self.dims[1])
+            return {"vertices": np.array([[-a, -b], [a, -b], [a, b], [-a, b]])}
+        return None
+
+    def _surface_args(self, limit_surface: str) -> Tuple[int, float, Any, float]:
+        if not isinstance(limit_surface, str) or limit_surface not in LIMIT_SURFACES:
+            raise ValueError(f"limit_surface must be one of {', '.join(map(repr, LIMIT_SURFACES))}, "
+                             f"got {limit_surface!r}")
+        reg = self.region() if limit_surface == "exact" else None
+        if limit_surface == "exact" and reg is None:
+            raise ValueError("limit_surface='exact' needs a patch with a contact region (Patch.disc or "
+                             f"Patch.rectangle); this patch is given by e_r alone (shape {self.shape!r})")
+        verts = None if reg is None else reg.get("vertices")
+        radius = 0.0 if reg is None else float(reg.get("radius", 0.0))
+        return LIMIT_SURFACES[limit_surface], float(self.e_r), verts, radius
+
+    def friction_wrench(self, slip: Sequence[float], limit_surface: str = "ellipsoid") -> Tuple[NDArray[np.float64], float]:
+        """The friction of one unit of capacity (mu N = 1 N) for a slip twist
+        ``slip = (v_x, v_y, omega)`` [m/s, m/s, rad/s] of the object over the
+        plate at the patch's centre, in the object frame: the wrench
+        ``(f_x, f_y, m_z)`` [N, N, N m] (maximum dissipation: it opposes the
+        slip) and the power it dissipates, ``D = -wrench . slip`` [W]. Multiply
+        both by the capacity. ``"ellipsoid"`` is the paper's Eq. 6,
+        ``"exact"`` uniform Coulomb friction over the region."""
+        u = _tuple(_array(slip, "slip", (3,)))
+        if u == (0.0, 0.0, 0.0):
+            raise ValueError("slip must be a non-zero twist (v_x, v_y, omega): a patch at rest has no slip direction")
+        w, d = _core.limit_surface(*self._surface_args(limit_surface), 0, u)
+        return np.array(w), d
+
+    def load_gauge(self, wrench: Sequence[float], limit_surface: str = "ellipsoid") -> Tuple[float, NDArray[np.float64]]:
+        """The stick test of a load: the friction wrench ``(f_x, f_y, m_z)``
+        [N, N, N m] the plates must supply to hold the object (at the patch's
+        centre, object frame) is carried at capacity C iff the returned gauge
+        [N] is <= C. Also returns the unit slip twist the load drives once it
+        reaches the limit (the direction in which the object starts to
+        slide)."""
+        w = _tuple(_array(wrench, "wrench", (3,)))
+        u, g = _core.limit_surface(*self._surface_args(limit_surface), 1, w)
+        return g, np.array(u)
 
     @classmethod
     def disc(cls, radius: float, center: Vector = (0.0, 0.0)) -> "Patch":
@@ -422,6 +474,19 @@ class Grasp:
         where its slip twist reaches 0 with the holding wrench inside the
         static ellipsoid. ``mu_static == mu`` gives the same results, bit for
         bit, as leaving it out.
+    limit_surface : the shape of the set of friction wrenches the plates can
+        exert, ``"ellipsoid"`` (the default: the paper's Eq. 6 with
+        ``patch.e_r``) or ``"exact"`` (Coulomb friction of uniform pressure
+        over the patch's region, with maximum dissipation: the integral of
+        ``-mu p s / |s|`` over the region for the slip ``s`` at each point,
+        in closed form). ``"exact"`` needs a patch with a region
+        (``Patch.disc``, ``Patch.rectangle``); it runs planar scenes with
+        the implicit and event methods, without stops, obstacles or pads,
+        and 1-DoF scenes with every method (a 1-DoF rotation's torque
+        capacity is then the region's mean distance from its centre times
+        the capacity, as with the ellipsoid of that e_r). Static and kinetic
+        friction are two surfaces of one shape (``mu_static``). See the
+        README's "Ellipsoid or exact" for the differences in numbers.
     """
 
     mu: float
@@ -430,6 +495,7 @@ class Grasp:
     fingers: int = 2
     mu_static: Optional[float] = None
     pad: Optional[Pad] = None
+    limit_surface: str = "ellipsoid"
 
     def __post_init__(self):
         object.__setattr__(self, "mu", _real(self.mu, "Grasp.mu", low=0.0))
@@ -446,6 +512,13 @@ class Grasp:
             raise ValueError(f"Grasp.fingers must be 1 or 2, got {self.fingers!r}")
         if self.mu_static is not None:
             object.__setattr__(self, "mu_static", _real(self.mu_static, "Grasp.mu_static", low=self.mu))
+        if not isinstance(self.limit_surface, str) or self.limit_surface not in LIMIT_SURFACES:
+            raise ValueError(f"Grasp.limit_surface must be one of {', '.join(map(repr, LIMIT_SURFACES))}, "
+                             f"got {self.limit_surface!r}")
+        if self.limit_surface == "exact" and self.patch.region() is None:
+            raise ValueError("Grasp.limit_surface='exact' needs a patch with a contact region "
+                             "(Patch.disc or Patch.rectangle); this patch is given by e_r alone "
+                             f"(shape {self.patch.shape!r})")
 
     @property
     def capacity(self) -> float:
@@ -1230,6 +1303,22 @@ class Scene:
         return {"translation": ("s",), "rotation": ("theta",), "planar": ("x", "y", "theta"),
                 "auto": ("x", "y", "theta")}[self.dof]
 
+    def _check_exact(self, method: str) -> None:
+        """ValueError naming Grasp.limit_surface where the exact surface is not
+        solved: planar scenes take it with the implicit and event methods,
+        without stops, obstacles or pads."""
+        if self.grasp.pad is not None:
+            raise ValueError("Grasp.limit_surface='exact' is solved with the patch fixed on the object; "
+                             "pads on the fingers (Grasp.pad) take limit_surface='ellipsoid'")
+        if self.dof != "planar":
+            return
+        if method not in ("implicit", "event"):
+            raise ValueError(f"Grasp.limit_surface='exact': planar scenes run it with method='implicit' or "
+                             f"'event', got method={method!r}")
+        if self.stops or self.obstacles:
+            raise ValueError("Grasp.limit_surface='exact': planar scenes with stops or obstacles take "
+                             "limit_surface='ellipsoid'")
+
     def to_spec(self, method: str = "implicit", friction_solver: str = "scalar", eps: float = 1e-4,
                 rtol: float = 1e-8, atol: float = 1e-10) -> Dict[str, Any]:
         """The flat dict the C core reads (keys mirror ``exdex_scene_def``)."""
@@ -1273,6 +1362,15 @@ class Scene:
             # the core's grip_force scales the schedule (a batch's grip_force varies that scale)
             spec.update(grip_force=1.0, grip_schedule=np.array([sched.times, sched.forces]),
                         grip_kind=GRIP_KINDS[sched.kind])
+        if self.grasp.limit_surface == "exact":
+            self._check_exact(method)
+            reg = self.grasp.patch.region()
+            assert reg is not None   # Grasp checked it
+            spec["limit_surface"] = LIMIT_SURFACES["exact"]
+            if "radius" in reg:
+                spec["region_radius"] = reg["radius"]
+            else:
+                spec["region_vertices"] = reg["vertices"]
         return spec
 
 

@@ -115,6 +115,8 @@ def _grasp(rng):
         a = np.sort(rng.uniform(0, 2 * np.pi, 5))
         grasp = exdex.replace(grasp, pad=exdex.Pad(vertices=tuple(zip(np.cos(a) * 0.01, np.sin(a) * 0.01)),
                                                    center=tuple(rng.normal(size=2) * 0.01), scale=abs(_awkward(rng)) + 1e-3))
+    if grasp.patch.region() is not None and rng.integers(0, 2):   # the exact limit surface (a patch with a region)
+        grasp = exdex.replace(grasp, limit_surface="exact")
     return grasp
 
 
@@ -263,7 +265,7 @@ def test_simulate_options_round_trip_and_checks(tmp_path):
 
 
 @pytest.mark.parametrize("edit, message", [
-    (lambda d: d.update(schema=3), r"unsupported scene-file schema 3.*reads schema 1, 2"),
+    (lambda d: d.update(schema=4), r"unsupported scene-file schema 4.*reads schema 1, 2, 3"),
     (lambda d: d.update(schema="1"), r"unsupported scene-file schema '1'"),
     (lambda d: d.pop("schema"), r"missing key in scene: 'schema'"),
     (lambda d: d["grasp"].update(frction=0.3), r"unknown key in scene\.grasp: 'frction'; allowed: .*mu"),
@@ -438,9 +440,9 @@ def test_cli_run_writes_result_figure_and_animation(tmp_path):
 def test_cli_run_errors_are_messages(tmp_path):
     p = _cli("run", "missing.toml", cwd=tmp_path)
     assert p.returncode != 0 and "no such scene file: missing.toml" in p.stderr
-    (tmp_path / "bad.toml").write_text("schema = 3\n")
+    (tmp_path / "bad.toml").write_text("schema = 4\n")
     p = _cli("run", "bad.toml", cwd=tmp_path)
-    assert p.returncode != 0 and "unsupported scene-file schema 3" in p.stderr and "Traceback" not in p.stderr
+    assert p.returncode != 0 and "unsupported scene-file schema 4" in p.stderr and "Traceback" not in p.stderr
     sc = _scenes()["translation"]
     exdex.save_scene(sc, tmp_path / "s.toml")
     p = _cli("run", "s.toml", "--dt", "-1", "--no-progress", cwd=tmp_path)
@@ -459,7 +461,7 @@ def test_the_schema_covers_every_scene_field_and_motion():
         "Scene": ["body", "grasp", "motion", "dof", "slide_axis", "q0", "v0", "gripper_rotation",
                   "gripper_position", "gravity", "stops", "obstacles"],
         "Body": ["mass", "inertia", "size", "outline", "outline_radius", "outline_center"],
-        "Grasp": ["mu", "grip_force", "patch", "fingers", "mu_static", "pad"],
+        "Grasp": ["mu", "grip_force", "patch", "fingers", "mu_static", "pad", "limit_surface"],
         "Patch": ["e_r", "center", "shape", "dims"],
         "Pad": ["vertices", "radius", "center", "scale"],
         "Stop": ["point", "normal", "mu"],
@@ -523,3 +525,22 @@ def test_cli_run_without_matplotlib(tmp_path):
                        capture_output=True, text=True, cwd=tmp_path, env=env, timeout=300)
     assert p.returncode == 3 and "exdex[plot]" in p.stderr and len(p.stderr.strip().splitlines()) == 1, p.stderr
     assert not (tmp_path / "o2").exists()
+
+
+def test_schema_3_limit_surface_and_older_files(tmp_path):
+    """grasp.limit_surface is schema 3: written and read back; a schema 1 or 2
+    file without it loads as the ellipsoid, one with it is refused naming the
+    key and the schema it needs."""
+    sc = exdex.Scene(body=exdex.Body(0.1), grasp=exdex.Grasp(0.5, 1.5, exdex.Patch.disc(0.01), limit_surface="exact"))
+    exdex.save_scene(sc, tmp_path / "s.toml")
+    text = (tmp_path / "s.toml").read_text()
+    assert "schema = 3" in text and 'limit_surface = "exact"' in text
+    assert exdex.load_scene(tmp_path / "s.toml") == sc
+    for version in (1, 2):
+        old = text.replace("schema = 3", f"schema = {version}")
+        (tmp_path / "old.toml").write_text(old.replace('limit_surface = "exact"\n', ""))
+        back = exdex.load_scene(tmp_path / "old.toml")
+        assert back.grasp.limit_surface == "ellipsoid" and back == exdex.replace(sc, grasp=exdex.replace(sc.grasp, limit_surface="ellipsoid"))
+        (tmp_path / "old.toml").write_text(old)
+        with pytest.raises(ValueError, match=r"unknown key in scene.grasp: 'limit_surface'.*schema 3"):
+            exdex.load_scene(tmp_path / "old.toml")

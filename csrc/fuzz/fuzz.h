@@ -137,6 +137,7 @@ void fuzz_note_keep(const char *target, const char *key);
     X(grip)             \
     X(stepper)          \
     X(region)           \
+    X(limitsurf)        \
     X(pads)
 
 #define FUZZ_DECLARE(name) int fuzz_##name(const uint8_t *data, size_t size);

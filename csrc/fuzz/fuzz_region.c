@@ -71,22 +71,22 @@ int fuzz_region(const uint8_t *data, size_t size)
     double A = region_area(&rg), g[2], reach = region_reach(&rg, c);
     region_centroid(&rg, g);
     double dist = hypot(g[0] - c[0], g[1] - c[1]);
-    int fin = isfinite(mo.F) && isfinite(mo.G[0]) && isfinite(mo.G[1]) && isfinite(mo.Phi);
+    int fin = isfinite(mo.dist) && isfinite(mo.dir[0]) && isfinite(mo.dir[1]) && isfinite(mo.inv);
     FZ_EXTREME(T, &f, fin && A > 0.0);
     if (!fin) return 0;
     double tol = 1e-9 * (1.0 + reach / sqrt(A));
-    FZ_EXTREME(T, &f, mo.F >= A * dist * (1.0 - tol) - 1e-300);
-    FZ_EXTREME(T, &f, mo.F <= A * reach * (1.0 + tol) + 1e-300);
-    FZ_EXTREME(T, &f, hypot(mo.G[0], mo.G[1]) <= A * (1.0 + tol) + 1e-300);
-    FZ_EXTREME(T, &f, mo.Phi >= -tol * A / reach);
+    FZ_EXTREME(T, &f, mo.dist >= A * dist * (1.0 - tol) - 1e-300);
+    FZ_EXTREME(T, &f, mo.dist <= A * reach * (1.0 + tol) + 1e-300);
+    FZ_EXTREME(T, &f, hypot(mo.dir[0], mo.dir[1]) <= A * (1.0 + tol) + 1e-300);
+    FZ_EXTREME(T, &f, mo.inv >= -tol * A / reach);
     {
-        FZ_EXTREME(T, &f, isfinite(mo.H[0]) && isfinite(mo.H[1]) && isfinite(mo.H[2]));
+        FZ_EXTREME(T, &f, isfinite(mo.dyad[0]) && isfinite(mo.dyad[1]) && isfinite(mo.dyad[2]));
         /* H of a far point is a small difference (Phi - |G| / |c|, ...):
          * its rounding grows like (reach^2 / A) */
-        double sc = fabs(mo.Phi) + A / reach, q = reach * reach / A, ht = 1e-10 * (1.0 + q);
-        FZ_EXTREME(T, &f, fabs(mo.H[0] + mo.H[2] - mo.Phi) <= ht * sc);
-        FZ_EXTREME(T, &f, mo.H[0] >= -ht * sc && mo.H[2] >= -ht * sc);
-        FZ_EXTREME(T, &f, mo.H[0] * mo.H[2] - mo.H[1] * mo.H[1] >= -ht * sc * sc);
+        double sc = fabs(mo.inv) + A / reach, q = reach * reach / A, ht = 1e-10 * (1.0 + q);
+        FZ_EXTREME(T, &f, fabs(mo.dyad[0] + mo.dyad[2] - mo.inv) <= ht * sc);
+        FZ_EXTREME(T, &f, mo.dyad[0] >= -ht * sc && mo.dyad[2] >= -ht * sc);
+        FZ_EXTREME(T, &f, mo.dyad[0] * mo.dyad[2] - mo.dyad[1] * mo.dyad[1] >= -ht * sc * sc);
     }
     return 0;
 }

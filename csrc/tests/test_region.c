@@ -25,6 +25,8 @@
 #include <math.h>
 #include <string.h>
 
+#include <gsl/gsl_sf_ellint.h>
+
 static const double PI = 3.14159265358979323846;
 
 /* tiny deterministic generator (the cases do not depend on a library) */
@@ -95,7 +97,7 @@ static void grid(const region *rg, const double c[2], int N, region_moments *m, 
             Phi += dA / r;
             Hxx += dx * dx / (r * r * r) * dA, Hxy += dx * dy / (r * r * r) * dA, Hyy += dy * dy / (r * r * r) * dA;
         }
-    m->F = F, m->G[0] = Gx, m->G[1] = Gy, m->Phi = Phi, m->H[0] = Hxx, m->H[1] = Hxy, m->H[2] = Hyy;
+    m->dist = F, m->dir[0] = Gx, m->dir[1] = Gy, m->inv = Phi, m->dyad[0] = Hxx, m->dyad[1] = Hxy, m->dyad[2] = Hyy;
     *area = A;
 }
 
@@ -139,27 +141,27 @@ EXDEX_TEST(region_disc_closed_forms)
         ENSURE(region_check(&rg) == EXDEX_OK);
         region_moments mo;
         ENSURE(region_moments_at(&rg, rg.c, &mo) == EXDEX_OK);
-        ENSURE_CLOSE(mo.F, 2.0 * PI * R * R * R / 3.0, 1e-15 * R * R * R);
-        ENSURE_CLOSE(mo.Phi, 2.0 * PI * R, 1e-15 * R);
+        ENSURE_CLOSE(mo.dist, 2.0 * PI * R * R * R / 3.0, 1e-15 * R * R * R);
+        ENSURE_CLOSE(mo.inv, 2.0 * PI * R, 1e-15 * R);
         ENSURE_CLOSE(region_mean_distance(&rg, rg.c), 2.0 * R / 3.0, 1e-15 * R);
         ENSURE_CLOSE(region_mean_distance(&rg, rg.c), exdex_er_disc(R), 1e-15 * R);
-        ENSURE(mo.G[0] == 0.0 && mo.G[1] == 0.0);
+        ENSURE(mo.dir[0] == 0.0 && mo.dir[1] == 0.0);
         /* near the centre: G = -pi R rho (1 + O(rho^2 / R^2)) */
         double c[2] = {rg.c[0] + 1e-4 * R, rg.c[1]};
         ENSURE(region_moments_at(&rg, c, &mo) == EXDEX_OK);
-        ENSURE_CLOSE(mo.G[0], -PI * R * 1e-4 * R, 1e-9 * R * R);
-        ENSURE_CLOSE(mo.G[1], 0.0, 1e-20 * R * R);
+        ENSURE_CLOSE(mo.dir[0], -PI * R * 1e-4 * R, 1e-9 * R * R);
+        ENSURE_CLOSE(mo.dir[1], 0.0, 1e-20 * R * R);
         /* on the rim: mean distance of a disc from a point of its rim 32 R / (9 pi) */
         c[0] = rg.c[0], c[1] = rg.c[1] + R;
         ENSURE(region_moments_at(&rg, c, &mo) == EXDEX_OK);
-        ENSURE_CLOSE(mo.F, 32.0 * R * R * R / 9.0, 1e-14 * R * R * R);
+        ENSURE_CLOSE(mo.dist, 32.0 * R * R * R / 9.0, 1e-14 * R * R * R);
         /* on the rim Phi = 4R (from the boundary form: 2 (2R E(1))) */
-        ENSURE_CLOSE(mo.Phi, 4.0 * R, 1e-14 * R);
+        ENSURE_CLOSE(mo.inv, 4.0 * R, 1e-14 * R);
         /* far away: the mean distance is rho + R^2 / (8 rho) + O(R^4 / rho^3) */
         c[0] = rg.c[0] + 1e3 * R, c[1] = rg.c[1];
         ENSURE(region_moments_at(&rg, c, &mo) == EXDEX_OK);
-        ENSURE_CLOSE(mo.F / (PI * R * R * 1e3 * R), 1.0 + 0.125e-6, 1e-11);
-        ENSURE_CLOSE(mo.G[0] / (PI * R * R), -1.0, 1e-6);
+        ENSURE_CLOSE(mo.dist / (PI * R * R * 1e3 * R), 1.0 + 0.125e-6, 1e-11);
+        ENSURE_CLOSE(mo.dir[0] / (PI * R * R), -1.0, 1e-6);
     }
 }
 
@@ -180,12 +182,12 @@ EXDEX_TEST(region_rectangle_closed_forms)
     ENSURE_CLOSE(region_mean_distance(&rg, o) / a, 0.76520, 5e-6);
     region_moments mo;
     ENSURE(region_moments_at(&rg, o, &mo) == EXDEX_OK);
-    ENSURE_SMALL(mo.G[0], 1e-18);
-    ENSURE_SMALL(mo.G[1], 1e-18);
+    ENSURE_SMALL(mo.dir[0], 1e-18);
+    ENSURE_SMALL(mo.dir[1], 1e-18);
     /* Phi at the centre of a square: 8 a asinh(1) (four triangles, each 2 a asinh 1) */
-    ENSURE_CLOSE(mo.Phi, 8.0 * a * asinh(1.0), 1e-16);
-    ENSURE_CLOSE(mo.H[0], mo.Phi / 2.0, 1e-16);
-    ENSURE_SMALL(mo.H[1], 1e-17);
+    ENSURE_CLOSE(mo.inv, 8.0 * a * asinh(1.0), 1e-16);
+    ENSURE_CLOSE(mo.dyad[0], mo.inv / 2.0, 1e-16);
+    ENSURE_SMALL(mo.dyad[1], 1e-17);
 }
 
 static void check_grid(const region *rg, const double c[2], int smooth, const char *what)
@@ -198,12 +200,12 @@ static void check_grid(const region *rg, const double c[2], int smooth, const ch
     double L = sqrt(region_area(rg)), reach = region_reach(rg, c);
     ENSURE_CLOSE(A / region_area(rg), 1.0, 5e-3);
     /* the grid's error is dominated by the boundary cells: O(h / L) of the integral's scale */
-    ENSURE_CLOSE(mo.F / (A * reach), gr.F / (A * reach), 5e-3);
-    ENSURE_CLOSE(mo.G[0] / A, gr.G[0] / A, 5e-3);
-    ENSURE_CLOSE(mo.G[1] / A, gr.G[1] / A, 5e-3);
+    ENSURE_CLOSE(mo.dist / (A * reach), gr.dist / (A * reach), 5e-3);
+    ENSURE_CLOSE(mo.dir[0] / A, gr.dir[0] / A, 5e-3);
+    ENSURE_CLOSE(mo.dir[1] / A, gr.dir[1] / A, 5e-3);
     if (smooth) {
-        ENSURE_CLOSE(mo.Phi * L / A, gr.Phi * L / A, 5e-3);
-        for (int k = 0; k < 3; k++) ENSURE_CLOSE(mo.H[k] * L / A, gr.H[k] * L / A, 5e-3);
+        ENSURE_CLOSE(mo.inv * L / A, gr.inv * L / A, 5e-3);
+        for (int k = 0; k < 3; k++) ENSURE_CLOSE(mo.dyad[k] * L / A, gr.dyad[k] * L / A, 5e-3);
     }
 }
 
@@ -253,7 +255,7 @@ EXDEX_TEST(region_identities)
         c[0] = g[0] + f * rr * cos(ang), c[1] = g[1] + f * rr * sin(ang);
         region_moments mo, mp, mm;
         ENSURE(region_moments_at(&rg, c, &mo) == EXDEX_OK);
-        ENSURE_CLOSE(mo.H[0] + mo.H[2], mo.Phi, 1e-13 * mo.Phi);
+        ENSURE_CLOSE(mo.dyad[0] + mo.dyad[2], mo.inv, 1e-13 * mo.inv);
         double hstep = 1e-5 * rr;
         for (int k = 0; k < 2; k++) {
             double cp[2] = {c[0], c[1]}, cm[2] = {c[0], c[1]};
@@ -261,12 +263,12 @@ EXDEX_TEST(region_identities)
             ENSURE(region_moments_at(&rg, cp, &mp) == EXDEX_OK);
             ENSURE(region_moments_at(&rg, cm, &mm) == EXDEX_OK);
             /* G = -grad F */
-            ENSURE_CLOSE(-(mp.F - mm.F) / (2 * hstep), mo.G[k], 1e-7 * mo.Phi * rr);
+            ENSURE_CLOSE(-(mp.dist - mm.dist) / (2 * hstep), mo.dir[k], 1e-7 * mo.inv * rr);
             /* d G_j / d c_k = H_jk - Phi delta_jk */
-            double dG0 = (mp.G[0] - mm.G[0]) / (2 * hstep), dG1 = (mp.G[1] - mm.G[1]) / (2 * hstep);
-            double H0k = k == 0 ? mo.H[0] - mo.Phi : mo.H[1], H1k = k == 0 ? mo.H[1] : mo.H[2] - mo.Phi;
-            ENSURE_CLOSE(dG0, H0k, 1e-6 * mo.Phi);
-            ENSURE_CLOSE(dG1, H1k, 1e-6 * mo.Phi);
+            double dG0 = (mp.dir[0] - mm.dir[0]) / (2 * hstep), dG1 = (mp.dir[1] - mm.dir[1]) / (2 * hstep);
+            double H0k = k == 0 ? mo.dyad[0] - mo.inv : mo.dyad[1], H1k = k == 0 ? mo.dyad[1] : mo.dyad[2] - mo.inv;
+            ENSURE_CLOSE(dG0, H0k, 1e-6 * mo.inv);
+            ENSURE_CLOSE(dG1, H1k, 1e-6 * mo.inv);
         }
     }
     /* the disc: G = -grad F by differences, across the branch switch */
@@ -279,11 +281,11 @@ EXDEX_TEST(region_identities)
         ENSURE(region_moments_at(&rg, c, &mo) == EXDEX_OK);
         ENSURE(region_moments_at(&rg, cp, &mp) == EXDEX_OK);
         ENSURE(region_moments_at(&rg, cm, &mm) == EXDEX_OK);
-        ENSURE_CLOSE(-(mp.F - mm.F) / (2 * h), mo.G[0], 1e-8);
-        ENSURE_CLOSE(mo.H[0] + mo.H[2], mo.Phi, 1e-13 * mo.Phi);
+        ENSURE_CLOSE(-(mp.dist - mm.dist) / (2 * h), mo.dir[0], 1e-8);
+        ENSURE_CLOSE(mo.dyad[0] + mo.dyad[2], mo.inv, 1e-13 * mo.inv);
         /* d G / d c_x = (H_xx - Phi, H_xy) */
-        ENSURE_CLOSE((mp.G[0] - mm.G[0]) / (2 * h), mo.H[0] - mo.Phi, 1e-6 * mo.Phi);
-        ENSURE_CLOSE((mp.G[1] - mm.G[1]) / (2 * h), mo.H[1], 1e-6 * mo.Phi);
+        ENSURE_CLOSE((mp.dir[0] - mm.dir[0]) / (2 * h), mo.dyad[0] - mo.inv, 1e-6 * mo.inv);
+        ENSURE_CLOSE((mp.dir[1] - mm.dir[1]) / (2 * h), mo.dyad[1], 1e-6 * mo.inv);
     }
 }
 
@@ -303,10 +305,34 @@ EXDEX_TEST(region_polygon_to_disc)
         region_moments a, b;
         ENSURE(region_moments_at(&dk, c, &a) == EXDEX_OK);
         ENSURE(region_moments_at(&pg, c, &b) == EXDEX_OK);
-        double err = fabs(a.F - b.F) / a.F + fabs(a.G[0] - b.G[0]) / fabs(a.G[0]) + fabs(a.Phi - b.Phi) / a.Phi;
+        double err = fabs(a.dist - b.dist) / a.dist + fabs(a.dir[0] - b.dir[0]) / fabs(a.dir[0]) + fabs(a.inv - b.inv) / a.inv;
         /* inscribed n-gon: area deficit 1 - sin(2 pi/n) n / (2 pi) ~ (2 pi^2/3) / n^2 */
         ENSURE(err < 8.0 * PI * PI / ((double)n * n));
         ENSURE(err < err_prev / 3.0);
         err_prev = err;
+    }
+}
+
+EXDEX_TEST(region_disc_against_gsl_elliptic)
+{
+    /* the disc's F and Phi from GSL's complete elliptic integrals directly
+     * (gsl_sf_ellint_Kcomp, _Ecomp: Carlson's forms), on the branch where the
+     * region module uses the AGM: F = (R/3)(4 R s E + 16 R rho^2 T / s),
+     * Phi = 2 (s E + (R - rho) K), T = [(2 - k^2) E - 2 (1 - k^2) K] / (3 k^4) */
+    double R = 0.7;
+    region rg;
+    region_set_disc(&rg, 0.0, 0.0, R);
+    for (int i = 1; i < 60; i++) {
+        double rho = R * (0.18 + 0.09 * i); /* k^2 >= 1/2 for rho/R in (0.17, 5.8) */
+        if (fabs(rho - R) < 1e-9) continue;
+        double s = R + rho, k2 = 4.0 * R * rho / (s * s), kp2 = ((R - rho) / s) * ((R - rho) / s);
+        if (k2 < 0.5) continue;
+        double k = sqrt(k2), K = gsl_sf_ellint_Kcomp(k, GSL_PREC_DOUBLE), E = gsl_sf_ellint_Ecomp(k, GSL_PREC_DOUBLE);
+        double T = ((2.0 - k2) * E - 2.0 * kp2 * K) / (3.0 * k2 * k2);
+        double c[2] = {rho, 0.0};
+        region_moments mo;
+        ENSURE(region_moments_at(&rg, c, &mo) == EXDEX_OK);
+        ENSURE_CLOSE(mo.dist, (R / 3.0) * (4.0 * R * s * E + 16.0 * R * rho * rho * T / s), 1e-13 * R * R * R);
+        ENSURE_CLOSE(mo.inv, 2.0 * (s * E + (R - rho) * K), 1e-13 * R);
     }
 }
