@@ -229,6 +229,10 @@ typedef struct exdex_motion_def {
     size_t n_pieces;        /* chain: 1 .. EXDEX_MOTION_MAX_PIECES */
     const struct exdex_motion_def *pieces;  /* chain: (n_pieces,) piece definitions (copied) */
     int allow_jump;         /* chain: 1 accepts velocity jumps between pieces (0 or 1) */
+    double time_shift;      /* >= 0 [s]: the motion defined by the other fields, played from
+                               its time time_shift on (t = 0 is its time_shift; its
+                               switching times and jumps at or before it are dropped); 0: as
+                               defined. A run that continues another from a later time. */
 } exdex_motion_def;
 
 /* Kinematics of B in A at one time, all vectors expressed in A. */
@@ -601,6 +605,41 @@ typedef struct exdex_stats {
 int exdex_simulate(const exdex_model *m, double t_end, double dt,
                    exdex_trajectory *out, exdex_stats *stats);
 
+
+/* ------------------------------------------------------------ certificate
+ * certify.c -- does the planar model admit a reduced run's motion? For a
+ * translation or rotation model, along the trajectory out of a successful
+ * exdex_simulate: the plate friction wrench the neglected in-plane
+ * coordinates need to stay still (gravity, the frame's inertial terms and
+ * the reduced coordinate's motion through the planar equations), with the
+ * stops that touch the object pushing as needed, is checked against the
+ * friction limit surface: inside the static surface while the reduced
+ * coordinate sticks; while it slips, maximum dissipation fixes the
+ * friction of the slip (a pure translation slip has no moment, a pure
+ * rotation about the centre of pressure no force), and what it cannot give
+ * must be zero to 1e-9 of the scene's force scale plus the load. Checked
+ * at every sample and switching time; a failure is located between
+ * samples (certify.c says where this is exact). */
+typedef struct exdex_certificate {
+    int reduced;          /* 1: a 1-DoF run was checked; 0: planar (nothing neglected) */
+    int holds;            /* 1: the reduction held up to the last sample */
+    double valid_until;   /* [s] the last sample's time when it holds, else the last
+                             time at which it is known to hold (the failure is after it) */
+    size_t first_bad;     /* first sample whose check fails (n when none) */
+    int stick;            /* mode of the reduced coordinate there: 1 stuck, 0 slipping */
+    double load[3];       /* the wrench needed there (f_x, f_y, m_z) in B at the
+                             centre of pressure [N, N, N m] (before stop forces) */
+    double capacity;      /* friction capacity there (the static one when stuck) [N] */
+    double gauge;         /* stuck: gauge of the load in the limit surface (> 1 fails);
+                             slipping: the part the slip's friction cannot give, |E^-1 r| / C */
+    int coordinate;       /* the neglected coordinate that needs most of it: translation
+                             runs 1 (across the slide axis) or 2 (theta); rotation runs 0
+                             (the pivot's translation x, y); -1 none */
+} exdex_certificate;
+
+/* EXDEX_OK (c filled: planar runs have reduced = 0 and hold), EXDEX_EINVAL
+ * for NULL arguments or an empty trajectory, or the motion's status. */
+int exdex_certify(const exdex_model *m, const exdex_trajectory *out, exdex_certificate *c);
 /* ---------------------------------------------------------------- stepper
  * stepper.c -- a run advanced one step at a time, for feedback control: the
  * caller chooses each step's length and grip force from the state it reads.

@@ -175,6 +175,7 @@ const char *exdex_analytic_unsupported(const exdex_scene_def *d)
     if (d->dof != EXDEX_DOF_TRANSLATION && d->dof != EXDEX_DOF_ROTATION)
         return "the analytic method solves 1-DoF scenes (translation or rotation), not planar ones";
     if (d->n_stops != 0 || d->n_obstacles != 0) return "the analytic method solves scenes without stops";
+    if (mo->time_shift != 0.0) return "the analytic method plays a motion from its start (no time shift)";
     if (mo->kind == EXDEX_MOTION_SHAKE || mo->kind == EXDEX_MOTION_CHAIN)
         return "the analytic method needs a piecewise-constant gripper acceleration (Eq. 7, trapezoid or "
                "rest), not a shake or a chain";

@@ -107,11 +107,16 @@ struct exdex_motion {
      * B, each a cubic in Hermite form on [st0, st0 + sh]: values sy and
      * slopes sm at the two ends */
     double st0, sh, sy[2][7], sm[2][7];
+    /* SHIFT (def.time_shift > 0): the motion inner played from its time shift on */
+    exdex_motion *inner;
+    double shift;
 };
 
 /* the kind of a one-step motion (motion_step_alloc), which
  * exdex_motion_alloc does not make */
 #define MOTION_STEP (-1)
+/* a motion played from a later time of its own (exdex_motion_def.time_shift) */
+#define MOTION_SHIFT (-2)
 
 /* ----------------------------------------------------------- profiles */
 
@@ -299,6 +304,7 @@ static void profile_kin(const exdex_motion *m, double s, double sd, double sdd, 
 void exdex_motion_free(exdex_motion *m)
 {
     if (!m) return;
+    exdex_motion_free(m->inner);
     for (int i = 0; i < m->np; i++) exdex_motion_free(m->piece[i]);
     free(m->tk);
     free(m->yk);
@@ -824,6 +830,45 @@ exdex_motion *exdex_motion_alloc(const exdex_motion_def *def, const double R0[9]
         fail(status, bad_param, "motion.kind");
         return NULL;
     }
+    if (!(def->time_shift >= 0.0) || !isfinite(def->time_shift)) {
+        fail(status, bad_param, "motion.time_shift");
+        return NULL;
+    }
+    if (def->time_shift > 0.0) {
+        /* the same motion unshifted, played from time_shift on */
+        exdex_motion_def d = *def;
+        exdex_motion *in;
+        double ts[EXDEX_MOTION_MAX_SWITCHES], jt[EXDEX_MOTION_MAX_JUMPS], jv[EXDEX_MOTION_MAX_JUMPS][3],
+            jw[EXDEX_MOTION_MAX_JUMPS][3];
+        int ns, nj;
+        d.time_shift = 0.0;
+        in = exdex_motion_alloc(&d, R0, p0, status, bad_param);
+        if (!in) return NULL;
+        m = calloc(1, sizeof *m);
+        if (!m) {
+            exdex_motion_free(in);
+            if (status) *status = EXDEX_ENOMEM;
+            return NULL;
+        }
+        m->kind = MOTION_SHIFT;
+        m->inner = in;
+        m->shift = def->time_shift;
+        memcpy(m->R0, R0, sizeof m->R0);
+        memcpy(m->p0, p0, sizeof m->p0);
+        m->end = in->end > m->shift ? in->end - m->shift : 0.0;
+        ns = exdex_motion_switches(in, ts);
+        for (int i = 0; i < ns; i++)
+            if (ts[i] > m->shift) m->sw[m->n_sw++] = ts[i] - m->shift;
+        nj = exdex_motion_jumps(in, jt, jv, jw);
+        for (int j = 0; j < nj; j++)
+            if (jt[j] > m->shift) {
+                m->jt[m->n_jumps] = jt[j] - m->shift;
+                memcpy(m->jv[m->n_jumps], jv[j], sizeof jv[j]);
+                memcpy(m->jw[m->n_jumps], jw[j], sizeof jw[j]);
+                m->n_jumps++;
+            }
+        return m;
+    }
 
     m = calloc(1, sizeof *m);
     if (!m) {
@@ -967,6 +1012,7 @@ static int switch_list(const exdex_motion *m, double c[3], const double **list)
         c[n++] = m->end;
         break;
     case EXDEX_MOTION_CHAIN:
+    case MOTION_SHIFT:
         *list = m->sw;
         n = m->n_sw;
         break;
@@ -1258,6 +1304,8 @@ int exdex_motion_eval(const exdex_motion *m, double t, exdex_kinematics *k)
     double s, sd, sdd;
     if (!m || !k || isnan(t)) return EXDEX_EINVAL;
     switch (m->kind) {
+    case MOTION_SHIFT:
+        return exdex_motion_eval(m->inner, t + m->shift, k);
     case MOTION_STEP:
         return eval_step(m, t, k);
     case EXDEX_MOTION_SHAKE:

@@ -415,6 +415,10 @@ static int scene_from_dict(PyObject *spec, exdex_scene_def *def, PyArrayObject *
     if (PyDict_GetItemString(spec, "motion_frequency") &&
         dict_double(spec, "motion_frequency", &def->motion.frequency))
         goto fail;
+    /* optional: the motion played from a later time (a continued run) */
+    if (PyDict_GetItemString(spec, "motion_time_shift") &&
+        dict_double(spec, "motion_time_shift", &def->motion.time_shift))
+        goto fail;
     if (def->motion.kind == EXDEX_MOTION_CHAIN && chain_pieces(spec, &def->motion, times)) goto fail;
     if (def->motion.kind == EXDEX_MOTION_SAMPLED) {
         PyObject *tobj = PyDict_GetItemString(spec, "motion_times");
@@ -510,10 +514,12 @@ static int check_times(double t_end, double dt, size_t *n)
 }
 
 PyDoc_STRVAR(simulate_doc,
-"simulate(spec, t_end, dt) -> dict\n\n"
+"simulate(spec, t_end, dt, certify=True) -> dict\n\n"
 "Run one trajectory in C with the GIL released. `spec` is the dict made by\n"
 "exdex.Scene.to_spec(); use exdex.simulate() instead of calling this directly.\n"
-"Returns a dict of arrays t, q, v, wrench, stick, stop_force and a stats dict.");
+"Returns a dict of arrays t, q, v, wrench, stick, stop_force, a stats dict and\n"
+"the certificate of a 1-DoF run's reduction (exdex_certify; None for planar\n"
+"runs and with certify=False).");
 
 /* SolverError(message, status) of a failed run with attributes status, time
  * (exdex_stats.fail_time, None when unknown) and cause (a name): the message
@@ -589,12 +595,25 @@ static int simulate_released(PyObject *module, const exdex_model *model, double 
     return -1;
 }
 
+/* The certificate of a reduced run as a dict (None for a planar run). */
+static PyObject *cert_dict(const exdex_certificate *c)
+{
+    if (!c->reduced) Py_RETURN_NONE;
+    if (c->holds)
+        return Py_BuildValue("{s:O,s:d}", "holds", Py_True, "valid_until", c->valid_until);
+    return Py_BuildValue("{s:O,s:d,s:n,s:O,s:(ddd),s:d,s:d,s:i}", "holds", Py_False, "valid_until",
+                         c->valid_until, "first_bad", (Py_ssize_t)c->first_bad, "stick",
+                         c->stick ? Py_True : Py_False, "load", c->load[0], c->load[1], c->load[2], "capacity",
+                         c->capacity, "gauge", c->gauge, "coordinate", c->coordinate);
+}
+
 /* Run `model` over (t_end, dt), already checked (check_times gave n
  * samples), and return the result dict of simulate(); NULL with an
  * exception set. */
-static PyObject *run_model(PyObject *module, const exdex_model *model, double t_end, double dt, size_t n)
+static PyObject *run_model(PyObject *module, const exdex_model *model, double t_end, double dt, size_t n,
+                           int certify)
 {
-    PyObject *result = NULL, *stats = NULL;
+    PyObject *result = NULL, *stats = NULL, *cert = NULL;
     PyArrayObject *t = NULL, *q = NULL, *v = NULL, *wr = NULL, *stick = NULL, *sf = NULL;
     exdex_trajectory tr;
     exdex_stats st;
@@ -620,8 +639,23 @@ static PyObject *run_model(PyObject *module, const exdex_model *model, double t_
     if (simulate_released(module, model, t_end, dt, &tr, &st)) goto done;
     stats = stats_dict(&st);
     if (!stats) goto done;
-    result = Py_BuildValue("{s:O,s:O,s:O,s:O,s:O,s:O,s:O}", "t", t, "q", q, "v", v, "wrench", wr, "stick",
-                           stick, "stop_force", sf, "stats", stats);
+    if (certify) {
+        exdex_certificate c;
+        int cs;
+        Py_BEGIN_ALLOW_THREADS
+        cs = exdex_certify(model, &tr, &c);
+        Py_END_ALLOW_THREADS
+        if (cs) {
+            raise_status(module, cs, "certify", NULL);
+            goto done;
+        }
+        cert = cert_dict(&c);
+    } else {
+        cert = Py_NewRef(Py_None);
+    }
+    if (!cert) goto done;
+    result = Py_BuildValue("{s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O}", "t", t, "q", q, "v", v, "wrench", wr, "stick",
+                           stick, "stop_force", sf, "stats", stats, "certificate", cert);
 done:
     Py_XDECREF(t);
     Py_XDECREF(q);
@@ -630,6 +664,7 @@ done:
     Py_XDECREF(stick);
     Py_XDECREF(sf);
     Py_XDECREF(stats);
+    Py_XDECREF(cert);
     return result;
 }
 
@@ -652,17 +687,18 @@ static exdex_model *model_from_spec(PyObject *module, PyObject *spec)
 
 static PyObject *core_simulate(PyObject *module, PyObject *args, PyObject *kwds)
 {
-    static char *kwlist[] = {"spec", "t_end", "dt", NULL};
+    static char *kwlist[] = {"spec", "t_end", "dt", "certify", NULL};
     PyObject *spec, *result;
     double t_end, dt;
     size_t n;
+    int certify = 1;
     exdex_model *model;
 
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "Odd", kwlist, &spec, &t_end, &dt)) return NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "Odd|p", kwlist, &spec, &t_end, &dt, &certify)) return NULL;
     if (check_times(t_end, dt, &n)) return NULL;
     model = model_from_spec(module, spec);
     if (!model) return NULL;
-    result = run_model(module, model, t_end, dt, n);
+    result = run_model(module, model, t_end, dt, n, certify);
     exdex_model_free(model);
     return result;
 }
@@ -717,13 +753,14 @@ PyDoc_STRVAR(Model_simulate_doc,
 
 static PyObject *Model_simulate(PyObject *self, PyObject *args, PyObject *kwds)
 {
-    static char *kwlist[] = {"t_end", "dt", NULL};
+    static char *kwlist[] = {"t_end", "dt", "certify", NULL};
     double t_end, dt;
     size_t n;
+    int certify = 1;
     ModelObject *mo = (ModelObject *)self;
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "dd", kwlist, &t_end, &dt)) return NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "dd|p", kwlist, &t_end, &dt, &certify)) return NULL;
     if (check_times(t_end, dt, &n)) return NULL;
-    return run_model(mo->module, mo->model, t_end, dt, n);
+    return run_model(mo->module, mo->model, t_end, dt, n, certify);
 }
 
 PyDoc_STRVAR(Model_final_doc,
@@ -1516,6 +1553,8 @@ typedef struct batch_ctx {
     double *min_gap;
     npy_int64 *impacts, *max_impulse_stop;
     double *max_impulse, *max_impulse_t, *first_warning_t;
+    double *cert_until;     /* certificate: valid_until (NaN: planar) */
+    npy_int64 *cert_bad;    /* certificate: first failing sample (n: none, -1: planar) */
     /* shared work index and the first failure */
     pthread_mutex_t lock;
     size_t next, chunk;     /* next index to hand out; indices per hand-out */
@@ -1564,6 +1603,17 @@ static void batch_poll_signals(batch_worker *w)
         __atomic_store_n(&c->stop, 1, __ATOMIC_RELEASE);
         pthread_mutex_unlock(&c->lock);
     }
+}
+
+/* The certificate of trajectory i into the batch's arrays. */
+static int batch_certify(batch_ctx *c, const exdex_model *model, const exdex_trajectory *tr, size_t i)
+{
+    exdex_certificate cert;
+    int status = exdex_certify(model, tr, &cert);
+    if (status) return status;
+    c->cert_until[i] = cert.reduced ? cert.valid_until : NAN;
+    c->cert_bad[i] = cert.reduced ? (npy_int64)cert.first_bad : -1;
+    return EXDEX_OK;
 }
 
 static void *batch_run(void *arg)
@@ -1627,9 +1677,11 @@ static void *batch_run(void *arg)
                 continue;
             }
             status = exdex_simulate(model, c->t_end, c->dt, &tr, &st);
+            if (!status) status = batch_certify(c, model, &tr, i);
             exdex_model_free(model);
         } else {
             status = exdex_simulate(c->models[i], c->t_end, c->dt, &tr, &st);
+            if (!status) status = batch_certify(c, c->models[i], &tr, i);
         }
         if (status) {
             pthread_mutex_lock(&c->lock);
@@ -1755,7 +1807,7 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
     PyArrayObject *varr[NVARY_MAX] = {NULL};
     PyArrayObject *base_times = NULL, *base_poses = NULL, *base_grip = NULL;
     PyArrayObject *t = NULL, *q = NULL, *v = NULL, *wr = NULL, *stick = NULL, *sf = NULL, *disp = NULL;
-    PyArrayObject *sarr[11] = {NULL};
+    PyArrayObject *sarr[13] = {NULL};
     exdex_model **models = NULL;
     batch_worker *workers = NULL;
     exdex_scene_def base;
@@ -1872,10 +1924,12 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
         }
         /* int64: steps .. warnings (0-4), impacts (6), max_impulse_stop (9);
          * float64: min_gap (5), max_impulse (7), max_impulse_t (8), first_warning_t (10) */
-        for (int k = 0; k < 11; k++)
-            sarr[k] = (PyArrayObject *)PyArray_ZEROS(1, d_b, (k < 5 || k == 6 || k == 9) ? NPY_INT64 : NPY_DOUBLE, 0);
+        /* certificate: valid_until (11, float64), first failing sample (12, int64) */
+        for (int k = 0; k < 13; k++)
+            sarr[k] = (PyArrayObject *)PyArray_ZEROS(1, d_b, (k < 5 || k == 6 || k == 9 || k == 12) ? NPY_INT64
+                                                                                                 : NPY_DOUBLE, 0);
         if (!t || !disp || !q || !v || !wr || !stick || !sf) goto done;
-        for (int k = 0; k < 11; k++)
+        for (int k = 0; k < 13; k++)
             if (!sarr[k]) goto done;
     }
 
@@ -1937,6 +1991,8 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
     ctx.max_impulse_t = PyArray_DATA(sarr[8]);
     ctx.max_impulse_stop = PyArray_DATA(sarr[9]);
     ctx.first_warning_t = PyArray_DATA(sarr[10]);
+    ctx.cert_until = PyArray_DATA(sarr[11]);
+    ctx.cert_bad = PyArray_DATA(sarr[12]);
     ctx.next = 0;
     /* short trajectories (the analytic path: about a microsecond) in chunks,
      * so that the lock is not the bottleneck; otherwise one at a time */
@@ -1980,9 +2036,10 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
                           "min_gap", sarr[5], "impacts", sarr[6], "max_impulse", sarr[7], "max_impulse_t",
                           sarr[8], "max_impulse_stop", sarr[9], "first_warning_t", sarr[10]);
     if (!stats) goto done;
-    result = Py_BuildValue("{s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:n}", "t", t, "q", q, "v", v, "wrench", wr,
+    result = Py_BuildValue("{s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:n,s:O,s:O}", "t", t, "q", q, "v", v, "wrench", wr,
                            "stick", stick, "stop_force", sf, "displacement", disp, "stats", stats,
-                           "threads", (Py_ssize_t)running);
+                           "threads", (Py_ssize_t)running, "reduction_valid_until", sarr[11],
+                           "reduction_first_bad", sarr[12]);
 done:
     if (have_mutex) pthread_mutex_destroy(&ctx.lock);
     if (workers) {
@@ -1997,7 +2054,7 @@ done:
         PyMem_Free(models);
     }
     for (int k = 0; k < NVARY_MAX; k++) Py_XDECREF(varr[k]);
-    for (int k = 0; k < 11; k++) Py_XDECREF(sarr[k]);
+    for (int k = 0; k < 13; k++) Py_XDECREF(sarr[k]);
     Py_XDECREF(base_times);
     Py_XDECREF(base_poses);
     Py_XDECREF(base_grip);

@@ -86,6 +86,12 @@ class BatchResult:
         max_impulse_stop (int64), min_gap [m], max_impulse [N s],
         max_impulse_t, first_warning_t [s] (as in :class:`exdex.Result`;
         NaN and -1 where a single run's stats hold None).
+    reduction_valid_until : (B,) the certificate of each translation or
+        rotation trajectory (:attr:`exdex.Result.certificate`): until when
+        its reduction held [s] (t_end where it held throughout; NaN for
+        planar trajectories). :attr:`reduction_holds` says which held.
+    reduction_first_bad : (B,) int64 index of the first sample whose check
+        fails (n where it held, -1 for planar trajectories).
     params : dict name -> (B,) float64 values of the varied parameters.
     shape : batch shape (B = prod(shape)); see :meth:`gridded`.
     scene : the base scene (or the tuple of scenes of a list batch).
@@ -109,9 +115,20 @@ class BatchResult:
     dt: float = float("nan")
     t_end: float = float("nan")
     threads: int = 1
+    reduction_valid_until: Optional[np.ndarray] = None
+    reduction_first_bad: Optional[np.ndarray] = None
 
     def __len__(self) -> int:
         return len(self.final_displacement)
+
+    @property
+    def reduction_holds(self) -> NDArray[np.bool_]:
+        """(B,) True where a trajectory's reduction held over the whole run
+        (and for planar trajectories, which neglect nothing)."""
+        if self.reduction_first_bad is None:
+            return np.ones(len(self), dtype=bool)
+        bad = np.asarray(self.reduction_first_bad)
+        return (bad < 0) | (bad >= len(self.t))
 
     def gridded(self, name: str) -> NDArray[Any]:
         """Attribute (or stats entry) ``name`` with the batch axis reshaped to
@@ -134,9 +151,16 @@ class BatchResult:
             raise ValueError("at(i) needs record='all'; this batch kept the final sample only")
         i = _index(i, len(self))
         stats = {k: (int(v[i]) if v.dtype.kind == "i" else float(v[i])) for k, v in self.stats.items()}
+        cert = None
+        if self.reduction_first_bad is not None and int(self.reduction_first_bad[i]) >= 0:
+            # the batch keeps how long the reduction held; simulate the scene for the load
+            until = np.asarray(self.reduction_valid_until)
+            cert = dict(holds=bool(self.reduction_holds[i]), valid_until=float(until[i]))
+            if not cert["holds"]:
+                cert["first_bad"] = int(self.reduction_first_bad[i])
         return Result(t=self.t, q=self.q[i], v=self.v[i], wrench=self.wrench[i], stick=self.stick[i],
                       stop_force=self.stop_force[i], stats=stats, scene=self.scene_at(i), method=self.method,
-                      friction_solver=self.friction_solver, dt=self.dt)
+                      friction_solver=self.friction_solver, dt=self.dt, certificate=cert)
 
     def __getitem__(self, i: int) -> Result:
         """``batch[i]``: trajectory ``i`` as an :class:`exdex.Result` (see :meth:`at`)."""
@@ -174,7 +198,11 @@ class BatchResult:
             params={k: np.concatenate([p.params[k] for p in parts]) for k in p0.params},
             shape=tuple(shape) if shape is not None else (n,), scene=p0.scene, record=p0.record,
             method=p0.method, friction_solver=p0.friction_solver, dt=p0.dt, t_end=p0.t_end,
-            threads=max(p.threads for p in parts))
+            threads=max(p.threads for p in parts),
+            reduction_valid_until=None if any(p.reduction_valid_until is None for p in parts)
+            else cat("reduction_valid_until"),
+            reduction_first_bad=None if any(p.reduction_first_bad is None for p in parts)
+            else cat("reduction_first_bad"))
 
 
 def _index(i, n):
@@ -450,7 +478,9 @@ def simulate_batch(scene: Union[Scene, Sequence[Scene]], t_end: float, dt: float
                       stop_force=out["stop_force"], final_displacement=out["displacement"], stats=out["stats"],
                       params=flat, shape=tuple(int(s) for s in shape),
                       scene=scenes if scenes is not None else scene, record=record, method=method,
-                      friction_solver=friction_solver, dt=dt, t_end=t_end, threads=int(out["threads"]))
+                      friction_solver=friction_solver, dt=dt, t_end=t_end, threads=int(out["threads"]),
+                      reduction_valid_until=out["reduction_valid_until"],
+                      reduction_first_bad=out["reduction_first_bad"])
     if warn:
         diagnostics.issue(_batch_findings(res))
     return res
@@ -506,6 +536,16 @@ def _batch_findings(b):
                     f"at t = {times[r, j]:.6g} s " + chk["text"](v, None), kind=chk["kind"],
                     time=float(times[r, j]), quantity=chk["quantity"], value=v, limit=chk["limit"])
             note(chk["kind"], full, make_contact)
+    if b.reduction_first_bad is not None:
+        def make_cert(i):
+            t = float(b.reduction_valid_until[i])
+            return diagnostics.PhysicsWarning(
+                f"the reduction of its {b.scene_at(i).dof} model fails at t = {t:.6g} s "
+                f"(reduction_valid_until): the neglected in-plane coordinates need a plate load the limit "
+                f"surface does not hold; past this time that result does not describe the grasp (simulate "
+                f"that scene for the load and margin, or with dof='planar')", kind="reduction", time=t,
+                quantity="reduction_valid_until [s]", value=t, limit=None)
+        note("reduction", ~b.reduction_holds, make_cert)
     out = []
     for kind, (count, i, w) in hits.items():
         msg = f"batch index {i}" + (f" (and {count - 1} more of {n} trajectories)" if count > 1 else "")

@@ -30,7 +30,7 @@ import warnings
 
 import numpy as np
 
-__all__ = ["PhysicsWarning", "findings", "pad_half_size"]
+__all__ = ["PhysicsWarning", "ReductionWarning", "findings", "pad_half_size"]
 
 
 class PhysicsWarning(UserWarning):
@@ -45,6 +45,63 @@ class PhysicsWarning(UserWarning):
     def __init__(self, message, kind=None, time=None, quantity=None, value=None, limit=None):
         super().__init__(message)
         self.kind, self.time, self.quantity, self.value, self.limit = kind, time, quantity, value, limit
+
+
+class ReductionWarning(PhysicsWarning):
+    """A 1-DoF run's reduction failed: the neglected in-plane coordinates
+    needed a friction load the plates cannot give (``kind`` "reduction").
+
+    Attributes besides :class:`PhysicsWarning`'s: ``coordinate`` (the
+    neglected coordinate that needs most of the load: ``"theta"`` or
+    ``"across"`` -- across the slide axis -- in translation runs,
+    ``"pivot"`` -- the pivot's translation -- in rotation runs), ``load``
+    (the plate friction wrench (f_x, f_y, m_z) in B at the centre of
+    pressure that keeps them still [N, N, N m]), ``stick`` (True: the
+    reduced coordinate was stuck, the load is checked against the static
+    limit surface; False: it slipped, and the part of the load the slip's
+    friction cannot give must be zero), ``gauge`` (``value``: stuck, the
+    load's gauge in the surface, fails above 1; slipping, that part's size
+    over the capacity, fails above 0) and ``margin`` (1 - gauge while
+    stuck, -gauge while slipping: negative where it fails).
+    """
+
+    def __init__(self, message, time, coordinate, load, stick, gauge, capacity):
+        self.coordinate, self.load, self.stick = coordinate, tuple(float(x) for x in load), bool(stick)
+        self.gauge, self.capacity = float(gauge), float(capacity)
+        self.margin = 1.0 - self.gauge if self.stick else -self.gauge
+        super().__init__(message, kind="reduction", time=time,
+                         quantity="gauge of the needed plate load in the limit surface" if self.stick
+                         else "plate load the slip's friction cannot give, over the capacity",
+                         value=self.gauge, limit=1.0 if self.stick else 0.0)
+
+
+_COORD = {0: "pivot", 1: "across", 2: "theta"}
+_COORD_TEXT = {"pivot": "the pivot's translation (x, y)", "across": "the translation across the slide axis",
+               "theta": "the rotation theta"}
+
+
+def reduction_findings(scene, cert):
+    """The :class:`ReductionWarning` of a run's certificate dict (or none)."""
+    if not cert or cert.get("holds", True):
+        return []
+    coord = _COORD.get(int(cert["coordinate"]), "theta")
+    f = cert["load"]
+    t = float(cert["valid_until"])
+    stick = bool(cert["stick"])
+    gauge = float(cert["gauge"])
+    cap = float(cert["capacity"])
+    if stick:
+        how = (f"while the object is stuck to the plates this load lies outside the static limit surface: "
+               f"its gauge is {gauge:.4g} > 1 (margin {1 - gauge:.4g}) at a capacity of {cap:.4g} N")
+    else:
+        how = (f"while the {scene.dof} slips, maximum dissipation gives the plates' friction no part of it, "
+               f"and no stop carries {gauge * cap:.4g} N (scaled by the limit surface; {gauge:.4g} of the "
+               f"capacity {cap:.4g} N, margin {-gauge:.4g})")
+    msg = (f"the {scene.dof} model's reduction fails at t = {t:.6g} s: to keep {_COORD_TEXT[coord]} (and every "
+           f"other neglected coordinate) still, the plates would have to carry f = ({f[0]:.4g}, {f[1]:.4g}) N, "
+           f"m_z = {f[2]:.4g} N m at the centre of pressure; {how}. Past this time the {scene.dof} result does "
+           f"not describe the grasp (Result.reduction_valid_until); simulate it with dof='planar'")
+    return [ReductionWarning(msg, t, coord, f, stick, gauge, cap)]
 
 
 def _length(x):
@@ -313,7 +370,8 @@ def stats_findings(stats):
 
 def findings(result):
     """Every :class:`PhysicsWarning` a :class:`exdex.Result` deserves (not issued)."""
-    return contact_findings(result.scene, result.t, result.q) + stats_findings(result.stats)
+    return (contact_findings(result.scene, result.t, result.q) + stats_findings(result.stats)
+            + reduction_findings(result.scene, getattr(result, "certificate", None)))
 
 
 def issue(found, stacklevel=3):

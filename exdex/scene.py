@@ -985,7 +985,15 @@ class Scene:
         ``"translation"`` (along ``slide_axis``, q = s [m]),
         ``"rotation"`` (about the patch's centre of pressure, fixed in B, an
         ideal pin: paper Section 2.3; q = theta [rad]) or
-        ``"planar"`` (q = x, y, theta). A 1-DoF scene is solved in 1-DoF.
+        ``"planar"`` (q = x, y, theta). A 1-DoF scene is solved in 1-DoF and
+        its reduction certified along the run (:attr:`exdex.Result.certificate`).
+        ``"auto"``: :func:`exdex.simulate` runs the smallest model whose
+        certificate holds and switches to the planar model where it fails
+        (:attr:`exdex.Result.models`); the other entry points (Model,
+        Stepper, batches, plans) take an explicit dof. Not the default: the
+        default ``"translation"`` keeps every existing result bit for bit (and
+        warns where its reduction fails), while ``"auto"`` may answer in other
+        coordinates (x, y, theta) than the scene's user wrote code for.
     slide_axis : unit vector of B's plate plane (translation scenes).
     q0 : initial (x, y, theta) of the object frame C in B [m, m, rad].
     v0 : initial relative velocity (vx, vy, omega) [m/s, m/s, rad/s]; a
@@ -1020,8 +1028,8 @@ class Scene:
             raise TypeError(f"Scene.motion must be an exdex motion (Rest, AsymmetricProfile, "
                             f"TrapezoidalProfile, SampledTrajectory, Shake, Pause, Chain), "
                             f"got {type(self.motion).__name__}")
-        if self.dof not in DOFS:
-            raise ValueError(f"Scene.dof must be one of {sorted(DOFS)}, got {self.dof!r}")
+        if self.dof not in DOFS and self.dof != "auto":
+            raise ValueError(f"Scene.dof must be one of {sorted(DOFS) + ['auto']}, got {self.dof!r}")
         object.__setattr__(self, "slide_axis", _unit(self.slide_axis, "Scene.slide_axis", 2))
         object.__setattr__(self, "q0", _tuple(_array(self.q0, "Scene.q0", (3,))))
         object.__setattr__(self, "v0", _tuple(_array(self.v0, "Scene.v0", (3,))))
@@ -1117,16 +1125,21 @@ class Scene:
 
     @property
     def ndof(self) -> int:
-        """Number of free coordinates (1 or 3)."""
-        return 3 if self.dof == "planar" else 1
+        """Number of free coordinates (1 or 3; "auto": 3, its results' planar coordinates)."""
+        return 3 if self.dof in ("planar", "auto") else 1
 
     @property
     def coordinate_names(self) -> Tuple[str, ...]:
-        return {"translation": ("s",), "rotation": ("theta",), "planar": ("x", "y", "theta")}[self.dof]
+        return {"translation": ("s",), "rotation": ("theta",), "planar": ("x", "y", "theta"),
+                "auto": ("x", "y", "theta")}[self.dof]
 
     def to_spec(self, method: str = "implicit", friction_solver: str = "scalar", eps: float = 1e-4,
                 rtol: float = 1e-8, atol: float = 1e-10) -> Dict[str, Any]:
         """The flat dict the C core reads (keys mirror ``exdex_scene_def``)."""
+        if self.dof == "auto":
+            raise ValueError("Scene.dof='auto' is resolved by exdex.simulate (it runs the smallest model whose "
+                             "certificate holds); Model, Stepper, batches and plans need an explicit dof "
+                             "('translation', 'rotation' or 'planar')")
         spec = dict(
             mass=self.body.mass, inertia=np.array(self.body.inertia).ravel(),
             vertices=self.body.vertices() if (self.stops or self.obstacles) and self.body.outline_radius is None

@@ -1,6 +1,7 @@
 """exdex.simulate: one whole trajectory computed in C, returned as NumPy arrays."""
 from __future__ import annotations
 
+import dataclasses
 import math
 import numbers
 import os
@@ -59,6 +60,32 @@ class Result:
         None: none). ``stop_force`` shows an impact as its impulse divided by the
         step.
     scene, method, friction_solver, dt : what produced it.
+    certificate : the check of a translation or rotation run's reduction
+        (None for planar runs, which neglect nothing, and for runs with
+        ``certify=False``): a dict with ``holds`` (bool) and
+        ``valid_until`` [s]; where it fails also ``first_bad`` (the first
+        sample that fails), ``stick``, ``load`` (f_x, f_y, m_z) [N, N, N m],
+        ``capacity`` [N], ``gauge`` and ``coordinate`` (see
+        :class:`exdex.ReductionWarning`, issued then). Along the run, the
+        plate friction wrench that the neglected in-plane coordinates need
+        to stay still (the planar equations with the reduced coordinate's
+        motion, gravity and the frame's inertial terms, stops that touch the
+        object pushing as needed) is checked against the friction limit
+        surface: inside the static surface while the reduced coordinate
+        sticks; while it slips, maximum dissipation gives a pure translation
+        slip no friction moment and a pure rotation about the centre of
+        pressure no friction force, so that part of the load must be zero
+        (to 1e-9 of the scene's force scale) or carried by a stop. Checked
+        at every sample and every switching time of the motion and grip
+        schedule; the failure is located between samples by Brent's method.
+        :attr:`reduction_valid_until` and :attr:`reduction_holds` read it.
+    models : for a scene with ``dof="auto"``: which model ran over which
+        interval and why, as ``(dof, method, t_start, t_end, why)`` tuples
+        (empty for an explicit dof). Where a 1-DoF model holds throughout,
+        the Result is that model's (``scene.dof`` says which, q its one
+        coordinate); after a switch it is planar, q = (x, y, theta) over the
+        whole run (the 1-DoF part as the full pose), and the samples after the
+        switch lie on the grid t_switch + k dt.
     """
 
     t: np.ndarray
@@ -72,6 +99,30 @@ class Result:
     method: str = "implicit"
     friction_solver: str = "scalar"
     dt: float = float("nan")
+    certificate: Optional[Dict[str, Any]] = None
+    models: Tuple[Tuple[str, str, float, float, str], ...] = ()
+
+    @property
+    def reduction_valid_until(self) -> Optional[float]:
+        """Until when a translation or rotation run's reduction held [s]: the
+        last time at which the planar model admits the reduced motion (the
+        last sample's time when it held throughout; the failure is just
+        after it otherwise). None for planar runs and uncertified ones."""
+        if self.certificate is None:
+            return None
+        return float(self.certificate["valid_until"])
+
+    @property
+    def reduction_holds(self) -> NDArray[np.bool_]:
+        """(n,) True at the samples up to :attr:`reduction_valid_until`
+        (every sample of a run whose reduction held, of a planar run and of
+        an uncertified one): where the reduced result describes the grasp."""
+        c = self.certificate
+        if c is None or c["holds"]:
+            return np.ones(len(self.t), dtype=bool)
+        out = np.zeros(len(self.t), dtype=bool)
+        out[:int(c["first_bad"])] = True
+        return out
 
     @property
     def displacement(self) -> NDArray[np.float64]:
@@ -214,7 +265,8 @@ class Result:
             import json
 
             meta = dict(method=self.method, friction_solver=self.friction_solver, dt=self.dt,
-                        stats=self.stats, names=list(self._names()))
+                        stats=self.stats, names=list(self._names()), certificate=self.certificate,
+                        models=[list(m) for m in self.models])
             arrays: Dict[str, Any] = dict(t=self.t, q=self.q, v=self.v, wrench=self.wrench, stick=self.stick,
                           stop_force=self.stop_force, meta=np.array(json.dumps(meta)))
             if self.scene is not None:
@@ -251,7 +303,9 @@ class Result:
                 scene = io.loads(str(z["scene"]), "json")
             return cls(t=z["t"], q=z["q"], v=z["v"], wrench=z["wrench"], stick=z["stick"],
                        stop_force=z["stop_force"], stats=meta["stats"], scene=scene, method=meta["method"],
-                       friction_solver=meta["friction_solver"], dt=meta["dt"])
+                       friction_solver=meta["friction_solver"], dt=meta["dt"],
+                       certificate=_cert_load(meta.get("certificate")),
+                       models=tuple(tuple(m) for m in meta.get("models", ())))
 
     def __repr__(self) -> str:
         names = self._names()
@@ -283,12 +337,22 @@ class Result:
 
 def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "implicit",
              friction_solver: FrictionSolver = "scalar", eps: float = 1e-4, rtol: float = 1e-8,
-             atol: float = 1e-10) -> Result:
+             atol: float = 1e-10, certify: bool = True) -> Result:
     """Simulate the object in the moving gripper from t = 0 to ``t_end``.
 
     Parameters
     ----------
     scene : exdex.Scene
+        With ``dof="auto"``, the smallest model that holds: the 1-DoF models
+        (translation along ``slide_axis``, rotation about the centre of
+        pressure; the analytic method where ``method="auto"`` and it applies)
+        are run with their certificate, the one that holds longest is kept
+        up to where it fails, and the planar model continues from that
+        instant with the state carried over exactly (the motion and grip
+        schedule played on from there); :attr:`Result.models` says which ran
+        when and why. A reduction that fails at once runs planar from t = 0
+        (the same run as ``dof="planar"``); one that holds gives the 1-DoF
+        run itself, bit for bit.
     t_end : float
         End time [s], >= dt.
     dt : float
@@ -389,6 +453,9 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
 
     Warns
     -----
+    exdex.ReductionWarning
+        A kind of PhysicsWarning: where a translation or rotation run's
+        reduction fails (time, neglected coordinate, load, margin).
     exdex.PhysicsWarning
         When the result leaves the model's assumptions (the object slides
         beyond the pad, the pads leave the body outline, impacts on stops,
@@ -401,13 +468,134 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
         cannot transmit an impulse).
     """
     dt, t_end = _check_times(t_end, dt)
+    if isinstance(scene, Scene) and scene.dof == "auto":
+        return _simulate_auto(scene, t_end, dt, method, friction_solver, eps, rtol, atol)
     method = resolve_method(scene, method)
     spec = _spec(scene, method, friction_solver, eps, rtol, atol)
-    out = _core.simulate(spec, t_end, dt)
+    out = _core.simulate(spec, t_end, dt, certify=bool(certify))
     _warn_jumps(scene, _jumps(scene, spec), t_end)
     res = _result(out, scene, method, friction_solver, dt)
     diagnostics.issue(diagnostics.findings(res))
     return res
+
+
+_PLANAR_METHODS = ("implicit", "event", "regularised", "explicit")
+
+
+def _full_state(scene, q, v):
+    """Planar poses and velocities (n, 3) of a 1-DoF scene's coordinates q, rates v (n, 1)."""
+    pose = diagnostics.poses(scene, q)
+    v = np.asarray(v, dtype=float).reshape(len(pose), -1)[:, 0]
+    vel = np.zeros_like(pose)
+    if scene.dof == "translation":
+        d = scene.slide_axis
+        vel[:, 0], vel[:, 1] = v * d[0], v * d[1]
+    else:
+        c = -np.array(scene.grasp.patch.center)
+        th0 = scene.q0[2]
+        cs, sn = math.cos(th0), math.sin(th0)
+        pivot = np.array(scene.q0[:2]) - np.array([cs * c[0] - sn * c[1], sn * c[0] + cs * c[1]])
+        rho = pose[:, :2] - pivot
+        vel[:, 0], vel[:, 1], vel[:, 2] = -v * rho[:, 1], v * rho[:, 0], v
+    return pose, vel
+
+
+def _simulate_auto(scene, t_end, dt, method, friction_solver, eps, rtol, atol):
+    """dof="auto" (see :class:`exdex.Scene`): the 1-DoF models in the order
+    the motion suggests (a turning gripper: rotation first), the one whose
+    certificate holds longest, then the planar model from where it fails."""
+    from exdex.scene import GripSchedule, replace
+
+    opts = dict(friction_solver=friction_solver, eps=eps, rtol=rtol, atol=atol)
+    planar = replace(scene, dof="planar")
+    order = ("rotation", "translation") if getattr(scene.motion, "rotation", False) else ("translation", "rotation")
+    best = None     # (valid_until, dof, method, result)
+    why_not = []
+    if not scene.obstacles:
+        for dof in order:
+            sc = replace(scene, dof=dof)
+            m = resolve_method(sc, method)
+            if m == "analytic" and _core.analytic_unsupported(sc.to_spec()) is not None:
+                m = "event"
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                try:
+                    res = simulate(sc, t_end, dt, method=m, **opts)
+                except ValueError as exc:   # e.g. stops the 1-DoF model cannot give way to
+                    why_not.append(f"the {dof} model does not apply ({exc})")
+                    continue
+            c = res.certificate
+            if c["holds"]:
+                best = (t_end, dof, m, res)
+                break
+            why_not.append(f"the {dof} model fails its certificate at t = {c['valid_until']:.6g} s "
+                           f"(gauge {c['gauge']:.4g}, {'stuck' if c['stick'] else 'slipping'})")
+            if best is None or c["valid_until"] > best[0]:
+                best = (float(c["valid_until"]), dof, m, res)
+    else:
+        why_not.append("obstacles: the 1-DoF certificate takes stops only")
+    pm = method if method in _PLANAR_METHODS else "event"
+    if best is not None and best[3].certificate["holds"]:
+        _, dof, m, res = best
+        res = dataclasses.replace(res, models=((dof, m, 0.0, float(res.t[-1]),
+                                                f"the {dof} model's certificate holds to t_end"),))
+        _warn_jumps(scene, _jumps(res.scene, res.scene.to_spec(method=m)), t_end, stacklevel=4)
+        diagnostics.issue(diagnostics.findings(res), stacklevel=3)
+        return res
+    if best is None or best[0] <= 0.0:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", GripperJumpWarning)
+            res = simulate(planar, t_end, dt, method=pm, **opts)
+        _warn_jumps(scene, _jumps(planar, planar.to_spec(method=pm)), t_end, stacklevel=4)
+        return dataclasses.replace(res, models=(("planar", pm, 0.0, float(res.t[-1]),
+                                                 "; ".join(why_not) or "no 1-DoF model applies"),))
+    t_sw, dof, m, _ = best
+    sc = replace(scene, dof=dof)
+    # the 1-DoF run up to the switch, its last sample exactly there
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        head = simulate(sc, t_sw, min(dt, t_sw), method=m, certify=False, **opts)
+    pose, vel = _full_state(sc, head.q, head.v)
+    cont = replace(planar, q0=tuple(float(x) for x in pose[-1]), v0=tuple(float(x) for x in vel[-1]))
+    sched = scene.grasp.schedule
+    if sched is not None:
+        cont = replace(cont, grasp=replace(cont.grasp, grip_force=GripSchedule(
+            tuple(t - t_sw for t in sched.times), sched.forces, sched.kind)))
+    spec = cont.to_spec(method=pm, **opts)
+    spec["motion_time_shift"] = t_sw
+    rest = t_end - t_sw
+    out = _core.simulate(spec, rest, min(dt, rest))
+    st = dict(out["stats"])
+    for k in ("steps", "stick_steps", "solver_iterations", "stop_iterations", "warnings", "impacts"):
+        st[k] = st.get(k, 0) + head.stats.get(k, 0)
+    st["min_gap"] = min(st.get("min_gap", math.inf), head.stats.get("min_gap", math.inf))
+    for k in ("first_warning_t", "max_impulse_t"):
+        if st.get(k) is not None:
+            st[k] = st[k] + t_sw
+    res = Result(t=np.concatenate([head.t, t_sw + out["t"][1:]]), q=np.concatenate([pose, out["q"][1:]]),
+                 v=np.concatenate([vel, out["v"][1:]]), wrench=np.concatenate([head.wrench, out["wrench"][1:]]),
+                 stick=np.concatenate([head.stick, out["stick"][1:]]),
+                 stop_force=np.concatenate([head.stop_force, out["stop_force"][1:]]), stats=st, scene=planar,
+                 method=pm, friction_solver=friction_solver, dt=dt,
+                 models=((dof, m, 0.0, float(t_sw), f"the {dof} model's certificate holds to t = {t_sw:.6g} s"),
+                         ("planar", pm, float(t_sw), float(t_end), "; ".join(why_not))))
+    _warn_jumps(scene, _jumps(planar, planar.to_spec(method=pm)), t_end, stacklevel=4)
+    diagnostics.issue(diagnostics.findings(res), stacklevel=3)
+    return res
+
+
+def reduction_fails_at(scene: Scene, t_end: float, dt: float, method: Method = "auto",
+                       **options: Any) -> Optional[float]:
+    """Where the reduction of a translation or rotation scene fails over
+    [0, t_end]: :attr:`Result.reduction_valid_until` of its run (which
+    issues the :class:`exdex.ReductionWarning`), or None when it holds and
+    for planar scenes. Plans, sequences and fits record it for what they
+    return."""
+    if scene.dof == "planar":
+        return None
+    res = simulate(scene, t_end, dt, method=method, **options)
+    c = res.certificate
+    return None if c is None or c["holds"] else float(c["valid_until"])
 
 
 def resolve_method(scene, method):
@@ -442,10 +630,16 @@ def _spec(scene, method, friction_solver, eps, rtol, atol):
     return scene.to_spec(method=method, friction_solver=friction_solver, eps=eps, rtol=rtol, atol=atol)
 
 
+def _cert_load(c):
+    if c is not None and "load" in c:
+        c = dict(c, load=tuple(c["load"]))
+    return c
+
+
 def _result(out, scene, method, friction_solver, dt):
     return Result(t=out["t"], q=out["q"], v=out["v"], wrench=out["wrench"], stick=out["stick"],
                   stop_force=out["stop_force"], stats=out["stats"], scene=scene, method=method,
-                  friction_solver=friction_solver, dt=dt)
+                  friction_solver=friction_solver, dt=dt, certificate=out.get("certificate"))
 
 
 class Model:
@@ -483,10 +677,11 @@ class Model:
         """Number of free coordinates: 1 (translation or rotation) or 3 (planar)."""
         return self._model.ndof
 
-    def simulate(self, t_end: float, dt: float = 1e-3) -> Result:
-        """Run from t = 0 to ``t_end`` in steps of ``dt``: an :class:`exdex.Result`."""
+    def simulate(self, t_end: float, dt: float = 1e-3, certify: bool = True) -> Result:
+        """Run from t = 0 to ``t_end`` in steps of ``dt``: an :class:`exdex.Result`
+        (``certify`` as in :func:`exdex.simulate`)."""
         dt, t_end = _check_times(t_end, dt)
-        out = self._model.simulate(t_end, dt)
+        out = self._model.simulate(t_end, dt, certify=bool(certify))
         _warn_jumps(self.scene, self._jumps, t_end)
         res = _result(out, self.scene, self.method, self.friction_solver, dt)
         diagnostics.issue(diagnostics.findings(res))

@@ -38,6 +38,7 @@ def run(args):
         raise SystemExit("exdex paper: --dt must be > 0")
     os.makedirs(args.out, exist_ok=True)
     rows = []
+    notes = []
     written = []
     animate = getattr(args, "animate", None)
     tasks = 4 if animate else 3
@@ -56,6 +57,7 @@ def run(args):
             write_csv(case, csv_path)
             bar.update()
             rows += case.rows
+            notes += case.notes
             written += [fig_path, csv_path]
             if animate:
                 bar.set_postfix_str(f"{name}: animation")
@@ -70,6 +72,8 @@ def run(args):
     write_summary(rows, summary)
     written.append(summary)
     print(format_table(rows))
+    for line in notes:
+        print(line)
     print("wrote: " + ", ".join(written))
     print(f"elapsed: {time.perf_counter() - t_start:.2f} s")
     return 0

@@ -42,7 +42,7 @@ from exdex._params import PARAMETERS, param_name as _param_name, replace_params 
 from exdex.batch import simulate_batch
 from exdex._validate import real as _real
 from exdex.scene import GripSchedule, Scene
-from exdex.simulate import resolve_method
+from exdex.simulate import reduction_fails_at, resolve_method
 
 __all__ = ["Sensitivity", "sensitivity", "EventTimes", "event_times", "EventSensitivity", "event_sensitivity",
            "Identification", "identify"]
@@ -521,6 +521,11 @@ class Identification:
     residual_rms : RMS of the residuals at the fit [units of the data];
         sigma : the noise level used (given, or estimated from the residuals).
     cost, nfev, success, message : from the least-squares solver.
+    reduction_fails_at : for a translation or rotation scene, where the
+        fitted scene's reduction fails over the observed times
+        (:attr:`exdex.Result.certificate`; flagged with an
+        :class:`exdex.ReductionWarning`: the data past it cannot be a 1-DoF
+        motion), or None when it holds.
     """
 
     scene: Scene
@@ -535,6 +540,7 @@ class Identification:
     nfev: int
     success: bool
     message: str
+    reduction_fails_at: Optional[float] = None
 
     @property
     def identifiable(self) -> bool:
@@ -551,6 +557,9 @@ class Identification:
         for comb, s in self.unidentifiable:
             c = " + ".join(f"{w:+.3f} {p}" for p, w in comb.items() if abs(w) > 1e-3)
             lines.append(f"  not identifiable from these data: the combination {c} (singular value {s:.1e})")
+        if self.reduction_fails_at is not None:
+            lines.append(f"  the fitted {self.scene.dof} model's reduction fails at t = {self.reduction_fails_at:.6g} s: "
+                         f"past it the object cannot move as the 1-DoF model says (fit dof='planar')")
         return "\n".join(lines)
 
     def __repr__(self):
@@ -711,7 +720,9 @@ def identify(scene: Scene, times: ArrayLike, observed: ArrayLike, params: Mappin
             stderr[n] = float(sigma_used * math.sqrt(max(inv[i, i], 0.0)) * scale[i])
     interval = {n: (values[n] - 1.96 * stderr[n], values[n] + 1.96 * stderr[n]) for n in names}
     fitted = _replace_params(scene, values)
+    fails = reduction_fails_at(fitted, t_end, dt, **{k: v for k, v in opts.items()
+                                                    if k in ("method", "rtol", "atol", "eps")})
     return Identification(scene=fitted, params=names, values=values, stderr=stderr, interval=interval,
                           unidentifiable=unident, residual_rms=float(np.sqrt(np.mean(r ** 2))),
                           sigma=sigma_used, cost=float(sol.cost), nfev=int(sol.nfev), success=bool(sol.success),
-                          message=str(sol.message))
+                          message=str(sol.message), reduction_fails_at=fails)

@@ -55,8 +55,9 @@ from exdex._validate import real as _real
 from exdex._params import PARAMETERS, param_name as _param_name, replace_params as _replace_params
 from exdex.batch import simulate_batch
 from exdex.design._targets import QUANTITIES, UnreachableTargetError, check_quantity as _check_quantity, motion_peaks
+from exdex.diagnostics import ReductionWarning
 from exdex.scene import AsymmetricProfile, Rest, SampledTrajectory, Scene, TrapezoidalProfile
-from exdex.simulate import SolverError, resolve_method, simulate
+from exdex.simulate import SolverError, reduction_fails_at, resolve_method, simulate
 
 __all__ = ["Limits", "Plan", "MultiPlan", "Band", "UnreachableTargetError", "solve", "band", "outcome", "motion_peaks",
            "QUANTITIES"]
@@ -272,6 +273,11 @@ class Plan:
         uncertain parameters' samples (else NaN); band the outcome band there.
     rest_by : the time [s] by which the plan has the object at rest relative
         to the gripper (``target["rest_by"]``), or None.
+    reduction_fails_at : for a translation or rotation scene, where the
+        planned run's reduction fails (:attr:`exdex.Result.certificate`;
+        the planner flags such a plan with an :class:`exdex.ReductionWarning`:
+        past that time the planned outcome is not the grasp's), or None
+        when it holds.
     """
 
     scene: Scene
@@ -289,6 +295,7 @@ class Plan:
     worst_error: float = math.nan
     band: Optional["Band"] = None
     rest_by: Optional[float] = None
+    reduction_fails_at: Optional[float] = None
 
     @property
     def meets_target(self) -> bool:
@@ -605,7 +612,20 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Optional[Mapping[str,
     return Plan(scene=best, parameter=name, value=float(x), quantity=quantity, target=goal, achieved=achieved,
                 residual=achieved - goal, cost=_cost_of(cost, best, name, x),
                 reachable=(min(reach[0], achieved), max(reach[1], achieved)),
-                solutions=tuple(float(s) for s, _ in ranked), scan=(xs, ys), tol=tol, rest_by=rest_by)
+                solutions=tuple(float(s) for s, _ in ranked), scan=(xs, ys), tol=tol, rest_by=rest_by,
+                reduction_fails_at=_flag_reduction(best, t_end, dt, opts))
+
+
+def _flag_reduction(scene, t_end, dt, opts):
+    """The plan's reduction_fails_at (and its ReductionWarning, issued at the caller's caller)."""
+    o = {k: v for k, v in opts.items() if k in ("method", "rtol", "atol", "eps")}
+    with warnings.catch_warnings(record=True) as rec:
+        warnings.simplefilter("always")
+        at = reduction_fails_at(scene, t_end, min(dt, t_end / 200), **o)
+    for w in rec:
+        if isinstance(w.message, ReductionWarning):
+            warnings.warn(w.message, stacklevel=4)
+    return at
 
 
 def _final_state(scene, t_end, dt, method, rtol, atol, eps, analytic):
@@ -772,7 +792,7 @@ def _solve_robust(run, scene, name, xs, feasible, quantity, goal, tol, unc, refi
     return Plan(scene=best, parameter=name, value=best_x, quantity=quantity, target=goal, achieved=nominal,
                 residual=nominal - goal, cost=_cost_of(cost, best, name, best_x), reachable=reach,
                 solutions=(best_x,), scan=(xs, np.where(feasible, W, np.nan)), tol=tol, worst_error=float(w[0]),
-                band=bd)
+                band=bd, reduction_fails_at=_flag_reduction(best, run.t_end, run.dt, run.options))
 
 
 # ------------------------------------------------------- several parameters
@@ -801,6 +821,7 @@ class MultiPlan:
     tol: float
     rank: int
     family: Tuple[Dict[str, float], ...]
+    reduction_fails_at: Optional[float] = None
 
     @property
     def meets_target(self) -> bool:
@@ -952,4 +973,5 @@ def _solve_multi(scene, target, vary, *, limits, tol, t_end, dt, method, rtol, a
     achieved = {q: float(a) for q, a in zip(quantities, achieved_arr)}
     return MultiPlan(scene=best_scene, values=values, targets=dict(goals), achieved=achieved,
                      residuals={q: achieved[q] - goals[q] for q in quantities}, cost=float(min(costs)), tol=tol,
-                     rank=rank, family=tuple(family))
+                     rank=rank, family=tuple(family),
+                     reduction_fails_at=_flag_reduction(best_scene, t_end, dt, opts))

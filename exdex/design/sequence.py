@@ -236,6 +236,8 @@ def _run_sequence(scene, prims, values, settle, rtol, atol, with_scenes=False):
                 r = simulate(sc, t_end, _dt(sc, t_end), method="event", rtol=rtol, atol=atol)
             except SolverError:
                 return None
+            if r.certificate is not None and not r.certificate["holds"]:
+                return None   # a step whose 1-DoF reduction fails is no candidate
             stick, q = bool(r.stick[-1]), np.array(r.q[-1], dtype=float)
             scenes.append(sc)
         else:
@@ -251,6 +253,9 @@ def _run_sequence(scene, prims, values, settle, rtol, atol, with_scenes=False):
                 out = _core.simulate(spec, t_end, _dt(scene, t_end))
             except (SolverError, ValueError):
                 return None
+            cert = out.get("certificate")
+            if cert is not None and not cert["holds"]:
+                return None   # a step whose 1-DoF reduction fails is no candidate
             stick, q = bool(out["stick"][-1]), np.array(out["q"][-1], dtype=float)
         if not stick:
             return None

@@ -36,13 +36,15 @@ from __future__ import annotations
 import csv
 import math
 import re
+import warnings
 from dataclasses import dataclass, field
 from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from exdex.scene import AsymmetricProfile, Body, Grasp, Patch, Scene, Stop, TrapezoidalProfile
+from exdex.diagnostics import ReductionWarning
+from exdex.scene import AsymmetricProfile, Body, Grasp, Patch, Scene, Stop, TrapezoidalProfile, replace
 from exdex.simulate import Result, simulate
 
 __all__ = [
@@ -50,7 +52,7 @@ __all__ = [
     "eq7_accelerations", "eq7_phases", "trapezoid", "coulomb_1dof", "PiecewiseMotion",
     "fig3_grip_force", "fig3_scene", "fig4_scene", "fig6_scene", "fig6_rotation_bound",
     "closed_form", "stop_closed_form", "stop_gaps", "gripper_coordinate", "run_case", "CaseRun", "CASES",
-    "plot_case", "write_csv", "write_summary", "format_table", "FIG3", "FIG4", "FIG6", "FIG4_SIZE", "FIG6_MARGIN",
+    "plot_case", "write_csv", "write_summary", "format_table", "fig6_reduction_notes", "FIG3", "FIG4", "FIG6", "FIG4_SIZE", "FIG6_MARGIN",
 ]
 
 # ------------------------------------------------------------------ constants
@@ -624,6 +626,7 @@ class CaseRun:
     extra_errors: dict = field(default_factory=dict)   # label -> |x - other| [unit]
     rows: list = field(default_factory=list)           # table rows (dicts)
     columns: dict = field(default_factory=dict)        # extra CSV columns
+    notes: list = field(default_factory=list)          # lines printed below the table
 
     @property
     def still(self) -> Tuple[float, bool]:
@@ -693,8 +696,11 @@ def run_case(name: str, dt: float = 1e-4, fine_factor: int = 10) -> "CaseRun":
         sc = fig6_scene()
         end = sc.motion.end_time
         t_end = 8.0
-        res = simulate(sc, t_end=t_end, dt=dt)
-        fine = simulate(sc, t_end=t_end, dt=dt / fine_factor)
+        with warnings.catch_warnings():
+            # the paper's 1-DoF model, kept; its reduction's failure is a note below
+            warnings.simplefilter("ignore", ReductionWarning)
+            res = simulate(sc, t_end=t_end, dt=dt)
+            fine = simulate(sc, t_end=t_end, dt=dt / fine_factor)
         cf = closed_form(sc)
         x = res.displacement[:, 0]
         xf = np.interp(res.t, fine.t, fine.displacement[:, 0])
@@ -710,11 +716,40 @@ def run_case(name: str, dt: float = 1e-4, fine_factor: int = 10) -> "CaseRun":
         run.columns["gripper [deg]"] = d * gripper_coordinate(sc, res.t)
         run.columns["closed form [deg]"] = d * xc
         run.columns["friction torque [N m]"] = res.wrench[:, 2]
+        run.notes += fig6_reduction_notes(res)
         return run
     raise ValueError(f"unknown case {name!r}; expected one of {CASES}")
 
 
 CASES = ("fig3", "fig4", "fig6")
+
+
+def fig6_reduction_notes(result: Result, dt: float = 1e-3) -> List[str]:
+    """Where the paper's 1-DoF rotation model of Fig. 6 stops describing the
+    grasp (its :attr:`exdex.Result.certificate`), and what the planar model
+    (event method, output every ``dt``) makes of the same scene: lines of
+    text with the figures."""
+    c = result.certificate
+    if c is None or c["holds"]:
+        return [f"Fig. 6: the rotation model's reduction holds up to t = {result.t[-1]:g} s"]
+    sc = result.scene
+    assert sc is not None
+    f = c["load"]
+    lines = [f"Fig. 6: the paper's 1-DoF rotation model (kept above) fails its certificate at t = "
+             f"{c['valid_until']:g} s: with the object {'stuck' if c['stick'] else 'slipping'}, the pin would carry "
+             f"f = ({f[0]:.4g}, {f[1]:.4g}) N (the weight: gravity lies in the plate plane) and the pads "
+             f"m_z = {f[2]:.4g} N m, gauge {c['gauge']:.4f} in the friction ellipsoid of capacity "
+             f"{c['capacity']:.4g} N (margin {1 - c['gauge'] if c['stick'] else -c['gauge']:.4f}); while it "
+             f"turns, a pure rotation slip's friction has no force, so nothing holds the weight"]
+    planar = simulate(replace(sc, dof="planar"), result.t[-1], dt, method="event")
+    dq = planar.q - planar.q[0]
+    slide = np.hypot(dq[:, 0], dq[:, 1])
+    first = np.flatnonzero(slide > 1e-4)
+    lines.append(f"Fig. 6 as a planar scene (dof='planar', event method): turns {math.degrees(dq[-1, 2]):.1f} deg "
+                 f"(1-DoF: {math.degrees(result.displacement[-1, 0]):.2f} deg) and slides {1e3 * dq[-1, 0]:.1f} mm "
+                 f"along B's x, {1e3 * dq[-1, 1]:.1f} mm along B's y (up); first 0.1 mm of slide at "
+                 f"t = {planar.t[first[0]]:.3f} s" if first.size else "; it does not slide")
+    return lines
 
 
 # ---------------------------------------------------------------- output

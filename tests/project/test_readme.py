@@ -213,3 +213,8 @@ def test_step_cost_figures_are_those_the_bench_wrote():
 def test_obstacle_figures_are_those_the_bench_wrote():
     """The obstacle table quotes results/obstacles.txt (python benchmarks/bench_obstacles.py)."""
     _quoted_from("Obstacles and methods", "obstacles.txt", 30)
+
+
+def test_certificate_cost_figures_are_those_the_bench_wrote():
+    """The certificate-cost table quotes results/certify.txt (python benchmarks/bench_certify.py)."""
+    _quoted_from("Certificate cost", "certify.txt", 40)

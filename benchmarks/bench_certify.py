@@ -1,0 +1,100 @@
+"""The certificate's cost: a reduced run with and without it, side by side.
+
+Each case is compiled once (``exdex.Model``); ``Model.simulate(t_end, dt,
+certify=...)`` is timed alternately with and without the check, after a
+warm-up, and the table gives the medians and the extra time in percent of
+the uncertified run (CPU time of the process, time.process_time: wall
+times on a shared machine mostly measure the wait for a core), both for the whole call (``exdex.Model.simulate``: the
+C run, the Result and the physics-warning checks) and for the C core alone
+(the compiled model's run returning its arrays). The cases are reduced scenes whose reduction holds over
+the whole run (a failing one stops checking at its failure, so it costs
+less): the paper's Figs. 3 and 4, a box held still below its turning
+threshold, a translation in a gripper that turns (Eq. 7 about the plate
+normal, the load changes with time and state: checked at every sample) and
+Fig. 6's rotation with gravity along the plate normal (a slipping rotation).
+
+    python benchmarks/bench_certify.py [--repeat N] [--out results/certify.txt]
+"""
+import argparse
+import math
+import os
+import statistics
+import sys
+import time
+import warnings
+
+import exdex
+from exdex import paper
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def cases():
+    box = exdex.Scene(body=exdex.Body.box(0.2, (0.15, 0.08, 0.03)),
+                      grasp=exdex.Grasp(mu=1.0, grip_force=3.0, patch=exdex.Patch.rectangle(0.02, 0.02,
+                                                                                          center=(0.02, 0.0))))
+    turning = exdex.Scene(body=exdex.Body.box(0.1, (0.06, 0.03, 0.02)),
+                          grasp=exdex.Grasp(mu=0.8, grip_force=2.0, patch=exdex.Patch.rectangle(0.02, 0.02)),
+                          motion=exdex.AsymmetricProfile(math.radians(30), 0.5, 0.8, axis=(0, -1, 0),
+                                                         rotation=True))
+    fig6_flat = exdex.replace(paper.fig6_scene(), gravity=(0.0, -9.81, 0.0))
+    out = []
+    for method in ("analytic", "implicit", "event"):
+        out.append((f"Fig. 3 ({method})", paper.fig3_scene(), method, 1.5, 1e-4))
+    for method in ("implicit", "event"):
+        out.append((f"Fig. 4 ({method})", paper.fig4_scene(), method, 1.0, 1e-4))
+    for method in ("analytic", "implicit", "event", "explicit", "regularised"):
+        out.append((f"held box ({method})", box, method, 1.0, 1e-4 if method != "regularised" else 1e-3))
+    for method in ("implicit", "event"):
+        out.append((f"turning gripper ({method})", turning, method, 1.5, 1e-4))
+    for method in ("analytic", "implicit", "event"):
+        out.append((f"Fig. 6, g along the normal ({method})", fig6_flat, method, 8.0, 1e-3))
+    return out
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeat", type=int, default=21)
+    ap.add_argument("--out", default=os.path.join(HERE, "results", "certify.txt"))
+    args = ap.parse_args(argv)
+    warnings.simplefilter("ignore")
+    lines = [f"certificate cost: CPU time (time.process_time), medians of {args.repeat} alternating runs "
+             f"(Python {sys.version.split()[0]}); whole call Model.simulate, and the C core alone",
+             f"{'case':40s} {'steps':>7s} {'without [ms]':>13s} {'with [ms]':>10s} {'extra':>7s}"
+             f" {'core without':>13s} {'core with':>10s} {'extra':>7s}"]
+    print(lines[0])
+    print(lines[1])
+    for name, sc, method, t_end, dt in cases():
+        m = exdex.Model(sc, method=method)
+        res = m.simulate(t_end, dt)
+        assert res.certificate is not None and res.certificate["holds"], (name, res.certificate)
+        m.simulate(t_end, dt, certify=False)
+        a, b, ca, cb = [], [], [], []
+        core = m._model
+        for _ in range(args.repeat):
+            t0 = time.process_time()
+            m.simulate(t_end, dt, certify=False)
+            t1 = time.process_time()
+            m.simulate(t_end, dt, certify=True)
+            t2 = time.process_time()
+            core.simulate(t_end, dt, certify=False)
+            t3 = time.process_time()
+            core.simulate(t_end, dt, certify=True)
+            t4 = time.process_time()
+            a.append(t1 - t0)
+            b.append(t2 - t1)
+            ca.append(t3 - t2)
+            cb.append(t4 - t3)
+        ma, mb = statistics.median(a), statistics.median(b)
+        mca, mcb = statistics.median(ca), statistics.median(cb)
+        line = (f"{name:40s} {len(res.t) - 1:7d} {1e3 * ma:13.3f} {1e3 * mb:10.3f} {100 * (mb / ma - 1):6.1f}%"
+                f" {1e3 * mca:13.3f} {1e3 * mcb:10.3f} {100 * (mcb / mca - 1):6.1f}%")
+        print(line, flush=True)
+        lines.append(line)
+    if args.out:
+        with open(args.out, "w", encoding="utf-8") as f:
+            f.write("\n".join(lines) + "\n")
+
+
+if __name__ == "__main__":
+    main()

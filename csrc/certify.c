@@ -1,0 +1,517 @@
+/* certify.c -- the certificate of a reduced (1-DoF) run: does the planar
+ * model admit the motion the reduced model computed?
+ *
+ * A translation run assumes the object neither turns nor moves across the
+ * slide axis; a rotation run assumes an ideal pin at the pivot. Along the
+ * recorded trajectory, the planar equations (mass matrix M = diag(m, m,
+ * I_zz), gravity and the frame's inertial terms F, Eqs. 3-5) give the plate
+ * friction wrench w the neglected coordinates need to stay still, at the
+ * model's contact point (the centre of pressure, patch coordinates of
+ * model_patch_of_gen). Stops touching the object (gap below tol.touch) may
+ * push along their normals with any force lambda >= 0. The reduction holds
+ *   while the reduced coordinate sticks: iff some lambda >= 0 leaves a w
+ *     inside the static limit surface (gauge <= 1);
+ *   while it slips: maximum dissipation fixes the friction w_f of the
+ *     reduced slip twist (a pure translation slip gets no moment, a pure
+ *     rotation about the centre of pressure no force), the reduced
+ *     coordinate's acceleration a is free (its own equation decides it) and
+ *     the part of the load w_f cannot give must be carried by the stops:
+ *     min over a, lambda >= 0 of |E^-1 r| <= CERT_SLIP_TOL (scale.F +
+ *     |E^-1 b|), r the unbalanced wrench.
+ * The limit surface enters through cert_gauge and cert_slip_wrench only.
+ *
+ * Where it is checked: at every output sample with the sample's state and
+ * mode (stick flag; a sample at rest that is not flagged stick is checked as
+ * at rest), and at every switching time of the scene (model.sw_t: the
+ * motion's and the grip schedule's) inside an output interval with the
+ * state of the interval's end. A failure is located between the last
+ * sample that holds and the first that fails by Brent's method on the
+ * certificate's excess with the state held (a stick state is exact between
+ * samples: the coordinate does not move). Between samples the check is
+ * exact where the load is piecewise constant in time (a translation run in
+ * a gripper that translates with Eq. 7, a trapezoid or at rest, a constant
+ * grip force: the load does not depend on the state, and it changes only at
+ * switching times); elsewhere (a turning gripper, a shake, a log, a grip
+ * schedule, a rotation run whose load moves with the angle) the check is at
+ * samples and switching times, so an excursion that begins and ends within
+ * one output interval is seen only to the output grid's resolution. */
+#include "exdex.h"
+#include "model.h"
+#include "contact.h"
+
+#include <math.h>
+#include <string.h>
+
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_roots.h>
+
+/* A slip's unbalanced wrench counts as zero below this fraction of the
+ * scene's force scale plus the load's size (rounding of the load is ~1e-16
+ * of them). */
+#define CERT_SLIP_TOL 1e-9
+/* Contact rows taken into the stop problem (the first ones in contact). */
+#define CERT_MAX_ROWS 8
+
+/* ------------------------------------------------------- limit surface
+ * The one place that knows the surface: the ellipsoid w^T E^-2 w <= C^2 of
+ * the model's patch (E = diag(1, 1, e_r)). */
+
+/* |E^-1 w|: the load's gauge times the capacity. */
+static double cert_gauge(const exdex_model *m, const double w[3])
+{
+    return model_ell_norm(m, w);
+}
+
+/* Maximum dissipation for the slip twist u != 0 at the patch: the friction
+ * wrench -C E^2 u / |E u|. */
+static void cert_slip_wrench(const exdex_model *m, const double u[3], double C, double w[3])
+{
+    double eu = 0.0;
+    for (int c = 0; c < 3; c++) eu += m->e[c] * m->e[c] * u[c] * u[c];
+    eu = sqrt(eu);
+    for (int c = 0; c < 3; c++) w[c] = eu > 0.0 ? -C * m->e[c] * m->e[c] * u[c] / eu : 0.0;
+}
+
+/* ------------------------------------------- smallest unbalanced wrench
+ * min |y0 + sum_k x_k c_k| over x_k free (k < nfree) and x_k >= 0 (the
+ * others), in R^3 (E^-1-scaled patch wrenches). Convex: some optimum has a
+ * linearly independent support of at most 3 columns whose least-squares
+ * solution is feasible (Caratheodory), so the smallest residual over the
+ * supports of up to 3 columns that contain every free column and solve
+ * feasibly is the minimum. ncol <= 1 + CERT_MAX_ROWS. */
+static double ls_residual(const double y0[3], const double (*c)[3], const int *idx, int k, double *x)
+{
+    double A[3][3], b[3], r[3];
+    for (int i = 0; i < k; i++) {
+        b[i] = 0.0;
+        for (int d = 0; d < 3; d++) b[i] -= c[idx[i]][d] * y0[d];
+        for (int j = 0; j < k; j++) {
+            A[i][j] = 0.0;
+            for (int d = 0; d < 3; d++) A[i][j] += c[idx[i]][d] * c[idx[j]][d];
+        }
+    }
+    if (k == 1) {
+        if (!(A[0][0] > 0.0)) return -1.0;
+        x[0] = b[0] / A[0][0];
+    } else if (k == 2) {
+        double det = A[0][0] * A[1][1] - A[0][1] * A[1][0];
+        if (!(fabs(det) > 1e-14 * A[0][0] * A[1][1])) return -1.0;
+        x[0] = (b[0] * A[1][1] - A[0][1] * b[1]) / det;
+        x[1] = (A[0][0] * b[1] - A[1][0] * b[0]) / det;
+    } else if (k == 3) {
+        double c0 = A[1][1] * A[2][2] - A[1][2] * A[2][1], c1 = A[1][2] * A[2][0] - A[1][0] * A[2][2],
+               c2 = A[1][0] * A[2][1] - A[1][1] * A[2][0];
+        double det = A[0][0] * c0 + A[0][1] * c1 + A[0][2] * c2;
+        if (!(fabs(det) > 1e-14 * A[0][0] * A[1][1] * A[2][2])) return -1.0;
+        /* Cramer */
+        for (int i = 0; i < 3; i++) {
+            double M[3][3];
+            memcpy(M, A, sizeof M);
+            for (int j = 0; j < 3; j++) M[j][i] = b[j];
+            x[i] = (M[0][0] * (M[1][1] * M[2][2] - M[1][2] * M[2][1]) - M[0][1] * (M[1][0] * M[2][2] - M[1][2] * M[2][0]) +
+                    M[0][2] * (M[1][0] * M[2][1] - M[1][1] * M[2][0])) / det;
+        }
+    }
+    for (int d = 0; d < 3; d++) {
+        r[d] = y0[d];
+        for (int i = 0; i < k; i++) r[d] += x[i] * c[idx[i]][d];
+    }
+    return sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+}
+
+static double min_residual(const double y0[3], const double (*c)[3], int nfree, int ncol)
+{
+    double best = -1.0;
+    int nn = ncol - nfree, kmax = 3 - nfree;
+    if (nfree > 1) return -1.0;
+    /* supports: the free column (if any) and a < b < e of the others (-1: none) */
+    for (int a = -1; a < nn; a++) {
+        for (int b = -1; b < nn; b++) {
+            if (b >= 0 && (a < 0 || b <= a)) continue;
+            for (int e = -1; e < nn; e++) {
+                if (e >= 0 && (b < 0 || e <= b)) continue;
+                int idx[3], k = 0, ok = 1, extra = (a >= 0) + (b >= 0) + (e >= 0);
+                double x[3] = {0, 0, 0}, r;
+                if (extra > kmax) continue;
+                if (nfree) idx[k++] = 0;
+                if (a >= 0) idx[k++] = nfree + a;
+                if (b >= 0) idx[k++] = nfree + b;
+                if (e >= 0) idx[k++] = nfree + e;
+                if (k == 0) {
+                    r = sqrt(y0[0] * y0[0] + y0[1] * y0[1] + y0[2] * y0[2]);
+                } else {
+                    r = ls_residual(y0, c, idx, k, x);
+                    if (r < 0.0) continue;
+                    for (int i = nfree; i < k; i++)
+                        if (x[i] < 0.0) ok = 0;
+                }
+                if (ok && (best < 0.0 || r < best)) best = r;
+            }
+        }
+    }
+    return best < 0.0 ? sqrt(y0[0] * y0[0] + y0[1] * y0[1] + y0[2] * y0[2]) : best;
+}
+
+/* -------------------------------------------------------- one instant */
+
+typedef struct cert_eval {
+    double excess;     /* > 0: fails (stick: gauge / Cs - 1; slip: residual / tol - 1) */
+    double gauge;      /* stick: |E^-1 w| / Cs; slip: |E^-1 r| / C */
+    double load[3];    /* the wrench the neglected coordinates need (patch frame) */
+    double cap;        /* capacity used (static while stuck) */
+    int stick;
+    double th;
+    double along;      /* |generalised load along the free coordinate| (a stuck reduced model needs <= its capacity) */
+} cert_eval;
+
+/* The verdict for the load b (patch wrench with no stop force) with the
+ * columns cols (the free acceleration first when nfree = 1, then stop
+ * rows): stuck (vf NULL) against the static surface, slipping at the planar
+ * velocity vf against the slip's friction. */
+static int cert_decide(const exdex_model *m, double t, const double b[3], const double *vf, const double cs[2],
+                       const double (*cols)[3], int nfree, int ncol, cert_eval *ce)
+{
+    double y0[3];
+    if (!vf) {
+        double Cs = model_capacity_static(m, t), res;
+        for (int c = 0; c < 3; c++) y0[c] = b[c] / m->e[c];
+        res = ncol ? min_residual(y0, cols, nfree, ncol) : cert_gauge(m, b);
+        ce->cap = Cs;
+        ce->gauge = Cs > 0.0 ? res / Cs : (res > 0.0 ? INFINITY : 0.0);
+        ce->excess = ce->gauge - 1.0;
+    } else {
+        double C = model_capacity(m, t), u[3], wf[3], res, tol;
+        model_patch_slip(m, cs, vf, u);
+        cert_slip_wrench(m, u, C, wf);
+        for (int c = 0; c < 3; c++) y0[c] = (b[c] - wf[c]) / m->e[c];
+        res = min_residual(y0, cols, nfree, ncol);
+        tol = CERT_SLIP_TOL * (m->scale.F + cert_gauge(m, b) + C);
+        ce->cap = C;
+        ce->gauge = C > 0.0 ? res / C : res;
+        ce->excess = res / tol - 1.0;
+    }
+    return EXDEX_OK;
+}
+
+/* The certificate at time t for reduced coordinate q, rate v, mode stick. */
+static int cert_at(const exdex_model *m, double t, double q, double v, int stick, cert_eval *ce)
+{
+    frame f;
+    exdex_kinematics kin;
+    double r[3], th, qf[3], vf[3], kap[3] = {0, 0, 0}, T[3], F[3], P[3], b[3], cs[2], gM[3];
+    double cols[1 + CERT_MAX_ROWS][3];
+    int ncol = 0, nfree = 0;
+    int st = model_frame_at(m, t, &f, &kin);
+    if (st) return st;
+    {
+        double qq[3] = {q, 0.0, 0.0};
+        model_com_pose(m, qq, r, &th);
+    }
+    cs[0] = cos(th);
+    cs[1] = sin(th);
+    qf[0] = r[0];
+    qf[1] = r[1];
+    qf[2] = th;
+    if (stick) v = 0.0;
+    if (m->def.dof == EXDEX_DOF_TRANSLATION) {
+        vf[0] = v * m->d[0];
+        vf[1] = v * m->d[1];
+        vf[2] = 0.0;
+        T[0] = m->d[0];
+        T[1] = m->d[1];
+        T[2] = 0.0;
+    } else {
+        double rho[2] = {r[0] - m->pivot[0], r[1] - m->pivot[1]};
+        vf[0] = -v * rho[1];
+        vf[1] = v * rho[0];
+        vf[2] = v;
+        kap[0] = -v * v * rho[0];
+        kap[1] = -v * v * rho[1];
+        T[0] = -rho[1];
+        T[1] = rho[0];
+        T[2] = 1.0;
+    }
+    model_force_planar(m, &f, qf, vf, F);
+    /* the friction needed with a = 0 and no stop force: M kappa - F */
+    P[0] = m->m * kap[0] - F[0];
+    P[1] = m->m * kap[1] - F[1];
+    P[2] = m->izz * kap[2] - F[2];
+    model_patch_of_gen(m, cs, P, b);
+    memcpy(ce->load, b, sizeof b);
+    ce->along = fabs(P[0] * T[0] + P[1] * T[1] + P[2] * T[2]);
+    ce->stick = stick || v == 0.0;
+    ce->th = th;
+    if (!ce->stick) {
+        /* the free acceleration a: wrench M T per unit a */
+        double MT[3] = {m->m * T[0], m->m * T[1], m->izz * T[2]};
+        model_patch_of_gen(m, cs, MT, gM);
+        for (int c = 0; c < 3; c++) cols[ncol][c] = gM[c] / m->e[c];
+        ncol++;
+        nfree = 1;
+    }
+    if (m->n_stops) {
+        /* without a stop force first: stops are looked for only where it fails */
+        cert_eval free_ce = *ce;
+        int fst = cert_decide(m, t, b, ce->stick ? NULL : vf, cs, (const double(*)[3])cols, nfree, ncol, &free_ce);
+        if (fst) return fst;
+        if (!(free_ce.excess > 0.0)) {
+            *ce = free_ce;
+            return EXDEX_OK;
+        }
+    }
+    if (m->n_stops) {
+        /* stops in contact push along their normals: generalized force lambda G */
+        int nv = contact_nv(m);
+        for (int k = 0; k < m->n_stops && ncol < 1 + CERT_MAX_ROWS; k++) {
+            for (int j = 0; j < nv && ncol < 1 + CERT_MAX_ROWS; j++) {
+                double G[3], g[3];
+                double gap = contact_row_planar(m, &kin, k, j, qf, vf, G, NULL, NULL);
+                if (!(gap < m->tol.touch)) continue;
+                if (fabs(G[0]) + fabs(G[1]) + fabs(G[2]) < FQ_MIN) continue;
+                /* the reaction on the object is lambda G; the friction needed drops by it */
+                model_patch_of_gen(m, cs, G, g);
+                for (int c = 0; c < 3; c++) cols[ncol][c] = -g[c] / m->e[c];
+                ncol++;
+            }
+        }
+    }
+    return cert_decide(m, t, b, ce->stick ? NULL : vf, cs, (const double(*)[3])cols, nfree, ncol, ce);
+}
+
+/* -------------------------------------------------------- along a run */
+
+typedef struct root_par {
+    const exdex_model *m;
+    double q, v;
+    int stick;
+    int err;
+} root_par;
+
+static double excess_of(double t, void *par)
+{
+    root_par *p = par;
+    cert_eval ce;
+    if (cert_at(p->m, t, p->q, p->v, p->stick, &ce)) {
+        p->err = 1;
+        return 1.0;
+    }
+    return ce.excess;
+}
+
+/* The first time in (a, b] where the excess at state (q, v, stick) turns
+ * > 0, given <= 0 at a and > 0 at b: Brent on the sign change (a jump of the
+ * load converges onto the jump). */
+static double locate(const exdex_model *m, double a, double b, double q, double v, int stick)
+{
+    root_par p = {m, q, v, stick, 0};
+    gsl_function F = {excess_of, &p};
+    gsl_root_fsolver *s = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
+    double lo = a, hi = b;
+    gsl_error_handler_t *old;
+    if (!s) return a;
+    old = gsl_set_error_handler_off();
+    if (gsl_root_fsolver_set(s, &F, a, b) == GSL_SUCCESS) {
+        for (int it = 0; it < 100; it++) {
+            if (gsl_root_fsolver_iterate(s) != GSL_SUCCESS || p.err) break;
+            lo = gsl_root_fsolver_x_lower(s);
+            hi = gsl_root_fsolver_x_upper(s);
+            if (hi - lo <= m->tol.root) break;
+        }
+    }
+    gsl_set_error_handler(old);
+    gsl_root_fsolver_free(s);
+    /* the last time known to hold */
+    return excess_of(hi, &p) > 0.0 ? lo : hi;
+}
+
+static void fill(const exdex_model *m, exdex_certificate *c, const cert_eval *ce, double t, size_t i)
+{
+    double wb[3], cs[2] = {cos(ce->th), sin(ce->th)};
+    c->holds = 0;
+    c->valid_until = t;
+    c->first_bad = i;
+    c->stick = ce->stick;
+    model_to_b(cs, ce->load, wb);
+    memcpy(c->load, wb, sizeof wb);
+    c->capacity = ce->cap;
+    c->gauge = ce->gauge;
+    if (m->def.dof == EXDEX_DOF_TRANSLATION) {
+        /* across the slide axis (patch frame force perpendicular to d) or the turn */
+        double dp[2], perp;
+        double dth[2] = {cs[0] * m->d[0] + cs[1] * m->d[1], -cs[1] * m->d[0] + cs[0] * m->d[1]};
+        dp[0] = -dth[1];
+        dp[1] = dth[0];
+        perp = ce->load[0] * dp[0] + ce->load[1] * dp[1];
+        c->coordinate = fabs(ce->load[2]) / m->e[2] > fabs(perp) ? 2 : 1;
+    } else {
+        c->coordinate = 0;
+    }
+}
+
+/* Is the load piecewise constant in time (changing only at switching
+ * times) and independent of the state? A translation run with no stop or
+ * obstacle, a constant grip force and a gripper that only translates with a
+ * piecewise-constant acceleration (rest, Eq. 7, a trapezoid). */
+static int piecewise_constant(const exdex_model *m)
+{
+    const exdex_motion_def *d = &m->def.motion;
+    if (m->def.dof != EXDEX_DOF_TRANSLATION || m->n_src || m->grip_n) return 0;
+    if (m->motion != m->sw_motion || d->time_shift != 0.0) return 0;
+    if (d->kind == EXDEX_MOTION_REST) return 1;
+    return (d->kind == EXDEX_MOTION_ASYMMETRIC || d->kind == EXDEX_MOTION_TRAPEZOID) && !d->rotation;
+}
+
+/* Does the reduced coordinate count as at rest at (t, q, v) after a step
+ * of h? At rest to the model's rate threshold (|v| <= tol.vzero), or, for the methods without true stick,
+ * within their own resolution of rest while the reduced load Q is inside
+ * the reduced surface (|Q| < C, C e_r for a rotation): the regularised
+ * method creeps at |E u| = eps g / sqrt(1 - g^2) (g = |Q| / C), counted at
+ * rest up to twice that plus eps; the explicit method chatters within
+ * |v| <= h (|Q| + C) / M (a step's update h (Q - C sgn v) / M). */
+static int at_rest(const exdex_model *m, double h, double t, double q, double v)
+{
+    int rot = m->def.dof == EXDEX_DOF_ROTATION;
+    double C, Q, M, g;
+    frame f;
+    exdex_kinematics kin;
+    if (fabs(v) <= m->tol.vzero) return 1;   /* the methods' own zero rate (a rest against a stop) */
+    if (m->def.method != EXDEX_METHOD_REGULARISED && m->def.method != EXDEX_METHOD_EXPLICIT) return 0;
+    if (model_frame_at(m, t, &f, &kin)) return 0;
+    C = model_capacity(m, t) * (rot ? m->e[2] : 1.0);
+    M = rot ? m->mrot : m->m;
+    Q = fabs(model_force_1dof(m, &f, q, v));
+    if (!(Q < C)) return 0;
+    if (m->def.method == EXDEX_METHOD_EXPLICIT) return fabs(v) <= h * (Q + C) / M;
+    g = Q / C;
+    return fabs(v) * (rot ? m->e[2] : 1.0) <= m->def.eps * (1.0 + 2.0 * g / sqrt(1.0 - g * g));
+}
+
+int exdex_certify(const exdex_model *m, const exdex_trajectory *out, exdex_certificate *c)
+{
+    size_t n, sw = 0, i_start = 1;
+    int pc, st;
+    cert_eval ce, cp;
+    /* piecewise-constant loads: one evaluation per piece and mode */
+    double pt_lo = -INFINITY, pt_hi = -INFINITY;
+    cert_eval pk[3];
+    int pk_have[3] = {0, 0, 0};
+    if (!m || !out || !c || !out->t || !out->q || !out->v || !out->stick || out->n == 0) return EXDEX_EINVAL;
+    memset(c, 0, sizeof *c);
+    n = out->n;
+    c->valid_until = out->t[n - 1];
+    c->first_bad = n;
+    c->holds = 1;
+    c->coordinate = -1;
+    if (m->ndof != 1) return EXDEX_OK;
+    c->reduced = 1;
+    pc = piecewise_constant(m);
+    if (pc) {
+        /* the load takes one value per piece between switching times, the
+         * same for every state: a piece where it holds stuck and slipping
+         * either way holds for every sample in it, so the samples are
+         * scanned only from the first piece where some mode fails */
+        double t_end = out->t[n - 1], lo = out->t[0];
+        size_t p = 0;
+        int fails = 0;
+        while (p < m->sw_n && m->sw_t[p] <= lo) p++;
+        for (;; p++) {
+            double hi = p < m->sw_n ? m->sw_t[p] : INFINITY, tm = lo + 0.5 * ((hi < t_end ? hi : t_end) - lo);
+            for (int key = 0; key < 3 && !fails; key++) {
+                st = cert_at(m, tm, out->q[0], key == 0 ? 0.0 : (key == 1 ? m->scale.V : -m->scale.V), key == 0,
+                             &cp);
+                if (st) return st;
+                /* no sample sticks where the reduced load exceeds the static capacity */
+                fails = cp.excess > 0.0 && !(key == 0 && cp.along > cp.cap * (1.0 + 1e-9));
+            }
+            if (fails || !(hi < t_end)) break;
+            lo = hi;
+        }
+        if (!fails) return EXDEX_OK;
+        /* the last sample at or before the piece's start holds */
+        while (i_start < n && out->t[i_start] <= lo) i_start++;
+    }
+    /* sample 0; at rest there but slipping right after, it is the start of
+     * that slip, which sample 1 checks (a slip from rest) */
+    if (i_start == 1 &&
+        !(n > 1 && out->v[0] == 0.0 && !(out->stick[1] || at_rest(m, out->t[1] - out->t[0], out->t[1], out->q[1], out->v[1])))) {
+        st = cert_at(m, out->t[0], out->q[0], out->v[0], out->stick[0], &cp);
+        if (st) return st;
+        if (cp.excess > 0.0) {
+            fill(m, c, &cp, out->t[0], 0);
+            return EXDEX_OK;
+        }
+    }
+    for (size_t i = i_start; i < n; i++) {
+        double t0 = out->t[i - 1], t1 = out->t[i], q1 = out->q[i], v1 = out->v[i], te;
+        int s1 = out->stick[i] || at_rest(m, t1 - t0, t1, q1, v1);
+        int key = s1 ? 0 : (v1 > 0.0 ? 1 : 2);
+        /* switching times inside (t0, t1): checked with the end state */
+        while (sw < m->sw_n && m->sw_t[sw] <= t0) sw++;
+        for (size_t k = sw; k < m->sw_n && m->sw_t[k] < t1 - model_substep_snap(m, t1); k++) {
+            cert_eval cs;
+            st = cert_at(m, m->sw_t[k], q1, v1, s1, &cs);
+            if (st) return st;
+            if (cs.excess > 0.0) {
+                double ta = t0;
+                cert_eval c0;
+                st = cert_at(m, t0, q1, v1, s1, &c0);
+                if (st) return st;
+                if (!(c0.excess > 0.0)) ta = locate(m, t0, m->sw_t[k], q1, v1, s1);
+                fill(m, c, &cs, ta, i);
+                return EXDEX_OK;
+            }
+        }
+        /* the sample closes the interval (t0, t1]: a switching time on t1
+         * (to rounding) belongs to the next one, so the load is its left
+         * limit there */
+        te = t1;
+        if (sw < m->sw_n) {
+            size_t k = sw;
+            while (k < m->sw_n && m->sw_t[k] < t1 - model_substep_snap(m, t1)) k++;
+            if (k < m->sw_n && m->sw_t[k] <= t1 + model_substep_snap(m, t1))
+                te = m->sw_t[k] - 1e-9 * (t1 - t0);
+        }
+        if (pc && pk_have[key] && te >= pt_lo && te < pt_hi) {
+            ce = pk[key];
+        } else {
+            st = cert_at(m, te, q1, v1, s1, &ce);
+            if (st) return st;
+            if (pc) {
+                /* the piece holding t1: [pt_lo, pt_hi) between switching times */
+                size_t k = sw;
+                while (k < m->sw_n && m->sw_t[k] <= te) k++;
+                double lo = k ? m->sw_t[k - 1] : -INFINITY, hi = k < m->sw_n ? m->sw_t[k] : INFINITY;
+                if (lo != pt_lo || hi != pt_hi) pk_have[0] = pk_have[1] = pk_have[2] = 0;
+                pt_lo = lo;
+                pt_hi = hi;
+                pk[key] = ce;
+                pk_have[key] = 1;
+            }
+        }
+        if (ce.excess > 0.0) {
+            /* locate it in (t0, t1] */
+            double ta = t0;
+            int s0 = out->stick[i - 1] || at_rest(m, i > 1 ? t0 - out->t[i - 2] : t1 - t0, t0, out->q[i - 1], out->v[i - 1]);
+            cert_eval c0;
+            if (s1) {
+                st = cert_at(m, t0, q1, 0.0, 1, &c0);
+                if (st) return st;
+                if (!(c0.excess > 0.0)) ta = locate(m, t0, t1, q1, 0.0, 1);
+            } else if (s0) {
+                /* a slip from stick: the stick state fails first where its load leaves the surface */
+                double q0 = out->q[i - 1];
+                cert_eval c1;
+                st = cert_at(m, t1, q0, 0.0, 1, &c1);
+                if (st) return st;
+                if (c1.excess > 0.0) ta = locate(m, t0, t1, q0, 0.0, 1);
+            } else {
+                st = cert_at(m, t0, q1, v1, 0, &c0);
+                if (st) return st;
+                if (!(c0.excess > 0.0)) ta = locate(m, t0, t1, q1, v1, 0);
+            }
+            fill(m, c, &ce, ta, i);
+            return EXDEX_OK;
+        }
+    }
+    return EXDEX_OK;
+}

@@ -1,0 +1,338 @@
+"""The certificate of reduced runs (Result.certificate, ReductionWarning).
+
+References are closed forms of the planar statics, derived here:
+
+* a box held still (gripper at rest) by a patch a distance d from its centre
+  of mass, gravity in the plate plane and perpendicular to the offset: the
+  plates must carry the weight W and the moment W d, so the friction
+  ellipsoid holds it iff (W / C)^2 + (W d / (C e_r))^2 <= 1 (C = mu * 2 *
+  grip force): the pad offset at which the box starts to turn is
+  d* = e_r sqrt((C / W)^2 - 1), and at a given offset the grip force
+  F* = W sqrt(1 + (d / e_r)^2) / (2 mu);
+* a slide whose axis makes an angle alpha with gravity (patch at the centre
+  of mass): the load is the whole weight W, across the axis W sin(alpha);
+  while stuck it must lie in the surface (W <= C), and while the slide slips
+  (W cos(alpha) > C) the part across the axis is a load that a pure
+  translation slip's friction (along the slip) cannot give;
+* a rotation whose centre of mass sits on the pivot: turning the gripper
+  about the plate normal through the pivot loads the pin only with gravity's
+  in-plane part, which a pure rotation slip's friction (a moment only)
+  cannot carry.
+"""
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+import exdex
+from exdex import AsymmetricProfile, Body, Grasp, Patch, Rest, Scene, Stop
+
+METHODS = ["implicit", "event", "regularised", "explicit", "analytic"]
+MASS, G, MU = 0.2, 9.81, 1.0
+W = MASS * G
+PAD = Patch.rectangle(0.02, 0.02)
+E_R = PAD.e_r
+
+
+def box_scene(offset=0.06, grip=3.0, dof="translation", **kw):
+    """The 200 g, 15 x 8 cm box held by 2 cm square pads ``offset`` from its
+    centre of mass (along x; gravity along -y of B), gripper at rest."""
+    return Scene(body=Body.box(MASS, (0.15, 0.08, 0.03)),
+                 grasp=Grasp(mu=MU, grip_force=grip, patch=Patch.rectangle(0.02, 0.02, center=(offset, 0.0))),
+                 dof=dof, **kw)
+
+
+def offset_threshold(grip):
+    C = MU * 2 * grip
+    return E_R * math.sqrt((C / W) ** 2 - 1.0)
+
+
+def grip_threshold(offset):
+    return W * math.sqrt(1.0 + (offset / E_R) ** 2) / (2 * MU)
+
+
+def run(scene, method, t_end=0.3, dt=1e-3):
+    with warnings.catch_warnings(record=True) as rec:
+        warnings.simplefilter("always")
+        res = exdex.simulate(scene, t_end, dt, method=method)
+    red = [w.message for w in rec if isinstance(w.message, exdex.ReductionWarning)]
+    return res, red
+
+
+def test_closed_form_thresholds_of_the_issue_example():
+    # e_r of a uniform square of half-side a is 0.76520 a (known value), the
+    # torsional capacity 6 N * e_r is about 0.046 N m, gravity's torque 0.118 N m
+    assert E_R == pytest.approx(0.76520 * 0.01, rel=1e-4)
+    assert 6.0 * E_R == pytest.approx(0.0459, abs=1e-4)
+    assert W * 0.06 == pytest.approx(0.1177, abs=1e-4)
+    assert offset_threshold(3.0) == pytest.approx(0.02211, abs=1e-5)
+    assert grip_threshold(0.06) == pytest.approx(7.755, abs=1e-3)
+
+
+@pytest.mark.parametrize("method", METHODS)
+@pytest.mark.parametrize("side", [0.99, 1.01])
+def test_pad_offset_threshold(method, side):
+    d = offset_threshold(3.0) * side
+    res, red = run(box_scene(offset=d), method)
+    gauge = math.hypot(W / 6.0, W * d / (6.0 * E_R))     # closed form: gauge of (W, W d)
+    if side < 1:
+        assert res.certificate["holds"] and not red
+        assert res.reduction_valid_until == res.t[-1]
+        assert res.reduction_holds.all()
+    else:
+        c = res.certificate
+        assert not c["holds"] and c["stick"]
+        assert c["valid_until"] == 0.0              # the box swings out at once
+        assert c["gauge"] == pytest.approx(gauge, rel=1e-12)
+        assert c["load"][1] == pytest.approx(W, rel=1e-12)          # f_y carries the weight
+        assert abs(c["load"][2]) == pytest.approx(W * d, rel=1e-12)  # m_z gravity's moment about the pad
+        assert not res.reduction_holds.any()
+        assert len(red) == 1
+        w = red[0]
+        assert w.kind == "reduction" and w.coordinate == "theta" and w.stick and w.time == 0.0
+        assert w.margin == pytest.approx(1 - gauge, rel=1e-9) and w.margin < 0
+        assert "t = 0 s" in str(w) and "theta" in str(w)
+
+
+@pytest.mark.parametrize("method", METHODS)
+@pytest.mark.parametrize("side", [0.99, 1.01])
+def test_grip_threshold(method, side):
+    F = grip_threshold(0.06) * side
+    res, red = run(box_scene(offset=0.06, grip=F), method)
+    assert res.certificate["holds"] == (side > 1)
+    assert bool(red) == (side < 1)
+
+
+def test_issue_example_fails_with_its_figures():
+    res, red = run(box_scene(), "implicit")
+    c = res.certificate
+    assert res.stick[1:].all() and np.max(np.abs(res.wrench[:, 2])) == 0.0   # the reduced run itself
+    assert not c["holds"] and c["valid_until"] == 0.0
+    assert c["gauge"] == pytest.approx(math.hypot(W / 6, W * 0.06 / (6 * E_R)), rel=1e-12)
+    assert red and red[0].coordinate == "theta"
+
+
+def slide_scene(alpha, C, v0=0.0):
+    """Patch at the centre of mass, slide axis at alpha from gravity (-y)."""
+    return Scene(body=Body.box(MASS, (0.15, 0.08, 0.03)),
+                 grasp=Grasp(mu=MU, grip_force=C / (2 * MU), patch=PAD),
+                 slide_axis=(math.sin(alpha), -math.cos(alpha)), v0=(0.0, 0.0, 0.0))
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_slide_off_the_load(method):
+    a = math.radians(30)
+    # stuck (W cos a < C): holds iff the whole weight is inside, C >= W
+    res, _ = run(slide_scene(a, 1.01 * W), method)
+    assert res.certificate["holds"]
+    res, red = run(slide_scene(a, 0.99 * W), method)
+    c = res.certificate
+    assert not c["holds"] and c["stick"] and c["valid_until"] == 0.0
+    assert c["gauge"] == pytest.approx(1 / 0.99, rel=1e-9) and red[0].coordinate == "across"
+    # slipping (C < W cos a): the load across the axis, W sin a, has no friction to hold it
+    res, red = run(slide_scene(a, 0.5 * W), method)
+    c = res.certificate
+    assert not res.stick[1:].all()
+    assert not c["holds"] and c["valid_until"] < 0.01
+    assert red and red[0].coordinate == "across"
+    # along the load (alpha = 0) a slip neglects nothing
+    res, red = run(slide_scene(0.0, 0.5 * W), method)
+    assert res.certificate["holds"] and not red
+
+
+def turn_scene(gravity):
+    """Fig. 6's rotation (centre of mass on the pivot, gripper turning about
+    the plate normal through it) with a given gravity."""
+    sc = exdex.paper.fig6_scene()
+    return exdex.replace(sc, gravity=gravity)
+
+
+@pytest.mark.parametrize("method", ["implicit", "event", "analytic", "regularised", "explicit"])
+def test_rotation_pivot_force(method):
+    sc = turn_scene((0.0, 0.0, -9.81))          # in the plate plane (default plates vertical)
+    res, red = run(sc, method, t_end=6.0, dt=1e-2)
+    c = res.certificate
+    assert not c["holds"] and red and red[0].coordinate == "pivot"
+    # gravity along the plate normal (B's z = -A y): the pin carries nothing
+    res, red = run(turn_scene((0.0, -9.81, 0.0)), method, t_end=6.0, dt=1e-2)
+    assert not res.stick[1:].all()                     # it slips (the paper's case)
+    assert res.certificate["holds"] and not red
+
+
+def test_paper_fig6_reduction_fails_at_start():
+    # The torque capacity is I_zz a_H (1 + 1e-9) and the weight m g loads the
+    # pads too: the gauge at t = 0+ is sqrt((m g / C)^2 + 1 / (1 + 1e-9)^2).
+    sc = exdex.paper.fig6_scene()
+    res, red = run(sc, "analytic", t_end=6.0, dt=1e-3)
+    C = sc.grasp.capacity
+    c = res.certificate
+    assert not c["holds"] and c["stick"] and c["valid_until"] == 0.0
+    assert c["gauge"] == pytest.approx(math.hypot(0.1 * 9.81 / C, 1.0), rel=1e-6)
+
+
+def test_a_stop_carries_the_moment():
+    # The box stands on a stop (its bottom edge) while the pads hold it 6 cm
+    # off its centre of mass: the stop's two corners carry the moment.
+    free = box_scene(offset=0.06, grip=3.0)
+    stop = Stop(point=(0.0, 0.0, -0.04), normal=(0.0, 0.0, 1.0))
+    for method in ["implicit", "event", "explicit", "regularised"]:
+        res, red = run(exdex.replace(free, stops=(stop,)), method)
+        assert res.certificate["holds"] and not red, method
+        res, red = run(exdex.replace(free, stops=(Stop(point=(0.0, 0.0, -0.05), normal=(0.0, 0.0, 1.0)),)),
+                       method)
+        assert not res.certificate["holds"], method   # 1 cm below: nothing touches at first
+
+
+@pytest.mark.parametrize("method", ["implicit", "event", "analytic"])
+def test_failure_located_between_samples(method):
+    # Gripper at rest in the plates' plane, then Eq. 7 along A's x (B's x):
+    # the phase [0, beta T) pushes with m a_H across the slide axis, the next
+    # one with m a_L; the offset is chosen so that the first holds and the
+    # second does not. The output grid (dt = 7 ms) does not meet beta T.
+    T, beta, X1 = 0.3, 0.7, 0.1
+    aH, aL = exdex.paper.eq7_accelerations(X1, T, beta)
+    # with the patch at the centre of mass the load is (m a, W): gauge hypot(m a, W) / C;
+    # C between the two phases' loads
+    C = 0.5 * (math.hypot(MASS * aH, W) + math.hypot(MASS * aL, W))
+    sc = box_scene(offset=0.0, grip=C / (2 * MU), motion=AsymmetricProfile(X1, T, beta, axis=(1.0, 0.0, 0.0)))
+    g1, g2 = math.hypot(MASS * aH, W) / C, math.hypot(MASS * aL, W) / C
+    assert (g1 < 1) != (g2 < 1)
+    res, red = run(sc, method, t_end=1.2, dt=7e-3)
+    c = res.certificate
+    assert not c["holds"]
+    t_switch = beta * T if g1 < 1 else 0.0
+    assert c["valid_until"] == pytest.approx(t_switch, abs=1e-9)
+    assert c["gauge"] == pytest.approx(max(g1, g2), rel=1e-9)
+
+
+def test_batch_carries_the_certificate_per_trajectory():
+    F = grip_threshold(0.06)
+    grips = F * np.array([0.9, 0.99, 1.01, 1.1])
+    with warnings.catch_warnings(record=True) as rec:
+        warnings.simplefilter("always")
+        b = exdex.simulate_batch(box_scene(), 0.2, 1e-3, grip_force=grips)
+    assert list(b.reduction_holds) == [False, False, True, True]
+    assert np.all(b.reduction_valid_until[:2] == 0.0) and np.all(b.reduction_valid_until[2:] == 0.2)
+    assert any(getattr(w.message, "kind", None) == "reduction" for w in rec)
+    assert b[3].reduction_valid_until == 0.2 and not b[0].reduction_holds.any()
+
+
+def test_planar_runs_have_no_certificate():
+    res, red = run(box_scene(dof="planar"), "implicit", t_end=0.05)
+    assert res.certificate is None and res.reduction_valid_until is None and res.reduction_holds.all()
+
+
+def test_certify_false_gives_the_same_run():
+    sc = box_scene()
+    a = exdex.simulate(sc, 0.1, certify=False)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        b = exdex.simulate(sc, 0.1)
+    assert a.certificate is None and b.certificate is not None
+    for k in ("t", "q", "v", "wrench", "stick", "stop_force"):
+        assert np.array_equal(getattr(a, k), getattr(b, k))
+
+
+def test_result_save_load_keeps_certificate(tmp_path):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = exdex.simulate(box_scene(), 0.05)
+    p = res.save(tmp_path / "r.npz")
+    back = exdex.Result.load(p)
+    assert back.certificate == res.certificate
+
+
+# ---------------------------------------------------------------- dof="auto"
+
+@pytest.mark.parametrize("case", ["fig3", "fig4"])
+@pytest.mark.parametrize("method", ["implicit", "event", "auto"])
+def test_auto_keeps_the_paper_cases(case, method):
+    # the reduction holds: "auto" is the paper's 1-DoF run itself, bit for bit
+    sc = getattr(exdex.paper, f"{case}_scene")()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        a = exdex.simulate(exdex.replace(sc, dof="auto"), 1.0, 1e-3, method=method)
+        b = exdex.simulate(sc, 1.0, 1e-3, method=method)
+    assert a.scene.dof == "translation" and len(a.models) == 1 and a.models[0][0] == "translation"
+    for k in ("t", "q", "v", "wrench", "stick", "stop_force"):
+        assert np.array_equal(getattr(a, k), getattr(b, k)), k
+
+
+def test_auto_fig6_is_planar_from_the_start():
+    sc = exdex.paper.fig6_scene()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        a = exdex.simulate(exdex.replace(sc, dof="auto"), 8.0, 1e-3, method="event")
+        p = exdex.simulate(exdex.replace(sc, dof="planar"), 8.0, 1e-3, method="event")
+    assert [m[0] for m in a.models] == ["planar"] and a.models[0][2] == 0.0
+    assert "fails its certificate at t = 0 s" in a.models[0][4]
+    assert np.array_equal(a.q, p.q)
+
+
+@pytest.mark.parametrize("method", ["implicit", "event"])
+def test_auto_switches_where_the_certificate_fails(method):
+    # the located-failure scene above: translation to beta T, then planar; the
+    # planar run from t = 0 holds the box still up to there (exact stick), so
+    # both end in the same state
+    T, beta, X1 = 0.3, 0.7, 0.1
+    aH, aL = exdex.paper.eq7_accelerations(X1, T, beta)
+    C = 0.5 * (math.hypot(MASS * aH, W) + math.hypot(MASS * aL, W))
+    sc = box_scene(offset=0.0, grip=C / (2 * MU), motion=AsymmetricProfile(X1, T, beta, axis=(1.0, 0.0, 0.0)),
+                   dof="auto")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        a = exdex.simulate(sc, 1.0, 1e-3, method=method)
+        p = exdex.simulate(exdex.replace(sc, dof="planar"), 1.0, 1e-3, method=method)
+    assert [m[0] for m in a.models] == ["translation", "planar"]
+    assert a.models[0][3] == pytest.approx(beta * T, abs=1e-9) and a.models[1][2] == a.models[0][3]
+    assert a.scene.dof == "planar" and a.q.shape[1] == 3 and a.t[-1] == pytest.approx(1.0, abs=1e-12)
+    # before the switch both grids are i dt, the object at rest in both
+    pre = a.t < beta * T
+    assert np.array_equal(a.t[pre], p.t[: pre.sum()]) and np.all(a.q[pre] == p.q[0])
+    assert np.max(np.abs(a.q[-1] - p.q[-1])) < 1e-9 * 0.15   # event/implicit rounding against the box size
+    assert abs(a.q[-1, 0] - p.q[0, 0]) > 1e-3                 # it did slide
+
+
+def test_auto_against_planar_on_zoo_scenes():
+    # Random 1-DoF zoo scenes run as dof="auto" and as planar from t = 0 (event
+    # method, rtol 1e-10): the final poses agree. Tolerance: a slip's unbalanced
+    # load counts as zero up to 1e-9 of the scene's force scale m A, which can
+    # move the planar object by at most 1e-9 A t^2 / 2, under 1e-6 L over a
+    # zoo run (t_end below ~40 tau, A ~ g = L / tau^2), plus the event method's
+    # rtol.
+    import zoo
+
+    checked = switched = 0
+    for seed in range(60):
+        zs = zoo.zoo_scene(seed)
+        sc = zs.scene
+        if sc.dof == "planar" or sc.obstacles:
+            continue
+        dt = zs.t_end / 200
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            try:
+                a = exdex.simulate(exdex.replace(sc, dof="auto"), zs.t_end, dt, method="event", rtol=1e-10,
+                                   atol=1e-12)
+                p = exdex.simulate(exdex.replace(sc, dof="planar"), zs.t_end, dt, method="event", rtol=1e-10,
+                                   atol=1e-12)
+            except exdex.SolverError:
+                continue
+        qa = a.q if a.q.shape[1] == 3 else exdex.diagnostics.poses(a.scene, a.q)
+        assert a.t[-1] == pytest.approx(p.t[-1], rel=1e-12)
+        assert np.all(np.abs(qa[-1, :2] - p.q[-1, :2]) <= 1e-6 * zs.L), (seed, a.models)
+        assert abs(qa[-1, 2] - p.q[-1, 2]) <= 1e-6, (seed, a.models)
+        if a.models[0][0] == "planar":
+            assert np.array_equal(a.q, p.q), seed   # planar from t = 0: the same run
+        checked += 1
+        switched += len(a.models) == 2
+    assert checked >= 20 and switched >= 2
+
+
+def test_auto_is_refused_where_a_dof_is_needed():
+    sc = box_scene(dof="auto")
+    with pytest.raises(ValueError, match="dof='auto'"):
+        exdex.Model(sc)
+    with pytest.raises(ValueError, match="dof='auto'"):
+        exdex.simulate_batch(sc, 0.1, 1e-3, grip_force=[1.0, 2.0])
