@@ -288,10 +288,11 @@ int exdex_motion_switches(const exdex_motion *m, double ts[EXDEX_MOTION_MAX_SWIT
 double exdex_motion_next_switch(const exdex_motion *m, double lo);
 /* The first knot of the motion above t, INFINITY if none: a sampled log's
  * sample times (inside a chain: those of the sampled piece holding t, at
- * their chain times). Its clamped cubic splines are C2 there, and their
- * third derivative jumps, so the kinematics are smooth between two knots
- * (and the switching times), not across one: an adaptive integrator's step
- * that straddles a knot loses its order there. */
+ * their chain times; with a time_shift, on the shifted time). Its clamped
+ * cubic splines are C2 there, and their third derivative jumps, so the
+ * kinematics are smooth between two knots (and the switching times), not
+ * across one: an adaptive integrator's step that straddles a knot loses its
+ * order there. */
 double exdex_motion_next_knot(const exdex_motion *m, double t);
 
 /* Scalar profiles: position s, velocity sd, acceleration sdd at time t.

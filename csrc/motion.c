@@ -1075,6 +1075,14 @@ double exdex_motion_next_knot(const exdex_motion *m, double t)
     double u, k;
     if (!m) return INFINITY;
     if (m->kind == EXDEX_MOTION_SAMPLED) return sampled_next_knot(m, t);
+    if (m->kind == MOTION_SHIFT) {
+        /* the inner motion's knots above t + shift, on this motion's time
+         * (the first one the rounding of k - shift leaves above t) */
+        for (k = exdex_motion_next_knot(m->inner, t + m->shift); isfinite(k);
+             k = exdex_motion_next_knot(m->inner, k))
+            if (k - m->shift > t) return k - m->shift;
+        return INFINITY;
+    }
     if (m->kind != EXDEX_MOTION_CHAIN) return INFINITY;
     /* the piece holding t (as eval_chain), a sampled one's knots on its
      * own time u = t - T_i + o_i mapped to chain time; its end T_i+1 is a

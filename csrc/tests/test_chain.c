@@ -257,6 +257,16 @@ EXDEX_TEST(sampled_and_chain_knots)
     ENSURE(exdex_motion_next_knot(m, 6.4) == 6.5);
     ENSURE(isinf(exdex_motion_next_knot(m, 6.5)) && isinf(exdex_motion_next_knot(m, 7.0)));
     exdex_motion_free(m);
+    /* played from its time 5.75 on (time_shift): the knots 6.0 and 6.5 at
+     * 0.25 and 0.75 */
+    log.time_shift = 5.75;
+    m = exdex_motion_alloc(&log, NULL, NULL, &status, &bad);
+    ENSURE(m != NULL);
+    ENSURE(exdex_motion_next_knot(m, 0.0) == 0.25);
+    ENSURE(exdex_motion_next_knot(m, 0.25) == 0.75);
+    ENSURE(isinf(exdex_motion_next_knot(m, 0.75)));
+    exdex_motion_free(m);
+    log.time_shift = 0.0;
     /* a pause of 1 s, the log (from its first sample), a pause: chain knots
      * at 1.5 and 2.0 s, the log's end 2.5 s a piece boundary */
     pc[0] = piece(EXDEX_MOTION_REST);
