@@ -101,6 +101,7 @@ def test_region_shrinks_and_its_centroid_moves_continuously():
     assert np.all(np.diff(er[ok]) > 0)
 
 
+@pytest.mark.warns_by_design("outline")  # the object slides off the patch's point
 def test_object_inside_the_pads_is_the_patch_on_the_object():
     """A pad larger than the face: the region is the face, fixed on the
     object, so each method's run is the run of the patch at the face's
@@ -120,6 +121,7 @@ def test_object_inside_the_pads_is_the_patch_on_the_object():
         np.testing.assert_allclose(res[1].q, res[0].q, rtol=0, atol=1e-9, err_msg=method)
 
 
+@pytest.mark.warns_by_design("outline")  # it slides until the grasp is lost
 @pytest.mark.parametrize("method", ["implicit", "event", "regularised", "explicit"])
 def test_translation_is_unaffected_and_the_grasp_is_lost_off_the_pad(method):
     """1-DoF translation: mu N whatever the region, so the run is the patch's
@@ -156,6 +158,7 @@ def test_planar_slide_off_the_pad_stops_the_run(method):
     assert _core.pad_region(spec, r.q[-2])["area"] > 0.0
 
 
+@pytest.mark.warns_by_design("pad")  # the patch-on-object run of the scene slides past its pad
 def test_methods_agree_on_the_peer_scene():
     """The peer's box on 2 cm pads, its grip force 1.73 + 0.91 sin(4 pi t):
     the event method (exact Coulomb, adaptive) and the implicit one at
@@ -203,7 +206,8 @@ def test_scene_file_with_pads_round_trips_and_schema_1_rejects_it(tmp_path):
         exdex.save_scene(sc, p)
         assert exdex.load_scene(p) == sc
     d = exdex.io.scene_to_dict(sc)
-    assert d["schema"] == 2
+    assert d["schema"] == exdex.io.SCHEMA_VERSION >= 2  # pads need schema 2 or later
+    d["grasp"].pop("limit_surface", None)  # schema 3's key: schema 1 lacks both
     d["schema"] = 1
     with pytest.raises(ValueError, match="pad.*schema 2"):
         exdex.io.scene_from_dict(d)
