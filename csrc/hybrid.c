@@ -349,7 +349,7 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                      * guard is recovering (a touching stop left behind), or
                      * the decision at t0 keeps being undone (a tie: let the
                      * step decide, counted as a warning) */
-                    if (!(g1[e] < g0[e] - 1e-13)) continue;
+                    if (!(g1[e] < g0[e] - GUARD_RECOVER)) continue;
                     {
                         /* it may recover first and cross later within the
                          * step (a corner lifted off a stop by an impact at

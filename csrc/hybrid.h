@@ -57,7 +57,7 @@
  *       it at the rate C |K| / |E u| (K = E W E), infinitely stiff at the
  *       start of a slip; the slip follows it to |E u| |dn/dt| / (C |K|) (n
  *       that direction). Guards: the load leaves the ellipsoid's outside
- *       (|E^-1 w_stick| - C (1 + TOLF): it stops), SLIP_UP zsw - |E u| (it
+ *       (|E^-1 w_stick| - C (1 + FRICTION_BAND): it stops), SLIP_UP zsw - |E u| (it
  *       becomes a slip, no state change; SLIP_UP > 1 is the hysteresis that
  *       keeps a slip hovering near zsw from switching at every step);
  *     slip: the sliding law. Guards: (E u).(E u_0), u_0 the slip at the
@@ -222,7 +222,7 @@
  *     stops: rest iff the least-friction split (hyb_planar_rest: least
  *     combination over the stop forces lam >= 0, ldp_min_combination, as the
  *     implicit method) has |E^-1 w| <= mu N
- *     (1 + TOLF); the rest ends when that fails or a set row's gap leaves
+ *     (1 + FRICTION_BAND); the rest ends when that fails or a set row's gap leaves
  *     +-tol.rest_gap (stops moving in B). During the rest q is held
  *     exactly (no projection after its steps, which would move it by the
  *     stops' travel over each step and make the rest's end depend on where
@@ -290,7 +290,7 @@
  *     (each at least x0.89 per rejection, floor at 1 ulp);
  *   - event: at most EVENTS_MAX (1000) events per output interval, each
  *     located by at most BRENT_MAX (200) Brent iterations (and a guard's
- *     extremum inside a step by at most 60 golden-section iterations);
+ *     extremum inside a step by at most GOLDEN_MAX (60) golden-section iterations);
  *   - every failure records its time and cause in exdex_stats (fail_time,
  *     fail_cause: events, step budget, step floor, stepper);
  *   - decisions, projections, impacts: fixed small iteration counts;
@@ -321,6 +321,7 @@
 #include "model.h"
 #include "obstacle_rows.h"
 #include "stop_friction.h"
+#include "tolerances.h"
 #include "util.h"
 
 #include <float.h>
@@ -331,31 +332,9 @@
 #include <gsl/gsl_odeiv2.h>
 #include <gsl/gsl_roots.h>
 
-#define TOLF 1e-12        /* relative band at the friction limit (stick while |f| <= C (1 + TOLF)) */
-#define EVENTS_MAX 1000   /* events within one output interval before EXDEX_ENOCONV */
-#define STEPS_MAX 100000  /* ODE steps (accepted + rejected) per output interval before EXDEX_ENOCONV */
-#define H_FLOOR_ULPS 16.0 /* a suggested step below this many ulps of t is a collapse: EXDEX_ENOCONV */
-#define BRENT_MAX 200     /* Brent iterations per located event */
-#define DOUBLING_EXACT 10 /* locate: a forward search past 2^10 of its first increment is bisected back */
 #define NY_MAX (9 + EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES)
 #define NG_MAX (3 + 3 * MAX_ROWS + 1 + SF_MAX_STOPS + EXDEX_MAX_OBSTACLES)  /* guards (planar: 2 friction, the rows, stop friction, obstacle features) */
 #define NSRC_MAX (EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES)
-/* 1-DoF frictional contact (see "Frictional stops" above): its normal force
- * is lam = R / D, D = Fq - mu ss T, i.e. the frictionless force R / Fq times
- * Fq / D. Where D / Fq falls to 0 (a jam: the friction turns the normal
- * force's generalized direction around) lam grows as 1 / (t_jam - t) and its
- * integral as -log(t_jam - t): no step reaches t_jam. The contact is taken
- * frictionless (warning counted) once D / Fq <= JAM_DIR, a guard located
- * like every guard: the normal force is then 1 / JAM_DIR times the
- * frictionless one, and the impulse given up, the integral of lam beyond,
- * grows as log(1 / JAM_DIR) only. Friction returns where D / Fq of the slip's
- * sign exceeds JAM_DIR again, or the slip reverses (decided again there). */
-#define JAM_DIR 1e-6
-#define SLIP_FLOOR 1e-6  /* planar slip: below SLIP_FLOOR V of |E u| the slip is "small" (see the top) */
-#define SLIP_UP 2.0      /* a small slip becomes a slip at SLIP_UP zsw (hysteresis against zsw) */
-#define SLIP_PUSH 4.0    /* a stop pushing a stopped planar slip on below SLIP_PUSH zsw: a rest instead */
-#define SLIP_STIFF 100.0 /* a planar slip below SLIP_STIFF zsw for STIFF_AFTER steps: the stiff stepper */
-#define STIFF_AFTER 1000
 
 enum { LAW_COULOMB = 0, LAW_SMOOTH = 1 };
 enum { MODE_SLIP = 0, MODE_STICK = 1, MODE_CONTACT = 2, MODE_FREE = 3 };
@@ -415,9 +394,6 @@ static inline void hyb_pads(const hyb *H, const double *y)
 /* every contact-set row and friction group fits stop_friction.h's problem */
 _Static_assert(MAX_ROWS <= SF_MAX_ROWS, "stop_friction.h holds every contact-set row");
 _Static_assert(EXDEX_MAX_STOPS + MAX_ROWS <= SF_MAX_STOPS, "stop_friction.h holds every friction group");
-
-#define SF_TOL 1e-10  /* sign slack of the mode checks: x the scene's acceleration V / T and force F */
-#define SF_SAME_LINE 1e-6  /* obstacle rows whose unit in-plane normals differ by at most this share a group */
 
 /* The contact set as stop_friction.h's problem at (kin, y): its rows, their
  * friction groups (stop_friction.h's "stops") and each group's slip. */

@@ -349,7 +349,7 @@ static void decide_modes(hyb *H, double t, double *y, int vzero)
         model_force_planar(m, &f, y, zero, F);
         if (H->ncs) {
             double lam[MAX_ROWS];
-            if (hyb_planar_rest(H, &kin, y, F, w, lam) <= H->caps * (1.0 + TOLF)) {
+            if (hyb_planar_rest(H, &kin, y, F, w, lam) <= H->caps * (1.0 + FRICTION_BAND)) {
                 H->mode = MODE_STICK;
                 return;
             }
@@ -357,7 +357,7 @@ static void decide_modes(hyb *H, double t, double *y, int vzero)
             double mF[3] = {-F[0], -F[1], -F[2]};
             model_patch_of_gen(m, MODEL_CS(y[2]), mF, w);
         }
-        if (!H->ncs && model_ls_gauge(m, w) <= H->caps * (1.0 + TOLF)) {
+        if (!H->ncs && model_ls_gauge(m, w) <= H->caps * (1.0 + FRICTION_BAND)) {
             H->mode = MODE_STICK;
         } else {
             /* starts to slip: the direction of the slip acceleration */
@@ -484,17 +484,17 @@ static void decide_modes(hyb *H, double t, double *y, int vzero)
             }
             /* a stop force exactly 0 keeps no contact: it is about to
              * separate (or needs none) */
-            if (lam > 0.0 && (H->law == LAW_SMOOTH || H->s != 0.0 || fabs(fr) <= H->caps * (1.0 + TOLF))) {
+            if (lam > 0.0 && (H->law == LAW_SMOOTH || H->s != 0.0 || fabs(fr) <= H->caps * (1.0 + FRICTION_BAND))) {
                 H->mode = MODE_CONTACT;
                 H->ck = k;
                 H->cj = j;
                 /* onto the constraint: Newton on F(q, t) = 0 */
-                for (int it = 0; it < 8 && fabs(c.F) > 0.0; it++) {
+                for (int it = 0; it < ROW_NEWTON_MAX && fabs(c.F) > 0.0; it++) {
                     double dq = c.F / c.Fq;
                     q -= dq;
                     hyb_hrow_1dof(H, &kin, k, j, q, &c);
                     H->st->stop_iterations++;
-                    if (fabs(dq) <= 1e-16 * (m->scale.q + fabs(q))) break;
+                    if (fabs(dq) <= ROW_NEWTON_TOL * (m->scale.q + fabs(q))) break;
                 }
                 y[0] = q;
                 y[1] = (H->law == LAW_COULOMB && H->s == 0.0) ? 0.0 : -c.Ft / c.Fq;
@@ -512,7 +512,7 @@ static void decide_modes(hyb *H, double t, double *y, int vzero)
         } else {
             double Q0 = model_force_1dof(m, &f, q, 0.0);
             y[1] = 0.0;
-            if (fabs(Q0) <= H->caps * (1.0 + TOLF)) {
+            if (fabs(Q0) <= H->caps * (1.0 + FRICTION_BAND)) {
                 H->mode = MODE_STICK;
                 H->s = 0.0;
             } else {
@@ -578,7 +578,7 @@ static int set_row_equalities(const hyb *H, int n, double (*Gr)[3], double *b)
             for (int c = 0; c < 3; c++) u[c] -= p * basis[k][c];
         }
         nn = ex_dot3(u, u);
-        if (!(nn > 1e-12 * n0)) continue;
+        if (!(nn > SET_ROW_DEPENDENT * n0)) continue;
         for (int c = 0; c < 3; c++) basis[nb][c] = u[c] / sqrt(nn);
         nb++;
         for (int c = 0; c < 3; c++) Gr[m][c] = -Gr[i][c];
@@ -668,12 +668,12 @@ void hyb_project_contact(hyb *H, double t, double *y)
     if (H->ndof != 1 || H->mode != MODE_CONTACT) return;
     if (hyb_frame_seg(H, t, &f, &kin)) return;
     hyb_hrow_1dof(H, &kin, H->ck, H->cj, y[0], &c);
-    for (int it = 0; it < 8 && fabs(c.F) > 0.0; it++) {
+    for (int it = 0; it < ROW_NEWTON_MAX && fabs(c.F) > 0.0; it++) {
         double dq = c.F / c.Fq;
         y[0] -= dq;
         hyb_hrow_1dof(H, &kin, H->ck, H->cj, y[0], &c);
         H->st->stop_iterations++;
-        if (fabs(dq) <= 1e-16 * (H->m->scale.q + fabs(y[0]))) break;
+        if (fabs(dq) <= ROW_NEWTON_TOL * (H->m->scale.q + fabs(y[0]))) break;
     }
     if (!(H->law == LAW_COULOMB && H->s == 0.0)) y[1] = -c.Ft / c.Fq;
 }

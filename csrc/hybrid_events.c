@@ -8,7 +8,7 @@
  * empty) into g; returns their count. At rest, per frictional stop with
  * set rows: zsw - |tb| (static) or sigma tb - zsw (sliding past). Else +1
  * / -1 (a consistent mode exists or not), and per frictional stop with set
- * rows: sliding, sigma s; sticking, mu sum lam (1 + SF_BAND) - |beta|, or
+ * rows: sliding, sigma s; sticking, mu sum lam (1 + FRICTION_BAND) - |beta|, or
  * in a lock (stop_friction.h) its margin. */
 static int sf_guards(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y, double *g)
 {
@@ -39,7 +39,7 @@ static int sf_guards(hyb *H, const frame *f, const exdex_kinematics *kin, const 
         else if (H->fm[k] == SF_STICK && ok && res.lock)
             g[n++] = res.margin;
         else if (H->fm[k] == SF_STICK && ok)
-            g[n++] = S.st[k].mu * res.lsum[k] * (1.0 + SF_BAND) - fabs(res.beta[k]);
+            g[n++] = S.st[k].mu * res.lsum[k] * (1.0 + FRICTION_BAND) - fabs(res.beta[k]);
         else
             g[n++] = 1.0;
     }
@@ -170,7 +170,7 @@ int hyb_guards(hyb *H, double t, const double *y, double *g)
             if (hyb_smooth_two(H)) {
                 double sig = hyb_planar_slip_speed(H, y);
                 if (H->held) {
-                    double gh = H->caps * (1.0 + TOLF) - hyb_planar_load(H, &f, &kin, y), zero[3] = {0, 0, 0};
+                    double gh = H->caps * (1.0 + FRICTION_BAND) - hyb_planar_load(H, &f, &kin, y), zero[3] = {0, 0, 0};
                     for (int i = 0; i < H->ncs; i++) {
                         double G[3], gd;
                         hyb_hrow_planar(H, &kin, H->cs[i], y, zero, G, &gd, NULL);
@@ -194,11 +194,11 @@ int hyb_guards(hyb *H, double t, const double *y, double *g)
                 double F[3], w[3], zero[3] = {0, 0, 0}, lam[MAX_ROWS];
                 model_force_planar(m, &f, y, zero, F);
                 if (H->ncs) {
-                    g[n++] = hyb_planar_rest(H, &kin, y, F, w, lam) - H->cap * (1.0 + TOLF);
+                    g[n++] = hyb_planar_rest(H, &kin, y, F, w, lam) - H->cap * (1.0 + FRICTION_BAND);
                 } else {
                     for (int i = 0; i < 3; i++) F[i] = -F[i];
                     model_patch_of_gen(m, MODEL_CS(y[2]), F, w);
-                    g[n++] = model_ls_gauge(m, w) - H->cap * (1.0 + TOLF);
+                    g[n++] = model_ls_gauge(m, w) - H->cap * (1.0 + FRICTION_BAND);
                 }
                 g[n++] = SLIP_UP * H->zsw - sig;
             } else {
@@ -213,11 +213,11 @@ int hyb_guards(hyb *H, double t, const double *y, double *g)
             double F[3], w[3], zero[3] = {0, 0, 0}, lam[MAX_ROWS];
             model_force_planar(m, &f, y, zero, F);
             if (H->ncs) {
-                g[n++] = H->caps * (1.0 + TOLF) - hyb_planar_rest(H, &kin, y, F, w, lam);
+                g[n++] = H->caps * (1.0 + FRICTION_BAND) - hyb_planar_rest(H, &kin, y, F, w, lam);
             } else {
                 for (int i = 0; i < 3; i++) F[i] = -F[i];
                 model_patch_of_gen(m, MODEL_CS(y[2]), F, w);
-                g[n++] = H->caps * (1.0 + TOLF) - model_ls_gauge(m, w);
+                g[n++] = H->caps * (1.0 + FRICTION_BAND) - model_ls_gauge(m, w);
             }
         }
         if (H->ns || H->no) {
@@ -269,7 +269,7 @@ int hyb_guards(hyb *H, double t, const double *y, double *g)
         if (H->mode == MODE_SLIP) {
             g[n++] = H->s * v;
         } else if (H->mode == MODE_STICK) {
-            g[n++] = H->caps * (1.0 + TOLF) - fabs(model_force_1dof(m, &f, q, 0.0));
+            g[n++] = H->caps * (1.0 + FRICTION_BAND) - fabs(model_force_1dof(m, &f, q, 0.0));
         } else if (H->mode == MODE_CONTACT) {
             crow c;
             double R, fr, lam, T = 0.0;
@@ -284,7 +284,7 @@ int hyb_guards(hyb *H, double t, const double *y, double *g)
                  * taken up again as a stick and left by the stick guard at
                  * once */
                 R = -model_force_1dof(m, &f, q, 0.0);
-                g[n++] = fmax(R / hyb_contact_dir(H, &c, T), H->caps * (1.0 + TOLF) - fabs(R));
+                g[n++] = fmax(R / hyb_contact_dir(H, &c, T), H->caps * (1.0 + FRICTION_BAND) - fabs(R));
                 g[n++] = m->tol.vzero - fabs(v);
             } else {
                 hyb_contact_forces(H, &c, T, R, v, &fr, &lam);
@@ -400,7 +400,7 @@ static int extremum(rootctx *cp, double tau1, double dir, double *tau, double *g
     hyb *H = c.H;
     double a = 0.0, b = tau1, r = 0.5 * (3.0 - sqrt(5.0));
     double x1 = a + r * (b - a), x2 = b - r * (b - a), f1 = dir * root_fn(x1, &c), f2 = dir * root_fn(x2, &c);
-    for (int it = 0; it < 60 && f1 >= 0.0 && f2 >= 0.0 && !c.fail && b - a > H->m->tol.root; it++) {
+    for (int it = 0; it < GOLDEN_MAX && f1 >= 0.0 && f2 >= 0.0 && !c.fail && b - a > H->m->tol.root; it++) {
         if (f1 < f2) {
             b = x2;
             x2 = x1;
@@ -434,8 +434,6 @@ static int extremum(rootctx *cp, double tau1, double dir, double *tau, double *g
  * stepper's map (hyb_guard_extremum) and, if negative, its crossing located
  * (the event is the first crossing, in [0, the minimum]). Candidates
  * improve *tau_best, *e_best. */
-#define DIP_DELTA 1e-3
-#define DIP_MARGIN 0.5
 
 /* Smallest value on [0, h] of the cubic with values g0, g1 and slopes r0, r1
  * at the ends. */
@@ -445,7 +443,7 @@ static double hermite_min(double g0, double g1, double r0, double r1, double h)
     double c2 = (3.0 * (g1 - g0) / h - 2.0 * r0 - r1) / h, c3 = (r0 + r1 - 2.0 * (g1 - g0) / h) / (h * h);
     double a = 3.0 * c3, b = 2.0 * c2, c = r0, pmin = fmin(g0, g1), roots[2];
     int nr = 0;
-    if (fabs(a) * h <= 1e-14 * fabs(b)) {
+    if (fabs(a) * h <= HERMITE_FLAT * fabs(b)) {
         if (b != 0.0) roots[nr++] = -c / b;
     } else {
         double disc = b * b - 4.0 * a * c;
@@ -611,8 +609,8 @@ int hyb_locate(hyb *H, ode *O, double t0, const double *y0, double tau0, double 
      * until the next step). Step forward from it, doubling, to a point with
      * g < 0 (g(tau1) < 0 bounds the search). */
     {
-        double d = fmax(H->m->tol.root, 4.0 * DBL_EPSILON * fabs(t0 + hi)), d0 = d, lo2 = hi;
-        for (int k = 0; k < 64 && hi < tau1 && !(root_fn(hi, &c) < 0.0) && !c.fail; k++) {
+        double d = fmax(H->m->tol.root, FEW_ULPS * DBL_EPSILON * fabs(t0 + hi)), d0 = d, lo2 = hi;
+        for (int k = 0; k < DOUBLING_MAX && hi < tau1 && !(root_fn(hi, &c) < 0.0) && !c.fail; k++) {
             lo2 = hi;
             hi = fmin(tau1, hi + d);
             d *= 2.0;

@@ -89,7 +89,7 @@ int hyb_hrow_all_1dof(const hyb *H, const exdex_kinematics *kin, double q, const
 static double seg_time(const hyb *H, double t)
 {
     double lo = H->lo, hi = H->hi;
-    if (isfinite(hi)) hi -= 4.0 * DBL_EPSILON * fmax(1.0, fabs(hi));
+    if (isfinite(hi)) hi -= FEW_ULPS * DBL_EPSILON * fmax(1.0, fabs(hi));
     if (t > hi) t = hi;
     if (t < lo) t = lo;
     return t;
@@ -98,7 +98,7 @@ static double seg_time(const hyb *H, double t)
 /* Frame terms at t inside the current motion segment (seg_time); with a
  * grip schedule also the friction capacities H->cap, H->caps at that time (segments end
  * at the schedule's breakpoints too), which every friction law, guard and
- * decision below reads: the stick guard C(t) (1 + TOLF) - |load|_E is
+ * decision below reads: the stick guard C(t) (1 + FRICTION_BAND) - |load|_E is
  * located on the stepper's dense map like every other guard. */
 int hyb_frame_seg(hyb *H, double t, frame *f, exdex_kinematics *k)
 {
@@ -198,7 +198,7 @@ void hyb_contact_forces(const hyb *H, const crow *c, double T, double R, double 
  * sticking. The modes are decided at every decision (decide: sf_decide)
  * and held between decisions, where their guards (sf_guards) say when they
  * end: a sliding stop's slip reaching 0 (sigma s), a sticking stop's force
- * reaching its cone (mu sum lam (1 + SF_BAND) - |beta|). A slip with |s| <=
+ * reaching its cone (mu sum lam (1 + FRICTION_BAND) - |beta|). A slip with |s| <=
  * zsw is decided as rolling (stick or slide, the acceleration-level mode
  * enumeration: a slip located at its reversal is within rounding of 0
  * there), and a sticking stop's slip is projected to 0 at the decision and
@@ -468,7 +468,7 @@ int hyb_contact_acc_planar(hyb *H, const exdex_kinematics *kin, const double *y,
  * ellipsoid? The wrench needed is w(lam) = patch(-(F + G^T lam)); minimise
  * |E^-1 w(lam)| over lam >= 0 (ldp_min_combination; the
  * minimiser is the split with the least friction, as in the implicit method).
- * Returns the minimum (rest holds iff <= cap (1 + TOLF)); w, lam the split. */
+ * Returns the minimum (rest holds iff <= cap (1 + FRICTION_BAND)); w, lam the split. */
 double hyb_planar_rest(hyb *H, const exdex_kinematics *kin, const double *y, const double F[3], double w[3],
                        double *lam)
 {
@@ -523,7 +523,7 @@ double hyb_planar_load(hyb *H, const frame *f, const exdex_kinematics *kin, cons
 
 int hyb_planar_load_held(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y)
 {
-    return hyb_planar_load(H, f, kin, y) <= H->caps * (1.0 + TOLF);
+    return hyb_planar_load(H, f, kin, y) <= H->caps * (1.0 + FRICTION_BAND);
 }
 
 /* Regularised, planar, C_s > C: whether the held regime applies (see the
@@ -553,7 +553,7 @@ int hyb_planar_set_recedes(hyb *H, const frame *f, const exdex_kinematics *kin, 
     model_force_planar(H->m, f, y, zero, F);
     for (int i = 0; i < 3; i++) F[i] = -F[i];
     model_patch_of_gen(H->m, MODEL_CS(y[2]), F, w);
-    if (model_ell_norm(H->m, w) <= H->caps * (1.0 + TOLF)) return 0;
+    if (model_ell_norm(H->m, w) <= H->caps * (1.0 + FRICTION_BAND)) return 0;
     for (int i = 0; i < H->ncs; i++) {
         int r = H->cs[i];
         double G[3], gd;
@@ -623,7 +623,7 @@ int hyb_planar_friction(hyb *H, const frame *f, const exdex_kinematics *kin, con
                  * found together, by the fixed point w = -C E^2 E u'/|E u'|
                  * of u' the patch slip of the M-metric projection of the
                  * free acceleration (bounded; the last iterate is kept) */
-                for (int it = 0; it < 16; it++) {
+                for (int it = 0; it < SMALL_SLIP_FIX_MAX; it++) {
                     double P[3], a[3], qdd[3], lam[MAX_ROWS], ua[3], ea[3], sa, wn[3], d = 0.0;
                     model_gen_of_patch(m, MODEL_CS(th), w, P);
                     for (int i = 0; i < 3; i++) a[i] = m->minv[i] * (F[i] + P[i]);
@@ -638,7 +638,7 @@ int hyb_planar_friction(hyb *H, const frame *f, const exdex_kinematics *kin, con
                         w[i] = wn[i];
                     }
                     H->st->stop_iterations++;
-                    if (d <= 1e-12 * H->cap) break;
+                    if (d <= SMALL_SLIP_FIX_TOL * H->cap) break;
                 }
             }
         }
