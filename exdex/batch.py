@@ -84,8 +84,10 @@ class BatchResult:
     stats : dict of (B,) arrays per trajectory: steps, stick_steps,
         solver_iterations, stop_iterations, warnings, impacts,
         max_impulse_stop (int64), min_gap [m], max_impulse [N s],
-        max_impulse_t, first_warning_t [s] (as in :class:`exdex.Result`;
-        NaN and -1 where a single run's stats hold None).
+        max_impulse_t, first_warning_t, grasp_lost_t [s] (as in
+        :class:`exdex.Result`; NaN and -1 where a single run's stats hold
+        None; grasp_lost_t: pads on the fingers lost the object there, the
+        samples after it are NaN).
     reduction_valid_until : (B,) the certificate of each translation or
         rotation trajectory (:attr:`exdex.Result.certificate`): until when
         its reduction held [s] (t_end where it held throughout; NaN for
@@ -507,10 +509,10 @@ def _batch_findings(b):
             hits[kind] = (len(idx), int(idx[0]), make(int(idx[0])))
 
     # stats: only the flagged trajectories are looked at
-    for key in ("impacts", "warnings"):
+    for key in ("impacts", "warnings", "grasp_lost_t"):
         if key in b.stats:
-            flagged = np.asarray(b.stats[key]) > 0
-            kind = "impact" if key == "impacts" else "solver"
+            flagged = np.isfinite(b.stats[key]) if key == "grasp_lost_t" else np.asarray(b.stats[key]) > 0
+            kind = {"impacts": "impact", "warnings": "solver", "grasp_lost_t": "grasp"}[key]
 
             def make_stat(i, kind=kind):
                 st = {k: np.asarray(v)[i].item() for k, v in b.stats.items()}
@@ -575,7 +577,7 @@ def _warn_log_jumps(scenes, specs, t_end):
     for sc, spec in zip(scenes, specs):
         if isinstance(sc.motion, SampledTrajectory) and id(sc.motion) not in seen:
             seen.add(id(sc.motion))
-            _warn_jumps(sc, _jumps(sc, spec), t_end, stacklevel=4)
+            _warn_jumps(sc, _jumps(sc, spec), t_end)
 
 
 # ------------------------------------------------------------------ sweep

@@ -541,14 +541,14 @@ def _simulate_auto(scene, t_end, dt, method, friction_solver, eps, rtol, atol):
         _, dof, m, res = best
         res = dataclasses.replace(res, models=((dof, m, 0.0, float(res.t[-1]),
                                                 f"the {dof} model's certificate holds to t_end"),))
-        _warn_jumps(scene, _jumps(res.scene, res.scene.to_spec(method=m)), t_end, stacklevel=4)
-        diagnostics.issue(diagnostics.findings(res), stacklevel=3)
+        _warn_jumps(scene, _jumps(res.scene, res.scene.to_spec(method=m)), t_end)
+        diagnostics.issue(diagnostics.findings(res))
         return res
     if best is None or best[0] <= 0.0:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", GripperJumpWarning)
             res = simulate(planar, t_end, dt, method=pm, **opts)
-        _warn_jumps(scene, _jumps(planar, planar.to_spec(method=pm)), t_end, stacklevel=4)
+        _warn_jumps(scene, _jumps(planar, planar.to_spec(method=pm)), t_end)
         return dataclasses.replace(res, models=(("planar", pm, 0.0, float(res.t[-1]),
                                                  "; ".join(why_not) or "no 1-DoF model applies"),))
     t_sw, dof, m, _ = best
@@ -581,8 +581,8 @@ def _simulate_auto(scene, t_end, dt, method, friction_solver, eps, rtol, atol):
                  method=pm, friction_solver=friction_solver, dt=dt,
                  models=((dof, m, 0.0, float(t_sw), f"the {dof} model's certificate holds to t = {t_sw:.6g} s"),
                          ("planar", pm, float(t_sw), float(t_end), "; ".join(why_not))))
-    _warn_jumps(scene, _jumps(planar, planar.to_spec(method=pm)), t_end, stacklevel=4)
-    diagnostics.issue(diagnostics.findings(res), stacklevel=3)
+    _warn_jumps(scene, _jumps(planar, planar.to_spec(method=pm)), t_end)
+    diagnostics.issue(diagnostics.findings(res))
     return res
 
 

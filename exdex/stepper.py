@@ -239,11 +239,11 @@ class Stepper:
         if self._pads:
             tl = self._s.stats().get("grasp_lost_t")
             if tl is not None:
-                diagnostics.issue(diagnostics.stats_findings({"grasp_lost_t": tl}), stacklevel=2)
+                diagnostics.issue(diagnostics.stats_findings({"grasp_lost_t": tl}))
         if gripper is not None:
             self._posed = True
         elif self.model._jumps:
-            _warn_jumps(self.model.scene, [j for j in self.model._jumps if self._t < j[0]], state.t, stacklevel=3)
+            _warn_jumps(self.model.scene, [j for j in self.model._jumps if self._t < j[0]], state.t)
         self._t = state.t
         return state
 
