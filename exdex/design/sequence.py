@@ -63,7 +63,7 @@ import numpy as np
 
 from exdex import _core
 from exdex.design._targets import UnreachableTargetError, check_quantity as _check_quantity, motion_peaks
-from exdex._validate import real as _real
+from exdex._validate import real as _real, user_stacklevel
 from exdex.scene import AsymmetricProfile, Scene
 from exdex.simulate import SolverError, simulate
 
@@ -183,7 +183,7 @@ class SequencePlan:
         ts, ps = [], []
         t0 = 0.0
         for k, sc in enumerate(self.scenes):
-            span = sc.motion.end_time + self.settle
+            span = sc.end_time + self.settle
             n = max(int(math.floor(span * rate + 1e-9)), 1)
             t = np.arange(n + 1) / rate
             t[-1] = min(t[-1], span)
@@ -202,9 +202,15 @@ class SequencePlan:
     def meets_target(self) -> bool:
         return all(abs(self.residuals[q]) <= self.tol[q] for q in self.targets)
 
+    def step_units(self) -> Tuple[str, ...]:
+        """The unit of each step's parameter: rad for a pivot's angle, m for
+        a slide's or a push's amplitude."""
+        return tuple("rad" if getattr(sc.motion, "rotation", False) else "m" for sc in self.scenes)
+
     def __repr__(self) -> str:
-        st = " -> ".join(f"{n}({v:.6g})" for n, v in self.steps)
-        r = ", ".join(f"{q} {self.achieved[q]:.6g} (target {self.targets[q]:.6g})" for q in self.targets)
+        st = " -> ".join(f"{n}({v:.6g} {u})" for (n, v), u in zip(self.steps, self.step_units()))
+        r = ", ".join(f"{q} {self.achieved[q]:.6g} {POSE_QUANTITIES[q]} (target {self.targets[q]:.6g} "
+                      f"{POSE_QUANTITIES[q]})" for q in self.targets)
         return f"SequencePlan({st}: {r})"
 
 
@@ -214,6 +220,14 @@ def _dt(scene, t_end):
     with stops (the output interval bounds the event method's step, so that
     a short approach to a stop is not stepped over)."""
     return t_end if not scene.stops else min(t_end, 0.01)
+
+
+def _end_time(scene, motion):
+    """The end time of ``scene`` with ``motion`` in place of its own
+    (:attr:`exdex.Scene.end_time`: the later of the motion's end and the grip
+    schedule's last time) [s]."""
+    sched = scene.grasp.schedule
+    return max(float(motion.end_time), float(sched.times[-1]) if sched is not None else 0.0, 0.0)
 
 
 def _step_scene(scene, prim, value, q):
@@ -231,7 +245,7 @@ def _run_sequence(scene, prims, values, settle, rtol, atol, with_scenes=False):
     for prim, v in zip(prims, values):
         if with_scenes:
             sc = _step_scene(scene, prim, float(v), q)
-            t_end = sc.motion.end_time + settle
+            t_end = sc.end_time + settle
             try:
                 r = simulate(sc, t_end, _dt(sc, t_end), method="event", rtol=rtol, atol=atol)
             except SolverError:
@@ -248,7 +262,7 @@ def _run_sequence(scene, prims, values, settle, rtol, atol, with_scenes=False):
             mo = prim.make(float(v))
             spec["motion_amplitude"] = float(mo.amplitude)
             spec["q0"] = np.array(q, dtype=float)
-            t_end = mo.end_time + settle
+            t_end = _end_time(scene, mo) + settle
             try:
                 out = _core.simulate(spec, t_end, _dt(scene, t_end))
             except (SolverError, ValueError):
@@ -271,7 +285,7 @@ def _scan(scene, prim, n, settle, rtol, atol):
     q0 = np.array(scene.q0, dtype=float)
     # one batch over the amplitude when the motion's amplitude is the parameter
     base = _step_scene(scene, prim, xs[-1] if xs[-1] != 0 else hi, q0)
-    t_end = base.motion.end_time + settle
+    t_end = base.end_time + settle
     try:
         b = simulate_batch(base, t_end, _dt(base, t_end), record="final", method="event", rtol=rtol, atol=atol,
                            warn=False, amplitude=xs)
@@ -536,7 +550,7 @@ def band(plan: SequencePlan, uncertain: Mapping[str, Tuple[float, float]], *, n:
         for sc in plan.scenes:
             assert q is not None
             s = _replace_params(dataclasses.replace(sc, q0=tuple(q)), vals)
-            t_end = s.motion.end_time + settle
+            t_end = s.end_time + settle
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
                 try:
@@ -555,7 +569,7 @@ def band(plan: SequencePlan, uncertain: Mapping[str, Tuple[float, float]], *, n:
     if failed:
         warnings.warn(f"{failed} of {failed + len(finals)} samples of the band failed (the event method gave up, "
                       "or the object was still moving after a step); the band covers the others",
-                      UserWarning, stacklevel=2)
+                      UserWarning, stacklevel=user_stacklevel())
     F = np.array(finals).reshape(-1, 3)
     lows = {k: float(F[:, _INDEX[k]].min()) if len(F) else math.nan for k in plan.targets}
     highs = {k: float(F[:, _INDEX[k]].max()) if len(F) else math.nan for k in plan.targets}
