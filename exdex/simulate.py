@@ -44,7 +44,12 @@ class Result:
     v : (n, ndof) their rates [m/s or rad/s].
     wrench : (n, 3) plate friction on the object (f_x, f_y, m_z) in B at the
         centre of pressure [N, N, N m], mean over the step ending at the
-        sample (row 0 is zero).
+        sample; row 0 (t = 0): the wrench that holds the object where it
+        starts at rest with its load inside the static limit surface, in a
+        scene without stops or obstacles (the static balance of gravity and
+        the inertial forces at t = 0), else zero (the object starts moving
+        or slipping, or stops and obstacles share the load). The stepper's
+        initial state has the same wrench.
     stick : (n,) True where the step ending there left the object exactly at
         rest relative to the gripper (row 0: the initial velocity is zero).
     stop_force : (n, n_stops) mean normal force of each stop on the object [N].

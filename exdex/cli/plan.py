@@ -19,6 +19,7 @@ import numpy as np
 from exdex.studies import paper
 from exdex._optional import pyplot
 from exdex.io import load_scene, load_simulate_options, save_scene
+from exdex.scene import METHODS
 from exdex.design.plan import (QUANTITIES, QUANTITY_HELP, Limits, UnreachableTargetError, motion_peaks,
                                parameter_unit, peak_units, solve)
 
@@ -75,7 +76,7 @@ def add_arguments(parser):
                              "motion and of the grip schedule x 1.5)")
     parser.add_argument("--dt", type=float, default=None,
                         help="output step [s] (default: the scene file's simulate.dt, else the planner's)")
-    parser.add_argument("--method", default=None,
+    parser.add_argument("--method", default=None, choices=sorted(METHODS) + ["auto"],
                         help="integration method (default: the scene file's simulate.method, else auto)")
     parser.add_argument("--max-acceleration", type=float, default=None, help="robot limit [m/s^2 or rad/s^2]")
     parser.add_argument("--max-speed", type=float, default=None, help="robot limit [m/s or rad/s]")

@@ -694,8 +694,8 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Optional[Mapping[str,
     if feasible.any():
         ok, reasons = run.check(**{name: xs[feasible]})
         valid[feasible] = ok
-        for i, r in zip(np.flatnonzero(feasible), reasons):
-            why[i] = r
+        for k, r in zip(np.flatnonzero(feasible).tolist(), reasons):
+            why[k] = r
     # the edges of the valid runs, located between scan points by bisection
     # on the check: the reachable interval ends where the valid runs end
     extra = []

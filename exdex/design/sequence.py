@@ -45,8 +45,9 @@ Not covered: repeated primitives in one sequence, sequences longer than
 ``max_length``, orders other than the screen's for three or more steps (the
 additive screen cannot tell orders apart), durations and Eq. 7's beta as
 unknowns (fixed per primitive), grip changes between steps, and targets that
-need the object to leave the pad (the result is then outside the model and a
-PhysicsWarning is issued by the re-simulation). The search is local: a
+need the object to leave the pad (a sequence whose re-simulated steps leave
+the grasp -- the pads lose the object, or it slides beyond the patch's pad or
+off the pad centre -- is not accepted). The search is local: a
 reachable pose can be missed, and the error then names the closest sequence
 solved. Units are SI.
 """
@@ -61,7 +62,7 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 
 import numpy as np
 
-from exdex import _core
+from exdex import _core, diagnostics
 from exdex.design._targets import UnreachableTargetError, check_quantity as _check_quantity, motion_peaks
 from exdex._validate import real as _real, user_stacklevel
 from exdex.scene import AsymmetricProfile, Scene
@@ -236,22 +237,28 @@ def _step_scene(scene, prim, value, q):
 
 def _run_sequence(scene, prims, values, settle, rtol, atol, with_scenes=False):
     """The pose after the steps (x, y, theta) and, if asked, each step's scene
-    (re-simulated by :func:`exdex.simulate`, with its PhysicsWarnings); None
-    when a step fails or leaves the object moving. Without scenes each step
-    is one call of the compiled core on the step's spec."""
+    and the warnings of their re-simulation by :func:`exdex.simulate`; None
+    when a step fails, leaves the grasp or leaves the object moving. Without
+    scenes each step is one call of the compiled core on the step's spec."""
     q = np.array(scene.q0, dtype=float)
     scenes = []
+    caught: List[Any] = []
     specs: Dict[str, Dict[str, Any]] = {}
     for prim, v in zip(prims, values):
         if with_scenes:
             sc = _step_scene(scene, prim, float(v), q)
             t_end = sc.end_time + settle
             try:
-                r = simulate(sc, t_end, _dt(sc, t_end), method="event", rtol=rtol, atol=atol)
+                with warnings.catch_warnings(record=True) as rec:
+                    warnings.simplefilter("always")
+                    r = simulate(sc, t_end, _dt(sc, t_end), method="event", rtol=rtol, atol=atol)
             except SolverError:
                 return None
+            caught.extend(rec)
             if r.certificate is not None and not r.certificate["holds"]:
                 return None   # a step whose 1-DoF reduction fails is no candidate
+            if _leaves_grasp(r):
+                return None   # nor one that leaves the grasp
             stick, q = bool(r.stick[-1]), np.array(r.q[-1], dtype=float)
             scenes.append(sc)
         else:
@@ -273,7 +280,16 @@ def _run_sequence(scene, prims, values, settle, rtol, atol, with_scenes=False):
             stick, q = bool(out["stick"][-1]), np.array(out["q"][-1], dtype=float)
         if not stick:
             return None
-    return (q, scenes) if with_scenes else q
+    return (q, scenes, caught) if with_scenes else q
+
+
+def _leaves_grasp(result):
+    """True where a step's run leaves the grasp: the pads lost the object, or
+    the object slid beyond the patch's pad or off the pad centre (the
+    PhysicsWarning kinds "grasp", "pad" and "outline")."""
+    kinds = {w.kind for w in diagnostics.contact_findings(result.scene, result.t, result.q)}
+    kinds |= {w.kind for w in diagnostics.stats_findings(result.stats)}
+    return bool(kinds & {"grasp", "pad", "outline"})
 
 
 def _scan(scene, prim, n, settle, rtol, atol):
@@ -489,8 +505,11 @@ def solve(scene: Scene, target: Mapping[str, float], *, prims: Optional[Mapping[
     if out is None:
         raise UnreachableTargetError(
             f"the sequences solved for the target {goals} ({', '.join(' -> '.join(f[2]) for f in found)}) miss "
-            f"the tolerances when re-simulated at rtol {verify_rtol:g}", (math.nan, math.nan))
-    qf, scenes = out
+            f"the tolerances when re-simulated at rtol {verify_rtol:g}, or leave the grasp on the way",
+            (math.nan, math.nan))
+    qf, scenes, caught = out
+    for w in caught:   # the accepted re-simulation's warnings (impacts, solver notes), at the caller's line
+        warnings.warn(w.message, stacklevel=user_stacklevel())
     # steps that leave the object where it was (a slide below the slip
     # threshold) are dropped: they change nothing
     keep = []

@@ -74,3 +74,19 @@ def test_no_valid_run_at_all_says_why():
         exdex.plan.solve(sc, {"slip": -0.01}, {"grip_force": (0.0, 0.5)}, t_end=3.0)
     assert ei.value.invalid == ei.value.scanned > 0
     assert math.isnan(ei.value.low) and "keeps the object in the grasp" in str(ei.value)
+
+
+def test_a_sequence_that_leaves_the_pad_is_not_accepted():
+    """A planar 8 cm box on a 2 cm patch: 5 mm down the plate is one slide
+    within the pad; 45 mm needs the object to slide across the pad (beyond
+    its 10 mm half-side), which the model does not describe: such a sequence
+    was returned with PhysicsWarnings, now it is refused."""
+    f3 = paper.fig3_scene()
+    sc = exdex.replace(f3, dof="planar", body=exdex.Body.box(0.1, (BOX, BOX, 0.03)),
+                       grasp=exdex.replace(f3.grasp, grip_force=1.0, patch=exdex.Patch.rectangle(PAD, PAD)))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", exdex.PhysicsWarning)
+        p = exdex.sequence.solve(sc, {"y": -0.005})
+    assert abs(p.residuals["y"]) <= p.tol["y"]
+    with pytest.raises(exdex.UnreachableTargetError, match="leave the grasp"):
+        exdex.sequence.solve(sc, {"y": -0.045})
