@@ -70,7 +70,8 @@ class BatchResult:
     q, v : (B, n, ndof) free coordinates and their rates (as in
         :class:`exdex.Result`: s [m] / theta [rad], or x, y, theta).
     wrench : (B, n, 3) plate friction (f_x, f_y, m_z) in B at the centre of
-        pressure, mean over the step ending at each sample [N, N, N m].
+        pressure, mean over the step ending at each sample [N, N, N m]
+        (row 0: as in :attr:`exdex.Result.wrench`).
     stick : (B, n) True where the step ending there stuck exactly.
     stop_force : (B, n, n_stops) mean normal force of each stop [N].
 

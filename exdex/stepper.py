@@ -101,8 +101,9 @@ class StepperState:
     stick : True if the last step ended exactly at rest relative to the
         gripper (before the first step: the initial velocity is zero).
     wrench : (3,) plate friction (f_x, f_y, m_z) on the object in B at the
-        centre of pressure, mean over the last step [N, N, N m] (zero before
-        the first step).
+        centre of pressure, mean over the last step [N, N, N m] (before the
+        first step: the wrench holding the object at t = 0, as row 0 of
+        :attr:`exdex.Result.wrench`).
     stop_force : (n_stops,) mean normal force of each stop over the last
         step [N].
     grip_force : the last step's grip force [N per finger], or None (the
