@@ -646,7 +646,13 @@ typedef struct exdex_trajectory {
     double *v;            /* (n, ndof) relative velocities */
     double *wrench;       /* (n, 3) plate friction (f_x, f_y, m_z) on the object,
                              in B at the centre of pressure, mean over the step
-                             that ends at this sample [N, N, N m]; row 0 is 0 */
+                             that ends at this sample [N, N, N m]; row 0: the
+                             wrench holding the object at t = 0 where it starts
+                             at rest inside the static limit surface in a
+                             scene without stops or obstacles (the static
+                             balance of gravity and the inertial forces), else
+                             0 (it starts moving or slipping, or stops and
+                             obstacles share the load) */
     unsigned char *stick; /* (n,) 1 where the step ending here stuck */
     double *stop_force;   /* (n, n_stops + n_obstacles) mean normal force of each
                              stop, then of each obstacle [N]; may be NULL when

@@ -498,6 +498,13 @@ int model_pads_patch_region(const exdex_model *m, const double q[3], struct regi
 /* 1 if the pads' region at the coordinates q (ndof entries) has vanished. */
 int model_pads_lost(const exdex_model *m, const double *q);
 
+/* The plate friction wrench (in B at the centre of pressure) that holds the
+ * object at rest at time t and coordinates q: 1 and w where the static
+ * balance of gravity and the inertial forces lies inside the static limit
+ * surface of a scene without stops or obstacles, else 0 and w zero
+ * (model.c). */
+int model_holding_wrench(const exdex_model *m, double t, const double *q, double w[3]);
+
 /* |E^-1 w|, the ellipsoid norm of a patch wrench (paper Eq. 6). */
 static inline double model_ell_norm(const exdex_model *m, const double w[3])
 {

@@ -103,8 +103,10 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajecto
         out->q[i] = q[i];
         out->v[i] = v[i];
     }
-    out->wrench[0] = out->wrench[1] = out->wrench[2] = 0.0;
     out->stick[0] = (v[0] == 0.0 && (nd == 1 || (v[1] == 0.0 && v[2] == 0.0)));
+    /* row 0's wrench: the one holding the object where it starts held, else 0 */
+    if (!(out->stick[0] && model_holding_wrench(m, 0.0, q, out->wrench)))
+        out->wrench[0] = out->wrench[1] = out->wrench[2] = 0.0;
     for (int k = 0; k < m->n_src; k++) out->stop_force[k] = 0.0;
     ws = impl->alloc(m, &status);
     if (!ws) return status ? status : EXDEX_ENOMEM;

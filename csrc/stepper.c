@@ -107,6 +107,8 @@ static void initial_sample(exdex_stepper *s)
     memset(x, 0, sizeof *x);
     model_initial_state(m, x->q, x->v);
     x->stick = x->v[0] == 0.0 && (m->ndof == 1 || (x->v[1] == 0.0 && x->v[2] == 0.0));
+    /* the wrench that holds it there (as exdex_simulate's row 0), else 0 */
+    if (x->stick) model_holding_wrench(m, 0.0, x->q, x->wrench);
     x->grip_force = NAN;
 }
 

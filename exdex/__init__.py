@@ -26,6 +26,7 @@ from exdex import design, studies  # noqa: E402  (subpackages: inverse design; t
 from exdex.studies import paper  # noqa: E402  (the paper's case studies, Figs. 3, 4, 6)
 from exdex.design import tool  # noqa: E402  (assistive-tool design, paper Section 3)
 from exdex.design import plan  # noqa: E402  (inverse design: motion and grip for a target outcome)
+from exdex.design.plan import UnreachableTargetError  # noqa: E402  (a plan's target out of reach)
 from exdex.design import sequence  # noqa: E402  (planar pose targets by sequences of motion primitives)
 from exdex.design.fit import (EventSensitivity, EventTimes, Identification, Sensitivity, event_sensitivity,  # noqa: E402
                               event_times, identify, sensitivity)
@@ -56,6 +57,6 @@ __all__ = [
     "TrapezoidalProfile", "Shake", "Pause", "Chain", "replace", "Model", "Result", "SolverError", "PhysicsWarning", "ReductionWarning",
     "GripperJumpWarning", "Stepper", "StepperState", "StepperSnapshot", "GripperPose",
     "MissingExtraError", "simulate", "BatchResult", "simulate_batch", "sweep", "load_scene", "save_scene", "paper",
-    "tool", "plan", "sequence", "sensitivity", "Sensitivity", "event_times", "EventTimes", "event_sensitivity",
+    "tool", "plan", "sequence", "UnreachableTargetError", "sensitivity", "Sensitivity", "event_times", "EventTimes", "event_sensitivity",
     "EventSensitivity", "identify", "Identification", "__version__",
 ]

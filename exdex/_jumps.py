@@ -7,6 +7,7 @@ import numpy as np
 from exdex import _core
 from exdex.diagnostics import PhysicsWarning
 from exdex.scene import SampledTrajectory
+from exdex._validate import user_stacklevel
 
 __all__ = ["GripperJumpWarning", "jumps", "warn_jumps"]
 
@@ -47,7 +48,10 @@ def jumps(scene, spec):
     return _core.motion_jumps(spec)
 
 
-def warn_jumps(scene, jumps, t_end, stacklevel=3):
+def warn_jumps(scene, jumps, t_end, stacklevel=None):
+    """A GripperJumpWarning for each jump in (0, t_end], naming the user's
+    line (or ``stacklevel``, counted from the caller of this function)."""
+    level = user_stacklevel() if stacklevel is None else stacklevel + 1
     for t, dv, dw in jumps:
         if 0.0 < t <= t_end:
             if isinstance(scene.motion, SampledTrajectory):
@@ -57,4 +61,4 @@ def warn_jumps(scene, jumps, t_end, stacklevel=3):
                         f"otherwise log the motion until the robot is at rest.")
             else:
                 hint = " (a trapezoid without ramps, v_max = |amplitude| / duration)."
-            warnings.warn(GripperJumpWarning(t, dv, dw, hint), stacklevel=stacklevel)
+            warnings.warn(GripperJumpWarning(t, dv, dw, hint), stacklevel=level)

@@ -1,12 +1,31 @@
 """Validation of user input shared by the modules of exdex: a finite real in a
 range, a finite float array of a shape, an output time grid. Each raises a
-ValueError or TypeError naming the parameter and the allowed range."""
+ValueError or TypeError naming the parameter and the allowed range. Also the
+stack level at which a warning names the user's line."""
 import math
 import numbers
+import os
+import sys
 
 import numpy as np
 
-__all__ = ["real", "array", "check_times"]
+__all__ = ["real", "array", "check_times", "user_stacklevel"]
+
+#: the package's directory: frames in files under it are exdex's own
+_PACKAGE_DIR = os.path.dirname(os.path.abspath(__file__)) + os.sep
+
+
+def user_stacklevel() -> int:
+    """The ``stacklevel`` for :func:`warnings.warn`, called by the function
+    that calls this one, that names the first frame outside the exdex
+    package: the user's line that called into exdex, however deep inside
+    the package the warning arises."""
+    f = sys._getframe(1)
+    level = 1
+    while f.f_back is not None and os.path.abspath(f.f_code.co_filename).startswith(_PACKAGE_DIR):
+        f = f.f_back
+        level += 1
+    return level
 
 
 def real(value, name, *, low=None, high=None, low_open=False, high_open=False):

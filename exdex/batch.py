@@ -70,7 +70,8 @@ class BatchResult:
     q, v : (B, n, ndof) free coordinates and their rates (as in
         :class:`exdex.Result`: s [m] / theta [rad], or x, y, theta).
     wrench : (B, n, 3) plate friction (f_x, f_y, m_z) in B at the centre of
-        pressure, mean over the step ending at each sample [N, N, N m].
+        pressure, mean over the step ending at each sample [N, N, N m]
+        (row 0: as in :attr:`exdex.Result.wrench`).
     stick : (B, n) True where the step ending there stuck exactly.
     stop_force : (B, n, n_stops) mean normal force of each stop [N].
 
@@ -84,8 +85,10 @@ class BatchResult:
     stats : dict of (B,) arrays per trajectory: steps, stick_steps,
         solver_iterations, stop_iterations, warnings, impacts,
         max_impulse_stop (int64), min_gap [m], max_impulse [N s],
-        max_impulse_t, first_warning_t [s] (as in :class:`exdex.Result`;
-        NaN and -1 where a single run's stats hold None).
+        max_impulse_t, first_warning_t, grasp_lost_t [s] (as in
+        :class:`exdex.Result`; NaN and -1 where a single run's stats hold
+        None; grasp_lost_t: pads on the fingers lost the object there, the
+        samples after it are NaN).
     reduction_valid_until : (B,) the certificate of each translation or
         rotation trajectory (:attr:`exdex.Result.certificate`): until when
         its reduction held [s] (t_end where it held throughout; NaN for
@@ -575,15 +578,17 @@ def _batch_checks(b):
         else:
             out[kind] = (np.asarray(mask, dtype=bool), make)
 
-    for key in ("impacts", "warnings"):
+    # stats: only the flagged trajectories are looked at
+    for key in ("impacts", "warnings", "grasp_lost_t"):
         if key in b.stats:
-            kind = "impact" if key == "impacts" else "solver"
+            flagged = np.isfinite(b.stats[key]) if key == "grasp_lost_t" else np.asarray(b.stats[key]) > 0
+            kind = {"impacts": "impact", "warnings": "solver", "grasp_lost_t": "grasp"}[key]
 
             def make_stat(i, kind=kind):
                 st = {k: np.asarray(v)[i].item() for k, v in b.stats.items()}
                 st = {k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in st.items()}
                 return [w for w in diagnostics.stats_findings(st) if w.kind == kind][0]
-            add(kind, np.asarray(b.stats[key]) > 0, make_stat)
+            add(kind, flagged, make_stat)
     # pads on the fingers: a trajectory whose grasp was lost holds NaN after that sample
     scenes = b.scene if isinstance(b.scene, tuple) else (b.scene,)
     if any(sc.grasp.pad is not None for sc in scenes):
@@ -676,7 +681,7 @@ def _warn_log_jumps(scenes, specs, t_end):
     for sc, spec in zip(scenes, specs):
         if isinstance(sc.motion, SampledTrajectory) and id(sc.motion) not in seen:
             seen.add(id(sc.motion))
-            _warn_jumps(sc, _jumps(sc, spec), t_end, stacklevel=4)
+            _warn_jumps(sc, _jumps(sc, spec), t_end)
 
 
 # ------------------------------------------------------------------ sweep

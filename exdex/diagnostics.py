@@ -30,6 +30,8 @@ import warnings
 
 import numpy as np
 
+from exdex._validate import user_stacklevel
+
 __all__ = ["PhysicsWarning", "ReductionWarning", "findings", "pad_half_size"]
 
 
@@ -358,7 +360,7 @@ def stats_findings(stats):
     """Impact and solver-warning findings from a stats dict of one trajectory."""
     out = []
     tl = stats.get("grasp_lost_t", None)
-    if tl is not None:
+    if tl is not None and math.isfinite(tl):
         out.append(PhysicsWarning(
             f"at t = {tl:.6g} s the contact region of the pads and the object's face vanished: the grasp is "
             "lost and the run stopped there (the result ends at that sample)",
@@ -397,7 +399,10 @@ def findings(result):
             + reduction_findings(result.scene, getattr(result, "certificate", None)))
 
 
-def issue(found, stacklevel=3):
-    """Issue each finding through :func:`warnings.warn`."""
+def issue(found, stacklevel=None):
+    """Issue each finding through :func:`warnings.warn`, naming the user's
+    line (the first frame outside the package) unless ``stacklevel`` says
+    otherwise (counted from the caller of ``issue``)."""
+    level = user_stacklevel() if stacklevel is None else stacklevel + 1
     for w in found:
-        warnings.warn(w, stacklevel=stacklevel + 1)
+        warnings.warn(w, stacklevel=level)

@@ -445,7 +445,8 @@ def _format(path, format):
     ext = os.path.splitext(os.fspath(path))[1].lower()
     if ext not in FORMATS:
         raise ValueError(f"cannot tell the scene-file format from the extension {ext!r} of {os.fspath(path)!r}: "
-                         f"use .toml or .json (or pass format=)")
+                         "use .toml or .json, or name the format: format='toml' or 'json' in Python, "
+                         "--scene-format toml or json on the exdex command line")
     return FORMATS[ext]
 
 

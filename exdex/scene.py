@@ -156,8 +156,8 @@ class Body:
         inertia m/12 diag(3 r^2 + h^2, 3 r^2 + h^2, 6 r^2), ``size`` its
         bounding box (2 r, 2 r, h), ``outline_radius`` r (``outline_center``
         may be passed to put the disc's centre off the centre of mass)."""
-        r = _real(radius, "radius", low=0.0, low_open=True)
-        h = _real(height, "height", low=0.0, low_open=True)
+        r = _real(radius, "Body.cylinder: radius", low=0.0, low_open=True)
+        h = _real(height, "Body.cylinder: height", low=0.0, low_open=True)
         m = _real(mass, "Body.mass", low=0.0, low_open=True)
         I = m / 12.0 * np.diag([3 * r**2 + h**2, 3 * r**2 + h**2, 6 * r**2])
         return cls(mass=m, inertia=I, size=(2 * r, 2 * r, h), outline_radius=r, **kw)
@@ -171,7 +171,7 @@ class Body:
     def box(cls, mass: float, size: Vector, **kw: Any) -> "Body":
         """A uniform box of dimensions ``size = (lx, ly, lz)`` [m]: its inertia is
         m/12 diag(ly^2 + lz^2, lx^2 + lz^2, lx^2 + ly^2)."""
-        lx, ly, lz = _array(size, "size", (3,))
+        lx, ly, lz = _array(size, "Body.box: size", (3,))
         I = mass / 12.0 * np.diag([ly**2 + lz**2, lx**2 + lz**2, lx**2 + ly**2])
         return cls(mass=mass, inertia=I, size=(lx, ly, lz), **kw)
 
@@ -285,7 +285,7 @@ class Patch:
     @classmethod
     def disc(cls, radius: float, center: Vector = (0.0, 0.0)) -> "Patch":
         """Uniform pressure over a disc of ``radius`` [m]: e_r = 2 R / 3."""
-        r = _real(radius, "radius", low=0.0, low_open=True)
+        r = _real(radius, "Patch.disc: radius", low=0.0, low_open=True)
         return cls(e_r=_core.er_disc(r), center=center, shape="disc", dims=(r,))
 
     @classmethod
@@ -293,8 +293,8 @@ class Patch:
         """Uniform pressure over a ``width`` x ``height`` rectangle [m] (full
         side lengths along the object's x and y, as in ``Body.box``): e_r is
         the mean distance of the rectangle from its centre."""
-        w = _real(width, "width", low=0.0, low_open=True)
-        h = _real(height, "height", low=0.0, low_open=True)
+        w = _real(width, "Patch.rectangle: width", low=0.0, low_open=True)
+        h = _real(height, "Patch.rectangle: height", low=0.0, low_open=True)
         return cls(e_r=_core.er_rectangle(w / 2, h / 2), center=center, shape="rectangle", dims=(w, h))
 
 
@@ -349,8 +349,8 @@ class Pad:
     @classmethod
     def rectangle(cls, width: float, height: float, center: Vector = (0.0, 0.0)) -> "Pad":
         """A ``width`` x ``height`` rectangle [m] (sides along B's x and y) about ``center``."""
-        w = _real(width, "width", low=0.0, low_open=True) / 2
-        h = _real(height, "height", low=0.0, low_open=True) / 2
+        w = _real(width, "Pad.rectangle: width", low=0.0, low_open=True) / 2
+        h = _real(height, "Pad.rectangle: height", low=0.0, low_open=True) / 2
         return cls(vertices=((-w, -h), (w, -h), (w, h), (-w, h)), center=center)
 
     @classmethod
@@ -762,8 +762,11 @@ class SampledTrajectory(_Motion):
         t = _array(self.times, "SampledTrajectory.times", (None,))
         if len(t) < 4:
             raise ValueError(f"SampledTrajectory.times needs at least 4 samples, got {len(t)}")
-        if np.any(np.diff(t) <= 0):
-            raise ValueError("SampledTrajectory.times must be strictly increasing")
+        bad = np.flatnonzero(np.diff(t) <= 0)
+        if bad.size:
+            i = int(bad[0]) + 1
+            raise ValueError(f"SampledTrajectory.times must be strictly increasing: times[{i}] = {t[i]:.17g} "
+                             f"<= times[{i - 1}] = {t[i - 1]:.17g}")
         p = _array(self.positions, "SampledTrajectory.positions", (len(t), 3))
         q = _array(self.quaternions, "SampledTrajectory.quaternions", (len(t), 4))
         if np.any(np.linalg.norm(q, axis=1) == 0):
@@ -1303,6 +1306,18 @@ class Scene:
     def coordinate_names(self) -> Tuple[str, ...]:
         return {"translation": ("s",), "rotation": ("theta",), "planar": ("x", "y", "theta"),
                 "auto": ("x", "y", "theta")}[self.dof]
+
+    @property
+    def end_time(self) -> float:
+        """When the scene's inputs stop changing [s]: the later of the gripper
+        motion's end (``motion.end_time``) and the grip schedule's last time
+        (0 for a gripper at rest with a constant grip). Default end times of
+        runs and plans start from it."""
+        end = float(self.motion.end_time)
+        sched = self.grasp.schedule
+        if sched is not None:
+            end = max(end, float(sched.times[-1]))
+        return max(end, 0.0)
 
     def _check_exact(self, method: str) -> None:
         """ValueError naming Grasp.limit_surface where the exact surface is not

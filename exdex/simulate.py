@@ -44,7 +44,12 @@ class Result:
     v : (n, ndof) their rates [m/s or rad/s].
     wrench : (n, 3) plate friction on the object (f_x, f_y, m_z) in B at the
         centre of pressure [N, N, N m], mean over the step ending at the
-        sample (row 0 is zero).
+        sample; row 0 (t = 0): the wrench that holds the object where it
+        starts at rest with its load inside the static limit surface, in a
+        scene without stops or obstacles (the static balance of gravity and
+        the inertial forces at t = 0), else zero (the object starts moving
+        or slipping, or stops and obstacles share the load). The stepper's
+        initial state has the same wrench.
     stick : (n,) True where the step ending there left the object exactly at
         rest relative to the gripper (row 0: the initial velocity is zero).
     stop_force : (n, n_stops) mean normal force of each stop on the object [N].
@@ -541,14 +546,14 @@ def _simulate_auto(scene, t_end, dt, method, friction_solver, eps, rtol, atol):
         _, dof, m, res = best
         res = dataclasses.replace(res, models=((dof, m, 0.0, float(res.t[-1]),
                                                 f"the {dof} model's certificate holds to t_end"),))
-        _warn_jumps(scene, _jumps(res.scene, res.scene.to_spec(method=m)), t_end, stacklevel=4)
-        diagnostics.issue(diagnostics.findings(res), stacklevel=3)
+        _warn_jumps(scene, _jumps(res.scene, res.scene.to_spec(method=m)), t_end)
+        diagnostics.issue(diagnostics.findings(res))
         return res
     if best is None or best[0] <= 0.0:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", GripperJumpWarning)
             res = simulate(planar, t_end, dt, method=pm, **opts)
-        _warn_jumps(scene, _jumps(planar, planar.to_spec(method=pm)), t_end, stacklevel=4)
+        _warn_jumps(scene, _jumps(planar, planar.to_spec(method=pm)), t_end)
         return dataclasses.replace(res, models=(("planar", pm, 0.0, float(res.t[-1]),
                                                  "; ".join(why_not) or "no 1-DoF model applies"),))
     t_sw, dof, m, _ = best
@@ -581,8 +586,8 @@ def _simulate_auto(scene, t_end, dt, method, friction_solver, eps, rtol, atol):
                  method=pm, friction_solver=friction_solver, dt=dt,
                  models=((dof, m, 0.0, float(t_sw), f"the {dof} model's certificate holds to t = {t_sw:.6g} s"),
                          ("planar", pm, float(t_sw), float(t_end), "; ".join(why_not))))
-    _warn_jumps(scene, _jumps(planar, planar.to_spec(method=pm)), t_end, stacklevel=4)
-    diagnostics.issue(diagnostics.findings(res), stacklevel=3)
+    _warn_jumps(scene, _jumps(planar, planar.to_spec(method=pm)), t_end)
+    diagnostics.issue(diagnostics.findings(res))
     return res
 
 

@@ -101,8 +101,9 @@ class StepperState:
     stick : True if the last step ended exactly at rest relative to the
         gripper (before the first step: the initial velocity is zero).
     wrench : (3,) plate friction (f_x, f_y, m_z) on the object in B at the
-        centre of pressure, mean over the last step [N, N, N m] (zero before
-        the first step).
+        centre of pressure, mean over the last step [N, N, N m] (before the
+        first step: the wrench holding the object at t = 0, as row 0 of
+        :attr:`exdex.Result.wrench`).
     stop_force : (n_stops,) mean normal force of each stop over the last
         step [N].
     grip_force : the last step's grip force [N per finger], or None (the
@@ -239,11 +240,11 @@ class Stepper:
         if self._pads:
             tl = self._s.stats().get("grasp_lost_t")
             if tl is not None:
-                diagnostics.issue(diagnostics.stats_findings({"grasp_lost_t": tl}), stacklevel=2)
+                diagnostics.issue(diagnostics.stats_findings({"grasp_lost_t": tl}))
         if gripper is not None:
             self._posed = True
         elif self.model._jumps:
-            _warn_jumps(self.model.scene, [j for j in self.model._jumps if self._t < j[0]], state.t, stacklevel=3)
+            _warn_jumps(self.model.scene, [j for j in self.model._jumps if self._t < j[0]], state.t)
         self._t = state.t
         return state
 

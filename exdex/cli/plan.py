@@ -11,14 +11,17 @@ file per step.
 """
 from __future__ import annotations
 
+import math
 import os
 
 import numpy as np
 
 from exdex.studies import paper
 from exdex._optional import pyplot
-from exdex.io import load_scene, save_scene
-from exdex.design.plan import QUANTITIES, Limits, UnreachableTargetError, motion_peaks, solve
+from exdex.io import load_scene, load_simulate_options, save_scene
+from exdex.scene import METHODS
+from exdex.design.plan import (QUANTITIES, QUANTITY_HELP, Limits, UnreachableTargetError, motion_peaks,
+                               parameter_unit, peak_units, solve)
 
 __all__ = ["add_arguments", "run"]
 
@@ -47,10 +50,15 @@ def add_arguments(parser):
     src = parser.add_mutually_exclusive_group()
     src.add_argument("--case", choices=("fig3", "fig4", "fig6"), default="fig3",
                      help="a paper case as the base scene (default fig3)")
-    src.add_argument("--scene", help="a scene file (TOML or JSON, exdex.save_scene) as the base scene")
+    src.add_argument("--scene", help="a scene file (TOML or JSON, exdex.save_scene) as the base scene; its "
+                     "[simulate] table gives t_end, dt, method, friction_solver, rtol, atol and eps (the options "
+                     "below override them)")
+    parser.add_argument("--scene-format", choices=("toml", "json"), default=None,
+                        help="format of the --scene file when its extension does not say (.toml, .json)")
     parser.add_argument("--target", default="slip=-0.015",
-                        help="quantity=value, quantity one of slip [m], rotation [rad], x, y [m] "
-                             "(default slip=-0.015: slide 15 mm down)")
+                        help="quantity=value, quantity one of: "
+                             + "; ".join(f"{k}: {v}" for k, v in QUANTITY_HELP.items())
+                             + " (default slip=-0.015: slide 15 mm down)")
     parser.add_argument("--pose", default=None,
                         help="a planar pose target x=..,y=..,rotation=.. (m, m, rad; any of them) for a planar "
                              "--scene: planned by a sequence of motion primitives (exdex.sequence.solve) instead "
@@ -63,7 +71,13 @@ def add_arguments(parser):
     parser.add_argument("--rest-by", type=float, default=None,
                         help="time [s] by which the object must be at rest relative to the gripper")
     parser.add_argument("--tol", type=float, default=1e-6, help="tolerance on the outcome (default 1e-6)")
-    parser.add_argument("--t-end", type=float, default=None, help="simulated time [s] (default: motion end x 1.5)")
+    parser.add_argument("--t-end", type=float, default=None,
+                        help="simulated time [s] (default: the scene file's simulate.t_end, else the end of the "
+                             "motion and of the grip schedule x 1.5)")
+    parser.add_argument("--dt", type=float, default=None,
+                        help="output step [s] (default: the scene file's simulate.dt, else the planner's)")
+    parser.add_argument("--method", default=None, choices=sorted(METHODS) + ["auto"],
+                        help="integration method (default: the scene file's simulate.method, else auto)")
     parser.add_argument("--max-acceleration", type=float, default=None, help="robot limit [m/s^2 or rad/s^2]")
     parser.add_argument("--max-speed", type=float, default=None, help="robot limit [m/s or rad/s]")
     parser.add_argument("--rate", type=float, default=100.0, help="rate of the exported poses [Hz] (default 100)")
@@ -102,7 +116,7 @@ def _run_pose(args, scene):
     except ValueError as exc:
         raise SystemExit(f"exdex plan: {exc}") from None
     os.makedirs(args.out, exist_ok=True)
-    print("plan: " + " -> ".join(f"{n}({v:.6g})" for n, v in p.steps))
+    print("plan: " + " -> ".join(f"{n}({v:.6g} {u})" for (n, v), u in zip(p.steps, p.step_units())))
     for k in p.targets:
         u, f = ("deg", 180.0 / math.pi) if k == "rotation" else ("mm", 1e3)
         print(f"  {k}: {f * p.achieved[k]:.6g} {u} (target {f * p.targets[k]:g} {u}, residual "
@@ -127,11 +141,32 @@ def _run_pose(args, scene):
     return 0
 
 
-def run(args):
+def _options(args):
+    """The base scene and the planner's simulation options: the scene file's
+    ``simulate`` table, overridden by --t-end, --dt and --method."""
+    options = {}
     if args.scene:
-        scene = load_scene(args.scene)
+        if not os.path.isfile(args.scene):
+            raise SystemExit(f"exdex plan: no such scene file: {args.scene}")
+        try:
+            scene = load_scene(args.scene, format=args.scene_format)
+            options = load_simulate_options(args.scene, format=args.scene_format)
+        except (ValueError, TypeError, ImportError) as exc:
+            raise SystemExit(f"exdex plan: {exc}") from None
     else:
         scene = {"fig3": paper.fig3_scene, "fig4": paper.fig4_scene, "fig6": paper.fig6_scene}[args.case]()
+    for key in ("t_end", "dt", "method"):
+        if getattr(args, key) is not None:
+            options[key] = getattr(args, key)
+    return scene, options
+
+
+def _unit(value, unit):
+    return f"{value} {unit}" if unit else value
+
+
+def run(args):
+    scene, options = _options(args)
     if args.pose is not None:
         return _run_pose(args, scene)
     q, v = _kv(args.target, "--target")
@@ -147,26 +182,37 @@ def run(args):
     if args.max_acceleration is not None or args.max_speed is not None:
         limits = Limits(max_acceleration=args.max_acceleration, max_speed=args.max_speed)
     try:
-        p = solve(scene, target, {name: bounds}, limits=limits, tol=args.tol, t_end=args.t_end, uncertain=unc)
+        p = solve(scene, target, {name: bounds}, limits=limits, tol=args.tol, uncertain=unc, **options)
     except UnreachableTargetError as exc:
         print(f"exdex plan: {exc}")
         return 1
+    except (ValueError, TypeError) as exc:
+        raise SystemExit(f"exdex plan: {exc}") from None
     os.makedirs(args.out, exist_ok=True)
     u = QUANTITIES[p.quantity]
-    print(f"plan: {p.parameter} = {p.value:.9g}")
+    pu = parameter_unit(scene, p.parameter)
+    print(f"plan: {p.parameter} = {_unit(f'{p.value:.9g}', pu)}")
     print(f"  {p.quantity}: {p.achieved:.9g} {u} (target {p.target:g} {u}, residual {p.residual:.2e} {u}, "
-          f"tol {p.tol:g})")
+          f"tol {p.tol:g} {u})")
+    if scene.dof == "planar" and p.outcomes:
+        print("  planned run: " + ", ".join(
+            f"{k} {v * 180 / math.pi:.4g} deg" if k == "rotation" else f"{k} {v * 1e3:.4g} mm"
+            for k, v in p.outcomes.items()))
     if p.rest_by is not None:
         print(f"  at rest relative to the gripper by {p.rest_by:g} s")
-    print(f"  reachable by {p.parameter} in [{bounds[0]:g}, {bounds[1]:g}]: "
+    print(f"  reachable by {p.parameter} in [{_unit(f'{bounds[0]:g}, {bounds[1]:g}]', pu)}: "
           f"[{p.reachable[0]:.6g}, {p.reachable[1]:.6g}] {u}")
-    pk = motion_peaks(p.scene.motion)
-    print(f"  gripper: peak acceleration {pk['acceleration']:.4g}, peak speed {pk['speed']:.4g}, "
-          f"stroke {pk['stroke']:.4g}, duration {pk['duration']:.4g} s")
+    pk, pku = motion_peaks(p.scene.motion), peak_units(p.scene.motion)
+    print(f"  gripper: peak acceleration {pk['acceleration']:.4g} {pku['acceleration']}, peak speed "
+          f"{pk['speed']:.4g} {pku['speed']}, stroke {pk['stroke']:.4g} {pku['stroke']}, duration "
+          f"{pk['duration']:.4g} s")
+    print(f"  simulated to t_end = {p.t_end:g} s" + (f" (from {args.scene}'s [simulate] table)"
+                                                    if args.scene and "t_end" in options and args.t_end is None
+                                                    else ""))
     if p.band is not None:
         print(f"  outcome band: [{p.band.low:.6g}, {p.band.high:.6g}] {u} for {p.band.describe()} "
-              f"({'exact ends' if p.band.exact else f'sampled, bound {p.band.bound:.2g}'}); worst error "
-              f"{p.worst_error:.3g} {u}: {'meets' if p.meets_target else 'does NOT meet'} tol {p.tol:g}")
+              f"({'exact ends' if p.band.exact else f'sampled, bound {p.band.bound:.2g} {u}'}); worst error "
+              f"{p.worst_error:.3g} {u}: {'meets' if p.meets_target else 'does NOT meet'} tol {p.tol:g} {u}")
     t, poses = p.gripper_poses(args.rate)
     _write_poses(args, t, poses)
     scene_path = os.path.join(args.out, "planned_scene.toml")

@@ -20,9 +20,10 @@ __all__ = ["add_arguments", "run", "default_t_end"]
 
 
 def default_t_end(scene):
-    """End time used when neither the file nor the command line gives one:
-    the motion's end time plus 0.5 s to settle (1 s for a gripper at rest)."""
-    end = scene.motion.end_time
+    """End time used when neither the file nor the command line gives one [s]:
+    the end of the gripper motion and of the grip schedule (:attr:`exdex.Scene.end_time`)
+    plus 0.5 s to settle (1 s when neither changes in time)."""
+    end = scene.end_time
     return end + 0.5 if end > 0 else 1.0
 
 
@@ -30,12 +31,15 @@ def add_arguments(parser):
     from exdex.scene import METHODS, SOLVERS
 
     parser.add_argument("scene", help="scene file, .toml or .json (exdex.save_scene writes one)")
+    parser.add_argument("--scene-format", choices=("toml", "json"), default=None,
+                        help="format of the scene file when its extension does not say (.toml, .json)")
     parser.add_argument("--method", choices=sorted(METHODS) + ["auto"], default=None,
                         help="integration method (default: the file's simulate.method, else implicit)")
     parser.add_argument("--friction-solver", choices=sorted(SOLVERS), default=None,
                         help="planar friction solve (default: the file's, else scalar)")
     parser.add_argument("--t-end", type=float, default=None,
-                        help="end time [s] (default: the file's simulate.t_end, else the motion's end + 0.5 s)")
+                        help="end time [s] (default: the file's simulate.t_end, else the end of the motion and of the "
+                             "grip schedule + 0.5 s)")
     parser.add_argument("--dt", type=float, default=None,
                         help="time step or output interval [s] (default: the file's simulate.dt, else 0.001)")
     parser.add_argument("--out", default=None, help="output folder (default: exdex-output/<scene name>)")
@@ -59,8 +63,8 @@ def run(args):
     if not os.path.isfile(path):
         raise SystemExit(f"exdex run: no such scene file: {path}")
     try:
-        scene = io.load_scene(path)
-        options = io.load_simulate_options(path)
+        scene = io.load_scene(path, format=args.scene_format)
+        options = io.load_simulate_options(path, format=args.scene_format)
     except (ValueError, TypeError, ImportError) as exc:
         raise SystemExit(f"exdex run: {exc}")
     for key in ("method", "friction_solver", "t_end", "dt"):

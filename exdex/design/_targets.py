@@ -2,29 +2,59 @@
 an unreachable target and the peaks of a gripper motion (exdex.design.plan
 re-exports them; exdex.design.sequence uses them)."""
 import math
-from typing import Any, Dict
+from typing import Any, Dict, Tuple
 
 import numpy as np
 
 from exdex.scene import AsymmetricProfile, Rest, SampledTrajectory, TrapezoidalProfile
 
-__all__ = ["QUANTITIES", "UnreachableTargetError", "motion_peaks", "check_quantity"]
+__all__ = ["QUANTITIES", "QUANTITY_HELP", "UnreachableTargetError", "motion_peaks", "check_quantity"]
 
-#: the quantities a target can name, with their units
-QUANTITIES = {"slip": "m", "rotation": "rad", "x": "m", "y": "m", "contact_slip": "m"}
+#: the quantities a target can name, with their units: ``com_slide`` (the
+#: centre of mass's slide; ``slip`` is its older name), ``contact_slip`` (how
+#: far the object's face slid under the contact), ``rotation``, ``x``, ``y``
+QUANTITIES = {"com_slide": "m", "slip": "m", "contact_slip": "m", "rotation": "rad", "x": "m", "y": "m"}
+
+#: what each quantity is, in words (for help texts and docs)
+QUANTITY_HELP = {
+    "com_slide": "the slide of the object's centre of mass relative to the gripper [m]: along the slide axis "
+                 "(signed) in translation scenes, the distance it moved in the plate plane in planar ones",
+    "slip": "the older name of com_slide [m]",
+    "contact_slip": "planar scenes: how far the object's face slid under the contact [m] (with pads on the "
+                    "fingers the travel of the contact region's centroid over the object)",
+    "rotation": "the turn of the object relative to the gripper [rad] (rotation and planar scenes)",
+    "x": "the planar displacement's x component in the gripper frame [m]",
+    "y": "the planar displacement's y component in the gripper frame [m]",
+}
 
 
 class UnreachableTargetError(ValueError):
-    """The target lies outside what the varied parameter can reach.
+    """The target lies outside what the varied parameters can reach.
 
-    ``reachable`` is the (low, high) interval of the outcome over the
-    parameter's bounds and limits (from the scan and its refinement)."""
+    ``reachable`` is the (low, high) interval of the outcome [units of the
+    quantity] over the parameter's bounds and limits, from the scan points
+    whose runs keep the object in the grasp and pass the physics checks
+    (NaN, NaN where none does or the planner has no interval); ``low`` and
+    ``high`` are its ends. ``invalid`` counts the scan points left out because
+    their runs leave the grasp or fail those checks, of ``scanned`` points
+    within the limits (0 and 0 where the planner does not count them)."""
 
-    __module__ = "exdex.design.plan"   # where users import it from
+    __module__ = "exdex"   # where users import it from (also exdex.plan.UnreachableTargetError)
 
-    def __init__(self, message, reachable):
+    def __init__(self, message: str, reachable: Tuple[float, float], invalid: int = 0, scanned: int = 0) -> None:
         super().__init__(message)
-        self.reachable = reachable
+        self.reachable = (float(reachable[0]), float(reachable[1]))
+        self.invalid, self.scanned = int(invalid), int(scanned)
+
+    @property
+    def low(self) -> float:
+        """Lower end of the reachable interval."""
+        return self.reachable[0]
+
+    @property
+    def high(self) -> float:
+        """Upper end of the reachable interval."""
+        return self.reachable[1]
 
 
 def motion_peaks(motion: Any) -> Dict[str, float]:
@@ -59,7 +89,7 @@ def check_quantity(quantity, scene):
     if quantity not in QUANTITIES:
         raise ValueError(f"target quantity must be one of {sorted(QUANTITIES)}, got {quantity!r}")
     dof = scene.dof
-    ok = {"translation": ("slip",), "rotation": ("rotation",),
-          "planar": ("slip", "rotation", "x", "y", "contact_slip")}[dof]
+    ok = {"translation": ("com_slide", "slip"), "rotation": ("rotation",),
+          "planar": ("com_slide", "slip", "contact_slip", "rotation", "x", "y")}[dof]
     if quantity not in ok:
         raise ValueError(f"a {dof} scene has no {quantity!r} outcome; use one of {list(ok)}")

@@ -28,8 +28,10 @@ outcome is monotone in the parameter; ``solve(..., uncertain=...)`` plans for
 the worst case over such intervals.
 
 Quantities (final value minus initial value of the free coordinates):
-``"slip"`` [m] the displacement along the slide axis (translation scenes) or
-the distance moved in the plate plane (planar scenes); ``"rotation"`` [rad]
+``"com_slide"`` [m] (older name ``"slip"``, still accepted) the slide of the
+centre of mass relative to the gripper: the displacement along the slide axis
+(translation scenes) or the distance moved in the plate plane (planar scenes;
+a turn about a pad away from the centre of mass moves it too); ``"rotation"`` [rad]
 the turn of the object relative to the gripper (rotation and planar scenes);
 ``"x"``, ``"y"`` [m] the planar displacement's components in the gripper frame;
 ``"contact_slip"`` [m] (planar scenes) how far the object's face slid under
@@ -55,23 +57,57 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 
 import numpy as np
 
-from exdex import _core
+from exdex import _core, diagnostics
 from exdex._optional import pyplot
-from exdex._validate import real as _real
+from exdex._validate import real as _real, user_stacklevel
 from exdex._params import PARAMETERS, param_name as _param_name, replace_params as _replace_params
 from exdex.batch import simulate_batch
-from exdex.design._targets import QUANTITIES, UnreachableTargetError, check_quantity as _check_quantity, motion_peaks
+from exdex.design._targets import QUANTITIES, QUANTITY_HELP, UnreachableTargetError, check_quantity as _check_quantity, motion_peaks
 from exdex.diagnostics import ReductionWarning
 from exdex.scene import AsymmetricProfile, Rest, SampledTrajectory, Scene, TrapezoidalProfile
 from exdex.simulate import SolverError, reduction_fails_at, resolve_method, simulate
 
 __all__ = ["Limits", "Plan", "MultiPlan", "Band", "UnreachableTargetError", "solve", "band", "outcome", "motion_peaks",
-           "QUANTITIES"]
+           "QUANTITIES", "QUANTITY_HELP", "parameter_unit", "peak_units"]
 
-#: units of the parameters, for labels
-_PARAM_UNITS = {"grip_force": "N", "mu": "-", "mass": "kg", "e_r": "m", "amplitude": "m or rad", "duration": "s",
-                "beta": "-", "v_max": "m/s or rad/s", "mu_static": "-", "patch_x": "m", "patch_y": "m",
-                "pad_x": "m", "pad_y": "m", "pad_radius": "m", "pad_scale": "-"}
+#: samples of each run on which the planner checks that it stays in the grasp
+#: (see ``solve``: runs that leave it are not reachable)
+CHECK_SAMPLES = 100
+
+#: units of the parameters ("" for dimensionless ones); see parameter_unit
+_PARAM_UNITS = {"grip_force": "N", "mu": "", "mass": "kg", "e_r": "m", "amplitude": "m", "duration": "s",
+                "beta": "", "v_max": "m/s", "mu_static": "", "patch_x": "m", "patch_y": "m",
+                "pad_x": "m", "pad_y": "m", "pad_radius": "m", "pad_scale": ""}
+
+
+def parameter_unit(scene: Scene, name: str) -> str:
+    """The unit of plan parameter ``name`` on ``scene``, as printed and on
+    axis labels: ``"N"``, ``"kg"``, ``"m"``, ``"s"``, ``"m/s"``; ``"rad"``
+    and ``"rad/s"`` for a rotating motion's amplitude and peak speed;
+    ``"x schedule"`` for ``grip_force`` on a scene with a
+    :class:`exdex.GripSchedule` (the value scales the schedule); ``""`` for
+    dimensionless ones (mu, mu_static, beta, pad_scale)."""
+    name = _param_name(name, scene)
+    if name == "grip_force" and scene.grasp.schedule is not None:
+        return "x schedule"
+    u = _PARAM_UNITS.get(name, "")
+    if name in ("amplitude", "v_max") and getattr(scene.motion, "rotation", False):
+        u = u.replace("m", "rad")
+    return u
+
+
+def _with_unit(value: str, unit: str) -> str:
+    """``value`` followed by its unit (nothing for a dimensionless value)."""
+    return f"{value} {unit}" if unit else value
+
+
+def peak_units(motion: Any) -> Dict[str, str]:
+    """Units of :func:`motion_peaks`' entries for ``motion``: m/s^2, m/s, m
+    for translating motions, rad/s^2, rad/s, rad for rotating ones; s for
+    the duration."""
+    rot = bool(getattr(motion, "rotation", False))
+    return dict(acceleration="rad/s^2" if rot else "m/s^2", speed="rad/s" if rot else "m/s",
+                stroke="rad" if rot else "m", duration="s")
 
 
 @dataclass(frozen=True)
@@ -133,7 +169,7 @@ def outcome(final_displacement: Any, scene: Scene, quantity: str) -> np.ndarray:
     d = np.atleast_2d(np.asarray(final_displacement, dtype=float))
     if scene.dof in ("translation", "rotation"):
         return d[:, 0]
-    if quantity == "slip":
+    if quantity in ("com_slide", "slip"):
         return np.hypot(d[:, 0], d[:, 1])
     if quantity == "contact_slip":
         return contact_slip(scene, d)
@@ -197,15 +233,15 @@ def _bounds(name, value):
 
 
 def _default_t_end(scene):
-    """The motion's end plus half of it (at least 1 s of the object left alone
-    after a motion-free scene) [s]."""
-    end = scene.motion.end_time
+    """The end of the motion and of the grip schedule (:attr:`exdex.Scene.end_time`)
+    plus half of it (1 s when neither changes in time) [s]."""
+    end = scene.end_time
     return 1.5 * end if end > 0 else 1.0
 
 
-def _times_and_options(scene, t_end, dt, method, rtol, atol, eps, threads):
+def _times_and_options(scene, t_end, dt, method, rtol, atol, eps, threads, friction_solver="scalar"):
     """(t_end, dt, batch options) of a planning call: t_end defaults to the
-    motion's end plus half of it, dt to t_end (the event and analytic
+    end of the motion and grip schedule plus half of it, dt to t_end (the event and analytic
     methods' answers do not depend on the output grid) or, for scenes with
     stops, to at most 10 ms (the output interval bounds the event method's
     step, so that a short approach to a stop is not stepped over)."""
@@ -215,6 +251,8 @@ def _times_and_options(scene, t_end, dt, method, rtol, atol, eps, threads):
     else:
         dt = _real(dt, "dt", low=0.0, low_open=True, high=t_end)
     opts: Dict[str, Any] = dict(method=method, rtol=rtol, atol=atol, eps=eps)
+    if friction_solver != "scalar":
+        opts["friction_solver"] = friction_solver
     if threads is not None:
         opts["threads"] = threads
     return t_end, dt, opts
@@ -288,6 +326,42 @@ class _Runner:
         b = simulate_batch(self.scene, self.t_end, self.dt, record="final", warn=False, **self.options, **arrays)
         return outcome(b.final_displacement, self.scene, self.quantity).reshape(b.shape)
 
+    def check(self, **arrays):
+        """Which parameter sets give a run the model describes: ``(valid,
+        why)``, valid (B,) bool in C order of the arrays' broadcast shape,
+        why a list with, for each invalid set, the first reason (None where
+        valid). A run is invalid where the pads on the fingers lost the
+        object (``stats['grasp_lost_t']``), where the object slid beyond the
+        patch's pad or the pad centre left the body outline (the
+        :class:`exdex.PhysicsWarning` checks "pad" and "outline", on
+        ``CHECK_SAMPLES`` samples of the run). Impacts on stops, the solver's
+        soft problems and a 1-DoF reduction that fails (the plan's
+        ``reduction_fails_at`` and its ReductionWarning say so) do not make a
+        run invalid."""
+        dt = self.t_end / CHECK_SAMPLES
+        if self.scene.stops:
+            dt = min(dt, 0.01)
+        b = simulate_batch(self.scene, self.t_end, dt, record="all", warn=False, **self.options, **arrays)
+        n = len(b)
+        why: List[Optional[str]] = [None] * n
+        lost = b.stats.get("grasp_lost_t")
+        if lost is not None:
+            for i in np.flatnonzero(np.isfinite(lost)):
+                why[i] = f"the pads lost the object at t = {float(lost[i]):.4g} s"
+        texts = {"pad": "the object slid beyond the pad", "outline": "the pad centre left the body outline"}
+        geometry = any(k in ("patch_x", "patch_y") for k in arrays)
+        groups = [(b.scene_at(i), [i]) for i in range(n)] if geometry else [(self.scene, list(range(n)))]
+        for sc, idx in groups:
+            q = b.q[idx]
+            for chk in diagnostics.contact_checks(sc, q.reshape(-1, q.shape[-1])):
+                mask = chk["mask"].reshape(q.shape[:2])
+                for r in np.flatnonzero(mask.any(axis=1)):
+                    i = idx[int(r)]
+                    if why[i] is None:
+                        j = int(np.flatnonzero(mask[r])[0])
+                        why[i] = f"{texts.get(chk['kind'], chk['kind'])} at t = {float(b.t[j]):.4g} s"
+        return np.array([w is None for w in why], dtype=bool), why
+
 
 # -------------------------------------------------------------------- plan
 
@@ -315,6 +389,9 @@ class Plan:
         the planner flags such a plan with an :class:`exdex.ReductionWarning`:
         past that time the planned outcome is not the grasp's), or None
         when it holds.
+    t_end : the end time of the planner's runs [s].
+    final_displacement : (1, ndof) the re-simulated run's q(t_end) - q(0)
+        (None without ``verify``); :attr:`outcomes` reads every quantity from it.
     """
 
     scene: Scene
@@ -333,6 +410,20 @@ class Plan:
     band: Optional["Band"] = None
     rest_by: Optional[float] = None
     reduction_fails_at: Optional[float] = None
+    t_end: Optional[float] = None
+    final_displacement: Optional[np.ndarray] = None
+
+    @property
+    def outcomes(self) -> Dict[str, float]:
+        """Every quantity of the planned run that the scene has (see
+        :data:`QUANTITY_HELP`; planar scenes: com_slide, contact_slip,
+        rotation, x, y), from the re-simulated final displacement
+        (``verify=True``; empty otherwise) [m or rad]."""
+        if self.final_displacement is None:
+            return {}
+        names = {"translation": ("com_slide",), "rotation": ("rotation",),
+                 "planar": ("com_slide", "contact_slip", "rotation", "x", "y")}[self.scene.dof]
+        return {q: float(outcome(self.final_displacement, self.scene, q)[0]) for q in names}
 
     @property
     def meets_target(self) -> bool:
@@ -342,10 +433,16 @@ class Plan:
             return bool(self.worst_error <= self.tol)
         return bool(abs(self.residual) <= self.tol)
 
+    @property
+    def unit(self) -> str:
+        """The unit of :attr:`value` (:func:`parameter_unit`: ``"x schedule"``
+        for a grip force that scales a grip schedule)."""
+        return parameter_unit(self.scene, self.parameter)
+
     def __repr__(self):
         u = QUANTITIES[self.quantity]
-        s = (f"Plan({self.parameter}={self.value:.9g}: {self.quantity} {self.achieved:.6g} {u} "
-             f"(target {self.target:.6g}, residual {self.residual:.2e}), reachable "
+        s = (f"Plan({self.parameter} = {_with_unit(f'{self.value:.9g}', self.unit)}: {self.quantity} "
+             f"{self.achieved:.6g} {u} (target {self.target:.6g} {u}, residual {self.residual:.2e} {u}), reachable "
              f"[{self.reachable[0]:.6g}, {self.reachable[1]:.6g}] {u}")
         if self.band is not None:
             s += f", worst error {self.worst_error:.3g} {u} over {self.band.describe()}"
@@ -384,7 +481,7 @@ class Plan:
         ax.plot(x, y, ".-", label="scan")
         ax.axhline(self.target, color="k", lw=0.8, ls="--", label="target")
         ax.plot([self.value], [self.achieved], "o", color="C3", label="plan")
-        ax.set_xlabel(f"{self.parameter} [{_PARAM_UNITS.get(self.parameter, '-')}]")
+        ax.set_xlabel(f"{self.parameter} [{self.unit or '-'}]")
         ax.set_ylabel(f"{self.quantity} [{u}]")
         ax.legend()
         return ax
@@ -459,7 +556,7 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Optional[Mapping[str,
           eps: float = 1e-4, n_scan: int = 65, refine: int = 15,
           cost: Union[str, Callable[[Scene], float]] = "acceleration",
           uncertain: Optional[Mapping[str, Any]] = None, n_uncertain: int = 9, threads: Optional[int] = None,
-          verify: bool = True) -> Union[Plan, "MultiPlan", Any]:
+          verify: bool = True, friction_solver: str = "scalar") -> Union[Plan, "MultiPlan", Any]:
     """Find the value of one scene parameter that makes a final quantity meet a target.
 
     Parameters
@@ -467,7 +564,7 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Optional[Mapping[str,
     scene : exdex.Scene
         The base scene.
     target : dict
-        One quantity and its wanted value, e.g. ``{"slip": 0.015}`` [m] or
+        One quantity and its wanted value, e.g. ``{"com_slide": 0.015}`` [m] or
         ``{"rotation": math.radians(30)}`` [rad] (see :data:`QUANTITIES`);
         several for a pose, e.g. ``{"x": 0.01, "y": -0.02, "rotation": 0.3}``
         (then several parameters vary, see below). With one varied parameter
@@ -496,13 +593,14 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Optional[Mapping[str,
     tol : float
         Tolerance on the outcome (units of the quantity).
     t_end, dt : float, optional
-        Simulated time [s] (default: the motion's end plus half of it) and
+        Simulated time [s] (default: the end of the motion and of the grip
+        schedule, :attr:`exdex.Scene.end_time`, plus half of it) and
         output step (default t_end: the event method's answer does not
         depend on its output grid; at most 10 ms for scenes with stops,
         whose approach the output interval must not step over).
-    method, rtol, atol, eps : as in :func:`exdex.simulate` (default "auto":
-        the analytic path where it applies, else the event method, whose
-        answer does not depend on the output grid).
+    method, rtol, atol, eps, friction_solver : as in :func:`exdex.simulate`
+        (default "auto": the analytic path where it applies, else the event
+        method, whose answer does not depend on the output grid).
     n_scan : int
         Scan points over the bounds (>= 3).
     refine : int
@@ -555,7 +653,7 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Optional[Mapping[str,
             raise ValueError("robust planning (uncertain=...) varies one parameter; pass one entry in vary")
         return _solve_multi(scene, target, vary, limits=limits, tol=tol, t_end=t_end, dt=dt, method=method,
                             rtol=rtol, atol=atol, eps=eps, cost=cost, threads=threads, verify=verify,
-                            n_scan=n_scan)
+                            n_scan=n_scan, friction_solver=friction_solver)
     quantity, goal = _target(target, scene)
     (raw, bnds), = vary.items()
     name = _param_name(raw, scene)
@@ -567,7 +665,7 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Optional[Mapping[str,
         raise ValueError(f"n_scan must be an int >= 3, got {n_scan!r}")
     if isinstance(refine, bool) or not isinstance(refine, (int, np.integer)) or refine < 1:
         raise ValueError(f"refine must be an int >= 1, got {refine!r}")
-    t_end, dt, opts = _times_and_options(scene, t_end, dt, method, rtol, atol, eps, threads)
+    t_end, dt, opts = _times_and_options(scene, t_end, dt, method, rtol, atol, eps, threads, friction_solver)
     run = _Runner(scene, quantity, t_end, dt, opts)
 
     unc = _uncertain(uncertain, scene, exclude=name, n=n_uncertain)
@@ -590,6 +688,48 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Optional[Mapping[str,
                          "pass a longer t_end")
     ys = np.full(xs.shape, np.nan)
     ys[feasible] = run(**{name: xs[feasible]})
+    # runs that leave the grasp or the model are not reachable
+    valid = np.zeros(xs.shape, bool)
+    why: List[Optional[str]] = [None] * len(xs)
+    if feasible.any():
+        ok, reasons = run.check(**{name: xs[feasible]})
+        valid[feasible] = ok
+        for k, r in zip(np.flatnonzero(feasible).tolist(), reasons):
+            why[k] = r
+    # the edges of the valid runs, located between scan points by bisection
+    # on the check: the reachable interval ends where the valid runs end
+    extra = []
+    for k in range(len(xs) - 1):
+        if feasible[k] and feasible[k + 1] and valid[k] != valid[k + 1]:
+            good, bad = (xs[k], xs[k + 1]) if valid[k] else (xs[k + 1], xs[k])
+            for _ in range(60):
+                if abs(bad - good) <= 1e-9 * max(abs(lo), abs(hi)):
+                    break
+                mid = 0.5 * (good + bad)
+                if bool(run.check(**{name: np.array([mid])})[0][0]):
+                    good = mid
+                else:
+                    bad = mid
+            if good not in (xs[k], xs[k + 1]) and _feasible(scene, name, good, limits):
+                extra.append(float(good))
+    if extra:
+        xe = np.array(extra)
+        order = np.argsort(np.concatenate([xs, xe]), kind="stable")
+        xs = np.concatenate([xs, xe])[order]
+        ys = np.concatenate([ys, run(**{name: xe})])[order]
+        valid = np.concatenate([valid, np.ones(len(xe), bool)])[order]
+        feasible = np.concatenate([feasible, np.ones(len(xe), bool)])[order]
+        why = [(why + [None] * len(xe))[int(i)] for i in order]
+    ys_unchecked = ys.copy()
+    ys[~valid] = np.nan
+    invalid = feasible & ~valid
+    if not valid.any():
+        i = int(np.flatnonzero(invalid)[0])
+        raise UnreachableTargetError(
+            f"no value of {name!r} in [{lo:g}, {hi:g}]{' within the limits' if limits is not None else ''} "
+            f"keeps the object in the grasp: every scan point's run leaves it or fails the physics checks "
+            f"(at {name} = {xs[i]:.6g} {parameter_unit(scene, name)}: {why[i]})".replace("  ", " "),
+            (math.nan, math.nan), invalid=int(invalid.sum()), scanned=int(feasible.sum()))
     ys_all = ys.copy()
     if rest_by is not None:
         # values whose object still moves after rest_by are left out, as a limit
@@ -612,7 +752,8 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Optional[Mapping[str,
                 x, rr = _refine(f, xs[k], xs[k + 1], ra, rb, tol, xtol, refine, 60)
                 if abs(rr) <= tol and _feasible(scene, name, x, limits) and \
                         (rest_by is None or bool(run.at_rest_by(rest_by, **{name: np.array([x])})[0])) and \
-                        not any(abs(x - s) <= xtol for s, _ in sols):
+                        not any(abs(x - s) <= xtol for s, _ in sols) and \
+                        bool(run.check(**{name: np.array([x])})[0][0]):
                     sols.append((x, rr))
         del r
     fin = ys[np.isfinite(ys)]
@@ -621,6 +762,14 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Optional[Mapping[str,
     if not sols:
         where = "" if goal < reach[0] or goal > reach[1] else \
             " (it lies between the scan's values only across a jump of the outcome or a limit)"
+        if invalid.any():
+            i = int(np.flatnonzero(invalid)[0])
+            bad = ys_unchecked[invalid]
+            bad = bad[np.isfinite(bad)]
+            span = f", which reach [{bad.min():.6g}, {bad.max():.6g}] {u}" if bad.size else ""
+            where += (f"; {int(invalid.sum())} of {int(feasible.sum())} scan points are left out because their "
+                      f"runs leave the grasp or fail the physics checks{span} (e.g. {name} = {xs[i]:.6g} "
+                      f"{parameter_unit(scene, name)}: {why[i]})").replace("  ", " ")
         fin_all = ys_all[np.isfinite(ys_all)]
         if rest_by is not None and fin_all.size and fin_all.min() <= goal <= fin_all.max():
             where += (f"; without target['rest_by'] the scan reaches [{fin_all.min():.6g}, {fin_all.max():.6g}] "
@@ -629,7 +778,8 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Optional[Mapping[str,
             f"target {quantity} {goal:.6g} {u} is not reachable by varying {name!r} in [{lo:g}, {hi:g}]"
             f"{' within the limits' if limits is not None else ''}"
             f"{f' with the object at rest by {rest_by:g} s' if rest_by is not None else ''}: reachable "
-            f"[{reach[0]:.6g}, {reach[1]:.6g}] {u}{where}", reach)
+            f"[{reach[0]:.6g}, {reach[1]:.6g}] {u}{where}", reach, invalid=int(invalid.sum()),
+            scanned=int(feasible.sum()))
     if len(sols) > 1:
         ranked = sorted(sols, key=lambda s: (_cost_of(cost, _replace_params(scene, {name: s[0]}), name, s[0]),
                                              s[0]))
@@ -638,34 +788,45 @@ def solve(scene: Scene, target: Mapping[str, float], vary: Optional[Mapping[str,
     x, r = ranked[0]
     best = _replace_params(scene, {name: float(x)})
     achieved = goal + r
+    d = None
     if verify:
         d, v_end, still = _final_state(best, t_end, dt, method, rtol, atol, eps,
-                                       run._direct is not None and name not in ("patch_x", "patch_y"))
+                                       run._direct is not None and name not in ("patch_x", "patch_y"),
+                                       friction_solver)
         achieved = float(outcome(d, best, quantity)[0])
         if not still:
             warnings.warn(f"the planned object is still moving at t_end = {t_end:g} s (relative speed "
-                          f"{float(np.max(np.abs(v_end))):.3g}): the 'final' {quantity} is not final; "
-                          "pass a longer t_end", UserWarning, stacklevel=2)
+                          f"{_speed_text(best, v_end)}): the 'final' {quantity} is not final; "
+                          "pass a longer t_end", UserWarning, stacklevel=user_stacklevel())
     return Plan(scene=best, parameter=name, value=float(x), quantity=quantity, target=goal, achieved=achieved,
                 residual=achieved - goal, cost=_cost_of(cost, best, name, x),
                 reachable=(min(reach[0], achieved), max(reach[1], achieved)),
                 solutions=tuple(float(s) for s, _ in ranked), scan=(xs, ys), tol=tol, rest_by=rest_by,
-                reduction_fails_at=_flag_reduction(best, t_end, dt, opts))
+                reduction_fails_at=_flag_reduction(best, t_end, dt, opts), t_end=t_end,
+                final_displacement=None if d is None else np.asarray(d, dtype=float).reshape(1, -1))
+
+
+def _speed_text(scene, v):
+    """The relative speed v (ndof,) of a run's end, with units."""
+    v = np.asarray(v, dtype=float).ravel()
+    if scene.dof == "planar":
+        return f"{math.hypot(v[0], v[1]):.3g} m/s, turning at {abs(v[2]):.3g} rad/s"
+    return f"{abs(v[0]):.3g} {'rad/s' if scene.dof == 'rotation' else 'm/s'}"
 
 
 def _flag_reduction(scene, t_end, dt, opts):
     """The plan's reduction_fails_at (and its ReductionWarning, issued at the caller's caller)."""
-    o = {k: v for k, v in opts.items() if k in ("method", "rtol", "atol", "eps")}
+    o = {k: v for k, v in opts.items() if k in ("method", "rtol", "atol", "eps", "friction_solver")}
     with warnings.catch_warnings(record=True) as rec:
         warnings.simplefilter("always")
         at = reduction_fails_at(scene, t_end, min(dt, t_end / 200), **o)
     for w in rec:
         if isinstance(w.message, ReductionWarning):
-            warnings.warn(w.message, stacklevel=4)
+            warnings.warn(w.message, stacklevel=user_stacklevel())
     return at
 
 
-def _final_state(scene, t_end, dt, method, rtol, atol, eps, analytic):
+def _final_state(scene, t_end, dt, method, rtol, atol, eps, analytic, friction_solver="scalar"):
     """(final displacement (1, ndof), final rates, at rest with exact stick)
     of ``scene`` simulated alone: by :func:`exdex.simulate`, or for a scene
     the analytic method solves, by the core's batch on that one trajectory
@@ -673,7 +834,8 @@ def _final_state(scene, t_end, dt, method, rtol, atol, eps, analytic):
     if analytic:
         out = _core.simulate_batch(scene.to_spec(method="analytic"), t_end, dt, threads=1, record="final")
         return out["displacement"], out["v"][0], bool(out["stick"][0])
-    res = simulate(scene, t_end, dt, method=method, rtol=rtol, atol=atol, eps=eps)  # type: ignore[arg-type]
+    res = simulate(scene, t_end, dt, method=method, rtol=rtol, atol=atol, eps=eps,  # type: ignore[arg-type]
+                   friction_solver=friction_solver)  # type: ignore[arg-type]
     return res.q[-1:] - res.q[:1], res.v[-1], bool(res.stick[-1])
 
 
@@ -736,9 +898,12 @@ class Band:
     bound: float
     samples: Dict[str, np.ndarray]
     outcomes: np.ndarray
+    units: Dict[str, str] = field(default_factory=dict)
 
     def describe(self) -> str:
-        return ", ".join(f"{k} in [{v[0]:.4g}, {v[-1]:.4g}]" for k, v in self.samples.items())
+        """The uncertain parameters' intervals, with their units."""
+        return ", ".join(_with_unit(f"{k} in [{v[0]:.4g}, {v[-1]:.4g}]", self.units.get(k, ""))
+                         for k, v in self.samples.items())
 
     def __repr__(self):
         u = QUANTITIES[self.quantity]
@@ -755,7 +920,7 @@ def _monotone(y, axis):
     return bool(np.all(d >= -tol) or np.all(d <= tol))
 
 
-def _make_band(quantity, samples, Y):
+def _make_band(quantity, samples, Y, scene=None):
     names = list(samples)
     mono = all(_monotone(Y, ax) for ax in range(len(names)))
     if mono:
@@ -764,12 +929,14 @@ def _make_band(quantity, samples, Y):
     else:
         lo, hi = float(Y.min()), float(Y.max())
         bound = max(float(np.max(np.abs(np.diff(Y, axis=ax)), initial=0.0)) for ax in range(Y.ndim))
-    return Band(quantity=quantity, low=lo, high=hi, exact=mono, bound=bound, samples=dict(samples), outcomes=Y)
+    units = {k: parameter_unit(scene, k) for k in samples} if scene is not None else {}
+    return Band(quantity=quantity, low=lo, high=hi, exact=mono, bound=bound, samples=dict(samples), outcomes=Y,
+                units=units)
 
 
 def band(scene: Scene, quantity: str, uncertain: Mapping[str, Any], *, n: int = 17, t_end: Optional[float] = None,
          dt: Optional[float] = None, method: str = "auto", rtol: float = 1e-10, atol: float = 1e-12,
-         eps: float = 1e-4, threads: Optional[int] = None) -> Band:
+         eps: float = 1e-4, threads: Optional[int] = None, friction_solver: str = "scalar") -> Band:
     """The band of a final quantity when parameters are known only within intervals.
 
     ``uncertain`` maps parameter names to intervals ``(low, high)`` (or to
@@ -783,12 +950,12 @@ def band(scene: Scene, quantity: str, uncertain: Mapping[str, Any], *, n: int = 
         raise TypeError(f"scene must be an exdex.Scene, got {type(scene).__name__}")
     _check_quantity(quantity, scene)
     unc = _uncertain(uncertain, scene, n=n)
-    t_end, dt, opts = _times_and_options(scene, t_end, dt, method, rtol, atol, eps, threads)
+    t_end, dt, opts = _times_and_options(scene, t_end, dt, method, rtol, atol, eps, threads, friction_solver)
     run = _Runner(scene, quantity, t_end, dt, opts)
     k = len(unc)
     grids = {name: v.reshape((1,) * i + (-1,) + (1,) * (k - i - 1)) for i, (name, v) in enumerate(unc.items())}
     Y = run(**grids)
-    return _make_band(quantity, unc, Y)
+    return _make_band(quantity, unc, Y, scene)
 
 
 def _solve_robust(run, scene, name, xs, feasible, quantity, goal, tol, unc, refine, cost, verify, limits):
@@ -803,6 +970,15 @@ def _solve_robust(run, scene, name, xs, feasible, quantity, goal, tol, unc, refi
 
     W = np.full(xs.shape, np.inf)
     W[feasible], _ = worst(xs[feasible])
+    # nominal runs that leave the grasp or fail the physics checks are no plan
+    valid = np.zeros(xs.shape, bool)
+    valid[feasible] = run.check(**{name: xs[feasible]})[0]
+    if not valid.any():
+        raise UnreachableTargetError(
+            f"no value of {name!r} in [{xs[0]:g}, {xs[-1]:g}] keeps the nominal object in the grasp: every scan "
+            "point's run leaves it or fails the physics checks", (math.nan, math.nan),
+            invalid=int(feasible.sum()), scanned=int(feasible.sum()))
+    W[~valid] = np.inf
     i = int(np.argmin(W))
     a, b = xs[max(i - 1, 0)], xs[min(i + 1, len(xs) - 1)]
     best_x, best_w = float(xs[i]), float(W[i])
@@ -820,16 +996,18 @@ def _solve_robust(run, scene, name, xs, feasible, quantity, goal, tol, unc, refi
         a, b = cand[max(j - 1, 0)], cand[min(j + 1, len(cand) - 1)]
         if best_w <= 0.25 * tol:
             break
+    if not run.check(**{name: np.array([best_x])})[0][0]:
+        best_x, best_w = float(xs[i]), float(W[i])   # the refinement left the valid runs: the best scan point
     best = _replace_params(scene, {name: best_x})
     w, Y = worst(np.array([best_x]))
-    bd = _make_band(quantity, unc, Y[0])
-    ys = run(**{name: xs[feasible]})
+    bd = _make_band(quantity, unc, Y[0], scene)
+    ys = run(**{name: xs[valid]})
     reach = (float(np.nanmin(ys)), float(np.nanmax(ys)))
     nominal = float(run(**{name: np.array([best_x])})[0])
     return Plan(scene=best, parameter=name, value=best_x, quantity=quantity, target=goal, achieved=nominal,
                 residual=nominal - goal, cost=_cost_of(cost, best, name, best_x), reachable=reach,
                 solutions=(best_x,), scan=(xs, np.where(feasible, W, np.nan)), tol=tol, worst_error=float(w[0]),
-                band=bd, reduction_fails_at=_flag_reduction(best, run.t_end, run.dt, run.options))
+                band=bd, reduction_fails_at=_flag_reduction(best, run.t_end, run.dt, run.options), t_end=run.t_end)
 
 
 # ------------------------------------------------------- several parameters
@@ -870,11 +1048,14 @@ class MultiPlan:
         return self.rank < len(self.values)
 
     def __repr__(self) -> str:
-        v = ", ".join(f"{k}={x:.6g}" for k, x in self.values.items())
-        r = ", ".join(f"{k} {self.achieved[k]:.6g} (target {self.targets[k]:.6g})" for k in self.targets)
+        v = ", ".join(f"{k} = {_with_unit(f'{x:.6g}', parameter_unit(self.scene, k))}" for k, x in self.values.items())
+        r = ", ".join(f"{k} {self.achieved[k]:.6g} {QUANTITIES[k]} (target {self.targets[k]:.6g} {QUANTITIES[k]})"
+                      for k in self.targets)
         fam = (f"; a {len(self.values) - self.rank}-dimensional family of solutions, {len(self.family)} listed"
                if self.is_family else "")
-        return f"MultiPlan({v}: {r}, max residual {max(abs(x) for x in self.residuals.values()):.2e}{fam})"
+        res = max(self.residuals, key=lambda k: abs(self.residuals[k]))
+        return (f"MultiPlan({v}: {r}, max residual {abs(self.residuals[res]):.2e} {QUANTITIES[res]} ({res})"
+                f"{fam})")
 
 
 def _targets(target, scene):
@@ -888,7 +1069,7 @@ def _targets(target, scene):
 
 
 def _solve_multi(scene, target, vary, *, limits, tol, t_end, dt, method, rtol, atol, eps, cost, threads, verify,
-                 n_scan):
+                 n_scan, friction_solver="scalar"):
     try:
         from scipy.optimize import least_squares
     except ImportError:  # pragma: no cover - scipy is in the test extra
@@ -904,7 +1085,7 @@ def _solve_multi(scene, target, vary, *, limits, tol, t_end, dt, method, rtol, a
     if limits is not None and not isinstance(limits, Limits):
         raise TypeError(f"limits must be an exdex.plan.Limits, got {type(limits).__name__}")
     tol = _real(tol, "tol", low=0.0, low_open=True)
-    t_end, dt, opts = _times_and_options(scene, t_end, dt, method, rtol, atol, eps, threads)
+    t_end, dt, opts = _times_and_options(scene, t_end, dt, method, rtol, atol, eps, threads, friction_solver)
     opts["record"] = "final"
     quantities = list(goals)
     goal = np.array([goals[q] for q in quantities])
@@ -919,6 +1100,12 @@ def _solve_multi(scene, target, vary, *, limits, tol, t_end, dt, method, rtol, a
         vary_arrays: Dict[str, Any] = {n: P[:, i] for i, n in enumerate(names)}
         b = simulate_batch(scene, t_end, dt, **opts, **vary_arrays)
         return np.stack([outcome(b.final_displacement, scene, q) for q in quantities], axis=1)
+
+    checker = _Runner(scene, quantities[0], t_end, dt, {k: v for k, v in opts.items() if k != "record"})
+
+    def valid(x):
+        """The run at parameters x keeps the object in the grasp and passes the physics checks."""
+        return bool(checker.check(**{n: np.array([float(a)]) for n, a in zip(names, x)})[0][0])
 
     def feasible(x):
         return _feasible(scene, names[0], x[0], None) and (
@@ -964,7 +1151,7 @@ def _solve_multi(scene, target, vary, *, limits, tol, t_end, dt, method, rtol, a
         r = least_squares(resid, (x0 - lo) / span, jac=jac, bounds=(np.full(k, 1e-9), np.full(k, 1 - 1e-9)),
                           method="trf", xtol=1e-14, ftol=1e-14, gtol=1e-14, max_nfev=200)
         x = lo + r.x * span
-        if np.max(np.abs(r.fun)) <= tol and (limits is None or feasible(x)):
+        if np.max(np.abs(r.fun)) <= tol and (limits is None or feasible(x)) and valid(x):
             sols.append((x, r))
     if not sols:
         best = grid[int(np.argmin(err))]
@@ -998,13 +1185,14 @@ def _solve_multi(scene, target, vary, *, limits, tol, t_end, dt, method, rtol, a
                                bounds=(np.full(k - 1, 1e-9), np.full(k - 1, 1 - 1e-9)), method="trf",
                                xtol=1e-14, ftol=1e-14, gtol=1e-14, max_nfev=100)
             xf = np.concatenate([[v], lo[1:] + rf.x * span[1:]])
-            if np.max(np.abs(rf.fun)) <= tol and (limits is None or feasible(xf)):
+            if np.max(np.abs(rf.fun)) <= tol and (limits is None or feasible(xf)) and valid(xf):
                 family.append({n: float(a) for n, a in zip(names, xf)})
     values = {n: float(a) for n, a in zip(names, x)}
     best_scene = _replace_params(scene, values)
     achieved_arr = goal + r.fun
     if verify:
-        res = simulate(best_scene, t_end, dt, method=method, rtol=rtol, atol=atol, eps=eps)  # type: ignore[arg-type]
+        res = simulate(best_scene, t_end, dt, method=method, rtol=rtol, atol=atol, eps=eps,  # type: ignore[arg-type]
+                       friction_solver=friction_solver)  # type: ignore[arg-type]
         d = res.q[-1:] - res.q[:1]
         achieved_arr = np.array([outcome(d, best_scene, q)[0] for q in quantities])
     achieved = {q: float(a) for q, a in zip(quantities, achieved_arr)}

@@ -45,8 +45,9 @@ Not covered: repeated primitives in one sequence, sequences longer than
 ``max_length``, orders other than the screen's for three or more steps (the
 additive screen cannot tell orders apart), durations and Eq. 7's beta as
 unknowns (fixed per primitive), grip changes between steps, and targets that
-need the object to leave the pad (the result is then outside the model and a
-PhysicsWarning is issued by the re-simulation). The search is local: a
+need the object to leave the pad (a sequence whose re-simulated steps leave
+the grasp -- the pads lose the object, or it slides beyond the patch's pad or
+off the pad centre -- is not accepted). The search is local: a
 reachable pose can be missed, and the error then names the closest sequence
 solved. Units are SI.
 """
@@ -61,9 +62,9 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 
 import numpy as np
 
-from exdex import _core
+from exdex import _core, diagnostics
 from exdex.design._targets import UnreachableTargetError, check_quantity as _check_quantity, motion_peaks
-from exdex._validate import real as _real
+from exdex._validate import real as _real, user_stacklevel
 from exdex.scene import AsymmetricProfile, Scene
 from exdex.simulate import SolverError, simulate
 
@@ -183,7 +184,7 @@ class SequencePlan:
         ts, ps = [], []
         t0 = 0.0
         for k, sc in enumerate(self.scenes):
-            span = sc.motion.end_time + self.settle
+            span = sc.end_time + self.settle
             n = max(int(math.floor(span * rate + 1e-9)), 1)
             t = np.arange(n + 1) / rate
             t[-1] = min(t[-1], span)
@@ -202,9 +203,15 @@ class SequencePlan:
     def meets_target(self) -> bool:
         return all(abs(self.residuals[q]) <= self.tol[q] for q in self.targets)
 
+    def step_units(self) -> Tuple[str, ...]:
+        """The unit of each step's parameter: rad for a pivot's angle, m for
+        a slide's or a push's amplitude."""
+        return tuple("rad" if getattr(sc.motion, "rotation", False) else "m" for sc in self.scenes)
+
     def __repr__(self) -> str:
-        st = " -> ".join(f"{n}({v:.6g})" for n, v in self.steps)
-        r = ", ".join(f"{q} {self.achieved[q]:.6g} (target {self.targets[q]:.6g})" for q in self.targets)
+        st = " -> ".join(f"{n}({v:.6g} {u})" for (n, v), u in zip(self.steps, self.step_units()))
+        r = ", ".join(f"{q} {self.achieved[q]:.6g} {POSE_QUANTITIES[q]} (target {self.targets[q]:.6g} "
+                      f"{POSE_QUANTITIES[q]})" for q in self.targets)
         return f"SequencePlan({st}: {r})"
 
 
@@ -216,28 +223,42 @@ def _dt(scene, t_end):
     return t_end if not scene.stops else min(t_end, 0.01)
 
 
+def _end_time(scene, motion):
+    """The end time of ``scene`` with ``motion`` in place of its own
+    (:attr:`exdex.Scene.end_time`: the later of the motion's end and the grip
+    schedule's last time) [s]."""
+    sched = scene.grasp.schedule
+    return max(float(motion.end_time), float(sched.times[-1]) if sched is not None else 0.0, 0.0)
+
+
 def _step_scene(scene, prim, value, q):
     return dataclasses.replace(scene, motion=prim.make(value), q0=tuple(float(c) for c in q))
 
 
 def _run_sequence(scene, prims, values, settle, rtol, atol, with_scenes=False):
     """The pose after the steps (x, y, theta) and, if asked, each step's scene
-    (re-simulated by :func:`exdex.simulate`, with its PhysicsWarnings); None
-    when a step fails or leaves the object moving. Without scenes each step
-    is one call of the compiled core on the step's spec."""
+    and the warnings of their re-simulation by :func:`exdex.simulate`; None
+    when a step fails, leaves the grasp or leaves the object moving. Without
+    scenes each step is one call of the compiled core on the step's spec."""
     q = np.array(scene.q0, dtype=float)
     scenes = []
+    caught: List[Any] = []
     specs: Dict[str, Dict[str, Any]] = {}
     for prim, v in zip(prims, values):
         if with_scenes:
             sc = _step_scene(scene, prim, float(v), q)
-            t_end = sc.motion.end_time + settle
+            t_end = sc.end_time + settle
             try:
-                r = simulate(sc, t_end, _dt(sc, t_end), method="event", rtol=rtol, atol=atol)
+                with warnings.catch_warnings(record=True) as rec:
+                    warnings.simplefilter("always")
+                    r = simulate(sc, t_end, _dt(sc, t_end), method="event", rtol=rtol, atol=atol)
             except SolverError:
                 return None
+            caught.extend(rec)
             if r.certificate is not None and not r.certificate["holds"]:
                 return None   # a step whose 1-DoF reduction fails is no candidate
+            if _leaves_grasp(r):
+                return None   # nor one that leaves the grasp
             stick, q = bool(r.stick[-1]), np.array(r.q[-1], dtype=float)
             scenes.append(sc)
         else:
@@ -248,7 +269,7 @@ def _run_sequence(scene, prims, values, settle, rtol, atol, with_scenes=False):
             mo = prim.make(float(v))
             spec["motion_amplitude"] = float(mo.amplitude)
             spec["q0"] = np.array(q, dtype=float)
-            t_end = mo.end_time + settle
+            t_end = _end_time(scene, mo) + settle
             try:
                 out = _core.simulate(spec, t_end, _dt(scene, t_end))
             except (SolverError, ValueError):
@@ -259,7 +280,16 @@ def _run_sequence(scene, prims, values, settle, rtol, atol, with_scenes=False):
             stick, q = bool(out["stick"][-1]), np.array(out["q"][-1], dtype=float)
         if not stick:
             return None
-    return (q, scenes) if with_scenes else q
+    return (q, scenes, caught) if with_scenes else q
+
+
+def _leaves_grasp(result):
+    """True where a step's run leaves the grasp: the pads lost the object, or
+    the object slid beyond the patch's pad or off the pad centre (the
+    PhysicsWarning kinds "grasp", "pad" and "outline")."""
+    kinds = {w.kind for w in diagnostics.contact_findings(result.scene, result.t, result.q)}
+    kinds |= {w.kind for w in diagnostics.stats_findings(result.stats)}
+    return bool(kinds & {"grasp", "pad", "outline"})
 
 
 def _scan(scene, prim, n, settle, rtol, atol):
@@ -271,7 +301,7 @@ def _scan(scene, prim, n, settle, rtol, atol):
     q0 = np.array(scene.q0, dtype=float)
     # one batch over the amplitude when the motion's amplitude is the parameter
     base = _step_scene(scene, prim, xs[-1] if xs[-1] != 0 else hi, q0)
-    t_end = base.motion.end_time + settle
+    t_end = base.end_time + settle
     try:
         b = simulate_batch(base, t_end, _dt(base, t_end), record="final", method="event", rtol=rtol, atol=atol,
                            warn=False, amplitude=xs)
@@ -475,8 +505,11 @@ def solve(scene: Scene, target: Mapping[str, float], *, prims: Optional[Mapping[
     if out is None:
         raise UnreachableTargetError(
             f"the sequences solved for the target {goals} ({', '.join(' -> '.join(f[2]) for f in found)}) miss "
-            f"the tolerances when re-simulated at rtol {verify_rtol:g}", (math.nan, math.nan))
-    qf, scenes = out
+            f"the tolerances when re-simulated at rtol {verify_rtol:g}, or leave the grasp on the way",
+            (math.nan, math.nan))
+    qf, scenes, caught = out
+    for w in caught:   # the accepted re-simulation's warnings (impacts, solver notes), at the caller's line
+        warnings.warn(w.message, stacklevel=user_stacklevel())
     # steps that leave the object where it was (a slide below the slip
     # threshold) are dropped: they change nothing
     keep = []
@@ -536,7 +569,7 @@ def band(plan: SequencePlan, uncertain: Mapping[str, Tuple[float, float]], *, n:
         for sc in plan.scenes:
             assert q is not None
             s = _replace_params(dataclasses.replace(sc, q0=tuple(q)), vals)
-            t_end = s.motion.end_time + settle
+            t_end = s.end_time + settle
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
                 try:
@@ -555,7 +588,7 @@ def band(plan: SequencePlan, uncertain: Mapping[str, Tuple[float, float]], *, n:
     if failed:
         warnings.warn(f"{failed} of {failed + len(finals)} samples of the band failed (the event method gave up, "
                       "or the object was still moving after a step); the band covers the others",
-                      UserWarning, stacklevel=2)
+                      UserWarning, stacklevel=user_stacklevel())
     F = np.array(finals).reshape(-1, 3)
     lows = {k: float(F[:, _INDEX[k]].min()) if len(F) else math.nan for k in plan.targets}
     highs = {k: float(F[:, _INDEX[k]].max()) if len(F) else math.nan for k in plan.targets}

@@ -51,19 +51,29 @@ def test_unreachable_target_reports_the_reachable_interval():
     lo, hi = ei.value.reachable
     # closed form at the bounds (the object is at rest by 0.88 s <= t_end for
     # every grip force >= 1.1 N): the slip is monotone in the grip force, so
-    # the reachable interval is spanned by the two ends
+    # the reachable interval is spanned by the two ends -- but a slide longer
+    # than half the 16 cm body (Body.size[1] / 2 = 80 mm along the slide axis)
+    # takes the pad centre off the object, and those runs are not reachable:
+    # the lower end is -80 mm, located between scan points by bisection
     ends = sorted(closed_slip(fig3(grip_force=f)) for f in (1.1, 3.0))
-    assert lo == pytest.approx(ends[0], abs=1e-9) and hi == pytest.approx(ends[1], abs=1e-9)
-    assert "reachable" in str(ei.value) and "grip_force" in str(ei.value)
+    half = fig3().body.size[1] / 2
+    assert ends[0] < -half < ends[1]
+    assert lo == pytest.approx(-half, abs=1e-7) and hi == pytest.approx(ends[1], abs=1e-9)
+    assert (ei.value.low, ei.value.high) == (lo, hi)
+    assert ei.value.invalid > 0 and ei.value.scanned > ei.value.invalid
+    assert "reachable [-0.08, " in str(ei.value) and "grip_force" in str(ei.value)
 
 
 def test_plan_warns_when_the_object_is_still_moving_at_t_end():
     """A slip of 0.35 m by t_end = 1.5 s needs about 1.01 N, with which the
     object comes to rest only after t_end (1.0 N: 2.56 s, 1.02 N: 1.48 s,
     closed form), so the 'final' slip is not final: the plan says so. The
-    slip is still the one at t_end, checked against the closed form there."""
+    slip is still the one at t_end, checked against the closed form there.
+    The body is a 1 m bar (the closed form does not depend on its length) so
+    that the pad stays on it over the 0.35 m slide."""
+    bar = dataclasses.replace(fig3(), body=dataclasses.replace(fig3().body, size=(0.03, 1.0, 0.03)))
     with pytest.warns(UserWarning, match="still moving"):
-        p = plan.solve(fig3(), {"slip": -0.35}, vary={"grip_force": (1.0, 1.2)}, t_end=T_END, tol=1e-7)
+        p = plan.solve(bar, {"slip": -0.35}, vary={"grip_force": (1.0, 1.2)}, t_end=T_END, tol=1e-7)
     x, _ = paper.closed_form(p.scene)(T_END)
     assert abs(float(x) - (-0.35)) <= 1e-6
 
