@@ -123,9 +123,8 @@ def frame_geometry(result: Any, indices: Optional[Sequence[int]] = None,
     face0 = pose0[:2] + verts @ _rot2(pose0[2]).T
     pts0 = np.concatenate([face0] + ([grasp.pad.outline()] if grasp.pad is not None else []))
     lo0, hi0 = pts0.min(axis=0), pts0.max(axis=0)
-    if plate_size is None:
-        plate_size = hi0 - lo0 if np.all(hi0 > lo0) else np.full(2, 4.0 * grasp.patch.e_r)
-    w, h = (float(x) for x in plate_size)
+    size = (hi0 - lo0 if np.all(hi0 > lo0) else np.full(2, 4.0 * grasp.patch.e_r)) if plate_size is None else plate_size
+    w, h = (float(x) for x in size)
     centre = 0.5 * (lo0 + hi0)
     rect = centre + np.array([[-w / 2, -h / 2], [w / 2, -h / 2], [w / 2, h / 2], [-w / 2, h / 2]])
     plate_b = np.broadcast_to(rect, (len(idx), 4, 2))
@@ -338,9 +337,9 @@ def animate(result: Any, fps: float = 25, speed: float = 1.0, max_frames: int = 
     (com,) = ax.plot([], [], "o", color="#08519c", ms=4, zorder=3, label="centre of mass")
     contact = None
     if g["contact"] is not None:
-        label = "pad on the finger" if g["contact_kind"] == "pad" else "contact patch on the object"
+        key = "pad on the finger" if g["contact_kind"] == "pad" else "contact patch on the object"
         contact = Polygon(g["contact"][0] * mm, closed=True, facecolor="#fdae6b", edgecolor="#e6550d", alpha=0.6,
-                          lw=1, zorder=3, label=label, gid="contact")
+                          lw=1, zorder=3, label=key, gid="contact")
         ax.add_patch(contact)
     (cop_dot,) = ax.plot([], [], "+", color="#e6550d", ms=7, mew=1.5, zorder=4,
                          label="centre of pressure" + ("" if contact is not None else " (patch given by e_r)"))
