@@ -18,6 +18,7 @@ EXTRAS = {
     "matplotlib": "plot",
     "tqdm": "plot",
     "scipy": "design",
+    "ipywidgets": "explore",
     "pybullet": "engines",
     "mujoco": "engines",
     "pydrake": "engines",

@@ -180,3 +180,15 @@ def test_scipy_features_name_the_design_extra():
     assert p.returncode == 0, p.stderr
     lines = [ln for ln in p.stdout.splitlines() if ln.split()[0] in ("identify", "sequence", "plan")]
     assert len(lines) == 3 and all(" MSG " in ln and "scipy" in ln and "exdex[design]" in ln for ln in lines), p.stdout
+
+
+def test_explorer_without_ipywidgets_names_the_explore_extra():
+    p = _run("""
+        import exdex
+        try:
+            exdex.explore(exdex.paper.fig3_scene())
+        except exdex.MissingExtraError as exc:
+            print("MSG", exc)
+    """, ["ipywidgets"])
+    assert p.returncode == 0, p.stderr
+    assert "MSG" in p.stdout and "exdex[explore]" in p.stdout and "ipywidgets" in p.stdout
