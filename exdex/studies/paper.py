@@ -777,10 +777,6 @@ FIGURE_TITLES = {
 }
 
 
-def _rate_unit(unit):
-    return {"mm": "m/s", "deg": "rad/s"}.get(unit, "")
-
-
 def plot_case(run: "CaseRun", path: Optional[str] = None, width: str = "column") -> Any:
     """Print-ready figure of a case: (a) the gripper's motion, (b) the
     object's displacement in the fingers against its reference, (c) the
@@ -790,8 +786,8 @@ def plot_case(run: "CaseRun", path: Optional[str] = None, width: str = "column")
         panels side by side); the figure is made at that size with text of
         at least 8 pt, so it prints at 100 %.
 
-    Errors below 1e-13 of the case's largest |value| are rounding: they are
-    not drawn, and a series that is rounding at every sample is a line of
+    Errors below 1e-13 of the case's largest |value| (down to a power of
+    ten) are rounding: they are not drawn, and a series that is rounding at every sample is a line of
     text in panel (c). Returns the matplotlib Figure; with ``path`` it is
     saved there too (the extension picks the format, PNG at 300 dpi) and
     closed. :func:`save_figure` writes several formats.
@@ -849,7 +845,7 @@ def _draw_case(plt, run, width):
     ax_a.set_ylabel(f"{sym} [{unit}]")
     ax_a.set_title("(b) object in the fingers", loc="left")
     # the key of (b) and the shading below the panels, where it hides no curve
-    ax_a.plot([], [], " ", label=f"shaded: gripper at rest; object: max |v| = {vmax:g} {_rate_unit(unit)}, "
+    ax_a.plot([], [], " ", label=f"shaded: gripper at rest; object: max |v| = {vmax:g} {_STILL_UNIT.get(unit, '')}, "
                                  f"{'stick' if stuck else 'not all stick'}")
     handles, labels = ax_a.get_legend_handles_labels()
     if width == "column":

@@ -99,3 +99,20 @@ def test_build_fails_on_a_broken_link_and_a_raising_cell(tmp_path, monkeypatch):
     good = (tmp_path / "site" / "notebooks" / "good.html").read_text()
     assert "42" in good and 'href="bad.html"' in good
     assert build.main([str(tmp_path / "site2"), "--no-api"]) == 1
+
+
+def test_setup_installs_what_the_docs_and_the_api_need():
+    """.ci/setup.sh installs the extras whose packages the docs (nbconvert, pdoc), the SciPy features
+    and the explorer import; pyproject.toml's extras hold them."""
+    tomllib = pytest.importorskip("tomllib")
+    setup = (ROOT / ".ci" / "setup.sh").read_text()
+    m = re.search(r'pip install -q -e "\.\[([a-z,]+)\]"', setup)
+    assert m, "setup.sh's editable install line"
+    installed = set(m.group(1).split(","))
+    extras = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["optional-dependencies"]
+    need = {"docs": ("nbconvert", "pdoc", "nbclient", "ipykernel"), "design": ("scipy",), "explore": ("ipywidgets",),
+            "plot": ("matplotlib",)}
+    for extra, packages in need.items():
+        assert extra in installed, extra
+        names = {re.split(r"[<>=\[ ]", req)[0] for req in extras[extra]}
+        assert set(packages) <= names, (extra, names)
