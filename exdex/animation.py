@@ -303,12 +303,17 @@ def animate(result: Any, fps: float = 25, speed: float = 1.0, max_frames: int = 
     ax.set_aspect("equal")
     ax.set_xlabel("x [mm] (plate plane at t = 0)")
     ax.set_ylabel("y [mm]")
-    ax.set_title(title if title is not None else f"{sc.dof} scene, method {result.method}", fontsize="medium")
+    head = title if title is not None else f"{sc.dof} scene, method {result.method}"
+    heading = ax.set_title(f"{head}\n", fontsize="medium")   # the second line: the time and stick or slip
 
     pts = np.concatenate([g["outline"].reshape(-1, 2), g["plate"].reshape(-1, 2)]) * mm
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     size = float(max(np.max(hi - lo), 1e-6))
     lo, hi = lo - 0.15 * size, hi + 0.15 * size
+    # a square view (the picture is to scale, aspect 1): a tall or wide motion keeps readable axes
+    mid0 = 0.5 * (lo + hi)
+    half = 0.5 * float(np.max(hi - lo))
+    lo, hi = mid0 - half, mid0 + half
     span = hi - lo
     ax.set_xlim(lo[0], hi[0])
     ax.set_ylim(lo[1], hi[1])
@@ -362,8 +367,6 @@ def animate(result: Any, fps: float = 25, speed: float = 1.0, max_frames: int = 
         ax.annotate("", xy=tuple(c + d / 2), xytext=tuple(c - d / 2),
                     arrowprops=dict(arrowstyle="-|>", color="0.3"))
         ax.text(c[0] + 0.05 * span[0], c[1], "g", color="0.3", fontsize="small", va="center")
-    label = ax.text(0.98, 0.98, "", transform=ax.transAxes, ha="right", va="top", fontsize="small",
-                    family="monospace", zorder=6)
     from matplotlib.lines import Line2D
 
     force_key = Line2D([], [], color="#d62728", lw=2, marker=">", markevery=[1], ms=5,
@@ -371,7 +374,8 @@ def animate(result: Any, fps: float = 25, speed: float = 1.0, max_frames: int = 
     torque_key = Line2D([], [], color="#d62728", lw=1.5,
                         label=f"friction torque: full turn = {ref * sc.grasp.patch.e_r:.3g} N m")
     handles = [h for h in (plate, body, contact, cop_dot) if h is not None] + [force_key, torque_key]
-    fig.legend(handles=handles, loc="outside lower center", ncols=2, fontsize="x-small", frameon=False)
+    fig.legend(handles=handles, loc="outside lower center", ncols=2 if fig.get_figwidth() >= 4.5 else 1,
+               fontsize="x-small", frameon=False)
     fig.canvas.draw()                 # lay out once (the key below the picture), then keep it for every frame
     fig.set_layout_engine("none")
 
@@ -399,7 +403,7 @@ def animate(result: Any, fps: float = 25, speed: float = 1.0, max_frames: int = 
             arrow.set_visible(False)
             arc.set_data([], [])
         state = "stick" if g["stick"][k] else "slip"
-        label.set_text(f"t = {g['t'][k]:7.3f} s  {state}")
+        heading.set_text(f"{head}\nt = {g['t'][k]:.3f} s, {state}")
         return ()
 
     update(0)

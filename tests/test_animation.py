@@ -236,3 +236,21 @@ def test_a_patch_given_by_e_r_alone_has_no_drawn_shape():
     assert _artist(anim, "contact") is None
     keys = [t.get_text() for t in anim.figure.legends[0].get_texts()]
     assert "centre of pressure (patch given by e_r)" in keys
+
+
+@pytest.mark.parametrize("figsize", [(3.5, 3.5), (5.0, 5.0)])
+def test_key_title_and_time_fit_in_the_figure(figsize):
+    """The key below the picture and the title with the time stay inside the figure, also at 3.5 in."""
+    pad = exdex.Pad.rectangle(0.02, 0.02)
+    sc = exdex.Scene(body=BIG_BOX, grasp=exdex.Grasp(mu=0.5, grip_force=3.0, pad=pad))
+    anim = exdex.simulate(sc, 0.05, 1e-3).animate(max_frames=2, figsize=figsize)
+    anim._update(1)
+    fig = anim.figure
+    fig.canvas.draw()
+    r = fig.canvas.get_renderer()
+    texts = list(fig.legends[0].get_texts()) + [fig.axes[0].title]
+    assert fig.axes[0].title.get_text().endswith("t = 0.050 s, stick")
+    for t in texts:
+        e = t.get_window_extent(r)
+        assert fig.bbox.x0 - 0.5 <= e.x0 and e.x1 <= fig.bbox.x1 + 0.5 and e.y0 >= -0.5 and e.y1 <= fig.bbox.y1 + 0.5, \
+            t.get_text()
