@@ -2,7 +2,8 @@
 # Installs what exdex needs, only what is missing; safe to run again.
 #  1. GSL (Debian/Ubuntu: libgsl-dev via apt-get, as root or with sudo),
 #  2. a virtual environment .venv with exdex built and installed in it
-#     (editable) plus the test, plot, engine and dask extras.
+#     (editable, in setuptools' compat mode: a path entry, so mypy sees the typed package)
+#     plus the test, plot, design, engines, dask, docs (pdoc, jupyter nbconvert) and explore extras.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -31,7 +32,8 @@ stamp=.venv/.exdex-installed
 if [ ! -f "$stamp" ] || [ -n "$(find csrc exdex setup.py pyproject.toml -newer "$stamp" \( -name '*.c' -o -name '*.h' -o -name '*.py' -o -name '*.toml' \) -print -quit)" ]; then
   echo "== installing exdex into .venv"
   .venv/bin/python -m pip install -q --upgrade pip setuptools wheel
-  .venv/bin/python -m pip install -q -e ".[test,plot,engines,dask]"
+  .venv/bin/python -m pip install -q -e ".[test,plot,design,engines,dask,docs,explore]" \
+    --config-settings editable_mode=compat
   touch "$stamp"
 fi
 echo "== setup done: $(.venv/bin/python -c 'import exdex; print("exdex", exdex.__version__)')"

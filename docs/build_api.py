@@ -12,7 +12,7 @@ import sys
 import warnings
 
 #: The documented modules: the package and its public submodules.
-MODULES = ["exdex", "exdex.scene", "exdex.simulate", "exdex.stepper", "exdex.batch", "exdex.io", "exdex.animation",
+MODULES = ["exdex", "exdex.scene", "exdex.simulate", "exdex.stepper", "exdex.batch", "exdex.io", "exdex.animation", "exdex.explorer",
            "exdex.design", "exdex.design.tool", "exdex.design.plan", "exdex.design.sequence", "exdex.design.fit",
            "exdex.studies", "exdex.studies.paper", "exdex.studies.bench", "exdex.engines", "exdex.engines.pybullet",
            "exdex.engines.mujoco", "exdex.engines.drake", "exdex.engines.ablation"]

@@ -16,12 +16,13 @@ needs only NumPy; plotting and progress bars need the ``plot`` extra
 (matplotlib, tqdm), the engine cross-checks the ``engines`` extra.
 """
 from exdex.scene import (AsymmetricProfile, Body, Chain, Grasp, GripSchedule, Obstacle, Pad, Patch, Pause, Rest,
-                         SampledTrajectory, Scene, Shake, Stop, TrapezoidalProfile, replace)
+                         SampledTrajectory, Scene, Shake, Stop, TrapezoidalProfile, quaternion_from_matrix, replace)
 from exdex.diagnostics import ReductionWarning
 from exdex.simulate import GripperJumpWarning, Model, PhysicsWarning, Result, SolverError, simulate
 from exdex.stepper import GripperPose, Stepper, StepperSnapshot, StepperState  # noqa: E402  (feedback control)
 from exdex.batch import BatchResult, simulate_batch, sweep  # noqa: E402
 from exdex.io import load_scene, save_scene  # noqa: E402  (scenes as TOML or JSON files)
+from exdex.explorer import Explorer, explore  # noqa: E402  (Jupyter sliders; ipywidgets imported when used)
 from exdex import design, studies  # noqa: E402  (subpackages: inverse design; the paper and benchmark studies)
 from exdex.studies import paper  # noqa: E402  (the paper's case studies, Figs. 3, 4, 6)
 from exdex.design import tool  # noqa: E402  (assistive-tool design, paper Section 3)
@@ -54,9 +55,9 @@ __version__ = "0.1.0"
 __all__ = [
     "AsymmetricProfile", "Body", "Grasp", "GripSchedule", "Obstacle", "Pad", "Patch", "Rest", "SampledTrajectory", "Scene",
     "Stop",
-    "TrapezoidalProfile", "Shake", "Pause", "Chain", "replace", "Model", "Result", "SolverError", "PhysicsWarning", "ReductionWarning",
+    "TrapezoidalProfile", "Shake", "Pause", "Chain", "replace", "quaternion_from_matrix", "Model", "Result", "SolverError", "PhysicsWarning", "ReductionWarning",
     "GripperJumpWarning", "Stepper", "StepperState", "StepperSnapshot", "GripperPose",
-    "MissingExtraError", "simulate", "BatchResult", "simulate_batch", "sweep", "load_scene", "save_scene", "paper",
+    "MissingExtraError", "simulate", "BatchResult", "simulate_batch", "sweep", "load_scene", "save_scene", "explore", "Explorer", "paper",
     "tool", "plan", "sequence", "UnreachableTargetError", "sensitivity", "Sensitivity", "event_times", "EventTimes", "event_sensitivity",
     "EventSensitivity", "identify", "Identification", "__version__",
 ]

@@ -1,8 +1,9 @@
 """Optional dependencies: imported only by the feature that needs them.
 
 ``import exdex`` needs only NumPy. Plotting and progress bars need the
-``plot`` extra (matplotlib, tqdm), the physics-engine cross-checks the
-``engines`` extra (pybullet, MuJoCo). A feature used without its extra raises
+``plot`` extra (matplotlib, tqdm), multi-parameter plans, pose sequences
+and identification the ``design`` extra (SciPy), the physics-engine
+cross-checks the ``engines`` extra (pybullet, MuJoCo, Drake). A feature used without its extra raises
 :class:`MissingExtraError` (an ``ImportError``) whose message names the
 package and the extra to install.
 """
@@ -16,6 +17,8 @@ __all__ = ["MissingExtraError", "require", "available", "pyplot", "progress_bar"
 EXTRAS = {
     "matplotlib": "plot",
     "tqdm": "plot",
+    "scipy": "design",
+    "ipywidgets": "explore",
     "pybullet": "engines",
     "mujoco": "engines",
     "pydrake": "engines",

@@ -8,14 +8,21 @@ The picture is the world seen along the plate normal at the start: the plane
 of the plates in their initial pose (axes: the gripper frame B's initial x
 and y, in mm; with the default gripper pose, y is up). It shows
 
-* the plate (the finger face, a grey rectangle moving with the gripper),
-* the object outline (``Body.outline`` or the box of ``Body.size``; a dot at
-  the centre of mass without either) and the pressure patch (a circle whose
-  disc has the patch's e_r),
+* the finger plate (a grey rectangle moving with the gripper; the scene does
+  not give the fingers' size: by default the rectangle around the object's
+  face and the pad at t = 0, ``plate_size`` sets it),
+* the object outline (``Body.outline``, the box of ``Body.size`` or the disc
+  of ``Body.outline_radius``; a dot at the centre of mass without any), to
+  scale,
+* the contact, to scale: a pad on the fingers (``Grasp.pad``, moving with
+  the gripper) or the pressure patch on the object (``Patch.disc``,
+  ``Patch.rectangle``, moving with the object); a patch given by e_r alone
+  has no shape and is drawn as its centre,
 * the stops (fixed lines, the forbidden side hatched),
 * the plate friction force on the object as an arrow at the centre of
-  pressure (full object size = the friction capacity mu fingers N), and the
-  friction torque as an arc (a full turn = capacity e_r),
+  pressure (the key says how many newtons its length is: the object's size
+  stands for the grip's friction limit), and the friction torque as an arc
+  (a full turn = the largest torque),
 * gravity's direction, the time, and stick or slip.
 
 Motions that turn the plates out of their initial plane are drawn projected
@@ -65,7 +72,11 @@ def frame_geometry(result: Any, indices: Optional[Sequence[int]] = None,
     (f,) [N m]; ``stick`` (f,); and ``stops``: a list of (normal, offset)
     pairs, the line ``normal . u = offset`` with the allowed side
     ``normal . u >= offset`` (stops parallel to the view are left out);
-    ``gravity`` the view vector of gravity [m/s^2]; ``plate_size``.
+    ``gravity`` the view vector of gravity [m/s^2]; ``plate_size``;
+    ``contact`` (f, k, 2) the contact's boundary, to scale (``Grasp.pad``:
+    the pad on the finger; else the patch's disc or rectangle on the
+    object; None for a patch given by e_r alone) and ``contact_kind``
+    (``"pad"``, ``"patch"`` or None).
     """
     sc = result.scene
     if sc is None:
@@ -89,12 +100,32 @@ def frame_geometry(result: Any, indices: Optional[Sequence[int]] = None,
     c = np.array(sc.grasp.patch.center)
     cop_b = pose[:, None, :2] + np.einsum("fij,j->fi", rot, c)[:, None, :]
 
-    if plate_size is None:
-        ext = np.ptp(verts, axis=0) if len(verts) > 1 else np.zeros(2)
-        r_patch = 1.5 * sc.grasp.patch.e_r
-        plate_size = np.maximum(1.5 * ext, 4.0 * r_patch)
-    w, h = (float(x) for x in plate_size)
-    centre = cop_b[0, 0] if len(cop_b) else np.zeros(2)
+    # the contact to scale: a pad fixed in B, or the patch's region fixed on the object
+    grasp = sc.grasp
+    contact_b, kind = None, None
+    if grasp.pad is not None:
+        kind = "pad"
+        contact_b = np.broadcast_to(grasp.pad.outline(), (len(idx),) + grasp.pad.outline().shape)
+    else:
+        region = grasp.patch.region()
+        if region is not None:
+            kind = "patch"
+            if "radius" in region:
+                a = np.linspace(0.0, 2.0 * np.pi, 64, endpoint=False)
+                local = region["radius"] * np.column_stack([np.cos(a), np.sin(a)])
+            else:
+                local = np.asarray(region["vertices"], dtype=float)
+            contact_b = pose[:, None, :2] + np.einsum("fij,kj->fki", rot, c + local)
+
+    # the finger plate: not part of the scene, by default the box around the object's face and the pad
+    # in the initial pose (B), or plate_size about that box's centre
+    pose0 = np.asarray(result.pose[0], dtype=float)
+    face0 = pose0[:2] + verts @ _rot2(pose0[2]).T
+    pts0 = np.concatenate([face0] + ([grasp.pad.outline()] if grasp.pad is not None else []))
+    lo0, hi0 = pts0.min(axis=0), pts0.max(axis=0)
+    size = (hi0 - lo0 if np.all(hi0 > lo0) else np.full(2, 4.0 * grasp.patch.e_r)) if plate_size is None else plate_size
+    w, h = (float(x) for x in size)
+    centre = 0.5 * (lo0 + hi0)
     rect = centre + np.array([[-w / 2, -h / 2], [w / 2, -h / 2], [w / 2, h / 2], [-w / 2, h / 2]])
     plate_b = np.broadcast_to(rect, (len(idx), 4, 2))
 
@@ -113,7 +144,8 @@ def frame_geometry(result: Any, indices: Optional[Sequence[int]] = None,
         stops.append((n2 / norm, offset / norm))
     return dict(t=t[idx], outline=to_view(outline_b), com=to_view(com_b)[:, 0], plate=to_view(plate_b),
                 cop=to_view(cop_b)[:, 0], force=force, m_z=wrench[:, 2], stick=np.asarray(result.stick)[idx],
-                stops=stops, gravity=(R0.T @ np.array(sc.gravity))[:2], plate_size=(w, h))
+                stops=stops, gravity=(R0.T @ np.array(sc.gravity))[:2], plate_size=(w, h),
+                contact=None if contact_b is None else to_view(np.ascontiguousarray(contact_b)), contact_kind=kind)
 
 
 def _ffmpeg():
@@ -235,9 +267,9 @@ def animate(result: Any, fps: float = 25, speed: float = 1.0, max_frames: int = 
     speed : playback speed relative to real time (0.25 = four times slower), > 0.
     max_frames : at most this many frames (>= 2); longer runs are sampled
         more sparsely and play at the same speed.
-    plate_size : (width, height) of the drawn plate [m]; default 1.5 times
-        the object's outline (at least the pressure patch's disc, doubled),
-        centred on the centre of pressure at t = 0.
+    plate_size : (width, height) of the drawn finger plate [m] (the scene
+        does not give it); default the rectangle around the object's face
+        and the pad at t = 0, centred on it.
     figsize : of the matplotlib Figure [inch].
     title : text above the picture (default: the scene's dof and method).
     """
@@ -258,25 +290,30 @@ def animate(result: Any, fps: float = 25, speed: float = 1.0, max_frames: int = 
 
     FigureCanvasAgg = require("matplotlib.backends.backend_agg", "Result.animate()").FigureCanvasAgg
     from matplotlib.figure import Figure
-    from matplotlib.patches import Circle, Polygon
+    from matplotlib.patches import Polygon
 
     idx, interval = _frame_indices(np.asarray(result.t), fps, speed, max_frames)
     g = frame_geometry(result, idx, plate_size)
     sc = result.scene
     mm = 1e3
 
-    fig = Figure(figsize=(float(figsize[0]), float(figsize[1])))
+    fig = Figure(figsize=(float(figsize[0]), float(figsize[1])), layout="constrained")
     FigureCanvasAgg(fig)
     ax = fig.add_subplot()
     ax.set_aspect("equal")
     ax.set_xlabel("x [mm] (plate plane at t = 0)")
     ax.set_ylabel("y [mm]")
-    ax.set_title(title if title is not None else f"{sc.dof} scene, method {result.method}", fontsize="medium")
+    head = title if title is not None else f"{sc.dof} scene, method {result.method}"
+    heading = ax.set_title(f"{head}\n", fontsize="medium")   # the second line: the time and stick or slip
 
     pts = np.concatenate([g["outline"].reshape(-1, 2), g["plate"].reshape(-1, 2)]) * mm
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     size = float(max(np.max(hi - lo), 1e-6))
     lo, hi = lo - 0.15 * size, hi + 0.15 * size
+    # a square view (the picture is to scale, aspect 1): a tall or wide motion keeps readable axes
+    mid0 = 0.5 * (lo + hi)
+    half = 0.5 * float(np.max(hi - lo))
+    lo, hi = mid0 - half, mid0 + half
     span = hi - lo
     ax.set_xlim(lo[0], hi[0])
     ax.set_ylim(lo[1], hi[1])
@@ -294,24 +331,31 @@ def animate(result: Any, fps: float = 25, speed: float = 1.0, max_frames: int = 
         ax.plot([a[0], b[0]], [a[1], b[1]], color="0.2", lw=1.5, zorder=4)
 
     plate = Polygon(g["plate"][0] * mm, closed=True, facecolor="0.85", edgecolor="0.5", lw=1, zorder=1,
-                    label="plate")
+                    label="finger plate", gid="plate")
     ax.add_patch(plate)
     if g["outline"].shape[1] > 1:
         body = Polygon(g["outline"][0] * mm, closed=True, facecolor="#9ecae1", edgecolor="#08519c", lw=1.5,
-                       alpha=0.9, zorder=2, label="object")
+                       alpha=0.9, zorder=2, label="object", gid="object")
         ax.add_patch(body)
     else:
         body = None
-    (com,) = ax.plot([], [], "o", color="#08519c", ms=4, zorder=3)
-    r_patch = 1.5 * sc.grasp.patch.e_r * mm
-    patch = Circle(tuple(g["cop"][0] * mm), r_patch, facecolor="none", edgecolor="#e6550d", ls="--", lw=1,
-                   zorder=3)
-    ax.add_patch(patch)
+    (com,) = ax.plot([], [], "o", color="#08519c", ms=4, zorder=3, label="centre of mass")
+    contact = None
+    if g["contact"] is not None:
+        key = "pad on the finger" if g["contact_kind"] == "pad" else "contact patch on the object"
+        contact = Polygon(g["contact"][0] * mm, closed=True, facecolor="#fdae6b", edgecolor="#e6550d", alpha=0.6,
+                          lw=1, zorder=3, label=key, gid="contact")
+        ax.add_patch(contact)
+    (cop_dot,) = ax.plot([], [], "+", color="#e6550d", ms=7, mew=1.5, zorder=4,
+                         label="centre of pressure" + ("" if contact is not None else " (patch given by e_r)"))
+    r_patch = sc.grasp.patch.e_r * mm   # the arc's radius: the patch's torsion length
 
     capacity = sc.grasp.capacity
     fmax = float(np.nanmax(np.linalg.norm(g["force"], axis=1))) if len(g["force"]) else 0.0
     ref = capacity if capacity > 0 else (fmax if np.isfinite(fmax) and fmax > 0 else 1.0)
     ext = np.ptp(sc.body.vertices(), axis=0) if len(sc.body.vertices()) > 1 else np.array([4 * r_patch / mm] * 2)
+    if not np.max(ext) > 0:
+        ext = np.array([4 * r_patch / mm] * 2)
     arrow_len = float(max(np.max(ext), 1e-9)) * mm  # full capacity = the object's size
     arrow = ax.annotate("", xy=(0, 0), xytext=(0, 0), zorder=5,
                         arrowprops=dict(arrowstyle="-|>", color="#d62728", lw=2, mutation_scale=12))
@@ -323,11 +367,17 @@ def animate(result: Any, fps: float = 25, speed: float = 1.0, max_frames: int = 
         ax.annotate("", xy=tuple(c + d / 2), xytext=tuple(c - d / 2),
                     arrowprops=dict(arrowstyle="-|>", color="0.3"))
         ax.text(c[0] + 0.05 * span[0], c[1], "g", color="0.3", fontsize="small", va="center")
-    label = ax.text(0.98, 0.98, "", transform=ax.transAxes, ha="right", va="top", fontsize="small",
-                    family="monospace", zorder=6)
-    fig.text(0.01, 0.01, "arrow: plate friction force (object size = mu fingers N); arc: its torque",
-             fontsize="x-small", color="#d62728", va="bottom")
-    fig.tight_layout()
+    from matplotlib.lines import Line2D
+
+    force_key = Line2D([], [], color="#d62728", lw=2, marker=">", markevery=[1], ms=5,
+                       label=f"friction force: {arrow_len:.3g} mm = {ref:.3g} N")
+    torque_key = Line2D([], [], color="#d62728", lw=1.5,
+                        label=f"friction torque: full turn = {ref * sc.grasp.patch.e_r:.3g} N m")
+    handles = [h for h in (plate, body, contact, cop_dot) if h is not None] + [force_key, torque_key]
+    fig.legend(handles=handles, loc="outside lower center", ncols=2 if fig.get_figwidth() >= 4.5 else 1,
+               fontsize="x-small", frameon=False)
+    fig.canvas.draw()                 # lay out once (the key below the picture), then keep it for every frame
+    fig.set_layout_engine("none")
 
     finite = np.isfinite(g["force"]).all(axis=1)
     torque_ref = ref * sc.grasp.patch.e_r
@@ -338,7 +388,9 @@ def animate(result: Any, fps: float = 25, speed: float = 1.0, max_frames: int = 
             body.set_xy(g["outline"][k] * mm)
         com.set_data([g["com"][k, 0] * mm], [g["com"][k, 1] * mm])
         cop = g["cop"][k] * mm
-        patch.center = (cop[0], cop[1])
+        if contact is not None:
+            contact.set_xy(g["contact"][k] * mm)
+        cop_dot.set_data([cop[0]], [cop[1]])
         if finite[k]:
             tip = cop + g["force"][k] / ref * arrow_len
             arrow.set_position((cop[0], cop[1]))  # the tail (the annotation's text position)
@@ -351,7 +403,7 @@ def animate(result: Any, fps: float = 25, speed: float = 1.0, max_frames: int = 
             arrow.set_visible(False)
             arc.set_data([], [])
         state = "stick" if g["stick"][k] else "slip"
-        label.set_text(f"t = {g['t'][k]:7.3f} s  {state}")
+        heading.set_text(f"{head}\nt = {g['t'][k]:.3f} s, {state}")
         return ()
 
     update(0)

@@ -33,6 +33,7 @@ from exdex._validate import array as _array, real as _real
 __all__ = [
     "Body", "Patch", "GripSchedule", "Grasp", "Rest", "AsymmetricProfile", "TrapezoidalProfile",
     "SampledTrajectory", "Shake", "Pause", "Chain", "Stop", "Obstacle", "Scene", "DEFAULT_GRIPPER_ROTATION",
+    "quaternion_from_matrix",
 ]
 
 #: B x = A x, B y = A z (up), B z = -A y: plates vertical, normal horizontal.
@@ -54,6 +55,17 @@ SOLVERS = {"scalar": _core.SOLVER_SCALAR, "brent": _core.SOLVER_BRENT, "multiroo
 GRIP_KINDS = {"linear": _core.GRIP_LINEAR, "cubic": _core.GRIP_CUBIC, "step": _core.GRIP_STEP}
 #: Limit surfaces of the plate friction (Grasp.limit_surface), as the core's enum.
 LIMIT_SURFACES = {"ellipsoid": 0, "exact": 1}
+
+
+def quaternion_from_matrix(rotation: Matrix) -> NDArray[np.float64]:
+    """The unit quaternion ``(w, x, y, z)`` with ``w >= 0`` of a 3x3 rotation
+    matrix (the orientation format of :class:`SampledTrajectory`), e.g.
+    ``quaternion_from_matrix(scene.gripper_rotation)``. ValueError unless
+    ``rotation`` is orthonormal with determinant +1 (to 1e-9)."""
+    R = _rotation(rotation, "rotation")
+    q = _quat_from_matrix(np.array(R))
+    q = q / np.linalg.norm(q)
+    return -q if q[0] < 0 else q
 
 
 # ---------------------------------------------------------------- validation
@@ -1235,6 +1247,39 @@ class Scene:
         if len(obstacles) > _core.MAX_OBSTACLES:
             raise ValueError(f"Scene.obstacles holds at most {_core.MAX_OBSTACLES} obstacles, got {len(obstacles)}")
         object.__setattr__(self, "obstacles", obstacles)
+
+    def _repr_html_(self) -> str:
+        from exdex._html import quantity, summary_table
+
+        b, g = self.body, self.grasp
+        body = quantity(b.mass, "kg")
+        if b.size is not None:
+            body += ", box " + " x ".join(f"{1e3 * x:g}" for x in b.size) + " mm"
+        elif b.outline_radius is not None:
+            body += f", disc radius {1e3 * b.outline_radius:g} mm"
+        gs = g.schedule
+        grip = (f"schedule {min(gs.forces):g} to {max(gs.forces):g} N ({gs.kind}, t = {gs.times[0]:g} to "
+                f"{gs.times[-1]:g} s)" if gs is not None else quantity(g.grip_force, "N"))
+        if g.pad is not None:
+            outline = g.pad.outline()
+            contact = "pad on the fingers, " + (f"disc radius {1e3 * g.pad.radius:g} mm" if g.pad.radius is not None
+                                                else f"polygon of {len(outline)} vertices")
+        else:
+            p = g.patch
+            dims = {"disc": lambda d: f"disc radius {1e3 * d[0]:g} mm",
+                    "rectangle": lambda d: f"rectangle {1e3 * d[0]:g} x {1e3 * d[1]:g} mm"}
+            shape = dims[p.shape](p.dims) if p.shape in dims and p.dims else "given"
+            contact = f"patch on the object, {shape}, e_r {1e3 * p.e_r:.4g} mm"
+        capacity = f"{g.capacity:.6g} N" + (" (at t = 0)" if gs is not None else "")
+        rows = [("object", body), ("grip force per finger", grip), ("fingers", g.fingers),
+                ("mu" if g.mu_static is None else "mu (static)",
+                 f"{g.mu:g}" if g.mu_static is None else f"{g.mu:g} ({g.mu_static:g})"),
+                ("friction capacity", capacity), ("contact", f"{contact}; limit surface {g.limit_surface}"),
+                ("motion", f"{type(self.motion).__name__}, ends at t = {self.motion.end_time:g} s"),
+                ("free coordinates", self.dof)]
+        if self.stops or self.obstacles:
+            rows.append(("stops, obstacles", f"{len(self.stops)}, {len(self.obstacles)}"))
+        return summary_table("exdex.Scene", rows)
 
     def check_stops(self) -> None:
         """Raise a ValueError naming the stop, the outline vertex and the

@@ -326,6 +326,29 @@ class Result:
         return (f"<exdex.Result {dof}, method={self.method!r}, {n} samples, t = {self.t[0]:g}..{self.t[-1]:g} s, "
                 f"final {final}, stick in {stick} of steps>")
 
+    def _repr_html_(self) -> str:
+        from exdex._html import summary_table
+
+        names = self._names()
+        n = len(self.t)
+        dof = self.scene.dof if self.scene is not None else f"{len(names)}-DoF"
+        rows = [("model", f"{dof}, method {self.method}, dt {self.dt:g} s"), ("samples", n)]
+        if n:
+            unit = {"theta": ("deg", 180.0 / math.pi)}
+            rows.append(("time", f"{self.t[0]:g} to {self.t[-1]:g} s"))
+            for nm, x0, x1 in zip(names, self.q[0], self.q[-1]):
+                u, k = unit.get(nm, ("mm", 1e3))
+                rows.append((f"{nm}: start, end", f"{k * x0:.6g} {u}, {k * x1:.6g} {u}"))
+            steps = self.stick[1:]
+            rows.append(("stick", f"{np.mean(steps):.0%} of steps, at the end: {'yes' if self.stick[-1] else 'no'}"
+                         if len(steps) else "n/a"))
+        if self.certificate is not None:
+            c = self.certificate
+            rows.append(("1-DoF reduction", "holds" if c["holds"] else f"fails at t = {c['valid_until']:g} s"))
+        if self.stats.get("warnings"):
+            rows.append(("solver warnings", self.stats["warnings"]))
+        return summary_table("exdex.Result", rows)
+
     def animate(self, **options: Any) -> Any:
         """An animation of the object between the plates: plates, object
         outline, stops and the plate friction wrench (see

@@ -176,3 +176,81 @@ def test_paper_command_writes_one_animation_per_case(tmp_path, capsys):
     with PIL.open(tmp_path / "fig4.gif") as im:
         assert im.n_frames == 26  # 1.0 s at 25 fps, real time
     assert "fig4.gif" in capsys.readouterr().out
+
+
+# ------------------------------------------------------- drawn to scale, with a plain key
+
+def _artist(anim, gid):
+    found = [p for p in anim.figure.axes[0].patches if p.get_gid() == gid]
+    return found[0] if found else None
+
+
+def _extent(poly):
+    xy = np.asarray(poly.get_xy())
+    return np.ptp(xy, axis=0), 0.5 * (xy.min(axis=0) + xy.max(axis=0))
+
+
+BIG_BOX = exdex.Body.box(0.2, (0.15, 0.08, 0.03))   # 15 x 8 cm face
+
+
+def test_pad_plate_and_object_are_drawn_to_scale():
+    """A 2 cm square pad 1 cm right of B's origin on a 15 x 8 cm box: drawn as a 20 x 20 mm square at
+    (10, 0) mm (the view is B at t = 0), the object as 150 x 80 mm, the finger plate as the box around
+    both (the scene gives no finger size); the key names them plainly and gives the arrow's scale."""
+    pad = exdex.Pad.rectangle(0.02, 0.02, center=(0.01, 0.0))
+    sc = exdex.Scene(body=BIG_BOX, grasp=exdex.Grasp(mu=0.5, grip_force=3.0, pad=pad))
+    anim = exdex.simulate(sc, 0.05, 1e-3).animate(max_frames=2)
+    size, centre = _extent(_artist(anim, "contact"))
+    assert np.allclose(size, [20.0, 20.0], atol=1e-9) and np.allclose(centre, [10.0, 0.0], atol=1e-9)
+    size, centre = _extent(_artist(anim, "object"))
+    assert np.allclose(size, [150.0, 80.0], atol=1e-9) and np.allclose(centre, [0.0, 0.0], atol=1e-9)
+    size, _ = _extent(_artist(anim, "plate"))
+    assert np.allclose(size, [150.0, 80.0], atol=1e-9)
+    keys = [t.get_text() for t in anim.figure.legends[0].get_texts()]
+    assert "pad on the finger" in keys and "object" in keys and "finger plate" in keys
+    # capacity mu x 2 fingers x 3 N = 3 N is drawn as the object's longest side, 150 mm
+    assert "friction force: 150 mm = 3 N" in keys
+    assert not any("mu fingers" in k for k in keys)
+    g = animation.frame_geometry(exdex.simulate(sc, 0.05, 1e-3), [0])
+    assert g["contact_kind"] == "pad" and g["plate_size"] == pytest.approx((0.15, 0.08), abs=1e-15)
+
+
+def test_patch_region_is_drawn_on_the_object():
+    """Patch.disc(5 mm): the drawn contact is the disc's rim, radius 5 mm about the centre of pressure,
+    also after the object has slid (it moves with the object, not the fingers)."""
+    sc = exdex.Scene(body=BIG_BOX, grasp=exdex.Grasp(mu=0.5, grip_force=0.5, patch=exdex.Patch.disc(0.005)))
+    r = exdex.simulate(sc, 0.08, 1e-3)
+    assert r.displacement[-1, 0] < -0.01   # it slides (capacity 0.5 N < weight 1.96 N), the patch stays on the face
+    g = animation.frame_geometry(r, [0, len(r.t) - 1])
+    for k in (0, 1):
+        d = np.linalg.norm(g["contact"][k] - g["cop"][k], axis=1)
+        assert np.allclose(d, 0.005, atol=1e-12)
+    anim = r.animate(max_frames=2)
+    xy = np.asarray(_artist(anim, "contact").get_xy())
+    assert np.allclose(np.ptp(xy, axis=0), [10.0, 10.0], atol=1e-2)   # 64 rim points of a 10 mm disc
+
+
+def test_a_patch_given_by_e_r_alone_has_no_drawn_shape():
+    sc = exdex.Scene(body=BIG_BOX, grasp=exdex.Grasp(mu=0.5, grip_force=3.0, patch=exdex.Patch(e_r=0.004)))
+    anim = exdex.simulate(sc, 0.05, 1e-3).animate(max_frames=2)
+    assert _artist(anim, "contact") is None
+    keys = [t.get_text() for t in anim.figure.legends[0].get_texts()]
+    assert "centre of pressure (patch given by e_r)" in keys
+
+
+@pytest.mark.parametrize("figsize", [(3.5, 3.5), (5.0, 5.0)])
+def test_key_title_and_time_fit_in_the_figure(figsize):
+    """The key below the picture and the title with the time stay inside the figure, also at 3.5 in."""
+    pad = exdex.Pad.rectangle(0.02, 0.02)
+    sc = exdex.Scene(body=BIG_BOX, grasp=exdex.Grasp(mu=0.5, grip_force=3.0, pad=pad))
+    anim = exdex.simulate(sc, 0.05, 1e-3).animate(max_frames=2, figsize=figsize)
+    anim._update(1)
+    fig = anim.figure
+    fig.canvas.draw()
+    r = fig.canvas.get_renderer()
+    texts = list(fig.legends[0].get_texts()) + [fig.axes[0].title]
+    assert fig.axes[0].title.get_text().endswith("t = 0.050 s, stick")
+    for t in texts:
+        e = t.get_window_extent(r)
+        assert fig.bbox.x0 - 0.5 <= e.x0 and e.x1 <= fig.bbox.x1 + 0.5 and e.y0 >= -0.5 and e.y1 <= fig.bbox.y1 + 0.5, \
+            t.get_text()

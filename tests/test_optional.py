@@ -154,3 +154,41 @@ def test_cli_missing_extra_is_one_line(argv, blocked, extra, tmp_path):
     for mod in blocked:
         assert mod in lines[0]
     assert os.listdir(tmp_path) == []  # nothing was computed before the check
+
+
+def test_scipy_features_name_the_design_extra():
+    """SciPy is not needed by ``import exdex``; the three features that use its least squares (identify,
+    pose sequences, plans of several parameters) raise MissingExtraError naming ``exdex[design]``."""
+    p = _run("""
+        import exdex
+        sc = exdex.Scene(body=exdex.Body(mass=0.1), grasp=exdex.Grasp(mu=0.5, grip_force=2.0),
+                         motion=exdex.AsymmetricProfile(0.1, 0.5, 0.9, axis=(0, 0, -1)))
+        calls = {
+            "identify": lambda: exdex.identify(sc, [0.1, 0.2], [0.0, 0.0], {"mu": (0.3, 0.7)}),
+            "sequence": lambda: exdex.sequence.solve(exdex.replace(sc, dof="planar"), {"x": 0.01}),
+            "plan": lambda: exdex.plan.solve(sc, {"slip": -0.01, "rotation": 0.0},
+                                             vary={"grip_force": (1.0, 3.0), "mu": (0.3, 0.7)}),
+        }
+        for name, call in calls.items():
+            try:
+                call()
+            except exdex.MissingExtraError as exc:
+                print(name, "MSG", exc)
+            except Exception as exc:
+                print(name, "OTHER", type(exc).__name__, exc)
+    """, ["scipy"])
+    assert p.returncode == 0, p.stderr
+    lines = [ln for ln in p.stdout.splitlines() if ln.split()[0] in ("identify", "sequence", "plan")]
+    assert len(lines) == 3 and all(" MSG " in ln and "scipy" in ln and "exdex[design]" in ln for ln in lines), p.stdout
+
+
+def test_explorer_without_ipywidgets_names_the_explore_extra():
+    p = _run("""
+        import exdex
+        try:
+            exdex.explore(exdex.paper.fig3_scene())
+        except exdex.MissingExtraError as exc:
+            print("MSG", exc)
+    """, ["ipywidgets"])
+    assert p.returncode == 0, p.stderr
+    assert "MSG" in p.stdout and "exdex[explore]" in p.stdout and "ipywidgets" in p.stdout

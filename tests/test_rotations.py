@@ -39,3 +39,30 @@ def test_identity_and_half_turns():
         e = np.zeros(3)
         e[i] = 1.0
         assert np.allclose(np.abs(q), np.concatenate([[0.0], e]), atol=1e-15)
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_public_quaternion_from_matrix_is_the_axis_angle_quaternion(seed):
+    """exdex.quaternion_from_matrix: the closed form (cos a/2, u sin a/2) with w >= 0 (a <= pi), and a
+    SampledTrajectory given it reproduces the matrix."""
+    import exdex
+
+    rng = np.random.default_rng(100 + seed)
+    u = rng.normal(size=3)
+    u /= np.linalg.norm(u)
+    a = rng.uniform(0.0, math.pi)
+    R = _rotation(u, a)
+    q = exdex.quaternion_from_matrix(R)
+    assert np.allclose(q, np.concatenate([[math.cos(a / 2)], u * math.sin(a / 2)]), atol=1e-12)
+    traj = exdex.SampledTrajectory([0.0, 1.0, 2.0, 3.0], np.zeros((4, 3)), np.tile(q, (4, 1)))
+    assert np.allclose(traj.evaluate([0.5], np.eye(3))["R"][0], R, atol=1e-12)
+
+
+def test_public_quaternion_from_matrix_refuses_non_rotations():
+    import exdex
+
+    for bad in (np.diag([1.0, 1.0, -1.0]), 2 * np.eye(3)):
+        with pytest.raises(ValueError, match="rotation must be a rotation matrix"):
+            exdex.quaternion_from_matrix(bad)
+    with pytest.raises(ValueError, match="rotation"):
+        exdex.quaternion_from_matrix(np.eye(2))

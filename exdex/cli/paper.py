@@ -1,9 +1,12 @@
 """``exdex paper``: the paper's case studies (Figs. 3, 4, 6) into a folder.
 
 For each case, :func:`exdex.paper.run_case` simulates it against its
-independent reference; the command writes ``<case>.png`` (or ``--format``),
-``<case>.csv``, optionally an animation, ``summary.csv``, and prints the
-table (:func:`exdex.paper.format_table`).
+independent reference; the command writes the figure
+(:func:`exdex.paper.plot_case`, at ``--width``: a 3.5 in column or the
+7.16 in page) as ``<case>.png`` (300 dpi) and ``<case>.pdf`` (or the
+``--format`` list; PDF and SVG are vector), ``<case>.csv``, optionally an
+animation, ``summary.csv``, and prints the table
+(:func:`exdex.paper.format_table`).
 """
 from __future__ import annotations
 
@@ -11,7 +14,7 @@ import os
 import time
 from typing import Any
 
-from exdex.studies.paper import CASES, format_table, plot_case, run_case, write_csv, write_summary
+from exdex.studies.paper import CASES, WIDTHS, format_table, plot_case, run_case, save_figure, write_csv, write_summary
 
 __all__ = ["add_arguments", "run"]
 
@@ -23,7 +26,11 @@ def add_arguments(parser: Any) -> None:
     parser.add_argument("--dt", type=float, default=1e-4,
                         help="time step [s] (default 1e-4)")
     parser.add_argument("--cases", nargs="+", choices=CASES, default=list(CASES), help="cases to run (default: all)")
-    parser.add_argument("--format", default="png", choices=("png", "pdf", "svg"), help="figure format")
+    parser.add_argument("--format", nargs="+", default=["png", "pdf"], choices=("png", "pdf", "svg"),
+                        help="figure formats (default: png pdf; PNG at 300 dpi, PDF and SVG vector)")
+    parser.add_argument("--width", default="column", choices=tuple(WIDTHS),
+                        help="figure width: column (3.5 in, panels stacked) or page (7.16 in, side by side); "
+                             "text is 8 pt at that size (default column)")
     parser.add_argument("--animate", nargs="?", const="gif", default=None, choices=("gif", "mp4", "html"),
                         help="also write an animation per case (default format gif; mp4 needs ffmpeg)")
     parser.add_argument("--no-progress", action="store_true", help="hide the progress bar")
@@ -31,11 +38,12 @@ def add_arguments(parser: Any) -> None:
 
 def run(args):
     """``exdex paper``: simulate the cases, write figures and CSV, print the table."""
-    from exdex._optional import progress_bar
+    from exdex._optional import progress_bar, pyplot
 
     t_start = time.perf_counter()
     if not args.dt > 0:
         raise SystemExit("exdex paper: --dt must be > 0")
+    pyplot("exdex paper", backend="Agg")   # files only: no window system
     os.makedirs(args.out, exist_ok=True)
     rows = []
     notes = []
@@ -49,8 +57,8 @@ def run(args):
             case = run_case(name, dt=args.dt)
             bar.update()
             bar.set_postfix_str(f"{name}: figure")
-            fig_path = os.path.join(args.out, f"{name}.{args.format}")
-            plot_case(case, fig_path)
+            formats = [args.format] if isinstance(args.format, str) else list(dict.fromkeys(args.format))
+            fig_paths = save_figure(plot_case(case, width=args.width), os.path.join(args.out, name), formats)
             bar.update()
             bar.set_postfix_str(f"{name}: csv")
             csv_path = os.path.join(args.out, f"{name}.csv")
@@ -58,7 +66,7 @@ def run(args):
             bar.update()
             rows += case.rows
             notes += case.notes
-            written += [fig_path, csv_path]
+            written += fig_paths + [csv_path]
             if animate:
                 bar.set_postfix_str(f"{name}: animation")
                 anim_path = os.path.join(args.out, f"{name}.{animate}")

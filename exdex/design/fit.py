@@ -604,12 +604,11 @@ def identify(scene: Scene, times: ArrayLike, observed: ArrayLike, params: Mappin
         observation times (default: the smallest observation spacing / 8, or
         the observation step itself when the times are a grid i dt from 0).
 
-    Needs SciPy (``pip install scipy``).
+    Needs SciPy (the ``design`` extra: ``pip install 'exdex[design]'``).
     """
-    try:
-        from scipy.optimize import least_squares
-    except ImportError:  # pragma: no cover - scipy is in the test extra
-        raise ImportError("exdex.identify needs SciPy's least_squares: pip install scipy") from None
+    from exdex._optional import require
+
+    least_squares = require("scipy.optimize", "exdex.identify").least_squares
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be an exdex.Scene, got {type(scene).__name__}")
     t = np.asarray(times, dtype=float)

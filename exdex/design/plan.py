@@ -1070,10 +1070,9 @@ def _targets(target, scene):
 
 def _solve_multi(scene, target, vary, *, limits, tol, t_end, dt, method, rtol, atol, eps, cost, threads, verify,
                  n_scan, friction_solver="scalar"):
-    try:
-        from scipy.optimize import least_squares
-    except ImportError:  # pragma: no cover - scipy is in the test extra
-        raise ImportError("planning with several parameters needs SciPy's least_squares: pip install scipy") from None
+    from exdex._optional import require
+
+    least_squares = require("scipy.optimize", "planning with several parameters").least_squares
     goals = _targets(target, scene)
     names = []
     for raw in vary:

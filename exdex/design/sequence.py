@@ -377,6 +377,9 @@ def solve(scene: Scene, target: Mapping[str, float], *, prims: Optional[Mapping[
     ValueError, TypeError
         For bad targets, primitives or options, naming them.
     """
+    from exdex._optional import require
+
+    least_squares = require("scipy.optimize", "exdex.sequence.solve (exdex plan --pose)").least_squares
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be an exdex.Scene, got {type(scene).__name__}")
     goals = _targets(target)
@@ -437,11 +440,6 @@ def solve(scene: Scene, target: Mapping[str, float], *, prims: Optional[Mapping[
     # plausible sequences (screened within what their grid can miss, plus
     # three tolerances) shortest first, then the rest by screened error
     screened.sort(key=lambda s: (not s[4], s[1] if s[4] else 0, s[0]))
-
-    try:
-        from scipy.optimize import least_squares
-    except ImportError:  # pragma: no cover - scipy is in the test extra
-        raise ImportError("exdex.sequence.solve needs SciPy's least_squares: pip install scipy") from None
 
     q_start = np.array(scene.q0, dtype=float)
     results: Dict[Tuple[str, ...], Tuple[float, Any]] = {}

@@ -52,7 +52,7 @@ __all__ = [
     "eq7_accelerations", "eq7_phases", "trapezoid", "coulomb_1dof", "PiecewiseMotion",
     "fig3_grip_force", "fig3_scene", "fig4_scene", "fig6_scene", "fig6_rotation_bound",
     "closed_form", "stop_closed_form", "stop_gaps", "gripper_coordinate", "run_case", "CaseRun", "CASES",
-    "plot_case", "write_csv", "write_summary", "format_table", "fig6_reduction_notes", "FIG3", "FIG4", "FIG6", "FIG4_SIZE", "FIG6_MARGIN",
+    "plot_case", "save_figure", "WIDTHS", "write_csv", "write_summary", "format_table", "fig6_reduction_notes", "FIG3", "FIG4", "FIG6", "FIG4_SIZE", "FIG6_MARGIN",
 ]
 
 # ------------------------------------------------------------------ constants
@@ -754,41 +754,157 @@ def fig6_reduction_notes(result: Result, dt: float = 1e-3) -> List[str]:
 
 # ---------------------------------------------------------------- output
 
-def plot_case(run: "CaseRun", path: Optional[str] = None) -> Any:
-    """Figure mirroring the paper's panels: (a) relative displacement against
-    time, (b) absolute error against the reference; the interval after the
-    gripper stops is shaded. Returns the matplotlib Figure (saved if ``path``)."""
+#: figure widths [inch] of a two-column paper: one column and the full page
+WIDTHS: Dict[str, float] = {"column": 3.5, "page": 7.16}
+#: smallest text size in the figures [pt], at print size (the figures are made at their print width)
+FONT_PT = 8.0
+#: errors below this fraction of the case's largest |value| are rounding: written as text, not drawn
+#: (about 450 units in the last place)
+ROUNDING = 1e-13
+#: resolution of the PNG files [dpi]
+PNG_DPI = 300
+
+#: the figures' titles: the case and the paper's parameters with symbols and units
+FIGURE_TITLES = {
+    "fig3": ("Fig. 3: inertial slip",
+             rf"Eq. 7: $\beta$ = {FIG3['beta']:g}, $X_1$ = {FIG3['amplitude']:g} m, $T$ = {FIG3['duration']:g} s"),
+    "fig4": ("Fig. 4: slip against a stop",
+             rf"trapezoid: $V_{{max}}$ = {FIG4['v_max']:g} m/s, $X_1$ = {FIG4['amplitude']:g} m, "
+             rf"$T$ = {FIG4['duration']:g} s"),
+    "fig6": ("Fig. 6: rotation about the pivot",
+             rf"Eq. 7: $\beta$ = {FIG6['beta']:g}, $\theta_1$ = {math.degrees(FIG6['amplitude']):g}$\degree$, "
+             rf"$T$ = {FIG6['duration']:g} s"),
+}
+
+
+def plot_case(run: "CaseRun", path: Optional[str] = None, width: str = "column") -> Any:
+    """Print-ready figure of a case: (a) the gripper's motion, (b) the
+    object's displacement in the fingers against its reference, (c) the
+    absolute error; the interval after the gripper stops is shaded.
+
+    width : ``"column"`` (3.5 in, panels stacked) or ``"page"`` (7.16 in,
+        panels side by side); the figure is made at that size with text of
+        at least 8 pt, so it prints at 100 %.
+
+    Errors below 1e-13 of the case's largest |value| (down to a power of
+    ten) are rounding: they are not drawn, and a series that is rounding at every sample is a line of
+    text in panel (c). Returns the matplotlib Figure; with ``path`` it is
+    saved there too (the extension picks the format, PNG at 300 dpi) and
+    closed. :func:`save_figure` writes several formats.
+    """
     from exdex._optional import pyplot
 
+    if width not in WIDTHS:
+        raise ValueError(f"width must be one of {', '.join(map(repr, WIDTHS))}, got {width!r}")
     plt = pyplot("exdex.paper.plot_case", backend="Agg" if path is not None else None)
-
-    res = run.result
-    t = res.t
-    fig, (ax_a, ax_b) = plt.subplots(2, 1, figsize=(7.0, 6.0), sharex=True, constrained_layout=True)
-    vmax, stuck = run.still
-    for ax in (ax_a, ax_b):
-        ax.axvspan(run.motion_end, t[-1], color="0.9", zorder=0)
-    sym = r"$\theta_2$" if run.unit == "deg" else r"$x_2$"
-    ax_a.plot(t, run.x, color="C0", lw=2.0, label=f"exdex (dt = {res.dt:g} s)")
-    ax_a.plot(t, run.reference, color="C1", lw=1.2, ls="--", label=run.reference_label)
-    ax_a.set_ylabel(f"{sym} [{run.unit}]")
-    ax_a.set_title(f"(a) {run.title}", fontsize=10, loc="left")
-    ax_a.text(0.5 * (run.motion_end + t[-1]), 0.5,
-              f"gripper at rest\nmax |v| = {vmax:g}\nstick: {'every step' if stuck else 'not all steps'}",
-              transform=ax_a.get_xaxis_transform(), ha="center", va="center", fontsize=8)
-    ax_a.legend(fontsize=8, loc="best")
-    floor = 1e-16 * max(1.0, float(np.max(np.abs(run.x))))
-    ax_b.semilogy(t, np.maximum(run.error, floor), color="C0", lw=1.0, label=f"|exdex - {run.reference_label}|")
-    for i, (label, err) in enumerate(run.extra_errors.items()):
-        ax_b.semilogy(t, np.maximum(err, floor), color=f"C{i + 2}", lw=1.0, ls=":", label=f"|exdex - {label}|")
-    ax_b.set_ylabel(f"absolute error [{run.unit}]")
-    ax_b.set_xlabel("t [s]")
-    ax_b.set_title(f"(b) absolute error (values below {floor:.0e} drawn at {floor:.0e})", fontsize=10, loc="left")
-    ax_b.legend(fontsize=8, loc="best")
+    rc = {"font.size": FONT_PT, "axes.titlesize": FONT_PT, "axes.labelsize": FONT_PT, "xtick.labelsize": FONT_PT,
+          "ytick.labelsize": FONT_PT, "legend.fontsize": FONT_PT, "figure.titlesize": FONT_PT,
+          "lines.linewidth": 1.0, "axes.linewidth": 0.6, "xtick.major.width": 0.6, "ytick.major.width": 0.6,
+          "legend.frameon": False, "svg.fonttype": "none", "pdf.fonttype": 42}
+    with plt.rc_context(rc):
+        fig = _draw_case(plt, run, width)
     if path is not None:
-        fig.savefig(path, dpi=120)
+        fig.savefig(path, dpi=PNG_DPI)
         plt.close(fig)
     return fig
+
+
+def _draw_case(plt, run, width):
+    res = run.result
+    t = res.t
+    if width == "column":
+        fig, axes = plt.subplots(3, 1, figsize=(WIDTHS[width], 5.4), sharex=True, layout="constrained")
+    else:
+        fig, axes = plt.subplots(1, 3, figsize=(WIDTHS[width], 2.7), layout="constrained")
+    ax_g, ax_a, ax_b = axes
+    head, params = FIGURE_TITLES.get(run.name, (run.title, ""))
+    fig.suptitle(f"{head}\n{params}" if params else head)
+    vmax, stuck = run.still
+    for ax in axes:
+        ax.axvspan(run.motion_end, t[-1], color="0.92", lw=0, zorder=0)
+        ax.set_xlim(t[0], t[-1])
+        if width == "page" or ax is ax_b:
+            ax.set_xlabel("t [s]")
+    unit = run.unit
+    gripper = run.scale * gripper_coordinate(run.scene, t)
+    motion: Any = run.scene.motion
+    axis = np.array(motion.axis, dtype=float)
+    if motion.rotation:
+        what = "angle"
+    elif abs(abs(axis[2]) - 1.0) < 1e-12:   # a vertical motion: drawn as the height
+        gripper, what = axis[2] * gripper, "height"
+    else:
+        what = "along its axis"
+    ax_g.plot(t, gripper, color="0.2")
+    ax_g.set_ylabel(f"{what} [{unit}]")
+    ax_g.set_title("(a) gripper motion", loc="left")
+
+    sym = r"$\theta_2$" if unit == "deg" else r"$x_2$"
+    ax_a.plot(t, run.x, color="C0", lw=1.6, label=f"exdex, dt = {res.dt:g} s")
+    ax_a.plot(t, run.reference, color="C1", lw=1.0, ls="--", label=run.reference_label)
+    ax_a.set_ylabel(f"{sym} [{unit}]")
+    ax_a.set_title("(b) object in the fingers", loc="left")
+    # the key of (b) and the shading below the panels, where it hides no curve
+    ax_a.plot([], [], " ", label=f"shaded: gripper at rest; object: max |v| = {vmax:g} {_STILL_UNIT.get(unit, '')}, "
+                                 f"{'stick' if stuck else 'not all stick'}")
+    handles, labels = ax_a.get_legend_handles_labels()
+    if width == "column":
+        labels[-1] = labels[-1].replace("; ", ";\n")
+    fig.legend(handles, labels, loc="outside lower center", ncols=2 if width == "column" else 3, handlelength=1.5,
+               columnspacing=1.0)
+
+    scale = float(np.max(np.abs(run.x))) if run.x.size else 1.0
+    # the rounding floor, down to a power of ten: the panel's lower edge when anything is drawn
+    floor = 10.0 ** math.floor(math.log10(ROUNDING * max(scale, 1e-300)))
+    series = [(run.reference_label, run.error, "-")] + [(lb, e, ":") for lb, e in run.extra_errors.items()]
+    series = [(label.split(" (")[0], err, ls) for label, err, ls in series]   # "fine run (dt/10)": in (b)
+    rounding, peak = [], 0.0
+    for i, (label, err, ls) in enumerate(series):
+        err = np.asarray(err, dtype=float)
+        big = err >= floor
+        if not np.any(big):
+            rounding.append(label)
+            continue
+        peak = max(peak, float(np.max(err)))
+        ax_b.semilogy(t, np.where(big, err, np.nan), color="C0" if i == 0 else f"C{i + 1}", ls=ls,
+                      label=f"|exdex - {label}|")
+    ax_b.set_ylabel(f"abs. error [{unit}]")
+    ax_b.set_title("(c) error", loc="left")
+    if peak > 0:
+        from matplotlib.ticker import LogLocator, NullFormatter
+
+        ax_b.set_ylim(floor, 10.0 ** (math.ceil(math.log10(peak)) + 3))   # room for the key
+        ax_b.yaxis.set_major_locator(LogLocator(base=10.0, numticks=6))
+        ax_b.yaxis.set_minor_formatter(NullFormatter())
+        for label in rounding:
+            ax_b.plot([], [], " ", label=f"|exdex - {label}|:\nrounding")
+        ax_b.plot([], [], " ", label=f"< {floor:.0e} {unit}: rounding,\nnot drawn")
+        ax_b.legend(loc="upper left", handlelength=1.5)
+    else:
+        ax_b.set_yticks([])
+        ax_b.text(0.5, 0.5, "\n".join(f"|exdex - {label}|\n< {floor:.0e} {unit} at every\nsample: rounding"
+                                      for label in rounding), transform=ax_b.transAxes, ha="center", va="center")
+    return fig
+
+
+def save_figure(fig: Any, stem: str, formats: Sequence[str] = ("png", "pdf")) -> List[str]:
+    """Write ``fig`` as ``stem.<format>`` for each of ``formats`` ("png" at
+    300 dpi; "pdf", "svg" vector, text kept as text) and close it; returns the
+    paths."""
+    from exdex._optional import pyplot
+
+    plt = pyplot("exdex.paper.save_figure", backend="Agg")
+    bad = [f for f in formats if f not in ("png", "pdf", "svg")]
+    if bad or not formats:
+        raise ValueError(f"formats must be a non-empty subset of ('png', 'pdf', 'svg'), got {tuple(formats)!r}")
+    paths = []
+    for fmt in formats:
+        path = f"{stem}.{fmt}"
+        with plt.rc_context({"svg.fonttype": "none", "pdf.fonttype": 42}):
+            fig.savefig(path, dpi=PNG_DPI if fmt == "png" else "figure")
+        paths.append(path)
+    plt.close(fig)
+    return paths
 
 
 def write_csv(run: "CaseRun", path: str) -> None:
@@ -813,6 +929,21 @@ def _split_unit(quantity):
     return (m.group(1), m.group(2)) if m else (quantity, "")
 
 
+#: the unit of the object's largest |v| after the motion, by the unit of the row's quantity (a
+#: translation case's lengths and forces: m/s; a rotation case's angles and torques: rad/s)
+_STILL_UNIT = {"mm": "m/s", "m": "m/s", "N": "m/s", "deg": "rad/s", "rad": "rad/s", "N m": "rad/s"}
+#: |values| below this [m] whose reference is 0 are printed as rounding
+ROUNDING_M = 1e-15
+
+
+def _rounded(value, reference, name, unit):
+    """A value that is 0 up to rounding, as text saying so ("0 (rounding, |gap| < 1e-15 m)"); else the value."""
+    if unit == "m" and reference == 0.0 and value is not None and abs(value) < ROUNDING_M:
+        sym = "gap" if "gap" in name else "x"
+        return f"0 (rounding, |{sym}| < {ROUNDING_M:.0e} m)"
+    return value
+
+
 def format_table(rows: Sequence[Dict[str, Any]]) -> str:
     """Plain-text table: case, quantity, unit, paper, exdex, difference,
     reference, largest |v| after the motion (m/s or rad/s); aligned columns,
@@ -822,10 +953,10 @@ def format_table(rows: Sequence[Dict[str, Any]]) -> str:
     body = []
     for r in rows:
         name, unit = _split_unit(r["quantity"])
-        v_unit = {"mm": "m/s", "deg": "rad/s"}.get(unit, "")
+        v_unit = _STILL_UNIT.get(unit, "")
         still = r["max_v_after"]
-        body.append([r["case"], name, unit, r["paper"], r["exdex"], r["difference"], r["reference"],
-                     None if still is None else f"{still:.3g} {v_unit}".rstrip()])
+        body.append([r["case"], name, unit, r["paper"], _rounded(r["exdex"], r["reference"], name, unit),
+                     r["difference"], r["reference"], None if still is None else f"{still:.3g} {v_unit}".rstrip()])
     cols = [("case", None), ("quantity", None), ("unit", None), ("paper", "{:g}"), ("exdex", "{:.6g}"),
             ("exdex - paper", "{:+.4g}"), ("reference", "{:.6g}"), ("max |v| after motion", None)]
     notes = [f"  {r['case']}, {r['quantity']}: {r['note']}" for r in rows if r["note"]]

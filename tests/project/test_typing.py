@@ -3,6 +3,9 @@
 * mypy on the package itself: zero errors;
 * mypy on a typed user script (tests/project/typing/usage.py): zero errors, and the
   script runs;
+* mypy on a user's snippet outside the repository (its own folder, no config, no
+  PYTHONPATH): it finds the installed package (.ci/setup.sh's editable install
+  included) and its types, so a wrong assignment is reported and nothing else;
 * mypy on wrong calls (tests/project/typing/misuse.py): exactly the marked lines are
   reported, so the hints are live, not ``Any``;
 * every public function and method of the API modules has annotations on all
@@ -49,6 +52,33 @@ def test_mypy_on_a_typed_user_script(cache):
     assert errors == [] and rc == 0, "\n".join(errors)
     run = subprocess.run([sys.executable, os.path.join(HERE, "usage.py")], capture_output=True, text=True)
     assert run.returncode == 0, run.stderr[-2000:]
+
+
+SNIPPET = """\
+import exdex
+
+scene = exdex.Scene(body=exdex.Body(mass=0.1), grasp=exdex.Grasp(mu=0.5, grip_force=1.0))
+res: exdex.Result = exdex.simulate(scene, 0.1, 1e-3)
+q = exdex.quaternion_from_matrix(scene.gripper_rotation)
+wrong: str = res.t  # the one error
+"""
+
+
+def test_mypy_sees_the_installed_package_from_a_user_folder(tmp_path):
+    """The install as a user has it (not the repository on the path): a snippet in its own folder."""
+    import importlib.metadata
+
+    try:
+        importlib.metadata.distribution("exdex")
+    except importlib.metadata.PackageNotFoundError:
+        pytest.skip("exdex is not installed (a source checkout on PYTHONPATH): nothing to find")
+    (tmp_path / "snippet.py").write_text(SNIPPET)
+    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "MYPYPATH")}
+    p = subprocess.run([sys.executable, "-m", "mypy", "--no-incremental", "--no-error-summary", "snippet.py"],
+                       capture_output=True, text=True, cwd=str(tmp_path), env=env)
+    errors = [ln for ln in (p.stdout + p.stderr).splitlines() if ": error:" in ln]
+    assert len(errors) == 1 and errors[0].startswith("snippet.py:6:") and "[assignment]" in errors[0], \
+        "\n".join(errors)
 
 
 def test_mypy_rejects_wrong_calls(cache):

@@ -285,6 +285,7 @@ def test_exdex_paper_command(tmp_path, capsys):
     out = capsys.readouterr().out
     for name in paper.CASES:
         assert (tmp_path / f"{name}.png").stat().st_size > 10_000
+        assert (tmp_path / f"{name}.pdf").read_bytes().startswith(b"%PDF")   # the default formats: png pdf
         with open(tmp_path / f"{name}.csv") as f:
             rows = list(csv.reader(f))
         assert rows[0][0] == "t [s]" and len(rows) > 1000
