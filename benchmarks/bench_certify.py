@@ -10,8 +10,11 @@ C run, the Result and the physics-warning checks) and for the C core alone
 the whole run (a failing one stops checking at its failure, so it costs
 less): the paper's Figs. 3 and 4, a box held still below its turning
 threshold, a translation in a gripper that turns (Eq. 7 about the plate
-normal, the load changes with time and state: checked at every sample) and
-Fig. 6's rotation with gravity along the plate normal (a slipping rotation).
+normal, the load changes with time and state) and Fig. 6's rotation with
+gravity along the plate normal (a slipping rotation). Where a piece between
+switching times is proven for a mode (a constant load, or the bound of a
+gripper turning about a fixed axis; csrc/certify.c), its samples of that
+mode are not evaluated; the others are, one by one.
 
     python benchmarks/bench_certify.py [--repeat N] [--out results/certify.txt]
 """

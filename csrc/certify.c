@@ -34,10 +34,19 @@
  * switching times); elsewhere (a turning gripper, a shake, a log, a grip
  * schedule, a rotation run whose load moves with the angle) the check is at
  * samples and switching times, so an excursion that begins and ends within
- * one output interval is seen only to the output grid's resolution. */
+ * one output interval is seen only to the output grid's resolution, except
+ * where a piece's bound (below) holds for the whole piece.
+ *
+ * Cost: a sample needs no evaluation where its mode is proven for its piece
+ * (prove_pieces: one evaluation per piece and mode for a constant load, a
+ * closed-form bound for a gripper turning about a fixed axis); only the
+ * samples of the other modes, and those whose interval holds a switching
+ * time, are evaluated. The result is that of evaluating every sample
+ * (exdex_certify_samples; the C suite compares them). */
 #include "exdex.h"
 #include "model.h"
 #include "contact.h"
+#include "util.h"
 
 #include <math.h>
 #include <string.h>
@@ -193,8 +202,11 @@ static int cert_decide(const exdex_model *m, double t, const double b[3], const 
     return EXDEX_OK;
 }
 
-/* The certificate at time t for reduced coordinate q, rate v, mode stick. */
-static int cert_at(const exdex_model *m, double t, double q, double v, int stick, cert_eval *ce)
+/* The certificate at time t for reduced coordinate q, rate v, mode stick;
+ * use_stops = 0: without stop forces (the verdict then does not depend on
+ * which stops touch). */
+static int cert_at_stops(const exdex_model *m, double t, double q, double v, int stick, int use_stops,
+                         cert_eval *ce)
 {
     frame f;
     exdex_kinematics kin;
@@ -249,7 +261,7 @@ static int cert_at(const exdex_model *m, double t, double q, double v, int stick
         ncol++;
         nfree = 1;
     }
-    if (m->n_stops) {
+    if (m->n_stops && use_stops) {
         /* without a stop force first: stops are looked for only where it fails */
         cert_eval free_ce = *ce;
         int fst = cert_decide(m, t, b, ce->stick ? NULL : vf, cs, (const double(*)[3])cols, nfree, ncol, &free_ce);
@@ -259,7 +271,7 @@ static int cert_at(const exdex_model *m, double t, double q, double v, int stick
             return EXDEX_OK;
         }
     }
-    if (m->n_stops) {
+    if (m->n_stops && use_stops) {
         /* stops in contact push along their normals: generalized force lambda G */
         int nv = contact_nv(m);
         for (int k = 0; k < m->n_stops && ncol < 1 + CERT_MAX_ROWS; k++) {
@@ -276,6 +288,11 @@ static int cert_at(const exdex_model *m, double t, double q, double v, int stick
         }
     }
     return cert_decide(m, t, b, ce->stick ? NULL : vf, cs, (const double(*)[3])cols, nfree, ncol, ce);
+}
+
+static int cert_at(const exdex_model *m, double t, double q, double v, int stick, cert_eval *ce)
+{
+    return cert_at_stops(m, t, q, v, stick, 1, ce);
 }
 
 /* -------------------------------------------------------- along a run */
@@ -348,53 +365,365 @@ static void fill(const exdex_model *m, exdex_certificate *c, const cert_eval *ce
     }
 }
 
-/* Is the load piecewise constant in time (changing only at switching
- * times) and independent of the state? A translation run with no stop or
- * obstacle, a constant grip force and a gripper that only translates with a
- * piecewise-constant acceleration (rest, Eq. 7, a trapezoid). */
-static int piecewise_constant(const exdex_model *m)
-{
-    const exdex_motion_def *d = &m->def.motion;
-    if (m->def.dof != EXDEX_DOF_TRANSLATION || m->n_src || m->grip_n) return 0;
-    if (m->motion != m->sw_motion || d->time_shift != 0.0) return 0;
-    if (d->kind == EXDEX_MOTION_REST) return 1;
-    return (d->kind == EXDEX_MOTION_ASYMMETRIC || d->kind == EXDEX_MOTION_TRAPEZOID) && !d->rotation;
-}
-
 /* Does the reduced coordinate count as at rest at (t, q, v) after a step
  * of h? At rest to the model's rate threshold (|v| <= tol.vzero), or, for the methods without true stick,
  * within their own resolution of rest while the reduced load Q is inside
  * the reduced surface (|Q| < C, C e_r for a rotation): the regularised
  * method creeps at |E u| = eps g / sqrt(1 - g^2) (g = |Q| / C), counted at
  * rest up to twice that plus eps; the explicit method chatters within
- * |v| <= h (|Q| + C) / M (a step's update h (Q - C sgn v) / M). */
-static int at_rest(const exdex_model *m, double h, double t, double q, double v)
+ * |v| <= h (|Q| + C) / M (a step's update h (Q - C sgn v) / M). Qp: the
+ * load |Q| when known (NULL: evaluated at t). */
+static int at_rest_q(const exdex_model *m, double h, double t, double q, double v, const double *Qp)
 {
     int rot = m->def.dof == EXDEX_DOF_ROTATION;
     double C, Q, M, g;
-    frame f;
-    exdex_kinematics kin;
     if (fabs(v) <= m->tol.vzero) return 1;   /* the methods' own zero rate (a rest against a stop) */
     if (m->def.method != EXDEX_METHOD_REGULARISED && m->def.method != EXDEX_METHOD_EXPLICIT) return 0;
-    if (model_frame_at(m, t, &f, &kin)) return 0;
     C = model_capacity(m, t) * (rot ? m->e[2] : 1.0);
     M = rot ? m->mrot : m->m;
-    Q = fabs(model_force_1dof(m, &f, q, v));
+    if (Qp) {
+        Q = *Qp;
+    } else {
+        frame f;
+        exdex_kinematics kin;
+        if (model_frame_at(m, t, &f, &kin)) return 0;
+        Q = fabs(model_force_1dof(m, &f, q, v));
+    }
     if (!(Q < C)) return 0;
     if (m->def.method == EXDEX_METHOD_EXPLICIT) return fabs(v) <= h * (Q + C) / M;
     g = Q / C;
     return fabs(v) * (rot ? m->e[2] : 1.0) <= m->def.eps * (1.0 + 2.0 * g / sqrt(1.0 - g * g));
 }
 
-int exdex_certify(const exdex_model *m, const exdex_trajectory *out, exdex_certificate *c)
+static int at_rest(const exdex_model *m, double h, double t, double q, double v)
 {
-    size_t n, sw = 0, i_start = 1;
-    int pc, st;
-    cert_eval ce, cp;
-    /* piecewise-constant loads: one evaluation per piece and mode */
-    double pt_lo = -INFINITY, pt_hi = -INFINITY;
+    return at_rest_q(m, h, t, q, v, NULL);
+}
+
+/* ------------------------------------------------ proofs per piece
+ * The scene's switching times (model.sw_t) cut the time axis into pieces.
+ * Where a piece's load is known to hold for every state the run visits in
+ * one mode (stuck, slipping forwards, backwards), the samples of that mode
+ * strictly inside the piece need no evaluation; only the others are
+ * evaluated, as before. Two kinds of proof:
+ *   constant load: a translation run with a constant grip force in a
+ *     gripper that rests or translates with a piecewise-constant
+ *     acceleration (rest, Eq. 7, a trapezoid): the load is the same for
+ *     every time in a piece and every state (it has no term in the
+ *     position or the rate), so one evaluation per piece and mode decides
+ *     it, without the stops' forces (a verdict that holds without them
+ *     holds with them; one that fails is evaluated per sample with them);
+ *   a bound: a 1-DoF run with a constant grip force in a gripper that
+ *     rests, translates as above or turns about a fixed axis with a
+ *     piecewise-constant angular acceleration. A point fixed in B at
+ *     distance rho from the axis then has the acceleration
+ *     rho sqrt(alpha^2 + omega^4) (alpha constant in the piece, omega
+ *     linear, so at most its larger end value), the gravity in the plate
+ *     plane keeps its size when the axis is the plate normal (else at most
+ *     |g|), and the force the stuck object needs in the plate plane is at
+ *     most B_f = m (g_p + rho_max sqrt(alpha^2 + omega_max^4)), rho_max
+ *     bounding the distance of the centre of mass from the axis over the
+ *     states the run visits; its moment at the patch at most
+ *     B_z = |T_z| + |pc| B_f with the inertial torque
+ *     |T_z| <= I_zz alpha + 2 |I| |u_xy| (alpha + omega^2) (u the axis in B,
+ *     constant). Stuck: the gauge is at most hypot(B_f, B_z / e_r) (over
+ *     k_min for the exact surface); a rotation about the centre of mass
+ *     (pivot at it) slipping: the slip's friction is a pure moment and
+ *     the force the pin needs, at most B_f, must be zero to the
+ *     certificate's tolerance. */
+#define CERT_MAX_PIECES 16
+
+typedef struct pieces {
+    int n;                 /* 0: no proofs */
+    double lo[CERT_MAX_PIECES], hi[CERT_MAX_PIECES];
+    unsigned char proven[CERT_MAX_PIECES][3];   /* mode key: 0 stuck, 1 v > 0, 2 v < 0 */
+    int qknown;            /* 1: Q[k] is the reduced load |Q| of every time and state of piece k */
+    double Q[CERT_MAX_PIECES];
+} pieces;
+
+static int key_of(int rest, double v)
+{
+    return rest ? 0 : (v > 0.0 ? 1 : 2);
+}
+
+static double norm3(const double a[3])
+{
+    return sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+}
+
+/* Is the motion one the proofs know: rest, or Eq. 7 / a trapezoid with
+ * ramps, translating (*turns = 0) or turning about a fixed axis
+ * (*turns = 1), played from its start, with a constant grip force? */
+static int proof_motion(const exdex_model *m, int *turns)
+{
+    const exdex_motion_def *d = &m->def.motion;
+    *turns = 0;
+    if (m->grip_n || m->motion != m->sw_motion || d->time_shift != 0.0) return 0;
+    if (d->kind == EXDEX_MOTION_REST) return 1;
+    if (d->kind != EXDEX_MOTION_ASYMMETRIC && d->kind != EXDEX_MOTION_TRAPEZOID) return 0;
+    if (d->kind == EXDEX_MOTION_TRAPEZOID && d->amplitude != 0.0 &&
+        !(d->duration - fabs(d->amplitude) / d->v_max > 0.0))
+        return 0;   /* a velocity jump */
+    *turns = d->rotation != 0;
+    return 1;
+}
+
+static int prove_pieces(const exdex_model *m, const exdex_trajectory *out, pieces *pv)
+{
+    int turns, pc, st;
+    size_t n = out->n;
+    double t_first = out->t[0], t_last = out->t[n - 1];
+    double dq = 0.0, rho_ref = 0.0, u_xy = 0.0, g_p = 0.0, Inorm = 0.0, nax[3] = {0, 0, 0};
+    pv->n = 0;
+    pv->qknown = 0;
+    if (!proof_motion(m, &turns)) return EXDEX_OK;
+    if (m->sw_n + 1 > CERT_MAX_PIECES) return EXDEX_OK;
+    pc = m->def.dof == EXDEX_DOF_TRANSLATION && !turns;
+    if (!pc) {
+        /* the bound: the reference point (the pivot, or the centre of mass
+         * at the start) and how far the centre of mass gets from it */
+        double rref[3] = {0, 0, 0};
+        if (m->def.dof == EXDEX_DOF_ROTATION) {
+            rref[0] = m->pivot[0];
+            rref[1] = m->pivot[1];
+            dq = hypot(m->c[0], m->c[1]);
+        } else {
+            rref[0] = m->r0[0];
+            rref[1] = m->r0[1];
+            for (size_t i = 0; i < n; i++) {
+                double a = fabs(out->q[i] - m->s0);
+                if (a > dq) dq = a;
+            }
+        }
+        for (int i = 0; i < 9; i++) Inorm += m->I[i] * m->I[i];
+        Inorm = sqrt(Inorm);
+        if (turns) {
+            const exdex_motion_def *d = &m->def.motion;
+            exdex_kinematics k;
+            double na = norm3(d->axis), x[3], xn = 0.0, npl[3], cr[3], gn = 0.0;
+            st = exdex_motion_eval(m->motion, t_first, &k);
+            if (st) return st;
+            if (!(na > 0.0)) return EXDEX_OK;
+            for (int c = 0; c < 3; c++) nax[c] = d->axis[c] / na;
+            /* the point in A, its distance from the axis */
+            for (int c = 0; c < 3; c++)
+                x[c] = k.p[c] + k.R[3 * c] * rref[0] + k.R[3 * c + 1] * rref[1] + k.R[3 * c + 2] * rref[2] -
+                       d->center[c];
+            for (int c = 0; c < 3; c++) xn += x[c] * nax[c];
+            for (int c = 0; c < 3; c++) x[c] -= xn * nax[c];
+            rho_ref = norm3(x) * (1.0 + 1e-12);
+            /* the axis in B (constant: the axis is fixed in A and turns B about itself) */
+            {
+                double ub[3];
+                ex_mulmtv3(ub, k.R, nax);
+                u_xy = hypot(ub[0], ub[1]);
+            }
+            /* gravity in the plate plane */
+            npl[0] = k.R[2];
+            npl[1] = k.R[5];
+            npl[2] = k.R[8];
+            ex_cross3(cr, nax, npl);
+            if (norm3(cr) <= 1e-12) {
+                double gp[3];
+                for (int c = 0; c < 3; c++) gn += m->g[c] * npl[c];
+                for (int c = 0; c < 3; c++) gp[c] = m->g[c] - gn * npl[c];
+                g_p = norm3(gp) + 1e-12 * norm3(m->g);
+            } else {
+                g_p = norm3(m->g);
+            }
+        }
+    }
+    pv->qknown = pc;
+    for (size_t k = 0; k <= m->sw_n; k++) {
+        double lo = k ? m->sw_t[k - 1] : -INFINITY, hi = k < m->sw_n ? m->sw_t[k] : INFINITY;
+        double a = lo > t_first ? lo : t_first, b = hi < t_last ? hi : t_last, tm = a + 0.5 * (b - a);
+        int j = pv->n;
+        if (hi <= t_first) continue;
+        if (lo > t_last) break;
+        pv->lo[j] = lo;
+        pv->hi[j] = hi;
+        pv->proven[j][0] = pv->proven[j][1] = pv->proven[j][2] = 0;
+        if (pc) {
+            for (int key = 0; key < 3; key++) {
+                cert_eval ce;
+                st = cert_at_stops(m, tm, out->q[0], key == 0 ? 0.0 : (key == 1 ? m->scale.V : -m->scale.V),
+                                   key == 0, 0, &ce);
+                if (st) return st;
+                /* no sample sticks where the reduced load exceeds the static
+                 * capacity (unless a stop holds it) */
+                pv->proven[j][key] =
+                    !(ce.excess > 0.0) || (key == 0 && !m->n_src && ce.along > ce.cap * (1.0 + 1e-9));
+            }
+            {
+                frame f;
+                exdex_kinematics kin;
+                st = model_frame_at(m, tm, &f, &kin);
+                if (st) return st;
+                pv->Q[j] = fabs(model_force_1dof(m, &f, out->q[0], 0.0));
+            }
+        } else {
+            double Bf, Bz, Cs = model_capacity_static(m, tm), C = model_capacity(m, tm), gauge;
+            if (turns) {
+                /* omega at the piece's ends (linear inside), alpha inside */
+                double om = 0.0, al = 0.0, ts[3] = {a + 1e-9 * (b - a), tm, b - 1e-9 * (b - a)}, s;
+                for (int e = 0; e < 3; e++) {
+                    exdex_kinematics kk;
+                    st = exdex_motion_eval(m->motion, ts[e], &kk);
+                    if (st) return st;
+                    if (norm3(kk.w) > om) om = norm3(kk.w);
+                    if (norm3(kk.dw) > al) al = norm3(kk.dw);
+                }
+                om *= 1.0 + 1e-9;   /* the ends evaluated 1e-9 of the piece inside it */
+                s = sqrt(al * al + om * om * om * om);
+                Bf = m->m * (g_p + (rho_ref + dq) * s);
+                Bz = m->izz * al * (1.0 + 1e-12) + 2.0 * Inorm * u_xy * (al + om * om) + hypot(m->pc[0], m->pc[1]) * Bf;
+            } else {
+                /* rest or a translating gripper: gravity and B's acceleration, constant in the piece */
+                frame f;
+                exdex_kinematics kin;
+                st = model_frame_at(m, tm, &f, &kin);
+                if (st) return st;
+                Bf = m->m * hypot(f.gB[0] - f.a0[0], f.gB[1] - f.a0[1]) * (1.0 + 1e-12);
+                Bz = hypot(m->pc[0], m->pc[1]) * Bf;
+            }
+            gauge = hypot(Bf, Bz / m->e[2]);
+            if (m->ls_exact) gauge = m->ls.kmin > 0.0 ? gauge / m->ls.kmin : INFINITY;
+            pv->proven[j][0] = gauge <= Cs * (1.0 - 1e-12);
+            if (m->def.dof == EXDEX_DOF_ROTATION && m->c[0] == 0.0 && m->c[1] == 0.0 && !m->ls_exact &&
+                Bf <= 0.5 * CERT_SLIP_TOL * (m->scale.F + C))
+                pv->proven[j][1] = pv->proven[j][2] = 1;
+        }
+        pv->n++;
+    }
+    return EXDEX_OK;
+}
+
+/* First index e in [i, n) with t[e] + snap(t[e]) >= hi (n if none). */
+static size_t piece_end(const exdex_model *m, const double *t, size_t i, size_t n, double hi)
+{
+    size_t a = i, b = n;
+    if (!(hi < INFINITY)) return n;
+    while (a < b) {
+        size_t mid = a + (b - a) / 2;
+        if (t[mid] + model_substep_snap(m, t[mid]) >= hi) b = mid;
+        else a = mid + 1;
+    }
+    return a;
+}
+
+/* -------------------------------------------------------- a sample's check */
+
+typedef struct scan {
+    const exdex_model *m;
+    const exdex_trajectory *out;
+    size_t sw;
+    int pc;                /* constant loads: one evaluation per piece and mode */
+    double pt_lo, pt_hi;
     cert_eval pk[3];
-    int pk_have[3] = {0, 0, 0};
+    int pk_have[3];
+} scan;
+
+/* Sample i >= 1 (the interval (t_{i-1}, t_i]): *failed = 1 and c filled
+ * where it fails. */
+static int check_sample(scan *sc, size_t i, exdex_certificate *c, int *failed)
+{
+    const exdex_model *m = sc->m;
+    const exdex_trajectory *out = sc->out;
+    double t0 = out->t[i - 1], t1 = out->t[i], q1 = out->q[i], v1 = out->v[i], te;
+    int s1 = out->stick[i] || at_rest(m, t1 - t0, t1, q1, v1);
+    int key = key_of(s1, v1), st;
+    cert_eval ce;
+    *failed = 0;
+    /* switching times inside (t0, t1): checked with the end state */
+    while (sc->sw < m->sw_n && m->sw_t[sc->sw] <= t0) sc->sw++;
+    for (size_t k = sc->sw; k < m->sw_n && m->sw_t[k] < t1 - model_substep_snap(m, t1); k++) {
+        cert_eval cs;
+        st = cert_at(m, m->sw_t[k], q1, v1, s1, &cs);
+        if (st) return st;
+        if (cs.excess > 0.0) {
+            double ta = t0;
+            cert_eval c0;
+            st = cert_at(m, t0, q1, v1, s1, &c0);
+            if (st) return st;
+            if (!(c0.excess > 0.0)) ta = locate(m, t0, m->sw_t[k], q1, v1, s1);
+            fill(m, c, &cs, ta, i);
+            *failed = 1;
+            return EXDEX_OK;
+        }
+    }
+    /* the sample closes the interval (t0, t1]: a switching time on t1
+     * (to rounding) belongs to the next one, so the load is its left
+     * limit there */
+    te = t1;
+    if (sc->sw < m->sw_n) {
+        size_t k = sc->sw;
+        while (k < m->sw_n && m->sw_t[k] < t1 - model_substep_snap(m, t1)) k++;
+        if (k < m->sw_n && m->sw_t[k] <= t1 + model_substep_snap(m, t1)) te = m->sw_t[k] - 1e-9 * (t1 - t0);
+    }
+    if (sc->pc && sc->pk_have[key] && te >= sc->pt_lo && te < sc->pt_hi) {
+        ce = sc->pk[key];
+    } else {
+        st = cert_at(m, te, q1, v1, s1, &ce);
+        if (st) return st;
+        if (sc->pc) {
+            /* the piece holding te: [pt_lo, pt_hi) between switching times */
+            size_t k = sc->sw;
+            double lo, hi;
+            while (k < m->sw_n && m->sw_t[k] <= te) k++;
+            lo = k ? m->sw_t[k - 1] : -INFINITY;
+            hi = k < m->sw_n ? m->sw_t[k] : INFINITY;
+            if (lo != sc->pt_lo || hi != sc->pt_hi) sc->pk_have[0] = sc->pk_have[1] = sc->pk_have[2] = 0;
+            sc->pt_lo = lo;
+            sc->pt_hi = hi;
+            sc->pk[key] = ce;
+            sc->pk_have[key] = 1;
+        }
+    }
+    if (ce.excess > 0.0) {
+        /* locate it in (t0, t1] */
+        double ta = t0;
+        int s0 = out->stick[i - 1] || at_rest(m, i > 1 ? t0 - out->t[i - 2] : t1 - t0, t0, out->q[i - 1], out->v[i - 1]);
+        cert_eval c0;
+        if (s1) {
+            st = cert_at(m, t0, q1, 0.0, 1, &c0);
+            if (st) return st;
+            if (!(c0.excess > 0.0)) ta = locate(m, t0, t1, q1, 0.0, 1);
+        } else if (s0) {
+            /* a slip from stick: the stick state fails first where its load leaves the surface */
+            double q0 = out->q[i - 1];
+            cert_eval c1;
+            st = cert_at(m, t1, q0, 0.0, 1, &c1);
+            if (st) return st;
+            if (c1.excess > 0.0) ta = locate(m, t0, t1, q0, 0.0, 1);
+        } else {
+            st = cert_at(m, t0, q1, v1, 0, &c0);
+            if (st) return st;
+            if (!(c0.excess > 0.0)) ta = locate(m, t0, t1, q1, v1, 0);
+        }
+        fill(m, c, &ce, ta, i);
+        *failed = 1;
+    }
+    return EXDEX_OK;
+}
+
+/* Is the load piecewise constant in time (changing only at switching
+ * times) and independent of the state? A translation run with no stop or
+ * obstacle, a constant grip force and a gripper that only translates with a
+ * piecewise-constant acceleration (rest, Eq. 7, a trapezoid). */
+static int piecewise_constant(const exdex_model *m)
+{
+    int turns;
+    if (m->def.dof != EXDEX_DOF_TRANSLATION || m->n_src) return 0;
+    return proof_motion(m, &turns) && !turns;
+}
+
+static int certify(const exdex_model *m, const exdex_trajectory *out, exdex_certificate *c, int proofs)
+{
+    size_t n, i;
+    int st, failed, expl;
+    cert_eval cp;
+    pieces pv;
+    scan sc;
     if (!m || !out || !c || !out->t || !out->q || !out->v || !out->stick || out->n == 0) return EXDEX_EINVAL;
     memset(c, 0, sizeof *c);
     n = out->n;
@@ -404,114 +733,86 @@ int exdex_certify(const exdex_model *m, const exdex_trajectory *out, exdex_certi
     c->coordinate = -1;
     if (m->ndof != 1) return EXDEX_OK;
     c->reduced = 1;
-    pc = piecewise_constant(m);
-    if (pc) {
-        /* the load takes one value per piece between switching times, the
-         * same for every state: a piece where it holds stuck and slipping
-         * either way holds for every sample in it, so the samples are
-         * scanned only from the first piece where some mode fails */
-        double t_end = out->t[n - 1], lo = out->t[0];
-        size_t p = 0;
-        int fails = 0;
-        while (p < m->sw_n && m->sw_t[p] <= lo) p++;
-        for (;; p++) {
-            double hi = p < m->sw_n ? m->sw_t[p] : INFINITY, tm = lo + 0.5 * ((hi < t_end ? hi : t_end) - lo);
-            for (int key = 0; key < 3 && !fails; key++) {
-                st = cert_at(m, tm, out->q[0], key == 0 ? 0.0 : (key == 1 ? m->scale.V : -m->scale.V), key == 0,
-                             &cp);
-                if (st) return st;
-                /* no sample sticks where the reduced load exceeds the static capacity */
-                fails = cp.excess > 0.0 && !(key == 0 && cp.along > cp.cap * (1.0 + 1e-9));
-            }
-            if (fails || !(hi < t_end)) break;
-            lo = hi;
-        }
-        if (!fails) return EXDEX_OK;
-        /* the last sample at or before the piece's start holds */
-        while (i_start < n && out->t[i_start] <= lo) i_start++;
+    memset(&sc, 0, sizeof sc);
+    sc.m = m;
+    sc.out = out;
+    sc.pc = piecewise_constant(m);
+    sc.pt_lo = sc.pt_hi = -INFINITY;
+    pv.n = pv.qknown = 0;
+    if (proofs) {
+        st = prove_pieces(m, out, &pv);
+        if (st) return st;
     }
+    /* the methods whose rest is a band around v = 0 (at_rest) */
+    expl = m->def.method == EXDEX_METHOD_REGULARISED || m->def.method == EXDEX_METHOD_EXPLICIT;
     /* sample 0; at rest there but slipping right after, it is the start of
      * that slip, which sample 1 checks (a slip from rest) */
-    if (i_start == 1 &&
-        !(n > 1 && out->v[0] == 0.0 && !(out->stick[1] || at_rest(m, out->t[1] - out->t[0], out->t[1], out->q[1], out->v[1])))) {
-        st = cert_at(m, out->t[0], out->q[0], out->v[0], out->stick[0], &cp);
-        if (st) return st;
-        if (cp.excess > 0.0) {
-            fill(m, c, &cp, out->t[0], 0);
-            return EXDEX_OK;
-        }
-    }
-    for (size_t i = i_start; i < n; i++) {
-        double t0 = out->t[i - 1], t1 = out->t[i], q1 = out->q[i], v1 = out->v[i], te;
-        int s1 = out->stick[i] || at_rest(m, t1 - t0, t1, q1, v1);
-        int key = s1 ? 0 : (v1 > 0.0 ? 1 : 2);
-        /* switching times inside (t0, t1): checked with the end state */
-        while (sw < m->sw_n && m->sw_t[sw] <= t0) sw++;
-        for (size_t k = sw; k < m->sw_n && m->sw_t[k] < t1 - model_substep_snap(m, t1); k++) {
-            cert_eval cs;
-            st = cert_at(m, m->sw_t[k], q1, v1, s1, &cs);
+    if (!(n > 1 && out->v[0] == 0.0 && !(out->stick[1] || at_rest(m, out->t[1] - out->t[0], out->t[1], out->q[1], out->v[1])))) {
+        int k0 = 0, proven = 0;
+        while (k0 + 1 < pv.n && out->t[0] >= pv.lo[k0 + 1]) k0++;
+        if (pv.n && out->t[0] >= pv.lo[k0] && out->t[0] < pv.hi[k0])
+            proven = pv.proven[k0][key_of(out->stick[0] || out->v[0] == 0.0, out->v[0])];
+        if (!proven) {
+            st = cert_at(m, out->t[0], out->q[0], out->v[0], out->stick[0], &cp);
             if (st) return st;
-            if (cs.excess > 0.0) {
-                double ta = t0;
-                cert_eval c0;
-                st = cert_at(m, t0, q1, v1, s1, &c0);
-                if (st) return st;
-                if (!(c0.excess > 0.0)) ta = locate(m, t0, m->sw_t[k], q1, v1, s1);
-                fill(m, c, &cs, ta, i);
+            if (cp.excess > 0.0) {
+                fill(m, c, &cp, out->t[0], 0);
                 return EXDEX_OK;
             }
         }
-        /* the sample closes the interval (t0, t1]: a switching time on t1
-         * (to rounding) belongs to the next one, so the load is its left
-         * limit there */
-        te = t1;
-        if (sw < m->sw_n) {
-            size_t k = sw;
-            while (k < m->sw_n && m->sw_t[k] < t1 - model_substep_snap(m, t1)) k++;
-            if (k < m->sw_n && m->sw_t[k] <= t1 + model_substep_snap(m, t1))
-                te = m->sw_t[k] - 1e-9 * (t1 - t0);
-        }
-        if (pc && pk_have[key] && te >= pt_lo && te < pt_hi) {
-            ce = pk[key];
-        } else {
-            st = cert_at(m, te, q1, v1, s1, &ce);
+    }
+    i = 1;
+    {
+        int k = 0;
+        while (i < n) {
+            if (pv.n) {
+                /* samples strictly inside a piece (no switching time in (t_{i-1}, t_i + snap]) whose mode
+                 * is proven there need no evaluation */
+                while (k + 1 < pv.n && out->t[i - 1] >= pv.lo[k + 1]) k++;
+                if (out->t[i - 1] >= pv.lo[k] && out->t[i] + model_substep_snap(m, out->t[i]) < pv.hi[k]) {
+                    size_t e = piece_end(m, out->t, i, n, pv.hi[k]);
+                    const unsigned char *pr = pv.proven[k];
+                    if (pr[0] && pr[1] && pr[2]) {
+                        i = e;
+                    } else if (!expl) {
+                        for (; i < e; i++) {
+                            double v = out->v[i];
+                            int rest = out->stick[i] || fabs(v) <= m->tol.vzero;
+                            if (!pr[key_of(rest, v)]) break;
+                        }
+                    } else if (pv.qknown) {
+                        double Q = pv.Q[k];
+                        for (; i < e; i++) {
+                            double v = out->v[i];
+                            int rest = out->stick[i] || at_rest_q(m, out->t[i] - out->t[i - 1], out->t[i], out->q[i], v, &Q);
+                            if (!pr[key_of(rest, v)]) break;
+                        }
+                    } else {
+                        /* the band of rest is not known: both modes proven */
+                        for (; i < e; i++) {
+                            double v = out->v[i];
+                            if (!(out->stick[i] || fabs(v) <= m->tol.vzero ? pr[0] : pr[0] && pr[key_of(0, v)]))
+                                break;
+                        }
+                    }
+                    if (i == e) continue;
+                }
+            }
+            st = check_sample(&sc, i, c, &failed);
             if (st) return st;
-            if (pc) {
-                /* the piece holding t1: [pt_lo, pt_hi) between switching times */
-                size_t k = sw;
-                while (k < m->sw_n && m->sw_t[k] <= te) k++;
-                double lo = k ? m->sw_t[k - 1] : -INFINITY, hi = k < m->sw_n ? m->sw_t[k] : INFINITY;
-                if (lo != pt_lo || hi != pt_hi) pk_have[0] = pk_have[1] = pk_have[2] = 0;
-                pt_lo = lo;
-                pt_hi = hi;
-                pk[key] = ce;
-                pk_have[key] = 1;
-            }
-        }
-        if (ce.excess > 0.0) {
-            /* locate it in (t0, t1] */
-            double ta = t0;
-            int s0 = out->stick[i - 1] || at_rest(m, i > 1 ? t0 - out->t[i - 2] : t1 - t0, t0, out->q[i - 1], out->v[i - 1]);
-            cert_eval c0;
-            if (s1) {
-                st = cert_at(m, t0, q1, 0.0, 1, &c0);
-                if (st) return st;
-                if (!(c0.excess > 0.0)) ta = locate(m, t0, t1, q1, 0.0, 1);
-            } else if (s0) {
-                /* a slip from stick: the stick state fails first where its load leaves the surface */
-                double q0 = out->q[i - 1];
-                cert_eval c1;
-                st = cert_at(m, t1, q0, 0.0, 1, &c1);
-                if (st) return st;
-                if (c1.excess > 0.0) ta = locate(m, t0, t1, q0, 0.0, 1);
-            } else {
-                st = cert_at(m, t0, q1, v1, 0, &c0);
-                if (st) return st;
-                if (!(c0.excess > 0.0)) ta = locate(m, t0, t1, q1, v1, 0);
-            }
-            fill(m, c, &ce, ta, i);
-            return EXDEX_OK;
+            if (failed) return EXDEX_OK;
+            i++;
         }
     }
     return EXDEX_OK;
+}
+
+int exdex_certify(const exdex_model *m, const exdex_trajectory *out, exdex_certificate *c)
+{
+    return certify(m, out, c, 1);
+}
+
+int exdex_certify_samples(const exdex_model *m, const exdex_trajectory *out, exdex_certificate *c)
+{
+    return certify(m, out, c, 0);
 }

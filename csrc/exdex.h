@@ -742,6 +742,11 @@ typedef struct exdex_certificate {
 /* EXDEX_OK (c filled: planar runs have reduced = 0 and hold), EXDEX_EINVAL
  * for NULL arguments or an empty trajectory, or the motion's status. */
 int exdex_certify(const exdex_model *m, const exdex_trajectory *out, exdex_certificate *c);
+/* The same certificate with every sample evaluated: exdex_certify skips the
+ * samples of a piece between switching times whose mode it has proven to
+ * hold there for every state the run visits (certify.c); this is the
+ * reference the C suite checks it against, the same result. */
+int exdex_certify_samples(const exdex_model *m, const exdex_trajectory *out, exdex_certificate *c);
 /* ---------------------------------------------------------------- stepper
  * stepper.c -- a run advanced one step at a time, for feedback control: the
  * caller chooses each step's length and grip force from the state it reads.
