@@ -273,7 +273,8 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
         size_t brent0 = st->solver_iterations; /* Brent iterations count in the step budget */
         double t_event = -1.0;
         while (t < ti && status == EXDEX_OK && !H.err) {
-            double g0[NG_MAX], g1[NG_MAX], t0 = t, tstop, tau_best = INFINITY;
+            hyb_guard g0[NG_MAX], g1[NG_MAX];
+            double t0 = t, tstop, tau_best = INFINITY;
             int ng, e_best = -1, gs;
             size_t k = 0;
             while (k < nsw && ts[k] <= t) k++;
@@ -316,7 +317,7 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                 break;
             }
             hyb_guards(&H, t, y, g1);
-            if (nd == 1 && law == LAW_COULOMB && H.mode == MODE_SLIP && g0[0] > 0.0 && g1[0] >= 0.0) {
+            if (nd == 1 && law == LAW_COULOMB && H.mode == MODE_SLIP && g0[0].value > 0.0 && g1[0].value >= 0.0) {
                 /* the slip can stop and restart the same way within one
                  * step (the load falls inside the friction limit and
                  * leaves it again): s qd dips below 0 and recovers, which
@@ -343,13 +344,13 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
             }
             for (int e = 0; e < ng; e++) {
                 double tau;
-                if (!(g1[e] < 0.0)) continue;
-                if (g0[e] <= 0.0) {
+                if (!(g1[e].value < 0.0)) continue;
+                if (g0[e].value <= 0.0) {
                     /* violated from the start: an event at t0 unless the
                      * guard is recovering (a touching stop left behind), or
                      * the decision at t0 keeps being undone (a tie: let the
                      * step decide, counted as a warning) */
-                    if (!(g1[e] < g0[e] - GUARD_RECOVER)) continue;
+                    if (!(g1[e].value < g0[e].value - GUARD_RECOVER)) continue;
                     {
                         /* it may recover first and cross later within the
                          * step (a corner lifted off a stop by an impact at
@@ -384,12 +385,13 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
             /* a free gap that dipped below 0 and recovered within the step */
             if (!status) status = hyb_gap_dips(&H, O, t0, y0, t, y, ng, g0, g1, &tau_best, &e_best);
             /* ... or through an obstacle row's feature switch */
-            if (!status) status = hyb_obst_dips(&H, O, t0, y0, t, y, g0, g1, &tau_best, &e_best);
+            if (!status) status = hyb_obst_dips(&H, O, t0, y0, t, y, ng, g0, g1, &tau_best, &e_best);
             if (!status && ns && nd == 1) {
                 /* 1-DoF: a corner's gap dipping below 0 within the step
                  * (hyb_row_dip): the event is its stop guard, violated at the
                  * crossing */
-                double tau, gt[NG_MAX], ye[NY_MAX], t1 = t;
+                hyb_guard gt[NG_MAX];
+                double tau, ye[NY_MAX], t1 = t;
                 const double *y1 = y;
                 if (tau_best < t - t0) {
                     /* only a dip before the event found matters */
@@ -408,7 +410,7 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                     } else {
                         hyb_guards(&H, t0 + tau, O->ytmp, gt);
                         for (int e = 0; e < ng; e++)
-                            if (g0[e] > 0.0 && gt[e] < 0.0) {
+                            if (g0[e].value > 0.0 && gt[e].value < 0.0) {
                                 tau_best = tau;
                                 e_best = e;
                                 break;
@@ -421,7 +423,8 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
              * value is >= 0): the located event's point shows it; take the
              * earliest such crossing instead (at most ng passes) */
             for (int pass = 0; e_best >= 0 && tau_best > 0.0 && !status && pass < ng; pass++) {
-                double gt[NG_MAX], tau_new = tau_best;
+                hyb_guard gt[NG_MAX];
+                double tau_new = tau_best;
                 int e_new = -1;
                 if (hyb_one_step(O, t0, y0, tau_best, O->ytmp) != GSL_SUCCESS || H.err) {
                     status = H.err ? H.err : EXDEX_ENOCONV;
@@ -430,7 +433,7 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                 hyb_guards(&H, t0 + tau_best, O->ytmp, gt);
                 for (int e = 0; e < ng && !status; e++) {
                     double tau;
-                    if (e == e_best || !(g0[e] > 0.0) || !(gt[e] < 0.0)) continue;
+                    if (e == e_best || !(g0[e].value > 0.0) || !(gt[e].value < 0.0)) continue;
                     status = hyb_locate(&H, O, t0, y0, 0.0, tau_best, e, &tau);
                     if (!status && tau < tau_new) {
                         tau_new = tau;
@@ -448,8 +451,8 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
             }
             if (status) break;
             if (e_best >= 0) {
-                int vz, keep = 0, sep = -1, join = 0;
-                if (tau_best > 0.0 && t0 + tau_best == t0 && g0[e_best] > 0.0 && t > t0) {
+                int vz, keep = 0, sep = -1, join = 0, kind = g0[e_best].kind;
+                if (tau_best > 0.0 && t0 + tau_best == t0 && g0[e_best].value > 0.0 && t > t0) {
                     /* a crossing within half an ulp of t0: the event time
                      * would round to t0, where the guard holds and the
                      * decision at the same state would be taken again
@@ -471,10 +474,8 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                  * capacity) from rest: the velocity it carries is the
                  * stop's, below tol.vzero (its second guard), whose sign
                  * must not choose a slip */
-                vz = (nd == 1 && H.mode == MODE_SLIP && e_best == 0) ||
-                     (H.mode == MODE_CONTACT && H.law == LAW_COULOMB && H.s != 0.0 && e_best == 1) ||
-                     (nd == 1 && H.mode == MODE_CONTACT && H.law == LAW_COULOMB && H.s == 0.0 && e_best == 0);
-                if (nd == 3 && H.mode == MODE_SLIP && law == LAW_COULOMB && e_best < 2) {
+                vz = kind == G_SLIP_STOPS || kind == G_CONTACT_STOPS || kind == G_REST_LEAVES;
+                if (kind == G_SMALL_STOPS || kind == G_SMALL_GROWS || kind == G_SLIP_TURNS || kind == G_SLIP_DECAYS) {
                     /* planar: a small slip stops (guard 0) or has grown
                      * (guard 1: on as a slip, no stop); a slip decays below
                      * zsw (guard 1) or reverses (guard 0): a stop, unless
@@ -486,12 +487,12 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                     model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
                     for (int c = 0; c < 3; c++) eu[c] = m->e[c] * u[c];
                     if (H.small) {
-                        vz = e_best == 0;
+                        vz = kind == G_SMALL_STOPS;
                         /* grown to SLIP_UP zsw: decided as a (large) slip */
-                        if (e_best == 1) H.small = 0;
+                        if (kind == G_SMALL_GROWS) H.small = 0;
                     } else {
-                        vz = e_best == 1 || !(sqrt(ex_dot3(eu, eu)) > H.zsw);
-                        if (e_best == 1) {
+                        vz = kind == G_SLIP_DECAYS || !(sqrt(ex_dot3(eu, eu)) > H.zsw);
+                        if (kind == G_SLIP_DECAYS) {
                             /* decayed below zsw: it stops where the load
                              * can be held; else it slips on as a small
                              * slip, velocity kept (what a stop dropped
@@ -508,19 +509,15 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
                     }
                 }
                 /* planar, a contact-set row separating (its guard lam G
-                 * M^-1 G^T - gap acceleration, after the free gaps) */
-                if (nd == 3 && law == LAW_COULOMB && H.mode != MODE_STICK && e_best >= H.gap1 &&
-                    e_best < H.gap1 + H.ncs)
-                    sep = H.cs[e_best - H.gap1];
-                /* planar, a free stop row's gap (the first guards from gap0) */
-                if (nd == 3 && law == LAW_COULOMB && H.mode == MODE_SLIP && !H.sfric && e_best >= H.gap0 &&
-                    e_best < H.gap1 && e_best - H.gap0 < H.ns * H.nv - H.ncs)
-                    join = 1;
+                 * M^-1 G^T - gap acceleration) */
+                if (law == LAW_COULOMB && kind == G_SEPARATES) sep = g0[e_best].row;
+                /* planar, a free stop row's gap */
+                if (law == LAW_COULOMB && H.mode == MODE_SLIP && !H.sfric && kind == G_GAP) join = 1;
                 hyb_hold_set_rows(&H, t, y);
                 /* regularised, planar, two coefficients: the held
                  * regime's guard (the first): it broke away, or a slip
                  * slowed into the band */
-                if (hyb_smooth_two(&H) && e_best == 0) H.held = !H.held;
+                if (hyb_smooth_two(&H) && kind == G_HELD) H.held = !H.held;
                 if (keep)
                     H.small = 1;
                 else
