@@ -18,7 +18,15 @@
  *   alpha_j + w0 t* = -pi/2 - eps mod 2 pi; with vy != 0 the root is
  *   bisected here to 1e-15 s on that formula, independent of exdex).
  * Each test also checks that a step ending before the dip finds nothing
- * (the search fails where it should not fire). */
+ * (the search fails where it should not fire).
+ *
+ * hyb_obst_dips: a point (one outline vertex) in free flight at (vx, vy),
+ * vy > 0, reaches the left face x = X0 of a thin obstacle slab (x in [X0,
+ * X0 + W], top y = Y) at t_in = X0 / vx, d below its top, and would leave
+ * it through the top at t_in + d / vy: the row's gap max(X0 - x, y - Y,
+ * ...) is negative only in between, positive at both ends of a step over
+ * both times, its rate jumping where the active face changes (no smooth
+ * turn). The first crossing of 0 is t_in. */
 #include "check.h"
 #include "../hybrid.h"
 
@@ -127,14 +135,19 @@ static void end_run(begun *b)
     exdex_model_free(b->m);
 }
 
-/* The free motion's state at t (q0 = 0; the force integrals stay 0). */
-static void free_state(const hyb *H, const double *v0, double t, double *y)
+/* The free motion's state at t from q0 (NULL: 0); the force integrals stay 0. */
+static void free_state_from(const hyb *H, const double *q0, const double *v0, double t, double *y)
 {
     memset(y, 0, (size_t)H->ny * sizeof *y);
     for (int c = 0; c < H->ndof; c++) {
-        y[c] = v0[c] * t;
+        y[c] = (q0 ? q0[c] : 0.0) + v0[c] * t;
         y[H->ndof + c] = v0[c];
     }
+}
+
+static void free_state(const hyb *H, const double *v0, double t, double *y)
+{
+    free_state_from(H, NULL, v0, t, y);
 }
 
 EXDEX_TEST(row_dip_finds_a_corner_grazing_a_stop_inside_one_step)
@@ -203,6 +216,61 @@ EXDEX_TEST(gap_dips_finds_a_planar_corner_grazing_a_stop_inside_one_step)
     free_state(H, v0, t1, y1);
     hyb_guards(H, t1, y1, g1);
     ENSURE(hyb_gap_dips(H, b.O, t0, y0, t1, y1, ng0, g0, g1, &tau, &e_best) == EXDEX_OK);
+    ENSURE(e_best == -1 && isinf(tau));
+    end_run(&b);
+}
+
+EXDEX_TEST(obst_dips_finds_a_point_cutting_an_obstacle_corner_inside_one_step)
+{
+    const double vx = 0.02, vy = 0.001, X0 = 0.01, W = 0.002, Y = 0.0, dd = 1e-5;
+    const double t_in = X0 / vx, q0[3] = {0.0, Y - dd - vy * t_in, 0.0}, v0[3] = {vx, vy, 0.0};
+    exdex_scene_def d = spin_def(EXDEX_DOF_PLANAR, vx, vy, 0.0);
+    begun b;
+    int e_best = -1, ng0, ng1, any = 0;
+    double y0[NY_MAX], y1[NY_MAX], tau = INFINITY, t0 = t_in - 0.05, t1 = t_in + 0.06;
+    hyb_guard g0[NG_MAX], g1[NG_MAX];
+    d.n_vertices = 1;
+    d.vertices[0][0] = d.vertices[0][1] = 0.0;
+    d.inertia[0] = d.inertia[4] = d.inertia[8] = 1e-5;
+    d.n_stops = 0;
+    d.q0[0] = q0[0];
+    d.q0[1] = q0[1];
+    d.n_obstacles = 1;
+    d.obstacles[0].kind = EXDEX_OBSTACLE_POLYTOPE;
+    d.obstacles[0].n_faces = 6;
+    d.obstacles[0].mu = 0.0;
+    for (int i = 0; i < 3; i++)
+        for (int s = 0; s < 2; s++) {
+            double half = i == 0 ? W / 2 : 0.05, ctr = i == 0 ? X0 + W / 2 : i == 1 ? Y - 0.05 : 0.0;
+            int f = 2 * i + s;
+            memset(d.obstacles[0].face_point[f], 0, sizeof d.obstacles[0].face_point[f]);
+            memset(d.obstacles[0].face_normal[f], 0, sizeof d.obstacles[0].face_normal[f]);
+            d.obstacles[0].face_normal[f][i] = s ? -1.0 : 1.0;
+            d.obstacles[0].face_point[f][i] = ctr + (s ? -half : half);
+        }
+    ENSURE(t1 > t_in + dd / vy && vx * t1 < X0 + W);   /* out through the top, not the far side */
+    ENSURE(begin_run(&d, 1.0, &b) == EXDEX_OK);
+    hyb *H = &b.O->S.H;
+    free_state_from(H, q0, v0, t0, y0);
+    free_state_from(H, q0, v0, t1, y1);
+    ng0 = hyb_guards(H, t0, y0, g0);
+    ng1 = hyb_guards(H, t1, y1, g1);
+    ENSURE(ng0 == ng1 && ng0 > 0);
+    for (int e = 0; e < ng0; e++) {
+        ENSURE(g0[e].value > 0.0 && g1[e].value > 0.0);   /* the end values do not show it */
+        any |= g0[e].kind == G_OBST_GAP;
+    }
+    ENSURE(any);
+    ENSURE(hyb_obst_dips(H, b.O, t0, y0, t1, y1, ng0, g0, g1, &tau, &e_best) == EXDEX_OK);
+    ENSURE_CLOSE(tau, t_in - t0, 1e-9);
+    ENSURE(e_best >= 0 && g0[e_best].kind == G_OBST_GAP);
+    /* a step ending before the face is reached: nothing */
+    tau = INFINITY;
+    e_best = -1;
+    t1 = t_in - 0.01;
+    free_state_from(H, q0, v0, t1, y1);
+    hyb_guards(H, t1, y1, g1);
+    ENSURE(hyb_obst_dips(H, b.O, t0, y0, t1, y1, ng0, g0, g1, &tau, &e_best) == EXDEX_OK);
     ENSURE(e_best == -1 && isinf(tau));
     end_run(&b);
 }
