@@ -106,9 +106,7 @@ static int obst_guards_1dof(const hyb *H, const exdex_kinematics *kin, double q,
     return n;
 }
 
-/* Guard values of the current mode at (t, y); each is >= 0 while the mode
- * holds. Returns how many (<= 2 + n_stops). */
-/* The free gaps among the guards, in guards()'s order: planar, the gap of
+/* The free gaps among the guards, in hyb_guards' order: planar, the gap of
  * every (stop, vertex) row outside the contact set; 1-DoF, each stop's
  * smallest vertex gap (the contact stop: its other vertices'). Functions of
  * (t, q) alone, so their rates along the motion are those of q' = qd. */
@@ -147,6 +145,9 @@ static int gap_guards(const hyb *H, const exdex_kinematics *kin, const double *y
     return n;
 }
 
+/* The guards of the current mode at (t, y) into g (records, hybrid.h: each
+ * value >= 0 while the mode holds), in the order the header lists; returns
+ * how many (<= NG_MAX). */
 int hyb_guards(hyb *H, double t, const double *y, hyb_guard *g)
 {
     hyb_pads(H, y);
