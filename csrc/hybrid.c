@@ -238,370 +238,522 @@ static int hybrid_begin(const exdex_model *m, ode *O, int law, double t_end, dou
 /* One output interval, from the last recorded time to ti, recorded as
  * sample i. regrip: the model's capacity changed since the last interval
  * (the stepper's grip force): the mode is decided again at its start. */
+/* The state of one output interval's loop (hybrid_advance): the run's
+ * state, the step under way and the first event found in it. */
+typedef struct adv {
+    hyb H;
+    ode *O;
+    exdex_stats *st;
+    double t, h, y[NY_MAX];   /* time reached, the stepper's next step, the state */
+    double ti;                /* the interval's end */
+    const double *ts;         /* switching times (nsw of them) */
+    size_t nsw, k;            /* k: the segment of the step (ts[k - 1] <= t < ts[k]) */
+    /* the step */
+    double t0, y0[NY_MAX];    /* its start */
+    hyb_guard g0[NG_MAX], g1[NG_MAX];  /* the guards at its start and at its end */
+    int ng;
+    double tau_best;          /* the first event: t0 + tau_best, guard e_best (-1: none) */
+    int e_best;
+    /* the interval */
+    int events, same;         /* events, and how often in a row one fell at the same time */
+    double t_event;
+    unsigned long ode_steps;
+    size_t brent0;            /* Brent iterations count in the step budget */
+} adv;
+
+/* The step from A->t: its segment, where it must end (tstop: the interval's
+ * end, the segment's, the motion's next knot), the slip's reference
+ * direction, the guards at its start and the stepper of the mode. */
+static double step_start(adv *A)
+{
+    hyb *H = &A->H;
+    ode *O = A->O;
+    const exdex_model *m = H->m;
+    int nd = H->ndof, law = H->law;
+    double tstop;
+    A->t0 = A->t;
+    A->tau_best = INFINITY;
+    A->e_best = -1;
+    A->k = 0;
+    while (A->k < A->nsw && A->ts[A->k] <= A->t) A->k++;
+    H->lo = A->k ? A->ts[A->k - 1] : 0.0;
+    H->hi = A->k < A->nsw ? A->ts[A->k] : INFINITY;
+    tstop = fmin(A->ti, H->hi);
+    tstop = fmin(tstop, exdex_motion_next_knot(m->motion, A->t));  /* a step ends at a knot: header */
+    if (nd == 3 && H->mode == MODE_SLIP && law == LAW_COULOMB &&
+        (A->y[3] != 0.0 || A->y[4] != 0.0 || A->y[5] != 0.0)) {
+        double u[3];
+        hyb_pads(H, A->y);
+        model_patch_slip(m, MODEL_CS(A->y[2]), A->y + 3, u);
+        for (int c = 0; c < 3; c++) H->uref[c] = m->e[c] * u[c];
+    }
+    memcpy(A->y0, A->y, sizeof A->y);
+    A->ng = hyb_guards(H, A->t0, A->y0, A->g0);
+    if (O->step != (H->stiff ? O->bs : O->rk)) {
+        O->step = H->stiff ? O->bs : O->rk;
+        ode_restart(O);
+    }
+    return tstop;
+}
+
+/* One accepted step of the stepper towards tstop, within the step budget
+ * and above the step floor (hybrid.h); the guards at its end. */
+static int step_integrate(adv *A, double tstop)
+{
+    hyb *H = &A->H;
+    ode *O = A->O;
+    exdex_stats *st = A->st;
+    int gs;
+    {
+        unsigned long c0 = O->evo->count + O->evo->failed_steps;
+        gs = gsl_odeiv2_evolve_apply(O->evo, O->con, O->step, &O->sys, &A->t, tstop, &A->h, A->y);
+        A->ode_steps += O->evo->count + O->evo->failed_steps - c0;
+    }
+    if (H->err) return H->err;
+    if (gs != GSL_SUCCESS) {
+        st->fail_cause = EXDEX_FAIL_STEPPER;
+        return EXDEX_ENOCONV;
+    }
+    st->steps++;
+    /* step budget and step floor (hybrid.h) */
+    if (A->ode_steps + (st->solver_iterations - A->brent0) > STEPS_MAX ||
+        (A->t < tstop && !(A->h >= H_FLOOR_ULPS * DBL_EPSILON * fabs(A->t)))) {
+        st->warnings++;
+        st->fail_cause = A->ode_steps + (st->solver_iterations - A->brent0) > STEPS_MAX ? EXDEX_FAIL_STEP_BUDGET
+                                                                                : EXDEX_FAIL_STEP_FLOOR;
+        return EXDEX_ENOCONV;
+    }
+    hyb_guards(H, A->t, A->y, A->g1);
+    return EXDEX_OK;
+}
+
+/* A 1-DoF slip that stops and restarts the same way within the step: the
+ * step is cut at the dip (guard 0, s qd, violated there). */
+static int slip_dip_1dof(adv *A)
+{
+    hyb *H = &A->H;
+    ode *O = A->O;
+    int status = EXDEX_OK;
+    if (H->ndof != 1 || H->law != LAW_COULOMB) return EXDEX_OK;
+    if (H->mode == MODE_SLIP && A->g0[0].value > 0.0 && A->g1[0].value >= 0.0) {
+        /* the slip can stop and restart the same way within one
+         * step (the load falls inside the friction limit and
+         * leaves it again): s qd dips below 0 and recovers, which
+         * the end values do not show. s qd has an interior minimum
+         * when its rate turns from falling to rising over the step;
+         * then a golden-section search for it on the stepper's map
+         * (bounded), and a negative minimum bounds the root */
+        double d0[NY_MAX], d1[NY_MAX];
+        if (hyb_rhs(A->t0, A->y0, d0, H) == GSL_SUCCESS && hyb_rhs(A->t, A->y, d1, H) == GSL_SUCCESS &&
+            H->s * d0[1] < 0.0 && H->s * d1[1] > 0.0) {
+            double tm, gm;
+            status = hyb_guard_extremum(H, O, A->t0, A->y0, A->t - A->t0, 0, 1.0, &tm, &gm);
+            if (status) return status;
+            if (gm < 0.0) {
+                /* the step ends at the dip; the guard is violated there */
+                if (hyb_one_step(O, A->t0, A->y0, tm, A->y) != GSL_SUCCESS) {
+                    status = EXDEX_ENOCONV;
+                    return status;
+                }
+                A->t = A->t0 + tm;
+                hyb_guards(H, A->t, A->y, A->g1);
+            }
+        }
+    }
+    return EXDEX_OK;
+}
+
+/* The guards violated at the step's end: each one's first crossing
+ * (located), the earliest into A->tau_best, A->e_best. */
+static int crossings(adv *A)
+{
+    hyb *H = &A->H;
+    ode *O = A->O;
+    exdex_stats *st = A->st;
+    int status = EXDEX_OK;
+    for (int e = 0; e < A->ng; e++) {
+        double tau;
+        if (!(A->g1[e].value < 0.0)) continue;
+        if (A->g0[e].value <= 0.0) {
+            /* violated from the start: an event at t0 unless the
+             * guard is recovering (a touching stop left behind), or
+             * the decision at t0 keeps being undone (a tie: let the
+             * step decide, counted as a warning) */
+            if (!(A->g1[e].value < A->g0[e].value - GUARD_RECOVER)) continue;
+            {
+                /* it may recover first and cross later within the
+                 * step (a corner lifted off a stop by an impact at
+                 * t0 falls back): locate that crossing */
+                double tm, gm;
+                status = hyb_guard_extremum(H, O, A->t0, A->y0, A->t - A->t0, e, -1.0, &tm, &gm);
+                if (status) break;
+                if (gm > 0.0) {
+                    status = hyb_locate(H, O, A->t0, A->y0, tm, A->t - A->t0, e, &tau);
+                    if (status) break;
+                    if (tau < A->tau_best) {
+                        A->tau_best = tau;
+                        A->e_best = e;
+                    }
+                    continue;
+                }
+            }
+            if (A->same >= 4) {
+                st->warnings++;
+                continue;
+            }
+            tau = 0.0;
+        } else {
+            status = hyb_locate(H, O, A->t0, A->y0, 0.0, A->t - A->t0, e, &tau);
+            if (status) break;
+        }
+        if (tau < A->tau_best) {
+            A->tau_best = tau;
+            A->e_best = e;
+        }
+    }
+    return status;
+}
+
+/* Guards that dip below 0 and recover within the step (their end values
+ * do not show it): free gaps, obstacle rows through a feature switch,
+ * 1-DoF corners. */
+static int dips(adv *A)
+{
+    hyb *H = &A->H;
+    ode *O = A->O;
+    int status = EXDEX_OK;
+    /* a free gap that dipped below 0 and recovered within the step */
+    if (!status) status = hyb_gap_dips(H, O, A->t0, A->y0, A->t, A->y, A->ng, A->g0, A->g1, &A->tau_best, &A->e_best);
+    /* ... or through an obstacle row's feature switch */
+    if (!status) status = hyb_obst_dips(H, O, A->t0, A->y0, A->t, A->y, A->ng, A->g0, A->g1, &A->tau_best, &A->e_best);
+    if (!status && H->ns && H->ndof == 1) {
+        /* 1-DoF: a corner's gap dipping below 0 within the step
+         * (hyb_row_dip): the event is its stop guard, violated at the
+         * crossing */
+        hyb_guard gt[NG_MAX];
+        double tau, ye[NY_MAX], t1 = A->t;
+        const double *y1 = A->y;
+        if (A->tau_best < A->t - A->t0) {
+            /* only a dip before the event found matters */
+            if (hyb_one_step(O, A->t0, A->y0, A->tau_best, O->ytmp) != GSL_SUCCESS || H->err) {
+                status = H->err ? H->err : EXDEX_ENOCONV;
+                return status;
+            }
+            memcpy(ye, O->ytmp, (size_t)H->ny * sizeof *ye);
+            t1 = A->t0 + A->tau_best;
+            y1 = ye;
+        }
+        status = hyb_row_dip(H, O, A->t0, A->y0, t1, y1, &tau);
+        if (!status && tau < A->tau_best) {
+            if (hyb_one_step(O, A->t0, A->y0, tau, O->ytmp) != GSL_SUCCESS || H->err) {
+                status = H->err ? H->err : EXDEX_ENOCONV;
+            } else {
+                hyb_guards(H, A->t0 + tau, O->ytmp, gt);
+                for (int e = 0; e < A->ng; e++)
+                    if (A->g0[e].value > 0.0 && gt[e].value < 0.0) {
+                        A->tau_best = tau;
+                        A->e_best = e;
+                        break;
+                    }
+            }
+        }
+    }
+    return status;
+}
+
+/* The earliest crossing before the event found (a guard dipping and
+ * recovering before it, seen at the event's point; at most ng passes). */
+static int earliest(adv *A)
+{
+    hyb *H = &A->H;
+    ode *O = A->O;
+    int status = EXDEX_OK;
+    /* a guard can dip below 0 and recover within one step (its end
+     * value is >= 0): the located event's point shows it; take the
+     * earliest such crossing instead (at most ng passes) */
+    for (int pass = 0; A->e_best >= 0 && A->tau_best > 0.0 && !status && pass < A->ng; pass++) {
+        hyb_guard gt[NG_MAX];
+        double tau_new = A->tau_best;
+        int e_new = -1;
+        if (hyb_one_step(O, A->t0, A->y0, A->tau_best, O->ytmp) != GSL_SUCCESS || H->err) {
+            status = H->err ? H->err : EXDEX_ENOCONV;
+            break;
+        }
+        hyb_guards(H, A->t0 + A->tau_best, O->ytmp, gt);
+        for (int e = 0; e < A->ng && !status; e++) {
+            double tau;
+            if (e == A->e_best || !(A->g0[e].value > 0.0) || !(gt[e].value < 0.0)) continue;
+            status = hyb_locate(H, O, A->t0, A->y0, 0.0, A->tau_best, e, &tau);
+            if (!status && tau < tau_new) {
+                tau_new = tau;
+                e_new = e;
+            }
+        }
+        if (e_new < 0) break;
+        A->tau_best = tau_new;
+        A->e_best = e_new;
+    }
+    return status;
+}
+
+/* The first event inside the step [t0, t] into A->tau_best, A->e_best (-1:
+ * none), within the step budget. */
+static int find_event(adv *A)
+{
+    exdex_stats *st = A->st;
+    int status = slip_dip_1dof(A);
+    if (!status) status = crossings(A);
+    if (!status) status = dips(A);
+    if (!status) status = earliest(A);
+    if (!status && A->ode_steps + (st->solver_iterations - A->brent0) > STEPS_MAX) {
+        st->warnings++;
+        st->fail_cause = EXDEX_FAIL_STEP_BUDGET;
+        status = EXDEX_ENOCONV;
+    }
+    return status;
+}
+
+/* The state at the event (the step cut there), the decision of the next
+ * mode (what the event's kind implies: a slip stopping, a small slip grown,
+ * a slip decaying, a row separating or joining), the tie rules at a repeated
+ * instant, the event budget. */
+static int take_event(adv *A)
+{
+    hyb *H = &A->H;
+    ode *O = A->O;
+    exdex_stats *st = A->st;
+    const exdex_model *m = H->m;
+    int law = H->law, status = EXDEX_OK;
+    int vz, keep = 0, sep = -1, join = 0, kind = A->g0[A->e_best].kind;
+    if (A->tau_best > 0.0 && A->t0 + A->tau_best == A->t0 && A->g0[A->e_best].value > 0.0 && A->t > A->t0) {
+        /* a crossing within half an ulp of t0: the event time
+         * would round to t0, where the guard holds and the
+         * decision at the same state would be taken again
+         * (no progress, events piling up at one time): the
+         * event is at the next representable time */
+        A->tau_best = nextafter(A->t0, INFINITY) - A->t0;
+    }
+    if (hyb_one_step(O, A->t0, A->y0, A->tau_best, A->y) != GSL_SUCCESS || H->err) {
+        status = H->err ? H->err : EXDEX_ENOCONV;
+        return status;
+    }
+    A->t = A->t0 + A->tau_best;
+    A->same = A->t == A->t_event ? A->same + 1 : 0;
+    A->t_event = A->t;
+    /* the first guard of 1-DoF slip (and of moving contact, the
+     * second) is the slip speed: it stopped. A rest against a
+     * stop (1-DoF contact, s = 0) ends at its first guard (the
+     * stop no longer pushes and the load leaves the static
+     * capacity) from rest: the velocity it carries is the
+     * stop's, below tol.vzero (its second guard), whose sign
+     * must not choose a slip */
+    vz = kind == G_SLIP_STOPS || kind == G_CONTACT_STOPS || kind == G_REST_LEAVES;
+    if (kind == G_SMALL_STOPS || kind == G_SMALL_GROWS || kind == G_SLIP_TURNS || kind == G_SLIP_DECAYS) {
+        /* planar: a small slip stops (guard 0) or has grown
+         * (guard 1: on as a slip, no stop); a slip decays below
+         * zsw (guard 1) or reverses (guard 0): a stop, unless
+         * |E u| is still above zsw where E u turned against its
+         * direction at the step start (a turn: on as a slip
+         * with the new reference direction) */
+        double u[3], eu[3];
+        hyb_pads(H, A->y);
+        model_patch_slip(m, MODEL_CS(A->y[2]), A->y + 3, u);
+        for (int c = 0; c < 3; c++) eu[c] = m->e[c] * u[c];
+        if (H->small) {
+            vz = kind == G_SMALL_STOPS;
+            /* grown to SLIP_UP zsw: decided as a (large) slip */
+            if (kind == G_SMALL_GROWS) H->small = 0;
+        } else {
+            vz = kind == G_SLIP_DECAYS || !(sqrt(ex_dot3(eu, eu)) > H->zsw);
+            if (kind == G_SLIP_DECAYS) {
+                /* decayed below zsw: it stops where the load
+                 * can be held; else it slips on as a small
+                 * slip, velocity kept (what a stop dropped
+                 * would persist where the friction cannot
+                 * take it back, e.g. mu = 0) */
+                frame fk;
+                exdex_kinematics kk;
+                if (hyb_frame_seg(H, A->t, &fk, &kk)) {
+                    status = EXDEX_ENOCONV;
+                    return status;
+                }
+                keep = !hyb_planar_load_held(H, &fk, &kk, A->y);
+            }
+        }
+    }
+    /* planar, a contact-set row separating (its guard lam G
+     * M^-1 G^T - gap acceleration) */
+    if (law == LAW_COULOMB && kind == G_SEPARATES) sep = A->g0[A->e_best].row;
+    /* planar, a free stop row's gap */
+    if (law == LAW_COULOMB && H->mode == MODE_SLIP && !H->sfric && kind == G_GAP) join = 1;
+    hyb_hold_set_rows(H, A->t, A->y);
+    /* regularised, planar, two coefficients: the held
+     * regime's guard (the first): it broke away, or a slip
+     * slowed into the band */
+    if (hyb_smooth_two(H) && kind == G_HELD) H->held = !H->held;
+    if (keep)
+        H->small = 1;
+    else
+        hyb_decide(H, A->t, A->y, vz);
+    if (sep >= 0 && A->same >= 1 && H->mode == MODE_SLIP) {
+        hyb_set_tie_leaves(H, sep);
+        if (H->sfric) hyb_sf_redecide(H, A->t, A->y);
+    }
+    if (join && A->same >= 1 && H->mode == MODE_SLIP) hyb_set_tie_joins(H, A->y, A->t);
+    gsl_odeiv2_evolve_reset(O->evo);
+    gsl_odeiv2_step_reset(O->step);
+    if (++A->events > EVENTS_MAX) {
+        st->warnings++;
+        st->fail_cause = EXDEX_FAIL_EVENTS;
+        status = EXDEX_ENOCONV;
+        return status;
+    }
+    return EXDEX_OK;
+}
+
+/* No event in the step: the contact set's projection (a planar rest holds q). */
+static void settle_step(adv *A)
+{
+    hyb *H = &A->H;
+    ode *O = A->O;
+    int nd = H->ndof, law = H->law;
+    /* the projection moves y off the evolve object's last
+     * output: the next step must not start from that output's
+     * derivative */
+    double yp[NY_MAX];
+    memcpy(yp, A->y, sizeof yp);
+    /* a planar rest holds q (hyb_reported_pose) */
+    if (!(nd == 3 && law == LAW_COULOMB && H->mode == MODE_STICK)) hyb_project_contact(H, A->t, A->y);
+    if (memcmp(yp, A->y, (size_t)H->ny * sizeof *A->y)) ode_restart(O);
+}
+
+/* After the step: the stepper's choice, the smallest gap, the next motion
+ * segment at a switching time (velocity jumps, a decision). */
+static int after_step(adv *A)
+{
+    hyb *H = &A->H;
+    ode *O = A->O;
+    exdex_stats *st = A->st;
+    const exdex_model *m = H->m;
+    int ns = H->ns, status = EXDEX_OK;
+    stiff_track(H, A->y, A->e_best >= 0);
+    /* a penetration left after the step: the scene drives the
+     * object through a stop (see tol.pen) */
+    if (ns || m->n_obst) {
+        exdex_kinematics kt;
+        double yr[NY_MAX];
+        const double *yq = hyb_reported_pose(H, A->t, A->y, yr);
+        double gmin = exdex_motion_eval(m->motion, A->t, &kt) ? INFINITY : contact_min_gap(m, &kt, yq);
+        if (gmin < st->min_gap) st->min_gap = gmin;
+        if (gmin < -m->tol.pen) st->warnings++;
+    }
+    if (A->t == H->hi) {
+        /* a switching time of the motion: next segment */
+        hyb_hold_set_rows(H, A->t, A->y);
+        H->lo = H->hi;
+        A->k++;
+        H->hi = A->k < A->nsw ? A->ts[A->k] : INFINITY;
+        status = hyb_apply_jump(H, A->t, A->y);
+        if (status) return status;
+        hyb_decide(H, A->t, A->y, 0);
+        stiff_track(H, A->y, 1);
+        ode_restart(O);
+    }
+    if (!ex_finite_n(A->y, H->ny)) status = EXDEX_ENONFINITE;
+    return status;
+}
+
+/* The sample at the interval's end: the interval's integrals (friction,
+ * stop forces) as means over its length hs; then they restart from 0. */
+static void record_sample(adv *A, exdex_trajectory *out, size_t i, double hs)
+{
+    hyb *H = &A->H;
+    exdex_stats *st = A->st;
+    const exdex_model *m = H->m;
+    int nd = H->ndof, law = H->law;
+/* the interval's integrals (friction, stop forces) as means
+ * over it; then they restart from 0 */
+int off = nd == 1 ? 2 : 6, nw = nd == 1 ? 1 : 3;
+double wrench[3] = {0, 0, 0}, sf[NSRC_MAX], yr[NY_MAX];
+const double *yq;
+if (nd == 3) {
+    for (int c = 0; c < 3; c++) wrench[c] = A->y[6 + c] / hs;
+} else if (m->def.dof == EXDEX_DOF_TRANSLATION) {
+    wrench[0] = A->y[2] / hs * m->d[0];
+    wrench[1] = A->y[2] / hs * m->d[1];
+} else {
+    wrench[2] = A->y[2] / hs;
+}
+for (int k2 = 0; k2 < m->n_src; k2++) sf[k2] = A->y[off + nw + k2] / hs;
+yq = hyb_reported_pose(H, A->ti, A->y, yr);
+method_record(m, out, st, i, A->ti, yq, yq + nd, wrench,
+              law == LAW_COULOMB && H->mode == MODE_STICK ? 1 : is_still(H, A->y), sf);
+for (int c = off; c < H->ny; c++) A->y[c] = 0.0;
+}
+
+/* One output interval: steps to ti, each a pipeline (the step, its first
+ * event, the decision there or the projection, the segment's end), then
+ * the sample. */
 static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, exdex_trajectory *out, size_t i,
                           exdex_stats *st)
 {
-    hyb H = O->S.H;
-    double y[NY_MAX], y0[NY_MAX], *ts = O->ts, t = O->S.t, h = O->S.h;
-    size_t nsw = O->S.nsw;
-    int nd, ns, law = H.law, status = EXDEX_OK;
+    adv A;
+    hyb *H = &A.H;
+    int status = EXDEX_OK;
+    A.H = O->S.H;
+    A.O = O;
+    A.st = st;
+    A.ti = ti;
+    A.ts = O->ts;
+    A.nsw = O->S.nsw;
+    A.t = O->S.t;
+    A.h = O->S.h;
     if (O->mc) m = model_pads_follow(m, O->mc);
-    nd = m->ndof;
-    ns = m->n_stops;
-    memcpy(y, O->S.y, sizeof y);
-    H.m = m;
-    H.mc = O->mc;
-    H.st = st;
-    O->sys.params = &H;
-    O->step = H.stiff ? O->bs : O->rk;
+    memcpy(A.y, O->S.y, sizeof A.y);
+    H->m = m;
+    H->mc = O->mc;
+    H->st = st;
+    O->sys.params = H;
+    O->step = H->stiff ? O->bs : O->rk;
     if (regrip) {
-        H.cap = H.capk * model_capacity(m, t);
-        H.caps = H.capk * model_capacity_static(m, t);
-        hyb_hold_set_rows(&H, t, y);
-        hyb_decide(&H, t, y, 0);
-        stiff_track(&H, y, 1);
+        H->cap = H->capk * model_capacity(m, A.t);
+        H->caps = H->capk * model_capacity_static(m, A.t);
+        hyb_hold_set_rows(H, A.t, A.y);
+        hyb_decide(H, A.t, A.y, 0);
+        stiff_track(H, A.y, 1);
         O->step = O->rk;
         gsl_odeiv2_evolve_reset(O->evo);
         gsl_odeiv2_step_reset(O->step);
-        status = H.err;
+        status = H->err;
     }
     do {
         double hs = ti - O->S.t_rec;
         if (status) break;
-        int events = 0, same = 0;
-        unsigned long ode_steps = 0;
-        size_t brent0 = st->solver_iterations; /* Brent iterations count in the step budget */
-        double t_event = -1.0;
-        while (t < ti && status == EXDEX_OK && !H.err) {
-            double g0[NG_MAX], g1[NG_MAX], t0 = t, tstop, tau_best = INFINITY;
-            int ng, e_best = -1, gs;
-            size_t k = 0;
-            while (k < nsw && ts[k] <= t) k++;
-            H.lo = k ? ts[k - 1] : 0.0;
-            H.hi = k < nsw ? ts[k] : INFINITY;
-            tstop = fmin(ti, H.hi);
-            tstop = fmin(tstop, exdex_motion_next_knot(m->motion, t));  /* a step ends at a knot: header */
-            if (nd == 3 && H.mode == MODE_SLIP && law == LAW_COULOMB &&
-                (y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0)) {
-                double u[3];
-                hyb_pads(&H, y);
-                model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
-                for (int c = 0; c < 3; c++) H.uref[c] = m->e[c] * u[c];
-            }
-            memcpy(y0, y, sizeof y);
-            ng = hyb_guards(&H, t0, y0, g0);
-            if (O->step != (H.stiff ? O->bs : O->rk)) {
-                O->step = H.stiff ? O->bs : O->rk;
-                ode_restart(O);
-            }
-            {
-                unsigned long c0 = O->evo->count + O->evo->failed_steps;
-                gs = gsl_odeiv2_evolve_apply(O->evo, O->con, O->step, &O->sys, &t, tstop, &h, y);
-                ode_steps += O->evo->count + O->evo->failed_steps - c0;
-            }
-            if (H.err) break;
-            if (gs != GSL_SUCCESS) {
-                st->fail_cause = EXDEX_FAIL_STEPPER;
-                status = EXDEX_ENOCONV;
-                break;
-            }
-            st->steps++;
-            /* step budget and step floor (hybrid.h) */
-            if (ode_steps + (st->solver_iterations - brent0) > STEPS_MAX ||
-                (t < tstop && !(h >= H_FLOOR_ULPS * DBL_EPSILON * fabs(t)))) {
-                st->warnings++;
-                st->fail_cause = ode_steps + (st->solver_iterations - brent0) > STEPS_MAX ? EXDEX_FAIL_STEP_BUDGET
-                                                                                        : EXDEX_FAIL_STEP_FLOOR;
-                status = EXDEX_ENOCONV;
-                break;
-            }
-            hyb_guards(&H, t, y, g1);
-            if (nd == 1 && law == LAW_COULOMB && H.mode == MODE_SLIP && g0[0] > 0.0 && g1[0] >= 0.0) {
-                /* the slip can stop and restart the same way within one
-                 * step (the load falls inside the friction limit and
-                 * leaves it again): s qd dips below 0 and recovers, which
-                 * the end values do not show. s qd has an interior minimum
-                 * when its rate turns from falling to rising over the step;
-                 * then a golden-section search for it on the stepper's map
-                 * (bounded), and a negative minimum bounds the root */
-                double d0[NY_MAX], d1[NY_MAX];
-                if (hyb_rhs(t0, y0, d0, &H) == GSL_SUCCESS && hyb_rhs(t, y, d1, &H) == GSL_SUCCESS &&
-                    H.s * d0[1] < 0.0 && H.s * d1[1] > 0.0) {
-                    double tm, gm;
-                    status = hyb_guard_extremum(&H, O, t0, y0, t - t0, 0, 1.0, &tm, &gm);
-                    if (status) break;
-                    if (gm < 0.0) {
-                        /* the step ends at the dip; the guard is violated there */
-                        if (hyb_one_step(O, t0, y0, tm, y) != GSL_SUCCESS) {
-                            status = EXDEX_ENOCONV;
-                            break;
-                        }
-                        t = t0 + tm;
-                        hyb_guards(&H, t, y, g1);
-                    }
-                }
-            }
-            for (int e = 0; e < ng; e++) {
-                double tau;
-                if (!(g1[e] < 0.0)) continue;
-                if (g0[e] <= 0.0) {
-                    /* violated from the start: an event at t0 unless the
-                     * guard is recovering (a touching stop left behind), or
-                     * the decision at t0 keeps being undone (a tie: let the
-                     * step decide, counted as a warning) */
-                    if (!(g1[e] < g0[e] - GUARD_RECOVER)) continue;
-                    {
-                        /* it may recover first and cross later within the
-                         * step (a corner lifted off a stop by an impact at
-                         * t0 falls back): locate that crossing */
-                        double tm, gm;
-                        status = hyb_guard_extremum(&H, O, t0, y0, t - t0, e, -1.0, &tm, &gm);
-                        if (status) break;
-                        if (gm > 0.0) {
-                            status = hyb_locate(&H, O, t0, y0, tm, t - t0, e, &tau);
-                            if (status) break;
-                            if (tau < tau_best) {
-                                tau_best = tau;
-                                e_best = e;
-                            }
-                            continue;
-                        }
-                    }
-                    if (same >= 4) {
-                        st->warnings++;
-                        continue;
-                    }
-                    tau = 0.0;
-                } else {
-                    status = hyb_locate(&H, O, t0, y0, 0.0, t - t0, e, &tau);
-                    if (status) break;
-                }
-                if (tau < tau_best) {
-                    tau_best = tau;
-                    e_best = e;
-                }
-            }
-            /* a free gap that dipped below 0 and recovered within the step */
-            if (!status) status = hyb_gap_dips(&H, O, t0, y0, t, y, ng, g0, g1, &tau_best, &e_best);
-            /* ... or through an obstacle row's feature switch */
-            if (!status) status = hyb_obst_dips(&H, O, t0, y0, t, y, g0, g1, &tau_best, &e_best);
-            if (!status && ns && nd == 1) {
-                /* 1-DoF: a corner's gap dipping below 0 within the step
-                 * (hyb_row_dip): the event is its stop guard, violated at the
-                 * crossing */
-                double tau, gt[NG_MAX], ye[NY_MAX], t1 = t;
-                const double *y1 = y;
-                if (tau_best < t - t0) {
-                    /* only a dip before the event found matters */
-                    if (hyb_one_step(O, t0, y0, tau_best, O->ytmp) != GSL_SUCCESS || H.err) {
-                        status = H.err ? H.err : EXDEX_ENOCONV;
-                        break;
-                    }
-                    memcpy(ye, O->ytmp, (size_t)H.ny * sizeof *ye);
-                    t1 = t0 + tau_best;
-                    y1 = ye;
-                }
-                status = hyb_row_dip(&H, O, t0, y0, t1, y1, &tau);
-                if (!status && tau < tau_best) {
-                    if (hyb_one_step(O, t0, y0, tau, O->ytmp) != GSL_SUCCESS || H.err) {
-                        status = H.err ? H.err : EXDEX_ENOCONV;
-                    } else {
-                        hyb_guards(&H, t0 + tau, O->ytmp, gt);
-                        for (int e = 0; e < ng; e++)
-                            if (g0[e] > 0.0 && gt[e] < 0.0) {
-                                tau_best = tau;
-                                e_best = e;
-                                break;
-                            }
-                    }
-                }
-            }
+        A.events = A.same = 0;
+        A.ode_steps = 0;
+        A.brent0 = st->solver_iterations;
+        A.t_event = -1.0;
+        while (A.t < ti && status == EXDEX_OK && !H->err) {
+            double tstop = step_start(&A);
+            status = step_integrate(&A, tstop);
+            if (!status) status = find_event(&A);
             if (status) break;
-            /* a guard can dip below 0 and recover within one step (its end
-             * value is >= 0): the located event's point shows it; take the
-             * earliest such crossing instead (at most ng passes) */
-            for (int pass = 0; e_best >= 0 && tau_best > 0.0 && !status && pass < ng; pass++) {
-                double gt[NG_MAX], tau_new = tau_best;
-                int e_new = -1;
-                if (hyb_one_step(O, t0, y0, tau_best, O->ytmp) != GSL_SUCCESS || H.err) {
-                    status = H.err ? H.err : EXDEX_ENOCONV;
-                    break;
-                }
-                hyb_guards(&H, t0 + tau_best, O->ytmp, gt);
-                for (int e = 0; e < ng && !status; e++) {
-                    double tau;
-                    if (e == e_best || !(g0[e] > 0.0) || !(gt[e] < 0.0)) continue;
-                    status = hyb_locate(&H, O, t0, y0, 0.0, tau_best, e, &tau);
-                    if (!status && tau < tau_new) {
-                        tau_new = tau;
-                        e_new = e;
-                    }
-                }
-                if (e_new < 0) break;
-                tau_best = tau_new;
-                e_best = e_new;
-            }
-            if (!status && ode_steps + (st->solver_iterations - brent0) > STEPS_MAX) {
-                st->warnings++;
-                st->fail_cause = EXDEX_FAIL_STEP_BUDGET;
-                status = EXDEX_ENOCONV;
-            }
-            if (status) break;
-            if (e_best >= 0) {
-                int vz, keep = 0, sep = -1, join = 0;
-                if (tau_best > 0.0 && t0 + tau_best == t0 && g0[e_best] > 0.0 && t > t0) {
-                    /* a crossing within half an ulp of t0: the event time
-                     * would round to t0, where the guard holds and the
-                     * decision at the same state would be taken again
-                     * (no progress, events piling up at one time): the
-                     * event is at the next representable time */
-                    tau_best = nextafter(t0, INFINITY) - t0;
-                }
-                if (hyb_one_step(O, t0, y0, tau_best, y) != GSL_SUCCESS || H.err) {
-                    status = H.err ? H.err : EXDEX_ENOCONV;
-                    break;
-                }
-                t = t0 + tau_best;
-                same = t == t_event ? same + 1 : 0;
-                t_event = t;
-                /* the first guard of 1-DoF slip (and of moving contact, the
-                 * second) is the slip speed: it stopped. A rest against a
-                 * stop (1-DoF contact, s = 0) ends at its first guard (the
-                 * stop no longer pushes and the load leaves the static
-                 * capacity) from rest: the velocity it carries is the
-                 * stop's, below tol.vzero (its second guard), whose sign
-                 * must not choose a slip */
-                vz = (nd == 1 && H.mode == MODE_SLIP && e_best == 0) ||
-                     (H.mode == MODE_CONTACT && H.law == LAW_COULOMB && H.s != 0.0 && e_best == 1) ||
-                     (nd == 1 && H.mode == MODE_CONTACT && H.law == LAW_COULOMB && H.s == 0.0 && e_best == 0);
-                if (nd == 3 && H.mode == MODE_SLIP && law == LAW_COULOMB && e_best < 2) {
-                    /* planar: a small slip stops (guard 0) or has grown
-                     * (guard 1: on as a slip, no stop); a slip decays below
-                     * zsw (guard 1) or reverses (guard 0): a stop, unless
-                     * |E u| is still above zsw where E u turned against its
-                     * direction at the step start (a turn: on as a slip
-                     * with the new reference direction) */
-                    double u[3], eu[3];
-                    hyb_pads(&H, y);
-                    model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
-                    for (int c = 0; c < 3; c++) eu[c] = m->e[c] * u[c];
-                    if (H.small) {
-                        vz = e_best == 0;
-                        /* grown to SLIP_UP zsw: decided as a (large) slip */
-                        if (e_best == 1) H.small = 0;
-                    } else {
-                        vz = e_best == 1 || !(sqrt(ex_dot3(eu, eu)) > H.zsw);
-                        if (e_best == 1) {
-                            /* decayed below zsw: it stops where the load
-                             * can be held; else it slips on as a small
-                             * slip, velocity kept (what a stop dropped
-                             * would persist where the friction cannot
-                             * take it back, e.g. mu = 0) */
-                            frame fk;
-                            exdex_kinematics kk;
-                            if (hyb_frame_seg(&H, t, &fk, &kk)) {
-                                status = EXDEX_ENOCONV;
-                                break;
-                            }
-                            keep = !hyb_planar_load_held(&H, &fk, &kk, y);
-                        }
-                    }
-                }
-                /* planar, a contact-set row separating (its guard lam G
-                 * M^-1 G^T - gap acceleration, after the free gaps) */
-                if (nd == 3 && law == LAW_COULOMB && H.mode != MODE_STICK && e_best >= H.gap1 &&
-                    e_best < H.gap1 + H.ncs)
-                    sep = H.cs[e_best - H.gap1];
-                /* planar, a free stop row's gap (the first guards from gap0) */
-                if (nd == 3 && law == LAW_COULOMB && H.mode == MODE_SLIP && !H.sfric && e_best >= H.gap0 &&
-                    e_best < H.gap1 && e_best - H.gap0 < H.ns * H.nv - H.ncs)
-                    join = 1;
-                hyb_hold_set_rows(&H, t, y);
-                /* regularised, planar, two coefficients: the held
-                 * regime's guard (the first): it broke away, or a slip
-                 * slowed into the band */
-                if (hyb_smooth_two(&H) && e_best == 0) H.held = !H.held;
-                if (keep)
-                    H.small = 1;
-                else
-                    hyb_decide(&H, t, y, vz);
-                if (sep >= 0 && same >= 1 && H.mode == MODE_SLIP) {
-                    hyb_set_tie_leaves(&H, sep);
-                    if (H.sfric) hyb_sf_redecide(&H, t, y);
-                }
-                if (join && same >= 1 && H.mode == MODE_SLIP) hyb_set_tie_joins(&H, y, t);
-                gsl_odeiv2_evolve_reset(O->evo);
-                gsl_odeiv2_step_reset(O->step);
-                if (++events > EVENTS_MAX) {
-                    st->warnings++;
-                    st->fail_cause = EXDEX_FAIL_EVENTS;
-                    status = EXDEX_ENOCONV;
-                    break;
-                }
-            } else {
-                /* the projection moves y off the evolve object's last
-                 * output: the next step must not start from that output's
-                 * derivative */
-                double yp[NY_MAX];
-                memcpy(yp, y, sizeof yp);
-                /* a planar rest holds q (hyb_reported_pose) */
-                if (!(nd == 3 && law == LAW_COULOMB && H.mode == MODE_STICK)) hyb_project_contact(&H, t, y);
-                if (memcmp(yp, y, (size_t)H.ny * sizeof *y)) ode_restart(O);
-            }
-            stiff_track(&H, y, e_best >= 0);
-            /* a penetration left after the step: the scene drives the
-             * object through a stop (see tol.pen) */
-            if (ns || m->n_obst) {
-                exdex_kinematics kt;
-                double yr[NY_MAX];
-                const double *yq = hyb_reported_pose(&H, t, y, yr);
-                double gmin = exdex_motion_eval(m->motion, t, &kt) ? INFINITY : contact_min_gap(m, &kt, yq);
-                if (gmin < st->min_gap) st->min_gap = gmin;
-                if (gmin < -m->tol.pen) st->warnings++;
-            }
-            if (t == H.hi) {
-                /* a switching time of the motion: next segment */
-                hyb_hold_set_rows(&H, t, y);
-                H.lo = H.hi;
-                k++;
-                H.hi = k < nsw ? ts[k] : INFINITY;
-                status = hyb_apply_jump(&H, t, y);
-                if (status) break;
-                hyb_decide(&H, t, y, 0);
-                stiff_track(&H, y, 1);
-                ode_restart(O);
-            }
-            if (!ex_finite_n(y, H.ny)) status = EXDEX_ENONFINITE;
+            if (A.e_best >= 0)
+                status = take_event(&A);
+            else
+                settle_step(&A);
+            if (!status) status = after_step(&A);
         }
-        if (H.err && !status) status = H.err;
+        if (H->err && !status) status = H->err;
         if (status) break;
-        {
-            /* the interval's integrals (friction, stop forces) as means
-             * over it; then they restart from 0 */
-            int off = nd == 1 ? 2 : 6, nw = nd == 1 ? 1 : 3;
-            double wrench[3] = {0, 0, 0}, sf[NSRC_MAX], yr[NY_MAX];
-            const double *yq;
-            if (nd == 3) {
-                for (int c = 0; c < 3; c++) wrench[c] = y[6 + c] / hs;
-            } else if (m->def.dof == EXDEX_DOF_TRANSLATION) {
-                wrench[0] = y[2] / hs * m->d[0];
-                wrench[1] = y[2] / hs * m->d[1];
-            } else {
-                wrench[2] = y[2] / hs;
-            }
-            for (int k2 = 0; k2 < m->n_src; k2++) sf[k2] = y[off + nw + k2] / hs;
-            yq = hyb_reported_pose(&H, ti, y, yr);
-            method_record(m, out, st, i, ti, yq, yq + nd, wrench,
-                          law == LAW_COULOMB && H.mode == MODE_STICK ? 1 : is_still(&H, y), sf);
-            for (int c = off; c < H.ny; c++) y[c] = 0.0;
-        }
+        record_sample(&A, out, i, hs);
     } while (0);
-    if (!status && H.err) status = H.err;
-    if (status) hybrid_failed(&H, status, t, st);
-    O->S.H = H;
-    memcpy(O->S.y, y, sizeof y);
-    O->S.t = t;
-    O->S.h = h;
+    if (!status && H->err) status = H->err;
+    if (status) hybrid_failed(H, status, A.t, st);
+    O->S.H = A.H;
+    memcpy(O->S.y, A.y, sizeof A.y);
+    O->S.t = A.t;
+    O->S.h = A.h;
     O->S.t_rec = ti;
     O->sys.params = &O->S.H;
     return status;

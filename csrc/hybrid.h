@@ -365,7 +365,6 @@ typedef struct hyb {
     exdex_stats *st;
     double ss;         /* 1-DoF contact with a frictional stop: sign of the contact vertex's
                           slip along the stop (its Coulomb force opposes it); 0: none */
-    int gap0, gap1;    /* guards() entries [gap0, gap1): free gaps, functions of (t, q) only */
     int sfric;         /* planar with a frictional stop: the stop friction below (sf_*) */
     int fm[SF_MAX_STOPS];  /* planar: friction mode of each friction group with contact-set rows (SF_*) */
     int no;            /* obstacles (their rows follow the stops', see hyb_hrow_src) */
@@ -405,6 +404,66 @@ typedef struct sf_set {
     int grp[MAX_ROWS];                         /* the group of each contact-set row */
     int ng;                                    /* groups */
 } sf_set;
+
+/* ------------------------------------------------------------- guards
+ * A guard of the current mode (hybrid_events.c, hyb_guards): value >= 0
+ * while the mode holds, an event where it falls below 0 (located on the
+ * stepper's map). kind says what ends there; row is the contact row it
+ * watches (a (stop, vertex) row r = k nv + j or ns nv + obstacle code, a
+ * friction group, a stop or an obstacle, by kind; -1 for none); dir is the
+ * sign of the motion it follows (the slip direction s, ss or jam, the slide
+ * of a friction group; 0 for a force, a gap or a speed). The guards of a
+ * mode come in a fixed order: the plate friction's, the free gaps (one
+ * block: G_GAP or G_STOP_GAP, then G_OBST_GAP), the contact set's, the
+ * 1-DoF contact's, the stop friction's. */
+enum {
+    /* plate friction, planar */
+    G_HELD,          /* regularised, two coefficients: the held regime breaks away / is held again */
+    G_SMALL_STOPS,   /* small slip: the load falls back inside the limit (a stop) */
+    G_SMALL_GROWS,   /* small slip: |E u| reaches SLIP_UP zsw (a slip) */
+    G_SLIP_TURNS,    /* slip: E u turns against its direction at the step start */
+    G_SLIP_DECAYS,   /* slip: |E u| falls below zsw */
+    G_STICK_LEAVES,  /* stick (planar or 1-DoF): the load at rest leaves the static limit */
+    /* 1-DoF modes */
+    G_SLIP_STOPS,    /* slip: s qd reaches 0 */
+    G_REST_LEAVES,   /* rest against a stop: the stop no longer pushes and the load leaves C_s */
+    G_REST_MOVES,    /* rest against a stop: |qd| leaves tol.vzero */
+    G_CONTACT_PUSH,  /* contact: the stop force reaches 0 */
+    G_CONTACT_STOPS, /* contact, sliding along the stop: s qd reaches 0 */
+    G_CONTACT_SLIP,  /* frictional contact: the vertex's slip along the stop reverses */
+    G_CONTACT_JAM,   /* frictional contact: D / Fq falls to JAM_DIR (a jam) */
+    G_JAM_SLIP,      /* taken frictionless at a jam: the slip reverses */
+    G_JAM_ENDS,      /* taken frictionless at a jam: the friction would no longer jam */
+    /* rows */
+    G_GAP,           /* planar: a free (stop, vertex) row's gap (row r) */
+    G_STOP_GAP,      /* 1-DoF: a stop's least vertex gap (row: the stop) */
+    G_OBST_GAP,      /* an obstacle's free gap (row: the obstacle) */
+    G_REST_GAP,      /* planar rest: a set row's |gap| leaves tol.rest_gap (row r) */
+    G_SEPARATES,     /* a contact-set row's separation (row r) */
+    G_FEATURE,       /* an obstacle row in contact keeps its feature (row r, or the 1-DoF row code) */
+    /* stop friction, planar (row: the friction group) */
+    G_SF_REST,       /* at rest: a stop's slip past the object leaves / enters the band */
+    G_SF_CONSISTENT, /* +1 / -1: a consistent mode of the acceleration-level problem exists */
+    G_SF_SLIDES,     /* a sliding group's slip reaches 0 */
+    G_SF_CONE,       /* a sticking group's force reaches its cone */
+    G_SF_LOCK,       /* a lock's margin */
+    G_SF_IDLE        /* a group without a guard of its own (+1) */
+};
+
+typedef struct hyb_guard {
+    double value;
+    int kind, row;
+    double dir;
+} hyb_guard;
+
+static inline hyb_guard hg(int kind, int row, double dir, double value)
+{
+    hyb_guard g = {value, kind, row, dir};
+    return g;
+}
+
+/* A free gap (functions of (t, q) alone). */
+static inline int hyb_guard_is_gap(int kind) { return kind == G_GAP || kind == G_STOP_GAP || kind == G_OBST_GAP; }
 
 /* The ODE workspace of one run (hybrid.c): the steppers, the root finder
  * and the saved state. */
@@ -484,14 +543,14 @@ void hyb_hold_set_rows(hyb *H, double t, double *y);
 void hyb_project_contact(hyb *H, double t, double *y);
 
 /* hybrid_events.c */
-int hyb_guards(hyb *H, double t, const double *y, double *g);
+int hyb_guards(hyb *H, double t, const double *y, hyb_guard *g);
 int hyb_one_step(ode *O, double t0, const double *y0, double tau, double *out);
 int hyb_guard_extremum(hyb *H, ode *O, double t0, const double *y0, double tau1, int e, double dir,
                        double *tau, double *g);
 int hyb_gap_dips(hyb *H, ode *O, double t0, const double *y0, double t1, const double *y1, int ng,
-                 const double *g0, const double *g1, double *tau_best, int *e_best);
-int hyb_obst_dips(hyb *H, ode *O, double t0, const double *y0, double t1, const double *y1, const double *g0,
-                  const double *g1, double *tau_best, int *e_best);
+                 const hyb_guard *g0, const hyb_guard *g1, double *tau_best, int *e_best);
+int hyb_obst_dips(hyb *H, ode *O, double t0, const double *y0, double t1, const double *y1, int ng,
+                  const hyb_guard *g0, const hyb_guard *g1, double *tau_best, int *e_best);
 int hyb_locate(hyb *H, ode *O, double t0, const double *y0, double tau0, double tau1, int e, double *tau);
 int hyb_row_dip(hyb *H, ode *O, double t0, const double *y0, double t1, const double *y1, double *tau);
 

@@ -10,7 +10,7 @@
  * / -1 (a consistent mode exists or not), and per frictional stop with set
  * rows: sliding, sigma s; sticking, mu sum lam (1 + FRICTION_BAND) - |beta|, or
  * in a lock (stop_friction.h) its margin. */
-static int sf_guards(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y, double *g)
+static int sf_guards(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y, hyb_guard *g)
 {
     sf_set S;
     sf_result res;
@@ -20,28 +20,28 @@ static int sf_guards(hyb *H, const frame *f, const exdex_kinematics *kin, const 
     if (H->mode == MODE_STICK) {
         for (int k = 0; k < S.ng; k++) {
             if (!(S.has[k] && S.st[k].mu > 0.0)) continue;
-            g[n++] = H->fm[k] == SF_STICK     ? H->zsw - fabs(S.tb[k])
+            g[n++] = hg(G_SF_REST, k, 0, H->fm[k] == SF_STICK     ? H->zsw - fabs(S.tb[k])
                      : H->fm[k] == SF_SLIDE_P ? S.tb[k] - H->zsw
                      : H->fm[k] == SF_SLIDE_M ? -S.tb[k] - H->zsw
-                                              : 1.0;
+                                              : 1.0);
         }
         return n;
     }
     memset(&res, 0, sizeof res);
     if (nr >= 0 && hyb_sf_free_acc(H, f, kin, y, a) == EXDEX_OK) ok = hyb_sf_solve_at(H, kin, y, a, &res);
-    g[n++] = ok ? 1.0 : -1.0;
+    g[n++] = hg(G_SF_CONSISTENT, -1, 0, ok ? 1.0 : -1.0);
     for (int k = 0; k < S.ng; k++) {
         if (!(S.has[k] && S.st[k].mu > 0.0)) continue;
         if (H->fm[k] == SF_SLIDE_P)
-            g[n++] = S.s[k];
+            g[n++] = hg(G_SF_SLIDES, k, 1, S.s[k]);
         else if (H->fm[k] == SF_SLIDE_M)
-            g[n++] = -S.s[k];
+            g[n++] = hg(G_SF_SLIDES, k, -1, -S.s[k]);
         else if (H->fm[k] == SF_STICK && ok && res.lock)
-            g[n++] = res.margin;
+            g[n++] = hg(G_SF_LOCK, k, 0, res.margin);
         else if (H->fm[k] == SF_STICK && ok)
-            g[n++] = S.st[k].mu * res.lsum[k] * (1.0 + FRICTION_BAND) - fabs(res.beta[k]);
+            g[n++] = hg(G_SF_CONE, k, 0, S.st[k].mu * res.lsum[k] * (1.0 + FRICTION_BAND) - fabs(res.beta[k]));
         else
-            g[n++] = 1.0;
+            g[n++] = hg(G_SF_IDLE, k, 0, 1.0);
     }
     return n;
 }
@@ -53,7 +53,7 @@ static int sf_guards(hyb *H, const frame *f, const exdex_kinematics *kin, const 
  * and the smallest gap of its section rows not in the set (a length of the
  * scene when there are none: the count stays fixed between events), per
  * rod its row's gap unless in the set. Returns how many. */
-static int obst_guards(const hyb *H, const exdex_kinematics *kin, const double *y, double *g)
+static int obst_guards(const hyb *H, const exdex_kinematics *kin, const double *y, hyb_guard *g)
 {
     const exdex_model *m = H->m;
     int code[MAX_ROWS], n = 0, base = H->ns * H->nv, no = 0;
@@ -65,7 +65,7 @@ static int obst_guards(const hyb *H, const exdex_kinematics *kin, const double *
         for (int o = 0; o < no; o++) {
             int in = 0;
             for (int c = 0; c < H->ncs && !in; c++) in = H->cs[c] >= base && orow_obst(H->cs[c] - base) == o;
-            g[n++] = in ? m->scale.L : gap[o];
+            g[n++] = hg(G_OBST_GAP, o, 0, in ? m->scale.L : gap[o]);
         }
         return n;
     }
@@ -79,10 +79,10 @@ static int obst_guards(const hyb *H, const exdex_kinematics *kin, const double *
             if (orow_kind(code[i]) == OROW_SECTION) {
                 if (!in) smin = fmin(smin, gap[i]);
             } else if (!in) {
-                g[n++] = gap[i];
+                g[n++] = hg(G_OBST_GAP, o, 0, gap[i]);
             }
         }
-        if (poly) g[n++] = smin;
+        if (poly) g[n++] = hg(G_OBST_GAP, o, 0, smin);
     }
     return n;
 }
@@ -90,7 +90,7 @@ static int obst_guards(const hyb *H, const exdex_kinematics *kin, const double *
 /* 1-DoF guards of the obstacles at (kin, q): per obstacle the smallest gap
  * of its rows (in contact with it: of its other rows, a length of the scene
  * when there are none). Returns how many. */
-static int obst_guards_1dof(const hyb *H, const exdex_kinematics *kin, double q, double *g)
+static int obst_guards_1dof(const hyb *H, const exdex_kinematics *kin, double q, hyb_guard *g)
 {
     const exdex_model *m = H->m;
     int code[MAX_ROWS], n = 0, no, contact = H->mode == MODE_CONTACT;
@@ -101,18 +101,16 @@ static int obst_guards_1dof(const hyb *H, const exdex_kinematics *kin, double q,
         double gmin = own ? m->scale.L : INFINITY;
         for (; i < no && orow_obst(code[i]) == o; i++)
             if (!(own && (m->disc_r > 0.0 || orow_pair(code[i]) == orow_pair(H->cj))) && gap[i] < gmin) gmin = gap[i];
-        g[n++] = gmin;
+        g[n++] = hg(G_OBST_GAP, o, 0, gmin);
     }
     return n;
 }
 
-/* Guard values of the current mode at (t, y); each is >= 0 while the mode
- * holds. Returns how many (<= 2 + n_stops). */
-/* The free gaps among the guards, in guards()'s order: planar, the gap of
+/* The free gaps among the guards, in hyb_guards' order: planar, the gap of
  * every (stop, vertex) row outside the contact set; 1-DoF, each stop's
  * smallest vertex gap (the contact stop: its other vertices'). Functions of
  * (t, q) alone, so their rates along the motion are those of q' = qd. */
-static int gap_guards(const hyb *H, const exdex_kinematics *kin, const double *y, double *g)
+static int gap_guards(const hyb *H, const exdex_kinematics *kin, const double *y, hyb_guard *g)
 {
     const exdex_model *m = H->m;
     int n = 0;
@@ -124,7 +122,7 @@ static int gap_guards(const hyb *H, const exdex_kinematics *kin, const double *y
         for (int k = 0; k < H->ns; k++)
             for (int j = 0; j < H->nv; j++) {
                 double G[3];
-                if (!in[k * H->nv + j]) g[n++] = contact_row_planar(m, kin, k, j, y, y + 3, G, NULL, NULL);
+                if (!in[k * H->nv + j]) g[n++] = hg(G_GAP, k * H->nv + j, 0, contact_row_planar(m, kin, k, j, y, y + 3, G, NULL, NULL));
             }
         if (H->no) n += obst_guards(H, kin, y, g + n);
         return n;
@@ -138,23 +136,25 @@ static int gap_guards(const hyb *H, const exdex_kinematics *kin, const double *y
             double gmin = INFINITY;
             for (int j = 0; j < H->nv; j++)
                 if (j != H->cj) gmin = fmin(gmin, contact_vertex_gap(m, kin, k, &q, j, NULL));
-            if (H->nv > 1) g[n++] = gmin;
+            if (H->nv > 1) g[n++] = hg(G_STOP_GAP, k, 0, gmin);
             continue;
         }
-        g[n++] = contact_stop_gap(m, kin, k, q, NULL);
+        g[n++] = hg(G_STOP_GAP, k, 0, contact_stop_gap(m, kin, k, q, NULL));
     }
     if (H->no) n += obst_guards_1dof(H, kin, y[0], g + n);
     return n;
 }
 
-int hyb_guards(hyb *H, double t, const double *y, double *g)
+/* The guards of the current mode at (t, y) into g (records, hybrid.h: each
+ * value >= 0 while the mode holds), in the order the header lists; returns
+ * how many (<= NG_MAX). */
+int hyb_guards(hyb *H, double t, const double *y, hyb_guard *g)
 {
     hyb_pads(H, y);
     const exdex_model *m = H->m;
     frame f;
     exdex_kinematics kin;
     int n = 0, fs = hyb_frame_seg(H, t, &f, &kin);
-    H->gap0 = H->gap1 = 0;
     if (fs) {
         H->err = H->err ? H->err : fs;
         return 0;
@@ -176,9 +176,9 @@ int hyb_guards(hyb *H, double t, const double *y, double *g)
                         hyb_hrow_planar(H, &kin, H->cs[i], y, zero, G, &gd, NULL);
                         gh = fmin(gh, H->caps * (gd + m->tol.rate) / m->scale.V);
                     }
-                    g[n++] = fmax(H->eps - sig, gh);
+                    g[n++] = hg(G_HELD, -1, 0, fmax(H->eps - sig, gh));
                 } else {
-                    g[n++] = sig - H->eps;
+                    g[n++] = hg(G_HELD, -1, 0, sig - H->eps);
                 }
             }
         } else if (H->mode == MODE_SLIP) {
@@ -194,46 +194,44 @@ int hyb_guards(hyb *H, double t, const double *y, double *g)
                 double F[3], w[3], zero[3] = {0, 0, 0}, lam[MAX_ROWS];
                 model_force_planar(m, &f, y, zero, F);
                 if (H->ncs) {
-                    g[n++] = hyb_planar_rest(H, &kin, y, F, w, lam) - H->cap * (1.0 + FRICTION_BAND);
+                    g[n++] = hg(G_SMALL_STOPS, -1, 0, hyb_planar_rest(H, &kin, y, F, w, lam) - H->cap * (1.0 + FRICTION_BAND));
                 } else {
                     for (int i = 0; i < 3; i++) F[i] = -F[i];
                     model_patch_of_gen(m, MODEL_CS(y[2]), F, w);
-                    g[n++] = model_ls_gauge(m, w) - H->cap * (1.0 + FRICTION_BAND);
+                    g[n++] = hg(G_SMALL_STOPS, -1, 0, model_ls_gauge(m, w) - H->cap * (1.0 + FRICTION_BAND));
                 }
-                g[n++] = SLIP_UP * H->zsw - sig;
+                g[n++] = hg(G_SMALL_GROWS, -1, 0, SLIP_UP * H->zsw - sig);
             } else {
                 /* the slip reverses (E u turns against its direction at
                  * the start of the step: a stop, or a turn when |E u| is
                  * large there) or decays below zsw (a slip dying out,
                  * against stops too, without reversing) */
-                g[n++] = ex_dot3(eu, H->uref);
-                g[n++] = sig - H->zsw;
+                g[n++] = hg(G_SLIP_TURNS, -1, 0, ex_dot3(eu, H->uref));
+                g[n++] = hg(G_SLIP_DECAYS, -1, 0, sig - H->zsw);
             }
         } else {
             double F[3], w[3], zero[3] = {0, 0, 0}, lam[MAX_ROWS];
             model_force_planar(m, &f, y, zero, F);
             if (H->ncs) {
-                g[n++] = H->caps * (1.0 + FRICTION_BAND) - hyb_planar_rest(H, &kin, y, F, w, lam);
+                g[n++] = hg(G_STICK_LEAVES, -1, 0, H->caps * (1.0 + FRICTION_BAND) - hyb_planar_rest(H, &kin, y, F, w, lam));
             } else {
                 for (int i = 0; i < 3; i++) F[i] = -F[i];
                 model_patch_of_gen(m, MODEL_CS(y[2]), F, w);
-                g[n++] = H->caps * (1.0 + FRICTION_BAND) - model_ls_gauge(m, w);
+                g[n++] = hg(G_STICK_LEAVES, -1, 0, H->caps * (1.0 + FRICTION_BAND) - model_ls_gauge(m, w));
             }
         }
         if (H->ns || H->no) {
             /* stops: free rows, their gap (impact when it reaches 0); rows of
              * the contact set, lam_i G_i M^-1 G_i^T - gap acceleration_i (> 0
              * while the row pushes, < 0 once it separates) */
-            H->gap0 = n;
             n += gap_guards(H, &kin, y, g + n);
-            H->gap1 = n;
             if (H->ncs && H->mode == MODE_STICK) {
                 /* at rest against stops that move in B the contact ends
                  * once a set row's gap leaves +-tol.rest_gap */
                 for (int i = 0; i < H->ncs; i++) {
                     int r = H->cs[i];
                     double G[3];
-                    g[n++] = m->tol.rest_gap - fabs(hyb_hrow_planar(H, &kin, r, y, y + 3, G, NULL, NULL));
+                    g[n++] = hg(G_REST_GAP, r, 0, m->tol.rest_gap - fabs(hyb_hrow_planar(H, &kin, r, y, y + 3, G, NULL, NULL)));
                 }
             } else if (H->ncs) {
                 double F[3], w[3], P[3], a[3], qdd[3], lam[MAX_ROWS], acc[MAX_ROWS];
@@ -254,12 +252,12 @@ int hyb_guards(hyb *H, double t, const double *y, double *g)
                     double G[3], d = 0.0;
                     hyb_hrow_planar(H, &kin, r, y, y + 3, G, NULL, NULL);
                     for (int c = 0; c < 3; c++) d += G[c] * G[c] * m->minv[c];
-                    g[n++] = (lk >> i & 1u) ? 1.0 : lam[i] * d - acc[i];
+                    g[n++] = hg(G_SEPARATES, r, 0, (lk >> i & 1u) ? 1.0 : lam[i] * d - acc[i]);
                 }
             }
             /* an obstacle row of the set: its feature stays the active one */
             for (int i = 0; i < H->ncs; i++)
-                if (H->cs[i] >= H->ns * H->nv) g[n++] = orow_feature_guard(m, &kin, H->cs[i] - H->ns * H->nv, y);
+                if (H->cs[i] >= H->ns * H->nv) g[n++] = hg(G_FEATURE, H->cs[i], 0, orow_feature_guard(m, &kin, H->cs[i] - H->ns * H->nv, y));
             if (H->sfric && H->ncs) n += sf_guards(H, &f, &kin, y, g + n);
         }
         return n;
@@ -267,9 +265,9 @@ int hyb_guards(hyb *H, double t, const double *y, double *g)
     {
         double q = y[0], v = y[1];
         if (H->mode == MODE_SLIP) {
-            g[n++] = H->s * v;
+            g[n++] = hg(G_SLIP_STOPS, -1, H->s, H->s * v);
         } else if (H->mode == MODE_STICK) {
-            g[n++] = H->caps * (1.0 + FRICTION_BAND) - fabs(model_force_1dof(m, &f, q, 0.0));
+            g[n++] = hg(G_STICK_LEAVES, -1, 0, H->caps * (1.0 + FRICTION_BAND) - fabs(model_force_1dof(m, &f, q, 0.0)));
         } else if (H->mode == MODE_CONTACT) {
             crow c;
             double R, fr, lam, T = 0.0;
@@ -284,38 +282,36 @@ int hyb_guards(hyb *H, double t, const double *y, double *g)
                  * taken up again as a stick and left by the stick guard at
                  * once */
                 R = -model_force_1dof(m, &f, q, 0.0);
-                g[n++] = fmax(R / hyb_contact_dir(H, &c, T), H->caps * (1.0 + FRICTION_BAND) - fabs(R));
-                g[n++] = m->tol.vzero - fabs(v);
+                g[n++] = hg(G_REST_LEAVES, -1, 0, fmax(R / hyb_contact_dir(H, &c, T), H->caps * (1.0 + FRICTION_BAND) - fabs(R)));
+                g[n++] = hg(G_REST_MOVES, -1, 0, m->tol.vzero - fabs(v));
             } else {
                 hyb_contact_forces(H, &c, T, R, v, &fr, &lam);
-                g[n++] = lam;
-                if (H->law == LAW_COULOMB) g[n++] = H->s * v;
+                g[n++] = hg(G_CONTACT_PUSH, -1, 0, lam);
+                if (H->law == LAW_COULOMB) g[n++] = hg(G_CONTACT_STOPS, -1, H->s, H->s * v);
             }
         }
-        H->gap0 = n;
         n += gap_guards(H, &kin, y, g + n);
-        H->gap1 = n;
         /* a frictional contact: its vertex keeps slipping the same way
          * along the stop (at a reversal the friction turns: decided again) */
         if (H->mode == MODE_CONTACT && H->ss != 0.0) {
             double T = 0.0;
             crow c;
-            g[n++] = H->ss * hyb_contact_slip_1dof(H, &kin, q, v, &T);
+            g[n++] = hg(G_CONTACT_SLIP, -1, H->ss, H->ss * hyb_contact_slip_1dof(H, &kin, q, v, &T));
             /* ... and its friction does not jam the contact (JAM_DIR) */
             hyb_hrow_1dof(H, &kin, H->ck, H->cj, q, &c);
-            g[n++] = hyb_contact_dir(H, &c, T) / c.Fq - JAM_DIR;
+            g[n++] = hg(G_CONTACT_JAM, -1, H->ss, hyb_contact_dir(H, &c, T) / c.Fq - JAM_DIR);
         }
         if (H->mode == MODE_CONTACT && H->jam != 0.0) {
             /* taken frictionless at a jam: until the slip reverses or its
              * friction would no longer jam the contact */
             double T = 0.0;
             crow c;
-            g[n++] = H->jam * hyb_contact_slip_1dof(H, &kin, q, v, &T);
+            g[n++] = hg(G_JAM_SLIP, -1, H->jam, H->jam * hyb_contact_slip_1dof(H, &kin, q, v, &T));
             hyb_hrow_1dof(H, &kin, H->ck, H->cj, q, &c);
-            g[n++] = JAM_DIR - (c.Fq - model_source_mu(m, H->ck) * H->jam * T) / c.Fq;
+            g[n++] = hg(G_JAM_ENDS, -1, H->jam, JAM_DIR - (c.Fq - model_source_mu(m, H->ck) * H->jam * T) / c.Fq);
         }
         /* in contact with an obstacle row: its feature stays the active one */
-        if (H->mode == MODE_CONTACT && H->ck >= H->ns) g[n++] = orow_feature_guard(m, &kin, H->cj, &q);
+        if (H->mode == MODE_CONTACT && H->ck >= H->ns) g[n++] = hg(G_FEATURE, H->cj, 0, orow_feature_guard(m, &kin, H->cj, &q));
     }
     return n;
 }
@@ -369,14 +365,14 @@ static double row_gap(hyb *H, double t, const double *y, int r, double *rate)
 static double root_fn(double tau, void *p)
 {
     rootctx *c = p;
-    double g[NG_MAX];
+    hyb_guard g[NG_MAX];
     if (hyb_one_step(c->O, c->t0, c->y0, tau, c->O->ytmp) != GSL_SUCCESS) {
         c->fail = 1;
         return 0.0;
     }
     if (c->e < 0) return row_gap(c->H, c->t0 + tau, c->O->ytmp, -1 - c->e, NULL) + c->off;
     hyb_guards(c->H, c->t0 + tau, c->O->ytmp, g);
-    return g[c->e] + c->off;
+    return g[c->e].value + c->off;
 }
 
 /* Golden-section search for the extremum of guard e over [0, tau1] on the
@@ -464,18 +460,24 @@ static double hermite_min(double g0, double g1, double r0, double r1, double h)
 }
 
 int hyb_gap_dips(hyb *H, ode *O, double t0, const double *y0, double t1, const double *y1, int ng,
-                 const double *g0, const double *g1, double *tau_best, int *e_best)
+                 const hyb_guard *g0, const hyb_guard *g1, double *tau_best, int *e_best)
 {
     /* at rest (Coulomb stick) q and qd are held, so every guard is a
-     * function of t alone (the load, the stops' motion in B): all of them */
+     * function of t alone (the load, the stops' motion in B): all of them;
+     * else the free gaps (one block, gap_guards) */
     int stick = H->law == LAW_COULOMB && H->mode == MODE_STICK;
-    int a = stick ? 0 : H->gap0, b = stick ? ng : H->gap1, nd = H->ndof, want = 0, fs = 0;
-    double h = t1 - t0, d = DIP_DELTA * h, ya[NY_MAX], yb[NY_MAX], ga[NG_MAX], gb[2 * NG_MAX];
+    int a = 0, b = ng, nd = H->ndof, want = 0, fs = 0;
+    double h = t1 - t0, d = DIP_DELTA * h, ya[NY_MAX], yb[NY_MAX];
+    hyb_guard ga[NG_MAX], gb[2 * NG_MAX];
     double cap = H->cap, caps = H->caps;
     exdex_kinematics ka, kb;
     frame fa, fb;
+    if (!stick) {
+        for (a = 0; a < ng && !hyb_guard_is_gap(g0[a].kind); a++) {}
+        for (b = a; b < ng && hyb_guard_is_gap(g0[b].kind); b++) {}
+    }
     if (b <= a || !(h > 0.0)) return EXDEX_OK;
-    for (int e = a; e < b; e++) want |= g0[e] > 0.0 && g1[e] >= 0.0;
+    for (int e = a; e < b; e++) want |= g0[e].value > 0.0 && g1[e].value >= 0.0;
     if (!want) return EXDEX_OK;
     memcpy(ya, y0, (size_t)H->ny * sizeof *ya);
     memcpy(yb, y1, (size_t)H->ny * sizeof *yb);
@@ -497,10 +499,10 @@ int hyb_gap_dips(hyb *H, ode *O, double t0, const double *y0, double t1, const d
         if (gap_guards(H, &ka, ya, ga + a) != b - a || gap_guards(H, &kb, yb, gb + a) != b - a) return EXDEX_OK;
     }
     for (int e = a; e < b; e++) {
-        double r0 = (ga[e] - g0[e]) / d, r1 = (g1[e] - gb[e]) / d, tm, gm, tau;
+        double v0 = g0[e].value, v1 = g1[e].value, r0 = (ga[e].value - v0) / d, r1 = (v1 - gb[e].value) / d, tm, gm, tau;
         int st;
-        if (!(g0[e] > 0.0 && g1[e] >= 0.0 && r0 < 0.0 && r1 > 0.0)) continue;
-        if (!(hermite_min(g0[e], g1[e], r0, r1, h) < DIP_MARGIN * fmin(g0[e], g1[e]))) continue;
+        if (!(v0 > 0.0 && v1 >= 0.0 && r0 < 0.0 && r1 > 0.0)) continue;
+        if (!(hermite_min(v0, v1, r0, r1, h) < DIP_MARGIN * fmin(v0, v1))) continue;
         st = hyb_guard_extremum(H, O, t0, y0, h, e, 1.0, &tm, &gm);
         if (st) return st;
         if (!(gm < 0.0)) continue;
@@ -531,11 +533,11 @@ int hyb_gap_dips(hyb *H, ode *O, double t0, const double *y0, double t1, const d
  * where the guard is positive (searched towards its largest value); a guard
  * that stays <= 0 from the start up to that point is the decision's at t0,
  * not an event. Candidates improve *tau_best, *e_best. */
-int hyb_obst_dips(hyb *H, ode *O, double t0, const double *y0, double t1, const double *y1, const double *g0,
-                  const double *g1, double *tau_best, int *e_best)
+int hyb_obst_dips(hyb *H, ode *O, double t0, const double *y0, double t1, const double *y1, int ng,
+                  const hyb_guard *g0, const hyb_guard *g1, double *tau_best, int *e_best)
 {
     const exdex_model *m = H->m;
-    int c0[MAX_ROWS], c1[MAX_ROWS], n0, n1, changed, fs, a, b = H->gap1, nin = 0;
+    int c0[MAX_ROWS], c1[MAX_ROWS], n0, n1, changed, fs;
     double h = t1 - t0, cap = H->cap, caps = H->caps;
     exdex_kinematics k0, k1;
     frame f0, f1;
@@ -550,18 +552,16 @@ int hyb_obst_dips(hyb *H, ode *O, double t0, const double *y0, double t1, const 
     changed = n0 != n1;
     for (int i = 0; i < n0 && !changed; i++) changed = c0[i] != c1[i];
     if (!changed) return EXDEX_OK;
-    /* the obstacles' guards follow the free (stop, vertex) rows' (gap_guards) */
-    for (int i = 0; i < H->ncs; i++) nin += H->cs[i] < H->ns * H->nv;
-    a = H->gap0 + H->ns * H->nv - nin;
-    for (int e = a; e < b; e++) {
+    for (int e = 0; e < ng; e++) {
         rootctx c = {H, O, t0, y0, e, 0, m->tol.touch};
         double tm, gm, lo = 0.0, tau;
         int st;
-        if (!(g1[e] >= 0.0)) continue; /* violated at the end: the main loop's */
+        if (g0[e].kind != G_OBST_GAP) continue;
+        if (!(g1[e].value >= 0.0)) continue; /* violated at the end: the main loop's */
         st = extremum(&c, h, 1.0, &tm, &gm);
         if (st) return st;
         if (!(gm < 0.0)) continue;
-        if (!(g0[e] > 0.0)) {
+        if (!(g0[e].value > 0.0)) {
             double tx, gx;
             st = hyb_guard_extremum(H, O, t0, y0, tm, e, -1.0, &tx, &gx);
             if (st) return st;
