@@ -111,9 +111,8 @@ def test_bad_input_is_named():
         exdex.Grasp(0.5, 1.0, exdex.Patch(e_r=0.01), limit_surface="exact")
     g = exdex.Grasp(0.5, 1.0, exdex.Patch.disc(0.01), limit_surface="exact")
     sc = exdex.Scene(body=exdex.Body(0.1), grasp=g, dof="planar", gravity=(0, 0, 0), v0=(0.01, 0, 1.0))
-    for method in ("explicit", "regularised"):
-        with pytest.raises(ValueError, match=r"Grasp.limit_surface='exact': planar scenes run it with "):
-            exdex.simulate(sc, 0.1, 1e-3, method=method)
+    with pytest.raises(ValueError, match=r"Grasp.limit_surface='exact': planar scenes run it with "):
+        exdex.simulate(sc, 0.1, 1e-3, method="regularised")
     stop = exdex.Stop((0, -1.0, 0), (0, 1.0, 0))
     with pytest.raises(ValueError, match=r"planar scenes with stops or obstacles run it with method='implicit'"):
         exdex.simulate(exdex.replace(sc, stops=(stop,)), 0.1, 1e-3, method="event")
@@ -200,3 +199,35 @@ def test_implicit_and_event_agree_with_the_exact_surface(seed):
         errs.append(np.max(np.abs(r.q[-1] - ref.q[-1]) / (L, L, 1.0)))
     assert errs[1] < 0.7 * errs[0] or errs[1] < 1e-6
     assert errs[1] < 0.02
+
+
+@pytest.mark.warns_by_design("pad", "outline")  # random slips that leave the patch
+@pytest.mark.parametrize("seed", range(4))
+def test_explicit_converges_to_event_with_the_exact_surface(seed):
+    """The random planar scenes of the test above: the explicit method
+    (the exact surface's maximum-dissipation wrench of the step-start slip)
+    converges to the event method's answer at first order (a dt ladder, each
+    halving at least 0.7x closer), with static friction too (mu_static >
+    mu: the re-stick rule with the exact gauge)."""
+    rng = np.random.default_rng(100 + seed)
+    L = 0.05
+    patch = (exdex.Patch.disc(L * rng.uniform(0.1, 0.3), center=tuple(rng.uniform(-0.1, 0.1, 2) * L))
+             if seed % 2 else
+             exdex.Patch.rectangle(L * rng.uniform(0.2, 0.5), L * rng.uniform(0.2, 0.5),
+                                   center=tuple(rng.uniform(-0.1, 0.1, 2) * L)))
+    body = exdex.Body(0.1, size=(2 * L, L, 0.01))
+    mu = rng.uniform(0.3, 1.0)
+    grasp = exdex.Grasp(mu=mu, grip_force=rng.uniform(0.2, 1.0) * 0.981, patch=patch, limit_surface="exact",
+                        mu_static=mu * 1.3 if seed >= 2 else None)
+    sc = exdex.Scene(body=body, grasp=grasp, dof="planar",
+                     gravity=tuple(9.81 * np.array([math.sin(0.3), 0.0, -math.cos(0.3)])),
+                     motion=exdex.AsymmetricProfile(0.05, 0.3, beta=0.8, axis=(1.0, 0.0, 0.0)))
+    t_end = 0.8
+    ref = exdex.simulate(sc, t_end, 1e-3, method="event", rtol=1e-10, atol=1e-12)
+    errs = []
+    for dt in (1e-4, 5e-5, 2.5e-5):
+        r = exdex.simulate(sc, t_end, dt, method="explicit")
+        errs.append(np.max(np.abs(r.q[-1] - ref.q[-1]) / (L, L, 1.0)))
+    assert errs[1] < 0.7 * errs[0] or errs[1] < 1e-6
+    assert errs[2] < 0.7 * errs[1] or errs[2] < 1e-6
+    assert errs[2] < 0.02
