@@ -450,3 +450,22 @@ def test_pad_centre_batch_equals_serial(threads):
             np.testing.assert_array_equal(getattr(b, name)[i], getattr(r, name), err_msg=f"{name}[{i}]")
     with pytest.raises(ValueError, match=r"patch_y\[1\] = nan must be finite .*grasp\.patch\.center\.1"):
         simulate_batch(s6, 8.0, 0.5, patch_y=[0.0, np.nan])
+
+
+def test_parameters_the_scene_does_not_read_are_refused():
+    """e_r where the contact region gives the surface (the exact surface, or
+    pads on the fingers) and the patch centre with pads: a batch, a plan and
+    a sensitivity of them would vary nothing, so each names why."""
+    body = exdex.Body.box(0.1, (0.06, 0.03, 0.02))
+    exact = exdex.Scene(body=body, grasp=exdex.Grasp(0.5, 2.0, exdex.Patch.rectangle(0.02, 0.02),
+                                                     limit_surface="exact"), dof="planar")
+    pads = exdex.Scene(body=body, grasp=exdex.Grasp(0.5, 2.0, pad=exdex.Pad.rectangle(0.02, 0.02)), dof="planar")
+    for sc, name, why in ((exact, "e_r", "exact limit surface"), (pads, "e_r", "pads on the fingers"),
+                          (pads, "patch_x", "centre of pressure")):
+        with pytest.raises(ValueError, match=f"batch parameter '{name}' does not change this scene: .*{why}"):
+            exdex.simulate_batch(sc, 0.1, 0.01, **{name: [0.001, 0.002]})
+        with pytest.raises(ValueError, match=f"cannot vary '{name}': .*{why}"):
+            exdex.sensitivity(sc, [name], t_end=0.1)
+    # the exact surface's patch centre moves its region: read
+    b = exdex.simulate_batch(exact, 0.1, 0.01, patch_x=[0.0, 0.002])
+    assert b.q.shape[0] == 2
