@@ -420,3 +420,24 @@ def test_exact_slide_down_a_frictionless_wall_is_the_closed_form(pad):
     assert r.q[-1, 1] < -0.09   # it slid 9.3 cm, the face still inside the pad
     np.testing.assert_allclose(r.q[:, 0], 0.0, atol=1e-12)
     np.testing.assert_allclose(r.q[:, 2], 0.0, atol=1e-10)
+
+
+def test_exact_explicit_slide_down_a_frictional_wall_converges_to_the_closed_form():
+    """The wall of the test above with Coulomb friction mu_w = 0.2 (the
+    explicit method, which takes frictional stops with the exact surface):
+    the slide's acceleration is g_y - C / m - mu_w g_x, and the explicit
+    velocity reaches it at first order in dt (the wall's friction enters a
+    step late: an offset of order mu_w g_x dt)."""
+    body = exdex.Body.box(0.2, (0.04, 0.03, 0.02))
+    g = exdex.Grasp(mu=0.3, grip_force=0.5, pad=exdex.Pad.rectangle(0.3, 0.3), limit_surface="exact")
+    wall = exdex.Stop(point=(-0.02, 0.0, 0.0), normal=(1.0, 0.0, 0.0), mu=0.2)
+    sc = exdex.Scene(body=body, grasp=g, dof="planar", q0=(0.0, 0.0, 0.0), gravity=(-3.0, -9.81, 0.0),
+                     gripper_rotation=np.eye(3), stops=(wall,))
+    acc = 9.81 - 0.3 * 2 * 0.5 / 0.2 - 0.2 * 3.0
+    err = []
+    for dt in (1e-3, 5e-4, 2.5e-4):
+        r = exdex.simulate(sc, 0.15, dt, method="explicit")
+        err.append(abs(r.v[-1, 1] + acc * 0.15))
+        assert np.all(r.v[:, 0] == 0.0) and np.max(np.abs(r.v[:, 2])) < 1e-9
+    assert err[0] <= 3 * 0.2 * 3.0 * 1e-3
+    assert err[1] < 0.6 * err[0] and err[2] < 0.6 * err[1], err
