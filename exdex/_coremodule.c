@@ -1701,6 +1701,7 @@ typedef struct batch_ctx {
     double *min_gap;
     npy_int64 *impacts, *max_impulse_stop;
     double *max_impulse, *max_impulse_t, *first_warning_t;
+    double *lost_t;         /* pads: the time the grasp was lost (NaN: held) */
     double *cert_until;     /* certificate: valid_until (NaN: planar) */
     npy_int64 *cert_bad;    /* certificate: first failing sample (n: none, -1: planar) */
     /* shared work index and the first failure */
@@ -1875,6 +1876,7 @@ static void *batch_run(void *arg)
         c->max_impulse_t[i] = st.max_impulse_t;
         c->max_impulse_stop[i] = (npy_int64)st.max_impulse_stop;
         c->first_warning_t[i] = st.first_warning_t;
+        c->lost_t[i] = st.lost_t;
     }
     return NULL;
 }
@@ -1965,7 +1967,7 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
     PyArrayObject *varr[NVARY_MAX] = {NULL};
     PyArrayObject *base_times = NULL, *base_poses = NULL, *base_grip = NULL;
     PyArrayObject *t = NULL, *q = NULL, *v = NULL, *wr = NULL, *stick = NULL, *sf = NULL, *disp = NULL;
-    PyArrayObject *sarr[13] = {NULL};
+    PyArrayObject *sarr[14] = {NULL};
     exdex_model **models = NULL;
     batch_worker *workers = NULL;
     exdex_scene_def base;
@@ -2082,12 +2084,13 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
         }
         /* int64: steps .. warnings (0-4), impacts (6), max_impulse_stop (9);
          * float64: min_gap (5), max_impulse (7), max_impulse_t (8), first_warning_t (10) */
-        /* certificate: valid_until (11, float64), first failing sample (12, int64) */
-        for (int k = 0; k < 13; k++)
+        /* certificate: valid_until (11, float64), first failing sample (12, int64);
+         * grasp_lost_t (13, float64) */
+        for (int k = 0; k < 14; k++)
             sarr[k] = (PyArrayObject *)PyArray_ZEROS(1, d_b, (k < 5 || k == 6 || k == 9 || k == 12) ? NPY_INT64
                                                                                                  : NPY_DOUBLE, 0);
         if (!t || !disp || !q || !v || !wr || !stick || !sf) goto done;
-        for (int k = 0; k < 13; k++)
+        for (int k = 0; k < 14; k++)
             if (!sarr[k]) goto done;
     }
 
@@ -2151,6 +2154,7 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
     ctx.first_warning_t = PyArray_DATA(sarr[10]);
     ctx.cert_until = PyArray_DATA(sarr[11]);
     ctx.cert_bad = PyArray_DATA(sarr[12]);
+    ctx.lost_t = PyArray_DATA(sarr[13]);
     ctx.next = 0;
     /* short trajectories (the analytic path: about a microsecond) in chunks,
      * so that the lock is not the bottleneck; otherwise one at a time */
@@ -2189,10 +2193,11 @@ static PyObject *core_simulate_batch(PyObject *module, PyObject *args, PyObject 
         }
         goto done;
     }
-    stats = Py_BuildValue("{s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O}", "steps", sarr[0], "stick_steps",
+    stats = Py_BuildValue("{s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O}", "steps", sarr[0], "stick_steps",
                           sarr[1], "solver_iterations", sarr[2], "stop_iterations", sarr[3], "warnings", sarr[4],
                           "min_gap", sarr[5], "impacts", sarr[6], "max_impulse", sarr[7], "max_impulse_t",
-                          sarr[8], "max_impulse_stop", sarr[9], "first_warning_t", sarr[10]);
+                          sarr[8], "max_impulse_stop", sarr[9], "first_warning_t", sarr[10], "grasp_lost_t",
+                          sarr[13]);
     if (!stats) goto done;
     result = Py_BuildValue("{s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:O,s:n,s:O,s:O}", "t", t, "q", q, "v", v, "wrench", wr,
                            "stick", stick, "stop_force", sf, "displacement", disp, "stats", stats,
@@ -2212,7 +2217,7 @@ done:
         PyMem_Free(models);
     }
     for (int k = 0; k < NVARY_MAX; k++) Py_XDECREF(varr[k]);
-    for (int k = 0; k < 13; k++) Py_XDECREF(sarr[k]);
+    for (int k = 0; k < 14; k++) Py_XDECREF(sarr[k]);
     Py_XDECREF(base_times);
     Py_XDECREF(base_poses);
     Py_XDECREF(base_grip);

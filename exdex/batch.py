@@ -84,8 +84,11 @@ class BatchResult:
     stats : dict of (B,) arrays per trajectory: steps, stick_steps,
         solver_iterations, stop_iterations, warnings, impacts,
         max_impulse_stop (int64), min_gap [m], max_impulse [N s],
-        max_impulse_t, first_warning_t [s] (as in :class:`exdex.Result`;
-        NaN and -1 where a single run's stats hold None).
+        max_impulse_t, first_warning_t, grasp_lost_t [s] (as in
+        :class:`exdex.Result`; NaN and -1 where a single run's stats hold
+        None; pads on the fingers: a trajectory whose grasp is lost stops
+        at that sample, its later samples NaN, with a PhysicsWarning of kind
+        "grasp").
     reduction_valid_until : (B,) the certificate of each translation or
         rotation trajectory (:attr:`exdex.Result.certificate`): until when
         its reduction held [s] (t_end where it held throughout; NaN for
@@ -520,6 +523,10 @@ def _batch_findings(b):
                 st = {k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in st.items()}
                 return [w for w in diagnostics.stats_findings(st) if w.kind == kind][0]
             note(kind, flagged, make_stat)
+    if "grasp_lost_t" in b.stats:
+        lost_t = np.asarray(b.stats["grasp_lost_t"], dtype=float)
+        note("grasp", np.isfinite(lost_t),
+             lambda i: diagnostics.stats_findings({"grasp_lost_t": float(lost_t[i])})[0])
     # pad and outline: the varied parameters never change the geometry, so
     # one base scene checks every trajectory at once
     groups = [(b.scene[i], [i]) for i in range(n)] if isinstance(b.scene, tuple) else [(b.scene, list(range(n)))]
