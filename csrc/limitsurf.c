@@ -271,6 +271,37 @@ static int spd_solve(int n, const double *A, const double *r, double *x)
     return 1;
 }
 
+/* Backtracking (Armijo) along a damped Newton step of squared decrement
+ * lam2 > 0: the first t = 2^-k, k < 40, with phi(t) <= phi0 - t lam2 / 4
+ * (2^-40 if none), or t = 1 without a search (search 0: the quadratic
+ * range, where the decrease is below the rounding of phi). phi(t) is the
+ * objective minimised, at the step t. */
+static double armijo(double (*phi)(void *ctx, double t), void *ctx, double phi0, double lam2, int search)
+{
+    double t = 1.0;
+    for (int k = 0; k < 40 && search; k++) {
+        if (phi(ctx, t) <= phi0 - 0.25 * t * lam2) break;
+        t *= 0.5;
+    }
+    return t;
+}
+
+/* The gauge's line: D at u0 + (z + t dz) in the plane's basis N. */
+typedef struct gauge_line {
+    const limitsurf *ls;
+    const double *u0, *z, *dz;
+    const double (*N)[3];
+} gauge_line;
+
+static double gauge_line_at(void *ctx, double t)
+{
+    const gauge_line *g = ctx;
+    double ut[3];
+    for (int i = 0; i < 3; i++)
+        ut[i] = g->u0[i] + (g->z[0] + t * g->dz[0]) * g->N[0][i] + (g->z[1] + t * g->dz[1]) * g->N[1][i];
+    return exact_dissipation(g->ls, ut);
+}
+
 static int exact_gauge(const limitsurf *ls, const double w[3], double *g, double dir[3])
 {
     if (!ex_finite_n(w, 3)) return EXDEX_EINVAL;
@@ -332,12 +363,9 @@ static int exact_gauge(const limitsurf *ls, const double w[3], double *g, double
         lam2_prev = lam2;
         /* backtracking (Armijo), except in the quadratic range where the
          * decrease is below the rounding of D */
-        t = 1.0;
-        for (int ls_it = 0; ls_it < 40 && lam2 > NEWTON_FULL * D; ls_it++) {
-            double ut[3];
-            for (int i = 0; i < 3; i++) ut[i] = u0[i] + (z[0] + t * dz[0]) * N[0][i] + (z[1] + t * dz[1]) * N[1][i];
-            if (exact_dissipation(ls, ut) <= D - 0.25 * t * lam2) break;
-            t *= 0.5;
+        {
+            gauge_line gl = {ls, u0, z, dz, (const double (*)[3])N};
+            t = armijo(gauge_line_at, &gl, D, lam2, lam2 > NEWTON_FULL * D);
         }
         z[0] += t * dz[0];
         z[1] += t * dz[1];
@@ -690,6 +718,23 @@ static void plane_basis(const double n[3], double N[2][3])
     N[1][2] = n[0] * N[0][1] - n[1] * N[0][0];
 }
 
+/* The step's line: -psi at d + t (dz in the tangent basis N). */
+typedef struct step_line {
+    const limitsurf *ls;
+    const double *Winv, *y;
+    double cap;
+    const double *d, *dz;
+    const double (*N)[3];
+} step_line;
+
+static double step_line_at(void *ctx, double t)
+{
+    const step_line *s = ctx;
+    double dt[3];
+    for (int i = 0; i < 3; i++) dt[i] = s->d[i] + t * (s->dz[0] * s->N[0][i] + s->dz[1] * s->N[1][i]);
+    return -reduced(s->ls, s->Winv, s->y, s->cap, dt, NULL, NULL, NULL, NULL);
+}
+
 int limitsurf_step(const limitsurf *ls, const exdex_friction_prep *prep, const double b[3], double cap, int solver,
                    exdex_friction_ws *ws, const double *warm, exdex_friction_result *res)
 {
@@ -809,12 +854,10 @@ int limitsurf_step(const limitsurf *ls, const exdex_friction_prep *prep, const d
             break;
         }
         lam2_prev = lam2;
-        t = 1.0;
-        for (int k = 0; k < 40 && lam2 > NEWTON_FULL * psc; k++) {
-            double dt[3];
-            for (int i = 0; i < 3; i++) dt[i] = d[i] + t * (dz[0] * N[0][i] + dz[1] * N[1][i]);
-            if (reduced(ls, Winv, y, cap, dt, NULL, NULL, NULL, NULL) >= P0 + 0.25 * t * lam2) break;
-            t *= 0.5;
+        {
+            /* psi is maximised: Armijo on -psi */
+            step_line sl = {ls, Winv, y, cap, d, dz, (const double (*)[3])N};
+            t = armijo(step_line_at, &sl, -P0, lam2, lam2 > NEWTON_FULL * psc);
         }
         if (t < 1e-9) {
             ok = lam2 <= NEWTON_ACCEPT * psc;
