@@ -679,7 +679,7 @@ static void mulmv(double out[3], const double A[9], const double x[3])
  * (y = W^-1 b); its gradient and Hessian when wanted. Homogeneous of degree
  * 0 in d. */
 static double reduced(const limitsurf *ls, const double Winv[9], const double y[3], double cap, const double d[3],
-                      double gr[3], double hs[9], double *f_out, double *q_out)
+                      double gr[3], double hs[9], double *f_out, double *q_out, double *D_out, double w_out[3])
 {
     double w[3], HD[9], Wd[3], f, q, gf[3], gq[3];
     double D = limitsurf_wrench(ls, d, w, gr ? HD : NULL);
@@ -688,6 +688,8 @@ static double reduced(const limitsurf *ls, const double Winv[9], const double y[
     q = ex_dot3(d, Wd);
     if (f_out) *f_out = f;
     if (q_out) *q_out = q;
+    if (D_out) *D_out = D;
+    if (w_out) memcpy(w_out, w, sizeof w);
     double sq = sqrt(q), psi = f / sq;
     if (gr) {
         for (int i = 0; i < 3; i++) {
@@ -732,7 +734,7 @@ static double step_line_at(void *ctx, double t)
     const step_line *s = ctx;
     double dt[3];
     for (int i = 0; i < 3; i++) dt[i] = s->d[i] + t * (s->dz[0] * s->N[0][i] + s->dz[1] * s->N[1][i]);
-    return -reduced(s->ls, s->Winv, s->y, s->cap, dt, NULL, NULL, NULL, NULL);
+    return -reduced(s->ls, s->Winv, s->y, s->cap, dt, NULL, NULL, NULL, NULL, NULL, NULL);
 }
 
 int limitsurf_step(const limitsurf *ls, const exdex_friction_prep *prep, const double b[3], double cap, int solver,
@@ -793,7 +795,7 @@ int limitsurf_step(const limitsurf *ls, const exdex_friction_prep *prep, const d
     if (g > cap && warm && ex_finite_n(warm, 3) && (warm[0] != 0.0 || warm[1] != 0.0 || warm[2] != 0.0)) {
         /* a warm slip direction (the last step's slip) where psi is positive there */
         double f, q, nw = sqrt(ex_dot3(warm, warm)), dw[3] = {warm[0] / nw, warm[1] / nw, warm[2] / nw};
-        reduced(ls, Winv, y, cap, dw, NULL, NULL, &f, &q);
+        reduced(ls, Winv, y, cap, dw, NULL, NULL, &f, &q, NULL, NULL);
         if (f > 0.0) memcpy(d, dw, sizeof d);
     }
     if (g <= cap) {
@@ -814,10 +816,12 @@ int limitsurf_step(const limitsurf *ls, const exdex_friction_prep *prep, const d
      * search (and a Levenberg shift where psi's Hessian is not negative
      * definite). */
     int ok = 0, it;
-    double lam2_prev = INFINITY;
+    /* f, q, D and w at the current d (kept for the end: the loop ends at a
+     * d it has evaluated) */
+    double lam2_prev = INFINITY, f = NAN, q = NAN, Dd = NAN, wd[3] = {NAN, NAN, NAN};
     for (it = 0; it < LIMITSURF_MAX_ITER; it++) {
-        double gr[3], hs[9], N[2][3], gz[2], Hz[4], dz[2], lam2, t, P0, f, q;
-        P0 = reduced(ls, Winv, y, cap, d, gr, hs, &f, &q);
+        double gr[3], hs[9], N[2][3], gz[2], Hz[4], dz[2], lam2, t, P0;
+        P0 = reduced(ls, Winv, y, cap, d, gr, hs, &f, &q, &Dd, wd);
         if (!isfinite(P0) || !(f > 0.0)) return EXDEX_ENOCONV;
         plane_basis(d, N);
         for (int a = 0; a < 2; a++) {
@@ -842,7 +846,7 @@ int limitsurf_step(const limitsurf *ls, const exdex_friction_prep *prep, const d
         lam2 = gz[0] * dz[0] + gz[1] * dz[1];
         /* psi's scale: its terms before they cancel (near the stick
          * boundary f = d . y - cap D is a small difference) */
-        double psc = (fabs(ex_dot3(d, y)) + cap * limitsurf_dissipation(ls, d)) / sqrt(q);
+        double psc = (fabs(ex_dot3(d, y)) + cap * Dd) / sqrt(q);
         if (lam2 <= NEWTON_DONE * psc) {
             ok = 1;
             break;
@@ -873,12 +877,10 @@ int limitsurf_step(const limitsurf *ls, const exdex_friction_prep *prep, const d
     res->iterations = it + 1;
     if (!ok) return EXDEX_ENOCONV;
     {
-        double w[3], Wp[3], f, q;
-        reduced(ls, Winv, y, cap, d, NULL, NULL, &f, &q);
+        double Wp[3];
         if (!(f > 0.0)) return EXDEX_ENOCONV;
-        limitsurf_wrench(ls, d, w, NULL);
         /* p = cap w(d) on the surface; u+ = b + W p (= (f / q) d at the optimum) */
-        for (int i = 0; i < 3; i++) res->p[i] = cap * w[i];
+        for (int i = 0; i < 3; i++) res->p[i] = cap * wd[i];
         mulmv(Wp, W, res->p);
         for (int i = 0; i < 3; i++) res->u[i] = b[i] + Wp[i];
         res->sigma = limitsurf_dissipation(ls, res->u);
