@@ -20,6 +20,16 @@ ellipsoid's error in the force-motion map (Grasp.limit_surface).
         the interpreter of a virtual environment with another exdex, e.g. an
         older revision's .venv/bin/python): the same scenes in both, one run
         of each in turn, medians of ns/step and of the per-pair ratio.
+    python benchmarks/bench_limit_surface.py --check PYTHON [--repeat 7]
+        the speed targets side by side in one run, each variant a process of
+        its own in turn (A B C D E, A B C D E, ...; CPU time of each, the
+        best of 5 runs in the process): this exdex's ellipsoid
+        against PYTHON's (an exdex from before pads and the limit surface),
+        the exact surface, and pads on the fingers (the box with a pad where
+        its patch is; the peer's scene of bench_pads.py) with each surface;
+        medians of ns/step and of the per-round ratios exact/ellipsoid,
+        pads/patch (ellipsoid, against this exdex's patch and the older
+        one's) and this/baseline.
 
 The scenes: a box held by an off-centre rectangular patch under tilted
 gravity in a gripper that moves (Eq. 7), which sticks, slides and sticks
@@ -67,12 +77,12 @@ def scenes(limit_surface):
 RUNS = (("implicit", 1e-4), ("event", 1e-3))
 
 
-def one_run(scene, t_end, method, dt):
+def one_run(scene, t_end, method, dt, clock=time.perf_counter):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")   # the scenes' physics warnings are not the point here
-        t0 = time.perf_counter()
+        t0 = clock()
         exdex.simulate(scene, t_end, dt, method=method)
-    return (time.perf_counter() - t0) / round(t_end / dt) * 1e9
+    return (clock() - t0) / round(t_end / dt) * 1e9
 
 
 def cost(repeat, out_path):
@@ -193,6 +203,77 @@ print(json.dumps(min(b.one_run(sc, t_end, method, dt) for _ in range(3))))
 """
 
 
+def check_scene(name, variant):
+    """The --check scenes: "box" and "disc" of scenes(), and the peer's
+    scene of bench_pads.py; variant "ellipsoid" (written as an older exdex
+    reads it), "exact", "pad-ellipsoid" or "pad-exact" (pads: box and
+    peer)."""
+    ls = "exact" if variant.endswith("exact") else "ellipsoid"
+    if name == "peer":
+        t = np.linspace(0.0, 2.0, 4001)
+        sched = exdex.GripSchedule(times=t, forces=1.73 + 0.91 * np.sin(4 * np.pi * t), kind="cubic")
+        kw = {} if variant == "ellipsoid" else {"limit_surface": ls}
+        if variant.startswith("pad"):
+            kw["pad"] = exdex.Pad.rectangle(0.02, 0.02)
+        g = exdex.Grasp(mu=1.0, grip_force=sched, patch=exdex.Patch.rectangle(0.02, 0.02, center=(-0.002, 0.0)),
+                        **kw)
+        return exdex.Scene(body=exdex.Body.box(0.2, (0.15, 0.08, 0.02)), grasp=g, dof="planar",
+                           q0=(0.002, 0.0, 0.0), gravity=(0.0, -9.81, 0.0), gripper_rotation=np.eye(3)), 2.0
+    sc, t_end = scenes(ls)["box, moving gripper" if name == "box" else "free disc"]
+    if variant.startswith("pad"):
+        # the pad where the patch is at t = 0 (q0 = 0: B and C coincide)
+        p = sc.grasp.patch
+        pad = exdex.Pad.rectangle(*p.dims, center=p.center)
+        sc = exdex.replace(sc, grasp=exdex.replace(sc.grasp, pad=pad))
+    return sc, t_end
+
+
+_CHECK_CHILD = r"""
+import sys, json, time
+sys.path.insert(0, sys.argv[1])
+import bench_limit_surface as b
+name, variant, method, dt = sys.argv[2], sys.argv[3], sys.argv[4], float(sys.argv[5])
+sc, t_end = b.check_scene(name, variant)
+b.one_run(sc, t_end, method, dt)
+print(json.dumps(min(b.one_run(sc, t_end, method, dt, time.process_time) for _ in range(5))))
+"""
+
+
+def check(python, repeat):
+    """Issue 24's speed targets in one run (see the module's doc)."""
+    import json
+
+    def child(py, name, variant, method, dt):
+        cmd = [py, "-c", _CHECK_CHILD, HERE, name, variant, method, str(dt)]
+        return json.loads(subprocess.run(cmd, check=True, capture_output=True, text=True).stdout)
+
+    print(f"CPU ns per output step (process time: the shared machine's waits for a core left out); each figure "
+          f"a process (the best of 5 runs in it), the variants in turn, {repeat} rounds; baseline {python}")
+    print(f"{'scene':<6} {'method':<9} {'ell':>8} {'ell old':>8} {'exact':>8} {'pad ell':>8} {'pad ex':>8} "
+          f"{'ell/old':>8} {'ex/ell':>7} {'pad/ell':>8} {'pad/old':>8} {'padx/pad':>9}")
+    for name in ("box", "disc", "peer"):
+        pads = name != "disc"
+        for method, dt in RUNS:
+            cols = {k: [] for k in ("ell", "old", "exact", "pad", "padx")}
+            for _ in range(repeat):
+                cols["ell"].append(child(sys.executable, name, "ellipsoid", method, dt))
+                cols["old"].append(child(python, name, "ellipsoid", method, dt))
+                cols["exact"].append(child(sys.executable, name, "exact", method, dt))
+                if pads:
+                    cols["pad"].append(child(sys.executable, name, "pad-ellipsoid", method, dt))
+                    cols["padx"].append(child(sys.executable, name, "pad-exact", method, dt))
+
+            def med(k):
+                return statistics.median(cols[k]) if cols[k] else float("nan")
+
+            def ratio(a, b):
+                return statistics.median(x / y for x, y in zip(cols[a], cols[b])) if cols[a] else float("nan")
+
+            print(f"{name:<6} {method:<9} {med('ell'):>8.0f} {med('old'):>8.0f} {med('exact'):>8.0f} "
+                  f"{med('pad'):>8.0f} {med('padx'):>8.0f} {ratio('ell', 'old'):>8.3f} {ratio('exact', 'ell'):>7.2f} "
+                  f"{ratio('pad', 'ell'):>8.2f} {ratio('pad', 'old'):>8.2f} {ratio('padx', 'pad'):>9.2f}")
+
+
 def baseline(python, repeat):
     """This exdex's ellipsoid paths against another install's, in turn."""
     import json
@@ -219,9 +300,12 @@ def main():
     p.add_argument("--out", default=os.path.join(HERE, "results"))
     p.add_argument("--results", default=os.path.join(HERE, "results", "limit_surface.txt"))
     p.add_argument("--baseline", metavar="PYTHON")
+    p.add_argument("--check", metavar="PYTHON")
     args = p.parse_args()
     if args.errors:
         errors(args.out)
+    elif args.check:
+        check(args.check, args.repeat)
     elif args.baseline:
         baseline(args.baseline, args.repeat)
     else:

@@ -36,7 +36,7 @@ PEER = os.path.join(HERE, "..", "tests", "data", "peer_planar_slip_stick.csv")
 METHODS = ("implicit", "event", "regularised", "explicit")
 
 
-def peer_scene(pad=True, t_end=2.0, mu_static=None):
+def peer_scene(pad=True, t_end=2.0, mu_static=None, limit_surface="ellipsoid"):
     """The peer's scene: B's x along the box's long side, gravity -9.81 along B's y."""
     t = np.linspace(0.0, t_end, 4001)
     sched = exdex.GripSchedule(times=t, forces=1.73 + 0.91 * np.sin(4 * np.pi * t), kind="cubic")
@@ -44,7 +44,8 @@ def peer_scene(pad=True, t_end=2.0, mu_static=None):
     # the patch of the patch-on-object model: the pad's square, centred where
     # the pad is at t = 0 (2 mm beside the centre of mass)
     grasp = exdex.Grasp(mu=1.0, grip_force=sched, patch=exdex.Patch.rectangle(0.02, 0.02, center=(-0.002, 0.0)),
-                        pad=exdex.Pad.rectangle(0.02, 0.02) if pad else None, mu_static=mu_static)
+                        pad=exdex.Pad.rectangle(0.02, 0.02) if pad else None, mu_static=mu_static,
+                        limit_surface=limit_surface)
     return exdex.Scene(body=body, grasp=grasp, dof="planar", q0=(0.002, 0.0, 0.0), gravity=(0.0, -9.81, 0.0),
                        gripper_rotation=np.eye(3))
 
@@ -71,12 +72,14 @@ def summary(t, x, y, th):
 def peer_part(results, plot):
     rows = []
     runs = {}
-    for pad in (False, True):
-        for m in METHODS:
-            r = run(peer_scene(pad), m)
-            runs[("pads" if pad else "patch", m)] = r
-            rows.append((f"exdex, {'pads on the fingers' if pad else 'patch on the object'}, ellipsoid", m,
-                         summary(r.t, r.q[:, 0], r.q[:, 1], r.q[:, 2])))
+    for ls in ("ellipsoid", "exact"):
+        for pad in (False, True):
+            # the exact surface: every planar method but the regularised one
+            for m in METHODS if ls == "ellipsoid" else ("implicit", "event", "explicit"):
+                r = run(peer_scene(pad, limit_surface=ls), m)
+                runs[("pads" if pad else "patch", m) + ((ls,) if ls == "exact" else ())] = r
+                rows.append((f"exdex, {'pads on the fingers' if pad else 'patch on the object'}, {ls}", m,
+                             summary(r.t, r.q[:, 0], r.q[:, 1], r.q[:, 2])))
     # the peer's LuGre breaks away at mu_s = 1.2 (its Stribeck curve falls to mu_c = 1 by v_s = 1 mm/s)
     r = run(peer_scene(True, mu_static=1.2), "event")
     runs[("pads-static", "event")] = r
@@ -93,15 +96,17 @@ def peer_part(results, plot):
     print(text)
     os.makedirs(results, exist_ok=True)
     with open(os.path.join(results, "peer_pads.txt"), "w") as f:
-        f.write("python benchmarks/bench_pads.py (peer scene; patch and pads with the ellipsoid)\n\n" + text + "\n")
+        f.write("python benchmarks/bench_pads.py (peer scene; patch and pads, the ellipsoid and the exact limit "
+                "surface)\n\n" + text + "\n")
     if plot:
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
         fig, axes = plt.subplots(3, 1, figsize=(7, 7), sharex=True)
-        series = [("patch on the object (event)", runs[("patch", "event")], "C0"),
-                  ("pads on the fingers (event)", runs[("pads", "event")], "C1"),
-                  ("pads on the fingers, mu_static 1.2 (event)", runs[("pads-static", "event")], "C2")]
+        series = [("patch on the object, ellipsoid (event)", runs[("patch", "event")], "C0"),
+                  ("pads on the fingers, ellipsoid (event)", runs[("pads", "event")], "C1"),
+                  ("pads on the fingers, exact surface (event)", runs[("pads", "event", "exact")], "C3"),
+                  ("pads on the fingers, ellipsoid, mu_static 1.2 (event)", runs[("pads-static", "event")], "C2")]
         for label, r, c in series:
             axes[0].plot(r.t, r.q[:, 0] * 1e3, c, label=label, lw=1.2)
             axes[1].plot(r.t, r.q[:, 1] * 1e3, c, lw=1.2)

@@ -2,7 +2,9 @@
  * friction with sign(), symplectic Euler steps of dt,
  *     v+ = v + dt M^-1 (Q(t, q, v) + friction(v)),   q+ = q + dt v+,
  * friction -C E^2 u / |E u| (C = mu N, with a grip schedule its mean over
- * the step) and 0 at u = 0 exactly; the frame
+ * the step; the exact surface: C w(u), its maximum-dissipation wrench, and
+ * its gauge in every test below that reads |E^-1 .|) and 0 at u = 0
+ * exactly; the frame
  * accelerations enter as step means (model_frame_step). An output step
  * holding a switching time of the scene strictly inside (the motion's
  * acceleration switches and velocity jumps, the grip schedule's
@@ -366,17 +368,24 @@ static int explicit_substep(const exdex_model *m, explicit_ws *w, const model_su
             }
             *still = v[0] == 0.0;
         } else {
-            double F[3], u[3], eu[3], sig, w[3] = {0, 0, 0}, P[3];
+            double F[3], u[3], eu[3], sig, w[3] = {0, 0, 0}, P[3], wu[3] = {0, 0, 0};
             /* pads on the fingers: the contact region at the step's start */
             if (m->pads) model_pads_set((exdex_model *)m, q);
             model_force_planar(m, &f, q, v, F);
             model_patch_slip(m, MODEL_CS(q[2]), v, u);
             for (int c = 0; c < 3; c++) eu[c] = m->e[c] * u[c];
-            sig = sqrt(ex_dot3(eu, eu));
+            /* the exact surface: its maximum-dissipation wrench of the slip,
+             * D(u) > 0 for u != 0 */
+            sig = !m->ls_exact ? sqrt(ex_dot3(eu, eu)) :
+                  u[0] != 0.0 || u[1] != 0.0 || u[2] != 0.0 ? limitsurf_wrench(&m->ls, u, wu, NULL) : 0.0;
+            if (m->ls_exact && !(isfinite(sig) && ex_finite_n(wu, 3))) {
+                status = EXDEX_ENONFINITE;
+                break;
+            }
             int held = 0;
             if (sig > 0.0) {
                 double capm = model_capacity_mean(m, t, t1);
-                for (int c = 0; c < 3; c++) w[c] = -capm * m->e[c] * eu[c] / sig;
+                for (int c = 0; c < 3; c++) w[c] = m->ls_exact ? capm * wu[c] : -capm * m->e[c] * eu[c] / sig;
                 if (m->capks != m->capk) {
                     /* re-stick (see the top): the kinetic step reverses the
                      * slip, or its friction can stop it within the step */
@@ -387,12 +396,17 @@ static int explicit_substep(const exdex_model *m, explicit_ws *w, const model_su
                         Pst[c] = -v[c] / (h * m->minv[c]) - F[c];
                     }
                     model_patch_slip(m, MODEL_CS(q[2]), vk, uk);
-                    for (int c = 0; c < 3; c++) rev += eu[c] * m->e[c] * uk[c];
+                    /* reversed: the step-start friction does work on the
+                     * predicted slip (the ellipsoid: (E u) . (E u*) <= 0) */
+                    if (m->ls_exact)
+                        rev = -ex_dot3(wu, uk);
+                    else
+                        for (int c = 0; c < 3; c++) rev += eu[c] * m->e[c] * uk[c];
                     model_patch_of_gen(m, MODEL_CS(q[2]), Pst, wst);
-                    if (rev <= 0.0 || model_ell_norm(m, wst) <= capm) {
+                    if (rev <= 0.0 || model_ls_gauge(m, wst) <= capm) {
                         double mF[3] = {-F[0], -F[1], -F[2]}, wh[3];
                         model_patch_of_gen(m, MODEL_CS(q[2]), mF, wh);
-                        held = model_ell_norm(m, wh) <= model_capacity_static_mean(m, t, t1);
+                        held = model_ls_gauge(m, wh) <= model_capacity_static_mean(m, t, t1);
                         if (held) memcpy(w, wst, sizeof w);
                     }
                 }
@@ -400,7 +414,7 @@ static int explicit_substep(const exdex_model *m, explicit_ws *w, const model_su
                 /* at rest: the static capacity holds, else kinetic breakaway */
                 double mF[3] = {-F[0], -F[1], -F[2]}, nh;
                 model_patch_of_gen(m, MODEL_CS(q[2]), mF, w);
-                nh = model_ell_norm(m, w);
+                nh = model_ls_gauge(m, w);
                 held = nh <= model_capacity_static_mean(m, t, t1);
                 if (!held)
                     for (int c = 0; c < 3; c++) w[c] *= model_capacity_mean(m, t, t1) / nh;

@@ -271,6 +271,37 @@ static int spd_solve(int n, const double *A, const double *r, double *x)
     return 1;
 }
 
+/* Backtracking (Armijo) along a damped Newton step of squared decrement
+ * lam2 > 0: the first t = 2^-k, k < 40, with phi(t) <= phi0 - t lam2 / 4
+ * (2^-40 if none), or t = 1 without a search (search 0: the quadratic
+ * range, where the decrease is below the rounding of phi). phi(t) is the
+ * objective minimised, at the step t. */
+static double armijo(double (*phi)(void *ctx, double t), void *ctx, double phi0, double lam2, int search)
+{
+    double t = 1.0;
+    for (int k = 0; k < 40 && search; k++) {
+        if (phi(ctx, t) <= phi0 - 0.25 * t * lam2) break;
+        t *= 0.5;
+    }
+    return t;
+}
+
+/* The gauge's line: D at u0 + (z + t dz) in the plane's basis N. */
+typedef struct gauge_line {
+    const limitsurf *ls;
+    const double *u0, *z, *dz;
+    const double (*N)[3];
+} gauge_line;
+
+static double gauge_line_at(void *ctx, double t)
+{
+    const gauge_line *g = ctx;
+    double ut[3];
+    for (int i = 0; i < 3; i++)
+        ut[i] = g->u0[i] + (g->z[0] + t * g->dz[0]) * g->N[0][i] + (g->z[1] + t * g->dz[1]) * g->N[1][i];
+    return exact_dissipation(g->ls, ut);
+}
+
 static int exact_gauge(const limitsurf *ls, const double w[3], double *g, double dir[3])
 {
     if (!ex_finite_n(w, 3)) return EXDEX_EINVAL;
@@ -332,12 +363,9 @@ static int exact_gauge(const limitsurf *ls, const double w[3], double *g, double
         lam2_prev = lam2;
         /* backtracking (Armijo), except in the quadratic range where the
          * decrease is below the rounding of D */
-        t = 1.0;
-        for (int ls_it = 0; ls_it < 40 && lam2 > NEWTON_FULL * D; ls_it++) {
-            double ut[3];
-            for (int i = 0; i < 3; i++) ut[i] = u0[i] + (z[0] + t * dz[0]) * N[0][i] + (z[1] + t * dz[1]) * N[1][i];
-            if (exact_dissipation(ls, ut) <= D - 0.25 * t * lam2) break;
-            t *= 0.5;
+        {
+            gauge_line gl = {ls, u0, z, dz, (const double (*)[3])N};
+            t = armijo(gauge_line_at, &gl, D, lam2, lam2 > NEWTON_FULL * D);
         }
         z[0] += t * dz[0];
         z[1] += t * dz[1];
@@ -651,7 +679,7 @@ static void mulmv(double out[3], const double A[9], const double x[3])
  * (y = W^-1 b); its gradient and Hessian when wanted. Homogeneous of degree
  * 0 in d. */
 static double reduced(const limitsurf *ls, const double Winv[9], const double y[3], double cap, const double d[3],
-                      double gr[3], double hs[9], double *f_out, double *q_out)
+                      double gr[3], double hs[9], double *f_out, double *q_out, double *D_out, double w_out[3])
 {
     double w[3], HD[9], Wd[3], f, q, gf[3], gq[3];
     double D = limitsurf_wrench(ls, d, w, gr ? HD : NULL);
@@ -660,6 +688,8 @@ static double reduced(const limitsurf *ls, const double Winv[9], const double y[
     q = ex_dot3(d, Wd);
     if (f_out) *f_out = f;
     if (q_out) *q_out = q;
+    if (D_out) *D_out = D;
+    if (w_out) memcpy(w_out, w, sizeof w);
     double sq = sqrt(q), psi = f / sq;
     if (gr) {
         for (int i = 0; i < 3; i++) {
@@ -688,6 +718,23 @@ static void plane_basis(const double n[3], double N[2][3])
     N[1][0] = n[1] * N[0][2] - n[2] * N[0][1];
     N[1][1] = n[2] * N[0][0] - n[0] * N[0][2];
     N[1][2] = n[0] * N[0][1] - n[1] * N[0][0];
+}
+
+/* The step's line: -psi at d + t (dz in the tangent basis N). */
+typedef struct step_line {
+    const limitsurf *ls;
+    const double *Winv, *y;
+    double cap;
+    const double *d, *dz;
+    const double (*N)[3];
+} step_line;
+
+static double step_line_at(void *ctx, double t)
+{
+    const step_line *s = ctx;
+    double dt[3];
+    for (int i = 0; i < 3; i++) dt[i] = s->d[i] + t * (s->dz[0] * s->N[0][i] + s->dz[1] * s->N[1][i]);
+    return -reduced(s->ls, s->Winv, s->y, s->cap, dt, NULL, NULL, NULL, NULL, NULL, NULL);
 }
 
 int limitsurf_step(const limitsurf *ls, const exdex_friction_prep *prep, const double b[3], double cap, int solver,
@@ -748,7 +795,7 @@ int limitsurf_step(const limitsurf *ls, const exdex_friction_prep *prep, const d
     if (g > cap && warm && ex_finite_n(warm, 3) && (warm[0] != 0.0 || warm[1] != 0.0 || warm[2] != 0.0)) {
         /* a warm slip direction (the last step's slip) where psi is positive there */
         double f, q, nw = sqrt(ex_dot3(warm, warm)), dw[3] = {warm[0] / nw, warm[1] / nw, warm[2] / nw};
-        reduced(ls, Winv, y, cap, dw, NULL, NULL, &f, &q);
+        reduced(ls, Winv, y, cap, dw, NULL, NULL, &f, &q, NULL, NULL);
         if (f > 0.0) memcpy(d, dw, sizeof d);
     }
     if (g <= cap) {
@@ -769,10 +816,12 @@ int limitsurf_step(const limitsurf *ls, const exdex_friction_prep *prep, const d
      * search (and a Levenberg shift where psi's Hessian is not negative
      * definite). */
     int ok = 0, it;
-    double lam2_prev = INFINITY;
+    /* f, q, D and w at the current d (kept for the end: the loop ends at a
+     * d it has evaluated) */
+    double lam2_prev = INFINITY, f = NAN, q = NAN, Dd = NAN, wd[3] = {NAN, NAN, NAN};
     for (it = 0; it < LIMITSURF_MAX_ITER; it++) {
-        double gr[3], hs[9], N[2][3], gz[2], Hz[4], dz[2], lam2, t, P0, f, q;
-        P0 = reduced(ls, Winv, y, cap, d, gr, hs, &f, &q);
+        double gr[3], hs[9], N[2][3], gz[2], Hz[4], dz[2], lam2, t, P0;
+        P0 = reduced(ls, Winv, y, cap, d, gr, hs, &f, &q, &Dd, wd);
         if (!isfinite(P0) || !(f > 0.0)) return EXDEX_ENOCONV;
         plane_basis(d, N);
         for (int a = 0; a < 2; a++) {
@@ -797,7 +846,7 @@ int limitsurf_step(const limitsurf *ls, const exdex_friction_prep *prep, const d
         lam2 = gz[0] * dz[0] + gz[1] * dz[1];
         /* psi's scale: its terms before they cancel (near the stick
          * boundary f = d . y - cap D is a small difference) */
-        double psc = (fabs(ex_dot3(d, y)) + cap * limitsurf_dissipation(ls, d)) / sqrt(q);
+        double psc = (fabs(ex_dot3(d, y)) + cap * Dd) / sqrt(q);
         if (lam2 <= NEWTON_DONE * psc) {
             ok = 1;
             break;
@@ -809,12 +858,10 @@ int limitsurf_step(const limitsurf *ls, const exdex_friction_prep *prep, const d
             break;
         }
         lam2_prev = lam2;
-        t = 1.0;
-        for (int k = 0; k < 40 && lam2 > NEWTON_FULL * psc; k++) {
-            double dt[3];
-            for (int i = 0; i < 3; i++) dt[i] = d[i] + t * (dz[0] * N[0][i] + dz[1] * N[1][i]);
-            if (reduced(ls, Winv, y, cap, dt, NULL, NULL, NULL, NULL) >= P0 + 0.25 * t * lam2) break;
-            t *= 0.5;
+        {
+            /* psi is maximised: Armijo on -psi */
+            step_line sl = {ls, Winv, y, cap, d, dz, (const double (*)[3])N};
+            t = armijo(step_line_at, &sl, -P0, lam2, lam2 > NEWTON_FULL * psc);
         }
         if (t < 1e-9) {
             ok = lam2 <= NEWTON_ACCEPT * psc;
@@ -830,12 +877,10 @@ int limitsurf_step(const limitsurf *ls, const exdex_friction_prep *prep, const d
     res->iterations = it + 1;
     if (!ok) return EXDEX_ENOCONV;
     {
-        double w[3], Wp[3], f, q;
-        reduced(ls, Winv, y, cap, d, NULL, NULL, &f, &q);
+        double Wp[3];
         if (!(f > 0.0)) return EXDEX_ENOCONV;
-        limitsurf_wrench(ls, d, w, NULL);
         /* p = cap w(d) on the surface; u+ = b + W p (= (f / q) d at the optimum) */
-        for (int i = 0; i < 3; i++) res->p[i] = cap * w[i];
+        for (int i = 0; i < 3; i++) res->p[i] = cap * wd[i];
         mulmv(Wp, W, res->p);
         for (int i = 0; i < 3; i++) res->u[i] = b[i] + Wp[i];
         res->sigma = limitsurf_dissipation(ls, res->u);

@@ -6,7 +6,7 @@ from typing import Dict, Optional, Tuple, Union
 
 from exdex.scene import AsymmetricProfile, GripSchedule, TrapezoidalProfile
 
-__all__ = ["PARAMETERS", "ALIASES", "param_name", "replace_params"]
+__all__ = ["PARAMETERS", "ALIASES", "param_name", "replace_params", "unread"]
 
 
 @dataclass(frozen=True)
@@ -78,6 +78,22 @@ def _replace_path(obj, path, value):
     return dataclasses.replace(obj, **{path[0]: _replace_path(getattr(obj, path[0]), path[1:], value)})
 
 
+def unread(name, scene):
+    """Why the scene's model does not read the parameter ``name`` (a
+    sentence), or None where it does: the patch's e_r where the contact
+    region gives the surface (limit_surface "exact", or pads on the fingers,
+    whose region pad & face gives e_r too), and the patch centre with pads
+    (the region's centroid is the centre of pressure)."""
+    g = scene.grasp
+    if name == "e_r" and g.pad is not None:
+        return "with pads on the fingers the region pad & face gives e_r, not Patch.e_r"
+    if name == "e_r" and g.limit_surface == "exact":
+        return "the exact limit surface is that of the patch's region, not of Patch.e_r"
+    if name in ("patch_x", "patch_y") and g.pad is not None:
+        return "with pads on the fingers the region's centroid is the centre of pressure, not Patch.center"
+    return None
+
+
 def param_name(name, scene):
     name = ALIASES.get(name, name)
     if name not in PARAMETERS:
@@ -85,4 +101,7 @@ def param_name(name, scene):
     p = PARAMETERS[name]
     if p.motions and not isinstance(scene.motion, p.motions):
         raise ValueError(f"cannot vary {name!r}: the scene's motion {type(scene.motion).__name__} has no such field")
+    why = unread(name, scene)
+    if why is not None:
+        raise ValueError(f"cannot vary {name!r}: {why}")
     return name

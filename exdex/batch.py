@@ -48,7 +48,7 @@ from exdex import _core, _optional
 from exdex._validate import check_times as _check_times, real as _real
 from exdex.scene import METHODS, SOLVERS, AsymmetricProfile, Body, Grasp, GripSchedule, Scene, TrapezoidalProfile
 from exdex import diagnostics
-from exdex._params import ALIASES as _ALIASES, PARAMETERS, replace_params as _replace_params
+from exdex._params import ALIASES as _ALIASES, PARAMETERS, replace_params as _replace_params, unread as _unread
 from exdex.simulate import FrictionSolver, Method, Result, resolve_method
 
 __all__ = ["BatchResult", "simulate_batch", "sweep", "grid_points", "PARAMETERS", "INVALID_KINDS"]
@@ -326,6 +326,9 @@ def _check_param(name, scene):
             kinds = " or ".join(c.__name__ for c in p.motions)
             raise ValueError(f"batch parameter {name!r} sets motion.{p.path[-1]}, which needs a {kinds} "
                              f"motion; the scene's motion is {type(sc.motion).__name__}")
+        why = _unread(name, sc)
+        if why is not None:
+            raise ValueError(f"batch parameter {name!r} does not change this scene: {why}")
     return p
 
 

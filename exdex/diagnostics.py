@@ -134,12 +134,44 @@ def _length(x):
 def pad_half_size(patch):
     """Half-extents of the pad a patch was built from [m]: ``(r,)`` for a
     disc of radius r, ``(width / 2, height / 2)`` for a rectangle (along the
-    object's x and y at t = 0), or None when the patch states no size."""
+    object's x and y at t = 0), for a polygon the half-extents of its
+    bounding box about the centre (largest |x|, largest |y|), or None when
+    the patch states no size."""
     if patch.shape == "disc" and len(patch.dims) == 1:
         return (float(patch.dims[0]),)
     if patch.shape == "rectangle" and len(patch.dims) == 2:
         return (float(patch.dims[0]) / 2, float(patch.dims[1]) / 2)
+    reg = patch.region() if patch.shape == "polygon" else None
+    if reg is not None:
+        v = np.abs(reg["vertices"])
+        return (float(np.max(v[:, 0])), float(np.max(v[:, 1])))
     return None
+
+
+def _polygon_inradius(verts):
+    """The distance from the origin to the nearest edge line of the convex
+    ccw polygon verts (0 if the origin is not inside)."""
+    d = []
+    for a, b in zip(verts, np.roll(verts, -1, axis=0)):
+        e = b - a
+        n = math.hypot(*e)
+        if n > 0.0:
+            d.append((e[0] * (-a[1]) - e[1] * (-a[0])) / n)
+    return max(0.0, min(d)) if d else 0.0
+
+
+def _outside_polygon(verts, p):
+    """Per point of p (n, 2): True where it lies outside the convex ccw
+    polygon verts (k, 2), beyond a relative 1e-9 of its size."""
+    scale = float(np.max(np.abs(verts)))
+    out = np.zeros(len(p), dtype=bool)
+    for a, b in zip(verts, np.roll(verts, -1, axis=0)):
+        e = b - a
+        n = math.hypot(*e)
+        if n == 0.0:
+            continue
+        out |= (e[0] * (p[:, 1] - a[1]) - e[1] * (p[:, 0] - a[0])) / n < -1e-9 * scale
+    return out
 
 
 def poses(scene, q):
@@ -250,6 +282,11 @@ def contact_checks(scene, q):
     # does not enter the dynamics, so there the pad is the only size to
     # check only when the body states no outline.
     check_pad = half is not None and (scene.dof == "planar" or outline is None)
+    # a polygon patch: the slide is checked against the polygon itself, its
+    # inradius about the centre the cheap bound
+    poly = scene.grasp.patch.region()["vertices"] if half is not None and scene.grasp.patch.shape == "polygon" \
+        else None
+    inner = _polygon_inradius(poly) if poly is not None else min(half) if half is not None else 0.0
     # Cheap bounds first (long runs that stay well inside skip the per-row
     # work): the centre of mass moves by at most dr and turns by at most dth,
     # so the centre of pressure moves by at most dr + |c| dth relative to the
@@ -262,7 +299,7 @@ def contact_checks(scene, q):
         d = scene.slide_axis
         dr = float(np.max(np.abs(q[:, 0] - (d[0] * scene.q0[0] + d[1] * scene.q0[1]))))
         dth = 0.0
-    if check_pad and dr + float(np.hypot(*c)) * dth < min(half) * (1 - 1e-9):
+    if check_pad and dr + float(np.hypot(*c)) * dth < inner * (1 - 1e-9):
         check_pad = False
     if outline is not None:
         rel0 = _rot(-th0, pad - np.array(scene.q0[:2]))
@@ -279,7 +316,11 @@ def contact_checks(scene, q):
         ca, sa = math.cos(th0), math.sin(th0)
         local = np.stack([ca * slide[:, 0] + sa * slide[:, 1], -sa * slide[:, 0] + ca * slide[:, 1]], axis=1)
         dist = np.hypot(local[:, 0], local[:, 1])
-        if len(half) == 1:
+        if poly is not None:
+            # the centre of pressure (the pad's centre + the slide) outside the pad's polygon
+            mask = _outside_polygon(poly, local)
+            size_txt, limit = "the pad's polygon", float(np.max(np.hypot(poly[:, 0], poly[:, 1])))
+        elif len(half) == 1:
             mask = dist > half[0] * (1 + 1e-9)
             size_txt, limit = f"the pad radius {_length(half[0])}", half[0]
         else:

@@ -230,9 +230,11 @@ class Patch:
         pressure distribution (Howe & Cutkosky), or give it directly.
     center : centre of pressure in the object frame C, relative to the centre
         of mass [m]. In ``"rotation"`` scenes it is the pivot (paper 2.3).
-    shape : description only ("disc", "rectangle" or "given").
+    shape : description only ("disc", "rectangle", "polygon" or "given").
     dims : the sizes the patch was made from [m]: ``(radius,)`` for a disc,
-        ``(width, height)`` for a rectangle.
+        ``(width, height)`` for a rectangle, the vertices relative to
+        ``center`` flattened ``(x0, y0, x1, y1, ...)`` (counter-clockwise)
+        for a polygon.
     """
 
     e_r: float
@@ -255,6 +257,8 @@ class Patch:
         if self.shape == "rectangle" and len(self.dims) == 2:
             a, b = 0.5 * float(self.dims[0]), 0.5 * float(self.dims[1])
             return {"vertices": np.array([[-a, -b], [a, -b], [a, b], [-a, b]])}
+        if self.shape == "polygon" and len(self.dims) >= 6 and len(self.dims) % 2 == 0:
+            return {"vertices": np.array(self.dims, dtype=float).reshape(-1, 2)}
         return None
 
     def _surface_args(self, limit_surface: str) -> Tuple[int, float, Any, float]:
@@ -263,8 +267,8 @@ class Patch:
                              f"got {limit_surface!r}")
         reg = self.region() if limit_surface == "exact" else None
         if limit_surface == "exact" and reg is None:
-            raise ValueError("limit_surface='exact' needs a patch with a contact region (Patch.disc or "
-                             f"Patch.rectangle); this patch is given by e_r alone (shape {self.shape!r})")
+            raise ValueError("limit_surface='exact' needs a patch with a contact region (Patch.disc, .rectangle or "
+                             f".polygon); this patch is given by e_r alone (shape {self.shape!r})")
         verts = None if reg is None else reg.get("vertices")
         radius = 0.0 if reg is None else float(reg.get("radius", 0.0))
         return LIMIT_SURFACES[limit_surface], float(self.e_r), verts, radius
@@ -301,6 +305,38 @@ class Patch:
         return cls(e_r=_core.er_disc(r), center=center, shape="disc", dims=(r,))
 
     @classmethod
+    def polygon(cls, vertices: Matrix, center: Optional[Vector] = None) -> "Patch":
+        """Uniform pressure over a convex polygon: ``vertices`` (k, 2) [m] in
+        the object frame C relative to the centre of mass (either
+        orientation, 3 to 32 vertices). The centre
+        of pressure is the polygon's centroid (or ``center``, in C), e_r the
+        polygon's mean distance from it, and :meth:`region` the polygon
+        about it (the region of ``limit_surface="exact"``)."""
+        v = _array(vertices, "vertices", (None, 2))
+        if not 3 <= len(v) <= 32:
+            raise ValueError(f"Patch.polygon: vertices must have 3 to 32 vertices, got {len(v)}")
+        x, y = v[:, 0], v[:, 1]
+        cr = x * np.roll(y, -1) - np.roll(x, -1) * y
+        area2 = float(np.sum(cr))
+        if area2 < 0.0:
+            v = v[::-1].copy()
+            x, y = v[:, 0], v[:, 1]
+            cr = x * np.roll(y, -1) - np.roll(x, -1) * y
+            area2 = -area2
+        size2 = float(np.max(np.sum((v - v.mean(axis=0)) ** 2, axis=1)))
+        e = np.roll(v, -1, axis=0) - v
+        turn = e[:, 0] * np.roll(e[:, 1], -1) - e[:, 1] * np.roll(e[:, 0], -1)
+        if not (area2 > 0.0 and np.all(turn >= -1e-12 * size2)):
+            raise ValueError("Patch.polygon: vertices must be a convex polygon of positive area (every turn "
+                             "the same way)")
+        g = np.array([np.sum((x + np.roll(x, -1)) * cr), np.sum((y + np.roll(y, -1)) * cr)]) / (3.0 * area2)
+        c = g if center is None else np.asarray(_array(center, "center", (2,)), dtype=float)
+        rel = v - c
+        _, er = _core.limit_surface(LIMIT_SURFACES["exact"], 1.0, rel, 0.0, 0, (0.0, 0.0, 1.0))
+        return cls(e_r=float(er), center=tuple(float(a) for a in c), shape="polygon",
+                   dims=tuple(float(a) for a in rel.ravel()))
+
+    @classmethod
     def rectangle(cls, width: float, height: float, center: Vector = (0.0, 0.0)) -> "Patch":
         """Uniform pressure over a ``width`` x ``height`` rectangle [m] (full
         side lengths along the object's x and y, as in ``Body.box``): e_r is
@@ -320,7 +356,8 @@ class Pad:
     (:meth:`Body.contact_face`) at the object's pose, under uniform pressure
     (grip force / area). The friction acts at the region's centroid with the
     ellipsoid's e_r its mean distance from the centroid (in place of
-    ``Patch.center`` and ``Patch.e_r``), both following the object's pose; the
+    ``Patch.center`` and ``Patch.e_r``; with ``Grasp(limit_surface="exact")``
+    the exact surface of the region), both following the object's pose; the
     capacity stays ``mu * fingers * grip_force`` while the region is not
     empty. When the region vanishes at an output sample the grasp is lost:
     the run stops there (the Result ends at that sample, ``stats
@@ -494,8 +531,9 @@ class Grasp:
         in closed form). ``"exact"`` needs a region: pads on the fingers
         (the surface of pad & face, which follows the pose) or a patch with
         one (``Patch.disc``, ``Patch.rectangle``); it runs planar scenes
-        with the implicit and event methods (with frictionless stops or
-        obstacles: the implicit one), and 1-DoF scenes with every method (a 1-DoF rotation's torque
+        with the implicit, explicit and event methods (with stops or
+        obstacles: implicit and explicit; frictional ones: explicit), and
+        1-DoF scenes with every method (a 1-DoF rotation's torque
         capacity is then the region's mean distance from its centre times
         the capacity, as with the ellipsoid of that e_r). Static and kinetic
         friction are two surfaces of one shape (``mu_static``). See the
@@ -530,8 +568,8 @@ class Grasp:
                              f"got {self.limit_surface!r}")
         if self.limit_surface == "exact" and self.pad is None and self.patch.region() is None:
             raise ValueError("Grasp.limit_surface='exact' needs a contact region: pads on the fingers "
-                             "(Grasp.pad) or a patch with one (Patch.disc or Patch.rectangle); this patch is "
-                             f"given by e_r alone (shape {self.patch.shape!r})")
+                             "(Grasp.pad) or a patch with one (Patch.disc, .rectangle or .polygon); this patch "
+                             f"is given by e_r alone (shape {self.patch.shape!r})")
 
     @property
     def capacity(self) -> float:
@@ -1366,19 +1404,20 @@ class Scene:
 
     def _check_exact(self, method: str) -> None:
         """ValueError naming Grasp.limit_surface where the exact surface is not
-        solved: planar scenes take it with the implicit and event methods;
-        with stops or obstacles (frictionless) with the implicit one."""
+        solved: planar scenes take it with the implicit, explicit and event
+        methods; with stops or obstacles the event method does not, with
+        frictional ones (mu > 0) the implicit method does not."""
         if self.dof != "planar":
             return
-        if method not in ("implicit", "event"):
-            raise ValueError(f"Grasp.limit_surface='exact': planar scenes run it with method='implicit' or "
-                             f"'event', got method={method!r}")
-        if any(s.mu > 0 for s in self.stops) or any(o.mu > 0 for o in self.obstacles):
+        if method not in ("implicit", "explicit", "event"):
+            raise ValueError(f"Grasp.limit_surface='exact': planar scenes run it with method='implicit', "
+                             f"'explicit' or 'event', got method={method!r}")
+        if (self.stops or self.obstacles) and method == "event":
+            raise ValueError("Grasp.limit_surface='exact': planar scenes with stops or obstacles run it with "
+                             "method='implicit' or 'explicit', got method='event'")
+        if method == "implicit" and (any(s.mu > 0 for s in self.stops) or any(o.mu > 0 for o in self.obstacles)):
             raise ValueError("Grasp.limit_surface='exact': planar scenes with frictional stops or obstacles "
-                             "(mu > 0) take limit_surface='ellipsoid'")
-        if (self.stops or self.obstacles) and method != "implicit":
-            raise ValueError(f"Grasp.limit_surface='exact': planar scenes with stops or obstacles run it with "
-                             f"method='implicit', got method={method!r}")
+                             "(mu > 0) run it with method='explicit', got method='implicit'")
 
     def to_spec(self, method: str = "implicit", friction_solver: str = "scalar", eps: float = 1e-4,
                 rtol: float = 1e-8, atol: float = 1e-10) -> Dict[str, Any]:

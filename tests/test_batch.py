@@ -568,3 +568,20 @@ def test_sweep_progress_is_called_per_chunk(fig3):
     assert len(calls) == 16 and calls[-1] == 183 and calls[0] == 12
     with pytest.raises(TypeError, match="progress must be"):
         sweep(fig3, {"mu": [0.1]}, t_end=0.01, progress="yes")
+def test_parameters_the_scene_does_not_read_are_refused():
+    """e_r where the contact region gives the surface (the exact surface, or
+    pads on the fingers) and the patch centre with pads: a batch, a plan and
+    a sensitivity of them would vary nothing, so each names why."""
+    body = exdex.Body.box(0.1, (0.06, 0.03, 0.02))
+    exact = exdex.Scene(body=body, grasp=exdex.Grasp(0.5, 2.0, exdex.Patch.rectangle(0.02, 0.02),
+                                                     limit_surface="exact"), dof="planar")
+    pads = exdex.Scene(body=body, grasp=exdex.Grasp(0.5, 2.0, pad=exdex.Pad.rectangle(0.02, 0.02)), dof="planar")
+    for sc, name, why in ((exact, "e_r", "exact limit surface"), (pads, "e_r", "pads on the fingers"),
+                          (pads, "patch_x", "centre of pressure")):
+        with pytest.raises(ValueError, match=f"batch parameter '{name}' does not change this scene: .*{why}"):
+            exdex.simulate_batch(sc, 0.1, 0.01, **{name: [0.001, 0.002]})
+        with pytest.raises(ValueError, match=f"cannot vary '{name}': .*{why}"):
+            exdex.sensitivity(sc, [name], t_end=0.1)
+    # the exact surface's patch centre moves its region: read
+    b = exdex.simulate_batch(exact, 0.1, 0.01, patch_x=[0.0, 0.002])
+    assert b.q.shape[0] == 2

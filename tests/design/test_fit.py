@@ -170,3 +170,41 @@ def test_exact_event_derivatives_flag_a_threshold():
     grasp slips from t = 0, so the derivative is one-sided: the error is inf."""
     s = exdex.design.fit.event_sensitivity(paper.fig6_scene(), ["grip_force"], 8.0)
     assert s.exact and np.isinf(s.stop_error[0])
+
+
+def _exact_planar(mu=0.5, grip=2.0):
+    """A planar box on a 20 mm pad beside its centre of mass (inside the
+    face) with the exact surface under the Fig. 3 motion (it slides and
+    turns)."""
+    return exdex.Scene(body=exdex.Body.box(0.1, (0.06, 0.03, 0.02)),
+                       grasp=exdex.Grasp(mu=mu, grip_force=grip, limit_surface="exact",
+                                         pad=exdex.Pad.rectangle(0.02, 0.02, center=(0.008, 0.0))),
+                       motion=paper.fig3_scene().motion, dof="planar")
+
+
+def test_sensitivity_with_the_exact_surface_matches_central_differences():
+    """d q(t_end) / d grip_force of the exact surface of pad & face against central
+    differences of event runs at rtol 1e-12 (h = 1e-4 N: truncation ~ h^2
+    q''' ~ 1e-8 relative), to 1e-4 relative."""
+    sc, F, h = _exact_planar(), 2.0, 1e-4
+    s = exdex.sensitivity(sc, ["grip_force"], t_end=1.5, method="event")
+    qs = [exdex.simulate(dataclasses.replace(sc, grasp=dataclasses.replace(sc.grasp, grip_force=f)), 1.5, 1.5,
+                         method="event", rtol=1e-12, atol=1e-14).q[-1] for f in (F - h, F + h)]
+    fd = (qs[1] - qs[0]) / (2 * h)
+    assert np.max(np.abs(fd)) > 1e-3
+    np.testing.assert_allclose(s["grip_force"], fd, rtol=1e-4, atol=1e-4 * np.max(np.abs(fd)))
+
+
+def test_identify_recovers_mu_with_the_exact_surface():
+    """A synthetic log (0.1 mm noise on x, y; 151 samples) of the exact surface
+    of pad & face with mu = 0.46: fitting mu from 0.5 finds it within 3 standard
+    errors."""
+    sc = _exact_planar(mu=0.46)
+    t = np.linspace(0.0, 1.5, 151)
+    r = exdex.simulate(sc, 1.5, 0.01, method="event", rtol=1e-12, atol=1e-14)
+    rng = np.random.default_rng(7)
+    y = r.q + rng.normal(0.0, 1e-4, r.q.shape) * np.array([1.0, 1.0, 0.0])
+    fit = exdex.identify(_exact_planar(), t, y, {"mu": (0.3, 0.7)})
+    assert fit.success and fit.identifiable
+    assert abs(fit.values["mu"] - 0.46) <= 3 * fit.stderr["mu"]
+    assert 0 < fit.stderr["mu"] < 0.01

@@ -331,3 +331,22 @@ def test_every_plan_meets_its_target_re_simulated_by_the_event_method(case):
     if "rest_by" in target:
         rr = exdex.simulate(p.scene, t_end, 1e-3, method="event", rtol=1e-12, atol=1e-14)
         assert np.all(rr.v[np.searchsorted(rr.t, 0.7):] == 0.0)
+
+
+def test_planar_plan_with_the_exact_surface_on_pads():
+    """A planar box on a 20 mm pad beside its centre of mass (inside the
+    face), limit_surface="exact", the Fig. 3 motion: the grip force for a
+    slide y = -5 mm, re-simulated by the event method at rtol 1e-12 (the
+    exact surface of pad & face at each pose), meets the target; the
+    ellipsoid's plan for the same target needs another grip force."""
+    s3 = fig3()
+    pad = exdex.Pad.rectangle(0.02, 0.02, center=(0.008, 0.0))
+    scene = exdex.Scene(body=exdex.Body.box(0.1, (0.06, 0.03, 0.02)),
+                        grasp=exdex.Grasp(mu=0.5, grip_force=2.5, pad=pad, limit_surface="exact"),
+                        motion=s3.motion, dof="planar")
+    p = plan.solve(scene, {"y": -0.005}, vary={"grip_force": (2.0, 3.0)}, t_end=T_END, tol=1e-6)
+    r = exdex.simulate(p.scene, T_END, T_END, method="event", rtol=1e-12, atol=1e-14)
+    assert abs((r.q[-1] - r.q[0])[1] - (-0.005)) <= 1e-6
+    pe = plan.solve(exdex.replace(scene, grasp=exdex.replace(scene.grasp, limit_surface="ellipsoid")),
+                    {"y": -0.005}, vary={"grip_force": (2.0, 3.0)}, t_end=T_END, tol=1e-6)
+    assert abs(pe.value - p.value) > 1e-3, (p.value, pe.value)

@@ -500,22 +500,27 @@ def test_zoo_pad_scene(seed):
 def test_zoo_pad_scene_exact(seed):
     """The exact limit surface of the pads' moving region (pad & face, its
     surface changing with the pose) on the random pad scenes. Without stops,
-    where the grasp holds: zoo.check_scene's agreement of the implicit dt
-    ladder with the event method (its tight run the reference). With
-    frictionless stops, which the implicit method alone solves with the
-    exact surface: its dt ladder t_end / (N_DT k), k = 1 .. 16, converges
+    where the grasp holds: zoo.check_scene's agreement of the implicit and
+    explicit dt ladders with the event method (its tight run the
+    reference). With (frictionless) stops, which the event method does not
+    take with the exact surface: the implicit and explicit dt ladders
+    (t_end / (N_DT k), k = 1 .. 16; explicit 10x finer) each converge
     (zoo.ladder_consistent: successive differences shrinking at a
-    convergent rate, the last at most half the first). Where the grasp is lost: the runs lose it within 4 of
-    PAD_OUT output samples of the implicit run at half that step (the
-    implicit run at PAD_OUT, and the event run without stops)."""
+    convergent rate, the last at most half the first), to the same pose: the
+    finest runs within 3 times the sum of their last differences (a
+    first-order run's error is about its last difference). Where the grasp
+    is lost: the runs lose it within 4 of PAD_OUT output samples of the
+    implicit run at half that step (the implicit run at PAD_OUT, the
+    explicit run at 10 PAD_OUT and the event run without stops)."""
     pz = zoo.zoo_pad_scene(seed)
     sc = pz.scene
     pz = dataclasses.replace(pz, scene=exdex.replace(sc, grasp=exdex.replace(sc.grasp, limit_surface="exact")))
     stops = bool(sc.stops or sc.obstacles)
-    methods = ("implicit",) if stops else ("implicit", "event")
+    methods = ("implicit", "explicit") if stops else ("implicit", "event", "explicit")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", exdex.PhysicsWarning)
-        runs = {m: zoo.run(pz, m, n_out=PAD_OUT) for m in methods}
+        runs = {m: zoo.run(pz, m, n_out=PAD_OUT) for m in methods if m != "explicit"}
+        runs["explicit"] = zoo.run(pz, "explicit", n_out=10 * PAD_OUT)
         runs["implicit-2"] = zoo.run(pz, "implicit", dt=pz.t_end / (2 * PAD_OUT), n_out=PAD_OUT)
         lost = {m: r.stats["grasp_lost_t"] for m, r in runs.items()}
         if all(v is None for v in lost.values()):
@@ -525,12 +530,16 @@ def test_zoo_pad_scene_exact(seed):
                     assert out[m]["error"] is None, (pz, m, out[m]["error"])
                     assert out[m].get("ok", True), (pz, m, {k: v for k, v in out[m].items() if k != "pose"})
                 return
-            rs = [zoo.run(pz, "implicit", dt=pz.t_end / (zoo.N_DT * k)) for k in (1, 2, 4, 8, 16)]
-            poses = [zoo.final_pose(r) for r in rs]
-            d = [zoo.pose_distance(pz, a, b) for a, b in zip(poses[:-1], poses[1:])]
-            assert zoo.ladder_consistent(d, noise=1e-9), (pz, d)
-            # first order: the finest run is within about its last difference of the limit
-            assert d[-1] <= 0.5 * d[0] + 1e-9, (pz, d)
+            finest, last = {}, {}
+            for m, f in (("implicit", 1), ("explicit", 10)):
+                rs = [zoo.run(pz, m, dt=pz.t_end / (zoo.N_DT * f * k)) for k in (1, 2, 4, 8, 16)]
+                poses = [zoo.final_pose(r) for r in rs]
+                d = [zoo.pose_distance(pz, a, b) for a, b in zip(poses[:-1], poses[1:])]
+                assert zoo.ladder_consistent(d, noise=1e-9), (pz, m, d)
+                assert d[-1] <= 0.5 * d[0] + 1e-9, (pz, m, d)
+                finest[m], last[m] = poses[-1], d[-1]
+            gap = zoo.pose_distance(pz, finest["implicit"], finest["explicit"])
+            assert gap <= 3 * (last["implicit"] + last["explicit"]) + 1e-9, (pz, gap, last)
             return
     assert all(v is not None for v in lost.values()), (pz, lost)
     dt = pz.t_end / PAD_OUT

@@ -70,7 +70,7 @@ EXDEX_TEST(exact_rejects)
     exdex_model_free(m);
     d.limit_surface = 2;
     ENSURE(!exdex_model_alloc(&d, &st, &bad) && st == EXDEX_EINVAL && strcmp(bad, "limit_surface") == 0);
-    d = free_disc(EXDEX_LS_EXACT, EXDEX_METHOD_EXPLICIT, 0.02, 1, 1);
+    d = free_disc(EXDEX_LS_EXACT, EXDEX_METHOD_REGULARISED, 0.02, 1, 1);
     ENSURE(!exdex_model_alloc(&d, &st, &bad) && st == EXDEX_EINVAL && strcmp(bad, "limit_surface") == 0);
     d = free_disc(EXDEX_LS_EXACT, EXDEX_METHOD_EVENT, 0.02, 1, 1);
     d.n_stops = 1;
