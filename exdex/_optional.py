@@ -16,6 +16,7 @@ __all__ = ["MissingExtraError", "require", "available", "pyplot", "progress_bar"
 EXTRAS = {
     "matplotlib": "plot",
     "tqdm": "plot",
+    "scipy": "design",
     "pybullet": "engines",
     "mujoco": "engines",
     "pydrake": "engines",

@@ -30,7 +30,7 @@ import warnings
 
 import numpy as np
 
-__all__ = ["PhysicsWarning", "ReductionWarning", "findings", "pad_half_size"]
+__all__ = ["PhysicsWarning", "ReductionWarning", "NoisyLogWarning", "PlausibilityWarning", "findings", "pad_half_size"]
 
 
 class PhysicsWarning(UserWarning):
@@ -88,6 +88,42 @@ class ReductionWarning(PhysicsWarning):
         PhysicsWarning.__init__(w, message, kind="reduction", time=time, quantity="reduction_valid_until [s]",
                                 value=time, limit=None)
         return w
+
+
+class NoisyLogWarning(PhysicsWarning):
+    """A robot log's accelerations are dominated by its measurement noise
+    (``kind`` "noisy_log"): the spline through the samples passes the noise
+    on to the gripper's accelerations, and so to the object. Issued when an
+    :class:`exdex.SampledTrajectory` is made without ``noise``; the message
+    names the option and the level estimated from the data.
+
+    Attributes besides :class:`PhysicsWarning`'s: ``part`` ("positions" or
+    "orientations"), ``noise`` (the estimated level: m per axis, or rad per
+    axis of a small rotation), ``noise_acceleration`` (three standard
+    deviations of the acceleration the noise gives, ``value``: m/s^2 or
+    rad/s^2) and ``motion_acceleration`` (the motion's peak acceleration
+    read at a coarser stride, ``limit``)."""
+
+    def __init__(self, message, part, noise, noise_acceleration, motion_acceleration):
+        self.part, self.noise = part, float(noise)
+        self.noise_acceleration, self.motion_acceleration = float(noise_acceleration), float(motion_acceleration)
+        unit = "m/s^2" if part == "positions" else "rad/s^2"
+        super().__init__(message, kind="noisy_log", time=None,
+                         quantity=f"the noise's acceleration (3 standard deviations) [{unit}]",
+                         value=self.noise_acceleration, limit=self.motion_acceleration)
+
+
+class PlausibilityWarning(PhysicsWarning):
+    """A scene's field holds a value no real gripper or object has (``kind``
+    "plausibility"): a density far outside solids, a pad larger than the
+    face it presses on. The scene runs as given; the warning names the
+    field (``quantity``), its value and the bound it passed (``value``,
+    ``limit``, SI units)."""
+
+    def __init__(self, message, field, value, limit):
+        self.field = field
+        super().__init__(message, kind="plausibility", time=None, quantity=field, value=float(value),
+                         limit=float(limit))
 
 
 _COORD = {0: "pivot", 1: "across", 2: "theta"}

@@ -20,13 +20,14 @@ from __future__ import annotations
 import dataclasses
 import math
 import numbers
+import warnings
 from dataclasses import dataclass, field
 from typing import Any, Dict, Optional, Sequence, Tuple, TypeVar, Union
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from exdex import _core
+from exdex import _core, _lognoise, diagnostics as _diagnostics
 from exdex._rotations import quat_from_matrix as _quat_from_matrix
 from exdex._validate import array as _array, real as _real
 
@@ -726,6 +727,17 @@ class SampledTrajectory(_Motion):
         gives displacements of the initial gripper pose).
     tool : (4, 4) homogeneous transform of the gripper frame B in the logged
         frame (flange -> B), or None (the log is B itself). B(t) = L(t) X.
+    noise : the log's measurement noise, the standard deviation per axis of
+        the positions [m] and of the orientation (a small rotation) [rad]: a
+        pair ``(position, orientation)``, or one number for both; 0 leaves
+        that part as logged. None (the default): no smoothing. Given, the
+        poses are replaced by a smoothing spline (SciPy's
+        ``make_smoothing_spline``, the ``design`` extra) whose residual
+        matches the noise: each position axis has the root-mean-square
+        residual ``noise[0]``, the quaternion's components together the
+        residual a rotation noise of ``noise[1]`` per axis gives (3
+        ``noise[1]``^2 / 4 mean square); the interpolation below then runs
+        through the smoothed samples. Stored as the pair.
 
     Interpolated with C2 cubic splines of the position and quaternion
     components, clamped at the ends: where the log starts or ends at rest
@@ -745,6 +757,12 @@ class SampledTrajectory(_Motion):
     them). A log starting at speed at t = 0 has no jump in the run: the
     simulation starts there, and ``Scene.v0`` is the object's velocity
     relative to the already moving gripper.
+
+    A log made without ``noise`` whose accelerations are dominated by its
+    noise (three standard deviations of the acceleration the noise gives
+    exceed the motion's peak, each estimated from the data:
+    :meth:`noise_estimate`) gives an :class:`exdex.NoisyLogWarning` naming
+    the option; logs of fewer than 12 samples are not judged.
     """
 
     times: Vector
@@ -756,6 +774,7 @@ class SampledTrajectory(_Motion):
     end_omega: Optional[Tuple[float, float, float]] = None
     relative: bool = False
     tool: Optional[Tuple[Tuple[float, ...], ...]] = None
+    noise: Optional[Union[float, Tuple[float, float]]] = None
 
     def __post_init__(self):
         t = _array(self.times, "SampledTrajectory.times", (None,))
@@ -783,6 +802,66 @@ class SampledTrajectory(_Motion):
                 raise ValueError("SampledTrajectory.tool must be a homogeneous transform: last row (0, 0, 0, 1)")
             _rotation(X[:3, :3], "SampledTrajectory.tool[:3, :3]")
             object.__setattr__(self, "tool", _tuple(X))
+        self._smooth()
+
+    def _smooth(self):
+        """Validate ``noise``; keep the smoothed poses (or None), or warn on a noisy log."""
+        smoothed = None
+        if self.noise is not None:
+            a = np.asarray(self.noise)
+            if a.ndim == 0:
+                pair = (_real(self.noise, "SampledTrajectory.noise", low=0.0),) * 2
+            else:
+                v = _array(a, "SampledTrajectory.noise", (2,))
+                pair = tuple(_real(float(x), f"SampledTrajectory.noise[{i}]", low=0.0) for i, x in enumerate(v))
+            object.__setattr__(self, "noise", pair)
+            if pair != (0.0, 0.0):
+                if len(self.times) < 5:
+                    raise ValueError(f"SampledTrajectory.noise: smoothing needs at least 5 samples, got "
+                                     f"{len(self.times)}")
+                feature = "SampledTrajectory(noise=...)"
+                p = _lognoise.smooth_positions(self.times, self.positions, pair[0], feature) if pair[0] > 0 \
+                    else np.array(self.positions)
+                q = _lognoise.smooth_quaternions(self.times, self.quaternions, pair[1], feature) if pair[1] > 0 \
+                    else np.array(self.quaternions)
+                smoothed = np.hstack([p, q])
+                smoothed.setflags(write=False)
+        object.__setattr__(self, "_smoothed", smoothed)
+        if self.noise is None:
+            for w in self._noise_findings():
+                warnings.warn(w, stacklevel=_lognoise.user_stacklevel())
+
+    def noise_estimate(self) -> Tuple[float, float]:
+        """The noise of the logged poses estimated from the data: (position
+        [m] per axis, orientation [rad] per axis), the largest over the
+        position axes and the rotation's three axes (see
+        :mod:`exdex._lognoise`; zeros for fewer than 12 samples). A value
+        for ``noise`` where the log's own level is not known."""
+        sp = _lognoise.levels(self.times, self.positions)
+        sq = _lognoise.levels(self.times, _lognoise.continuous_quaternions(self.quaternions))
+        return float(np.max(sp)), float(2.0 * np.linalg.norm(sq) / math.sqrt(3.0))
+
+    def _noise_findings(self):
+        out = []
+        est = None
+        parts = (("positions", self.positions, 1.0, "m/s^2"),
+                 ("orientations", _lognoise.continuous_quaternions(self.quaternions), 2.0, "rad/s^2"))
+        for part, y, factor, unit in parts:
+            sig, noise_acc, motion_acc = _lognoise.dominance(self.times, y, factor)
+            if motion_acc is None or noise_acc <= motion_acc:
+                continue
+            if est is None:
+                est = self.noise_estimate()
+            level = est[0] if part == "positions" else est[1]
+            out.append(_diagnostics.NoisyLogWarning(
+                f"SampledTrajectory: the log's {part} are noisy enough to dominate their accelerations: their "
+                f"noise, about {level:.3g} {'m' if part == 'positions' else 'rad'} per axis (estimated from "
+                f"the data's 3rd to 6th differences), gives the gripper accelerations of about {noise_acc:.3g} "
+                f"{unit} (3 standard deviations) against the motion's peak of about {motion_acc:.3g} {unit}. "
+                f"Pass SampledTrajectory(..., noise=({est[0]:.2g}, {est[1]:.2g})) (position [m], orientation "
+                f"[rad]; your sensor's figures if you know them) to smooth the log",
+                part, level, noise_acc, motion_acc))
+        return out
 
     @classmethod
     def from_matrices(cls, times: Vector, transforms: ArrayLike, **options: Any) -> "SampledTrajectory":
@@ -793,7 +872,7 @@ class SampledTrajectory(_Motion):
         return cls(times, T[:, :3, 3], quats, **options)
 
     def _spec(self):
-        poses = np.hstack([self.positions, self.quaternions])
+        poses = np.hstack([self.positions, self.quaternions]) if self._smoothed is None else self._smoothed
         zero = (0.0, 0.0, 0.0)
         given = (self.start_velocity is not None or self.start_omega is not None,
                  self.end_velocity is not None or self.end_omega is not None)
@@ -813,7 +892,7 @@ class SampledTrajectory(_Motion):
 
     def _key(self):
         return (self.times.tobytes(), self.positions.tobytes(), self.quaternions.tobytes(), self.start_velocity,
-                self.start_omega, self.end_velocity, self.end_omega, self.relative, self.tool)
+                self.start_omega, self.end_velocity, self.end_omega, self.relative, self.tool, self.noise)
 
     def __eq__(self, other):
         return isinstance(other, SampledTrajectory) and self._key() == other._key()

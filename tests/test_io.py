@@ -138,6 +138,7 @@ def _same(a, b):
         io.scene_to_dict(b))
 
 
+@pytest.mark.warns_by_design("noisy_log")  # the random logs are normal draws: noise by construction
 @pytest.mark.parametrize("fmt", ["toml", "json"])
 def test_round_trip_random_scenes_is_exact(fmt, tmp_path):
     rng = np.random.default_rng(20261124)
@@ -162,6 +163,7 @@ def test_round_trip_random_scenes_is_exact(fmt, tmp_path):
     assert {p for *_, p in seen} == {"given", "disc", "rectangle"}
 
 
+@pytest.mark.warns_by_design("noisy_log")  # the random logs are normal draws: noise by construction
 @pytest.mark.parametrize("fmt", ["toml", "json"])
 def test_round_trip_obstacles_is_exact(fmt, tmp_path):
     """Scenes with boxes, half-space intersections and rods (awkward floats)
@@ -265,7 +267,7 @@ def test_simulate_options_round_trip_and_checks(tmp_path):
 
 
 @pytest.mark.parametrize("edit, message", [
-    (lambda d: d.update(schema=4), r"unsupported scene-file schema 4.*reads schema 1, 2, 3"),
+    (lambda d: d.update(schema=5), r"unsupported scene-file schema 5.*reads schema 1, 2, 3, 4"),
     (lambda d: d.update(schema="1"), r"unsupported scene-file schema '1'"),
     (lambda d: d.pop("schema"), r"missing key in scene: 'schema'"),
     (lambda d: d["grasp"].update(frction=0.3), r"unknown key in scene\.grasp: 'frction'; allowed: .*mu"),
@@ -440,9 +442,9 @@ def test_cli_run_writes_result_figure_and_animation(tmp_path):
 def test_cli_run_errors_are_messages(tmp_path):
     p = _cli("run", "missing.toml", cwd=tmp_path)
     assert p.returncode != 0 and "no such scene file: missing.toml" in p.stderr
-    (tmp_path / "bad.toml").write_text("schema = 4\n")
+    (tmp_path / "bad.toml").write_text("schema = 5\n")
     p = _cli("run", "bad.toml", cwd=tmp_path)
-    assert p.returncode != 0 and "unsupported scene-file schema 4" in p.stderr and "Traceback" not in p.stderr
+    assert p.returncode != 0 and "unsupported scene-file schema 5" in p.stderr and "Traceback" not in p.stderr
     sc = _scenes()["translation"]
     exdex.save_scene(sc, tmp_path / "s.toml")
     p = _cli("run", "s.toml", "--dt", "-1", "--no-progress", cwd=tmp_path)
@@ -473,7 +475,7 @@ def test_the_schema_covers_every_scene_field_and_motion():
         "AsymmetricProfile": ["amplitude", "duration", "beta", "axis", "rotation", "center"],
         "TrapezoidalProfile": ["amplitude", "duration", "v_max", "axis", "rotation", "center"],
         "SampledTrajectory": ["times", "positions", "quaternions", "start_velocity", "start_omega",
-                              "end_velocity", "end_omega", "relative", "tool"],
+                              "end_velocity", "end_omega", "relative", "tool", "noise"],
         "Shake": ["amplitude", "frequency", "cycles", "duration", "axis", "rotation", "center"],
         "Pause": ["duration"],
         "Chain": ["pieces", "allow_jump"],
@@ -534,13 +536,44 @@ def test_schema_3_limit_surface_and_older_files(tmp_path):
     sc = exdex.Scene(body=exdex.Body(0.1), grasp=exdex.Grasp(0.5, 1.5, exdex.Patch.disc(0.01), limit_surface="exact"))
     exdex.save_scene(sc, tmp_path / "s.toml")
     text = (tmp_path / "s.toml").read_text()
-    assert "schema = 3" in text and 'limit_surface = "exact"' in text
+    assert f"schema = {io.SCHEMA_VERSION}" in text and 'limit_surface = "exact"' in text
     assert exdex.load_scene(tmp_path / "s.toml") == sc
     for version in (1, 2):
-        old = text.replace("schema = 3", f"schema = {version}")
+        old = text.replace(f"schema = {io.SCHEMA_VERSION}", f"schema = {version}")
         (tmp_path / "old.toml").write_text(old.replace('limit_surface = "exact"\n', ""))
         back = exdex.load_scene(tmp_path / "old.toml")
         assert back.grasp.limit_surface == "ellipsoid" and back == exdex.replace(sc, grasp=exdex.replace(sc.grasp, limit_surface="ellipsoid"))
         (tmp_path / "old.toml").write_text(old)
         with pytest.raises(ValueError, match=r"unknown key in scene.grasp: 'limit_surface'.*schema 3"):
             exdex.load_scene(tmp_path / "old.toml")
+
+
+@pytest.mark.parametrize("fmt", ["toml", "json"])
+def test_log_noise_round_trips_and_needs_schema_4(fmt, tmp_path):
+    """SampledTrajectory.noise is written (as the pair) and read back; the
+    loaded log smooths to the same knots, bit for bit (a plain function of
+    the file's numbers); a schema 1 to 3 file with it is refused naming the
+    key and the schema (also inside a Chain)."""
+    pytest.importorskip("scipy")
+    t = np.linspace(0.0, 1.0, 41)
+    rng = np.random.default_rng(3)
+    pos = np.outer(t**3 * (10 - 15 * t + 6 * t * t), [0.1, 0.0, 0.0]) + rng.normal(scale=1e-4, size=(41, 3))
+    log = exdex.SampledTrajectory(t, pos, np.tile([1.0, 0.0, 0.0, 0.0], (41, 1)), noise=(1e-4, 2e-4))
+    sc = exdex.Scene(body=exdex.Body(0.1), grasp=exdex.Grasp(0.5, 1.5), motion=log)
+    path = tmp_path / f"log.{fmt}"
+    exdex.save_scene(sc, path)
+    back = exdex.load_scene(path)
+    assert _same(back, sc) and back.motion.noise == (1e-4, 2e-4)
+    np.testing.assert_array_equal(back.motion._spec()["motion_poses"], log._spec()["motion_poses"])
+    assert not np.array_equal(log._spec()["motion_poses"][:, :3], pos)   # smoothed, not the raw samples
+    d = io.scene_to_dict(sc)
+    assert d["motion"]["noise"] == [1e-4, 2e-4]
+    d["schema"] = 3
+    with pytest.raises(ValueError, match=r"unknown key in scene.motion: 'noise'.*schema 4"):
+        io.scene_from_dict(d)
+    d["motion"] = {"type": "Chain", "pieces": [dict(d["motion"])]}
+    with pytest.raises(ValueError, match=r"scene.motion.pieces\[0\]: 'noise'.*schema 4"):
+        io.scene_from_dict(d)
+    del d["motion"]["pieces"][0]["noise"]
+    with pytest.warns(exdex.NoisyLogWarning, match="noise="):   # the raw log: its noise dominates
+        assert io.scene_from_dict(d).motion.pieces[0].noise is None
