@@ -36,8 +36,9 @@ __all__ = ["PhysicsWarning", "ReductionWarning", "NoisyLogWarning", "Plausibilit
 class PhysicsWarning(UserWarning):
     """A simulated result left the assumptions of the model.
 
-    Attributes: ``kind`` ("pad", "outline", "impact", "solver" or
-    "grasp": pads on the fingers lost the object), ``time``
+    Attributes: ``kind`` ("pad", "outline", "impact", "solver",
+    "grasp": pads on the fingers lost the object; the subclasses'
+    "reduction", "noisy_log", "plausibility", "gripper_jump"), ``time``
     (the first time it happened [s], or None when the core does not know it),
     ``quantity`` (what was measured), ``value`` and ``limit`` (its size and
     the bound it passed, SI units; ``limit`` may be None).

@@ -82,6 +82,86 @@ def _rotation(value, name):
     return _tuple(R)
 
 
+# ---------------------------------------------------------------- plausibility
+
+#: Densities [kg/m^3] outside which a body's mass and size give a PlausibilityWarning: below 10
+#: (lighter than an empty paper box: a 15 cm cube of 34 g), above 25000 (denser than osmium,
+#: 22590, the densest solid).
+DENSITY_RANGE = (10.0, 25000.0)
+
+
+def _plausibility(message, field, value, limit):
+    warnings.warn(_diagnostics.PlausibilityWarning(message, field, value, limit),
+                  stacklevel=_lognoise.user_stacklevel())
+
+
+def _check_density(body):
+    """A PlausibilityWarning for a mass whose density in the body's volume
+    (its size: the box, the disc or the outline's area times the thickness)
+    is outside DENSITY_RANGE."""
+    if body.size is None:
+        return
+    lx, ly, lz = body.size
+    if body.outline_radius is not None:
+        vol, what = math.pi * body.outline_radius**2 * lz, f"cylinder of radius {body.outline_radius:g} m"
+    else:   # a polygon outline may list only the corners that touch stops: the box bounds the volume
+        vol, what = lx * ly * lz, f"{lx:g} x {ly:g} x {lz:g} m box"
+    if vol <= 0.0:
+        return
+    rho = body.mass / vol
+    lo, hi = DENSITY_RANGE
+    if not lo <= rho <= hi:
+        _plausibility(f"Body.mass = {body.mass:g} kg in a {what} (Body.size, {vol:.4g} m^3) is a density of "
+                      f"{rho:.4g} kg/m^3, outside the {lo:g} .. {hi:g} kg/m^3 of objects a gripper holds (an empty "
+                      f"paper box .. osmium): check Body.mass [kg] and Body.size [m]",
+                      "Body.mass", rho, lo if rho < lo else hi)
+
+
+def _hull(points):
+    """Convex hull of (k, 2) points, counter-clockwise (Andrew's monotone chain)."""
+    pts = sorted(set(map(tuple, np.asarray(points, dtype=float))))
+    if len(pts) < 3:
+        return np.array(pts)
+
+    def half(seq):
+        out = []
+        for p in seq:
+            while len(out) >= 2 and ((out[-1][0] - out[-2][0]) * (p[1] - out[-2][1])
+                                     - (out[-1][1] - out[-2][1]) * (p[0] - out[-2][0])) <= 0:
+                out.pop()
+            out.append(p)
+        return out
+    lower, upper = half(pts), half(reversed(pts))
+    return np.array(lower[:-1] + upper[:-1])
+
+
+def _outside(hull, p):
+    """Distance [m] of point p outside the convex polygon ``hull`` (ccw), 0 inside."""
+    p = np.asarray(p, dtype=float)
+    a, b = hull, np.roll(hull, -1, axis=0)
+    e = b - a
+    cross = e[:, 0] * (p[1] - a[:, 1]) - e[:, 1] * (p[0] - a[:, 0])
+    if np.all(cross >= 0.0):
+        return 0.0
+    s = np.clip(np.einsum("ij,ij->i", p - a, e) / np.maximum(np.einsum("ij,ij->i", e, e), 1e-300), 0.0, 1.0)
+    d = a + s[:, None] * e - p
+    return float(np.min(np.hypot(d[:, 0], d[:, 1])))
+
+
+def _separated(P, Q):
+    """True when the convex polygons P and Q (ccw) share no area: some edge
+    normal of either separates them (touching counts as separated)."""
+    for poly in (P, Q):
+        e = np.roll(poly, -1, axis=0) - poly
+        for n in np.column_stack([e[:, 1], -e[:, 0]]):
+            if n @ n == 0.0:
+                continue
+            pa, pb = P @ n, Q @ n
+            if pa.max() <= pb.min() or pb.max() <= pa.min():
+                return True
+    return False
+
+
 # ---------------------------------------------------------------- object and grasp
 
 @dataclass(frozen=True)
@@ -106,6 +186,10 @@ class Body:
         ``Body.cylinder`` makes a uniform cylinder with this outline.
     outline_center : centre of the disc outline in C, relative to the centre
         of mass [m]; default the centre of mass.
+
+    A mass whose density in the body's volume (``size``: the box, or the
+    cylinder of a disc outline) is outside ``DENSITY_RANGE``, 10 .. 25000
+    kg/m^3, gives an :class:`exdex.PlausibilityWarning` naming ``Body.mass``.
     """
 
     mass: float
@@ -149,6 +233,7 @@ class Body:
                                  "disc outline, not both")
         elif self.outline_center != (0.0, 0.0):
             raise ValueError("Body.outline_center is the centre of a disc outline: it needs Body.outline_radius")
+        _check_density(self)
 
     @classmethod
     def cylinder(cls, mass: float, radius: float, height: float, **kw: Any) -> "Body":
@@ -1226,6 +1311,118 @@ class Obstacle:
         return out
 
 
+def _check_contact(scene):
+    """The plates touch the object at t = 0: a ValueError for a patch centre
+    outside the object's contact face, or a pad on the fingers that misses the
+    face at Scene.q0; a PlausibilityWarning for a patch reaching beyond the
+    face (or an e_r larger than the face allows). Bodies that state no face
+    (no size, outline or disc) are not checked."""
+    body, grasp = scene.body, scene.grasp
+    if grasp.pad is not None:
+        try:
+            face = body.contact_face()      # the face the core clips the pads with
+        except ValueError:
+            return
+    elif body.outline_radius is not None:
+        face = dict(face_radius=body.outline_radius, face_center=body.outline_center)
+    elif body.size is not None:
+        face = dict(face=body.vertices() if body.outline is None else
+                    np.array([(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)]) * np.array(body.size[:2]))
+    elif body.outline is not None and len(body.outline) >= 3 and scene.dof != "rotation":
+        # only an outline (it may list just the corners that touch stops): a rotation's pin may lie
+        # outside it, a slide's patch centre not (as the run's own "outline" check)
+        face = dict(face=np.array(body.outline), partial=True)
+    else:
+        return
+    with np.errstate(all="ignore"):     # awkward poses (1e300 m) compare as they can
+        _check_contact_face(scene, body, grasp, face)
+
+
+def _check_contact_face(scene, body, grasp, face):
+    if "face_radius" in face:
+        R, fc = float(face["face_radius"]), np.asarray(face["face_center"], dtype=float)
+        what = f"the disc of radius {R:g} m (Body.outline_radius)"
+        scale = R
+        outside = lambda p: max(math.hypot(*(np.asarray(p) - fc)) - R, 0.0)  # noqa: E731
+        far = lambda p: math.hypot(*(np.asarray(p) - fc)) + R  # noqa: E731
+        hull = None
+    else:
+        hull = _hull(face["face"])
+        if len(hull) < 3:
+            return
+        what = ("the outline's convex hull (Body.outline)" if face.get("partial") or (
+            grasp.pad is not None and body.outline is not None) else "the box's x-y face (Body.size)")
+        scale = float(np.max(np.abs(hull)))
+        outside = lambda p: _outside(hull, p)  # noqa: E731
+        far = lambda p: float(np.max(np.hypot(*(hull - np.asarray(p)).T)))  # noqa: E731
+    tol = 1e-9 * scale
+    if grasp.pad is None:
+        patch = grasp.patch
+        c = np.asarray(patch.center)
+        d = outside(c)
+        if d > tol:
+            raise ValueError(
+                f"Grasp.patch.center = ({c[0]:g}, {c[1]:g}) m lies {d:.4g} m outside the object's contact face, "
+                f"{what}: the plates would not touch the object at t = 0. The centre of pressure is in the object "
+                f"frame, relative to the centre of mass: put it inside the face")
+        # a patch larger than the face: it fits inside the face in no position
+        if hull is None:
+            span = np.array([2.0 * R, 2.0 * R])
+        else:
+            span = hull.max(axis=0) - hull.min(axis=0)
+        reg = patch.region()
+        big = None
+        if face.get("partial"):
+            return                          # an outline of contact corners states no face to compare with
+        if reg is not None and patch.shape == "rectangle":
+            w, h = patch.dims
+            size = f"a {w:g} x {h:g} m rectangle"
+            if hull is None and math.hypot(w, h) > 2.0 * R * (1 + 1e-9):
+                big = (math.hypot(w, h), 2.0 * R, "diagonal", "diameter")
+            elif hull is not None and (w > span[0] * (1 + 1e-9) or h > span[1] * (1 + 1e-9)):
+                big = (w, span[0], "width", "width") if w > span[0] * (1 + 1e-9) else (h, span[1], "height", "height")
+        elif reg is not None:
+            r = reg["radius"]
+            size = f"a disc of radius {r:g} m"
+            if 2.0 * r > float(np.min(span)) * (1 + 1e-9):
+                big = (2.0 * r, float(np.min(span)), "diameter", "diameter" if hull is None else "smaller side")
+        if big is not None:
+            _plausibility(
+                f"Grasp.patch ({size}) is larger than the object's contact face, {what}: its {big[2]} {big[0]:g} m "
+                f"exceeds the face's {big[3]} {big[1]:.4g} m. The pressure patch lies on the face; check the patch's "
+                f"size [m] (full side lengths, Patch.rectangle(width, height) along the object's x and y) against "
+                f"the body's", "Grasp.patch", big[0], big[1])
+        if reg is None and patch.e_r > far(c) * (1 + 1e-9):
+            _plausibility(
+                f"Grasp.patch.e_r = {patch.e_r:g} m exceeds {far(c):.4g} m, the farthest point of the object's "
+                f"contact face ({what}) from the patch centre: e_r is the patch's mean distance from its centre, "
+                f"so no patch on that face has it", "Grasp.patch.e_r", patch.e_r, far(c))
+        return
+    pad = grasp.pad
+    th = scene.q0[2]
+    cs, sn = math.cos(th), math.sin(th)
+    rot = np.array([[cs, -sn], [sn, cs]])
+    q = np.asarray(scene.q0[:2])
+    if hull is None:
+        fcB = q + rot @ fc
+        if pad.radius is not None:
+            miss = math.hypot(*(np.asarray(pad.center) - fcB)) >= R + pad.radius
+        else:
+            miss = _outside(_hull(pad.outline()), fcB) >= R
+    else:
+        faceB = q + hull @ rot.T
+        if pad.radius is not None:
+            miss = _outside(faceB, pad.center) >= pad.radius
+        else:
+            miss = _separated(faceB, _hull(pad.outline()))
+    if miss:
+        kind = f"disc of radius {pad.radius:g} m" if pad.radius is not None else "polygon"
+        raise ValueError(
+            f"Grasp.pad (a {kind} about ({pad.center[0]:g}, {pad.center[1]:g}) m in the gripper frame B) misses the "
+            f"object's contact face, {what}, at its initial pose Scene.q0 = {scene.q0}: the plates would not touch "
+            f"the object at t = 0. Move Grasp.pad.center or Scene.q0 so that the pad overlaps the face")
+
+
 @dataclass(frozen=True)
 class Scene:
     """A complete forward problem: object, grasp, gripper motion, free coordinates.
@@ -1253,6 +1450,14 @@ class Scene:
     obstacles : convex solids fixed in the world (``Obstacle``) the object
         outline may not enter (every method but the analytic one solves such
         scenes, with frictional obstacles and disc outlines too).
+
+    The plates must touch the object at t = 0: a ``Grasp.patch.center``
+    outside the object's face (the box of ``Body.size``, the disc outline,
+    else -- not for a rotation's pin -- the hull of ``Body.outline``) or a
+    ``Grasp.pad`` that misses the face (:meth:`Body.contact_face`) at ``q0``
+    is a ValueError naming the field. A patch larger than the face (it fits
+    in no position; an ``e_r`` beyond the face's farthest point) gives an
+    :class:`exdex.PlausibilityWarning` naming ``Grasp.patch``.
     """
 
     body: Body
@@ -1310,6 +1515,7 @@ class Scene:
         if len(obstacles) > _core.MAX_OBSTACLES:
             raise ValueError(f"Scene.obstacles holds at most {_core.MAX_OBSTACLES} obstacles, got {len(obstacles)}")
         object.__setattr__(self, "obstacles", obstacles)
+        _check_contact(self)
 
     def check_stops(self) -> None:
         """Raise a ValueError naming the stop, the outline vertex and the
