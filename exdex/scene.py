@@ -916,6 +916,18 @@ class SampledTrajectory(_Motion):
             for w in self._noise_findings():
                 warnings.warn(w, stacklevel=_lognoise.user_stacklevel())
 
+    @property
+    def spline_positions(self) -> NDArray[np.float64]:
+        """(n, 3) the positions the splines run through [m]: the logged ones,
+        or with ``noise`` the smoothed ones."""
+        return np.asarray(self.positions) if self._smoothed is None else self._smoothed[:, :3]
+
+    @property
+    def spline_quaternions(self) -> NDArray[np.float64]:
+        """(n, 4) the quaternions the splines run through: the logged ones, or
+        with ``noise`` the smoothed ones (sign-continuous, not normalised)."""
+        return np.asarray(self.quaternions) if self._smoothed is None else self._smoothed[:, 3:]
+
     def noise_estimate(self) -> Tuple[float, float]:
         """The noise of the logged poses estimated from the data: (position
         [m] per axis, orientation [rad] per axis), the largest over the

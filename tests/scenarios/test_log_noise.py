@@ -79,6 +79,12 @@ def test_smoothed_peak_acceleration_is_the_closed_form(seed):
     assert peak(clean) == pytest.approx(PEAK, rel=1e-3)            # the spline of the clean log
     assert peak(raw) > 5 * PEAK                                      # 0.1 mm at 100 Hz: the noise's
     assert peak(smooth) == pytest.approx(PEAK, rel=SMOOTH_RTOL)
+    np.testing.assert_array_equal(smooth.spline_positions, smooth._spec()["motion_poses"][:, :3])
+    np.testing.assert_array_equal(raw.spline_positions, raw.positions)
+    # the planner's motion peaks read the smoothed samples: near the closed form, not the noise's
+    from exdex.design import plan
+    assert plan.motion_peaks(smooth)["acceleration"] == pytest.approx(PEAK, rel=SMOOTH_RTOL)
+    assert plan.motion_peaks(raw)["acceleration"] > 3 * PEAK
 
 
 @pytest.mark.parametrize("seed", range(3))
