@@ -585,14 +585,21 @@ def _batch_checks(b):
                 return [w for w in diagnostics.stats_findings(st) if w.kind == kind][0]
             add(kind, np.asarray(b.stats[key]) > 0, make_stat)
     # pads on the fingers: a trajectory whose grasp was lost holds NaN after that sample
+    # (stats["grasp_lost_t"], where the core reports it, holds its time)
     scenes = b.scene if isinstance(b.scene, tuple) else (b.scene,)
     if any(sc.grasp.pad is not None for sc in scenes):
         q = np.asarray(b.q)
         last = q[:, -1] if b.record == "all" else q
         lost = np.isnan(last).any(axis=-1)
+        lost_t = b.stats.get("grasp_lost_t")
+        if lost_t is not None:
+            lost = lost | np.isfinite(np.asarray(lost_t, dtype=float))
 
         def make_lost(i):
-            if b.record == "all":
+            if lost_t is not None and np.isfinite(lost_t[i]):
+                t = float(lost_t[i])
+                when = f"at t = {t:.6g} s "
+            elif b.record == "all":
                 j = int(np.flatnonzero(np.isnan(q[i]).any(axis=-1))[0]) - 1
                 t = float(b.t[j])
                 when = f"at t = {t:.6g} s "
