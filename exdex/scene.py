@@ -916,17 +916,22 @@ class SampledTrajectory(_Motion):
             for w in self._noise_findings():
                 warnings.warn(w, stacklevel=_lognoise.user_stacklevel())
 
+    def _knots(self) -> NDArray[np.float64]:
+        """(n, 7) the poses (position, quaternion) the splines run through."""
+        smoothed = getattr(self, "_smoothed")   # set in __post_init__ (not a field: files keep the log)
+        return np.hstack([self.positions, self.quaternions]) if smoothed is None else smoothed
+
     @property
     def spline_positions(self) -> NDArray[np.float64]:
         """(n, 3) the positions the splines run through [m]: the logged ones,
         or with ``noise`` the smoothed ones."""
-        return np.asarray(self.positions) if self._smoothed is None else self._smoothed[:, :3]
+        return self._knots()[:, :3]
 
     @property
     def spline_quaternions(self) -> NDArray[np.float64]:
         """(n, 4) the quaternions the splines run through: the logged ones, or
         with ``noise`` the smoothed ones (sign-continuous, not normalised)."""
-        return np.asarray(self.quaternions) if self._smoothed is None else self._smoothed[:, 3:]
+        return self._knots()[:, 3:]
 
     def noise_estimate(self) -> Tuple[float, float]:
         """The noise of the logged poses estimated from the data: (position
@@ -969,7 +974,7 @@ class SampledTrajectory(_Motion):
         return cls(times, T[:, :3, 3], quats, **options)
 
     def _spec(self):
-        poses = np.hstack([self.positions, self.quaternions]) if self._smoothed is None else self._smoothed
+        poses = self._knots()
         zero = (0.0, 0.0, 0.0)
         given = (self.start_velocity is not None or self.start_omega is not None,
                  self.end_velocity is not None or self.end_omega is not None)
