@@ -1340,19 +1340,54 @@ def _check_contact(scene):
             face = body.contact_face()      # the face the core clips the pads with
         except ValueError:
             return
-    elif body.outline_radius is not None:
-        face = dict(face_radius=body.outline_radius, face_center=body.outline_center)
-    elif body.size is not None:
-        face = dict(face=body.vertices() if body.outline is None else
-                    np.array([(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)]) * np.array(body.size[:2]))
-    elif body.outline is not None and len(body.outline) >= 3 and scene.dof != "rotation":
-        # only an outline (it may list just the corners that touch stops): a rotation's pin may lie
-        # outside it, a slide's patch centre not (as the run's own "outline" check)
-        face = dict(face=np.array(body.outline), partial=True)
     else:
-        return
+        face = _patch_face(body, scene.dof)
+        if face is None:
+            return
     with np.errstate(all="ignore"):     # awkward poses (1e300 m) compare as they can
         _check_contact_face(scene, body, grasp, face)
+
+
+def _patch_face(body, dof):
+    """The face a patch centre must lie on: the disc outline, the box of
+    Body.size, else (not for a rotation's pin) the outline; None when the
+    body states none."""
+    if body.outline_radius is not None:
+        return dict(face_radius=body.outline_radius, face_center=body.outline_center)
+    if body.size is not None:
+        return dict(face=body.vertices() if body.outline is None else
+                    np.array([(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)]) * np.array(body.size[:2]))
+    if body.outline is not None and len(body.outline) >= 3 and dof != "rotation":
+        # only an outline (it may list just the corners that touch stops): a rotation's pin may lie
+        # outside it, a slide's patch centre not (as the run's own "outline" check)
+        return dict(face=np.array(body.outline), partial=True)
+    return None
+
+
+def patch_centres_outside(scene: "Scene", centres: ArrayLike) -> Tuple[NDArray[np.float64], float]:
+    """(distances, tol): (k,) the distance [m] by which each patch centre of
+    ``centres`` (k, 2) (object frame) lies outside the face ``scene``'s patch
+    must touch (0 on it; zeros for a scene with pads or a body without a
+    face), and the distance [m] above which a centre counts as off the face
+    (1e-9 of the face's size), as :class:`Scene` checks its own patch."""
+    c = np.asarray(centres, dtype=float).reshape(-1, 2)
+    face = None if scene.grasp.pad is not None else _patch_face(scene.body, scene.dof)
+    if face is None:
+        return np.zeros(len(c)), 0.0
+    with np.errstate(all="ignore"):
+        if "face_radius" in face:
+            R, fc = float(face["face_radius"]), np.asarray(face["face_center"], dtype=float)
+            return np.maximum(np.hypot(c[:, 0] - fc[0], c[:, 1] - fc[1]) - R, 0.0), 1e-9 * R
+        hull = _hull(face["face"])
+        if len(hull) < 3:
+            return np.zeros(len(c)), 0.0
+        a, e = hull, np.roll(hull, -1, axis=0) - hull
+        rel = c[:, None, :] - a[None, :, :]                                  # (k, m, 2)
+        cross = e[None, :, 0] * rel[..., 1] - e[None, :, 1] * rel[..., 0]
+        s = np.clip(np.einsum("kmi,mi->km", rel, e) / np.maximum(np.einsum("mi,mi->m", e, e), 1e-300), 0.0, 1.0)
+        d = rel - s[..., None] * e[None, :, :]
+        dist = np.min(np.hypot(d[..., 0], d[..., 1]), axis=1)
+        return np.where(np.all(cross >= 0.0, axis=1), 0.0, dist), 1e-9 * float(np.max(np.abs(hull)))
 
 
 def _check_contact_face(scene, body, grasp, face):
