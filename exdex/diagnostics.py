@@ -22,6 +22,13 @@ patch describes. A result is outside that model when
 through :mod:`warnings`; each names the time, the quantity and its size.
 Silence them with ``warnings.simplefilter("ignore", exdex.PhysicsWarning)``
 or turn them into errors with ``"error"``.
+
+Two kinds are issued where a scene is made, before any run: a
+:class:`NoisyLogWarning` for a robot log whose noise dominates its
+accelerations (``exdex.SampledTrajectory``) and a :class:`PlausibilityWarning`
+for a field no real object or grasp has (a density far outside solids, a
+patch larger than the face). A batch's failed reductions come as one
+:class:`ReductionWarning` (:meth:`ReductionWarning.aggregate`).
 """
 from __future__ import annotations
 
