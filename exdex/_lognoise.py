@@ -32,7 +32,7 @@ from typing import Dict, List, Optional, Tuple
 import numpy as np
 
 __all__ = ["MIN_SAMPLES", "ORDERS", "levels", "dominance", "smooth_positions", "smooth_quaternions",
-           "continuous_quaternions", "user_stacklevel"]
+           "continuous_quaternions", "end_at_rest", "user_stacklevel"]
 
 #: Logs with fewer samples are not judged (too few differences to tell noise from motion).
 MIN_SAMPLES = 12
@@ -136,28 +136,65 @@ def _fit(u, y, target, make):
     return values(10.0**lo)
 
 
-def _unit_times(t):
+def _extended(t, y, mirror):
+    """Times scaled to [0, 1] and samples, each end in ``mirror`` (start, end)
+    extended by the mirror image of half the samples about it (an end at
+    rest: the motion even about it, so the fit's slope there is zero), and
+    the slice of the original samples."""
     t = np.asarray(t, dtype=float)
-    return (t - t[0]) / (t[-1] - t[0])
+    y = np.asarray(y, dtype=float)
+    k = len(t) // 2
+    ts, ys, first = [t], [y], 0
+    if mirror[0]:
+        ts.insert(0, 2.0 * t[0] - t[k:0:-1])
+        ys.insert(0, y[k:0:-1])
+        first = k
+    if mirror[1]:
+        ts.append(2.0 * t[-1] - t[-2:-k - 2:-1])
+        ys.append(y[-2:-k - 2:-1])
+    te, ye = np.concatenate(ts), np.concatenate(ys)
+    return (te - te[0]) / (te[-1] - te[0]), ye, slice(first, first + len(t))
 
 
-def smooth_positions(t, p, sigma, feature="SampledTrajectory(noise=...)"):
+def smooth_positions(t, p, sigma, feature="SampledTrajectory(noise=...)", mirror=(False, False)):
     """Positions (n, 3) replaced by the smoothing spline of each axis whose
-    residual's root mean square is ``sigma`` [m] (per axis)."""
+    residual's root mean square is ``sigma`` [m] (per axis); ends in
+    ``mirror`` are fitted as ends at rest (zero slope)."""
     make = _spline(feature)
-    u = _unit_times(t)
-    p = np.asarray(p, dtype=float)
-    return np.column_stack([_fit(u, p[:, [c]], sigma**2, make) for c in range(3)])
+    u, p, keep = _extended(t, p, mirror)
+    return np.column_stack([_fit(u, p[:, [c]], sigma**2, make)[keep] for c in range(3)])
 
 
-def smooth_quaternions(t, q, sigma, feature="SampledTrajectory(noise=...)"):
+def smooth_quaternions(t, q, sigma, feature="SampledTrajectory(noise=...)", mirror=(False, False)):
     """Quaternions (n, 4) (made sign-continuous and unit) replaced by the
     smoothing spline of their components (one lambda) whose residual matches
     an orientation noise of ``sigma`` [rad] per axis: a small rotation d
     moves a unit quaternion by |d| / 2, so the mean squared residual over the
-    components is 3 sigma^2 / 4."""
+    components is 3 sigma^2 / 4. Ends in ``mirror`` as in smooth_positions."""
     make = _spline(feature)
-    return _fit(_unit_times(t), continuous_quaternions(q), 0.75 * sigma**2, make)
+    u, q, keep = _extended(t, continuous_quaternions(q), mirror)
+    return _fit(u, q, 0.75 * sigma**2, make)[keep]
+
+
+def end_at_rest(t, y, sigma, end, factor=1.0):
+    """Whether the start (end 0) or the end (1) of samples y (n, c) at t is at
+    rest. With a noise level ``sigma`` > 0 (the samples smoothed for it): the
+    end velocity v0 of the quadratic through the three end samples (the
+    core's estimate) is within three standard deviations of one sample
+    difference's noise, factor |v0| <= 3 sqrt(2) sigma / h1 (``factor`` 2 for
+    quaternion components against an angle noise). Without: the core's own
+    test, v0 . D1 <= |D1|^2 / (2 h1) (csrc/motion.c)."""
+    t = np.asarray(t, dtype=float)
+    y = np.asarray(y, dtype=float)
+    if end:
+        t, y = -t[::-1], y[::-1]
+    h1, h2 = t[1] - t[0], t[2] - t[1]
+    d1, d2 = (y[1] - y[0]) / h1, (y[2] - y[1]) / h2
+    v0 = d1 * (2 * h1 + h2) / (h1 + h2) - d2 * h1 / (h1 + h2)
+    if sigma > 0.0:
+        return bool(factor * float(np.linalg.norm(v0)) <= 3.0 * math.sqrt(2.0) * sigma / h1)
+    D1 = y[1] - y[0]
+    return bool(float(v0 @ D1) <= float(D1 @ D1) / (2.0 * h1))
 
 
 def user_stacklevel():

@@ -822,7 +822,11 @@ class SampledTrajectory(_Motion):
         residual ``noise[0]``, the quaternion's components together the
         residual a rotation noise of ``noise[1]`` per axis gives (3
         ``noise[1]``^2 / 4 mean square); the interpolation below then runs
-        through the smoothed samples. Stored as the pair.
+        through the smoothed samples. An end whose velocities are not given
+        is at rest where the smoothed samples' end velocity is within 3
+        sqrt(2) noise / h of zero (three standard deviations of one sample
+        difference's noise, h the end interval; a 0-noise part by the test
+        below). Stored as the pair.
 
     Interpolated with C2 cubic splines of the position and quaternion
     components, clamped at the ends: where the log starts or ends at rest
@@ -909,9 +913,22 @@ class SampledTrajectory(_Motion):
                     else np.array(self.positions)
                 q = _lognoise.smooth_quaternions(self.times, self.quaternions, pair[1], feature) if pair[1] > 0 \
                     else np.array(self.quaternions)
+                # an end the user did not state is at rest where the smoothed samples stop within the
+                # noise; it is then smoothed again as an end at rest (mirrored: zero slope, as clamped)
+                user = ((self.start_velocity, self.start_omega), (self.end_velocity, self.end_omega))
+                rest = tuple(all(v is None for v in user[e])
+                             and _lognoise.end_at_rest(self.times, p, pair[0], e)
+                             and _lognoise.end_at_rest(self.times, _lognoise.continuous_quaternions(q), pair[1], e, 2.0)
+                             for e in (0, 1))
+                if any(rest):
+                    if pair[0] > 0:
+                        p = _lognoise.smooth_positions(self.times, self.positions, pair[0], feature, rest)
+                    if pair[1] > 0:
+                        q = _lognoise.smooth_quaternions(self.times, self.quaternions, pair[1], feature, rest)
                 smoothed = np.hstack([p, q])
                 smoothed.setflags(write=False)
         object.__setattr__(self, "_smoothed", smoothed)
+        object.__setattr__(self, "_rest_ends", rest if smoothed is not None else (False, False))
         if self.noise is None:
             for w in self._noise_findings():
                 warnings.warn(w, stacklevel=_lognoise.user_stacklevel())
@@ -976,8 +993,9 @@ class SampledTrajectory(_Motion):
     def _spec(self):
         poses = self._knots()
         zero = (0.0, 0.0, 0.0)
-        given = (self.start_velocity is not None or self.start_omega is not None,
-                 self.end_velocity is not None or self.end_omega is not None)
+        rest = getattr(self, "_rest_ends")    # smoothed ends at rest within the noise (noise=...)
+        given = (self.start_velocity is not None or self.start_omega is not None or rest[0],
+                 self.end_velocity is not None or self.end_omega is not None or rest[1])
         spec = dict(motion_kind=_core.MOTION_SAMPLED, motion_times=self.times, motion_poses=poses,
                     motion_end_given=tuple(float(g) for g in given),
                     motion_end_velocity=(self.start_velocity or zero) + (self.end_velocity or zero),
