@@ -17,7 +17,7 @@ needs only NumPy; plotting and progress bars need the ``plot`` extra
 """
 from exdex.scene import (AsymmetricProfile, Body, Chain, Grasp, GripSchedule, Obstacle, Pad, Patch, Pause, Rest,
                          SampledTrajectory, Scene, Shake, Stop, TrapezoidalProfile, quaternion_from_matrix, replace)
-from exdex.diagnostics import ReductionWarning
+from exdex.diagnostics import NoisyLogWarning, PlausibilityWarning, ReductionWarning
 from exdex.simulate import GripperJumpWarning, Model, PhysicsWarning, Result, SolverError, simulate
 from exdex.stepper import GripperPose, Stepper, StepperSnapshot, StepperState  # noqa: E402  (feedback control)
 from exdex.batch import BatchResult, simulate_batch, sweep  # noqa: E402
@@ -55,7 +55,7 @@ __version__ = "0.1.0"
 __all__ = [
     "AsymmetricProfile", "Body", "Grasp", "GripSchedule", "Obstacle", "Pad", "Patch", "Rest", "SampledTrajectory", "Scene",
     "Stop",
-    "TrapezoidalProfile", "Shake", "Pause", "Chain", "replace", "quaternion_from_matrix", "Model", "Result", "SolverError", "PhysicsWarning", "ReductionWarning",
+    "TrapezoidalProfile", "Shake", "Pause", "Chain", "replace", "quaternion_from_matrix", "Model", "Result", "SolverError", "PhysicsWarning", "ReductionWarning", "NoisyLogWarning", "PlausibilityWarning",
     "GripperJumpWarning", "Stepper", "StepperState", "StepperSnapshot", "GripperPose",
     "MissingExtraError", "simulate", "BatchResult", "simulate_batch", "sweep", "load_scene", "save_scene", "explore", "Explorer", "paper",
     "tool", "plan", "sequence", "UnreachableTargetError", "sensitivity", "Sensitivity", "event_times", "EventTimes", "event_sensitivity",

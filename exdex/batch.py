@@ -46,7 +46,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from exdex import _core, _optional
 from exdex._validate import check_times as _check_times, real as _real
-from exdex.scene import METHODS, SOLVERS, AsymmetricProfile, Body, Grasp, GripSchedule, Scene, TrapezoidalProfile
+from exdex.scene import (METHODS, SOLVERS, AsymmetricProfile, Body, Grasp, GripSchedule, Scene, TrapezoidalProfile,
+                         patch_centres_outside)
 from exdex import diagnostics
 from exdex._params import ALIASES as _ALIASES, PARAMETERS, replace_params as _replace_params, unread as _unread
 from exdex.simulate import FrictionSolver, Method, Result, resolve_method
@@ -388,6 +389,27 @@ def _check_static(scene, flat):
                          "(grasp.mu_static)")
 
 
+def _check_patch_centres(scene, flat):
+    """Scene's check of the patch centre, vectorised: patch_x / patch_y must
+    keep Grasp.patch.center on the object's face (naming the first entry off it)."""
+    if "patch_x" not in flat and "patch_y" not in flat:
+        return
+    scenes = scene if isinstance(scene, tuple) else (scene,)
+    n = len(next(iter(flat.values())))
+    for j, sc in enumerate(scenes):
+        idx = np.arange(n) if len(scenes) == 1 else np.array([j])
+        c = np.column_stack([flat["patch_x"][idx] if "patch_x" in flat else np.full(len(idx), sc.grasp.patch.center[0]),
+                             flat["patch_y"][idx] if "patch_y" in flat else np.full(len(idx), sc.grasp.patch.center[1])])
+        d, tol = patch_centres_outside(sc, c)
+        bad = np.flatnonzero(d > tol)
+        if len(bad):
+            k = int(bad[0])
+            i = int(idx[k])
+            raise ValueError(f"batch index {i}: patch_x = {c[k, 0]:g}, patch_y = {c[k, 1]:g} put Grasp.patch.center "
+                             f"{d[k]:.4g} m outside the object's contact face: the plates would not touch the object "
+                             "at t = 0 (grasp.patch.center)")
+
+
 def _as_float_array(value, name):
     if isinstance(value, (str, bytes)):
         raise TypeError(f"batch parameter {name!r} must be numbers, got {type(value).__name__}")
@@ -527,6 +549,7 @@ def simulate_batch(scene: Union[Scene, Sequence[Scene]], t_end: float, dt: float
         raise ValueError(f"the batch is empty (broadcast shape {shape})")
     _check_trapezoids(scenes if scenes is not None else scene, flat)
     _check_static(scenes if scenes is not None else scene, flat)
+    _check_patch_centres(scenes if scenes is not None else scene, flat)
 
     opts: Dict[str, Any] = dict(method=method, friction_solver=friction_solver, eps=eps, rtol=rtol, atol=atol)
     specs: Any = [s.to_spec(**opts) for s in scenes] if scenes is not None else cast(Scene, scene).to_spec(**opts)
@@ -593,14 +616,21 @@ def _batch_checks(b):
                 return [w for w in diagnostics.stats_findings(st) if w.kind == kind][0]
             add(kind, flagged, make_stat)
     # pads on the fingers: a trajectory whose grasp was lost holds NaN after that sample
+    # (stats["grasp_lost_t"], where the core reports it, holds its time)
     scenes = b.scene if isinstance(b.scene, tuple) else (b.scene,)
     if any(sc.grasp.pad is not None for sc in scenes):
         q = np.asarray(b.q)
         last = q[:, -1] if b.record == "all" else q
         lost = np.isnan(last).any(axis=-1)
+        lost_t = b.stats.get("grasp_lost_t")
+        if lost_t is not None:
+            lost = lost | np.isfinite(np.asarray(lost_t, dtype=float))
 
         def make_lost(i):
-            if b.record == "all":
+            if lost_t is not None and np.isfinite(lost_t[i]):
+                t = float(lost_t[i])
+                when = f"at t = {t:.6g} s "
+            elif b.record == "all":
                 j = int(np.flatnonzero(np.isnan(q[i]).any(axis=-1))[0]) - 1
                 t = float(b.t[j])
                 when = f"at t = {t:.6g} s "

@@ -22,6 +22,13 @@ patch describes. A result is outside that model when
 through :mod:`warnings`; each names the time, the quantity and its size.
 Silence them with ``warnings.simplefilter("ignore", exdex.PhysicsWarning)``
 or turn them into errors with ``"error"``.
+
+Two kinds are issued where a scene is made, before any run: a
+:class:`NoisyLogWarning` for a robot log whose noise dominates its
+accelerations (``exdex.SampledTrajectory``) and a :class:`PlausibilityWarning`
+for a field no real object or grasp has (a density far outside solids, a
+patch larger than the face). A batch's failed reductions come as one
+:class:`ReductionWarning` (:meth:`ReductionWarning.aggregate`).
 """
 from __future__ import annotations
 
@@ -32,14 +39,15 @@ import numpy as np
 
 from exdex._validate import user_stacklevel
 
-__all__ = ["PhysicsWarning", "ReductionWarning", "findings", "pad_half_size"]
+__all__ = ["PhysicsWarning", "ReductionWarning", "NoisyLogWarning", "PlausibilityWarning", "findings", "pad_half_size"]
 
 
 class PhysicsWarning(UserWarning):
     """A simulated result left the assumptions of the model.
 
-    Attributes: ``kind`` ("pad", "outline", "impact", "solver" or
-    "grasp": pads on the fingers lost the object), ``time``
+    Attributes: ``kind`` ("pad", "outline", "impact", "solver",
+    "grasp": pads on the fingers lost the object; the subclasses'
+    "reduction", "noisy_log", "plausibility", "gripper_jump"), ``time``
     (the first time it happened [s], or None when the core does not know it),
     ``quantity`` (what was measured), ``value`` and ``limit`` (its size and
     the bound it passed, SI units; ``limit`` may be None).
@@ -90,6 +98,42 @@ class ReductionWarning(PhysicsWarning):
         PhysicsWarning.__init__(w, message, kind="reduction", time=time, quantity="reduction_valid_until [s]",
                                 value=time, limit=None)
         return w
+
+
+class NoisyLogWarning(PhysicsWarning):
+    """A robot log's accelerations are dominated by its measurement noise
+    (``kind`` "noisy_log"): the spline through the samples passes the noise
+    on to the gripper's accelerations, and so to the object. Issued when an
+    :class:`exdex.SampledTrajectory` is made without ``noise``; the message
+    names the option and the level estimated from the data.
+
+    Attributes besides :class:`PhysicsWarning`'s: ``part`` ("positions" or
+    "orientations"), ``noise`` (the estimated level: m per axis, or rad per
+    axis of a small rotation), ``noise_acceleration`` (three standard
+    deviations of the acceleration the noise gives, ``value``: m/s^2 or
+    rad/s^2) and ``motion_acceleration`` (the motion's peak acceleration
+    read at a coarser stride, ``limit``)."""
+
+    def __init__(self, message, part, noise, noise_acceleration, motion_acceleration):
+        self.part, self.noise = part, float(noise)
+        self.noise_acceleration, self.motion_acceleration = float(noise_acceleration), float(motion_acceleration)
+        unit = "m/s^2" if part == "positions" else "rad/s^2"
+        super().__init__(message, kind="noisy_log", time=None,
+                         quantity=f"the noise's acceleration (3 standard deviations) [{unit}]",
+                         value=self.noise_acceleration, limit=self.motion_acceleration)
+
+
+class PlausibilityWarning(PhysicsWarning):
+    """A scene's field holds a value no real gripper or object has (``kind``
+    "plausibility"): a density far outside solids, a pad larger than the
+    face it presses on. The scene runs as given; the warning names the
+    field (``quantity``), its value and the bound it passed (``value``,
+    ``limit``, SI units)."""
+
+    def __init__(self, message, field, value, limit):
+        self.field = field
+        super().__init__(message, kind="plausibility", time=None, quantity=field, value=float(value),
+                         limit=float(limit))
 
 
 _COORD = {0: "pivot", 1: "across", 2: "theta"}

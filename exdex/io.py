@@ -9,7 +9,7 @@ The format is chosen by the file extension (``.json`` or ``.toml``). A file
 holds one scene as nested tables whose keys are the constructor arguments of
 the scene objects, plus a ``schema`` version number::
 
-    schema = 3
+    schema = 4
     dof = "translation"
     q0 = [0.0, 0.0, 0.0]
     ...
@@ -69,8 +69,9 @@ table in place of the number::
     forces = [1.5, 1.5, 0.5]
     kind = "linear"
 
-Schema 2 added ``grasp.pad``, schema 3 ``grasp.limit_surface``; files of
-an older schema (without them) load as before.
+Schema 2 added ``grasp.pad``, schema 3 ``grasp.limit_surface``, schema 4
+a log's ``noise`` (``SampledTrajectory.noise``); files of an older schema
+(without them) load as before.
 An unknown ``schema`` version, an unknown key or a missing required key is
 a ``ValueError`` naming it; the scene objects then check their own values
 (ranges, shapes) as when built in Python.
@@ -96,8 +97,8 @@ __all__ = ["SCHEMA_VERSION", "save_scene", "load_scene", "load_simulate_options"
            "scene_from_dict", "dumps", "loads"]
 
 #: Version of the scene-file schema written by :func:`save_scene`.
-SCHEMA_VERSION = 3
-SUPPORTED_SCHEMAS = (1, 2, 3)
+SCHEMA_VERSION = 4
+SUPPORTED_SCHEMAS = (1, 2, 3, 4)
 
 def _motion_classes() -> Dict[str, type]:
     """Every gripper motion class (the subclasses of the scenes' motion base), by name."""
@@ -283,12 +284,25 @@ def scene_from_dict(data: Mapping[str, Any], where: str = "scene") -> _scene.Sce
         raise ValueError(f"unknown key in {where}.grasp: 'pad' (pads on the fingers need schema 2)")
     if data["schema"] < 3 and isinstance(data.get("grasp"), dict) and "limit_surface" in data["grasp"]:
         raise ValueError(f"unknown key in {where}.grasp: 'limit_surface' (the limit surface needs schema 3)")
+    if data["schema"] < 4:
+        _refuse_log_noise(data.get("motion"), f"{where}.motion")
     body = {k: v for k, v in data.items() if k not in ("schema", "simulate")}
     if "simulate" in data:
         _simulate_options(data["simulate"], f"{where}.simulate")
     return _build(_scene.Scene, body, where,
                   nested={"body": _body, "grasp": _grasp, "motion": _motion, "stops": _stops,
                           "obstacles": _obstacles})
+
+
+def _refuse_log_noise(motion, where):
+    """A log's noise in a file of schema 1 to 3 (chains searched too): the error naming the schema."""
+    if not isinstance(motion, dict):
+        return
+    if motion.get("type") == "SampledTrajectory" and "noise" in motion:
+        raise ValueError(f"unknown key in {where}: 'noise' (a log's noise needs schema 4)")
+    if motion.get("type") == "Chain" and isinstance(motion.get("pieces"), list):
+        for i, p in enumerate(motion["pieces"]):
+            _refuse_log_noise(p, f"{where}.pieces[{i}]")
 
 
 def _simulate_options(data, where):

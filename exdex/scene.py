@@ -20,13 +20,14 @@ from __future__ import annotations
 import dataclasses
 import math
 import numbers
+import warnings
 from dataclasses import dataclass, field
 from typing import Any, Dict, Optional, Sequence, Tuple, TypeVar, Union
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from exdex import _core
+from exdex import _core, _lognoise, diagnostics as _diagnostics
 from exdex._rotations import quat_from_matrix as _quat_from_matrix
 from exdex._validate import array as _array, real as _real
 
@@ -93,6 +94,86 @@ def _rotation(value, name):
     return _tuple(R)
 
 
+# ---------------------------------------------------------------- plausibility
+
+#: Densities [kg/m^3] outside which a body's mass and size give a PlausibilityWarning: below 10
+#: (lighter than an empty paper box: a 15 cm cube of 34 g), above 25000 (denser than osmium,
+#: 22590, the densest solid).
+DENSITY_RANGE = (10.0, 25000.0)
+
+
+def _plausibility(message, field, value, limit):
+    warnings.warn(_diagnostics.PlausibilityWarning(message, field, value, limit),
+                  stacklevel=_lognoise.user_stacklevel())
+
+
+def _check_density(body):
+    """A PlausibilityWarning for a mass whose density in the body's volume
+    (its size: the box, the disc or the outline's area times the thickness)
+    is outside DENSITY_RANGE."""
+    if body.size is None:
+        return
+    lx, ly, lz = body.size
+    if body.outline_radius is not None:
+        vol, what = math.pi * body.outline_radius**2 * lz, f"cylinder of radius {body.outline_radius:g} m"
+    else:   # a polygon outline may list only the corners that touch stops: the box bounds the volume
+        vol, what = lx * ly * lz, f"{lx:g} x {ly:g} x {lz:g} m box"
+    if vol <= 0.0:
+        return
+    rho = body.mass / vol
+    lo, hi = DENSITY_RANGE
+    if not lo <= rho <= hi:
+        _plausibility(f"Body.mass = {body.mass:g} kg in a {what} (Body.size, {vol:.4g} m^3) is a density of "
+                      f"{rho:.4g} kg/m^3, outside the {lo:g} .. {hi:g} kg/m^3 of objects a gripper holds (an empty "
+                      f"paper box .. osmium): check Body.mass [kg] and Body.size [m]",
+                      "Body.mass", rho, lo if rho < lo else hi)
+
+
+def _hull(points):
+    """Convex hull of (k, 2) points, counter-clockwise (Andrew's monotone chain)."""
+    pts = sorted(set(map(tuple, np.asarray(points, dtype=float))))
+    if len(pts) < 3:
+        return np.array(pts)
+
+    def half(seq):
+        out = []
+        for p in seq:
+            while len(out) >= 2 and ((out[-1][0] - out[-2][0]) * (p[1] - out[-2][1])
+                                     - (out[-1][1] - out[-2][1]) * (p[0] - out[-2][0])) <= 0:
+                out.pop()
+            out.append(p)
+        return out
+    lower, upper = half(pts), half(reversed(pts))
+    return np.array(lower[:-1] + upper[:-1])
+
+
+def _outside(hull, p):
+    """Distance [m] of point p outside the convex polygon ``hull`` (ccw), 0 inside."""
+    p = np.asarray(p, dtype=float)
+    a, b = hull, np.roll(hull, -1, axis=0)
+    e = b - a
+    cross = e[:, 0] * (p[1] - a[:, 1]) - e[:, 1] * (p[0] - a[:, 0])
+    if np.all(cross >= 0.0):
+        return 0.0
+    s = np.clip(np.einsum("ij,ij->i", p - a, e) / np.maximum(np.einsum("ij,ij->i", e, e), 1e-300), 0.0, 1.0)
+    d = a + s[:, None] * e - p
+    return float(np.min(np.hypot(d[:, 0], d[:, 1])))
+
+
+def _separated(P, Q):
+    """True when the convex polygons P and Q (ccw) share no area: some edge
+    normal of either separates them (touching counts as separated)."""
+    for poly in (P, Q):
+        e = np.roll(poly, -1, axis=0) - poly
+        for n in np.column_stack([e[:, 1], -e[:, 0]]):
+            if n @ n == 0.0:
+                continue
+            pa, pb = P @ n, Q @ n
+            if pa.max() <= pb.min() or pb.max() <= pa.min():
+                return True
+    return False
+
+
 # ---------------------------------------------------------------- object and grasp
 
 @dataclass(frozen=True)
@@ -117,6 +198,10 @@ class Body:
         ``Body.cylinder`` makes a uniform cylinder with this outline.
     outline_center : centre of the disc outline in C, relative to the centre
         of mass [m]; default the centre of mass.
+
+    A mass whose density in the body's volume (``size``: the box, or the
+    cylinder of a disc outline) is outside ``DENSITY_RANGE``, 10 .. 25000
+    kg/m^3, gives an :class:`exdex.PlausibilityWarning` naming ``Body.mass``.
     """
 
     mass: float
@@ -160,6 +245,7 @@ class Body:
                                  "disc outline, not both")
         elif self.outline_center != (0.0, 0.0):
             raise ValueError("Body.outline_center is the centre of a disc outline: it needs Body.outline_radius")
+        _check_density(self)
 
     @classmethod
     def cylinder(cls, mass: float, radius: float, height: float, **kw: Any) -> "Body":
@@ -777,6 +863,21 @@ class SampledTrajectory(_Motion):
         gives displacements of the initial gripper pose).
     tool : (4, 4) homogeneous transform of the gripper frame B in the logged
         frame (flange -> B), or None (the log is B itself). B(t) = L(t) X.
+    noise : the log's measurement noise, the standard deviation per axis of
+        the positions [m] and of the orientation (a small rotation) [rad]: a
+        pair ``(position, orientation)``, or one number for both; 0 leaves
+        that part as logged. None (the default): no smoothing. Given, the
+        poses are replaced by a smoothing spline (SciPy's
+        ``make_smoothing_spline``, the ``design`` extra) whose residual
+        matches the noise: each position axis has the root-mean-square
+        residual ``noise[0]``, the quaternion's components together the
+        residual a rotation noise of ``noise[1]`` per axis gives (3
+        ``noise[1]``^2 / 4 mean square); the interpolation below then runs
+        through the smoothed samples. An end whose velocities are not given
+        is at rest where the smoothed samples' end velocity is within 3
+        sqrt(2) noise / h of zero (three standard deviations of one sample
+        difference's noise, h the end interval; a 0-noise part by the test
+        below). Stored as the pair.
 
     Interpolated with C2 cubic splines of the position and quaternion
     components, clamped at the ends: where the log starts or ends at rest
@@ -796,6 +897,12 @@ class SampledTrajectory(_Motion):
     them). A log starting at speed at t = 0 has no jump in the run: the
     simulation starts there, and ``Scene.v0`` is the object's velocity
     relative to the already moving gripper.
+
+    A log made without ``noise`` whose accelerations are dominated by its
+    noise (three standard deviations of the acceleration the noise gives
+    exceed the motion's peak, each estimated from the data:
+    :meth:`noise_estimate`) gives an :class:`exdex.NoisyLogWarning` naming
+    the option; logs of fewer than 12 samples are not judged.
     """
 
     times: Vector
@@ -807,6 +914,7 @@ class SampledTrajectory(_Motion):
     end_omega: Optional[Tuple[float, float, float]] = None
     relative: bool = False
     tool: Optional[Tuple[Tuple[float, ...], ...]] = None
+    noise: Optional[Union[float, Tuple[float, float]]] = None
 
     def __post_init__(self):
         t = _array(self.times, "SampledTrajectory.times", (None,))
@@ -837,6 +945,96 @@ class SampledTrajectory(_Motion):
                 raise ValueError("SampledTrajectory.tool must be a homogeneous transform: last row (0, 0, 0, 1)")
             _rotation(X[:3, :3], "SampledTrajectory.tool[:3, :3]")
             object.__setattr__(self, "tool", _tuple(X))
+        self._smooth()
+
+    def _smooth(self):
+        """Validate ``noise``; keep the smoothed poses (or None), or warn on a noisy log."""
+        smoothed = None
+        if self.noise is not None:
+            a = np.asarray(self.noise)
+            if a.ndim == 0:
+                pair = (_real(self.noise, "SampledTrajectory.noise", low=0.0),) * 2
+            else:
+                v = _array(a, "SampledTrajectory.noise", (2,))
+                pair = tuple(_real(float(x), f"SampledTrajectory.noise[{i}]", low=0.0) for i, x in enumerate(v))
+            object.__setattr__(self, "noise", pair)
+            if pair != (0.0, 0.0):
+                if len(self.times) < 5:
+                    raise ValueError(f"SampledTrajectory.noise: smoothing needs at least 5 samples, got "
+                                     f"{len(self.times)}")
+                feature = "SampledTrajectory(noise=...)"
+                p = _lognoise.smooth_positions(self.times, self.positions, pair[0], feature) if pair[0] > 0 \
+                    else np.array(self.positions)
+                q = _lognoise.smooth_quaternions(self.times, self.quaternions, pair[1], feature) if pair[1] > 0 \
+                    else np.array(self.quaternions)
+                # an end the user did not state is at rest where the smoothed samples stop within the
+                # noise; it is then smoothed again as an end at rest (mirrored: zero slope, as clamped)
+                user = ((self.start_velocity, self.start_omega), (self.end_velocity, self.end_omega))
+                rest = tuple(all(v is None for v in user[e])
+                             and _lognoise.end_at_rest(self.times, p, pair[0], e)
+                             and _lognoise.end_at_rest(self.times, _lognoise.continuous_quaternions(q), pair[1], e, 2.0)
+                             for e in (0, 1))
+                if any(rest):
+                    if pair[0] > 0:
+                        p = _lognoise.smooth_positions(self.times, self.positions, pair[0], feature, rest)
+                    if pair[1] > 0:
+                        q = _lognoise.smooth_quaternions(self.times, self.quaternions, pair[1], feature, rest)
+                smoothed = np.hstack([p, q])
+                smoothed.setflags(write=False)
+        object.__setattr__(self, "_smoothed", smoothed)
+        object.__setattr__(self, "_rest_ends", rest if smoothed is not None else (False, False))
+        if self.noise is None:
+            for w in self._noise_findings():
+                warnings.warn(w, stacklevel=_lognoise.user_stacklevel())
+
+    def _knots(self) -> NDArray[np.float64]:
+        """(n, 7) the poses (position, quaternion) the splines run through."""
+        smoothed = getattr(self, "_smoothed")   # set in __post_init__ (not a field: files keep the log)
+        return np.hstack([self.positions, self.quaternions]) if smoothed is None else smoothed
+
+    @property
+    def spline_positions(self) -> NDArray[np.float64]:
+        """(n, 3) the positions the splines run through [m]: the logged ones,
+        or with ``noise`` the smoothed ones."""
+        return self._knots()[:, :3]
+
+    @property
+    def spline_quaternions(self) -> NDArray[np.float64]:
+        """(n, 4) the quaternions the splines run through: the logged ones, or
+        with ``noise`` the smoothed ones (sign-continuous, not normalised)."""
+        return self._knots()[:, 3:]
+
+    def noise_estimate(self) -> Tuple[float, float]:
+        """The noise of the logged poses estimated from the data: (position
+        [m] per axis, orientation [rad] per axis), the largest over the
+        position axes and the rotation's three axes (see
+        :mod:`exdex._lognoise`; zeros for fewer than 12 samples). A value
+        for ``noise`` where the log's own level is not known."""
+        sp = _lognoise.levels(self.times, self.positions)
+        sq = _lognoise.levels(self.times, _lognoise.continuous_quaternions(self.quaternions))
+        return float(np.max(sp)), float(2.0 * np.linalg.norm(sq) / math.sqrt(3.0))
+
+    def _noise_findings(self):
+        out = []
+        est = None
+        parts = (("positions", self.positions, 1.0, "m/s^2"),
+                 ("orientations", _lognoise.continuous_quaternions(self.quaternions), 2.0, "rad/s^2"))
+        for part, y, factor, unit in parts:
+            sig, noise_acc, motion_acc = _lognoise.dominance(self.times, y, factor)
+            if motion_acc is None or noise_acc <= motion_acc:
+                continue
+            if est is None:
+                est = self.noise_estimate()
+            level = est[0] if part == "positions" else est[1]
+            out.append(_diagnostics.NoisyLogWarning(
+                f"SampledTrajectory: the log's {part} are noisy enough to dominate their accelerations: their "
+                f"noise, about {level:.3g} {'m' if part == 'positions' else 'rad'} per axis (estimated from "
+                f"the data's 3rd to 6th differences), gives the gripper accelerations of about {noise_acc:.3g} "
+                f"{unit} (3 standard deviations) against the motion's peak of about {motion_acc:.3g} {unit}. "
+                f"Pass SampledTrajectory(..., noise=({est[0]:.2g}, {est[1]:.2g})) (position [m], orientation "
+                f"[rad]; your sensor's figures if you know them) to smooth the log",
+                part, level, noise_acc, motion_acc))
+        return out
 
     @classmethod
     def from_matrices(cls, times: Vector, transforms: ArrayLike, **options: Any) -> "SampledTrajectory":
@@ -847,10 +1045,11 @@ class SampledTrajectory(_Motion):
         return cls(times, T[:, :3, 3], quats, **options)
 
     def _spec(self):
-        poses = np.hstack([self.positions, self.quaternions])
+        poses = self._knots()
         zero = (0.0, 0.0, 0.0)
-        given = (self.start_velocity is not None or self.start_omega is not None,
-                 self.end_velocity is not None or self.end_omega is not None)
+        rest = getattr(self, "_rest_ends")    # smoothed ends at rest within the noise (noise=...)
+        given = (self.start_velocity is not None or self.start_omega is not None or rest[0],
+                 self.end_velocity is not None or self.end_omega is not None or rest[1])
         spec = dict(motion_kind=_core.MOTION_SAMPLED, motion_times=self.times, motion_poses=poses,
                     motion_end_given=tuple(float(g) for g in given),
                     motion_end_velocity=(self.start_velocity or zero) + (self.end_velocity or zero),
@@ -867,7 +1066,7 @@ class SampledTrajectory(_Motion):
 
     def _key(self):
         return (self.times.tobytes(), self.positions.tobytes(), self.quaternions.tobytes(), self.start_velocity,
-                self.start_omega, self.end_velocity, self.end_omega, self.relative, self.tool)
+                self.start_omega, self.end_velocity, self.end_omega, self.relative, self.tool, self.noise)
 
     def __eq__(self, other):
         return isinstance(other, SampledTrajectory) and self._key() == other._key()
@@ -1201,6 +1400,153 @@ class Obstacle:
         return out
 
 
+def _check_contact(scene):
+    """The plates touch the object at t = 0: a ValueError for a patch centre
+    outside the object's contact face, or a pad on the fingers that misses the
+    face at Scene.q0; a PlausibilityWarning for a patch reaching beyond the
+    face (or an e_r larger than the face allows). Bodies that state no face
+    (no size, outline or disc) are not checked."""
+    body, grasp = scene.body, scene.grasp
+    if grasp.pad is not None:
+        try:
+            face = body.contact_face()      # the face the core clips the pads with
+        except ValueError:
+            return
+    else:
+        face = _patch_face(body, scene.dof)
+        if face is None:
+            return
+    with np.errstate(all="ignore"):     # awkward poses (1e300 m) compare as they can
+        _check_contact_face(scene, body, grasp, face)
+
+
+def _patch_face(body, dof):
+    """The face a patch centre must lie on: the disc outline, the box of
+    Body.size, else (not for a rotation's pin) the outline; None when the
+    body states none."""
+    if body.outline_radius is not None:
+        return dict(face_radius=body.outline_radius, face_center=body.outline_center)
+    if body.size is not None:
+        return dict(face=body.vertices() if body.outline is None else
+                    np.array([(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)]) * np.array(body.size[:2]))
+    if body.outline is not None and len(body.outline) >= 3 and dof != "rotation":
+        # only an outline (it may list just the corners that touch stops): a rotation's pin may lie
+        # outside it, a slide's patch centre not (as the run's own "outline" check)
+        return dict(face=np.array(body.outline), partial=True)
+    return None
+
+
+def patch_centres_outside(scene: "Scene", centres: ArrayLike) -> Tuple[NDArray[np.float64], float]:
+    """(distances, tol): (k,) the distance [m] by which each patch centre of
+    ``centres`` (k, 2) (object frame) lies outside the face ``scene``'s patch
+    must touch (0 on it; zeros for a scene with pads or a body without a
+    face), and the distance [m] above which a centre counts as off the face
+    (1e-9 of the face's size), as :class:`Scene` checks its own patch."""
+    c = np.asarray(centres, dtype=float).reshape(-1, 2)
+    face = None if scene.grasp.pad is not None else _patch_face(scene.body, scene.dof)
+    if face is None:
+        return np.zeros(len(c)), 0.0
+    with np.errstate(all="ignore"):
+        if "face_radius" in face:
+            R, fc = float(face["face_radius"]), np.asarray(face["face_center"], dtype=float)
+            return np.maximum(np.hypot(c[:, 0] - fc[0], c[:, 1] - fc[1]) - R, 0.0), 1e-9 * R
+        hull = _hull(face["face"])
+        if len(hull) < 3:
+            return np.zeros(len(c)), 0.0
+        a, e = hull, np.roll(hull, -1, axis=0) - hull
+        rel = c[:, None, :] - a[None, :, :]                                  # (k, m, 2)
+        cross = e[None, :, 0] * rel[..., 1] - e[None, :, 1] * rel[..., 0]
+        s = np.clip(np.einsum("kmi,mi->km", rel, e) / np.maximum(np.einsum("mi,mi->m", e, e), 1e-300), 0.0, 1.0)
+        d = rel - s[..., None] * e[None, :, :]
+        dist = np.min(np.hypot(d[..., 0], d[..., 1]), axis=1)
+        return np.where(np.all(cross >= 0.0, axis=1), 0.0, dist), 1e-9 * float(np.max(np.abs(hull)))
+
+
+def _check_contact_face(scene, body, grasp, face):
+    if "face_radius" in face:
+        R, fc = float(face["face_radius"]), np.asarray(face["face_center"], dtype=float)
+        what = f"the disc of radius {R:g} m (Body.outline_radius)"
+        scale = R
+        outside = lambda p: max(math.hypot(*(np.asarray(p) - fc)) - R, 0.0)  # noqa: E731
+        far = lambda p: math.hypot(*(np.asarray(p) - fc)) + R  # noqa: E731
+        hull = None
+    else:
+        hull = _hull(face["face"])
+        if len(hull) < 3:
+            return
+        what = ("the outline's convex hull (Body.outline)" if face.get("partial") or (
+            grasp.pad is not None and body.outline is not None) else "the box's x-y face (Body.size)")
+        scale = float(np.max(np.abs(hull)))
+        outside = lambda p: _outside(hull, p)  # noqa: E731
+        far = lambda p: float(np.max(np.hypot(*(hull - np.asarray(p)).T)))  # noqa: E731
+    tol = 1e-9 * scale
+    if grasp.pad is None:
+        patch = grasp.patch
+        c = np.asarray(patch.center)
+        d = outside(c)
+        if d > tol:
+            raise ValueError(
+                f"Grasp.patch.center = ({c[0]:g}, {c[1]:g}) m lies {d:.4g} m outside the object's contact face, "
+                f"{what}: the plates would not touch the object at t = 0. The centre of pressure is in the object "
+                f"frame, relative to the centre of mass: put it inside the face")
+        # a patch larger than the face: it fits inside the face in no position
+        if hull is None:
+            span = np.array([2.0 * R, 2.0 * R])
+        else:
+            span = hull.max(axis=0) - hull.min(axis=0)
+        reg = patch.region()
+        big = None
+        if face.get("partial"):
+            return                          # an outline of contact corners states no face to compare with
+        if reg is not None and patch.shape == "rectangle":
+            w, h = patch.dims
+            size = f"a {w:g} x {h:g} m rectangle"
+            if hull is None and math.hypot(w, h) > 2.0 * R * (1 + 1e-9):
+                big = (math.hypot(w, h), 2.0 * R, "diagonal", "diameter")
+            elif hull is not None and (w > span[0] * (1 + 1e-9) or h > span[1] * (1 + 1e-9)):
+                big = (w, span[0], "width", "width") if w > span[0] * (1 + 1e-9) else (h, span[1], "height", "height")
+        elif reg is not None:
+            r = reg["radius"]
+            size = f"a disc of radius {r:g} m"
+            if 2.0 * r > float(np.min(span)) * (1 + 1e-9):
+                big = (2.0 * r, float(np.min(span)), "diameter", "diameter" if hull is None else "smaller side")
+        if big is not None:
+            _plausibility(
+                f"Grasp.patch ({size}) is larger than the object's contact face, {what}: its {big[2]} {big[0]:g} m "
+                f"exceeds the face's {big[3]} {big[1]:.4g} m. The pressure patch lies on the face; check the patch's "
+                f"size [m] (full side lengths, Patch.rectangle(width, height) along the object's x and y) against "
+                f"the body's", "Grasp.patch", big[0], big[1])
+        if reg is None and patch.e_r > far(c) * (1 + 1e-9):
+            _plausibility(
+                f"Grasp.patch.e_r = {patch.e_r:g} m exceeds {far(c):.4g} m, the farthest point of the object's "
+                f"contact face ({what}) from the patch centre: e_r is the patch's mean distance from its centre, "
+                f"so no patch on that face has it", "Grasp.patch.e_r", patch.e_r, far(c))
+        return
+    pad = grasp.pad
+    th = scene.q0[2]
+    cs, sn = math.cos(th), math.sin(th)
+    rot = np.array([[cs, -sn], [sn, cs]])
+    q = np.asarray(scene.q0[:2])
+    if hull is None:
+        fcB = q + rot @ fc
+        if pad.radius is not None:
+            miss = math.hypot(*(np.asarray(pad.center) - fcB)) >= R + pad.radius
+        else:
+            miss = _outside(_hull(pad.outline()), fcB) >= R
+    else:
+        faceB = q + hull @ rot.T
+        if pad.radius is not None:
+            miss = _outside(faceB, pad.center) >= pad.radius
+        else:
+            miss = _separated(faceB, _hull(pad.outline()))
+    if miss:
+        kind = f"disc of radius {pad.radius:g} m" if pad.radius is not None else "polygon"
+        raise ValueError(
+            f"Grasp.pad (a {kind} about ({pad.center[0]:g}, {pad.center[1]:g}) m in the gripper frame B) misses the "
+            f"object's contact face, {what}, at its initial pose Scene.q0 = {scene.q0}: the plates would not touch "
+            f"the object at t = 0. Move Grasp.pad.center or Scene.q0 so that the pad overlaps the face")
+
+
 @dataclass(frozen=True)
 class Scene:
     """A complete forward problem: object, grasp, gripper motion, free coordinates.
@@ -1228,6 +1574,14 @@ class Scene:
     obstacles : convex solids fixed in the world (``Obstacle``) the object
         outline may not enter (every method but the analytic one solves such
         scenes, with frictional obstacles and disc outlines too).
+
+    The plates must touch the object at t = 0: a ``Grasp.patch.center``
+    outside the object's face (the box of ``Body.size``, the disc outline,
+    else -- not for a rotation's pin -- the hull of ``Body.outline``) or a
+    ``Grasp.pad`` that misses the face (:meth:`Body.contact_face`) at ``q0``
+    is a ValueError naming the field. A patch larger than the face (it fits
+    in no position; an ``e_r`` beyond the face's farthest point) gives an
+    :class:`exdex.PlausibilityWarning` naming ``Grasp.patch``.
     """
 
     body: Body
@@ -1285,6 +1639,7 @@ class Scene:
         if len(obstacles) > _core.MAX_OBSTACLES:
             raise ValueError(f"Scene.obstacles holds at most {_core.MAX_OBSTACLES} obstacles, got {len(obstacles)}")
         object.__setattr__(self, "obstacles", obstacles)
+        _check_contact(self)
 
     def _repr_html_(self) -> str:
         from exdex._html import quantity, summary_table

@@ -18,7 +18,8 @@ pytest's filters. A test that is *about* a warning asserts it with
 ``pytest.warns`` instead.
 
 Kinds: the ``kind`` of a PhysicsWarning ("impact", "pad", "outline",
-"solver") and "jump" for a GripperJumpWarning.
+"solver"; "noisy_log" for an exdex.NoisyLogWarning, "plausibility" for an
+exdex.PlausibilityWarning) and "jump" for a GripperJumpWarning.
 """
 from __future__ import annotations
 
@@ -27,7 +28,7 @@ import warnings
 
 import exdex
 
-KINDS = ("impact", "pad", "outline", "solver", "jump")
+KINDS = ("impact", "pad", "outline", "solver", "jump", "noisy_log", "plausibility")
 
 #: Every kind: random scenes (the zoo) may give any of them.
 ALL = KINDS

@@ -568,6 +568,8 @@ def test_sweep_progress_is_called_per_chunk(fig3):
     assert len(calls) == 16 and calls[-1] == 183 and calls[0] == 12
     with pytest.raises(TypeError, match="progress must be"):
         sweep(fig3, {"mu": [0.1]}, t_end=0.01, progress="yes")
+
+
 def test_parameters_the_scene_does_not_read_are_refused():
     """e_r where the contact region gives the surface (the exact surface, or
     pads on the fingers) and the patch centre with pads: a batch, a plan and
@@ -585,3 +587,15 @@ def test_parameters_the_scene_does_not_read_are_refused():
     # the exact surface's patch centre moves its region: read
     b = exdex.simulate_batch(exact, 0.1, 0.01, patch_x=[0.0, 0.002])
     assert b.q.shape[0] == 2
+
+
+def test_patch_centre_batch_off_the_face_is_refused_naming_the_entry():
+    """patch_x / patch_y get Scene's check: a centre off the 3 x 6 cm box's
+    face (x = 0.1 m: 0.1 - 0.015 = 0.085 m outside) names its batch index."""
+    with pytest.raises(ValueError, match=r"batch index 2: patch_x = 0\.1, patch_y = 0 put Grasp\.patch\.center "
+                                         r"0\.085 m outside"):
+        simulate_batch(_readme_box(), 0.01, 1e-3, patch_x=[0.0, 0.015, 0.1])
+    with pytest.raises(ValueError, match=r"batch index 1: .*patch_y = -0\.0301"):
+        simulate_batch(_readme_box(), 0.01, 1e-3, patch_y=[0.03, -0.0301])
+    b = simulate_batch(_readme_box(), 0.01, 1e-3, patch_x=[-0.015, 0.015], patch_y=[0.03, -0.03])   # the corners
+    assert len(b) == 2

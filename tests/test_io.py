@@ -120,14 +120,43 @@ def _grasp(rng):
     return grasp
 
 
+def _touching(body, grasp, q0):
+    """The grasp with its patch centre (or pad) moved onto the body's contact
+    face where the drawn one misses it: a scene whose plates do not touch the
+    object at t = 0 cannot be built (the draws stay as they were)."""
+    try:
+        face = body.contact_face()
+    except ValueError:
+        return grasp          # no face stated: nothing to touch
+    try:
+        exdex.Scene(body=body, grasp=grasp, q0=q0)
+        return grasp
+    except ValueError:
+        pass
+    centre = np.array(face["face_center"]) if "face_center" in face else np.mean(face["face"], axis=0)
+    if grasp.pad is None:
+        return exdex.replace(grasp, patch=exdex.replace(grasp.patch, center=tuple(centre)))
+    c, s = math.cos(q0[2]), math.sin(q0[2])
+    centre = np.array(q0[:2]) + np.array([[c, -s], [s, c]]) @ centre
+    pad = grasp.pad
+    if pad.vertices is not None:
+        centre = centre - pad.scale * np.mean(np.array(pad.vertices), axis=0)
+    moved = exdex.replace(grasp, pad=exdex.replace(pad, center=tuple(centre)))
+    try:
+        exdex.Scene(body=body, grasp=moved, q0=q0)
+        return moved
+    except ValueError:        # a pose like 1e16 m: no pad of this size overlaps the face in floats
+        return exdex.replace(grasp, pad=None)
+
+
 def random_scene(rng):
     dof = str(rng.choice(["translation", "rotation", "planar"]))
     stops = tuple(exdex.Stop(tuple(_awkward(rng, 3)), tuple(rng.normal(size=3)), mu=_awkward(rng, positive=True))
                   for _ in range(rng.integers(0, 9)))
+    body, grasp, motion = _body(rng), _grasp(rng), _motion(rng)
+    slide_axis, q0 = tuple(rng.normal(size=2)), tuple(_awkward(rng, 3))
     return exdex.Scene(
-        body=_body(rng),
-        grasp=_grasp(rng),
-        motion=_motion(rng), dof=dof, slide_axis=tuple(rng.normal(size=2)), q0=tuple(_awkward(rng, 3)),
+        body=body, grasp=_touching(body, grasp, q0), motion=motion, dof=dof, slide_axis=slide_axis, q0=q0,
         v0=tuple(_awkward(rng, 3)), gripper_rotation=_rotation(rng), gripper_position=tuple(_awkward(rng, 3)),
         gravity=tuple(_awkward(rng, 3)), stops=stops)
 
@@ -138,6 +167,7 @@ def _same(a, b):
         io.scene_to_dict(b))
 
 
+@pytest.mark.warns_by_design("noisy_log", "plausibility")  # random logs are normal draws, random bodies awkward
 @pytest.mark.parametrize("fmt", ["toml", "json"])
 def test_round_trip_random_scenes_is_exact(fmt, tmp_path):
     rng = np.random.default_rng(20261124)
@@ -162,6 +192,7 @@ def test_round_trip_random_scenes_is_exact(fmt, tmp_path):
     assert {p for *_, p in seen} == {"given", "disc", "rectangle"}
 
 
+@pytest.mark.warns_by_design("noisy_log", "plausibility")  # random logs are normal draws, random bodies awkward
 @pytest.mark.parametrize("fmt", ["toml", "json"])
 def test_round_trip_obstacles_is_exact(fmt, tmp_path):
     """Scenes with boxes, half-space intersections and rods (awkward floats)
@@ -265,7 +296,7 @@ def test_simulate_options_round_trip_and_checks(tmp_path):
 
 
 @pytest.mark.parametrize("edit, message", [
-    (lambda d: d.update(schema=4), r"unsupported scene-file schema 4.*reads schema 1, 2, 3"),
+    (lambda d: d.update(schema=5), r"unsupported scene-file schema 5.*reads schema 1, 2, 3, 4"),
     (lambda d: d.update(schema="1"), r"unsupported scene-file schema '1'"),
     (lambda d: d.pop("schema"), r"missing key in scene: 'schema'"),
     (lambda d: d["grasp"].update(frction=0.3), r"unknown key in scene\.grasp: 'frction'; allowed: .*mu"),
@@ -440,9 +471,9 @@ def test_cli_run_writes_result_figure_and_animation(tmp_path):
 def test_cli_run_errors_are_messages(tmp_path):
     p = _cli("run", "missing.toml", cwd=tmp_path)
     assert p.returncode != 0 and "no such scene file: missing.toml" in p.stderr
-    (tmp_path / "bad.toml").write_text("schema = 4\n")
+    (tmp_path / "bad.toml").write_text("schema = 5\n")
     p = _cli("run", "bad.toml", cwd=tmp_path)
-    assert p.returncode != 0 and "unsupported scene-file schema 4" in p.stderr and "Traceback" not in p.stderr
+    assert p.returncode != 0 and "unsupported scene-file schema 5" in p.stderr and "Traceback" not in p.stderr
     sc = _scenes()["translation"]
     exdex.save_scene(sc, tmp_path / "s.toml")
     p = _cli("run", "s.toml", "--dt", "-1", "--no-progress", cwd=tmp_path)
@@ -473,7 +504,7 @@ def test_the_schema_covers_every_scene_field_and_motion():
         "AsymmetricProfile": ["amplitude", "duration", "beta", "axis", "rotation", "center"],
         "TrapezoidalProfile": ["amplitude", "duration", "v_max", "axis", "rotation", "center"],
         "SampledTrajectory": ["times", "positions", "quaternions", "start_velocity", "start_omega",
-                              "end_velocity", "end_omega", "relative", "tool"],
+                              "end_velocity", "end_omega", "relative", "tool", "noise"],
         "Shake": ["amplitude", "frequency", "cycles", "duration", "axis", "rotation", "center"],
         "Pause": ["duration"],
         "Chain": ["pieces", "allow_jump"],
@@ -534,13 +565,44 @@ def test_schema_3_limit_surface_and_older_files(tmp_path):
     sc = exdex.Scene(body=exdex.Body(0.1), grasp=exdex.Grasp(0.5, 1.5, exdex.Patch.disc(0.01), limit_surface="exact"))
     exdex.save_scene(sc, tmp_path / "s.toml")
     text = (tmp_path / "s.toml").read_text()
-    assert "schema = 3" in text and 'limit_surface = "exact"' in text
+    assert f"schema = {io.SCHEMA_VERSION}" in text and 'limit_surface = "exact"' in text
     assert exdex.load_scene(tmp_path / "s.toml") == sc
     for version in (1, 2):
-        old = text.replace("schema = 3", f"schema = {version}")
+        old = text.replace(f"schema = {io.SCHEMA_VERSION}", f"schema = {version}")
         (tmp_path / "old.toml").write_text(old.replace('limit_surface = "exact"\n', ""))
         back = exdex.load_scene(tmp_path / "old.toml")
         assert back.grasp.limit_surface == "ellipsoid" and back == exdex.replace(sc, grasp=exdex.replace(sc.grasp, limit_surface="ellipsoid"))
         (tmp_path / "old.toml").write_text(old)
         with pytest.raises(ValueError, match=r"unknown key in scene.grasp: 'limit_surface'.*schema 3"):
             exdex.load_scene(tmp_path / "old.toml")
+
+
+@pytest.mark.parametrize("fmt", ["toml", "json"])
+def test_log_noise_round_trips_and_needs_schema_4(fmt, tmp_path):
+    """SampledTrajectory.noise is written (as the pair) and read back; the
+    loaded log smooths to the same knots, bit for bit (a plain function of
+    the file's numbers); a schema 1 to 3 file with it is refused naming the
+    key and the schema (also inside a Chain)."""
+    pytest.importorskip("scipy")
+    t = np.linspace(0.0, 1.0, 41)
+    rng = np.random.default_rng(3)
+    pos = np.outer(t**3 * (10 - 15 * t + 6 * t * t), [0.1, 0.0, 0.0]) + rng.normal(scale=1e-4, size=(41, 3))
+    log = exdex.SampledTrajectory(t, pos, np.tile([1.0, 0.0, 0.0, 0.0], (41, 1)), noise=(1e-4, 2e-4))
+    sc = exdex.Scene(body=exdex.Body(0.1), grasp=exdex.Grasp(0.5, 1.5), motion=log)
+    path = tmp_path / f"log.{fmt}"
+    exdex.save_scene(sc, path)
+    back = exdex.load_scene(path)
+    assert _same(back, sc) and back.motion.noise == (1e-4, 2e-4)
+    np.testing.assert_array_equal(back.motion._spec()["motion_poses"], log._spec()["motion_poses"])
+    assert not np.array_equal(log._spec()["motion_poses"][:, :3], pos)   # smoothed, not the raw samples
+    d = io.scene_to_dict(sc)
+    assert d["motion"]["noise"] == [1e-4, 2e-4]
+    d["schema"] = 3
+    with pytest.raises(ValueError, match=r"unknown key in scene.motion: 'noise'.*schema 4"):
+        io.scene_from_dict(d)
+    d["motion"] = {"type": "Chain", "pieces": [dict(d["motion"])]}
+    with pytest.raises(ValueError, match=r"scene.motion.pieces\[0\]: 'noise'.*schema 4"):
+        io.scene_from_dict(d)
+    del d["motion"]["pieces"][0]["noise"]
+    with pytest.warns(exdex.NoisyLogWarning, match="noise="):   # the raw log: its noise dominates
+        assert io.scene_from_dict(d).motion.pieces[0].noise is None

@@ -64,6 +64,7 @@ from __future__ import annotations
 import math
 import os
 import sys
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -256,7 +257,13 @@ def _log_motion(rng, L, tau, R0, p0, rotate_axes, translate_axes, noisy, end_mov
         for k in range(n):
             R[k] = _rotation(_random_direction(rng), rng.normal(scale=sigma / L)) @ R[k]
     quats = np.array([_quat(Rk) for Rk in R])
-    return exdex.SampledTrajectory(times=t, positions=p0 + disp, quaternions=quats), total
+    with warnings.catch_warnings():
+        if noisy:
+            # noisy by design: where a move or turn is small, 0.02 g h^2 of noise dominates its
+            # accelerations (exdex.NoisyLogWarning); the zoo runs the log as logged
+            warnings.simplefilter("ignore", exdex.NoisyLogWarning)
+        log = exdex.SampledTrajectory(times=t, positions=p0 + disp, quaternions=quats)
+    return log, total
 
 
 def _outline_world(body, q0, R0, p0):

@@ -75,7 +75,7 @@ def motion_peaks(motion: Any) -> Dict[str, float]:
         return dict(acceleration=acc, speed=motion.v_max, stroke=abs(motion.amplitude), duration=motion.duration)
     if isinstance(motion, SampledTrajectory):
         t = np.asarray(motion.times, dtype=float)
-        p = np.asarray(motion.positions, dtype=float)
+        p = np.asarray(motion.spline_positions, dtype=float)   # smoothed where the log states its noise
         v = np.diff(p, axis=0) / np.diff(t)[:, None]
         a = np.diff(v, axis=0) / (0.5 * (t[2:] - t[:-2]))[:, None]
         d = np.linalg.norm(p - p[0], axis=1)
