@@ -1006,10 +1006,13 @@ class SampledTrajectory(_Motion):
 
     def noise_estimate(self) -> Tuple[float, float]:
         """The noise of the logged poses estimated from the data: (position
-        [m] per axis, orientation [rad] per axis), the largest over the
-        position axes and the rotation's three axes (see
-        :mod:`exdex._lognoise`; zeros for fewer than 12 samples). A value
-        for ``noise`` where the log's own level is not known."""
+        [m] per axis, the largest over the axes; orientation [rad] per axis
+        of a small rotation). Each coordinate's level is the smallest, over
+        the 3rd to 6th divided differences, of their median size scaled to
+        white noise (sigma sqrt(C(2k, k)) / (k! h^k) for the k-th), which
+        the motion's own smooth differences do not reach; rounding-level
+        values count as 0, and logs of fewer than 12 samples give zeros. A
+        value for ``noise`` where the sensor's own figures are not known."""
         sp = _lognoise.levels(self.times, self.positions)
         sq = _lognoise.levels(self.times, _lognoise.continuous_quaternions(self.quaternions))
         return float(np.max(sp)), float(2.0 * np.linalg.norm(sq) / math.sqrt(3.0))
