@@ -62,20 +62,33 @@
 #define CERT_MAX_ROWS 8
 
 /* ------------------------------------------------------- limit surface
- * The one place that knows the surface: the ellipsoid w^T E^-2 w <= C^2 of
- * the model's patch (E = diag(1, 1, e_r)). */
+ * The one place that knows the surface, through the limit-surface
+ * interface (limitsurf.h): the model's ellipsoid w^T E^-2 w <= C^2 (E =
+ * diag(1, 1, e_r) of the model's patch, or of the pads' region at the
+ * start), or the exact surface of uniform pressure over the patch's region
+ * (Grasp(limit_surface="exact")). */
 
-/* |E^-1 w|: the load's gauge times the capacity. */
+/* The load's gauge times the capacity: |E^-1 w| for the ellipsoid, the
+ * exact surface's gauge g(w) (NaN if its search fails). */
 static double cert_gauge(const exdex_model *m, const double w[3])
 {
-    return model_ell_norm(m, w);
+    return model_ls_gauge(m, w);
 }
 
 /* Maximum dissipation for the slip twist u != 0 at the patch: the friction
- * wrench -C E^2 u / |E u|. */
+ * wrench C w(u) (ellipsoid: -C E^2 u / |E u|). */
 static void cert_slip_wrench(const exdex_model *m, const double u[3], double C, double w[3])
 {
     double eu = 0.0;
+    if (m->ls_exact) {
+        if (u[0] == 0.0 && u[1] == 0.0 && u[2] == 0.0) {
+            w[0] = w[1] = w[2] = 0.0;
+            return;
+        }
+        limitsurf_wrench(&m->ls, u, w, NULL);
+        for (int c = 0; c < 3; c++) w[c] *= C;
+        return;
+    }
     for (int c = 0; c < 3; c++) eu += m->e[c] * m->e[c] * u[c] * u[c];
     eu = sqrt(eu);
     for (int c = 0; c < 3; c++) w[c] = eu > 0.0 ? -C * m->e[c] * m->e[c] * u[c] / eu : 0.0;
@@ -128,9 +141,10 @@ static double ls_residual(const double y0[3], const double (*c)[3], const int *i
     return sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
 }
 
-static double min_residual(const double y0[3], const double (*c)[3], int nfree, int ncol)
+static double min_residual(const double y0[3], const double (*c)[3], int nfree, int ncol, double rbest[3])
 {
     double best = -1.0;
+    memcpy(rbest, y0, 3 * sizeof *rbest);
     int nn = ncol - nfree, kmax = 3 - nfree;
     if (nfree > 1) return -1.0;
     /* supports: the free column (if any) and a < b < e of the others (-1: none) */
@@ -154,7 +168,13 @@ static double min_residual(const double y0[3], const double (*c)[3], int nfree, 
                     for (int i = nfree; i < k; i++)
                         if (x[i] < 0.0) ok = 0;
                 }
-                if (ok && (best < 0.0 || r < best)) best = r;
+                if (ok && (best < 0.0 || r < best)) {
+                    best = r;
+                    for (int d = 0; d < 3; d++) {
+                        rbest[d] = y0[d];
+                        for (int q = 0; q < k; q++) rbest[d] += x[q] * c[idx[q]][d];
+                    }
+                }
             }
         }
     }
@@ -180,21 +200,33 @@ typedef struct cert_eval {
 static int cert_decide(const exdex_model *m, double t, const double b[3], const double *vf, const double cs[2],
                        const double (*cols)[3], int nfree, int ncol, cert_eval *ce)
 {
-    double y0[3];
+    double y0[3], rb[3];
     if (!vf) {
         double Cs = model_capacity_static(m, t), res;
         for (int c = 0; c < 3; c++) y0[c] = b[c] / m->e[c];
-        res = ncol ? min_residual(y0, cols, nfree, ncol) : cert_gauge(m, b);
+        if (ncol) {
+            /* the stop forces that bring the load closest to the centre in
+             * E^-1 (the ellipsoid's gauge at its least); the exact
+             * surface's gauge of what they leave */
+            res = min_residual(y0, cols, nfree, ncol, rb);
+            if (m->ls_exact) {
+                double w[3] = {rb[0] * m->e[0], rb[1] * m->e[1], rb[2] * m->e[2]};
+                res = cert_gauge(m, w);
+            }
+        } else {
+            res = cert_gauge(m, b);
+        }
         ce->cap = Cs;
         ce->gauge = Cs > 0.0 ? res / Cs : (res > 0.0 ? INFINITY : 0.0);
-        ce->excess = ce->gauge - 1.0;
+        /* a failed search of the exact surface's gauge counts as a failure */
+        ce->excess = ce->gauge == ce->gauge ? ce->gauge - 1.0 : INFINITY;
     } else {
         double C = model_capacity(m, t), u[3], wf[3], res, tol;
         model_patch_slip(m, cs, vf, u);
         cert_slip_wrench(m, u, C, wf);
         for (int c = 0; c < 3; c++) y0[c] = (b[c] - wf[c]) / m->e[c];
-        res = min_residual(y0, cols, nfree, ncol);
-        tol = CERT_SLIP_TOL * (m->scale.F + cert_gauge(m, b) + C);
+        res = min_residual(y0, cols, nfree, ncol, rb);
+        tol = CERT_SLIP_TOL * (m->scale.F + model_ell_norm(m, b) + C);
         ce->cap = C;
         ce->gauge = C > 0.0 ? res / C : res;
         ce->excess = res / tol - 1.0;

@@ -336,3 +336,52 @@ def test_auto_is_refused_where_a_dof_is_needed():
         exdex.Model(sc)
     with pytest.raises(ValueError, match="dof='auto'"):
         exdex.simulate_batch(sc, 0.1, 1e-3, grip_force=[1.0, 2.0])
+
+
+# ------------------------------------------------------ the exact surface
+
+def disc_boundary_wrench(x0, R, n_r=400, n_t=800):
+    """Friction wrench per unit capacity (f_y, m_z) of a uniform disc of radius
+    R slipping about the instantaneous centre (x0, 0): the Coulomb integral
+    -(1/A) Int s/|s| dA, s = z x (r - x0 e_x), by Gauss-Legendre quadrature in
+    the radius and the midpoint rule in the angle (an independent evaluation
+    of the definition; smooth for x0 > R, converged to 1e-15 here)."""
+    xr, wr = np.polynomial.legendre.leggauss(n_r)
+    r, wr = 0.5 * R * (xr + 1), 0.5 * R * wr
+    th = (np.arange(n_t) + 0.5) * 2 * np.pi / n_t
+    rr, tt = np.meshgrid(r, th, indexing="ij")
+    wt = wr[:, None] * rr * (2 * np.pi / n_t) / (np.pi * R * R)
+    x, y = rr * np.cos(tt), rr * np.sin(tt)
+    sx, sy = -y, x - x0
+    s = np.hypot(sx, sy)
+    return -(wt * sy / s).sum(), -(wt * (x * sy - y * sx) / s).sum()
+
+
+@pytest.mark.parametrize("method", ["implicit", "event", "analytic"])
+@pytest.mark.parametrize("lam", [0.99, 1.01])
+def test_exact_surface_certifies_against_itself(method, lam):
+    # A disc pad of radius R under the held box: the load (f, m) = (W, W d) at
+    # the pad. With d = R |m1| / f1, (f1, m1) the exact surface's boundary
+    # wrench for the instantaneous centre 1.5 R away, the load is lam times
+    # the boundary point at capacity C = W / (lam f1): exact gauge lam. The
+    # ellipsoid (e_r = 2R/3) is larger there: its gauge is
+    # lam hypot(f1, m1 / (2/3)) = 0.976 lam, so with lam = 1.01 the exact
+    # surface fails and the ellipsoid holds.
+    R = 0.02
+    f1, m1 = disc_boundary_wrench(1.5, 1.0)
+    g_ell = math.hypot(f1, m1 / (2.0 / 3.0))
+    assert g_ell == pytest.approx(0.97627, abs=1e-5)
+    d = R * abs(m1) / f1
+    C = W / (lam * f1)
+    pad = Patch.disc(R, center=(d, 0.0))
+    assert pad.e_r == pytest.approx(2 * R / 3, rel=1e-12)
+    for surface, gauge in (("exact", lam), ("ellipsoid", lam * g_ell)):
+        sc = Scene(body=Body.box(MASS, (0.15, 0.08, 0.03)),
+                   grasp=Grasp(mu=MU, grip_force=C / (2 * MU), patch=pad, limit_surface=surface))
+        res, red = run(sc, method)
+        c = res.certificate
+        assert res.stick[1:].all()                       # the reduced run holds: W < C
+        assert c["holds"] == (gauge <= 1.0), surface
+        assert bool(red) == (gauge > 1.0), surface
+        if not c["holds"]:
+            assert c["stick"] and c["valid_until"] == 0.0 and c["gauge"] == pytest.approx(gauge, rel=1e-6)
