@@ -7,8 +7,14 @@
  * I_zz), gravity and the frame's inertial terms F, Eqs. 3-5) give the plate
  * friction wrench w the neglected coordinates need to stay still, at the
  * model's contact point (the centre of pressure, patch coordinates of
- * model_patch_of_gen). Stops touching the object (gap below tol.touch) may
- * push along their normals with any force lambda >= 0. The reduction holds
+ * model_patch_of_gen). Stops and obstacles touching the object (gap below
+ * tol.touch) may push along their normals with any force lambda >= 0 and,
+ * with friction mu, along their tangent in the plate plane with |beta| <=
+ * mu lambda (opposing the contact point's slip where it slides: the
+ * reduced motion's and the gripper's past the contact). With the exact
+ * surface and stops, the stop forces are those that leave the load
+ * smallest in the ellipsoid's metric (a verdict that can only err towards
+ * failing). The reduction holds
  *   while the reduced coordinate sticks: iff some lambda >= 0 leaves a w
  *     inside the static limit surface (gauge <= 1);
  *   while it slips: maximum dissipation fixes the friction w_f of the
@@ -18,7 +24,8 @@
  *     the part of the load w_f cannot give must be carried by the stops:
  *     min over a, lambda >= 0 of |E^-1 r| <= CERT_SLIP_TOL (scale.F +
  *     |E^-1 b|), r the unbalanced wrench.
- * The limit surface enters through cert_gauge and cert_slip_wrench only.
+ * The limit surface enters through cert_gauge and cert_slip_wrench only
+ * (and, with stops, the ellipsoid's metric that picks their forces).
  *
  * Where it is checked: at every output sample with the sample's state and
  * mode (stick flag; a sample at rest that is not flagged stick is checked as
@@ -58,8 +65,9 @@
  * scene's force scale plus the load's size (rounding of the load is ~1e-16
  * of them). */
 #define CERT_SLIP_TOL 1e-9
-/* Contact rows taken into the stop problem (the first ones in contact). */
-#define CERT_MAX_ROWS 8
+/* Columns of the stop problem (the first contact rows in contact; a
+ * frictional row takes two). */
+#define CERT_MAX_COLS 16
 
 /* ------------------------------------------------------- limit surface
  * The one place that knows the surface, through the limit-surface
@@ -100,7 +108,7 @@ static void cert_slip_wrench(const exdex_model *m, const double u[3], double C, 
  * linearly independent support of at most 3 columns whose least-squares
  * solution is feasible (Caratheodory), so the smallest residual over the
  * supports of up to 3 columns that contain every free column and solve
- * feasibly is the minimum. ncol <= 1 + CERT_MAX_ROWS. */
+ * feasibly is the minimum. ncol <= 1 + CERT_MAX_COLS. */
 static double ls_residual(const double y0[3], const double (*c)[3], const int *idx, int k, double *x)
 {
     double A[3][3], b[3], r[3];
@@ -243,7 +251,7 @@ static int cert_at_stops(const exdex_model *m, double t, double q, double v, int
     frame f;
     exdex_kinematics kin;
     double r[3], th, qf[3], vf[3], kap[3] = {0, 0, 0}, T[3], F[3], P[3], b[3], cs[2], gM[3];
-    double cols[1 + CERT_MAX_ROWS][3];
+    double cols[1 + CERT_MAX_COLS][3];
     int ncol = 0, nfree = 0;
     int st = model_frame_at(m, t, &f, &kin);
     if (st) return st;
@@ -293,7 +301,7 @@ static int cert_at_stops(const exdex_model *m, double t, double q, double v, int
         ncol++;
         nfree = 1;
     }
-    if (m->n_stops && use_stops) {
+    if (m->n_src && use_stops) {
         /* without a stop force first: stops are looked for only where it fails */
         cert_eval free_ce = *ce;
         int fst = cert_decide(m, t, b, ce->stick ? NULL : vf, cs, (const double(*)[3])cols, nfree, ncol, &free_ce);
@@ -303,17 +311,70 @@ static int cert_at_stops(const exdex_model *m, double t, double q, double v, int
             return EXDEX_OK;
         }
     }
-    if (m->n_stops && use_stops) {
-        /* stops in contact push along their normals: generalized force lambda G */
-        int nv = contact_nv(m);
-        for (int k = 0; k < m->n_stops && ncol < 1 + CERT_MAX_ROWS; k++) {
-            for (int j = 0; j < nv && ncol < 1 + CERT_MAX_ROWS; j++) {
-                double G[3], g[3];
+    if (m->n_src && use_stops) {
+        /* stops and obstacles in contact push along their normals with
+         * lambda >= 0 and, with friction mu, along the tangent T with
+         * |beta| <= mu lambda: the cone of G + mu T and G - mu T; where the
+         * contact point slides along it (the reduced motion's slip s =
+         * T . v + tb, the gripper's motion past a fixed contact included)
+         * the friction opposes the slip, G - mu sgn(s) T alone */
+        int nv = contact_nv(m), nrow = 0;
+        double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3];
+        double RG[MAX_ROWS][3], RT[MAX_ROWS][3], Rs[MAX_ROWS], Rmu[MAX_ROWS];
+        /* the contact geometry in the planar coordinates: the model read
+         * as planar (its rows and tangents then have three entries) */
+        exdex_model mp = *m;
+        mp.ndof = 3;
+        contact_vertices(&mp, qf, xb, vx);
+        for (int k = 0; k < m->n_stops; k++) {
+            for (int j = 0; j < nv && nrow < MAX_ROWS; j++) {
+                double G[3], T[3] = {0, 0, 0}, tb = 0.0;
                 double gap = contact_row_planar(m, &kin, k, j, qf, vf, G, NULL, NULL);
                 if (!(gap < m->tol.touch)) continue;
                 if (fabs(G[0]) + fabs(G[1]) + fabs(G[2]) < FQ_MIN) continue;
-                /* the reaction on the object is lambda G; the friction needed drops by it */
-                model_patch_of_gen(m, cs, G, g);
+                Rmu[nrow] = m->smu[k];
+                if (Rmu[nrow] > 0.0) contact_stop_tangent(&mp, &kin, k, xb[j], vx[j], T, &tb);
+                memcpy(RG[nrow], G, sizeof G);
+                memcpy(RT[nrow], T, sizeof T);
+                Rs[nrow] = T[0] * vf[0] + T[1] * vf[1] + T[2] * vf[2] + tb;
+                nrow++;
+            }
+        }
+        if (m->n_obst) {
+            double G[MAX_ROWS][3], gap[MAX_ROWS], rnd[MAX_ROWS];
+            int src[MAX_ROWS];
+            contact_point cp[MAX_ROWS];
+            int no = contact_obstacle_rows(&mp, &kin, qf, G, gap, rnd, src, cp);
+            for (int i = 0; i < no && nrow < MAX_ROWS; i++) {
+                double T[3] = {0, 0, 0}, tb = 0.0;
+                if (!(gap[i] < m->tol.touch)) continue;
+                if (fabs(G[i][0]) + fabs(G[i][1]) + fabs(G[i][2]) < FQ_MIN) continue;
+                Rmu[nrow] = model_source_mu(m, src[i]);
+                if (Rmu[nrow] > 0.0) contact_tangent(&mp, &kin, cp[i].x, cp[i].vx, cp[i].nB, T, &tb);
+                memcpy(RG[nrow], G[i], sizeof G[i]);
+                memcpy(RT[nrow], T, sizeof T);
+                Rs[nrow] = T[0] * vf[0] + T[1] * vf[1] + T[2] * vf[2] + tb;
+                nrow++;
+            }
+        }
+        for (int r = 0; r < nrow; r++) {
+            double sig[2];
+            int ns = 0;
+            if (Rmu[r] > 0.0 && fabs(RT[r][0]) + fabs(RT[r][1]) + fabs(RT[r][2]) >= FQ_MIN) {
+                if (fabs(Rs[r]) > m->tol.rate) {
+                    sig[ns++] = Rs[r] > 0.0 ? -1.0 : 1.0;
+                } else {
+                    sig[ns++] = 1.0;
+                    sig[ns++] = -1.0;
+                }
+            } else {
+                sig[ns++] = 0.0;
+            }
+            for (int e = 0; e < ns && ncol < 1 + CERT_MAX_COLS; e++) {
+                double Gc[3], g[3];
+                for (int c = 0; c < 3; c++) Gc[c] = RG[r][c] + sig[e] * Rmu[r] * RT[r][c];
+                /* the reaction on the object is lambda Gc; the friction needed drops by it */
+                model_patch_of_gen(m, cs, Gc, g);
                 for (int c = 0; c < 3; c++) cols[ncol][c] = -g[c] / m->e[c];
                 ncol++;
             }

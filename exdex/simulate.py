@@ -535,7 +535,7 @@ def _simulate_auto(scene, t_end, dt, method, friction_solver, eps, rtol, atol):
             if best is None or c["valid_until"] > best[0]:
                 best = (float(c["valid_until"]), dof, m, res)
     else:
-        why_not.append("obstacles: the 1-DoF certificate takes stops only")
+        why_not.append("obstacles: 'auto' runs scenes with obstacles planar")
     pm = method if method in _PLANAR_METHODS else "event"
     if best is not None and best[3].certificate["holds"]:
         _, dof, m, res = best

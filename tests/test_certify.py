@@ -385,3 +385,37 @@ def test_exact_surface_certifies_against_itself(method, lam):
         assert bool(red) == (gauge > 1.0), surface
         if not c["holds"]:
             assert c["stick"] and c["valid_until"] == 0.0 and c["gauge"] == pytest.approx(gauge, rel=1e-6)
+
+
+# ------------------------------------------------------ stop friction
+
+@pytest.mark.parametrize("method", ["implicit", "event", "explicit", "regularised"])
+@pytest.mark.parametrize("wall", ["stop", "obstacle"])
+def test_frictional_wall_carries_the_weight(method, wall):
+    # A cylinder (radius R = 1 cm) on a slide across gravity (B x), pressed by
+    # nothing against a wall at its side (normal -x, touching at (R, 0)): the
+    # weight W lies across the slide. The wall pushes with lambda >= 0 and its
+    # friction beta (|beta| <= mu_s lambda) at (R, 0) takes part of the weight
+    # at the price of a moment R beta on the pads, so the pads must give
+    # (lambda, W - beta, -R beta); the least gauge is at lambda = beta / mu_s,
+    # beta = W / (1 / mu_s^2 + 1 + k^2), k = R / e_r:
+    #     g = W sqrt((1 + mu_s^2 k^2) / (1 + mu_s^2 (1 + k^2))) / C.
+    # With C = 0.9 W: mu_s = 1 gives 0.8546 / 0.9 (holds), mu_s = 0.5
+    # 0.9224 / 0.9 and a frictionless wall 1 / 0.9 (both fail). The wall is
+    # a stop, or the face x = R of a box obstacle.
+    R, C = 0.01, 0.9 * W
+    k = R / E_R
+    for mu_s in (0.0, 0.5, 1.0):
+        g = math.sqrt((1 + mu_s ** 2 * k ** 2) / (1 + mu_s ** 2 * (1 + k ** 2))) * W / C
+        if wall == "stop":
+            walls = dict(stops=(Stop(point=(R, 0.0, 0.0), normal=(-1.0, 0.0, 0.0), mu=mu_s),))
+        else:
+            walls = dict(obstacles=(exdex.Obstacle.box((R + 0.05, 0.0, 0.0), (0.1, 0.1, 0.1), mu=mu_s),))
+        sc = Scene(body=Body.cylinder(MASS, R, 0.03), grasp=Grasp(mu=MU, grip_force=C / (2 * MU), patch=PAD),
+                   slide_axis=(1.0, 0.0), **walls)
+        res, red = run(sc, method, t_end=0.1)
+        c = res.certificate
+        assert c["holds"] == (g <= 1.0), mu_s
+        assert bool(red) == (g > 1.0), mu_s
+        if g > 1.0:
+            assert c["stick"] and c["valid_until"] == 0.0 and c["gauge"] == pytest.approx(g, rel=1e-9)
