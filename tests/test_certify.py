@@ -419,3 +419,52 @@ def test_frictional_wall_carries_the_weight(method, wall):
         assert bool(red) == (g > 1.0), mu_s
         if g > 1.0:
             assert c["stick"] and c["valid_until"] == 0.0 and c["gauge"] == pytest.approx(g, rel=1e-9)
+
+
+# ---------------------------------------- plans, fits and sequences
+
+def tilted_fig3(alpha_deg=30.0):
+    """Fig. 3 (Eq. 7 down first, beta 0.9, T 0.5 s) with the slide axis alpha
+    off the vertical: stuck through the slow phase, it slips at beta T, where
+    the load m (g + a_L) has the part m (g + a_L) sin(alpha) across the axis,
+    which a slip along it cannot hold: the reduction fails at beta T = 0.45 s
+    (the grip forces below keep it stuck before: m (g - a_H) = 0.892 N < C)."""
+    a = math.radians(alpha_deg)
+    return exdex.replace(exdex.paper.fig3_scene(), slide_axis=(math.sin(a), -math.cos(a)))
+
+
+def test_plan_flags_a_failing_reduction():
+    with warnings.catch_warnings(record=True) as rec:
+        warnings.simplefilter("always")
+        p = exdex.plan.solve(tilted_fig3(), {"slip": 0.01}, vary={"grip_force": (1.0, 3.0)}, tol=1e-7, t_end=1.5)
+    assert p.reduction_fails_at == pytest.approx(0.45, abs=1e-6)
+    assert [w.message.kind for w in rec if isinstance(w.message, exdex.ReductionWarning)] == ["reduction"]
+    # along the axis (the paper's Fig. 3) the same plan holds
+    with warnings.catch_warnings(record=True) as rec:
+        warnings.simplefilter("always")
+        p = exdex.plan.solve(tilted_fig3(0.0), {"slip": 0.01}, vary={"grip_force": (1.0, 3.0)}, tol=1e-7,
+                             t_end=1.5)
+    assert p.reduction_fails_at is None
+    assert not [w for w in rec if isinstance(w.message, exdex.ReductionWarning)]
+
+
+def test_identify_flags_a_failing_reduction_once():
+    sc = tilted_fig3()
+    r = exdex.simulate(exdex.replace(sc, grasp=exdex.replace(sc.grasp, mu=0.46)), 1.5, 0.01, method="analytic",
+                       certify=False)
+    t = np.linspace(0.0, 1.5, 151)
+    with warnings.catch_warnings(record=True) as rec:
+        warnings.simplefilter("always")
+        fit = exdex.identify(sc, t, np.interp(t, r.t, r.q[:, 0]), {"mu": (0.3, 0.7)})
+    assert fit.values["mu"] == pytest.approx(0.46, abs=1e-6)
+    assert fit.reduction_fails_at == pytest.approx(0.45, abs=1e-6)
+    # the fitted scene's warning only, not one per trial point
+    assert len([w for w in rec if isinstance(w.message, exdex.ReductionWarning)]) == 1
+    assert "reduction fails at t = 0.45" in fit.report()
+
+
+def test_sequences_plan_planar_poses_only():
+    # a sequence's steps are planar runs (nothing neglected, no certificate):
+    # a 1-DoF scene is refused rather than planned on a reduction
+    with pytest.raises(ValueError, match="dof must be 'planar'"):
+        exdex.sequence.primitives(tilted_fig3())
