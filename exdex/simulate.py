@@ -691,7 +691,13 @@ class Model:
 
     def final(self, t_end: float, dt: float = 1e-3) -> Tuple[Tuple[float, ...], Tuple[float, ...], bool]:
         """Run like :meth:`simulate` and return only the last sample:
-        ``(q, v, stick)`` with q, v tuples of ``ndof`` floats."""
+        ``(q, v, stick)`` with q, v tuples of ``ndof`` floats.
+
+        Not certified: a translation or rotation run's certificate checks
+        every sample of the trajectory (:attr:`Result.certificate`), and this
+        run keeps none of them. Where the reduction matters, take
+        :meth:`simulate` (its last sample is this one, bit for bit) and read
+        :attr:`Result.reduction_valid_until`."""
         dt, t_end = _check_times(t_end, dt)
         out = self._model.final(t_end, dt)
         _warn_jumps(self.scene, self._jumps, t_end)
