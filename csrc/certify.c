@@ -7,8 +7,14 @@
  * I_zz), gravity and the frame's inertial terms F, Eqs. 3-5) give the plate
  * friction wrench w the neglected coordinates need to stay still, at the
  * model's contact point (the centre of pressure, patch coordinates of
- * model_patch_of_gen). Stops touching the object (gap below tol.touch) may
- * push along their normals with any force lambda >= 0. The reduction holds
+ * model_patch_of_gen). Stops and obstacles touching the object (gap below
+ * tol.touch) may push along their normals with any force lambda >= 0 and,
+ * with friction mu, along their tangent in the plate plane with |beta| <=
+ * mu lambda (opposing the contact point's slip where it slides: the
+ * reduced motion's and the gripper's past the contact). With the exact
+ * surface and stops, the stop forces are those that leave the load
+ * smallest in the ellipsoid's metric (a verdict that can only err towards
+ * failing). The reduction holds
  *   while the reduced coordinate sticks: iff some lambda >= 0 leaves a w
  *     inside the static limit surface (gauge <= 1);
  *   while it slips: maximum dissipation fixes the friction w_f of the
@@ -18,7 +24,8 @@
  *     the part of the load w_f cannot give must be carried by the stops:
  *     min over a, lambda >= 0 of |E^-1 r| <= CERT_SLIP_TOL (scale.F +
  *     |E^-1 b|), r the unbalanced wrench.
- * The limit surface enters through cert_gauge and cert_slip_wrench only.
+ * The limit surface enters through cert_gauge and cert_slip_wrench only
+ * (and, with stops, the ellipsoid's metric that picks their forces).
  *
  * Where it is checked: at every output sample with the sample's state and
  * mode (stick flag; a sample at rest that is not flagged stick is checked as
@@ -58,24 +65,38 @@
  * scene's force scale plus the load's size (rounding of the load is ~1e-16
  * of them). */
 #define CERT_SLIP_TOL 1e-9
-/* Contact rows taken into the stop problem (the first ones in contact). */
-#define CERT_MAX_ROWS 8
+/* Columns of the stop problem (the first contact rows in contact; a
+ * frictional row takes two). */
+#define CERT_MAX_COLS 16
 
 /* ------------------------------------------------------- limit surface
- * The one place that knows the surface: the ellipsoid w^T E^-2 w <= C^2 of
- * the model's patch (E = diag(1, 1, e_r)). */
+ * The one place that knows the surface, through the limit-surface
+ * interface (limitsurf.h): the model's ellipsoid w^T E^-2 w <= C^2 (E =
+ * diag(1, 1, e_r) of the model's patch, or of the pads' region at the
+ * start), or the exact surface of uniform pressure over the patch's region
+ * (Grasp(limit_surface="exact")). */
 
-/* |E^-1 w|: the load's gauge times the capacity. */
+/* The load's gauge times the capacity: |E^-1 w| for the ellipsoid, the
+ * exact surface's gauge g(w) (NaN if its search fails). */
 static double cert_gauge(const exdex_model *m, const double w[3])
 {
-    return model_ell_norm(m, w);
+    return model_ls_gauge(m, w);
 }
 
 /* Maximum dissipation for the slip twist u != 0 at the patch: the friction
- * wrench -C E^2 u / |E u|. */
+ * wrench C w(u) (ellipsoid: -C E^2 u / |E u|). */
 static void cert_slip_wrench(const exdex_model *m, const double u[3], double C, double w[3])
 {
     double eu = 0.0;
+    if (m->ls_exact) {
+        if (u[0] == 0.0 && u[1] == 0.0 && u[2] == 0.0) {
+            w[0] = w[1] = w[2] = 0.0;
+            return;
+        }
+        limitsurf_wrench(&m->ls, u, w, NULL);
+        for (int c = 0; c < 3; c++) w[c] *= C;
+        return;
+    }
     for (int c = 0; c < 3; c++) eu += m->e[c] * m->e[c] * u[c] * u[c];
     eu = sqrt(eu);
     for (int c = 0; c < 3; c++) w[c] = eu > 0.0 ? -C * m->e[c] * m->e[c] * u[c] / eu : 0.0;
@@ -87,7 +108,7 @@ static void cert_slip_wrench(const exdex_model *m, const double u[3], double C, 
  * linearly independent support of at most 3 columns whose least-squares
  * solution is feasible (Caratheodory), so the smallest residual over the
  * supports of up to 3 columns that contain every free column and solve
- * feasibly is the minimum. ncol <= 1 + CERT_MAX_ROWS. */
+ * feasibly is the minimum. ncol <= 1 + CERT_MAX_COLS. */
 static double ls_residual(const double y0[3], const double (*c)[3], const int *idx, int k, double *x)
 {
     double A[3][3], b[3], r[3];
@@ -128,9 +149,10 @@ static double ls_residual(const double y0[3], const double (*c)[3], const int *i
     return sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
 }
 
-static double min_residual(const double y0[3], const double (*c)[3], int nfree, int ncol)
+static double min_residual(const double y0[3], const double (*c)[3], int nfree, int ncol, double rbest[3])
 {
     double best = -1.0;
+    memcpy(rbest, y0, 3 * sizeof *rbest);
     int nn = ncol - nfree, kmax = 3 - nfree;
     if (nfree > 1) return -1.0;
     /* supports: the free column (if any) and a < b < e of the others (-1: none) */
@@ -154,7 +176,13 @@ static double min_residual(const double y0[3], const double (*c)[3], int nfree, 
                     for (int i = nfree; i < k; i++)
                         if (x[i] < 0.0) ok = 0;
                 }
-                if (ok && (best < 0.0 || r < best)) best = r;
+                if (ok && (best < 0.0 || r < best)) {
+                    best = r;
+                    for (int d = 0; d < 3; d++) {
+                        rbest[d] = y0[d];
+                        for (int q = 0; q < k; q++) rbest[d] += x[q] * c[idx[q]][d];
+                    }
+                }
             }
         }
     }
@@ -180,21 +208,33 @@ typedef struct cert_eval {
 static int cert_decide(const exdex_model *m, double t, const double b[3], const double *vf, const double cs[2],
                        const double (*cols)[3], int nfree, int ncol, cert_eval *ce)
 {
-    double y0[3];
+    double y0[3], rb[3];
     if (!vf) {
         double Cs = model_capacity_static(m, t), res;
         for (int c = 0; c < 3; c++) y0[c] = b[c] / m->e[c];
-        res = ncol ? min_residual(y0, cols, nfree, ncol) : cert_gauge(m, b);
+        if (ncol) {
+            /* the stop forces that bring the load closest to the centre in
+             * E^-1 (the ellipsoid's gauge at its least); the exact
+             * surface's gauge of what they leave */
+            res = min_residual(y0, cols, nfree, ncol, rb);
+            if (m->ls_exact) {
+                double w[3] = {rb[0] * m->e[0], rb[1] * m->e[1], rb[2] * m->e[2]};
+                res = cert_gauge(m, w);
+            }
+        } else {
+            res = cert_gauge(m, b);
+        }
         ce->cap = Cs;
         ce->gauge = Cs > 0.0 ? res / Cs : (res > 0.0 ? INFINITY : 0.0);
-        ce->excess = ce->gauge - 1.0;
+        /* a failed search of the exact surface's gauge counts as a failure */
+        ce->excess = ce->gauge == ce->gauge ? ce->gauge - 1.0 : INFINITY;
     } else {
         double C = model_capacity(m, t), u[3], wf[3], res, tol;
         model_patch_slip(m, cs, vf, u);
         cert_slip_wrench(m, u, C, wf);
         for (int c = 0; c < 3; c++) y0[c] = (b[c] - wf[c]) / m->e[c];
-        res = min_residual(y0, cols, nfree, ncol);
-        tol = CERT_SLIP_TOL * (m->scale.F + cert_gauge(m, b) + C);
+        res = min_residual(y0, cols, nfree, ncol, rb);
+        tol = CERT_SLIP_TOL * (m->scale.F + model_ell_norm(m, b) + C);
         ce->cap = C;
         ce->gauge = C > 0.0 ? res / C : res;
         ce->excess = res / tol - 1.0;
@@ -211,7 +251,7 @@ static int cert_at_stops(const exdex_model *m, double t, double q, double v, int
     frame f;
     exdex_kinematics kin;
     double r[3], th, qf[3], vf[3], kap[3] = {0, 0, 0}, T[3], F[3], P[3], b[3], cs[2], gM[3];
-    double cols[1 + CERT_MAX_ROWS][3];
+    double cols[1 + CERT_MAX_COLS][3];
     int ncol = 0, nfree = 0;
     int st = model_frame_at(m, t, &f, &kin);
     if (st) return st;
@@ -261,7 +301,7 @@ static int cert_at_stops(const exdex_model *m, double t, double q, double v, int
         ncol++;
         nfree = 1;
     }
-    if (m->n_stops && use_stops) {
+    if (m->n_src && use_stops) {
         /* without a stop force first: stops are looked for only where it fails */
         cert_eval free_ce = *ce;
         int fst = cert_decide(m, t, b, ce->stick ? NULL : vf, cs, (const double(*)[3])cols, nfree, ncol, &free_ce);
@@ -271,17 +311,70 @@ static int cert_at_stops(const exdex_model *m, double t, double q, double v, int
             return EXDEX_OK;
         }
     }
-    if (m->n_stops && use_stops) {
-        /* stops in contact push along their normals: generalized force lambda G */
-        int nv = contact_nv(m);
-        for (int k = 0; k < m->n_stops && ncol < 1 + CERT_MAX_ROWS; k++) {
-            for (int j = 0; j < nv && ncol < 1 + CERT_MAX_ROWS; j++) {
-                double G[3], g[3];
+    if (m->n_src && use_stops) {
+        /* stops and obstacles in contact push along their normals with
+         * lambda >= 0 and, with friction mu, along the tangent T with
+         * |beta| <= mu lambda: the cone of G + mu T and G - mu T; where the
+         * contact point slides along it (the reduced motion's slip s =
+         * T . v + tb, the gripper's motion past a fixed contact included)
+         * the friction opposes the slip, G - mu sgn(s) T alone */
+        int nv = contact_nv(m), nrow = 0;
+        double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3];
+        double RG[MAX_ROWS][3], RT[MAX_ROWS][3], Rs[MAX_ROWS], Rmu[MAX_ROWS];
+        /* the contact geometry in the planar coordinates: the model read
+         * as planar (its rows and tangents then have three entries) */
+        exdex_model mp = *m;
+        mp.ndof = 3;
+        contact_vertices(&mp, qf, xb, vx);
+        for (int k = 0; k < m->n_stops; k++) {
+            for (int j = 0; j < nv && nrow < MAX_ROWS; j++) {
+                double G[3], T[3] = {0, 0, 0}, tb = 0.0;
                 double gap = contact_row_planar(m, &kin, k, j, qf, vf, G, NULL, NULL);
                 if (!(gap < m->tol.touch)) continue;
                 if (fabs(G[0]) + fabs(G[1]) + fabs(G[2]) < FQ_MIN) continue;
-                /* the reaction on the object is lambda G; the friction needed drops by it */
-                model_patch_of_gen(m, cs, G, g);
+                Rmu[nrow] = m->smu[k];
+                if (Rmu[nrow] > 0.0) contact_stop_tangent(&mp, &kin, k, xb[j], vx[j], T, &tb);
+                memcpy(RG[nrow], G, sizeof G);
+                memcpy(RT[nrow], T, sizeof T);
+                Rs[nrow] = T[0] * vf[0] + T[1] * vf[1] + T[2] * vf[2] + tb;
+                nrow++;
+            }
+        }
+        if (m->n_obst) {
+            double G[MAX_ROWS][3], gap[MAX_ROWS], rnd[MAX_ROWS];
+            int src[MAX_ROWS];
+            contact_point cp[MAX_ROWS];
+            int no = contact_obstacle_rows(&mp, &kin, qf, G, gap, rnd, src, cp);
+            for (int i = 0; i < no && nrow < MAX_ROWS; i++) {
+                double T[3] = {0, 0, 0}, tb = 0.0;
+                if (!(gap[i] < m->tol.touch)) continue;
+                if (fabs(G[i][0]) + fabs(G[i][1]) + fabs(G[i][2]) < FQ_MIN) continue;
+                Rmu[nrow] = model_source_mu(m, src[i]);
+                if (Rmu[nrow] > 0.0) contact_tangent(&mp, &kin, cp[i].x, cp[i].vx, cp[i].nB, T, &tb);
+                memcpy(RG[nrow], G[i], sizeof G[i]);
+                memcpy(RT[nrow], T, sizeof T);
+                Rs[nrow] = T[0] * vf[0] + T[1] * vf[1] + T[2] * vf[2] + tb;
+                nrow++;
+            }
+        }
+        for (int r = 0; r < nrow; r++) {
+            double sig[2];
+            int ns = 0;
+            if (Rmu[r] > 0.0 && fabs(RT[r][0]) + fabs(RT[r][1]) + fabs(RT[r][2]) >= FQ_MIN) {
+                if (fabs(Rs[r]) > m->tol.rate) {
+                    sig[ns++] = Rs[r] > 0.0 ? -1.0 : 1.0;
+                } else {
+                    sig[ns++] = 1.0;
+                    sig[ns++] = -1.0;
+                }
+            } else {
+                sig[ns++] = 0.0;
+            }
+            for (int e = 0; e < ns && ncol < 1 + CERT_MAX_COLS; e++) {
+                double Gc[3], g[3];
+                for (int c = 0; c < 3; c++) Gc[c] = RG[r][c] + sig[e] * Rmu[r] * RT[r][c];
+                /* the reaction on the object is lambda Gc; the friction needed drops by it */
+                model_patch_of_gen(m, cs, Gc, g);
                 for (int c = 0; c < 3; c++) cols[ncol][c] = -g[c] / m->e[c];
                 ncol++;
             }

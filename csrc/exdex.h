@@ -714,8 +714,9 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt,
  * exdex_simulate: the plate friction wrench the neglected in-plane
  * coordinates need to stay still (gravity, the frame's inertial terms and
  * the reduced coordinate's motion through the planar equations), with the
- * stops that touch the object pushing as needed, is checked against the
- * friction limit surface: inside the static surface while the reduced
+ * stops and obstacles that touch the object pushing as needed (and their
+ * friction), is checked against the friction limit surface (the ellipsoid,
+ * or the exact surface of limit_surface EXDEX_LS_EXACT): inside the static surface while the reduced
  * coordinate sticks; while it slips, maximum dissipation fixes the
  * friction of the slip (a pure translation slip has no moment, a pure
  * rotation about the centre of pressure no force), and what it cannot give

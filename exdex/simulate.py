@@ -563,7 +563,7 @@ def _simulate_auto(scene, t_end, dt, method, friction_solver, eps, rtol, atol):
             if best is None or c["valid_until"] > best[0]:
                 best = (float(c["valid_until"]), dof, m, res)
     else:
-        why_not.append("obstacles: the 1-DoF certificate takes stops only")
+        why_not.append("obstacles: 'auto' runs scenes with obstacles planar")
     pm = method if method in _PLANAR_METHODS else "event"
     if best is not None and best[3].certificate["holds"]:
         _, dof, m, res = best
@@ -719,7 +719,13 @@ class Model:
 
     def final(self, t_end: float, dt: float = 1e-3) -> Tuple[Tuple[float, ...], Tuple[float, ...], bool]:
         """Run like :meth:`simulate` and return only the last sample:
-        ``(q, v, stick)`` with q, v tuples of ``ndof`` floats."""
+        ``(q, v, stick)`` with q, v tuples of ``ndof`` floats.
+
+        Not certified: a translation or rotation run's certificate checks
+        every sample of the trajectory (:attr:`Result.certificate`), and this
+        run keeps none of them. Where the reduction matters, take
+        :meth:`simulate` (its last sample is this one, bit for bit) and read
+        :attr:`Result.reduction_valid_until`."""
         dt, t_end = _check_times(t_end, dt)
         out = self._model.final(t_end, dt)
         _warn_jumps(self.scene, self._jumps, t_end)

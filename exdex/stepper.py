@@ -155,6 +155,14 @@ class Stepper:
     grip. The GIL is released while a step runs; one stepper must not be
     stepped from two threads at once (a RuntimeError says so), distinct
     steppers may run in parallel.
+
+    Not certified: the certificate of a translation or rotation run
+    (:attr:`exdex.Result.certificate`) reads the scene's grip force and
+    motion, its switching times included, along a whole trajectory; a
+    stepper's steps carry their own grip force and may prescribe the
+    gripper's pose step by step, so the loads and capacities it would check
+    are not the scene's. Check a reduced controller's run by simulating the
+    scene it ends up with (:func:`exdex.simulate`), or step a planar model.
     """
 
     __slots__ = ("model", "_s", "_t", "_posed", "_pads")

@@ -336,3 +336,135 @@ def test_auto_is_refused_where_a_dof_is_needed():
         exdex.Model(sc)
     with pytest.raises(ValueError, match="dof='auto'"):
         exdex.simulate_batch(sc, 0.1, 1e-3, grip_force=[1.0, 2.0])
+
+
+# ------------------------------------------------------ the exact surface
+
+def disc_boundary_wrench(x0, R, n_r=400, n_t=800):
+    """Friction wrench per unit capacity (f_y, m_z) of a uniform disc of radius
+    R slipping about the instantaneous centre (x0, 0): the Coulomb integral
+    -(1/A) Int s/|s| dA, s = z x (r - x0 e_x), by Gauss-Legendre quadrature in
+    the radius and the midpoint rule in the angle (an independent evaluation
+    of the definition; smooth for x0 > R, converged to 1e-15 here)."""
+    xr, wr = np.polynomial.legendre.leggauss(n_r)
+    r, wr = 0.5 * R * (xr + 1), 0.5 * R * wr
+    th = (np.arange(n_t) + 0.5) * 2 * np.pi / n_t
+    rr, tt = np.meshgrid(r, th, indexing="ij")
+    wt = wr[:, None] * rr * (2 * np.pi / n_t) / (np.pi * R * R)
+    x, y = rr * np.cos(tt), rr * np.sin(tt)
+    sx, sy = -y, x - x0
+    s = np.hypot(sx, sy)
+    return -(wt * sy / s).sum(), -(wt * (x * sy - y * sx) / s).sum()
+
+
+@pytest.mark.parametrize("method", ["implicit", "event", "analytic"])
+@pytest.mark.parametrize("lam", [0.99, 1.01])
+def test_exact_surface_certifies_against_itself(method, lam):
+    # A disc pad of radius R under the held box: the load (f, m) = (W, W d) at
+    # the pad. With d = R |m1| / f1, (f1, m1) the exact surface's boundary
+    # wrench for the instantaneous centre 1.5 R away, the load is lam times
+    # the boundary point at capacity C = W / (lam f1): exact gauge lam. The
+    # ellipsoid (e_r = 2R/3) is larger there: its gauge is
+    # lam hypot(f1, m1 / (2/3)) = 0.976 lam, so with lam = 1.01 the exact
+    # surface fails and the ellipsoid holds.
+    R = 0.02
+    f1, m1 = disc_boundary_wrench(1.5, 1.0)
+    g_ell = math.hypot(f1, m1 / (2.0 / 3.0))
+    assert g_ell == pytest.approx(0.97627, abs=1e-5)
+    d = R * abs(m1) / f1
+    C = W / (lam * f1)
+    pad = Patch.disc(R, center=(d, 0.0))
+    assert pad.e_r == pytest.approx(2 * R / 3, rel=1e-12)
+    for surface, gauge in (("exact", lam), ("ellipsoid", lam * g_ell)):
+        sc = Scene(body=Body.box(MASS, (0.15, 0.08, 0.03)),
+                   grasp=Grasp(mu=MU, grip_force=C / (2 * MU), patch=pad, limit_surface=surface))
+        res, red = run(sc, method)
+        c = res.certificate
+        assert res.stick[1:].all()                       # the reduced run holds: W < C
+        assert c["holds"] == (gauge <= 1.0), surface
+        assert bool(red) == (gauge > 1.0), surface
+        if not c["holds"]:
+            assert c["stick"] and c["valid_until"] == 0.0 and c["gauge"] == pytest.approx(gauge, rel=1e-6)
+
+
+# ------------------------------------------------------ stop friction
+
+@pytest.mark.parametrize("method", ["implicit", "event", "explicit", "regularised"])
+@pytest.mark.parametrize("wall", ["stop", "obstacle"])
+def test_frictional_wall_carries_the_weight(method, wall):
+    # A cylinder (radius R = 1 cm) on a slide across gravity (B x), pressed by
+    # nothing against a wall at its side (normal -x, touching at (R, 0)): the
+    # weight W lies across the slide. The wall pushes with lambda >= 0 and its
+    # friction beta (|beta| <= mu_s lambda) at (R, 0) takes part of the weight
+    # at the price of a moment R beta on the pads, so the pads must give
+    # (lambda, W - beta, -R beta); the least gauge is at lambda = beta / mu_s,
+    # beta = W / (1 / mu_s^2 + 1 + k^2), k = R / e_r:
+    #     g = W sqrt((1 + mu_s^2 k^2) / (1 + mu_s^2 (1 + k^2))) / C.
+    # With C = 0.9 W: mu_s = 1 gives 0.8546 / 0.9 (holds), mu_s = 0.5
+    # 0.9224 / 0.9 and a frictionless wall 1 / 0.9 (both fail). The wall is
+    # a stop, or the face x = R of a box obstacle.
+    R, C = 0.01, 0.9 * W
+    k = R / E_R
+    for mu_s in (0.0, 0.5, 1.0):
+        g = math.sqrt((1 + mu_s ** 2 * k ** 2) / (1 + mu_s ** 2 * (1 + k ** 2))) * W / C
+        if wall == "stop":
+            walls = dict(stops=(Stop(point=(R, 0.0, 0.0), normal=(-1.0, 0.0, 0.0), mu=mu_s),))
+        else:
+            walls = dict(obstacles=(exdex.Obstacle.box((R + 0.05, 0.0, 0.0), (0.1, 0.1, 0.1), mu=mu_s),))
+        sc = Scene(body=Body.cylinder(MASS, R, 0.03), grasp=Grasp(mu=MU, grip_force=C / (2 * MU), patch=PAD),
+                   slide_axis=(1.0, 0.0), **walls)
+        res, red = run(sc, method, t_end=0.1)
+        c = res.certificate
+        assert c["holds"] == (g <= 1.0), mu_s
+        assert bool(red) == (g > 1.0), mu_s
+        if g > 1.0:
+            assert c["stick"] and c["valid_until"] == 0.0 and c["gauge"] == pytest.approx(g, rel=1e-9)
+
+
+# ---------------------------------------- plans, fits and sequences
+
+def tilted_fig3(alpha_deg=30.0):
+    """Fig. 3 (Eq. 7 down first, beta 0.9, T 0.5 s) with the slide axis alpha
+    off the vertical: stuck through the slow phase, it slips at beta T, where
+    the load m (g + a_L) has the part m (g + a_L) sin(alpha) across the axis,
+    which a slip along it cannot hold: the reduction fails at beta T = 0.45 s
+    (the grip forces below keep it stuck before: m (g - a_H) = 0.892 N < C)."""
+    a = math.radians(alpha_deg)
+    return exdex.replace(exdex.paper.fig3_scene(), slide_axis=(math.sin(a), -math.cos(a)))
+
+
+def test_plan_flags_a_failing_reduction():
+    with warnings.catch_warnings(record=True) as rec:
+        warnings.simplefilter("always")
+        p = exdex.plan.solve(tilted_fig3(), {"slip": 0.01}, vary={"grip_force": (1.0, 3.0)}, tol=1e-7, t_end=1.5)
+    assert p.reduction_fails_at == pytest.approx(0.45, abs=1e-6)
+    assert [w.message.kind for w in rec if isinstance(w.message, exdex.ReductionWarning)] == ["reduction"]
+    # along the axis (the paper's Fig. 3) the same plan holds
+    with warnings.catch_warnings(record=True) as rec:
+        warnings.simplefilter("always")
+        p = exdex.plan.solve(tilted_fig3(0.0), {"slip": 0.01}, vary={"grip_force": (1.0, 3.0)}, tol=1e-7,
+                             t_end=1.5)
+    assert p.reduction_fails_at is None
+    assert not [w for w in rec if isinstance(w.message, exdex.ReductionWarning)]
+
+
+def test_identify_flags_a_failing_reduction_once():
+    sc = tilted_fig3()
+    r = exdex.simulate(exdex.replace(sc, grasp=exdex.replace(sc.grasp, mu=0.46)), 1.5, 0.01, method="analytic",
+                       certify=False)
+    t = np.linspace(0.0, 1.5, 151)
+    with warnings.catch_warnings(record=True) as rec:
+        warnings.simplefilter("always")
+        fit = exdex.identify(sc, t, np.interp(t, r.t, r.q[:, 0]), {"mu": (0.3, 0.7)})
+    assert fit.values["mu"] == pytest.approx(0.46, abs=1e-6)
+    assert fit.reduction_fails_at == pytest.approx(0.45, abs=1e-6)
+    # the fitted scene's warning only, not one per trial point
+    assert len([w for w in rec if isinstance(w.message, exdex.ReductionWarning)]) == 1
+    assert "reduction fails at t = 0.45" in fit.report()
+
+
+def test_sequences_plan_planar_poses_only():
+    # a sequence's steps are planar runs (nothing neglected, no certificate):
+    # a 1-DoF scene is refused rather than planned on a reduction
+    with pytest.raises(ValueError, match="dof must be 'planar'"):
+        exdex.sequence.primitives(tilted_fig3())

@@ -32,6 +32,7 @@ Units are SI.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
@@ -40,6 +41,7 @@ from numpy.typing import ArrayLike
 
 from exdex._params import PARAMETERS, param_name as _param_name, replace_params as _replace_params
 from exdex.batch import simulate_batch
+from exdex.diagnostics import ReductionWarning
 from exdex._validate import real as _real
 from exdex.scene import GripSchedule, Scene
 from exdex.simulate import reduction_fails_at, resolve_method
@@ -568,7 +570,10 @@ class Identification:
 
 def _predict(scene, names, theta, times, dt, t_end, opts):
     vary: Dict[str, Any] = {n: np.atleast_1d(theta[:, i]) for i, n in enumerate(names)}
-    b = simulate_batch(scene, t_end, dt, **opts, **vary)
+    with warnings.catch_warnings():
+        # the fit's trial points: the fitted scene's reduction is flagged once (reduction_fails_at)
+        warnings.simplefilter("ignore", ReductionWarning)
+        b = simulate_batch(scene, t_end, dt, **opts, **vary)
     # b.q: (B, n, ndof) on the grid; interpolate to the observation times
     grid = b.t
     out = np.empty((b.q.shape[0], len(times), b.q.shape[2]))

@@ -44,7 +44,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from exdex.diagnostics import ReductionWarning
-from exdex.scene import AsymmetricProfile, Body, Grasp, Patch, Scene, Stop, TrapezoidalProfile, replace
+from exdex.scene import AsymmetricProfile, Body, Grasp, Pad, Patch, Scene, Stop, TrapezoidalProfile, replace
 from exdex.simulate import Result, simulate
 
 __all__ = [
@@ -741,14 +741,21 @@ def fig6_reduction_notes(result: Result, dt: float = 1e-3) -> List[str]:
              f"m_z = {f[2]:.4g} N m, gauge {c['gauge']:.4f} in the friction ellipsoid of capacity "
              f"{c['capacity']:.4g} N (margin {1 - c['gauge'] if c['stick'] else -c['gauge']:.4f}); while it "
              f"turns, a pure rotation slip's friction has no force, so nothing holds the weight"]
-    planar = simulate(replace(sc, dof="planar"), result.t[-1], dt, method="event")
+    # the planar comparison with the contact on the fingers: a pad of the
+    # patch's disc (uniform pressure, e_r = 2R/3) at the pivot, so that the
+    # friction stays where the fingers are while the object slides
+    pc = sc.grasp.patch.center
+    radius = 1.5 * sc.grasp.patch.e_r
+    pads = replace(sc, dof="planar", grasp=replace(sc.grasp, pad=Pad(radius=radius, center=(pc[0], pc[1]))))
+    planar = simulate(pads, result.t[-1], dt, method="event")
     dq = planar.q - planar.q[0]
     slide = np.hypot(dq[:, 0], dq[:, 1])
     first = np.flatnonzero(slide > 1e-4)
-    lines.append(f"Fig. 6 as a planar scene (dof='planar', event method): turns {math.degrees(dq[-1, 2]):.1f} deg "
+    lines.append(f"Fig. 6 as a planar scene with pads on the fingers (dof='planar', event method, a "
+                 f"{1e3 * radius:.2f} mm disc pad at the pivot): turns {math.degrees(dq[-1, 2]):.1f} deg "
                  f"(1-DoF: {math.degrees(result.displacement[-1, 0]):.2f} deg) and slides {1e3 * dq[-1, 0]:.1f} mm "
-                 f"along B's x, {1e3 * dq[-1, 1]:.1f} mm along B's y (up); first 0.1 mm of slide at "
-                 f"t = {planar.t[first[0]]:.3f} s" if first.size else "; it does not slide")
+                 f"along B's x, {1e3 * dq[-1, 1]:.1f} mm along B's y (up); " +
+                 (f"first 0.1 mm of slide at t = {planar.t[first[0]]:.3f} s" if first.size else "it does not slide"))
     return lines
 
 
