@@ -1306,8 +1306,8 @@ class Scene:
 
     def _check_exact(self, method: str) -> None:
         """ValueError naming Grasp.limit_surface where the exact surface is not
-        solved: planar scenes take it with the implicit and event methods;
-        with stops or obstacles (frictionless) with the implicit one."""
+        solved: planar scenes take it with the implicit and event methods,
+        with frictionless stops and obstacles."""
         if self.dof != "planar":
             return
         if method not in ("implicit", "event"):
@@ -1316,9 +1316,6 @@ class Scene:
         if any(s.mu > 0 for s in self.stops) or any(o.mu > 0 for o in self.obstacles):
             raise ValueError("Grasp.limit_surface='exact': planar scenes with frictional stops or obstacles "
                              "(mu > 0) take limit_surface='ellipsoid'")
-        if (self.stops or self.obstacles) and method != "implicit":
-            raise ValueError(f"Grasp.limit_surface='exact': planar scenes with stops or obstacles run it with "
-                             f"method='implicit', got method={method!r}")
 
     def to_spec(self, method: str = "implicit", friction_solver: str = "scalar", eps: float = 1e-4,
                 rtol: float = 1e-8, atol: float = 1e-10) -> Dict[str, Any]:
