@@ -527,9 +527,9 @@ typedef struct exdex_scene_def {
      * method needs a torsional length, the 1-DoF rotation's capacity and
      * the scene's length scale). The exact surface needs a region
      * (EXDEX_EINVAL, bad_param "region_kind" without one); planar scenes
-     * with it run the implicit and event methods, without stops,
-     * obstacles or pads (EXDEX_EINVAL, bad_param "limit_surface",
-     * otherwise);
+     * with it run the implicit and event methods, with frictionless stops
+     * and obstacles (EXDEX_EINVAL, bad_param "limit_surface", for another
+     * method or a frictional stop or obstacle);
      * 1-DoF scenes run every method (a translation's friction is the
      * capacity whatever the shape; a rotation's torque capacity is the
      * region's). */

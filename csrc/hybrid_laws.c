@@ -465,10 +465,12 @@ int hyb_contact_acc_planar(hyb *H, const exdex_kinematics *kin, const double *y,
 
 /* Rest against the contact-set rows (event method, stick): can the object
  * stay at rest with stop forces lam >= 0 and a plate wrench inside the
- * ellipsoid? The wrench needed is w(lam) = patch(-(F + G^T lam)); minimise
- * |E^-1 w(lam)| over lam >= 0 (ldp_min_combination; the
- * minimiser is the split with the least friction, as in the implicit method).
- * Returns the minimum (rest holds iff <= cap (1 + FRICTION_BAND)); w, lam the split. */
+ * limit surface? The wrench needed is w(lam) = patch(-(F + G^T lam));
+ * minimise its gauge over lam >= 0 (the ellipsoid: |E^-1 w(lam)|,
+ * ldp_min_combination; the exact surface: limitsurf_min_combination, the
+ * minimum itself, as a guard's value must be); the minimiser is the split
+ * with the least friction, as in the implicit method. Returns the minimum
+ * (rest holds iff <= cap (1 + FRICTION_BAND)); w, lam the split. */
 double hyb_planar_rest(hyb *H, const exdex_kinematics *kin, const double *y, const double F[3], double w[3],
                        double *lam)
 {
@@ -482,16 +484,23 @@ double hyb_planar_rest(hyb *H, const exdex_kinematics *kin, const double *y, con
     }
     for (int c = 0; c < 3; c++) mF[c] = -F[c];
     model_patch_of_gen(m, MODEL_CS(y[2]), mF, a);
-    for (int c = 0; c < 3; c++) a[c] /= m->e[c];
+    if (!m->ls_exact)
+        for (int c = 0; c < 3; c++) a[c] /= m->e[c];
     for (int i = 0; i < H->ncs; i++) {
         int r = H->cs[i];
         double G[3], mG[3];
         hyb_hrow_planar(H, kin, r, y, y + 3, G, NULL, NULL);
         for (int c = 0; c < 3; c++) mG[c] = -G[c];
         model_patch_of_gen(m, MODEL_CS(y[2]), mG, B[i]);
-        for (int c = 0; c < 3; c++) B[i][c] /= m->e[c];
+        if (!m->ls_exact)
+            for (int c = 0; c < 3; c++) B[i][c] /= m->e[c];
     }
-    ldp_min_combination(H->ncs, a, (const double (*)[3])B, lam, &it);
+    if (m->ls_exact) {
+        if (H->ncs > LDP_MAX_ROWS) return NAN;
+        limitsurf_min_combination(&m->ls, H->ncs, a, (const double (*)[3])B, NAN, lam, &it);
+    } else {
+        ldp_min_combination(H->ncs, a, (const double (*)[3])B, lam, &it);
+    }
     H->st->stop_iterations += (size_t)it;
     for (int c = 0; c < 3; c++) P[c] = -F[c];
     for (int i = 0; i < H->ncs; i++) {
@@ -501,7 +510,7 @@ double hyb_planar_rest(hyb *H, const exdex_kinematics *kin, const double *y, con
         for (int c = 0; c < 3; c++) P[c] -= lam[i] * G[c];
     }
     model_patch_of_gen(m, MODEL_CS(y[2]), P, w);
-    return model_ell_norm(m, w);
+    return model_ls_gauge(m, w);
 }
 
 /* The load at (t, y) (f, kin its frame terms): the ellipsoid norm |E^-1 w|
@@ -553,7 +562,7 @@ int hyb_planar_set_recedes(hyb *H, const frame *f, const exdex_kinematics *kin, 
     model_force_planar(H->m, f, y, zero, F);
     for (int i = 0; i < 3; i++) F[i] = -F[i];
     model_patch_of_gen(H->m, MODEL_CS(y[2]), F, w);
-    if (model_ell_norm(H->m, w) <= H->caps * (1.0 + FRICTION_BAND)) return 0;
+    if (model_ls_gauge(H->m, w) <= H->caps * (1.0 + FRICTION_BAND)) return 0;
     for (int i = 0; i < H->ncs; i++) {
         int r = H->cs[i];
         double G[3], gd;
@@ -632,8 +641,14 @@ int hyb_planar_friction(hyb *H, const frame *f, const exdex_kinematics *kin, con
                     for (int i = 0; i < 3; i++) ea[i] = m->e[i] * ua[i];
                     sa = sqrt(ex_dot3(ea, ea));
                     if (!(sa > 0.0)) break;
+                    if (m->ls_exact) {
+                        /* the exact surface's maximum-dissipation wrench of that slip */
+                        limitsurf_wrench(&m->ls, ua, wn, NULL);
+                        for (int i = 0; i < 3; i++) wn[i] *= H->cap;
+                    } else {
+                        for (int i = 0; i < 3; i++) wn[i] = -H->cap * m->e[i] * ea[i] / sa;
+                    }
                     for (int i = 0; i < 3; i++) {
-                        wn[i] = -H->cap * m->e[i] * ea[i] / sa;
                         d = fmax(d, fabs(wn[i] - w[i]) / m->e[i]);
                         w[i] = wn[i];
                     }

@@ -1763,19 +1763,16 @@ class Scene:
     def _check_exact(self, method: str) -> None:
         """ValueError naming Grasp.limit_surface where the exact surface is not
         solved: planar scenes take it with the implicit, explicit and event
-        methods; with stops or obstacles the event method does not, with
-        frictional ones (mu > 0) the implicit method does not."""
+        methods; with frictional stops or obstacles (mu > 0) the explicit
+        method only."""
         if self.dof != "planar":
             return
         if method not in ("implicit", "explicit", "event"):
             raise ValueError(f"Grasp.limit_surface='exact': planar scenes run it with method='implicit', "
                              f"'explicit' or 'event', got method={method!r}")
-        if (self.stops or self.obstacles) and method == "event":
-            raise ValueError("Grasp.limit_surface='exact': planar scenes with stops or obstacles run it with "
-                             "method='implicit' or 'explicit', got method='event'")
-        if method == "implicit" and (any(s.mu > 0 for s in self.stops) or any(o.mu > 0 for o in self.obstacles)):
+        if method in ("implicit", "event") and (any(s.mu > 0 for s in self.stops) or any(o.mu > 0 for o in self.obstacles)):
             raise ValueError("Grasp.limit_surface='exact': planar scenes with frictional stops or obstacles "
-                             "(mu > 0) run it with method='explicit', got method='implicit'")
+                             f"(mu > 0) run it with method='explicit', got method={method!r}")
 
     def to_spec(self, method: str = "implicit", friction_solver: str = "scalar", eps: float = 1e-4,
                 rtol: float = 1e-8, atol: float = 1e-10) -> Dict[str, Any]:
