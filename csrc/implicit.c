@@ -361,7 +361,9 @@ static double held_velocity_1dof(const exdex_model *m, const exdex_kinematics *k
  * friction needed is p(lambda) = -J^-T (M v* + G^T lambda); minimise
  * |E^-1 p(lambda)| over lambda >= 0 (ldp_min_combination). Rest holds iff
  * that minimum <= cap; the minimiser is the split with the least friction
- * (the stops carry what they can). */
+ * (the stops carry what they can). The exact surface: its gauge in place of
+ * |E^-1 .| (limitsurf_min_combination, which stops at the first split the
+ * surface carries). */
 static int try_rest(const exdex_model *m, const double cs[2], double cap, const double vs[3], work *w,
                     double pfB[3], exdex_friction_result *fr, exdex_stats *st)
 {
@@ -373,14 +375,20 @@ static int try_rest(const exdex_model *m, const double cs[2], double cap, const 
     }
     for (int i = 0; i < 3; i++) P[i] = vs[i] / m->minv[i];
     model_patch_of_gen(m, cs, P, a);
-    for (int i = 0; i < 3; i++) a[i] /= m->e[i];
-    for (int j = 0; j < k; j++) {
-        model_patch_of_gen(m, cs, w->G[rows[j]], B[j]);
-        for (int i = 0; i < 3; i++) B[j][i] /= m->e[i];
+    if (m->ls_exact) {
+        /* the exact surface's least gauge over the stop forces */
+        for (int j = 0; j < k; j++) model_patch_of_gen(m, cs, w->G[rows[j]], B[j]);
+        best = limitsurf_min_combination(&m->ls, k, a, (const double (*)[3])B, cap, lam, &it);
+    } else {
+        for (int i = 0; i < 3; i++) a[i] /= m->e[i];
+        for (int j = 0; j < k; j++) {
+            model_patch_of_gen(m, cs, w->G[rows[j]], B[j]);
+            for (int i = 0; i < 3; i++) B[j][i] /= m->e[i];
+        }
+        best = ldp_min_combination(k, a, (const double (*)[3])B, lam, &it);
     }
-    best = ldp_min_combination(k, a, (const double (*)[3])B, lam, &it);
     st->stop_iterations += (size_t)it;
-    if (!(best <= cap * (1.0 + 1e-12))) return 0;
+    if (!(best <= cap * (1.0 + FRICTION_BAND))) return 0;
     for (int i = 0; i < w->n_rows; i++) w->lam[i] = 0.0;
     for (int j = 0; j < k; j++) {
         w->lam[rows[j]] = lam[j];
@@ -713,7 +721,10 @@ static int solve_active(const exdex_model *m, const double cs[2], double cap, co
                         double lam[3], int *iters)
 {
     double N[3][3], vp[3] = {0, 0, 0}, z[2] = {0, 0}, Mdiag[3];
-    int nz = 3 - k, converged = 0;
+    int nz = 3 - k, converged = 0, ex = m->ls_exact;
+    /* the exact surface: the slip r = J_f v unscaled and cap D(r) in place
+     * of cap |E J_f v| (D's gradient -w(r) and Hessian, limitsurf.h) */
+    void (*slip)(const exdex_model *, const double *, const double *, double *) = ex ? model_patch_slip : ejf;
     for (int i = 0; i < 3; i++) Mdiag[i] = 1.0 / m->minv[i];
     /* particular solution (least norm in the mass metric, vp = M^-1 G_A' y,
      * G_A M^-1 G_A' y = rhs: the rows' own units, so that two vertices of
@@ -761,10 +772,10 @@ static int solve_active(const exdex_model *m, const double cs[2], double cap, co
         /* On the affine set the scaled slip is linear, r(z) = r0 + B z, and the
          * quadratic part is 1/2 z^T H0 z + h0 . z + const: all set up once. */
         double r0[3], B[3][2], H0[2][2], h0[2];
-        ejf(m, cs, vp, r0);
+        slip(m, cs, vp, r0);
         for (int j = 0; j < nz; j++) {
             double col[3] = {N[0][j], N[1][j], N[2][j]}, bc[3];
-            ejf(m, cs, col, bc);
+            slip(m, cs, col, bc);
             for (int c = 0; c < 3; c++) B[c][j] = bc[c];
             h0[j] = 0.0;
             for (int c = 0; c < 3; c++) h0[j] += N[c][j] * Mdiag[c] * (vp[c] - vs[c]);
@@ -779,19 +790,38 @@ static int solve_active(const exdex_model *m, const double cs[2], double cap, co
                 r[c] = r0[c];
                 for (int j = 0; j < nz; j++) r[c] += B[c][j] * z[j];
             }
-            nr = sqrt(ex_dot3(r, r));
-            if (!(nr > 0)) return 0;
-            for (int j = 0; j < nz; j++) {
-                Br[j] = B[0][j] * r[0] + B[1][j] * r[1] + B[2][j] * r[2];
-                g[j] = h0[j] + cap * Br[j] / nr;
-                for (int i = 0; i < nz; i++) g[j] += H0[j][i] * z[i];
-            }
-            for (int i = 0; i < nz; i++) {
+            if (ex) {
+                double wr[3], HD[9];
+                nr = limitsurf_wrench(&m->ls, r, wr, HD);
+                if (!(nr > 0) || !isfinite(nr)) return 0;
                 for (int j = 0; j < nz; j++) {
-                    double btb = B[0][i] * B[0][j] + B[1][i] * B[1][j] + B[2][i] * B[2][j];
-                    Hs[i][j] = H0[i][j] + cap / nr * (btb - Br[i] * Br[j] / (nr * nr));
+                    g[j] = h0[j] - cap * (B[0][j] * wr[0] + B[1][j] * wr[1] + B[2][j] * wr[2]);
+                    for (int i = 0; i < nz; i++) g[j] += H0[j][i] * z[i];
                 }
-                gs[i] = -g[i];
+                for (int i = 0; i < nz; i++) {
+                    for (int j = 0; j < nz; j++) {
+                        double bhb = 0.0;
+                        for (int a = 0; a < 3; a++)
+                            for (int c = 0; c < 3; c++) bhb += B[a][i] * HD[3 * a + c] * B[c][j];
+                        Hs[i][j] = H0[i][j] + cap * bhb;
+                    }
+                    gs[i] = -g[i];
+                }
+            } else {
+                nr = sqrt(ex_dot3(r, r));
+                if (!(nr > 0)) return 0;
+                for (int j = 0; j < nz; j++) {
+                    Br[j] = B[0][j] * r[0] + B[1][j] * r[1] + B[2][j] * r[2];
+                    g[j] = h0[j] + cap * Br[j] / nr;
+                    for (int i = 0; i < nz; i++) g[j] += H0[j][i] * z[i];
+                }
+                for (int i = 0; i < nz; i++) {
+                    for (int j = 0; j < nz; j++) {
+                        double btb = B[0][i] * B[0][j] + B[1][i] * B[1][j] + B[2][i] * B[2][j];
+                        Hs[i][j] = H0[i][j] + cap / nr * (btb - Br[i] * Br[j] / (nr * nr));
+                    }
+                    gs[i] = -g[i];
+                }
             }
             if (!ldp_solve_small(nz, Hs, gs, step)) return 0;
             /* backtracking on the objective keeps the damped Newton step
@@ -820,7 +850,7 @@ static int solve_active(const exdex_model *m, const double cs[2], double cap, co
                     rt[c] = r0[c];
                     for (int j = 0; j < nz; j++) rt[c] += B[c][j] * znew[j];
                 }
-                ft = cap * sqrt(ex_dot3(rt, rt));
+                ft = cap * (ex ? limitsurf_dissipation(&m->ls, rt) : sqrt(ex_dot3(rt, rt)));
                 for (int i = 0; i < nz; i++) {
                     ft += h0[i] * znew[i];
                     for (int j = 0; j < nz; j++) ft += 0.5 * znew[i] * H0[i][j] * znew[j];
@@ -860,10 +890,18 @@ static int solve_active(const exdex_model *m, const double cs[2], double cap, co
     }
     {
         double r[3], nr, P[3], res[3], A[3][3], b[3];
-        ejf(m, cs, v, r);
-        nr = sqrt(ex_dot3(r, r));
-        if (!(nr > 0)) return 0;
-        for (int c = 0; c < 3; c++) p[c] = -cap * m->e[c] * r[c] / nr;
+        if (ex) {
+            double wr[3];
+            model_patch_slip(m, cs, v, r);
+            nr = limitsurf_wrench(&m->ls, r, wr, NULL);
+            if (!(nr > 0) || !isfinite(nr)) return 0;
+            for (int c = 0; c < 3; c++) p[c] = cap * wr[c];
+        } else {
+            ejf(m, cs, v, r);
+            nr = sqrt(ex_dot3(r, r));
+            if (!(nr > 0)) return 0;
+            for (int c = 0; c < 3; c++) p[c] = -cap * m->e[c] * r[c] / nr;
+        }
         model_gen_of_patch(m, cs, p, P);
         /* G_A^T lam = M (v - vs) - P_f, least squares in the metric M^-1 */
         for (int c = 0; c < 3; c++) res[c] = Mdiag[c] * (v[c] - vs[c]) - P[c];

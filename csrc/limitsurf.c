@@ -45,6 +45,7 @@
 #include "limitsurf.h"
 
 #include "util.h"
+#include "ldp.h"
 
 #include <float.h>
 #include <math.h>
@@ -440,6 +441,46 @@ void limitsurf_prepare_bounds(limitsurf *ls)
     ls->kmax = hi * (1.0 + 1e-3);
 }
 
+void limitsurf_quick_bounds(limitsurf *ls)
+{
+    if (ls->type != &limitsurf_exact) return;
+    const region *rg = &ls->rg;
+    const double o[2] = {0.0, 0.0};
+    double A = ls->area, er = ls->e[2], J, gn, gam, a, b, kmin, kmax;
+    region_moments mo;
+    /* J: the polar moment of the region about the reference point */
+    if (rg->kind == REGION_DISC) {
+        J = 0.5 * PI * rg->r * rg->r * rg->r * rg->r + A * (rg->c[0] * rg->c[0] + rg->c[1] * rg->c[1]);
+    } else {
+        double s = 0.0;
+        for (int i = 0; i < rg->n; i++) {
+            const double *p = rg->v[i], *q = rg->v[i + 1 == rg->n ? 0 : i + 1];
+            double cr = p[0] * q[1] - q[0] * p[1];
+            s += cr * (p[0] * p[0] + p[0] * q[0] + q[0] * q[0] + p[1] * p[1] + p[1] * q[1] + q[1] * q[1]);
+        }
+        J = s / 12.0;
+    }
+    if (region_moments_at(rg, o, &mo) != EXDEX_OK) return;
+    gn = hypot(ls->g[0], ls->g[1]);
+    gam = fmin(1.0, hypot(mo.dir[0], mo.dir[1]) / A);
+    if (!(gam >= 0.0) || !isfinite(J) || !(J > 0.0) || !isfinite(gn)) return;
+    /* u = (v, omega) at the reference point, x = |v|, y = e_r |omega|
+     * (|E u|^2 = x^2 + y^2), g the centroid, s(r) = v + omega z x r:
+     *   above: D <= x + y (|s| <= |v| + |omega| |r|), and D^2 <= mean |s|^2
+     *   = |v|^2 + 2 omega v . (z x g) + omega^2 J / A (Jensen) <= the form
+     *   [[1, a], [a, b]] of (x, y), a = |g| / e_r, b = J / (A e_r^2);
+     *   below: D >= |mean s| >= x - a y, and D = |omega| F(c) / A >= y -
+     *   gam x (F convex: F(c) >= F(0) - G(0) . c, |c| = |v| / |omega|,
+     *   gam = |G(0)| / A), whose larger is least where they cross. */
+    a = gn / er;
+    b = J / (A * er * er);
+    kmax = fmin(sqrt(2.0), sqrt(0.5 * ((1.0 + b) + sqrt((1.0 - b) * (1.0 - b) + 4.0 * a * a))));
+    kmin = (1.0 - a * gam) / sqrt((1.0 + a) * (1.0 + a) + (1.0 + gam) * (1.0 + gam));
+    if (!(kmin > 0.0) || !isfinite(kmax)) return;
+    ls->kmin = kmin * (1.0 - 1e-6);
+    ls->kmax = kmax * (1.0 + 1e-6);
+}
+
 int limitsurf_sticks(const limitsurf *ls, const double w[3], double C)
 {
     double g;
@@ -452,6 +493,150 @@ int limitsurf_slip_direction(const limitsurf *ls, const double w[3], double u[3]
 {
     double g;
     return limitsurf_gauge(ls, w, &g, u);
+}
+
+int limitsurf_gauge_hessian(const limitsurf *ls, const double w[3], double *g, double grad[3], double hess[9])
+{
+    double dir[3], u[3], wu[3], HD[9], Ds, n[3], wh[3], nw, nn, Z[2][3], Y[2][3], M2[4], R2[4], S[4], det;
+    int st = limitsurf_gauge(ls, w, g, dir);
+    if (st != EXDEX_OK) return st;
+    if (!(*g > 0.0) || !isfinite(*g)) return EXDEX_ENOCONV;
+    for (int i = 0; i < 3; i++) u[i] = -dir[i];
+    Ds = limitsurf_wrench(ls, u, wu, HD);
+    if (!(Ds > 0.0) || !isfinite(Ds)) return EXDEX_ENOCONV;
+    /* grad g = n = u* / D(u*) (the gauge's maximiser u*); with w^ = w / g on
+     * the surface, grad D(grad g(w)) = w / g(w) differentiated gives
+     * Hess D(n) Hess g(w^) = I - w^ n^T, Hess D(n) = D(u*) Hess D(u*);
+     * Hess g is symmetric with null vector w^: Hess g = Z S Z^T (Z a basis
+     * of the plane orthogonal to w^), S from that equation's Y^T (.) Z part
+     * (Y a basis of the plane orthogonal to n, where Hess D(n) acts), and
+     * Hess g(w) = Hess g(w^) / g (degree -1) */
+    for (int i = 0; i < 3; i++) {
+        n[i] = u[i] / Ds;
+        wh[i] = w[i] / *g;
+        grad[i] = n[i];
+    }
+    if (!hess) return EXDEX_OK;
+    nw = sqrt(ex_dot3(wh, wh));
+    nn = sqrt(ex_dot3(n, n));
+    {
+        double a[3] = {wh[0] / nw, wh[1] / nw, wh[2] / nw}, b[3] = {n[0] / nn, n[1] / nn, n[2] / nn};
+        plane_basis(a, Z);
+        plane_basis(b, Y);
+    }
+    for (int r = 0; r < 2; r++)
+        for (int c = 0; c < 2; c++) {
+            double hz[3], yw = ex_dot3(Y[r], wh), nz = ex_dot3(n, Z[c]);
+            for (int i = 0; i < 3; i++) hz[i] = Ds * (HD[3 * i] * Z[c][0] + HD[3 * i + 1] * Z[c][1] + HD[3 * i + 2] * Z[c][2]);
+            M2[2 * r + c] = ex_dot3(Y[r], hz);
+            R2[2 * r + c] = ex_dot3(Y[r], Z[c]) - yw * nz;
+        }
+    det = M2[0] * M2[3] - M2[1] * M2[2];
+    if (!(fabs(det) > 0.0) || !isfinite(det)) return EXDEX_ENOCONV;
+    S[0] = (M2[3] * R2[0] - M2[1] * R2[2]) / det;
+    S[1] = (M2[3] * R2[1] - M2[1] * R2[3]) / det;
+    S[2] = (-M2[2] * R2[0] + M2[0] * R2[2]) / det;
+    S[3] = (-M2[2] * R2[1] + M2[0] * R2[3]) / det;
+    S[1] = S[2] = 0.5 * (S[1] + S[2]);
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            double h = 0.0;
+            for (int a = 0; a < 2; a++)
+                for (int b = 0; b < 2; b++) h += Z[a][i] * S[2 * a + b] * Z[b][j];
+            hess[3 * i + j] = h / *g;
+        }
+    return EXDEX_OK;
+}
+
+/* g(a + sum_j lam_j b_j) */
+static int comb_gauge(const limitsurf *ls, int k, const double a[3], const double (*b)[3], const double *lam,
+                      double w[3], double *g)
+{
+    for (int i = 0; i < 3; i++) {
+        w[i] = a[i];
+        for (int j = 0; j < k; j++) w[i] += lam[j] * b[j][i];
+    }
+    return limitsurf_gauge(ls, w, g, NULL);
+}
+
+double limitsurf_min_combination(const limitsurf *ls, int k, const double a[3], const double (*b)[3], double cap,
+                                 double *lam, int *iters)
+{
+    double ta[3], tb[LDP_MAX_ROWS][3], lnew[LDP_MAX_ROWS], w[3], g, ge;
+    int it = 0;
+    if (k > LDP_MAX_ROWS) return NAN;
+    /* the ellipsoid of e first: min |E^-1 (a + B^T lam)| */
+    for (int i = 0; i < 3; i++) {
+        ta[i] = a[i] / ls->e[i];
+        for (int j = 0; j < k; j++) tb[j][i] = b[j][i] / ls->e[i];
+    }
+    ge = ldp_min_combination(k, ta, (const double (*)[3])tb, lam, &it);
+    if (iters) *iters += it;
+    if (ls->type != &limitsurf_exact) return ge;
+    /* the gauge lies in [|E^-1 w| / kmax, |E^-1 w| / kmin]: no combination
+     * is carried where the ellipsoid's least one exceeds cap kmax */
+    if (!isnan(cap) && !(ge <= cap * ls->kmax)) return ge / ls->kmax;
+    if (comb_gauge(ls, k, a, b, lam, w, &g) != EXDEX_OK) return NAN;
+    /* SQP on g^2 / 2, degree-2 homogeneous: its second-order model at w is
+     * the quadratic form w'^T Q w' / 2 exactly, Q = grad g grad g^T + g Hess
+     * g (positive definite: Hess g's null vector w has grad g . w = g > 0),
+     * so each step is the ellipsoid problem of Q (ldp_min_combination after
+     * a Cholesky factor), damped along the segment to it */
+    for (int round = 0; round < 30 && !(g <= cap); round++) {
+        double gr[3], H[9], Q[9], L[9] = {0}, gt = g, wt[3];
+        if (limitsurf_gauge_hessian(ls, w, &g, gr, H) != EXDEX_OK) break;
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++) Q[3 * i + j] = gr[i] * gr[j] + g * H[3 * i + j];
+        /* Q = L L^T; the model's norm is |L^T w'| */
+        {
+            int ok = 1;
+            for (int i = 0; i < 3 && ok; i++)
+                for (int j = 0; j <= i; j++) {
+                    double sum = Q[3 * i + j];
+                    for (int c = 0; c < j; c++) sum -= L[3 * i + c] * L[3 * j + c];
+                    if (i == j) {
+                        if (!(sum > 0.0)) ok = 0;
+                        else L[3 * i + i] = sqrt(sum);
+                    } else {
+                        L[3 * i + j] = sum / L[3 * j + j];
+                    }
+                }
+            if (!ok) break;
+        }
+        for (int i = 0; i < 3; i++) {
+            ta[i] = 0.0;
+            for (int c = i; c < 3; c++) ta[i] += L[3 * c + i] * a[c];
+            for (int j = 0; j < k; j++) {
+                tb[j][i] = 0.0;
+                for (int c = i; c < 3; c++) tb[j][i] += L[3 * c + i] * b[j][c];
+            }
+        }
+        it = 0;
+        ldp_min_combination(k, ta, (const double (*)[3])tb, lnew, &it);
+        if (iters) *iters += it;
+        {
+            double t = 1.0, lt[LDP_MAX_ROWS];
+            int moved = 0;
+            for (int ls_it = 0; ls_it < 30; ls_it++) {
+                for (int j = 0; j < k; j++) lt[j] = lam[j] + t * (lnew[j] - lam[j]);
+                if (comb_gauge(ls, k, a, b, lt, wt, &gt) != EXDEX_OK) break;
+                if (gt < g) {
+                    moved = 1;
+                    break;
+                }
+                t *= 0.5;
+            }
+            if (!moved) break;
+            memcpy(lam, lt, (size_t)k * sizeof *lam);
+            memcpy(w, wt, sizeof w);
+            if (!(g - gt > 1e-14 * g)) {
+                g = gt;
+                break;
+            }
+            g = gt;
+        }
+    }
+    return g;
 }
 
 /* ------------------------------------------------------------ the step */

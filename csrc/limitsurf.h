@@ -97,6 +97,14 @@ int limitsurf_set_exact(limitsurf *ls, const region *rg);
  * evaluations: once per model. */
 void limitsurf_prepare_bounds(limitsurf *ls);
 
+/* Bounds kmin, kmax of an exact surface from a few of its region's
+ * integrals in closed form (the polar moment, the centroid, G at the
+ * reference point; see limitsurf.c), valid for every region, looser than
+ * limitsurf_prepare_bounds's (a uniform disc or square: about 0.71 and
+ * 1.07) and about a hundred times cheaper: for a region that changes
+ * every step (pads on the fingers). */
+void limitsurf_quick_bounds(limitsurf *ls);
+
 /* Shorthands for the table. */
 static inline double limitsurf_dissipation(const limitsurf *ls, const double u[3])
 {
@@ -119,6 +127,26 @@ int limitsurf_sticks(const limitsurf *ls, const double w[3], double C);
 
 /* Slip direction at the limit (see above): unit u, NaN for w = 0. */
 int limitsurf_slip_direction(const limitsurf *ls, const double w[3], double u[3]);
+
+/* The gauge g(w) (w != 0), its gradient (the unit-dissipation normal u* /
+ * D(u*) of the gauge's maximiser u*) and its Hessian (hess may be NULL),
+ * row-major 3x3, symmetric, w its null vector. Statuses as the gauge's,
+ * EXDEX_ENOCONV also where the Hessian is singular. */
+int limitsurf_gauge_hessian(const limitsurf *ls, const double w[3], double *g, double grad[3], double hess[9]);
+
+/* The least gauge of a load given up to a combination of stop forces:
+ * min g(a + sum_j lam_j b_j) over lam >= 0 (k <= LDP_MAX_ROWS vectors
+ * b_j), lam (k entries) its minimiser; the stick test of a rest against
+ * stops is that minimum <= cap. The ellipsoid: ldp_min_combination in E^-1
+ * coordinates, as the methods form it. The exact surface: from that
+ * ellipsoid solution, Newton steps (the ellipsoid problems of the local
+ * quadratic model of g^2 / 2) with a line search, until the decrease stops
+ * or the gauge falls to cap (a combination the surface carries: the test is
+ * decided); where the ellipsoid's minimum exceeds cap kmax it returns that
+ * minimum / kmax (a lower bound above cap) without iterating; cap NaN
+ * asks for the minimum itself (no early return). NaN if the gauge fails. iters (may be NULL) gets the NNLS iterations added. */
+double limitsurf_min_combination(const limitsurf *ls, int k, const double a[3], const double (*b)[3], double cap,
+                                 double *lam, int *iters);
 
 /* One implicit friction step with this surface (the problem of
  * exdex_friction_solve): u+ = b + W p, p the friction impulse of capacity

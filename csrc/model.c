@@ -229,10 +229,17 @@ static int check_fields(const exdex_scene_def *d, const char **bad_param)
         if (model_region(d, &rg) != EXDEX_OK) return bad(bad_param, "region_kind");
     }
     if (d->limit_surface == EXDEX_LS_EXACT) {
-        if (d->region_kind == EXDEX_REGION_NONE) return bad(bad_param, "region_kind");
-        if (d->pad_n > 0 || d->pad_radius > 0.0) return bad(bad_param, "limit_surface");
+        /* the region: the patch's, or pad and face (pads on the fingers) */
+        if (d->region_kind == EXDEX_REGION_NONE && !(d->pad_n > 0 || d->pad_radius > 0.0))
+            return bad(bad_param, "region_kind");
+        int fric = 0;
+        for (int k = 0; k < d->n_stops; k++) fric |= d->stop_mu[k] > 0.0;
+        for (int o = 0; o < d->n_obstacles; o++) fric |= d->obstacles[o].mu > 0.0;
+        /* planar: the implicit method with frictionless stops and
+         * obstacles, the event method without them */
         if (d->dof == EXDEX_DOF_PLANAR &&
-            (d->n_stops || d->n_obstacles || (d->method != EXDEX_METHOD_IMPLICIT && d->method != EXDEX_METHOD_EVENT)))
+            (fric || (d->method != EXDEX_METHOD_IMPLICIT && d->method != EXDEX_METHOD_EVENT) ||
+             ((d->n_stops || d->n_obstacles) && d->method != EXDEX_METHOD_IMPLICIT)))
             return bad(bad_param, "limit_surface");
     }
     if (!(isfinite(d->eps) && d->eps > 0)) return bad(bad_param, "eps");
@@ -641,6 +648,33 @@ static int disc_in_poly(const double c[2], double r, const double (*b)[2], int k
     return 1;
 }
 
+/* The region r (B) of the planar pose q as a region.c region in patch
+ * coordinates (C, about the region's centroid, which goes to pc: C,
+ * relative to the centre of mass). EXDEX_EINVAL for an empty region. */
+static int pads_patch_region(const exdex_model *m, const pads_region *r, const double q[3], region *rg, double pc[2])
+{
+    double cs = cos(q[2]), sn = sin(q[2]);
+    (void)m;
+    if (!(r->area > 0.0)) return EXDEX_EINVAL;
+    pc[0] = cs * (r->c[0] - q[0]) + sn * (r->c[1] - q[1]);
+    pc[1] = -sn * (r->c[0] - q[0]) + cs * (r->c[1] - q[1]);
+    memset(rg, 0, sizeof *rg);
+    if (r->disc) {
+        rg->kind = REGION_DISC;
+        rg->r = r->r;
+        return EXDEX_OK;
+    }
+    if (r->n > REGION_MAX_VERTICES) return EXDEX_EINVAL;
+    rg->kind = REGION_POLYGON;
+    rg->n = r->n;
+    for (int i = 0; i < r->n; i++) {
+        double x = r->v[i][0] - r->c[0], y = r->v[i][1] - r->c[1];
+        rg->v[i][0] = cs * x + sn * y;
+        rg->v[i][1] = -sn * x + cs * y;
+    }
+    return region_check(rg);
+}
+
 /* The face at the pose (r, th) in B. */
 static void face_at(const exdex_model *m, const double r[2], double th, pads_shape *f)
 {
@@ -700,12 +734,16 @@ void model_pads_set(exdex_model *mc, const double q[3])
     in = pads_containment(mc, &f);
     cs = cos(q[2]);
     sn = sin(q[2]);
-    if (in == 2 && mc->face_prep_ok) {
+    if (in == 2 && mc->face_prep_ok && (!mc->ls_exact || mc->face_ls.type)) {
         /* the face inside the pad: the region is the face, fixed on the object */
         mc->pc[0] = mc->face_in_c[0];
         mc->pc[1] = mc->face_in_c[1];
         mc->e[2] = mc->face_in_er;
         mc->prep = mc->face_prep;
+        if (mc->ls_exact) {
+            mc->ls = mc->face_ls;
+            mc->e[2] = mc->ls.e[2];
+        }
         memcpy(mc->pad_q, q, sizeof mc->pad_q);
         return;
     }
@@ -715,10 +753,41 @@ void model_pads_set(exdex_model *mc, const double q[3])
         rg.c[0] = mc->pad_in_c[0];
         rg.c[1] = mc->pad_in_c[1];
         rg.er = mc->pad_in_er;
+        if (mc->ls_exact) {
+            /* its outline for the exact surface */
+            rg.n = mc->pad.n;
+            memcpy(rg.v, mc->pad.v, sizeof rg.v);
+            rg.disc = mc->pad.n == 0;
+            rg.r = mc->pad.r;
+        }
     } else {
         pads_intersect(&mc->pad, &f, &rg);
     }
     if (!(rg.area > EXDEX_PAD_LOST * mc->pad_area0 && rg.er > 0.0)) return;
+    if (mc->ls_exact) {
+        /* the exact surface of the region about its centroid (pc), the
+         * bounds of the pad's where the region is the pad */
+        region prg;
+        limitsurf ls;
+        if (pads_patch_region(mc, &rg, q, &prg, pc) != EXDEX_OK || limitsurf_set_exact(&ls, &prg) != EXDEX_OK)
+            return;
+        if (in == 1) {
+            ls.kmin = mc->pad_kmin;
+            ls.kmax = mc->pad_kmax;
+        } else {
+            limitsurf_quick_bounds(&ls);
+        }
+        e[0] = e[1] = 1.0;
+        e[2] = ls.e[2];
+        if (model_pads_prepare(mc, pc, e, &prep)) return;
+        mc->pc[0] = pc[0];
+        mc->pc[1] = pc[1];
+        mc->e[2] = ls.e[2];
+        mc->ls = ls;
+        mc->prep = prep;
+        memcpy(mc->pad_q, q, sizeof mc->pad_q);
+        return;
+    }
     /* the centroid in C: Rz(-theta) (c - r) */
     pc[0] = cs * (rg.c[0] - q[0]) + sn * (rg.c[1] - q[1]);
     pc[1] = -sn * (rg.c[0] - q[0]) + cs * (rg.c[1] - q[1]);
@@ -765,6 +834,41 @@ static void pads_precompute(exdex_model *m)
         m->face_in_c[1] = f.c[1];
         m->face_in_er = exdex_er_disc(f.r);
     }
+    if (m->ls_exact) {
+        /* the exact surfaces of the two containments, each about its
+         * centroid: the face's (in C) and the pad's bounds (in B) */
+        region rg;
+        limitsurf ls;
+        for (int k = 0; k < 2; k++) {
+            const pads_shape *s = k ? &m->pad : &f;
+            const double *c = k ? m->pad_in_c : m->face_in_c;
+            memset(&rg, 0, sizeof rg);
+            if (s->n) {
+                rg.kind = REGION_POLYGON;
+                rg.n = s->n;
+                for (int i = 0; i < s->n; i++) {
+                    rg.v[i][0] = s->v[i][0] - c[0];
+                    rg.v[i][1] = s->v[i][1] - c[1];
+                }
+            } else {
+                region_set_disc(&rg, s->c[0] - c[0], s->c[1] - c[1], s->r);
+            }
+            if (limitsurf_set_exact(&ls, &rg) != EXDEX_OK) {
+                /* not a region.c region (none that check_pads passes): no
+                 * bounds, and the face's containment path is not taken */
+                memset(&ls, 0, sizeof ls);
+                ls.kmax = INFINITY;
+            } else {
+                limitsurf_prepare_bounds(&ls);
+            }
+            if (k) {
+                m->pad_kmin = ls.kmin;
+                m->pad_kmax = ls.kmax;
+            } else {
+                m->face_ls = ls;
+            }
+        }
+    }
     m->face_prep_ok = 0;
     if (m->ndof == 3 && m->face_in_area > 0.0 && m->face_in_er > 0.0) {
         exdex_model t = *m;
@@ -798,27 +902,9 @@ const exdex_model *model_pads_follow(const exdex_model *m, exdex_model *copy)
 int model_pads_patch_region(const exdex_model *m, const double q[3], struct region *rg, double pc[2])
 {
     pads_region r;
-    double cs = cos(q[2]), sn = sin(q[2]);
     if (!m->pads) return EXDEX_EINVAL;
     model_pads_region(m, q, q[2], &r);
-    if (!(r.area > 0.0)) return EXDEX_EINVAL;
-    pc[0] = cs * (r.c[0] - q[0]) + sn * (r.c[1] - q[1]);
-    pc[1] = -sn * (r.c[0] - q[0]) + cs * (r.c[1] - q[1]);
-    memset(rg, 0, sizeof *rg);
-    if (r.disc) {
-        rg->kind = REGION_DISC;
-        rg->r = r.r;
-        return EXDEX_OK;
-    }
-    if (r.n > REGION_MAX_VERTICES) return EXDEX_EINVAL;
-    rg->kind = REGION_POLYGON;
-    rg->n = r.n;
-    for (int i = 0; i < r.n; i++) {
-        double x = r.v[i][0] - r.c[0], y = r.v[i][1] - r.c[1];
-        rg->v[i][0] = cs * x + sn * y;
-        rg->v[i][1] = -sn * x + cs * y;
-    }
-    return region_check(rg);
+    return pads_patch_region(m, &r, q, rg, pc);
 }
 
 int model_pads_lost(const exdex_model *m, const double *q)
@@ -863,19 +949,7 @@ int exdex_pad_region(const exdex_scene_def *def, const double q[3], double *area
 
 /* ------------------------------------------------------------ scales */
 
-/* Relative factors of the thresholds (model_tols): for a typical paper
- * scene (L ~ 1 cm, T ~ 30 ms, V ~ 0.3 m/s) they give thresholds near 1e-10 m,
- * 1e-12 m/s and 1e-13 s, far below the accuracy of any method and far above
- * the rounding of the quantities they compare. */
-#define TOUCH_REL 1e-8       /* x L */
-#define PEN_REL 1e-7         /* x L */
-#define START_GAP_REL 1e-7   /* x L */
-#define REST_GAP_REL 1e-7    /* x L */
-#define RATE_REL 3e-12       /* x V */
-#define VZERO_REL 3e-12      /* x q / T */
-#define FQ_MIN_REL 1e-12     /* x L / q */
-#define ROOT_REL 3e-12       /* x T */
-#define H0_REL 0.03          /* x T */
+/* The relative factors of the thresholds (model_tols): tolerances.h. */
 
 static void model_set_scales(exdex_model *m)
 {
@@ -1138,7 +1212,7 @@ static exdex_model *build_model(const exdex_scene_def *def, int *status, const c
     }
     m->e[0] = m->e[1] = 1.0;
     m->e[2] = def->e_r;
-    if (def->limit_surface == EXDEX_LS_EXACT) {
+    if (def->limit_surface == EXDEX_LS_EXACT && !(def->pad_n > 0 || def->pad_radius > 0.0)) {
         region rg;
         model_region(def, &rg);  /* checked by check_fields */
         limitsurf_set_exact(&m->ls, &rg);
@@ -1166,6 +1240,21 @@ static exdex_model *build_model(const exdex_scene_def *def, int *status, const c
         pads_local_center(rg.c, def->q0, def->q0[2], m->pc);
         m->e[2] = rg.er;
         memcpy(m->pad_q, def->q0, sizeof m->pad_q);
+        if (def->limit_surface == EXDEX_LS_EXACT) {
+            /* the exact surface of the region at the start, about its centroid */
+            region prg;
+            double pc[2];
+            if (pads_patch_region(m, &rg, def->q0, &prg, pc) != EXDEX_OK ||
+                limitsurf_set_exact(&m->ls, &prg) != EXDEX_OK) {
+                exdex_model_free(m);
+                *status = EXDEX_EINVAL;
+                if (bad_param) *bad_param = "pad";
+                return NULL;
+            }
+            limitsurf_prepare_bounds(&m->ls);
+            m->ls_exact = 1;
+            m->e[2] = m->ls.e[2];
+        }
     }
     memcpy(m->g, def->gravity, sizeof m->g);
     m->d[0] = def->slide_axis[0];

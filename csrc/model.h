@@ -14,6 +14,7 @@
 #include "exdex.h"
 #include "limitsurf.h"
 #include "pads.h"
+#include "tolerances.h"
 
 #define MAX_ROWS (EXDEX_MAX_STOPS * EXDEX_MAX_VERTICES)
 
@@ -135,6 +136,12 @@ struct exdex_model {
     double face_in_area, face_in_c[2], face_in_er;
     exdex_friction_prep face_prep;
     int face_prep_ok;
+    /* the exact surface with pads (ls_exact): ls follows the region
+     * (model_pads_set); face_ls is the face's (the face inside the pad), and
+     * pad_kmin, pad_kmax the bounds of the pad's (the pad inside the face;
+     * a turn of the region leaves them) */
+    limitsurf face_ls;
+    double pad_kmin, pad_kmax;
 };
 
 /* ------------------------------------------------ grip force, capacity

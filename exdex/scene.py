@@ -491,10 +491,11 @@ class Grasp:
         ``patch.e_r``) or ``"exact"`` (Coulomb friction of uniform pressure
         over the patch's region, with maximum dissipation: the integral of
         ``-mu p s / |s|`` over the region for the slip ``s`` at each point,
-        in closed form). ``"exact"`` needs a patch with a region
-        (``Patch.disc``, ``Patch.rectangle``); it runs planar scenes with
-        the implicit and event methods, without stops, obstacles or pads,
-        and 1-DoF scenes with every method (a 1-DoF rotation's torque
+        in closed form). ``"exact"`` needs a region: pads on the fingers
+        (the surface of pad & face, which follows the pose) or a patch with
+        one (``Patch.disc``, ``Patch.rectangle``); it runs planar scenes
+        with the implicit and event methods (with frictionless stops or
+        obstacles: the implicit one), and 1-DoF scenes with every method (a 1-DoF rotation's torque
         capacity is then the region's mean distance from its centre times
         the capacity, as with the ellipsoid of that e_r). Static and kinetic
         friction are two surfaces of one shape (``mu_static``). See the
@@ -527,10 +528,10 @@ class Grasp:
         if not isinstance(self.limit_surface, str) or self.limit_surface not in LIMIT_SURFACES:
             raise ValueError(f"Grasp.limit_surface must be one of {', '.join(map(repr, LIMIT_SURFACES))}, "
                              f"got {self.limit_surface!r}")
-        if self.limit_surface == "exact" and self.patch.region() is None:
-            raise ValueError("Grasp.limit_surface='exact' needs a patch with a contact region "
-                             "(Patch.disc or Patch.rectangle); this patch is given by e_r alone "
-                             f"(shape {self.patch.shape!r})")
+        if self.limit_surface == "exact" and self.pad is None and self.patch.region() is None:
+            raise ValueError("Grasp.limit_surface='exact' needs a contact region: pads on the fingers "
+                             "(Grasp.pad) or a patch with one (Patch.disc or Patch.rectangle); this patch is "
+                             f"given by e_r alone (shape {self.patch.shape!r})")
 
     @property
     def capacity(self) -> float:
@@ -1350,19 +1351,19 @@ class Scene:
 
     def _check_exact(self, method: str) -> None:
         """ValueError naming Grasp.limit_surface where the exact surface is not
-        solved: planar scenes take it with the implicit and event methods,
-        without stops, obstacles or pads."""
-        if self.grasp.pad is not None:
-            raise ValueError("Grasp.limit_surface='exact' is solved with the patch fixed on the object; "
-                             "pads on the fingers (Grasp.pad) take limit_surface='ellipsoid'")
+        solved: planar scenes take it with the implicit and event methods;
+        with stops or obstacles (frictionless) with the implicit one."""
         if self.dof != "planar":
             return
         if method not in ("implicit", "event"):
             raise ValueError(f"Grasp.limit_surface='exact': planar scenes run it with method='implicit' or "
                              f"'event', got method={method!r}")
-        if self.stops or self.obstacles:
-            raise ValueError("Grasp.limit_surface='exact': planar scenes with stops or obstacles take "
-                             "limit_surface='ellipsoid'")
+        if any(s.mu > 0 for s in self.stops) or any(o.mu > 0 for o in self.obstacles):
+            raise ValueError("Grasp.limit_surface='exact': planar scenes with frictional stops or obstacles "
+                             "(mu > 0) take limit_surface='ellipsoid'")
+        if (self.stops or self.obstacles) and method != "implicit":
+            raise ValueError(f"Grasp.limit_surface='exact': planar scenes with stops or obstacles run it with "
+                             f"method='implicit', got method={method!r}")
 
     def to_spec(self, method: str = "implicit", friction_solver: str = "scalar", eps: float = 1e-4,
                 rtol: float = 1e-8, atol: float = 1e-10) -> Dict[str, Any]:
@@ -1409,12 +1410,12 @@ class Scene:
                         grip_kind=GRIP_KINDS[sched.kind])
         if self.grasp.limit_surface == "exact":
             self._check_exact(method)
-            reg = self.grasp.patch.region()
-            assert reg is not None   # Grasp checked it
             spec["limit_surface"] = LIMIT_SURFACES["exact"]
-            if "radius" in reg:
+            # the region: pad and face (the core intersects them), else the patch's
+            reg = None if self.grasp.pad is not None else self.grasp.patch.region()
+            if reg is not None and "radius" in reg:
                 spec["region_radius"] = reg["radius"]
-            else:
+            elif reg is not None:
                 spec["region_vertices"] = reg["vertices"]
         return spec
 

@@ -449,3 +449,121 @@ EXDEX_TEST(limitsurf_bounds)
     ENSURE_CLOSE(ls.kmin, 0.9342051836507127 * (1 - 1e-3), 2e-6);
     ENSURE_CLOSE(ls.kmax, 1.0 + 1e-3, 1e-6);
 }
+
+EXDEX_TEST(limitsurf_quick_bounds_hold)
+{
+    /* limitsurf_quick_bounds: kmin |E u| <= D(u) <= kmax |E u| on random
+     * slips of random regions, centred or not on the reference point (the
+     * bounds are proven, not sampled), and no tighter than the sampled ones;
+     * a centred disc's from the closed forms: kmin = 1 / sqrt(2), kmax =
+     * sqrt(J / (A e_r^2)) = sqrt(9 / 8) */
+    for (int k = 0; k < 30; k++) {
+        region rg;
+        limitsurf ls, lp;
+        random_region(&rg, k);
+        ENSURE(limitsurf_set_exact(&ls, &rg) == EXDEX_OK);
+        lp = ls;
+        limitsurf_quick_bounds(&ls);
+        limitsurf_prepare_bounds(&lp);
+        ENSURE(ls.kmin > 0.0 && ls.kmax < INFINITY);
+        ENSURE(ls.kmin <= lp.kmin / (1 - 1e-3) && ls.kmax >= lp.kmax / (1 + 1e-3));
+        for (int j = 0; j < 2000; j++) {
+            double s = j < 1000 ? 1.0 : 1e-3;   /* near pure rotation too */
+            double u[3] = {s * srand1(), s * srand1(), srand1() / ls.e[2]}, eu = 0.0;
+            for (int i = 0; i < 3; i++) eu += (ls.e[i] * u[i]) * (ls.e[i] * u[i]);
+            double D = limitsurf_dissipation(&ls, u);
+            ENSURE(D >= ls.kmin * sqrt(eu) && D <= ls.kmax * sqrt(eu));
+        }
+    }
+    region rg;
+    limitsurf ls;
+    region_set_disc(&rg, 0, 0, 0.01);
+    ENSURE(limitsurf_set_exact(&ls, &rg) == EXDEX_OK);
+    limitsurf_quick_bounds(&ls);
+    ENSURE_CLOSE(ls.kmin, sqrt(0.5) * (1 - 1e-6), 1e-12);
+    ENSURE_CLOSE(ls.kmax, sqrt(9.0 / 8.0) * (1 + 1e-6), 1e-12);
+}
+
+EXDEX_TEST(limitsurf_gauge_hessian_against_differences)
+{
+    /* the gauge's gradient and Hessian against central differences of the
+     * gauge and of the gradient; Hess g w = 0 and grad g . w = g (degrees 0
+     * and 1); both surfaces */
+    for (int k = 0; k < 24; k++) {
+        region rg;
+        limitsurf ls;
+        random_region(&rg, k);
+        if (k % 4 == 3) {
+            ENSURE(limitsurf_set_ellipsoid(&ls, 0.004 + 0.01 * urand()) == EXDEX_OK);
+        } else {
+            ENSURE(limitsurf_set_exact(&ls, &rg) == EXDEX_OK);
+        }
+        for (int j = 0; j < 6; j++) {
+            double w[3] = {srand1(), srand1(), srand1() * ls.e[2]}, g, gr[3], H[9], hstep = 1e-5;
+            ENSURE(limitsurf_gauge_hessian(&ls, w, &g, gr, H) == EXDEX_OK);
+            ENSURE_CLOSE(dot3(gr, w), g, 1e-10 * g);
+            for (int i = 0; i < 3; i++) {
+                double hw = H[3 * i] * w[0] + H[3 * i + 1] * w[1] + H[3 * i + 2] * w[2];
+                ENSURE_SMALL(hw, 1e-8 * (fabs(H[3 * i]) + fabs(H[3 * i + 1]) + fabs(H[3 * i + 2])) * sqrt(dot3(w, w)));
+            }
+            for (int c = 0; c < 3; c++) {
+                double wp[3], wm[3], gp, gm, grp[3], grm[3], sc = c < 2 ? 1.0 : ls.e[2];
+                memcpy(wp, w, sizeof wp);
+                memcpy(wm, w, sizeof wm);
+                wp[c] += hstep * sc;
+                wm[c] -= hstep * sc;
+                ENSURE(limitsurf_gauge_hessian(&ls, wp, &gp, grp, NULL) == EXDEX_OK);
+                ENSURE(limitsurf_gauge_hessian(&ls, wm, &gm, grm, NULL) == EXDEX_OK);
+                ENSURE_CLOSE(gr[c], (gp - gm) / (2 * hstep * sc), 1e-6 * sqrt(dot3(gr, gr)) * (c < 2 ? 1 : 1 / ls.e[2]));
+                for (int i = 0; i < 3; i++) {
+                    double fd = (grp[i] - grm[i]) / (2 * hstep * sc), si = i < 2 ? 1.0 : ls.e[2];
+                    ENSURE_CLOSE(H[3 * i + c], fd, 1e-5 / (g * sc * si));
+                }
+            }
+        }
+    }
+}
+
+EXDEX_TEST(limitsurf_min_combination_kkt)
+{
+    /* the least gauge over lam >= 0 of a + lam_1 b_1 + lam_2 b_2 (exact
+     * surface, cap NaN: the minimum itself): the optimality conditions
+     * (b_j . grad g = 0 where lam_j > 0, >= 0 where lam_j = 0) and no grid
+     * point of lam in [0, 3 |a| / |b|]^2 below it */
+    int n_free = 0, n_bound = 0;
+    for (int k = 0; k < 40; k++) {
+        region rg;
+        limitsurf ls;
+        random_region(&rg, k);
+        ENSURE(limitsurf_set_exact(&ls, &rg) == EXDEX_OK);
+        limitsurf_prepare_bounds(&ls);
+        double a[3] = {srand1(), srand1(), srand1() * ls.e[2]}, b[2][3], lam[2], g, w[3], gr[3], gg;
+        for (int j = 0; j < 2; j++)
+            for (int i = 0; i < 3; i++) b[j][i] = srand1() * (i < 2 ? 1.0 : ls.e[2]);
+        g = limitsurf_min_combination(&ls, 2, a, (const double (*)[3])b, NAN, lam, NULL);
+        ENSURE(isfinite(g) && g >= 0.0);
+        for (int i = 0; i < 3; i++) w[i] = a[i] + lam[0] * b[0][i] + lam[1] * b[1][i];
+        if (!(sqrt(dot3(w, w)) > 1e-9)) continue;   /* the cone reaches -a: g = 0 */
+        ENSURE(limitsurf_gauge_hessian(&ls, w, &gg, gr, NULL) == EXDEX_OK);
+        ENSURE_CLOSE(gg, g, 1e-12 * g);
+        for (int j = 0; j < 2; j++) {
+            double d = dot3(b[j], gr), sc = sqrt(dot3(b[j], b[j])) * sqrt(dot3(gr, gr));
+            if (lam[j] > 0.0) {
+                n_free++;
+                ENSURE_SMALL(d, 1e-6 * sc);
+            } else {
+                n_bound++;
+                ENSURE(d >= -1e-6 * sc);
+            }
+        }
+        double L = 3.0 * sqrt(dot3(a, a)) / fmin(sqrt(dot3(b[0], b[0])), sqrt(dot3(b[1], b[1])));
+        for (int p = 0; p <= 40; p++)
+            for (int q = 0; q <= 40; q++) {
+                double l0 = L * p / 40, l1 = L * q / 40, wq[3], gq;
+                for (int i = 0; i < 3; i++) wq[i] = a[i] + l0 * b[0][i] + l1 * b[1][i];
+                if (limitsurf_gauge(&ls, wq, &gq, NULL) != EXDEX_OK) continue;
+                ENSURE(gq >= g * (1 - 1e-9));
+            }
+    }
+    ENSURE(n_free > 5 && n_bound > 5);
+}

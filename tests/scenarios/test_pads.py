@@ -8,6 +8,7 @@ pad); the translation's friction mu N whatever the region (the patch's run);
 the face's edge crossing the pad at a known pose (the loss time from the
 slide's closed form); and the methods against each other.
 """
+import dataclasses
 import math
 import warnings
 
@@ -318,3 +319,104 @@ def test_stepper_stops_where_the_grasp_is_lost():
     assert st.stats["grasp_lost_t"] == r.t[-1]
     with pytest.raises(ValueError, match="grasp was lost"):
         st.step(1e-3)
+
+
+# ---------------------------------------------------------------- the exact surface with pads
+
+@pytest.mark.warns_by_design("pad", "outline")  # the patch-on-object runs: the patch slides off the face's centre
+def test_exact_object_inside_a_centred_pad_is_the_patch():
+    """limit_surface="exact": a pad larger than the face, centred on it:
+    the region is the face, fixed on the object, so each method's run is
+    the run of the exact surface of the patch of the face's size at its
+    centre (to rounding of the region's integrals). The face is offset from
+    the centre of mass, so gravity turns the box and the surface's moment
+    enters."""
+    off = np.array([0.006, -0.004])
+    body = dataclasses.replace(exdex.Body.box(0.2, (0.04, 0.03, 0.02)),
+                               outline=tuple(map(tuple, exdex.Body.box(0.2, (0.04, 0.03, 0.02)).vertices() + off)))
+    mo = exdex.Shake(axis=(1.0, 0.3, 0.0), amplitude=0.01, frequency=3.0, cycles=2)
+    for method in ("implicit", "event"):
+        res = []
+        for p in (None, exdex.Pad.rectangle(0.3, 0.3)):
+            g = exdex.Grasp(mu=0.3, grip_force=3.0, patch=exdex.Patch.rectangle(0.04, 0.03, center=tuple(off)), pad=p,
+                            limit_surface="exact")
+            sc = exdex.Scene(body=body, grasp=g, dof="planar", q0=(0.001, 0.002, 0.3), gravity=(0.0, -9.81, 0.0),
+                             gripper_rotation=np.eye(3), motion=mo)
+            res.append(exdex.simulate(sc, 0.3, 1e-3, method=method))
+        assert np.ptp(res[0].q[:, 2]) > 1e-3   # it turns: the surface's moment matters
+        np.testing.assert_allclose(res[1].q, res[0].q, rtol=0, atol=1e-9, err_msg=method)
+
+
+def _edge_pad_scene(grip, limit_surface="exact"):
+    """A 3 x 2 cm box on a 2 cm pad whose centre sits 4 mm inside the face's
+    right edge: the region is clipped (1.4 x 2 cm), its centroid 8 mm from
+    the centre of mass, about 1.2 of its e_r (where the ellipsoid's and the
+    exact surface's gauges of a force and moment differ most)."""
+    body = exdex.Body.box(0.2, (0.03, 0.02, 0.02))
+    pad = exdex.Pad.rectangle(0.02, 0.02, center=(0.011, 0.0))
+    g = exdex.Grasp(mu=0.5, grip_force=grip, patch=exdex.Patch.rectangle(0.02, 0.02), pad=pad,
+                    limit_surface=limit_surface)
+    return exdex.Scene(body=body, grasp=g, dof="planar", q0=(0.0, 0.0, 0.0), gravity=(0.0, -9.81, 0.0),
+                       gripper_rotation=np.eye(3))
+
+
+def _held_gauges(sc):
+    """The gauges per unit capacity of the wrench that holds the box at rest
+    against gravity (about the region's centroid): the exact surface's of
+    the clipped region (from the core's region outline and the surface's
+    public evaluation) and the ellipsoid's of the region's e_r."""
+    reg = _core.pad_region(sc.to_spec(), sc.q0)
+    c = np.array(reg["centroid"])
+    f = -sc.body.mass * np.array(sc.gravity[:2])
+    arm = np.array(sc.q0[:2]) - c
+    w = (f[0], f[1], arm[0] * f[1] - arm[1] * f[0])
+    _, g = _core.limit_surface(1, 0.01, np.array(reg["vertices"]) - c, 0.0, 1, w)
+    return g, math.sqrt(w[0] ** 2 + w[1] ** 2 + (w[2] / reg["e_r"]) ** 2), reg
+
+
+@pytest.mark.parametrize("method", ["implicit", "event"])
+def test_exact_held_load_inside_the_clipped_region_leaves_the_box_still(method):
+    """Gravity on the box held by a clipped region beside its centre of
+    mass: with the capacity 1.5 % above the holding wrench's exact gauge
+    the box stays at q0 bit for bit (v exactly 0 at every sample); 1.5 %
+    below it it slips, where the ellipsoid of the region's e_r (whose gauge
+    of this load is 3.5 % lower) holds it still."""
+    g, ge, reg = _held_gauges(_edge_pad_scene(1.0))
+    assert 0.6 * 0.02 * 0.02 < reg["area"] < 0.8 * 0.02 * 0.02
+    assert ge < 0.97 * g, (ge, g)
+    for f, held in ((1.015, True), (0.985, False)):
+        grip = f * g / (0.5 * 2)
+        for ls in ("exact", "ellipsoid"):
+            sc = _edge_pad_scene(grip, ls)
+            r = exdex.simulate(sc, 0.05, 1e-3, method=method)
+            if held or ls == "ellipsoid":
+                assert np.all(r.q == np.array(sc.q0)), (method, ls, f)
+                assert np.all(r.v == 0.0), (method, ls, f)
+            else:
+                assert np.max(np.abs(r.q[-1] - r.q[0])) > 1e-6, (method, ls, f)
+
+
+@pytest.mark.warns_by_design("pad", "outline")  # the patch-on-object run slides past its patch
+@pytest.mark.parametrize("pad", [None, exdex.Pad.rectangle(0.3, 0.3)])
+def test_exact_slide_down_a_frictionless_wall_is_the_closed_form(pad):
+    """A box pressed against a frictionless wall (a stop at its left face) by
+    a lateral gravity component, sliding down it: the slip is a pure
+    translation, whose exact friction is the capacity against the slip with
+    no moment about the region's centroid (the centre of mass here: the face
+    inside a large pad, or the patch of the face), so vy(t) = -(g_y - C / m)
+    t, which the implicit step's velocity reproduces exactly (constant
+    acceleration), and y(t) = -(g_y - C / m) t^2 / 2, from which its
+    position (q + h v+) lies at most (g_y - C / m) h t / 2; x and theta
+    held."""
+    body = exdex.Body.box(0.2, (0.04, 0.03, 0.02))
+    g = exdex.Grasp(mu=0.3, grip_force=0.5, patch=exdex.Patch.rectangle(0.04, 0.03), pad=pad, limit_surface="exact")
+    wall = exdex.Stop(point=(-0.02, 0.0, 0.0), normal=(1.0, 0.0, 0.0))
+    sc = exdex.Scene(body=body, grasp=g, dof="planar", q0=(0.0, 0.0, 0.0), gravity=(-3.0, -9.81, 0.0),
+                     gripper_rotation=np.eye(3), stops=(wall,))
+    r = exdex.simulate(sc, 0.15, 1e-3, method="implicit")
+    acc = 9.81 - 0.3 * 2 * 0.5 / 0.2
+    np.testing.assert_allclose(r.v[:, 1], -acc * r.t, rtol=1e-12, atol=1e-15)
+    assert np.all(np.abs(r.q[:, 1] + 0.5 * acc * r.t ** 2) <= 0.5 * acc * 1e-3 * r.t * (1 + 1e-9) + 1e-15)
+    assert r.q[-1, 1] < -0.09   # it slid 9.3 cm, the face still inside the pad
+    np.testing.assert_allclose(r.q[:, 0], 0.0, atol=1e-12)
+    np.testing.assert_allclose(r.q[:, 2], 0.0, atol=1e-10)

@@ -222,6 +222,7 @@ Known defects are marked per (method, seed) with ``xfail(strict=True)`` and
 the defect stated; a fix makes them pass, the strict mark then fails, and
 the mark must go: the list can only shrink.
 """
+import dataclasses
 import re
 import warnings
 
@@ -493,3 +494,45 @@ def test_zoo_pad_scene(seed):
     dt = pz.t_end / PAD_OUT
     assert abs(lost["implicit"] - lost["event"]) <= 4 * dt, (pz, lost)
     assert abs(lost["explicit"] - lost["event"]) <= 4 * dt, (pz, lost)
+
+
+@pytest.mark.parametrize("seed", PAD_SEEDS)
+def test_zoo_pad_scene_exact(seed):
+    """The exact limit surface of the pads' moving region (pad & face, its
+    surface changing with the pose) on the random pad scenes. Without stops,
+    where the grasp holds: zoo.check_scene's agreement of the implicit dt
+    ladder with the event method (its tight run the reference). With
+    frictionless stops, which the implicit method alone solves with the
+    exact surface: its dt ladder t_end / (N_DT k), k = 1 .. 16, converges
+    (zoo.ladder_consistent: successive differences shrinking at a
+    convergent rate, the last at most half the first). Where the grasp is lost: the runs lose it within 4 of
+    PAD_OUT output samples of the implicit run at half that step (the
+    implicit run at PAD_OUT, and the event run without stops)."""
+    pz = zoo.zoo_pad_scene(seed)
+    sc = pz.scene
+    pz = dataclasses.replace(pz, scene=exdex.replace(sc, grasp=exdex.replace(sc.grasp, limit_surface="exact")))
+    stops = bool(sc.stops or sc.obstacles)
+    methods = ("implicit",) if stops else ("implicit", "event")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", exdex.PhysicsWarning)
+        runs = {m: zoo.run(pz, m, n_out=PAD_OUT) for m in methods}
+        runs["implicit-2"] = zoo.run(pz, "implicit", dt=pz.t_end / (2 * PAD_OUT), n_out=PAD_OUT)
+        lost = {m: r.stats["grasp_lost_t"] for m, r in runs.items()}
+        if all(v is None for v in lost.values()):
+            if not stops:
+                out = zoo.check_scene(pz, methods=methods, agree=methods)
+                for m in methods:
+                    assert out[m]["error"] is None, (pz, m, out[m]["error"])
+                    assert out[m].get("ok", True), (pz, m, {k: v for k, v in out[m].items() if k != "pose"})
+                return
+            rs = [zoo.run(pz, "implicit", dt=pz.t_end / (zoo.N_DT * k)) for k in (1, 2, 4, 8, 16)]
+            poses = [zoo.final_pose(r) for r in rs]
+            d = [zoo.pose_distance(pz, a, b) for a, b in zip(poses[:-1], poses[1:])]
+            assert zoo.ladder_consistent(d, noise=1e-9), (pz, d)
+            # first order: the finest run is within about its last difference of the limit
+            assert d[-1] <= 0.5 * d[0] + 1e-9, (pz, d)
+            return
+    assert all(v is not None for v in lost.values()), (pz, lost)
+    dt = pz.t_end / PAD_OUT
+    for m in lost:
+        assert abs(lost[m] - lost["implicit-2"]) <= 4 * dt, (pz, lost)
