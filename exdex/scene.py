@@ -1508,6 +1508,15 @@ def _check_contact_face(scene, body, grasp, face):
                 big = (math.hypot(w, h), 2.0 * R, "diagonal", "diameter")
             elif hull is not None and (w > span[0] * (1 + 1e-9) or h > span[1] * (1 + 1e-9)):
                 big = (w, span[0], "width", "width") if w > span[0] * (1 + 1e-9) else (h, span[1], "height", "height")
+        elif reg is not None and "vertices" in reg:
+            v = np.asarray(reg["vertices"], dtype=float)
+            ext = v.max(axis=0) - v.min(axis=0)
+            size = f"a polygon of {ext[0]:g} x {ext[1]:g} m"
+            limit = np.array([2.0 * R, 2.0 * R]) if hull is None else span
+            if ext[0] > limit[0] * (1 + 1e-9) or ext[1] > limit[1] * (1 + 1e-9):
+                k = 0 if ext[0] > limit[0] * (1 + 1e-9) else 1
+                big = (float(ext[k]), float(limit[k]), ("width", "height")[k],
+                       "diameter" if hull is None else ("width", "height")[k])
         elif reg is not None:
             r = reg["radius"]
             size = f"a disc of radius {r:g} m"

@@ -401,17 +401,20 @@ def test_frictional_wall_carries_the_weight(method, wall):
     # beta = W / (1 / mu_s^2 + 1 + k^2), k = R / e_r:
     #     g = W sqrt((1 + mu_s^2 k^2) / (1 + mu_s^2 (1 + k^2))) / C.
     # With C = 0.9 W: mu_s = 1 gives 0.8546 / 0.9 (holds), mu_s = 0.5
-    # 0.9224 / 0.9 and a frictionless wall 1 / 0.9 (both fail). The wall is
-    # a stop, or the face x = R of a box obstacle.
+    # 0.9224 / 0.9 and a frictionless wall 1 / 0.9 (both fail) for the 2 cm
+    # square's e_r; the pads here are a disc as wide as the cylinder's face
+    # (e_r = 2 R / 3: 0.8742, 0.9285 and 1 over 0.9, the same verdicts). The
+    # wall is a stop, or the face x = R of a box obstacle.
     R, C = 0.01, 0.9 * W
-    k = R / E_R
+    pad = Patch.disc(R)
+    k = R / pad.e_r
     for mu_s in (0.0, 0.5, 1.0):
         g = math.sqrt((1 + mu_s ** 2 * k ** 2) / (1 + mu_s ** 2 * (1 + k ** 2))) * W / C
         if wall == "stop":
             walls = dict(stops=(Stop(point=(R, 0.0, 0.0), normal=(-1.0, 0.0, 0.0), mu=mu_s),))
         else:
             walls = dict(obstacles=(exdex.Obstacle.box((R + 0.05, 0.0, 0.0), (0.1, 0.1, 0.1), mu=mu_s),))
-        sc = Scene(body=Body.cylinder(MASS, R, 0.03), grasp=Grasp(mu=MU, grip_force=C / (2 * MU), patch=PAD),
+        sc = Scene(body=Body.cylinder(MASS, R, 0.03), grasp=Grasp(mu=MU, grip_force=C / (2 * MU), patch=pad),
                    slide_axis=(1.0, 0.0), **walls)
         res, red = run(sc, method, t_end=0.1)
         c = res.certificate
