@@ -18,7 +18,7 @@
  * one c_s = C_s / M (mu_static in place of mu, c_s >= c) the Coulomb
  * problem  qdd = d + f / M,  |f| <= C_s at rest, f = -C sign(qd) sliding,
  * exact stick  has the solution:
- *   at rest (qd = 0): it stays at rest while |d| <= c_s (1 + TOLF) (the band
+ *   at rest (qd = 0): it stays at rest while |d| <= c_s (1 + FRICTION_BAND) (the band
  *     that the event method uses), else it slips in the direction of d with
  *     qdd = d - c sign(d) (c_s >= c: it accelerates away from rest);
  *   sliding (qd != 0): qdd = d - c sign(qd), a quadratic in time; if it
@@ -27,8 +27,8 @@
  * A grip schedule makes the capacities linear in time within each phase
  * (the phases also start at the schedule's times): c(t) = c0 + c1 (t - t0),
  * c_s likewise, which raises each polynomial's degree by one:
- *   at rest: it stays while |d| <= c_s(t) (1 + TOLF); a falling c_s ends
- *     the rest at the root of the linear equation c_s(t) (1 + TOLF) = |d|,
+ *   at rest: it stays while |d| <= c_s(t) (1 + FRICTION_BAND); a falling c_s ends
+ *     the rest at the root of the linear equation c_s(t) (1 + FRICTION_BAND) = |d|,
  *     where it slips in the direction of d;
  *   sliding: qdd = alpha + beta (t - ts), alpha = d - s c(ts), beta =
  *     -s c1 (s the slip direction), so qd is a quadratic and q a cubic in
@@ -48,7 +48,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define TOLF 1e-12       /* relative band at the friction limit, as the event method */
 #define MOTION_PHASES 5
 
 typedef struct phase {
@@ -196,7 +195,7 @@ static double cap_static(const analytic_ws *w, const phase *p, double t)
 
 /* The segment that starts at t with velocity v in phase k: its acceleration
  * *a at t and the acceleration's rate *b (0 for a constant grip). At rest
- * it stays while the plates hold (|d| <= c_s (1 + TOLF)), else it slips in
+ * it stays while the plates hold (|d| <= c_s (1 + FRICTION_BAND)), else it slips in
  * the direction of d; leave_rest: a rest ended here (the static capacity
  * fell to the load), so it slips without the test, accelerating away from
  * rest (s a >= 0: rounding at the limit removed). */
@@ -205,7 +204,7 @@ static void segment_accel(const analytic_ws *w, int k, double t, double v, int l
     const phase *p = &w->ph[k];
     double d = p->d, s;
     if (v == 0.0) {
-        if (!leave_rest && fabs(d) <= cap_static(w, p, t) * (1.0 + TOLF)) {
+        if (!leave_rest && fabs(d) <= cap_static(w, p, t) * (1.0 + FRICTION_BAND)) {
             *a = *b = 0.0;
             return;
         }
@@ -308,8 +307,8 @@ static int analytic_advance(const exdex_model *m, void *ws, double ti, int regri
             }
             if (w->sched && vs == 0.0 && a == 0.0 && b == 0.0 && p->cs1 < 0.0) {
                 /* at rest under a falling static capacity: it ends where
-                 * c_s(t) (1 + TOLF) = |d| */
-                double tr = p->t0 + (fabs(d) / (1.0 + TOLF) - p->cs0) / p->cs1;
+                 * c_s(t) (1 + FRICTION_BAND) = |d| */
+                double tr = p->t0 + (fabs(d) / (1.0 + FRICTION_BAND) - p->cs0) / p->cs1;
                 trest = tr > ts ? tr : ts;
             }
             tev = te < tstop ? te : tstop;

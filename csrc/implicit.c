@@ -388,7 +388,7 @@ static int try_rest(const exdex_model *m, const double cs[2], double cap, const 
         best = ldp_min_combination(k, a, (const double (*)[3])B, lam, &it);
     }
     st->stop_iterations += (size_t)it;
-    if (!(best <= cap * (1.0 + 1e-12))) return 0;
+    if (!(best <= cap * (1.0 + FRICTION_BAND))) return 0;
     for (int i = 0; i < w->n_rows; i++) w->lam[i] = 0.0;
     for (int j = 0; j < k; j++) {
         w->lam[rows[j]] = lam[j];

@@ -951,19 +951,7 @@ int exdex_pad_region(const exdex_scene_def *def, const double q[3], double *area
 
 /* ------------------------------------------------------------ scales */
 
-/* Relative factors of the thresholds (model_tols): for a typical paper
- * scene (L ~ 1 cm, T ~ 30 ms, V ~ 0.3 m/s) they give thresholds near 1e-10 m,
- * 1e-12 m/s and 1e-13 s, far below the accuracy of any method and far above
- * the rounding of the quantities they compare. */
-#define TOUCH_REL 1e-8       /* x L */
-#define PEN_REL 1e-7         /* x L */
-#define START_GAP_REL 1e-7   /* x L */
-#define REST_GAP_REL 1e-7    /* x L */
-#define RATE_REL 3e-12       /* x V */
-#define VZERO_REL 3e-12      /* x q / T */
-#define FQ_MIN_REL 1e-12     /* x L / q */
-#define ROOT_REL 3e-12       /* x T */
-#define H0_REL 0.03          /* x T */
+/* The relative factors of the thresholds (model_tols): tolerances.h. */
 
 static void model_set_scales(exdex_model *m)
 {

@@ -14,6 +14,7 @@
 #include "exdex.h"
 #include "limitsurf.h"
 #include "pads.h"
+#include "tolerances.h"
 
 #define MAX_ROWS (EXDEX_MAX_STOPS * EXDEX_MAX_VERTICES)
 

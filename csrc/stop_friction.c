@@ -85,7 +85,7 @@ static int rows_fix_qdd(int nr, const sf_row *rows, const double minv[3], double
  * the radius of gyration) such a combination exists iff the required R
  * lies in the cone spanned by the D_g: the margin is the least signed
  * distance of R to the cone's facets (planes through pairs of generators
- * with every generator on one side), plus the band SF_BAND |R|. A cone that
+ * with every generator on one side), plus the band FRICTION_BAND |R|. A cone that
  * is all of R^3 has no facet: any force is available (margin |R| +
  * band). Generators of rank below 3 are no lock (returns 0). The split
  * written into r is the combination nearest R (ldp_min_combination). */
@@ -152,7 +152,7 @@ static int solve_lock(int nr, const sf_row *rows, int ns, const sf_stop *st, con
             if (neg && !pos) margin = fmin(margin, -ex_dot3(n, Rs));
         }
     if (!rank3) return 0;
-    margin = (isfinite(margin) ? margin : nR) + SF_BAND * nR;
+    margin = (isfinite(margin) ? margin : nR) + FRICTION_BAND * nR;
     if (!given && !(margin >= 0.0)) return 0;
     ldp_min_combination(ng, mR, (const double (*)[3])Ds, coef, NULL);
     for (int c = 0; c < 3; c++) r->qdd[c] = qdd[c];
@@ -272,7 +272,7 @@ static int solve_mode(int nr, const sf_row *rows, int ns, const sf_stop *st, con
     for (int j = 0; j < ns; j++) {
         if (!has[j] || !(st[j].mu > 0.0)) continue;
         if (m[j] == SF_STICK && roll[j]) {
-            if (!(fabs(r->beta[j]) <= st[j].mu * r->lsum[j] * (1.0 + SF_BAND))) return 0;
+            if (!(fabs(r->beta[j]) <= st[j].mu * r->lsum[j] * (1.0 + FRICTION_BAND))) return 0;
         } else if (m[j] == SF_SLIDE_P || m[j] == SF_SLIDE_M) {
             double sg = m[j] == SF_SLIDE_P ? 1.0 : -1.0;
             r->beta[j] = -st[j].mu * sg * r->lsum[j];

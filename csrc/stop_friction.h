@@ -34,7 +34,7 @@
  * accepted when its signs hold: lam >= -tol_f, the gap accelerations of the
  * rows without force >= -tol_a and, for a rolling stop (SF_ROLL), the mode
  * chosen for it: sticking inside its cone (|beta| <= mu sum lam (1 +
- * SF_BAND)), or sliding with its slip acceleration of the sign of the slide
+ * FRICTION_BAND)), or sliding with its slip acceleration of the sign of the slide
  * (>= -tol_a). A stop given a mode (SF_STICK, SF_SLIDE_*) keeps it without
  * these checks: its equations stay smooth in time, and the caller's guards
  * (the cone margin, the slip's sign) say when it ends.
@@ -48,7 +48,7 @@
  * lies in the cone of the mode's generators (the rows' G_i +- mu T_k in
  * the friction cones, G_i - mu sigma T_k for a sliding stop, G_i for a
  * frictionless one), with the margin (res.margin, the least signed distance
- * of the force to the cone's facets plus the band SF_BAND of its size) as
+ * of the force to the cone's facets plus the band FRICTION_BAND of its size) as
  * the caller's guard of it; res.lam, res.beta get one such split (the
  * combination nearest the required force). A lock whose stops all have
  * given modes is kept whatever its margin, like any given mode (the guard
@@ -81,12 +81,12 @@
 #ifndef EXDEX_STOP_FRICTION_H
 #define EXDEX_STOP_FRICTION_H
 
+#include "tolerances.h"
+
 #define SF_ENUM_ROWS 8  /* up to this many rows every row's normal modes are enumerated (above: sf_solve) */
 #define SF_MAX_ROWS 256 /* rows: every contact row of a planar object (model.h's MAX_ROWS) */
 #define SF_MAX_STOPS (SF_MAX_ROWS + 8) /* friction groups ("stops"): the stops (EXDEX_MAX_STOPS) and the
                                           obstacles' contact lines (at most one per row) */
-#define SF_BAND 1e-12   /* relative band of the stick cone: a stop sticks while |beta| <= mu sum lam (1 + SF_BAND) */
-#define SF_LOCK_RANK 1e-9  /* a lock's constraints (unit rows, M^-1/2 metric) and generators span R^3 above this volume */
 
 /* Friction mode of a stop (sf_solve's fm). */
 enum { SF_ROLL = 0, SF_STICK = 1, SF_SLIDE_P = 2, SF_SLIDE_M = 3, SF_NONE = 4 };

@@ -2,6 +2,7 @@
  * the contact rows (stop_impulse.h): mode enumeration, each mode solved
  * exactly. */
 #include "stop_impulse.h"
+#include "tolerances.h"
 #include "util.h"
 
 #include <float.h>
@@ -10,7 +11,6 @@
 
 enum { OFF = FC_OFF, SLIDE_P = FC_SLIDE_P, SLIDE_M = FC_SLIDE_M, STICK = FC_STICK };
 
-#define REL 1e-12  /* relative slack of the sign checks (rounding of the mode solve) */
 
 static double dotn(int n, const double *a, const double *b)
 {
@@ -182,7 +182,7 @@ static int try_mode(const fc_problem *p, const int *C, int nc, const int *md, co
             const fc_row *q = &p->rows[C[gfirst[h]]];
             double d = 0.0;
             for (int c = 0; c < n; c++) d += fabs(q->T[c] - r->T[c]);
-            if (d <= 1e-12 * norm1(n, r->T) && fabs(q->tb - r->tb) <= REL * (p->vscale + fabs(r->tb))) g = h;
+            if (d <= 1e-12 * norm1(n, r->T) && fabs(q->tb - r->tb) <= FRICTION_BAND * (p->vscale + fabs(r->tb))) g = h;
         }
         if (g < 0) {
             if (m >= n || ng >= FC_MAX_WIDE) return 0;
@@ -353,27 +353,27 @@ static int try_mode(const fc_problem *p, const int *C, int nc, const int *md, co
     /* signs */
     Ls = p->cap;
     for (int c = 0; c < n; c++) Ls += p->Md[c] * (fabs(v[c]) + fabs(p->vs[c]));
-    vtol = REL * (p->vscale + norm1(n, v));
+    vtol = FRICTION_BAND * (p->vscale + norm1(n, v));
     for (int a = 0; a < k; a++) {
         int i = on[a];
         const fc_row *r = &p->rows[C[i]];
-        if (x[a] < -REL * Ls) return 0;
+        if (x[a] < -FRICTION_BAND * Ls) return 0;
         if (md[i] == SLIDE_P || md[i] == SLIDE_M) {
             double s = dotn(n, r->T, v) + r->tb;
-            if (r->mu > 0.0 && slide_sign(md[i]) * s < -(vtol + REL * fabs(r->tb))) return 0;
+            if (r->mu > 0.0 && slide_sign(md[i]) * s < -(vtol + FRICTION_BAND * fabs(r->tb))) return 0;
         }
     }
     for (int g = 0; g < ng; g++) {
         double bound = 0.0;
         for (int a = 0; a < k; a++)
             if (grp[on[a]] == g) bound += p->rows[C[on[a]]].mu * fmax(x[a], 0.0);
-        if (!(fabs(x[k + g]) <= bound * (1.0 + REL) + REL * Ls)) return 0;
+        if (!(fabs(x[k + g]) <= bound * (1.0 + FRICTION_BAND) + FRICTION_BAND * Ls)) return 0;
     }
     /* separating candidates hold (the other rows: fc_solve) */
     for (int a = 0; a < nc; a++) {
         const fc_row *r = &p->rows[C[a]];
         if (md[a] != OFF) continue;
-        if (dotn(n, r->G, v) - r->rhs < -REL * (p->vscale * norm1(n, r->G) + fabs(r->rhs))) return 0;
+        if (dotn(n, r->G, v) - r->rhs < -FRICTION_BAND * (p->vscale * norm1(n, r->G) + fabs(r->rhs))) return 0;
     }
     /* consistent: the impulses */
     for (int i = 0; i < p->nr; i++) lam[i] = beta[i] = 0.0;
@@ -411,7 +411,7 @@ static int worst_row(const fc_problem *p, const int *C, int nc, const double v[3
         int in = 0;
         for (int a = 0; a < nc; a++) in |= C[a] == i;
         if (in) continue;
-        if (viol > REL * (p->vscale * norm1(p->n, r->G) + fabs(r->rhs)) && viol > wv) {
+        if (viol > FRICTION_BAND * (p->vscale * norm1(p->n, r->G) + fabs(r->rhs)) && viol > wv) {
             wv = viol;
             worst = i;
         }
@@ -436,7 +436,7 @@ static int enumerate(const fc_problem *p, int *C, int nc, int cap, const double 
             double s = dotn(p->n, r->T, v0) + r->tb;
             guess[a] = !(r->mu > 0.0) ? SLIDE_P
                        : modes && modes[C[a]] != OFF ? modes[C[a]]
-                       : fabs(s) <= REL * (p->vscale + fabs(r->tb)) ? STICK
+                       : fabs(s) <= FRICTION_BAND * (p->vscale + fabs(r->tb)) ? STICK
                        : s > 0.0                                      ? SLIDE_P
                                                                       : SLIDE_M;
         }
@@ -491,7 +491,7 @@ static int same_line(const fc_problem *p, int i, int j)
     double dt = 0.0, tn = norm1(3, a->T), gn = fabs(a->G[0]) + fabs(a->G[1]);
     if (p->n != 3 || !(a->mu > 0.0) || a->mu != b->mu) return 0;
     for (int c = 0; c < 3; c++) dt += fabs(a->T[c] - b->T[c]);
-    return dt <= 1e-12 * tn && fabs(a->tb - b->tb) <= REL * (p->vscale + fabs(a->tb)) &&
+    return dt <= 1e-12 * tn && fabs(a->tb - b->tb) <= FRICTION_BAND * (p->vscale + fabs(a->tb)) &&
            fabs(a->G[0] - b->G[0]) + fabs(a->G[1] - b->G[1]) <= 1e-12 * gn;
 }
 
@@ -518,7 +518,7 @@ static int wide_candidates(const fc_problem *p, const unsigned char *hint, const
     for (int i = 0; i < p->nr; i++) {
         const fc_row *r = &p->rows[i];
         int want = (hint && hint[i]) || r->rest == 1 ||
-                   dotn(p->n, r->G, v0) - r->rhs < -REL * (p->vscale * norm1(p->n, r->G) + fabs(r->rhs));
+                   dotn(p->n, r->G, v0) - r->rhs < -FRICTION_BAND * (p->vscale * norm1(p->n, r->G) + fabs(r->rhs));
         int ea = i, eb = i;
         double da = 0.0, db = 0.0;
         if (!want) continue;

@@ -51,7 +51,7 @@ from exdex import diagnostics
 from exdex._params import ALIASES as _ALIASES, PARAMETERS, replace_params as _replace_params, unread as _unread
 from exdex.simulate import FrictionSolver, Method, Result, resolve_method
 
-__all__ = ["BatchResult", "simulate_batch", "sweep", "grid_points", "PARAMETERS"]
+__all__ = ["BatchResult", "simulate_batch", "sweep", "grid_points", "PARAMETERS", "INVALID_KINDS"]
 
 
 # ------------------------------------------------------------------ result
@@ -96,6 +96,10 @@ class BatchResult:
     reduction_first_bad : (B,) int64 index of the first sample whose check
         fails (n where it held, -1 for planar trajectories).
     params : dict name -> (B,) float64 values of the varied parameters.
+    checks, valid : the physics checks per trajectory (kind -> (B,) bool,
+        True where it failed) and (B,) True where none of those that decide
+        whether a run describes the grasp failed (:attr:`valid`,
+        :meth:`reasons`); :meth:`gridded` puts NaN at invalid points.
     shape : batch shape (B = prod(shape)); see :meth:`gridded`.
     scene : the base scene (or the tuple of scenes of a list batch).
     record, method, friction_solver, dt, t_end, threads : what produced it.
@@ -133,12 +137,64 @@ class BatchResult:
         bad = np.asarray(self.reduction_first_bad)
         return (bad < 0) | (bad >= len(self.t))
 
-    def gridded(self, name: str) -> NDArray[Any]:
+    @functools.cached_property
+    def _check_results(self) -> Dict[str, Tuple[NDArray[np.bool_], Callable[[int], Any]]]:
+        return _batch_checks(self)
+
+    @property
+    def checks(self) -> Dict[str, NDArray[np.bool_]]:
+        """The physics checks of every trajectory: kind -> (B,) bool, True
+        where that check failed (the kinds of :class:`exdex.PhysicsWarning`
+        the batch warns about): ``"impact"`` (an impact on a stop),
+        ``"solver"`` (soft solver problems, ``stats["warnings"]``),
+        ``"grasp"`` (pads on the fingers lost the object), ``"pad"`` (a
+        slide past the pad), ``"outline"`` (the pad centre left the body
+        outline), ``"reduction"`` (a 1-DoF run's certificate failed). Only
+        the checks that apply to the batch's scenes are present; with
+        ``record="final"`` the pad and outline checks see the final pose."""
+        return {k: m for k, (m, _) in self._check_results.items()}
+
+    @property
+    def valid(self) -> NDArray[np.bool_]:
+        """(B,) True where the trajectory passed every check that decides
+        whether it describes the grasp (``INVALID_KINDS``: grasp, pad,
+        outline, reduction, solver); an impact alone leaves it valid."""
+        ok = np.ones(len(self), dtype=bool)
+        for k, m in self.checks.items():
+            if k in INVALID_KINDS:
+                ok &= ~m
+        return ok
+
+    def reasons(self, i: int) -> Tuple[str, ...]:
+        """The kinds of the checks trajectory ``i`` failed (see :attr:`checks`), in that order."""
+        i = _index(i, len(self))
+        return tuple(k for k, m in self.checks.items() if m[i])
+
+    def gridded(self, name: str, invalid: str = "nan") -> NDArray[Any]:
         """Attribute (or stats entry) ``name`` with the batch axis reshaped to
-        ``shape``: e.g. ``gridded("final_displacement")`` is (*shape, ndof)."""
+        ``shape``: e.g. ``gridded("final_displacement")`` is (*shape, ndof).
+
+        invalid : what the grid holds for a trajectory that is not
+            :attr:`valid`: ``"nan"`` (default; float arrays get NaN there,
+            integer and bool arrays come back as a ``numpy.ma`` masked array),
+            ``"mask"`` (a masked array, masked there), ``"include"`` (its
+            values as they are). Parameters (``params``) are inputs and are
+            never masked."""
+        if invalid not in ("nan", "mask", "include"):
+            raise ValueError(f"invalid must be 'nan', 'mask' or 'include', got {invalid!r}")
+        is_param = name not in self.stats and name in self.params
         a = self.stats[name] if name in self.stats else (
             self.params[name] if name in self.params else getattr(self, name))
-        return np.asarray(a).reshape(tuple(self.shape) + np.shape(a)[1:])
+        a = np.asarray(a)
+        if name == "t" or np.shape(a)[:1] != (len(self),):
+            raise ValueError(f"gridded({name!r}): {name} has no batch axis (shape {np.shape(a)})")
+        out = a.reshape(tuple(self.shape) + a.shape[1:])
+        if invalid == "include" or is_param:
+            return out
+        bad = (~self.valid).reshape(tuple(self.shape) + (1,) * (a.ndim - 1))
+        if invalid == "nan" and out.dtype.kind in "fc":
+            return np.where(bad, np.nan, out) if bad.any() else out
+        return np.ma.masked_array(out, mask=np.broadcast_to(bad, out.shape))
 
     def scene_at(self, i: int) -> Scene:
         """The :class:`exdex.Scene` of trajectory ``i``, made with
@@ -500,33 +556,46 @@ def simulate_batch(scene: Union[Scene, Sequence[Scene]], t_end: float, dt: float
     return res
 
 
-def _batch_findings(b):
-    """One PhysicsWarning per kind of finding over the batch, naming the
-    first trajectory and how many others (record="final" checks the final
-    pose against the pad and outline only)."""
+#: The checks whose failure makes a trajectory invalid (:attr:`BatchResult.valid`): pads that
+#: lost the object ("grasp"), a slide past the pad ("pad"), the pad centre outside the body
+#: outline ("outline"), a failed reduction certificate ("reduction"), soft solver problems
+#: ("solver"). An impact ("impact") leaves the trajectory valid: only ``stop_force`` holds the
+#: impulse as a spike.
+INVALID_KINDS = ("grasp", "pad", "outline", "reduction", "solver")
+
+
+def _batch_checks(b):
+    """kind -> ((B,) bool mask, True where that check fails; make(i): the
+    PhysicsWarning of trajectory i), for every check the batch can run
+    (record="final" checks the final pose against the pad and outline only)."""
     n = len(b)
-    hits = {}   # kind -> (count, first index, PhysicsWarning of that index)
+    out = {}
 
-    def note(kind, mask, make):
-        idx = np.flatnonzero(mask)
-        if len(idx) and kind not in hits:
-            hits[kind] = (len(idx), int(idx[0]), make(int(idx[0])))
+    def add(kind, mask, make):
+        if kind in out:
+            old, make_old = out[kind]
+            first_old = np.flatnonzero(old)
+            first_new = np.flatnonzero(mask)
+            keep_old = len(first_old) and (not len(first_new) or first_old[0] < first_new[0])
+            out[kind] = (old | mask, make_old if keep_old else make)
+        else:
+            out[kind] = (np.asarray(mask, dtype=bool), make)
 
-    # stats: only the flagged trajectories are looked at
     for key in ("impacts", "warnings"):
         if key in b.stats:
-            flagged = np.asarray(b.stats[key]) > 0
             kind = "impact" if key == "impacts" else "solver"
 
             def make_stat(i, kind=kind):
                 st = {k: np.asarray(v)[i].item() for k, v in b.stats.items()}
                 st = {k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in st.items()}
                 return [w for w in diagnostics.stats_findings(st) if w.kind == kind][0]
-            note(kind, flagged, make_stat)
+            add(kind, np.asarray(b.stats[key]) > 0, make_stat)
+    # pads on the fingers: a trajectory whose grasp was lost stops at that
+    # sample (NaN after it), its time in stats["grasp_lost_t"] (NaN: held)
     if "grasp_lost_t" in b.stats:
         lost_t = np.asarray(b.stats["grasp_lost_t"], dtype=float)
-        note("grasp", np.isfinite(lost_t),
-             lambda i: diagnostics.stats_findings({"grasp_lost_t": float(lost_t[i])})[0])
+        add("grasp", np.isfinite(lost_t),
+            lambda i: diagnostics.stats_findings({"grasp_lost_t": float(lost_t[i])})[0])
     # pad and outline: the varied parameters never change the geometry, so
     # one base scene checks every trajectory at once
     groups = [(b.scene[i], [i]) for i in range(n)] if isinstance(b.scene, tuple) else [(b.scene, list(range(n)))]
@@ -542,9 +611,8 @@ def _batch_findings(b):
         for chk in diagnostics.contact_checks(sc, rows):
             mask = chk["mask"].reshape(q.shape[:2])
             value = chk["value"].reshape(q.shape[:2])
-            per = mask.any(axis=1)
             full = np.zeros(n, bool)
-            full[idx] = per
+            full[idx] = mask.any(axis=1)
 
             def make_contact(i, chk=chk, mask=mask, value=value, times=times, idx=idx):
                 r = int(np.flatnonzero(idx == i)[0])
@@ -553,7 +621,7 @@ def _batch_findings(b):
                 return diagnostics.PhysicsWarning(
                     f"at t = {times[r, j]:.6g} s " + chk["text"](v, None), kind=chk["kind"],
                     time=float(times[r, j]), quantity=chk["quantity"], value=v, limit=chk["limit"])
-            note(chk["kind"], full, make_contact)
+            add(chk["kind"], full, make_contact)
     if b.reduction_first_bad is not None:
         def make_cert(i):
             t = float(b.reduction_valid_until[i])
@@ -563,16 +631,32 @@ def _batch_findings(b):
                 f"surface does not hold; past this time that result does not describe the grasp (simulate "
                 f"that scene for the load and margin, or with dof='planar')", kind="reduction", time=t,
                 quantity="reduction_valid_until [s]", value=t, limit=None)
-        note("reduction", ~b.reduction_holds, make_cert)
-    out = []
-    for kind, (count, i, w) in hits.items():
-        msg = f"batch index {i}" + (f" (and {count - 1} more of {n} trajectories)" if count > 1 else "")
-        out.append(diagnostics.PhysicsWarning(f"{msg}: {w}", kind=w.kind, time=w.time, quantity=w.quantity,
-                                              value=w.value, limit=w.limit))
+        add("reduction", ~b.reduction_holds, make_cert)
     return out
 
 
-
+def _batch_findings(b):
+    """One PhysicsWarning per kind of finding over the batch, naming the
+    first trajectory and how many others (a :class:`exdex.ReductionWarning`
+    for failed reductions)."""
+    n = len(b)
+    out = []
+    for kind, (mask, make) in b._check_results.items():
+        idx = np.flatnonzero(mask)
+        if not len(idx):
+            continue
+        i, count = int(idx[0]), len(idx)
+        w = make(i)
+        msg = f"batch index {i}" + (f" (and {count - 1} more of {n} trajectories)" if count > 1 else "")
+        marked = (f" ({'this trajectory is' if count == 1 else 'these trajectories are'} marked invalid: "
+                  "BatchResult.valid, NaN in gridded())") if kind in INVALID_KINDS else ""
+        text = f"{msg}: {w}{marked}"
+        if kind == "reduction":
+            out.append(diagnostics.ReductionWarning.aggregate(text, w.time))
+        else:
+            out.append(diagnostics.PhysicsWarning(text, kind=w.kind, time=w.time, quantity=w.quantity,
+                                                  value=w.value, limit=w.limit))
+    return out
 
 
 def _warn_log_jumps(scenes, specs, t_end):
@@ -637,7 +721,8 @@ def _combine(parts, shape):
 
 
 def sweep(fn_or_scene: Union[Scene, Callable[..., Any]], grid: Mapping[str, ArrayLike],
-          executor: Optional[cf.Executor] = None, chunk: int = 256, progress: Optional[bool] = None, *,
+          executor: Optional[cf.Executor] = None, chunk: Optional[int] = None,
+          progress: Union[bool, None, Callable[[int, int], Any]] = None, *,
           product: bool = True, t_end: Optional[float] = None, dt: float = 1e-3, record: str = "final",
           **options: Any) -> Any:
     """Run a parameter grid in chunks over any concurrent.futures.Executor.
@@ -661,12 +746,18 @@ def sweep(fn_or_scene: Union[Scene, Callable[..., Any]], grid: Mapping[str, Arra
         Where the chunks run: e.g. ``ThreadPoolExecutor`` (the default, one
         worker per CPU, shut down afterwards) or a Dask cluster's
         ``client.get_executor()``. An executor you pass is not shut down.
-    chunk : int
+    chunk : int or None
         Parameter sets per task (>= 1). Larger chunks cost less scheduling;
-        keep several chunks per worker for balance.
-    progress : bool or None
-        Show a tqdm progress bar (parameter sets done); None (default): when
-        tqdm is installed (the ``plot`` extra).
+        keep several chunks per worker for balance. None (default): about
+        eight chunks per worker, at most 256 parameter sets each (the grid
+        size over 8 x the workers, rounded up), so the progress moves in
+        steps of a few percent.
+    progress : bool, None or callable
+        Show a tqdm progress bar (parameter sets done), updated as each
+        chunk finishes; None (default): when tqdm is installed (the ``plot``
+        extra). A callable ``progress(done, total)`` is called instead after
+        each chunk (in the calling thread) with the parameter sets done so
+        far and the grid's size.
     t_end, dt, record, **options
         For a scene: as in :func:`simulate_batch` (options: method,
         friction_solver, eps, rtol, atol). Sweeps record the final sample only
@@ -675,7 +766,10 @@ def sweep(fn_or_scene: Union[Scene, Callable[..., Any]], grid: Mapping[str, Arra
     Returns
     -------
     BatchResult (for a scene) or the concatenated results of ``fn``, entry i
-    belonging to the i-th grid point (see :func:`grid_points`).
+    belonging to the i-th grid point (see :func:`grid_points`). A scene's
+    BatchResult marks the grid points that failed a physics check
+    (:attr:`BatchResult.valid`, :attr:`BatchResult.checks`); its
+    ``gridded()`` holds NaN there unless ``invalid="include"``.
 
     A failing chunk cancels the chunks not yet started and re-raises its
     exception with a note naming the chunk's grid points.
@@ -683,8 +777,11 @@ def sweep(fn_or_scene: Union[Scene, Callable[..., Any]], grid: Mapping[str, Arra
     flat, shape = grid_points(grid, product=product)
     total = math.prod(shape)
     warn = False
-    if isinstance(chunk, bool) or not isinstance(chunk, (int, np.integer)) or chunk < 1:
-        raise ValueError(f"chunk must be an int >= 1, got {chunk!r}")
+    if chunk is not None and (isinstance(chunk, bool) or not isinstance(chunk, (int, np.integer)) or chunk < 1):
+        raise ValueError(f"chunk must be an int >= 1 or None, got {chunk!r}")
+    report = progress if callable(progress) else None
+    if not (report is not None or progress is None or isinstance(progress, (bool, np.bool_))):
+        raise TypeError(f"progress must be True, False, None or a callable (done, total), got {progress!r}")
     if executor is not None and not isinstance(executor, cf.Executor):
         raise TypeError(f"executor must be a concurrent.futures.Executor, got {type(executor).__name__}")
     if isinstance(fn_or_scene, Scene):
@@ -705,12 +802,18 @@ def sweep(fn_or_scene: Union[Scene, Callable[..., Any]], grid: Mapping[str, Arra
     else:
         raise TypeError(f"fn_or_scene must be an exdex.Scene or a callable, got {type(fn_or_scene).__name__}")
 
+    if chunk is None:
+        workers = _cpu_count() if executor is None else int(getattr(executor, "_max_workers", 0) or _cpu_count())
+        chunk = min(256, max(1, -(-total // (8 * workers))))
     bounds = [(a, min(a + int(chunk), total)) for a in range(0, total, int(chunk))]
     own = executor is None
     ex: cf.Executor = cf.ThreadPoolExecutor(max_workers=_cpu_count()) if executor is None else executor
     parts = [None] * len(bounds)
-    if progress is None:
+    if report is not None:
+        progress = False
+    elif progress is None:
         progress = _optional.available("tqdm")
+    done = 0
     try:
         with _optional.progress_bar(total=total, desc="exdex sweep", unit="traj", disable=not progress,
                                     smoothing=0.1, auto=True, feature="sweep(progress=True)") as bar:
@@ -726,6 +829,9 @@ def sweep(fn_or_scene: Union[Scene, Callable[..., Any]], grid: Mapping[str, Arra
                             exc.add_note(f"sweep: in chunk {j} (grid points {a}..{b - 1} of {total})")
                         raise
                     bar.update(bounds[j][1] - bounds[j][0])
+                    done += bounds[j][1] - bounds[j][0]
+                    if report is not None:
+                        report(done, total)
             except BaseException:
                 for f in futures:
                     f.cancel()

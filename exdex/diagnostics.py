@@ -75,6 +75,20 @@ class ReductionWarning(PhysicsWarning):
                          else "plate load the slip's friction cannot give, over the capacity",
                          value=self.gauge, limit=1.0 if self.stick else 0.0)
 
+    @classmethod
+    def aggregate(cls, message: str, time: float) -> "ReductionWarning":
+        """The warning of a batch whose trajectories' reductions failed (one
+        for the batch): ``time`` the first trajectory's ``reduction_valid_until``
+        [s] (also ``value``). A batch keeps only when each reduction failed, so
+        ``coordinate``, ``load``, ``stick``, ``gauge``, ``capacity`` and
+        ``margin`` are None; simulate that trajectory's scene
+        (``BatchResult.scene_at``) for them."""
+        w = cls.__new__(cls)
+        w.coordinate = w.load = w.stick = w.gauge = w.capacity = w.margin = None
+        PhysicsWarning.__init__(w, message, kind="reduction", time=time, quantity="reduction_valid_until [s]",
+                                value=time, limit=None)
+        return w
+
 
 _COORD = {0: "pivot", 1: "across", 2: "theta"}
 _COORD_TEXT = {"pivot": "the pivot's translation (x, y)", "across": "the translation across the slide axis",

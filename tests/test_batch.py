@@ -9,6 +9,7 @@ the batch of the same grid whatever executor runs them. No timings here
 (benchmarks/bench_batch.py measures speed)."""
 import concurrent.futures as cf
 import dataclasses
+import math
 import re
 import sys
 import time
@@ -469,3 +470,120 @@ def test_parameters_the_scene_does_not_read_are_refused():
     # the exact surface's patch centre moves its region: read
     b = exdex.simulate_batch(exact, 0.1, 0.01, patch_x=[0.0, 0.002])
     assert b.q.shape[0] == 2
+
+
+# ------------------------------------------------------------ validity per trajectory
+
+def _serial_kinds(scene, t_end, dt):
+    """The kinds of PhysicsWarning exdex.simulate gives one scene (its own checks, serial)."""
+    import warnings
+
+    with warnings.catch_warnings(record=True) as rec:
+        warnings.simplefilter("always")
+        exdex.simulate(scene, t_end, dt)
+    return {w.message.kind for w in rec if isinstance(w.message, exdex.PhysicsWarning)}
+
+
+def _readme_box():
+    return exdex.Scene(body=exdex.Body.box(0.1, (0.03, 0.06, 0.02)),
+                       grasp=exdex.Grasp(mu=0.5, grip_force=1.5, patch=exdex.Patch.rectangle(0.01, 0.02)),
+                       motion=exdex.AsymmetricProfile(amplitude=0.1, duration=0.5, beta=0.9, axis=(0, 0, -1)))
+
+
+def test_batch_marks_the_trajectories_its_warning_counts():
+    """The README's box: weak grips slide the pad centre off the 6 cm box.
+    Each trajectory's mark equals what exdex.simulate of its scene warns
+    (the serial checks, run one scene at a time), the warning's count is the
+    number of invalid runs, and gridded() holds NaN exactly there."""
+    grips = np.linspace(1.2, 1.8, 7)
+    with pytest.warns(exdex.PhysicsWarning, match=r"batch index 0 \(and (\d+) more of 7 trajectories\).*outside "
+                                                  r"the body outline.*marked invalid") as rec:
+        b = simulate_batch(_readme_box(), 1.5, 1e-3, record="final", grip_force=grips)
+    serial = [_serial_kinds(b.scene_at(i), 1.5, 1e-3) for i in range(len(b))]
+    assert [bool(s & set(exdex.batch.INVALID_KINDS)) for s in serial] == list(~b.valid)
+    assert [("outline" in s) for s in serial] == list(b.checks["outline"])
+    assert 0 < (~b.valid).sum() < len(b)
+    count = int(re.search(r"and (\d+) more", str(rec[0].message)).group(1)) + 1
+    assert count == (~b.valid).sum()
+    assert b.reasons(0) == ("outline",) and b.reasons(len(b) - 1) == ()
+    g = b.gridded("final_displacement")
+    assert np.array_equal(np.isnan(g[:, 0]), ~b.valid)
+    np.testing.assert_array_equal(g[b.valid], b.final_displacement[b.valid])
+    np.testing.assert_array_equal(b.gridded("final_displacement", invalid="include"), b.final_displacement)
+    m = b.gridded("steps")                      # integers: masked, not NaN
+    assert isinstance(m, np.ma.MaskedArray) and list(m.mask) == list(~b.valid)
+    np.testing.assert_array_equal(b.gridded("grip_force"), grips)   # inputs are never masked
+    with pytest.raises(ValueError, match="invalid must be"):
+        b.gridded("q", invalid="drop")
+
+
+@pytest.mark.warns_by_design("outline")
+def test_sweep_grid_carries_the_mask():
+    grid = {"grip_force": np.linspace(1.2, 1.8, 4), "beta": [0.8, 0.9]}
+    s = sweep(_readme_box(), grid, chunk=3, progress=False, t_end=1.5, dt=1e-3)
+    b = simulate_batch(_readme_box(), 1.5, 1e-3, record="final", warn=False,
+                       grip_force=grid["grip_force"][:, None], beta=[grid["beta"]])
+    np.testing.assert_array_equal(s.valid, b.valid)
+    assert not s.valid.all()
+    g = s.gridded("final_displacement")
+    assert g.shape == (4, 2, 1) and np.array_equal(np.isnan(g[..., 0]), ~s.valid.reshape(4, 2))
+
+
+def test_batch_reduction_warning_is_a_reduction_warning():
+    """A batch's failed certificates come as one exdex.ReductionWarning (so a
+    filter on that category catches it), like a single run's; the
+    trajectories are invalid. Scene: tests/test_certify.py's box held by a pad
+    6 cm off its centre of mass, below and above the closed-form grip
+    F* = W sqrt(1 + (d / e_r)^2) / (2 mu) at which the held load leaves the
+    ellipsoid."""
+    pad = exdex.Patch.rectangle(0.02, 0.02, center=(0.06, 0.0))
+    sc = exdex.Scene(body=exdex.Body.box(0.2, (0.15, 0.08, 0.03)),
+                     grasp=exdex.Grasp(mu=1.0, grip_force=3.0, patch=pad), dof="translation")
+    F = 0.2 * 9.81 * math.sqrt(1.0 + (0.06 / pad.e_r) ** 2) / 2.0
+    with pytest.warns(exdex.ReductionWarning, match=r"batch index 0 \(and 1 more of 4 trajectories\)") as rec:
+        b = simulate_batch(sc, 0.2, 1e-3, grip_force=F * np.array([0.9, 0.99, 1.01, 1.1]))
+    w = [r.message for r in rec if isinstance(r.message, exdex.ReductionWarning)]
+    assert len(w) == 1 and w[0].kind == "reduction" and w[0].time == 0.0 and w[0].load is None
+    assert list(b.valid) == [False, False, True, True] and list(b.checks["reduction"]) == [True, True, False, False]
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        warnings.simplefilter("ignore", exdex.ReductionWarning)
+        simulate_batch(sc, 0.2, 1e-3, grip_force=F * np.array([0.9, 1.1]))   # filtered by category: no error
+
+
+def test_batch_marks_a_lost_grasp():
+    """Pads on the fingers: a weak grip slides the box off a 1 cm disc pad
+    (the grasp is lost: NaN after that sample), a firm one holds it; the
+    marks match the serial runs' grasp warnings."""
+    body = exdex.Body.box(0.2, (0.15, 0.08, 0.02))
+    sc = exdex.Scene(body=body, grasp=exdex.Grasp(mu=0.3, grip_force=0.3, patch=exdex.Patch.rectangle(0.02, 0.02),
+                                                  pad=exdex.Pad.disc(0.01)),
+                     dof="planar", q0=(0.002, 0.0, 0.0), gravity=(0.0, -9.81, 0.0), gripper_rotation=np.eye(3))
+    grips = [0.3, 6.0]
+    for record in ("all", "final"):
+        with pytest.warns(exdex.PhysicsWarning, match="batch index 0: .*grasp is lost"):
+            b = simulate_batch(sc, 0.3, 1e-3, record=record, grip_force=grips)
+        assert list(b.checks["grasp"]) == [True, False] and list(b.valid) == [False, True]
+    assert [("grasp" in _serial_kinds(b.scene_at(i), 0.3, 1e-3)) for i in range(2)] == [True, False]
+
+
+def test_sweep_progress_is_called_per_chunk(fig3):
+    """progress=callable gets (done, total) once per finished chunk; the
+    default chunk gives about eight chunks per worker, so a 183-point grid
+    on 2 workers comes in chunks of ceil(183 / 16) = 12 points: 16 reports."""
+    calls = []
+    with cf.ThreadPoolExecutor(max_workers=2) as ex:
+        sweep(fig3, {"grip_force": np.linspace(1.3, 1.7, 7)}, executor=ex, chunk=2, t_end=0.05, dt=1e-3,
+              progress=lambda done, total: calls.append((done, total)))
+    assert [c[1] for c in calls] == [7] * 4
+    assert sorted(c[0] for c in calls) == [c[0] for c in calls] and calls[-1][0] == 7
+    assert sorted(np.diff([0] + [c[0] for c in calls])) == [1, 2, 2, 2]
+    calls.clear()
+    with cf.ThreadPoolExecutor(max_workers=2) as ex:
+        sweep(fig3, {"grip_force": np.linspace(1.3, 1.7, 61), "beta": [0.8, 0.85, 0.9]}, executor=ex,
+              t_end=0.01, dt=1e-3, progress=lambda done, total: calls.append(done))
+    assert len(calls) == 16 and calls[-1] == 183 and calls[0] == 12
+    with pytest.raises(TypeError, match="progress must be"):
+        sweep(fig3, {"mu": [0.1]}, t_end=0.01, progress="yes")

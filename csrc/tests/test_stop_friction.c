@@ -205,7 +205,7 @@ EXDEX_TEST(sfric_block_in_corner_is_a_lock_or_slides_up_the_wall_per_coulomb)
                 for (int k = 0; k < 3; k++) sum[k] += r.lam[i] * rows[i].G[k];
             }
             for (int j = 0; j < 2; j++) {
-                ENSURE(fabs(r.beta[j]) <= st[j].mu * r.lsum[j] * (1.0 + SF_BAND));
+                ENSURE(fabs(r.beta[j]) <= st[j].mu * r.lsum[j] * (1.0 + FRICTION_BAND));
                 for (int k = 0; k < 3; k++) sum[k] += r.beta[j] * st[j].T[k];
             }
             ENSURE_CLOSE(fabs(sum[0]) + fabs(sum[1]) + fabs(sum[2]) / h, 0.0, 1e-12);

@@ -139,6 +139,10 @@ def test_other_readme_code_runs():
     shape = re.search(r'b\.gridded\("final_displacement"\)\s*# \((\d+), (\d+), (\d+)\)', README)
     assert scope["b"].gridded("final_displacement").shape == tuple(int(x) for x in shape.groups())
     assert np.all(np.isfinite(scope["b"].final_displacement))
+    # the runs the batch's warning counts are marked, and the grid has NaN there only
+    grid = scope["b"].gridded("final_displacement")
+    assert "NaN where b.valid is False" in README and not scope["b"].valid.all()
+    np.testing.assert_array_equal(np.isnan(grid[..., 0]).ravel(), ~scope["b"].valid)
 
 
 def _tables(text):

@@ -1,0 +1,679 @@
+/* hybrid_decide.c -- the decision of the hybrid methods (hybrid.h): the mode
+ * after an event or at a segment start (decide_modes, the stop friction's
+ * modes sf_decide), the contact set's tie rules and the projections onto the
+ * contact set after a step. */
+#include "hybrid.h"
+
+/* A contact-set row whose separation was located at t and that the
+ * decision there put back into the set, twice at the same time: at the
+ * separation instant its force and gap acceleration both vanish, and the
+ * complementarity solve at the decided state may return a force of
+ * rounding size (lam > 0) with the guard lam G M^-1 G^T - gap acceleration
+ * of rounding size below 0, which the next step then finds falling (the row
+ * separates with the row still in the set: the step would be taken with a
+ * violated guard and the row's gap unwatched, its stop no longer able to
+ * act as an impact). The event's own answer stands: the row leaves the set
+ * (its free gap guard watches it again; a row that still pushes comes back
+ * by an impact at rate ~0); with frictional rows the friction groups and
+ * modes of the rows left are decided again (hyb_sf_redecide). */
+void hyb_set_tie_leaves(hyb *H, int r)
+{
+    int n = 0;
+    for (int i = 0; i < H->ncs; i++)
+        if (H->cs[i] != r) H->cs[n++] = H->cs[i];
+    H->ncs = n;
+}
+
+static void planar_prune_set(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y);
+
+/* The other tie: a free stop row whose gap crossing was located at t, twice
+ * at the same time, with the decision leaving it free: a corner (or a face,
+ * two corners) arriving at its stop tangentially (normal rate ~0, the
+ * object sliding along it) and pressed into it, whose rate at the located
+ * point is positive by up to the gap acceleration times the location
+ * tolerance, above tol.rate, so that it neither takes an impact nor joins
+ * the contact set, and the next step drives it into the stop. The event's
+ * answer stands: every touching stop row (gap <= tol.touch) whose rate is
+ * below zsw joins the set, where the complementarity solve keeps the rows
+ * that push (planar_prune_set). */
+void hyb_set_tie_joins(hyb *H, const double *y, double t)
+{
+    frame f;
+    exdex_kinematics kin;
+    unsigned char in[MAX_ROWS];
+    if (hyb_frame_seg(H, t, &f, &kin)) return;
+    memset(in, 0, (size_t)(H->ns * H->nv));
+    for (int i = 0; i < H->ncs; i++)
+        if (H->cs[i] < H->ns * H->nv) in[H->cs[i]] = 1;
+    for (int r = 0; r < H->ns * H->nv && H->ncs < MAX_ROWS; r++) {
+        double G[3], gd;
+        if (in[r]) continue;
+        if (contact_row_planar(H->m, &kin, r / H->nv, r % H->nv, y, y + 3, G, &gd, NULL) <= H->m->tol.touch &&
+            fabs(gd) <= H->zsw)
+            H->cs[H->ncs++] = r;
+    }
+    planar_prune_set(H, &f, &kin, y);
+}
+
+/* Keep in the planar contact set only the rows that push (lam > 0) under
+ * the accelerations of the current (non-stick) mode at (t, y); in a lock
+ * (stop_friction.h) the rows it holds: their forces are indeterminate, a row
+ * without force in one split carries it in another, and they all hold (gap
+ * acceleration 0) while the lock lasts. */
+static void planar_prune_set(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y)
+{
+    hyb_pads(H, y);
+    double F[3], w[3], P[3], a[3], qdd[3], lam[MAX_ROWS];
+    int n = 0;
+    if (!H->ncs || H->mode == MODE_STICK) return;
+    if (hyb_planar_friction(H, f, kin, y, F, w)) return;
+    model_gen_of_patch(H->m, MODEL_CS(y[2]), w, P);
+    for (int i = 0; i < 3; i++) a[i] = H->m->minv[i] * (F[i] + P[i]);
+    unsigned lk = 0u;
+    hyb_contact_acc_planar(H, kin, y, a, qdd, lam, NULL, &lk);
+    for (int i = 0; i < H->ncs; i++)
+        if (lam[i] > 0.0 || (lk >> i & 1u)) H->cs[n++] = H->cs[i];
+    H->ncs = n;
+}
+
+/* ------------------------------------ planar frictional stops: modes */
+
+/* In a lock of the current modes at (t, y) (S its problem): y's velocity
+ * replaced by the one holding the lock's rows at rate 0 and its sticking
+ * stops' slips at 0 (sf_lock_solve to tol.rate), provided the set's other
+ * rows do not approach at it. Returns 1 if replaced. */
+static int sf_lock_velocity(hyb *H, const frame *f, const exdex_kinematics *kin, double *y, const sf_set *S)
+{
+    double a[3], qdd[3], lamc[MAX_ROWS], C[SF_MAX_ROWS + SF_MAX_STOPS][3], hyb_rhs[SF_MAX_ROWS + SF_MAX_STOPS], v[3],
+        Go[SF_MAX_ROWS][3], bo[SF_MAX_ROWS];
+    unsigned lk = 0u;
+    int k = 0, no = 0;
+    if (hyb_sf_free_acc(H, f, kin, y, a) != EXDEX_OK) return 0;
+    hyb_contact_acc_planar(H, kin, y, a, qdd, lamc, NULL, &lk);
+    if (!lk) return 0;
+    for (int i = 0; i < H->ncs && i < SF_MAX_ROWS; i++) {
+        double G[3], gd;
+        hyb_hrow_planar(H, kin, H->cs[i], y, y + 3, G, &gd, NULL);
+        if (lk >> i & 1u) {
+            memcpy(C[k], G, sizeof G);
+            hyb_rhs[k++] = -(gd - ex_dot3(G, y + 3));
+        } else {
+            memcpy(Go[no], G, sizeof G);
+            bo[no++] = -(gd - ex_dot3(G, y + 3));
+        }
+    }
+    for (int j = 0; j < S->ng; j++) {
+        if (!(S->has[j] && S->st[j].mu > 0.0 && H->fm[j] == SF_STICK)) continue;
+        memcpy(C[k], S->st[j].T, sizeof C[k]);
+        hyb_rhs[k++] = -S->tb[j];
+    }
+    if (!sf_lock_solve(k, (const double (*)[3])C, hyb_rhs, H->m->minv, H->m->tol.rate, v)) return 0;
+    for (int i = 0; i < no; i++)
+        if (!(ex_dot3(Go[i], v) >= bo[i] - H->m->tol.rate)) return 0;
+    memcpy(y + 3, v, sizeof v);
+    return 1;
+}
+
+/* The velocity of a planar object with sticking stops (H->fm SF_STICK,
+ * not at rest) projected in the M metric onto their slips 0 (T v = -tb)
+ * and the contact-set rows' no-approach G v >= -(gd - G v). In a lock
+ * (stop_friction.h: more such rows than coordinates, dependent) the velocity is
+ * the one that holds the lock's rows at rate 0 and its stops' slips at 0
+ * (sf_lock_solve, to tol.rate), the set's other rows not approaching; the
+ * projection of the dependent rows as inequality pairs would be
+ * inconsistent by rounding. */
+static void sf_project_stick(hyb *H, const frame *f, const exdex_kinematics *kin, double *y)
+{
+    sf_set S;
+    double Gr[SF_MAX_ROWS + 2 * SF_MAX_STOPS][3], b[SF_MAX_ROWS + 2 * SF_MAX_STOPS],
+        lam[SF_MAX_ROWS + 2 * SF_MAX_STOPS], v[3];
+    int n = 0, stick = 0;
+    if (H->mode == MODE_STICK || !H->ncs || hyb_sf_build(H, kin, y, &S) < 0) return;
+    for (int k = 0; k < S.ng; k++) stick += S.has[k] && S.st[k].mu > 0.0 && H->fm[k] == SF_STICK;
+    if (!stick) return;
+    if (H->ncs + stick > 3 && sf_lock_velocity(H, f, kin, y, &S)) return;
+    for (int i = 0; i < H->ncs; i++) {
+        int r = H->cs[i];
+        double gd;
+        hyb_hrow_planar(H, kin, r, y, y + 3, Gr[n], &gd, NULL);
+        b[n] = -(gd - ex_dot3(Gr[n], y + 3));
+        n++;
+    }
+    for (int k = 0; k < S.ng; k++) {
+        if (!(S.has[k] && S.st[k].mu > 0.0 && H->fm[k] == SF_STICK)) continue;
+        for (int c = 0; c < 3; c++) {
+            Gr[n][c] = S.st[k].T[c];
+            Gr[n + 1][c] = -S.st[k].T[c];
+        }
+        b[n] = -S.tb[k];
+        b[n + 1] = S.tb[k];
+        n += 2;
+    }
+    if (ldp_project(H->m->minv, n, (const double (*)[3])Gr, b, y + 3, FQ_MIN, v, lam, &H->st->stop_iterations,
+                    &H->st->warnings))
+        memcpy(y + 3, v, sizeof v);
+}
+
+/* The stops' friction modes after decide_modes at (t, y) (every H->fm was
+ * SF_ROLL during it): at rest from each stop's tb (above); else the mode
+ * that the acceleration-level problem finds, the stops sliding where |s| >
+ * zsw, and a sticking stop's slip projected to 0. In a small slip the
+ * plate friction depends on the stops' modes (below): a mode is kept only
+ * if the problem decides it again on its own plate friction. No
+ * consistent mode (Painleve, or a small slip whose coupled problem has
+ * none, or more than 3 rolling stops in a small slip): the stops
+ * frictionless, a warning. */
+static void sf_decide(hyb *H, double t, double *y)
+{
+    frame f;
+    exdex_kinematics kin;
+    sf_set S;
+    sf_result res;
+    double a[3];
+    int nr, ok = 0, fs;
+    if (!H->ncs) return;
+    fs = hyb_frame_seg(H, t, &f, &kin);
+    if (fs) {
+        H->err = H->err ? H->err : fs;
+        return;
+    }
+    nr = hyb_sf_build(H, &kin, y, &S);
+    if (H->mode == MODE_STICK) {
+        for (int k = 0; k < S.ng; k++)
+            if (S.has[k] && S.st[k].mu > 0.0)
+                H->fm[k] = fabs(S.tb[k]) <= H->zsw ? SF_STICK : S.tb[k] > 0.0 ? SF_SLIDE_P : SF_SLIDE_M;
+        return;
+    }
+    if (H->mode == MODE_SLIP && H->small && nr >= 0) {
+        /* a small slip's plate friction is found together with the stop
+         * forces (hyb_planar_friction's fixed point), so it depends on the
+         * stops' modes: each mode of the rolling stops (|s| <= zsw) is
+         * tried with its own plate friction, and the first that the
+         * problem decides again from that friction is kept (the guards
+         * then start from a consistent mode) */
+        int roll[SF_MAX_STOPS], pick[SF_MAX_STOPS] = {0}, nroll = 0, found = 0;
+        static const int cand[3] = {SF_STICK, SF_SLIDE_P, SF_SLIDE_M};
+        for (int k = 0; k < S.ng; k++)
+            if (S.has[k] && S.st[k].mu > 0.0 && S.st[k].fm == SF_ROLL) roll[nroll++] = k;
+        for (int combo = 0; nroll <= 3 && !found; combo++) {
+            int c = combo, same = 1;
+            if (combo >= (nroll == 0 ? 1 : nroll == 1 ? 3 : nroll == 2 ? 9 : 27)) break;
+            for (int i = 0; i < nroll; i++) {
+                pick[i] = cand[c % 3];
+                c /= 3;
+            }
+            for (int k = 0; k < S.ng; k++) H->fm[k] = SF_ROLL;
+            for (int i = 0; i < nroll; i++) H->fm[roll[i]] = pick[i];
+            fs = hyb_sf_free_acc(H, &f, &kin, y, a);
+            if (fs) {
+                H->err = H->err ? H->err : fs;
+                return;
+            }
+            for (int k = 0; k < S.ng; k++) H->fm[k] = SF_ROLL;
+            if (!hyb_sf_solve_at(H, &kin, y, a, &res)) continue;
+            for (int i = 0; i < nroll; i++) same &= res.fm[roll[i]] == pick[i];
+            found = ok = same;
+        }
+        if (!found && nroll) {
+            /* no combination is decided again on its own plate friction
+             * (a lock's plate friction, with its stops given, against the
+             * roll decision that tries locks last, stop_friction.h): the modes
+             * the problem finds with every rolling stop left to it, on the
+             * plate friction of that same problem (the fixed point of
+             * hyb_planar_friction with the stops rolling) */
+            for (int k = 0; k < S.ng; k++) H->fm[k] = SF_ROLL;
+            fs = hyb_sf_free_acc(H, &f, &kin, y, a);
+            if (fs) {
+                H->err = H->err ? H->err : fs;
+                return;
+            }
+            ok = hyb_sf_solve_at(H, &kin, y, a, &res);
+        }
+    } else if (nr >= 0) {
+        fs = hyb_sf_free_acc(H, &f, &kin, y, a);
+        if (fs) {
+            H->err = H->err ? H->err : fs;
+            return;
+        }
+        ok = hyb_sf_solve_at(H, &kin, y, a, &res);
+    }
+    for (int k = 0; k < S.ng; k++) {
+        if (!(S.has[k] && S.st[k].mu > 0.0)) continue;
+        H->fm[k] = ok ? res.fm[k] : SF_NONE;
+    }
+    if (!ok) {
+        H->st->warnings++;
+        return;
+    }
+    sf_project_stick(H, &f, &kin, y);
+}
+
+/* ------------------------------------------------------------- decisions */
+
+/* Choose the mode at (t, y) (after an event, at a segment start, at t = 0).
+ * vzero: qd is known to be 0 (a slip just stopped). May change y (impacts,
+ * projection onto a stop). */
+static void decide_modes(hyb *H, double t, double *y, int vzero)
+{
+    hyb_pads(H, y);
+    const exdex_model *m = H->m;
+    frame f;
+    exdex_kinematics kin;
+    int fs = hyb_frame_seg(H, t, &f, &kin);
+    if (fs) {
+        H->err = H->err ? H->err : fs;
+        return;
+    }
+    if (H->ndof == 3) {
+        double F[3], w[3], u[3], zero[3] = {0, 0, 0};
+        if (H->ns || H->no) {
+            hyb_planar_unpenetrate(H, &kin, y);
+            hyb_planar_impact_and_set(H, t, &kin, y);
+        }
+        if (H->law == LAW_SMOOTH) {
+            H->mode = MODE_FREE;
+            planar_prune_set(H, &f, &kin, y);
+            return;
+        }
+        if (!vzero && (y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0)) {
+            /* a slip below zsw (left by an impact or a jump of the
+             * gripper): it stops where the load can be held, else it
+             * slips on as a small slip (below) */
+            /* a small slip stays small up to SLIP_UP zsw (its guard's
+             * hysteresis): an event of another guard (a stop row) within
+             * that band must not turn it into a large slip, whose decay
+             * guard at zsw would fire at once and stop it again */
+            double band = H->mode == MODE_SLIP && H->small ? SLIP_UP * H->zsw : H->zsw;
+            model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
+            for (int i = 0; i < 3; i++) u[i] *= m->e[i];
+            if (!(sqrt(ex_dot3(u, u)) >= band)) {
+                if (hyb_planar_load_held(H, &f, &kin, y)) {
+                    vzero = 1;
+                } else {
+                    H->mode = MODE_SLIP;
+                    H->small = 1;
+                    planar_prune_set(H, &f, &kin, y);
+                    return;
+                }
+            }
+        }
+        if (vzero) {
+            y[3] = y[4] = y[5] = 0.0;
+            if (H->ns || H->no) {
+                /* a slip that stopped against stops moving in B: the stops
+                 * push it on at their own speed. If that slip is below
+                 * SLIP_PUSH zsw it would soon count as stopped again
+                 * (Zeno-like restarts); it is a rest instead, on
+                 * every touching row, which the tol.rest_gap guard ends once the
+                 * stops have moved (a drift below tol.rest_gap). The same
+                 * for a touching stop that recedes in B at a rate below
+                 * SLIP_PUSH zsw (the slip that followed it stopped): left
+                 * out of the set, the load would push the object back onto
+                 * it at once, an impact at the same time, and so on. And
+                 * for a slip that stopped (below zsw) while a contact-set
+                 * row held it, when that row's stop recedes faster and
+                 * friction alone cannot hold the load (hyb_planar_set_recedes:
+                 * the object followed the stop, pushing on it): at rest the
+                 * row would separate at once and the load drive the object
+                 * back onto it, an impact every few hundred ns; the rest on
+                 * the touching rows lags the stop by at most tol.rest_gap
+                 * before its guard ends it, as for a slow recession */
+                double ysv[NSRC_MAX], u[3], eu[3], Ga[MAX_ROWS][3], ga[MAX_ROWS], gda[MAX_ROWS];
+                int recede = hyb_planar_set_recedes(H, &f, &kin, y), ra[MAX_ROWS], na;
+                memcpy(ysv, y + 9, (size_t)(H->ns + H->no) * sizeof *ysv);
+                hyb_planar_impact_and_set(H, t, &kin, y);
+                model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
+                for (int i = 0; i < 3; i++) eu[i] = m->e[i] * u[i];
+                na = hyb_hrow_all_planar(H, &kin, y, ra, Ga, ga, gda);
+                if (y[3] == 0.0 && y[4] == 0.0 && y[5] == 0.0)
+                    for (int i = 0; i < na && !recede; i++)
+                        if (ga[i] <= m->tol.touch && gda[i] > m->tol.rate && gda[i] < SLIP_PUSH * H->zsw) recede = 1;
+                if (recede || ((y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0) && sqrt(ex_dot3(eu, eu)) < SLIP_PUSH * H->zsw)) {
+                    memcpy(y + 9, ysv, (size_t)(H->ns + H->no) * sizeof *ysv);
+                    y[3] = y[4] = y[5] = 0.0;
+                    H->ncs = 0;
+                    na = hyb_hrow_all_planar(H, &kin, y, ra, Ga, ga, NULL);
+                    for (int i = 0; i < na; i++)
+                        if (ga[i] <= m->tol.touch) H->cs[H->ncs++] = ra[i];
+                }
+            }
+        }
+        H->small = 0;
+        if (y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0) {
+            H->mode = MODE_SLIP;
+            model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
+            for (int i = 0; i < 3; i++) H->uref[i] = m->e[i] * u[i];
+            planar_prune_set(H, &f, &kin, y);
+            return;
+        }
+        model_force_planar(m, &f, y, zero, F);
+        if (H->ncs) {
+            double lam[MAX_ROWS];
+            if (hyb_planar_rest(H, &kin, y, F, w, lam) <= H->caps * (1.0 + FRICTION_BAND)) {
+                H->mode = MODE_STICK;
+                return;
+            }
+        } else {
+            double mF[3] = {-F[0], -F[1], -F[2]};
+            model_patch_of_gen(m, MODEL_CS(y[2]), mF, w);
+        }
+        if (!H->ncs && model_ls_gauge(m, w) <= H->caps * (1.0 + FRICTION_BAND)) {
+            H->mode = MODE_STICK;
+        } else {
+            /* starts to slip: the direction of the slip acceleration */
+            double wF[3], b[3];
+            exdex_friction_result res;
+            int st;
+            model_patch_of_gen(m, MODEL_CS(y[2]), F, wF);
+            ex_mulmv3(b, m->prep.W, wF);
+            st = limitsurf_step(&m->ls, &m->prep, b, H->cap, EXDEX_SOLVER_SCALAR, NULL, NULL, &res);
+            if (st) {
+                H->err = H->err ? H->err : st;
+                return;
+            }
+            H->mode = MODE_SLIP;
+            H->small = 1;
+            for (int i = 0; i < 3; i++) H->uref[i] = m->e[i] * res.u[i];
+            if (H->ncs) {
+                /* against stops: the slip starts along the constrained
+                 * acceleration of the friction just found */
+                double P[3], a[3], qdd[3], lam[MAX_ROWS], ua[3];
+                model_gen_of_patch(m, MODEL_CS(y[2]), res.p, P);
+                for (int i = 0; i < 3; i++) a[i] = m->minv[i] * (F[i] + P[i]);
+                hyb_contact_acc_planar(H, &kin, y, a, qdd, lam, NULL, NULL);
+                model_patch_slip(m, MODEL_CS(y[2]), qdd, ua);
+                for (int i = 0; i < 3; i++) H->uref[i] = m->e[i] * ua[i];
+                planar_prune_set(H, &f, &kin, y);
+            }
+        }
+        return;
+    }
+    {
+        double q = y[0];
+        if (vzero && H->mode != MODE_CONTACT) y[1] = 0.0;
+        /* impacts: a touching stop approached by the object stops it
+         * (plastic, like the implicit step); the normal impulse is counted
+         * in the stop's force integral */
+        int rk[MAX_ROWS], rj[MAX_ROWS], nr = (H->ns || H->no) ? hyb_hrow_all_1dof(H, &kin, q, y + 1, rk, rj) : 0;
+        for (int pass = 0; pass < 3 && nr; pass++) {
+            int kb = -1, jb = -1;
+            double worst = -m->tol.rate;
+            crow cb;
+            for (int r = 0; r < nr; r++) {
+                double rate;
+                crow c;
+                hyb_hrow_1dof(H, &kin, rk[r], rj[r], q, &c);
+                if (c.F > m->tol.touch || !(fabs(c.Fq) > m->tol.fq_min)) continue;
+                rate = c.Fq * y[1] + c.Ft;
+                if (rate < worst) {
+                    worst = rate;
+                    kb = rk[r];
+                    jb = rj[r];
+                    cb = c;
+                }
+            }
+            if (kb < 0) break;
+            {
+                double vn = -cb.Ft / cb.Fq, ln = hyb_impact_impulse_1dof(H, &kin, kb, jb, q, &cb, y[1], vn);
+                y[3 + kb] += ln;
+                method_note_impact(H->st, t, kb, ln);
+                y[1] = vn;
+                vzero = 0;
+                if (pass == 2) H->st->warnings++; /* stops pinch the object */
+            }
+        }
+        /* contact with a touching stop */
+        for (int r = 0; r < nr; r++) {
+            int k = rk[r], j = rj[r];
+            double rate, v, Q, R, fr, lam, s_old = H->s;
+            crow c;
+            hyb_hrow_1dof(H, &kin, k, j, q, &c);
+            if (c.F > m->tol.touch || !(fabs(c.Fq) > m->tol.fq_min)) continue;
+            rate = c.Fq * y[1] + c.Ft;
+            if (fabs(rate) > m->tol.rate) continue;
+            v = -c.Ft / c.Fq;
+            if (H->law == LAW_COULOMB) {
+                if (fabs(v) > m->tol.vzero && !vzero) {
+                    H->s = v > 0 ? 1.0 : -1.0;
+                } else {
+                    /* the stop at rest in B: the object slides with it in
+                     * the direction of its acceleration, or rests against
+                     * it (s = 0: static friction, the stick test at C_s)
+                     * where that acceleration is 0. An acceleration that
+                     * gains less than tol.vzero of speed over the time
+                     * scale T counts as 0: a stop fixed in B (a gripper
+                     * moving along it) has Ftt of a few ulps, whose sign
+                     * must not choose a sliding contact (kinetic friction
+                     * of a sign set by rounding, the rest ending at C
+                     * instead of C_s); a real acceleration that small
+                     * reaches tol.vzero, where the rest's guard decides
+                     * again, after at least T */
+                    double a = hyb_contact_qdd(&c, 0.0), a0 = m->tol.vzero / m->scale.T;
+                    H->s = a > a0 ? 1.0 : a < -a0 ? -1.0 : 0.0;
+                    v = 0.0;
+                }
+            }
+            Q = model_force_1dof(m, &f, q, v);
+            /* a rest (s = 0): the stop's acceleration counts as 0 (above),
+             * the load is the one at rest that the stick test below and the
+             * rest's guard use */
+            R = H->law == LAW_COULOMB && H->s == 0.0 ? -Q : H->M * hyb_contact_qdd(&c, v) - Q;
+            {
+                /* a frictional stop: the friction opposes the vertex's slip
+                 * along it (located guards put a reversal just past its
+                 * zero: the new sign). With mu ss T turning the normal
+                 * force's generalized direction around (D Fq <= 0) the
+                 * acceleration-level contact has no solution (Painleve):
+                 * the contact is taken frictionless there, counted as a
+                 * warning */
+                double sl, T = 0.0;
+                H->ck = k;
+                H->cj = j;
+                H->ss = 0.0;
+                H->jam = 0.0;
+                if (model_source_mu(m, k) > 0.0) {
+                    sl = hyb_contact_slip_1dof(H, &kin, q, v, &T);
+                    H->ss = sl > 0.0 ? 1.0 : sl < 0.0 ? -1.0 : 0.0;
+                    if (H->ss != 0.0 && !(hyb_contact_dir(H, &c, T) / c.Fq > JAM_DIR)) {
+                        H->jam = H->ss;
+                        H->ss = 0.0;
+                        H->st->warnings++;
+                    }
+                }
+                hyb_contact_forces(H, &c, T, R, v, &fr, &lam);
+            }
+            /* a stop force exactly 0 keeps no contact: it is about to
+             * separate (or needs none) */
+            if (lam > 0.0 && (H->law == LAW_SMOOTH || H->s != 0.0 || fabs(fr) <= H->caps * (1.0 + FRICTION_BAND))) {
+                H->mode = MODE_CONTACT;
+                H->ck = k;
+                H->cj = j;
+                /* onto the constraint: Newton on F(q, t) = 0 */
+                for (int it = 0; it < ROW_NEWTON_MAX && fabs(c.F) > 0.0; it++) {
+                    double dq = c.F / c.Fq;
+                    q -= dq;
+                    hyb_hrow_1dof(H, &kin, k, j, q, &c);
+                    H->st->stop_iterations++;
+                    if (fabs(dq) <= ROW_NEWTON_TOL * (m->scale.q + fabs(q))) break;
+                }
+                y[0] = q;
+                y[1] = (H->law == LAW_COULOMB && H->s == 0.0) ? 0.0 : -c.Ft / c.Fq;
+                return;
+            }
+            H->s = s_old;
+            H->ss = 0.0;
+            H->jam = 0.0;
+        }
+        if (H->law == LAW_SMOOTH) {
+            H->mode = MODE_FREE;
+        } else if (y[1] != 0.0 && !vzero) {
+            H->mode = MODE_SLIP;
+            H->s = y[1] > 0 ? 1.0 : -1.0;
+        } else {
+            double Q0 = model_force_1dof(m, &f, q, 0.0);
+            y[1] = 0.0;
+            if (fabs(Q0) <= H->caps * (1.0 + FRICTION_BAND)) {
+                H->mode = MODE_STICK;
+                H->s = 0.0;
+            } else {
+                H->mode = MODE_SLIP;
+                H->s = Q0 > 0 ? 1.0 : -1.0;
+            }
+        }
+    }
+}
+
+/* decide_modes, and with frictional stops in a planar scene the stops'
+ * friction modes after it (decided afresh at every decision: sf_decide). */
+void hyb_decide(hyb *H, double t, double *y, int vzero)
+{
+    double v0[3] = {0, 0, 0};
+    if (H->sfric)
+        for (int k = 0; k < SF_MAX_STOPS; k++) H->fm[k] = SF_ROLL;
+    H->sgn = 0;
+    if (H->ndof == 3) memcpy(v0, y + 3, sizeof v0);
+    decide_modes(H, t, y, vzero);
+    if (hyb_smooth_two(H)) {
+        /* the held regime: held in the band; a velocity changed by an
+         * impact is a slip (kinetic beyond the band); else as it was */
+        if (hyb_planar_slip_speed(H, y) <= H->eps)
+            H->held = 1;
+        else if (y[3] != v0[0] || y[4] != v0[1] || y[5] != v0[2])
+            H->held = 0;
+    }
+    if (H->sfric && !H->err) {
+        hyb_sf_fix_groups(H, t, y);
+        sf_decide(H, t, y);
+    }
+}
+
+/* The stops' friction groups and modes of the contact set decided again at
+ * (t, y) after the set changed outside decide (hyb_set_tie_leaves), as decide
+ * makes them after decide_modes: groups afresh, every mode from SF_ROLL. */
+void hyb_sf_redecide(hyb *H, double t, double *y)
+{
+    for (int k = 0; k < SF_MAX_STOPS; k++) H->fm[k] = SF_ROLL;
+    hyb_sf_fix_groups(H, t, y);
+    if (!H->err) sf_decide(H, t, y);
+}
+
+/* The rows of the planar contact set held as equalities (hyb_hold_set_rows):
+ * given the n set rows G_i x >= b_i (in the set's order), appends
+ * -G_i x >= -b_i for each row whose G_i is independent of the set rows
+ * before it (in the M^-1 metric, a residual above 1e-6 of its norm; a row
+ * within that of their span is implied by them to rounding, and its
+ * mirror would make the rows inconsistent by rounding). Returns the new
+ * count (n when the mirrors would exceed LDP_MAX_ROWS). */
+static int set_row_equalities(const hyb *H, int n, double (*Gr)[3], double *b)
+{
+    double basis[3][3];
+    int nb = 0, m = n;
+    if (n + 3 > LDP_MAX_ROWS) return n;
+    for (int i = 0; i < n && nb < 3; i++) {
+        double u[3], n0, nn;
+        for (int c = 0; c < 3; c++) u[c] = Gr[i][c] * sqrt(H->m->minv[c]);
+        n0 = ex_dot3(u, u);
+        for (int k = 0; k < nb; k++) {
+            double p = ex_dot3(u, basis[k]);
+            for (int c = 0; c < 3; c++) u[c] -= p * basis[k][c];
+        }
+        nn = ex_dot3(u, u);
+        if (!(nn > SET_ROW_DEPENDENT * n0)) continue;
+        for (int c = 0; c < 3; c++) basis[nb][c] = u[c] / sqrt(nn);
+        nb++;
+        for (int c = 0; c < 3; c++) Gr[m][c] = -Gr[i][c];
+        b[m++] = -b[i];
+    }
+    return m;
+}
+
+/* The planar contact set at a decision (t, y) (an event, a switching time
+ * of the motion or the grip before its jump, a regrip), outside a rest: a
+ * set row pushes (lam > 0) until its separation, the located root of its
+ * guard, so its exact gap and rate are 0 over the whole contact, up to and
+ * at that root. The integrated state leaves them off by the integrator's
+ * error (hyb_project_contact after each step removes only penetration and
+ * approach), up to its tolerance, far above tol.touch and tol.rate, the
+ * bands in which the decision takes a row as touching at rate 0
+ * (hyb_planar_impact_and_set): it would find a pushing row separating and drop
+ * it from the set, a free flight of that row with its friction lost until
+ * an impact brings it back. Where a set row is beyond either band, q and
+ * then v are projected (M metric) onto every set row at gap 0 and rate 0
+ * (equalities; the rows implied by others one-sided); within both bands the
+ * decision takes them so already and y is left as it is. The event method
+ * in scenes with obstacles; a scene of stops alone, and the regularised
+ * method, keep their state as integrated. */
+void hyb_hold_set_rows(hyb *H, double t, double *y)
+{
+    const exdex_model *m = H->m;
+    frame f;
+    exdex_kinematics kin;
+    double Gr[MAX_ROWS + 3][3], b[MAX_ROWS + 3], lam[MAX_ROWS + 3], zero[3] = {0, 0, 0}, dq[3], v[3];
+    int off = 0, n;
+    if (H->law != LAW_COULOMB || H->ndof != 3 || !H->no || !H->ncs || H->mode == MODE_STICK) return;
+    if (hyb_frame_seg(H, t, &f, &kin)) return;
+    for (int i = 0; i < H->ncs && !off; i++) {
+        double gd, g = hyb_hrow_planar(H, &kin, H->cs[i], y, y + 3, Gr[i], &gd, NULL);
+        off = g > m->tol.touch || gd > m->tol.rate;
+    }
+    if (!off) return;
+    for (int i = 0; i < H->ncs; i++) b[i] = -hyb_hrow_planar(H, &kin, H->cs[i], y, y + 3, Gr[i], NULL, NULL);
+    n = set_row_equalities(H, H->ncs, Gr, b);
+    if (ldp_project(m->minv, n, (const double (*)[3])Gr, b, zero, FQ_MIN, dq, lam, &H->st->stop_iterations, &H->st->warnings))
+        for (int c = 0; c < 3; c++) y[c] += dq[c];
+    if (contact_min_gap(m, &kin, y) < 0.0) hyb_planar_unpenetrate(H, &kin, y);
+    for (int i = 0; i < H->ncs; i++) {
+        double gd;
+        hyb_hrow_planar(H, &kin, H->cs[i], y, y + 3, Gr[i], &gd, NULL);
+        b[i] = -(gd - ex_dot3(Gr[i], y + 3));
+    }
+    n = set_row_equalities(H, H->ncs, Gr, b);
+    if (ldp_project(m->minv, n, (const double (*)[3])Gr, b, y + 3, FQ_MIN, v, lam, &H->st->stop_iterations, &H->st->warnings))
+        memcpy(y + 3, v, sizeof v);
+}
+
+/* After an accepted step in contact: back onto the constraint (the
+ * integrated q drifts off it at the tolerance level). */
+void hyb_project_contact(hyb *H, double t, double *y)
+{
+    frame f;
+    exdex_kinematics kin;
+    crow c;
+    if (H->ndof == 3 && H->ncs) {
+        /* planar: remove the penetration and the approach speed of the
+         * contact-set rows (M-metric projections; a row drifting off its
+         * stop is left to the accelerations) */
+        double Gr[MAX_ROWS][3], b[MAX_ROWS], lam[MAX_ROWS], zero[3] = {0, 0, 0}, dq[3], v[3];
+        if (hyb_frame_seg(H, t, &f, &kin)) return;
+        for (int i = 0; i < H->ncs; i++) {
+            int r = H->cs[i];
+            b[i] = -hyb_hrow_planar(H, &kin, r, y, y + 3, Gr[i], NULL, NULL);
+        }
+        if (ldp_project(H->m->minv, H->ncs, (const double (*)[3])Gr, b, zero, FQ_MIN, dq, lam, &H->st->stop_iterations, &H->st->warnings))
+            for (int c2 = 0; c2 < 3; c2++) y[c2] += dq[c2];
+        /* the projection (a rotation about a set row) can push a row off
+         * the set into its stop: then onto every row */
+        if (contact_min_gap(H->m, &kin, y) < 0.0) hyb_planar_unpenetrate(H, &kin, y);
+        for (int i = 0; i < H->ncs; i++) {
+            int r = H->cs[i];
+            double gd;
+            hyb_hrow_planar(H, &kin, r, y, y + 3, Gr[i], &gd, NULL);
+            b[i] = -(gd - ex_dot3(Gr[i], y + 3));
+        }
+        if (ldp_project(H->m->minv, H->ncs, (const double (*)[3])Gr, b, y + 3, FQ_MIN, v, lam, &H->st->stop_iterations, &H->st->warnings))
+            memcpy(y + 3, v, sizeof v);
+        if (H->sfric) sf_project_stick(H, &f, &kin, y);
+        return;
+    }
+    if (H->ndof != 1 || H->mode != MODE_CONTACT) return;
+    if (hyb_frame_seg(H, t, &f, &kin)) return;
+    hyb_hrow_1dof(H, &kin, H->ck, H->cj, y[0], &c);
+    for (int it = 0; it < ROW_NEWTON_MAX && fabs(c.F) > 0.0; it++) {
+        double dq = c.F / c.Fq;
+        y[0] -= dq;
+        hyb_hrow_1dof(H, &kin, H->ck, H->cj, y[0], &c);
+        H->st->stop_iterations++;
+        if (fabs(dq) <= ROW_NEWTON_TOL * (H->m->scale.q + fabs(y[0]))) break;
+    }
+    if (!(H->law == LAW_COULOMB && H->s == 0.0)) y[1] = -c.Ft / c.Fq;
+}

@@ -1,0 +1,81 @@
+/* tolerances.h -- private to the exdex core: the one table of the
+ * thresholds and budgets of the core's contact and friction decisions and of
+ * the hybrid (event, regularised) methods' iterations. Every entry is
+ * scale-free: a pure number, a fraction of one of the scene's scales
+ * (model_scales: L, T, V = L / T, F, q; model_set_scales turns the *_REL
+ * factors into model_tols), a multiple of a named speed (zsw, the small-slip
+ * band of hybrid.h), a count of ulps, or an iteration count. A threshold is
+ * spelled here once and read by name everywhere it is used. */
+#ifndef EXDEX_TOLERANCES_H
+#define EXDEX_TOLERANCES_H
+
+/* ------------------------------------------------ the rounding band
+ * Relative band of every friction-limit and mode-sign check of a solved
+ * quantity against its bound (the rounding of the solve, far below any
+ * physical margin): a load sticks while |f| <= C (1 + FRICTION_BAND) (the
+ * event method's stick tests, implicit.c's rest split, analytic.c's closed
+ * forms), a stop's friction sticks while |beta| <= mu sum lam (1 +
+ * FRICTION_BAND) (stop_friction.h), and stop_impulse.c's sign checks of an
+ * impulse-level mode allow FRICTION_BAND of the quantities' size. */
+#define FRICTION_BAND 1e-12
+
+/* ------------------------------------------------ model_tols (model.c)
+ * For a typical paper scene (L ~ 1 cm, T ~ 30 ms, V ~ 0.3 m/s) they give
+ * thresholds near 1e-10 m, 1e-12 m/s and 1e-13 s, far below the accuracy
+ * of any method and far above the rounding of the quantities they compare. */
+#define TOUCH_REL 1e-8       /* tol.touch: a stop gap below it counts as contact, x L */
+#define PEN_REL 1e-7         /* tol.pen: a gap below -pen after a step counts a warning, x L */
+#define START_GAP_REL 1e-7   /* tol.start_gap: a vertex starting below -start_gap is beyond its stop, x L */
+#define REST_GAP_REL 1e-7    /* tol.rest_gap: a planar rest ends when a set row's |gap| exceeds it, x L */
+#define RATE_REL 3e-12       /* tol.rate: a gap rate below it counts as 0, x V */
+#define VZERO_REL 3e-12      /* tol.vzero: a 1-DoF |qd| below it counts as 0, x q / T */
+#define FQ_MIN_REL 1e-12     /* tol.fq_min: a 1-DoF stop row with |d gap / dq| below it cannot act, x L / q */
+#define ROOT_REL 3e-12       /* tol.root: event time resolution, x T */
+#define H0_REL 0.03          /* tol.h0: first step of the adaptive integrators, x T */
+
+/* ------------------------------------------------ stop friction (stop_friction.h) */
+#define SF_LOCK_RANK 1e-9  /* a lock's constraints (unit rows, M^-1/2 metric) and generators span R^3 above this volume */
+
+/* ------------------------------------------------ hybrid methods: budgets
+ * (hybrid.h, "Budgets": a run that would exceed one returns EXDEX_ENOCONV) */
+#define EVENTS_MAX 1000   /* events within one output interval */
+#define STEPS_MAX 100000  /* ODE steps (accepted + rejected) and Brent iterations per output interval */
+#define H_FLOOR_ULPS 16.0 /* a suggested step below this many ulps of t is a collapse */
+#define BRENT_MAX 200     /* Brent iterations per located event */
+#define GOLDEN_MAX 60     /* golden-section iterations per guard extremum inside a step */
+#define DOUBLING_MAX 64   /* locate: forward doublings from Brent's point to a violated guard */
+#define DOUBLING_EXACT 10 /* locate: a forward search past 2^10 of its first increment is bisected back */
+#define ROW_NEWTON_MAX 8  /* 1-DoF contact: Newton steps of q onto its constraint F(q, t) = 0 ... */
+#define ROW_NEWTON_TOL 1e-16 /* ... until |dq| <= this x (q + |q|), q the coordinate's scale */
+#define SMALL_SLIP_FIX_MAX 16  /* planar small slip against stops: fixed-point iterations of its friction ... */
+#define SMALL_SLIP_FIX_TOL 1e-12 /* ... until the wrench moves by at most this x C (E-scaled components) */
+
+/* ------------------------------------------------ hybrid methods: thresholds */
+/* 1-DoF frictional contact (hybrid.h, "Frictional stops"): its normal force
+ * is lam = R / D, D = Fq - mu ss T, i.e. the frictionless force R / Fq times
+ * Fq / D. Where D / Fq falls to 0 (a jam: the friction turns the normal
+ * force's generalized direction around) lam grows as 1 / (t_jam - t) and its
+ * integral as -log(t_jam - t): no step reaches t_jam. The contact is taken
+ * frictionless (warning counted) once D / Fq <= JAM_DIR, a guard located
+ * like every guard: the normal force is then 1 / JAM_DIR times the
+ * frictionless one, and the impulse given up, the integral of lam beyond,
+ * grows as log(1 / JAM_DIR) only. Friction returns where D / Fq of the slip's
+ * sign exceeds JAM_DIR again, or the slip reverses (decided again there). */
+#define JAM_DIR 1e-6
+#define SLIP_FLOOR 1e-6  /* planar slip: below zsw = SLIP_FLOOR V of |E u| the slip is "small" (hybrid.h) */
+#define SLIP_UP 2.0      /* a small slip becomes a slip at SLIP_UP zsw (hysteresis against zsw) */
+#define SLIP_PUSH 4.0    /* a stop pushing a stopped planar slip on below SLIP_PUSH zsw: a rest instead */
+#define SLIP_STIFF 100.0 /* a planar slip below SLIP_STIFF zsw for STIFF_AFTER steps: the stiff stepper */
+#define STIFF_AFTER 1000
+#define SF_TOL 1e-10     /* sign slack of the stop-friction mode checks: x the scene's acceleration V / T and force F */
+#define SF_SAME_LINE 1e-6  /* obstacle rows whose unit in-plane normals differ by at most this share a friction group */
+#define DIP_DELTA 1e-3   /* dip searches: one-sided differences over this fraction of the step (hybrid_events.c) */
+#define DIP_MARGIN 0.5   /* dip searches: a minimum estimated below this fraction of the smaller end value is searched */
+#define FEW_ULPS 4.0     /* a few ulps of t: a segment's end as its left limit (seg_time), locate's first forward step */
+#define HERMITE_FLAT 1e-14 /* hermite_min: a cubic coefficient below this share of the quadratic's is taken as 0 */
+#define SET_ROW_DEPENDENT 1e-12 /* set_row_equalities: a row whose M-metric component off the earlier rows is below
+                                   this share of its norm (squared) is dependent on them */
+#define GUARD_RECOVER 1e-13 /* a guard violated at a step's start recovers when it rises by more than this over
+                               the step (in the guard's own units, not scaled) */
+
+#endif
