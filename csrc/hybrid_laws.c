@@ -416,13 +416,22 @@ static double sf_rest(hyb *H, const exdex_kinematics *kin, const double *y, cons
     }
     for (int c2 = 0; c2 < 3; c2++) mF[c2] = -F[c2];
     model_patch_of_gen(m, MODEL_CS(y[2]), mF, a);
-    for (int c2 = 0; c2 < 3; c2++) a[c2] /= m->e[c2];
-    for (int g = 0; g < ng; g++) {
-        double mD[3] = {-D[g][0], -D[g][1], -D[g][2]};
-        model_patch_of_gen(m, MODEL_CS(y[2]), mD, B[g]);
-        for (int c2 = 0; c2 < 3; c2++) B[g][c2] /= m->e[c2];
+    if (m->ls_exact) {
+        /* the exact surface's least gauge over the generators (the minimum: guards read it) */
+        for (int g = 0; g < ng; g++) {
+            double mD[3] = {-D[g][0], -D[g][1], -D[g][2]};
+            model_patch_of_gen(m, MODEL_CS(y[2]), mD, B[g]);
+        }
+        limitsurf_min_combination(&m->ls, ng, a, (const double (*)[3])B, NAN, c, &it);
+    } else {
+        for (int c2 = 0; c2 < 3; c2++) a[c2] /= m->e[c2];
+        for (int g = 0; g < ng; g++) {
+            double mD[3] = {-D[g][0], -D[g][1], -D[g][2]};
+            model_patch_of_gen(m, MODEL_CS(y[2]), mD, B[g]);
+            for (int c2 = 0; c2 < 3; c2++) B[g][c2] /= m->e[c2];
+        }
+        ldp_min_combination(ng, a, (const double (*)[3])B, c, &it);
     }
-    ldp_min_combination(ng, a, (const double (*)[3])B, c, &it);
     H->st->stop_iterations += (size_t)it;
     for (int i = 0; i < H->ncs; i++) lam[i] = 0.0;
     for (int c2 = 0; c2 < 3; c2++) P[c2] = -F[c2];
@@ -431,7 +440,7 @@ static double sf_rest(hyb *H, const exdex_kinematics *kin, const double *y, cons
         for (int c2 = 0; c2 < 3; c2++) P[c2] -= c[g] * D[g][c2];
     }
     model_patch_of_gen(m, MODEL_CS(y[2]), P, w);
-    return model_ell_norm(m, w);
+    return model_ls_gauge(m, w);
 }
 
 /* Accelerations in planar contact: qdd = M^-1 (F + P + G_A^T lam), lam >= 0
@@ -482,16 +491,21 @@ double hyb_planar_rest(hyb *H, const exdex_kinematics *kin, const double *y, con
     }
     for (int c = 0; c < 3; c++) mF[c] = -F[c];
     model_patch_of_gen(m, MODEL_CS(y[2]), mF, a);
-    for (int c = 0; c < 3; c++) a[c] /= m->e[c];
+    if (!m->ls_exact)
+        for (int c = 0; c < 3; c++) a[c] /= m->e[c];
     for (int i = 0; i < H->ncs; i++) {
         int r = H->cs[i];
         double G[3], mG[3];
         hyb_hrow_planar(H, kin, r, y, y + 3, G, NULL, NULL);
         for (int c = 0; c < 3; c++) mG[c] = -G[c];
         model_patch_of_gen(m, MODEL_CS(y[2]), mG, B[i]);
-        for (int c = 0; c < 3; c++) B[i][c] /= m->e[c];
+        if (!m->ls_exact)
+            for (int c = 0; c < 3; c++) B[i][c] /= m->e[c];
     }
-    ldp_min_combination(H->ncs, a, (const double (*)[3])B, lam, &it);
+    if (m->ls_exact)   /* the exact surface's least gauge over the stop forces (the minimum: guards read it) */
+        limitsurf_min_combination(&m->ls, H->ncs, a, (const double (*)[3])B, NAN, lam, &it);
+    else
+        ldp_min_combination(H->ncs, a, (const double (*)[3])B, lam, &it);
     H->st->stop_iterations += (size_t)it;
     for (int c = 0; c < 3; c++) P[c] = -F[c];
     for (int i = 0; i < H->ncs; i++) {
@@ -501,7 +515,7 @@ double hyb_planar_rest(hyb *H, const exdex_kinematics *kin, const double *y, con
         for (int c = 0; c < 3; c++) P[c] -= lam[i] * G[c];
     }
     model_patch_of_gen(m, MODEL_CS(y[2]), P, w);
-    return model_ell_norm(m, w);
+    return model_ls_gauge(m, w);
 }
 
 /* The load at (t, y) (f, kin its frame terms): the ellipsoid norm |E^-1 w|
@@ -553,7 +567,7 @@ int hyb_planar_set_recedes(hyb *H, const frame *f, const exdex_kinematics *kin, 
     model_force_planar(H->m, f, y, zero, F);
     for (int i = 0; i < 3; i++) F[i] = -F[i];
     model_patch_of_gen(H->m, MODEL_CS(y[2]), F, w);
-    if (model_ell_norm(H->m, w) <= H->caps * (1.0 + FRICTION_BAND)) return 0;
+    if (model_ls_gauge(H->m, w) <= H->caps * (1.0 + FRICTION_BAND)) return 0;
     for (int i = 0; i < H->ncs; i++) {
         int r = H->cs[i];
         double G[3], gd;
@@ -632,8 +646,10 @@ int hyb_planar_friction(hyb *H, const frame *f, const exdex_kinematics *kin, con
                     for (int i = 0; i < 3; i++) ea[i] = m->e[i] * ua[i];
                     sa = sqrt(ex_dot3(ea, ea));
                     if (!(sa > 0.0)) break;
+                    /* the exact surface: its maximum-dissipation wrench of u' */
+                    if (m->ls_exact) limitsurf_wrench(&m->ls, ua, wn, NULL);
                     for (int i = 0; i < 3; i++) {
-                        wn[i] = -H->cap * m->e[i] * ea[i] / sa;
+                        wn[i] = m->ls_exact ? H->cap * wn[i] : -H->cap * m->e[i] * ea[i] / sa;
                         d = fmax(d, fabs(wn[i] - w[i]) / m->e[i]);
                         w[i] = wn[i];
                     }

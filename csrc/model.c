@@ -236,12 +236,11 @@ static int check_fields(const exdex_scene_def *d, const char **bad_param)
         for (int k = 0; k < d->n_stops; k++) fric |= d->stop_mu[k] > 0.0;
         for (int o = 0; o < d->n_obstacles; o++) fric |= d->obstacles[o].mu > 0.0;
         /* planar: the implicit method with frictionless stops and
-         * obstacles, the explicit one with any, the event method without */
+         * obstacles, the explicit and event methods with any */
         if (d->dof == EXDEX_DOF_PLANAR &&
             ((d->method != EXDEX_METHOD_IMPLICIT && d->method != EXDEX_METHOD_EVENT &&
               d->method != EXDEX_METHOD_EXPLICIT) ||
-             (fric && d->method == EXDEX_METHOD_IMPLICIT) ||
-             ((d->n_stops || d->n_obstacles) && d->method == EXDEX_METHOD_EVENT)))
+             (fric && d->method == EXDEX_METHOD_IMPLICIT)))
             return bad(bad_param, "limit_surface");
     }
     if (!(isfinite(d->eps) && d->eps > 0)) return bad(bad_param, "eps");

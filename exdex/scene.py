@@ -519,9 +519,8 @@ class Grasp:
         in closed form). ``"exact"`` needs a region: pads on the fingers
         (the surface of pad & face, which follows the pose) or a patch with
         one (``Patch.disc``, ``Patch.rectangle``); it runs planar scenes
-        with the implicit, explicit and event methods (with stops or
-        obstacles: implicit and explicit; frictional ones: explicit), and
-        1-DoF scenes with every method (a 1-DoF rotation's torque
+        with the implicit, explicit and event methods (frictional stops or
+        obstacles: explicit and event), and 1-DoF scenes with every method (a 1-DoF rotation's torque
         capacity is then the region's mean distance from its centre times
         the capacity, as with the ellipsoid of that e_r). Static and kinetic
         friction are two surfaces of one shape (``mu_static``). See the
@@ -1345,19 +1344,16 @@ class Scene:
     def _check_exact(self, method: str) -> None:
         """ValueError naming Grasp.limit_surface where the exact surface is not
         solved: planar scenes take it with the implicit, explicit and event
-        methods; with stops or obstacles the event method does not, with
-        frictional ones (mu > 0) the implicit method does not."""
+        methods; with frictional stops or obstacles (mu > 0) the implicit
+        method does not."""
         if self.dof != "planar":
             return
         if method not in ("implicit", "explicit", "event"):
             raise ValueError(f"Grasp.limit_surface='exact': planar scenes run it with method='implicit', "
                              f"'explicit' or 'event', got method={method!r}")
-        if (self.stops or self.obstacles) and method == "event":
-            raise ValueError("Grasp.limit_surface='exact': planar scenes with stops or obstacles run it with "
-                             "method='implicit' or 'explicit', got method='event'")
         if method == "implicit" and (any(s.mu > 0 for s in self.stops) or any(o.mu > 0 for o in self.obstacles)):
             raise ValueError("Grasp.limit_surface='exact': planar scenes with frictional stops or obstacles "
-                             "(mu > 0) run it with method='explicit', got method='implicit'")
+                             "(mu > 0) run it with method='explicit' or 'event', got method='implicit'")
 
     def to_spec(self, method: str = "implicit", friction_solver: str = "scalar", eps: float = 1e-4,
                 rtol: float = 1e-8, atol: float = 1e-10) -> Dict[str, Any]:

@@ -114,8 +114,6 @@ def test_bad_input_is_named():
     with pytest.raises(ValueError, match=r"Grasp.limit_surface='exact': planar scenes run it with "):
         exdex.simulate(sc, 0.1, 1e-3, method="regularised")
     stop = exdex.Stop((0, -1.0, 0), (0, 1.0, 0))
-    with pytest.raises(ValueError, match=r"planar scenes with stops or obstacles run it with method='implicit'"):
-        exdex.simulate(exdex.replace(sc, stops=(stop,)), 0.1, 1e-3, method="event")
     with pytest.raises(ValueError, match=r"planar scenes with frictional stops or obstacles"):
         exdex.simulate(exdex.replace(sc, stops=(exdex.replace(stop, mu=0.2),)), 0.1, 1e-3)
     with pytest.raises(ValueError, match=r"slip must be a non-zero twist"):

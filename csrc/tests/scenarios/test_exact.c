@@ -72,10 +72,12 @@ EXDEX_TEST(exact_rejects)
     ENSURE(!exdex_model_alloc(&d, &st, &bad) && st == EXDEX_EINVAL && strcmp(bad, "limit_surface") == 0);
     d = free_disc(EXDEX_LS_EXACT, EXDEX_METHOD_REGULARISED, 0.02, 1, 1);
     ENSURE(!exdex_model_alloc(&d, &st, &bad) && st == EXDEX_EINVAL && strcmp(bad, "limit_surface") == 0);
-    d = free_disc(EXDEX_LS_EXACT, EXDEX_METHOD_EVENT, 0.02, 1, 1);
+    /* the implicit method with a frictional stop: refused (its stop friction has the ellipsoid's plate term) */
+    d = free_disc(EXDEX_LS_EXACT, EXDEX_METHOD_IMPLICIT, 0.02, 1, 1);
     d.n_stops = 1;
     d.stop_normal[0][2] = 1.0;
     d.stop_point[0][2] = -1.0;
+    d.stop_mu[0] = 0.3;
     d.n_vertices = 3;
     ENSURE(!exdex_model_alloc(&d, &st, &bad) && st == EXDEX_EINVAL && strcmp(bad, "limit_surface") == 0);
 }
