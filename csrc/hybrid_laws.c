@@ -552,6 +552,8 @@ double hyb_planar_slip_speed(const hyb *H, const double *y)
     hyb_pads(H, y);
     double u[3], eu[3];
     model_patch_slip(H->m, MODEL_CS(y[2]), y + 3, u);
+    if (H->m->ls_exact)   /* the exact surface's slip speed: D(u), its dissipation per unit capacity */
+        return limitsurf_dissipation(&H->m->ls, u);
     for (int i = 0; i < 3; i++) eu[i] = H->m->e[i] * u[i];
     return sqrt(ex_dot3(eu, eu));
 }
@@ -598,7 +600,17 @@ int hyb_planar_friction(hyb *H, const frame *f, const exdex_kinematics *kin, con
         model_patch_slip(m, MODEL_CS(th), v, u);
         for (int i = 0; i < 3; i++) eu[i] = m->e[i] * u[i];
         sig = sqrt(ex_dot3(eu, eu));
-        if (H->law == LAW_SMOOTH) {
+        if (H->law == LAW_SMOOTH && m->ls_exact) {
+            /* the exact surface: the same gain of the slip speed D(u) (its
+             * dissipation per unit capacity, |E u| for the ellipsoid) along
+             * its maximum-dissipation wrench, gain D w(u) (-gain E^2 u for
+             * the ellipsoid) */
+            double ws[3] = {0, 0, 0}, D = u[0] != 0.0 || u[1] != 0.0 || u[2] != 0.0
+                                               ? limitsurf_wrench(&m->ls, u, ws, NULL) : 0.0;
+            double gn = H->caps == H->cap ? H->cap / sqrt(D * D + H->eps * H->eps) : smooth_gain(H, D);
+            for (int i = 0; i < 3; i++) w[i] = D > 0.0 ? gn * D * ws[i] : 0.0;
+            if (!ex_finite_n(w, 3)) return EXDEX_ENONFINITE;
+        } else if (H->law == LAW_SMOOTH) {
             if (H->caps == H->cap) {
                 double den = sqrt(sig * sig + H->eps * H->eps);
                 for (int i = 0; i < 3; i++) w[i] = -H->cap * m->e[i] * eu[i] / den;

@@ -235,12 +235,10 @@ static int check_fields(const exdex_scene_def *d, const char **bad_param)
         int fric = 0;
         for (int k = 0; k < d->n_stops; k++) fric |= d->stop_mu[k] > 0.0;
         for (int o = 0; o < d->n_obstacles; o++) fric |= d->obstacles[o].mu > 0.0;
-        /* planar: the implicit method with frictionless stops and
-         * obstacles, the explicit and event methods with any */
-        if (d->dof == EXDEX_DOF_PLANAR &&
-            ((d->method != EXDEX_METHOD_IMPLICIT && d->method != EXDEX_METHOD_EVENT &&
-              d->method != EXDEX_METHOD_EXPLICIT) ||
-             (fric && d->method == EXDEX_METHOD_IMPLICIT)))
+        /* planar: every method but the analytic one (which solves 1-DoF
+         * scenes); the implicit method with frictionless stops and
+         * obstacles (its stop friction carries the ellipsoid's plate term) */
+        if (d->dof == EXDEX_DOF_PLANAR && fric && d->method == EXDEX_METHOD_IMPLICIT)
             return bad(bad_param, "limit_surface");
     }
     if (!(isfinite(d->eps) && d->eps > 0)) return bad(bad_param, "eps");

@@ -70,8 +70,6 @@ EXDEX_TEST(exact_rejects)
     exdex_model_free(m);
     d.limit_surface = 2;
     ENSURE(!exdex_model_alloc(&d, &st, &bad) && st == EXDEX_EINVAL && strcmp(bad, "limit_surface") == 0);
-    d = free_disc(EXDEX_LS_EXACT, EXDEX_METHOD_REGULARISED, 0.02, 1, 1);
-    ENSURE(!exdex_model_alloc(&d, &st, &bad) && st == EXDEX_EINVAL && strcmp(bad, "limit_surface") == 0);
     /* the implicit method with a frictional stop: refused (its stop friction has the ellipsoid's plate term) */
     d = free_disc(EXDEX_LS_EXACT, EXDEX_METHOD_IMPLICIT, 0.02, 1, 1);
     d.n_stops = 1;
