@@ -29,7 +29,8 @@ ellipsoid's error in the force-motion map (Grasp.limit_surface).
         its patch is; the peer's scene of bench_pads.py) with each surface;
         medians of ns/step and of the per-round ratios exact/ellipsoid,
         pads/patch (ellipsoid, against this exdex's patch and the older
-        one's) and this/baseline.
+        one's) and this/baseline; written to
+        benchmarks/results/limit_surface_check.txt.
 
 The scenes: a box held by an off-centre rectangular patch under tilted
 gravity in a gripper that moves (Eq. 7), which sticks, slides and sticks
@@ -239,17 +240,23 @@ print(json.dumps(min(b.one_run(sc, t_end, method, dt, time.process_time) for _ i
 """
 
 
-def check(python, repeat):
-    """Issue 24's speed targets in one run (see the module's doc)."""
+def check(python, repeat, out_path=None):
+    """Issue 24's speed targets in one run (see the module's doc); the table
+    also written to out_path."""
     import json
+    lines = []
+
+    def say(text):
+        print(text, flush=True)
+        lines.append(text)
 
     def child(py, name, variant, method, dt):
         cmd = [py, "-c", _CHECK_CHILD, HERE, name, variant, method, str(dt)]
         return json.loads(subprocess.run(cmd, check=True, capture_output=True, text=True).stdout)
 
-    print(f"CPU ns per output step (process time: the shared machine's waits for a core left out); each figure "
-          f"a process (the best of 5 runs in it), the variants in turn, {repeat} rounds; baseline {python}")
-    print(f"{'scene':<6} {'method':<9} {'ell':>8} {'ell old':>8} {'exact':>8} {'pad ell':>8} {'pad ex':>8} "
+    say(f"CPU ns per output step (process time: the shared machine's waits for a core left out); each figure "
+        f"a process (the best of 5 runs in it), the variants in turn, {repeat} rounds; baseline {python}")
+    say(f"{'scene':<6} {'method':<9} {'ell':>8} {'ell old':>8} {'exact':>8} {'pad ell':>8} {'pad ex':>8} "
           f"{'ell/old':>8} {'ex/ell':>7} {'pad/ell':>8} {'pad/old':>8} {'padx/pad':>9}")
     for name in ("box", "disc", "peer"):
         pads = name != "disc"
@@ -269,9 +276,13 @@ def check(python, repeat):
             def ratio(a, b):
                 return statistics.median(x / y for x, y in zip(cols[a], cols[b])) if cols[a] else float("nan")
 
-            print(f"{name:<6} {method:<9} {med('ell'):>8.0f} {med('old'):>8.0f} {med('exact'):>8.0f} "
-                  f"{med('pad'):>8.0f} {med('padx'):>8.0f} {ratio('ell', 'old'):>8.3f} {ratio('exact', 'ell'):>7.2f} "
-                  f"{ratio('pad', 'ell'):>8.2f} {ratio('pad', 'old'):>8.2f} {ratio('padx', 'pad'):>9.2f}")
+            say(f"{name:<6} {method:<9} {med('ell'):>8.0f} {med('old'):>8.0f} {med('exact'):>8.0f} "
+                f"{med('pad'):>8.0f} {med('padx'):>8.0f} {ratio('ell', 'old'):>8.3f} {ratio('exact', 'ell'):>7.2f} "
+                f"{ratio('pad', 'ell'):>8.2f} {ratio('pad', 'old'):>8.2f} {ratio('padx', 'pad'):>9.2f}")
+    if out_path:
+        os.makedirs(os.path.dirname(out_path), exist_ok=True)
+        with open(out_path, "w") as f:
+            f.write("\n".join(lines) + "\n")
 
 
 def baseline(python, repeat):
@@ -305,7 +316,7 @@ def main():
     if args.errors:
         errors(args.out)
     elif args.check:
-        check(args.check, args.repeat)
+        check(args.check, args.repeat, os.path.join(HERE, "results", "limit_surface_check.txt"))
     elif args.baseline:
         baseline(args.baseline, args.repeat)
     else:

@@ -416,13 +416,22 @@ static double sf_rest(hyb *H, const exdex_kinematics *kin, const double *y, cons
     }
     for (int c2 = 0; c2 < 3; c2++) mF[c2] = -F[c2];
     model_patch_of_gen(m, MODEL_CS(y[2]), mF, a);
-    for (int c2 = 0; c2 < 3; c2++) a[c2] /= m->e[c2];
-    for (int g = 0; g < ng; g++) {
-        double mD[3] = {-D[g][0], -D[g][1], -D[g][2]};
-        model_patch_of_gen(m, MODEL_CS(y[2]), mD, B[g]);
-        for (int c2 = 0; c2 < 3; c2++) B[g][c2] /= m->e[c2];
+    if (m->ls_exact) {
+        /* the exact surface's least gauge over the generators (the minimum: guards read it) */
+        for (int g = 0; g < ng; g++) {
+            double mD[3] = {-D[g][0], -D[g][1], -D[g][2]};
+            model_patch_of_gen(m, MODEL_CS(y[2]), mD, B[g]);
+        }
+        limitsurf_min_combination(&m->ls, ng, a, (const double (*)[3])B, NAN, c, &it);
+    } else {
+        for (int c2 = 0; c2 < 3; c2++) a[c2] /= m->e[c2];
+        for (int g = 0; g < ng; g++) {
+            double mD[3] = {-D[g][0], -D[g][1], -D[g][2]};
+            model_patch_of_gen(m, MODEL_CS(y[2]), mD, B[g]);
+            for (int c2 = 0; c2 < 3; c2++) B[g][c2] /= m->e[c2];
+        }
+        ldp_min_combination(ng, a, (const double (*)[3])B, c, &it);
     }
-    ldp_min_combination(ng, a, (const double (*)[3])B, c, &it);
     H->st->stop_iterations += (size_t)it;
     for (int i = 0; i < H->ncs; i++) lam[i] = 0.0;
     for (int c2 = 0; c2 < 3; c2++) P[c2] = -F[c2];
@@ -431,7 +440,7 @@ static double sf_rest(hyb *H, const exdex_kinematics *kin, const double *y, cons
         for (int c2 = 0; c2 < 3; c2++) P[c2] -= c[g] * D[g][c2];
     }
     model_patch_of_gen(m, MODEL_CS(y[2]), P, w);
-    return model_ell_norm(m, w);
+    return model_ls_gauge(m, w);
 }
 
 /* Accelerations in planar contact: qdd = M^-1 (F + P + G_A^T lam), lam >= 0
@@ -495,12 +504,11 @@ double hyb_planar_rest(hyb *H, const exdex_kinematics *kin, const double *y, con
         if (!m->ls_exact)
             for (int c = 0; c < 3; c++) B[i][c] /= m->e[c];
     }
-    if (m->ls_exact) {
+    if (m->ls_exact) {  /* the exact surface's least gauge over the stop forces (the minimum: guards read it) */
         if (H->ncs > LDP_MAX_ROWS) return NAN;
         limitsurf_min_combination(&m->ls, H->ncs, a, (const double (*)[3])B, NAN, lam, &it);
-    } else {
+    } else
         ldp_min_combination(H->ncs, a, (const double (*)[3])B, lam, &it);
-    }
     H->st->stop_iterations += (size_t)it;
     for (int c = 0; c < 3; c++) P[c] = -F[c];
     for (int i = 0; i < H->ncs; i++) {
@@ -547,6 +555,8 @@ double hyb_planar_slip_speed(const hyb *H, const double *y)
     hyb_pads(H, y);
     double u[3], eu[3];
     model_patch_slip(H->m, MODEL_CS(y[2]), y + 3, u);
+    if (H->m->ls_exact)   /* the exact surface's slip speed: D(u), its dissipation per unit capacity */
+        return limitsurf_dissipation(&H->m->ls, u);
     for (int i = 0; i < 3; i++) eu[i] = H->m->e[i] * u[i];
     return sqrt(ex_dot3(eu, eu));
 }
@@ -593,7 +603,17 @@ int hyb_planar_friction(hyb *H, const frame *f, const exdex_kinematics *kin, con
         model_patch_slip(m, MODEL_CS(th), v, u);
         for (int i = 0; i < 3; i++) eu[i] = m->e[i] * u[i];
         sig = sqrt(ex_dot3(eu, eu));
-        if (H->law == LAW_SMOOTH) {
+        if (H->law == LAW_SMOOTH && m->ls_exact) {
+            /* the exact surface: the same gain of the slip speed D(u) (its
+             * dissipation per unit capacity, |E u| for the ellipsoid) along
+             * its maximum-dissipation wrench, gain D w(u) (-gain E^2 u for
+             * the ellipsoid) */
+            double ws[3] = {0, 0, 0}, D = u[0] != 0.0 || u[1] != 0.0 || u[2] != 0.0
+                                               ? limitsurf_wrench(&m->ls, u, ws, NULL) : 0.0;
+            double gn = H->caps == H->cap ? H->cap / sqrt(D * D + H->eps * H->eps) : smooth_gain(H, D);
+            for (int i = 0; i < 3; i++) w[i] = D > 0.0 ? gn * D * ws[i] : 0.0;
+            if (!ex_finite_n(w, 3)) return EXDEX_ENONFINITE;
+        } else if (H->law == LAW_SMOOTH) {
             if (H->caps == H->cap) {
                 double den = sqrt(sig * sig + H->eps * H->eps);
                 for (int i = 0; i < 3; i++) w[i] = -H->cap * m->e[i] * eu[i] / den;
@@ -641,14 +661,10 @@ int hyb_planar_friction(hyb *H, const frame *f, const exdex_kinematics *kin, con
                     for (int i = 0; i < 3; i++) ea[i] = m->e[i] * ua[i];
                     sa = sqrt(ex_dot3(ea, ea));
                     if (!(sa > 0.0)) break;
-                    if (m->ls_exact) {
-                        /* the exact surface's maximum-dissipation wrench of that slip */
-                        limitsurf_wrench(&m->ls, ua, wn, NULL);
-                        for (int i = 0; i < 3; i++) wn[i] *= H->cap;
-                    } else {
-                        for (int i = 0; i < 3; i++) wn[i] = -H->cap * m->e[i] * ea[i] / sa;
-                    }
+                    /* the exact surface: its maximum-dissipation wrench of u' */
+                    if (m->ls_exact) limitsurf_wrench(&m->ls, ua, wn, NULL);
                     for (int i = 0; i < 3; i++) {
+                        wn[i] = m->ls_exact ? H->cap * wn[i] : -H->cap * m->e[i] * ea[i] / sa;
                         d = fmax(d, fabs(wn[i] - w[i]) / m->e[i]);
                         w[i] = wn[i];
                     }

@@ -611,7 +611,7 @@ double limitsurf_min_combination(const limitsurf *ls, int k, const double a[3], 
      * so each step is the ellipsoid problem of Q (ldp_min_combination after
      * a Cholesky factor), damped along the segment to it */
     for (int round = 0; round < 30 && !(g <= cap); round++) {
-        double gr[3], H[9], Q[9], L[9] = {0}, gt = g, wt[3];
+        double gr[3], H[9], Q[9], L[9] = {0}, gt = g, wt[3], gm;
         if (limitsurf_gauge_hessian(ls, w, &g, gr, H) != EXDEX_OK) break;
         for (int i = 0; i < 3; i++)
             for (int j = 0; j < 3; j++) Q[3 * i + j] = gr[i] * gr[j] + g * H[3 * i + j];
@@ -640,8 +640,11 @@ double limitsurf_min_combination(const limitsurf *ls, int k, const double a[3], 
             }
         }
         it = 0;
-        ldp_min_combination(k, ta, (const double (*)[3])tb, lnew, &it);
+        gm = ldp_min_combination(k, ta, (const double (*)[3])tb, lnew, &it);
         if (iters) *iters += it;
+        /* the model's least value: no decrease beyond rounding predicted,
+         * the minimum to working precision (no line search to fail) */
+        if (!(gm < g * (1.0 - 1e-13))) break;
         {
             double t = 1.0, lt[LDP_MAX_ROWS];
             int moved = 0;

@@ -235,12 +235,10 @@ static int check_fields(const exdex_scene_def *d, const char **bad_param)
         int fric = 0;
         for (int k = 0; k < d->n_stops; k++) fric |= d->stop_mu[k] > 0.0;
         for (int o = 0; o < d->n_obstacles; o++) fric |= d->obstacles[o].mu > 0.0;
-        /* planar: the implicit, explicit and event methods; with frictional
-         * stops or obstacles the explicit one only */
-        if (d->dof == EXDEX_DOF_PLANAR &&
-            ((d->method != EXDEX_METHOD_IMPLICIT && d->method != EXDEX_METHOD_EVENT &&
-              d->method != EXDEX_METHOD_EXPLICIT) ||
-             (fric && (d->method == EXDEX_METHOD_IMPLICIT || d->method == EXDEX_METHOD_EVENT))))
+        /* planar: every method but the analytic one (which solves 1-DoF
+         * scenes); the implicit method with frictionless stops and
+         * obstacles (its stop friction carries the ellipsoid's plate term) */
+        if (d->dof == EXDEX_DOF_PLANAR && fric && d->method == EXDEX_METHOD_IMPLICIT)
             return bad(bad_param, "limit_surface");
     }
     if (!(isfinite(d->eps) && d->eps > 0)) return bad(bad_param, "eps");
@@ -1399,43 +1397,4 @@ int exdex_model_grip(const exdex_model *m, double t, double *force, double *rate
     if (force) *force = model_grip_force(m, t);
     if (rate) *rate = m->grip_n ? model_grip_sched_rate(m, t) : 0.0;
     return EXDEX_OK;
-}
-
-/* The plate friction wrench that holds the object at rest relative to the
- * gripper at time t and coordinates q, in B at the centre of pressure (the
- * output's wrench rows): the static balance -F of gravity and the inertial
- * forces at zero relative velocity, where it lies inside the static limit
- * surface. Returns 1 with w set where it does, 0 where the object slips at
- * once, or where the scene has stops or obstacles (their share of the load
- * is not unique), w then zero. */
-int model_holding_wrench(const exdex_model *m, double t, const double *q, double w[3])
-{
-    frame f;
-    exdex_kinematics kin;
-    double Cs;
-    w[0] = w[1] = w[2] = 0.0;
-    if (m->n_src || model_frame_at(m, t, &f, &kin)) return 0;
-    Cs = model_capacity_static(m, t);
-    if (m->ndof == 1) {
-        int tr = m->def.dof == EXDEX_DOF_TRANSLATION;
-        double Q = model_force_1dof(m, &f, q[0], 0.0);
-        /* the capacity along the coordinate: Cs for a slide, Cs e_r for a
-         * spin at the centre of pressure (as the implicit step's) */
-        if (!(fabs(Q) <= (tr ? Cs : Cs * m->e[2]))) return 0;
-        if (tr) {
-            w[0] = -Q * m->d[0];
-            w[1] = -Q * m->d[1];
-        } else {
-            w[2] = -Q;
-        }
-        return 1;
-    } else {
-        double F[3], P[3], b[3], v0[3] = {0.0, 0.0, 0.0};
-        model_force_planar(m, &f, q, v0, F);
-        for (int i = 0; i < 3; i++) P[i] = -F[i];
-        model_patch_of_gen(m, MODEL_CS(q[2]), P, b);
-        if (!(model_ls_gauge(m, b) <= Cs)) return 0;
-        model_to_b(MODEL_CS(q[2]), b, w);
-        return 1;
-    }
 }

@@ -616,11 +616,11 @@ class Grasp:
         ``-mu p s / |s|`` over the region for the slip ``s`` at each point,
         in closed form). ``"exact"`` needs a region: pads on the fingers
         (the surface of pad & face, which follows the pose) or a patch with
-        one (``Patch.disc``, ``Patch.rectangle``); it runs planar scenes
-        with the implicit, explicit and event methods (with stops or
-        obstacles: implicit and explicit; frictional ones: explicit), and
-        1-DoF scenes with every method (a 1-DoF rotation's torque
-        capacity is then the region's mean distance from its centre times
+        one (``Patch.disc``, ``.rectangle``, ``.polygon``); every method
+        takes it (planar scenes with frictional stops or obstacles: all but
+        the implicit one; the regularised method's law is its gain of the
+        slip speed D(u) along the exact surface's wrench; a 1-DoF rotation's
+        torque capacity is the region's mean distance from its centre times
         the capacity, as with the ellipsoid of that e_r). Static and kinetic
         friction are two surfaces of one shape (``mu_static``). See the
         README's "Ellipsoid or exact" for the differences in numbers.
@@ -1771,17 +1771,14 @@ class Scene:
 
     def _check_exact(self, method: str) -> None:
         """ValueError naming Grasp.limit_surface where the exact surface is not
-        solved: planar scenes take it with the implicit, explicit and event
-        methods; with frictional stops or obstacles (mu > 0) the explicit
-        method only."""
+        solved: planar scenes with frictional stops or obstacles (mu > 0) and
+        the implicit method."""
         if self.dof != "planar":
             return
-        if method not in ("implicit", "explicit", "event"):
-            raise ValueError(f"Grasp.limit_surface='exact': planar scenes run it with method='implicit', "
-                             f"'explicit' or 'event', got method={method!r}")
-        if method in ("implicit", "event") and (any(s.mu > 0 for s in self.stops) or any(o.mu > 0 for o in self.obstacles)):
+        if method == "implicit" and (any(s.mu > 0 for s in self.stops) or any(o.mu > 0 for o in self.obstacles)):
             raise ValueError("Grasp.limit_surface='exact': planar scenes with frictional stops or obstacles "
-                             f"(mu > 0) run it with method='explicit', got method={method!r}")
+                             "(mu > 0) run it with method='explicit', 'event' or 'regularised', got "
+                             "method='implicit'")
 
     def to_spec(self, method: str = "implicit", friction_solver: str = "scalar", eps: float = 1e-4,
                 rtol: float = 1e-8, atol: float = 1e-10) -> Dict[str, Any]:

@@ -397,37 +397,45 @@ def test_exact_held_load_inside_the_clipped_region_leaves_the_box_still(method):
 
 
 @pytest.mark.warns_by_design("pad", "outline")  # the patch-on-object run slides past its patch
+@pytest.mark.parametrize("method", ["implicit", "event"])
 @pytest.mark.parametrize("pad", [None, exdex.Pad.rectangle(0.3, 0.3)])
-def test_exact_slide_down_a_frictionless_wall_is_the_closed_form(pad):
+def test_exact_slide_down_a_frictionless_wall_is_the_closed_form(pad, method):
     """A box pressed against a frictionless wall (a stop at its left face) by
     a lateral gravity component, sliding down it: the slip is a pure
     translation, whose exact friction is the capacity against the slip with
     no moment about the region's centroid (the centre of mass here: the face
     inside a large pad, or the patch of the face), so vy(t) = -(g_y - C / m)
     t, which the implicit step's velocity reproduces exactly (constant
-    acceleration), and y(t) = -(g_y - C / m) t^2 / 2, from which its
-    position (q + h v+) lies at most (g_y - C / m) h t / 2; x and theta
-    held."""
+    acceleration; the event method to its tolerance), and y(t) = -(g_y - C /
+    m) t^2 / 2, from which the implicit position (q + h v+) lies at most
+    (g_y - C / m) h t / 2; x and theta held. The wall as a one-face obstacle
+    gives the same run bit for bit."""
+    from runs import face_is_the_stop
     body = exdex.Body.box(0.2, (0.04, 0.03, 0.02))
     g = exdex.Grasp(mu=0.3, grip_force=0.5, patch=exdex.Patch.rectangle(0.04, 0.03), pad=pad, limit_surface="exact")
     wall = exdex.Stop(point=(-0.02, 0.0, 0.0), normal=(1.0, 0.0, 0.0))
     sc = exdex.Scene(body=body, grasp=g, dof="planar", q0=(0.0, 0.0, 0.0), gravity=(-3.0, -9.81, 0.0),
                      gripper_rotation=np.eye(3), stops=(wall,))
-    r = exdex.simulate(sc, 0.15, 1e-3, method="implicit")
+    kw = dict(method=method) if method == "implicit" else dict(method=method, rtol=1e-11, atol=1e-13)
+    r = face_is_the_stop(exdex.simulate, sc, exdex.Obstacle.halfspaces([(1.0, 0.0, 0.0)], [-0.02]), 0.15, 1e-3, **kw)
     acc = 9.81 - 0.3 * 2 * 0.5 / 0.2
-    np.testing.assert_allclose(r.v[:, 1], -acc * r.t, rtol=1e-12, atol=1e-15)
-    assert np.all(np.abs(r.q[:, 1] + 0.5 * acc * r.t ** 2) <= 0.5 * acc * 1e-3 * r.t * (1 + 1e-9) + 1e-15)
-    assert r.q[-1, 1] < -0.09   # it slid 9.3 cm, the face still inside the pad
+    np.testing.assert_allclose(r.v[:, 1], -acc * r.t, rtol=1e-12 if method == "implicit" else 1e-9, atol=1e-15)
+    if method == "implicit":
+        assert np.all(np.abs(r.q[:, 1] + 0.5 * acc * r.t ** 2) <= 0.5 * acc * 1e-3 * r.t * (1 + 1e-9) + 1e-15)
+    else:
+        np.testing.assert_allclose(r.q[:, 1], -0.5 * acc * r.t ** 2, rtol=1e-9, atol=1e-15)
     np.testing.assert_allclose(r.q[:, 0], 0.0, atol=1e-12)
     np.testing.assert_allclose(r.q[:, 2], 0.0, atol=1e-10)
+    assert r.q[-1, 1] < -0.09   # it slid 9.3 cm, the face still inside the pad
 
 
-def test_exact_explicit_slide_down_a_frictional_wall_converges_to_the_closed_form():
+def test_exact_slide_down_a_frictional_wall_is_the_closed_form():
     """The wall of the test above with Coulomb friction mu_w = 0.2 (the
-    explicit method, which takes frictional stops with the exact surface):
-    the slide's acceleration is g_y - C / m - mu_w g_x, and the explicit
-    velocity reaches it at first order in dt (the wall's friction enters a
-    step late: an offset of order mu_w g_x dt)."""
+    explicit and event methods, which take frictional stops with the exact
+    surface): the slide's acceleration is g_y - C / m - mu_w g_x; the event
+    velocity is it to its tolerance, the explicit one reaches it at first
+    order in dt (the wall's friction enters a step late: an offset of order
+    mu_w g_x dt)."""
     body = exdex.Body.box(0.2, (0.04, 0.03, 0.02))
     g = exdex.Grasp(mu=0.3, grip_force=0.5, pad=exdex.Pad.rectangle(0.3, 0.3), limit_surface="exact")
     wall = exdex.Stop(point=(-0.02, 0.0, 0.0), normal=(1.0, 0.0, 0.0), mu=0.2)
@@ -441,6 +449,9 @@ def test_exact_explicit_slide_down_a_frictional_wall_converges_to_the_closed_for
         assert np.all(r.v[:, 0] == 0.0) and np.max(np.abs(r.v[:, 2])) < 1e-9
     assert err[0] <= 3 * 0.2 * 3.0 * 1e-3
     assert err[1] < 0.6 * err[0] and err[2] < 0.6 * err[1], err
+    r = exdex.simulate(sc, 0.15, 1e-3, method="event", rtol=1e-11, atol=1e-13)
+    np.testing.assert_allclose(r.v[:, 1], -acc * r.t, rtol=1e-9, atol=1e-15)
+    assert np.max(np.abs(r.v[:, 0])) < 1e-12 and np.max(np.abs(r.v[:, 2])) < 1e-9
 
 
 def test_batch_says_where_the_grasp_is_lost():

@@ -496,52 +496,61 @@ def test_zoo_pad_scene(seed):
     assert abs(lost["explicit"] - lost["event"]) <= 4 * dt, (pz, lost)
 
 
+EXACT_METHODS = ("implicit", "event", "regularised", "explicit")
+
+
 @pytest.mark.parametrize("seed", PAD_SEEDS)
 def test_zoo_pad_scene_exact(seed):
     """The exact limit surface of the pads' moving region (pad & face, its
-    surface changing with the pose) on the random pad scenes. Without stops,
-    where the grasp holds: zoo.check_scene's agreement of the implicit and
-    explicit dt ladders with the event method (its tight run the
-    reference). With (frictionless) stops, which the event method does not
-    take with the exact surface: the implicit and explicit dt ladders
-    (t_end / (N_DT k), k = 1 .. 16; explicit 10x finer) each converge
-    (zoo.ladder_consistent: successive differences shrinking at a
-    convergent rate, the last at most half the first), to the same pose: the
-    finest runs within 3 times the sum of their last differences (a
-    first-order run's error is about its last difference). Where the grasp
-    is lost: the runs lose it within 4 of PAD_OUT output samples of the
-    implicit run at half that step (the implicit run at PAD_OUT, the
-    explicit run at 10 PAD_OUT and the event run without stops)."""
+    surface changing with the pose) on the random pad scenes, stops
+    included. Where the grasp holds: zoo.check_scene's agreement of the
+    implicit and explicit dt ladders and the regularised eps ladder with the
+    event method (its tight run the reference). Where it is lost: the runs lose it within 4 of PAD_OUT
+    output samples of the implicit run at half that step (the implicit and
+    event runs at PAD_OUT, the explicit run at 10 PAD_OUT; the regularised
+    method's creep moves its loss further, as with the ellipsoid)."""
     pz = zoo.zoo_pad_scene(seed)
     sc = pz.scene
     pz = dataclasses.replace(pz, scene=exdex.replace(sc, grasp=exdex.replace(sc.grasp, limit_surface="exact")))
-    stops = bool(sc.stops or sc.obstacles)
-    methods = ("implicit", "explicit") if stops else ("implicit", "event", "explicit")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", exdex.PhysicsWarning)
-        runs = {m: zoo.run(pz, m, n_out=PAD_OUT) for m in methods if m != "explicit"}
+        runs = {m: zoo.run(pz, m, n_out=PAD_OUT) for m in ("implicit", "event")}
         runs["explicit"] = zoo.run(pz, "explicit", n_out=10 * PAD_OUT)
         runs["implicit-2"] = zoo.run(pz, "implicit", dt=pz.t_end / (2 * PAD_OUT), n_out=PAD_OUT)
         lost = {m: r.stats["grasp_lost_t"] for m, r in runs.items()}
         if all(v is None for v in lost.values()):
-            if not stops:
-                out = zoo.check_scene(pz, methods=methods, agree=methods)
-                for m in methods:
-                    assert out[m]["error"] is None, (pz, m, out[m]["error"])
-                    assert out[m].get("ok", True), (pz, m, {k: v for k, v in out[m].items() if k != "pose"})
-                return
-            finest, last = {}, {}
-            for m, f in (("implicit", 1), ("explicit", 10)):
-                rs = [zoo.run(pz, m, dt=pz.t_end / (zoo.N_DT * f * k)) for k in (1, 2, 4, 8, 16)]
-                poses = [zoo.final_pose(r) for r in rs]
-                d = [zoo.pose_distance(pz, a, b) for a, b in zip(poses[:-1], poses[1:])]
-                assert zoo.ladder_consistent(d, noise=1e-9), (pz, m, d)
-                assert d[-1] <= 0.5 * d[0] + 1e-9, (pz, m, d)
-                finest[m], last[m] = poses[-1], d[-1]
-            gap = zoo.pose_distance(pz, finest["implicit"], finest["explicit"])
-            assert gap <= 3 * (last["implicit"] + last["explicit"]) + 1e-9, (pz, gap, last)
+            out = zoo.check_scene(pz, methods=EXACT_METHODS, agree=EXACT_METHODS)
+            for m in EXACT_METHODS:
+                assert out[m]["error"] is None, (pz, m, out[m]["error"])
+                assert out[m].get("ok", True), (pz, m, {k: v for k, v in out[m].items() if k != "pose"})
             return
     assert all(v is not None for v in lost.values()), (pz, lost)
     dt = pz.t_end / PAD_OUT
     for m in lost:
         assert abs(lost[m] - lost["implicit-2"]) <= 4 * dt, (pz, lost)
+
+
+#: the first planar zoo seeds whose patch has a region (Patch.disc, .rectangle) and whose stops, if
+#: any, are frictionless (the implicit method takes frictional ones with the ellipsoid only)
+def _exact_seed(s):
+    sc = zoo.zoo_scene(s).scene
+    return (sc.dof == "planar" and sc.grasp.patch.region() is not None
+            and not any(st.mu > 0 for st in sc.stops) and not any(o.mu > 0 for o in sc.obstacles))
+
+
+EXACT_SEEDS = [s for s in range(120) if _exact_seed(s)][:10]
+
+
+@pytest.mark.parametrize("seed", EXACT_SEEDS)
+def test_zoo_scene_exact(seed):
+    """The zoo's random planar scenes (stops, obstacles, motions, static
+    friction) with the exact surface of the patch's region: zoo.check_scene's
+    agreement of the implicit and explicit dt ladders and the regularised eps
+    ladder with the event method."""
+    zs = zoo.zoo_scene(seed)
+    sc = zs.scene
+    zs = dataclasses.replace(zs, scene=exdex.replace(sc, grasp=exdex.replace(sc.grasp, limit_surface="exact")))
+    out = zoo.check_scene(zs, methods=EXACT_METHODS, agree=EXACT_METHODS)
+    for m in EXACT_METHODS:
+        assert out[m]["error"] is None, (zs, m, out[m]["error"])
+        assert out[m].get("ok", True), (zs, m, {k: v for k, v in out[m].items() if k != "pose"})
