@@ -130,7 +130,12 @@ EXDEX_TEST(certify_proofs_stop_holds_the_box)
             scene_rect(&d, 0.075, 0.04);
             scene_stop(&d, 0, 0.0, 0.0, -0.04, 0.0, 0.0, 1.0);
             same_certificate(&d, 0.3, methods[k] == EXDEX_METHOD_REGULARISED ? 3e-3 : 1e-3);
+            /* a frictional stop */
+            d.stop_mu[0] = 0.7;
+            same_certificate(&d, 0.3, methods[k] == EXDEX_METHOD_REGULARISED ? 3e-3 : 1e-3);
             scene_trapezoid(&d, 0, 0.0, 0.0, -1.0, 0.05, 0.5, 0.12);
+            same_certificate(&d, 0.8, methods[k] == EXDEX_METHOD_REGULARISED ? 4e-3 : 1e-3);
+            d.stop_mu[0] = 0.0;
             same_certificate(&d, 0.8, methods[k] == EXDEX_METHOD_REGULARISED ? 4e-3 : 1e-3);
         }
     }
