@@ -499,14 +499,14 @@ static int at_rest(const exdex_model *m, double h, double t, double q, double v)
  * one mode (stuck, slipping forwards, backwards), the samples of that mode
  * strictly inside the piece need no evaluation; only the others are
  * evaluated, as before. Two kinds of proof:
- *   constant load: a translation run with a constant grip force in a
+ *   constant load: a translation run in a
  *     gripper that rests or translates with a piecewise-constant
  *     acceleration (rest, Eq. 7, a trapezoid): the load is the same for
  *     every time in a piece and every state (it has no term in the
  *     position or the rate), so one evaluation per piece and mode decides
  *     it, without the stops' forces (a verdict that holds without them
  *     holds with them; one that fails is evaluated per sample with them);
- *   a bound: a 1-DoF run with a constant grip force in a gripper that
+ *   a bound: a 1-DoF run in a gripper that
  *     rests, translates as above or turns about a fixed axis with a
  *     piecewise-constant angular acceleration. A point fixed in B at
  *     distance rho from the axis then has the acceleration
@@ -546,12 +546,12 @@ static double norm3(const double a[3])
 
 /* Is the motion one the proofs know: rest, or Eq. 7 / a trapezoid with
  * ramps, translating (*turns = 0) or turning about a fixed axis
- * (*turns = 1), played from its start, with a constant grip force? */
+ * (*turns = 1), played from its start? */
 static int proof_motion(const exdex_model *m, int *turns)
 {
     const exdex_motion_def *d = &m->def.motion;
     *turns = 0;
-    if (m->grip_n || m->motion != m->sw_motion || d->time_shift != 0.0) return 0;
+    if (m->motion != m->sw_motion || d->time_shift != 0.0) return 0;
     if (d->kind == EXDEX_MOTION_REST) return 1;
     if (d->kind != EXDEX_MOTION_ASYMMETRIC && d->kind != EXDEX_MOTION_TRAPEZOID) return 0;
     if (d->kind == EXDEX_MOTION_TRAPEZOID && d->amplitude != 0.0 &&
@@ -626,16 +626,32 @@ static int prove_pieces(const exdex_model *m, const exdex_trajectory *out, piece
             }
         }
     }
-    pv->qknown = pc;
+    pv->qknown = pc && !m->grip_n;
     for (size_t k = 0; k <= m->sw_n; k++) {
         double lo = k ? m->sw_t[k - 1] : -INFINITY, hi = k < m->sw_n ? m->sw_t[k] : INFINITY;
         double a = lo > t_first ? lo : t_first, b = hi < t_last ? hi : t_last, tm = a + 0.5 * (b - a);
+        double Csmin, Csmax, Cmin;
         int j = pv->n;
         if (hi <= t_first) continue;
         if (lo > t_last) break;
         pv->lo[j] = lo;
         pv->hi[j] = hi;
         pv->proven[j][0] = pv->proven[j][1] = pv->proven[j][2] = 0;
+        /* a grip schedule: the capacities' least (and the static one's
+         * largest) over the piece, at its ends (linear, step and Steffen's
+         * monotone cubic pieces are monotone between breakpoints, which
+         * are switching times), the far end taken 1e-9 of the piece inside
+         * it and widened by as much of the piece's change */
+        if (m->grip_n) {
+            double te = b > a ? b - 1e-9 * (b - a) : a, s0 = model_capacity_static(m, a),
+                   s1 = model_capacity_static(m, te), k0 = model_capacity(m, a), k1 = model_capacity(m, te);
+            Csmin = fmin(s0, s1) - 1e-9 * fabs(s1 - s0);
+            Csmax = fmax(s0, s1) + 1e-9 * fabs(s1 - s0);
+            Cmin = fmin(k0, k1) - 1e-9 * fabs(k1 - k0);
+        } else {
+            Csmin = Csmax = model_capacity_static(m, tm);
+            Cmin = model_capacity(m, tm);
+        }
         if (pc) {
             for (int key = 0; key < 3; key++) {
                 cert_eval ce;
@@ -644,8 +660,18 @@ static int prove_pieces(const exdex_model *m, const exdex_trajectory *out, piece
                 if (st) return st;
                 /* no sample sticks where the reduced load exceeds the static
                  * capacity (unless a stop holds it) */
-                pv->proven[j][key] =
-                    !(ce.excess > 0.0) || (key == 0 && !m->n_src && ce.along > ce.cap * (1.0 + 1e-9));
+                if (!m->grip_n) {
+                    pv->proven[j][key] =
+                        !(ce.excess > 0.0) || (key == 0 && !m->n_src && ce.along > ce.cap * (1.0 + 1e-9));
+                } else if (key == 0) {
+                    /* the same load against the least static capacity */
+                    pv->proven[j][key] = ce.gauge * ce.cap <= Csmin || (!m->n_src && ce.along > Csmax * (1.0 + 1e-9));
+                } else {
+                    /* the slip's residual against the tolerance of the least capacity */
+                    pv->proven[j][key] =
+                        ce.gauge * ce.cap <= CERT_SLIP_TOL * (m->scale.F + model_ell_norm(m, ce.load) + Cmin) &&
+                        !(ce.excess > 0.0);
+                }
             }
             {
                 frame f;
@@ -655,7 +681,7 @@ static int prove_pieces(const exdex_model *m, const exdex_trajectory *out, piece
                 pv->Q[j] = fabs(model_force_1dof(m, &f, out->q[0], 0.0));
             }
         } else {
-            double Bf, Bz, Cs = model_capacity_static(m, tm), C = model_capacity(m, tm), gauge;
+            double Bf, Bz, Cs = Csmin, C = Cmin, gauge;
             if (turns) {
                 /* omega at the piece's ends (linear inside), alpha inside */
                 double om = 0.0, al = 0.0, ts[3] = {a + 1e-9 * (b - a), tm, b - 1e-9 * (b - a)}, s;
@@ -806,7 +832,7 @@ static int check_sample(scan *sc, size_t i, exdex_certificate *c, int *failed)
 static int piecewise_constant(const exdex_model *m)
 {
     int turns;
-    if (m->def.dof != EXDEX_DOF_TRANSLATION || m->n_src) return 0;
+    if (m->def.dof != EXDEX_DOF_TRANSLATION || m->n_src || m->grip_n) return 0;
     return proof_motion(m, &turns) && !turns;
 }
 

@@ -130,8 +130,41 @@ EXDEX_TEST(certify_proofs_stop_holds_the_box)
             scene_rect(&d, 0.075, 0.04);
             scene_stop(&d, 0, 0.0, 0.0, -0.04, 0.0, 0.0, 1.0);
             same_certificate(&d, 0.3, methods[k] == EXDEX_METHOD_REGULARISED ? 3e-3 : 1e-3);
+            /* a frictional stop */
+            d.stop_mu[0] = 0.7;
+            same_certificate(&d, 0.3, methods[k] == EXDEX_METHOD_REGULARISED ? 3e-3 : 1e-3);
             scene_trapezoid(&d, 0, 0.0, 0.0, -1.0, 0.05, 0.5, 0.12);
+            same_certificate(&d, 0.8, methods[k] == EXDEX_METHOD_REGULARISED ? 4e-3 : 1e-3);
+            d.stop_mu[0] = 0.0;
             same_certificate(&d, 0.8, methods[k] == EXDEX_METHOD_REGULARISED ? 4e-3 : 1e-3);
         }
     }
+}
+
+EXDEX_TEST(certify_proofs_grip_schedule)
+{
+    /* the grip force ramps down through the held box's and the turning
+     * gripper's thresholds, and up again (every kind of schedule) */
+    static const double times[4] = {0.0, 0.2, 0.5, 0.9};
+    static const double forces[4] = {1.0, 0.25, 0.5, 1.2};
+    const int kinds[3] = {EXDEX_GRIP_LINEAR, EXDEX_GRIP_STEP, EXDEX_GRIP_CUBIC};
+    n_held = n_failed = 0;
+    for (int k = 0; k < 5; k++) {
+        for (int g = 0; g < 3; g++) {
+            for (int j = 0; j < 3; j++) {
+                double ratios[3] = {6.0, 3.5, 12.0}, offsets[3] = {0.0, 0.0, 0.01};
+                exdex_scene_def d = box(ratios[j], offsets[j], methods[k]);
+                d.grip_n = 4;
+                d.grip_times = times;
+                d.grip_forces = forces;
+                d.grip_kind = kinds[g];
+                if (methods[k] == EXDEX_METHOD_ANALYTIC && kinds[g] == EXDEX_GRIP_CUBIC) continue;
+                same_certificate(&d, 1.2, methods[k] == EXDEX_METHOD_REGULARISED ? 4e-3 : 1e-3);
+                if (methods[k] == EXDEX_METHOD_ANALYTIC) continue;
+                scene_eq7(&d, 1, 0.0, -1.0, 0.0, 0.5236, 0.5, 0.8);
+                same_certificate(&d, 1.2, methods[k] == EXDEX_METHOD_REGULARISED ? 4e-3 : 1e-3);
+            }
+        }
+    }
+    ENSURE(n_held >= 5 && n_failed >= 5);
 }
