@@ -1398,3 +1398,42 @@ int exdex_model_grip(const exdex_model *m, double t, double *force, double *rate
     if (rate) *rate = m->grip_n ? model_grip_sched_rate(m, t) : 0.0;
     return EXDEX_OK;
 }
+
+/* The plate friction wrench that holds the object at rest relative to the
+ * gripper at time t and coordinates q, in B at the centre of pressure (the
+ * output's wrench rows): the static balance -F of gravity and the inertial
+ * forces at zero relative velocity, where it lies inside the static limit
+ * surface. Returns 1 with w set where it does, 0 where the object slips at
+ * once, or where the scene has stops or obstacles (their share of the load
+ * is not unique), w then zero. */
+int model_holding_wrench(const exdex_model *m, double t, const double *q, double w[3])
+{
+    frame f;
+    exdex_kinematics kin;
+    double Cs;
+    w[0] = w[1] = w[2] = 0.0;
+    if (m->n_src || model_frame_at(m, t, &f, &kin)) return 0;
+    Cs = model_capacity_static(m, t);
+    if (m->ndof == 1) {
+        int tr = m->def.dof == EXDEX_DOF_TRANSLATION;
+        double Q = model_force_1dof(m, &f, q[0], 0.0);
+        /* the capacity along the coordinate: Cs for a slide, Cs e_r for a
+         * spin at the centre of pressure (as the implicit step's) */
+        if (!(fabs(Q) <= (tr ? Cs : Cs * m->e[2]))) return 0;
+        if (tr) {
+            w[0] = -Q * m->d[0];
+            w[1] = -Q * m->d[1];
+        } else {
+            w[2] = -Q;
+        }
+        return 1;
+    } else {
+        double F[3], P[3], b[3], v0[3] = {0.0, 0.0, 0.0};
+        model_force_planar(m, &f, q, v0, F);
+        for (int i = 0; i < 3; i++) P[i] = -F[i];
+        model_patch_of_gen(m, MODEL_CS(q[2]), P, b);
+        if (!(model_ls_gauge(m, b) <= Cs)) return 0;
+        model_to_b(MODEL_CS(q[2]), b, w);
+        return 1;
+    }
+}
