@@ -365,8 +365,8 @@ static void decide_modes(hyb *H, double t, double *y, int vzero)
             exdex_friction_result res;
             int st;
             model_patch_of_gen(m, MODEL_CS(y[2]), F, wF);
-            ex_mulmv3(b, m->prep.W, wF);
-            st = limitsurf_step(&m->ls, &m->prep, b, H->cap, EXDEX_SOLVER_SCALAR, NULL, NULL, &res);
+            ex_mulmv3(b, model_prep(m)->W, wF);
+            st = limitsurf_step(&m->ls, model_prep(m), b, H->cap, EXDEX_SOLVER_SCALAR, NULL, NULL, &res);
             if (st) {
                 H->err = H->err ? H->err : st;
                 return;

@@ -642,8 +642,8 @@ int hyb_planar_friction(hyb *H, const frame *f, const exdex_kinematics *kin, con
             exdex_friction_result res;
             int st;
             model_patch_of_gen(m, MODEL_CS(th), F, wF);
-            ex_mulmv3(b, m->prep.W, wF);
-            st = limitsurf_step(&m->ls, &m->prep, b, H->cap, EXDEX_SOLVER_SCALAR, NULL, NULL, &res);
+            ex_mulmv3(b, model_prep(m)->W, wF);
+            st = limitsurf_step(&m->ls, model_prep(m), b, H->cap, EXDEX_SOLVER_SCALAR, NULL, NULL, &res);
             if (st) return st;
             memcpy(w, res.p, 3 * sizeof *w);
             if (H->ncs && kin) {

@@ -922,6 +922,7 @@ static int step_planar(const exdex_model *m, double h, double capm, double capsm
 {
     double cap = h * capm, caps = h * capsm, b[3], cs[2] = {cos(th), sin(th)};
     int s, act[3], k = 0, round;
+    const exdex_friction_prep *prep = model_prep(m);
     model_patch_slip(m, cs, vs, b);
     /* stick with the static capacity, else slide with the kinetic one. The
      * solve's own stick test, |K^-1 E b| <= caps (K = E W E), is done here
@@ -932,22 +933,22 @@ static int step_planar(const exdex_model *m, double h, double capm, double capsm
         int skip_static = 0;
         if (caps != cap && !m->ls_exact) {
             double c[3], ct[3], t = 0.0;
-            for (int i = 0; i < 3; i++) c[i] = m->prep.e[i] * b[i];
-            ex_mulmtv3(ct, m->prep.Q, c);
+            for (int i = 0; i < 3; i++) c[i] = prep->e[i] * b[i];
+            ex_mulmtv3(ct, prep->Q, c);
             for (int i = 0; i < 3; i++) {
-                double r = ct[i] / m->prep.lam[i] / caps;
+                double r = ct[i] / prep->lam[i] / caps;
                 t += r * r;
             }
             skip_static = isfinite(t) && t > 1.0 + 1e-5;
         }
-        s = limitsurf_step(&m->ls, &m->prep, b, skip_static ? cap : caps, m->def.friction_solver, w->fws,
+        s = limitsurf_step(&m->ls, prep, b, skip_static ? cap : caps, m->def.friction_solver, w->fws,
                            w->have_prev ? w->p_prev : NULL, fr);
         if (s) return s;
         st->solver_iterations += (size_t)fr->iterations;
         if (skip_static) goto friction_done;
     }
     if (!fr->stick && caps != cap) {
-        s = limitsurf_step(&m->ls, &m->prep, b, cap, m->def.friction_solver, w->fws, w->have_prev ? w->p_prev : NULL, fr);
+        s = limitsurf_step(&m->ls, prep, b, cap, m->def.friction_solver, w->fws, w->have_prev ? w->p_prev : NULL, fr);
         if (s) return s;
         st->solver_iterations += (size_t)fr->iterations;
     }

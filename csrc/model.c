@@ -724,8 +724,7 @@ void model_pads_set(exdex_model *mc, const double q[3])
 {
     pads_region rg;
     pads_shape f;
-    double pc[2], e[3], pc0[2], e2, cs, sn;
-    exdex_friction_prep prep;
+    double pc[2], cs, sn;
     int in;
     if (!mc->pads || mc->ndof != 3) return;
     if (q[0] == mc->pad_q[0] && q[1] == mc->pad_q[1] && q[2] == mc->pad_q[2]) return;
@@ -739,6 +738,7 @@ void model_pads_set(exdex_model *mc, const double q[3])
         mc->pc[1] = mc->face_in_c[1];
         mc->e[2] = mc->face_in_er;
         mc->prep = mc->face_prep;
+        mc->prep_stale = 0;
         if (mc->ls_exact) {
             mc->ls = mc->face_ls;
             mc->e[2] = mc->ls.e[2];
@@ -776,36 +776,32 @@ void model_pads_set(exdex_model *mc, const double q[3])
         } else {
             limitsurf_quick_bounds(&ls);
         }
-        e[0] = e[1] = 1.0;
-        e[2] = ls.e[2];
-        if (model_pads_prepare(mc, pc, e, &prep)) return;
         mc->pc[0] = pc[0];
         mc->pc[1] = pc[1];
         mc->e[2] = ls.e[2];
         mc->ls = ls;
-        mc->prep = prep;
+        mc->prep_stale = 1;   /* prepared when read (model_prep) */
         memcpy(mc->pad_q, q, sizeof mc->pad_q);
         return;
     }
     /* the centroid in C: Rz(-theta) (c - r) */
     pc[0] = cs * (rg.c[0] - q[0]) + sn * (rg.c[1] - q[1]);
     pc[1] = -sn * (rg.c[0] - q[0]) + cs * (rg.c[1] - q[1]);
-    pc0[0] = mc->pc[0];
-    pc0[1] = mc->pc[1];
-    e2 = mc->e[2];
     mc->pc[0] = pc[0];
     mc->pc[1] = pc[1];
-    e[0] = e[1] = 1.0;
-    e[2] = rg.er;
-    if (model_pads_prepare(mc, pc, e, &prep)) {
-        mc->pc[0] = pc0[0];
-        mc->pc[1] = pc0[1];
-        mc->e[2] = e2;
-        return;
-    }
     mc->e[2] = rg.er;
-    mc->prep = prep;
+    mc->prep_stale = 1;   /* prepared when read (model_prep) */
     memcpy(mc->pad_q, q, sizeof mc->pad_q);
+}
+
+void model_prep_refresh(exdex_model *mc)
+{
+    exdex_friction_prep prep;
+    double e[3] = {1.0, 1.0, mc->e[2]};
+    /* a problem the prepare refuses (not seen with a valid inertia) keeps
+     * the last pose's */
+    if (model_pads_prepare(mc, mc->pc, e, &prep) == EXDEX_OK) mc->prep = prep;
+    mc->prep_stale = 0;
 }
 
 /* The regions of the two containments (the pad in the face, the face in

@@ -142,6 +142,9 @@ struct exdex_model {
      * a turn of the region leaves them) */
     limitsurf face_ls;
     double pad_kmin, pad_kmax;
+    /* prep is not yet that of pc and e (model_pads_set defers it: most of a
+     * run's poses never read it); read prep through model_prep */
+    int prep_stale;
 };
 
 /* ------------------------------------------------ grip force, capacity
@@ -479,6 +482,15 @@ void model_pads_region(const exdex_model *m, const double r[2], double th, pads_
  * fields of the last pose (the run stops at the next output sample, see
  * model_pads_lost). */
 void model_pads_set(exdex_model *mc, const double q[3]);
+/* The planar friction problem of the contact at the pose the model holds
+ * (pads: prepared here on first reading after model_pads_set moved the
+ * region; m is then the method's own copy). */
+void model_prep_refresh(exdex_model *mc);
+static inline const exdex_friction_prep *model_prep(const exdex_model *m)
+{
+    if (m->prep_stale) model_prep_refresh((exdex_model *)m);
+    return &m->prep;
+}
 /* For a method's entry point: m itself without pads, else copy (a
  * method's own copy of the model, zeroed when the workspace was made)
  * refreshed from m, its contact fields kept when they came from m before
