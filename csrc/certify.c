@@ -192,13 +192,16 @@ static double min_residual(const double y0[3], const double (*c)[3], int nfree, 
 /* -------------------------------------------------------- one instant */
 
 typedef struct cert_eval {
-    double excess;     /* > 0: fails (stick: gauge / Cs - 1; slip: residual / tol - 1) */
+    double excess;     /* > 0: fails (stick: gauge / Cs - 1 beyond the stick band; slip: residual / tol - 1) */
+    double crossing;   /* where a failure is located: its root (stick: gauge / Cs - 1; slip: excess) */
     double gauge;      /* stick: |E^-1 w| / Cs; slip: |E^-1 r| / C */
     double load[3];    /* the wrench the neglected coordinates need (patch frame) */
     double cap;        /* capacity used (static while stuck) */
     int stick;
     double th;
     double along;      /* |generalised load along the free coordinate| (a stuck reduced model needs <= its capacity) */
+    double own;        /* stick: the static gauge of that load alone (its component along the free
+                        * coordinate's direction, with nothing neglected) */
 } cert_eval;
 
 /* The verdict for the load b (patch wrench with no stop force) with the
@@ -226,8 +229,16 @@ static int cert_decide(const exdex_model *m, double t, const double b[3], const 
         }
         ce->cap = Cs;
         ce->gauge = Cs > 0.0 ? res / Cs : (res > 0.0 ? INFINITY : 0.0);
-        /* a failed search of the exact surface's gauge counts as a failure */
-        ce->excess = ce->gauge == ce->gauge ? ce->gauge - 1.0 : INFINITY;
+        /* the methods' own stick test: a load sticks while it is within
+         * FRICTION_BAND of the surface (at a slip's onset the load is on it
+         * to rounding). A time-stepping method holds a stick up to its step
+         * past the onset, where the reduced coordinate's own load alone is
+         * beyond the surface: that is the reduced model's slip decision,
+         * not a load of the neglected coordinates, so the gauge is compared
+         * with that of the own load where it is larger. A failed search of
+         * the exact surface's gauge counts as a failure. */
+        ce->excess = ce->gauge == ce->gauge ? ce->gauge - fmax(1.0, ce->own) * (1.0 + FRICTION_BAND) : INFINITY;
+        ce->crossing = ce->gauge == ce->gauge ? ce->gauge - 1.0 : INFINITY;
     } else {
         double C = model_capacity(m, t), u[3], wf[3], res, tol;
         model_patch_slip(m, cs, vf, u);
@@ -238,6 +249,7 @@ static int cert_decide(const exdex_model *m, double t, const double b[3], const 
         ce->cap = C;
         ce->gauge = C > 0.0 ? res / C : res;
         ce->excess = res / tol - 1.0;
+        ce->crossing = ce->excess;
     }
     return EXDEX_OK;
 }
@@ -291,6 +303,17 @@ static int cert_at_stops(const exdex_model *m, double t, double q, double v, int
     model_patch_of_gen(m, cs, P, b);
     memcpy(ce->load, b, sizeof b);
     ce->along = fabs(P[0] * T[0] + P[1] * T[1] + P[2] * T[2]);
+    {
+        double tt = T[0] * T[0] + T[1] * T[1] + T[2] * T[2], k, Pa[3], ba[3], Cs = model_capacity_static(m, t);
+        k = (P[0] * T[0] + P[1] * T[1] + P[2] * T[2]) / tt;
+        for (int c = 0; c < 3; c++) Pa[c] = k * T[c];
+        model_patch_of_gen(m, cs, Pa, ba);
+        ba[2] = 0.0;    /* the force alone: its moment about the patch is a neglected load */
+        /* the translation model only: a rotation's own load (a moment about
+         * the pivot) has no wrench of its own apart from the pin force the
+         * neglected coordinates carry */
+        ce->own = Cs > 0.0 && m->def.dof == EXDEX_DOF_TRANSLATION ? cert_gauge(m, ba) / Cs : 0.0;
+    }
     ce->stick = stick || v == 0.0;
     ce->th = th;
     if (!ce->stick) {
@@ -405,12 +428,14 @@ static double excess_of(double t, void *par)
         p->err = 1;
         return 1.0;
     }
-    return ce.excess;
+    return ce.crossing;
 }
 
 /* The first time in (a, b] where the excess at state (q, v, stick) turns
- * > 0, given <= 0 at a and > 0 at b: Brent on the sign change (a jump of the
- * load converges onto the jump). */
+ * > 0, given a verdict that holds at a and fails at b: Brent on the sign
+ * change of the crossing (the gauge against the surface itself, where the
+ * full model's guard lies; a jump of the load converges onto the jump; a
+ * at once where the crossing is already past 0 there, inside the band). */
 static double locate(const exdex_model *m, double a, double b, double q, double v, int stick)
 {
     root_par p = {m, q, v, stick, 0};
