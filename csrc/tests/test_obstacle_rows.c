@@ -1,0 +1,141 @@
+/* test_obstacle_rows.c -- obstacle_rows.c: the row codes, and the rows of a
+ * box obstacle against a square object at a known pose against hand
+ * geometry.
+ *
+ * The scene: B = A (the plate plane is A's x-y plane), a square of half
+ * side S, planar coordinates q = (x, y, theta); the obstacle a box
+ * |x| <= 0.1, TOP - H <= y <= TOP, |z| <= 0.05 (faces 2 i + s: normal
+ * +-e_i). Its section by the plane is the rectangle of corners (+-0.1, TOP)
+ * and (+-0.1, TOP - H). By hand:
+ *   vertex row of corner c_j (in C): its world point p = r + Rz(theta) c_j
+ *     is inside the obstacle's side and bottom slabs by far, so its largest
+ *     face distance is the top face's, gap = p_y - TOP, feature face 2;
+ *     d gap / d q = (0, 1, (d/dtheta Rz c_j)_y) = (0, 1, cos th cx - sin th cy);
+ *   section row of a corner P of the rectangle: P in C, u = Rz(-theta) (P - r),
+ *     against the square's edges: the largest edge distance
+ *     max(|u_x|, |u_y|) - S. */
+#include "check.h"
+#include "../model.h"
+#include "../obstacle_rows.h"
+
+#include <math.h>
+#include <string.h>
+
+#define S 0.02
+#define TOP -0.03
+#define H 0.05
+#define TH 0.1
+
+static exdex_scene_def box_def(void)
+{
+    exdex_scene_def d = exdex_default_scene_def();
+    const double c[4][2] = {{S, -S}, {S, S}, {-S, S}, {-S, -S}};
+    d.mass = 0.1;
+    memset(d.inertia, 0, sizeof d.inertia);
+    d.inertia[0] = d.inertia[4] = 1e-5;
+    d.inertia[8] = 0.1 * (2 * S) * (2 * S) / 6.0;
+    d.mu = 0.0;
+    d.gravity[0] = d.gravity[1] = 0.0;
+    d.gravity[2] = -9.81;
+    d.dof = EXDEX_DOF_PLANAR;
+    memset(d.R0, 0, sizeof d.R0);
+    d.R0[0] = d.R0[4] = d.R0[8] = 1.0;
+    d.n_vertices = 4;
+    memcpy(d.vertices, c, sizeof c);
+    /* lowest corner 1 mm above the top face */
+    d.q0[0] = 0.01;
+    d.q0[1] = TOP + S * (cos(TH) + sin(TH)) + 1e-3;
+    d.q0[2] = TH;
+    d.n_obstacles = 1;
+    d.obstacles[0].kind = EXDEX_OBSTACLE_POLYTOPE;
+    d.obstacles[0].n_faces = 6;
+    for (int i = 0; i < 3; i++)
+        for (int s = 0; s < 2; s++) {
+            double half = i == 0 ? 0.1 : i == 1 ? H / 2 : 0.05, ctr = i == 1 ? TOP - H / 2 : 0.0;
+            int f = 2 * i + s;
+            memset(d.obstacles[0].face_point[f], 0, sizeof d.obstacles[0].face_point[f]);
+            memset(d.obstacles[0].face_normal[f], 0, sizeof d.obstacles[0].face_normal[f]);
+            d.obstacles[0].face_normal[f][i] = s ? -1.0 : 1.0;
+            d.obstacles[0].face_point[f][i] = ctr + (s ? -half : half);
+        }
+    d.method = EXDEX_METHOD_EVENT;
+    return d;
+}
+
+/* The code packs (o, kind, a, b, feat) and the accessors unpack them. */
+EXDEX_TEST(obstacle_rows_code_round_trip)
+{
+    for (int o = 0; o < EXDEX_MAX_OBSTACLES; o++)
+        for (int kind = 0; kind < 3; kind++)
+            for (int a = 0; a < 32; a += 7)
+                for (int b = 0; b < 32; b += 5)
+                    for (int f = 0; f < 64; f += 9) {
+                        int c = orow_code(o, kind, a, b, f);
+                        ENSURE(c >= 0);
+                        ENSURE(orow_obst(c) == o && orow_kind(c) == kind && orow_a(c) == a && orow_b(c) == b &&
+                               orow_feat(c) == f);
+                        ENSURE(orow_pair(c) == orow_pair(orow_code(o, kind, a, b, 63 - f)));
+                    }
+}
+
+EXDEX_TEST(obstacle_rows_box_against_square_by_hand)
+{
+    exdex_scene_def d = box_def();
+    const double cth = cos(TH), sth = sin(TH);
+    int status, code[64], n, nv = 0, ns = 0;
+    const char *bad = NULL;
+    double gap[64], q[3] = {d.q0[0], d.q0[1], d.q0[2]}, sec_ref[4], sec_got[4];
+    frame f;
+    exdex_kinematics kin;
+    exdex_model *m = exdex_model_alloc(&d, &status, &bad);
+    ENSURE(m != NULL);
+    if (!m) {
+        printf("    alloc: %s (%s)\n", exdex_strerror(status), bad ? bad : "");
+        return;
+    }
+    ENSURE(model_frame_at(m, 0.0, &f, &kin) == EXDEX_OK);
+    n = orow_all(m, &kin, q, NULL, 1, code, gap);
+    ENSURE(n == 8 && n <= contact_obstacle_max_rows(m));
+    for (int i = 0; i < n; i++) {
+        ENSURE(orow_valid(m, code[i]));
+        ENSURE(orow_obst(code[i]) == 0);
+        if (orow_kind(code[i]) == OROW_VERTEX) {
+            int j = orow_a(code[i]);
+            double cx = d.vertices[j][0], cy = d.vertices[j][1];
+            double py = q[1] + sth * cx + cth * cy, G[3], gd;
+            ENSURE(j == nv);   /* outline vertices in order */
+            nv++;
+            ENSURE(orow_feat(code[i]) == 2);
+            ENSURE_CLOSE(gap[i], py - TOP, 1e-15);
+            ENSURE_CLOSE(orow_planar(m, &kin, code[i], q, (const double[3]){0.0, 0.0, 0.0}, G, &gd, NULL),
+                         py - TOP, 1e-15);
+            ENSURE_SMALL(G[0], 1e-15);
+            ENSURE_CLOSE(G[1], 1.0, 1e-15);
+            ENSURE_CLOSE(G[2], cth * cx - sth * cy, 1e-15);
+            ENSURE_SMALL(gd, 0.0);
+        } else if (orow_kind(code[i]) == OROW_SECTION && ns < 4) {
+            ENSURE(nv == 4);   /* section rows after the outline's */
+            sec_got[ns++] = gap[i];
+        }
+    }
+    ENSURE(nv == 4 && ns == 4);
+    {
+        const double P[4][2] = {{0.1, TOP}, {-0.1, TOP}, {0.1, TOP - H}, {-0.1, TOP - H}};
+        for (int k = 0; k < 4; k++) {
+            double dx = P[k][0] - q[0], dy = P[k][1] - q[1];
+            double ux = cth * dx + sth * dy, uy = -sth * dx + cth * dy;
+            sec_ref[k] = fmax(fabs(ux), fabs(uy)) - S;
+        }
+        /* as sets: sort both (4 values) */
+        for (int a = 0; a < 4; a++)
+            for (int b = a + 1; b < 4; b++) {
+                if (sec_ref[b] < sec_ref[a]) { double t = sec_ref[a]; sec_ref[a] = sec_ref[b]; sec_ref[b] = t; }
+                if (sec_got[b] < sec_got[a]) { double t = sec_got[a]; sec_got[a] = sec_got[b]; sec_got[b] = t; }
+            }
+        for (int k = 0; k < 4 && ns == 4; k++) ENSURE_CLOSE(sec_got[k], sec_ref[k], 1e-15);
+    }
+    ENSURE(!orow_valid(m, orow_code(1, OROW_VERTEX, 0, 0, 2)));   /* one obstacle only */
+    ENSURE(!orow_valid(m, orow_code(0, OROW_VERTEX, 4, 0, 2)));   /* four outline vertices */
+    ENSURE(!orow_valid(m, orow_code(0, OROW_VERTEX, 0, 0, 6)));   /* six faces */
+    exdex_model_free(m);
+}
