@@ -1102,7 +1102,7 @@ static double project_positions(const exdex_model *m, const exdex_kinematics *ki
  * friction): it is kept, so a scene whose frictional stops never push is
  * stepped exactly as without friction. Otherwise the step is solved again
  * with the friction of the rows (stop_impulse.h: Stewart-Trinkle velocity-level
- * complementarity, the plate ellipsoid with its prescribed normal force,
+ * complementarity, the plate's limit surface with its prescribed normal force,
  * exact mode enumeration), with the frictionless solution's active rows as
  * the candidates, and the last step's modes and velocity as the first
  * guess and Newton's start when the last step was frictional too (else the
@@ -1169,10 +1169,15 @@ static int stop_friction_step(const exdex_model *m, const exdex_kinematics *kin_
         p.vscale = m->scale.V * m->scale.q / m->scale.L;
     } else {
         double cs[2] = {cos(th), sin(th)};
+        /* the exact surface: the unscaled slip map and the surface itself */
+        if (m->ls_exact) p.ls = &m->ls;
         for (int c = 0; c < 3; c++) {
             double ec[3] = {0, 0, 0}, r[3];
             ec[c] = 1.0;
-            ejf(m, cs, ec, r);
+            if (m->ls_exact)
+                model_patch_slip(m, cs, ec, r);
+            else
+                ejf(m, cs, ec, r);
             for (int i = 0; i < 3; i++) p.A[i][c] = r[i];
             p.Md[c] = 1.0 / m->minv[c];
         }

@@ -232,14 +232,6 @@ static int check_fields(const exdex_scene_def *d, const char **bad_param)
         /* the region: the patch's, or pad and face (pads on the fingers) */
         if (d->region_kind == EXDEX_REGION_NONE && !(d->pad_n > 0 || d->pad_radius > 0.0))
             return bad(bad_param, "region_kind");
-        int fric = 0;
-        for (int k = 0; k < d->n_stops; k++) fric |= d->stop_mu[k] > 0.0;
-        for (int o = 0; o < d->n_obstacles; o++) fric |= d->obstacles[o].mu > 0.0;
-        /* planar: every method but the analytic one (which solves 1-DoF
-         * scenes); the implicit method with frictionless stops and
-         * obstacles (its stop friction carries the ellipsoid's plate term) */
-        if (d->dof == EXDEX_DOF_PLANAR && fric && d->method == EXDEX_METHOD_IMPLICIT)
-            return bad(bad_param, "limit_surface");
     }
     if (!(isfinite(d->eps) && d->eps > 0)) return bad(bad_param, "eps");
     if (!(isfinite(d->rtol) && d->rtol > 0)) return bad(bad_param, "rtol");

@@ -26,8 +26,10 @@ static double norm1(int n, const double *a)
     return s;
 }
 
-/* Plate impulse P(v) = -cap A^T A v / |A v| and its Jacobian dP (n x n).
- * Returns 0 at A v = 0 with cap > 0 (the sliding law is not defined). */
+/* Plate impulse P(v) = -cap A^T A v / |A v| and its Jacobian dP (n x n);
+ * with a limit surface ls, P = cap A^T w(A v) and dP = -cap A^T H A (H the
+ * Hessian of its dissipation at A v). Returns 0 at A v = 0 with cap > 0
+ * (the sliding law is not defined). */
 static int plate(const fc_problem *p, const double v[3], double P[3], double dP[3][3])
 {
     int n = p->n;
@@ -40,6 +42,23 @@ static int plate(const fc_problem *p, const double v[3], double P[3], double dP[
     for (int i = 0; i < n; i++) u[i] = dotn(n, p->A[i], v);
     nu = sqrt(dotn(n, u, u));
     if (!(nu > 0.0)) return 0;
+    if (p->ls) {
+        double wu[3], H[9];
+        double D = limitsurf_wrench(p->ls, u, wu, H);
+        if (!(D > 0.0) || !isfinite(D) || !(isfinite(wu[0]) && isfinite(wu[1]) && isfinite(wu[2]))) return 0;
+        for (int i = 0; i < n; i++) {
+            double s = 0.0;
+            for (int k = 0; k < n; k++) s += p->A[k][i] * wu[k];
+            P[i] = p->cap * s;
+            for (int j = 0; j < n; j++) {
+                double t = 0.0;
+                for (int k = 0; k < n; k++)
+                    for (int l = 0; l < n; l++) t += p->A[k][i] * H[3 * k + l] * p->A[l][j];
+                dP[i][j] = -p->cap * t;
+            }
+        }
+        return 1;
+    }
     /* B = (I / nu - u u^T / nu^3) A */
     for (int i = 0; i < n; i++)
         for (int j = 0; j < n; j++) {
@@ -117,9 +136,15 @@ static int try_rest(const fc_problem *p, double *lam, double *beta, fc_result *r
             a[i] -= Ainv[k][i] * Mvs[k];
             for (int j = 0; j < m; j++) b[j][i] -= Ainv[k][i] * g[j][k];
         }
-    best = ldp_min_combination(m, a, (const double (*)[3])b, l, &it);
-    res->iters += it;
-    if (!(best <= (p->cap_rest > p->cap ? p->cap_rest : p->cap) * (1.0 + 1e-12))) return 0;
+    {
+        double cr = p->cap_rest > p->cap ? p->cap_rest : p->cap;
+        /* a limit surface: its least gauge over the splits, stopping at the
+         * first one it carries (limitsurf_min_combination) */
+        best = p->ls && n == 3 ? limitsurf_min_combination(p->ls, m, a, (const double (*)[3])b, cr, l, &it)
+                               : ldp_min_combination(m, a, (const double (*)[3])b, l, &it);
+        res->iters += it;
+        if (!(best <= cr * (1.0 + 1e-12))) return 0;
+    }
     for (int i = 0; i < p->nr; i++) lam[i] = beta[i] = 0.0;
     for (int c = 0; c < n; c++) P[c] = -Mvs[c];
     for (int j = 0; j < m; j++) {

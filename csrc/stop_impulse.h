@@ -9,7 +9,9 @@
  *              |A^-T P| <= cap_rest (maximum dissipation over the ellipsoid,
  *              static capacity cap_rest >= cap at rest;
  *              A = E J_f maps v to the scaled patch slip, so |A^-T P| is
- *              the ellipsoid norm of the plate impulse),
+ *              the ellipsoid norm of the plate impulse; or any limit
+ *              surface ls: P = cap A^T w(A v), A = J_f, at rest its gauge
+ *              g(A^-T P) <= cap_rest),
  *     normal:  0 <= lam_i  _|_  G_i v - rhs_i >= 0,
  *     Coulomb: |beta_i| <= mu_i lam_i, beta_i = -mu_i lam_i sign(s_i) when
  *              the slip s_i = T_i v + tb_i != 0.
@@ -43,6 +45,7 @@
 #define EXDEX_STOP_IMPULSE_H
 
 #include "ldp.h"
+#include "limitsurf.h"
 
 #define FC_MAX_CAND 4  /* rows whose modes are enumerated from the hint (4^4 modes at most) */
 #define FC_MAX_WIDE 6  /* rows whose modes are enumerated when those do not suffice (4^6 modes at most) */
@@ -61,6 +64,10 @@ typedef struct fc_problem {
     double Md[3];        /* diagonal of M, > 0 */
     double vs[3];        /* velocity without plate friction and contacts */
     double A[3][3];      /* plate slip map (n x n, invertible when cap > 0) */
+    const limitsurf *ls; /* NULL: the ellipsoid above (A = E J_f, the scaled slip);
+                            else the plate's limit surface (limitsurf.h) with A = J_f,
+                            the unscaled slip: P = cap J_f^T w(J_f v) sliding, and at
+                            rest g(J_f^-T P) <= cap_rest in place of |A^-T P| */
     double cap;          /* plate capacity of the step (an impulse) >= 0: sliding */
     double cap_rest;     /* capacity of the plates' rest test (static friction), >= cap;
                             0: cap */

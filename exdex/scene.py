@@ -617,8 +617,7 @@ class Grasp:
         in closed form). ``"exact"`` needs a region: pads on the fingers
         (the surface of pad & face, which follows the pose) or a patch with
         one (``Patch.disc``, ``.rectangle``, ``.polygon``); every method
-        takes it (planar scenes with frictional stops or obstacles: all but
-        the implicit one; the regularised method's law is its gain of the
+        takes it (the regularised method's law is its gain of the
         slip speed D(u) along the exact surface's wrench; a 1-DoF rotation's
         torque capacity is the region's mean distance from its centre times
         the capacity, as with the ellipsoid of that e_r). Static and kinetic
@@ -1769,17 +1768,6 @@ class Scene:
             end = max(end, float(sched.times[-1]))
         return max(end, 0.0)
 
-    def _check_exact(self, method: str) -> None:
-        """ValueError naming Grasp.limit_surface where the exact surface is not
-        solved: planar scenes with frictional stops or obstacles (mu > 0) and
-        the implicit method."""
-        if self.dof != "planar":
-            return
-        if method == "implicit" and (any(s.mu > 0 for s in self.stops) or any(o.mu > 0 for o in self.obstacles)):
-            raise ValueError("Grasp.limit_surface='exact': planar scenes with frictional stops or obstacles "
-                             "(mu > 0) run it with method='explicit', 'event' or 'regularised', got "
-                             "method='implicit'")
-
     def to_spec(self, method: str = "implicit", friction_solver: str = "scalar", eps: float = 1e-4,
                 rtol: float = 1e-8, atol: float = 1e-10) -> Dict[str, Any]:
         """The flat dict the C core reads (keys mirror ``exdex_scene_def``)."""
@@ -1824,7 +1812,6 @@ class Scene:
             spec.update(grip_force=1.0, grip_schedule=np.array([sched.times, sched.forces]),
                         grip_kind=GRIP_KINDS[sched.kind])
         if self.grasp.limit_surface == "exact":
-            self._check_exact(method)
             spec["limit_surface"] = LIMIT_SURFACES["exact"]
             # the region: pad and face (the core intersects them), else the patch's
             reg = None if self.grasp.pad is not None else self.grasp.patch.region()

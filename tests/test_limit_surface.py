@@ -110,11 +110,6 @@ def test_bad_input_is_named():
         exdex.Grasp(0.5, 1.0, limit_surface="sphere")
     with pytest.raises(ValueError, match=r"Grasp.limit_surface='exact' needs a contact region"):
         exdex.Grasp(0.5, 1.0, exdex.Patch(e_r=0.01), limit_surface="exact")
-    g = exdex.Grasp(0.5, 1.0, exdex.Patch.disc(0.01), limit_surface="exact")
-    sc = exdex.Scene(body=exdex.Body(0.1), grasp=g, dof="planar", gravity=(0, 0, 0), v0=(0.01, 0, 1.0))
-    stop = exdex.Stop((0, -1.0, 0), (0, 1.0, 0))
-    with pytest.raises(ValueError, match=r"planar scenes with frictional stops or obstacles"):
-        exdex.simulate(exdex.replace(sc, stops=(exdex.replace(stop, mu=0.2),)), 0.1, 1e-3)
     with pytest.raises(ValueError, match=r"slip must be a non-zero twist"):
         exdex.Patch.disc(0.01).friction_wrench((0, 0, 0), "exact")
     with pytest.raises(ValueError, match=r"limit_surface must be one of"):

@@ -430,12 +430,12 @@ def test_exact_slide_down_a_frictionless_wall_is_the_closed_form(pad, method):
 
 
 def test_exact_slide_down_a_frictional_wall_is_the_closed_form():
-    """The wall of the test above with Coulomb friction mu_w = 0.2 (the
-    explicit and event methods, which take frictional stops with the exact
-    surface): the slide's acceleration is g_y - C / m - mu_w g_x; the event
-    velocity is it to its tolerance, the explicit one reaches it at first
-    order in dt (the wall's friction enters a step late: an offset of order
-    mu_w g_x dt)."""
+    """The wall of the test above with Coulomb friction mu_w = 0.2: the
+    slide's acceleration is g_y - C / m - mu_w g_x; the event velocity is it
+    to its tolerance, the implicit one (the wall's friction row beside the
+    plates' exact surface in one impulse problem) to rounding at every
+    sample, the explicit one reaches it at first order in dt (the wall's
+    friction enters a step late: an offset of order mu_w g_x dt)."""
     body = exdex.Body.box(0.2, (0.04, 0.03, 0.02))
     g = exdex.Grasp(mu=0.3, grip_force=0.5, pad=exdex.Pad.rectangle(0.3, 0.3), limit_surface="exact")
     wall = exdex.Stop(point=(-0.02, 0.0, 0.0), normal=(1.0, 0.0, 0.0), mu=0.2)
@@ -452,6 +452,9 @@ def test_exact_slide_down_a_frictional_wall_is_the_closed_form():
     r = exdex.simulate(sc, 0.15, 1e-3, method="event", rtol=1e-11, atol=1e-13)
     np.testing.assert_allclose(r.v[:, 1], -acc * r.t, rtol=1e-9, atol=1e-15)
     assert np.max(np.abs(r.v[:, 0])) < 1e-12 and np.max(np.abs(r.v[:, 2])) < 1e-9
+    r = exdex.simulate(sc, 0.15, 1e-3, method="implicit")
+    np.testing.assert_allclose(r.v[:, 1], -acc * r.t, rtol=1e-12, atol=1e-15)
+    assert np.all(r.v[:, 0] == 0.0) and np.max(np.abs(r.v[:, 2])) < 1e-12
 
 
 def test_batch_says_where_the_grasp_is_lost():
@@ -509,3 +512,84 @@ def test_no_patch_slide_warning_with_pads_on_the_fingers(limit_surface):
     with pytest.warns(exdex.PhysicsWarning, match="slid .* relative to the plate pads") as rec:
         exdex.simulate(exdex.replace(sc, grasp=exdex.replace(sc.grasp, pad=None)), 2.0, 1e-3)
     assert [w.message.kind for w in rec if isinstance(w.message, exdex.PhysicsWarning)] == ["pad"]
+
+
+def _stop_pad_scene(seed):
+    """A 60 x 30 mm box on pads on the fingers (rectangle or disc, its centre
+    up to 15 x 3.6 mm off the box's: some regions clipped) with the exact
+    surface, resting flush on a frictional floor (seed even: a stop; odd: a
+    one-face obstacle; mu 0.1..0.6), gravity in the plate plane tilted up to
+    0.3 rad from the floor's normal, the gripper shaking along the floor or
+    turning about the plate normal; the plates' capacity 0.5..1.2 of the
+    weight. Returns the scene and the box length."""
+    rng = np.random.default_rng([int(seed), 0x2424])
+    L = 0.06
+    body = exdex.Body.box(rng.uniform(0.1, 0.3), (L, L / 2, 0.02))
+    c = (rng.uniform(-0.25, 0.25) * L, rng.uniform(-0.12, 0.12) * L)
+    if rng.random() < 0.5:
+        pad = exdex.Pad.rectangle(rng.uniform(0.3, 0.6) * L, rng.uniform(0.3, 0.6) * L, center=c)
+    else:
+        pad = exdex.Pad.disc(rng.uniform(0.12, 0.25) * L, center=c)
+    mu = rng.uniform(0.3, 0.8)
+    grip = rng.uniform(0.5, 1.2) * body.mass * 9.81 / (2 * mu)
+    grasp = exdex.Grasp(mu=mu, grip_force=grip, patch=exdex.Patch.rectangle(0.01, 0.01), pad=pad,
+                        limit_surface="exact")
+    a = rng.uniform(-0.3, 0.3)
+    gravity = (9.81 * math.sin(a), -9.81 * math.cos(a), 0.0)
+    rng.uniform(-0.2, 0.2), rng.uniform(0.0, 0.003)   # draws kept for the stream's order
+    smu = rng.uniform(0.1, 0.6)
+    stops, obst = (), ()
+    if seed % 2 == 0:
+        stops = (exdex.Stop(point=(0.0, -L / 4, 0.0), normal=(0.0, 1.0, 0.0), mu=smu),)
+    else:
+        obst = (exdex.Obstacle.halfspaces([(0.0, 1.0, 0.0)], [-L / 4], mu=smu),)
+    if rng.random() < 0.5:
+        motion = exdex.AsymmetricProfile(rng.uniform(0.02, 0.06), rng.uniform(0.3, 0.5), beta=0.8,
+                                         axis=(1.0, 0.0, 0.0))
+    else:
+        motion = exdex.AsymmetricProfile(rng.uniform(0.2, 0.5), rng.uniform(0.3, 0.5), beta=0.8,
+                                         axis=(0.0, 0.0, 1.0), rotation=True)
+    sc = exdex.Scene(body=body, grasp=grasp, dof="planar", q0=(0.0, 0.0, 0.0), gravity=gravity,
+                     gripper_rotation=np.eye(3), stops=stops, obstacles=obst, motion=motion)
+    return sc, L
+
+
+# seeds 8 and 14 miss the ladder's rate with the ellipsoid in place of the exact
+# surface too (seed 8: the implicit run stays 1.55e-5 L from the event run at
+# every dt below 2^-12, on a pure slide along the floor; seed 14: one halving
+# 1.3x farther): not of the exact surface, left open
+_LADDER_MISSES = {8: "implicit 1.55e-5 L off at every dt < 2^-12 (the ellipsoid the same)",
+                  14: "one halving 1.3x farther (the ellipsoid non-monotone too)"}
+
+
+@pytest.mark.warns_by_design("impact", "solver")
+@pytest.mark.parametrize("seed", [pytest.param(s, marks=pytest.mark.xfail(strict=True, reason=_LADDER_MISSES[s]))
+                                  if s in _LADDER_MISSES else s for s in range(16)])
+def test_implicit_with_frictional_stops_and_the_exact_surface_converges_to_event(seed):
+    """The implicit method's stop friction (Stewart-Trinkle rows with the
+    plate's exact surface: its maximum-dissipation wrench and Hessian while
+    sliding, its least gauge over the stop forces at rest) against the event
+    method (acceleration-level stop friction, the exact reference, rtol
+    1e-10) on random scenes of pads, the exact surface and a frictional floor
+    (_stop_pad_scene). Where the event run holds the box still all along (the
+    floor carrying load: stop_force > 0), the implicit run holds it bit for
+    bit too (q = q0 and v = 0 at every sample). Otherwise the final poses
+    converge at the implicit method's first order in dt: each halving of
+    2^-11 .. 2^-14 s at least 0.7x closer, within 1e-4 L at the end."""
+    sc, L = _stop_pad_scene(seed)
+    t_end = 1.0
+    ref = exdex.simulate(sc, t_end, 1e-3, method="event", rtol=1e-10, atol=1e-12)
+    assert ref.stats["grasp_lost_t"] is None
+    assert np.max(np.abs(ref.stop_force)) > 0.1 * sc.body.mass * 9.81
+    if np.all(ref.q == 0.0):
+        assert np.all(ref.v == 0.0)
+        r = exdex.simulate(sc, t_end, 2 ** -11, method="implicit")
+        assert np.all(r.q == 0.0) and np.all(r.v == 0.0) and np.all(r.stick)
+        return
+    errs = []
+    for dt in (2 ** -11, 2 ** -12, 2 ** -13, 2 ** -14):
+        r = exdex.simulate(sc, t_end, dt, method="implicit")
+        errs.append(np.max(np.abs(r.q[-1] - ref.q[-1]) / (L, L, 1.0)))
+    for a, b in zip(errs, errs[1:]):
+        assert b < 0.7 * a, errs
+    assert errs[-1] < 1e-4, errs
