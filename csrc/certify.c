@@ -53,6 +53,7 @@
 #include "exdex.h"
 #include "model.h"
 #include "contact.h"
+#include "pose.h"
 #include "util.h"
 
 #include <math.h>
@@ -269,7 +270,7 @@ static int cert_at_stops(const exdex_model *m, double t, double q, double v, int
     if (st) return st;
     {
         double qq[3] = {q, 0.0, 0.0};
-        model_com_pose(m, qq, r, &th);
+        pose_com(m, qq, r, &th);
     }
     cs[0] = cos(th);
     cs[1] = sin(th);

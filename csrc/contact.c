@@ -3,6 +3,7 @@
  * and time, and the rounding bound of a gap. */
 #include "exdex.h"
 #include "contact.h"
+#include "pose.h"
 #include "util.h"
 
 #include <float.h>
@@ -15,7 +16,7 @@ int contact_vertices(const exdex_model *m, const double *q, double xb[][3], doub
 {
     double r[3], th, c, s;
     int nv = m->n_vert ? m->n_vert : 1;
-    model_com_pose(m, q, r, &th);
+    pose_com(m, q, r, &th);
     c = cos(th);
     s = sin(th);
     for (int j = 0; j < nv; j++) {
@@ -646,7 +647,7 @@ int contact_axis_in_hull(int nh, const double hb[][3], const double cB[3], const
 int contact_hull_b(const exdex_model *m, const double *q, double hb[][3])
 {
     double r[3], th, c, s;
-    model_com_pose(m, q, r, &th);
+    pose_com(m, q, r, &th);
     c = cos(th);
     s = sin(th);
     for (int i = 0; i < m->n_hull; i++) {
@@ -900,7 +901,7 @@ int contact_obstacle_rows_pred(const exdex_model *m, const exdex_kinematics *kin
     double pn = sqrt(ex_dot3(kin->p, kin->p));
     int nv = contact_vertices(m, q, xb, vx), nh = contact_hull_b(m, q, hb), nr = 0;
     double rc[3], thc;
-    model_com_pose(m, q, rc, &thc);
+    pose_com(m, q, rc, &thc);
     for (int o = 0; o < m->n_obst; o++) {
         const exdex_obstacle_def *ob = &m->def.obstacles[o];
         if (m->disc_r > 0.0) {

@@ -20,6 +20,7 @@
 #include "exdex.h"
 #include "model.h"
 #include "contact.h"
+#include "pose.h"
 #include "util.h"
 #include "region.h"
 
@@ -452,7 +453,7 @@ double model_torque_z(const exdex_model *m, const frame *f, double th, double th
 double model_force_1dof(const exdex_model *m, const frame *f, double q, double v)
 {
     double r[3], th, rd[3], F[3], q3[3] = {q, 0.0, 0.0};
-    model_com_pose(m, q3, r, &th);
+    pose_com(m, q3, r, &th);
     if (m->def.dof == EXDEX_DOF_TRANSLATION) {
         rd[0] = v * m->d[0];
         rd[1] = v * m->d[1];
@@ -900,7 +901,7 @@ int model_pads_lost(const exdex_model *m, const double *q)
     pads_shape f;
     double r[3], th;
     if (!m->pads) return 0;
-    model_com_pose(m, q, r, &th);
+    pose_com(m, q, r, &th);
     face_at(m, r, th, &f);
     if (pads_containment(m, &f)) return 0;   /* the pad or the face whole */
     pads_intersect(&m->pad, &f, &rg);

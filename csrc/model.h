@@ -215,42 +215,6 @@ static inline double model_source_mu(const exdex_model *m, int k)
     return k >= 0 && k < m->n_stops ? m->smu[k] : 0.0;
 }
 
-/* Rotation by angle th about z applied to a plane vector. */
-static inline void rot2(double out[2], double th, const double v[2])
-{
-    double c = cos(th), s = sin(th);
-    double x = c * v[0] - s * v[1], y = s * v[0] + c * v[1];
-    out[0] = x;
-    out[1] = y;
-}
-
-/* Centre of mass position r in B (z = 0) and orientation th for coordinates q:
- * translation r = r0 + (s - s0) d; rotation r = pivot + Rz(theta) c;
- * planar r = (x, y). */
-static inline void model_com_pose(const exdex_model *m, const double *q, double r[3], double *th)
-{
-    r[2] = 0.0;
-    switch (m->ndof == 3 ? EXDEX_DOF_PLANAR : m->def.dof) {
-    case EXDEX_DOF_TRANSLATION:
-        r[0] = m->r0[0] + (q[0] - m->s0) * m->d[0];
-        r[1] = m->r0[1] + (q[0] - m->s0) * m->d[1];
-        *th = m->th0;
-        break;
-    case EXDEX_DOF_ROTATION: {
-        double rho[2];
-        rot2(rho, q[0], m->c);
-        r[0] = m->pivot[0] + rho[0];
-        r[1] = m->pivot[1] + rho[1];
-        *th = q[0];
-        break;
-    }
-    default:
-        r[0] = q[0];
-        r[1] = q[1];
-        *th = q[2];
-    }
-}
-
 /* Initial coordinates q and velocities v of the scene (ndof entries each):
  * translation s0 = d . (x0, y0) and the velocity component along d; rotation
  * theta0 and omega0; planar the definition's q0, v0. */

@@ -21,6 +21,7 @@
  * m = (w - u) x a (all in B: c, a the axis's point and direction). */
 #include "exdex.h"
 #include "obstacle_rows.h"
+#include "pose.h"
 #include "util.h"
 
 #include <float.h>
@@ -93,7 +94,7 @@ static void ojet_init(const exdex_model *m, const exdex_kinematics *k, const dou
         J->p[i].c[1] = dt * k->v[i];
         J->p[i].c[2] = 0.5 * dt * dt * k->a[i];
     }
-    model_com_pose(m, q, r0, &th);
+    pose_com(m, q, r0, &th);
     if (m->ndof == 3) {
         double w = dq[2], c = cos(th), s = sin(th);
         J->r[0] = jk(r0[0]);
@@ -814,7 +815,7 @@ void orow_point(const exdex_model *m, const exdex_kinematics *kin, int code, con
     const exdex_obstacle_def *ob = &m->def.obstacles[orow_obst(code)];
     double hb[EXDEX_MAX_VERTICES][3], r[3], th, x[3] = {0, 0, 0}, nb[3] = {0, 0, 0};
     int nh = contact_hull_b(m, q, hb), feat = orow_feat(code), kind = orow_kind(code);
-    model_com_pose(m, q, r, &th);
+    pose_com(m, q, r, &th);
     if (m->disc_r > 0.0) {
         /* the disc: its support point against the face, the rim point
          * toward the section vertex, the rim point nearest the axis */

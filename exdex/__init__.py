@@ -18,8 +18,8 @@ needs only NumPy; plotting and progress bars need the ``plot`` extra
 from exdex.scene import (AsymmetricProfile, Body, Chain, Grasp, GripSchedule, Obstacle, Pad, Patch, Pause, Rest,
                          SampledTrajectory, Scene, Shake, Stop, TrapezoidalProfile, quaternion_from_matrix, replace)
 from exdex.diagnostics import NoisyLogWarning, PlausibilityWarning, ReductionWarning
-from exdex.simulate import GripperJumpWarning, Model, PhysicsWarning, Result, SolverError, simulate
-from exdex.stepper import GripperPose, Stepper, StepperSnapshot, StepperState  # noqa: E402  (feedback control)
+from exdex.simulate import GripperJumpWarning, PhysicsWarning, Result, SolverError, simulate
+from exdex.stepper import GripperPose, Model, Stepper, StepperSnapshot, StepperState  # noqa: E402  (feedback control)
 from exdex.batch import BatchResult, simulate_batch, sweep  # noqa: E402
 from exdex.io import load_scene, save_scene  # noqa: E402  (scenes as TOML or JSON files)
 from exdex.explorer import Explorer, explore  # noqa: E402  (Jupyter sliders; ipywidgets imported when used)

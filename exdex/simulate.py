@@ -7,7 +7,7 @@ import numbers
 import os
 import warnings
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Dict, Literal, Optional, Tuple, Union
+from typing import Any, Dict, Literal, Optional, Tuple, Union
 
 import numpy as np
 from numpy.typing import NDArray
@@ -17,9 +17,6 @@ from exdex._jumps import GripperJumpWarning, jumps as _jumps, warn_jumps as _war
 from exdex.diagnostics import PhysicsWarning
 from exdex._validate import check_times as _check_times, real as _real
 from exdex.scene import METHODS, SOLVERS, Scene
-
-if TYPE_CHECKING:
-    from exdex.stepper import Stepper
 
 __all__ = ["Result", "simulate", "SolverError", "PhysicsWarning", "GripperJumpWarning"]
 
@@ -501,10 +498,10 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
     if isinstance(scene, Scene) and scene.dof == "auto":
         return _simulate_auto(scene, t_end, dt, method, friction_solver, eps, rtol, atol)
     method = resolve_method(scene, method)
-    spec = _spec(scene, method, friction_solver, eps, rtol, atol)
+    spec = scene_spec(scene, method, friction_solver, eps, rtol, atol)
     out = _core.simulate(spec, t_end, dt, certify=bool(certify))
     _warn_jumps(scene, _jumps(scene, spec), t_end)
-    res = _result(out, scene, method, friction_solver, dt)
+    res = result_from_core(out, scene, method, friction_solver, dt)
     diagnostics.issue(diagnostics.findings(res))
     return res
 
@@ -640,7 +637,7 @@ def resolve_method(scene, method):
     return "analytic" if _core.analytic_unsupported(scene.to_spec()) is None else "event"
 
 
-def _spec(scene, method, friction_solver, eps, rtol, atol):
+def scene_spec(scene, method, friction_solver, eps, rtol, atol):
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be an exdex.Scene, got {type(scene).__name__}")
     if method not in METHODS:
@@ -666,77 +663,7 @@ def _cert_load(c):
     return c
 
 
-def _result(out, scene, method, friction_solver, dt):
+def result_from_core(out, scene, method, friction_solver, dt):
     return Result(t=out["t"], q=out["q"], v=out["v"], wrench=out["wrench"], stick=out["stick"],
                   stop_force=out["stop_force"], stats=out["stats"], scene=scene, method=method,
                   friction_solver=friction_solver, dt=dt, certificate=out.get("certificate"))
-
-
-class Model:
-    """A scene compiled once in C and run many times.
-
-    ``exdex.simulate(scene, t_end, dt, ...)`` converts the scene and builds
-    the C model on every call; a ``Model`` does that once, so loops that
-    re-run one scene (optimisation, learning, parameter studies over t_end
-    or dt, benchmarks) pay only for the integration. The arguments are those
-    of :func:`exdex.simulate`; the model is immutable and may be run from
-    several threads at once.
-
-        >>> model = exdex.Model(scene, method="event")
-        >>> res = model.simulate(t_end=1.5, dt=1e-3)      # an exdex.Result
-        >>> q, v, stick = model.final(t_end=1.5, dt=1e-3)  # last sample only
-
-    ``simulate`` returns the same :class:`Result` as :func:`exdex.simulate`
-    (bit-identical). ``final`` keeps only the last sample (tuples of floats
-    and the stick flag), without building the trajectory arrays.
-    ``stepper()`` starts a run to advance step by step (:class:`exdex.Stepper`).
-    """
-
-    __slots__ = ("scene", "method", "friction_solver", "_model", "_jumps")
-
-    def __init__(self, scene: Scene, method: Method = "implicit", friction_solver: FrictionSolver = "scalar",
-                 eps: float = 1e-4, rtol: float = 1e-8, atol: float = 1e-10) -> None:
-        method = resolve_method(scene, method)
-        spec = _spec(scene, method, friction_solver, eps, rtol, atol)
-        self.scene, self.method, self.friction_solver = scene, method, friction_solver
-        self._model = _core.compile(spec)
-        self._jumps = _jumps(scene, spec)
-
-    @property
-    def ndof(self) -> int:
-        """Number of free coordinates: 1 (translation or rotation) or 3 (planar)."""
-        return self._model.ndof
-
-    def simulate(self, t_end: float, dt: float = 1e-3, certify: bool = True) -> Result:
-        """Run from t = 0 to ``t_end`` in steps of ``dt``: an :class:`exdex.Result`
-        (``certify`` as in :func:`exdex.simulate`)."""
-        dt, t_end = _check_times(t_end, dt)
-        out = self._model.simulate(t_end, dt, certify=bool(certify))
-        _warn_jumps(self.scene, self._jumps, t_end)
-        res = _result(out, self.scene, self.method, self.friction_solver, dt)
-        diagnostics.issue(diagnostics.findings(res))
-        return res
-
-    def final(self, t_end: float, dt: float = 1e-3) -> Tuple[Tuple[float, ...], Tuple[float, ...], bool]:
-        """Run like :meth:`simulate` and return only the last sample:
-        ``(q, v, stick)`` with q, v tuples of ``ndof`` floats.
-
-        Not certified: a translation or rotation run's certificate checks
-        every sample of the trajectory (:attr:`Result.certificate`), and this
-        run keeps none of them. Where the reduction matters, take
-        :meth:`simulate` (its last sample is this one, bit for bit) and read
-        :attr:`Result.reduction_valid_until`."""
-        dt, t_end = _check_times(t_end, dt)
-        out = self._model.final(t_end, dt)
-        _warn_jumps(self.scene, self._jumps, t_end)
-        return out
-
-    def stepper(self) -> "Stepper":
-        """A new :class:`exdex.Stepper` of this model at its initial state
-        (runs of one model branch into each other with save / restore)."""
-        from exdex.stepper import Stepper
-
-        return Stepper(self)
-
-    def __repr__(self) -> str:
-        return f"exdex.Model(ndof={self.ndof}, method={self.method!r}, friction_solver={self.friction_solver!r})"

@@ -1,4 +1,6 @@
-"""exdex.Stepper: a run advanced one step at a time, for feedback control.
+"""exdex.Model and exdex.Stepper: a scene compiled once in C, run whole
+(:class:`Model`) or advanced one step at a time, for feedback control
+(:class:`Stepper`, made from a Model or a scene).
 
 A controller reads the state after each step and chooses the next step's
 grip force::
@@ -26,18 +28,86 @@ from __future__ import annotations
 import math
 import numbers
 from dataclasses import dataclass
-from typing import Any, Dict, Optional, Union
+from typing import Any, Dict, Optional, Tuple, Union
 
 import numpy as np
 from numpy.typing import NDArray
 
 from exdex import _core, diagnostics
-from exdex._validate import array as _array
+from exdex._validate import array as _array, check_times as _check_times
 from exdex.scene import Scene
-from exdex._jumps import warn_jumps as _warn_jumps
-from exdex.simulate import FrictionSolver, Method, Model
+from exdex._jumps import jumps as _jumps, warn_jumps as _warn_jumps
+from exdex.simulate import FrictionSolver, Method, Result, resolve_method, result_from_core, scene_spec
 
-__all__ = ["Stepper", "StepperState", "StepperSnapshot", "GripperPose"]
+__all__ = ["Model", "Stepper", "StepperState", "StepperSnapshot", "GripperPose"]
+
+
+class Model:
+    """A scene compiled once in C and run many times.
+
+    ``exdex.simulate(scene, t_end, dt, ...)`` converts the scene and builds
+    the C model on every call; a ``Model`` does that once, so loops that
+    re-run one scene (optimisation, learning, parameter studies over t_end
+    or dt, benchmarks) pay only for the integration. The arguments are those
+    of :func:`exdex.simulate`; the model is immutable and may be run from
+    several threads at once.
+
+        >>> model = exdex.Model(scene, method="event")
+        >>> res = model.simulate(t_end=1.5, dt=1e-3)      # an exdex.Result
+        >>> q, v, stick = model.final(t_end=1.5, dt=1e-3)  # last sample only
+
+    ``simulate`` returns the same :class:`Result` as :func:`exdex.simulate`
+    (bit-identical). ``final`` keeps only the last sample (tuples of floats
+    and the stick flag), without building the trajectory arrays.
+    ``stepper()`` starts a run to advance step by step (:class:`exdex.Stepper`).
+    """
+
+    __slots__ = ("scene", "method", "friction_solver", "_model", "_jumps")
+
+    def __init__(self, scene: Scene, method: Method = "implicit", friction_solver: FrictionSolver = "scalar",
+                 eps: float = 1e-4, rtol: float = 1e-8, atol: float = 1e-10) -> None:
+        method = resolve_method(scene, method)
+        spec = scene_spec(scene, method, friction_solver, eps, rtol, atol)
+        self.scene, self.method, self.friction_solver = scene, method, friction_solver
+        self._model = _core.compile(spec)
+        self._jumps = _jumps(scene, spec)
+
+    @property
+    def ndof(self) -> int:
+        """Number of free coordinates: 1 (translation or rotation) or 3 (planar)."""
+        return self._model.ndof
+
+    def simulate(self, t_end: float, dt: float = 1e-3, certify: bool = True) -> Result:
+        """Run from t = 0 to ``t_end`` in steps of ``dt``: an :class:`exdex.Result`
+        (``certify`` as in :func:`exdex.simulate`)."""
+        dt, t_end = _check_times(t_end, dt)
+        out = self._model.simulate(t_end, dt, certify=bool(certify))
+        _warn_jumps(self.scene, self._jumps, t_end)
+        res = result_from_core(out, self.scene, self.method, self.friction_solver, dt)
+        diagnostics.issue(diagnostics.findings(res))
+        return res
+
+    def final(self, t_end: float, dt: float = 1e-3) -> Tuple[Tuple[float, ...], Tuple[float, ...], bool]:
+        """Run like :meth:`simulate` and return only the last sample:
+        ``(q, v, stick)`` with q, v tuples of ``ndof`` floats.
+
+        Not certified: a translation or rotation run's certificate checks
+        every sample of the trajectory (:attr:`Result.certificate`), and this
+        run keeps none of them. Where the reduction matters, take
+        :meth:`simulate` (its last sample is this one, bit for bit) and read
+        :attr:`Result.reduction_valid_until`."""
+        dt, t_end = _check_times(t_end, dt)
+        out = self._model.final(t_end, dt)
+        _warn_jumps(self.scene, self._jumps, t_end)
+        return out
+
+    def stepper(self) -> "Stepper":
+        """A new :class:`exdex.Stepper` of this model at its initial state
+        (runs of one model branch into each other with save / restore)."""
+        return Stepper(self)
+
+    def __repr__(self) -> str:
+        return f"exdex.Model(ndof={self.ndof}, method={self.method!r}, friction_solver={self.friction_solver!r})"
 
 
 @dataclass(frozen=True, eq=False)

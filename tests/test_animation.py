@@ -162,22 +162,6 @@ def test_bad_options(drop, kw, message):
         drop.animate(**kw)
 
 
-def test_paper_command_writes_one_animation_per_case(tmp_path, capsys):
-    import argparse
-
-    from exdex.cli import paper as cli_paper
-
-    parser = argparse.ArgumentParser()
-    cli_paper.add_arguments(parser)
-    args = parser.parse_args(["--out", str(tmp_path), "--cases", "fig4", "--dt", "2e-3", "--animate",
-                              "--no-progress"])
-    assert cli_paper.run(args) == 0
-    PIL = pytest.importorskip("PIL.Image")
-    with PIL.open(tmp_path / "fig4.gif") as im:
-        assert im.n_frames == 26  # 1.0 s at 25 fps, real time
-    assert "fig4.gif" in capsys.readouterr().out
-
-
 # ------------------------------------------------------- drawn to scale, with a plain key
 
 def _artist(anim, gid):

@@ -1,5 +1,5 @@
 """Scenes as files (exdex.io), results out (Result.to_dict / to_dataframe /
-save / load / repr) and the ``exdex run`` command.
+save / load / repr); the ``exdex run`` command is tested in tests/cli/test_run.py.
 
 Round trips are checked on seeded random scenes covering every scene object
 and option: bodies (scalar, diagonal and full inertia; size; outline; a disc outline),
@@ -14,8 +14,6 @@ sign of zero), and simulate to bit-identical arrays.
 import csv
 import json
 import math
-import os
-import subprocess
 import sys
 
 import numpy as np
@@ -24,8 +22,6 @@ import pytest
 import exdex
 from expected_warnings import by_design
 from exdex import io
-
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 AWKWARD = [0.1 + 0.2, 1 / 3, -0.0, 5e-324, 2.2250738585072014e-308, 1e300, -1e-300, 123456789.123456789,
            2.0 ** -1074 * 3, 0.1, 1e16, 1e-5]
@@ -442,43 +438,6 @@ def test_repr_is_short_and_says_what_matters(results):
 
 # ---------------------------------------------------------------- exdex run
 
-def _cli(*args, cwd):
-    env = dict(os.environ, PYTHONPATH=ROOT, MPLBACKEND="Agg")
-    return subprocess.run([sys.executable, "-m", "exdex", *args], capture_output=True, text=True, cwd=cwd,
-                          env=env, timeout=300)
-
-
-@pytest.mark.warns_by_design("impact", "outline")
-def test_cli_run_writes_result_figure_and_animation(tmp_path):
-    sc = _scenes()["planar"]
-    exdex.save_scene(sc, tmp_path / "drop.json", simulate=dict(t_end=0.9, dt=2e-3))
-    p = _cli("run", "drop.json", "--out", "o", "--animate", "--fps", "5", "--no-progress", cwd=tmp_path)
-    assert p.returncode == 0, p.stderr
-    out = tmp_path / "o"
-    assert sorted(os.listdir(out)) == ["drop.csv", "drop.gif", "drop.npz", "drop.png"]
-    back = exdex.Result.load(out / "drop.npz")
-    want = exdex.simulate(sc, 0.9, 2e-3)
-    assert back.q.tobytes() == want.q.tobytes() and back.dt == 2e-3
-    assert "drop.gif" in p.stdout and "exdex.Result planar" in p.stdout
-    # command-line options override the file's
-    p = _cli("run", "drop.json", "--out", "o2", "--t-end", "0.5", "--dt", "0.01", "--method", "explicit",
-             "--no-progress", cwd=tmp_path)
-    assert p.returncode == 0, p.stderr
-    back = exdex.Result.load(tmp_path / "o2" / "drop.npz")
-    assert back.method == "explicit" and back.t[-1] == 0.5 and len(back.t) == 51
-
-
-def test_cli_run_errors_are_messages(tmp_path):
-    p = _cli("run", "missing.toml", cwd=tmp_path)
-    assert p.returncode != 0 and "no such scene file: missing.toml" in p.stderr
-    (tmp_path / "bad.toml").write_text("schema = 5\n")
-    p = _cli("run", "bad.toml", cwd=tmp_path)
-    assert p.returncode != 0 and "unsupported scene-file schema 5" in p.stderr and "Traceback" not in p.stderr
-    sc = _scenes()["translation"]
-    exdex.save_scene(sc, tmp_path / "s.toml")
-    p = _cli("run", "s.toml", "--dt", "-1", "--no-progress", cwd=tmp_path)
-    assert p.returncode != 0 and "dt must be" in p.stderr and "Traceback" not in p.stderr
-
 
 def test_the_schema_covers_every_scene_field_and_motion():
     """The round-trip tests above generate these fields and motions: a field or
@@ -530,32 +489,6 @@ def test_round_trip_shake_pause_chain_is_exact(fmt, tmp_path):
         back = exdex.load_scene(path)
         assert _same(back, sc), path.read_text()
         assert io.dumps(back, fmt) == path.read_text()
-
-
-def test_cli_run_without_matplotlib(tmp_path):
-    """Without the plot extra, ``exdex run`` still writes the result (CSV, NPZ)
-    and says the figure needs matplotlib; ``--animate`` stops before simulating
-    with the one-line message naming the extra."""
-    blocker = (
-        "import importlib.abc, sys\n"
-        "class _B(importlib.abc.MetaPathFinder):\n"
-        "    def find_spec(self, name, path=None, target=None):\n"
-        "        if name.split('.')[0] in ('matplotlib', 'tqdm'):\n"
-        "            raise ModuleNotFoundError(f'No module named {name!r}', name=name)\n"
-        "sys.meta_path.insert(0, _B())\n"
-        "from exdex.cli import main\n"
-        "sys.exit(main(sys.argv[1:]))\n")
-    exdex.save_scene(_scenes()["translation"], tmp_path / "s.toml", simulate=dict(t_end=0.5, dt=1e-2))
-    env = dict(os.environ, PYTHONPATH=ROOT)
-    p = subprocess.run([sys.executable, "-c", blocker, "run", "s.toml", "--out", "o"], capture_output=True,
-                       text=True, cwd=tmp_path, env=env, timeout=300)
-    assert p.returncode == 0, p.stderr
-    assert sorted(os.listdir(tmp_path / "o")) == ["s.csv", "s.npz"]
-    assert "needs matplotlib" in p.stdout and "exdex[plot]" in p.stdout
-    p = subprocess.run([sys.executable, "-c", blocker, "run", "s.toml", "--out", "o2", "--animate"],
-                       capture_output=True, text=True, cwd=tmp_path, env=env, timeout=300)
-    assert p.returncode == 3 and "exdex[plot]" in p.stderr and len(p.stderr.strip().splitlines()) == 1, p.stderr
-    assert not (tmp_path / "o2").exists()
 
 
 def test_schema_3_limit_surface_and_older_files(tmp_path):

@@ -10,7 +10,6 @@ import subprocess
 import sys
 import textwrap
 
-import pytest
 
 BLOCKER = textwrap.dedent("""
     import importlib.abc, sys
@@ -130,30 +129,6 @@ def test_sweep_progress_without_tqdm():
     assert p.returncode == 0, p.stderr
     assert "DEFAULT 2" in p.stdout
     assert "MSG" in p.stdout and "exdex[plot]" in p.stdout and "tqdm" in p.stdout
-
-
-@pytest.mark.parametrize("argv,blocked,extra", [
-    (["paper", "--cases", "fig3"], ["matplotlib"], "plot"),
-    (["tool", "--quick", "--no-progress"], ["matplotlib"], "plot"),
-    (["bench", "--quick"], ["matplotlib", "tqdm"], "plot"),
-    (["compare", "--cases", "fig3", "--no-plots"], ["pybullet"], "engines"),
-    (["compare", "--cases", "fig3"], ["mujoco", "matplotlib"], "engines"),
-])
-def test_cli_missing_extra_is_one_line(argv, blocked, extra, tmp_path):
-    """A command whose optional packages are missing prints one line naming
-    them and the extra, and exits with status 3 (not a traceback)."""
-    p = _run("""
-        import sys
-        from exdex.cli import main
-        sys.exit(main(sys.argv[1:]))
-    """, blocked, *argv, "--out", str(tmp_path))
-    assert p.returncode == 3, (p.returncode, p.stdout, p.stderr)
-    lines = [ln for ln in p.stderr.splitlines() if ln.strip()]
-    assert len(lines) == 1, p.stderr
-    assert f"exdex[{extra}]" in lines[0] and "Traceback" not in p.stderr
-    for mod in blocked:
-        assert mod in lines[0]
-    assert os.listdir(tmp_path) == []  # nothing was computed before the check
 
 
 def test_scipy_features_name_the_design_extra():

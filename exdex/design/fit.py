@@ -238,7 +238,8 @@ def event_times(scene: Scene, t_end: float, *, method: str = "auto", rtol: float
     at most t_end / n_grid with stops). A slip episode shorter than one grid
     interval between two rests can be missed: raise ``n_grid``.
     """
-    from exdex.simulate import Model, simulate
+    from exdex.simulate import simulate
+    from exdex.stepper import Model
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be an exdex.Scene, got {type(scene).__name__}")
     t_end = _real(t_end, "t_end", low=0.0, low_open=True)
@@ -378,7 +379,7 @@ def _exact_event_derivatives(scene, names, t_end):
     (exdex.paper.closed_form: 1-DoF, Eq. 7 motion, no stops, pivot at the
     centre of mass, constant grip) and parameters among mu, grip_force,
     mass, e_r, amplitude, duration, beta; None otherwise."""
-    from exdex.studies import paper
+    from exdex._closed_form import closed_form, world_dir
     from exdex.scene import AsymmetricProfile
     allowed = ("mu", "grip_force", "mass", "e_r", "amplitude", "duration", "beta")
     if not isinstance(scene.motion, AsymmetricProfile) or any(n not in allowed for n in names) or \
@@ -386,7 +387,7 @@ def _exact_event_derivatives(scene, names, t_end):
             getattr(scene.grasp, "mu_static", None) not in (None, scene.grasp.mu):
         return None
     try:
-        paper.closed_form(scene)
+        closed_form(scene)
     except (ValueError, TypeError):
         return None
     k = len(names)
@@ -404,7 +405,7 @@ def _exact_event_derivatives(scene, names, t_end):
     t1, t2, t3 = beta * T, (2.0 - beta) * T, 2.0 * T
     cap = var("mu", scene.grasp.mu) * scene.grasp.fingers * var("grip_force", float(scene.grasp.grip_force))
     if scene.dof == "translation":
-        e = paper._world_dir(scene, scene.slide_axis)
+        e = world_dir(scene, scene.slide_axis)
         g_e, kk = float(np.dot(scene.gravity, e)), float(np.dot(mo.axis, e))
         drive = [g_e - a_h * kk, g_e - a_l * kk, g_e - a_h * kk, g_e + 0.0 * a_h]
         c = cap / var("mass", scene.body.mass)

@@ -112,7 +112,8 @@ from exdex.studies import paper
 from exdex._optional import pyplot, require
 from exdex._rotations import quat_from_matrix as _quat_from_matrix
 from exdex.scene import AsymmetricProfile, Body, Grasp, Patch, Scene, Stop
-from exdex.simulate import Model, SolverError, simulate
+from exdex.simulate import SolverError, simulate
+from exdex.stepper import Model
 
 __all__ = ["planar_scene", "CASES", "Case", "make_case", "method_available", "available_methods",
            "final_and_max_error", "vertex_error", "classify", "stick_intervals", "observed_order",

@@ -191,26 +191,6 @@ def test_gripper_poses_follow_eq7_in_closed_form():
     assert np.array_equal(traj.times, t)
 
 
-def test_cli_plan_writes_poses_and_reports_unreachable(tmp_path, capsys):
-    from exdex import cli
-    out = tmp_path / "plan"
-    assert cli.main(["plan", "--out", str(out), "--target", "slip=-0.01"]) == 0
-    text = capsys.readouterr().out
-    assert "grip_force" in text and "residual" in text
-    data = np.loadtxt(out / "gripper_poses.csv", delimiter=",", skiprows=1)
-    assert data.shape[1] == 8
-    loaded = exdex.load_scene(out / "planned_scene.toml")
-    assert abs(closed_slip(loaded) - (-0.01)) <= 1e-6 + 1e-9
-    assert cli.main(["plan", "--out", str(out), "--target", "slip=-0.9"]) == 1
-    assert "reachable" in capsys.readouterr().out
-    # rest_by: 0.7 s admits the 10 mm plan (closed-form rest time below it), 0.5 s does not
-    assert cli.main(["plan", "--out", str(out), "--target", "slip=-0.01", "--rest-by", "0.7"]) == 0
-    assert "at rest relative to the gripper by 0.7 s" in capsys.readouterr().out
-    assert paper.closed_form(exdex.load_scene(out / "planned_scene.toml")).rest_time <= 0.7
-    assert cli.main(["plan", "--out", str(out), "--target", "slip=-0.01", "--rest-by", "0.5"]) == 1
-    assert "at rest by 0.5 s" in capsys.readouterr().out
-
-
 def test_band_of_a_slide_onto_a_stop_is_exact_and_flat():
     """Fig. 4: the object rests on a fixed stop while the gripper moves
     X1 = 50 mm down, so the relative slip is X1 whatever mu (the paper's

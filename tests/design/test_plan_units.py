@@ -16,7 +16,6 @@ import pytest
 import exdex
 from exdex import cli, paper
 
-G = 9.81
 
 
 def ramp_scene():
@@ -25,49 +24,6 @@ def ramp_scene():
     return exdex.Scene(body=exdex.Body.box(0.1, (0.03, 0.5, 0.03)),
                        grasp=exdex.Grasp(mu=0.5, grip_force=exdex.GripSchedule((0.0, 2.0), (1.5, 0.9))),
                        motion=exdex.Rest(), gripper_rotation=paper.fig3_scene().gripper_rotation)
-
-
-@pytest.mark.filterwarnings("ignore:the planned object is still moving")
-def test_cli_plan_honours_the_simulate_table_and_prints_units(tmp_path, capsys):
-    path = tmp_path / "ramp.toml"
-    exdex.save_scene(ramp_scene(), path, simulate={"t_end": 2.5, "method": "analytic"})
-    out = tmp_path / "plan"
-    args = ["plan", "--scene", str(path), "--target", "slip=-0.05", "--vary", "grip_force=0.95:1.2",
-            "--out", str(out)]
-    assert cli.main(args) == 0
-    text = capsys.readouterr().out
-    assert "simulated to t_end = 2.5 s" in text
-    # the grip force of a schedule is its scale
-    line = [ln for ln in text.splitlines() if ln.startswith("plan:")][0]
-    assert line.endswith(" x schedule") and " N" not in line
-    k = float(line.split("=")[1].split()[0])
-    assert "peak acceleration 0 m/s^2, peak speed 0 m/s, stroke 0 m, duration 0 s" in text
-    assert "tol 1e-06 m" in text and "in [0.95, 1.2] x schedule" in text
-    # independent: the planned scene simulated to the file's 2.5 s slides 50 mm;
-    # the scale reproduces the closed form there (capacity k (1.5 - 0.3 t))
-    planned = exdex.load_scene(out / "planned_scene.toml")
-    res = exdex.simulate(planned, 2.5, 1e-3, method="analytic")
-    assert res.q[-1, 0] == pytest.approx(-0.05, abs=1e-6)
-    ts = (1.5 - 0.1 * G / k) / 0.3
-    tau, a3 = 2.0 - ts, -(0.1 * G - 0.9 * k) / 0.1
-    s_end = -k * 0.3 / 0.6 * tau ** 3 - k * 0.3 / 0.2 * tau ** 2 * 0.5 + 0.5 * a3 * 0.25
-    assert s_end == pytest.approx(-0.05, abs=1e-6)
-    # the command line overrides the file
-    assert cli.main(args + ["--t-end", "3.0"]) == 0
-    assert "simulated to t_end = 3 s" in capsys.readouterr().out
-
-
-def test_scene_format_option_reads_a_file_of_another_extension(tmp_path, capsys):
-    path = tmp_path / "ramp.scene"
-    exdex.save_scene(ramp_scene(), path, format="toml", simulate={"t_end": 1.0})
-    out = tmp_path / "o"
-    with pytest.raises(SystemExit, match="--scene-format"):
-        cli.main(["run", str(path), "--no-progress", "--out", str(out)])
-    assert cli.main(["run", str(path), "--scene-format", "toml", "--no-progress", "--out", str(out)]) == 0
-    assert exdex.Result.load(out / "ramp.npz").t[-1] == 1.0
-    assert cli.main(["plan", "--scene", str(path), "--scene-format", "toml", "--target", "slip=-0.001",
-                     "--vary", "grip_force=1.0:1.5", "--out", str(out)]) == 1   # held to the 1 s of the file
-    assert "reachable [0, 0] m" in capsys.readouterr().out
 
 
 def test_plan_labels_and_repr_carry_units():

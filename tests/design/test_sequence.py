@@ -129,30 +129,6 @@ def test_plan_solve_without_vary_plans_a_pose_by_a_sequence():
         plan.solve(paper.fig3_scene(), {"slip": -0.01})
 
 
-def test_cli_plans_a_pose_and_writes_the_sequence_poses(tmp_path, capsys):
-    """exdex plan --pose on a planar scene file: the steps, the residuals
-    within tol, the sequence's gripper poses (every step a round trip: the
-    gripper is back at its start pose at the end of each step) and one scene
-    file per step, each re-simulated in turn to the target."""
-    from exdex import cli
-    path = tmp_path / "box.toml"
-    exdex.save_scene(scene(), path)
-    out = tmp_path / "plan"
-    assert cli.main(["plan", "--scene", str(path), "--pose", "x=0.0,y=-0.004", "--out", str(out),
-                     "--uncertain", "mu=0.48:0.52"]) == 0
-    text = capsys.readouterr().out
-    assert "plan: slide_y(" in text and "band of y (sampled)" in text
-    data = np.loadtxt(out / "gripper_poses.csv", delimiter=",", skiprows=1)
-    assert data.shape[1] == 8 and np.all(np.diff(data[:, 0]) > 0)
-    np.testing.assert_allclose(data[-1, 1:], data[0, 1:], atol=1e-12)
-    step = exdex.load_scene(out / "step_1.toml")
-    t = step.motion.end_time + 0.3
-    r = exdex.simulate(step, t, t, method="event", rtol=1e-12, atol=1e-14)
-    assert abs(r.q[-1, 1] - r.q[0, 1] - (-0.004)) <= TOL[0]
-    with pytest.raises(SystemExit, match="--pose needs a planar scene"):
-        cli.main(["plan", "--case", "fig3", "--pose", "x=0.01", "--out", str(out)])
-
-
 def test_sequence_with_the_exact_surface_on_pads_meets_tolerances_when_resimulated():
     """The pose target of the first test with pads on the fingers (a 10 mm
     pad at the centre of mass, inside the face) and limit_surface="exact":

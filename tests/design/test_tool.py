@@ -5,7 +5,6 @@ identities, tests/data/reference.dat, or independent methods: scipy's
 half-space intersection + convex hull (qhull), randomised QMC, brute-force
 scans in NumPy. Uses exdex._tool only.
 """
-import argparse
 import math
 import os
 import re
@@ -389,19 +388,6 @@ def test_c_module_messages_name_parameter_and_range():
 
 
 # ------------------------------------------------------------ command line
-
-def test_cli_quick(tmp_path, capsys):
-    from exdex.cli import tool as cli_tool
-
-    parser = argparse.ArgumentParser()
-    cli_tool.add_arguments(parser)
-    args = parser.parse_args(["--out", str(tmp_path), "--quick", "--no-progress"])
-    assert cli_tool.run(args) == 0
-    for name in ("theta_star.csv", "theta_curves.png", "box_aspect.csv", "box_aspect.png",
-                 "friction.csv", "multi_shape.csv", "rod.csv", "rod.png"):
-        assert (tmp_path / name).stat().st_size > 0
-    out = capsys.readouterr().out
-    assert "theta*" in out and "rod" in out
 
 
 def test_tool_figures_label_every_axis_with_units():

@@ -228,16 +228,6 @@ def test_planar_ablation_uses_the_equivalent_e_r():
     assert ab["corners"][0].scene.grasp.mu == scene.grasp.mu
 
 
-def test_ablation_figure_colours_are_not_shared():
-    labels = ["pybullet", "mujoco", "drake", "pybullet point+spin", "pybullet no cone", "mujoco noslip 20",
-              "mujoco point+torsion", "drake hydroelastic"]
-    from exdex.cli.compare import ablation_colors
-
-    cols = ablation_colors(engines.ABLATION_MODELS, labels)
-    assert len(cols) == len(engines.ABLATION_MODELS) + len(labels)
-    assert len({tuple(np.round(c, 6)) for c in cols.values()}) == len(cols)
-
-
 # ---------------------------------------------------------------- interface
 
 def test_bad_input_is_named():
@@ -338,57 +328,6 @@ def test_drake_bad_input_is_named():
 
 
 # ---------------------------------------------------------------- hold benchmark and command line
-
-def test_hold_quick_exdex_is_exactly_zero_and_table_complete(tmp_path):
-    _pybullet(), _mujoco(), _drake()
-    import argparse
-    import csv
-
-    from exdex.cli import hold as cli_hold
-    from exdex.studies import hold
-
-    p = argparse.ArgumentParser()
-    cli_hold.add_arguments(p)
-    args = p.parse_args(["--quick", "--out", str(tmp_path), "--no-progress"])
-    assert cli_hold.run(args) == 0
-    rows = list(csv.DictReader(open(tmp_path / "hold_table.csv")))
-    settings = {r["setting"] for r in rows}
-    scenarios = {(r["dof"], r["margin"], r["motion"]) for r in rows}
-    assert len(scenarios) == 2 * 2 * 2 and len(settings) == len(hold._quick_settings())
-    assert len(rows) == len(settings) * len(scenarios)          # every setting on every scenario
-    for r in rows:
-        assert r["status"] == "ok", r
-        assert math.isfinite(float(r["drift"])) and math.isfinite(float(r["creep_speed"]))
-        if r["engine"] == "exdex":
-            assert float(r["drift"]) == 0.0 and float(r["creep_speed"]) == 0.0
-        if r["engine"] == "drake" and r["dof"] == "translation":
-            # Drake's documented bound: in-cone slip below the stiction tolerance (1e-4 m/s)
-            assert float(r["creep_speed"]) <= 1e-4
-    assert (tmp_path / "hold_drift.png").stat().st_size > 0
-    text = (tmp_path / "hold_table.txt").read_text()
-    assert all(s in text for s in settings)
-
-
-@pytest.mark.parametrize("command", ["compare", "hold", "bench"])
-def test_engine_commands_name_the_missing_extra(command, tmp_path):
-    code = ("import sys; sys.modules['pydrake'] = None; from exdex.cli import main; "
-            f"sys.exit(main([{command!r}, '--out', {str(tmp_path)!r}]))")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
-    assert out.returncode != 0
-    lines = out.stderr.strip().splitlines()
-    assert len(lines) == 1, out.stderr
-    assert "exdex[engines]" in lines[0] and "drake" in lines[0]
-    assert "Traceback" not in out.stderr
-
-
-def test_compare_takes_no_progress():
-    import argparse
-
-    from exdex.cli import compare as cli_compare
-
-    p = argparse.ArgumentParser()
-    cli_compare.add_arguments(p)
-    assert p.parse_args(["--no-progress"]).no_progress is True
 
 
 # ---------------------------------------------------------------- frictional stops
@@ -725,31 +664,6 @@ def test_drake_friction_combination_gives_each_pair_its_mu():
             assert x >= 0.0
             got = 0.0 if x + M == 0.0 else 2 * x * M / (x + M)
             assert got == pytest.approx(mu, rel=1e-15, abs=0.0)
-
-
-def test_compare_incline_row(tmp_path):
-    # the incline case of `exdex compare`: the closed-form row is the Coulomb
-    # slide a T^2 / 2 (a from the scene's numbers, derived above) and every
-    # engine (and Drake's corner contact) has a row
-    _pybullet(), _mujoco(), _drake()
-    import argparse
-
-    from exdex.cli import compare as cli_compare
-
-    p = argparse.ArgumentParser()
-    cli_compare.add_arguments(p)
-    args = p.parse_args(["--cases", "incline", "--out", str(tmp_path), "--no-progress", "--no-variants",
-                         "--no-plots"])
-    assert cli_compare.run(args) == 0
-    lines = (tmp_path / "compare_table.txt").read_text().splitlines()
-    # the case column fits "incline": the header's model column starts where the rows' labels do
-    assert lines[0].index("model") == len("incline ")
-    rows = {line[8:48].strip(): line[48:].split() for line in lines if line.startswith("incline")}
-    assert set(rows) == {"exdex (ellipsoid)", "closed form (Coulomb)", "pybullet", "mujoco", "drake",
-                         "drake stop corners"}
-    g, m = 9.81, 0.1
-    a = g * math.sin(0.4) - 0.3 * g * math.cos(0.4) - 0.09 / m
-    assert float(rows["closed form (Coulomb)"][0]) == pytest.approx(1e3 * 0.5 * a * 0.6 ** 2, abs=1e-3)
 
 
 # ---------------------------------------------------------------- disc outlines

@@ -1,6 +1,6 @@
-"""Messages a user meets: bad input names the parameter, the command line
-reads cleanly (--version, --no-progress everywhere, no reST in --help,
-aligned tables without ``nan``), and one exception class for solver failures."""
+"""Messages a user meets: bad input names the parameter, tables are aligned
+without ``nan``, and one exception class for solver failures (the command
+line's --version, --no-progress and --help: tests/cli/test_dispatch.py)."""
 import argparse
 import contextlib
 import io
@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import exdex
-from exdex import _core, _tool, cli
+from exdex import _core, _tool
 from exdex._table import MISSING, format_table
 
 BODY = exdex.Body.box(0.1, (0.06, 0.03, 0.02))
@@ -139,43 +139,6 @@ def test_enums_come_from_the_core():
     src = open(scene_mod.__file__).read()
     assert not re.search(r"motion_kind=\d|\"(implicit|event|regularised|explicit|translation|rotation|planar|"
                          r"scalar|brent|multiroot)\": \d", src)
-
-
-# ---------------------------------------------------------------- command line
-
-def _command_parser(name):
-    import importlib
-
-    mod = importlib.import_module(cli.COMMANDS[name][0])
-    return cli.command_parser(name, mod)
-
-
-def test_version(capsys):
-    with pytest.raises(SystemExit) as info:
-        cli.main(["--version"])
-    assert info.value.code == 0
-    assert capsys.readouterr().out.strip() == f"exdex {exdex.__version__}"
-
-
-@pytest.mark.parametrize("name", list(cli.COMMANDS))
-def test_every_command_takes_no_progress(name):
-    parser = _command_parser(name)
-    # a placeholder for each required positional argument (e.g. run's scene file)
-    positional = ["x" for a in parser._actions if not a.option_strings and a.required]
-    args = parser.parse_args(positional + ["--no-progress"])
-    assert args.no_progress is True
-
-
-RST = re.compile(r"``|:(func|class|meth|mod|attr|ref):`|\*\*\w|^\s*\.\. \w", re.M)
-
-
-@pytest.mark.parametrize("name", [None] + list(cli.COMMANDS))
-def test_help_has_no_rst_markup(name, capsys):
-    with pytest.raises(SystemExit):
-        cli.main(["--help"] if name is None else [name, "--help"])
-    text = capsys.readouterr().out
-    assert "usage: exdex" in text
-    assert not RST.search(text), RST.search(text).group(0)
 
 
 def test_table_is_aligned_with_units_and_no_nan():

@@ -6,8 +6,6 @@ keys paper_* and sim_*), the independent event-by-event closed-form solver
 exdex.paper.coulomb_1dof (pure Python, no C core), scipy's brentq, or a
 geometric check written here.
 """
-import argparse
-import csv
 import math
 
 import numpy as np
@@ -290,34 +288,4 @@ def test_exactly_still_after_the_motion(name):
 
 # --------------------------------------------------------------- the command
 
-def test_exdex_paper_command(tmp_path, capsys):
-    from exdex.cli import paper as cli_paper
 
-    parser = argparse.ArgumentParser()
-    cli_paper.add_arguments(parser)
-    args = parser.parse_args(["--out", str(tmp_path), "--no-progress"])
-    assert cli_paper.run(args) == 0
-    out = capsys.readouterr().out
-    for name in paper.CASES:
-        assert (tmp_path / f"{name}.png").stat().st_size > 10_000
-        assert (tmp_path / f"{name}.pdf").read_bytes().startswith(b"%PDF")   # the default formats: png pdf
-        with open(tmp_path / f"{name}.csv") as f:
-            rows = list(csv.reader(f))
-        assert rows[0][0] == "t [s]" and len(rows) > 1000
-    with open(tmp_path / "summary.csv") as f:
-        summary = list(csv.DictReader(f))
-    by = {(r["case"], r["quantity"]): r for r in summary}
-    fig3 = by[("Fig. 3", "final relative displacement [mm]")]
-    assert float(fig3["paper"]) == 20.0 and abs(abs(float(fig3["exdex"])) - 20.0) < 0.5
-    fig6 = by[("Fig. 6", "final relative rotation [deg]")]
-    assert float(fig6["paper"]) == 140.0
-    assert float(fig6["difference"]) == pytest.approx(float(fig6["exdex"]) - 140.0)
-    assert "140" in out and "114.286" in out and "difference" in out
-    for r in summary:
-        assert float(r["max_v_after"]) == 0.0
-
-
-def test_cli_dispatch(tmp_path):
-    from exdex.cli import main
-    assert main(["paper", "--out", str(tmp_path), "--cases", "fig3", "--no-progress"]) == 0
-    assert (tmp_path / "fig3.csv").exists()
