@@ -259,7 +259,16 @@ typedef struct adv {
     double t_event;
     unsigned long ode_steps;
     size_t brent0;            /* Brent iterations count in the step budget */
+    unsigned long maps0;      /* ... or the one-step maps, if more */
 } adv;
+
+/* The interval's step budget is spent (hybrid.h, "Budgets"). */
+static int over_budget(const adv *A)
+{
+    size_t it = A->st->solver_iterations - A->brent0;
+    unsigned long maps = A->O->maps - A->maps0;
+    return A->ode_steps + (maps > it ? maps : it) > STEPS_MAX;
+}
 
 /* The step from A->t: its segment, where it must end (tstop: the interval's
  * end, the segment's, the motion's next knot), the slip's reference
@@ -316,11 +325,9 @@ static int step_integrate(adv *A, double tstop)
     }
     st->steps++;
     /* step budget and step floor (hybrid.h) */
-    if (A->ode_steps + (st->solver_iterations - A->brent0) > STEPS_MAX ||
-        (A->t < tstop && !(A->h >= H_FLOOR_ULPS * DBL_EPSILON * fabs(A->t)))) {
+    if (over_budget(A) || (A->t < tstop && !(A->h >= H_FLOOR_ULPS * DBL_EPSILON * fabs(A->t)))) {
         st->warnings++;
-        st->fail_cause = A->ode_steps + (st->solver_iterations - A->brent0) > STEPS_MAX ? EXDEX_FAIL_STEP_BUDGET
-                                                                                : EXDEX_FAIL_STEP_FLOOR;
+        st->fail_cause = over_budget(A) ? EXDEX_FAIL_STEP_BUDGET : EXDEX_FAIL_STEP_FLOOR;
         return EXDEX_ENOCONV;
     }
     hyb_guards(H, A->t, A->y, A->g1);
@@ -505,7 +512,7 @@ static int find_event(adv *A)
     if (!status) status = crossings(A);
     if (!status) status = dips(A);
     if (!status) status = earliest(A);
-    if (!status && A->ode_steps + (st->solver_iterations - A->brent0) > STEPS_MAX) {
+    if (!status && over_budget(A)) {
         st->warnings++;
         st->fail_cause = EXDEX_FAIL_STEP_BUDGET;
         status = EXDEX_ENOCONV;
@@ -732,6 +739,7 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
         A.events = A.same = 0;
         A.ode_steps = 0;
         A.brent0 = st->solver_iterations;
+        A.maps0 = O->maps;
         A.t_event = -1.0;
         while (A.t < ti && status == EXDEX_OK && !H->err) {
             double tstop = step_start(&A);

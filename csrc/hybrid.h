@@ -281,7 +281,9 @@
  * Budgets (every loop is bounded; a run that would grind returns
  * EXDEX_ENOCONV, with stats.warnings incremented):
  *   - event, regularised: at most STEPS_MAX (10^5) ODE steps, accepted plus
- *     rejected, plus Brent iterations (each one stepper application),
+ *     rejected, plus the location's work: its Brent iterations, and every
+ *     one-step map it applies (Brent, golden section, forward search, the
+ *     cut at an event; each one stepper application) if more,
  *     per output interval (dt is the output grid and also the unit
  *     of the budget: a finer grid gives a long stiff run more steps), and the
  *     step the controller suggests must stay >= H_FLOOR_ULPS (16) ulps of t
@@ -478,6 +480,7 @@ typedef struct ode {
     double yerr[NY_MAX], ytmp[NY_MAX];
     double *ts, *gb;   /* switching times, grip breakpoints (EXDEX_MOTION_MAX_SWITCHES + grip_n each) */
     exdex_model *mc;   /* pads on the fingers: the run's own copy of the model (hyb.mc) */
+    unsigned long maps; /* one-step maps applied (hyb_one_step): event location's share of the step budget */
     /* the run's state between output intervals (hybrid_begin, _advance) */
     struct hyb_state {
         hyb H;

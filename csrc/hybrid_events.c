@@ -322,6 +322,7 @@ int hyb_one_step(ode *O, double t0, const double *y0, double tau, double *out)
     size_t ny = O->sys.dimension;
     memcpy(out, y0, ny * sizeof *out);
     if (tau <= 0.0) return GSL_SUCCESS;
+    O->maps++;
     return gsl_odeiv2_step_apply(O->step, t0, tau, out, O->yerr, NULL, NULL, &O->sys);
 }
 

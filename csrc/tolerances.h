@@ -39,7 +39,7 @@
 /* ------------------------------------------------ hybrid methods: budgets
  * (hybrid.h, "Budgets": a run that would exceed one returns EXDEX_ENOCONV) */
 #define EVENTS_MAX 1000   /* events within one output interval */
-#define STEPS_MAX 100000  /* ODE steps (accepted + rejected) and Brent iterations per output interval */
+#define STEPS_MAX 100000  /* ODE steps (accepted + rejected) and event location work per output interval */
 #define H_FLOOR_ULPS 16.0 /* a suggested step below this many ulps of t is a collapse */
 #define BRENT_MAX 200     /* Brent iterations per located event */
 #define GOLDEN_MAX 60     /* golden-section iterations per guard extremum inside a step */

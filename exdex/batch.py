@@ -605,42 +605,29 @@ def _batch_checks(b):
             out[kind] = (np.asarray(mask, dtype=bool), make)
 
     # stats: only the flagged trajectories are looked at
-    for key in ("impacts", "warnings", "grasp_lost_t"):
+    for key in ("impacts", "warnings"):
         if key in b.stats:
-            flagged = np.isfinite(b.stats[key]) if key == "grasp_lost_t" else np.asarray(b.stats[key]) > 0
-            kind = {"impacts": "impact", "warnings": "solver", "grasp_lost_t": "grasp"}[key]
+            flagged = np.asarray(b.stats[key]) > 0
+            kind = {"impacts": "impact", "warnings": "solver"}[key]
 
             def make_stat(i, kind=kind):
                 st = {k: np.asarray(v)[i].item() for k, v in b.stats.items()}
                 st = {k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in st.items()}
                 return [w for w in diagnostics.stats_findings(st) if w.kind == kind][0]
             add(kind, flagged, make_stat)
-    # pads on the fingers: a trajectory whose grasp was lost holds NaN after that sample
-    # (stats["grasp_lost_t"], where the core reports it, holds its time)
-    scenes = b.scene if isinstance(b.scene, tuple) else (b.scene,)
-    if any(sc.grasp.pad is not None for sc in scenes):
-        q = np.asarray(b.q)
-        last = q[:, -1] if b.record == "all" else q
-        lost = np.isnan(last).any(axis=-1)
-        lost_t = b.stats.get("grasp_lost_t")
-        if lost_t is not None:
-            lost = lost | np.isfinite(np.asarray(lost_t, dtype=float))
+    # pads on the fingers: the core stops a run whose grasp is lost and
+    # reports the time (stats["grasp_lost_t"]; the trajectory holds NaN after
+    # that sample)
+    if "grasp_lost_t" in b.stats:
+        lost_t = np.asarray(b.stats["grasp_lost_t"], dtype=float)
 
         def make_lost(i):
-            if lost_t is not None and np.isfinite(lost_t[i]):
-                t = float(lost_t[i])
-                when = f"at t = {t:.6g} s "
-            elif b.record == "all":
-                j = int(np.flatnonzero(np.isnan(q[i]).any(axis=-1))[0]) - 1
-                t = float(b.t[j])
-                when = f"at t = {t:.6g} s "
-            else:
-                t, when = None, ""
+            t = float(lost_t[i])
             return diagnostics.PhysicsWarning(
-                f"{when}the contact region of the pads and the object's face vanished: the grasp is lost and "
-                "the run stopped there (NaN after it)", kind="grasp", time=t, quantity="contact area [m^2]",
-                value=0.0, limit=None)
-        add("grasp", lost, make_lost)
+                f"at t = {t:.6g} s the contact region of the pads and the object's face vanished: the grasp is "
+                "lost and the run stopped there (NaN after it)", kind="grasp", time=t,
+                quantity="contact area [m^2]", value=0.0, limit=None)
+        add("grasp", np.isfinite(lost_t), make_lost)
     # pad and outline: the varied parameters never change the geometry, so
     # one base scene checks every trajectory at once
     groups = [(b.scene[i], [i]) for i in range(n)] if isinstance(b.scene, tuple) else [(b.scene, list(range(n)))]

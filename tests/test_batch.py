@@ -537,16 +537,30 @@ def test_batch_reduction_warning_is_a_reduction_warning():
 def test_batch_marks_a_lost_grasp():
     """Pads on the fingers: a weak grip slides the box off a 1 cm disc pad
     (the grasp is lost: NaN after that sample), a firm one holds it; the
-    marks match the serial runs' grasp warnings."""
+    marks are the trajectories with stats["grasp_lost_t"], they match the
+    NaN tails of the trajectories (the core's two reports of a loss agree)
+    and the serial runs' grasp warnings."""
     body = exdex.Body.box(0.2, (0.15, 0.08, 0.02))
     sc = exdex.Scene(body=body, grasp=exdex.Grasp(mu=0.3, grip_force=0.3, patch=exdex.Patch.rectangle(0.02, 0.02),
                                                   pad=exdex.Pad.disc(0.01)),
                      dof="planar", q0=(0.002, 0.0, 0.0), gravity=(0.0, -9.81, 0.0), gripper_rotation=np.eye(3))
     grips = [0.3, 6.0]
     for record in ("all", "final"):
-        with pytest.warns(exdex.PhysicsWarning, match="batch index 0: .*grasp is lost"):
+        with pytest.warns(exdex.PhysicsWarning, match="batch index 0: .*grasp is lost") as rec:
             b = simulate_batch(sc, 0.3, 1e-3, record=record, grip_force=grips)
         assert list(b.checks["grasp"]) == [True, False] and list(b.valid) == [False, True]
+        # the check is the core's report: the trajectories it marks are those
+        # with a loss time, and the warning gives that time
+        lost_t = np.asarray(b.stats["grasp_lost_t"], dtype=float)
+        assert list(np.isfinite(lost_t)) == list(b.checks["grasp"])
+        w = [r.message for r in rec if isinstance(r.message, exdex.PhysicsWarning) and r.message.kind == "grasp"]
+        assert len(w) == 1 and w[0].time == lost_t[0]
+        if record == "all":
+            # the trajectory itself agrees: NaN from the sample after that time on
+            nan = np.isnan(b.q).any(axis=-1)
+            assert not nan[1].any() and nan[0, -1]
+            j = int(np.flatnonzero(nan[0])[0])
+            assert nan[0, j:].all() and b.t[j - 1] == lost_t[0]
     assert [("grasp" in _serial_kinds(b.scene_at(i), 0.3, 1e-3)) for i in range(2)] == [True, False]
 
 

@@ -12,6 +12,8 @@
 #include "check.h"
 #include "sim_run.h"
 #include "../exdex.h"
+#include "../hybrid.h"   /* ode, hyb_rhs: the event method's workspace (the budget test) */
+#include "../method.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -317,5 +319,97 @@ EXDEX_TEST(stepper_gripper_pose_cubic_rise_is_free_fall)
         ENSURE(exdex_stepper_step_gripper(s, dt, NAN, NULL) == EXDEX_OK);
     }
     exdex_stepper_free(s);
+    exdex_model_free(m);
+}
+
+/* The step budget bounds the work of one output interval (hybrid.h,
+ * "Budgets"): at most STEPS_MAX stepper applications (ODE steps, accepted
+ * and rejected, and every one-step map of event location) plus the last
+ * step's location. The scene (fuzz stepper corpus budget-19428): a 1-DoF
+ * rotation against a stop, driven by an Eq. 7 rotation of amplitude
+ * 2e277, whose first step of 0.2 ms the event method cannot integrate: each
+ * accepted step then starts with guards violated, whose extremum searches
+ * cost two one-step maps each. Reference: the status and cause the contract
+ * names (EXDEX_ENOCONV, EXDEX_FAIL_STEP_BUDGET), and the right-hand-side
+ * evaluations counted independently (the ODE system's function wrapped):
+ * rk8pd (Prince-Dormand 8(7)) has 13 stages, and an application evaluates at
+ * most those and the end derivative, 14, so the interval may take at most
+ * 14 (STEPS_MAX + 10^4) evaluations (10^4: far above one step's location,
+ * at most a few guards times GOLDEN_MAX + BRENT_MAX + DOUBLING_MAX maps). */
+static unsigned long budget_rhs_calls;
+
+static int budget_counting_rhs(double t, const double y[], double dy[], void *params)
+{
+    budget_rhs_calls++;
+    return hyb_rhs(t, y, dy, params);
+}
+
+static exdex_scene_def budget_scene(void)
+{
+    exdex_scene_def d = exdex_default_scene_def();
+    d.mass = 1.0964742683788926;
+    d.mu = 0.82725090431011417;
+    d.grip_force = 2.4801186545572889 * d.mass * G;
+    d.dof = EXDEX_DOF_ROTATION;
+    d.e_r = 0.0012574999964089192;
+    d.patch_center[0] = 0.0061031815803676073;
+    d.inertia[0] = d.inertia[4] = d.inertia[8] = d.mass * 1e-3;
+    d.method = EXDEX_METHOD_EVENT;
+    d.eps = 1e-3;
+    d.rtol = 1e-7;
+    d.atol = 1e-9;
+    scene_rect(&d, 0.02, 0.02);
+    d.n_stops = 1;
+    d.stop_point[0][2] = -0.03 - 0.0063795430392033486;
+    d.stop_normal[0][2] = 1.0;
+    d.motion.kind = EXDEX_MOTION_ASYMMETRIC;
+    d.motion.axis[2] = -1.0;
+    d.motion.amplitude = 1.9757582782045212e+277;
+    d.motion.duration = 0.29141994790714226;
+    d.motion.beta = 0.32957028655930493;
+    d.motion.frequency = 1.042016933560957;
+    return d;
+}
+
+EXDEX_TEST(stepper_step_budget_bounds_event_location_work)
+{
+    const double dt = 0.00019912298590696358;
+    exdex_scene_def d = budget_scene();
+    int status;
+    exdex_model *m = exdex_model_alloc(&d, &status, NULL);
+    const method_impl *impl = method_get(EXDEX_METHOD_EVENT);
+    exdex_stepper *s;
+    exdex_stats st;
+    ode *O;
+    double t1, q[3], v[3], wr[3], sf[EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES];
+    unsigned char stick;
+    exdex_trajectory out = {1, &t1, q, v, wr, &stick, sf};
+    ENSURE(m != NULL);
+    if (!m) return;
+    /* through the stepper: the contract's status and cause */
+    s = exdex_stepper_alloc(m, &status);
+    ENSURE(s != NULL);
+    if (s) {
+        ENSURE(exdex_stepper_step(s, dt, NAN) == EXDEX_ENOCONV);
+        exdex_stepper_get(s, NULL, &st);
+        ENSURE(st.fail_cause == EXDEX_FAIL_STEP_BUDGET);
+        exdex_stepper_free(s);
+    }
+    /* the same interval through the method table, as the stepper runs it,
+     * with the right-hand side counted */
+    O = impl->alloc(m, &status);
+    ENSURE(O != NULL);
+    if (O) {
+        memset(&st, 0, sizeof st);
+        st.min_gap = INFINITY;
+        O->sys.function = budget_counting_rhs;
+        budget_rhs_calls = 0;
+        ENSURE(impl->begin(m, O, INFINITY, dt, &st) == EXDEX_OK);
+        ENSURE(impl->advance(m, O, dt, 0, &out, 0, &st) == EXDEX_ENOCONV);
+        ENSURE(st.fail_cause == EXDEX_FAIL_STEP_BUDGET);
+        report("budget_rhs_calls", (double)budget_rhs_calls);
+        ENSURE(budget_rhs_calls <= 14ul * (STEPS_MAX + 10000ul));
+        impl->free(O);
+    }
     exdex_model_free(m);
 }
