@@ -16,7 +16,7 @@
  * untouched (G has no x component). Rows left on their face are left
  * alone (bit for bit). */
 #include "check.h"
-#include "../hybrid.h"
+#include "hybrid_scene.h"
 
 #include <math.h>
 #include <string.h>
@@ -26,41 +26,14 @@
 
 static exdex_scene_def slide_def(double vx)
 {
-    exdex_scene_def d = exdex_default_scene_def();
-    double a = BOX_A, b = BOX_B, c = 0.01, m = 0.1, top = -b / 2, h = 0.05;
-    d.mass = m;
-    memset(d.inertia, 0, sizeof d.inertia);
-    d.inertia[0] = m * (b * b + c * c) / 12.0;
-    d.inertia[4] = m * (a * a + c * c) / 12.0;
-    d.inertia[8] = m * (a * a + b * b) / 12.0;
-    d.mu = 0.0;
+    double a = BOX_A, b = BOX_B, top = -b / 2, h = 0.05;
+    exdex_scene_def d = scene_plate_box(a, b, 0.01, 0.1);
     d.grip_force = 1.0;
     d.fingers = 2;
     d.e_r = 0.0033;
-    d.gravity[0] = d.gravity[1] = 0.0;
-    d.gravity[2] = -9.81;
-    d.dof = EXDEX_DOF_PLANAR;
-    memset(d.R0, 0, sizeof d.R0);   /* B = A: the plate plane is A's x-y plane */
-    d.R0[0] = d.R0[4] = d.R0[8] = 1.0;
     d.v0[0] = vx;
-    d.n_vertices = 4;
-    d.vertices[0][0] = a / 2;  d.vertices[0][1] = -b / 2;
-    d.vertices[1][0] = a / 2;  d.vertices[1][1] = b / 2;
-    d.vertices[2][0] = -a / 2; d.vertices[2][1] = b / 2;
-    d.vertices[3][0] = -a / 2; d.vertices[3][1] = -b / 2;
     /* the obstacle: a box 0.2 x h x 0.1 below the object, top face y = -b/2 */
-    d.n_obstacles = 1;
-    d.obstacles[0].kind = EXDEX_OBSTACLE_POLYTOPE;
-    d.obstacles[0].n_faces = 6;
-    for (int i = 0; i < 3; i++)
-        for (int s = 0; s < 2; s++) {
-            double half = i == 0 ? 0.1 : i == 1 ? h / 2 : 0.05, ctr = i == 1 ? top - h / 2 : 0.0;
-            int f = 2 * i + s;
-            memset(d.obstacles[0].face_point[f], 0, sizeof d.obstacles[0].face_point[f]);
-            memset(d.obstacles[0].face_normal[f], 0, sizeof d.obstacles[0].face_normal[f]);
-            d.obstacles[0].face_normal[f][i] = s ? -1.0 : 1.0;
-            d.obstacles[0].face_point[f][i] = ctr + (s ? -half : half);
-        }
+    scene_obstacle_box(&d, 0, (const double[3]){0.0, top - h / 2, 0.0}, (const double[3]){0.1, h / 2, 0.05});
     d.obstacles[0].mu = 0.0;
     d.method = EXDEX_METHOD_EVENT;
     d.rtol = 1e-10;
@@ -72,20 +45,14 @@ EXDEX_TEST(hold_set_rows_puts_drifted_obstacle_rows_back_on_their_face)
 {
     const double vx = 0.01, delta = 1e-5, w = 0.003;
     exdex_scene_def d = slide_def(vx);
-    exdex_model *m;
-    exdex_stats st;
+    begun b;
     exdex_kinematics kin;
     frame f;
-    int status = 0, code[MAX_ROWS], n, ncs = 0;
-    const char *bad = NULL;
+    int code[MAX_ROWS], n, ncs = 0;
     double gap[MAX_ROWS], y[NY_MAX], y_on[NY_MAX];
-    ode *O;
-    memset(&st, 0, sizeof st);
-    m = exdex_model_alloc(&d, &status, &bad);
-    ENSURE(m != NULL);
-    O = method_event.alloc(m, &status);
-    ENSURE(O != NULL);
-    ENSURE(method_event.begin(m, O, 1.0, 1.0, &st) == EXDEX_OK);
+    ENSURE(begin_run(&d, 1.0, &b) == EXDEX_OK);
+    const exdex_model *m = b.m;
+    ode *O = b.O;
     hyb *H = &O->S.H;
     ENSURE(H->law == LAW_COULOMB && H->mode == MODE_SLIP && H->no == 1 && H->ns == 0);
     memcpy(y, O->S.y, sizeof y);
@@ -118,6 +85,5 @@ EXDEX_TEST(hold_set_rows_puts_drifted_obstacle_rows_back_on_their_face)
         ENSURE_SMALL(orow_planar(m, &kin, H->cs[i], y, y + 3, G, &gd, NULL), 1e-12 * delta);
         ENSURE_SMALL(gd, 1e-12 * w);
     }
-    method_event.free(O);
-    exdex_model_free(m);
+    end_run(&b);
 }

@@ -28,7 +28,7 @@
  * both times, its rate jumping where the active face changes (no smooth
  * turn). The first crossing of 0 is t_in. */
 #include "check.h"
-#include "../hybrid.h"
+#include "hybrid_scene.h"
 
 #include <math.h>
 #include <string.h>
@@ -39,31 +39,16 @@
 
 static exdex_scene_def spin_def(int dof, double vx, double vy, double w0)
 {
-    exdex_scene_def d = exdex_default_scene_def();
-    double a = BOX_A, b = BOX_B, c = 0.01, m = 0.1, Rc = 0.5 * hypot(a, b);
-    d.mass = m;
-    memset(d.inertia, 0, sizeof d.inertia);
-    d.inertia[0] = m * (b * b + c * c) / 12.0;
-    d.inertia[4] = m * (a * a + c * c) / 12.0;
-    d.inertia[8] = m * (a * a + b * b) / 12.0;
-    d.mu = 0.0;
+    double a = BOX_A, b = BOX_B, Rc = 0.5 * hypot(a, b);
+    exdex_scene_def d = scene_plate_box(a, b, 0.01, 0.1);
     d.grip_force = 1.0;
     d.fingers = 2;
     d.e_r = 0.0033;
-    d.gravity[0] = d.gravity[1] = 0.0;
-    d.gravity[2] = -9.81;
     d.dof = dof;
-    memset(d.R0, 0, sizeof d.R0);   /* B = A: the plate plane is A's x-y plane */
-    d.R0[0] = d.R0[4] = d.R0[8] = 1.0;
     d.v0[0] = vx;
     d.v0[1] = vy;
     d.v0[2] = w0;
     if (dof == EXDEX_DOF_ROTATION) d.v0[0] = w0;
-    d.n_vertices = 4;
-    d.vertices[0][0] = a / 2;  d.vertices[0][1] = -b / 2;
-    d.vertices[1][0] = a / 2;  d.vertices[1][1] = b / 2;
-    d.vertices[2][0] = -a / 2; d.vertices[2][1] = b / 2;
-    d.vertices[3][0] = -a / 2; d.vertices[3][1] = -b / 2;
     d.n_stops = 1;
     d.stop_point[0][0] = 0.0;
     d.stop_point[0][1] = -Rc * cos(EPS_TURN);
@@ -109,30 +94,6 @@ static double first_crossing(double vy, double w0, double T, int *jmin)
             break;
         }
     return best;
-}
-
-typedef struct begun {
-    exdex_model *m;
-    ode *O;
-    exdex_stats st;
-} begun;
-
-static int begin_run(const exdex_scene_def *d, double t_end, begun *b)
-{
-    int status = 0;
-    const char *bad = NULL;
-    memset(b, 0, sizeof *b);
-    b->m = exdex_model_alloc(d, &status, &bad);
-    if (!b->m) return status ? status : -1;
-    b->O = method_event.alloc(b->m, &status);
-    if (!b->O) return status;
-    return method_event.begin(b->m, b->O, t_end, t_end, &b->st);
-}
-
-static void end_run(begun *b)
-{
-    method_event.free(b->O);
-    exdex_model_free(b->m);
 }
 
 /* The free motion's state at t from q0 (NULL: 0); the force integrals stay 0. */
@@ -235,19 +196,8 @@ EXDEX_TEST(obst_dips_finds_a_point_cutting_an_obstacle_corner_inside_one_step)
     d.n_stops = 0;
     d.q0[0] = q0[0];
     d.q0[1] = q0[1];
-    d.n_obstacles = 1;
-    d.obstacles[0].kind = EXDEX_OBSTACLE_POLYTOPE;
-    d.obstacles[0].n_faces = 6;
     d.obstacles[0].mu = 0.0;
-    for (int i = 0; i < 3; i++)
-        for (int s = 0; s < 2; s++) {
-            double half = i == 0 ? W / 2 : 0.05, ctr = i == 0 ? X0 + W / 2 : i == 1 ? Y - 0.05 : 0.0;
-            int f = 2 * i + s;
-            memset(d.obstacles[0].face_point[f], 0, sizeof d.obstacles[0].face_point[f]);
-            memset(d.obstacles[0].face_normal[f], 0, sizeof d.obstacles[0].face_normal[f]);
-            d.obstacles[0].face_normal[f][i] = s ? -1.0 : 1.0;
-            d.obstacles[0].face_point[f][i] = ctr + (s ? -half : half);
-        }
+    scene_obstacle_box(&d, 0, (const double[3]){X0 + W / 2, Y - 0.05, 0.0}, (const double[3]){W / 2, 0.05, 0.05});
     ENSURE(t1 > t_in + dd / vy && vx * t1 < X0 + W);   /* out through the top, not the far side */
     ENSURE(begin_run(&d, 1.0, &b) == EXDEX_OK);
     hyb *H = &b.O->S.H;

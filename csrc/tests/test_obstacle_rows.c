@@ -15,6 +15,7 @@
  *     against the square's edges: the largest edge distance
  *     max(|u_x|, |u_y|) - S. */
 #include "check.h"
+#include "hybrid_scene.h"
 #include "../model.h"
 #include "../obstacle_rows.h"
 
@@ -28,36 +29,15 @@
 
 static exdex_scene_def box_def(void)
 {
-    exdex_scene_def d = exdex_default_scene_def();
-    const double c[4][2] = {{S, -S}, {S, S}, {-S, S}, {-S, -S}};
-    d.mass = 0.1;
+    exdex_scene_def d = scene_plate_box(2 * S, 2 * S, 0.0, 0.1);
     memset(d.inertia, 0, sizeof d.inertia);
     d.inertia[0] = d.inertia[4] = 1e-5;
     d.inertia[8] = 0.1 * (2 * S) * (2 * S) / 6.0;
-    d.mu = 0.0;
-    d.gravity[0] = d.gravity[1] = 0.0;
-    d.gravity[2] = -9.81;
-    d.dof = EXDEX_DOF_PLANAR;
-    memset(d.R0, 0, sizeof d.R0);
-    d.R0[0] = d.R0[4] = d.R0[8] = 1.0;
-    d.n_vertices = 4;
-    memcpy(d.vertices, c, sizeof c);
     /* lowest corner 1 mm above the top face */
     d.q0[0] = 0.01;
     d.q0[1] = TOP + S * (cos(TH) + sin(TH)) + 1e-3;
     d.q0[2] = TH;
-    d.n_obstacles = 1;
-    d.obstacles[0].kind = EXDEX_OBSTACLE_POLYTOPE;
-    d.obstacles[0].n_faces = 6;
-    for (int i = 0; i < 3; i++)
-        for (int s = 0; s < 2; s++) {
-            double half = i == 0 ? 0.1 : i == 1 ? H / 2 : 0.05, ctr = i == 1 ? TOP - H / 2 : 0.0;
-            int f = 2 * i + s;
-            memset(d.obstacles[0].face_point[f], 0, sizeof d.obstacles[0].face_point[f]);
-            memset(d.obstacles[0].face_normal[f], 0, sizeof d.obstacles[0].face_normal[f]);
-            d.obstacles[0].face_normal[f][i] = s ? -1.0 : 1.0;
-            d.obstacles[0].face_point[f][i] = ctr + (s ? -half : half);
-        }
+    scene_obstacle_box(&d, 0, (const double[3]){0.0, TOP - H / 2, 0.0}, (const double[3]){0.1, H / 2, 0.05});
     d.method = EXDEX_METHOD_EVENT;
     return d;
 }
