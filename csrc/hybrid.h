@@ -539,6 +539,7 @@ int hyb_apply_jump(hyb *H, double ts, double *y);
 void hyb_set_tie_leaves(hyb *H, int r);
 void hyb_set_tie_joins(hyb *H, const double *y, double t);
 void hyb_decide(hyb *H, double t, double *y, int vzero);
+int hyb_decide_event(hyb *H, double t, double *y, hyb_guard g, int same);
 void hyb_sf_redecide(hyb *H, double t, double *y);
 void hyb_hold_set_rows(hyb *H, double t, double *y);
 void hyb_project_contact(hyb *H, double t, double *y);
