@@ -834,3 +834,56 @@ void hyb_project_contact(hyb *H, double t, double *y)
     }
     if (!(H->law == LAW_COULOMB && H->s == 0.0)) y[1] = -c.Ft / c.Fq;
 }
+
+/* The plate's record of the mode fields. */
+static hyb_row_state plate_state(const hyb *H)
+{
+    hyb_row_state p = {ROW_PLATE, -1, -1, -1, RS_SLIP, H->ndof == 1 ? H->s : 0.0};
+    if (H->law == LAW_SMOOTH)
+        p.mode = H->held && hyb_smooth_two(H) ? RS_HELD : RS_SMOOTH;
+    else if (H->mode == MODE_STICK || (H->mode == MODE_CONTACT && H->s == 0.0))
+        p.mode = RS_STICK;
+    else if (H->ndof == 3 && H->small)
+        p.mode = RS_SMALL_SLIP;
+    else if (H->ndof == 3 && H->stiff)
+        p.mode = RS_STIFF_SLIP;
+    return p;
+}
+
+/* The mode of H as one array of row states (hybrid.h, hyb_row_state) into
+ * rs (HYB_ROWS_MAX records); returns the count. */
+int hyb_row_states(const hyb *H, hyb_row_state *rs)
+{
+    static const int group_mode[5] = {RS_ROLL, RS_GROUP_STICK, RS_SLIDE, RS_SLIDE, RS_FRICTIONLESS};
+    int n = 0;
+    rs[n++] = plate_state(H);
+    if (H->ndof == 1) {
+        if (H->mode == MODE_CONTACT) {
+            hyb_row_state c = {H->ck < H->ns ? ROW_STOP : ROW_OBSTACLE, H->cj, H->ck, -1,
+                               H->jam != 0.0 ? RS_JAM : RS_CONTACT, H->jam != 0.0 ? H->jam : H->ss};
+            rs[n++] = c;
+        }
+        return n;
+    }
+    for (int i = 0; i < H->ncs; i++) {
+        int r = H->cs[i];
+        hyb_row_state c = {r < H->ns * H->nv ? ROW_STOP : ROW_OBSTACLE, r, hyb_hrow_src(H, r),
+                           H->sgn > 0 ? H->sg[i] : -1, RS_CONTACT, 0.0};
+        rs[n++] = c;
+    }
+    for (int k = 0; k < H->sgn; k++) {
+        int used = -1, fm = H->fm[k];
+        for (int i = 0; i < H->ncs && used < 0; i++)
+            if (H->sg[i] == k) used = i;
+        if (used < 0) continue;
+        {
+            /* a frictionless group keeps SF_ROLL (sf_decide sets the others) */
+            int mode = model_source_mu(H->m, hyb_hrow_src(H, H->cs[used])) > 0.0 && fm >= 0 && fm <= SF_NONE
+                           ? group_mode[fm]
+                           : RS_FRICTIONLESS;
+            hyb_row_state g = {ROW_GROUP, k, -1, k, mode, fm == SF_SLIDE_P ? 1.0 : fm == SF_SLIDE_M ? -1.0 : 0.0};
+            rs[n++] = g;
+        }
+    }
+    return n;
+}

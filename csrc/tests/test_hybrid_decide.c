@@ -378,3 +378,52 @@ EXDEX_TEST(decide_event_decayed_and_turned_slips)
         end_event(&b);
     }
 }
+
+/* The decision as one array of row states (hyb_row_states). 1-DoF: the
+ * object's point on a stop below it at rest (above: a contact at rest) is
+ * the plate at rest and the stop's row in contact, its friction sign 0.
+ * Planar: the square of planar_def at rest on a frictional stop along its
+ * lower face (y >= -a/2, mu 0.5) under capacity 2 m g: the least-friction
+ * split of the rest puts the weight on the stop, so the plate sticks; the
+ * rows in contact are the two lower corners (vertices 0 and 3, rows k nv +
+ * j = 0 and 3), one friction group (the stop's line) that sticks, as its
+ * slip at rest is 0. */
+EXDEX_TEST(decide_row_states_of_a_rest_on_a_stop)
+{
+    hyb_row_state rs[HYB_ROWS_MAX];
+    for (int planar = 0; planar < 2; planar++) {
+        exdex_scene_def d = planar ? planar_def(2.0) : vertical_def(2.0);
+        begun b;
+        hyb *H;
+        int n;
+        d.n_stops = 1;
+        if (planar) {
+            d.stop_point[0][1] = -0.02;
+            d.stop_normal[0][1] = 1.0;
+            d.stop_mu[0] = 0.5;
+        } else {
+            d.stop_normal[0][2] = 1.0;
+        }
+        H = begin_event(&d, &b);
+        ENSURE(H != NULL);
+        if (!H) {
+            end_event(&b);
+            continue;
+        }
+        n = hyb_row_states(H, rs);
+        ENSURE(rs[0].kind == ROW_PLATE && rs[0].mode == RS_STICK && rs[0].dir == 0.0);
+        if (!planar) {
+            ENSURE(n == 2);
+            ENSURE(n == 2 && rs[1].kind == ROW_STOP && rs[1].src == 0 && rs[1].row == 0 && rs[1].mode == RS_CONTACT &&
+                   rs[1].dir == 0.0);
+        } else {
+            ENSURE(n == 4);
+            ENSURE(n == 4 && rs[1].kind == ROW_STOP && rs[2].kind == ROW_STOP && rs[1].src == 0 && rs[2].src == 0);
+            ENSURE(n == 4 && ((rs[1].row == 0 && rs[2].row == 3) || (rs[1].row == 3 && rs[2].row == 0)));
+            ENSURE(n == 4 && rs[1].mode == RS_CONTACT && rs[2].mode == RS_CONTACT && rs[1].group == rs[2].group &&
+                   rs[1].group >= 0);
+            ENSURE(n == 4 && rs[3].kind == ROW_GROUP && rs[3].row == rs[1].group && rs[3].mode == RS_GROUP_STICK);
+        }
+        end_event(&b);
+    }
+}
