@@ -520,18 +520,14 @@ static int find_event(adv *A)
     return status;
 }
 
-/* The state at the event (the step cut there), the decision of the next
- * mode (what the event's kind implies: a slip stopping, a small slip grown,
- * a slip decaying, a row separating or joining), the tie rules at a repeated
- * instant, the event budget. */
+/* The state at the event (the step cut there), the decision there
+ * (hyb_decide_event: the next mode and the tie rules), the event budget. */
 static int take_event(adv *A)
 {
     hyb *H = &A->H;
     ode *O = A->O;
     exdex_stats *st = A->st;
-    const exdex_model *m = H->m;
-    int law = H->law, status = EXDEX_OK;
-    int vz, keep = 0, sep = -1, join = 0, kind = A->g0[A->e_best].kind;
+    int status = EXDEX_OK;
     if (A->tau_best > 0.0 && A->t0 + A->tau_best == A->t0 && A->g0[A->e_best].value > 0.0 && A->t > A->t0) {
         /* a crossing within half an ulp of t0: the event time
          * would round to t0, where the guard holds and the
@@ -547,66 +543,8 @@ static int take_event(adv *A)
     A->t = A->t0 + A->tau_best;
     A->same = A->t == A->t_event ? A->same + 1 : 0;
     A->t_event = A->t;
-    /* the first guard of 1-DoF slip (and of moving contact, the
-     * second) is the slip speed: it stopped. A rest against a
-     * stop (1-DoF contact, s = 0) ends at its first guard (the
-     * stop no longer pushes and the load leaves the static
-     * capacity) from rest: the velocity it carries is the
-     * stop's, below tol.vzero (its second guard), whose sign
-     * must not choose a slip */
-    vz = kind == G_SLIP_STOPS || kind == G_CONTACT_STOPS || kind == G_REST_LEAVES;
-    if (kind == G_SMALL_STOPS || kind == G_SMALL_GROWS || kind == G_SLIP_TURNS || kind == G_SLIP_DECAYS) {
-        /* planar: a small slip stops (guard 0) or has grown
-         * (guard 1: on as a slip, no stop); a slip decays below
-         * zsw (guard 1) or reverses (guard 0): a stop, unless
-         * |E u| is still above zsw where E u turned against its
-         * direction at the step start (a turn: on as a slip
-         * with the new reference direction) */
-        double u[3], eu[3];
-        hyb_pads(H, A->y);
-        model_patch_slip(m, MODEL_CS(A->y[2]), A->y + 3, u);
-        for (int c = 0; c < 3; c++) eu[c] = m->e[c] * u[c];
-        if (H->small) {
-            vz = kind == G_SMALL_STOPS;
-            /* grown to SLIP_UP zsw: decided as a (large) slip */
-            if (kind == G_SMALL_GROWS) H->small = 0;
-        } else {
-            vz = kind == G_SLIP_DECAYS || !(sqrt(ex_dot3(eu, eu)) > H->zsw);
-            if (kind == G_SLIP_DECAYS) {
-                /* decayed below zsw: it stops where the load
-                 * can be held; else it slips on as a small
-                 * slip, velocity kept (what a stop dropped
-                 * would persist where the friction cannot
-                 * take it back, e.g. mu = 0) */
-                frame fk;
-                exdex_kinematics kk;
-                if (hyb_frame_seg(H, A->t, &fk, &kk)) {
-                    status = EXDEX_ENOCONV;
-                    return status;
-                }
-                keep = !hyb_planar_load_held(H, &fk, &kk, A->y);
-            }
-        }
-    }
-    /* planar, a contact-set row separating (its guard lam G
-     * M^-1 G^T - gap acceleration) */
-    if (law == LAW_COULOMB && kind == G_SEPARATES) sep = A->g0[A->e_best].row;
-    /* planar, a free stop row's gap */
-    if (law == LAW_COULOMB && H->mode == MODE_SLIP && !H->sfric && kind == G_GAP) join = 1;
-    hyb_hold_set_rows(H, A->t, A->y);
-    /* regularised, planar, two coefficients: the held
-     * regime's guard (the first): it broke away, or a slip
-     * slowed into the band */
-    if (hyb_smooth_two(H) && kind == G_HELD) H->held = !H->held;
-    if (keep)
-        H->small = 1;
-    else
-        hyb_decide(H, A->t, A->y, vz);
-    if (sep >= 0 && A->same >= 1 && H->mode == MODE_SLIP) {
-        hyb_set_tie_leaves(H, sep);
-        if (H->sfric) hyb_sf_redecide(H, A->t, A->y);
-    }
-    if (join && A->same >= 1 && H->mode == MODE_SLIP) hyb_set_tie_joins(H, A->y, A->t);
+    status = hyb_decide_event(H, A->t, A->y, A->g0[A->e_best], A->same);
+    if (status) return status;
     gsl_odeiv2_evolve_reset(O->evo);
     gsl_odeiv2_step_reset(O->step);
     if (++A->events > EVENTS_MAX) {

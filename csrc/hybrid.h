@@ -384,6 +384,44 @@ typedef struct hyb {
                           0 once it broke away (until it slows into the band again); see the top */
 } hyb;
 
+/* The mode as one array of row states (hyb_row_states, hybrid_decide.c): a
+ * record per row of the contact state, the plate's friction first, then
+ * each row in contact (planar: the contact set in its order; 1-DoF: the
+ * contact row), then each friction group of the set (planar, stop
+ * friction). The records are read from hyb's mode fields (mode, small,
+ * stiff, held, s, ck, cj, ss, jam, cs, sgn, sg, fm), which the slip laws
+ * and guards read. */
+enum { ROW_PLATE = 0, ROW_STOP = 1, ROW_OBSTACLE = 2, ROW_GROUP = 3 };
+enum {
+    /* the plate (dir: 1-DoF the slip sign s) */
+    RS_STICK = 0,      /* held exactly (against rows: a rest on them) */
+    RS_SLIP = 1,       /* the sliding law (rk8pd) */
+    RS_SMALL_SLIP = 2, /* planar: a slip growing from rest, below SLIP_UP zsw */
+    RS_STIFF_SLIP = 3, /* planar: a slip lingering slow, on the stiff stepper */
+    RS_SMOOTH = 4,     /* regularised: the smooth law */
+    RS_HELD = 5,       /* regularised, two coefficients: the held regime */
+    /* a row in contact (dir: 1-DoF the stop friction's sign ss, or the jam's) */
+    RS_CONTACT = 6,
+    RS_JAM = 7,        /* 1-DoF, frictional: taken frictionless at a jam */
+    /* a friction group (its stop_friction.h mode SF_*; dir: a slide's sign) */
+    RS_ROLL = 8,
+    RS_GROUP_STICK = 9,
+    RS_SLIDE = 10,
+    RS_FRICTIONLESS = 11
+};
+
+typedef struct hyb_row_state {
+    int kind;     /* ROW_* */
+    int row;      /* plate -1; planar row r = k nv + j or ns nv + obstacle code; 1-DoF the vertex or
+                     obstacle row code (cj); a group its index */
+    int src;      /* a row's stop or obstacle source (k, or ns + obstacle); else -1 */
+    int group;    /* a planar row's friction group while the groups are fixed (sgn > 0); else -1 */
+    int mode;     /* RS_* */
+    double dir;
+} hyb_row_state;
+
+#define HYB_ROWS_MAX (1 + MAX_ROWS + SF_MAX_STOPS)
+
 /* Pads on the fingers: the model's contact fields set to the region at the
  * planar state y (model_pads_set; nothing when they hold it already). Every
  * function below that reads the contact (pc, e, prep) at a state calls it
@@ -542,6 +580,8 @@ int hyb_apply_jump(hyb *H, double ts, double *y);
 void hyb_set_tie_leaves(hyb *H, int r);
 void hyb_set_tie_joins(hyb *H, const double *y, double t);
 void hyb_decide(hyb *H, double t, double *y, int vzero);
+int hyb_decide_event(hyb *H, double t, double *y, hyb_guard g, int same);
+int hyb_row_states(const hyb *H, hyb_row_state *rs);
 void hyb_sf_redecide(hyb *H, double t, double *y);
 void hyb_hold_set_rows(hyb *H, double t, double *y);
 void hyb_project_contact(hyb *H, double t, double *y);

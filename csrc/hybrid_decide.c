@@ -248,279 +248,374 @@ static void sf_decide(hyb *H, double t, double *y)
     sf_project_stick(H, &f, &kin, y);
 }
 
-/* ------------------------------------------------------------- decisions */
+/* ------------------------------------------------------------- decisions
+ *
+ * One decision per event. hyb_decide_event is the decision at a located
+ * event (the driver calls nothing else there), hyb_decide the decision at
+ * t = 0, at a switching time of the motion or the grip and at a regrip;
+ * both end in decide_modes, which chooses the next mode of the whole
+ * contact state at (t, y) in one pass of stages: the impacts of the rows
+ * that close (planar: hyb_planar_impact_and_set, the impulse-level
+ * problem with its friction; 1-DoF: impacts_1dof), the rows left in
+ * contact at rate ~0 (planar: the contact set and the complementarity
+ * solve of planar_prune_set; 1-DoF: contact_1dof), the plate friction at
+ * the state reached (stick, slip, small slip: the stick test is
+ * load_holds, one rule for every contact kind), and last the stop
+ * friction's modes of the set (sf_decide, the acceleration-level problem
+ * of stop_friction.h on the rows in contact).
+ *
+ * The policy for ties and hysteresis, every rule of it here:
+ *   T1 (stick band) a load sticks iff its gauge (1-DoF |load|, planar
+ *      |E^-1 w|, the exact surface's gauge, a stop contact's friction) is
+ *      <= C_s (1 + FRICTION_BAND): a load sitting on the limit sticks
+ *      (load_holds);
+ *   T2 (small slip) a planar Coulomb slip below zsw is a small slip (its
+ *      friction the maximum-dissipation wrench of the current load) unless
+ *      the load can be held, then it stops (qd = 0); a small slip stays
+ *      small up to SLIP_UP zsw (hysteresis: the band of the decision is
+ *      SLIP_UP zsw while the slip is small, zsw otherwise), so an event of
+ *      another guard within the band does not turn it into a slip whose
+ *      decay guard would fire at once (planar_slow_slip);
+ *   T3 (rest instead of push) a slip that stopped against stops moving in
+ *      B, that they would push on below SLIP_PUSH zsw, or that a set row
+ *      held while its stop recedes, is a rest on every touching row
+ *      (planar_stop_at_stops; its tol.rest_gap guard ends it);
+ *   T4 (1-DoF stop at rest in B) the object slides with the stop in the
+ *      direction of its acceleration, or rests against it where that
+ *      acceleration gains less than tol.vzero over T (contact_1dof);
+ *   T5 (zero stop force) a stop force exactly 0 keeps no contact
+ *      (contact_1dof; planar: the rows with lam > 0, or held by a lock);
+ *   T6 (jam) a frictional 1-DoF contact whose friction would turn the
+ *      normal force around (D / Fq <= JAM_DIR) is taken frictionless,
+ *      a warning (contact_1dof);
+ *   T7 (repeated instant) a decision taken twice at the same time (same
+ *      >= 1) keeps the event's own answer: a separating set row leaves
+ *      the set (hyb_set_tie_leaves), a free stop row arriving
+ *      tangentially joins it (hyb_set_tie_joins); a crossing that would
+ *      round to the step's start is taken at the next representable time
+ *      (the driver, before the decision);
+ *   T8 (decayed slip) a slip decaying below zsw (G_SLIP_DECAYS) where
+ *      the load cannot be held slips on as a small slip with its velocity
+ *      kept; a slip turning against its reference direction above zsw is
+ *      a turn (only the reference renews), below it a stop
+ *      (hyb_decide_event);
+ *   T9 (stop friction) the stops' friction modes are decided afresh from
+ *      SF_ROLL at every decision: at rest from each group's slip (|tb| <=
+ *      zsw sticks); else stop_friction.h's first consistent mode in its
+ *      fixed order (every row carrying force first, stick before slide,
+ *      locks last); in a small slip, whose plate friction depends on the
+ *      stop modes, the modes that the problem decides again on their own
+ *      plate friction (sf_small_slip_modes); none: the stops
+ *      frictionless, a warning. */
+
+/* T1: a load of gauge g (in the units of H->caps) sticks. */
+static int load_holds(const hyb *H, double g)
+{
+    return g <= H->caps * (1.0 + FRICTION_BAND);
+}
+
+static int planar_moving(const double *y)
+{
+    return y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0;
+}
+
+/* E u at the planar state y (u the patch slip of y's velocity). */
+static void planar_eu(const hyb *H, const double *y, double eu[3])
+{
+    double u[3];
+    model_patch_slip(H->m, MODEL_CS(y[2]), y + 3, u);
+    for (int i = 0; i < 3; i++) eu[i] = H->m->e[i] * u[i];
+}
+
+/* T2: a planar Coulomb slip (not known to have stopped) below the decision's
+ * band. Returns 1 when it is held (qd to be set to 0), 2 when it was decided
+ * a small slip, 0 when it is not below the band. */
+static int planar_slow_slip(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y)
+{
+    double band = H->mode == MODE_SLIP && H->small ? SLIP_UP * H->zsw : H->zsw, eu[3];
+    planar_eu(H, y, eu);
+    if (sqrt(ex_dot3(eu, eu)) >= band) return 0;
+    if (hyb_planar_load_held(H, f, kin, y)) return 1;
+    H->mode = MODE_SLIP;
+    H->small = 1;
+    planar_prune_set(H, f, kin, y);
+    return 2;
+}
+
+/* T3: a planar slip stopped (qd = 0) at (t, y) in a scene with stops or
+ * obstacles: the stops moving in B push it on at their own speed (the
+ * plastic impact on v = 0). If that slip is below SLIP_PUSH zsw it would
+ * soon count as stopped again (Zeno-like restarts); it is a rest instead,
+ * on every touching row, which the tol.rest_gap guard ends once the stops
+ * have moved (a drift below tol.rest_gap). The same for a touching stop
+ * that recedes in B at a rate below SLIP_PUSH zsw (the slip that followed
+ * it stopped): left out of the set, the load would push the object back
+ * onto it at once, an impact at the same time, and so on. And for a slip
+ * that stopped (below zsw) while a contact-set row held it, when that
+ * row's stop recedes faster and friction alone cannot hold the load
+ * (hyb_planar_set_recedes: the object followed the stop, pushing on it):
+ * at rest the row would separate at once and the load drive the object
+ * back onto it, an impact every few hundred ns; the rest on the touching
+ * rows lags the stop by at most tol.rest_gap before its guard ends it, as
+ * for a slow recession. */
+static void planar_stop_at_stops(hyb *H, const frame *f, const exdex_kinematics *kin, double t, double *y)
+{
+    const exdex_model *m = H->m;
+    double ysv[NSRC_MAX], eu[3], Ga[MAX_ROWS][3], ga[MAX_ROWS], gda[MAX_ROWS];
+    int recede = hyb_planar_set_recedes(H, f, kin, y), ra[MAX_ROWS], na;
+    memcpy(ysv, y + 9, (size_t)(H->ns + H->no) * sizeof *ysv);
+    hyb_planar_impact_and_set(H, t, kin, y);
+    planar_eu(H, y, eu);
+    na = hyb_hrow_all_planar(H, kin, y, ra, Ga, ga, gda);
+    if (!planar_moving(y))
+        for (int i = 0; i < na && !recede; i++)
+            if (ga[i] <= m->tol.touch && gda[i] > m->tol.rate && gda[i] < SLIP_PUSH * H->zsw) recede = 1;
+    if (!recede && !(planar_moving(y) && sqrt(ex_dot3(eu, eu)) < SLIP_PUSH * H->zsw)) return;
+    memcpy(y + 9, ysv, (size_t)(H->ns + H->no) * sizeof *ysv);
+    y[3] = y[4] = y[5] = 0.0;
+    H->ncs = 0;
+    na = hyb_hrow_all_planar(H, kin, y, ra, Ga, ga, NULL);
+    for (int i = 0; i < na; i++)
+        if (ga[i] <= m->tol.touch) H->cs[H->ncs++] = ra[i];
+}
+
+/* A planar Coulomb object at rest at (t, y) (qd = 0) that its load does not
+ * hold: it starts to slip, a small slip, in the direction of the slip
+ * acceleration (the maximum-dissipation solve of the limit surface for an
+ * infinitesimal step, limitsurf_step; against stops along the constrained
+ * acceleration of the friction just found). F: the generalized load at rest. */
+static void planar_slip_start(hyb *H, const frame *f, const exdex_kinematics *kin, double *y, const double F[3])
+{
+    const exdex_model *m = H->m;
+    double wF[3], b[3];
+    exdex_friction_result res;
+    int st;
+    model_patch_of_gen(m, MODEL_CS(y[2]), F, wF);
+    ex_mulmv3(b, model_prep(m)->W, wF);
+    st = limitsurf_step(&m->ls, model_prep(m), b, H->cap, EXDEX_SOLVER_SCALAR, NULL, NULL, &res);
+    if (st) {
+        H->err = H->err ? H->err : st;
+        return;
+    }
+    H->mode = MODE_SLIP;
+    H->small = 1;
+    for (int i = 0; i < 3; i++) H->uref[i] = m->e[i] * res.u[i];
+    if (H->ncs) {
+        double P[3], a[3], qdd[3], lam[MAX_ROWS], ua[3];
+        model_gen_of_patch(m, MODEL_CS(y[2]), res.p, P);
+        for (int i = 0; i < 3; i++) a[i] = m->minv[i] * (F[i] + P[i]);
+        hyb_contact_acc_planar(H, kin, y, a, qdd, lam, NULL, NULL);
+        model_patch_slip(m, MODEL_CS(y[2]), qdd, ua);
+        for (int i = 0; i < 3; i++) H->uref[i] = m->e[i] * ua[i];
+        planar_prune_set(H, f, kin, y);
+    }
+}
+
+/* The planar decision (decide_modes' stages in order). */
+static void decide_planar(hyb *H, const frame *f, const exdex_kinematics *kin, double t, double *y, int vzero)
+{
+    const exdex_model *m = H->m;
+    double F[3], w[3], zero[3] = {0, 0, 0}, g;
+    if (H->ns || H->no) {
+        hyb_planar_unpenetrate(H, kin, y);
+        hyb_planar_impact_and_set(H, t, kin, y);
+    }
+    if (H->law == LAW_SMOOTH) {
+        H->mode = MODE_FREE;
+        planar_prune_set(H, f, kin, y);
+        return;
+    }
+    if (!vzero && planar_moving(y)) {
+        int slow = planar_slow_slip(H, f, kin, y);
+        if (slow == 2) return;
+        vzero = slow == 1;
+    }
+    if (vzero) {
+        y[3] = y[4] = y[5] = 0.0;
+        if (H->ns || H->no) planar_stop_at_stops(H, f, kin, t, y);
+    }
+    H->small = 0;
+    if (planar_moving(y)) {
+        H->mode = MODE_SLIP;
+        planar_eu(H, y, H->uref);
+        planar_prune_set(H, f, kin, y);
+        return;
+    }
+    model_force_planar(m, f, y, zero, F);
+    if (H->ncs) {
+        double lam[MAX_ROWS];
+        g = hyb_planar_rest(H, kin, y, F, w, lam);
+    } else {
+        double mF[3] = {-F[0], -F[1], -F[2]};
+        model_patch_of_gen(m, MODEL_CS(y[2]), mF, w);
+        g = model_ls_gauge(m, w);
+    }
+    if (load_holds(H, g))
+        H->mode = MODE_STICK;
+    else
+        planar_slip_start(H, f, kin, y, F);
+}
+
+/* 1-DoF impacts: a touching stop row approached by the object stops it
+ * (plastic, like the implicit step), the most approaching row first, at
+ * most 3 passes (a third: stops pinch the object, a warning); the normal
+ * impulse is counted in the stop's force integral. Returns 1 if any. */
+static int impacts_1dof(hyb *H, double t, const exdex_kinematics *kin, double q, double *y, const int *rk,
+                        const int *rj, int nr)
+{
+    const exdex_model *m = H->m;
+    int any = 0;
+    for (int pass = 0; pass < 3 && nr; pass++) {
+        int kb = -1, jb = -1;
+        double worst = -m->tol.rate, vn, ln;
+        crow cb;
+        for (int r = 0; r < nr; r++) {
+            double rate;
+            crow c;
+            hyb_hrow_1dof(H, kin, rk[r], rj[r], q, &c);
+            if (c.F > m->tol.touch || !(fabs(c.Fq) > m->tol.fq_min)) continue;
+            rate = c.Fq * y[1] + c.Ft;
+            if (rate < worst) {
+                worst = rate;
+                kb = rk[r];
+                jb = rj[r];
+                cb = c;
+            }
+        }
+        if (kb < 0) break;
+        vn = -cb.Ft / cb.Fq;
+        ln = hyb_impact_impulse_1dof(H, kin, kb, jb, q, &cb, y[1], vn);
+        y[3 + kb] += ln;
+        method_note_impact(H->st, t, kb, ln);
+        y[1] = vn;
+        any = 1;
+        if (pass == 2) H->st->warnings++; /* stops pinch the object */
+    }
+    return any;
+}
+
+/* 1-DoF contact with the touching stop row (k, j) at rate ~0: taken (mode
+ * contact, y onto the constraint by Newton on F(q, t) = 0) iff its stop force
+ * is > 0 (T5) and, at rest (s = 0), its friction holds (T1). The slip
+ * direction along the stop (T4), the stop friction's sign ss opposing the
+ * vertex's slip along the stop (located guards put a reversal just past
+ * its zero: the new sign) and the jam (T6). Returns 1 if taken; else the
+ * slip direction and the stop friction are left as they were (ck, cj
+ * name the row tried last). */
+static int contact_1dof(hyb *H, const frame *f, const exdex_kinematics *kin, int k, int j, double *y, int vzero)
+{
+    const exdex_model *m = H->m;
+    double q = y[0], rate, v, Q, R, fr, lam, s_old = H->s, sl, T = 0.0;
+    crow c;
+    hyb_hrow_1dof(H, kin, k, j, q, &c);
+    if (c.F > m->tol.touch || !(fabs(c.Fq) > m->tol.fq_min)) return 0;
+    rate = c.Fq * y[1] + c.Ft;
+    if (fabs(rate) > m->tol.rate) return 0;
+    v = -c.Ft / c.Fq;
+    if (H->law == LAW_COULOMB) {
+        if (fabs(v) > m->tol.vzero && !vzero) {
+            H->s = v > 0 ? 1.0 : -1.0;
+        } else {
+            /* T4: the stop at rest in B. An acceleration that gains less
+             * than tol.vzero of speed over the time scale T counts as 0: a
+             * stop fixed in B (a gripper moving along it) has Ftt of a few
+             * ulps, whose sign must not choose a sliding contact (kinetic
+             * friction of a sign set by rounding, the rest ending at C
+             * instead of C_s); a real acceleration that small reaches
+             * tol.vzero, where the rest's guard decides again, after at
+             * least T */
+            double a = hyb_contact_qdd(&c, 0.0), a0 = m->tol.vzero / m->scale.T;
+            H->s = a > a0 ? 1.0 : a < -a0 ? -1.0 : 0.0;
+            v = 0.0;
+        }
+    }
+    Q = model_force_1dof(m, f, q, v);
+    /* a rest (s = 0): the stop's acceleration counts as 0 (T4), the load is
+     * the one at rest that the stick test and the rest's guard use */
+    R = H->law == LAW_COULOMB && H->s == 0.0 ? -Q : H->M * hyb_contact_qdd(&c, v) - Q;
+    H->ck = k;
+    H->cj = j;
+    H->ss = 0.0;
+    H->jam = 0.0;
+    if (model_source_mu(m, k) > 0.0) {
+        sl = hyb_contact_slip_1dof(H, kin, q, v, &T);
+        H->ss = sl > 0.0 ? 1.0 : sl < 0.0 ? -1.0 : 0.0;
+        if (H->ss != 0.0 && !(hyb_contact_dir(H, &c, T) / c.Fq > JAM_DIR)) {
+            H->jam = H->ss;
+            H->ss = 0.0;
+            H->st->warnings++;
+        }
+    }
+    hyb_contact_forces(H, &c, T, R, v, &fr, &lam);
+    if (lam > 0.0 && (H->law == LAW_SMOOTH || H->s != 0.0 || load_holds(H, fabs(fr)))) {
+        H->mode = MODE_CONTACT;
+        for (int it = 0; it < ROW_NEWTON_MAX && fabs(c.F) > 0.0; it++) {
+            double dq = c.F / c.Fq;
+            q -= dq;
+            hyb_hrow_1dof(H, kin, k, j, q, &c);
+            H->st->stop_iterations++;
+            if (fabs(dq) <= ROW_NEWTON_TOL * (m->scale.q + fabs(q))) break;
+        }
+        y[0] = q;
+        y[1] = (H->law == LAW_COULOMB && H->s == 0.0) ? 0.0 : -c.Ft / c.Fq;
+        return 1;
+    }
+    H->s = s_old;
+    H->ss = 0.0;
+    H->jam = 0.0;
+    return 0;
+}
+
+/* The 1-DoF decision (decide_modes' stages in order): impacts, a contact
+ * with a touching stop, else the plate friction alone: a slip on in the
+ * sign of qd, or from rest a stick (T1) or a slip in the sign of the load. */
+static void decide_1dof(hyb *H, const frame *f, const exdex_kinematics *kin, double t, double *y, int vzero)
+{
+    int rk[MAX_ROWS], rj[MAX_ROWS], nr;
+    double Q0;
+    if (vzero && H->mode != MODE_CONTACT) y[1] = 0.0;
+    nr = (H->ns || H->no) ? hyb_hrow_all_1dof(H, kin, y[0], y + 1, rk, rj) : 0;
+    if (impacts_1dof(H, t, kin, y[0], y, rk, rj, nr)) vzero = 0;
+    for (int r = 0; r < nr; r++)
+        if (contact_1dof(H, f, kin, rk[r], rj[r], y, vzero)) return;
+    if (H->law == LAW_SMOOTH) {
+        H->mode = MODE_FREE;
+        return;
+    }
+    if (y[1] != 0.0 && !vzero) {
+        H->mode = MODE_SLIP;
+        H->s = y[1] > 0 ? 1.0 : -1.0;
+        return;
+    }
+    Q0 = model_force_1dof(H->m, f, y[0], 0.0);
+    y[1] = 0.0;
+    if (load_holds(H, fabs(Q0))) {
+        H->mode = MODE_STICK;
+        H->s = 0.0;
+    } else {
+        H->mode = MODE_SLIP;
+        H->s = Q0 > 0 ? 1.0 : -1.0;
+    }
+}
 
 /* Choose the mode at (t, y) (after an event, at a segment start, at t = 0).
  * vzero: qd is known to be 0 (a slip just stopped). May change y (impacts,
  * projection onto a stop). */
 static void decide_modes(hyb *H, double t, double *y, int vzero)
 {
-    hyb_pads(H, y);
-    const exdex_model *m = H->m;
     frame f;
     exdex_kinematics kin;
-    int fs = hyb_frame_seg(H, t, &f, &kin);
+    int fs;
+    hyb_pads(H, y);
+    fs = hyb_frame_seg(H, t, &f, &kin);
     if (fs) {
         H->err = H->err ? H->err : fs;
         return;
     }
-    if (H->ndof == 3) {
-        double F[3], w[3], u[3], zero[3] = {0, 0, 0};
-        if (H->ns || H->no) {
-            hyb_planar_unpenetrate(H, &kin, y);
-            hyb_planar_impact_and_set(H, t, &kin, y);
-        }
-        if (H->law == LAW_SMOOTH) {
-            H->mode = MODE_FREE;
-            planar_prune_set(H, &f, &kin, y);
-            return;
-        }
-        if (!vzero && (y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0)) {
-            /* a slip below zsw (left by an impact or a jump of the
-             * gripper): it stops where the load can be held, else it
-             * slips on as a small slip (below) */
-            /* a small slip stays small up to SLIP_UP zsw (its guard's
-             * hysteresis): an event of another guard (a stop row) within
-             * that band must not turn it into a large slip, whose decay
-             * guard at zsw would fire at once and stop it again */
-            double band = H->mode == MODE_SLIP && H->small ? SLIP_UP * H->zsw : H->zsw;
-            model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
-            for (int i = 0; i < 3; i++) u[i] *= m->e[i];
-            if (!(sqrt(ex_dot3(u, u)) >= band)) {
-                if (hyb_planar_load_held(H, &f, &kin, y)) {
-                    vzero = 1;
-                } else {
-                    H->mode = MODE_SLIP;
-                    H->small = 1;
-                    planar_prune_set(H, &f, &kin, y);
-                    return;
-                }
-            }
-        }
-        if (vzero) {
-            y[3] = y[4] = y[5] = 0.0;
-            if (H->ns || H->no) {
-                /* a slip that stopped against stops moving in B: the stops
-                 * push it on at their own speed. If that slip is below
-                 * SLIP_PUSH zsw it would soon count as stopped again
-                 * (Zeno-like restarts); it is a rest instead, on
-                 * every touching row, which the tol.rest_gap guard ends once the
-                 * stops have moved (a drift below tol.rest_gap). The same
-                 * for a touching stop that recedes in B at a rate below
-                 * SLIP_PUSH zsw (the slip that followed it stopped): left
-                 * out of the set, the load would push the object back onto
-                 * it at once, an impact at the same time, and so on. And
-                 * for a slip that stopped (below zsw) while a contact-set
-                 * row held it, when that row's stop recedes faster and
-                 * friction alone cannot hold the load (hyb_planar_set_recedes:
-                 * the object followed the stop, pushing on it): at rest the
-                 * row would separate at once and the load drive the object
-                 * back onto it, an impact every few hundred ns; the rest on
-                 * the touching rows lags the stop by at most tol.rest_gap
-                 * before its guard ends it, as for a slow recession */
-                double ysv[NSRC_MAX], u[3], eu[3], Ga[MAX_ROWS][3], ga[MAX_ROWS], gda[MAX_ROWS];
-                int recede = hyb_planar_set_recedes(H, &f, &kin, y), ra[MAX_ROWS], na;
-                memcpy(ysv, y + 9, (size_t)(H->ns + H->no) * sizeof *ysv);
-                hyb_planar_impact_and_set(H, t, &kin, y);
-                model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
-                for (int i = 0; i < 3; i++) eu[i] = m->e[i] * u[i];
-                na = hyb_hrow_all_planar(H, &kin, y, ra, Ga, ga, gda);
-                if (y[3] == 0.0 && y[4] == 0.0 && y[5] == 0.0)
-                    for (int i = 0; i < na && !recede; i++)
-                        if (ga[i] <= m->tol.touch && gda[i] > m->tol.rate && gda[i] < SLIP_PUSH * H->zsw) recede = 1;
-                if (recede || ((y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0) && sqrt(ex_dot3(eu, eu)) < SLIP_PUSH * H->zsw)) {
-                    memcpy(y + 9, ysv, (size_t)(H->ns + H->no) * sizeof *ysv);
-                    y[3] = y[4] = y[5] = 0.0;
-                    H->ncs = 0;
-                    na = hyb_hrow_all_planar(H, &kin, y, ra, Ga, ga, NULL);
-                    for (int i = 0; i < na; i++)
-                        if (ga[i] <= m->tol.touch) H->cs[H->ncs++] = ra[i];
-                }
-            }
-        }
-        H->small = 0;
-        if (y[3] != 0.0 || y[4] != 0.0 || y[5] != 0.0) {
-            H->mode = MODE_SLIP;
-            model_patch_slip(m, MODEL_CS(y[2]), y + 3, u);
-            for (int i = 0; i < 3; i++) H->uref[i] = m->e[i] * u[i];
-            planar_prune_set(H, &f, &kin, y);
-            return;
-        }
-        model_force_planar(m, &f, y, zero, F);
-        if (H->ncs) {
-            double lam[MAX_ROWS];
-            if (hyb_planar_rest(H, &kin, y, F, w, lam) <= H->caps * (1.0 + FRICTION_BAND)) {
-                H->mode = MODE_STICK;
-                return;
-            }
-        } else {
-            double mF[3] = {-F[0], -F[1], -F[2]};
-            model_patch_of_gen(m, MODEL_CS(y[2]), mF, w);
-        }
-        if (!H->ncs && model_ls_gauge(m, w) <= H->caps * (1.0 + FRICTION_BAND)) {
-            H->mode = MODE_STICK;
-        } else {
-            /* starts to slip: the direction of the slip acceleration */
-            double wF[3], b[3];
-            exdex_friction_result res;
-            int st;
-            model_patch_of_gen(m, MODEL_CS(y[2]), F, wF);
-            ex_mulmv3(b, model_prep(m)->W, wF);
-            st = limitsurf_step(&m->ls, model_prep(m), b, H->cap, EXDEX_SOLVER_SCALAR, NULL, NULL, &res);
-            if (st) {
-                H->err = H->err ? H->err : st;
-                return;
-            }
-            H->mode = MODE_SLIP;
-            H->small = 1;
-            for (int i = 0; i < 3; i++) H->uref[i] = m->e[i] * res.u[i];
-            if (H->ncs) {
-                /* against stops: the slip starts along the constrained
-                 * acceleration of the friction just found */
-                double P[3], a[3], qdd[3], lam[MAX_ROWS], ua[3];
-                model_gen_of_patch(m, MODEL_CS(y[2]), res.p, P);
-                for (int i = 0; i < 3; i++) a[i] = m->minv[i] * (F[i] + P[i]);
-                hyb_contact_acc_planar(H, &kin, y, a, qdd, lam, NULL, NULL);
-                model_patch_slip(m, MODEL_CS(y[2]), qdd, ua);
-                for (int i = 0; i < 3; i++) H->uref[i] = m->e[i] * ua[i];
-                planar_prune_set(H, &f, &kin, y);
-            }
-        }
-        return;
-    }
-    {
-        double q = y[0];
-        if (vzero && H->mode != MODE_CONTACT) y[1] = 0.0;
-        /* impacts: a touching stop approached by the object stops it
-         * (plastic, like the implicit step); the normal impulse is counted
-         * in the stop's force integral */
-        int rk[MAX_ROWS], rj[MAX_ROWS], nr = (H->ns || H->no) ? hyb_hrow_all_1dof(H, &kin, q, y + 1, rk, rj) : 0;
-        for (int pass = 0; pass < 3 && nr; pass++) {
-            int kb = -1, jb = -1;
-            double worst = -m->tol.rate;
-            crow cb;
-            for (int r = 0; r < nr; r++) {
-                double rate;
-                crow c;
-                hyb_hrow_1dof(H, &kin, rk[r], rj[r], q, &c);
-                if (c.F > m->tol.touch || !(fabs(c.Fq) > m->tol.fq_min)) continue;
-                rate = c.Fq * y[1] + c.Ft;
-                if (rate < worst) {
-                    worst = rate;
-                    kb = rk[r];
-                    jb = rj[r];
-                    cb = c;
-                }
-            }
-            if (kb < 0) break;
-            {
-                double vn = -cb.Ft / cb.Fq, ln = hyb_impact_impulse_1dof(H, &kin, kb, jb, q, &cb, y[1], vn);
-                y[3 + kb] += ln;
-                method_note_impact(H->st, t, kb, ln);
-                y[1] = vn;
-                vzero = 0;
-                if (pass == 2) H->st->warnings++; /* stops pinch the object */
-            }
-        }
-        /* contact with a touching stop */
-        for (int r = 0; r < nr; r++) {
-            int k = rk[r], j = rj[r];
-            double rate, v, Q, R, fr, lam, s_old = H->s;
-            crow c;
-            hyb_hrow_1dof(H, &kin, k, j, q, &c);
-            if (c.F > m->tol.touch || !(fabs(c.Fq) > m->tol.fq_min)) continue;
-            rate = c.Fq * y[1] + c.Ft;
-            if (fabs(rate) > m->tol.rate) continue;
-            v = -c.Ft / c.Fq;
-            if (H->law == LAW_COULOMB) {
-                if (fabs(v) > m->tol.vzero && !vzero) {
-                    H->s = v > 0 ? 1.0 : -1.0;
-                } else {
-                    /* the stop at rest in B: the object slides with it in
-                     * the direction of its acceleration, or rests against
-                     * it (s = 0: static friction, the stick test at C_s)
-                     * where that acceleration is 0. An acceleration that
-                     * gains less than tol.vzero of speed over the time
-                     * scale T counts as 0: a stop fixed in B (a gripper
-                     * moving along it) has Ftt of a few ulps, whose sign
-                     * must not choose a sliding contact (kinetic friction
-                     * of a sign set by rounding, the rest ending at C
-                     * instead of C_s); a real acceleration that small
-                     * reaches tol.vzero, where the rest's guard decides
-                     * again, after at least T */
-                    double a = hyb_contact_qdd(&c, 0.0), a0 = m->tol.vzero / m->scale.T;
-                    H->s = a > a0 ? 1.0 : a < -a0 ? -1.0 : 0.0;
-                    v = 0.0;
-                }
-            }
-            Q = model_force_1dof(m, &f, q, v);
-            /* a rest (s = 0): the stop's acceleration counts as 0 (above),
-             * the load is the one at rest that the stick test below and the
-             * rest's guard use */
-            R = H->law == LAW_COULOMB && H->s == 0.0 ? -Q : H->M * hyb_contact_qdd(&c, v) - Q;
-            {
-                /* a frictional stop: the friction opposes the vertex's slip
-                 * along it (located guards put a reversal just past its
-                 * zero: the new sign). With mu ss T turning the normal
-                 * force's generalized direction around (D Fq <= 0) the
-                 * acceleration-level contact has no solution (Painleve):
-                 * the contact is taken frictionless there, counted as a
-                 * warning */
-                double sl, T = 0.0;
-                H->ck = k;
-                H->cj = j;
-                H->ss = 0.0;
-                H->jam = 0.0;
-                if (model_source_mu(m, k) > 0.0) {
-                    sl = hyb_contact_slip_1dof(H, &kin, q, v, &T);
-                    H->ss = sl > 0.0 ? 1.0 : sl < 0.0 ? -1.0 : 0.0;
-                    if (H->ss != 0.0 && !(hyb_contact_dir(H, &c, T) / c.Fq > JAM_DIR)) {
-                        H->jam = H->ss;
-                        H->ss = 0.0;
-                        H->st->warnings++;
-                    }
-                }
-                hyb_contact_forces(H, &c, T, R, v, &fr, &lam);
-            }
-            /* a stop force exactly 0 keeps no contact: it is about to
-             * separate (or needs none) */
-            if (lam > 0.0 && (H->law == LAW_SMOOTH || H->s != 0.0 || fabs(fr) <= H->caps * (1.0 + FRICTION_BAND))) {
-                H->mode = MODE_CONTACT;
-                H->ck = k;
-                H->cj = j;
-                /* onto the constraint: Newton on F(q, t) = 0 */
-                for (int it = 0; it < ROW_NEWTON_MAX && fabs(c.F) > 0.0; it++) {
-                    double dq = c.F / c.Fq;
-                    q -= dq;
-                    hyb_hrow_1dof(H, &kin, k, j, q, &c);
-                    H->st->stop_iterations++;
-                    if (fabs(dq) <= ROW_NEWTON_TOL * (m->scale.q + fabs(q))) break;
-                }
-                y[0] = q;
-                y[1] = (H->law == LAW_COULOMB && H->s == 0.0) ? 0.0 : -c.Ft / c.Fq;
-                return;
-            }
-            H->s = s_old;
-            H->ss = 0.0;
-            H->jam = 0.0;
-        }
-        if (H->law == LAW_SMOOTH) {
-            H->mode = MODE_FREE;
-        } else if (y[1] != 0.0 && !vzero) {
-            H->mode = MODE_SLIP;
-            H->s = y[1] > 0 ? 1.0 : -1.0;
-        } else {
-            double Q0 = model_force_1dof(m, &f, q, 0.0);
-            y[1] = 0.0;
-            if (fabs(Q0) <= H->caps * (1.0 + FRICTION_BAND)) {
-                H->mode = MODE_STICK;
-                H->s = 0.0;
-            } else {
-                H->mode = MODE_SLIP;
-                H->s = Q0 > 0 ? 1.0 : -1.0;
-            }
-        }
-    }
+    if (H->ndof == 3)
+        decide_planar(H, &f, &kin, t, y, vzero);
+    else
+        decide_1dof(H, &f, &kin, t, y, vzero);
 }
 
 /* decide_modes, and with frictional stops in a planar scene the stops'
@@ -545,6 +640,68 @@ void hyb_decide(hyb *H, double t, double *y, int vzero)
         hyb_sf_fix_groups(H, t, y);
         sf_decide(H, t, y);
     }
+}
+
+/* The decision at an event located at t (the state y there, g the guard
+ * that fell below 0, same: how often in a row an event fell at this time):
+ * what the event's kind implies (a slip stopping, a small slip grown, a
+ * slip decaying or turning: T2, T8; the held regime toggled), the
+ * decision (hyb_decide), then the tie rules at a repeated instant (T7).
+ * Returns EXDEX_OK or EXDEX_ENOCONV (the frame failed). */
+int hyb_decide_event(hyb *H, double t, double *y, hyb_guard g, int same)
+{
+    int kind = g.kind, keep = 0, sep = -1, join = 0, vz;
+    /* the first guard of 1-DoF slip (and of moving contact, the second) is
+     * the slip speed: it stopped. A rest against a stop (1-DoF contact, s =
+     * 0) ends at its first guard (the stop no longer pushes and the load
+     * leaves the static capacity) from rest: the velocity it carries is the
+     * stop's, below tol.vzero (its second guard), whose sign must not choose
+     * a slip */
+    vz = kind == G_SLIP_STOPS || kind == G_CONTACT_STOPS || kind == G_REST_LEAVES;
+    if (kind == G_SMALL_STOPS || kind == G_SMALL_GROWS || kind == G_SLIP_TURNS || kind == G_SLIP_DECAYS) {
+        /* planar: a small slip stops (G_SMALL_STOPS) or has grown to
+         * SLIP_UP zsw (on as a (large) slip, no stop); a slip decays below
+         * zsw or reverses: a stop, unless |E u| is still above zsw where E u
+         * turned against its direction at the step start (a turn: on as a
+         * slip with the new reference direction) */
+        double eu[3];
+        hyb_pads(H, y);
+        planar_eu(H, y, eu);
+        if (H->small) {
+            vz = kind == G_SMALL_STOPS;
+            if (kind == G_SMALL_GROWS) H->small = 0;
+        } else {
+            vz = kind == G_SLIP_DECAYS || !(sqrt(ex_dot3(eu, eu)) > H->zsw);
+            if (kind == G_SLIP_DECAYS) {
+                /* T8: decayed below zsw: it stops where the load can be
+                 * held; else it slips on as a small slip, velocity kept
+                 * (what a stop dropped would persist where the friction
+                 * cannot take it back, e.g. mu = 0) */
+                frame fk;
+                exdex_kinematics kk;
+                if (hyb_frame_seg(H, t, &fk, &kk)) return EXDEX_ENOCONV;
+                keep = !hyb_planar_load_held(H, &fk, &kk, y);
+            }
+        }
+    }
+    /* planar, a contact-set row separating (its guard lam G M^-1 G^T - gap
+     * acceleration), a free stop row's gap */
+    if (H->law == LAW_COULOMB && kind == G_SEPARATES) sep = g.row;
+    if (H->law == LAW_COULOMB && H->mode == MODE_SLIP && !H->sfric && kind == G_GAP) join = 1;
+    hyb_hold_set_rows(H, t, y);
+    /* regularised, planar, two coefficients: the held regime's guard: it
+     * broke away, or a slip slowed into the band */
+    if (hyb_smooth_two(H) && kind == G_HELD) H->held = !H->held;
+    if (keep)
+        H->small = 1;
+    else
+        hyb_decide(H, t, y, vz);
+    if (sep >= 0 && same >= 1 && H->mode == MODE_SLIP) {
+        hyb_set_tie_leaves(H, sep);
+        if (H->sfric) hyb_sf_redecide(H, t, y);
+    }
+    if (join && same >= 1 && H->mode == MODE_SLIP) hyb_set_tie_joins(H, y, t);
+    return EXDEX_OK;
 }
 
 /* The stops' friction groups and modes of the contact set decided again at
@@ -676,4 +833,57 @@ void hyb_project_contact(hyb *H, double t, double *y)
         if (fabs(dq) <= ROW_NEWTON_TOL * (H->m->scale.q + fabs(y[0]))) break;
     }
     if (!(H->law == LAW_COULOMB && H->s == 0.0)) y[1] = -c.Ft / c.Fq;
+}
+
+/* The plate's record of the mode fields. */
+static hyb_row_state plate_state(const hyb *H)
+{
+    hyb_row_state p = {ROW_PLATE, -1, -1, -1, RS_SLIP, H->ndof == 1 ? H->s : 0.0};
+    if (H->law == LAW_SMOOTH)
+        p.mode = H->held && hyb_smooth_two(H) ? RS_HELD : RS_SMOOTH;
+    else if (H->mode == MODE_STICK || (H->mode == MODE_CONTACT && H->s == 0.0))
+        p.mode = RS_STICK;
+    else if (H->ndof == 3 && H->small)
+        p.mode = RS_SMALL_SLIP;
+    else if (H->ndof == 3 && H->stiff)
+        p.mode = RS_STIFF_SLIP;
+    return p;
+}
+
+/* The mode of H as one array of row states (hybrid.h, hyb_row_state) into
+ * rs (HYB_ROWS_MAX records); returns the count. */
+int hyb_row_states(const hyb *H, hyb_row_state *rs)
+{
+    static const int group_mode[5] = {RS_ROLL, RS_GROUP_STICK, RS_SLIDE, RS_SLIDE, RS_FRICTIONLESS};
+    int n = 0;
+    rs[n++] = plate_state(H);
+    if (H->ndof == 1) {
+        if (H->mode == MODE_CONTACT) {
+            hyb_row_state c = {H->ck < H->ns ? ROW_STOP : ROW_OBSTACLE, H->cj, H->ck, -1,
+                               H->jam != 0.0 ? RS_JAM : RS_CONTACT, H->jam != 0.0 ? H->jam : H->ss};
+            rs[n++] = c;
+        }
+        return n;
+    }
+    for (int i = 0; i < H->ncs; i++) {
+        int r = H->cs[i];
+        hyb_row_state c = {r < H->ns * H->nv ? ROW_STOP : ROW_OBSTACLE, r, hyb_hrow_src(H, r),
+                           H->sgn > 0 ? H->sg[i] : -1, RS_CONTACT, 0.0};
+        rs[n++] = c;
+    }
+    for (int k = 0; k < H->sgn; k++) {
+        int used = -1, fm = H->fm[k];
+        for (int i = 0; i < H->ncs && used < 0; i++)
+            if (H->sg[i] == k) used = i;
+        if (used < 0) continue;
+        {
+            /* a frictionless group keeps SF_ROLL (sf_decide sets the others) */
+            int mode = model_source_mu(H->m, hyb_hrow_src(H, H->cs[used])) > 0.0 && fm >= 0 && fm <= SF_NONE
+                           ? group_mode[fm]
+                           : RS_FRICTIONLESS;
+            hyb_row_state g = {ROW_GROUP, k, -1, k, mode, fm == SF_SLIDE_P ? 1.0 : fm == SF_SLIDE_M ? -1.0 : 0.0};
+            rs[n++] = g;
+        }
+    }
+    return n;
 }

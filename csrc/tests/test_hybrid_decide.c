@@ -87,3 +87,309 @@ EXDEX_TEST(hold_set_rows_puts_drifted_obstacle_rows_back_on_their_face)
     }
     end_run(&b);
 }
+
+/* ------------------------------------------------ the decision's rules
+ * Each test below names the rule of hybrid_decide.c's policy (T1 .. T9) it
+ * checks, on the state of a begun event run, the decision called directly
+ * (hyb_decide at a segment start, hyb_decide_event at a located event). */
+
+typedef struct begun {
+    exdex_model *m;
+    ode *O;
+    exdex_stats st;
+} begun;
+
+static hyb *begin_event(const exdex_scene_def *d, begun *b)
+{
+    int status = 0;
+    memset(b, 0, sizeof *b);
+    b->m = exdex_model_alloc(d, &status, NULL);
+    if (!b->m) return NULL;
+    b->O = method_event.alloc(b->m, &status);
+    if (!b->O || method_event.begin(b->m, b->O, 1.0, 1.0, &b->st) != EXDEX_OK) return NULL;
+    return &b->O->S.H;
+}
+
+static void end_event(begun *b)
+{
+    if (b->O) method_event.free(b->O);
+    if (b->m) exdex_model_free(b->m);
+}
+
+/* The 1-DoF vertical scene (mass m, B y up, gravity g down), mu 0.5 on two
+ * fingers, capacity ratio x m g, stops none. */
+static exdex_scene_def vertical_def(double ratio)
+{
+    exdex_scene_def d = exdex_default_scene_def();
+    d.mass = 0.3;
+    d.grip_force = ratio * d.mass * 9.81 / (2 * d.mu);
+    d.method = EXDEX_METHOD_EVENT;
+    return d;
+}
+
+/* T1, 1-DoF: at rest the load is the weight, Q0 = -m g (closed form); the
+ * object sticks iff |Q0| <= C_s (1 + FRICTION_BAND), a load on the limit
+ * sticks, one just beyond the band slips in the load's sign (down). */
+EXDEX_TEST(decide_1dof_sticks_iff_the_load_is_within_the_static_band)
+{
+    exdex_scene_def d = vertical_def(2.0);
+    begun b;
+    frame f;
+    exdex_kinematics kin;
+    hyb *H = begin_event(&d, &b);
+    double y[NY_MAX], Q0;
+    ENSURE(H != NULL);
+    if (!H) {
+        end_event(&b);
+        return;
+    }
+    ENSURE(H->mode == MODE_STICK && H->s == 0.0);   /* capacity 2 m g */
+    memcpy(y, b.O->S.y, sizeof y);
+    ENSURE(hyb_frame_seg(H, 0.0, &f, &kin) == EXDEX_OK);
+    Q0 = model_force_1dof(b.m, &f, y[0], 0.0);
+    ENSURE_CLOSE(Q0, -0.3 * 9.81, 1e-15);
+    H->caps = fabs(Q0);                                  /* on the limit */
+    hyb_decide(H, 0.0, y, 1);
+    ENSURE(H->mode == MODE_STICK && y[1] == 0.0);
+    H->caps = fabs(Q0) / (1.0 + 0.5 * FRICTION_BAND);    /* inside the band */
+    hyb_decide(H, 0.0, y, 1);
+    ENSURE(H->mode == MODE_STICK);
+    H->caps = fabs(Q0) / (1.0 + 4.0 * FRICTION_BAND);    /* beyond it */
+    hyb_decide(H, 0.0, y, 1);
+    ENSURE(H->mode == MODE_SLIP && H->s == -1.0 && y[1] == 0.0);
+    end_event(&b);
+}
+
+/* T4, T5, 1-DoF: the object's point on a stop fixed in B (gap 0, rate 0).
+ * A stop below it (normal up) carries what it can at rest, the whole
+ * weight (lam = m g / Fq > 0, the friction 0): a contact at rest (s = 0, y
+ * at rate 0), whether the friction could hold the weight (capacity 2 m g)
+ * or not (0.5 m g). A stop above it (normal down): the weight pulls the
+ * point away, the stop force of that rest is 0, which keeps no contact
+ * (T5): a stick under 2 m g, a slip down (away) under 0.5 m g. */
+EXDEX_TEST(decide_1dof_rest_on_a_stop_is_a_contact_only_where_the_stop_pushes)
+{
+    const double ratios[2] = {0.5, 2.0};
+    for (int up = 0; up < 2; up++)
+        for (int i = 0; i < 2; i++) {
+            exdex_scene_def d = vertical_def(ratios[i]);
+            begun b;
+            hyb *H;
+            d.n_stops = 1;
+            d.stop_normal[0][2] = up ? -1.0 : 1.0;   /* through the object's point */
+            H = begin_event(&d, &b);
+            ENSURE(H != NULL);
+            if (H && !up) ENSURE(H->mode == MODE_CONTACT && H->s == 0.0 && H->ck == 0 && b.O->S.y[1] == 0.0);
+            if (H && up && i == 1) ENSURE(H->mode == MODE_STICK && H->s == 0.0);
+            if (H && up && i == 0) ENSURE(H->mode == MODE_SLIP && H->s == -1.0);
+            end_event(&b);
+        }
+}
+
+/* A planar scene (B = A, the plate plane A's x-y plane) with gravity g
+ * along -y in it: a square 4 x 4 cm, mass 0.2, the patch at its centre of
+ * mass, capacity ratio x m g; no stops. */
+static exdex_scene_def planar_def(double ratio)
+{
+    exdex_scene_def d = exdex_default_scene_def();
+    double a = 0.04, m = 0.2;
+    d.mass = m;
+    memset(d.inertia, 0, sizeof d.inertia);
+    d.inertia[0] = d.inertia[4] = m * a * a / 12.0;
+    d.inertia[8] = m * a * a / 6.0;
+    d.grip_force = ratio * m * 9.81 / (2 * d.mu);
+    d.e_r = 0.005;
+    d.gravity[0] = d.gravity[2] = 0.0;
+    d.gravity[1] = -9.81;
+    d.dof = EXDEX_DOF_PLANAR;
+    memset(d.R0, 0, sizeof d.R0);
+    d.R0[0] = d.R0[4] = d.R0[8] = 1.0;
+    d.n_vertices = 4;
+    d.vertices[0][0] = a / 2;  d.vertices[0][1] = -a / 2;
+    d.vertices[1][0] = a / 2;  d.vertices[1][1] = a / 2;
+    d.vertices[2][0] = -a / 2; d.vertices[2][1] = a / 2;
+    d.vertices[3][0] = -a / 2; d.vertices[3][1] = -a / 2;
+    d.method = EXDEX_METHOD_EVENT;
+    return d;
+}
+
+/* T1 planar and the slip's start: at rest the load is the weight, a pure
+ * force (0, -m g) at the patch (no moment: the patch at the centre of
+ * mass); capacity 2 m g holds it (a stick), capacity 0.5 m g does not: a
+ * small slip whose reference direction is the slip acceleration's, by the
+ * symmetry of the ellipsoid about its force axes straight down (E u along
+ * -y, no x, no spin). */
+EXDEX_TEST(decide_planar_rest_sticks_inside_the_limit_and_slips_along_the_load_outside)
+{
+    const double ratios[2] = {2.0, 0.5};
+    for (int i = 0; i < 2; i++) {
+        exdex_scene_def d = planar_def(ratios[i]);
+        begun b;
+        hyb *H = begin_event(&d, &b);
+        ENSURE(H != NULL);
+        if (!H) {
+            end_event(&b);
+            continue;
+        }
+        ENSURE(H->law == LAW_COULOMB && H->ndof == 3 && H->ncs == 0);
+        if (i == 0) ENSURE(H->mode == MODE_STICK);
+        if (i == 1) {
+            ENSURE(H->mode == MODE_SLIP && H->small == 1);
+            ENSURE(H->uref[1] < 0.0);
+            ENSURE_SMALL(H->uref[0], 1e-15 * fabs(H->uref[1]));
+            ENSURE_SMALL(H->uref[2], 1e-15 * fabs(H->uref[1]));
+        }
+        end_event(&b);
+    }
+}
+
+/* The planar state of b's run with the velocity (0, vy, 0) (a slide along
+ * -y at |E u| = |vy|: e = (1, 1, e_r), the patch at the centre of mass). */
+static void planar_moving_down(const begun *b, double *y, double vy)
+{
+    memcpy(y, b->O->S.y, NY_MAX * sizeof *y);
+    y[3] = 0.0;
+    y[4] = vy;
+    y[5] = 0.0;
+}
+
+/* T2, the small slip's band and its hysteresis: a slide at 1.5 zsw whose
+ * load the friction cannot hold (capacity 0.5 m g) stays a small slip if
+ * it was one (band SLIP_UP zsw = 2 zsw), and is a slip (its reference E u,
+ * the velocity kept) if it was not (band zsw); at 0.5 zsw it is a small
+ * slip either way, velocity kept; at 0.5 zsw under capacity 2 m g it stops
+ * (qd = 0) and sticks. */
+EXDEX_TEST(decide_planar_small_slip_band_and_its_hysteresis)
+{
+    for (int held = 0; held < 2; held++) {
+        exdex_scene_def d = planar_def(held ? 2.0 : 0.5);
+        begun b;
+        hyb *H = begin_event(&d, &b);
+        double y[NY_MAX], z;
+        ENSURE(H != NULL);
+        if (!H) {
+            end_event(&b);
+            continue;
+        }
+        ENSURE(b.m->e[0] == 1.0 && b.m->e[1] == 1.0);
+        ENSURE(SLIP_UP == 2.0);
+        z = H->zsw;
+        ENSURE(z > 0.0);
+        if (!held) {
+            for (int small = 0; small < 2; small++) {
+                planar_moving_down(&b, y, -1.5 * z);
+                H->mode = MODE_SLIP;
+                H->small = small;
+                hyb_decide(H, 0.0, y, 0);
+                ENSURE(H->mode == MODE_SLIP && H->small == small && y[4] == -1.5 * z && y[3] == 0.0);
+                if (!small) ENSURE(H->uref[1] == -1.5 * z && H->uref[0] == 0.0 && H->uref[2] == 0.0);
+                planar_moving_down(&b, y, -0.5 * z);
+                H->mode = MODE_SLIP;
+                H->small = small;
+                hyb_decide(H, 0.0, y, 0);
+                ENSURE(H->mode == MODE_SLIP && H->small == 1 && y[4] == -0.5 * z);
+            }
+        } else {
+            planar_moving_down(&b, y, -0.5 * z);
+            H->mode = MODE_SLIP;
+            H->small = 0;
+            hyb_decide(H, 0.0, y, 0);
+            ENSURE(H->mode == MODE_STICK && y[3] == 0.0 && y[4] == 0.0 && y[5] == 0.0);
+        }
+        end_event(&b);
+    }
+}
+
+/* T8 at an event: a slip whose decay guard fell (|E u| below zsw) stops
+ * where the load can be held (a stick, qd = 0) and else slips on as a small
+ * slip with its velocity kept; a slip whose E u turned against its
+ * reference above zsw only renews the reference (on as a slip), below zsw
+ * it is a stop like a decay. */
+EXDEX_TEST(decide_event_decayed_and_turned_slips)
+{
+    for (int held = 0; held < 2; held++) {
+        exdex_scene_def d = planar_def(held ? 2.0 : 0.5);
+        begun b;
+        hyb *H = begin_event(&d, &b);
+        double y[NY_MAX], z;
+        ENSURE(H != NULL);
+        if (!H) {
+            end_event(&b);
+            continue;
+        }
+        z = H->zsw;
+        /* decayed to 0.9 zsw */
+        planar_moving_down(&b, y, -0.9 * z);
+        H->mode = MODE_SLIP;
+        H->small = 0;
+        ENSURE(hyb_decide_event(H, 0.0, y, hg(G_SLIP_DECAYS, -1, 0.0, -1e-3 * z), 0) == EXDEX_OK);
+        if (held) ENSURE(H->mode == MODE_STICK && y[4] == 0.0);
+        if (!held) ENSURE(H->mode == MODE_SLIP && H->small == 1 && y[4] == -0.9 * z);
+        /* turned: the reference was up, the slide is down at 3 zsw */
+        planar_moving_down(&b, y, -3.0 * z);
+        H->mode = MODE_SLIP;
+        H->small = 0;
+        H->uref[0] = H->uref[2] = 0.0;
+        H->uref[1] = 3.0 * z;
+        ENSURE(hyb_decide_event(H, 0.0, y, hg(G_SLIP_TURNS, -1, 0.0, -1e-3 * z), 0) == EXDEX_OK);
+        ENSURE(H->mode == MODE_SLIP && H->small == 0 && y[4] == -3.0 * z && H->uref[1] == -3.0 * z);
+        /* turned below zsw: a stop (held: a stick; else a small slip from rest, down) */
+        planar_moving_down(&b, y, -0.5 * z);
+        H->mode = MODE_SLIP;
+        H->small = 0;
+        ENSURE(hyb_decide_event(H, 0.0, y, hg(G_SLIP_TURNS, -1, 0.0, -1e-3 * z), 0) == EXDEX_OK);
+        ENSURE(y[4] == 0.0);
+        if (held) ENSURE(H->mode == MODE_STICK);
+        if (!held) ENSURE(H->mode == MODE_SLIP && H->small == 1 && H->uref[1] < 0.0);
+        end_event(&b);
+    }
+}
+
+/* The decision as one array of row states (hyb_row_states). 1-DoF: the
+ * object's point on a stop below it at rest (above: a contact at rest) is
+ * the plate at rest and the stop's row in contact, its friction sign 0.
+ * Planar: the square of planar_def at rest on a frictional stop along its
+ * lower face (y >= -a/2, mu 0.5) under capacity 2 m g: the least-friction
+ * split of the rest puts the weight on the stop, so the plate sticks; the
+ * rows in contact are the two lower corners (vertices 0 and 3, rows k nv +
+ * j = 0 and 3), one friction group (the stop's line) that sticks, as its
+ * slip at rest is 0. */
+EXDEX_TEST(decide_row_states_of_a_rest_on_a_stop)
+{
+    hyb_row_state rs[HYB_ROWS_MAX];
+    for (int planar = 0; planar < 2; planar++) {
+        exdex_scene_def d = planar ? planar_def(2.0) : vertical_def(2.0);
+        begun b;
+        hyb *H;
+        int n;
+        d.n_stops = 1;
+        if (planar) {
+            d.stop_point[0][1] = -0.02;
+            d.stop_normal[0][1] = 1.0;
+            d.stop_mu[0] = 0.5;
+        } else {
+            d.stop_normal[0][2] = 1.0;
+        }
+        H = begin_event(&d, &b);
+        ENSURE(H != NULL);
+        if (!H) {
+            end_event(&b);
+            continue;
+        }
+        n = hyb_row_states(H, rs);
+        ENSURE(rs[0].kind == ROW_PLATE && rs[0].mode == RS_STICK && rs[0].dir == 0.0);
+        if (!planar) {
+            ENSURE(n == 2);
+            ENSURE(n == 2 && rs[1].kind == ROW_STOP && rs[1].src == 0 && rs[1].row == 0 && rs[1].mode == RS_CONTACT &&
+                   rs[1].dir == 0.0);
+        } else {
+            ENSURE(n == 4);
+            ENSURE(n == 4 && rs[1].kind == ROW_STOP && rs[2].kind == ROW_STOP && rs[1].src == 0 && rs[2].src == 0);
+            ENSURE(n == 4 && ((rs[1].row == 0 && rs[2].row == 3) || (rs[1].row == 3 && rs[2].row == 0)));
+            ENSURE(n == 4 && rs[1].mode == RS_CONTACT && rs[2].mode == RS_CONTACT && rs[1].group == rs[2].group &&
+                   rs[1].group >= 0);
+            ENSURE(n == 4 && rs[3].kind == ROW_GROUP && rs[3].row == rs[1].group && rs[3].mode == RS_GROUP_STICK);
+        }
+        end_event(&b);
+    }
+}
