@@ -587,20 +587,19 @@ int hyb_planar_set_recedes(hyb *H, const frame *f, const exdex_kinematics *kin, 
  * a patch wrench; the stop forces of a rest against stops are not part of
  * it), slip the sliding law (the maximum-dissipation direction from rest),
  * regularised the smooth law. */
-int hyb_planar_friction(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y, double F[3],
-                        double w[3])
+static int planar_friction_cs(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y,
+                              const double cs[2], double F[3], double w[3])
 {
     hyb_pads(H, y);
     const exdex_model *m = H->m;
-    double th = y[2];
     const double *v = y + 3;
     model_force_planar(m, f, y, v, F);
     if (H->mode == MODE_STICK) {
         double mF[3] = {-F[0], -F[1], -F[2]};
-        model_patch_of_gen(m, MODEL_CS(th), mF, w);
+        model_patch_of_gen(m, cs, mF, w);
     } else {
         double u[3], eu[3], sig;
-        model_patch_slip(m, MODEL_CS(th), v, u);
+        model_patch_slip(m, cs, v, u);
         for (int i = 0; i < 3; i++) eu[i] = m->e[i] * u[i];
         sig = sqrt(ex_dot3(eu, eu));
         if (H->law == LAW_SMOOTH && m->ls_exact) {
@@ -641,7 +640,7 @@ int hyb_planar_friction(hyb *H, const frame *f, const exdex_kinematics *kin, con
             double wF[3], b[3];
             exdex_friction_result res;
             int st;
-            model_patch_of_gen(m, MODEL_CS(th), F, wF);
+            model_patch_of_gen(m, cs, F, wF);
             ex_mulmv3(b, model_prep(m)->W, wF);
             st = limitsurf_step(&m->ls, model_prep(m), b, H->cap, EXDEX_SOLVER_SCALAR, NULL, NULL, &res);
             if (st) return st;
@@ -654,10 +653,10 @@ int hyb_planar_friction(hyb *H, const frame *f, const exdex_kinematics *kin, con
                  * free acceleration (bounded; the last iterate is kept) */
                 for (int it = 0; it < SMALL_SLIP_FIX_MAX; it++) {
                     double P[3], a[3], qdd[3], lam[MAX_ROWS], ua[3], ea[3], sa, wn[3], d = 0.0;
-                    model_gen_of_patch(m, MODEL_CS(th), w, P);
+                    model_gen_of_patch(m, cs, w, P);
                     for (int i = 0; i < 3; i++) a[i] = m->minv[i] * (F[i] + P[i]);
                     hyb_contact_acc_planar(H, kin, y, a, qdd, lam, NULL, NULL);
-                    model_patch_slip(m, MODEL_CS(th), qdd, ua);
+                    model_patch_slip(m, cs, qdd, ua);
                     for (int i = 0; i < 3; i++) ea[i] = m->e[i] * ua[i];
                     sa = sqrt(ex_dot3(ea, ea));
                     if (!(sa > 0.0)) break;
@@ -675,6 +674,13 @@ int hyb_planar_friction(hyb *H, const frame *f, const exdex_kinematics *kin, con
         }
     }
     return EXDEX_OK;
+}
+
+int hyb_planar_friction(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y, double F[3],
+                        double w[3])
+{
+    const double cs[2] = {cos(y[2]), sin(y[2])};
+    return planar_friction_cs(H, f, kin, y, cs, F, w);
 }
 
 /* The acceleration without stops of the current (non-stick) mode at y. */
@@ -732,9 +738,9 @@ int hyb_rhs(double t, const double y[], double dy[], void *params)
             dy[2] = fr;
         }
     } else {
-        double F[3], w[3], P[3], th = y[2];
-        const double *v = y + 3;
-        st = hyb_planar_friction(H, &f, &kin, y, F, w);
+        double F[3], w[3], P[3];
+        const double *v = y + 3, cs[2] = {cos(y[2]), sin(y[2])};  /* one (cos, sin) of theta for the whole rhs */
+        st = planar_friction_cs(H, &f, &kin, y, cs, F, w);
         if (st) {
             if (!H->err) H->err = st;
             return GSL_EBADFUNC;
@@ -746,7 +752,7 @@ int hyb_rhs(double t, const double y[], double dy[], void *params)
         }
         if (H->mode != MODE_STICK) {
             double a[3];
-            model_gen_of_patch(m, MODEL_CS(th), w, P);
+            model_gen_of_patch(m, cs, w, P);
             for (int i = 0; i < 3; i++) {
                 dy[i] = v[i];
                 a[i] = m->minv[i] * (F[i] + P[i]);
@@ -758,12 +764,9 @@ int hyb_rhs(double t, const double y[], double dy[], void *params)
                 for (int i = 0; i < H->ncs; i++) dy[9 + hyb_hrow_src(H, H->cs[i])] += lam[i];
             }
         }
-        {
-            double c = cos(th), s = sin(th);
-            dy[6] = c * w[0] - s * w[1];
-            dy[7] = s * w[0] + c * w[1];
-            dy[8] = w[2];
-        }
+        dy[6] = cs[0] * w[0] - cs[1] * w[1];
+        dy[7] = cs[1] * w[0] + cs[0] * w[1];
+        dy[8] = w[2];
     }
     for (int i = 0; i < H->ny; i++)
         if (!isfinite(dy[i])) {
