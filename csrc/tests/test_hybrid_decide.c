@@ -93,28 +93,13 @@ EXDEX_TEST(hold_set_rows_puts_drifted_obstacle_rows_back_on_their_face)
  * checks, on the state of a begun event run, the decision called directly
  * (hyb_decide at a segment start, hyb_decide_event at a located event). */
 
-typedef struct begun {
-    exdex_model *m;
-    ode *O;
-    exdex_stats st;
-} begun;
-
+/* An event run begun for 1 s (hybrid_scene.h's begin_run), its hybrid state. */
 static hyb *begin_event(const exdex_scene_def *d, begun *b)
 {
-    int status = 0;
-    memset(b, 0, sizeof *b);
-    b->m = exdex_model_alloc(d, &status, NULL);
-    if (!b->m) return NULL;
-    b->O = method_event.alloc(b->m, &status);
-    if (!b->O || method_event.begin(b->m, b->O, 1.0, 1.0, &b->st) != EXDEX_OK) return NULL;
-    return &b->O->S.H;
+    return begin_run(d, 1.0, b) == EXDEX_OK ? &b->O->S.H : NULL;
 }
 
-static void end_event(begun *b)
-{
-    if (b->O) method_event.free(b->O);
-    if (b->m) exdex_model_free(b->m);
-}
+static void end_event(begun *b) { end_run(b); }
 
 /* The 1-DoF vertical scene (mass m, B y up, gravity g down), mu 0.5 on two
  * fingers, capacity ratio x m g, stops none. */
