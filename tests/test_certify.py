@@ -18,6 +18,8 @@ References are closed forms of the planar statics, derived here:
   about the plate normal through the pivot loads the pin only with gravity's
   in-plane part, which a pure rotation slip's friction (a moment only)
   cannot carry.
+
+twin: csrc/tests/test_certify.c (the same subject on the C API)
 """
 import math
 import warnings

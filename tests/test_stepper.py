@@ -20,7 +20,7 @@ same methods, an independent loop); closed forms for the controllers:
   target (one step of look-ahead), so it ends within about one step's
   rotation w dt of the target, and then sticks (C > m g arm).
 
-Its twin in the C suite (same subject, tested on the C API): csrc/tests/test_stepper.c.
+twin: csrc/tests/test_stepper.c (the same subject on the C API)
 """
 from __future__ import annotations
 

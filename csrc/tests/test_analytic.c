@@ -1,6 +1,6 @@
 /* test_analytic.c -- EXDEX_METHOD_ANALYTIC against closed forms, the event
  * method, and the scenes it must refuse.
- * Its twin through the Python API (same subject, other side of the core): tests/scenarios/test_analytic.py.
+ * twin: tests/scenarios/test_analytic.py (the same subject through the Python API)
  */
 #include "check.h"
 #include "sim_run.h"

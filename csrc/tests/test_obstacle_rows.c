@@ -18,6 +18,7 @@
 #include "hybrid_scene.h"
 #include "../model.h"
 #include "../obstacle_rows.h"
+#include "../contact.h"
 
 #include <math.h>
 #include <string.h>
@@ -118,4 +119,110 @@ EXDEX_TEST(obstacle_rows_box_against_square_by_hand)
     ENSURE(!orow_valid(m, orow_code(0, OROW_VERTEX, 4, 0, 2)));   /* four outline vertices */
     ENSURE(!orow_valid(m, orow_code(0, OROW_VERTEX, 0, 0, 6)));   /* six faces */
     exdex_model_free(m);
+}
+
+/* The contract of obstacle_rows.h: orow_all's gaps (without velocities,
+ * planar = 0) are contact_obstacle_rows' gaps, bit for bit, row for row in
+ * the outline vertices' order and the rod's row, as a set for a polytope's
+ * section vertices (contact_obstacle_rows takes them counter-clockwise);
+ * the same count. Random poses of the square above, beside and inside
+ * the box, the box turned at random, and a tilted rod in place of it. */
+static double lcg(unsigned long *s)
+{
+    *s = *s * 6364136223846793005UL + 1442695040888963407UL;
+    return (double)(*s >> 11) / 9007199254740992.0;
+}
+
+static void sort_up(double *x, int n)
+{
+    for (int a = 0; a < n; a++)
+        for (int b = a + 1; b < n; b++)
+            if (x[b] < x[a]) { double t = x[a]; x[a] = x[b]; x[b] = t; }
+}
+
+EXDEX_TEST(obstacle_rows_gaps_are_contact_obstacle_rows_bit_for_bit)
+{
+    unsigned long seed = 12345;
+    int checked = 0, rods = 0, sections = 0;
+    for (int trial = 0; trial < 400; trial++) {
+        exdex_scene_def d = box_def();
+        int status, code[MAX_ROWS], n, no;
+        const char *bad = NULL;
+        double gap[MAX_ROWS], G[MAX_ROWS][3], g[MAX_ROWS], rnd[MAX_ROWS], q[3];
+        frame f;
+        exdex_kinematics kin;
+        exdex_model *m;
+        if (trial % 4 == 3) {
+            /* a rod tilted in the plate's x-z plane and turned about z */
+            double tilt = 1.2 * (lcg(&seed) - 0.5), turn = 6.283185307179586 * lcg(&seed);
+            exdex_obstacle_def *o = &d.obstacles[0];
+            memset(o, 0, sizeof *o);
+            o->kind = EXDEX_OBSTACLE_CYLINDER;
+            o->center[0] = 0.04 * (lcg(&seed) - 0.5);
+            o->center[1] = TOP + 0.04 * (lcg(&seed) - 0.5);
+            o->axis[0] = sin(tilt) * cos(turn);
+            o->axis[1] = sin(tilt) * sin(turn);
+            o->axis[2] = cos(tilt);
+            o->radius = 0.005 + 0.01 * lcg(&seed);
+        } else {
+            /* the box turned about a random axis by up to 0.6 rad: rotate its normals and points */
+            double ax[3] = {lcg(&seed) - 0.5, lcg(&seed) - 0.5, lcg(&seed) - 0.5}, an = 0.6 * lcg(&seed), len, R[9];
+            len = sqrt(ax[0] * ax[0] + ax[1] * ax[1] + ax[2] * ax[2]);
+            for (int i = 0; i < 3; i++) ax[i] /= len;
+            {
+                double c = cos(an), s = sin(an), t = 1.0 - c, x = ax[0], y = ax[1], z = ax[2];
+                double Rr[9] = {t * x * x + c, t * x * y - s * z, t * x * z + s * y,
+                                t * x * y + s * z, t * y * y + c, t * y * z - s * x,
+                                t * x * z - s * y, t * y * z + s * x, t * z * z + c};
+                memcpy(R, Rr, sizeof R);
+            }
+            for (int fc = 0; fc < d.obstacles[0].n_faces; fc++) {
+                double n0[3], p0[3];
+                memcpy(n0, d.obstacles[0].face_normal[fc], sizeof n0);
+                memcpy(p0, d.obstacles[0].face_point[fc], sizeof p0);
+                p0[1] -= TOP;   /* about the top face's middle */
+                for (int i = 0; i < 3; i++) {
+                    d.obstacles[0].face_normal[fc][i] = R[3 * i] * n0[0] + R[3 * i + 1] * n0[1] + R[3 * i + 2] * n0[2];
+                    d.obstacles[0].face_point[fc][i] = R[3 * i] * p0[0] + R[3 * i + 1] * p0[1] + R[3 * i + 2] * p0[2];
+                }
+                d.obstacles[0].face_point[fc][1] += TOP;
+            }
+        }
+        d.q0[0] = 0.0;   /* the start well clear of the obstacle (the model checks it) */
+        d.q0[1] = 1.0;
+        m = exdex_model_alloc(&d, &status, &bad);
+        ENSURE(m != NULL);
+        if (!m) {
+            printf("    trial %d: %s (%s)\n", trial, exdex_strerror(status), bad ? bad : "");
+            continue;
+        }
+        ENSURE(model_frame_at(m, 0.0, &f, &kin) == EXDEX_OK);
+        q[0] = 0.16 * (lcg(&seed) - 0.5);
+        q[1] = TOP + 0.08 * (lcg(&seed) - 0.5);
+        q[2] = 6.283185307179586 * lcg(&seed);
+        n = orow_all(m, &kin, q, NULL, 0, code, gap);
+        no = contact_obstacle_rows(m, &kin, q, G, g, rnd, NULL, NULL);
+        ENSURE(n == no);
+        if (n == no) {
+            double a[MAX_ROWS], b[MAX_ROWS];
+            int ns = 0;
+            for (int i = 0; i < n; i++) {
+                if (orow_kind(code[i]) == OROW_SECTION) {
+                    a[ns] = gap[i];
+                    b[ns++] = g[i];
+                    continue;
+                }
+                if (orow_kind(code[i]) == OROW_ROD) rods++;
+                ENSURE(gap[i] == g[i]);
+                if (gap[i] != g[i]) printf("    trial %d row %d: %.17g != %.17g\n", trial, i, gap[i], g[i]);
+            }
+            sort_up(a, ns);
+            sort_up(b, ns);
+            for (int i = 0; i < ns; i++) ENSURE(a[i] == b[i]);
+            sections += ns;
+            checked++;
+        }
+        exdex_model_free(m);
+    }
+    ENSURE(checked == 400 && rods == 100 && sections > 100);
 }

@@ -7,7 +7,7 @@
  *   from rest, s(t) = s(t_r) - g (t - t_r)^2 / 2, v = -g (t - t_r);
  *   the midpoint rule is exact for a constant acceleration, the event
  *   method integrates it to its tolerance.
- * Its twin through the Python API (same subject, other side of the core): tests/test_stepper.py.
+ * twin: tests/test_stepper.py (the same subject through the Python API)
  */
 #include "check.h"
 #include "sim_run.h"

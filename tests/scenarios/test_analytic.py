@@ -4,7 +4,7 @@ paper's Fig. 3 (derived in exdex.paper.fig3_grip_force), against the
 independent event method (GSL rk8pd at tight tolerances, located switches)
 on random eligible scenes, and for its independence of the output grid.
 
-Its twin in the C suite (same subject, tested on the C API): csrc/tests/test_analytic.c.
+twin: csrc/tests/test_analytic.c (the same subject on the C API)
 """
 import dataclasses
 import math

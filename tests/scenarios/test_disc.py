@@ -11,7 +11,7 @@ A disc of radius R about its centre c touches a stop at its support point
 c - R n (n the stop's unit normal in the plate plane): the gap is n . c - R
 (relative to the stop's line), whatever the disc's orientation.
 
-Its twin in the C suite (same subject, tested on the C API): csrc/tests/scenarios/test_disc.c.
+twin: csrc/tests/scenarios/test_disc.c (the same subject on the C API)
 """
 import math
 import warnings
@@ -42,6 +42,7 @@ def floor(mu=0.0):
 
 # ---------------------------------------------------------------- resting and spinning on a floor
 
+# twin: csrc/tests/scenarios/test_disc.c::disc_rests_on_a_floor_at_its_radius_in_every_method
 @pytest.mark.parametrize("method", METHODS)
 @pytest.mark.parametrize("dof", ["translation", "planar"])
 def test_disc_rests_on_a_floor_at_its_radius_carrying_its_weight(method, dof):
@@ -215,6 +216,7 @@ def test_rolling_disc_is_invariant_under_turning_it_about_its_centre():
 
 # ---------------------------------------------------------------- obstacles
 
+# twin: csrc/tests/scenarios/test_disc.c::disc_rests_on_a_rod_at_the_sum_of_the_radii
 @pytest.mark.parametrize("method", ["implicit", "explicit", "event", "regularised"])
 @pytest.mark.parametrize("beta", [0.0, 0.5])
 def test_disc_rests_on_top_of_a_rod_at_the_sum_of_the_radii(method, beta):

@@ -18,7 +18,7 @@ methods apply it at the located impact time.
 Frames: ``gripper_rotation`` is the identity here, so B's axes are A's and
 the plate plane is A's xy plane.
 
-Its twin in the C suite (same subject, tested on the C API): csrc/tests/scenarios/test_frictional_impacts.c.
+twin: csrc/tests/scenarios/test_frictional_impacts.c (the same subject on the C API)
 """
 import math
 import warnings

@@ -7,7 +7,7 @@ g down, mass m, two fingers, so that while the object slides down
     m s'' = -m g + C(t),
 and it sticks (s' = 0 exactly) while m g <= C(t).
 
-Its twin in the C suite (same subject, tested on the C API): csrc/tests/scenarios/test_grip_schedule.c.
+twin: csrc/tests/scenarios/test_grip_schedule.c (the same subject on the C API)
 """
 import dataclasses
 import math
@@ -195,6 +195,7 @@ def test_auto_picks_analytic_for_linear_and_event_for_cubic():
 
 # ------------------------------------------------------------ (b) step release and re-grip
 
+# twin: csrc/tests/scenarios/test_grip_schedule.c::grip_step_release_regrip_closed_form
 @pytest.mark.parametrize("method, tol", [("event", 1e-9), ("analytic", 1e-15), ("implicit", 2e-4)])
 def test_step_release_and_regrip(method, tol):
     """Step schedule: F = 2 N (C = 2 N > m g = 0.981 N: held) until

@@ -5,7 +5,7 @@ an event-driven closed form with a stick event, the explicit scheme's own
 closed form and chatter, argument checks, and the numbers the C suite
 reports (csrc/tests/scenarios/test_methods.c) recomputed through Python.
 
-Its twin in the C suite (same subject, tested on the C API): csrc/tests/scenarios/test_methods.c.
+twin: csrc/tests/scenarios/test_methods.c (the same subject on the C API)
 """
 import math
 import re
@@ -358,6 +358,7 @@ def test_event_slip_dying_against_a_moving_stop_converges_at_tight_rtol():
         assert np.all(np.abs(ev[rtol] - ref) <= est), (rtol, ev[rtol] - ref, est)
 
 
+# twin: csrc/tests/scenarios/test_methods.c::methods_event_zeno_like_toggling_fails_loudly
 def test_event_zeno_like_toggling_raises_solver_error():
     """A 1 kHz vertical vibration with acceleration amplitude 2 g and
     capacity 1.5 m g crosses the friction limit 2000 times in 1 s: with one

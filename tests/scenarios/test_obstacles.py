@@ -7,7 +7,7 @@ half-space intersection, a brute-force pairwise intersection of the face
 lines, the tangency of the outline to a rod in closed form) or from the
 equivalent plane stop, never from the code under test.
 
-Its twin in the C suite (same subject, tested on the C API): csrc/tests/scenarios/test_obstacles.c.
+twin: csrc/tests/scenarios/test_obstacles.c (the same subject on the C API)
 """
 import dataclasses
 import math
@@ -101,6 +101,7 @@ def test_box_section_misses_and_unbounded_wedge():
     np.testing.assert_allclose(wedge.section(np.eye(3), (0.3, 0.1, 0.0)), [[-0.3, -0.1]], atol=1e-15)
 
 
+# twin: csrc/tests/scenarios/test_obstacles.c::obstacle_section_rod_disc_and_ellipse
 def test_rod_section_disc_and_ellipse():
     """A rod normal to the plates is cut in a disc of its radius about the
     point where the axis meets the plane; tilted by 60 deg in the gripper's
@@ -160,6 +161,7 @@ def push_down(**kw):
                  motion=TrapezoidalProfile(0.05, 0.5, 0.12, axis=(0, 0, -1)), **kw)
 
 
+# twin: csrc/tests/scenarios/test_obstacles.c::obstacle_one_face_is_the_stop_bit_for_bit
 @pytest.mark.parametrize("method", ["implicit", "event", "regularised"])
 def test_one_face_obstacle_is_the_stop_bit_for_bit(method):
     """A plane stop is an obstacle with one face: the same trajectory and
@@ -176,6 +178,7 @@ def test_one_face_obstacle_is_the_stop_bit_for_bit(method):
     assert a.q[-1, 1] > 0.01  # the floor pushed the object up in B
 
 
+# twin: csrc/tests/scenarios/test_obstacles.c::obstacle_box_floor_carries_the_load_like_a_stop
 @pytest.mark.parametrize("method", ["implicit", "event", "regularised"])
 def test_box_top_face_acts_as_the_equivalent_stop(method):
     """A box whose top face is the floor (the other faces far from the object)
@@ -200,6 +203,7 @@ def square(mass=0.1):
     return Body(mass=mass, inertia=mass * (2 * A) ** 2 / 6, outline=[(-A, -A), (A, -A), (A, A), (-A, A)])
 
 
+# twin: csrc/tests/scenarios/test_obstacles.c::obstacle_rod_turns_a_pinned_square_as_the_tangent_predicts
 @pytest.mark.parametrize("method,dt,tol", [("implicit", 1e-4, 2e-6), ("explicit", 1e-5, 2e-6), ("event", 1e-3, 1e-12)])
 def test_rod_turns_a_pinned_square_as_the_tangent_predicts(method, dt, tol):
     """A square pinned at its centre (rotation scene) is pushed down onto a
@@ -281,6 +285,7 @@ def test_event_and_implicit_agree_on_random_obstacle_scenes(seed):
     assert float(np.max(np.abs(qs[-1] - ev.q[-1]))) <= 3.0 * max(d) + 1e-9, (d, qs[-1] - ev.q[-1])
 
 
+# twin: csrc/tests/scenarios/test_obstacles.c::obstacle_square_slides_past_a_box_corner_on_a_slope
 @pytest.mark.parametrize("method", ["implicit", "explicit"])
 def test_square_slides_off_a_slope_past_the_box_corner(method):
     """A square (planar, frictionless plates and box) rests flush on the top

@@ -16,7 +16,7 @@ object (mass m) then feels the load Q(t) = -m a0(t) along the axis, and
 with the switching times roots of linear or quadratic equations (Q is
 linear in each piece).
 
-Its twin in the C suite (same subject, tested on the C API): csrc/tests/scenarios/test_static_friction.c.
+twin: csrc/tests/scenarios/test_static_friction.c (the same subject on the C API)
 """
 import math
 

@@ -8,7 +8,7 @@ is A's x, B's y axis is A's z (up), B's z axis is -A's y; gravity (0, 0,
 n_x). Stops are fixed in A, so a gripper moving past a stop slides the
 touching vertex along it.
 
-Its twin in the C suite (same subject, tested on the C API): csrc/tests/scenarios/test_stop_friction.c.
+twin: csrc/tests/scenarios/test_stop_friction.c (the same subject on the C API)
 """
 import math
 

@@ -17,7 +17,7 @@ force on stop 1 and the same force on stop 0 up to its one-step error (the
 step is the whole run, h = 4.45 ms; the relative difference of the mean force
 is O(h |v| / L) ~ 1e-5 here, bounded by 1e-3).
 
-Its twin in the C suite (same subject, tested on the C API): csrc/tests/scenarios/test_wedge_stops.c.
+twin: csrc/tests/scenarios/test_wedge_stops.c (the same subject on the C API)
 """
 import numpy as np
 

@@ -1,7 +1,7 @@
 /* test_disc.c -- disc outlines (exdex_scene_def.disc_radius): a disc against
  * stops and obstacles in every method that solves them. Every expected value
  * is a closed form stated beside it.
- * Its twin through the Python API (same subject, other side of the core): tests/scenarios/test_disc.py.
+ * twin: tests/scenarios/test_disc.py (the same subject through the Python API)
  */
 #include "../check.h"
 #include "../sim_run.h"
@@ -31,6 +31,7 @@ static exdex_scene_def disc_def(int dof, int method)
     return d;
 }
 
+/* twin: tests/scenarios/test_disc.py::test_disc_rests_on_a_floor_at_its_radius_carrying_its_weight */
 EXDEX_TEST(disc_rests_on_a_floor_at_its_radius_in_every_method)
 {
     /* Dropped from 1 cm above a floor at A z = -0.03 (B y = -0.03), turned by
@@ -80,6 +81,7 @@ EXDEX_TEST(disc_rolls_down_a_frictional_incline)
     sim_run_free(&r);
 }
 
+/* twin: tests/scenarios/test_disc.py::test_disc_rests_on_top_of_a_rod_at_the_sum_of_the_radii */
 EXDEX_TEST(disc_rests_on_a_rod_at_the_sum_of_the_radii)
 {
     /* A rod of radius 5 mm along A's y (the plate normal) through (0, 0,

@@ -6,7 +6,7 @@
  * 0):
  *     M (v+ - v-) = G Pn + T Pt,  G v+ = b,  |Pt| <= mu Pn,
  *     Pt = -mu Pn sign(T v+ + tb) where that slip is not 0.
- * Its twin through the Python API (same subject, other side of the core): tests/scenarios/test_frictional_impacts.py.
+ * twin: tests/scenarios/test_frictional_impacts.py (the same subject through the Python API)
  */
 #include "../check.h"
 #include "../sim_run.h"

@@ -5,7 +5,7 @@
  * Scene: translation along B's y (up), gripper at rest, gravity g down,
  * mass m, mu, two fingers: the capacity is C(t) = 2 mu F(t) and
  *     m s'' = -m g + f,   |f| <= C(t),   f = C(t) while sliding down.
- * Its twin through the Python API (same subject, other side of the core): tests/scenarios/test_grip_schedule.py.
+ * twin: tests/scenarios/test_grip_schedule.py (the same subject through the Python API)
  */
 #include "../check.h"
 #include "../sim_run.h"
@@ -199,6 +199,7 @@ EXDEX_TEST(grip_ramp_down_closed_form_every_method)
     sim_run_free(&r);
 }
 
+/* twin: tests/scenarios/test_grip_schedule.py::test_step_release_and_regrip */
 EXDEX_TEST(grip_step_release_regrip_closed_form)
 {
     /* step schedule: 2 N until t1 = 0.1, 0 until t2 = 0.15, then 3 N.

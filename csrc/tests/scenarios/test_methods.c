@@ -4,7 +4,7 @@
  * Every expected value is a closed form written here (or in
  * tests/data/reference.dat), a bound derived here, or an independent
  * method; never an output of the code under test.
- * Its twin through the Python API (same subject, other side of the core): tests/scenarios/test_methods.py.
+ * twin: tests/scenarios/test_methods.py (the same subject through the Python API)
  */
 #include "../check.h"
 #include "../sim_run.h"
@@ -1084,6 +1084,7 @@ EXDEX_TEST(methods_unavoidable_penetration_is_warned)
 
 /* ------------------------------------------------------ failure of (a) */
 
+/* twin: tests/scenarios/test_methods.py::test_event_zeno_like_toggling_raises_solver_error */
 EXDEX_TEST(methods_event_zeno_like_toggling_fails_loudly)
 {
     /* Event-driven friction pays two events for every crossing of the

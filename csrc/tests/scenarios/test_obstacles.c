@@ -1,7 +1,7 @@
 /* test_obstacles.c -- convex obstacles fixed in the world (contact.c): their
  * section by the plate plane, and the implicit method against them. Every
  * expected value is a closed form stated beside it.
- * Its twin through the Python API (same subject, other side of the core): tests/scenarios/test_obstacles.py.
+ * twin: tests/scenarios/test_obstacles.py (the same subject through the Python API)
  */
 #include "../check.h"
 #include "../sim_run.h"
@@ -98,6 +98,7 @@ EXDEX_TEST(obstacle_section_box_corner_cut_is_a_triangle)
     ENSURE_CLOSE(area, s3 / 8.0, 1e-14);
 }
 
+/* twin: tests/scenarios/test_obstacles.py::test_rod_section_disc_and_ellipse */
 EXDEX_TEST(obstacle_section_rod_disc_and_ellipse)
 {
     /* A rod of radius r along z through (0.1, 0.2): a disc of radius r there.
@@ -145,6 +146,7 @@ static exdex_scene_def fig4(void)
     return d;
 }
 
+/* twin: tests/scenarios/test_obstacles.py::test_one_face_obstacle_is_the_stop_bit_for_bit */
 EXDEX_TEST(obstacle_one_face_is_the_stop_bit_for_bit)
 {
     /* A plane stop is an obstacle with one face (the same point and
@@ -253,6 +255,7 @@ EXDEX_TEST(obstacle_frictional_face_is_the_frictional_stop_in_every_method_that_
     }
 }
 
+/* twin: tests/scenarios/test_obstacles.py::test_box_top_face_acts_as_the_equivalent_stop */
 EXDEX_TEST(obstacle_box_floor_carries_the_load_like_a_stop)
 {
     /* The Fig. 4 floor as the top face of a box (the other faces far from
@@ -303,6 +306,7 @@ static exdex_scene_def pinned_square_rod(double a, double r, double dx, double g
     return d;
 }
 
+/* twin: tests/scenarios/test_obstacles.py::test_rod_turns_a_pinned_square_as_the_tangent_predicts */
 EXDEX_TEST(obstacle_rod_turns_a_pinned_square_as_the_tangent_predicts)
 {
     /* Rotation about the centre of mass (a pin at the patch centre), a square
@@ -339,6 +343,7 @@ EXDEX_TEST(obstacle_rod_turns_a_pinned_square_as_the_tangent_predicts)
     }
 }
 
+/* twin: tests/scenarios/test_obstacles.py::test_square_slides_off_a_slope_past_the_box_corner */
 EXDEX_TEST(obstacle_square_slides_past_a_box_corner_on_a_slope)
 {
     /* A square of half side a (planar, frictionless plates and box) rests

@@ -2,7 +2,7 @@
  * the input check, closed forms of a stick after a slip and of a breakaway
  * in every method, and mu_static = mu giving the one-coefficient results
  * bit for bit.
- * Its twin through the Python API (same subject, other side of the core): tests/scenarios/test_static_friction.py.
+ * twin: tests/scenarios/test_static_friction.py (the same subject through the Python API)
  */
 #include "../check.h"
 #include "../sim_run.h"

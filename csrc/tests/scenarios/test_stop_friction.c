@@ -1,7 +1,7 @@
 /* test_stop_friction.c -- Coulomb friction at the stops (stop_mu) through
  * the public API: a 1-DoF closed form with every method that supports it,
  * and the named rejections.
- * Its twin through the Python API (same subject, other side of the core): tests/scenarios/test_stop_friction.py.
+ * twin: tests/scenarios/test_stop_friction.py (the same subject through the Python API)
  */
 #include "../check.h"
 #include "../sim_run.h"

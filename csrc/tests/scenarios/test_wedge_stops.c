@@ -9,7 +9,7 @@
  * carries no force and the motion is the one with that stop removed:
  *     stop_force[., 1] == 0, stop_force[., 0] == the one-stop scene's force,
  * and the same trajectory.
- * Its twin through the Python API (same subject, other side of the core): tests/scenarios/test_wedge_stops.py.
+ * twin: tests/scenarios/test_wedge_stops.py (the same subject through the Python API)
  */
 #include "../check.h"
 #include "../sim_run.h"
