@@ -593,3 +593,21 @@ def test_implicit_with_frictional_stops_and_the_exact_surface_converges_to_event
     for a, b in zip(errs, errs[1:]):
         assert b < 0.7 * a, errs
     assert errs[-1] < 1e-4, errs
+
+
+@pytest.mark.warns_by_design("impact", "solver")
+@pytest.mark.parametrize("method", ["implicit", "event", "explicit", "regularised"])
+def test_stepper_repeats_simulate_with_pads_and_the_exact_surface(method):
+    """exdex.Stepper with pads on the fingers and the exact surface of their
+    region (alone, and with a frictional floor or obstacle: _stop_pad_scene
+    seeds 0 and 9, each of which slides and turns) steps as simulate() does,
+    sample for sample bit for bit, in every method."""
+    box = _box_scene(exdex.Pad.rectangle(0.02, 0.02), grip=1.0)
+    scenes = [exdex.replace(box, grasp=exdex.replace(box.grasp, limit_surface="exact")),
+              _stop_pad_scene(0)[0], _stop_pad_scene(9)[0]]
+    for sc in scenes:
+        r = exdex.simulate(sc, 0.3, 1e-3, method=method)
+        assert np.max(np.abs(r.q[-1] - r.q[0])) > 1e-3
+        st = exdex.Stepper(sc, method=method)
+        qs = [st.step(1e-3).q for _ in range(300)]
+        np.testing.assert_array_equal(np.array(qs), r.q[1:])
