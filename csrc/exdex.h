@@ -508,6 +508,9 @@ typedef struct exdex_scene_def {
      * the region's at the start) at an output sample, the grasp is lost:
      * the run records that sample, stops there, and exdex_stats.lost_t
      * and lost_sample say where (the samples after it are not written).
+     * The adaptive methods (event, regularised) end their integration at
+     * the end of the step in which it vanished: that sample holds the
+     * pose there, not one integrated on past the loss.
      * pad_n = 0 and pad_radius = 0 (zero-initialised) keep the patch fixed
      * on the object (patch_center, e_r), bit for bit. */
     int pad_n;

@@ -689,6 +689,13 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
             else
                 settle_step(&A);
             if (!status) status = after_step(&A);
+            if (!status && O->mc) {
+                /* pads on the fingers: a region that vanished inside the
+                 * interval ends the integration there; the sample holds the
+                 * pose where it vanished and exdex_simulate stops at it */
+                double yr[NY_MAX];
+                if (model_pads_lost(m, hyb_reported_pose(H, A.t, A.y, yr))) break;
+            }
         }
         if (H->err && !status) status = H->err;
         if (status) break;

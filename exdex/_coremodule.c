@@ -552,16 +552,22 @@ static PyObject *stats_dict(const exdex_stats *st)
 static int check_times(double t_end, double dt, size_t *n)
 {
     if (!(isfinite(dt) && dt > 0)) {
-        PyErr_Format(PyExc_ValueError, "dt must be finite and > 0, got %g", dt);
+        char b[96];
+        PyOS_snprintf(b, sizeof b, "dt must be finite and > 0, got %g", dt);
+        PyErr_SetString(PyExc_ValueError, b);
         return -1;
     }
     if (!(isfinite(t_end) && t_end >= dt)) {
-        PyErr_Format(PyExc_ValueError, "t_end must be finite and >= dt (%g), got %g", dt, t_end);
+        char b[128];
+        PyOS_snprintf(b, sizeof b, "t_end must be finite and >= dt (%g), got %g", dt, t_end);
+        PyErr_SetString(PyExc_ValueError, b);
         return -1;
     }
     *n = exdex_n_samples(t_end, dt);
     if (*n == 0) {
-        PyErr_Format(PyExc_ValueError, "t_end / dt must be between 1 and 1e9 steps, got %g", t_end / dt);
+        char b[96];
+        PyOS_snprintf(b, sizeof b, "t_end / dt must be between 1 and 1e9 steps, got %g", t_end / dt);
+        PyErr_SetString(PyExc_ValueError, b);
         return -1;
     }
     return 0;
@@ -1069,16 +1075,21 @@ static PyObject *Stepper_step(PyObject *self, PyObject *args, PyObject *kwds)
     exdex_stepper_get(so->s, NULL, &st);
     PyThread_release_lock(so->lock);
     if (status == EXDEX_EINVAL && st.lost_sample) {
-        PyErr_Format(PyExc_ValueError,
-                     "the grasp was lost at t = %.17g s (the pads' contact region vanished): the stepper takes no "
-                     "more steps (restore a saved state)", st.lost_t);
+        char b[192];
+        /* PyErr_Format has no floating-point conversions */
+        PyOS_snprintf(b, sizeof b,
+                      "the grasp was lost at t = %.17g s (the pads' contact region vanished): the stepper takes no "
+                      "more steps (restore a saved state)", st.lost_t);
+        PyErr_SetString(PyExc_ValueError, b);
         return NULL;
     }
     if (status == EXDEX_EINVAL) {
+        char tb[32];
+        PyOS_snprintf(tb, sizeof tb, "%.17g", x.t);
         PyErr_Format(PyExc_ValueError,
-                     "dt = %R s cannot advance the time from t = %.17g s (t + dt rounds to t, or more than 1e9 "
+                     "dt = %R s cannot advance the time from t = %s s (t + dt rounds to t, or more than 1e9 "
                      "steps of this dt), or the stepper failed earlier (restore a saved state)%s",
-                     PyTuple_GET_ITEM(args, 0), x.t,
+                     PyTuple_GET_ITEM(args, 0), tb,
                      pobj != Py_None ? ", or gripper is not a finite pose with a rotation matrix R (to 1e-9), "
                                        "or the method is 'analytic' (it follows the scene's motion)"
                                      : ", or an earlier step gave the gripper pose (then every step must)");

@@ -448,7 +448,9 @@ class Pad:
     empty. When the region vanishes at an output sample the grasp is lost:
     the run stops there (the Result ends at that sample, ``stats
     ["grasp_lost_t"]`` holds its time) with a :class:`PhysicsWarning` of kind
-    ``"grasp"``. A 1-DoF translation is unaffected but for that; a 1-DoF
+    ``"grasp"``; the event and regularised methods stop integrating at the
+    end of the step in which it vanished, and that sample holds the pose
+    there. A 1-DoF translation is unaffected but for that; a 1-DoF
     rotation pivots at the centroid of the region at the start (the pad
     centre when the face covers the pad) with that region's e_r.
 

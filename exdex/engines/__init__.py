@@ -44,7 +44,10 @@ How each scene is built (all engines)
   role there). With pads on the fingers (``Grasp.pad``) the engines' pads are
   exdex's: at ``Pad.center`` in B, a ``Pad.rectangle`` that rectangle, a
   ``Pad.disc`` the square of the same e_r (a general polygon: ValueError),
-  the joints at the centroid of the region at the start (exdex's pivot).
+  the joints at the centroid of the region at the start (exdex's pivot);
+  the limit surface is the engine's own (``Grasp.limit_surface`` is not
+  read). Bullet's solver loads one corner of a pad with most of the grip,
+  so a box turning on pads in pybullet turns about that corner.
   ``"point"``: one small sphere per finger at the patch centre,
   with torsional friction mu * e_r per contact: in MuJoCo (elliptic cone,
   condim 4) this is the same ellipsoid as exdex's, per contact; in pybullet the

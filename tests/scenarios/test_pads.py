@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import exdex
-from exdex import _core
+from exdex import _core, paper
 
 BOX = (0.15, 0.08, 0.02)
 
@@ -317,8 +317,10 @@ def test_stepper_stops_where_the_grasp_is_lost():
             st.step(1e-3)
     np.testing.assert_array_equal(st.state.q, r.q[-1])
     assert st.stats["grasp_lost_t"] == r.t[-1]
-    with pytest.raises(ValueError, match="grasp was lost"):
+    with pytest.raises(ValueError, match="grasp was lost") as exc:
         st.step(1e-3)
+    # the message carries the time itself (it printed "%.17g" before)
+    assert float(str(exc.value).split("lost at t = ")[1].split(" s ")[0]) == r.t[-1]
 
 
 # ---------------------------------------------------------------- the exact surface with pads
@@ -593,3 +595,85 @@ def test_implicit_with_frictional_stops_and_the_exact_surface_converges_to_event
     for a, b in zip(errs, errs[1:]):
         assert b < 0.7 * a, errs
     assert errs[-1] < 1e-4, errs
+
+
+@pytest.mark.warns_by_design("impact", "solver")
+@pytest.mark.parametrize("method", ["implicit", "event", "explicit", "regularised"])
+def test_stepper_repeats_simulate_with_pads_and_the_exact_surface(method):
+    """exdex.Stepper with pads on the fingers and the exact surface of their
+    region (alone, and with a frictional floor or obstacle: _stop_pad_scene
+    seeds 0 and 9, each of which slides and turns) steps as simulate() does,
+    sample for sample bit for bit, in every method."""
+    box = _box_scene(exdex.Pad.rectangle(0.02, 0.02), grip=1.0)
+    scenes = [exdex.replace(box, grasp=exdex.replace(box.grasp, limit_surface="exact")),
+              _stop_pad_scene(0)[0], _stop_pad_scene(9)[0]]
+    for sc in scenes:
+        r = exdex.simulate(sc, 0.3, 1e-3, method=method)
+        assert np.max(np.abs(r.q[-1] - r.q[0])) > 1e-3
+        st = exdex.Stepper(sc, method=method)
+        qs = [st.step(1e-3).q for _ in range(300)]
+        np.testing.assert_array_equal(np.array(qs), r.q[1:])
+
+
+def _sliver_scene(grip):
+    """A 60 x 30 mm box of 0.1 kg on a 20 mm square pad 8 mm beside its
+    centre of mass, the exact surface, the Fig. 3 motion: from about 0.45 s
+    the box slips and turns about the pad until an edge of the face has
+    crossed it and the region is a sliver; with grip 1.30..1.44 N it
+    vanishes at 0.57..0.62 s (the grasp is lost), with 1.46 N it stays a
+    sliver of 1e-6..1e-4 of the pad to the end, the box spinning at 6-8
+    rad/s on it."""
+    pad = exdex.Pad.rectangle(0.02, 0.02, center=(0.008, 0.0))
+    return exdex.Scene(body=exdex.Body.box(0.1, (0.06, 0.03, 0.02)),
+                       grasp=exdex.Grasp(mu=0.5, grip_force=grip, pad=pad, limit_surface="exact"),
+                       motion=paper.fig3_scene().motion, dof="planar")
+
+
+@pytest.mark.parametrize("grip", [1.30, 1.36, 1.44])
+def test_event_run_ends_where_a_sliver_region_vanishes(grip):
+    """The event method on _sliver_scene with one output interval (dt =
+    t_end, as a plan's grip scan runs it) used to go on past the region's
+    end on the last sliver's surface (its derivatives growing as its width
+    -> 0) and run out of its step budget (SolverError at 1.06-1.5 s); it
+    now ends the integration at the end of the step where the region
+    vanishes: the run returns, reports the loss at its sample (t_end) and
+    that sample's pose has no region. On the 1 ms grid its loss time and
+    pose agree with the implicit method at dt = 2.5e-5 s (within a sample,
+    1e-4 m and 1e-3 rad)."""
+    sc = _sliver_scene(grip)
+    spec = sc.to_spec()
+    area0 = _core.pad_region(spec, sc.q0)["area"]
+    with pytest.warns(exdex.PhysicsWarning, match="grasp is lost"):
+        r = exdex.simulate(sc, 1.5, 1.5, method="event")
+    assert r.stats["grasp_lost_t"] == r.t[-1] == 1.5
+    assert _core.pad_region(spec, r.q[-1])["area"] <= 1e-6 * area0
+    with pytest.warns(exdex.PhysicsWarning, match="grasp is lost"):
+        fine = exdex.simulate(sc, 1.5, 1e-3, method="event")
+    with pytest.warns(exdex.PhysicsWarning, match="grasp is lost"):
+        imp = exdex.simulate(sc, 1.5, 2.5e-5, method="implicit")
+    assert 0.55 < imp.stats["grasp_lost_t"] < 0.65
+    assert abs(fine.stats["grasp_lost_t"] - imp.stats["grasp_lost_t"]) <= 1e-3 + 1e-9
+    assert np.all(np.abs(fine.q[-1] - imp.q[-1]) <= (1e-4, 1e-4, 1e-3)), fine.q[-1] - imp.q[-1]
+    assert _core.pad_region(spec, fine.q[-1])["area"] <= 1e-6 * area0
+
+
+def test_event_run_on_a_lasting_sliver_agrees_with_implicit():
+    """_sliver_scene at 1.46 N: the region stays a sliver (down to about
+    3e-6 of the pad) for the last second and the grasp is not lost. The
+    event method returns (its steps there set by the sliver's stiffness,
+    about 50,000, the same at rtol 1e-6 and 1e-8) and the implicit method
+    converges to its final pose at first order (dt 1e-4, 5e-5, 2.5e-5 s:
+    each halving at least 0.7x closer)."""
+    sc = _sliver_scene(1.46)
+    spec = sc.to_spec()
+    ref = exdex.simulate(sc, 1.5, 1e-3, method="event")
+    assert ref.stats["grasp_lost_t"] is None
+    areas = np.array([_core.pad_region(spec, q)["area"] for q in ref.q[::5]]) / _core.pad_region(spec, sc.q0)["area"]
+    assert areas.min() < 1e-4
+    errs = []
+    for dt in (1e-4, 5e-5, 2.5e-5):
+        r = exdex.simulate(sc, 1.5, dt, method="implicit")
+        assert r.stats["grasp_lost_t"] is None
+        errs.append(np.max(np.abs(r.q[-1] - ref.q[-1]) / (0.06, 0.06, 1.0)))
+    assert errs[1] < 0.7 * errs[0] and errs[2] < 0.7 * errs[1], errs
+    assert errs[2] < 5e-4, errs
