@@ -391,23 +391,23 @@ typedef struct hyb {
  * friction). The records are read from hyb's mode fields (mode, small,
  * stiff, held, s, ck, cj, ss, jam, cs, sgn, sg, fm), which the slip laws
  * and guards read. */
-enum { ROW_PLATE = 0, ROW_STOP = 1, ROW_OBSTACLE = 2, ROW_GROUP = 3 };
+enum { ROW_PLATE, ROW_STOP, ROW_OBSTACLE, ROW_GROUP };
 enum {
     /* the plate (dir: 1-DoF the slip sign s) */
-    RS_STICK = 0,      /* held exactly (against rows: a rest on them) */
-    RS_SLIP = 1,       /* the sliding law (rk8pd) */
-    RS_SMALL_SLIP = 2, /* planar: a slip growing from rest, below SLIP_UP zsw */
-    RS_STIFF_SLIP = 3, /* planar: a slip lingering slow, on the stiff stepper */
-    RS_SMOOTH = 4,     /* regularised: the smooth law */
-    RS_HELD = 5,       /* regularised, two coefficients: the held regime */
+    RS_STICK,      /* held exactly (against rows: a rest on them) */
+    RS_SLIP,       /* the sliding law (rk8pd) */
+    RS_SMALL_SLIP, /* planar: a slip growing from rest, below SLIP_UP zsw */
+    RS_STIFF_SLIP, /* planar: a slip lingering slow, on the stiff stepper */
+    RS_SMOOTH,     /* regularised: the smooth law */
+    RS_HELD,       /* regularised, two coefficients: the held regime */
     /* a row in contact (dir: 1-DoF the stop friction's sign ss, or the jam's) */
-    RS_CONTACT = 6,
-    RS_JAM = 7,        /* 1-DoF, frictional: taken frictionless at a jam */
+    RS_CONTACT,
+    RS_JAM,        /* 1-DoF, frictional: taken frictionless at a jam */
     /* a friction group (its stop_friction.h mode SF_*; dir: a slide's sign) */
-    RS_ROLL = 8,
-    RS_GROUP_STICK = 9,
-    RS_SLIDE = 10,
-    RS_FRICTIONLESS = 11
+    RS_ROLL,
+    RS_GROUP_STICK,
+    RS_SLIDE,
+    RS_FRICTIONLESS
 };
 
 typedef struct hyb_row_state {

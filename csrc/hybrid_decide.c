@@ -154,22 +154,73 @@ static void sf_project_stick(hyb *H, const frame *f, const exdex_kinematics *kin
         memcpy(y + 3, v, sizeof v);
 }
 
+/* The problem of the contact set at (t, y) on the plate friction of the
+ * current modes H->fm (hyb_sf_free_acc: in a small slip the plate friction
+ * depends on them), solved with every group rolling (its modes decided by
+ * the problem, stop_friction.h) into res. Returns 1 with a consistent mode,
+ * 0 with none, -1 when the free acceleration failed (H->err). */
+static int sf_solve_rolling(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y, int ng,
+                            sf_result *res)
+{
+    double a[3];
+    int fs = hyb_sf_free_acc(H, f, kin, y, a);
+    if (fs) {
+        H->err = H->err ? H->err : fs;
+        return -1;
+    }
+    for (int k = 0; k < ng; k++) H->fm[k] = SF_ROLL;
+    return hyb_sf_solve_at(H, kin, y, a, res);
+}
+
+/* T9 in a small slip: its plate friction is found together with the stop
+ * forces (hyb_planar_friction's fixed point), so it depends on the stops'
+ * modes, and a consistent mode is a fixed point of modes -> plate friction
+ * -> the problem's modes. The rolling groups' modes (at most 3 of them) are
+ * searched in stop_friction.h's order (per group stick, slide +, slide -,
+ * the first group fastest) and the first that the problem decides again
+ * from its own plate friction is kept (the guards then start from a
+ * consistent mode). None (a lock's plate friction, with its stops given,
+ * against the roll decision that tries locks last, stop_friction.h; or more
+ * than 3 rolling groups): the modes the problem finds with every group
+ * rolling, on the plate friction of that same problem. Returns as
+ * sf_solve_rolling. */
+static int sf_small_slip_modes(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y,
+                               const sf_set *S, sf_result *res)
+{
+    static const int cand[3] = {SF_STICK, SF_SLIDE_P, SF_SLIDE_M};
+    int roll[SF_MAX_STOPS], nroll = 0, ncand = 1;
+    for (int k = 0; k < S->ng; k++)
+        if (S->has[k] && S->st[k].mu > 0.0 && S->st[k].fm == SF_ROLL) roll[nroll++] = k;
+    for (int i = 0; i < nroll && nroll <= 3; i++) ncand *= 3;
+    for (int combo = 0; nroll <= 3 && combo < ncand; combo++) {
+        int ok, same = 1;
+        for (int k = 0; k < S->ng; k++) H->fm[k] = SF_ROLL;
+        for (int i = 0, c = combo; i < nroll; i++, c /= 3) H->fm[roll[i]] = cand[c % 3];
+        ok = sf_solve_rolling(H, f, kin, y, S->ng, res);
+        if (ok <= 0) {
+            if (ok < 0) return ok;
+            continue;
+        }
+        for (int i = 0, c = combo; i < nroll; i++, c /= 3) same &= res->fm[roll[i]] == cand[c % 3];
+        if (same) return 1;
+    }
+    if (!nroll) return 0;
+    for (int k = 0; k < S->ng; k++) H->fm[k] = SF_ROLL;
+    return sf_solve_rolling(H, f, kin, y, S->ng, res);
+}
+
 /* The stops' friction modes after decide_modes at (t, y) (every H->fm was
- * SF_ROLL during it): at rest from each stop's tb (above); else the mode
- * that the acceleration-level problem finds, the stops sliding where |s| >
- * zsw, and a sticking stop's slip projected to 0. In a small slip the
- * plate friction depends on the stops' modes (below): a mode is kept only
- * if the problem decides it again on its own plate friction. No
+ * SF_ROLL during it; T9): at rest from each group's slip at rest tb; else
+ * the mode that the acceleration-level problem finds (in a small slip:
+ * sf_small_slip_modes), and a sticking stop's slip projected to 0. No
  * consistent mode (Painleve, or a small slip whose coupled problem has
- * none, or more than 3 rolling stops in a small slip): the stops
- * frictionless, a warning. */
+ * none): the stops frictionless, a warning. */
 static void sf_decide(hyb *H, double t, double *y)
 {
     frame f;
     exdex_kinematics kin;
     sf_set S;
     sf_result res;
-    double a[3];
     int nr, ok = 0, fs;
     if (!H->ncs) return;
     fs = hyb_frame_seg(H, t, &f, &kin);
@@ -184,59 +235,10 @@ static void sf_decide(hyb *H, double t, double *y)
                 H->fm[k] = fabs(S.tb[k]) <= H->zsw ? SF_STICK : S.tb[k] > 0.0 ? SF_SLIDE_P : SF_SLIDE_M;
         return;
     }
-    if (H->mode == MODE_SLIP && H->small && nr >= 0) {
-        /* a small slip's plate friction is found together with the stop
-         * forces (hyb_planar_friction's fixed point), so it depends on the
-         * stops' modes: each mode of the rolling stops (|s| <= zsw) is
-         * tried with its own plate friction, and the first that the
-         * problem decides again from that friction is kept (the guards
-         * then start from a consistent mode) */
-        int roll[SF_MAX_STOPS], pick[SF_MAX_STOPS] = {0}, nroll = 0, found = 0;
-        static const int cand[3] = {SF_STICK, SF_SLIDE_P, SF_SLIDE_M};
-        for (int k = 0; k < S.ng; k++)
-            if (S.has[k] && S.st[k].mu > 0.0 && S.st[k].fm == SF_ROLL) roll[nroll++] = k;
-        for (int combo = 0; nroll <= 3 && !found; combo++) {
-            int c = combo, same = 1;
-            if (combo >= (nroll == 0 ? 1 : nroll == 1 ? 3 : nroll == 2 ? 9 : 27)) break;
-            for (int i = 0; i < nroll; i++) {
-                pick[i] = cand[c % 3];
-                c /= 3;
-            }
-            for (int k = 0; k < S.ng; k++) H->fm[k] = SF_ROLL;
-            for (int i = 0; i < nroll; i++) H->fm[roll[i]] = pick[i];
-            fs = hyb_sf_free_acc(H, &f, &kin, y, a);
-            if (fs) {
-                H->err = H->err ? H->err : fs;
-                return;
-            }
-            for (int k = 0; k < S.ng; k++) H->fm[k] = SF_ROLL;
-            if (!hyb_sf_solve_at(H, &kin, y, a, &res)) continue;
-            for (int i = 0; i < nroll; i++) same &= res.fm[roll[i]] == pick[i];
-            found = ok = same;
-        }
-        if (!found && nroll) {
-            /* no combination is decided again on its own plate friction
-             * (a lock's plate friction, with its stops given, against the
-             * roll decision that tries locks last, stop_friction.h): the modes
-             * the problem finds with every rolling stop left to it, on the
-             * plate friction of that same problem (the fixed point of
-             * hyb_planar_friction with the stops rolling) */
-            for (int k = 0; k < S.ng; k++) H->fm[k] = SF_ROLL;
-            fs = hyb_sf_free_acc(H, &f, &kin, y, a);
-            if (fs) {
-                H->err = H->err ? H->err : fs;
-                return;
-            }
-            ok = hyb_sf_solve_at(H, &kin, y, a, &res);
-        }
-    } else if (nr >= 0) {
-        fs = hyb_sf_free_acc(H, &f, &kin, y, a);
-        if (fs) {
-            H->err = H->err ? H->err : fs;
-            return;
-        }
-        ok = hyb_sf_solve_at(H, &kin, y, a, &res);
-    }
+    if (nr >= 0)
+        ok = H->mode == MODE_SLIP && H->small ? sf_small_slip_modes(H, &f, &kin, y, &S, &res)
+                                              : sf_solve_rolling(H, &f, &kin, y, S.ng, &res);
+    if (ok < 0) return;
     for (int k = 0; k < S.ng; k++) {
         if (!(S.has[k] && S.st[k].mu > 0.0)) continue;
         H->fm[k] = ok ? res.fm[k] : SF_NONE;
@@ -854,7 +856,8 @@ static hyb_row_state plate_state(const hyb *H)
  * rs (HYB_ROWS_MAX records); returns the count. */
 int hyb_row_states(const hyb *H, hyb_row_state *rs)
 {
-    static const int group_mode[5] = {RS_ROLL, RS_GROUP_STICK, RS_SLIDE, RS_SLIDE, RS_FRICTIONLESS};
+    static const int group_mode[] = {[SF_ROLL] = RS_ROLL, [SF_STICK] = RS_GROUP_STICK, [SF_SLIDE_P] = RS_SLIDE,
+                                     [SF_SLIDE_M] = RS_SLIDE, [SF_NONE] = RS_FRICTIONLESS};
     int n = 0;
     rs[n++] = plate_state(H);
     if (H->ndof == 1) {
@@ -878,7 +881,7 @@ int hyb_row_states(const hyb *H, hyb_row_state *rs)
         if (used < 0) continue;
         {
             /* a frictionless group keeps SF_ROLL (sf_decide sets the others) */
-            int mode = model_source_mu(H->m, hyb_hrow_src(H, H->cs[used])) > 0.0 && fm >= 0 && fm <= SF_NONE
+            int mode = model_source_mu(H->m, hyb_hrow_src(H, H->cs[used])) > 0.0 && fm >= SF_ROLL && fm <= SF_NONE
                            ? group_mode[fm]
                            : RS_FRICTIONLESS;
             hyb_row_state g = {ROW_GROUP, k, -1, k, mode, fm == SF_SLIDE_P ? 1.0 : fm == SF_SLIDE_M ? -1.0 : 0.0};
