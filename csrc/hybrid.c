@@ -43,6 +43,225 @@ static void stiff_track(hyb *H, const double *y, int reset)
     }
 }
 
+/* ------------------------------------------- the Chebyshev (RKC) stepper */
+
+/* A planar slip near its end or its start from rest: the sliding law's
+ * direction relaxes at the rate rho = C lam_max(K) / |E u| (K = E W E,
+ * stiff_track above), real and negative, while the slip itself (its speed
+ * falling or rising at the load's rate, its direction on the quasi-static
+ * one) is smooth. rk8pd is held to steps ~5 / rho there whatever the
+ * tolerance: each step covers a fixed share of the time left to the stop,
+ * so the steps to a stop grow as log(V / zsw) and do not fall with rtol.
+ * The second-order Runge-Kutta-Chebyshev method (Sommeijer, Shampine and
+ * Verwer 1998, damping 2/13) with s stages is stable for h rho <= 0.653
+ * (s^2 - 1): its steps are set by the error control, at a cost of
+ * s ~ sqrt(1.54 h rho) right-hand sides. cheb_rho is the bound it is given
+ * (CHEB_RHO_SAFETY times the rate at the step's start, plus the scene's
+ * 1 / T); cheb_track decides when it integrates the slip (the thresholds:
+ * tolerances.h). */
+typedef struct cheb_ws {
+    size_t n;
+    double *f0, *yjm1, *yjm2, *yn, *fj;
+} cheb_ws;
+
+static double cheb_rho(hyb *H, double t, const double *y)
+{
+    const exdex_model *m = H->m;
+    double cs[2] = {cos(y[2]), sin(y[2])}, u[3], eu[3], s, k2 = 0.0;
+    hyb_pads(H, y);
+    model_patch_slip(m, cs, y + 3, u);
+    for (int c = 0; c < 3; c++) eu[c] = m->e[c] * u[c];
+    s = sqrt(ex_dot3(eu, eu));
+    if (!H->ncs) {
+        const exdex_friction_prep *p = model_prep(m);
+        for (int c = 0; c < 9; c++) k2 += p->K[c] * p->K[c];
+    } else {
+        /* against stops the rate is that of K = E W E with W the
+         * mobility of the constrained motion: its columns from the
+         * contact-set projection of the free acceleration with a wrench
+         * E e_c added (the projection is linear on its active set; a
+         * perturbation 1e-3 C keeps it) */
+        frame f;
+        exdex_kinematics kin;
+        double F[3], w[3], P[3], a[3], q0[3], lam[MAX_ROWS], u0[3], d = 1e-3 * H->cap;
+        if (hyb_frame_seg(H, t, &f, &kin) || hyb_planar_friction(H, &f, &kin, y, F, w)) return INFINITY;
+        model_gen_of_patch(m, cs, w, P);
+        for (int i = 0; i < 3; i++) a[i] = m->minv[i] * (F[i] + P[i]);
+        hyb_contact_acc_planar(H, &kin, y, a, q0, lam, NULL, NULL);
+        model_patch_slip(m, cs, q0, u0);
+        for (int c = 0; c < 3; c++) {
+            double we[3] = {0, 0, 0}, ap[3], qp[3], up[3];
+            we[c] = d * m->e[c];
+            model_gen_of_patch(m, cs, we, P);
+            for (int i = 0; i < 3; i++) ap[i] = a[i] + m->minv[i] * P[i];
+            hyb_contact_acc_planar(H, &kin, y, ap, qp, lam, NULL, NULL);
+            model_patch_slip(m, cs, qp, up);
+            for (int i = 0; i < 3; i++) {
+                double kic = m->e[i] * (up[i] - u0[i]) / d;
+                k2 += kic * kic;
+            }
+        }
+    }
+    /* |K|_F >= lam_max(K) */
+    return CHEB_RHO_SAFETY * H->cap * sqrt(k2) / s + 1.0 / m->scale.T;
+}
+
+static void *cheb_alloc(size_t n)
+{
+    cheb_ws *w = calloc(1, sizeof *w);
+    if (!w) return NULL;
+    w->n = n;
+    w->f0 = malloc(5 * n * sizeof(double));
+    if (!w->f0) {
+        free(w);
+        return NULL;
+    }
+    w->yjm1 = w->f0 + n;
+    w->yjm2 = w->f0 + 2 * n;
+    w->yn = w->f0 + 3 * n;
+    w->fj = w->f0 + 4 * n;
+    return w;
+}
+
+static void cheb_free(void *state)
+{
+    cheb_ws *w = state;
+    if (w) free(w->f0);
+    free(w);
+}
+
+static int cheb_reset(void *state, size_t n)
+{
+    (void)state;
+    (void)n;
+    return GSL_SUCCESS;
+}
+
+static unsigned int cheb_order(void *state)
+{
+    (void)state;
+    return 2;
+}
+
+/* One RKC step of h from (t, y): y the result, yerr the method's error
+ * estimate 0.8 (y_n - y_n+1) + 0.4 h (f_n + f_n+1). A step that would need
+ * more than CHEB_STAGES_MAX stages is refused with an infinite error (the
+ * control shrinks it). */
+static int cheb_apply(void *state, size_t n, double t, double h, double y[], double yerr[], const double dydt_in[],
+                      double dydt_out[], const gsl_odeiv2_system *sys)
+{
+    cheb_ws *w = state;
+    hyb *H = sys->params;
+    double rho = cheb_rho(H, t, y), w0, w1, t1, t2, arg, bjm1, bjm2, thjm1, thjm2, zjm1, zjm2, dzjm1, dzjm2, d2zjm1,
+           d2zjm2, mus;
+    double ns = 1.0 + floor(sqrt(1.54 * fabs(h) * rho + 1.0));
+    int s = ns < 2.0 ? 2 : (int)fmin(ns, CHEB_STAGES_MAX + 1.0);
+    if (!(rho > 0.0) || !isfinite(rho) || s > CHEB_STAGES_MAX) {
+        for (size_t i = 0; i < n; i++) yerr[i] = INFINITY;
+        return GSL_SUCCESS;
+    }
+    memcpy(w->yn, y, n * sizeof *y);
+    if (dydt_in)
+        memcpy(w->f0, dydt_in, n * sizeof *w->f0);
+    else if (GSL_ODEIV_FN_EVAL(sys, t, w->yn, w->f0) != GSL_SUCCESS)
+        return GSL_EBADFUNC;
+    w0 = 1.0 + 2.0 / (13.0 * s * s);
+    t1 = w0 * w0 - 1.0;
+    t2 = sqrt(t1);
+    arg = s * log(w0 + t2);
+    w1 = sinh(arg) * t1 / (cosh(arg) * s * t2 - w0 * sinh(arg));
+    bjm1 = 1.0 / (4.0 * w0 * w0);
+    bjm2 = bjm1;
+    mus = w1 * bjm1;
+    memcpy(w->yjm2, w->yn, n * sizeof *y);
+    for (size_t i = 0; i < n; i++) w->yjm1[i] = w->yn[i] + h * mus * w->f0[i];
+    thjm2 = 0.0;
+    thjm1 = mus;
+    zjm1 = w0;
+    zjm2 = 1.0;
+    dzjm1 = 1.0;
+    dzjm2 = 0.0;
+    d2zjm1 = 0.0;
+    d2zjm2 = 0.0;
+    for (int j = 2; j <= s; j++) {
+        double zj = 2.0 * w0 * zjm1 - zjm2, dzj = 2.0 * w0 * dzjm1 - dzjm2 + 2.0 * zjm1;
+        double d2zj = 2.0 * w0 * d2zjm1 - d2zjm2 + 4.0 * dzjm1, bj = d2zj / (dzj * dzj);
+        double ajm1 = 1.0 - zjm1 * bjm1, mu = 2.0 * w0 * bj / bjm1, nu = -bj / bjm2, mj = mu * w1 / w0;
+        if (GSL_ODEIV_FN_EVAL(sys, t + h * thjm1, w->yjm1, w->fj) != GSL_SUCCESS) {
+            memcpy(y, w->yn, n * sizeof *y);
+            return GSL_EBADFUNC;
+        }
+        for (size_t i = 0; i < n; i++)
+            y[i] = mu * w->yjm1[i] + nu * w->yjm2[i] + (1.0 - mu - nu) * w->yn[i] +
+                   h * mj * (w->fj[i] - ajm1 * w->f0[i]);
+        {
+            double thj = mu * thjm1 + nu * thjm2 + mj * (1.0 - ajm1);
+            thjm2 = thjm1;
+            thjm1 = thj;
+        }
+        if (j < s) {
+            memcpy(w->yjm2, w->yjm1, n * sizeof *y);
+            memcpy(w->yjm1, y, n * sizeof *y);
+        }
+        bjm2 = bjm1;
+        bjm1 = bj;
+        zjm2 = zjm1;
+        zjm1 = zj;
+        dzjm2 = dzjm1;
+        dzjm1 = dzj;
+        d2zjm2 = d2zjm1;
+        d2zjm1 = d2zj;
+    }
+    if (GSL_ODEIV_FN_EVAL(sys, t + h, y, w->fj) != GSL_SUCCESS) {
+        memcpy(y, w->yn, n * sizeof *y);
+        return GSL_EBADFUNC;
+    }
+    for (size_t i = 0; i < n; i++) yerr[i] = 0.8 * (w->yn[i] - y[i]) + 0.4 * h * (w->f0[i] + w->fj[i]);
+    if (dydt_out) memcpy(dydt_out, w->fj, n * sizeof *dydt_out);
+    return GSL_SUCCESS;
+}
+
+static const gsl_odeiv2_step_type cheb_type = {"rkc", 1, 1, cheb_alloc, cheb_apply, NULL, cheb_reset, cheb_order,
+                                               cheb_free};
+
+/* Whether the Chebyshev stepper integrates the slip from here: a Coulomb
+ * planar slip of the ellipsoid law, without stop friction or the stiff
+ * stepper, slower than CHEB_SLOW V (a slip dying out or starting from
+ * rest; a faster slip stays with rk8pd, whose eighth order serves its
+ * accuracy better), whose last rk8pd steps were held near their stability
+ * limit (h rho >= CHEB_ON for CHEB_AFTER steps in a row); back to rk8pd
+ * where rk8pd's step would be stable again (h rho < CHEB_OFF with the step
+ * the error control chose), above CHEB_SLOW V and at every event (reset). */
+static void cheb_track(hyb *H, double t, const double *y, double h, int reset)
+{
+    double hr;
+    if (reset || H->ndof != 3 || H->law != LAW_COULOMB || H->mode != MODE_SLIP || H->small || H->stiff ||
+        H->sfric || H->m->ls_exact || (y[3] == 0.0 && y[4] == 0.0 && y[5] == 0.0)) {
+        H->cheb = 0;
+        H->ncheb = 0;
+        return;
+    }
+    if (!(hyb_planar_slip_speed(H, y) < CHEB_SLOW * H->m->scale.V)) {
+        H->cheb = 0;
+        H->ncheb = 0;
+        return;
+    }
+    hr = h * cheb_rho(H, t, y) / CHEB_RHO_SAFETY;
+    if (H->cheb) {
+        if (!(hr >= CHEB_OFF)) H->cheb = 0, H->ncheb = 0;
+    } else if (hr >= CHEB_ON) {
+        if (++H->ncheb >= CHEB_AFTER) H->cheb = 1;
+    } else {
+        H->ncheb = 0;
+    }
+}
+
+/* The stepper of the slip's state (stiff_track, cheb_track). */
+static gsl_odeiv2_step *hyb_stepper(ode *O, const hyb *H)
+{
+    return H->stiff ? O->bs : H->cheb ? O->ck : O->rk;
+}
+
 static void ode_free(ode *O)
 {
     if (!O) return;
@@ -52,6 +271,7 @@ static void ode_free(ode *O)
     if (O->con) gsl_odeiv2_control_free(O->con);
     if (O->rk) gsl_odeiv2_step_free(O->rk);
     if (O->bs) gsl_odeiv2_step_free(O->bs);
+    if (O->ck) gsl_odeiv2_step_free(O->ck);
     free(O->ts);
     free(O->gb);
     free(O);
@@ -69,6 +289,7 @@ static void *hybrid_alloc(const exdex_model *m, int *status)
     }
     O->rk = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, ny);
     O->bs = gsl_odeiv2_step_alloc(gsl_odeiv2_step_bsimp, ny);
+    O->ck = gsl_odeiv2_step_alloc(&cheb_type, ny);
     O->step = O->rk;
     {
         /* atol is relative to the scene's scales: each state component's
@@ -95,7 +316,7 @@ static void *hybrid_alloc(const exdex_model *m, int *status)
     O->ts = malloc((EXDEX_MOTION_MAX_SWITCHES + m->grip_n) * sizeof *O->ts);
     O->gb = malloc((EXDEX_MOTION_MAX_SWITCHES + m->grip_n) * sizeof *O->gb);
     if (m->pads) O->mc = calloc(1, sizeof *O->mc);
-    if (!O->rk || !O->bs || !O->con || !O->evo || !O->root || !O->ts || !O->gb || (m->pads && !O->mc)) {
+    if (!O->rk || !O->bs || !O->ck || !O->con || !O->evo || !O->root || !O->ts || !O->gb || (m->pads && !O->mc)) {
         ode_free(O);
         *status = EXDEX_ENOMEM;
         return NULL;
@@ -298,8 +519,8 @@ static double step_start(adv *A)
     }
     memcpy(A->y0, A->y, sizeof A->y);
     A->ng = hyb_guards(H, A->t0, A->y0, A->g0);
-    if (O->step != (H->stiff ? O->bs : O->rk)) {
-        O->step = H->stiff ? O->bs : O->rk;
+    if (O->step != hyb_stepper(O, H)) {
+        O->step = hyb_stepper(O, H);
         ode_restart(O);
     }
     return tstop;
@@ -582,6 +803,7 @@ static int after_step(adv *A)
     const exdex_model *m = H->m;
     int ns = H->ns, status = EXDEX_OK;
     stiff_track(H, A->y, A->e_best >= 0);
+    cheb_track(H, A->t, A->y, A->t - A->t0, A->e_best >= 0);
     /* a penetration left after the step: the scene drives the
      * object through a stop (see tol.pen) */
     if (ns || m->n_obst) {
@@ -602,6 +824,7 @@ static int after_step(adv *A)
         if (status) return status;
         hyb_decide(H, A->t, A->y, 0);
         stiff_track(H, A->y, 1);
+        cheb_track(H, A->t, A->y, 0.0, 1);
         ode_restart(O);
     }
     if (!ex_finite_n(A->y, H->ny)) status = EXDEX_ENONFINITE;
@@ -659,13 +882,14 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
     H->mc = O->mc;
     H->st = st;
     O->sys.params = H;
-    O->step = H->stiff ? O->bs : O->rk;
+    O->step = hyb_stepper(O, H);
     if (regrip) {
         H->cap = H->capk * model_capacity(m, A.t);
         H->caps = H->capk * model_capacity_static(m, A.t);
         hyb_hold_set_rows(H, A.t, A.y);
         hyb_decide(H, A.t, A.y, 0);
         stiff_track(H, A.y, 1);
+        cheb_track(H, A.t, A.y, 0.0, 1);
         O->step = O->rk;
         gsl_odeiv2_evolve_reset(O->evo);
         gsl_odeiv2_step_reset(O->step);
@@ -768,7 +992,8 @@ static int hybrid_restore(void *ws, const void *buf)
         return EXDEX_EINVAL;
     for (int i = 0; i < S.H.ncs; i++)
         if (S.H.cs[i] < 0 || (S.H.cs[i] >= nr && !(B->no && orow_valid(B->m, S.H.cs[i] - nr)))) return EXDEX_EINVAL;
-    if (S.H.sfric != B->sfric || (S.H.stiff != 0 && S.H.stiff != 1) || S.H.nlow < 0 || S.H.nlow > STIFF_AFTER ||
+    if (S.H.sfric != B->sfric || (S.H.stiff != 0 && S.H.stiff != 1) || (S.H.cheb != 0 && S.H.cheb != 1) ||
+        S.H.ncheb < 0 || S.H.ncheb > CHEB_AFTER || S.H.nlow < 0 || S.H.nlow > STIFF_AFTER ||
         (S.H.jam != 0.0 && S.H.jam != 1.0 && S.H.jam != -1.0) || (S.H.held != 0 && S.H.held != 1))
         return EXDEX_EINVAL;
     for (int k = 0; k < SF_MAX_STOPS; k++)

@@ -373,6 +373,8 @@ typedef struct hyb {
     int no;            /* obstacles (their rows follow the stops', see hyb_hrow_src) */
     int stiff;         /* event, planar slip: 1 while the stiff stepper integrates it (stiff_track) */
     int nlow;          /* consecutive steps of that slip below SLIP_STIFF zsw (up to STIFF_AFTER) */
+    int cheb;          /* event, planar slip: 1 while the Chebyshev stepper integrates it (cheb_track) */
+    int ncheb;         /* consecutive rk8pd steps of that slip near rk8pd's stability limit (up to CHEB_AFTER) */
     double jam;        /* 1-DoF contact with a frictional stop taken frictionless at a jam (its
                           friction would turn the normal force around, see JAM_DIR): the sign of
                           the slip there; 0: none */
@@ -510,7 +512,7 @@ static inline int hyb_guard_is_gap(int kind) { return kind == G_GAP || kind == G
  * and the saved state. */
 typedef struct ode {
     gsl_odeiv2_step *step;         /* the stepper in use: rk, or bs while H.stiff */
-    gsl_odeiv2_step *rk, *bs;      /* rk8pd (explicit), bsimp (linearly implicit, stiff_track) */
+    gsl_odeiv2_step *rk, *bs, *ck; /* rk8pd (explicit), bsimp (linearly implicit, stiff_track), rkc (cheb_track) */
     gsl_odeiv2_control *con;
     gsl_odeiv2_evolve *evo;
     gsl_root_fsolver *root;

@@ -567,3 +567,35 @@ def test_planar_stop_events_agree_across_output_grids_and_rtol(seed):
             r = zoo.run(zs, "event", rtol=rtol, n_out=n_out)
             d = zoo.pose_distance(zs, zoo.final_pose(r), zoo.final_pose(ref))
             assert d <= 100 * rtol and r.stats["warnings"] == 0, (rtol, n_out, d, r.stats["warnings"])
+
+
+# ------------------------------------------ a slip dying out near the friction limit
+
+@pytest.mark.parametrize("rtol", [1e-4, 1e-6, 1e-8])
+def test_slip_dying_out_on_a_rough_incline_closed_form_in_few_steps(rtol):
+    """A box launched across a rough incline (a resting gripper, gravity a =
+    4.95 m/s^2 in the plate plane, friction C / m = k = 5 m/s^2, a disc patch
+    at the centre of mass: translation only, isotropic) at v0 = 0.02 m/s
+    perpendicular to the load. Its velocity turns towards the load while it
+    slows and stops, with psi the angle from the load's direction:
+    v = v0 tan(psi / 2)^n / sin(psi), n = k / a (from dv/dt = a cos psi - k,
+    v dpsi/dt = -a sin psi), which integrates in closed form to the stop
+    time t* = v0 k / (k^2 - a^2) = 0.201 s and the rest position
+    x* = 2 n v0^2 / (a (4 n^2 - 1)) across, y* = -v0^2 / (4 a (n^2 - 1))
+    along the load. The direction relaxes at the rate a / v, stiff as the
+    slip dies out, where rk8pd alone is held to steps ~ v / a (1146, 236,
+    244 steps at rtol 1e-4, 1e-6, 1e-8); the Chebyshev stepper takes the
+    slow end (hybrid.c): at most 200 steps, and the rest position within
+    1e-3 rtol m of the closed form (errors 2e-10, 9e-12, 4e-14 m)."""
+    m, mu, N, a, v0 = 0.1, 0.5, 0.5, 4.95, 0.02
+    k = 2 * mu * N / m
+    n = k / a
+    sc = Scene(body=Body.box(m, (0.04, 0.02, 0.01)), grasp=Grasp(mu=mu, grip_force=N, patch=Patch.disc(0.005)),
+               motion=Rest(), dof="planar", v0=(v0, 0.0, 0.0), gravity=(0.0, 0.0, -a))
+    t_stop = v0 * k / (k * k - a * a)
+    x_rest, y_rest = 2 * n * v0 ** 2 / (a * (4 * n * n - 1)), -v0 ** 2 / (4 * a * (n * n - 1))
+    r = exdex.simulate(sc, t_end=0.25, dt=0.01, method="event", rtol=rtol, atol=1e-2 * rtol)
+    assert r.stats["steps"] <= 200, r.stats["steps"]
+    np.testing.assert_allclose(r.q[-1], [x_rest, y_rest, 0.0], rtol=0, atol=1e-3 * rtol)
+    assert np.all(r.v[-1] == 0.0) and r.stick[-1]
+    assert not np.any(r.stick[1:][r.t[1:] < t_stop]) and np.all(r.stick[r.t > t_stop])
