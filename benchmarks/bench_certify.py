@@ -11,10 +11,15 @@ the whole run (a failing one stops checking at its failure, so it costs
 less): the paper's Figs. 3 and 4, a box held still below its turning
 threshold, a translation in a gripper that turns (Eq. 7 about the plate
 normal, the load changes with time and state) and Fig. 6's rotation with
-gravity along the plate normal (a slipping rotation). Where a piece between
-switching times is proven for a mode (a constant load, or the bound of a
-gripper turning about a fixed axis; csrc/certify.c), its samples of that
-mode are not evaluated; the others are, one by one.
+gravity along the plate normal (a slipping rotation), and scenes without a
+phase proof: shakes (translating, and turning about the plate normal), a
+sampled log and a chain of motions. Where a piece between switching times is
+proven for a mode (a constant load, or the bound of a gripper turning about
+a fixed axis; csrc/certify.c), or a block of samples in a gripper that does
+not turn (the box of its acceleration), its samples of that mode are not
+evaluated; the others are, one by one. The last column is the core with
+every sample evaluated (``every_sample=True``, the proofs' reference: the
+certificate's cost on scenes without a phase proof before the block proofs).
 
     python benchmarks/bench_certify.py [--repeat N] [--out results/certify.txt]
 """
@@ -25,6 +30,8 @@ import statistics
 import sys
 import time
 import warnings
+
+import numpy as np
 
 import exdex
 from exdex import paper
@@ -41,6 +48,16 @@ def cases():
                           motion=exdex.AsymmetricProfile(math.radians(30), 0.5, 0.8, axis=(0, -1, 0),
                                                          rotation=True))
     fig6_flat = exdex.replace(paper.fig6_scene(), gravity=(0.0, -9.81, 0.0))
+    held = dict(body=exdex.Body.box(0.1, (0.06, 0.03, 0.02)),
+                grasp=exdex.Grasp(mu=0.8, grip_force=2.0, patch=exdex.Patch.rectangle(0.02, 0.02, center=(0.005, 0.0))))
+    shake = exdex.Scene(motion=exdex.Shake(0.002, 4.0, cycles=4, axis=(1, 0, 0)), **held)
+    shake_turn = exdex.Scene(motion=exdex.Shake(0.05, 2.0, cycles=2, axis=(0, 0, 1), rotation=True), **held)
+    t = np.linspace(0.0, 1.0, 101)
+    pos = np.stack([0.02 * (10 * t ** 3 - 15 * t ** 4 + 6 * t ** 5), 0 * t, 0 * t], 1)
+    log = exdex.Scene(motion=exdex.SampledTrajectory(t, pos, np.tile([1.0, 0, 0, 0], (len(t), 1)), relative=True),
+                      **held)
+    chain = exdex.Scene(motion=exdex.Chain((exdex.Shake(0.002, 4.0, cycles=2, axis=(1, 0, 0)), exdex.Pause(0.2),
+                                            exdex.AsymmetricProfile(0.01, 0.3, 0.5, axis=(1, 0, 0)))), **held)
     out = []
     for method in ("analytic", "implicit", "event"):
         out.append((f"Fig. 3 ({method})", paper.fig3_scene(), method, 1.5, 1e-4))
@@ -52,6 +69,11 @@ def cases():
         out.append((f"turning gripper ({method})", turning, method, 1.5, 1e-4))
     for method in ("analytic", "implicit", "event"):
         out.append((f"Fig. 6, g along the normal ({method})", fig6_flat, method, 8.0, 1e-3))
+    for method in ("implicit", "event"):
+        out.append((f"shake ({method})", shake, method, 1.2, 1e-4))
+        out.append((f"turning shake ({method})", shake_turn, method, 1.2, 1e-4))
+        out.append((f"log, 100 Hz ({method})", log, method, 1.2, 1e-4))
+        out.append((f"chain ({method})", chain, method, 1.2, 1e-4))
     return out
 
 
@@ -64,7 +86,7 @@ def main(argv=None):
     lines = [f"certificate cost: CPU time (time.process_time), medians of {args.repeat} alternating runs "
              f"(Python {sys.version.split()[0]}); whole call Model.simulate, and the C core alone",
              f"{'case':40s} {'steps':>7s} {'without [ms]':>13s} {'with [ms]':>10s} {'extra':>7s}"
-             f" {'core without':>13s} {'core with':>10s} {'extra':>7s}"]
+             f" {'core without':>13s} {'core with':>10s} {'extra':>7s} {'every sample':>13s} {'extra':>7s}"]
     print(lines[0])
     print(lines[1])
     for name, sc, method, t_end, dt in cases():
@@ -72,7 +94,8 @@ def main(argv=None):
         res = m.simulate(t_end, dt)
         assert res.certificate is not None and res.certificate["holds"], (name, res.certificate)
         m.simulate(t_end, dt, certify=False)
-        a, b, ca, cb = [], [], [], []
+        assert m._model.simulate(t_end, dt, every_sample=True)["certificate"] == res.certificate, name
+        a, b, ca, cb, ce = [], [], [], [], []
         core = m._model
         for _ in range(args.repeat):
             t0 = time.process_time()
@@ -84,14 +107,18 @@ def main(argv=None):
             t3 = time.process_time()
             core.simulate(t_end, dt, certify=True)
             t4 = time.process_time()
+            core.simulate(t_end, dt, certify=True, every_sample=True)
+            t5 = time.process_time()
+            ce.append(t5 - t4)
             a.append(t1 - t0)
             b.append(t2 - t1)
             ca.append(t3 - t2)
             cb.append(t4 - t3)
         ma, mb = statistics.median(a), statistics.median(b)
-        mca, mcb = statistics.median(ca), statistics.median(cb)
+        mca, mcb, mce = statistics.median(ca), statistics.median(cb), statistics.median(ce)
         line = (f"{name:40s} {len(res.t) - 1:7d} {1e3 * ma:13.3f} {1e3 * mb:10.3f} {100 * (mb / ma - 1):6.1f}%"
-                f" {1e3 * mca:13.3f} {1e3 * mcb:10.3f} {100 * (mcb / mca - 1):6.1f}%")
+                f" {1e3 * mca:13.3f} {1e3 * mcb:10.3f} {100 * (mcb / mca - 1):6.1f}%"
+                f" {1e3 * mce:13.3f} {100 * (mce / mca - 1):6.1f}%")
         print(line, flush=True)
         lines.append(line)
     if args.out:

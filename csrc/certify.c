@@ -258,16 +258,27 @@ static int cert_decide(const exdex_model *m, double t, const double b[3], const 
 /* The certificate at time t for reduced coordinate q, rate v, mode stick;
  * use_stops = 0: without stop forces (the verdict then does not depend on
  * which stops touch). */
+static int cert_at_frame(const exdex_model *m, double t, const frame *fp, const exdex_kinematics *kinp, double q,
+                         double v, int stick, int use_stops, cert_eval *ce);
+
 static int cert_at_stops(const exdex_model *m, double t, double q, double v, int stick, int use_stops,
                          cert_eval *ce)
 {
     frame f;
     exdex_kinematics kin;
+    int st = model_frame_at(m, t, &f, &kin);
+    if (st) return st;
+    return cert_at_frame(m, t, &f, &kin, q, v, stick, use_stops, ce);
+}
+
+/* The same with the frame f, kin of time t given (kin is read for the stop
+ * rows only). */
+static int cert_at_frame(const exdex_model *m, double t, const frame *fp, const exdex_kinematics *kinp, double q,
+                         double v, int stick, int use_stops, cert_eval *ce)
+{
     double r[3], th, qf[3], vf[3], kap[3] = {0, 0, 0}, T[3], F[3], P[3], b[3], cs[2], gM[3];
     double cols[1 + CERT_MAX_COLS][3];
     int ncol = 0, nfree = 0;
-    int st = model_frame_at(m, t, &f, &kin);
-    if (st) return st;
     {
         double qq[3] = {q, 0.0, 0.0};
         pose_com(m, qq, r, &th);
@@ -296,7 +307,7 @@ static int cert_at_stops(const exdex_model *m, double t, double q, double v, int
         T[1] = rho[0];
         T[2] = 1.0;
     }
-    model_force_planar(m, &f, qf, vf, F);
+    model_force_planar(m, fp, qf, vf, F);
     /* the friction needed with a = 0 and no stop force: M kappa - F */
     P[0] = m->m * kap[0] - F[0];
     P[1] = m->m * kap[1] - F[1];
@@ -353,11 +364,11 @@ static int cert_at_stops(const exdex_model *m, double t, double q, double v, int
         for (int k = 0; k < m->n_stops; k++) {
             for (int j = 0; j < nv && nrow < MAX_ROWS; j++) {
                 double G[3], T[3] = {0, 0, 0}, tb = 0.0;
-                double gap = contact_row_planar(m, &kin, k, j, qf, vf, G, NULL, NULL);
+                double gap = contact_row_planar(m, kinp, k, j, qf, vf, G, NULL, NULL);
                 if (!(gap < m->tol.touch)) continue;
                 if (fabs(G[0]) + fabs(G[1]) + fabs(G[2]) < FQ_MIN) continue;
                 Rmu[nrow] = m->smu[k];
-                if (Rmu[nrow] > 0.0) contact_stop_tangent(&mp, &kin, k, xb[j], vx[j], T, &tb);
+                if (Rmu[nrow] > 0.0) contact_stop_tangent(&mp, kinp, k, xb[j], vx[j], T, &tb);
                 memcpy(RG[nrow], G, sizeof G);
                 memcpy(RT[nrow], T, sizeof T);
                 Rs[nrow] = T[0] * vf[0] + T[1] * vf[1] + T[2] * vf[2] + tb;
@@ -368,13 +379,13 @@ static int cert_at_stops(const exdex_model *m, double t, double q, double v, int
             double G[MAX_ROWS][3], gap[MAX_ROWS], rnd[MAX_ROWS];
             int src[MAX_ROWS];
             contact_point cp[MAX_ROWS];
-            int no = contact_obstacle_rows(&mp, &kin, qf, G, gap, rnd, src, cp);
+            int no = contact_obstacle_rows(&mp, kinp, qf, G, gap, rnd, src, cp);
             for (int i = 0; i < no && nrow < MAX_ROWS; i++) {
                 double T[3] = {0, 0, 0}, tb = 0.0;
                 if (!(gap[i] < m->tol.touch)) continue;
                 if (fabs(G[i][0]) + fabs(G[i][1]) + fabs(G[i][2]) < FQ_MIN) continue;
                 Rmu[nrow] = model_source_mu(m, src[i]);
-                if (Rmu[nrow] > 0.0) contact_tangent(&mp, &kin, cp[i].x, cp[i].vx, cp[i].nB, T, &tb);
+                if (Rmu[nrow] > 0.0) contact_tangent(&mp, kinp, cp[i].x, cp[i].vx, cp[i].nB, T, &tb);
                 memcpy(RG[nrow], G[i], sizeof G[i]);
                 memcpy(RT[nrow], T, sizeof T);
                 Rs[nrow] = T[0] * vf[0] + T[1] * vf[1] + T[2] * vf[2] + tb;
@@ -572,13 +583,21 @@ static double norm3(const double a[3])
 
 /* Is the motion one the proofs know: rest, or Eq. 7 / a trapezoid with
  * ramps, translating (*turns = 0) or turning about a fixed axis
- * (*turns = 1), played from its start? */
+ * (*turns = 1), or a shake turning about a fixed axis (*turns = 1),
+ * played from its start? (Translating shakes, logs and chains: the block
+ * proofs.) */
 static int proof_motion(const exdex_model *m, int *turns)
 {
     const exdex_motion_def *d = &m->def.motion;
     *turns = 0;
     if (m->motion != m->sw_motion || d->time_shift != 0.0) return 0;
     if (d->kind == EXDEX_MOTION_REST) return 1;
+    if (d->kind == EXDEX_MOTION_SHAKE && d->rotation) {
+        /* a turn about a fixed axis; its angular rate and acceleration at
+         * most |A| w and |A| w^2 (prove_pieces) */
+        *turns = 1;
+        return 1;
+    }
     if (d->kind != EXDEX_MOTION_ASYMMETRIC && d->kind != EXDEX_MOTION_TRAPEZOID) return 0;
     if (d->kind == EXDEX_MOTION_TRAPEZOID && d->amplitude != 0.0 &&
         !(d->duration - fabs(d->amplitude) / d->v_max > 0.0))
@@ -719,6 +738,12 @@ static int prove_pieces(const exdex_model *m, const exdex_trajectory *out, piece
                     if (norm3(kk.dw) > al) al = norm3(kk.dw);
                 }
                 om *= 1.0 + 1e-9;   /* the ends evaluated 1e-9 of the piece inside it */
+                if (m->def.motion.kind == EXDEX_MOTION_SHAKE && a < m->def.motion.duration) {
+                    /* theta = A (1 - cos w t): |theta'| <= |A| w, |theta''| <= |A| w^2 */
+                    double w = 2.0 * 3.14159265358979323846 * m->def.motion.frequency, A = fabs(m->def.motion.amplitude);
+                    om = fmax(om, A * w * (1.0 + 1e-12));
+                    al = fmax(al, A * w * w * (1.0 + 1e-12));
+                }
                 s = sqrt(al * al + om * om * om * om);
                 Bf = m->m * (g_p + (rho_ref + dq) * s);
                 Bz = m->izz * al * (1.0 + 1e-12) + 2.0 * Inorm * u_xy * (al + om * om) + hypot(m->pc[0], m->pc[1]) * Bf;
@@ -739,6 +764,81 @@ static int prove_pieces(const exdex_model *m, const exdex_trajectory *out, piece
                 pv->proven[j][1] = pv->proven[j][2] = 1;
         }
         pv->n++;
+    }
+    return EXDEX_OK;
+}
+
+/* ------------------------------------------------ proofs per block
+ * A translation run in a gripper that does not turn over [ta, tb]
+ * (motion_accel_box: rest, translating profiles and shakes, logs of a
+ * constant orientation, chains of them): the load the neglected
+ * coordinates need is that of m (g_B - a0) at the patch, the same for every
+ * state of one mode (the frame has no rotation, so the load has no term in
+ * the position or the rate), and affine in B's acceleration a0, whose
+ * plate-plane part lies in the box the motion gives. The gauge, and a
+ * slip's least residual over its free acceleration, are convex in the load,
+ * so their largest value over the box is at one of its four corners: a
+ * mode that holds at the corners (stuck: a gauge within the least static
+ * capacity over [ta, tb], where a grip schedule is monotone between its
+ * switching times; slipping, with a constant grip: the residual within the
+ * certificate's tolerance without the load's own share) holds at every
+ * sample of the block, as its own evaluation would find. Evaluated without
+ * the stops' forces (a verdict that holds without them holds with them).
+ * need[key]: the modes to prove; pr[key] = 1 where proven. */
+#define CERT_BLOCK_MIN 16
+
+static int prove_block(const exdex_model *m, double ta, double tb, double q, const int need[3], unsigned char pr[3])
+{
+    double lo[3], hi[3], tm = ta + 0.5 * (tb - ta), bl[2] = {INFINITY, INFINITY}, bh[2] = {-INFINITY, -INFINITY};
+    double Cs, C, ax[2][2];
+    frame f;
+    exdex_kinematics kin;
+    int st, nx, ny;
+    pr[0] = pr[1] = pr[2] = 0;
+    if (m->def.dof != EXDEX_DOF_TRANSLATION || !motion_accel_box(m->motion, ta, tb, lo, hi)) return EXDEX_OK;
+    for (int c = 0; c < 3; c++)
+        if (!isfinite(lo[c]) || !isfinite(hi[c])) return EXDEX_OK;
+    st = model_frame_at(m, tm, &f, &kin);
+    if (st) return st;
+    /* the box's corners in B (R constant over [ta, tb]), its plate-plane bounding box */
+    for (int k = 0; k < 8; k++) {
+        double a[3] = {(k & 1 ? hi : lo)[0], (k & 2 ? hi : lo)[1], (k & 4 ? hi : lo)[2]}, aB[3];
+        ex_mulmtv3(aB, kin.R, a);
+        for (int c = 0; c < 2; c++) {
+            if (aB[c] < bl[c]) bl[c] = aB[c];
+            if (aB[c] > bh[c]) bh[c] = aB[c];
+        }
+    }
+    for (int c = 0; c < 3; c++) f.w[c] = f.dw[c] = 0.0;
+    ax[0][0] = bl[0];
+    ax[0][1] = bh[0];
+    ax[1][0] = bl[1];
+    ax[1][1] = bh[1];
+    nx = bl[0] < bh[0] ? 2 : 1;
+    ny = bl[1] < bh[1] ? 2 : 1;
+    if (m->grip_n) {
+        double s0 = model_capacity_static(m, ta), s1 = model_capacity_static(m, tb);
+        Cs = fmin(s0, s1) - 1e-9 * fabs(s1 - s0);
+    } else {
+        Cs = model_capacity_static(m, tm);
+    }
+    C = model_capacity(m, tm);
+    for (int key = 0; key < 3; key++) {
+        int ok = 1;
+        if (!need[key] || (key && m->grip_n)) continue;
+        for (int i = 0; i < nx && ok; i++) {
+            for (int j = 0; j < ny && ok; j++) {
+                cert_eval ce;
+                f.a0[0] = ax[0][i];
+                f.a0[1] = ax[1][j];
+                st = cert_at_frame(m, tm, &f, &kin, q, key == 0 ? 0.0 : (key == 1 ? m->scale.V : -m->scale.V), key == 0,
+                                   0, &ce);
+                if (st) return st;
+                if (key == 0) ok = ce.gauge * ce.cap <= Cs;
+                else ok = ce.gauge * ce.cap <= CERT_SLIP_TOL * (m->scale.F + C) && !(ce.excess > 0.0);
+            }
+        }
+        pr[key] = (unsigned char)ok;
     }
     return EXDEX_OK;
 }
@@ -909,7 +1009,48 @@ static int certify(const exdex_model *m, const exdex_trajectory *out, exdex_cert
     i = 1;
     {
         int k = 0;
+        /* block proofs (prove_block) where no piece proof applies: bs the
+         * block's size in samples (the rest of the piece at first, doubled
+         * after a proof, halved after a failed one down to CERT_BLOCK_MIN),
+         * chk the samples to evaluate one by one before the next try */
+        int blk = proofs && !pv.n && m->def.dof == EXDEX_DOF_TRANSLATION;
+        size_t bs = 0, chk = 0, swk = 0;
         while (i < n) {
+            if (blk && !chk) {
+                double hi;
+                while (swk < m->sw_n && m->sw_t[swk] <= out->t[i - 1]) swk++;
+                hi = swk < m->sw_n ? m->sw_t[swk] : INFINITY;
+                if (out->t[i] + model_substep_snap(m, out->t[i]) < hi) {
+                    size_t e = piece_end(m, out->t, i, n, hi), e2;
+                    int need[3] = {expl, 0, 0};
+                    unsigned char pr[3];
+                    if (bs == 0 || bs > e - i) bs = e - i;
+                    e2 = i + bs;
+                    for (size_t j = i; j < e2; j++) {
+                        double v = out->v[j];
+                        if (!(out->stick[j] || fabs(v) <= m->tol.vzero)) need[key_of(0, v)] = 1;
+                        else need[0] = 1;
+                    }
+                    st = prove_block(m, out->t[i - 1], out->t[e2 - 1], out->q[i], need, pr);
+                    if (st) return st;
+                    for (; i < e2; i++) {
+                        double v = out->v[i];
+                        int rest = out->stick[i] || fabs(v) <= m->tol.vzero;
+                        /* the methods whose rest is a band (at_rest): a sample off v = 0 proven in both modes */
+                        if (!(rest ? pr[0] : (expl ? pr[0] && pr[key_of(0, v)] : pr[key_of(0, v)]))) break;
+                    }
+                    if (i == e2) {
+                        bs *= 2;
+                        continue;
+                    }
+                    if (bs > CERT_BLOCK_MIN) {
+                        bs /= 2;
+                        continue;
+                    }
+                    chk = CERT_BLOCK_MIN;
+                }
+            }
+            if (chk) chk--;
             if (pv.n) {
                 /* samples strictly inside a piece (no switching time in (t_{i-1}, t_i + snap]) whose mode
                  * is proven there need no evaluation */

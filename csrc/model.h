@@ -251,6 +251,12 @@ int model_frame_step(const exdex_model *m, const exdex_kinematics *kin0, double 
  * t1 <= t0, a non-finite input or an R1 that is not a rotation matrix (to
  * 1e-9). */
 exdex_motion *motion_step_alloc(void);
+/* Over [ta, tb] (motion.c): 1 if B does not turn there (R constant, w = dw
+ * = 0) and the acceleration of its origin (A) lies in the box [lo, hi]
+ * componentwise, for rest, translating profiles and shakes, logs whose
+ * orientation is constant, chains and time-shifted plays of them; 0 if not
+ * known (lo, hi then not a bound). */
+int motion_accel_box(const exdex_motion *m, double ta, double tb, double lo[3], double hi[3]);
 int motion_step_set(exdex_motion *m, double t0, double t1, const exdex_kinematics *k0, const double R1[9],
                     const double p1[3], const double *v1, const double *w1, exdex_kinematics *k1);
 

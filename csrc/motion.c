@@ -85,6 +85,7 @@ struct exdex_motion {
     double *tk;          /* (n,) sample times */
     double *yk, *mk;     /* (7, n) values and slopes, component-major */
     double t_first, t_last;
+    int fixed_R;         /* 1: every quaternion value equal and every slope 0 (B does not turn) */
     double PR[9], Pp[3]; /* B = P L X: P (identity for absolute poses) */
     double XR[9], Xp[3]; /* X = tool pose (identity without a tool) */
     /* velocity jumps of B (exdex_motion_jumps) */
@@ -604,6 +605,13 @@ static int setup_sampled(exdex_motion *m, const exdex_motion_def *def, const dou
             }
         }
     }
+    m->fixed_R = 1;
+    for (int c = 3; c < 7 && m->fixed_R; c++)
+        for (size_t i = 0; i < n; i++)
+            if (m->yk[c * n + i] != m->yk[c * n] || m->mk[c * n + i] != 0.0) {
+                m->fixed_R = 0;
+                break;
+            }
     return 1;
 }
 /* Chain tolerances (exdex.h): a position or rotation-matrix mismatch, and a
@@ -1339,4 +1347,140 @@ int exdex_motion_eval(const exdex_motion *m, double t, exdex_kinematics *k)
         || !ex_finite_n(k->a, 3))
         return EXDEX_ENONFINITE;
     return EXDEX_OK;
+}
+
+/* ------------------------------------------- acceleration bounds (model.h) */
+
+static void box_add(double lo[3], double hi[3], const double a[3])
+{
+    for (int c = 0; c < 3; c++) {
+        if (a[c] < lo[c]) lo[c] = a[c];
+        if (a[c] > hi[c]) hi[c] = a[c];
+    }
+}
+
+/* the profile's acceleration sdd in [s0, s1] along the unit axis */
+static void box_axis(const exdex_motion *m, double s0, double s1, double lo[3], double hi[3])
+{
+    double a[3], b[3];
+    for (int c = 0; c < 3; c++) {
+        a[c] = s0 * m->axis[c];
+        b[c] = s1 * m->axis[c];
+    }
+    box_add(lo, hi, a);
+    box_add(lo, hi, b);
+}
+
+static int accel_box(const exdex_motion *m, double ta, double tb, double lo[3], double hi[3])
+{
+    static const double zero[3] = {0.0, 0.0, 0.0};
+    switch (m->kind) {
+    case EXDEX_MOTION_REST:
+        box_add(lo, hi, zero);
+        return 1;
+    case MOTION_SHIFT:
+        return accel_box(m->inner, ta + m->shift, tb + m->shift, lo, hi);
+    case EXDEX_MOTION_ASYMMETRIC:
+    case EXDEX_MOTION_TRAPEZOID: {
+        /* piecewise constant: its values at ta and at each switch in (ta, tb] */
+        double c[3], s, sd, sdd, smin, smax;
+        const double *list;
+        int n = switch_list(m, c, &list);
+        if (m->rotation) return 0;
+        if (m->kind == EXDEX_MOTION_ASYMMETRIC) asym_core(m->amplitude, m->T, m->a_H, m->a_L, m->t_1, m->t_2, ta, &s, &sd, &sdd);
+        else trap_core(m->amplitude, m->T, m->sign, m->v_max, m->t_a, m->accel, ta, &s, &sd, &sdd);
+        smin = smax = sdd;
+        for (int i = 0; i < n; i++) {
+            if (!(list[i] > ta && list[i] <= tb)) continue;
+            if (m->kind == EXDEX_MOTION_ASYMMETRIC)
+                asym_core(m->amplitude, m->T, m->a_H, m->a_L, m->t_1, m->t_2, list[i], &s, &sd, &sdd);
+            else trap_core(m->amplitude, m->T, m->sign, m->v_max, m->t_a, m->accel, list[i], &s, &sd, &sdd);
+            smin = fmin(smin, sdd);
+            smax = fmax(smax, sdd);
+        }
+        box_axis(m, smin, smax, lo, hi);
+        return 1;
+    }
+    case EXDEX_MOTION_SHAKE: {
+        /* sdd = A w^2 cos(w t) on [0, D), 0 outside */
+        double a = fmax(ta, 0.0), b = fmin(tb, m->T), A = m->amplitude * m->omega * m->omega, cmin, cmax;
+        if (m->rotation) return 0;
+        if (ta < 0.0 || tb >= m->T) box_add(lo, hi, zero);
+        if (!(a <= b) || (a == b && b >= m->T)) return 1;
+        {
+            double pa = m->omega * a, pb = m->omega * b, ca = cos(pa), cb = cos(pb);
+            /* the phase's multiples of pi inside [pa, pb] */
+            const double pi = 3.14159265358979323846;
+            double k0 = ceil(pa / pi), k1 = floor(pb / pi);
+            cmin = fmin(ca, cb);
+            cmax = fmax(ca, cb);
+            for (double k = k0; k <= k1 && k <= k0 + 1.0; k++) {
+                if (fmod(k, 2.0) == 0.0) cmax = 1.0;
+                else cmin = -1.0;
+            }
+            /* widened by the rounding of cos at the samples' phases */
+            cmin = fmax(-1.0, cmin - 1e-12);
+            cmax = fmin(1.0, cmax + 1e-12);
+        }
+        box_axis(m, A * cmin, A * cmax, lo, hi);
+        return 1;
+    }
+    case EXDEX_MOTION_SAMPLED: {
+        /* B does not turn: its acceleration is linear in time between two
+         * knots (cubic positions), so the box of its values at ta, tb and
+         * the knots between bounds it */
+        exdex_kinematics k;
+        size_t n = m->n, i;
+        double a = fmax(ta, m->t_first), b = fmin(tb, m->t_last);
+        if (!m->fixed_R) return 0;
+        if (ta < m->t_first || tb >= m->t_last) box_add(lo, hi, zero);
+        if (!(a < b)) return 1;
+        /* the interval [tk[i], tk[i+1]) holding a */
+        {
+            size_t l = 0, h = n - 1;
+            while (h - l > 1) {
+                size_t mid = l + (h - l) / 2;
+                if (m->tk[mid] <= a) l = mid;
+                else h = mid;
+            }
+            i = l;
+        }
+        if (eval_log(m, i, a, &k) || compose(m, &k)) return 0;
+        box_add(lo, hi, k.a);
+        for (; i + 1 < n && m->tk[i + 1] < b; i++) {
+            if (eval_log(m, i + 1, m->tk[i + 1], &k) || compose(m, &k)) return 0;
+            box_add(lo, hi, k.a);
+        }
+        if (eval_log(m, i, b, &k) || compose(m, &k)) return 0;
+        box_add(lo, hi, k.a);
+        return 1;
+    }
+    case EXDEX_MOTION_CHAIN: {
+        /* each piece on its own time (the chain's rounding of t - T_i + o_i
+         * moves a time by at most a few ulp across a switch, whose two sides
+         * the pieces' boxes hold) */
+        for (int i = 0; i < m->np; i++) {
+            double a = m->T0[i], b = i + 1 < m->np ? m->T0[i + 1] : INFINITY, u0, u1;
+            if (tb < a || ta >= b) continue;
+            u0 = fmax(ta, a) - m->T0[i] + m->origin[i];
+            u1 = fmin(tb, b) - m->T0[i] + m->origin[i];
+            if (!(u1 < INFINITY)) u1 = tb - m->T0[i] + m->origin[i];
+            if (!accel_box(m->piece[i], u0 - 1e-12 * (1.0 + fabs(u0)), u1 + 1e-12 * (1.0 + fabs(u1)), lo, hi))
+                return 0;
+        }
+        return 1;
+    }
+    default:
+        return 0;
+    }
+}
+
+int motion_accel_box(const exdex_motion *m, double ta, double tb, double lo[3], double hi[3])
+{
+    if (!m || !(ta <= tb)) return 0;
+    for (int c = 0; c < 3; c++) {
+        lo[c] = INFINITY;
+        hi[c] = -INFINITY;
+    }
+    return accel_box(m, ta, tb, lo, hi);
 }

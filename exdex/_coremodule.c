@@ -706,7 +706,7 @@ static PyObject *run_model(PyObject *module, const exdex_model *model, double t_
         exdex_certificate c;
         int cs;
         Py_BEGIN_ALLOW_THREADS
-        cs = exdex_certify(model, &tr_cert, &c);
+        cs = certify == 2 ? exdex_certify_samples(model, &tr_cert, &c) : exdex_certify(model, &tr_cert, &c);
         Py_END_ALLOW_THREADS
         if (cs) {
             raise_status(module, cs, "certify", NULL);
@@ -821,20 +821,21 @@ static PyObject *Model_new_disallowed(PyTypeObject *type, PyObject *args, PyObje
 }
 
 PyDoc_STRVAR(Model_simulate_doc,
-"simulate(t_end, dt) -> dict\n\n"
+"simulate(t_end, dt, certify=True, every_sample=False) -> dict\n\n"
 "Run the compiled scene from t = 0 to t_end (GIL released); the same dict as\n"
-"_core.simulate(spec, t_end, dt).");
+"_core.simulate(spec, t_end, dt). every_sample=True certifies with every\n"
+"sample evaluated (exdex_certify_samples: the reference of the proofs).");
 
 static PyObject *Model_simulate(PyObject *self, PyObject *args, PyObject *kwds)
 {
-    static char *kwlist[] = {"t_end", "dt", "certify", NULL};
+    static char *kwlist[] = {"t_end", "dt", "certify", "every_sample", NULL};
     double t_end, dt;
     size_t n;
-    int certify = 1;
+    int certify = 1, every = 0;
     ModelObject *mo = (ModelObject *)self;
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "dd|p", kwlist, &t_end, &dt, &certify)) return NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "dd|pp", kwlist, &t_end, &dt, &certify, &every)) return NULL;
     if (check_times(t_end, dt, &n)) return NULL;
-    return run_model(mo->module, mo->model, t_end, dt, n, certify);
+    return run_model(mo->module, mo->model, t_end, dt, n, certify ? (every ? 2 : 1) : 0);
 }
 
 PyDoc_STRVAR(Model_final_doc,

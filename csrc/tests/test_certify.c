@@ -8,6 +8,7 @@
 #include "check.h"
 #include "sim_run.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -167,4 +168,97 @@ EXDEX_TEST(certify_proofs_grip_schedule)
         }
     }
     ENSURE(n_held >= 5 && n_failed >= 5);
+}
+
+/* Shakes, logs and chains, on random scenes around the held box's
+ * thresholds: the block proofs (translating gripper) and the bound of a
+ * shake turning about the plate normal, against every sample's check. */
+static unsigned long lcg = 12345;
+static double urand(double lo, double hi)
+{
+    lcg = lcg * 6364136223846793005UL + 1442695040888963407UL;
+    return lo + (hi - lo) * (double)(lcg >> 11) / 9007199254740992.0;
+}
+
+EXDEX_TEST(certify_proofs_shakes_logs_chains)
+{
+    static double times[12], poses[12 * 7];
+    static const double gt[4] = {0.0, 0.3, 0.6, 1.0}, gf[4] = {1.0, 0.4, 0.7, 1.1};
+    exdex_motion_def pc[3];
+    n_held = n_failed = 0;
+    for (int s = 0; s < 40; s++) {
+        int kind = s % 4, k = (int[]){0, 1, 3, 4}[(s / 4) % 4];   /* no analytic: these motions are not piecewise constant */
+        double ratio = urand(1.2, 5.0), offset = urand(0.0, 0.9) * 0.0076520 * sqrt(ratio * ratio - 1.0), amp = urand(-0.004, 0.004), f = urand(2.0, 6.0);
+        double dt = methods[k] == EXDEX_METHOD_REGULARISED ? 4e-3 : 1e-3;
+        exdex_scene_def d = box(ratio, offset, methods[k]);
+        d.motion.axis[0] = urand(-1, 1);
+        d.motion.axis[1] = urand(-1, 1);
+        d.motion.axis[2] = urand(-1, 1);
+        if (kind == 0 || kind == 1) {
+            /* a shake translating, or turning about the plate normal (A -y) */
+            d.motion.kind = EXDEX_MOTION_SHAKE;
+            d.motion.amplitude = kind ? 40.0 * amp : amp;
+            d.motion.frequency = f;
+            d.motion.duration = 0.5 * floor(urand(1.0, 6.0)) / f;   /* whole or half cycles: no jump */
+            d.motion.allow_jump = 0;
+            if (kind == 1) {
+                /* near the turning threshold at rest: the turn's inertial moment decides */
+                d.patch_center[0] = urand(0.8, 0.99) * 0.0076520 * sqrt(ratio * ratio - 1.0);
+                d.motion.rotation = 1;
+                d.motion.axis[0] = d.motion.axis[2] = 0.0;
+                d.motion.axis[1] = -1.0;
+                d.motion.center[0] = urand(-0.08, 0.08);
+            }
+        } else if (kind == 2) {
+            /* a log of a constant orientation, uneven sample times */
+            double t = 0.0;
+            for (int i = 0; i < 12; i++) {
+                times[i] = t;
+                t += urand(0.03, 0.1);
+                for (int c = 0; c < 3; c++) poses[7 * i + c] = i == 0 ? 0.0 : poses[7 * (i - 1) + c] + urand(-0.003, 0.003);
+                poses[7 * i + 3] = 1.0;
+                poses[7 * i + 4] = poses[7 * i + 5] = poses[7 * i + 6] = 0.0;
+            }
+            d.motion.kind = EXDEX_MOTION_SAMPLED;
+            d.motion.n_samples = 12;
+            d.motion.times = times;
+            d.motion.poses = poses;
+            d.motion.relative = 1;
+        } else {
+            /* a chain: a whole-cycle shake, a pause, Eq. 7 */
+            exdex_motion_def c0 = d.motion;
+            memset(pc, 0, sizeof pc);
+            pc[0].kind = EXDEX_MOTION_SHAKE;
+            memcpy(pc[0].axis, c0.axis, sizeof c0.axis);
+            pc[0].amplitude = amp;
+            pc[0].frequency = f;
+            pc[0].duration = 2.0 / f;
+            pc[1].kind = EXDEX_MOTION_REST;
+            pc[1].axis[0] = 1.0;
+            pc[1].duration = 0.1;
+            pc[2].kind = EXDEX_MOTION_ASYMMETRIC;
+            memcpy(pc[2].axis, c0.axis, sizeof c0.axis);
+            pc[2].amplitude = 10.0 * amp;
+            pc[2].duration = 0.2;
+            pc[2].beta = 0.6;
+            memset(&d.motion, 0, sizeof d.motion);
+            d.motion.kind = EXDEX_MOTION_CHAIN;
+            d.motion.axis[0] = 1.0;
+            d.motion.n_pieces = 3;
+            d.motion.pieces = pc;
+        }
+        if (s % 5 == 4) {
+            d.grip_n = 4;
+            d.grip_times = gt;
+            d.grip_forces = gf;
+            d.grip_kind = EXDEX_GRIP_LINEAR;
+        }
+        {
+            int h = n_held;
+            same_certificate(&d, 0.9, dt);
+            if (getenv("CERT_DEBUG")) fprintf(stderr, "scene %d kind %d method %d holds %d\n", s, kind, k, n_held > h);
+        }
+    }
+    /* the offset keeps the box held at rest: a failure is the motion's */
+    ENSURE(n_held >= 8 && n_failed >= 8);
 }
