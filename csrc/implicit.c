@@ -1370,6 +1370,7 @@ static int implicit_substep(const exdex_model *m, work *w, const model_sub *sub,
             double capt = slipping ? capm : capsm;
             for (int i = 0; i < 3; i++) vs[i] = v[i] + h * m->minv[i] * F[i];
             build_rows_or_none(m, &kin_end, q, vs, h, w);
+            size_t warn0 = st->warnings;
             status = step_planar(m, h, capm, capt, qm[2], vs, w, vn, pfB, &fr, st);
             if (status) {
                 st->fail_time = t;
@@ -1377,9 +1378,15 @@ static int implicit_substep(const exdex_model *m, work *w, const model_sub *sub,
             }
             if (m->stop_friction) {
                 int rest = fr.stick;
+                size_t warn1 = st->warnings;
                 if (stop_friction_step(m, &kin_end, q, qm[2], h * capm, h * capt, vs, v, w, vn, pfB, &rest, st)) {
                     model_patch_of_gen(m, MODEL_CS(qm[2]), pfB, fr.p);
                     fr.stick = rest;
+                    /* the frictional solve replaced the frictionless one: the
+                     * latter's soft problems are not the step's (with the exact
+                     * surface its Newton runs to its cap at a rest against a
+                     * stop, where D is not differentiable at the optimum) */
+                    if (m->ls_exact) st->warnings = warn0 + (st->warnings - warn1);
                 }
             }
             /* the in-step refinements below integrate the ellipsoid's slip
