@@ -330,6 +330,46 @@ def test_auto_against_planar_on_zoo_scenes():
     assert checked >= 20 and switched >= 2
 
 
+def test_auto_against_planar_on_zoo_scenes_with_obstacles():
+    # The 1-DoF zoo scenes with an obstacle added (zoo.obstacle: a box, a rod
+    # or a wedge 0..L/3 from the outline, frictionless or mu 0.5), run as
+    # dof="auto" and as planar from t = 0 (event method, rtol 1e-10): the
+    # final poses agree to the tolerance of the test above. The certificate
+    # counts the obstacles' normal and friction forces as carrying load; a
+    # 1-DoF candidate that raises SolverError against an obstacle is not
+    # used (Result.models says so).
+    import zoo
+
+    checked = reduced = switched = 0
+    for seed in range(60):
+        zs = zoo.zoo_scene(seed)
+        sc = zs.scene
+        if sc.dof == "planar":
+            continue
+        rng = np.random.default_rng(1000 + seed)
+        ob, _ = zoo.obstacle(rng, zs, float(rng.choice([0.0, 0.5])))
+        sc = exdex.replace(sc, obstacles=(ob,))
+        dt = zs.t_end / 200
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            try:
+                p = exdex.simulate(exdex.replace(sc, dof="planar"), zs.t_end, dt, method="event", rtol=1e-10,
+                                   atol=1e-12)
+            except exdex.SolverError:
+                continue
+            a = exdex.simulate(exdex.replace(sc, dof="auto"), zs.t_end, dt, method="event", rtol=1e-10, atol=1e-12)
+        qa = a.q if a.q.shape[1] == 3 else exdex.diagnostics.poses(a.scene, a.q)
+        assert a.t[-1] == pytest.approx(p.t[-1], rel=1e-12)
+        assert np.all(np.abs(qa[-1, :2] - p.q[-1, :2]) <= 1e-6 * zs.L), (seed, a.models)
+        assert abs(qa[-1, 2] - p.q[-1, 2]) <= 1e-6, (seed, a.models)
+        if a.models[0][0] == "planar":
+            assert np.array_equal(a.q, p.q), seed
+        checked += 1
+        reduced += a.models[0][0] != "planar"
+        switched += len(a.models) == 2
+    assert checked >= 25 and reduced >= 8 and switched >= 3
+
+
 def test_auto_is_refused_where_a_dof_is_needed():
     sc = box_scene(dof="auto")
     with pytest.raises(ValueError, match="dof='auto'"):
