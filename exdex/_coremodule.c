@@ -1136,6 +1136,18 @@ static PyObject *Stepper_stats(PyObject *self, PyObject *noargs)
     return stats_dict(&st);
 }
 
+PyDoc_STRVAR(Stepper_certificate_doc, "certificate() -> dict or None\n\n"
+"The certificate of a 1-DoF stepper's steps so far (simulate's dict; None for a planar one).");
+
+static PyObject *Stepper_certificate(PyObject *self, PyObject *noargs)
+{
+    exdex_certificate c;
+    (void)noargs;
+    exdex_stepper_certificate(((StepperObject *)self)->s, &c);
+    if (!c.reduced) Py_RETURN_NONE;
+    return cert_dict(&c);
+}
+
 PyDoc_STRVAR(Stepper_save_doc, "save() -> bytes\n\nA snapshot of the whole state (restore() takes it back).");
 
 static PyObject *Stepper_save(PyObject *self, PyObject *noargs)
@@ -1180,6 +1192,7 @@ static PyMethodDef Stepper_methods[] = {
     {"step", (PyCFunction)(void (*)(void))Stepper_step, METH_VARARGS | METH_KEYWORDS, Stepper_step_doc},
     {"state", Stepper_state, METH_NOARGS, Stepper_state_doc},
     {"stats", Stepper_stats, METH_NOARGS, Stepper_stats_doc},
+    {"certificate", Stepper_certificate, METH_NOARGS, Stepper_certificate_doc},
     {"save", Stepper_save, METH_NOARGS, Stepper_save_doc},
     {"restore", Stepper_restore, METH_O, Stepper_restore_doc},
     {NULL, NULL, 0, NULL}};
