@@ -1148,6 +1148,16 @@ static PyObject *Stepper_certificate(PyObject *self, PyObject *noargs)
     return cert_dict(&c);
 }
 
+PyDoc_STRVAR(Stepper_holds_doc, "holds() -> bool\n\nFalse once a 1-DoF stepper's certificate has failed.");
+
+static PyObject *Stepper_holds(PyObject *self, PyObject *noargs)
+{
+    exdex_certificate c;
+    (void)noargs;
+    exdex_stepper_certificate(((StepperObject *)self)->s, &c);
+    return PyBool_FromLong(!c.reduced || c.holds);
+}
+
 PyDoc_STRVAR(Stepper_save_doc, "save() -> bytes\n\nA snapshot of the whole state (restore() takes it back).");
 
 static PyObject *Stepper_save(PyObject *self, PyObject *noargs)
@@ -1193,6 +1203,7 @@ static PyMethodDef Stepper_methods[] = {
     {"state", Stepper_state, METH_NOARGS, Stepper_state_doc},
     {"stats", Stepper_stats, METH_NOARGS, Stepper_stats_doc},
     {"certificate", Stepper_certificate, METH_NOARGS, Stepper_certificate_doc},
+    {"holds", Stepper_holds, METH_NOARGS, Stepper_holds_doc},
     {"save", Stepper_save, METH_NOARGS, Stepper_save_doc},
     {"restore", Stepper_restore, METH_O, Stepper_restore_doc},
     {NULL, NULL, 0, NULL}};

@@ -252,11 +252,9 @@ class Stepper:
             tl = self._s.stats().get("grasp_lost_t")
             if tl is not None:
                 diagnostics.issue(diagnostics.stats_findings({"grasp_lost_t": tl}))
-        if not self._warned:
-            cert = self._s.certificate()
-            if cert is not None and not cert["holds"]:
-                self._warned = True
-                diagnostics.issue(diagnostics.reduction_findings(self.model.scene, cert))
+        if not self._warned and not self._s.holds():
+            self._warned = True
+            diagnostics.issue(diagnostics.reduction_findings(self.model.scene, self._s.certificate()))
         if gripper is not None:
             self._posed = True
         elif self.model._jumps:
