@@ -726,19 +726,27 @@ class Model:
         diagnostics.issue(diagnostics.findings(res))
         return res
 
-    def final(self, t_end: float, dt: float = 1e-3) -> Tuple[Tuple[float, ...], Tuple[float, ...], bool]:
+    def final(self, t_end: float, dt: float = 1e-3,
+              certify: bool = False) -> Tuple[Tuple[float, ...], Tuple[float, ...], bool]:
         """Run like :meth:`simulate` and return only the last sample:
         ``(q, v, stick)`` with q, v tuples of ``ndof`` floats.
 
-        Not certified: a translation or rotation run's certificate checks
-        every sample of the trajectory (:attr:`Result.certificate`), and this
-        run keeps none of them. Where the reduction matters, take
-        :meth:`simulate` (its last sample is this one, bit for bit) and read
-        :attr:`Result.reduction_valid_until`."""
+        certify : False (the default: the speed path that benchmarks, fits
+            and plans time and call many times) returns the last sample
+            unchecked. True checks a translation or rotation run's reduction
+            along its samples first, as :meth:`simulate` does (its
+            certificate), and warns where it fails
+            (:class:`exdex.ReductionWarning`); the sample returned is the
+            same."""
         dt, t_end = _check_times(t_end, dt)
-        out = self._model.final(t_end, dt)
+        if not certify:
+            out = self._model.final(t_end, dt)
+            _warn_jumps(self.scene, self._jumps, t_end)
+            return out
+        q, v, stick, cert = self._model.final(t_end, dt, certify=True)
         _warn_jumps(self.scene, self._jumps, t_end)
-        return out
+        diagnostics.issue(diagnostics.reduction_findings(self.scene, cert))
+        return q, v, stick
 
     def stepper(self) -> "Stepper":
         """A new :class:`exdex.Stepper` of this model at its initial state

@@ -684,3 +684,23 @@ def test_stepper_snapshot_keeps_the_certificate():
         for _ in range(300):
             st.step(1e-3)
     assert st.certificate == failed
+
+
+@pytest.mark.parametrize("method", ["implicit", "event", "analytic"])
+@pytest.mark.parametrize("side", [0.99, 1.01])
+def test_model_final_certifies_on_request(method, side):
+    # Model.final(certify=True): the last sample of simulate, bit for bit,
+    # and simulate's verdict (its warning) on both sides of the offset threshold
+    m = exdex.Model(box_scene(offset=offset_threshold(3.0) * side), method=method)
+    with warnings.catch_warnings(record=True) as rec:
+        warnings.simplefilter("always")
+        q, v, stick = m.final(0.3, 1e-3, certify=True)
+        res = m.simulate(0.3, 1e-3)
+    red = [w.message for w in rec if isinstance(w.message, exdex.ReductionWarning)]
+    assert q == tuple(res.q[-1]) and v == tuple(res.v[-1]) and stick == bool(res.stick[-1])
+    assert len(red) == (0 if side < 1 else 2)
+    if red:
+        assert (red[0].time, red[0].margin) == (red[1].time, red[1].margin)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert m.final(0.3, 1e-3) == (q, v, stick)     # unchecked by default
