@@ -1102,3 +1102,47 @@ int exdex_certify_samples(const exdex_model *m, const exdex_trajectory *out, exd
 {
     return certify(m, out, c, 0);
 }
+
+int exdex_certify_last(const exdex_model *m, const exdex_trajectory *out, size_t n_before, exdex_certificate *c)
+{
+    size_t n, i, g;
+    int st, failed;
+    scan sc;
+    if (!m || !out || !c || !out->t || !out->q || !out->v || !out->stick || out->n == 0 || out->n > 3)
+        return EXDEX_EINVAL;
+    n = out->n;
+    i = n - 1;
+    g = n_before + i;
+    if (g >= 2 && n < 3) return EXDEX_EINVAL;
+    if (g == 1 && n != 2) return EXDEX_EINVAL;
+    memset(c, 0, sizeof *c);
+    c->valid_until = out->t[i];
+    c->first_bad = g + 1;
+    c->holds = 1;
+    c->coordinate = -1;
+    if (m->ndof != 1) return EXDEX_OK;
+    c->reduced = 1;
+    if (g == 0) return EXDEX_OK;   /* the initial sample: decided with the next one (certify) */
+    memset(&sc, 0, sizeof sc);
+    sc.m = m;
+    sc.out = out;
+    sc.pt_lo = sc.pt_hi = -INFINITY;
+    if (g == 1 && !(out->v[0] == 0.0 && !(out->stick[1] || at_rest(m, out->t[1] - out->t[0], out->t[1], out->q[1], out->v[1])))) {
+        cert_eval cp;
+        st = cert_at(m, out->t[0], out->q[0], out->v[0], out->stick[0], &cp);
+        if (st) return st;
+        if (cp.excess > 0.0) {
+            fill(m, c, &cp, out->t[0], 0);
+            return EXDEX_OK;
+        }
+    }
+    st = check_sample(&sc, i, c, &failed);
+    if (st) return st;
+    if (failed) c->first_bad = g;
+    else {
+        c->holds = 1;
+        c->valid_until = out->t[i];
+        c->first_bad = g + 1;
+    }
+    return EXDEX_OK;
+}

@@ -751,6 +751,16 @@ int exdex_certify(const exdex_model *m, const exdex_trajectory *out, exdex_certi
  * hold there for every state the run visits (certify.c); this is the
  * reference the C suite checks it against, the same result. */
 int exdex_certify_samples(const exdex_model *m, const exdex_trajectory *out, exdex_certificate *c);
+/* The check of a run's newest sample, for a run advanced a sample at a time
+ * (the stepper): out holds the run's last out->n samples (3, or all of them
+ * while the run has fewer), n_before the run's samples before out->t[0].
+ * Checks the newest one (and, when it is the run's sample 1, sample 0 first)
+ * as exdex_certify_samples does within the whole run: c->holds = 1 if it
+ * holds (valid_until its time, first_bad its index + 1), else c as
+ * exdex_certify's at that failure (first_bad the run's index). The run's
+ * sample 0 alone holds (it is decided with sample 1). EXDEX_EINVAL for NULL
+ * arguments or a window that is not the run's last samples. */
+int exdex_certify_last(const exdex_model *m, const exdex_trajectory *out, size_t n_before, exdex_certificate *c);
 /* ---------------------------------------------------------------- stepper
  * stepper.c -- a run advanced one step at a time, for feedback control: the
  * caller chooses each step's length and grip force from the state it reads.
@@ -845,6 +855,11 @@ int exdex_stepper_step_gripper(exdex_stepper *s, double dt, double grip_force, c
 /* The state after the last step (or the initial state); stats (may be
  * NULL) as exdex_simulate's over the steps taken. */
 int exdex_stepper_get(const exdex_stepper *s, exdex_stepper_sample *out, exdex_stats *stats);
+/* The certificate of a translation or rotation stepper's steps so far
+ * (exdex_certify_last after each step, with that step's grip force and
+ * gripper motion): as exdex_certify's over the same samples, fixed at the
+ * first failure; reduced = 0 for a planar one. */
+int exdex_stepper_certificate(const exdex_stepper *s, exdex_certificate *c);
 
 /* Bytes of a snapshot of this stepper's state. */
 size_t exdex_stepper_state_size(const exdex_stepper *s);

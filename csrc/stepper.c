@@ -60,7 +60,13 @@ typedef struct stepper_core {
      * step must), gk the gripper's pose and twist at t then */
     int posed;
     exdex_kinematics gk;
+    /* the certificate of a 1-DoF run (exdex_certify_last): the last three
+     * samples' t, q, v, stick (sample i in slot i % 3) and the verdict */
+    double cw_t[3], cw_q[3], cw_v[3];
+    unsigned char cw_stick[3];
+    exdex_certificate cert;
 } stepper_core;
+
 
 struct exdex_stepper {
     stepper_core c;
@@ -98,6 +104,36 @@ static int set_grip(exdex_stepper *s, double F)
         s->mc.def.grip_force = F;
     }
     return s->mc.capF != cap0 || s->mc.capS != caps0 || s->mc.grip_n != n0;
+}
+
+/* After sample k = last.steps: the check of the newest sample, until one fails. */
+static int certify_step(exdex_stepper *s)
+{
+    stepper_core *c = &s->c;
+    size_t k = c->last.steps, n = k + 1 < 3 ? k + 1 : 3, j0 = k + 1 - n;
+    double t[3], q[3], v[3];
+    unsigned char st[3];
+    exdex_trajectory tr;
+    int status;
+    c->cw_t[k % 3] = c->last.t;
+    c->cw_q[k % 3] = c->last.q[0];
+    c->cw_v[k % 3] = c->last.v[0];
+    c->cw_stick[k % 3] = (unsigned char)c->last.stick;
+    if (k > 0 && (c->ndof != 1 || !c->cert.holds)) return EXDEX_OK;
+    for (size_t j = 0; j < n; j++) {
+        t[j] = c->cw_t[(j0 + j) % 3];
+        q[j] = c->cw_q[(j0 + j) % 3];
+        v[j] = c->cw_v[(j0 + j) % 3];
+        st[j] = c->cw_stick[(j0 + j) % 3];
+    }
+    memset(&tr, 0, sizeof tr);
+    tr.n = n;
+    tr.t = t;
+    tr.q = q;
+    tr.v = v;
+    tr.stick = st;
+    status = exdex_certify_last(&s->mc, &tr, j0, &c->cert);
+    return status;
 }
 
 static void initial_sample(exdex_stepper *s)
@@ -153,6 +189,7 @@ exdex_stepper *exdex_stepper_alloc(const exdex_model *m, int *status)
     s->c.imp_n = 1;   /* sample 0: t = 0, no impulse */
     for (int k = 0; k < N_SRC; k++) s->c.imp_next[k] = 1;
     initial_sample(s);
+    certify_step(s);
     s->out.n = 1;
     s->out.t = &s->t1;
     s->out.q = s->q;
@@ -281,6 +318,8 @@ int exdex_stepper_step_gripper(exdex_stepper *s, double dt, double grip_force, c
         c->posed = 1;
         c->gk = k1;
     }
+    status = certify_step(s);
+    if (status) goto failed;
     return EXDEX_OK;
 failed:
     c->failed = 1;
@@ -289,6 +328,13 @@ failed:
     /* as exdex_simulate: an invalid argument inside a method means the state
      * left the finite range */
     return status == EXDEX_EINVAL ? EXDEX_ENONFINITE : status;
+}
+
+int exdex_stepper_certificate(const exdex_stepper *s, exdex_certificate *c)
+{
+    if (!s || !c) return EXDEX_EINVAL;
+    *c = s->c.cert;
+    return EXDEX_OK;
 }
 
 int exdex_stepper_get(const exdex_stepper *s, exdex_stepper_sample *out, exdex_stats *stats)

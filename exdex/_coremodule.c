@@ -839,17 +839,19 @@ static PyObject *Model_simulate(PyObject *self, PyObject *args, PyObject *kwds)
 }
 
 PyDoc_STRVAR(Model_final_doc,
-"final(t_end, dt) -> (q, v, stick)\n\n"
+"final(t_end, dt, certify=False) -> (q, v, stick) or (q, v, stick, certificate)\n\n"
 "Run the compiled scene like simulate() but keep only the last sample:\n"
 "q and v as tuples of floats (ndof entries) and stick as a bool. The\n"
-"trajectory goes to a scratch buffer that is freed before returning.");
+"trajectory goes to a scratch buffer that is freed before returning;\n"
+"certify=True checks it first (simulate's certificate dict, None for a planar run).");
 
 static PyObject *Model_final(PyObject *self, PyObject *args, PyObject *kwds)
 {
-    static char *kwlist[] = {"t_end", "dt", NULL};
+    static char *kwlist[] = {"t_end", "dt", "certify", NULL};
     double t_end, dt;
     ModelObject *mo = (ModelObject *)self;
-    int ndof = exdex_model_ndof(mo->model), nstops = exdex_model_nstops(mo->model), i;
+    int ndof = exdex_model_ndof(mo->model), nstops = exdex_model_nstops(mo->model), i, certify = 0;
+    PyObject *cert = NULL;
     size_t n, per;
     double *buf;
     unsigned char *stick;
@@ -857,7 +859,7 @@ static PyObject *Model_final(PyObject *self, PyObject *args, PyObject *kwds)
     exdex_stats st;
     PyObject *q = NULL, *v = NULL, *res = NULL;
 
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "dd", kwlist, &t_end, &dt)) return NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "dd|p", kwlist, &t_end, &dt, &certify)) return NULL;
     if (check_times(t_end, dt, &n)) return NULL;
     per = 1 + 2 * (size_t)ndof + 3 + (size_t)nstops;
     if (n > ((size_t)-1) / (per * sizeof(double) + 1)) return PyErr_NoMemory();
@@ -876,6 +878,22 @@ static PyObject *Model_final(PyObject *self, PyObject *args, PyObject *kwds)
     tr.stop_force = nstops ? tr.wrench + 3 * n : NULL;
     tr.stick = stick;
     if (simulate_released(mo->module, mo->model, t_end, dt, &tr, &st)) goto done;
+    if (certify) {
+        /* as run_model: pads certify the samples up to the one where the grasp was lost */
+        exdex_trajectory tr_cert = tr;
+        exdex_certificate c;
+        int cs;
+        if (st.lost_sample) tr_cert.n = st.lost_sample + 1;
+        Py_BEGIN_ALLOW_THREADS
+        cs = exdex_certify(mo->model, &tr_cert, &c);
+        Py_END_ALLOW_THREADS
+        if (cs) {
+            raise_status(mo->module, cs, "certify", NULL);
+            goto done;
+        }
+        cert = cert_dict(&c);
+        if (!cert) goto done;
+    }
     q = PyTuple_New(ndof);
     v = PyTuple_New(ndof);
     if (!q || !v) goto done;
@@ -890,8 +908,10 @@ static PyObject *Model_final(PyObject *self, PyObject *args, PyObject *kwds)
         PyTuple_SET_ITEM(q, i, a);
         PyTuple_SET_ITEM(v, i, b);
     }
-    res = Py_BuildValue("(OON)", q, v, PyBool_FromLong(stick[n - 1]));
+    res = certify ? Py_BuildValue("(OONO)", q, v, PyBool_FromLong(stick[n - 1]), cert)
+                  : Py_BuildValue("(OON)", q, v, PyBool_FromLong(stick[n - 1]));
 done:
+    Py_XDECREF(cert);
     Py_XDECREF(q);
     Py_XDECREF(v);
     PyMem_RawFree(buf);
@@ -1147,6 +1167,28 @@ static PyObject *Stepper_stats(PyObject *self, PyObject *noargs)
     return stats_dict(&st);
 }
 
+PyDoc_STRVAR(Stepper_certificate_doc, "certificate() -> dict or None\n\n"
+"The certificate of a 1-DoF stepper's steps so far (simulate's dict; None for a planar one).");
+
+static PyObject *Stepper_certificate(PyObject *self, PyObject *noargs)
+{
+    exdex_certificate c;
+    (void)noargs;
+    exdex_stepper_certificate(((StepperObject *)self)->s, &c);
+    if (!c.reduced) Py_RETURN_NONE;
+    return cert_dict(&c);
+}
+
+PyDoc_STRVAR(Stepper_holds_doc, "holds() -> bool\n\nFalse once a 1-DoF stepper's certificate has failed.");
+
+static PyObject *Stepper_holds(PyObject *self, PyObject *noargs)
+{
+    exdex_certificate c;
+    (void)noargs;
+    exdex_stepper_certificate(((StepperObject *)self)->s, &c);
+    return PyBool_FromLong(!c.reduced || c.holds);
+}
+
 PyDoc_STRVAR(Stepper_save_doc, "save() -> bytes\n\nA snapshot of the whole state (restore() takes it back).");
 
 static PyObject *Stepper_save(PyObject *self, PyObject *noargs)
@@ -1191,6 +1233,8 @@ static PyMethodDef Stepper_methods[] = {
     {"step", (PyCFunction)(void (*)(void))Stepper_step, METH_VARARGS | METH_KEYWORDS, Stepper_step_doc},
     {"state", Stepper_state, METH_NOARGS, Stepper_state_doc},
     {"stats", Stepper_stats, METH_NOARGS, Stepper_stats_doc},
+    {"certificate", Stepper_certificate, METH_NOARGS, Stepper_certificate_doc},
+    {"holds", Stepper_holds, METH_NOARGS, Stepper_holds_doc},
     {"save", Stepper_save, METH_NOARGS, Stepper_save_doc},
     {"restore", Stepper_restore, METH_O, Stepper_restore_doc},
     {NULL, NULL, 0, NULL}};

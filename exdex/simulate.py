@@ -379,7 +379,10 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
         schedule played on from there); :attr:`Result.models` says which ran
         when and why. A reduction that fails at once runs planar from t = 0
         (the same run as ``dof="planar"``); one that holds gives the 1-DoF
-        run itself, bit for bit.
+        run itself, bit for bit. Stops and obstacles carry load in the
+        certificate (their normal forces and friction); a 1-DoF model that
+        cannot run against the scene's obstacles (a SolverError) is passed
+        over.
     t_end : float
         End time [s], >= dt.
     dt : float
@@ -538,29 +541,35 @@ def _simulate_auto(scene, t_end, dt, method, friction_solver, eps, rtol, atol):
     order = ("rotation", "translation") if getattr(scene.motion, "rotation", False) else ("translation", "rotation")
     best = None     # (valid_until, dof, method, result)
     why_not = []
-    if not scene.obstacles:
-        for dof in order:
-            sc = replace(scene, dof=dof)
-            m = resolve_method(sc, method)
-            if m == "analytic" and _core.analytic_unsupported(sc.to_spec()) is not None:
-                m = "event"
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                try:
-                    res = simulate(sc, t_end, dt, method=m, **opts)
-                except ValueError as exc:   # e.g. stops the 1-DoF model cannot give way to
-                    why_not.append(f"the {dof} model does not apply ({exc})")
-                    continue
-            c = res.certificate
-            if c["holds"]:
-                best = (t_end, dof, m, res)
-                break
-            why_not.append(f"the {dof} model fails its certificate at t = {c['valid_until']:.6g} s "
-                           f"(gauge {c['gauge']:.4g}, {'stuck' if c['stick'] else 'slipping'})")
-            if best is None or c["valid_until"] > best[0]:
-                best = (float(c["valid_until"]), dof, m, res)
-    else:
-        why_not.append("obstacles: 'auto' runs scenes with obstacles planar")
+    for dof in order:
+        sc = replace(scene, dof=dof)
+        m = resolve_method(sc, method)
+        if m == "analytic" and _core.analytic_unsupported(sc.to_spec()) is not None:
+            m = "event"
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            try:
+                res = simulate(sc, t_end, dt, method=m, **opts)
+            except ValueError as exc:   # e.g. stops the 1-DoF model cannot give way to
+                why_not.append(f"the {dof} model does not apply ({exc})")
+                continue
+            except SolverError as exc:
+                # a 1-DoF run that fails against the obstacles (e.g. the
+                # rotation model's state leaving the finite range where an
+                # obstacle presses on the pinned object): the planar model
+                # decides
+                if not scene.obstacles:
+                    raise
+                why_not.append(f"the {dof} model does not apply against the obstacles ({exc.args[0]})")
+                continue
+        c = res.certificate
+        if c["holds"]:
+            best = (t_end, dof, m, res)
+            break
+        why_not.append(f"the {dof} model fails its certificate at t = {c['valid_until']:.6g} s "
+                       f"(gauge {c['gauge']:.4g}, {'stuck' if c['stick'] else 'slipping'})")
+        if best is None or c["valid_until"] > best[0]:
+            best = (float(c["valid_until"]), dof, m, res)
     pm = method if method in _PLANAR_METHODS else "event"
     if best is not None and best[3].certificate["holds"]:
         _, dof, m, res = best

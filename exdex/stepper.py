@@ -87,19 +87,27 @@ class Model:
         diagnostics.issue(diagnostics.findings(res))
         return res
 
-    def final(self, t_end: float, dt: float = 1e-3) -> Tuple[Tuple[float, ...], Tuple[float, ...], bool]:
+    def final(self, t_end: float, dt: float = 1e-3,
+              certify: bool = False) -> Tuple[Tuple[float, ...], Tuple[float, ...], bool]:
         """Run like :meth:`simulate` and return only the last sample:
         ``(q, v, stick)`` with q, v tuples of ``ndof`` floats.
 
-        Not certified: a translation or rotation run's certificate checks
-        every sample of the trajectory (:attr:`Result.certificate`), and this
-        run keeps none of them. Where the reduction matters, take
-        :meth:`simulate` (its last sample is this one, bit for bit) and read
-        :attr:`Result.reduction_valid_until`."""
+        certify : False (the default: the speed path that benchmarks, fits
+            and plans time and call many times) returns the last sample
+            unchecked. True checks a translation or rotation run's reduction
+            along its samples first, as :meth:`simulate` does (its
+            certificate), and warns where it fails
+            (:class:`exdex.ReductionWarning`); the sample returned is the
+            same."""
         dt, t_end = _check_times(t_end, dt)
-        out = self._model.final(t_end, dt)
+        if not certify:
+            out = self._model.final(t_end, dt)
+            _warn_jumps(self.scene, self._jumps, t_end)
+            return out
+        q, v, stick, cert = self._model.final(t_end, dt, certify=True)
         _warn_jumps(self.scene, self._jumps, t_end)
-        return out
+        diagnostics.issue(diagnostics.reduction_findings(self.scene, cert))
+        return q, v, stick
 
     def stepper(self) -> "Stepper":
         """A new :class:`exdex.Stepper` of this model at its initial state
@@ -226,16 +234,18 @@ class Stepper:
     stepped from two threads at once (a RuntimeError says so), distinct
     steppers may run in parallel.
 
-    Not certified: the certificate of a translation or rotation run
-    (:attr:`exdex.Result.certificate`) reads the scene's grip force and
-    motion, its switching times included, along a whole trajectory; a
-    stepper's steps carry their own grip force and may prescribe the
-    gripper's pose step by step, so the loads and capacities it would check
-    are not the scene's. Check a reduced controller's run by simulating the
-    scene it ends up with (:func:`exdex.simulate`), or step a planar model.
+    Certified: a translation or rotation stepper checks its reduction
+    after every step, as :func:`exdex.simulate` does along its samples, with
+    each step's own grip force and gripper motion (:attr:`certificate`:
+    the dict of :attr:`exdex.Result.certificate`, the same as
+    :func:`exdex.simulate`'s over the same steps; :attr:`reduction_valid_until`).
+    At the first step whose check fails it warns once
+    (:class:`exdex.ReductionWarning`, naming the time, the coordinate, the
+    load and the margin) and stops checking. A stepper given gripper poses
+    is checked against the step's interpolated motion.
     """
 
-    __slots__ = ("model", "_s", "_t", "_posed", "_pads")
+    __slots__ = ("model", "_s", "_t", "_posed", "_pads", "_warned")
 
     def __init__(self, scene: Union[Scene, Model], method: Optional[Method] = None,
                  friction_solver: Optional[FrictionSolver] = None, eps: Optional[float] = None,
@@ -254,6 +264,7 @@ class Stepper:
         self._t = 0.0   # time reached (the last step's end)
         self._posed = False   # a step gave the gripper pose (every later one must)
         self._pads = self.model.scene.grasp.pad is not None   # pads: warn when the grasp is lost
+        self._warned = False   # the certificate's failure was warned
 
     @property
     def scene(self) -> Scene:
@@ -319,6 +330,9 @@ class Stepper:
             tl = self._s.stats().get("grasp_lost_t")
             if tl is not None:
                 diagnostics.issue(diagnostics.stats_findings({"grasp_lost_t": tl}))
+        if not self._warned and not self._s.holds():
+            self._warned = True
+            diagnostics.issue(diagnostics.reduction_findings(self.model.scene, self._s.certificate()))
         if gripper is not None:
             self._posed = True
         elif self.model._jumps:
@@ -337,6 +351,21 @@ class Stepper:
     def t(self) -> float:
         """Time reached [s]."""
         return float(self._s.state()[0])
+
+    @property
+    def certificate(self) -> Optional[Dict[str, Any]]:
+        """The certificate of a translation or rotation stepper's steps so
+        far (the keys of :attr:`exdex.Result.certificate`: ``holds``,
+        ``valid_until`` and, where it failed, ``first_bad`` (the step), ``stick``,
+        ``load``, ``capacity``, ``gauge``, ``coordinate``); None for a planar one."""
+        return self._s.certificate()
+
+    @property
+    def reduction_valid_until(self) -> float:
+        """How long the reduction held [s]: the time reached while it holds,
+        else the last time known to hold (planar steppers: the time reached)."""
+        cert = self._s.certificate()
+        return self.t if cert is None else float(cert["valid_until"])
 
     @property
     def stats(self) -> Dict[str, Any]:
@@ -359,6 +388,8 @@ class Stepper:
         self._s.restore(state._data)
         self._t = self.t
         self._posed = state._posed
+        cert = self._s.certificate()
+        self._warned = cert is not None and not cert["holds"]
 
     def run(self, dt: float, grip_forces: Any) -> Dict[str, NDArray[Any]]:
         """Take ``len(grip_forces)`` steps of ``dt``, step i with grip force

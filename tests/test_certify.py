@@ -332,6 +332,46 @@ def test_auto_against_planar_on_zoo_scenes():
     assert checked >= 20 and switched >= 2
 
 
+def test_auto_against_planar_on_zoo_scenes_with_obstacles():
+    # The 1-DoF zoo scenes with an obstacle added (zoo.obstacle: a box, a rod
+    # or a wedge 0..L/3 from the outline, frictionless or mu 0.5), run as
+    # dof="auto" and as planar from t = 0 (event method, rtol 1e-10): the
+    # final poses agree to the tolerance of the test above. The certificate
+    # counts the obstacles' normal and friction forces as carrying load; a
+    # 1-DoF candidate that raises SolverError against an obstacle is not
+    # used (Result.models says so).
+    import zoo
+
+    checked = reduced = switched = 0
+    for seed in range(60):
+        zs = zoo.zoo_scene(seed)
+        sc = zs.scene
+        if sc.dof == "planar":
+            continue
+        rng = np.random.default_rng(1000 + seed)
+        ob, _ = zoo.obstacle(rng, zs, float(rng.choice([0.0, 0.5])))
+        sc = exdex.replace(sc, obstacles=(ob,))
+        dt = zs.t_end / 200
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            try:
+                p = exdex.simulate(exdex.replace(sc, dof="planar"), zs.t_end, dt, method="event", rtol=1e-10,
+                                   atol=1e-12)
+            except exdex.SolverError:
+                continue
+            a = exdex.simulate(exdex.replace(sc, dof="auto"), zs.t_end, dt, method="event", rtol=1e-10, atol=1e-12)
+        qa = a.q if a.q.shape[1] == 3 else exdex.diagnostics.poses(a.scene, a.q)
+        assert a.t[-1] == pytest.approx(p.t[-1], rel=1e-12)
+        assert np.all(np.abs(qa[-1, :2] - p.q[-1, :2]) <= 1e-6 * zs.L), (seed, a.models)
+        assert abs(qa[-1, 2] - p.q[-1, 2]) <= 1e-6, (seed, a.models)
+        if a.models[0][0] == "planar":
+            assert np.array_equal(a.q, p.q), seed
+        checked += 1
+        reduced += a.models[0][0] != "planar"
+        switched += len(a.models) == 2
+    assert checked >= 25 and reduced >= 8 and switched >= 3
+
+
 def test_auto_is_refused_where_a_dof_is_needed():
     sc = box_scene(dof="auto")
     with pytest.raises(ValueError, match="dof='auto'"):
@@ -574,3 +614,95 @@ def test_block_proofs_give_the_every_sample_certificate():
         verdicts.append("held" if a["holds"] else ("later" if a["valid_until"] > 0.0 else "at once"))
     # failures inside the run (past the samples the proofs skip), not only at t = 0
     assert verdicts.count("held") >= 6 and verdicts.count("later") >= 6
+
+
+def _stepped(scene, method, n, dt, grip=None):
+    st = exdex.Stepper(scene, method=method)
+    with warnings.catch_warnings(record=True) as rec:
+        warnings.simplefilter("always")
+        for _ in range(n):
+            st.step(dt, grip)
+    return st, [w.message for w in rec if isinstance(w.message, exdex.ReductionWarning)]
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_stepper_carries_the_certificate_of_simulate(method):
+    # n steps of dt with the scene's grip are simulate(scene, n dt, dt)'s
+    # samples; the stepper's certificate, checked step by step, is the one
+    # simulate gives them (verdict, failure time, step, load, gauge): on
+    # both sides of the held box's offset threshold (closed form above),
+    # past the shake's threshold (failing half a cycle in), under a falling
+    # grip, and Fig. 6's rotation (its pin force fails at once)
+    w = 2 * math.pi * SHAKE_F
+    d_shake = E_R * math.sqrt((MU * 6.0 / (MASS * (G + abs(SHAKE_A) * w * w))) ** 2 - 1.0) * 1.01
+    scenes = [box_scene(offset=offset_threshold(3.0) * 0.99), box_scene(offset=offset_threshold(3.0) * 1.01),
+              box_scene(offset=0.01, grip=exdex.GripSchedule((0.0, 0.4), (3.0, 0.5)))]
+    if method != "analytic":
+        scenes.append(box_scene(offset=d_shake, motion=exdex.Shake(SHAKE_A, SHAKE_F, cycles=2, axis=(0, 0, 1))))
+    from exdex import paper
+    scenes.append(paper.fig6_scene())
+    verdicts = []
+    for sc in scenes:
+        n, dt = 400, 1e-3
+        res, red = run(sc, method, t_end=n * dt, dt=dt)
+        st, red_st = _stepped(sc, method, n, dt)
+        assert st.certificate == res.certificate
+        assert st.reduction_valid_until == res.reduction_valid_until
+        assert len(red_st) == len(red) <= 1
+        if red:
+            assert (red_st[0].time, red_st[0].margin, red_st[0].coordinate) == (red[0].time, red[0].margin,
+                                                                                 red[0].coordinate)
+        verdicts.append(res.certificate["holds"])
+    assert verdicts[0] and not verdicts[1] and not verdicts[-1] and not all(verdicts)
+
+
+@pytest.mark.parametrize("method", ["implicit", "event"])
+@pytest.mark.parametrize("side", [0.99, 1.01])
+def test_stepper_certifies_its_own_grip(method, side):
+    # steps with grip_force=F are checked with F: the held box of the
+    # 60 mm offset is held from F* = W sqrt(1 + (d / e_r)^2) / (2 mu) on
+    # (closed form above), whatever the scene's own grip
+    F = grip_threshold(0.06) * side
+    st, red = _stepped(box_scene(offset=0.06, grip=1.0), method, 100, 1e-3, grip=F)
+    ref, _ = run(box_scene(offset=0.06, grip=F), method, t_end=0.1, dt=1e-3)
+    assert st.certificate == ref.certificate
+    assert st.certificate["holds"] == (side > 1) and bool(red) == (side < 1)
+
+
+def test_stepper_snapshot_keeps_the_certificate():
+    sc = box_scene(offset=0.01, grip=exdex.GripSchedule((0.0, 0.4), (3.0, 0.5)))
+    st = exdex.Stepper(sc, method="implicit")
+    for _ in range(100):
+        st.step(1e-3)
+    snap = st.save()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for _ in range(300):
+            st.step(1e-3)
+        failed = st.certificate
+        assert not failed["holds"]
+        st.restore(snap)
+        assert st.certificate["holds"] and st.certificate["valid_until"] == pytest.approx(0.1, abs=1e-15)
+        for _ in range(300):
+            st.step(1e-3)
+    assert st.certificate == failed
+
+
+@pytest.mark.parametrize("method", ["implicit", "event", "analytic"])
+@pytest.mark.parametrize("side", [0.99, 1.01])
+def test_model_final_certifies_on_request(method, side):
+    # Model.final(certify=True): the last sample of simulate, bit for bit,
+    # and simulate's verdict (its warning) on both sides of the offset threshold
+    m = exdex.Model(box_scene(offset=offset_threshold(3.0) * side), method=method)
+    with warnings.catch_warnings(record=True) as rec:
+        warnings.simplefilter("always")
+        q, v, stick = m.final(0.3, 1e-3, certify=True)
+        res = m.simulate(0.3, 1e-3)
+    red = [w.message for w in rec if isinstance(w.message, exdex.ReductionWarning)]
+    assert q == tuple(res.q[-1]) and v == tuple(res.v[-1]) and stick == bool(res.stick[-1])
+    assert len(red) == (0 if side < 1 else 2)
+    if red:
+        assert (red[0].time, red[0].margin) == (red[1].time, red[1].margin)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert m.final(0.3, 1e-3) == (q, v, stick)     # unchecked by default

@@ -130,44 +130,7 @@ def _motion(rng, zs, turn=True):
     return exdex.Chain(tuple(pieces)), "chain", rotate
 
 
-def _obstacle(rng, zs, mu):
-    """A box, a rod along the plate normal or a two-face wedge, its face(s)
-    at a gap 0..L/3 from the initial outline, in a random in-plane direction."""
-    sc = zs.scene
-    R0, p0 = np.array(sc.gripper_rotation), np.array(sc.gripper_position)
-    xs = zoo._outline_world(sc.body, sc.q0, R0, p0)
-    a = rng.uniform(0.0, 2.0 * math.pi)
-    nB = np.array([math.cos(a), math.sin(a), 0.0])
-    nA = R0 @ nB                       # the obstacle's face normal, pointing at the object
-    zA = R0[:, 2]
-    gap = 0.0 if rng.random() < 0.2 else float(rng.uniform(0.0, 1.0 / 3.0) * zs.L)
-    low = float(np.min(xs @ nA)) - gap  # the face plane: n . x = low
-    kind = str(rng.choice(["box", "rod", "wedge"]))
-    com = p0 + R0 @ np.array([sc.q0[0], sc.q0[1], 0.0])
-    if kind == "box":
-        size = np.array([float(rng.uniform(0.3, 2.0) * zs.L), float(rng.uniform(0.5, 3.0) * zs.L), 1e3 * zs.L])
-        t = np.cross(zA, nA)
-        rot = np.stack([nA, t, zA], axis=1)
-        off = float(rng.uniform(-0.5, 0.5) * zs.L)
-        c = com + (low - com @ nA - 0.5 * size[0]) * nA + off * t
-        ob = exdex.Obstacle.box(tuple(c), tuple(size), rotation=tuple(map(tuple, rot)), mu=mu)
-    elif kind == "rod":
-        r = float(rng.uniform(0.05, 0.5) * zs.L)
-        reach = float(np.max(np.linalg.norm(xs - com, axis=1)))
-        c = com - (reach + gap + r) * nA
-        ob = exdex.Obstacle.cylinder(tuple(c), tuple(zA), r, mu=mu)
-    else:
-        half = float(rng.uniform(math.radians(20.0), math.radians(60.0)))
-        t = np.cross(zA, nA)
-        normals, offsets = [], []
-        for sgn in (1.0, -1.0):
-            m = math.cos(half) * nA + sgn * math.sin(half) * t
-            normals.append(m)
-            offsets.append(float(np.min(xs @ m)) - gap)
-        # the solid {m_i . x <= d_i}: a convex edge pointing at the object,
-        # every vertex on the allowed side m_i . x >= d_i of both faces
-        ob = exdex.Obstacle.halfspaces(tuple(map(tuple, normals)), tuple(offsets), mu=mu)
-    return ob, kind
+_obstacle = zoo.obstacle
 
 
 @dataclasses.dataclass(frozen=True)
