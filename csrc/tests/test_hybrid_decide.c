@@ -476,3 +476,37 @@ EXDEX_TEST(decide_small_slip_stop_friction_modes_are_a_fixed_point)
     ENSURE_SMALL(res.qdd[2], 1e-12 * res.qdd[0] / 0.02);
     end_event(&b);
 }
+
+/* T7, a separation located twice at one instant: the square of planar_def
+ * sliding at 1 cm/s along a frictionless stop under its lower face, the
+ * weight (-y, capacity 0.1 m g) pressing both lower corners (rows 0 and 3)
+ * onto it. At a first event of row 0's separation guard (same = 0) the
+ * decision's answer stands: both rows push, both stay in the set. At a
+ * repeated one (same = 1) the event's answer stands: row 0 leaves, row 3
+ * stays (the set's order kept). */
+EXDEX_TEST(decide_event_repeated_separation_leaves_the_set)
+{
+    for (int same = 0; same < 2; same++) {
+        exdex_scene_def d = planar_def(0.1);
+        begun b;
+        hyb *H;
+        double y[NY_MAX];
+        d.v0[0] = 0.01;
+        d.n_stops = 1;
+        d.stop_point[0][1] = -0.02;
+        d.stop_normal[0][1] = 1.0;
+        H = begin_event(&d, &b);
+        ENSURE(H != NULL);
+        if (!H) {
+            end_event(&b);
+            continue;
+        }
+        ENSURE(H->mode == MODE_SLIP && H->small == 0 && H->ncs == 2);
+        memcpy(y, b.O->S.y, sizeof y);
+        ENSURE(hyb_decide_event(H, 0.0, y, hg(G_SEPARATES, 0, 0.0, -1e-18), same) == EXDEX_OK);
+        ENSURE(H->mode == MODE_SLIP);
+        if (!same) ENSURE(H->ncs == 2 && ((H->cs[0] == 0 && H->cs[1] == 3) || (H->cs[0] == 3 && H->cs[1] == 0)));
+        if (same) ENSURE(H->ncs == 1 && H->cs[0] == 3);
+        end_event(&b);
+    }
+}
