@@ -312,7 +312,9 @@
  * hybrid_impacts.c (decide only) -> hybrid_laws.c):
  *   hybrid_laws.c     the slip laws, the contact rows, the ODE right-hand side;
  *   hybrid_impacts.c  impacts and velocity jumps;
- *   hybrid_decide.c   the decision at an event (modes, contact set);
+ *   hybrid_decide.c   the decision at an event and at a segment start (hyb_decide_event,
+ *                     hyb_decide: the modes, the contact set, the stop friction; its
+ *                     policy for ties and hysteresis, T1 .. T9) and the row states;
  *   hybrid_events.c   guards and event location;
  *   hybrid.c          the driver (workspace, start, advance, method tables). */
 

@@ -270,7 +270,8 @@ static void sf_decide(hyb *H, double t, double *y)
  *   T1 (stick band) a load sticks iff its gauge (1-DoF |load|, planar
  *      |E^-1 w|, the exact surface's gauge, a stop contact's friction) is
  *      <= C_s (1 + FRICTION_BAND): a load sitting on the limit sticks
- *      (load_holds);
+ *      (load_holds; hyb_planar_load_held, hybrid_laws.c, the same test of
+ *      a planar load at rest);
  *   T2 (small slip) a planar Coulomb slip below zsw is a small slip (its
  *      friction the maximum-dissipation wrench of the current load) unless
  *      the load can be held, then it stops (qd = 0); a small slip stays

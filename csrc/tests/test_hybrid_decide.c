@@ -378,3 +378,86 @@ EXDEX_TEST(decide_row_states_of_a_rest_on_a_stop)
         end_event(&b);
     }
 }
+
+/* T9 in a small slip, on the square of planar_def standing on a frictional
+ * stop along its lower face (y >= -a/2, stop mu 0.5), gravity tilted in
+ * the plate plane by beta from -y (tan beta 0.8 > mu), plate capacity 0.1 m
+ * g: the load along the stop, m g sin beta - 0.1 m g at least (0.525 m g),
+ * exceeds what the stop's friction can take, mu m g cos beta (0.39 m g),
+ * so the object starts to slide along the stop, downhill (+x). The
+ * decision's stop friction modes are a fixed point (the rule): the problem
+ * solved on the plate friction of the decided modes, every group left to
+ * it, decides them again; its solution slides the object along +x (the
+ * sign of gravity's part along the stop) with no acceleration normal to
+ * the stop. */
+EXDEX_TEST(decide_small_slip_stop_friction_modes_are_a_fixed_point)
+{
+    exdex_scene_def d = planar_def(0.1);
+    begun b;
+    hyb *H;
+    frame f;
+    exdex_kinematics kin;
+    sf_result res;
+    double a[3], y[NY_MAX], tb = 0.8 / sqrt(1.0 + 0.64), cb = 1.0 / sqrt(1.0 + 0.64);
+    int fm[SF_MAX_STOPS], ng;
+    d.gravity[0] = 9.81 * tb;
+    d.gravity[1] = -9.81 * cb;
+    d.n_stops = 1;
+    d.stop_point[0][1] = -0.02;
+    d.stop_normal[0][1] = 1.0;
+    d.stop_mu[0] = 0.5;
+    H = begin_event(&d, &b);
+    ENSURE(H != NULL);
+    if (!H) {
+        end_event(&b);
+        return;
+    }
+    ENSURE(H->mode == MODE_SLIP && H->small == 1 && H->ncs == 2 && H->sgn == 1);
+    ENSURE(H->fm[0] == SF_SLIDE_P || H->fm[0] == SF_SLIDE_M);
+    ng = H->sgn;
+    memcpy(fm, H->fm, sizeof fm);
+    memcpy(y, b.O->S.y, sizeof y);
+    ENSURE(hyb_frame_seg(H, 0.0, &f, &kin) == EXDEX_OK);
+    ENSURE(hyb_sf_free_acc(H, &f, &kin, y, a) == EXDEX_OK);
+    for (int k = 0; k < ng; k++) H->fm[k] = SF_ROLL;
+    ENSURE(hyb_sf_solve_at(H, &kin, y, a, &res) == 1);
+    for (int k = 0; k < ng; k++) ENSURE(res.fm[k] == fm[k]);
+    ENSURE(res.qdd[0] > 0.0);
+    ENSURE_SMALL(res.qdd[1], 1e-12 * res.qdd[0]);
+    ENSURE_SMALL(res.qdd[2], 1e-12 * res.qdd[0] / 0.02);
+    end_event(&b);
+}
+
+/* T7, a separation located twice at one instant: the square of planar_def
+ * sliding at 1 cm/s along a frictionless stop under its lower face, the
+ * weight (-y, capacity 0.1 m g) pressing both lower corners (rows 0 and 3)
+ * onto it. At a first event of row 0's separation guard (same = 0) the
+ * decision's answer stands: both rows push, both stay in the set. At a
+ * repeated one (same = 1) the event's answer stands: row 0 leaves, row 3
+ * stays (the set's order kept). */
+EXDEX_TEST(decide_event_repeated_separation_leaves_the_set)
+{
+    for (int same = 0; same < 2; same++) {
+        exdex_scene_def d = planar_def(0.1);
+        begun b;
+        hyb *H;
+        double y[NY_MAX];
+        d.v0[0] = 0.01;
+        d.n_stops = 1;
+        d.stop_point[0][1] = -0.02;
+        d.stop_normal[0][1] = 1.0;
+        H = begin_event(&d, &b);
+        ENSURE(H != NULL);
+        if (!H) {
+            end_event(&b);
+            continue;
+        }
+        ENSURE(H->mode == MODE_SLIP && H->small == 0 && H->ncs == 2);
+        memcpy(y, b.O->S.y, sizeof y);
+        ENSURE(hyb_decide_event(H, 0.0, y, hg(G_SEPARATES, 0, 0.0, -1e-18), same) == EXDEX_OK);
+        ENSURE(H->mode == MODE_SLIP);
+        if (!same) ENSURE(H->ncs == 2 && ((H->cs[0] == 0 && H->cs[1] == 3) || (H->cs[0] == 3 && H->cs[1] == 0)));
+        if (same) ENSURE(H->ncs == 1 && H->cs[0] == 3);
+        end_event(&b);
+    }
+}
