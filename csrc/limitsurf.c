@@ -523,11 +523,12 @@ int limitsurf_slip_direction(const limitsurf *ls, const double w[3], double u[3]
     return limitsurf_gauge(ls, w, &g, u);
 }
 
-int limitsurf_gauge_hessian(const limitsurf *ls, const double w[3], double *g, double grad[3], double hess[9])
+/* limitsurf_gauge_hessian from the gauge g of w and its slip direction dir
+ * (limitsurf_gauge's outputs at w) */
+static int gauge_hessian_at(const limitsurf *ls, const double w[3], const double *g, const double dir[3],
+                            double grad[3], double hess[9])
 {
-    double dir[3], u[3], wu[3], HD[9], Ds, n[3], wh[3], nw, nn, Z[2][3], Y[2][3], M2[4], R2[4], S[4], det;
-    int st = limitsurf_gauge(ls, w, g, dir);
-    if (st != EXDEX_OK) return st;
+    double u[3], wu[3], HD[9], Ds, n[3], wh[3], nw, nn, Z[2][3], Y[2][3], M2[4], R2[4], S[4], det;
     if (!(*g > 0.0) || !isfinite(*g)) return EXDEX_ENOCONV;
     for (int i = 0; i < 3; i++) u[i] = -dir[i];
     Ds = limitsurf_wrench(ls, u, wu, HD);
@@ -576,21 +577,29 @@ int limitsurf_gauge_hessian(const limitsurf *ls, const double w[3], double *g, d
     return EXDEX_OK;
 }
 
-/* g(a + sum_j lam_j b_j) */
+int limitsurf_gauge_hessian(const limitsurf *ls, const double w[3], double *g, double grad[3], double hess[9])
+{
+    double dir[3];
+    int st = limitsurf_gauge(ls, w, g, dir);
+    if (st != EXDEX_OK) return st;
+    return gauge_hessian_at(ls, w, g, dir, grad, hess);
+}
+
+/* g(a + sum_j lam_j b_j), dir its slip direction (limitsurf_gauge) */
 static int comb_gauge(const limitsurf *ls, int k, const double a[3], const double (*b)[3], const double *lam,
-                      double w[3], double *g)
+                      double w[3], double *g, double dir[3])
 {
     for (int i = 0; i < 3; i++) {
         w[i] = a[i];
         for (int j = 0; j < k; j++) w[i] += lam[j] * b[j][i];
     }
-    return limitsurf_gauge(ls, w, g, NULL);
+    return limitsurf_gauge(ls, w, g, dir);
 }
 
 double limitsurf_min_combination(const limitsurf *ls, int k, const double a[3], const double (*b)[3], double cap,
                                  double *lam, int *iters)
 {
-    double ta[3], tb[LDP_MAX_ROWS][3], lnew[LDP_MAX_ROWS], w[3], g, ge;
+    double ta[3], tb[LDP_MAX_ROWS][3], lnew[LDP_MAX_ROWS], w[3], dir[3], g, ge;
     int it = 0;
     if (k > LDP_MAX_ROWS) return NAN;
     /* the ellipsoid of e first: min |E^-1 (a + B^T lam)| */
@@ -604,15 +613,16 @@ double limitsurf_min_combination(const limitsurf *ls, int k, const double a[3], 
     /* the gauge lies in [|E^-1 w| / kmax, |E^-1 w| / kmin]: no combination
      * is carried where the ellipsoid's least one exceeds cap kmax */
     if (!isnan(cap) && !(ge <= cap * ls->kmax)) return ge / ls->kmax;
-    if (comb_gauge(ls, k, a, b, lam, w, &g) != EXDEX_OK) return NAN;
+    if (comb_gauge(ls, k, a, b, lam, w, &g, dir) != EXDEX_OK) return NAN;
     /* SQP on g^2 / 2, degree-2 homogeneous: its second-order model at w is
      * the quadratic form w'^T Q w' / 2 exactly, Q = grad g grad g^T + g Hess
      * g (positive definite: Hess g's null vector w has grad g . w = g > 0),
      * so each step is the ellipsoid problem of Q (ldp_min_combination after
      * a Cholesky factor), damped along the segment to it */
     for (int round = 0; round < 30 && !(g <= cap); round++) {
-        double gr[3], H[9], Q[9], L[9] = {0}, gt = g, wt[3], gm;
-        if (limitsurf_gauge_hessian(ls, w, &g, gr, H) != EXDEX_OK) break;
+        double gr[3], H[9], Q[9], L[9] = {0}, gt = g, wt[3], dt[3], gm;
+        /* g and dir are the gauge's at w (no second gauge solve) */
+        if (gauge_hessian_at(ls, w, &g, dir, gr, H) != EXDEX_OK) break;
         for (int i = 0; i < 3; i++)
             for (int j = 0; j < 3; j++) Q[3 * i + j] = gr[i] * gr[j] + g * H[3 * i + j];
         /* Q = L L^T; the model's norm is |L^T w'| */
@@ -650,7 +660,7 @@ double limitsurf_min_combination(const limitsurf *ls, int k, const double a[3], 
             int moved = 0;
             for (int ls_it = 0; ls_it < 30; ls_it++) {
                 for (int j = 0; j < k; j++) lt[j] = lam[j] + t * (lnew[j] - lam[j]);
-                if (comb_gauge(ls, k, a, b, lt, wt, &gt) != EXDEX_OK) break;
+                if (comb_gauge(ls, k, a, b, lt, wt, &gt, dt) != EXDEX_OK) break;
                 if (gt < g) {
                     moved = 1;
                     break;
@@ -660,6 +670,7 @@ double limitsurf_min_combination(const limitsurf *ls, int k, const double a[3], 
             if (!moved) break;
             memcpy(lam, lt, (size_t)k * sizeof *lam);
             memcpy(w, wt, sizeof w);
+            memcpy(dir, dt, sizeof dir);
             if (!(g - gt > 1e-14 * g)) {
                 g = gt;
                 break;
