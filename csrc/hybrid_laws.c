@@ -387,6 +387,7 @@ static double sf_rest(hyb *H, const exdex_kinematics *kin, const double *y, cons
     hyb_pads(H, y);
     const exdex_model *m = H->m;
     double D[LDP_MAX_ROWS][3], B[LDP_MAX_ROWS][3], c[LDP_MAX_ROWS], a[3], mF[3], P[3];
+    double gm = NAN;
     int own[LDP_MAX_ROWS], ng = 0, it = 0;
     sf_set S;
     if (2 * H->ncs > LDP_MAX_ROWS) return -1.0;
@@ -422,7 +423,7 @@ static double sf_rest(hyb *H, const exdex_kinematics *kin, const double *y, cons
             double mD[3] = {-D[g][0], -D[g][1], -D[g][2]};
             model_patch_of_gen(m, MODEL_CS(y[2]), mD, B[g]);
         }
-        limitsurf_min_combination(&m->ls, ng, a, (const double (*)[3])B, NAN, c, &it);
+        gm = limitsurf_min_combination(&m->ls, ng, a, (const double (*)[3])B, NAN, c, &it);
     } else {
         for (int c2 = 0; c2 < 3; c2++) a[c2] /= m->e[c2];
         for (int g = 0; g < ng; g++) {
@@ -440,7 +441,9 @@ static double sf_rest(hyb *H, const exdex_kinematics *kin, const double *y, cons
         for (int c2 = 0; c2 < 3; c2++) P[c2] -= c[g] * D[g][c2];
     }
     model_patch_of_gen(m, MODEL_CS(y[2]), P, w);
-    return model_ls_gauge(m, w);
+    /* the exact surface: the minimum is the gauge of the solver's w (w here
+     * to rounding); no second gauge solve */
+    return m->ls_exact && !isnan(gm) ? gm : model_ls_gauge(m, w);
 }
 
 /* Accelerations in planar contact: qdd = M^-1 (F + P + G_A^T lam), lam >= 0
@@ -485,7 +488,7 @@ double hyb_planar_rest(hyb *H, const exdex_kinematics *kin, const double *y, con
 {
     hyb_pads(H, y);
     const exdex_model *m = H->m;
-    double B[MAX_ROWS][3], a[3], mF[3], P[3];
+    double B[MAX_ROWS][3], a[3], mF[3], P[3], gm = NAN;
     int it = 0;
     if (H->sfric) {
         double r = sf_rest(H, kin, y, F, w, lam);
@@ -506,7 +509,7 @@ double hyb_planar_rest(hyb *H, const exdex_kinematics *kin, const double *y, con
     }
     if (m->ls_exact) {  /* the exact surface's least gauge over the stop forces (the minimum: guards read it) */
         if (H->ncs > LDP_MAX_ROWS) return NAN;
-        limitsurf_min_combination(&m->ls, H->ncs, a, (const double (*)[3])B, NAN, lam, &it);
+        gm = limitsurf_min_combination(&m->ls, H->ncs, a, (const double (*)[3])B, NAN, lam, &it);
     } else
         ldp_min_combination(H->ncs, a, (const double (*)[3])B, lam, &it);
     H->st->stop_iterations += (size_t)it;
@@ -518,7 +521,7 @@ double hyb_planar_rest(hyb *H, const exdex_kinematics *kin, const double *y, con
         for (int c = 0; c < 3; c++) P[c] -= lam[i] * G[c];
     }
     model_patch_of_gen(m, MODEL_CS(y[2]), P, w);
-    return model_ls_gauge(m, w);
+    return m->ls_exact && !isnan(gm) ? gm : model_ls_gauge(m, w);  /* as sf_rest */
 }
 
 /* The load at (t, y) (f, kin its frame terms): the ellipsoid norm |E^-1 w|
