@@ -866,12 +866,11 @@ static double disc_obstacle_row(const exdex_model *m, const exdex_kinematics *ki
 }
 
 /* The tie rule of contact_obstacle_rows_pred: among the n pieces of one
- * row (distance g_i, its rounding bound r_i, its row Gi_i) keep the largest
- * distance (best, the first of equal ones) unless a prediction vp is given
- * and best is not penetrating (g_best >= -r_best); then, among the pieces
- * with g_i >= -r_i, the one of the largest predicted distance g_i + h Gi_i
- * . vp (the first of equal ones). */
-static int piece_pred(const exdex_model *m, int n, const double *g, const double *r, const double (*Gi)[3],
+ * row (distance g_i, its row Gi_i) keep best (the piece of the largest
+ * distance, the first of equal ones) when no prediction vp is given; with
+ * one, the piece of the largest predicted distance g_i + h Gi_i . vp (the
+ * first of equal ones). */
+static int piece_pred(const exdex_model *m, int n, const double *g, const double (*Gi)[3],
                       const double *vp, double h, int best)
 {
     double pb = -INFINITY;
@@ -919,19 +918,17 @@ int contact_obstacle_rows_pred(const exdex_model *m, const exdex_kinematics *kin
             /* outline vertex j against the solid: its largest face distance */
             for (int j = 0; j < nv; j++) {
                 int best = 0;
-                double gb = -INFINITY, gf[EXDEX_MAX_FACES], rf[EXDEX_MAX_FACES], Gf[EXDEX_MAX_FACES][3];
+                double gb = -INFINITY, gf[EXDEX_MAX_FACES], Gf[EXDEX_MAX_FACES][3];
                 for (int f = 0; f < ob->n_faces; f++) {
                     double g = contact_plane_gap(m, kin, ob->face_point[f], ob->face_normal[f], xb[j], vx[j],
                                                  vp ? Gf[f] : NULL);
                     gf[f] = g;
-                    rf[f] = GAP_ROUND * (sqrt(ex_dot3(xb[j], xb[j])) + pn +
-                                         sqrt(ex_dot3(ob->face_point[f], ob->face_point[f])));
                     if (g > gb) {
                         gb = g;
                         best = f;
                     }
                 }
-                best = piece_pred(m, ob->n_faces, gf, rf, (const double (*)[3])Gf, vp, h, best);
+                best = piece_pred(m, ob->n_faces, gf, (const double (*)[3])Gf, vp, h, best);
                 gap[nr] = contact_plane_gap(m, kin, ob->face_point[best], ob->face_normal[best], xb[j], vx[j], G[nr]);
                 round[nr] = GAP_ROUND * (sqrt(ex_dot3(xb[j], xb[j])) + pn +
                                          sqrt(ex_dot3(ob->face_point[best], ob->face_point[best])));
@@ -953,7 +950,7 @@ int contact_obstacle_rows_pred(const exdex_model *m, const exdex_kinematics *kin
             sort_ccw(ny, y);
             for (int i = 0; i < ny; i++) {
                 double gb = -INFINITY, nb[3] = {0, 0, 0}, x[3] = {y[i][0], y[i][1], 0.0};
-                double ge[EXDEX_MAX_VERTICES], re[EXDEX_MAX_VERTICES], Ge[EXDEX_MAX_VERTICES][3],
+                double ge[EXDEX_MAX_VERTICES], Ge[EXDEX_MAX_VERTICES][3],
                     ne[EXDEX_MAX_VERTICES][3];
                 double rnd = 64.0 * DBL_EPSILON * (hypot(x[0], x[1]) + hypot(hb[0][0], hb[0][1]) + pn + fmax);
                 int eb = -1, ne_n = 0;
@@ -965,7 +962,6 @@ int contact_obstacle_rows_pred(const exdex_model *m, const exdex_kinematics *kin
                     n1 = -ex / len;
                     g = n0 * (x[0] - u[0]) + n1 * (x[1] - u[1]);
                     ge[ne_n] = g;
-                    re[ne_n] = rnd;
                     ne[ne_n][0] = -n0;
                     ne[ne_n][1] = -n1;
                     ne[ne_n][2] = 0.0;
@@ -977,7 +973,7 @@ int contact_obstacle_rows_pred(const exdex_model *m, const exdex_kinematics *kin
                     ne_n++;
                 }
                 if (eb >= 0) {
-                    eb = piece_pred(m, ne_n, ge, re, (const double (*)[3])Ge, vp, h, eb);
+                    eb = piece_pred(m, ne_n, ge, (const double (*)[3])Ge, vp, h, eb);
                     gb = ge[eb];
                     nb[0] = ne[eb][0];
                     nb[1] = ne[eb][1];
