@@ -278,7 +278,10 @@ static void sf_decide(hyb *H, double t, double *y)
  *      small up to SLIP_UP zsw (hysteresis: the band of the decision is
  *      SLIP_UP zsw while the slip is small, zsw otherwise), so an event of
  *      another guard within the band does not turn it into a slip whose
- *      decay guard would fire at once (planar_slow_slip);
+ *      decay guard would fire at once (planar_slow_slip); a small slip
+ *      against contact-set rows that grows to SLIP_UP zsw (G_SMALL_GROWS)
+ *      stops where its load can be held at rest on them
+ *      (hyb_decide_event), else it slips on;
  *   T3 (rest instead of push) a slip that stopped against stops moving in
  *      B, that they would push on below SLIP_PUSH zsw, or that a set row
  *      held while its stop recedes, is a rest on every touching row
@@ -672,7 +675,17 @@ int hyb_decide_event(hyb *H, double t, double *y, hyb_guard g, int same)
         planar_eu(H, y, eu);
         if (H->small) {
             vz = kind == G_SMALL_STOPS;
-            if (kind == G_SMALL_GROWS) H->small = 0;
+            if (kind == G_SMALL_GROWS) {
+                /* T2 at its band's edge: a small slip against set rows
+                 * stops where the load can be held at rest on them */
+                H->small = 0;
+                if (H->ncs) {
+                    frame fk;
+                    exdex_kinematics kk;
+                    if (hyb_frame_seg(H, t, &fk, &kk)) return EXDEX_ENOCONV;
+                    vz = hyb_planar_load_held(H, &fk, &kk, y);
+                }
+            }
         } else {
             vz = kind == G_SLIP_DECAYS || !(sqrt(ex_dot3(eu, eu)) > H->zsw);
             if (kind == G_SLIP_DECAYS) {

@@ -330,6 +330,47 @@ EXDEX_TEST(decide_event_decayed_and_turned_slips)
     }
 }
 
+/* T2 at the small slip's band edge, against set rows: the square of
+ * planar_def on a frictionless stop along its lower face (y >= -a/2),
+ * plate capacity 0.5 m g, gravity tilted in the plate plane by beta from
+ * -y, a small slip along +x grown to SLIP_UP zsw (G_SMALL_GROWS) with both
+ * lower corners in the set. At rest the stop carries the weight's normal
+ * part, the plate the part along the stop, m g sin beta (closed form): for
+ * beta = 0 that is 0 <= C, so the object stops (qd = 0, a stick); for tan
+ * beta = 0.8, sin beta = 0.625 > 0.5 (1 + FRICTION_BAND), it cannot be
+ * held and slips on as a slip, velocity kept. */
+EXDEX_TEST(decide_event_small_slip_grown_against_set_rows_stops_where_held)
+{
+    for (int tilt = 0; tilt < 2; tilt++) {
+        exdex_scene_def d = planar_def(0.5);
+        begun b;
+        hyb *H;
+        double y[NY_MAX], z, sb = tilt ? 0.8 / sqrt(1.64) : 0.0, cb = tilt ? 1.0 / sqrt(1.64) : 1.0;
+        d.gravity[0] = 9.81 * sb;
+        d.gravity[1] = -9.81 * cb;
+        d.n_stops = 1;
+        d.stop_point[0][1] = -0.02;
+        d.stop_normal[0][1] = 1.0;
+        H = begin_event(&d, &b);
+        ENSURE(H != NULL);
+        if (!H) {
+            end_event(&b);
+            continue;
+        }
+        ENSURE(H->ncs == 2 && !H->sfric);
+        z = H->zsw;
+        memcpy(y, b.O->S.y, sizeof y);
+        y[3] = SLIP_UP * z;
+        y[4] = y[5] = 0.0;
+        H->mode = MODE_SLIP;
+        H->small = 1;
+        ENSURE(hyb_decide_event(H, 0.0, y, hg(G_SMALL_GROWS, -1, 0.0, -1e-3 * z), 0) == EXDEX_OK);
+        if (!tilt) ENSURE(H->mode == MODE_STICK && y[3] == 0.0 && y[4] == 0.0 && y[5] == 0.0);
+        if (tilt) ENSURE(H->mode == MODE_SLIP && H->small == 0 && y[3] == SLIP_UP * z && y[4] == 0.0);
+        end_event(&b);
+    }
+}
+
 /* The decision as one array of row states (hyb_row_states). 1-DoF: the
  * object's point on a stop below it at rest (above: a contact at rest) is
  * the plate at rest and the stop's row in contact, its friction sign 0.
