@@ -61,7 +61,14 @@ N_SCENES = 100
 #: A longer sweep: ZOO_INPUTS_SEEDS="first:last" (e.g. 100:1000) runs those
 #: seeds instead (KNOWN marks apply where they match).
 _range = os.environ.get("ZOO_INPUTS_SEEDS")
-SEEDS = range(*map(int, _range.split(":"))) if _range else range(N_SCENES)
+#: Regression seeds beyond N_SCENES, each run in every method by default:
+#: 384, a planar scene on two frictional stops where the event method spent
+#: its event budget in a 4-event cycle (a small slip grown against a stop row
+#: it could rest on; hybrid_decide.c's rule T2, and its C test
+#: decide_event_small_slip_grown_against_set_rows_stops_where_held).
+REGRESSION_SEEDS = (384,)
+SEEDS = (range(*map(int, _range.split(":"))) if _range
+         else list(range(N_SCENES)) + [s for s in REGRESSION_SEEDS if s >= N_SCENES])
 REG_EVERY = 1
 G = zoo.G
 
