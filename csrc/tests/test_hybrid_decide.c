@@ -96,7 +96,9 @@ EXDEX_TEST(hold_set_rows_puts_drifted_obstacle_rows_back_on_their_face)
 /* An event run begun for 1 s (hybrid_scene.h's begin_run), its hybrid state. */
 static hyb *begin_event(const exdex_scene_def *d, begun *b)
 {
-    return begin_run(d, 1.0, b) == EXDEX_OK ? &b->O->S.H : NULL;
+    int status = begin_run(d, 1.0, b);
+    ENSURE(status == EXDEX_OK);
+    return status == EXDEX_OK ? &b->O->S.H : NULL;
 }
 
 static void end_event(begun *b) { end_run(b); }
@@ -123,7 +125,6 @@ EXDEX_TEST(decide_1dof_sticks_iff_the_load_is_within_the_static_band)
     exdex_kinematics kin;
     hyb *H = begin_event(&d, &b);
     double y[NY_MAX], Q0;
-    ENSURE(H != NULL);
     if (!H) {
         end_event(&b);
         return;
@@ -163,7 +164,6 @@ EXDEX_TEST(decide_1dof_rest_on_a_stop_is_a_contact_only_where_the_stop_pushes)
             d.n_stops = 1;
             d.stop_normal[0][2] = up ? -1.0 : 1.0;   /* through the object's point */
             H = begin_event(&d, &b);
-            ENSURE(H != NULL);
             if (H && !up) ENSURE(H->mode == MODE_CONTACT && H->s == 0.0 && H->ck == 0 && b.O->S.y[1] == 0.0);
             if (H && up && i == 1) ENSURE(H->mode == MODE_STICK && H->s == 0.0);
             if (H && up && i == 0) ENSURE(H->mode == MODE_SLIP && H->s == -1.0);
@@ -176,25 +176,27 @@ EXDEX_TEST(decide_1dof_rest_on_a_stop_is_a_contact_only_where_the_stop_pushes)
  * mass, capacity ratio x m g; no stops. */
 static exdex_scene_def planar_def(double ratio)
 {
-    exdex_scene_def d = exdex_default_scene_def();
     double a = 0.04, m = 0.2;
-    d.mass = m;
-    memset(d.inertia, 0, sizeof d.inertia);
-    d.inertia[0] = d.inertia[4] = m * a * a / 12.0;
-    d.inertia[8] = m * a * a / 6.0;
+    exdex_scene_def d = scene_plate_box(a, a, 0.0, m);
+    d.mu = 0.5;
     d.grip_force = ratio * m * 9.81 / (2 * d.mu);
     d.e_r = 0.005;
-    d.gravity[0] = d.gravity[2] = 0.0;
     d.gravity[1] = -9.81;
-    d.dof = EXDEX_DOF_PLANAR;
-    memset(d.R0, 0, sizeof d.R0);
-    d.R0[0] = d.R0[4] = d.R0[8] = 1.0;
-    d.n_vertices = 4;
-    d.vertices[0][0] = a / 2;  d.vertices[0][1] = -a / 2;
-    d.vertices[1][0] = a / 2;  d.vertices[1][1] = a / 2;
-    d.vertices[2][0] = -a / 2; d.vertices[2][1] = a / 2;
-    d.vertices[3][0] = -a / 2; d.vertices[3][1] = -a / 2;
+    d.gravity[2] = 0.0;
     d.method = EXDEX_METHOD_EVENT;
+    return d;
+}
+
+/* planar_def(ratio)'s square standing on a stop along its lower face
+ * (y >= -a/2), the stop's friction mu_s, gravity tilted in the plate plane
+ * from -y toward +x by beta, tan beta = tb. */
+static exdex_scene_def planar_on_stop_def(double ratio, double mu_s, double tb)
+{
+    exdex_scene_def d = planar_def(ratio);
+    double c = sqrt(1.0 + tb * tb);
+    d.gravity[0] = 9.81 * (tb / c);
+    d.gravity[1] = -9.81 * (1.0 / c);
+    scene_stop_floor(&d, 0, -0.02, mu_s);
     return d;
 }
 
@@ -211,7 +213,6 @@ EXDEX_TEST(decide_planar_rest_sticks_inside_the_limit_and_slips_along_the_load_o
         exdex_scene_def d = planar_def(ratios[i]);
         begun b;
         hyb *H = begin_event(&d, &b);
-        ENSURE(H != NULL);
         if (!H) {
             end_event(&b);
             continue;
@@ -228,14 +229,17 @@ EXDEX_TEST(decide_planar_rest_sticks_inside_the_limit_and_slips_along_the_load_o
     }
 }
 
-/* The planar state of b's run with the velocity (0, vy, 0) (a slide along
- * -y at |E u| = |vy|: e = (1, 1, e_r), the patch at the centre of mass). */
-static void planar_moving_down(const begun *b, double *y, double vy)
+/* b's run in a slip (small: a small slip), its planar state y with the
+ * velocity (0, vy, 0) (a slide along -y at |E u| = |vy|: e = (1, 1, e_r),
+ * the patch at the centre of mass). */
+static void planar_slipping_down(begun *b, double *y, double vy, int small)
 {
     memcpy(y, b->O->S.y, NY_MAX * sizeof *y);
     y[3] = 0.0;
     y[4] = vy;
     y[5] = 0.0;
+    b->O->S.H.mode = MODE_SLIP;
+    b->O->S.H.small = small;
 }
 
 /* T2, the small slip's band and its hysteresis: a slide at 1.5 zsw whose
@@ -251,7 +255,6 @@ EXDEX_TEST(decide_planar_small_slip_band_and_its_hysteresis)
         begun b;
         hyb *H = begin_event(&d, &b);
         double y[NY_MAX], z;
-        ENSURE(H != NULL);
         if (!H) {
             end_event(&b);
             continue;
@@ -262,22 +265,16 @@ EXDEX_TEST(decide_planar_small_slip_band_and_its_hysteresis)
         ENSURE(z > 0.0);
         if (!held) {
             for (int small = 0; small < 2; small++) {
-                planar_moving_down(&b, y, -1.5 * z);
-                H->mode = MODE_SLIP;
-                H->small = small;
+                planar_slipping_down(&b, y, -1.5 * z, small);
                 hyb_decide(H, 0.0, y, 0);
                 ENSURE(H->mode == MODE_SLIP && H->small == small && y[4] == -1.5 * z && y[3] == 0.0);
                 if (!small) ENSURE(H->uref[1] == -1.5 * z && H->uref[0] == 0.0 && H->uref[2] == 0.0);
-                planar_moving_down(&b, y, -0.5 * z);
-                H->mode = MODE_SLIP;
-                H->small = small;
+                planar_slipping_down(&b, y, -0.5 * z, small);
                 hyb_decide(H, 0.0, y, 0);
                 ENSURE(H->mode == MODE_SLIP && H->small == 1 && y[4] == -0.5 * z);
             }
         } else {
-            planar_moving_down(&b, y, -0.5 * z);
-            H->mode = MODE_SLIP;
-            H->small = 0;
+            planar_slipping_down(&b, y, -0.5 * z, 0);
             hyb_decide(H, 0.0, y, 0);
             ENSURE(H->mode == MODE_STICK && y[3] == 0.0 && y[4] == 0.0 && y[5] == 0.0);
         }
@@ -297,31 +294,24 @@ EXDEX_TEST(decide_event_decayed_and_turned_slips)
         begun b;
         hyb *H = begin_event(&d, &b);
         double y[NY_MAX], z;
-        ENSURE(H != NULL);
         if (!H) {
             end_event(&b);
             continue;
         }
         z = H->zsw;
         /* decayed to 0.9 zsw */
-        planar_moving_down(&b, y, -0.9 * z);
-        H->mode = MODE_SLIP;
-        H->small = 0;
+        planar_slipping_down(&b, y, -0.9 * z, 0);
         ENSURE(hyb_decide_event(H, 0.0, y, hg(G_SLIP_DECAYS, -1, 0.0, -1e-3 * z), 0) == EXDEX_OK);
         if (held) ENSURE(H->mode == MODE_STICK && y[4] == 0.0);
         if (!held) ENSURE(H->mode == MODE_SLIP && H->small == 1 && y[4] == -0.9 * z);
         /* turned: the reference was up, the slide is down at 3 zsw */
-        planar_moving_down(&b, y, -3.0 * z);
-        H->mode = MODE_SLIP;
-        H->small = 0;
+        planar_slipping_down(&b, y, -3.0 * z, 0);
         H->uref[0] = H->uref[2] = 0.0;
         H->uref[1] = 3.0 * z;
         ENSURE(hyb_decide_event(H, 0.0, y, hg(G_SLIP_TURNS, -1, 0.0, -1e-3 * z), 0) == EXDEX_OK);
         ENSURE(H->mode == MODE_SLIP && H->small == 0 && y[4] == -3.0 * z && H->uref[1] == -3.0 * z);
         /* turned below zsw: a stop (held: a stick; else a small slip from rest, down) */
-        planar_moving_down(&b, y, -0.5 * z);
-        H->mode = MODE_SLIP;
-        H->small = 0;
+        planar_slipping_down(&b, y, -0.5 * z, 0);
         ENSURE(hyb_decide_event(H, 0.0, y, hg(G_SLIP_TURNS, -1, 0.0, -1e-3 * z), 0) == EXDEX_OK);
         ENSURE(y[4] == 0.0);
         if (held) ENSURE(H->mode == MODE_STICK);
@@ -342,17 +332,10 @@ EXDEX_TEST(decide_event_decayed_and_turned_slips)
 EXDEX_TEST(decide_event_small_slip_grown_against_set_rows_stops_where_held)
 {
     for (int tilt = 0; tilt < 2; tilt++) {
-        exdex_scene_def d = planar_def(0.5);
+        exdex_scene_def d = planar_on_stop_def(0.5, 0.0, tilt ? 0.8 : 0.0);
         begun b;
-        hyb *H;
-        double y[NY_MAX], z, sb = tilt ? 0.8 / sqrt(1.64) : 0.0, cb = tilt ? 1.0 / sqrt(1.64) : 1.0;
-        d.gravity[0] = 9.81 * sb;
-        d.gravity[1] = -9.81 * cb;
-        d.n_stops = 1;
-        d.stop_point[0][1] = -0.02;
-        d.stop_normal[0][1] = 1.0;
-        H = begin_event(&d, &b);
-        ENSURE(H != NULL);
+        hyb *H = begin_event(&d, &b);
+        double y[NY_MAX], z;
         if (!H) {
             end_event(&b);
             continue;
@@ -384,20 +367,15 @@ EXDEX_TEST(decide_row_states_of_a_rest_on_a_stop)
 {
     hyb_row_state rs[HYB_ROWS_MAX];
     for (int planar = 0; planar < 2; planar++) {
-        exdex_scene_def d = planar ? planar_def(2.0) : vertical_def(2.0);
+        exdex_scene_def d = planar ? planar_on_stop_def(2.0, 0.5, 0.0) : vertical_def(2.0);
         begun b;
         hyb *H;
         int n;
-        d.n_stops = 1;
-        if (planar) {
-            d.stop_point[0][1] = -0.02;
-            d.stop_normal[0][1] = 1.0;
-            d.stop_mu[0] = 0.5;
-        } else {
+        if (!planar) {
+            d.n_stops = 1;
             d.stop_normal[0][2] = 1.0;
         }
         H = begin_event(&d, &b);
-        ENSURE(H != NULL);
         if (!H) {
             end_event(&b);
             continue;
@@ -433,22 +411,14 @@ EXDEX_TEST(decide_row_states_of_a_rest_on_a_stop)
  * the stop. */
 EXDEX_TEST(decide_small_slip_stop_friction_modes_are_a_fixed_point)
 {
-    exdex_scene_def d = planar_def(0.1);
+    exdex_scene_def d = planar_on_stop_def(0.1, 0.5, 0.8);
     begun b;
-    hyb *H;
+    hyb *H = begin_event(&d, &b);
     frame f;
     exdex_kinematics kin;
     sf_result res;
-    double a[3], y[NY_MAX], tb = 0.8 / sqrt(1.0 + 0.64), cb = 1.0 / sqrt(1.0 + 0.64);
+    double a[3], y[NY_MAX];
     int fm[SF_MAX_STOPS], ng;
-    d.gravity[0] = 9.81 * tb;
-    d.gravity[1] = -9.81 * cb;
-    d.n_stops = 1;
-    d.stop_point[0][1] = -0.02;
-    d.stop_normal[0][1] = 1.0;
-    d.stop_mu[0] = 0.5;
-    H = begin_event(&d, &b);
-    ENSURE(H != NULL);
     if (!H) {
         end_event(&b);
         return;
@@ -479,16 +449,12 @@ EXDEX_TEST(decide_small_slip_stop_friction_modes_are_a_fixed_point)
 EXDEX_TEST(decide_event_repeated_separation_leaves_the_set)
 {
     for (int same = 0; same < 2; same++) {
-        exdex_scene_def d = planar_def(0.1);
+        exdex_scene_def d = planar_on_stop_def(0.1, 0.0, 0.0);
         begun b;
         hyb *H;
         double y[NY_MAX];
         d.v0[0] = 0.01;
-        d.n_stops = 1;
-        d.stop_point[0][1] = -0.02;
-        d.stop_normal[0][1] = 1.0;
         H = begin_event(&d, &b);
-        ENSURE(H != NULL);
         if (!H) {
             end_event(&b);
             continue;

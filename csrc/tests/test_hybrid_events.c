@@ -49,13 +49,7 @@ static exdex_scene_def spin_def(int dof, double vx, double vy, double w0)
     d.v0[1] = vy;
     d.v0[2] = w0;
     if (dof == EXDEX_DOF_ROTATION) d.v0[0] = w0;
-    d.n_stops = 1;
-    d.stop_point[0][0] = 0.0;
-    d.stop_point[0][1] = -Rc * cos(EPS_TURN);
-    d.stop_point[0][2] = 0.0;
-    d.stop_normal[0][0] = 0.0;
-    d.stop_normal[0][1] = 1.0;
-    d.stop_normal[0][2] = 0.0;
+    scene_stop_floor(&d, 0, -Rc * cos(EPS_TURN), 0.0);
     d.method = EXDEX_METHOD_EVENT;
     d.rtol = 1e-10;
     d.atol = 1e-10;
