@@ -6,18 +6,7 @@ import numpy as np
 import pytest
 
 from exdex import engines
-
-
-def _pybullet():
-    return pytest.importorskip("pybullet", reason="pybullet is not installed (pip install .[engines])")
-
-
-def _mujoco():
-    return pytest.importorskip("mujoco", reason="mujoco is not installed (pip install .[engines])")
-
-
-def _drake():
-    return pytest.importorskip("pydrake", reason="pydrake (package drake) is not installed (pip install .[engines])")
+from optional_packages import need_engines
 
 
 def test_compare_takes_no_progress():
@@ -34,7 +23,7 @@ def test_compare_incline_row(tmp_path):
     # the incline case of `exdex compare`: the closed-form row is the Coulomb
     # slide a T^2 / 2 (a from the scene's numbers, derived above) and every
     # engine (and Drake's corner contact) has a row
-    _pybullet(), _mujoco(), _drake()
+    need_engines()
     import argparse
 
     from exdex.cli import compare as cli_compare

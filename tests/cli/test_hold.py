@@ -3,23 +3,11 @@ grasp holds by construction), every setting on every scenario, Drake's creep
 within its documented stiction tolerance."""
 import math
 
-import pytest
-
-
-def _pybullet():
-    return pytest.importorskip("pybullet", reason="pybullet is not installed (pip install .[engines])")
-
-
-def _mujoco():
-    return pytest.importorskip("mujoco", reason="mujoco is not installed (pip install .[engines])")
-
-
-def _drake():
-    return pytest.importorskip("pydrake", reason="pydrake (package drake) is not installed (pip install .[engines])")
+from optional_packages import need_engines
 
 
 def test_hold_quick_exdex_is_exactly_zero_and_table_complete(tmp_path):
-    _pybullet(), _mujoco(), _drake()
+    need_engines()
     import argparse
     import csv
 

@@ -27,22 +27,11 @@ import pytest
 import exdex
 from exdex import engines
 from exdex.engines import _runner
+from optional_packages import need_drake, need_mujoco, need_pybullet
 
 
-def _pybullet():
-    return pytest.importorskip("pybullet", reason="pybullet is not installed (pip install .[engines])")
-
-
-def _mujoco():
-    return pytest.importorskip("mujoco", reason="mujoco is not installed (pip install .[engines])")
-
-
-def _drake():
-    return pytest.importorskip("pydrake", reason="pydrake (package drake) is not installed (pip install .[engines])")
-
-
-RUNNERS = {"pybullet": (_pybullet, engines.run_pybullet, 1 / 240), "mujoco": (_mujoco, engines.run_mujoco, 0.002),
-           "drake": (_drake, engines.run_drake, 1e-3)}
+RUNNERS = {"pybullet": (need_pybullet, engines.run_pybullet, 1 / 240), "mujoco": (need_mujoco, engines.run_mujoco, 0.002),
+           "drake": (need_drake, engines.run_drake, 1e-3)}
 
 
 def fig3_scene(motion=None):
@@ -121,7 +110,7 @@ def test_exdex_drift_is_exactly_zero():
 def test_mujoco_soft_friction_creeps_and_noslip_stops_it():
     # MuJoCo's regularised friction has no exact stick (its docs: an in-cone
     # load slips at a speed ~ load); its noslip post-solve removes the slip.
-    _mujoco()
+    need_mujoco()
     scene = fig3_scene()
     t_end = scene.motion.end_time + 0.6
     soft = engines.run_mujoco(scene, t_end)
@@ -132,7 +121,7 @@ def test_mujoco_soft_friction_creeps_and_noslip_stops_it():
 
 def test_pybullet_jointed_object_does_not_drift():
     # Bullet's velocity-level hard contacts with a jointed object: measured, no creep.
-    _pybullet()
+    need_pybullet()
     scene = fig3_scene()
     res = engines.run_pybullet(scene, scene.motion.end_time + 0.6)
     assert abs(engines.drift_rate(res)[0]) < 1e-9
@@ -160,7 +149,7 @@ def test_mujoco_noslip_matches_corner_ablation():
     # corners with circular cones: exactly the "corners" model, which exdex
     # solves by the 1-DoF reduction. Tolerance: the step bound of MuJoCo's
     # 2 ms step plus that of exdex's own 1 ms step.
-    _mujoco()
+    need_mujoco()
     scene = fig6_scene()
     t_end = scene.motion.end_time + 0.5
     corners = engines.ablation(scene, t_end, dt=1e-3, models=("corners",))["corners"][0]
@@ -174,7 +163,7 @@ def test_pybullet_point_contact_with_spinning_friction_matches_ellipsoid():
     # (|m| <= spin * N, independent of the lateral friction) as on the
     # ellipsoid, so a single contact with spinning friction mu e_r is exdex's
     # model here. Tolerance: the step bound of both steppers (1/240 s and 1 ms).
-    _pybullet()
+    need_pybullet()
     scene = fig6_scene()
     t_end = scene.motion.end_time + 0.5
     ref = exdex.simulate(scene, t_end, dt=1e-3)
@@ -238,7 +227,7 @@ def test_bad_input_is_named():
         engines.run_pybullet(fig3_scene(), 0.1, contact="mesh")
     with pytest.raises(ValueError, match="model"):
         engines.torque_capacity(exdex.Patch.disc(0.01), "cone")
-    _mujoco()
+    need_mujoco()
     with pytest.raises(ValueError, match="solimp"):
         engines.run_mujoco(fig3_scene(), 0.1, solimp=(1.5, 0.9, 0.001))
     with pytest.raises(ValueError, match="solreffriction"):
@@ -272,7 +261,7 @@ def _drake_tolerance(ref, res, T, radius=None):
 @pytest.mark.parametrize("contact_model", ["point", "hydroelastic"])
 @pytest.mark.parametrize("case", ["fig3", "fig4"])
 def test_drake_translation_agrees_within_its_own_error(case, contact_model):
-    _drake()
+    need_drake()
     scene = fig3_scene() if case == "fig3" else fig4_scene()
     end = scene.motion.end_time
     ref = exdex.simulate(scene, end, dt=1e-4)
@@ -289,7 +278,7 @@ def test_drake_creep_is_bounded_by_its_stiction_tolerance():
     # than v_s; a smaller v_s creeps less, though not below the floor set by
     # the solver's near-rigid regularisation at a 1 ms step (the hold benchmark
     # measures it), so only the direction is asserted there
-    _drake()
+    need_drake()
     scene = exdex.replace(fig3_scene(), motion=exdex.Rest())
     rates = {}
     for vs in (1e-4, 1e-6):
@@ -304,7 +293,7 @@ def test_drake_point_pads_match_corner_ablation():
     # the pad corners, each with a circular cone, i.e. the "corners" model.
     # Tolerance: the step bound of Drake's 1 ms step plus exdex's 1 ms step, and
     # the creep of the corner contacts at radius hypot(a, b) (see above).
-    _drake()
+    need_drake()
     scene = fig6_scene()
     t_end = scene.motion.end_time + 0.5
     corners = engines.ablation(scene, t_end, dt=1e-3, models=("corners",))["corners"][0]
@@ -316,7 +305,7 @@ def test_drake_point_pads_match_corner_ablation():
 
 
 def test_drake_bad_input_is_named():
-    _drake()
+    need_drake()
     with pytest.raises(ValueError, match="contact_model"):
         engines.run_drake(fig3_scene(), 0.01, contact_model="mesh")
     with pytest.raises(ValueError, match="approximation"):
@@ -693,7 +682,7 @@ def test_disc_outline_is_a_cylinder_resting_on_the_floor_at_any_angle(engine):
 
 
 def test_drake_corner_spheres_need_a_polygon_outline():
-    _drake()
+    need_drake()
     sc = exdex.Scene(body=exdex.Body.cylinder(0.1, 0.02, 0.02), grasp=exdex.Grasp(mu=0.5, grip_force=1.0),
                      dof="planar", stops=(exdex.Stop((0, 0, -0.05), (0, 0, 1)),))
     with pytest.raises(ValueError, match="stop_contact='corners' needs a polygon outline"):
@@ -744,13 +733,13 @@ def test_engines_turn_the_box_about_the_pads_where_exdex_has_them(center, monkey
     r = exdex.simulate(sc, 0.1, 1e-3)
     assert abs(r.q[-1, 2]) > 0.2
     assert np.linalg.norm(_pivot(r.q) - c) < 1.5e-3
-    _mujoco()
+    need_mujoco()
     e = engines.run_mujoco(sc, 0.1)
     assert abs(e.q[-1, 2]) > 0.1 and np.linalg.norm(_pivot(e.q) - c) < 3.5e-3
-    _drake()
+    need_drake()
     e = engines.run_drake(sc, 0.1)
     assert abs(e.q[-1, 2]) > 0.1 and np.linalg.norm(_pivot(e.q) - c) < 3.5e-3
-    pb = _pybullet()
+    pb = need_pybullet()
     seen = []
     step = pb.stepSimulation
 

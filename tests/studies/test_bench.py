@@ -17,6 +17,7 @@ import pytest
 import exdex
 from exdex import paper
 from exdex.studies import bench
+from optional_packages import need_mujoco
 
 
 # ------------------------------------------------------------------ smoke run
@@ -168,7 +169,7 @@ def test_method_available():
 
 
 def test_mujoco_bare_step_time_runs():
-    pytest.importorskip("mujoco")
+    need_mujoco()
     secs = bench.mujoco_bare_step_time(paper.fig3_scene(), 0.05, 2.0 ** -8, "pads")
     assert math.isfinite(secs) and secs > 0.0
 
