@@ -5,36 +5,16 @@ packages (a meta-path finder raising ModuleNotFoundError, as a missing
 package does), so the installed matplotlib/tqdm/pybullet/mujoco cannot leak in.
 """
 import json
-import os
-import subprocess
-import sys
-import textwrap
 
-
-BLOCKER = textwrap.dedent("""
-    import importlib.abc, sys
-    BLOCKED = set({blocked!r})
-    class _Blocker(importlib.abc.MetaPathFinder):
-        def find_spec(self, name, path=None, target=None):
-            if name.split(".")[0] in BLOCKED:
-                raise ModuleNotFoundError(f"No module named {{name!r}}", name=name)
-            return None
-    sys.meta_path.insert(0, _Blocker())
-""")
+from optional_packages import run_without
 
 OPTIONAL = ["matplotlib", "tqdm", "pybullet", "mujoco", "scipy", "pandas", "dask"]
-
-
-def _run(code, blocked, *args):
-    src = BLOCKER.format(blocked=list(blocked)) + textwrap.dedent(code)
-    env = dict(os.environ, PYTHONWARNINGS="ignore")
-    return subprocess.run([sys.executable, "-c", src, *args], capture_output=True, text=True, env=env, timeout=300)
 
 
 def test_import_exdex_needs_only_numpy():
     """With every optional package blocked, ``import exdex`` works, imports
     none of them, and a simulation runs."""
-    p = _run("""
+    p = run_without("""
         import json, sys, time
         t0 = time.perf_counter()
         import exdex
@@ -53,7 +33,7 @@ def test_library_and_command_modules_import_with_only_numpy():
     """The benchmark libraries and every command's module import without the
     optional packages (they are imported by the call that needs them); a
     figure asked of them names the plot extra, an engine run the engines extra."""
-    p = _run("""
+    p = run_without("""
         import importlib, json, sys
         from exdex import cli
         mods = ["exdex.studies.bench", "exdex.studies.hold", "exdex.engines"] + sorted({m for m, _, _ in cli.COMMANDS.values()})
@@ -80,7 +60,7 @@ def test_library_and_command_modules_import_with_only_numpy():
 
 
 def test_plot_without_matplotlib_names_the_extra():
-    p = _run("""
+    p = run_without("""
         import exdex
         sc = exdex.Scene(body=exdex.Body(mass=0.1), grasp=exdex.Grasp(mu=0.5, grip_force=2.0))
         r = exdex.simulate(sc, 0.01, 1e-3)
@@ -97,7 +77,7 @@ def test_plot_without_matplotlib_names_the_extra():
 
 
 def test_animate_and_tool_figures_without_matplotlib():
-    p = _run("""
+    p = run_without("""
         import exdex
         sc = exdex.Scene(body=exdex.Body.box(0.1, (0.02, 0.04, 0.02)), grasp=exdex.Grasp(mu=0.5, grip_force=2.0))
         r = exdex.simulate(sc, 0.01, 1e-3)
@@ -116,7 +96,7 @@ def test_animate_and_tool_figures_without_matplotlib():
 def test_sweep_progress_without_tqdm():
     """sweep's default bar appears only when tqdm is installed; asking for it
     without tqdm names the extra."""
-    p = _run("""
+    p = run_without("""
         import exdex
         sc = exdex.Scene(body=exdex.Body(mass=0.1), grasp=exdex.Grasp(mu=0.5, grip_force=2.0))
         s = exdex.sweep(sc, {"mu": [0.3, 0.5]}, t_end=0.01, dt=1e-3)
@@ -134,7 +114,7 @@ def test_sweep_progress_without_tqdm():
 def test_scipy_features_name_the_design_extra():
     """SciPy is not needed by ``import exdex``; the three features that use its least squares (identify,
     pose sequences, plans of several parameters) raise MissingExtraError naming ``exdex[design]``."""
-    p = _run("""
+    p = run_without("""
         import exdex
         sc = exdex.Scene(body=exdex.Body(mass=0.1), grasp=exdex.Grasp(mu=0.5, grip_force=2.0),
                          motion=exdex.AsymmetricProfile(0.1, 0.5, 0.9, axis=(0, 0, -1)))
@@ -158,7 +138,7 @@ def test_scipy_features_name_the_design_extra():
 
 
 def test_explorer_without_ipywidgets_names_the_explore_extra():
-    p = _run("""
+    p = run_without("""
         import exdex
         try:
             exdex.explore(exdex.paper.fig3_scene())

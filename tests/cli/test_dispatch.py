@@ -7,23 +7,12 @@ import os
 import re
 import subprocess
 import sys
-import textwrap
 
 import pytest
 
 import exdex
 from exdex import cli
-
-BLOCKER = textwrap.dedent("""
-    import importlib.abc, sys
-    BLOCKED = set({blocked!r})
-    class _Blocker(importlib.abc.MetaPathFinder):
-        def find_spec(self, name, path=None, target=None):
-            if name.split(".")[0] in BLOCKED:
-                raise ModuleNotFoundError(f"No module named {{name!r}}", name=name)
-            return None
-    sys.meta_path.insert(0, _Blocker())
-""")
+from optional_packages import run_without
 
 RST = re.compile(r"``|:(func|class|meth|mod|attr|ref):`|\*\*\w|^\s*\.\. \w", re.M)
 
@@ -31,12 +20,6 @@ RST = re.compile(r"``|:(func|class|meth|mod|attr|ref):`|\*\*\w|^\s*\.\. \w", re.
 def _command_parser(name):
     mod = importlib.import_module(cli.COMMANDS[name][0])
     return cli.command_parser(name, mod)
-
-
-def _run(code, blocked, *args):
-    src = BLOCKER.format(blocked=list(blocked)) + textwrap.dedent(code)
-    env = dict(os.environ, PYTHONWARNINGS="ignore")
-    return subprocess.run([sys.executable, "-c", src, *args], capture_output=True, text=True, env=env, timeout=300)
 
 
 def test_version(capsys):
@@ -74,7 +57,7 @@ def test_help_has_no_rst_markup(name, capsys):
 def test_cli_missing_extra_is_one_line(argv, blocked, extra, tmp_path):
     """A command whose optional packages are missing prints one line naming
     them and the extra, and exits with status 3 (not a traceback)."""
-    p = _run("""
+    p = run_without("""
         import sys
         from exdex.cli import main
         sys.exit(main(sys.argv[1:]))
