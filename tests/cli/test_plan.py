@@ -9,23 +9,15 @@ import pytest
 
 import exdex
 from exdex import cli, paper
+from scenes import planar_box
 
-M, G = 0.1, 9.81
+G = 9.81
 TOL = (1e-4, math.radians(0.1))
 
 
 def closed_slip(scene):
     """Final slip of a Fig. 3 type scene in closed form [m]."""
     return paper.closed_form(scene).final
-
-
-def planar_scene(stops=(), capacity=1.2, pad=0.01):
-    """A 60 x 30 mm box (0.1 kg) held through a 10 x 10 mm pad (or pad x pad)
-    at its centre of mass, friction capacity 1.2 m g (mu 0.5), plates vertical."""
-    grip = capacity * M * G / (0.5 * 2)
-    return exdex.Scene(body=exdex.Body.box(M, (0.06, 0.03, 0.02)),
-                       grasp=exdex.Grasp(mu=0.5, grip_force=grip, patch=exdex.Patch.rectangle(pad, pad)),
-                       dof="planar", stops=stops)
 
 
 def ramp_scene():
@@ -63,7 +55,7 @@ def test_cli_plans_a_pose_and_writes_the_sequence_poses(tmp_path, capsys):
     file per step, each re-simulated in turn to the target."""
     from exdex import cli
     path = tmp_path / "box.toml"
-    exdex.save_scene(planar_scene(), path)
+    exdex.save_scene(planar_box(), path)
     out = tmp_path / "plan"
     assert cli.main(["plan", "--scene", str(path), "--pose", "x=0.0,y=-0.004", "--out", str(out),
                      "--uncertain", "mu=0.48:0.52"]) == 0

@@ -17,18 +17,9 @@ import pytest
 
 import exdex
 from exdex import paper, plan, sequence
+from scenes import planar_box
 
-M, G = 0.1, 9.81
 TOL = (1e-4, math.radians(0.1))
-
-
-def scene(stops=(), capacity=1.2, pad=0.01):
-    """A 60 x 30 mm box (0.1 kg) held through a 10 x 10 mm pad (or pad x pad)
-    at its centre of mass, friction capacity 1.2 m g (mu 0.5), plates vertical."""
-    grip = capacity * M * G / (0.5 * 2)
-    return exdex.Scene(body=exdex.Body.box(M, (0.06, 0.03, 0.02)),
-                       grasp=exdex.Grasp(mu=0.5, grip_force=grip, patch=exdex.Patch.rectangle(pad, pad)),
-                       dof="planar", stops=stops)
 
 
 def resimulate(p):
@@ -51,7 +42,7 @@ def test_pose_target_by_a_sequence_meets_tolerances_when_resimulated():
     (about -2.1 mm, -4.3 mm, -3.1 deg).
     The plan, re-simulated step by step by the event method at rtol 1e-12,
     is within 0.1 mm and 0.1 deg of it."""
-    sc = scene()
+    sc = planar_box()
     P = sequence.primitives(sc)
     q = sequence._run_sequence(sc, [P["slide_x"], P["pivot"]], [0.03, 0.3], 0.3, 1e-12, 1e-14)
     target = {"x": q[0], "y": q[1], "rotation": q[2]}
@@ -69,7 +60,7 @@ def test_one_slide_matches_the_1dof_closed_form():
     """x = 0, y = -4 mm: one inertial slide along the plate's y axis (a
     slide along x would move x too); the planar result equals the 1-DoF
     translation closed form of the same motion."""
-    sc = scene()
+    sc = planar_box()
     p = sequence.solve(sc, {"x": 0.0, "y": -0.004}, tol=TOL, max_length=2)
     assert [n for n, _ in p.steps] == ["slide_y"]
     amp = p.steps[0][1]
@@ -87,7 +78,7 @@ def test_push_against_a_stop_is_set_by_the_stop_not_by_mu():
     the sampled band has zero width. The pad is 20 x 20 mm, so that the 8 mm
     slide stays on it (a sequence that slides the object off its pad is not
     accepted)."""
-    sc = scene(stops=(exdex.Stop(point=(0.0, 0.0, -0.025), normal=(0.0, 0.0, 1.0)),), capacity=1.5, pad=0.02)
+    sc = planar_box(stops=(exdex.Stop(point=(0.0, 0.0, -0.025), normal=(0.0, 0.0, 1.0)),), capacity=1.5, pad=0.02)
     p = sequence.solve(sc, {"y": 0.008}, tol=TOL, max_length=2)
     assert [n for n, _ in p.steps] == ["push_0"]
     mo = sequence.primitives(sc)[p.steps[0][0]].make(p.steps[0][1])
@@ -103,7 +94,7 @@ def test_unreachable_pose_names_the_closest_sequence():
     """The pivot turns the object by at most about 0.3 rad here (scan of
     up to 1 rad): 2.5 rad is out of reach."""
     with pytest.raises(plan.UnreachableTargetError, match="no sequence of up to 2 .*closest solved"):
-        sequence.solve(scene(), {"rotation": 2.5}, tol=TOL, max_length=2, n_polish=1, max_nfev=5)
+        sequence.solve(planar_box(), {"rotation": 2.5}, tol=TOL, max_length=2, n_polish=1, max_nfev=5)
 
 
 @pytest.mark.parametrize("kw, match", [
@@ -115,13 +106,13 @@ def test_unreachable_pose_names_the_closest_sequence():
 ])
 def test_bad_input_is_named(kw, match):
     with pytest.raises((ValueError, TypeError), match=match):
-        sequence.solve(scene(), **kw)
+        sequence.solve(planar_box(), **kw)
     with pytest.raises(ValueError, match="dof must be 'planar'"):
         sequence.primitives(paper.fig3_scene())
 
 
 def test_plan_solve_without_vary_plans_a_pose_by_a_sequence():
-    sc = scene()
+    sc = planar_box()
     p = plan.solve(sc, {"x": 0.0, "y": -0.004})
     assert isinstance(p, sequence.SequencePlan) and p.meets_target
     assert abs(resimulate(p)[1] - (-0.004)) <= TOL[0]
@@ -136,7 +127,7 @@ def test_sequence_with_the_exact_surface_on_pads_meets_tolerances_when_resimulat
     rtol 1e-12 (the exact surface of pad & face), is within 0.1 mm and 0.1
     deg of the target; the target is one the ellipsoid reaches differently
     (its pose from the same primitives differs by more than the tolerance)."""
-    base = scene()
+    base = planar_box()
     sc = exdex.replace(base, grasp=exdex.replace(base.grasp, pad=exdex.Pad.rectangle(0.01, 0.01),
                                                  limit_surface="exact"))
     P = sequence.primitives(sc)
