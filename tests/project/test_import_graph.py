@@ -25,6 +25,8 @@ import pathlib
 
 import pytest
 
+from made_up_tree import write_tree
+
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 PKG = ROOT / "exdex"
 
@@ -180,16 +182,9 @@ def back_edges(edges, mods):
 
 # ---------------------------------------------------------------- the checks on a made-up package
 
-def _write(root, files):
-    for rel, text in files.items():
-        p = root / rel
-        p.parent.mkdir(parents=True, exist_ok=True)
-        p.write_text(text)
-
-
 def test_the_checks_fail_on_a_cycle_a_private_import_and_a_back_edge(tmp_path):
     pkg = tmp_path / "exdex"
-    _write(pkg, {
+    write_tree(pkg, {
         "__init__.py": "from exdex import a\nfrom exdex.design import plan\n",
         "a.py": "from exdex.b import helper\n",
         "b.py": "def helper():\n    from exdex import a\n    return a\n",           # lazy: still a cycle

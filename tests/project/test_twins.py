@@ -16,6 +16,8 @@ The checks are run on a small made-up tree first, so that each is known to fail.
 import pathlib
 import re
 
+from made_up_tree import write_tree
+
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 POINTER = re.compile(r"\btwin: ([\w./-]+\.(?:c|py))(?:::(\w+))?")
 C_TEST = re.compile(r"EXDEX_TEST\((\w+)\)")
@@ -76,15 +78,8 @@ def problems(root):
     return bad
 
 
-def _write(root, files):
-    for rel, text in files.items():
-        p = root / rel
-        p.parent.mkdir(parents=True, exist_ok=True)
-        p.write_text(text)
-
-
 def test_the_checks_fail_on_a_broken_a_one_way_and_a_missing_pointer(tmp_path):
-    _write(tmp_path, {
+    write_tree(tmp_path, {
         # a good pair, file and test
         "csrc/tests/scenarios/test_a.c": "/* twin: tests/scenarios/test_a.py */\n"
                                          "/* twin: tests/scenarios/test_a.py::test_drop */\nEXDEX_TEST(a_drop)\n{\n}\n",
