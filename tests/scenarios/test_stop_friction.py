@@ -375,6 +375,27 @@ def _incline_block(mu_s, cap, alpha=0.4, m=0.1, a=0.03):
                        stops=(exdex.Stop((p_b[0], 0.0, p_b[1]), (n_b[0], 0.0, n_b[1]), mu=mu_s),))
 
 
+def _incline_run_is_the_closed_form(r, mu_s, cap, rests, alpha=0.4, m=0.1):
+    """A 0.2 s run r of _incline_block(mu_s, cap) with no warnings: at rest
+    exactly still (v = 0 bit for bit, stick at every sample) with the least
+    plate friction, the stop's reaction the weight's projection onto its
+    cone: the weight itself inside it (normal part m g cos alpha), else on
+    its edge, |F| = m g cos(alpha - phi), normal part |F| cos(phi); sliding,
+    the constant acceleration g sin(alpha) - mu_s g cos(alpha) - cap / m
+    from rest, the stop's normal force m g cos(alpha), no turn."""
+    assert r.stats["warnings"] == 0
+    if rests:
+        assert np.all(r.v == 0.0) and np.all(r.stick[1:])
+        phi = math.atan(mu_s)
+        lam = m * G * math.cos(alpha) if alpha <= phi else m * G * math.cos(alpha - phi) * math.cos(phi)
+        np.testing.assert_allclose(r.stop_force[-1, 0], lam, rtol=1e-12)
+    else:
+        acc = G * math.sin(alpha) - mu_s * G * math.cos(alpha) - cap / m
+        np.testing.assert_allclose(np.hypot(r.v[-1, 0], r.v[-1, 1]), acc * 0.2, rtol=1e-9)
+        np.testing.assert_allclose(r.stop_force[-1, 0], m * G * math.cos(alpha), rtol=1e-9)
+        assert abs(r.v[-1, 2]) <= 1e-12
+
+
 @pytest.mark.parametrize("mu_s, cap, rests", [(0.5, 0.01, True), (0.2, 0.21, True), (0.2, 0.18, False),
                                               (0.0, 0.40, True), (0.0, 0.37, False)])
 def test_rest_on_a_frictional_incline_is_exact_and_its_threshold_closed_form(mu_s, cap, rests):
@@ -395,23 +416,7 @@ def test_rest_on_a_frictional_incline_is_exact_and_its_threshold_closed_form(mu_
     alpha, m = 0.4, 0.1
     need = m * G * math.sin(alpha - math.atan(mu_s)) if alpha > math.atan(mu_s) else 0.0
     assert (need <= cap) == rests
-    r = exdex.simulate(_incline_block(mu_s, cap), 0.2, 1e-3)
-    assert r.stats["warnings"] == 0
-    if rests:
-        assert np.all(r.v == 0.0) and np.all(r.stick[1:])
-        # the least plate friction: the reaction is the weight's projection
-        # onto the cone, the weight itself inside it (normal part m g cos
-        # alpha), else on its edge, |F| = m g cos(alpha - phi), normal part
-        # |F| cos(phi)
-        phi = math.atan(mu_s)
-        lam = m * G * math.cos(alpha) if alpha <= phi else m * G * math.cos(alpha - phi) * math.cos(phi)
-        np.testing.assert_allclose(r.stop_force[-1, 0], lam, rtol=1e-12)
-    else:
-        acc = G * math.sin(alpha) - mu_s * G * math.cos(alpha) - cap / m
-        speed = np.hypot(r.v[-1, 0], r.v[-1, 1])
-        np.testing.assert_allclose(speed, acc * 0.2, rtol=1e-9)
-        np.testing.assert_allclose(r.stop_force[-1, 0], m * G * math.cos(alpha), rtol=1e-9)
-        assert abs(r.v[-1, 2]) <= 1e-12
+    _incline_run_is_the_closed_form(exdex.simulate(_incline_block(mu_s, cap), 0.2, 1e-3), mu_s, cap, rests)
 
 
 @pytest.mark.parametrize("mu_s", [0.0, 0.5, 0.9])
@@ -578,19 +583,8 @@ def test_event_rest_on_a_frictional_incline_is_exact(mu_s, cap, rests):
     generators), exactly still (v = 0 bit for bit, stick flagged at every
     sample); sliding, the constant acceleration g sin(alpha) - mu_s g
     cos(alpha) - cap / m, integrated exactly (a constant)."""
-    alpha, m = 0.4, 0.1
     r = exdex.simulate(_incline_block(mu_s, cap), 0.2, 1e-3, method="event")
-    assert r.stats["warnings"] == 0
-    if rests:
-        assert np.all(r.v == 0.0) and np.all(r.stick[1:])
-        phi = math.atan(mu_s)
-        lam = m * G * math.cos(alpha) if alpha <= phi else m * G * math.cos(alpha - phi) * math.cos(phi)
-        np.testing.assert_allclose(r.stop_force[-1, 0], lam, rtol=1e-12)
-    else:
-        acc = G * math.sin(alpha) - mu_s * G * math.cos(alpha) - cap / m
-        np.testing.assert_allclose(np.hypot(r.v[-1, 0], r.v[-1, 1]), acc * 0.2, rtol=1e-9)
-        np.testing.assert_allclose(r.stop_force[-1, 0], m * G * math.cos(alpha), rtol=1e-9)
-        assert abs(r.v[-1, 2]) <= 1e-12
+    _incline_run_is_the_closed_form(r, mu_s, cap, rests)
 
 
 @pytest.mark.parametrize("mu_s, cap", [(0.2, 0.21), (0.2, 0.18), (0.0, 0.37)])
