@@ -22,6 +22,7 @@ import pytest
 import exdex
 from expected_warnings import by_design
 from exdex import io
+from zoo import random_rotation
 
 AWKWARD = [0.1 + 0.2, 1 / 3, -0.0, 5e-324, 2.2250738585072014e-308, 1e300, -1e-300, 123456789.123456789,
            2.0 ** -1074 * 3, 0.1, 1e16, 1e-5]
@@ -33,14 +34,6 @@ def _awkward(rng, n=None, positive=False):
         x = float(rng.choice(AWKWARD)) if rng.random() < 0.3 else float(rng.normal() * 10.0 ** int(rng.integers(-6, 4)))
         return abs(x) if positive else x
     return one() if n is None else [one() for _ in range(n)]
-
-
-def _rotation(rng):
-    q = rng.normal(size=4)
-    w, x, y, z = q / np.linalg.norm(q)
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
 
 
 def _body(rng):
@@ -94,7 +87,7 @@ def _motion(rng):
         options["relative"] = bool(rng.integers(0, 2))
     if rng.random() < 0.3:
         X = np.eye(4)
-        X[:3, :3], X[:3, 3] = _rotation(rng), rng.normal(size=3) * 0.05
+        X[:3, :3], X[:3, 3] = random_rotation(rng), rng.normal(size=3) * 0.05
         options["tool"] = X
     return exdex.SampledTrajectory(times, rng.normal(size=(n, 3)) * 0.1, rng.normal(size=(n, 4)), **options)
 
@@ -153,7 +146,7 @@ def random_scene(rng):
     slide_axis, q0 = tuple(rng.normal(size=2)), tuple(_awkward(rng, 3))
     return exdex.Scene(
         body=body, grasp=_touching(body, grasp, q0), motion=motion, dof=dof, slide_axis=slide_axis, q0=q0,
-        v0=tuple(_awkward(rng, 3)), gripper_rotation=_rotation(rng), gripper_position=tuple(_awkward(rng, 3)),
+        v0=tuple(_awkward(rng, 3)), gripper_rotation=random_rotation(rng), gripper_position=tuple(_awkward(rng, 3)),
         gravity=tuple(_awkward(rng, 3)), stops=stops)
 
 
@@ -200,7 +193,7 @@ def test_round_trip_obstacles_is_exact(fmt, tmp_path):
             k = rng.integers(0, 3)
             if k == 0:
                 obs.append(exdex.Obstacle.box(tuple(_awkward(rng, 3)), tuple(rng.uniform(0.01, 1.0, 3)),
-                                              rotation=_rotation(rng), mu=abs(_awkward(rng))))
+                                              rotation=random_rotation(rng), mu=abs(_awkward(rng))))
             elif k == 1:
                 n = int(rng.integers(1, 7))
                 obs.append(exdex.Obstacle.halfspaces(rng.normal(size=(n, 3)), _awkward(rng, n)))

@@ -123,7 +123,8 @@ def _rotation(axis, angle):
     return np.eye(3) + math.sin(angle) * K + (1.0 - math.cos(angle)) * (K @ K)
 
 
-def _random_rotation(rng):
+def random_rotation(rng):
+    """A uniformly random rotation matrix: the unit quaternion of four normal draws of rng."""
     q = rng.normal(size=4)
     w, x, y, z = q / np.linalg.norm(q)
     return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
@@ -168,7 +169,7 @@ def _body(rng, L):
     body = exdex.Body.box(mass, size)
     kind = "box"
     if rng.random() < 0.25:
-        R = _random_rotation(rng)
+        R = random_rotation(rng)
         I = R @ np.array(body.inertia) @ R.T
         body = exdex.Body(mass=mass, inertia=0.5 * (I + I.T), size=size)
         kind = "box-tilted-inertia"
@@ -298,7 +299,7 @@ def zoo_scene(seed):
         gdir = _random_direction(rng)
     gravity = G * gdir
 
-    R0 = np.array(exdex.scene.DEFAULT_GRIPPER_ROTATION) if rng.random() < 0.5 else _random_rotation(rng)
+    R0 = np.array(exdex.scene.DEFAULT_GRIPPER_ROTATION) if rng.random() < 0.5 else random_rotation(rng)
     p0 = rng.uniform(-1.0, 1.0, size=3) * 2.0 * L
 
     q0 = (float(rng.uniform(-0.3, 0.3) * L), float(rng.uniform(-0.3, 0.3) * L), float(rng.uniform(-math.pi, math.pi)))

@@ -26,7 +26,7 @@ import pytest
 import exdex
 from exdex import AsymmetricProfile, Body, Grasp, Patch, SampledTrajectory, Scene
 
-from zoo import _random_rotation
+from zoo import random_rotation
 
 # the planar runs turn the object off its pads on purpose (breakaway and
 # symmetry checks, not grasp outcomes)
@@ -729,7 +729,7 @@ def stop_rest_scene(rng, mu_static, push=0.5, pull=1.3, t_end=1.0):
     reaching -pull Cs at t_end), first presses the box on the stop and then
     pulls it away. Returns (scene, the unit of q toward the stop (+-1), P0,
     k)."""
-    R0 = _random_rotation(rng)
+    R0 = random_rotation(rng)
     al = rng.uniform(0.0, 2.0 * math.pi)
     e = np.array([math.cos(al), math.sin(al)])
     while True:
