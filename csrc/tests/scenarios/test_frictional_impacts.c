@@ -17,6 +17,58 @@
 
 #define G 9.81
 
+/* The box of the corner strikes: a x b, mass m, Izz = I, outline loc, in a
+ * planar grasp whose plates have no friction, no gravity, B = A, turned by
+ * th0 and moving at v0 (x, y, theta rates); a floor stop (normal +y, its
+ * friction mu) through y = y_stop; the method at rtol 1e-12, atol 1e-14. */
+static exdex_scene_def strike_def(int method, double a, double b, double m, double I, double loc[4][2],
+                                  double th0, const double v0[3], double y_stop, double mu)
+{
+    exdex_scene_def d = exdex_default_scene_def();
+    d.dof = EXDEX_DOF_PLANAR;
+    d.method = method;
+    d.rtol = 1e-12;
+    d.atol = 1e-14;
+    d.mass = m;
+    memset(d.inertia, 0, sizeof d.inertia);
+    d.inertia[0] = m * b * b / 12.0;
+    d.inertia[4] = m * a * a / 12.0;
+    d.inertia[8] = I;
+    d.n_vertices = 4;
+    memcpy(d.vertices, loc, sizeof d.vertices[0] * 4);
+    d.mu = 0.0;
+    d.grip_force = 1.0;
+    d.gravity[0] = d.gravity[1] = d.gravity[2] = 0.0;
+    memset(d.R0, 0, sizeof d.R0);
+    d.R0[0] = d.R0[4] = d.R0[8] = 1.0;
+    d.q0[0] = d.q0[1] = 0.0;
+    d.q0[2] = th0;
+    memcpy(d.v0, v0, sizeof d.v0);
+    d.n_stops = 1;
+    memset(d.stop_point[0], 0, sizeof d.stop_point[0]);
+    memset(d.stop_normal[0], 0, sizeof d.stop_normal[0]);
+    d.stop_point[0][1] = y_stop;
+    d.stop_normal[0][1] = 1.0;
+    d.stop_mu[0] = mu;
+    return d;
+}
+
+/* The corner r (from C, in A) of the outline loc turned by th0 that is
+ * lowest (least y). */
+static void lowest_corner(double loc[4][2], double th0, double r[2])
+{
+    double c = cos(th0), s = sin(th0);
+    r[0] = 0.0;
+    r[1] = INFINITY;
+    for (int k = 0; k < 4; k++) {
+        double y = s * loc[k][0] + c * loc[k][1];
+        if (y < r[1]) {
+            r[0] = c * loc[k][0] - s * loc[k][1];
+            r[1] = y;
+        }
+    }
+}
+
 /* A box a x b (mass m, Izz = m (a^2 + b^2) / 12) turned by th0, moving at
  * v0 = (0.15, -0.2) m/s and spinning at 2 rad/s in a planar grasp whose
  * plates have no friction, no gravity, B = A; its lowest corner r (from
@@ -30,21 +82,15 @@
 EXDEX_TEST(fimpact_planar_spinning_corner_on_frictional_floor_closed_form)
 {
     double a = 0.04, b = 0.02, m = 0.1, I = m * (a * a + b * b) / 12.0, th0 = 0.3;
-    double v0[3] = {0.15, -0.2, 2.0}, c = cos(th0), s = sin(th0), r[2] = {0.0, INFINITY};
+    double v0[3] = {0.15, -0.2, 2.0}, r[2];
     double loc[4][2] = {{a / 2, b / 2}, {-a / 2, b / 2}, {-a / 2, -b / 2}, {a / 2, -b / 2}};
-    for (int k = 0; k < 4; k++) {
-        double y = s * loc[k][0] + c * loc[k][1];
-        if (y < r[1]) {
-            r[0] = c * loc[k][0] - s * loc[k][1];
-            r[1] = y;
-        }
-    }
+    lowest_corner(loc, th0, r);
     for (int method = EXDEX_METHOD_EVENT; method <= EXDEX_METHOD_REGULARISED; method++)
         for (int im = 0; im < 3; im++) {
             double mu = im == 0 ? 0.1 : im == 1 ? 0.3 : 2.0, W[3] = {1.0 / m, 1.0 / m, 1.0 / I};
             double Gr[3] = {0.0, 1.0, r[0]}, Tr[3] = {1.0, 0.0, -r[1]}, gg = 0, gt = 0, tt = 0, gv = 0, tv = 0;
             double det, pn, pt, vp[3];
-            exdex_scene_def d = exdex_default_scene_def();
+            exdex_scene_def d = strike_def(method, a, b, m, I, loc, th0, v0, r[1], mu);
             sim_run run;
             for (int i = 0; i < 3; i++) {
                 gg += Gr[i] * W[i] * Gr[i];
@@ -64,31 +110,6 @@ EXDEX_TEST(fimpact_planar_spinning_corner_on_frictional_floor_closed_form)
                 pt = -mu * sg * pn;
             }
             for (int i = 0; i < 3; i++) vp[i] = v0[i] + W[i] * (Gr[i] * pn + Tr[i] * pt);
-            d.dof = EXDEX_DOF_PLANAR;
-            d.method = method;
-            d.rtol = 1e-12;
-            d.atol = 1e-14;
-            d.mass = m;
-            memset(d.inertia, 0, sizeof d.inertia);
-            d.inertia[0] = m * b * b / 12.0;
-            d.inertia[4] = m * a * a / 12.0;
-            d.inertia[8] = I;
-            d.n_vertices = 4;
-            memcpy(d.vertices, loc, sizeof loc);
-            d.mu = 0.0;
-            d.grip_force = 1.0;
-            d.gravity[0] = d.gravity[1] = d.gravity[2] = 0.0;
-            memset(d.R0, 0, sizeof d.R0);
-            d.R0[0] = d.R0[4] = d.R0[8] = 1.0;
-            d.q0[0] = d.q0[1] = 0.0;
-            d.q0[2] = th0;
-            memcpy(d.v0, v0, sizeof v0);
-            d.n_stops = 1;
-            memset(d.stop_point[0], 0, sizeof d.stop_point[0]);
-            memset(d.stop_normal[0], 0, sizeof d.stop_normal[0]);
-            d.stop_point[0][1] = r[1];
-            d.stop_normal[0][1] = 1.0;
-            d.stop_mu[0] = mu;
             ENSURE(sim_run_def(&d, 0.002, 1e-4, &run) == EXDEX_OK);
             ENSURE(run.st.warnings == 0 && run.st.impacts == 1);
             ENSURE_CLOSE(run.st.max_impulse, pn, 1e-12 * pn);
@@ -208,22 +229,17 @@ EXDEX_TEST(fimpact_planar_slow_slanted_strikes_closed_form)
     for (int sc = 0; sc < 40; sc++) {
         double th0 = 0.1 + 0.5 * lcg_uniform(&seed), vn = pow(10.0, -9.0 + 6.0 * lcg_uniform(&seed));
         double phi = -1.4 + 2.8 * lcg_uniform(&seed), w = (1.0 + 4.0 * lcg_uniform(&seed));
-        double mu = 0.05 + 2.45 * lcg_uniform(&seed), c = cos(th0), s = sin(th0), r[2] = {0.0, INFINITY};
+        double mu = 0.05 + 2.45 * lcg_uniform(&seed), r[2];
         if (lcg_uniform(&seed) < 0.5) w = -w;
-        for (int k = 0; k < 4; k++) {
-            double y = s * loc[k][0] + c * loc[k][1];
-            if (y < r[1]) {
-                r[0] = c * loc[k][0] - s * loc[k][1];
-                r[1] = y;
-            }
-        }
+        lowest_corner(loc, th0, r);
         for (int method = EXDEX_METHOD_EVENT; method <= EXDEX_METHOD_REGULARISED; method++) {
             double Gr[3] = {0.0, 1.0, r[0]}, Tr[3] = {1.0, 0.0, -r[1]}, v0[3], vp[3], vf[3], pn, pn0, share = 0.0;
-            exdex_scene_def d = exdex_default_scene_def();
+            exdex_scene_def d;
             sim_run run;
             v0[0] = vn * tan(phi) + w * r[1];
             v0[1] = -vn - w * r[0];
             v0[2] = w;
+            d = strike_def(method, a, b, m, I, loc, th0, v0, r[1], mu);
             ENSURE(corner_law(W, Gr, Tr, v0, mu, vp, &pn) == 1);  /* one consistent mode */
             ENSURE(corner_law(W, Gr, Tr, v0, 0.0, vf, &pn0) == 1);
             for (int i = 0; i < 3; i++) share = fmax(share, fabs(vp[i] - vf[i]));
@@ -233,31 +249,6 @@ EXDEX_TEST(fimpact_planar_slow_slanted_strikes_closed_form)
                 for (int i = 0; i < 3; i++) tv += Tr[i] * vp[i];
                 nstick += tv == 0.0 || fabs(tv) < 1e-12 * vn;
             }
-            d.dof = EXDEX_DOF_PLANAR;
-            d.method = method;
-            d.rtol = 1e-12;
-            d.atol = 1e-14;
-            d.mass = m;
-            memset(d.inertia, 0, sizeof d.inertia);
-            d.inertia[0] = m * b * b / 12.0;
-            d.inertia[4] = m * a * a / 12.0;
-            d.inertia[8] = I;
-            d.n_vertices = 4;
-            memcpy(d.vertices, loc, sizeof loc);
-            d.mu = 0.0;
-            d.grip_force = 1.0;
-            d.gravity[0] = d.gravity[1] = d.gravity[2] = 0.0;
-            memset(d.R0, 0, sizeof d.R0);
-            d.R0[0] = d.R0[4] = d.R0[8] = 1.0;
-            d.q0[0] = d.q0[1] = 0.0;
-            d.q0[2] = th0;
-            memcpy(d.v0, v0, sizeof v0);
-            d.n_stops = 1;
-            memset(d.stop_point[0], 0, sizeof d.stop_point[0]);
-            memset(d.stop_normal[0], 0, sizeof d.stop_normal[0]);
-            d.stop_point[0][1] = r[1];
-            d.stop_normal[0][1] = 1.0;
-            d.stop_mu[0] = mu;
             ENSURE(sim_run_def(&d, 0.002, 1e-4, &run) == EXDEX_OK);
             ENSURE(run.st.warnings == 0 && run.st.impacts == 1);
             ENSURE_CLOSE(run.st.max_impulse, pn, 1e-9 * pn + 1e-14 * m);
