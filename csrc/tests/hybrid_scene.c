@@ -40,16 +40,6 @@ void scene_obstacle_box(exdex_scene_def *d, int o, const double ctr[3], const do
         }
 }
 
-void scene_stop_floor(exdex_scene_def *d, int k, double y0, double mu)
-{
-    if (d->n_stops < k + 1) d->n_stops = k + 1;
-    memset(d->stop_point[k], 0, sizeof d->stop_point[k]);
-    memset(d->stop_normal[k], 0, sizeof d->stop_normal[k]);
-    d->stop_point[k][1] = y0;
-    d->stop_normal[k][1] = 1.0;
-    d->stop_mu[k] = mu;
-}
-
 int begin_run(const exdex_scene_def *d, double t_end, begun *b)
 {
     int status = 0;

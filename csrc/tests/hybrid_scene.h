@@ -1,8 +1,8 @@
 /* hybrid_scene.h -- test set-up shared by the C test files of the hybrid
  * methods' internals and of the obstacle rows (test_hybrid_decide.c,
  * test_hybrid_events.c, test_obstacle_rows.c): a box in the plate plane, a
- * box obstacle, a stop below the object, and an event run begun on a scene
- * so that a test can call the methods' functions directly on its state. */
+ * box obstacle, and an event run begun on a scene so that a test can call
+ * the methods' functions directly on its state. */
 #ifndef EXDEX_TEST_HYBRID_SCENE_H
 #define EXDEX_TEST_HYBRID_SCENE_H
 
@@ -19,10 +19,6 @@ exdex_scene_def scene_plate_box(double a, double b, double c, double m);
  * <= half[i] in A: a polytope of 6 faces, face 2 i + s with the outward
  * normal +e_i (s = 0) or -e_i (s = 1). Its friction is left as it was. */
 void scene_obstacle_box(exdex_scene_def *d, int o, const double ctr[3], const double half[3]);
-
-/* Stop k (n_stops becomes at least k + 1) the plane y = y0 of B with the
- * normal +B y (the object on its side y >= y0), its friction mu. */
-void scene_stop_floor(exdex_scene_def *d, int k, double y0, double mu);
 
 /* An event run of a scene definition begun for t_end (its first output
  * step t_end): the model, the method's workspace (its state O->S) and the

@@ -17,6 +17,7 @@
  * alone (bit for bit). */
 #include "check.h"
 #include "hybrid_scene.h"
+#include "sim_run.h"
 
 #include <math.h>
 #include <string.h>
@@ -196,7 +197,8 @@ static exdex_scene_def planar_on_stop_def(double ratio, double mu_s, double tb)
     double c = sqrt(1.0 + tb * tb);
     d.gravity[0] = 9.81 * (tb / c);
     d.gravity[1] = -9.81 * (1.0 / c);
-    scene_stop_floor(&d, 0, -0.02, mu_s);
+    scene_stop(&d, 0, 0.0, -0.02, 0.0, 0.0, 1.0, 0.0);
+    d.stop_mu[0] = mu_s;
     return d;
 }
 

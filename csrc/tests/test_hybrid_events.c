@@ -29,6 +29,7 @@
  * turn). The first crossing of 0 is t_in. */
 #include "check.h"
 #include "hybrid_scene.h"
+#include "sim_run.h"
 
 #include <math.h>
 #include <string.h>
@@ -49,7 +50,7 @@ static exdex_scene_def spin_def(int dof, double vx, double vy, double w0)
     d.v0[1] = vy;
     d.v0[2] = w0;
     if (dof == EXDEX_DOF_ROTATION) d.v0[0] = w0;
-    scene_stop_floor(&d, 0, -Rc * cos(EPS_TURN), 0.0);
+    scene_stop(&d, 0, 0.0, -Rc * cos(EPS_TURN), 0.0, 0.0, 1.0, 0.0);
     d.method = EXDEX_METHOD_EVENT;
     d.rtol = 1e-10;
     d.atol = 1e-10;
