@@ -146,6 +146,26 @@ static exdex_scene_def fig4(void)
     return d;
 }
 
+/* The run ra of a scene with a plane stop and the run rb of the same scene
+ * with that stop as a one-face obstacle: the same trajectory and stop
+ * forces bit for bit, or, for the explicit 1-DoF method (rounding = 1),
+ * whose stop clamp forms the gap as n.(R x + p - point) in another order
+ * than the planar row the obstacle shares (contact_row_1dof), equal to
+ * rounding (q to 1e-15, the forces to 1e-9). */
+static void stop_run_is_the_obstacle_run(const sim_run *ra, const sim_run *rb, int rounding)
+{
+    if (rounding) {
+        for (size_t i = 0; i < ra->tr.n; i++) {
+            ENSURE_CLOSE(ra->tr.q[i], rb->tr.q[i], 1e-15);
+            ENSURE_CLOSE(ra->tr.stop_force[i], rb->tr.stop_force[i], 1e-9);
+        }
+    } else {
+        ENSURE(memcmp(ra->tr.q, rb->tr.q, ra->tr.n * (size_t)ra->ndof * sizeof(double)) == 0);
+        ENSURE(memcmp(ra->tr.v, rb->tr.v, ra->tr.n * (size_t)ra->ndof * sizeof(double)) == 0);
+        ENSURE(memcmp(ra->tr.stop_force, rb->tr.stop_force, ra->tr.n * sizeof(double)) == 0);
+    }
+}
+
 /* twin: tests/scenarios/test_obstacles.py::test_one_face_obstacle_is_the_stop_bit_for_bit */
 EXDEX_TEST(obstacle_one_face_is_the_stop_bit_for_bit)
 {
@@ -179,20 +199,8 @@ EXDEX_TEST(obstacle_one_face_is_the_stop_bit_for_bit)
         ENSURE(sim_run_def(&a, 1.0, 1e-3, &ra) == EXDEX_OK);
         ENSURE(sim_run_def(&b, 1.0, 1e-3, &rb) == EXDEX_OK);
         ENSURE(rb.nstops == 1);
-        if (c == 2) {
-            /* explicit 1-DoF: its stop clamp forms the gap as n.(R x + p - point) in
-             * another order than the planar row the obstacle shares (contact_row_1dof):
-             * equal to rounding */
-            for (size_t i = 0; i < ra.tr.n; i++) {
-                ENSURE_CLOSE(ra.tr.q[i], rb.tr.q[i], 1e-15);
-                ENSURE_CLOSE(ra.tr.stop_force[i], rb.tr.stop_force[i], 1e-9);
-            }
-        } else {
-            ENSURE(memcmp(ra.tr.q, rb.tr.q, ra.tr.n * (size_t)ra.ndof * sizeof(double)) == 0);
-            ENSURE(memcmp(ra.tr.v, rb.tr.v, ra.tr.n * (size_t)ra.ndof * sizeof(double)) == 0);
-            ENSURE(memcmp(ra.tr.stop_force, rb.tr.stop_force, ra.tr.n * sizeof(double)) == 0);
-            ENSURE(ra.st.min_gap == rb.st.min_gap);
-        }
+        stop_run_is_the_obstacle_run(&ra, &rb, c == 2);
+        if (c != 2) ENSURE(ra.st.min_gap == rb.st.min_gap);
         sim_run_free(&ra);
         sim_run_free(&rb);
     }
@@ -233,16 +241,7 @@ EXDEX_TEST(obstacle_frictional_face_is_the_frictional_stop_in_every_method_that_
         ENSURE(sim_run_def(&a, 1.0, 1e-3, &ra) == EXDEX_OK);
         ENSURE(sim_run_def(&b, 1.0, 1e-3, &rb) == EXDEX_OK);
         ENSURE(sim_run_def(&f, 1.0, 1e-3, &rf) == EXDEX_OK);
-        if (c == 2) {
-            for (size_t i = 0; i < ra.tr.n; i++) {
-                ENSURE_CLOSE(ra.tr.q[i], rb.tr.q[i], 1e-15);
-                ENSURE_CLOSE(ra.tr.stop_force[i], rb.tr.stop_force[i], 1e-9);
-            }
-        } else {
-            ENSURE(memcmp(ra.tr.q, rb.tr.q, ra.tr.n * (size_t)ra.ndof * sizeof(double)) == 0);
-            ENSURE(memcmp(ra.tr.v, rb.tr.v, ra.tr.n * (size_t)ra.ndof * sizeof(double)) == 0);
-            ENSURE(memcmp(ra.tr.stop_force, rb.tr.stop_force, ra.tr.n * sizeof(double)) == 0);
-        }
+        stop_run_is_the_obstacle_run(&ra, &rb, c == 2);
         /* 1-DoF: the friction shares the stop's push along the free coordinate (another
          * normal force); planar: it changes the motion too */
         for (size_t i = 0; i < ra.tr.n; i++)
