@@ -13,7 +13,7 @@ import pytest
 
 import exdex
 from exdex import _core, _tool
-from exdex._table import MISSING, format_table
+from exdex._table import MISSING
 
 BODY = exdex.Body.box(0.1, (0.06, 0.03, 0.02))
 GRASP = exdex.Grasp(mu=0.5, grip_force=2.0)
@@ -139,20 +139,6 @@ def test_enums_come_from_the_core():
     src = open(scene_mod.__file__).read()
     assert not re.search(r"motion_kind=\d|\"(implicit|event|regularised|explicit|translation|rotation|planar|"
                          r"scalar|brent|multiroot)\": \d", src)
-
-
-def test_table_is_aligned_with_units_and_no_nan():
-    cols = [("case", None), ("model", None), ("final [mm]", "{:.3f}"), ("wall [s]", "{:.2f}")]
-    rows = [("fig3", "exdex", 20.0, 0.5), ("fig3", "ablation point", float("nan"), None),
-            ("fig6", "mujoco", -123.4567, 12.0)]
-    text = format_table(cols, rows)
-    lines = text.splitlines()
-    assert "nan" not in text and MISSING in lines[3]
-    # right-aligned numbers: every numeric cell of a column ends where its header ends
-    for head in ("final [mm]", "wall [s]"):
-        end = lines[0].index(head) + len(head)
-        for ln in lines[2:]:
-            assert len(ln) >= end and ln[end - 1] != " " and (len(ln) == end or ln[end] == " ")
 
 
 def test_paper_table_has_units_and_no_nan():
