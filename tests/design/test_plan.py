@@ -163,20 +163,6 @@ def test_limits_validation():
         plan.Limits(duration=(2.0, 1.0))
 
 
-def test_motion_peaks_closed_forms():
-    """Eq. 9: a_H = 2 X1/(beta T^2), |a_L| = 2 X1/((1 - beta) T^2); the speed
-    peaks at beta T with a_H beta T = 2 X1 / T; trapezoid: ramps of
-    T - X1/v_max at v_max / t_a."""
-    m = exdex.AsymmetricProfile(0.1, 0.5, 0.9)
-    pk = plan.motion_peaks(m)
-    assert pk["acceleration"] == pytest.approx(2 * 0.1 / (0.1 * 0.25))
-    assert pk["speed"] == pytest.approx(2 * 0.1 / 0.5)
-    tp = exdex.TrapezoidalProfile(0.05, 0.5, 0.12)
-    pk = plan.motion_peaks(tp)
-    ta = 0.5 - 0.05 / 0.12
-    assert pk["acceleration"] == pytest.approx(0.12 / ta) and pk["speed"] == 0.12
-
-
 def test_gripper_poses_follow_eq7_in_closed_form():
     """The exported poses: Eq. 7 downward, s(t) = a_H t^2 / 2 on [0, beta T)
     with a_H = 2 X1 / (beta T^2) (Eq. 9), orientation constant."""
@@ -265,21 +251,6 @@ def test_rest_by_met_by_closed_form_and_unreachable_when_too_early():
 def test_bad_rest_by_is_named(target, vary, match):
     with pytest.raises(ValueError, match=match):
         plan.solve(fig3(), target, vary=vary, t_end=T_END)
-
-
-def test_motion_peaks_of_a_sampled_log():
-    """p(t) = a t^2 / 2 along x, sampled every 10 ms to 0.5 s: second
-    differences of a quadratic are exact (a), the largest first difference
-    is the speed at the last interval's midpoint a (0.5 - 0.005), the stroke
-    a 0.5^2 / 2."""
-    a = 2.0
-    t = np.linspace(0.0, 0.5, 51)
-    pos = np.column_stack([0.5 * a * t ** 2, np.zeros_like(t), np.zeros_like(t)])
-    quat = np.tile([1.0, 0.0, 0.0, 0.0], (len(t), 1))
-    pk = plan.motion_peaks(exdex.SampledTrajectory(t, pos, quat))
-    assert pk["acceleration"] == pytest.approx(a, rel=1e-9)
-    assert pk["speed"] == pytest.approx(a * 0.495, rel=1e-9)
-    assert pk["stroke"] == pytest.approx(0.25, rel=1e-12) and pk["duration"] == pytest.approx(0.5)
 
 
 def _event_outcome(scene, t_end):

@@ -1,4 +1,6 @@
-"""Jupyter's rich display: a Scene and a Result show a short HTML table of what they are.
+"""exdex._html, the short HTML summaries of Jupyter's rich display: quantity
+and summary_table against strings written out by hand (units, escaping),
+then what a Scene and a Result show with them.
 
 The numbers are the scene's own inputs (mass, sizes, grip, mu) and, for the Result, the final slip of
 the paper's Fig. 3 scene, which its closed form fixes at -20 mm (tests/studies/test_paper.py checks the
@@ -9,6 +11,26 @@ import re
 import numpy as np
 
 import exdex
+from exdex._html import quantity, summary_table
+
+
+def test_quantity_formats_a_number_with_its_unit():
+    assert quantity(1.5, "N") == "1.5 N"
+    assert quantity(1 / 3) == "0.333333"                 # six significant digits, no unit, no trailing space
+    assert quantity(1e-7, "m") == "1e-07 m"
+    assert quantity(0.02, "s", fmt="{:.3f}") == "0.020 s"
+    assert quantity("holds", "N") == "holds"             # text is kept as given, without the unit
+
+
+def test_summary_table_is_a_two_column_table_with_everything_escaped():
+    th = '<th style="text-align:left;padding-right:1em">'
+    td = '<td style="text-align:left">'
+    assert summary_table("a <b>", [("x < y", "1 & 2"), (3, None)]) == (
+        '<div class="exdex-summary"><b>a &lt;b&gt;</b><table>'
+        f'<tr>{th}x &lt; y</th>{td}1 &amp; 2</td></tr>'
+        f'<tr>{th}3</th>{td}None</td></tr>'
+        '</table></div>')
+    assert summary_table("empty", []) == '<div class="exdex-summary"><b>empty</b><table></table></div>'
 
 
 def _cells(text):
