@@ -1,5 +1,6 @@
-"""Scenes as files (exdex.io), results out (Result.to_dict / to_dataframe /
-save / load / repr); the ``exdex run`` command is tested in tests/cli/test_run.py.
+"""Scenes as files (exdex.io); results out (Result.to_dict / to_dataframe /
+save / load / repr) are tested in tests/test_simulate.py, the ``exdex run``
+command in tests/cli/test_run.py.
 
 Round trips are checked on seeded random scenes covering every scene object
 and option: bodies (scalar, diagonal and full inertia; size; outline; a disc outline),
@@ -11,16 +12,13 @@ decimal forms are long or unusual (0.1 + 0.2, subnormals, -0.0, 1e300): a
 loaded scene must be equal *and* write the same text again (which sees the
 sign of zero), and simulate to bit-identical arrays.
 """
-import csv
 import json
 import math
-import sys
 
 import numpy as np
 import pytest
 
 import exdex
-from expected_warnings import by_design
 from exdex import io
 from zoo import random_rotation
 
@@ -333,100 +331,6 @@ def test_toml_writer_strings_and_keys_round_trip():
     tomllib = pytest.importorskip("tomllib")
     d = {"a": 'quote " backslash \\ tab \t nl \n é ∑', "odd key": [1, -0.0, True, "x"], "t": {"u": [[1.5], []]}}
     assert repr(tomllib.loads(io._toml_dumps(d))) == repr(d)
-
-
-# ---------------------------------------------------------------- results out
-
-def _scenes():
-    body = exdex.Body.box(0.1, (0.04, 0.06, 0.02))
-    grasp = exdex.Grasp(mu=0.5, grip_force=1.5)
-    motion = exdex.AsymmetricProfile(0.1, 0.5, 0.9, axis=(0, 0, -1))
-    return {
-        "translation": exdex.Scene(body=body, grasp=grasp, motion=motion),
-        "rotation": exdex.Scene(body=body, grasp=exdex.Grasp(0.5, 1.5, exdex.Patch(0.01, center=(0.0, 0.01))),
-                                motion=motion, dof="rotation"),
-        "planar": exdex.Scene(body=body, grasp=grasp, motion=motion, dof="planar",
-                              stops=(exdex.Stop((0, 0, -0.09), (0, 0, 1)),)),
-    }
-
-
-COLUMNS = {
-    "translation": ["t", "s", "v_s", "f_x", "f_y", "m_z", "stick"],
-    "rotation": ["t", "theta", "v_theta", "f_x", "f_y", "m_z", "stick"],
-    "planar": ["t", "x", "y", "theta", "v_x", "v_y", "v_theta", "f_x", "f_y", "m_z", "stick", "stop_force_0"],
-}
-
-
-@pytest.fixture(scope="module")
-def results():
-    with by_design("impact", "outline"):  # the planar scene drops onto its stop
-        return {k: exdex.simulate(sc, 1.2, 1e-3) for k, sc in _scenes().items()}
-
-
-@pytest.mark.warns_by_design("impact", "outline")
-@pytest.mark.parametrize("dof", list(COLUMNS))
-def test_to_dict_columns(results, dof):
-    r = results[dof]
-    d = r.to_dict()
-    assert list(d) == COLUMNS[dof]
-    assert list(r.units) == COLUMNS[dof]
-    assert all(len(v) == len(r.t) for v in d.values())
-    names = r.scene.coordinate_names
-    for i, n in enumerate(names):
-        assert np.array_equal(d[n], r.q[:, i]) and np.array_equal(d[f"v_{n}"], r.v[:, i])
-    assert np.array_equal(np.column_stack([d["f_x"], d["f_y"], d["m_z"]]), r.wrench)
-    assert r.units["m_z"] == "N m" and r.units["t"] == "s"
-
-
-@pytest.mark.parametrize("dof", list(COLUMNS))
-def test_save_csv_is_exact(results, dof, tmp_path):
-    r = results[dof]
-    path = r.save(tmp_path / "r.csv")
-    with open(path, newline="") as f:
-        rows = list(csv.reader(f))
-    assert rows[0] == COLUMNS[dof]
-    assert len(rows) == len(r.t) + 1
-    table = np.array([[float(x) for x in row] for row in rows[1:]])
-    for j, (name, col) in enumerate(r.to_dict().items()):
-        assert np.array_equal(table[:, j], np.asarray(col, dtype=float)), name
-    assert set(row[rows[0].index("stick")] for row in rows[1:]) <= {"0", "1"}
-
-
-@pytest.mark.parametrize("dof", list(COLUMNS))
-def test_save_npz_round_trip(results, dof, tmp_path):
-    r = results[dof]
-    back = exdex.Result.load(r.save(tmp_path / "r.npz"))
-    for name in ("t", "q", "v", "wrench", "stick", "stop_force"):
-        a, b = getattr(r, name), getattr(back, name)
-        assert a.dtype == b.dtype and a.tobytes() == b.tobytes(), name
-    assert back.scene == r.scene and back.method == r.method and back.dt == r.dt
-    assert back.stats == r.stats
-    with pytest.raises(ValueError, match=r"\.npz or \.csv.*'\.xlsx'"):
-        r.save(tmp_path / "r.xlsx")
-
-
-def test_to_dataframe(results, monkeypatch):
-    r = results["planar"]
-    monkeypatch.setitem(sys.modules, "pandas", None)  # as if pandas were not installed
-    with pytest.raises(ImportError, match="needs pandas"):
-        r.to_dataframe()
-    monkeypatch.undo()
-    pd = pytest.importorskip("pandas")
-    df = r.to_dataframe()
-    assert isinstance(df, pd.DataFrame) and list(df.columns) == COLUMNS["planar"] and len(df) == len(r.t)
-    assert np.array_equal(df["y"].to_numpy(), r.q[:, 1]) and df.attrs["units"]["y"] == "m"
-
-
-@pytest.mark.warns_by_design("impact", "outline")
-def test_repr_is_short_and_says_what_matters(results):
-    r = exdex.simulate(_scenes()["planar"], 20.0, 1e-4)  # 200,001 samples
-    text = repr(r)
-    assert "\n" not in text and len(text) < 250, text
-    assert "method='implicit'" in text and "200001 samples" in text and "t = 0..20 s" in text
-    assert f"y = {r.q[-1, 1]:.6g} m" in text
-    # stick share of the steps, from the stick flags
-    assert f"stick in {np.mean(r.stick[1:]):.0%} of steps" in text
-    assert "[" not in text  # no arrays
 
 
 # ---------------------------------------------------------------- exdex run

@@ -4,7 +4,6 @@ line's --version, --no-progress and --help: tests/cli/test_dispatch.py)."""
 import argparse
 import contextlib
 import io
-import math
 import re
 import warnings
 
@@ -39,47 +38,6 @@ def test_stop_inside_object_names_stop_and_depth():
         assert depth == pytest.approx(0.003, rel=1e-6)
     with pytest.raises(ValueError, match=r"batch index 1: Scene\.stops\[1\]"):
         exdex.simulate_batch([exdex.replace(scene, stops=(ok,)), scene], 0.01, 1e-3)
-
-
-def test_stop_inside_object_random_depths():
-    """Seeded random rotations, positions and floor heights: the reported
-    depth is the lowest outline corner's distance below the plane, computed
-    here from the corners' world coordinates."""
-    rng = np.random.default_rng(11)
-    for _ in range(40):
-        th = rng.uniform(-math.pi, math.pi)
-        q0 = (rng.uniform(-0.01, 0.01), rng.uniform(-0.01, 0.01), th)
-        c, s = math.cos(th), math.sin(th)
-        corners = [(q0[0] + c * x - s * y, q0[1] + s * x + c * y) for x, y in BODY.vertices()]
-        low = min(y for _, y in corners)                  # B y = A z in the default pose
-        depth = rng.uniform(1e-4, 5e-3)
-        stop = exdex.Stop(point=(0, 0, low + depth), normal=(0, 0, 1))
-        with pytest.raises(ValueError, match=r"Scene\.stops\[0\]") as info:
-            exdex.Scene(body=BODY, grasp=GRASP, dof="planar", q0=q0, stops=stop).check_stops()
-        got = float(re.search(r"is ([0-9.eE+-]+) m beyond", str(info.value)).group(1))
-        assert got == pytest.approx(depth, rel=1e-5, abs=1e-12)
-        # just clear of it: accepted
-        exdex.Scene(body=BODY, grasp=GRASP, dof="planar", q0=q0,
-                    stops=exdex.Stop(point=(0, 0, low - 1e-6), normal=(0, 0, 1))).check_stops()
-
-
-def test_single_stop_is_accepted():
-    stop = exdex.Stop(point=(0, 0, -0.1), normal=(0, 0, 1))
-    one = exdex.Scene(body=BODY, grasp=GRASP, stops=stop)
-    assert one.stops == (stop,)
-    assert one == exdex.Scene(body=BODY, grasp=GRASP, stops=(stop,))
-
-
-@pytest.mark.parametrize("bad", [1.0, "floor", object()])
-def test_stops_of_wrong_type_name_the_parameter(bad):
-    with pytest.raises(TypeError, match="Scene.stops"):
-        exdex.Scene(body=BODY, grasp=GRASP, stops=bad)
-
-
-def test_stops_entry_of_wrong_type_names_the_index():
-    stop = exdex.Stop(point=(0, 0, -0.1), normal=(0, 0, 1))
-    with pytest.raises(TypeError, match=r"Scene\.stops\[1\] must be an exdex\.Stop"):
-        exdex.Scene(body=BODY, grasp=GRASP, stops=[stop, (0, 0, 1)])
 
 
 @pytest.mark.parametrize("call", [
