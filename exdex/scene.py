@@ -1349,11 +1349,11 @@ class Obstacle:
     def halfspaces(cls, normals: Matrix, offsets: Vector, mu: float = 0.0) -> "Obstacle":
         """The solid ``normals[i] . x <= offsets[i]`` for every i (A, [m]); the
         normals need not be unit (each row is scaled with its offset)."""
-        n = _array(normals, "normals", (None, 3))
-        d = _array(offsets, "offsets", (len(n),))
+        n = _array(normals, "Obstacle.halfspaces: normals", (None, 3))
+        d = _array(offsets, "Obstacle.halfspaces: offsets", (len(n),))
         norms = np.linalg.norm(n, axis=1)
         if np.any(norms == 0.0):
-            raise ValueError("normals must be non-zero vectors")
+            raise ValueError("Obstacle.halfspaces: normals must be non-zero vectors")
         nu, du = n / norms[:, None], d / norms
         return cls(kind="halfspaces", face_points=du[:, None] * nu, face_normals=nu, mu=mu)
 
@@ -1363,11 +1363,11 @@ class Obstacle:
             mu: float = 0.0) -> "Obstacle":
         """A box of full side lengths ``size`` (> 0) [m] centred at ``center``
         (A), its edges along the columns of ``rotation`` (a rotation matrix)."""
-        c = _array(center, "center", (3,))
-        sz = _array(size, "size", (3,))
+        c = _array(center, "Obstacle.box: center", (3,))
+        sz = _array(size, "Obstacle.box: size", (3,))
         if np.any(sz <= 0):
-            raise ValueError("size must be positive (three side lengths > 0) [m]")
-        R = np.array(_rotation(rotation, "rotation"))
+            raise ValueError("Obstacle.box: size must be positive (three side lengths > 0) [m]")
+        R = np.array(_rotation(rotation, "Obstacle.box: rotation"))
         pts, nrm = [], []
         for i in range(3):
             for sgn in (1.0, -1.0):
