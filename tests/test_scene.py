@@ -39,7 +39,8 @@ BAD = [
     (lambda: exdex.Grasp(mu=0.5, grip_force=1.0, fingers=3), ValueError, "Grasp.fingers must be 1 or 2, got 3"),
     (lambda: exdex.Grasp(mu=0.5, grip_force=1.0, limit_surface="box"), ValueError,
      "Grasp.limit_surface must be one of 'ellipsoid', 'exact', got 'box'"),
-    (lambda: exdex.Grasp(mu=0.5, grip_force=1.0, patch="disc"), TypeError, "Grasp.patch must be an exdex.Patch, got str"),
+    (lambda: exdex.Grasp(mu=0.5, grip_force=1.0, patch="disc"), TypeError,
+     "Grasp.patch must be an exdex.Patch, got str"),
     (lambda: exdex.GripSchedule([0.0, 0.5, 0.5], [1.0, 2.0, 3.0]), ValueError,
      "GripSchedule.times must be strictly increasing: times[2] = 0.5 <= times[1] = 0.5"),
     (lambda: exdex.GripSchedule([0.0, 0.5], [1.0, -2.0]), ValueError, "GripSchedule.forces[1] = -2 must be >= 0 [N]"),
@@ -71,14 +72,16 @@ BAD = [
     (lambda: exdex.Stop((0, 0, 0), (0, 0, 0)), ValueError, "Stop.normal must be a non-zero vector"),
     (lambda: exdex.Obstacle.box((0, 0, 0), (0.1, 0.0, 0.1)), ValueError,
      "Obstacle.box: size must be positive (three side lengths > 0) [m]"),
-    (lambda: exdex.Obstacle.box((0, 0), (0.1, 0.1, 0.1)), ValueError, "Obstacle.box: center must have shape (3,), got (2,)"),
+    (lambda: exdex.Obstacle.box((0, 0), (0.1, 0.1, 0.1)), ValueError,
+     "Obstacle.box: center must have shape (3,), got (2,)"),
     (lambda: exdex.Obstacle.box((0, 0, 0), (0.1, 0.1, 0.1), rotation=2 * np.eye(3)), ValueError,
      "Obstacle.box: rotation must be a rotation matrix (orthonormal, det +1)"),
     (lambda: exdex.Obstacle.halfspaces([(0, 0, 0)], [0.0]), ValueError,
      "Obstacle.halfspaces: normals must be non-zero vectors"),
     (lambda: exdex.Obstacle.halfspaces([(0, 0, 1)], [0.0, 1.0]), ValueError,
      "Obstacle.halfspaces: offsets must have shape (1,), got (2,)"),
-    (lambda: exdex.Obstacle.cylinder((0, 0, 0), (0, 1, 0), 0.0), ValueError, "Obstacle.radius must be in (0, inf), got 0"),
+    (lambda: exdex.Obstacle.cylinder((0, 0, 0), (0, 1, 0), 0.0), ValueError,
+     "Obstacle.radius must be in (0, inf), got 0"),
     (lambda: exdex.Obstacle.cylinder((0, 0, 0), (0, 0, 0), 0.1), ValueError, "Obstacle.axis must be a non-zero vector"),
     (lambda: exdex.Scene(body=BODY, grasp=GRASP, dof="spin"), ValueError,
      "Scene.dof must be one of ['planar', 'rotation', 'translation', 'auto'], got 'spin'"),
@@ -142,7 +145,8 @@ def test_eq7_and_the_trapezoid_at_their_switching_times():
     assert m.end_time == 2 * T
     k = m.evaluate([0.5 * beta * T, beta * T, T, 2 * T])
     s, v, a = -k["p"][:, 2], -k["v"][:, 2], -k["a"][:, 2]        # along the axis (0, 0, -1)
-    assert s == pytest.approx([a_h * (0.5 * beta * T) ** 2 / 2, a_h * (beta * T) ** 2 / 2, X, 0.0], rel=1e-12, abs=1e-15)
+    assert s == pytest.approx([a_h * (0.5 * beta * T) ** 2 / 2, a_h * (beta * T) ** 2 / 2, X, 0.0],
+                              rel=1e-12, abs=1e-15)
     assert v == pytest.approx([a_h * 0.5 * beta * T, a_h * beta * T, 0.0, 0.0], rel=1e-12, abs=1e-15)
     assert a[0] == pytest.approx(a_h, rel=1e-12)
     tp = exdex.TrapezoidalProfile(0.05, 0.5, 0.12, axis=(1, 0, 0))

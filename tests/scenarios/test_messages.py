@@ -1,11 +1,7 @@
 """Messages a user meets: bad input names the parameter, tables are aligned
 without ``nan``, and one exception class for solver failures (the command
 line's --version, --no-progress and --help: tests/cli/test_dispatch.py)."""
-import argparse
-import contextlib
-import io
 import re
-import warnings
 
 import numpy as np
 import pytest
