@@ -441,6 +441,66 @@ EXDEX_TEST(decide_small_slip_stop_friction_modes_are_a_fixed_point)
     end_event(&b);
 }
 
+/* T9 in a small slip where the search's fixed point is not the all-rolling
+ * problem's answer: the square of planar_def standing on a stop along its
+ * lower face (stop mu 1.0), gravity tilted by beta from -y toward +x (tan
+ * beta 3), plate capacity 0.5 m g, the patch 1 cm to the right of the
+ * centre of mass. The object starts to turn about its lower right corner
+ * (vertex 0, r = (a/2, -a/2) from the centre of mass, the set's one row).
+ * Two modes are fixed points of modes -> plate friction -> the problem's
+ * modes: the corner sticking, and the corner sliding back (-x). The rule
+ * keeps the first in stop_friction.h's order, stick before slide: the
+ * decision sticks. The problem solved on the plate friction of every group
+ * rolling (the fallback, when no candidate is a fixed point) decides the
+ * slide instead, so a decision by the fallback fails the test. At the
+ * sticking fixed point the corner does not accelerate (closed form of a
+ * pivot at rest: a_x = thdd r_y, a_y = -thdd r_x) and its friction is
+ * inside the cone by more than 5 % (|beta| <= 0.95 mu sum lam). */
+EXDEX_TEST(decide_small_slip_stop_friction_keeps_the_first_fixed_point_in_order)
+{
+    const double mu_s = 1.0, r[2] = {0.02, -0.02};
+    exdex_scene_def d = planar_on_stop_def(0.5, mu_s, 3.0);
+    begun b;
+    hyb *H;
+    frame f;
+    exdex_kinematics kin;
+    sf_result res;
+    double a[3], y[NY_MAX], s;
+    d.patch_center[0] = 0.01;
+    H = begin_event(&d, &b);
+    if (!H) {
+        end_event(&b);
+        return;
+    }
+    ENSURE(H->mode == MODE_SLIP && H->small == 1 && H->ncs == 1 && H->cs[0] == 0 && H->sgn == 1);
+    ENSURE(H->fm[0] == SF_STICK);
+    memcpy(y, b.O->S.y, sizeof y);
+    ENSURE(hyb_frame_seg(H, 0.0, &f, &kin) == EXDEX_OK);
+    /* the stick: a fixed point, a pivot about the corner, inside the cone */
+    H->fm[0] = SF_STICK;
+    ENSURE(hyb_sf_free_acc(H, &f, &kin, y, a) == EXDEX_OK);
+    H->fm[0] = SF_ROLL;
+    ENSURE(hyb_sf_solve_at(H, &kin, y, a, &res) == 1);
+    ENSURE(res.fm[0] == SF_STICK && !res.lock);
+    s = fabs(res.qdd[2]) * 0.02;
+    ENSURE(s > 0.0);
+    ENSURE_CLOSE(res.qdd[0], res.qdd[2] * r[1], 1e-12 * s);
+    ENSURE_CLOSE(res.qdd[1], -res.qdd[2] * r[0], 1e-12 * s);
+    ENSURE(res.lsum[0] > 0.0 && fabs(res.beta[0]) <= 0.95 * mu_s * res.lsum[0]);
+    /* the slide back: a fixed point too, later in the order */
+    H->fm[0] = SF_SLIDE_M;
+    ENSURE(hyb_sf_free_acc(H, &f, &kin, y, a) == EXDEX_OK);
+    H->fm[0] = SF_ROLL;
+    ENSURE(hyb_sf_solve_at(H, &kin, y, a, &res) == 1);
+    ENSURE(res.fm[0] == SF_SLIDE_M);
+    /* every group rolling: the problem decides the slide, not the stick */
+    H->fm[0] = SF_ROLL;
+    ENSURE(hyb_sf_free_acc(H, &f, &kin, y, a) == EXDEX_OK);
+    ENSURE(hyb_sf_solve_at(H, &kin, y, a, &res) == 1);
+    ENSURE(res.fm[0] == SF_SLIDE_M);
+    end_event(&b);
+}
+
 /* T7, a separation located twice at one instant: the square of planar_def
  * sliding at 1 cm/s along a frictionless stop under its lower face, the
  * weight (-y, capacity 0.1 m g) pressing both lower corners (rows 0 and 3)
