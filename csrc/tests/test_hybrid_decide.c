@@ -441,6 +441,66 @@ EXDEX_TEST(decide_small_slip_stop_friction_modes_are_a_fixed_point)
     end_event(&b);
 }
 
+/* T9 in a small slip where the search's fixed point is not the all-rolling
+ * problem's answer: the square of planar_def standing on a stop along its
+ * lower face (stop mu 1.0), gravity tilted by beta from -y toward +x (tan
+ * beta 3), plate capacity 0.5 m g, the patch 1 cm to the right of the
+ * centre of mass. The object starts to turn about its lower right corner
+ * (vertex 0, r = (a/2, -a/2) from the centre of mass, the set's one row).
+ * Two modes are fixed points of modes -> plate friction -> the problem's
+ * modes: the corner sticking, and the corner sliding back (-x). The rule
+ * keeps the first in stop_friction.h's order, stick before slide: the
+ * decision sticks. The problem solved on the plate friction of every group
+ * rolling (the fallback, when no candidate is a fixed point) decides the
+ * slide instead, so a decision by the fallback fails the test. At the
+ * sticking fixed point the corner does not accelerate (closed form of a
+ * pivot at rest: a_x = thdd r_y, a_y = -thdd r_x) and its friction is
+ * inside the cone by more than 5 % (|beta| <= 0.95 mu sum lam). */
+EXDEX_TEST(decide_small_slip_stop_friction_keeps_the_first_fixed_point_in_order)
+{
+    const double mu_s = 1.0, r[2] = {0.02, -0.02};
+    exdex_scene_def d = planar_on_stop_def(0.5, mu_s, 3.0);
+    begun b;
+    hyb *H;
+    frame f;
+    exdex_kinematics kin;
+    sf_result res;
+    double a[3], y[NY_MAX], s;
+    d.patch_center[0] = 0.01;
+    H = begin_event(&d, &b);
+    if (!H) {
+        end_event(&b);
+        return;
+    }
+    ENSURE(H->mode == MODE_SLIP && H->small == 1 && H->ncs == 1 && H->cs[0] == 0 && H->sgn == 1);
+    ENSURE(H->fm[0] == SF_STICK);
+    memcpy(y, b.O->S.y, sizeof y);
+    ENSURE(hyb_frame_seg(H, 0.0, &f, &kin) == EXDEX_OK);
+    /* the stick: a fixed point, a pivot about the corner, inside the cone */
+    H->fm[0] = SF_STICK;
+    ENSURE(hyb_sf_free_acc(H, &f, &kin, y, a) == EXDEX_OK);
+    H->fm[0] = SF_ROLL;
+    ENSURE(hyb_sf_solve_at(H, &kin, y, a, &res) == 1);
+    ENSURE(res.fm[0] == SF_STICK && !res.lock);
+    s = fabs(res.qdd[2]) * 0.02;
+    ENSURE(s > 0.0);
+    ENSURE_CLOSE(res.qdd[0], res.qdd[2] * r[1], 1e-12 * s);
+    ENSURE_CLOSE(res.qdd[1], -res.qdd[2] * r[0], 1e-12 * s);
+    ENSURE(res.lsum[0] > 0.0 && fabs(res.beta[0]) <= 0.95 * mu_s * res.lsum[0]);
+    /* the slide back: a fixed point too, later in the order */
+    H->fm[0] = SF_SLIDE_M;
+    ENSURE(hyb_sf_free_acc(H, &f, &kin, y, a) == EXDEX_OK);
+    H->fm[0] = SF_ROLL;
+    ENSURE(hyb_sf_solve_at(H, &kin, y, a, &res) == 1);
+    ENSURE(res.fm[0] == SF_SLIDE_M);
+    /* every group rolling: the problem decides the slide, not the stick */
+    H->fm[0] = SF_ROLL;
+    ENSURE(hyb_sf_free_acc(H, &f, &kin, y, a) == EXDEX_OK);
+    ENSURE(hyb_sf_solve_at(H, &kin, y, a, &res) == 1);
+    ENSURE(res.fm[0] == SF_SLIDE_M);
+    end_event(&b);
+}
+
 /* T7, a separation located twice at one instant: the square of planar_def
  * sliding at 1 cm/s along a frictionless stop under its lower face, the
  * weight (-y, capacity 0.1 m g) pressing both lower corners (rows 0 and 3)
@@ -467,6 +527,177 @@ EXDEX_TEST(decide_event_repeated_separation_leaves_the_set)
         ENSURE(H->mode == MODE_SLIP);
         if (!same) ENSURE(H->ncs == 2 && ((H->cs[0] == 0 && H->cs[1] == 3) || (H->cs[0] == 3 && H->cs[1] == 0)));
         if (same) ENSURE(H->ncs == 1 && H->cs[0] == 3);
+        end_event(&b);
+    }
+}
+
+/* A decision at t inside the cruise of a trapezoid motion of duration 1 s
+ * and amplitude 0.8 v_max (cruise at v_max on [0.2, 0.8]): the run's
+ * current motion segment set to that cruise (the decision's frame is read
+ * inside it), t = 0.5 s. */
+#define CRUISE_T 0.5
+static void in_cruise(hyb *H)
+{
+    H->lo = 0.2;
+    H->hi = 0.8;
+}
+
+/* planar_on_stop_def(2.0, 0, 0) (the square on a frictionless stop along
+ * its lower face, capacity 2 m g) with the gripper in a trapezoid motion
+ * along A -y (approach: the stop, fixed in A, moves in B toward the object
+ * at v) or +y (it recedes at v). */
+static exdex_scene_def moving_stop_def(double v, int approach)
+{
+    exdex_scene_def d = planar_on_stop_def(2.0, 0.0, 0.0);
+    scene_trapezoid(&d, 0, 0.0, approach ? -1.0 : 1.0, 0.0, 0.8 * v, 1.0, v);
+    return d;
+}
+
+/* T3, rest instead of push: the square of moving_stop_def at rest in B on
+ * its stop (both lower corners at gap 0) in the cruise, a slip that just
+ * stopped (vzero). The stop moves in B at the gripper's speed v along its
+ * normal (closed form: the corners' gap rate at rest is -v approaching, +v
+ * receding; checked first). Approaching at 2 SLIP_PUSH zsw it pushes the
+ * object on: the plastic impact of a translating box on a frictionless
+ * line gives it the stop's velocity, v_y = v (closed form), a slip. At 0.5
+ * SLIP_PUSH zsw it is a rest instead: qd = 0 with both touching corners in
+ * the set, a stick (the plate holds the weight). Receding at 0.5 SLIP_PUSH
+ * zsw: a rest on both touching corners as well; at 2 SLIP_PUSH zsw the
+ * corners are left out (the set empty), a stick on the plate alone. zsw
+ * is the scene's (SLIP_FLOOR V, V from the scene's length and
+ * acceleration, not from the motion): read on the scene at rest. */
+EXDEX_TEST(decide_planar_stopped_slip_rests_instead_of_a_slow_push)
+{
+    double z;
+    {
+        exdex_scene_def d0 = planar_on_stop_def(2.0, 0.0, 0.0);
+        begun b0;
+        hyb *H0 = begin_event(&d0, &b0);
+        z = H0 ? H0->zsw : 0.0;
+        end_event(&b0);
+        ENSURE(z > 0.0);
+        if (!(z > 0.0)) return;
+    }
+    for (int approach = 0; approach < 2; approach++)
+        for (int fast = 0; fast < 2; fast++) {
+            double v = (fast ? 2.0 : 0.5) * SLIP_PUSH * z, y[NY_MAX], Ga[MAX_ROWS][3], ga[MAX_ROWS], gda[MAX_ROWS],
+                   gmin = INFINITY;
+            int ra[MAX_ROWS], na, nt = 0;
+            exdex_scene_def d = moving_stop_def(v, approach);
+            begun b;
+            frame f;
+            exdex_kinematics kin;
+            hyb *H = begin_event(&d, &b);
+            if (!H) {
+                end_event(&b);
+                continue;
+            }
+            ENSURE(H->zsw == z && !H->sfric);
+            in_cruise(H);
+            memcpy(y, b.O->S.y, sizeof y);
+            y[3] = y[4] = y[5] = 0.0;
+            ENSURE(hyb_frame_seg(H, CRUISE_T, &f, &kin) == EXDEX_OK);
+            na = hyb_hrow_all_planar(H, &kin, y, ra, Ga, ga, gda);
+            for (int i = 0; i < na; i++) gmin = fmin(gmin, ga[i]);
+            y[1] -= gmin; /* the lower face onto the stop (d gap / d y = 1) */
+            na = hyb_hrow_all_planar(H, &kin, y, ra, Ga, ga, gda);
+            for (int i = 0; i < na; i++)
+                if (ga[i] <= b.m->tol.touch) {
+                    nt++;
+                    ENSURE_CLOSE(gda[i], approach ? -v : v, 1e-9 * v);
+                }
+            ENSURE(nt == 2);
+            hyb_decide(H, CRUISE_T, y, 1);
+            if (approach && fast) {
+                ENSURE(H->mode == MODE_SLIP);
+                ENSURE_CLOSE(y[4], v, 1e-9 * v);
+                ENSURE_SMALL(y[3], 1e-9 * v);
+                ENSURE_SMALL(y[5], 1e-9 * v / 0.02);
+            } else {
+                ENSURE(H->mode == MODE_STICK && y[3] == 0.0 && y[4] == 0.0 && y[5] == 0.0);
+                ENSURE(H->ncs == (!approach && fast ? 0 : 2));
+            }
+            end_event(&b);
+        }
+}
+
+/* The 1-DoF scene of vertical_def(0.5) (its point moving along A z, B y
+ * up) on one stop through the point with the normal n = (sin a, 0, cos a)
+ * (A), tan a = ta, stop friction mu_s, the gripper in a trapezoid motion
+ * along A x at speed u (sign: direction) in its cruise. */
+static exdex_scene_def slanted_stop_def(double ta, double mu_s, double u)
+{
+    exdex_scene_def d = vertical_def(0.5);
+    double c = 1.0 / sqrt(1.0 + ta * ta);
+    d.n_stops = 1;
+    d.stop_normal[0][0] = ta * c;
+    d.stop_normal[0][1] = 0.0;
+    d.stop_normal[0][2] = c;
+    d.stop_mu[0] = mu_s;
+    scene_trapezoid(&d, 0, u > 0 ? 1.0 : -1.0, 0.0, 0.0, 0.8 * fabs(u), 1.0, fabs(u));
+    return d;
+}
+
+/* T6, the jam: the point of slanted_stop_def held on its stop (gap 0, rate
+ * 0) while the gripper moves along A x at u. Closed form: the gap is sin a
+ * (x_B + u t) + cos a q, so at rate 0 qd = -u tan a; the point moves in A
+ * along the stop at u (1, 0, -tan a), its friction -mu lam sgn(u) (cos a,
+ * 0, -sin a), whose part along the DoF (A z) adds to the normal's cos a:
+ * D = lam (cos a + sgn(u) mu sin a), D / Fq = 1 + sgn(u) mu tan a. With mu
+ * 0.5: u > 0, tan a = 3: 2.5; u < 0, tan a = 1: 0.5, a frictional contact
+ * (ss != 0, no jam, the law's D / Fq that value); u < 0, tan a = 3: -0.5
+ * <= JAM_DIR, the friction would turn the normal force around: a jam (the
+ * contact frictionless: ss = 0, jam the slip's sign, one warning). Every
+ * case a contact (the weight presses the point on, lam > 0). */
+EXDEX_TEST(decide_1dof_contact_jams_where_friction_would_turn_the_normal_force)
+{
+    const double cases[3][2] = {{3.0, 0.02}, {1.0, -0.02}, {3.0, -0.02}}, mu = 0.5;
+    for (int i = 0; i < 3; i++) {
+        double ta = cases[i][0], u = cases[i][1], dir = 1.0 + (u > 0 ? 1.0 : -1.0) * mu * ta, y[NY_MAX], q, T;
+        exdex_scene_def d = slanted_stop_def(ta, mu, u);
+        begun b;
+        frame f;
+        exdex_kinematics kin;
+        crow c;
+        long w0;
+        hyb *H = begin_event(&d, &b);
+        int rk[MAX_ROWS], rj[MAX_ROWS], nr;
+        if (!H) {
+            end_event(&b);
+            continue;
+        }
+        in_cruise(H);
+        memcpy(y, b.O->S.y, sizeof y);
+        ENSURE(hyb_frame_seg(H, CRUISE_T, &f, &kin) == EXDEX_OK);
+        nr = hyb_hrow_all_1dof(H, &kin, y[0], y + 1, rk, rj);
+        ENSURE(nr == 1 && rk[0] == 0);
+        if (nr != 1) {
+            end_event(&b);
+            continue;
+        }
+        q = y[0];
+        for (int it = 0; it < 3; it++) {
+            hyb_hrow_1dof(H, &kin, rk[0], rj[0], q, &c);
+            q -= c.F / c.Fq;
+        }
+        hyb_hrow_1dof(H, &kin, rk[0], rj[0], q, &c);
+        ENSURE_SMALL(c.F, 1e-15);
+        y[0] = q;
+        y[1] = -c.Ft / c.Fq;
+        ENSURE_CLOSE(y[1], -u * ta, 1e-12);
+        w0 = (long)H->st->warnings;
+        hyb_decide(H, CRUISE_T, y, 0);
+        ENSURE(H->mode == MODE_CONTACT && H->ck == 0);
+        if (dir <= JAM_DIR) {
+            ENSURE(H->jam != 0.0 && H->ss == 0.0);
+            ENSURE((long)H->st->warnings == w0 + 1);
+        } else {
+            ENSURE(H->ss != 0.0 && H->jam == 0.0);
+            ENSURE((long)H->st->warnings == w0);
+            hyb_contact_slip_1dof(H, &kin, y[0], y[1], &T);
+            hyb_hrow_1dof(H, &kin, rk[0], rj[0], y[0], &c);
+            ENSURE_CLOSE(hyb_contact_dir(H, &c, T) / c.Fq, dir, 1e-12);
+        }
         end_event(&b);
     }
 }
