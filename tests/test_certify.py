@@ -22,6 +22,8 @@ References are closed forms of the planar statics, derived here:
 twin: csrc/tests/test_certify.c (the same subject on the C API)
 """
 import math
+import os
+import re
 import warnings
 
 import numpy as np
@@ -651,15 +653,46 @@ def _random_rotation_scene(rng, kind):
     return box_scene(offset=d, grip=grip, motion=motion, dof="rotation")
 
 
+def _cert_slip_tol():
+    """CERT_SLIP_TOL, read from csrc/tolerances.h (its one definition)."""
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "csrc", "tolerances.h")
+    with open(path, encoding="utf-8") as f:
+        return float(re.search(r"#define CERT_SLIP_TOL ([0-9.eE+-]+)", f.read()).group(1))
+
+
+def _spun_scene(rng):
+    """Fig. 6's object spun at omega0, gravity along the plate normal, a pause
+    and then a shake tilted off the normal. A slip's tolerance is
+    CERT_SLIP_TOL (F + C) (csrc/certify.c; F = max(m g, C) the force scale,
+    C the capacity, the load's own share ~1e-9 of it): the pin must carry
+    the centripetal force m omega^2 |c| (x of the tolerance at the start, c
+    the centre of mass from the pivot) and the shake's plate-plane force
+    (at most y of it); they add or cancel as the object turns, so the slip
+    holds, or fails inside the run."""
+    sc = exdex.paper.fig6_scene()
+    m, C = sc.body.mass, sc.grasp.capacity
+    tol = _cert_slip_tol() * (max(m * G, C) + C)
+    w0, x, y, f = rng.uniform(1.5, 3.0), rng.uniform(0.5, 0.8), rng.uniform(0.4, 0.7), rng.uniform(2.0, 6.0)
+    a, b = rng.uniform(0.0, 2.0 * math.pi, 2)
+    c = x * tol / (m * w0 * w0)
+    eps = y * tol / (m * 0.004 * (2 * math.pi * f) ** 2)
+    grasp = exdex.replace(sc.grasp, patch=exdex.replace(sc.grasp.patch, center=(c * math.cos(a), c * math.sin(a))))
+    shake = exdex.Shake(0.004, f, cycles=int(rng.integers(1, 5)) / 2,
+                        axis=(eps * math.cos(b), 1.0, eps * math.sin(b)))
+    return exdex.replace(sc, gravity=(0.0, -G, 0.0), grasp=grasp, v0=(0.0, 0.0, w0 * rng.choice([-1.0, 1.0])),
+                         motion=exdex.Chain((exdex.Pause(rng.uniform(0.05, 0.3)), shake)))
+
+
 def test_rotation_block_proofs_give_the_every_sample_certificate():
     # the rotation's block proofs (the pin's load enclosed over the block's
     # angles and rates) skip evaluations only: the certificate is that of
     # evaluating every sample, field for field, on both sides of the
-    # thresholds, in every method that runs these motions
+    # thresholds (the held box's at rest and the spun slip's tolerance), in
+    # every method that runs these motions
     rng = np.random.default_rng(11)
     verdicts = []
-    for i in range(32):
-        scene = _random_rotation_scene(rng, i % 4)
+    for i in range(48):
+        scene = _random_rotation_scene(rng, i % 4) if i < 32 else _spun_scene(rng)
         method = ["implicit", "event", "explicit", "regularised"][(i // 4) % 4]
         m = exdex.Model(scene, method=method)._model
         dt = 4e-3 if method == "regularised" else 1e-3
@@ -669,7 +702,10 @@ def test_rotation_block_proofs_give_the_every_sample_certificate():
             b = m.simulate(0.8, dt, every_sample=True)["certificate"]
         assert a == b, (i, a, b)
         verdicts.append("held" if a["holds"] else ("later" if a["valid_until"] > 0.0 else "at once"))
+    spun = verdicts[32:]
     assert verdicts.count("held") >= 6 and verdicts.count("later") >= 6 and verdicts.count("at once") >= 3
+    # the spun slips: both sides, failures inside the run (where a block's rates and angles decide)
+    assert spun.count("held") >= 3 and spun.count("later") >= 3
 
 
 def _stepped(scene, method, n, dt, grip=None):
