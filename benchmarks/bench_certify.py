@@ -13,10 +13,13 @@ threshold, a translation in a gripper that turns (Eq. 7 about the plate
 normal, the load changes with time and state) and Fig. 6's rotation with
 gravity along the plate normal (a slipping rotation), and scenes without a
 phase proof: shakes (translating, and turning about the plate normal), a
-sampled log and a chain of motions. Where a piece between switching times is
+sampled log and a chain of motions, and rotation runs in those (the box
+held about a pivot off its centre of mass; Fig. 6's object spun, slipping,
+in a shake along the plate normal). Where a piece between switching times is
 proven for a mode (a constant load, or the bound of a gripper turning about
 a fixed axis; csrc/certify.c), or a block of samples in a gripper that does
-not turn (the box of its acceleration), its samples of that mode are not
+not turn (the box of its acceleration, for a rotation with the block's
+angles and rates), its samples of that mode are not
 evaluated; the others are, one by one. The last column is the core with
 every sample evaluated (``every_sample=True``, the proofs' reference: the
 certificate's cost on scenes without a phase proof before the block proofs).
@@ -58,6 +61,11 @@ def cases():
                       **held)
     chain = exdex.Scene(motion=exdex.Chain((exdex.Shake(0.002, 4.0, cycles=2, axis=(1, 0, 0)), exdex.Pause(0.2),
                                             exdex.AsymmetricProfile(0.01, 0.3, 0.5, axis=(1, 0, 0)))), **held)
+    # rotation runs in a gripper that does not turn: the box held about its pivot 5 mm off the centre of
+    # mass (stuck: the pin and the friction carry the weight and the shake), and Fig. 6's object spun at
+    # 2 rad/s, gravity and the shake along the plate normal (a slip whose pin carries nothing)
+    rot = {k: exdex.replace(v, dof="rotation") for k, v in (("shake", shake), ("log", log), ("chain", chain))}
+    spun = exdex.replace(fig6_flat, v0=(0.0, 0.0, 2.0), motion=exdex.Shake(0.002, 4.0, cycles=4, axis=(0, 1, 0)))
     out = []
     for method in ("analytic", "implicit", "event"):
         out.append((f"Fig. 3 ({method})", paper.fig3_scene(), method, 1.5, 1e-4))
@@ -74,6 +82,11 @@ def cases():
         out.append((f"turning shake ({method})", shake_turn, method, 1.2, 1e-4))
         out.append((f"log, 100 Hz ({method})", log, method, 1.2, 1e-4))
         out.append((f"chain ({method})", chain, method, 1.2, 1e-4))
+    for method in ("implicit", "event", "explicit"):
+        out.append((f"rotation, shake ({method})", rot["shake"], method, 1.2, 1e-4))
+        out.append((f"rotation, log, 100 Hz ({method})", rot["log"], method, 1.2, 1e-4))
+        out.append((f"rotation, chain ({method})", rot["chain"], method, 1.2, 1e-4))
+        out.append((f"rotation, spun, normal shake ({method})", spun, method, 1.2, 1e-4))
     return out
 
 

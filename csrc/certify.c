@@ -46,9 +46,11 @@
  *
  * Cost: a sample needs no evaluation where its mode is proven for its piece
  * (prove_pieces: one evaluation per piece and mode for a constant load, a
- * closed-form bound for a gripper turning about a fixed axis); only the
- * samples of the other modes, and those whose interval holds a switching
- * time, are evaluated. The result is that of evaluating every sample
+ * closed-form bound for a gripper turning about a fixed axis) or for a
+ * block of samples in a gripper that does not turn (prove_block: the
+ * translation's and the rotation's loads enclosed over the block); only
+ * the samples of the other modes, and those whose interval holds a
+ * switching time, are evaluated. The result is that of evaluating every sample
  * (exdex_certify_samples; the C suite compares them). */
 #include "exdex.h"
 #include "model.h"
@@ -62,10 +64,6 @@
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_roots.h>
 
-/* A slip's unbalanced wrench counts as zero below this fraction of the
- * scene's force scale plus the load's size (rounding of the load is ~1e-16
- * of them). */
-#define CERT_SLIP_TOL 1e-9
 /* Columns of the stop problem (the first contact rows in contact; a
  * frictional row takes two). */
 #define CERT_MAX_COLS 16
@@ -201,6 +199,7 @@ typedef struct cert_eval {
     int stick;
     double th;
     double along;      /* |generalised load along the free coordinate| (a stuck reduced model needs <= its capacity) */
+    double gen;        /* that load with its sign */
     double own;        /* stick: the static gauge of that load alone (its component along the free
                         * coordinate's direction, with nothing neglected) */
 } cert_eval;
@@ -314,7 +313,8 @@ static int cert_at_frame(const exdex_model *m, double t, const frame *fp, const 
     P[2] = m->izz * kap[2] - F[2];
     model_patch_of_gen(m, cs, P, b);
     memcpy(ce->load, b, sizeof b);
-    ce->along = fabs(P[0] * T[0] + P[1] * T[1] + P[2] * T[2]);
+    ce->gen = P[0] * T[0] + P[1] * T[1] + P[2] * T[2];
+    ce->along = fabs(ce->gen);
     {
         double tt = T[0] * T[0] + T[1] * T[1] + T[2] * T[2], k, Pa[3], ba[3], Cs = model_capacity_static(m, t);
         k = (P[0] * T[0] + P[1] * T[1] + P[2] * T[2]) / tt;
@@ -769,35 +769,117 @@ static int prove_pieces(const exdex_model *m, const exdex_trajectory *out, piece
 }
 
 /* ------------------------------------------------ proofs per block
- * A translation run in a gripper that does not turn over [ta, tb]
+ * A 1-DoF run in a gripper that does not turn over [ta, tb]
  * (motion_accel_box: rest, translating profiles and shakes, logs of a
- * constant orientation, chains of them): the load the neglected
- * coordinates need is that of m (g_B - a0) at the patch, the same for every
- * state of one mode (the frame has no rotation, so the load has no term in
- * the position or the rate), and affine in B's acceleration a0, whose
- * plate-plane part lies in the box the motion gives. The gauge, and a
- * slip's least residual over its free acceleration, are convex in the load,
- * so their largest value over the box is at one of its four corners: a
- * mode that holds at the corners (stuck: a gauge within the least static
- * capacity over [ta, tb], where a grip schedule is monotone between its
- * switching times; slipping, with a constant grip: the residual within the
- * certificate's tolerance without the load's own share) holds at every
- * sample of the block, as its own evaluation would find. Evaluated without
- * the stops' forces (a verdict that holds without them holds with them).
- * need[key]: the modes to prove; pr[key] = 1 where proven. */
+ * constant orientation, chains of them): the frame has no angular rate or
+ * acceleration, gravity in B is constant, and B's acceleration a0 has its
+ * plate-plane part in the box the motion gives.
+ *   Translation: the load the neglected coordinates need is that of
+ *     m (g_B - a0) at the patch, the same for every state of one mode (no
+ *     term in the position or the rate), and affine in a0.
+ *   Rotation (angle theta of the body, rate omega, the centre of mass at
+ *     rho = Rz(theta) c from the pivot): the plate-plane friction the pin
+ *     needs is m (-omega^2 rho) - m (g_B - a0), and the inertial torque
+ *     about the normal is zero (w = dw = 0), so in the patch frame the load
+ *     is b = L f with L f = (f, pc_y f_x - pc_x f_y) linear and
+ *         f = Rz(-theta) m (a0 - g_B) - m omega^2 c
+ *     (Rz(-theta) rho = c). Over the block's samples theta lies in
+ *     [th0, th1] and omega^2 in [w0^2, w1^2] (the samples of one sign of
+ *     the rate); f lies in the Minkowski sum of S = {Rz(-theta) u : theta in
+ *     [th0, th1], u in the box U of m (a0 - g_B)} and the segment
+ *     {-m s c : s in [w0^2, w1^2]}. Enclosure of S: a point Rz(-theta) u
+ *     with u = sum_k l_k u_k (the corners u_k of U, l_k >= 0, sum 1) is
+ *     sum_k l_k Rz(-theta) u_k, and Rz(-theta) u_k lies on the arc of
+ *     radius |u_k| over the angles [arg u_k - th1, arg u_k - th0], of half
+ *     span h = (th1 - th0) / 2 < pi / 2. That arc lies in the triangle of
+ *     its ends Rz(-th0) u_k, Rz(-th1) u_k and the tangents' meeting point
+ *     Rz(-thm) u_k / cos h (thm the middle): the arc is on the origin's
+ *     side of both end tangents and beyond its chord. So f lies in the
+ *     convex hull of the points (Rz(-theta_j) u_j + (-m s c)) over the
+ *     triangles' vertices (theta_j, u_j in {(th0, u_k), (th1, u_k),
+ *     (thm, u_k / cos h)}) and s in {w0^2, w1^2}; each is the load of the
+ *     state (theta_j, +-sqrt(s)) in a frame with m (a0 - g_B) = u_j (for
+ *     u_k / cos h: a0 = g_B + (a0_k - g_B) / cos h). A stuck state has
+ *     omega = 0 (s = 0). The slip's friction is that of the twist
+ *     omega (perp(c + pc), 1) (fixed in the patch frame but for omega's
+ *     sign) and the free acceleration's column is fixed too, so a slip's
+ *     least residual is convex in b as well.
+ * The gauge, and a slip's least residual over its free acceleration, are
+ * convex in the load, so their largest value over the enclosure is at one
+ * of its vertices: a mode that holds at the vertices (stuck: a gauge
+ * within the least static capacity over [ta, tb], where a grip schedule is
+ * monotone between its switching times; slipping, with a constant grip:
+ * the residual within the certificate's tolerance without the load's own
+ * share) holds at every sample of the block, as its own evaluation would
+ * find (the stick test has FRICTION_BAND, the slip test the load's share
+ * of its tolerance, beyond the rounding of the vertices and the samples).
+ * Evaluated without the stops' forces (a verdict that holds without them
+ * holds with them). need[key]: the modes to prove; pr[key] = 1 where
+ * proven. Samples i0 .. i1 - 1 (their intervals (t_{i-1}, t_i]). */
 #define CERT_BLOCK_MIN 16
+/* A rotation block is tried only while its samples' angles span at most
+ * twice this (cos of it >= 0.92: the enclosure stays tight). */
+#define CERT_ROT_HALF_SPAN 0.39269908169872414
 
-static int prove_block(const exdex_model *m, double ta, double tb, double q, const int need[3], unsigned char pr[3])
+/* The arc of radius r = |u| over the angles [arg u - th1, arg u - th0],
+ * half span h < pi / 2, lies in the triangle of its ends A = Rz(-th0) u,
+ * B = Rz(-th1) u and Q = Rz(-thm) u / cos h (thm the middle angle, e the
+ * unit vector of the arc's middle, Q = r e / cos h). Every point P of the
+ * arc has P . A <= |P| |A| = r^2 and P . B <= r^2 (the circle lies on the
+ * origin's side of its tangents at A and B), and P . e = r cos(angle of P
+ * from e) >= r cos h (it lies beyond the chord). Those three half planes
+ * meet in the triangle ABQ: the line P . A = r^2 holds A and Q
+ * (Q . A = r^2 cos h / cos h), P . B = r^2 holds B and Q, and
+ * P . e = r cos h holds A and B. */
+int certify_arc_triangle(double th0, double th1, double half_max, double th[3], double sc[3])
 {
+    double h = 0.5 * (th1 - th0);
+    if (!(h >= 0.0 && h <= half_max && half_max < 1.5707963267948966)) return 0;
+    th[0] = th0;
+    sc[0] = 1.0;
+    if (h == 0.0) return 1;
+    th[1] = th1;
+    sc[1] = 1.0;
+    th[2] = th0 + h;
+    sc[2] = 1.0 / cos(h);
+    return 3;
+}
+
+static int prove_block(const exdex_model *m, const exdex_trajectory *out, size_t i0, size_t i1, const int need[3],
+                       unsigned char pr[3], double qr[2])
+{
+    double glo = INFINITY, ghi = -INFINITY;
+    double ta = out->t[i0 - 1], tb = out->t[i1 - 1], q = out->q[i0];
     double lo[3], hi[3], tm = ta + 0.5 * (tb - ta), bl[2] = {INFINITY, INFINITY}, bh[2] = {-INFINITY, -INFINITY};
     double Cs, C, ax[2][2];
+    /* rotation: the samples' angles, and |omega| of each sign (key 1: v > 0, key 2: v < 0) */
+    double th0 = q, th1 = q, wl[3] = {0.0, INFINITY, INFINITY}, wh[3] = {0.0, 0.0, 0.0}, vth[3] = {q, q, q};
+    double vsc[3] = {1.0, 1.0, 1.0};
+    int nth = 1;
+    int rot = m->def.dof == EXDEX_DOF_ROTATION;
     frame f;
     exdex_kinematics kin;
     int st, nx, ny;
     pr[0] = pr[1] = pr[2] = 0;
-    if (m->def.dof != EXDEX_DOF_TRANSLATION || !motion_accel_box(m->motion, ta, tb, lo, hi)) return EXDEX_OK;
+    qr[0] = 0.0;
+    qr[1] = INFINITY;
+    if ((m->def.dof != EXDEX_DOF_TRANSLATION && !rot) || !motion_accel_box(m->motion, ta, tb, lo, hi)) return EXDEX_OK;
     for (int c = 0; c < 3; c++)
         if (!isfinite(lo[c]) || !isfinite(hi[c])) return EXDEX_OK;
+    if (rot) {
+        for (size_t j = i0; j < i1; j++) {
+            double v = out->v[j], a = fabs(v);
+            if (out->q[j] < th0) th0 = out->q[j];
+            if (out->q[j] > th1) th1 = out->q[j];
+            if (!(out->stick[j] || a <= m->tol.vzero)) {
+                int key = key_of(0, v);
+                if (a < wl[key]) wl[key] = a;
+                if (a > wh[key]) wh[key] = a;
+            }
+        }
+        nth = certify_arc_triangle(th0, th1, CERT_ROT_HALF_SPAN, vth, vsc);
+        if (!nth) return EXDEX_OK;
+    }
     st = model_frame_at(m, tm, &f, &kin);
     if (st) return st;
     /* the box's corners in B (R constant over [ta, tb]), its plate-plane bounding box */
@@ -825,22 +907,56 @@ static int prove_block(const exdex_model *m, double ta, double tb, double q, con
     C = model_capacity(m, tm);
     for (int key = 0; key < 3; key++) {
         int ok = 1;
+        /* rotation: the arc's triangle (one vertex for a single angle), the rate's ends */
+        int nw = rot && key && wh[key] > wl[key] ? 2 : 1;
         if (!need[key] || (key && m->grip_n)) continue;
+        if (rot && key && !(wl[key] <= wh[key])) continue;   /* no sample of that mode */
         for (int i = 0; i < nx && ok; i++) {
             for (int j = 0; j < ny && ok; j++) {
-                cert_eval ce;
-                f.a0[0] = ax[0][i];
-                f.a0[1] = ax[1][j];
-                st = cert_at_frame(m, tm, &f, &kin, q, key == 0 ? 0.0 : (key == 1 ? m->scale.V : -m->scale.V), key == 0,
-                                   0, &ce);
-                if (st) return st;
-                if (key == 0) ok = ce.gauge * ce.cap <= Cs;
-                else ok = ce.gauge * ce.cap <= CERT_SLIP_TOL * (m->scale.F + C) && !(ce.excess > 0.0);
+                for (int a = 0; a < nth && ok; a++) {
+                    for (int b = 0; b < nw && ok; b++) {
+                        cert_eval ce;
+                        double th = vth[a], sc = vsc[a], v = key == 0 ? 0.0 : (key == 1 ? m->scale.V : -m->scale.V);
+                        if (rot && key) v = (key == 1 ? 1.0 : -1.0) * (b ? wh[key] : wl[key]);
+                        /* the corner; for the tangents' meeting point m (a0 - g_B) scaled by sc */
+                        f.a0[0] = sc == 1.0 ? ax[0][i] : f.gB[0] + (ax[0][i] - f.gB[0]) * sc;
+                        f.a0[1] = sc == 1.0 ? ax[1][j] : f.gB[1] + (ax[1][j] - f.gB[1]) * sc;
+                        st = cert_at_frame(m, tm, &f, &kin, th, v, key == 0, 0, &ce);
+                        if (st) return st;
+                        if (key == 0) {
+                            ok = ce.gauge * ce.cap <= Cs;
+                            if (ce.gen < glo) glo = ce.gen;
+                            if (ce.gen > ghi) ghi = ce.gen;
+                        } else ok = ce.gauge * ce.cap <= CERT_SLIP_TOL * (m->scale.F + C) && !(ce.excess > 0.0);
+                    }
+                }
             }
         }
         pr[key] = (unsigned char)ok;
+        if (key == 0 && ok) {
+            /* |Q| over the block: Q is linear in the load's enclosure (the
+             * centripetal term has no moment about the pivot), so it lies
+             * between its values at the vertices */
+            qr[0] = glo > 0.0 ? glo : (ghi < 0.0 ? -ghi : 0.0);
+            qr[1] = fmax(fabs(glo), fabs(ghi));
+        }
     }
     return EXDEX_OK;
+}
+
+/* Is the sample (h, t, v) surely at rest for at_rest (the methods whose rest
+ * is a band), given |Q| in [qr[0], qr[1]]? Its tests are monotone in |Q|:
+ * |Q| < C, and |v| within a band that widens with |Q|, taken at qr[0]. */
+static int rest_band_sure(const exdex_model *m, double h, double t, double v, const double qr[2])
+{
+    int rot = m->def.dof == EXDEX_DOF_ROTATION;
+    double C = model_capacity(m, t) * (rot ? m->e[2] : 1.0), M = rot ? m->mrot : m->m, g;
+    if (fabs(v) <= m->tol.vzero) return 1;
+    if (!(qr[1] * (1.0 + 1e-12) < C)) return 0;
+    if (m->def.method == EXDEX_METHOD_EXPLICIT) return fabs(v) <= h * (qr[0] + C) / M * (1.0 - 1e-12);
+    if (m->def.method != EXDEX_METHOD_REGULARISED) return 0;
+    g = qr[0] / C;
+    return fabs(v) * (rot ? m->e[2] : 1.0) <= m->def.eps * (1.0 + 2.0 * g / sqrt(1.0 - g * g)) * (1.0 - 1e-12);
 }
 
 /* First index e in [i, n) with t[e] + snap(t[e]) >= hi (n if none). */
@@ -1013,7 +1129,7 @@ static int certify(const exdex_model *m, const exdex_trajectory *out, exdex_cert
          * block's size in samples (the rest of the piece at first, doubled
          * after a proof, halved after a failed one down to CERT_BLOCK_MIN),
          * chk the samples to evaluate one by one before the next try */
-        int blk = proofs && !pv.n && m->def.dof == EXDEX_DOF_TRANSLATION;
+        int blk = proofs && !pv.n && (m->def.dof == EXDEX_DOF_TRANSLATION || m->def.dof == EXDEX_DOF_ROTATION);
         size_t bs = 0, chk = 0, swk = 0;
         while (i < n) {
             if (blk && !chk) {
@@ -1024,6 +1140,7 @@ static int certify(const exdex_model *m, const exdex_trajectory *out, exdex_cert
                     size_t e = piece_end(m, out->t, i, n, hi), e2;
                     int need[3] = {expl, 0, 0};
                     unsigned char pr[3];
+                    double qr[2];
                     if (bs == 0 || bs > e - i) bs = e - i;
                     e2 = i + bs;
                     for (size_t j = i; j < e2; j++) {
@@ -1031,13 +1148,19 @@ static int certify(const exdex_model *m, const exdex_trajectory *out, exdex_cert
                         if (!(out->stick[j] || fabs(v) <= m->tol.vzero)) need[key_of(0, v)] = 1;
                         else need[0] = 1;
                     }
-                    st = prove_block(m, out->t[i - 1], out->t[e2 - 1], out->q[i], need, pr);
+                    st = prove_block(m, out, i, e2, need, pr, qr);
                     if (st) return st;
                     for (; i < e2; i++) {
                         double v = out->v[i];
                         int rest = out->stick[i] || fabs(v) <= m->tol.vzero;
-                        /* the methods whose rest is a band (at_rest): a sample off v = 0 proven in both modes */
-                        if (!(rest ? pr[0] : (expl ? pr[0] && pr[key_of(0, v)] : pr[key_of(0, v)]))) break;
+                        /* the methods whose rest is a band (at_rest): a sample off v = 0 proven in both modes,
+                         * or (a rotation) stuck where it is surely within the band */
+                        if (rest ? pr[0] : !expl ? pr[key_of(0, v)]
+                                         : pr[0] && (pr[key_of(0, v)] ||
+                                                     (m->def.dof == EXDEX_DOF_ROTATION &&
+                                                      rest_band_sure(m, out->t[i] - out->t[i - 1], out->t[i], v, qr))))
+                            continue;
+                        break;
                     }
                     if (i == e2) {
                         bs *= 2;

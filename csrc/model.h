@@ -487,6 +487,15 @@ int model_pads_lost(const exdex_model *m, const double *q);
  * (model.c). */
 int model_holding_wrench(const exdex_model *m, double t, const double *q, double w[3]);
 
+/* An enclosure of the rotations of a plane vector set (certify.c): for
+ * every u, the points Rz(-theta) u, theta in [th0, th1], lie in the
+ * triangle of the points sc[k] Rz(-th[k]) u, k < the count returned: 1 for
+ * th1 == th0 (th[0] = th0, sc[0] = 1), else 3 (the arc's ends, with
+ * sc = 1, and the meeting point of its end tangents, at the middle angle
+ * with sc = 1 / cos of the half span); 0 where the half span is not in
+ * [0, half_max] (half_max < pi / 2) or not finite. */
+int certify_arc_triangle(double th0, double th1, double half_max, double th[3], double sc[3]);
+
 /* |E^-1 w|, the ellipsoid norm of a patch wrench (paper Eq. 6). */
 static inline double model_ell_norm(const exdex_model *m, const double w[3])
 {

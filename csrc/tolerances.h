@@ -19,6 +19,12 @@
  * impulse-level mode allow FRICTION_BAND of the quantities' size. */
 #define FRICTION_BAND 1e-12
 
+/* ------------------------------------------------ the certificate (certify.c)
+ * A slip's unbalanced wrench counts as zero below this fraction of the
+ * scene's force scale plus the load's size and the capacity (rounding of
+ * the load is ~1e-16 of them). */
+#define CERT_SLIP_TOL 1e-9
+
 /* ------------------------------------------------ model_tols (model.c)
  * For a typical paper scene (L ~ 1 cm, T ~ 30 ms, V ~ 0.3 m/s) they give
  * thresholds near 1e-10 m, 1e-12 m/s and 1e-13 s, far below the accuracy

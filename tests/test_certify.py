@@ -22,6 +22,8 @@ References are closed forms of the planar statics, derived here:
 twin: csrc/tests/test_certify.c (the same subject on the C API)
 """
 import math
+import os
+import re
 import warnings
 
 import numpy as np
@@ -614,6 +616,96 @@ def test_block_proofs_give_the_every_sample_certificate():
         verdicts.append("held" if a["holds"] else ("later" if a["valid_until"] > 0.0 else "at once"))
     # failures inside the run (past the samples the proofs skip), not only at t = 0
     assert verdicts.count("held") >= 6 and verdicts.count("later") >= 6
+
+
+def _random_rotation_scene(rng, kind):
+    """A rotation run in a gripper that does not turn: the box held about its
+    pivot (the pads' centre) d off its centre of mass, d below the held
+    threshold at rest (the same closed form as the translation's: the pin
+    and the plates carry W and W d, so a failure is the motion's or the
+    falling grip's), in a shake, a log of a constant orientation or a chain,
+    the grip constant or falling; or (kind 3) Fig. 6's object spun, gravity and
+    the shake along the plate normal, its centre of mass 1e-10 .. 1e-6 m off
+    the pivot (the pin carries m omega^2 |c| only, against the slip's
+    tolerance of ~1e-9 of the force scale: both sides)."""
+    grip = rng.uniform(1.5, 4.0)
+    d = rng.uniform(0.6, 0.98) * offset_threshold(grip)
+    axis = tuple(rng.uniform(-1, 1, 3))
+    A, f = rng.uniform(-0.006, 0.006), rng.uniform(2.0, 6.0)
+    if kind == 0:
+        motion = exdex.Shake(A, f, cycles=rng.integers(1, 5) / 2, axis=axis)
+    elif kind == 1:
+        t = np.cumsum(np.r_[0.0, rng.uniform(0.02, 0.04, 29)])
+        pos = rng.uniform(-1, 1, 3) * A * (1 - np.cos(2 * math.pi * f * t))[:, None]
+        motion = exdex.SampledTrajectory(t, pos, np.tile([1.0, 0, 0, 0], (30, 1)), relative=True)
+    elif kind == 2:
+        motion = exdex.Chain((exdex.Pause(0.1), exdex.Shake(A, f, cycles=2, axis=axis), exdex.Pause(0.1),
+                              AsymmetricProfile(10 * A, 0.2, 0.6, axis=axis)))
+    else:
+        c = math.exp(rng.uniform(math.log(1e-10), math.log(1e-6)))
+        sc = exdex.paper.fig6_scene()
+        grasp = exdex.replace(sc.grasp, patch=exdex.replace(sc.grasp.patch, center=(c, 0.0)))
+        return exdex.replace(sc, gravity=(0.0, -9.81, 0.0), grasp=grasp, v0=(0.0, 0.0, rng.uniform(1.0, 3.0)),
+                             motion=exdex.Shake(0.002, 4.0, cycles=2, axis=(0, 1, 0)))
+    if rng.uniform() < 0.4:
+        # the grip falls by 20 % over the run: failures come later in it
+        grip = exdex.GripSchedule((0.0, 0.8), (grip, 0.8 * grip))
+    return box_scene(offset=d, grip=grip, motion=motion, dof="rotation")
+
+
+def _cert_slip_tol():
+    """CERT_SLIP_TOL, read from csrc/tolerances.h (its one definition)."""
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "csrc", "tolerances.h")
+    with open(path, encoding="utf-8") as f:
+        return float(re.search(r"#define CERT_SLIP_TOL ([0-9.eE+-]+)", f.read()).group(1))
+
+
+def _spun_scene(rng):
+    """Fig. 6's object spun at omega0, gravity along the plate normal, a pause
+    and then a shake tilted off the normal. A slip's tolerance is
+    CERT_SLIP_TOL (F + C) (csrc/certify.c; F = max(m g, C) the force scale,
+    C the capacity, the load's own share ~1e-9 of it): the pin must carry
+    the centripetal force m omega^2 |c| (x of the tolerance at the start, c
+    the centre of mass from the pivot) and the shake's plate-plane force
+    (at most y of it); they add or cancel as the object turns, so the slip
+    holds, or fails inside the run."""
+    sc = exdex.paper.fig6_scene()
+    m, C = sc.body.mass, sc.grasp.capacity
+    tol = _cert_slip_tol() * (max(m * G, C) + C)
+    w0, x, y, f = rng.uniform(1.5, 3.0), rng.uniform(0.5, 0.8), rng.uniform(0.4, 0.7), rng.uniform(2.0, 6.0)
+    a, b = rng.uniform(0.0, 2.0 * math.pi, 2)
+    c = x * tol / (m * w0 * w0)
+    eps = y * tol / (m * 0.004 * (2 * math.pi * f) ** 2)
+    grasp = exdex.replace(sc.grasp, patch=exdex.replace(sc.grasp.patch, center=(c * math.cos(a), c * math.sin(a))))
+    shake = exdex.Shake(0.004, f, cycles=int(rng.integers(1, 5)) / 2,
+                        axis=(eps * math.cos(b), 1.0, eps * math.sin(b)))
+    return exdex.replace(sc, gravity=(0.0, -G, 0.0), grasp=grasp, v0=(0.0, 0.0, w0 * rng.choice([-1.0, 1.0])),
+                         motion=exdex.Chain((exdex.Pause(rng.uniform(0.05, 0.3)), shake)))
+
+
+def test_rotation_block_proofs_give_the_every_sample_certificate():
+    # the rotation's block proofs (the pin's load enclosed over the block's
+    # angles and rates) skip evaluations only: the certificate is that of
+    # evaluating every sample, field for field, on both sides of the
+    # thresholds (the held box's at rest and the spun slip's tolerance), in
+    # every method that runs these motions
+    rng = np.random.default_rng(11)
+    verdicts = []
+    for i in range(48):
+        scene = _random_rotation_scene(rng, i % 4) if i < 32 else _spun_scene(rng)
+        method = ["implicit", "event", "explicit", "regularised"][(i // 4) % 4]
+        m = exdex.Model(scene, method=method)._model
+        dt = 4e-3 if method == "regularised" else 1e-3
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            a = m.simulate(0.8, dt)["certificate"]
+            b = m.simulate(0.8, dt, every_sample=True)["certificate"]
+        assert a == b, (i, a, b)
+        verdicts.append("held" if a["holds"] else ("later" if a["valid_until"] > 0.0 else "at once"))
+    spun = verdicts[32:]
+    assert verdicts.count("held") >= 6 and verdicts.count("later") >= 6 and verdicts.count("at once") >= 3
+    # the spun slips: both sides, failures inside the run (where a block's rates and angles decide)
+    assert spun.count("held") >= 3 and spun.count("later") >= 3
 
 
 def _stepped(scene, method, n, dt, grip=None):

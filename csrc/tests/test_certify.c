@@ -7,6 +7,7 @@
  * twin: tests/test_certify.py (the same subject through the Python API: closed forms) */
 #include "check.h"
 #include "sim_run.h"
+#include "../model.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -257,4 +258,200 @@ EXDEX_TEST(certify_proofs_shakes_logs_chains)
     }
     /* the offset keeps the box held at rest: a failure is the motion's */
     ENSURE(n_held >= 8 && n_failed >= 8);
+}
+
+/* Rotation runs in a gripper that does not turn: the block proofs (the
+ * load's enclosure over the block's angles and rates) against every
+ * sample's check, on random scenes around two thresholds:
+ *   held: the pivot (the centre of pressure) `offset` off the centre of
+ *     mass, gravity in the plate plane; the stuck load's gauge is
+ *     hypot(1, offset / e_r) / ratio at rest (ratio the capacity over the
+ *     weight), so offset = e_r sqrt(ratio^2 - 1) is the threshold, the
+ *     shake's acceleration moving it;
+ *   slipping: gravity along the plate normal, the gripper shaken along it,
+ *     the object spun at the start; the pin must carry the centripetal
+ *     force m omega^2 |c| alone (c the centre of mass from the pivot), the
+ *     slip holds while it is within the certificate's tolerance
+ *     (CERT_SLIP_TOL of the force scale), so |c| log-uniform over
+ *     1e-11 .. 1e-6 m puts scenes on both sides (the rate falls as the
+ *     torsional friction brakes the spin, so the first sample decides). */
+EXDEX_TEST(certify_proofs_rotation_blocks)
+{
+    static double times[12], poses[12 * 7];
+    exdex_motion_def pc[3];
+    int slip_held = 0, slip_failed = 0;
+    n_held = n_failed = 0;
+    lcg = 777;
+    for (int s = 0; s < 144; s++) {
+        int kind = s % 4, k = (int[]){0, 1, 3, 4}[(kind == 3 ? s / 12 : s / 4) % 4];
+        double ratio = urand(1.2, 5.0), amp = urand(-0.004, 0.004), f = urand(2.0, 6.0);
+        double offset = urand(0.0, 1.15) * 0.0076520 * sqrt(ratio * ratio - 1.0);
+        double dt = methods[k] == EXDEX_METHOD_REGULARISED ? 4e-3 : 1e-3;
+        exdex_scene_def d = box(ratio, offset, methods[k]);
+        d.dof = EXDEX_DOF_ROTATION;
+        d.motion.axis[0] = urand(-1, 1);
+        d.motion.axis[1] = urand(-1, 1);
+        d.motion.axis[2] = urand(-1, 1);
+        if (kind == 0 || kind == 3) {
+            /* a translating shake */
+            d.motion.kind = EXDEX_MOTION_SHAKE;
+            d.motion.amplitude = amp;
+            d.motion.frequency = f;
+            d.motion.duration = 0.5 * floor(urand(1.0, 6.0)) / f;
+            d.motion.allow_jump = 0;
+            if (kind == 3) {
+                /* spun, gravity and the shake along the plate normal (A y) */
+                d.gravity[2] = 0.0;
+                d.gravity[1] = -9.81;
+                d.motion.axis[0] = d.motion.axis[2] = 0.0;
+                d.motion.axis[1] = 1.0;
+                d.inertia[8] = 0.04;
+                double w0 = urand(1.5, 4.0), tol, ang = urand(0.0, 6.283185307179586), x;
+                d.v0[2] = (s / 4) % 2 ? w0 : -w0;
+                {
+                    /* the slip's tolerance (certify.c): CERT_SLIP_TOL (F + C), the load's own share ~1e-9 of it */
+                    const char *bad = NULL;
+                    int status;
+                    exdex_model *m0 = exdex_model_alloc(&d, &status, &bad);
+                    ENSURE(m0 != NULL);
+                    if (!m0) return;
+                    tol = CERT_SLIP_TOL * (m0->scale.F + model_capacity(m0, 0.0));
+                    exdex_model_free(m0);
+                }
+                /* |c| with the centripetal force at the start x of the tolerance */
+                x = urand(0.3, 3.0);
+                d.patch_center[0] = x * tol / (d.mass * w0 * w0) * cos(ang);
+                d.patch_center[1] = x * tol / (d.mass * w0 * w0) * sin(ang);
+                if ((s / 4) % 3) {
+                    /* a pause, then the shake tilted off the normal: its plate-plane
+                     * acceleration (at most y of the tolerance) and the centripetal
+                     * force add or cancel as the object turns */
+                    double y = urand(0.4, 0.7), wf = 6.283185307179586 * f;
+                    exdex_motion_def c0 = d.motion;
+                    x = urand(0.5, 0.8);
+                    d.inertia[8] = s % 8 == 3 ? 0.4 : 0.04;   /* the spin lasts (the angle sweeps) or slows */
+                    d.patch_center[0] = x * tol / (d.mass * w0 * w0) * cos(ang);
+                    d.patch_center[1] = x * tol / (d.mass * w0 * w0) * sin(ang);
+                    ang = urand(0.0, 6.283185307179586);
+                    memset(pc, 0, sizeof pc);
+                    pc[0].kind = EXDEX_MOTION_REST;
+                    pc[0].axis[0] = 1.0;
+                    pc[0].duration = urand(0.05, 0.3);
+                    pc[1] = c0;
+                    pc[1].amplitude = 0.004;
+                    pc[1].axis[0] = y * tol / (d.mass * 0.004 * wf * wf) * cos(ang);
+                    pc[1].axis[2] = y * tol / (d.mass * 0.004 * wf * wf) * sin(ang);
+                    memset(&d.motion, 0, sizeof d.motion);
+                    d.motion.kind = EXDEX_MOTION_CHAIN;
+                    d.motion.axis[0] = 1.0;
+                    d.motion.n_pieces = 2;
+                    d.motion.pieces = pc;
+                }
+            }
+        } else if (kind == 1) {
+            /* a log of a constant orientation, uneven sample times */
+            double t = 0.0;
+            for (int i = 0; i < 12; i++) {
+                times[i] = t;
+                t += urand(0.03, 0.1);
+                for (int c = 0; c < 3; c++) poses[7 * i + c] = i == 0 ? 0.0 : poses[7 * (i - 1) + c] + urand(-0.003, 0.003);
+                poses[7 * i + 3] = 1.0;
+                poses[7 * i + 4] = poses[7 * i + 5] = poses[7 * i + 6] = 0.0;
+            }
+            d.motion.kind = EXDEX_MOTION_SAMPLED;
+            d.motion.n_samples = 12;
+            d.motion.times = times;
+            d.motion.poses = poses;
+            d.motion.relative = 1;
+        } else {
+            /* a chain: a whole-cycle shake, a pause, Eq. 7 */
+            exdex_motion_def c0 = d.motion;
+            memset(pc, 0, sizeof pc);
+            pc[0].kind = EXDEX_MOTION_SHAKE;
+            memcpy(pc[0].axis, c0.axis, sizeof c0.axis);
+            pc[0].amplitude = amp;
+            pc[0].frequency = f;
+            pc[0].duration = 2.0 / f;
+            pc[1].kind = EXDEX_MOTION_REST;
+            pc[1].axis[0] = 1.0;
+            pc[1].duration = 0.1;
+            pc[2].kind = EXDEX_MOTION_ASYMMETRIC;
+            memcpy(pc[2].axis, c0.axis, sizeof c0.axis);
+            pc[2].amplitude = 10.0 * amp;
+            pc[2].duration = 0.2;
+            pc[2].beta = 0.6;
+            memset(&d.motion, 0, sizeof d.motion);
+            d.motion.kind = EXDEX_MOTION_CHAIN;
+            d.motion.axis[0] = 1.0;
+            d.motion.n_pieces = 3;
+            d.motion.pieces = pc;
+        }
+        if (kind != 3 && s % 3 == 2) {
+            /* gravity along the plate normal: only the gripper's acceleration loads the pin */
+            d.gravity[2] = 0.0;
+            d.gravity[1] = -9.81;
+        }
+        {
+            int h0 = n_held;
+            same_certificate(&d, 0.9, dt);
+            if (kind == 3) {
+                slip_held += n_held > h0;
+                slip_failed += n_held == h0;
+            }
+        }
+    }
+    ENSURE(n_held >= 8 && n_failed >= 8);
+    ENSURE(slip_held >= 2 && slip_failed >= 2);
+}
+
+/* Barycentric coordinates' least of p in the triangle a, b, c. */
+static double tri_min_bary(const double a[2], const double b[2], const double c[2], const double p[2])
+{
+    double det = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
+    double l1 = ((p[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (p[1] - a[1])) / det;
+    double l2 = ((b[0] - a[0]) * (p[1] - a[1]) - (p[0] - a[0]) * (b[1] - a[1])) / det;
+    double l0 = 1.0 - l1 - l2;
+    return fmin(l0, fmin(l1, l2));
+}
+
+/* The enclosure of a rotated vector (certify_arc_triangle) by geometry: every
+ * Rz(-theta) u, theta in [th0, th1], lies in the triangle of the returned
+ * angles and scales; with the tangents' meeting point taken unscaled (the
+ * triangle inscribed in the arc) the arc's quarter points leave it, so the
+ * containment check can fail. */
+EXDEX_TEST(certify_arc_triangle_encloses_the_arc)
+{
+    double th[3], sc[3];
+    lcg = 99;
+    ENSURE(certify_arc_triangle(0.3, 0.3, 0.4, th, sc) == 1 && th[0] == 0.3 && sc[0] == 1.0);
+    ENSURE(certify_arc_triangle(0.3, 0.2, 0.4, th, sc) == 0);
+    ENSURE(certify_arc_triangle(0.0, 0.81, 0.4, th, sc) == 0);
+    ENSURE(certify_arc_triangle(0.0, NAN, 0.4, th, sc) == 0);
+    ENSURE(certify_arc_triangle(0.0, 1.0, 1.6, th, sc) == 0);
+    for (int s = 0; s < 200; s++) {
+        double th0 = urand(-7.0, 7.0), h = s < 20 ? urand(1e-9, 1e-3) : urand(0.0, 1.5), u[2] = {urand(-2, 2), urand(-2, 2)};
+        double V[3][2], worst = INFINITY, mid[2], chord[2], cm = cos(th0 + 0.5 * h), sm = sin(th0 + 0.5 * h);
+        int n = certify_arc_triangle(th0, th0 + 2.0 * h, 1.5, th, sc);
+        ENSURE(n == 3);
+        if (n != 3) continue;
+        for (int k = 0; k < 3; k++) {
+            double c = cos(th[k]), sn = sin(th[k]);
+            V[k][0] = sc[k] * (c * u[0] + sn * u[1]);
+            V[k][1] = sc[k] * (-sn * u[0] + c * u[1]);
+        }
+        for (int j = 0; j <= 100; j++) {
+            double a = th0 + 2.0 * h * j / 100.0, p[2] = {cos(a) * u[0] + sin(a) * u[1], -sin(a) * u[0] + cos(a) * u[1]};
+            double b = tri_min_bary(V[0], V[1], V[2], p);
+            if (b < worst) worst = b;
+        }
+        /* rounding of the coordinates: ~1e-16 over the triangle's ~h^2 relative height */
+        ENSURE(worst >= -1e-15 / (h * h));
+        /* the inscribed triangle (the meeting point unscaled: the arc's middle) misses the arc
+         * between its ends and its middle */
+        mid[0] = cm * u[0] + sm * u[1];
+        mid[1] = -sm * u[0] + cm * u[1];
+        chord[0] = V[2][0] / sc[2];
+        chord[1] = V[2][1] / sc[2];
+        if (h > 0.05) ENSURE(tri_min_bary(V[0], V[1], chord, mid) < 0.0 && tri_min_bary(V[0], V[1], V[2], mid) > 0.0);
+    }
 }
