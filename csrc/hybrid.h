@@ -557,6 +557,7 @@ void hyb_contact_forces(const hyb *H, const crow *c, double T, double R, double 
 int hyb_sf_build(hyb *H, const exdex_kinematics *kin, const double *y, sf_set *S);
 void hyb_sf_fix_groups(hyb *H, double t, const double *y);
 int hyb_sf_solve_at(hyb *H, const exdex_kinematics *kin, const double *y, const double a[3], sf_result *res);
+int hyb_sf_solve_plate(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y, sf_result *res);
 int hyb_contact_acc_planar(hyb *H, const exdex_kinematics *kin, const double *y, const double afree[3],
                            double qdd[3], double *lam, double *acc, unsigned *lock_rows);
 double hyb_planar_rest(hyb *H, const exdex_kinematics *kin, const double *y, const double F[3], double w[3],

@@ -358,6 +358,38 @@ int hyb_sf_solve_at(hyb *H, const exdex_kinematics *kin, const double *y, const 
     return ok;
 }
 
+/* The problem of the contact set at (f, kin, y) with the plate's small-slip
+ * friction (the ellipsoid at capacity H->cap: the maximum-dissipation wrench
+ * of the slip acceleration) as one more contact, solved jointly with the
+ * stop rows (sf_solve_plate) on the current modes H->fm; res (not NULL) gets
+ * the solution, res->w the plate's wrench. Returns 1 with a consistent mode,
+ * 0 with none (or with the exact surface, which sf_plate does not take). */
+int hyb_sf_solve_plate(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y, sf_result *res)
+{
+    hyb_pads(H, y);
+    const exdex_model *m = H->m;
+    const model_scales *sc = &m->scale;
+    const double cs[2] = {cos(y[2]), sin(y[2])};
+    double F[3], a[3];
+    sf_set S;
+    sf_plate pl;
+    int ok;
+    if (m->ls_exact || hyb_sf_build(H, kin, y, &S) < 0) return 0;
+    model_force_planar(m, f, y, y + 3, F);
+    for (int j = 0; j < 3; j++) {
+        double ej[3] = {0, 0, 0}, P[3];
+        ej[j] = 1.0;
+        model_gen_of_patch(m, cs, ej, P);
+        for (int c = 0; c < 3; c++) pl.A[c][j] = P[c];
+        pl.e[j] = m->e[j];
+    }
+    pl.cap = H->cap;
+    for (int c = 0; c < 3; c++) a[c] = m->minv[c] * F[c];
+    ok = sf_solve_plate(H->ncs, S.rows, S.ng, S.st, m->minv, a, &pl, SF_TOL * sc->V / sc->T, SF_TOL * sc->F, res);
+    H->st->stop_iterations += (size_t)res->tried;
+    return ok;
+}
+
 /* hyb_contact_acc_planar with frictional stops: 1 with qdd, lam, acc as it
  * defines them (2: the mode is a lock, stop_friction.h: lam is one split of
  * indeterminate forces, lock_rows (may be NULL) the set rows it holds, bit

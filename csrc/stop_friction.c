@@ -75,6 +75,100 @@ static int rows_fix_qdd(int nr, const sf_row *rows, const double minv[3], double
     return 0;
 }
 
+/* ------------------------------------------------ the plate (sf_plate) */
+
+/* h(mu) = mu |z| - gam with (I + mu Kh) z = ch, z written. 0 where I + mu Kh
+ * is singular (a pole of z). */
+static int plate_h(const double Kh[3][3], const double ch[3], double mu, double gam, double *h, double z[3])
+{
+    double A[3][3], b[3];
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++) A[i][j] = (i == j ? 1.0 : 0.0) + mu * Kh[i][j];
+        b[i] = ch[i];
+    }
+    if (!ldp_solve_small(3, A, b, z)) return 0;
+    *h = mu * sqrt(ex_dot3(z, z)) - gam;
+    return isfinite(*h);
+}
+
+/* The root mu > 0 of h (plate_h; h(0) = -gam < 0), z at it: bracketed by
+ * doubling from gam, then false position with the Illinois halving (the
+ * end that stays has its value halved), to |h| <= PLATE_ROOT_TOL gam.
+ * Returns 0 when no bracket is found within PLATE_BRACKET_MAX doublings
+ * (no slip) or the steps run out. */
+static int plate_root(const double Kh[3][3], const double ch[3], double gam, double z[3])
+{
+    double lo = 0.0, hlo = -gam, hi = gam, hhi, mu, h;
+    int side = 0;
+    if (!plate_h(Kh, ch, hi, gam, &hhi, z)) return 0;
+    for (int n = 0; !(hhi > 0.0); n++) {
+        if (n >= PLATE_BRACKET_MAX) return 0;
+        lo = hi;
+        hlo = hhi;
+        hi *= 2.0;
+        if (!plate_h(Kh, ch, hi, gam, &hhi, z)) return 0;
+    }
+    for (int it = 0; it < PLATE_ROOT_MAX; it++) {
+        mu = (lo * hhi - hi * hlo) / (hhi - hlo);
+        if (!(mu > lo && mu < hi)) mu = 0.5 * (lo + hi);
+        if (!plate_h(Kh, ch, mu, gam, &h, z)) return 0;
+        if (fabs(h) <= PLATE_ROOT_TOL * gam) return 1;
+        if (h < 0.0) {
+            lo = mu;
+            hlo = h;
+            if (side < 0) hhi *= 0.5;
+            side = -1;
+        } else {
+            hi = mu;
+            hhi = h;
+            if (side > 0) hlo *= 0.5;
+            side = 1;
+        }
+    }
+    return 0;
+}
+
+/* The plate's wrench w of a mode whose patch slip is u = b + W w
+ * (stop_friction.h, sf_plate): w = -cap E z / |z|, z = E u the root of the
+ * scalar equation, scaled by K's largest entry kap and |E b| (mu = kap lam,
+ * gam = kap cap / |E b|). Returns 0 when there is none (no slip). */
+static int plate_wrench(const sf_plate *pl, const double b[3], const double W[3][3], double w[3])
+{
+    double c[3], K[3][3], Kh[3][3], ch[3], z[3], kap = 0.0, nc, nz;
+    if (!(pl->cap > 0.0)) {
+        w[0] = w[1] = w[2] = 0.0;
+        return 1;
+    }
+    for (int i = 0; i < 3; i++) {
+        c[i] = pl->e[i] * b[i];
+        for (int j = 0; j < 3; j++) {
+            K[i][j] = pl->e[i] * W[i][j] * pl->e[j];
+            kap = fmax(kap, fabs(K[i][j]));
+        }
+    }
+    nc = sqrt(ex_dot3(c, c));
+    if (!(nc > 0.0) || !isfinite(kap)) return 0;
+    if (kap == 0.0) {
+        memcpy(z, c, sizeof z);
+    } else {
+        for (int i = 0; i < 3; i++) {
+            ch[i] = c[i] / nc;
+            for (int j = 0; j < 3; j++) Kh[i][j] = K[i][j] / kap;
+        }
+        if (!plate_root((const double (*)[3])Kh, ch, kap * pl->cap / nc, z)) return 0;
+    }
+    nz = sqrt(ex_dot3(z, z));
+    if (!(nz > 0.0)) return 0;
+    for (int i = 0; i < 3; i++) w[i] = -pl->cap * pl->e[i] * z[i] / nz;
+    return ex_finite_n(w, 3);
+}
+
+/* a + M^-1 A w: the acceleration without the stops with the plate's wrench w. */
+static void plate_acc(const sf_plate *pl, const double minv[3], const double a[3], const double w[3], double ae[3])
+{
+    for (int c = 0; c < 3; c++) ae[c] = a[c] + minv[c] * (pl->A[c][0] * w[0] + pl->A[c][1] * w[1] + pl->A[c][2] * w[2]);
+}
+
 /* A mode whose constraints fix qdd by themselves (a lock, stop_friction.h): qdd
  * from sf_lock_solve (its constraints dependent but consistent to tol_a,
  * else no lock). The stop forces are then any
@@ -90,15 +184,26 @@ static int rows_fix_qdd(int nr, const sf_row *rows, const double minv[3], double
  * band). Generators of rank below 3 are no lock (returns 0). The split
  * written into r is the combination nearest R (ldp_min_combination). */
 static int solve_lock(int nr, const sf_row *rows, int ns, const sf_stop *st, const double minv[3],
-                      const double a[3], unsigned mask, const int *m, const int *roll, const double (*C)[3],
-                      const double *c0, int k, double tol_a, double tol_f, sf_result *r)
+                      const double a_in[3], const sf_plate *pl, unsigned mask, const int *m, const int *roll,
+                      const double (*C)[3], const double *c0, int k, double tol_a, double tol_f, sf_result *r)
 {
-    double qdd[3], R[3], Rs[3], D[GMAX][3], Ds[GMAX][3], coef[GMAX], mR[3], mc0[KMAX], margin = INFINITY, nR;
+    double qdd[3], R[3], Rs[3], D[GMAX][3], Ds[GMAX][3], coef[GMAX], mR[3], mc0[KMAX], margin = INFINITY, nR, a[3],
+        w[3] = {0, 0, 0};
     int ng = 0, own[GMAX], rank3 = 0, given = 1;
     double sgn[GMAX];
     for (int l = 0; l < k; l++) mc0[l] = -c0[l];
     if (!sf_lock_solve(k, C, mc0, minv, tol_a, qdd)) return 0;
     r->tried++;
+    memcpy(a, a_in, sizeof a);
+    if (pl && pl->cap > 0.0) {
+        /* the plate's wrench of the lock's slip u = A^T qdd */
+        double eu[3], n;
+        for (int j = 0; j < 3; j++) eu[j] = pl->e[j] * (pl->A[0][j] * qdd[0] + pl->A[1][j] * qdd[1] + pl->A[2][j] * qdd[2]);
+        n = sqrt(ex_dot3(eu, eu));
+        if (!(n > 0.0)) return 0;
+        for (int j = 0; j < 3; j++) w[j] = -pl->cap * pl->e[j] * eu[j] / n;
+        plate_acc(pl, minv, a_in, w, a);
+    }
     /* generators, scaled (above) */
     for (int i = 0; i < nr; i++) {
         const sf_stop *s = &st[rows[i].stop];
@@ -181,6 +286,7 @@ static int solve_lock(int nr, const sf_row *rows, int ns, const sf_stop *st, con
         if (roll[j] && !(sg * r->acct[j] >= -tol_a)) return 0;
     }
     (void)tol_f;
+    memcpy(r->w, w, sizeof w);
     r->lock = 1;
     r->margin = margin;
     r->mask = mask;
@@ -190,10 +296,10 @@ static int solve_lock(int nr, const sf_row *rows, int ns, const sf_stop *st, con
 /* Solve one mode: rows in `mask` carry force, stop k has mode m[k] (a
  * stop without such rows is left as given). Returns 1 if its signs hold. */
 static int solve_mode(int nr, const sf_row *rows, int ns, const sf_stop *st, const int *roll, const double minv[3],
-                      const double a[3], unsigned mask, const int *m, double tol_a, double tol_f, int locks,
-                      sf_result *r)
+                      const double a_in[3], const sf_plate *pl, unsigned mask, const int *m, double tol_a,
+                      double tol_f, int locks, sf_result *r)
 {
-    double C[KMAX][3], D[KMAX][3], c0[KMAX], A[3][3], b[3], x[3] = {0, 0, 0};
+    double C[KMAX][3], D[KMAX][3], c0[KMAX], A[3][3], A0[3][3], b[3], x[3] = {0, 0, 0}, a[3];
     int kind[KMAX], idx[KMAX], k = 0, has[SF_MAX_STOPS] = {0}, kinematic;
     for (int i = 0; i < nr; i++)
         if (mask >> i & 1u) has[rows[i].stop] = 1;
@@ -226,21 +332,56 @@ static int solve_mode(int nr, const sf_row *rows, int ns, const sf_stop *st, con
     r->lock = 0;
     r->margin = 0.0;
     r->mask = 0u;
-    if (k > 3) return locks && solve_lock(nr, rows, ns, st, minv, a, mask, m, roll, (const double (*)[3])C, c0, k,
-                                          tol_a, tol_f, r);
+    memcpy(r->w, (const double[3]){0, 0, 0}, sizeof r->w);
+    if (k > 3) return locks && solve_lock(nr, rows, ns, st, minv, a_in, pl, mask, m, roll, (const double (*)[3])C, c0,
+                                          k, tol_a, tol_f, r);
     r->tried++;
+    memcpy(a, a_in, sizeof a);
     for (int l = 0; l < k; l++) {
         for (int j = 0; j < k; j++) {
             A[l][j] = 0.0;
             for (int c = 0; c < 3; c++) A[l][j] += C[l][c] * minv[c] * D[j][c];
+            A0[l][j] = A[l][j];
         }
         b[l] = -(ex_dot3(C[l], a) + c0[l]);
     }
     kinematic = k == 3;
     if (k && !ldp_solve_small(k, A, b, x))
         return locks && k == 3 &&
-               solve_lock(nr, rows, ns, st, minv, a, mask, m, roll, (const double (*)[3])C, c0, k, tol_a, tol_f, r);
+               solve_lock(nr, rows, ns, st, minv, a_in, pl, mask, m, roll, (const double (*)[3])C, c0, k, tol_a,
+                          tol_f, r);
     if (locks == LOCKS_ONLY) return 0;
+    if (pl && pl->cap > 0.0) {
+        /* the plate as one more contact: x = x0 + X w, qdd = q0 + N w, the
+         * patch slip u = A^T q0 + A^T N w (stop_friction.h, sf_plate) */
+        double X[3][3] = {{0}}, q0[3], N[3][3], bu[3], Wu[3][3], w[3];
+        for (int j = 0; j < 3; j++) {
+            double Aj[3][3], bj[3], xj[3] = {0, 0, 0};
+            for (int l = 0; l < k; l++) {
+                for (int i = 0; i < k; i++) Aj[l][i] = A0[l][i];
+                bj[l] = 0.0;
+                for (int c = 0; c < 3; c++) bj[l] -= C[l][c] * minv[c] * pl->A[c][j];
+            }
+            if (k && !ldp_solve_small(k, Aj, bj, xj)) return 0;
+            for (int l = 0; l < k; l++) X[l][j] = xj[l];
+        }
+        for (int c = 0; c < 3; c++) {
+            q0[c] = a[c];
+            for (int l = 0; l < k; l++) q0[c] += x[l] * minv[c] * D[l][c];
+            for (int j = 0; j < 3; j++) {
+                N[c][j] = minv[c] * pl->A[c][j];
+                for (int l = 0; l < k; l++) N[c][j] += X[l][j] * minv[c] * D[l][c];
+            }
+        }
+        for (int i = 0; i < 3; i++) {
+            bu[i] = pl->A[0][i] * q0[0] + pl->A[1][i] * q0[1] + pl->A[2][i] * q0[2];
+            for (int j = 0; j < 3; j++) Wu[i][j] = pl->A[0][i] * N[0][j] + pl->A[1][i] * N[1][j] + pl->A[2][i] * N[2][j];
+        }
+        if (!plate_wrench(pl, bu, (const double (*)[3])Wu, w)) return 0;
+        for (int l = 0; l < k; l++) x[l] += X[l][0] * w[0] + X[l][1] * w[1] + X[l][2] * w[2];
+        plate_acc(pl, minv, a_in, w, a);
+        memcpy(r->w, w, sizeof w);
+    }
     for (int c = 0; c < 3; c++) {
         r->qdd[c] = a[c];
         for (int j = 0; j < k; j++) r->qdd[c] += x[j] * minv[c] * D[j][c];
@@ -292,12 +433,13 @@ static int solve_mode(int nr, const sf_row *rows, int ns, const sf_stop *st, con
 
 /* sf_solve on at most SF_ENUM_ROWS rows: every row's modes enumerated. */
 static int solve_enum(int nr, const sf_row *rows, int ns, const sf_stop *st, const double minv[3], const double a[3],
-                      double tol_a, double tol_f, sf_result *res)
+                      const sf_plate *pl, double tol_a, double tol_f, sf_result *res)
 {
     int opt[SF_MAX_STOPS][3], nopt[SF_MAX_STOPS], roll[SF_MAX_STOPS], has[SF_MAX_STOPS] = {0}, pick[SF_MAX_STOPS],
         m[SF_MAX_STOPS], anyroll = 0;
     /* res zeroed where it is read (rows 0 .. nr - 1, stops 0 .. ns - 1) */
     memset(res->qdd, 0, sizeof res->qdd);
+    memset(res->w, 0, sizeof res->w);
     res->tried = res->lock = 0;
     res->margin = 0.0;
     res->mask = 0u;
@@ -346,7 +488,7 @@ static int solve_enum(int nr, const sf_row *rows, int ns, const sf_stop *st, con
             }
             if (!dup) {
                 if (res->tried >= MAX_TRIED) return 0;
-                if (solve_mode(nr, rows, ns, st, roll, minv, a, mask, m, tol_a, tol_f,
+                if (solve_mode(nr, rows, ns, st, roll, minv, a, pl, mask, m, tol_a, tol_f,
                                !anyroll ? LOCKS_TOO : pass ? LOCKS_ONLY : LOCKS_NONE, res))
                     return 1;
             }
@@ -415,14 +557,16 @@ static int enum_rows(int nr, const sf_row *rows, int ns, int *en)
     return ne;
 }
 
-int sf_solve(int nr, const sf_row *rows, int ns, const sf_stop *st, const double minv[3], const double a[3],
-             double tol_a, double tol_f, sf_result *res)
+/* sf_solve and sf_solve_plate (pl NULL: no plate). */
+static int solve_all(int nr, const sf_row *rows, int ns, const sf_stop *st, const double minv[3], const double a[3],
+                     const sf_plate *pl, double tol_a, double tol_f, sf_result *res)
 {
     sf_row rr[SF_ENUM_ROWS];
     sf_result sub;
     int en[SF_MAX_ROWS], ne, ok;
-    if (nr <= SF_ENUM_ROWS) return solve_enum(nr, rows, ns, st, minv, a, tol_a, tol_f, res);
+    if (nr <= SF_ENUM_ROWS) return solve_enum(nr, rows, ns, st, minv, a, pl, tol_a, tol_f, res);
     memset(res->qdd, 0, sizeof res->qdd);
+    memset(res->w, 0, sizeof res->w);
     res->tried = res->lock = 0;
     res->margin = 0.0;
     res->mask = 0u;
@@ -434,8 +578,9 @@ int sf_solve(int nr, const sf_row *rows, int ns, const sf_stop *st, const double
     ne = enum_rows(nr, rows, ns, en);
     if (ne > SF_ENUM_ROWS) return 0;
     for (int b = 0; b < ne; b++) rr[b] = rows[en[b]];
-    ok = solve_enum(ne, rr, ns, st, minv, a, tol_a, tol_f, &sub);
+    ok = solve_enum(ne, rr, ns, st, minv, a, pl, tol_a, tol_f, &sub);
     memcpy(res->qdd, sub.qdd, sizeof res->qdd);
+    memcpy(res->w, sub.w, sizeof res->w);
     res->tried = sub.tried;
     res->lock = sub.lock;
     res->margin = sub.margin;
@@ -461,4 +606,16 @@ int sf_solve(int nr, const sf_row *rows, int ns, const sf_stop *st, const double
     for (int i = 0; i < nr; i++)
         if (!(res->acc[i] >= -tol_a)) return 0;
     return 1;
+}
+
+int sf_solve(int nr, const sf_row *rows, int ns, const sf_stop *st, const double minv[3], const double a[3],
+             double tol_a, double tol_f, sf_result *res)
+{
+    return solve_all(nr, rows, ns, st, minv, a, NULL, tol_a, tol_f, res);
+}
+
+int sf_solve_plate(int nr, const sf_row *rows, int ns, const sf_stop *st, const double minv[3], const double a[3],
+                   const sf_plate *pl, double tol_a, double tol_f, sf_result *res)
+{
+    return solve_all(nr, rows, ns, st, minv, a, pl, tol_a, tol_f, res);
 }

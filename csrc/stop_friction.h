@@ -112,6 +112,7 @@ typedef struct sf_result {
     double beta[SF_MAX_STOPS];  /* tangential force of each stop */
     double lsum[SF_MAX_STOPS];  /* sum of its rows' lam */
     double acct[SF_MAX_STOPS];  /* slip acceleration T qdd + sdd0 of each stop */
+    double w[3];                /* the plate's wrench (sf_solve_plate), else 0 */
     int fm[SF_MAX_STOPS];       /* mode found: SF_STICK, SF_SLIDE_P, SF_SLIDE_M, or the given one for a
                                    stop without force (SF_ROLL stays SF_ROLL) */
     int tried;                  /* modes solved */
@@ -120,6 +121,34 @@ typedef struct sf_result {
     unsigned mask;              /* a lock's rows (bit i: row i carries force in it), else 0 */
 } sf_result;
 
+/* The plate's friction as one more contact of the problem (sf_solve_plate),
+ * in a small slip from rest: the ellipsoidal limit surface |E^-1 w| <= cap
+ * of the patch wrench w (E = diag(e)), whose generalized force is A w and
+ * whose slip is the patch slip u = A^T qdd of the acceleration (the slip's
+ * direction is its acceleration's), with maximum dissipation: w = -cap E^2
+ * u / |E u|, u != 0. In each mode of the enumeration the constraints make
+ * qdd, and so u, affine in w: u = b + W w. With z = E u and the multiplier
+ * lam = cap / |z| the plate's condition is (I + lam K) z = E b, K = E W E,
+ * and the one scalar equation lam |z(lam)| = cap. Where every stop of the
+ * mode carrying force is frictionless or sticks, W is A^T M^-1/2 P M^-1/2 A
+ * with P the projection off the mode's constraints: K is symmetric
+ * positive semidefinite, lam |z(lam)| increases strictly from 0, and the
+ * root is unique; it is bracketed by doubling lam from 0 (at most
+ * PLATE_BRACKET_MAX times) and found by false position (Illinois), to
+ * PLATE_ROOT_TOL of cap (at most PLATE_ROOT_MAX steps). With a sliding stop
+ * K need not be symmetric: the root of the first bracket is taken, and a
+ * pole of z (I + lam K singular) on the way is no solution. A mode with no
+ * root (the load held at u = 0: no slip, which a small slip excludes) is
+ * not consistent. A lock's qdd is fixed by its constraints: the plate's
+ * wrench is then that of u = A^T qdd (none for u = 0), and its stop forces
+ * the lock's. The mode's signs are checked as in sf_solve, at the joint
+ * solution; res->w gets the plate's wrench. */
+typedef struct sf_plate {
+    double A[3][3]; /* A[c][j]: generalized force component c of the unit patch wrench e_j */
+    double e[3];    /* the ellipsoid's semi-axes, E = diag(e) */
+    double cap;     /* its capacity >= 0 (0: no plate friction, w = 0) */
+} sf_plate;
+
 /* Solve the problem of nr rows (<= SF_MAX_ROWS) on ns stops (<= SF_MAX_STOPS;
  * a row's stop indexes st). Returns 1 with a consistent mode in res, 0 when
  * no mode is consistent, nr or ns are out of range, or more than
@@ -127,6 +156,13 @@ typedef struct sf_result {
  * solution). */
 int sf_solve(int nr, const sf_row *rows, int ns, const sf_stop *st, const double minv[3], const double a[3],
              double tol_a, double tol_f, sf_result *res);
+
+/* sf_solve with the plate's friction as one more contact (sf_plate): a the
+ * acceleration without the stops and without the plate's friction; the
+ * same order of modes, the first consistent one at its own plate wrench
+ * (res->w). Returns as sf_solve. */
+int sf_solve_plate(int nr, const sf_row *rows, int ns, const sf_stop *st, const double minv[3], const double a[3],
+                   const sf_plate *pl, double tol_a, double tol_f, sf_result *res);
 
 /* x with C_l x = rhs_l for all k rows (3 <= k <= SF_MAX_ROWS + SF_MAX_STOPS):
  * solved on the three rows of largest volume (unit rows in the metric

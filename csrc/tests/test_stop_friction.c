@@ -6,6 +6,7 @@
  * under a turning gripper. */
 #include "check.h"
 #include "../contact.h"
+#include "../ldp.h"
 #include "../model.h"
 #include "../obstacle_rows.h"
 #include "../stop_friction.h"
@@ -460,4 +461,99 @@ EXDEX_TEST(sfric_disc_obstacle_rows_match_central_differences)
         }
         exdex_model_free(m);
     }
+}
+
+/* ------------------------------------------------ the plate as a contact */
+
+/* The plate alone (no rows): qdd = a + M^-1 A w and the patch slip u = A^T
+ * qdd = b + W w with b = A^T a, W = A^T M^-1 A (the patch's Delassus
+ * matrix), w of maximum dissipation on the ellipsoid at capacity cap: the
+ * problem of one friction step (exdex_friction_solve, u+ = b + W p), whose
+ * secular-equation solver (eigen-decomposition of E W E, safeguarded
+ * Newton) is the reference. A turned frame with the patch off the centre of
+ * mass (A: the rotation by 0.7 rad and the patch at (3, -2) mm); caps half
+ * and twice the gauge of the stick wrench -W^-1 b: a slip whose wrench and
+ * slip agree with the step's to 1e-12, and a stick (the step sticks), which
+ * the small slip's plate refuses (no slip: no consistent mode). */
+EXDEX_TEST(sfric_plate_alone_is_the_friction_step_of_its_delassus_matrix)
+{
+    const double th = 0.7, pc[2] = {0.003, -0.002}, m = 0.2, I = 4e-5, e[3] = {1.0, 1.0, 0.006};
+    const double c = cos(th), s = sin(th), minv[3] = {1.0 / m, 1.0 / m, 1.0 / I}, a[3] = {1.3, -9.81, 40.0};
+    sf_plate pl = {{{c, -s, 0.0}, {s, c, 0.0}, {-pc[1], pc[0], 1.0}}, {e[0], e[1], e[2]}, 0.0};
+    double W[9], b[3], Wm[3][3], bs[3], ps[3], g;
+    exdex_friction_prep prep;
+    for (int i = 0; i < 3; i++) {
+        b[i] = 0.0;
+        for (int k = 0; k < 3; k++) b[i] += pl.A[k][i] * a[k];
+        for (int j = 0; j < 3; j++) {
+            W[3 * i + j] = 0.0;
+            for (int k = 0; k < 3; k++) W[3 * i + j] += pl.A[k][i] * minv[k] * pl.A[k][j];
+            Wm[i][j] = W[3 * i + j];
+        }
+        bs[i] = -b[i];
+    }
+    ENSURE(ldp_solve_small(3, Wm, bs, ps) == 1);
+    g = sqrt(ps[0] * ps[0] / (e[0] * e[0]) + ps[1] * ps[1] / (e[1] * e[1]) + ps[2] * ps[2] / (e[2] * e[2]));
+    ENSURE(exdex_friction_prepare(&prep, W, e) == EXDEX_OK);
+    for (int k = 0; k < 2; k++) {
+        exdex_friction_result fr;
+        sf_result r;
+        pl.cap = k ? 2.0 * g : 0.5 * g;
+        ENSURE(exdex_friction_solve(&prep, b, pl.cap, EXDEX_SOLVER_SCALAR, NULL, NULL, &fr) == EXDEX_OK);
+        ENSURE(fr.stick == k);
+        if (k) {
+            ENSURE(sf_solve_plate(0, NULL, 0, NULL, minv, a, &pl, 1e-12, 1e-12, &r) == 0);
+            continue;
+        }
+        ENSURE(sf_solve_plate(0, NULL, 0, NULL, minv, a, &pl, 1e-12, 1e-12, &r) == 1);
+        for (int i = 0; i < 3; i++) {
+            double u = 0.0, q = a[i] + minv[i] * (pl.A[i][0] * r.w[0] + pl.A[i][1] * r.w[1] + pl.A[i][2] * r.w[2]);
+            for (int j = 0; j < 3; j++) u += pl.A[j][i] * r.qdd[j];
+            ENSURE_CLOSE(r.w[i], fr.p[i], 1e-12 * pl.cap * e[i]);
+            ENSURE_CLOSE(u, fr.u[i], 1e-12 * fr.sigma / e[i]);
+            ENSURE_CLOSE(r.qdd[i], q, 1e-12 * fabs(q));
+        }
+    }
+}
+
+/* A square (half side h, mass m, the patch at its centre, frame unturned:
+ * A = I) standing on a floor (normal +y) with friction mu, gravity tilted
+ * toward +x by beta (tan beta 0.8), plate capacity C = 0.1 m g, from rest.
+ * Rows: the lower corners (+-h, -h), G = (0, 1, x_j); the floor's tangent
+ * t = e_z x n = (-1, 0), T = (-1, 0, -h). The weight along the floor, m g
+ * sin beta = 0.625 m g, exceeds what both frictions take, mu m g cos beta +
+ * C = 0.334 m g (mu 0.3), so the square slides along +x (slip T v < 0:
+ * SF_SLIDE_M), both corners on the floor, not turning. Closed form: the
+ * normal force N = m g cos beta, the stop's friction -mu N along x, the
+ * plate's wrench w = (-C, 0, 0) (the slip u = (a_x, 0, 0)), a_x = g sin beta
+ * - mu g cos beta - C / m, and no moment about the centre: lam_R - lam_L =
+ * mu N (the floor's friction at the corners' depth h). The stick is tried
+ * first and refused: at qdd = 0 the plate has no slip. The mode decided
+ * again from rolling without the plate, at its own plate wrench, is the
+ * same (consistent at its own wrench). */
+EXDEX_TEST(sfric_plate_and_floor_friction_slide_a_square_closed_form)
+{
+    const double h = 0.02, m = 0.2, mu = 0.3, tb = 0.8, cb = 1.0 / sqrt(1.0 + tb * tb), sb = tb * cb;
+    const double minv[3] = {1.0 / m, 1.0 / m, 6.0 / (m * 4.0 * h * h)}, a[3] = {G * sb, -G * cb, 0.0};
+    const double C = 0.1 * m * G, N = m * G * cb, ax = G * sb - mu * G * cb - C / m;
+    sf_row rows[2] = {{{0.0, 1.0, h}, 0.0, 0}, {{0.0, 1.0, -h}, 0.0, 0}};
+    sf_stop st = {{-1.0, 0.0, -h}, 0.0, mu, SF_ROLL};
+    sf_plate pl = {{{1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, {0.0, 0.0, 1.0}}, {1.0, 1.0, 0.006}, C};
+    sf_result r, r2;
+    double aw[3];
+    ENSURE(ax > 0.0);
+    ENSURE(sf_solve_plate(2, rows, 1, &st, minv, a, &pl, 1e-12, 1e-12, &r) == 1);
+    ENSURE(r.fm[0] == SF_SLIDE_M && r.lock == 0);
+    ENSURE_CLOSE(r.qdd[0], ax, 1e-12 * G);
+    ENSURE_CLOSE(r.qdd[1], 0.0, 1e-12 * G);
+    ENSURE_CLOSE(r.qdd[2], 0.0, 1e-12 * G / h);
+    ENSURE_CLOSE(r.w[0], -C, 1e-12 * C);
+    ENSURE_CLOSE(r.w[1], 0.0, 1e-12 * C);
+    ENSURE_CLOSE(r.w[2], 0.0, 1e-12 * C * h);
+    ENSURE_CLOSE(r.lam[0], N * (1.0 + mu) / 2.0, 1e-12 * N);
+    ENSURE_CLOSE(r.lam[1], N * (1.0 - mu) / 2.0, 1e-12 * N);
+    ENSURE_CLOSE(r.beta[0], mu * N, 1e-12 * N);
+    for (int i = 0; i < 3; i++) aw[i] = a[i] + minv[i] * r.w[i];
+    ENSURE(sf_solve(2, rows, 1, &st, minv, aw, 1e-12, 1e-12, &r2) == 1);
+    ENSURE(r2.fm[0] == r.fm[0] && r2.lock == 0);
 }
