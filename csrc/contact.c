@@ -894,7 +894,8 @@ static double disc_obstacle_row(const exdex_model *m, const exdex_kinematics *ki
         } else {
             gap = contact_plane_gap(m, kin, ob->face_point[best], ob->face_normal[best], xc, vc, G);
         }
-        *round = GAP_ROUND * (sqrt(ex_dot3(xc, xc)) + r + pn + sqrt(ex_dot3(ob->face_point[best], ob->face_point[best])));
+        *round = GAP_ROUND * (sqrt(ex_dot3(xc, xc)) + r + pn +
+                              sqrt(ex_dot3(ob->face_point[best], ob->face_point[best])));
         if (cp) {
             double xs[3], vs[3];
             disc_support(m, kin, ob->face_normal[best], xc, vc, xs, vs);
@@ -959,7 +960,7 @@ int contact_obstacle_build(const exdex_model *m, const exdex_kinematics *kin, co
     double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], hb[EXDEX_MAX_VERTICES][3];
     double pn = sqrt(ex_dot3(kin->p, kin->p)), rc[3], thc;
     int nv = contact_vertices(m, q, xb, vx), nh = contact_hull_b(m, q, hb), nr = 0;
-    int step = opt && opt->vp, planar = opt && opt->planar;
+    int step = opt && opt->vp, planar = opt && opt->planar, rate = opt && !opt->vp && opt->rate && opt->v;
     pose_com(m, q, rc, &thc);
     for (int o = 0; o < m->n_obst; o++) {
         const exdex_obstacle_def *ob = &m->def.obstacles[o];
@@ -975,7 +976,8 @@ int contact_obstacle_build(const exdex_model *m, const exdex_kinematics *kin, co
             continue;
         }
         if (ob->kind == EXDEX_OBSTACLE_POLYTOPE) {
-            double a[EXDEX_MAX_FACES][2], b[EXDEX_MAX_FACES], y[EXDEX_MAX_FACES][2], fmax = face_point_max(ob);
+            double a[EXDEX_MAX_FACES][2], b[EXDEX_MAX_FACES], y[EXDEX_MAX_FACES][2];
+            double fmax = round ? face_point_max(ob) : 0.0;
             int idx[EXDEX_MAX_FACES], fg[EXDEX_MAX_FACES][2], empty, nhp, ny;
             /* outline vertex j against the solid: its largest face distance */
             for (int j = 0; j < nv; j++) {
@@ -986,7 +988,7 @@ int contact_obstacle_build(const exdex_model *m, const exdex_kinematics *kin, co
                     double g = contact_plane_gap(m, kin, ob->face_point[f], ob->face_normal[f], xb[j], vx[j],
                                                  step ? Gf[f] : NULL);
                     gf[f] = g;
-                    cf[f] = feature(o, OROW_VERTEX, j, 0, f);
+                    if (rate) cf[f] = feature(o, OROW_VERTEX, j, 0, f);
                     if (g > gb) {
                         gb = g;
                         best = f;
@@ -1013,7 +1015,7 @@ int contact_obstacle_build(const exdex_model *m, const exdex_kinematics *kin, co
                     memcpy(cp[nr].vx, vx[j], sizeof cp[nr].vx);
                     ex_mulmtv3(cp[nr].nB, kin->R, ob->face_normal[best]);
                 }
-                if (ft) ft[nr] = cf[best];
+                if (ft) ft[nr] = feature(o, OROW_VERTEX, j, 0, best);
                 if (src) src[nr] = m->n_stops + o;
                 nr++;
             }
@@ -1027,7 +1029,7 @@ int contact_obstacle_build(const exdex_model *m, const exdex_kinematics *kin, co
                 double gb = -INFINITY, nb[3] = {0, 0, 0}, x[3] = {y[i][0], y[i][1], 0.0};
                 double ge[EXDEX_MAX_VERTICES], Ge[EXDEX_MAX_VERTICES][3], ne[EXDEX_MAX_VERTICES][3];
                 contact_feature ce[EXDEX_MAX_VERTICES];
-                int eb = -1, ne_n = 0, fa = idx[fg[i][0]], fc = idx[fg[i][1]];
+                int eb = -1, ne_n = 0, fa = idx[fg[i][0]], fc = idx[fg[i][1]], eidx[EXDEX_MAX_VERTICES];
                 for (int e = 0; e < nh; e++) {
                     const double *u = hb[e], *v = hb[(e + 1) % nh];
                     double ex = v[0] - u[0], ey = v[1] - u[1], len = hypot(ex, ey), n0, n1, g;
@@ -1039,7 +1041,8 @@ int contact_obstacle_build(const exdex_model *m, const exdex_kinematics *kin, co
                     ne[ne_n][0] = -n0;
                     ne[ne_n][1] = -n1;
                     ne[ne_n][2] = 0.0;
-                    ce[ne_n] = feature(o, OROW_SECTION, fa, fc, e);
+                    eidx[ne_n] = e;
+                    if (rate) ce[ne_n] = feature(o, OROW_SECTION, fa, fc, e);
                     if (step) row_G(m, q, x, ne[ne_n], Ge[ne_n]);
                     if (g > gb) {
                         gb = g;
@@ -1053,7 +1056,7 @@ int contact_obstacle_build(const exdex_model *m, const exdex_kinematics *kin, co
                     gb = ge[eb];
                     nb[0] = ne[eb][0];
                     nb[1] = ne[eb][1];
-                    f0 = ce[eb];
+                    f0.feat = eidx[eb];
                 }
                 gap[nr] = gb;
                 if (G) row_G(m, q, x, nb, G[nr]);

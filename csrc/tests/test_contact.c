@@ -226,7 +226,8 @@ EXDEX_TEST(obstacle_build_box_face_and_section_rows_by_hand)
         ENSURE(cp[j].nB[0] == 0.0 && cp[j].nB[1] == 1.0 && cp[j].nB[2] == 0.0);
         ENSURE_CLOSE(cp[j].x[0], px, 1e-15);
         ENSURE_CLOSE(cp[j].x[1], py, 1e-15);
-        ENSURE_CLOSE(rnd[j], 8.0 * DBL_EPSILON * hypot(px, py), 1e-12 * DBL_EPSILON);   /* the face point is the origin */
+        /* the face point is the origin */
+        ENSURE_CLOSE(rnd[j], 8.0 * DBL_EPSILON * hypot(px, py), 1e-12 * DBL_EPSILON);
     }
     for (int i = 0; i < 4 && n == 8; i++) {
         int r = 4 + i, fa = pairs[i][0], fb = pairs[i][1], k;
@@ -520,6 +521,8 @@ EXDEX_TEST(obstacle_build_section_rows_keep_their_order_across_the_angle_pi)
     for (int i = 0; i < 4 && ns[0] == 4 && ns[1] == 4; i++) {
         ENSURE(fts[0][i].a == fts[1][i].a && fts[0][i].b == fts[1][i].b);
         ENSURE(fts[0][i].a < fts[0][i].b);
-        if (i) ENSURE(fts[0][i - 1].a < fts[0][i].a || (fts[0][i - 1].a == fts[0][i].a && fts[0][i - 1].b < fts[0][i].b));
+        if (i)
+            ENSURE(fts[0][i - 1].a < fts[0][i].a ||
+                   (fts[0][i - 1].a == fts[0][i].a && fts[0][i - 1].b < fts[0][i].b));
     }
 }

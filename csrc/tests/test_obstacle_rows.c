@@ -144,7 +144,8 @@ EXDEX_TEST(obstacle_rows_disc_rim_point_is_the_builders_bit_for_bit)
     int checked = 0;
     for (int trial = 0; trial < 200; trial++) {
         exdex_scene_def d = exdex_default_scene_def();
-        double tilt = 1.2 * (lcg(&seed) - 0.5), turn = 6.283185307179586 * lcg(&seed), ang = 6.283185307179586 * lcg(&seed);
+        double tilt = 1.2 * (lcg(&seed) - 0.5), turn = 6.283185307179586 * lcg(&seed);
+        double ang = 6.283185307179586 * lcg(&seed);
         double rr = 0.005 + 0.01 * lcg(&seed), dist = 0.02 + rr + 0.002 + 0.02 * lcg(&seed), zero[3] = {0, 0, 0};
         double q[3] = {0.0, 0.0, 6.283185307179586 * lcg(&seed)}, gap[4], G[4][3], g[4], rnd[4], Gh[3];
         int status, code[4], n;
