@@ -828,10 +828,11 @@ static contact_feature feature(int o, int kind, int a, int b, int feat)
  * along (xc - y) / |xc - y|. Rod: the rim point xc + r u nearest the axis
  * (u the minimiser of circle_min in the metric of the distance from the
  * axis), its distance from the axis less the rod's radius, negative when
- * the axis meets the plane inside the disc. Returns the gap. */
+ * the axis meets the plane inside the disc. Returns the gap; need = 0 (no
+ * gap, G, round or cp wanted) decides the feature alone (and returns 0). */
 static double disc_obstacle_row(const exdex_model *m, const exdex_kinematics *kin, const double *q, int o,
-                                int planar, const double xc[3], const double vc[3], const double rc[3], double G[3],
-                                double *round, contact_point *cp, contact_feature *ft)
+                                int planar, int need, const double xc[3], const double vc[3], const double rc[3],
+                                double G[3], double *round, contact_point *cp, contact_feature *ft)
 {
     const exdex_obstacle_def *ob = &m->def.obstacles[o];
     double pn = sqrt(ex_dot3(kin->p, kin->p)), r = m->disc_r, gap;
@@ -852,6 +853,8 @@ static double disc_obstacle_row(const exdex_model *m, const exdex_kinematics *ki
             }
             if (ny > 0) {
                 double nb[3] = {0, 0, 0}, x[3];
+                *ft = feature(o, OROW_SECTION, face[fg[ib][0]], face[fg[ib][1]], 0);
+                if (!need) return 0.0;
                 if (dmin > 0.0) {
                     nb[0] = (xc[0] - y[ib][0]) / dmin;
                     nb[1] = (xc[1] - y[ib][1]) / dmin;
@@ -867,7 +870,6 @@ static double disc_obstacle_row(const exdex_model *m, const exdex_kinematics *ki
                 if (G) row_G(m, q, x, nb, G);
                 contact_set_point(cp, x, rc, nb);
                 *round = 64.0 * DBL_EPSILON * (hypot(xc[0], xc[1]) + r + pn + face_point_max(ob));
-                *ft = feature(o, OROW_SECTION, face[fg[ib][0]], face[fg[ib][1]], 0);
                 return gap;
             }
         }
@@ -886,6 +888,8 @@ static double disc_obstacle_row(const exdex_model *m, const exdex_kinematics *ki
                 }
             }
         }
+        *ft = feature(o, OROW_VERTEX, 0, 0, best);
+        if (!need) return 0.0;
         if (planar) {
             double zero[3] = {0, 0, 0}, Gp[3];
             gap = contact_plane_row_planar(m, kin, ob->face_point[best], ob->face_normal[best], 0, q, zero, Gp, NULL,
@@ -903,11 +907,12 @@ static double disc_obstacle_row(const exdex_model *m, const exdex_kinematics *ki
             memcpy(cp->vx, vs, sizeof cp->vx);
             ex_mulmtv3(cp->nB, kin->R, ob->face_normal[best]);
         }
-        *ft = feature(o, OROW_VERTEX, 0, 0, best);
         return gap;
     } else {
         double cB[3], aB[3], w[3], bvec[2], u[2], x[3], nb[3], dist;
         int inside = 0;
+        *ft = feature(o, OROW_ROD, 0, 0, 0);
+        if (!need) return 0.0;
         contact_rod_axis(ob, kin->R, kin->p, cB, aB);
         if (fabs(aB[2]) > 1e-12) {
             double c0[2] = {cB[0] - cB[2] / aB[2] * aB[0], cB[1] - cB[2] / aB[2] * aB[1]};
@@ -935,12 +940,12 @@ static double disc_obstacle_row(const exdex_model *m, const exdex_kinematics *ki
         contact_set_point(cp, x, rc, nb);
         *round = 64.0 * DBL_EPSILON * (hypot(x[0], x[1]) + r + pn + sqrt(ex_dot3(ob->center, ob->center)) +
                                        ob->radius);
-        *ft = feature(o, OROW_ROD, 0, 0, 0);
         return gap;
     }
 }
 
-double contact_rod_foot(int nh, const double hb[][3], const double cB[3], const double aB[3], int e, double *len)
+static inline double rod_foot(int nh, const double hb[][3], const double cB[3], const double aB[3], int e,
+                              double *len)
 {
     const double *u = hb[e], *v = hb[(e + 1) % nh];
     double du[3] = {v[0] - u[0], v[1] - u[1], 0.0}, d[3] = {u[0] - cB[0], u[1] - cB[1], -cB[2]}, w[3], dd[3];
@@ -953,22 +958,29 @@ double contact_rod_foot(int nh, const double hb[][3], const double cB[3], const 
     return *len > 0.0 ? -ex_dot3(w, dd) / ex_dot3(dd, dd) : 0.0;
 }
 
+double contact_rod_foot(int nh, const double hb[][3], const double cB[3], const double aB[3], int e, double *len)
+{
+    return rod_foot(nh, hb, cB, aB, e, len);
+}
+
 int contact_obstacle_build(const exdex_model *m, const exdex_kinematics *kin, const double *q,
                            const contact_obuild *opt, double (*G)[3], double *gap, double *round, int *src,
                            contact_point *cp, contact_feature *ft)
 {
     double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], hb[EXDEX_MAX_VERTICES][3];
-    double pn = sqrt(ex_dot3(kin->p, kin->p)), rc[3], thc;
+    double pn = round ? sqrt(ex_dot3(kin->p, kin->p)) : 0.0, rc[3] = {0, 0, 0}, thc;
     int nv = contact_vertices(m, q, xb, vx), nh = contact_hull_b(m, q, hb), nr = 0;
     int step = opt && opt->vp, planar = opt && opt->planar, rate = opt && !opt->vp && opt->rate && opt->v;
-    pose_com(m, q, rc, &thc);
+    int need = gap || G || round || cp;
+    if (cp) pose_com(m, q, rc, &thc);
     for (int o = 0; o < m->n_obst; o++) {
         const exdex_obstacle_def *ob = &m->def.obstacles[o];
-        double rnd;
+        double rnd = 0.0;
         contact_feature f0;
         if (m->disc_r > 0.0) {
-            gap[nr] = disc_obstacle_row(m, kin, q, o, planar, xb[0], vx[0], rc, G ? G[nr] : NULL, &rnd,
-                                        cp ? &cp[nr] : NULL, &f0);
+            double gv = disc_obstacle_row(m, kin, q, o, planar, need, xb[0], vx[0], rc, G ? G[nr] : NULL, &rnd,
+                                          cp ? &cp[nr] : NULL, &f0);
+            if (gap) gap[nr] = gv;
             if (round) round[nr] = rnd;
             if (ft) ft[nr] = f0;
             if (src) src[nr] = m->n_stops + o;
@@ -995,15 +1007,17 @@ int contact_obstacle_build(const exdex_model *m, const exdex_kinematics *kin, co
                     }
                 }
                 best = tie_pick(m, kin, q, opt, ob->n_faces, gf, (const double (*)[3])Gf, cf, best);
-                if (planar) {
+                if (planar && (gap || G)) {
                     double zero[3] = {0, 0, 0}, Gp[3];
-                    gap[nr] = contact_plane_row_planar(m, kin, ob->face_point[best], ob->face_normal[best], j, q, zero,
-                                                       Gp, NULL, NULL);
+                    double gv = contact_plane_row_planar(m, kin, ob->face_point[best], ob->face_normal[best], j, q,
+                                                         zero, Gp, NULL, NULL);
+                    if (gap) gap[nr] = gv;
                     if (G) memcpy(G[nr], Gp, sizeof Gp);
                 } else if (G) {
-                    gap[nr] = contact_plane_gap(m, kin, ob->face_point[best], ob->face_normal[best], xb[j], vx[j],
-                                                G[nr]);
-                } else {
+                    double gv = contact_plane_gap(m, kin, ob->face_point[best], ob->face_normal[best], xb[j], vx[j],
+                                                  G[nr]);
+                    if (gap) gap[nr] = gv;
+                } else if (gap) {
                     gap[nr] = gf[best];
                 }
                 if (round)
@@ -1027,7 +1041,7 @@ int contact_obstacle_build(const exdex_model *m, const exdex_kinematics *kin, co
             ny = contact_section_vertices(nhp, (const double (*)[2])a, b, y, fg);
             for (int i = 0; i < ny; i++) {
                 double gb = -INFINITY, nb[3] = {0, 0, 0}, x[3] = {y[i][0], y[i][1], 0.0};
-                double ge[EXDEX_MAX_VERTICES], Ge[EXDEX_MAX_VERTICES][3], ne[EXDEX_MAX_VERTICES][3];
+                double ge[EXDEX_MAX_VERTICES], Ge[EXDEX_MAX_VERTICES][3];
                 contact_feature ce[EXDEX_MAX_VERTICES];
                 int eb = -1, ne_n = 0, fa = idx[fg[i][0]], fc = idx[fg[i][1]], eidx[EXDEX_MAX_VERTICES];
                 for (int e = 0; e < nh; e++) {
@@ -1038,12 +1052,12 @@ int contact_obstacle_build(const exdex_model *m, const exdex_kinematics *kin, co
                     n1 = -ex / len;
                     g = n0 * (x[0] - u[0]) + n1 * (x[1] - u[1]);
                     ge[ne_n] = g;
-                    ne[ne_n][0] = -n0;
-                    ne[ne_n][1] = -n1;
-                    ne[ne_n][2] = 0.0;
                     eidx[ne_n] = e;
                     if (rate) ce[ne_n] = feature(o, OROW_SECTION, fa, fc, e);
-                    if (step) row_G(m, q, x, ne[ne_n], Ge[ne_n]);
+                    if (step) {
+                        double ni[3] = {-n0, -n1, 0.0};
+                        row_G(m, q, x, ni, Ge[ne_n]);
+                    }
                     if (g > gb) {
                         gb = g;
                         eb = ne_n;
@@ -1054,11 +1068,16 @@ int contact_obstacle_build(const exdex_model *m, const exdex_kinematics *kin, co
                 if (eb >= 0) {
                     eb = tie_pick(m, kin, q, opt, ne_n, ge, (const double (*)[3])Ge, ce, eb);
                     gb = ge[eb];
-                    nb[0] = ne[eb][0];
-                    nb[1] = ne[eb][1];
                     f0.feat = eidx[eb];
+                    if (G || cp) {
+                        /* the picked edge's inward normal, as in the loop */
+                        const double *u = hb[f0.feat], *v = hb[(f0.feat + 1) % nh];
+                        double ex = v[0] - u[0], ey = v[1] - u[1], len = hypot(ex, ey);
+                        nb[0] = -(ey / len);
+                        nb[1] = -(-ex / len);
+                    }
                 }
-                gap[nr] = gb;
+                if (gap) gap[nr] = gb;
                 if (G) row_G(m, q, x, nb, G[nr]);
                 contact_set_point(cp ? &cp[nr] : NULL, x, rc, nb);
                 if (round) round[nr] = 64.0 * DBL_EPSILON * (hypot(x[0], x[1]) + hypot(hb[0][0], hb[0][1]) + pn + fmax);
@@ -1075,7 +1094,7 @@ int contact_obstacle_build(const exdex_model *m, const exdex_kinematics *kin, co
                 const double *u = hb[e], *v = hb[(e + 1) % nh];
                 double w[3], du[3] = {v[0] - u[0], v[1] - u[1], 0.0}, len, t = 0.0, x[3], d2;
                 if (nh > 1) {
-                    t = contact_rod_foot(nh, (const double (*)[3])hb, cB, aB, e, &len);
+                    t = rod_foot(nh, (const double (*)[3])hb, cB, aB, e, &len);
                     t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
                 }
                 for (int i = 0; i < 3; i++) x[i] = u[i] + t * du[i];
@@ -1094,12 +1113,18 @@ int contact_obstacle_build(const exdex_model *m, const exdex_kinematics *kin, co
                  * order, the feet at first: the choice agrees with
                  * orow_feature_guard's sign); the point stays the vertex */
                 int k = feat, ep = (k + nh - 1) % nh;
-                double lp, ln, tp = contact_rod_foot(nh, (const double (*)[3])hb, cB, aB, ep, &lp);
-                double tn = contact_rod_foot(nh, (const double (*)[3])hb, cB, aB, k, &ln);
+                double lp, ln, tp = rod_foot(nh, (const double (*)[3])hb, cB, aB, ep, &lp);
+                double tn = rod_foot(nh, (const double (*)[3])hb, cB, aB, k, &ln);
                 if (lp > 0.0 && tp < 1.0)
                     feat = 32 + ep;
                 else if (ln > 0.0 && tn > 0.0)
                     feat = 32 + k;
+            }
+            if (ft) ft[nr] = feature(o, OROW_ROD, 0, 0, feat);
+            if (src) src[nr] = m->n_stops + o;
+            if (!need) {
+                nr++;
+                continue;
             }
             if (inside && fabs(aB[2]) > 1e-12) {
                 /* the axis meets the plane at c0: inside the hull? */
@@ -1118,14 +1143,12 @@ int contact_obstacle_build(const exdex_model *m, const exdex_kinematics *kin, co
                 nb[1] = len > 0.0 ? ex / len : 0.0;
                 nb[2] = 0.0;
             }
-            gap[nr] = (inside ? -dist : dist) - ob->radius;
+            if (gap) gap[nr] = (inside ? -dist : dist) - ob->radius;
             if (G) row_G(m, q, xs, nb, G[nr]);
             contact_set_point(cp ? &cp[nr] : NULL, xs, rc, nb);
             if (round)
                 round[nr] = 64.0 * DBL_EPSILON * (hypot(xs[0], xs[1]) + pn + sqrt(ex_dot3(ob->center, ob->center)) +
                                                   ob->radius);
-            if (ft) ft[nr] = feature(o, OROW_ROD, 0, 0, feat);
-            if (src) src[nr] = m->n_stops + o;
             nr++;
         }
     }

@@ -180,8 +180,8 @@ typedef struct contact_obuild {
 } contact_obuild;
 
 /* Every obstacle row at q and pose kin with the rule opt (may be NULL):
- * gap_i; G_i (G may be NULL); round_i (may be NULL) bounds the rounding of
- * gap_i; src_i = n_stops + obstacle index (may be NULL); cp_i (may be NULL)
+ * gap_i (gap may be NULL); G_i (G may be NULL); round_i (may be NULL)
+ * bounds the rounding of gap_i; src_i = n_stops + obstacle index (may be NULL); cp_i (may be NULL)
  * where the row acts; ft_i (may be NULL) the feature it holds. Returns the
  * count, at most contact_obstacle_max_rows. */
 int contact_obstacle_build(const exdex_model *m, const exdex_kinematics *kin, const double *q,

@@ -418,8 +418,7 @@ int orow_all(const exdex_model *m, const exdex_kinematics *kin, const double *q,
 {
     contact_obuild opt = {NULL, 0.0, v, v ? feature_rate : NULL, planar};
     contact_feature ft[MAX_ROWS];
-    double g[MAX_ROWS];
-    int n = contact_obstacle_build(m, kin, q, &opt, NULL, gap ? gap : g, NULL, NULL, NULL, ft);
+    int n = contact_obstacle_build(m, kin, q, &opt, NULL, gap, NULL, NULL, NULL, ft);
     for (int i = 0; i < n; i++) code[i] = orow_code(ft[i].obst, ft[i].kind, ft[i].a, ft[i].b, ft[i].feat);
     return n;
 }
