@@ -758,54 +758,92 @@ void contact_circle_min(const double a[2], const double b[2], double r, double u
     circle_min(a, b, r, u);
 }
 
+/* The largest distance of a polytope's face points from the origin of A
+ * (a term of the rounding bounds). */
+static double face_point_max(const exdex_obstacle_def *ob)
+{
+    double fmax = 0.0;
+    for (int f = 0; f < ob->n_faces; f++)
+        fmax = fmax > sqrt(ex_dot3(ob->face_point[f], ob->face_point[f]))
+                   ? fmax : sqrt(ex_dot3(ob->face_point[f], ob->face_point[f]));
+    return fmax;
+}
+
+/* The tie rule of contact_obstacle_build among the n pieces of one row:
+ * distances g_i, rows Gi_i (read by the step rule only), features ft_i
+ * (read by the rate rule only); best is the first piece of the largest
+ * distance. */
+static int tie_pick(const exdex_model *m, const exdex_kinematics *kin, const double *q, const contact_obuild *opt,
+                    int n, const double *g, const double (*Gi)[3], const contact_feature *ft, int best)
+{
+    if (!opt) return best;
+    if (opt->vp) {
+        /* step rule: the largest predicted distance g_i + h Gi_i . vp, the first of equal ones */
+        double pb = -INFINITY;
+        int pick = best;
+        for (int i = 0; i < n; i++) {
+            double pr = g[i];
+            for (int d = 0; d < m->ndof; d++) pr += opt->h * Gi[i][d] * opt->vp[d];
+            if (pr > pb) {
+                pb = pr;
+                pick = i;
+            }
+        }
+        return pick;
+    }
+    if (opt->rate && opt->v) {
+        /* rate rule: among the pieces within tol.touch of the largest, the
+         * one of the largest rate (the first of equal ones) */
+        double rb = -INFINITY;
+        int pick = best, ties = 0;
+        for (int i = 0; i < n; i++) ties += g[i] >= g[best] - m->tol.touch;
+        if (ties < 2) return best;
+        for (int i = 0; i < n; i++) {
+            double r;
+            if (!(g[i] >= g[best] - m->tol.touch)) continue;
+            r = opt->rate(m, kin, &ft[i], q, opt->v);
+            if (r > rb) {
+                rb = r;
+                pick = i;
+            }
+        }
+        return pick;
+    }
+    return best;
+}
+
+static contact_feature feature(int o, int kind, int a, int b, int feat)
+{
+    contact_feature f = {o, kind, a, b, feat};
+    return f;
+}
+
 /* The one row of a disc outline (centre xc in B, offset vc from the centre
- * of mass rc) against obstacle ob (contact.h). Polytope: the disc's
+ * of mass rc) against obstacle o (contact.h). Polytope: the disc's
  * distance from the section less the radius: while the centre's nearest
  * point of the section lies on a face line (or the centre is inside), that
- * face's plane row (plane_gap, the support point's gap); else the nearest
- * section vertex y: |xc - y| - r along (xc - y) / |xc - y|. Rod: the rim
- * point nearest the axis (circle_min in the metric of the distance from the
- * axis), its distance from the axis less the rod's radius, negative when the
- * axis meets the plane inside the disc. Returns the gap. */
-static double disc_obstacle_row(const exdex_model *m, const exdex_kinematics *kin, const double *q,
-                                const exdex_obstacle_def *ob, const double xc[3], const double vc[3],
-                                const double rc[3], double G[3], double *round, contact_point *cp)
+ * face's plane row (plane_gap, the support point's gap; planar: as
+ * contact_plane_row_planar); else the nearest section vertex y (the first
+ * of equal distances in contact_section_vertices' order): |xc - y| - r
+ * along (xc - y) / |xc - y|. Rod: the rim point xc + r u nearest the axis
+ * (u the minimiser of circle_min in the metric of the distance from the
+ * axis), its distance from the axis less the rod's radius, negative when
+ * the axis meets the plane inside the disc. Returns the gap; need = 0 (no
+ * gap, G, round or cp wanted) decides the feature alone (and returns 0). */
+static double disc_obstacle_row(const exdex_model *m, const exdex_kinematics *kin, const double *q, int o,
+                                int planar, int need, const double xc[3], const double vc[3], const double rc[3],
+                                double G[3], double *round, contact_point *cp, contact_feature *ft)
 {
+    const exdex_obstacle_def *ob = &m->def.obstacles[o];
     double pn = sqrt(ex_dot3(kin->p, kin->p)), r = m->disc_r, gap;
     if (ob->kind == EXDEX_OBSTACLE_POLYTOPE) {
-        double a[EXDEX_MAX_FACES][2], b[EXDEX_MAX_FACES], fmax = 0.0, db;
-        int face[EXDEX_MAX_FACES], empty, on, nh = contact_halfplanes(ob, kin->R, kin->p, a, b, face, &empty);
+        double a[EXDEX_MAX_FACES][2], b[EXDEX_MAX_FACES], db;
+        int face[EXDEX_MAX_FACES], empty, on, nh = contact_halfplanes(ob, kin->R, kin->p, a, b, face, &empty), best;
         int fb = contact_farthest_line(nh, (const double (*)[2])a, b, xc, &db, &on);
-        for (int f = 0; f < ob->n_faces; f++)
-            fmax = fmax > sqrt(ex_dot3(ob->face_point[f], ob->face_point[f]))
-                       ? fmax : sqrt(ex_dot3(ob->face_point[f], ob->face_point[f]));
-        /* a face row where the centre's foot on the farthest face line lies on the face */
-        if (empty || on) {
-            /* a face row: the largest face distance (as an outline vertex's) */
-            int best = 0;
-            double gb = -INFINITY, xs[3], vs[3];
-            for (int f = 0; f < ob->n_faces; f++) {
-                double g = contact_plane_gap(m, kin, ob->face_point[f], ob->face_normal[f], xc, vc, NULL);
-                if (g > gb) {
-                    gb = g;
-                    best = f;
-                }
-            }
-            if (!empty && fb >= 0 && db > 0.0) best = face[fb];
-            gap = contact_plane_gap(m, kin, ob->face_point[best], ob->face_normal[best], xc, vc, G);
-            *round = GAP_ROUND * (sqrt(ex_dot3(xc, xc)) + r + pn +
-                                  sqrt(ex_dot3(ob->face_point[best], ob->face_point[best])));
-            if (cp) {
-                disc_support(m, kin, ob->face_normal[best], xc, vc, xs, vs);
-                memcpy(cp->x, xs, sizeof cp->x);
-                memcpy(cp->vx, vs, sizeof cp->vx);
-                ex_mulmtv3(cp->nB, kin->R, ob->face_normal[best]);
-            }
-        } else {
+        if (!(empty || on)) {
             /* the nearest section vertex */
-            double y[EXDEX_MAX_FACES][2], dmin = INFINITY, nb[3] = {0, 0, 0}, x[3];
-            int ny = contact_section_vertices(nh, (const double (*)[2])a, b, y, NULL), ib = 0;
-            sort_ccw(ny, y);
+            double y[EXDEX_MAX_FACES][2], dmin = INFINITY;
+            int fg[EXDEX_MAX_FACES][2], ny = contact_section_vertices(nh, (const double (*)[2])a, b, y, fg), ib = 0;
             for (int i = 0; i < ny; i++) {
                 double dd = hypot(xc[0] - y[i][0], xc[1] - y[i][1]);
                 if (dd < dmin) {
@@ -813,27 +851,68 @@ static double disc_obstacle_row(const exdex_model *m, const exdex_kinematics *ki
                     ib = i;
                 }
             }
-            if (ny == 0) dmin = db;  /* not reached: a foot off its face has a vertex */
-            if (ny > 0 && dmin > 0.0) {
-                nb[0] = (xc[0] - y[ib][0]) / dmin;
-                nb[1] = (xc[1] - y[ib][1]) / dmin;
-            } else {
-                double na = hypot(a[fb][0], a[fb][1]);
-                nb[0] = a[fb][0] / na;
-                nb[1] = a[fb][1] / na;
+            if (ny > 0) {
+                double nb[3] = {0, 0, 0}, x[3];
+                *ft = feature(o, OROW_SECTION, face[fg[ib][0]], face[fg[ib][1]], 0);
+                if (!need) return 0.0;
+                if (dmin > 0.0) {
+                    nb[0] = (xc[0] - y[ib][0]) / dmin;
+                    nb[1] = (xc[1] - y[ib][1]) / dmin;
+                } else {
+                    double na = hypot(a[fb][0], a[fb][1]);
+                    nb[0] = a[fb][0] / na;
+                    nb[1] = a[fb][1] / na;
+                }
+                gap = dmin - r;
+                x[0] = xc[0] - r * nb[0];
+                x[1] = xc[1] - r * nb[1];
+                x[2] = 0.0;
+                if (G) row_G(m, q, x, nb, G);
+                contact_set_point(cp, x, rc, nb);
+                *round = 64.0 * DBL_EPSILON * (hypot(xc[0], xc[1]) + r + pn + face_point_max(ob));
+                return gap;
             }
-            gap = dmin - r;
-            x[0] = xc[0] - r * nb[0];
-            x[1] = xc[1] - r * nb[1];
-            x[2] = 0.0;
-            row_G(m, q, x, nb, G);
-            contact_set_point(cp, x, rc, nb);
-            *round = 64.0 * DBL_EPSILON * (hypot(xc[0], xc[1]) + r + pn + fmax);
+        }
+        /* a face row: the face of the farthest line, or the largest face
+         * distance (as an outline vertex's) when the centre is inside */
+        if (!empty && fb >= 0 && db > 0.0) {
+            best = face[fb];
+        } else {
+            double gb = -INFINITY;
+            best = 0;
+            for (int f = 0; f < ob->n_faces; f++) {
+                double g = contact_plane_gap(m, kin, ob->face_point[f], ob->face_normal[f], xc, vc, NULL);
+                if (g > gb) {
+                    gb = g;
+                    best = f;
+                }
+            }
+        }
+        *ft = feature(o, OROW_VERTEX, 0, 0, best);
+        if (!need) return 0.0;
+        if (planar) {
+            double zero[3] = {0, 0, 0}, Gp[3];
+            gap = contact_plane_row_planar(m, kin, ob->face_point[best], ob->face_normal[best], 0, q, zero, Gp, NULL,
+                                           NULL);
+            if (G) memcpy(G, Gp, sizeof Gp);
+        } else {
+            gap = contact_plane_gap(m, kin, ob->face_point[best], ob->face_normal[best], xc, vc, G);
+        }
+        *round = GAP_ROUND * (sqrt(ex_dot3(xc, xc)) + r + pn +
+                              sqrt(ex_dot3(ob->face_point[best], ob->face_point[best])));
+        if (cp) {
+            double xs[3], vs[3];
+            disc_support(m, kin, ob->face_normal[best], xc, vc, xs, vs);
+            memcpy(cp->x, xs, sizeof cp->x);
+            memcpy(cp->vx, vs, sizeof cp->vx);
+            ex_mulmtv3(cp->nB, kin->R, ob->face_normal[best]);
         }
         return gap;
     } else {
         double cB[3], aB[3], w[3], bvec[2], u[2], x[3], nb[3], dist;
         int inside = 0;
+        *ft = feature(o, OROW_ROD, 0, 0, 0);
+        if (!need) return 0.0;
         contact_rod_axis(ob, kin->R, kin->p, cB, aB);
         if (fabs(aB[2]) > 1e-12) {
             double c0[2] = {cB[0] - cB[2] / aB[2] * aB[0], cB[1] - cB[2] / aB[2] * aB[1]};
@@ -857,7 +936,7 @@ static double disc_obstacle_row(const exdex_model *m, const exdex_kinematics *ki
             nb[2] = 0.0;
         }
         gap = (inside ? -dist : dist) - ob->radius;
-        row_G(m, q, x, nb, G);
+        if (G) row_G(m, q, x, nb, G);
         contact_set_point(cp, x, rc, nb);
         *round = 64.0 * DBL_EPSILON * (hypot(x[0], x[1]) + r + pn + sqrt(ex_dot3(ob->center, ob->center)) +
                                        ob->radius);
@@ -865,95 +944,106 @@ static double disc_obstacle_row(const exdex_model *m, const exdex_kinematics *ki
     }
 }
 
-/* The tie rule of contact_obstacle_rows_pred: among the n pieces of one
- * row (distance g_i, its row Gi_i) keep best (the piece of the largest
- * distance, the first of equal ones) when no prediction vp is given; with
- * one, the piece of the largest predicted distance g_i + h Gi_i . vp (the
- * first of equal ones). */
-static int piece_pred(const exdex_model *m, int n, const double *g, const double (*Gi)[3],
-                      const double *vp, double h, int best)
+static inline double rod_foot(int nh, const double hb[][3], const double cB[3], const double aB[3], int e,
+                              double *len)
 {
-    double pb = -INFINITY;
-    int pick = best;
-    if (!vp) return best;
-    for (int i = 0; i < n; i++) {
-        double pr = g[i];
-        for (int d = 0; d < m->ndof; d++) pr += h * Gi[i][d] * vp[d];
-        if (pr > pb) {
-            pb = pr;
-            pick = i;
-        }
+    const double *u = hb[e], *v = hb[(e + 1) % nh];
+    double du[3] = {v[0] - u[0], v[1] - u[1], 0.0}, d[3] = {u[0] - cB[0], u[1] - cB[1], -cB[2]}, w[3], dd[3];
+    double t = ex_dot3(d, aB), ta = ex_dot3(du, aB);
+    for (int i = 0; i < 3; i++) {
+        w[i] = d[i] - t * aB[i];
+        dd[i] = du[i] - ta * aB[i];
     }
-    return pick;
+    *len = sqrt(ex_dot3(dd, dd));
+    return *len > 0.0 ? -ex_dot3(w, dd) / ex_dot3(dd, dd) : 0.0;
 }
 
-int contact_obstacle_rows(const exdex_model *m, const exdex_kinematics *kin, const double *q, double (*G)[3],
-                          double *gap, double *round, int *src, contact_point *cp)
+double contact_rod_foot(int nh, const double hb[][3], const double cB[3], const double aB[3], int e, double *len)
 {
-    return contact_obstacle_rows_pred(m, kin, q, NULL, 0.0, G, gap, round, src, cp);
+    return rod_foot(nh, hb, cB, aB, e, len);
 }
 
-int contact_obstacle_rows_pred(const exdex_model *m, const exdex_kinematics *kin, const double *q, const double *vp,
-                               double h, double (*G)[3], double *gap, double *round, int *src, contact_point *cp)
+int contact_obstacle_build(const exdex_model *m, const exdex_kinematics *kin, const double *q,
+                           const contact_obuild *opt, double (*G)[3], double *gap, double *round, int *src,
+                           contact_point *cp, contact_feature *ft)
 {
     double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], hb[EXDEX_MAX_VERTICES][3];
-    double pn = sqrt(ex_dot3(kin->p, kin->p));
+    double pn = round ? sqrt(ex_dot3(kin->p, kin->p)) : 0.0, rc[3] = {0, 0, 0}, thc;
     int nv = contact_vertices(m, q, xb, vx), nh = contact_hull_b(m, q, hb), nr = 0;
-    double rc[3], thc;
-    pose_com(m, q, rc, &thc);
+    int step = opt && opt->vp, planar = opt && opt->planar, rate = opt && !opt->vp && opt->rate && opt->v;
+    int need = gap || G || round || cp;
+    if (cp) pose_com(m, q, rc, &thc);
     for (int o = 0; o < m->n_obst; o++) {
         const exdex_obstacle_def *ob = &m->def.obstacles[o];
+        double rnd = 0.0;
+        contact_feature f0;
         if (m->disc_r > 0.0) {
-            gap[nr] = disc_obstacle_row(m, kin, q, ob, xb[0], vx[0], rc, G[nr], &round[nr], cp ? &cp[nr] : NULL);
+            double gv = disc_obstacle_row(m, kin, q, o, planar, need, xb[0], vx[0], rc, G ? G[nr] : NULL, &rnd,
+                                          cp ? &cp[nr] : NULL, &f0);
+            if (gap) gap[nr] = gv;
+            if (round) round[nr] = rnd;
+            if (ft) ft[nr] = f0;
             if (src) src[nr] = m->n_stops + o;
             nr++;
             continue;
         }
         if (ob->kind == EXDEX_OBSTACLE_POLYTOPE) {
-            double a[EXDEX_MAX_FACES][2], b[EXDEX_MAX_FACES], y[EXDEX_MAX_FACES][2], fmax = 0.0;
-            int empty, nhp, ny;
-            for (int f = 0; f < ob->n_faces; f++)
-                fmax = fmax > sqrt(ex_dot3(ob->face_point[f], ob->face_point[f]))
-                           ? fmax : sqrt(ex_dot3(ob->face_point[f], ob->face_point[f]));
+            double a[EXDEX_MAX_FACES][2], b[EXDEX_MAX_FACES], y[EXDEX_MAX_FACES][2];
+            double fmax = round ? face_point_max(ob) : 0.0;
+            int idx[EXDEX_MAX_FACES], fg[EXDEX_MAX_FACES][2], empty, nhp, ny;
             /* outline vertex j against the solid: its largest face distance */
             for (int j = 0; j < nv; j++) {
                 int best = 0;
                 double gb = -INFINITY, gf[EXDEX_MAX_FACES], Gf[EXDEX_MAX_FACES][3];
+                contact_feature cf[EXDEX_MAX_FACES];
                 for (int f = 0; f < ob->n_faces; f++) {
                     double g = contact_plane_gap(m, kin, ob->face_point[f], ob->face_normal[f], xb[j], vx[j],
-                                                 vp ? Gf[f] : NULL);
+                                                 step ? Gf[f] : NULL);
                     gf[f] = g;
+                    if (rate) cf[f] = feature(o, OROW_VERTEX, j, 0, f);
                     if (g > gb) {
                         gb = g;
                         best = f;
                     }
                 }
-                best = piece_pred(m, ob->n_faces, gf, (const double (*)[3])Gf, vp, h, best);
-                gap[nr] = contact_plane_gap(m, kin, ob->face_point[best], ob->face_normal[best], xb[j], vx[j], G[nr]);
-                round[nr] = GAP_ROUND * (sqrt(ex_dot3(xb[j], xb[j])) + pn +
-                                         sqrt(ex_dot3(ob->face_point[best], ob->face_point[best])));
+                best = tie_pick(m, kin, q, opt, ob->n_faces, gf, (const double (*)[3])Gf, cf, best);
+                if (planar && (gap || G)) {
+                    double zero[3] = {0, 0, 0}, Gp[3];
+                    double gv = contact_plane_row_planar(m, kin, ob->face_point[best], ob->face_normal[best], j, q,
+                                                         zero, Gp, NULL, NULL);
+                    if (gap) gap[nr] = gv;
+                    if (G) memcpy(G[nr], Gp, sizeof Gp);
+                } else if (G) {
+                    double gv = contact_plane_gap(m, kin, ob->face_point[best], ob->face_normal[best], xb[j], vx[j],
+                                                  G[nr]);
+                    if (gap) gap[nr] = gv;
+                } else if (gap) {
+                    gap[nr] = gf[best];
+                }
+                if (round)
+                    round[nr] = GAP_ROUND * (sqrt(ex_dot3(xb[j], xb[j])) + pn +
+                                             sqrt(ex_dot3(ob->face_point[best], ob->face_point[best])));
                 if (cp) {
                     /* as a stop's row: the vertex and its offset as contact_vertices gives them */
                     memcpy(cp[nr].x, xb[j], sizeof cp[nr].x);
                     memcpy(cp[nr].vx, vx[j], sizeof cp[nr].vx);
                     ex_mulmtv3(cp[nr].nB, kin->R, ob->face_normal[best]);
                 }
+                if (ft) ft[nr] = feature(o, OROW_VERTEX, j, 0, best);
                 if (src) src[nr] = m->n_stops + o;
                 nr++;
             }
             /* section vertex i against the outline's hull: its largest
              * distance outside the hull's edge lines */
             if (nh < 3) continue;
-            nhp = contact_halfplanes(ob, kin->R, kin->p, a, b, NULL, &empty);
+            nhp = contact_halfplanes(ob, kin->R, kin->p, a, b, idx, &empty);
             if (empty) continue;
-            ny = contact_section_vertices(nhp, (const double (*)[2])a, b, y, NULL);
-            sort_ccw(ny, y);
+            ny = contact_section_vertices(nhp, (const double (*)[2])a, b, y, fg);
             for (int i = 0; i < ny; i++) {
                 double gb = -INFINITY, nb[3] = {0, 0, 0}, x[3] = {y[i][0], y[i][1], 0.0};
-                double ge[EXDEX_MAX_VERTICES], Ge[EXDEX_MAX_VERTICES][3],
-                    ne[EXDEX_MAX_VERTICES][3];
-                double rnd = 64.0 * DBL_EPSILON * (hypot(x[0], x[1]) + hypot(hb[0][0], hb[0][1]) + pn + fmax);
-                int eb = -1, ne_n = 0;
+                double ge[EXDEX_MAX_VERTICES], Ge[EXDEX_MAX_VERTICES][3];
+                contact_feature ce[EXDEX_MAX_VERTICES];
+                int eb = -1, ne_n = 0, fa = idx[fg[i][0]], fc = idx[fg[i][1]], eidx[EXDEX_MAX_VERTICES];
                 for (int e = 0; e < nh; e++) {
                     const double *u = hb[e], *v = hb[(e + 1) % nh];
                     double ex = v[0] - u[0], ey = v[1] - u[1], len = hypot(ex, ey), n0, n1, g;
@@ -962,44 +1052,49 @@ int contact_obstacle_rows_pred(const exdex_model *m, const exdex_kinematics *kin
                     n1 = -ex / len;
                     g = n0 * (x[0] - u[0]) + n1 * (x[1] - u[1]);
                     ge[ne_n] = g;
-                    ne[ne_n][0] = -n0;
-                    ne[ne_n][1] = -n1;
-                    ne[ne_n][2] = 0.0;
-                    if (vp) row_G(m, q, x, ne[ne_n], Ge[ne_n]);
+                    eidx[ne_n] = e;
+                    if (rate) ce[ne_n] = feature(o, OROW_SECTION, fa, fc, e);
+                    if (step) {
+                        double ni[3] = {-n0, -n1, 0.0};
+                        row_G(m, q, x, ni, Ge[ne_n]);
+                    }
                     if (g > gb) {
                         gb = g;
                         eb = ne_n;
                     }
                     ne_n++;
                 }
+                f0 = feature(o, OROW_SECTION, fa, fc, 0);
                 if (eb >= 0) {
-                    eb = piece_pred(m, ne_n, ge, (const double (*)[3])Ge, vp, h, eb);
+                    eb = tie_pick(m, kin, q, opt, ne_n, ge, (const double (*)[3])Ge, ce, eb);
                     gb = ge[eb];
-                    nb[0] = ne[eb][0];
-                    nb[1] = ne[eb][1];
+                    f0.feat = eidx[eb];
+                    if (G || cp) {
+                        /* the picked edge's inward normal, as in the loop */
+                        const double *u = hb[f0.feat], *v = hb[(f0.feat + 1) % nh];
+                        double ex = v[0] - u[0], ey = v[1] - u[1], len = hypot(ex, ey);
+                        nb[0] = -(ey / len);
+                        nb[1] = -(-ex / len);
+                    }
                 }
-                gap[nr] = gb;
-                row_G(m, q, x, nb, G[nr]);
+                if (gap) gap[nr] = gb;
+                if (G) row_G(m, q, x, nb, G[nr]);
                 contact_set_point(cp ? &cp[nr] : NULL, x, rc, nb);
-                round[nr] = rnd;
+                if (round) round[nr] = 64.0 * DBL_EPSILON * (hypot(x[0], x[1]) + hypot(hb[0][0], hb[0][1]) + pn + fmax);
+                if (ft) ft[nr] = f0;
                 if (src) src[nr] = m->n_stops + o;
                 nr++;
             }
         } else {
             /* the rod against the hull: the hull point nearest the axis */
-            double cB[3], aB[3], best = INFINITY, xs[3] = {0, 0, 0}, ws[3] = {0, 0, 0}, nb[3];
-            int inside = nh >= 3, ebest = 0;
+            double cB[3], aB[3], best = INFINITY, xs[3] = {0, 0, 0}, ws[3] = {0, 0, 0}, nb[3], dist;
+            int inside = nh >= 3, ebest = 0, feat = 0;
             contact_rod_axis(ob, kin->R, kin->p, cB, aB);
             for (int e = 0; e < nh; e++) {
                 const double *u = hb[e], *v = hb[(e + 1) % nh];
-                double w[3], dd[3], du[3] = {v[0] - u[0], v[1] - u[1], 0.0}, t = 0.0, x[3], d2;
-                axis_dist2(cB, aB, u, w);
-                {
-                    double ta = ex_dot3(du, aB);
-                    for (int i = 0; i < 3; i++) dd[i] = du[i] - ta * aB[i];
-                }
-                if (ex_dot3(dd, dd) > 0.0 && nh > 1) {
-                    t = -ex_dot3(w, dd) / ex_dot3(dd, dd);
+                double w[3], du[3] = {v[0] - u[0], v[1] - u[1], 0.0}, len, t = 0.0, x[3], d2;
+                if (nh > 1) {
+                    t = rod_foot(nh, (const double (*)[3])hb, cB, aB, e, &len);
                     t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
                 }
                 for (int i = 0; i < 3; i++) x[i] = u[i] + t * du[i];
@@ -1007,9 +1102,29 @@ int contact_obstacle_rows_pred(const exdex_model *m, const exdex_kinematics *kin
                 if (d2 < best) {
                     best = d2;
                     ebest = e;
+                    feat = t == 0.0 ? e : t == 1.0 ? (e + 1) % nh : 32 + e;
                     memcpy(xs, x, sizeof xs);
                     memcpy(ws, w, sizeof ws);
                 }
+            }
+            if (feat < 32 && nh > 1) {
+                /* at a vertex: an adjacent edge whose foot lies inside it is
+                 * the feature (the distances differ there only at second
+                 * order, the feet at first: the choice agrees with
+                 * orow_feature_guard's sign); the point stays the vertex */
+                int k = feat, ep = (k + nh - 1) % nh;
+                double lp, ln, tp = rod_foot(nh, (const double (*)[3])hb, cB, aB, ep, &lp);
+                double tn = rod_foot(nh, (const double (*)[3])hb, cB, aB, k, &ln);
+                if (lp > 0.0 && tp < 1.0)
+                    feat = 32 + ep;
+                else if (ln > 0.0 && tn > 0.0)
+                    feat = 32 + k;
+            }
+            if (ft) ft[nr] = feature(o, OROW_ROD, 0, 0, feat);
+            if (src) src[nr] = m->n_stops + o;
+            if (!need) {
+                nr++;
+                continue;
             }
             if (inside && fabs(aB[2]) > 1e-12) {
                 /* the axis meets the plane at c0: inside the hull? */
@@ -1017,29 +1132,40 @@ int contact_obstacle_rows_pred(const exdex_model *m, const exdex_kinematics *kin
             } else {
                 inside = 0;
             }
-            {
-                double dist = sqrt(best);
-                if (dist > 0.0) {
-                    for (int i = 0; i < 3; i++) nb[i] = (inside ? -ws[i] : ws[i]) / dist;
-                } else {
-                    /* on the axis: the edge's outward normal, reversed */
-                    const double *u = hb[ebest], *v = hb[(ebest + 1) % nh];
-                    double ex = v[0] - u[0], ey = v[1] - u[1], len = hypot(ex, ey);
-                    nb[0] = len > 0.0 ? -ey / len : 0.0;
-                    nb[1] = len > 0.0 ? ex / len : 0.0;
-                    nb[2] = 0.0;
-                }
-                gap[nr] = (inside ? -dist : dist) - ob->radius;
-                row_G(m, q, xs, nb, G[nr]);
-                contact_set_point(cp ? &cp[nr] : NULL, xs, rc, nb);
+            dist = sqrt(best);
+            if (dist > 0.0) {
+                for (int i = 0; i < 3; i++) nb[i] = (inside ? -ws[i] : ws[i]) / dist;
+            } else {
+                /* on the axis: the edge's outward normal, reversed */
+                const double *u = hb[ebest], *v = hb[(ebest + 1) % nh];
+                double ex = v[0] - u[0], ey = v[1] - u[1], len = hypot(ex, ey);
+                nb[0] = len > 0.0 ? -ey / len : 0.0;
+                nb[1] = len > 0.0 ? ex / len : 0.0;
+                nb[2] = 0.0;
+            }
+            if (gap) gap[nr] = (inside ? -dist : dist) - ob->radius;
+            if (G) row_G(m, q, xs, nb, G[nr]);
+            contact_set_point(cp ? &cp[nr] : NULL, xs, rc, nb);
+            if (round)
                 round[nr] = 64.0 * DBL_EPSILON * (hypot(xs[0], xs[1]) + pn + sqrt(ex_dot3(ob->center, ob->center)) +
                                                   ob->radius);
-                if (src) src[nr] = m->n_stops + o;
-                nr++;
-            }
+            nr++;
         }
     }
     return nr;
+}
+
+int contact_obstacle_rows(const exdex_model *m, const exdex_kinematics *kin, const double *q, double (*G)[3],
+                          double *gap, double *round, int *src, contact_point *cp)
+{
+    return contact_obstacle_build(m, kin, q, NULL, G, gap, round, src, cp, NULL);
+}
+
+int contact_obstacle_rows_pred(const exdex_model *m, const exdex_kinematics *kin, const double *q, const double *vp,
+                               double h, double (*G)[3], double *gap, double *round, int *src, contact_point *cp)
+{
+    contact_obuild opt = {vp, h, NULL, NULL, 0};
+    return contact_obstacle_build(m, kin, q, &opt, G, gap, round, src, cp, NULL);
 }
 
 int contact_obstacle_max_rows(const exdex_model *m)

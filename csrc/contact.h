@@ -109,15 +109,16 @@ double contact_rot_radius(const exdex_model *m);
  * in the same form: gap_i >= 0 allowed, G_i = d gap_i / d qdot. Per
  * polytope: one row per outline vertex (its largest face distance: the
  * row of that face, a plane row as a stop's) and, with a hull of at least 3
- * vertices, one per vertex of the section polygon (its largest distance
- * outside the hull's edge lines, acting at the section vertex with the
- * edge's inward normal); per rod: one row, the hull point nearest the axis
- * (its distance from the axis less the radius, negative when the axis meets
- * the plane inside the hull). A disc outline: one row per obstacle (its
- * distance from the section less its radius: disc_obstacle_row in
- * contact.c). round_i bounds the rounding of gap_i; src_i =
- * n_stops + obstacle index (src may be NULL); cp_i (cp may be NULL) where
- * the row acts. Returns the count, at most contact_obstacle_max_rows. */
+ * vertices, one per vertex of the section polygon in the order of
+ * contact_section_vertices (its largest distance outside the hull's edge
+ * lines, acting at the section vertex with the edge's inward normal); per
+ * rod: one row, the hull point nearest the axis (its distance from the axis
+ * less the radius, negative when the axis meets the plane inside the hull).
+ * A disc outline: one row per obstacle (its distance from the section less
+ * its radius: disc_obstacle_row in contact.c). contact_obstacle_build
+ * decides every row; contact_obstacle_rows, contact_obstacle_rows_pred and
+ * obstacle_rows.h's orow_all are views of it. */
+
 /* Where a row acts, for friction along it (contact_tangent): the object's
  * material point x (B), its offset vx from the centre of mass (planar) and
  * the row's normal nB (B; its in-plane part is the direction the gap grows
@@ -125,23 +126,72 @@ double contact_rot_radius(const exdex_model *m);
 typedef struct contact_point {
     double x[3], vx[3], nB[3];
 } contact_point;
+
+/* The feature a row holds (obstacle_rows.h packs it into a row code):
+ *   OROW_VERTEX:  a = outline vertex j, b = 0, feat = the face;
+ *   OROW_SECTION: a < b the two faces whose lines meet at the section vertex,
+ *                 feat = the hull edge (from hull vertex feat to feat + 1);
+ *   OROW_ROD:     a = b = 0, feat = hull vertex k (k < 32) or hull edge
+ *                 32 + e (its interior).
+ * A disc outline: OROW_VERTEX (a = 0) its support point against face feat,
+ * OROW_SECTION (faces a < b, feat 0) its centre's distance from their
+ * section vertex less the radius, OROW_ROD (feat 0) its rim point nearest
+ * the axis. obst is the obstacle's index. */
+enum { OROW_VERTEX = 0, OROW_SECTION = 1, OROW_ROD = 2 };
+typedef struct contact_feature {
+    int obst, kind, a, b, feat;
+} contact_feature;
+
+/* The rate (d gap / dt at velocity v, the feature held) of the row of
+ * feature f at (kin, q): supplied by the caller of the rate tie rule. */
+typedef double (*contact_rate_fn)(const exdex_model *m, const exdex_kinematics *kin, const contact_feature *f,
+                                  const double *q, const double *v);
+
+/* How contact_obstacle_build decides a row whose gap is a largest
+ * distance over pieces (faces for an outline vertex, hull edges for a
+ * section vertex). The constraint set {max_i g_i >= 0} is not convex where
+ * two pieces meet (a corner against a corner) and a row holds one piece:
+ * without a rule (opt NULL, or vp and rate NULL), the first piece of the
+ * largest g at q.
+ *   Step rule (vp not NULL, a time step of length h with the predicted
+ *   velocity vp): the piece of the largest predicted distance g_i + h G_i .
+ *   vp over all pieces (the first of equal ones): the piece that is the
+ *   largest at the step's end, so a corner sliding past a corner is held by
+ *   the piece it moves along rather than stopped by the piece it leaves.
+ *   The pick differs from the largest at q only where two pieces' order
+ *   changes within the step.
+ *   Rate rule (rate and v not NULL, vp NULL): where several pieces are
+ *   within tol.touch of the largest, the one of them of the largest rate
+ *   rate(f_i, q, v) (the first of equal ones): the piece that stays the
+ *   largest at the next instant (a max of several pieces stays >= 0 while
+ *   any piece does; holding a piece that decreases would block a motion the
+ *   others allow).
+ * planar = 1 computes a face row's gap (and G) as contact_plane_row_planar,
+ * 0 as contact_plane_gap: the formulas the stops' rows use in the planar
+ * methods (event, regularised) and in the steppers, so that a one-face
+ * obstacle is its plane stop bit for bit in each. Rods and disc outlines
+ * have one piece. */
+typedef struct contact_obuild {
+    const double *vp;
+    double h;
+    const double *v;
+    contact_rate_fn rate;
+    int planar;
+} contact_obuild;
+
+/* Every obstacle row at q and pose kin with the rule opt (may be NULL):
+ * gap_i (gap may be NULL); G_i (G may be NULL); round_i (may be NULL)
+ * bounds the rounding of gap_i; src_i = n_stops + obstacle index (may be NULL); cp_i (may be NULL)
+ * where the row acts; ft_i (may be NULL) the feature it holds. Returns the
+ * count, at most contact_obstacle_max_rows. */
+int contact_obstacle_build(const exdex_model *m, const exdex_kinematics *kin, const double *q,
+                           const contact_obuild *opt, double (*G)[3], double *gap, double *round, int *src,
+                           contact_point *cp, contact_feature *ft);
+/* contact_obstacle_build without a tie rule, planar = 0. */
 int contact_obstacle_rows(const exdex_model *m, const exdex_kinematics *kin, const double *q, double (*G)[3],
                           double *gap, double *round, int *src, contact_point *cp);
-/* The same rows with a tie rule for a time step of length h: a row's gap
- * is a largest distance over pieces (faces for an outline vertex, hull
- * edges for a section vertex), whose constraint set {max_i g_i >= 0} is not
- * convex where two pieces meet (a corner against a corner); a linearised
- * row holds one piece. Without a prediction (vp NULL: contact_obstacle_rows)
- * it is the piece of the largest distance at q. With the predicted velocity
- * vp it is, among the pieces whose distance is >= 0 (to rounding; each of
- * them alone keeps max_i g_i >= 0 to first order), the one of the largest
- * distance at the predicted position, g_i + h G_i . vp: the piece that is
- * the largest at the step's end, so a corner sliding past a corner is held
- * by the piece it moves along rather than stopped by the piece it leaves.
- * The pick differs from the largest at q only where two pieces' order
- * changes within the step; a penetrating row (largest g < 0 beyond
- * rounding) keeps its largest piece. Rods and disc outlines: as
- * contact_obstacle_rows. */
+/* contact_obstacle_build with the step rule for a step of length h (vp
+ * NULL: none), planar = 0. */
 int contact_obstacle_rows_pred(const exdex_model *m, const exdex_kinematics *kin, const double *q, const double *vp,
                                double h, double (*G)[3], double *gap, double *round, int *src, contact_point *cp);
 int contact_obstacle_max_rows(const exdex_model *m);
@@ -181,7 +231,7 @@ int contact_hull(const double (*v)[2], int n, double (*hull)[2]);
 /* The rim point of a disc of radius r nearest a rod's axis: the unit u
  * minimising 2 r b . u - r^2 (u . a)^2 over the unit circle, a the in-plane
  * part of the axis direction (B), b the in-plane part of the centre's
- * offset from the axis (as contact_obstacle_rows finds it). */
+ * offset from the axis (as contact_obstacle_build finds it). */
 void contact_circle_min(const double a[2], const double b[2], double r, double u[2]);
 
 /* Slip of vertex j of a planar object along stop ks at coordinates q,
@@ -202,5 +252,9 @@ int contact_hull_b(const exdex_model *m, const double *q, double hb[][3]);
 /* Whether the line through cB along aB (B, aB[2] != 0) meets the plate plane
  * strictly inside the counter-clockwise hull hb (nh vertices). */
 int contact_axis_in_hull(int nh, const double hb[][3], const double cB[3], const double aB[3]);
+/* Foot parameter (unclamped) along the hull edge e (hb, nh vertices) of the
+ * point nearest the rod's axis (cB, aB in B); *len the edge's length
+ * perpendicular to the axis (0: the edge is parallel to it, and the foot 0). */
+double contact_rod_foot(int nh, const double hb[][3], const double cB[3], const double aB[3], int e, double *len);
 
 #endif

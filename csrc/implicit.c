@@ -310,10 +310,11 @@ static double held_rate_1dof(const exdex_model *m, const exdex_kinematics *kin_e
         contact_row_1dof(m, kin_end, w->row_stop[i], i % nv, qe, &c);
     } else {
         /* an obstacle's row: the same row as the event method holds it
-         * (orow_all lists them in contact_obstacle_rows' order, for an
-         * outline of vertices), its feature kept at the step's end; an
-         * outline vertex on a polytope's face only (a plane fixed in A, as a
-         * stop) */
+         * (orow_all and contact_obstacle_rows_pred are views of one
+         * builder: the same rows in the same order; orow_all's feature the
+         * largest piece at q), its feature kept at the step's end; an
+         * outline vertex on a polytope's face only (a plane fixed in A, as
+         * a stop) */
         int code[MAX_ROWS], io = i - m->n_stops * nv, no;
         if (m->disc_r > 0.0) return NAN;
         no = orow_all(m, kin_end, q, NULL, 0, code, NULL);

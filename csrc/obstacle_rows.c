@@ -194,14 +194,15 @@ static jet ojet_edge(const exdex_model *m, const ojet *J, int e, jet u[2], jet *
     return jsqrt(jadd(jmul(*ex, *ex), jmul(*ey, *ey)));
 }
 
-/* The rim point at angle phi0 + dphi s and its offset w from the axis (its
+/* The rim point at the unit u0 (cos phi0, sin phi0) turned by dphi s, and
  * distance |w|) along the line (q + dq s, t + dt s). */
 static void disc_rim_jet(const exdex_model *m, const exdex_kinematics *kin, const exdex_obstacle_def *ob,
-                         const double *q, const double *dq, double dt, double phi0, double dphi, jet x[2], jet w[3])
+                         const double *q, const double *dq, double dt, const double u0[2], double dphi, jet x[2],
+                         jet w[3])
 {
     ojet J;
-    jet cB[3], aB[3], d[3], t, c = {{cos(phi0), -sin(phi0) * dphi, -0.5 * cos(phi0) * dphi * dphi}};
-    jet sn = {{sin(phi0), cos(phi0) * dphi, -0.5 * sin(phi0) * dphi * dphi}};
+    jet cB[3], aB[3], d[3], t, c = {{u0[0], -u0[1] * dphi, -0.5 * u0[0] * dphi * dphi}};
+    jet sn = {{u0[1], u0[0] * dphi, -0.5 * u0[1] * dphi * dphi}};
     ojet_init(m, kin, q, dq, dt, &J);
     ojet_axis(ob, &J, cB, aB);
     ojet_disc(m, &J, x);
@@ -216,18 +217,20 @@ static void disc_rim_jet(const exdex_model *m, const exdex_kinematics *kin, cons
 
 /* The distance of that rim point from the axis less the rod's radius. */
 static jet disc_rod_jet(const exdex_model *m, const exdex_kinematics *kin, const exdex_obstacle_def *ob,
-                        const double *q, const double *dq, double dt, double phi0, double dphi)
+                        const double *q, const double *dq, double dt, const double u0[2], double dphi)
 {
     jet x[2], w[3];
-    disc_rim_jet(m, kin, ob, q, dq, dt, phi0, dphi, x, w);
+    disc_rim_jet(m, kin, ob, q, dq, dt, u0, dphi, x, w);
     return jsub(jsqrt(jadd(jadd(jmul(w[0], w[0]), jmul(w[1], w[1])), jmul(w[2], w[2]))), jk(ob->radius));
 }
 
-/* The rim angle nearest the rod's axis at (kin, q) (contact_circle_min). */
-static double disc_rod_phi(const exdex_model *m, const exdex_kinematics *kin, const exdex_obstacle_def *ob,
-                           const double *q)
+/* The rim point nearest the rod's axis at (kin, q): the unit u of
+ * contact_circle_min (the rim point xc + r u, as contact_obstacle_build
+ * takes it). */
+static void disc_rod_u(const exdex_model *m, const exdex_kinematics *kin, const exdex_obstacle_def *ob,
+                       const double *q, double u[2])
 {
-    double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], cB[3], aB[3], d[3], t, b[2], u[2];
+    double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], cB[3], aB[3], d[3], t, b[2];
     contact_vertices(m, q, xb, vx);
     contact_rod_axis(ob, kin->R, kin->p, cB, aB);
     for (int i = 0; i < 3; i++) d[i] = xb[0][i] - cB[i];
@@ -235,19 +238,18 @@ static double disc_rod_phi(const exdex_model *m, const exdex_kinematics *kin, co
     b[0] = d[0] - t * aB[0];
     b[1] = d[1] - t * aB[1];
     contact_circle_min(aB, b, m->disc_r, u);
-    return atan2(u[1], u[0]);
 }
 
-/* Along the line (q + dq s, t + dt s) from the minimiser phi: the rod row's
+/* Along the line (q + dq s, t + dt s) from the minimiser u: the rod row's
  * first derivative (*g1), its second (*g2, the envelope's) and the rate of
  * the minimiser (returned). */
 static double disc_rod_env(const exdex_model *m, const exdex_kinematics *kin, const exdex_obstacle_def *ob,
-                           const double *q, const double *dq, double dt, double phi, double *g0, double *g1,
+                           const double *q, const double *dq, double dt, const double u[2], double *g0, double *g1,
                            double *g2)
 {
     double zero[3] = {0, 0, 0}, fss, fpp, fsp;
-    jet a = disc_rod_jet(m, kin, ob, q, dq, dt, phi, 0.0), b = disc_rod_jet(m, kin, ob, q, zero, 0.0, phi, 1.0);
-    jet c = disc_rod_jet(m, kin, ob, q, dq, dt, phi, 1.0);
+    jet a = disc_rod_jet(m, kin, ob, q, dq, dt, u, 0.0), b = disc_rod_jet(m, kin, ob, q, zero, 0.0, u, 1.0);
+    jet c = disc_rod_jet(m, kin, ob, q, dq, dt, u, 1.0);
     fss = 2.0 * a.c[2];
     fpp = 2.0 * b.c[2];
     fsp = 0.5 * (2.0 * c.c[2] - fss - fpp);
@@ -370,24 +372,6 @@ static double inside_other_faces(const exdex_obstacle_def *ob, const exdex_kinem
     return res;
 }
 
-/* Largest distance of y outside the hull's edge lines; *edge its edge. */
-static double hull_dist(int nh, const double hb[][3], const double y[2], int *edge)
-{
-    double gb = -INFINITY;
-    *edge = 0;
-    for (int e = 0; e < nh; e++) {
-        const double *u = hb[e], *v = hb[(e + 1) % nh];
-        double ex = v[0] - u[0], ey = v[1] - u[1], len = hypot(ex, ey), g;
-        if (!(len > 0.0)) continue;
-        g = ey / len * (y[0] - u[0]) + (-ex / len) * (y[1] - u[1]);
-        if (g > gb) {
-            gb = g;
-            *edge = e;
-        }
-    }
-    return gb;
-}
-
 /* The rod's contact normal at the point x (B): the offset of x from the
  * axis (cB, aB), d - (d . aB) aB with d = x - cB, normalised (zero when x is
  * on the axis) into nb. Returns the distance |d - (d . aB) aB|. */
@@ -400,69 +384,6 @@ static double rod_normal(const double cB[3], const double aB[3], const double x[
     dist = sqrt(ex_dot3(nb, nb));
     for (int i = 0; i < 3; i++) nb[i] = dist > 0.0 ? nb[i] / dist : 0.0;
     return dist;
-}
-
-/* Foot parameter (unclamped) along the hull edge e of the point nearest the
- * axis, as contact.c computes it; *len the edge's length perpendicular to the
- * axis (0: the edge is parallel to it). */
-static double rod_foot(int nh, const double hb[][3], const double cB[3], const double aB[3], int e, double *len)
-{
-    const double *u = hb[e], *v = hb[(e + 1) % nh];
-    double du[3] = {v[0] - u[0], v[1] - u[1], 0.0}, d[3] = {u[0] - cB[0], u[1] - cB[1], -cB[2]}, w[3], dd[3];
-    double t = ex_dot3(d, aB), ta = ex_dot3(du, aB);
-    for (int i = 0; i < 3; i++) {
-        w[i] = d[i] - t * aB[i];
-        dd[i] = du[i] - ta * aB[i];
-    }
-    *len = sqrt(ex_dot3(dd, dd));
-    return *len > 0.0 ? -ex_dot3(w, dd) / ex_dot3(dd, dd) : 0.0;
-}
-
-static double rod_dist2(const double cB[3], const double aB[3], const double x[2])
-{
-    double d[3] = {x[0] - cB[0], x[1] - cB[1], -cB[2]}, t = ex_dot3(d, aB), w[3];
-    for (int i = 0; i < 3; i++) w[i] = d[i] - t * aB[i];
-    return ex_dot3(w, w);
-}
-
-/* The rod row's gap and feature at (kin, q), as contact_obstacle_rows. */
-static double rod_row(const exdex_model *m, const exdex_obstacle_def *ob, const exdex_kinematics *kin, int nh,
-                      const double hb[][3], int *feat)
-{
-    double cB[3], aB[3], best = INFINITY;
-    int inside = nh >= 3;
-    contact_rod_axis(ob, kin->R, kin->p, cB, aB);
-    *feat = 0;
-    for (int e = 0; e < nh; e++) {
-        const double *u = hb[e], *v = hb[(e + 1) % nh];
-        double len, t = nh > 1 ? rod_foot(nh, hb, cB, aB, e, &len) : 0.0, x[2], d2;
-        t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
-        x[0] = u[0] + t * (v[0] - u[0]);
-        x[1] = u[1] + t * (v[1] - u[1]);
-        d2 = rod_dist2(cB, aB, x);
-        if (d2 < best) {
-            best = d2;
-            *feat = t == 0.0 ? e : t == 1.0 ? (e + 1) % nh : 32 + e;
-        }
-    }
-    if (*feat < 32 && nh > 1) {
-        /* at a vertex: an adjacent edge whose foot lies inside it is the
-         * feature (the distances differ there only at second order, the
-         * feet at first: the choice agrees with orow_feature_guard's sign) */
-        int k = *feat, ep = (k + nh - 1) % nh;
-        double lp, ln, tp = rod_foot(nh, hb, cB, aB, ep, &lp), tn = rod_foot(nh, hb, cB, aB, k, &ln);
-        if (lp > 0.0 && tp < 1.0)
-            *feat = 32 + ep;
-        else if (ln > 0.0 && tn > 0.0)
-            *feat = 32 + k;
-    }
-    if (inside && fabs(aB[2]) > 1e-12) {
-        inside = contact_axis_in_hull(nh, hb, cB, aB);
-    } else {
-        inside = 0;
-    }
-    (void)m;
-    return (inside ? -sqrt(best) : sqrt(best)) - ob->radius;
 }
 
 /* Rate of the row code (feature held) at (q, v) (the gap's first Taylor
@@ -485,167 +406,20 @@ static double orow_rate(const exdex_model *m, const exdex_kinematics *kin, int c
     return orow_jet(m, kin, code, q, v, 1.0).c[1];
 }
 
-/* A largest-distance row whose largest distance is attained by several
- * features (within tol.touch: an object corner on an obstacle corner) is
- * the largest of them at the next instant: the feature of the largest rate
- * (a max of several pieces stays >= 0 while any piece does; holding a piece
- * that decreases would block a motion the others allow). cand: the
- * candidate codes (values vals), best: the index of the largest value. */
-static int orow_tie(const exdex_model *m, const exdex_kinematics *kin, const double *q, const double *v,
-                    const int *cand, const double *vals, int n, int best)
+/* orow_rate for the rate tie rule of contact_obstacle_build. */
+static double feature_rate(const exdex_model *m, const exdex_kinematics *kin, const contact_feature *f,
+                           const double *q, const double *v)
 {
-    double rb = -INFINITY;
-    int pick = best, ties = 0;
-    if (!v) return best;
-    for (int i = 0; i < n; i++) ties += vals[i] >= vals[best] - m->tol.touch;
-    if (ties < 2) return best;
-    for (int i = 0; i < n; i++) {
-        double r;
-        if (!(vals[i] >= vals[best] - m->tol.touch)) continue;
-        r = orow_rate(m, kin, cand[i], q, v);
-        if (r > rb) {
-            rb = r;
-            pick = i;
-        }
-    }
-    return pick;
-}
-
-/* The disc's row against obstacle o at (kin, q) (centre xc, offset vc):
- * its code and gap (planar: a face row's gap as contact_plane_row_planar),
- * the feature as contact_obstacle_rows chooses it: the face whose line is
- * farthest from the centre while the centre's foot on it lies on the face
- * (or the centre is inside), else the nearest section vertex; a rod's rim
- * point nearest the axis. */
-static int disc_row(const exdex_model *m, const exdex_kinematics *kin, int o, const double *q, const double xc[3],
-                    const double vc[3], int planar, double *gap)
-{
-    const exdex_obstacle_def *ob = &m->def.obstacles[o];
-    double r = m->disc_r, zero[3] = {0, 0, 0}, G[3];
-    if (ob->kind == EXDEX_OBSTACLE_POLYTOPE) {
-        double a[EXDEX_MAX_FACES][2], b[EXDEX_MAX_FACES], db;
-        int idx[EXDEX_MAX_FACES], empty, on, best = 0, nk = contact_halfplanes(ob, kin->R, kin->p, a, b, idx, &empty);
-        int fb = contact_farthest_line(nk, (const double (*)[2])a, b, xc, &db, &on);
-        if (!(empty || on)) {
-            /* the nearest section vertex (the pairs as orow_all finds them) */
-            double ys[EXDEX_MAX_FACES][2], dmin = INFINITY;
-            int fg[EXDEX_MAX_FACES][2], pf = -1, pg = -1;
-            int ny = contact_section_vertices(nk, (const double (*)[2])a, b, ys, fg);
-            for (int i = 0; i < ny; i++) {
-                double dd = hypot(xc[0] - ys[i][0], xc[1] - ys[i][1]);
-                if (dd < dmin) {
-                    dmin = dd;
-                    pf = idx[fg[i][0]];
-                    pg = idx[fg[i][1]];
-                }
-            }
-            if (pf >= 0) {
-                if (gap) gap[0] = dmin - r;
-                return orow_code(o, OROW_SECTION, pf, pg, 0);
-            }
-        }
-        if (!empty && fb >= 0 && db > 0.0) {
-            best = idx[fb];
-        } else {
-            double gb = -INFINITY;
-            for (int f = 0; f < ob->n_faces; f++) {
-                double g = contact_plane_gap(m, kin, ob->face_point[f], ob->face_normal[f], xc, vc, NULL);
-                if (g > gb) {
-                    gb = g;
-                    best = f;
-                }
-            }
-        }
-        if (gap)
-            gap[0] = planar ? contact_plane_row_planar(m, kin, ob->face_point[best], ob->face_normal[best], 0, q, zero, G,
-                                                       NULL, NULL)
-                            : contact_plane_gap(m, kin, ob->face_point[best], ob->face_normal[best], xc, vc, NULL);
-        return orow_code(o, OROW_VERTEX, 0, 0, best);
-    }
-    if (gap) {
-        /* as contact_obstacle_rows: negative when the axis meets the plane inside the disc */
-        double cB[3], aB[3], phi = disc_rod_phi(m, kin, ob, q), x[3], nb[3], dist;
-        int inside = 0;
-        contact_rod_axis(ob, kin->R, kin->p, cB, aB);
-        if (fabs(aB[2]) > 1e-12) {
-            double c0[2] = {cB[0] - cB[2] / aB[2] * aB[0], cB[1] - cB[2] / aB[2] * aB[1]};
-            inside = hypot(xc[0] - c0[0], xc[1] - c0[1]) < r;
-        }
-        x[0] = xc[0] + r * cos(phi);
-        x[1] = xc[1] + r * sin(phi);
-        x[2] = 0.0;
-        dist = rod_normal(cB, aB, x, nb);
-        gap[0] = (inside ? -dist : dist) - ob->radius;
-    }
-    return orow_code(o, OROW_ROD, 0, 0, 0);
+    return orow_rate(m, kin, orow_code(f->obst, f->kind, f->a, f->b, f->feat), q, v);
 }
 
 int orow_all(const exdex_model *m, const exdex_kinematics *kin, const double *q, const double *v, int planar,
              int *code, double *gap)
 {
-    double xb[EXDEX_MAX_VERTICES][3], vx[EXDEX_MAX_VERTICES][3], hb[EXDEX_MAX_VERTICES][3], zero[3] = {0, 0, 0};
-    int nv = contact_vertices(m, q, xb, vx), nh = contact_hull_b(m, q, hb), n = 0;
-    for (int o = 0; o < m->n_obst; o++) {
-        const exdex_obstacle_def *ob = &m->def.obstacles[o];
-        if (m->disc_r > 0.0) {
-            code[n] = disc_row(m, kin, o, q, xb[0], vx[0], planar, gap ? &gap[n] : NULL);
-            n++;
-            continue;
-        }
-        if (ob->kind == EXDEX_OBSTACLE_POLYTOPE) {
-            double a[EXDEX_MAX_FACES][2], b[EXDEX_MAX_FACES], ys[EXDEX_MAX_FACES][2];
-            int idx[EXDEX_MAX_FACES], fg[EXDEX_MAX_FACES][2], nk, empty, ny;
-            for (int j = 0; j < nv; j++) {
-                int best = 0, cand[EXDEX_MAX_FACES];
-                double gb = -INFINITY, G[3], vals[EXDEX_MAX_FACES];
-                for (int f = 0; f < ob->n_faces; f++) {
-                    double g = contact_plane_gap(m, kin, ob->face_point[f], ob->face_normal[f], xb[j], vx[j], NULL);
-                    vals[f] = g;
-                    cand[f] = orow_code(o, OROW_VERTEX, j, 0, f);
-                    if (g > gb) {
-                        gb = g;
-                        best = f;
-                    }
-                }
-                best = orow_tie(m, kin, q, v, cand, vals, ob->n_faces, best);
-                if (gap)
-                    gap[n] = planar ? contact_plane_row_planar(m, kin, ob->face_point[best], ob->face_normal[best], j,
-                                                               q, zero, G, NULL, NULL)
-                                    : gb;
-                code[n++] = orow_code(o, OROW_VERTEX, j, 0, best);
-            }
-            if (nh < 3) continue;
-            /* the section's vertices, as contact_obstacle_rows finds
-             * them, with their face pairs */
-            nk = contact_halfplanes(ob, kin->R, kin->p, a, b, idx, &empty);
-            if (empty) continue;
-            ny = contact_section_vertices(nk, (const double (*)[2])a, b, ys, fg);
-            for (int i = 0; i < ny; i++) {
-                const double *y = ys[i];
-                int f = fg[i][0], g = fg[i][1], e;
-                double gv = hull_dist(nh, (const double (*)[3])hb, y, &e);
-                if (v && m->tol.touch > 0.0) {
-                    /* ties between edge lines: orow_tie */
-                    int cand[EXDEX_MAX_VERTICES];
-                    double vals[EXDEX_MAX_VERTICES];
-                    for (int k = 0; k < nh; k++) {
-                        const double *u = hb[k], *w = hb[(k + 1) % nh];
-                        double ex = w[0] - u[0], ey = w[1] - u[1], len = hypot(ex, ey);
-                        vals[k] = len > 0.0 ? ey / len * (y[0] - u[0]) + (-ex / len) * (y[1] - u[1]) : -INFINITY;
-                        cand[k] = orow_code(o, OROW_SECTION, idx[f], idx[g], k);
-                    }
-                    e = orow_tie(m, kin, q, v, cand, vals, nh, e);
-                }
-                if (gap) gap[n] = gv;
-                code[n++] = orow_code(o, OROW_SECTION, idx[f], idx[g], e);
-            }
-        } else {
-            int feat;
-            double gv = rod_row(m, ob, kin, nh, (const double (*)[3])hb, &feat);
-            if (gap) gap[n] = gv;
-            code[n++] = orow_code(o, OROW_ROD, 0, 0, feat);
-        }
-    }
+    contact_obuild opt = {NULL, 0.0, v, v ? feature_rate : NULL, planar};
+    contact_feature ft[MAX_ROWS];
+    int n = contact_obstacle_build(m, kin, q, &opt, NULL, gap, NULL, NULL, NULL, ft);
+    for (int i = 0; i < n; i++) code[i] = orow_code(ft[i].obst, ft[i].kind, ft[i].a, ft[i].b, ft[i].feat);
     return n;
 }
 
@@ -660,13 +434,14 @@ double orow_planar(const exdex_model *m, const exdex_kinematics *kin, int code, 
                                         gdd0);
     }
     if (m->disc_r > 0.0 && orow_kind(code) == OROW_ROD) {
-        double phi = disc_rod_phi(m, kin, ob, q), g0, g1, g2;
+        double ur[2], g0, g1, g2;
+        disc_rod_u(m, kin, ob, q, ur);
         for (int i = 0; i < 3; i++) {
             double e[3] = {0, 0, 0};
             e[i] = 1.0;
-            G[i] = disc_rod_jet(m, kin, ob, q, e, 0.0, phi, 0.0).c[1];
+            G[i] = disc_rod_jet(m, kin, ob, q, e, 0.0, ur, 0.0).c[1];
         }
-        disc_rod_env(m, kin, ob, q, v, 1.0, phi, &g0, &g1, &g2);
+        disc_rod_env(m, kin, ob, q, v, 1.0, ur, &g0, &g1, &g2);
         if (gd) *gd = g1;
         if (gdd0) *gdd0 = g2;
         return g0;
@@ -694,14 +469,16 @@ void orow_1dof(const exdex_model *m, const exdex_kinematics *kin, int code, doub
     }
     if (m->disc_r > 0.0 && orow_kind(code) == OROW_ROD) {
         /* the envelope: f_ab - f_a,phi f_b,phi / f_phi,phi */
-        double phi = disc_rod_phi(m, kin, ob, &q), fqp, ftp, fpp, dq, dt;
-        jet jp = disc_rod_jet(m, kin, ob, &q, &zero, 0.0, phi, 1.0);
-        gq = disc_rod_jet(m, kin, ob, &q, &one, 0.0, phi, 0.0);
-        gt = disc_rod_jet(m, kin, ob, &q, &zero, 1.0, phi, 0.0);
-        gb = disc_rod_jet(m, kin, ob, &q, &one, 1.0, phi, 0.0);
+        double ur[2], fqp, ftp, fpp, dq, dt;
+        jet jp;
+        disc_rod_u(m, kin, ob, &q, ur);
+        jp = disc_rod_jet(m, kin, ob, &q, &zero, 0.0, ur, 1.0);
+        gq = disc_rod_jet(m, kin, ob, &q, &one, 0.0, ur, 0.0);
+        gt = disc_rod_jet(m, kin, ob, &q, &zero, 1.0, ur, 0.0);
+        gb = disc_rod_jet(m, kin, ob, &q, &one, 1.0, ur, 0.0);
         fpp = 2.0 * jp.c[2];
-        fqp = disc_rod_jet(m, kin, ob, &q, &one, 0.0, phi, 1.0).c[2] - gq.c[2] - jp.c[2];
-        ftp = disc_rod_jet(m, kin, ob, &q, &zero, 1.0, phi, 1.0).c[2] - gt.c[2] - jp.c[2];
+        fqp = disc_rod_jet(m, kin, ob, &q, &one, 0.0, ur, 1.0).c[2] - gq.c[2] - jp.c[2];
+        ftp = disc_rod_jet(m, kin, ob, &q, &zero, 1.0, ur, 1.0).c[2] - gt.c[2] - jp.c[2];
         dq = fpp > 0.0 ? fqp / fpp : 0.0;
         dt = fpp > 0.0 ? ftp / fpp : 0.0;
         c->F = gq.c[0];
@@ -799,12 +576,12 @@ double orow_feature_guard(const exdex_model *m, const exdex_kinematics *kin, int
         contact_rod_axis(ob, kin->R, kin->p, cB, aB);
         if (nh < 2) return big;
         if (feat >= 32) {
-            t = rod_foot(nh, (const double (*)[3])hb, cB, aB, feat - 32, &len);
+            t = contact_rod_foot(nh, (const double (*)[3])hb, cB, aB, feat - 32, &len);
             return fmin(t, 1.0 - t) * len;
         } else {
             int ep = (feat + nh - 1) % nh;
-            double lp, tp = rod_foot(nh, (const double (*)[3])hb, cB, aB, ep, &lp);
-            double tn = rod_foot(nh, (const double (*)[3])hb, cB, aB, feat, &len);
+            double lp, tp = contact_rod_foot(nh, (const double (*)[3])hb, cB, aB, ep, &lp);
+            double tn = contact_rod_foot(nh, (const double (*)[3])hb, cB, aB, feat, &len);
             return fmin((tp - 1.0) * lp, -tn * len);
         }
     }
@@ -842,10 +619,11 @@ void orow_point(const exdex_model *m, const exdex_kinematics *kin, int code, con
             x[0] = xb[0][0] - rd * nb[0];
             x[1] = xb[0][1] - rd * nb[1];
         } else {
-            double cB[3], aB[3], phi = disc_rod_phi(m, kin, ob, q);
+            double cB[3], aB[3], ur[2];
+            disc_rod_u(m, kin, ob, q, ur);
             contact_rod_axis(ob, kin->R, kin->p, cB, aB);
-            x[0] = xb[0][0] + rd * cos(phi);
-            x[1] = xb[0][1] + rd * sin(phi);
+            x[0] = xb[0][0] + rd * ur[0];
+            x[1] = xb[0][1] + rd * ur[1];
             rod_normal(cB, aB, x, nb);
         }
         contact_set_point(cp, x, r, nb);
@@ -884,7 +662,7 @@ void orow_point(const exdex_model *m, const exdex_kinematics *kin, int code, con
             x[0] = hb[feat][0];
             x[1] = hb[feat][1];
         } else {
-            double len, tf = rod_foot(nh, (const double (*)[3])hb, cB, aB, feat - 32, &len);
+            double len, tf = contact_rod_foot(nh, (const double (*)[3])hb, cB, aB, feat - 32, &len);
             const double *u = hb[feat - 32], *w = hb[(feat - 31) % nh];
             x[0] = u[0] + tf * (w[0] - u[0]);
             x[1] = u[1] + tf * (w[1] - u[1]);
@@ -982,9 +760,11 @@ double orow_slip(const exdex_model *m, const exdex_kinematics *kin, int code, co
         if (m->disc_r > 0.0 && orow_kind(code) == OROW_ROD) {
             /* the rim point nearest the axis moves along the rim at the
              * minimiser's rate */
-            double phi = disc_rod_phi(m, kin, ob, q), dphi = disc_rod_env(m, kin, ob, q, v, 1.0, phi, NULL, NULL, NULL);
+            double ur[2], dphi;
+            disc_rod_u(m, kin, ob, q, ur);
+            dphi = disc_rod_env(m, kin, ob, q, v, 1.0, ur, NULL, NULL, NULL);
             jet w[3], nn;
-            disc_rim_jet(m, kin, ob, q, v, 1.0, phi, dphi, x, w);
+            disc_rim_jet(m, kin, ob, q, v, 1.0, ur, dphi, x, w);
             nn = jsqrt(jadd(jmul(w[0], w[0]), jmul(w[1], w[1])));
             n[0] = jdiv(w[0], nn);
             n[1] = jdiv(w[1], nn);

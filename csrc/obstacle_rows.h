@@ -1,6 +1,6 @@
 /* obstacle_rows.h -- private to the exdex core: the obstacles' contact rows as the
  * hybrid (event, regularised) machine holds them. A row of
- * contact_obstacle_rows is a largest (or smallest) distance over the
+ * contact_obstacle_build is a largest (or smallest) distance over the
  * features of a pair: an outline vertex against the faces of a polytope
  * (the largest face distance), a section vertex against the outline's hull
  * edges (the largest edge distance), a rod's axis against the hull (the
@@ -12,24 +12,13 @@
  * again there.
  *
  * Codes (>= 0): (((o 3 + kind) 32 + a) 32 + b) 64 + feat, o the obstacle,
- *   OROW_VERTEX:  a = outline vertex j, b = 0, feat = the face;
- *   OROW_SECTION: a < b the two faces whose lines meet at the section vertex,
- *                 feat = the hull edge (from hull vertex feat to feat + 1);
- *   OROW_ROD:     a = b = 0, feat = hull vertex k (k < 32) or hull edge
- *                 32 + e (its interior).
- * A disc outline has one row per obstacle: OROW_VERTEX (a = 0) its support
- * point against face feat, OROW_SECTION (faces a < b, feat 0) its centre's
- * distance from their section vertex less the radius, OROW_ROD (feat 0) its
- * rim point nearest the axis (obstacle_rows.c).
- * The gaps are those of contact_obstacle_rows (a vertex row's face distance
- * is computed as a stop's, so a one-face obstacle is its plane stop bit for
- * bit). */
+ * kind, a, b and feat those of the row's contact_feature (contact.h).
+ * contact_obstacle_build decides the rows: orow_all is its view with the
+ * rate tie rule. */
 #ifndef EXDEX_OBSTACLE_ROWS_H
 #define EXDEX_OBSTACLE_ROWS_H
 
 #include "contact.h"
-
-enum { OROW_VERTEX = 0, OROW_SECTION = 1, OROW_ROD = 2 };
 
 static inline int orow_code(int o, int kind, int a, int b, int feat)
 {
@@ -49,12 +38,9 @@ int orow_valid(const exdex_model *m, int code);
 
 /* Every obstacle row at pose kin and coordinates q with its active feature:
  * codes and gaps (gap may be NULL), in the order obstacle, outline vertices,
- * then section vertices (or the rod's row). With the velocities v (may be
- * NULL) a vertex or section row whose largest distance several features
- * attain (within tol.touch) takes the one of the largest rate, the one
- * that stays largest. planar = 1 computes a vertex row's gap as
- * contact_plane_row_planar does, 0 as contact_plane_gap (the formulas the
- * stops' rows use in those scenes). Returns the count (<=
+ * then section vertices (or the rod's row): contact_obstacle_build's rows,
+ * with the rate tie rule (orow_rate) when the velocities v are given (v may
+ * be NULL: no tie rule) and its planar option. Returns the count (<=
  * contact_obstacle_max_rows). */
 int orow_all(const exdex_model *m, const exdex_kinematics *kin, const double *q, const double *v, int planar,
              int *code, double *gap);
