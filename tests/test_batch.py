@@ -513,7 +513,7 @@ def test_sweep_grid_carries_the_mask():
 def test_batch_reduction_warning_is_a_reduction_warning():
     """A batch's failed certificates come as one exdex.ReductionWarning (so a
     filter on that category catches it), like a single run's; the
-    trajectories are invalid. Scene: tests/test_certify.py's box held by a pad
+    trajectories are invalid. Scene: tests/scenarios/test_certify.py's box held by a pad
     6 cm off its centre of mass, below and above the closed-form grip
     F* = W sqrt(1 + (d / e_r)^2) / (2 mu) at which the held load leaves the
     ellipsoid."""

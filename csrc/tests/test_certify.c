@@ -4,7 +4,7 @@
  * load); exdex_certify_samples evaluates each of them. Both must give the
  * same certificate, on scenes on both sides of their thresholds, in every
  * method that solves them.
- * twin: tests/test_certify.py (the same subject through the Python API: closed forms) */
+ * twin: tests/scenarios/test_certify.py (the same subject through the Python API: closed forms) */
 #include "check.h"
 #include "sim_run.h"
 #include "../model.h"

@@ -2,7 +2,7 @@
 scene file's simulate table, plain quantity names, the slip at the contact.
 
 References: the closed form of the grip ramp (a linear capacity against the
-weight, tests/test_end_time.py's derivation), direct simulations of the
+weight, tests/scenarios/test_end_time.py's derivation), direct simulations of the
 planned scenes, and the pad geometry for the contact slip (the contact
 region of a pad wholly inside the face is the pad itself, fixed on the
 fingers, so its travel over the object follows from the object's pose

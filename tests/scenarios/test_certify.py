@@ -655,7 +655,7 @@ def _random_rotation_scene(rng, kind):
 
 def _cert_slip_tol():
     """CERT_SLIP_TOL, read from csrc/tolerances.h (its one definition)."""
-    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "csrc", "tolerances.h")
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, os.pardir, "csrc", "tolerances.h")
     with open(path, encoding="utf-8") as f:
         return float(re.search(r"#define CERT_SLIP_TOL ([0-9.eE+-]+)", f.read()).group(1))
 
