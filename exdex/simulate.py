@@ -502,7 +502,12 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
         return _simulate_auto(scene, t_end, dt, method, friction_solver, eps, rtol, atol)
     method = resolve_method(scene, method)
     spec = scene_spec(scene, method, friction_solver, eps, rtol, atol)
-    out = _core.simulate(spec, t_end, dt, certify=bool(certify))
+    _check_pivot_clear(scene, spec)
+    try:
+        out = _core.simulate(spec, t_end, dt, certify=bool(certify))
+    except SolverError as exc:
+        _reduced_obstacle_hint(scene, spec, exc)
+        raise
     _warn_jumps(scene, _jumps(scene, spec), t_end)
     res = result_from_core(out, scene, method, friction_solver, dt)
     diagnostics.issue(diagnostics.findings(res))
@@ -510,6 +515,75 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
 
 
 _PLANAR_METHODS = ("implicit", "event", "regularised", "explicit")
+
+
+def _pivot_in_obstacles(scene, spec, t):
+    """The indices of the obstacles whose interior holds the rotation model's
+    pivot (the grasp point it pins in the gripper) at time t [s], when the
+    object's outline holds the pivot (then every angle of the object
+    overlaps them); () when the outline states no area or misses the pivot."""
+    hull = diagnostics._outline(scene.body)
+    centre = np.array(scene.grasp.patch.center, dtype=float)
+    if hull is None or diagnostics._outside_distance(diagnostics._hull(hull), centre[None, :])[0] >= 0.0:
+        return ()
+    th0 = scene.q0[2]
+    cs, sn = math.cos(th0), math.sin(th0)
+    pivot = np.array([scene.q0[0] + cs * centre[0] - sn * centre[1],
+                      scene.q0[1] + sn * centre[0] + cs * centre[1], 0.0])
+    kin = _core.motion_eval(spec, np.array([float(t)]))
+    x = kin["p"][0] + kin["R"][0] @ pivot   # the pivot in the world frame A
+    inside = []
+    for i, ob in enumerate(scene.obstacles):
+        if ob.kind == "cylinder":
+            d = x - np.array(ob.center)
+            a = np.array(ob.axis)
+            if np.linalg.norm(d - (d @ a) * a) < ob.radius:
+                inside.append(i)
+        elif all((x - np.array(fp)) @ np.array(fn) < 0.0 for fp, fn in zip(ob.face_points, ob.face_normals)):
+            inside.append(i)
+    return tuple(inside)
+
+
+_CLEAR_REMEDY = "use dof='planar' (or dof='auto', which falls back to it)"
+
+
+def _check_pivot_clear(scene, spec):
+    """A ValueError for a rotation scene whose pivot starts inside an
+    obstacle (inside the object's outline too): no angle of the pinned
+    object clears it, so the rotation model has no finite-force solution."""
+    if not isinstance(scene, Scene) or scene.dof != "rotation" or not scene.obstacles:
+        return
+    inside = _pivot_in_obstacles(scene, spec, 0.0)
+    if inside:
+        raise ValueError(f"Scene.obstacles[{inside[0]}]: the rotation model's pivot (the grasp point, pinned in "
+                         f"the gripper) is inside the obstacle at t = 0, so no angle of the object clears it; "
+                         f"{_CLEAR_REMEDY}")
+
+
+def _reduced_obstacle_hint(scene, spec, exc):
+    """Rewrite the message of a 1-DoF run's SolverError whose state left the
+    finite range against obstacles: the reduced model cannot clear them
+    (naming the obstacle that holds the rotation model's pivot at the failure
+    time, when one does) and the remedy. Other errors are left as they are."""
+    if (not isinstance(scene, Scene) or scene.dof not in ("rotation", "translation") or not scene.obstacles
+            or getattr(exc, "cause", None) != "nonfinite" or not exc.args):
+        return
+    t = getattr(exc, "time", None)
+    if scene.dof == "rotation":
+        inside = _pivot_in_obstacles(scene, spec, t) if t is not None else ()
+        if inside:
+            why = (f"the rotation model cannot clear Scene.obstacles[{inside[0]}]: its pivot (the grasp point, "
+                   f"pinned in the gripper) is inside the obstacle then, so no angle of the object clears it")
+        else:
+            why = ("the rotation model (the object turning about the grasp point, pinned in the gripper) "
+                   "cannot clear the obstacles: no finite force keeps the object out of them")
+    else:
+        why = ("the translation model (the object sliding along slide_axis only) cannot clear the "
+               "obstacles: no finite force keeps the object out of them")
+    msg, generic = str(exc.args[0]), "the state left the finite range (check the scene's scales and motion)"
+    hint = f"the state left the finite range: {why}; {_CLEAR_REMEDY}"
+    msg = msg.replace(generic, hint) if generic in msg else f"{msg}; {hint}"
+    exc.args = (msg,) + tuple(exc.args[1:])
 
 
 def _full_state(scene, q, v):
