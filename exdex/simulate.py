@@ -502,7 +502,6 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
         return _simulate_auto(scene, t_end, dt, method, friction_solver, eps, rtol, atol)
     method = resolve_method(scene, method)
     spec = scene_spec(scene, method, friction_solver, eps, rtol, atol)
-    _check_pivot_clear(scene, spec)
     try:
         out = _core.simulate(spec, t_end, dt, certify=bool(certify))
     except SolverError as exc:
@@ -544,45 +543,27 @@ def _pivot_in_obstacles(scene, spec, t):
     return tuple(inside)
 
 
-_CLEAR_REMEDY = "use dof='planar' (or dof='auto', which falls back to it)"
-
-
-def _check_pivot_clear(scene, spec):
-    """A ValueError for a rotation scene whose pivot starts inside an
-    obstacle (inside the object's outline too): no angle of the pinned
-    object clears it, so the rotation model has no finite-force solution."""
-    if not isinstance(scene, Scene) or scene.dof != "rotation" or not scene.obstacles:
-        return
-    inside = _pivot_in_obstacles(scene, spec, 0.0)
-    if inside:
-        raise ValueError(f"Scene.obstacles[{inside[0]}]: the rotation model's pivot (the grasp point, pinned in "
-                         f"the gripper) is inside the obstacle at t = 0, so no angle of the object clears it; "
-                         f"{_CLEAR_REMEDY}")
-
-
 def _reduced_obstacle_hint(scene, spec, exc):
-    """Rewrite the message of a 1-DoF run's SolverError whose state left the
-    finite range against obstacles: the reduced model cannot clear them
-    (naming the obstacle that holds the rotation model's pivot at the failure
-    time, when one does) and the remedy. Other errors are left as they are."""
-    if (not isinstance(scene, Scene) or scene.dof not in ("rotation", "translation") or not scene.obstacles
+    """Rewrite the message of a rotation run's SolverError whose state left
+    the finite range against obstacles: the rotation model cannot clear the
+    obstacle that holds its pivot at the failure time (when one does; else
+    that it may be unable to clear them), and the remedy. Other errors are
+    left as they are."""
+    if (not isinstance(scene, Scene) or scene.dof != "rotation" or not scene.obstacles
             or getattr(exc, "cause", None) != "nonfinite" or not exc.args):
         return
     t = getattr(exc, "time", None)
-    if scene.dof == "rotation":
-        inside = _pivot_in_obstacles(scene, spec, t) if t is not None else ()
-        if inside:
-            why = (f"the rotation model cannot clear Scene.obstacles[{inside[0]}]: its pivot (the grasp point, "
-                   f"pinned in the gripper) is inside the obstacle then, so no angle of the object clears it")
-        else:
-            why = ("the rotation model (the object turning about the grasp point, pinned in the gripper) "
-                   "cannot clear the obstacles: no finite force keeps the object out of them")
-    else:
-        why = ("the translation model (the object sliding along slide_axis only) cannot clear the "
-               "obstacles: no finite force keeps the object out of them")
+    inside = _pivot_in_obstacles(scene, spec, t) if t is not None else ()
+    remedy = "use dof='planar' (or dof='auto', which falls back to it)"
     msg, generic = str(exc.args[0]), "the state left the finite range (check the scene's scales and motion)"
-    hint = f"the state left the finite range: {why}; {_CLEAR_REMEDY}"
-    msg = msg.replace(generic, hint) if generic in msg else f"{msg}; {hint}"
+    if inside:
+        hint = (f"the state left the finite range: the rotation model cannot clear Scene.obstacles[{inside[0]}]: "
+                f"its pivot (the grasp point, pinned in the gripper) is inside the obstacle then, so no angle of "
+                f"the object clears it and no finite force keeps the object out; {remedy}")
+        msg = msg.replace(generic, hint) if generic in msg else f"{msg}; {hint}"
+    else:
+        msg = (f"{msg}; against obstacles the rotation model (the object turning about the grasp point, pinned "
+               f"in the gripper) may be unable to clear them: {remedy}")
     exc.args = (msg,) + tuple(exc.args[1:])
 
 
