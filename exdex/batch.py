@@ -50,7 +50,7 @@ from exdex.scene import (METHODS, SOLVERS, AsymmetricProfile, Body, Grasp, GripS
                          patch_centres_outside)
 from exdex import diagnostics
 from exdex._params import ALIASES as _ALIASES, PARAMETERS, replace_params as _replace_params, unread as _unread
-from exdex.simulate import FrictionSolver, Method, Result, resolve_method
+from exdex.simulate import FrictionSolver, Method, Result, SolverError, _reduced_obstacle_hint, resolve_method
 
 __all__ = ["BatchResult", "simulate_batch", "sweep", "grid_points", "PARAMETERS", "INVALID_KINDS"]
 
@@ -566,6 +566,14 @@ def simulate_batch(scene: Union[Scene, Sequence[Scene]], t_end: float, dt: float
             if p.path[0] == "motion":
                 msg = msg.replace(f"'motion.{p.path[-1]}'", f"'{k}' (motion.{p.path[-1]})")
         raise ValueError(msg) from None
+    except SolverError as exc:
+        i = getattr(exc, "index", None)
+        sc = scenes[i] if scenes is not None and i is not None else scene
+        if i is not None and sc.dof == "rotation" and sc.obstacles:
+            # simulate's message for trajectory i (the rotation model against obstacles)
+            sc = _replace_params(sc, {k: float(np.ravel(a)[i]) for k, a in flat.items()})
+            _reduced_obstacle_hint(sc, sc.to_spec(**opts), exc)
+        raise
     _warn_log_jumps(scenes if scenes is not None else [scene], specs if scenes is not None else [specs], t_end)
     res = BatchResult(t=out["t"], q=out["q"], v=out["v"], wrench=out["wrench"], stick=out["stick"],
                       stop_force=out["stop_force"], final_displacement=out["displacement"], stats=out["stats"],

@@ -878,3 +878,26 @@ def test_rotation_runs_that_clear_an_obstacle_are_the_core_run(seed):
     assert res.t[-1] == pytest.approx(zs.t_end, rel=1e-12)
     for k in ("t", "q", "v", "wrench", "stick", "stop_force"):
         assert np.array_equal(getattr(res, k), out[k]), k
+
+
+@pytest.mark.parametrize("seed", [5, 19])
+def test_batch_says_what_simulate_says_where_rotation_cannot_clear_an_obstacle(seed):
+    # simulate_batch's SolverError is simulate's with the batch index in
+    # front, the obstacle hint included: zoo scene 5 (the pivot inside the
+    # obstacle) and 19 (outside) as dof="rotation" at index 1, after a scene
+    # that clears (zoo scene 1 as dof="rotation").
+    _, ok = _zoo_scene_with_obstacle(1)
+    zs, bad = _zoo_scene_with_obstacle(seed)
+    ok, bad = exdex.replace(ok, dof="rotation"), exdex.replace(bad, dof="rotation")
+    kw = dict(method="event", rtol=1e-10, atol=1e-12)
+    dt = zs.t_end / 200
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        with pytest.raises(exdex.SolverError) as serial:
+            exdex.simulate(bad, zs.t_end, dt, **kw)
+        with pytest.raises(exdex.SolverError) as info:
+            exdex.simulate_batch([ok, bad], zs.t_end, dt, threads=1, record="final", **kw)
+    e, s = info.value, serial.value
+    assert "use dof='planar'" in str(s)
+    assert e.args == (f"batch index 1: {s.args[0]}", s.status)
+    assert (e.index, e.time, e.cause) == (1, s.time, s.cause)
