@@ -567,12 +567,13 @@ def simulate_batch(scene: Union[Scene, Sequence[Scene]], t_end: float, dt: float
                 msg = msg.replace(f"'motion.{p.path[-1]}'", f"'{k}' (motion.{p.path[-1]})")
         raise ValueError(msg) from None
     except SolverError as exc:
-        i = getattr(exc, "index", None)
-        sc = scenes[i] if scenes is not None and i is not None else scene
-        if i is not None and sc.dof == "rotation" and sc.obstacles:
-            # simulate's message for trajectory i (the rotation model against obstacles)
-            sc = _replace_params(sc, {k: float(np.ravel(a)[i]) for k, a in flat.items()})
-            _reduced_obstacle_hint(sc, sc.to_spec(**opts), exc)
+        failed: Optional[int] = getattr(exc, "index", None)
+        if failed is not None:
+            one = cast(Scene, scenes[failed] if scenes is not None else scene)
+            if one.dof == "rotation" and one.obstacles:
+                # simulate's message for the failed trajectory (the rotation model against obstacles)
+                one = _replace_params(one, {k: float(np.ravel(a)[failed]) for k, a in flat.items()})
+                _reduced_obstacle_hint(one, one.to_spec(**opts), exc)
         raise
     _warn_log_jumps(scenes if scenes is not None else [scene], specs if scenes is not None else [specs], t_end)
     res = BatchResult(t=out["t"], q=out["q"], v=out["v"], wrench=out["wrench"], stick=out["stick"],
