@@ -50,7 +50,8 @@ from exdex.scene import (METHODS, SOLVERS, AsymmetricProfile, Body, Grasp, GripS
                          patch_centres_outside)
 from exdex import diagnostics
 from exdex._params import ALIASES as _ALIASES, PARAMETERS, replace_params as _replace_params, unread as _unread
-from exdex.simulate import FrictionSolver, Method, Result, SolverError, _reduced_obstacle_hint, resolve_method
+from exdex._obstacle_hint import reduced_obstacle_hint
+from exdex.simulate import FrictionSolver, Method, Result, SolverError, resolve_method
 
 __all__ = ["BatchResult", "simulate_batch", "sweep", "grid_points", "PARAMETERS", "INVALID_KINDS"]
 
@@ -573,7 +574,7 @@ def simulate_batch(scene: Union[Scene, Sequence[Scene]], t_end: float, dt: float
             if one.dof == "rotation" and one.obstacles:
                 # simulate's message for the failed trajectory (the rotation model against obstacles)
                 one = _replace_params(one, {k: float(np.ravel(a)[failed]) for k, a in flat.items()})
-                _reduced_obstacle_hint(one, one.to_spec(**opts), exc)
+                reduced_obstacle_hint(one, one.to_spec(**opts), exc)
         raise
     _warn_log_jumps(scenes if scenes is not None else [scene], specs if scenes is not None else [specs], t_end)
     res = BatchResult(t=out["t"], q=out["q"], v=out["v"], wrench=out["wrench"], stick=out["stick"],

@@ -14,6 +14,7 @@ from numpy.typing import NDArray
 
 from exdex import _core, diagnostics
 from exdex._jumps import GripperJumpWarning, jumps as _jumps, warn_jumps as _warn_jumps
+from exdex._obstacle_hint import reduced_obstacle_hint
 from exdex.diagnostics import PhysicsWarning
 from exdex._validate import check_times as _check_times, real as _real
 from exdex.scene import METHODS, SOLVERS, Scene
@@ -505,7 +506,7 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
     try:
         out = _core.simulate(spec, t_end, dt, certify=bool(certify))
     except SolverError as exc:
-        _reduced_obstacle_hint(scene, spec, exc)
+        reduced_obstacle_hint(scene, spec, exc)
         raise
     _warn_jumps(scene, _jumps(scene, spec), t_end)
     res = result_from_core(out, scene, method, friction_solver, dt)
@@ -514,57 +515,6 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
 
 
 _PLANAR_METHODS = ("implicit", "event", "regularised", "explicit")
-
-
-def _pivot_in_obstacles(scene, spec, t):
-    """The indices of the obstacles whose interior holds the rotation model's
-    pivot (the grasp point it pins in the gripper) at time t [s], when the
-    object's outline holds the pivot (then every angle of the object
-    overlaps them); () when the outline states no area or misses the pivot."""
-    hull = diagnostics._outline(scene.body)
-    centre = np.array(scene.grasp.patch.center, dtype=float)
-    if hull is None or diagnostics._outside_distance(diagnostics._hull(hull), centre[None, :])[0] >= 0.0:
-        return ()
-    th0 = scene.q0[2]
-    cs, sn = math.cos(th0), math.sin(th0)
-    pivot = np.array([scene.q0[0] + cs * centre[0] - sn * centre[1],
-                      scene.q0[1] + sn * centre[0] + cs * centre[1], 0.0])
-    kin = _core.motion_eval(spec, np.array([float(t)]))
-    x = kin["p"][0] + kin["R"][0] @ pivot   # the pivot in the world frame A
-    inside = []
-    for i, ob in enumerate(scene.obstacles):
-        if ob.kind == "cylinder":
-            d = x - np.array(ob.center)
-            a = np.array(ob.axis)
-            if np.linalg.norm(d - (d @ a) * a) < ob.radius:
-                inside.append(i)
-        elif all((x - np.array(fp)) @ np.array(fn) < 0.0 for fp, fn in zip(ob.face_points, ob.face_normals)):
-            inside.append(i)
-    return tuple(inside)
-
-
-def _reduced_obstacle_hint(scene, spec, exc):
-    """Rewrite the message of a rotation run's SolverError whose state left
-    the finite range against obstacles: the rotation model cannot clear the
-    obstacle that holds its pivot at the failure time (when one does; else
-    that it may be unable to clear them), and the remedy. Other errors are
-    left as they are."""
-    if (not isinstance(scene, Scene) or scene.dof != "rotation" or not scene.obstacles
-            or getattr(exc, "cause", None) != "nonfinite" or not exc.args):
-        return
-    t = getattr(exc, "time", None)
-    inside = _pivot_in_obstacles(scene, spec, t) if t is not None else ()
-    remedy = "use dof='planar' (or dof='auto', which falls back to it)"
-    msg, generic = str(exc.args[0]), "the state left the finite range (check the scene's scales and motion)"
-    if inside:
-        hint = (f"the state left the finite range: the rotation model cannot clear Scene.obstacles[{inside[0]}]: "
-                f"its pivot (the grasp point, pinned in the gripper) is inside the obstacle then, so no angle of "
-                f"the object clears it and no finite force keeps the object out; {remedy}")
-        msg = msg.replace(generic, hint) if generic in msg else f"{msg}; {hint}"
-    else:
-        msg = (f"{msg}; against obstacles the rotation model (the object turning about the grasp point, pinned "
-               f"in the gripper) may be unable to clear them: {remedy}")
-    exc.args = (msg,) + tuple(exc.args[1:])
 
 
 def _full_state(scene, q, v):
