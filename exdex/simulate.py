@@ -481,6 +481,11 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
         accumulation of switches, ``"step_budget"``, ``"step_floor"``,
         ``"stepper"``, ``"solver"`` or ``"nonfinite"``) and what to use
         instead (e.g. ``method="implicit"``, a larger rtol/atol or eps).
+        A rotation run against obstacles whose state leaves the finite range
+        says that the rotation model cannot clear ``Scene.obstacles[i]``
+        when the pivot (the grasp point) is inside it at ``.time`` (then no
+        angle of the object clears it), else that it may be unable to clear
+        them, and suggests ``dof="planar"`` (or ``"auto"``).
 
     Warns
     -----
