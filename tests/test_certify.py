@@ -901,3 +901,21 @@ def test_batch_says_what_simulate_says_where_rotation_cannot_clear_an_obstacle(s
     assert "use dof='planar'" in str(s)
     assert e.args == (f"batch index 1: {s.args[0]}", s.status)
     assert (e.index, e.time, e.cause) == (1, s.time, s.cause)
+
+
+@pytest.mark.parametrize("seed", [5, 19])
+def test_model_says_what_simulate_says_where_rotation_cannot_clear_an_obstacle(seed):
+    # exdex.Model's simulate and final raise simulate's SolverError (the
+    # obstacle hint included) for zoo scenes 5 and 19 as dof="rotation".
+    zs, sc = _zoo_scene_with_obstacle(seed)
+    sc = exdex.replace(sc, dof="rotation")
+    dt = zs.t_end / 200
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        with pytest.raises(exdex.SolverError) as serial:
+            exdex.simulate(sc, zs.t_end, dt, method="event", rtol=1e-10, atol=1e-12)
+        model = exdex.Model(sc, method="event", rtol=1e-10, atol=1e-12)
+        for run in (model.simulate, model.final):
+            with pytest.raises(exdex.SolverError) as info:
+                run(zs.t_end, dt)
+            assert info.value.args == serial.value.args and "use dof='planar'" in str(info.value)
