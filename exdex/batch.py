@@ -50,7 +50,8 @@ from exdex.scene import (METHODS, SOLVERS, AsymmetricProfile, Body, Grasp, GripS
                          patch_centres_outside)
 from exdex import diagnostics
 from exdex._params import ALIASES as _ALIASES, PARAMETERS, replace_params as _replace_params, unread as _unread
-from exdex.simulate import FrictionSolver, Method, Result, resolve_method
+from exdex._obstacle_hint import reduced_obstacle_hint
+from exdex.simulate import FrictionSolver, Method, Result, SolverError, resolve_method
 
 __all__ = ["BatchResult", "simulate_batch", "sweep", "grid_points", "PARAMETERS", "INVALID_KINDS"]
 
@@ -566,6 +567,15 @@ def simulate_batch(scene: Union[Scene, Sequence[Scene]], t_end: float, dt: float
             if p.path[0] == "motion":
                 msg = msg.replace(f"'motion.{p.path[-1]}'", f"'{k}' (motion.{p.path[-1]})")
         raise ValueError(msg) from None
+    except SolverError as exc:
+        failed: Optional[int] = getattr(exc, "index", None)
+        if failed is not None:
+            one = cast(Scene, scenes[failed] if scenes is not None else scene)
+            if one.dof == "rotation" and one.obstacles:
+                # simulate's message for the failed trajectory (the rotation model against obstacles)
+                one = _replace_params(one, {k: float(np.ravel(a)[failed]) for k, a in flat.items()})
+                reduced_obstacle_hint(one, one.to_spec(**opts), exc)
+        raise
     _warn_log_jumps(scenes if scenes is not None else [scene], specs if scenes is not None else [specs], t_end)
     res = BatchResult(t=out["t"], q=out["q"], v=out["v"], wrench=out["wrench"], stick=out["stick"],
                       stop_force=out["stop_force"], final_displacement=out["displacement"], stats=out["stats"],

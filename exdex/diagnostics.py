@@ -299,6 +299,16 @@ def _outline(body):
     return None
 
 
+def outline_holds(body, point):
+    """Whether ``point`` (2,) of the object frame C [m] lies strictly inside
+    the body's outline polygon (:func:`_outline`); False for a body whose
+    outline states no area."""
+    outline = _outline(body)
+    if outline is None:
+        return False
+    return bool(_outside_distance(_hull(outline), np.asarray(point, dtype=float).reshape(1, 2))[0] < 0.0)
+
+
 def _first(mask):
     idx = np.flatnonzero(mask)
     return int(idx[0]) if len(idx) else None

@@ -14,6 +14,7 @@ from numpy.typing import NDArray
 
 from exdex import _core, diagnostics
 from exdex._jumps import GripperJumpWarning, jumps as _jumps, warn_jumps as _warn_jumps
+from exdex._obstacle_hint import reduced_obstacle_hint
 from exdex.diagnostics import PhysicsWarning
 from exdex._validate import check_times as _check_times, real as _real
 from exdex.scene import METHODS, SOLVERS, Scene
@@ -480,6 +481,11 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
         accumulation of switches, ``"step_budget"``, ``"step_floor"``,
         ``"stepper"``, ``"solver"`` or ``"nonfinite"``) and what to use
         instead (e.g. ``method="implicit"``, a larger rtol/atol or eps).
+        A rotation run against obstacles whose state leaves the finite range
+        says that the rotation model cannot clear ``Scene.obstacles[i]``
+        when the pivot (the grasp point) is inside it at ``.time`` (then no
+        angle of the object clears it), else that it may be unable to clear
+        them, and suggests ``dof="planar"`` (or ``"auto"``).
 
     Warns
     -----
@@ -502,7 +508,11 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
         return _simulate_auto(scene, t_end, dt, method, friction_solver, eps, rtol, atol)
     method = resolve_method(scene, method)
     spec = scene_spec(scene, method, friction_solver, eps, rtol, atol)
-    out = _core.simulate(spec, t_end, dt, certify=bool(certify))
+    try:
+        out = _core.simulate(spec, t_end, dt, certify=bool(certify))
+    except SolverError as exc:
+        reduced_obstacle_hint(scene, spec, exc)
+        raise
     _warn_jumps(scene, _jumps(scene, spec), t_end)
     res = result_from_core(out, scene, method, friction_solver, dt)
     diagnostics.issue(diagnostics.findings(res))

@@ -37,7 +37,9 @@ from exdex import _core, diagnostics
 from exdex._validate import array as _array, check_times as _check_times
 from exdex.scene import Scene
 from exdex._jumps import jumps as _jumps, warn_jumps as _warn_jumps
-from exdex.simulate import FrictionSolver, Method, Result, resolve_method, result_from_core, scene_spec
+from exdex._obstacle_hint import reduced_obstacle_hint
+from exdex.simulate import (FrictionSolver, Method, Result, SolverError, resolve_method, result_from_core,
+                            scene_spec)
 
 __all__ = ["Model", "Stepper", "StepperState", "StepperSnapshot", "GripperPose"]
 
@@ -62,7 +64,7 @@ class Model:
     ``stepper()`` starts a run to advance step by step (:class:`exdex.Stepper`).
     """
 
-    __slots__ = ("scene", "method", "friction_solver", "_model", "_jumps")
+    __slots__ = ("scene", "method", "friction_solver", "_model", "_jumps", "_spec")
 
     def __init__(self, scene: Scene, method: Method = "implicit", friction_solver: FrictionSolver = "scalar",
                  eps: float = 1e-4, rtol: float = 1e-8, atol: float = 1e-10) -> None:
@@ -71,6 +73,7 @@ class Model:
         self.scene, self.method, self.friction_solver = scene, method, friction_solver
         self._model = _core.compile(spec)
         self._jumps = _jumps(scene, spec)
+        self._spec = spec   # for the message of a rotation run that cannot clear an obstacle
 
     @property
     def ndof(self) -> int:
@@ -81,7 +84,11 @@ class Model:
         """Run from t = 0 to ``t_end`` in steps of ``dt``: an :class:`exdex.Result`
         (``certify`` as in :func:`exdex.simulate`)."""
         dt, t_end = _check_times(t_end, dt)
-        out = self._model.simulate(t_end, dt, certify=bool(certify))
+        try:
+            out = self._model.simulate(t_end, dt, certify=bool(certify))
+        except SolverError as exc:
+            reduced_obstacle_hint(self.scene, self._spec, exc)
+            raise
         _warn_jumps(self.scene, self._jumps, t_end)
         res = result_from_core(out, self.scene, self.method, self.friction_solver, dt)
         diagnostics.issue(diagnostics.findings(res))
@@ -100,11 +107,15 @@ class Model:
             (:class:`exdex.ReductionWarning`); the sample returned is the
             same."""
         dt, t_end = _check_times(t_end, dt)
-        if not certify:
-            out = self._model.final(t_end, dt)
-            _warn_jumps(self.scene, self._jumps, t_end)
-            return out
-        q, v, stick, cert = self._model.final(t_end, dt, certify=True)
+        try:
+            if not certify:
+                out = self._model.final(t_end, dt)
+                _warn_jumps(self.scene, self._jumps, t_end)
+                return out
+            q, v, stick, cert = self._model.final(t_end, dt, certify=True)
+        except SolverError as exc:
+            reduced_obstacle_hint(self.scene, self._spec, exc)
+            raise
         _warn_jumps(self.scene, self._jumps, t_end)
         diagnostics.issue(diagnostics.reduction_findings(self.scene, cert))
         return q, v, stick
