@@ -201,12 +201,15 @@ static const gsl_odeiv2_step_type cheb_type = {"rkc", 1, 1, cheb_alloc, cheb_app
 
 /* Whether the Chebyshev stepper integrates the slip from here: a Coulomb
  * planar slip of the ellipsoid law, without stop friction or the stiff
- * stepper, slower than CHEB_SLOW V (a slip dying out or starting from
- * rest; a faster slip stays with rk8pd, whose eighth order serves its
- * accuracy better), whose last rk8pd steps were held near their stability
- * limit (h rho >= CHEB_ON for CHEB_AFTER steps in a row); back to rk8pd
- * where rk8pd's step would be stable again (h rho < CHEB_OFF with the step
- * the error control chose), above CHEB_SLOW V and at every event (reset). */
+ * stepper, whose last rk8pd steps were held near their stability limit
+ * (h rho >= CHEB_ON for CHEB_AFTER steps in a row), and, with no row in
+ * contact, slower than CHEB_SLOW V (a free slip dying out or starting from
+ * rest; a faster free slip stays with rk8pd, whose eighth order serves its
+ * accuracy better). Along a stop the rows leave the plate a stiff mobility
+ * at any slip speed: rk8pd's steps there sit at h rho 4 to 10 whatever the
+ * tolerance, so the speed does not decide. Back to rk8pd where rk8pd's step
+ * would be stable again (h rho < CHEB_OFF with the step the error control
+ * chose), on a free slip above CHEB_SLOW V, and at every event (reset). */
 static void cheb_track(hyb *H, const double *y, double h, int reset)
 {
     double hr;
@@ -216,7 +219,7 @@ static void cheb_track(hyb *H, const double *y, double h, int reset)
         H->ncheb = 0;
         return;
     }
-    if (!(hyb_planar_slip_speed(H, y) < CHEB_SLOW * H->m->scale.V)) {
+    if (!H->ncs && !(hyb_planar_slip_speed(H, y) < CHEB_SLOW * H->m->scale.V)) {
         H->cheb = 0;
         H->ncheb = 0;
         return;
