@@ -55,53 +55,28 @@ static void stiff_track(hyb *H, const double *y, int reset)
  * The second-order Runge-Kutta-Chebyshev method (Sommeijer, Shampine and
  * Verwer 1998, damping 2/13) with s stages is stable for h rho <= 0.653
  * (s^2 - 1): its steps are set by the error control, at a cost of
- * s ~ sqrt(1.54 h rho) right-hand sides. cheb_rho is the bound it is given
- * (CHEB_RHO_SAFETY times the rate at the step's start, plus the scene's
- * 1 / T); cheb_track decides when it integrates the slip (the thresholds:
- * tolerances.h). */
+ * s ~ sqrt(1.54 h rho) right-hand sides. cheb_rho is the bound it is
+ * given: CHEB_RHO_SAFETY C |K|_F / |E u| plus the scene's 1 / T, K the
+ * free plate's (model_prep: no contact solve). Rows in contact only take
+ * mobility away (W_c = W - W J' (J W J')^-1 J W <= W, so lam_max(E W_c E)
+ * <= lam_max(K) <= |K|_F): the bound holds against stops too. cheb_track
+ * decides when it integrates the slip (the thresholds: tolerances.h). */
 typedef struct cheb_ws {
     size_t n;
     double *f0, *yjm1, *yjm2, *yn, *fj;
 } cheb_ws;
 
-static double cheb_rho(hyb *H, double t, const double *y)
+static double cheb_rho(hyb *H, const double *y)
 {
     const exdex_model *m = H->m;
+    const exdex_friction_prep *p;
     double cs[2] = {cos(y[2]), sin(y[2])}, u[3], eu[3], s, k2 = 0.0;
     hyb_pads(H, y);
     model_patch_slip(m, cs, y + 3, u);
     for (int c = 0; c < 3; c++) eu[c] = m->e[c] * u[c];
     s = sqrt(ex_dot3(eu, eu));
-    if (!H->ncs) {
-        const exdex_friction_prep *p = model_prep(m);
-        for (int c = 0; c < 9; c++) k2 += p->K[c] * p->K[c];
-    } else {
-        /* against stops the rate is that of K = E W E with W the
-         * mobility of the constrained motion: its columns from the
-         * contact-set projection of the free acceleration with a wrench
-         * E e_c added (the projection is linear on its active set; a
-         * perturbation 1e-3 C keeps it) */
-        frame f;
-        exdex_kinematics kin;
-        double F[3], w[3], P[3], a[3], q0[3], lam[MAX_ROWS], u0[3], d = 1e-3 * H->cap;
-        if (hyb_frame_seg(H, t, &f, &kin) || hyb_planar_friction(H, &f, &kin, y, F, w)) return INFINITY;
-        model_gen_of_patch(m, cs, w, P);
-        for (int i = 0; i < 3; i++) a[i] = m->minv[i] * (F[i] + P[i]);
-        hyb_contact_acc_planar(H, &kin, y, a, q0, lam, NULL, NULL);
-        model_patch_slip(m, cs, q0, u0);
-        for (int c = 0; c < 3; c++) {
-            double we[3] = {0, 0, 0}, ap[3], qp[3], up[3];
-            we[c] = d * m->e[c];
-            model_gen_of_patch(m, cs, we, P);
-            for (int i = 0; i < 3; i++) ap[i] = a[i] + m->minv[i] * P[i];
-            hyb_contact_acc_planar(H, &kin, y, ap, qp, lam, NULL, NULL);
-            model_patch_slip(m, cs, qp, up);
-            for (int i = 0; i < 3; i++) {
-                double kic = m->e[i] * (up[i] - u0[i]) / d;
-                k2 += kic * kic;
-            }
-        }
-    }
+    p = model_prep(m);
+    for (int c = 0; c < 9; c++) k2 += p->K[c] * p->K[c];
     /* |K|_F >= lam_max(K) */
     return CHEB_RHO_SAFETY * H->cap * sqrt(k2) / s + 1.0 / m->scale.T;
 }
@@ -152,7 +127,7 @@ static int cheb_apply(void *state, size_t n, double t, double h, double y[], dou
 {
     cheb_ws *w = state;
     hyb *H = sys->params;
-    double rho = cheb_rho(H, t, y), w0, w1, t1, t2, arg, bjm1, bjm2, thjm1, thjm2, zjm1, zjm2, dzjm1, dzjm2, d2zjm1,
+    double rho = cheb_rho(H, y), w0, w1, t1, t2, arg, bjm1, bjm2, thjm1, thjm2, zjm1, zjm2, dzjm1, dzjm2, d2zjm1,
            d2zjm2, mus;
     double ns = 1.0 + floor(sqrt(1.54 * fabs(h) * rho + 1.0));
     int s = ns < 2.0 ? 2 : (int)fmin(ns, CHEB_STAGES_MAX + 1.0);
@@ -226,13 +201,16 @@ static const gsl_odeiv2_step_type cheb_type = {"rkc", 1, 1, cheb_alloc, cheb_app
 
 /* Whether the Chebyshev stepper integrates the slip from here: a Coulomb
  * planar slip of the ellipsoid law, without stop friction or the stiff
- * stepper, slower than CHEB_SLOW V (a slip dying out or starting from
- * rest; a faster slip stays with rk8pd, whose eighth order serves its
- * accuracy better), whose last rk8pd steps were held near their stability
- * limit (h rho >= CHEB_ON for CHEB_AFTER steps in a row); back to rk8pd
- * where rk8pd's step would be stable again (h rho < CHEB_OFF with the step
- * the error control chose), above CHEB_SLOW V and at every event (reset). */
-static void cheb_track(hyb *H, double t, const double *y, double h, int reset)
+ * stepper, whose last rk8pd steps were held near their stability limit
+ * (h rho >= CHEB_ON for CHEB_AFTER steps in a row), and, with no row in
+ * contact, slower than CHEB_SLOW V (a free slip dying out or starting from
+ * rest; a faster free slip stays with rk8pd, whose eighth order serves its
+ * accuracy better). Along a stop the rows leave the plate a stiff mobility
+ * at any slip speed: rk8pd's steps there sit at h rho 4 to 10 whatever the
+ * tolerance, so the speed does not decide. Back to rk8pd where rk8pd's step
+ * would be stable again (h rho < CHEB_OFF with the step the error control
+ * chose), on a free slip above CHEB_SLOW V, and at every event (reset). */
+static void cheb_track(hyb *H, const double *y, double h, int reset)
 {
     double hr;
     if (reset || H->ndof != 3 || H->law != LAW_COULOMB || H->mode != MODE_SLIP || H->small || H->stiff ||
@@ -241,12 +219,12 @@ static void cheb_track(hyb *H, double t, const double *y, double h, int reset)
         H->ncheb = 0;
         return;
     }
-    if (!(hyb_planar_slip_speed(H, y) < CHEB_SLOW * H->m->scale.V)) {
+    if (!H->ncs && !(hyb_planar_slip_speed(H, y) < CHEB_SLOW * H->m->scale.V)) {
         H->cheb = 0;
         H->ncheb = 0;
         return;
     }
-    hr = h * cheb_rho(H, t, y) / CHEB_RHO_SAFETY;
+    hr = h * cheb_rho(H, y) / CHEB_RHO_SAFETY;
     if (H->cheb) {
         if (!(hr >= CHEB_OFF)) H->cheb = 0, H->ncheb = 0;
     } else if (hr >= CHEB_ON) {
@@ -803,7 +781,7 @@ static int after_step(adv *A)
     const exdex_model *m = H->m;
     int ns = H->ns, status = EXDEX_OK;
     stiff_track(H, A->y, A->e_best >= 0);
-    cheb_track(H, A->t, A->y, A->t - A->t0, A->e_best >= 0);
+    cheb_track(H, A->y, A->t - A->t0, A->e_best >= 0);
     /* a penetration left after the step: the scene drives the
      * object through a stop (see tol.pen) */
     if (ns || m->n_obst) {
@@ -824,7 +802,7 @@ static int after_step(adv *A)
         if (status) return status;
         hyb_decide(H, A->t, A->y, 0);
         stiff_track(H, A->y, 1);
-        cheb_track(H, A->t, A->y, 0.0, 1);
+        cheb_track(H, A->y, 0.0, 1);
         ode_restart(O);
     }
     if (!ex_finite_n(A->y, H->ny)) status = EXDEX_ENONFINITE;
@@ -889,7 +867,7 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
         hyb_hold_set_rows(H, A.t, A.y);
         hyb_decide(H, A.t, A.y, 0);
         stiff_track(H, A.y, 1);
-        cheb_track(H, A.t, A.y, 0.0, 1);
+        cheb_track(H, A.y, 0.0, 1);
         O->step = O->rk;
         gsl_odeiv2_evolve_reset(O->evo);
         gsl_odeiv2_step_reset(O->step);

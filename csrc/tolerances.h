@@ -77,10 +77,10 @@
 #define SLIP_PUSH 4.0    /* a stop pushing a stopped planar slip on below SLIP_PUSH zsw: a rest instead */
 #define SLIP_STIFF 100.0 /* a planar slip below SLIP_STIFF zsw for STIFF_AFTER steps: the stiff stepper */
 #define STIFF_AFTER 1000
-/* planar slip slower than CHEB_SLOW V whose rk8pd steps sit near their stability limit (h rho >= CHEB_ON, rho the
-   direction's relaxation rate, CHEB_AFTER steps in a row): the Chebyshev stepper, back to rk8pd below CHEB_OFF
-   (hybrid.c, cheb_track); its rate bound is CHEB_RHO_SAFETY times the rate at a step's start, and a step needing more
-   than CHEB_STAGES_MAX stages is refused (the error control shrinks it) */
+/* planar slip (without rows in contact: slower than CHEB_SLOW V) whose rk8pd steps sit near their stability limit
+   (h rho >= CHEB_ON, rho a bound on the direction's relaxation rate, CHEB_AFTER steps in a row): the Chebyshev
+   stepper, back to rk8pd below CHEB_OFF (hybrid.c, cheb_track); its rate bound is CHEB_RHO_SAFETY times that bound
+   at a step's start, and a step needing more than CHEB_STAGES_MAX stages is refused (the error control shrinks it) */
 #define CHEB_SLOW 1e-3
 #define CHEB_ON 6.0
 #define CHEB_OFF 4.0
