@@ -36,17 +36,19 @@ def pivot_in_obstacles(scene, spec, t):
     return tuple(inside)
 
 
-def reduced_obstacle_hint(scene, spec, exc):
+def reduced_obstacle_hint(scene, spec, exc, motion_known=True):
     """Rewrite the message of a rotation run's SolverError whose state left
     the finite range against obstacles: the rotation model cannot clear the
     obstacle that holds its pivot at the failure time (when one does; else
     that it may be unable to clear them), and the remedy. Other errors are
-    left as they are."""
+    left as they are. motion_known False (a stepper given gripper poses,
+    not the scene's motion): the pivot's place is not tested and the
+    hedged form is used."""
     if (getattr(scene, "dof", None) != "rotation" or not scene.obstacles
             or getattr(exc, "cause", None) != "nonfinite" or not exc.args):
         return
     t = getattr(exc, "time", None)
-    inside = pivot_in_obstacles(scene, spec, t) if t is not None else ()
+    inside = pivot_in_obstacles(scene, spec, t) if (t is not None and motion_known) else ()
     remedy = "use dof='planar' (or dof='auto', which falls back to it)"
     msg, generic = str(exc.args[0]), "the state left the finite range (check the scene's scales and motion)"
     if inside:

@@ -335,7 +335,13 @@ class Stepper:
         elif self._posed:
             raise ValueError("gripper must be given on every step after the first step that gives it "
                              "(an exdex.GripperPose: the scene's motion no longer describes the gripper)")
-        self._s.step(dt, grip_force, None if gripper is None else gripper._core())
+        try:
+            self._s.step(dt, grip_force, None if gripper is None else gripper._core())
+        except SolverError as exc:
+            # the pivot's place is known from the scene's motion only
+            posed = self._posed or gripper is not None
+            reduced_obstacle_hint(self.model.scene, self.model._spec, exc, motion_known=not posed)
+            raise
         state = self.state
         if self._pads:
             tl = self._s.stats().get("grasp_lost_t")

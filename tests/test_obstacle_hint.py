@@ -22,6 +22,22 @@ def _zoo_scene_with_obstacle(seed):
     return zs, exdex.replace(zs.scene, obstacles=(ob,))
 
 
+KW = dict(method="event", rtol=1e-10, atol=1e-12)
+
+
+def _rotation_failure(seed):
+    """Zoo scene `seed` with its obstacle as dof="rotation": (zoo scene,
+    scene, dt, the SolverError exdex.simulate raises)."""
+    zs, sc = _zoo_scene_with_obstacle(seed)
+    sc = exdex.replace(sc, dof="rotation")
+    dt = zs.t_end / 200
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        with pytest.raises(exdex.SolverError) as info:
+            exdex.simulate(sc, zs.t_end, dt, **KW)
+    return zs, sc, dt, info.value
+
+
 def _pivot_depth(sc, t):
     """How deep [m] the grasp point (the rotation model's pivot, fixed in B)
     lies inside the scene's one box or wedge obstacle at time t (> 0 inside):
@@ -47,17 +63,11 @@ def test_rotation_runs_that_cannot_clear_an_obstacle_say_so(seed):
     # pivot is outside (by more than 1e-6 L): the message says the model may
     # be unable to clear the obstacles. Both name dof='planar', with which
     # the scene runs to t_end.
-    zs, sc = _zoo_scene_with_obstacle(seed)
-    sc = exdex.replace(sc, dof="rotation")
-    dt = zs.t_end / 200
+    zs, sc, dt, exc = _rotation_failure(seed)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        with pytest.raises(exdex.SolverError) as info:
-            exdex.simulate(sc, zs.t_end, dt, method="event", rtol=1e-10, atol=1e-12)
-        planar = exdex.simulate(exdex.replace(sc, dof="planar"), zs.t_end, dt, method="event", rtol=1e-10,
-                                atol=1e-12)
+        planar = exdex.simulate(exdex.replace(sc, dof="planar"), zs.t_end, dt, **KW)
     assert planar.t[-1] == pytest.approx(zs.t_end, rel=1e-12)
-    exc = info.value
     assert exc.cause == "nonfinite" and exc.time is not None
     msg = str(exc)
     assert "use dof='planar' (or dof='auto'" in msg
@@ -99,17 +109,13 @@ def test_batch_says_what_simulate_says_where_rotation_cannot_clear_an_obstacle(s
     # obstacle) and 19 (outside) as dof="rotation" at index 1, after a scene
     # that clears (zoo scene 1 as dof="rotation").
     _, ok = _zoo_scene_with_obstacle(1)
-    zs, bad = _zoo_scene_with_obstacle(seed)
-    ok, bad = exdex.replace(ok, dof="rotation"), exdex.replace(bad, dof="rotation")
-    kw = dict(method="event", rtol=1e-10, atol=1e-12)
-    dt = zs.t_end / 200
+    zs, bad, dt, s = _rotation_failure(seed)
+    ok = exdex.replace(ok, dof="rotation")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        with pytest.raises(exdex.SolverError) as serial:
-            exdex.simulate(bad, zs.t_end, dt, **kw)
         with pytest.raises(exdex.SolverError) as info:
-            exdex.simulate_batch([ok, bad], zs.t_end, dt, threads=1, record="final", **kw)
-    e, s = info.value, serial.value
+            exdex.simulate_batch([ok, bad], zs.t_end, dt, threads=1, record="final", **KW)
+    e = info.value
     assert "use dof='planar'" in str(s)
     assert e.args == (f"batch index 1: {s.args[0]}", s.status)
     assert (e.index, e.time, e.cause) == (1, s.time, s.cause)
@@ -119,15 +125,49 @@ def test_batch_says_what_simulate_says_where_rotation_cannot_clear_an_obstacle(s
 def test_model_says_what_simulate_says_where_rotation_cannot_clear_an_obstacle(seed):
     # exdex.Model's simulate and final raise simulate's SolverError (the
     # obstacle hint included) for zoo scenes 5 and 19 as dof="rotation".
-    zs, sc = _zoo_scene_with_obstacle(seed)
-    sc = exdex.replace(sc, dof="rotation")
-    dt = zs.t_end / 200
+    zs, sc, dt, serial = _rotation_failure(seed)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        with pytest.raises(exdex.SolverError) as serial:
-            exdex.simulate(sc, zs.t_end, dt, method="event", rtol=1e-10, atol=1e-12)
-        model = exdex.Model(sc, method="event", rtol=1e-10, atol=1e-12)
+        model = exdex.Model(sc, **KW)
         for run in (model.simulate, model.final):
             with pytest.raises(exdex.SolverError) as info:
                 run(zs.t_end, dt)
-            assert info.value.args == serial.value.args and "use dof='planar'" in str(info.value)
+            assert info.value.args == serial.args and "use dof='planar'" in str(info.value)
+
+
+@pytest.mark.parametrize("seed", [5, 19])
+def test_stepper_says_what_simulate_says_where_rotation_cannot_clear_an_obstacle(seed):
+    # exdex.Stepper stepped on simulate's grid (dt = t_end / 200, the scene's
+    # motion) fails at simulate's time with its message, the obstacle hint
+    # included (zoo scenes 5: the pivot inside, and 19: outside).
+    zs, sc, dt, serial = _rotation_failure(seed)
+    st = exdex.Stepper(sc, **KW)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        with pytest.raises(exdex.SolverError) as info:
+            for _ in range(200):
+                st.step(dt)
+    e = info.value
+    assert (e.args, e.time, e.cause) == (serial.args, serial.time, serial.cause)
+    assert "use dof='planar'" in str(e)
+
+
+def test_stepper_given_poses_gives_the_hedged_hint():
+    # Zoo scene 5 stepped with the gripper's poses and twists, sampled from
+    # the scene's own motion: given poses replace the scene's motion, so the
+    # pivot's place is not taken from it (here the two agree, and the
+    # scene's motion has the pivot inside the obstacle at the failure: a
+    # hint that read the motion would name it). The message is the hedged
+    # form with the remedy.
+    zs, sc, dt, _ = _rotation_failure(5)
+    st = exdex.Stepper(sc, **KW)
+    kin = sc.motion.evaluate(np.arange(1, 201) * dt, sc.gripper_rotation, sc.gripper_position)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        with pytest.raises(exdex.SolverError) as info:
+            for i in range(200):
+                st.step(dt, gripper=exdex.GripperPose(kin["p"][i], kin["R"][i], kin["v"][i], kin["w"][i]))
+    msg = str(info.value)
+    assert info.value.cause == "nonfinite"
+    assert "may be unable to clear them: use dof='planar'" in msg
+    assert "is inside the obstacle" not in msg
