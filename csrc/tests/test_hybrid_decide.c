@@ -701,3 +701,42 @@ EXDEX_TEST(decide_1dof_contact_jams_where_friction_would_turn_the_normal_force)
         end_event(&b);
     }
 }
+
+/* T7, a gap crossing located twice at one instant (hyb_set_tie_joins): the
+ * square of planar_def sliding at 1 cm/s along a frictionless stop under
+ * its lower face, both lower corners (rows 0 and 3) at gap 0 but left out
+ * of the contact set, receding at the rate r (a located crossing's rate
+ * is positive by up to the gap acceleration times the location
+ * tolerance). At a first event of row 0's gap guard (same = 0) the
+ * decision's answer stands: a receding row is no contact, the set stays
+ * empty. At a repeated one (same = 1) every touching row with |r| <= zsw
+ * joins and the rows that push stay: with the weight toward the stop (-y)
+ * both corners; with it away from the stop (+y) neither (they carry no
+ * force); at r = 2 zsw (a real separation) neither joins. */
+EXDEX_TEST(decide_event_repeated_tangential_arrival_joins_the_set)
+{
+    for (int c = 0; c < 4; c++) {
+        int same = c > 0, away = c == 2, fast = c == 3;
+        exdex_scene_def d = planar_on_stop_def(0.1, 0.0, 0.0);
+        begun b;
+        hyb *H;
+        double y[NY_MAX];
+        d.v0[0] = 0.01;
+        if (away) d.gravity[1] = 9.81;
+        H = begin_event(&d, &b);
+        if (!H) {
+            end_event(&b);
+            continue;
+        }
+        ENSURE(H->mode == MODE_SLIP && H->small == 0 && !H->sfric);
+        memcpy(y, b.O->S.y, sizeof y);
+        H->ncs = 0;
+        y[4] = fast ? 2.0 * H->zsw : 10.0 * b.m->tol.rate;
+        ENSURE(10.0 * b.m->tol.rate < H->zsw);
+        ENSURE(hyb_decide_event(H, 0.0, y, hg(G_GAP, 0, 0.0, -1e-18), same) == EXDEX_OK);
+        ENSURE(H->mode == MODE_SLIP);
+        if (c == 1) ENSURE(H->ncs == 2 && H->cs[0] == 0 && H->cs[1] == 3);
+        else ENSURE(H->ncs == 0);
+        end_event(&b);
+    }
+}
