@@ -5,6 +5,7 @@
 #include "contact.h"
 #include "pose.h"
 #include "util.h"
+#include "tolerances.h"
 
 #include <float.h>
 #include <string.h>
@@ -152,13 +153,8 @@ double contact_vertex_gap(const exdex_model *m, const exdex_kinematics *kin, int
     return contact_gap(m, kin, k, xb[j], vx[j], G);
 }
 
-/* A gap within its own rounding of zero counts as exactly 0 where a method
- * decides on its sign: the sign of a rounding-level gap depends on the world
- * frame the data is given in (contact_gap works in A), not on the scene.
- * The bound is 8 rounding units of the sum of the magnitudes contact_gap
- * adds (|x_B|, |p|, |stop point|; R is orthonormal). */
-#define GAP_ROUND (8.0 * DBL_EPSILON)
-
+/* A gap within its own rounding of zero counts as exactly 0 (GAP_ROUND,
+ * tolerances.h). */
 double contact_gap_round(const exdex_model *m, const exdex_kinematics *kin, int k, const double xb[3])
 {
     return GAP_ROUND * (sqrt(ex_dot3(xb, xb)) + m->disc_r + sqrt(ex_dot3(kin->p, kin->p)) +

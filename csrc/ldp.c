@@ -3,6 +3,7 @@
  * rows, and on it the least-distance problem of the contact solves. */
 #include "ldp.h"
 #include "util.h"
+#include "tolerances.h"
 
 #include <math.h>
 #include <string.h>
@@ -53,8 +54,7 @@ int ldp_solve_small(int n, double A[3][3], double b[3], double x[3])
  * QR of those columns. Bounded: at most 3 m + 12 outer iterations and
  * 8 inner ones per outer. Returns 1 if it converged (the multipliers of the
  * columns not in the passive set are <= tol), 0 otherwise (u is the last
- * feasible iterate). */
-#define NNLS_TOL 1e-13
+ * feasible iterate); tol is NNLS_TOL (tolerances.h). */
 static int ls_passive(const double (*col)[4], const int *P, int k, const double f[4], double *z)
 {
     double Q[4][4], R[4][4], qf[4];

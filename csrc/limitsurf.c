@@ -13,17 +13,17 @@
  * and Hess D = (1/A) Int J_r^T (I - s s^T/|s|^2) J_r / |s| dA).
  *
  * Exact surface, nearly translating slips. When the instantaneous centre
- * lies far from the region (the slip at the centroid exceeds FAR_RATIO
+ * lies far from the region (the slip at the centroid exceeds LS_FAR_RATIO
  * times |omega| times the region's reach, which includes omega = 0), the
  * closed forms cancel (their terms grow like |c|^2 while the moment about
- * the centroid shrinks like 1 / |c|: at FAR_RATIO = 16 they lose about
+ * the centroid shrinks like 1 / |c|: at LS_FAR_RATIO = 16 they lose about
  * 16^2 rounding units), but the integrand s / |s| is smooth over the
  * region: a fixed product Gauss rule (6 x 6 Gauss-Legendre points on each
  * triangle of the fan from the first vertex, collapsed; a disc 6 Gauss points
  * in the radius times 12 in the angle, trapezoidal) integrates it to
- * rounding: the integrand is analytic in a neighbourhood FAR_RATIO - 1
- * region sizes wide, so 6-point Gauss converges like (2 FAR_RATIO)^-12 <
- * 1e-18 and the periodic trapezoid like FAR_RATIO^-12 < 4e-15.
+ * rounding: the integrand is analytic in a neighbourhood LS_FAR_RATIO - 1
+ * region sizes wide, so 6-point Gauss converges like (2 LS_FAR_RATIO)^-12 <
+ * 1e-18 and the periodic trapezoid like LS_FAR_RATIO^-12 < 4e-15.
  *
  * Exact gauge. g(w) = 1 / min { D(u) : w . u = 1 } (the polar of the
  * support function), a smooth strictly convex problem in the plane
@@ -46,24 +46,15 @@
 
 #include "util.h"
 #include "ldp.h"
+#include "tolerances.h"
 
 #include <float.h>
 #include <math.h>
 #include <string.h>
 
 
-#define FAR_RATIO 16.0
-/* Newton's stopping rules, on the squared Newton decrement lam2 (about
- * twice the objective's excess over its optimum) relative to the
- * objective's scale: done below NEWTON_DONE (the optimum to 1e-24
- * relative, the optimiser to about 1e-12); full steps without a line search
- * below NEWTON_FULL (the decrease is below the rounding of the objective
- * there), and done once they stop shrinking lam2 quadratically (the
- * rounding floor of the gradient); a line search that finds no decrease
- * ends the iteration, which counts as converged below NEWTON_ACCEPT. */
-#define NEWTON_DONE 1e-24
-#define NEWTON_FULL 1e-8
-#define NEWTON_ACCEPT 1e-12
+/* The tolerances and budgets of the quadrature, the Newton iterations and
+ * the gauge's bounds (LS_*) are entries of tolerances.h. */
 #define NGL 6
 #define NTH 12
 
@@ -199,7 +190,7 @@ static double exact_quad(const limitsurf *ls, const double u[3], double w[3], do
 static int exact_far(const limitsurf *ls, const double u[3])
 {
     double sx = u[0] - u[2] * ls->g[1], sy = u[1] + u[2] * ls->g[0];
-    return hypot(sx, sy) > FAR_RATIO * ls->reach * fabs(u[2]);
+    return hypot(sx, sy) > LS_FAR_RATIO * ls->reach * fabs(u[2]);
 }
 
 static double exact_wrench(const limitsurf *ls, const double u[3], double w[3], double hess[9])
@@ -279,8 +270,8 @@ static int spd_solve(int n, const double *A, const double *r, double *x)
 static double armijo(double (*phi)(void *ctx, double t), void *ctx, double phi0, double lam2, int search)
 {
     double t = 1.0;
-    for (int k = 0; k < 40 && search; k++) {
-        if (phi(ctx, t) <= phi0 - 0.25 * t * lam2) break;
+    for (int k = 0; k < LS_ARMIJO_MAX && search; k++) {
+        if (phi(ctx, t) <= phi0 - LS_ARMIJO_DECREASE * t * lam2) break;
         t *= 0.5;
     }
     return t;
@@ -356,7 +347,7 @@ static int exact_gauge(const limitsurf *ls, const double w[3], double *g, double
         double mg[2] = {-gz[0], -gz[1]};
         if (!spd_solve(2, Hz, mg, dz)) return EXDEX_ENOCONV;
         lam2 = -(gz[0] * dz[0] + gz[1] * dz[1]);
-        if (lam2 <= NEWTON_DONE * D || (lam2 <= NEWTON_FULL * D && lam2 > 0.25 * lam2_prev)) {
+        if (lam2 <= LS_NEWTON_DONE * D || (lam2 <= LS_NEWTON_FULL * D && lam2 > LS_NEWTON_QUADRATIC * lam2_prev)) {
             ok = 1;
             break;
         }
@@ -365,15 +356,15 @@ static int exact_gauge(const limitsurf *ls, const double w[3], double *g, double
          * decrease is below the rounding of D */
         {
             gauge_line gl = {ls, u0, z, dz, (const double (*)[3])N};
-            t = armijo(gauge_line_at, &gl, D, lam2, lam2 > NEWTON_FULL * D);
+            t = armijo(gauge_line_at, &gl, D, lam2, lam2 > LS_NEWTON_FULL * D);
         }
         z[0] += t * dz[0];
         z[1] += t * dz[1];
-        if (t < 1e-9) {
+        if (t < LS_LINE_STEP_MIN) {
             /* no decrease to rounding: at the minimum to working precision */
             for (int i = 0; i < 3; i++) u[i] = u0[i] + z[0] * N[0][i] + z[1] * N[1][i];
             D = exact_dissipation(ls, u);
-            ok = lam2 <= NEWTON_ACCEPT * D;
+            ok = lam2 <= LS_NEWTON_ACCEPT * D;
             break;
         }
     }
@@ -430,8 +421,8 @@ static double kratio(const limitsurf *ls, const double s[3])
 /* local search on the sphere from s for the minimum (sign 1) or maximum (-1) */
 static double krefine(const limitsurf *ls, double s[3], int sign)
 {
-    double best = sign * kratio(ls, s), h = 0.1;
-    for (int it = 0; it < 200 && h > 1e-7; it++) {
+    double best = sign * kratio(ls, s), h = LS_REFINE_STEP;
+    for (int it = 0; it < LS_REFINE_MAX && h > LS_REFINE_STEP_MIN; it++) {
         double N[2][3], ns = sqrt(ex_dot3(s, s)), n[3] = {s[0] / ns, s[1] / ns, s[2] / ns};
         int moved = 0;
         plane_basis(n, N);
@@ -454,7 +445,7 @@ void limitsurf_prepare_bounds(limitsurf *ls)
 {
     if (ls->type != &limitsurf_exact) return;
     double lo = INFINITY, hi = 0.0, slo[3] = {1, 0, 0}, shi[3] = {1, 0, 0};
-    const int n = 256;
+    const int n = LS_BOUND_LATTICE;
     for (int i = 0; i < n; i++) {
         /* a Fibonacci lattice on the unit sphere */
         double z = 1.0 - (2.0 * i + 1.0) / n, r = sqrt(1.0 - z * z), ph = 2.399963229728653 * i;
@@ -465,8 +456,8 @@ void limitsurf_prepare_bounds(limitsurf *ls)
     lo = fmin(lo, krefine(ls, slo, 1));
     hi = fmax(hi, krefine(ls, shi, -1));
     if (!(lo > 0.0) || !isfinite(hi)) return; /* keep the gauge for every decision */
-    ls->kmin = lo * (1.0 - 1e-3);
-    ls->kmax = hi * (1.0 + 1e-3);
+    ls->kmin = lo * (1.0 - LS_SAMPLED_BOUND_MARGIN);
+    ls->kmax = hi * (1.0 + LS_SAMPLED_BOUND_MARGIN);
 }
 
 void limitsurf_quick_bounds(limitsurf *ls)
@@ -505,8 +496,8 @@ void limitsurf_quick_bounds(limitsurf *ls)
     kmax = fmin(sqrt(2.0), sqrt(0.5 * ((1.0 + b) + sqrt((1.0 - b) * (1.0 - b) + 4.0 * a * a))));
     kmin = (1.0 - a * gam) / sqrt((1.0 + a) * (1.0 + a) + (1.0 + gam) * (1.0 + gam));
     if (!(kmin > 0.0) || !isfinite(kmax)) return;
-    ls->kmin = kmin * (1.0 - 1e-6);
-    ls->kmax = kmax * (1.0 + 1e-6);
+    ls->kmin = kmin * (1.0 - LS_CLOSED_BOUND_MARGIN);
+    ls->kmax = kmax * (1.0 + LS_CLOSED_BOUND_MARGIN);
 }
 
 int limitsurf_sticks(const limitsurf *ls, const double w[3], double C)
@@ -654,11 +645,11 @@ double limitsurf_min_combination(const limitsurf *ls, int k, const double a[3], 
         if (iters) *iters += it;
         /* the model's least value: no decrease beyond rounding predicted,
          * the minimum to working precision (no line search to fail) */
-        if (!(gm < g * (1.0 - 1e-13))) break;
+        if (!(gm < g * (1.0 - LS_COMB_PREDICTED))) break;
         {
             double t = 1.0, lt[LDP_MAX_ROWS];
             int moved = 0;
-            for (int ls_it = 0; ls_it < 30; ls_it++) {
+            for (int ls_it = 0; ls_it < LS_COMB_HALVINGS; ls_it++) {
                 for (int j = 0; j < k; j++) lt[j] = lam[j] + t * (lnew[j] - lam[j]);
                 if (comb_gauge(ls, k, a, b, lt, wt, &gt, dt) != EXDEX_OK) break;
                 if (gt < g) {
@@ -671,7 +662,7 @@ double limitsurf_min_combination(const limitsurf *ls, int k, const double a[3], 
             memcpy(lam, lt, (size_t)k * sizeof *lam);
             memcpy(w, wt, sizeof w);
             memcpy(dir, dt, sizeof dir);
-            if (!(g - gt > 1e-14 * g)) {
+            if (!(g - gt > LS_COMB_DECREASE * g)) {
                 g = gt;
                 break;
             }
@@ -850,10 +841,10 @@ int limitsurf_step(const limitsurf *ls, const exdex_friction_prep *prep, const d
         {
             double mu = 0.0, tr = fabs(Hz[0]) + fabs(Hz[3]);
             int solved = 0;
-            for (int k = 0; k < 30 && !solved; k++) {
+            for (int k = 0; k < LS_SHIFT_TRIES && !solved; k++) {
                 double Hm[4] = {Hz[0] + mu, Hz[1], Hz[2], Hz[3] + mu};
                 solved = spd_solve(2, Hm, gz, dz);
-                mu = mu == 0.0 ? 1e-8 * tr + 1e-300 : 10.0 * mu;
+                mu = mu == 0.0 ? LS_SHIFT_START * tr + 1e-300 : LS_SHIFT_GROWTH * mu;
             }
             if (!solved) return EXDEX_ENOCONV;
         }
@@ -861,11 +852,11 @@ int limitsurf_step(const limitsurf *ls, const exdex_friction_prep *prep, const d
         /* psi's scale: its terms before they cancel (near the stick
          * boundary f = d . y - cap D is a small difference) */
         double psc = (fabs(ex_dot3(d, y)) + cap * Dd) / sqrt(q);
-        if (lam2 <= NEWTON_DONE * psc) {
+        if (lam2 <= LS_NEWTON_DONE * psc) {
             ok = 1;
             break;
         }
-        if (lam2 <= NEWTON_FULL * psc && lam2 > 0.25 * lam2_prev) {
+        if (lam2 <= LS_NEWTON_FULL * psc && lam2 > LS_NEWTON_QUADRATIC * lam2_prev) {
             /* full steps no longer decrease the decrement quadratically: the
              * rounding floor of psi's gradient */
             ok = 1;
@@ -875,10 +866,10 @@ int limitsurf_step(const limitsurf *ls, const exdex_friction_prep *prep, const d
         {
             /* psi is maximised: Armijo on -psi */
             step_line sl = {ls, Winv, y, cap, d, dz, (const double (*)[3])N};
-            t = armijo(step_line_at, &sl, -P0, lam2, lam2 > NEWTON_FULL * psc);
+            t = armijo(step_line_at, &sl, -P0, lam2, lam2 > LS_NEWTON_FULL * psc);
         }
-        if (t < 1e-9) {
-            ok = lam2 <= NEWTON_ACCEPT * psc;
+        if (t < LS_LINE_STEP_MIN) {
+            ok = lam2 <= LS_NEWTON_ACCEPT * psc;
             break;
         }
         {

@@ -54,6 +54,7 @@
  */
 #include "exdex.h"
 #include "util.h"
+#include "tolerances.h"
 
 #include <float.h>
 #include <math.h>
@@ -142,11 +143,6 @@ void exdex_friction_ws_free(exdex_friction_ws *ws)
 
 /* -------------------------------------------------------------- prepare */
 
-/* Limit on the scaled condition number of W, that of D^-1 W D^-1 with
- * D = diag(W)^(1/2): beyond it W is singular to working precision (the stick
- * impulse -W^-1 b would carry relative errors above 1e-4). */
-#define FRICTION_MAX_COND 1e12
-
 /* Eigen-decomposition of the Gram matrix G = S L L^T S = B^T B, B = L^T S,
  * S = diag(s), L lower triangular (Lc row-major, upper part ignored), from
  * the SVD B = U Sigma V^T by one-sided Jacobi (GSL): G = V Sigma^2 V^T.
@@ -178,12 +174,12 @@ int exdex_friction_prepare(exdex_friction_prep *prep, const double W[9],
     for (i = 0; i < 3; i++)
         if (!(e[i] > 0.0)) return EXDEX_EINVAL;
 
-    /* Symmetric to 1e-12 relative to the largest entry; keep the mean. */
+    /* Symmetric to FRICTION_SYM_REL of the largest entry; keep the mean. */
     for (i = 0; i < 9; i++) wmax = fmax(wmax, fabs(W[i]));
     if (!(wmax > 0.0)) return EXDEX_EINVAL;
     for (i = 0; i < 3; i++)
         for (j = 0; j < 3; j++) {
-            if (fabs(W[3 * i + j] - W[3 * j + i]) > 1e-12 * wmax) return EXDEX_EINVAL;
+            if (fabs(W[3 * i + j] - W[3 * j + i]) > FRICTION_SYM_REL * wmax) return EXDEX_EINVAL;
             Ws[3 * i + j] = 0.5 * (W[3 * i + j] + W[3 * j + i]);
         }
 
@@ -251,9 +247,9 @@ static int secular_newton(const secular *sec, double hi, double *root)
      * monotonically), or at 0. */
     double amax = dmax(sec->a[0], dmax(sec->a[1], sec->a[2]));
     double lo = 0.0, s = dmax(0.0, hi - amax);
-    for (int it = 1; it <= 200; it++) {
+    for (int it = 1; it <= FRICTION_SECULAR_MAX; it++) {
         double q, n2 = secular_norm2(sec, s, &q), nx = sqrt(n2), snew;
-        if (fabs(nx - 1.0) <= 4.0 * DBL_EPSILON || (s == 0.0 && nx <= 1.0)) {
+        if (fabs(nx - 1.0) <= FRICTION_ROUND_ULPS * DBL_EPSILON || (s == 0.0 && nx <= 1.0)) {
             /* (s = 0: slip just beginning, |K^-1 c| = cap to rounding) */
             *root = s;
             return it;
@@ -295,7 +291,7 @@ static int secular_brent(gsl_root_fsolver *solver, secular *sec, double hi,
         return 1;
     }
     if (gsl_root_fsolver_set(solver, &fn, lo, hi) != GSL_SUCCESS) return -1;
-    for (int it = 1; it <= 200; it++) {
+    for (int it = 1; it <= FRICTION_SECULAR_MAX; it++) {
         double s;
         if (gsl_root_fsolver_iterate(solver) != GSL_SUCCESS) return -1;
         s = gsl_root_fsolver_root(solver);
@@ -303,8 +299,8 @@ static int secular_brent(gsl_root_fsolver *solver, secular *sec, double hi,
         hi = gsl_root_fsolver_x_upper(solver);
         /* Bracket 4 eps relative (Brent's own smallest step is 0.5 eps |s|,
          * so this is reachable), or |x(s)| = 1 to rounding as for SCALAR. */
-        if (gsl_root_test_interval(lo, hi, DBL_MIN, 4.0 * DBL_EPSILON) == GSL_SUCCESS
-            || (s > 0.0 && fabs(secular_phi(s, sec)) <= 4.0 * DBL_EPSILON)) {
+        if (gsl_root_test_interval(lo, hi, DBL_MIN, FRICTION_ROUND_ULPS * DBL_EPSILON) == GSL_SUCCESS
+            || (s > 0.0 && fabs(secular_phi(s, sec)) <= FRICTION_ROUND_ULPS * DBL_EPSILON)) {
             *root = s;
             return it;
         }
@@ -395,7 +391,6 @@ static int fj_start(gsl_vector *x0, const fritz_john *fj, const double dir[3])
     return 1;
 }
 
-#define FJ_RELRES (64.0 * DBL_EPSILON)
 
 /* Relative residual of the unscaled equations: max_i |F_i| over the sum of
  * the magnitudes of the terms F_i is made of. A value of a few eps means the
@@ -420,7 +415,7 @@ static double fj_relres(const fritz_john *fj, const double X[4])
 }
 
 /* sigma > 0, or sigma zero to rounding: the point with sigma set to 0 is a
- * root as well, to 1e-12 relative (slip just beginning, u ~ 0, where the
+ * root as well, to FJ_SIGMA_ZERO relative (slip just beginning, u ~ 0, where the
  * rounding of the data leaves the sign of sigma undetermined). Roots with a
  * real sigma < 0 (setting it to 0 leaves an O(1) residual) are rejected. */
 static int fj_sigma_ok(const fritz_john *fj, const double X[4])
@@ -431,7 +426,7 @@ static int fj_sigma_ok(const fritz_john *fj, const double X[4])
     X0[1] = X[1];
     X0[2] = X[2];
     X0[3] = 0.0;
-    return fj_relres(fj, X0) <= 1e-12;
+    return fj_relres(fj, X0) <= FJ_SIGMA_ZERO;
 }
 
 static double fj_resid(const gsl_vector *f)
@@ -442,7 +437,7 @@ static double fj_resid(const gsl_vector *f)
 }
 
 /* One run from x0: hybridsj (globally convergent dogleg) until the scaled
- * residual is below 1e-6, then GSL's plain Newton solver, quadratically
+ * residual is below FJ_HYBRID_DONE, then GSL's plain Newton solver, quadratically
  * convergent from there, to polish the root to rounding level (hybridsj's
  * trust region crawls in the narrow valleys of strongly anisotropic cases
  * and stalls on the rounding noise of ill-conditioned ones). Of the
@@ -458,11 +453,11 @@ static int fj_run(exdex_friction_ws *ws, gsl_multiroot_function_fdf *fdf, double
     int found = 0, resets = 0;
     double best = HUGE_VAL;
     if (gsl_multiroot_fdfsolver_set(hy, fdf, ws->x0) != GSL_SUCCESS) return 0;
-    for (int it = 1; it <= 100; it++) {
+    for (int it = 1; it <= FJ_HYBRID_MAX; it++) {
         int st = gsl_multiroot_fdfsolver_iterate(hy);
         (*iters)++;
         if (st != GSL_SUCCESS || !ex_finite_n(hy->x->data, 4)) return 0;
-        if (fj_resid(hy->f) <= 1e-6) {
+        if (fj_resid(hy->f) <= FJ_HYBRID_DONE) {
             found = 1;
             break;
         }
@@ -471,7 +466,7 @@ static int fj_run(exdex_friction_ws *ws, gsl_multiroot_function_fdf *fdf, double
          * hybridsj restarted there (a projected step; 10 times at most). A
          * plain hybridsj run otherwise often settles on a root with sigma < 0
          * when the wanted sigma is small. */
-        if (gsl_vector_get(hy->x, 3) < 0.0 && resets < 10) {
+        if (gsl_vector_get(hy->x, 3) < 0.0 && resets < FJ_RESETS_MAX) {
             resets++;
             gsl_vector_memcpy(ws->x0, hy->x);
             gsl_vector_set(ws->x0, 3, -0.01 * gsl_vector_get(hy->x, 3));
@@ -482,7 +477,7 @@ static int fj_run(exdex_friction_ws *ws, gsl_multiroot_function_fdf *fdf, double
     for (int i = 0; i < 4; i++) X[i] = gsl_vector_get(hy->x, i);
     if (fj_sigma_ok(fj, X)) best = fj_relres(fj, X);
     if (gsl_multiroot_fdfsolver_set(nt, fdf, hy->x) != GSL_SUCCESS) return 0;
-    for (int it = 1; it <= 10 && best > 4.0 * DBL_EPSILON; it++) {
+    for (int it = 1; it <= FJ_NEWTON_MAX && best > FRICTION_ROUND_ULPS * DBL_EPSILON; it++) {
         double dx = 0.0, rel;
         int st = gsl_multiroot_fdfsolver_iterate(nt);
         (*iters)++;
@@ -494,7 +489,7 @@ static int fj_run(exdex_friction_ws *ws, gsl_multiroot_function_fdf *fdf, double
         }
         for (int i = 0; i < 4; i++)
             dx = fmax(dx, fabs(gsl_vector_get(nt->dx, i)) / fmax(1.0, fabs(X[i])));
-        if (dx <= 4.0 * DBL_EPSILON) break;
+        if (dx <= FRICTION_ROUND_ULPS * DBL_EPSILON) break;
     }
     return best <= FJ_RELRES;
 }
@@ -731,7 +726,7 @@ static int solve_scaled(const exdex_friction_prep *prep, const double b[3], doub
 
     /* Stick test first (all solvers): |K^-1 c| <= cap, in the eigenbasis:
      * t = sum (r_i / cap)^2 <= 1, r = Lam^-1 c~, formed without overflow.
-     * Within 1e-6 of the boundary the decision is taken on the refined stick
+     * Within FRICTION_STICK_REFINE of the boundary the decision is taken on the refined stick
      * impulse instead (its accuracy is set by W alone, see stick_impulse). */
     if (isinf(cap)) {
         st = 0.0;  /* b negligible next to the capacity */
@@ -754,11 +749,11 @@ static int solve_scaled(const exdex_friction_prep *prep, const double b[3], doub
             }
         }
     }
-    if (st <= 1.0 + 1e-6) {
+    if (st <= 1.0 + FRICTION_STICK_REFINE) {
         double n = 0.0;
         stick_impulse(prep, b, ct, res->p);
         for (int i = 0; i < 3; i++) n += ((res->p[i] / e[i]) / cap) * ((res->p[i] / e[i]) / cap);
-        if (st >= 1.0 - 1e-6) st = n;
+        if (st >= 1.0 - FRICTION_STICK_REFINE) st = n;
         if (st <= 1.0) {
             /* p = -W^-1 b (pulled back onto the ellipsoid if rounding put it
              * just outside); u = 0 exactly (set, not computed). */

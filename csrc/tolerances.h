@@ -1,11 +1,13 @@
 /* tolerances.h -- private to the exdex core: the one table of the
- * thresholds and budgets of the core's contact and friction decisions and of
- * the hybrid (event, regularised) methods' iterations. Every entry is
- * scale-free: a pure number, a fraction of one of the scene's scales
- * (model_scales: L, T, V = L / T, F, q; model_set_scales turns the *_REL
- * factors into model_tols), a multiple of a named speed (zsw, the small-slip
- * band of hybrid.h), a count of ulps, or an iteration count. A threshold is
- * spelled here once and read by name everywhere it is used. */
+ * thresholds and budgets of the core's contact and friction decisions, of
+ * the solvers of the plates' friction law (the ellipsoid and the exact limit
+ * surface) and of the hybrid (event, regularised) methods' iterations.
+ * Every entry is scale-free: a pure number, a fraction of one of the
+ * scene's scales (model_scales: L, T, V = L / T, F, q; model_set_scales
+ * turns the *_REL factors into model_tols), a multiple of a named speed
+ * (zsw, the small-slip band of hybrid.h), a count of ulps, or an iteration
+ * count. A threshold is spelled here once and read by name everywhere it is
+ * used. */
 #ifndef EXDEX_TOLERANCES_H
 #define EXDEX_TOLERANCES_H
 
@@ -97,5 +99,85 @@
                                    this share of its norm (squared) is dependent on them */
 #define GUARD_RECOVER 1e-13 /* a guard violated at a step's start recovers when it rises by more than this over
                                the step (in the guard's own units, not scaled) */
+
+/* ------------------------------------------------ contact rows (contact.c, ldp.c)
+ * A gap within its own rounding of zero counts as exactly 0 where a method
+ * decides on its sign: the sign of a rounding-level gap depends on the world
+ * frame the data is given in (contact_gap works in A), not on the scene.
+ * The bound is GAP_ROUND rounding units of the sum of the magnitudes
+ * contact_gap adds (|x_B|, |p|, |stop point|; R is orthonormal;
+ * DBL_EPSILON: float.h). */
+#define GAP_ROUND (8.0 * DBL_EPSILON)
+#define NNLS_TOL 1e-13  /* ldp.c's NNLS: converged where the multipliers outside the passive set are <= this */
+
+/* ------------------------------------------------ plate friction (plate_friction.c)
+ * exdex_friction_prepare's checks of the plate's Delassus matrix W and the
+ * solvers of the ellipsoid's maximum-dissipation problem (relative
+ * tolerances, ulp counts, iteration counts). */
+#define FRICTION_SYM_REL 1e-12  /* W must be symmetric to this x its largest entry */
+/* Limit on the scaled condition number of W, that of D^-1 W D^-1 with
+ * D = diag(W)^(1/2): beyond it W is singular to working precision (the stick
+ * impulse -W^-1 b would carry relative errors above 1e-4). */
+#define FRICTION_MAX_COND 1e12
+#define FRICTION_STICK_REFINE 1e-6 /* a stick test within this of the ellipsoid is decided on the refined impulse */
+#define FRICTION_SECULAR_MAX 200   /* secular equation: Newton or Brent iterations */
+#define FRICTION_ROUND_ULPS 4.0    /* a root, a norm or a step within this many ulps counts as exact */
+/* The Fritz John system (the general solver): GSL's hybridsj until the
+ * scaled residual is below FJ_HYBRID_DONE (at most FJ_HYBRID_MAX iterations,
+ * FJ_RESETS_MAX restarts from sigma < 0), then at most FJ_NEWTON_MAX Newton
+ * steps; a root is accepted at a relative residual of FJ_RELRES, and sigma
+ * = 0 is admitted where it leaves at most FJ_SIGMA_ZERO (DBL_EPSILON:
+ * float.h). */
+#define FJ_HYBRID_MAX 100
+#define FJ_HYBRID_DONE 1e-6
+#define FJ_RESETS_MAX 10
+#define FJ_NEWTON_MAX 10
+#define FJ_RELRES (64.0 * DBL_EPSILON)
+#define FJ_SIGMA_ZERO 1e-12
+
+/* ------------------------------------------------ the exact limit surface (limitsurf.c)
+ * LS_FAR_RATIO: a region whose slip at the centroid exceeds this many region
+ * sizes is integrated in the far field (limitsurf.c's head: the accuracy
+ * that follows from it). Newton's stopping rules, on the squared Newton
+ * decrement lam2 (about twice the objective's excess over its optimum)
+ * relative to the objective's scale: done below LS_NEWTON_DONE (the optimum
+ * to 1e-24 relative, the optimiser to about 1e-12); full steps without a
+ * line search below LS_NEWTON_FULL (the decrease is below the rounding of
+ * the objective there), and done once they stop shrinking lam2
+ * quadratically (by LS_NEWTON_QUADRATIC a step: the rounding floor of the
+ * gradient); a line search
+ * (Armijo: decrease LS_ARMIJO_DECREASE t lam2, at most LS_ARMIJO_MAX
+ * halvings) that ends below LS_LINE_STEP_MIN finds no decrease and ends the
+ * iteration, which counts as converged below LS_NEWTON_ACCEPT. */
+#define LS_FAR_RATIO 16.0
+#define LS_NEWTON_DONE 1e-24
+#define LS_NEWTON_FULL 1e-8
+#define LS_NEWTON_ACCEPT 1e-12
+#define LS_NEWTON_QUADRATIC 0.25
+#define LS_ARMIJO_DECREASE 0.25
+#define LS_ARMIJO_MAX 40
+#define LS_LINE_STEP_MIN 1e-9
+#define LS_SHIFT_START 1e-8  /* a Newton Hessian that is not positive definite: shift by this x its trace ... */
+#define LS_SHIFT_GROWTH 10.0 /* ... growing by this factor ... */
+#define LS_SHIFT_TRIES 30    /* ... at most this often */
+/* The bounds kmin, kmax of the gauge's ratio to |E u| (limitsurf_prepare_bounds):
+ * the extremes over a Fibonacci lattice of LS_BOUND_LATTICE directions, each
+ * refined by a pattern search (first step LS_REFINE_STEP, halved down to
+ * LS_REFINE_STEP_MIN, at most LS_REFINE_MAX moves), widened by
+ * LS_SAMPLED_BOUND_MARGIN; the closed-form bounds of the ellipsoid of a
+ * region are widened by LS_CLOSED_BOUND_MARGIN (their rounding). */
+#define LS_BOUND_LATTICE 256
+#define LS_REFINE_STEP 0.1
+#define LS_REFINE_STEP_MIN 1e-7
+#define LS_REFINE_MAX 200
+#define LS_SAMPLED_BOUND_MARGIN 1e-3
+#define LS_CLOSED_BOUND_MARGIN 1e-6
+/* The combination search of a wrench on the exact surface against contact
+ * rows: it stops where its model predicts a decrease below LS_COMB_PREDICTED
+ * of the gauge or the step (at most LS_COMB_HALVINGS halvings) gains less
+ * than LS_COMB_DECREASE of it. */
+#define LS_COMB_PREDICTED 1e-13
+#define LS_COMB_HALVINGS 30
+#define LS_COMB_DECREASE 1e-14
 
 #endif
