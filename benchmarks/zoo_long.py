@@ -1,6 +1,7 @@
 """The scene zoo's long run: every method on many seeded zoo scenes.
 
     python benchmarks/zoo_long.py --n 10000 --seed 0 --jobs 2 --csv zoo_long.csv
+    python benchmarks/zoo_long.py --inputs --n 5000 --csv zoo_inputs_long.csv
 
 Draws scenes ``seed .. seed + n - 1`` from tests/zoo.py (the generator the
 test suite uses; see its docstring for what a scene can be), runs each one
@@ -24,6 +25,14 @@ stderr and prints:
 
 and writes one CSV row per scene (seed, tags, per method: error message,
 err, est, seconds).
+
+``--inputs`` draws the zoo-inputs scenes instead
+(tests/scenarios/test_zoo_inputs.py's ``input_scene``: each zoo scene with
+random new inputs, grip schedules, obstacles, static friction) and checks
+them as that test file does (``results``: the methods that support the
+scene; the implicit ladder as the reference where the event method does
+not run it). A method that does not support a scene is counted as skipped,
+not as a failure.
 """
 from __future__ import annotations
 
@@ -40,6 +49,7 @@ import warnings
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests"))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "scenarios"))
 
 import zoo  # noqa: E402
 
@@ -47,19 +57,38 @@ QUANTILES = (0.5, 0.9, 0.99, 0.999, 1.0)
 REG_EVERY = 4
 
 
+INPUTS = False   # --inputs: the zoo-inputs scenes (set in each worker)
+
+
+def _init(inputs):
+    global INPUTS
+    INPUTS = inputs
+
+
 def one(seed):
     """Check one scene; a plain dict (picklable) for the parent."""
     warnings.simplefilter("ignore")
     t0 = time.perf_counter()
     try:
-        zs = zoo.zoo_scene(seed)
+        if INPUTS:
+            import test_zoo_inputs
+
+            s, out = test_zoo_inputs.results(seed)
+            zs, tags = s.zs, s.tags
+        else:
+            zs = zoo.zoo_scene(seed)
+            tags = zs.tags
     except Exception as e:  # noqa: BLE001 - a generator defect is a result too
         return dict(seed=seed, gen_error=f"{type(e).__name__}: {e}")
-    row = dict(seed=seed, gen_error=None, tags=zs.tags, L=zs.L, t_end=zs.t_end)
-    agree = zoo.METHODS if seed % REG_EVERY == 0 else tuple(m for m in zoo.METHODS if m != "regularised")
-    out = zoo.check_scene(zs, agree=agree)
+    row = dict(seed=seed, gen_error=None, tags=tags, L=zs.L, t_end=zs.t_end)
+    if not INPUTS:
+        agree = zoo.METHODS if seed % REG_EVERY == 0 else tuple(m for m in zoo.METHODS if m != "regularised")
+        out = zoo.check_scene(zs, agree=agree)
     for m in zoo.METHODS:
-        o = out[m]
+        o = out.get(m)
+        if o is None:   # the method does not support the scene
+            row[m] = dict(error=None, err=None, est=None, ok=None, skipped=True)
+            continue
         row[m] = dict(error=o["error"], err=o.get("err"), est=o.get("bound"), ok=o.get("ok"))
     ref = out.get("reference", {})
     row["ref_est"] = ref.get("err")
@@ -97,6 +126,8 @@ def main(argv=None):
     ap.add_argument("--jobs", type=int, default=2, help="worker processes (default 2)")
     ap.add_argument("--csv", default="zoo_long.csv", help="output CSV path (default zoo_long.csv)")
     ap.add_argument("--worst", type=int, default=5, help="worst cases listed per method (default 5)")
+    ap.add_argument("--inputs", action="store_true",
+                    help="the zoo-inputs scenes (tests/scenarios/test_zoo_inputs.py) instead of the zoo's")
     ap.add_argument("--minutes", type=float, default=None,
                     help="stop after this wall time and report the scenes done so far (default: no limit)")
     args = ap.parse_args(argv)
@@ -105,7 +136,7 @@ def main(argv=None):
     rows = []
     t0 = time.time()
     stopped = False
-    with multiprocessing.Pool(args.jobs) as pool:
+    with multiprocessing.Pool(args.jobs, initializer=_init, initargs=(args.inputs,)) as pool:
         for i, row in enumerate(pool.imap_unordered(one, seeds, chunksize=4), 1):
             rows.append(row)
             if i % 10 == 0 or i == args.n:
@@ -120,7 +151,7 @@ def main(argv=None):
 
     gen_fail = [r for r in rows if r["gen_error"]]
     ok = [r for r in rows if not r["gen_error"]]
-    print(f"zoo long run: {len(rows)} scenes from seed {args.seed}, {wall:.0f} s wall on {args.jobs} processes"
+    print(f"{'zoo-inputs' if args.inputs else 'zoo'} long run: {len(rows)} scenes from seed {args.seed}, {wall:.0f} s wall on {args.jobs} processes"
           + (f" (stopped by --minutes {args.minutes:g} before {args.n})" if stopped else ""))
     if gen_fail:
         print(f"generator errors: {len(gen_fail)} (first seed {gen_fail[0]['seed']}: {gen_fail[0]['gen_error']})")
@@ -133,7 +164,9 @@ def main(argv=None):
         nf = sum(fails.values())
         checked = [r for r in ok if r[m]["ok"] is not None]
         bad = [r for r in checked if not r[m]["ok"]]
-        print(f"\n{m}: {len(ok)} scenes, {nf} failures to return ({100.0 * nf / max(len(ok), 1):.2f} %); "
+        skipped = sum(1 for r in ok if r[m].get("skipped"))
+        print(f"\n{m}: {len(ok) - skipped} scenes" + (f" ({skipped} skipped: not supported)" if skipped else "")
+              + f", {nf} failures to return ({100.0 * nf / max(len(ok) - skipped, 1):.2f} %); "
               f"agreement checked on {len(checked)}, outside the bound on {len(bad)}"
               + (f" (seeds {', '.join(str(r['seed']) for r in bad[:12])}{' ...' if len(bad) > 12 else ''})" if bad else ""))
         for c, k in fails.most_common():
