@@ -91,28 +91,35 @@ static int plate_h(const double Kh[3][3], const double ch[3], double mu, double 
     return isfinite(*h);
 }
 
-/* The root mu > 0 of h (plate_h; h(0) = -gam < 0), z at it: bracketed by
- * doubling from gam, then false position with the Illinois halving (the
- * end that stays has its value halved), to |h| <= PLATE_ROOT_TOL gam.
- * Returns 0 when no bracket is found within PLATE_BRACKET_MAX doublings
- * (no slip) or the steps run out. */
+/* The first root mu > 0 of h (plate_h; h(0) = -gam < 0), z at it:
+ * bracketed by doubling from gam; where z has a pole at the trial point (I
+ * + mu Kh singular: only without symmetry) the point moves halfway back to
+ * the last one below 0 (|z| grows without bound at a pole, so h > 0 next
+ * to it: a root lies before it); then false position with the Illinois
+ * halving (the end that stays has its value halved), to |h| <=
+ * PLATE_ROOT_TOL gam or a bracket within PLATE_ROOT_TOL of mu (where the
+ * rounding of h, which grows with mu, is above the first). Returns 0 when no bracket is found within
+ * PLATE_BRACKET_MAX trial points (no slip) or the steps run out. */
 static int plate_root(const double Kh[3][3], const double ch[3], double gam, double z[3])
 {
-    double lo = 0.0, hlo = -gam, hi = gam, hhi, mu, h;
+    double lo = 0.0, hlo = -gam, hi = gam, hhi = 0.0, mu, h;
     int side = 0;
-    if (!plate_h(Kh, ch, hi, gam, &hhi, z)) return 0;
-    for (int n = 0; !(hhi > 0.0); n++) {
+    for (int n = 0;; n++) {
         if (n >= PLATE_BRACKET_MAX) return 0;
+        if (!plate_h(Kh, ch, hi, gam, &hhi, z)) {
+            hi = lo + 0.5 * (hi - lo);
+            continue;
+        }
+        if (hhi > 0.0) break;
         lo = hi;
         hlo = hhi;
         hi *= 2.0;
-        if (!plate_h(Kh, ch, hi, gam, &hhi, z)) return 0;
     }
     for (int it = 0; it < PLATE_ROOT_MAX; it++) {
         mu = (lo * hhi - hi * hlo) / (hhi - hlo);
         if (!(mu > lo && mu < hi)) mu = 0.5 * (lo + hi);
         if (!plate_h(Kh, ch, mu, gam, &h, z)) return 0;
-        if (fabs(h) <= PLATE_ROOT_TOL * gam) return 1;
+        if (fabs(h) <= PLATE_ROOT_TOL * gam || hi - lo <= PLATE_ROOT_TOL * hi) return 1;
         if (h < 0.0) {
             lo = mu;
             hlo = h;
@@ -161,6 +168,21 @@ static int plate_wrench(const sf_plate *pl, const double b[3], const double W[3]
     if (!(nz > 0.0)) return 0;
     for (int i = 0; i < 3; i++) w[i] = -pl->cap * pl->e[i] * z[i] / nz;
     return ex_finite_n(w, 3);
+}
+
+/* The plate alone holds the object (qdd = 0, no row carrying force): w = -A^-1
+ * M a, inside the ellipsoid, |E^-1 w| <= cap (1 + FRICTION_BAND). Returns 1
+ * with w written if it does. */
+static int plate_holds(const sf_plate *pl, const double minv[3], const double a[3], double w[3])
+{
+    double A[3][3], b[3], g = 0.0;
+    for (int c = 0; c < 3; c++) {
+        for (int j = 0; j < 3; j++) A[c][j] = pl->A[c][j];
+        b[c] = -a[c] / minv[c];
+    }
+    if (!ldp_solve_small(3, A, b, w)) return 0;
+    for (int j = 0; j < 3; j++) g += (w[j] / pl->e[j]) * (w[j] / pl->e[j]);
+    return sqrt(g) <= pl->cap * (1.0 + FRICTION_BAND);
 }
 
 /* a + M^-1 A w: the acceleration without the stops with the plate's wrench w. */
@@ -377,7 +399,7 @@ static int solve_mode(int nr, const sf_row *rows, int ns, const sf_stop *st, con
             bu[i] = pl->A[0][i] * q0[0] + pl->A[1][i] * q0[1] + pl->A[2][i] * q0[2];
             for (int j = 0; j < 3; j++) Wu[i][j] = pl->A[0][i] * N[0][j] + pl->A[1][i] * N[1][j] + pl->A[2][i] * N[2][j];
         }
-        if (!plate_wrench(pl, bu, (const double (*)[3])Wu, w)) return 0;
+        if (!(k == 0 && plate_holds(pl, minv, a, w)) && !plate_wrench(pl, bu, (const double (*)[3])Wu, w)) return 0;
         for (int l = 0; l < k; l++) x[l] += X[l][0] * w[0] + X[l][1] * w[1] + X[l][2] * w[2];
         plate_acc(pl, minv, a_in, w, a);
         memcpy(r->w, w, sizeof w);

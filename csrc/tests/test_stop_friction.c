@@ -473,8 +473,8 @@ EXDEX_TEST(sfric_disc_obstacle_rows_match_central_differences)
  * Newton) is the reference. A turned frame with the patch off the centre of
  * mass (A: the rotation by 0.7 rad and the patch at (3, -2) mm); caps half
  * and twice the gauge of the stick wrench -W^-1 b: a slip whose wrench and
- * slip agree with the step's to 1e-12, and a stick (the step sticks), which
- * the small slip's plate refuses (no slip: no consistent mode). */
+ * slip agree with the step's to 1e-12, and a stick (the step sticks): the
+ * plate holds the object, w the stick wrench, qdd = 0. */
 EXDEX_TEST(sfric_plate_alone_is_the_friction_step_of_its_delassus_matrix)
 {
     const double th = 0.7, pc[2] = {0.003, -0.002}, m = 0.2, I = 4e-5, e[3] = {1.0, 1.0, 0.006};
@@ -501,18 +501,15 @@ EXDEX_TEST(sfric_plate_alone_is_the_friction_step_of_its_delassus_matrix)
         pl.cap = k ? 2.0 * g : 0.5 * g;
         ENSURE(exdex_friction_solve(&prep, b, pl.cap, EXDEX_SOLVER_SCALAR, NULL, NULL, &fr) == EXDEX_OK);
         ENSURE(fr.stick == k);
-        if (k) {
-            ENSURE(sf_solve_plate(0, NULL, 0, NULL, minv, a, &pl, 1e-12, 1e-12, &r) == 0);
-            continue;
-        }
         ENSURE(sf_solve_plate(0, NULL, 0, NULL, minv, a, &pl, 1e-12, 1e-12, &r) == 1);
         for (int i = 0; i < 3; i++) {
             double u = 0.0, q = a[i] + minv[i] * (pl.A[i][0] * r.w[0] + pl.A[i][1] * r.w[1] + pl.A[i][2] * r.w[2]);
             for (int j = 0; j < 3; j++) u += pl.A[j][i] * r.qdd[j];
-            ENSURE_CLOSE(r.w[i], fr.p[i], 1e-12 * pl.cap * e[i]);
-            ENSURE_CLOSE(u, fr.u[i], 1e-12 * fr.sigma / e[i]);
-            ENSURE_CLOSE(r.qdd[i], q, 1e-12 * fabs(q));
+            ENSURE_CLOSE(r.w[i], fr.p[i], 1e-12 * g * e[i]);
+            ENSURE_CLOSE(u, fr.u[i], 1e-12 * (k ? fabs(b[i]) : fr.sigma / e[i]));
+            ENSURE_CLOSE(r.qdd[i], q, 1e-12 * fabs(a[i]));
         }
+        if (k) ENSURE(fabs(r.qdd[0]) + fabs(r.qdd[1]) <= 1e-12 * fabs(a[1]) && fabs(r.qdd[2]) <= 1e-12 * fabs(a[2]));
     }
 }
 
@@ -556,4 +553,127 @@ EXDEX_TEST(sfric_plate_and_floor_friction_slide_a_square_closed_form)
     for (int i = 0; i < 3; i++) aw[i] = a[i] + minv[i] * r.w[i];
     ENSURE(sf_solve(2, rows, 1, &st, minv, aw, 1e-12, 1e-12, &r2) == 1);
     ENSURE(r2.fm[0] == r.fm[0] && r2.lock == 0);
+}
+
+/* The decisions that the plate as one more contact changes on zoo-inputs
+ * scenes 0 .. 1499 (tests/scenarios/test_zoo_inputs.py, input_scene; event
+ * runs of zoo.run): small slips of seeds 384 and 1274, each against one
+ * contact-set row of a frictional stop (group 1; group 0, without rows, is
+ * left as given). Each problem as the decision formed it (hybrid_laws.c,
+ * hyb_sf_solve_plate: the rows, the groups with their given or rolling
+ * modes, M^-1, the acceleration without stops and plate friction, the
+ * plate's A, E and capacity, the sign slacks), its rolling group's mode
+ * decided by the combination search (old) and by the joint problem (new):
+ *   384, 20 decisions like the first two: old slide +, new slide -;
+ *   384, 1 decision: old slide +, new stick;
+ *   1274, 3 decisions: old slide -, new stick;
+ *   1274, 1 decision: old stick, new slide -.
+ * The joint mode is consistent at its own plate wrench: the problem
+ * without the plate, solved from rolling on the acceleration with that
+ * wrench, decides it again, and the wrench is the maximum-dissipation
+ * wrench of the mode's own slip u = A^T qdd, on the ellipsoid (to the
+ * rounding of u, rho = |a| / |qdd| times that of the accelerations it is
+ * formed from: 1e-12 rho cap; rho is 1e4 for seed 384's near-stick slips).
+ * The old mode is not: with it given, the joint problem has no solution,
+ * or one at whose wrench the problem from rolling decides another mode; and
+ * the plain fixed-point iteration of the plate wrench with it given (from
+ * the plate's own friction step, 16 steps) does not settle: its last step
+ * still moves the wrench by more than cap (a 2-cycle for seed 384), or a
+ * step finds no mode at all. */
+typedef struct zoo_decision {
+    int seed, nr, ns, old_fm[2], new_fm[2];
+    sf_row rows[1];
+    sf_stop st[2];
+    double minv[3], a[3];
+    sf_plate pl;
+    double tol_a, tol_f;
+} zoo_decision;
+
+static const zoo_decision ZOO_DECISIONS[] = {
+    {384, 1, 2, {0, 2}, {0, 3}, {{{-0.59476947534023994, -0.79971052423316957, -0.009770776822244245}, 0.0020468970334288129, 1},}, {{{0, 0, 0}, 0, 0.85473336389789778, 0}, {{0.80240807997854013, -0.59677573106247594, -0.027163867575185113}, 0.0017196412702898309, 0.76468665627995636, 0},}, {11.947446712726482, 11.947446712726482, 42976.997637724038}, {1.7403117661544618, -9.6516878283712657, -0}, {{{0.99992033226663957, 0.012622563914402623, 0}, {-0.012622563914402623, 0.99992033226663957, 0}, {-0.0053032936912274968, 0.00022981836521636983, 1}}, {1, 1, 0.0008770618933975423}, 1.0826143381873499}, 1.2934477115927008e-09, 1.0826143381873497e-10},
+    {384, 1, 2, {0, 2}, {0, 3}, {{{-0.59476947534023994, -0.79971052423316957, -0.0097707767706389642}, 0.0018642417807663053, 1},}, {{{0, 0, 0}, 0, 0.85473336389789778, 0}, {{0.80240807997854013, -0.59677573106247594, -0.027163867593872848}, 0.0015661887024127359, 0.76468665627995636, 0},}, {11.947446712726482, 11.947446712726482, 42976.997637724038}, {1.7403260777781324, -9.6519257214179444, -0}, {{{0.99992033229070043, 0.012622562008369578, 0}, {-0.012622562008369578, 0.99992033229070043, 0}, {-0.0053032936912274968, 0.00022981836521636983, 1}}, {1, 1, 0.0008770618933975423}, 1.0826143381873499}, 1.2934477115927008e-09, 1.0826143381873497e-10},
+    {384, 1, 2, {0, 2}, {0, 1}, {{{-0.59476947534023994, -0.79971052423316957, -0.0097707754397396776}, -0.0019436538813743115, 1},}, {{{0, 0, 0}, 0, 0.85473336389789778, 0}, {{0.80240807997854013, -0.59677573106247594, -0.027163868075829087}, -0.0016329049434936262, 0.76468665627995636, 0},}, {11.947446712726482, 11.947446712726482, 42976.997637724038}, {1.7406244385521656, -9.6568851834033342, -0}, {{{0.99992033291123039, 0.012622512851811681, 0}, {-0.012622512851811681, 0.99992033291123039, 0}, {-0.0053032936912274968, 0.00022981836521636983, 1}}, {1, 1, 0.0008770618933975423}, 1.0826143381873499}, 1.2934477115927008e-09, 1.0826143381873497e-10},
+    {1274, 1, 2, {0, 3}, {0, 1}, {{{0.56195406133042647, 0.48302188084388947, -0.00077092262034442985}, 0.61957830284841653, 1},}, {{{0, 0, 0}, 0, 0.87736098558802822, 0}, {{-0.65183862684782379, 0.7583577022415896, -0.0013784347171699337}, 5.2869427658692105, 0.40350869281985446, 0},}, {10207.591189772253, 10207.591189772253, 8224379498.5535946}, {3.7381516025978758, -11.755339057018253, -0}, {{{-0.99798594633800253, 0.063435407398719834, 0}, {-0.063435407398719834, -0.99798594633800253, -0}, {5.4291596621347249e-05, -0.0009345726422170179, 1}}, {1, 1, 6.7527998674026782e-05}, 0.0019934550799390379}, 2.0348374511192469e-09, 1.9934550799390379e-13},
+    {1274, 1, 2, {0, 1}, {0, 3}, {{{0.56195406133042647, 0.48302188084388947, -0.00070711838940932332}, -0.61957830284455417, 1},}, {{{0, 0, 0}, 0, 0.87736098558802822, 0}, {{-0.65183862684782379, 0.7583577022415896, -0.0014393841220628973}, -5.2869427660274777, 0.40350869281985446, 0},}, {10207.591189772253, 10207.591189772253, 8224379498.5535946}, {-7.3346388771581008, -7.3297059022906197, -0}, {{{-0.9922508283452508, 0.12425093017021517, 0}, {-0.12425093017021517, -0.9922508283452508, -0}, {5.4291596621347249e-05, -0.0009345726422170179, 1}}, {1, 1, 6.7527998674026782e-05}, 0.0019934550799390379}, 2.0348374511192469e-09, 1.9934550799390379e-13},
+};
+
+/* a + M^-1 A w */
+static void plate_acc_of(const zoo_decision *z, const double w[3], double aw[3])
+{
+    for (int c = 0; c < 3; c++)
+        aw[c] = z->a[c] + z->minv[c] * (z->pl.A[c][0] * w[0] + z->pl.A[c][1] * w[1] + z->pl.A[c][2] * w[2]);
+}
+
+/* the maximum-dissipation wrench -cap E^2 u / |E u| of u = A^T qdd */
+static void plate_maxdiss(const sf_plate *pl, const double qdd[3], double w[3])
+{
+    double eu[3], n;
+    for (int j = 0; j < 3; j++) eu[j] = pl->e[j] * (pl->A[0][j] * qdd[0] + pl->A[1][j] * qdd[1] + pl->A[2][j] * qdd[2]);
+    n = sqrt(eu[0] * eu[0] + eu[1] * eu[1] + eu[2] * eu[2]);
+    for (int j = 0; j < 3; j++) w[j] = -pl->cap * pl->e[j] * eu[j] / n;
+}
+
+EXDEX_TEST(sfric_plate_joint_modes_of_zoo_inputs_384_and_1274_are_consistent_at_their_own_wrench)
+{
+    const int n = (int)(sizeof ZOO_DECISIONS / sizeof ZOO_DECISIONS[0]);
+    for (int i = 0; i < n; i++) {
+        const zoo_decision *z = &ZOO_DECISIONS[i];
+        sf_stop given[2];
+        sf_result r, r2, ro, ro2;
+        double aw[3], wd[3], rho, g = 0.0, w[3], W[9], b[3], d = 0.0;
+        exdex_friction_prep prep;
+        exdex_friction_result fr;
+        int okg, settled = 0;
+        /* new: the joint problem's mode, consistent at its own wrench */
+        ENSURE(sf_solve_plate(z->nr, z->rows, z->ns, z->st, z->minv, z->a, &z->pl, z->tol_a, z->tol_f, &r) == 1);
+        ENSURE(r.fm[1] == z->new_fm[1] && r.lock == 0);
+        plate_acc_of(z, r.w, aw);
+        ENSURE(sf_solve(z->nr, z->rows, z->ns, z->st, z->minv, aw, z->tol_a, z->tol_f, &r2) == 1);
+        ENSURE(r2.fm[1] == z->new_fm[1]);
+        rho = hypot(z->a[0], z->a[1]) / hypot(r.qdd[0], r.qdd[1]);
+        plate_maxdiss(&z->pl, r.qdd, wd);
+        for (int j = 0; j < 3; j++) {
+            ENSURE_CLOSE(r.w[j], wd[j], 1e-12 * rho * z->pl.cap * z->pl.e[j]);
+            g += (r.w[j] / z->pl.e[j]) * (r.w[j] / z->pl.e[j]);
+        }
+        ENSURE_CLOSE(sqrt(g), z->pl.cap, 1e-12 * z->pl.cap);
+        /* old: with its mode given, no joint solution or another decision there */
+        memcpy(given, z->st, sizeof given);
+        given[1].fm = z->old_fm[1];
+        okg = sf_solve_plate(z->nr, z->rows, z->ns, given, z->minv, z->a, &z->pl, z->tol_a, z->tol_f, &ro);
+        if (okg) {
+            plate_acc_of(z, ro.w, aw);
+            ENSURE(sf_solve(z->nr, z->rows, z->ns, z->st, z->minv, aw, z->tol_a, z->tol_f, &ro2) == 1);
+            ENSURE(ro2.fm[1] != z->old_fm[1]);
+        }
+        /* old: the plain iteration with its mode given does not settle */
+        for (int p = 0; p < 3; p++) {
+            b[p] = 0.0;
+            for (int c = 0; c < 3; c++) b[p] += z->pl.A[c][p] * z->a[c];
+            for (int q = 0; q < 3; q++) {
+                W[3 * p + q] = 0.0;
+                for (int c = 0; c < 3; c++) W[3 * p + q] += z->pl.A[c][p] * z->minv[c] * z->pl.A[c][q];
+            }
+        }
+        ENSURE(exdex_friction_prepare(&prep, W, z->pl.e) == EXDEX_OK);
+        ENSURE(exdex_friction_solve(&prep, b, z->pl.cap, EXDEX_SOLVER_SCALAR, NULL, NULL, &fr) == EXDEX_OK);
+        memcpy(w, fr.p, sizeof w);
+        for (int it = 0; it < 16; it++) {
+            sf_result q;
+            double wn[3];
+            plate_acc_of(z, w, aw);
+            if (!sf_solve(z->nr, z->rows, z->ns, given, z->minv, aw, z->tol_a, z->tol_f, &q)) {
+                d = INFINITY;
+                break;
+            }
+            plate_maxdiss(&z->pl, q.qdd, wn);
+            d = 0.0;
+            for (int j = 0; j < 3; j++) {
+                d = fmax(d, fabs(wn[j] - w[j]) / z->pl.e[j]);
+                w[j] = wn[j];
+            }
+            if (d <= 1e-12 * z->pl.cap) settled = 1;
+        }
+        ENSURE(!settled && d > z->pl.cap);
+    }
 }
