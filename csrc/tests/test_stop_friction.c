@@ -574,7 +574,9 @@ EXDEX_TEST(sfric_plate_and_floor_friction_slide_a_square_closed_form)
  * wrench of the mode's own slip u = A^T qdd, on the ellipsoid (to the
  * rounding of u, rho = |a| / |qdd| times that of the accelerations it is
  * formed from: 1e-12 rho cap; rho is 1e4 for seed 384's near-stick slips).
- * The old mode is not: with it given, the joint problem has no solution,
+ * Between decisions the plate's friction is that joint problem's on the
+ * decided modes: with the new mode given it returns the decision's wrench.
+ * The old mode is not consistent: with it given, the joint problem has no solution,
  * or one at whose wrench the problem from rolling decides another mode; and
  * the plain fixed-point iteration of the plate wrench with it given (from
  * the plate's own friction step, 16 steps) does not settle: its last step
@@ -637,6 +639,13 @@ EXDEX_TEST(sfric_plate_joint_modes_of_zoo_inputs_384_and_1274_are_consistent_at_
             g += (r.w[j] / z->pl.e[j]) * (r.w[j] / z->pl.e[j]);
         }
         ENSURE_CLOSE(sqrt(g), z->pl.cap, 1e-12 * z->pl.cap);
+        /* between decisions the plate's friction is the joint problem's on
+         * the decided modes (hyb_planar_friction): with the new mode given
+         * it is the decision's wrench */
+        memcpy(given, z->st, sizeof given);
+        given[1].fm = z->new_fm[1];
+        ENSURE(sf_solve_plate(z->nr, z->rows, z->ns, given, z->minv, z->a, &z->pl, z->tol_a, z->tol_f, &ro) == 1);
+        for (int j = 0; j < 3; j++) ENSURE_CLOSE(ro.w[j], r.w[j], 1e-12 * z->pl.cap * z->pl.e[j]);
         /* old: with its mode given, no joint solution or another decision there */
         memcpy(given, z->st, sizeof given);
         given[1].fm = z->old_fm[1];
