@@ -13,6 +13,7 @@
 #include "../tolerances.h"
 #include "sf_residual.h"
 
+#include <gsl/gsl_eigen.h>
 #include <math.h>
 #include <string.h>
 
@@ -868,4 +869,192 @@ EXDEX_TEST(sfric_small_slip_rhs_meets_the_contact_conditions_at_captured_zoo_sta
         ENSURE(part[SFR_MDP] > 1e-2);
         ENSURE(d1 > 0.1 && d2 <= 0.05 * d1);
     }
+}
+
+#undef G /* below, G is sf_row's field */
+
+/* x of the k x k system C x = r (k <= 3), by Gaussian elimination with
+ * partial pivoting (the test's own, not ldp.c's). Returns 0 if singular. */
+static int small_solve(int k, double C[3][3], double r[3], double x[3])
+{
+    for (int i = 0; i < k; i++) {
+        int p = i;
+        for (int j = i + 1; j < k; j++)
+            if (fabs(C[j][i]) > fabs(C[p][i])) p = j;
+        if (!(fabs(C[p][i]) > 0.0)) return 0;
+        for (int c = 0; c < k; c++) {
+            double t = C[i][c];
+            C[i][c] = C[p][c];
+            C[p][c] = t;
+        }
+        double t = r[i];
+        r[i] = r[p];
+        r[p] = t;
+        for (int j = i + 1; j < k; j++) {
+            double f = C[j][i] / C[i][i];
+            for (int c = i; c < k; c++) C[j][c] -= f * C[i][c];
+            r[j] -= f * r[i];
+        }
+    }
+    for (int i = k - 1; i >= 0; i--) {
+        x[i] = r[i];
+        for (int c = i + 1; c < k; c++) x[i] -= C[i][c] * x[c];
+        x[i] /= C[i][i];
+    }
+    return 1;
+}
+
+/* qdd of a captured state's mode at the plate wrench w: the rows of mask
+ * carry force (gap acceleration 0), each with its stop's friction in the
+ * stop's mode fm (sliding: along G - sigma mu T; sticking: one more
+ * unknown along T, the slip acceleration 0). Returns 0 if singular. */
+static int mode_qdd(const zoo_state *z, unsigned mask, const int *fm, const double w[3], double qdd[3])
+{
+    double Dr[3][3], Cr[3][3], c0[3], M[3][3], r[3], x[3], af[3];
+    int k = 0;
+    for (int c = 0; c < 3; c++)
+        af[c] = z->a[c] + z->minv[c] * (z->pl.A[c][0] * w[0] + z->pl.A[c][1] * w[1] + z->pl.A[c][2] * w[2]);
+    for (int i = 0; i < z->nr; i++) {
+        const sf_stop *st = &z->st[z->rows[i].stop];
+        const int m = fm[z->rows[i].stop];
+        double sg = m == SF_SLIDE_P ? 1.0 : m == SF_SLIDE_M ? -1.0 : 0.0;
+        if (!(mask >> i & 1u)) continue;
+        for (int c = 0; c < 3; c++) {
+            Cr[k][c] = z->rows[i].G[c];
+            Dr[k][c] = z->rows[i].G[c] - sg * st->mu * st->T[c];
+        }
+        c0[k++] = z->rows[i].gdd0;
+        if (m == SF_STICK && st->mu > 0.0) {
+            for (int c = 0; c < 3; c++) Cr[k][c] = Dr[k][c] = st->T[c];
+            c0[k++] = st->sdd0;
+        }
+    }
+    for (int l = 0; l < k; l++) {
+        r[l] = -c0[l];
+        for (int c = 0; c < 3; c++) r[l] -= Cr[l][c] * af[c];
+        for (int j = 0; j < k; j++) {
+            M[l][j] = 0.0;
+            for (int c = 0; c < 3; c++) M[l][j] += Cr[l][c] * z->minv[c] * Dr[j][c];
+        }
+    }
+    if (k && !small_solve(k, M, r, x)) return 0;
+    for (int c = 0; c < 3; c++) {
+        qdd[c] = af[c];
+        for (int l = 0; l < k; l++) qdd[c] += z->minv[c] * Dr[l][c] * x[l];
+    }
+    return 1;
+}
+
+/* Every plate wrench of a mode, from its affine patch slip u = b + W w (W, b
+ * read off mode_qdd at w = 0 and the unit wrenches): with z = E u, c = E b,
+ * K = E W E, the wrench w = -E y of y = (K + s I)^-1 c, |y| = cap, s = 1 /
+ * lam > 0 (stop_friction.h, sf_plate). Each such s is a real eigenvalue of
+ * the quadratic eigenproblem (s^2 I + s (K + K^T) + K K^T - c c^T / cap^2) v
+ * = 0 (v = (K + s I)^-T y: (K + s I)(K + s I)^T v = y = c (c^T v) / cap^2),
+ * solved as the 6 x 6 companion problem: all roots, not the first found
+ * along lam. Writes the wrenches of the roots (|y| within 1e-9 cap of cap)
+ * in order of decreasing s (the first: the fastest slip, the largest
+ * dissipation cap |z| = cap^2 s); returns their count (-1 on failure). */
+static int mode_all_plate_wrenches(const zoo_state *z, unsigned mask, const int *fm, double wr[6][3], double sr[6])
+{
+    double q0[3], u0[3], W[3][3], K[3][3], c[3], Lm[36];
+    const double *e = z->pl.e, cap = z->pl.cap;
+    int n = 0;
+    if (!mode_qdd(z, mask, fm, (const double[3]){0, 0, 0}, q0)) return -1;
+    for (int i = 0; i < 3; i++) u0[i] = z->pl.A[0][i] * q0[0] + z->pl.A[1][i] * q0[1] + z->pl.A[2][i] * q0[2];
+    for (int j = 0; j < 3; j++) {
+        double ej[3] = {0, 0, 0}, qj[3];
+        ej[j] = 1.0;
+        if (!mode_qdd(z, mask, fm, ej, qj)) return -1;
+        for (int i = 0; i < 3; i++) W[i][j] = z->pl.A[0][i] * qj[0] + z->pl.A[1][i] * qj[1] + z->pl.A[2][i] * qj[2] - u0[i];
+    }
+    for (int i = 0; i < 3; i++) {
+        c[i] = e[i] * u0[i];
+        for (int j = 0; j < 3; j++) K[i][j] = e[i] * W[i][j] * e[j];
+    }
+    memset(Lm, 0, sizeof Lm);
+    for (int i = 0; i < 3; i++) {
+        Lm[6 * i + 3 + i] = 1.0;
+        for (int j = 0; j < 3; j++) {
+            double KK = 0.0;
+            for (int l = 0; l < 3; l++) KK += K[i][l] * K[j][l];
+            Lm[6 * (3 + i) + j] = -(KK - c[i] * c[j] / (cap * cap));
+            Lm[6 * (3 + i) + 3 + j] = -(K[i][j] + K[j][i]);
+        }
+    }
+    gsl_matrix_view L = gsl_matrix_view_array(Lm, 6, 6);
+    gsl_vector_complex *ev = gsl_vector_complex_alloc(6);
+    gsl_eigen_nonsymm_workspace *ws = gsl_eigen_nonsymm_alloc(6);
+    int st = ev && ws ? gsl_eigen_nonsymm(&L.matrix, ev, ws) : -1;
+    for (int q = 0; st == 0 && q < 6; q++) {
+        gsl_complex v = gsl_vector_complex_get(ev, q);
+        double s = GSL_REAL(v), Ms[3][3], y[3], cy[3], ny;
+        if (!(s > 0.0) || fabs(GSL_IMAG(v)) > 1e-9 * s) continue;
+        /* polished by Newton steps on |y(s)| = cap, d|y|/ds = -y^T (K + s I)^-1 y / |y| */
+        int ok = 1;
+        for (int it = 0; it < 8 && ok; it++) {
+            double Ms2[3][3], yy[3], t[3], d = 0.0;
+            for (int i = 0; i < 3; i++) {
+                cy[i] = c[i];
+                for (int j = 0; j < 3; j++) Ms[i][j] = Ms2[i][j] = K[i][j] + (i == j ? s : 0.0);
+            }
+            if (!small_solve(3, Ms, cy, y)) ok = 0;
+            ny = sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
+            memcpy(yy, y, sizeof yy);
+            if (ok && !small_solve(3, Ms2, yy, t)) ok = 0;
+            for (int i = 0; i < 3; i++) d -= y[i] * t[i] / ny;
+            if (ok && d != 0.0 && it < 7) s -= (ny - cap) / d;
+        }
+        if (!ok || !(s > 0.0) || !(fabs(ny - cap) <= 1e-9 * cap)) continue;
+        int at = n++;
+        while (at > 0 && sr[at - 1] < s) {
+            sr[at] = sr[at - 1];
+            memcpy(wr[at], wr[at - 1], sizeof wr[at]);
+            at--;
+        }
+        sr[at] = s;
+        for (int i = 0; i < 3; i++) wr[at][i] = -e[i] * y[i];
+    }
+    if (ws) gsl_eigen_nonsymm_free(ws);
+    if (ev) gsl_vector_complex_free(ev);
+    return st == 0 ? n : -1;
+}
+
+/* With a sliding stop K is not symmetric and the plate's equation can have
+ * several roots, of which sf_solve_plate takes the first it brackets along
+ * lam. At the captured states above the mode that sf_solve_plate returns
+ * (10 of the 17 with a row carrying force against a sliding stop, 6 against
+ * a sticking one, 1 without a row carrying force) has exactly one root:
+ * all of them found by the quadratic eigenproblem (mode_all_plate_wrenches,
+ * GSL's nonsymmetric eigensolver: an independent method), and its wrench
+ * is sf_solve_plate's to 1e-12 cap (8e-15 here); where no row carries force
+ * the plate holds the object alone and the mode has no root. */
+EXDEX_TEST(sfric_plate_root_is_the_only_one_of_its_mode_at_captured_zoo_states)
+{
+    const int n = (int)(sizeof ZOO_STATES / sizeof ZOO_STATES[0]);
+    int nsliding = 0;
+    for (int i = 0; i < n; i++) {
+        const zoo_state *z = &ZOO_STATES[i];
+        sf_result jr;
+        double wr[6][3], sr[6];
+        unsigned mask = 0u;
+        int nroot, sliding = 0;
+        ENSURE(sf_solve_plate(z->nr, z->rows, z->ns, z->st, z->minv, z->a, &z->pl, z->tol_a, z->tol_f, &jr) == 1);
+        ENSURE(jr.lock == 0);
+        for (int r = 0; r < z->nr; r++)
+            if (jr.lam[r] > 0.0) {
+                mask |= 1u << r;
+                sliding |= jr.fm[z->rows[r].stop] == SF_SLIDE_P || jr.fm[z->rows[r].stop] == SF_SLIDE_M;
+            }
+        nroot = mode_all_plate_wrenches(z, mask, jr.fm, wr, sr);
+        nsliding += sliding;
+        if (!mask) {
+            /* no row carrying force: the plate holds the object alone, no slip */
+            ENSURE(nroot == 0);
+            continue;
+        }
+        ENSURE(nroot == 1);
+        for (int j = 0; j < 3 && nroot == 1; j++) ENSURE_CLOSE(jr.w[j], wr[0][j], 1e-12 * z->pl.cap * z->pl.e[j]);
+    }
+    ENSURE(nsliding == 10);
 }
