@@ -137,8 +137,13 @@ typedef struct sf_result {
  * PLATE_BRACKET_MAX trial points) and found by false position (Illinois), to
  * PLATE_ROOT_TOL of cap (at most PLATE_ROOT_MAX steps). With a sliding stop
  * K need not be symmetric and the equation may have several roots: the
- * first (the least lam, the fastest slip) is taken, the bracket kept before
- * any pole of z (I + lam K singular), next to which lam |z| exceeds cap. In a mode
+ * first (the least lam: the fastest slip, the largest dissipation cap |E
+ * u|) is taken, where lam |z| increases (K + I / lam with a positive
+ * definite symmetric part) by the bracket below that region's end, else
+ * from every root of the equation as the sign changes of a polynomial of
+ * degree 6 in 1 / lam (stop_friction.c, plate_root); the bracket is kept
+ * before any pole of z (I + lam K singular), next to which lam |z| exceeds
+ * cap. In a mode
  * without rows carrying force the plate may hold the object alone: qdd = 0
  * with w = -A^-1 M a where that lies inside the ellipsoid (to
  * FRICTION_BAND; as a friction step sticks), else the root. A mode with

@@ -1058,3 +1058,29 @@ EXDEX_TEST(sfric_plate_root_is_the_only_one_of_its_mode_at_captured_zoo_states)
     }
     ENSURE(nsliding == 10);
 }
+
+/* A problem where the plate's equation has several roots: one row whose
+ * stop slides (SF_SLIDE_M, mu 2.41), drawn at random (a body of 0.2 kg, the
+ * patch turned by -1.96 rad and 8.6 mm off the centre of mass); K's symmetric
+ * part has the eigenvalue -0.70 of K's largest entry, and the mode has three
+ * roots (mode_all_plate_wrenches), two of them with the row's force
+ * positive (0.89 and 0.33; the middle one -0.63). sf_solve_plate takes the
+ * one of the fastest slip and the largest dissipation, cap |z| = cap^2 / lam
+ * (73.5 against 35.2 and 2.19): the first root along lam, which lies below
+ * gam, where the doubling from gam does not look (it bracketed the third). Its
+ * right-hand side meets the contact conditions (sf_residual) to 1e-12. */
+EXDEX_TEST(sfric_plate_takes_the_root_of_largest_dissipation_among_several)
+{
+    static const zoo_state z = {0, 0, 1, 1, {{{0.9589472483556314, -0.28358451098598986, -0.006091080672422484}, -0.2529660104611294, 0}}, {{{0.28358451098598986, 0.9589472483556314, 0.04179202758201164}, -0.12831480530653094, 2.4135084450776563, SF_SLIDE_M}}, {0.0}, 1e-9, {5.0, 5.0, 45092.29663164528}, {1.9244838576808985, -4.009587912039275, 0.0}, {{{-0.38020424479558756, 0.9249025528343063, 0.0}, {-0.9249025528343063, -0.38020424479558756, 0.0}, {0.002249927433175185, -0.008277129338145832, 1.0}}, {1.0, 1.0, 0.009835985061916675}, 3.8484127780484068}, 1e-12, 1e-15};
+    const int fm[1] = {SF_SLIDE_M};
+    const sfr_problem p = {z.nr, z.ns, z.rows, z.st, z.s, z.zsw, z.minv, z.a, &z.pl};
+    sf_result jr, q;
+    double wr[6][3], sr[6], w[3];
+    ENSURE(mode_all_plate_wrenches(&z, 1u, fm, wr, sr) == 3);
+    ENSURE(sr[0] > 1.5 * sr[1] && sr[1] > 1.5 * sr[2]);
+    ENSURE(sf_solve_plate(z.nr, z.rows, z.ns, z.st, z.minv, z.a, &z.pl, z.tol_a, z.tol_f, &jr) == 1);
+    ENSURE(jr.lock == 0 && jr.lam[0] > 0.0);
+    for (int j = 0; j < 3; j++) ENSURE_CLOSE(jr.w[j], wr[0][j], 1e-12 * z.pl.cap * z.pl.e[j]);
+    ENSURE(rhs_joint(&z, &q, w) == 1);
+    ENSURE(sf_residual(&p, q.qdd, q.lam, q.beta, w, NULL) <= 1e-12);
+}
