@@ -12,9 +12,12 @@ is the SHA-256 of its outputs t, q, v, wrench and stick (their bytes, in that
 order) or of its error message; it prints the number of runs, the digest of
 all of them together and, with ``--compare``, every run whose digest differs
 from the file's, with the largest difference of q over the run relative to
-the scene's length L (and of v relative to L / tau). ``--out`` writes one
-record per run (source, seed, method, digest, error, L, tau, q and v)
-as JSON.
+the scene's length L (and of v relative to L / tau) and the largest
+distance of the pose over the run (zoo.pose_distance: max(|dx|, |dy|,
+radius |dtheta|) / L, so an angle counts as the displacement of the
+outline's farthest vertex; q / L divides an angle in rad by a length, which
+overstates a turn by 1 / radius). ``--out`` writes one record per run
+(source, seed, method, digest, error, L, tau, radius, q, v and pose) as JSON.
 """
 from __future__ import annotations
 
@@ -48,15 +51,15 @@ def one(job):
     """Run one (source, seed, method); a plain dict for the parent."""
     source, seed, method = job
     warnings.simplefilter("ignore")
-    rec = dict(source=source, seed=seed, method=method, error=None, q=None, v=None)
+    rec = dict(source=source, seed=seed, method=method, error=None, q=None, v=None, pose=None)
     h = hashlib.sha256()
     try:
         zs = scene_of(source, seed)
-        rec.update(L=zs.L, tau=zs.tau)
+        rec.update(L=zs.L, tau=zs.tau, radius=zs.radius)
         res = zoo.run(zs, method)
         for a in (res.t, res.q, res.v, res.wrench, res.stick):
             h.update(np.ascontiguousarray(a).tobytes())
-        rec.update(q=np.asarray(res.q).tolist(), v=np.asarray(res.v).tolist())
+        rec.update(q=np.asarray(res.q).tolist(), v=np.asarray(res.v).tolist(), pose=np.asarray(res.pose).tolist())
     except Exception as e:  # noqa: BLE001 - an error is a result too
         rec["error"] = f"{type(e).__name__}: {e}"
         h.update(rec["error"].encode())
@@ -76,6 +79,20 @@ def largest(a, b, scale):
     if a.shape != b.shape:
         return float("inf")
     return float(np.max(np.abs(a - b))) / scale if a.size else 0.0
+
+
+def largest_pose(a, b, L, radius):
+    """Largest pose distance over the run, max(|dx|, |dy|, radius |dtheta|) / L
+    (nan without poses, inf when the shapes differ)."""
+    if a is None or b is None or radius is None:
+        return float("nan")
+    a, b = np.asarray(a), np.asarray(b)
+    if a.shape != b.shape:
+        return float("inf")
+    if not a.size:
+        return 0.0
+    d = np.abs(a - b)
+    return float(max(d[:, 0].max(), d[:, 1].max(), radius * d[:, 2].max())) / L
 
 
 def main(argv=None):
@@ -109,8 +126,10 @@ def main(argv=None):
             o = old[key(r)]
             dq = largest(o["q"], r["q"], r.get("L", 1.0))
             dv = largest(o["v"], r["v"], r.get("L", 1.0) / r.get("tau", 1.0))
+            dp = largest_pose(o.get("pose"), r.get("pose"), r.get("L", 1.0), r.get("radius"))
             err = "" if o["error"] == r["error"] else f"  error {o['error']!r} -> {r['error']!r}"
-            print(f"  {r['source']:10s} {r['seed']:5d} {r['method']:11s} max|dq|/L {dq:.3g}  max|dv|/(L/tau) {dv:.3g}{err}")
+            print(f"  {r['source']:10s} {r['seed']:5d} {r['method']:11s} max|dq|/L {dq:.3g}  "
+                  f"max|dv|/(L/tau) {dv:.3g}  max pose/L {dp:.3g}{err}")
     return 0
 
 

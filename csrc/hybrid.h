@@ -52,8 +52,10 @@
  *   scale-free and below any tolerance of the stepper):
  *     small slip (it grows from rest): the friction is the maximum-
  *       dissipation wrench of the current load for an infinitesimal step
- *       (against stops: the fixed point of that law on the constrained
- *       acceleration). The sliding law's direction E u / |E u| relaxes onto
+ *       (against stops: that law on the constrained acceleration, the plate
+ *       one more contact of the stops' problem, stop_friction.h's sf_plate,
+ *       with frictional stops and the ellipsoid; else the fixed point of
+ *       the law). The sliding law's direction E u / |E u| relaxes onto
  *       it at the rate C |K| / |E u| (K = E W E), infinitely stiff at the
  *       start of a slip; the slip follows it to |E u| |dn/dt| / (C |K|) (n
  *       that direction). Guards: the load leaves the ellipsoid's outside

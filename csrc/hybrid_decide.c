@@ -172,23 +172,29 @@ static int sf_solve_rolling(hyb *H, const frame *f, const exdex_kinematics *kin,
     return hyb_sf_solve_at(H, kin, y, a, res);
 }
 
-/* T9 in a small slip: its plate friction is found together with the stop
- * forces (hyb_planar_friction's fixed point), so it depends on the stops'
- * modes, and a consistent mode is a fixed point of modes -> plate friction
- * -> the problem's modes. The rolling groups' modes (at most 3 of them) are
- * searched in stop_friction.h's order (per group stick, slide +, slide -,
- * the first group fastest) and the first that the problem decides again
- * from its own plate friction is kept (the guards then start from a
- * consistent mode). None (a lock's plate friction, with its stops given,
- * against the roll decision that tries locks last, stop_friction.h; or more
- * than 3 rolling groups): the modes the problem finds with every group
- * rolling, on the plate friction of that same problem. Returns as
- * sf_solve_rolling. */
+/* T9 in a small slip: its plate friction is the maximum-dissipation wrench
+ * of the constrained slip acceleration, so it depends on the stop forces
+ * and their modes. With the ellipsoid the plate is one more contact of the
+ * problem, solved jointly with the stop rows (hyb_sf_solve_plate, every
+ * group rolling): the first mode in stop_friction.h's order that is
+ * consistent at its own plate wrench. With the exact surface (not an
+ * sf_plate) a consistent mode is a fixed point of modes -> plate friction
+ * (hyb_planar_friction's iteration) -> the problem's modes: the rolling
+ * groups' modes (at most 3 of them) are searched in stop_friction.h's order
+ * (per group stick, slide +, slide -, the first group fastest) and the
+ * first that the problem decides again from its own plate friction is
+ * kept; none (or more than 3 rolling groups): the modes the problem finds
+ * with every group rolling, on the plate friction of that same problem.
+ * Returns as sf_solve_rolling. */
 static int sf_small_slip_modes(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y,
                                const sf_set *S, sf_result *res)
 {
     static const int cand[3] = {SF_STICK, SF_SLIDE_P, SF_SLIDE_M};
     int roll[SF_MAX_STOPS], nroll = 0, ncand = 1;
+    if (!H->m->ls_exact) {
+        for (int k = 0; k < S->ng; k++) H->fm[k] = SF_ROLL;
+        return hyb_sf_solve_plate(H, f, kin, y, res);
+    }
     for (int k = 0; k < S->ng; k++)
         if (S->has[k] && S->st[k].mu > 0.0 && S->st[k].fm == SF_ROLL) roll[nroll++] = k;
     for (int i = 0; i < nroll && nroll <= 3; i++) ncand *= 3;
@@ -310,8 +316,10 @@ static void sf_decide(hyb *H, double t, double *y)
  *      zsw sticks); else stop_friction.h's first consistent mode in its
  *      fixed order (every row carrying force first, stick before slide,
  *      locks last); in a small slip, whose plate friction depends on the
- *      stop modes, the modes that the problem decides again on their own
- *      plate friction (sf_small_slip_modes); none: the stops
+ *      stop forces, the plate is one more contact of that problem, solved
+ *      jointly with the stop rows: the first mode in that order consistent
+ *      at its own plate wrench (with the exact surface, a search of the
+ *      modes' fixed points; sf_small_slip_modes); none: the stops
  *      frictionless, a warning. */
 
 /* T1: a load of gauge g (in the units of H->caps) sticks. */

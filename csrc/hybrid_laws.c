@@ -680,6 +680,18 @@ static int planar_friction_cs(hyb *H, const frame *f, const exdex_kinematics *ki
             st = limitsurf_step(&m->ls, model_prep(m), b, H->cap, EXDEX_SOLVER_SCALAR, NULL, NULL, &res);
             if (st) return st;
             memcpy(w, res.p, 3 * sizeof *w);
+            if (H->ncs && kin && H->sfric && !m->ls_exact) {
+                /* against frictional stops (the ellipsoid): the plate as one
+                 * more contact of their problem on the current modes, solved
+                 * jointly (hyb_sf_solve_plate), as the decision chose them;
+                 * where those modes have no joint solution (a mode at its
+                 * end, which its guard locates) the iteration below */
+                sf_result jr;
+                if (hyb_sf_solve_plate(H, f, kin, y, &jr)) {
+                    memcpy(w, jr.w, 3 * sizeof *w);
+                    return EXDEX_OK;
+                }
+            }
             if (H->ncs && kin) {
                 /* against stops the slip starts along the constrained
                  * acceleration: the friction and the stop forces are

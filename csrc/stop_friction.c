@@ -91,41 +91,212 @@ static int plate_h(const double Kh[3][3], const double ch[3], double mu, double 
     return isfinite(*h);
 }
 
-/* The root mu > 0 of h (plate_h; h(0) = -gam < 0), z at it: bracketed by
- * doubling from gam, then false position with the Illinois halving (the
- * end that stays has its value halved), to |h| <= PLATE_ROOT_TOL gam.
- * Returns 0 when no bracket is found within PLATE_BRACKET_MAX doublings
- * (no slip) or the steps run out. */
-static int plate_root(const double Kh[3][3], const double ch[3], double gam, double z[3])
+/* The least eigenvalue of the symmetric part of K (closed form: the
+ * trigonometric solution of its characteristic cubic). */
+static double sym_min_eig(const double K[3][3])
 {
-    double lo = 0.0, hlo = -gam, hi = gam, hhi, mu, h;
+    double S[3][3], q, p1, p2, p, B[3][3], r, phi;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) S[i][j] = 0.5 * (K[i][j] + K[j][i]);
+    p1 = S[0][1] * S[0][1] + S[0][2] * S[0][2] + S[1][2] * S[1][2];
+    q = (S[0][0] + S[1][1] + S[2][2]) / 3.0;
+    p2 = (S[0][0] - q) * (S[0][0] - q) + (S[1][1] - q) * (S[1][1] - q) + (S[2][2] - q) * (S[2][2] - q) + 2.0 * p1;
+    p = sqrt(p2 / 6.0);
+    if (!(p > 0.0)) return q;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) B[i][j] = (S[i][j] - (i == j ? q : 0.0)) / p;
+    r = 0.5 * (B[0][0] * (B[1][1] * B[2][2] - B[1][2] * B[2][1]) - B[0][1] * (B[1][0] * B[2][2] - B[1][2] * B[2][0]) +
+               B[0][2] * (B[1][0] * B[2][1] - B[1][1] * B[2][0]));
+    phi = acos(fmax(-1.0, fmin(1.0, r))) / 3.0;
+    return q + 2.0 * p * cos(phi + acos(-0.5)); /* phi + 2 pi / 3 */
+}
+
+/* False position with the Illinois halving (the end that stays has its
+ * value halved) on a bracket lo < hi of h (hlo < 0 < hhi), to |h| <=
+ * PLATE_ROOT_TOL gam or a bracket within PLATE_ROOT_TOL of mu (where the
+ * rounding of h, which grows with mu, is above the first); z and *mu at the
+ * root. Returns 0 when the steps run out or h cannot be evaluated. */
+static int plate_refine(const double Kh[3][3], const double ch[3], double gam, double lo, double hlo, double hi,
+                        double hhi, double z[3], double *mu)
+{
     int side = 0;
-    if (!plate_h(Kh, ch, hi, gam, &hhi, z)) return 0;
-    for (int n = 0; !(hhi > 0.0); n++) {
-        if (n >= PLATE_BRACKET_MAX) return 0;
-        lo = hi;
-        hlo = hhi;
-        hi *= 2.0;
-        if (!plate_h(Kh, ch, hi, gam, &hhi, z)) return 0;
-    }
+    double h;
     for (int it = 0; it < PLATE_ROOT_MAX; it++) {
-        mu = (lo * hhi - hi * hlo) / (hhi - hlo);
-        if (!(mu > lo && mu < hi)) mu = 0.5 * (lo + hi);
-        if (!plate_h(Kh, ch, mu, gam, &h, z)) return 0;
-        if (fabs(h) <= PLATE_ROOT_TOL * gam) return 1;
+        *mu = (lo * hhi - hi * hlo) / (hhi - hlo);
+        if (!(*mu > lo && *mu < hi)) *mu = 0.5 * (lo + hi);
+        if (!plate_h(Kh, ch, *mu, gam, &h, z)) return 0;
+        if (fabs(h) <= PLATE_ROOT_TOL * gam || hi - lo <= PLATE_ROOT_TOL * hi) return 1;
         if (h < 0.0) {
-            lo = mu;
+            lo = *mu;
             hlo = h;
             if (side < 0) hhi *= 0.5;
             side = -1;
         } else {
-            hi = mu;
+            hi = *mu;
             hhi = h;
             if (side > 0) hlo *= 0.5;
             side = 1;
         }
     }
     return 0;
+}
+
+/* p(x) for the coefficients p[0 .. n]. */
+static double poly_at(const double *p, int n, double x)
+{
+    double v = p[n];
+    for (int i = n - 1; i >= 0; i--) v = v * x + p[i];
+    return v;
+}
+
+/* The roots of p (degree n, 1 <= n <= 6, p[n] != 0) in (lo, hi), ascending:
+ * p is monotone between consecutive roots of its derivative, which are found
+ * in turn the same way (from the linear derivative up), so each of those
+ * intervals holds at most one root, located by bisection on its sign change
+ * (PLATE_POLY_BISECT steps at most; a root of even multiplicity, without a
+ * sign change, is not returned). Returns their count. */
+static int poly_roots(const double *p, int n, double lo, double hi, double r[6])
+{
+    double d[7][7], x[8], y[6];
+    int nx, ny = 0;
+    for (int i = 0; i <= n; i++) d[0][i] = p[i];
+    for (int k = 1; k < n; k++)
+        for (int i = 0; i <= n - k; i++) d[k][i] = (i + 1) * d[k - 1][i + 1];
+    {
+        double t = -d[n - 1][0] / d[n - 1][1];
+        if (t > lo && t < hi) y[ny++] = t;
+    }
+    for (int k = n - 2; k >= 0; k--) {
+        nx = 0;
+        x[nx++] = lo;
+        for (int i = 0; i < ny; i++) x[nx++] = y[i];
+        x[nx++] = hi;
+        ny = 0;
+        for (int i = 0; i + 1 < nx; i++) {
+            double a = x[i], b = x[i + 1], fa = poly_at(d[k], n - k, a), fb = poly_at(d[k], n - k, b);
+            if ((fa < 0.0) == (fb < 0.0)) continue;
+            for (int it = 0; it < PLATE_POLY_BISECT; it++) {
+                double m = 0.5 * (a + b), fm;
+                if (!(m > a && m < b)) break;
+                fm = poly_at(d[k], n - k, m);
+                if ((fm < 0.0) == (fa < 0.0)) {
+                    a = m;
+                    fa = fm;
+                } else {
+                    b = m;
+                }
+            }
+            y[ny++] = 0.5 * (a + b);
+        }
+    }
+    for (int i = 0; i < ny; i++) r[i] = y[i];
+    return ny;
+}
+
+/* The degree-6 polynomial P(s) = |adj(Kh + s I) ch|^2 - gam^2 det(Kh + s I)^2,
+ * whose positive roots away from the poles of z (det = 0) are the roots of
+ * h at mu = 1 / s (h(mu) = |y(s)| - gam, y = (Kh + s I)^-1 ch, and P =
+ * det^2 (|y|^2 - gam^2): of h's sign). */
+static void plate_poly(const double Kh[3][3], const double ch[3], double gam, double P[7])
+{
+    double m[3][3][2], C[3][3][3], v[3][3] = {{0}}, det[4] = {0, 0, 0, 0};
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            m[i][j][0] = Kh[i][j];
+            m[i][j][1] = i == j ? 1.0 : 0.0;
+        }
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            int r1 = i == 0 ? 1 : 0, r2 = i == 2 ? 1 : 2, c1 = j == 0 ? 1 : 0, c2 = j == 2 ? 1 : 2;
+            double sg = (i + j) % 2 ? -1.0 : 1.0;
+            const double *a = m[r1][c1], *b = m[r2][c2], *c = m[r1][c2], *e = m[r2][c1];
+            C[i][j][0] = sg * (a[0] * b[0] - c[0] * e[0]);
+            C[i][j][1] = sg * (a[0] * b[1] + a[1] * b[0] - c[0] * e[1] - c[1] * e[0]);
+            C[i][j][2] = sg * (a[1] * b[1] - c[1] * e[1]);
+        }
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            for (int q = 0; q < 3; q++) v[i][q] += C[j][i][q] * ch[j];
+    for (int j = 0; j < 3; j++)
+        for (int q = 0; q < 3; q++) {
+            det[q] += m[0][j][0] * C[0][j][q];
+            det[q + 1] += m[0][j][1] * C[0][j][q];
+        }
+    for (int q = 0; q < 7; q++) P[q] = 0.0;
+    for (int i = 0; i < 3; i++)
+        for (int a = 0; a < 3; a++)
+            for (int b = 0; b < 3; b++) P[a + b] += v[i][a] * v[i][b];
+    for (int a = 0; a < 4; a++)
+        for (int b = 0; b < 4; b++) P[a + b] -= gam * gam * det[a] * det[b];
+}
+
+/* The first root mu > 0 of h (plate_h; h(0) = -gam < 0), the least mu (the
+ * fastest slip, the largest dissipation cap |z| = cap gam / mu), z at it.
+ * With y(s) = (Kh + s I)^-1 ch, s = 1 / mu: h(mu) = |y(s)| - gam and d|y|^2
+ * / ds = -2 v^T (Ks + s I) v for v = (Kh + s I)^-1 y, Ks the symmetric part
+ * of Kh. For s above s0 = -(Ks's least eigenvalue) Kh + s I has no pole and
+ * h increases strictly in mu: on (0, 1 / s0) h has at most one root, the
+ * least of all. Where s0 <= 0 (Ks positive semidefinite, as for every
+ * symmetric K of stop_friction.h's modes) h increases on all mu > 0 and
+ * its one root lies at or above gam (|z| <= |ch| = 1). The root is
+ * bracketed by doubling from gam; where z has a pole at the trial point (I
+ * + mu Kh singular: only without symmetry) the point moves halfway back to
+ * the last one below 0 (|z| grows without bound at a pole, so h > 0 next
+ * to it: a root lies before it). That root is the least where s0 <= 0 or
+ * it lies below 1 / s0. Else, where h(1 / s0) > 0, the least root is
+ * bracketed by (0, 1 / s0). Else (s0 > 0, no root below 1 / s0) the roots
+ * lie at s in (0, s0), where h need not be monotone and may be several
+ * (also below gam, where the doubling does not look): every one is a sign
+ * change of plate_poly on (0, s0) (poly_roots), and the one of the largest
+ * s, where the doubling went past it (its mu below the doubling's by the
+ * factor PLATE_ROOT_SEP), is bracketed around it (1e-9 .. 1e-2 of s either
+ * side, where h changes sign) and taken instead. Each bracket is refined by
+ * plate_refine. Returns 0 when no root is found (none by the doubling
+ * within PLATE_BRACKET_MAX trial points nor from the polynomial: no slip)
+ * or the steps run out. */
+static int plate_root(const double Kh[3][3], const double ch[3], double gam, double z[3])
+{
+    double lo = 0.0, hlo = -gam, hi = gam, hhi = 0.0, mu = 0.0, s0 = -sym_min_eig(Kh), P[7], sr[6], zt[3], ht;
+    int ok = 0, nr;
+    for (int n = 0; n < PLATE_BRACKET_MAX; n++) {
+        if (!plate_h(Kh, ch, hi, gam, &hhi, z)) {
+            hi = lo + 0.5 * (hi - lo);
+            continue;
+        }
+        if (hhi > 0.0) {
+            ok = plate_refine(Kh, ch, gam, lo, hlo, hi, hhi, z, &mu);
+            break;
+        }
+        lo = hi;
+        hlo = hhi;
+        hi *= 2.0;
+    }
+    /* proven the least: h increases on all mu > 0, or the root lies where it does */
+    if (!(s0 > 0.0) || (ok && mu * s0 < 1.0)) return ok;
+    /* a root below 1 / s0, which the doubling went past: the least */
+    if (plate_h(Kh, ch, 1.0 / s0, gam, &ht, zt) && ht > 0.0) {
+        double mr;
+        if (!plate_refine(Kh, ch, gam, 0.0, -gam, 1.0 / s0, ht, zt, &mr)) return ok;
+        memcpy(z, zt, sizeof zt);
+        return 1;
+    }
+    /* every root at s = 1 / mu in (0, s0): the largest s, if the doubling
+     * went past it */
+    plate_poly(Kh, ch, gam, P);
+    if (!(P[6] != 0.0) || !ex_finite_n(P, 7)) return ok;
+    nr = poly_roots(P, 6, 0.0, s0, sr);
+    if (nr == 0 || (ok && !(1.0 / sr[nr - 1] < mu * (1.0 - PLATE_ROOT_SEP)))) return ok;
+    for (double d = 1e-9; d <= 1e-2; d *= 16.0) {
+        double zl[3], zh[3], ml = 1.0 / (sr[nr - 1] * (1.0 + d)), mh = 1.0 / (sr[nr - 1] * (1.0 - d)), hl, hh, mr;
+        if (!plate_h(Kh, ch, ml, gam, &hl, zl) || !plate_h(Kh, ch, mh, gam, &hh, zh)) continue;
+        if (!(hl < 0.0 && hh > 0.0)) continue;
+        if (plate_refine(Kh, ch, gam, ml, hl, mh, hh, zt, &mr)) {
+            memcpy(z, zt, sizeof zt);
+            return 1;
+        }
+        break;
+    }
+    return ok;
 }
 
 /* The plate's wrench w of a mode whose patch slip is u = b + W w
@@ -161,6 +332,21 @@ static int plate_wrench(const sf_plate *pl, const double b[3], const double W[3]
     if (!(nz > 0.0)) return 0;
     for (int i = 0; i < 3; i++) w[i] = -pl->cap * pl->e[i] * z[i] / nz;
     return ex_finite_n(w, 3);
+}
+
+/* The plate alone holds the object (qdd = 0, no row carrying force): w = -A^-1
+ * M a, inside the ellipsoid, |E^-1 w| <= cap (1 + FRICTION_BAND). Returns 1
+ * with w written if it does. */
+static int plate_holds(const sf_plate *pl, const double minv[3], const double a[3], double w[3])
+{
+    double A[3][3], b[3], g = 0.0;
+    for (int c = 0; c < 3; c++) {
+        for (int j = 0; j < 3; j++) A[c][j] = pl->A[c][j];
+        b[c] = -a[c] / minv[c];
+    }
+    if (!ldp_solve_small(3, A, b, w)) return 0;
+    for (int j = 0; j < 3; j++) g += (w[j] / pl->e[j]) * (w[j] / pl->e[j]);
+    return sqrt(g) <= pl->cap * (1.0 + FRICTION_BAND);
 }
 
 /* a + M^-1 A w: the acceleration without the stops with the plate's wrench w. */
@@ -377,7 +563,7 @@ static int solve_mode(int nr, const sf_row *rows, int ns, const sf_stop *st, con
             bu[i] = pl->A[0][i] * q0[0] + pl->A[1][i] * q0[1] + pl->A[2][i] * q0[2];
             for (int j = 0; j < 3; j++) Wu[i][j] = pl->A[0][i] * N[0][j] + pl->A[1][i] * N[1][j] + pl->A[2][i] * N[2][j];
         }
-        if (!plate_wrench(pl, bu, (const double (*)[3])Wu, w)) return 0;
+        if (!(k == 0 && plate_holds(pl, minv, a, w)) && !plate_wrench(pl, bu, (const double (*)[3])Wu, w)) return 0;
         for (int l = 0; l < k; l++) x[l] += X[l][0] * w[0] + X[l][1] * w[1] + X[l][2] * w[2];
         plate_acc(pl, minv, a_in, w, a);
         memcpy(r->w, w, sizeof w);

@@ -133,13 +133,23 @@ typedef struct sf_result {
  * mode carrying force is frictionless or sticks, W is A^T M^-1/2 P M^-1/2 A
  * with P the projection off the mode's constraints: K is symmetric
  * positive semidefinite, lam |z(lam)| increases strictly from 0, and the
- * root is unique; it is bracketed by doubling lam from 0 (at most
- * PLATE_BRACKET_MAX times) and found by false position (Illinois), to
+ * root is unique; it is bracketed by doubling lam (at most
+ * PLATE_BRACKET_MAX trial points) and found by false position (Illinois), to
  * PLATE_ROOT_TOL of cap (at most PLATE_ROOT_MAX steps). With a sliding stop
- * K need not be symmetric: the root of the first bracket is taken, and a
- * pole of z (I + lam K singular) on the way is no solution. A mode with no
- * root (the load held at u = 0: no slip, which a small slip excludes) is
- * not consistent. A lock's qdd is fixed by its constraints: the plate's
+ * K need not be symmetric and the equation may have several roots: the
+ * first (the least lam: the fastest slip, the largest dissipation cap |E
+ * u|) is taken, where lam |z| increases (K + I / lam with a positive
+ * definite symmetric part) by the bracket below that region's end, else
+ * from every root of the equation as the sign changes of a polynomial of
+ * degree 6 in 1 / lam (stop_friction.c, plate_root); the bracket is kept
+ * before any pole of z (I + lam K singular), next to which lam |z| exceeds
+ * cap. In a mode
+ * without rows carrying force the plate may hold the object alone: qdd = 0
+ * with w = -A^-1 M a where that lies inside the ellipsoid (to
+ * FRICTION_BAND; as a friction step sticks), else the root. A mode with
+ * rows carrying force and no root (the plate would hold the object, qdd =
+ * 0, at rows whose constraints then fix it at rest: a rest on them, not a
+ * small slip) is not consistent. A lock's qdd is fixed by its constraints: the plate's
  * wrench is then that of u = A^T qdd (none for u = 0), and its stop forces
  * the lock's. The mode's signs are checked as in sf_solve, at the joint
  * solution; res->w gets the plate's wrench. */

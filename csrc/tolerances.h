@@ -44,9 +44,12 @@
 /* ------------------------------------------------ stop friction (stop_friction.h) */
 #define SF_LOCK_RANK 1e-9  /* a lock's constraints (unit rows, M^-1/2 metric) and generators span R^3 above this volume */
 
-#define PLATE_BRACKET_MAX 64 /* sf_solve_plate: doublings of the plate's multiplier to bracket its root ... */
+#define PLATE_BRACKET_MAX 128 /* sf_solve_plate: trial points (doublings, halvings back from a pole) of the
+                                 plate's multiplier to bracket its root ... */
 #define PLATE_ROOT_MAX 100    /* ... false-position steps on the bracket ... */
-#define PLATE_ROOT_TOL 1e-13  /* ... until lam |z(lam)| is within this x cap of cap */
+#define PLATE_ROOT_TOL 1e-13  /* ... until lam |z(lam)| is within this x cap of cap, or lam within this of itself */
+#define PLATE_POLY_BISECT 200 /* ... bisection steps per root of the polynomial that counts every root ... */
+#define PLATE_ROOT_SEP 1e-6  /* ... whose least lam replaces the doubling's root when below it by this factor */
 
 /* ------------------------------------------------ hybrid methods: budgets
  * (hybrid.h, "Budgets": a run that would exceed one returns EXDEX_ENOCONV) */
