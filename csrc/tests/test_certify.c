@@ -181,6 +181,59 @@ static double urand(double lo, double hi)
     return lo + (hi - lo) * (double)(lcg >> 11) / 9007199254740992.0;
 }
 
+/* The random motions of the block proofs' tests: a shake along the scene's
+ * axis (half or whole cycles: no jump), a log of a constant orientation at
+ * uneven sample times (positions a random walk) or a chain (a whole-cycle
+ * shake, a pause, Eq. 7), amplitude amp, frequency f; the log and the
+ * chain use the caller's buffers. */
+enum { RANDOM_SHAKE, RANDOM_LOG, RANDOM_CHAIN };
+static void random_motion(exdex_scene_def *d, int kind, double amp, double f, double times[12], double poses[12 * 7],
+                          exdex_motion_def pc[3])
+{
+    if (kind == RANDOM_SHAKE) {
+        d->motion.kind = EXDEX_MOTION_SHAKE;
+        d->motion.amplitude = amp;
+        d->motion.frequency = f;
+        d->motion.duration = 0.5 * floor(urand(1.0, 6.0)) / f;   /* whole or half cycles: no jump */
+        d->motion.allow_jump = 0;
+    } else if (kind == RANDOM_LOG) {
+        double t = 0.0;
+        for (int i = 0; i < 12; i++) {
+            times[i] = t;
+            t += urand(0.03, 0.1);
+            for (int c = 0; c < 3; c++) poses[7 * i + c] = i == 0 ? 0.0 : poses[7 * (i - 1) + c] + urand(-0.003, 0.003);
+            poses[7 * i + 3] = 1.0;
+            poses[7 * i + 4] = poses[7 * i + 5] = poses[7 * i + 6] = 0.0;
+        }
+        d->motion.kind = EXDEX_MOTION_SAMPLED;
+        d->motion.n_samples = 12;
+        d->motion.times = times;
+        d->motion.poses = poses;
+        d->motion.relative = 1;
+    } else {
+        exdex_motion_def c0 = d->motion;
+        memset(pc, 0, 3 * sizeof *pc);
+        pc[0].kind = EXDEX_MOTION_SHAKE;
+        memcpy(pc[0].axis, c0.axis, sizeof c0.axis);
+        pc[0].amplitude = amp;
+        pc[0].frequency = f;
+        pc[0].duration = 2.0 / f;
+        pc[1].kind = EXDEX_MOTION_REST;
+        pc[1].axis[0] = 1.0;
+        pc[1].duration = 0.1;
+        pc[2].kind = EXDEX_MOTION_ASYMMETRIC;
+        memcpy(pc[2].axis, c0.axis, sizeof c0.axis);
+        pc[2].amplitude = 10.0 * amp;
+        pc[2].duration = 0.2;
+        pc[2].beta = 0.6;
+        memset(&d->motion, 0, sizeof d->motion);
+        d->motion.kind = EXDEX_MOTION_CHAIN;
+        d->motion.axis[0] = 1.0;
+        d->motion.n_pieces = 3;
+        d->motion.pieces = pc;
+    }
+}
+
 EXDEX_TEST(certify_proofs_shakes_logs_chains)
 {
     static double times[12], poses[12 * 7];
@@ -197,11 +250,7 @@ EXDEX_TEST(certify_proofs_shakes_logs_chains)
         d.motion.axis[2] = urand(-1, 1);
         if (kind == 0 || kind == 1) {
             /* a shake translating, or turning about the plate normal (A -y) */
-            d.motion.kind = EXDEX_MOTION_SHAKE;
-            d.motion.amplitude = kind ? 40.0 * amp : amp;
-            d.motion.frequency = f;
-            d.motion.duration = 0.5 * floor(urand(1.0, 6.0)) / f;   /* whole or half cycles: no jump */
-            d.motion.allow_jump = 0;
+            random_motion(&d, RANDOM_SHAKE, kind ? 40.0 * amp : amp, f, times, poses, pc);
             if (kind == 1) {
                 /* near the turning threshold at rest: the turn's inertial moment decides */
                 d.patch_center[0] = urand(0.8, 0.99) * 0.0076520 * sqrt(ratio * ratio - 1.0);
@@ -210,43 +259,8 @@ EXDEX_TEST(certify_proofs_shakes_logs_chains)
                 d.motion.axis[1] = -1.0;
                 d.motion.center[0] = urand(-0.08, 0.08);
             }
-        } else if (kind == 2) {
-            /* a log of a constant orientation, uneven sample times */
-            double t = 0.0;
-            for (int i = 0; i < 12; i++) {
-                times[i] = t;
-                t += urand(0.03, 0.1);
-                for (int c = 0; c < 3; c++) poses[7 * i + c] = i == 0 ? 0.0 : poses[7 * (i - 1) + c] + urand(-0.003, 0.003);
-                poses[7 * i + 3] = 1.0;
-                poses[7 * i + 4] = poses[7 * i + 5] = poses[7 * i + 6] = 0.0;
-            }
-            d.motion.kind = EXDEX_MOTION_SAMPLED;
-            d.motion.n_samples = 12;
-            d.motion.times = times;
-            d.motion.poses = poses;
-            d.motion.relative = 1;
         } else {
-            /* a chain: a whole-cycle shake, a pause, Eq. 7 */
-            exdex_motion_def c0 = d.motion;
-            memset(pc, 0, sizeof pc);
-            pc[0].kind = EXDEX_MOTION_SHAKE;
-            memcpy(pc[0].axis, c0.axis, sizeof c0.axis);
-            pc[0].amplitude = amp;
-            pc[0].frequency = f;
-            pc[0].duration = 2.0 / f;
-            pc[1].kind = EXDEX_MOTION_REST;
-            pc[1].axis[0] = 1.0;
-            pc[1].duration = 0.1;
-            pc[2].kind = EXDEX_MOTION_ASYMMETRIC;
-            memcpy(pc[2].axis, c0.axis, sizeof c0.axis);
-            pc[2].amplitude = 10.0 * amp;
-            pc[2].duration = 0.2;
-            pc[2].beta = 0.6;
-            memset(&d.motion, 0, sizeof d.motion);
-            d.motion.kind = EXDEX_MOTION_CHAIN;
-            d.motion.axis[0] = 1.0;
-            d.motion.n_pieces = 3;
-            d.motion.pieces = pc;
+            random_motion(&d, kind == 2 ? RANDOM_LOG : RANDOM_CHAIN, amp, f, times, poses, pc);
         }
         if (s % 5 == 4) {
             d.grip_n = 4;
@@ -294,11 +308,7 @@ EXDEX_TEST(certify_proofs_rotation_blocks)
         d.motion.axis[2] = urand(-1, 1);
         if (kind == 0 || kind == 3) {
             /* a translating shake */
-            d.motion.kind = EXDEX_MOTION_SHAKE;
-            d.motion.amplitude = amp;
-            d.motion.frequency = f;
-            d.motion.duration = 0.5 * floor(urand(1.0, 6.0)) / f;
-            d.motion.allow_jump = 0;
+            random_motion(&d, RANDOM_SHAKE, amp, f, times, poses, pc);
             if (kind == 3) {
                 /* spun, gravity and the shake along the plate normal (A y) */
                 d.gravity[2] = 0.0;
@@ -348,43 +358,8 @@ EXDEX_TEST(certify_proofs_rotation_blocks)
                     d.motion.pieces = pc;
                 }
             }
-        } else if (kind == 1) {
-            /* a log of a constant orientation, uneven sample times */
-            double t = 0.0;
-            for (int i = 0; i < 12; i++) {
-                times[i] = t;
-                t += urand(0.03, 0.1);
-                for (int c = 0; c < 3; c++) poses[7 * i + c] = i == 0 ? 0.0 : poses[7 * (i - 1) + c] + urand(-0.003, 0.003);
-                poses[7 * i + 3] = 1.0;
-                poses[7 * i + 4] = poses[7 * i + 5] = poses[7 * i + 6] = 0.0;
-            }
-            d.motion.kind = EXDEX_MOTION_SAMPLED;
-            d.motion.n_samples = 12;
-            d.motion.times = times;
-            d.motion.poses = poses;
-            d.motion.relative = 1;
         } else {
-            /* a chain: a whole-cycle shake, a pause, Eq. 7 */
-            exdex_motion_def c0 = d.motion;
-            memset(pc, 0, sizeof pc);
-            pc[0].kind = EXDEX_MOTION_SHAKE;
-            memcpy(pc[0].axis, c0.axis, sizeof c0.axis);
-            pc[0].amplitude = amp;
-            pc[0].frequency = f;
-            pc[0].duration = 2.0 / f;
-            pc[1].kind = EXDEX_MOTION_REST;
-            pc[1].axis[0] = 1.0;
-            pc[1].duration = 0.1;
-            pc[2].kind = EXDEX_MOTION_ASYMMETRIC;
-            memcpy(pc[2].axis, c0.axis, sizeof c0.axis);
-            pc[2].amplitude = 10.0 * amp;
-            pc[2].duration = 0.2;
-            pc[2].beta = 0.6;
-            memset(&d.motion, 0, sizeof d.motion);
-            d.motion.kind = EXDEX_MOTION_CHAIN;
-            d.motion.axis[0] = 1.0;
-            d.motion.n_pieces = 3;
-            d.motion.pieces = pc;
+            random_motion(&d, kind == 1 ? RANDOM_LOG : RANDOM_CHAIN, amp, f, times, poses, pc);
         }
         if (kind != 3 && s % 3 == 2) {
             /* gravity along the plate normal: only the gripper's acceleration loads the pin */
