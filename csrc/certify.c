@@ -848,7 +848,7 @@ int certify_arc_triangle(double th0, double th1, double half_max, double th[3], 
 }
 
 static int prove_block_turning(const exdex_model *m, const exdex_trajectory *out, size_t i0, size_t i1,
-                               const int need[3], unsigned char pr[3]);
+                               const int need[3], unsigned char pr[3], double qr[2]);
 
 static int prove_block(const exdex_model *m, const exdex_trajectory *out, size_t i0, size_t i1, const int need[3],
                        unsigned char pr[3], double qr[2])
@@ -870,7 +870,7 @@ static int prove_block(const exdex_model *m, const exdex_trajectory *out, size_t
     qr[1] = INFINITY;
     if (m->def.dof != EXDEX_DOF_TRANSLATION && !rot) return EXDEX_OK;
     if (!motion_accel_box(m->motion, ta, tb, lo, hi))
-        return rot ? prove_block_turning(m, out, i0, i1, need, pr) : EXDEX_OK;
+        return rot ? prove_block_turning(m, out, i0, i1, need, pr, qr) : EXDEX_OK;
     for (int c = 0; c < 3; c++)
         if (!isfinite(lo[c]) || !isfinite(hi[c])) return EXDEX_OK;
     if (rot) {
@@ -979,7 +979,8 @@ static int prove_block(const exdex_model *m, const exdex_trajectory *out, size_t
  * far inside the tolerance's share left out. The rest band of the
  * explicit and regularised methods depends on the rate here (Coriolis
  * and gyroscopic terms): qr is left unknown. */
-static void iv_patch_load(const exdex_model *m, const frame_box *fb, ex_iv TH, ex_iv V, ex_iv b[3], double *S)
+static void iv_patch_load(const exdex_model *m, const frame_box *fb, ex_iv TH, ex_iv V, ex_iv b[3], double *S,
+                          ex_iv *gen)
 {
     ex_iv ct = ex_iv_cos_sin(TH, 0), st = ex_iv_cos_sin(TH, 1), rho[3], r[3], rd[3], t1[3], t2[3], t3[3], t4[3];
     ex_iv F[2], P[3], IB[9], vv[3], W[3], Iv[3], IW[3], R[9], RI[9], px, py, v2 = ex_iv_sqr(V);
@@ -1032,6 +1033,8 @@ static void iv_patch_load(const exdex_model *m, const frame_box *fb, ex_iv TH, e
     }
     /* P_z = -torque_z = (I_B v)_z + (W x I_B W)_z */
     P[2] = ex_iv_add(Iv[2], ex_iv_sub(ex_iv_mul(W[0], IW[1]), ex_iv_mul(W[1], IW[0])));
+    /* the generalised load P . T, T = (-rho_y, rho_x, 1) */
+    *gen = ex_iv_add(ex_iv_sub(ex_iv_mul(rho[0], P[1]), ex_iv_mul(rho[1], P[0])), P[2]);
     px = ex_iv_add(ex_iv_mul(ct, P[0]), ex_iv_mul(st, P[1]));
     py = ex_iv_sub(ex_iv_mul(ct, P[1]), ex_iv_mul(st, P[0]));
     b[0] = px;
@@ -1053,13 +1056,14 @@ static void iv_patch_load(const exdex_model *m, const frame_box *fb, ex_iv TH, e
     }
 }
 
-int certify_turning_load(const exdex_model *m, double ta, double tb, ex_iv th, ex_iv v, ex_iv b[3])
+/* The load's box over the frame's enclosure fb (widened for the samples'
+ * rounding); 0 if not finite. */
+static int turning_load(const exdex_model *m, const frame_box *fb, ex_iv th, ex_iv v, ex_iv b[3])
 {
-    frame_box fb;
     double S;
-    if (m->ndof != 1 || m->def.dof != EXDEX_DOF_ROTATION || !ex_iv_ok(th) || !ex_iv_ok(v)) return 0;
-    if (!motion_frame_box(m->motion, ta, tb, m->g, &fb)) return 0;
-    iv_patch_load(m, &fb, th, v, b, &S);
+    ex_iv gen;
+    if (!ex_iv_ok(th) || !ex_iv_ok(v)) return 0;
+    iv_patch_load(m, fb, th, v, b, &S, &gen);
     for (int c = 0; c < 3; c++) {
         b[c].lo -= 1e-12 * S;
         b[c].hi += 1e-12 * S;
@@ -1068,13 +1072,25 @@ int certify_turning_load(const exdex_model *m, double ta, double tb, ex_iv th, e
     return 1;
 }
 
+int certify_turning_load(const exdex_model *m, double ta, double tb, ex_iv th, ex_iv v, ex_iv b[3])
+{
+    frame_box fb;
+    if (m->ndof != 1 || m->def.dof != EXDEX_DOF_ROTATION) return 0;
+    if (!motion_frame_box(m->motion, ta, tb, m->g, &fb)) return 0;
+    return turning_load(m, &fb, th, v, b);
+}
+
 static int prove_block_turning(const exdex_model *m, const exdex_trajectory *out, size_t i0, size_t i1,
-                               const int need[3], unsigned char pr[3])
+                               const int need[3], unsigned char pr[3], double qr[2])
 {
     double ta = out->t[i0 - 1], tb = out->t[i1 - 1], tm = ta + 0.5 * (tb - ta), q = out->q[i0];
-    double th0 = q, th1 = q, wl[3] = {0.0, INFINITY, INFINITY}, wh[3] = {0.0, 0.0, 0.0}, Cs, C;
+    double th0 = q, th1 = q, wl[3] = {0.0, INFINITY, INFINITY}, wh[3] = {0.0, 0.0, 0.0}, Cs, C, vlo = 0.0, vhi = 0.0;
+    int expl = m->def.method == EXDEX_METHOD_REGULARISED || m->def.method == EXDEX_METHOD_EXPLICIT;
+    frame_box fb;
     for (size_t j = i0; j < i1; j++) {
         double v = out->v[j], a = fabs(v);
+        vlo = fmin(vlo, v);
+        vhi = fmax(vhi, v);
         if (out->q[j] < th0) th0 = out->q[j];
         if (out->q[j] > th1) th1 = out->q[j];
         if (!(out->stick[j] || a <= m->tol.vzero)) {
@@ -1084,6 +1100,7 @@ static int prove_block_turning(const exdex_model *m, const exdex_trajectory *out
         }
     }
     if (!(th1 - th0 <= 2.0 * CERT_ROT_HALF_SPAN)) return EXDEX_OK;
+    if (!motion_frame_box(m->motion, ta, tb, m->g, &fb)) return EXDEX_OK;
     if (m->grip_n) {
         double s0 = model_capacity_static(m, ta), s1 = model_capacity_static(m, tb);
         Cs = fmin(s0, s1) - 1e-9 * fabs(s1 - s0);
@@ -1101,7 +1118,7 @@ static int prove_block_turning(const exdex_model *m, const exdex_trajectory *out
             V.lo = key == 1 ? wl[key] : -wh[key];
             V.hi = key == 1 ? wh[key] : -wl[key];
         }
-        if (!certify_turning_load(m, ta, tb, TH, V, b)) return EXDEX_OK;
+        if (!turning_load(m, &fb, TH, V, b)) return EXDEX_OK;
         if (key) {
             /* the slip's twist and free column at one state of the block */
             double th = th0 + 0.5 * (th1 - th0), v = key == 1 ? wl[key] : -wl[key], rho[2], MT[3], gM[3];
@@ -1131,6 +1148,21 @@ static int prove_block_turning(const exdex_model *m, const exdex_trajectory *out
             else ok = ce.gauge * ce.cap <= CERT_SLIP_TOL * (m->scale.F + C) && !(ce.excess > 0.0);
         }
         pr[key] = (unsigned char)ok;
+        if (key == 0 && ok && expl) {
+            /* |Q| over the block for the rest band: Q = -P . T (the pin's
+             * centripetal force has no moment about the pivot) over every
+             * rate of the block's samples (Q depends on it here) */
+            ex_iv bq[3], Vq = {vlo, vhi}, g;
+            double S;
+            iv_patch_load(m, &fb, TH, Vq, bq, &S, &g);
+            if (ex_iv_ok(g)) {
+                double e = 1e-12 * S;
+                g.lo -= e;
+                g.hi += e;
+                qr[0] = g.lo > 0.0 ? g.lo : (g.hi < 0.0 ? -g.hi : 0.0);
+                qr[1] = fmax(fabs(g.lo), fabs(g.hi));
+            }
+        }
     }
     return EXDEX_OK;
 }

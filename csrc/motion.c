@@ -1752,9 +1752,29 @@ static int knot_box(const exdex_motion *m, size_t i, double x, double y, const d
         d[2] = ex_iv_scale(3.0, a[3]);
         dd[0] = d[1];
         dd[1] = ex_iv_scale(6.0, a[3]);
-        Y[c] = poly_range(a, 3, S);
-        YD[c] = ex_iv_div_pos(poly_range(d, 2, S), H);
-        YDD[c] = ex_iv_div_pos(poly_range(dd, 1, S), ex_iv_sqr(H));
+        if (x == m->tk[i] && y == m->tk[i + 1]) {
+            /* the whole interval, s in [0, 1] (the motion's s = (t - t_i) / h
+             * is 0 at t_i and 1 at t_i+1, monotone between): the Hermite form's Bernstein
+             * coefficients y0, y0 + h m0 / 3, y1 - h m1 / 3, y1; the
+             * derivative's (in s) h m0, 3 (y1 - y0) - h (m0 + m1), h m1 and
+             * the second's 2 a2, 2 a2 + 6 a3 (a_k the power coefficients) */
+            ex_iv y0i = ex_iv_pt(y0), y1i = ex_iv_pt(y1), b1 = ex_iv_add(y0i, ex_iv_scale(1.0 / 3.0, hm0));
+            ex_iv b2 = ex_iv_sub(y1i, ex_iv_scale(1.0 / 3.0, hm1));
+            ex_iv mid = ex_iv_sub(ex_iv_scale(3.0, ex_iv_sub(y1i, y0i)), ex_iv_add(hm0, hm1));
+            /* 1/3 is rounded: the exact third lies within 2^-54 of it, a
+             * relative error the hull below is widened by */
+            b1.lo -= ex_iv_mag(hm0) * 0x1p-53;
+            b1.hi += ex_iv_mag(hm0) * 0x1p-53;
+            b2.lo -= ex_iv_mag(hm1) * 0x1p-53;
+            b2.hi += ex_iv_mag(hm1) * 0x1p-53;
+            Y[c] = ex_iv_hull(ex_iv_hull(y0i, y1i), ex_iv_hull(b1, b2));
+            YD[c] = ex_iv_div_pos(ex_iv_hull(ex_iv_hull(hm0, hm1), mid), H);
+            YDD[c] = ex_iv_div_pos(ex_iv_hull(dd[0], ex_iv_add(dd[0], dd[1])), ex_iv_sqr(H));
+        } else {
+            Y[c] = poly_range(a, 3, S);
+            YD[c] = ex_iv_div_pos(poly_range(d, 2, S), H);
+            YDD[c] = ex_iv_div_pos(poly_range(dd, 1, S), ex_iv_sqr(H));
+        }
     }
     D = ex_iv_add(ex_iv_add(ex_iv_sqr(Y[3]), ex_iv_sqr(Y[4])), ex_iv_add(ex_iv_sqr(Y[5]), ex_iv_sqr(Y[6])));
     Dd = ex_iv_pt(0.0);

@@ -66,16 +66,17 @@ static inline void ex_axis_angle(double R[9], const double k[3], double th)
 /* ------------------------------------------------ interval arithmetic
  * Closed intervals [lo, hi] with outward rounding: each operation computes
  * its ends in round-to-nearest (within half an ulp of the exact end) and
- * moves them one ulp outwards, so the result holds every exact value of the
- * operation over its operands' intervals. An empty or NaN interval stays
- * NaN (ex_iv_ok is then 0). */
+ * moves them outwards by |x| 2^-52 + 2^-1074 (at least an ulp of x: the
+ * move, rounded to nearest, still ends at least half an ulp out), so the
+ * result holds every exact value of the operation over its operands'
+ * intervals. A NaN end makes the interval fail ex_iv_ok. */
 typedef struct ex_iv {
     double lo, hi;
 } ex_iv;
 
 static inline ex_iv ex_iv_out(double lo, double hi)
 {
-    ex_iv r = {nextafter(lo, -INFINITY), nextafter(hi, INFINITY)};
+    ex_iv r = {lo - (fabs(lo) * 0x1p-52 + 0x1p-1074), hi + (fabs(hi) * 0x1p-52 + 0x1p-1074)};
     return r;
 }
 
@@ -133,7 +134,7 @@ static inline ex_iv ex_iv_sqr(ex_iv a)
 {
     double l = fabs(a.lo), h = fabs(a.hi);
     if (a.lo <= 0.0 && a.hi >= 0.0) {
-        ex_iv r = {0.0, nextafter(fmax(l * l, h * h), INFINITY)};
+        ex_iv r = {0.0, ex_iv_out(0.0, fmax(l * l, h * h)).hi};
         return r;
     }
     return ex_iv_out(fmin(l * l, h * h), fmax(l * l, h * h));
@@ -178,8 +179,8 @@ static inline void ex_iv_mulmtv3(ex_iv r[3], const double M[9], const ex_iv a[3]
     r[2] = x[2];
 }
 
-/* cos and sin over x (libm's cos and sin within an ulp, moved two
- * outwards); an extremum inside x (the multiples of pi, of pi/2 off them,
+/* cos and sin over x (libm's cos and sin within an ulp, moved outwards
+ * twice); an extremum inside x (the multiples of pi, of pi/2 off them,
  * looked for in x widened by 1e-15 of its size: only a looser bound) gives
  * its value 1 or -1. */
 static inline ex_iv ex_iv_cos_sin(ex_iv x, int sine)
@@ -192,8 +193,8 @@ static inline ex_iv ex_iv_cos_sin(ex_iv x, int sine)
         r.hi = 1.0;
         return r;
     }
-    r.lo = nextafter(nextafter(fmin(a, b), -INFINITY), -INFINITY);
-    r.hi = nextafter(nextafter(fmax(a, b), INFINITY), INFINITY);
+    r = ex_iv_out(fmin(a, b), fmax(a, b));
+    r = ex_iv_out(r.lo, r.hi);
     k0 = ceil((x.lo - sl - off) / EXDEX_PI);
     k1 = floor((x.hi + sl - off) / EXDEX_PI);
     for (double k = k0; k <= k1; k++) {
