@@ -15,7 +15,8 @@ gravity along the plate normal (a slipping rotation), and scenes without a
 phase proof: shakes (translating, and turning about the plate normal), a
 sampled log and a chain of motions, and rotation runs in those (the box
 held about a pivot off its centre of mass; Fig. 6's object spun, slipping,
-in a shake along the plate normal). Where a piece between switching times is
+in a shake along the plate normal; the box in a log and a chain that turn the
+gripper). Where a piece between switching times is
 proven for a mode (a constant load, or the bound of a gripper turning about
 a fixed axis; csrc/certify.c), or a block of samples in a gripper that does
 not turn (the box of its acceleration, for a rotation with the block's
@@ -24,7 +25,7 @@ evaluated; the others are, one by one. The last column is the core with
 every sample evaluated (``every_sample=True``, the proofs' reference: the
 certificate's cost on scenes without a phase proof before the block proofs).
 
-    python benchmarks/bench_certify.py [--repeat N] [--out results/certify.txt]
+    python benchmarks/bench_certify.py [--repeat N] [--out results/certify.txt] [--only TEXT]
 """
 import argparse
 import math
@@ -66,6 +67,18 @@ def cases():
     # 2 rad/s, gravity and the shake along the plate normal (a slip whose pin carries nothing)
     rot = {k: exdex.replace(v, dof="rotation") for k, v in (("shake", shake), ("log", log), ("chain", chain))}
     spun = exdex.replace(fig6_flat, v0=(0.0, 0.0, 2.0), motion=exdex.Shake(0.002, 4.0, cycles=4, axis=(0, 1, 0)))
+    # rotation runs in a gripper that turns: a 100 Hz log turning 0.3 rad about a tilted axis (a smooth
+    # step) while it moves 2 cm, and a chain whose last piece is Eq. 7 turning 0.3 rad about that axis
+    tilt = np.array([0.3, 0.2, 1.0]) / np.linalg.norm([0.3, 0.2, 1.0])
+    step = 10 * t ** 3 - 15 * t ** 4 + 6 * t ** 5
+    quats = np.c_[np.cos(0.15 * step), np.sin(0.15 * step)[:, None] * tilt]
+    rot["turning log"] = exdex.Scene(motion=exdex.SampledTrajectory(t, pos, quats, relative=True), dof="rotation",
+                                     **held)
+    rot["turning chain"] = exdex.Scene(motion=exdex.Chain((exdex.Shake(0.002, 4.0, cycles=2, axis=(1, 0, 0)),
+                                                           exdex.Pause(0.2),
+                                                           exdex.AsymmetricProfile(0.3, 0.3, 0.5, axis=tuple(tilt),
+                                                                                   rotation=True))),
+                                       dof="rotation", **held)
     out = []
     for method in ("analytic", "implicit", "event"):
         out.append((f"Fig. 3 ({method})", paper.fig3_scene(), method, 1.5, 1e-4))
@@ -87,6 +100,8 @@ def cases():
         out.append((f"rotation, log, 100 Hz ({method})", rot["log"], method, 1.2, 1e-4))
         out.append((f"rotation, chain ({method})", rot["chain"], method, 1.2, 1e-4))
         out.append((f"rotation, spun, normal shake ({method})", spun, method, 1.2, 1e-4))
+        out.append((f"rotation, turning log, 100 Hz ({method})", rot["turning log"], method, 1.2, 1e-4))
+        out.append((f"rotation, turning chain ({method})", rot["turning chain"], method, 1.2, 1e-4))
     return out
 
 
@@ -94,6 +109,7 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=21)
     ap.add_argument("--out", default=os.path.join(HERE, "results", "certify.txt"))
+    ap.add_argument("--only", default="", help="run only the cases whose name holds this text")
     args = ap.parse_args(argv)
     warnings.simplefilter("ignore")
     lines = [f"certificate cost: CPU time (time.process_time), medians of {args.repeat} alternating runs "
@@ -103,6 +119,8 @@ def main(argv=None):
     print(lines[0])
     print(lines[1])
     for name, sc, method, t_end, dt in cases():
+        if args.only not in name:
+            continue
         m = exdex.Model(sc, method=method)
         res = m.simulate(t_end, dt)
         assert res.certificate is not None and res.certificate["holds"], (name, res.certificate)

@@ -48,7 +48,9 @@
  * (prove_pieces: one evaluation per piece and mode for a constant load, a
  * closed-form bound for a gripper turning about a fixed axis) or for a
  * block of samples in a gripper that does not turn (prove_block: the
- * translation's and the rotation's loads enclosed over the block); only
+ * translation's and the rotation's loads enclosed over the block) or, for
+ * a rotation, turns (prove_block_turning: the load enclosed over the
+ * frame's enclosure, motion_frame_box, and the block's angles and rates); only
  * the samples of the other modes, and those whose interval holds a
  * switching time, are evaluated. The result is that of evaluating every sample
  * (exdex_certify_samples; the C suite compares them). */
@@ -845,6 +847,9 @@ int certify_arc_triangle(double th0, double th1, double half_max, double th[3], 
     return 3;
 }
 
+static int prove_block_turning(const exdex_model *m, const exdex_trajectory *out, size_t i0, size_t i1,
+                               const int need[3], unsigned char pr[3], double qr[2]);
+
 static int prove_block(const exdex_model *m, const exdex_trajectory *out, size_t i0, size_t i1, const int need[3],
                        unsigned char pr[3], double qr[2])
 {
@@ -863,7 +868,9 @@ static int prove_block(const exdex_model *m, const exdex_trajectory *out, size_t
     pr[0] = pr[1] = pr[2] = 0;
     qr[0] = 0.0;
     qr[1] = INFINITY;
-    if ((m->def.dof != EXDEX_DOF_TRANSLATION && !rot) || !motion_accel_box(m->motion, ta, tb, lo, hi)) return EXDEX_OK;
+    if (m->def.dof != EXDEX_DOF_TRANSLATION && !rot) return EXDEX_OK;
+    if (!motion_accel_box(m->motion, ta, tb, lo, hi))
+        return rot ? prove_block_turning(m, out, i0, i1, need, pr, qr) : EXDEX_OK;
     for (int c = 0; c < 3; c++)
         if (!isfinite(lo[c]) || !isfinite(hi[c])) return EXDEX_OK;
     if (rot) {
@@ -939,6 +946,222 @@ static int prove_block(const exdex_model *m, const exdex_trajectory *out, size_t
              * between its values at the vertices */
             qr[0] = glo > 0.0 ? glo : (ghi < 0.0 ? -ghi : 0.0);
             qr[1] = fmax(fabs(glo), fabs(ghi));
+        }
+    }
+    return EXDEX_OK;
+}
+
+/* ------------------------------------------ proofs per block, turning
+ * A rotation run in a gripper that turns over [ta, tb]: motion_frame_box
+ * encloses the frame's g_B, a0, w, dw (B coordinates) over the block's
+ * times, the samples give the angle theta in [th0, th1] and the rate v in
+ * [wl, wh] (one sign, key 1 or 2; v = 0 stuck). The load is that of
+ * cert_at_frame with a = 0 and no stop force, in interval arithmetic
+ * (util.h: each interval holds the exact value of its formula over its
+ * operands' intervals): with rho = Rz(theta) c, r = pivot + rho,
+ * rd = v ez x rho,
+ *   F = m (g_B - a0 - dw x r - w x (w x r) - 2 w x rd)   (plate plane),
+ *   P_xy = -m v^2 rho - F,   P_z = (I_B (dw + v w x ez))_z + (W x I_B W)_z,
+ *   I_B = Rz(theta) I Rz(theta)^T, W = w + v ez,
+ * and b the patch wrench of P (model_patch_of_gen), so every sample's
+ * exact load lies in the box of b. The samples compute it in floating
+ * point (some hundred operations on numbers bounded by the terms' size S
+ * below), so the box is widened by 1e-12 S, beyond that rounding. The
+ * gauge and a slip's least residual over its free acceleration are convex
+ * in b (for a slip the friction and the free column are fixed in the
+ * patch frame up to the rate's sign: u = v (perp(c + pc), 1) there), so
+ * their largest value over the box is at one of its 8 corners; a mode
+ * that holds at the corners (as prove_block: a stuck gauge within the
+ * least static capacity, a slip's residual within the tolerance without
+ * the load's own share) holds at every sample of the block. The slip's
+ * friction and column are evaluated at one state of the block (its middle
+ * angle, the least rate): they differ from a sample's by rounding only,
+ * far inside the tolerance's share left out. The rest band of the
+ * explicit and regularised methods depends on the rate here (Coriolis
+ * and gyroscopic terms): qr is left unknown. */
+static void iv_patch_load(const exdex_model *m, const frame_box *fb, ex_iv TH, ex_iv V, ex_iv b[3], double *S,
+                          ex_iv *gen)
+{
+    ex_iv ct = ex_iv_cos_sin(TH, 0), st = ex_iv_cos_sin(TH, 1), rho[3], r[3], rd[3], t1[3], t2[3], t3[3], t4[3];
+    ex_iv F[2], P[3], IB[9], vv[3], W[3], Iv[3], IW[3], R[9], RI[9], px, py, v2 = ex_iv_sqr(V);
+    double mm = m->m;
+    rho[0] = ex_iv_sub(ex_iv_scale(m->c[0], ct), ex_iv_scale(m->c[1], st));
+    rho[1] = ex_iv_add(ex_iv_scale(m->c[0], st), ex_iv_scale(m->c[1], ct));
+    rho[2] = ex_iv_pt(0.0);
+    for (int c = 0; c < 3; c++) r[c] = c < 2 ? ex_iv_add(ex_iv_pt(m->pivot[c]), rho[c]) : ex_iv_pt(0.0);
+    rd[0] = ex_iv_neg(ex_iv_mul(V, rho[1]));
+    rd[1] = ex_iv_mul(V, rho[0]);
+    rd[2] = ex_iv_pt(0.0);
+    ex_iv_cross3(t1, fb->dw, r);
+    ex_iv_cross3(t2, fb->w, r);
+    ex_iv_cross3(t3, fb->w, t2);
+    ex_iv_cross3(t4, fb->w, rd);
+    for (int c = 0; c < 2; c++) {
+        ex_iv f = ex_iv_sub(ex_iv_sub(fb->gB[c], fb->a0[c]), ex_iv_add(ex_iv_add(t1[c], t3[c]), ex_iv_scale(2.0, t4[c])));
+        F[c] = ex_iv_scale(mm, f);
+        P[c] = ex_iv_sub(ex_iv_neg(ex_iv_scale(mm, ex_iv_mul(v2, rho[c]))), F[c]);
+    }
+    /* I_B = Rz I Rz^T */
+    for (int i = 0; i < 9; i++) R[i] = ex_iv_pt(0.0);
+    R[0] = ct;
+    R[1] = ex_iv_neg(st);
+    R[3] = st;
+    R[4] = ct;
+    R[8] = ex_iv_pt(1.0);
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            ex_iv a = ex_iv_pt(0.0);
+            for (int k = 0; k < 3; k++) a = ex_iv_add(a, ex_iv_scale(m->I[3 * k + j], R[3 * i + k]));
+            RI[3 * i + j] = a;
+        }
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            ex_iv a = ex_iv_pt(0.0);
+            for (int k = 0; k < 3; k++) a = ex_iv_add(a, ex_iv_mul(RI[3 * i + k], R[3 * j + k]));
+            IB[3 * i + j] = a;
+        }
+    /* dw + v w x ez, w x ez = (w_y, -w_x, 0); W = w + v ez */
+    vv[0] = ex_iv_add(fb->dw[0], ex_iv_mul(V, fb->w[1]));
+    vv[1] = ex_iv_sub(fb->dw[1], ex_iv_mul(V, fb->w[0]));
+    vv[2] = fb->dw[2];
+    W[0] = fb->w[0];
+    W[1] = fb->w[1];
+    W[2] = ex_iv_add(fb->w[2], V);
+    for (int i = 0; i < 3; i++) {
+        Iv[i] = ex_iv_add(ex_iv_add(ex_iv_mul(IB[3 * i], vv[0]), ex_iv_mul(IB[3 * i + 1], vv[1])), ex_iv_mul(IB[3 * i + 2], vv[2]));
+        IW[i] = ex_iv_add(ex_iv_add(ex_iv_mul(IB[3 * i], W[0]), ex_iv_mul(IB[3 * i + 1], W[1])), ex_iv_mul(IB[3 * i + 2], W[2]));
+    }
+    /* P_z = -torque_z = (I_B v)_z + (W x I_B W)_z */
+    P[2] = ex_iv_add(Iv[2], ex_iv_sub(ex_iv_mul(W[0], IW[1]), ex_iv_mul(W[1], IW[0])));
+    /* the generalised load P . T, T = (-rho_y, rho_x, 1) */
+    *gen = ex_iv_add(ex_iv_sub(ex_iv_mul(rho[0], P[1]), ex_iv_mul(rho[1], P[0])), P[2]);
+    px = ex_iv_add(ex_iv_mul(ct, P[0]), ex_iv_mul(st, P[1]));
+    py = ex_iv_sub(ex_iv_mul(ct, P[1]), ex_iv_mul(st, P[0]));
+    b[0] = px;
+    b[1] = py;
+    b[2] = ex_iv_add(P[2], ex_iv_sub(ex_iv_scale(m->pc[1], px), ex_iv_scale(m->pc[0], py)));
+    {
+        /* the terms' size */
+        double rm = ex_iv_mag(r[0]) + ex_iv_mag(r[1]), om = ex_iv_mag(fb->w[0]) + ex_iv_mag(fb->w[1]) + ex_iv_mag(fb->w[2]);
+        double dm = ex_iv_mag(fb->dw[0]) + ex_iv_mag(fb->dw[1]) + ex_iv_mag(fb->dw[2]), vm = ex_iv_mag(V), In = 0.0;
+        double gm = 0.0, am = 0.0, cm = fabs(m->c[0]) + fabs(m->c[1]);
+        for (int c = 0; c < 3; c++) {
+            gm += ex_iv_mag(fb->gB[c]);
+            am += ex_iv_mag(fb->a0[c]);
+        }
+        for (int i = 0; i < 9; i++) In += fabs(m->I[i]);
+        *S = (1.0 + fabs(m->pc[0]) + fabs(m->pc[1])) *
+             (mm * (gm + am + dm * rm + om * om * rm + 2.0 * om * vm * cm + vm * vm * cm) +
+              In * (dm + vm * om + (om + vm) * (om + vm)));
+    }
+}
+
+/* The load's box over the frame's enclosure fb (widened for the samples'
+ * rounding); 0 if not finite. */
+static int turning_load(const exdex_model *m, const frame_box *fb, ex_iv th, ex_iv v, ex_iv b[3])
+{
+    double S;
+    ex_iv gen;
+    if (!ex_iv_ok(th) || !ex_iv_ok(v)) return 0;
+    iv_patch_load(m, fb, th, v, b, &S, &gen);
+    for (int c = 0; c < 3; c++) {
+        b[c].lo -= 1e-12 * S;
+        b[c].hi += 1e-12 * S;
+        if (!ex_iv_ok(b[c])) return 0;
+    }
+    return 1;
+}
+
+int certify_turning_load(const exdex_model *m, double ta, double tb, ex_iv th, ex_iv v, ex_iv b[3])
+{
+    frame_box fb;
+    if (m->ndof != 1 || m->def.dof != EXDEX_DOF_ROTATION) return 0;
+    if (!motion_frame_box(m->motion, ta, tb, m->g, &fb)) return 0;
+    return turning_load(m, &fb, th, v, b);
+}
+
+static int prove_block_turning(const exdex_model *m, const exdex_trajectory *out, size_t i0, size_t i1,
+                               const int need[3], unsigned char pr[3], double qr[2])
+{
+    double ta = out->t[i0 - 1], tb = out->t[i1 - 1], tm = ta + 0.5 * (tb - ta), q = out->q[i0];
+    double th0 = q, th1 = q, wl[3] = {0.0, INFINITY, INFINITY}, wh[3] = {0.0, 0.0, 0.0}, Cs, C, vlo = 0.0, vhi = 0.0;
+    int expl = m->def.method == EXDEX_METHOD_REGULARISED || m->def.method == EXDEX_METHOD_EXPLICIT;
+    frame_box fb;
+    for (size_t j = i0; j < i1; j++) {
+        double v = out->v[j], a = fabs(v);
+        vlo = fmin(vlo, v);
+        vhi = fmax(vhi, v);
+        if (out->q[j] < th0) th0 = out->q[j];
+        if (out->q[j] > th1) th1 = out->q[j];
+        if (!(out->stick[j] || a <= m->tol.vzero)) {
+            int key = key_of(0, v);
+            if (a < wl[key]) wl[key] = a;
+            if (a > wh[key]) wh[key] = a;
+        }
+    }
+    if (!(th1 - th0 <= 2.0 * CERT_ROT_HALF_SPAN)) return EXDEX_OK;
+    if (!motion_frame_box(m->motion, ta, tb, m->g, &fb)) return EXDEX_OK;
+    if (m->grip_n) {
+        double s0 = model_capacity_static(m, ta), s1 = model_capacity_static(m, tb);
+        Cs = fmin(s0, s1) - 1e-9 * fabs(s1 - s0);
+    } else {
+        Cs = model_capacity_static(m, tm);
+    }
+    C = model_capacity(m, tm);
+    for (int key = 0; key < 3; key++) {
+        ex_iv b[3], TH = {th0, th1}, V = {0.0, 0.0};
+        double cs[2], vf[3], cols[1][3];
+        int ok = 1, nfree = 0;
+        if (!need[key] || (key && m->grip_n)) continue;
+        if (key && !(wl[key] <= wh[key])) continue;   /* no sample of that mode */
+        if (key) {
+            V.lo = key == 1 ? wl[key] : -wh[key];
+            V.hi = key == 1 ? wh[key] : -wl[key];
+        }
+        if (!turning_load(m, &fb, TH, V, b)) return EXDEX_OK;
+        if (key) {
+            /* the slip's twist and free column at one state of the block */
+            double th = th0 + 0.5 * (th1 - th0), v = key == 1 ? wl[key] : -wl[key], rho[2], MT[3], gM[3];
+            rot2(rho, th, m->c);
+            cs[0] = cos(th);
+            cs[1] = sin(th);
+            vf[0] = -v * rho[1];
+            vf[1] = v * rho[0];
+            vf[2] = v;
+            MT[0] = -m->m * rho[1];
+            MT[1] = m->m * rho[0];
+            MT[2] = m->izz;
+            model_patch_of_gen(m, cs, MT, gM);
+            for (int c = 0; c < 3; c++) cols[0][c] = gM[c] / m->e[c];
+            nfree = 1;
+        } else {
+            cs[0] = cos(th0);
+            cs[1] = sin(th0);
+        }
+        for (int k = 0; k < 8 && ok; k++) {
+            double bk[3] = {(k & 1 ? b[0].hi : b[0].lo), (k & 2 ? b[1].hi : b[1].lo), (k & 4 ? b[2].hi : b[2].lo)};
+            cert_eval ce;
+            memset(&ce, 0, sizeof ce);
+            int st = cert_decide(m, tm, bk, key ? vf : NULL, cs, (const double(*)[3])cols, nfree, nfree, &ce);
+            if (st) return st;
+            if (key == 0) ok = ce.gauge * ce.cap <= Cs;
+            else ok = ce.gauge * ce.cap <= CERT_SLIP_TOL * (m->scale.F + C) && !(ce.excess > 0.0);
+        }
+        pr[key] = (unsigned char)ok;
+        if (key == 0 && ok && expl) {
+            /* |Q| over the block for the rest band: Q = -P . T (the pin's
+             * centripetal force has no moment about the pivot) over every
+             * rate of the block's samples (Q depends on it here) */
+            ex_iv bq[3], Vq = {vlo, vhi}, g;
+            double S;
+            iv_patch_load(m, &fb, TH, Vq, bq, &S, &g);
+            if (ex_iv_ok(g)) {
+                double e = 1e-12 * S;
+                g.lo -= e;
+                g.hi += e;
+                qr[0] = g.lo > 0.0 ? g.lo : (g.hi < 0.0 ? -g.hi : 0.0);
+                qr[1] = fmax(fabs(g.lo), fabs(g.hi));
+            }
         }
     }
     return EXDEX_OK;

@@ -15,6 +15,7 @@
 #include "limitsurf.h"
 #include "pads.h"
 #include "tolerances.h"
+#include "util.h"
 
 #define MAX_ROWS (EXDEX_MAX_STOPS * EXDEX_MAX_VERTICES)
 
@@ -257,6 +258,16 @@ exdex_motion *motion_step_alloc(void);
  * orientation is constant, chains and time-shifted plays of them; 0 if not
  * known (lo, hi then not a bound). */
 int motion_accel_box(const exdex_motion *m, double ta, double tb, double lo[3], double hi[3]);
+/* The turning frame's quantities over [ta, tb] (motion.c): 1 if every
+ * value model_frame_at gives for a time in [ta, tb] with the gravity g (A)
+ * lies in fb (componentwise intervals of g_B, a0, w, dw, in B) for rest,
+ * profiles and shakes (translating or turning about their axis), logs
+ * (turning or not), chains and time-shifted plays of them; 0 if not known
+ * (fb then not a bound). */
+typedef struct frame_box {
+    ex_iv gB[3], a0[3], w[3], dw[3];
+} frame_box;
+int motion_frame_box(const exdex_motion *m, double ta, double tb, const double g[3], frame_box *fb);
 int motion_step_set(exdex_motion *m, double t0, double t1, const exdex_kinematics *k0, const double R1[9],
                     const double p1[3], const double *v1, const double *w1, exdex_kinematics *k1);
 
@@ -495,6 +506,12 @@ int model_holding_wrench(const exdex_model *m, double t, const double *q, double
  * with sc = 1 / cos of the half span); 0 where the half span is not in
  * [0, half_max] (half_max < pi / 2) or not finite. */
 int certify_arc_triangle(double th0, double th1, double half_max, double th[3], double sc[3]);
+/* The load of a rotation run in a turning gripper (certify.c): 1 if the
+ * patch wrench the neglected coordinates need with no stop force (the
+ * certificate's load) lies in b for every time in [ta, tb] (the frame of
+ * motion_frame_box), angle in th and rate in v (0 for a stuck state); 0
+ * where not known (not a rotation run, a motion without an enclosure). */
+int certify_turning_load(const exdex_model *m, double ta, double tb, ex_iv th, ex_iv v, ex_iv b[3]);
 
 /* |E^-1 w|, the ellipsoid norm of a patch wrench (paper Eq. 6). */
 static inline double model_ell_norm(const exdex_model *m, const double w[3])

@@ -1484,3 +1484,410 @@ int motion_accel_box(const exdex_motion *m, double ta, double tb, double lo[3], 
     }
     return accel_box(m, ta, tb, lo, hi);
 }
+
+/* --------------------------------------------- frame enclosures (model.h)
+ * Intervals (util.h: outward rounding, so each holds the exact values of
+ * its formula over its operands' intervals) of the frame's quantities in
+ * B over [ta, tb], by kind:
+ *   profiles and shakes: the profile s, sd, sdd over [ta, tb] (between
+ *     the profile's switching times Eq. 7 and the trapezoid have a constant
+ *     sdd, so sd is linear and s quadratic: sd between its end values, s
+ *     between its end values and, where sd changes sign, its vertex
+ *     s0 - sd0^2 / (2 sdd); a shake's phase w t in [w a, w b] gives cos and
+ *     sin over it); translating: R = R0, a0 = R0^T sdd axis; turning about
+ *     the axis k through the centre c (R = Rot(k, s) R0, r = Rot(k, s) r0):
+ *     R^T w = sd u, R^T dw = sdd u (u = R0^T k: Rot(k, s)^T k = k),
+ *     R^T a = sdd u x r0B + sd^2 u x (u x r0B) (r0B = R0^T r0: a rotation
+ *     keeps cross products) and R^T g = R0^T (g_k + cos s g_perp - sin s
+ *     k x g), g_k = (k . g) k;
+ *   logs: on each knot interval every component of the pose row is the
+ *     cubic of hermite_at in s = (t - t_i) / h, its range over the
+ *     interval's s the hull of its Bernstein coefficients (convex hull
+ *     property; the same for the derivative's quadratic and the second
+ *     derivative's line). With q the quaternion row (not normalised,
+ *     D = |q|^2 > 0) and n = q / |q|: n* n' = q* q' / D - (|q|' / |q|) is
+ *     the body rate's quaternion less a real part, so the rate in L's
+ *     body axes is w_L = 2 vec(q* q') / D and its derivative
+ *     dw_L = 2 vec(q* q'') / D - w_L D' / D (vec(q*' q') = 0), D' = 2 q . q';
+ *     R_L^T x = ((q0^2 - |Q|^2) x + 2 (Q . x) Q - 2 q0 Q x x) / D. With
+ *     B = P L X (the header): R_B^T w_B = XR^T w_L, R_B^T dw_B = XR^T dw_L,
+ *     R_B^T a_B = XR^T (R_L^T a_L + dw_L x Xp + w_L x (w_L x Xp)) and
+ *     R_B^T g = XR^T R_L^T PR^T g; at rest before and after the log;
+ *   chains: each piece over the part of [ta, tb] it plays, on its own
+ *     time (widened by 1e-12 of it, as motion_accel_box does), so a block
+ *     that holds a piece's start is enclosed on both sides of it;
+ *   rest: its pose.
+ * The enclosure bounds the exact formulas; model_frame_at evaluates them
+ * in floating point (some hundred operations on numbers bounded by the
+ * quantity's scale: |g|; |w|; |dw| + |w|^2; |a0| + the lever arm
+ * (|r0|, |Xp|) times |dw| + |w|^2), so the result is widened by 1e-10 of
+ * that scale (far beyond their rounding, far below the load's margins). */
+typedef struct fbox {
+    frame_box b;
+    double mag[4];   /* g_B, a0, w, dw: the scales of their rounding */
+} fbox;
+
+static ex_iv iv_empty(void)
+{
+    ex_iv r = {INFINITY, -INFINITY};
+    return r;
+}
+
+static void fb_add(fbox *F, const ex_iv gB[3], const ex_iv a0[3], const ex_iv w[3], const ex_iv dw[3],
+                   const double mag[4])
+{
+    for (int c = 0; c < 3; c++) {
+        F->b.gB[c] = ex_iv_hull(F->b.gB[c], gB[c]);
+        F->b.a0[c] = ex_iv_hull(F->b.a0[c], a0[c]);
+        F->b.w[c] = ex_iv_hull(F->b.w[c], w[c]);
+        F->b.dw[c] = ex_iv_hull(F->b.dw[c], dw[c]);
+    }
+    for (int k = 0; k < 4; k++) F->mag[k] = fmax(F->mag[k], mag[k]);
+}
+
+static double iv3_mag(const ex_iv a[3])
+{
+    return ex_iv_mag(a[0]) + ex_iv_mag(a[1]) + ex_iv_mag(a[2]);
+}
+
+/* the frame of one instant's kinematics k */
+static void fb_add_kin(fbox *F, const exdex_kinematics *k, const double g[3])
+{
+    ex_iv gv[3], av[3], wv[3], dv[3], gB[3], a0[3], w[3], dw[3];
+    double mag[4];
+    for (int c = 0; c < 3; c++) {
+        gv[c] = ex_iv_pt(g[c]);
+        av[c] = ex_iv_pt(k->a[c]);
+        wv[c] = ex_iv_pt(k->w[c]);
+        dv[c] = ex_iv_pt(k->dw[c]);
+    }
+    ex_iv_mulmtv3(gB, k->R, gv);
+    ex_iv_mulmtv3(a0, k->R, av);
+    ex_iv_mulmtv3(w, k->R, wv);
+    ex_iv_mulmtv3(dw, k->R, dv);
+    mag[0] = iv3_mag(gB);
+    mag[1] = iv3_mag(a0);
+    mag[2] = iv3_mag(w);
+    mag[3] = iv3_mag(dw);
+    fb_add(F, gB, a0, w, dw, mag);
+}
+
+static void iv_add_pt(ex_iv *r, double x)
+{
+    *r = ex_iv_hull(*r, ex_iv_out(x, x));
+}
+
+/* s, sd, sdd of a profile or shake over [ta, tb] (hulled into s[3]) */
+static int profile_ranges(const exdex_motion *m, double ta, double tb, ex_iv s[3])
+{
+    double v[3];
+    if (m->kind == EXDEX_MOTION_SHAKE) {
+        double a = fmax(ta, 0.0), b = fmin(tb, m->T);
+        if (ta < 0.0)
+            for (int j = 0; j < 3; j++) iv_add_pt(&s[j], 0.0);
+        if (tb >= m->T) {
+            shake_core(m->amplitude, m->omega, m->T, m->T, &v[0], &v[1], &v[2]);
+            for (int j = 0; j < 3; j++) iv_add_pt(&s[j], v[j]);
+        }
+        if (a <= b && a < m->T) {
+            ex_iv ph = ex_iv_mul(ex_iv_pt(m->omega), (ex_iv){a, b}), cs = ex_iv_cos_sin(ph, 0), sn = ex_iv_cos_sin(ph, 1);
+            ex_iv A = ex_iv_pt(m->amplitude), Aw = ex_iv_mul(A, ex_iv_pt(m->omega));
+            s[0] = ex_iv_hull(s[0], ex_iv_mul(A, ex_iv_sub(ex_iv_pt(1.0), cs)));
+            s[1] = ex_iv_hull(s[1], ex_iv_mul(Aw, sn));
+            s[2] = ex_iv_hull(s[2], ex_iv_mul(ex_iv_mul(Aw, ex_iv_pt(m->omega)), cs));
+        }
+        return 1;
+    }
+    if (m->kind == EXDEX_MOTION_ASYMMETRIC || m->kind == EXDEX_MOTION_TRAPEZOID) {
+        double c[3], cut[6];
+        const double *list;
+        int n = switch_list(m, c, &list), nc = 0;
+        cut[nc++] = ta;
+        if (0.0 > ta && 0.0 < tb) cut[nc++] = 0.0;   /* the start: at rest before it */
+        for (int i = 0; i < n; i++)
+            if (list[i] > ta && list[i] < tb) cut[nc++] = list[i];
+        cut[nc++] = tb;
+        for (int i = 0; i < nc; i++) {
+            /* [cut[i], cut[i+1]): its start and the left limit at its end; and tb itself */
+            double x = cut[i], y = i + 1 < nc ? nextafter(cut[i + 1], -INFINITY) : cut[i], v1[3];
+            if (y < x) y = x;
+            if (m->kind == EXDEX_MOTION_ASYMMETRIC) {
+                asym_core(m->amplitude, m->T, m->a_H, m->a_L, m->t_1, m->t_2, x, &v[0], &v[1], &v[2]);
+                asym_core(m->amplitude, m->T, m->a_H, m->a_L, m->t_1, m->t_2, y, &v1[0], &v1[1], &v1[2]);
+            } else {
+                trap_core(m->amplitude, m->T, m->sign, m->v_max, m->t_a, m->accel, x, &v[0], &v[1], &v[2]);
+                trap_core(m->amplitude, m->T, m->sign, m->v_max, m->t_a, m->accel, y, &v1[0], &v1[1], &v1[2]);
+            }
+            if (v[2] != v1[2]) return 0;   /* not one phase: not a switching time the list knows */
+            for (int j = 0; j < 3; j++) {
+                iv_add_pt(&s[j], v[j]);
+                iv_add_pt(&s[j], v1[j]);
+            }
+            if ((v[1] < 0.0 && v1[1] > 0.0) || (v[1] > 0.0 && v1[1] < 0.0)) {
+                /* sd = 0 inside: the vertex s0 - sd0^2 / (2 sdd) */
+                ex_iv sv = ex_iv_sub(ex_iv_pt(v[0]), ex_iv_div_pos(ex_iv_sqr(ex_iv_pt(v[1])), ex_iv_pt(2.0 * fabs(v[2]))));
+                if (v[2] < 0.0) sv = ex_iv_add(ex_iv_pt(v[0]), ex_iv_div_pos(ex_iv_sqr(ex_iv_pt(v[1])), ex_iv_pt(2.0 * fabs(v[2]))));
+                s[0] = ex_iv_hull(s[0], sv);
+            }
+        }
+        return 1;
+    }
+    return 0;
+}
+
+static int profile_box(const exdex_motion *m, double ta, double tb, const double g[3], fbox *F)
+{
+    ex_iv s[3] = {iv_empty(), iv_empty(), iv_empty()}, gB[3], a0[3], w[3], dw[3], t[3];
+    double mag[4];
+    if (!profile_ranges(m, ta, tb, s)) return 0;
+    if (!m->rotation) {
+        ex_iv gv[3];
+        for (int c = 0; c < 3; c++) {
+            gv[c] = ex_iv_pt(g[c]);
+            t[c] = ex_iv_scale(m->axis[c], s[2]);
+            w[c] = dw[c] = ex_iv_pt(0.0);
+        }
+        ex_iv_mulmtv3(gB, m->R0, gv);
+        ex_iv_mulmtv3(a0, m->R0, t);
+        mag[0] = iv3_mag(gB);
+        mag[1] = ex_iv_mag(s[2]);
+        mag[2] = mag[3] = 0.0;
+    } else {
+        double u[3], r0B[3], ur[3], uur[3], gk = ex_dot3(m->axis, g), kg[3], gA0[3];
+        ex_iv cs = ex_iv_cos_sin(s[0], 0), sn = ex_iv_cos_sin(s[0], 1), sd2 = ex_iv_sqr(s[1]), gA[3];
+        ex_mulmtv3(u, m->R0, m->axis);
+        ex_mulmtv3(r0B, m->R0, m->r0);
+        ex_cross3(ur, u, r0B);
+        ex_cross3(uur, u, ur);
+        ex_cross3(kg, m->axis, g);
+        for (int c = 0; c < 3; c++) {
+            double gp = gk * m->axis[c];
+            gA0[c] = gp;
+            /* g_k + cos s (g - g_k) - sin s k x g */
+            gA[c] = ex_iv_sub(ex_iv_add(ex_iv_pt(gp), ex_iv_mul(cs, ex_iv_sub(ex_iv_pt(g[c]), ex_iv_pt(gp)))),
+                              ex_iv_scale(kg[c], sn));
+            w[c] = ex_iv_scale(u[c], s[1]);
+            dw[c] = ex_iv_scale(u[c], s[2]);
+            a0[c] = ex_iv_add(ex_iv_scale(ur[c], s[2]), ex_iv_scale(uur[c], sd2));
+        }
+        (void)gA0;
+        ex_iv_mulmtv3(gB, m->R0, gA);
+        mag[0] = sqrt(ex_dot3(g, g)) * 3.0;
+        mag[2] = ex_iv_mag(s[1]);
+        mag[3] = ex_iv_mag(s[2]) + mag[2] * mag[2];
+        mag[1] = iv3_mag(a0) + sqrt(ex_dot3(m->r0, m->r0)) * 3.0 * mag[3];
+    }
+    fb_add(F, gB, a0, w, dw, mag);
+    return 1;
+}
+
+/* The range of a_0 + a_1 s + ... + a_deg s^deg (deg <= 3) over S: the hull
+ * of its Bernstein coefficients on S (the polynomial Taylor-shifted to
+ * S.lo, the k-th coefficient times L^k, L = S.hi - S.lo). */
+static ex_iv poly_range(const ex_iv *a, int deg, ex_iv S)
+{
+    static const double binom[4][4] = {{1, 0, 0, 0}, {1, 1, 0, 0}, {1, 2, 1, 0}, {1, 3, 3, 1}};
+    ex_iv c[4], L = ex_iv_sub(ex_iv_pt(S.hi), ex_iv_pt(S.lo)), Lk = ex_iv_pt(1.0), r = iv_empty();
+    ex_iv sa = ex_iv_pt(S.lo);
+    if (L.lo < 0.0) L.lo = 0.0;
+    for (int k = 0; k <= deg; k++) {
+        /* c_k = sum_{j >= k} C(j, k) a_j sa^(j - k), times L^k */
+        ex_iv acc = ex_iv_pt(0.0), p = ex_iv_pt(1.0);
+        for (int j = k; j <= deg; j++) {
+            acc = ex_iv_add(acc, ex_iv_scale(binom[j][k], ex_iv_mul(a[j], p)));
+            p = ex_iv_mul(p, sa);
+        }
+        c[k] = ex_iv_mul(acc, Lk);
+        Lk = ex_iv_mul(Lk, L);
+    }
+    for (int i = 0; i <= deg; i++) {
+        /* b_i = sum_{k <= i} C(i, k) / C(deg, k) c_k */
+        ex_iv b = ex_iv_pt(0.0);
+        for (int k = 0; k <= i; k++) b = ex_iv_add(b, ex_iv_mul(ex_iv_div_pos(ex_iv_pt(binom[i][k]), ex_iv_pt(binom[deg][k])), c[k]));
+        r = ex_iv_hull(r, b);
+    }
+    return r;
+}
+
+/* vec(a* b) of quaternions (a0, A), (b0, B): a0 B - b0 A - A x B */
+static void iv_vec_conj(ex_iv r[3], const ex_iv a[4], const ex_iv b[4])
+{
+    ex_iv x[3];
+    ex_iv_cross3(x, a + 1, b + 1);
+    for (int i = 0; i < 3; i++) r[i] = ex_iv_sub(ex_iv_sub(ex_iv_mul(a[0], b[1 + i]), ex_iv_mul(b[0], a[1 + i])), x[i]);
+}
+
+/* R(q)^T x |q|^2 = (q0^2 - |Q|^2) x + 2 (Q . x) Q - 2 q0 Q x x */
+static void iv_rot_t(ex_iv r[3], const ex_iv q[4], const ex_iv x[3], ex_iv D)
+{
+    ex_iv qq = ex_iv_sub(ex_iv_sqr(q[0]), ex_iv_add(ex_iv_add(ex_iv_sqr(q[1]), ex_iv_sqr(q[2])), ex_iv_sqr(q[3])));
+    ex_iv qx = ex_iv_dot3(q + 1, x), cr[3];
+    ex_iv_cross3(cr, q + 1, x);
+    for (int i = 0; i < 3; i++)
+        r[i] = ex_iv_div_pos(ex_iv_sub(ex_iv_add(ex_iv_mul(qq, x[i]), ex_iv_scale(2.0, ex_iv_mul(qx, q[1 + i]))),
+                                       ex_iv_scale(2.0, ex_iv_mul(q[0], cr[i]))),
+                             D);
+}
+
+/* knot interval i of a log over [x, y] inside it */
+static int knot_box(const exdex_motion *m, size_t i, double x, double y, const double g[3], fbox *F)
+{
+    double h = m->tk[i + 1] - m->tk[i];
+    ex_iv S, Y[7], YD[7], YDD[7], D, Dd, wl[3], dwl[3], t1[3], t2[3], gP[3], gL[3], aL[3], xp[3], wxp[3];
+    ex_iv gB[3], a0[3], w[3], dw[3], H = ex_iv_pt(h);
+    double mag[4], PRg[3];
+    S.lo = ex_iv_div_pos(ex_iv_sub(ex_iv_pt(x), ex_iv_pt(m->tk[i])), H).lo;
+    S.hi = ex_iv_div_pos(ex_iv_sub(ex_iv_pt(y), ex_iv_pt(m->tk[i])), H).hi;
+    if (!ex_iv_ok(S)) return 0;
+    for (int c = 0; c < 7; c++) {
+        double y0 = m->yk[(size_t)c * m->n + i], y1 = m->yk[(size_t)c * m->n + i + 1];
+        double m0 = m->mk[(size_t)c * m->n + i], m1 = m->mk[(size_t)c * m->n + i + 1];
+        ex_iv a[4], d[3], dd[2], hm0 = ex_iv_mul(H, ex_iv_pt(m0)), hm1 = ex_iv_mul(H, ex_iv_pt(m1));
+        a[0] = ex_iv_pt(y0);
+        a[1] = hm0;
+        a[2] = ex_iv_sub(ex_iv_sub(ex_iv_scale(3.0, ex_iv_sub(ex_iv_pt(y1), ex_iv_pt(y0))), ex_iv_scale(2.0, hm0)), hm1);
+        a[3] = ex_iv_add(ex_iv_add(ex_iv_scale(2.0, ex_iv_sub(ex_iv_pt(y0), ex_iv_pt(y1))), hm0), hm1);
+        d[0] = a[1];
+        d[1] = ex_iv_scale(2.0, a[2]);
+        d[2] = ex_iv_scale(3.0, a[3]);
+        dd[0] = d[1];
+        dd[1] = ex_iv_scale(6.0, a[3]);
+        if (x == m->tk[i] && y == m->tk[i + 1]) {
+            /* the whole interval, s in [0, 1] (the motion's s = (t - t_i) / h
+             * is 0 at t_i and 1 at t_i+1, monotone between): the Hermite form's Bernstein
+             * coefficients y0, y0 + h m0 / 3, y1 - h m1 / 3, y1; the
+             * derivative's (in s) h m0, 3 (y1 - y0) - h (m0 + m1), h m1 and
+             * the second's 2 a2, 2 a2 + 6 a3 (a_k the power coefficients) */
+            ex_iv y0i = ex_iv_pt(y0), y1i = ex_iv_pt(y1), b1 = ex_iv_add(y0i, ex_iv_scale(1.0 / 3.0, hm0));
+            ex_iv b2 = ex_iv_sub(y1i, ex_iv_scale(1.0 / 3.0, hm1));
+            ex_iv mid = ex_iv_sub(ex_iv_scale(3.0, ex_iv_sub(y1i, y0i)), ex_iv_add(hm0, hm1));
+            /* 1/3 is rounded: the exact third lies within 2^-54 of it, a
+             * relative error the hull below is widened by */
+            b1.lo -= ex_iv_mag(hm0) * 0x1p-53;
+            b1.hi += ex_iv_mag(hm0) * 0x1p-53;
+            b2.lo -= ex_iv_mag(hm1) * 0x1p-53;
+            b2.hi += ex_iv_mag(hm1) * 0x1p-53;
+            Y[c] = ex_iv_hull(ex_iv_hull(y0i, y1i), ex_iv_hull(b1, b2));
+            YD[c] = ex_iv_div_pos(ex_iv_hull(ex_iv_hull(hm0, hm1), mid), H);
+            YDD[c] = ex_iv_div_pos(ex_iv_hull(dd[0], ex_iv_add(dd[0], dd[1])), ex_iv_sqr(H));
+        } else {
+            Y[c] = poly_range(a, 3, S);
+            YD[c] = ex_iv_div_pos(poly_range(d, 2, S), H);
+            YDD[c] = ex_iv_div_pos(poly_range(dd, 1, S), ex_iv_sqr(H));
+        }
+    }
+    D = ex_iv_add(ex_iv_add(ex_iv_sqr(Y[3]), ex_iv_sqr(Y[4])), ex_iv_add(ex_iv_sqr(Y[5]), ex_iv_sqr(Y[6])));
+    Dd = ex_iv_pt(0.0);
+    for (int c = 0; c < 4; c++) Dd = ex_iv_add(Dd, ex_iv_mul(Y[3 + c], YD[3 + c]));
+    Dd = ex_iv_scale(2.0, Dd);
+    if (!(D.lo > 0.0)) return 0;
+    iv_vec_conj(t1, Y + 3, YD + 3);
+    iv_vec_conj(t2, Y + 3, YDD + 3);
+    for (int c = 0; c < 3; c++) wl[c] = ex_iv_div_pos(ex_iv_scale(2.0, t1[c]), D);
+    for (int c = 0; c < 3; c++)
+        dwl[c] = ex_iv_sub(ex_iv_div_pos(ex_iv_scale(2.0, t2[c]), D), ex_iv_div_pos(ex_iv_mul(wl[c], Dd), D));
+    /* gravity: XR^T R_L^T PR^T g */
+    ex_mulmtv3(PRg, m->PR, g);
+    for (int c = 0; c < 3; c++) gP[c] = ex_iv_pt(PRg[c]);
+    iv_rot_t(gL, Y + 3, gP, D);
+    ex_iv_mulmtv3(gB, m->XR, gL);
+    /* the origin: XR^T (R_L^T a_L + dw_L x Xp + w_L x (w_L x Xp)) */
+    iv_rot_t(aL, Y + 3, YDD, D);
+    for (int c = 0; c < 3; c++) xp[c] = ex_iv_pt(m->Xp[c]);
+    ex_iv_cross3(t1, dwl, xp);
+    ex_iv_cross3(wxp, wl, xp);
+    ex_iv_cross3(t2, wl, wxp);
+    for (int c = 0; c < 3; c++) t1[c] = ex_iv_add(ex_iv_add(aL[c], t1[c]), t2[c]);
+    ex_iv_mulmtv3(a0, m->XR, t1);
+    ex_iv_mulmtv3(w, m->XR, wl);
+    ex_iv_mulmtv3(dw, m->XR, dwl);
+    mag[0] = 3.0 * sqrt(ex_dot3(g, g));
+    mag[2] = iv3_mag(w);
+    mag[3] = iv3_mag(dw) + mag[2] * mag[2];
+    mag[1] = iv3_mag(aL) + iv3_mag(YDD) + 3.0 * sqrt(ex_dot3(m->Xp, m->Xp)) * mag[3];
+    fb_add(F, gB, a0, w, dw, mag);
+    return 1;
+}
+
+static int sampled_box(const exdex_motion *m, double ta, double tb, const double g[3], fbox *F)
+{
+    size_t n = m->n, i;
+    double a = fmax(ta, m->t_first), b = fmin(tb, m->t_last);
+    exdex_kinematics k;
+    if (ta < m->t_first) {
+        if (eval_sampled(m, ta, &k)) return 0;
+        fb_add_kin(F, &k, g);
+    }
+    if (tb >= m->t_last) {
+        if (eval_sampled(m, tb, &k)) return 0;
+        fb_add_kin(F, &k, g);
+    }
+    if (!(a <= b && a < m->t_last)) return 1;
+    {
+        size_t l = 0, hh = n - 1;
+        while (hh - l > 1) {
+            size_t mid = l + (hh - l) / 2;
+            if (m->tk[mid] <= a) l = mid;
+            else hh = mid;
+        }
+        i = l;
+    }
+    for (;;) {
+        if (!knot_box(m, i, fmax(a, m->tk[i]), fmin(b, m->tk[i + 1]), g, F)) return 0;
+        if (!(i + 2 < n && m->tk[i + 1] < b)) break;
+        i++;
+    }
+    return 1;
+}
+
+static int frame_box_of(const exdex_motion *m, double ta, double tb, const double g[3], fbox *F)
+{
+    exdex_kinematics k;
+    switch (m->kind) {
+    case EXDEX_MOTION_REST:
+        if (exdex_motion_eval(m, ta, &k)) return 0;
+        fb_add_kin(F, &k, g);
+        return 1;
+    case MOTION_SHIFT:
+        return frame_box_of(m->inner, ta + m->shift, tb + m->shift, g, F);
+    case EXDEX_MOTION_ASYMMETRIC:
+    case EXDEX_MOTION_TRAPEZOID:
+    case EXDEX_MOTION_SHAKE:
+        return profile_box(m, ta, tb, g, F);
+    case EXDEX_MOTION_SAMPLED:
+        return sampled_box(m, ta, tb, g, F);
+    case EXDEX_MOTION_CHAIN:
+        /* the first piece plays before the chain's start too (eval_chain) */
+        for (int i = 0; i < m->np; i++) {
+            double a = i ? m->T0[i] : -INFINITY, b = i + 1 < m->np ? m->T0[i + 1] : INFINITY, u0, u1;
+            if (tb < a || ta >= b) continue;
+            u0 = fmax(ta, a) - m->T0[i] + m->origin[i];
+            u1 = fmin(tb, b) - m->T0[i] + m->origin[i];
+            if (!(u1 < INFINITY)) u1 = tb - m->T0[i] + m->origin[i];
+            if (!frame_box_of(m->piece[i], u0 - 1e-12 * (1.0 + fabs(u0)), u1 + 1e-12 * (1.0 + fabs(u1)), g, F)) return 0;
+        }
+        return 1;
+    default:
+        return 0;
+    }
+}
+
+int motion_frame_box(const exdex_motion *m, double ta, double tb, const double g[3], frame_box *fb)
+{
+    fbox F;
+    if (!m || !fb || !(ta <= tb)) return 0;
+    for (int c = 0; c < 3; c++) F.b.gB[c] = F.b.a0[c] = F.b.w[c] = F.b.dw[c] = iv_empty();
+    for (int k = 0; k < 4; k++) F.mag[k] = 0.0;
+    if (!frame_box_of(m, ta, tb, g, &F)) return 0;
+    for (int c = 0; c < 3; c++) {
+        ex_iv *q[4] = {&F.b.gB[c], &F.b.a0[c], &F.b.w[c], &F.b.dw[c]};
+        for (int k = 0; k < 4; k++) {
+            double e = 1e-10 * F.mag[k];
+            q[k]->lo -= e;
+            q[k]->hi += e;
+            if (!ex_iv_ok(*q[k])) return 0;
+        }
+    }
+    *fb = F.b;
+    return 1;
+}

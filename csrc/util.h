@@ -63,4 +63,148 @@ static inline void ex_axis_angle(double R[9], const double k[3], double th)
     R[6] = z * x * C - y * s; R[7] = z * y * C + x * s; R[8] = c + z * z * C;
 }
 
+/* ------------------------------------------------ interval arithmetic
+ * Closed intervals [lo, hi] with outward rounding: each operation computes
+ * its ends in round-to-nearest (within half an ulp of the exact end) and
+ * moves them outwards by |x| 2^-52 + 2^-1074 (at least an ulp of x: the
+ * move, rounded to nearest, still ends at least half an ulp out), so the
+ * result holds every exact value of the operation over its operands'
+ * intervals. A NaN end makes the interval fail ex_iv_ok. */
+typedef struct ex_iv {
+    double lo, hi;
+} ex_iv;
+
+static inline ex_iv ex_iv_out(double lo, double hi)
+{
+    ex_iv r = {lo - (fabs(lo) * 0x1p-52 + 0x1p-1074), hi + (fabs(hi) * 0x1p-52 + 0x1p-1074)};
+    return r;
+}
+
+static inline ex_iv ex_iv_pt(double x)
+{
+    ex_iv r = {x, x};
+    return r;
+}
+
+static inline ex_iv ex_iv_hull(ex_iv a, ex_iv b)
+{
+    ex_iv r = {fmin(a.lo, b.lo), fmax(a.hi, b.hi)};
+    return r;
+}
+
+static inline int ex_iv_ok(ex_iv a)
+{
+    return a.lo <= a.hi && isfinite(a.lo) && isfinite(a.hi);
+}
+
+static inline double ex_iv_mag(ex_iv a)
+{
+    return fmax(fabs(a.lo), fabs(a.hi));
+}
+
+static inline ex_iv ex_iv_add(ex_iv a, ex_iv b)
+{
+    return ex_iv_out(a.lo + b.lo, a.hi + b.hi);
+}
+
+static inline ex_iv ex_iv_sub(ex_iv a, ex_iv b)
+{
+    return ex_iv_out(a.lo - b.hi, a.hi - b.lo);
+}
+
+static inline ex_iv ex_iv_neg(ex_iv a)
+{
+    ex_iv r = {-a.hi, -a.lo};
+    return r;
+}
+
+static inline ex_iv ex_iv_mul(ex_iv a, ex_iv b)
+{
+    double p0 = a.lo * b.lo, p1 = a.lo * b.hi, p2 = a.hi * b.lo, p3 = a.hi * b.hi;
+    return ex_iv_out(fmin(fmin(p0, p1), fmin(p2, p3)), fmax(fmax(p0, p1), fmax(p2, p3)));
+}
+
+static inline ex_iv ex_iv_scale(double k, ex_iv a)
+{
+    return ex_iv_mul(ex_iv_pt(k), a);
+}
+
+/* a^2 (not a a: the square of an interval holding 0 starts at 0) */
+static inline ex_iv ex_iv_sqr(ex_iv a)
+{
+    double l = fabs(a.lo), h = fabs(a.hi);
+    if (a.lo <= 0.0 && a.hi >= 0.0) {
+        ex_iv r = {0.0, ex_iv_out(0.0, fmax(l * l, h * h)).hi};
+        return r;
+    }
+    return ex_iv_out(fmin(l * l, h * h), fmax(l * l, h * h));
+}
+
+/* a / b for b > 0 throughout (else NaN) */
+static inline ex_iv ex_iv_div_pos(ex_iv a, ex_iv b)
+{
+    if (!(b.lo > 0.0)) {
+        ex_iv r = {NAN, NAN};
+        return r;
+    }
+    {
+        double p0 = a.lo / b.lo, p1 = a.lo / b.hi, p2 = a.hi / b.lo, p3 = a.hi / b.hi;
+        return ex_iv_out(fmin(fmin(p0, p1), fmin(p2, p3)), fmax(fmax(p0, p1), fmax(p2, p3)));
+    }
+}
+
+/* r = a x b, r = a . b, r = M^T a (M a point matrix) */
+static inline void ex_iv_cross3(ex_iv r[3], const ex_iv a[3], const ex_iv b[3])
+{
+    ex_iv x = ex_iv_sub(ex_iv_mul(a[1], b[2]), ex_iv_mul(a[2], b[1]));
+    ex_iv y = ex_iv_sub(ex_iv_mul(a[2], b[0]), ex_iv_mul(a[0], b[2]));
+    ex_iv z = ex_iv_sub(ex_iv_mul(a[0], b[1]), ex_iv_mul(a[1], b[0]));
+    r[0] = x;
+    r[1] = y;
+    r[2] = z;
+}
+
+static inline ex_iv ex_iv_dot3(const ex_iv a[3], const ex_iv b[3])
+{
+    return ex_iv_add(ex_iv_add(ex_iv_mul(a[0], b[0]), ex_iv_mul(a[1], b[1])), ex_iv_mul(a[2], b[2]));
+}
+
+static inline void ex_iv_mulmtv3(ex_iv r[3], const double M[9], const ex_iv a[3])
+{
+    ex_iv x[3];
+    for (int i = 0; i < 3; i++)
+        x[i] = ex_iv_add(ex_iv_add(ex_iv_scale(M[i], a[0]), ex_iv_scale(M[3 + i], a[1])), ex_iv_scale(M[6 + i], a[2]));
+    r[0] = x[0];
+    r[1] = x[1];
+    r[2] = x[2];
+}
+
+/* cos and sin over x (libm's cos and sin within an ulp, moved outwards
+ * twice); an extremum inside x (the multiples of pi, of pi/2 off them,
+ * looked for in x widened by 1e-15 of its size: only a looser bound) gives
+ * its value 1 or -1. */
+static inline ex_iv ex_iv_cos_sin(ex_iv x, int sine)
+{
+    ex_iv r;
+    double a = sine ? sin(x.lo) : cos(x.lo), b = sine ? sin(x.hi) : cos(x.hi), sl = 1e-15 * (1.0 + fabs(x.lo) + fabs(x.hi));
+    double off = sine ? 0.5 * EXDEX_PI : 0.0, k0, k1;
+    if (!(x.hi - x.lo < 6.0)) {
+        r.lo = -1.0;
+        r.hi = 1.0;
+        return r;
+    }
+    r = ex_iv_out(fmin(a, b), fmax(a, b));
+    r = ex_iv_out(r.lo, r.hi);
+    k0 = ceil((x.lo - sl - off) / EXDEX_PI);
+    k1 = floor((x.hi + sl - off) / EXDEX_PI);
+    for (double k = k0; k <= k1; k++) {
+        /* cos(k pi) = (-1)^k; sin(pi/2 + k pi) = (-1)^k */
+        if (fmod(fabs(k), 2.0) == 0.0) r.hi = 1.0;
+        else r.lo = -1.0;
+    }
+    r.lo = fmax(r.lo, -1.0);
+    r.hi = fmin(r.hi, 1.0);
+    return r;
+}
+
 #endif

@@ -181,6 +181,59 @@ static double urand(double lo, double hi)
     return lo + (hi - lo) * (double)(lcg >> 11) / 9007199254740992.0;
 }
 
+/* The random motions of the block proofs' tests: a shake along the scene's
+ * axis (half or whole cycles: no jump), a log of a constant orientation at
+ * uneven sample times (positions a random walk) or a chain (a whole-cycle
+ * shake, a pause, Eq. 7), amplitude amp, frequency f; the log and the
+ * chain use the caller's buffers. */
+enum { RANDOM_SHAKE, RANDOM_LOG, RANDOM_CHAIN };
+static void random_motion(exdex_scene_def *d, int kind, double amp, double f, double times[12], double poses[12 * 7],
+                          exdex_motion_def pc[3])
+{
+    if (kind == RANDOM_SHAKE) {
+        d->motion.kind = EXDEX_MOTION_SHAKE;
+        d->motion.amplitude = amp;
+        d->motion.frequency = f;
+        d->motion.duration = 0.5 * floor(urand(1.0, 6.0)) / f;   /* whole or half cycles: no jump */
+        d->motion.allow_jump = 0;
+    } else if (kind == RANDOM_LOG) {
+        double t = 0.0;
+        for (int i = 0; i < 12; i++) {
+            times[i] = t;
+            t += urand(0.03, 0.1);
+            for (int c = 0; c < 3; c++) poses[7 * i + c] = i == 0 ? 0.0 : poses[7 * (i - 1) + c] + urand(-0.003, 0.003);
+            poses[7 * i + 3] = 1.0;
+            poses[7 * i + 4] = poses[7 * i + 5] = poses[7 * i + 6] = 0.0;
+        }
+        d->motion.kind = EXDEX_MOTION_SAMPLED;
+        d->motion.n_samples = 12;
+        d->motion.times = times;
+        d->motion.poses = poses;
+        d->motion.relative = 1;
+    } else {
+        exdex_motion_def c0 = d->motion;
+        memset(pc, 0, 3 * sizeof *pc);
+        pc[0].kind = EXDEX_MOTION_SHAKE;
+        memcpy(pc[0].axis, c0.axis, sizeof c0.axis);
+        pc[0].amplitude = amp;
+        pc[0].frequency = f;
+        pc[0].duration = 2.0 / f;
+        pc[1].kind = EXDEX_MOTION_REST;
+        pc[1].axis[0] = 1.0;
+        pc[1].duration = 0.1;
+        pc[2].kind = EXDEX_MOTION_ASYMMETRIC;
+        memcpy(pc[2].axis, c0.axis, sizeof c0.axis);
+        pc[2].amplitude = 10.0 * amp;
+        pc[2].duration = 0.2;
+        pc[2].beta = 0.6;
+        memset(&d->motion, 0, sizeof d->motion);
+        d->motion.kind = EXDEX_MOTION_CHAIN;
+        d->motion.axis[0] = 1.0;
+        d->motion.n_pieces = 3;
+        d->motion.pieces = pc;
+    }
+}
+
 EXDEX_TEST(certify_proofs_shakes_logs_chains)
 {
     static double times[12], poses[12 * 7];
@@ -197,11 +250,7 @@ EXDEX_TEST(certify_proofs_shakes_logs_chains)
         d.motion.axis[2] = urand(-1, 1);
         if (kind == 0 || kind == 1) {
             /* a shake translating, or turning about the plate normal (A -y) */
-            d.motion.kind = EXDEX_MOTION_SHAKE;
-            d.motion.amplitude = kind ? 40.0 * amp : amp;
-            d.motion.frequency = f;
-            d.motion.duration = 0.5 * floor(urand(1.0, 6.0)) / f;   /* whole or half cycles: no jump */
-            d.motion.allow_jump = 0;
+            random_motion(&d, RANDOM_SHAKE, kind ? 40.0 * amp : amp, f, times, poses, pc);
             if (kind == 1) {
                 /* near the turning threshold at rest: the turn's inertial moment decides */
                 d.patch_center[0] = urand(0.8, 0.99) * 0.0076520 * sqrt(ratio * ratio - 1.0);
@@ -210,43 +259,8 @@ EXDEX_TEST(certify_proofs_shakes_logs_chains)
                 d.motion.axis[1] = -1.0;
                 d.motion.center[0] = urand(-0.08, 0.08);
             }
-        } else if (kind == 2) {
-            /* a log of a constant orientation, uneven sample times */
-            double t = 0.0;
-            for (int i = 0; i < 12; i++) {
-                times[i] = t;
-                t += urand(0.03, 0.1);
-                for (int c = 0; c < 3; c++) poses[7 * i + c] = i == 0 ? 0.0 : poses[7 * (i - 1) + c] + urand(-0.003, 0.003);
-                poses[7 * i + 3] = 1.0;
-                poses[7 * i + 4] = poses[7 * i + 5] = poses[7 * i + 6] = 0.0;
-            }
-            d.motion.kind = EXDEX_MOTION_SAMPLED;
-            d.motion.n_samples = 12;
-            d.motion.times = times;
-            d.motion.poses = poses;
-            d.motion.relative = 1;
         } else {
-            /* a chain: a whole-cycle shake, a pause, Eq. 7 */
-            exdex_motion_def c0 = d.motion;
-            memset(pc, 0, sizeof pc);
-            pc[0].kind = EXDEX_MOTION_SHAKE;
-            memcpy(pc[0].axis, c0.axis, sizeof c0.axis);
-            pc[0].amplitude = amp;
-            pc[0].frequency = f;
-            pc[0].duration = 2.0 / f;
-            pc[1].kind = EXDEX_MOTION_REST;
-            pc[1].axis[0] = 1.0;
-            pc[1].duration = 0.1;
-            pc[2].kind = EXDEX_MOTION_ASYMMETRIC;
-            memcpy(pc[2].axis, c0.axis, sizeof c0.axis);
-            pc[2].amplitude = 10.0 * amp;
-            pc[2].duration = 0.2;
-            pc[2].beta = 0.6;
-            memset(&d.motion, 0, sizeof d.motion);
-            d.motion.kind = EXDEX_MOTION_CHAIN;
-            d.motion.axis[0] = 1.0;
-            d.motion.n_pieces = 3;
-            d.motion.pieces = pc;
+            random_motion(&d, kind == 2 ? RANDOM_LOG : RANDOM_CHAIN, amp, f, times, poses, pc);
         }
         if (s % 5 == 4) {
             d.grip_n = 4;
@@ -294,11 +308,7 @@ EXDEX_TEST(certify_proofs_rotation_blocks)
         d.motion.axis[2] = urand(-1, 1);
         if (kind == 0 || kind == 3) {
             /* a translating shake */
-            d.motion.kind = EXDEX_MOTION_SHAKE;
-            d.motion.amplitude = amp;
-            d.motion.frequency = f;
-            d.motion.duration = 0.5 * floor(urand(1.0, 6.0)) / f;
-            d.motion.allow_jump = 0;
+            random_motion(&d, RANDOM_SHAKE, amp, f, times, poses, pc);
             if (kind == 3) {
                 /* spun, gravity and the shake along the plate normal (A y) */
                 d.gravity[2] = 0.0;
@@ -348,43 +358,8 @@ EXDEX_TEST(certify_proofs_rotation_blocks)
                     d.motion.pieces = pc;
                 }
             }
-        } else if (kind == 1) {
-            /* a log of a constant orientation, uneven sample times */
-            double t = 0.0;
-            for (int i = 0; i < 12; i++) {
-                times[i] = t;
-                t += urand(0.03, 0.1);
-                for (int c = 0; c < 3; c++) poses[7 * i + c] = i == 0 ? 0.0 : poses[7 * (i - 1) + c] + urand(-0.003, 0.003);
-                poses[7 * i + 3] = 1.0;
-                poses[7 * i + 4] = poses[7 * i + 5] = poses[7 * i + 6] = 0.0;
-            }
-            d.motion.kind = EXDEX_MOTION_SAMPLED;
-            d.motion.n_samples = 12;
-            d.motion.times = times;
-            d.motion.poses = poses;
-            d.motion.relative = 1;
         } else {
-            /* a chain: a whole-cycle shake, a pause, Eq. 7 */
-            exdex_motion_def c0 = d.motion;
-            memset(pc, 0, sizeof pc);
-            pc[0].kind = EXDEX_MOTION_SHAKE;
-            memcpy(pc[0].axis, c0.axis, sizeof c0.axis);
-            pc[0].amplitude = amp;
-            pc[0].frequency = f;
-            pc[0].duration = 2.0 / f;
-            pc[1].kind = EXDEX_MOTION_REST;
-            pc[1].axis[0] = 1.0;
-            pc[1].duration = 0.1;
-            pc[2].kind = EXDEX_MOTION_ASYMMETRIC;
-            memcpy(pc[2].axis, c0.axis, sizeof c0.axis);
-            pc[2].amplitude = 10.0 * amp;
-            pc[2].duration = 0.2;
-            pc[2].beta = 0.6;
-            memset(&d.motion, 0, sizeof d.motion);
-            d.motion.kind = EXDEX_MOTION_CHAIN;
-            d.motion.axis[0] = 1.0;
-            d.motion.n_pieces = 3;
-            d.motion.pieces = pc;
+            random_motion(&d, kind == 1 ? RANDOM_LOG : RANDOM_CHAIN, amp, f, times, poses, pc);
         }
         if (kind != 3 && s % 3 == 2) {
             /* gravity along the plate normal: only the gripper's acceleration loads the pin */
@@ -454,4 +429,301 @@ EXDEX_TEST(certify_arc_triangle_encloses_the_arc)
         chord[1] = V[2][1] / sc[2];
         if (h > 0.05) ENSURE(tri_min_bary(V[0], V[1], chord, mid) < 0.0 && tri_min_bary(V[0], V[1], V[2], mid) > 0.0);
     }
+}
+
+/* A random turning motion for the frame enclosures and the rotation's
+ * turning blocks: kind 0 a log turning about axes that wander (relative,
+ * a tool pose off B's origin), 1 a chain (a pause, Eq. 7 turning about a
+ * random axis through a point off B, a turning shake, a translating shake),
+ * 2 Eq. 7 or a trapezoid turning about a random axis, 3 a chain with a log
+ * piece. Angles scale with amp (rad). */
+static void random_turning_motion(exdex_motion_def *d, int kind, double amp, double times[12], double poses[12 * 7],
+                                  exdex_motion_def pc[4])
+{
+    memset(d, 0, sizeof *d);
+    if (kind == 0 || kind == 3) {
+        double t = 0.0, q[4] = {1, 0, 0, 0}, ax[3] = {urand(-1, 1), urand(-1, 1), urand(-1, 1)};
+        for (int i = 0; i < 12; i++) {
+            double dq[4], a = urand(-1.0, 1.0) * amp, nq = 0.0, nx;
+            times[i] = t;
+            t += urand(0.03, 0.1);
+            for (int c = 0; c < 3; c++) ax[c] += urand(-0.5, 0.5);
+            nx = sqrt(ax[0] * ax[0] + ax[1] * ax[1] + ax[2] * ax[2]);
+            dq[0] = cos(0.5 * a);
+            for (int c = 0; c < 3; c++) dq[1 + c] = sin(0.5 * a) * ax[c] / nx;
+            if (i > 0) {
+                /* q <- dq q */
+                double r[4] = {dq[0] * q[0] - dq[1] * q[1] - dq[2] * q[2] - dq[3] * q[3],
+                               dq[0] * q[1] + dq[1] * q[0] + dq[2] * q[3] - dq[3] * q[2],
+                               dq[0] * q[2] - dq[1] * q[3] + dq[2] * q[0] + dq[3] * q[1],
+                               dq[0] * q[3] + dq[1] * q[2] - dq[2] * q[1] + dq[3] * q[0]};
+                memcpy(q, r, sizeof q);
+            }
+            for (int c = 0; c < 4; c++) nq += q[c] * q[c];
+            for (int c = 0; c < 3; c++) poses[7 * i + c] = i == 0 ? 0.0 : poses[7 * (i - 1) + c] + urand(-0.003, 0.003);
+            for (int c = 0; c < 4; c++) poses[7 * i + 3 + c] = q[c] / sqrt(nq);
+        }
+        d->kind = EXDEX_MOTION_SAMPLED;
+        d->n_samples = 12;
+        d->times = times;
+        d->poses = poses;
+        d->relative = 1;
+        d->tool = 1;
+        d->tool_pose[0] = urand(-0.05, 0.05);
+        d->tool_pose[1] = urand(-0.05, 0.05);
+        d->tool_pose[2] = urand(-0.05, 0.05);
+        d->tool_pose[3] = 1.0;
+        if (kind == 3) {
+            exdex_motion_def c0 = *d;
+            memset(pc, 0, 4 * sizeof *pc);
+            pc[0].kind = EXDEX_MOTION_REST;
+            pc[0].axis[0] = 1.0;
+            pc[0].duration = 0.1;
+            pc[1] = c0;
+            pc[1].relative = 1;
+            memset(d, 0, sizeof *d);
+            d->kind = EXDEX_MOTION_CHAIN;
+            d->axis[0] = 1.0;
+            d->n_pieces = 2;
+            d->pieces = pc;
+            d->allow_jump = 1;   /* the log starts at its own speed */
+        }
+        return;
+    }
+    if (kind == 2) {
+        d->kind = urand(0, 1) < 0.5 ? EXDEX_MOTION_ASYMMETRIC : EXDEX_MOTION_TRAPEZOID;
+        d->rotation = 1;
+        for (int c = 0; c < 3; c++) {
+            d->axis[c] = urand(-1, 1);
+            d->center[c] = urand(-0.05, 0.05);
+        }
+        d->amplitude = 3.0 * amp;
+        d->duration = urand(0.2, 0.6);
+        d->beta = urand(0.2, 0.8);
+        d->v_max = fabs(d->amplitude) / d->duration * urand(1.1, 1.9);
+        return;
+    }
+    memset(pc, 0, 4 * sizeof *pc);
+    pc[0].kind = EXDEX_MOTION_REST;
+    pc[0].axis[0] = 1.0;
+    pc[0].duration = urand(0.02, 0.1);
+    pc[1].kind = EXDEX_MOTION_ASYMMETRIC;
+    pc[1].rotation = 1;
+    for (int c = 0; c < 3; c++) {
+        pc[1].axis[c] = urand(-1, 1);
+        pc[1].center[c] = urand(-0.05, 0.05);
+    }
+    pc[1].amplitude = 3.0 * amp;
+    pc[1].duration = urand(0.2, 0.4);
+    pc[1].beta = urand(0.2, 0.8);
+    pc[2].kind = EXDEX_MOTION_SHAKE;
+    pc[2].rotation = 1;
+    pc[2].axis[1] = 1.0;
+    pc[2].amplitude = amp;
+    pc[2].frequency = urand(2.0, 6.0);
+    pc[2].duration = 1.0 / pc[2].frequency;
+    pc[3].kind = EXDEX_MOTION_SHAKE;
+    for (int c = 0; c < 3; c++) pc[3].axis[c] = urand(-1, 1);
+    pc[3].amplitude = 0.003;
+    pc[3].frequency = urand(2.0, 6.0);
+    pc[3].duration = 1.0 / pc[3].frequency;
+    d->kind = EXDEX_MOTION_CHAIN;
+    d->axis[0] = 1.0;
+    d->n_pieces = 4;
+    d->pieces = pc;
+}
+
+/* motion_frame_box against dense samples: on random blocks of random
+ * turning motions every sample's g_B, a0, w, dw (model_frame_at's
+ * formulas) lies in the enclosure, and the samples' range covers most of
+ * it for most components that move (a dropped term or a shrunk range
+ * moves samples out of it). */
+EXDEX_TEST(certify_frame_box_holds_dense_samples)
+{
+    static double times[12], poses[12 * 7];
+    exdex_motion_def pc[4], d;
+    static const double R0[9] = {1, 0, 0, 0, 0, -1, 0, 1, 0}, p0[3] = {0.01, -0.02, 0.03};
+    const double g[3] = {0.0, 0.0, -9.81};
+    int n_boxes = 0, n_tight = 0, n_moving = 0, n_tight_log = 0, n_moving_log = 0;
+    lcg = 4242;
+    for (int s = 0; s < 48; s++) {
+        int status;
+        const char *bad = NULL;
+        exdex_motion *m;
+        random_turning_motion(&d, s % 4, urand(0.05, 0.3), times, poses, pc);
+        m = exdex_motion_alloc(&d, R0, p0, &status, &bad);
+        ENSURE(m != NULL);
+        if (!m) continue;
+        for (int b = 0; b < 20; b++) {
+            double end = exdex_motion_end(m), ta = urand(-0.05, end + 0.05), L = exp(urand(log(1e-4), log(0.2))), tb = ta + L;
+            double lo[12], hi[12];
+            frame_box fb;
+            int ok = motion_frame_box(m, ta, tb, g, &fb);
+            ENSURE(ok);
+            if (!ok) continue;
+            n_boxes++;
+            for (int q = 0; q < 12; q++) {
+                lo[q] = INFINITY;
+                hi[q] = -INFINITY;
+            }
+            for (int j = 0; j <= 400; j++) {
+                double t = j == 400 ? tb : ta + (tb - ta) * j / 400.0, v[12];
+                exdex_kinematics k;
+                ENSURE(exdex_motion_eval(m, t, &k) == EXDEX_OK);
+                ex_mulmtv3(v, k.R, g);
+                ex_mulmtv3(v + 3, k.R, k.a);
+                ex_mulmtv3(v + 6, k.R, k.w);
+                ex_mulmtv3(v + 9, k.R, k.dw);
+                for (int q = 0; q < 12; q++) {
+                    const ex_iv *iv = (q < 3 ? fb.gB : q < 6 ? fb.a0 : q < 9 ? fb.w : fb.dw) + q % 3;
+                    ENSURE(v[q] >= iv->lo && v[q] <= iv->hi);
+                    lo[q] = fmin(lo[q], v[q]);
+                    hi[q] = fmax(hi[q], v[q]);
+                }
+            }
+            for (int q = 0; q < 12; q++) {
+                const ex_iv *iv = (q < 3 ? fb.gB : q < 6 ? fb.a0 : q < 9 ? fb.w : fb.dw) + q % 3;
+                double w = iv->hi - iv->lo;
+                if (!(hi[q] - lo[q] > 1e-3 * w && hi[q] > lo[q])) continue;
+                /* profiles: the samples' range within 1 % of the enclosure; logs (interval arithmetic
+                 * through the quaternion's normalisation): a quarter of it */
+                if (s % 4 == 1 || s % 4 == 2) {
+                    n_moving++;
+                    n_tight += hi[q] - lo[q] >= (1.0 - 1e-2) * w;
+                } else {
+                    n_moving_log++;
+                    n_tight_log += hi[q] - lo[q] >= 0.25 * w;
+                }
+            }
+        }
+        exdex_motion_free(m);
+    }
+    ENSURE(n_boxes == 48 * 20);
+    ENSURE(n_moving > 1000 && n_tight > 0.8 * n_moving);
+    ENSURE(n_moving_log > 1000 && n_tight_log > 0.8 * n_moving_log);
+}
+
+/* Rotation runs in a gripper that turns (logs, chains with turning pieces,
+ * Eq. 7 or a trapezoid turning about a random axis: the pieces' bound does
+ * not apply off the plate normal): the turning blocks' proofs (the load
+ * enclosed over motion_frame_box's frame and the block's angles and rates)
+ * against every sample's check, on random scenes around the held box's
+ * threshold (the pivot `offset` off the centre of mass, as in
+ * certify_proofs_rotation_blocks; the turn's inertial and gravity terms
+ * move it), in three seeds, with a falling grip in some. */
+EXDEX_TEST(certify_proofs_rotation_turning_blocks)
+{
+    static double times[12], poses[12 * 7];
+    static const double gt[4] = {0.0, 0.3, 0.6, 1.0}, gf[4] = {1.0, 0.8, 0.7, 0.6};
+    exdex_motion_def pc[4];
+    static const unsigned long seeds[3] = {99, 2024, 31337};
+    n_held = n_failed = 0;
+    for (int sd = 0; sd < 3; sd++) {
+        lcg = seeds[sd];
+        for (int s = 0; s < 32; s++) {
+            int kind = s % 4, k = (int[]){0, 1, 3, 4}[(s / 4) % 4];
+            double ratio = urand(1.2, 5.0), amp = urand(0.03, 0.3) * (urand(0, 1) < 0.5 ? -1.0 : 1.0);
+            double offset = urand(0.0, 1.15) * 0.0076520 * sqrt(ratio * ratio - 1.0);
+            double dt = methods[k] == EXDEX_METHOD_REGULARISED ? 4e-3 : 1e-3;
+            exdex_scene_def d = box(ratio, offset, methods[k]);
+            d.dof = EXDEX_DOF_ROTATION;
+            random_turning_motion(&d.motion, kind, amp, times, poses, pc);
+            if (s % 3 == 2) {
+                /* gravity along the plate normal */
+                d.gravity[2] = 0.0;
+                d.gravity[1] = -9.81;
+            }
+            if (s % 5 == 4) {
+                d.grip_n = 4;
+                d.grip_times = gt;
+                d.grip_forces = gf;
+                d.grip_kind = EXDEX_GRIP_LINEAR;
+            }
+            same_certificate(&d, 0.9, dt);
+        }
+    }
+    ENSURE(n_held >= 15 && n_failed >= 15);
+}
+
+/* The load at (t, theta, v) as the certificate states it (cert_at_frame
+ * with a = 0 and no stop force): P = M kappa - F, kappa the pin's
+ * centripetal acceleration -v^2 rho, F the planar model's gravity and
+ * frame terms, in patch coordinates. */
+static void rotation_load(const exdex_model *m, double t, double th, double v, double b[3])
+{
+    frame f;
+    exdex_kinematics k;
+    double rho[2] = {cos(th) * m->c[0] - sin(th) * m->c[1], sin(th) * m->c[0] + cos(th) * m->c[1]};
+    double qf[3] = {m->pivot[0] + rho[0], m->pivot[1] + rho[1], th}, vf[3] = {-v * rho[1], v * rho[0], v}, F[3], P[3];
+    double cs[2] = {cos(th), sin(th)};
+    ENSURE(model_frame_at(m, t, &f, &k) == EXDEX_OK);
+    model_force_planar(m, &f, qf, vf, F);
+    P[0] = -m->m * v * v * rho[0] - F[0];
+    P[1] = -m->m * v * v * rho[1] - F[1];
+    P[2] = -F[2];
+    model_patch_of_gen(m, cs, P, b);
+}
+
+/* certify_turning_load against dense samples: on random blocks of random
+ * turning motions, random angle and rate ranges, the load of every sample
+ * (times, angles and rates over the ranges, their ends included) lies in
+ * the enclosure, and for most components that move the samples cover at
+ * least a quarter of it (a dropped Coriolis, Euler, centripetal or
+ * gyroscopic term moves samples out of it). */
+EXDEX_TEST(certify_turning_load_holds_dense_samples)
+{
+    static double times[12], poses[12 * 7];
+    exdex_motion_def pc[4];
+    int n_boxes = 0, n_moving = 0, n_cover = 0;
+    lcg = 5151;
+    for (int s = 0; s < 32; s++) {
+        const char *bad = NULL;
+        int status;
+        exdex_scene_def d = box(3.0, urand(-0.02, 0.02), EXDEX_METHOD_IMPLICIT);
+        exdex_model *m;
+        d.dof = EXDEX_DOF_ROTATION;
+        d.patch_center[1] = urand(-0.02, 0.02);
+        d.inertia[1] = d.inertia[3] = urand(-1e-4, 1e-4);
+        d.inertia[2] = d.inertia[6] = urand(-1e-4, 1e-4);
+        random_turning_motion(&d.motion, s % 4, urand(0.1, 0.5), times, poses, pc);
+        if (s % 2) {
+            d.gravity[2] = 0.0;
+            d.gravity[1] = -9.81;
+        }
+        m = exdex_model_alloc(&d, &status, &bad);
+        ENSURE(m != NULL);
+        if (!m) continue;
+        for (int bk = 0; bk < 12; bk++) {
+            double end = exdex_motion_end(m->motion), ta = urand(0.0, end), tb = ta + exp(urand(log(2e-3), log(5e-2)));
+            double th0 = urand(-3.0, 3.0), v0 = urand(-8.0, 8.0), lo[3] = {INFINITY, INFINITY, INFINITY};
+            double hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+            ex_iv th = {th0, th0 + (bk % 3 ? urand(0.0, 0.3) : 0.0)}, v = {v0, v0 + (bk % 3 == 1 ? urand(0.0, 2.0) : 0.0)}, b[3];
+            int ok = certify_turning_load(m, ta, tb, th, v, b);
+            ENSURE(ok);
+            if (!ok) continue;
+            n_boxes++;
+            for (int j = 0; j <= 60; j++) {
+                double t = ta + (tb - ta) * j / 60.0;
+                for (int a = 0; a < 3; a++)
+                    for (int c = 0; c < 3; c++) {
+                        double x[3], tt = th.lo + (th.hi - th.lo) * a / 2.0, vv = v.lo + (v.hi - v.lo) * c / 2.0;
+                        rotation_load(m, t, tt, vv, x);
+                        for (int q = 0; q < 3; q++) {
+                            ENSURE(x[q] >= b[q].lo && x[q] <= b[q].hi);
+                            lo[q] = fmin(lo[q], x[q]);
+                            hi[q] = fmax(hi[q], x[q]);
+                        }
+                    }
+            }
+            for (int q = 0; q < 3; q++) {
+                double w = b[q].hi - b[q].lo;
+                if (!(hi[q] - lo[q] > 1e-3 * w)) continue;
+                n_moving++;
+                n_cover += hi[q] - lo[q] >= 0.25 * w;
+            }
+        }
+        exdex_model_free(m);
+    }
+    ENSURE(n_boxes == 32 * 12);
+    ENSURE(n_moving > 600 && n_cover > 0.6 * n_moving);
 }
