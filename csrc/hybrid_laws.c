@@ -656,7 +656,7 @@ static int planar_friction_cs(hyb *H, const frame *f, const exdex_kinematics *ki
     hyb_pads(H, y);
     const exdex_model *m = H->m;
     const double *v = y + 3;
-    model_force_planar(m, f, y, v, F);
+    model_force_planar_cs(m, f, y, v, cs, F);
     if (H->mode == MODE_STICK) {
         double mF[3] = {-F[0], -F[1], -F[2]};
         model_patch_of_gen(m, cs, mF, w);
