@@ -565,6 +565,9 @@ typedef struct ode {
 int hyb_hrow_src(const hyb *H, int r);
 double hyb_hrow_planar(const hyb *H, const exdex_kinematics *kin, int r, const double *q, const double *v,
                        double G[3], double *gd, double *gdd0);
+/* The same with cs = (cos q[2], sin q[2]) given (NULL: computed). */
+double hyb_hrow_planar_cs(const hyb *H, const exdex_kinematics *kin, int r, const double *q, const double *cs,
+                          const double *v, double G[3], double *gd, double *gdd0);
 int hyb_hrow_all_planar(const hyb *H, const exdex_kinematics *kin, const double *y, int *rows, double (*G)[3],
                         double *gap, double *gd);
 void hyb_hrow_1dof(const hyb *H, const exdex_kinematics *kin, int k, int j, double q, crow *c);
