@@ -112,43 +112,15 @@ static double seg_time(const hyb *H, double t)
  * grip schedule also the friction capacities H->cap, H->caps at that time (segments end
  * at the schedule's breakpoints too), which every friction law, guard and
  * decision below reads: the stick guard C(t) (1 + FRICTION_BAND) - |load|_E is
- * located on the stepper's dense map like every other guard. The terms of the
- * last FRAME_CACHE times are remembered (H->fc) and given again, as computed,
- * when a time recurs. */
+ * located on the stepper's dense map like every other guard. */
 int hyb_frame_seg(hyb *H, double t, frame *f, exdex_kinematics *k)
 {
-    hyb_frame_memo *c;
-    uint64_t tb;
-    int st;
     t = seg_time(H, t);
-    memcpy(&tb, &t, sizeof tb);
-    for (int i = 0; i < H->nfc; i++) {
-        c = &H->fc[i];
-        if (c->tb != tb) continue;
-        if (H->m->grip_n) {
-            H->cap = H->capk * c->cap;
-            H->caps = H->capk * c->caps;
-        }
-        *f = c->f;
-        *k = c->k;
-        return EXDEX_OK;
-    }
-    c = &H->fc[H->fcn];
-    c->cap = c->caps = 0.0;
     if (H->m->grip_n) {
-        c->cap = model_capacity(H->m, t);
-        c->caps = model_capacity_static(H->m, t);
-        H->cap = H->capk * c->cap;
-        H->caps = H->capk * c->caps;
+        H->cap = H->capk * model_capacity(H->m, t);
+        H->caps = H->capk * model_capacity_static(H->m, t);
     }
-    st = model_frame_at(H->m, t, f, k);
-    if (st) return st;
-    c->tb = tb;
-    c->f = *f;
-    c->k = *k;
-    H->fcn = (H->fcn + 1) % FRAME_CACHE;
-    if (H->nfc < FRAME_CACHE) H->nfc++;
-    return EXDEX_OK;
+    return model_frame_at(H->m, t, f, k);
 }
 
 /* Regularised friction per unit slip at slip speed sig = |E u| (same
