@@ -279,16 +279,32 @@ double contact_stop_gap(const exdex_model *m, const exdex_kinematics *k, int ks,
 double contact_row_planar(const exdex_model *m, const exdex_kinematics *k, int ks, int j, const double *q,
                           const double *v, double G[3], double *gd, double *gdd0)
 {
-    return contact_plane_row_planar(m, k, m->sp[ks], m->sn[ks], j, q, v, G, gd, gdd0);
+    return contact_plane_row_planar_cs(m, k, m->sp[ks], m->sn[ks], j, q, NULL, v, G, gd, gdd0);
+}
+
+double contact_row_planar_cs(const exdex_model *m, const exdex_kinematics *k, int ks, int j, const double *q,
+                             const double *cs, const double *v, double G[3], double *gd, double *gdd0)
+{
+    return contact_plane_row_planar_cs(m, k, m->sp[ks], m->sn[ks], j, q, cs, v, G, gd, gdd0);
 }
 
 double contact_plane_row_planar(const exdex_model *m, const exdex_kinematics *k, const double sp[3],
                                 const double n[3], int j, const double *q, const double *v, double G[3], double *gd,
                                 double *gdd0)
 {
+    return contact_plane_row_planar_cs(m, k, sp, n, j, q, NULL, v, G, gd, gdd0);
+}
+
+double contact_plane_row_planar_cs(const exdex_model *m, const exdex_kinematics *k, const double sp[3],
+                                   const double n[3], int j, const double *q, const double *cs, const double *v,
+                                   double G[3], double *gd, double *gdd0)
+{
     double rv[2] = {0.0, 0.0}, xB[3], xd[3], xdd[3], Rx[3], Rxd[3], Rxdd[3], nB[3], a[3], b[3], c[3];
     double gap;
-    if (m->n_vert) rot2(rv, q[2], m->vert[j]);
+    if (m->n_vert) {
+        if (cs) rot2_cs(rv, cs, m->vert[j]);
+        else rot2(rv, q[2], m->vert[j]);
+    }
     xB[0] = q[0] + rv[0];
     xB[1] = q[1] + rv[1];
     xB[2] = 0.0;

@@ -67,6 +67,13 @@ double contact_stop_gap(const exdex_model *m, const exdex_kinematics *k, int ks,
  * the gap rate; gdd0 (may be NULL) the gap acceleration less G qdd. */
 double contact_row_planar(const exdex_model *m, const exdex_kinematics *k, int ks, int j, const double *q,
                           const double *v, double G[3], double *gd, double *gdd0);
+/* contact_plane_row_planar and contact_row_planar with cs = (cos q[2], sin q[2])
+ * given (NULL: computed). */
+double contact_plane_row_planar_cs(const exdex_model *m, const exdex_kinematics *k, const double sp[3],
+                                   const double n[3], int j, const double *q, const double *cs, const double *v,
+                                   double G[3], double *gd, double *gdd0);
+double contact_row_planar_cs(const exdex_model *m, const exdex_kinematics *k, int ks, int j, const double *q,
+                             const double *cs, const double *v, double G[3], double *gd, double *gdd0);
 
 /* Coulomb friction of a contact row (a point of the object against a
  * contact fixed in A: a stop, or any other row with an in-plane normal).

@@ -858,7 +858,6 @@ static int hybrid_advance(const exdex_model *m, ode *O, double ti, int regrip, e
     memcpy(A.y, O->S.y, sizeof A.y);
     H->m = m;
     H->mc = O->mc;
-    hyb_frame_forget(H);
     H->st = st;
     O->sys.params = H;
     O->step = hyb_stepper(O, H);
@@ -944,8 +943,6 @@ static void hybrid_save(const void *ws, void *buf)
     struct hyb_state S;
     size_t n = O->evo->dimension;
     memcpy(&S, &O->S, sizeof S);
-    hyb_frame_forget(&S.H);   /* remembered frames are not state: saved as zeros */
-    memset(S.H.fc, 0, sizeof S.H.fc);
     S.count = O->evo->count;
     S.failed_steps = O->evo->failed_steps;
     S.last_step = O->evo->last_step;
@@ -982,7 +979,6 @@ static int hybrid_restore(void *ws, const void *buf)
     if (S.H.sgn < 0 || S.H.sgn > SF_MAX_STOPS || (S.H.sgn > 0 && S.H.ndof != 3)) return EXDEX_EINVAL;
     for (int i = 0; S.H.sgn > 0 && i < S.H.ncs; i++)
         if (S.H.sg[i] < 0 || S.H.sg[i] >= S.H.sgn) return EXDEX_EINVAL;
-    hyb_frame_forget(&S.H);
     O->S = S;
     O->sys.params = &O->S.H;
     {

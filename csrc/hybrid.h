@@ -332,7 +332,6 @@
 #include "util.h"
 
 #include <float.h>
-#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -352,16 +351,6 @@ enum { MODE_SLIP = 0, MODE_STICK = 1, MODE_CONTACT = 2, MODE_FREE = 3 };
  *           generalized friction and of each stop's normal force)
  *   planar: (x, y, theta, xd, yd, thetad, I_w[3])  (I_w: integral of the
  *           plate wrench (f_x, f_y, m_z) in B) */
-/* The frames a run asked for last (hyb_frame_seg): the stages of one step,
- * its guards and the next step's start ask for a few times again. */
-#define FRAME_CACHE 4
-typedef struct hyb_frame_memo {
-    uint64_t tb;       /* the time in the segment (seg_time): its bits (-0.0 is not 0.0) */
-    double cap, caps;  /* model_capacity, model_capacity_static at t (with a grip schedule) */
-    frame f;
-    exdex_kinematics k;
-} hyb_frame_memo;
-
 typedef struct hyb {
     const exdex_model *m;
     exdex_model *mc;   /* pads on the fingers: m itself, the run's own copy whose contact
@@ -399,17 +388,7 @@ typedef struct hyb {
     int held;          /* regularised, planar, C_s > C: 1 while the object is held (in the
                           stick band, or beyond it with the load inside the static ellipsoid),
                           0 once it broke away (until it slows into the band again); see the top */
-    int nfc, fcn;      /* frames remembered (up to FRAME_CACHE), the slot the next one takes;
-                          0 whenever the run (re)takes its model (hyb_frame_forget) */
-    hyb_frame_memo fc[FRAME_CACHE];
 } hyb;
-
-/* Drops the remembered frames: the model (its motion or grip) may have changed. */
-static inline void hyb_frame_forget(hyb *H)
-{
-    H->nfc = 0;
-    H->fcn = 0;
-}
 
 /* The mode as one array of row states (hyb_row_states, hybrid_decide.c): a
  * record per row of the contact state, the plate's friction first, then
@@ -567,6 +546,9 @@ typedef struct ode {
 int hyb_hrow_src(const hyb *H, int r);
 double hyb_hrow_planar(const hyb *H, const exdex_kinematics *kin, int r, const double *q, const double *v,
                        double G[3], double *gd, double *gdd0);
+/* The same with cs = (cos q[2], sin q[2]) given (NULL: computed). */
+double hyb_hrow_planar_cs(const hyb *H, const exdex_kinematics *kin, int r, const double *q, const double *cs,
+                          const double *v, double G[3], double *gd, double *gdd0);
 int hyb_hrow_all_planar(const hyb *H, const exdex_kinematics *kin, const double *y, int *rows, double (*G)[3],
                         double *gap, double *gd);
 void hyb_hrow_1dof(const hyb *H, const exdex_kinematics *kin, int k, int j, double q, crow *c);

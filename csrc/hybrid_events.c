@@ -116,13 +116,20 @@ static int gap_guards(const hyb *H, const exdex_kinematics *kin, const double *y
     int n = 0;
     if (H->ndof == 3) {
         unsigned char in[MAX_ROWS];
+        double csv[2];
+        const double *cs = NULL;
+        if (H->ns) {
+            csv[0] = cos(y[2]);
+            csv[1] = sin(y[2]);
+            cs = csv;
+        }
         memset(in, 0, (size_t)(H->ns * H->nv));
         for (int i = 0; i < H->ncs; i++)
             if (H->cs[i] < H->ns * H->nv) in[H->cs[i]] = 1;
         for (int k = 0; k < H->ns; k++)
             for (int j = 0; j < H->nv; j++) {
                 double G[3];
-                if (!in[k * H->nv + j]) g[n++] = hg(G_GAP, k * H->nv + j, 0, contact_row_planar(m, kin, k, j, y, y + 3, G, NULL, NULL));
+                if (!in[k * H->nv + j]) g[n++] = hg(G_GAP, k * H->nv + j, 0, contact_row_planar_cs(m, kin, k, j, y, cs, y + 3, G, NULL, NULL));
             }
         if (H->no) n += obst_guards(H, kin, y, g + n);
         return n;

@@ -25,8 +25,14 @@ int hyb_hrow_src(const hyb *H, int r)
 double hyb_hrow_planar(const hyb *H, const exdex_kinematics *kin, int r, const double *q, const double *v,
                        double G[3], double *gd, double *gdd0)
 {
+    return hyb_hrow_planar_cs(H, kin, r, q, NULL, v, G, gd, gdd0);
+}
+
+double hyb_hrow_planar_cs(const hyb *H, const exdex_kinematics *kin, int r, const double *q, const double *cs,
+                          const double *v, double G[3], double *gd, double *gdd0)
+{
     int base = H->ns * H->nv;
-    if (r < base) return contact_row_planar(H->m, kin, r / H->nv, r % H->nv, q, v, G, gd, gdd0);
+    if (r < base) return contact_row_planar_cs(H->m, kin, r / H->nv, r % H->nv, q, cs, v, G, gd, gdd0);
     return orow_planar(H->m, kin, r - base, q, v, G, gd, gdd0);
 }
 
@@ -36,9 +42,16 @@ int hyb_hrow_all_planar(const hyb *H, const exdex_kinematics *kin, const double 
                         double *gap, double *gd)
 {
     int n = 0;
+    double csv[2];
+    const double *cs = NULL;
+    if (H->ns) {
+        csv[0] = cos(y[2]);
+        csv[1] = sin(y[2]);
+        cs = csv;
+    }
     for (int k = 0; k < H->ns; k++)
         for (int j = 0; j < H->nv; j++) {
-            gap[n] = contact_row_planar(H->m, kin, k, j, y, y + 3, G[n], gd ? &gd[n] : NULL, NULL);
+            gap[n] = contact_row_planar_cs(H->m, kin, k, j, y, cs, y + 3, G[n], gd ? &gd[n] : NULL, NULL);
             rows[n++] = k * H->nv + j;
         }
     if (H->no) {
@@ -99,43 +112,15 @@ static double seg_time(const hyb *H, double t)
  * grip schedule also the friction capacities H->cap, H->caps at that time (segments end
  * at the schedule's breakpoints too), which every friction law, guard and
  * decision below reads: the stick guard C(t) (1 + FRICTION_BAND) - |load|_E is
- * located on the stepper's dense map like every other guard. The terms of the
- * last FRAME_CACHE times are remembered (H->fc) and given again, as computed,
- * when a time recurs. */
+ * located on the stepper's dense map like every other guard. */
 int hyb_frame_seg(hyb *H, double t, frame *f, exdex_kinematics *k)
 {
-    hyb_frame_memo *c;
-    uint64_t tb;
-    int st;
     t = seg_time(H, t);
-    memcpy(&tb, &t, sizeof tb);
-    for (int i = 0; i < H->nfc; i++) {
-        c = &H->fc[i];
-        if (c->tb != tb) continue;
-        if (H->m->grip_n) {
-            H->cap = H->capk * c->cap;
-            H->caps = H->capk * c->caps;
-        }
-        *f = c->f;
-        *k = c->k;
-        return EXDEX_OK;
-    }
-    c = &H->fc[H->fcn];
-    c->cap = c->caps = 0.0;
     if (H->m->grip_n) {
-        c->cap = model_capacity(H->m, t);
-        c->caps = model_capacity_static(H->m, t);
-        H->cap = H->capk * c->cap;
-        H->caps = H->capk * c->caps;
+        H->cap = H->capk * model_capacity(H->m, t);
+        H->caps = H->capk * model_capacity_static(H->m, t);
     }
-    st = model_frame_at(H->m, t, f, k);
-    if (st) return st;
-    c->tb = tb;
-    c->f = *f;
-    c->k = *k;
-    H->fcn = (H->fcn + 1) % FRAME_CACHE;
-    if (H->nfc < FRAME_CACHE) H->nfc++;
-    return EXDEX_OK;
+    return model_frame_at(H->m, t, f, k);
 }
 
 /* Regularised friction per unit slip at slip speed sig = |E u| (same
@@ -515,8 +500,18 @@ static double sf_rest(hyb *H, const exdex_kinematics *kin, const double *y, cons
  * gap acceleration of every contact-set row. Returns 1 when the stop
  * friction's mode is a lock (sf_acc; lock_rows, may be NULL, gets its rows),
  * else 0. */
+static int contact_acc_planar_cs(hyb *H, const exdex_kinematics *kin, const double *y, const double *cs,
+                                 const double afree[3], double qdd[3], double *lam, double *acc, unsigned *lock_rows);
+
 int hyb_contact_acc_planar(hyb *H, const exdex_kinematics *kin, const double *y, const double afree[3],
                            double qdd[3], double *lam, double *acc, unsigned *lock_rows)
+{
+    return contact_acc_planar_cs(H, kin, y, NULL, afree, qdd, lam, acc, lock_rows);
+}
+
+/* hyb_contact_acc_planar with cs = (cos y[2], sin y[2]) given (NULL: computed by the rows). */
+static int contact_acc_planar_cs(hyb *H, const exdex_kinematics *kin, const double *y, const double *cs,
+                                 const double afree[3], double qdd[3], double *lam, double *acc, unsigned *lock_rows)
 {
     double Gr[MAX_ROWS][3], b[MAX_ROWS];
     int lk = H->sfric ? sf_acc(H, kin, y, afree, qdd, lam, acc, lock_rows) : 0;
@@ -526,7 +521,7 @@ int hyb_contact_acc_planar(hyb *H, const exdex_kinematics *kin, const double *y,
     for (int i = 0; i < H->ncs; i++) {
         int r = H->cs[i];
         double gdd0 = 0.0;
-        hyb_hrow_planar(H, kin, r, y, y + 3, Gr[i], NULL, &gdd0);
+        hyb_hrow_planar_cs(H, kin, r, y, cs, y + 3, Gr[i], NULL, &gdd0);
         b[i] = -gdd0;
     }
     ldp_project(H->m->minv, H->ncs, (const double (*)[3])Gr, b, afree, FQ_MIN, qdd, lam, &H->st->stop_iterations, &H->st->warnings);
@@ -554,16 +549,17 @@ double hyb_planar_rest(hyb *H, const exdex_kinematics *kin, const double *y, con
         double r = sf_rest(H, kin, y, F, w, lam);
         if (r >= 0.0) return r;
     }
+    const double cs[2] = {cos(y[2]), sin(y[2])};  /* (cos, sin) of theta for the rows and patch maps */
     for (int c = 0; c < 3; c++) mF[c] = -F[c];
-    model_patch_of_gen(m, MODEL_CS(y[2]), mF, a);
+    model_patch_of_gen(m, cs, mF, a);
     if (!m->ls_exact)
         for (int c = 0; c < 3; c++) a[c] /= m->e[c];
     for (int i = 0; i < H->ncs; i++) {
         int r = H->cs[i];
         double G[3], mG[3];
-        hyb_hrow_planar(H, kin, r, y, y + 3, G, NULL, NULL);
+        hyb_hrow_planar_cs(H, kin, r, y, cs, y + 3, G, NULL, NULL);
         for (int c = 0; c < 3; c++) mG[c] = -G[c];
-        model_patch_of_gen(m, MODEL_CS(y[2]), mG, B[i]);
+        model_patch_of_gen(m, cs, mG, B[i]);
         if (!m->ls_exact)
             for (int c = 0; c < 3; c++) B[i][c] /= m->e[c];
     }
@@ -577,10 +573,10 @@ double hyb_planar_rest(hyb *H, const exdex_kinematics *kin, const double *y, con
     for (int i = 0; i < H->ncs; i++) {
         int r = H->cs[i];
         double G[3];
-        hyb_hrow_planar(H, kin, r, y, y + 3, G, NULL, NULL);
+        hyb_hrow_planar_cs(H, kin, r, y, cs, y + 3, G, NULL, NULL);
         for (int c = 0; c < 3; c++) P[c] -= lam[i] * G[c];
     }
-    model_patch_of_gen(m, MODEL_CS(y[2]), P, w);
+    model_patch_of_gen(m, cs, P, w);
     return m->ls_exact && !isnan(gm) ? gm : model_ls_gauge(m, w);  /* as sf_rest */
 }
 
@@ -656,7 +652,7 @@ static int planar_friction_cs(hyb *H, const frame *f, const exdex_kinematics *ki
     hyb_pads(H, y);
     const exdex_model *m = H->m;
     const double *v = y + 3;
-    model_force_planar(m, f, y, v, F);
+    model_force_planar_cs(m, f, y, v, cs, F);
     if (H->mode == MODE_STICK) {
         double mF[3] = {-F[0], -F[1], -F[2]};
         model_patch_of_gen(m, cs, mF, w);
@@ -835,7 +831,7 @@ int hyb_rhs(double t, const double y[], double dy[], void *params)
             }
             if (H->ncs) {
                 double lam[MAX_ROWS];
-                hyb_contact_acc_planar(H, &kin, y, a, dy + 3, lam, NULL, NULL);
+                contact_acc_planar_cs(H, &kin, y, cs, a, dy + 3, lam, NULL, NULL);
                 for (int i = 0; i < H->ncs; i++) dy[9 + hyb_hrow_src(H, H->cs[i])] += lam[i];
             }
         }

@@ -431,23 +431,37 @@ void model_force_lin(const exdex_model *m, const frame *f, const double r[3],
 /* Inertial torque about z on the body turning at thd relative to B at angle th. */
 double model_torque_z(const exdex_model *m, const frame *f, double th, double thd)
 {
-    double IB[9], Rz[9], T[9], v[3], Iv[3], W[3], IW[3], wxe[3];
-    const double ez[3] = {0.0, 0.0, 1.0};
-    double c = cos(th), s = sin(th);
-    /* Only the z-row of I_B is needed, plus I_B W for the gyroscopic term. */
-    Rz[0] = c; Rz[1] = -s; Rz[2] = 0; Rz[3] = s; Rz[4] = c; Rz[5] = 0; Rz[6] = 0; Rz[7] = 0; Rz[8] = 1;
-    ex_mulmm3(T, Rz, m->I);
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++)
-            IB[3 * i + j] = T[3 * i] * Rz[3 * j] + T[3 * i + 1] * Rz[3 * j + 1] + T[3 * i + 2] * Rz[3 * j + 2];
-    ex_cross3(wxe, f->w, ez);
-    for (int i = 0; i < 3; i++) v[i] = f->dw[i] + thd * wxe[i];
-    ex_mulmv3(Iv, IB, v);
-    W[0] = f->w[0];
-    W[1] = f->w[1];
-    W[2] = f->w[2] + thd;
-    ex_mulmv3(IW, IB, W);
-    return -Iv[2] - (W[0] * IW[1] - W[1] * IW[0]);
+    const double cs[2] = {cos(th), sin(th)};
+    return model_torque_z_cs(m, f, cs, thd);
+}
+
+/* I_B = Rz(th) I Rz(th)^T and the torque -(I_B v)_z - (W x I_B W)_z with
+ * v = dw + thd (w x e_z), W = w + thd e_z. Rz's zero entries are left out of
+ * the sums (their terms are 0), its unit entry taken as a factor of 1. */
+double model_torque_z_cs(const exdex_model *m, const frame *f, const double cs[2], double thd)
+{
+    const double *I = m->I, *w = f->w;
+    double c = cs[0], s = cs[1], T[9], IB[9], v[3], W[3], Iv2, IW0, IW1;
+    for (int j = 0; j < 3; j++) {
+        T[j] = c * I[j] - s * I[3 + j];          /* T = Rz I */
+        T[3 + j] = s * I[j] + c * I[3 + j];
+        T[6 + j] = I[6 + j];
+    }
+    for (int i = 0; i < 3; i++) {                /* I_B = T Rz^T */
+        IB[3 * i] = T[3 * i] * c - T[3 * i + 1] * s;
+        IB[3 * i + 1] = T[3 * i] * s + T[3 * i + 1] * c;
+        IB[3 * i + 2] = T[3 * i + 2];
+    }
+    v[0] = f->dw[0] + thd * w[1];                /* w x e_z = (w_y, -w_x, 0) */
+    v[1] = f->dw[1] + thd * -w[0];
+    v[2] = f->dw[2];
+    W[0] = w[0];
+    W[1] = w[1];
+    W[2] = w[2] + thd;
+    Iv2 = IB[6] * v[0] + IB[7] * v[1] + IB[8] * v[2];
+    IW0 = IB[0] * W[0] + IB[1] * W[1] + IB[2] * W[2];
+    IW1 = IB[3] * W[0] + IB[4] * W[1] + IB[5] * W[2];
+    return -Iv2 - (W[0] * IW1 - W[1] * IW0);
 }
 
 double model_force_1dof(const exdex_model *m, const frame *f, double q, double v)
@@ -473,9 +487,16 @@ double model_force_1dof(const exdex_model *m, const frame *f, double q, double v
 
 void model_force_planar(const exdex_model *m, const frame *f, const double *q, const double *v, double F[3])
 {
+    const double cs[2] = {cos(q[2]), sin(q[2])};
+    model_force_planar_cs(m, f, q, v, cs, F);
+}
+
+void model_force_planar_cs(const exdex_model *m, const frame *f, const double *q, const double *v,
+                           const double cs[2], double F[3])
+{
     double r[3] = {q[0], q[1], 0.0}, rd[3] = {v[0], v[1], 0.0};
     model_force_lin(m, f, r, rd, F);
-    F[2] = model_torque_z(m, f, q[2], v[2]);
+    F[2] = model_torque_z_cs(m, f, cs, v[2]);
 }
 
 void model_velocity_jump(const exdex_model *m, const double R[9], const double *q, const double dv[3],

@@ -279,12 +279,17 @@ void model_force_lin(const exdex_model *m, const frame *f, const double r[3], co
 /* Inertial torque about the plate normal on the body at angle th turning at
  * thd relative to B (Euler's equation, z-component, Eq. 4). */
 double model_torque_z(const exdex_model *m, const frame *f, double th, double thd);
+/* The same from cs = (cos th, sin th). */
+double model_torque_z_cs(const exdex_model *m, const frame *f, const double cs[2], double thd);
 /* 1-DoF generalised applied force Q(t, q, qd): Eq. 5 projected on the slide
  * axis (translation) or its moment about the pivot plus the inertial torque
  * (rotation). */
 double model_force_1dof(const exdex_model *m, const frame *f, double q, double v);
 /* Planar generalised applied force (B frame, (x, y, theta)). */
 void model_force_planar(const exdex_model *m, const frame *f, const double *q, const double *v, double F[3]);
+/* The same with cs = (cos q[2], sin q[2]) given. */
+void model_force_planar_cs(const exdex_model *m, const frame *f, const double *q, const double *v,
+                           const double cs[2], double F[3]);
 
 /* A velocity jump of the gripper frame (exdex_motion_jumps: dv of B's
  * origin, dw, in A; R = R_AB, continuous there) applied to the relative

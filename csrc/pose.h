@@ -17,6 +17,15 @@ static inline void rot2(double out[2], double th, const double v[2])
     out[1] = y;
 }
 
+/* rot2 with cs = (cos th, sin th) given. */
+static inline void rot2_cs(double out[2], const double cs[2], const double v[2])
+{
+    double c = cs[0], s = cs[1];
+    double x = c * v[0] - s * v[1], y = s * v[0] + c * v[1];
+    out[0] = x;
+    out[1] = y;
+}
+
 /* Centre of mass position r in B (z = 0) and orientation th for coordinates q:
  * translation r = r0 + (s - s0) d; rotation r = pivot + Rz(theta) c;
  * planar r = (x, y). */
