@@ -1353,7 +1353,8 @@ static int certify(const exdex_model *m, const exdex_trajectory *out, exdex_cert
          * after a proof, halved after a failed one down to CERT_BLOCK_MIN),
          * chk the samples to evaluate one by one before the next try */
         int blk = proofs && !pv.n && (m->def.dof == EXDEX_DOF_TRANSLATION || m->def.dof == EXDEX_DOF_ROTATION);
-        size_t bs = 0, chk = 0, swk = 0;
+        size_t bs = 0, chk = 0, swk = 0, edge = 0;   /* edge: the sample the last block failed at first */
+        int again;
         while (i < n) {
             if (blk && !chk) {
                 double hi;
@@ -1371,6 +1372,7 @@ static int certify(const exdex_model *m, const exdex_trajectory *out, exdex_cert
                         if (!(out->stick[j] || fabs(v) <= m->tol.vzero)) need[key_of(0, v)] = 1;
                         else need[0] = 1;
                     }
+                    size_t i_start = i;
                     st = prove_block(m, out, i, e2, need, pr, qr);
                     if (st) return st;
                     for (; i < e2; i++) {
@@ -1385,15 +1387,29 @@ static int certify(const exdex_model *m, const exdex_trajectory *out, exdex_cert
                             continue;
                         break;
                     }
+                    again = i == i_start && i == edge;
+                    edge = i == i_start ? i : 0;
                     if (i == e2) {
                         bs *= 2;
                         continue;
                     }
-                    if (bs > CERT_BLOCK_MIN) {
+                    if (again && expl && pr[0] && !(out->stick[i] || fabs(out->v[i]) <= m->tol.vzero) &&
+                        !pr[key_of(0, out->v[i])]) {
+                        /* failed at its first sample, as the block before it did (again), a moving
+                         * sample the block proves stuck but not surely within the band of rest (at
+                         * its edge: only a much smaller block settles it): the size cut by 8, not
+                         * halved; at CERT_BLOCK_MIN, that many samples evaluated one by one */
+                        if (bs > CERT_BLOCK_MIN) {
+                            bs = bs / 8 > CERT_BLOCK_MIN ? bs / 8 : CERT_BLOCK_MIN;
+                            continue;
+                        }
+                        chk = CERT_BLOCK_MIN;
+                    } else if (bs > CERT_BLOCK_MIN) {
                         bs /= 2;
                         continue;
+                    } else {
+                        chk = CERT_BLOCK_MIN;
                     }
-                    chk = CERT_BLOCK_MIN;
                 }
             }
             if (chk) chk--;
