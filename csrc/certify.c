@@ -651,7 +651,7 @@ static int prove_pieces(const exdex_model *m, const exdex_trajectory *out, piece
                        d->center[c];
             for (int c = 0; c < 3; c++) xn += x[c] * nax[c];
             for (int c = 0; c < 3; c++) x[c] -= xn * nax[c];
-            rho_ref = norm3(x) * (1.0 + 1e-12);
+            rho_ref = norm3(x) * (1.0 + CERT_ROUND);
             /* the axis in B (constant: the axis is fixed in A and turns B about itself) */
             {
                 double ub[3];
@@ -667,7 +667,7 @@ static int prove_pieces(const exdex_model *m, const exdex_trajectory *out, piece
                 double gp[3];
                 for (int c = 0; c < 3; c++) gn += m->g[c] * npl[c];
                 for (int c = 0; c < 3; c++) gp[c] = m->g[c] - gn * npl[c];
-                g_p = norm3(gp) + 1e-12 * norm3(m->g);
+                g_p = norm3(gp) + CERT_ROUND * norm3(m->g);
             } else {
                 g_p = norm3(m->g);
             }
@@ -687,14 +687,14 @@ static int prove_pieces(const exdex_model *m, const exdex_trajectory *out, piece
         /* a grip schedule: the capacities' least (and the static one's
          * largest) over the piece, at its ends (linear, step and Steffen's
          * monotone cubic pieces are monotone between breakpoints, which
-         * are switching times), the far end taken 1e-9 of the piece inside
-         * it and widened by as much of the piece's change */
+         * are switching times), the far end taken CERT_PIECE_INSIDE of the
+         * piece inside it and widened by as much of the piece's change */
         if (m->grip_n) {
-            double te = b > a ? b - 1e-9 * (b - a) : a, s0 = model_capacity_static(m, a),
+            double te = b > a ? b - CERT_PIECE_INSIDE * (b - a) : a, s0 = model_capacity_static(m, a),
                    s1 = model_capacity_static(m, te), k0 = model_capacity(m, a), k1 = model_capacity(m, te);
-            Csmin = fmin(s0, s1) - 1e-9 * fabs(s1 - s0);
-            Csmax = fmax(s0, s1) + 1e-9 * fabs(s1 - s0);
-            Cmin = fmin(k0, k1) - 1e-9 * fabs(k1 - k0);
+            Csmin = fmin(s0, s1) - CERT_PIECE_INSIDE * fabs(s1 - s0);
+            Csmax = fmax(s0, s1) + CERT_PIECE_INSIDE * fabs(s1 - s0);
+            Cmin = fmin(k0, k1) - CERT_PIECE_INSIDE * fabs(k1 - k0);
         } else {
             Csmin = Csmax = model_capacity_static(m, tm);
             Cmin = model_capacity(m, tm);
@@ -731,7 +731,7 @@ static int prove_pieces(const exdex_model *m, const exdex_trajectory *out, piece
             double Bf, Bz, Cs = Csmin, C = Cmin, gauge;
             if (turns) {
                 /* omega at the piece's ends (linear inside), alpha inside */
-                double om = 0.0, al = 0.0, ts[3] = {a + 1e-9 * (b - a), tm, b - 1e-9 * (b - a)}, s;
+                double om = 0.0, al = 0.0, ts[3] = {a + CERT_PIECE_INSIDE * (b - a), tm, b - CERT_PIECE_INSIDE * (b - a)}, s;
                 for (int e = 0; e < 3; e++) {
                     exdex_kinematics kk;
                     st = exdex_motion_eval(m->motion, ts[e], &kk);
@@ -739,28 +739,28 @@ static int prove_pieces(const exdex_model *m, const exdex_trajectory *out, piece
                     if (norm3(kk.w) > om) om = norm3(kk.w);
                     if (norm3(kk.dw) > al) al = norm3(kk.dw);
                 }
-                om *= 1.0 + 1e-9;   /* the ends evaluated 1e-9 of the piece inside it */
+                om *= 1.0 + CERT_PIECE_INSIDE;   /* the ends evaluated CERT_PIECE_INSIDE of the piece inside it */
                 if (m->def.motion.kind == EXDEX_MOTION_SHAKE && a < m->def.motion.duration) {
                     /* theta = A (1 - cos w t): |theta'| <= |A| w, |theta''| <= |A| w^2 */
                     double w = 2.0 * 3.14159265358979323846 * m->def.motion.frequency, A = fabs(m->def.motion.amplitude);
-                    om = fmax(om, A * w * (1.0 + 1e-12));
-                    al = fmax(al, A * w * w * (1.0 + 1e-12));
+                    om = fmax(om, A * w * (1.0 + CERT_ROUND));
+                    al = fmax(al, A * w * w * (1.0 + CERT_ROUND));
                 }
                 s = sqrt(al * al + om * om * om * om);
                 Bf = m->m * (g_p + (rho_ref + dq) * s);
-                Bz = m->izz * al * (1.0 + 1e-12) + 2.0 * Inorm * u_xy * (al + om * om) + hypot(m->pc[0], m->pc[1]) * Bf;
+                Bz = m->izz * al * (1.0 + CERT_ROUND) + 2.0 * Inorm * u_xy * (al + om * om) + hypot(m->pc[0], m->pc[1]) * Bf;
             } else {
                 /* rest or a translating gripper: gravity and B's acceleration, constant in the piece */
                 frame f;
                 exdex_kinematics kin;
                 st = model_frame_at(m, tm, &f, &kin);
                 if (st) return st;
-                Bf = m->m * hypot(f.gB[0] - f.a0[0], f.gB[1] - f.a0[1]) * (1.0 + 1e-12);
+                Bf = m->m * hypot(f.gB[0] - f.a0[0], f.gB[1] - f.a0[1]) * (1.0 + CERT_ROUND);
                 Bz = hypot(m->pc[0], m->pc[1]) * Bf;
             }
             gauge = hypot(Bf, Bz / m->e[2]);
             if (m->ls_exact) gauge = m->ls.kmin > 0.0 ? gauge / m->ls.kmin : INFINITY;
-            pv->proven[j][0] = gauge <= Cs * (1.0 - 1e-12);
+            pv->proven[j][0] = gauge <= Cs * (1.0 - CERT_ROUND);
             if (m->def.dof == EXDEX_DOF_ROTATION && m->c[0] == 0.0 && m->c[1] == 0.0 && !m->ls_exact &&
                 Bf <= 0.5 * CERT_SLIP_TOL * (m->scale.F + C))
                 pv->proven[j][1] = pv->proven[j][2] = 1;
@@ -850,6 +850,19 @@ int certify_arc_triangle(double th0, double th1, double half_max, double th[3], 
 static int prove_block_turning(const exdex_model *m, const exdex_trajectory *out, size_t i0, size_t i1,
                                const int need[3], unsigned char pr[3], double qr[2]);
 
+/* The static capacity held over a block [ta, tb] (midpoint tm): a grip
+ * schedule's least at the block's ends (monotone between breakpoints, as
+ * for the pieces above), widened by CERT_PIECE_INSIDE of its change;
+ * without one, the constant capacity. */
+static double block_static_capacity(const exdex_model *m, double ta, double tb, double tm)
+{
+    if (m->grip_n) {
+        double s0 = model_capacity_static(m, ta), s1 = model_capacity_static(m, tb);
+        return fmin(s0, s1) - CERT_PIECE_INSIDE * fabs(s1 - s0);
+    }
+    return model_capacity_static(m, tm);
+}
+
 static int prove_block(const exdex_model *m, const exdex_trajectory *out, size_t i0, size_t i1, const int need[3],
                        unsigned char pr[3], double qr[2])
 {
@@ -905,12 +918,7 @@ static int prove_block(const exdex_model *m, const exdex_trajectory *out, size_t
     ax[1][1] = bh[1];
     nx = bl[0] < bh[0] ? 2 : 1;
     ny = bl[1] < bh[1] ? 2 : 1;
-    if (m->grip_n) {
-        double s0 = model_capacity_static(m, ta), s1 = model_capacity_static(m, tb);
-        Cs = fmin(s0, s1) - 1e-9 * fabs(s1 - s0);
-    } else {
-        Cs = model_capacity_static(m, tm);
-    }
+    Cs = block_static_capacity(m, ta, tb, tm);
     C = model_capacity(m, tm);
     for (int key = 0; key < 3; key++) {
         int ok = 1;
@@ -966,7 +974,7 @@ static int prove_block(const exdex_model *m, const exdex_trajectory *out, size_t
  * and b the patch wrench of P (model_patch_of_gen), so every sample's
  * exact load lies in the box of b. The samples compute it in floating
  * point (some hundred operations on numbers bounded by the terms' size S
- * below), so the box is widened by 1e-12 S, beyond that rounding. The
+ * below), so the box is widened by CERT_ROUND S, beyond that rounding. The
  * gauge and a slip's least residual over its free acceleration are convex
  * in b (for a slip the friction and the free column are fixed in the
  * patch frame up to the rate's sign: u = v (perp(c + pc), 1) there), so
@@ -1065,8 +1073,8 @@ static int turning_load(const exdex_model *m, const frame_box *fb, ex_iv th, ex_
     if (!ex_iv_ok(th) || !ex_iv_ok(v)) return 0;
     iv_patch_load(m, fb, th, v, b, &S, &gen);
     for (int c = 0; c < 3; c++) {
-        b[c].lo -= 1e-12 * S;
-        b[c].hi += 1e-12 * S;
+        b[c].lo -= CERT_ROUND * S;
+        b[c].hi += CERT_ROUND * S;
         if (!ex_iv_ok(b[c])) return 0;
     }
     return 1;
@@ -1101,12 +1109,7 @@ static int prove_block_turning(const exdex_model *m, const exdex_trajectory *out
     }
     if (!(th1 - th0 <= 2.0 * CERT_ROT_HALF_SPAN)) return EXDEX_OK;
     if (!motion_frame_box(m->motion, ta, tb, m->g, &fb)) return EXDEX_OK;
-    if (m->grip_n) {
-        double s0 = model_capacity_static(m, ta), s1 = model_capacity_static(m, tb);
-        Cs = fmin(s0, s1) - 1e-9 * fabs(s1 - s0);
-    } else {
-        Cs = model_capacity_static(m, tm);
-    }
+    Cs = block_static_capacity(m, ta, tb, tm);
     C = model_capacity(m, tm);
     for (int key = 0; key < 3; key++) {
         ex_iv b[3], TH = {th0, th1}, V = {0.0, 0.0};
@@ -1156,7 +1159,7 @@ static int prove_block_turning(const exdex_model *m, const exdex_trajectory *out
             double S;
             iv_patch_load(m, &fb, TH, Vq, bq, &S, &g);
             if (ex_iv_ok(g)) {
-                double e = 1e-12 * S;
+                double e = CERT_ROUND * S;
                 g.lo -= e;
                 g.hi += e;
                 qr[0] = g.lo > 0.0 ? g.lo : (g.hi < 0.0 ? -g.hi : 0.0);
@@ -1175,11 +1178,11 @@ static int rest_band_sure(const exdex_model *m, double h, double t, double v, co
     int rot = m->def.dof == EXDEX_DOF_ROTATION;
     double C = model_capacity(m, t) * (rot ? m->e[2] : 1.0), M = rot ? m->mrot : m->m, g;
     if (fabs(v) <= m->tol.vzero) return 1;
-    if (!(qr[1] * (1.0 + 1e-12) < C)) return 0;
-    if (m->def.method == EXDEX_METHOD_EXPLICIT) return fabs(v) <= h * (qr[0] + C) / M * (1.0 - 1e-12);
+    if (!(qr[1] * (1.0 + CERT_ROUND) < C)) return 0;
+    if (m->def.method == EXDEX_METHOD_EXPLICIT) return fabs(v) <= h * (qr[0] + C) / M * (1.0 - CERT_ROUND);
     if (m->def.method != EXDEX_METHOD_REGULARISED) return 0;
     g = qr[0] / C;
-    return fabs(v) * (rot ? m->e[2] : 1.0) <= m->def.eps * (1.0 + 2.0 * g / sqrt(1.0 - g * g)) * (1.0 - 1e-12);
+    return fabs(v) * (rot ? m->e[2] : 1.0) <= m->def.eps * (1.0 + 2.0 * g / sqrt(1.0 - g * g)) * (1.0 - CERT_ROUND);
 }
 
 /* First index e in [i, n) with t[e] + snap(t[e]) >= hi (n if none). */
@@ -1242,7 +1245,7 @@ static int check_sample(scan *sc, size_t i, exdex_certificate *c, int *failed)
     if (sc->sw < m->sw_n) {
         size_t k = sc->sw;
         while (k < m->sw_n && m->sw_t[k] < t1 - model_substep_snap(m, t1)) k++;
-        if (k < m->sw_n && m->sw_t[k] <= t1 + model_substep_snap(m, t1)) te = m->sw_t[k] - 1e-9 * (t1 - t0);
+        if (k < m->sw_n && m->sw_t[k] <= t1 + model_substep_snap(m, t1)) te = m->sw_t[k] - CERT_PIECE_INSIDE * (t1 - t0);
     }
     if (sc->pc && sc->pk_have[key] && te >= sc->pt_lo && te < sc->pt_hi) {
         ce = sc->pk[key];

@@ -26,6 +26,15 @@
  * scene's force scale plus the load's size and the capacity (rounding of
  * the load is ~1e-16 of them). */
 #define CERT_SLIP_TOL 1e-9
+/* A piece's (or a block's) far end, where a motion switches, is evaluated
+ * this fraction of its length inside it (the left limit there), and a
+ * grip schedule's capacities at its ends are widened by as much of their
+ * change. */
+#define CERT_PIECE_INSIDE 1e-9
+/* Relative widening of a computed bound, enclosure or band test beyond the
+ * rounding of its evaluation (some hundred operations on numbers of the
+ * terms' size). */
+#define CERT_ROUND 1e-12
 
 /* ------------------------------------------------ model_tols (model.c)
  * For a typical paper scene (L ~ 1 cm, T ~ 30 ms, V ~ 0.3 m/s) they give
