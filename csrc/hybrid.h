@@ -503,6 +503,16 @@ typedef struct hyb_guard {
     double dir;
 } hyb_guard;
 
+/* (cos, sin) of theta = y[2] in csv for the stop rows' _cs forms, or NULL
+ * where the scene has no stops (the rows then take nothing). */
+static inline const double *hyb_stop_cs(const hyb *H, const double *y, double csv[2])
+{
+    if (!H->ns) return NULL;
+    csv[0] = cos(y[2]);
+    csv[1] = sin(y[2]);
+    return csv;
+}
+
 static inline hyb_guard hg(int kind, int row, double dir, double value)
 {
     hyb_guard g = {value, kind, row, dir};

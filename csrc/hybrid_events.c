@@ -117,12 +117,7 @@ static int gap_guards(const hyb *H, const exdex_kinematics *kin, const double *y
     if (H->ndof == 3) {
         unsigned char in[MAX_ROWS];
         double csv[2];
-        const double *cs = NULL;
-        if (H->ns) {
-            csv[0] = cos(y[2]);
-            csv[1] = sin(y[2]);
-            cs = csv;
-        }
+        const double *cs = hyb_stop_cs(H, y, csv);
         memset(in, 0, (size_t)(H->ns * H->nv));
         for (int i = 0; i < H->ncs; i++)
             if (H->cs[i] < H->ns * H->nv) in[H->cs[i]] = 1;

@@ -43,12 +43,7 @@ int hyb_hrow_all_planar(const hyb *H, const exdex_kinematics *kin, const double 
 {
     int n = 0;
     double csv[2];
-    const double *cs = NULL;
-    if (H->ns) {
-        csv[0] = cos(y[2]);
-        csv[1] = sin(y[2]);
-        cs = csv;
-    }
+    const double *cs = hyb_stop_cs(H, y, csv);
     for (int k = 0; k < H->ns; k++)
         for (int j = 0; j < H->nv; j++) {
             gap[n] = contact_row_planar_cs(H->m, kin, k, j, y, cs, y + 3, G[n], gd ? &gd[n] : NULL, NULL);
