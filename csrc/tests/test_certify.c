@@ -43,6 +43,16 @@ static void same_certificate(const exdex_scene_def *d, double t_end, double dt)
 static const int methods[5] = {EXDEX_METHOD_IMPLICIT, EXDEX_METHOD_EXPLICIT, EXDEX_METHOD_ANALYTIC,
                                 EXDEX_METHOD_EVENT, EXDEX_METHOD_REGULARISED};
 
+/* A grip schedule of 4 breakpoints (times [s], forces [N per finger], kind
+ * enum exdex_grip_kind) on d; the arrays must outlive d's runs. */
+static void grip_schedule(exdex_scene_def *d, const double *times, const double *forces, int kind)
+{
+    d->grip_n = 4;
+    d->grip_times = times;
+    d->grip_forces = forces;
+    d->grip_kind = kind;
+}
+
 /* A 0.2 kg box held by the plates, the patch `offset` off its centre of
  * mass, gravity in the plate plane. */
 static exdex_scene_def box(double ratio, double offset, int method)
@@ -156,10 +166,7 @@ EXDEX_TEST(certify_proofs_grip_schedule)
             for (int j = 0; j < 3; j++) {
                 double ratios[3] = {6.0, 3.5, 12.0}, offsets[3] = {0.0, 0.0, 0.01};
                 exdex_scene_def d = box(ratios[j], offsets[j], methods[k]);
-                d.grip_n = 4;
-                d.grip_times = times;
-                d.grip_forces = forces;
-                d.grip_kind = kinds[g];
+                grip_schedule(&d, times, forces, kinds[g]);
                 if (methods[k] == EXDEX_METHOD_ANALYTIC && kinds[g] == EXDEX_GRIP_CUBIC) continue;
                 same_certificate(&d, 1.2, methods[k] == EXDEX_METHOD_REGULARISED ? 4e-3 : 1e-3);
                 if (methods[k] == EXDEX_METHOD_ANALYTIC) continue;
@@ -262,12 +269,7 @@ EXDEX_TEST(certify_proofs_shakes_logs_chains)
         } else {
             random_motion(&d, kind == 2 ? RANDOM_LOG : RANDOM_CHAIN, amp, f, times, poses, pc);
         }
-        if (s % 5 == 4) {
-            d.grip_n = 4;
-            d.grip_times = gt;
-            d.grip_forces = gf;
-            d.grip_kind = EXDEX_GRIP_LINEAR;
-        }
+        if (s % 5 == 4) grip_schedule(&d, gt, gf, EXDEX_GRIP_LINEAR);
         same_certificate(&d, 0.9, dt);
     }
     /* the offset keeps the box held at rest: a failure is the motion's */
@@ -633,12 +635,7 @@ EXDEX_TEST(certify_proofs_rotation_turning_blocks)
                 d.gravity[2] = 0.0;
                 d.gravity[1] = -9.81;
             }
-            if (s % 5 == 4) {
-                d.grip_n = 4;
-                d.grip_times = gt;
-                d.grip_forces = gf;
-                d.grip_kind = EXDEX_GRIP_LINEAR;
-            }
+            if (s % 5 == 4) grip_schedule(&d, gt, gf, EXDEX_GRIP_LINEAR);
             same_certificate(&d, 0.9, dt);
         }
     }

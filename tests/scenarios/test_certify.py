@@ -694,18 +694,26 @@ def test_rotation_block_proofs_give_the_every_sample_certificate():
     for i in range(48):
         scene = _random_rotation_scene(rng, i % 4) if i < 32 else _spun_scene(rng)
         method = ["implicit", "event", "explicit", "regularised"][(i // 4) % 4]
-        m = exdex.Model(scene, method=method)._model
-        dt = 4e-3 if method == "regularised" else 1e-3
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            a = m.simulate(0.8, dt)["certificate"]
-            b = m.simulate(0.8, dt, every_sample=True)["certificate"]
-        assert a == b, (i, a, b)
-        verdicts.append("held" if a["holds"] else ("later" if a["valid_until"] > 0.0 else "at once"))
+        verdicts.append(_blocks_give_every_sample(scene, method, i))
     spun = verdicts[32:]
     assert verdicts.count("held") >= 6 and verdicts.count("later") >= 6 and verdicts.count("at once") >= 3
     # the spun slips: both sides, failures inside the run (where a block's rates and angles decide)
     assert spun.count("held") >= 3 and spun.count("later") >= 3
+
+
+def _blocks_give_every_sample(scene, method, i):
+    """Run scene for 0.8 s (dt 1e-3, regularised 4e-3) with the block proofs
+    and with every sample evaluated; assert the two certificates are equal
+    field for field and return the verdict: "held", "later" (failed after
+    t = 0) or "at once"."""
+    m = exdex.Model(scene, method=method)._model
+    dt = 4e-3 if method == "regularised" else 1e-3
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        a = m.simulate(0.8, dt)["certificate"]
+        b = m.simulate(0.8, dt, every_sample=True)["certificate"]
+    assert a == b, (i, a, b)
+    return "held" if a["holds"] else ("later" if a["valid_until"] > 0.0 else "at once")
 
 
 def _turning_motion(rng, kind):
@@ -746,14 +754,7 @@ def test_turning_rotation_block_proofs_give_the_every_sample_certificate():
         d = rng.uniform(0.3, 1.3) * offset_threshold(grip)
         scene = box_scene(offset=d, grip=grip, motion=_turning_motion(rng, i % 3), dof="rotation")
         method = ["implicit", "event", "explicit", "regularised"][(i // 3) % 4]
-        m = exdex.Model(scene, method=method)._model
-        dt = 4e-3 if method == "regularised" else 1e-3
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            a = m.simulate(0.8, dt)["certificate"]
-            b = m.simulate(0.8, dt, every_sample=True)["certificate"]
-        assert a == b, (i, a, b)
-        verdicts.append("held" if a["holds"] else ("later" if a["valid_until"] > 0.0 else "at once"))
+        verdicts.append(_blocks_give_every_sample(scene, method, i))
     assert verdicts.count("held") >= 10 and verdicts.count("later") >= 6 and verdicts.count("at once") >= 3, verdicts
 
 
