@@ -13,6 +13,7 @@ import pytest
 
 import exdex
 from expected_warnings import by_design
+from scenes import falling_box_scenes
 
 M, G, MU = 0.1, 9.81, 0.5
 
@@ -74,19 +75,6 @@ def test_the_explicit_method_is_first_order_at_a_constant_acceleration():
     assert err[0] / err[1] == pytest.approx(2.0, rel=1e-9) and err[1] / err[2] == pytest.approx(2.0, rel=1e-9)
 
 
-def _scenes():
-    body = exdex.Body.box(0.1, (0.04, 0.06, 0.02))
-    grasp = exdex.Grasp(mu=0.5, grip_force=1.5)
-    motion = exdex.AsymmetricProfile(0.1, 0.5, 0.9, axis=(0, 0, -1))
-    return {
-        "translation": exdex.Scene(body=body, grasp=grasp, motion=motion),
-        "rotation": exdex.Scene(body=body, grasp=exdex.Grasp(0.5, 1.5, exdex.Patch(0.01, center=(0.0, 0.01))),
-                                motion=motion, dof="rotation"),
-        "planar": exdex.Scene(body=body, grasp=grasp, motion=motion, dof="planar",
-                              stops=(exdex.Stop((0, 0, -0.09), (0, 0, 1)),)),
-    }
-
-
 COLUMNS = {
     "translation": ["t", "s", "v_s", "f_x", "f_y", "m_z", "stick"],
     "rotation": ["t", "theta", "v_theta", "f_x", "f_y", "m_z", "stick"],
@@ -97,7 +85,7 @@ COLUMNS = {
 @pytest.fixture(scope="module")
 def results():
     with by_design("impact", "outline"):  # the planar scene drops onto its stop
-        return {k: exdex.simulate(sc, 1.2, 1e-3) for k, sc in _scenes().items()}
+        return {k: exdex.simulate(sc, 1.2, 1e-3) for k, sc in falling_box_scenes().items()}
 
 
 @pytest.mark.warns_by_design("impact", "outline")
@@ -156,7 +144,7 @@ def test_to_dataframe(results, monkeypatch):
 
 @pytest.mark.warns_by_design("impact", "outline")
 def test_repr_is_short_and_says_what_matters(results):
-    r = exdex.simulate(_scenes()["planar"], 20.0, 1e-4)  # 200,001 samples
+    r = exdex.simulate(falling_box_scenes()["planar"], 20.0, 1e-4)  # 200,001 samples
     text = repr(r)
     assert "\n" not in text and len(text) < 250, text
     assert "method='implicit'" in text and "200001 samples" in text and "t = 0..20 s" in text

@@ -9,19 +9,9 @@ import pytest
 
 import exdex
 from exdex import cli
+from scenes import falling_box_scenes
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-
-
-def _scenes():
-    body = exdex.Body.box(0.1, (0.04, 0.06, 0.02))
-    grasp = exdex.Grasp(mu=0.5, grip_force=1.5)
-    motion = exdex.AsymmetricProfile(0.1, 0.5, 0.9, axis=(0, 0, -1))
-    return {
-        "translation": exdex.Scene(body=body, grasp=grasp, motion=motion),
-        "planar": exdex.Scene(body=body, grasp=grasp, motion=motion, dof="planar",
-                              stops=(exdex.Stop((0, 0, -0.09), (0, 0, 1)),)),
-    }
 
 
 def _cli(*args, cwd):
@@ -32,7 +22,7 @@ def _cli(*args, cwd):
 
 @pytest.mark.warns_by_design("impact", "outline")
 def test_cli_run_writes_result_figure_and_animation(tmp_path):
-    sc = _scenes()["planar"]
+    sc = falling_box_scenes()["planar"]
     exdex.save_scene(sc, tmp_path / "drop.json", simulate=dict(t_end=0.9, dt=2e-3))
     p = _cli("run", "drop.json", "--out", "o", "--animate", "--fps", "5", "--no-progress", cwd=tmp_path)
     assert p.returncode == 0, p.stderr
@@ -56,7 +46,7 @@ def test_cli_run_errors_are_messages(tmp_path):
     (tmp_path / "bad.toml").write_text("schema = 5\n")
     p = _cli("run", "bad.toml", cwd=tmp_path)
     assert p.returncode != 0 and "unsupported scene-file schema 5" in p.stderr and "Traceback" not in p.stderr
-    sc = _scenes()["translation"]
+    sc = falling_box_scenes()["translation"]
     exdex.save_scene(sc, tmp_path / "s.toml")
     p = _cli("run", "s.toml", "--dt", "-1", "--no-progress", cwd=tmp_path)
     assert p.returncode != 0 and "dt must be" in p.stderr and "Traceback" not in p.stderr
@@ -75,7 +65,7 @@ def test_cli_run_without_matplotlib(tmp_path):
         "sys.meta_path.insert(0, _B())\n"
         "from exdex.cli import main\n"
         "sys.exit(main(sys.argv[1:]))\n")
-    exdex.save_scene(_scenes()["translation"], tmp_path / "s.toml", simulate=dict(t_end=0.5, dt=1e-2))
+    exdex.save_scene(falling_box_scenes()["translation"], tmp_path / "s.toml", simulate=dict(t_end=0.5, dt=1e-2))
     env = dict(os.environ, PYTHONPATH=ROOT)
     p = subprocess.run([sys.executable, "-c", blocker, "run", "s.toml", "--out", "o"], capture_output=True,
                        text=True, cwd=tmp_path, env=env, timeout=300)
