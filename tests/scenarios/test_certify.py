@@ -298,6 +298,24 @@ def test_auto_switches_where_the_certificate_fails(method):
     assert abs(a.q[-1, 0] - p.q[0, 0]) > 1e-3                 # it did slide
 
 
+def _event_run(sc, dof, zs):
+    """A zoo scene run as dof (event method, rtol 1e-10, 200 output steps)."""
+    return exdex.simulate(exdex.replace(sc, dof=dof), zs.t_end, zs.t_end / 200, method="event", rtol=1e-10,
+                          atol=1e-12)
+
+
+def _assert_auto_matches_planar(a, p, zs, seed):
+    """dof="auto" run a against the planar run p from t = 0: same end time,
+    final poses within 1e-6 L and 1e-6 rad, and where "auto" chose the
+    planar model from the start, the same run bit for bit."""
+    qa = a.q if a.q.shape[1] == 3 else exdex.diagnostics.poses(a.scene, a.q)
+    assert a.t[-1] == pytest.approx(p.t[-1], rel=1e-12)
+    assert np.all(np.abs(qa[-1, :2] - p.q[-1, :2]) <= 1e-6 * zs.L), (seed, a.models)
+    assert abs(qa[-1, 2] - p.q[-1, 2]) <= 1e-6, (seed, a.models)
+    if a.models[0][0] == "planar":
+        assert np.array_equal(a.q, p.q), seed
+
+
 def test_auto_against_planar_on_zoo_scenes():
     # Random 1-DoF zoo scenes run as dof="auto" and as planar from t = 0 (event
     # method, rtol 1e-10): the final poses agree. Tolerance: a slip's unbalanced
@@ -313,22 +331,14 @@ def test_auto_against_planar_on_zoo_scenes():
         sc = zs.scene
         if sc.dof == "planar" or sc.obstacles:
             continue
-        dt = zs.t_end / 200
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             try:
-                a = exdex.simulate(exdex.replace(sc, dof="auto"), zs.t_end, dt, method="event", rtol=1e-10,
-                                   atol=1e-12)
-                p = exdex.simulate(exdex.replace(sc, dof="planar"), zs.t_end, dt, method="event", rtol=1e-10,
-                                   atol=1e-12)
+                a = _event_run(sc, "auto", zs)
+                p = _event_run(sc, "planar", zs)
             except exdex.SolverError:
                 continue
-        qa = a.q if a.q.shape[1] == 3 else exdex.diagnostics.poses(a.scene, a.q)
-        assert a.t[-1] == pytest.approx(p.t[-1], rel=1e-12)
-        assert np.all(np.abs(qa[-1, :2] - p.q[-1, :2]) <= 1e-6 * zs.L), (seed, a.models)
-        assert abs(qa[-1, 2] - p.q[-1, 2]) <= 1e-6, (seed, a.models)
-        if a.models[0][0] == "planar":
-            assert np.array_equal(a.q, p.q), seed   # planar from t = 0: the same run
+        _assert_auto_matches_planar(a, p, zs, seed)
         checked += 1
         switched += len(a.models) == 2
     assert checked >= 20 and switched >= 2
@@ -353,21 +363,14 @@ def test_auto_against_planar_on_zoo_scenes_with_obstacles():
         rng = np.random.default_rng(1000 + seed)
         ob, _ = zoo.obstacle(rng, zs, float(rng.choice([0.0, 0.5])))
         sc = exdex.replace(sc, obstacles=(ob,))
-        dt = zs.t_end / 200
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             try:
-                p = exdex.simulate(exdex.replace(sc, dof="planar"), zs.t_end, dt, method="event", rtol=1e-10,
-                                   atol=1e-12)
+                p = _event_run(sc, "planar", zs)
             except exdex.SolverError:
                 continue
-            a = exdex.simulate(exdex.replace(sc, dof="auto"), zs.t_end, dt, method="event", rtol=1e-10, atol=1e-12)
-        qa = a.q if a.q.shape[1] == 3 else exdex.diagnostics.poses(a.scene, a.q)
-        assert a.t[-1] == pytest.approx(p.t[-1], rel=1e-12)
-        assert np.all(np.abs(qa[-1, :2] - p.q[-1, :2]) <= 1e-6 * zs.L), (seed, a.models)
-        assert abs(qa[-1, 2] - p.q[-1, 2]) <= 1e-6, (seed, a.models)
-        if a.models[0][0] == "planar":
-            assert np.array_equal(a.q, p.q), seed
+            a = _event_run(sc, "auto", zs)
+        _assert_auto_matches_planar(a, p, zs, seed)
         checked += 1
         reduced += a.models[0][0] != "planar"
         switched += len(a.models) == 2
