@@ -290,6 +290,18 @@ int ldp_project(const double minv[3], int nr, const double (*G)[3], const double
         idx[m++] = i;
     }
     if (worst < 0) return 0; /* every row holds at vs */
+    if (m == 1) {
+        /* one row that can act, violated at vs: the projection onto its
+         * half-space, lam = viol / (G M^-1 G'), in closed form (what the
+         * LDP of one row gives; counted as one iteration) */
+        double gmg = 0.0, l;
+        for (int d = 0; d < 3; d++) gmg += G[worst][d] * G[worst][d] * minv[d];
+        l = wv / gmg;
+        for (int d = 0; d < 3; d++) v[d] = vs[d] + minv[d] * G[worst][d] * l;
+        lam[worst] = l;
+        (*iters)++;
+        return 1;
+    }
     ok = ldp_min_norm(m, (const double (*)[3])C, c, NULL, z, y, &it);
     *iters += (size_t)it;
     if (ok) {

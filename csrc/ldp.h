@@ -47,7 +47,8 @@ double ldp_min_combination(int m, const double a[3], const double (*b)[3], doubl
 /* The projection of vs onto rows G_i v >= b_i (i < nr) in the metric
  * diag(1 / minv): min 1/2 (v - vs)' M (v - vs), v = vs + M^-1 G' lam with
  * lam >= 0 complementary to the rows. Rows with |G_i|_1 <= fq_min cannot act
- * and are skipped. If the rows cannot all hold or NNLS fails, the most
+ * and are skipped. One row that can act is projected onto in closed form
+ * (lam = viol / (G M^-1 G'), one iteration counted). If the rows cannot all hold or NNLS fails, the most
  * violated row alone is enforced and *warnings incremented. Returns 1 if
  * some row acted; *iters gets the NNLS iterations added. */
 int ldp_project(const double minv[3], int nr, const double (*G)[3], const double *b, const double vs[3],

@@ -287,4 +287,23 @@ EXDEX_TEST(ldp_project_metric_closed_form)
         ENSURE(!ldp_project(minv, 1, G4, b4, vs, 1e-12, v, lam, &it, &warn));
         ENSURE(v[0] == 0.0 && lam[0] == 0.0);
     }
+    /* one violated row (the closed form, one iteration counted) and the
+     * same row with a second one that holds by a wide margin at vs (NNLS):
+     * the same projection. Closed form: viol = 0.9 - G vs = 0.595, G M^-1 G'
+     * = 0.045 + 0.72 + 0.98 = 1.745, lam = 0.595 / 1.745 */
+    {
+        const double G5[2][3] = {{0.3, -1.2, 0.7}, {1, 0, 0}}, b5[2] = {0.9, -100.0};
+        const double vs5[3] = {0.1, -0.2, 0.05};
+        double v1[3], l1[2], v2[3], l2[2], lc = 0.595 / 1.745;
+        size_t it1 = 0, it2 = 0;
+        ENSURE(ldp_project(minv, 1, G5, b5, vs5, 1e-12, v1, l1, &it1, &warn));
+        ENSURE(it1 == 1);
+        ENSURE_CLOSE(l1[0], lc, 1e-15);
+        for (int d = 0; d < 3; d++) ENSURE_CLOSE(v1[d], vs5[d] + minv[d] * G5[0][d] * lc, 1e-15);
+        ENSURE(ldp_project(minv, 2, G5, b5, vs5, 1e-12, v2, l2, &it2, &warn));
+        ENSURE(it2 >= 1);
+        ENSURE_CLOSE(l2[0], lc, 1e-14);
+        ENSURE(l2[1] == 0.0);
+        for (int d = 0; d < 3; d++) ENSURE_CLOSE(v2[d], v1[d], 1e-14);
+    }
 }
