@@ -480,6 +480,7 @@ static double step_start(adv *A)
     int nd = H->ndof, law = H->law;
     double tstop;
     A->t0 = A->t;
+    O->f0_ok = 0;   /* a new step, perhaps in a new mode */
     A->tau_best = INFINITY;
     A->e_best = -1;
     A->k = 0;

@@ -535,6 +535,11 @@ typedef struct ode {
     double *ts, *gb;   /* switching times, grip breakpoints (EXDEX_MOTION_MAX_SWITCHES + grip_n each) */
     exdex_model *mc;   /* pads on the fingers: the run's own copy of the model (hyb.mc) */
     unsigned long maps; /* one-step maps applied (hyb_one_step): event location's share of the step budget */
+    /* the right-hand side at the start of the step under way, (f0_t,
+     * f0_y), for its one-step maps (hyb_one_step); f0_ok = 0: not yet
+     * evaluated in this step (step_start clears it) */
+    double f0[NY_MAX], f0_y[NY_MAX], f0_t;
+    int f0_ok;
     /* the run's state between output intervals (hybrid_begin, _advance) */
     struct hyb_state {
         hyb H;

@@ -318,14 +318,25 @@ int hyb_guards(hyb *H, double t, const double *y, hyb_guard *g)
     return n;
 }
 
-/* The stepper's one-step map from (t0, y0) over tau, into out. */
+/* The stepper's one-step map from (t0, y0) over tau, into out. The
+ * right-hand side at (t0, y0), the map's first stage, is evaluated once
+ * per step (O->f0: the maps of one step all start from its start, in one
+ * mode) and given to the stepper as its input derivative. */
 int hyb_one_step(ode *O, double t0, const double *y0, double tau, double *out)
 {
     size_t ny = O->sys.dimension;
     memcpy(out, y0, ny * sizeof *out);
     if (tau <= 0.0) return GSL_SUCCESS;
     O->maps++;
-    return gsl_odeiv2_step_apply(O->step, t0, tau, out, O->yerr, NULL, NULL, &O->sys);
+    if (!(O->f0_ok && O->f0_t == t0 && !memcmp(O->f0_y, y0, ny * sizeof *y0))) {
+        int s = GSL_ODEIV_FN_EVAL(&O->sys, t0, y0, O->f0);
+        O->f0_ok = 0;
+        if (s != GSL_SUCCESS) return s;
+        O->f0_t = t0;
+        memcpy(O->f0_y, y0, ny * sizeof *y0);
+        O->f0_ok = 1;
+    }
+    return gsl_odeiv2_step_apply(O->step, t0, tau, out, O->yerr, O->f0, NULL, &O->sys);
 }
 
 typedef struct rootctx {
