@@ -848,7 +848,30 @@ int certify_arc_triangle(double th0, double th1, double half_max, double th[3], 
 }
 
 static int prove_block_turning(const exdex_model *m, const exdex_trajectory *out, size_t i0, size_t i1,
-                               const int need[3], unsigned char pr[3], double qr[2]);
+                               const int need[3], unsigned char pr[3], double qr[2], frame_box_cache *fc);
+
+/* A rotation block's samples i0 .. i1-1: the range [th0, th1] of their
+ * angles, and of |omega| of each sign of the moving ones in [wl, wh] (key
+ * 1: v > 0, key 2: v < 0; key_of), each widening what it is given; with
+ * vlo, vhi, the range of v too. */
+static void block_ranges(const exdex_model *m, const exdex_trajectory *out, size_t i0, size_t i1, double *th0,
+                         double *th1, double wl[3], double wh[3], double *vlo, double *vhi)
+{
+    for (size_t j = i0; j < i1; j++) {
+        double v = out->v[j], a = fabs(v);
+        if (vlo) {
+            *vlo = fmin(*vlo, v);
+            *vhi = fmax(*vhi, v);
+        }
+        if (out->q[j] < *th0) *th0 = out->q[j];
+        if (out->q[j] > *th1) *th1 = out->q[j];
+        if (!(out->stick[j] || a <= m->tol.vzero)) {
+            int key = key_of(0, v);
+            if (a < wl[key]) wl[key] = a;
+            if (a > wh[key]) wh[key] = a;
+        }
+    }
+}
 
 /* The static capacity held over a block [ta, tb] (midpoint tm): a grip
  * schedule's least at the block's ends (monotone between breakpoints, as
@@ -864,7 +887,7 @@ static double block_static_capacity(const exdex_model *m, double ta, double tb, 
 }
 
 static int prove_block(const exdex_model *m, const exdex_trajectory *out, size_t i0, size_t i1, const int need[3],
-                       unsigned char pr[3], double qr[2])
+                       unsigned char pr[3], double qr[2], frame_box_cache *fc)
 {
     double glo = INFINITY, ghi = -INFINITY;
     double ta = out->t[i0 - 1], tb = out->t[i1 - 1], q = out->q[i0];
@@ -883,20 +906,11 @@ static int prove_block(const exdex_model *m, const exdex_trajectory *out, size_t
     qr[1] = INFINITY;
     if (m->def.dof != EXDEX_DOF_TRANSLATION && !rot) return EXDEX_OK;
     if (!motion_accel_box(m->motion, ta, tb, lo, hi))
-        return rot ? prove_block_turning(m, out, i0, i1, need, pr, qr) : EXDEX_OK;
+        return rot ? prove_block_turning(m, out, i0, i1, need, pr, qr, fc) : EXDEX_OK;
     for (int c = 0; c < 3; c++)
         if (!isfinite(lo[c]) || !isfinite(hi[c])) return EXDEX_OK;
     if (rot) {
-        for (size_t j = i0; j < i1; j++) {
-            double v = out->v[j], a = fabs(v);
-            if (out->q[j] < th0) th0 = out->q[j];
-            if (out->q[j] > th1) th1 = out->q[j];
-            if (!(out->stick[j] || a <= m->tol.vzero)) {
-                int key = key_of(0, v);
-                if (a < wl[key]) wl[key] = a;
-                if (a > wh[key]) wh[key] = a;
-            }
-        }
+        block_ranges(m, out, i0, i1, &th0, &th1, wl, wh, NULL, NULL);
         nth = certify_arc_triangle(th0, th1, CERT_ROT_HALF_SPAN, vth, vsc);
         if (!nth) return EXDEX_OK;
     }
@@ -1089,26 +1103,15 @@ int certify_turning_load(const exdex_model *m, double ta, double tb, ex_iv th, e
 }
 
 static int prove_block_turning(const exdex_model *m, const exdex_trajectory *out, size_t i0, size_t i1,
-                               const int need[3], unsigned char pr[3], double qr[2])
+                               const int need[3], unsigned char pr[3], double qr[2], frame_box_cache *fc)
 {
     double ta = out->t[i0 - 1], tb = out->t[i1 - 1], tm = ta + 0.5 * (tb - ta), q = out->q[i0];
     double th0 = q, th1 = q, wl[3] = {0.0, INFINITY, INFINITY}, wh[3] = {0.0, 0.0, 0.0}, Cs, C, vlo = 0.0, vhi = 0.0;
     int expl = m->def.method == EXDEX_METHOD_REGULARISED || m->def.method == EXDEX_METHOD_EXPLICIT;
     frame_box fb;
-    for (size_t j = i0; j < i1; j++) {
-        double v = out->v[j], a = fabs(v);
-        vlo = fmin(vlo, v);
-        vhi = fmax(vhi, v);
-        if (out->q[j] < th0) th0 = out->q[j];
-        if (out->q[j] > th1) th1 = out->q[j];
-        if (!(out->stick[j] || a <= m->tol.vzero)) {
-            int key = key_of(0, v);
-            if (a < wl[key]) wl[key] = a;
-            if (a > wh[key]) wh[key] = a;
-        }
-    }
+    block_ranges(m, out, i0, i1, &th0, &th1, wl, wh, &vlo, &vhi);
     if (!(th1 - th0 <= 2.0 * CERT_ROT_HALF_SPAN)) return EXDEX_OK;
-    if (!motion_frame_box(m->motion, ta, tb, m->g, &fb)) return EXDEX_OK;
+    if (!motion_frame_box_cached(m->motion, ta, tb, m->g, &fb, fc)) return EXDEX_OK;
     Cs = block_static_capacity(m, ta, tb, tm);
     C = model_capacity(m, tm);
     for (int key = 0; key < 3; key++) {
@@ -1304,7 +1307,8 @@ static int piecewise_constant(const exdex_model *m)
     return proof_motion(m, &turns) && !turns;
 }
 
-static int certify(const exdex_model *m, const exdex_trajectory *out, exdex_certificate *c, int proofs)
+static int certify_with(const exdex_model *m, const exdex_trajectory *out, exdex_certificate *c, int proofs,
+                        frame_box_cache *fc)
 {
     size_t n, i;
     int st, failed, expl;
@@ -1376,7 +1380,7 @@ static int certify(const exdex_model *m, const exdex_trajectory *out, exdex_cert
                         else need[0] = 1;
                     }
                     size_t i_start = i;
-                    st = prove_block(m, out, i, e2, need, pr, qr);
+                    st = prove_block(m, out, i, e2, need, pr, qr, fc);
                     if (st) return st;
                     for (; i < e2; i++) {
                         double v = out->v[i];
@@ -1456,6 +1460,15 @@ static int certify(const exdex_model *m, const exdex_trajectory *out, exdex_cert
         }
     }
     return EXDEX_OK;
+}
+
+/* certify_with through a cache of the turning frame's boxes, owned by the call */
+static int certify(const exdex_model *m, const exdex_trajectory *out, exdex_certificate *c, int proofs)
+{
+    frame_box_cache *fc = proofs && m ? motion_frame_cache_new(m->g) : NULL;
+    int st = certify_with(m, out, c, proofs, fc);
+    motion_frame_cache_free(fc);
+    return st;
 }
 
 int exdex_certify(const exdex_model *m, const exdex_trajectory *out, exdex_certificate *c)

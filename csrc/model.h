@@ -268,6 +268,16 @@ typedef struct frame_box {
     ex_iv gB[3], a0[3], w[3], dw[3];
 } frame_box;
 int motion_frame_box(const exdex_motion *m, double ta, double tb, const double g[3], frame_box *fb);
+/* The same box through a cache of the boxes of logs' whole knot intervals
+ * (motion_frame_cache_new, for one gravity g; freed by
+ * motion_frame_cache_free): each interval is enclosed once per cache, and
+ * the result is motion_frame_box's, bit for bit. cache NULL, another g, or
+ * no memory for it: computed directly. One cache serves one thread. */
+typedef struct frame_box_cache frame_box_cache;
+frame_box_cache *motion_frame_cache_new(const double g[3]);
+void motion_frame_cache_free(frame_box_cache *c);
+int motion_frame_box_cached(const exdex_motion *m, double ta, double tb, const double g[3], frame_box *fb,
+                            frame_box_cache *cache);
 int motion_step_set(exdex_motion *m, double t0, double t1, const exdex_kinematics *k0, const double R1[9],
                     const double p1[3], const double *v1, const double *w1, exdex_kinematics *k1);
 

@@ -1809,11 +1809,88 @@ static int knot_box(const exdex_motion *m, size_t i, double x, double y, const d
     return 1;
 }
 
-static int sampled_box(const exdex_motion *m, double ta, double tb, const double g[3], fbox *F)
+/* The boxes of a log's whole knot intervals (knot_box over [t_i, t_i+1]),
+ * each computed once per cache: a block's box is their hull with its two
+ * partial end intervals, the same box as computing each interval anew
+ * (hulls and maxima are exact and do not depend on their order). */
+typedef struct fb_entry {
+    const exdex_motion *m;   /* the sampled motion node */
+    fbox *box;               /* box[i]: interval i, valid where state[i] == 1 */
+    unsigned char *state;    /* 0 not computed, 1 computed, 2 knot_box failed */
+} fb_entry;
+
+struct frame_box_cache {
+    double g[3];
+    int n;
+    fb_entry e[FRAME_BOX_CACHE_LOGS];
+};
+
+frame_box_cache *motion_frame_cache_new(const double g[3])
+{
+    frame_box_cache *c;
+    if (!g) return NULL;
+    c = calloc(1, sizeof *c);
+    if (!c) return NULL;
+    for (int k = 0; k < 3; k++) c->g[k] = g[k];
+    return c;
+}
+
+void motion_frame_cache_free(frame_box_cache *c)
+{
+    if (!c) return;
+    for (int k = 0; k < c->n; k++) {
+        free(c->e[k].box);
+        free(c->e[k].state);
+    }
+    free(c);
+}
+
+/* the cache's intervals of the sampled node m for gravity g; NULL where
+ * there is none (no cache, another g, the cache full, no memory) */
+static fb_entry *fb_entry_of(frame_box_cache *c, const exdex_motion *m, const double g[3])
+{
+    fb_entry *e;
+    if (!c || m->n < 2 || c->g[0] != g[0] || c->g[1] != g[1] || c->g[2] != g[2]) return NULL;
+    for (int k = 0; k < c->n; k++)
+        if (c->e[k].m == m) return c->e[k].box ? &c->e[k] : NULL;
+    if (c->n == FRAME_BOX_CACHE_LOGS) return NULL;
+    e = &c->e[c->n++];
+    e->m = m;
+    e->box = malloc((m->n - 1) * sizeof *e->box);
+    e->state = calloc(m->n - 1, 1);
+    if (!e->box || !e->state) {
+        free(e->box);
+        free(e->state);
+        e->box = NULL;
+        e->state = NULL;
+        return NULL;
+    }
+    return e;
+}
+
+/* knot_box over the whole interval i, from the cache where it holds it */
+static int whole_knot_box(const exdex_motion *m, size_t i, const double g[3], fbox *F, fb_entry *e)
+{
+    fbox *B;
+    if (!e) return knot_box(m, i, m->tk[i], m->tk[i + 1], g, F);
+    B = &e->box[i];
+    if (!e->state[i]) {
+        for (int c = 0; c < 3; c++) B->b.gB[c] = B->b.a0[c] = B->b.w[c] = B->b.dw[c] = iv_empty();
+        for (int k = 0; k < 4; k++) B->mag[k] = 0.0;
+        e->state[i] = knot_box(m, i, m->tk[i], m->tk[i + 1], g, B) ? 1 : 2;
+    }
+    if (e->state[i] != 1) return 0;
+    fb_add(F, B->b.gB, B->b.a0, B->b.w, B->b.dw, B->mag);
+    return 1;
+}
+
+static int sampled_box(const exdex_motion *m, double ta, double tb, const double g[3], fbox *F,
+                       frame_box_cache *cache)
 {
     size_t n = m->n, i;
     double a = fmax(ta, m->t_first), b = fmin(tb, m->t_last);
     exdex_kinematics k;
+    fb_entry *e = NULL;
     if (ta < m->t_first) {
         if (eval_sampled(m, ta, &k)) return 0;
         fb_add_kin(F, &k, g);
@@ -1833,14 +1910,21 @@ static int sampled_box(const exdex_motion *m, double ta, double tb, const double
         i = l;
     }
     for (;;) {
-        if (!knot_box(m, i, fmax(a, m->tk[i]), fmin(b, m->tk[i + 1]), g, F)) return 0;
+        double x = fmax(a, m->tk[i]), y = fmin(b, m->tk[i + 1]);
+        if (x == m->tk[i] && y == m->tk[i + 1]) {
+            if (!e && cache) e = fb_entry_of(cache, m, g);
+            if (!whole_knot_box(m, i, g, F, e)) return 0;
+        } else if (!knot_box(m, i, x, y, g, F)) {
+            return 0;
+        }
         if (!(i + 2 < n && m->tk[i + 1] < b)) break;
         i++;
     }
     return 1;
 }
 
-static int frame_box_of(const exdex_motion *m, double ta, double tb, const double g[3], fbox *F)
+static int frame_box_of(const exdex_motion *m, double ta, double tb, const double g[3], fbox *F,
+                        frame_box_cache *cache)
 {
     exdex_kinematics k;
     switch (m->kind) {
@@ -1849,13 +1933,13 @@ static int frame_box_of(const exdex_motion *m, double ta, double tb, const doubl
         fb_add_kin(F, &k, g);
         return 1;
     case MOTION_SHIFT:
-        return frame_box_of(m->inner, ta + m->shift, tb + m->shift, g, F);
+        return frame_box_of(m->inner, ta + m->shift, tb + m->shift, g, F, cache);
     case EXDEX_MOTION_ASYMMETRIC:
     case EXDEX_MOTION_TRAPEZOID:
     case EXDEX_MOTION_SHAKE:
         return profile_box(m, ta, tb, g, F);
     case EXDEX_MOTION_SAMPLED:
-        return sampled_box(m, ta, tb, g, F);
+        return sampled_box(m, ta, tb, g, F, cache);
     case EXDEX_MOTION_CHAIN:
         /* the first piece plays before the chain's start too (eval_chain) */
         for (int i = 0; i < m->np; i++) {
@@ -1864,7 +1948,8 @@ static int frame_box_of(const exdex_motion *m, double ta, double tb, const doubl
             u0 = fmax(ta, a) - m->T0[i] + m->origin[i];
             u1 = fmin(tb, b) - m->T0[i] + m->origin[i];
             if (!(u1 < INFINITY)) u1 = tb - m->T0[i] + m->origin[i];
-            if (!frame_box_of(m->piece[i], u0 - 1e-12 * (1.0 + fabs(u0)), u1 + 1e-12 * (1.0 + fabs(u1)), g, F)) return 0;
+            if (!frame_box_of(m->piece[i], u0 - 1e-12 * (1.0 + fabs(u0)), u1 + 1e-12 * (1.0 + fabs(u1)), g, F,
+                              cache)) return 0;
         }
         return 1;
     default:
@@ -1872,13 +1957,14 @@ static int frame_box_of(const exdex_motion *m, double ta, double tb, const doubl
     }
 }
 
-int motion_frame_box(const exdex_motion *m, double ta, double tb, const double g[3], frame_box *fb)
+int motion_frame_box_cached(const exdex_motion *m, double ta, double tb, const double g[3], frame_box *fb,
+                            frame_box_cache *cache)
 {
     fbox F;
     if (!m || !fb || !(ta <= tb)) return 0;
     for (int c = 0; c < 3; c++) F.b.gB[c] = F.b.a0[c] = F.b.w[c] = F.b.dw[c] = iv_empty();
     for (int k = 0; k < 4; k++) F.mag[k] = 0.0;
-    if (!frame_box_of(m, ta, tb, g, &F)) return 0;
+    if (!frame_box_of(m, ta, tb, g, &F, cache)) return 0;
     for (int c = 0; c < 3; c++) {
         ex_iv *q[4] = {&F.b.gB[c], &F.b.a0[c], &F.b.w[c], &F.b.dw[c]};
         for (int k = 0; k < 4; k++) {
@@ -1890,4 +1976,9 @@ int motion_frame_box(const exdex_motion *m, double ta, double tb, const double g
     }
     *fb = F.b;
     return 1;
+}
+
+int motion_frame_box(const exdex_motion *m, double ta, double tb, const double g[3], frame_box *fb)
+{
+    return motion_frame_box_cached(m, ta, tb, g, fb, NULL);
 }

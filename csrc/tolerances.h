@@ -35,6 +35,9 @@
  * rounding of its evaluation (some hundred operations on numbers of the
  * terms' size). */
 #define CERT_ROUND 1e-12
+/* logs (sampled motions) whose whole-knot-interval frame boxes one certificate caches (motion.c,
+   motion_frame_box_cached); a further log's boxes are computed anew each time */
+#define FRAME_BOX_CACHE_LOGS 8
 
 /* ------------------------------------------------ model_tols (model.c)
  * For a typical paper scene (L ~ 1 cm, T ~ 30 ms, V ~ 0.3 m/s) they give

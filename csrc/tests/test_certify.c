@@ -605,6 +605,78 @@ EXDEX_TEST(certify_frame_box_holds_dense_samples)
     ENSURE(n_moving_log > 1000 && n_tight_log > 0.8 * n_moving_log);
 }
 
+/* motion_frame_box_cached against motion_frame_box: on random logs and
+ * chains with a log piece (both gripper kinds of random_turning_motion that
+ * hold a log), 60 blocks per motion through one cache (random blocks,
+ * blocks from knot to knot, blocks inside one knot interval, blocks past
+ * the motion's ends; the cache filled by earlier blocks), the two boxes
+ * are equal bit for bit, as is the result for a gravity the cache was not
+ * made for. */
+EXDEX_TEST(certify_cached_frame_box_equals_the_direct_box)
+{
+    static double times[12], poses[12 * 7];
+    exdex_motion_def pc[4], d;
+    static const double R0[9] = {1, 0, 0, 0, 0, -1, 0, 1, 0}, p0[3] = {0.01, -0.02, 0.03};
+    const double g[3] = {0.0, 0.0, -9.81}, g2[3] = {0.0, -9.81, 0.0};
+    int n_cmp = 0;
+    lcg = 777;
+    for (int s = 0; s < 32; s++) {
+        int status, kind = s % 2 ? 3 : 0;
+        const char *bad = NULL;
+        exdex_motion *m;
+        frame_box_cache *fc;
+        random_turning_motion(&d, kind, urand(0.05, 0.3), times, poses, pc);
+        m = exdex_motion_alloc(&d, R0, p0, &status, &bad);
+        fc = motion_frame_cache_new(g);
+        ENSURE(m != NULL && fc != NULL);
+        if (!m || !fc) {
+            exdex_motion_free(m);
+            motion_frame_cache_free(fc);
+            continue;
+        }
+        for (int b = 0; b < 60; b++) {
+            double end = exdex_motion_end(m), off = kind == 3 ? 0.1 : 0.0, ta, tb;
+            const double *gg = b % 10 == 9 ? g2 : g;
+            frame_box f1, f2;
+            int k0 = (int)urand(0, 10.999), k1 = k0 + 1 + (int)urand(0, 10.999 - k0);
+            switch (b % 4) {
+            case 0: /* from knot to knot */
+                ta = off + times[k0];
+                tb = off + times[k1 > 11 ? 11 : k1];
+                break;
+            case 1: /* inside one knot interval */
+                ta = off + times[k0] + urand(0.0, 0.5) * (times[k0 + 1] - times[k0]);
+                tb = ta + urand(0.0, 0.5) * (times[k0 + 1] - times[k0]);
+                break;
+            case 2: /* past an end */
+                ta = urand(-0.05, 0.5 * end);
+                tb = end + urand(0.0, 0.05);
+                break;
+            default:
+                ta = urand(-0.05, end + 0.05);
+                tb = ta + exp(urand(log(1e-4), log(0.5)));
+            }
+            {
+                int ok1 = motion_frame_box(m, ta, tb, gg, &f1), ok2 = motion_frame_box_cached(m, ta, tb, gg, &f2, fc);
+                ENSURE(ok1 && ok2);
+                if (!(ok1 && ok2)) continue;
+            }
+            for (int c = 0; c < 3; c++) {
+                ENSURE(f1.gB[c].lo == f2.gB[c].lo && f1.gB[c].hi == f2.gB[c].hi);
+                ENSURE(f1.a0[c].lo == f2.a0[c].lo && f1.a0[c].hi == f2.a0[c].hi);
+                ENSURE(f1.w[c].lo == f2.w[c].lo && f1.w[c].hi == f2.w[c].hi);
+                ENSURE(f1.dw[c].lo == f2.dw[c].lo && f1.dw[c].hi == f2.dw[c].hi);
+            }
+            n_cmp++;
+        }
+        motion_frame_cache_free(fc);
+        exdex_motion_free(m);
+    }
+    ENSURE(n_cmp == 32 * 60);
+    motion_frame_cache_free(NULL);
+    ENSURE(motion_frame_cache_new(NULL) == NULL);
+}
+
 /* Rotation runs in a gripper that turns (logs, chains with turning pieces,
  * Eq. 7 or a trapezoid turning about a random axis: the pieces' bound does
  * not apply off the plate normal): the turning blocks' proofs (the load
