@@ -857,19 +857,34 @@ static int prove_block_turning(const exdex_model *m, const exdex_trajectory *out
 static void block_ranges(const exdex_model *m, const exdex_trajectory *out, size_t i0, size_t i1, double *th0,
                          double *th1, double wl[3], double wh[3], double *vlo, double *vhi)
 {
+    const double *qs = out->q, *vs = out->v, vzero = m->tol.vzero;
+    const unsigned char *stick = out->stick;
+    double t0 = *th0, t1 = *th1, lo = vlo ? *vlo : 0.0, hi = vhi ? *vhi : 0.0;
+    double l1 = wl[1], l2 = wl[2], h1 = wh[1], h2 = wh[2];
     for (size_t j = i0; j < i1; j++) {
-        double v = out->v[j], a = fabs(v);
-        if (vlo) {
-            *vlo = fmin(*vlo, v);
-            *vhi = fmax(*vhi, v);
+        double v = vs[j], a = fabs(v), q = qs[j];
+        if (v < lo) lo = v;
+        if (v > hi) hi = v;
+        if (q < t0) t0 = q;
+        if (q > t1) t1 = q;
+        if (stick[j] || a <= vzero) continue;
+        if (v > 0.0) {
+            if (a < l1) l1 = a;
+            if (a > h1) h1 = a;
+        } else {
+            if (a < l2) l2 = a;
+            if (a > h2) h2 = a;
         }
-        if (out->q[j] < *th0) *th0 = out->q[j];
-        if (out->q[j] > *th1) *th1 = out->q[j];
-        if (!(out->stick[j] || a <= m->tol.vzero)) {
-            int key = key_of(0, v);
-            if (a < wl[key]) wl[key] = a;
-            if (a > wh[key]) wh[key] = a;
-        }
+    }
+    *th0 = t0;
+    *th1 = t1;
+    wl[1] = l1;
+    wl[2] = l2;
+    wh[1] = h1;
+    wh[2] = h2;
+    if (vlo) {
+        *vlo = lo;
+        *vhi = hi;
     }
 }
 

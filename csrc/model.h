@@ -263,7 +263,9 @@ int motion_accel_box(const exdex_motion *m, double ta, double tb, double lo[3], 
  * lies in fb (componentwise intervals of g_B, a0, w, dw, in B) for rest,
  * profiles and shakes (translating or turning about their axis), logs
  * (turning or not), chains and time-shifted plays of them; 0 if not known
- * (fb then not a bound). */
+ * (fb then not a bound). A log's box over [ta, tb] inside one knot
+ * interval is that part's; across several, the hull of the whole
+ * intervals it meets. */
 typedef struct frame_box {
     ex_iv gB[3], a0[3], w[3], dw[3];
 } frame_box;

@@ -1542,7 +1542,7 @@ static void fb_add(fbox *F, const ex_iv gB[3], const ex_iv a0[3], const ex_iv w[
         F->b.w[c] = ex_iv_hull(F->b.w[c], w[c]);
         F->b.dw[c] = ex_iv_hull(F->b.dw[c], dw[c]);
     }
-    for (int k = 0; k < 4; k++) F->mag[k] = fmax(F->mag[k], mag[k]);
+    for (int k = 0; k < 4; k++) F->mag[k] = ex_max(F->mag[k], mag[k]);
 }
 
 static double iv3_mag(const ex_iv a[3])
@@ -1810,8 +1810,8 @@ static int knot_box(const exdex_motion *m, size_t i, double x, double y, const d
 }
 
 /* The boxes of a log's whole knot intervals (knot_box over [t_i, t_i+1]),
- * each computed once per cache: a block's box is their hull with its two
- * partial end intervals, the same box as computing each interval anew
+ * each computed once per cache: the box of a block across several is the
+ * hull of those it meets, the same box as computing each interval anew
  * (hulls and maxima are exact and do not depend on their order). */
 typedef struct fb_entry {
     const exdex_motion *m;   /* the sampled motion node */
@@ -1891,6 +1891,7 @@ static int sampled_box(const exdex_motion *m, double ta, double tb, const double
     double a = fmax(ta, m->t_first), b = fmin(tb, m->t_last);
     exdex_kinematics k;
     fb_entry *e = NULL;
+    int one;
     if (ta < m->t_first) {
         if (eval_sampled(m, ta, &k)) return 0;
         fb_add_kin(F, &k, g);
@@ -1909,9 +1910,13 @@ static int sampled_box(const exdex_motion *m, double ta, double tb, const double
         }
         i = l;
     }
+    /* [a, b] inside one knot interval: the box of that part; across
+     * several: the hull of the whole intervals it meets (each a bound of
+     * its parts, computed once per cache) */
+    one = i + 2 >= n || !(m->tk[i + 1] < b);
     for (;;) {
         double x = fmax(a, m->tk[i]), y = fmin(b, m->tk[i + 1]);
-        if (x == m->tk[i] && y == m->tk[i + 1]) {
+        if ((x == m->tk[i] && y == m->tk[i + 1]) || !one) {
             if (!e && cache) e = fb_entry_of(cache, m, g);
             if (!whole_knot_box(m, i, g, F, e)) return 0;
         } else if (!knot_box(m, i, x, y, g, F)) {

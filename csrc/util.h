@@ -74,6 +74,19 @@ typedef struct ex_iv {
     double lo, hi;
 } ex_iv;
 
+/* The lesser and the greater of a and b, inline and without a branch (x86-64's
+ * minsd and maxsd): of equal operands (+0 and -0) the second; a NaN in b is
+ * kept (an interval end it reaches fails ex_iv_ok), one in a gives b. */
+static inline double ex_min(double a, double b)
+{
+    return a < b ? a : b;
+}
+
+static inline double ex_max(double a, double b)
+{
+    return a > b ? a : b;
+}
+
 static inline ex_iv ex_iv_out(double lo, double hi)
 {
     ex_iv r = {lo - (fabs(lo) * 0x1p-52 + 0x1p-1074), hi + (fabs(hi) * 0x1p-52 + 0x1p-1074)};
@@ -88,7 +101,7 @@ static inline ex_iv ex_iv_pt(double x)
 
 static inline ex_iv ex_iv_hull(ex_iv a, ex_iv b)
 {
-    ex_iv r = {fmin(a.lo, b.lo), fmax(a.hi, b.hi)};
+    ex_iv r = {ex_min(a.lo, b.lo), ex_max(a.hi, b.hi)};
     return r;
 }
 
@@ -99,7 +112,7 @@ static inline int ex_iv_ok(ex_iv a)
 
 static inline double ex_iv_mag(ex_iv a)
 {
-    return fmax(fabs(a.lo), fabs(a.hi));
+    return ex_max(fabs(a.lo), fabs(a.hi));
 }
 
 static inline ex_iv ex_iv_add(ex_iv a, ex_iv b)
@@ -121,7 +134,7 @@ static inline ex_iv ex_iv_neg(ex_iv a)
 static inline ex_iv ex_iv_mul(ex_iv a, ex_iv b)
 {
     double p0 = a.lo * b.lo, p1 = a.lo * b.hi, p2 = a.hi * b.lo, p3 = a.hi * b.hi;
-    return ex_iv_out(fmin(fmin(p0, p1), fmin(p2, p3)), fmax(fmax(p0, p1), fmax(p2, p3)));
+    return ex_iv_out(ex_min(ex_min(p0, p1), ex_min(p2, p3)), ex_max(ex_max(p0, p1), ex_max(p2, p3)));
 }
 
 static inline ex_iv ex_iv_scale(double k, ex_iv a)
@@ -134,23 +147,23 @@ static inline ex_iv ex_iv_sqr(ex_iv a)
 {
     double l = fabs(a.lo), h = fabs(a.hi);
     if (a.lo <= 0.0 && a.hi >= 0.0) {
-        ex_iv r = {0.0, ex_iv_out(0.0, fmax(l * l, h * h)).hi};
+        ex_iv r = {0.0, ex_iv_out(0.0, ex_max(l * l, h * h)).hi};
         return r;
     }
-    return ex_iv_out(fmin(l * l, h * h), fmax(l * l, h * h));
+    return ex_iv_out(ex_min(l * l, h * h), ex_max(l * l, h * h));
 }
 
-/* a / b for b > 0 throughout (else NaN) */
+/* a / b for b > 0 throughout (else NaN): the least quotient is a.lo's over
+ * b.hi where a.lo >= 0, over b.lo where not; the greatest a.hi's over b.lo
+ * where a.hi >= 0, over b.hi where not (rounding to nearest is monotone, so
+ * these are the least and greatest of the four rounded quotients too) */
 static inline ex_iv ex_iv_div_pos(ex_iv a, ex_iv b)
 {
     if (!(b.lo > 0.0)) {
         ex_iv r = {NAN, NAN};
         return r;
     }
-    {
-        double p0 = a.lo / b.lo, p1 = a.lo / b.hi, p2 = a.hi / b.lo, p3 = a.hi / b.hi;
-        return ex_iv_out(fmin(fmin(p0, p1), fmin(p2, p3)), fmax(fmax(p0, p1), fmax(p2, p3)));
-    }
+    return ex_iv_out(a.lo / (a.lo >= 0.0 ? b.hi : b.lo), a.hi / (a.hi >= 0.0 ? b.lo : b.hi));
 }
 
 /* r = a x b, r = a . b, r = M^T a (M a point matrix) */
@@ -193,7 +206,7 @@ static inline ex_iv ex_iv_cos_sin(ex_iv x, int sine)
         r.hi = 1.0;
         return r;
     }
-    r = ex_iv_out(fmin(a, b), fmax(a, b));
+    r = ex_iv_out(ex_min(a, b), ex_max(a, b));
     r = ex_iv_out(r.lo, r.hi);
     k0 = ceil((x.lo - sl - off) / EXDEX_PI);
     k1 = floor((x.hi + sl - off) / EXDEX_PI);
@@ -202,8 +215,8 @@ static inline ex_iv ex_iv_cos_sin(ex_iv x, int sine)
         if (fmod(fabs(k), 2.0) == 0.0) r.hi = 1.0;
         else r.lo = -1.0;
     }
-    r.lo = fmax(r.lo, -1.0);
-    r.hi = fmin(r.hi, 1.0);
+    r.lo = ex_max(r.lo, -1.0);
+    r.hi = ex_min(r.hi, 1.0);
     return r;
 }
 

@@ -677,6 +677,61 @@ EXDEX_TEST(certify_cached_frame_box_equals_the_direct_box)
     ENSURE(motion_frame_cache_new(NULL) == NULL);
 }
 
+/* A log's box over a block: across knots it is the box of the whole knot
+ * intervals the block meets, bit for bit (random logs, blocks from inside
+ * interval k to inside interval l > k against the box from t_k to t_l+1,
+ * short of the log's end);
+ * inside one interval it is that part's own, inside the whole interval's
+ * box and narrower in most of the components that move there. */
+EXDEX_TEST(certify_log_box_across_knots_is_the_whole_intervals_box)
+{
+    static double times[12], poses[12 * 7];
+    exdex_motion_def pc[4], d;
+    static const double R0[9] = {1, 0, 0, 0, 0, -1, 0, 1, 0}, p0[3] = {0.01, -0.02, 0.03};
+    const double g[3] = {0.0, 0.0, -9.81};
+    int n_cmp = 0, n_part = 0, n_moving = 0, n_narrow = 0;
+    lcg = 919;
+    for (int s = 0; s < 24; s++) {
+        int status;
+        const char *bad = NULL;
+        exdex_motion *m;
+        random_turning_motion(&d, 0, urand(0.05, 0.3), times, poses, pc);
+        m = exdex_motion_alloc(&d, R0, p0, &status, &bad);
+        ENSURE(m != NULL);
+        if (!m) continue;
+        for (int b = 0; b < 40; b++) {
+            int k = (int)urand(0, 8.999), l = b % 2 ? k : k + 1 + (int)urand(0, 9.999 - k - 1);
+            double ta = times[k] + urand(0.05, 0.45) * (times[k + 1] - times[k]);
+            double tb = times[l] + urand(0.55, 0.95) * (times[l + 1] - times[l]);
+            frame_box f1, f2;
+            const ex_iv *a[4], *w[4];
+            int ok1 = motion_frame_box(m, ta, tb, g, &f1), ok2 = motion_frame_box(m, times[k], times[l + 1], g, &f2);
+            ENSURE(ok1 && ok2);
+            if (!(ok1 && ok2)) continue;
+            for (int c = 0; c < 3; c++) {
+                a[0] = f1.gB + c, a[1] = f1.a0 + c, a[2] = f1.w + c, a[3] = f1.dw + c;
+                w[0] = f2.gB + c, w[1] = f2.a0 + c, w[2] = f2.w + c, w[3] = f2.dw + c;
+                for (int q = 0; q < 4; q++) {
+                    if (l > k) {
+                        ENSURE(a[q]->lo == w[q]->lo && a[q]->hi == w[q]->hi);
+                        continue;
+                    }
+                    ENSURE(a[q]->lo >= w[q]->lo && a[q]->hi <= w[q]->hi);
+                    if (w[q]->hi - w[q]->lo > 1e-6 * (fabs(w[q]->lo) + fabs(w[q]->hi))) {
+                        n_moving++;
+                        n_narrow += a[q]->hi - a[q]->lo < w[q]->hi - w[q]->lo;
+                    }
+                }
+            }
+            n_cmp += l > k;
+            n_part += l == k;
+        }
+        exdex_motion_free(m);
+    }
+    ENSURE(n_cmp == 24 * 20 && n_part == 24 * 20);
+    ENSURE(n_moving > 1000 && n_narrow > 0.9 * n_moving);
+}
+
 /* Rotation runs in a gripper that turns (logs, chains with turning pieces,
  * Eq. 7 or a trapezoid turning about a random axis: the pieces' bound does
  * not apply off the plate normal): the turning blocks' proofs (the load
