@@ -713,6 +713,9 @@ int hyb_decide_event(hyb *H, double t, double *y, hyb_guard g, int same)
     if (H->law == LAW_COULOMB && kind == G_SEPARATES) sep = g.row;
     if (H->law == LAW_COULOMB && H->mode == MODE_SLIP && !H->sfric && kind == G_GAP) join = 1;
     hyb_hold_set_rows(H, t, y);
+    /* a sliding group's mode jammed (G_SF_JAM): the impact without
+     * collision arrests its slip, then the decision at the new velocity */
+    if (kind == G_SF_JAM) hyb_planar_jam_impulse(H, t, y);
     /* regularised, planar, two coefficients: the held regime's guard: it
      * broke away, or a slip slowed into the band */
     if (hyb_smooth_two(H) && kind == G_HELD) H->held = !H->held;
