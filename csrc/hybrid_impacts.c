@@ -324,9 +324,14 @@ void hyb_planar_impact_and_set(hyb *H, double t, const exdex_kinematics *kin, do
  * D = 0 the mode's normal forces grow without bound; at D = 0 an impulse
  * along the sliding groups' forces (G_i - mu sigma T) leaves the set rows'
  * gap rates unchanged (that is what D = 0 says) and changes the slip, so
- * the rigid limit of the contact (the velocity-level step as it vanishes,
- * the implicit method's answer) is an impulse, in impulse time, that
- * slides until the slip is 0. It is the velocity that holds the set rows'
+ * the rigid limit of the contact is an impulse, in impulse time, that
+ * slides until the slip is 0 (the impact without collision). The
+ * velocity-level step (the implicit and explicit methods) takes that
+ * impulse in the step that reaches the jam at most step sizes, to the
+ * first-order error of the step; at others its step lands on the jam with
+ * a part of it, scattered with the step size (zoo-inputs 3478 and the C
+ * test hybrid_impacts_jam_run_returns_with_the_implicit_methods_limit
+ * give the figures). It is the velocity that holds the set rows'
  * gap rates >= their rates at v = 0 (no approach) and the slips of the
  * groups carrying force at 0 (sticking groups stay stuck), nearest to v in
  * the M metric (ldp_project: rows G_i v >= b_i, pairs T_k v = -tb_k): its
