@@ -114,7 +114,9 @@
 #define FEW_ULPS 4.0     /* a few ulps of t: a segment's end as its left limit (seg_time), locate's first forward step */
 #define HERMITE_FLAT 1e-14 /* hermite_min: a cubic coefficient below this share of the quadratic's is taken as 0 */
 #define SET_ROW_DEPENDENT 1e-12 /* set_row_equalities: a row whose M-metric component off the earlier rows is below
-                                   this share of its norm (squared) is dependent on them */
+                                   this share of its norm (squared) is dependent on them; hyb_sf_jam_ratio: a
+                                   mode's constraints whose M-metric Gram determinant is below this share of the
+                                   product of its diagonal are dependent */
 #define GUARD_RECOVER 1e-13 /* a guard violated at a step's start recovers when it rises by more than this over
                                the step (in the guard's own units, not scaled) */
 
