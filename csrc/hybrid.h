@@ -252,6 +252,11 @@
  *   methods (the regularised one smooths the plate friction only), and
  *   impacts with Coulomb friction at the impulse level: see "planar
  *   frictional stops" and "frictional impacts" below (sf_*, stop_friction.h).
+ *   A planar sliding mode whose friction jams it (its determinant ratio
+ *   D / D_0, the counterpart of D / Fq, falling to 0 with the stop forces
+ *   growing without bound) is located at |D / D_0| = JAM_DIR (G_SF_JAM),
+ *   where an impulse arrests the slip (the impact without collision,
+ *   hyb_planar_jam_impulse) and the mode is decided again.
  *
  * Obstacles (Obstacle.mu > 0 as a frictional stop: the row's tangent at its
  *   point, orow_point; planar scenes: the stop friction below, one friction
@@ -340,7 +345,7 @@
 #include <gsl/gsl_roots.h>
 
 #define NY_MAX (9 + EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES)
-#define NG_MAX (3 + 3 * MAX_ROWS + 1 + SF_MAX_STOPS + EXDEX_MAX_OBSTACLES)  /* guards (planar: 2 friction, the rows, stop friction, obstacle features) */
+#define NG_MAX (3 + 3 * MAX_ROWS + 2 + SF_MAX_STOPS + EXDEX_MAX_OBSTACLES)  /* guards (planar: 2 friction, the rows, stop friction, obstacle features) */
 #define NSRC_MAX (EXDEX_MAX_STOPS + EXDEX_MAX_OBSTACLES)
 
 enum { LAW_COULOMB = 0, LAW_SMOOTH = 1 };
@@ -491,6 +496,7 @@ enum {
     /* stop friction, planar (row: the friction group) */
     G_SF_REST,       /* at rest: a stop's slip past the object leaves / enters the band */
     G_SF_CONSISTENT, /* +1 / -1: a consistent mode of the acceleration-level problem exists */
+    G_SF_JAM,        /* a sliding group's friction jams its mode: |D / D_0| reaches JAM_DIR (hyb_sf_jam_ratio) */
     G_SF_SLIDES,     /* a sliding group's slip reaches 0 */
     G_SF_CONE,       /* a sticking group's force reaches its cone */
     G_SF_LOCK,       /* a lock's margin */
@@ -577,6 +583,7 @@ void hyb_contact_forces(const hyb *H, const crow *c, double T, double R, double 
 int hyb_sf_build(hyb *H, const exdex_kinematics *kin, const double *y, sf_set *S);
 void hyb_sf_fix_groups(hyb *H, double t, const double *y);
 int hyb_sf_solve_at(hyb *H, const exdex_kinematics *kin, const double *y, const double a[3], sf_result *res);
+double hyb_sf_jam_ratio(const hyb *H, const sf_set *S, const sf_result *res);
 int hyb_sf_solve_plate(hyb *H, const frame *f, const exdex_kinematics *kin, const double *y, sf_result *res);
 int hyb_contact_acc_planar(hyb *H, const exdex_kinematics *kin, const double *y, const double afree[3],
                            double qdd[3], double *lam, double *acc, unsigned *lock_rows);
@@ -597,6 +604,7 @@ int hyb_slip_jac(double t, const double y[], double *dfdy, double dfdt[], void *
 double hyb_impact_impulse_1dof(hyb *H, const exdex_kinematics *kin, int k, int j, double q, const crow *c,
                                double v, double vn);
 void hyb_planar_impact_and_set(hyb *H, double t, const exdex_kinematics *kin, double *y);
+int hyb_planar_jam_impulse(hyb *H, double t, double *y);
 void hyb_planar_unpenetrate(hyb *H, const exdex_kinematics *kin, double *y);
 const double *hyb_reported_pose(hyb *H, double t, const double *y, double *buf);
 int hyb_apply_jump(hyb *H, double ts, double *y);

@@ -659,7 +659,8 @@ void hyb_decide(hyb *H, double t, double *y, int vzero)
 /* The decision at an event located at t (the state y there, g the guard
  * that fell below 0, same: how often in a row an event fell at this time):
  * what the event's kind implies (a slip stopping, a small slip grown, a
- * slip decaying or turning: T2, T8; the held regime toggled), the
+ * slip decaying or turning: T2, T8; the held regime toggled; a jammed
+ * sliding mode's arrest impulse, hyb_planar_jam_impulse), the
  * decision (hyb_decide), then the tie rules at a repeated instant (T7).
  * Returns EXDEX_OK or EXDEX_ENOCONV (the frame failed). */
 int hyb_decide_event(hyb *H, double t, double *y, hyb_guard g, int same)
@@ -713,6 +714,9 @@ int hyb_decide_event(hyb *H, double t, double *y, hyb_guard g, int same)
     if (H->law == LAW_COULOMB && kind == G_SEPARATES) sep = g.row;
     if (H->law == LAW_COULOMB && H->mode == MODE_SLIP && !H->sfric && kind == G_GAP) join = 1;
     hyb_hold_set_rows(H, t, y);
+    /* a sliding group's mode jammed (G_SF_JAM): the impact without
+     * collision arrests its slip, then the decision at the new velocity */
+    if (kind == G_SF_JAM) hyb_planar_jam_impulse(H, t, y);
     /* regularised, planar, two coefficients: the held regime's guard: it
      * broke away, or a slip slowed into the band */
     if (hyb_smooth_two(H) && kind == G_HELD) H->held = !H->held;

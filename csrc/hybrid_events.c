@@ -30,6 +30,12 @@ static int sf_guards(hyb *H, const frame *f, const exdex_kinematics *kin, const 
     memset(&res, 0, sizeof res);
     if (nr >= 0 && hyb_sf_free_acc(H, f, kin, y, a) == EXDEX_OK) ok = hyb_sf_solve_at(H, kin, y, a, &res);
     g[n++] = hg(G_SF_CONSISTENT, -1, 0, ok ? 1.0 : -1.0);
+    {
+        /* a sliding group's friction turning its normal force around (a
+         * jam, hyb_sf_jam_ratio): |D / D_0| reaches JAM_DIR */
+        double r = ok ? hyb_sf_jam_ratio(H, &S, &res) : NAN;
+        g[n++] = hg(G_SF_JAM, -1, 0, isnan(r) ? 1.0 : fabs(r) - JAM_DIR);
+    }
     for (int k = 0; k < S.ng; k++) {
         if (!(S.has[k] && S.st[k].mu > 0.0)) continue;
         if (H->fm[k] == SF_SLIDE_P)

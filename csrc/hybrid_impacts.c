@@ -319,6 +319,100 @@ void hyb_planar_impact_and_set(hyb *H, double t, const exdex_kinematics *kin, do
     }
 }
 
+/* The impact without collision at a jam (the guard G_SF_JAM: a sliding
+ * group's mode with |D / D_0| <= JAM_DIR, hyb_sf_jam_ratio). Approaching
+ * D = 0 the mode's normal forces grow without bound; at D = 0 an impulse
+ * along the sliding groups' forces (G_i - mu sigma T) leaves the set rows'
+ * gap rates unchanged (that is what D = 0 says) and changes the slip, so
+ * the rigid limit of the contact is an impulse, in impulse time, that
+ * slides until the slip is 0 (the impact without collision). The
+ * velocity-level step (the implicit and explicit methods) takes that
+ * impulse in the step that reaches the jam at most step sizes, to the
+ * first-order error of the step; at others its step lands on the jam with
+ * a part of it, scattered with the step size (zoo-inputs 3478 and the C
+ * test hybrid_impacts_jam_run_returns_with_the_implicit_methods_limit
+ * give the figures). It is the velocity that holds the set rows'
+ * gap rates >= their rates at v = 0 (no approach) and the slips of the
+ * groups carrying force at 0 (sticking groups stay stuck), nearest to v in
+ * the M metric (ldp_project: rows G_i v >= b_i, pairs T_k v = -tb_k): its
+ * tangential impulse beta_k lies on the cone, |beta_k| = mu_k sum lam /
+ * (1 - D / D_0) for one row, so within JAM_DIR of it at the located
+ * event. Taken where each arrested sliding group's impulse opposes its
+ * slip and |beta_k| (1 - JAM_DIR) <= mu_k sum lam (1 + FRICTION_BAND) (the
+ * Coulomb impulse of the slide to rest); the normal impulses go into the
+ * stops' force integrals and count as impacts. Else (no such impulse, a
+ * failed projection) nothing changes and a warning is counted. Returns 1
+ * when applied. */
+int hyb_planar_jam_impulse(hyb *H, double t, double *y)
+{
+    const exdex_model *m = H->m;
+    frame f;
+    exdex_kinematics kin;
+    sf_set S;
+    sf_result res;
+    double a[3], G2[LDP_MAX_ROWS][3], b2[LDP_MAX_ROWS], lam2[LDP_MAX_ROWS], v[3], per_src[NSRC_MAX] = {0};
+    int pair[SF_MAX_STOPS], n2 = 0, arrest = 0;
+    if (H->ndof != 3 || !H->sfric || !H->ncs || H->ncs > SF_MAX_ROWS) return 0;
+    hyb_pads(H, y);
+    if (hyb_frame_seg(H, t, &f, &kin) || hyb_sf_build(H, &kin, y, &S) < 0) return 0;
+    memset(&res, 0, sizeof res);
+    if (hyb_sf_free_acc(H, &f, &kin, y, a) || !hyb_sf_solve_at(H, &kin, y, a, &res) ||
+        isnan(hyb_sf_jam_ratio(H, &S, &res)) || H->ncs + 2 * S.ng > LDP_MAX_ROWS) {
+        H->st->warnings++;
+        return 0;
+    }
+    for (int i = 0; i < H->ncs; i++) {
+        double gd = 0.0;
+        hyb_hrow_planar(H, &kin, H->cs[i], y, y + 3, G2[n2], &gd, NULL);
+        b2[n2] = -(gd - ex_dot3(G2[n2], y + 3));
+        n2++;
+    }
+    for (int k = 0; k < S.ng; k++) {
+        pair[k] = -1;
+        if (!(S.has[k] && S.st[k].mu > 0.0 && res.lsum[k] > 0.0)) continue;
+        if (res.fm[k] != SF_STICK && res.fm[k] != SF_SLIDE_P && res.fm[k] != SF_SLIDE_M) continue;
+        pair[k] = n2;
+        for (int c = 0; c < 3; c++) {
+            G2[n2][c] = S.st[k].T[c];
+            G2[n2 + 1][c] = -S.st[k].T[c];
+        }
+        b2[n2] = -S.tb[k];
+        b2[n2 + 1] = S.tb[k];
+        n2 += 2;
+        arrest |= res.fm[k] != SF_STICK;
+    }
+    if (!arrest || !ldp_project(m->minv, n2, (const double (*)[3])G2, b2, y + 3, FQ_MIN, v, lam2,
+                                &H->st->stop_iterations, &H->st->warnings)) {
+        H->st->warnings++;
+        return 0;
+    }
+    for (int k = 0; k < S.ng; k++) {
+        double L = 0.0, beta, sg;
+        if (pair[k] < 0 || res.fm[k] == SF_STICK) continue;
+        for (int i = 0; i < H->ncs; i++)
+            if (S.grp[i] == k) L += lam2[i];
+        beta = lam2[pair[k]] - lam2[pair[k] + 1];
+        sg = res.fm[k] == SF_SLIDE_P ? 1.0 : -1.0;
+        if (!(L > 0.0 && sg * beta <= 0.0 && fabs(beta) * (1.0 - JAM_DIR) <= S.st[k].mu * L * (1.0 + FRICTION_BAND))) {
+            H->st->warnings++;
+            return 0;
+        }
+    }
+    for (int i = 0; i < n2; i++)
+        if (!isfinite(lam2[i])) {
+            H->st->warnings++;
+            return 0;
+        }
+    for (int i = 0; i < H->ncs; i++) {
+        int src = hyb_hrow_src(H, H->cs[i]);
+        y[9 + src] += lam2[i];
+        per_src[src] += lam2[i];
+    }
+    for (int k = 0; k < H->ns + H->no; k++) method_note_impact(H->st, t, k, per_src[k]);
+    memcpy(y + 3, v, sizeof v);
+    return 1;
+}
+
 /* Positions back onto the stops at (t, y), when a row penetrates: the
  * M-metric projection of q onto G dq >= -gap of every row (a located impact
  * lies up to |gap rate| ROOT_TOL beyond its stop, a rest against a stop

@@ -232,7 +232,14 @@ void hyb_contact_forces(const hyb *H, const crow *c, double T, double R, double 
  * exist there (stop_impulse.h), but it is a jump of the velocity that the
  * acceleration-level machine would have to apply as an impact at a time it
  * cannot locate from a smooth guard; the implicit method, which is that
- * velocity-level step, reports the same scenes with its own warning. */
+ * velocity-level step, reports the same scenes with its own warning.
+ * A consistent sliding mode that runs into a jam (the normal forces
+ * growing without bound as the mode's determinant ratio D / D_0 falls to
+ * 0, hyb_sf_jam_ratio: their integral stays finite, the steps collapse
+ * before the jam) has a smooth guard, |D / D_0| - JAM_DIR (G_SF_JAM): at
+ * that event the sliding groups' slip is arrested by an impulse, the
+ * impact without collision of the rigid limit (hyb_planar_jam_impulse,
+ * hybrid_impacts.c), and the mode is decided again at the new velocity. */
 
 /* The unit in-plane normal (B) of planar row r at (kin, y): the direction
  * its gap grows in when the object's point moves (a stop's, an obstacle
@@ -364,6 +371,75 @@ int hyb_sf_solve_at(hyb *H, const exdex_kinematics *kin, const double *y, const 
     ok = sf_solve(H->ncs, S.rows, S.ng, S.st, H->m->minv, a, SF_TOL * sc->V / sc->T, SF_TOL * sc->F, res);
     H->st->stop_iterations += (size_t)res->tried;
     return ok;
+}
+
+/* det of the n x n (n <= 3) leading block of A. */
+static double det_n(int n, const double (*A)[3])
+{
+    if (n == 1) return A[0][0];
+    if (n == 2) return A[0][0] * A[1][1] - A[0][1] * A[1][0];
+    return A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) - A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
+           A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
+}
+
+/* The jam ratio D / D_0 of the mode res that sf_solve found on the set S
+ * (the planar counterpart of a 1-DoF contact's D / Fq, hybrid.h "Frictional
+ * stops"). The mode's constraints J are the rows carrying force (lam > 0)
+ * and the slip rows T_k of the sticking groups carrying force; the columns
+ * K of their unknowns are G_i - mu_k sigma_k T_k for a row of a sliding
+ * group (its friction -mu_k sigma_k lam_i along T_k), G_i for any other
+ * row, T_k for a sticking group's tangential force. D = det(J M^-1 K^T) is
+ * the determinant of the mode's equations, D_0 = det(J M^-1 J^T) > 0 that
+ * of the same constraints without the sliding friction: the ratio is 1
+ * without friction and falls to 0 where the friction turns the normal
+ * forces' effect on the gaps around, the forces -(J a + sdd0) / (J M^-1
+ * K^T) growing without bound (a jam: a sliding corner on a stop with mu
+ * near its Painleve limit). NAN where no sliding group carries force, in a
+ * lock, with more than 3 constraints, or with constraints dependent to
+ * SET_ROW_DEPENDENT (D_0 at most that share of the product of its
+ * diagonal, Hadamard's bound). */
+double hyb_sf_jam_ratio(const hyb *H, const sf_set *S, const sf_result *res)
+{
+    const double *mi = H->m->minv;
+    double J[3][3], K[3][3], N[3][3], N0[3][3], d0, dd = 1.0;
+    int n = 0, slide = 0;
+    if (res->lock) return NAN;
+    for (int i = 0; i < H->ncs && i < SF_MAX_ROWS; i++) {
+        int k = S->rows[i].stop;
+        const sf_stop *st = &S->st[k];
+        double sg = 0.0;
+        if (!(res->lam[i] > 0.0)) continue;
+        if (n == 3) return NAN;
+        if (st->mu > 0.0 && (res->fm[k] == SF_SLIDE_P || res->fm[k] == SF_SLIDE_M)) {
+            sg = res->fm[k] == SF_SLIDE_P ? 1.0 : -1.0;
+            slide = 1;
+        }
+        for (int c = 0; c < 3; c++) {
+            J[n][c] = S->rows[i].G[c];
+            K[n][c] = S->rows[i].G[c] - st->mu * sg * st->T[c];
+        }
+        n++;
+    }
+    for (int k = 0; slide && k < S->ng; k++) {
+        if (!(S->has[k] && S->st[k].mu > 0.0 && res->fm[k] == SF_STICK && res->lsum[k] > 0.0)) continue;
+        if (n == 3) return NAN;
+        memcpy(J[n], S->st[k].T, sizeof J[n]);
+        memcpy(K[n], S->st[k].T, sizeof K[n]);
+        n++;
+    }
+    if (!slide) return NAN;
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < n; j++) {
+            N[i][j] = N0[i][j] = 0.0;
+            for (int c = 0; c < 3; c++) {
+                N[i][j] += J[i][c] * mi[c] * K[j][c];
+                N0[i][j] += J[i][c] * mi[c] * J[j][c];
+            }
+        }
+    for (int i = 0; i < n; i++) dd *= N0[i][i];
+    d0 = det_n(n, (const double (*)[3])N0);
+    if (!(d0 > SET_ROW_DEPENDENT * dd)) return NAN;
+    return det_n(n, (const double (*)[3])N) / d0;
 }
 
 /* The problem of the contact set at (f, kin, y) with the plate's small-slip

@@ -87,7 +87,13 @@
  * like every guard: the normal force is then 1 / JAM_DIR times the
  * frictionless one, and the impulse given up, the integral of lam beyond,
  * grows as log(1 / JAM_DIR) only. Friction returns where D / Fq of the slip's
- * sign exceeds JAM_DIR again, or the slip reverses (decided again there). */
+ * sign exceeds JAM_DIR again, or the slip reverses (decided again there).
+ * Planar frictional stops: the same threshold on a sliding mode's
+ * determinant ratio |D / D_0| (hyb_sf_jam_ratio, hybrid_laws.c), located by
+ * the guard G_SF_JAM; there the slip is arrested by the impact without
+ * collision (hyb_planar_jam_impulse, hybrid_impacts.c), whose tangential
+ * impulse lies within JAM_DIR of its cone (|beta| = mu lam / (1 - D / D_0)
+ * for one row). */
 #define JAM_DIR 1e-6
 #define SLIP_FLOOR 1e-6  /* planar slip: below zsw = SLIP_FLOOR V of |E u| the slip is "small" (hybrid.h) */
 #define SLIP_UP 2.0      /* a small slip becomes a slip at SLIP_UP zsw (hysteresis against zsw) */
@@ -111,7 +117,9 @@
 #define FEW_ULPS 4.0     /* a few ulps of t: a segment's end as its left limit (seg_time), locate's first forward step */
 #define HERMITE_FLAT 1e-14 /* hermite_min: a cubic coefficient below this share of the quadratic's is taken as 0 */
 #define SET_ROW_DEPENDENT 1e-12 /* set_row_equalities: a row whose M-metric component off the earlier rows is below
-                                   this share of its norm (squared) is dependent on them */
+                                   this share of its norm (squared) is dependent on them; hyb_sf_jam_ratio: a
+                                   mode's constraints whose M-metric Gram determinant is below this share of the
+                                   product of its diagonal are dependent */
 #define GUARD_RECOVER 1e-13 /* a guard violated at a step's start recovers when it rises by more than this over
                                the step (in the guard's own units, not scaled) */
 

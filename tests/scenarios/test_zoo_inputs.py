@@ -65,8 +65,13 @@ _range = os.environ.get("ZOO_INPUTS_SEEDS")
 #: 384, a planar scene on two frictional stops where the event method spent
 #: its event budget in a 4-event cycle (a small slip grown against a stop row
 #: it could rest on; hybrid_decide.c's rule T2, and its C test
-#: decide_event_small_slip_grown_against_set_rows_stops_where_held).
-REGRESSION_SEEDS = (384,)
+#: decide_event_small_slip_grown_against_set_rows_stops_where_held);
+#: 3478, a planar scene on one frictional stop (mu 0.98) where a corner's
+#: slide ran into a Painleve jam (its stop force without bound) and the event
+#: and regularised steps collapsed at t = 0.1073 s (the jam's arrest impulse,
+#: hybrid_impacts.c's hyb_planar_jam_impulse, and its C test
+#: hybrid_impacts_jam_arrests_the_slip_as_the_rigid_limit).
+REGRESSION_SEEDS = (384, 3478)
 SEEDS = (range(*map(int, _range.split(":"))) if _range
          else list(range(N_SCENES)) + [s for s in REGRESSION_SEEDS if s >= N_SCENES])
 REG_EVERY = 1
