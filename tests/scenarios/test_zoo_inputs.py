@@ -65,8 +65,13 @@ _range = os.environ.get("ZOO_INPUTS_SEEDS")
 #: 384, a planar scene on two frictional stops where the event method spent
 #: its event budget in a 4-event cycle (a small slip grown against a stop row
 #: it could rest on; hybrid_decide.c's rule T2, and its C test
-#: decide_event_small_slip_grown_against_set_rows_stops_where_held).
-REGRESSION_SEEDS = (384,)
+#: decide_event_small_slip_grown_against_set_rows_stops_where_held);
+#: 4114, a rotation scene whose grip is released to 0 while the object rests
+#: on its one stop, where the plates' share of that rest, a rounding residual
+#: of the stop's, failed the stick test at capacity 0 and the event run
+#: slipped into the stop and through it (hyb_contact_forces, and its C test
+#: decide_1dof_rest_on_a_pushing_stop_holds_with_the_grip_released).
+REGRESSION_SEEDS = (384, 4114)
 SEEDS = (range(*map(int, _range.split(":"))) if _range
          else list(range(N_SCENES)) + [s for s in REGRESSION_SEEDS if s >= N_SCENES])
 REG_EVERY = 1
