@@ -277,7 +277,9 @@ static void sf_decide(hyb *H, double t, double *y)
  *      |E^-1 w|, the exact surface's gauge, a stop contact's friction) is
  *      <= C_s (1 + FRICTION_BAND): a load sitting on the limit sticks
  *      (load_holds; hyb_planar_load_held, hybrid_laws.c, the same test of
- *      a planar load at rest);
+ *      a planar load at rest); a 1-DoF rest against a stop that pushes
+ *      leaves the plates exactly 0 (hyb_contact_forces), so it holds at
+ *      every capacity, 0 (a released grip) included;
  *   T2 (small slip) a planar Coulomb slip below zsw is a small slip (its
  *      friction the maximum-dissipation wrench of the current load) unless
  *      the load can be held, then it stops (qd = 0); a small slip stays

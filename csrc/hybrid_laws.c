@@ -183,10 +183,15 @@ void hyb_contact_forces(const hyb *H, const crow *c, double T, double R, double 
         *f = -H->s * H->cap;
         *lam = (R - *f) / D;
     } else {
-        /* at rest against the stop: the stop carries what it can (as the implicit method) */
+        /* at rest against the stop: the stop carries what it can (as the
+         * implicit method). A stop that pushes (R / D > 0) carries all of
+         * R, so the plates carry exactly 0: the rounding residual R - (R /
+         * D) D (an ulp of R) is not a friction load, and the rest's stick
+         * test (T1) must not find it beyond a capacity of 0 (a released
+         * grip) and send the object slipping into the stop that holds it */
         double l = R / D;
         *lam = l > 0.0 ? l : 0.0;
-        *f = R - *lam * D;
+        *f = l > 0.0 ? 0.0 : R;
     }
 }
 

@@ -172,6 +172,52 @@ EXDEX_TEST(decide_1dof_rest_on_a_stop_is_a_contact_only_where_the_stop_pushes)
         }
 }
 
+/* T1, T5, 1-DoF, a released grip: the object's point on a stop below it,
+ * fixed in B, its normal tilted from the slide axis by a (n = (sin a, 0,
+ * cos a) in A, so d gap / dq = Fq = cos a), capacity 0. The closed form of
+ * the rest: one coordinate and one constraint, M qdd = Q + f + lam Fq with
+ * qdd = 0, so the stop carries the whole load R = -Q0 = m g, lam = R / Fq >
+ * 0, and the plates nothing, f = 0 exactly: a contact at rest at every
+ * capacity, 0 included. Over the tilts the rounding residual R - (R / Fq)
+ * Fq is an ulp of R at some of them; taken as the plates' friction it
+ * exceeds a capacity of 0, and the decision slipped into the stop. */
+EXDEX_TEST(decide_1dof_rest_on_a_pushing_stop_holds_with_the_grip_released)
+{
+    for (int k = 0; k < 60; k++) {
+        const double a = 0.02 * k;
+        exdex_scene_def d = vertical_def(0.5);
+        begun b;
+        frame f;
+        exdex_kinematics kin;
+        hyb *H;
+        double y[NY_MAX], R, fr, lam;
+        crow c;
+        d.mass = 0.3 + 0.01 * k;
+        d.grip_force = 0.5 * d.mass * 9.81 / (2 * d.mu);
+        d.n_stops = 1;
+        d.stop_normal[0][0] = sin(a);
+        d.stop_normal[0][2] = cos(a);
+        H = begin_event(&d, &b);
+        if (!H) {
+            end_event(&b);
+            continue;
+        }
+        ENSURE(H->mode == MODE_CONTACT && H->s == 0.0 && H->ck == 0);
+        memcpy(y, b.O->S.y, sizeof y);
+        ENSURE(hyb_frame_seg(H, 0.0, &f, &kin) == EXDEX_OK);
+        hyb_hrow_1dof(H, &kin, 0, 0, y[0], &c);
+        ENSURE(c.Fq > 0.0);
+        R = -model_force_1dof(b.m, &f, y[0], 0.0);
+        ENSURE(R > 0.0);
+        hyb_contact_forces(H, &c, 0.0, R, 0.0, &fr, &lam);
+        ENSURE(fr == 0.0 && lam == R / c.Fq);
+        H->cap = H->caps = 0.0;   /* the grip released */
+        hyb_decide(H, 0.0, y, 0);
+        ENSURE(H->mode == MODE_CONTACT && H->s == 0.0 && H->ck == 0 && y[1] == 0.0);
+        end_event(&b);
+    }
+}
+
 /* A planar scene (B = A, the plate plane A's x-y plane) with gravity g
  * along -y in it: a square 4 x 4 cm, mass 0.2, the patch at its centre of
  * mass, capacity ratio x m g; no stops. */
