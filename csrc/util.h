@@ -137,9 +137,11 @@ static inline ex_iv ex_iv_mul(ex_iv a, ex_iv b)
     return ex_iv_out(ex_min(ex_min(p0, p1), ex_min(p2, p3)), ex_max(ex_max(p0, p1), ex_max(p2, p3)));
 }
 
+/* k a: the ends' products in the order k's sign gives them (the same ends
+ * as ex_iv_mul's least and greatest of four; a NaN k gives NaN ends) */
 static inline ex_iv ex_iv_scale(double k, ex_iv a)
 {
-    return ex_iv_mul(ex_iv_pt(k), a);
+    return k >= 0.0 ? ex_iv_out(k * a.lo, k * a.hi) : ex_iv_out(k * a.hi, k * a.lo);
 }
 
 /* a^2 (not a a: the square of an interval holding 0 starts at 0) */
