@@ -66,8 +66,10 @@ static inline void ex_axis_angle(double R[9], const double k[3], double th)
 /* ------------------------------------------------ interval arithmetic
  * Closed intervals [lo, hi] with outward rounding: each operation computes
  * its ends in round-to-nearest (within half an ulp of the exact end) and
- * moves them outwards by |x| 2^-52 + 2^-1074 (at least an ulp of x: the
- * move, rounded to nearest, still ends at least half an ulp out), so the
+ * moves them outwards by |x| 2^-52 + 2^-1022 (at least an ulp of x: the
+ * move, rounded to nearest, still ends at least half an ulp out; 2^-1022,
+ * the least normal number, keeps denormal operands out of the add, which
+ * some CPUs take a slow assist for), so the
  * result holds every exact value of the operation over its operands'
  * intervals. A NaN end makes the interval fail ex_iv_ok. */
 typedef struct ex_iv {
@@ -89,7 +91,7 @@ static inline double ex_max(double a, double b)
 
 static inline ex_iv ex_iv_out(double lo, double hi)
 {
-    ex_iv r = {lo - (fabs(lo) * 0x1p-52 + 0x1p-1074), hi + (fabs(hi) * 0x1p-52 + 0x1p-1074)};
+    ex_iv r = {lo - (fabs(lo) * 0x1p-52 + 0x1p-1022), hi + (fabs(hi) * 0x1p-52 + 0x1p-1022)};
     return r;
 }
 
