@@ -66,12 +66,14 @@ static inline void ex_axis_angle(double R[9], const double k[3], double th)
 /* ------------------------------------------------ interval arithmetic
  * Closed intervals [lo, hi] with outward rounding: each operation computes
  * its ends in round-to-nearest (within half an ulp of the exact end) and
- * moves them outwards by |x| 2^-52 + 2^-1022 (at least an ulp of x: the
- * move, rounded to nearest, still ends at least half an ulp out; 2^-1022,
- * the least normal number, keeps denormal operands out of the add, which
- * some CPUs take a slow assist for), so the
+ * moves them outwards by |x| 2^-52 + 2^-300 (at least an ulp of x: the
+ * move, rounded to nearest, still ends at least half an ulp out), so the
  * result holds every exact value of the operation over its operands'
- * intervals. A NaN end makes the interval fail ex_iv_ok. */
+ * intervals. A NaN end makes the interval fail ex_iv_ok. The absolute part,
+ * 2^-300 (about 5e-91, far below any quantity of a scene), keeps the ends
+ * of an interval about zero normal numbers whose products with each other
+ * stay normal too (a move of 2^-1074 would make every product with such an
+ * end a denormal number, which some CPUs compute by slow assists). */
 typedef struct ex_iv {
     double lo, hi;
 } ex_iv;
@@ -91,7 +93,7 @@ static inline double ex_max(double a, double b)
 
 static inline ex_iv ex_iv_out(double lo, double hi)
 {
-    ex_iv r = {lo - (fabs(lo) * 0x1p-52 + 0x1p-1022), hi + (fabs(hi) * 0x1p-52 + 0x1p-1022)};
+    ex_iv r = {lo - (fabs(lo) * 0x1p-52 + 0x1p-300), hi + (fabs(hi) * 0x1p-52 + 0x1p-300)};
     return r;
 }
 
