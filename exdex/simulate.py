@@ -506,6 +506,15 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
     dt, t_end = _check_times(t_end, dt)
     if isinstance(scene, Scene) and scene.dof == "auto":
         return _simulate_auto(scene, t_end, dt, method, friction_solver, eps, rtol, atol)
+    res, spec = _run(scene, t_end, dt, method, friction_solver, eps, rtol, atol, certify)
+    _warn_jumps(scene, _jumps(scene, spec), t_end)
+    diagnostics.issue(diagnostics.findings(res))
+    return res
+
+
+def _run(scene, t_end, dt, method, friction_solver, eps, rtol, atol, certify=True):
+    """The run of :func:`simulate` (times checked, dof not "auto") and its
+    core spec, without the warnings simulate issues about it."""
     method = resolve_method(scene, method)
     spec = scene_spec(scene, method, friction_solver, eps, rtol, atol)
     try:
@@ -513,10 +522,7 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
     except SolverError as exc:
         reduced_obstacle_hint(scene, spec, exc)
         raise
-    _warn_jumps(scene, _jumps(scene, spec), t_end)
-    res = result_from_core(out, scene, method, friction_solver, dt)
-    diagnostics.issue(diagnostics.findings(res))
-    return res
+    return result_from_core(out, scene, method, friction_solver, dt), spec
 
 
 _PLANAR_METHODS = ("implicit", "event", "regularised", "explicit")
@@ -547,9 +553,8 @@ def _simulate_auto(scene, t_end, dt, method, friction_solver, eps, rtol, atol):
     from exdex.scene import GripSchedule, replace
 
     opts = dict(friction_solver=friction_solver, eps=eps, rtol=rtol, atol=atol)
-    planar = replace(scene, dof="planar")
     order = ("rotation", "translation") if getattr(scene.motion, "rotation", False) else ("translation", "rotation")
-    best = None     # (valid_until, dof, method, result)
+    best = None     # (valid_until, dof, method, result, its core spec)
     why_not = []
     for dof in order:
         sc = replace(scene, dof=dof)
@@ -559,7 +564,7 @@ def _simulate_auto(scene, t_end, dt, method, friction_solver, eps, rtol, atol):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             try:
-                res = simulate(sc, t_end, dt, method=m, **opts)
+                res, spec = _run(sc, t_end, dt, m, **opts)
             except ValueError as exc:   # e.g. stops the 1-DoF model cannot give way to
                 why_not.append(f"the {dof} model does not apply ({exc})")
                 continue
@@ -574,20 +579,21 @@ def _simulate_auto(scene, t_end, dt, method, friction_solver, eps, rtol, atol):
                 continue
         c = res.certificate
         if c["holds"]:
-            best = (t_end, dof, m, res)
+            best = (t_end, dof, m, res, spec)
             break
         why_not.append(f"the {dof} model fails its certificate at t = {c['valid_until']:.6g} s "
                        f"(gauge {c['gauge']:.4g}, {'stuck' if c['stick'] else 'slipping'})")
         if best is None or c["valid_until"] > best[0]:
-            best = (float(c["valid_until"]), dof, m, res)
+            best = (float(c["valid_until"]), dof, m, res, spec)
     pm = method if method in _PLANAR_METHODS else "event"
     if best is not None and best[3].certificate["holds"]:
-        _, dof, m, res = best
+        _, dof, m, res, spec = best
         res = dataclasses.replace(res, models=((dof, m, 0.0, float(res.t[-1]),
                                                 f"the {dof} model's certificate holds to t_end"),))
-        _warn_jumps(scene, _jumps(res.scene, res.scene.to_spec(method=m)), t_end)
+        _warn_jumps(scene, _jumps(res.scene, spec), t_end)
         diagnostics.issue(diagnostics.findings(res))
         return res
+    planar = replace(scene, dof="planar")
     if best is None or best[0] <= 0.0:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", GripperJumpWarning)
@@ -595,7 +601,7 @@ def _simulate_auto(scene, t_end, dt, method, friction_solver, eps, rtol, atol):
         _warn_jumps(scene, _jumps(planar, planar.to_spec(method=pm)), t_end)
         return dataclasses.replace(res, models=(("planar", pm, 0.0, float(res.t[-1]),
                                                  "; ".join(why_not) or "no 1-DoF model applies"),))
-    t_sw, dof, m, _ = best
+    t_sw, dof, m, _, _ = best
     sc = replace(scene, dof=dof)
     # the 1-DoF run up to the switch, its last sample exactly there
     with warnings.catch_warnings():
