@@ -218,6 +218,53 @@ EXDEX_TEST(decide_1dof_rest_on_a_pushing_stop_holds_with_the_grip_released)
     }
 }
 
+/* T1, T5, 1-DoF, through a run: decide_1dof_rest_on_a_pushing_stop_holds_
+ * with_the_grip_released's rest (the point on a stop below it, fixed in B,
+ * its normal tilted by a), the grip a cubic schedule from the capacity
+ * 0.5 m g at t = 0 to 0 at t = 0.5 s, the run to 1 s at output steps 1/8,
+ * 1/7, 1/9 s. The closed form: nothing moves the object (the stop fixed in
+ * B carries the whole load m g along q), so at every sample q = q0, qd = 0
+ * exactly, the step stuck and the plates' mean wrench is exactly 0 (their
+ * share of the rest, f = 0, hyb_contact_forces), the stop's mean force > 0.
+ * These hold exactly: the gripper at rest gives the stop's rates 0, the
+ * stop through the object's point its gap 0, and the plates' share is set
+ * to 0. The grip's breakpoint at 0.5 s ends a step with a decision at
+ * capacity 0: a rounding residual R - (R / Fq) Fq taken there as the
+ * plates' friction fails the stick test and slips the object along the
+ * stop, at the tilts where that residual is not 0, an answer that depends
+ * on where the run's steps end (the 1-DoF rest of
+ * tests/scenarios/test_zoo_inputs.py's seed 1126 at its grip's release). */
+EXDEX_TEST(event_run_rest_on_a_pushing_stop_holds_through_a_grip_released_at_a_breakpoint)
+{
+    static const double ts[2] = {0.0, 0.5};
+    static const int n_out[3] = {8, 7, 9};
+    for (int k = 0; k < 60; k++)
+        for (int g = 0; g < 3; g++) {
+            const double a = 0.02 * k;
+            exdex_scene_def d = vertical_def(0.5);
+            double fs[2];
+            sim_run r;
+            d.mass = 0.3 + 0.01 * k;
+            fs[0] = 0.5 * d.mass * 9.81 / (2 * d.mu);
+            fs[1] = 0.0;
+            d.grip_force = 1.0;
+            d.grip_n = 2;
+            d.grip_times = ts;
+            d.grip_forces = fs;
+            d.grip_kind = EXDEX_GRIP_CUBIC;
+            d.n_stops = 1;
+            d.stop_normal[0][0] = sin(a);
+            d.stop_normal[0][2] = cos(a);
+            ENSURE(sim_run_def(&d, 1.0, 1.0 / n_out[g], &r) == EXDEX_OK);
+            for (size_t i = 1; i < r.tr.n && r.status == EXDEX_OK; i++) {
+                ENSURE(r.tr.q[i] == r.tr.q[0] && r.tr.v[i] == 0.0 && r.tr.stick[i]);
+                ENSURE(r.tr.wrench[3 * i] == 0.0 && r.tr.wrench[3 * i + 1] == 0.0 && r.tr.wrench[3 * i + 2] == 0.0);
+                ENSURE(r.tr.stop_force[i] > 0.0);
+            }
+            sim_run_free(&r);
+        }
+}
+
 /* A planar scene (B = A, the plate plane A's x-y plane) with gravity g
  * along -y in it: a square 4 x 4 cm, mass 0.2, the patch at its centre of
  * mass, capacity ratio x m g; no stops. */
