@@ -218,6 +218,121 @@ EXDEX_TEST(decide_1dof_rest_on_a_pushing_stop_holds_with_the_grip_released)
     }
 }
 
+/* T1, T5, 1-DoF, through a run: decide_1dof_rest_on_a_pushing_stop_holds_
+ * with_the_grip_released's rest (the point on a stop below it, fixed in B,
+ * its normal tilted by a), the grip a cubic schedule from the capacity
+ * 0.5 m g at t = 0 to 0 at t = 0.5 s, the run to 1 s at output steps 1/8,
+ * 1/7, 1/9 s. The closed form: nothing moves the object (the stop fixed in
+ * B carries the whole load m g along q), so at every sample q = q0, qd = 0
+ * exactly, the step stuck and the plates' mean wrench is exactly 0 (their
+ * share of the rest, f = 0, hyb_contact_forces), the stop's mean force > 0.
+ * These hold exactly: the gripper at rest gives the stop's rates 0, the
+ * stop through the object's point its gap 0, and the plates' share is set
+ * to 0. The grip's breakpoint at 0.5 s ends a step with a decision at
+ * capacity 0: a rounding residual R - (R / Fq) Fq taken there as the
+ * plates' friction fails the stick test and slips the object along the
+ * stop, at the tilts where that residual is not 0, an answer that depends
+ * on where the run's steps end (the 1-DoF rest of
+ * tests/scenarios/test_zoo_inputs.py's seed 1126 at its grip's release). */
+EXDEX_TEST(event_run_rest_on_a_pushing_stop_holds_through_a_grip_released_at_a_breakpoint)
+{
+    static const double ts[2] = {0.0, 0.5};
+    static const int n_out[3] = {8, 7, 9};
+    for (int k = 0; k < 60; k++)
+        for (int g = 0; g < 3; g++) {
+            const double a = 0.02 * k;
+            exdex_scene_def d = vertical_def(0.5);
+            double fs[2];
+            sim_run r;
+            d.mass = 0.3 + 0.01 * k;
+            fs[0] = 0.5 * d.mass * 9.81 / (2 * d.mu);
+            fs[1] = 0.0;
+            d.grip_force = 1.0;
+            d.grip_n = 2;
+            d.grip_times = ts;
+            d.grip_forces = fs;
+            d.grip_kind = EXDEX_GRIP_CUBIC;
+            d.n_stops = 1;
+            d.stop_normal[0][0] = sin(a);
+            d.stop_normal[0][2] = cos(a);
+            ENSURE(sim_run_def(&d, 1.0, 1.0 / n_out[g], &r) == EXDEX_OK);
+            for (size_t i = 1; i < r.tr.n && r.status == EXDEX_OK; i++) {
+                ENSURE(r.tr.q[i] == r.tr.q[0] && r.tr.v[i] == 0.0 && r.tr.stick[i]);
+                ENSURE(r.tr.wrench[3 * i] == 0.0 && r.tr.wrench[3 * i + 1] == 0.0 && r.tr.wrench[3 * i + 2] == 0.0);
+                ENSURE(r.tr.stop_force[i] > 0.0);
+            }
+            sim_run_free(&r);
+        }
+}
+
+/* The mean of max(1 + 2 cos w t, 0) over [t0, t1]: the antiderivative
+ * t + 2 sin(w t) / w over the parts of [t0, t1] in the intervals
+ * [k P - P / 3, k P + P / 3] (P = 2 pi / w) where cos w t >= -1/2. */
+static double unload_mean(double w, double t0, double t1)
+{
+    const double P = 2.0 * M_PI / w;
+    double s = 0.0;
+    for (int k = 0; k <= (int)(t1 / P) + 1; k++) {
+        double a = fmax(t0, k * P - P / 3.0), b = fmin(t1, k * P + P / 3.0);
+        if (b > a) s += (b + 2.0 * sin(w * b) / w) - (a + 2.0 * sin(w * a) / w);
+    }
+    return s / (t1 - t0);
+}
+
+/* T1, T5, 1-DoF, through a run: a rest on a stop that unloads inside a
+ * step while the plates hold. The point on a stop below it (normal n =
+ * (sin a, 0, cos a), a = 0.5, so Fq = cos a), the gripper shaken along the
+ * stop (axis (cos a, 0, -sin a): the stop stays fixed in B), s(t) = A (1 -
+ * cos w t), f = 5 Hz, for 0.4 s, A w^2 sin a = -2 g. The load along q at
+ * rest is Q = -m g + m s'' sin a = -m g (1 + 2 cos w t): the stop pushes
+ * (lam = -Q / Fq) while cos w t > -1/2 and unloads inside the steps over
+ * (1/3, 2/3) of each period, where the plates hold a pull up to m g. Two
+ * graspings: capacity 2 m g (mu_static = mu), and kinetic 0.8 m g with
+ * mu_static = 1.5 mu (static 1.2 m g: the pull is held only by the static
+ * capacity, which the rest's guard uses). The closed form: the object
+ * stays at q0 with qd = 0, and each step's mean stop force is (m g / Fq)
+ * unload_mean over it (m g / Fq after the shake), at output steps 0.5 / n
+ * for n = 4, 7, 8, 9, 16, 64, rtol 1e-10: q and qd within 1e-15 m and
+ * 1e-14 m/s (rounding of the stop's rates in B, ~1e-17 m and 1e-16 m/s),
+ * the stop force within 1e-7 of m g / Fq (the integration of its mean,
+ * ~1e-9). A slip would move q by millimetres, a stop force carried through
+ * the unload (negative) or a plate share of a pushing stop's load would
+ * move the means by a fraction of m g / Fq. */
+EXDEX_TEST(event_run_rest_on_a_stop_unloading_inside_a_step_is_held_by_the_plates)
+{
+    static const int n_out[6] = {4, 7, 8, 9, 16, 64};
+    const double al = 0.5, f = 5.0, w = 2.0 * M_PI * f, g = 9.81, mass = 0.3, t_shake = 0.4;
+    for (int ms = 0; ms < 2; ms++)
+        for (int io = 0; io < 6; io++) {
+            exdex_scene_def d = scene_vertical(mass, ms ? 0.8 : 2.0);
+            const double lam0 = mass * g / cos(al);
+            sim_run r;
+            d.n_stops = 1;
+            d.stop_normal[0][0] = sin(al);
+            d.stop_normal[0][2] = cos(al);
+            if (ms) d.mu_static = 1.5 * d.mu;
+            d.motion.kind = EXDEX_MOTION_SHAKE;
+            d.motion.axis[0] = cos(al);
+            d.motion.axis[2] = -sin(al);
+            d.motion.amplitude = -2.0 * g / sin(al) / (w * w);
+            d.motion.frequency = f;
+            d.motion.duration = t_shake;
+            d.method = EXDEX_METHOD_EVENT;
+            d.rtol = 1e-10;
+            d.atol = 1e-10;
+            ENSURE(sim_run_def(&d, 0.5, 0.5 / n_out[io], &r) == EXDEX_OK);
+            ENSURE(r.st.warnings == 0);
+            for (size_t i = 1; i < r.tr.n && r.status == EXDEX_OK; i++) {
+                double t0 = r.tr.t[i - 1], t1 = r.tr.t[i];
+                ENSURE_SMALL(r.tr.q[i] - r.tr.q[0], 1e-15);
+                ENSURE_SMALL(r.tr.v[i], 1e-14);
+                if (t1 <= t_shake) ENSURE_SMALL(r.tr.stop_force[i] - lam0 * unload_mean(w, t0, t1), 1e-7 * lam0);
+                if (t0 >= t_shake) ENSURE_SMALL(r.tr.stop_force[i] - lam0, 1e-7 * lam0);
+            }
+            sim_run_free(&r);
+        }
+}
+
 /* A planar scene (B = A, the plate plane A's x-y plane) with gravity g
  * along -y in it: a square 4 x 4 cm, mass 0.2, the patch at its centre of
  * mass, capacity ratio x m g; no stops. */
