@@ -1,6 +1,7 @@
 """exdex.simulate: one whole trajectory computed in C, returned as NumPy arrays."""
 from __future__ import annotations
 
+import copy
 import dataclasses
 import math
 import numbers
@@ -546,6 +547,15 @@ def _full_state(scene, q, v):
     return pose, vel
 
 
+def _with_dof(scene, dof):
+    """The scene of dof="auto" with ``dof`` set, not validated again: the
+    checks of the auto scene hold for every dof (a translation's and the
+    planar model's are its own, a rotation's pin skips the patch face's)."""
+    out = copy.copy(scene)
+    object.__setattr__(out, "dof", dof)
+    return out
+
+
 def _simulate_auto(scene, t_end, dt, method, friction_solver, eps, rtol, atol):
     """dof="auto" (see :class:`exdex.Scene`): the 1-DoF models in the order
     the motion suggests (a turning gripper: rotation first), the one whose
@@ -557,7 +567,7 @@ def _simulate_auto(scene, t_end, dt, method, friction_solver, eps, rtol, atol):
     best = None     # (valid_until, dof, method, result, its core spec)
     why_not = []
     for dof in order:
-        sc = replace(scene, dof=dof)
+        sc = _with_dof(scene, dof)
         m = resolve_method(sc, method)
         if m == "analytic" and _core.analytic_unsupported(sc.to_spec()) is not None:
             m = "event"
@@ -593,7 +603,7 @@ def _simulate_auto(scene, t_end, dt, method, friction_solver, eps, rtol, atol):
         _warn_jumps(scene, _jumps(res.scene, spec), t_end)
         diagnostics.issue(diagnostics.findings(res))
         return res
-    planar = replace(scene, dof="planar")
+    planar = _with_dof(scene, "planar")
     if best is None or best[0] <= 0.0:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", GripperJumpWarning)
@@ -602,7 +612,7 @@ def _simulate_auto(scene, t_end, dt, method, friction_solver, eps, rtol, atol):
         return dataclasses.replace(res, models=(("planar", pm, 0.0, float(res.t[-1]),
                                                  "; ".join(why_not) or "no 1-DoF model applies"),))
     t_sw, dof, m, _, _ = best
-    sc = replace(scene, dof=dof)
+    sc = _with_dof(scene, dof)
     # the 1-DoF run up to the switch, its last sample exactly there
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
