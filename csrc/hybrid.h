@@ -457,6 +457,20 @@ typedef struct sf_set {
     int ng;                                    /* groups */
 } sf_set;
 
+/* Group k's slip held at its value at v = 0 as an equality pair of a
+ * velocity projection (rows G v >= b): rows n and n + 1 get +T_k, -T_k with
+ * b = -tb_k, +tb_k; returns n + 2. */
+static inline int hyb_sf_slip_pair(const sf_set *S, int k, double (*G)[3], double *b, int n)
+{
+    for (int c = 0; c < 3; c++) {
+        G[n][c] = S->st[k].T[c];
+        G[n + 1][c] = -S->st[k].T[c];
+    }
+    b[n] = -S->tb[k];
+    b[n + 1] = S->tb[k];
+    return n + 2;
+}
+
 /* ------------------------------------------------------------- guards
  * A guard of the current mode (hybrid_events.c, hyb_guards): value >= 0
  * while the mode holds, an event where it falls below 0 (located on the

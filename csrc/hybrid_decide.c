@@ -141,13 +141,7 @@ static void sf_project_stick(hyb *H, const frame *f, const exdex_kinematics *kin
     }
     for (int k = 0; k < S.ng; k++) {
         if (!(S.has[k] && S.st[k].mu > 0.0 && H->fm[k] == SF_STICK)) continue;
-        for (int c = 0; c < 3; c++) {
-            Gr[n][c] = S.st[k].T[c];
-            Gr[n + 1][c] = -S.st[k].T[c];
-        }
-        b[n] = -S.tb[k];
-        b[n + 1] = S.tb[k];
-        n += 2;
+        n = hyb_sf_slip_pair(&S, k, Gr, b, n);
     }
     if (ldp_project(H->m->minv, n, (const double (*)[3])Gr, b, y + 3, FQ_MIN, v, lam, &H->st->stop_iterations,
                     &H->st->warnings))

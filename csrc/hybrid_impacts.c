@@ -372,13 +372,7 @@ int hyb_planar_jam_impulse(hyb *H, double t, double *y)
         if (!(S.has[k] && S.st[k].mu > 0.0 && res.lsum[k] > 0.0)) continue;
         if (res.fm[k] != SF_STICK && res.fm[k] != SF_SLIDE_P && res.fm[k] != SF_SLIDE_M) continue;
         pair[k] = n2;
-        for (int c = 0; c < 3; c++) {
-            G2[n2][c] = S.st[k].T[c];
-            G2[n2 + 1][c] = -S.st[k].T[c];
-        }
-        b2[n2] = -S.tb[k];
-        b2[n2 + 1] = S.tb[k];
-        n2 += 2;
+        n2 = hyb_sf_slip_pair(&S, k, G2, b2, n2);
         arrest |= res.fm[k] != SF_STICK;
     }
     if (!arrest || !ldp_project(m->minv, n2, (const double (*)[3])G2, b2, y + 3, FQ_MIN, v, lam2,
