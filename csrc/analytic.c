@@ -371,13 +371,19 @@ static int analytic_advance(const exdex_model *m, void *ws, double ti, int regri
     return EXDEX_OK;
 }
 
+static int analytic_advance_samples(const exdex_model *m, void *ws, double t_end, double dt, exdex_trajectory *out,
+                                    size_t i0, size_t i1, exdex_stats *st)
+{
+    size_t n = out->n;
+    for (size_t i = i0; i <= i1; i++) analytic_advance(m, ws, i == n - 1 ? t_end : (double)i * dt, 0, out, i, st);
+    return EXDEX_OK;
+}
+
 static int analytic_run(const exdex_model *m, void *ws, double t_end, double dt, exdex_trajectory *out,
                         exdex_stats *st)
 {
-    size_t n = out->n;
     analytic_begin(m, ws, t_end, dt, st);
-    for (size_t i = 1; i < n; i++) analytic_advance(m, ws, i == n - 1 ? t_end : (double)i * dt, 0, out, i, st);
-    return EXDEX_OK;
+    return out->n > 1 ? analytic_advance_samples(m, ws, t_end, dt, out, 1, out->n - 1, st) : EXDEX_OK;
 }
 
 static void analytic_save(const void *ws, void *buf)
@@ -399,4 +405,4 @@ static int analytic_restore(void *ws, const void *buf)
 
 const method_impl method_analytic = {"analytic", analytic_alloc, analytic_run, analytic_free, 0, 0,
                                      analytic_begin, analytic_advance, sizeof(analytic_state), analytic_save,
-                                     analytic_restore};
+                                     analytic_restore, analytic_advance_samples};

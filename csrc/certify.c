@@ -1322,8 +1322,13 @@ static int piecewise_constant(const exdex_model *m)
     return proof_motion(m, &turns) && !turns;
 }
 
+/* The certificate of out's samples from index skip on (skip = 0: the whole
+ * run, sample 0 included; skip >= 2: a window of a run whose first skip
+ * samples are known to hold, the two before the first one checked giving
+ * its interval and the band of rest before it); first_bad counts from
+ * out's sample 0. */
 static int certify_with(const exdex_model *m, const exdex_trajectory *out, exdex_certificate *c, int proofs,
-                        frame_box_cache *fc)
+                        frame_box_cache *fc, size_t skip)
 {
     size_t n, i;
     int st, failed, expl;
@@ -1353,7 +1358,8 @@ static int certify_with(const exdex_model *m, const exdex_trajectory *out, exdex
     expl = m->def.method == EXDEX_METHOD_REGULARISED || m->def.method == EXDEX_METHOD_EXPLICIT;
     /* sample 0; at rest there but slipping right after, it is the start of
      * that slip, which sample 1 checks (a slip from rest) */
-    if (!(n > 1 && out->v[0] == 0.0 && !(out->stick[1] || at_rest(m, out->t[1] - out->t[0], out->t[1], out->q[1], out->v[1])))) {
+    if (skip == 0 &&
+        !(n > 1 && out->v[0] == 0.0 && !(out->stick[1] || at_rest(m, out->t[1] - out->t[0], out->t[1], out->q[1], out->v[1])))) {
         int k0 = 0, proven = 0;
         while (k0 + 1 < pv.n && out->t[0] >= pv.lo[k0 + 1]) k0++;
         if (pv.n && out->t[0] >= pv.lo[k0] && out->t[0] < pv.hi[k0])
@@ -1367,7 +1373,7 @@ static int certify_with(const exdex_model *m, const exdex_trajectory *out, exdex
             }
         }
     }
-    i = 1;
+    i = skip > 1 ? skip : 1;
     {
         int k = 0;
         /* block proofs (prove_block) where no piece proof applies: bs the
@@ -1481,7 +1487,7 @@ static int certify_with(const exdex_model *m, const exdex_trajectory *out, exdex
 static int certify(const exdex_model *m, const exdex_trajectory *out, exdex_certificate *c, int proofs)
 {
     frame_box_cache *fc = proofs && m ? motion_frame_cache_new(m->g) : NULL;
-    int st = certify_with(m, out, c, proofs, fc);
+    int st = certify_with(m, out, c, proofs, fc, 0);
     motion_frame_cache_free(fc);
     return st;
 }
@@ -1538,4 +1544,11 @@ int exdex_certify_last(const exdex_model *m, const exdex_trajectory *out, size_t
         c->first_bad = g + 1;
     }
     return EXDEX_OK;
+}
+
+int certify_window(const exdex_model *m, const exdex_trajectory *out, size_t skip, frame_box_cache *fc,
+                   exdex_certificate *c)
+{
+    if (skip == 1 || (out && skip >= out->n)) return EXDEX_EINVAL;
+    return certify_with(m, out, c, 1, fc, skip);
 }

@@ -761,6 +761,20 @@ int exdex_certify_samples(const exdex_model *m, const exdex_trajectory *out, exd
  * sample 0 alone holds (it is decided with sample 1). EXDEX_EINVAL for NULL
  * arguments or a window that is not the run's last samples. */
 int exdex_certify_last(const exdex_model *m, const exdex_trajectory *out, size_t n_before, exdex_certificate *c);
+/* exdex_simulate with the certificate checked as the run goes, a window of
+ * samples at a time: a 1-DoF run whose reduction fails stops there, its
+ * last sample at the failure's time (c->valid_until: the run's grid up to
+ * the sample before it, then one step to it; just the grid's sample 0
+ * where it fails at t = 0). Where it holds, out, the stats and c are
+ * exdex_simulate's and exdex_certify's (bit for bit); where it fails, the
+ * samples before the failure are exdex_simulate's, c exdex_certify's of
+ * the whole run (first_bad on the run's grid) and the stats those of the
+ * samples written. *n_out: the samples written (also where the pads'
+ * grasp is lost). A planar model runs exdex_simulate. A solver failure
+ * after the reduction failed does not count (the run ends before it);
+ * other statuses as exdex_simulate's, c then not filled. */
+int exdex_simulate_certified(const exdex_model *m, double t_end, double dt, exdex_trajectory *out,
+                             exdex_stats *stats, exdex_certificate *c, size_t *n_out);
 /* ---------------------------------------------------------------- stepper
  * stepper.c -- a run advanced one step at a time, for feedback control: the
  * caller chooses each step's length and grip force from the state it reads.

@@ -51,6 +51,12 @@ typedef struct method_impl {
     size_t state_size;
     void (*save)(const void *ws, void *buf);
     int (*restore)(void *ws, const void *buf);
+    /* NULL, or advance over the grid's samples i0 .. i1 (t_i = i dt, the
+     * last one of out t_end) in one call, as that many advance calls would
+     * run them (bit for bit), without a call per sample: what simulate.c's
+     * run certified as it goes calls for a window (where run does the rest) */
+    int (*advance_samples)(const exdex_model *m, void *ws, double t_end, double dt, exdex_trajectory *out,
+                           size_t i0, size_t i1, exdex_stats *st);
 } method_impl;
 
 /* A sub-step's share of its output interval's means (the time-stepping

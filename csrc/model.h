@@ -530,6 +530,17 @@ int certify_arc_triangle(double th0, double th1, double half_max, double th[3], 
  * where not known (not a rotation run, a motion without an enclosure). */
 int certify_turning_load(const exdex_model *m, double ta, double tb, ex_iv th, ex_iv v, ex_iv b[3]);
 
+/* exdex_certify of a run's window (certify.c): out holds samples of the
+ * run whose first skip (0, or >= 2 and < out->n) are known to hold (skip
+ * 0: out starts at the run's sample 0 and all of it is checked); the
+ * samples from skip on are checked as exdex_certify checks them within the
+ * whole run (the same first failure: every check reads its sample and the
+ * two before it, and the proofs that skip samples only skip passing ones).
+ * fc: the frame boxes' cache of the run (motion_frame_cache_new), or NULL.
+ * first_bad counts from out's sample 0. */
+int certify_window(const exdex_model *m, const exdex_trajectory *out, size_t skip, frame_box_cache *fc,
+                   exdex_certificate *c);
+
 /* |E^-1 w|, the ellipsoid norm of a patch wrench (paper Eq. 6). */
 static inline double model_ell_norm(const exdex_model *m, const double w[3])
 {

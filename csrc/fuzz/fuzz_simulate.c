@@ -11,7 +11,9 @@
  * EXDEX_EINVAL; EXDEX_OK gives finite t, q, v, wrench, stop_force >= 0, stick
  * in {0, 1}, stats.steps = n - 1, t[n-1] = t_end; the same model run twice
  * gives bit-identical trajectories (unless the first run spent its budget,
- * EXDEX_ENOCONV, or was a long adaptive one). The smallest stop gap is recorded (the
+ * EXDEX_ENOCONV, or was a long adaptive one); a 1-DoF run certified as it
+ * goes (exdex_simulate_certified) finds the whole run's certificate and
+ * repeats its samples up to the failure. The smallest stop gap is recorded (the
  * driver prints the most negative one seen), and tame runs that penetrate a
  * stop beyond the method's bound (penetration_bound) without a warning are
  * noted by method and dof ("silent stop penetration beyond the bound"). */
@@ -521,6 +523,32 @@ int fuzz_simulate(const uint8_t *data, size_t size)
                     FZ_CHECK(T, memcmp(a.buf, b.buf, n * per * sizeof(double)) == 0);
                     FZ_CHECK(T, memcmp(a.tr.stick, b.tr.stick, n) == 0);
                     FZ_CHECK(T, memcmp(&sa, &sb, sizeof sa) == 0);
+                }
+                traj_free(&b);
+            }
+            /* certified as it goes: the whole run's certificate, and its samples
+             * (all of them where the reduction holds, those before the failure where it fails) */
+            if (st == EXDEX_OK && ndof == 1 && traj_alloc(&b, n, ndof, nstops)) {
+                exdex_trajectory part = a.tr;
+                exdex_certificate ca, cb;
+                size_t nw = 0, keep;
+                part.n = sa.lost_sample ? sa.lost_sample + 1 : n;
+                if (exdex_certify(m, &part, &ca) == EXDEX_OK) {
+                    int st3 = exdex_simulate_certified(m, t_end, dt, &b.tr, &sb, &cb, &nw);
+                    FZ_CHECK(T, st3 == EXDEX_OK);
+                    if (st3 == EXDEX_OK) {
+                        keep = ca.holds ? part.n : ca.first_bad ? ca.first_bad : 1;
+                        fuzz_note_count(T, ca.holds ? "certified as it goes: held" : "certified as it goes: failed");
+                        FZ_CHECK(T, cb.holds == ca.holds && cb.first_bad == ca.first_bad && cb.stick == ca.stick);
+                        FZ_CHECK(T, nw == keep || (!ca.holds && nw == keep + 1));
+                        FZ_CHECK(T, b.tr.t[nw - 1] == cb.valid_until);
+                        FZ_CHECK(T, cb.valid_until == ca.valid_until || (!ca.holds && nw == keep));
+                        FZ_CHECK(T, memcmp(a.tr.t, b.tr.t, keep * sizeof(double)) == 0);
+                        FZ_CHECK(T, memcmp(a.tr.q, b.tr.q, keep * sizeof(double)) == 0);
+                        FZ_CHECK(T, memcmp(a.tr.v, b.tr.v, keep * sizeof(double)) == 0);
+                        FZ_CHECK(T, memcmp(a.tr.stick, b.tr.stick, keep) == 0);
+                        if (ca.holds) FZ_CHECK(T, memcmp(&sa, &sb, sizeof sa) == 0);
+                    }
                 }
                 traj_free(&b);
             }

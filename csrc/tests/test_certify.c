@@ -3,7 +3,8 @@
  * hold in their piece (a constant load, or a bound on a turning gripper's
  * load); exdex_certify_samples evaluates each of them. Both must give the
  * same certificate, on scenes on both sides of their thresholds, in every
- * method that solves them.
+ * method that solves them; and so must the run certified as it goes
+ * (exdex_simulate_certified), which stops where the reduction fails.
  * twin: tests/scenarios/test_certify.py (the same subject through the Python API: closed forms) */
 #include "check.h"
 #include "sim_run.h"
@@ -14,6 +15,60 @@
 #include <string.h>
 
 static int n_held, n_failed;
+
+/* The run certified as it goes (exdex_simulate_certified) against the
+ * whole run r and its certificate a: where the reduction holds, the same
+ * samples, stats and certificate; where it fails, the same certificate,
+ * the samples before the failing one bit for bit, and the run's last
+ * sample at valid_until (the grid's sample before it, or one step on). */
+static void same_as_it_goes(const exdex_model *m, const sim_run *r, const exdex_certificate *a, double t_end,
+                            double dt)
+{
+    size_t n = r->tr.n, nw = 0, f, keep;
+    int nd = r->ndof, ns = r->nstops;
+    exdex_trajectory o;
+    exdex_stats st;
+    exdex_certificate c;
+    o.n = n;
+    o.t = calloc(n, sizeof(double));
+    o.q = calloc(n * 3, sizeof(double));
+    o.v = calloc(n * 3, sizeof(double));
+    o.wrench = calloc(n * 3, sizeof(double));
+    o.stick = calloc(n, 1);
+    o.stop_force = calloc(n * (ns + 1), sizeof(double));
+    ENSURE(o.t && o.q && o.v && o.wrench && o.stick && o.stop_force);
+    if (o.t && o.q && o.v && o.wrench && o.stick && o.stop_force) {
+        ENSURE(exdex_simulate_certified(m, t_end, dt, &o, &st, &c, &nw) == EXDEX_OK);
+        ENSURE(c.holds == a->holds && c.first_bad == a->first_bad && c.reduced == a->reduced);
+        ENSURE(c.stick == a->stick && c.coordinate == a->coordinate);
+        ENSURE(c.gauge == a->gauge || (a->gauge != a->gauge && c.gauge != c.gauge));
+        for (int k = 0; k < 3; k++) ENSURE(c.load[k] == a->load[k]);
+        f = a->holds ? n : a->first_bad;
+        keep = f ? f : 1;
+        if (a->holds) {
+            ENSURE(nw == n && c.valid_until == a->valid_until);
+            ENSURE(memcmp(&st, &r->st, sizeof st) == 0);
+        } else {
+            /* the step to the failure's time may not return: the run then ends on the sample before */
+            ENSURE(nw == keep || nw == keep + 1);
+            ENSURE(c.valid_until == a->valid_until || (nw == keep && c.valid_until == o.t[keep - 1]));
+            ENSURE(o.t[nw - 1] == c.valid_until);
+            ENSURE(st.stick_steps <= r->st.stick_steps && st.steps <= r->st.steps);
+        }
+        ENSURE(memcmp(o.t, r->tr.t, keep * sizeof(double)) == 0);
+        ENSURE(memcmp(o.q, r->tr.q, keep * nd * sizeof(double)) == 0);
+        ENSURE(memcmp(o.v, r->tr.v, keep * nd * sizeof(double)) == 0);
+        ENSURE(memcmp(o.wrench, r->tr.wrench, keep * 3 * sizeof(double)) == 0);
+        ENSURE(memcmp(o.stick, r->tr.stick, keep) == 0);
+        ENSURE(memcmp(o.stop_force, r->tr.stop_force, keep * ns * sizeof(double)) == 0);
+    }
+    free(o.t);
+    free(o.q);
+    free(o.v);
+    free(o.wrench);
+    free(o.stick);
+    free(o.stop_force);
+}
 
 static void same_certificate(const exdex_scene_def *d, double t_end, double dt)
 {
@@ -34,6 +89,7 @@ static void same_certificate(const exdex_scene_def *d, double t_end, double dt)
     ENSURE(a.stick == b.stick && a.coordinate == b.coordinate);
     ENSURE(a.gauge == b.gauge || (a.gauge != a.gauge && b.gauge != b.gauge));
     for (int c = 0; c < 3; c++) ENSURE(a.load[c] == b.load[c]);
+    same_as_it_goes(m, &r, &a, t_end, dt);
     n_held += a.holds;
     n_failed += !a.holds;
     sim_run_free(&r);
@@ -850,4 +906,48 @@ EXDEX_TEST(certify_turning_load_holds_dense_samples)
     }
     ENSURE(n_boxes == 32 * 12);
     ENSURE(n_moving > 600 && n_cover > 0.6 * n_moving);
+}
+
+/* The run certified as it goes: bad arguments, a planar model (nothing
+ * neglected: exdex_simulate's run), and a reduction that fails at t = 0
+ * (the issue's box, 6 cm off its pads at 1.5 m g: gravity's moment beyond
+ * the torsional capacity from the start, tests/scenarios/test_certify.py's
+ * closed form) ending on sample 0. */
+EXDEX_TEST(certify_as_it_goes_edges)
+{
+    const char *bad = NULL;
+    int status;
+    exdex_scene_def d = box(1.5, 0.06, EXDEX_METHOD_IMPLICIT);
+    exdex_model *m = exdex_model_alloc(&d, &status, &bad), *mp;
+    sim_run r;
+    exdex_certificate c;
+    exdex_stats st;
+    size_t nw = 7;
+    ENSURE(m != NULL);
+    if (!m) return;
+    ENSURE(sim_run_def(&d, 0.3, 1e-3, &r) == EXDEX_OK);
+    ENSURE(exdex_simulate_certified(NULL, 0.3, 1e-3, &r.tr, &st, &c, &nw) == EXDEX_EINVAL);
+    ENSURE(exdex_simulate_certified(m, 0.3, 1e-3, &r.tr, &st, NULL, &nw) == EXDEX_EINVAL);
+    ENSURE(exdex_simulate_certified(m, 0.3, 1e-3, &r.tr, &st, &c, NULL) == EXDEX_EINVAL);
+    ENSURE(exdex_simulate_certified(m, 0.3, 2e-3, &r.tr, &st, &c, &nw) == EXDEX_EINVAL);   /* out->n */
+    ENSURE(nw == 7);
+    ENSURE(exdex_simulate_certified(m, 0.3, 1e-3, &r.tr, &st, &c, &nw) == EXDEX_OK);
+    ENSURE(!c.holds && c.valid_until == 0.0 && c.first_bad == 0 && nw == 1 && r.tr.t[0] == 0.0);
+    ENSURE(st.steps == 0 && st.stick_steps == 0);
+    sim_run_free(&r);
+    d.dof = EXDEX_DOF_PLANAR;
+    mp = exdex_model_alloc(&d, &status, &bad);
+    ENSURE(mp != NULL);
+    if (mp) {
+        sim_run a;
+        ENSURE(sim_run_def(&d, 0.3, 1e-3, &r) == EXDEX_OK && sim_run_def(&d, 0.3, 1e-3, &a) == EXDEX_OK);
+        ENSURE(exdex_simulate_certified(mp, 0.3, 1e-3, &r.tr, &st, &c, &nw) == EXDEX_OK);
+        ENSURE(c.reduced == 0 && c.holds && nw == r.tr.n);
+        ENSURE(memcmp(r.tr.q, a.tr.q, 3 * r.tr.n * sizeof(double)) == 0);
+        ENSURE(memcmp(&st, &a.st, sizeof st) == 0);
+        sim_run_free(&a);
+        sim_run_free(&r);
+        exdex_model_free(mp);
+    }
+    exdex_model_free(m);
 }
