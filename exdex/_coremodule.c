@@ -574,12 +574,14 @@ static int check_times(double t_end, double dt, size_t *n)
 }
 
 PyDoc_STRVAR(simulate_doc,
-"simulate(spec, t_end, dt, certify=True) -> dict\n\n"
+"simulate(spec, t_end, dt, certify=True, stop_at_failure=False) -> dict\n\n"
 "Run one trajectory in C with the GIL released. `spec` is the dict made by\n"
 "exdex.Scene.to_spec(); use exdex.simulate() instead of calling this directly.\n"
 "Returns a dict of arrays t, q, v, wrench, stick, stop_force, a stats dict and\n"
 "the certificate of a 1-DoF run's reduction (exdex_certify; None for planar\n"
-"runs and with certify=False).");
+"runs and with certify=False). stop_at_failure=True certifies as the run goes\n"
+"(exdex_simulate_certified): a 1-DoF run whose reduction fails ends there, its\n"
+"last sample at the certificate's valid_until.");
 
 /* SolverError(message, status) of a failed run with attributes status, time
  * (exdex_stats.fail_time, None when unknown) and cause (a name): the message
@@ -677,6 +679,7 @@ static PyObject *run_model(PyObject *module, const exdex_model *model, double t_
     PyArrayObject *t = NULL, *q = NULL, *v = NULL, *wr = NULL, *stick = NULL, *sf = NULL;
     exdex_trajectory tr;
     exdex_stats st;
+    size_t n_keep = n;
     int ndof = exdex_model_ndof(model), nstops = exdex_model_nstops(model);
     {
         npy_intp d1[1] = {(npy_intp)n}, d2[2] = {(npy_intp)n, ndof}, d3[2] = {(npy_intp)n, 3},
@@ -696,10 +699,32 @@ static PyObject *run_model(PyObject *module, const exdex_model *model, double t_
     tr.wrench = PyArray_DATA(wr);
     tr.stick = PyArray_DATA(stick);
     tr.stop_force = nstops ? PyArray_DATA(sf) : NULL;
-    if (simulate_released(module, model, t_end, dt, &tr, &st)) goto done;
+    if (certify == 3) {
+        /* certified as it goes: a failed reduction ends the run there */
+        exdex_certificate c;
+        int status;
+        Py_BEGIN_ALLOW_THREADS
+        status = exdex_simulate_certified(model, t_end, dt, &tr, &st, &c, &n_keep);
+        Py_END_ALLOW_THREADS
+        if (status) {
+            if (status == EXDEX_ENOCONV || status == EXDEX_ENONFINITE)
+                raise_run_error_at(module, status, &st, -1);
+            else
+                raise_status(module, status, "simulate", NULL);
+            goto done;
+        }
+        cert = cert_dict(&c);
+        if (!cert) goto done;
+    } else if (simulate_released(module, model, t_end, dt, &tr, &st)) {
+        goto done;
+    } else if (st.lost_sample) {
+        n_keep = st.lost_sample + 1;
+    }
     stats = stats_dict(&st);
     if (!stats) goto done;
-    if (certify) {
+    if (certify == 3) {
+        /* filled above */
+    } else if (certify) {
         /* pads: only the samples written, up to the one where the grasp was lost */
         exdex_trajectory tr_cert = tr;
         if (st.lost_sample) tr_cert.n = st.lost_sample + 1;
@@ -717,12 +742,13 @@ static PyObject *run_model(PyObject *module, const exdex_model *model, double t_
         cert = Py_NewRef(Py_None);
     }
     if (!cert) goto done;
-    if (st.lost_sample) {
-        /* pads: the grasp was lost and the run stopped at that sample: the
-         * arrays end there (views of the samples written) */
+    if (n_keep < n) {
+        /* the run stopped early (pads: the grasp was lost; certified as it
+         * goes: the reduction failed): the arrays end at the last sample
+         * written (views of those samples) */
         PyArrayObject **arrs[6] = {&t, &q, &v, &wr, &stick, &sf};
         for (int k = 0; k < 6; k++) {
-            PyObject *sl = PySequence_GetSlice((PyObject *)*arrs[k], 0, (Py_ssize_t)st.lost_sample + 1);
+            PyObject *sl = PySequence_GetSlice((PyObject *)*arrs[k], 0, (Py_ssize_t)n_keep);
             if (!sl) goto done;
             Py_DECREF(*arrs[k]);
             *arrs[k] = (PyArrayObject *)sl;
@@ -761,18 +787,24 @@ static exdex_model *model_from_spec(PyObject *module, PyObject *spec)
 
 static PyObject *core_simulate(PyObject *module, PyObject *args, PyObject *kwds)
 {
-    static char *kwlist[] = {"spec", "t_end", "dt", "certify", NULL};
+    static char *kwlist[] = {"spec", "t_end", "dt", "certify", "stop_at_failure", NULL};
     PyObject *spec, *result;
     double t_end, dt;
     size_t n;
-    int certify = 1;
+    int certify = 1, stop = 0;
     exdex_model *model;
 
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "Odd|p", kwlist, &spec, &t_end, &dt, &certify)) return NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "Odd|pp", kwlist, &spec, &t_end, &dt, &certify, &stop))
+        return NULL;
+    if (stop && !certify) {
+        PyErr_SetString(PyExc_ValueError, "stop_at_failure=True needs certify=True (the run stops where its "
+                        "certificate fails)");
+        return NULL;
+    }
     if (check_times(t_end, dt, &n)) return NULL;
     model = model_from_spec(module, spec);
     if (!model) return NULL;
-    result = run_model(module, model, t_end, dt, n, certify);
+    result = run_model(module, model, t_end, dt, n, stop ? 3 : certify);
     exdex_model_free(model);
     return result;
 }
@@ -821,21 +853,27 @@ static PyObject *Model_new_disallowed(PyTypeObject *type, PyObject *args, PyObje
 }
 
 PyDoc_STRVAR(Model_simulate_doc,
-"simulate(t_end, dt, certify=True, every_sample=False) -> dict\n\n"
+"simulate(t_end, dt, certify=True, every_sample=False, stop_at_failure=False) -> dict\n\n"
 "Run the compiled scene from t = 0 to t_end (GIL released); the same dict as\n"
 "_core.simulate(spec, t_end, dt). every_sample=True certifies with every\n"
-"sample evaluated (exdex_certify_samples: the reference of the proofs).");
+"sample evaluated (exdex_certify_samples: the reference of the proofs);\n"
+"stop_at_failure=True certifies as the run goes, as _core.simulate's.");
 
 static PyObject *Model_simulate(PyObject *self, PyObject *args, PyObject *kwds)
 {
-    static char *kwlist[] = {"t_end", "dt", "certify", "every_sample", NULL};
+    static char *kwlist[] = {"t_end", "dt", "certify", "every_sample", "stop_at_failure", NULL};
     double t_end, dt;
     size_t n;
-    int certify = 1, every = 0;
+    int certify = 1, every = 0, stop = 0;
     ModelObject *mo = (ModelObject *)self;
-    if (!PyArg_ParseTupleAndKeywords(args, kwds, "dd|pp", kwlist, &t_end, &dt, &certify, &every)) return NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kwds, "dd|ppp", kwlist, &t_end, &dt, &certify, &every, &stop))
+        return NULL;
+    if (stop && (!certify || every)) {
+        PyErr_SetString(PyExc_ValueError, "stop_at_failure=True needs certify=True and every_sample=False");
+        return NULL;
+    }
     if (check_times(t_end, dt, &n)) return NULL;
-    return run_model(mo->module, mo->model, t_end, dt, n, certify ? (every ? 2 : 1) : 0);
+    return run_model(mo->module, mo->model, t_end, dt, n, stop ? 3 : certify ? (every ? 2 : 1) : 0);
 }
 
 PyDoc_STRVAR(Model_final_doc,

@@ -1572,7 +1572,11 @@ class Scene:
         its reduction certified along the run (:attr:`exdex.Result.certificate`).
         ``"auto"``: :func:`exdex.simulate` runs the smallest model whose
         certificate holds and switches to the planar model where it fails
-        (:attr:`exdex.Result.models`); the other entry points (Model,
+        (:attr:`exdex.Result.models`): each 1-DoF candidate is certified as
+        it runs and ends at its failure, and the planar run goes on from
+        the chosen one's last state there, so an escalating scene costs the
+        1-DoF runs up to the switch plus the planar run from it (see
+        ``benchmarks/bench_certify.py``); the other entry points (Model,
         Stepper, batches, plans) take an explicit dof. Not the default: the
         default ``"translation"`` keeps every existing result bit for bit (and
         warns where its reduction fails), while ``"auto"`` may answer in other

@@ -513,13 +513,15 @@ def simulate(scene: Scene, t_end: float, dt: float = 1e-3, method: Method = "imp
     return res
 
 
-def _run(scene, t_end, dt, method, friction_solver, eps, rtol, atol, certify=True):
+def _run(scene, t_end, dt, method, friction_solver, eps, rtol, atol, certify=True, stop_at_failure=False):
     """The run of :func:`simulate` (times checked, dof not "auto") and its
-    core spec, without the warnings simulate issues about it."""
+    core spec, without the warnings simulate issues about it;
+    stop_at_failure: a 1-DoF run certified as it goes ends where its
+    certificate fails, its last sample there."""
     method = resolve_method(scene, method)
     spec = scene_spec(scene, method, friction_solver, eps, rtol, atol)
     try:
-        out = _core.simulate(spec, t_end, dt, certify=bool(certify))
+        out = _core.simulate(spec, t_end, dt, certify=bool(certify), stop_at_failure=stop_at_failure)
     except SolverError as exc:
         reduced_obstacle_hint(scene, spec, exc)
         raise
@@ -558,10 +560,9 @@ def _with_dof(scene, dof):
 
 def _simulate_auto(scene, t_end, dt, method, friction_solver, eps, rtol, atol):
     """dof="auto" (see :class:`exdex.Scene`): the 1-DoF models in the order
-    the motion suggests (a turning gripper: rotation first), the one whose
-    certificate holds longest, then the planar model from where it fails."""
-    from exdex.scene import GripSchedule, replace
-
+    the motion suggests (a turning gripper: rotation first), each certified
+    as it runs and ending where its certificate fails, the one that holds
+    longest, then the planar model from where it fails."""
     opts = dict(friction_solver=friction_solver, eps=eps, rtol=rtol, atol=atol)
     order = ("rotation", "translation") if getattr(scene.motion, "rotation", False) else ("translation", "rotation")
     best = None     # (valid_until, dof, method, result, its core spec)
@@ -574,7 +575,7 @@ def _simulate_auto(scene, t_end, dt, method, friction_solver, eps, rtol, atol):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             try:
-                res, spec = _run(sc, t_end, dt, m, **opts)
+                res, spec = _run(sc, t_end, dt, m, stop_at_failure=True, **opts)
             except ValueError as exc:   # e.g. stops the 1-DoF model cannot give way to
                 why_not.append(f"the {dof} model does not apply ({exc})")
                 continue
@@ -611,20 +612,19 @@ def _simulate_auto(scene, t_end, dt, method, friction_solver, eps, rtol, atol):
         _warn_jumps(scene, _jumps(planar, planar.to_spec(method=pm)), t_end)
         return dataclasses.replace(res, models=(("planar", pm, 0.0, float(res.t[-1]),
                                                  "; ".join(why_not) or "no 1-DoF model applies"),))
-    t_sw, dof, m, _, _ = best
+    # the 1-DoF run up to the switch: it ended there
+    t_sw, dof, m, head, _ = best
+    t_sw = float(head.t[-1])
     sc = _with_dof(scene, dof)
-    # the 1-DoF run up to the switch, its last sample exactly there
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        head = simulate(sc, t_sw, min(dt, t_sw), method=m, certify=False, **opts)
     pose, vel = _full_state(sc, head.q, head.v)
-    cont = replace(planar, q0=tuple(float(x) for x in pose[-1]), v0=tuple(float(x) for x in vel[-1]))
+    # the planar scene from the switch: the head's last state, the motion and
+    # the grip schedule shifted by t_sw (the state comes from a run of the
+    # checked scene: the spec is edited, not a new Scene checked again)
+    spec = planar.to_spec(method=pm, **opts)
+    spec.update(q0=tuple(float(x) for x in pose[-1]), v0=tuple(float(x) for x in vel[-1]), motion_time_shift=t_sw)
     sched = scene.grasp.schedule
     if sched is not None:
-        cont = replace(cont, grasp=replace(cont.grasp, grip_force=GripSchedule(
-            tuple(t - t_sw for t in sched.times), sched.forces, sched.kind)))
-    spec = cont.to_spec(method=pm, **opts)
-    spec["motion_time_shift"] = t_sw
+        spec["grip_schedule"] = np.array([[t - t_sw for t in sched.times], sched.forces])
     rest = t_end - t_sw
     out = _core.simulate(spec, rest, min(dt, rest))
     st = dict(out["stats"])

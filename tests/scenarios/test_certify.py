@@ -377,6 +377,75 @@ def test_auto_against_planar_on_zoo_scenes_with_obstacles():
     assert checked >= 25 and reduced >= 8 and switched >= 3
 
 
+_RUN_KEYS = ("t", "q", "v", "wrench", "stick", "stop_force")
+
+
+def test_run_certified_as_it_goes_against_the_whole_run():
+    # The reference: the whole run and its certificate (exdex_certify over
+    # all its samples). Certified as it goes, a window at a time
+    # (stop_at_failure), the run must find the same certificate; where the
+    # reduction holds it is the same run bit for bit, where it fails the
+    # samples before the failing one are, and the run ends at valid_until.
+    import zoo
+    from exdex import _core
+
+    held = failed = 0
+    for seed in range(80):
+        zs = zoo.zoo_scene(seed)
+        sc = zs.scene
+        if sc.dof == "planar":
+            continue
+        for method in ["implicit", "event", "regularised", "explicit", "analytic"]:
+            if method == "analytic" and (sc.obstacles or _core.analytic_unsupported(sc.to_spec()) is not None):
+                continue
+            spec = sc.to_spec(method=method)
+            dt = zs.t_end / 200
+            try:
+                whole = _core.simulate(spec, zs.t_end, dt)
+            except exdex.SolverError:
+                continue
+            run = _core.simulate(spec, zs.t_end, dt, stop_at_failure=True)
+            c, cr = whole["certificate"], run["certificate"]
+            if c["holds"]:
+                held += 1
+                assert cr == c and run["stats"] == whole["stats"], (seed, method)
+                assert all(np.array_equal(run[k], whole[k]) for k in _RUN_KEYS), (seed, method)
+                continue
+            failed += 1
+            assert {k: v for k, v in cr.items() if k != "valid_until"} == \
+                {k: v for k, v in c.items() if k != "valid_until"}, (seed, method)
+            keep = max(c["first_bad"], 1)
+            assert all(np.array_equal(run[k][:keep], whole[k][:keep]) for k in _RUN_KEYS), (seed, method)
+            assert len(run["t"]) in (keep, keep + 1) and run["t"][-1] == cr["valid_until"], (seed, method)
+            # valid_until is the whole run's, or (no step to it returned) the sample before
+            assert cr["valid_until"] == c["valid_until"] or len(run["t"]) == keep, (seed, method)
+    assert held >= 5 and failed >= 50
+
+
+def test_auto_head_is_the_one_dof_run():
+    # Up to the switch, "auto" returns the 1-DoF run itself: the explicit
+    # dof's samples bit for bit (mapped to planar poses), the switch at that
+    # run's valid_until
+    T, beta, X1 = 0.3, 0.7, 0.1
+    aH, aL = exdex.paper.eq7_accelerations(X1, T, beta)
+    C = 0.5 * (math.hypot(MASS * aH, W) + math.hypot(MASS * aL, W))
+    sc = box_scene(offset=0.0, grip=C / (2 * MU), motion=AsymmetricProfile(X1, T, beta, axis=(1.0, 0.0, 0.0)),
+                   dof="auto")
+    for method in ["implicit", "event", "analytic", "regularised", "explicit"]:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            a = exdex.simulate(sc, 1.0, 7e-3, method=method)
+            r = exdex.simulate(exdex.replace(sc, dof="translation"), 1.0, 7e-3, method=method)
+        t_sw = a.models[0][3]
+        assert a.models[0][0] == "translation" and t_sw == r.certificate["valid_until"], method
+        k = r.certificate["first_bad"]
+        pose = exdex.diagnostics.poses(r.scene, r.q[:k])
+        assert np.array_equal(a.t[:k], r.t[:k]) and np.array_equal(a.q[:k], pose), method
+        # the head's last sample at the switch: one step on from sample k - 1, or sample k - 1 itself
+        assert np.array_equal(a.stick[:k], r.stick[:k]) and t_sw in (a.t[k - 1], a.t[k]), method
+        assert a.t[k - 1] < a.t[k], method
+
+
 def test_auto_is_refused_where_a_dof_is_needed():
     sc = box_scene(dof="auto")
     with pytest.raises(ValueError, match="dof='auto'"):
