@@ -24,8 +24,15 @@ angles and rates), its samples of that mode are not
 evaluated; the others are, one by one. The last column is the core with
 every sample evaluated (``every_sample=True``, the proofs' reference: the
 certificate's cost on scenes without a phase proof before the block proofs).
-A last table times ``dof="auto"`` against the scene's own 1-DoF model on
-the paper's Figs. 3 and 4 (auto runs that model, its certificate holding).
+The column "as it goes" is the core certifying as the run goes
+(``stop_at_failure=True``, a window of samples at a time, the run stopping
+where the reduction fails: what ``dof="auto"`` runs).
+A table times ``dof="auto"`` against the scene's own 1-DoF model on
+the paper's Figs. 3 and 4 (auto runs that model, its certificate holding),
+and a last one times it on scenes that escalate (the reduction fails
+mid-run and the planar model goes on from there) against the planar run
+from t = 0, with the C core's share: the 1-DoF candidates (each ending
+where its certificate fails) and the planar run from the switch.
 
     python benchmarks/bench_certify.py [--repeat N] [--out results/certify.txt] [--only TEXT]
 """
@@ -136,6 +143,83 @@ def auto_rows(repeat):
     return out
 
 
+def escalating_cases():
+    """Scenes whose reduction fails mid-run: the box pushed across its slide
+    axis by Eq. 7 (the second phase beyond the friction capacity, the
+    switch at beta T = 0.21 s), and the box held 2 cm off its centre of
+    mass while the grip ramps down through its turning threshold (the
+    switch near 0.5 s)."""
+    mass, mu, w = 0.2, 1.0, 0.2 * 9.81
+    T, beta, X1 = 0.3, 0.7, 0.1
+    aH, aL = paper.eq7_accelerations(X1, T, beta)
+    C = 0.5 * (math.hypot(mass * aH, w) + math.hypot(mass * aL, w))
+    body = exdex.Body.box(mass, (0.15, 0.08, 0.03))
+    push = exdex.Scene(body=body, dof="auto",
+                       grasp=exdex.Grasp(mu=mu, grip_force=C / (2 * mu), patch=exdex.Patch.rectangle(0.02, 0.02)),
+                       motion=exdex.AsymmetricProfile(X1, T, beta, axis=(1.0, 0.0, 0.0)))
+    e_r = exdex.Patch.rectangle(0.02, 0.02).e_r
+    f = w * math.sqrt(1.0 + (0.02 / e_r) ** 2) / (2 * mu)   # the grip at which the box starts to turn
+    ramp = exdex.Scene(body=body, dof="auto",
+                       grasp=exdex.Grasp(mu=mu, grip_force=exdex.GripSchedule((0.0, 1.0), (1.3 * f, 0.7 * f), "linear"),
+                                         patch=exdex.Patch.rectangle(0.02, 0.02, center=(0.02, 0.0))))
+    return [("pushed across, switch at 0.21 s", push), ("grip ramp, switch at 0.5 s", ramp)]
+
+
+def escalating_rows(repeat):
+    """dof="auto" on the escalating scenes against the planar run from
+    t = 0: whole exdex.simulate calls, t_end 1 s, dt 1e-3, medians of
+    ``repeat`` pairs (order alternated); the C core's calls inside auto
+    timed apart (the candidates, the planar run from the switch)."""
+    sim = sys.modules["exdex.simulate"]
+    core = sim._core
+    calls = []
+
+    class Timed:
+        def __getattr__(self, name):
+            return getattr(core, name)
+
+        @staticmethod
+        def simulate(*a, **k):
+            t0 = time.process_time()
+            out = core.simulate(*a, **k)
+            calls.append(time.process_time() - t0)
+            return out
+
+    head = ["", f'dof="auto" on scenes that escalate, against the planar model from t = 0: whole exdex.simulate, '
+            f't_end 1 s, dt 1e-3, medians of {repeat} pairs (order alternated); auto\'s C calls apart',
+            f"{'case':44s} {'switch [s]':>10s} {'planar [ms]':>12s} {'auto [ms]':>10s} {'ratio':>6s}"
+            f" {'1-DoF [ms]':>11s} {'tail [ms]':>10s} {'rest [ms]':>10s}"]
+    for line in head:
+        print(line)
+    out = head
+    for name, sa in escalating_cases():
+        sp = exdex.replace(sa, dof="planar")
+        for method in ("implicit", "event"):
+            a, b, heads, tails = [], [], [], []
+            t_sw = exdex.simulate(sa, 1.0, 1e-3, method=method).models[0][3]
+            for i in range(repeat):
+                for which in ((0, 1) if i % 2 else (1, 0)):
+                    if which:
+                        calls.clear()
+                        sim._core = Timed()
+                    t0 = time.process_time()
+                    try:
+                        exdex.simulate(sa if which else sp, 1.0, 1e-3, method=method)
+                    finally:
+                        sim._core = core
+                    (b if which else a).append(time.process_time() - t0)
+                    if which:
+                        heads.append(sum(calls[:-1]))
+                        tails.append(calls[-1])
+            ma, mb = statistics.median(a), statistics.median(b)
+            mh, mt = statistics.median(heads), statistics.median(tails)
+            line = (f"{name + f' ({method})':44s} {t_sw:10.4f} {1e3 * ma:12.3f} {1e3 * mb:10.3f} {mb / ma:6.2f}"
+                    f" {1e3 * mh:11.3f} {1e3 * mt:10.3f} {1e3 * (mb - mh - mt):10.3f}")
+            print(line, flush=True)
+            out.append(line)
+    return out
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=21)
@@ -146,7 +230,8 @@ def main(argv=None):
     lines = [f"certificate cost: CPU time (time.process_time), medians of {args.repeat} alternating runs "
              f"(Python {sys.version.split()[0]}); whole call Model.simulate, and the C core alone",
              f"{'case':40s} {'steps':>7s} {'without [ms]':>13s} {'with [ms]':>10s} {'extra':>7s}"
-             f" {'core without':>13s} {'core with':>10s} {'extra':>7s} {'every sample':>13s} {'extra':>7s}"]
+             f" {'core without':>13s} {'core with':>10s} {'extra':>7s} {'as it goes':>11s} {'extra':>7s}"
+             f" {'every sample':>13s} {'extra':>7s}"]
     print(lines[0])
     print(lines[1])
     for name, sc, method, t_end, dt in cases():
@@ -157,7 +242,8 @@ def main(argv=None):
         assert res.certificate is not None and res.certificate["holds"], (name, res.certificate)
         m.simulate(t_end, dt, certify=False)
         assert m._model.simulate(t_end, dt, every_sample=True)["certificate"] == res.certificate, name
-        a, b, ca, cb, ce = [], [], [], [], []
+        assert m._model.simulate(t_end, dt, stop_at_failure=True)["certificate"] == res.certificate, name
+        a, b, ca, cb, ce, cg = [], [], [], [], [], []
         core = m._model
         for _ in range(args.repeat):
             t0 = time.process_time()
@@ -171,20 +257,25 @@ def main(argv=None):
             t4 = time.process_time()
             core.simulate(t_end, dt, certify=True, every_sample=True)
             t5 = time.process_time()
+            core.simulate(t_end, dt, certify=True, stop_at_failure=True)
+            t6 = time.process_time()
             ce.append(t5 - t4)
+            cg.append(t6 - t5)
             a.append(t1 - t0)
             b.append(t2 - t1)
             ca.append(t3 - t2)
             cb.append(t4 - t3)
         ma, mb = statistics.median(a), statistics.median(b)
-        mca, mcb, mce = statistics.median(ca), statistics.median(cb), statistics.median(ce)
+        mca, mcb, mce, mcg = (statistics.median(x) for x in (ca, cb, ce, cg))
         line = (f"{name:40s} {len(res.t) - 1:7d} {1e3 * ma:13.3f} {1e3 * mb:10.3f} {100 * (mb / ma - 1):6.1f}%"
                 f" {1e3 * mca:13.3f} {1e3 * mcb:10.3f} {100 * (mcb / mca - 1):6.1f}%"
+                f" {1e3 * mcg:11.3f} {100 * (mcg / mca - 1):6.1f}%"
                 f" {1e3 * mce:13.3f} {100 * (mce / mca - 1):6.1f}%")
         print(line, flush=True)
         lines.append(line)
     if not args.only:
         lines += auto_rows(args.repeat)
+        lines += escalating_rows(args.repeat)
     if args.out:
         with open(args.out, "w", encoding="utf-8") as f:
             f.write("\n".join(lines) + "\n")
