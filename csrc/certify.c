@@ -1328,7 +1328,7 @@ static int piecewise_constant(const exdex_model *m)
  * its interval and the band of rest before it); first_bad counts from
  * out's sample 0. */
 static int certify_with(const exdex_model *m, const exdex_trajectory *out, exdex_certificate *c, int proofs,
-                        frame_box_cache *fc, size_t skip)
+                        frame_box_cache *fc, size_t skip, const pieces *given)
 {
     size_t n, i;
     int st, failed, expl;
@@ -1350,7 +1350,9 @@ static int certify_with(const exdex_model *m, const exdex_trajectory *out, exdex
     sc.pc = piecewise_constant(m);
     sc.pt_lo = sc.pt_hi = -INFINITY;
     pv.n = pv.qknown = 0;
-    if (proofs) {
+    if (given) {
+        pv = *given;
+    } else if (proofs) {
         st = prove_pieces(m, out, &pv);
         if (st) return st;
     }
@@ -1487,7 +1489,7 @@ static int certify_with(const exdex_model *m, const exdex_trajectory *out, exdex
 static int certify(const exdex_model *m, const exdex_trajectory *out, exdex_certificate *c, int proofs)
 {
     frame_box_cache *fc = proofs && m ? motion_frame_cache_new(m->g) : NULL;
-    int st = certify_with(m, out, c, proofs, fc, 0);
+    int st = certify_with(m, out, c, proofs, fc, 0, NULL);
     motion_frame_cache_free(fc);
     return st;
 }
@@ -1546,9 +1548,55 @@ int exdex_certify_last(const exdex_model *m, const exdex_trajectory *out, size_t
     return EXDEX_OK;
 }
 
-int certify_window(const exdex_model *m, const exdex_trajectory *out, size_t skip, frame_box_cache *fc,
+struct certify_run {
+    frame_box_cache *fc;
+    double t_end;
+    int shared;    /* 1: the piece proofs read no state of the run (a translation in a gripper
+                      that does not turn, a rotation): made once, over [0, t_end], as the whole
+                      run's certificate makes them */
+    int have;      /* 1: pv holds them */
+    pieces pv;
+};
+
+certify_run *certify_run_new(const exdex_model *m, double t_end)
+{
+    certify_run *r = calloc(1, sizeof *r);
+    int turns;
+    if (!r) return NULL;
+    r->fc = motion_frame_cache_new(m->g);
+    if (!r->fc) {
+        free(r);
+        return NULL;
+    }
+    r->t_end = t_end;
+    r->shared = m->def.dof == EXDEX_DOF_ROTATION ||
+                (m->def.dof == EXDEX_DOF_TRANSLATION && (!proof_motion(m, &turns) || !turns));
+    return r;
+}
+
+void certify_run_free(certify_run *r)
+{
+    if (!r) return;
+    motion_frame_cache_free(r->fc);
+    free(r);
+}
+
+int certify_window(const exdex_model *m, const exdex_trajectory *out, size_t skip, certify_run *r,
                    exdex_certificate *c)
 {
-    if (skip == 1 || (out && skip >= out->n)) return EXDEX_EINVAL;
-    return certify_with(m, out, c, 1, fc, skip);
+    if (!m || !out || !r || skip == 1 || skip >= out->n) return EXDEX_EINVAL;
+    if (r->shared && !r->have && m->ndof == 1) {
+        /* the run's first window (skip 0: out starts at the run's sample 0) */
+        double t[2] = {out->t[0], r->t_end}, q[2] = {out->q[0], out->q[0]};
+        exdex_trajectory span = *out;
+        int st;
+        if (skip) return EXDEX_EINVAL;
+        span.n = 2;
+        span.t = t;
+        span.q = q;
+        st = prove_pieces(m, &span, &r->pv);
+        if (st) return st;
+        r->have = 1;
+    }
+    return certify_with(m, out, c, 1, r->fc, skip, r->shared ? &r->pv : NULL);
 }

@@ -558,4 +558,4 @@ static int explicit_restore(void *ws, const void *buf)
 
 const method_impl method_explicit = {"explicit", explicit_alloc, NULL, explicit_free, 1, 0,
                                      explicit_begin, explicit_advance, sizeof(explicit_ws), explicit_save,
-                                     explicit_restore};
+                                     explicit_restore, NULL};

@@ -998,7 +998,7 @@ static int hybrid_restore(void *ws, const void *buf)
 #define HYBRID_STATE_SIZE sizeof(((ode *)0)->S)
 
 const method_impl method_event = {"event", hybrid_alloc, NULL, hybrid_free, 0, 0, event_begin,
-                                  hybrid_advance_ws, HYBRID_STATE_SIZE, hybrid_save, hybrid_restore};
+                                  hybrid_advance_ws, HYBRID_STATE_SIZE, hybrid_save, hybrid_restore, NULL};
 const method_impl method_regularised = {"regularised", hybrid_alloc, NULL, hybrid_free, 0, 0,
                                         regularised_begin, hybrid_advance_ws, HYBRID_STATE_SIZE, hybrid_save,
-                                        hybrid_restore};
+                                        hybrid_restore, NULL};

@@ -1581,4 +1581,4 @@ static int implicit_restore(void *ws, const void *buf)
 const method_impl method_implicit = {"implicit", implicit_alloc, NULL, implicit_free, 1, 1,
                                      implicit_begin, implicit_advance,
                                      sizeof(((work *)0)->S) + sizeof(implicit_state), implicit_save,
-                                     implicit_restore};
+                                     implicit_restore, NULL};

@@ -530,15 +530,20 @@ int certify_arc_triangle(double th0, double th1, double half_max, double th[3], 
  * where not known (not a rotation run, a motion without an enclosure). */
 int certify_turning_load(const exdex_model *m, double ta, double tb, ex_iv th, ex_iv v, ex_iv b[3]);
 
-/* exdex_certify of a run's window (certify.c): out holds samples of the
- * run whose first skip (0, or >= 2 and < out->n) are known to hold (skip
- * 0: out starts at the run's sample 0 and all of it is checked); the
- * samples from skip on are checked as exdex_certify checks them within the
- * whole run (the same first failure: every check reads its sample and the
- * two before it, and the proofs that skip samples only skip passing ones).
- * fc: the frame boxes' cache of the run (motion_frame_cache_new), or NULL.
+/* exdex_certify of a run's windows (certify.c). A certify_run holds what
+ * the windows of one run to t_end share (the frame boxes' cache, and the
+ * piece proofs where they read no state of the run); NULL: no memory. In
+ * certify_window, out holds samples of the run whose first skip (0, or
+ * >= 2 and < out->n) are known to hold (skip 0: out starts at the run's
+ * sample 0, the first window, and all of it is checked); the samples from
+ * skip on are checked as exdex_certify checks them within the whole run
+ * (the same first failure: every check reads its sample and the two
+ * before it, and the proofs that skip samples only skip passing ones).
  * first_bad counts from out's sample 0. */
-int certify_window(const exdex_model *m, const exdex_trajectory *out, size_t skip, frame_box_cache *fc,
+typedef struct certify_run certify_run;
+certify_run *certify_run_new(const exdex_model *m, double t_end);
+void certify_run_free(certify_run *r);
+int certify_window(const exdex_model *m, const exdex_trajectory *out, size_t skip, certify_run *r,
                    exdex_certificate *c);
 
 /* |E^-1 w|, the ellipsoid norm of a patch wrench (paper Eq. 6). */

@@ -187,7 +187,7 @@ int exdex_simulate_certified(const exdex_model *m, double t_end, double dt, exde
     size_t n, s = 0, i = 1, last, nw;
     void *ws, *buf;
     exdex_stats st, st_s;
-    frame_box_cache *fc;
+    certify_run *cr;
     if (!impl || !c || !n_out) return EXDEX_EINVAL;
     memset(c, 0, sizeof *c);
     if (m->ndof != 1) {
@@ -203,18 +203,18 @@ int exdex_simulate_certified(const exdex_model *m, double t_end, double dt, exde
     ws = impl->alloc(m, &status);
     if (!ws) return status ? status : EXDEX_ENOMEM;
     buf = malloc(impl->state_size ? impl->state_size : 1);
-    fc = motion_frame_cache_new(m->g);
-    if (!buf || !fc) {
+    cr = certify_run_new(m, t_end);
+    if (!buf || !cr) {
         impl->free(ws);
         free(buf);
-        motion_frame_cache_free(fc);
+        certify_run_free(cr);
         return EXDEX_ENOMEM;
     }
     status = impl->begin(m, ws, t_end, dt, &st);
     if (status == EXDEX_OK) impl->save(ws, buf);
     st_s = st;
     while (status == EXDEX_OK) {
-        size_t w = s > RUN_WINDOW_MIN ? s : RUN_WINDOW_MIN, e = s + w < n - 1 ? s + w : n - 1;
+        size_t w = s / 2 > RUN_WINDOW_MIN ? s / 2 : RUN_WINDOW_MIN, e = s + w < n - 1 ? s + w : n - 1;
         if (impl->advance_samples && !m->pads) {
             /* the window in one call; a failure: where is not known, the whole window is not used */
             status = impl->advance_samples(m, ws, t_end, dt, out, s + 1, e, &st);
@@ -236,7 +236,7 @@ int exdex_simulate_certified(const exdex_model *m, double t_end, double dt, exde
             view.stick += v0;
             if (view.stop_force) view.stop_force += v0 * (size_t)m->n_src;
             view.n = last + 1 - v0;
-            cs = certify_window(m, &view, s ? 2 : 0, fc, c);
+            cs = certify_window(m, &view, s ? 2 : 0, cr, c);
             if (cs) {
                 status = cs;
                 break;
@@ -278,7 +278,7 @@ int exdex_simulate_certified(const exdex_model *m, double t_end, double dt, exde
     }
     impl->free(ws);
     free(buf);
-    motion_frame_cache_free(fc);
+    certify_run_free(cr);
     *n_out = nw;
     status = run_finish(m, impl, status, out, nw, &st, stats);
     if (status == EXDEX_OK && !failed) {
