@@ -172,9 +172,9 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt, exdex_trajecto
 /* ------------------------------------------- a run certified as it goes
  * A 1-DoF run is advanced a window of samples at a time and each window
  * certified (certify_window) before the next: the first window
- * RUN_WINDOW_MIN samples, each later one as many as the run has so far (a
- * failure costs at most the run up to it again, the windows' count grows
- * with the log of its length). The state after each certified window is saved:
+ * RUN_WINDOW_MIN samples, each later one half the samples so far (a
+ * failure costs at most half the run up to it again, the windows' count
+ * grows with the log of its length). The state after each certified window is saved:
  * a failure in the next one restores it, advances again (bit for bit) to
  * the sample before the failure and from there to the failure's time. */
 #define RUN_WINDOW_MIN 32
