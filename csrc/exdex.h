@@ -725,7 +725,12 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt,
  * rotation about the centre of pressure no force), and what it cannot give
  * must be zero to 1e-9 of the scene's force scale plus the load. Checked
  * at every sample and switching time; a failure is located between
- * samples (certify.c says where this is exact). */
+ * samples (certify.c says where this is exact). A slip the samples do not
+ * show (the coordinate moved between two stuck samples of an exact-stick
+ * method) is checked at both ends of its interval with the interval's
+ * mean rate; where that fails the reduction holds up to the interval's
+ * start. Between samples a stuck load is known only where a proof covers
+ * it: a finer dt resolves an excursion shorter than an output interval. */
 typedef struct exdex_certificate {
     int reduced;          /* 1: a 1-DoF run was checked; 0: planar (nothing neglected) */
     int holds;            /* 1: the reduction held up to the last sample */

@@ -422,6 +422,38 @@ def test_run_certified_as_it_goes_against_the_whole_run():
     assert held >= 5 and failed >= 50
 
 
+@pytest.mark.parametrize("seed", [375, 386])
+def test_a_slip_inside_an_output_interval_is_certified(seed):
+    # Zoo scenes run as translation (event method): at 200 output steps a
+    # slip starts and ends inside one interval (both samples stuck, the
+    # coordinate moved); its friction, along the slide axis, cannot carry
+    # the load across it. The reference: the same run at 10 and 100 times
+    # the samples, which show the slip, and whose certificates fail while
+    # it slips at one time (to the finer grid's step). The coarse run's
+    # certificate must fail no later than the interval holding that time,
+    # and dof="auto" then agrees with the planar run from t = 0.
+    import zoo
+
+    zs = zoo.zoo_scene(seed)
+    sc = exdex.replace(zs.scene, dof="translation")
+    runs = {}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for k in (200, 2000, 20000):
+            runs[k] = exdex.simulate(sc, zs.t_end, zs.t_end / k, method="event", rtol=1e-10, atol=1e-12)
+    fine = runs[20000].certificate
+    assert not fine["holds"] and not fine["stick"]
+    assert runs[2000].certificate["valid_until"] == pytest.approx(fine["valid_until"], abs=zs.t_end / 2000)
+    c = runs[200].certificate
+    assert not c["holds"] and c["valid_until"] <= fine["valid_until"] + zs.t_end / 200
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        a = _event_run(zs.scene, "auto", zs)
+        p = _event_run(zs.scene, "planar", zs)
+    assert [m[0] for m in a.models] == ["translation", "planar"]
+    _assert_auto_matches_planar(a, p, zs, seed)
+
+
 def test_auto_head_is_the_one_dof_run():
     # Up to the switch, "auto" returns the 1-DoF run itself: the explicit
     # dof's samples bit for bit (mapped to planar poses), the switch at that
