@@ -40,17 +40,22 @@
  * grip force: the load does not depend on the state, and it changes only at
  * switching times); elsewhere (a turning gripper, a shake, a log, a grip
  * schedule, a rotation run whose load moves with the angle) the check is at
- * samples and switching times, so an excursion that begins and ends within
- * one output interval is seen only to the output grid's resolution, except
- * where a piece's bound (below) holds for the whole piece.
+ * samples and switching times; between two stuck samples (the state is
+ * the same), the interval is proven by a block's enclosure (prove_block,
+ * below) or halved up to CERT_BETWEEN_DEPTH times with the middles
+ * evaluated (stuck_between), so a stuck load's excursion inside one output
+ * interval is seen to a sixteenth of it where no proof holds (and not
+ * where stops carry the load: the enclosures have no stop force); a
+ * slip's, to the output grid's resolution.
  *
  * Cost: a sample needs no evaluation where its mode is proven for its piece
  * (prove_pieces: one evaluation per piece and mode for a constant load, a
  * closed-form bound for a gripper turning about a fixed axis) or for a
  * block of samples in a gripper that does not turn (prove_block: the
- * translation's and the rotation's loads enclosed over the block) or, for
- * a rotation, turns (prove_block_turning: the load enclosed over the
- * frame's enclosure, motion_frame_box, and the block's angles and rates); only
+ * translation's and the rotation's loads enclosed over the block) or turns
+ * (prove_block_turning: the load enclosed over the frame's enclosure,
+ * motion_frame_box, and the block's angles or slide coordinates and
+ * rates); only
  * the samples of the other modes, and those whose interval holds a
  * switching time, are evaluated. The result is that of evaluating every sample
  * (exdex_certify_samples; the C suite compares them). */
@@ -921,7 +926,7 @@ static int prove_block(const exdex_model *m, const exdex_trajectory *out, size_t
     qr[1] = INFINITY;
     if (m->def.dof != EXDEX_DOF_TRANSLATION && !rot) return EXDEX_OK;
     if (!motion_accel_box(m->motion, ta, tb, lo, hi))
-        return rot ? prove_block_turning(m, out, i0, i1, need, pr, qr, fc) : EXDEX_OK;
+        return prove_block_turning(m, out, i0, i1, need, pr, qr, fc);
     for (int c = 0; c < 3; c++)
         if (!isfinite(lo[c]) || !isfinite(hi[c])) return EXDEX_OK;
     if (rot) {
@@ -1013,31 +1018,18 @@ static int prove_block(const exdex_model *m, const exdex_trajectory *out, size_t
  * the load's own share) holds at every sample of the block. The slip's
  * friction and column are evaluated at one state of the block (its middle
  * angle, the least rate): they differ from a sample's by rounding only,
- * far inside the tolerance's share left out. The rest band of the
+ * far inside the tolerance's share left out. A translation run is the
+ * same with the slide coordinate's range for the angle's (iv_trans_load:
+ * the body's angle fixed, its slip twist and free column the slide
+ * axis's). The rest band of the
  * explicit and regularised methods depends on the rate here (Coriolis
  * and gyroscopic terms): qr is left unknown. */
-static void iv_patch_load(const exdex_model *m, const frame_box *fb, ex_iv TH, ex_iv V, ex_iv b[3], double *S,
-                          ex_iv *gen)
+/* P_z = (I_B (dw + V w x ez))_z + (W x I_B W)_z, W = w + V ez, I_B = Rz(theta)
+ * I Rz(theta)^T with ct, st its cosine and sine (the torque's negative,
+ * model_torque_z_cs in interval arithmetic). */
+static ex_iv iv_inertia_z(const exdex_model *m, const frame_box *fb, ex_iv ct, ex_iv st, ex_iv V)
 {
-    ex_iv ct = ex_iv_cos_sin(TH, 0), st = ex_iv_cos_sin(TH, 1), rho[3], r[3], rd[3], t1[3], t2[3], t3[3], t4[3];
-    ex_iv F[2], P[3], IB[9], vv[3], W[3], Iv[3], IW[3], R[9], RI[9], px, py, v2 = ex_iv_sqr(V);
-    double mm = m->m;
-    rho[0] = ex_iv_sub(ex_iv_scale(m->c[0], ct), ex_iv_scale(m->c[1], st));
-    rho[1] = ex_iv_add(ex_iv_scale(m->c[0], st), ex_iv_scale(m->c[1], ct));
-    rho[2] = ex_iv_pt(0.0);
-    for (int c = 0; c < 3; c++) r[c] = c < 2 ? ex_iv_add(ex_iv_pt(m->pivot[c]), rho[c]) : ex_iv_pt(0.0);
-    rd[0] = ex_iv_neg(ex_iv_mul(V, rho[1]));
-    rd[1] = ex_iv_mul(V, rho[0]);
-    rd[2] = ex_iv_pt(0.0);
-    ex_iv_cross3(t1, fb->dw, r);
-    ex_iv_cross3(t2, fb->w, r);
-    ex_iv_cross3(t3, fb->w, t2);
-    ex_iv_cross3(t4, fb->w, rd);
-    for (int c = 0; c < 2; c++) {
-        ex_iv f = ex_iv_sub(ex_iv_sub(fb->gB[c], fb->a0[c]), ex_iv_add(ex_iv_add(t1[c], t3[c]), ex_iv_scale(2.0, t4[c])));
-        F[c] = ex_iv_scale(mm, f);
-        P[c] = ex_iv_sub(ex_iv_neg(ex_iv_scale(mm, ex_iv_mul(v2, rho[c]))), F[c]);
-    }
+    ex_iv IB[9], vv[3], W[3], Iv[3], IW[3], R[9], RI[9];
     /* I_B = Rz I Rz^T */
     for (int i = 0; i < 9; i++) R[i] = ex_iv_pt(0.0);
     R[0] = ct;
@@ -1069,7 +1061,32 @@ static void iv_patch_load(const exdex_model *m, const frame_box *fb, ex_iv TH, e
         IW[i] = ex_iv_add(ex_iv_add(ex_iv_mul(IB[3 * i], W[0]), ex_iv_mul(IB[3 * i + 1], W[1])), ex_iv_mul(IB[3 * i + 2], W[2]));
     }
     /* P_z = -torque_z = (I_B v)_z + (W x I_B W)_z */
-    P[2] = ex_iv_add(Iv[2], ex_iv_sub(ex_iv_mul(W[0], IW[1]), ex_iv_mul(W[1], IW[0])));
+    return ex_iv_add(Iv[2], ex_iv_sub(ex_iv_mul(W[0], IW[1]), ex_iv_mul(W[1], IW[0])));
+}
+
+static void iv_patch_load(const exdex_model *m, const frame_box *fb, ex_iv TH, ex_iv V, ex_iv b[3], double *S,
+                          ex_iv *gen)
+{
+    ex_iv ct = ex_iv_cos_sin(TH, 0), st = ex_iv_cos_sin(TH, 1), rho[3], r[3], rd[3], t1[3], t2[3], t3[3], t4[3];
+    ex_iv F[2], P[3], px, py, v2 = ex_iv_sqr(V);
+    double mm = m->m;
+    rho[0] = ex_iv_sub(ex_iv_scale(m->c[0], ct), ex_iv_scale(m->c[1], st));
+    rho[1] = ex_iv_add(ex_iv_scale(m->c[0], st), ex_iv_scale(m->c[1], ct));
+    rho[2] = ex_iv_pt(0.0);
+    for (int c = 0; c < 3; c++) r[c] = c < 2 ? ex_iv_add(ex_iv_pt(m->pivot[c]), rho[c]) : ex_iv_pt(0.0);
+    rd[0] = ex_iv_neg(ex_iv_mul(V, rho[1]));
+    rd[1] = ex_iv_mul(V, rho[0]);
+    rd[2] = ex_iv_pt(0.0);
+    ex_iv_cross3(t1, fb->dw, r);
+    ex_iv_cross3(t2, fb->w, r);
+    ex_iv_cross3(t3, fb->w, t2);
+    ex_iv_cross3(t4, fb->w, rd);
+    for (int c = 0; c < 2; c++) {
+        ex_iv f = ex_iv_sub(ex_iv_sub(fb->gB[c], fb->a0[c]), ex_iv_add(ex_iv_add(t1[c], t3[c]), ex_iv_scale(2.0, t4[c])));
+        F[c] = ex_iv_scale(mm, f);
+        P[c] = ex_iv_sub(ex_iv_neg(ex_iv_scale(mm, ex_iv_mul(v2, rho[c]))), F[c]);
+    }
+    P[2] = iv_inertia_z(m, fb, ct, st, V);
     /* the generalised load P . T, T = (-rho_y, rho_x, 1) */
     *gen = ex_iv_add(ex_iv_sub(ex_iv_mul(rho[0], P[1]), ex_iv_mul(rho[1], P[0])), P[2]);
     px = ex_iv_add(ex_iv_mul(ct, P[0]), ex_iv_mul(st, P[1]));
@@ -1093,6 +1110,60 @@ static void iv_patch_load(const exdex_model *m, const frame_box *fb, ex_iv TH, e
     }
 }
 
+/* The same load of a translation run in a turning gripper: the centre of
+ * mass at r = r0 + (Q - s0) d moving at rd = V d, the body's angle th0
+ * fixed (no rate of its own: kappa = 0 and the torque's rate 0), so
+ *   P_xy = -m (g_B - a0 - dw x r - w x (w x r) - 2 w x rd),
+ *   P_z = (I_B dw)_z + (w x I_B w)_z,
+ * and gen = P . (d, 0), the load along the slide axis. */
+static void iv_trans_load(const exdex_model *m, const frame_box *fb, ex_iv Q, ex_iv V, ex_iv b[3], double *S,
+                          ex_iv *gen)
+{
+    ex_iv TH = ex_iv_pt(m->th0), ct = ex_iv_cos_sin(TH, 0), st = ex_iv_cos_sin(TH, 1), r[3], rd[3];
+    ex_iv t1[3], t2[3], t3[3], t4[3], P[3], px, py, dq = ex_iv_sub(Q, ex_iv_pt(m->s0));
+    double mm = m->m;
+    for (int c = 0; c < 2; c++) {
+        r[c] = ex_iv_add(ex_iv_pt(m->r0[c]), ex_iv_scale(m->d[c], dq));
+        rd[c] = ex_iv_scale(m->d[c], V);
+    }
+    r[2] = rd[2] = ex_iv_pt(0.0);
+    ex_iv_cross3(t1, fb->dw, r);
+    ex_iv_cross3(t2, fb->w, r);
+    ex_iv_cross3(t3, fb->w, t2);
+    ex_iv_cross3(t4, fb->w, rd);
+    for (int c = 0; c < 2; c++) {
+        ex_iv f = ex_iv_sub(ex_iv_sub(fb->gB[c], fb->a0[c]), ex_iv_add(ex_iv_add(t1[c], t3[c]), ex_iv_scale(2.0, t4[c])));
+        P[c] = ex_iv_neg(ex_iv_scale(mm, f));
+    }
+    P[2] = iv_inertia_z(m, fb, ct, st, ex_iv_pt(0.0));
+    *gen = ex_iv_add(ex_iv_scale(m->d[0], P[0]), ex_iv_scale(m->d[1], P[1]));
+    px = ex_iv_add(ex_iv_mul(ct, P[0]), ex_iv_mul(st, P[1]));
+    py = ex_iv_sub(ex_iv_mul(ct, P[1]), ex_iv_mul(st, P[0]));
+    b[0] = px;
+    b[1] = py;
+    b[2] = ex_iv_add(P[2], ex_iv_sub(ex_iv_scale(m->pc[1], px), ex_iv_scale(m->pc[0], py)));
+    {
+        /* the terms' size */
+        double rm = ex_iv_mag(r[0]) + ex_iv_mag(r[1]), om = ex_iv_mag(fb->w[0]) + ex_iv_mag(fb->w[1]) + ex_iv_mag(fb->w[2]);
+        double dm = ex_iv_mag(fb->dw[0]) + ex_iv_mag(fb->dw[1]) + ex_iv_mag(fb->dw[2]), vm = ex_iv_mag(V), In = 0.0;
+        double gm = 0.0, am = 0.0;
+        for (int c = 0; c < 3; c++) {
+            gm += ex_iv_mag(fb->gB[c]);
+            am += ex_iv_mag(fb->a0[c]);
+        }
+        for (int i = 0; i < 9; i++) In += fabs(m->I[i]);
+        *S = (1.0 + fabs(m->pc[0]) + fabs(m->pc[1])) *
+             (mm * (gm + am + dm * rm + om * om * rm + 2.0 * om * vm) + In * (dm + om * om));
+    }
+}
+
+/* The run's load: th the angle (rotation) or the slide coordinate (translation). */
+static void iv_load(const exdex_model *m, const frame_box *fb, ex_iv th, ex_iv v, ex_iv b[3], double *S, ex_iv *gen)
+{
+    if (m->def.dof == EXDEX_DOF_TRANSLATION) iv_trans_load(m, fb, th, v, b, S, gen);
+    else iv_patch_load(m, fb, th, v, b, S, gen);
+}
+
 /* The load's box over the frame's enclosure fb (widened for the samples'
  * rounding); 0 if not finite. */
 static int turning_load(const exdex_model *m, const frame_box *fb, ex_iv th, ex_iv v, ex_iv b[3])
@@ -1100,7 +1171,7 @@ static int turning_load(const exdex_model *m, const frame_box *fb, ex_iv th, ex_
     double S;
     ex_iv gen;
     if (!ex_iv_ok(th) || !ex_iv_ok(v)) return 0;
-    iv_patch_load(m, fb, th, v, b, &S, &gen);
+    iv_load(m, fb, th, v, b, &S, &gen);
     for (int c = 0; c < 3; c++) {
         b[c].lo -= CERT_ROUND * S;
         b[c].hi += CERT_ROUND * S;
@@ -1112,7 +1183,7 @@ static int turning_load(const exdex_model *m, const frame_box *fb, ex_iv th, ex_
 int certify_turning_load(const exdex_model *m, double ta, double tb, ex_iv th, ex_iv v, ex_iv b[3])
 {
     frame_box fb;
-    if (m->ndof != 1 || m->def.dof != EXDEX_DOF_ROTATION) return 0;
+    if (m->ndof != 1 || (m->def.dof != EXDEX_DOF_ROTATION && m->def.dof != EXDEX_DOF_TRANSLATION)) return 0;
     if (!motion_frame_box(m->motion, ta, tb, m->g, &fb)) return 0;
     return turning_load(m, &fb, th, v, b);
 }
@@ -1124,8 +1195,9 @@ static int prove_block_turning(const exdex_model *m, const exdex_trajectory *out
     double th0 = q, th1 = q, wl[3] = {0.0, INFINITY, INFINITY}, wh[3] = {0.0, 0.0, 0.0}, Cs, C, vlo = 0.0, vhi = 0.0;
     int expl = m->def.method == EXDEX_METHOD_REGULARISED || m->def.method == EXDEX_METHOD_EXPLICIT;
     frame_box fb;
+    int rot = m->def.dof == EXDEX_DOF_ROTATION;
     block_ranges(m, out, i0, i1, &th0, &th1, wl, wh, &vlo, &vhi);
-    if (!(th1 - th0 <= 2.0 * CERT_ROT_HALF_SPAN)) return EXDEX_OK;
+    if (rot && !(th1 - th0 <= 2.0 * CERT_ROT_HALF_SPAN)) return EXDEX_OK;
     if (!motion_frame_box_cached(m->motion, ta, tb, m->g, &fb, fc)) return EXDEX_OK;
     Cs = block_static_capacity(m, ta, tb, tm);
     C = model_capacity(m, tm);
@@ -1140,7 +1212,18 @@ static int prove_block_turning(const exdex_model *m, const exdex_trajectory *out
             V.hi = key == 1 ? wh[key] : -wl[key];
         }
         if (!turning_load(m, &fb, TH, V, b)) return EXDEX_OK;
-        if (key) {
+        if (key && !rot) {
+            /* a translation's slip twist and free column: the slide axis's */
+            double v = key == 1 ? wl[key] : -wl[key], MT[3] = {m->m * m->d[0], m->m * m->d[1], 0.0}, gM[3];
+            cs[0] = cos(m->th0);
+            cs[1] = sin(m->th0);
+            vf[0] = v * m->d[0];
+            vf[1] = v * m->d[1];
+            vf[2] = 0.0;
+            model_patch_of_gen(m, cs, MT, gM);
+            for (int c = 0; c < 3; c++) cols[0][c] = gM[c] / m->e[c];
+            nfree = 1;
+        } else if (key) {
             /* the slip's twist and free column at one state of the block */
             double th = th0 + 0.5 * (th1 - th0), v = key == 1 ? wl[key] : -wl[key], rho[2], MT[3], gM[3];
             rot2(rho, th, m->c);
@@ -1156,8 +1239,9 @@ static int prove_block_turning(const exdex_model *m, const exdex_trajectory *out
             for (int c = 0; c < 3; c++) cols[0][c] = gM[c] / m->e[c];
             nfree = 1;
         } else {
-            cs[0] = cos(th0);
-            cs[1] = sin(th0);
+            double th = rot ? th0 : m->th0;
+            cs[0] = cos(th);
+            cs[1] = sin(th);
         }
         for (int k = 0; k < 8 && ok; k++) {
             double bk[3] = {(k & 1 ? b[0].hi : b[0].lo), (k & 2 ? b[1].hi : b[1].lo), (k & 4 ? b[2].hi : b[2].lo)};
@@ -1175,7 +1259,7 @@ static int prove_block_turning(const exdex_model *m, const exdex_trajectory *out
              * rate of the block's samples (Q depends on it here) */
             ex_iv bq[3], Vq = {vlo, vhi}, g;
             double S;
-            iv_patch_load(m, &fb, TH, Vq, bq, &S, &g);
+            iv_load(m, &fb, TH, Vq, bq, &S, &g);
             if (ex_iv_ok(g)) {
                 double e = CERT_ROUND * S;
                 g.lo -= e;
@@ -1226,6 +1310,7 @@ typedef struct scan {
     double pt_lo, pt_hi;
     cert_eval pk[3];
     int pk_have[3];
+    frame_box_cache *fc;   /* the turning frame's boxes (NULL: computed directly) */
 } scan;
 
 /* A slip the samples do not show: the reduced coordinate moved over
@@ -1242,6 +1327,40 @@ static int hidden_slip(const exdex_model *m, const exdex_trajectory *out, size_t
     return dq > 0.0 ? 1 : dq < 0.0 ? -1 : 0;
 }
 
+/* A stuck state q held over [a, b] (its verdict holds at a and at b):
+ * proven over [a, b] by the block proof's enclosure, or else halved (up to
+ * depth more times) with its middle evaluated; *ta >= 0 the last time known
+ * to hold and *bad the failing verdict where a middle fails (located from
+ * the part's start by Brent), *ta < 0 where none is found. */
+static int stuck_between(const scan *sc, double a, double b, double q, int depth, cert_eval *bad, double *ta)
+{
+    const exdex_model *m = sc->m;
+    double tt[2] = {a, b}, qq[2] = {q, q}, vv[2] = {0.0, 0.0}, qr[2], mid;
+    unsigned char ss[2] = {1, 1}, pr[3];
+    int need[3] = {1, 0, 0}, st;
+    exdex_trajectory blk;
+    memset(&blk, 0, sizeof blk);
+    blk.n = 2;
+    blk.t = tt;
+    blk.q = qq;
+    blk.v = vv;
+    blk.stick = ss;
+    *ta = -1.0;
+    st = prove_block(m, &blk, 1, 2, need, pr, qr, sc->fc);
+    if (st || pr[0] || depth == 0) return st;
+    mid = a + 0.5 * (b - a);
+    if (!(mid > a && mid < b)) return EXDEX_OK;
+    st = cert_at(m, mid, q, 0.0, 1, bad);
+    if (st) return st;
+    if (bad->excess > 0.0) {
+        *ta = locate(m, a, mid, q, 0.0, 1);
+        return EXDEX_OK;
+    }
+    st = stuck_between(sc, a, mid, q, depth - 1, bad, ta);
+    if (st || *ta >= 0.0) return st;
+    return stuck_between(sc, mid, b, q, depth - 1, bad, ta);
+}
+
 /* Sample i >= 1 (the interval (t_{i-1}, t_i]): *failed = 1 and c filled
  * where it fails. */
 static int check_sample(scan *sc, size_t i, exdex_certificate *c, int *failed)
@@ -1251,6 +1370,7 @@ static int check_sample(scan *sc, size_t i, exdex_certificate *c, int *failed)
     double t0 = out->t[i - 1], t1 = out->t[i], q1 = out->q[i], v1 = out->v[i], te;
     int s1 = out->stick[i] || at_rest(m, t1 - t0, t1, q1, v1);
     int key = key_of(s1, v1), st;
+    int expl = m->def.method == EXDEX_METHOD_REGULARISED || m->def.method == EXDEX_METHOD_EXPLICIT;
     cert_eval ce;
     *failed = 0;
     if (hidden_slip(m, out, i)) {
@@ -1337,6 +1457,31 @@ static int check_sample(scan *sc, size_t i, exdex_certificate *c, int *failed)
         }
         fill(m, c, &ce, ta, i);
         *failed = 1;
+        return EXDEX_OK;
+    }
+    /* a stuck interval (the coordinate did not move: the state is exact
+     * between the samples; for the methods whose rest is a band, both
+     * samples at rest, the state held at the end's) with no switching time
+     * inside and a load that reads the time: its excursions between the
+     * samples; not where stops carry the load (the enclosure has no stop
+     * force) */
+    if (!sc->pc && s1 && te == t1 && (sc->sw >= m->sw_n || m->sw_t[sc->sw] >= t1 - model_substep_snap(m, t1)) &&
+        (expl ? out->stick[i - 1] || at_rest(m, i > 1 ? t0 - out->t[i - 2] : t1 - t0, t0, out->q[i - 1], out->v[i - 1])
+              : out->stick[i] && out->stick[i - 1] && out->q[i - 1] == q1)) {
+        double ta;
+        cert_eval bad;
+        if (m->n_src) {
+            cert_eval cf;
+            st = cert_at_stops(m, t1, q1, 0.0, 1, 0, &cf);
+            if (st) return st;
+            if (cf.excess > 0.0) return EXDEX_OK;
+        }
+        st = stuck_between(sc, t0, t1, q1, CERT_BETWEEN_DEPTH, &bad, &ta);
+        if (st) return st;
+        if (ta >= 0.0) {
+            fill(m, c, &bad, ta, i);
+            *failed = 1;
+        }
     }
     return EXDEX_OK;
 }
@@ -1379,6 +1524,7 @@ static int certify_with(const exdex_model *m, const exdex_trajectory *out, exdex
     sc.out = out;
     sc.pc = piecewise_constant(m);
     sc.pt_lo = sc.pt_hi = -INFINITY;
+    sc.fc = fc;
     pv.n = pv.qknown = 0;
     if (given) {
         pv = *given;

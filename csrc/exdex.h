@@ -729,8 +729,11 @@ int exdex_simulate(const exdex_model *m, double t_end, double dt,
  * show (the coordinate moved between two stuck samples of an exact-stick
  * method) is checked at both ends of its interval with the interval's
  * mean rate; where that fails the reduction holds up to the interval's
- * start. Between samples a stuck load is known only where a proof covers
- * it: a finer dt resolves an excursion shorter than an output interval. */
+ * start. Between two stuck samples the load is proven inside the surface
+ * over the interval's enclosure or, where that cannot be shown, the
+ * interval is halved (four times at most) and the middles evaluated: an
+ * excursion shorter than a sixteenth of an output interval is seen only
+ * where a proof rules it out, and not where stops carry the stuck load. */
 typedef struct exdex_certificate {
     int reduced;          /* 1: a 1-DoF run was checked; 0: planar (nothing neglected) */
     int holds;            /* 1: the reduction held up to the last sample */

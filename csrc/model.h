@@ -523,11 +523,12 @@ int model_holding_wrench(const exdex_model *m, double t, const double *q, double
  * with sc = 1 / cos of the half span); 0 where the half span is not in
  * [0, half_max] (half_max < pi / 2) or not finite. */
 int certify_arc_triangle(double th0, double th1, double half_max, double th[3], double sc[3]);
-/* The load of a rotation run in a turning gripper (certify.c): 1 if the
- * patch wrench the neglected coordinates need with no stop force (the
- * certificate's load) lies in b for every time in [ta, tb] (the frame of
- * motion_frame_box), angle in th and rate in v (0 for a stuck state); 0
- * where not known (not a rotation run, a motion without an enclosure). */
+/* The load of a rotation or translation run in a turning gripper
+ * (certify.c): 1 if the patch wrench the neglected coordinates need with no
+ * stop force (the certificate's load) lies in b for every time in [ta, tb]
+ * (the frame of motion_frame_box), angle (rotation) or slide coordinate
+ * (translation) in th and rate in v (0 for a stuck state); 0 where not
+ * known (a planar run, a motion without an enclosure). */
 int certify_turning_load(const exdex_model *m, double ta, double tb, ex_iv th, ex_iv v, ex_iv b[3]);
 
 /* exdex_certify of a run's windows (certify.c). A certify_run holds what

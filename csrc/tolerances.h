@@ -35,6 +35,12 @@
  * rounding of its evaluation (some hundred operations on numbers of the
  * terms' size). */
 #define CERT_ROUND 1e-12
+/* A stuck output interval that no proof covers is halved this many times
+ * at most (its enclosure proven over each part, the middle of a part that
+ * is not proven evaluated): an excursion of the load between two stuck
+ * samples is seen to 2^-CERT_BETWEEN_DEPTH of the interval where the
+ * enclosures cannot prove it absent. */
+#define CERT_BETWEEN_DEPTH 4
 /* logs (sampled motions) whose whole-knot-interval frame boxes one certificate caches (motion.c,
    motion_frame_box_cached); a further log's boxes are computed anew each time */
 #define FRAME_BOX_CACHE_LOGS 8

@@ -83,7 +83,9 @@ class Result:
         pressure no friction force, so that part of the load must be zero
         (to 1e-9 of the scene's force scale) or carried by a stop. Checked
         at every sample and every switching time of the motion and grip
-        schedule; the failure is located between samples by Brent's method.
+        schedule, and between two stuck samples over the interval (proven
+        with interval bounds, or halved up to four times where they cannot
+        show it); the failure is located between samples by Brent's method.
         :attr:`reduction_valid_until` and :attr:`reduction_holds` read it.
     models : for a scene with ``dof="auto"``: which model ran over which
         interval and why, as ``(dof, method, t_start, t_end, why)`` tuples

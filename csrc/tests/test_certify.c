@@ -9,6 +9,7 @@
 #include "check.h"
 #include "sim_run.h"
 #include "../model.h"
+#include "../pose.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -844,24 +845,44 @@ static void rotation_load(const exdex_model *m, double t, double th, double v, d
     model_patch_of_gen(m, cs, P, b);
 }
 
+/* The same for a translation run at slide coordinate q and rate v: the
+ * centre of mass on the slide axis, the body's angle fixed. */
+static void translation_load(const exdex_model *m, double t, double q, double v, double b[3])
+{
+    frame f;
+    exdex_kinematics k;
+    double qq[3] = {q, 0.0, 0.0}, r[3], th, qf[3], vf[3] = {v * m->d[0], v * m->d[1], 0.0}, F[3], P[3], cs[2];
+    pose_com(m, qq, r, &th);
+    qf[0] = r[0];
+    qf[1] = r[1];
+    qf[2] = th;
+    cs[0] = cos(th);
+    cs[1] = sin(th);
+    ENSURE(model_frame_at(m, t, &f, &k) == EXDEX_OK);
+    model_force_planar(m, &f, qf, vf, F);
+    for (int c = 0; c < 3; c++) P[c] = -F[c];
+    model_patch_of_gen(m, cs, P, b);
+}
+
 /* certify_turning_load against dense samples: on random blocks of random
- * turning motions, random angle and rate ranges, the load of every sample
- * (times, angles and rates over the ranges, their ends included) lies in
- * the enclosure, and for most components that move the samples cover at
- * least a quarter of it (a dropped Coriolis, Euler, centripetal or
- * gyroscopic term moves samples out of it). */
+ * turning motions, random angle (slide coordinate) and rate ranges of a
+ * rotation (translation) run, the load of every sample (times, angles or
+ * coordinates and rates over the ranges, their ends included) lies in the
+ * enclosure, and for most components that move the samples cover at least
+ * a quarter of it (a dropped Coriolis, Euler, centripetal or gyroscopic
+ * term moves samples out of it). */
 EXDEX_TEST(certify_turning_load_holds_dense_samples)
 {
     static double times[12], poses[12 * 7];
     exdex_motion_def pc[4];
     int n_boxes = 0, n_moving = 0, n_cover = 0;
     lcg = 5151;
-    for (int s = 0; s < 32; s++) {
+    for (int s = 0; s < 64; s++) {
         const char *bad = NULL;
-        int status;
+        int status, rot = s < 32;
         exdex_scene_def d = box(3.0, urand(-0.02, 0.02), EXDEX_METHOD_IMPLICIT);
         exdex_model *m;
-        d.dof = EXDEX_DOF_ROTATION;
+        d.dof = rot ? EXDEX_DOF_ROTATION : EXDEX_DOF_TRANSLATION;
         d.patch_center[1] = urand(-0.02, 0.02);
         d.inertia[1] = d.inertia[3] = urand(-1e-4, 1e-4);
         d.inertia[2] = d.inertia[6] = urand(-1e-4, 1e-4);
@@ -875,9 +896,12 @@ EXDEX_TEST(certify_turning_load_holds_dense_samples)
         if (!m) continue;
         for (int bk = 0; bk < 12; bk++) {
             double end = exdex_motion_end(m->motion), ta = urand(0.0, end), tb = ta + exp(urand(log(2e-3), log(5e-2)));
-            double th0 = urand(-3.0, 3.0), v0 = urand(-8.0, 8.0), lo[3] = {INFINITY, INFINITY, INFINITY};
+            double th0 = urand(-3.0, 3.0) * (rot ? 1.0 : 0.01), v0 = urand(-8.0, 8.0) * (rot ? 1.0 : 0.01);
+            double lo[3] = {INFINITY, INFINITY, INFINITY};
             double hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-            ex_iv th = {th0, th0 + (bk % 3 ? urand(0.0, 0.3) : 0.0)}, v = {v0, v0 + (bk % 3 == 1 ? urand(0.0, 2.0) : 0.0)}, b[3];
+            double sc = rot ? 1.0 : 0.01;
+            ex_iv th = {th0, th0 + (bk % 3 ? urand(0.0, 0.3) * sc : 0.0)};
+            ex_iv v = {v0, v0 + (bk % 3 == 1 ? urand(0.0, 2.0) * sc : 0.0)}, b[3];
             int ok = certify_turning_load(m, ta, tb, th, v, b);
             ENSURE(ok);
             if (!ok) continue;
@@ -887,7 +911,8 @@ EXDEX_TEST(certify_turning_load_holds_dense_samples)
                 for (int a = 0; a < 3; a++)
                     for (int c = 0; c < 3; c++) {
                         double x[3], tt = th.lo + (th.hi - th.lo) * a / 2.0, vv = v.lo + (v.hi - v.lo) * c / 2.0;
-                        rotation_load(m, t, tt, vv, x);
+                        if (rot) rotation_load(m, t, tt, vv, x);
+                        else translation_load(m, t, tt, vv, x);
                         for (int q = 0; q < 3; q++) {
                             ENSURE(x[q] >= b[q].lo && x[q] <= b[q].hi);
                             lo[q] = fmin(lo[q], x[q]);
@@ -903,8 +928,13 @@ EXDEX_TEST(certify_turning_load_holds_dense_samples)
             }
         }
         exdex_model_free(m);
+        if (s == 31) {
+            /* the rotation runs' share: as many again for the translation runs */
+            ENSURE(n_moving > 600 && n_cover > 0.6 * n_moving);
+            n_moving = n_cover = 0;
+        }
     }
-    ENSURE(n_boxes == 32 * 12);
+    ENSURE(n_boxes == 64 * 12);
     ENSURE(n_moving > 600 && n_cover > 0.6 * n_moving);
 }
 

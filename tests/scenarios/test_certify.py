@@ -454,6 +454,51 @@ def test_a_slip_inside_an_output_interval_is_certified(seed):
     _assert_auto_matches_planar(a, p, zs, seed)
 
 
+def _shake_between_samples():
+    """The box held at its centre of mass (no moment) on a slide axis at
+    alpha = -30 deg from gravity, shaken across that axis in the plate plane,
+    s(t) = A (1 - cos w t) (5 Hz): the slide axis carries W cos(alpha), the
+    plates across it W |sin(alpha)| - m A w^2 cos(w t). The reduction holds
+    while that load lies in the surface, |across| <= K = sqrt(C^2 -
+    (W cos alpha)^2); at the peaks (t = k / f) it does, at the troughs
+    between them it does not: it first fails at t* = acos((W |sin alpha| - K)
+    / (m A w^2)) / w."""
+    alpha, grip, P, f = math.radians(-30.0), 1.25, 1.5, 5.0
+    C, w = 2 * MU * grip, 2 * math.pi * f
+    K = math.sqrt(C ** 2 - (W * math.cos(alpha)) ** 2)
+    s = abs(math.sin(alpha))
+    assert abs(W * s - P) < K < W * s + P   # holds at the peaks, fails at the troughs
+    across = (math.cos(alpha), math.sin(alpha))
+    # B's plate plane (x, y) is the world's (x, z) under the default gripper rotation
+    motion = exdex.Shake(P / MASS / w ** 2, f, cycles=3, axis=(across[0], 0.0, across[1]))
+    sc = box_scene(offset=0.0, grip=grip, motion=motion, slide_axis=(math.sin(alpha), -math.cos(alpha)))
+    assert sc.gripper_rotation == ((1.0, 0.0, 0.0), (0.0, 0.0, -1.0), (0.0, 1.0, 0.0))
+    return sc, math.acos((W * s - K) / P) / w, 1.0 / f
+
+
+@pytest.mark.parametrize("method", ["implicit", "event"])
+@pytest.mark.parametrize("per_period", [1, 3])
+def test_a_stuck_load_leaving_the_surface_between_samples_is_certified(method, per_period):
+    # Closed form (_shake_between_samples): output samples at the shake's
+    # peaks, or at every third of its period (w t = 2 pi k / 3, the load
+    # across W |sin alpha| + m A w^2 / 2 at most), all of them inside the
+    # surface while the troughs between them are not; the stuck run's certificate
+    # still fails at t*, and dof="auto" switches to the planar model there.
+    sc, t_star, period = _shake_between_samples()
+    dt = period / per_period
+    res, red = run(sc, method, t_end=3 * period, dt=dt)
+    assert res.stick.all() and np.ptp(res.q[:, 0]) == 0.0
+    c = res.certificate
+    assert not c["holds"] and c["stick"]
+    assert c["valid_until"] == pytest.approx(t_star, abs=1e-9)
+    assert len(red) == 1
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        a = exdex.simulate(exdex.replace(sc, dof="auto"), 3 * period, dt, method=method)
+    assert [m[0] for m in a.models] == ["translation", "planar"]
+    assert a.models[0][3] == pytest.approx(t_star, abs=1e-9)
+
+
 def test_auto_head_is_the_one_dof_run():
     # Up to the switch, "auto" returns the 1-DoF run itself: the explicit
     # dof's samples bit for bit (mapped to planar poses), the switch at that
