@@ -115,7 +115,7 @@ int ldp_nnls(int m, const double (*col)[4], const double f[4], double *u, int *i
         P[k++] = jb;
         for (int inner = 0;; inner++) {
             double alpha = INFINITY;
-            int ok = ls_passive(col, P, k, f, z);
+            int ok = ls_passive(col, P, k, f, z), ablock = -1;
             if (!ok) {
                 /* the new column depends on the passive ones: never again */
                 banned[P[--k]] = 1;
@@ -125,7 +125,10 @@ int ldp_nnls(int m, const double (*col)[4], const double f[4], double *u, int *i
             for (int a = 0; a < k; a++)
                 if (z[a] <= 0.0) {
                     double d = u[P[a]] - z[a], al = d > 0.0 ? u[P[a]] / d : 0.0;
-                    if (al < alpha) alpha = al;
+                    if (al < alpha) {
+                        alpha = al;
+                        ablock = a;
+                    }
                 }
             if (alpha == INFINITY) {
                 for (int a = 0; a < k; a++) u[P[a]] = z[a];
@@ -136,6 +139,9 @@ int ldp_nnls(int m, const double (*col)[4], const double f[4], double *u, int *i
                 return 0;
             }
             for (int a = 0; a < k; a++) u[P[a]] += alpha * (z[a] - u[P[a]]);
+            /* the blocking column reaches 0 exactly (its step can leave a
+             * rounding residue > 0 that would block every later step) */
+            u[P[ablock]] = 0.0;
             /* drop the passive columns that reached 0 */
             for (int a = 0; a < k;)
                 if (u[P[a]] <= 0.0) {
