@@ -20,6 +20,11 @@ void check_fail_close(const char *file, int line, const char *a, const char *b,
                       double va, double vb, double tol);
 double ref(const char *key);
 void report(const char *key, double value);
+/* A seed of the running test (a hash of its name, never 0): a test file's
+ * random generator restarts from it at each test, so that a test draws the
+ * same inputs whichever tests ran before it (a name filter, run_tests
+ * --shard). */
+unsigned long long check_seed(void);
 
 #define EXDEX_TEST(name)                                                     \
     static void name(void);                                                  \

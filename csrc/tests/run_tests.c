@@ -1,10 +1,14 @@
 /* run_tests.c -- runner of the exdex C suite.
  *
- *   run_tests [--data FILE] [--values] [--times] [NAME-FILTER]
+ *   run_tests [--data FILE] [--values] [--times] [--skip NAME] [--shard K/N]
+ *             [NAME-FILTER]
  *
- * Runs every registered test whose name contains NAME-FILTER, prints one line
- * per test (with --times, the test's CPU seconds after it) and a closing
- * "N passed, N failed" line, and exits 1 on failure. */
+ * Runs every registered test whose name contains NAME-FILTER and not the
+ * --skip text, prints one line per test (with --times, the test's CPU seconds
+ * after it) and a closing "N passed, N failed" line, and exits 1 on failure
+ * (2 on a bad argument). --shard K/N (1 <= K <= N) runs the K-th of N parts
+ * of those tests, every N-th from the K-th: the N parts together run each
+ * selected test once, so a slow runner (valgrind) can run them in parallel. */
 #include "check.h"
 #include "../exdex.h"
 
@@ -23,6 +27,17 @@ static int print_times;
 static struct { char key[96]; double value; } refs[MAX_REFS];
 static int n_refs;
 static const char *data_path = "../tests/data/reference.dat";
+static unsigned long long current_seed = 1;
+
+unsigned long long check_seed(void) { return current_seed; }
+
+/* FNV-1a of the name, never 0 */
+static unsigned long long name_seed(const char *name)
+{
+    unsigned long long h = 1469598103934665603ULL;
+    for (; *name; name++) h = (h ^ (unsigned char)*name) * 1099511628211ULL;
+    return h ? h : 1;
+}
 
 void check_register(const char *name, const char *file, check_fn fn)
 {
@@ -87,8 +102,8 @@ void report(const char *key, double value)
 
 int main(int argc, char **argv)
 {
-    const char *filter = NULL;
-    int passed = 0, failed = 0;
+    const char *filter = NULL, *skip = NULL;
+    int passed = 0, failed = 0, shard_k = 1, shard_n = 1, selected = 0;
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--data") == 0 && i + 1 < argc)
             data_path = argv[++i];
@@ -96,14 +111,26 @@ int main(int argc, char **argv)
             print_values = 1;
         else if (strcmp(argv[i], "--times") == 0)
             print_times = 1;
-        else
+        else if (strcmp(argv[i], "--skip") == 0 && i + 1 < argc)
+            skip = argv[++i];
+        else if (strcmp(argv[i], "--shard") == 0 && i + 1 < argc) {
+            char tail;
+            if (sscanf(argv[++i], "%d/%d%c", &shard_k, &shard_n, &tail) != 2 || shard_n < 1 ||
+                shard_k < 1 || shard_k > shard_n) {
+                printf("--shard must be K/N with 1 <= K <= N, got '%s'\n", argv[i]);
+                return 2;
+            }
+        } else
             filter = argv[i];
     }
     exdex_init();
     load_refs();
     for (int i = 0; i < n_tests; i++) {
         if (filter && !strstr(tests[i].name, filter)) continue;
+        if (skip && strstr(tests[i].name, skip)) continue;
+        if (selected++ % shard_n != shard_k - 1) continue;
         current_failed = 0;
+        current_seed = name_seed(tests[i].name);
         clock_t c0 = clock();
         tests[i].fn();
         double sec = (double)(clock() - c0) / CLOCKS_PER_SEC;

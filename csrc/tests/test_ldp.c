@@ -110,9 +110,10 @@ static double brute_comb(int m, const double a[3], const double (*b)[3])
     return best;
 }
 
-static unsigned long long lcg_state = 12345;
+static unsigned long long lcg_state, lcg_seed; /* restarted at each test from its seed */
 static double urand(void)
 {
+    if (lcg_seed != check_seed()) lcg_state = lcg_seed = check_seed();
     lcg_state = lcg_state * 6364136223846793005ULL + 1442695040888963407ULL;
     return (double)(lcg_state >> 11) / 9007199254740992.0;
 }
@@ -217,6 +218,40 @@ EXDEX_TEST(ldp_min_norm_matches_brute_force)
         }
     }
     ENSURE(feasible > 500 && infeasible > 100); /* both branches exercised */
+}
+
+EXDEX_TEST(ldp_min_norm_blocking_step_leaves_no_residue)
+{
+    /* eight rows in the plane, feasible (z = (2.7e7, -3.1e7) clears every
+     * row by 1e7: an LP margin, found outside the suite). NNLS takes rows 0,
+     * 7, 5; row 0's multiplier then blocks the step, and the step leaves it
+     * 5.6e-17 instead of 0: unless the blocking column is set to 0 the inner
+     * loop shrinks it by 1e-16 a pass and gives up, calling the rows
+     * infeasible. Against the brute force over every support (independent
+     * of NNLS): feasible, the same z, rows 5 and 7 active. */
+    const double a[8][3] = {{0.50304691512535904, -1.0476932925981897, 0},
+                            {1.5911643844826513, 0.0061038469658194266, 0},
+                            {1.5142851392377685, -1.0166002436420976, 0},
+                            {-0.83629228114828291, -2.5211878994384631, 0},
+                            {-0.2670279141384429, -0.55975281363666352, 0},
+                            {-0.81304574832916066, -1.4911088873551659, 0},
+                            {-0.85856487657691238, -1.4530568883124835, 0},
+                            {1.5657405517274445, 1.0695008296540172, 0}};
+    const double c[8] = {81248.545961230411, -225946.15845954666, 83832.069102212801,
+                         24579.380843656123, -54284.584585504439, 49853.51887179591,
+                         -146300.54873640538, 9562.1140931214959};
+    const double s = 107341.0, zfar[3] = {2.7e7, -3.1e7, 0.0};
+    double z[3], zb[3], y[8];
+    for (int i = 0; i < 8; i++) ENSURE(dot3(a[i], zfar) >= c[i] + 1e6);
+    ENSURE(brute_ldp(8, a, c, 1e-9 * s, zb));
+    ENSURE(ldp_min_norm(8, a, c, NULL, z, y, NULL));
+    for (int d = 0; d < 3; d++) ENSURE_CLOSE(z[d], zb[d], 1e-9 * (sqrt(dot3(zb, zb)) + s));
+    for (int i = 0; i < 8; i++) {
+        double slack = dot3(a[i], z) - c[i];
+        ENSURE(y[i] >= 0.0);
+        if (i == 5 || i == 7) ENSURE(y[i] > 0.0 && fabs(slack) <= 1e-9 * s);
+        else ENSURE(y[i] == 0.0 && slack > 1e3);
+    }
 }
 
 EXDEX_TEST(ldp_min_combination_closed_forms_and_brute_force)

@@ -30,9 +30,10 @@
 static const double PI = 3.14159265358979323846;
 
 /* tiny deterministic generator (the cases do not depend on a library) */
-static unsigned long long rs = 88172645463325252ULL;
+static unsigned long long rs, rs_seed; /* restarted at each test from its seed */
 static double urand(void)
 {
+    if (rs_seed != check_seed()) rs = rs_seed = check_seed();
     rs ^= rs << 13, rs ^= rs >> 7, rs ^= rs << 17;
     return (double)(rs >> 11) / 9007199254740992.0;
 }
