@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The whole test suite: the C suite (no Python), the C suite under
-# AddressSanitizer + UBSan and under valgrind memcheck (in the background,
+# AddressSanitizer + UBSan and under valgrind memcheck (in parallel parts
 # beside pytest: they use separate build folders), then pytest (which also
 # runs the C suite again, cross-checks its numbers through the Python API,
 # and executes the notebooks). Installs what is missing first.
@@ -12,19 +12,47 @@ set -uo pipefail
 cd "$(dirname "$0")/.."
 bash .ci/setup.sh || exit 1
 
+ci_dir=csrc/build-ci
+rm -rf "$ci_dir"; mkdir -p "$ci_dir"
 echo "== C suite"
-make -s -C csrc test || { echo "C suite failed"; exit 1; }
+make -s -C csrc test | tee "$ci_dir/native.log" || { echo "C suite failed"; exit 1; }
 make -s -C csrc fuzz-driver > /dev/null || { echo "fuzz driver build failed"; exit 1; }
 
-# Sanitizers and memcheck beside pytest: each writes its own log.
-(
-  make -s -C csrc asan > csrc/build-asan.log 2>&1 || { echo "sanitizer run failed" >> csrc/build-asan.log; exit 1; }
-  if command -v valgrind >/dev/null 2>&1; then
-    make -s -C csrc valgrind > csrc/build-valgrind.log 2>&1 || { echo "valgrind run failed" >> csrc/build-valgrind.log; exit 2; }
-  else
-    echo "valgrind not installed: memcheck run skipped (apt-get install valgrind)" > csrc/build-valgrind.log
-  fi
-) &
+# The C suite under ASan + UBSan and under valgrind memcheck is a queue of
+# jobs, slowest first, each with its own log in csrc/build-ci/: one worker
+# takes jobs beside pytest, a second joins when pytest is done. run_tests'
+# --shard splits the suite; its slowest test (certify_proofs_grip_schedule,
+# about a third of the suite's time under valgrind) is a job of its own.
+slowest=certify_proofs_grip_schedule
+shards=8
+ci_jobs=()
+if command -v valgrind >/dev/null 2>&1; then
+  ci_jobs+=("make -s -C csrc valgrind-tests TEST_ARGS=$slowest" "make -s -C csrc valgrind-fuzz")
+fi
+ci_jobs+=("make -s -C csrc asan")
+if command -v valgrind >/dev/null 2>&1; then
+  for k in $(seq 1 $shards); do
+    ci_jobs+=("make -s -C csrc valgrind-tests 'TEST_ARGS=--skip $slowest --shard $k/$shards'")
+  done
+fi
+echo 0 > "$ci_dir/next"
+claim_job() {  # the next job's index, or failure when none is left
+  (
+    flock 9
+    i=$(cat "$ci_dir/next")
+    [ "$i" -lt ${#ci_jobs[@]} ] || exit 1
+    echo $((i + 1)) > "$ci_dir/next"
+    echo "$i"
+  ) 9> "$ci_dir/lock"
+}
+ci_worker() {
+  while i=$(claim_job); do
+    echo "${ci_jobs[$i]}" > "$ci_dir/$i.log"
+    bash -c "${ci_jobs[$i]}" >> "$ci_dir/$i.log" 2>&1
+    echo $? > "$ci_dir/$i.rc"
+  done
+}
+ci_worker &
 c_pid=$!
 
 echo "== pytest"
@@ -47,14 +75,29 @@ if [ "$(uname -m)" = x86_64 ] && [ $# -eq 0 ]; then
 fi
 
 echo "== C suite under AddressSanitizer + UndefinedBehaviorSanitizer, and under valgrind memcheck (zero errors, zero leaks)"
+ci_worker
 wait $c_pid
-c_rc=$?
-if [ $c_rc -eq 1 ]; then
-  tail -40 csrc/build-asan.log; echo "sanitizer run failed"; exit 1
+c_failed=0
+vg_passed=0
+for i in "${!ci_jobs[@]}"; do
+  if [ "$(cat "$ci_dir/$i.rc" 2>/dev/null)" != 0 ]; then
+    tail -40 "$ci_dir/$i.log"; echo "failed: ${ci_jobs[$i]}"; c_failed=1
+  elif [[ "${ci_jobs[$i]}" == *asan* ]]; then
+    echo "ASan + UBSan: $(grep -E "passed, .* failed" "$ci_dir/$i.log" | tail -1)"
+  elif [[ "${ci_jobs[$i]}" == *valgrind-fuzz* ]]; then
+    echo "valgrind: $(grep -E "^fuzz:" "$ci_dir/$i.log" | tail -1)"
+  else
+    n=$(grep -E "passed, .* failed" "$ci_dir/$i.log" | tail -1 | cut -d' ' -f1)
+    vg_passed=$((vg_passed + ${n:-0}))
+  fi
+done
+if command -v valgrind >/dev/null 2>&1; then
+  # the parts together must run the whole suite, each test once
+  native=$(grep -E "passed, .* failed" "$ci_dir/native.log" | tail -1 | cut -d' ' -f1)
+  echo "valgrind: C suite $vg_passed passed in $((shards + 1)) parts (natively $native)"
+  [ "$vg_passed" = "$native" ] || { echo "valgrind's parts ran $vg_passed tests, the suite has $native"; c_failed=1; }
+else
+  echo "valgrind not installed: memcheck run skipped (apt-get install valgrind)"
 fi
-grep -E "passed, .* failed" csrc/build-asan.log | tail -1
-if [ $c_rc -eq 2 ]; then
-  tail -40 csrc/build-valgrind.log; echo "valgrind run failed"; exit 1
-fi
-grep -E "passed, .* failed|^fuzz:|not installed" csrc/build-valgrind.log | tail -2
+[ $c_failed -eq 0 ] || exit 1
 exit $rc
