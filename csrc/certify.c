@@ -1064,12 +1064,52 @@ static ex_iv iv_inertia_z(const exdex_model *m, const frame_box *fb, ex_iv ct, e
     return ex_iv_add(Iv[2], ex_iv_sub(ex_iv_mul(W[0], IW[1]), ex_iv_mul(W[1], IW[0])));
 }
 
+/* The frame's part of the load at the centre of mass r moving at rd in B:
+ * F_xy = m (g_B - a0 - dw x r - w x (w x r) - 2 w x rd), and the sizes of
+ * the frame's terms for the load's scale (|r|, |w|, |dw|, |g_B|, |a0|, |I|). */
+typedef struct { double rm, om, dm, gm, am, In; } load_sizes;
+
+static void iv_frame_force(const exdex_model *m, const frame_box *fb, const ex_iv r[3], const ex_iv rd[3], ex_iv F[2],
+                           load_sizes *z)
+{
+    ex_iv t1[3], t2[3], t3[3], t4[3];
+    ex_iv_cross3(t1, fb->dw, r);
+    ex_iv_cross3(t2, fb->w, r);
+    ex_iv_cross3(t3, fb->w, t2);
+    ex_iv_cross3(t4, fb->w, rd);
+    for (int c = 0; c < 2; c++) {
+        ex_iv f = ex_iv_sub(ex_iv_sub(fb->gB[c], fb->a0[c]), ex_iv_add(ex_iv_add(t1[c], t3[c]), ex_iv_scale(2.0, t4[c])));
+        F[c] = ex_iv_scale(m->m, f);
+    }
+    z->rm = ex_iv_mag(r[0]) + ex_iv_mag(r[1]);
+    z->om = ex_iv_mag(fb->w[0]) + ex_iv_mag(fb->w[1]) + ex_iv_mag(fb->w[2]);
+    z->dm = ex_iv_mag(fb->dw[0]) + ex_iv_mag(fb->dw[1]) + ex_iv_mag(fb->dw[2]);
+    z->gm = z->am = z->In = 0.0;
+    for (int c = 0; c < 3; c++) {
+        z->gm += ex_iv_mag(fb->gB[c]);
+        z->am += ex_iv_mag(fb->a0[c]);
+    }
+    for (int i = 0; i < 9; i++) z->In += fabs(m->I[i]);
+}
+
+/* The plates' wrench b from the load P in B, the body at angle (ct, st):
+ * P_xy turned into the body, and the torque about the patch centre. */
+static void iv_plate_load(const exdex_model *m, ex_iv ct, ex_iv st, const ex_iv P[3], ex_iv b[3])
+{
+    ex_iv px = ex_iv_add(ex_iv_mul(ct, P[0]), ex_iv_mul(st, P[1]));
+    ex_iv py = ex_iv_sub(ex_iv_mul(ct, P[1]), ex_iv_mul(st, P[0]));
+    b[0] = px;
+    b[1] = py;
+    b[2] = ex_iv_add(P[2], ex_iv_sub(ex_iv_scale(m->pc[1], px), ex_iv_scale(m->pc[0], py)));
+}
+
 static void iv_patch_load(const exdex_model *m, const frame_box *fb, ex_iv TH, ex_iv V, ex_iv b[3], double *S,
                           ex_iv *gen)
 {
-    ex_iv ct = ex_iv_cos_sin(TH, 0), st = ex_iv_cos_sin(TH, 1), rho[3], r[3], rd[3], t1[3], t2[3], t3[3], t4[3];
-    ex_iv F[2], P[3], px, py, v2 = ex_iv_sqr(V);
+    ex_iv ct = ex_iv_cos_sin(TH, 0), st = ex_iv_cos_sin(TH, 1), rho[3], r[3], rd[3];
+    ex_iv F[2], P[3], v2 = ex_iv_sqr(V);
     double mm = m->m;
+    load_sizes z;
     rho[0] = ex_iv_sub(ex_iv_scale(m->c[0], ct), ex_iv_scale(m->c[1], st));
     rho[1] = ex_iv_add(ex_iv_scale(m->c[0], st), ex_iv_scale(m->c[1], ct));
     rho[2] = ex_iv_pt(0.0);
@@ -1077,36 +1117,18 @@ static void iv_patch_load(const exdex_model *m, const frame_box *fb, ex_iv TH, e
     rd[0] = ex_iv_neg(ex_iv_mul(V, rho[1]));
     rd[1] = ex_iv_mul(V, rho[0]);
     rd[2] = ex_iv_pt(0.0);
-    ex_iv_cross3(t1, fb->dw, r);
-    ex_iv_cross3(t2, fb->w, r);
-    ex_iv_cross3(t3, fb->w, t2);
-    ex_iv_cross3(t4, fb->w, rd);
-    for (int c = 0; c < 2; c++) {
-        ex_iv f = ex_iv_sub(ex_iv_sub(fb->gB[c], fb->a0[c]), ex_iv_add(ex_iv_add(t1[c], t3[c]), ex_iv_scale(2.0, t4[c])));
-        F[c] = ex_iv_scale(mm, f);
-        P[c] = ex_iv_sub(ex_iv_neg(ex_iv_scale(mm, ex_iv_mul(v2, rho[c]))), F[c]);
-    }
+    iv_frame_force(m, fb, r, rd, F, &z);
+    for (int c = 0; c < 2; c++) P[c] = ex_iv_sub(ex_iv_neg(ex_iv_scale(mm, ex_iv_mul(v2, rho[c]))), F[c]);
     P[2] = iv_inertia_z(m, fb, ct, st, V);
     /* the generalised load P . T, T = (-rho_y, rho_x, 1) */
     *gen = ex_iv_add(ex_iv_sub(ex_iv_mul(rho[0], P[1]), ex_iv_mul(rho[1], P[0])), P[2]);
-    px = ex_iv_add(ex_iv_mul(ct, P[0]), ex_iv_mul(st, P[1]));
-    py = ex_iv_sub(ex_iv_mul(ct, P[1]), ex_iv_mul(st, P[0]));
-    b[0] = px;
-    b[1] = py;
-    b[2] = ex_iv_add(P[2], ex_iv_sub(ex_iv_scale(m->pc[1], px), ex_iv_scale(m->pc[0], py)));
+    iv_plate_load(m, ct, st, P, b);
     {
         /* the terms' size */
-        double rm = ex_iv_mag(r[0]) + ex_iv_mag(r[1]), om = ex_iv_mag(fb->w[0]) + ex_iv_mag(fb->w[1]) + ex_iv_mag(fb->w[2]);
-        double dm = ex_iv_mag(fb->dw[0]) + ex_iv_mag(fb->dw[1]) + ex_iv_mag(fb->dw[2]), vm = ex_iv_mag(V), In = 0.0;
-        double gm = 0.0, am = 0.0, cm = fabs(m->c[0]) + fabs(m->c[1]);
-        for (int c = 0; c < 3; c++) {
-            gm += ex_iv_mag(fb->gB[c]);
-            am += ex_iv_mag(fb->a0[c]);
-        }
-        for (int i = 0; i < 9; i++) In += fabs(m->I[i]);
+        double vm = ex_iv_mag(V), cm = fabs(m->c[0]) + fabs(m->c[1]);
         *S = (1.0 + fabs(m->pc[0]) + fabs(m->pc[1])) *
-             (mm * (gm + am + dm * rm + om * om * rm + 2.0 * om * vm * cm + vm * vm * cm) +
-              In * (dm + vm * om + (om + vm) * (om + vm)));
+             (mm * (z.gm + z.am + z.dm * z.rm + z.om * z.om * z.rm + 2.0 * z.om * vm * cm + vm * vm * cm) +
+              z.In * (z.dm + vm * z.om + (z.om + vm) * (z.om + vm)));
     }
 }
 
@@ -1120,40 +1142,24 @@ static void iv_trans_load(const exdex_model *m, const frame_box *fb, ex_iv Q, ex
                           ex_iv *gen)
 {
     ex_iv TH = ex_iv_pt(m->th0), ct = ex_iv_cos_sin(TH, 0), st = ex_iv_cos_sin(TH, 1), r[3], rd[3];
-    ex_iv t1[3], t2[3], t3[3], t4[3], P[3], px, py, dq = ex_iv_sub(Q, ex_iv_pt(m->s0));
+    ex_iv F[2], P[3], dq = ex_iv_sub(Q, ex_iv_pt(m->s0));
     double mm = m->m;
+    load_sizes z;
     for (int c = 0; c < 2; c++) {
         r[c] = ex_iv_add(ex_iv_pt(m->r0[c]), ex_iv_scale(m->d[c], dq));
         rd[c] = ex_iv_scale(m->d[c], V);
     }
     r[2] = rd[2] = ex_iv_pt(0.0);
-    ex_iv_cross3(t1, fb->dw, r);
-    ex_iv_cross3(t2, fb->w, r);
-    ex_iv_cross3(t3, fb->w, t2);
-    ex_iv_cross3(t4, fb->w, rd);
-    for (int c = 0; c < 2; c++) {
-        ex_iv f = ex_iv_sub(ex_iv_sub(fb->gB[c], fb->a0[c]), ex_iv_add(ex_iv_add(t1[c], t3[c]), ex_iv_scale(2.0, t4[c])));
-        P[c] = ex_iv_neg(ex_iv_scale(mm, f));
-    }
+    iv_frame_force(m, fb, r, rd, F, &z);
+    for (int c = 0; c < 2; c++) P[c] = ex_iv_neg(F[c]);
     P[2] = iv_inertia_z(m, fb, ct, st, ex_iv_pt(0.0));
     *gen = ex_iv_add(ex_iv_scale(m->d[0], P[0]), ex_iv_scale(m->d[1], P[1]));
-    px = ex_iv_add(ex_iv_mul(ct, P[0]), ex_iv_mul(st, P[1]));
-    py = ex_iv_sub(ex_iv_mul(ct, P[1]), ex_iv_mul(st, P[0]));
-    b[0] = px;
-    b[1] = py;
-    b[2] = ex_iv_add(P[2], ex_iv_sub(ex_iv_scale(m->pc[1], px), ex_iv_scale(m->pc[0], py)));
+    iv_plate_load(m, ct, st, P, b);
     {
         /* the terms' size */
-        double rm = ex_iv_mag(r[0]) + ex_iv_mag(r[1]), om = ex_iv_mag(fb->w[0]) + ex_iv_mag(fb->w[1]) + ex_iv_mag(fb->w[2]);
-        double dm = ex_iv_mag(fb->dw[0]) + ex_iv_mag(fb->dw[1]) + ex_iv_mag(fb->dw[2]), vm = ex_iv_mag(V), In = 0.0;
-        double gm = 0.0, am = 0.0;
-        for (int c = 0; c < 3; c++) {
-            gm += ex_iv_mag(fb->gB[c]);
-            am += ex_iv_mag(fb->a0[c]);
-        }
-        for (int i = 0; i < 9; i++) In += fabs(m->I[i]);
+        double vm = ex_iv_mag(V);
         *S = (1.0 + fabs(m->pc[0]) + fabs(m->pc[1])) *
-             (mm * (gm + am + dm * rm + om * om * rm + 2.0 * om * vm) + In * (dm + om * om));
+             (mm * (z.gm + z.am + z.dm * z.rm + z.om * z.om * z.rm + 2.0 * z.om * vm) + z.In * (z.dm + z.om * z.om));
     }
 }
 
