@@ -163,8 +163,12 @@ int ldp_nnls(int m, const double (*col)[4], const double f[4], double *u, int *i
  * solution, the rows are consistent iff r_4 < 0, and then
  *     z = -r_{1..3} / r_4,   y = u / (-r_4)   (z = A' y, y >= 0 the
  * multipliers, complementary to the rows). Rows are first scaled to unit
- * |a_i| and c to max |c_i| = 1, which changes neither z nor the active set;
- * the solve is accurate relative to that scale. */
+ * |a_i| and c to max |c_i| = 1, which changes neither z nor the active set.
+ * With rho = |z| / max |c_i| / |a_i|, r_4 is about -1 / (1 + rho^2), so
+ * E u's rounding reaches z magnified by 1 + rho^2 (the test bound: 1e-12
+ * (1 + rho^2) of the size), and beyond rho of about 1e5 (a few nearly
+ * dependent rows whose only common points are far out: a pinch) r_4 is
+ * within that rounding and consistent rows may be called inconsistent. */
 int ldp_min_norm(int m, const double (*a)[3], const double *c, const double *tol, double z[3], double *y,
                  int *iters)
 {
@@ -207,22 +211,25 @@ int ldp_min_norm(int m, const double (*a)[3], const double *c, const double *tol
 }
 
 /* Up to three vectors: every support S tried (the minimiser's support is
- * one with lam_S >= 0 solving the normal equations B_S B_S' lam_S =
- * -B_S a), at most 7 solves of size <= 3: cheaper than NNLS there. */
+ * one with lam_S >= 0 minimising |a + B_S lam_S|), at most 7 least-squares
+ * solves of size <= 3, each by the QR of ls_passive (the normal equations
+ * would square the support's condition: a combination of nearly dependent
+ * vectors that reaches a exactly would be missed by 1e-9 of |a|): cheaper
+ * than NNLS there. */
 static double min_combination_small(int m, const double a[3], const double (*b)[3], double *lam)
 {
-    double best = sqrt(ex_dot3(a, a));
-    for (int j = 0; j < m; j++) lam[j] = 0.0;
+    double best = sqrt(ex_dot3(a, a)), col[3][4], f[4] = {-a[0], -a[1], -a[2], 0.0};
+    for (int j = 0; j < m; j++) {
+        lam[j] = 0.0;
+        for (int d = 0; d < 3; d++) col[j][d] = b[j][d];
+        col[j][3] = 0.0;
+    }
     for (int mask = 1; mask < (1 << m); mask++) {
         int set[3], n = 0, ok = 1;
-        double A[3][3], rhs[3], l[3], r[3], norm;
+        double l[4], r[3], norm;
         for (int j = 0; j < m; j++)
             if (mask & (1 << j)) set[n++] = j;
-        for (int i = 0; i < n; i++) {
-            for (int j = 0; j < n; j++) A[i][j] = ex_dot3(b[set[i]], b[set[j]]);
-            rhs[i] = -ex_dot3(b[set[i]], a);
-        }
-        if (!ldp_solve_small(n, A, rhs, l)) continue;
+        if (!ls_passive((const double (*)[4])col, set, n, f, l)) continue;
         for (int i = 0; i < n; i++) ok &= l[i] >= 0.0;
         if (!ok) continue;
         for (int d = 0; d < 3; d++) {

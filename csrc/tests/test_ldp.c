@@ -2,10 +2,13 @@
  * combination and the metric projection against closed forms, and against
  * an independent brute force on seeded random problems: the least-distance
  * point z = A_S' y_S is supported on some set S of at most 3 linearly
- * independent rows, active there (A_S A_S' y_S = c_S, y_S >= 0)
- * (Caratheodory), so trying every such S, keeping the feasible z of least
- * norm, gives the solution (or none: the rows are inconsistent). The brute
- * force solves its small systems by Cramer's rule, not by ldp.c. */
+ * independent rows, active there (A_S z = c_S, y_S >= 0) (Caratheodory), so
+ * trying every such S, keeping the feasible z of least norm, gives the
+ * solution (or none: the rows are inconsistent). The brute force solves each
+ * support in closed form on its own vectors (cross products and Cramer's
+ * rule on A_S: accurate to the support's condition; the normal equations
+ * A_S A_S' would square it, and drop the nearly dependent supports that
+ * random rows draw), not by ldp.c. */
 #include "check.h"
 #include "../ldp.h"
 
@@ -13,36 +16,12 @@
 #include <string.h>
 
 static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
-/* Cramer's rule for n <= 3; 0 if |det| is below 1e-10 of the scale^n. */
-static int cramer(int n, double A[3][3], const double b[3], double x[3])
+static double norm3(const double a[3]) { return sqrt(dot3(a, a)); }
+static void cross3(const double a[3], const double b[3], double o[3])
 {
-    double s = 0.0, det;
-    for (int i = 0; i < n; i++)
-        for (int j = 0; j < n; j++) s = fmax(s, fabs(A[i][j]));
-    if (n == 1) {
-        if (!(fabs(A[0][0]) > 1e-10 * s)) return 0;
-        x[0] = b[0] / A[0][0];
-        return 1;
-    }
-    if (n == 2) {
-        det = A[0][0] * A[1][1] - A[0][1] * A[1][0];
-        if (!(fabs(det) > 1e-10 * s * s)) return 0;
-        x[0] = (b[0] * A[1][1] - A[0][1] * b[1]) / det;
-        x[1] = (A[0][0] * b[1] - b[0] * A[1][0]) / det;
-        return 1;
-    }
-    det = A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) - A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
-          A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
-    if (!(fabs(det) > 1e-10 * s * s * s)) return 0;
-    for (int c = 0; c < 3; c++) {
-        double M[3][3];
-        memcpy(M, A, sizeof M);
-        for (int r = 0; r < 3; r++) M[r][c] = b[r];
-        x[c] = (M[0][0] * (M[1][1] * M[2][2] - M[1][2] * M[2][1]) - M[0][1] * (M[1][0] * M[2][2] - M[1][2] * M[2][0]) +
-                M[0][2] * (M[1][0] * M[2][1] - M[1][1] * M[2][0])) / det;
-    }
-    return 1;
+    o[0] = a[1] * b[2] - a[2] * b[1];
+    o[1] = a[2] * b[0] - a[0] * b[2];
+    o[2] = a[0] * b[1] - a[1] * b[0];
 }
 
 /* The rows of the support `mask` in set[] (at most 3); returns their
@@ -58,25 +37,70 @@ static int support(int mask, int m, int set[3])
     return n;
 }
 
+/* The point z in the span of the n <= 3 vectors v[] with v_i . z = c_i, and
+ * its coefficients w (z = sum w_i v_i), in closed form: z = c v / |v|^2 (one
+ * vector); z = (c_1 v_2 x nv - c_2 v_1 x nv) / |nv|^2 with nv = v_1 x v_2
+ * (two); Cramer's rule on the 3 x 3 matrix of rows v (three). 0 where the
+ * vectors are dependent to 1e-12 of their sizes. */
+static int span_solve(int n, const double *v[3], const double c[3], double z[3], double w[3])
+{
+    double nv[3], t[3], u[3], det, q;
+    if (n == 0) {
+        z[0] = z[1] = z[2] = 0.0;
+        return 1;
+    }
+    if (n == 1) {
+        q = dot3(v[0], v[0]);
+        if (!(q > 0.0)) return 0;
+        w[0] = c[0] / q;
+        for (int d = 0; d < 3; d++) z[d] = w[0] * v[0][d];
+        return 1;
+    }
+    if (n == 2) {
+        cross3(v[0], v[1], nv);
+        q = dot3(nv, nv);
+        if (!(sqrt(q) > 1e-12 * norm3(v[0]) * norm3(v[1]))) return 0;
+        cross3(v[1], nv, t);
+        cross3(v[0], nv, u);
+        for (int d = 0; d < 3; d++) z[d] = (c[0] * t[d] - c[1] * u[d]) / q;
+        cross3(z, v[1], t);
+        cross3(v[0], z, u);
+        w[0] = dot3(t, nv) / q;
+        w[1] = dot3(u, nv) / q;
+        return 1;
+    }
+    {
+        double k[3][3];
+        cross3(v[1], v[2], k[0]);
+        cross3(v[2], v[0], k[1]);
+        cross3(v[0], v[1], k[2]);
+        det = dot3(v[0], k[0]);
+        if (!(fabs(det) > 1e-12 * norm3(v[0]) * norm3(v[1]) * norm3(v[2]))) return 0;
+        for (int d = 0; d < 3; d++) z[d] = (c[0] * k[0][d] + c[1] * k[1][d] + c[2] * k[2][d]) / det;
+        for (int i = 0; i < 3; i++) w[i] = dot3(z, k[i]) / det;
+        return 1;
+    }
+}
+
 /* Brute-force least distance over every support of <= 3 rows: 1 and z if
- * feasible (every row within ftol of holding), 0 if no support is. */
+ * feasible (every row within ftol of the size of its terms, |a_i| |z| +
+ * |c_i|, of holding), 0 if no support is. */
 static int brute_ldp(int m, const double (*a)[3], const double *c, double ftol, double z[3])
 {
     double best = INFINITY;
     for (int mask = 0; mask < (1 << m); mask++) {
         int set[3], n = support(mask, m, set), ok = 1;
-        double A[3][3], rhs[3], y[3] = {0, 0, 0}, zt[3] = {0, 0, 0};
+        const double *v[3];
+        double rhs[3], y[3], zt[3];
         if (n > 3) continue;
         for (int i = 0; i < n; i++) {
-            for (int j = 0; j < n; j++) A[i][j] = dot3(a[set[i]], a[set[j]]);
+            v[i] = a[set[i]];
             rhs[i] = c[set[i]];
         }
-        if (n && !cramer(n, A, rhs, y)) continue;
+        if (!span_solve(n, v, rhs, zt, y)) continue;
         for (int i = 0; i < n; i++) ok &= y[i] >= 0.0;
         if (!ok) continue;
-        for (int i = 0; i < n; i++)
-            for (int d = 0; d < 3; d++) zt[d] += y[i] * a[set[i]][d];
-        for (int j = 0; j < m; j++) ok &= dot3(a[j], zt) >= c[j] - ftol;
+        for (int j = 0; j < m; j++) ok &= dot3(a[j], zt) >= c[j] - ftol * (norm3(a[j]) * norm3(zt) + fabs(c[j]));
         if (ok && dot3(zt, zt) < best) {
             best = dot3(zt, zt);
             memcpy(z, zt, sizeof zt);
@@ -86,26 +110,36 @@ static int brute_ldp(int m, const double (*a)[3], const double *c, double ftol, 
 }
 
 /* Brute-force least combination: min |a + sum lam_j b_j|, lam >= 0, over
- * every support of <= 3 vectors (normal equations on the support). */
+ * every support of <= 3 vectors; on a support, the lam_S minimising
+ * |a + B_S lam_S| are the coefficients of -a's part in the span of b_S
+ * (span_solve with c_i = -b_i . a) and the residual is a's part across it:
+ * |a x b| / |b| (one vector), |a . nv| / |nv| (two), 0 (three). */
 static double brute_comb(int m, const double a[3], const double (*b)[3])
 {
-    double best = sqrt(dot3(a, a));
+    double best = norm3(a);
     for (int mask = 1; mask < (1 << m); mask++) {
         int set[3], n = support(mask, m, set), ok = 1;
-        double A[3][3], rhs[3], lam[3], r[3];
+        const double *v[3];
+        double rhs[3], lam[3], p[3], r;
         if (n > 3) continue;
         for (int i = 0; i < n; i++) {
-            for (int j = 0; j < n; j++) A[i][j] = dot3(b[set[i]], b[set[j]]);
+            v[i] = b[set[i]];
             rhs[i] = -dot3(b[set[i]], a);
         }
-        if (!cramer(n, A, rhs, lam)) continue;
+        if (!span_solve(n, v, rhs, p, lam)) continue;
         for (int i = 0; i < n; i++) ok &= lam[i] >= 0.0;
         if (!ok) continue;
-        for (int d = 0; d < 3; d++) {
-            r[d] = a[d];
-            for (int i = 0; i < n; i++) r[d] += lam[i] * b[set[i]][d];
+        if (n == 1) {
+            cross3(a, v[0], p);
+            r = norm3(p) / norm3(v[0]);
+        } else if (n == 2) {
+            double nv[3];
+            cross3(v[0], v[1], nv);
+            r = fabs(dot3(a, nv)) / norm3(nv);
+        } else {
+            r = 0.0;
         }
-        best = fmin(best, sqrt(dot3(r, r)));
+        best = fmin(best, r);
     }
     return best;
 }
@@ -184,32 +218,42 @@ EXDEX_TEST(ldp_min_norm_matches_brute_force)
 {
     /* 3000 seeded problems: 1..8 rows in 1, 2 or 3 dimensions (the unused
      * components of every row 0), right-hand sides of mixed sign, scales
-     * from 1e-6 to 1e6. Same feasibility; the same z to 1e-9 relative; z
-     * satisfies every row; y >= 0, z = A' y, complementary. */
+     * from 1e-6 to 1e6. Same feasibility; z satisfies every row; y >= 0,
+     * z = A' y, each row with y_i > 0 active to 1e-10 of the size of its
+     * terms; the same z as the brute force, to 1e-12 (1 + rho^2) of the
+     * problem's size, rho = |z| / max |c_i| / |a_i|: the least-distance
+     * problem through NNLS gives z = -r_{1..3} / r_4 with r_4 about
+     * -1 / (1 + rho^2), so the rounding of r reaches z magnified by
+     * 1 + rho^2 (rho is 1e3 .. 1e5 where a few nearly dependent rows put z
+     * far out; elsewhere the bound is 1e-12 of the size). */
     int feasible = 0, infeasible = 0;
     for (int trial = 0; trial < 3000; trial++) {
         int m = 1 + (int)(urand() * 8), dim = 1 + trial % 3;
-        double a[8][3], c[8], z[3], zb[3], y[8], s = pow(10.0, 12.0 * urand() - 6.0), nz;
+        double a[8][3], c[8], z[3], zb[3], y[8], s = pow(10.0, 12.0 * urand() - 6.0), nz, cmax = 0.0, rho;
         int ok, okb;
         for (int i = 0; i < m; i++) {
             for (int d = 0; d < 3; d++) a[i][d] = d < dim ? nrand() : 0.0;
             c[i] = s * nrand();
+            cmax = fmax(cmax, fabs(c[i]) / norm3(a[i]));
         }
         ok = ldp_min_norm(m, (const double (*)[3])a, c, NULL, z, y, NULL);
-        okb = brute_ldp(m, (const double (*)[3])a, c, 1e-9 * s, zb);
-        ENSURE(ok == okb);
+        okb = brute_ldp(m, (const double (*)[3])a, c, 1e-9, zb);
+        nz = okb ? norm3(zb) : 0.0;
+        rho = nz / cmax;
+        /* beyond rho = 1e5, r_4 is within E u's rounding and ldp_min_norm
+         * may call consistent rows inconsistent (its documented limit) */
+        ENSURE(ok == okb || (okb && rho > 1e5));
         if (!ok || !okb) {
             infeasible++;
             continue;
         }
         feasible++;
-        nz = sqrt(dot3(zb, zb));
-        for (int d = 0; d < 3; d++) ENSURE_CLOSE(z[d], zb[d], 1e-9 * (nz + s));
+        for (int d = 0; d < 3; d++) ENSURE_CLOSE(z[d], zb[d], 1e-12 * (1.0 + rho * rho) * (nz + s));
         for (int i = 0; i < m; i++) {
             double slack = dot3(a[i], z) - c[i];
             ENSURE(slack >= -1e-10 * (nz + s));
             ENSURE(y[i] >= 0.0);
-            ENSURE(y[i] * fabs(slack) <= 1e-9 * (nz + s) * (nz + s) + 1e-300);
+            if (y[i] > 0.0) ENSURE(fabs(slack) <= 1e-10 * (norm3(a[i]) * nz + fabs(c[i])));
         }
         for (int d = 0; d < 3; d++) {
             double zy = 0.0;
@@ -243,7 +287,7 @@ EXDEX_TEST(ldp_min_norm_blocking_step_leaves_no_residue)
     const double s = 107341.0, zfar[3] = {2.7e7, -3.1e7, 0.0};
     double z[3], zb[3], y[8];
     for (int i = 0; i < 8; i++) ENSURE(dot3(a[i], zfar) >= c[i] + 1e6);
-    ENSURE(brute_ldp(8, a, c, 1e-9 * s, zb));
+    ENSURE(brute_ldp(8, a, c, 1e-9, zb));
     ENSURE(ldp_min_norm(8, a, c, NULL, z, y, NULL));
     for (int d = 0; d < 3; d++) ENSURE_CLOSE(z[d], zb[d], 1e-9 * (sqrt(dot3(zb, zb)) + s));
     for (int i = 0; i < 8; i++) {
@@ -284,6 +328,28 @@ EXDEX_TEST(ldp_min_combination_closed_forms_and_brute_force)
         ENSURE_CLOSE(got, want, 1e-9 * s);
         for (int j = 0; j < m; j++) ENSURE(lam[j] >= 0.0);
     }
+}
+
+EXDEX_TEST(ldp_min_combination_nearly_dependent_support)
+{
+    /* -a is a positive combination of three vectors whose matrix has
+     * condition 1.1e4 (lam = (1.755, 3.632, 11.53) by Cramer's rule on the
+     * vectors, span_solve; exactly so in rational arithmetic): the least
+     * combination is 0. Each support's least squares by the normal
+     * equations squares the condition and leaves 7.6e-10 of |a|; by the
+     * vectors' QR the residual is the rounding of a + B lam. */
+    const double a[3] = {-0.0024099122218854498, -0.0010892620820545111, -0.0018901084845926446};
+    const double b[3][3] = {{-0.78982302607030197, -0.06234355172724354, 2.32234327985508},
+                            {0.86056724324164702, -0.80394276542713405, 0.49588592688624195},
+                            {-0.15061649218519907, 0.26280128633844285, -0.50953031005241822}};
+    const double *v[3] = {b[0], b[1], b[2]};
+    double rhs[3], p[3], want[3], lam[3], got;
+    for (int i = 0; i < 3; i++) rhs[i] = -dot3(b[i], a);
+    ENSURE(span_solve(3, v, rhs, p, want));
+    for (int i = 0; i < 3; i++) ENSURE(want[i] > 1.0);
+    got = ldp_min_combination(3, a, b, lam, NULL);
+    ENSURE_SMALL(got, 1e-11 * norm3(a));
+    for (int i = 0; i < 3; i++) ENSURE_CLOSE(lam[i], want[i], 1e-10 * want[i]);
 }
 
 EXDEX_TEST(ldp_project_metric_closed_form)
