@@ -548,8 +548,13 @@ EXDEX_TEST(limitsurf_min_combination_kkt)
 {
     /* the least gauge over lam >= 0 of a + lam_1 b_1 + lam_2 b_2 (exact
      * surface, cap NaN: the minimum itself): the optimality conditions
-     * (b_j . grad g = 0 where lam_j > 0, >= 0 where lam_j = 0) and no grid
-     * point of lam in [0, 3 |a| / |b|]^2 below it */
+     * (b_j . grad g = 0 where lam_j > 0, >= 0 where lam_j = 0) to the
+     * search's resolution, which stops where its model predicts a decrease
+     * below 1e-13 of g: a step along b_j would gain (b_j . grad g)^2 /
+     * (2 b_j' Hess g b_j), which must be below 1e-12 of g (a raw bound on
+     * b_j . grad g would ask for 1e-15 where Hess g is large along b_j: a
+     * torque row on a small patch); and no grid point of lam in
+     * [0, 3 |a| / |b|]^2 below it */
     int n_free = 0, n_bound = 0;
     for (int k = 0; k < 40; k++) {
         region rg;
@@ -564,16 +569,20 @@ EXDEX_TEST(limitsurf_min_combination_kkt)
         ENSURE(isfinite(g) && g >= 0.0);
         for (int i = 0; i < 3; i++) w[i] = a[i] + lam[0] * b[0][i] + lam[1] * b[1][i];
         if (!(sqrt(dot3(w, w)) > 1e-9)) continue;   /* the cone reaches -a: g = 0 */
-        ENSURE(limitsurf_gauge_hessian(&ls, w, &gg, gr, NULL) == EXDEX_OK);
+        double H[9];
+        ENSURE(limitsurf_gauge_hessian(&ls, w, &gg, gr, H) == EXDEX_OK);
         ENSURE_CLOSE(gg, g, 1e-12 * g);
         for (int j = 0; j < 2; j++) {
-            double d = dot3(b[j], gr), sc = sqrt(dot3(b[j], b[j])) * sqrt(dot3(gr, gr));
+            double d = dot3(b[j], gr), curv = 0.0;
+            for (int p = 0; p < 3; p++)
+                for (int q = 0; q < 3; q++) curv += b[j][p] * H[3 * p + q] * b[j][q];
+            ENSURE(curv > 0.0);
             if (lam[j] > 0.0) {
                 n_free++;
-                ENSURE_SMALL(d, 1e-6 * sc);
+                ENSURE(d * d / (2.0 * curv) <= 1e-12 * g);
             } else {
                 n_bound++;
-                ENSURE(d >= -1e-6 * sc);
+                ENSURE(d >= 0.0 || d * d / (2.0 * curv) <= 1e-12 * g);
             }
         }
         double L = 3.0 * sqrt(dot3(a, a)) / fmin(sqrt(dot3(b[0], b[0])), sqrt(dot3(b[1], b[1])));

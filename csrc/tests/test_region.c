@@ -70,25 +70,43 @@ static int inside(const region *rg, double x, double y)
     return 1;
 }
 
-/* midpoint rule on an N x N grid over the bounding box */
+/* midpoint rule on an N x N grid over the bounding rectangle of least area
+ * (a disc: its square; a convex polygon: the least of the rectangles with a
+ * side along an edge, which holds the least one and is at most twice the
+ * polygon's area). The rule errs only in the cells the boundary crosses,
+ * about 4 N of them, so its error is O(1 / N) of the integrals whatever the
+ * polygon's shape; over the axis-aligned box a thin sliver at an angle
+ * would fill a small part of the cells and leave the boundary's share large
+ * (1 % of the area at N = 1200). */
 static void grid(const region *rg, const double c[2], int N, region_moments *m, double *area)
 {
-    double lo[2], hi[2];
+    double lo[2] = {0, 0}, hi[2] = {0, 0}, ax[2][2] = {{1, 0}, {0, 1}};
     if (rg->kind == REGION_DISC) {
         for (int k = 0; k < 2; k++) lo[k] = rg->c[k] - rg->r, hi[k] = rg->c[k] + rg->r;
     } else {
-        lo[0] = hi[0] = rg->v[0][0], lo[1] = hi[1] = rg->v[0][1];
-        for (int i = 1; i < rg->n; i++)
-            for (int k = 0; k < 2; k++) {
-                if (rg->v[i][k] < lo[k]) lo[k] = rg->v[i][k];
-                if (rg->v[i][k] > hi[k]) hi[k] = rg->v[i][k];
+        double best = INFINITY;
+        for (int e = 0; e < rg->n; e++) {
+            const double *p = rg->v[e], *q = rg->v[(e + 1) % rg->n];
+            double len = hypot(q[0] - p[0], q[1] - p[1]), u[2][2], l[2] = {INFINITY, INFINITY}, h[2] = {-INFINITY, -INFINITY};
+            u[0][0] = (q[0] - p[0]) / len, u[0][1] = (q[1] - p[1]) / len;
+            u[1][0] = -u[0][1], u[1][1] = u[0][0];
+            for (int i = 0; i < rg->n; i++)
+                for (int k = 0; k < 2; k++) {
+                    double t = u[k][0] * rg->v[i][0] + u[k][1] * rg->v[i][1];
+                    l[k] = fmin(l[k], t), h[k] = fmax(h[k], t);
+                }
+            if ((h[0] - l[0]) * (h[1] - l[1]) < best) {
+                best = (h[0] - l[0]) * (h[1] - l[1]);
+                memcpy(ax, u, sizeof ax), memcpy(lo, l, sizeof lo), memcpy(hi, h, sizeof hi);
             }
+        }
     }
     double hx = (hi[0] - lo[0]) / N, hy = (hi[1] - lo[1]) / N, dA = hx * hy;
     double F = 0, Gx = 0, Gy = 0, Phi = 0, Hxx = 0, Hxy = 0, Hyy = 0, A = 0;
     for (int i = 0; i < N; i++)
         for (int j = 0; j < N; j++) {
-            double x = lo[0] + (i + 0.5) * hx, y = lo[1] + (j + 0.5) * hy;
+            double s = lo[0] + (i + 0.5) * hx, t = lo[1] + (j + 0.5) * hy;
+            double x = s * ax[0][0] + t * ax[1][0], y = s * ax[0][1] + t * ax[1][1];
             if (!inside(rg, x, y)) continue;
             double dx = x - c[0], dy = y - c[1], r = hypot(dx, dy);
             A += dA;
@@ -256,7 +274,13 @@ EXDEX_TEST(region_identities)
         c[0] = g[0] + f * rr * cos(ang), c[1] = g[1] + f * rr * sin(ang);
         region_moments mo, mp, mm;
         ENSURE(region_moments_at(&rg, c, &mo) == EXDEX_OK);
-        ENSURE_CLOSE(mo.dyad[0] + mo.dyad[2], mo.inv, 1e-13 * mo.inv);
+        /* trace H = Phi: the edge sums cancel to it from terms as large as
+         * the edges (|r1 - r0| <= L each), so to rounding of Phi + perimeter
+         * (a sliver's Phi can be 1e-5 of its perimeter) */
+        double per = 0.0;
+        for (int i = 0; i < rg.n; i++)
+            per += hypot(rg.v[(i + 1) % rg.n][0] - rg.v[i][0], rg.v[(i + 1) % rg.n][1] - rg.v[i][1]);
+        ENSURE_CLOSE(mo.dyad[0] + mo.dyad[2], mo.inv, 1e-13 * (mo.inv + per));
         double hstep = 1e-5 * rr;
         for (int k = 0; k < 2; k++) {
             double cp[2] = {c[0], c[1]}, cm[2] = {c[0], c[1]};
@@ -283,7 +307,13 @@ EXDEX_TEST(region_identities)
         ENSURE(region_moments_at(&rg, cp, &mp) == EXDEX_OK);
         ENSURE(region_moments_at(&rg, cm, &mm) == EXDEX_OK);
         ENSURE_CLOSE(-(mp.dist - mm.dist) / (2 * h), mo.dir[0], 1e-8);
-        ENSURE_CLOSE(mo.dyad[0] + mo.dyad[2], mo.inv, 1e-13 * mo.inv);
+        /* trace H = Phi: the edge sums cancel to it from terms as large as
+         * the edges (|r1 - r0| <= L each), so to rounding of Phi + perimeter
+         * (a sliver's Phi can be 1e-5 of its perimeter) */
+        double per = 0.0;
+        for (int i = 0; i < rg.n; i++)
+            per += hypot(rg.v[(i + 1) % rg.n][0] - rg.v[i][0], rg.v[(i + 1) % rg.n][1] - rg.v[i][1]);
+        ENSURE_CLOSE(mo.dyad[0] + mo.dyad[2], mo.inv, 1e-13 * (mo.inv + per));
         /* d G / d c_x = (H_xx - Phi, H_xy) */
         ENSURE_CLOSE((mp.dir[0] - mm.dir[0]) / (2 * h), mo.dyad[0] - mo.inv, 1e-6 * mo.inv);
         ENSURE_CLOSE((mp.dir[1] - mm.dir[1]) / (2 * h), mo.dyad[1], 1e-6 * mo.inv);
