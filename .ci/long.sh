@@ -6,6 +6,7 @@
 #
 #   bash .ci/long.sh            # everything below, in order
 #
+# 0. the C suite's random tests on 32 more seeds each (make test-salts);
 # 1. valgrind memcheck with origin tracking and 1000 fuzz inputs per target
 #    (CI: no origin tracking -- the same errors, without where each
 #    uninitialised value came from -- and 100 inputs per target);
@@ -21,6 +22,7 @@ fail=0
 step() { echo "== $*"; "$@" || { echo "FAILED: $*"; fail=1; }; }
 
 step make -s -C csrc test
+step make -s -C csrc test-salts
 step make -s -C csrc valgrind-long
 step make -s -C csrc fuzz-long
 step make -s -C csrc fuzz-asan FUZZ_QUICK_N=1000000

@@ -1,14 +1,17 @@
 /* run_tests.c -- runner of the exdex C suite.
  *
  *   run_tests [--data FILE] [--values] [--times] [--skip NAME] [--shard K/N]
- *             [NAME-FILTER]
+ *             [--salt N] [NAME-FILTER]
  *
  * Runs every registered test whose name contains NAME-FILTER and not the
  * --skip text, prints one line per test (with --times, the test's CPU seconds
  * after it) and a closing "N passed, N failed" line, and exits 1 on failure
  * (2 on a bad argument). --shard K/N (1 <= K <= N) runs the K-th of N parts
  * of those tests, every N-th from the K-th: the N parts together run each
- * selected test once, so a slow runner (valgrind) can run them in parallel. */
+ * selected test once, so a slow runner (valgrind) can run them in parallel.
+ * A test's random inputs come from its seed (check_seed, a hash of its name);
+ * --salt N (N > 0) mixes N into every seed, so the suite draws other inputs
+ * (the long run's sweep of the random tests). */
 #include "check.h"
 #include "../exdex.h"
 
@@ -31,11 +34,15 @@ static unsigned long long current_seed = 1;
 
 unsigned long long check_seed(void) { return current_seed; }
 
-/* FNV-1a of the name, never 0 */
+static unsigned long long seed_salt;
+
+/* FNV-1a of the name, then of the salt's 8 bytes where one is given; never 0 */
 static unsigned long long name_seed(const char *name)
 {
     unsigned long long h = 1469598103934665603ULL;
     for (; *name; name++) h = (h ^ (unsigned char)*name) * 1099511628211ULL;
+    if (seed_salt)
+        for (int b = 0; b < 8; b++) h = (h ^ ((seed_salt >> (8 * b)) & 0xff)) * 1099511628211ULL;
     return h ? h : 1;
 }
 
@@ -118,6 +125,12 @@ int main(int argc, char **argv)
             if (sscanf(argv[++i], "%d/%d%c", &shard_k, &shard_n, &tail) != 2 || shard_n < 1 ||
                 shard_k < 1 || shard_k > shard_n) {
                 printf("--shard must be K/N with 1 <= K <= N, got '%s'\n", argv[i]);
+                return 2;
+            }
+        } else if (strcmp(argv[i], "--salt") == 0 && i + 1 < argc) {
+            char tail;
+            if (sscanf(argv[++i], "%llu%c", &seed_salt, &tail) != 1 || seed_salt == 0) {
+                printf("--salt must be a whole number > 0, got '%s'\n", argv[i]);
                 return 2;
             }
         } else
