@@ -210,31 +210,68 @@ int ldp_min_norm(int m, const double (*a)[3], const double *c, const double *tol
     return 1;
 }
 
+/* The least |a + B_S lam| over lam on a support of n <= 3 of the vectors
+ * (lam unconstrained): in closed form on the vectors themselves, accurate to
+ * the support's condition (the normal equations B_S B_S' would square it:
+ * a combination of nearly dependent vectors that reaches -a exactly would
+ * be missed by 1e-9 of |a|): lam = -a . b / |b|^2 (one vector); with
+ * nv = b_1 x b_2, lam_1 = -(a x b_2) . nv / |nv|^2, lam_2 = -(b_1 x a) . nv
+ * / |nv|^2 (two); Cramer's rule on B_S (three). 0 where the vectors are
+ * dependent to 1e-12 of their sizes. */
+static int comb_support(int n, const double a[3], const double *v[3], double l[3])
+{
+    double c[3], d[3], q;
+    if (n == 1) {
+        q = ex_dot3(v[0], v[0]);
+        if (!(q > 0.0)) return 0;
+        l[0] = -ex_dot3(a, v[0]) / q;
+        return 1;
+    }
+    if (n == 2) {
+        double nv[3];
+        ex_cross3(nv, v[0], v[1]);
+        q = ex_dot3(nv, nv);
+        if (!(q > 1e-24 * ex_dot3(v[0], v[0]) * ex_dot3(v[1], v[1]))) return 0;
+        ex_cross3(c, a, v[1]);
+        ex_cross3(d, v[0], a);
+        l[0] = -ex_dot3(c, nv) / q;
+        l[1] = -ex_dot3(d, nv) / q;
+        return 1;
+    }
+    {
+        double k[3][3], det;
+        ex_cross3(k[0], v[1], v[2]);
+        ex_cross3(k[1], v[2], v[0]);
+        ex_cross3(k[2], v[0], v[1]);
+        det = ex_dot3(v[0], k[0]);
+        if (!(det * det > 1e-24 * ex_dot3(v[0], v[0]) * ex_dot3(v[1], v[1]) * ex_dot3(v[2], v[2]))) return 0;
+        for (int i = 0; i < 3; i++) l[i] = -ex_dot3(a, k[i]) / det;
+        return 1;
+    }
+}
+
 /* Up to three vectors: every support S tried (the minimiser's support is
- * one with lam_S >= 0 minimising |a + B_S lam_S|), at most 7 least-squares
- * solves of size <= 3, each by the QR of ls_passive (the normal equations
- * would square the support's condition: a combination of nearly dependent
- * vectors that reaches a exactly would be missed by 1e-9 of |a|): cheaper
- * than NNLS there. */
+ * one with lam_S >= 0 minimising |a + B_S lam_S|, comb_support), at most 7
+ * solves of size <= 3: cheaper than NNLS there. */
 static double min_combination_small(int m, const double a[3], const double (*b)[3], double *lam)
 {
-    double best = sqrt(ex_dot3(a, a)), col[3][4], f[4] = {-a[0], -a[1], -a[2], 0.0};
-    for (int j = 0; j < m; j++) {
-        lam[j] = 0.0;
-        for (int d = 0; d < 3; d++) col[j][d] = b[j][d];
-        col[j][3] = 0.0;
-    }
+    double best = sqrt(ex_dot3(a, a));
+    for (int j = 0; j < m; j++) lam[j] = 0.0;
     for (int mask = 1; mask < (1 << m); mask++) {
         int set[3], n = 0, ok = 1;
-        double l[4], r[3], norm;
+        const double *v[3];
+        double l[3], r[3], norm;
         for (int j = 0; j < m; j++)
-            if (mask & (1 << j)) set[n++] = j;
-        if (!ls_passive((const double (*)[4])col, set, n, f, l)) continue;
+            if (mask & (1 << j)) {
+                v[n] = b[j];
+                set[n++] = j;
+            }
+        if (!comb_support(n, a, v, l)) continue;
         for (int i = 0; i < n; i++) ok &= l[i] >= 0.0;
         if (!ok) continue;
         for (int d = 0; d < 3; d++) {
             r[d] = a[d];
-            for (int i = 0; i < n; i++) r[d] += l[i] * b[set[i]][d];
+            for (int i = 0; i < n; i++) r[d] += l[i] * v[i][d];
         }
         norm = sqrt(ex_dot3(r, r));
         if (norm < best) {
