@@ -292,12 +292,21 @@ def results(seed):
     return _CACHE[seed]
 
 
+#: KNOWN entries whose outcome a rounding-level change of the state decides
+#: (a near-tie of two modes): not strict, since the run may land on the
+#: right mode by rounding alone, on one machine or build and not another.
+#: ('event', 1146): the REF_RTOL run took mode A with the normal-equation and
+#: QR solves of ldp_min_combination's supports, B (passing) with the closed
+#: forms; the zoo-inputs long run reports it either way.
+ROUNDING_TIES = {('event', 1146)}
+
+
 def _cases():
     for method in zoo.METHODS:
         for seed in SEEDS:
             marks = []
             if (method, seed) in KNOWN:
-                marks.append(pytest.mark.xfail(strict=True, reason=KNOWN[method, seed]))
+                marks.append(pytest.mark.xfail(strict=(method, seed) not in ROUNDING_TIES, reason=KNOWN[method, seed]))
             yield pytest.param(method, seed, marks=marks, id=f"{method}-{seed}")
 
 
