@@ -498,7 +498,76 @@ static int sf_acc(hyb *H, const exdex_kinematics *kin, const double *y, const do
     return 1 + res.lock;
 }
 
-/* hyb_planar_rest with frictional stops (the same contract): the least plate
+/* The rest split against frictional rows on the ellipsoid (sf_rest): the
+ * limit of a plate that creeps under the load. A plate whose friction is
+ * viscous below a slip speed (the regularised method's band, w = -(C_s /
+ * eps) E^2 u) holds a load at a creep u of size eps; with x = E^-1 w (the
+ * gauge is |x|), the plate's slip is E u = -x (eps / C_s), the velocity qd
+ * = A^-T u (A: patch wrench -> generalized force), and each row's gap rate
+ * and each group's slip rate are, up to the factor eps / C_s > 0,
+ *     G_i qd  ->  b_i . x,   b_i = E^-1 patch(-G_i),
+ *     T_k qd  ->  t_k . x,   t_k = E^-1 patch(-T_k),
+ * while equilibrium is x = a + sum lam_i b_i + sum beta_k t_k, a = E^-1
+ * patch(-F). The rows' forces are complementary to those rates (lam_i >= 0
+ * _|_ b_i . x >= 0) and each group's friction is Coulomb's on its slip:
+ * against the creep's slip t_k . x where the stop does not slide past the
+ * object (|tb| <= zsw: stick with |beta| <= mu sum lam, or slide at the
+ * cone), kinetic of the sign of tb where it does (or the group's mode
+ * given at the decision, if a slide). That is stop_friction.h's problem
+ * with M = I, the rows b_i, the tangents t_k and no drift terms, solved as
+ * the contact problem of every other mode (sf_solve); in the limit eps ->
+ * 0 the rest holds iff |x| <= C_s (the caller's test). Without friction
+ * its solution is the least-gauge split (the KKT conditions of min |a +
+ * sum lam_i b_i| over lam >= 0 are the complementarity above); with
+ * friction the least gauge over the stop forces in their cones would take
+ * the friction that helps the plate most, whichever way the creep slips,
+ * and hold loads that a creeping plate lets go (the object then leaves
+ * the row and slips). Returns the gauge |x| with w = E x and lam the
+ * rows' normal forces, or -1 when no mode is consistent (a Painleve case
+ * of the creep problem) or S has no groups. */
+static double sf_rest_creep(hyb *H, const sf_set *S, const double *y, const double F[3], double w[3], double *lam)
+{
+    const exdex_model *m = H->m;
+    const model_scales *sc = &m->scale;
+    const double one[3] = {1.0, 1.0, 1.0};
+    sf_row rows[SF_MAX_ROWS];
+    sf_stop st[SF_MAX_STOPS];
+    sf_result res;
+    double a[3], mF[3];
+    int ok;
+    if (S->ng <= 0 || H->ncs > SF_MAX_ROWS) return -1.0;
+    for (int c = 0; c < 3; c++) mF[c] = -F[c];
+    model_patch_of_gen(m, MODEL_CS(y[2]), mF, a);
+    for (int c = 0; c < 3; c++) a[c] /= m->e[c];
+    for (int i = 0; i < H->ncs; i++) {
+        double mG[3] = {-S->rows[i].G[0], -S->rows[i].G[1], -S->rows[i].G[2]};
+        model_patch_of_gen(m, MODEL_CS(y[2]), mG, rows[i].G);
+        for (int c = 0; c < 3; c++) rows[i].G[c] /= m->e[c];
+        rows[i].gdd0 = 0.0;
+        rows[i].stop = S->rows[i].stop;
+    }
+    for (int k = 0; k < S->ng; k++) {
+        double mT[3] = {-S->st[k].T[0], -S->st[k].T[1], -S->st[k].T[2]};
+        int fm = H->fm[k];
+        model_patch_of_gen(m, MODEL_CS(y[2]), mT, st[k].T);
+        for (int c = 0; c < 3; c++) st[k].T[c] /= m->e[c];
+        st[k].sdd0 = 0.0;
+        st[k].mu = S->st[k].mu;
+        if (fm != SF_NONE && fm != SF_SLIDE_P && fm != SF_SLIDE_M)
+            fm = fabs(S->tb[k]) <= H->zsw ? SF_ROLL : S->tb[k] > 0.0 ? SF_SLIDE_P : SF_SLIDE_M;
+        st[k].fm = fm;
+    }
+    ok = sf_solve(H->ncs, rows, S->ng, st, one, a, SF_TOL * sc->F, SF_TOL * sc->F, &res);
+    H->st->stop_iterations += (size_t)res.tried;
+    if (!ok) return -1.0;
+    for (int i = 0; i < H->ncs; i++) lam[i] = res.lam[i];
+    for (int c = 0; c < 3; c++) w[c] = m->e[c] * res.qdd[c];
+    return sqrt(ex_dot3(res.qdd, res.qdd));
+}
+
+/* hyb_planar_rest with frictional stops (the same contract): on the
+ * ellipsoid the creeping plate's split (sf_rest_creep); on the exact
+ * surface, or where that problem has no consistent mode, the least plate
  * friction over the stop forces in their cones (above). Returns -1 when
  * the generators exceed ldp_min_combination's rows (hyb_planar_rest then
  * takes the stops frictionless). */
@@ -511,9 +580,13 @@ static double sf_rest(hyb *H, const exdex_kinematics *kin, const double *y, cons
     double gm = NAN;
     int own[LDP_MAX_ROWS], ng = 0, it = 0;
     sf_set S;
-    if (2 * H->ncs > LDP_MAX_ROWS) return -1.0;
     hyb_sf_build(H, kin, y, &S);
     if (H->ncs && S.ng == 0) return -1.0;
+    if (!m->ls_exact) {
+        double g = sf_rest_creep(H, &S, y, F, w, lam);
+        if (g >= 0.0) return g;
+    }
+    if (2 * H->ncs > LDP_MAX_ROWS) return -1.0;
     for (int i = 0; i < H->ncs; i++) {
         int r = H->cs[i], k = S.grp[i], fm;
         double G[3], mu = S.st[k].mu;

@@ -381,19 +381,21 @@ def _incline_block(mu_s, cap, alpha=0.4, m=0.1, a=0.03):
                        stops=(exdex.Stop((p_b[0], 0.0, p_b[1]), (n_b[0], 0.0, n_b[1]), mu=mu_s),))
 
 
-def _incline_run_is_the_closed_form(r, mu_s, cap, rests, alpha=0.4, m=0.1):
+def _incline_run_is_the_closed_form(r, mu_s, cap, rests, alpha=0.4, m=0.1, creep=False):
     """A 0.2 s run r of _incline_block(mu_s, cap) with no warnings: at rest
     exactly still (v = 0 bit for bit, stick at every sample) with the least
     plate friction, the stop's reaction the weight's projection onto its
     cone: the weight itself inside it (normal part m g cos alpha), else on
-    its edge, |F| = m g cos(alpha - phi), normal part |F| cos(phi); sliding,
+    its edge, |F| = m g cos(alpha - phi), normal part |F| cos(phi) (creep:
+    the creeping plate's split instead, the normal part m g cos alpha, see
+    test_event_rest_on_a_frictional_incline_is_the_creep_limit); sliding,
     the constant acceleration g sin(alpha) - mu_s g cos(alpha) - cap / m
     from rest, the stop's normal force m g cos(alpha), no turn."""
     assert r.stats["warnings"] == 0
     if rests:
         assert np.all(r.v == 0.0) and np.all(r.stick[1:])
         phi = math.atan(mu_s)
-        lam = m * G * math.cos(alpha) if alpha <= phi else m * G * math.cos(alpha - phi) * math.cos(phi)
+        lam = m * G * math.cos(alpha) if alpha <= phi or creep else m * G * math.cos(alpha - phi) * math.cos(phi)
         np.testing.assert_allclose(r.stop_force[-1, 0], lam, rtol=1e-12)
     else:
         acc = G * math.sin(alpha) - mu_s * G * math.cos(alpha) - cap / m
@@ -581,16 +583,40 @@ def test_regularised_block_dragged_along_frictional_wall_holds(mu_s):
 
 
 @pytest.mark.parametrize("mu_s, cap, rests", [(0.5, 0.01, True), (0.2, 0.21, True), (0.2, 0.18, False),
-                                              (0.0, 0.40, True), (0.0, 0.37, False)])
-def test_event_rest_on_a_frictional_incline_is_exact(mu_s, cap, rests):
-    """The incline closed form (test_rest_on_a_frictional_incline_is_exact_
-    and_its_threshold_closed_form) with the event method: at rest the
-    least-friction split over the stop's cone (its two edges G +- mu T as
-    generators), exactly still (v = 0 bit for bit, stick flagged at every
-    sample); sliding, the constant acceleration g sin(alpha) - mu_s g
-    cos(alpha) - cap / m, integrated exactly (a constant)."""
+                                              (0.0, 0.40, True), (0.0, 0.37, False),
+                                              (0.2, 0.199, False), (0.2, 0.2005, False), (0.2, 0.203, True)])
+def test_event_rest_on_a_frictional_incline_is_the_creep_limit(mu_s, cap, rests):
+    """The incline with the event method. Static splits of the weight over
+    the plates and the stop's cone are not unique; the event method takes
+    the limit of a plate that creeps under its load (its slip along the
+    normal of the limit surface, as the regularised method's band does).
+    The stop blocks every creep into it, so the plates' reaction lies along
+    the incline, the stop's normal force is m g cos(alpha) and its friction
+    mu_s m g cos(alpha) at most (kinetic against the creep down the
+    incline): the block rests iff
+        m g (sin alpha - mu_s cos alpha) <= cap,
+    above the least-friction split's need m g sin(alpha - phi) by 1 / cos
+    phi (that split has the plates press the block into the stop, which a
+    plate that can only creep along the incline cannot). At rest it is
+    exactly still (v = 0 bit for bit); below the need it slides with the
+    constant acceleration g sin(alpha) - mu_s g cos(alpha) - cap / m (the
+    cases cap = 0.199, 0.2005 lie between the two needs, where the least-
+    friction split would rest). The regularised method at eps = 1e-6
+    (an independent law: the smoothed plate, no rest test) is checked to
+    the same verdict: at rest its speed is O(eps), sliding within 1 % of
+    the closed form's speed."""
+    alpha, m = 0.4, 0.1
+    need = max(m * G * (math.sin(alpha) - mu_s * math.cos(alpha)), 0.0)
+    assert (need <= cap) == rests
     r = exdex.simulate(_incline_block(mu_s, cap), 0.2, 1e-3, method="event")
-    _incline_run_is_the_closed_form(r, mu_s, cap, rests)
+    _incline_run_is_the_closed_form(r, mu_s, cap, rests, creep=True)
+    g = exdex.simulate(_incline_block(mu_s, cap), 0.2, 1e-3, method="regularised", eps=1e-6)
+    speed = np.hypot(g.v[-1, 0], g.v[-1, 1])
+    if rests:
+        assert speed <= 1e-4
+    else:
+        acc = G * math.sin(alpha) - mu_s * G * math.cos(alpha) - cap / m
+        assert acc * 0.2 > 1e-3 and abs(speed - acc * 0.2) <= 1e-4
 
 
 @pytest.mark.parametrize("mu_s, cap", [(0.2, 0.21), (0.2, 0.18), (0.0, 0.37)])
