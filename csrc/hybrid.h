@@ -224,7 +224,9 @@
  *     stops: rest iff the least-friction split (hyb_planar_rest: least
  *     combination over the stop forces lam >= 0, ldp_min_combination, as the
  *     implicit method; the exact surface: its least gauge,
- *     limitsurf_min_combination) has |E^-1 w| (the gauge) <= mu N
+ *     limitsurf_min_combination; with frictional rows on the ellipsoid: the
+ *     split of a plate creeping under the load, hybrid_laws.c's
+ *     sf_rest_creep) has |E^-1 w| (the gauge) <= mu N
  *     (1 + FRICTION_BAND); the rest ends when that fails or a set row's gap leaves
  *     +-tol.rest_gap (stops moving in B). During the rest q is held
  *     exactly (no projection after its steps, which would move it by the
