@@ -2,6 +2,7 @@
  * the contact rows (stop_impulse.h): mode enumeration, each mode solved
  * exactly. */
 #include "stop_impulse.h"
+#include "stop_friction.h"
 #include "tolerances.h"
 #include "util.h"
 
@@ -79,13 +80,76 @@ static int plate(const fc_problem *p, const double v[3], double P[3], double dP[
     return 1;
 }
 
+/* The plate rest's split in the plane on the ellipsoid with frictional
+ * rows: the limit of a plate creeping under the load (its slip along the
+ * ellipsoid's normal, as a viscous band w = -k A v has it). With x = A^-T P
+ * (|x| the ellipsoid norm), the creep's velocity is v ~ -A^-1 x, so each
+ * row's gap rate G_i v and slip rate T_i v are, up to a positive factor,
+ * b_i . x and t_i . x with b_i = A^-T (-G_i), t_i = A^-T (-T_i), while
+ * x = a + sum lam_i b_i + sum beta_i t_i, a = A^-T (-M vs). The rows'
+ * impulses are complementary to those rates (lam_i >= 0 _|_ b_i . x >= 0)
+ * and Coulomb's law holds on each row's slip: the creep's (stick inside
+ * the cone or slide at it) where |tb_i| <= vrest, else kinetic of the sign
+ * of tb_i (the gripper drags the row past the object). That is
+ * stop_friction.h's problem with M = I, one friction group per row and no
+ * drift terms (sf_solve). Without friction its solution is the least-norm
+ * split (the same complementarity is the KKT system of min |a + sum lam_i
+ * b_i|); with friction the least norm over the cones would take the
+ * friction most favourable to the plates whichever way they creep, e.g.
+ * the plates pressing a block into a frictional incline, which a plate
+ * that can only creep along it cannot. Returns 1 with x and the rows'
+ * impulses (lam, beta over the nr rows, 0 for rows without force), 0 when
+ * a row is out of sf_solve's range or no mode is consistent. */
+static int creep_rest(const fc_problem *p, const double Ainv[3][3], const double a[3], double x[3], double *lam,
+                      double *beta, fc_result *res)
+{
+    static const double one[3] = {1.0, 1.0, 1.0};
+    sf_row rows[SF_MAX_ROWS];
+    sf_stop st[SF_MAX_STOPS];
+    sf_result sr;
+    int who[SF_MAX_ROWS], m = 0, ok;
+    double tol;
+    for (int i = 0; i < p->nr; i++) {
+        const fc_row *r = &p->rows[i];
+        if (r->rest == 0 || !(norm1(3, r->G) > 0.0)) continue;
+        if (m >= SF_MAX_ROWS) return 0;
+        for (int c = 0; c < 3; c++) {
+            rows[m].G[c] = st[m].T[c] = 0.0;
+            for (int k = 0; k < 3; k++) {
+                rows[m].G[c] -= Ainv[k][c] * r->G[k];
+                st[m].T[c] -= Ainv[k][c] * r->T[k];
+            }
+        }
+        rows[m].gdd0 = 0.0;
+        rows[m].stop = m;
+        st[m].sdd0 = 0.0;
+        st[m].mu = r->mu;
+        st[m].fm = !(r->mu > 0.0) ? SF_NONE : fabs(r->tb) <= p->vrest ? SF_ROLL : r->tb > 0.0 ? SF_SLIDE_P : SF_SLIDE_M;
+        who[m++] = i;
+    }
+    tol = SF_TOL * fmax(sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]), p->cap_rest > p->cap ? p->cap_rest : p->cap);
+    ok = sf_solve(m, rows, m, st, one, a, tol, tol, &sr);
+    res->iters += sr.tried;
+    if (!ok) return 0;
+    for (int i = 0; i < p->nr; i++) lam[i] = beta[i] = 0.0;
+    for (int j = 0; j < m; j++) {
+        lam[who[j]] = sr.lam[j];
+        beta[who[j]] = sr.beta[j];
+    }
+    memcpy(x, sr.qdd, 3 * sizeof *x);
+    return 1;
+}
+
 /* Plate rest, v = 0: the rows that may carry force at rest give the
  * generators of their reaction cones (G; G +- mu T for a static contact,
  * |tb| <= vrest; G - mu sign(tb) T for a contact the gripper drags past the
  * object), and the plate impulse P = -M vs - sum l_j g_j must lie in the
  * ellipsoid, |A^-T P| <= cap. The least ellipsoid norm over l >= 0
  * (ldp_min_combination) decides, and its minimiser is the split with the
- * least plate friction: the contacts carry what they can. */
+ * least plate friction: the contacts carry what they can. In the plane on
+ * the ellipsoid with a frictional row the split is the creeping plate's
+ * instead (creep_rest; where its problem has no consistent mode, the least
+ * norm over the cones). */
 static int try_rest(const fc_problem *p, double *lam, double *beta, fc_result *res)
 {
     int n = p->n, m = 0, who[LDP_MAX_ROWS], it = 0;
@@ -136,6 +200,23 @@ static int try_rest(const fc_problem *p, double *lam, double *beta, fc_result *r
             a[i] -= Ainv[k][i] * Mvs[k];
             for (int j = 0; j < m; j++) b[j][i] -= Ainv[k][i] * g[j][k];
         }
+    if (n == 3 && !p->ls) {
+        int fric = 0;
+        double x[3];
+        for (int i = 0; i < p->nr; i++) fric |= p->rows[i].rest == 1 && p->rows[i].mu > 0.0;
+        if (fric && creep_rest(p, (const double (*)[3])Ainv, a, x, lam, beta, res)) {
+            double cr = p->cap_rest > p->cap ? p->cap_rest : p->cap;
+            if (!(sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]) <= cr * (1.0 + 1e-12))) return 0;
+            for (int c = 0; c < 3; c++) {
+                P[c] = -Mvs[c];
+                for (int i = 0; i < p->nr; i++) P[c] -= lam[i] * p->rows[i].G[c] + beta[i] * p->rows[i].T[c];
+                res->v[c] = 0.0;
+                res->P[c] = P[c];
+            }
+            res->rest = 1;
+            return 1;
+        }
+    }
     {
         double cr = p->cap_rest > p->cap ? p->cap_rest : p->cap;
         /* a limit surface: its least gauge over the splits, stopping at the

@@ -29,7 +29,9 @@
  * impulses lam >= 0, the slip directions, the sticking rows inside their
  * cones, the separating rows not penetrating. Nothing is regularised. Where
  * several modes are consistent (non-uniqueness) the order of the
- * enumeration decides: plate rest first (the least plate friction split),
+ * enumeration decides: plate rest first (the least plate friction split;
+ * in the plane on the ellipsoid with frictional rows, the split of a plate
+ * creeping under the load, stop_impulse.c's creep_rest),
  * then the mode guessed from the hint, then the others in a fixed order
  * (per row: the guess, stick, the other slide, separate).
  * The candidates: the hint's rows (at most FC_MAX_CAND), joined by a row a
